@@ -1,0 +1,372 @@
+!> The normal contact problem on a grid (Kaiser, eqs 17-23): find pressures
+!> p >= 0 such that the deformed gap
+!>     e = h + A p - delta                                        (eq. 21)
+!> is zero where p > 0 and non-negative where p = 0, for an undeformed gap h,
+!> the approach delta and the Boussinesq influence matrix A. Either delta is
+!> prescribed, or the total force Fn = dx dy sum(p).
+!>
+!> Two solvers:
+!>   normal_cg  projected conjugate gradients with FFT products
+!>              (Polonsky & Keer, Wear 231, 1999, sect. 3);
+!>   normal_gs  projected Gauss-Seidel, p_i <- max(0, p_i - e_i / A_ii)
+!>              (eq. 23), with an outer secant iteration on delta when the
+!>              force is prescribed.
+!> Both stop on the relative complementarity residual (normal_residual) and
+!> accept a warm start in p.
+module contact_normal
+    use kinds, only: dp
+    use contact_convolution, only: conv_plan, conv_apply
+    implicit none
+    private
+    public :: CONTROL_FORCE, CONTROL_APPROACH
+    public :: normal_cg, normal_gs, normal_residual
+
+    integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
+    !> Exact product every this many CG steps, against drift of the recurrence.
+    integer, parameter :: REFRESH = 16
+
+contains
+
+    !> Relative complementarity residual || v || / || A p ||_contact, with
+    !> v = e where p > 0 and v = min(e, 0) where p = 0; e the deformed gap.
+    pure real(dp) function normal_residual(e, p, u) result(res)
+        real(dp), intent(in) :: e(:, :), p(:, :), u(:, :)
+        real(dp) :: sv, su
+        sv = sum(e**2, mask=p > 0.0_dp) + sum(min(e, 0.0_dp)**2, mask=p <= 0.0_dp)
+        su = sum(u**2, mask=p > 0.0_dp)
+        if (su > 0.0_dp) then
+            res = sqrt(sv / su)
+        else
+            res = sqrt(sv)
+        end if
+    end function normal_residual
+
+    !> Projected conjugate gradients (Polonsky & Keer 1999).
+    !> info: 0 converged, 1 not converged in max_iter, 2 no contact (approach
+    !> prescribed and below the smallest gap), <0 bad argument.
+    subroutine normal_cg(plan, kz, h, area_el, control, fn, approach, tol, max_iter, &
+                         p, iters, nprod, resid, info)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, control, max_iter
+        real(dp), intent(in) :: h(:, :), area_el, tol
+        real(dp), intent(inout) :: fn, approach
+        real(dp), intent(inout) :: p(:, :)
+        integer, intent(out) :: iters, nprod, info
+        real(dp), intent(out) :: resid
+        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), pold(:, :)
+        real(dp) :: gbar, rbar, gg, gold, tau, rt, scale
+        logical :: conjugate, exact
+        integer :: nc, nol, it
+        logical :: force
+
+        info = 0
+        iters = 0
+        nprod = 0
+        resid = huge(1.0_dp)
+        force = control == CONTROL_FORCE
+        allocate (u, g, t, r, pold, mold=h)
+
+        if (.not. force .and. all(h >= approach)) then
+            p = 0.0_dp
+            fn = 0.0_dp
+            resid = 0.0_dp
+            info = 2
+            return
+        end if
+
+        call initial_pressure(plan, kz, h, force, approach, p, u, nprod)
+        if (force) then
+            scale = fn / (area_el * sum(p))
+            p = scale * p
+            u = scale * u
+        end if
+
+        exact = .true.
+        conjugate = .false.
+        gold = 1.0_dp
+        t = 0.0_dp
+        gbar = 0.0_dp
+        do it = 0, max_iter
+            nc = count(p > 0.0_dp)
+            if (force) then
+                g = u + h
+                gbar = sum(g, mask=p > 0.0_dp) / max(nc, 1)
+                g = g - gbar
+            else
+                g = u + h - approach
+            end if
+            resid = normal_residual(g, p, u)
+            if (resid <= tol) then
+                if (exact) exit
+                ! confirm on an exact product before stopping
+                call conv_apply(plan, kz, p, u)
+                nprod = nprod + 1
+                exact = .true.
+                cycle
+            end if
+            if (it == max_iter) then
+                info = 1
+                exit
+            end if
+            iters = it + 1
+
+            ! conjugate direction on the contact set (PK eqs 3.3-3.5)
+            gg = sum(g**2, mask=p > 0.0_dp)
+            if (conjugate) then
+                where (p > 0.0_dp)
+                    t = g + (gg / gold) * t
+                elsewhere
+                    t = 0.0_dp
+                end where
+            else
+                where (p > 0.0_dp)
+                    t = g
+                elsewhere
+                    t = 0.0_dp
+                end where
+            end if
+            gold = gg
+            call conv_apply(plan, kz, t, r)
+            nprod = nprod + 1
+            rbar = 0.0_dp
+            if (force) rbar = sum(r, mask=p > 0.0_dp) / max(nc, 1)
+            rt = sum((r - rbar) * t, mask=p > 0.0_dp)
+            if (rt <= 0.0_dp) then
+                info = 1
+                exit
+            end if
+            tau = sum(g * t, mask=p > 0.0_dp) / rt
+
+            ! step, projection on p >= 0, and re-entry of overlapping points (PK eq. 3.6-3.8)
+            pold = p
+            where (p > 0.0_dp) p = p - tau * t
+            exact = .not. any(p < 0.0_dp)
+            p = max(p, 0.0_dp)
+            nol = count(p <= 0.0_dp .and. g < 0.0_dp)
+            where (p <= 0.0_dp .and. g < 0.0_dp) p = -tau * g
+            conjugate = nol == 0
+
+            scale = 1.0_dp
+            if (force) then
+                if (sum(p) <= 0.0_dp) then
+                    info = 1
+                    exit
+                end if
+                scale = fn / (area_el * sum(p))
+                p = scale * p
+            end if
+
+            if (.not. exact .or. nol > 0 .or. mod(iters, REFRESH) == 0) then
+                call conv_apply(plan, kz, p, u)
+                nprod = nprod + 1
+                exact = .true.
+            else
+                ! A p_new = scale (A p_old - tau A t), no projection happened
+                u = scale * (u - tau * r)
+                exact = .false.
+            end if
+        end do
+
+        if (force) then
+            approach = gbar
+        else
+            fn = area_el * sum(p)
+        end if
+        if (info == 0 .and. resid > tol) info = 1
+        if (info == 0 .and. any(p /= p)) info = -99
+    end subroutine normal_cg
+
+    !> A cold start when p is all zero: p proportional to the interpenetration
+    !> of the rigid surfaces, scaled to the best fit of A p = delta - h on it.
+    !> On return u = A p.
+    subroutine initial_pressure(plan, kz, h, force, approach, p, u, nprod)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz
+        real(dp), intent(in) :: h(:, :), approach
+        logical, intent(in) :: force
+        real(dp), intent(inout) :: p(:, :)
+        real(dp), intent(inout) :: u(:, :)
+        integer, intent(inout) :: nprod
+        real(dp) :: d, hmin, hmed, s
+        if (any(p > 0.0_dp)) then
+            p = max(p, 0.0_dp)
+        else
+            if (force) then
+                ! interpenetrate the quarter of the grid with the smallest gaps
+                hmin = minval(h)
+                hmed = hmin + 0.25_dp * (maxval(h) - hmin)
+                d = hmed
+            else
+                d = approach
+            end if
+            p = max(d - h, 0.0_dp)
+            if (.not. any(p > 0.0_dp)) p = 1.0_dp
+        end if
+        call conv_apply(plan, kz, p, u)
+        nprod = nprod + 1
+        if (.not. force) then
+            s = sum(u * (approach - h), mask=p > 0.0_dp) / max(sum(u**2, mask=p > 0.0_dp), tiny(1.0_dp))
+            if (s > 0.0_dp) then
+                p = s * p
+                u = s * u
+            end if
+        end if
+    end subroutine initial_pressure
+
+    !> Projected Gauss-Seidel (eq. 23) for prescribed approach, from the
+    !> pressure in p; u = A p is kept up to date column by column from the
+    !> circular coefficient field c (influence_field layout), O(N) per change.
+    subroutine gs_sweeps(c, h, approach, omega, tol, max_sweeps, p, u, sweeps, resid)
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), approach, omega, tol
+        integer, intent(in) :: max_sweeps
+        real(dp), intent(inout) :: p(:, :), u(:, :)
+        integer, intent(out) :: sweeps
+        real(dp), intent(out) :: resid
+        integer :: nx, ny, mx, my, j, k, l, jj
+        real(dp) :: c0, e, pnew, d
+        nx = size(h, 1)
+        ny = size(h, 2)
+        mx = 2 * nx
+        my = 2 * ny
+        c0 = c(0, 0)
+        sweeps = 0
+        resid = normal_residual(u + h - approach, p, u)
+        do while (resid > tol .and. sweeps < max_sweeps)
+            sweeps = sweeps + 1
+            do l = 1, ny
+                do k = 1, nx
+                    e = u(k, l) + h(k, l) - approach
+                    pnew = max(0.0_dp, p(k, l) - omega * e / c0)
+                    d = pnew - p(k, l)
+                    if (d == 0.0_dp) cycle
+                    p(k, l) = pnew
+                    do j = 1, ny
+                        jj = modulo(j - l, my)
+                        u(k:nx, j) = u(k:nx, j) + d * c(0:nx - k, jj)
+                        if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + d * c(mx + 1 - k:mx - 1, jj)
+                    end do
+                end do
+            end do
+            resid = normal_residual(u + h - approach, p, u)
+        end do
+    end subroutine gs_sweeps
+
+    !> Projected Gauss-Seidel with prescribed approach or force.
+    !> For a prescribed force the approach is found by a safeguarded secant
+    !> iteration on Fn^(2/3), which is linear in delta for a Hertzian gap, with
+    !> warm-started inner sweeps. info as for normal_cg.
+    subroutine normal_gs(plan, kz, c, h, area_el, control, fn, approach, omega, tol, &
+                         max_iter, p, iters, resid, info)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, control, max_iter
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el, omega, tol
+        real(dp), intent(inout) :: fn, approach
+        real(dp), intent(inout) :: p(:, :)
+        integer, intent(out) :: iters, info
+        real(dp), intent(out) :: resid
+        real(dp), allocatable :: u(:, :)
+        real(dp) :: f, ferr, tol_in, hmin, d_lo, d_hi, s_lo, s_hi, d_prev, s_prev, s, st, d_new
+        integer :: sweeps, outer
+        logical :: have_lo, have_hi, have_prev
+
+        info = 0
+        iters = 0
+        allocate (u, mold=h)
+        p = max(p, 0.0_dp)
+        call conv_apply(plan, kz, p, u)
+
+        if (control == CONTROL_APPROACH) then
+            if (all(h >= approach)) then
+                p = 0.0_dp
+                fn = 0.0_dp
+                resid = 0.0_dp
+                info = 2
+                return
+            end if
+            call gs_sweeps(c, h, approach, omega, tol, max_iter, p, u, iters, resid)
+            fn = area_el * sum(p)
+            if (resid > tol) info = 1
+            return
+        end if
+
+        ! prescribed force: outer iteration on the approach
+        hmin = minval(h)
+        if (any(p > 0.0_dp)) then
+            approach = sum(u + h, mask=p > 0.0_dp) / count(p > 0.0_dp)
+        else
+            approach = rigid_estimate(c(0, 0), h, area_el, fn)
+        end if
+        st = fn**(2.0_dp / 3.0_dp)
+        have_lo = .false.
+        have_hi = .false.
+        have_prev = .false.
+        d_lo = hmin
+        d_hi = huge(1.0_dp)
+        s_lo = 0.0_dp
+        s_hi = 0.0_dp
+        d_prev = 0.0_dp
+        s_prev = 0.0_dp
+        ferr = 1.0_dp
+        resid = huge(1.0_dp)
+        do outer = 1, 200
+            tol_in = max(tol, 0.01_dp * ferr)
+            call gs_sweeps(c, h, approach, omega, tol_in, max_iter - iters, p, u, sweeps, resid)
+            iters = iters + sweeps
+            f = area_el * sum(p)
+            ferr = abs(f - fn) / fn
+            if (ferr <= tol .and. resid <= tol) exit
+            if (iters >= max_iter) exit
+            s = f**(2.0_dp / 3.0_dp)
+            if (f < fn) then
+                if (.not. have_lo .or. approach > d_lo) then
+                    d_lo = approach
+                    s_lo = s
+                end if
+                have_lo = .true.
+            else
+                if (.not. have_hi .or. approach < d_hi) then
+                    d_hi = approach
+                    s_hi = s
+                end if
+                have_hi = .true.
+            end if
+            if (have_prev .and. abs(s - s_prev) > 0.0_dp) then
+                d_new = approach + (st - s) * (approach - d_prev) / (s - s_prev)
+            else if (s > 0.0_dp) then
+                d_new = hmin + (approach - hmin) * (st / s)
+            else
+                d_new = hmin + 2.0_dp * (approach - hmin)
+            end if
+            if (have_lo .and. have_hi) then
+                if (d_new <= d_lo .or. d_new >= d_hi) d_new = 0.5_dp * (d_lo + d_hi)
+            end if
+            d_prev = approach
+            s_prev = s
+            have_prev = .true.
+            approach = d_new
+        end do
+        resid = max(resid, ferr)
+        if (resid > tol) info = 1
+    end subroutine normal_gs
+
+    !> Approach at which a bed of independent springs of compliance c0 per
+    !> element carries fn: sum(max(delta - h, 0)) area / c0 = fn. It lies below
+    !> the elastic approach, since A's off-diagonal terms stiffen nothing.
+    pure real(dp) function rigid_estimate(c0, h, area_el, fn) result(d)
+        real(dp), intent(in) :: c0, h(:, :), area_el, fn
+        real(dp) :: lo, hi, mid
+        integer :: it
+        lo = minval(h)
+        hi = lo + fn * c0 / area_el
+        do it = 1, 200
+            mid = 0.5_dp * (lo + hi)
+            if (sum(max(mid - h, 0.0_dp)) * area_el / c0 > fn) then
+                hi = mid
+            else
+                lo = mid
+            end if
+        end do
+        d = 0.5_dp * (lo + hi)
+    end function rigid_estimate
+
+end module contact_normal

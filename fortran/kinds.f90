@@ -1,0 +1,12 @@
+!> Real and integer kinds used by every railvti kernel.
+module kinds
+    use iso_fortran_env, only: real64, int32, int64
+    implicit none
+    private
+    public :: dp, i4, i8, pi
+
+    integer, parameter :: dp = real64
+    integer, parameter :: i4 = int32
+    integer, parameter :: i8 = int64
+    real(dp), parameter :: pi = 3.14159265358979323846264338327950288_dp
+end module kinds

@@ -1,0 +1,64 @@
+"""Argument checks shared by the public API: each raises InputError naming the argument."""
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+
+
+def finite(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise if it is not a finite number."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be finite, got {v}")
+    return v
+
+
+def positive(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise unless it is finite and > 0."""
+    v = finite(name, value)
+    if v <= 0.0:
+        raise InputError(f"{name} must be > 0, got {v}")
+    return v
+
+
+def non_negative(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise unless it is finite and >= 0."""
+    v = finite(name, value)
+    if v < 0.0:
+        raise InputError(f"{name} must be >= 0, got {v}")
+    return v
+
+
+def positive_int(name: str, value: Any, minimum: int = 1) -> int:
+    """Return ``value`` as an int, or raise unless it is an integer >= minimum."""
+    if isinstance(value, bool) or not float(value).is_integer():
+        raise InputError(f"{name} must be an integer, got {value!r}")
+    v = int(value)
+    if v < minimum:
+        raise InputError(f"{name} must be >= {minimum}, got {v}")
+    return v
+
+
+def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None,
+                 ndim: int | None = None) -> np.ndarray:
+    """Return a Fortran-ordered float64 copy of ``value``; raise on NaN, inf or wrong shape."""
+    try:
+        a = np.array(value, dtype=np.float64, order="F")
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be an array of numbers") from None
+    if ndim is not None and a.ndim != ndim:
+        raise InputError(f"{name} must have {ndim} dimensions, got shape {a.shape}")
+    if shape is not None and a.shape != tuple(shape):
+        raise InputError(f"{name} must have shape {tuple(shape)}, got {a.shape}")
+    bad = ~np.isfinite(a)
+    if bad.any():
+        idx = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise InputError(f"{name} has {int(bad.sum())} non-finite value(s), first at index {idx}")
+    return a
