@@ -27,17 +27,20 @@ module contact_normal
 
 contains
 
-    !> Relative complementarity residual || v || / || A p ||_contact, with
-    !> v = e where p > 0 and v = min(e, 0) where p = 0; e the deformed gap.
+    !> Relative complementarity residual || v || / || delta - h ||, with
+    !> v = e where p > 0 and v = min(e, 0) where p = 0, e = h + u - delta the
+    !> deformed gap and u = A p; both norms over the elements in contact or
+    !> interpenetrating. At the solution A p = delta - h there, so the
+    !> denominator is the size of the deformation.
     pure real(dp) function normal_residual(e, p, u) result(res)
         real(dp), intent(in) :: e(:, :), p(:, :), u(:, :)
-        real(dp) :: sv, su
+        real(dp) :: sv, sb
         sv = sum(e**2, mask=p > 0.0_dp) + sum(min(e, 0.0_dp)**2, mask=p <= 0.0_dp)
-        su = sum(u**2, mask=p > 0.0_dp)
-        if (su > 0.0_dp) then
-            res = sqrt(sv / su)
+        sb = sum((u - e)**2, mask=p > 0.0_dp .or. e < 0.0_dp)
+        if (sb > 0.0_dp) then
+            res = sqrt(sv / sb)
         else
-            res = sqrt(sv)
+            res = 0.0_dp
         end if
     end function normal_residual
 

@@ -1,0 +1,11 @@
+"""Wheel-rail contact: the boundary-element (half-space) model on a regular grid,
+Hertz's solution beside it."""
+from __future__ import annotations
+
+from .grid import Grid
+from .hertz import HertzResult, hertz, hertz_gap
+from .influence import convolve, influence_field
+from .normal import NormalResult, solve_normal
+
+__all__ = ["Grid", "HertzResult", "hertz", "hertz_gap", "convolve", "influence_field",
+           "NormalResult", "solve_normal"]
