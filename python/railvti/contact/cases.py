@@ -1,0 +1,99 @@
+"""Deck case types of the contact area: ``type = 'normal'``."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..casetypes import REQUIRED, CaseOutput, CaseType, register
+from ..errors import InputError
+from ..material import Material
+from .grid import Grid
+from .hertz import hertz, hertz_gap
+from .normal import solve_normal
+
+_COMMON = {
+    "shear_modulus": 82.0e9,   # Pa
+    "poisson": 0.28,
+    "nx": REQUIRED, "ny": REQUIRED,
+    "dx": REQUIRED, "dy": REQUIRED,  # m
+    "x0": None, "y0": None,          # m, centre of element [0, 0]; default: grid centred
+    "gap": "hertz",                  # 'hertz' or 'two_bumps'
+    "gap_a": REQUIRED, "gap_b": REQUIRED,  # 1/m: gap = gap_a x^2 + gap_b y^2
+    "bump_separation": 0.0,          # m, lateral distance between the two bumps' centres
+    "bump_height": 0.0,              # m, how much higher the second bump starts
+    "method": "cg",
+    "tol": 1e-8,
+    "max_iter": None,
+}
+
+
+def make_gap(params: dict[str, Any]) -> tuple[Grid, np.ndarray, Material]:
+    """Grid, undeformed gap and material of a contact case's parameters."""
+    material = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
+    grid = Grid(params["nx"], params["ny"], params["dx"], params["dy"], params["x0"], params["y0"])
+    kind = str(params["gap"]).lower()
+    A, B = params["gap_a"], params["gap_b"]
+    if kind == "hertz":
+        gap = hertz_gap(grid, A, B)
+    elif kind == "two_bumps":
+        s = float(params["bump_separation"])
+        if s <= 0:
+            raise InputError("gap = 'two_bumps' needs bump_separation > 0 (m)")
+        x, y = grid.mesh()
+        gap = np.minimum(A * x**2 + B * (y - s / 2) ** 2,
+                         A * x**2 + B * (y + s / 2) ** 2 + float(params["bump_height"]))
+    else:
+        raise InputError(f"gap must be 'hertz' or 'two_bumps', got {params['gap']!r}")
+    return grid, np.asfortranarray(gap), material
+
+
+def run_normal(params: dict[str, Any]) -> CaseOutput:
+    """Normal contact on a grid; force ``fn`` (N) or ``approach`` (m) prescribed."""
+    grid, gap, material = make_gap(params)
+    r = solve_normal(gap, grid, material, fn=params["fn"], approach=params["approach"],
+                     method=params["method"], tol=params["tol"], max_iter=params["max_iter"])
+    out = CaseOutput(
+        summary=(f"Fn = {r.fn / 1e3:.4g} kN, approach = {r.approach * 1e6:.4g} um, "
+                 f"pmax = {r.pmax / 1e6:.4g} MPa, area = {r.area * 1e6:.4g} mm^2 "
+                 f"({r.n_contact} elements), {r.method} {r.iterations} it, residual {r.residual:.1e}"),
+        datasets={"pressure": (r.pressure, "Pa"), "gap": (gap, "m"), "x": (grid.x, "m"), "y": (grid.y, "m")},
+        scalars={"fn": (r.fn, "N"), "approach": (r.approach, "m"), "pmax": (r.pmax, "Pa"),
+                 "area": (r.area, "m^2"), "n_contact": (r.n_contact, "1"), "iterations": (r.iterations, "1"),
+                 "residual": (r.residual, "1"), "method": (r.method, "")})
+    if str(params["gap"]).lower() == "hertz":
+        h = hertz(params["gap_a"], params["gap_b"], r.fn, material)
+        out.scalars.update({"hertz_a": (h.a, "m"), "hertz_b": (h.b, "m"), "hertz_p0": (h.p0, "Pa"),
+                            "hertz_approach": (h.approach, "m")})
+        out.summary += f"; Hertz pmax {h.p0 / 1e6:.4g} MPa"
+    return out
+
+
+def plot_pressure(group: Any, outdir: Path, stem: str) -> list[Path]:
+    """Pressure map with the contact-area outline."""
+    import matplotlib.pyplot as plt
+
+    x = group["x"][()] * 1e3
+    y = group["y"][()] * 1e3
+    p = group["pressure"][()] / 1e6
+    fig, ax = plt.subplots(figsize=(6.0, 4.8))
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    im = ax.imshow(p.T, origin="lower", cmap="viridis", aspect="equal",
+                   extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2))
+    if (p > 0).any() and (p <= 0).any():
+        ax.contour(x, y, (p > 0).T.astype(float), levels=[0.5], colors="w", linewidths=1.0)
+    fig.colorbar(im, ax=ax, label="pressure (MPa)")
+    ax.set_xlabel("x, rolling direction (mm)")
+    ax.set_ylabel("y, lateral (mm)")
+    ax.set_title(f"{group.attrs['name']}: Fn = {group['fn'][()] / 1e3:.3g} kN, "
+                 f"pmax = {p.max():.0f} MPa")
+    fig.tight_layout()
+    path = outdir / f"{stem}_pressure.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return [path]
+
+
+register(CaseType(name="normal", defaults={**_COMMON, "fn": None, "approach": None},
+                  run=run_normal, plot=plot_pressure))
