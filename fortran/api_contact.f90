@@ -77,14 +77,15 @@ end subroutine convolve_repeat_c
 
 !> Normal contact on an nx x ny grid with gap h (m).
 !> control: 1 prescribed force fn_in (N), 2 prescribed approach approach_in (m).
-!> method: 1 projected CG, 2 projected Gauss-Seidel (relaxation omega).
+!> method: 1 FFT-preconditioned projected CG, 2 projected Gauss-Seidel
+!> (relaxation omega), 3 projected CG without preconditioner.
 !> p: warm start on entry (all zero for a cold start), pressure (Pa) on exit.
 !> info: 0 converged, 1 not converged, 2 no contact, <0 internal failure.
 subroutine normal_solve_c(nx, ny, h, dx, dy, g, nu, control, method, tol, max_iter, omega, &
                           fn_in, approach_in, p, fn_out, approach_out, iters, nprod, resid, info)
     use iso_c_binding, only: c_int, c_double
     use contact_influence, only: influence_field, KERNEL_ZZ
-    use contact_convolution, only: conv_plan, conv_init, conv_free
+    use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
     use contact_normal, only: normal_cg, normal_gs
     implicit none
     integer(c_int), intent(in) :: nx, ny, control, method, max_iter
@@ -113,6 +114,13 @@ subroutine normal_solve_c(nx, ny, h, dx, dy, g, nu, control, method, tol, max_it
                        tol, max_iter, p, it, resid, stat)
         np = 0
     else
+        if (method == 1) then
+            call conv_init_precond(plan, g, nu, dx, dy, stat)
+            if (stat /= 0) then
+                info = stat
+                return
+            end if
+        end if
         call normal_cg(plan, 1, h, dx * dy, control, fn_out, approach_out, tol, max_iter, &
                        p, it, np, resid, stat)
     end if

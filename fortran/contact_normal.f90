@@ -15,7 +15,7 @@
 !> accept a warm start in p.
 module contact_normal
     use kinds, only: dp
-    use contact_convolution, only: conv_plan, conv_apply
+    use contact_convolution, only: conv_plan, conv_apply, conv_precond
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
@@ -56,8 +56,8 @@ contains
         real(dp), intent(inout) :: p(:, :)
         integer, intent(out) :: iters, nprod, info
         real(dp), intent(out) :: resid
-        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), pold(:, :)
-        real(dp) :: gbar, rbar, gg, gold, tau, rt, scale
+        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), z(:, :), pold(:, :)
+        real(dp) :: gbar, rbar, gg, gold, tau, rt, scale, zbar
         logical :: conjugate, exact
         integer :: nc, nol, it
         logical :: force
@@ -67,7 +67,7 @@ contains
         nprod = 0
         resid = huge(1.0_dp)
         force = control == CONTROL_FORCE
-        allocate (u, g, t, r, pold, mold=h)
+        allocate (u, g, t, r, z, pold, mold=h)
 
         if (.not. force .and. all(h >= approach)) then
             p = 0.0_dp
@@ -113,20 +113,36 @@ contains
             end if
             iters = it + 1
 
-            ! conjugate direction on the contact set (PK eqs 3.3-3.5)
-            gg = sum(g**2, mask=p > 0.0_dp)
+            ! (preconditioned) conjugate direction on the contact set (PK eqs 3.3-3.5;
+            ! z = M g restricted to the contact set, made mean-free under force control)
+            if (plan%has_prec) then
+                where (p > 0.0_dp)
+                    r = g
+                elsewhere
+                    r = 0.0_dp
+                end where
+                call conv_precond(plan, r, z)
+                where (p <= 0.0_dp) z = 0.0_dp
+                if (force) then
+                    zbar = sum(z, mask=p > 0.0_dp) / max(nc, 1)
+                    where (p > 0.0_dp) z = z - zbar
+                end if
+            else
+                where (p > 0.0_dp)
+                    z = g
+                elsewhere
+                    z = 0.0_dp
+                end where
+            end if
+            gg = sum(g * z, mask=p > 0.0_dp)
             if (conjugate) then
                 where (p > 0.0_dp)
-                    t = g + (gg / gold) * t
+                    t = z + (gg / gold) * t
                 elsewhere
                     t = 0.0_dp
                 end where
             else
-                where (p > 0.0_dp)
-                    t = g
-                elsewhere
-                    t = 0.0_dp
-                end where
+                t = z
             end if
             gold = gg
             call conv_apply(plan, kz, t, r)

@@ -24,7 +24,7 @@ def semi_axes(result):
     return np.abs(x[c]).max() + result.grid.dx / 2, np.abs(y[c]).max() + result.grid.dy / 2
 
 
-@pytest.mark.parametrize("method", ["cg", "gs"])
+@pytest.mark.parametrize("method", ["cg", "pk", "gs"])
 @pytest.mark.parametrize("ratio", [1.0, 0.5, 0.2, 0.1])
 def test_hertz_acceptance(method, ratio):
     """30 elements across the minor axis: Fn within 0.5 % (approach prescribed),
@@ -135,7 +135,7 @@ def test_grid_too_small():
         solve_normal(hertz_gap(grid, 0.5, 0.5), grid, MAT, fn=1e4)
 
 
-@pytest.mark.parametrize("method", ["cg", "gs"])
+@pytest.mark.parametrize("method", ["cg", "pk", "gs"])
 def test_not_converged_raises_with_residual(method):
     with pytest.raises(ConvergenceError, match="did not converge") as info:
         solve_normal(GAP, GRID, MAT, fn=1e4, method=method, max_iter=2, tol=1e-12)

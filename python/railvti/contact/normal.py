@@ -14,8 +14,8 @@ from .grid import Grid
 
 log = logging.getLogger(__name__)
 
-_METHODS = {"cg": 1, "gs": 2}
-_DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000}
+_METHODS = {"cg": 1, "gs": 2, "pk": 3}
+_DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000, "pk": 2000}
 
 
 @dataclass(frozen=True)
@@ -41,7 +41,7 @@ class NormalResult:
         Relative complementarity residual reached.
     converged : bool
     method : str
-        'cg' or 'gs'.
+        'cg', 'pk' or 'gs'.
     fft_products : int
         Convolution products used (CG only).
     """
@@ -101,9 +101,11 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         Prescribed normal force, N (> 0). Give exactly one of fn and approach.
     approach : float, optional
         Prescribed approach, m.
-    method : {'cg', 'gs'}
-        Projected conjugate gradients (Polonsky-Keer, FFT products) or
-        projected Gauss-Seidel (Kaiser eq. 23).
+    method : {'cg', 'gs', 'pk'}
+        'cg': projected conjugate gradients (Polonsky & Keer 1999) with FFT
+        products and an FFT preconditioner M(k) = G |k| / (2 (1 - nu)), the
+        inverse of the half-space's symbol; 'pk': the same without the
+        preconditioner; 'gs': projected Gauss-Seidel (Kaiser eq. 23).
     tol : float
         Relative complementarity residual at which to stop.
     max_iter : int, optional
