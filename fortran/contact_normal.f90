@@ -9,7 +9,7 @@
 !>   normal_cg  projected conjugate gradients with FFT products
 !>              (Polonsky & Keer, Wear 231, 1999, sect. 3);
 !>   normal_gs  projected Gauss-Seidel, p_i <- max(0, p_i - e_i / A_ii)
-!>              (eq. 23), with an outer secant iteration on delta when the
+!>              (eq. 23), with force scaling after each sweep when the
 !>              force is prescribed.
 !> Both stop on the relative complementarity residual (normal_residual) and
 !> accept a warm start in p.
@@ -235,9 +235,9 @@ contains
     !> Projected Gauss-Seidel (eq. 23) for prescribed approach, from the
     !> pressure in p; u = A p is kept up to date column by column from the
     !> circular coefficient field c (influence_field layout), O(N) per change.
-    subroutine gs_sweeps(c, h, approach, omega, tol, max_sweeps, p, u, sweeps, resid)
+    subroutine gs_sweeps(c, h, approach, omega, tol, min_sweeps, max_sweeps, p, u, sweeps, resid)
         real(dp), intent(in) :: c(0:, 0:), h(:, :), approach, omega, tol
-        integer, intent(in) :: max_sweeps
+        integer, intent(in) :: min_sweeps, max_sweeps
         real(dp), intent(inout) :: p(:, :), u(:, :)
         integer, intent(out) :: sweeps
         real(dp), intent(out) :: resid
@@ -250,7 +250,7 @@ contains
         c0 = c(0, 0)
         sweeps = 0
         resid = normal_residual(u + h - approach, p, u)
-        do while (resid > tol .and. sweeps < max_sweeps)
+        do while ((resid > tol .or. sweeps < min_sweeps) .and. sweeps < max_sweeps)
             sweeps = sweeps + 1
             do l = 1, ny
                 do k = 1, nx
@@ -270,10 +270,7 @@ contains
         end do
     end subroutine gs_sweeps
 
-    !> Projected Gauss-Seidel with prescribed approach or force.
-    !> For a prescribed force the approach is found by a safeguarded secant
-    !> iteration on Fn^(2/3), which is linear in delta for a Hertzian gap, with
-    !> warm-started inner sweeps. info as for normal_cg.
+    !> Projected Gauss-Seidel with prescribed approach or force. info as for normal_cg.
     subroutine normal_gs(plan, kz, c, h, area_el, control, fn, approach, omega, tol, &
                          max_iter, p, iters, resid, info)
         type(conv_plan), intent(inout) :: plan
@@ -284,9 +281,8 @@ contains
         integer, intent(out) :: iters, info
         real(dp), intent(out) :: resid
         real(dp), allocatable :: u(:, :)
-        real(dp) :: f, ferr, tol_in, hmin, d_lo, d_hi, s_lo, s_hi, d_prev, s_prev, s, st, d_new
-        integer :: sweeps, outer
-        logical :: have_lo, have_hi, have_prev
+        real(dp) :: scale
+        integer :: sweeps
 
         info = 0
         iters = 0
@@ -302,69 +298,32 @@ contains
                 info = 2
                 return
             end if
-            call gs_sweeps(c, h, approach, omega, tol, max_iter, p, u, iters, resid)
+            call gs_sweeps(c, h, approach, omega, tol, 0, max_iter, p, u, iters, resid)
             fn = area_el * sum(p)
             if (resid > tol) info = 1
             return
         end if
 
-        ! prescribed force: outer iteration on the approach
-        hmin = minval(h)
-        if (any(p > 0.0_dp)) then
-            approach = sum(u + h, mask=p > 0.0_dp) / count(p > 0.0_dp)
-        else
+        ! Prescribed force: after every sweep scale p (and u = A p) to the force
+        ! and set the approach to the mean of u + h over the contact set, as
+        ! Polonsky & Keer do in CG; the scaling corrects the smooth error mode
+        ! that Gauss-Seidel damps slowest.
+        if (.not. any(p > 0.0_dp)) then
             approach = rigid_estimate(c(0, 0), h, area_el, fn)
         end if
-        st = fn**(2.0_dp / 3.0_dp)
-        have_lo = .false.
-        have_hi = .false.
-        have_prev = .false.
-        d_lo = hmin
-        d_hi = huge(1.0_dp)
-        s_lo = 0.0_dp
-        s_hi = 0.0_dp
-        d_prev = 0.0_dp
-        s_prev = 0.0_dp
-        ferr = 1.0_dp
         resid = huge(1.0_dp)
-        do outer = 1, 200
-            tol_in = max(tol, 0.01_dp * ferr)
-            call gs_sweeps(c, h, approach, omega, tol_in, max_iter - iters, p, u, sweeps, resid)
+        do while (iters < max_iter)
+            if (any(p > 0.0_dp)) then
+                scale = fn / (area_el * sum(p))
+                p = scale * p
+                u = scale * u
+                approach = sum(u + h, mask=p > 0.0_dp) / count(p > 0.0_dp)
+                resid = normal_residual(u + h - approach, p, u)
+                if (resid <= tol) exit
+            end if
+            call gs_sweeps(c, h, approach, omega, 0.0_dp, 1, 1, p, u, sweeps, resid)
             iters = iters + sweeps
-            f = area_el * sum(p)
-            ferr = abs(f - fn) / fn
-            if (ferr <= tol .and. resid <= tol) exit
-            if (iters >= max_iter) exit
-            s = f**(2.0_dp / 3.0_dp)
-            if (f < fn) then
-                if (.not. have_lo .or. approach > d_lo) then
-                    d_lo = approach
-                    s_lo = s
-                end if
-                have_lo = .true.
-            else
-                if (.not. have_hi .or. approach < d_hi) then
-                    d_hi = approach
-                    s_hi = s
-                end if
-                have_hi = .true.
-            end if
-            if (have_prev .and. abs(s - s_prev) > 0.0_dp) then
-                d_new = approach + (st - s) * (approach - d_prev) / (s - s_prev)
-            else if (s > 0.0_dp) then
-                d_new = hmin + (approach - hmin) * (st / s)
-            else
-                d_new = hmin + 2.0_dp * (approach - hmin)
-            end if
-            if (have_lo .and. have_hi) then
-                if (d_new <= d_lo .or. d_new >= d_hi) d_new = 0.5_dp * (d_lo + d_hi)
-            end if
-            d_prev = approach
-            s_prev = s
-            have_prev = .true.
-            approach = d_new
         end do
-        resid = max(resid, ferr)
         if (resid > tol) info = 1
     end subroutine normal_gs
 
