@@ -75,26 +75,49 @@ subroutine convolve_repeat_c(nx, ny, dx, dy, g, nu, nrep, q, u, info)
     call conv_free(plan)
 end subroutine convolve_repeat_c
 
-!> Normal contact on an nx x ny grid with gap h (m).
+!> Make a contact workspace (coefficients, spectra, FFTW plans) for an
+!> nx x ny grid; tangential /= 0 adds the Cerruti kernels. info: 0 ok,
+!> -1 too many workspaces (free some), other < 0 FFTW failure.
+subroutine contact_ws_create_c(nx, ny, dx, dy, g, nu, tangential, handle, info)
+    use iso_c_binding, only: c_int, c_double
+    use contact_plans, only: ws_create
+    implicit none
+    integer(c_int), intent(in) :: nx, ny, tangential
+    real(c_double), intent(in) :: dx, dy, g, nu
+    integer(c_int), intent(out) :: handle, info
+    integer :: h, stat
+    call ws_create(nx, ny, dx, dy, g, nu, tangential /= 0, h, stat)
+    handle = h
+    info = stat
+end subroutine contact_ws_create_c
+
+subroutine contact_ws_free_c(handle)
+    use iso_c_binding, only: c_int
+    use contact_plans, only: ws_free
+    implicit none
+    integer(c_int), intent(in) :: handle
+    call ws_free(handle)
+end subroutine contact_ws_free_c
+
+!> Normal contact with gap h (m) on the grid of workspace `handle`.
 !> control: 1 prescribed force fn_in (N), 2 prescribed approach approach_in (m).
 !> method: 1 FFT-preconditioned projected CG, 2 projected Gauss-Seidel
 !> (relaxation omega), 3 projected CG without preconditioner.
 !> p: warm start on entry (all zero for a cold start), pressure (Pa) on exit.
-!> info: 0 converged, 1 not converged, 2 no contact, <0 internal failure.
-subroutine normal_solve_c(nx, ny, h, dx, dy, g, nu, control, method, tol, max_iter, omega, &
+!> info: 0 converged, 1 not converged, 2 no contact, -3 bad handle or a
+!> grid other than the workspace's, <0 internal failure.
+subroutine normal_solve_c(handle, nx, ny, h, control, method, tol, max_iter, omega, &
                           fn_in, approach_in, p, fn_out, approach_out, iters, nprod, resid, info)
     use iso_c_binding, only: c_int, c_double
-    use contact_influence, only: influence_field, KERNEL_ZZ
-    use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
+    use contact_plans, only: workspace, ws_get
     use contact_normal, only: normal_cg, normal_gs
     implicit none
-    integer(c_int), intent(in) :: nx, ny, control, method, max_iter
-    real(c_double), intent(in) :: h(nx, ny), dx, dy, g, nu, tol, omega, fn_in, approach_in
+    integer(c_int), intent(in) :: handle, nx, ny, control, method, max_iter
+    real(c_double), intent(in) :: h(nx, ny), tol, omega, fn_in, approach_in
     real(c_double), intent(inout) :: p(nx, ny)
     real(c_double), intent(out) :: fn_out, approach_out, resid
     integer(c_int), intent(out) :: iters, nprod, info
-    real(c_double), allocatable :: c(:, :, :)
-    type(conv_plan) :: plan
+    type(workspace), pointer :: w
     integer :: it, np, stat
 
     iters = 0
@@ -102,29 +125,25 @@ subroutine normal_solve_c(nx, ny, h, dx, dy, g, nu, control, method, tol, max_it
     resid = 0.0_c_double
     fn_out = fn_in
     approach_out = approach_in
-    allocate (c(0:2 * nx - 1, 0:2 * ny - 1, 1))
-    call influence_field(KERNEL_ZZ, nx, ny, dx, dy, g, nu, c(:, :, 1))
-    call conv_init(plan, nx, ny, c, stat)
-    if (stat /= 0) then
-        info = stat
+    w => ws_get(handle)
+    if (.not. associated(w)) then
+        info = -3
         return
     end if
-    if (method == 2) then
-        call normal_gs(plan, 1, c(:, :, 1), h, dx * dy, control, fn_out, approach_out, omega, &
-                       tol, max_iter, p, it, resid, stat)
-        np = 0
-    else
-        if (method == 1) then
-            call conv_init_precond(plan, g, nu, dx, dy, stat)
-            if (stat /= 0) then
-                info = stat
-                return
-            end if
-        end if
-        call normal_cg(plan, 1, h, dx * dy, control, fn_out, approach_out, tol, max_iter, &
-                       p, it, np, resid, stat)
+    if (w%nx /= nx .or. w%ny /= ny) then
+        info = -3
+        return
     end if
-    call conv_free(plan)
+    np = 0
+    w%plan%has_prec = method == 1
+    if (method == 2) then
+        call normal_gs(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach_out, &
+                       omega, tol, max_iter, p, it, resid, stat)
+    else
+        call normal_cg(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach_out, &
+                       tol, max_iter, p, it, np, resid, stat)
+    end if
+    w%plan%has_prec = .true.
     iters = it
     nprod = np
     info = stat

@@ -95,11 +95,37 @@ contains
     !> Coefficients for all offsets of an nx x ny grid, in circular layout on the
     !> zero-padded 2nx x 2ny grid: offset (k, l) at index (mod(k, 2nx), mod(l, 2ny)).
     !> Index nx (offset +-nx) is never reached by a product and is set to zero.
+    !> The corner function is evaluated once per corner of the offset lattice,
+    !> X_m = (m - 1/2) dx, m = 1-nx..nx, and differenced (4x fewer logarithms).
     pure subroutine influence_field(kernel, nx, ny, dx, dy, g, nu, c)
         integer, intent(in) :: kernel, nx, ny
         real(dp), intent(in) :: dx, dy, g, nu
         real(dp), intent(out) :: c(0:2 * nx - 1, 0:2 * ny - 1)
-        integer :: i, j, k, l
+        real(dp), allocatable :: phi(:, :)
+        real(dp) :: x, y, w1, w2, f
+        integer :: i, j, k, l, e2
+        ! kernel = w1 * I[1/r] + w2 * I[e2] with e2 the second elementary kernel
+        select case (kernel)
+        case (KERNEL_ZZ)
+            w1 = (1.0_dp - nu) / (pi * g); w2 = 0.0_dp; e2 = 2
+        case (KERNEL_XX)
+            w1 = (1.0_dp - nu) / (pi * g); w2 = nu / (pi * g); e2 = 2
+        case (KERNEL_YY)
+            w1 = (1.0_dp - nu) / (pi * g); w2 = nu / (pi * g); e2 = 3
+        case default
+            w1 = 0.0_dp; w2 = nu / (pi * g); e2 = 4
+        end select
+        allocate (phi(1 - nx:nx, 1 - ny:ny))
+        do j = 1 - ny, ny
+            y = (j - 0.5_dp) * dy
+            do i = 1 - nx, nx
+                x = (i - 0.5_dp) * dx
+                f = 0.0_dp
+                if (w1 /= 0.0_dp) f = w1 * corner(1, x, y)
+                if (w2 /= 0.0_dp) f = f + w2 * corner(e2, x, y)
+                phi(i, j) = f
+            end do
+        end do
         c = 0.0_dp
         do j = 0, 2 * ny - 1
             if (j == ny) cycle
@@ -109,7 +135,8 @@ contains
                 if (i == nx) cycle
                 k = i
                 if (i > nx) k = i - 2 * nx
-                c(i, j) = influence_coefficient(kernel, k * dx, l * dy, dx, dy, g, nu)
+                ! offset (k, l): corners at lattice points k, k+1 and l, l+1
+                c(i, j) = phi(k + 1, l + 1) - phi(k + 1, l) - phi(k, l + 1) + phi(k, l)
             end do
         end do
     end subroutine influence_field

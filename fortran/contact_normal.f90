@@ -19,11 +19,14 @@ module contact_normal
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
-    public :: normal_cg, normal_gs, normal_residual
+    public :: normal_cg, normal_gs, normal_residual, add_columns
 
     integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
     !> Exact product every this many CG steps, against drift of the recurrence.
     integer, parameter :: REFRESH = 16
+    !> Up to this many changed elements, u is corrected column by column
+    !> (O(N) each) rather than by an FFT product (O(N log N)).
+    integer, parameter :: MAX_COLUMNS = 24
 
 contains
 
@@ -47,19 +50,20 @@ contains
     !> Projected conjugate gradients (Polonsky & Keer 1999).
     !> info: 0 converged, 1 not converged in max_iter, 2 no contact (approach
     !> prescribed and below the smallest gap), <0 bad argument.
-    subroutine normal_cg(plan, kz, h, area_el, control, fn, approach, tol, max_iter, &
+    subroutine normal_cg(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
                          p, iters, nprod, resid, info)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, control, max_iter
+        real(dp), intent(in) :: c(0:, 0:)     ! coefficients of kernel kz (influence_field layout)
         real(dp), intent(in) :: h(:, :), area_el, tol
         real(dp), intent(inout) :: fn, approach
         real(dp), intent(inout) :: p(:, :)
         integer, intent(out) :: iters, nprod, info
         real(dp), intent(out) :: resid
-        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), z(:, :), pold(:, :)
+        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), z(:, :), pold(:, :), d(:, :)
         real(dp) :: gbar, rbar, gg, gold, tau, rt, scale, zbar
         logical :: conjugate, exact
-        integer :: nc, nol, it
+        integer :: nc, nol, it, nd
         logical :: force
 
         info = 0
@@ -67,7 +71,7 @@ contains
         nprod = 0
         resid = huge(1.0_dp)
         force = control == CONTROL_FORCE
-        allocate (u, g, t, r, z, pold, mold=h)
+        allocate (u, g, t, r, z, pold, d, mold=h)
 
         if (.not. force .and. all(h >= approach)) then
             p = 0.0_dp
@@ -156,14 +160,15 @@ contains
             end if
             tau = sum(g * t, mask=p > 0.0_dp) / rt
 
-            ! step, projection on p >= 0, and re-entry of overlapping points (PK eq. 3.6-3.8)
-            pold = p
+            ! step, projection on p >= 0, and re-entry of overlapping points (PK eq. 3.6-3.8);
+            ! d = what projection and re-entry changed against the plain step
             where (p > 0.0_dp) p = p - tau * t
-            exact = .not. any(p < 0.0_dp)
+            pold = p
             p = max(p, 0.0_dp)
             nol = count(p <= 0.0_dp .and. g < 0.0_dp)
             where (p <= 0.0_dp .and. g < 0.0_dp) p = -tau * g
             conjugate = nol == 0
+            d = p - pold
 
             scale = 1.0_dp
             if (force) then
@@ -175,13 +180,17 @@ contains
                 p = scale * p
             end if
 
-            if (.not. exact .or. nol > 0 .or. mod(iters, REFRESH) == 0) then
+            ! A p_new = scale (A p_old - tau A t + A d): a few columns of A for a
+            ! sparse d, an exact product when d is large or to stop drift
+            nd = count(d /= 0.0_dp)
+            if (nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0) then
                 call conv_apply(plan, kz, p, u)
                 nprod = nprod + 1
                 exact = .true.
             else
-                ! A p_new = scale (A p_old - tau A t), no projection happened
-                u = scale * (u - tau * r)
+                u = u - tau * r
+                if (nd > 0) call add_columns(c, d, u)
+                u = scale * u
                 exact = .false.
             end if
         end do
@@ -232,6 +241,36 @@ contains
         end if
     end subroutine initial_pressure
 
+    !> u = u + A d for a sparse d, column by column from the circular
+    !> coefficient field c (influence_field layout), O(N) per non-zero of d.
+    pure subroutine add_columns(c, d, u)
+        real(dp), intent(in) :: c(0:, 0:), d(:, :)
+        real(dp), intent(inout) :: u(:, :)
+        integer :: k, l
+        do l = 1, size(d, 2)
+            do k = 1, size(d, 1)
+                if (d(k, l) /= 0.0_dp) call add_column(c, k, l, d(k, l), u)
+            end do
+        end do
+    end subroutine add_columns
+
+    !> u = u + dkl * A(:, (k, l)), the column of element (k, l).
+    pure subroutine add_column(c, k, l, dkl, u)
+        real(dp), intent(in) :: c(0:, 0:), dkl
+        integer, intent(in) :: k, l
+        real(dp), intent(inout) :: u(:, :)
+        integer :: nx, ny, mx, my, j, jj
+        nx = size(u, 1)
+        ny = size(u, 2)
+        mx = 2 * nx
+        my = 2 * ny
+        do j = 1, ny
+            jj = modulo(j - l, my)
+            u(k:nx, j) = u(k:nx, j) + dkl * c(0:nx - k, jj)
+            if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + dkl * c(mx + 1 - k:mx - 1, jj)
+        end do
+    end subroutine add_column
+
     !> Projected Gauss-Seidel (eq. 23) for prescribed approach, from the
     !> pressure in p; u = A p is kept up to date column by column from the
     !> circular coefficient field c (influence_field layout), O(N) per change.
@@ -241,12 +280,10 @@ contains
         real(dp), intent(inout) :: p(:, :), u(:, :)
         integer, intent(out) :: sweeps
         real(dp), intent(out) :: resid
-        integer :: nx, ny, mx, my, j, k, l, jj
+        integer :: nx, ny, k, l
         real(dp) :: c0, e, pnew, d
         nx = size(h, 1)
         ny = size(h, 2)
-        mx = 2 * nx
-        my = 2 * ny
         c0 = c(0, 0)
         sweeps = 0
         resid = normal_residual(u + h - approach, p, u)
@@ -259,11 +296,7 @@ contains
                     d = pnew - p(k, l)
                     if (d == 0.0_dp) cycle
                     p(k, l) = pnew
-                    do j = 1, ny
-                        jj = modulo(j - l, my)
-                        u(k:nx, j) = u(k:nx, j) + d * c(0:nx - k, jj)
-                        if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + d * c(mx + 1 - k:mx - 1, jj)
-                    end do
+                    call add_column(c, k, l, d, u)
                 end do
             end do
             resid = normal_residual(u + h - approach, p, u)

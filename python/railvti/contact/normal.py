@@ -11,6 +11,7 @@ from .._native import core
 from ..errors import ConvergenceError, GridTooSmallError, InputError, NoContactError, RailvtiError
 from ..material import Material
 from .grid import Grid
+from .workspace import workspace
 
 log = logging.getLogger(__name__)
 
@@ -163,8 +164,7 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
             raise InputError("p0 must be >= 0 everywhere")
 
     fn_out, app_out, iters, nprod, resid, info = core.normal_solve_c(
-        h, grid.dx, grid.dy, material.shear_modulus, material.poisson, control, _METHODS[method],
-        tol, max_iter, omega, fn_in, app_in, p)
+        workspace(grid, material), h, control, _METHODS[method], tol, max_iter, omega, fn_in, app_in, p)
     if info == 2:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
     if info < 0:

@@ -1,0 +1,92 @@
+!> Registry of contact workspaces: the influence coefficients, their FFT
+!> spectra and FFTW plans of one grid and material, made once and reused by
+!> every solve on that grid (warm starts in sweeps and time simulations).
+!> Callers hold an integer handle. Not thread-safe: create and free from one
+!> thread (FFTW planning is not reentrant).
+module contact_plans
+    use kinds, only: dp
+    use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY
+    use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
+    implicit none
+    private
+    public :: workspace, ws_create, ws_free, ws_get, MAX_WORKSPACES
+
+    integer, parameter :: MAX_WORKSPACES = 64
+
+    !> One grid's state. c(:, :, k) holds kernel k's coefficients
+    !> (1 zz; with tangential kernels also 2 xx, 3 yy, 4 xy).
+    type :: workspace
+        logical :: used = .false.
+        integer :: nx = 0, ny = 0, nker = 0
+        real(dp) :: dx = 0, dy = 0, g = 0, nu = 0
+        real(dp), allocatable :: c(:, :, :)
+        type(conv_plan) :: plan
+    end type workspace
+
+    type(workspace), target :: slots(MAX_WORKSPACES)
+
+contains
+
+    !> Make a workspace; handle in 1..MAX_WORKSPACES. info: 0 ok, -1 no free
+    !> slot, other < 0 from conv_init / conv_init_precond.
+    subroutine ws_create(nx, ny, dx, dy, g, nu, tangential, handle, info)
+        integer, intent(in) :: nx, ny
+        real(dp), intent(in) :: dx, dy, g, nu
+        logical, intent(in) :: tangential
+        integer, intent(out) :: handle, info
+        integer :: k
+        type(workspace), pointer :: w
+        handle = 0
+        info = -1
+        do k = 1, MAX_WORKSPACES
+            if (.not. slots(k)%used) then
+                handle = k
+                exit
+            end if
+        end do
+        if (handle == 0) return
+        w => slots(handle)
+        w%nx = nx
+        w%ny = ny
+        w%dx = dx
+        w%dy = dy
+        w%g = g
+        w%nu = nu
+        w%nker = merge(4, 1, tangential)
+        allocate (w%c(0:2 * nx - 1, 0:2 * ny - 1, w%nker))
+        call influence_field(KERNEL_ZZ, nx, ny, dx, dy, g, nu, w%c(:, :, 1))
+        if (tangential) then
+            call influence_field(KERNEL_XX, nx, ny, dx, dy, g, nu, w%c(:, :, 2))
+            call influence_field(KERNEL_YY, nx, ny, dx, dy, g, nu, w%c(:, :, 3))
+            call influence_field(KERNEL_XY, nx, ny, dx, dy, g, nu, w%c(:, :, 4))
+        end if
+        call conv_init(w%plan, nx, ny, w%c, info)
+        if (info == 0) call conv_init_precond(w%plan, g, nu, dx, dy, info)
+        if (info /= 0) then
+            call conv_free(w%plan)
+            deallocate (w%c)
+            handle = 0
+            return
+        end if
+        w%used = .true.
+    end subroutine ws_create
+
+    subroutine ws_free(handle)
+        integer, intent(in) :: handle
+        if (handle < 1 .or. handle > MAX_WORKSPACES) return
+        if (.not. slots(handle)%used) return
+        call conv_free(slots(handle)%plan)
+        if (allocated(slots(handle)%c)) deallocate (slots(handle)%c)
+        slots(handle)%used = .false.
+    end subroutine ws_free
+
+    !> Pointer to a live workspace, or null for a bad handle.
+    function ws_get(handle) result(w)
+        integer, intent(in) :: handle
+        type(workspace), pointer :: w
+        w => null()
+        if (handle < 1 .or. handle > MAX_WORKSPACES) return
+        if (slots(handle)%used) w => slots(handle)
+    end function ws_get
+
+end module contact_plans
