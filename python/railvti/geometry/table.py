@@ -245,7 +245,8 @@ def _min_refined(gap: np.ndarray) -> np.ndarray:
     g0 = gap[rows, k]
     km, kp = np.clip(k - 1, 0, gap.shape[1] - 1), np.clip(k + 1, 0, gap.shape[1] - 1)
     gm, gp = gap[rows, km], gap[rows, kp]
-    den = gm - 2.0 * g0 + gp
+    with np.errstate(invalid="ignore"):
+        den = gm - 2.0 * g0 + gp
     good = np.isfinite(gm) & np.isfinite(gp) & (den > 0) & (km != k) & (kp != k)
     out = g0.copy()
     out[good] = g0[good] - (gm[good] - gp[good]) ** 2 / (8.0 * den[good])
