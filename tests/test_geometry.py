@@ -177,3 +177,16 @@ def test_bad_profiles_and_grid(pair):
         G.gap_field(P.s1002(), rail, c, 1e-4, 1e-4, 10, 10)
     with pytest.raises(InputError, match="speed"):
         G.creepages(c, -1.0)
+
+
+def test_deck_case_runs():
+    from railvti.casetypes import REGISTRY
+    import railvti.geometry.cases  # noqa: F401
+    ct = REGISTRY["geometry_table"]
+    params = dict(ct.defaults)
+    params.update(n=41)
+    out = ct.run(params)
+    assert out.datasets["delta_r"][0].shape == (41,)
+    assert 0.1 < out.scalars["equivalent_conicity"][0] < 0.3
+    with pytest.raises(InputError):
+        ct.run({**params, "wheel": "nonexistent.txt"})
