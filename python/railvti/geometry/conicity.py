@@ -1,0 +1,74 @@
+"""Equivalent conicity (EN 15302) and Klingel wavelength from a contact table."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _checks
+from ..errors import InputError
+from .table import ContactTable
+
+
+def equivalent_conicity(table: ContactTable, amplitude: float | np.ndarray = 0.003,
+                        n_quad: int = 4000) -> float | np.ndarray:
+    """Equivalent conicity tan(gamma_e) for a lateral oscillation of the given amplitude.
+
+    EN 15302 linear-regression method: the Delta-r(y) function is linearised as
+    Delta-r ~ 2 tan(gamma_e) y by a least-squares fit weighted with the displacement
+    density of a sinusoidal motion y = A sin(t) (the regression is done over t, so the
+    two-point jumps of Delta-r are integrated, not interpolated across):
+
+        tan(gamma_e)(A) = <Delta-r(A sin t) sin t> / A    (mean over one period)
+
+    Parameters
+    ----------
+    table : ContactTable
+        Computed at zero yaw, covering [-A, A] (status ok there).
+    amplitude : float or ndarray
+        Amplitude(s) A of the wheelset's lateral motion, m (EN 15302 quotes A = 3 mm).
+    n_quad : int
+        Quadrature points over one period.
+
+    Returns
+    -------
+    float or ndarray
+        tan(gamma_e), dimensionless.
+    """
+    amp = np.atleast_1d(np.asarray(amplitude, dtype=float))
+    _checks.finite_array("amplitude", amp)
+    if np.any(amp <= 0):
+        raise InputError("amplitude must be > 0")
+    if np.any(np.abs(table.yaw) > 0):
+        raise InputError("equivalent conicity needs a contact table at zero yaw")
+    ok = table.ok & np.isfinite(table.delta_r)
+    y, dr = table.y[ok], table.delta_r[ok]
+    order = np.argsort(y)
+    y, dr = y[order], dr[order]
+    if y.size < 3 or amp.max() > min(-y[0], y[-1]) + 1e-12:
+        raise InputError(f"the table (ok for y in [{y[0] * 1e3:.3g}, {y[-1] * 1e3:.3g}] mm) does not "
+                         f"cover +-{amp.max() * 1e3:.3g} mm")
+    t = (np.arange(_checks.positive_int("n_quad", n_quad, 16)) + 0.5) * (2 * np.pi / n_quad)
+    st = np.sin(t)
+    out = np.array([np.mean(np.interp(A * st, y, dr) * st) / A for A in amp])
+    return float(out[0]) if np.ndim(amplitude) == 0 else out
+
+
+def klingel_wavelength(conicity: float | np.ndarray, radius: float = 0.46,
+                       half_distance: float = 0.75) -> float | np.ndarray:
+    """Klingel's kinematic wavelength 2 pi sqrt(r0 e0 / tan(gamma_e)), m.
+
+    Parameters
+    ----------
+    conicity : float or ndarray
+        tan(gamma_e) (> 0).
+    radius : float
+        Nominal rolling radius r0, m.
+    half_distance : float
+        Half the lateral distance between the contact points e0, m.
+    """
+    c = np.asarray(conicity, dtype=float)
+    if np.any(~np.isfinite(c)) or np.any(c <= 0):
+        raise InputError("conicity must be finite and > 0")
+    r0 = _checks.positive("radius", radius)
+    e0 = _checks.positive("half_distance", half_distance)
+    lam = 2 * np.pi * np.sqrt(r0 * e0 / c)
+    return float(lam) if lam.ndim == 0 else lam
