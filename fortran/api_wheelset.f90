@@ -15,7 +15,7 @@ end subroutine wheelset_element_c
 
 !> Modes of harmonic k up to omega^2 = lam_max (see wheelset_modes::harmonic_modes).
 subroutine wheelset_modes_c(nn, ne, xn, conn, k, e, nu, rho, fixed, nspr, spr_node, spr_comp, &
-                            spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, neq, kd, info)
+                            spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, info)
     use iso_c_binding, only: c_int, c_double
     use wheelset_modes, only: harmonic_modes
     implicit none
@@ -26,8 +26,9 @@ subroutine wheelset_modes_c(nn, ne, xn, conn, k, e, nu, rho, fixed, nspr, spr_no
     real(c_double), intent(in) :: spr_k(nspr)
     integer(c_int), intent(out) :: nm, neq, kd, info
     real(c_double), intent(out) :: lam(nmax), phi(3, nn, nmax), gam(nmax, nmax), mcq(nmax, nmax)
+    real(c_double), intent(out) :: kgq(nmax, nmax)
     call harmonic_modes(nn, ne, xn, conn, k, e, nu, rho, fixed, nspr, spr_node, spr_comp, spr_k, &
-                        lam_max, nmax, nm, lam, phi, gam, mcq, neq, kd, info)
+                        lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, info)
 end subroutine wheelset_modes_c
 
 !> Frequency response of (-w^2 M + i w D + K) q = fin; h = fout^T q.

@@ -17,10 +17,11 @@ module wheelset_element
     use kinds, only: dp, pi
     implicit none
     private
-    public :: axisym_element, NEN, NDOF_E
+    public :: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP
 
     integer, parameter :: NEN = 9           ! nodes per element
     integer, parameter :: NDOF_E = 3 * NEN  ! DOFs per element
+    integer, parameter :: NGP = 9           ! Gauss points per element (3 x 3)
 
 contains
 
@@ -133,5 +134,126 @@ contains
             end do
         end do
     end subroutine axisym_element
+
+    !> Shape functions at Gauss point g (1..9): n, d/dr, d/dy, radius and
+    !> weight * detJ * r (without the theta factor). info -1: bad Jacobian.
+    pure subroutine gauss_point(xe, g, n, nr, ny, r, w, info)
+        real(dp), intent(in) :: xe(2, NEN)
+        integer, intent(in) :: g
+        real(dp), intent(out) :: n(NEN), nr(NEN), ny(NEN), r, w
+        integer, intent(out) :: info
+        real(dp), parameter :: gp(3) = [-sqrt(0.6_dp), 0.0_dp, sqrt(0.6_dp)]
+        real(dp), parameter :: gw(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
+        real(dp) :: lx(3), dlx(3), ly(3), dly(3), dnx(NEN), dny(NEN), jac(2, 2), detj
+        integer :: i, j, a, ig, jg
+        info = 0
+        ig = mod(g - 1, 3) + 1
+        jg = (g - 1) / 3 + 1
+        call lagrange3(gp(ig), lx, dlx)
+        call lagrange3(gp(jg), ly, dly)
+        do j = 1, 3
+            do i = 1, 3
+                a = (j - 1) * 3 + i
+                n(a) = lx(i) * ly(j)
+                dnx(a) = dlx(i) * ly(j)
+                dny(a) = lx(i) * dly(j)
+            end do
+        end do
+        jac(1, 1) = sum(dnx * xe(1, :))
+        jac(1, 2) = sum(dnx * xe(2, :))
+        jac(2, 1) = sum(dny * xe(1, :))
+        jac(2, 2) = sum(dny * xe(2, :))
+        detj = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
+        r = sum(n * xe(1, :))
+        nr = 0.0_dp
+        ny = 0.0_dp
+        w = 0.0_dp
+        if (detj <= 0.0_dp .or. r <= 0.0_dp) then
+            info = -1
+            return
+        end if
+        nr = (jac(2, 2) * dnx - jac(1, 2) * dny) / detj
+        ny = (-jac(2, 1) * dnx + jac(1, 1) * dny) / detj
+        w = gw(ig) * gw(jg) * detj * r
+    end subroutine gauss_point
+
+    !> Centrifugal prestress of a k = 0 element: the consistent load of the
+    !> body force rho r e_r (angular speed 1 rad/s) in fe, and, given the
+    !> element's displacements ue, the stresses (sig_r, sig_y, sig_th, tau_ry)
+    !> at its Gauss points in sig.
+    pure subroutine axisym_prestress(xe, e, nu, rho, ue, fe, sig, info)
+        real(dp), intent(in) :: xe(2, NEN), e, nu, rho, ue(NDOF_E)
+        real(dp), intent(out) :: fe(NDOF_E), sig(4, NGP)
+        integer, intent(out) :: info
+        real(dp) :: n(NEN), nr(NEN), ny(NEN), r, w, lam, mu, ur(NEN), uy(NEN)
+        real(dp) :: er, ey, et, gry
+        integer :: g
+        lam = e * nu / ((1.0_dp + nu) * (1.0_dp - 2.0_dp * nu))
+        mu = e / (2.0_dp * (1.0_dp + nu))
+        ur = ue(1::3)
+        uy = ue(2::3)
+        fe = 0.0_dp
+        sig = 0.0_dp
+        do g = 1, NGP
+            call gauss_point(xe, g, n, nr, ny, r, w, info)
+            if (info /= 0) return
+            fe(1::3) = fe(1::3) + 2.0_dp * pi * w * rho * r * n
+            er = sum(nr * ur)
+            ey = sum(ny * uy)
+            et = sum(n * ur) / r
+            gry = sum(ny * ur) + sum(nr * uy)
+            sig(1, g) = lam * (er + ey + et) + 2.0_dp * mu * er
+            sig(2, g) = lam * (er + ey + et) + 2.0_dp * mu * ey
+            sig(3, g) = lam * (er + ey + et) + 2.0_dp * mu * et
+            sig(4, g) = mu * gry
+        end do
+    end subroutine axisym_prestress
+
+    !> Geometric (stress) stiffness of harmonic k for the prestress sig(4, 9)
+    !> (sig_r, sig_y, sig_th, tau_ry at the Gauss points): the theta-integral of
+    !> sum_i grad(u_i) . S grad(u_i) with the physical cylindrical gradient.
+    pure subroutine axisym_geometric(k, xe, sig, kg, info)
+        integer, intent(in) :: k
+        real(dp), intent(in) :: xe(2, NEN), sig(4, NGP)
+        real(dp), intent(out) :: kg(NDOF_E, NDOF_E)
+        integer, intent(out) :: info
+        real(dp) :: n(NEN), nr(NEN), ny(NEN), r, w, wk, fk, s(3, 3)
+        real(dp) :: gr(3, NDOF_E), gt(3, NDOF_E), gy(3, NDOF_E)
+        integer :: g, a, ia
+        kg = 0.0_dp
+        wk = merge(2.0_dp * pi, pi, k == 0)
+        fk = real(k, dp)
+        do g = 1, NGP
+            call gauss_point(xe, g, n, nr, ny, r, w, info)
+            if (info /= 0) return
+            ! rows: derivative direction (r, theta, y); one matrix per component
+            gr = 0.0_dp
+            gt = 0.0_dp
+            gy = 0.0_dp
+            do a = 1, NEN
+                ia = 3 * (a - 1)
+                gr(1, ia + 1) = nr(a)                  ! u_r
+                gr(2, ia + 1) = -fk * n(a) / r
+                gr(2, ia + 3) = -n(a) / r
+                gr(3, ia + 1) = ny(a)
+                gt(1, ia + 3) = nr(a)                  ! u_theta
+                gt(2, ia + 3) = fk * n(a) / r
+                gt(2, ia + 1) = n(a) / r
+                gt(3, ia + 3) = ny(a)
+                gy(1, ia + 2) = nr(a)                  ! u_y
+                gy(2, ia + 2) = -fk * n(a) / r
+                gy(3, ia + 2) = ny(a)
+            end do
+            s = 0.0_dp
+            s(1, 1) = sig(1, g)
+            s(2, 2) = sig(3, g)
+            s(3, 3) = sig(2, g)
+            s(1, 3) = sig(4, g)
+            s(3, 1) = sig(4, g)
+            kg = kg + wk * w * (matmul(transpose(gr), matmul(s, gr)) &
+                                + matmul(transpose(gt), matmul(s, gt)) &
+                                + matmul(transpose(gy), matmul(s, gy)))
+        end do
+    end subroutine axisym_geometric
 
 end module wheelset_element

@@ -5,11 +5,11 @@
 !> centrifugal matrices of the rotating body.
 module wheelset_modes
     use kinds, only: dp
-    use wheelset_element, only: axisym_element, NEN, NDOF_E
+    use wheelset_element, only: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP
     use linalg_eigen, only: eig_sym_range, eig_band_lowest
     implicit none
     private
-    public :: dof_map, assemble_band, harmonic_modes
+    public :: dof_map, assemble_band, harmonic_modes, centrifugal_prestress
 
     !> Meshes with at most this many equations go to the dense LAPACK solver.
     integer, parameter :: DENSE_MAX = 600
@@ -131,12 +131,13 @@ contains
     !> info: 0 ok; -1 bad sizes; -2 no free DOF; -10 - e: element e inverted;
     !> -3 K - sigma M not positive definite; >0 eigen-solver status.
     subroutine harmonic_modes(nn, ne, xn, conn, k, e_mod, nu, rho, fixed, nspr, spr_node, &
-                              spr_comp, spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, neq, kd, info)
+                              spr_comp, spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, info)
         integer, intent(in) :: nn, ne, k, conn(NEN, ne), fixed(3, nn), nspr, nmax
         integer, intent(in) :: spr_node(nspr), spr_comp(nspr)
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho, spr_k(nspr), lam_max
         integer, intent(out) :: nm, neq, kd, info
         real(dp), intent(out) :: lam(nmax), phi(3, nn, nmax), gam(nmax, nmax), mcq(nmax, nmax)
+        real(dp), intent(out) :: kgq(nmax, nmax)
         integer :: eq(3, nn), i, j, q, nev, ncv, nconv, stat
         real(dp) :: sgn(3, nn), sigma
         real(dp), allocatable :: kb(:, :), mb(:, :), kf(:, :), mf(:, :), w(:), z(:, :)
@@ -146,6 +147,7 @@ contains
         phi = 0.0_dp
         gam = 0.0_dp
         mcq = 0.0_dp
+        kgq = 0.0_dp
         neq = 0
         kd = 0
         info = 0
@@ -231,7 +233,7 @@ contains
             call expand(z(:, 1:nm))
         end if
         call modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi(:, :, 1:nm), &
-                         gam(1:nm, 1:nm), mcq(1:nm, 1:nm), info)
+                         gam(1:nm, 1:nm), mcq(1:nm, 1:nm), kgq(1:nm, 1:nm), info)
 
     contains
 
@@ -249,19 +251,26 @@ contains
 
     end subroutine harmonic_modes
 
-    !> Modal Coriolis (gam) and in-plane mass (mcq) matrices, element by element.
-    subroutine modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi, gam, mcq, info)
+    !> Modal Coriolis (gam), in-plane mass (mcq) and centrifugal geometric
+    !> stiffness (kgq, per (rad/s)^2) matrices, element by element.
+    subroutine modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi, gam, mcq, kgq, info)
         integer, intent(in) :: nn, ne, conn(NEN, ne), k, nm
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho, phi(3, nn, nm)
-        real(dp), intent(out) :: gam(nm, nm), mcq(nm, nm)
+        real(dp), intent(out) :: gam(nm, nm), mcq(nm, nm), kgq(nm, nm)
         integer, intent(out) :: info
         real(dp) :: ke(NDOF_E, NDOF_E), me(NDOF_E, NDOF_E), ce(NDOF_E, NDOF_E), mc(NDOF_E, NDOF_E)
+        real(dp) :: kg(NDOF_E, NDOF_E)
         real(dp) :: pe(NDOF_E, nm)
+        real(dp), allocatable :: sig(:, :, :)
         integer :: e, a
         gam = 0.0_dp
         mcq = 0.0_dp
+        kgq = 0.0_dp
         info = 0
         if (nm < 1) return
+        allocate (sig(4, NGP, ne))
+        call centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info)
+        if (info /= 0) return
         do e = 1, ne
             call axisym_element(k, xn(:, conn(:, e)), e_mod, nu, rho, ke, me, ce, mc, info)
             if (info /= 0) then
@@ -273,7 +282,60 @@ contains
             end do
             gam = gam + matmul(transpose(pe), matmul(ce, pe))
             mcq = mcq + matmul(transpose(pe), matmul(mc, pe))
+            call axisym_geometric(k, xn(:, conn(:, e)), sig(:, :, e), kg, info)
+            kgq = kgq + matmul(transpose(pe), matmul(kg, pe))
         end do
     end subroutine modal_extra
+
+    !> Stresses (sig_r, sig_y, sig_th, tau_ry) at the Gauss points of every
+    !> element due to rotation at 1 rad/s about the axis (scale by Omega^2).
+    !> The body is free: the load is self-equilibrated, and a tiny mass shift
+    !> (K + eps M) removes the axial and spin rigid modes without loading them.
+    !> info: 0 ok, -10 - e: element e inverted, -4: factorisation failed.
+    subroutine centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info)
+        integer, intent(in) :: nn, ne, conn(NEN, ne)
+        real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho
+        real(dp), intent(out) :: sig(4, NGP, ne)
+        integer, intent(out) :: info
+        integer :: eq(3, nn), fixed(3, nn), neq, kd, e, a, c, q, stat
+        real(dp) :: sgn(3, nn), fe(NDOF_E), ue(NDOF_E), eps
+        real(dp), allocatable :: kb(:, :), mb(:, :), f(:)
+        sig = 0.0_dp
+        fixed = 0
+        call dof_map(nn, xn, 0, fixed, eq, sgn, neq)
+        kd = band_width(nn, ne, conn, eq)
+        allocate (kb(kd + 1, neq), mb(kd + 1, neq), f(neq))
+        call assemble_band(nn, ne, xn, conn, 0, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info)
+        if (info /= 0) return
+        eps = 1.0e-9_dp * maxval(kb(kd + 1, :)) / maxval(mb(kd + 1, :))
+        kb = kb + eps * mb
+        f = 0.0_dp
+        ue = 0.0_dp
+        do e = 1, ne
+            call axisym_prestress(xn(:, conn(:, e)), e_mod, nu, rho, ue, fe, sig(:, :, e), stat)
+            do a = 1, NEN
+                do c = 1, 3
+                    q = eq(c, conn(a, e))
+                    if (q > 0) f(q) = f(q) + sgn(c, conn(a, e)) * fe(3 * (a - 1) + c)
+                end do
+            end do
+        end do
+        call dpbtrf('U', neq, kd, kb, kd + 1, stat)
+        if (stat /= 0) then
+            info = -4
+            return
+        end if
+        call dpbtrs('U', neq, kd, 1, kb, kd + 1, f, neq, stat)
+        do e = 1, ne
+            do a = 1, NEN
+                do c = 1, 3
+                    q = eq(c, conn(a, e))
+                    ue(3 * (a - 1) + c) = 0.0_dp
+                    if (q > 0) ue(3 * (a - 1) + c) = sgn(c, conn(a, e)) * f(q)
+                end do
+            end do
+            call axisym_prestress(xn(:, conn(:, e)), e_mod, nu, rho, ue, fe, sig(:, :, e), stat)
+        end do
+    end subroutine centrifugal_prestress
 
 end module wheelset_modes

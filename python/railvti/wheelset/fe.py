@@ -31,6 +31,9 @@ class HarmonicModes:
         (k = 0, skew) or 2 Omega [[0, Gamma], [-Gamma, 0]] on (A, B) (k > 0).
     inplane_mass : ndarray (nm, nm)
         Phi^T Mc Phi, mass of the (r, theta) motion (centrifugal softening).
+    prestress_stiffness : ndarray (nm, nm)
+        Phi^T K_sigma Phi, geometric stiffness of the centrifugal prestress at
+        1 rad/s (scale by Omega^2).
     n_equations : int
         Free degrees of freedom of the harmonic.
     bandwidth : int
@@ -42,6 +45,7 @@ class HarmonicModes:
     shapes: np.ndarray
     coriolis: np.ndarray
     inplane_mass: np.ndarray
+    prestress_stiffness: np.ndarray
     n_equations: int
     bandwidth: int
 
@@ -103,12 +107,14 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     xn = np.asfortranarray(mesh.nodes.T, dtype=np.float64)
     conn = np.asfortranarray(mesh.conn.T + 1, dtype=np.int32)
     lam_max = (2.0 * np.pi * f_max) ** 2
-    nm, lam, phi, gam, mcq, neq, kd, info = core.wheelset_modes_c(
+    nm, lam, phi, gam, mcq, kgq, neq, kd, info = core.wheelset_modes_c(
         xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_max)
     if info <= -10:
         raise InputError(f"meridian element {-info - 10} is inverted or has r <= 0 (bad geometry)")
     if info == -2:
         raise InputError("no free degree of freedom left for this harmonic")
+    if info == -4:
+        raise ConvergenceError("centrifugal prestress: the k = 0 stiffness could not be factorised")
     if info == -3:
         raise ConvergenceError("K - sigma M is not positive definite (negative stiffness?)")
     if info < 0:
@@ -121,4 +127,5 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     return HarmonicModes(k=k, freq_hz=np.sqrt(lam) / (2.0 * np.pi),
                          shapes=np.ascontiguousarray(np.transpose(phi[:, :, :nm], (2, 1, 0))),
                          coriolis=gam[:nm, :nm].copy(), inplane_mass=mcq[:nm, :nm].copy(),
+                         prestress_stiffness=kgq[:nm, :nm].copy(),
                          n_equations=int(neq), bandwidth=int(kd))
