@@ -183,6 +183,11 @@ class WheelsetGeometry:
                              f"rim {yr0:.4f}..{yr1:.4f} m)")
         if yh0 <= 0.0:
             raise InputError("the two hubs overlap at mid-axle: hub_width/hub_offset too large")
+        yj0 = self.journal_y[0]
+        if yj0 < yh1:
+            raise InputError(f"the axle meridian outline intersects itself: the journal starts at "
+                             f"y = {yj0:.4f} m, inside the wheel seat (ends at {yh1:.4f} m); "
+                             "increase journal_spacing")
         if not self.contact_offset < self.rim_width:
             raise InputError("contact_offset must lie within the rim width")
         if self.flange_width >= self.rim_width:

@@ -166,12 +166,16 @@ def segments_intersect(p1, p2, p3, p4) -> bool:
             or (o3 == 0 and on_seg(p3, p4, p1)) or (o4 == 0 and on_seg(p3, p4, p2)))
 
 
+def _pt(p: tuple[float, float]) -> str:
+    return f"(r={p[0]:.4f}, y={p[1]:.4f})"
+
+
 def check_simple_polygon(points: np.ndarray, name: str) -> None:
     """Raise InputError if the closed polygon ``points`` (n, 2) intersects itself.
 
     Zero-length edges are dropped first; non-adjacent edges must not touch.
     """
-    pts = [tuple(p) for p in np.asarray(points, dtype=float)]
+    pts = [(float(p[0]), float(p[1])) for p in np.asarray(points, dtype=float)]
     clean = [pts[0]]
     for p in pts[1:]:
         if np.hypot(p[0] - clean[-1][0], p[1] - clean[-1][1]) > 1e-12:
@@ -189,4 +193,4 @@ def check_simple_polygon(points: np.ndarray, name: str) -> None:
             c, d = clean[j], clean[(j + 1) % n]
             if segments_intersect(a, b, c, d):
                 raise InputError(f"the {name} meridian outline intersects itself "
-                                 f"(edge {a}-{b} meets edge {c}-{d}); check its dimensions")
+                                 f"(edge {_pt(a)}-{_pt(b)} meets edge {_pt(c)}-{_pt(d)}); check its dimensions")
