@@ -99,3 +99,18 @@ def test_frf_reciprocity_and_static_limit(ws):
     assert np.allclose(hl, hv, rtol=1e-8)      # symmetric at standstill
     h = ws.frf(f, speed=0.0, k_max=2, f_max=1500.0)
     assert np.all(np.isfinite(h)) and np.all(np.abs(h) > 0)
+
+
+def test_deck_case_runs(tmp_path):
+    import f90nml
+    from railvti.casetypes import REGISTRY
+    import railvti.wheelset.cases  # noqa: F401
+    ct = REGISTRY["wheelset"]
+    params = dict(ct.defaults)
+    params.update(k_max=2, f_max=800.0, speeds_kmh=[0.0, 300.0], n_freq=50, **COARSE)
+    out = ct.run(params)
+    assert out.datasets["frf_real"][0].shape == (2, 50)
+    assert 250.0 < out.scalars["first_k2"][0] < 500.0
+    deck = f90nml.read(str(__import__("pathlib").Path(__file__).parents[1] / "inputs" / "wheelset_example.nml"))
+    assert deck["case"]["type"] == "wheelset"
+    assert set(deck["case"].keys()) - {"type", "name"} <= set(ct.defaults)
