@@ -5,6 +5,7 @@ module linalg_eigen
     implicit none
     private
     public :: eig_sym_range
+    public :: eig_band_lowest
 
     interface
         subroutine dsygvx(itype, jobz, range, uplo, n, a, lda, b, ldb, vl, vu, il, iu, &
@@ -46,5 +47,101 @@ contains
         call dsygvx(1, 'V', 'V', 'U', n, k, n, m, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, &
                     lam, x, n, work, lwork, iwork, ifail, info)
     end subroutine eig_sym_range
+
+    !> The nev lowest eigenpairs of K x = lambda M x, K and M symmetric banded
+    !> (upper band storage: a(kd + 1 + i - j, j) = A(i, j), max(1, j - kd) <= i <= j),
+    !> by ARPACK's shift-invert mode (dsaupd mode 3) around sigma < lambda_min,
+    !> with a banded Cholesky factorisation (dpbtrf) of K - sigma M.
+    !> ARPACK is not reentrant: call from one thread at a time.
+    !> On return nconv pairs sit in lam(1:nconv) (ascending) and x(:, 1:nconv),
+    !> M-normalised. info: 0 ok, -1 bad sizes, -2 K - sigma M not positive
+    !> definite (sigma not below the spectrum), >0 ARPACK status (1: not all
+    !> converged within maxit, nconv tells how many did), -3 dseupd failed.
+    subroutine eig_band_lowest(n, kd, kb, mb, sigma, nev, ncv, tol, maxit, lam, x, nconv, info)
+        integer, intent(in) :: n, kd, nev, ncv, maxit
+        real(dp), intent(in) :: kb(kd + 1, n), mb(kd + 1, n), sigma, tol
+        real(dp), intent(out) :: lam(nev), x(n, nev)
+        integer, intent(out) :: nconv, info
+        real(dp), allocatable :: ab(:, :), resid(:), v(:, :), workd(:), workl(:), d(:), z(:, :)
+        logical, allocatable :: sel(:)
+        integer :: ido, iparam(11), ipntr(11), lworkl, stat, i, j, nc
+        integer, allocatable :: idx(:)
+        character(len=1), parameter :: bmat = 'G'
+        character(len=2), parameter :: which = 'LM'
+
+        nconv = 0
+        lam = 0.0_dp
+        x = 0.0_dp
+        if (n < 2 .or. kd < 0 .or. nev < 1 .or. nev >= n .or. ncv <= nev .or. ncv > n) then
+            info = -1
+            return
+        end if
+        allocate (ab(kd + 1, n))
+        ab = kb - sigma * mb
+        call dpbtrf('U', n, kd, ab, kd + 1, stat)
+        if (stat /= 0) then
+            info = -2
+            return
+        end if
+        lworkl = ncv * (ncv + 8)
+        allocate (resid(n), v(n, ncv), workd(3 * n), workl(lworkl))
+        iparam = 0
+        iparam(1) = 1
+        iparam(3) = maxit
+        iparam(7) = 3
+        ido = 0
+        info = 0
+        do
+            call dsaupd(ido, bmat, n, which, nev, tol, resid, ncv, v, n, iparam, ipntr, &
+                        workd, workl, lworkl, info)
+            select case (ido)
+            case (-1)
+                call dsbmv('U', n, kd, 1.0_dp, mb, kd + 1, workd(ipntr(1)), 1, 0.0_dp, &
+                           workd(ipntr(2)), 1)
+                call dpbtrs('U', n, kd, 1, ab, kd + 1, workd(ipntr(2)), n, stat)
+            case (1)
+                workd(ipntr(2):ipntr(2) + n - 1) = workd(ipntr(3):ipntr(3) + n - 1)
+                call dpbtrs('U', n, kd, 1, ab, kd + 1, workd(ipntr(2)), n, stat)
+            case (2)
+                call dsbmv('U', n, kd, 1.0_dp, mb, kd + 1, workd(ipntr(1)), 1, 0.0_dp, &
+                           workd(ipntr(2)), 1)
+            case default
+                exit
+            end select
+        end do
+        if (info < 0) then
+            info = 100 - info
+            return
+        end if
+        nc = iparam(5)
+        if (nc < 1) then
+            info = 1
+            return
+        end if
+        allocate (sel(ncv), d(nev), z(n, nev))
+        call dseupd(.true., 'A', sel, d, z, n, sigma, bmat, n, which, nev, tol, resid, ncv, &
+                    v, n, iparam, ipntr, workd, workl, lworkl, stat)
+        if (stat /= 0) then
+            info = -3
+            return
+        end if
+        nc = min(nc, nev)
+        ! dseupd returns ascending values; sort anyway to be safe.
+        allocate (idx(nc))
+        idx = [(i, i = 1, nc)]
+        do i = 2, nc
+            j = i
+            do while (j > 1)
+                if (d(idx(j - 1)) <= d(idx(j))) exit
+                idx(j - 1:j) = idx([j, j - 1])
+                j = j - 1
+            end do
+        end do
+        do i = 1, nc
+            lam(i) = d(idx(i))
+            x(:, i) = z(:, idx(i))
+        end do
+        nconv = nc
+    end subroutine eig_band_lowest
 
 end module linalg_eigen

@@ -1,0 +1,50 @@
+!> Frequency response of a linear gyroscopic system in modal coordinates,
+!>     (-omega^2 M + i omega D + K) q = F,   D = G + C (gyroscopic + damping),
+!> as met by the rotating wheelset in its axle-fixed (non-rotating) frame.
+module wheelset_frf
+    use kinds, only: dp
+    implicit none
+    private
+    public :: gyro_frf
+
+    interface
+        subroutine zgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: dp
+            integer, intent(in) :: n, nrhs, lda, ldb
+            complex(dp), intent(inout) :: a(lda, *), b(ldb, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine zgesv
+    end interface
+
+contains
+
+    !> h(o, i, f) = fout(:, o)^T q, with q the response to the generalized force
+    !> fin(:, i) at circular frequency omega(f) (rad/s).
+    !> info: 0 ok, f > 0: the dynamic matrix is singular at omega(f).
+    subroutine gyro_frf(nq, mq, dq, kq, nin, fin, nout, fout, nf, omega, h, info)
+        integer, intent(in) :: nq, nin, nout, nf
+        real(dp), intent(in) :: mq(nq, nq), dq(nq, nq), kq(nq, nq)
+        real(dp), intent(in) :: fin(nq, nin), fout(nq, nout), omega(nf)
+        complex(dp), intent(out) :: h(nout, nin, nf)
+        integer, intent(out) :: info
+        complex(dp), allocatable :: a(:, :), b(:, :)
+        integer, allocatable :: ipiv(:)
+        integer :: f, stat
+        real(dp) :: w
+        info = 0
+        h = (0.0_dp, 0.0_dp)
+        allocate (a(nq, nq), b(nq, nin), ipiv(nq))
+        do f = 1, nf
+            w = omega(f)
+            a = cmplx(kq - w * w * mq, w * dq, kind=dp)
+            b = cmplx(fin, 0.0_dp, kind=dp)
+            call zgesv(nq, nin, a, nq, ipiv, b, nq, stat)
+            if (stat /= 0) then
+                info = f
+                return
+            end if
+            h(:, :, f) = matmul(transpose(cmplx(fout, 0.0_dp, kind=dp)), b)
+        end do
+    end subroutine gyro_frf
+
+end module wheelset_frf

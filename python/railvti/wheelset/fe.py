@@ -1,0 +1,131 @@
+"""Modes of one circumferential harmonic of an axisymmetric body (Fortran core)."""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from .._native import core
+from ..errors import ConvergenceError, InputError
+from .mesh import MeridianMesh
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class HarmonicModes:
+    """Modes of harmonic k, normalised to unit modal mass.
+
+    Attributes
+    ----------
+    k : int
+        Circumferential harmonic.
+    freq_hz : ndarray (nm,)
+        Natural frequencies of the non-rotating body, Hz.
+    shapes : ndarray (nm, nn, 3)
+        Nodal amplitudes (U_r, U_y, U_theta), m per sqrt(kg); set A of eq. 7.
+    coriolis : ndarray (nm, nm)
+        Gamma = Phi^T C Phi; the body-frame gyroscopic matrix is 2 Omega Gamma
+        (k = 0, skew) or 2 Omega [[0, Gamma], [-Gamma, 0]] on (A, B) (k > 0).
+    inplane_mass : ndarray (nm, nm)
+        Phi^T Mc Phi, mass of the (r, theta) motion (centrifugal softening).
+    prestress_stiffness : ndarray (nm, nm)
+        Phi^T K_sigma Phi, geometric stiffness of the centrifugal prestress at
+        1 rad/s (scale by Omega^2).
+    n_equations : int
+        Free degrees of freedom of the harmonic.
+    bandwidth : int
+        Half-bandwidth of the assembled matrices.
+    """
+
+    k: int
+    freq_hz: np.ndarray
+    shapes: np.ndarray
+    coriolis: np.ndarray
+    inplane_mass: np.ndarray
+    prestress_stiffness: np.ndarray
+    n_equations: int
+    bandwidth: int
+
+    @property
+    def lam(self) -> np.ndarray:
+        """Eigenvalues omega^2, (rad/s)^2."""
+        return (2.0 * np.pi * self.freq_hz) ** 2
+
+
+def check_harmonic(k: object, name: str = "harmonic k") -> int:
+    """Return k as an int, or raise InputError unless it is an integer >= 0."""
+    try:
+        ok = not isinstance(k, bool) and float(k).is_integer() and int(k) >= 0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise InputError(f"{name} must be an integer >= 0, got {k!r}")
+    return int(k)
+
+
+def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, density: float,
+                   f_max: float, fixed: np.ndarray | None = None,
+                   springs: tuple[tuple[int, int, float], ...] = (), n_max: int = 400) -> HarmonicModes:
+    """All modes of harmonic k up to f_max.
+
+    Parameters
+    ----------
+    mesh : MeridianMesh
+        Meridian mesh, m.
+    k : int
+        Circumferential harmonic, >= 0.
+    young, poisson, density : float
+        E (Pa), nu, rho (kg/m^3).
+    f_max : float
+        Highest frequency wanted, Hz.
+    fixed : ndarray (nn, 3) of bool, optional
+        Clamped components (U_r, U_y, U_theta).
+    springs : tuple of (node, component, stiffness)
+        Springs to the ground: zero-based node, component 0 r, 1 y, 2 theta, N/m.
+    n_max : int
+        Most modes returned.
+
+    Returns
+    -------
+    HarmonicModes
+    """
+    k = check_harmonic(k)
+    f_max = _checks.positive("f_max", f_max)
+    nn = mesh.n_nodes
+    fx = np.zeros((3, nn), dtype=np.int32, order="F")
+    if fixed is not None:
+        fx[:, :] = np.asarray(fixed, dtype=bool).T
+    if springs:
+        sn = np.array([s[0] + 1 for s in springs], dtype=np.int32)
+        sc = np.array([s[1] + 1 for s in springs], dtype=np.int32)
+        sk = np.array([s[2] for s in springs], dtype=np.float64)
+    else:
+        sn, sc, sk = np.ones(1, np.int32), np.ones(1, np.int32), np.zeros(1)
+    xn = np.asfortranarray(mesh.nodes.T, dtype=np.float64)
+    conn = np.asfortranarray(mesh.conn.T + 1, dtype=np.int32)
+    lam_max = (2.0 * np.pi * f_max) ** 2
+    nm, lam, phi, gam, mcq, kgq, neq, kd, info = core.wheelset_modes_c(
+        xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_max)
+    if info <= -10:
+        raise InputError(f"meridian element {-info - 10} is inverted or has r <= 0 (bad geometry)")
+    if info == -2:
+        raise InputError("no free degree of freedom left for this harmonic")
+    if info == -4:
+        raise ConvergenceError("centrifugal prestress: the k = 0 stiffness could not be factorised")
+    if info == -3:
+        raise ConvergenceError("K - sigma M is not positive definite (negative stiffness?)")
+    if info < 0:
+        raise InputError(f"wheelset_modes_c rejected its arguments (info={info})")
+    if info > 0:
+        raise ConvergenceError(f"eigen-solver for k={k} did not converge (status {info}, {nm} modes)",
+                               iterations=0)
+    lam = np.clip(lam[:nm], 0.0, None)
+    log.debug("k=%d: %d modes below %.0f Hz, %d equations, bandwidth %d", k, nm, f_max, neq, kd)
+    return HarmonicModes(k=k, freq_hz=np.sqrt(lam) / (2.0 * np.pi),
+                         shapes=np.ascontiguousarray(np.transpose(phi[:, :, :nm], (2, 1, 0))),
+                         coriolis=gam[:nm, :nm].copy(), inplane_mass=mcq[:nm, :nm].copy(),
+                         prestress_stiffness=kgq[:nm, :nm].copy(),
+                         n_equations=int(neq), bandwidth=int(kd))

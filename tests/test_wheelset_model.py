@@ -1,0 +1,116 @@
+"""Wheelset geometry checks, modes, the rotating axle-fixed model and the FRF."""
+import numpy as np
+import pytest
+
+from railvti import InputError
+from railvti.wheelset import Wheelset, WheelsetGeometry
+
+COARSE = dict(mesh_size=0.035, axle_mesh_size=0.08)
+
+
+@pytest.fixture(scope="module")
+def ws():
+    return Wheelset(**COARSE)
+
+
+@pytest.mark.parametrize("name", ["wheel_radius", "rim_width", "web_thickness_hub", "journal_length",
+                                  "seat_radius", "mesh_size"])
+def test_negative_dimension_rejected(name):
+    with pytest.raises(InputError, match=name):
+        WheelsetGeometry(**{name: -0.1})
+
+
+@pytest.mark.parametrize("kw", [dict(rim_depth=0.40),              # rim reaches below the hub
+                                dict(hub_radius=0.09),             # hub inside the wheel seat
+                                dict(journal_spacing=1.5)])        # journal runs into the wheel seat
+def test_self_intersecting_outline_rejected(kw):
+    with pytest.raises(InputError, match="intersects itself"):
+        WheelsetGeometry(**kw)
+
+
+def test_web_outside_hub_rejected():
+    with pytest.raises(InputError, match="intersects itself|web"):
+        WheelsetGeometry(web_offset=0.2)
+
+
+@pytest.mark.parametrize("k", [-1, 2.5])
+def test_negative_harmonic_rejected(ws, k):
+    with pytest.raises(InputError, match="k"):
+        ws.modes(k_max=k, f_max=500.0)
+    with pytest.raises(InputError, match="harmonic"):
+        ws.harmonic(k, 500.0)
+
+
+def test_bad_frf_arguments(ws):
+    with pytest.raises(InputError, match="input"):
+        ws.frf([100.0], speed=10.0, input="sideways")
+    with pytest.raises(InputError, match="speed"):
+        ws.frf([100.0], speed=-1.0)
+    with pytest.raises(InputError, match="freqs"):
+        ws.frf([np.nan], speed=1.0)
+
+
+def test_modes_table_free(ws):
+    t = ws.modes(k_max=2, f_max=500.0)
+    # rigid modes: k = 0 axial translation + spin, k = 1 translation + rotation
+    assert np.sum((t.k == 0) & (t.freq_hz < 1.0)) == 2
+    assert np.sum((t.k == 1) & (t.freq_hz < 1.0)) == 2
+    assert 50.0 < t.first(0) < 100.0           # torsion
+    assert 60.0 < t.first(1) < 200.0           # first bending
+    assert 250.0 < t.first(2) < 500.0          # wheel k = 2
+    assert all(f == "AB" for kk, f in zip(t.k, t.family) if kk > 0)
+
+
+def test_suspension_separates_planes(ws):
+    t = ws.modes(k_max=1, f_max=60.0, support="suspension")
+    fa = [f for kk, f, fam in zip(t.k, t.freq_hz, t.family) if kk == 1 and fam == "A"]
+    fb = [f for kk, f, fam in zip(t.k, t.freq_hz, t.family) if kk == 1 and fam == "B"]
+    assert fa[0] < fb[0]          # vertical primary stiffness is the softest
+    assert fa[0] > 1.0
+
+
+def test_rotation_splits_k2_and_not_k0(ws):
+    m0 = ws.axle_fixed(0.0, k_max=2, f_max=1500.0)
+    m = ws.axle_fixed(300 / 3.6, k_max=2, f_max=1500.0)
+    f2 = m0.eigenfrequencies(2)[0]
+    split = m.eigenfrequencies(2)
+    lo, hi = split[np.argmin(abs(split - (f2 - 2 * m.omega / (2 * np.pi))))], \
+        split[np.argmin(abs(split - (f2 + 2 * m.omega / (2 * np.pi))))]
+    half = 0.5 * (hi - lo)
+    assert half == pytest.approx(2 * m.omega / (2 * np.pi), rel=0.15)
+    f0 = m0.eigenfrequencies(0)
+    f0r = m.eigenfrequencies(0)
+    assert np.allclose(f0r[f0 > 100.0][:2], f0[f0 > 100.0][:2], rtol=0.01)
+
+
+def test_rigid_translation_unaffected_by_spin():
+    """A free spinning body translates without stiffness: frame terms and centrifugal cancel."""
+    from railvti.wheelset import PrimarySuspension
+    ws = Wheelset(suspension=PrimarySuspension(0.0, 0.0, 0.0), **COARSE)
+    m = ws.axle_fixed(200 / 3.6, k_max=1, f_max=300.0)
+    f1 = m.eigenfrequencies(1)
+    assert np.sum(f1 < 1e-3 * m.omega) >= 2
+
+
+def test_frf_reciprocity_and_static_limit(ws):
+    f = np.array([5.0, 200.0, 400.0])
+    hl = ws.frf(f, speed=0.0, input="lateral", output="vertical", k_max=2, f_max=1500.0)
+    hv = ws.frf(f, speed=0.0, input="vertical", output="lateral", k_max=2, f_max=1500.0)
+    assert np.allclose(hl, hv, rtol=1e-8)      # symmetric at standstill
+    h = ws.frf(f, speed=0.0, k_max=2, f_max=1500.0)
+    assert np.all(np.isfinite(h)) and np.all(np.abs(h) > 0)
+
+
+def test_deck_case_runs(tmp_path):
+    import f90nml
+    from railvti.casetypes import REGISTRY
+    import railvti.wheelset.cases  # noqa: F401
+    ct = REGISTRY["wheelset"]
+    params = dict(ct.defaults)
+    params.update(k_max=2, f_max=800.0, speeds_kmh=[0.0, 300.0], n_freq=50, **COARSE)
+    out = ct.run(params)
+    assert out.datasets["frf_real"][0].shape == (2, 50)
+    assert 250.0 < out.scalars["first_k2"][0] < 500.0
+    deck = f90nml.read(str(__import__("pathlib").Path(__file__).parents[1] / "inputs" / "wheelset_example.nml"))
+    assert deck["case"]["type"] == "wheelset"
+    assert set(deck["case"].keys()) - {"type", "name"} <= set(ct.defaults)
