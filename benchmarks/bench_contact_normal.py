@@ -20,6 +20,7 @@ import numpy as np
 from railvti import STEEL
 from railvti._native import core
 from railvti.contact import Grid, hertz, hertz_gap, solve_normal
+from railvti.contact.workspace import workspace
 side, method = int(sys.argv[1]), sys.argv[2]
 ref = hertz(1.0, 1.0, 1.0e4, STEEL)
 h = 2 * 1.2 * ref.a / side              # the patch spans ~83 % of the grid's width
@@ -34,7 +35,7 @@ t = time.perf_counter() - t0
 q = np.asfortranarray(r.pressure)
 def products(n):
     t0 = time.perf_counter()
-    core.convolve_repeat_c(grid.dx, grid.dy, STEEL.shear_modulus, STEEL.poisson, n, q)
+    core.convolve_repeat_c(workspace(grid, STEEL), n, q)
     return time.perf_counter() - t0
 nrep = 40
 t_prod = (products(nrep + 1) - products(1)) / nrep

@@ -50,29 +50,28 @@ subroutine convolve_c(kernel, method, nx, ny, dx, dy, g, nu, q, u, info)
     end if
 end subroutine convolve_c
 
-!> Time of nrep FFT products on an nx x ny grid is measured in Python around
-!> this call; it applies the Boussinesq product nrep times to q.
-subroutine convolve_repeat_c(nx, ny, dx, dy, g, nu, nrep, q, u, info)
+!> Apply the Boussinesq product of workspace `handle` nrep times to q (the
+!> benchmark times one FFT product with it). info -3: bad handle or grid.
+subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     use iso_c_binding, only: c_int, c_double
-    use contact_influence, only: influence_field, KERNEL_ZZ
-    use contact_convolution, only: conv_plan, conv_init, conv_apply, conv_free
+    use contact_plans, only: workspace, ws_get
+    use contact_convolution, only: conv_apply
     implicit none
-    integer(c_int), intent(in) :: nx, ny, nrep
-    real(c_double), intent(in) :: dx, dy, g, nu
+    integer(c_int), intent(in) :: handle, nx, ny, nrep
     real(c_double), intent(in) :: q(nx, ny)
     real(c_double), intent(out) :: u(nx, ny)
     integer(c_int), intent(out) :: info
-    real(c_double), allocatable :: c(:, :, :)
-    type(conv_plan) :: plan
+    type(workspace), pointer :: w
     integer :: k
-    allocate (c(0:2 * nx - 1, 0:2 * ny - 1, 1))
-    call influence_field(KERNEL_ZZ, nx, ny, dx, dy, g, nu, c(:, :, 1))
-    call conv_init(plan, nx, ny, c, info)
-    if (info /= 0) return
+    info = -3
+    u = 0.0_c_double
+    w => ws_get(handle)
+    if (.not. associated(w)) return
+    if (w%nx /= nx .or. w%ny /= ny) return
+    info = 0
     do k = 1, nrep
-        call conv_apply(plan, 1, q, u)
+        call conv_apply(w%plan, 1, q, u)
     end do
-    call conv_free(plan)
 end subroutine convolve_repeat_c
 
 !> Make a contact workspace (coefficients, spectra, FFTW plans) for an

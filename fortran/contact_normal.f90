@@ -73,13 +73,7 @@ contains
         force = control == CONTROL_FORCE
         allocate (u, g, t, r, z, pold, d, mold=h)
 
-        if (.not. force .and. all(h >= approach)) then
-            p = 0.0_dp
-            fn = 0.0_dp
-            resid = 0.0_dp
-            info = 2
-            return
-        end if
+        if (no_contact(control, h, approach, p, fn, resid, info)) return
 
         call initial_pressure(plan, kz, h, force, approach, p, u, nprod)
         if (force) then
@@ -241,6 +235,21 @@ contains
         end if
     end subroutine initial_pressure
 
+    !> A prescribed approach that does not close the smallest gap has the
+    !> solution p = 0: set it with info = 2 and return true.
+    logical function no_contact(control, h, approach, p, fn, resid, info)
+        integer, intent(in) :: control
+        real(dp), intent(in) :: h(:, :), approach
+        real(dp), intent(inout) :: p(:, :), fn, resid
+        integer, intent(inout) :: info
+        no_contact = control == CONTROL_APPROACH .and. all(h >= approach)
+        if (.not. no_contact) return
+        p = 0.0_dp
+        fn = 0.0_dp
+        resid = 0.0_dp
+        info = 2
+    end function no_contact
+
     !> u = u + A d for a sparse d, column by column from the circular
     !> coefficient field c (influence_field layout), O(N) per non-zero of d.
     pure subroutine add_columns(c, d, u)
@@ -324,13 +333,7 @@ contains
         call conv_apply(plan, kz, p, u)
 
         if (control == CONTROL_APPROACH) then
-            if (all(h >= approach)) then
-                p = 0.0_dp
-                fn = 0.0_dp
-                resid = 0.0_dp
-                info = 2
-                return
-            end if
+            if (no_contact(control, h, approach, p, fn, resid, info)) return
             call gs_sweeps(c, h, approach, omega, tol, 0, max_iter, p, u, iters, resid)
             fn = area_el * sum(p)
             if (resid > tol) info = 1
