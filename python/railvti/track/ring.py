@@ -344,12 +344,13 @@ class RingTrack:
         return f @ self.head_shapes(x, rail)
 
     def _pattern(self, x: float, direction: str) -> tuple[np.ndarray, np.ndarray]:
-        if direction == "vertical":
-            comp, sign = 2, (1.0, 1.0)
-        elif direction == "lateral":
-            comp, sign = 1, (-1.0, 1.0)   # outward on both rails (opposite directions)
-        else:
-            raise InputError(f"direction must be 'vertical' or 'lateral', got {direction!r}")
+        patterns = {"vertical": (2, (1.0, 1.0)),
+                    "lateral": (1, (-1.0, 1.0)),        # outward on both rails (opposite)
+                    "vertical_opposite": (2, (-1.0, 1.0)),
+                    "lateral_inphase": (1, (1.0, 1.0))}
+        if direction not in patterns:
+            raise InputError(f"direction must be one of {sorted(patterns)}, got {direction!r}")
+        comp, sign = patterns[direction]
         h1, h2 = self.head_shapes(x, 1), self.head_shapes(x, 2)
         q = sign[0] * h1[comp] + sign[1] * h2[comp]
         return h2[comp], q
@@ -372,10 +373,10 @@ class RingTrack:
         ----------
         freqs : array_like
             Frequencies, Hz (>= 0).
-        direction : {'vertical', 'lateral'}
+        direction : {'vertical', 'lateral', 'vertical_opposite', 'lateral_inphase'}
             'vertical': unit vertical forces in phase on both rails, vertical displacement.
             'lateral': unit lateral forces in opposite directions (outward) on the two rails,
-            lateral displacement.
+            lateral displacement. The other two swap the phase (used to fit TrackElement).
         position : {'midspan', 'sleeper'} or float
             Load and response position x, m.
 
