@@ -48,3 +48,20 @@ def test_track_element_bad_input():
         TrackElement(inertia=(-1.0, 1.0, 1.0), stiffness=(1.0, 1.0, 1.0), damping=(0, 0, 0))
     with pytest.raises(InputError, match="stiffness"):
         TrackElement(inertia=(1.0, 1.0, 1.0), stiffness=(1.0, -1.0, 1.0), damping=(0, 0, 0))
+
+
+def test_example_deck_keys_are_known():
+    from pathlib import Path
+
+    import f90nml
+
+    deck = Path(__file__).resolve().parents[1] / "inputs" / "track_example.nml"
+    groups = f90nml.read(deck)["case"]
+    groups = groups if isinstance(groups, list) else [groups]
+    assert len(groups) == 2
+    for g in groups:
+        ct = REGISTRY[g["type"]]
+        unknown = set(g) - set(ct.defaults) - {"type", "name"}
+        assert not unknown, unknown
+        missing = [k for k, v in ct.defaults.items() if v is REQUIRED and k not in g]
+        assert not missing, missing
