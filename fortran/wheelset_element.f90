@@ -45,11 +45,8 @@ contains
         real(dp), intent(out) :: ke(NDOF_E, NDOF_E), me(NDOF_E, NDOF_E)
         real(dp), intent(out) :: ce(NDOF_E, NDOF_E), mc(NDOF_E, NDOF_E)
         integer, intent(out) :: info
-        real(dp), parameter :: gp(3) = [-sqrt(0.6_dp), 0.0_dp, sqrt(0.6_dp)]
-        real(dp), parameter :: gw(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
-        real(dp) :: lx(3), dlx(3), ly(3), dly(3)
-        real(dp) :: n(NEN), dnx(NEN), dny(NEN), nr(NEN), ny(NEN)
-        real(dp) :: jac(2, 2), detj, r, w, wk, lam, mu, fk, ro, cs
+        real(dp) :: n(NEN), nr(NEN), ny(NEN)
+        real(dp) :: r, w, wk, lam, mu, fk, ro, cs
         real(dp) :: b(6, NDOF_E), d(6, 6), db(6, NDOF_E)
         integer :: ig, jg, i, j, a, bb, ia, ib
 
@@ -73,33 +70,9 @@ contains
 
         do jg = 1, 3
             do ig = 1, 3
-                call lagrange3(gp(ig), lx, dlx)
-                call lagrange3(gp(jg), ly, dly)
-                do j = 1, 3
-                    do i = 1, 3
-                        a = (j - 1) * 3 + i
-                        n(a) = lx(i) * ly(j)
-                        dnx(a) = dlx(i) * ly(j)
-                        dny(a) = lx(i) * dly(j)
-                    end do
-                end do
-                jac(1, 1) = sum(dnx * xe(1, :))
-                jac(1, 2) = sum(dnx * xe(2, :))
-                jac(2, 1) = sum(dny * xe(1, :))
-                jac(2, 2) = sum(dny * xe(2, :))
-                detj = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
-                if (detj <= 0.0_dp) then
-                    info = -1
-                    return
-                end if
-                nr = (jac(2, 2) * dnx - jac(1, 2) * dny) / detj
-                ny = (-jac(2, 1) * dnx + jac(1, 1) * dny) / detj
-                r = sum(n * xe(1, :))
-                if (r <= 0.0_dp) then
-                    info = -1
-                    return
-                end if
-                w = gw(ig) * gw(jg) * detj * r * wk
+                call gauss_point(xe, (jg - 1) * 3 + ig, n, nr, ny, r, w, info)
+                if (info /= 0) return
+                w = w * wk
                 ro = 1.0_dp / r
                 ! strains (eps_r, eps_y, eps_th, gam_ry, gam_rth, gam_yth)
                 b = 0.0_dp
