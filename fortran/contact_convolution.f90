@@ -90,26 +90,17 @@ contains
 
     subroutine conv_free(plan)
         type(conv_plan), intent(inout) :: plan
-        if (c_associated(plan%fwd)) call fftw_destroy_plan(plan%fwd)
-        if (c_associated(plan%bwd)) call fftw_destroy_plan(plan%bwd)
-        if (c_associated(plan%rmem)) call fftw_free(plan%rmem)
-        if (c_associated(plan%cmem)) call fftw_free(plan%cmem)
-        if (c_associated(plan%cmem2)) call fftw_free(plan%cmem2)
-        plan%fwd = c_null_ptr
-        plan%bwd = c_null_ptr
-        plan%rmem = c_null_ptr
-        plan%cmem = c_null_ptr
-        plan%cmem2 = c_null_ptr
+        call destroy_plan(plan%fwd)
+        call destroy_plan(plan%bwd)
+        call free_mem(plan%rmem)
+        call free_mem(plan%cmem)
+        call free_mem(plan%cmem2)
         nullify (plan%rbuf, plan%cbuf, plan%cbuf2)
         if (allocated(plan%spec)) deallocate (plan%spec)
-        if (c_associated(plan%pfwd)) call fftw_destroy_plan(plan%pfwd)
-        if (c_associated(plan%pbwd)) call fftw_destroy_plan(plan%pbwd)
-        if (c_associated(plan%prmem)) call fftw_free(plan%prmem)
-        if (c_associated(plan%pcmem)) call fftw_free(plan%pcmem)
-        plan%pfwd = c_null_ptr
-        plan%pbwd = c_null_ptr
-        plan%prmem = c_null_ptr
-        plan%pcmem = c_null_ptr
+        call destroy_plan(plan%pfwd)
+        call destroy_plan(plan%pbwd)
+        call free_mem(plan%prmem)
+        call free_mem(plan%pcmem)
         nullify (plan%prbuf, plan%pcbuf)
         if (allocated(plan%psym)) deallocate (plan%psym)
         plan%has_prec = .false.
@@ -117,6 +108,18 @@ contains
         plan%ny = 0
         plan%nker = 0
     end subroutine conv_free
+
+    subroutine destroy_plan(p)
+        type(c_ptr), intent(inout) :: p
+        if (c_associated(p)) call fftw_destroy_plan(p)
+        p = c_null_ptr
+    end subroutine destroy_plan
+
+    subroutine free_mem(p)
+        type(c_ptr), intent(inout) :: p
+        if (c_associated(p)) call fftw_free(p)
+        p = c_null_ptr
+    end subroutine free_mem
 
     !> u = C_k * q by zero-padded FFT (one forward and one inverse transform).
     subroutine conv_apply(plan, k, q, u)

@@ -211,31 +211,31 @@ contains
                 end if
                 if (nconv < nev) then
                     info = max(stat, 1)
-                    nm = 0
-                    do i = 1, nconv
-                        if (w(i) <= lam_max) nm = i
-                    end do
-                    nm = min(nm, nmax)
-                    lam(1:nm) = w(1:nm)
-                    call expand(z(:, 1:nm))
+                    call keep_below_max()
                     return
                 end if
                 if (w(nev) > lam_max .or. nev >= min(nmax, neq - 2)) exit
                 nev = min(2 * nev, nmax, neq - 2)
                 deallocate (w, z)
             end do
-            nm = 0
-            do i = 1, nconv
-                if (w(i) <= lam_max) nm = i
-            end do
-            nm = min(nm, nmax)
-            lam(1:nm) = w(1:nm)
-            call expand(z(:, 1:nm))
+            call keep_below_max()
         end if
         call modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi(:, :, 1:nm), &
                          gam(1:nm, 1:nm), mcq(1:nm, 1:nm), kgq(1:nm, 1:nm), info)
 
     contains
+
+        !> Keep the converged modes with lambda <= lam_max (at most nmax).
+        subroutine keep_below_max()
+            integer :: ii
+            nm = 0
+            do ii = 1, nconv
+                if (w(ii) <= lam_max) nm = ii
+            end do
+            nm = min(nm, nmax)
+            lam(1:nm) = w(1:nm)
+            call expand(z(:, 1:nm))
+        end subroutine keep_below_max
 
         subroutine expand(zz)
             real(dp), intent(in) :: zz(:, :)
