@@ -13,7 +13,7 @@ module contact_convolution
     implicit none
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply
-    public :: conv_init_precond, conv_precond
+    public :: conv_init_precond, conv_precond, conv_apply_buffer, conv_precond_buffer
 
     include 'fftw3.f03'
 
@@ -127,16 +127,24 @@ contains
         integer, intent(in) :: k
         real(dp), intent(in) :: q(:, :)
         real(dp), intent(out) :: u(:, :)
-        integer :: nx, ny
-        nx = plan%nx
-        ny = plan%ny
-        plan%rbuf = 0.0_dp
-        plan%rbuf(1:nx, 1:ny) = q
+        plan%rbuf(1:plan%nx, 1:plan%ny) = q
+        call conv_apply_buffer(plan, k)
+        u = plan%rbuf(1:plan%nx, 1:plan%ny)
+    end subroutine conv_apply
+
+    !> The product of conv_apply in place on the plan's buffer, for callers
+    !> that fuse the copies into their own loops: on entry
+    !> plan%rbuf(1:nx, 1:ny) holds q, on return it holds C_k * q (the padding
+    !> is zeroed here).
+    subroutine conv_apply_buffer(plan, k)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: k
+        plan%rbuf(plan%nx + 1:, 1:plan%ny) = 0.0_dp
+        plan%rbuf(:, plan%ny + 1:) = 0.0_dp
         call fftw_execute_dft_r2c(plan%fwd, plan%rbuf, plan%cbuf)
         plan%cbuf = plan%cbuf * plan%spec(:, :, k)
         call fftw_execute_dft_c2r(plan%bwd, plan%cbuf, plan%rbuf)
-        u = plan%rbuf(1:nx, 1:ny)
-    end subroutine conv_apply
+    end subroutine conv_apply_buffer
 
     !> The 2x2 block product of the tangential problem,
     !>   ux = C_kxx * qx + C_kxy * qy,   uy = C_kxy * qx + C_kyy * qy,
@@ -224,11 +232,17 @@ contains
         real(dp), intent(in) :: r(:, :)
         real(dp), intent(out) :: z(:, :)
         plan%prbuf = r
+        call conv_precond_buffer(plan)
+        z = plan%prbuf
+    end subroutine conv_precond
+
+    !> z = M r in place on plan%prbuf (r on entry, z on return).
+    subroutine conv_precond_buffer(plan)
+        type(conv_plan), intent(inout) :: plan
         call fftw_execute_dft_r2c(plan%pfwd, plan%prbuf, plan%pcbuf)
         plan%pcbuf = plan%pcbuf * plan%psym
         call fftw_execute_dft_c2r(plan%pbwd, plan%pcbuf, plan%prbuf)
-        z = plan%prbuf
-    end subroutine conv_precond
+    end subroutine conv_precond_buffer
 
     !> u = C * q by direct summation over the non-zero entries of q, O(N Nq).
     pure subroutine direct_apply(nx, ny, c, q, u)

@@ -15,7 +15,7 @@
 !> accept a warm start in p.
 module contact_normal
     use kinds, only: dp
-    use contact_convolution, only: conv_plan, conv_apply, conv_precond
+    use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
@@ -50,6 +50,12 @@ contains
     !> Projected conjugate gradients (Polonsky & Keer 1999).
     !> info: 0 converged, 1 not converged in max_iter, 2 no contact (approach
     !> prescribed and below the smallest gap), <0 bad argument.
+    !>
+    !> Each iteration makes one FFT product A t and one preconditioner
+    !> application, and a few fused passes over the grid; the products and
+    !> the preconditioner read and write the FFT buffers in place. After the
+    !> projection, u = A p is corrected column by column when few elements
+    !> changed, by an exact product otherwise.
     subroutine normal_cg(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
                          p, iters, nprod, resid, info)
         type(conv_plan), intent(inout) :: plan
@@ -60,18 +66,22 @@ contains
         real(dp), intent(inout) :: p(:, :)
         integer, intent(out) :: iters, nprod, info
         real(dp), intent(out) :: resid
-        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), r(:, :), z(:, :), pold(:, :), d(:, :)
-        real(dp) :: gbar, rbar, gg, gold, tau, rt, scale, zbar
-        logical :: conjugate, exact
-        integer :: nc, nol, it, nd
-        logical :: force
+        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), z(:, :)
+        real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg, gk, zk, tk, rk
+        real(dp) :: sr, srt, st, sgt, psum, pk, pn, dk, cd(MAX_COLUMNS)
+        integer :: ci(MAX_COLUMNS), cj(MAX_COLUMNS)
+        logical :: conjugate, exact, force, prec
+        integer :: nc, nol, it, nd, i, j, nx, ny, m
 
         info = 0
         iters = 0
         nprod = 0
         resid = huge(1.0_dp)
         force = control == CONTROL_FORCE
-        allocate (u, g, t, r, z, pold, d, mold=h)
+        prec = plan%has_prec
+        nx = size(h, 1)
+        ny = size(h, 2)
+        allocate (u, g, t, z, mold=h)
 
         if (no_contact(control, h, approach, p, fn, resid, info)) return
 
@@ -86,17 +96,51 @@ contains
         conjugate = .false.
         gold = 1.0_dp
         t = 0.0_dp
-        gbar = 0.0_dp
+        shift = approach
         do it = 0, max_iter
-            nc = count(p > 0.0_dp)
-            if (force) then
-                g = u + h
-                gbar = sum(g, mask=p > 0.0_dp) / max(nc, 1)
-                g = g - gbar
-            else
-                g = u + h - approach
-            end if
-            resid = normal_residual(g, p, u)
+            ! pass 1: the contact set's size and, under force control, its mean gap
+            ! (the approach is the Lagrange multiplier of the force constraint)
+            nc = 0
+            sg = 0.0_dp
+            do j = 1, ny
+                do i = 1, nx
+                    if (p(i, j) > 0.0_dp) then
+                        nc = nc + 1
+                        sg = sg + u(i, j) + h(i, j)
+                    end if
+                end do
+            end do
+            if (force) shift = sg / max(nc, 1)
+
+            ! pass 2: deformed gap g, residual sums (see normal_residual), and the
+            ! preconditioner's input g restricted to the contact set
+            sv = 0.0_dp
+            sb = 0.0_dp
+            sg = 0.0_dp
+            do j = 1, ny
+                do i = 1, nx
+                    gk = u(i, j) + h(i, j) - shift
+                    g(i, j) = gk
+                    if (p(i, j) > 0.0_dp) then
+                        sv = sv + gk**2
+                        sb = sb + (u(i, j) - gk)**2
+                        sg = sg + gk
+                    else
+                        if (gk < 0.0_dp) then
+                            sv = sv + gk**2
+                            sb = sb + (u(i, j) - gk)**2
+                        end if
+                        gk = 0.0_dp
+                    end if
+                    if (prec) then
+                        plan%prbuf(i, j) = gk
+                    else
+                        z(i, j) = gk
+                    end if
+                end do
+            end do
+            resid = 0.0_dp
+            if (sb > 0.0_dp) resid = sqrt(sv / sb)
             if (resid <= tol) then
                 if (exact) exit
                 ! confirm on an exact product before stopping
@@ -111,86 +155,136 @@ contains
             end if
             iters = it + 1
 
-            ! (preconditioned) conjugate direction on the contact set (PK eqs 3.3-3.5;
-            ! z = M g restricted to the contact set, made mean-free under force control)
-            if (plan%has_prec) then
-                where (p > 0.0_dp)
-                    r = g
-                elsewhere
-                    r = 0.0_dp
-                end where
-                call conv_precond(plan, r, z)
-                where (p <= 0.0_dp) z = 0.0_dp
-                if (force) then
-                    zbar = sum(z, mask=p > 0.0_dp) / max(nc, 1)
-                    where (p > 0.0_dp) z = z - zbar
-                end if
+            ! pass 3: z = M g on the contact set (PK eqs 3.3-3.5), made mean-free
+            ! under force control; gg = (g, z) uses sum(g) = sg on the set
+            if (prec) call conv_precond_buffer(plan)
+            zbar = 0.0_dp
+            gg = 0.0_dp
+            do j = 1, ny
+                do i = 1, nx
+                    if (p(i, j) > 0.0_dp) then
+                        zk = z(i, j)
+                        if (prec) zk = plan%prbuf(i, j)
+                        z(i, j) = zk
+                        zbar = zbar + zk
+                        gg = gg + g(i, j) * zk
+                    else
+                        z(i, j) = 0.0_dp
+                    end if
+                end do
+            end do
+            if (force) then
+                zbar = zbar / max(nc, 1)
+                gg = gg - zbar * sg
             else
-                where (p > 0.0_dp)
-                    z = g
-                elsewhere
-                    z = 0.0_dp
-                end where
+                zbar = 0.0_dp
             end if
-            gg = sum(g * z, mask=p > 0.0_dp)
-            if (conjugate) then
-                where (p > 0.0_dp)
-                    t = z + (gg / gold) * t
-                elsewhere
-                    t = 0.0_dp
-                end where
-            else
-                t = z
-            end if
+
+            ! pass 4: conjugate direction t, written into the product's buffer
+            beta = 0.0_dp
+            if (conjugate) beta = gg / gold
             gold = gg
-            call conv_apply(plan, kz, t, r)
+            do j = 1, ny
+                do i = 1, nx
+                    tk = 0.0_dp
+                    if (p(i, j) > 0.0_dp) tk = z(i, j) - zbar + beta * t(i, j)
+                    t(i, j) = tk
+                    plan%rbuf(i, j) = tk
+                end do
+            end do
+            call conv_apply_buffer(plan, kz)
             nprod = nprod + 1
-            rbar = 0.0_dp
-            if (force) rbar = sum(r, mask=p > 0.0_dp) / max(nc, 1)
-            rt = sum((r - rbar) * t, mask=p > 0.0_dp)
+
+            ! pass 5: step length tau = (g, t) / (r - rbar, t) with r = A t
+            sr = 0.0_dp
+            srt = 0.0_dp
+            st = 0.0_dp
+            sgt = 0.0_dp
+            do j = 1, ny
+                do i = 1, nx
+                    if (p(i, j) > 0.0_dp) then
+                        rk = plan%rbuf(i, j)
+                        sr = sr + rk
+                        srt = srt + rk * t(i, j)
+                        st = st + t(i, j)
+                        sgt = sgt + g(i, j) * t(i, j)
+                    end if
+                end do
+            end do
+            rt = srt
+            if (force) rt = srt - sr / max(nc, 1) * st
             if (rt <= 0.0_dp) then
                 info = 1
                 exit
             end if
-            tau = sum(g * t, mask=p > 0.0_dp) / rt
+            tau = sgt / rt
 
-            ! step, projection on p >= 0, and re-entry of overlapping points (PK eq. 3.6-3.8);
-            ! d = what projection and re-entry changed against the plain step
-            where (p > 0.0_dp) p = p - tau * t
-            pold = p
-            p = max(p, 0.0_dp)
-            nol = count(p <= 0.0_dp .and. g < 0.0_dp)
-            where (p <= 0.0_dp .and. g < 0.0_dp) p = -tau * g
+            ! pass 6: step, projection on p >= 0 and re-entry of overlapping points
+            ! (PK eqs 3.6-3.8); the changes d against the plain step are counted
+            ! and the first MAX_COLUMNS of them kept for column corrections
+            nol = 0
+            nd = 0
+            psum = 0.0_dp
+            do j = 1, ny
+                do i = 1, nx
+                    pk = p(i, j)
+                    if (pk > 0.0_dp) pk = pk - tau * t(i, j)
+                    pn = max(pk, 0.0_dp)
+                    if (pn <= 0.0_dp .and. g(i, j) < 0.0_dp) then
+                        pn = -tau * g(i, j)
+                        nol = nol + 1
+                    end if
+                    dk = pn - pk
+                    if (dk /= 0.0_dp) then
+                        nd = nd + 1
+                        if (nd <= MAX_COLUMNS) then
+                            ci(nd) = i
+                            cj(nd) = j
+                            cd(nd) = dk
+                        end if
+                    end if
+                    p(i, j) = pn
+                    psum = psum + pn
+                end do
+            end do
             conjugate = nol == 0
-            d = p - pold
 
             scale = 1.0_dp
             if (force) then
-                if (sum(p) <= 0.0_dp) then
+                if (psum <= 0.0_dp) then
                     info = 1
                     exit
                 end if
-                scale = fn / (area_el * sum(p))
-                p = scale * p
+                scale = fn / (area_el * psum)
             end if
 
             ! A p_new = scale (A p_old - tau A t + A d): a few columns of A for a
             ! sparse d, an exact product when d is large or to stop drift
-            nd = count(d /= 0.0_dp)
             if (nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0) then
+                if (scale /= 1.0_dp) p = scale * p
                 call conv_apply(plan, kz, p, u)
                 nprod = nprod + 1
                 exact = .true.
             else
-                u = u - tau * r
-                if (nd > 0) call add_columns(c, d, u)
-                u = scale * u
+                ! pass 7
+                do j = 1, ny
+                    do i = 1, nx
+                        u(i, j) = u(i, j) - tau * plan%rbuf(i, j)
+                    end do
+                end do
+                do m = 1, nd
+                    call add_column(c, ci(m), cj(m), cd(m), u)
+                end do
+                if (scale /= 1.0_dp) then
+                    p = scale * p
+                    u = scale * u
+                end if
                 exact = .false.
             end if
         end do
 
         if (force) then
-            approach = gbar
+            approach = shift
         else
             fn = area_el * sum(p)
         end if

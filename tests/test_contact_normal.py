@@ -83,6 +83,23 @@ def test_two_bumps_complementarity(method):
     assert np.abs(r.pressure * e).max() <= 1e-6 * r.pmax * scale
 
 
+@pytest.mark.parametrize("control", ["fn", "approach"])
+def test_nested_start_same_answer_fewer_products(control):
+    """The nested (coarse-grid) start of CG gives the cold start's pressure to the
+    tolerance and saves FFT products on the fine grid."""
+    ref = hertz(1.0, 0.5, FN, MAT)
+    grid = Grid.covering(ref.a, ref.b, n_per_semiaxis=60, margin=1.2)
+    assert min(grid.shape) >= 128
+    gap = hertz_gap(grid, 1.0, 0.5)
+    kw = {"fn": FN} if control == "fn" else {"approach": ref.approach}
+    cold = solve_normal(gap, grid, MAT, nested=False, **kw)
+    warm = solve_normal(gap, grid, MAT, **kw)
+    assert cold.coarse_fft_products == 0 and warm.coarse_fft_products > 0
+    assert warm.fft_products < cold.fft_products
+    assert np.abs(warm.pressure - cold.pressure).max() < 1e-5 * cold.pmax
+    assert abs(warm.fn / cold.fn - 1) < 1e-6
+
+
 def test_warm_start_converges_at_once():
     ref, grid, A, B = hertz_case(1.0, 10)
     gap = hertz_gap(grid, A, B)

@@ -17,6 +17,11 @@ log = logging.getLogger(__name__)
 
 _METHODS = {"cg": 1, "gs": 2, "pk": 3}
 _DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000, "pk": 2000}
+#: CG from zero pressure on grids with both sides at least this long starts from
+#: the solution on the grid of twice the element size (nested iteration).
+_NESTED_MIN = 128
+#: Residual to which the coarse grids are solved: their solution is only a start.
+_NESTED_TOL = 1e-4
 
 
 @dataclass(frozen=True)
@@ -44,7 +49,10 @@ class NormalResult:
     method : str
         'cg', 'pk' or 'gs'.
     fft_products : int
-        Convolution products used (CG only).
+        Convolution products used (CG only) on this grid.
+    coarse_fft_products : int
+        Products on the coarser grids of a nested start (each a quarter or
+        less of the cost of one on this grid); 0 without a nested start.
     """
 
     grid: Grid
@@ -58,6 +66,7 @@ class NormalResult:
     converged: bool
     method: str
     fft_products: int = 0
+    coarse_fft_products: int = 0
 
     @property
     def pmax(self) -> float:
@@ -80,10 +89,64 @@ def _check_edges(p: np.ndarray) -> None:
             + ": enlarge the grid (more elements or a larger extent)")
 
 
+def _coarsen(h: np.ndarray, grid: Grid) -> tuple[np.ndarray, Grid]:
+    """The gap on the grid of twice the element size: each coarse element
+    averages the (up to) 2 x 2 fine elements it covers."""
+    if grid.nx % 2:
+        h = np.concatenate([h, h[-1:, :]], axis=0)
+    if grid.ny % 2:
+        h = np.concatenate([h, h[:, -1:]], axis=1)
+    hc = 0.25 * (h[0::2, 0::2] + h[1::2, 0::2] + h[0::2, 1::2] + h[1::2, 1::2])
+    coarse = Grid(hc.shape[0], hc.shape[1], 2.0 * grid.dx, 2.0 * grid.dy,
+                  grid.x0 + 0.5 * grid.dx, grid.y0 + 0.5 * grid.dy)
+    return np.asfortranarray(hc), coarse
+
+
+def _prolong(pc: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Bilinear interpolation of a coarse field to the fine element centres.
+
+    Coarse element K is centred at fine index 2K + 1/2; beyond the outer
+    coarse centres the field is held constant."""
+    out = pc
+    for axis, n in enumerate(shape):
+        xc = 2.0 * np.arange(out.shape[axis]) + 0.5
+        xf = np.arange(n, dtype=float)
+        k = np.clip(np.searchsorted(xc, xf) - 1, 0, len(xc) - 2)
+        w = np.clip((xf - xc[k]) / 2.0, 0.0, 1.0)
+        lo = np.take(out, k, axis=axis)
+        hi = np.take(out, k + 1, axis=axis)
+        shape_w = [1, 1]
+        shape_w[axis] = n
+        w = w.reshape(shape_w)
+        out = (1.0 - w) * lo + w * hi
+    return np.asfortranarray(out)
+
+
+def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, fn_in: float,
+                  app_in: float, method: int, max_iter: int) -> tuple[np.ndarray | None, int]:
+    """A start pressure for a large grid from the solution on the grid of twice the
+    element size, itself started the same way (nested iteration, as in full multigrid).
+
+    Returns the interpolated pressure (None if the grid is small or the coarse
+    problem has no usable solution) and the FFT products spent on coarse grids."""
+    if min(grid.shape) < _NESTED_MIN:
+        return None, 0
+    hc, coarse = _coarsen(h, grid)
+    pc, nprod_c = _nested_start(hc, coarse, material, control, fn_in, app_in, method, max_iter)
+    if pc is None:
+        pc = np.zeros(coarse.shape, order="F")
+    _, _, _, nprod, _, info = core.normal_solve_c(
+        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, 1.0, fn_in, app_in, pc)
+    nprod_c += int(nprod)
+    if info not in (0, 1) or not np.isfinite(pc).all() or not (pc > 0.0).any():
+        return None, nprod_c
+    return _prolong(pc, grid.shape), nprod_c
+
+
 def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | None = None,
                  approach: float | None = None, method: str = "cg", tol: float = 1e-8,
                  max_iter: int | None = None, p0: np.ndarray | None = None,
-                 omega: float = 1.0) -> NormalResult:
+                 omega: float = 1.0, nested: bool = True) -> NormalResult:
     """Solve the normal contact problem for a given undeformed gap.
 
     Finds the pressure p >= 0 with deformed gap ``e = gap + A p - approach``
@@ -115,6 +178,11 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         Warm start pressure, Pa.
     omega : float
         Gauss-Seidel relaxation factor in (0, 2).
+    nested : bool
+        For 'cg' and 'pk' without p0 on grids of at least 128 x 128 elements:
+        start from the solution on the grid of twice the element size, found
+        the same way (nested iteration). It saves about half the FFT products
+        on this grid; the answer is the same to the tolerance.
 
     Returns
     -------
@@ -156,8 +224,14 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
     omega = _checks.positive("omega", omega)
     if omega >= 2.0:
         raise InputError(f"omega must lie in (0, 2), got {omega}")
+    nprod_coarse = 0
     if p0 is None:
-        p = np.zeros(grid.shape, order="F")
+        p = None
+        if nested and method in ("cg", "pk"):
+            p, nprod_coarse = _nested_start(h, grid, material, control, fn_in, app_in, _METHODS[method],
+                                            max_iter)
+        if p is None:
+            p = np.zeros(grid.shape, order="F")
     else:
         p = _checks.finite_array("p0", p0, shape=grid.shape)
         if (p < 0.0).any():
@@ -176,7 +250,7 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
     result = NormalResult(grid=grid, pressure=p, fn=float(fn_out), approach=float(app_out),
                           area=n_contact * grid.element_area, n_contact=n_contact,
                           iterations=int(iters), residual=float(resid), converged=info == 0,
-                          method=method, fft_products=int(nprod))
+                          method=method, fft_products=int(nprod), coarse_fft_products=nprod_coarse)
     if info == 1:
         raise ConvergenceError(
             f"normal contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
