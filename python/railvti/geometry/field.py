@@ -188,7 +188,15 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
         if np.all(np.abs(step[~bad]) < 1e-13):
             break
     else:
-        raise ConvergenceError("wheel surface intersection did not converge", iterations=30)
+        # lines that graze the wheel (steep flanks far from the point) have no
+        # intersection near the plane: no contact there; the point itself must converge
+        stuck = np.abs(step) >= 1e-13
+        i0 = int(np.argmin(np.abs(xs)))
+        j0 = int(np.argmin(np.abs(ys)))
+        if stuck[i0, j0] and not bad[i0, j0]:
+            raise ConvergenceError("wheel surface intersection did not converge at the contact point",
+                                   iterations=30)
+        bad |= stuck
     gap = s - zeta_r[None, :]
     gap[bad | np.isnan(gap)] = outside
     return GapField(gap=np.asfortranarray(gap), x=xs, y=ys, dx=dx, dy=dy, origin=o.copy(),

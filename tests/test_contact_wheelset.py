@@ -1,0 +1,76 @@
+"""The loaded wheelset: load control per wheel, mirror symmetry, flange contact, bad input."""
+import numpy as np
+import pytest
+
+from railvti import STEEL, InputError, profiles
+from railvti.contact.wheelset import solve_wheelset
+
+WHEEL = profiles.s1002()
+RAIL = profiles.uic60()
+FZ = 1.0e4
+
+
+def _vertical(patches):
+    return sum(p.fn * p.contact.normal[2] for p in patches)
+
+
+@pytest.mark.parametrize("y_mm", [0.0, 3.0, 8.0])
+def test_load_control_per_wheel(y_mm):
+    """Each wheel's vertical load (normal forces) equals the prescribed one within 0.1 %
+    (the solver's tolerance is 1e-5), including flange contact at 8 mm."""
+    s = solve_wheelset(WHEEL, RAIL, y_mm * 1e-3, 2.4e-3 * y_mm, (FZ, 0.8 * FZ), None, None, STEEL, 4e-4)
+    assert abs(_vertical(s.left) / FZ - 1) < 1e-3
+    assert abs(_vertical(s.right) / (0.8 * FZ) - 1) < 1e-3
+    assert s.fz[0] == pytest.approx(_vertical(s.left), rel=1e-12)
+    for p in s.patches:
+        assert (p.pressure >= 0).all() and p.n_contact > 0
+        # the contact area stays inside the patch's grid
+        assert not p.pressure[[0, -1], :].any() and not p.pressure[:, [0, -1]].any()
+
+
+def test_mirror_symmetry():
+    """Shifts of +y and -y (no yaw) give the same patches with the wheels swapped."""
+    a = solve_wheelset(WHEEL, RAIL, 4e-3, 0.0, FZ, None, None, STEEL, 4e-4)
+    b = solve_wheelset(WHEEL, RAIL, -4e-3, 0.0, FZ, None, None, STEEL, 4e-4)
+    for pa, pb in ((a.left[0], b.right[0]), (a.right[0], b.left[0])):
+        assert pa.contact_angle == pytest.approx(pb.contact_angle, abs=1e-6)
+        assert pa.fn == pytest.approx(pb.fn, rel=1e-4)
+        assert pa.pmax == pytest.approx(pb.pmax, rel=1e-3)
+        # lateral track force mirrors, vertical is the same
+        assert pa.force_track[1] == pytest.approx(-pb.force_track[1], rel=1e-3, abs=1.0)
+        assert pa.force_track[2] == pytest.approx(pb.force_track[2], rel=1e-4)
+    assert a.roll == pytest.approx(-b.roll, rel=1e-2)
+
+
+def test_flange_contact_pushes_wheel_back():
+    """At 8 mm to the left the left wheel runs on its flange (contact angle near 1 rad):
+    the normal force is much larger than the load and pushes the wheelset to the right."""
+    s = solve_wheelset(WHEEL, RAIL, 8e-3, 0.0, FZ, None, None, STEEL, 4e-4)
+    flange = s.left[0]
+    assert flange.contact_angle > 0.8
+    assert flange.fn > 1.3 * FZ
+    assert flange.force_track[1] < -0.5 * FZ
+    assert s.geometry.status[0] in ("ok", "flange climb")
+
+
+def test_patch_approach_follows_shared_motion():
+    """The approach of every patch is the linear function of the wheelset's sink and roll."""
+    s = solve_wheelset(WHEEL, RAIL, 2e-3, 0.0, FZ, None, None, STEEL, 4e-4)
+    c = s.geometry.pose.centre
+    for p in s.patches:
+        n = p.contact.normal
+        r = p.contact.position - c
+        expected = n[2] * s.sink + (r[2] * n[1] - r[1] * n[2]) * s.roll
+        assert p.approach == pytest.approx(expected, rel=1e-12, abs=1e-15)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(fz=-1.0), "fz"), (dict(y=float("nan")), "y"), (dict(dx=0.0), "dx"),
+    (dict(mu=0.3), "speed"), (dict(fz=(1.0, 2.0, 3.0)), "fz"),
+])
+def test_bad_input(kwargs, word):
+    args = dict(y=0.0, yaw=0.0, fz=FZ, mu=None, speed=None, dx=4e-4)
+    args.update(kwargs)
+    with pytest.raises(InputError, match=word):
+        solve_wheelset(WHEEL, RAIL, args["y"], args["yaw"], args["fz"], args["mu"], args["speed"], STEEL,
+                       args["dx"])
