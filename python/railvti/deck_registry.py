@@ -8,6 +8,7 @@ from .casetypes import REGISTRY, CaseType
 # Each area's module registers its case types when imported.
 _AREAS = (
     "railvti.contact.cases",
+    "railvti.contact.wheelset_cases",
     "railvti.geometry.cases",
     "railvti.track.cases",
     "railvti.wheelset.cases",

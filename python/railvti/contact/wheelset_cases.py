@@ -1,0 +1,119 @@
+"""Deck case type ``loaded_wheelset``: normal and rolling contact of a loaded wheelset over a
+sweep of lateral shifts (the Manchester Contact Benchmark's case A-2.2 by default)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import _checks
+from ..casetypes import CaseOutput, CaseType, register
+from ..geometry.cases import _profile
+from ..geometry import Track, WheelsetGeometry
+from ..material import Material
+from .wheelset import WheelsetSolution, solve_wheelset
+
+#: Patches kept per wheel in the result arrays.
+MAX_PATCHES = 2
+_QUANTITIES = {   # name: (unit, getter)
+    "contact_angle": ("rad", lambda p: p.contact_angle),
+    "y_rail": ("m", lambda p: p.contact.y_rail),
+    "y_wheel": ("m", lambda p: p.contact.y_wheel),
+    "rolling_radius": ("m", lambda p: p.contact.rolling_radius),
+    "xi": ("1", lambda p: p.creepage.xi if p.creepage else np.nan),
+    "eta": ("1", lambda p: p.creepage.eta if p.creepage else np.nan),
+    "phi": ("1/m", lambda p: p.creepage.phi if p.creepage else np.nan),
+    "fn": ("N", lambda p: p.fn),
+    "fx": ("N", lambda p: p.fx),
+    "fy": ("N", lambda p: p.fy),
+    "pmax": ("Pa", lambda p: p.pmax),
+    "n_contact": ("1", lambda p: p.n_contact),
+}
+
+
+def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
+    """Per-patch quantities of a sweep as arrays (n_positions, 2 wheels, MAX_PATCHES); NaN where
+    a wheel has fewer patches."""
+    n = len(solutions)
+    out = {k: np.full((n, 2, MAX_PATCHES), np.nan) for k in _QUANTITIES}
+    for i, s in enumerate(solutions):
+        for w, side in enumerate(("left", "right")):
+            for k, p in enumerate(s.wheel(side)[:MAX_PATCHES]):
+                for name, (_, get) in _QUANTITIES.items():
+                    out[name][i, w, k] = get(p)
+    return out
+
+
+def run(params: dict[str, Any]) -> CaseOutput:
+    """Loaded-wheelset sweep.
+
+    Keys: wheel, rail, cant (as ``geometry_table``), y_min_mm, y_max_mm, n, yaw_mrad_per_mm,
+    fz (N per wheel), mu, speed (m/s; mu <= 0 or speed <= 0: normal contact only), g (Pa),
+    nu, dx_mm, gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm, field_at_mm (the shift
+    whose pressure and traction fields are stored).
+    """
+    wheel = _profile(params["wheel"], "wheel", 0.0)
+    rail = _profile(params["rail"], "rail", _checks.finite("cant", params["cant"]))
+    n = _checks.positive_int("n", params["n"])
+    y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
+                    _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
+    yaw = y * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"])
+    track = Track(gauge=params["gauge_mm"] * 1e-3, gauge_depth=params["gauge_depth_mm"] * 1e-3)
+    ws = WheelsetGeometry(back_to_back=params["back_to_back_mm"] * 1e-3, radius=params["radius_mm"] * 1e-3)
+    mat = Material(shear_modulus=params["g"], poisson=params["nu"])
+    mu, speed = float(params["mu"]), float(params["speed"])
+    rolling = mu > 0 and speed > 0
+    dx = _checks.positive("dx_mm", params["dx_mm"]) * 1e-3
+    sols = [solve_wheelset(wheel, rail, yi, wi, params["fz"], mu if rolling else None,
+                           speed if rolling else None, mat, dx, track=track, wheelset=ws)
+            for yi, wi in zip(y, yaw)]
+    arr = sweep_arrays(sols)
+    ds = {"y": (y, "m"), "yaw": (yaw, "rad"),
+          "status": (np.array([[s.geometry.status[0] != "ok", s.geometry.status[1] != "ok"] for s in sols],
+                              dtype=int), "0 ok, 1 no contact or flange climb")}
+    ds.update({k: (v, _QUANTITIES[k][0]) for k, v in arr.items()})
+    k_field = int(np.argmin(np.abs(y - params["field_at_mm"] * 1e-3)))
+    for side in ("left", "right"):
+        for j, p in enumerate(sols[k_field].wheel(side)[:MAX_PATCHES]):
+            ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
+            ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
+            ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
+            if p.tx is not None:
+                ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
+                ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
+    fl = np.nanmax(arr["contact_angle"][:, 0, :], axis=1)
+    flange = y[fl > 1.0]
+    summary = (f"loaded wheelset: {n} shifts, Fn left {np.nanmin(arr['fn'][:, 0, 0]):.0f}-"
+               f"{np.nanmax(arr['fn'][:, 0, 0]):.0f} N" + (f", flange contact (> 1 rad) from "
+                                                          f"{flange.min() * 1e3:.1f} mm" if flange.size else ""))
+    out = CaseOutput(summary=summary, datasets=ds)
+    out.scalars["field_at"] = (float(y[k_field]), "m")
+    return out
+
+
+def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
+    """Patch quantities against the shift and the stored patches' pressure maps."""
+    from .wheelset_plots import plot_fields, plot_sweep
+    r = group["results"] if "results" in group else group
+    arrays = {k: np.asarray(r[k]) for k in _QUANTITIES if k in r}
+    y = np.asarray(r["y"])
+    paths = [plot_sweep(y, arrays, Path(outdir) / f"{stem}_sweep.png")]
+    fields = {}
+    for name in r:
+        if name.startswith("field_") and name.endswith("_pressure"):
+            key = name[len("field_"):-len("_pressure")]
+            fields[key] = {q: np.asarray(r[f"field_{key}_{q}"]) for q in ("pressure", "x", "y", "tx", "ty")
+                           if f"field_{key}_{q}" in r}
+    if fields:
+        paths.append(plot_fields(fields, Path(outdir) / f"{stem}_patches.png"))
+    return paths
+
+
+register(CaseType(
+    name="loaded_wheelset",
+    defaults={"wheel": "s1002", "rail": "uic60", "cant": 0.025, "y_min_mm": 0.0, "y_max_mm": 10.0,
+              "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4, "mu": 0.3, "speed": 2.0, "g": 82.0e9,
+              "nu": 0.28, "dx_mm": 0.2, "gauge_mm": 1435.0, "gauge_depth_mm": 14.0,
+              "back_to_back_mm": 1360.0, "radius_mm": 460.0, "field_at_mm": 0.0},
+    run=run, plot=plot))

@@ -1,0 +1,71 @@
+"""Charts of a loaded-wheelset sweep and of its contact patches (Kaiser Figs 11-12, 17)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path) -> Path:
+    """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift."""
+    plt = _plt()
+    panels = [("contact_angle", "contact angle, rad", 1.0), ("y_rail", "contact position on rail, mm", 1e3),
+              ("fn", "Fn, kN", 1e-3), ("fx", "Fx, kN", 1e-3), ("fy", "Fy, kN", 1e-3),
+              ("pmax", "pmax, MPa", 1e-6), ("xi", "xi, eta (-)", 1.0), ("phi", "spin phi, 1/m", 1.0)]
+    panels = [p for p in panels if p[0] in arrays and np.isfinite(arrays[p[0]]).any()]
+    ncol = 2
+    nrow = (len(panels) + 1) // 2
+    fig, axes = plt.subplots(nrow, ncol, figsize=(10, 2.4 * nrow), sharex=True)
+    axes = np.atleast_1d(axes).ravel()
+    for ax, (key, label, scale) in zip(axes, panels):
+        for w, (side, col) in enumerate((("left", "C0"), ("right", "C3"))):
+            for k, ls in enumerate(("-", "--")):
+                v = arrays[key][:, w, k] * scale
+                if np.isfinite(v).any():
+                    ax.plot(y * 1e3, v, ls, color=col, marker=".", ms=3, label=f"{side} {k}")
+                if key == "xi":
+                    ax.plot(y * 1e3, arrays["eta"][:, w, k], ":", color=col)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    for ax in axes[-ncol:]:
+        ax.set_xlabel("lateral shift y, mm")
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path) -> Path:
+    """Pressure maps of patches (key 'left0', 'right0', ...) with traction vectors if present."""
+    plt = _plt()
+    keys = sorted(fields)
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 4.0), squeeze=False)
+    for ax, key in zip(axes[0], keys):
+        f = fields[key]
+        x, y, p = f["x"] * 1e3, f["y"] * 1e3, f["pressure"] * 1e-6
+        im = ax.pcolormesh(y, x, p, shading="nearest", cmap="viridis")
+        ax.contour(y, x, p, levels=[1e-9], colors="w", linewidths=0.6)
+        if "tx" in f:
+            s = max(1, p.shape[0] // 20), max(1, p.shape[1] // 20)
+            Y, X = np.meshgrid(y, x)
+            ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], f["ty"][::s[0], ::s[1]], f["tx"][::s[0], ::s[1]],
+                      color="w", scale_units="xy", angles="xy")
+        fig.colorbar(im, ax=ax, label="p, MPa")
+        ax.set_aspect("equal")
+        ax.set_xlabel("lateral y (contact frame), mm")
+        ax.set_ylabel("rolling x, mm")
+        ax.set_title(key)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return Path(path)
