@@ -74,3 +74,22 @@ def test_bad_input(kwargs, word):
     with pytest.raises(InputError, match=word):
         solve_wheelset(WHEEL, RAIL, args["y"], args["yaw"], args["fz"], args["mu"], args["speed"], STEEL,
                        args["dx"])
+
+
+def test_deck_case_normal_sweep(tmp_path):
+    """The loaded_wheelset deck type: arrays per position/wheel/patch, flange contact found,
+    fields stored and plotted."""
+    from railvti.casetypes import REGISTRY
+    import railvti.contact.wheelset_cases  # noqa: F401
+    ct = REGISTRY["loaded_wheelset"]
+    params = dict(ct.defaults)
+    params.update(n=3, y_max_mm=8.0, mu=0.0, dx_mm=0.5, field_at_mm=8.0)
+    out = ct.run(params)
+    fn = out.datasets["fn"][0]
+    assert fn.shape == (3, 2, 2)
+    ang = out.datasets["contact_angle"][0]
+    assert ang[0, 0, 0] == pytest.approx(ang[0, 1, 0], abs=1e-6)   # centred: both wheels alike
+    assert np.nanmax(ang[-1, 0]) > 0.8                               # flange at 8 mm
+    assert "field_left0_pressure" in out.datasets
+    with pytest.raises(InputError):
+        ct.run({**params, "dx_mm": -1.0})
