@@ -43,6 +43,7 @@ log = logging.getLogger(__name__)
 _LINE_HALF = 0.025   # m: half-length of the lateral line that sizes a patch's grid
 _LINE_STEP = 1e-4    # m: its sampling
 _GROW = 1.6          # the grid covers h < sep + _GROW * (expected approach)
+_ROUND = 8          # grid sizes are multiples of this
 _RIDGE = 5e-5        # m: the geometry merges minima joined by lower ridges into one point
 
 
@@ -168,6 +169,10 @@ def _curvature_fit(wheel: Profile, rail: Profile, cp: ContactPoint, s: float) ->
     return A, B
 
 
+def _round_up(n: int) -> int:
+    return _ROUND * -(-n // _ROUND)
+
+
 def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach: float,
                dx: float, dy: float) -> tuple[Grid, np.ndarray]:
     """The grid over {h < sep + reach} around a candidate point, bounded laterally by the
@@ -187,8 +192,11 @@ def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach:
         ends.append(yl[j])
     y_lo, y_hi = ends[0] - 3 * dy, ends[1] + 3 * dy
     x_half = math.sqrt(max(reach, 1e-7) / max(A, 1e-3)) + 3 * dx
-    nx = 2 * int(math.ceil(x_half / dx)) + 1
-    ny = int(math.ceil((y_hi - y_lo) / dy)) + 1
+    # sizes rounded up to multiples of _ROUND so that sweeps reuse workspaces (FFT plans)
+    nx = _round_up(2 * int(math.ceil(x_half / dx)) + 1)
+    ny_raw = int(math.ceil((y_hi - y_lo) / dy)) + 1
+    ny = _round_up(ny_raw)
+    y_lo -= 0.5 * (ny - ny_raw) * dy
     x0 = -(nx - 1) / 2 * dx
     field = gap_field(wheel, rail, cp, dx, dy, nx, ny, x0=x0, y0=y_lo)
     return Grid(nx, ny, dx, dy, x0, y_lo), field.gap

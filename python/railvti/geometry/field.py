@@ -90,14 +90,13 @@ def _rail_zeta(rail: Profile, lay, side: int, origin: np.ndarray, t_y: np.ndarra
     z = (ty - origin[1]) * n[1] + (tz - origin[2]) * n[2]
     # the monotone branch of e(s) through the contact point
     k0 = int(np.argmin(np.abs(e) + np.abs(z)))
-    de = np.diff(e)
-    sgn = np.sign(de[min(k0, de.size - 1)])
-    lo = k0
-    while lo > 0 and np.sign(de[lo - 1]) == sgn:
-        lo -= 1
-    hi = k0
-    while hi < de.size and np.sign(de[hi]) == sgn:
-        hi += 1
+    de = np.sign(np.diff(e))
+    sgn = de[min(k0, de.size - 1)]
+    other = np.flatnonzero(de != sgn)          # segments that break the monotone branch
+    before = other[other < k0]
+    after = other[other >= k0]
+    lo = int(before[-1]) + 1 if before.size else 0
+    hi = int(after[0]) if after.size else de.size
     eb, zb = e[lo:hi + 1], z[lo:hi + 1]
     if sgn < 0:
         eb, zb = eb[::-1], zb[::-1]
