@@ -48,18 +48,26 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path) -
 def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path) -> Path:
     """Pressure maps of patches (key 'left0', 'right0', ...) with traction vectors if present."""
     plt = _plt()
-    keys = sorted(fields)
-    fig, axes = plt.subplots(1, len(keys), figsize=(4.2 * len(keys), 4.0), squeeze=False)
-    for ax, key in zip(axes[0], keys):
+    keys = list(fields)
+    ncol = min(2, len(keys))
+    nrow = -(-len(keys) // ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(5.0 * ncol, 3.6 * nrow), squeeze=False)
+    for ax in axes.ravel()[len(keys):]:
+        ax.set_visible(False)
+    for ax, key in zip(axes.ravel(), keys):
         f = fields[key]
         x, y, p = f["x"] * 1e3, f["y"] * 1e3, f["pressure"] * 1e-6
         im = ax.pcolormesh(y, x, p, shading="nearest", cmap="viridis")
         ax.contour(y, x, p, levels=[1e-9], colors="w", linewidths=0.6)
-        if "tx" in f:
-            s = max(1, p.shape[0] // 20), max(1, p.shape[1] // 20)
+        if f.get("tx") is not None:
+            s = max(1, p.shape[0] // 16), max(1, p.shape[1] // 16)
             Y, X = np.meshgrid(y, x)
-            ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], f["ty"][::s[0], ::s[1]], f["tx"][::s[0], ::s[1]],
-                      color="w", scale_units="xy", angles="xy")
+            tx, ty = f["tx"][::s[0], ::s[1]], f["ty"][::s[0], ::s[1]]
+            tmax = max(float(np.hypot(tx, ty).max()), 1e-30)
+            step = max(s[0] * abs(x[1] - x[0]), s[1] * abs(y[1] - y[0]))
+            # the largest traction is drawn one sampling step long
+            ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], ty, tx, color="w", angles="xy",
+                      scale_units="xy", scale=tmax / step, width=0.004)
         fig.colorbar(im, ax=ax, label="p, MPa")
         ax.set_aspect("equal")
         ax.set_xlabel("lateral y (contact frame), mm")
