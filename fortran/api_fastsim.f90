@@ -60,3 +60,21 @@ subroutine fastsim_strips_c(nx, ny, dx, dy, x0, y0, p, g, c11, c22, c23, ae, be,
     slip = islip
     info = stat
 end subroutine fastsim_strips_c
+
+!> Kalker's coefficients by the Fortran interpolation (kalker_interp), for n
+!> values of a/b at one nu. info: 0 ok, -1 an a/b outside [0.1, 10], -2 nu.
+subroutine fastsim_kalker_c(n, a_over_b, nu, c11, c22, c23, info)
+    use iso_c_binding, only: c_int, c_double
+    use contact_fastsim, only: kalker_interp
+    implicit none
+    integer(c_int), intent(in) :: n
+    real(c_double), intent(in) :: a_over_b(n), nu
+    real(c_double), intent(out) :: c11(n), c22(n), c23(n)
+    integer(c_int), intent(out) :: info
+    integer :: k, stat
+    info = 0
+    do k = 1, n
+        call kalker_interp(a_over_b(k), nu, c11(k), c22(k), c23(k), stat)
+        if (stat /= 0) info = stat
+    end do
+end subroutine fastsim_kalker_c

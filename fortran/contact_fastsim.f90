@@ -26,7 +26,7 @@ module contact_fastsim
     use kinds, only: dp, pi
     implicit none
     private
-    public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips
+    public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips, kalker_interp
 
 contains
 
@@ -351,5 +351,109 @@ contains
             end do
         end do
     end subroutine fastsim_strips
+
+    !> Kalker's creep coefficients C11, C22, C23 for a/b in [0.1, 10] and nu in
+    !> [0, 0.5], interpolated as railvti.contact.kalker does (same values to
+    !> rounding): monotone piecewise-cubic Hermite (PCHIP, Fritsch-Butland
+    !> slopes, one-sided three-point end slopes) in log(a/b), linear in nu.
+    !> Data: J.J. Kalker, "Three-dimensional elastic bodies in rolling
+    !> contact", Kluwer 1990, Table E.3 (also python/railvti/data/kalker_table_e3.csv).
+    !> info: 0 ok, -1 a/b outside [0.1, 10], -2 nu outside [0, 0.5].
+    pure subroutine kalker_interp(a_over_b, nu, c11, c22, c23, info)
+        real(dp), intent(in) :: a_over_b, nu
+        real(dp), intent(out) :: c11, c22, c23
+        integer, intent(out) :: info
+        integer, parameter :: n = 19
+        real(dp), parameter :: ab(n) = [0.1_dp, 0.2_dp, 0.3_dp, 0.4_dp, 0.5_dp, 0.6_dp, 0.7_dp, 0.8_dp, 0.9_dp, 1.0_dp, 1.11111_dp, 1.25_dp, 1.42857_dp, 1.66667_dp, 2.0_dp, 2.5_dp, 3.33333_dp, 5.0_dp, 10.0_dp]
+        ! columns: C11 (nu = 0, 0.25, 0.5), C22 (same), C23 (same)
+        real(dp), parameter :: tab(9, n) = reshape([ &
+        2.51_dp, 3.31_dp, 4.85_dp, 2.51_dp, 2.52_dp, 2.53_dp, 0.334_dp, 0.473_dp, 0.731_dp, &
+        2.59_dp, 3.37_dp, 4.81_dp, 2.59_dp, 2.63_dp, 2.66_dp, 0.483_dp, 0.603_dp, 0.809_dp, &
+        2.68_dp, 3.44_dp, 4.8_dp, 2.68_dp, 2.75_dp, 2.81_dp, 0.607_dp, 0.715_dp, 0.889_dp, &
+        2.78_dp, 3.53_dp, 4.82_dp, 2.78_dp, 2.88_dp, 2.98_dp, 0.72_dp, 0.823_dp, 0.977_dp, &
+        2.88_dp, 3.62_dp, 4.83_dp, 2.88_dp, 3.01_dp, 3.14_dp, 0.827_dp, 0.929_dp, 1.07_dp, &
+        2.98_dp, 3.72_dp, 4.91_dp, 2.98_dp, 3.14_dp, 3.31_dp, 0.93_dp, 1.03_dp, 1.18_dp, &
+        3.09_dp, 3.81_dp, 4.97_dp, 3.09_dp, 3.28_dp, 3.48_dp, 1.03_dp, 1.14_dp, 1.29_dp, &
+        3.19_dp, 3.91_dp, 5.05_dp, 3.19_dp, 3.41_dp, 3.65_dp, 1.13_dp, 1.25_dp, 1.4_dp, &
+        3.29_dp, 4.01_dp, 5.12_dp, 3.29_dp, 3.54_dp, 3.82_dp, 1.23_dp, 1.36_dp, 1.51_dp, &
+        3.4_dp, 4.12_dp, 5.2_dp, 3.4_dp, 3.67_dp, 3.98_dp, 1.33_dp, 1.47_dp, 1.63_dp, &
+        3.51_dp, 4.22_dp, 5.3_dp, 3.51_dp, 3.81_dp, 4.16_dp, 1.44_dp, 1.59_dp, 1.77_dp, &
+        3.65_dp, 4.36_dp, 5.42_dp, 3.65_dp, 3.99_dp, 4.39_dp, 1.58_dp, 1.75_dp, 1.94_dp, &
+        3.82_dp, 4.54_dp, 5.58_dp, 3.82_dp, 4.21_dp, 4.67_dp, 1.76_dp, 1.95_dp, 2.18_dp, &
+        4.06_dp, 4.78_dp, 5.8_dp, 4.06_dp, 4.5_dp, 5.04_dp, 2.01_dp, 2.23_dp, 2.5_dp, &
+        4.37_dp, 5.1_dp, 6.11_dp, 4.37_dp, 4.9_dp, 5.56_dp, 2.35_dp, 2.62_dp, 2.96_dp, &
+        4.84_dp, 5.57_dp, 6.57_dp, 4.84_dp, 5.48_dp, 6.31_dp, 2.88_dp, 3.24_dp, 3.7_dp, &
+        5.57_dp, 6.34_dp, 7.34_dp, 5.57_dp, 6.4_dp, 7.51_dp, 3.79_dp, 4.32_dp, 5.01_dp, &
+        6.96_dp, 7.78_dp, 8.82_dp, 6.96_dp, 8.14_dp, 9.79_dp, 5.72_dp, 6.63_dp, 7.89_dp, &
+        10.7_dp, 11.7_dp, 12.9_dp, 10.7_dp, 12.8_dp, 16.0_dp, 12.2_dp, 14.6_dp, 18.0_dp], [9, n])
+        real(dp) :: t, v(9), w
+        integer :: m, k
+        c11 = 0.0_dp
+        c22 = 0.0_dp
+        c23 = 0.0_dp
+        info = 0
+        if (.not. (a_over_b >= 0.1_dp * (1.0_dp - 1.0e-12_dp) .and. a_over_b <= 10.0_dp * (1.0_dp + 1.0e-12_dp))) then
+            info = -1
+            return
+        end if
+        if (.not. (nu >= 0.0_dp .and. nu <= 0.5_dp)) then
+            info = -2
+            return
+        end if
+        t = min(max(log(a_over_b), log(ab(1))), log(ab(n)))
+        do k = 1, 9
+            v(k) = pchip_eval(n, log(ab), tab(k, :), t)
+        end do
+        m = min(int(nu / 0.25_dp), 1)
+        w = (nu - 0.25_dp * m) / 0.25_dp
+        c11 = (1.0_dp - w) * v(1 + m) + w * v(2 + m)
+        c22 = (1.0_dp - w) * v(4 + m) + w * v(5 + m)
+        c23 = (1.0_dp - w) * v(7 + m) + w * v(8 + m)
+    end subroutine kalker_interp
+
+    !> Value at t (x(1) <= t <= x(n)) of the monotone piecewise-cubic Hermite
+    !> interpolant of (x, y): slopes 0 at local extrema, weighted harmonic
+    !> means of the secants elsewhere (Fritsch & Butland 1984), shape-preserving
+    !> three-point slopes at the ends.
+    pure function pchip_eval(n, x, y, t) result(f)
+        integer, intent(in) :: n
+        real(dp), intent(in) :: x(n), y(n), t
+        real(dp) :: f, h(n - 1), del(n - 1), d(n), w1, w2, s, u
+        integer :: k
+        h = x(2:n) - x(1:n - 1)
+        del = (y(2:n) - y(1:n - 1)) / h
+        do k = 2, n - 1
+            if (del(k - 1) * del(k) <= 0.0_dp) then
+                d(k) = 0.0_dp
+            else
+                w1 = 2.0_dp * h(k) + h(k - 1)
+                w2 = h(k) + 2.0_dp * h(k - 1)
+                d(k) = (w1 + w2) / (w1 / del(k - 1) + w2 / del(k))
+            end if
+        end do
+        d(1) = end_slope(h(1), h(2), del(1), del(2))
+        d(n) = end_slope(h(n - 1), h(n - 2), del(n - 1), del(n - 2))
+        k = 1
+        do while (k < n - 1)
+            if (t < x(k + 1)) exit
+            k = k + 1
+        end do
+        s = t - x(k)
+        u = s / h(k)
+        ! cubic Hermite on [x(k), x(k+1)]
+        f = y(k) * (1.0_dp + 2.0_dp * u) * (1.0_dp - u)**2 + y(k + 1) * u * u * (3.0_dp - 2.0_dp * u) &
+            + d(k) * s * (1.0_dp - u)**2 - d(k + 1) * s * u * (1.0_dp - u)
+    end function pchip_eval
+
+    pure function end_slope(h0, h1, m0, m1) result(d)
+        real(dp), intent(in) :: h0, h1, m0, m1
+        real(dp) :: d
+        d = ((2.0_dp * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+        if (d * m0 <= 0.0_dp) then
+            d = 0.0_dp
+        else if (m0 * m1 <= 0.0_dp .and. abs(d) > 3.0_dp * abs(m0)) then
+            d = 3.0_dp * m0
+        end if
+    end function end_slope
 
 end module contact_fastsim

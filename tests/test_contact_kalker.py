@@ -98,3 +98,20 @@ def test_linear_forces_signs_and_values():
     assert fy == 0.0
     fx, fy = linear_creep_forces(a, b, mat, (0.0, 1e-3, 2.0))
     assert fy == pytest.approx(-80e9 * a * b * 3.67e-3 - 80e9 * (a * b) ** 1.5 * 1.47 * 2.0)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.1, 0.25, 0.28, 0.5])
+def test_fortran_kalker_interp_equals_python(nu):
+    """The Fortran kalker_interp (for the vehicle code) gives the Python values."""
+    from railvti._native import core
+    ab = np.exp(np.linspace(np.log(0.1), np.log(10.0), 401))
+    c11, c22, c23, info = core.fastsim_kalker_c(ab, nu)
+    assert info == 0
+    for f, p in zip((c11, c22, c23), kalker_coefficients(ab, nu)):
+        np.testing.assert_allclose(f, p, rtol=1e-13)
+
+
+def test_fortran_kalker_interp_range():
+    from railvti._native import core
+    assert core.fastsim_kalker_c([0.09], 0.25)[3] == -1
+    assert core.fastsim_kalker_c([1.0], 0.51)[3] == -2
