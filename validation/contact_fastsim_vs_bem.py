@@ -29,6 +29,7 @@ from railvti.contact.fastsim import fastsim_forces, fastsim_grid
 from railvti.contact.grid import Grid
 from railvti.contact.hertz import hertz, hertz_gap
 from railvti.contact.kalker import kalker_coefficients
+from railvti.errors import RailvtiError
 from railvti.material import STEEL
 
 try:
@@ -170,7 +171,11 @@ def main() -> int:
             for n in ns_bem:
                 g = grid_for(a, b, n)
                 gap = hertz_gap(g, A, B)
-                r, t = timed(lambda: solve_rolling(gap, g, STEEL, MU, FN, creepage=cr, speed=SPEED))
+                try:
+                    r, t = timed(lambda: solve_rolling(gap, g, STEEL, MU, FN, creepage=cr, speed=SPEED))
+                except RailvtiError as exc:
+                    print(f"  BEM n={n} a/b={ratio:g} {case}: {type(exc).__name__}: {exc}")
+                    continue
                 rows.append((ratio, case, "BEM", n, t, np.linalg.norm([r.fx - fref[0], r.fy - fref[1]]) / nref))
                 fsg, ts = timed(lambda: fastsim_grid(r.pressure, g, STEEL, MU, cr, SPEED))
                 rows.append((ratio, case, "FASTSIM strip-wise (BEM p)", n, ts,
