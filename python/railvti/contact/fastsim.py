@@ -33,7 +33,7 @@ from .._native import core
 from ..errors import InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
-from .kalker import kalker_coefficients
+from .kalker import A_OVER_B_RANGE, KalkerRangeError
 
 log = logging.getLogger(__name__)
 
@@ -110,6 +110,18 @@ def _creepage(creepage: Any) -> tuple[float, float, float]:
     return xi, eta, phi
 
 
+def _coefficients(a_over_b: float, poisson: float) -> tuple[float, float, float]:
+    """Kalker's C11, C22, C23 by the Fortran kalker_interp (the same interpolation as
+    :func:`~railvti.contact.kalker.kalker_coefficients`, without scipy's call overhead)."""
+    c11, c22, c23, info = core.fastsim_kalker_c(np.array([a_over_b]), poisson)
+    if info == -1:
+        raise KalkerRangeError(f"a/b = {a_over_b:.6g} lies outside Kalker's Table E.3 "
+                               f"[{A_OVER_B_RANGE[0]}, {A_OVER_B_RANGE[1]}]")
+    if info != 0:
+        raise KalkerRangeError(f"poisson = {poisson} lies outside [0, 0.5]")
+    return float(c11[0]), float(c22[0]), float(c23[0])
+
+
 def _common(material: Any, mu: Any, speed: Any) -> tuple[float, float]:
     if not isinstance(material, Material):
         raise InputError("material must be a railvti.Material")
@@ -178,7 +190,7 @@ def fastsim(a: float, b: float, fn: float, material: Material, mu: float, creepa
         raise InputError(f"nx * ny = {nx * ny} is too large (limit 1e7)")
     if pressure not in _PRESSURE:
         raise InputError(f"pressure must be one of {sorted(_PRESSURE)}, got {pressure!r}")
-    c = kalker_coefficients(a / b, material.poisson)
+    c = _coefficients(a / b, material.poisson)
     g = material.shear_modulus
     x, y, pn, tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_fields_c(
         a, b, g, *c, mu, fn, xi, eta, phi, nx, ny, _PRESSURE[pressure])
@@ -224,7 +236,7 @@ def fastsim_forces(a: float, b: float, fn, material: Material, mu: float, xi, et
         raise InputError("fn must be > 0")
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(v.ravel()) for v in arrays]
-    c = kalker_coefficients(a / b, material.poisson)
+    c = _coefficients(a / b, material.poisson)
     fx, fy, mz = core.fastsim_ellipse_c(a, b, material.shear_modulus, *c, mu, *flat, nx, ny)
     return fx.reshape(shape), fy.reshape(shape), mz.reshape(shape)
 
@@ -308,7 +320,7 @@ def fastsim_grid(p: Any, grid: Grid, material: Material, mu: float, creepage: An
         ae, be = (_checks.positive(n, v) for n, v in zip(("ellipse a", "ellipse b"), ellipse))
         if not (pa > 0.0).any():
             raise InputError("pressure has no element > 0: no contact")
-    c = kalker_coefficients(ae / be, material.poisson)
+    c = _coefficients(ae / be, material.poisson)
     tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_strips_c(
         grid.dx, grid.dy, grid.x0, grid.y0, pa, material.shear_modulus, *c, ae, be, mu,
         xi, eta, phi, _LMODE[flexibility])
