@@ -200,3 +200,20 @@ def test_bad_input_grid():
         fastsim_grid(p, g, MAT, MU, (1e-3, 0, 0), flexibility="x")
     with pytest.raises(InputError, match="grid"):
         fastsim_grid(p, None, MAT, MU, (1e-3, 0, 0))
+
+
+def test_sweep_finite_and_bounded():
+    """a/b over Kalker's whole table, mu 0.05-0.6, creepages 1e-6-0.1, spin-dominated
+    cases: forces finite, |F| <= mu Fn, opposing the creepage in xi."""
+    rng = np.random.default_rng(3)
+    for ratio in (0.1, 0.3, 1.0, 3.0, 10.0):
+        a, b = 5e-3 * np.sqrt(ratio), 5e-3 / np.sqrt(ratio)
+        for mu in (0.0, 0.05, 0.6):
+            xi = 10.0 ** rng.uniform(-6, -1, 40) * rng.choice([-1, 1], 40)
+            eta = 10.0 ** rng.uniform(-6, -1, 40) * rng.choice([-1, 1], 40)
+            phi = 10.0 ** rng.uniform(-3, 2, 40) * rng.choice([-1, 1], 40)
+            fx, fy, mz = fastsim_forces(a, b, FN, MAT, mu, xi, eta, phi, nx=12, ny=12)
+            assert np.isfinite(fx).all() and np.isfinite(fy).all() and np.isfinite(mz).all()
+            assert (np.hypot(fx, fy) <= mu * FN * (1 + 1e-12) + 1e-9).all()
+            fx0, _, _ = fastsim_forces(a, b, FN, MAT, mu, xi, 0.0, 0.0, nx=12, ny=12)
+            assert (fx0 * xi <= 0).all()
