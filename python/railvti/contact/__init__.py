@@ -1,5 +1,5 @@
-"""Wheel-rail contact: the boundary-element (half-space) model on a regular grid,
-Hertz's solution beside it."""
+"""Wheel-rail contact: the boundary-element (half-space) model on a regular grid, with
+Hertz, Kalker's linear theory and FASTSIM beside it, and the loaded wheelset."""
 from __future__ import annotations
 
 from .grid import Grid
@@ -7,7 +7,12 @@ from .hertz import HertzResult, hertz, hertz_gap
 from .influence import convolve, influence_field
 from .normal import NormalResult, solve_normal
 from .rolling import RollingResult, solve_rolling, solve_tangential
+from .kalker import kalker_coefficients
+from .fastsim import FastsimResult, fastsim, fastsim_grid
+from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
 
 __all__ = ["Grid", "HertzResult", "hertz", "hertz_gap", "convolve", "influence_field",
            "NormalResult", "solve_normal",
-           "RollingResult", "solve_rolling", "solve_tangential"]
+           "RollingResult", "solve_rolling", "solve_tangential",
+           "kalker_coefficients", "FastsimResult", "fastsim", "fastsim_grid",
+           "WheelsetPatch", "WheelsetSolution", "solve_wheelset"]
