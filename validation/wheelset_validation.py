@@ -4,7 +4,9 @@
     Kirchhoff annular plate clamped inside / free outside (k = 0, 1, 2);
 (b) frequency error against DOFs and solve time (mesh refinement);
 (c) rotation: split of k = 1, 2 modes against k Omega, k = 0 unmoved;
-(d) the default wheelset beside the paper's 147 / 304 / 345 Hz.
+(d) the default wheelset beside the paper's 147 / 304 / 345 Hz: every mode classified by its
+    mirror symmetry and strain-energy split, an independent stepped-beam + rigid-wheel
+    check of the k = 1 pair, and the axle-diameter sensitivity of the symmetric bending.
 Prints tables, writes validation/figures/wheelset_*.png.
 Run: .venv/bin/python validation/wheelset_validation.py
 """
