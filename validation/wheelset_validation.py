@@ -188,7 +188,7 @@ def part_d() -> None:
     g = ws.geometry
     for r, lab, mk, ms in ((k1s, "symmetric", "o", 8), (k1a, "antisymmetric", "s", 5)):
         s = table.shapes[r[4]]
-        tilt = [s[ws._contact_nodes[j], 1] for j in (0, 1)]
+        tilt = [s[table.mesh.node_at(g.wheel_radius, yc), 1] for yc in (g.contact_y, -g.contact_y)]
         ur = s[axis, 0][order]
         scale = 1.0 / np.abs(np.concatenate([ur, tilt])).max()
         line, = axs[0].plot(yax, ur * scale, label=f"{r[1]:.1f} Hz {lab}: axle U_r")
