@@ -220,6 +220,11 @@ contains
             end do
             call keep_below_max()
         end if
+        ! The band matrices and the eigenvector work arrays are done with:
+        ! free them before modal_extra assembles the k = 0 prestress system.
+        deallocate (kb, mb)
+        if (allocated(kf)) deallocate (kf, mf)
+        if (allocated(z)) deallocate (z, w)
         call modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi(:, :, 1:nm), &
                          gam(1:nm, 1:nm), mcq(1:nm, 1:nm), kgq(1:nm, 1:nm), info)
 

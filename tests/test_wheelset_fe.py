@@ -86,3 +86,17 @@ def test_mesh_refinement_converges():
 def test_bad_harmonic(k):
     with pytest.raises(InputError, match="harmonic"):
         solve_harmonic(rectangle_mesh(0.0, 0.1, -1.0, 1.0, 1, 4), k, E, NU, RHO, 1000.0)
+
+
+def test_mode_buffer_grows_and_shapes_own_their_memory():
+    # A 2 x 40 shaft (~500 equations, dense path) has more than the first
+    # buffer's 48 modes below 60 kHz: the buffer must grow, and the result must
+    # equal a solve capped at exactly those modes.
+    mesh = rectangle_mesh(0.0, 0.1, -1.0, 1.0, 2, 40)
+    h = solve_harmonic(mesh, 1, E, NU, RHO, 60000.0, n_max=400)
+    assert 48 < h.freq_hz.size < 400
+    capped = solve_harmonic(mesh, 1, E, NU, RHO, 60000.0, n_max=h.freq_hz.size - 3)
+    assert capped.freq_hz.size == h.freq_hz.size - 3
+    assert np.allclose(capped.freq_hz[5:], h.freq_hz[5:-3], rtol=1e-9)
+    # the shapes are a copy, not a view that would keep the Fortran buffer alive
+    assert h.shapes.base is None and h.shapes.shape == (h.freq_hz.size, mesh.n_nodes, 3)

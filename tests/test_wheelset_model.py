@@ -114,3 +114,23 @@ def test_deck_case_runs(tmp_path):
     deck = f90nml.read(str(__import__("pathlib").Path(__file__).parents[1] / "inputs" / "wheelset_example.nml"))
     assert deck["case"]["type"] == "wheelset"
     assert set(deck["case"].keys()) - {"type", "name"} <= set(ct.defaults)
+
+
+def test_k1_pair_symmetry_and_beam_reference(ws):
+    """The first flexible k = 1 mode is the symmetric axle bending (wheels tilt
+    opposite), the second the antisymmetric one; an independent stepped
+    Timoshenko beam with rigid wheels brackets the symmetric one from above
+    (rigid webs) by less than 12 %."""
+    from railvti.wheelset import analytic
+    t = ws.modes(k_max=1, f_max=300.0)
+    idx = [i for i in range(len(t)) if t.k[i] == 1 and t.freq_hz[i] > 1.0]
+    assert t.mirror_symmetry(idx[0]) > 0.99
+    assert t.mirror_symmetry(idx[1]) < -0.99
+    beam = analytic.wheelset_beam_k1(ws.geometry)
+    assert 1.0 < beam[0] / t.freq_hz[idx[0]] < 1.12
+    # rigid webs stiffen the antisymmetric (wheel-rocking) mode much more
+    assert beam[1] / t.freq_hz[idx[1]] > 1.2
+    # a mass at mid-axle (a brake disc) lowers the symmetric bending
+    assert analytic.wheelset_beam_k1(ws.geometry, extra_masses=((0.0, 120.0, 3.0),))[0] < beam[0]
+    with pytest.raises(InputError, match="out of range"):
+        t.mirror_symmetry(len(t))

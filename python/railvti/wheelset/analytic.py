@@ -8,11 +8,16 @@
   radius a, nodal diameters k: W = A J_k + B Y_k + C I_k + D K_k of lambda r,
   lambda^4 = rho h omega^2 / D (Leissa, Vibration of Plates, NASA SP-160, 1969,
   sec. 2.3): 4 x 4 determinant, roots by bracketing.
+* Wheelset bending (k = 1) from an independent lumped model: the stepped axle
+  as Timoshenko beam elements (cubic Hermite, Przemieniecki 1968, with shear
+  and rotary inertia), each wheel (hub, web, rim, flange) a rigid body of the
+  same mass and diametral inertia. It brackets the axisymmetric FE from above
+  (rigid webs); the gap is the web flexibility.
 """
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize, special
+from scipy import linalg, optimize, special
 
 
 def _roots(fun, x_lo: float, x_hi: float, n: int, steps: int = 4000) -> list[float]:
@@ -102,3 +107,89 @@ def annular_plate_clamped_free(inner: float, outer: float, thickness: float, you
     lams = _roots(det, 0.2 / outer, lam_hi, n_modes, steps=6000)
     rho_h = density * thickness
     return np.array([lam ** 2 * np.sqrt(dp / rho_h) / (2.0 * np.pi) for lam in lams])
+
+
+def wheel_rigid_body(geometry) -> tuple[float, float, float]:
+    """Mass (kg), axial centre of mass (m) and diametral inertia about it (kg m^2)
+    of the right-hand wheel of a :class:`WheelsetGeometry` (all of its meridian
+    blocks outside the wheel-seat radius)."""
+    rho = geometry.density
+    blocks = [b for b in geometry.blocks() if b.y0 >= 0.0 and b.r0 >= geometry.seat_radius - 1e-12]
+    ms = np.array([rho * np.pi * (b.r1 ** 2 - b.r0 ** 2) * (b.y1 - b.y0) for b in blocks])
+    yc = np.array([0.5 * (b.y0 + b.y1) for b in blocks])
+    mass = float(ms.sum())
+    y_cm = float(ms @ yc / mass)
+    jd = sum(m * ((b.r1 ** 2 + b.r0 ** 2) / 4.0 + (b.y1 - b.y0) ** 2 / 12.0 + (y - y_cm) ** 2)
+             for m, y, b in zip(ms, yc, blocks))
+    return mass, y_cm, float(jd)
+
+
+def wheelset_beam_k1(geometry, n_modes: int = 2, n_el: int = 400,
+                     extra_masses: tuple[tuple[float, float, float], ...] = ()) -> np.ndarray:
+    """Flexible free-free bending frequencies (Hz) of a wheelset as a stepped
+    Timoshenko beam with rigid wheels.
+
+    Parameters
+    ----------
+    geometry : WheelsetGeometry
+        Axle radii and stations, wheels, material.
+    n_modes : int
+        Flexible modes returned (the two rigid modes are skipped).
+    n_el : int
+        Beam elements over the axle length (refined at every step).
+    extra_masses : tuple of (y, mass, diametral inertia)
+        Rigid bodies on the axle (e.g. brake discs): position (m), kg, kg m^2.
+
+    Returns
+    -------
+    ndarray (n_modes,)
+        Ascending frequencies, Hz.
+    """
+    g = geometry
+    e, nu, rho = g.young, g.poisson, g.density
+    gm = e / (2.0 * (1.0 + nu))
+    kap = 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
+    (yh0, yh1), (yj0, yj1) = g.hub_y, g.journal_y
+
+    def radius(y: float) -> float:
+        y = abs(y)
+        if y < yh0:
+            return g.body_radius
+        if y < yh1:
+            return g.seat_radius
+        return g.collar_radius if y < yj0 else g.journal_radius
+
+    mass, y_cm, jd = wheel_rigid_body(g)
+    stations = [yh0, yh1, yj0, y_cm] + [abs(y) for y, _, _ in extra_masses]
+    ys = np.unique(np.round(np.concatenate([np.linspace(-yj1, yj1, n_el + 1), stations,
+                                            -np.array(stations)]), 12))
+    n = ys.size
+    kk = np.zeros((2 * n, 2 * n))
+    mm = np.zeros((2 * n, 2 * n))
+    for i in range(n - 1):
+        le = ys[i + 1] - ys[i]
+        r = radius(0.5 * (ys[i] + ys[i + 1]))
+        area, inertia = np.pi * r ** 2, np.pi * r ** 4 / 4.0
+        phi = 12.0 * e * inertia / (kap * gm * area * le ** 2)
+        ke = e * inertia / (le ** 3 * (1.0 + phi)) * np.array(
+            [[12.0, 6.0 * le, -12.0, 6.0 * le],
+             [6.0 * le, (4.0 + phi) * le ** 2, -6.0 * le, (2.0 - phi) * le ** 2],
+             [-12.0, -6.0 * le, 12.0, -6.0 * le],
+             [6.0 * le, (2.0 - phi) * le ** 2, -6.0 * le, (4.0 + phi) * le ** 2]])
+        # consistent translational and rotary mass (Euler-Bernoulli shape functions)
+        mt = rho * area * le / 420.0 * np.array(
+            [[156.0, 22.0 * le, 54.0, -13.0 * le], [22.0 * le, 4.0 * le ** 2, 13.0 * le, -3.0 * le ** 2],
+             [54.0, 13.0 * le, 156.0, -22.0 * le], [-13.0 * le, -3.0 * le ** 2, -22.0 * le, 4.0 * le ** 2]])
+        mr = rho * inertia / (30.0 * le) * np.array(
+            [[36.0, 3.0 * le, -36.0, 3.0 * le], [3.0 * le, 4.0 * le ** 2, -3.0 * le, -le ** 2],
+             [-36.0, -3.0 * le, 36.0, -3.0 * le], [3.0 * le, -le ** 2, -3.0 * le, 4.0 * le ** 2]])
+        d = slice(2 * i, 2 * i + 4)
+        kk[d, d] += ke
+        mm[d, d] += mt + mr
+    for y, m, j in [(y_cm, mass, jd), (-y_cm, mass, jd), *extra_masses]:
+        q = int(np.argmin(np.abs(ys - y)))
+        mm[2 * q, 2 * q] += m
+        mm[2 * q + 1, 2 * q + 1] += j
+    w = linalg.eigh(kk, mm, eigvals_only=True)
+    f = np.sqrt(np.clip(w, 0.0, None)) / (2.0 * np.pi)
+    return f[2:2 + n_modes]

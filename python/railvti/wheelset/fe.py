@@ -13,6 +13,9 @@ from .mesh import MeridianMesh
 
 log = logging.getLogger(__name__)
 
+#: Modes requested in the first call to the Fortran solver (grown x4 while full).
+_FIRST_BUFFER = 48
+
 
 @dataclass(frozen=True)
 class HarmonicModes:
@@ -104,11 +107,20 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
         sk = np.array([s[2] for s in springs], dtype=np.float64)
     else:
         sn, sc, sk = np.ones(1, np.int32), np.ones(1, np.int32), np.zeros(1)
+    n_max = _checks.positive_int("n_max", n_max)
     xn = np.asfortranarray(mesh.nodes.T, dtype=np.float64)
     conn = np.asfortranarray(mesh.conn.T + 1, dtype=np.int32)
     lam_max = (2.0 * np.pi * f_max) ** 2
-    nm, lam, phi, gam, mcq, kgq, neq, kd, info = core.wheelset_modes_c(
-        xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_max)
+    # The shim returns fixed-size buffers (phi is 3 x nn x n_buf doubles: 34 MB
+    # for 3500 nodes and 400 modes), so start small and grow only when the
+    # buffer came back full (the solver may have stopped at n_buf modes).
+    n_buf = min(n_max, _FIRST_BUFFER)
+    while True:
+        nm, lam, phi, gam, mcq, kgq, neq, kd, info = core.wheelset_modes_c(
+            xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf)
+        if info != 0 or nm < n_buf or n_buf >= n_max:
+            break
+        n_buf = min(n_max, 4 * n_buf)
     if info <= -10:
         raise InputError(f"meridian element {-info - 10} is inverted or has r <= 0 (bad geometry)")
     if info == -2:
@@ -125,7 +137,8 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     lam = np.clip(lam[:nm], 0.0, None)
     log.debug("k=%d: %d modes below %.0f Hz, %d equations, bandwidth %d", k, nm, f_max, neq, kd)
     return HarmonicModes(k=k, freq_hz=np.sqrt(lam) / (2.0 * np.pi),
-                         shapes=np.ascontiguousarray(np.transpose(phi[:, :, :nm], (2, 1, 0))),
+                         # a copy: a transposed view would keep the whole f2py buffer alive
+                         shapes=np.transpose(phi[:, :, :nm], (2, 1, 0)).copy(),
                          coriolis=gam[:nm, :nm].copy(), inplane_mass=mcq[:nm, :nm].copy(),
                          prestress_stiffness=kgq[:nm, :nm].copy(),
                          n_equations=int(neq), bandwidth=int(kd))

@@ -66,6 +66,25 @@ class ModeTable:
     def __len__(self) -> int:
         return int(self.k.size)
 
+    def mirror_symmetry(self, i: int) -> float:
+        """Symmetry of mode i about the mid-plane y = 0, in [-1, 1].
+
+        +1: the mirror image of the field equals the field (u_r, u_theta even
+        and u_y odd in y): for k = 1 the axle bows and the two wheels tilt in
+        opposite senses; -1: antisymmetric (S-shaped axle, wheels tilting the
+        same way). Computed as <u, P u> / <u, u> with P the mirror map.
+
+        Raises
+        ------
+        InputError
+            If i is out of range or the mesh is not mirror-symmetric.
+        """
+        if not 0 <= i < len(self):
+            raise InputError(f"mode index {i} out of range 0..{len(self) - 1}")
+        s = self.shapes[i]
+        m = s[_mirror_index(self.mesh)] * np.array([1.0, -1.0, 1.0])
+        return float(np.sum(s * m) / max(np.sum(s * s), 1e-300))
+
     def first(self, k: int, family: str | None = None, f_min: float = 1.0) -> float:
         """Lowest frequency (Hz) of harmonic k above f_min."""
         sel = [f for kk, f, fam in zip(self.k, self.freq_hz, self.family)
@@ -73,6 +92,17 @@ class ModeTable:
         if not sel:
             raise InputError(f"no mode of harmonic {k} above {f_min} Hz in the table")
         return float(min(sel))
+
+
+def _mirror_index(mesh: MeridianMesh) -> np.ndarray:
+    """Index of the node at (r, -y) for every node (r, y)."""
+    x = mesh.nodes
+    scale = max(float(np.abs(x).max()), 1e-30)
+    key = {(round(r / scale, 9), round(y / scale, 9)): i for i, (r, y) in enumerate(x)}
+    try:
+        return np.array([key[(round(r / scale, 9), round(-y / scale, 9))] for r, y in x])
+    except KeyError:
+        raise InputError("the meridian mesh is not symmetric about y = 0") from None
 
 
 @dataclass(frozen=True)
