@@ -1,0 +1,215 @@
+!> Implicit time integration of M a = F(q, v) and the static equilibrium F(q, 0) = 0.
+!>
+!> Newmark with HHT-alpha (Hilber, Hughes & Taylor 1977): alpha in [-1/3, 0],
+!> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
+!> (trapezoidal) rule. Residual at t_{n+1}:  M a_{n+1} - (1 + alpha) F_{n+1} + alpha F_n = 0,
+!> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
+!> at the first iteration of each step and again when an iteration does not contract.
+!> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
+module vehicle_newmark
+    use kinds, only: dp
+    use vehicle_contact, only: nwo
+    use vehicle_model, only: vmodel, force_total, tangent
+    implicit none
+    private
+    public :: newmark_run, static_solve, initial_acceleration
+
+    interface
+        subroutine dgetrf(m, n, a, lda, ipiv, info)
+            import :: dp
+            integer, intent(in) :: m, n, lda
+            real(dp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine dgetrf
+        subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: dp
+            character, intent(in) :: trans
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(dp), intent(in) :: a(lda, *)
+            integer, intent(in) :: ipiv(*)
+            real(dp), intent(inout) :: b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dgetrs
+    end interface
+
+contains
+
+    !> a = M^-1 F(q, v).
+    subroutine initial_acceleration(md, q, v, a, info)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: q(md%nd), v(md%nd)
+        real(dp), intent(out) :: a(md%nd)
+        integer, intent(out) :: info
+        real(dp) :: f(md%nd), wout(nwo, 2, md%nw), mm(md%nd, md%nd)
+        integer :: ipiv(md%nd)
+        call force_total(md, q, v, f, wout, info)
+        a = 0.0_dp
+        if (info /= 0) return
+        mm = md%m
+        call dgetrf(md%nd, md%nd, mm, md%nd, ipiv, info)
+        if (info /= 0) then
+            info = -1
+            return
+        end if
+        a = f
+        call dgetrs('N', md%nd, 1, mm, md%nd, ipiv, a, md%nd, info)
+    end subroutine initial_acceleration
+
+    !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.
+    !> info: 0 ok, 2 Newton did not converge, 3 a wheelset left the contact table,
+    !> 4 non-finite state or |q| above qmax; tfail the time of the failed step.
+    !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate (m),
+    !> 4 steps done.
+    subroutine newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, qmax, t, q, v, a, &
+                           nout, tout, qout, vout, wout, stats, info, tfail)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: h, alpha, tol, qmax
+        integer, intent(in) :: nsteps, nevery, maxit, nout
+        real(dp), intent(inout) :: t, q(md%nd), v(md%nd), a(md%nd)
+        real(dp), intent(out) :: tout(nout), qout(md%nd, nout), vout(md%nd, nout)
+        real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(4)
+        integer, intent(out) :: info
+        real(dp), intent(out) :: tfail
+        real(dp) :: beta, gamma, cq, cv, fn(md%nd), f1(md%nd), r(md%nd), jac(md%nd, md%nd)
+        real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), wk(nwo, 2, md%nw)
+        real(dp) :: dq, dqold, err
+        integer :: ipiv(md%nd), n, it, io, lin
+        logical :: fresh
+        beta = 0.25_dp * (1.0_dp - alpha)**2
+        gamma = 0.5_dp - alpha
+        cq = 1.0_dp / (beta * h * h)
+        cv = gamma / (beta * h)
+        stats = 0.0_dp
+        tout = 0.0_dp
+        qout = 0.0_dp
+        vout = 0.0_dp
+        wout = 0.0_dp
+        tfail = t
+        io = 0
+        call force_total(md, q, v, fn, wk, info)
+        if (info /= 0) return
+        do n = 1, nsteps
+            qt = q + h * v + h * h * (0.5_dp - beta) * a     ! predictor (a_{n+1} = 0 part)
+            vt = v + h * (1.0_dp - gamma) * a
+            q1 = q + h * v + 0.5_dp * h * h * a               ! start: constant acceleration
+            dqold = huge(1.0_dp)
+            fresh = .false.
+            do it = 1, maxit
+                a1 = cq * (q1 - qt)
+                v1 = vt + gamma * h * a1
+                call force_total(md, q1, v1, f1, wk, info)
+                if (info /= 0) then
+                    tfail = t + h
+                    return
+                end if
+                r = -(matmul(md%m, a1) - (1.0_dp + alpha) * f1 + alpha * fn)
+                if (it == 1 .or. .not. fresh) then
+                    call tangent(md, q1, v1, cv, 0, jac, info)
+                    if (info /= 0) then
+                        tfail = t + h
+                        return
+                    end if
+                    jac = cq * md%m - (1.0_dp + alpha) * jac
+                    call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
+                    stats(2) = stats(2) + 1.0_dp
+                    fresh = .true.
+                    if (lin /= 0) then
+                        info = 2
+                        tfail = t + h
+                        return
+                    end if
+                end if
+                call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, r, md%nd, lin)
+                q1 = q1 + r
+                stats(1) = stats(1) + 1.0_dp
+                dq = maxval(abs(r))
+                if (.not. (dq == dq) .or. dq > qmax) exit
+                if (dq <= tol) exit
+                ! a contraction worse than 1/2: refresh the tangent at the next iteration
+                if (dq > 0.5_dp * dqold) fresh = .false.
+                dqold = dq
+            end do
+            if (.not. (dq <= tol)) then
+                info = 2
+                if (.not. (dq == dq) .or. dq > qmax) info = 4
+                tfail = t + h
+                return
+            end if
+            a1 = cq * (q1 - qt)
+            v1 = vt + gamma * h * a1
+            call force_total(md, q1, v1, f1, wk, info)
+            if (info /= 0) then
+                tfail = t + h
+                return
+            end if
+            if (any(.not. (abs(q1) <= qmax)) .or. any(.not. (abs(v1) <= 1.0e6_dp))) then
+                info = 4
+                tfail = t + h
+                return
+            end if
+            err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
+            stats(3) = max(stats(3), err)
+            q = q1
+            v = v1
+            a = a1
+            fn = f1
+            t = t + h
+            stats(4) = stats(4) + 1.0_dp
+            if (mod(n, nevery) == 0 .and. io < nout) then
+                io = io + 1
+                tout(io) = t
+                qout(:, io) = q
+                vout(:, io) = v
+                wout(:, :, :, io) = wk
+            end if
+        end do
+    end subroutine newmark_run
+
+    !> Static equilibrium F(q, 0) = 0 by Newton's method with step halving on the residual.
+    !> info: 0 ok, 2 not converged, 3 outside the contact table, -1 singular tangent.
+    subroutine static_solve(md, q, tol, maxit, iters, resid, info)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(inout) :: q(md%nd)
+        real(dp), intent(in) :: tol
+        integer, intent(in) :: maxit
+        integer, intent(out) :: iters, info
+        real(dp), intent(out) :: resid
+        real(dp) :: v(md%nd), f(md%nd), ftry(md%nd), jac(md%nd, md%nd), dq(md%nd), wk(nwo, 2, md%nw)
+        real(dp) :: s, r0, r1
+        integer :: ipiv(md%nd), it, lin, ls
+        v = 0.0_dp
+        call force_total(md, q, v, f, wk, info)
+        if (info /= 0) return
+        r0 = norm2(f)
+        do it = 1, maxit
+            iters = it
+            call tangent(md, q, v, 0.0_dp, 0, jac, info)
+            if (info /= 0) return
+            jac = -jac
+            call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
+            if (lin /= 0) then
+                info = -1
+                return
+            end if
+            dq = f
+            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dq, md%nd, lin)
+            s = 1.0_dp
+            do ls = 1, 30
+                call force_total(md, q + s * dq, v, ftry, wk, info)
+                if (info == 0) then
+                    r1 = norm2(ftry)
+                    if (r1 < r0 .or. ls == 30) exit
+                end if
+                s = 0.5_dp * s
+            end do
+            if (info /= 0) return
+            q = q + s * dq
+            f = ftry
+            r0 = r1
+            resid = maxval(abs(s * dq))
+            if (resid <= tol) return
+        end do
+        info = 2
+    end subroutine static_solve
+
+end module vehicle_newmark
