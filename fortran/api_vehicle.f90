@@ -4,20 +4,20 @@
 
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats.
 subroutine vehicle_run_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                         y0, dy, r0, v0, gmod, mu, cmodel, h, nsteps, nevery, alpha, tol, maxit, &
-                         qmax, t, q, v, a, nout, nwo, tout, qout, vout, wout, stats, info, tfail)
+                         y0, dy, r0, v0, gmod, mu, cmodel, fsn, h, nsteps, nevery, alpha, tol, maxit, &
+                         maxsub, qmax, t, q, v, a, nout, nwo, tout, qout, vout, wout, stats, info, tfail)
     use iso_c_binding, only: c_int, c_double
     use vehicle_contact, only: nq_table
     use vehicle_model, only: vmodel, vehicle_pack
     use vehicle_newmark, only: newmark_run
     implicit none
-    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, nsteps, nevery, maxit, nout, nwo
+    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, nsteps, nevery, maxit, maxsub, nout, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
     integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, h, alpha, tol, qmax
     real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd)
     real(c_double), intent(out) :: tout(nout), qout(nd, nout), vout(nd, nout), wout(nwo, 2, nw, nout)
-    real(c_double), intent(out) :: stats(4), tfail
+    real(c_double), intent(out) :: stats(6), tfail
     integer(c_int), intent(out) :: info
     type(vmodel) :: md
     if (nq /= nq_table) then
@@ -25,22 +25,22 @@ subroutine vehicle_run_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iw
         return
     end if
     call vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                      y0, dy, r0, v0, gmod, mu, cmodel, md)
-    call newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, qmax, t, q, v, a, &
+                      y0, dy, r0, v0, gmod, mu, cmodel, fsn, md)
+    call newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, &
                      nout, tout, qout, vout, wout, stats, info, tfail)
 end subroutine vehicle_run_c
 
 !> Static equilibrium (info 0 ok, 2 not converged, 3 outside the table, -1 singular).
 !> Also returns the total force and contact outputs at the solution.
 subroutine vehicle_static_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                            y0, dy, r0, v0, gmod, mu, cmodel, tol, maxit, q, nwo, f, wout, &
+                            y0, dy, r0, v0, gmod, mu, cmodel, fsn, tol, maxit, q, nwo, f, wout, &
                             iters, resid, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_contact, only: nq_table
     use vehicle_model, only: vmodel, vehicle_pack, force_total
     use vehicle_newmark, only: static_solve
     implicit none
-    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, maxit, nwo
+    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, maxit, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
     integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, tol
@@ -59,7 +59,7 @@ subroutine vehicle_static_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar,
         return
     end if
     call vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                      y0, dy, r0, v0, gmod, mu, cmodel, md)
+                      y0, dy, r0, v0, gmod, mu, cmodel, fsn, md)
     iters = 0
     resid = 0.0_c_double
     call static_solve(md, q, tol, maxit, iters, resid, info)
@@ -71,12 +71,12 @@ end subroutine vehicle_static_c
 !> Force F(q, v), contact outputs, and the tangents dF/dq and dF/dv (forward differences
 !> for the contact, see vehicle_model%tangent).
 subroutine vehicle_force_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                           y0, dy, r0, v0, gmod, mu, cmodel, q, v, nwo, f, wout, jq, jv, info)
+                           y0, dy, r0, v0, gmod, mu, cmodel, fsn, q, v, nwo, f, wout, jq, jv, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_contact, only: nq_table
     use vehicle_model, only: vmodel, vehicle_pack, force_total, tangent
     implicit none
-    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, nwo
+    integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
     integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, q(nd), v(nd)
@@ -88,7 +88,7 @@ subroutine vehicle_force_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, 
         return
     end if
     call vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                      y0, dy, r0, v0, gmod, mu, cmodel, md)
+                      y0, dy, r0, v0, gmod, mu, cmodel, fsn, md)
     call force_total(md, q, v, f, wout, info)
     if (info /= 0) return
     call tangent(md, q, v, 0.0_c_double, 0, jq, info)

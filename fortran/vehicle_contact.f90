@@ -16,6 +16,7 @@
 !> the nominal rolling speed v0/r0 (no rotation angle). Forces on the wheel in track axes.
 module vehicle_contact
     use kinds, only: dp
+    use contact_fastsim, only: fastsim_ellipse
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she
@@ -77,24 +78,25 @@ contains
 
     !> Contact forces of one wheelset.
     !> qw, vw: wheelset (y, z, roll, yaw) and rates; qt, vt: track element (y, z, roll) and rates.
-    !> model 1: Hertz + Kalker linear with SHE saturation (model 2, FASTSIM, plugs in here).
+    !> model 1: Hertz + Kalker linear with SHE saturation; model 2: Hertz + FASTSIM
+    !> (contact_fastsim, fsn x fsn strips x points).
     !> fw: generalised forces on the wheelset (y, z, roll, yaw); ft: on the track element.
-    pure subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, qw, vw, qt, vt, &
+    pure subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, qw, vw, qt, vt, &
                                      fw, ft, wout, info)
-        integer, intent(in) :: ny, model
+        integer, intent(in) :: ny, model, fsn
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
         real(dp), intent(in) :: qw(4), vw(4), qt(3), vt(3)
         real(dp), intent(out) :: fw(4), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
-        real(dp) :: nbest
+        real(dp) :: nbest, mz
         integer :: w, k, m
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
         info = 0
-        if (model /= 1) then
+        if (model /= 1 .and. model /= 2) then
             info = -9
             return
         end if
@@ -128,8 +130,13 @@ contains
                 xi = (1.0_dp - r / r0) - vw(4) * l / v0
                 eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
-                call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
-                                      xi, eta, spin, fx, fy)
+                if (model == 1) then
+                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                                          xi, eta, spin, fx, fy)
+                else
+                    call fastsim_ellipse(a, b, gmod, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                                         xi, eta, spin, fsn, fsn, fx, fy, mz)
+                end if
                 ! n = (0, -sg sin, cos), t_y = (0, cos, sg sin)
                 fyt = fy * cd - sg * fn * sd
                 fzt = fy * sg * sd + fn * cd

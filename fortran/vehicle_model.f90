@@ -16,7 +16,7 @@ module vehicle_model
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
 
     type :: vmodel
-        integer :: nd = 0, ne = 0, nw = 0, ny = 0, cmodel = 1
+        integer :: nd = 0, ne = 0, nw = 0, ny = 0, cmodel = 1, fsn = 8
         real(dp), allocatable :: m(:, :), c(:, :), k(:, :), f0(:)
         integer, allocatable :: etype(:)
         real(dp), allocatable :: eg(:, :), epar(:, :)
@@ -29,8 +29,8 @@ contains
 
     !> Copy the flat arrays of the shim into a vmodel.
     pure subroutine vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                                 y0, dy, r0, v0, gmod, mu, cmodel, md)
-        integer, intent(in) :: nd, ne, nw, ny, cmodel
+                                 y0, dy, r0, v0, gmod, mu, cmodel, fsn, md)
+        integer, intent(in) :: nd, ne, nw, ny, cmodel, fsn
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
         integer, intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
@@ -40,6 +40,7 @@ contains
         md%nw = nw
         md%ny = ny
         md%cmodel = cmodel
+        md%fsn = fsn
         md%m = mm
         md%c = cc
         md%k = kk
@@ -69,9 +70,13 @@ contains
         cd = 0.0_dp
         select case (etype)
         case (el_friction)
-            t = tanh(dd / p(2))
-            f = p(1) * t + p(3) * dd
-            cd = p(1) * (1.0_dp - t * t) / p(2) + p(3)
+            f = p(3) * dd
+            cd = p(3)
+            if (p(1) /= 0.0_dp .and. p(2) > 0.0_dp) then
+                t = tanh(dd / p(2))
+                f = f + p(1) * t
+                cd = cd + p(1) * (1.0_dp - t * t) / p(2)
+            end if
         case (el_bump)
             if (abs(d) > p(1)) then
                 f = p(2) * (abs(d) - p(1)) * sign(1.0_dp, d)
@@ -110,7 +115,7 @@ contains
         real(dp) :: qw(4), vw(4), qt(3), vt(3), fw(4), ft(3)
         integer :: j
         call ws_state(md, w, q, v, qw, vw, qt, vt)
-        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, md%cmodel, &
+        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, md%cmodel, md%fsn, &
                               qw, vw, qt, vt, fw, ft, wout, info)
         f(md%iws(:, w)) = f(md%iws(:, w)) + fw
         do j = 1, 3

@@ -55,104 +55,124 @@ contains
         call dgetrs('N', md%nd, 1, mm, md%nd, ipiv, a, md%nd, info)
     end subroutine initial_acceleration
 
-    !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.
-    !> info: 0 ok, 2 Newton did not converge, 3 a wheelset left the contact table,
-    !> 4 non-finite state or |q| above qmax; tfail the time of the failed step.
-    !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate (m),
-    !> 4 steps done.
-    subroutine newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, qmax, t, q, v, a, &
-                           nout, tout, qout, vout, wout, stats, info, tfail)
+    !> One HHT step of size h from (q, v, a, fn = F(q, v)); on success the state is advanced.
+    !> ok = .false. when Newton does not converge (the state is left unchanged); info 3
+    !> (outside the table) is returned as such.
+    subroutine hht_step(md, h, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, err, ok, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: h, alpha, tol, qmax
-        integer, intent(in) :: nsteps, nevery, maxit, nout
-        real(dp), intent(inout) :: t, q(md%nd), v(md%nd), a(md%nd)
-        real(dp), intent(out) :: tout(nout), qout(md%nd, nout), vout(md%nd, nout)
-        real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(4)
+        integer, intent(in) :: maxit
+        real(dp), intent(inout) :: q(md%nd), v(md%nd), a(md%nd), fn(md%nd)
+        real(dp), intent(out) :: wk(nwo, 2, md%nw), err
+        integer, intent(inout) :: nit, njac
+        logical, intent(out) :: ok
         integer, intent(out) :: info
-        real(dp), intent(out) :: tfail
-        real(dp) :: beta, gamma, cq, cv, fn(md%nd), f1(md%nd), r(md%nd), jac(md%nd, md%nd)
-        real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), wk(nwo, 2, md%nw)
-        real(dp) :: dq, dqold, err
-        integer :: ipiv(md%nd), n, it, io, lin
+        real(dp) :: beta, gamma, cq, cv, f1(md%nd), r(md%nd), jac(md%nd, md%nd)
+        real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), dq, dqold
+        integer :: ipiv(md%nd), it, lin
         logical :: fresh
         beta = 0.25_dp * (1.0_dp - alpha)**2
         gamma = 0.5_dp - alpha
         cq = 1.0_dp / (beta * h * h)
         cv = gamma / (beta * h)
+        ok = .false.
+        err = 0.0_dp
+        qt = q + h * v + h * h * (0.5_dp - beta) * a     ! predictor (the a_{n+1} = 0 part)
+        vt = v + h * (1.0_dp - gamma) * a
+        q1 = q + h * v + 0.5_dp * h * h * a               ! start: constant acceleration
+        dqold = huge(1.0_dp)
+        dq = huge(1.0_dp)
+        fresh = .false.
+        do it = 1, maxit
+            a1 = cq * (q1 - qt)
+            v1 = vt + gamma * h * a1
+            call force_total(md, q1, v1, f1, wk, info)
+            if (info == 3) then
+                ! a Newton iterate left the table: a failed step (retried smaller), not an error
+                info = 0
+                return
+            end if
+            if (info /= 0) return
+            r = -(matmul(md%m, a1) - (1.0_dp + alpha) * f1 + alpha * fn)
+            if (.not. fresh) then
+                call tangent(md, q1, v1, cv, 0, jac, info)
+                if (info == 3) info = 0
+                if (info /= 0) return
+                jac = cq * md%m - (1.0_dp + alpha) * jac
+                call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
+                njac = njac + 1
+                fresh = .true.
+                if (lin /= 0) return
+            end if
+            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, r, md%nd, lin)
+            q1 = q1 + r
+            nit = nit + 1
+            dq = maxval(abs(r))
+            if (.not. (dq <= qmax)) return
+            if (dq <= tol) exit
+            ! a contraction worse than 1/2: refresh the tangent at the next iteration
+            if (dq > 0.5_dp * dqold) fresh = .false.
+            dqold = dq
+        end do
+        if (.not. (dq <= tol)) return
+        a1 = cq * (q1 - qt)
+        v1 = vt + gamma * h * a1
+        call force_total(md, q1, v1, f1, wk, info)
+        if (info /= 0) return
+        if (any(.not. (abs(q1) <= qmax)) .or. any(.not. (abs(v1) <= 1.0e6_dp))) return
+        err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
+        q = q1
+        v = v1
+        a = a1
+        fn = f1
+        ok = .true.
+    end subroutine hht_step
+
+    !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.
+    !> A step whose Newton iterations fail is retried as 2, 4, ... 2^maxsub sub-steps
+    !> (contact closing or opening within the step); the output stays on the h grid.
+    !> info: 0 ok, 2 Newton did not converge even at h / 2^maxsub, 3 a wheelset left the
+    !> contact table, 4 non-finite state or |q| above qmax; tfail the time of the failure.
+    !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate
+    !> (Zienkiewicz & Xie: h^2 |beta - 1/6| |a_{n+1} - a_n|, m or rad), 4 steps done,
+    !> 5 steps that needed sub-steps, 6 smallest sub-step used (s).
+    subroutine newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, &
+                           nout, tout, qout, vout, wout, stats, info, tfail)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: h, alpha, tol, qmax
+        integer, intent(in) :: nsteps, nevery, maxit, maxsub, nout
+        real(dp), intent(inout) :: t, q(md%nd), v(md%nd), a(md%nd)
+        real(dp), intent(out) :: tout(nout), qout(md%nd, nout), vout(md%nd, nout)
+        real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(6)
+        integer, intent(out) :: info
+        real(dp), intent(out) :: tfail
+        real(dp) :: fn(md%nd), wk(nwo, 2, md%nw), err, tl
+        integer :: n, io, nit, njac
+        logical :: ok
         stats = 0.0_dp
+        stats(6) = h
         tout = 0.0_dp
         qout = 0.0_dp
         vout = 0.0_dp
         wout = 0.0_dp
         tfail = t
         io = 0
+        nit = 0
+        njac = 0
         call force_total(md, q, v, fn, wk, info)
         if (info /= 0) return
         do n = 1, nsteps
-            qt = q + h * v + h * h * (0.5_dp - beta) * a     ! predictor (a_{n+1} = 0 part)
-            vt = v + h * (1.0_dp - gamma) * a
-            q1 = q + h * v + 0.5_dp * h * h * a               ! start: constant acceleration
-            dqold = huge(1.0_dp)
-            fresh = .false.
-            do it = 1, maxit
-                a1 = cq * (q1 - qt)
-                v1 = vt + gamma * h * a1
-                call force_total(md, q1, v1, f1, wk, info)
-                if (info /= 0) then
-                    tfail = t + h
-                    return
-                end if
-                r = -(matmul(md%m, a1) - (1.0_dp + alpha) * f1 + alpha * fn)
-                if (it == 1 .or. .not. fresh) then
-                    call tangent(md, q1, v1, cv, 0, jac, info)
-                    if (info /= 0) then
-                        tfail = t + h
-                        return
-                    end if
-                    jac = cq * md%m - (1.0_dp + alpha) * jac
-                    call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
-                    stats(2) = stats(2) + 1.0_dp
-                    fresh = .true.
-                    if (lin /= 0) then
-                        info = 2
-                        tfail = t + h
-                        return
-                    end if
-                end if
-                call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, r, md%nd, lin)
-                q1 = q1 + r
-                stats(1) = stats(1) + 1.0_dp
-                dq = maxval(abs(r))
-                if (.not. (dq == dq) .or. dq > qmax) exit
-                if (dq <= tol) exit
-                ! a contraction worse than 1/2: refresh the tangent at the next iteration
-                if (dq > 0.5_dp * dqold) fresh = .false.
-                dqold = dq
-            end do
-            if (.not. (dq <= tol)) then
-                info = 2
-                if (.not. (dq == dq) .or. dq > qmax) info = 4
-                tfail = t + h
+            tl = 0.0_dp
+            call finish_rest(0)
+            if (info /= 0 .or. .not. ok) then
+                if (info == 0) info = 2
+                if (info == 2 .and. near_edge()) info = 3
+                if (any(.not. (abs(q) <= qmax)) .or. any(.not. (abs(v) <= 1.0e6_dp))) info = 4
+                tfail = t + tl + h / 2**maxsub
+                stats(1) = nit
+                stats(2) = njac
                 return
             end if
-            a1 = cq * (q1 - qt)
-            v1 = vt + gamma * h * a1
-            call force_total(md, q1, v1, f1, wk, info)
-            if (info /= 0) then
-                tfail = t + h
-                return
-            end if
-            if (any(.not. (abs(q1) <= qmax)) .or. any(.not. (abs(v1) <= 1.0e6_dp))) then
-                info = 4
-                tfail = t + h
-                return
-            end if
-            err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
-            stats(3) = max(stats(3), err)
-            q = q1
-            v = v1
-            a = a1
-            fn = f1
             t = t + h
             stats(4) = stats(4) + 1.0_dp
             if (mod(n, nevery) == 0 .and. io < nout) then
@@ -163,6 +183,46 @@ contains
                 wout(:, :, :, io) = wk
             end if
         end do
+        stats(1) = nit
+        stats(2) = njac
+    contains
+        !> A wheelset within 0.5 mm of the table's end (flange climb or divergence).
+        logical function near_edge()
+            integer :: w
+            real(dp) :: yr
+            near_edge = .false.
+            do w = 1, md%nw
+                yr = q(md%iws(1, w))
+                if (md%itr(1, w) > 0) yr = yr - q(md%itr(1, w))
+                if (abs(yr) > -md%y0 - 5.0e-4_dp) near_edge = .true.
+            end do
+        end function near_edge
+
+        !> Cover the rest of the step, h - tl, with sub-steps h / 2^lev, refining further on
+        !> failure; sets ok.
+        recursive subroutine finish_rest(lev)
+            integer, intent(in) :: lev
+            real(dp) :: hl
+            if (lev > 0) stats(5) = stats(5) + 1.0_dp
+            hl = h / 2**lev
+            stats(6) = min(stats(6), hl)
+            do while (tl < h - 0.5_dp * hl)
+                call hht_step(md, hl, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, &
+                              err, ok, info)
+                if (info /= 0) then
+                    ok = .false.
+                    return
+                end if
+                if (.not. ok) then
+                    if (lev >= maxsub) return
+                    call finish_rest(lev + 1)
+                    return
+                end if
+                tl = tl + hl
+                stats(3) = max(stats(3), err)
+            end do
+            ok = .true.
+        end subroutine finish_rest
     end subroutine newmark_run
 
     !> Static equilibrium F(q, 0) = 0 by Newton's method with step halving on the residual.

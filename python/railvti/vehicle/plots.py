@@ -1,0 +1,68 @@
+"""Charts of vehicle runs: time histories, phase portrait, bifurcation diagram."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y: np.ndarray,
+                 outdir: Path, stem: str) -> list[Path]:
+    """Leading wheelset lateral displacement and wheel forces against time, and the phase
+    portrait (y against dy/dt). Q, Y: (nt, 2, nw)."""
+    plt = _plt()
+    outdir = Path(outdir)
+    fig, ax = plt.subplots(3, 1, figsize=(6.4, 6.4), sharex=True)
+    ax[0].plot(t, y * 1e3, lw=0.8)
+    ax[0].set_ylabel("y wheelset 1, mm")
+    ax[1].plot(t, Q[:, 0, 0] / 1e3, lw=0.8, label="left")
+    ax[1].plot(t, Q[:, 1, 0] / 1e3, lw=0.8, label="right")
+    ax[1].set_ylabel("Q wheelset 1, kN")
+    ax[1].legend(fontsize=8)
+    ax[2].plot(t, Y[:, 0, 0] / 1e3, lw=0.8, label="left")
+    ax[2].plot(t, Y[:, 1, 0] / 1e3, lw=0.8, label="right")
+    ax[2].set_ylabel("Y wheelset 1, kN")
+    ax[2].set_xlabel("time, s")
+    for a in ax:
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    p1 = outdir / f"{stem}_history.png"
+    fig.savefig(p1, dpi=80)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(4.8, 4.2))
+    ax.plot(y * 1e3, vy, lw=0.6)
+    ax.set_xlabel("y wheelset 1, mm")
+    ax.set_ylabel("dy/dt, m/s")
+    ax.set_title("phase portrait")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    p2 = outdir / f"{stem}_phase.png"
+    fig.savefig(p2, dpi=80)
+    plt.close(fig)
+    return [p1, p2]
+
+
+def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
+                     linear_kmh: float, path: Path) -> Path:
+    """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.0, 3.8))
+    ax.plot(speeds, upper * 1e3, "o-", label="from a large cycle (speed lowered)")
+    ax.plot(speeds, decay * 1e3, "s--", label="from a 0.5 mm disturbance")
+    if np.isfinite(linear_kmh):
+        ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear, {linear_kmh:.0f} km/h")
+    ax.set_xlabel("speed, km/h")
+    ax.set_ylabel("amplitude wheelset 1, mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)
