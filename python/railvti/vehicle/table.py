@@ -219,14 +219,15 @@ def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material) -> np.ndarray:
 
 
 def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float | None = None,
-                     gravitational: bool = True) -> WheelTable:
+                     gravitational: bool = True, spin: bool = True) -> WheelTable:
     """A table with the rolling radius linear in y (equivalent conicity) and no flange.
 
     Used for the linear stability analysis and the validations: r(y) = r0 + conicity * y on
     the left wheel; the tread point keeps its centred position, Hertz constants and creep
     coefficients; its gap follows the contact angle (g = g0 - tan(delta0) y, the wheel
     climbing its cone) unless ``gravitational`` is False (then delta = 0 and g = g0: no
-    gravitational stiffness, the Wickens model). The flange slot is moved 1 m away.
+    gravitational stiffness, the Wickens model). ``spin`` False zeroes c23 (no spin-creep
+    force). The flange slot is moved 1 m away.
     """
     c = _checks.positive("conicity", conicity)
     d = np.array(table.data, copy=True)
@@ -242,6 +243,8 @@ def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float
     else:
         d[2, 0] = 0.0
         d[0, 0] = table.data[0, 0, i0]
+    if not spin:
+        d[QUANTITIES.index("c23"), 0] = 0.0
     d[:, 1, :] = d[:, 0, :]
     d[0, 1, :] = 1.0
     return WheelTable(y=y, data=np.asfortranarray(d), r0=table.r0, s_wheel=table.s_wheel,
