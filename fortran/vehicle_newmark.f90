@@ -69,7 +69,8 @@ contains
         integer, intent(out) :: info
         real(dp) :: beta, gamma, cq, cv, f1(md%nd), r(md%nd), jac(md%nd, md%nd)
         real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), dq, dqold
-        integer :: ipiv(md%nd), it, lin
+        real(dp) :: dqv(md%nd), qtry(md%nd), rtry(md%nd), rn, rnt, sl
+        integer :: ipiv(md%nd), it, lin, ls
         logical :: fresh
         beta = 0.25_dp * (1.0_dp - alpha)**2
         gamma = 0.5_dp - alpha
@@ -83,18 +84,15 @@ contains
         dqold = huge(1.0_dp)
         dq = huge(1.0_dp)
         fresh = .false.
+        call residual(q1, r, rn, info)
+        if (info /= 0) then
+            if (info == 3) info = 0    ! an iterate outside the table: a failed step, retried
+            return
+        end if
         do it = 1, maxit
-            a1 = cq * (q1 - qt)
-            v1 = vt + gamma * h * a1
-            call force_total(md, q1, v1, f1, wk, info)
-            if (info == 3) then
-                ! a Newton iterate left the table: a failed step (retried smaller), not an error
-                info = 0
-                return
-            end if
-            if (info /= 0) return
-            r = -(matmul(md%m, a1) - (1.0_dp + alpha) * f1 + alpha * fn)
             if (.not. fresh) then
+                a1 = cq * (q1 - qt)
+                v1 = vt + gamma * h * a1
                 call tangent(md, q1, v1, cv, 0, jac, info)
                 if (info == 3) info = 0
                 if (info /= 0) return
@@ -104,15 +102,33 @@ contains
                 fresh = .true.
                 if (lin /= 0) return
             end if
-            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, r, md%nd, lin)
-            q1 = q1 + r
+            dqv = r
+            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dqv, md%nd, lin)
             nit = nit + 1
-            dq = maxval(abs(r))
-            if (.not. (dq <= qmax)) return
-            if (dq <= tol) exit
-            ! a contraction worse than 1/2: refresh the tangent at the next iteration
-            if (dq > 0.5_dp * dqold) fresh = .false.
+            if (.not. (maxval(abs(dqv)) <= qmax)) return
+            ! backtracking on the residual norm (contact closing/opening makes full steps cycle)
+            sl = 1.0_dp
+            do ls = 1, 6
+                qtry = q1 + sl * dqv
+                call residual(qtry, rtry, rnt, info)
+                if (info == 3) then
+                    info = 0
+                    rnt = huge(1.0_dp)
+                end if
+                if (info /= 0) return
+                if (rnt < rn .or. ls == 6) exit
+                sl = 0.5_dp * sl
+            end do
+            if (rnt == huge(1.0_dp)) return
+            q1 = qtry
+            r = rtry
+            rn = rnt
+            dq = sl * maxval(abs(dqv))
+            if (sl == 1.0_dp .and. dq <= tol) exit
+            ! a damped step or a contraction worse than 1/2: refresh the tangent
+            if (sl < 1.0_dp .or. dq > 0.5_dp * dqold) fresh = .false.
             dqold = dq
+            dq = huge(1.0_dp)
         end do
         if (.not. (dq <= tol)) return
         a1 = cq * (q1 - qt)
@@ -126,6 +142,19 @@ contains
         a = a1
         fn = f1
         ok = .true.
+    contains
+        !> Residual -(M a - (1 + alpha) F(q, v) + alpha F_n) at the trial q and its 2-norm.
+        subroutine residual(qq, rr, nrm, inf)
+            real(dp), intent(in) :: qq(md%nd)
+            real(dp), intent(out) :: rr(md%nd), nrm
+            integer, intent(out) :: inf
+            real(dp) :: aa(md%nd), vv(md%nd), ff(md%nd)
+            aa = cq * (qq - qt)
+            vv = vt + gamma * h * aa
+            call force_total(md, qq, vv, ff, wk, inf)
+            rr = -(matmul(md%m, aa) - (1.0_dp + alpha) * ff + alpha * fn)
+            nrm = norm2(rr)
+        end subroutine residual
     end subroutine hht_step
 
     !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.

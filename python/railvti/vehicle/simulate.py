@@ -157,8 +157,8 @@ def _initial_guess(system: System) -> np.ndarray:
 
 def simulate(system: System, speed: float, duration: float, *, contact: str = "hertz-kalker",
              h: float = 1e-3, output_dt: float = 0.01, alpha: float = 0.0,
-             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float = 1e-10,
-             maxit: int = 12, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
+             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float = 1e-9,
+             maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
