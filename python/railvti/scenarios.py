@@ -90,6 +90,11 @@ class CentredRunning:
     q_static : ndarray
         Static equilibrium state.
     run : SimulationResult
+    patch : FastsimResult
+        The leading wheelset's right contact patch at the end of the run (the paper's
+        Figs 11-14): Hertz pressure, FASTSIM tractions, slip and friction power density on
+        a 40 x 40 strip grid of the Hertz ellipse, from the run's normal force, semi-axes
+        and creepages (whatever the contact model of the run).
     """
 
     Q: np.ndarray
@@ -99,6 +104,7 @@ class CentredRunning:
     run: SimulationResult
     speed_kmh: float
     contact: str
+    patch: Any = None
 
     @property
     def q_error(self) -> float:
@@ -130,7 +136,23 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     q0, _ = static_equilibrium(sy, v, contact)
     run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, **kw)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
-                          run=run, speed_kmh=float(speed_kmh), contact=contact)
+                          run=run, speed_kmh=float(speed_kmh), contact=contact,
+                          patch=contact_patch(sy, run, -1, wheel=1, wheelset=0))
+
+
+def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
+                  wheelset: int = 0, n: int = 40):
+    """FASTSIM fields (Hertz pressure) of one wheel's more loaded contact point at output
+    ``index`` of a run: pressure, tractions, slip, friction power density."""
+    from .contact.fastsim import fastsim
+    from .vehicle.simulate import WHEEL_OUTPUTS as W
+    w = run.wheel[index, :, wheel, wheelset]
+    fn = max(w[W.index("N_tread")], w[W.index("N_flange")])
+    if fn <= 0:
+        return None
+    return fastsim(w[W.index("a")], w[W.index("b")], fn, system.table.material, system.friction,
+                   (w[W.index("xi")], w[W.index("eta")], w[W.index("spin")]), nx=n, ny=n,
+                   speed=run.speed, pressure="hertz")
 
 
 def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", *,

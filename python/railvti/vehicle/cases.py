@@ -78,6 +78,14 @@ def run(params: dict[str, Any]) -> CaseOutput:
         data["Y_final"] = (c.Y, "N")
         scalars["static_wheel_load"] = (c.static_wheel_load, "N")
         scalars["max_Q_error"] = (c.q_error, "1")
+        if c.patch is not None:
+            pt = c.patch
+            for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
+                               ("ty", "Pa"), ("power_density", "W/m^2")):
+                data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
+            scalars["patch_power"] = (float(pt.power), "W")
+            scalars["patch_a"] = (float(pt.a), "m")
+            scalars["patch_b"] = (float(pt.b), "m")
         summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
                    f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N")
     elif scen == "hunting":
