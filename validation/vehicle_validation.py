@@ -266,7 +266,16 @@ def part_bifurcation() -> dict:
           f"[{t_nl:.1f} s]")
     for s, u, d in zip(b.speeds_kmh, b.upper, b.decay):
         print(f"    {s:5.0f} km/h: continuation {u * 1e3:6.2f} mm, from 0.5 mm {d * 1e3:6.2f} mm")
-    plot_bifurcation(b.speeds_kmh, b.upper, b.decay, lin, FIG / "vehicle_bifurcation.png")
+    amps = np.array([0.5, 1.0, 1.5, 2.0, 3.0, 4.0]) * 1e-3
+    eq = []
+    print("  describing-function check: linear critical speed at the equivalent conicity of A")
+    for a in amps:
+        lam = scenarios.equivalent_conicity(a)
+        vl = scenarios.linear_critical_speed(conicity=lam)[0]
+        eq.append(vl)
+        print(f"    A = {a * 1e3:.1f} mm: conicity {lam:.4f} -> {vl:.1f} km/h")
+    plot_bifurcation(b.speeds_kmh, b.upper, b.decay, lin, FIG / "vehicle_bifurcation.png",
+                     equivalent=(np.array(eq), amps))
     return {"linear": lin, "freq": f, "bif": b}
 
 

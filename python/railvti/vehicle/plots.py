@@ -50,14 +50,19 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
 
 
 def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
-                     linear_kmh: float, path: Path) -> Path:
-    """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs)."""
+                     linear_kmh: float, path: Path, equivalent: tuple | None = None) -> Path:
+    """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);
+    ``equivalent`` = (speeds km/h, amplitudes m): linear critical speeds at the equivalent
+    conicity of each amplitude (describing-function estimate of the cycle)."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.0, 3.8))
     ax.plot(speeds, upper * 1e3, "o-", label="from a large cycle (speed lowered)")
     ax.plot(speeds, decay * 1e3, "s--", label="from a 0.5 mm disturbance")
+    if equivalent is not None:
+        ax.plot(equivalent[0], np.asarray(equivalent[1]) * 1e3, "k^", ms=5,
+                label="linear at the equivalent conicity of the amplitude")
     if np.isfinite(linear_kmh):
-        ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear, {linear_kmh:.0f} km/h")
+        ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear (3 mm conicity), {linear_kmh:.0f} km/h")
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("amplitude wheelset 1, mm")
     ax.grid(alpha=0.3)
