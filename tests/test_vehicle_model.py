@@ -143,3 +143,53 @@ def test_step_too_large_stops_with_clear_error(coach_system):
     assert isinstance(exc.value, ConvergenceError)
     part = exc.value.result
     assert part is not None and np.isfinite(part.q).all()
+
+
+def test_creepages_match_geometry_module(table):
+    """Fortran creepages of a shifted, yawed, moving wheelset against railvti.geometry.creepages
+    (full 3-D kinematics with yaw in the contact search)."""
+    from railvti import geometry
+    wheel, rail = scenarios._profiles()
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    speed, yaw = 50.0, 0.002
+    q, _ = static_equilibrium(sy, speed)
+    q = lateral_disturbance(sy, q, -0.002, (0,))
+    q[3] = yaw
+    v = np.array([0.05, 0.0, 0.01, 0.02])
+    _, wout, _, _ = force_and_tangent(sy, q, v, speed)
+    c = geometry.contact_points(wheel, rail, y=-0.002, yaw=yaw)
+    assert q[2] == pytest.approx(c.pose.roll, rel=0.05)
+    for side, w in (("left", 0), ("right", 1)):
+        cr = geometry.creepages(c.wheel(side)[0], speed, lateral_velocity=0.05, yaw_rate=0.02,
+                                roll_rate=0.01, angular_velocity=speed / table.r0)
+        xi, eta, spin = wout[5:8, w, 0]
+        assert abs(xi - cr.xi) < 2e-5
+        assert eta == pytest.approx(cr.eta, rel=1e-2)
+        assert spin == pytest.approx(cr.phi, rel=5e-2)
+
+
+def test_friction_and_bumpstop_elements(coach_system):
+    """Yaw friction torque T tanh(rate / w_eps) and the bump stop's force beyond its clearance."""
+    sy = coach_system
+    coach = Coach()
+    q, _ = static_equilibrium(sy, 50.0)
+    v = np.zeros(sy.n)
+    ib, ic = sy.index("bolster1_yaw"), sy.index("carbody_yaw")
+    v[ib] = 2e-3
+    f0, _, _, _ = force_and_tangent(sy, q, np.zeros(sy.n), 50.0)
+    f1, _, _, _ = force_and_tangent(sy, q, v, 50.0)
+    t = coach["yaw_friction_torque"] * math.tanh(2e-3 / coach["yaw_friction_velocity"])
+    assert f1[ib] - f0[ib] == pytest.approx(-t, rel=1e-9)
+    assert f1[ic] - f0[ic] == pytest.approx(+t, rel=1e-9)
+    # bogie 1 frame shifted laterally past the clearance: bump stop pushes it back
+    jb = sy.index("bogie1_y")
+    d = coach["bumpstop_clearance"] + 0.005
+    qa, qb = q.copy(), q.copy()
+    qa[jb] += 0.01
+    qb[jb] += d
+    fa = force_and_tangent(sy, qa, np.zeros(sy.n), 50.0)[0]
+    fb = force_and_tangent(sy, qb, np.zeros(sy.n), 50.0)[0]
+    lin = sy.k[jb, jb]
+    extra = (fb[jb] - fa[jb]) + lin * (d - 0.01)
+    assert extra == pytest.approx(-coach["bumpstop_stiffness"] * 0.005, rel=1e-6)
