@@ -55,3 +55,14 @@ def test_example_deck_parses():
     with pytest.raises(InputError, match="did you mean"):
         parse_deck("&case type='vehicle' speed_kmhh=200.0 /")
     assert np.isfinite(cases[0].params["speed_kmh"])
+
+
+def test_critical_speed_case_short_sweep(tmp_path):
+    out = REGISTRY["vehicle"].run(_params(scenario="critical_speed", speeds_kmh_min=140.0,
+                                          speeds_kmh_max=420.0, speeds_kmh_step=280.0,
+                                          duration=1.5))
+    up = out.datasets["upper_amplitude"][0]
+    assert out.datasets["speeds_kmh"][0].tolist() == [140.0, 420.0]
+    assert up[1] > 5e-3 and up[0] < 0.5e-3        # flange cycle at 420, decay at 140
+    assert out.scalars["critical_speed_nonlinear"][0] == 420.0
+    assert 250 < out.scalars["critical_speed_linear"][0] < 400

@@ -194,6 +194,9 @@ class Bifurcation:
     critical_kmh : float
         Nonlinear critical speed: the lowest speed with a sustained limit cycle on the upper
         branch (amplitude > threshold).
+    flange_kmh : float
+        Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
+        (flange-contact hunting).
     linear_kmh : float or None
     """
 
@@ -202,6 +205,7 @@ class Bifurcation:
     decay: np.ndarray
     critical_kmh: float
     threshold: float
+    flange_kmh: float = float("nan")
     linear_kmh: float | None = None
     details: dict = field(default_factory=dict)
 
@@ -209,6 +213,7 @@ class Bifurcation:
 def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 contact: str = "hertz-kalker", *, duration: float = 4.0, y_large: float = 0.006,
                 y_small: float = 0.0005, threshold: float = 0.5e-3, h: float = 1e-3,
+                flange_amplitude: float = 5e-3,
                 coach: Coach | None = None, progress: bool = True) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
@@ -257,9 +262,11 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         bar.close()
     on = upper > threshold
     crit = float(sp[on].min()) if on.any() else float("nan")
+    fl = upper > flange_amplitude
     order = np.argsort(sp)
     return Bifurcation(speeds_kmh=sp[order], upper=upper[order], decay=decay[order],
-                       critical_kmh=crit, threshold=threshold)
+                       critical_kmh=crit, threshold=threshold,
+                       flange_kmh=float(sp[fl].min()) if fl.any() else float("nan"))
 
 
 def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,

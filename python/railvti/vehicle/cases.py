@@ -108,10 +108,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
         data["upper_amplitude"] = (b.upper, "m")
         data["decay_amplitude"] = (b.decay, "m")
         scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
+        scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
-        summary = (f"critical speed ({contact}): nonlinear {b.critical_kmh:.0f} km/h, "
-                   f"linear {lin:.0f} km/h")
+        summary = (f"critical speed ({contact}): nonlinear {b.critical_kmh:.0f} km/h "
+                   f"(flange-contact cycle from {b.flange_kmh:.0f} km/h), linear {lin:.0f} km/h")
     return CaseOutput(summary=summary, datasets=data, scalars=scalars)
 
 

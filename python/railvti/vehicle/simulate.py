@@ -209,6 +209,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         raise InputError(f"alpha must lie in [-1/3, 0], got {alpha}")
     nevery = max(1, int(round(_checks.positive("output_dt", output_dt) / h)))
     nsteps = int(math.ceil(duration / h - 1e-9))
+    nevery = min(nevery, nsteps)
     args = _model_args(system, speed, contact, _checks.positive_int("fastsim_n", fastsim_n))
     if q0 is None:
         q0, _ = static_equilibrium(system, speed, contact, fastsim_n=fastsim_n)
