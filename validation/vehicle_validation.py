@@ -232,6 +232,13 @@ def part_hunting() -> dict:
     print(f"  centred 200 km/h: max |Q/Q0 - 1| = {c.q_error:.2e} (Q0 = {c.static_wheel_load:.1f} N), "
           f"Y per wheel {c.Y[0, 0]:+.1f} / {c.Y[1, 0]:+.1f} N, net per wheelset "
           f"{np.abs(c.Y.sum(axis=0)).max():.1e} N")
+    from railvti.vehicle.plots import plot_patch
+    p = c.patch
+    plot_patch(p.x, p.y, p.pressure, p.tx, p.ty, p.power_density, FIG / "vehicle_patch_centred.png",
+               f"centred 200 km/h, leading wheelset right wheel: a = {p.a * 1e3:.2f} mm, "
+               f"b = {p.b * 1e3:.2f} mm, Fy = {p.fy:.0f} N, friction power {p.power:.1f} W")
+    print(f"  contact patch (leading wheelset, right wheel): a {p.a * 1e3:.2f} mm, b {p.b * 1e3:.2f} mm, "
+          f"p0 {p.pressure.max() / 1e6:.0f} MPa, Fy {p.fy:.0f} N (spin), friction power {p.power:.1f} W")
     fig, ax = plt.subplots(1, 2, figsize=(9.0, 3.6))
     for kmh in (300, 360, 420):
         r = scenarios.hunting(kmh, duration=6.0 if not QUICK else 3.0, y0=0.004, progress=False)

@@ -58,6 +58,16 @@ def _history(res, data: dict, scalars: dict) -> None:
         scalars[f"stat_{k}"] = (v, "")
 
 
+def _patch(pt, data: dict, scalars: dict) -> None:
+    """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse)."""
+    for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
+                       ("ty", "Pa"), ("power_density", "W/m^2")):
+        data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
+    scalars["patch_power"] = (float(pt.power), "W")
+    scalars["patch_a"] = (float(pt.a), "m")
+    scalars["patch_b"] = (float(pt.b), "m")
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
     from .. import scenarios as sc
@@ -79,13 +89,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["static_wheel_load"] = (c.static_wheel_load, "N")
         scalars["max_Q_error"] = (c.q_error, "1")
         if c.patch is not None:
-            pt = c.patch
-            for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
-                               ("ty", "Pa"), ("power_density", "W/m^2")):
-                data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
-            scalars["patch_power"] = (float(pt.power), "W")
-            scalars["patch_a"] = (float(pt.a), "m")
-            scalars["patch_b"] = (float(pt.b), "m")
+            _patch(c.patch, data, scalars)
+            scalars["patch_time"] = (float(c.run.t[-1]), "s")
         summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
                    f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N")
     elif scen == "hunting":
@@ -93,6 +98,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
                        output_dt=params["output_dt"], coach=coach)
         _history(r, data, scalars)
+        nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
+        k = int(np.argmax(nright))
+        pt = sc.contact_patch(sc.coach_system(model, coach), r, k, wheel=1, wheelset=0)
+        if pt is not None:
+            _patch(pt, data, scalars)
+            scalars["patch_time"] = (float(r.t[k]), "s")
         amp = sc.amplitude(r)
         scalars["amplitude_last_second"] = (amp, "m")
         scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
@@ -118,7 +129,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
-    from .plots import plot_bifurcation, plot_history
+    from .plots import plot_bifurcation, plot_history, plot_patch
 
     res = group["results"] if "results" in group else group
     outdir = Path(outdir)
@@ -127,8 +138,14 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                                  np.asarray(res["decay_amplitude"]),
                                  float(res.attrs.get("critical_speed_linear", np.nan)),
                                  outdir / f"{stem}_bifurcation.png")]
-    return plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
-                        np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+    paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
+                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+    if "patch_pressure" in res:
+        paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
+                                  ("x", "y", "pressure", "tx", "ty", "power_density")),
+                                outdir / f"{stem}_patch.png",
+                                "leading wheelset, right wheel"))
+    return paths
 
 
 register(CaseType(name="vehicle", defaults=DEFAULTS, run=run, plot=plot))

@@ -71,3 +71,29 @@ def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
     fig.savefig(path, dpi=80)
     plt.close(fig)
     return Path(path)
+
+
+def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarray,
+               ty: np.ndarray, power_density: np.ndarray, path: Path, title: str = "") -> Path:
+    """Contact-patch fields on the (non-uniform, strip-wise) ellipse grid: pressure, the
+    tangential traction magnitude with its direction, the friction power density."""
+    plt = _plt()
+    fig, ax = plt.subplots(1, 3, figsize=(10.5, 3.4))
+    xm, ym = np.asarray(x) * 1e3, np.asarray(y) * 1e3
+    for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),
+                            (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
+                            (ax[2], power_density / 1e6, "friction power, W/mm^2")):
+        sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
+        fig.colorbar(sc, ax=a, shrink=0.85)
+        a.set_title(label, fontsize=9)
+        a.set_xlabel("y (lateral), mm")
+        a.set_aspect("equal")
+    ax[0].set_ylabel("x (rolling), mm")
+    k = (slice(None, None, 4), slice(None, None, 4))
+    ax[1].quiver(ym[k], xm[k], np.asarray(ty)[k], np.asarray(tx)[k], color="w", scale=None, width=0.004)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)
