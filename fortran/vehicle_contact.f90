@@ -1,0 +1,168 @@
+!> Wheel-rail contact forces of one rigid wheelset on its (rigid or elastic) track element,
+!> from a precomputed per-wheel contact table (the usual MBS look-up-table approach).
+!>
+!> Table (left wheel; the right wheel is its mirror): uniform in the lateral displacement
+!> y_r of the wheelset relative to the track, two candidate points per wheel (slot 1 the
+!> tread side, slot 2 the flange side of a fixed split of the wheel profile), quantities
+!>   1 g   vertical gap at nominal height and zero roll, m
+!>   2 l   lateral position of the point from the wheelset centre (left wheel), m
+!>   3 delta contact angle (rail normal from vertical, + towards the track centre), rad
+!>   4 r   rolling radius, m
+!>   5 a1, 6 b1  Hertz semi-axes (rolling, lateral) for a 1 N load, m N^(-1/3)
+!>   7 kH  Hertz law N = kH * d^1.5 with d the normal approach, N m^(-1.5)
+!>   8 c11, 9 c22, 10 c23  Kalker's linear creep coefficients at a1/b1.
+!> Quasi-elastic contact: the vertical interference of a point is -(g + z_rel + phi_rel l),
+!> its normal approach that times cos(delta). Creepages from the wheelset's velocities with
+!> the nominal rolling speed v0/r0 (no rotation angle). Forces on the wheel in track axes.
+module vehicle_contact
+    use kinds, only: dp
+    use contact_fastsim, only: fastsim_ellipse
+    implicit none
+    private
+    public :: nq_table, nwo, wheelset_contact, creep_kalker_she
+
+    integer, parameter :: nq_table = 10
+    !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
+    !> track y), 3 Fx (longitudinal), 4 N tread, 5 N flange, 6 xi, 7 eta, 8 spin (1/m) of the
+    !> point with the larger normal force, 9 Hertz potential energy (J), 10 its contact angle,
+    !> 11 a, 12 b semi-axes of that point (m).
+    integer, parameter :: nwo = 12
+
+contains
+
+    !> Linear interpolation of the table at y; info 3 when y is outside it.
+    pure subroutine table_at(ny, tab, y0, dy, y, vals, info)
+        integer, intent(in) :: ny
+        real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, y
+        real(dp), intent(out) :: vals(nq_table, 2)
+        integer, intent(out) :: info
+        real(dp) :: s, w
+        integer :: i
+        s = (y - y0) / dy
+        if (.not. (s >= 0.0_dp .and. s <= real(ny - 1, dp))) then
+            info = 3
+            vals = 0.0_dp
+            return
+        end if
+        info = 0
+        i = min(int(s), ny - 2) + 1
+        w = s - real(i - 1, dp)
+        vals = (1.0_dp - w) * tab(:, :, i) + w * tab(:, :, i + 1)
+    end subroutine table_at
+
+    !> Kalker's linear creep forces with the Shen-Hedrick-Elkins (1983) saturation of the
+    !> resultant: F' = mu N (u - u^2/3 + u^3/27), u = F/(mu N), capped at mu N for u >= 3.
+    pure subroutine creep_kalker_she(g, a, b, c11, c22, c23, mu, fn, xi, eta, phi, fx, fy)
+        real(dp), intent(in) :: g, a, b, c11, c22, c23, mu, fn, xi, eta, phi
+        real(dp), intent(out) :: fx, fy
+        real(dp) :: ab, f, u, fs
+        ab = a * b
+        fx = -g * ab * c11 * xi
+        fy = -g * ab * c22 * eta - g * ab * sqrt(ab) * c23 * phi
+        f = hypot(fx, fy)
+        if (f <= 0.0_dp) return
+        if (mu * fn <= 0.0_dp) then
+            fx = 0.0_dp
+            fy = 0.0_dp
+            return
+        end if
+        u = f / (mu * fn)
+        if (u < 3.0_dp) then
+            fs = mu * fn * (u - u * u / 3.0_dp + u**3 / 27.0_dp)
+        else
+            fs = mu * fn
+        end if
+        fx = fx * fs / f
+        fy = fy * fs / f
+    end subroutine creep_kalker_she
+
+    !> Contact forces of one wheelset.
+    !> qw, vw: wheelset (y, z, roll, yaw) and rates; qt, vt: track element (y, z, roll) and rates.
+    !> model 1: Hertz + Kalker linear with SHE saturation; model 2: Hertz + FASTSIM
+    !> (contact_fastsim, fsn x fsn strips x points).
+    !> fw: generalised forces on the wheelset (y, z, roll, yaw); ft: on the track element.
+    pure subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, qw, vw, qt, vt, &
+                                     fw, ft, wout, info)
+        integer, intent(in) :: ny, model, fsn
+        real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
+        real(dp), intent(in) :: qw(4), vw(4), qt(3), vt(3)
+        real(dp), intent(out) :: fw(4), ft(3), wout(nwo, 2)
+        integer, intent(out) :: info
+        real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
+        real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
+        real(dp) :: nbest, mz
+        integer :: w, k, m
+        fw = 0.0_dp
+        ft = 0.0_dp
+        wout = 0.0_dp
+        info = 0
+        if (model /= 1 .and. model /= 2) then
+            info = -9
+            return
+        end if
+        yr = qw(1) - qt(1)
+        zr = qw(2) - qt(2)
+        phr = qw(3) - qt(3)
+        do w = 1, 2
+            sg = merge(1.0_dp, -1.0_dp, w == 1)
+            call table_at(ny, tab, y0, dy, sg * yr, vals, m)
+            if (m /= 0) then
+                info = m
+                return
+            end if
+            nbest = -1.0_dp
+            do k = 1, 2
+                gp = vals(1, k)
+                l = sg * vals(2, k)
+                dlt = vals(3, k)
+                r = vals(4, k)
+                cd = cos(dlt)
+                sd = sin(dlt)
+                dv = -(gp + zr + phr * l)
+                dn = dv * cd
+                if (dn <= 0.0_dp) cycle
+                fn = vals(7, k) * dn * sqrt(dn)
+                a = vals(5, k) * fn**(1.0_dp / 3.0_dp)
+                b = vals(6, k) * fn**(1.0_dp / 3.0_dp)
+                ! relative velocity of the wheel's material point over the rail's
+                dvy = (vw(1) + r * vw(3)) - vt(1)
+                dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * l)
+                xi = (1.0_dp - r / r0) - vw(4) * l / v0
+                eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
+                spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
+                if (model == 1) then
+                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                                          xi, eta, spin, fx, fy)
+                else
+                    call fastsim_ellipse(a, b, gmod, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                                         xi, eta, spin, fsn, fsn, fx, fy, mz)
+                end if
+                ! n = (0, -sg sin, cos), t_y = (0, cos, sg sin)
+                fyt = fy * cd - sg * fn * sd
+                fzt = fy * sg * sd + fn * cd
+                fw(1) = fw(1) + fyt
+                fw(2) = fw(2) + fzt
+                fw(3) = fw(3) + l * fzt + r * fyt
+                fw(4) = fw(4) - l * fx
+                ft(1) = ft(1) - fyt
+                ft(2) = ft(2) - fzt
+                ft(3) = ft(3) - (l + yr) * fzt
+                wout(1, w) = wout(1, w) + fzt
+                wout(2, w) = wout(2, w) + fyt
+                wout(3, w) = wout(3, w) + fx
+                wout(3 + k, w) = fn
+                wout(9, w) = wout(9, w) + 0.4_dp * vals(7, k) * dn * dn * sqrt(dn)
+                if (fn > nbest) then
+                    nbest = fn
+                    wout(6, w) = xi
+                    wout(7, w) = eta
+                    wout(8, w) = spin
+                    wout(10, w) = dlt
+                    wout(11, w) = a
+                    wout(12, w) = b
+                end if
+            end do
+        end do
+    end subroutine wheelset_contact
+
+end module vehicle_contact

@@ -1,0 +1,319 @@
+"""Vehicle-track scenarios on straight track: centred running, hunting, critical speed.
+
+Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Contact models:
+'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation) and
+'hertz-fastsim' (Hertz + FASTSIM). S1002 wheels on UIC60 rails inclined 1:40.
+
+Examples
+--------
+>>> from railvti import scenarios
+>>> c = scenarios.centred_running(speed_kmh=200)
+>>> c.Q          # (2, 4) vertical wheel loads, N
+>>> r = scenarios.hunting(400, duration=3.0, y0=0.004)
+>>> r.y_ws1      # leading wheelset lateral displacement, m
+>>> scenarios.critical_speed(method='linear')    # km/h
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import _checks
+from .errors import InputError
+from .vehicle.assembly import System, build_coach
+from .vehicle.params import Coach, speed_m_s
+from .vehicle.simulate import (SimulationResult, contact_id, eigenvalues, lateral_disturbance,
+                               simulate, static_equilibrium)
+from .vehicle.table import WheelTable, linearised_table, wheel_table
+
+log = logging.getLogger(__name__)
+
+MODELS = ("RR",)
+_PROFILES: dict[str, Any] = {}
+
+
+def _profiles():
+    if not _PROFILES:
+        from .profiles import s1002, uic60
+        _PROFILES["wheel"] = s1002()
+        _PROFILES["rail"] = uic60(cant=1.0 / 40.0)
+    return _PROFILES["wheel"], _PROFILES["rail"]
+
+
+def contact_table() -> WheelTable:
+    """The S1002 / UIC60 1:40 per-wheel contact table used by the scenarios (cached)."""
+    w, r = _profiles()
+    return wheel_table(w, r)
+
+
+def equivalent_conicity(amplitude: float = 0.003) -> float:
+    """EN 15302 equivalent conicity of S1002 / UIC60 1:40 at the given amplitude (m)."""
+    from .geometry import contact_table as ctab, equivalent_conicity as eqc
+    w, r = _profiles()
+    a = _checks.positive("amplitude", amplitude)
+    y = np.linspace(-a - 1e-3, a + 1e-3, int(round((2 * a + 2e-3) / 5e-5)) + 1)
+    return float(eqc(ctab(w, r, y), a))
+
+
+def _check_model(model: str, contact: str) -> None:
+    if model not in MODELS:
+        raise InputError(f"model {model!r} is not available; the time simulation has {MODELS} "
+                         "(flexible wheelsets / ring track are not coupled yet)")
+    contact_id(contact)
+
+
+def coach_system(model: str = "RR", coach: Coach | None = None, *,
+                 linear_conicity: float | None = None) -> System:
+    """The assembled coach-track system; ``linear_conicity`` replaces the table by its
+    equivalent linearisation (rolling radius linear in y, no flange)."""
+    _check_model(model, "hertz-kalker")
+    tab = contact_table()
+    if linear_conicity is not None:
+        tab = linearised_table(tab, linear_conicity)
+    return build_coach(coach or Coach(), tab)
+
+
+@dataclass(frozen=True)
+class CentredRunning:
+    """Centred running: static equilibrium and a short run from it.
+
+    Attributes
+    ----------
+    Q, Y : ndarray (2, 4)
+        Vertical and lateral (track y, + left) wheel forces at the end of the run,
+        [wheel 0 left / 1 right, wheelset], N.
+    static_wheel_load : float
+        Weight of the coach / 8, N.
+    q_static : ndarray
+        Static equilibrium state.
+    run : SimulationResult
+    patch : FastsimResult
+        The leading wheelset's right contact patch at the end of the run (the paper's
+        Figs 11-14): Hertz pressure, FASTSIM tractions, slip and friction power density on
+        a 40 x 40 strip grid of the Hertz ellipse, from the run's normal force, semi-axes
+        and creepages (whatever the contact model of the run).
+    """
+
+    Q: np.ndarray
+    Y: np.ndarray
+    static_wheel_load: float
+    q_static: np.ndarray
+    run: SimulationResult
+    speed_kmh: float
+    contact: str
+    patch: Any = None
+
+    @property
+    def q_error(self) -> float:
+        """max |Q / static load - 1| over the eight wheels."""
+        return float(np.max(np.abs(self.Q / self.static_wheel_load - 1.0)))
+
+
+def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = "hertz-kalker", *,
+                    duration: float = 1.0, h: float = 1e-3, coach: Coach | None = None,
+                    **kw: Any) -> CentredRunning:
+    """Centred running on straight ideal track: the steady state and Q, Y per wheel.
+
+    Parameters
+    ----------
+    speed_kmh : float
+        Speed, km/h (> 0).
+    model, contact : str
+        'RR'; 'hertz-kalker' or 'hertz-fastsim'.
+    duration : float
+        Simulated time after the static equilibrium, s.
+    h : float
+        Time step, s.
+    coach : Coach, optional
+        Vehicle parameters (default: Manchester benchmark coach).
+    """
+    v = speed_m_s(speed_kmh)
+    _check_model(model, contact)
+    sy = coach_system(model, coach)
+    q0, _ = static_equilibrium(sy, v, contact)
+    run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, **kw)
+    return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
+                          run=run, speed_kmh=float(speed_kmh), contact=contact,
+                          patch=contact_patch(sy, run, -1, wheel=1, wheelset=0))
+
+
+def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
+                  wheelset: int = 0, n: int = 40):
+    """FASTSIM fields (Hertz pressure) of one wheel's more loaded contact point at output
+    ``index`` of a run: pressure, tractions, slip, friction power density."""
+    from .contact.fastsim import fastsim
+    from .vehicle.simulate import WHEEL_OUTPUTS as W
+    w = run.wheel[index, :, wheel, wheelset]
+    fn = max(w[W.index("N_tread")], w[W.index("N_flange")])
+    if fn <= 0:
+        return None
+    return fastsim(w[W.index("a")], w[W.index("b")], fn, system.table.material, system.friction,
+                   (w[W.index("xi")], w[W.index("eta")], w[W.index("spin")]), nx=n, ny=n,
+                   speed=run.speed, pressure="hertz")
+
+
+def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", *,
+            duration: float = 5.0, y0: float = 0.004, h: float = 1e-3, output_dt: float = 0.002,
+            alpha: float = 0.0, coach: Coach | None = None, q0: np.ndarray | None = None,
+            v0: np.ndarray | None = None, **kw: Any) -> SimulationResult:
+    """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
+
+    Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
+    ``q0``/``v0`` continue from a given state instead (speed sweeps).
+    """
+    v = speed_m_s(speed_kmh)
+    _check_model(model, contact)
+    sy = coach_system(model, coach)
+    if q0 is None:
+        qs, _ = static_equilibrium(sy, v, contact)
+        q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
+    return simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
+                    q0=q0, v0=v0, **kw)
+
+
+def amplitude(res: SimulationResult, window: float = 1.0) -> float:
+    """Half the peak-to-peak leading wheelset lateral displacement over the last window, m."""
+    k = res.t >= res.t[-1] - window
+    return 0.5 * float(np.ptp(res.y_ws1[k]))
+
+
+@dataclass(frozen=True)
+class Bifurcation:
+    """Limit-cycle amplitude of the leading wheelset against speed.
+
+    Attributes
+    ----------
+    speeds_kmh : ndarray
+    upper : ndarray
+        Amplitude (m) on the branch followed down in speed from a large limit cycle.
+    decay : ndarray
+        Amplitude (m) after ``duration`` from a small disturbance ``y_small`` (0: decayed).
+    critical_kmh : float
+        Nonlinear critical speed: the lowest speed with a sustained limit cycle on the upper
+        branch (amplitude > threshold).
+    flange_kmh : float
+        Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
+        (flange-contact hunting).
+    linear_kmh : float or None
+    """
+
+    speeds_kmh: np.ndarray
+    upper: np.ndarray
+    decay: np.ndarray
+    critical_kmh: float
+    threshold: float
+    flange_kmh: float = float("nan")
+    linear_kmh: float | None = None
+    details: dict = field(default_factory=dict)
+
+
+def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
+                contact: str = "hertz-kalker", *, duration: float = 4.0, y_large: float = 0.006,
+                y_small: float = 0.0005, threshold: float = 0.5e-3, h: float = 1e-3,
+                flange_amplitude: float = 5e-3,
+                coach: Coach | None = None, progress: bool = True) -> Bifurcation:
+    """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
+
+    The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
+    ``duration``, lower the speed and continue from the last state; where the cycle dies the
+    branch ends (nonlinear critical speed). The decay tests: from each speed's static state
+    with a small disturbance ``y_small``; growth there means the centred running itself is
+    unstable (the linear critical speed is below that speed).
+    """
+    sp = np.sort(np.asarray(speeds_kmh if speeds_kmh is not None
+                            else np.arange(200.0, 461.0, 20.0), dtype=float))[::-1]
+    if sp.size < 2 or np.any(sp <= 0):
+        raise InputError("speeds_kmh must hold at least two speeds > 0")
+    _check_model(model, contact)
+    sy = coach_system(model, coach)
+    upper = np.zeros(sp.size)
+    decay = np.zeros(sp.size)
+    q = v = None
+    it = sp
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=2 * sp.size, desc="bifurcation", leave=False)
+    alive = True
+    for i, s in enumerate(it):
+        vv = s / 3.6
+        if alive:
+            if q is None:
+                qs, _ = static_equilibrium(sy, vv, contact)
+                q = lateral_disturbance(sy, qs, y_large)
+                v = np.zeros(sy.n)
+            r = simulate(sy, vv, duration, contact=contact, h=h, q0=q, v0=v, output_dt=0.002,
+                         progress=False)
+            upper[i] = amplitude(r)
+            q, v = r.q[-1], r.v[-1]
+            alive = upper[i] > threshold
+        if bar is not None:
+            bar.update()
+        qs, _ = static_equilibrium(sy, vv, contact)
+        r = simulate(sy, vv, duration, contact=contact, h=h,
+                     q0=lateral_disturbance(sy, qs, y_small), output_dt=0.002, progress=False)
+        decay[i] = amplitude(r)
+        if bar is not None:
+            bar.update()
+    if bar is not None:
+        bar.close()
+    on = upper > threshold
+    crit = float(sp[on].min()) if on.any() else float("nan")
+    fl = upper > flange_amplitude
+    order = np.argsort(sp)
+    return Bifurcation(speeds_kmh=sp[order], upper=upper[order], decay=decay[order],
+                       critical_kmh=crit, threshold=threshold,
+                       flange_kmh=float(sp[fl].min()) if fl.any() else float("nan"))
+
+
+def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
+                          conicity: float | None = None, amplitude_m: float = 0.003,
+                          v_lo_kmh: float = 50.0, v_hi_kmh: float = 800.0,
+                          tol_kmh: float = 0.5) -> tuple[float, float]:
+    """Linear critical speed (km/h) and the hunting frequency there (Hz).
+
+    Eigenvalues of the system linearised about centred running with the contact table
+    replaced by its equivalent linearisation at the EN 15302 equivalent conicity for the
+    amplitude ``amplitude_m`` (Kalker's linear creep; the yaw friction enters with its
+    tangent at rest, i.e. practically locked). Bisection on the largest real part of the
+    oscillatory eigenvalues below 20 Hz.
+    """
+    lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
+    sy = coach_system(model, coach, linear_conicity=lam)
+
+    def growth(kmh: float) -> tuple[float, float]:
+        ev = eigenvalues(sy, kmh / 3.6)
+        osc = ev[(np.abs(ev.imag) > 0.1) & (np.abs(ev.imag) < 2 * np.pi * 20)]
+        i = int(np.argmax(osc.real))
+        return float(osc[i].real), float(abs(osc[i].imag) / (2 * np.pi))
+
+    lo, hi = float(v_lo_kmh), float(v_hi_kmh)
+    if growth(lo)[0] > 0:
+        return lo, growth(lo)[1]
+    if growth(hi)[0] < 0:
+        return float("inf"), float("nan")
+    while hi - lo > tol_kmh:
+        mid = 0.5 * (lo + hi)
+        if growth(mid)[0] > 0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi), growth(hi)[1]
+
+
+def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str = "nonlinear",
+                   *, coach: Coach | None = None, **kw: Any) -> float:
+    """Critical speed, km/h.
+
+    method 'linear': :func:`linear_critical_speed` (eigenvalues; contact model irrelevant).
+    method 'nonlinear': :func:`bifurcation` (lowest speed with a sustained limit cycle).
+    """
+    _check_model(model, contact)
+    if method == "linear":
+        return linear_critical_speed(model, coach, **kw)[0]
+    if method == "nonlinear":
+        return bifurcation(model=model, contact=contact, coach=coach, **kw).critical_kmh
+    raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

@@ -1,0 +1,288 @@
+"""Assembly of the coach-track system: DOFs, linear matrices, nonlinear elements, preload.
+
+Track frame x forward, y left, z up (railvti.geometry). Small rotations (roll about x, pitch
+about y, yaw about z) except the wheels' rolling, which enters only through the nominal
+rolling speed v0/r0 in the creepages. A linear spring between points P (body A) and Q
+(body B) with stiffnesses (kx, ky, kz) adds G^T diag(k) G, G = G_P - G_Q, to K, where G_P is
+the 3 x n map from the DOFs to P's displacement: u = t + w x p (p from the body's reference
+point, w = (roll, pitch, yaw)).
+
+DOFs (0-based):
+
+========  =====================================  =========
+carbody   y, z, roll, pitch, yaw                  0-4
+bolsters  yaw (front, rear)                       5-6
+bogies    y, z, roll, pitch, yaw (front, rear)     7-16
+wheelsets y, z, roll, yaw (1 leading .. 4)         17-32
+track     y, z, roll under each wheelset           33-44
+========  =====================================  =========
+
+The bolster follows the carbody in every motion but yaw: the secondary springs' upper
+points, the lateral damper and the bump stops sit on it, and dry friction (tanh-regularised)
+acts on its yaw relative to the carbody.
+
+Gravity and preload: springs are pre-stressed so that with all suspension DOFs at zero the
+carbody and bogies are in equilibrium (K_uu q_u = -F_g,u with the wheelsets held); the
+wheelsets then carry the whole weight through the contact. The static solve finds the
+contact and track deflections.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..errors import InputError
+from .params import Coach
+from .table import WheelTable
+
+EL_FRICTION, EL_BUMP = 1, 2
+
+DOF_NAMES = (["carbody_y", "carbody_z", "carbody_roll", "carbody_pitch", "carbody_yaw",
+              "bolster1_yaw", "bolster2_yaw"]
+             + [f"bogie{b}_{c}" for b in (1, 2) for c in ("y", "z", "roll", "pitch", "yaw")]
+             + [f"ws{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll", "yaw")]
+             + [f"track{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll")])
+
+
+@dataclass(frozen=True)
+class System:
+    """An assembled second-order system M a = F(q, v) for the Fortran integrator.
+
+    Attributes
+    ----------
+    m, c, k : ndarray (n, n)
+        Mass, damping and stiffness of the linear part.
+    f0 : ndarray (n,)
+        Constant force (gravity and preload).
+    etype : ndarray (ne,) int
+        Nonlinear element kinds (1 friction, 2 bump stop).
+    eg : ndarray (n, ne)
+        Element directions: d = g . q.
+    epar : ndarray (4, ne)
+        Element parameters (friction: torque, regularisation rate, viscous part;
+        bump stop: clearance, stiffness).
+    iws : ndarray (4, nw) int
+        1-based DOF indices (y, z, roll, yaw) of each wheelset.
+    itr : ndarray (3, nw) int
+        1-based DOF indices (y, z, roll) of each track element (0: rigid ground).
+    table : WheelTable
+    dof_names : tuple of str
+    x_wheelsets : ndarray (nw,)
+        Longitudinal positions of the wheelsets, m.
+    wheel_load : float
+        Static vertical wheel load expected from the masses, N.
+    """
+
+    m: np.ndarray
+    c: np.ndarray
+    k: np.ndarray
+    f0: np.ndarray
+    etype: np.ndarray
+    eg: np.ndarray
+    epar: np.ndarray
+    iws: np.ndarray
+    itr: np.ndarray
+    table: WheelTable
+    dof_names: tuple
+    x_wheelsets: np.ndarray
+    wheel_load: float
+    friction: float = 0.3
+
+    @property
+    def n(self) -> int:
+        """Number of DOFs."""
+        return self.m.shape[0]
+
+    def index(self, name: str) -> int:
+        """0-based index of a DOF by name."""
+        try:
+            return self.dof_names.index(name)
+        except ValueError:
+            raise InputError(f"unknown DOF {name!r}") from None
+
+    def without_damping(self) -> "System":
+        """The same system with every damper and friction element removed."""
+        epar = np.array(self.epar, copy=True, order="F")
+        epar[:, self.etype == EL_FRICTION] = 0.0
+        return replace(self, c=np.zeros_like(self.c, order="F"), epar=epar)
+
+
+class _Builder:
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.m = np.zeros((n, n))
+        self.c = np.zeros((n, n))
+        self.k = np.zeros((n, n))
+        self.elements: list[tuple[int, np.ndarray, tuple[float, float, float, float]]] = []
+
+    def spring(self, gp: np.ndarray, gq: np.ndarray, k3, c3) -> None:
+        g = gp - gq
+        self.k += g.T @ np.diag(k3) @ g
+        self.c += g.T @ np.diag(c3) @ g
+
+
+def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
+                p: tuple[float, float, float]) -> np.ndarray:
+    """3 x n map from a rigid body's DOFs to the displacement of point p (track coordinates)."""
+    g = np.zeros((3, n))
+    rx, ry, rz = p[0] - ref[0], p[1] - ref[1], p[2] - ref[2]
+    if "y" in dofs:
+        g[1, dofs["y"]] += 1.0
+    if "z" in dofs:
+        g[2, dofs["z"]] += 1.0
+    if "roll" in dofs:          # w = (phi, 0, 0): w x r = (0, -phi rz, phi ry)
+        g[1, dofs["roll"]] += -rz
+        g[2, dofs["roll"]] += ry
+    if "pitch" in dofs:         # w = (0, th, 0): (th rz, 0, -th rx)
+        g[0, dofs["pitch"]] += rz
+        g[2, dofs["pitch"]] += -rx
+    if "yaw" in dofs:           # w = (0, 0, psi): (-psi ry, psi rx, 0)
+        g[0, dofs["yaw"]] += -ry
+        g[1, dofs["yaw"]] += rx
+    return g
+
+
+def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> System:
+    """Assemble the coach on four track elements (RR model: rigid bodies, rigid track element).
+
+    Parameters
+    ----------
+    coach : Coach
+    table : WheelTable
+    track : bool
+        False puts the wheelsets on rigid ground (no track element DOFs).
+    """
+    p = coach.params
+    n = 33 + (12 if track else 0)
+    b = _Builder(n)
+    grav = p["gravity"]
+    r0 = p["wheel_radius"]
+    hc, hb, hs = p["carbody_cg_height"], p["bogie_cg_height"], p["secondary_height"]
+    xb = (p["half_bogie_distance"], -p["half_bogie_distance"])
+    a = p["half_wheelbase"]
+    xw = np.array([xb[0] + a, xb[0] - a, xb[1] + a, xb[1] - a])
+    car = {"y": 0, "z": 1, "roll": 2, "pitch": 3, "yaw": 4}
+    frames = [{"y": 7 + 5 * i, "z": 8 + 5 * i, "roll": 9 + 5 * i, "pitch": 10 + 5 * i,
+               "yaw": 11 + 5 * i} for i in range(2)]
+    wsd = [{"y": 17 + 4 * i, "z": 18 + 4 * i, "roll": 19 + 4 * i, "yaw": 20 + 4 * i} for i in range(4)]
+    # masses
+    diag = np.zeros(n)
+    diag[0:5] = [p["carbody_mass"], p["carbody_mass"], p["carbody_roll_inertia"],
+                 p["carbody_pitch_inertia"], p["carbody_yaw_inertia"]]
+    diag[5:7] = p["bolster_yaw_inertia"]
+    for f in frames:
+        diag[[f["y"], f["z"], f["roll"], f["pitch"], f["yaw"]]] = [
+            p["bogie_mass"], p["bogie_mass"], p["bogie_roll_inertia"], p["bogie_pitch_inertia"],
+            p["bogie_yaw_inertia"]]
+    for w in wsd:
+        diag[[w["y"], w["z"], w["roll"], w["yaw"]]] = [
+            p["wheelset_mass"], p["wheelset_mass"], p["wheelset_roll_inertia"],
+            p["wheelset_yaw_inertia"]]
+    fg = np.zeros(n)
+    fg[1] = -p["carbody_mass"] * grav
+    for f in frames:
+        fg[f["z"]] = -p["bogie_mass"] * grav
+    for w in wsd:
+        fg[w["z"]] = -p["wheelset_mass"] * grav
+    if track:
+        for i in range(4):
+            j = 33 + 3 * i
+            diag[j:j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
+            b.k[j:j + 3, j:j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
+            b.c[j:j + 3, j:j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
+    b.m = np.diag(diag)
+
+    def carbody_pt(pt):
+        return _body_point(n, car, (0.0, 0.0, hc), pt)
+
+    def bolster_pt(i, pt):
+        # carbody motion except its yaw about the bolster centre, plus the bolster's yaw
+        g = _body_point(n, {k: v for k, v in car.items() if k != "yaw"}, (0.0, 0.0, hc), pt)
+        g[1, car["yaw"]] += xb[i]
+        g += _body_point(n, {"yaw": 5 + i}, (xb[i], 0.0, hs), pt)
+        return g
+
+    # primary suspension, per axlebox
+    kp = (p["primary_kx"], p["primary_ky"], p["primary_kz"])
+    cp = (p["primary_cx"], p["primary_cy"], p["primary_cz"])
+    for i in range(4):
+        f = frames[i // 2]
+        for side in (1.0, -1.0):
+            pt = (xw[i], side * p["primary_half_spacing"], r0)
+            b.spring(_body_point(n, f, (xb[i // 2], 0.0, hb), pt),
+                     _body_point(n, wsd[i], (xw[i], 0.0, r0), pt), kp, cp)
+    # secondary suspension, per side; lateral damper per bogie; bump stops; yaw friction
+    ks = (p["secondary_kx"], p["secondary_ky"], p["secondary_kz"])
+    cs = (0.0, 0.0, p["secondary_cz"])
+    for i in range(2):
+        f = frames[i]
+        for side in (1.0, -1.0):
+            pt = (xb[i], side * p["secondary_half_spacing"], hs)
+            b.spring(bolster_pt(i, pt), _body_point(n, f, (xb[i], 0.0, hb), pt), ks, cs)
+        gy = np.zeros((1, n))          # bolster anchor: yaw of the bolster relative to the frame
+        gy[0, 5 + i] = 1.0
+        gy[0, f["yaw"]] = -1.0
+        b.spring(gy, np.zeros_like(gy), (p["bolster_yaw_stiffness"],), (0.0,))
+        pt = (xb[i], 0.0, hs)
+        grel = bolster_pt(i, pt) - _body_point(n, f, (xb[i], 0.0, hb), pt)
+        b.spring(grel, np.zeros_like(grel), (0.0, 0.0, 0.0), (0.0, p["secondary_cy"], 0.0))
+        if p["bumpstop_stiffness"] > 0:
+            b.elements.append((EL_BUMP, grel[1].copy(),
+                               (p["bumpstop_clearance"], p["bumpstop_stiffness"], 0.0, 0.0)))
+        if p["yaw_friction_torque"] > 0:
+            g = np.zeros(n)
+            g[5 + i] = 1.0
+            g[car["yaw"]] = -1.0
+            b.elements.append((EL_FRICTION, g, (p["yaw_friction_torque"],
+                                                p["yaw_friction_velocity"], 0.0, 0.0)))
+    # preload: upper bodies in equilibrium at q = 0 with the wheelsets held
+    up = np.arange(17)
+    qu = np.zeros(n)
+    qu[up] = np.linalg.solve(b.k[np.ix_(up, up)], -fg[up])
+    f0 = fg + b.k @ qu
+    iws = np.array([[w["y"], w["z"], w["roll"], w["yaw"]] for w in wsd]).T + 1
+    itr = (np.array([[33 + 3 * i, 34 + 3 * i, 35 + 3 * i] for i in range(4)]).T + 1
+           if track else np.zeros((3, 4), dtype=int))
+    names = tuple(DOF_NAMES[:n])
+    return _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
+
+
+def build_single_wheelset(table: WheelTable, *, mass: float, roll_inertia: float,
+                          yaw_inertia: float, ky: float, kx: float, half_spacing: float,
+                          axle_load: float, kz: float = 0.0, gravity: float = 9.81,
+                          friction: float = 0.3) -> System:
+    """One wheelset on rigid rails held by lateral and longitudinal springs to the ground.
+
+    The longitudinal springs (kx each, at +-half_spacing) give the yaw stiffness
+    2 kx half_spacing^2; ``axle_load`` (N, downwards, besides the wheelset's weight) loads the
+    wheels. Used by the Wickens and Klingel validations. DOFs: y, z, roll, yaw.
+    """
+    n = 4
+    b = _Builder(n)
+    b.m = np.diag([mass, mass, roll_inertia, yaw_inertia])
+    b.k[0, 0] = 2.0 * ky
+    b.k[3, 3] = 2.0 * kx * half_spacing ** 2
+    b.k[1, 1] = kz
+    f0 = np.array([0.0, -mass * gravity - axle_load, 0.0, 0.0])
+    iws = np.array([[1, 2, 3, 4]]).T
+    itr = np.zeros((3, 1), dtype=int)
+    return _finish(b, f0, iws, itr, table, ("ws1_y", "ws1_z", "ws1_roll", "ws1_yaw"),
+                   np.array([0.0]), 0.5 * (mass * gravity + axle_load), friction)
+
+
+def _finish(b: _Builder, f0, iws, itr, table, names, xw, wheel_load, friction) -> System:
+    if b.elements:
+        etype = np.array([e[0] for e in b.elements], dtype=np.int32)
+        eg = np.array([e[1] for e in b.elements]).T
+        epar = np.array([e[2] for e in b.elements], dtype=float).T
+    else:   # a dummy element keeps the arrays non-empty for f2py
+        etype = np.zeros(1, dtype=np.int32)
+        eg = np.zeros((b.n, 1))
+        epar = np.zeros((4, 1))
+    return System(m=np.asfortranarray(b.m), c=np.asfortranarray(b.c), k=np.asfortranarray(b.k),
+                  f0=f0, etype=etype, eg=np.asfortranarray(eg), epar=np.asfortranarray(epar),
+                  iws=np.asfortranarray(iws.astype(np.int32)),
+                  itr=np.asfortranarray(itr.astype(np.int32)), table=table,
+                  dof_names=names, x_wheelsets=np.asarray(xw, dtype=float),
+                  wheel_load=float(wheel_load), friction=float(friction))

@@ -1,0 +1,151 @@
+"""Deck case type ``vehicle``: the coach-track scenarios (centred running, hunting, critical
+speed / bifurcation) with the contact model named in the deck; results record it.
+
+Keys (SI units unless the name says km/h): scenario ('centred_running' | 'hunting' |
+'critical_speed'), model ('RR'), contact ('hertz-kalker' | 'hertz-fastsim'), speed_kmh,
+duration (s), h (s), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
+output_dt (s), speeds_kmh_min/max/step (critical_speed sweep), and any Coach parameter
+prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the Manchester benchmark coach.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..casetypes import CaseOutput, CaseType, register
+from ..errors import InputError
+from .params import DEFAULTS as COACH_DEFAULTS
+from .params import Coach
+from .simulate import WHEEL_OUTPUTS
+
+_SCENARIOS = ("centred_running", "hunting", "critical_speed")
+
+DEFAULTS: dict[str, Any] = {
+    "scenario": "hunting",
+    "model": "RR",
+    "contact": "hertz-kalker",
+    "speed_kmh": 300.0,
+    "duration": 3.0,
+    "h": 1e-3,
+    "alpha": 0.0,
+    "y0": 0.004,
+    "output_dt": 0.002,
+    "speeds_kmh_min": 160.0,
+    "speeds_kmh_max": 440.0,
+    "speeds_kmh_step": 20.0,
+    **{f"coach_{k}": v[0] for k, v in COACH_DEFAULTS.items()},
+}
+
+
+def _coach(params: dict[str, Any]) -> Coach:
+    kw = {k[6:]: v for k, v in params.items() if k.startswith("coach_")}
+    return Coach(**kw)
+
+
+def _history(res, data: dict, scalars: dict) -> None:
+    data["t"] = (res.t, "s")
+    data["q"] = (res.q, "m or rad")
+    data["v"] = (res.v, "m/s or rad/s")
+    data["y_ws1"] = (res.y_ws1, "m")
+    data["vy_ws1"] = (res.vy_ws1, "m/s")
+    for i, name in enumerate(WHEEL_OUTPUTS):
+        unit = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
+                "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}.get(name, "1")
+        data[f"wheel_{name}"] = (res.wheel[:, i], unit)
+    for k, v in res.stats.items():
+        scalars[f"stat_{k}"] = (v, "")
+
+
+def _patch(pt, data: dict, scalars: dict) -> None:
+    """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse)."""
+    for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
+                       ("ty", "Pa"), ("power_density", "W/m^2")):
+        data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
+    scalars["patch_power"] = (float(pt.power), "W")
+    scalars["patch_a"] = (float(pt.a), "m")
+    scalars["patch_b"] = (float(pt.b), "m")
+
+
+def run(params: dict[str, Any]) -> CaseOutput:
+    """Run one vehicle scenario (keys: see the module docstring)."""
+    from .. import scenarios as sc
+
+    scen = str(params["scenario"])
+    if scen not in _SCENARIOS:
+        raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
+    coach = _coach(params)
+    model, contact = str(params["model"]), str(params["contact"])
+    data: dict[str, tuple[np.ndarray, str]] = {}
+    scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, ""), "model": (model, ""),
+                                           "contact": (contact, "")}
+    if scen == "centred_running":
+        c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
+                               h=params["h"], coach=coach)
+        _history(c.run, data, scalars)
+        data["Q_final"] = (c.Q, "N")
+        data["Y_final"] = (c.Y, "N")
+        scalars["static_wheel_load"] = (c.static_wheel_load, "N")
+        scalars["max_Q_error"] = (c.q_error, "1")
+        if c.patch is not None:
+            _patch(c.patch, data, scalars)
+            scalars["patch_time"] = (float(c.run.t[-1]), "s")
+        summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
+                   f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N")
+    elif scen == "hunting":
+        r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
+                       y0=params["y0"], h=params["h"], alpha=params["alpha"],
+                       output_dt=params["output_dt"], coach=coach)
+        _history(r, data, scalars)
+        nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
+        k = int(np.argmax(nright))
+        pt = sc.contact_patch(sc.coach_system(model, coach), r, k, wheel=1, wheelset=0)
+        if pt is not None:
+            _patch(pt, data, scalars)
+            scalars["patch_time"] = (float(r.t[k]), "s")
+        amp = sc.amplitude(r)
+        scalars["amplitude_last_second"] = (amp, "m")
+        scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
+        summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
+                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}")
+    else:
+        sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
+                       float(params["speeds_kmh_step"]))
+        b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
+                           coach=coach, progress=False)
+        lin, freq = sc.linear_critical_speed(model, coach)
+        data["speeds_kmh"] = (b.speeds_kmh, "km/h")
+        data["upper_amplitude"] = (b.upper, "m")
+        data["decay_amplitude"] = (b.decay, "m")
+        scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
+        scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
+        scalars["critical_speed_linear"] = (lin, "km/h")
+        scalars["hunting_frequency_linear"] = (freq, "Hz")
+        summary = (f"critical speed ({contact}): nonlinear {b.critical_kmh:.0f} km/h "
+                   f"(flange-contact cycle from {b.flange_kmh:.0f} km/h), linear {lin:.0f} km/h")
+    return CaseOutput(summary=summary, datasets=data, scalars=scalars)
+
+
+def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
+    """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
+    from .plots import plot_bifurcation, plot_history, plot_patch
+
+    res = group["results"] if "results" in group else group
+    outdir = Path(outdir)
+    if "speeds_kmh" in res:
+        return [plot_bifurcation(np.asarray(res["speeds_kmh"]), np.asarray(res["upper_amplitude"]),
+                                 np.asarray(res["decay_amplitude"]),
+                                 float(res.attrs.get("critical_speed_linear", np.nan)),
+                                 outdir / f"{stem}_bifurcation.png")]
+    paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
+                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+    if "patch_pressure" in res:
+        paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
+                                  ("x", "y", "pressure", "tx", "ty", "power_density")),
+                                outdir / f"{stem}_patch.png",
+                                "leading wheelset, right wheel"))
+    return paths
+
+
+register(CaseType(name="vehicle", defaults=DEFAULTS, run=run, plot=plot))

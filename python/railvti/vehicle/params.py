@@ -1,0 +1,153 @@
+"""Vehicle parameters: the passenger coach and its defaults, each with its source.
+
+Defaults follow the Manchester Benchmark passenger vehicle (vehicle 1 of S. Iwnicki, "The
+Manchester Benchmarks for rail vehicle simulation", Veh. Syst. Dyn. 30 (1998) 295-313),
+quoted here as "Iwnicki 1998". The values were taken from that benchmark's vehicle table as
+commonly reproduced (e.g. Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, 2006); they were
+not re-checked against the original paper in this work. Parameters the benchmark does not give
+(the paper's coach has a friction bolster after Diepen 1991, not public) are marked
+"assumption" and chosen plausibly.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from .. import _checks
+from ..errors import InputError
+
+_IW = "Iwnicki 1998 (Manchester Benchmark vehicle 1)"
+_ASSUME = "assumption"
+_TRACK = "railvti.track.TrackElement.from_ring(RingTrack(64)) with railvti.track.DEFAULTS"
+
+#: name -> (default, unit, source). Forces, stiffnesses and dampers are per element as stated.
+DEFAULTS: dict[str, tuple[float, str, str]] = {
+    # carbody
+    "carbody_mass": (32000.0, "kg", _IW),
+    "carbody_roll_inertia": (56800.0, "kg m^2", _IW),
+    "carbody_pitch_inertia": (1970000.0, "kg m^2", _IW),
+    "carbody_yaw_inertia": (1970000.0, "kg m^2", _IW),
+    "carbody_cg_height": (1.8, "m", _ASSUME + " (above the rail top)"),
+    "half_bogie_distance": (9.5, "m", _IW + ": bogie centres 19 m"),
+    # bolster (yaw relative to the carbody through dry friction)
+    "bolster_yaw_inertia": (400.0, "kg m^2", _ASSUME + " (about 600 kg over 2.6 m)"),
+    "bolster_yaw_stiffness": (1.0e7, "N m/rad", _ASSUME + " (bolster anchor links to the bogie frame)"),
+    "yaw_friction_torque": (15000.0, "N m", _ASSUME + " (friction bolster; Diepen 1991 not public)"),
+    "yaw_friction_velocity": (1.0e-3, "rad/s", "regularisation: torque = T tanh(rate / this)"),
+    # bogie frame
+    "bogie_mass": (2615.0, "kg", _IW),
+    "bogie_roll_inertia": (1722.0, "kg m^2", _IW),
+    "bogie_pitch_inertia": (1476.0, "kg m^2", _IW),
+    "bogie_yaw_inertia": (3067.0, "kg m^2", _IW),
+    "bogie_cg_height": (0.6, "m", _ASSUME),
+    "half_wheelbase": (1.28, "m", _IW + ": wheelbase 2.56 m"),
+    # wheelset
+    "wheelset_mass": (1813.0, "kg", _IW),
+    "wheelset_roll_inertia": (1120.0, "kg m^2", _IW),
+    "wheelset_yaw_inertia": (1120.0, "kg m^2", _IW),
+    "wheel_radius": (0.46, "m", _IW),
+    # primary suspension, per axlebox
+    "primary_kx": (31.391e6, "N/m", _IW),
+    "primary_ky": (3.884e6, "N/m", _IW),
+    "primary_kz": (1.22e6, "N/m", _IW),
+    "primary_cx": (0.0, "N s/m", _IW + " (none)"),
+    "primary_cy": (0.0, "N s/m", _IW + " (none)"),
+    "primary_cz": (4.0e3, "N s/m", _IW),
+    "primary_half_spacing": (1.0, "m", _IW),
+    # secondary suspension, per side of a bogie
+    "secondary_kx": (160.0e3, "N/m", _IW),
+    "secondary_ky": (160.0e3, "N/m", _IW),
+    "secondary_kz": (430.0e3, "N/m", _IW),
+    "secondary_cz": (20.0e3, "N s/m", _IW),
+    "secondary_cy": (32.0e3, "N s/m", _IW + " (lateral damper, per bogie)"),
+    "secondary_half_spacing": (1.0, "m", _IW),
+    "secondary_height": (0.9, "m", _ASSUME + " (above the rail top)"),
+    # lateral bump stops between bogie frame and bolster
+    "bumpstop_clearance": (0.03, "m", _ASSUME),
+    "bumpstop_stiffness": (2.0e6, "N/m", _ASSUME),
+    # rigid track element under each wheelset (y, z, roll)
+    "track_mass_y": (44.54, "kg", _TRACK),
+    "track_mass_z": (666.5, "kg", _TRACK),
+    "track_inertia_roll": (377.1, "kg m^2", _TRACK),
+    "track_ky": (28.37e6, "N/m", _TRACK),
+    "track_kz": (243.0e6, "N/m", _TRACK),
+    "track_kroll": (137.5e6, "N m/rad", _TRACK),
+    "track_cy": (20.60e3, "N s/m", _TRACK),
+    "track_cz": (271.7e3, "N s/m", _TRACK),
+    "track_croll": (154.1e3, "N m s/rad", _TRACK),
+    # contact
+    "friction": (0.3, "-", _ASSUME + " (dry rail)"),
+    "gravity": (9.81, "m/s^2", "standard"),
+}
+
+#: Parameters that may be zero (dampers, clearances); all others must be > 0.
+_MAY_BE_ZERO = {"bolster_yaw_stiffness", "primary_cx", "primary_cy", "primary_cz", "secondary_cz", "secondary_cy",
+                "yaw_friction_torque", "bumpstop_clearance", "bumpstop_stiffness",
+                "track_cy", "track_cz", "track_croll", "friction", "carbody_cg_height",
+                "bogie_cg_height", "secondary_height"}
+
+
+def _did_you_mean(name: str, options) -> str:
+    close = difflib.get_close_matches(name, list(options), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+@dataclass(frozen=True)
+class Coach:
+    """A passenger coach: carbody, two bolsters, two bogie frames, four wheelsets.
+
+    Keyword arguments override :data:`DEFAULTS` (SI units; see that dict for each unit and
+    source). Unknown names raise :class:`~railvti.errors.InputError` with a suggestion;
+    masses, inertias, stiffnesses and lengths must be > 0, dampers >= 0.
+
+    Examples
+    --------
+    >>> c = Coach(carbody_mass=30000.0)
+    >>> c.static_wheel_load   # N
+    """
+
+    params: dict[str, float] = field(default_factory=dict)
+
+    def __init__(self, **params: Any) -> None:
+        out = {k: v[0] for k, v in DEFAULTS.items()}
+        for k, v in params.items():
+            if k not in DEFAULTS:
+                raise InputError(f"unknown vehicle parameter {k!r}{_did_you_mean(k, DEFAULTS)}")
+            out[k] = (_checks.non_negative(k, v) if k in _MAY_BE_ZERO else _checks.positive(k, v))
+        if out["yaw_friction_torque"] > 0 and out["yaw_friction_velocity"] <= 0:
+            raise InputError("yaw_friction_velocity must be > 0")
+        object.__setattr__(self, "params", out)
+
+    def __getitem__(self, name: str) -> float:
+        if name not in self.params:
+            raise InputError(f"unknown vehicle parameter {name!r}{_did_you_mean(name, DEFAULTS)}")
+        return self.params[name]
+
+    @property
+    def total_mass(self) -> float:
+        """Mass carried by the wheels (carbody, bogies, wheelsets), kg."""
+        p = self.params
+        return p["carbody_mass"] + 2 * p["bogie_mass"] + 4 * p["wheelset_mass"]
+
+    @property
+    def static_wheel_load(self) -> float:
+        """Static vertical wheel load of the symmetric coach, N."""
+        return self.total_mass * self.params["gravity"] / 8.0
+
+    def with_(self, **changes: Any) -> "Coach":
+        """A copy with some parameters changed."""
+        p = dict(self.params)
+        p.update(changes)
+        return Coach(**p)
+
+
+def speed_m_s(speed_kmh: Any) -> float:
+    """Check a speed in km/h (> 0) and return it in m/s."""
+    v = _checks.finite("speed_kmh", speed_kmh)
+    if v <= 0.0:
+        raise InputError(f"speed_kmh must be > 0, got {v}")
+    return v / 3.6
+
+

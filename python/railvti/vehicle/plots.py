@@ -1,0 +1,99 @@
+"""Charts of vehicle runs: time histories, phase portrait, bifurcation diagram."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y: np.ndarray,
+                 outdir: Path, stem: str) -> list[Path]:
+    """Leading wheelset lateral displacement and wheel forces against time, and the phase
+    portrait (y against dy/dt). Q, Y: (nt, 2, nw)."""
+    plt = _plt()
+    outdir = Path(outdir)
+    fig, ax = plt.subplots(3, 1, figsize=(6.4, 6.4), sharex=True)
+    ax[0].plot(t, y * 1e3, lw=0.8)
+    ax[0].set_ylabel("y wheelset 1, mm")
+    ax[1].plot(t, Q[:, 0, 0] / 1e3, lw=0.8, label="left")
+    ax[1].plot(t, Q[:, 1, 0] / 1e3, lw=0.8, label="right")
+    ax[1].set_ylabel("Q wheelset 1, kN")
+    ax[1].legend(fontsize=8)
+    ax[2].plot(t, Y[:, 0, 0] / 1e3, lw=0.8, label="left")
+    ax[2].plot(t, Y[:, 1, 0] / 1e3, lw=0.8, label="right")
+    ax[2].set_ylabel("Y wheelset 1, kN")
+    ax[2].set_xlabel("time, s")
+    for a in ax:
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    p1 = outdir / f"{stem}_history.png"
+    fig.savefig(p1, dpi=80)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(4.8, 4.2))
+    ax.plot(y * 1e3, vy, lw=0.6)
+    ax.set_xlabel("y wheelset 1, mm")
+    ax.set_ylabel("dy/dt, m/s")
+    ax.set_title("phase portrait")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    p2 = outdir / f"{stem}_phase.png"
+    fig.savefig(p2, dpi=80)
+    plt.close(fig)
+    return [p1, p2]
+
+
+def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
+                     linear_kmh: float, path: Path, equivalent: tuple | None = None) -> Path:
+    """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);
+    ``equivalent`` = (speeds km/h, amplitudes m): linear critical speeds at the equivalent
+    conicity of each amplitude (describing-function estimate of the cycle)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.0, 3.8))
+    ax.plot(speeds, upper * 1e3, "o-", label="from a large cycle (speed lowered)")
+    ax.plot(speeds, decay * 1e3, "s--", label="from a 0.5 mm disturbance")
+    if equivalent is not None:
+        ax.plot(equivalent[0], np.asarray(equivalent[1]) * 1e3, "k^", ms=5,
+                label="linear at the equivalent conicity of the amplitude")
+    if np.isfinite(linear_kmh):
+        ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear (3 mm conicity), {linear_kmh:.0f} km/h")
+    ax.set_xlabel("speed, km/h")
+    ax.set_ylabel("amplitude wheelset 1, mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarray,
+               ty: np.ndarray, power_density: np.ndarray, path: Path, title: str = "") -> Path:
+    """Contact-patch fields on the (non-uniform, strip-wise) ellipse grid: pressure, the
+    tangential traction magnitude with its direction, the friction power density."""
+    plt = _plt()
+    fig, ax = plt.subplots(1, 3, figsize=(10.5, 3.4))
+    xm, ym = np.asarray(x) * 1e3, np.asarray(y) * 1e3
+    for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),
+                            (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
+                            (ax[2], power_density / 1e6, "friction power, W/mm^2")):
+        sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
+        fig.colorbar(sc, ax=a, shrink=0.85)
+        a.set_title(label, fontsize=9)
+        a.set_xlabel("y (lateral), mm")
+        a.set_aspect("equal")
+    ax[0].set_ylabel("x (rolling), mm")
+    k = (slice(None, None, 4), slice(None, None, 4))
+    ax[1].quiver(ym[k], xm[k], np.asarray(ty)[k], np.asarray(tx)[k], color="w", scale=None, width=0.004)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)

@@ -1,0 +1,335 @@
+"""Static equilibrium, time integration and linearisation of an assembled System (Fortran core).
+
+The whole time loop runs in Fortran (railvti._core.vehicle_run_c); Python calls it in chunks
+of simulated time only to update a progress bar (simulated time and real-time factor).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import _checks
+from .._native import core
+from ..errors import ConvergenceError, InputError, RailvtiError
+from .assembly import System
+
+log = logging.getLogger(__name__)
+
+#: Contact models: name -> Fortran id. 'bem' (the rolling branch's solver) is not wired in.
+CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2}
+#: Outputs per wheel (second index of SimulationResult.wheel).
+WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
+                 "contact_angle", "a", "b")
+NWO = len(WHEEL_OUTPUTS)
+
+
+class DivergenceError(ConvergenceError):
+    """The time integration diverged (Newton failed, NaN, or a wheelset left its table)."""
+
+
+def contact_id(contact: str) -> int:
+    """Fortran id of a contact model name; InputError for an unknown one."""
+    if contact == "bem":
+        raise InputError("contact='bem' (BEM normal + steady rolling at 0.75 mm) is not available "
+                         "in the time simulation yet; use 'hertz-kalker' or 'hertz-fastsim'")
+    if contact not in CONTACT_MODELS:
+        raise InputError(f"unknown contact model {contact!r}; one of {sorted(CONTACT_MODELS)}")
+    return CONTACT_MODELS[contact]
+
+
+def _model_args(system: System, speed: float, contact: str, fastsim_n: int) -> tuple:
+    t = system.table
+    return (system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,
+            system.iws, system.itr, t.data, t.y0, t.dy, t.r0, speed,
+            t.material.shear_modulus, system.friction, contact_id(contact), fastsim_n)
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Time histories of one run.
+
+    Attributes
+    ----------
+    t : ndarray (nt,)
+        Output times, s.
+    q, v : ndarray (nt, n)
+        Displacements (m, rad) and velocities of every DOF (``dof_names``).
+    wheel : ndarray (nt, 12, 2, nw)
+        Per output time, quantity :data:`WHEEL_OUTPUTS`, wheel (0 left, 1 right), wheelset:
+        Q vertical and Y lateral (track y, + left) force of the rail on the wheel (N), the
+        longitudinal creep force, the tread and flange normal forces, creepages, spin, Hertz
+        energy, contact angle and semi-axes of the more loaded point.
+    speed : float
+        Forward speed, m/s.
+    contact : str
+        Contact model.
+    stats : dict
+        Newton iterations, tangent evaluations, max local error estimate (m), steps, wall
+        time (s), real-time factor (wall / simulated).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    wheel: np.ndarray
+    dof_names: tuple
+    speed: float
+    contact: str
+    h: float
+    stats: dict = field(default_factory=dict)
+
+    def dof(self, name: str) -> np.ndarray:
+        """Time history of one DOF by name (e.g. 'ws1_y')."""
+        if name not in self.dof_names:
+            raise InputError(f"unknown DOF {name!r}")
+        return self.q[:, self.dof_names.index(name)]
+
+    def wheel_output(self, name: str) -> np.ndarray:
+        """(nt, 2, nw) history of one per-wheel output."""
+        if name not in WHEEL_OUTPUTS:
+            raise InputError(f"unknown wheel output {name!r}; one of {WHEEL_OUTPUTS}")
+        return self.wheel[:, WHEEL_OUTPUTS.index(name)]
+
+    @property
+    def y_ws1(self) -> np.ndarray:
+        """Leading wheelset's lateral displacement, m."""
+        return self.dof("ws1_y")
+
+    @property
+    def vy_ws1(self) -> np.ndarray:
+        """Leading wheelset's lateral velocity, m/s."""
+        return self.v[:, self.dof_names.index("ws1_y")]
+
+    @property
+    def Q(self) -> np.ndarray:
+        """Vertical wheel forces (nt, 2, nw), N."""
+        return self.wheel_output("Q")
+
+    @property
+    def Y(self) -> np.ndarray:
+        """Lateral wheel forces (nt, 2, nw), N (track y, + left)."""
+        return self.wheel_output("Y")
+
+
+def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalker", *,
+                       q0: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 60,
+                       fastsim_n: int = 8) -> tuple[np.ndarray, np.ndarray]:
+    """Static equilibrium F(q, 0) = 0 (the steady state of centred running on straight track).
+
+    Returns (q, wheel outputs (12, 2, nw)). The start puts each wheelset at the Hertz
+    approach of the static load and each track element at its static deflection.
+    """
+    speed = _checks.positive("speed", speed)
+    q = _initial_guess(system) if q0 is None else np.array(q0, dtype=float)
+    args = _model_args(system, speed, contact, fastsim_n)
+    f, wout, iters, resid, info = core.vehicle_static_c(*args, tol, maxit, q, NWO)
+    if info == 3:
+        raise DivergenceError("static equilibrium: a wheelset left its contact table")
+    if info != 0:
+        raise ConvergenceError(f"static equilibrium not found (info {info}) after {iters} Newton "
+                               f"iterations, last correction {resid:.3g}", iterations=int(iters),
+                               residual=float(resid))
+    return q, wout
+
+
+def _initial_guess(system: System) -> np.ndarray:
+    q = np.zeros(system.n)
+    t = system.table
+    i0 = int(np.argmin(np.abs(t.y)))
+    g0, dl, kh = t.data[0, 0, i0], t.data[2, 0, i0], t.data[6, 0, i0]
+    k = np.diag(system.k)
+    for w in range(system.iws.shape[1]):
+        # wheel load from the preload on this wheelset
+        load = -0.5 * system.f0[system.iws[1, w] - 1]
+        dn = (load / (kh * math.cos(dl))) ** (2.0 / 3.0)
+        zt = 0.0
+        jt = system.itr[1, w] - 1
+        if jt >= 0:
+            zt = -2.0 * load / k[jt]
+            q[jt] = zt
+        q[system.iws[1, w] - 1] = zt - g0 - dn / math.cos(dl)
+    return q
+
+
+def simulate(system: System, speed: float, duration: float, *, contact: str = "hertz-kalker",
+             h: float = 1e-3, output_dt: float = 0.01, alpha: float = 0.0,
+             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float = 1e-9,
+             maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
+             progress: bool | None = None, chunk: float | None = None) -> SimulationResult:
+    """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
+
+    Parameters
+    ----------
+    system : System
+    speed : float
+        Forward speed v0, m/s (> 0).
+    duration : float
+        Simulated time, s.
+    contact : str
+        'hertz-kalker' or 'hertz-fastsim'.
+    h : float
+        Time step, s.
+    output_dt : float
+        Output interval, s (rounded to a multiple of h).
+    alpha : float
+        HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
+    q0, v0 : ndarray, optional
+        Initial state (default: the static equilibrium, at rest).
+    tol : float
+        Newton tolerance on the correction, m or rad.
+    maxit : int
+        Newton iterations per step.
+    maxsub : int
+        A step whose Newton iterations fail is retried with h/2, h/4, ... h/2^maxsub
+        (contact closing or opening inside the step); 0 makes the step strictly fixed.
+    qmax : float
+        Any |q| above this (m, rad) stops the run as diverged.
+    fastsim_n : int
+        FASTSIM strips and points per strip.
+    progress : bool, optional
+        Show a tqdm bar (default: when the run has more than 2000 steps).
+    chunk : float, optional
+        Simulated time per Fortran call (for the bar), s.
+
+    Raises
+    ------
+    DivergenceError
+        Newton did not converge, the state became non-finite or huge, or a wheelset left
+        its contact table; the message names the time and the step.
+    """
+    speed = _checks.positive("speed", speed)
+    duration = _checks.positive("duration", duration)
+    h = _checks.positive("h", h)
+    alpha = _checks.finite("alpha", alpha)
+    if not -1.0 / 3.0 - 1e-12 <= alpha <= 0.0:
+        raise InputError(f"alpha must lie in [-1/3, 0], got {alpha}")
+    nevery = max(1, int(round(_checks.positive("output_dt", output_dt) / h)))
+    nsteps = int(math.ceil(duration / h - 1e-9))
+    nevery = min(nevery, nsteps)
+    args = _model_args(system, speed, contact, _checks.positive_int("fastsim_n", fastsim_n))
+    if q0 is None:
+        q0, _ = static_equilibrium(system, speed, contact, fastsim_n=fastsim_n)
+    q = np.array(_checks.finite_array("q0", q0, shape=(system.n,)), dtype=float)
+    v = (np.zeros(system.n) if v0 is None
+         else np.array(_checks.finite_array("v0", v0, shape=(system.n,)), dtype=float))
+    f, _, _, _, info = core.vehicle_force_c(*args, q, v, NWO)
+    if info != 0:
+        raise DivergenceError(f"the initial state is outside the contact table (info {info})")
+    a = np.linalg.solve(system.m, f)
+    t = np.zeros((), dtype=float)
+    if progress is None:
+        progress = nsteps > 2000
+    per_chunk = nsteps if not progress else max(nevery, int(round((chunk or 0.25) / h)) // nevery * nevery)
+    out_t, out_q, out_v, out_w = [], [], [], []
+    stats = np.zeros(6)
+    stats[5] = h
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=round(nsteps * h, 6), unit="s sim", leave=False,
+                   bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim [{elapsed}, {postfix}]")
+    wall0 = time.perf_counter()
+    done = 0
+    try:
+        while done < nsteps:
+            ns = min(per_chunk, nsteps - done)
+            nout = max(1, ns // nevery)
+            tout, qout, vout, wout, st, info, tfail = core.vehicle_run_c(
+                *args, h, ns, nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, nout, NWO)
+            k = ns // nevery if info == 0 else int(np.count_nonzero(tout > 0))
+            out_t.append(tout[:k])
+            out_q.append(qout[:, :k].T)
+            out_v.append(vout[:, :k].T)
+            out_w.append(np.moveaxis(wout[..., :k], -1, 0))
+            stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
+            stats[2] = max(stats[2], st[2])
+            stats[5] = min(stats[5], st[5])
+            if info != 0:
+                step = int(round(tfail / h))
+                why = {2: f"Newton's method did not converge in {maxit} iterations, even with "
+                          f"the step cut to h/{2 ** maxsub}",
+                       3: "a wheelset left the contact table (|y| > "
+                          f"{system.table.y[-1] * 1e3:.0f} mm: flange climb or a diverging solution)",
+                       4: "the state became non-finite or exceeded qmax"}.get(info, f"info {info}")
+                partial = SimulationResult(
+                    t=np.concatenate(out_t), q=np.concatenate(out_q), v=np.concatenate(out_v),
+                    wheel=np.concatenate(out_w), dof_names=system.dof_names, speed=speed,
+                    contact=contact, h=h, stats={"failed_at": float(tfail)})
+                raise DivergenceError(f"time integration stopped at t = {tfail:.5f} s (step {step}, "
+                                      f"h = {h:g} s): {why}; try a smaller time step",
+                                      iterations=int(stats[0]), result=partial)
+            done += ns
+            if bar is not None:
+                wall = time.perf_counter() - wall0
+                bar.update(round(ns * h, 6))
+                bar.set_postfix_str(f"RTF {wall / max(done * h, 1e-12):.2f}")
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = time.perf_counter() - wall0
+    res = SimulationResult(
+        t=np.concatenate(out_t), q=np.concatenate(out_q), v=np.concatenate(out_v),
+        wheel=np.concatenate(out_w), dof_names=system.dof_names, speed=speed, contact=contact,
+        h=h, stats={"newton_iterations": int(stats[0]), "tangents": int(stats[1]),
+                    "max_error_estimate": float(stats[2]), "steps": int(stats[3]),
+                    "substepped_steps": int(stats[4]), "smallest_step": float(stats[5]),
+                    "wall_time": wall, "real_time_factor": wall / (nsteps * h)})
+    if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
+        raise RailvtiError("non-finite values in the output")   # defensive: never return NaN
+    return res
+
+
+def lateral_disturbance(system: System, q: np.ndarray, y0: float,
+                        wheelsets: tuple[int, ...] = (0, 1)) -> np.ndarray:
+    """A copy of q with the given wheelsets (0-based) shifted laterally by y0 (m), their height
+    and roll corrected by the table so that the wheels keep their static approach."""
+    y0 = _checks.finite("y0", y0)
+    t = system.table
+    out = np.array(q, dtype=float)
+    for w in wheelsets:
+        iy, iz, ir = (system.iws[k, w] - 1 for k in range(3))
+        yr = q[iy] - (q[system.itr[0, w] - 1] if system.itr[0, w] > 0 else 0.0)
+        if abs(yr + y0) > t.y[-1]:
+            raise InputError(f"|y0| too large for the contact table (+-{t.y[-1] * 1e3:.0f} mm)")
+        def gaps(y):
+            gl = np.interp(y, t.y, t.data[0, 0])
+            gr = np.interp(-y, t.y, t.data[0, 0])
+            l = 0.5 * (np.interp(y, t.y, t.data[1, 0]) + np.interp(-y, t.y, t.data[1, 0]))
+            return gl, gr, l
+        gl0, gr0, l0 = gaps(yr)
+        gl1, gr1, l1 = gaps(yr + y0)
+        out[iy] += y0
+        out[iz] -= 0.5 * ((gl1 + gr1) - (gl0 + gr0))
+        out[ir] -= 0.5 * ((gl1 - gr1) / l1 - (gl0 - gr0) / l0)
+    return out
+
+
+def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float,
+                      contact: str = "hertz-kalker", fastsim_n: int = 8):
+    """F(q, v), the per-wheel outputs, dF/dq and dF/dv (contact by forward differences)."""
+    args = _model_args(system, _checks.positive("speed", speed), contact, fastsim_n)
+    q = _checks.finite_array("q", q, shape=(system.n,))
+    v = _checks.finite_array("v", v, shape=(system.n,))
+    f, wout, jq, jv, info = core.vehicle_force_c(*args, q, v, NWO)
+    if info != 0:
+        raise DivergenceError(f"state outside the contact table (info {info})")
+    return f, wout, jq, jv
+
+
+def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
+                contact: str = "hertz-kalker") -> np.ndarray:
+    """Eigenvalues (1/s) of the system linearised about q (default: static equilibrium)."""
+    if q is None:
+        q, _ = static_equilibrium(system, speed, contact)
+    _, _, jq, jv = force_and_tangent(system, q, np.zeros(system.n), speed, contact)
+    n = system.n
+    minv = np.linalg.inv(system.m)
+    a = np.zeros((2 * n, 2 * n))
+    a[:n, n:] = np.eye(n)
+    a[n:, :n] = minv @ jq
+    a[n:, n:] = minv @ jv
+    return np.linalg.eigvals(a)

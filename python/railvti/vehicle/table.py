@@ -1,0 +1,251 @@
+"""Per-wheel contact tables for the time simulation (the vehicle's look-up tables).
+
+For the left wheel of a wheelset shifted laterally by ``y`` relative to the track, at its
+nominal height (axle at the wheel radius above the rail-top plane) and zero roll/yaw, the
+vertical gap between the wheel's lower outline and the rail is a function of the wheel
+profile coordinate s. Its minimum over the tread side (s > ``split``) and over the flange
+side (s <= ``split``) are the two candidate points (slot 0 tread, slot 1 flange). Each
+slot's minimum is a continuous function of y even where the point jumps across the wheel,
+so a flange point appears smoothly as its gap closes. The right wheel is the mirror image
+(its table is the left one at -y). Per point the table holds:
+
+=====  =====================================================================
+ g      vertical gap, m (the wheel's vertical interference is -(g + dz + roll l))
+ l      lateral position of the point from the wheelset centre, m (left wheel, > 0)
+ delta  contact angle (rail normal from the vertical, + towards the track centre), rad
+ r      rolling radius, m
+ a1,b1  Hertz semi-axes (rolling x, lateral y) under 1 N, m N^(-1/3)
+ kH     normal law N = kH d^1.5 (d the normal approach), N m^(-1.5)
+ c11, c22, c23  Kalker's creep coefficients at a1/b1 and the material's Poisson ratio
+=====  =====================================================================
+
+Hertz curvatures: A = cos(delta) / (2 r) (the wheel's normal curvature along the rolling
+direction), B = (k_rail - k_wheel) / 2 from the profile curvatures (Profile.curvature), with
+B/A clipped into [1/25, 25] (conformal or concave pairs are outside Hertz's assumptions and
+outside Kalker's table; the clip is logged).
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from ..contact.hertz import hertz
+from ..contact.kalker import kalker_coefficients
+from ..errors import InputError
+from ..geometry import layout
+from ..material import STEEL, Material
+from ..profiles import Profile
+
+log = logging.getLogger(__name__)
+
+#: Names of the table quantities, in the Fortran order (first index).
+QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23")
+_RATIO_CLIP = 25.0
+
+
+@dataclass(frozen=True)
+class WheelTable:
+    """The left wheel's contact table (right wheel: mirror).
+
+    Attributes
+    ----------
+    y : ndarray (n,)
+        Lateral shift of the wheelset relative to the track, m (uniform).
+    data : ndarray (10, 2, n)
+        Quantities :data:`QUANTITIES` for slot 0 (tread side) and 1 (flange side),
+        Fortran-ordered, as the Fortran kernel reads it.
+    r0 : float
+        Rolling radius at y = 0 (the nominal rolling speed is v0 / r0), m.
+    s_wheel : ndarray (2, n)
+        Wheel profile coordinate of each point, m.
+    material : Material
+    n_clipped : int
+        Table entries whose curvature ratio was clipped.
+    """
+
+    y: np.ndarray
+    data: np.ndarray
+    r0: float
+    s_wheel: np.ndarray
+    material: Material
+    n_clipped: int
+
+    @property
+    def y0(self) -> float:
+        """First table position, m."""
+        return float(self.y[0])
+
+    @property
+    def dy(self) -> float:
+        """Table step, m."""
+        return float(self.y[1] - self.y[0])
+
+    def at(self, name: str, slot: int = 0) -> np.ndarray:
+        """One quantity of one slot over the table, shape (n,)."""
+        if name not in QUANTITIES:
+            raise InputError(f"unknown table quantity {name!r}; one of {QUANTITIES}")
+        return self.data[QUANTITIES.index(name), slot]
+
+    def delta_r(self, y: np.ndarray) -> np.ndarray:
+        """Rolling-radius difference left minus right of the tread points at y, m."""
+        r = self.at("r", 0)
+        return np.interp(y, self.y, r) - np.interp(-np.asarray(y), self.y, r)
+
+
+_CACHE: dict[tuple, WheelTable] = {}
+
+
+def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: float = 5e-5,
+                split: float = -0.022, material: Material = STEEL) -> WheelTable:
+    """Build (or fetch from the cache) the left wheel's contact table.
+
+    Parameters
+    ----------
+    wheel, rail : Profile
+        Wheel and canted rail profiles (as for :func:`railvti.geometry.contact_table`).
+    y_max : float
+        The table covers -y_max..y_max, m (a wheelset beyond it stops the simulation).
+    step : float
+        Table step, m (0.05 mm).
+    split : float
+        Wheel profile coordinate separating the tread (s > split) from the flange side, m.
+        The default lies between the tread and the flange root of S1002 (the contact jumps
+        from about -15 mm to -28 mm).
+    material : Material
+        Wheel and rail steel.
+    """
+    y_max = _checks.positive("y_max", y_max)
+    step = _checks.positive("step", step)
+    split = _checks.finite("split", split)
+    key = (id(wheel), id(rail), y_max, step, split, material)
+    hit = _CACHE.get(key)
+    if hit is not None:
+        return hit
+    lay = layout(wheel, rail)
+    n = int(round(2 * y_max / step)) + 1
+    y = np.linspace(-y_max, y_max, n)
+    ws, wz = lay.ws, lay.wz
+    off = lay.wheelset.datum_offset
+    r0n = lay.wheelset.radius
+    ytr = y[:, None] + off + ws[None, :]                     # track y of the wheel samples
+    yr = ytr - lay.rail_offset                               # rail-local y
+    zr = np.interp(yr, lay.ry, lay.rz, left=np.nan, right=np.nan)
+    gap = -wz[None, :] - lay.rail_top + zr                   # vertical gap at nominal height
+    gap[~np.isfinite(gap)] = np.inf
+    data = np.empty((len(QUANTITIES), 2, n))
+    s_w = np.empty((2, n))
+    rows = np.arange(n)
+    for slot, mask in enumerate((ws > split, ws <= split)):
+        idx = np.nonzero(mask)[0]
+        gg = gap[:, idx]
+        k = np.argmin(gg, axis=1)
+        fin = np.isfinite(gg[rows, k])
+        if not fin.any():
+            raise InputError("a wheel region never meets the rail: check the profiles and split")
+        if not fin.all():
+            # that side of the wheel is beyond the rail's end: take the nearest position's
+            # point geometry, with a 1 m gap (never in contact)
+            near = np.nonzero(fin)[0]
+            j = near[np.clip(np.searchsorted(near, rows), 0, near.size - 1)]
+            k = np.where(fin, k, k[j])
+        # parabolic refinement of the minimum
+        km = np.clip(k - 1, 0, idx.size - 1)
+        kp = np.clip(k + 1, 0, idx.size - 1)
+        g0, gm, gp = gg[rows, k], gg[rows, km], gg[rows, kp]
+        ok3 = np.isfinite(g0) & np.isfinite(gm) & np.isfinite(gp)
+        g0, gm, gp = (np.where(ok3, v, 0.0) for v in (g0, gm, gp))
+        den = gm - 2 * g0 + gp
+        inner = (km != k) & (kp != k) & ok3 & (den > 0)
+        t = np.zeros(n)
+        t[inner] = np.clip(0.5 * (gm[inner] - gp[inner]) / den[inner], -0.5, 0.5)
+        gmin = g0 - 0.25 * (gm - gp) * t
+        gmin[~inner] = g0[~inner]
+        gmin[~fin] = 1.0
+        t[~fin] = 0.0
+        ds = ws[1] - ws[0]
+        s = ws[idx[k]] + t * ds
+        s_w[slot] = s
+        yrail = np.clip(y + off + s - lay.rail_offset, rail.y_min, rail.y_max)
+        delta = -np.arctan(rail.slope(yrail))
+        r = r0n + wheel.height(s)
+        A = np.cos(delta) / (2.0 * r)
+        B = 0.5 * (rail.curvature(yrail) - wheel.curvature(s))
+        data[0, slot] = gmin
+        data[1, slot] = off + s
+        data[2, slot] = delta
+        data[3, slot] = r
+        data[4:7, slot] = _hertz_unit(A, B, material)
+        data[7:10, slot] = kalker_coefficients(data[4, slot] / data[5, slot], material.poisson)
+    n_clip = int(getattr(_hertz_unit, "last_clipped", 0))
+    r0 = float(np.interp(0.0, y, data[3, 0]))
+    out = WheelTable(y=y, data=np.asfortranarray(data), r0=r0, s_wheel=s_w, material=material,
+                     n_clipped=n_clip)
+    if n_clip:
+        log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
+                 n_clip, _RATIO_CLIP, _RATIO_CLIP)
+    if len(_CACHE) > 8:
+        _CACHE.clear()
+    _CACHE[key] = out
+    return out
+
+
+def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material) -> np.ndarray:
+    """Hertz a, b (1 N) and kH for each (A, B); B/A clipped. Returns (3, n).
+
+    a, b and the approach d scale as N^(1/3), N^(1/3), N^(2/3), so N = d^1.5 / d1^1.5.
+    The ratio B/A is rounded to 1e-3 in log scale and each distinct value solved once.
+    """
+    ratio = B / A
+    lo, hi = 1.0 / _RATIO_CLIP, _RATIO_CLIP
+    clipped = ~((ratio >= lo) & (ratio <= hi))
+    ratio = np.clip(np.where(np.isfinite(ratio), ratio, hi), lo, hi)
+    key = np.round(np.log(ratio) * 1000.0).astype(np.int64)
+    uniq, inv = np.unique(key, return_inverse=True)
+    sol = np.empty((uniq.size, 3))
+    for i, kk in enumerate(uniq):
+        h = hertz(1.0, float(np.exp(kk / 1000.0)), 1.0, material)
+        sol[i] = (h.a, h.b, h.approach)
+    a = sol[inv, 0]
+    b = sol[inv, 1]
+    d1 = sol[inv, 2]
+    # scale from A = 1 to the actual A: lengths scale as A^(-1/3), approach as A^(1/3)
+    sa = A ** (-1.0 / 3.0)
+    a, b, d1 = a * sa, b * sa, d1 / sa
+    _hertz_unit.last_clipped = int(clipped.sum())   # type: ignore[attr-defined]
+    return np.stack([a, b, d1 ** -1.5])
+
+
+def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float | None = None,
+                     gravitational: bool = True, spin: bool = True) -> WheelTable:
+    """A table with the rolling radius linear in y (equivalent conicity) and no flange.
+
+    Used for the linear stability analysis and the validations: r(y) = r0 + conicity * y on
+    the left wheel; the tread point keeps its centred position, Hertz constants and creep
+    coefficients; its gap follows the contact angle (g = g0 - tan(delta0) y, the wheel
+    climbing its cone) unless ``gravitational`` is False (then delta = 0 and g = g0: no
+    gravitational stiffness, the Wickens model). ``spin`` False zeroes c23 (no spin-creep
+    force). The flange slot is moved 1 m away.
+    """
+    c = _checks.positive("conicity", conicity)
+    d = np.array(table.data, copy=True)
+    i0 = int(np.argmin(np.abs(table.y)))
+    y = table.y
+    for q in range(len(QUANTITIES)):
+        d[q, 0, :] = table.data[q, 0, i0]
+    d[3, 0] = table.r0 + c * y
+    d0 = table.data[2, 0, i0] if contact_angle is None else float(contact_angle)
+    if gravitational:
+        d[2, 0] = d0
+        d[0, 0] = table.data[0, 0, i0] - np.tan(d0) * y
+    else:
+        d[2, 0] = 0.0
+        d[0, 0] = table.data[0, 0, i0]
+    if not spin:
+        d[QUANTITIES.index("c23"), 0] = 0.0
+    d[:, 1, :] = d[:, 0, :]
+    d[0, 1, :] = 1.0
+    return WheelTable(y=y, data=np.asfortranarray(d), r0=table.r0, s_wheel=table.s_wheel,
+                      material=table.material, n_clipped=table.n_clipped)
