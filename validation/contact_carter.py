@@ -98,7 +98,7 @@ def main() -> None:
         fn = p.sum() * grid.element_area
         print(f"\n{n} elements across the strip (dx = {grid.dx * 1e6:.1f} um)")
         print(f"{'kappa':>6} {'xi':>10} {'Fx/muFn BEM':>12} {'strips':>8} {'err %':>7} {'row0 BEM':>9} "
-              f"{'Carter':>8} {'err %':>7} {'max|dt|/mu p0 %':>16} {'sweeps':>6}")
+              f"{'Carter':>8} {'err %':>7} {'dt mean %':>11} {'dt pt %':>9} {'sweeps':>6}")
         for k in kappas:
             xi = k * xi_sat
             r = solve(grid, p, xi)
@@ -111,20 +111,27 @@ def main() -> None:
             prow = 0.5 * (p[:, j0] + p[:, j0 - 1])
             f_row = -row.sum() / (MU * prow.sum())
             f_row_ref = carter_force(k / s0)
-            t_ref = s0 * carter_traction(grid.x, A_HALF * s0, k / s0)
+            # the BEM traction is uniform on each element: compare with the
+            # element mean of Carter's profile (20-point midpoint rule)
+            sub = grid.x[:, None] + grid.dx * ((np.arange(20) + 0.5) / 20 - 0.5)[None, :]
+            t_ref = s0 * carter_traction(sub, A_HALF * s0, k / s0).mean(axis=1)
+            t_pt = s0 * carter_traction(grid.x, A_HALF * s0, k / s0)
             t_bem = -row / (MU * P0)
             dt = np.max(np.abs(t_bem - t_ref))
-            rows.append((n, k, f_bem, f_ref, dt, f_row, f_row_ref))
+            dtp = np.max(np.abs(t_bem - t_pt))
+            rows.append((n, k, f_bem, f_ref, dt, f_row, f_row_ref, dtp))
             print(f"{k:6.2f} {xi:10.3e} {f_bem:12.5f} {f_ref:8.5f} {100 * (f_bem / f_ref - 1):7.3f} "
                   f"{f_row:9.5f} {f_row_ref:8.5f} {100 * (f_row / f_row_ref - 1):7.3f} "
-                  f"{100 * dt:16.2f} {r.iterations:6d}")
+                  f"{100 * dt:11.2f} {100 * dtp:9.2f} {r.iterations:6d}")
     fine = [r for r in rows if r[0] == n_across]
     worst_f = max(abs(r[2] / r[3] - 1) for r in fine)
     worst_r = max(abs(r[5] / r[6] - 1) for r in fine)
     worst_t = max(r[4] for r in fine)
+    worst_tp = max(r[7] for r in fine)
     print(f"\n{n_across} across: largest force error {100 * worst_f:.3f} % (patch vs strip theory), "
           f"{100 * worst_r:.3f} % (centre row vs Carter) (acceptance 1 %), "
-          f"largest traction error {100 * worst_t:.2f} % of mu p0 (acceptance 3 %)")
+          f"largest traction error {100 * worst_t:.2f} % of mu p0 against Carter's element means, "
+          f"{100 * worst_tp:.2f} % against point values (acceptance 3 %)")
 
     import matplotlib
     matplotlib.use("Agg")
