@@ -62,6 +62,7 @@ module contact_rolling
     integer, parameter :: ROLL_GS = 1, ROLL_FFTGS = 2
     integer, parameter :: ST_EXTERIOR = 0, ST_ADHESION = 1, ST_SLIP = 2
     integer, parameter :: KXX = 2, KYY = 3, KXY = 4
+    integer, parameter :: AA_M = 5   ! Anderson depth of method 'fftgs'
 
     !> In-row basis of a run of n elements (make_basis).
     type :: run_basis
@@ -76,6 +77,13 @@ module contact_rolling
             real(dp), intent(inout) :: a(lda, *)
             integer, intent(out) :: info
         end subroutine dpotrf
+        subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
+            import :: dp
+            character, intent(in) :: uplo
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dposv
         subroutine dpotri(uplo, n, a, lda, info)
             import :: dp
             character, intent(in) :: uplo
@@ -174,7 +182,10 @@ contains
         integer, allocatable :: trail(:, :)
         real(dp), allocatable :: tox(:), toy(:)
         type(run_basis), allocatable :: bases(:)
-        integer :: stat
+        integer :: stat, nc, naa, slot
+        logical :: use_aa
+        real(dp) :: rbest
+        real(dp), allocatable :: xv(:), gv(:), fv(:), fold(:), gold(:), dfm(:, :), dgm(:, :)
         logical, allocatable :: inc(:, :)
 
         nx = w%nx
@@ -294,6 +305,16 @@ contains
         end do
 
         allocate (ux(nx, ny), uy(nx, ny), dux(i1:ib2, j1:j2), duy(i1:ib2, j1:j2))
+        use_aa = method == ROLL_FFTGS
+        nc = count(inc)
+        if (use_aa) then
+            allocate (xv(2 * nc), gv(2 * nc), fv(2 * nc), fold(2 * nc), gold(2 * nc), &
+                      dfm(2 * nc, AA_M), dgm(2 * nc, AA_M))
+            xv = [pack(tx, inc), pack(ty, inc)]
+        end if
+        naa = 0
+        slot = 0
+        rbest = huge(1.0_dp)
         it = 0
         do
             ! exact field and the Jacobi residual on it (pivot of a single element)
@@ -327,6 +348,18 @@ contains
                 info = 1
                 exit
             end if
+            if (use_aa) then
+                ! safeguard: an extrapolated iterate that raised the residual is
+                ! replaced by the last plain sweep and the history dropped
+                if (naa > 0 .and. resid > 2.0_dp * rbest) then
+                    call unpack_tractions(gold)
+                    xv = gold
+                    naa = 0
+                    slot = AA_M
+                    call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
+                end if
+                rbest = min(rbest, resid)
+            end if
             it = it + 1
 
             ! one sweep: rows in blocks of nblk, the field refreshed by FFT
@@ -345,6 +378,7 @@ contains
                     end do
                 end do
             end do
+            if (use_aa) call anderson_step()
         end do
         iters = it
 
@@ -444,6 +478,69 @@ contains
                 end if
             end do
         end subroutine make_basis
+
+        !> Anderson acceleration (depth AA_M) of the sweep map x -> G(x):
+        !> x+ = G(x) - dG gamma, gamma minimising |f - dF gamma|, f = G(x) - x;
+        !> then every traction back on its disc.
+        subroutine anderson_step()
+            real(dp) :: h(AA_M, AA_M), rhs(AA_M), gam(AA_M), reg
+            integer :: mk, a, b, stat2
+            gv = [pack(tx, inc), pack(ty, inc)]
+            fv = gv - xv
+            if (naa > 0 .or. slot > 0) then
+                slot = mod(slot, AA_M) + 1
+                dfm(:, slot) = fv - fold
+                dgm(:, slot) = gv - gold
+                naa = min(naa + 1, AA_M)
+            else
+                slot = 0
+                naa = 0
+            end if
+            fold = fv
+            gold = gv
+            if (slot == 0) slot = AA_M   ! first call: the next difference goes to slot 1
+            mk = naa
+            xv = gv
+            if (mk > 0) then
+                do b = 1, mk
+                    do a = 1, mk
+                        h(a, b) = dot_product(dfm(:, a), dfm(:, b))
+                    end do
+                    rhs(b) = dot_product(dfm(:, b), fv)
+                end do
+                reg = 1.0e-10_dp * maxval([(h(a, a), a = 1, mk)])
+                do a = 1, mk
+                    h(a, a) = h(a, a) + reg
+                end do
+                gam(1:mk) = rhs(1:mk)
+                call dposv('L', mk, 1, h, AA_M, gam, AA_M, stat2)
+                if (stat2 == 0 .and. all(gam(1:mk) == gam(1:mk))) then
+                    do a = 1, mk
+                        xv = xv - gam(a) * dgm(:, a)
+                    end do
+                end if
+            end if
+            call unpack_tractions(xv)
+        end subroutine anderson_step
+
+        !> tx, ty from a packed vector, each traction put on its disc.
+        subroutine unpack_tractions(v)
+            real(dp), intent(in) :: v(:)
+            real(dp) :: gg
+            integer :: a, b
+            tx = unpack(v(1:nc), inc, 0.0_dp)
+            ty = unpack(v(nc + 1:2 * nc), inc, 0.0_dp)
+            do b = j1, j2
+                do a = i1, i2
+                    if (.not. inc(a, b)) cycle
+                    gg = hypot(tx(a, b), ty(a, b))
+                    if (gg > bound(a, b)) then
+                        tx(a, b) = tx(a, b) * bound(a, b) / gg
+                        ty(a, b) = ty(a, b) * bound(a, b) / gg
+                    end if
+                end do
+            end do
+        end subroutine unpack_tractions
 
         !> ninner passes over the run k..l of row jr with exact in-row updates,
         !> then the run's traction change carried to the rows jr..je of the block.
