@@ -25,18 +25,31 @@
 !> -D^-1 s0 if it lies in the disc, else the unique t = -g e with
 !> s = lambda e, lambda > 0, found by a monotone Newton iteration on lambda.
 !>
-!> Iteration. Gauss-Seidel sweeps over the elements in contact, marching from
-!> the leading edge (i = nx) backward so that the dominant upstream coupling
-!> is resolved within one sweep. Every sweep starts from the exact field
-!> u = A t (one FFT pair product); changes of t during the sweep update u only
-!> inside a window of +-nwin elements around the changed element:
-!>   - 'gs' (method 1): the window covers the whole contact area, i.e. plain
-!>     Gauss-Seidel with exact element updates, O(N^2) per sweep;
-!>   - 'fftgs' (method 2): a small window (default 4), the far field being
-!>     refreshed by the FFT product once per sweep, O(N nwin^2 + N log N).
-!> The residual is the relative change of a Jacobi step on the exact field,
+!> Iteration: row-implicit Gauss-Seidel. Point Gauss-Seidel on this system
+!> diverges (spectral radius 115 for a 208-element Hertz patch): the element's
+!> own pivot A(0) - A(+dx) is as large as its coupling to the downstream
+!> neighbour, so fixing one element spoils the next. Sweeps therefore go
+!> over the rows (lines along x, j ascending); within a contiguous run k..l
+!> of a row the element updates use the in-row basis
+!>   m_q = A_run^-1 C e_q,   (C e_q)_p = 1 for p <= q (downstream of q),
+!> i.e. the tractions whose own-row displacement is a unit step ending at q:
+!> they change the in-row slip at element q alone (and at the leading
+!> element through the upstream displacement), so each run's linear part is
+!> solved exactly in one pass, marching from the leading edge. The element
+!> problem on the Coulomb disc is solved exactly with that pivot
+!> (element_solve). The bases depend only on the run length (Toeplitz,
+!> LAPACK Cholesky inverse, cached per solve). The row-to-row coupling is
+!> plain Gauss-Seidel: after each run its traction change updates the
+!> displacements of the rows still to be processed in the current block;
+!> before each block the whole field u = A t is refreshed by one FFT pair
+!> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
+!> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
+!> block). Both give the same iterates.
+!>
+!> Convergence: the relative change of a Jacobi step on the exact field,
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
-!> F being the element solutions: zero exactly at the solution.
+!> F being the element solutions with a single-element pivot: zero exactly at
+!> the solution. At exit every traction is put on its disc.
 module contact_rolling
     use kinds, only: dp
     use contact_plans, only: workspace
@@ -49,6 +62,36 @@ module contact_rolling
     integer, parameter :: ROLL_GS = 1, ROLL_FFTGS = 2
     integer, parameter :: ST_EXTERIOR = 0, ST_ADHESION = 1, ST_SLIP = 2
     integer, parameter :: KXX = 2, KYY = 3, KXY = 4
+    integer, parameter :: AA_M = 5   ! Anderson depth of method 'fftgs'
+
+    !> In-row basis of a run of n elements (make_basis).
+    type :: run_basis
+        real(dp), allocatable :: mx(:, :), my(:, :), qx(:), qy(:)
+    end type run_basis
+
+    interface
+        subroutine dpotrf(uplo, n, a, lda, info)
+            import :: dp
+            character, intent(in) :: uplo
+            integer, intent(in) :: n, lda
+            real(dp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: info
+        end subroutine dpotrf
+        subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
+            import :: dp
+            character, intent(in) :: uplo
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dposv
+        subroutine dpotri(uplo, n, a, lda, info)
+            import :: dp
+            character, intent(in) :: uplo
+            integer, intent(in) :: n, lda
+            real(dp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: info
+        end subroutine dpotri
+    end interface
 
 contains
 
@@ -132,11 +175,17 @@ contains
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
 
-        integer :: nx, ny, i, j, k, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, ipass, it, st
-        real(dp) :: dx, dy, kx, ky, c0x, c0y, g, lam, s0x, s0y, ntx, nty, dtx, dty, r2, n2, x, y
+        integer :: nx, ny, i, j, k, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
+        real(dp) :: dx, dy, kx, ky, c0x, c0y, g, lam, s0x, s0y, ntx, nty, r2, n2, x, y
         real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :), wx(:, :), wy(:, :), bound(:, :)
         integer, allocatable :: trail(:, :)
+        real(dp), allocatable :: tox(:), toy(:)
+        type(run_basis), allocatable :: bases(:)
+        integer :: stat, nc, naa, slot
+        logical :: use_aa
+        real(dp) :: rbest
+        real(dp), allocatable :: xv(:), gv(:), fv(:), fold(:), gold(:), dfm(:, :), dgm(:, :)
         logical, allocatable :: inc(:, :)
 
         nx = w%nx
@@ -194,16 +243,6 @@ contains
         nblk = nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, nby + 1)
 
-        ! cumulative coefficients along x, acum(k, l) = sum_{m <= k} c(m, l),
-        ! for the field of a traction step over a run of a row (see module doc)
-        allocate (axx(-nbx - 1:nbx + 1, -nby:nby), ayy(-nbx - 1:nbx + 1, -nby:nby), &
-                  axy(-nbx - 1:nbx + 1, -nby:nby))
-        call cumulative(w%c(:, :, KXX), axx)
-        call cumulative(w%c(:, :, KYY), ayy)
-        call cumulative(w%c(:, :, KXY), axy)
-        c0x = w%c(0, 0, KXX)
-        c0y = w%c(0, 0, KYY)
-
         ! trailing end of the contiguous run of contact elements through (i, j)
         allocate (trail(nx, ny))
         trail = 0
@@ -219,6 +258,29 @@ contains
                 trail(i, j) = i
             end do
         end do
+
+        ! coefficients by offset (-nbx-1..nbx+1, -nby..nby), for the cross-row updates
+        allocate (axx(-nbx - 1:nbx + 1, -nby:nby), ayy(-nbx - 1:nbx + 1, -nby:nby), &
+                  axy(-nbx - 1:nbx + 1, -nby:nby))
+        call centred(w%c(:, :, KXX), axx)
+        call centred(w%c(:, :, KYY), ayy)
+        call centred(w%c(:, :, KXY), axy)
+        ! in-row bases of every run length met (see module doc)
+        allocate (bases(nbx))
+        allocate (tox(nbx), toy(nbx))
+        do j = j1, j2
+            do i = i1, i2
+                if (.not. inc(i, j)) cycle
+                if (inc(i + 1, j)) cycle
+                call make_basis(i - trail(i, j) + 1, stat)
+                if (stat /= 0) then
+                    info = -6
+                    return
+                end if
+            end do
+        end do
+        c0x = w%c(0, 0, KXX)
+        c0y = w%c(0, 0, KYY)
 
         allocate (wx(nx, ny), wy(nx, ny))
         do j = 1, ny
@@ -243,6 +305,16 @@ contains
         end do
 
         allocate (ux(nx, ny), uy(nx, ny), dux(i1:ib2, j1:j2), duy(i1:ib2, j1:j2))
+        use_aa = method == ROLL_FFTGS
+        nc = count(inc)
+        if (use_aa) then
+            allocate (xv(2 * nc), gv(2 * nc), fv(2 * nc), fold(2 * nc), gold(2 * nc), &
+                      dfm(2 * nc, AA_M), dgm(2 * nc, AA_M))
+            xv = [pack(tx, inc), pack(ty, inc)]
+        end if
+        naa = 0
+        slot = 0
+        rbest = huge(1.0_dp)
         it = 0
         do
             ! exact field and the Jacobi residual on it (pivot of a single element)
@@ -276,6 +348,18 @@ contains
                 info = 1
                 exit
             end if
+            if (use_aa) then
+                ! safeguard: an extrapolated iterate that raised the residual is
+                ! replaced by the last plain sweep and the history dropped
+                if (naa > 0 .and. resid > 2.0_dp * rbest) then
+                    call unpack_tractions(gold)
+                    xv = gold
+                    naa = 0
+                    slot = AA_M
+                    call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
+                end if
+                rbest = min(rbest, resid)
+            end if
             it = it + 1
 
             ! one sweep: rows in blocks of nblk, the field refreshed by FFT
@@ -286,30 +370,30 @@ contains
                 dux = 0.0_dp
                 duy = 0.0_dp
                 do j = jb, je
-                    do ipass = 1, ninner
-                        do i = i2, i1, -1
-                            if (.not. inc(i, j)) cycle
-                            k = trail(i, j)
-                            kx = (c0x - w%c(i + 1 - k, 0, KXX)) / dx
-                            ky = (c0y - w%c(i + 1 - k, 0, KYY)) / dx
-                            s0x = wx(i, j) + (ux(i, j) + dux(i, j) - ux(i + 1, j) - dux(i + 1, j)) / dx &
-                                  - kx * tx(i, j)
-                            s0y = wy(i, j) + (uy(i, j) + duy(i, j) - uy(i + 1, j) - duy(i + 1, j)) / dx &
-                                  - ky * ty(i, j)
-                            call element_solve(s0x, s0y, kx, ky, bound(i, j), ntx, nty, st, lam)
-                            dtx = ntx - tx(i, j)
-                            dty = nty - ty(i, j)
-                            if (dtx == 0.0_dp .and. dty == 0.0_dp) cycle
-                            ! step update: the change carried to the run's downstream elements
-                            tx(k:i, j) = tx(k:i, j) + dtx
-                            ty(k:i, j) = ty(k:i, j) + dty
-                            call scatter_step(k, i, j, je, dtx, dty)
-                        end do
+                    ! runs of the row, leading (largest x) first
+                    do i = i2, i1, -1
+                        if (.not. inc(i, j)) cycle
+                        if (inc(i + 1, j)) cycle
+                        call solve_run(trail(i, j), i, j, je)
                     end do
                 end do
             end do
+            if (use_aa) call anderson_step()
         end do
         iters = it
+
+        ! the in-row updates move other elements of a run too: put every
+        ! traction on its disc (a change of the order of the residual)
+        do j = j1, j2
+            do i = i1, i2
+                if (.not. inc(i, j)) cycle
+                g = hypot(tx(i, j), ty(i, j))
+                if (g > bound(i, j)) then
+                    tx(i, j) = tx(i, j) * bound(i, j) / g
+                    ty(i, j) = ty(i, j) * bound(i, j) / g
+                end if
+            end do
+        end do
 
         ! slip of the final tractions on the exact field
         if (info >= 0) then
@@ -332,38 +416,199 @@ contains
 
     contains
 
-        !> acum(k, l) = sum over m <= k of c(m, l), offsets beyond the grid zero.
-        subroutine cumulative(cfull, acum)
+        !> c(offset) for offsets (-nbx-1..nbx+1, -nby..nby), zero beyond the grid.
+        subroutine centred(cfull, cc)
             real(dp), intent(in) :: cfull(0:, 0:)
-            real(dp), intent(out) :: acum(-nbx - 1:, -nby:)
+            real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
             integer :: a, b
-            real(dp) :: run
+            cc = 0.0_dp
             do b = -nby, nby
-                run = 0.0_dp
                 do a = -nbx - 1, nbx + 1
-                    if (abs(a) < nx .and. abs(b) < ny) run = run + cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
-                    acum(a, b) = run
+                    if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
                 end do
             end do
-        end subroutine cumulative
+        end subroutine centred
 
-        !> du += field of the traction step (ax, ay) on elements k..i of row l,
-        !> at rows l..je of the block (the rows still to be processed).
-        subroutine scatter_step(k, i, l, je, ax, ay)
-            integer, intent(in) :: k, i, l, je
-            real(dp), intent(in) :: ax, ay
+        !> The in-row basis of a run of n elements, per component:
+        !> m(:, q) = A_n^-1 C e_q (the tractions whose own-row displacement is
+        !> 1 on elements 0..q of the run and 0 upstream of q), and
+        !> ql(q) = the displacement they give at the element upstream of the run.
+        subroutine make_basis(n, stat)
+            integer, intent(in) :: n
+            integer, intent(out) :: stat
+            integer :: comp, a, b
+            real(dp), allocatable :: m(:, :)
+            stat = 0
+            if (allocated(bases(n)%mx)) return
+            allocate (bases(n)%mx(n, n), bases(n)%my(n, n), bases(n)%qx(n), bases(n)%qy(n))
+            allocate (m(n, n))
+            do comp = 1, 2
+                do b = 1, n
+                    do a = 1, n
+                        if (comp == 1) then
+                            m(a, b) = axx(a - b, 0)
+                        else
+                            m(a, b) = ayy(a - b, 0)
+                        end if
+                    end do
+                end do
+                call dpotrf('L', n, m, n, stat)
+                if (stat /= 0) return
+                call dpotri('L', n, m, n, stat)
+                if (stat /= 0) return
+                do b = 1, n
+                    do a = 1, b - 1
+                        m(a, b) = m(b, a)
+                    end do
+                end do
+                ! C e_q = ones on elements 1..q (downstream of and at q): cumulative columns
+                do b = 2, n
+                    m(:, b) = m(:, b) + m(:, b - 1)
+                end do
+                if (comp == 1) then
+                    bases(n)%mx = m
+                    do b = 1, n
+                        bases(n)%qx(b) = sum([(axx(n + 1 - a, 0) * m(a, b), a = 1, n)])
+                    end do
+                else
+                    bases(n)%my = m
+                    do b = 1, n
+                        bases(n)%qy(b) = sum([(ayy(n + 1 - a, 0) * m(a, b), a = 1, n)])
+                    end do
+                end if
+            end do
+        end subroutine make_basis
+
+        !> Anderson acceleration (depth AA_M) of the sweep map x -> G(x):
+        !> x+ = G(x) - dG gamma, gamma minimising |f - dF gamma|, f = G(x) - x;
+        !> then every traction back on its disc.
+        subroutine anderson_step()
+            real(dp) :: h(AA_M, AA_M), rhs(AA_M), gam(AA_M), reg
+            integer :: mk, a, b, stat2
+            gv = [pack(tx, inc), pack(ty, inc)]
+            fv = gv - xv
+            if (naa > 0 .or. slot > 0) then
+                slot = mod(slot, AA_M) + 1
+                dfm(:, slot) = fv - fold
+                dgm(:, slot) = gv - gold
+                naa = min(naa + 1, AA_M)
+            else
+                slot = 0
+                naa = 0
+            end if
+            fold = fv
+            gold = gv
+            if (slot == 0) slot = AA_M   ! first call: the next difference goes to slot 1
+            mk = naa
+            xv = gv
+            if (mk > 0) then
+                do b = 1, mk
+                    do a = 1, mk
+                        h(a, b) = dot_product(dfm(:, a), dfm(:, b))
+                    end do
+                    rhs(b) = dot_product(dfm(:, b), fv)
+                end do
+                reg = 1.0e-10_dp * maxval([(h(a, a), a = 1, mk)])
+                do a = 1, mk
+                    h(a, a) = h(a, a) + reg
+                end do
+                gam(1:mk) = rhs(1:mk)
+                call dposv('L', mk, 1, h, AA_M, gam, AA_M, stat2)
+                if (stat2 == 0 .and. all(gam(1:mk) == gam(1:mk))) then
+                    do a = 1, mk
+                        xv = xv - gam(a) * dgm(:, a)
+                    end do
+                end if
+            end if
+            call unpack_tractions(xv)
+        end subroutine anderson_step
+
+        !> tx, ty from a packed vector, each traction put on its disc.
+        subroutine unpack_tractions(v)
+            real(dp), intent(in) :: v(:)
+            real(dp) :: gg
             integer :: a, b
-            real(dp) :: fxx, fyy, fxy
-            do b = l, je
-                do a = i1, ib2
-                    fxx = axx(a - k, b - l) - axx(a - i - 1, b - l)
-                    fyy = ayy(a - k, b - l) - ayy(a - i - 1, b - l)
-                    fxy = axy(a - k, b - l) - axy(a - i - 1, b - l)
-                    dux(a, b) = dux(a, b) + fxx * ax + fxy * ay
-                    duy(a, b) = duy(a, b) + fxy * ax + fyy * ay
+            tx = unpack(v(1:nc), inc, 0.0_dp)
+            ty = unpack(v(nc + 1:2 * nc), inc, 0.0_dp)
+            do b = j1, j2
+                do a = i1, i2
+                    if (.not. inc(a, b)) cycle
+                    gg = hypot(tx(a, b), ty(a, b))
+                    if (gg > bound(a, b)) then
+                        tx(a, b) = tx(a, b) * bound(a, b) / gg
+                        ty(a, b) = ty(a, b) * bound(a, b) / gg
+                    end if
                 end do
             end do
-        end subroutine scatter_step
+        end subroutine unpack_tractions
+
+        !> ninner passes over the run k..l of row jr with exact in-row updates,
+        !> then the run's traction change carried to the rows jr..je of the block.
+        subroutine solve_run(k, l, jr, je)
+            integer, intent(in) :: k, l, jr, je
+            integer :: n, q, ii, pass, a, b, st2
+            real(dp) :: scx, scy, kxx, kyy, s0xx, s0yy, nx2, ny2, lm, dlx, dly, fx, fy
+            n = l - k + 1
+            associate (mx => bases(n)%mx, my => bases(n)%my, qx => bases(n)%qx, qy => bases(n)%qy)
+                tox(1:n) = tx(k:l, jr)
+                toy(1:n) = ty(k:l, jr)
+                do pass = 1, ninner
+                    do q = n, 1, -1
+                        ii = k + q - 1
+                        scx = wx(ii, jr) + (ux(ii, jr) + dux(ii, jr) - ux(ii + 1, jr) - dux(ii + 1, jr)) / dx
+                        scy = wy(ii, jr) + (uy(ii, jr) + duy(ii, jr) - uy(ii + 1, jr) - duy(ii + 1, jr)) / dx
+                        if (q == n) then
+                            kxx = (1.0_dp - qx(q)) / (dx * mx(q, q))
+                            kyy = (1.0_dp - qy(q)) / (dx * my(q, q))
+                        else
+                            kxx = 1.0_dp / (dx * mx(q, q))
+                            kyy = 1.0_dp / (dx * my(q, q))
+                        end if
+                        s0xx = scx - kxx * tx(ii, jr)
+                        s0yy = scy - kyy * ty(ii, jr)
+                        call element_solve(s0xx, s0yy, kxx, kyy, bound(ii, jr), nx2, ny2, st2, lm)
+                        dlx = (nx2 - tx(ii, jr)) / mx(q, q)
+                        dly = (ny2 - ty(ii, jr)) / my(q, q)
+                        if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
+                        tx(k:l, jr) = tx(k:l, jr) + mx(:, q) * dlx
+                        ty(k:l, jr) = ty(k:l, jr) + my(:, q) * dly
+                        tx(ii, jr) = nx2
+                        ty(ii, jr) = ny2
+                        dux(k:ii, jr) = dux(k:ii, jr) + dlx
+                        duy(k:ii, jr) = duy(k:ii, jr) + dly
+                        dux(l + 1, jr) = dux(l + 1, jr) + qx(q) * dlx
+                        duy(l + 1, jr) = duy(l + 1, jr) + qy(q) * dly
+                    end do
+                end do
+            end associate
+            ! the run's change seen by the rest of the block (its own row outside
+            ! k..l+1 included; the xy coupling within a row vanishes)
+            tox(1:n) = tx(k:l, jr) - tox(1:n)
+            toy(1:n) = ty(k:l, jr) - toy(1:n)
+            do b = jr, je
+                do q = 1, n
+                    fx = tox(q)
+                    fy = toy(q)
+                    if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
+                    ii = k + q - 1
+                    if (b == jr) then
+                        do a = i1, k - 1
+                            dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
+                            duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
+                        end do
+                        do a = l + 2, ib2
+                            dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
+                            duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
+                        end do
+                    else
+                        do a = i1, ib2
+                            dux(a, b) = dux(a, b) + axx(a - ii, b - jr) * fx + axy(a - ii, b - jr) * fy
+                            duy(a, b) = duy(a, b) + axy(a - ii, b - jr) * fx + ayy(a - ii, b - jr) * fy
+                        end do
+                    end if
+                end do
+            end do
+        end subroutine solve_run
 
     end subroutine rolling_steady
 

@@ -1,24 +1,45 @@
-"""Steady rolling contact (railvti.contact.solve_rolling): Hertz smoke tests,
-consistency of the results, Kalker's linear theory and saturation on coarse grids."""
+"""Steady rolling contact (railvti.contact.solve_rolling / solve_tangential):
+Hertz smoke tests, consistency of the results, Kalker's linear theory, Carter
+and saturation on coarse grids, a stability sweep and the error paths."""
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from railvti.contact import Grid, hertz, hertz_gap, solve_rolling, solve_tangential
-from railvti.errors import ConvergenceError, InputError
+from railvti.errors import ConvergenceError, GridTooSmallError, InputError
 from railvti.material import Material
 
 MAT = Material(shear_modulus=82e9, poisson=0.25)
 FN = 10e3
+A0 = 0.5 / 0.3
+
+
+def _gap_for_ratio(a_over_b: float) -> tuple[float, float]:
+    if a_over_b == 1.0:
+        return A0, A0
+
+    def f(lb: float) -> float:
+        h = hertz(A0, A0 * math.exp(lb), FN, MAT)
+        return math.log(h.a / h.b) - math.log(a_over_b)
+    return A0, A0 * math.exp(brentq(f, -12.0, 12.0, xtol=1e-10))
 
 
 def _case(a_over_b: float = 1.0, n: int = 8):
-    A = 0.5 / 0.3
-    B = A * a_over_b ** 2 if a_over_b <= 1 else A  # rough: the gap ratio sets a/b
+    A, B = _gap_for_ratio(a_over_b)
     h = hertz(A, B, FN, MAT)
     grid = Grid.covering(h.a, h.b, n, 1.25)
     return grid, hertz_gap(grid, A, B), h
+
+
+@pytest.fixture(scope="module")
+def spin_case():
+    grid, gap, h = _case()
+    r = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 5e-4, 0.5), 30.0, tol=1e-9)
+    return grid, gap, h, r
 
 
 @pytest.mark.parametrize("method", ["gs", "fftgs"])
@@ -30,15 +51,172 @@ def test_hertz_smoke_partial_slip(method):
     assert r.fx < 0 and r.fy < 0
     assert np.hypot(r.fx, r.fy) < 0.3 * r.fn
     # adhesion at the leading edge (largest x) on the centre line, slip at the trailing edge
-    jc = grid.ny // 2
-    row = r.status[:, jc]
+    row = r.status[:, grid.ny // 2]
     inside = np.nonzero(row)[0]
     assert row[inside[-1]] == 1 and row[inside[0]] == 2
+    # the normal solution is the one of solve_normal
+    assert r.normal is not None and r.fn == pytest.approx(FN, rel=1e-8)
+    assert r.approach == r.normal.approach
 
 
 def test_methods_agree():
     grid, gap, _ = _case()
-    a = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 0.0, 0.5), 10.0, method="gs", tol=1e-9)
-    b = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 0.0, 0.5), 10.0, method="fftgs", block=2, tol=1e-9)
-    np.testing.assert_allclose(b.tx, a.tx, atol=1e-6 * a.pmax)
-    np.testing.assert_allclose(b.ty, a.ty, atol=1e-6 * a.pmax)
+    a = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 0.0, 0.5), 10.0, method="gs", tol=1e-10)
+    b = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 0.0, 0.5), 10.0, method="fftgs", block=2, tol=1e-10)
+    np.testing.assert_allclose(b.tx, a.tx, atol=1e-7 * a.pmax)
+    np.testing.assert_allclose(b.ty, a.ty, atol=1e-7 * a.pmax)
+
+
+def test_consistency(spin_case):
+    grid, _, _, r = spin_case
+    da = grid.element_area
+    x, y = grid.mesh()
+    assert r.fx == pytest.approx(r.tx.sum() * da, rel=1e-12)
+    assert r.fy == pytest.approx(r.ty.sum() * da, rel=1e-12)
+    assert r.mz == pytest.approx(((x * r.ty - y * r.tx).sum()) * da, rel=1e-12)
+    tau = np.hypot(r.tx, r.ty)
+    assert (tau <= r.mu * r.pressure * (1 + 1e-8)).all()
+    assert r.power == pytest.approx((r.power_density * da).sum(), rel=1e-12)
+    assert r.power > 0
+    # status: exterior exactly where p = 0; zero traction and slip there
+    assert ((r.status == 0) == (r.pressure <= 0)).all()
+    assert (r.tx[r.status == 0] == 0).all() and (r.slip_velocity[r.status == 0] == 0).all()
+    # adhesion: no slip; slip: on the bound, traction opposite to the slip velocity
+    assert (r.slip_velocity[r.adhesion] == 0).all()
+    s = r.slip
+    assert s.sum() > 10 and r.adhesion.sum() > 10
+    np.testing.assert_allclose(tau[s], r.mu * r.pressure[s], rtol=1e-6)
+    cos = (r.tx * r.slip_velocity_x + r.ty * r.slip_velocity_y)[s] / (tau[s] * r.slip_velocity[s])
+    assert (cos < -1 + 1e-6).all()
+    assert np.isfinite(r.power_density).all()
+
+
+def test_speed_scales_slip_only(spin_case):
+    grid, gap, _, r = spin_case
+    r2 = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 5e-4, 0.5), 60.0, tol=1e-9)
+    np.testing.assert_allclose(r2.tx, r.tx, atol=1e-9 * r.pmax)
+    np.testing.assert_allclose(r2.slip_velocity, 2 * r.slip_velocity, atol=1e-9 * r.slip_velocity.max())
+    assert r2.power == pytest.approx(2 * r.power, rel=1e-6)
+
+
+def test_warm_start(spin_case):
+    grid, gap, _, r = spin_case
+    again = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 5e-4, 0.5), 30.0, tol=1e-8, t0=(r.tx, r.ty))
+    assert again.iterations == 0
+    near = solve_rolling(gap, grid, MAT, 0.3, FN, (1.05e-3, 5e-4, 0.5), 30.0, tol=1e-8, t0=(r.tx, r.ty))
+    cold = solve_rolling(gap, grid, MAT, 0.3, FN, (1.05e-3, 5e-4, 0.5), 30.0, tol=1e-8)
+    assert near.iterations < cold.iterations
+    assert near.fx == pytest.approx(cold.fx, rel=1e-6)
+
+
+def test_kalker_linear_circle():
+    """C11, C22, C23 of a circular patch (Hertz pressure, full adhesion), 16 elements per radius."""
+    A, B = A0, A0
+    h = hertz(A, B, FN, MAT)
+    grid = Grid.covering(h.a, h.b, 16, 1.1)
+    p = h.pressure(grid)
+    G, ab = MAT.shear_modulus, h.a * h.b
+    eps = 1e-6
+    phi = eps / math.sqrt(ab)
+    c11 = -solve_tangential(p, grid, MAT, 1e3, (eps, 0, 0), 1.0).fx / (G * ab * eps)
+    c22 = -solve_tangential(p, grid, MAT, 1e3, (0, eps, 0), 1.0).fy / (G * ab * eps)
+    c23 = -solve_tangential(p, grid, MAT, 1e3, (0, 0, phi), 1.0).fy / (G * ab ** 1.5 * phi)
+    # Kalker 1990, Table E.3, a/b = 1, nu = 0.25: within 2 % (0.6-0.9 % measured)
+    assert c11 == pytest.approx(4.12, rel=0.02)
+    assert c22 == pytest.approx(3.67, rel=0.02)
+    assert c23 == pytest.approx(1.47, rel=0.02)
+
+
+def test_saturation():
+    grid, gap, _ = _case(n=8)
+    r = solve_rolling(gap, grid, MAT, 0.3, FN, (0.05, 0.0, 0.0), 1.0)
+    assert abs(r.fx) == pytest.approx(0.3 * r.fn, rel=5e-3)
+    assert r.slip[r.contact].all()
+
+
+def test_carter_centre_row():
+    """Centre row of a long elliptical patch (a/b = 0.1) against Carter's 2-D force."""
+    a, b, p0, mu = 5e-3, 50e-3, 800e6, 0.3
+    n = 40
+    dx = 2 * a / n
+    grid = Grid(nx=n + 6, ny=2 * math.ceil(1.05 * b / (8 * dx)), dx=dx, dy=8 * dx)
+    x, y = grid.mesh()
+    p = p0 * np.sqrt(np.clip(1 - (x / a) ** 2 - (y / b) ** 2, 0, None))
+    R = a * MAT.contact_modulus / (2 * p0)
+    kappa = 0.3
+    r = solve_tangential(p, grid, MAT, mu, (kappa * mu * a / R, 0, 0), 1.0)
+    j0 = grid.ny // 2
+    s0 = math.sqrt(1 - (grid.y[j0] / b) ** 2)
+    f_row = -(r.tx[:, j0] + r.tx[:, j0 - 1]).sum() / (mu * (p[:, j0] + p[:, j0 - 1]).sum())
+    k = kappa / s0
+    assert f_row == pytest.approx(1 - (1 - k) ** 2, rel=0.015)
+
+
+A_OVER_B = [0.1, 0.3, 1.0, 3.0, 10.0]
+
+
+@pytest.mark.parametrize("a_over_b", A_OVER_B)
+def test_stability_sweep(a_over_b):
+    """Every case converges or raises ConvergenceError with a residual; never a silent wrong answer."""
+    grid, gap, h = _case(a_over_b, n=4)
+    rab = math.sqrt(h.a * h.b)
+    for mu in (0.05, 0.6):
+        for c in (1e-6, 1e-3, 0.1):
+            for cr in ((c, 0, 0), (0, c, 0), (0, 0, c / rab), (c, c / 2, c / rab), (c / 10, 0, 10 * c / rab)):
+                try:
+                    r = solve_rolling(gap, grid, MAT, mu, FN, cr, 10.0, max_iter=500)
+                except ConvergenceError as exc:
+                    assert math.isfinite(exc.residual) and exc.residual > 1e-7
+                    assert exc.result is not None
+                    continue
+                assert r.converged and r.residual <= 1e-7
+                for f in (r.tx, r.ty, r.slip_velocity, r.power_density):
+                    assert np.isfinite(f).all()
+                assert math.hypot(r.fx, r.fy) <= mu * r.fn * (1 + 1e-8)
+                assert (np.hypot(r.tx, r.ty) <= mu * r.pressure * (1 + 1e-8)).all()
+                assert r.power >= 0
+
+
+def test_not_converged_raises_with_result():
+    grid, gap, _ = _case()
+    with pytest.raises(ConvergenceError) as info:
+        solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 0, 0.5), 1.0, max_iter=1, tol=1e-12)
+    assert info.value.residual > 1e-12 and info.value.iterations == 1
+    assert info.value.result is not None and not info.value.result.converged
+
+
+def test_no_contact_pressure_gives_zero():
+    grid, _, _ = _case()
+    r = solve_tangential(np.zeros(grid.shape), grid, MAT, 0.3, (1e-3, 0, 0), 1.0)
+    assert r.fx == 0 and r.fy == 0 and r.n_contact == 0 and r.converged
+
+
+def test_contact_at_leading_edge():
+    grid, _, _ = _case()
+    p = np.zeros(grid.shape)
+    p[-1, grid.ny // 2] = 1e6
+    with pytest.raises(GridTooSmallError):
+        solve_tangential(p, grid, MAT, 0.3, (1e-3, 0, 0), 1.0)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"mu": -0.1}, "mu"),
+    ({"speed": 0.0}, "speed"),
+    ({"speed": -3.0}, "speed"),
+    ({"creepage": (float("nan"), 0, 0)}, "xi"),
+    ({"creepage": (0, float("nan"), 0)}, "eta"),
+    ({"creepage": (0, 0, float("inf"))}, "phi"),
+    ({"creepage": (0, 0)}, "creepage"),
+    ({"fn": 0.0}, "fn"),
+    ({"fn": -1.0}, "fn"),
+    ({"method": "cg"}, "method"),
+    ({"tol": 0.0}, "tol"),
+    ({"max_iter": 0}, "max_iter"),
+    ({"t0": (np.zeros((3, 3)), np.zeros((3, 3)))}, "t0"),
+])
+def test_bad_input(kwargs, name):
+    grid, gap, _ = _case(n=4)
+    args = {"mu": 0.3, "fn": FN, "creepage": (1e-3, 0, 0), "speed": 1.0}
+    args.update(kwargs)
+    with pytest.raises(InputError, match=name):
+        solve_rolling(gap, grid, MAT, **args)

@@ -1,4 +1,4 @@
-"""Deck case types of the contact area: ``type = 'normal'``."""
+"""Deck case types of the contact area: ``type = 'normal'`` and ``type = 'rolling'``."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -12,6 +12,8 @@ from ..material import Material
 from .grid import Grid
 from .hertz import hertz, hertz_gap
 from .normal import solve_normal
+from .plots_rolling import plot_rolling
+from .rolling import solve_rolling
 
 _COMMON = {
     "shear_modulus": 82.0e9,   # Pa
@@ -97,3 +99,64 @@ def plot_pressure(group: Any, outdir: Path, stem: str) -> list[Path]:
 
 register(CaseType(name="normal", defaults={**_COMMON, "fn": None, "approach": None},
                   run=run_normal, plot=plot_pressure))
+
+
+def _gap_from_semiaxes(a: float, b: float, fn: float, material: Material) -> tuple[float, float]:
+    """Gap coefficients (A, B) whose Hertz contact under fn has the semi-axes a (x), b (y)."""
+    from scipy.optimize import brentq
+
+    a = float(a)
+    b = float(b)
+    if not (a > 0 and b > 0):
+        raise InputError(f"semi_a and semi_b must be > 0 (m), got {a}, {b}")
+    A = 1.0
+    if abs(a / b - 1.0) < 1e-12:
+        lb = 0.0
+    else:
+        def f(x: float) -> float:
+            h = hertz(A, A * np.exp(x), fn, material)
+            return float(np.log(h.a / h.b) - np.log(a / b))
+        lb = brentq(f, -14.0, 14.0, xtol=1e-12)
+    h = hertz(A, A * np.exp(lb), fn, material)
+    scale = (h.a / a) ** 3          # a ~ A^(-1/3) at a fixed ratio B/A
+    return A * scale, A * np.exp(lb) * scale
+
+
+def run_rolling(params: dict[str, Any]) -> CaseOutput:
+    """Steady rolling: normal force ``fn`` (N), friction ``mu``, creepages ``xi``, ``eta`` (1),
+    spin ``phi`` (1/m), rolling ``speed`` (m/s). The gap is 'hertz' (``gap_a``, ``gap_b`` in 1/m,
+    or the Hertz semi-axes ``semi_a``, ``semi_b`` in m) or 'two_bumps'."""
+    params = dict(params)
+    material = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
+    if params["gap_a"] is None or params["gap_b"] is None:
+        if params["semi_a"] is None or params["semi_b"] is None:
+            raise InputError("give the gap curvatures gap_a, gap_b (1/m) or the semi-axes semi_a, semi_b (m)")
+        params["gap_a"], params["gap_b"] = _gap_from_semiaxes(params["semi_a"], params["semi_b"],
+                                                              params["fn"], material)
+    grid, gap, material = make_gap(params)
+    r = solve_rolling(gap, grid, material, params["mu"], params["fn"],
+                      (params["xi"], params["eta"], params["phi"]), params["speed"], method=params["method"],
+                      tol=params["tol"], max_iter=params["max_iter"], normal_method=params["normal_method"])
+    n_slip = int(r.slip.sum())
+    out = CaseOutput(
+        summary=(f"Fx = {r.fx / 1e3:.4g} kN, Fy = {r.fy / 1e3:.4g} kN, Mz = {r.mz:.4g} N m, "
+                 f"|F|/(mu Fn) = {np.hypot(r.fx, r.fy) / (r.mu * r.fn):.4f}, power = {r.power:.4g} W, "
+                 f"slip {n_slip}/{r.n_contact} elements, {r.method} {r.iterations} sweeps, residual {r.residual:.1e}"),
+        datasets={"pressure": (r.pressure, "Pa"), "gap": (gap, "m"), "x": (grid.x, "m"), "y": (grid.y, "m"),
+                  "tx": (r.tx, "Pa"), "ty": (r.ty, "Pa"), "status": (r.status, "0 exterior, 1 adhesion, 2 slip"),
+                  "slip": (r.slip.astype(np.uint8), "1 = slip"),
+                  "slip_velocity": (r.slip_velocity, "m/s"),
+                  "slip_velocity_x": (r.slip_velocity_x, "m/s"), "slip_velocity_y": (r.slip_velocity_y, "m/s"),
+                  "power_density": (r.power_density, "W/m^2")},
+        scalars={"fn": (r.fn, "N"), "approach": (r.approach, "m"), "fx": (r.fx, "N"), "fy": (r.fy, "N"),
+                 "mz": (r.mz, "N m"), "power": (r.power, "W"), "pmax": (r.pmax, "Pa"), "area": (r.area, "m^2"),
+                 "n_contact": (r.n_contact, "1"), "n_slip": (n_slip, "1"), "iterations": (r.iterations, "1"),
+                 "residual": (r.residual, "1"), "method": (r.method, "")})
+    return out
+
+
+_ROLLING = {k: v for k, v in _COMMON.items() if k not in ("method", "tol", "max_iter")}
+_ROLLING.update({"gap_a": None, "gap_b": None, "semi_a": None, "semi_b": None,
+                 "fn": REQUIRED, "mu": REQUIRED, "xi": 0.0, "eta": 0.0, "phi": 0.0, "speed": REQUIRED,
+                 "method": "fftgs", "tol": 1e-7, "max_iter": None, "normal_method": "cg"})
+register(CaseType(name="rolling", defaults=_ROLLING, run=run_rolling, plot=plot_rolling))

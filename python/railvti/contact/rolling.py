@@ -34,7 +34,7 @@ log = logging.getLogger(__name__)
 _METHODS = {"gs": 1, "fftgs": 2}
 _DEFAULT_MAX_ITER = {"gs": 500, "fftgs": 2000}
 #: Rows per FFT refresh of method 'fftgs'.
-DEFAULT_BLOCK = 8
+DEFAULT_BLOCK = 16
 #: Passes over each row before the next row (both methods).
 DEFAULT_INNER = 1
 
