@@ -93,3 +93,22 @@ def test_deck_case_normal_sweep(tmp_path):
     assert "field_left0_pressure" in out.datasets
     with pytest.raises(InputError):
         ct.run({**params, "dx_mm": -1.0})
+
+
+def test_rolling_patches_bounded_and_consistent():
+    """With friction and speed every loaded patch gets tractions: its creep force is at most
+    mu Fn, equals the sum of the tractions, and the track-frame force projects back on the
+    contact frame."""
+    mu = 0.3
+    s = solve_wheelset(WHEEL, RAIL, 3e-3, 7.2e-3, FZ, mu, 2.0, STEEL, 4e-4)
+    for p in s.patches:
+        area = p.grid.dx * p.grid.dy
+        assert np.hypot(p.fx, p.fy) <= mu * p.fn * (1 + 1e-8)
+        assert p.fx == pytest.approx(p.tx.sum() * area, rel=1e-9, abs=1e-6)
+        assert p.fy == pytest.approx(p.ty.sum() * area, rel=1e-9, abs=1e-6)
+        f = p.force_track
+        assert f @ p.contact.normal == pytest.approx(p.fn, rel=1e-12)
+        assert f @ p.contact.t_y == pytest.approx(p.fy, rel=1e-9, abs=1e-6)
+        assert p.rolling.converged
+    # yaw 7.2 mrad: lateral creepage eta ~ -yaw on both wheels, lateral creep forces push left
+    assert all(p.creepage.eta < 0 and p.fy > 0 for p in s.patches)

@@ -37,6 +37,7 @@ from ..profiles import Profile
 from .grid import Grid
 from .hertz import hertz
 from .normal import solve_normal
+from .rolling import solve_tangential
 
 log = logging.getLogger(__name__)
 
@@ -80,8 +81,8 @@ class WheelsetPatch:
         Undeformed gap (m) and pressure (Pa).
     tx, ty : ndarray (nx, ny) or None
         Tangential tractions on the wheel, Pa; None without rolling.
-    rolling : object or None
-        The full :func:`railvti.contact.solve_rolling` result (slip, power, ...).
+    rolling : RollingResult or None
+        The full steady-rolling result (slip, slip velocity, power density, power, ...).
     """
 
     side: str
@@ -265,7 +266,7 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     method : str
         Normal solver ('cg', 'pk', 'gs').
     rolling_method : str, optional
-        Tangential solver of :func:`railvti.contact.solve_rolling` (its default if None).
+        Tangential solver of :func:`railvti.contact.solve_tangential` (its default if None).
     track, wheelset : optional
         Layout (see :func:`railvti.geometry.contact_points`).
     max_separation : float
@@ -365,11 +366,11 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
             fx = fy = 0.0
             tx = ty = roll_res = cr = None
             if rolling:
-                from .rolling import solve_rolling   # the tangential solver (issue 3)
                 cr = creepages(cp, speed)
                 kw = {} if rolling_method is None else {"method": rolling_method}
-                roll_res = solve_rolling(pt.gap, pt.grid, material, mu, pt.fn, (cr.xi, cr.eta, cr.phi),
-                                         speed, **kw)
+                # quasi-identical bodies: the tangential problem on the load-controlled pressure
+                roll_res = solve_tangential(pt.p, pt.grid, material, mu, (cr.xi, cr.eta, cr.phi), speed,
+                                            approach=pt.approach, **kw)
                 fx, fy, tx, ty = roll_res.fx, roll_res.fy, roll_res.tx, roll_res.ty
             f_track = pt.fn * cp.normal + fx * cp.t_x + fy * cp.t_y
             res.append(WheelsetPatch(side=s, contact=cp, contact_angle=cp.contact_angle, creepage=cr,
