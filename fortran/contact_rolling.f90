@@ -44,7 +44,8 @@
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block). Both give the same iterates.
+!> block) and Anderson acceleration (depth AA_M) of the sweep map, with a
+!> safeguard that falls back to the plain sweep when the residual grows.
 !>
 !> Convergence: the relative change of a Jacobi step on the exact field,
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
@@ -156,8 +157,8 @@ contains
     !>
     !> info: 0 converged, 1 not converged in max_iter sweeps (resid holds the
     !> residual), 2 no element in contact (t = 0), -1 workspace without the
-    !> tangential kernels, -2 bad method, -3 bad window, -4 contact reaches
-    !> the upstream grid edge i = nx (no upstream element), -5 non-finite values.
+    !> tangential kernels, -2 bad method, -3 nblock or ninner < 1, -4 contact reaches
+    !> the upstream grid edge i = nx (no upstream element), -5 non-finite values, -6 LAPACK failure of a run basis.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
                               tx, ty, status, sx, sy, iters, resid, info)
         type(workspace), intent(inout) :: w
