@@ -89,10 +89,6 @@ def main() -> None:
         chart(rows)
 
 
-if __name__ == "__main__":
-    main()
-
-
 def chart(rows: list) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -116,3 +112,7 @@ def chart(rows: list) -> None:
     out = Path(__file__).resolve().parent.parent / "validation" / "figures" / "contact_rolling_bench.png"
     fig.savefig(out, dpi=100)
     print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

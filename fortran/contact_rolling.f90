@@ -78,13 +78,6 @@ module contact_rolling
             real(dp), intent(inout) :: a(lda, *)
             integer, intent(out) :: info
         end subroutine dpotrf
-        subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
-            import :: dp
-            character, intent(in) :: uplo
-            integer, intent(in) :: n, nrhs, lda, ldb
-            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dposv
         subroutine dpotri(uplo, n, a, lda, info)
             import :: dp
             character, intent(in) :: uplo
@@ -514,7 +507,9 @@ contains
                     h(a, a) = h(a, a) + reg
                 end do
                 gam(1:mk) = rhs(1:mk)
-                call dposv('L', mk, 1, h, AA_M, gam, AA_M, stat2)
+                ! tiny SPD system solved here: a LAPACK call would wake
+                ! OpenBLAS threads every sweep
+                call small_cholesky_solve(mk, h, gam, stat2)
                 if (stat2 == 0 .and. all(gam(1:mk) == gam(1:mk))) then
                     do a = 1, mk
                         xv = xv - gam(a) * dgm(:, a)
@@ -523,6 +518,32 @@ contains
             end if
             call unpack_tractions(xv)
         end subroutine anderson_step
+
+        !> Solve h x = b in place (b -> x) for a small SPD h (Cholesky, lower).
+        pure subroutine small_cholesky_solve(m, h, b, stat)
+            integer, intent(in) :: m
+            real(dp), intent(inout) :: h(:, :), b(:)
+            integer, intent(out) :: stat
+            integer :: a, c
+            stat = 0
+            do c = 1, m
+                h(c, c) = h(c, c) - sum(h(c, 1:c - 1)**2)
+                if (h(c, c) <= 0.0_dp) then
+                    stat = c
+                    return
+                end if
+                h(c, c) = sqrt(h(c, c))
+                do a = c + 1, m
+                    h(a, c) = (h(a, c) - sum(h(a, 1:c - 1) * h(c, 1:c - 1))) / h(c, c)
+                end do
+            end do
+            do a = 1, m
+                b(a) = (b(a) - sum(h(a, 1:a - 1) * b(1:a - 1))) / h(a, a)
+            end do
+            do a = m, 1, -1
+                b(a) = (b(a) - sum(h(a + 1:m, a) * b(a + 1:m))) / h(a, a)
+            end do
+        end subroutine small_cholesky_solve
 
         !> tx, ty from a packed vector, each traction put on its disc.
         subroutine unpack_tractions(v)
