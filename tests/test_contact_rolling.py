@@ -221,3 +221,17 @@ def test_bad_input(kwargs, name):
     args.update(kwargs)
     with pytest.raises(InputError, match=name):
         solve_rolling(gap, grid, MAT, **args)
+
+
+def test_inner_passes_same_solution(spin_case):
+    grid, gap, _, r = spin_case
+    r2 = solve_rolling(gap, grid, MAT, 0.3, FN, (1e-3, 5e-4, 0.5), 30.0, tol=1e-9, inner=2, block=3)
+    np.testing.assert_allclose(r2.tx, r.tx, atol=1e-6 * r.pmax)
+    np.testing.assert_allclose(r2.ty, r.ty, atol=1e-6 * r.pmax)
+
+
+def test_frictionless_gives_zero_traction():
+    grid, gap, _ = _case()
+    r = solve_rolling(gap, grid, MAT, 0.0, FN, (1e-3, 0, 0.5), 1.0)
+    assert r.fx == 0 and r.fy == 0 and r.power == 0
+    assert r.slip[r.contact].all()

@@ -111,6 +111,8 @@ def main() -> None:
         ax.plot([r[0] for r in results], [r[4][k] for r in results], "x", color=col,
                 label=f"{name} BEM, extrapolated")
     ax.set_xscale("log")
+    ax.set_xticks(ratios, [f"{r:g}" for r in ratios])
+    ax.minorticks_off()
     ax.set_xlabel("a/b")
     ax.set_ylabel("creep coefficient")
     ax.set_title("Kalker's linear theory, nu = 0.25: table vs steady-rolling BEM")
