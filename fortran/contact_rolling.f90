@@ -169,7 +169,7 @@ contains
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
 
-        integer :: nx, ny, i, j, k, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
+        integer :: nx, ny, i, j, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
         real(dp) :: dx, dy, kx, ky, c0x, c0y, g, lam, s0x, s0y, ntx, nty, r2, n2, x, y
         real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :), wx(:, :), wy(:, :), bound(:, :)
