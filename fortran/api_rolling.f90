@@ -4,8 +4,9 @@
 !> callers (time simulation) use it without this shim.
 
 !> Steady rolling on the grid of workspace `handle` (made with tangential /= 0)
-!> for the pressure p (Pa). method: 1 plain Gauss-Seidel, 2 FFT-refreshed
-!> windowed Gauss-Seidel (window nwin elements). x0, y0: centre of element
+!> for the pressure p (Pa). method: 1 row-implicit Gauss-Seidel ('gs'),
+!> 2 the same with an FFT refresh every nblock rows and Anderson acceleration
+!> ('fftgs'); ninner passes per row run. x0, y0: centre of element
 !> [1, 1] (m); creepages xi, eta (1) and spin phi (1/m); speed (m/s).
 !> tx, ty: warm start on entry, tractions (Pa) on exit. status: 0 exterior,
 !> 1 adhesion, 2 slip. sx, sy: slip velocity (m/s). info: 0 converged,

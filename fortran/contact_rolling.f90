@@ -44,7 +44,8 @@
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block). Both give the same iterates.
+!> block) and Anderson acceleration (depth AA_M) of the sweep map, with a
+!> safeguard that falls back to the plain sweep when the residual grows.
 !>
 !> Convergence: the relative change of a Jacobi step on the exact field,
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
@@ -77,13 +78,6 @@ module contact_rolling
             real(dp), intent(inout) :: a(lda, *)
             integer, intent(out) :: info
         end subroutine dpotrf
-        subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
-            import :: dp
-            character, intent(in) :: uplo
-            integer, intent(in) :: n, nrhs, lda, ldb
-            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dposv
         subroutine dpotri(uplo, n, a, lda, info)
             import :: dp
             character, intent(in) :: uplo
@@ -156,8 +150,8 @@ contains
     !>
     !> info: 0 converged, 1 not converged in max_iter sweeps (resid holds the
     !> residual), 2 no element in contact (t = 0), -1 workspace without the
-    !> tangential kernels, -2 bad method, -3 bad window, -4 contact reaches
-    !> the upstream grid edge i = nx (no upstream element), -5 non-finite values.
+    !> tangential kernels, -2 bad method, -3 nblock or ninner < 1, -4 contact reaches
+    !> the upstream grid edge i = nx (no upstream element), -5 non-finite values, -6 LAPACK failure of a run basis.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
                               tx, ty, status, sx, sy, iters, resid, info)
         type(workspace), intent(inout) :: w
@@ -175,7 +169,7 @@ contains
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
 
-        integer :: nx, ny, i, j, k, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
+        integer :: nx, ny, i, j, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
         real(dp) :: dx, dy, kx, ky, c0x, c0y, g, lam, s0x, s0y, ntx, nty, r2, n2, x, y
         real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :), wx(:, :), wy(:, :), bound(:, :)
@@ -513,7 +507,9 @@ contains
                     h(a, a) = h(a, a) + reg
                 end do
                 gam(1:mk) = rhs(1:mk)
-                call dposv('L', mk, 1, h, AA_M, gam, AA_M, stat2)
+                ! tiny SPD system solved here: a LAPACK call would wake
+                ! OpenBLAS threads every sweep
+                call small_cholesky_solve(mk, h, gam, stat2)
                 if (stat2 == 0 .and. all(gam(1:mk) == gam(1:mk))) then
                     do a = 1, mk
                         xv = xv - gam(a) * dgm(:, a)
@@ -522,6 +518,32 @@ contains
             end if
             call unpack_tractions(xv)
         end subroutine anderson_step
+
+        !> Solve h x = b in place (b -> x) for a small SPD h (Cholesky, lower).
+        pure subroutine small_cholesky_solve(m, h, b, stat)
+            integer, intent(in) :: m
+            real(dp), intent(inout) :: h(:, :), b(:)
+            integer, intent(out) :: stat
+            integer :: a, c
+            stat = 0
+            do c = 1, m
+                h(c, c) = h(c, c) - sum(h(c, 1:c - 1)**2)
+                if (h(c, c) <= 0.0_dp) then
+                    stat = c
+                    return
+                end if
+                h(c, c) = sqrt(h(c, c))
+                do a = c + 1, m
+                    h(a, c) = (h(a, c) - sum(h(a, 1:c - 1) * h(c, 1:c - 1))) / h(c, c)
+                end do
+            end do
+            do a = 1, m
+                b(a) = (b(a) - sum(h(a, 1:a - 1) * b(1:a - 1))) / h(a, a)
+            end do
+            do a = m, 1, -1
+                b(a) = (b(a) - sum(h(a + 1:m, a) * b(a + 1:m))) / h(a, a)
+            end do
+        end subroutine small_cholesky_solve
 
         !> tx, ty from a packed vector, each traction put on its disc.
         subroutine unpack_tractions(v)

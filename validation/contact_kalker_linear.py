@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from railvti.contact import Grid, hertz, solve_tangential
+from railvti.contact import Grid, hertz, hertz_gap, solve_rolling, solve_tangential
 from railvti.material import Material
 
 HERE = Path(__file__).resolve().parent
@@ -57,6 +57,20 @@ def gap_for_ratio(a_over_b: float) -> tuple[float, float]:
     return A, A * float(np.exp(lb))
 
 
+def coefficients_bem(a_over_b: float, n: int) -> np.ndarray:
+    """The same end to end: BEM normal solution (solve_rolling) instead of Hertz's pressure."""
+    A, B = gap_for_ratio(a_over_b)
+    h = hertz(A, B, FN, MAT)
+    grid = Grid.covering(h.a, h.b, n, 1.15)
+    gap = hertz_gap(grid, A, B)
+    G, ab = MAT.shear_modulus, h.a * h.b
+    phi = EPS / np.sqrt(ab)
+    return np.array([
+        -solve_rolling(gap, grid, MAT, MU, FN, (EPS, 0.0, 0.0), 1.0).fx / (G * ab * EPS),
+        -solve_rolling(gap, grid, MAT, MU, FN, (0.0, EPS, 0.0), 1.0).fy / (G * ab * EPS),
+        -solve_rolling(gap, grid, MAT, MU, FN, (0.0, 0.0, phi), 1.0).fy / (G * ab ** 1.5 * phi)])
+
+
 def coefficients(a_over_b: float, n: int, method: str = "fftgs") -> tuple[np.ndarray, float, int]:
     A, B = gap_for_ratio(a_over_b)
     h = hertz(A, B, FN, MAT)
@@ -76,6 +90,8 @@ def coefficients(a_over_b: float, n: int, method: str = "fftgs") -> tuple[np.nda
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="coarser grids")
+    ap.add_argument("--bem", action="store_true",
+                    help="also end to end with the BEM pressure (solve_rolling) on the fine grid")
     args = ap.parse_args()
     n1 = 8 if args.quick else 16
     ratios = [0.2, 0.5, 1.0, 2.0, 5.0]
@@ -97,6 +113,16 @@ def main() -> None:
     worst2 = max(abs(r[3][k] / r[1][k] - 1) for r in results for k in range(3))
     worstr = max(abs(r[4][k] / r[1][k] - 1) for r in results for k in range(3))
     print(f"largest deviation: fine grid {100 * worst2:.2f} %, extrapolated {100 * worstr:.2f} % (acceptance 2 %)")
+    if args.bem:
+        worst = 0.0
+        print(f"\nend to end (solve_rolling, BEM pressure), n = {2 * n1}")
+        for g in ratios:
+            ref = kalker_table(g)
+            c = coefficients_bem(g, 2 * n1)
+            worst = max(worst, max(abs(c[k] / ref[k] - 1) for k in range(3)))
+            print(f"{g:5.2f} " + "  ".join(f"{names[k]} {c[k]:.3f} ({100 * (c[k] / ref[k] - 1):+.2f} %)"
+                                           for k in range(3)))
+        print(f"largest deviation end to end: {100 * worst:.2f} % (acceptance 2 %)")
 
     import matplotlib
     matplotlib.use("Agg")
@@ -111,6 +137,8 @@ def main() -> None:
         ax.plot([r[0] for r in results], [r[4][k] for r in results], "x", color=col,
                 label=f"{name} BEM, extrapolated")
     ax.set_xscale("log")
+    ax.set_xticks(ratios, [f"{r:g}" for r in ratios])
+    ax.minorticks_off()
     ax.set_xlabel("a/b")
     ax.set_ylabel("creep coefficient")
     ax.set_title("Kalker's linear theory, nu = 0.25: table vs steady-rolling BEM")

@@ -169,7 +169,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     ----------
     pressure : ndarray, shape (nx, ny)
         Normal pressure, Pa (>= 0); the elements with p > 0 are in contact.
-    grid, material, mu, creepage, speed, method, tol, max_iter, t0, window
+    grid, material, mu, creepage, speed, method, tol, max_iter, t0, block, inner
         As in :func:`solve_rolling`.
     normal : NormalResult, optional
         Attached to the result.
@@ -266,17 +266,24 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
         Rolling speed V, m/s (> 0). Scales the slip velocity and the power
         only; the tractions do not depend on it.
     method : {'fftgs', 'gs'}
-        'gs': plain Gauss-Seidel with exact element updates (O(N^2) per
-        sweep); 'fftgs': Gauss-Seidel with local updates inside a window of
-        ``window`` elements and an FFT refresh of the whole field each sweep.
+        Both sweep the rows (lines along x) with exact in-row updates
+        (row-implicit Gauss-Seidel, see ``fortran/contact_rolling.f90``; a
+        point Gauss-Seidel diverges on this system). 'gs': one FFT refresh per
+        sweep, direct updates of all later rows (O(N^2) per sweep, the
+        reference); 'fftgs': an FFT refresh every ``block`` rows, direct
+        updates only inside the block, and Anderson acceleration of the
+        sweeps (safeguarded): the fast method.
     tol : float
-        Relative residual at which to stop.
+        Relative residual ``||F(t) - t|| / ||F(t)||`` at which to stop, F being
+        the element solutions on the exact field.
     max_iter : int, optional
         Sweep limit (500 for 'gs', 2000 for 'fftgs').
     t0 : (tx, ty), optional
-        Warm-start tractions, Pa, (nx, ny) each.
-    window : int
-        Half-width of the local update window of 'fftgs', elements.
+        Warm-start tractions, Pa, (nx, ny) each (put on the Coulomb disc first).
+    block : int
+        Rows per FFT refresh of 'fftgs'.
+    inner : int
+        Passes over each run of a row before the next row.
     normal_method, normal_tol
         Passed to :func:`~railvti.contact.solve_normal`.
 
