@@ -65,9 +65,8 @@ subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     integer :: k
     info = -3
     u = 0.0_c_double
-    w => ws_get(handle)
+    w => ws_get(handle, nx, ny)
     if (.not. associated(w)) return
-    if (w%nx /= nx .or. w%ny /= ny) return
     info = 0
     do k = 1, nrep
         call conv_apply(w%plan, 1, q, u)
@@ -124,13 +123,9 @@ subroutine normal_solve_c(handle, nx, ny, h, control, method, tol, max_iter, ome
     resid = 0.0_c_double
     fn_out = fn_in
     approach_out = approach_in
-    w => ws_get(handle)
+    w => ws_get(handle, nx, ny)
     if (.not. associated(w)) then
-        info = -3
-        return
-    end if
-    if (w%nx /= nx .or. w%ny /= ny) then
-        info = -3
+        info = -3      ! no such workspace, or one of another grid size
         return
     end if
     np = 0

@@ -34,13 +34,9 @@ subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, m
     status = 0
     sx = 0.0_c_double
     sy = 0.0_c_double
-    w => ws_get(handle)
+    w => ws_get(handle, nx, ny)
     if (.not. associated(w)) then
-        info = -3
-        return
-    end if
-    if (w%nx /= nx .or. w%ny /= ny) then
-        info = -3
+        info = -3      ! no such workspace, or one of another grid size
         return
     end if
     allocate (st(nx, ny))

@@ -13,7 +13,7 @@ module contact_convolution
     implicit none
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply
-    public :: conv_init_precond, conv_precond, conv_apply_buffer, conv_precond_buffer
+    public :: conv_init_precond, conv_apply_buffer, conv_precond_buffer
 
     include 'fftw3.f03'
 
@@ -226,17 +226,7 @@ contains
         plan%has_prec = .true.
     end subroutine conv_init_precond
 
-    !> z = M r (see conv_init_precond).
-    subroutine conv_precond(plan, r, z)
-        type(conv_plan), intent(inout) :: plan
-        real(dp), intent(in) :: r(:, :)
-        real(dp), intent(out) :: z(:, :)
-        plan%prbuf = r
-        call conv_precond_buffer(plan)
-        z = plan%prbuf
-    end subroutine conv_precond
-
-    !> z = M r in place on plan%prbuf (r on entry, z on return).
+    !> z = M r (see conv_init_precond) in place on plan%prbuf: r on entry, z on return.
     subroutine conv_precond_buffer(plan)
         type(conv_plan), intent(inout) :: plan
         call fftw_execute_dft_r2c(plan%pfwd, plan%prbuf, plan%pcbuf)

@@ -19,7 +19,7 @@ module contact_normal
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
-    public :: normal_cg, normal_gs, normal_residual, add_columns
+    public :: normal_cg, normal_gs, normal_residual
 
     integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
     !> Exact product every this many CG steps, against drift of the recurrence.
@@ -343,19 +343,6 @@ contains
         resid = 0.0_dp
         info = 2
     end function no_contact
-
-    !> u = u + A d for a sparse d, column by column from the circular
-    !> coefficient field c (influence_field layout), O(N) per non-zero of d.
-    pure subroutine add_columns(c, d, u)
-        real(dp), intent(in) :: c(0:, 0:), d(:, :)
-        real(dp), intent(inout) :: u(:, :)
-        integer :: k, l
-        do l = 1, size(d, 2)
-            do k = 1, size(d, 1)
-                if (d(k, l) /= 0.0_dp) call add_column(c, k, l, d(k, l), u)
-            end do
-        end do
-    end subroutine add_columns
 
     !> u = u + dkl * A(:, (k, l)), the column of element (k, l).
     pure subroutine add_column(c, k, l, dkl, u)

@@ -81,12 +81,20 @@ contains
     end subroutine ws_free
 
     !> Pointer to a live workspace, or null for a bad handle.
-    function ws_get(handle) result(w)
+    function ws_get(handle, nx, ny) result(w)
         integer, intent(in) :: handle
+        integer, intent(in), optional :: nx, ny   ! if given, the grid must have this size
         type(workspace), pointer :: w
         w => null()
         if (handle < 1 .or. handle > MAX_WORKSPACES) return
-        if (slots(handle)%used) w => slots(handle)
+        if (.not. slots(handle)%used) return
+        if (present(nx)) then
+            if (slots(handle)%nx /= nx) return
+        end if
+        if (present(ny)) then
+            if (slots(handle)%ny /= ny) return
+        end if
+        w => slots(handle)
     end function ws_get
 
 end module contact_plans

@@ -89,6 +89,19 @@ module contact_rolling
 
 contains
 
+    !> Radial return of one element's traction onto the Coulomb disc
+    !> |t| <= bound (the slip direction is kept).
+    elemental subroutine project_on_disc(tx, ty, bound)
+        real(dp), intent(inout) :: tx, ty
+        real(dp), intent(in) :: bound
+        real(dp) :: t
+        t = hypot(tx, ty)
+        if (t > bound) then
+            tx = tx * bound / t
+            ty = ty * bound / t
+        end if
+    end subroutine project_on_disc
+
     !> Exact solution of one element's friction problem with s = s0 + diag(kx, ky) t.
     !> stat: ST_ADHESION (s = 0) or ST_SLIP (|t| = g, t opposite to s);
     !> lam = |s| (0 in adhesion).
@@ -170,7 +183,7 @@ contains
         integer, intent(out) :: info
 
         integer :: nx, ny, i, j, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
-        real(dp) :: dx, dy, kx, ky, c0x, c0y, g, lam, s0x, s0y, ntx, nty, r2, n2, x, y
+        real(dp) :: dx, dy, kx, ky, c0x, c0y, lam, s0x, s0y, ntx, nty, r2, n2, x, y
         real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :), wx(:, :), wy(:, :), bound(:, :)
         integer, allocatable :: trail(:, :)
@@ -290,11 +303,7 @@ contains
         do j = 1, ny
             do i = 1, nx
                 if (.not. inc(i, j)) cycle
-                g = hypot(tx(i, j), ty(i, j))
-                if (g > bound(i, j)) then
-                    tx(i, j) = tx(i, j) * bound(i, j) / g
-                    ty(i, j) = ty(i, j) * bound(i, j) / g
-                end if
+                call project_on_disc(tx(i, j), ty(i, j), bound(i, j))
             end do
         end do
 
@@ -381,11 +390,7 @@ contains
         do j = j1, j2
             do i = i1, i2
                 if (.not. inc(i, j)) cycle
-                g = hypot(tx(i, j), ty(i, j))
-                if (g > bound(i, j)) then
-                    tx(i, j) = tx(i, j) * bound(i, j) / g
-                    ty(i, j) = ty(i, j) * bound(i, j) / g
-                end if
+                call project_on_disc(tx(i, j), ty(i, j), bound(i, j))
             end do
         end do
 
@@ -548,18 +553,13 @@ contains
         !> tx, ty from a packed vector, each traction put on its disc.
         subroutine unpack_tractions(v)
             real(dp), intent(in) :: v(:)
-            real(dp) :: gg
             integer :: a, b
             tx = unpack(v(1:nc), inc, 0.0_dp)
             ty = unpack(v(nc + 1:2 * nc), inc, 0.0_dp)
             do b = j1, j2
                 do a = i1, i2
                     if (.not. inc(a, b)) cycle
-                    gg = hypot(tx(a, b), ty(a, b))
-                    if (gg > bound(a, b)) then
-                        tx(a, b) = tx(a, b) * bound(a, b) / gg
-                        ty(a, b) = ty(a, b) * bound(a, b) / gg
-                    end if
+                    call project_on_disc(tx(a, b), ty(a, b), bound(a, b))
                 end do
             end do
         end subroutine unpack_tractions

@@ -65,8 +65,8 @@ def main() -> None:
         s = sols[int(np.argmin(np.abs(y_mm - y_show)))]
         for side in ("left", "right"):
             for k, p in enumerate(s.wheel(side)):
-                fields[f"y = {y_show:g} mm, {side} wheel, patch {k}"] = dict(pressure=p.pressure, x=p.grid.x, y=p.grid.y,
-                                                        tx=p.tx, ty=p.ty)
+                fields[f"y = {y_show:g} mm, {side} wheel, patch {k}"] = dict(
+                    pressure=p.pressure, x=p.grid.x, y=p.grid.y, tx=p.tx, ty=p.ty)
     plot_fields(fields, FIG / "contact_a22_patches.png")
     print(f"wrote {FIG / 'contact_a22_sweep.png'} and {FIG / 'contact_a22_patches.png'}")
 

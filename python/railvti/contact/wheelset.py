@@ -157,6 +157,10 @@ class _Patch:
         self.fn = 0.0
         self.approach = 0.0
         self.stiffness = 0.0
+        self.pmax = 0.0
+        self.n_contact = 0
+        self.A = 1e-3          # gap coefficient along x (1/m), from the curvature fit
+        self.reach = 0.0       # the grid covers h < separation + reach, m
 
     def delta(self, w: float, theta: float) -> float:
         return self.a * w + self.b * theta
@@ -204,14 +208,14 @@ def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach:
 
 
 def _solve_patch(wheel: Profile, rail: Profile, pt: _Patch, approach: float, material: Material,
-                 A: float, dx: float, dy: float, method: str) -> None:
+                 dx: float, dy: float, method: str) -> None:
     """Normal solve of one patch at a prescribed approach; regrow its grid when the
     contact area reaches the edge."""
     pt.approach = approach
     for _ in range(6):
         if pt.gap is None or approach - pt.cp.separation > pt.reach:
             pt.reach = max(pt.reach, _GROW * (approach - pt.cp.separation))
-            pt.grid, pt.gap = _size_grid(wheel, rail, pt.cp, A, pt.reach, dx, dy)
+            pt.grid, pt.gap = _size_grid(wheel, rail, pt.cp, pt.A, pt.reach, dx, dy)
             pt.p = None
         hmin = float(pt.gap.min())
         if approach <= hmin:
@@ -339,7 +343,7 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         for k, s in enumerate(sides):
             fz_now[k] = 0.0
             for pt in patches[s]:
-                _solve_patch(wheel, rail, pt, pt.delta(w, theta), material, pt.A, dx, dy, method)
+                _solve_patch(wheel, rail, pt, pt.delta(w, theta), material, dx, dy, method)
                 fz_now[k] += pt.fn * pt.a
                 J[k] += pt.stiffness * pt.a * np.array([pt.a, pt.b])
         err = fz_now - np.array(fzs)
