@@ -6,7 +6,11 @@
 (c) rotation: split of k = 1, 2 modes against k Omega, k = 0 unmoved;
 (d) the default wheelset beside the paper's 147 / 304 / 345 Hz: every mode classified by its
     mirror symmetry and strain-energy split, an independent stepped-beam + rigid-wheel
-    check of the k = 1 pair, and the axle-diameter sensitivity of the symmetric bending.
+    check of the k = 1 pair, and the axle-diameter sensitivity of the symmetric bending;
+    mass properties; every mode named by its shape beside the paper and beside a published
+    high-speed wheelset (Wu et al. 2020);
+(e) the paper's Fig. 3 set-up: lateral force -> lateral displacement at the contact point,
+    wheelset in its bogie, standstill: every FRF peak with its magnitude and the mode behind it.
 Prints tables, writes validation/figures/wheelset_*.png.
 Run: .venv/bin/python validation/wheelset_validation.py
 """
@@ -21,7 +25,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from scipy import optimize  # noqa: E402
+from scipy import optimize, signal  # noqa: E402
 
 from railvti._native import core  # noqa: E402
 from railvti.wheelset import Wheelset, WheelsetGeometry, analytic, rectangle_mesh, solve_harmonic  # noqa: E402
@@ -90,6 +94,59 @@ def part_a_b() -> None:
 
 
 PAPER = {"k1": 147.0, "k0": 304.0, "k2": 345.0}   # Kaiser, the paper's wheelset (issue 6, 6d)
+# Wu, Cai, Jin, Xiao et al., Key factors of the initiation and development of polygonal wear in
+# the wheels of a high-speed train, Appl. Sci. 10 (2020) 5880, doi:10.3390/app10175880, Fig. 8:
+# FE bending modes of a Chinese high-speed (EMU) wheelset, 0-800 Hz.
+WU2020_BENDING = (87.0, 143.0, 284.0, 576.0)
+
+
+def shape_name(k: int, f: float, sym: float, e: np.ndarray, theta_frac: float, n_bend: int,
+               fam: str = "AB") -> str:
+    """Name of a mode from its harmonic, mirror symmetry, strain-energy split
+    (axle, hub, web + rim) and, for k = 0, the share of u_theta in the shape."""
+    s = "sym" if sym > 0.5 else ("anti" if sym < -0.5 else "one wheel")
+    if k == 0:
+        if f < 40.0:
+            return "rigid lateral translation on the primary suspension"
+        if theta_frac > 0.9:
+            return "axle torsion (wheels twist against each other)"
+        return ("umbrella, wheels in anti-phase (axle centre at rest)" if s == "sym"
+                else "umbrella, wheels in phase (axle moves axially against them)")
+    if k == 1:
+        if f < 60.0:
+            if fam == "B":
+                what = "longitudinal translation" if s == "sym" else "yaw"
+                return f"rigid {what} on the primary suspension"
+            return "rigid " + ("bounce" if s == "sym" else "roll") + " on the primary suspension"
+        what = ["1st", "2nd", "3rd", "4th", "5th"][min(n_bend, 4)]
+        if s == "sym":
+            return f"{what} bending, symmetric: axle bows, wheels tilt opposite"
+        return f"{what} bending, antisymmetric: S-shaped axle, wheels rock in phase"
+    return f"wheel mode, {k} nodal diameters ({s})"
+
+
+def named_modes(ws: Wheelset, f_max: float, support: str, k_max: int = 3) -> list[dict]:
+    """Every mode up to f_max with its shape name, symmetry and strain-energy split."""
+    table = ws.modes(k_max=k_max, f_max=f_max, support=support)
+    out = []
+    for k in range(k_max + 1):
+        for fam in sorted({table.family[i] for i in range(len(table)) if table.k[i] == k}):
+            idx = [i for i in range(len(table)) if table.k[i] == k and table.family[i] == fam
+                   and table.freq_hz[i] > 1.0]
+            split = strain_energy_split(ws, k, [table.shapes[i] for i in idx])
+            n_bend = 0
+            for i, e in zip(idx, split):
+                s = table.shapes[i]
+                th = float(np.sum(s[:, 2] ** 2) / np.sum(s ** 2))
+                sym = table.mirror_symmetry(i) if k < 2 else 0.0
+                name = shape_name(k, table.freq_hz[i], sym, e, th, n_bend, fam)
+                if "bending" in name:
+                    n_bend += 1
+                twin = any(r["k"] == k and abs(r["f"] - table.freq_hz[i]) < 1e-6 * r["f"] for r in out)
+                if k >= 2 and twin:
+                    continue   # the two wheels' identical k >= 2 modes: list once
+                out.append(dict(k=k, fam=fam, f=float(table.freq_hz[i]), sym=sym, e=e, name=name, i=i))
+    return out
 
 
 def strain_energy_split(ws: Wheelset, k: int, shapes) -> np.ndarray:
@@ -144,6 +201,11 @@ def part_d() -> None:
     for k, f, sym, e, _ in rows:
         print(f"  {k}  {f:7.1f}  {sym:+10.2f}  {e[0]:20.2f} {e[1]:5.2f} {e[2]:8.2f}")
     beam = analytic.wheelset_beam_k1(ws.geometry)
+    mp = analytic.wheelset_mass_properties(ws.geometry)
+    print(f"  mass properties (no brake discs, no axleboxes): wheel {mp['wheel_mass']:.0f} kg "
+          f"(diametral inertia {mp['wheel_diametral_inertia']:.1f} kg m^2), axle {mp['axle_mass']:.0f} kg, "
+          f"wheelset {mp['mass']:.0f} kg, spin inertia {mp['spin_inertia']:.1f} kg m^2, "
+          f"roll/yaw inertia {mp['roll_inertia']:.0f} kg m^2")
     m_w, _, j_w = analytic.wheel_rigid_body(ws.geometry)
     print(f"  independent check, stepped Timoshenko axle + rigid wheels ({m_w:.0f} kg, "
           f"J_d {j_w:.1f} kg m^2): k = 1 {beam[0]:.1f} (sym), {beam[1]:.1f} Hz (anti)")
@@ -158,14 +220,7 @@ def part_d() -> None:
     k0s = [r for r in umbrella if r[2] > 0.5][0]
     k0a = [r for r in umbrella if r[2] < -0.5][0]
     k2 = [r for r in rows if r[0] == 2][0]
-    print("\n  mode                                                paper   this    diff   compared")
-    for lab, p, r, cmp in (
-            ("k=1 symmetric axle bending (wheels tilt opposite)", PAPER["k1"], k1s, "no"),
-            ("k=1 antisymmetric, wheels rock in phase", PAPER["k1"], k1a, "yes"),
-            ("k=0 umbrella, wheels in anti-phase", PAPER["k0"], k0s, "yes"),
-            ("k=0 umbrella, wheels in phase", PAPER["k0"], k0a, "yes"),
-            ("first k=2", PAPER["k2"], k2, "yes")):
-        print(f"  {lab:<50} {p:6.0f} {r[1]:7.1f} {r[1] / p - 1.0:+7.1%}   {cmp}")
+    by_shape_table(ws)
     body_sensitivity()
 
     fig, axs = plt.subplots(3, 2, figsize=(9, 6.4), dpi=80)
@@ -216,6 +271,81 @@ def part_d() -> None:
     plt.close(fig)
 
 
+def by_shape_table(ws: Wheelset) -> None:
+    """Every mode to 600 Hz named by its shape, free-free and in the bogie, beside the
+    paper's three values and the published high-speed wheelset bending modes."""
+    free = named_modes(ws, 600.0, "free", k_max=2)
+    bogie = named_modes(ws, 600.0, "suspension", k_max=2)
+    paper = {"1st bending, sym": ("147 (first k=1)", PAPER["k1"]),
+             "2nd bending, anti": ("147 (if it is this shape)", PAPER["k1"]),
+             "umbrella, wheels in anti": ("304 (first umbrella)", PAPER["k0"]),
+             "umbrella, wheels in phase": ("304", PAPER["k0"]),
+             "wheel mode, 2": ("345 (first k=2)", PAPER["k2"])}
+    print("\n  by shape: free-free | in the bogie (A vertical / B longitudinal plane) | "
+          "Wu et al. 2020 | paper")
+    for r in free:
+        bo = [b for b in bogie if b["k"] == r["k"] and b["name"] == r["name"]]
+        bs = " / ".join(f"{b['f']:.1f}" for b in bo) if bo else "-"
+        wu = "-"
+        if "bending" in r["name"]:
+            n = int(r["name"][0]) - 1
+            wu = f"{WU2020_BENDING[n]:.0f} ({r['f'] / WU2020_BENDING[n] - 1.0:+.1%})" if n < 4 else "-"
+        pp = next(((lab, v) for key, (lab, v) in paper.items() if r["name"].startswith(key)), None)
+        ps = f"{pp[0]} ({r['f'] / pp[1] - 1.0:+.1%})" if pp else "-"
+        print(f"  k={r['k']} {r['name']:<68} {r['f']:7.1f} | {bs:>13} | {wu:>14} | {ps}")
+    rigid = [b for b in bogie if "rigid" in b["name"]]
+    for b in rigid:
+        print(f"  k={b['k']} {b['name']:<68} {'-':>7} | {b['f']:13.1f} ({b['fam']})")
+
+
+def part_e() -> None:
+    """The paper's Fig. 3 set-up at standstill: every peak of the lateral point receptance
+    at the contact point, with the mode behind it (largest modal peak contribution)."""
+    ws = Wheelset()
+    model = ws.axle_fixed(0.0, k_max=6, f_max=3000.0)
+    freqs = np.arange(5.0, 1000.0, 0.05)
+    h = ws.frf(freqs, 0.0, model=model)
+    a = np.abs(h)
+    names = {(r["k"], r["fam"], round(r["f"], 1)): r["name"]
+             for r in named_modes(ws, 1000.0, "suspension", k_max=3)}
+    c = model.contact[0, 0]
+    w = 2.0 * np.pi * model.freq_hz
+    contrib = np.where(w > 0, c ** 2 / (2.0 * 0.005 * np.maximum(w, 1e-9) ** 2), 0.0)
+    pk, props = signal.find_peaks(a, prominence=0.0)
+    print("\n(e) lateral force -> lateral displacement at the right contact point, wheelset in "
+          "its bogie, standstill (Fig. 3 set-up)")
+    print("  peak Hz    |H| m/N     rel. to 87 Hz   mode behind it")
+    rows = []
+    for p in pk:
+        if a[p] < 1e-10 or props["prominences"][list(pk).index(p)] < 0.3 * a[p]:
+            continue
+        near = np.abs(model.freq_hz - freqs[p]) < 0.02 * freqs[p] + 0.5
+        j = int(np.argmax(np.where(near, contrib, -1.0)))
+        key = (int(model.k[j]), "A" if model.k[j] == 1 else ("0" if model.k[j] == 0 else "AB"),
+               round(float(model.freq_hz[j]), 1))
+        name = names.get(key, f"k={model.k[j]}")
+        rows.append((freqs[p], a[p], int(model.k[j]), name))
+    ref = [r for r in rows if abs(r[0] - 87.0) < 5.0]
+    for f, m, k, name in rows:
+        rel = f"{m / ref[0][1]:10.2f}" if ref else "-"
+        print(f"  {f:8.2f}  {m:10.3e}  {rel:>12}      k={k} {name}")
+    fig, ax = plt.subplots(figsize=(7.5, 3.8), dpi=85)
+    ax.semilogy(freqs, a, lw=0.9)
+    for f, m, k, name in rows:
+        if f > 60.0:
+            ax.annotate(f"{f:.0f} Hz k={k}", (f, m), textcoords="offset points", xytext=(2, 4), fontsize=6)
+    ax.axvline(PAPER["k1"], color="C3", lw=0.6, ls="--", label="paper: first k = 1 (147 Hz)")
+    ax.set_xlabel("frequency, Hz")
+    ax.set_ylabel("|receptance|, m/N")
+    ax.set_title("lateral force -> lateral displacement at the contact point, wheelset in bogie, "
+                 "standstill", fontsize=8)
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(FIG / "wheelset_frf_peaks.png")
+    plt.close(fig)
+
+
 def part_c() -> None:
     ws = Wheelset()
     table = ws.modes(k_max=0, f_max=600.0)
@@ -251,4 +381,5 @@ def part_c() -> None:
 if __name__ == "__main__":
     part_a_b()
     part_d()
+    part_e()
     part_c()

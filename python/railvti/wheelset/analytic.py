@@ -124,6 +124,30 @@ def wheel_rigid_body(geometry) -> tuple[float, float, float]:
     return mass, y_cm, float(jd)
 
 
+def wheelset_mass_properties(geometry) -> dict[str, float]:
+    """Rigid-body mass properties of a :class:`WheelsetGeometry` (no brake
+    discs, no axleboxes), integrated exactly over its meridian blocks.
+
+    Returns
+    -------
+    dict
+        ``wheel_mass`` (one wheel, kg), ``axle_mass`` (kg), ``mass`` (wheelset, kg),
+        ``wheel_diametral_inertia`` (one wheel about its own centre of mass, kg m^2),
+        ``spin_inertia`` (about the axle, kg m^2) and ``roll_inertia`` (about a
+        diameter through the wheelset centre: the roll and yaw inertia, kg m^2).
+    """
+    rho = geometry.density
+    blocks = geometry.blocks()
+    ms = np.array([rho * np.pi * (b.r1 ** 2 - b.r0 ** 2) * (b.y1 - b.y0) for b in blocks])
+    axle = np.array([b.r1 <= geometry.seat_radius + 1e-12 for b in blocks])
+    spin = sum(m * (b.r1 ** 2 + b.r0 ** 2) / 2.0 for m, b in zip(ms, blocks))
+    roll = sum(m * ((b.r1 ** 2 + b.r0 ** 2) / 4.0 + (b.y1 - b.y0) ** 2 / 12.0 + (0.5 * (b.y0 + b.y1)) ** 2)
+               for m, b in zip(ms, blocks))
+    m_w, _, j_w = wheel_rigid_body(geometry)
+    return {"wheel_mass": m_w, "axle_mass": float(ms[axle].sum()), "mass": float(ms.sum()),
+            "wheel_diametral_inertia": j_w, "spin_inertia": float(spin), "roll_inertia": float(roll)}
+
+
 def wheelset_beam_k1(geometry, n_modes: int = 2, n_el: int = 400,
                      extra_masses: tuple[tuple[float, float, float], ...] = ()) -> np.ndarray:
     """Flexible free-free bending frequencies (Hz) of a wheelset as a stepped

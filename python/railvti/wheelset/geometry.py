@@ -11,6 +11,14 @@ EN 13103 passenger trailer axle). The web tapers from 45 mm at the hub to
 22 mm at the rim (typical of 920 mm monobloc wheels); the mesher needs
 axis-parallel blocks, so the taper is a staircase of ``web_steps`` straight
 segments and the web is plane (a real web is curved).
+
+These are typical values, not one manufacturer's drawing: no public drawing of
+a 920 mm high-speed trailer wheelset could be retrieved. Check on the whole:
+the free-free bending modes of the default (86.8, 146.5, 293.4, 560.5 Hz) lie
+within 3.3 % of a published FE model of a high-speed EMU wheelset (87, 143, 284,
+576 Hz: Wu, Cai, Jin, Xiao et al., Appl. Sci. 10 (2020) 5880, Fig. 8). Masses:
+wheel 358 kg, axle 378 kg, bare wheelset 1094 kg (no brake discs or axleboxes;
+``analytic.wheelset_mass_properties``).
 """
 from __future__ import annotations
 
