@@ -24,7 +24,7 @@ module vehicle_bem
     use contact_rolling, only: rolling_steady, ROLL_FFTGS
     implicit none
     private
-    public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset
+    public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
     public :: MAX_BEM, BEM_EDGE, BEM_NOCONV, BEM_NCOUNT
 
     integer, parameter :: MAX_BEM = 16
@@ -45,6 +45,10 @@ module vehicle_bem
         real(dp), allocatable :: tx(:, :, :, :, :), ty(:, :, :, :, :)
         real(dp), allocatable :: sx(:, :, :, :, :), sy(:, :, :, :, :)
         real(dp), allocatable :: h(:, :)
+        !> BEM / Hertz-Kalker ratios of the normal force and the creep-force magnitude per
+        !> (point, wheel, wheelset), from the last BEM solve: they calibrate the cheap model
+        !> of the Newton tangent (vehicle_contact model 4).
+        real(dp), allocatable :: ratio(:, :, :, :)
         integer, allocatable :: st(:, :)
         real(dp) :: counts(BEM_NCOUNT) = 0
     end type bem_model
@@ -96,7 +100,7 @@ contains
         m%gap = gap
         allocate (m%p(nx, ny, 2, 2, nws), source=0.0_dp)
         allocate (m%tx, m%ty, m%sx, m%sy, mold=m%p)
-        allocate (m%h(nx, ny), m%st(nx, ny))
+        allocate (m%h(nx, ny), m%st(nx, ny), m%ratio(2, 2, 2, nws))
         call reset(m)
         m%used = .true.
         info = 0
@@ -110,6 +114,7 @@ contains
         m%sx = 0.0_dp
         m%sy = 0.0_dp
         m%counts = 0.0_dp
+        m%ratio = 1.0_dp
     end subroutine reset
 
     !> Clear the warm starts and counters.
@@ -124,7 +129,8 @@ contains
         if (.not. live(handle)) return
         call ws_free(models(handle)%ws)
         deallocate (models(handle)%gap, models(handle)%p, models(handle)%tx, models(handle)%ty, &
-                    models(handle)%sx, models(handle)%sy, models(handle)%h, models(handle)%st)
+                    models(handle)%sx, models(handle)%sy, models(handle)%h, models(handle)%st, &
+                    models(handle)%ratio)
         models(handle)%used = .false.
     end subroutine bem_free
 
@@ -268,5 +274,23 @@ contains
             m%counts(5) = m%counts(5) + 1.0_dp
         end subroutine open_patch
     end subroutine bem_patch
+
+    !> Get (set = .false.) or store (set = .true.) the calibration ratios (normal, tangential)
+    !> of one point; a bad handle or index leaves r = 1.
+    subroutine bem_scale(handle, iws, iw, k, set, r)
+        integer, intent(in) :: handle, iws, iw, k
+        logical, intent(in) :: set
+        real(dp), intent(inout) :: r(2)
+        if (.not. live(handle)) then
+            if (.not. set) r = 1.0_dp
+            return
+        end if
+        if (iws < 1 .or. iws > models(handle)%nws) return
+        if (set) then
+            models(handle)%ratio(:, k, iw, iws) = r
+        else
+            r = models(handle)%ratio(:, k, iw, iws)
+        end if
+    end subroutine bem_scale
 
 end module vehicle_bem

@@ -106,8 +106,8 @@ contains
         end do
     end subroutine ws_state
 
-    !> Contact forces of wheelset w added into f. cheap: the Hertz + Kalker model whatever
-    !> md%cmodel (the tangent of a BEM run: modified Newton).
+    !> Contact forces of wheelset w added into f. cheap: for a BEM run, the Hertz + Kalker
+    !> model calibrated by the last BEM solves (the tangent: modified Newton).
     subroutine add_contact(md, w, q, v, f, wout, info, cheap)
         type(vmodel), intent(in) :: md
         integer, intent(in) :: w
@@ -120,7 +120,7 @@ contains
         integer :: j, model
         model = md%cmodel
         if (present(cheap)) then
-            if (cheap .and. model == 3) model = 1
+            if (cheap .and. model == 3) model = 4
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, model, md%fsn, &
@@ -159,7 +159,8 @@ contains
     !> the contact by forward differences over each wheelset's own 7 DOFs (wheelset + track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode 0 -> dF/dq + cv dF/dv, mode 1 -> dF/dv only.
-    !> With the BEM contact (cmodel 3) the contact part is that of Hertz + Kalker.
+    !> With the BEM contact (cmodel 3) the contact part is that of Hertz + Kalker scaled to the
+    !> last BEM solves (vehicle_contact model 4): modified Newton.
     subroutine tangent(md, q, v, cv, mode, jac, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
