@@ -187,7 +187,7 @@ def _initial_guess(system: System) -> np.ndarray:
 
 def simulate(system: System, speed: float, duration: float, *, contact: str = "hertz-kalker",
              h: float = 1e-3, output_dt: float = 0.01, alpha: float = 0.0,
-             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float = 1e-9,
+             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float | None = None,
              maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None,
              bem_options: BemOptions | None = None, bem: BemState | None = None) -> SimulationResult:
@@ -212,8 +212,10 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
     q0, v0 : ndarray, optional
         Initial state (default: the static equilibrium, at rest).
-    tol : float
-        Newton tolerance on the correction, m or rad.
+    tol : float, optional
+        Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
+        whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
+        wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %).
     maxit : int
         Newton iterations per step.
     maxsub : int
@@ -244,6 +246,9 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
                             qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st)
+    if tol is None:
+        tol = 1e-8 if contact_id(contact) == 3 else 1e-9
+    tol = _checks.positive("tol", tol)
     speed = _checks.positive("speed", speed)
     duration = _checks.positive("duration", duration)
     h = _checks.positive("h", h)
