@@ -17,6 +17,7 @@
 module vehicle_contact
     use kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
+    use vehicle_bem, only: bem_patch, bem_scale
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she
@@ -79,24 +80,29 @@ contains
     !> Contact forces of one wheelset.
     !> qw, vw: wheelset (y, z, roll, yaw) and rates; qt, vt: track element (y, z, roll) and rates.
     !> model 1: Hertz + Kalker linear with SHE saturation; model 2: Hertz + FASTSIM
-    !> (contact_fastsim, fsn x fsn strips x points).
+    !> (contact_fastsim, fsn x fsn strips x points); model 3: the BEM normal and steady-rolling
+    !> solvers of vehicle_bem (state `bem`, wheelset index iws) with the same approach and
+    !> creepages (the Hertz semi-axes and energy are still reported in wout); model 4: Hertz +
+    !> Kalker with the normal force and the creep forces scaled by their ratios BEM / Hertz-
+    !> Kalker at the last BEM solve of each point (the Newton tangent of a BEM run).
     !> fw: generalised forces on the wheelset (y, z, roll, yaw); ft: on the track element.
-    pure subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, qw, vw, qt, vt, &
-                                     fw, ft, wout, info)
-        integer, intent(in) :: ny, model, fsn
+    !> info: 0 ok, 3 outside the table, 5/6 BEM patch at its grid edge / not converged.
+    subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
+                                fw, ft, wout, info)
+        integer, intent(in) :: ny, model, fsn, bem, iws
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
         real(dp), intent(in) :: qw(4), vw(4), qt(3), vt(3)
         real(dp), intent(out) :: fw(4), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
-        real(dp) :: nbest, mz
+        real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2)
         integer :: w, k, m
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
         info = 0
-        if (model /= 1 .and. model /= 2) then
+        if (model < 1 .or. model > 4) then
             info = -9
             return
         end if
@@ -120,7 +126,12 @@ contains
                 sd = sin(dlt)
                 dv = -(gp + zr + phr * l)
                 dn = dv * cd
-                if (dn <= 0.0_dp) cycle
+                if (dn <= 0.0_dp) then
+                    ! clear a BEM point's state (warm start, reported fields) when it opens
+                    if (model == 3) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, 0.0_dp, &
+                                                   0.0_dp, mu, v0, fn, fx, fy, m)
+                    cycle
+                end if
                 fn = vals(7, k) * dn * sqrt(dn)
                 a = vals(5, k) * fn**(1.0_dp / 3.0_dp)
                 b = vals(6, k) * fn**(1.0_dp / 3.0_dp)
@@ -130,7 +141,31 @@ contains
                 xi = (1.0_dp - r / r0) - vw(4) * l / v0
                 eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
-                if (model == 1) then
+                if (model == 3) then
+                    fnh = fn
+                    call bem_patch(bem, iws, w, k, sg * yr, dn, xi, eta, spin, mu, v0, fn, fx, fy, m)
+                    if (m /= 0) then
+                        info = m
+                        return
+                    end if
+                    if (fn <= 0.0_dp) cycle
+                    ! calibration of the tangent's cheap model (4) against this solve
+                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fnh, &
+                                          xi, eta, spin, fxk, fyk)
+                    rt(1) = min(max(fn / fnh, 0.5_dp), 2.0_dp)
+                    rt(2) = 1.0_dp
+                    if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
+                        rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
+                    call bem_scale(bem, iws, w, k, .true., rt)
+                else if (model == 4) then
+                    ! Hertz + Kalker scaled to the last BEM solve of this point (Newton tangent)
+                    call bem_scale(bem, iws, w, k, .false., rt)
+                    fn = rt(1) * fn
+                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                                          xi, eta, spin, fx, fy)
+                    fx = rt(2) * fx
+                    fy = rt(2) * fy
+                else if (model == 1) then
                     call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
                                           xi, eta, spin, fx, fy)
                 else

@@ -17,6 +17,7 @@ module vehicle_model
 
     type :: vmodel
         integer :: nd = 0, ne = 0, nw = 0, ny = 0, cmodel = 1, fsn = 8
+        integer :: bem = 0   !< vehicle_bem handle (cmodel 3)
         real(dp), allocatable :: m(:, :), c(:, :), k(:, :), f0(:)
         integer, allocatable :: etype(:)
         real(dp), allocatable :: eg(:, :), epar(:, :)
@@ -29,8 +30,8 @@ contains
 
     !> Copy the flat arrays of the shim into a vmodel.
     pure subroutine vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                                 y0, dy, r0, v0, gmod, mu, cmodel, fsn, md)
-        integer, intent(in) :: nd, ne, nw, ny, cmodel, fsn
+                                 y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, md)
+        integer, intent(in) :: nd, ne, nw, ny, cmodel, fsn, bem
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
         integer, intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
@@ -41,6 +42,7 @@ contains
         md%ny = ny
         md%cmodel = cmodel
         md%fsn = fsn
+        md%bem = bem
         md%m = mm
         md%c = cc
         md%k = kk
@@ -104,19 +106,25 @@ contains
         end do
     end subroutine ws_state
 
-    !> Contact forces of wheelset w added into f.
-    pure subroutine add_contact(md, w, q, v, f, wout, info)
+    !> Contact forces of wheelset w added into f. cheap: for a BEM run, the Hertz + Kalker
+    !> model calibrated by the last BEM solves (the tangent: modified Newton).
+    subroutine add_contact(md, w, q, v, f, wout, info, cheap)
         type(vmodel), intent(in) :: md
         integer, intent(in) :: w
         real(dp), intent(in) :: q(:), v(:)
         real(dp), intent(inout) :: f(:)
         real(dp), intent(out) :: wout(nwo, 2)
         integer, intent(out) :: info
+        logical, intent(in), optional :: cheap
         real(dp) :: qw(4), vw(4), qt(3), vt(3), fw(4), ft(3)
-        integer :: j
+        integer :: j, model
+        model = md%cmodel
+        if (present(cheap)) then
+            if (cheap .and. model == 3) model = 4
+        end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
-        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, md%cmodel, md%fsn, &
-                              qw, vw, qt, vt, fw, ft, wout, info)
+        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, model, md%fsn, &
+                              md%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
         f(md%iws(:, w)) = f(md%iws(:, w)) + fw
         do j = 1, 3
             if (md%itr(j, w) > 0) f(md%itr(j, w)) = f(md%itr(j, w)) + ft(j)
@@ -124,8 +132,9 @@ contains
     end subroutine add_contact
 
     !> Total force F(q, v); wout (nwo, 2, nw) the contact outputs per wheel. info 3: a
-    !> wheelset left the contact table (derailment or a diverging solution).
-    pure subroutine force_total(md, q, v, f, wout, info)
+    !> wheelset left the contact table (derailment or a diverging solution); 5, 6 a BEM patch
+    !> reached its grid edge / a BEM solver did not converge.
+    subroutine force_total(md, q, v, f, wout, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: q(md%nd), v(md%nd)
         real(dp), intent(out) :: f(md%nd), wout(nwo, 2, md%nw)
@@ -150,7 +159,9 @@ contains
     !> the contact by forward differences over each wheelset's own 7 DOFs (wheelset + track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode 0 -> dF/dq + cv dF/dv, mode 1 -> dF/dv only.
-    pure subroutine tangent(md, q, v, cv, mode, jac, info)
+    !> With the BEM contact (cmodel 3) the contact part is that of Hertz + Kalker scaled to the
+    !> last BEM solves (vehicle_contact model 4): modified Newton.
+    subroutine tangent(md, q, v, cv, mode, jac, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
         integer, intent(in) :: mode
@@ -191,7 +202,7 @@ contains
                 end if
             end do
             f0w = 0.0_dp
-            call add_contact(md, w, q, v, f0w, wout, info)
+            call add_contact(md, w, q, v, f0w, wout, info, cheap=.true.)
             if (info /= 0) return
             do jj = 1, n
                 j = idx(jj)
@@ -204,7 +215,7 @@ contains
                     vp(j) = v(j) + eps
                 end if
                 f1w = 0.0_dp
-                call add_contact(md, w, qp, vp, f1w, wout, info)
+                call add_contact(md, w, qp, vp, f1w, wout, info, cheap=.true.)
                 if (info /= 0) return
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
             end do

@@ -56,20 +56,22 @@ contains
     end subroutine initial_acceleration
 
     !> One HHT step of size h from (q, v, a, fn = F(q, v)); on success the state is advanced.
-    !> ok = .false. when Newton does not converge (the state is left unchanged); info 3
-    !> (outside the table) is returned as such.
-    subroutine hht_step(md, h, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, err, ok, info)
+    !> ok = .false. when Newton does not converge (the state is left unchanged). A trial
+    !> iterate outside the table (3) or with a BEM patch at its grid edge or unconverged
+    !> (5, 6) fails the step (to be retried with sub-steps) and is recorded in why.
+    subroutine hht_step(md, h, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, err, ok, why, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: h, alpha, tol, qmax
         integer, intent(in) :: maxit
         real(dp), intent(inout) :: q(md%nd), v(md%nd), a(md%nd), fn(md%nd)
         real(dp), intent(out) :: wk(nwo, 2, md%nw), err
-        integer, intent(inout) :: nit, njac
+        integer, intent(inout) :: nit, njac, why
         logical, intent(out) :: ok
         integer, intent(out) :: info
         real(dp) :: beta, gamma, cq, cv, f1(md%nd), r(md%nd), jac(md%nd, md%nd)
         real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), dq, dqold
         real(dp) :: dqv(md%nd), qtry(md%nd), rtry(md%nd), rn, rnt, sl
+        real(dp) :: flast(md%nd), fkeep(md%nd), wlast(nwo, 2, md%nw), wkeep(nwo, 2, md%nw)
         integer :: ipiv(md%nd), it, lin, ls
         logical :: fresh
         beta = 0.25_dp * (1.0_dp - alpha)**2
@@ -86,15 +88,17 @@ contains
         fresh = .false.
         call residual(q1, r, rn, info)
         if (info /= 0) then
-            if (info == 3) info = 0    ! an iterate outside the table: a failed step, retried
+            if (soft(info)) info = 0    ! e.g. an iterate outside the table: a failed step, retried
             return
         end if
+        fkeep = flast
+        wkeep = wlast
         do it = 1, maxit
             if (.not. fresh) then
                 a1 = cq * (q1 - qt)
                 v1 = vt + gamma * h * a1
                 call tangent(md, q1, v1, cv, 0, jac, info)
-                if (info == 3) info = 0
+                if (soft(info)) info = 0
                 if (info /= 0) return
                 jac = cq * md%m - (1.0_dp + alpha) * jac
                 call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
@@ -111,7 +115,7 @@ contains
             do ls = 1, 6
                 qtry = q1 + sl * dqv
                 call residual(qtry, rtry, rnt, info)
-                if (info == 3) then
+                if (soft(info)) then
                     info = 0
                     rnt = huge(1.0_dp)
                 end if
@@ -123,6 +127,8 @@ contains
             q1 = qtry
             r = rtry
             rn = rnt
+            fkeep = flast
+            wkeep = wlast
             dq = sl * maxval(abs(dqv))
             if (sl == 1.0_dp .and. dq <= tol) exit
             ! a damped step or a contraction worse than 1/2: refresh the tangent
@@ -133,8 +139,8 @@ contains
         if (.not. (dq <= tol)) return
         a1 = cq * (q1 - qt)
         v1 = vt + gamma * h * a1
-        call force_total(md, q1, v1, f1, wk, info)
-        if (info /= 0) return
+        f1 = fkeep      ! F(q1, v1) from the accepted residual: no extra (BEM) evaluation
+        wk = wkeep
         if (any(.not. (abs(q1) <= qmax)) .or. any(.not. (abs(v1) <= 1.0e6_dp))) return
         err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
         q = q1
@@ -151,17 +157,27 @@ contains
             real(dp) :: aa(md%nd), vv(md%nd), ff(md%nd)
             aa = cq * (qq - qt)
             vv = vt + gamma * h * aa
-            call force_total(md, qq, vv, ff, wk, inf)
+            call force_total(md, qq, vv, ff, wlast, inf)
+            flast = ff
             rr = -(matmul(md%m, aa) - (1.0_dp + alpha) * ff + alpha * fn)
             nrm = norm2(rr)
         end subroutine residual
+
+        !> A failure of one trial state: recorded, the step fails softly.
+        logical function soft(inf)
+            integer, intent(in) :: inf
+            soft = inf == 3 .or. inf == 5 .or. inf == 6
+            if (soft) why = inf
+        end function soft
     end subroutine hht_step
 
     !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.
     !> A step whose Newton iterations fail is retried as 2, 4, ... 2^maxsub sub-steps
     !> (contact closing or opening within the step); the output stays on the h grid.
     !> info: 0 ok, 2 Newton did not converge even at h / 2^maxsub, 3 a wheelset left the
-    !> contact table, 4 non-finite state or |q| above qmax; tfail the time of the failure.
+    !> contact table, 4 non-finite state or |q| above qmax, 5 a BEM patch at its grid edge,
+    !> 6 a BEM solver not converging (5 and 6 when they made the last sub-step fail); tfail
+    !> the time of the failure.
     !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate
     !> (Zienkiewicz & Xie: h^2 |beta - 1/6| |a_{n+1} - a_n|, m or rad), 4 steps done,
     !> 5 steps that needed sub-steps, 6 smallest sub-step used (s).
@@ -176,7 +192,7 @@ contains
         integer, intent(out) :: info
         real(dp), intent(out) :: tfail
         real(dp) :: fn(md%nd), wk(nwo, 2, md%nw), err, tl
-        integer :: n, io, nit, njac
+        integer :: n, io, nit, njac, why
         logical :: ok
         stats = 0.0_dp
         stats(6) = h
@@ -188,13 +204,16 @@ contains
         io = 0
         nit = 0
         njac = 0
+        why = 0
         call force_total(md, q, v, fn, wk, info)
         if (info /= 0) return
         do n = 1, nsteps
             tl = 0.0_dp
+            why = 0
             call finish_rest(0)
             if (info /= 0 .or. .not. ok) then
                 if (info == 0) info = 2
+                if (info == 2 .and. (why == 5 .or. why == 6)) info = why
                 if (info == 2 .and. near_edge()) info = 3
                 if (any(.not. (abs(q) <= qmax)) .or. any(.not. (abs(v) <= 1.0e6_dp))) info = 4
                 tfail = t + tl + h / 2**maxsub
@@ -237,7 +256,7 @@ contains
             stats(6) = min(stats(6), hl)
             do while (tl < h - 0.5_dp * hl)
                 call hht_step(md, hl, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, &
-                              err, ok, info)
+                              err, ok, why, info)
                 if (info /= 0) then
                     ok = .false.
                     return

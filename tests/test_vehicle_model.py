@@ -128,8 +128,6 @@ def test_speed_must_be_positive(speed):
 def test_unknown_contact_and_model():
     with pytest.raises(InputError, match="unknown contact"):
         scenarios.hunting(300.0, contact="carter")
-    with pytest.raises(InputError, match="bem"):
-        scenarios.hunting(300.0, contact="bem")
     with pytest.raises(InputError, match="model"):
         scenarios.hunting(300.0, model="FF")
 

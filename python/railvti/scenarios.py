@@ -1,8 +1,9 @@
 """Vehicle-track scenarios on straight track: centred running, hunting, critical speed.
 
 Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Contact models:
-'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation) and
-'hertz-fastsim' (Hertz + FASTSIM). S1002 wheels on UIC60 rails inclined 1:40.
+'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
+'hertz-fastsim' (Hertz + FASTSIM) and 'bem' (the BEM normal + steady-rolling solvers on
+0.75 mm grids at every wheel, railvti.vehicle.bem). S1002 wheels on UIC60 rails inclined 1:40.
 
 Examples
 --------
@@ -90,11 +91,12 @@ class CentredRunning:
     q_static : ndarray
         Static equilibrium state.
     run : SimulationResult
-    patch : FastsimResult
+    patch : FastsimResult or BemPatch
         The leading wheelset's right contact patch at the end of the run (the paper's
-        Figs 11-14): Hertz pressure, FASTSIM tractions, slip and friction power density on
-        a 40 x 40 strip grid of the Hertz ellipse, from the run's normal force, semi-axes
-        and creepages (whatever the contact model of the run).
+        Figs 11-14). contact='bem': the BEM fields themselves (pressure, tractions, slip
+        velocity, friction power density on the 0.75 mm grid). Otherwise: Hertz pressure,
+        FASTSIM tractions, slip and friction power density on a 40 x 40 strip grid of the
+        Hertz ellipse, from the run's normal force, semi-axes and creepages.
     """
 
     Q: np.ndarray
@@ -122,7 +124,7 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     speed_kmh : float
         Speed, km/h (> 0).
     model, contact : str
-        'RR'; 'hertz-kalker' or 'hertz-fastsim'.
+        'RR'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
     duration : float
         Simulated time after the static equilibrium, s.
     h : float
@@ -133,11 +135,18 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     v = speed_m_s(speed_kmh)
     _check_model(model, contact)
     sy = coach_system(model, coach)
-    q0, _ = static_equilibrium(sy, v, contact)
-    run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, **kw)
+    if contact == "bem":
+        from .vehicle.simulate import bem_state
+        with bem_state(sy, kw.pop("bem_options", None)) as st:
+            q0, _ = static_equilibrium(sy, v, contact, bem=st)
+            run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, bem=st, **kw)
+        patch = (run.bem_patches or {}).get((0, 1))
+    else:
+        q0, _ = static_equilibrium(sy, v, contact)
+        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, **kw)
+        patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
-                          run=run, speed_kmh=float(speed_kmh), contact=contact,
-                          patch=contact_patch(sy, run, -1, wheel=1, wheelset=0))
+                          run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch)
 
 
 def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
@@ -168,7 +177,7 @@ def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", 
     _check_model(model, contact)
     sy = coach_system(model, coach)
     if q0 is None:
-        qs, _ = static_equilibrium(sy, v, contact)
+        qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
         q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
     return simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
                     q0=q0, v0=v0, **kw)

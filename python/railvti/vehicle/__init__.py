@@ -6,14 +6,16 @@ Track frame x forward, y left, z up (see :mod:`railvti.geometry`).
 """
 from __future__ import annotations
 
+from .bem import BemGrid, BemOptions, BemPatch, BemState
 from .assembly import DOF_NAMES, System, build_coach, build_single_wheelset
 from .params import DEFAULTS, Coach
 from .simulate import (CONTACT_MODELS, WHEEL_OUTPUTS, DivergenceError, SimulationResult,
-                       eigenvalues, force_and_tangent, lateral_disturbance, simulate,
+                       bem_state, eigenvalues, force_and_tangent, lateral_disturbance, simulate,
                        static_equilibrium)
 from .table import WheelTable, linearised_table, wheel_table
 
 __all__ = ["Coach", "DEFAULTS", "DOF_NAMES", "System", "build_coach", "build_single_wheelset",
            "CONTACT_MODELS", "WHEEL_OUTPUTS", "DivergenceError", "SimulationResult",
            "eigenvalues", "force_and_tangent", "lateral_disturbance", "simulate", "static_equilibrium",
-           "WheelTable", "linearised_table", "wheel_table"]
+           "WheelTable", "linearised_table", "wheel_table", "BemGrid", "BemOptions", "BemPatch",
+           "BemState", "bem_state"]

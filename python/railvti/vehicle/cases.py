@@ -2,7 +2,7 @@
 speed / bifurcation) with the contact model named in the deck; results record it.
 
 Keys (SI units unless the name says km/h): scenario ('centred_running' | 'hunting' |
-'critical_speed'), model ('RR'), contact ('hertz-kalker' | 'hertz-fastsim'), speed_kmh,
+'critical_speed'), model ('RR'), contact ('hertz-kalker' | 'hertz-fastsim' | 'bem'), speed_kmh,
 duration (s), h (s), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
 output_dt (s), speeds_kmh_min/max/step (critical_speed sweep), and any Coach parameter
 prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the Manchester benchmark coach.
@@ -59,7 +59,8 @@ def _history(res, data: dict, scalars: dict) -> None:
 
 
 def _patch(pt, data: dict, scalars: dict) -> None:
-    """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse)."""
+    """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse, or the BEM
+    fields with contact='bem')."""
     for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
                        ("ty", "Pa"), ("power_density", "W/m^2")):
         data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
@@ -100,7 +101,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
         _history(r, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
-        pt = sc.contact_patch(sc.coach_system(model, coach), r, k, wheel=1, wheelset=0)
+        if r.bem_patches is not None:
+            k = -1                           # BEM fields: the final state's
+            pt = r.bem_patches.get((0, 1))
+        else:
+            pt = sc.contact_patch(sc.coach_system(model, coach), r, k, wheel=1, wheelset=0)
         if pt is not None:
             _patch(pt, data, scalars)
             scalars["patch_time"] = (float(r.t[k]), "s")

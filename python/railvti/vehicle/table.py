@@ -64,6 +64,11 @@ class WheelTable:
     material : Material
     n_clipped : int
         Table entries whose curvature ratio was clipped.
+    wheel, rail : Profile or None
+        The profiles the table was built from (the BEM contact needs them; None for a
+        linearised table).
+    split : float
+        Wheel profile coordinate separating the two slots, m.
     """
 
     y: np.ndarray
@@ -72,6 +77,9 @@ class WheelTable:
     s_wheel: np.ndarray
     material: Material
     n_clipped: int
+    wheel: Profile | None = None
+    rail: Profile | None = None
+    split: float = -0.022
 
     @property
     def y0(self) -> float:
@@ -182,7 +190,7 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     n_clip = int(getattr(_hertz_unit, "last_clipped", 0))
     r0 = float(np.interp(0.0, y, data[3, 0]))
     out = WheelTable(y=y, data=np.asfortranarray(data), r0=r0, s_wheel=s_w, material=material,
-                     n_clipped=n_clip)
+                     n_clipped=n_clip, wheel=wheel, rail=rail, split=split)
     if n_clip:
         log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
                  n_clip, _RATIO_CLIP, _RATIO_CLIP)

@@ -1,0 +1,296 @@
+!> BEM contact at the wheels of the time simulation: the normal problem (contact_normal,
+!> projected CG under approach control) and steady rolling (contact_rolling, 'fftgs') on a
+!> fixed grid per candidate point, warm-started from the previous evaluation of the same
+!> wheel and candidate point.
+!>
+!> Gap fields. For the left wheel (the right one is the mirror: the field read at -y with the
+!> lateral grid index reversed) and each of the table's two candidate points, the undeformed
+!> normal gap around the point, relative to the point (h = 0 there), is tabulated against the
+!> lateral shift y of the wheelset on the contact table's y nodes (built in Python,
+!> railvti.vehicle.bem). The grid (nx x ny, dx x dy) is centred on the point: x along the
+!> rolling direction, y along the contact frame's t_y. The wheel's vertical interference at the
+!> point enters as a uniform approach d (the same d as the Hertz path), so the field is
+!> interpolated linearly in y and solved with delta = d.
+!>
+!> State. One bem_model per simulation behind an integer handle (registry like
+!> contact_plans): the gap table, one contact workspace (FFT plans and influence spectra of
+!> the grid, with the tangential kernels) shared by every patch, and per wheelset, wheel and
+!> candidate point the last pressure, tractions and slip velocities (the warm starts and the
+!> fields reported after a run). Not thread-safe.
+module vehicle_bem
+    use kinds, only: dp
+    use contact_plans, only: workspace, ws_create, ws_free, ws_get
+    use contact_normal, only: normal_cg, CONTROL_APPROACH
+    use contact_rolling, only: rolling_steady, ROLL_FFTGS
+    implicit none
+    private
+    public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
+    public :: MAX_BEM, BEM_EDGE, BEM_NOCONV, BEM_NCOUNT
+
+    integer, parameter :: MAX_BEM = 16
+    integer, parameter :: BEM_EDGE = 5     !< info: a patch reaches its grid's edge
+    integer, parameter :: BEM_NOCONV = 6   !< info: a BEM solver did not converge
+    !> Counters (bem_counts): 1 normal solves, 2 CG iterations, 3 rolling solves,
+    !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
+    !> 7 worst accepted rolling residual.
+    integer, parameter :: BEM_NCOUNT = 7
+
+    type :: bem_model
+        logical :: used = .false.
+        integer :: nx = 0, ny = 0, ntab = 0, nws = 0, ws = 0
+        integer :: maxit_n = 200, maxit_t = 400, nblock = 16, ninner = 1
+        real(dp) :: dx = 0, dy = 0, ytab0 = 0, dytab = 1, tol_n = 1e-8_dp, tol_t = 1e-6_dp
+        real(dp), allocatable :: gap(:, :, :, :)          ! (nx, ny, 2 points, ntab), left wheel
+        real(dp), allocatable :: p(:, :, :, :, :)         ! (nx, ny, point, wheel, wheelset)
+        real(dp), allocatable :: tx(:, :, :, :, :), ty(:, :, :, :, :)
+        real(dp), allocatable :: sx(:, :, :, :, :), sy(:, :, :, :, :)
+        real(dp), allocatable :: h(:, :)
+        !> BEM / Hertz-Kalker ratios of the normal force and the creep-force magnitude per
+        !> (point, wheel, wheelset), from the last BEM solve: they calibrate the cheap model
+        !> of the Newton tangent (vehicle_contact model 4).
+        real(dp), allocatable :: ratio(:, :, :, :)
+        integer, allocatable :: st(:, :)
+        real(dp) :: counts(BEM_NCOUNT) = 0
+    end type bem_model
+
+    type(bem_model), target :: models(MAX_BEM)
+
+contains
+
+    !> Make a BEM contact state. gap: (nx, ny, 2, ntab) left-wheel gap fields on the table's
+    !> y nodes ytab0 + (i - 1) dytab. g, nu: shear modulus and Poisson ratio.
+    !> info: 0 ok, -1 no free slot, -2 bad sizes, -3 workspace failure.
+    subroutine bem_create(nx, ny, dx, dy, ntab, ytab0, dytab, gap, nws, g, nu, tol_n, tol_t, &
+                          maxit_n, maxit_t, handle, info)
+        integer, intent(in) :: nx, ny, ntab, nws, maxit_n, maxit_t
+        real(dp), intent(in) :: dx, dy, ytab0, dytab, gap(nx, ny, 2, ntab), g, nu, tol_n, tol_t
+        integer, intent(out) :: handle, info
+        type(bem_model), pointer :: m
+        integer :: k, stat
+        handle = 0
+        info = -2
+        if (nx < 4 .or. ny < 4 .or. ntab < 2 .or. nws < 1 .or. dx <= 0 .or. dy <= 0 .or. dytab <= 0) return
+        info = -1
+        do k = 1, MAX_BEM
+            if (.not. models(k)%used) then
+                handle = k
+                exit
+            end if
+        end do
+        if (handle == 0) return
+        m => models(handle)
+        call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws, stat)
+        if (stat /= 0) then
+            info = -3
+            handle = 0
+            return
+        end if
+        m%nx = nx
+        m%ny = ny
+        m%dx = dx
+        m%dy = dy
+        m%ntab = ntab
+        m%ytab0 = ytab0
+        m%dytab = dytab
+        m%nws = nws
+        m%tol_n = tol_n
+        m%tol_t = tol_t
+        m%maxit_n = maxit_n
+        m%maxit_t = maxit_t
+        m%gap = gap
+        allocate (m%p(nx, ny, 2, 2, nws), source=0.0_dp)
+        allocate (m%tx, m%ty, m%sx, m%sy, mold=m%p)
+        allocate (m%h(nx, ny), m%st(nx, ny), m%ratio(2, 2, 2, nws))
+        call reset(m)
+        m%used = .true.
+        info = 0
+    end subroutine bem_create
+
+    subroutine reset(m)
+        type(bem_model), intent(inout) :: m
+        m%p = 0.0_dp
+        m%tx = 0.0_dp
+        m%ty = 0.0_dp
+        m%sx = 0.0_dp
+        m%sy = 0.0_dp
+        m%counts = 0.0_dp
+        m%ratio = 1.0_dp
+    end subroutine reset
+
+    !> Clear the warm starts and counters.
+    subroutine bem_reset(handle)
+        integer, intent(in) :: handle
+        if (.not. live(handle)) return
+        call reset(models(handle))
+    end subroutine bem_reset
+
+    subroutine bem_free(handle)
+        integer, intent(in) :: handle
+        if (.not. live(handle)) return
+        call ws_free(models(handle)%ws)
+        deallocate (models(handle)%gap, models(handle)%p, models(handle)%tx, models(handle)%ty, &
+                    models(handle)%sx, models(handle)%sy, models(handle)%h, models(handle)%st, &
+                    models(handle)%ratio)
+        models(handle)%used = .false.
+    end subroutine bem_free
+
+    logical function live(handle)
+        integer, intent(in) :: handle
+        live = .false.
+        if (handle < 1 .or. handle > MAX_BEM) return
+        live = models(handle)%used
+    end function live
+
+    !> Counters since creation or the last reset (see BEM_NCOUNT).
+    subroutine bem_counts(handle, counts, info)
+        integer, intent(in) :: handle
+        real(dp), intent(out) :: counts(BEM_NCOUNT)
+        integer, intent(out) :: info
+        counts = 0.0_dp
+        info = -1
+        if (.not. live(handle)) return
+        counts = models(handle)%counts
+        info = 0
+    end subroutine bem_counts
+
+    !> The last fields of wheelset iws, wheel iw (1 left, 2 right), candidate point k.
+    subroutine bem_fields(handle, iws, iw, k, nx, ny, p, tx, ty, sx, sy, info)
+        integer, intent(in) :: handle, iws, iw, k, nx, ny
+        real(dp), intent(out) :: p(nx, ny), tx(nx, ny), ty(nx, ny), sx(nx, ny), sy(nx, ny)
+        integer, intent(out) :: info
+        type(bem_model), pointer :: m
+        p = 0.0_dp
+        tx = 0.0_dp
+        ty = 0.0_dp
+        sx = 0.0_dp
+        sy = 0.0_dp
+        info = -1
+        if (.not. live(handle)) return
+        m => models(handle)
+        if (nx /= m%nx .or. ny /= m%ny .or. iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 &
+            .or. k < 1 .or. k > 2) return
+        p = m%p(:, :, k, iw, iws)
+        tx = m%tx(:, :, k, iw, iws)
+        ty = m%ty(:, :, k, iw, iws)
+        sx = m%sx(:, :, k, iw, iws)
+        sy = m%sy(:, :, k, iw, iws)
+        info = 0
+    end subroutine bem_fields
+
+    !> Normal and tangential contact of one candidate point: wheelset iws, wheel iw (1 left,
+    !> 2 right), point k, at table position ytab (the left-wheel shift: +y for the left wheel,
+    !> -y for the right), normal approach dn (m), creepages xi, eta (-), spin (1/m), friction
+    !> mu, rolling speed (m/s). fn, fx, fy: forces on the wheel in the contact frame (N).
+    !> info: 0 ok, 3 ytab outside the table, BEM_EDGE, BEM_NOCONV, -1 bad handle.
+    subroutine bem_patch(handle, iws, iw, k, ytab, dn, xi, eta, spin, mu, speed, fn, fx, fy, info)
+        integer, intent(in) :: handle, iws, iw, k
+        real(dp), intent(in) :: ytab, dn, xi, eta, spin, mu, speed
+        real(dp), intent(out) :: fn, fx, fy
+        integer, intent(out) :: info
+        type(bem_model), pointer :: m
+        type(workspace), pointer :: w
+        real(dp) :: s, wt, appr, resid, da, x0, y0
+        integer :: i, it, nprod, stat, nx, ny
+        fn = 0.0_dp
+        fx = 0.0_dp
+        fy = 0.0_dp
+        info = -1
+        if (.not. live(handle)) return
+        m => models(handle)
+        w => ws_get(m%ws, m%nx, m%ny)
+        if (.not. associated(w)) return
+        nx = m%nx
+        ny = m%ny
+        s = (ytab - m%ytab0) / m%dytab
+        if (.not. (s >= 0.0_dp .and. s <= real(m%ntab - 1, dp))) then
+            info = 3
+            return
+        end if
+        info = 0
+        i = min(int(s), m%ntab - 2) + 1
+        wt = s - real(i - 1, dp)
+        if (iw == 1) then
+            m%h = (1.0_dp - wt) * m%gap(:, :, k, i) + wt * m%gap(:, :, k, i + 1)
+        else
+            m%h = (1.0_dp - wt) * m%gap(:, ny:1:-1, k, i) + wt * m%gap(:, ny:1:-1, k, i + 1)
+        end if
+        associate (p => m%p(:, :, k, iw, iws), tx => m%tx(:, :, k, iw, iws), &
+                   ty => m%ty(:, :, k, iw, iws), sx => m%sx(:, :, k, iw, iws), &
+                   sy => m%sy(:, :, k, iw, iws))
+            if (.not. (dn > minval(m%h))) then
+                call open_patch()
+                return
+            end if
+            appr = dn
+            da = m%dx * m%dy
+            call normal_cg(w%plan, 1, w%c(:, :, 1), m%h, da, CONTROL_APPROACH, fn, appr, m%tol_n, &
+                           m%maxit_n, p, it, nprod, resid, stat)
+            m%counts(1) = m%counts(1) + 1.0_dp
+            m%counts(2) = m%counts(2) + real(it, dp)
+            if (stat == 2) then
+                call open_patch()
+                return
+            end if
+            if (stat /= 0 .or. .not. all(abs(p) <= huge(1.0_dp))) then
+                info = BEM_NOCONV
+                p = 0.0_dp
+                return
+            end if
+            m%counts(6) = max(m%counts(6), resid)
+            if (any(p(1, :) > 0.0_dp) .or. any(p(nx, :) > 0.0_dp) .or. any(p(:, 1) > 0.0_dp) &
+                .or. any(p(:, ny) > 0.0_dp)) then
+                info = BEM_EDGE
+                return
+            end if
+            fn = da * sum(p)
+            x0 = -0.5_dp * real(nx - 1, dp) * m%dx
+            y0 = -0.5_dp * real(ny - 1, dp) * m%dy
+            call rolling_steady(w, p, x0, y0, xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, &
+                                m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
+            m%counts(3) = m%counts(3) + 1.0_dp
+            m%counts(4) = m%counts(4) + real(it, dp)
+            if (stat == -4) then
+                info = BEM_EDGE
+                return
+            end if
+            if ((stat /= 0 .and. stat /= 2) .or. .not. all(abs(tx) <= huge(1.0_dp)) &
+                .or. .not. all(abs(ty) <= huge(1.0_dp))) then
+                info = BEM_NOCONV
+                tx = 0.0_dp
+                ty = 0.0_dp
+                return
+            end if
+            m%counts(7) = max(m%counts(7), resid)
+            fx = da * sum(tx)
+            fy = da * sum(ty)
+        end associate
+    contains
+        subroutine open_patch()
+            m%p(:, :, k, iw, iws) = 0.0_dp
+            m%tx(:, :, k, iw, iws) = 0.0_dp
+            m%ty(:, :, k, iw, iws) = 0.0_dp
+            m%sx(:, :, k, iw, iws) = 0.0_dp
+            m%sy(:, :, k, iw, iws) = 0.0_dp
+            m%counts(5) = m%counts(5) + 1.0_dp
+        end subroutine open_patch
+    end subroutine bem_patch
+
+    !> Get (set = .false.) or store (set = .true.) the calibration ratios (normal, tangential)
+    !> of one point; a bad handle or index leaves r = 1.
+    subroutine bem_scale(handle, iws, iw, k, set, r)
+        integer, intent(in) :: handle, iws, iw, k
+        logical, intent(in) :: set
+        real(dp), intent(inout) :: r(2)
+        if (.not. live(handle)) then
+            if (.not. set) r = 1.0_dp
+            return
+        end if
+        if (iws < 1 .or. iws > models(handle)%nws) return
+        if (set) then
+            models(handle)%ratio(:, k, iw, iws) = r
+        else
+            r = models(handle)%ratio(:, k, iw, iws)
+        end if
+    end subroutine bem_scale
+
+end module vehicle_bem
