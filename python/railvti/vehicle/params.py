@@ -3,8 +3,11 @@
 Defaults follow the Manchester Benchmark passenger vehicle (vehicle 1 of S. Iwnicki, "The
 Manchester Benchmarks for rail vehicle simulation", Veh. Syst. Dyn. 30 (1998) 295-313),
 quoted here as "Iwnicki 1998". The values were taken from that benchmark's vehicle table as
-commonly reproduced (e.g. Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, 2006); they were
-not re-checked against the original paper in this work. Parameters the benchmark does not give
+commonly reproduced (e.g. Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, 2006). They were
+not re-checked against the original paper in this work; every value marked "Iwnicki 1998"
+agrees with two independent public reproductions of the benchmark's vehicle table (masses,
+inertias, primary and secondary stiffnesses and vertical dampers, spacings, wheelbase, bogie
+centres, wheel radius). Parameters the benchmark does not give
 (the paper's coach has a friction bolster after Diepen 1991, not public) are marked
 "assumption" and chosen plausibly.
 """
