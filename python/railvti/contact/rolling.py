@@ -207,9 +207,9 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape)
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
     inside = p > 0.0
-    if inside[-1, :].any():
-        raise GridTooSmallError("the contact area reaches the leading grid edge x = x_max (i = nx-1): "
-                                "enlarge the grid")
+    if inside[-2:, :].any():
+        raise GridTooSmallError("the contact area reaches the last two element rows at the leading grid edge "
+                                "x = x_max (the slip needs two elements upstream): enlarge the grid")
 
     status, sx, sy, iters, resid, info = core.rolling_solve_c(
         workspace(grid, material, tangential=True), p, grid.x0, grid.y0, xi, eta, phi, mu, speed,
