@@ -59,8 +59,11 @@
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block) and Anderson acceleration (depth AA_M) of the sweep map, with a
+!> block). Both accelerate the sweep map by Anderson mixing (depth AA_M), with a
 !> safeguard that falls back to the plain sweep when the residual grows.
+!> (With th = 1/3 the plain sweeps stagnate or diverge in partial slip, e.g.
+!> residual 0.0065 after 500 sweeps on a 424-element Hertz patch with spin;
+!> Anderson mixing converges in 19-40 sweeps in every case tried.)
 !>
 !> Convergence: the relative change of a Jacobi step on the exact field,
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
@@ -207,7 +210,6 @@ contains
         real(dp), allocatable :: tox(:), toy(:)
         type(run_basis), allocatable :: bases(:)
         integer :: stat, nc, naa, slot
-        logical :: use_aa
         real(dp) :: rbest
         real(dp), allocatable :: xv(:), gv(:), fv(:), fold(:), gold(:), dfm(:, :), dgm(:, :)
         logical, allocatable :: inc(:, :)
@@ -327,13 +329,10 @@ contains
         end do
 
         allocate (ux(nx, ny), uy(nx, ny), dux(i1:ib2, j1:j2), duy(i1:ib2, j1:j2))
-        use_aa = method == ROLL_FFTGS
         nc = count(inc)
-        if (use_aa) then
-            allocate (xv(2 * nc), gv(2 * nc), fv(2 * nc), fold(2 * nc), gold(2 * nc), &
-                      dfm(2 * nc, AA_M), dgm(2 * nc, AA_M))
-            xv = [pack(tx, inc), pack(ty, inc)]
-        end if
+        allocate (xv(2 * nc), gv(2 * nc), fv(2 * nc), fold(2 * nc), gold(2 * nc), &
+                  dfm(2 * nc, AA_M), dgm(2 * nc, AA_M))
+        xv = [pack(tx, inc), pack(ty, inc)]
         naa = 0
         slot = 0
         rbest = huge(1.0_dp)
@@ -370,18 +369,16 @@ contains
                 info = 1
                 exit
             end if
-            if (use_aa) then
-                ! safeguard: an extrapolated iterate that raised the residual is
-                ! replaced by the last plain sweep and the history dropped
-                if (naa > 0 .and. resid > 2.0_dp * rbest) then
-                    call unpack_tractions(gold)
-                    xv = gold
-                    naa = 0
-                    slot = AA_M
-                    call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
-                end if
-                rbest = min(rbest, resid)
+            ! safeguard: an extrapolated iterate that raised the residual is
+            ! replaced by the last plain sweep and the history dropped
+            if (naa > 0 .and. resid > 2.0_dp * rbest) then
+                call unpack_tractions(gold)
+                xv = gold
+                naa = 0
+                slot = AA_M
+                call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
             end if
+            rbest = min(rbest, resid)
             it = it + 1
 
             ! one sweep: rows in blocks of nblk, the field refreshed by FFT
@@ -400,7 +397,7 @@ contains
                     end do
                 end do
             end do
-            if (use_aa) call anderson_step()
+            call anderson_step()
         end do
         iters = it
 

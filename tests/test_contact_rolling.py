@@ -185,6 +185,25 @@ def test_stability_sweep(a_over_b):
                 assert r.power >= 0
 
 
+@pytest.mark.parametrize("a_over_b, creepage", [
+    (0.2, (0.2 * 0.5 * 1.6523e-3, 0.2 * 0.5 * 2.2227e-3, 0.2 * 0.3 * 1.8651)),   # combined, 0.1 mu Fn
+    (5.0, (0.0, 0.0, 2.0 * 0.17265)),                                          # pure spin, 1 mu Fn
+])
+def test_strong_spin_cases_converge(a_over_b, creepage):
+    """The two cases of validation/contact_fastsim_vs_bem.py (sqrt(ab) = 5 mm, 80 kN, n = 40 per
+    semi-axis) on which an earlier point Gauss-Seidel kernel raised ConvergenceError."""
+    A, B = _gap_for_ratio(a_over_b)
+    h = hertz(A, B, 80e3, MAT)
+    s = (math.sqrt(h.a * h.b) / 5e-3) ** 3
+    A, B = s * A, s * B
+    h = hertz(A, B, 80e3, MAT)
+    n = 40
+    grid = Grid(nx=96, ny=96, dx=h.a / n, dy=h.b / n)
+    r = solve_rolling(hertz_gap(grid, A, B), grid, MAT, 0.3, 80e3, creepage, 20.0)
+    assert r.converged and r.residual <= 1e-7 and r.iterations < 100
+    assert math.hypot(r.fx, r.fy) < 0.3 * r.fn
+
+
 def test_not_converged_raises_with_result():
     grid, gap, _ = _case()
     with pytest.raises(ConvergenceError) as info:
