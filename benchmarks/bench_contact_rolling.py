@@ -51,11 +51,21 @@ t0 = time.perf_counter()
 nr = solve_normal(gap, grid, STEEL, fn=10e3)
 t1 = time.perf_counter()
 args = (nr.pressure, grid, STEEL, 0.3, (1e-3, 5e-4, 0.3), 30.0)
-r = solve_tangential(*args, method=method, tol=tol)
+from railvti.errors import ConvergenceError
+
+
+def solve():
+    try:
+        return solve_tangential(*args, method=method, tol=tol), True
+    except ConvergenceError as exc:   # reported, not timed as a success
+        return exc.result, False
+
+
+r, ok = solve()
 t2 = time.perf_counter()
-r = solve_tangential(*args, method=method, tol=tol)
+r, ok = solve()
 t3 = time.perf_counter()
-print(json.dumps({"n_contact": r.n_contact, "grid": f"{grid.nx}x{grid.ny}", "sweeps": r.iterations,
+print(json.dumps({"converged": ok, "residual": r.residual, "n_contact": r.n_contact, "grid": f"{grid.nx}x{grid.ny}", "sweeps": r.iterations,
                   "normal_s": t1 - t0, "first_s": t2 - t1, "tang_s": t3 - t2, "fx": r.fx, "fy": r.fy,
                   "slip": int(r.slip.sum()),
                   "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
@@ -84,7 +94,8 @@ def main() -> None:
             d = json.loads(out.stdout.strip().splitlines()[-1])
             rows.append((method, d))
             print(f"{method:>6} {target:>7} {d['grid']:>9} {d['n_contact']:>10} {d['slip']:>6} {d['sweeps']:>6} "
-                  f"{d['normal_s']:9.3f} {d['first_s']:8.3f} {d['tang_s']:12.4f} {d['rss_mb']:11.1f}", flush=True)
+                  f"{d['normal_s']:9.3f} {d['first_s']:8.3f} {d['tang_s']:12.4f} {d['rss_mb']:11.1f}"
+                  + ("" if d["converged"] else f"  NOT CONVERGED (residual {d['residual']:.2g})"), flush=True)
     if args.chart:
         chart(rows)
 
@@ -95,7 +106,7 @@ def chart(rows: list) -> None:
     import matplotlib.pyplot as plt
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.0, 3.6))
     for method, mk in (("fftgs", "o-"), ("gs", "s--")):
-        sel = [d for m, d in rows if m == method]
+        sel = [d for m, d in rows if m == method and d["converged"]]
         n = [d["n_contact"] for d in sel]
         ax1.loglog(n, [d["tang_s"] for d in sel], mk, label=method)
         ax2.semilogx(n, [d["sweeps"] for d in sel], mk, label=method)

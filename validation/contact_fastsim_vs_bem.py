@@ -72,7 +72,9 @@ def creepages(case: str, a: float, b: float) -> tuple[float, float, float]:
 
 
 def grid_for(a: float, b: float, n: int) -> Grid:
-    m = int(np.ceil(1.2 * n))
+    # 20 % margin, and at least two free elements upstream of the patch (the
+    # rolling solver's upwind difference reaches two elements upstream)
+    m = max(int(np.ceil(1.2 * n)), n + 2)
     return Grid(nx=2 * m, ny=2 * m, dx=a / n, dy=b / n)
 
 

@@ -12,6 +12,10 @@ measured from the grid's origin (x = y = 0). The tractions ``tx, ty`` act on
 the upper body (the wheel) and are such that in the linear limit
 ``Fx = -G a b C11 xi`` and ``Fy = -G a b C22 eta - G (a b)^1.5 C23 phi``.
 ``Mz = sum (x ty - y tx) dA`` about the grid's z axis (x = y = 0).
+
+The slip uses a three-point upwind difference over the element and its two
+upstream neighbours (see the Fortran module): the contact area must stay
+two elements clear of the leading grid edge.
 """
 from __future__ import annotations
 
@@ -207,9 +211,9 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape)
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
     inside = p > 0.0
-    if inside[-1, :].any():
-        raise GridTooSmallError("the contact area reaches the leading grid edge x = x_max (i = nx-1): "
-                                "enlarge the grid")
+    if inside[-2:, :].any():
+        raise GridTooSmallError("the contact area reaches the last two element rows at the leading grid edge "
+                                "x = x_max (the slip needs two elements upstream): enlarge the grid")
 
     status, sx, sy, iters, resid, info = core.rolling_solve_c(
         workspace(grid, material, tangential=True), p, grid.x0, grid.y0, xi, eta, phi, mu, speed,
@@ -268,11 +272,11 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
     method : {'fftgs', 'gs'}
         Both sweep the rows (lines along x) with exact in-row updates
         (row-implicit Gauss-Seidel, see ``fortran/contact_rolling.f90``; a
-        point Gauss-Seidel diverges on this system). 'gs': one FFT refresh per
-        sweep, direct updates of all later rows (O(N^2) per sweep, the
-        reference); 'fftgs': an FFT refresh every ``block`` rows, direct
-        updates only inside the block, and Anderson acceleration of the
-        sweeps (safeguarded): the fast method.
+        point Gauss-Seidel diverges on this system), accelerated by Anderson
+        mixing of the sweeps (safeguarded). 'gs': one FFT refresh per sweep,
+        direct updates of all later rows (O(N^2) per sweep, the reference);
+        'fftgs': an FFT refresh every ``block`` rows, direct updates only
+        inside the block: the fast method.
     tol : float
         Relative residual ``||F(t) - t|| / ||F(t)||`` at which to stop, F being
         the element solutions on the exact field.
