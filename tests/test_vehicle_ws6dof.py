@@ -98,16 +98,23 @@ def test_spin_rate_decays_at_the_creep_law_rate():
 
 
 @pytest.mark.parametrize("kmh", [50.0, 400.0])
-def test_spin_mode_stays_stable_at_the_default_step(kmh):
-    """h = 1 ms on the coach: the spin rate's decay (rate * h up to ~3 at 50 km/h, beyond the
-    trapezoidal rule's accuracy but inside its A-stability) still dies out."""
+def test_spin_mode_stable_and_accurate_at_the_default_step(kmh):
+    """A 0.05 rad/s spin kick on the coach's second wheelset at h = 1 ms (spin decay rate * h
+    up to ~3 at 50 km/h: beyond the trapezoidal rule's accuracy, inside its A-stability):
+    the run stays bounded, and the wheelset's x (the kick goes into its rolling oscillation on
+    the primary kx) follows a h = 0.25 ms reference within 10 % of its peak (measured 4.4 %
+    at 50 km/h, 1.9 % at 400 km/h)."""
     sy = scenarios.coach_system()
     q, v, _ = static_equilibrium(sy, kmh / 3.6, return_velocity=True)
-    jb = sy.index("ws2_beta")
+    jb, jx = sy.index("ws2_beta"), sy.index("ws2_x")
     v[jb] += 0.05
-    res = simulate(sy, kmh / 3.6, 0.05, q0=q, v0=v, h=1e-3, output_dt=1e-3, progress=False)
-    assert abs(res.v[-1, jb]) < 1e-3 * 0.05
-    assert np.isfinite(res.q).all()
+    runs = [simulate(sy, kmh / 3.6, 0.05, q0=q, v0=v, h=h, output_dt=1e-3, progress=False)
+            for h in (1e-3, 2.5e-4)]
+    assert np.isfinite(runs[0].q).all()
+    assert np.abs(runs[0].v[:, jb]).max() < 0.05
+    peak = np.abs(runs[1].q[:, jx]).max()
+    assert peak > 1e-5
+    assert np.abs(runs[0].q[:, jx] - runs[1].q[:, jx]).max() < 0.1 * peak
 
 
 def test_longitudinal_offset_oscillates_against_kx_as_linear_theory():
@@ -115,7 +122,7 @@ def test_longitudinal_offset_oscillates_against_kx_as_linear_theory():
     model  m x'' = -2 kx x - 2 f11 (x' - r beta') / v0,  I beta'' = 2 r f11 (x' - r beta') / v0
     (Fx = -f11 xi per wheel, torque -r Fx) against the nonlinear simulation."""
     v0 = 30.0
-    kx = 2e6
+    kx = 2e7
     sy, q, v, f11, r = _single(v0, longitudinal=True, spin=True, kx=kx)
     m = WS["mass"]
     c = 2 * f11 / v0
@@ -123,12 +130,17 @@ def test_longitudinal_offset_oscillates_against_kx_as_linear_theory():
     a = np.array([[0, 0, 1, 0], [0, 0, 0, 1],
                   [-2 * kx / m, 0, -c / m, c * r / m],
                   [0, 0, c * r / IWY, -c * r * r / IWY]])
-    jx, jb = sy.index("ws1_x"), sy.index("ws1_beta")
+    jx = sy.index("ws1_x")
     x0 = 5e-6
-    q[jx] += x0
+    qs = q[jx]
+    q[jx] = qs + x0
     res = simulate(sy, v0, 0.15, q0=q, v0=v, h=1e-4, output_dt=1e-3, tol=1e-14, progress=False)
     ref = np.array([(expm(a * t) @ [x0, 0, 0, 0])[0] for t in res.t])
-    assert np.abs(res.q[:, jx] - q[jx] + x0 - ref).max() < 0.02 * x0
-    # it oscillates (rolling on the creep: effective mass m + I / r^2) and decays
-    assert res.q[:, jx].min() - (q[jx] - x0) < -0.2 * x0
-    assert abs(res.q[-1, jx] - (q[jx] - x0)) < 0.5 * x0
+    x = res.q[:, jx] - qs
+    assert np.abs(x - ref).max() < 0.02 * x0
+    # it rolls to and fro on the creep (effective mass m + I / r^2), lightly damped by the
+    # small sliding part: the period of the rolling oscillator within 3 %
+    up = np.nonzero((x[:-1] < 0) & (x[1:] >= 0))[0]
+    period = np.mean(np.diff(res.t[up]))
+    assert period == pytest.approx(2 * np.pi / np.sqrt(2 * kx / (m + IWY / r ** 2)), rel=0.03)
+    assert x.min() < -0.5 * x0
