@@ -37,7 +37,7 @@ def main() -> None:
     dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
     dur_bem = float(sys.argv[2]) if len(sys.argv) > 2 else min(dur, 1.0)
     print(f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "
-          "(RR coach, 45 DOF, 8 wheels)")
+          "(RR coach, 53 DOF, 8 wheels)")
     print(f"{'contact':>14s} {'n':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} {'amp mm':>7s} "
           f"{'steps':>6s} {'Newton/step':>11s} {'tangents':>8s} {'sub-stepped':>11s} "
           f"{'BEM/step':>8s} {'peak RSS MB':>11s}")

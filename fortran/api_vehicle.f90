@@ -14,7 +14,7 @@ subroutine vehicle_run_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iw
     implicit none
     integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, bem, nsteps, nevery, maxit, maxsub, nout, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
-    integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
+    integer(c_int), intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, h, alpha, tol, qmax
     real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd)
     real(c_double), intent(out) :: tout(nout), qout(nd, nout), vout(nd, nout), wout(nwo, 2, nw, nout)
@@ -31,10 +31,11 @@ subroutine vehicle_run_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iw
                      nout, tout, qout, vout, wout, stats, info, tfail)
 end subroutine vehicle_run_c
 
-!> Static equilibrium (info 0 ok, 2 not converged, 3 outside the table, -1 singular).
-!> Also returns the total force and contact outputs at the solution.
+!> Steady state of straight running (info 0 ok, 2 not converged, 3 outside the table, -1
+!> singular): q and the velocities v (zero but the wheelsets' spin rates, see
+!> vehicle_newmark%static_solve). Also returns the total force and contact outputs there.
 subroutine vehicle_static_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                            y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, tol, maxit, q, nwo, f, wout, &
+                            y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, tol, maxit, q, nwo, v, f, wout, &
                             iters, resid, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_contact, only: nq_table
@@ -43,16 +44,16 @@ subroutine vehicle_static_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar,
     implicit none
     integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, bem, maxit, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
-    integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
+    integer(c_int), intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, tol
     real(c_double), intent(inout) :: q(nd)
-    real(c_double), intent(out) :: f(nd), wout(nwo, 2, nw), resid
+    real(c_double), intent(out) :: v(nd), f(nd), wout(nwo, 2, nw), resid
     integer(c_int), intent(out) :: iters, info
     type(vmodel) :: md
-    real(c_double) :: v(nd)
     integer :: inf2
     iters = 0
     resid = 0.0_c_double
+    v = 0.0_c_double
     f = 0.0_c_double
     wout = 0.0_c_double
     if (nq /= nq_table) then
@@ -63,8 +64,7 @@ subroutine vehicle_static_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar,
                       y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, md)
     iters = 0
     resid = 0.0_c_double
-    call static_solve(md, q, tol, maxit, iters, resid, info)
-    v = 0.0_c_double
+    call static_solve(md, q, v, tol, maxit, iters, resid, info)
     call force_total(md, q, v, f, wout, inf2)
     if (info == 0) info = inf2
 end subroutine vehicle_static_c
@@ -79,7 +79,7 @@ subroutine vehicle_force_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, 
     implicit none
     integer(c_int), intent(in) :: nd, ne, nw, ny, nq, cmodel, fsn, bem, nwo
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
-    integer(c_int), intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
+    integer(c_int), intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, v0, gmod, mu, q(nd), v(nd)
     real(c_double), intent(out) :: f(nd), wout(nwo, 2, nw), jq(nd, nd), jv(nd, nd)
     integer(c_int), intent(out) :: info

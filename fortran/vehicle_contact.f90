@@ -13,7 +13,8 @@
 !>   8 c11, 9 c22, 10 c23  Kalker's linear creep coefficients at a1/b1.
 !> Quasi-elastic contact: the vertical interference of a point is -(g + z_rel + phi_rel l),
 !> its normal approach that times cos(delta). Creepages from the wheelset's velocities with
-!> the nominal rolling speed v0/r0 (no rotation angle). Forces on the wheel in track axes.
+!> the nominal rolling speed Omega0 = v0/r0 plus the spin perturbation rate betadot (no
+!> rotation angle: only the rate enters). Forces on the wheel in track axes.
 module vehicle_contact
     use kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
@@ -78,21 +79,23 @@ contains
     end subroutine creep_kalker_she
 
     !> Contact forces of one wheelset.
-    !> qw, vw: wheelset (y, z, roll, yaw) and rates; qt, vt: track element (y, z, roll) and rates.
+    !> qw, vw: wheelset (y, z, roll, yaw, x, beta) and rates (x longitudinal relative to the
+    !> nominal position moving at v0, beta the spin perturbation about the axle on top of the
+    !> nominal rolling v0/r0; only vw(5:6) enter); qt, vt: track element (y, z, roll) and rates.
     !> model 1: Hertz + Kalker linear with SHE saturation; model 2: Hertz + FASTSIM
     !> (contact_fastsim, fsn x fsn strips x points); model 3: the BEM normal and steady-rolling
     !> solvers of vehicle_bem (state `bem`, wheelset index iws) with the same approach and
     !> creepages (the Hertz semi-axes and energy are still reported in wout); model 4: Hertz +
     !> Kalker with the normal force and the creep forces scaled by their ratios BEM / Hertz-
     !> Kalker at the last BEM solve of each point (the Newton tangent of a BEM run).
-    !> fw: generalised forces on the wheelset (y, z, roll, yaw); ft: on the track element.
+    !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
     !> info: 0 ok, 3 outside the table, 5/6 BEM patch at its grid edge / not converged.
     subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
                                 fw, ft, wout, info)
         integer, intent(in) :: ny, model, fsn, bem, iws
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
-        real(dp), intent(in) :: qw(4), vw(4), qt(3), vt(3)
-        real(dp), intent(out) :: fw(4), ft(3), wout(nwo, 2)
+        real(dp), intent(in) :: qw(6), vw(6), qt(3), vt(3)
+        real(dp), intent(out) :: fw(6), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
@@ -138,7 +141,11 @@ contains
                 ! relative velocity of the wheel's material point over the rail's
                 dvy = (vw(1) + r * vw(3)) - vt(1)
                 dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * l)
-                xi = (1.0_dp - r / r0) - vw(4) * l / v0
+                ! longitudinal creepage: the material velocity of the wheel at the contact
+                ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
+                ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
+                ! over the rail (at rest), divided by v0, with Omega0 = v0 / r0:
+                xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
                 eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
                 if (model == 3) then
@@ -179,6 +186,10 @@ contains
                 fw(2) = fw(2) + fzt
                 fw(3) = fw(3) + l * fzt + r * fyt
                 fw(4) = fw(4) - l * fx
+                ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
+                ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
+                fw(5) = fw(5) + fx
+                fw(6) = fw(6) - r * fx
                 ft(1) = ft(1) - fyt
                 ft(2) = ft(2) - fzt
                 ft(3) = ft(3) - (l + yr) * fzt

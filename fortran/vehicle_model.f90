@@ -9,7 +9,7 @@ module vehicle_model
     use vehicle_contact, only: nq_table, nwo, wheelset_contact
     implicit none
     private
-    public :: vmodel, vehicle_pack, force_total, tangent, element_force
+    public :: vmodel, vehicle_pack, force_total, tangent, element_force, is_spin
     public :: el_friction, el_bump
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
@@ -21,7 +21,10 @@ module vehicle_model
         real(dp), allocatable :: m(:, :), c(:, :), k(:, :), f0(:)
         integer, allocatable :: etype(:)
         real(dp), allocatable :: eg(:, :), epar(:, :)
-        integer, allocatable :: iws(:, :), itr(:, :)   ! 1-based DOF indices; itr 0 = ground
+        !> 1-based DOF indices: iws (y, z, roll, yaw, x, beta) per wheelset, 0 for a DOF not
+        !> modelled (held at zero: e.g. a wheelset without x or spin); itr (y, z, roll) of the
+        !> track element, 0 = rigid ground.
+        integer, allocatable :: iws(:, :), itr(:, :)
         real(dp), allocatable :: tab(:, :, :)
         real(dp) :: y0 = 0.0_dp, dy = 1.0_dp, r0 = 0.46_dp, v0 = 1.0_dp, gmod = 8.2e10_dp, mu = 0.3_dp
     end type vmodel
@@ -33,7 +36,7 @@ contains
                                  y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, md)
         integer, intent(in) :: nd, ne, nw, ny, cmodel, fsn, bem
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
-        integer, intent(in) :: etype(ne), iws(4, nw), itr(3, nw)
+        integer, intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
         type(vmodel), intent(out) :: md
         md%nd = nd
@@ -92,10 +95,16 @@ contains
         type(vmodel), intent(in) :: md
         integer, intent(in) :: w
         real(dp), intent(in) :: q(:), v(:)
-        real(dp), intent(out) :: qw(4), vw(4), qt(3), vt(3)
+        real(dp), intent(out) :: qw(6), vw(6), qt(3), vt(3)
         integer :: j
-        qw = q(md%iws(:, w))
-        vw = v(md%iws(:, w))
+        qw = 0.0_dp
+        vw = 0.0_dp
+        do j = 1, 6
+            if (md%iws(j, w) > 0) then
+                qw(j) = q(md%iws(j, w))
+                vw(j) = v(md%iws(j, w))
+            end if
+        end do
         qt = 0.0_dp
         vt = 0.0_dp
         do j = 1, 3
@@ -116,7 +125,7 @@ contains
         real(dp), intent(out) :: wout(nwo, 2)
         integer, intent(out) :: info
         logical, intent(in), optional :: cheap
-        real(dp) :: qw(4), vw(4), qt(3), vt(3), fw(4), ft(3)
+        real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3)
         integer :: j, model
         model = md%cmodel
         if (present(cheap)) then
@@ -125,7 +134,9 @@ contains
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, model, md%fsn, &
                               md%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
-        f(md%iws(:, w)) = f(md%iws(:, w)) + fw
+        do j = 1, 6
+            if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
+        end do
         do j = 1, 3
             if (md%itr(j, w) > 0) f(md%itr(j, w)) = f(md%itr(j, w)) + ft(j)
         end do
@@ -156,7 +167,7 @@ contains
     end subroutine force_total
 
     !> Tangent dF/dq + cv dF/dv at (q, v): the linear part exactly, the elements analytically,
-    !> the contact by forward differences over each wheelset's own 7 DOFs (wheelset + track),
+    !> the contact by forward differences over each wheelset's own DOFs (up to 6 + 3 track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode 0 -> dF/dq + cv dF/dv, mode 1 -> dF/dv only.
     !> With the BEM contact (cmodel 3) the contact part is that of Hertz + Kalker scaled to the
@@ -169,7 +180,7 @@ contains
         integer, intent(out) :: info
         real(dp) :: d, dd, fe, kd, cd, s
         real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
-        integer :: e, w, j, jj, idx(7), n
+        integer :: e, w, j, jj, idx(9), n
         real(dp), parameter :: eps = 1.0e-8_dp
         if (mode == 0) then
             jac = -md%k - cv * md%c
@@ -193,8 +204,13 @@ contains
         end do
         info = 0
         do w = 1, md%nw
-            n = 4
-            idx(1:4) = md%iws(:, w)
+            n = 0
+            do j = 1, 6
+                if (md%iws(j, w) > 0) then
+                    n = n + 1
+                    idx(n) = md%iws(j, w)
+                end if
+            end do
             do j = 1, 3
                 if (md%itr(j, w) > 0) then
                     n = n + 1
@@ -221,5 +237,12 @@ contains
             end do
         end do
     end subroutine tangent
+
+    !> Whether DOF j is a wheelset spin perturbation beta (no stiffness: only its rate enters).
+    pure logical function is_spin(md, j)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: j
+        is_spin = any(md%iws(6, :) == j)
+    end function is_spin
 
 end module vehicle_model

@@ -9,10 +9,10 @@
 module vehicle_newmark
     use kinds, only: dp
     use vehicle_contact, only: nwo
-    use vehicle_model, only: vmodel, force_total, tangent
+    use vehicle_model, only: vmodel, force_total, tangent, is_spin
     implicit none
     private
-    public :: newmark_run, static_solve, initial_acceleration
+    public :: newmark_run, static_solve, initial_acceleration, too_big
 
     interface
         subroutine dgetrf(m, n, a, lda, ipiv, info)
@@ -141,7 +141,7 @@ contains
         v1 = vt + gamma * h * a1
         f1 = fkeep      ! F(q1, v1) from the accepted residual: no extra (BEM) evaluation
         wk = wkeep
-        if (any(.not. (abs(q1) <= qmax)) .or. any(.not. (abs(v1) <= 1.0e6_dp))) return
+        if (too_big(md, q1, v1, qmax)) return
         err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
         q = q1
         v = v1
@@ -215,7 +215,7 @@ contains
                 if (info == 0) info = 2
                 if (info == 2 .and. (why == 5 .or. why == 6)) info = why
                 if (info == 2 .and. near_edge()) info = 3
-                if (any(.not. (abs(q) <= qmax)) .or. any(.not. (abs(v) <= 1.0e6_dp))) info = 4
+                if (too_big(md, q, v, qmax)) info = 4
                 tfail = t + tl + h / 2**maxsub
                 stats(1) = nit
                 stats(2) = njac
@@ -273,19 +273,48 @@ contains
         end subroutine finish_rest
     end subroutine newmark_run
 
-    !> Static equilibrium F(q, 0) = 0 by Newton's method with step halving on the residual.
+    !> A non-finite state, |q| above qmax or |v| above 1e6. The spin perturbations beta are
+    !> only checked for being finite: no force depends on them, and at a steady spin rate
+    !> (free rolling with a longitudinal creepage) they grow linearly in time.
+    pure logical function too_big(md, q, v, qmax)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: q(md%nd), v(md%nd), qmax
+        integer :: j
+        too_big = any(.not. (abs(v) <= 1.0e6_dp))
+        if (too_big) return
+        do j = 1, md%nd
+            if (is_spin(md, j)) then
+                too_big = .not. (abs(q(j)) <= huge(1.0_dp))
+            else
+                too_big = .not. (abs(q(j)) <= qmax)
+            end if
+            if (too_big) return
+        end do
+    end function too_big
+
+    !> Steady state of running on straight track: F(q, v) = 0 with v = 0 except the rates of
+    !> the wheelsets' spin perturbations beta, which are unknowns in place of the angles
+    !> (no force depends on beta; free rolling fixes betadot). Newton's method with step
+    !> halving on the residual; the spin columns of the tangent are dF/dv.
     !> info: 0 ok, 2 not converged, 3 outside the contact table, -1 singular tangent.
-    subroutine static_solve(md, q, tol, maxit, iters, resid, info)
+    subroutine static_solve(md, q, v, tol, maxit, iters, resid, info)
         type(vmodel), intent(in) :: md
         real(dp), intent(inout) :: q(md%nd)
+        real(dp), intent(out) :: v(md%nd)
         real(dp), intent(in) :: tol
         integer, intent(in) :: maxit
         integer, intent(out) :: iters, info
         real(dp), intent(out) :: resid
-        real(dp) :: v(md%nd), f(md%nd), ftry(md%nd), jac(md%nd, md%nd), dq(md%nd), wk(nwo, 2, md%nw)
-        real(dp) :: s, r0, r1
-        integer :: ipiv(md%nd), it, lin, ls
+        real(dp) :: f(md%nd), ftry(md%nd), jac(md%nd, md%nd), jv(md%nd, md%nd), dq(md%nd)
+        real(dp) :: wk(nwo, 2, md%nw), s, r0, r1
+        logical :: spin(md%nd)
+        integer :: ipiv(md%nd), it, lin, ls, j
         v = 0.0_dp
+        iters = 0
+        resid = 0.0_dp
+        do j = 1, md%nd
+            spin(j) = is_spin(md, j)
+        end do
         call force_total(md, q, v, f, wk, info)
         if (info /= 0) return
         r0 = norm2(f)
@@ -293,6 +322,17 @@ contains
             iters = it
             call tangent(md, q, v, 0.0_dp, 0, jac, info)
             if (info /= 0) return
+            if (any(spin)) then
+                call tangent(md, q, v, 0.0_dp, 1, jv, info)
+                if (info /= 0) return
+                do j = 1, md%nd
+                    if (.not. spin(j)) cycle
+                    jac(:, j) = jv(:, j)
+                    ! no creep force (friction 0, or wheels off the rails): the rate is free;
+                    ! keep it (its equation F_j = 0 holds already)
+                    if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
+                end do
+            end if
             jac = -jac
             call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
             if (lin /= 0) then
@@ -303,7 +343,8 @@ contains
             call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dq, md%nd, lin)
             s = 1.0_dp
             do ls = 1, 30
-                call force_total(md, q + s * dq, v, ftry, wk, info)
+                call force_total(md, merge(q, q + s * dq, spin), merge(v + s * dq, v, spin), ftry, &
+                                 wk, info)
                 if (info == 0) then
                     r1 = norm2(ftry)
                     if (r1 < r0 .or. ls == 30) exit
@@ -311,7 +352,8 @@ contains
                 s = 0.5_dp * s
             end do
             if (info /= 0) return
-            q = q + s * dq
+            q = merge(q, q + s * dq, spin)
+            v = merge(v + s * dq, v, spin)
             f = ftry
             r0 = r1
             resid = maxval(abs(s * dq))

@@ -138,12 +138,12 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     if contact == "bem":
         from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
-            q0, _ = static_equilibrium(sy, v, contact, bem=st)
-            run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, bem=st, **kw)
+            q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
+            run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
         patch = (run.bem_patches or {}).get((0, 1))
     else:
-        q0, _ = static_equilibrium(sy, v, contact)
-        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, **kw)
+        q0, v0, _ = static_equilibrium(sy, v, contact, return_velocity=True)
+        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
                           run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch)

@@ -1,21 +1,29 @@
 """Assembly of the coach-track system: DOFs, linear matrices, nonlinear elements, preload.
 
 Track frame x forward, y left, z up (railvti.geometry). Small rotations (roll about x, pitch
-about y, yaw about z) except the wheels' rolling, which enters only through the nominal
-rolling speed v0/r0 in the creepages. A linear spring between points P (body A) and Q
+about y, yaw about z) except the wheels' rolling: the nominal rolling speed Omega0 = v0/r0
+enters the creepages, and each wheelset's spin perturbation beta (rotation about the axle on
+top of Omega0) is a DOF of which only the rate betadot matters (no stiffness, no angle in any
+force). A linear spring between points P (body A) and Q
 (body B) with stiffnesses (kx, ky, kz) adds G^T diag(k) G, G = G_P - G_Q, to K, where G_P is
 the 3 x n map from the DOFs to P's displacement: u = t + w x p (p from the body's reference
 point, w = (roll, pitch, yaw)).
 
-DOFs (0-based):
+DOFs (0-based), 53 in all (45 with ``wheelset_dofs=4``: no x, no beta, the layout of the
+earlier model):
 
-========  =====================================  =========
-carbody   y, z, roll, pitch, yaw                  0-4
-bolsters  yaw (front, rear)                       5-6
-bogies    y, z, roll, pitch, yaw (front, rear)     7-16
-wheelsets y, z, roll, yaw (1 leading .. 4)         17-32
-track     y, z, roll under each wheelset           33-44
-========  =====================================  =========
+========  ==========================================  =========
+carbody   y, z, roll, pitch, yaw                       0-4
+bolsters  yaw (front, rear)                            5-6
+bogies    y, z, roll, pitch, yaw (front, rear)         7-16
+wheelsets x, y, z, roll, yaw, beta (1 leading .. 4)    17-40
+track     y, z, roll under each wheelset               41-52
+========  ==========================================  =========
+
+Wheelset x is longitudinal, relative to the nominal position moving at v0 (the carbody and
+bogies have no x DOF: they move at v0), held by the primary longitudinal springs/dampers at
+the axleboxes; beta is the spin perturbation (inertia wheelset_pitch_inertia), driven only by
+the longitudinal creep forces' moments about the axle.
 
 The bolster follows the carbody in every motion but yaw: the secondary springs' upper
 points, the lateral damper and the bump stops sit on it, and dry friction (tanh-regularised)
@@ -32,16 +40,21 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .. import _checks
 from ..errors import InputError
 from .params import Coach
 from .table import WheelTable
 
 EL_FRICTION, EL_BUMP = 1, 2
+#: Per-wheelset DOFs in the global order.
+WS_DOFS = ("x", "y", "z", "roll", "yaw", "beta")
+#: Row order of System.iws (the Fortran per-wheelset state qw, vw).
+IWS_ROWS = ("y", "z", "roll", "yaw", "x", "beta")
 
 DOF_NAMES = (["carbody_y", "carbody_z", "carbody_roll", "carbody_pitch", "carbody_yaw",
               "bolster1_yaw", "bolster2_yaw"]
              + [f"bogie{b}_{c}" for b in (1, 2) for c in ("y", "z", "roll", "pitch", "yaw")]
-             + [f"ws{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll", "yaw")]
+             + [f"ws{w}_{c}" for w in (1, 2, 3, 4) for c in WS_DOFS]
              + [f"track{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll")])
 
 
@@ -62,8 +75,9 @@ class System:
     epar : ndarray (4, ne)
         Element parameters (friction: torque, regularisation rate, viscous part;
         bump stop: clearance, stiffness).
-    iws : ndarray (4, nw) int
-        1-based DOF indices (y, z, roll, yaw) of each wheelset.
+    iws : ndarray (6, nw) int
+        1-based DOF indices (y, z, roll, yaw, x, beta) of each wheelset (IWS_ROWS); 0 for a
+        DOF not modelled (held at zero).
     itr : ndarray (3, nw) int
         1-based DOF indices (y, z, roll) of each track element (0: rigid ground).
     table : WheelTable
@@ -127,6 +141,8 @@ def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
     """3 x n map from a rigid body's DOFs to the displacement of point p (track coordinates)."""
     g = np.zeros((3, n))
     rx, ry, rz = p[0] - ref[0], p[1] - ref[1], p[2] - ref[2]
+    if "x" in dofs:
+        g[0, dofs["x"]] += 1.0
     if "y" in dofs:
         g[1, dofs["y"]] += 1.0
     if "z" in dofs:
@@ -143,7 +159,8 @@ def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
     return g
 
 
-def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> System:
+def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
+                wheelset_dofs: int = 6) -> System:
     """Assemble the coach on four track elements (RR model: rigid bodies, rigid track element).
 
     Parameters
@@ -152,9 +169,17 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
     table : WheelTable
     track : bool
         False puts the wheelsets on rigid ground (no track element DOFs).
+    wheelset_dofs : int
+        6 (x, y, z, roll, yaw, beta) or 4 (y, z, roll, yaw: no longitudinal motion, rolling
+        exactly at v0/r0, as the model before the x and spin DOFs).
     """
+    if wheelset_dofs not in (4, 6):
+        raise InputError(f"wheelset_dofs must be 4 or 6, got {wheelset_dofs!r}")
     p = coach.params
-    n = 33 + (12 if track else 0)
+    wnames = WS_DOFS if wheelset_dofs == 6 else ("y", "z", "roll", "yaw")
+    nws = len(wnames)
+    it0 = 17 + 4 * nws
+    n = it0 + (12 if track else 0)
     b = _Builder(n)
     grav = p["gravity"]
     r0 = p["wheel_radius"]
@@ -165,7 +190,7 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
     car = {"y": 0, "z": 1, "roll": 2, "pitch": 3, "yaw": 4}
     frames = [{"y": 7 + 5 * i, "z": 8 + 5 * i, "roll": 9 + 5 * i, "pitch": 10 + 5 * i,
                "yaw": 11 + 5 * i} for i in range(2)]
-    wsd = [{"y": 17 + 4 * i, "z": 18 + 4 * i, "roll": 19 + 4 * i, "yaw": 20 + 4 * i} for i in range(4)]
+    wsd = [{c: 17 + nws * i + j for j, c in enumerate(wnames)} for i in range(4)]
     # masses
     diag = np.zeros(n)
     diag[0:5] = [p["carbody_mass"], p["carbody_mass"], p["carbody_roll_inertia"],
@@ -175,10 +200,12 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
         diag[[f["y"], f["z"], f["roll"], f["pitch"], f["yaw"]]] = [
             p["bogie_mass"], p["bogie_mass"], p["bogie_roll_inertia"], p["bogie_pitch_inertia"],
             p["bogie_yaw_inertia"]]
+    wmass = {"x": p["wheelset_mass"], "y": p["wheelset_mass"], "z": p["wheelset_mass"],
+             "roll": p["wheelset_roll_inertia"], "yaw": p["wheelset_yaw_inertia"],
+             "beta": p["wheelset_pitch_inertia"]}
     for w in wsd:
-        diag[[w["y"], w["z"], w["roll"], w["yaw"]]] = [
-            p["wheelset_mass"], p["wheelset_mass"], p["wheelset_roll_inertia"],
-            p["wheelset_yaw_inertia"]]
+        for c, j in w.items():
+            diag[j] = wmass[c]
     fg = np.zeros(n)
     fg[1] = -p["carbody_mass"] * grav
     for f in frames:
@@ -187,7 +214,7 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
         fg[w["z"]] = -p["wheelset_mass"] * grav
     if track:
         for i in range(4):
-            j = 33 + 3 * i
+            j = it0 + 3 * i
             diag[j:j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
             b.k[j:j + 3, j:j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
             b.c[j:j + 3, j:j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
@@ -210,8 +237,11 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
         f = frames[i // 2]
         for side in (1.0, -1.0):
             pt = (xw[i], side * p["primary_half_spacing"], r0)
+            # the wheelset's x and the bogie's pitch/yaw stretch the longitudinal spring;
+            # beta (spin) is not a motion of the axlebox
+            wbody = {c: j for c, j in wsd[i].items() if c != "beta"}
             b.spring(_body_point(n, f, (xb[i // 2], 0.0, hb), pt),
-                     _body_point(n, wsd[i], (xw[i], 0.0, r0), pt), kp, cp)
+                     _body_point(n, wbody, (xw[i], 0.0, r0), pt), kp, cp)
     # secondary suspension, per side; lateral damper per bogie; bump stops; yaw friction
     ks = (p["secondary_kx"], p["secondary_ky"], p["secondary_kz"])
     cs = (0.0, 0.0, p["secondary_cz"])
@@ -241,33 +271,49 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True) -> Syste
     qu = np.zeros(n)
     qu[up] = np.linalg.solve(b.k[np.ix_(up, up)], -fg[up])
     f0 = fg + b.k @ qu
-    iws = np.array([[w["y"], w["z"], w["roll"], w["yaw"]] for w in wsd]).T + 1
-    itr = (np.array([[33 + 3 * i, 34 + 3 * i, 35 + 3 * i] for i in range(4)]).T + 1
+    iws = np.array([[w[c] + 1 if c in w else 0 for c in IWS_ROWS] for w in wsd]).T
+    itr = (np.array([[it0 + 3 * i, it0 + 1 + 3 * i, it0 + 2 + 3 * i] for i in range(4)]).T + 1
            if track else np.zeros((3, 4), dtype=int))
-    names = tuple(DOF_NAMES[:n])
+    names = tuple(DOF_NAMES[:17] + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
+                  + DOF_NAMES[17 + 4 * len(WS_DOFS):][:n - it0])
     return _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
 
 
 def build_single_wheelset(table: WheelTable, *, mass: float, roll_inertia: float,
                           yaw_inertia: float, ky: float, kx: float, half_spacing: float,
                           axle_load: float, kz: float = 0.0, gravity: float = 9.81,
-                          friction: float = 0.3) -> System:
+                          friction: float = 0.3, longitudinal: bool = False,
+                          spin_inertia: float | None = None) -> System:
     """One wheelset on rigid rails held by lateral and longitudinal springs to the ground.
 
     The longitudinal springs (kx each, at +-half_spacing) give the yaw stiffness
     2 kx half_spacing^2; ``axle_load`` (N, downwards, besides the wheelset's weight) loads the
-    wheels. Used by the Wickens and Klingel validations. DOFs: y, z, roll, yaw.
+    wheels. Used by the Wickens and Klingel validations. DOFs: y, z, roll, yaw (Wickens'
+    classical model: no longitudinal motion, rolling exactly at v0/r0); ``longitudinal`` adds
+    x (on the springs, 2 kx), ``spin_inertia`` (kg m^2) the spin perturbation beta.
     """
-    n = 4
+    names = ["ws1_y", "ws1_z", "ws1_roll", "ws1_yaw"]
+    diag = [mass, mass, roll_inertia, yaw_inertia]
+    if longitudinal:
+        names.append("ws1_x")
+        diag.append(mass)
+    if spin_inertia is not None:
+        names.append("ws1_beta")
+        diag.append(_checks.positive("spin_inertia", spin_inertia))
+    n = len(names)
     b = _Builder(n)
-    b.m = np.diag([mass, mass, roll_inertia, yaw_inertia])
+    b.m = np.diag(diag)
     b.k[0, 0] = 2.0 * ky
     b.k[3, 3] = 2.0 * kx * half_spacing ** 2
     b.k[1, 1] = kz
-    f0 = np.array([0.0, -mass * gravity - axle_load, 0.0, 0.0])
-    iws = np.array([[1, 2, 3, 4]]).T
+    if longitudinal:
+        b.k[4, 4] = 2.0 * kx
+    f0 = np.zeros(n)
+    f0[1] = -mass * gravity - axle_load
+    iws = np.array([[names.index(f"ws1_{c}") + 1 if f"ws1_{c}" in names else 0
+                     for c in IWS_ROWS]]).T
     itr = np.zeros((3, 1), dtype=int)
-    return _finish(b, f0, iws, itr, table, ("ws1_y", "ws1_z", "ws1_roll", "ws1_yaw"),
+    return _finish(b, f0, iws, itr, table, tuple(names),
                    np.array([0.0]), 0.5 * (mass * gravity + axle_load), friction)
 
 

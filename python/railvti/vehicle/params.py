@@ -50,6 +50,7 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "wheelset_mass": (1813.0, "kg", _IW),
     "wheelset_roll_inertia": (1120.0, "kg m^2", _IW),
     "wheelset_yaw_inertia": (1120.0, "kg m^2", _IW),
+    "wheelset_pitch_inertia": (112.0, "kg m^2", _IW + " (Iwy, about the axle: the spin DOF)"),
     "wheel_radius": (0.46, "m", _IW),
     # primary suspension, per axlebox
     "primary_kx": (31.391e6, "N/m", _IW),

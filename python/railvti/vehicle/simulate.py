@@ -139,10 +139,13 @@ class SimulationResult:
 def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalker", *,
                        q0: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 60,
                        fastsim_n: int = 8, bem: BemState | None = None,
-                       bem_options: BemOptions | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Static equilibrium F(q, 0) = 0 (the steady state of centred running on straight track).
+                       bem_options: BemOptions | None = None, return_velocity: bool = False
+                       ) -> tuple[np.ndarray, ...]:
+    """Steady state of centred running on straight track: F(q, v) = 0 with v = 0 except the
+    wheelsets' spin rates betadot (free rolling: the unknowns in place of the spin angles).
 
-    Returns (q, wheel outputs (12, 2, nw)). The start puts each wheelset at the Hertz
+    Returns (q, wheel outputs (12, 2, nw)), or (q, v, wheel outputs) with
+    ``return_velocity`` (v: zero but the spin rates, rad/s). The start puts each wheelset at the Hertz
     approach of the static load and each track element at its static deflection. With
     contact='bem' the BEM state ``bem`` is used (and left warm), or a temporary one made
     with ``bem_options``; the Newton tangent is then that of Hertz + Kalker.
@@ -151,10 +154,11 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     if contact_id(contact) == 3 and bem is None:
         with bem_state(system, bem_options) as tmp:
             return static_equilibrium(system, speed, contact, q0=q0, tol=tol, maxit=maxit,
-                                      fastsim_n=fastsim_n, bem=tmp)
+                                      fastsim_n=fastsim_n, bem=tmp,
+                                      return_velocity=return_velocity)
     q = _initial_guess(system) if q0 is None else np.array(q0, dtype=float)
     args = _model_args(system, speed, contact, fastsim_n, bem)
-    f, wout, iters, resid, info = core.vehicle_static_c(*args, tol, maxit, q, NWO)
+    v, f, wout, iters, resid, info = core.vehicle_static_c(*args, tol, maxit, q, NWO)
     if info == 3:
         raise DivergenceError("static equilibrium: a wheelset left its contact table")
     if info == 5:
@@ -163,7 +167,7 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         raise ConvergenceError(f"static equilibrium not found (info {info}) after {iters} Newton "
                                f"iterations, last correction {resid:.3g}", iterations=int(iters),
                                residual=float(resid))
-    return q, wout
+    return (q, v, wout) if return_velocity else (q, wout)
 
 
 def _initial_guess(system: System) -> np.ndarray:
@@ -211,7 +215,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     alpha : float
         HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
     q0, v0 : ndarray, optional
-        Initial state (default: the static equilibrium, at rest).
+        Initial state (default: the steady state of static_equilibrium, at rest but for the
+        wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0).
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
@@ -260,7 +265,10 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     nevery = min(nevery, nsteps)
     args = _model_args(system, speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     if q0 is None:
-        q0, _ = static_equilibrium(system, speed, contact, fastsim_n=fastsim_n, bem=bem)
+        q0, vs, _ = static_equilibrium(system, speed, contact, fastsim_n=fastsim_n, bem=bem,
+                                       return_velocity=True)
+        if v0 is None:
+            v0 = vs
     cnt0 = bem.counts() if bem is not None else None
     q = np.array(_checks.finite_array("q0", q0, shape=(system.n,)), dtype=float)
     v = (np.zeros(system.n) if v0 is None
@@ -396,11 +404,15 @@ def _force_and_tangent(system, q, v, speed, contact, fastsim_n, bem):
 
 
 def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
-                contact: str = "hertz-kalker") -> np.ndarray:
-    """Eigenvalues (1/s) of the system linearised about q (default: static equilibrium)."""
+                contact: str = "hertz-kalker", v: np.ndarray | None = None) -> np.ndarray:
+    """Eigenvalues (1/s) of the system linearised about (q, v) (default: the steady state of
+    static_equilibrium, with its spin rates). Each wheelset's spin angle beta, free (no
+    stiffness), adds a zero eigenvalue."""
     if q is None:
-        q, _ = static_equilibrium(system, speed, contact)
-    _, _, jq, jv = force_and_tangent(system, q, np.zeros(system.n), speed, contact)
+        q, v, _ = static_equilibrium(system, speed, contact, return_velocity=True)
+    if v is None:
+        v = np.zeros(system.n)
+    _, _, jq, jv = force_and_tangent(system, q, v, speed, contact)
     n = system.n
     minv = np.linalg.inv(system.m)
     a = np.zeros((2 * n, 2 * n))
