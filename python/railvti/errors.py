@@ -1,7 +1,8 @@
 """Exceptions raised by railvti.
 
 Every failure a user can cause or meet is one of these; the Fortran core
-reports problems as ``info`` codes that the Python layer maps here.
+reports problems as named status codes (fortran/common/common_status.f90) that
+``railvti._status`` maps to these classes, in one place.
 """
 from __future__ import annotations
 
@@ -41,3 +42,7 @@ class ConvergenceError(RailvtiError, RuntimeError):
         self.iterations = iterations
         self.residual = residual
         self.result = result
+
+
+class DivergenceError(ConvergenceError):
+    """The time integration diverged (Newton failed, NaN, or a wheelset left its table)."""

@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
-from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiError
+from ..errors import ConvergenceError, DivergenceError, GridTooSmallError, InputError, RailvtiError
 from .assembly import System
 from .bem import BemOptions, BemState
 
@@ -27,10 +27,6 @@ CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
 WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
                  "contact_angle", "a", "b")
 NWO = len(WHEEL_OUTPUTS)
-
-
-class DivergenceError(ConvergenceError):
-    """The time integration diverged (Newton failed, NaN, or a wheelset left its table)."""
 
 
 def contact_id(contact: str) -> int:

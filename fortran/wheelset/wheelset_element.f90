@@ -14,7 +14,7 @@
 !> has index (j - 1) * 3 + i and natural coordinates (i - 2, j - 2).
 !> Element DOF order: node-major, (U_r, U_y, U_th) per node.
 module wheelset_element
-    use kinds, only: dp, pi
+    use common_kinds, only: dp, pi
     implicit none
     private
     public :: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP

@@ -7,7 +7,7 @@
 !>     K(kappa) = K0 + kappa K1 + kappa^2 K2,  K_i from eps = (B0 + kappa B1) U
 !> (Gavric 1995, J. Sound Vib. 185; Nilsson et al. 2009 for rails). Node DOFs (x, eta, zeta).
 module track_section
-    use kinds, only: dp
+    use common_kinds, only: dp
     implicit none
     private
     public :: section_matrices, t6_shape

@@ -18,7 +18,7 @@
 !> candidate point the last pressure, tractions and slip velocities (the warm starts and the
 !> fields reported after a run). Not thread-safe.
 module vehicle_bem
-    use kinds, only: dp
+    use common_kinds, only: dp
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
     use contact_rolling, only: rolling_steady, ROLL_FFTGS

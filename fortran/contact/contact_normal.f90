@@ -14,7 +14,7 @@
 !> Both stop on the relative complementarity residual (normal_residual) and
 !> accept a warm start in p.
 module contact_normal
-    use kinds, only: dp
+    use common_kinds, only: dp
     use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer
     implicit none
     private

@@ -4,7 +4,7 @@
 !> Callers hold an integer handle. Not thread-safe: create and free from one
 !> thread (FFTW planning is not reentrant).
 module contact_plans
-    use kinds, only: dp
+    use common_kinds, only: dp
     use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
     implicit none

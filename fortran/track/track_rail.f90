@@ -5,8 +5,8 @@
 !> wave-finite-element dispersion curves). The dense solves are then done ns times on the full
 !> section and nk times on the small reduced matrices.
 module track_rail
-    use kinds, only: dp
-    use linalg_eigen, only: eig_sym_range, eig_std_range, chol_solve
+    use common_kinds, only: dp
+    use common_eigen, only: eig_sym_range, eig_std_range, chol_solve
     implicit none
     private
     public :: rail_reduced_basis, rail_wave_basis

@@ -5,7 +5,7 @@
 !>
 !>   F(q, v) = f0 - K q - C v + sum_e (-g_e f_e(g_e.q, g_e.v)) + contact(q, v)
 module vehicle_model
-    use kinds, only: dp
+    use common_kinds, only: dp
     use vehicle_contact, only: nq_table, nwo, wheelset_contact
     implicit none
     private

@@ -10,8 +10,8 @@
 !> 1: u_eta, u_zeta ~ cos, u_x ~ sin; 2: u_eta, u_zeta ~ sin, u_x ~ -cos), sign sgn (k = sgn j
 !> mod n_sl), rail 1 or 2, generalized mass 1 and stiffness om2.
 module track_ring
-    use kinds, only: dp
-    use linalg_eigen, only: eig_std_range
+    use common_kinds, only: dp
+    use common_eigen, only: eig_std_range
     implicit none
     private
     public :: ring_group_modes, ring_eval_x, ring_frf

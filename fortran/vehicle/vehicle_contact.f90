@@ -16,7 +16,7 @@
 !> the nominal rolling speed Omega0 = v0/r0 plus the spin perturbation rate betadot (no
 !> rotation angle: only the rate enters). Forces on the wheel in track axes.
 module vehicle_contact
-    use kinds, only: dp
+    use common_kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
     use vehicle_bem, only: bem_patch, bem_scale
     implicit none

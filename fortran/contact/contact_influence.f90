@@ -19,7 +19,7 @@
 !>   Y^2/r^3 -> X ln(Y + r)
 !>   XY/r^3  -> -r
 module contact_influence
-    use kinds, only: dp, pi
+    use common_kinds, only: dp, pi
     implicit none
     private
     public :: KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY

@@ -2,19 +2,12 @@
 !>     (-omega^2 M + i omega D + K) q = F,   D = G + C (gyroscopic + damping),
 !> as met by the rotating wheelset in its axle-fixed (non-rotating) frame.
 module wheelset_frf
-    use kinds, only: dp
+    use common_kinds, only: dp
+    use common_lapack, only: zgesv
     implicit none
     private
     public :: gyro_frf
 
-    interface
-        subroutine zgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
-            import :: dp
-            integer, intent(in) :: n, nrhs, lda, ldb
-            complex(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine zgesv
-    end interface
 
 contains
 

@@ -9,7 +9,7 @@
 module contact_convolution
     ! fftw3.f03 needs the whole of iso_c_binding
     use, intrinsic :: iso_c_binding
-    use kinds, only: dp
+    use common_kinds, only: dp
     implicit none
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply

@@ -1,5 +1,5 @@
 !> Real and integer kinds used by every railvti kernel.
-module kinds
+module common_kinds
     use iso_fortran_env, only: real64, int32, int64
     implicit none
     private
@@ -9,4 +9,4 @@ module kinds
     integer, parameter :: i4 = int32
     integer, parameter :: i8 = int64
     real(dp), parameter :: pi = 3.14159265358979323846264338327950288_dp
-end module kinds
+end module common_kinds

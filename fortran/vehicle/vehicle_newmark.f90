@@ -7,30 +7,14 @@
 !> at the first iteration of each step and again when an iteration does not contract.
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
 module vehicle_newmark
-    use kinds, only: dp
+    use common_kinds, only: dp
+    use common_lapack, only: dgetrf, dgetrs
     use vehicle_contact, only: nwo
     use vehicle_model, only: vmodel, force_total, tangent, is_spin
     implicit none
     private
     public :: newmark_run, static_solve, initial_acceleration, too_big
 
-    interface
-        subroutine dgetrf(m, n, a, lda, ipiv, info)
-            import :: dp
-            integer, intent(in) :: m, n, lda
-            real(dp), intent(inout) :: a(lda, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine dgetrf
-        subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
-            import :: dp
-            character, intent(in) :: trans
-            integer, intent(in) :: n, nrhs, lda, ldb
-            real(dp), intent(in) :: a(lda, *)
-            integer, intent(in) :: ipiv(*)
-            real(dp), intent(inout) :: b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dgetrs
-    end interface
 
 contains
 

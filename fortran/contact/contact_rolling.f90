@@ -70,7 +70,8 @@
 !> F being the element solutions with a single-element pivot: zero exactly at
 !> the solution. At exit every traction is put on its disc.
 module contact_rolling
-    use kinds, only: dp
+    use common_kinds, only: dp
+    use common_lapack, only: dgetrf, dgetri
     use contact_plans, only: workspace
     use contact_convolution, only: conv_apply_pair
     implicit none
@@ -91,21 +92,6 @@ module contact_rolling
         real(dp), allocatable :: mx(:, :), my(:, :), qx(:), qy(:)
     end type run_basis
 
-    interface
-        subroutine dgetrf(m, n, a, lda, ipiv, info)
-            import :: dp
-            integer, intent(in) :: m, n, lda
-            real(dp), intent(inout) :: a(lda, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine dgetrf
-        subroutine dgetri(n, a, lda, ipiv, work, lwork, info)
-            import :: dp
-            integer, intent(in) :: n, lda, lwork
-            real(dp), intent(inout) :: a(lda, *), work(*)
-            integer, intent(in) :: ipiv(*)
-            integer, intent(out) :: info
-        end subroutine dgetri
-    end interface
 
 contains
 

@@ -23,7 +23,7 @@
 !> flexibility L_eff = (|xi| L1 + |eta| L2 + c |phi| L3)/sqrt(xi^2 + eta^2
 !> + c^2 phi^2), c = sqrt(a b). It is antiparallel to tau by construction.
 module contact_fastsim
-    use kinds, only: dp, pi
+    use common_kinds, only: dp, pi
     implicit none
     private
     public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips, kalker_interp

@@ -1,40 +1,12 @@
 !> Generalized symmetric eigenproblems K x = lambda M x (K symmetric, M
 !> symmetric positive definite), as met by every FE model in railvti.
-module linalg_eigen
-    use kinds, only: dp
+module common_eigen
+    use common_kinds, only: dp
+    use common_lapack, only: dsygvx, dsyevr, dposv, dpbtrf, dpbtrs, dsbmv, dsaupd, dseupd
     implicit none
     private
     public :: eig_sym_range, eig_std_range, chol_solve, eig_band_lowest
 
-    interface
-        subroutine dsygvx(itype, jobz, range, uplo, n, a, lda, b, ldb, vl, vu, il, iu, &
-                          abstol, m, w, z, ldz, work, lwork, iwork, ifail, info)
-            import :: dp
-            integer, intent(in) :: itype, n, lda, ldb, il, iu, ldz, lwork
-            character, intent(in) :: jobz, range, uplo
-            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            real(dp), intent(in) :: vl, vu, abstol
-            integer, intent(out) :: m, iwork(*), ifail(*), info
-            real(dp), intent(out) :: w(*), z(ldz, *), work(*)
-        end subroutine dsygvx
-        subroutine dsyevr(jobz, range, uplo, n, a, lda, vl, vu, il, iu, abstol, m, w, z, ldz, &
-                          isuppz, work, lwork, iwork, liwork, info)
-            import :: dp
-            character, intent(in) :: jobz, range, uplo
-            integer, intent(in) :: n, lda, il, iu, ldz, lwork, liwork
-            real(dp), intent(inout) :: a(lda, *)
-            real(dp), intent(in) :: vl, vu, abstol
-            integer, intent(out) :: m, isuppz(*), iwork(*), info
-            real(dp), intent(out) :: w(*), z(ldz, *), work(*)
-        end subroutine dsyevr
-        subroutine dposv(uplo, n, nrhs, a, lda, b, ldb, info)
-            import :: dp
-            character, intent(in) :: uplo
-            integer, intent(in) :: n, nrhs, lda, ldb
-            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dposv
-    end interface
 
 contains
 
@@ -193,4 +165,4 @@ contains
         nconv = nc
     end subroutine eig_band_lowest
 
-end module linalg_eigen
+end module common_eigen

@@ -4,9 +4,10 @@
 !> the lowest modes up to a frequency bound, and the modal Coriolis and
 !> centrifugal matrices of the rotating body.
 module wheelset_modes
-    use kinds, only: dp
+    use common_kinds, only: dp
+    use common_lapack, only: dpbtrf, dpbtrs
     use wheelset_element, only: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP
-    use linalg_eigen, only: eig_sym_range, eig_band_lowest
+    use common_eigen, only: eig_sym_range, eig_band_lowest
     implicit none
     private
     public :: dof_map, assemble_band, harmonic_modes, centrifugal_prestress
