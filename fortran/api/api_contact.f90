@@ -1,6 +1,7 @@
 !> f2py shim for the contact kernels: plain arrays, explicit shapes, integer info.
 !> Argument checks live in Python (railvti.contact); info < 0 here names the
 !> offending argument by position, info > 0 is a solver status.
+!> Implements no equation (the kernels it calls do: see docs/equations.md).
 
 !> Influence coefficients of one kernel (1 zz, 2 xx, 3 yy, 4 xy) for all
 !> offsets of an nx x ny grid, circular layout on the 2nx x 2ny padded grid.

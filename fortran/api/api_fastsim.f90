@@ -1,5 +1,6 @@
 !> f2py shim for FASTSIM (Kalker's simplified theory): plain arrays, explicit
 !> shapes, integer info. Argument checks live in railvti.contact.fastsim.
+!> Implements no equation (contact_fastsim does: see docs/equations.md).
 
 !> Creep forces and spin moment on an ellipse, for n load cases at once
 !> (arrays of creepages and normal forces; one ellipse and one mu).

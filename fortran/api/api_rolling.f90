@@ -2,6 +2,7 @@
 !> Argument checks live in Python (railvti.contact.rolling); the kernel
 !> contact_rolling::rolling_steady takes the workspace itself, so Fortran
 !> callers (time simulation) use it without this shim.
+!> Implements no equation (contact_rolling does: see docs/equations.md).
 
 !> Steady rolling on the grid of workspace `handle` (made with tangential /= 0)
 !> for the pressure p (Pa). method: 1 row-implicit Gauss-Seidel ('gs'),

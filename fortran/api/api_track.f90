@@ -1,5 +1,6 @@
 !> f2py shim for the track kernels: plain arrays, explicit shapes, integer info.
 !> Argument checks live in Python (railvti.track); info < 0 names an argument, > 0 a solver status.
+!> Implements no equation (the track kernels do: see docs/equations.md).
 
 !> Section matrices K0, K1, K2, M of the 2.5-D rail FE (ndof = 3 nn, DOFs x, eta, zeta per node).
 subroutine track_section_matrices_c(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, info)

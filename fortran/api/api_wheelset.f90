@@ -1,5 +1,6 @@
 !> f2py shim for the flexible wheelset kernels: plain arrays, explicit shapes,
 !> integer info. Argument checks live in Python (railvti.wheelset).
+!> Implements no equation (the wheelset kernels do: see docs/equations.md).
 
 !> Element matrices of harmonic k for one nine-node meridian element (tests).
 subroutine wheelset_element_c(k, xe, e, nu, rho, ke, me, ce, mc, info)

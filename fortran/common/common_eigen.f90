@@ -1,5 +1,6 @@
 !> Generalized symmetric eigenproblems K x = lambda M x (K symmetric, M
 !> symmetric positive definite), as met by every FE model in railvti.
+!> Implements no equation.
 module common_eigen
     use common_kinds, only: dp
     use common_lapack, only: dsygvx, dsyevr, dposv, dpbtrf, dpbtrs, dsbmv, dsaupd, dseupd

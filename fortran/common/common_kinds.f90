@@ -1,4 +1,5 @@
 !> Real and integer kinds used by every railvti kernel.
+!> Implements no equation.
 module common_kinds
     use iso_fortran_env, only: real64, int32, int64
     implicit none

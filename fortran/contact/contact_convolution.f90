@@ -6,6 +6,7 @@
 !> coefficient spectra are made once per grid (conv_init) and reused by every
 !> product (conv_apply). The direct form (direct_apply) sums in O(N^2) and is
 !> kept for small grids and as a reference.
+!> Implements Kaiser eq. 20, u_I = sum_J A_IJ q_J (role inferred: docs/equations.md).
 module contact_convolution
     ! fftw3.f03 needs the whole of iso_c_binding
     use, intrinsic :: iso_c_binding

@@ -22,6 +22,8 @@
 !> of the step, s = L_eff (tau - tau_trial)/h, with Kalker's weighted
 !> flexibility L_eff = (|xi| L1 + |eta| L2 + c |phi| L3)/sqrt(xi^2 + eta^2
 !> + c^2 phi^2), c = sqrt(a b). It is antiparallel to tau by construction.
+!> Implements FASTSIM (Kalker 1982) and the interpolation of Kalker's Table E.3
+!> (kalker_interp); no Kaiser equation.
 module contact_fastsim
     use common_kinds, only: dp, pi
     implicit none

@@ -18,6 +18,8 @@
 !>   X^2/r^3 -> Y ln(X + r)
 !>   Y^2/r^3 -> X ln(Y + r)
 !>   XY/r^3  -> -r
+!> Implements Kaiser eqs 14-16 and 19 (Boussinesq-Cerruti), with piecewise-constant
+!> elements in place of eq. 18's bilinear ones (docs/equations.md).
 module contact_influence
     use common_kinds, only: dp, pi
     implicit none

@@ -13,6 +13,8 @@
 !>              force is prescribed.
 !> Both stop on the relative complementarity residual (normal_residual) and
 !> accept a warm start in p.
+!> Implements Kaiser eqs 17-23 (eq. 18 with piecewise-constant elements, not bilinear ones)
+!> and Polonsky & Keer's projected CG (docs/equations.md).
 module contact_normal
     use common_kinds, only: dp
     use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer

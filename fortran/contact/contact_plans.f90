@@ -3,6 +3,7 @@
 !> every solve on that grid (warm starts in sweeps and time simulations).
 !> Callers hold an integer handle. Not thread-safe: create and free from one
 !> thread (FFTW planning is not reentrant).
+!> Implements no equation.
 module contact_plans
     use common_kinds, only: dp
     use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY

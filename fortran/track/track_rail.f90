@@ -4,6 +4,8 @@
 !> every kappa in between (reduced-basis / parametric model order reduction, as for
 !> wave-finite-element dispersion curves). The dense solves are then done ns times on the full
 !> section and nk times on the small reduced matrices.
+!> Implements Kaiser eq. 13 per wave number (the modes of K(kappa)); the reduced basis is a
+!> numerical device, not an equation of the paper.
 module track_rail
     use common_kinds, only: dp
     use common_eigen, only: eig_sym_range, eig_std_range, chol_solve

@@ -9,6 +9,8 @@
 !> Rail basis functions b: wave number kap, family fam (0: k = 0, all components constant;
 !> 1: u_eta, u_zeta ~ cos, u_x ~ sin; 2: u_eta, u_zeta ~ sin, u_x ~ -cos), sign sgn (k = sgn j
 !> mod n_sl), rail 1 or 2, generalized mass 1 and stiffness om2.
+!> Implements Kaiser eq. 12 (the rails as trigonometric series along the ring; number
+!> inferred, docs/equations.md) with eq. 13's two families.
 module track_ring
     use common_kinds, only: dp
     use common_eigen, only: eig_std_range

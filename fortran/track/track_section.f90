@@ -6,6 +6,7 @@
 !> unit of (L/2) ring length is real symmetric:
 !>     K(kappa) = K0 + kappa K1 + kappa^2 K2,  K_i from eps = (B0 + kappa B1) U
 !> (Gavric 1995, J. Sound Vib. 185; Nilsson et al. 2009 for rails). Node DOFs (x, eta, zeta).
+!> Implements Kaiser eq. 13 (the cos/sin field of one wave number).
 module track_section
     use common_kinds, only: dp
     implicit none

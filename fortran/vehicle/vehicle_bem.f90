@@ -17,6 +17,8 @@
 !> the grid, with the tangential kernels) shared by every patch, and per wheelset, wheel and
 !> candidate point the last pressure, tractions and slip velocities (the warm starts and the
 !> fields reported after a run). Not thread-safe.
+!> Implements no equation itself: it applies contact_normal (Kaiser eqs 17-23) and
+!> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
     use common_kinds, only: dp
     use contact_plans, only: workspace, ws_create, ws_free, ws_get

@@ -15,6 +15,8 @@
 !> its normal approach that times cos(delta). Creepages from the wheelset's velocities with
 !> the nominal rolling speed Omega0 = v0/r0 plus the spin perturbation rate betadot (no
 !> rotation angle: only the rate enters). Forces on the wheel in track axes.
+!> Implements Hertz's law, Kalker's linear theory with the Shen-Hedrick-Elkins saturation
+!> (creep_kalker_she) and FASTSIM through contact_fastsim; no Kaiser equation.
 module vehicle_contact
     use common_kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse

@@ -13,6 +13,8 @@
 !> Local node order is tensor order: node (i, j), i, j = 1..3 along xi, eta,
 !> has index (j - 1) * 3 + i and natural coordinates (i - 2, j - 2).
 !> Element DOF order: node-major, (U_r, U_y, U_th) per node.
+!> Implements Kaiser eqs 6-10 and, per element, the body-frame terms of eqs 1-5 (Coriolis,
+!> centrifugal, prestress); the numbers 1-5 and 8 are inferred (docs/equations.md).
 module wheelset_element
     use common_kinds, only: dp, pi
     implicit none

@@ -3,6 +3,8 @@
 !> regularity conditions on the axis, banded assembly, springs to the ground,
 !> the lowest modes up to a frequency bound, and the modal Coriolis and
 !> centrifugal matrices of the rotating body.
+!> Implements Kaiser eqs 6 and 8-10 (the modes of harmonic k, double for k > 0) and the modal
+!> terms of eqs 1-5 (Gamma, Mc, K_sigma); 1-5 and 8 numbered by inference (docs/equations.md).
 module wheelset_modes
     use common_kinds, only: dp
     use common_lapack, only: dpbtrf, dpbtrs
