@@ -1,8 +1,8 @@
 !> f2py shim for the vehicle-track time simulation: plain arrays, explicit shapes, info codes.
+!> Implements no equation (the vehicle kernels do: see docs/equations.md).
 !> The model (matrices, nonlinear elements, wheelset DOF maps, contact table) is passed whole
 !> on every call; railvti.vehicle builds and checks it. cmodel 3 (BEM) needs the handle `bem`
 !> of a BEM contact state (vehicle_bem_create_c), which keeps its warm starts between calls.
-!> Implements no equation (the vehicle kernels do: see docs/equations.md).
 
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats.
 subroutine vehicle_run_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &

@@ -1,6 +1,8 @@
 !> Steady-state rolling contact of quasi-identical bodies: the tangential
 !> tractions for a given pressure, creepages and Coulomb friction (Kaiser,
 !> eqs 24-29; Kalker 1990, ch. 2 and 5).
+!> Implements Kaiser eqs 24-29. Eq. 29 departs from the printing: upstream elements
+!> i + 1, i + 2 (the paper's text, not its x - da) and the th = 1/3 stencil (docs/equations.md).
 !>
 !> Kinematics. The contact patch is fixed; material particles move through it
 !> in -x at the rolling speed V, so the leading edge is at the largest x.
@@ -69,9 +71,6 @@
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
 !> F being the element solutions with a single-element pivot: zero exactly at
 !> the solution. At exit every traction is put on its disc.
-!>
-!> Implements Kaiser eqs 24-29. Eq. 29 departs from the printing: upstream elements
-!> i + 1, i + 2 (the paper's text, not its x - da) and the th = 1/3 stencil (docs/equations.md).
 module contact_rolling
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetri

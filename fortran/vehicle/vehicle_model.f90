@@ -2,9 +2,9 @@
 !> matrices of the linear suspension and track (assembled in Python), a constant force
 !> (gravity and spring preloads), scalar nonlinear suspension elements along a direction g
 !> (regularised dry friction, bump stops) and the wheel-rail contact of each wheelset.
+!> Implements no Kaiser equation: the coach's force balance below (docs/vehicle.md).
 !>
 !>   F(q, v) = f0 - K q - C v + sum_e (-g_e f_e(g_e.q, g_e.v)) + contact(q, v)
-!> Implements no Kaiser equation: the coach's force balance above (docs/vehicle.md).
 module vehicle_model
     use common_kinds, only: dp
     use vehicle_contact, only: nq_table, nwo, wheelset_contact

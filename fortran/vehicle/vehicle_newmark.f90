@@ -1,4 +1,5 @@
 !> Implicit time integration of M a = F(q, v) and the static equilibrium F(q, 0) = 0.
+!> Implements Newmark/HHT-alpha and the Zienkiewicz-Xie estimate; no Kaiser equation.
 !>
 !> Newmark with HHT-alpha (Hilber, Hughes & Taylor 1977): alpha in [-1/3, 0],
 !> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
@@ -6,7 +7,6 @@
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
 !> at the first iteration of each step and again when an iteration does not contract.
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
-!> Implements Newmark/HHT-alpha and the Zienkiewicz-Xie estimate; no Kaiser equation.
 module vehicle_newmark
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
