@@ -12,7 +12,7 @@ from ..casetypes import CaseOutput, CaseType, register
 from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
-from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, contact_table
+from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, ContactTable, contact_table
 
 
 def _mm(length: float) -> float:
@@ -83,7 +83,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
     yaw = y * 1e3 * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"]) * 1e-3
     track, ws = deck_layout(params)
     t = contact_table(wheel, rail, y, yaw, track=track, wheelset=ws)
-    units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": "0 ok, 1 no contact, 2 flange climb",
+    status = ", ".join(f"{code} {name}" for code, name in STATUS_NAMES.items())
+    units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": status,
              "n_contact": "1", "separation": "m", "contact_angle": "rad", "rolling_radius": "m",
              "y_wheel": "m", "y_rail": "m", "x": "m", "y_track": "m", "z_track": "m", "delta_r": "m"}
     out = CaseOutput(summary="", datasets={k: (np.asarray(v), units[k]) for k, v in t.as_dict().items()})
@@ -99,19 +100,17 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if climb.any():
         out.scalars["flange_climb_from"] = (float(np.min(np.abs(t.y[climb]))), "m")
     nok = int(np.sum(np.any(t.status == NO_CONTACT, axis=1)))
-    object.__setattr__(out, "summary", f"contact table: {n} positions, {nok} without contact, "
-                       f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}")
+    out.summary = (f"contact table: {n} positions, {nok} without contact, "
+                   f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}")
     return out
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Delta-r, contact angle and roll against y from a stored case."""
     from .plots import plot_table
-    from .table import ContactTable
     r = group["results"] if "results" in group else group
-    names = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
-             "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
-    t = ContactTable(**{k: np.asarray(r[k]) for k in names}, radius=float("nan"), tolerance=float("nan"))
+    t = ContactTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
+                     tolerance=float("nan"))
     p = Path(outdir) / f"{stem}_contact_table.png"
     return [plot_table(t, p)]
 

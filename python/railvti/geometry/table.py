@@ -138,6 +138,11 @@ class WheelsetContact:
         return self.left if side == "left" else self.right
 
 
+#: The array fields of a :class:`ContactTable`.
+TABLE_ARRAYS = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
+                "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
+
+
 @dataclass(frozen=True)
 class ContactTable:
     """Rigid contact geometry tabulated against the lateral shift.
@@ -159,8 +164,10 @@ class ContactTable:
         Points within the contact tolerance.
     separation, contact_angle, rolling_radius, y_wheel, y_rail, x, y_track, z_track : ndarray (n, 2, m)
         Per candidate point (see :class:`ContactPoint`).
-    radius : float
-        Nominal wheel radius, m.
+    wheel_radius : float
+        Nominal wheel radius (at the tread datum), m.
+    tolerance : float
+        Separation up to which a point counts as in contact, m.
     """
 
     y: np.ndarray
@@ -177,7 +184,7 @@ class ContactTable:
     x: np.ndarray
     y_track: np.ndarray
     z_track: np.ndarray
-    radius: float
+    wheel_radius: float
     tolerance: float
 
     @property
@@ -191,10 +198,8 @@ class ContactTable:
         return np.all(self.status == OK, axis=1)
 
     def as_dict(self) -> dict[str, np.ndarray]:
-        """The arrays by name (for HDF5 / decks)."""
-        names = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
-                 "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
-        d = {k: getattr(self, k) for k in names}
+        """The arrays by name (:data:`TABLE_ARRAYS` and ``delta_r``; for HDF5 / decks)."""
+        d = {k: getattr(self, k) for k in TABLE_ARRAYS}
         d["delta_r"] = self.delta_r
         return d
 
@@ -502,4 +507,4 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayo
     if bad.any():
         log.warning("%d of %d positions without proper contact on a wheel", int(bad.sum()), n)
     return ContactTable(y=ya, yaw=yw, rise=rise, roll=roll, status=status, n_contact=ncon,
-                        radius=lay.wheelset.wheel_radius, tolerance=tol, **arr)
+                        wheel_radius=lay.wheelset.wheel_radius, tolerance=tol, **arr)
