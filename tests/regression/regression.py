@@ -255,7 +255,8 @@ def _float(x: float) -> float | str:
     return x if math.isfinite(x) else str(x)
 
 
-def _unfloat(x: float | str | None) -> float:
+def stored_float(x: float | str | None) -> float:
+    """A float as a summary stores it (NaN and infinities as strings) back as a float."""
     return float(x) if x is not None else math.nan
 
 
@@ -365,9 +366,9 @@ def array_bounds(tol: Tol, ref: dict) -> dict[str, float]:
     the change of l2; min and max move by at most an element's bound.
     """
     n = max(1, int(np.prod(ref["shape"])))
-    lo, hi = _unfloat(ref["min"]), _unfloat(ref["max"])
+    lo, hi = stored_float(ref["min"]), stored_float(ref["max"])
     big = 0.0 if math.isnan(lo) else max(abs(lo), abs(hi))
-    l1, l2 = _unfloat(ref["l1"]), _unfloat(ref["l2"])
+    l1, l2 = stored_float(ref["l1"]), stored_float(ref["l2"])
     rel1 = n * big if tol.scaled else l1
     rel2 = math.sqrt(n) * big if tol.scaled else l2
     return {"min": tol.bound(lo, big), "max": tol.bound(hi, big),
@@ -376,9 +377,9 @@ def array_bounds(tol: Tol, ref: dict) -> dict[str, float]:
             "scale": big}
 
 
-def _why(tol: Tol, allowed: float) -> str:
+def _why(tol: Tol, allowed: float, array: bool = True) -> str:
     return (f"(allowed difference {allowed:.3g}: rtol {tol.rtol:g}, atol {tol.atol:g}"
-            f"{', scaled by the array maximum' if tol.scaled else ''})")
+            f"{', scaled by the array maximum' if tol.scaled and array else ''})")
 
 
 def _compare_float_array(name: str, new: dict, ref: dict, tol: Tol) -> list[str]:
@@ -390,12 +391,12 @@ def _compare_float_array(name: str, new: dict, ref: dict, tol: Tol) -> list[str]
     bounds = array_bounds(tol, ref)
     big = bounds.pop("scale")
     for key, allowed in bounds.items():
-        x, r = _unfloat(new[key]), _unfloat(ref[key])
+        x, r = stored_float(new[key]), stored_float(ref[key])
         if not _close(x, r, allowed):
             out.append(f"{name}: {key} {x!r} != reference {r!r} {_why(tol, allowed)}")
     n = int(np.prod(ref["shape"]))
     for i, x, r in zip(sample_index(n), new["samples"], ref["samples"]):
-        x, r = _unfloat(x), _unfloat(r)
+        x, r = stored_float(x), stored_float(r)
         allowed = tol.bound(r, big)
         if not _close(x, r, allowed):
             out.append(f"{name}: element {i} {x!r} != reference {r!r} {_why(tol, allowed)}")
@@ -426,11 +427,11 @@ def compare_quantity(case_type: str, case: str, name: str, new: dict, ref: dict)
     if kind == "text":
         return [] if new["value"] == ref["value"] else [f"{name}: {new['value']!r} != reference {ref['value']!r}"]
     if kind in ("integer", "float"):
-        x, r = _unfloat(new["value"]), _unfloat(ref["value"])
+        x, r = stored_float(new["value"]), stored_float(ref["value"])
         allowed = tol.bound(r)
         if _close(x, r, allowed):
             return []
-        return [f"{name}: {x!r} != reference {r!r} {_why(tol, allowed)}"]
+        return [f"{name}: {x!r} != reference {r!r} {_why(tol, allowed, array=False)}"]
     if kind == "integer_array":
         return _compare_integer_array(name, new, ref, tol)
     return _compare_float_array(name, new, ref, tol)

@@ -101,7 +101,7 @@ def test_comparison_reports_a_perturbed_reference():
             if rec["kind"] == "float_array":
                 bounds = R.array_bounds(tol, rec)
                 allowed = bounds[key] if key in bounds else \
-                    tol.bound(R._unfloat(value), bounds["scale"])
+                    tol.bound(R.stored_float(value), bounds["scale"])
             else:
                 allowed = tol.bound(float(value))
             for factor, reported in ((1.5, True), (0.5, False)):
