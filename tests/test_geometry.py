@@ -212,3 +212,14 @@ def test_deck_case_runs():
     assert 0.1 < out.scalars["equivalent_conicity"][0] < 0.3
     with pytest.raises(InputError):
         ct.run({**params, "wheel": "nonexistent.txt"})
+
+
+def test_deck_layout_defaults_are_the_class_defaults():
+    """One back-to-back (and gauge, radius) default: the decks' mm keys repeat the classes'."""
+    from railvti.casetypes import REGISTRY
+    from railvti.deck_registry import case_types
+    from railvti.geometry.cases import deck_layout
+    case_types()
+    for name in ("geometry_table", "loaded_wheelset"):
+        track, ws = deck_layout(REGISTRY[name].defaults)
+        assert track == G.TrackLayout() and ws == WheelsetGeometry(), name
