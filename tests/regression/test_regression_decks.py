@@ -20,7 +20,8 @@ from railvti.deck_registry import case_types
 @pytest.mark.parametrize("deck", R.DECKS, ids=[d.name for d in R.DECKS])
 def test_deck_matches_its_reference(deck, tmp_path):
     if deck.slow and not R.full_run():
-        pytest.skip(f"slow deck (reduced by {deck.reduced_by or 'none'}); run with {R.FULL_ENV}=1")
+        also = f"; {deck.reduced_by} runs its case types" if deck.reduced_by else ""
+        pytest.skip(f"slow deck{also}; set {R.FULL_ENV}=1 to run it")
     ref = R.read_reference(deck)
     new = R.run_deck(deck, tmp_path)
     diffs = R.compare(new, ref["cases"])
