@@ -5,6 +5,8 @@ import pytest
 from railvti import InputError
 from railvti import geometry as G
 from railvti import profiles as P
+from railvti.geometry.frames import axle_direction
+from railvti.wheelset import WheelsetGeometry
 
 
 @pytest.fixture(scope="module")
@@ -23,6 +25,26 @@ def test_layout_gauge(pair):
     assert lay.rail_offset + lay.gauge_point == pytest.approx(0.7175, abs=1e-12)
     assert pair[1].height(lay.gauge_point) - lay.rail_top == pytest.approx(0.014, abs=1e-9)
     assert lay.max_flange_angle == pytest.approx(np.arctan(2.747477419), abs=2e-3)  # S1002 70 deg face
+
+
+def test_wheelset_is_the_fe_wheelset(pair):
+    """The contact geometry places each tread datum (wheel profile y = 0) on the FE wheelset's
+    taping line: 1360 mm / 2 + 70 mm (EN 13715) from the centre."""
+    lay = G.layout(*pair)
+    assert lay.wheelset == WheelsetGeometry()
+    c = G.contact_points(*pair, 0.0).left[0]
+    assert c.position[1] - c.y_wheel == pytest.approx(0.68 + 0.07, abs=1e-9)
+    assert c.rolling_radius - pair[0].height(c.y_wheel) == pytest.approx(0.46, abs=1e-12)
+    wide = G.contact_points(*pair, 0.0, wheelset=WheelsetGeometry(back_to_back=1.37)).left[0]
+    assert wide.position[1] - wide.y_wheel == pytest.approx(0.685 + 0.07, abs=1e-9)
+
+
+def test_axle_direction_is_the_rotated_lateral_axis():
+    roll, yaw = np.array([0.0, 0.02, -0.03]), np.array([0.0, 0.1, 0.05])
+    for r, w, a in zip(roll, yaw, axle_direction(roll, yaw)):
+        rx = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]])
+        rz = np.array([[np.cos(w), -np.sin(w), 0], [np.sin(w), np.cos(w), 0], [0, 0, 1]])
+        assert np.allclose(a, rz @ rx @ [0.0, 1.0, 0.0], atol=1e-15)
 
 
 def test_centred_one_point_per_wheel_near_cant(pair):
@@ -77,7 +99,7 @@ def test_flange_climb_status(table):
 
 def test_no_contact_status(pair):
     # a wheelset so narrow that the wheels miss the rails' heads
-    t = G.contact_table(*pair, [0.0], wheelset=G.WheelsetGeometry(back_to_back=1.2))
+    t = G.contact_table(*pair, [0.0], wheelset=WheelsetGeometry(back_to_back=1.2))
     assert np.all(t.status[0] == G.NO_CONTACT)
     assert np.isnan(t.roll[0])
 
@@ -111,7 +133,7 @@ def test_gap_field_cylinder_on_arc():
     wheel = P.Profile(ys, 0.028 * np.clip(-(ys + 0.045) / 0.025, 0, None) ** 2, kind="wheel")
     yr = np.linspace(-0.03, 0.03, 601)
     rail = P.Profile(yr, 0.3 - np.sqrt(0.09 - yr**2), kind="rail")
-    c = G.contact_points(wheel, rail, 0.0, track=G.Track(gauge_depth=0.001)).left[0]
+    c = G.contact_points(wheel, rail, 0.0, track=G.TrackLayout(gauge_depth=0.001)).left[0]
     assert c.contact_angle == pytest.approx(0.0, abs=1e-9)
     f = G.gap_field(wheel, rail, c, 5e-4, 5e-4, 11, 11)
     X, Y = np.meshgrid(f.x, f.y, indexing="ij")
@@ -148,7 +170,7 @@ def test_equivalent_conicity(pair):
     ye = np.clip(yr, -0.003, 0.003)
     zr = 0.005 - np.sqrt(0.005**2 - ye**2) + (np.abs(yr) - np.abs(ye)) * 0.003 / np.sqrt(0.005**2 - 0.003**2)
     rail = P.Profile(yr, zr, kind="rail")
-    t = G.contact_table(cone, rail, np.linspace(-0.004, 0.004, 41), track=G.Track(gauge_depth=0.001))
+    t = G.contact_table(cone, rail, np.linspace(-0.004, 0.004, 41), track=G.TrackLayout(gauge_depth=0.001))
     # rigid kinematics: the roll moves the wheel's contact point by r0 * roll, so
     # Delta-r = 2 lambda y (1 + r0 lambda / b)
     assert G.equivalent_conicity(t, 0.003) == pytest.approx(0.05 * (1 + 0.46 * 0.05 / 0.75), rel=5e-3)
@@ -190,3 +212,14 @@ def test_deck_case_runs():
     assert 0.1 < out.scalars["equivalent_conicity"][0] < 0.3
     with pytest.raises(InputError):
         ct.run({**params, "wheel": "nonexistent.txt"})
+
+
+def test_deck_layout_defaults_are_the_class_defaults():
+    """One back-to-back (and gauge, radius) default: the decks' mm keys repeat the classes'."""
+    from railvti.casetypes import REGISTRY
+    from railvti.deck_registry import case_types
+    from railvti.geometry.cases import deck_layout
+    case_types()
+    for name in ("geometry_table", "loaded_wheelset"):
+        track, ws = deck_layout(REGISTRY[name].defaults)
+        assert track == G.TrackLayout() and ws == WheelsetGeometry(), name

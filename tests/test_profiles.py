@@ -136,3 +136,18 @@ def test_reader_errors(tmp_path):
         P.s1002(y_min=-0.08)
     with pytest.raises(InputError, match="cant"):
         P.uic60(cant=0.5)
+
+
+def test_load_by_name_or_file(tmp_path, bench_wheel):
+    w = P.load("S1002", "wheel")
+    assert np.array_equal(w.y, P.s1002().y) and np.array_equal(w.z, P.s1002().z)
+    r = P.load(" uic60 ", "rail", cant=1 / 20)
+    assert np.allclose(r.slope(0.0), P.uic60(cant=1 / 20).slope(0.0), atol=0, rtol=0)
+    f = P.load(P.example_path("MBench_S1002_v3.prw"), "wheel")
+    assert np.array_equal(f.z, bench_wheel.z)
+    txt = tmp_path / "wheel.txt"          # plain text files in decks are in mm
+    np.savetxt(txt, np.c_[bench_wheel.y * 1e3, bench_wheel.z * 1e3])
+    assert np.allclose(P.load(txt, "wheel").z, bench_wheel.z, atol=1e-12)
+    for spec, kind in (("uic60", "wheel"), ("s1002", "rail"), (tmp_path / "missing.txt", "rail")):
+        with pytest.raises(InputError, match="must be 's1002'/'uic60' or a profile file"):
+            P.load(spec, kind)

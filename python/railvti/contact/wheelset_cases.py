@@ -9,8 +9,7 @@ import numpy as np
 
 from .. import _checks
 from ..casetypes import CaseOutput, CaseType, register
-from ..geometry.cases import _profile
-from ..geometry import Track, WheelsetGeometry
+from ..geometry.cases import PAIR_DEFAULTS, deck_layout, deck_profiles
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
 
@@ -53,14 +52,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
     nu, dx_mm, gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm, field_at_mm (the shift
     whose pressure and traction fields are stored).
     """
-    wheel = _profile(params["wheel"], "wheel", 0.0)
-    rail = _profile(params["rail"], "rail", _checks.finite("cant", params["cant"]))
+    wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"])
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
                     _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
     yaw = y * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"])
-    track = Track(gauge=params["gauge_mm"] * 1e-3, gauge_depth=params["gauge_depth_mm"] * 1e-3)
-    ws = WheelsetGeometry(back_to_back=params["back_to_back_mm"] * 1e-3, radius=params["radius_mm"] * 1e-3)
+    track, ws = deck_layout(params)
     mat = Material(shear_modulus=params["g"], poisson=params["nu"])
     mu, speed = float(params["mu"]), float(params["speed"])
     rolling = mu > 0 and speed > 0
@@ -112,8 +109,10 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
 
 register(CaseType(
     name="loaded_wheelset",
-    defaults={"wheel": "s1002", "rail": "uic60", "cant": 0.025, "y_min_mm": 0.0, "y_max_mm": 10.0,
-              "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4, "mu": 0.3, "speed": 2.0, "g": 82.0e9,
-              "nu": 0.28, "dx_mm": 0.2, "gauge_mm": 1435.0, "gauge_depth_mm": 14.0,
-              "back_to_back_mm": 1360.0, "radius_mm": 460.0, "field_at_mm": 0.0},
+    defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
+              "y_min_mm": 0.0, "y_max_mm": 10.0, "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4,
+              "mu": 0.3, "speed": 2.0, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2,
+              "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
+              "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
+              "field_at_mm": 0.0},
     run=run, plot=plot))

@@ -7,26 +7,65 @@ from typing import Any
 import numpy as np
 
 from .. import _checks
-from ..casetypes import CaseOutput, CaseType, register
-from ..errors import InputError
 from .. import profiles as P
-from ._setup import Track, WheelsetGeometry
+from ..casetypes import CaseOutput, CaseType, register
+from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
-from .table import STATUS_NAMES, contact_table
+from .placement import TrackLayout
+from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, ContactTable, contact_table
 
 
-def _profile(spec: str, kind: str, cant: float) -> P.Profile:
-    s = str(spec).strip()
-    if s.lower() == "s1002" and kind == "wheel":
-        return P.s1002()
-    if s.lower() == "uic60" and kind == "rail":
-        return P.uic60(cant=cant)
-    path = Path(s)
-    if path.suffix.lower() in (".prw", ".prr"):
-        return P.read(path)
-    if not path.is_file():
-        raise InputError(f"{kind} must be 's1002'/'uic60' or a profile file, got {spec!r}")
-    return P.read(path, unit="mm", kind=kind)
+def _mm(length: float) -> float:
+    """A length in m as the deck's mm value."""
+    return round(length * 1e3, 9)
+
+
+#: Deck keys (and defaults) that name a wheel/rail pair on the track, shared by the case
+#: types ``geometry_table`` and ``loaded_wheelset``: see :func:`deck_profiles` and
+#: :func:`deck_layout`. The layout defaults are those of TrackLayout and WheelsetGeometry.
+PAIR_DEFAULTS: dict[str, Any] = {
+    "wheel": "s1002", "rail": "uic60", "cant": 0.025,
+    "gauge_mm": _mm(TrackLayout.gauge), "gauge_depth_mm": _mm(TrackLayout.gauge_depth),
+    "back_to_back_mm": _mm(WheelsetGeometry.back_to_back), "radius_mm": _mm(WheelsetGeometry.wheel_radius),
+}
+
+
+def deck_profiles(params: dict[str, Any]) -> tuple[P.Profile, P.Profile]:
+    """The wheel and rail profiles of a deck case.
+
+    Parameters
+    ----------
+    params : dict
+        Keys ``wheel`` ('s1002' or a profile file), ``rail`` ('uic60' or a profile file,
+        taken as already canted) and ``cant`` (tan, for 'uic60').
+
+    Returns
+    -------
+    wheel, rail : Profile
+    """
+    wheel = P.load(params["wheel"], "wheel")
+    rail = P.load(params["rail"], "rail", cant=_checks.finite("cant", params["cant"]))
+    return wheel, rail
+
+
+def deck_layout(params: dict[str, Any]) -> tuple[TrackLayout, WheelsetGeometry]:
+    """The track layout and the wheelset of a deck case.
+
+    Parameters
+    ----------
+    params : dict
+        Keys ``gauge_mm``, ``gauge_depth_mm``, ``back_to_back_mm`` and ``radius_mm`` (the
+        wheel's nominal rolling radius), mm.
+
+    Returns
+    -------
+    TrackLayout, WheelsetGeometry
+        The wheelset has the other dimensions of ``WheelsetGeometry()``.
+    """
+    track = TrackLayout(gauge=params["gauge_mm"] * 1e-3, gauge_depth=params["gauge_depth_mm"] * 1e-3)
+    wheelset = WheelsetGeometry(back_to_back=params["back_to_back_mm"] * 1e-3,
+                                wheel_radius=params["radius_mm"] * 1e-3)
+    return track, wheelset
 
 
 def run(params: dict[str, Any]) -> CaseOutput:
@@ -37,16 +76,15 @@ def run(params: dict[str, Any]) -> CaseOutput:
     (yaw rising with the shift), gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm,
     amplitude_mm (for the equivalent conicity).
     """
-    wheel = _profile(params["wheel"], "wheel", 0.0)
-    rail = _profile(params["rail"], "rail", _checks.finite("cant", params["cant"]))
+    wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"], 2)
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
                     _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
     yaw = y * 1e3 * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"]) * 1e-3
-    track = Track(gauge=params["gauge_mm"] * 1e-3, gauge_depth=params["gauge_depth_mm"] * 1e-3)
-    ws = WheelsetGeometry(back_to_back=params["back_to_back_mm"] * 1e-3, radius=params["radius_mm"] * 1e-3)
+    track, ws = deck_layout(params)
     t = contact_table(wheel, rail, y, yaw, track=track, wheelset=ws)
-    units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": "0 ok, 1 no contact, 2 flange climb",
+    status = ", ".join(f"{code} {name}" for code, name in STATUS_NAMES.items())
+    units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": status,
              "n_contact": "1", "separation": "m", "contact_angle": "rad", "rolling_radius": "m",
              "y_wheel": "m", "y_rail": "m", "x": "m", "y_track": "m", "z_track": "m", "delta_r": "m"}
     out = CaseOutput(summary="", datasets={k: (np.asarray(v), units[k]) for k, v in t.as_dict().items()})
@@ -56,32 +94,32 @@ def run(params: dict[str, Any]) -> CaseOutput:
         con = equivalent_conicity(t, amp)
         e0 = 0.5 * float(np.nanmedian(t.y_track[:, 0, 0] - t.y_track[::-1, 1, 0]))
         out.scalars["equivalent_conicity"] = (con, "1")
-        out.scalars["klingel_wavelength"] = (klingel_wavelength(con, ws.radius, e0), "m")
+        out.scalars["klingel_wavelength"] = (klingel_wavelength(con, ws.wheel_radius, e0), "m")
         msg = f", tan(gamma_e)({amp * 1e3:g} mm) = {con:.4f}"
-    climb = np.any(t.status == 2, axis=1)
+    climb = np.any(t.status == FLANGE_CLIMB, axis=1)
     if climb.any():
         out.scalars["flange_climb_from"] = (float(np.min(np.abs(t.y[climb]))), "m")
-    nok = int(np.sum(np.any(t.status == 1, axis=1)))
-    object.__setattr__(out, "summary", f"contact table: {n} positions, {nok} without contact, "
-                       f"{int(climb.sum())} with {STATUS_NAMES[2]}{msg}")
+    nok = int(np.sum(np.any(t.status == NO_CONTACT, axis=1)))
+    out.summary = (f"contact table: {n} positions, {nok} without contact, "
+                   f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}")
     return out
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Delta-r, contact angle and roll against y from a stored case."""
     from .plots import plot_table
-    from .table import ContactTable
     r = group["results"] if "results" in group else group
-    names = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
-             "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
-    t = ContactTable(**{k: np.asarray(r[k]) for k in names}, radius=float("nan"), tolerance=float("nan"))
+    t = ContactTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
+                     tolerance=float("nan"))
     p = Path(outdir) / f"{stem}_contact_table.png"
     return [plot_table(t, p)]
 
 
 register(CaseType(
     name="geometry_table",
-    defaults={"wheel": "s1002", "rail": "uic60", "cant": 0.025, "y_min_mm": -10.0, "y_max_mm": 10.0,
-              "n": 201, "yaw_mrad_per_mm": 0.0, "gauge_mm": 1435.0, "gauge_depth_mm": 14.0,
-              "back_to_back_mm": 1360.0, "radius_mm": 460.0, "amplitude_mm": 3.0},
+    defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
+              "y_min_mm": -10.0, "y_max_mm": 10.0, "n": 201, "yaw_mrad_per_mm": 0.0,
+              "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
+              "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
+              "amplitude_mm": 3.0},
     run=run, plot=plot))

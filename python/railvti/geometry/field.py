@@ -13,8 +13,9 @@ import numpy as np
 from .. import _checks
 from ..errors import ConvergenceError, InputError
 from ..profiles import Profile
-from ._setup import SIGN
-from .table import ContactPoint, _axle
+from .frames import SIGN
+from .placement import ProfileLayout
+from .table import ContactPoint
 
 _SIDE = {"left": 0, "right": 1}
 
@@ -50,16 +51,6 @@ class GapField:
     t_y: np.ndarray
     normal: np.ndarray
 
-    @property
-    def x0(self) -> float:
-        """x of element [0, :] centre, m."""
-        return float(self.x[0])
-
-    @property
-    def y0(self) -> float:
-        """y of element [:, 0] centre, m."""
-        return float(self.y[0])
-
 
 @dataclass(frozen=True)
 class Creepages:
@@ -79,9 +70,10 @@ class Creepages:
     phi: float
 
 
-def _rail_zeta(rail: Profile, lay, side: int, origin: np.ndarray, t_y: np.ndarray,
-               n: np.ndarray, eta: np.ndarray, outside: float) -> np.ndarray:
-    """Rail surface offset along n below the tangent plane (<= 0) at lateral coords eta."""
+def _rail_zeta(lay: ProfileLayout, side: int, origin: np.ndarray, t_y: np.ndarray,
+               n: np.ndarray, eta: np.ndarray) -> np.ndarray:
+    """Rail surface offset along n below the tangent plane (<= 0) at lateral coords eta
+    (NaN off the rail)."""
     sg = SIGN[side]
     ys = lay.ry
     ty = sg * ys + sg * lay.rail_offset                 # track y of the rail table points
@@ -156,7 +148,7 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
     ys = (-(ny - 1) * dy / 2 if y0 is None else _checks.finite("y0", y0)) + dy * np.arange(ny)
     side = _SIDE[contact.side]
     o, tx, ty, n = contact.position, contact.t_x, contact.t_y, contact.normal
-    zeta_r = _rail_zeta(rail, lay, side, o, ty, n, ys, outside)          # (ny,)
+    zeta_r = _rail_zeta(lay, side, o, ty, n, ys)                         # (ny,)
     # wheel: Newton on F(s) = rho - r(u) along each grid line, vectorised
     pose = contact.pose
     a = pose.axle
@@ -166,7 +158,7 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
     base = o[None, None, :] + X[..., None] * tx + Y[..., None] * ty      # (nx, ny, 3)
     rel0 = base - c
     s = np.full(X.shape, contact.separation) + X * X / (2.0 * contact.rolling_radius)
-    w_off = lay.wheelset.datum_offset
+    w_off = lay.wheelset.contact_y
     an = float(a @ n)
     bad = np.zeros(X.shape, dtype=bool)
     for _ in range(30):
@@ -178,7 +170,7 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
         inside = (yw >= wheel.y_min) & (yw <= wheel.y_max)
         bad |= ~inside
         ywc = np.clip(yw, wheel.y_min, wheel.y_max)
-        r = lay.wheelset.radius + wheel.height(ywc)
+        r = lay.wheelset.wheel_radius + wheel.height(ywc)
         drdu = sg * wheel.slope(ywc)
         f = rho - r
         dfds = (radial @ n) / rho - drdu * an
@@ -240,7 +232,7 @@ def creepages(contact: ContactPoint, speed: float, lateral_velocity: float = 0.0
     wz = _checks.finite("yaw_rate", yaw_rate)
     wx = _checks.finite("roll_rate", roll_rate)
     pose = contact.pose
-    om = v / pose.layout.wheelset.radius if angular_velocity is None else \
+    om = v / pose.layout.wheelset.wheel_radius if angular_velocity is None else \
         _checks.finite("angular_velocity", angular_velocity)
     a = pose.axle
     omega = om * a + np.array([wx, 0.0, wz])

@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 
 from ..profiles import Profile
-from .table import ContactTable, WheelsetContact, _axle
-from ._setup import SIGN
+from .frames import SIGN, axle_direction
+from .table import FLANGE_CLIMB, ContactTable, WheelsetContact
 
 
 def _mpl():
@@ -30,9 +30,9 @@ def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact]
     for wc in contacts:
         pose, lay = wc.pose, wc.pose.layout
         ws, wz = wheel.sample(2e-4)
-        a = _axle(np.array([pose.roll]), np.array([0.0]))[0]   # cross-section (yaw ignored in the sketch)
-        w = sg * (lay.wheelset.datum_offset + ws)
-        r = lay.wheelset.radius + wz
+        a = axle_direction(np.array([pose.roll]), np.array([0.0]))[0]   # cross-section (yaw ignored)
+        w = sg * (lay.wheelset.contact_y + ws)
+        r = lay.wheelset.wheel_radius + wz
         down = np.array([0.0, a[2], -a[1]])
         y = pose.y + w * a[1] + r * down[1]
         z = pose.z + w * a[2] + r * down[2]
@@ -67,7 +67,7 @@ def plot_table(table: ContactTable, path: str | Path, conicity: tuple[np.ndarray
     axs[1].legend(fontsize=7)
     axs[2].plot(y, table.roll * 1e3, "k")
     axs[2].set_ylabel("roll, mrad")
-    climb = np.any(table.status == 2, axis=1)
+    climb = np.any(table.status == FLANGE_CLIMB, axis=1)
     for ax in axs[:3]:
         ax.set_xlabel("lateral shift y, mm")
         ax.grid(alpha=0.3)

@@ -22,7 +22,9 @@ from scipy.signal import find_peaks
 from .. import _checks
 from ..errors import ConvergenceError, InputError
 from ..profiles import Profile
-from ._setup import LEFT, RIGHT, SIDES, SIGN, Layout, Track, WheelsetGeometry, layout
+from ..wheelset.geometry import WheelsetGeometry
+from .frames import LEFT, RIGHT, SIDES, SIGN, axle_direction
+from .placement import ProfileLayout, TrackLayout, layout
 
 log = logging.getLogger(__name__)
 
@@ -47,20 +49,20 @@ class WheelsetPose:
         Roll angle about x, rad (positive raises the left wheel).
     yaw : float
         Yaw angle about z, rad (positive turns the axle's left end backwards).
-    layout : Layout
-        The profiles and the track/wheelset layout it refers to.
+    layout : ProfileLayout
+        The profiles, the track layout and the wheelset it refers to.
     """
 
     y: float
     z: float
     roll: float
     yaw: float
-    layout: Layout = field(repr=False)
+    layout: ProfileLayout = field(repr=False)
 
     @property
     def axle(self) -> np.ndarray:
         """Unit vector of the axle (pointing to the left wheel)."""
-        return _axle(np.array([self.roll]), np.array([self.yaw]))[0]
+        return axle_direction(np.array([self.roll]), np.array([self.yaw]))[0]
 
     @property
     def centre(self) -> np.ndarray:
@@ -97,10 +99,6 @@ class ContactPoint:
         (lateral in the tangent plane, pointing to the left of the track on both wheels).
     flange_climb : bool
         The point lies on the flange beyond its steepest point (towards the tip).
-    extent : (float, float)
-        Rail-local lateral range (m) around the point where the rigid gap stays within
-        0.1 mm of its minimum: a hint for the lateral size of the contact grid (conformal
-        treads give wide, non-elliptic patches).
     pose : WheelsetPose
         Wheelset position this point belongs to.
     """
@@ -117,7 +115,6 @@ class ContactPoint:
     t_x: np.ndarray
     t_y: np.ndarray
     flange_climb: bool
-    extent: tuple[float, float]
     pose: WheelsetPose = field(repr=False)
 
 
@@ -141,6 +138,11 @@ class WheelsetContact:
         return self.left if side == "left" else self.right
 
 
+#: The array fields of a :class:`ContactTable`.
+TABLE_ARRAYS = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
+                "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
+
+
 @dataclass(frozen=True)
 class ContactTable:
     """Rigid contact geometry tabulated against the lateral shift.
@@ -162,8 +164,10 @@ class ContactTable:
         Points within the contact tolerance.
     separation, contact_angle, rolling_radius, y_wheel, y_rail, x, y_track, z_track : ndarray (n, 2, m)
         Per candidate point (see :class:`ContactPoint`).
-    radius : float
-        Nominal wheel radius, m.
+    wheel_radius : float
+        Nominal wheel radius (at the tread datum), m.
+    tolerance : float
+        Separation up to which a point counts as in contact, m.
     """
 
     y: np.ndarray
@@ -180,7 +184,7 @@ class ContactTable:
     x: np.ndarray
     y_track: np.ndarray
     z_track: np.ndarray
-    radius: float
+    wheel_radius: float
     tolerance: float
 
     @property
@@ -194,36 +198,28 @@ class ContactTable:
         return np.all(self.status == OK, axis=1)
 
     def as_dict(self) -> dict[str, np.ndarray]:
-        """The arrays by name (for HDF5 / decks)."""
-        names = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
-                 "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
-        d = {k: getattr(self, k) for k in names}
+        """The arrays by name (:data:`TABLE_ARRAYS` and ``delta_r``; for HDF5 / decks)."""
+        d = {k: getattr(self, k) for k in TABLE_ARRAYS}
         d["delta_r"] = self.delta_r
         return d
 
 
 # ------------------------------------------------------------------------------------
-def _axle(roll: np.ndarray, yaw: np.ndarray) -> np.ndarray:
-    """Axle unit vectors (n, 3) for R = Rz(yaw) Rx(roll) applied to e_y."""
-    cr = np.cos(roll)
-    return np.stack([-np.sin(yaw) * cr, np.cos(yaw) * cr, np.sin(roll)], axis=-1)
-
-
-def _silhouette(lay: Layout, cy: np.ndarray, cz: np.ndarray, roll: np.ndarray, yaw: np.ndarray,
+def _silhouette(lay: ProfileLayout, cy: np.ndarray, cz: np.ndarray, roll: np.ndarray, yaw: np.ndarray,
                 side: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lower silhouette of one wheel and its vertical gap to the rail.
 
     Returns gap (n, K), px, py (n, K) and the rail-local y (n, K); gap is +inf off the rail.
     """
     sg = SIGN[side]
-    a = _axle(roll, yaw)                                     # (n, 3)
+    a = axle_direction(roll, yaw)                            # (n, 3)
     ax = a[:, 0]
     q = np.sqrt(1.0 - ax * ax)
     e1 = (np.array([1.0, 0.0, 0.0]) - ax[:, None] * a) / q[:, None]
     e2 = np.cross(a, e1)
     down = -np.sign(e2[:, 2])
-    w = sg * (lay.wheelset.datum_offset + lay.ws)             # (K,) axial coordinate
-    r = lay.wheelset.radius + lay.wz
+    w = sg * (lay.wheelset.contact_y + lay.ws)                # (K,) axial coordinate
+    r = lay.wheelset.wheel_radius + lay.wz
     drdw = sg * lay.wdz
     ct = np.clip(drdw[None, :] * (ax / q)[:, None], -1.0, 1.0)   # silhouette: n . e_x = 0
     st = down[:, None] * np.sqrt(1.0 - ct * ct)
@@ -253,13 +249,13 @@ def _min_refined(gap: np.ndarray) -> np.ndarray:
     return out
 
 
-def _solve_pose(lay: Layout, y: np.ndarray, yaw: np.ndarray, tol: float = 1e-12,
+def _solve_pose(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float = 1e-12,
                 maxiter: int = 80) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Roll and rise from the two-wheel contact constraint, vectorised (Illinois regula falsi).
 
     Returns roll (n,), rise (n,) and a bool array ``bracketed`` (False: no contact).
     """
-    r0 = lay.wheelset.radius
+    r0 = lay.wheelset.wheel_radius
     cz = np.full_like(y, r0)
 
     def f(phi: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -276,8 +272,8 @@ def _solve_pose(lay: Layout, y: np.ndarray, yaw: np.ndarray, tol: float = 1e-12,
     phi = np.zeros(n)
     gmid = np.full(n, np.nan)
     active = np.nonzero(bracketed)[0]
-    # first guess: the linear model  F ~ 2 * datum_offset * roll
-    phi[active] = np.clip(-f(np.zeros(active.size), active)[0] / (2 * lay.wheelset.datum_offset),
+    # first guess: the linear model  F ~ 2 * contact_y * roll
+    phi[active] = np.clip(-f(np.zeros(active.size), active)[0] / (2 * lay.wheelset.contact_y),
                           lo[active] * 0.9, hi[active] * 0.9)
     side_lo = np.zeros(n, dtype=int)
     for it in range(maxiter):
@@ -322,11 +318,13 @@ def _args(y, yaw) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(ya), np.ascontiguousarray(yw)
 
 
-def _points(lay: Layout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separation: float,
-            prominence: float = 5e-5, extent_gap: float = 1e-4):
-    """Solve the pose and extract the candidate points. Yields per position a dict."""
+def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separation: float,
+            prominence: float = 5e-5) -> list[dict]:
+    """Solve the pose and extract the candidate points: per position a dict with the roll,
+    the rise, the status per wheel and per wheel the points (separation, wheel y, rail y,
+    track x, track y)."""
     roll, rise, ok = _solve_pose(lay, y, yaw)
-    r0 = lay.wheelset.radius
+    r0 = lay.wheelset.wheel_radius
     out = []
     sil = {}
     for side in (LEFT, RIGHT):
@@ -369,19 +367,10 @@ def _points(lay: Layout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separat
                     continue
                 j = k + 1 if t >= 0 else k - 1
                 lam = abs(t)
-                # lateral extent (rail-local y) where the gap stays below extent_gap
-                lim = gg[k] + extent_gap
-                a_ = k
-                while a_ > first and gg[a_ - 1] <= lim:
-                    a_ -= 1
-                b_ = k
-                while b_ < last and gg[b_ + 1] <= lim:
-                    b_ += 1
-                lo_, hi_ = sorted((yr[row, a_], yr[row, b_]))
                 pts.append((sep, (1 - lam) * lay.ws[k] + lam * lay.ws[j],
                             (1 - lam) * yr[row, k] + lam * yr[row, j],
                             (1 - lam) * px[row, k] + lam * px[row, j],
-                            (1 - lam) * py[row, k] + lam * py[row, j], lo_, hi_))
+                            (1 - lam) * py[row, k] + lam * py[row, j]))
             pts.sort(key=lambda p: p[0])
             if pts:
                 base = pts[0][0]  # the refined minimum is ~0; measure separations from it
@@ -392,7 +381,7 @@ def _points(lay: Layout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separat
     return out
 
 
-def _frame(lay: Layout, side: int, yr: float) -> tuple[float, np.ndarray, np.ndarray, np.ndarray, float]:
+def _frame(lay: ProfileLayout, side: int, yr: float) -> tuple[float, np.ndarray, np.ndarray, np.ndarray, float]:
     slope = float(lay.rail.slope(yr))
     delta = -np.arctan(slope)
     sg = SIGN[side]
@@ -404,7 +393,7 @@ def _frame(lay: Layout, side: int, yr: float) -> tuple[float, np.ndarray, np.nda
 
 
 def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
-                   track: Track | None = None, wheelset: WheelsetGeometry | None = None,
+                   track: TrackLayout | None = None, wheelset: WheelsetGeometry | None = None,
                    tol: float = 1e-5, max_separation: float = 2e-3) -> WheelsetContact:
     """Contact points of a rigid wheelset on rigid rails at one position.
 
@@ -417,8 +406,10 @@ def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
         Lateral shift of the wheelset, m (positive to the left).
     yaw : float
         Yaw angle, rad.
-    track, wheelset : Track, WheelsetGeometry, optional
-        Layout (defaults: gauge 1435 mm at 14 mm, back-to-back 1360 mm, radius 0.46 m).
+    track : TrackLayout, optional
+        Gauge (default ``TrackLayout()``).
+    wheelset : railvti.wheelset.WheelsetGeometry, optional
+        Back-to-back, nominal radius and tread datum (default ``WheelsetGeometry()``).
     tol : float
         A candidate point whose separation is at most this is in contact, m (0.01 mm).
         Local gap minima joined to a lower one by a ridge under 0.05 mm are not separate
@@ -437,25 +428,24 @@ def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
     tol = _checks.non_negative("tol", tol)
     max_separation = _checks.positive("max_separation", max_separation)
     rec = _points(lay, ya, yw, tol, max_separation)[0]
-    pose = WheelsetPose(float(ya[0]), lay.wheelset.radius + float(rec["rise"]), float(rec["roll"]),
+    pose = WheelsetPose(float(ya[0]), lay.wheelset.wheel_radius + float(rec["rise"]), float(rec["roll"]),
                         float(yw[0]), lay)
     lists: list[list[ContactPoint]] = [[], []]
     for side in (LEFT, RIGHT):
-        for sep, s_w, s_r, x, ytr, e_lo, e_hi in rec["points"][side]:
+        for sep, s_w, s_r, x, ytr in rec["points"][side]:
             delta, n, tx, ty, z = _frame(lay, side, s_r)
             lists[side].append(ContactPoint(
                 side=SIDES[side], separation=float(sep), in_contact=bool(sep <= tol),
                 position=np.array([x, ytr, z]), y_wheel=float(s_w), y_rail=float(s_r),
-                contact_angle=float(delta), rolling_radius=float(lay.wheelset.radius + wheel.height(s_w)),
-                normal=n, t_x=tx, t_y=ty, flange_climb=bool(s_w < lay.flange_climb_y),
-                extent=(float(e_lo), float(e_hi)), pose=pose))
+                contact_angle=float(delta), rolling_radius=float(lay.wheelset.wheel_radius + wheel.height(s_w)),
+                normal=n, t_x=tx, t_y=ty, flange_climb=bool(s_w < lay.flange_climb_y), pose=pose))
     st = tuple(STATUS_NAMES[s] for s in rec["status"])
     if any(s != "ok" for s in st):
         log.warning("wheelset at y = %.4g mm, yaw = %.4g mrad: %s", ya[0] * 1e3, yw[0] * 1e3, st)
     return WheelsetContact(pose, lists[LEFT], lists[RIGHT], st)  # type: ignore[arg-type]
 
 
-def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: Track | None = None,
+def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayout | None = None,
                   wheelset: WheelsetGeometry | None = None, tol: float = 1e-5,
                   max_separation: float = 2e-3, max_points: int = 3) -> ContactTable:
     """Rigid contact geometry tabulated against the lateral shift (the vehicle model's table).
@@ -501,7 +491,7 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: Track | N
         ww = np.array([s[1] for s in sel])
         kk = np.array([s[2] for s in sel])
         p = np.array([s[3] for s in sel])
-        sep, s_w, s_r, x, ytr = p.T[:5]
+        sep, s_w, s_r, x, ytr = p.T
         arr["separation"][ii, ww, kk] = sep
         arr["y_wheel"][ii, ww, kk] = s_w
         arr["y_rail"][ii, ww, kk] = s_r
@@ -509,7 +499,7 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: Track | N
         arr["y_track"][ii, ww, kk] = ytr
         arr["z_track"][ii, ww, kk] = lay.rail_top - rail.height(s_r)
         arr["contact_angle"][ii, ww, kk] = -np.arctan(rail.slope(s_r))
-        arr["rolling_radius"][ii, ww, kk] = lay.wheelset.radius + wheel.height(s_w)
+        arr["rolling_radius"][ii, ww, kk] = lay.wheelset.wheel_radius + wheel.height(s_w)
         np.add.at(ncon, (ii, ww), (sep <= tol).astype(np.int64))
     roll = np.array([rc["roll"] for rc in recs])
     rise = np.array([rc["rise"] for rc in recs])
@@ -517,4 +507,4 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: Track | N
     if bad.any():
         log.warning("%d of %d positions without proper contact on a wheel", int(bad.sum()), n)
     return ContactTable(y=ya, yaw=yw, rise=rise, roll=roll, status=status, n_contact=ncon,
-                        radius=lay.wheelset.radius, tolerance=tol, **arr)
+                        wheel_radius=lay.wheelset.wheel_radius, tolerance=tol, **arr)

@@ -5,8 +5,8 @@ Coordinates are SI metres, y towards the field side, z positive downwards
 """
 from __future__ import annotations
 
-from ._profile import Profile
-from .io import example_path, read
+from .profile import Profile
+from .io import example_path, load, read
 from .standard import s1002, s1002_mm, uic60
 
-__all__ = ["Profile", "s1002", "s1002_mm", "uic60", "read", "example_path"]
+__all__ = ["Profile", "s1002", "s1002_mm", "uic60", "read", "load", "example_path"]

@@ -1,4 +1,5 @@
-"""Profile readers: SIMPACK ``.prw`` / ``.prr`` files and plain two-column text or CSV."""
+"""Profile readers: SIMPACK ``.prw`` / ``.prr`` files and plain two-column text or CSV, and
+:func:`load` (a standard profile's name or a file, as decks give them)."""
 from __future__ import annotations
 
 import re
@@ -7,7 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ._profile import Profile
+from .profile import Profile
+from .standard import s1002, uic60
 
 #: Length units accepted for plain text files, as metres per unit.
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
@@ -177,3 +179,39 @@ def read(path: str | Path, unit: str | None = None, kind: str | None = None,
     if kind is None:
         raise InputError(f"{p.name}: give kind='wheel' or kind='rail' for a plain text profile")
     return _read_columns(p, unit, kind, p.stem, z_up)
+
+
+def load(spec: str | Path, kind: str, *, cant: float = 0.0) -> Profile:
+    """A profile named as in a deck: a standard profile's name or a profile file.
+
+    Parameters
+    ----------
+    spec : str or Path
+        ``'s1002'`` (a wheel), ``'uic60'`` (a rail, inclined by ``cant``), a SIMPACK file
+        (``.prw`` / ``.prr``) or a plain two-column text file in mm (see :func:`read`); a
+        file's rail is taken as already canted.
+    kind : {'wheel', 'rail'}
+        What the profile must be.
+    cant : float
+        Rail inclination (tan) for ``'uic60'``.
+
+    Returns
+    -------
+    Profile
+
+    Raises
+    ------
+    InputError
+        An unknown name or a missing file, or a bad file (see :func:`read`).
+    """
+    s = str(spec).strip()
+    if s.lower() == "s1002" and kind == "wheel":
+        return s1002()
+    if s.lower() == "uic60" and kind == "rail":
+        return uic60(cant=cant)
+    path = Path(s)
+    if path.suffix.lower() in (".prw", ".prr"):
+        return read(path)
+    if not path.is_file():
+        raise InputError(f"{kind} must be 's1002'/'uic60' or a profile file, got {spec!r}")
+    return read(path, unit="mm", kind=kind)

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from ._profile import Profile
+from .profile import Profile
 
 # --- S1002 (EN 13715), lengths in mm. The standard's y axis runs from the tread datum
 # (y = 0, 70 mm from the flange back) with the flange at negative y: the same orientation as

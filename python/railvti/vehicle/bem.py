@@ -185,8 +185,8 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
         raise InputError("contact='bem' needs a contact table built from profiles "
                          "(a linearised table has no contact geometry)")
     lay = layout(table.wheel, table.rail)
-    off = lay.wheelset.datum_offset
-    r_nom = lay.wheelset.radius
+    off = lay.wheelset.contact_y
+    r_nom = lay.wheelset.wheel_radius
     x = grid.x0 + grid.dx * np.arange(grid.nx)
     t = grid.y0 + grid.dy * np.arange(grid.ny)
     if lines:

@@ -136,8 +136,8 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     n = int(round(2 * y_max / step)) + 1
     y = np.linspace(-y_max, y_max, n)
     ws, wz = lay.ws, lay.wz
-    off = lay.wheelset.datum_offset
-    r0n = lay.wheelset.radius
+    off = lay.wheelset.contact_y
+    r0n = lay.wheelset.wheel_radius
     ytr = y[:, None] + off + ws[None, :]                     # track y of the wheel samples
     yr = ytr - lay.rail_offset                               # rail-local y
     zr = np.interp(yr, lay.ry, lay.rz, left=np.nan, right=np.nan)

@@ -42,7 +42,10 @@ class WheelsetGeometry:
     wheel_radius : float
         Nominal rolling radius r0 at the taping line (tread), m.
     back_to_back : float
-        Distance between the inner rim faces, m.
+        Distance between the inner rim faces (flange backs), m; 1.36 is the nominal value of
+        standard-gauge wheelsets (EN 13260). The rigid contact geometry (railvti.geometry)
+        uses this class too: its back_to_back, wheel_radius and contact_offset place the
+        wheel profiles.
     rim_width, rim_depth : float
         Axial width and radial depth of the rim below r0, m.
     flange_height, flange_width : float
@@ -61,7 +64,8 @@ class WheelsetGeometry:
     journal_spacing, journal_length : float
         Distance between journal centres and journal length, m.
     contact_offset : float
-        Taping line (contact point) from the inner rim face, m.
+        Taping line (contact point; the wheel profile's tread datum y = 0) from the inner
+        rim face, m; 0.070 for EN 13715 profiles such as S1002.
     young, poisson, density : float
         Steel: E (Pa), nu, rho (kg/m^3).
     mesh_size, axle_mesh_size : float

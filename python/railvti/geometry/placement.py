@@ -1,8 +1,11 @@
-"""Track and wheelset layout, and the placement of the profiles in track coordinates.
+"""The wheel and rail profiles placed on the track: the track layout (gauge), the wheelset's
+geometry (:class:`railvti.wheelset.WheelsetGeometry`: back-to-back, radius, tread datum) and
+the placed profiles that the contact searches use.
 
-Track frame: x forward (rolling direction), y lateral to the LEFT, z UP; right-handed.
-The left rail is at y > 0. Profiles are placed mirror-symmetrically: a profile's local
-y (towards the field side) becomes track +y on the left and -y on the right.
+Frame and sides: :mod:`railvti.geometry.frames`. The rail is placed so that its gauge point
+(``gauge_depth`` below its top) lies at +-gauge/2; each wheel's tread datum (the wheel
+profile's y = 0, the taping line) at +-``WheelsetGeometry.contact_y`` (half the back-to-back
+plus ``contact_offset``).
 """
 from __future__ import annotations
 
@@ -14,23 +17,22 @@ from scipy.optimize import brentq
 from .. import _checks
 from ..errors import InputError
 from ..profiles import Profile
-
-LEFT, RIGHT = 0, 1
-SIDES = ("left", "right")
-#: +1 on the left wheel/rail, -1 on the right: track y = sign * (offset + local y).
-SIGN = (1.0, -1.0)
+from ..wheelset.geometry import WheelsetGeometry
 
 
 @dataclass(frozen=True)
-class Track:
-    """Track layout.
+class TrackLayout:
+    """Where the rails stand: the track gauge and the depth at which it is measured.
+
+    The rails' inclination (cant) is part of the rail profile (e.g.
+    :func:`railvti.profiles.uic60`), not of the layout.
 
     Parameters
     ----------
     gauge : float
-        Track gauge, m (1.435), between the rails' gauge faces ...
+        Track gauge, m (1.435, standard gauge), between the rails' gauge faces ...
     gauge_depth : float
-        ... measured this far below the top of rail, m (0.014).
+        ... measured this far below the top of rail, m (0.014; EN 13848-1).
     """
 
     gauge: float = 1.435
@@ -42,40 +44,17 @@ class Track:
 
 
 @dataclass(frozen=True)
-class WheelsetGeometry:
-    """Wheelset layout.
-
-    Parameters
-    ----------
-    back_to_back : float
-        Distance between the inner faces (flange backs) of the wheels, m (1.360).
-    radius : float
-        Nominal rolling radius at the tread datum (wheel profile y = 0), m (0.46).
-    flange_back : float
-        Lateral distance from the flange back to the wheel profile's y = 0 (the tread
-        datum), m; 0.070 for EN 13715 profiles such as S1002.
-    """
-
-    back_to_back: float = 1.360
-    radius: float = 0.46
-    flange_back: float = 0.070
-
-    def __post_init__(self) -> None:
-        for nm in ("back_to_back", "radius", "flange_back"):
-            object.__setattr__(self, nm, _checks.positive(nm, getattr(self, nm)))
-
-    @property
-    def datum_offset(self) -> float:
-        """Lateral distance from the wheelset centre to each wheel's tread datum, m."""
-        return 0.5 * self.back_to_back + self.flange_back
-
-
-@dataclass(frozen=True)
-class Layout:
-    """Wheel and rail profiles placed on the track (built by :func:`layout`; cached).
+class ProfileLayout:
+    """Wheel and rail profiles laid out on the track (built by :func:`layout`; cached).
 
     Attributes
     ----------
+    wheel, rail : Profile
+        The profiles (both wheels alike, both rails alike, mirrored left/right).
+    track : TrackLayout
+        Gauge.
+    wheelset : WheelsetGeometry
+        Back-to-back, nominal radius (``wheel_radius``) and tread datum (``contact_y``).
     rail_offset : float
         Track |y| of the rail profile's local origin: track y = ±(rail_offset + y_local).
     rail_top : float
@@ -85,39 +64,69 @@ class Layout:
     flange_climb_y : float
         Wheel-local y of the flange's steepest point (on the tip side); a contact beyond
         it (towards the tip) is flange climb.
+    max_flange_angle : float
+        Steepest angle of the flange face, rad (about 70 degrees for S1002).
+    ws, wz, wdz : ndarray
+        Dense samples of the wheel profile: local y, z and dz/dy (the vectorised searches).
+    ry, rz : ndarray
+        The rail profile on a uniform 0.005 mm table of local y.
     """
 
     wheel: Profile
     rail: Profile
-    track: Track
+    track: TrackLayout
     wheelset: WheelsetGeometry
     rail_offset: float
     rail_top: float
     gauge_point: float
     flange_climb_y: float
     max_flange_angle: float
-    # dense samples used by the vectorised searches
-    ws: np.ndarray = field(repr=False)      # wheel local y, m
-    wz: np.ndarray = field(repr=False)      # wheel z (radius increase), m
-    wdz: np.ndarray = field(repr=False)     # dz/dy of the wheel
-    ry: np.ndarray = field(repr=False)      # rail local y, uniform 0.005 mm table, m
-    rz: np.ndarray = field(repr=False)      # rail z on that table, m
+    ws: np.ndarray = field(repr=False)
+    wz: np.ndarray = field(repr=False)
+    wdz: np.ndarray = field(repr=False)
+    ry: np.ndarray = field(repr=False)
+    rz: np.ndarray = field(repr=False)
 
 
-_CACHE: dict[tuple[int, int, Track, WheelsetGeometry, float], Layout] = {}
+_CACHE: dict[tuple[int, int, TrackLayout, WheelsetGeometry, float], ProfileLayout] = {}
+_DEFAULT_TRACK = TrackLayout()
+_DEFAULT_WHEELSET = WheelsetGeometry()
 
 
-def layout(wheel: Profile, rail: Profile, track: Track | None = None,
-           wheelset: WheelsetGeometry | None = None, step: float = 5e-5) -> Layout:
-    """Place the profiles on the track; results are cached per (profiles, layout, step)."""
+def layout(wheel: Profile, rail: Profile, track: TrackLayout | None = None,
+           wheelset: WheelsetGeometry | None = None, step: float = 5e-5) -> ProfileLayout:
+    """Lay the profiles out on the track; results are cached per (profiles, layout, step).
+
+    Parameters
+    ----------
+    wheel, rail : Profile
+        Wheel profile (both wheels) and rail profile (both rails, already canted).
+    track : TrackLayout, optional
+        Gauge (default ``TrackLayout()``).
+    wheelset : WheelsetGeometry, optional
+        The wheelset (default ``WheelsetGeometry()``); the contact geometry uses its
+        ``back_to_back``, ``wheel_radius`` and ``contact_offset``.
+    step : float
+        Sampling step of the wheel profile, m.
+
+    Returns
+    -------
+    ProfileLayout
+
+    Raises
+    ------
+    InputError
+        Profiles of the wrong kind, a rail that does not reach the gauge depth on its gauge
+        side, a wheel without a flange or a radius that the profile makes negative.
+    """
     if not isinstance(wheel, Profile) or not isinstance(rail, Profile):
         raise InputError("wheel and rail must be railvti.profiles.Profile objects")
     if wheel.kind != "wheel":
         raise InputError(f"the wheel profile {wheel.name!r} is a {wheel.kind} profile")
     if rail.kind != "rail":
         raise InputError(f"the rail profile {rail.name!r} is a {rail.kind} profile")
-    track = track or Track()
-    wheelset = wheelset or WheelsetGeometry()
+    track = track or _DEFAULT_TRACK
+    wheelset = wheelset or _DEFAULT_WHEELSET
     key = (id(wheel), id(rail), track, wheelset, step)
     hit = _CACHE.get(key)
     if hit is not None and hit.wheel is wheel and hit.rail is rail:
@@ -138,7 +147,7 @@ def layout(wheel: Profile, rail: Profile, track: Track | None = None,
     # wheel samples
     ws, wz = wheel.sample(step)
     wdz = wheel.slope(ws)
-    if wheelset.radius + wz.min() <= 0.0:
+    if wheelset.wheel_radius + wz.min() <= 0.0:
         raise InputError("wheel radius plus the profile's z is not positive somewhere")
     # flange climb point: steepest flange face point between the flange tip and the datum
     tip = int(np.argmax(wz))
@@ -147,7 +156,7 @@ def layout(wheel: Profile, rail: Profile, track: Track | None = None,
     if ws[tip] >= 0.0 or steep.size < 3 or steep.max() <= 0:
         raise InputError(f"the wheel profile {wheel.name!r} has no flange at negative y")
     kmax = int(np.argmax(steep >= 0.999 * steep.max()))
-    out = Layout(wheel, rail, track, wheelset, rail_offset=offset, rail_top=top, gauge_point=yg,
+    out = ProfileLayout(wheel, rail, track, wheelset, rail_offset=offset, rail_top=top, gauge_point=yg,
                  flange_climb_y=float(ws[seg][kmax]), max_flange_angle=float(np.arctan(steep.max())),
                  ws=ws, wz=wz, wdz=wdz, ry=ry, rz=rz)
     if len(_CACHE) > 16:

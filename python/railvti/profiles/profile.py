@@ -103,15 +103,16 @@ class Profile:
                 f"profile {self.name!r} has an implausible size: {width * 1e3:.4g} mm wide, "
                 f"{height * 1e3:.4g} mm high (expected {MIN_WIDTH * 1e3:.0f}..{MAX_WIDTH * 1e3:.0f} mm); "
                 "are the coordinates in m where mm was declared, or the reverse?")
-        cross = _segments_cross(y, z)
-        if cross is not None:
-            i, j = cross
-            raise InputError(f"profile {self.name!r} intersects itself: segment {i} "
-                             f"(y = {y[i] * 1e3:.3f} mm) crosses segment {j} (y = {y[j] * 1e3:.3f} mm)")
         dy = np.diff(y)
         if np.all(dy < 0):
             y, z, dy = y[::-1], z[::-1], -dy[::-1]
         if not np.all(dy > 0):
+            # a graph over strictly monotone y cannot cross itself: only now is it worth looking
+            cross = _segments_cross(y, z)
+            if cross is not None:
+                i, j = cross
+                raise InputError(f"profile {self.name!r} intersects itself: segment {i} "
+                                 f"(y = {y[i] * 1e3:.3f} mm) crosses segment {j} (y = {y[j] * 1e3:.3f} mm)")
             k = int(np.argmax(dy <= 0)) if dy[0] > 0 else int(np.argmax(dy >= 0))
             raise InputError(f"profile {self.name!r} is not a function z(y): y is not monotone "
                              f"at point {k + 1} (y = {y[k + 1] * 1e3:.4f} mm)")
