@@ -101,6 +101,20 @@ def test_frf_reciprocity_and_static_limit(ws):
     assert np.all(np.isfinite(h)) and np.all(np.abs(h) > 0)
 
 
+def test_singular_dynamic_matrix_names_the_frequency(ws):
+    """An undamped rigid mode makes K - w^2 M singular at w = 0: the error names 0 Hz."""
+    from railvti.errors import ConvergenceError
+    from railvti.wheelset.model import AxleFixedModel
+    z = np.zeros((2, 2))
+    m = AxleFixedModel(speed=0.0, omega=0.0, k=np.array([1, 1]), family=np.array(["A", "A"]),
+                       freq_hz=np.array([0.0, 100.0]), mass=np.eye(2), gyro=z, damping=z,
+                       stiffness=np.diag([0.0, (2 * np.pi * 100.0) ** 2]),
+                       contact=np.ones((2, 3, 2)), journal=np.zeros((2, 3, 2)))
+    with pytest.raises(ConvergenceError, match="at 0.0 Hz"):
+        ws.frf(np.array([0.0, 50.0]), speed=0.0, model=m)
+    assert np.all(np.isfinite(ws.frf(np.array([10.0, 50.0]), speed=0.0, model=m)))
+
+
 def test_deck_case_runs(tmp_path):
     import f90nml
     from railvti.casetypes import REGISTRY
