@@ -50,7 +50,7 @@ contains
         real(dp) :: n(NEN), nr(NEN), ny(NEN)
         real(dp) :: r, w, wk, lam, mu, fk, ro, cs
         real(dp) :: b(6, NDOF_E), d(6, 6), db(6, NDOF_E)
-        integer :: ig, jg, i, j, a, bb, ia, ib
+        integer :: ig, jg, i, a, bb, ia, ib
 
         info = STAT_OK
         ke = 0.0_dp
