@@ -1,6 +1,7 @@
 !> Frequency response of a linear gyroscopic system in modal coordinates,
 !>     (-omega^2 M + i omega D + K) q = F,   D = G + C (gyroscopic + damping),
-!> as met by the rotating wheelset in its axle-fixed (non-rotating) frame.
+!> as met by the rotating wheelset in its axle-fixed (non-rotating) frame: Kaiser eq. 11
+!> in the frequency domain.
 module wheelset_frf
     use common_kinds, only: dp
     use common_lapack, only: zgesv

@@ -2,7 +2,8 @@
 !> with nine-node meridian elements (wheelset_element): DOF numbering with the
 !> regularity conditions on the axis, banded assembly, springs to the ground,
 !> the lowest modes up to a frequency bound, and the modal Coriolis and
-!> centrifugal matrices of the rotating body.
+!> centrifugal matrices of the rotating body. Implements the modes of one harmonic (Kaiser
+!> eqs 9-10, double for k > 0) and the modal matrices of the axle-fixed model (eq. 11).
 module wheelset_modes
     use common_kinds, only: dp
     use common_lapack, only: dpbtrf, dpbtrs
