@@ -32,15 +32,31 @@ def test_receptance_case_rejects_bad_n_freq():
         REGISTRY["track_receptance"].run(_params("track_receptance", n_freq=1))
 
 
-def test_track_element_reproduces_static_receptance():
+@pytest.fixture(scope="module")
+def ring_and_element():
     tr = RingTrack(8, **COARSE)
-    e = TrackElement.from_ring(tr)
-    for d in ("vertical", "lateral_inphase", "vertical_opposite"):
-        assert e.receptance(np.array([0.0]), d)[0].real == pytest.approx(tr.static_modal(d), rel=1e-9)
-    # its resonance sits at the ring's first resonance of that pattern
-    f = np.linspace(20.0, 400.0, 800)
-    fz = np.sqrt(e.stiffness[1] / e.inertia[1]) / (2 * np.pi)
-    assert fz == pytest.approx(f[np.argmax(np.abs(tr.receptance(f, "vertical")))], abs=1.0)
+    return tr, TrackElement.from_ring(tr)
+
+
+@pytest.mark.parametrize("direction, i", [("vertical", 1), ("vertical_opposite", 2)])
+def test_track_element_follows_ring_below_its_resonance(ring_and_element, direction, i):
+    """The element is fitted to the ring's static receptance and to the frequency and height of
+    its first peak; between them (f0/3, f0/2) it is checked against the ring's receptance,
+    which the fit does not use. A one-mass element reproduces the rise H0 / (1 - (f/f0)^2) of
+    a track whose static flexibility comes from modes near and above f0; its error at order
+    (f/f0)^2 is (f/f0)^2 (1 - mu), mu the static-flexibility-weighted mean of (f0/f_r)^2, so
+    it stays below the element's own rise (f/f0)^2 unless modes well below f0 carry the
+    static flexibility. Measured: 3.5 % at f0/3 and 9 % at f0/2 (vertical and roll alike).
+    Lateral is not checked: on this short ring lateral waves decay little and ring
+    resonances between 50 and 150 Hz make a one-mass fit meaningless (docs/track.md (c)).
+    """
+    tr, e = ring_and_element
+    f0 = np.sqrt(e.stiffness[i] / e.inertia[i]) / (2 * np.pi)
+    assert 60.0 < f0 < 150.0                     # rail and sleepers on pads and ballast
+    for ratio in (1 / 3, 1 / 2):
+        f = np.array([ratio * f0])
+        he, hr = abs(e.receptance(f, direction)[0]), abs(tr.receptance(f, direction)[0])
+        assert abs(he / hr - 1) < ratio ** 2
 
 
 def test_track_element_bad_input():

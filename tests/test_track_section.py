@@ -76,3 +76,18 @@ def test_crossing_outline_is_rejected():
 def test_bad_mesh_size_is_rejected():
     with pytest.raises(InputError, match="max_element_area"):
         rail_section(max_element_area=-1.0)
+
+
+def test_inverted_section_element_is_rejected_with_its_number():
+    """The Fortran assembly's bad-element status reaches the user with the element's number."""
+    import dataclasses
+    s = rail_section(4e-4, outline=_rect(0.02, 0.04))
+    el = s.elements.copy()
+    el[3, [1, 2]] = el[3, [2, 1]]          # swap two corners: clockwise, det J < 0
+    el[3, [3, 5]] = el[3, [5, 3]]          # and the mid-sides that go with them
+    bad = dataclasses.replace(s, elements=el)
+    with pytest.raises(InputError, match=r"element 3\b"):
+        section_fe(bad, 2.1e11, 0.3, 7850.0)
+    el[0, 0] = s.n_nodes + 5                # a node number out of range
+    with pytest.raises(InputError, match="BAD_ARGUMENT"):
+        section_fe(dataclasses.replace(s, elements=el), 2.1e11, 0.3, 7850.0)

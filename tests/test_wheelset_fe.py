@@ -4,6 +4,7 @@ import pytest
 
 from railvti import InputError
 from railvti._native import core
+from railvti._status import Status
 from railvti.wheelset import analytic, rectangle_mesh, solve_harmonic
 
 E, NU, RHO = 210e9, 0.3, 7850.0
@@ -19,7 +20,7 @@ def _element(r0=0.1, r1=0.2, y0=0.0, y1=0.05):
 @pytest.mark.parametrize("k", [0, 1, 2, 5])
 def test_element_matrices_symmetric_positive(k):
     ke, me, ce, mc, info = core.wheelset_element_c(k, _element(), E, NU, RHO)
-    assert info == 0
+    assert info == Status.OK
     assert np.allclose(ke, ke.T, rtol=0, atol=1e-9 * np.abs(ke).max())
     assert np.allclose(me, me.T, rtol=0, atol=1e-12 * np.abs(me).max())
     assert np.linalg.eigvalsh(me).min() > 0.0
@@ -49,7 +50,7 @@ def test_inverted_element_rejected():
     xe = _element()
     xe[0] = xe[0].reshape(3, 3)[:, ::-1].ravel()  # mirror in r: negative Jacobian
     *_, info = core.wheelset_element_c(1, np.asfortranarray(xe), E, NU, RHO)
-    assert info == -1
+    assert info == Status.BAD_ELEMENT
 
 
 def test_shaft_k1_matches_timoshenko():
@@ -86,6 +87,21 @@ def test_mesh_refinement_converges():
 def test_bad_harmonic(k):
     with pytest.raises(InputError, match="harmonic"):
         solve_harmonic(rectangle_mesh(0.0, 0.1, -1.0, 1.0, 1, 4), k, E, NU, RHO, 1000.0)
+
+
+def test_inverted_mesh_element_named_in_the_error():
+    m = rectangle_mesh(0.0, 0.1, -1.0, 1.0, 2, 4)
+    conn = m.conn.copy()
+    conn[2] = conn[2].reshape(3, 3)[:, ::-1].ravel()    # mirror element 3 (1-based) in r
+    bad = type(m)(nodes=m.nodes, conn=conn)
+    with pytest.raises(InputError, match=r"meridian element 3 \(1-based\) is inverted"):
+        solve_harmonic(bad, 1, E, NU, RHO, 1000.0)
+
+
+def test_no_free_dof_is_an_input_error():
+    m = rectangle_mesh(0.0, 0.1, -1.0, 1.0, 1, 2)
+    with pytest.raises(InputError, match="no free degree of freedom"):
+        solve_harmonic(m, 1, E, NU, RHO, 1000.0, fixed=np.ones((m.n_nodes, 3), bool))
 
 
 def test_mode_buffer_grows_and_shapes_own_their_memory():

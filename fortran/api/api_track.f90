@@ -1,9 +1,12 @@
-!> f2py shim for the track kernels: plain arrays, explicit shapes, integer info.
-!> Argument checks live in Python (railvti.track); info < 0 names an argument, > 0 a solver status.
-!> Implements no equation (the track kernels do: see docs/equations.md).
+!> f2py shim for the track kernels: plain arrays, explicit shapes, a status code. Implements
+!> no equation. Argument checks live in Python (railvti.track); info is a STAT_ code of
+!> common_status (railvti._status translates it); where a failure has a location (an element,
+!> a wave number) or a LAPACK info, it comes back in its own argument.
 
 !> Section matrices K0, K1, K2, M of the 2.5-D rail FE (ndof = 3 nn, DOFs x, eta, zeta per node).
-subroutine track_section_matrices_c(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, info)
+!> bad_element: the (1-based) element with det J <= 0 when info = STAT_BAD_ELEMENT.
+subroutine track_section_matrices_c(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, info, &
+                                    bad_element)
     use iso_c_binding, only: c_int, c_double
     use track_section, only: section_matrices
     implicit none
@@ -11,51 +14,60 @@ subroutine track_section_matrices_c(nn, ne, xy, conn, young, poisson, rho, k0, k
     real(c_double), intent(in) :: xy(nn, 2), young, poisson, rho
     integer(c_int), intent(in) :: conn(ne, 6)
     real(c_double), intent(out), dimension(3 * nn, 3 * nn) :: k0, k1, k2, m
-    integer(c_int), intent(out) :: info
-    integer :: stat
-    call section_matrices(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, stat)
+    integer(c_int), intent(out) :: info, bad_element
+    integer :: stat, bad
+    call section_matrices(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, stat, bad)
     info = stat
+    bad_element = bad
 end subroutine track_section_matrices_c
 
-!> Reduced basis of the rail section over wave numbers (see track_rail).
+!> Reduced basis of the rail section over wave numbers (see track_rail). On failure, sample is
+!> the (1-based) sample wave number and lapack_info LAPACK's info.
 subroutine track_reduced_basis_c(n, k0, k1, k2, m, nf, f, ns, kap_s, lam_max, rmax, r, w, &
-                                 k0r, k1r, k2r, fr, info)
+                                 k0r, k1r, k2r, fr, info, sample, lapack_info)
     use iso_c_binding, only: c_int, c_double
     use track_rail, only: rail_reduced_basis
     implicit none
     integer(c_int), intent(in) :: n, nf, ns, rmax
     real(c_double), intent(in), dimension(n, n) :: k0, k1, k2, m
     real(c_double), intent(in) :: f(n, nf), kap_s(ns), lam_max
-    integer(c_int), intent(out) :: r, info
+    integer(c_int), intent(out) :: r, info, sample, lapack_info
     real(c_double), intent(out) :: w(n, rmax), k0r(rmax, rmax), k1r(rmax, rmax), k2r(rmax, rmax)
     real(c_double), intent(out) :: fr(rmax, nf)
-    integer :: rr, stat
+    integer :: rr, stat, s, linfo
     call rail_reduced_basis(n, k0, k1, k2, m, nf, f, ns, kap_s, lam_max, rmax, rr, w, &
-                            k0r, k1r, k2r, fr, stat)
+                            k0r, k1r, k2r, fr, stat, s, linfo)
     r = rr
     info = stat
+    sample = s
+    lapack_info = linfo
 end subroutine track_reduced_basis_c
 
-!> Rail basis functions (kept modes + residual attachments) at nk wave numbers.
-subroutine track_wave_basis_c(r, k0r, k1r, k2r, nf, fr, nk, kap, lam_cut, mmax, nm, om2, y, info)
+!> Rail basis functions (kept modes + residual attachments) at nk wave numbers. On failure,
+!> wave is the (1-based) index into kap and lapack_info LAPACK's info.
+subroutine track_wave_basis_c(r, k0r, k1r, k2r, nf, fr, nk, kap, lam_cut, mmax, nm, om2, y, info, &
+                              wave, lapack_info)
     use iso_c_binding, only: c_int, c_double
     use track_rail, only: rail_wave_basis
     implicit none
     integer(c_int), intent(in) :: r, nf, nk, mmax
     real(c_double), intent(in), dimension(r, r) :: k0r, k1r, k2r
     real(c_double), intent(in) :: fr(r, nf), kap(nk), lam_cut
-    integer(c_int), intent(out) :: nm(nk), info
+    integer(c_int), intent(out) :: nm(nk), info, wave, lapack_info
     real(c_double), intent(out) :: om2(mmax, nk), y(r, mmax, nk)
-    integer :: nmi(nk), stat
-    call rail_wave_basis(r, k0r, k1r, k2r, nf, fr, nk, kap, lam_cut, mmax, nmi, om2, y, stat)
+    integer :: nmi(nk), stat, ik, linfo
+    call rail_wave_basis(r, k0r, k1r, k2r, nf, fr, nk, kap, lam_cut, mmax, nmi, om2, y, stat, &
+                         ik, linfo)
     nm = nmi
     info = stat
+    wave = ik
+    lapack_info = linfo
 end subroutine track_wave_basis_c
 
-!> Modes of one cyclic group of the ring track (see track_ring).
+!> Modes of one cyclic group of the ring track (see track_ring); lapack_info: LAPACK's info.
 subroutine track_group_modes_c(nb, om2, kap, fam, sgn, rail, np, tr, eta_p, w_p, nq, xi, w_xi, &
                                kpad, cpad, y0, beta, ms, kb, cb, nsl, j, eta_rail, ntot, &
-                               lam, v, cmod, info)
+                               lam, v, cmod, info, lapack_info)
     use iso_c_binding, only: c_int, c_double
     use track_ring, only: ring_group_modes
     implicit none
@@ -65,12 +77,14 @@ subroutine track_group_modes_c(nb, om2, kap, fam, sgn, rail, np, tr, eta_p, w_p,
     real(c_double), intent(in) :: xi(nq), w_xi(nq), kpad(3), cpad(3), y0(2), beta(2)
     real(c_double), intent(in) :: ms(3), kb(3), cb(3), eta_rail
     real(c_double), intent(out) :: lam(ntot), v(ntot, ntot), cmod(ntot)
-    integer(c_int), intent(out) :: info
-    integer :: fam_(nb), sgn_(nb), rail_(nb), stat
+    integer(c_int), intent(out) :: info, lapack_info
+    integer :: fam_(nb), sgn_(nb), rail_(nb), stat, linfo
     fam_ = fam; sgn_ = sgn; rail_ = rail
     call ring_group_modes(nb, om2, kap, fam_, sgn_, rail_, np, tr, eta_p, w_p, nq, xi, w_xi, &
-                          kpad, cpad, y0, beta, ms, kb, cb, nsl, j, eta_rail, ntot, lam, v, cmod, stat)
+                          kpad, cpad, y0, beta, ms, kb, cb, nsl, j, eta_rail, ntot, lam, v, cmod, &
+                          stat, linfo)
     info = stat
+    lapack_info = linfo
 end subroutine track_group_modes_c
 
 !> Rail-head values (x, eta, zeta, roll; rail-local) of every track mode at x on rail rho:

@@ -1,9 +1,14 @@
 !> Generalized symmetric eigenproblems K x = lambda M x (K symmetric, M
-!> symmetric positive definite), as met by every FE model in railvti.
-!> Implements no equation.
+!> symmetric positive definite), as met by every FE model in railvti. Implements no equation
+!> (LAPACK dsyevr/dsygvx/dposv and ARPACK shift-invert mode 3, Lehoucq et al. 1998).
+!>
+!> Every routine returns info = STAT_OK or a STAT_ code of common_status, and the raw
+!> LAPACK/ARPACK info in a separate argument (lapack_info, arpack_info) for the message.
 module common_eigen
     use common_kinds, only: dp
     use common_lapack, only: dsygvx, dsyevr, dposv, dpbtrf, dpbtrs, dsbmv, dsaupd, dseupd
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_NOT_CONVERGED, STAT_LAPACK, &
+                             STAT_EIGEN_FAILED, STAT_NOT_POSITIVE_DEFINITE
     implicit none
     private
     public :: eig_sym_range, eig_std_range, chol_solve, eig_band_lowest
@@ -13,11 +18,13 @@ contains
 
     !> Standard symmetric eigenproblem A x = lambda x: all pairs with lambda in (lam_lo, lam_hi]
     !> by LAPACK dsyevr (MRRR). a is overwritten; x(:, 1:nev) orthonormal, lam ascending.
-    subroutine eig_std_range(n, a, lam_lo, lam_hi, nev, lam, x, info)
+    !> info: STAT_OK, STAT_LAPACK (an illegal argument) or STAT_EIGEN_FAILED (dsyevr's
+    !> internal error); lapack_info: dsyevr's info.
+    subroutine eig_std_range(n, a, lam_lo, lam_hi, nev, lam, x, info, lapack_info)
         integer, intent(in) :: n
         real(dp), intent(inout) :: a(n, n)
         real(dp), intent(in) :: lam_lo, lam_hi
-        integer, intent(out) :: nev, info
+        integer, intent(out) :: nev, info, lapack_info
         real(dp), intent(out) :: lam(n), x(n, n)
         real(dp), allocatable :: work(:)
         integer, allocatable :: iwork(:), isuppz(:)
@@ -26,34 +33,51 @@ contains
 
         allocate (isuppz(2 * n))
         call dsyevr('V', 'V', 'U', n, a, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, lam, x, n, &
-                    isuppz, wq, -1, iq, -1, info)
-        if (info /= 0) return
-        lwork = max(int(wq(1)), 26 * n)
-        liwork = max(iq(1), 10 * n)
-        allocate (work(lwork), iwork(liwork))
-        call dsyevr('V', 'V', 'U', n, a, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, lam, x, n, &
-                    isuppz, work, lwork, iwork, liwork, info)
+                    isuppz, wq, -1, iq, -1, lapack_info)
+        if (lapack_info == 0) then
+            lwork = max(int(wq(1)), 26 * n)
+            liwork = max(iq(1), 10 * n)
+            allocate (work(lwork), iwork(liwork))
+            call dsyevr('V', 'V', 'U', n, a, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, lam, x, n, &
+                        isuppz, work, lwork, iwork, liwork, lapack_info)
+        end if
+        if (lapack_info < 0) then
+            info = STAT_LAPACK
+        else if (lapack_info > 0) then
+            info = STAT_EIGEN_FAILED
+        else
+            info = STAT_OK
+        end if
     end subroutine eig_std_range
 
     !> Solve A X = B for symmetric positive definite A (Cholesky, LAPACK dposv).
-    !> a is overwritten by its factor, b by the solution. info > 0: A not positive definite.
-    subroutine chol_solve(n, nrhs, a, b, info)
+    !> a is overwritten by its factor, b by the solution. info: STAT_OK,
+    !> STAT_NOT_POSITIVE_DEFINITE or STAT_LAPACK (an illegal argument); lapack_info: dposv's.
+    subroutine chol_solve(n, nrhs, a, b, info, lapack_info)
         integer, intent(in) :: n, nrhs
         real(dp), intent(inout) :: a(n, n), b(n, nrhs)
-        integer, intent(out) :: info
-        call dposv('U', n, nrhs, a, n, b, n, info)
+        integer, intent(out) :: info, lapack_info
+        call dposv('U', n, nrhs, a, n, b, n, lapack_info)
+        if (lapack_info > 0) then
+            info = STAT_NOT_POSITIVE_DEFINITE
+        else if (lapack_info < 0) then
+            info = STAT_LAPACK
+        else
+            info = STAT_OK
+        end if
     end subroutine chol_solve
 
     !> All eigenpairs with lambda in (lam_lo, lam_hi] by LAPACK dsygvx.
     !> k and m are overwritten. On return nev pairs sit in lam(1:nev) (ascending)
     !> and x(:, 1:nev), M-normalised (x^T M x = 1). x must have n columns.
-    !> info: 0 ok, <0 bad argument of dsygvx, >0 M not positive definite or
-    !> eigenvectors that failed to converge (dsygvx's code).
-    subroutine eig_sym_range(n, k, m, lam_lo, lam_hi, nev, lam, x, info)
+    !> info: STAT_OK; STAT_LAPACK (an illegal argument of dsygvx); STAT_EIGEN_FAILED
+    !> (eigenvectors that failed to converge); STAT_NOT_POSITIVE_DEFINITE (M is not).
+    !> lapack_info: dsygvx's info.
+    subroutine eig_sym_range(n, k, m, lam_lo, lam_hi, nev, lam, x, info, lapack_info)
         integer, intent(in) :: n
         real(dp), intent(inout) :: k(n, n), m(n, n)
         real(dp), intent(in) :: lam_lo, lam_hi
-        integer, intent(out) :: nev, info
+        integer, intent(out) :: nev, info, lapack_info
         real(dp), intent(out) :: lam(n), x(n, n)
         real(dp), allocatable :: work(:)
         integer, allocatable :: iwork(:), ifail(:)
@@ -62,12 +86,22 @@ contains
 
         allocate (iwork(5 * n), ifail(n))
         call dsygvx(1, 'V', 'V', 'U', n, k, n, m, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, &
-                    lam, x, n, wq, -1, iwork, ifail, info)
-        if (info /= 0) return
-        lwork = max(int(wq(1)), 8 * n)
-        allocate (work(lwork))
-        call dsygvx(1, 'V', 'V', 'U', n, k, n, m, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, &
-                    lam, x, n, work, lwork, iwork, ifail, info)
+                    lam, x, n, wq, -1, iwork, ifail, lapack_info)
+        if (lapack_info == 0) then
+            lwork = max(int(wq(1)), 8 * n)
+            allocate (work(lwork))
+            call dsygvx(1, 'V', 'V', 'U', n, k, n, m, n, lam_lo, lam_hi, 0, 0, 0.0_dp, nev, &
+                        lam, x, n, work, lwork, iwork, ifail, lapack_info)
+        end if
+        if (lapack_info < 0) then
+            info = STAT_LAPACK
+        else if (lapack_info > n) then
+            info = STAT_NOT_POSITIVE_DEFINITE     ! dsygvx: the order-(info - n) minor of M
+        else if (lapack_info > 0) then
+            info = STAT_EIGEN_FAILED              ! dsygvx: info eigenvectors did not converge
+        else
+            info = STAT_OK
+        end if
     end subroutine eig_sym_range
 
     !> The nev lowest eigenpairs of K x = lambda M x, K and M symmetric banded
@@ -76,17 +110,21 @@ contains
     !> with a banded Cholesky factorisation (dpbtrf) of K - sigma M.
     !> ARPACK is not reentrant: call from one thread at a time.
     !> On return nconv pairs sit in lam(1:nconv) (ascending) and x(:, 1:nconv),
-    !> M-normalised. info: 0 ok, -1 bad sizes, -2 K - sigma M not positive
-    !> definite (sigma not below the spectrum), >0 ARPACK status (1: not all
-    !> converged within maxit, nconv tells how many did), -3 dseupd failed.
-    subroutine eig_band_lowest(n, kd, kb, mb, sigma, nev, ncv, tol, maxit, lam, x, nconv, info)
+    !> M-normalised. info: STAT_OK; STAT_BAD_ARGUMENT (bad sizes);
+    !> STAT_NOT_POSITIVE_DEFINITE (K - sigma M is not: sigma not below the spectrum;
+    !> arpack_info = dpbtrf's info); STAT_NOT_CONVERGED (dsaupd stopped early, info 1:
+    !> maxit reached, or 3: no shifts could be applied; nconv tells how many converged);
+    !> STAT_EIGEN_FAILED (dsaupd or dseupd reported an error, or nothing converged).
+    !> arpack_info: the ARPACK (dsaupd, else dseupd) info behind a failure, else 0.
+    subroutine eig_band_lowest(n, kd, kb, mb, sigma, nev, ncv, tol, maxit, lam, x, nconv, info, &
+                               arpack_info)
         integer, intent(in) :: n, kd, nev, ncv, maxit
         real(dp), intent(in) :: kb(kd + 1, n), mb(kd + 1, n), sigma, tol
         real(dp), intent(out) :: lam(nev), x(n, nev)
-        integer, intent(out) :: nconv, info
+        integer, intent(out) :: nconv, info, arpack_info
         real(dp), allocatable :: ab(:, :), resid(:), v(:, :), workd(:), workl(:), d(:), z(:, :)
         logical, allocatable :: sel(:)
-        integer :: ido, iparam(11), ipntr(11), lworkl, stat, i, j, nc
+        integer :: ido, iparam(11), ipntr(11), lworkl, stat, i, j, nc, ainfo
         integer, allocatable :: idx(:)
         character(len=1), parameter :: bmat = 'G'
         character(len=2), parameter :: which = 'LM'
@@ -94,15 +132,18 @@ contains
         nconv = 0
         lam = 0.0_dp
         x = 0.0_dp
+        info = STAT_OK
+        arpack_info = 0
         if (n < 2 .or. kd < 0 .or. nev < 1 .or. nev >= n .or. ncv <= nev .or. ncv > n) then
-            info = -1
+            info = STAT_BAD_ARGUMENT
             return
         end if
         allocate (ab(kd + 1, n))
         ab = kb - sigma * mb
         call dpbtrf('U', n, kd, ab, kd + 1, stat)
         if (stat /= 0) then
-            info = -2
+            info = STAT_NOT_POSITIVE_DEFINITE
+            arpack_info = stat
             return
         end if
         lworkl = ncv * (ncv + 8)
@@ -112,10 +153,10 @@ contains
         iparam(3) = maxit
         iparam(7) = 3
         ido = 0
-        info = 0
+        ainfo = 0
         do
             call dsaupd(ido, bmat, n, which, nev, tol, resid, ncv, v, n, iparam, ipntr, &
-                        workd, workl, lworkl, info)
+                        workd, workl, lworkl, ainfo)
             select case (ido)
             case (-1)
                 call dsbmv('U', n, kd, 1.0_dp, mb, kd + 1, workd(ipntr(1)), 1, 0.0_dp, &
@@ -131,20 +172,23 @@ contains
                 exit
             end select
         end do
-        if (info < 0) then
-            info = 100 - info
+        if (ainfo < 0) then
+            info = STAT_EIGEN_FAILED
+            arpack_info = ainfo
             return
         end if
         nc = iparam(5)
         if (nc < 1) then
-            info = 1
+            info = STAT_EIGEN_FAILED
+            arpack_info = ainfo
             return
         end if
         allocate (sel(ncv), d(nev), z(n, nev))
         call dseupd(.true., 'A', sel, d, z, n, sigma, bmat, n, which, nev, tol, resid, ncv, &
                     v, n, iparam, ipntr, workd, workl, lworkl, stat)
         if (stat /= 0) then
-            info = -3
+            info = STAT_EIGEN_FAILED
+            arpack_info = stat
             return
         end if
         nc = min(nc, nev)
@@ -164,6 +208,10 @@ contains
             x(:, i) = z(:, idx(i))
         end do
         nconv = nc
+        if (ainfo /= 0) then
+            info = STAT_NOT_CONVERGED     ! dsaupd info 1 (maxit) or 3 (no shifts)
+            arpack_info = ainfo
+        end if
     end subroutine eig_band_lowest
 
 end module common_eigen

@@ -14,6 +14,7 @@
 module track_ring
     use common_kinds, only: dp
     use common_eigen, only: eig_std_range
+    use common_status, only: STAT_OK, STAT_SIZE_MISMATCH, STAT_EIGEN_FAILED
     implicit none
     private
     public :: ring_group_modes, ring_eval_x, ring_frf
@@ -75,28 +76,31 @@ contains
     !> v(ntot, ntot) physical coordinates (rail basis amplitudes, then sleeper v, w, theta
     !> of A, then B), cmod: modal viscous damping (diagonal of V^T C V plus the rail loss
     !> factor as equivalent viscous damping at each mode's frequency).
+    !> info: STAT_OK; STAT_SIZE_MISMATCH (ntot /= nb + 3 nsp); the eigen-solver's STAT_ code
+    !> (or STAT_EIGEN_FAILED if it found fewer than ntot pairs), LAPACK's info in lapack_info.
     subroutine ring_group_modes(nb, om2, kap, fam, sgn, rail, np, tr, eta_p, w_p, nq, xi, w_xi, &
                                 kpad, cpad, y0, beta, ms, kb, cb, nsl, j, eta_rail, ntot, &
-                                lam, v, cmod, info)
+                                lam, v, cmod, info, lapack_info)
         integer, intent(in) :: nb, np, nq, nsl, j, ntot
         integer, intent(in) :: fam(nb), sgn(nb), rail(nb)
         real(dp), intent(in) :: om2(nb), kap(nb), tr(np, 3, nb), eta_p(np), w_p(np)
         real(dp), intent(in) :: xi(nq), w_xi(nq), kpad(3), cpad(3), y0(2), beta(2)
         real(dp), intent(in) :: ms(3), kb(3), cb(3), eta_rail
         real(dp), intent(out) :: lam(ntot), v(ntot, ntot), cmod(ntot)
-        integer, intent(out) :: info
+        integer, intent(out) :: info, lapack_info
         real(dp), allocatable :: fq(:, :, :), gq(:, :, :), gp(:, :, :), xf(:, :), kt(:, :), ct(:, :)
         real(dp), allocatable :: rs(:, :, :, :), a(:, :), sc(:), fsum(:, :), gsum(:, :), rp(:, :, :)
         real(dp) :: sj, ca, s, c, zp, yp, rrr(3, 3)
-        integer :: nsp, b, bb, q, cc, p, d, dd, rho, nsd, i, nev, stat
+        integer :: nsp, b, bb, q, cc, p, d, dd, rho, nsd, i, nev
         logical :: use_g
 
-        info = 0
+        info = STAT_OK
+        lapack_info = 0
         use_g = (j /= 0 .and. 2 * j /= nsl)
         nsp = merge(2, 1, use_g)
         nsd = 3 * nsp
         if (ntot /= nb + nsd) then
-            info = -20
+            info = STAT_SIZE_MISMATCH
             return
         end if
         sj = merge(0.5_dp * nsl, real(nsl, dp), use_g)
@@ -199,11 +203,9 @@ contains
         do d = 1, ntot
             a(:, d) = a(:, d) * sc * sc(d)
         end do
-        call eig_std_range(ntot, a, -huge(1.0_dp), huge(1.0_dp), nev, lam, v, stat)
-        if (stat /= 0 .or. nev /= ntot) then
-            info = 1 + abs(stat)
-            return
-        end if
+        call eig_std_range(ntot, a, -huge(1.0_dp), huge(1.0_dp), nev, lam, v, info, lapack_info)
+        if (info == STAT_OK .and. nev /= ntot) info = STAT_EIGEN_FAILED
+        if (info /= STAT_OK) return
         do d = 1, ntot
             v(:, d) = v(:, d) * sc
         end do

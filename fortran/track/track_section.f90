@@ -9,9 +9,10 @@
 !> Implements Kaiser eq. 13 (the cos/sin field of one wave number).
 module track_section
     use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_ELEMENT
     implicit none
     private
-    public :: section_matrices, t6_shape
+    public :: section_matrices
 
     ! Dunavant's 6-point rule, degree 4 (exact for the mass and K2 integrands).
     real(dp), parameter :: ga1 = 0.445948490915965_dp, gb1 = 0.108103018168070_dp
@@ -35,22 +36,25 @@ contains
 
     !> Dense section matrices (ndof = 3 nn). xy(nn, 2) node coordinates (m), conn(ne, 6)
     !> 1-based node numbers, young (Pa), poisson, rho (kg/m^3).
-    !> info: 0 ok, -5 a node number out of range, -6 an element with det J <= 0.
-    subroutine section_matrices(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, info)
+    !> info: STAT_OK; STAT_BAD_ARGUMENT (a node number out of range); STAT_BAD_ELEMENT
+    !> (element bad_element has det J <= 0). bad_element = 0 unless STAT_BAD_ELEMENT.
+    subroutine section_matrices(nn, ne, xy, conn, young, poisson, rho, k0, k1, k2, m, info, &
+                                bad_element)
         integer, intent(in) :: nn, ne
         real(dp), intent(in) :: xy(nn, 2), young, poisson, rho
         integer, intent(in) :: conn(ne, 6)
         real(dp), intent(out), dimension(3 * nn, 3 * nn) :: k0, k1, k2, m
-        integer, intent(out) :: info
+        integer, intent(out) :: info, bad_element
         real(dp) :: gl(2, 6), gw(6), n(6), dn(6, 2), jac(2, 2), det, ji(2, 2), dxy(6, 2)
         real(dp) :: b0(6, 18), b1(6, 18), d(6, 6), lam, mu, w, db0(6, 18), db1(6, 18)
         real(dp) :: e0(18, 18), e1(18, 18), e2(18, 18), em(18, 18)
         integer :: e, g, a, dofs(18), i, c
 
-        info = 0
+        info = STAT_OK
+        bad_element = 0
         k0 = 0; k1 = 0; k2 = 0; m = 0
         if (any(conn < 1) .or. any(conn > nn)) then
-            info = -5
+            info = STAT_BAD_ARGUMENT
             return
         end if
         gl(:, 1) = [ga1, ga1]; gl(:, 2) = [ga1, gb1]; gl(:, 3) = [gb1, ga1]
@@ -71,7 +75,8 @@ contains
                 jac = matmul(transpose(dn), xy(conn(e, :), :))   ! jac(l, c) = d x_c / d l_l
                 det = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
                 if (det <= 0) then
-                    info = -6
+                    info = STAT_BAD_ELEMENT
+                    bad_element = e
                     return
                 end if
                 ji(1, 1) = jac(2, 2) / det; ji(2, 2) = jac(1, 1) / det

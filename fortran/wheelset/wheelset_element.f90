@@ -17,6 +17,7 @@
 !> centrifugal, prestress); the numbers 1-5 and 8 are inferred (docs/equations.md).
 module wheelset_element
     use common_kinds, only: dp, pi
+    use common_status, only: STAT_OK, STAT_BAD_ELEMENT
     implicit none
     private
     public :: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP
@@ -40,7 +41,8 @@ contains
     !> ke, me: stiffness and mass. ce: Coriolis coupling (test set A, trial set B
     !> for k > 0; skew r-theta coupling for k = 0) without the factor 2 Omega.
     !> mc: mass of the in-plane (r, theta) motion, for the centrifugal softening.
-    !> info: 0 ok, -1 non-positive Jacobian (a distorted or inverted element).
+    !> info: STAT_OK, STAT_BAD_ELEMENT (a non-positive Jacobian or radius: a distorted or
+    !> inverted element).
     pure subroutine axisym_element(k, xe, e, nu, rho, ke, me, ce, mc, info)
         integer, intent(in) :: k
         real(dp), intent(in) :: xe(2, NEN), e, nu, rho
@@ -50,9 +52,9 @@ contains
         real(dp) :: n(NEN), nr(NEN), ny(NEN)
         real(dp) :: r, w, wk, lam, mu, fk, ro, cs
         real(dp) :: b(6, NDOF_E), d(6, 6), db(6, NDOF_E)
-        integer :: ig, jg, i, j, a, bb, ia, ib
+        integer :: ig, jg, i, a, bb, ia, ib
 
-        info = 0
+        info = STAT_OK
         ke = 0.0_dp
         me = 0.0_dp
         ce = 0.0_dp
@@ -73,7 +75,7 @@ contains
         do jg = 1, 3
             do ig = 1, 3
                 call gauss_point(xe, (jg - 1) * 3 + ig, n, nr, ny, r, w, info)
-                if (info /= 0) return
+                if (info /= STAT_OK) return
                 w = w * wk
                 ro = 1.0_dp / r
                 ! strains (eps_r, eps_y, eps_th, gam_ry, gam_rth, gam_yth)
@@ -111,7 +113,8 @@ contains
     end subroutine axisym_element
 
     !> Shape functions at Gauss point g (1..9): n, d/dr, d/dy, radius and
-    !> weight * detJ * r (without the theta factor). info -1: bad Jacobian.
+    !> weight * detJ * r (without the theta factor). info: STAT_OK, STAT_BAD_ELEMENT
+    !> (det J <= 0 or r <= 0).
     pure subroutine gauss_point(xe, g, n, nr, ny, r, w, info)
         real(dp), intent(in) :: xe(2, NEN)
         integer, intent(in) :: g
@@ -121,7 +124,7 @@ contains
         real(dp), parameter :: gw(3) = [5.0_dp / 9.0_dp, 8.0_dp / 9.0_dp, 5.0_dp / 9.0_dp]
         real(dp) :: lx(3), dlx(3), ly(3), dly(3), dnx(NEN), dny(NEN), jac(2, 2), detj
         integer :: i, j, a, ig, jg
-        info = 0
+        info = STAT_OK
         ig = mod(g - 1, 3) + 1
         jg = (g - 1) / 3 + 1
         call lagrange3(gp(ig), lx, dlx)
@@ -144,7 +147,7 @@ contains
         ny = 0.0_dp
         w = 0.0_dp
         if (detj <= 0.0_dp .or. r <= 0.0_dp) then
-            info = -1
+            info = STAT_BAD_ELEMENT
             return
         end if
         nr = (jac(2, 2) * dnx - jac(1, 2) * dny) / detj
@@ -155,7 +158,7 @@ contains
     !> Centrifugal prestress of a k = 0 element: the consistent load of the
     !> body force rho r e_r (angular speed 1 rad/s) in fe, and, given the
     !> element's displacements ue, the stresses (sig_r, sig_y, sig_th, tau_ry)
-    !> at its Gauss points in sig.
+    !> at its Gauss points in sig. info: STAT_OK, STAT_BAD_ELEMENT.
     pure subroutine axisym_prestress(xe, e, nu, rho, ue, fe, sig, info)
         real(dp), intent(in) :: xe(2, NEN), e, nu, rho, ue(NDOF_E)
         real(dp), intent(out) :: fe(NDOF_E), sig(4, NGP)
@@ -171,7 +174,7 @@ contains
         sig = 0.0_dp
         do g = 1, NGP
             call gauss_point(xe, g, n, nr, ny, r, w, info)
-            if (info /= 0) return
+            if (info /= STAT_OK) return
             fe(1::3) = fe(1::3) + 2.0_dp * pi * w * rho * r * n
             er = sum(nr * ur)
             ey = sum(ny * uy)
@@ -187,6 +190,7 @@ contains
     !> Geometric (stress) stiffness of harmonic k for the prestress sig(4, 9)
     !> (sig_r, sig_y, sig_th, tau_ry at the Gauss points): the theta-integral of
     !> sum_i grad(u_i) . S grad(u_i) with the physical cylindrical gradient.
+    !> info: STAT_OK, STAT_BAD_ELEMENT.
     pure subroutine axisym_geometric(k, xe, sig, kg, info)
         integer, intent(in) :: k
         real(dp), intent(in) :: xe(2, NEN), sig(4, NGP)
@@ -200,7 +204,7 @@ contains
         fk = real(k, dp)
         do g = 1, NGP
             call gauss_point(xe, g, n, nr, ny, r, w, info)
-            if (info /= 0) return
+            if (info /= STAT_OK) return
             ! rows: derivative direction (r, theta, y); one matrix per component
             gr = 0.0_dp
             gt = 0.0_dp

@@ -2,17 +2,19 @@
 !> with nine-node meridian elements (wheelset_element): DOF numbering with the
 !> regularity conditions on the axis, banded assembly, springs to the ground,
 !> the lowest modes up to a frequency bound, and the modal Coriolis and
-!> centrifugal matrices of the rotating body.
-!> Implements Kaiser eqs 6 and 8-10 (the modes of harmonic k, double for k > 0) and the modal
-!> terms of eqs 1-5 (Gamma, Mc, K_sigma); 1-5 and 8 numbered by inference (docs/equations.md).
+!> centrifugal matrices of the rotating body. Implements Kaiser eqs 6 and 8-10 (the modes of
+!> harmonic k, double for k > 0), the modal matrices of the axle-fixed model (eq. 11) and the
+!> modal terms of eqs 1-5 (Gamma, Mc, K_sigma); 1-5 and 8 numbered by inference (docs/equations.md).
 module wheelset_modes
     use common_kinds, only: dp
     use common_lapack, only: dpbtrf, dpbtrs
     use wheelset_element, only: axisym_element, axisym_prestress, axisym_geometric, NEN, NDOF_E, NGP
     use common_eigen, only: eig_sym_range, eig_band_lowest
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH, STAT_BAD_ELEMENT, &
+                             STAT_NOT_CONVERGED, STAT_SINGULAR
     implicit none
     private
-    public :: dof_map, assemble_band, harmonic_modes, centrifugal_prestress
+    public :: harmonic_modes
 
     !> Meshes with at most this many equations go to the dense LAPACK solver.
     integer, parameter :: DENSE_MAX = 600
@@ -85,23 +87,24 @@ contains
     end function band_width
 
     !> Stiffness and mass in upper band storage (kd + 1, neq).
-    !> info: 0 ok, -10 - e: element e has a non-positive Jacobian.
-    subroutine assemble_band(nn, ne, xn, conn, k, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info)
+    !> info: STAT_OK, STAT_BAD_ELEMENT (element bad_element has a non-positive Jacobian).
+    subroutine assemble_band(nn, ne, xn, conn, k, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info, &
+                             bad_element)
         integer, intent(in) :: nn, ne, k, conn(NEN, ne), eq(3, nn), neq, kd
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho, sgn(3, nn)
         real(dp), intent(out) :: kb(kd + 1, neq), mb(kd + 1, neq)
-        integer, intent(out) :: info
+        integer, intent(out) :: info, bad_element
         real(dp) :: ke(NDOF_E, NDOF_E), me(NDOF_E, NDOF_E), ce(NDOF_E, NDOF_E), mc(NDOF_E, NDOF_E)
         real(dp) :: xe(2, NEN), s(NDOF_E)
-        integer :: g(NDOF_E), e, a, c, i, j, gi, gj, stat
+        integer :: g(NDOF_E), e, a, c, i, j, gi, gj
         kb = 0.0_dp
         mb = 0.0_dp
-        info = 0
+        bad_element = 0
         do e = 1, ne
             xe = xn(:, conn(:, e))
-            call axisym_element(k, xe, e_mod, nu, rho, ke, me, ce, mc, stat)
-            if (stat /= 0) then
-                info = -10 - e
+            call axisym_element(k, xe, e_mod, nu, rho, ke, me, ce, mc, info)
+            if (info /= STAT_OK) then
+                bad_element = e
                 return
             end if
             do a = 1, NEN
@@ -131,14 +134,21 @@ contains
     !> normalised to unit modal mass; gam(nm, nm) = Phi^T C Phi (Coriolis, to be
     !> multiplied by 2 Omega) and mcq = Phi^T Mc Phi (centrifugal softening,
     !> to be multiplied by Omega^2). neq: equations, kd: half-bandwidth.
-    !> info: 0 ok; -1 bad sizes; -2 no free DOF; -10 - e: element e inverted;
-    !> -3 K - sigma M not positive definite; >0 eigen-solver status.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT (k < 0, nmax < 1, lam_max <= 0, or fewer than two
+    !> free DOFs left); STAT_SIZE_MISMATCH (nn < 9, ne < 1, a node number of conn or of a
+    !> spring out of range, a spring component not 1..3); STAT_BAD_ELEMENT (element
+    !> bad_element is inverted or has r <= 0); STAT_SINGULAR (the k = 0 system of the
+    !> centrifugal prestress could not be factorised); STAT_NOT_CONVERGED (the eigen-solver
+    !> stopped before all wanted modes converged: nm modes kept); or the eigen-solver's code
+    !> (STAT_NOT_POSITIVE_DEFINITE: K - sigma M or M is not; STAT_EIGEN_FAILED, STAT_LAPACK),
+    !> with the LAPACK/ARPACK info in solver_info.
     subroutine harmonic_modes(nn, ne, xn, conn, k, e_mod, nu, rho, fixed, nspr, spr_node, &
-                              spr_comp, spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, info)
+                              spr_comp, spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, &
+                              info, bad_element, solver_info)
         integer, intent(in) :: nn, ne, k, conn(NEN, ne), fixed(3, nn), nspr, nmax
         integer, intent(in) :: spr_node(nspr), spr_comp(nspr)
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho, spr_k(nspr), lam_max
-        integer, intent(out) :: nm, neq, kd, info
+        integer, intent(out) :: nm, neq, kd, info, bad_element, solver_info
         real(dp), intent(out) :: lam(nmax), phi(3, nn, nmax), gam(nmax, nmax), mcq(nmax, nmax)
         real(dp), intent(out) :: kgq(nmax, nmax)
         integer :: eq(3, nn), i, j, q, nev, ncv, nconv, stat
@@ -153,27 +163,34 @@ contains
         kgq = 0.0_dp
         neq = 0
         kd = 0
-        info = 0
-        if (nn < NEN .or. ne < 1 .or. nmax < 1 .or. k < 0 .or. lam_max <= 0.0_dp) then
-            info = -1
+        info = STAT_OK
+        bad_element = 0
+        solver_info = 0
+        if (nmax < 1 .or. k < 0 .or. lam_max <= 0.0_dp) then
+            info = STAT_BAD_ARGUMENT
+            return
+        end if
+        if (nn < NEN .or. ne < 1) then
+            info = STAT_SIZE_MISMATCH
             return
         end if
         if (minval(conn) < 1 .or. maxval(conn) > nn) then
-            info = -1
+            info = STAT_SIZE_MISMATCH
             return
         end if
         call dof_map(nn, xn, k, fixed, eq, sgn, neq)
         if (neq < 2) then
-            info = -2
+            info = STAT_BAD_ARGUMENT
             return
         end if
         kd = band_width(nn, ne, conn, eq)
         allocate (kb(kd + 1, neq), mb(kd + 1, neq))
-        call assemble_band(nn, ne, xn, conn, k, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info)
-        if (info /= 0) return
+        call assemble_band(nn, ne, xn, conn, k, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info, &
+                           bad_element)
+        if (info /= STAT_OK) return
         do i = 1, nspr
             if (spr_node(i) < 1 .or. spr_node(i) > nn .or. spr_comp(i) < 1 .or. spr_comp(i) > 3) then
-                info = -1
+                info = STAT_SIZE_MISMATCH
                 return
             end if
             q = eq(spr_comp(i), spr_node(i))
@@ -190,11 +207,9 @@ contains
                     mf(i, j) = mb(kd + 1 + i - j, j)
                 end do
             end do
-            call eig_sym_range(neq, kf, mf, -1.0e-3_dp * lam_max, lam_max, nconv, w, z, stat)
-            if (stat /= 0) then
-                info = stat
-                return
-            end if
+            call eig_sym_range(neq, kf, mf, -1.0e-3_dp * lam_max, lam_max, nconv, w, z, info, &
+                               solver_info)
+            if (info /= STAT_OK) return
             nm = min(nconv, nmax)
             lam(1:nm) = w(1:nm)
             call expand(z(:, 1:nm))
@@ -207,13 +222,13 @@ contains
                 ncv = min(neq, max(2 * nev + 1, nev + 24))
                 allocate (w(nev), z(neq, nev))
                 call eig_band_lowest(neq, kd, kb, mb, sigma, nev, ncv, 1.0e-10_dp, 3000, w, z, &
-                                     nconv, stat)
-                if (stat < 0) then
+                                     nconv, stat, solver_info)
+                if (stat /= STAT_OK .and. stat /= STAT_NOT_CONVERGED) then
                     info = stat
                     return
                 end if
                 if (nconv < nev) then
-                    info = max(stat, 1)
+                    info = STAT_NOT_CONVERGED
                     call keep_below_max()
                     return
                 end if
@@ -229,7 +244,7 @@ contains
         if (allocated(kf)) deallocate (kf, mf)
         if (allocated(z)) deallocate (z, w)
         call modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi(:, :, 1:nm), &
-                         gam(1:nm, 1:nm), mcq(1:nm, 1:nm), kgq(1:nm, 1:nm), info)
+                         gam(1:nm, 1:nm), mcq(1:nm, 1:nm), kgq(1:nm, 1:nm), info, bad_element)
 
     contains
 
@@ -261,11 +276,13 @@ contains
 
     !> Modal Coriolis (gam), in-plane mass (mcq) and centrifugal geometric
     !> stiffness (kgq, per (rad/s)^2) matrices, element by element.
-    subroutine modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi, gam, mcq, kgq, info)
+    !> info: STAT_OK, STAT_BAD_ELEMENT (element bad_element), STAT_SINGULAR (prestress).
+    subroutine modal_extra(nn, ne, xn, conn, k, e_mod, nu, rho, nm, phi, gam, mcq, kgq, info, &
+                           bad_element)
         integer, intent(in) :: nn, ne, conn(NEN, ne), k, nm
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho, phi(3, nn, nm)
         real(dp), intent(out) :: gam(nm, nm), mcq(nm, nm), kgq(nm, nm)
-        integer, intent(out) :: info
+        integer, intent(out) :: info, bad_element
         real(dp) :: ke(NDOF_E, NDOF_E), me(NDOF_E, NDOF_E), ce(NDOF_E, NDOF_E), mc(NDOF_E, NDOF_E)
         real(dp) :: kg(NDOF_E, NDOF_E)
         real(dp) :: pe(NDOF_E, nm)
@@ -274,15 +291,16 @@ contains
         gam = 0.0_dp
         mcq = 0.0_dp
         kgq = 0.0_dp
-        info = 0
+        info = STAT_OK
+        bad_element = 0
         if (nm < 1) return
         allocate (sig(4, NGP, ne))
-        call centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info)
-        if (info /= 0) return
+        call centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info, bad_element)
+        if (info /= STAT_OK) return
         do e = 1, ne
             call axisym_element(k, xn(:, conn(:, e)), e_mod, nu, rho, ke, me, ce, mc, info)
-            if (info /= 0) then
-                info = -10 - e
+            if (info /= STAT_OK) then
+                bad_element = e
                 return
             end if
             do a = 1, NEN
@@ -291,6 +309,10 @@ contains
             gam = gam + matmul(transpose(pe), matmul(ce, pe))
             mcq = mcq + matmul(transpose(pe), matmul(mc, pe))
             call axisym_geometric(k, xn(:, conn(:, e)), sig(:, :, e), kg, info)
+            if (info /= STAT_OK) then
+                bad_element = e
+                return
+            end if
             kgq = kgq + matmul(transpose(pe), matmul(kg, pe))
         end do
     end subroutine modal_extra
@@ -299,12 +321,13 @@ contains
     !> element due to rotation at 1 rad/s about the axis (scale by Omega^2).
     !> The body is free: the load is self-equilibrated, and a tiny mass shift
     !> (K + eps M) removes the axial and spin rigid modes without loading them.
-    !> info: 0 ok, -10 - e: element e inverted, -4: factorisation failed.
-    subroutine centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info)
+    !> info: STAT_OK, STAT_BAD_ELEMENT (element bad_element inverted), STAT_SINGULAR (the
+    !> banded factorisation of K + eps M failed).
+    subroutine centrifugal_prestress(nn, ne, xn, conn, e_mod, nu, rho, sig, info, bad_element)
         integer, intent(in) :: nn, ne, conn(NEN, ne)
         real(dp), intent(in) :: xn(2, nn), e_mod, nu, rho
         real(dp), intent(out) :: sig(4, NGP, ne)
-        integer, intent(out) :: info
+        integer, intent(out) :: info, bad_element
         integer :: eq(3, nn), fixed(3, nn), neq, kd, e, a, c, q, stat
         real(dp) :: sgn(3, nn), fe(NDOF_E), ue(NDOF_E), eps
         real(dp), allocatable :: kb(:, :), mb(:, :), f(:)
@@ -313,8 +336,9 @@ contains
         call dof_map(nn, xn, 0, fixed, eq, sgn, neq)
         kd = band_width(nn, ne, conn, eq)
         allocate (kb(kd + 1, neq), mb(kd + 1, neq), f(neq))
-        call assemble_band(nn, ne, xn, conn, 0, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info)
-        if (info /= 0) return
+        call assemble_band(nn, ne, xn, conn, 0, e_mod, nu, rho, eq, sgn, neq, kd, kb, mb, info, &
+                           bad_element)
+        if (info /= STAT_OK) return
         eps = 1.0e-9_dp * maxval(kb(kd + 1, :)) / maxval(mb(kd + 1, :))
         kb = kb + eps * mb
         f = 0.0_dp
@@ -330,7 +354,7 @@ contains
         end do
         call dpbtrf('U', neq, kd, kb, kd + 1, stat)
         if (stat /= 0) then
-            info = -4
+            info = STAT_SINGULAR
             return
         end if
         call dpbtrs('U', neq, kd, 1, kb, kd + 1, f, neq, stat)

@@ -19,6 +19,7 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
+from .._status import Status, check, error
 from ..errors import ConvergenceError, InputError
 from .section import GAUSS_L, RailSection, rail_section, t6_shape
 
@@ -134,12 +135,18 @@ def _crown_observation(sec: RailSection) -> np.ndarray:
 
 def section_fe(sec: RailSection, young: float, poisson: float, density: float
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Section matrices K0, K1, K2, M of the 2.5-D FE (Fortran track_section)."""
-    k0, k1, k2, m, info = core.track_section_matrices_c(
+    """Section matrices K0, K1, K2, M of the 2.5-D FE (Fortran track_section).
+
+    Raises
+    ------
+    InputError
+        A node number out of range, or an element with a non-positive Jacobian.
+    """
+    k0, k1, k2, m, info, bad = core.track_section_matrices_c(
         np.asfortranarray(sec.nodes), np.asfortranarray(sec.elements + 1, dtype=np.int32),
         young, poisson, density)
-    if info != 0:
-        raise InputError(f"section mesh rejected by the FE assembly (info {info})")
+    where = f" (element {bad - 1}, 0-based)" if info == Status.BAD_ELEMENT else ""
+    check(info, f"section mesh rejected by the FE assembly{where}")
     return k0, k1, k2, m
 
 
@@ -216,21 +223,29 @@ class RingTrack:
         ns = int(p["n_samples"])
         kap_s = kmax * np.linspace(0.0, 1.0, ns) ** 1.5       # denser where modes change fastest
         rmax = int(min(ndof, 40 * ns))
-        r, w, k0r, k1r, k2r, fr, info = core.track_reduced_basis_c(
+        r, w, k0r, k1r, k2r, fr, info, s, linfo = core.track_reduced_basis_c(
             k0, k1, k2, m, f, kap_s, 2.25 * lam_cut, rmax)
-        if info > 1:
-            raise ConvergenceError(f"rail reduced basis: LAPACK failure (info {info})")
+        if info != Status.OK:
+            raise error(info, f"rail reduced basis at sample wave number {kap_s[s - 1]:.4g} rad/m "
+                        f"(LAPACK info {linfo})")
+        if r >= rmax:
+            log.warning("rail reduced basis full (%d vectors): later vectors were dropped", r)
         w, k0r, k1r, k2r, fr = w[:, :r], k0r[:r, :r], k1r[:r, :r], k2r[:r, :r], fr[:r]
         self._rom = (w, k0r, k1r, k2r, fr)
         n_k = int(math.floor(kmax * self.length / (2 * math.pi)))
         self.k_max = n_k
         kap = 2 * math.pi * np.arange(n_k + 1) / self.length
-        mmax = 60
-        nm, om2, y, info = core.track_wave_basis_c(np.asfortranarray(k0r), np.asfortranarray(k1r),
-                                                   np.asfortranarray(k2r), np.asfortranarray(fr),
-                                                   kap, lam_cut, mmax)
-        if info != 0:
-            raise ConvergenceError(f"rail wave basis failed (info {info})")
+        mmax = min(60, r)
+        while True:
+            nm, om2, y, info, ik, linfo = core.track_wave_basis_c(
+                np.asfortranarray(k0r), np.asfortranarray(k1r), np.asfortranarray(k2r),
+                np.asfortranarray(fr), kap, lam_cut, mmax)
+            if info != Status.SIZE_MISMATCH or mmax >= r:
+                break
+            mmax = min(2 * mmax, r)     # more basis vectors at one wave number than mmax
+        if info != Status.OK:
+            raise error(info, f"rail wave basis at wave number {kap[ik - 1]:.4g} rad/m "
+                        f"(LAPACK info {linfo})")
         pw = np.einsum("pcn,nr->pcr", self._pad_interp, w)
         ow = self._obs @ w
         self._rail = []   # per k: (kappa, om2, pad traces (np,3,nm), obs (4,nm), y)
@@ -277,13 +292,12 @@ class RingTrack:
             nb = len(kap)
             nsd = 6 if (j != 0 and 2 * j != n) else 3
             ntot = nb + nsd
-            lam, v, cm, info = core.track_group_modes_c(
+            lam, v, cm, info, linfo = core.track_group_modes_c(
                 np.array(om2), np.array(kap), np.array(fam, np.int32), np.array(sgn, np.int32),
                 np.array(rail, np.int32), np.asfortranarray(np.stack(tr, axis=2)), self.eta_p,
                 self.w_p, xi, w_xi, kpad, cpad, y0, beta, ms, kb, cb, n, j,
                 p["rail_loss_factor"], ntot)
-            if info != 0:
-                raise ConvergenceError(f"ring group {j}: eigen-solver failed (info {info})")
+            check(info, f"ring group {j}: eigen-solver (LAPACK info {linfo})")
             if lam.min() <= 0:
                 raise ConvergenceError(f"ring group {j}: non-positive eigenvalue {lam.min():.3g}")
             kap_l += kap; fam_l += fam; rail_l += rail; obs_l += obs

@@ -8,7 +8,8 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
-from ..errors import ConvergenceError, InputError
+from .._status import Status, error
+from ..errors import InputError
 from .mesh import MeridianMesh
 
 log = logging.getLogger(__name__)
@@ -94,6 +95,15 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     Returns
     -------
     HarmonicModes
+
+    Raises
+    ------
+    InputError
+        k < 0; an inverted element or one with r <= 0 (its number in the message); no free
+        degree of freedom left for this harmonic.
+    ConvergenceError
+        The eigen-solver failed or stopped early (K - sigma M not positive definite: a
+        negative stiffness?), or the k = 0 prestress system could not be factorised.
     """
     k = check_harmonic(k)
     f_max = _checks.positive("f_max", f_max)
@@ -116,24 +126,13 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     # buffer came back full (the solver may have stopped at n_buf modes).
     n_buf = min(n_max, _FIRST_BUFFER)
     while True:
-        nm, lam, phi, gam, mcq, kgq, neq, kd, info = core.wheelset_modes_c(
+        nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = core.wheelset_modes_c(
             xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf)
-        if info != 0 or nm < n_buf or n_buf >= n_max:
+        if info != Status.OK or nm < n_buf or n_buf >= n_max:
             break
         n_buf = min(n_max, 4 * n_buf)
-    if info <= -10:
-        raise InputError(f"meridian element {-info - 10} is inverted or has r <= 0 (bad geometry)")
-    if info == -2:
-        raise InputError("no free degree of freedom left for this harmonic")
-    if info == -4:
-        raise ConvergenceError("centrifugal prestress: the k = 0 stiffness could not be factorised")
-    if info == -3:
-        raise ConvergenceError("K - sigma M is not positive definite (negative stiffness?)")
-    if info < 0:
-        raise InputError(f"wheelset_modes_c rejected its arguments (info={info})")
-    if info > 0:
-        raise ConvergenceError(f"eigen-solver for k={k} did not converge (status {info}, {nm} modes)",
-                               iterations=0)
+    if info != Status.OK:
+        raise _modes_error(info, k, int(bad), int(sinfo), int(nm))
     lam = np.clip(lam[:nm], 0.0, None)
     log.debug("k=%d: %d modes below %.0f Hz, %d equations, bandwidth %d", k, nm, f_max, neq, kd)
     return HarmonicModes(k=k, freq_hz=np.sqrt(lam) / (2.0 * np.pi),
@@ -142,3 +141,25 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
                          coriolis=gam[:nm, :nm].copy(), inplane_mass=mcq[:nm, :nm].copy(),
                          prestress_stiffness=kgq[:nm, :nm].copy(),
                          n_equations=int(neq), bandwidth=int(kd))
+
+
+def _modes_error(info: int, k: int, bad_element: int, solver_info: int, nm: int) -> Exception:
+    """The exception for a failing wheelset_modes_c status, with what the user can act on."""
+    try:
+        code = Status(int(info))
+    except ValueError:
+        return error(info, f"harmonic k={k}")
+    what = {
+        Status.BAD_ELEMENT: f"meridian element {bad_element} (1-based) is inverted or has r <= 0 "
+                            "(bad geometry)",
+        # k, n_max and f_max are checked above, so a bad argument here is the DOF count.
+        Status.BAD_ARGUMENT: "no free degree of freedom left for this harmonic",
+        Status.SIZE_MISMATCH: "wheelset_modes_c rejected its arguments (mesh or spring numbering)",
+        Status.SINGULAR: "centrifugal prestress: the k = 0 stiffness could not be factorised",
+        Status.NOT_POSITIVE_DEFINITE: "K - sigma M is not positive definite (negative stiffness?)",
+        Status.NOT_CONVERGED: f"eigen-solver for k={k} did not converge ({nm} modes)",
+    }.get(code, f"eigen-solver for k={k} failed")
+    if code not in (Status.BAD_ELEMENT, Status.BAD_ARGUMENT, Status.SIZE_MISMATCH,
+                    Status.SINGULAR):
+        what += f" (LAPACK/ARPACK info {solver_info})"
+    return error(info, f"harmonic k={k}: {what}", iterations=0)

@@ -9,7 +9,8 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
-from ..errors import ConvergenceError, InputError
+from .._status import check
+from ..errors import InputError
 from .fe import HarmonicModes, check_harmonic, solve_harmonic
 from .geometry import WheelsetGeometry
 from .mesh import MeridianMesh
@@ -397,6 +398,13 @@ class Wheelset:
         -------
         ndarray of complex (nf,)
             Receptance, m/N.
+
+        Raises
+        ------
+        InputError
+            A bad direction, a negative or non-finite frequency or speed.
+        ConvergenceError
+            The dynamic matrix is singular at a frequency (named in the message).
         """
         for name, v in (("input", input), ("output", output)):
             if v not in _DIRECTIONS:
@@ -407,9 +415,10 @@ class Wheelset:
         m = model if model is not None else self.axle_fixed(speed, k_max, f_max, damping_ratio)
         fin = np.asfortranarray(m.contact[0, _DIRECTIONS.index(input)][:, None])
         fout = np.asfortranarray(m.contact[0, _DIRECTIONS.index(output)][:, None])
-        h, info = core.wheelset_frf_c(np.asfortranarray(m.mass), np.asfortranarray(m.gyro + m.damping),
-                                      np.asfortranarray(m.stiffness), fin, fout,
-                                      np.asfortranarray(2.0 * np.pi * f))
-        if info != 0:
-            raise ConvergenceError(f"dynamic matrix singular at {f[info - 1]} Hz (undamped rigid mode?)")
+        h, info, idx = core.wheelset_frf_c(np.asfortranarray(m.mass),
+                                           np.asfortranarray(m.gyro + m.damping),
+                                           np.asfortranarray(m.stiffness), fin, fout,
+                                           np.asfortranarray(2.0 * np.pi * f))
+        where = f" at {f[idx - 1]} Hz (undamped rigid mode?)" if idx > 0 else ""
+        check(info, f"wheelset FRF: dynamic matrix{where}")
         return h[0, 0, :].copy()
