@@ -72,6 +72,8 @@
 module contact_rolling
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetri
+    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
+                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE, STAT_SINGULAR, STAT_LAPACK
     use contact_plans, only: workspace
     use contact_convolution, only: conv_apply_pair
     implicit none
@@ -167,10 +169,13 @@ contains
     !> Steady rolling: tangential tractions for the pressure p on the grid of
     !> workspace w (made with the tangential kernels).
     !>
-    !> info: 0 converged, 1 not converged in max_iter sweeps (resid holds the
-    !> residual), 2 no element in contact (t = 0), -1 workspace without the
-    !> tangential kernels, -2 bad method, -3 nblock or ninner < 1, -4 contact reaches
-    !> i = nx - 1 (fewer than two upstream elements), -5 non-finite values, -6 LAPACK failure of a run basis.
+    !> info: STAT_OK converged; STAT_NOT_CONVERGED after max_iter sweeps (resid
+    !> holds the residual, the tractions the last iterate); STAT_NO_CONTACT no
+    !> element with p > 0 (t = 0); STAT_BAD_HANDLE a workspace without the
+    !> tangential kernels; STAT_BAD_ARGUMENT a bad method, or nblock or ninner < 1;
+    !> STAT_GRID_EDGE the contact set reaches i = nx - 1 (fewer than two upstream
+    !> elements); STAT_NOT_FINITE non-finite values (resid = huge); STAT_SINGULAR
+    !> or STAT_LAPACK the LU inverse of a run basis failed.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
                               tx, ty, status, sx, sy, iters, resid, info)
         type(workspace), intent(inout) :: w
@@ -209,17 +214,13 @@ contains
         status = ST_EXTERIOR
         sx = 0.0_dp
         sy = 0.0_dp
-        info = 0
+        info = STAT_OK
         if (w%nker < 4) then
-            info = -1
+            info = STAT_BAD_HANDLE     ! a workspace made without the tangential kernels
             return
         end if
-        if (method /= ROLL_GS .and. method /= ROLL_FFTGS) then
-            info = -2
-            return
-        end if
-        if (nblock < 1 .or. ninner < 1) then
-            info = -3
+        if ((method /= ROLL_GS .and. method /= ROLL_FFTGS) .or. nblock < 1 .or. ninner < 1) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
 
@@ -231,7 +232,7 @@ contains
             ty = 0.0_dp
         end where
         if (.not. any(inc)) then
-            info = 2
+            info = STAT_NO_CONTACT
             return
         end if
         ! bounding box of the contact area plus the upstream row (ut there
@@ -246,7 +247,7 @@ contains
             end do
         end do
         if (i2 >= nx - 1) then
-            info = -4
+            info = STAT_GRID_EDGE
             return
         end if
         ib2 = i2 + 1
@@ -288,7 +289,7 @@ contains
                 if (inc(i + 1, j)) cycle
                 call make_basis(i - trail(i, j) + 1, stat)
                 if (stat /= 0) then
-                    info = -6
+                    info = merge(STAT_SINGULAR, STAT_LAPACK, stat > 0)
                     return
                 end if
             end do
@@ -341,7 +342,7 @@ contains
                 end do
             end do
             if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
-                info = -5
+                info = STAT_NOT_FINITE
                 resid = huge(1.0_dp)
                 exit
             end if
@@ -352,7 +353,7 @@ contains
             end if
             if (resid <= tol) exit
             if (it >= max_iter) then
-                info = 1
+                info = STAT_NOT_CONVERGED
                 exit
             end if
             ! safeguard: an extrapolated iterate that raised the residual is
@@ -397,7 +398,7 @@ contains
         end do
 
         ! slip of the final tractions on the exact field
-        if (info >= 0) then
+        if (info /= STAT_NOT_FINITE) then
             call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
             do j = j1, j2
                 do i = i1, i2
