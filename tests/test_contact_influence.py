@@ -99,3 +99,15 @@ def test_bad_kernel_and_traction():
         convolve(q, grid, MAT)
     with pytest.raises(InputError, match="shape"):
         convolve(np.zeros((3, 4)), grid, MAT)
+
+
+def test_kernel_codes_guarded_by_the_shims():
+    """Bad kernel or method codes reaching the Fortran shims give BAD_ARGUMENT, not garbage."""
+    from railvti._native import core
+    from railvti._status import Status
+    grid = Grid(4, 4, 1e-4, 1e-4)
+    assert core.influence_field_c(9, 4, 4, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson)[1] == Status.BAD_ARGUMENT
+    q = np.zeros(grid.shape, order="F")
+    for kernel, method in ((0, 1), (5, 2), (1, 3)):
+        assert core.convolve_c(kernel, method, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson, q)[1] \
+            == Status.BAD_ARGUMENT

@@ -100,18 +100,43 @@ def test_linear_forces_signs_and_values():
     assert fy == pytest.approx(-80e9 * a * b * 3.67e-3 - 80e9 * (a * b) ** 1.5 * 1.47 * 2.0)
 
 
+def _fortran_table():
+    """The table in the Fortran layout: a/b (n,), columns (n, 9), read from the CSV here."""
+    raw = _raw_table()
+    return raw[:, 0].copy(), np.asfortranarray(raw[:, 1:])
+
+
 @pytest.mark.parametrize("nu", [0.0, 0.1, 0.25, 0.28, 0.5])
 def test_fortran_kalker_interp_equals_python(nu):
-    """The Fortran kalker_interp (for the vehicle code) gives the Python values."""
+    """The Fortran kalker_interp (FASTSIM's coefficients), given the CSV's table, gives the
+    values of the independent Python implementation (scipy's PCHIP)."""
     from railvti._native import core
+    from railvti._status import Status
     ab = np.exp(np.linspace(np.log(0.1), np.log(10.0), 401))
-    c11, c22, c23, info = core.fastsim_kalker_c(ab, nu)
-    assert info == 0
+    c11, c22, c23, info, ibad = core.fastsim_kalker_c(ab, nu, *_fortran_table())
+    assert info == Status.OK and ibad == 0
     for f, p in zip((c11, c22, c23), kalker_coefficients(ab, nu)):
         np.testing.assert_allclose(f, p, rtol=1e-13)
 
 
 def test_fortran_kalker_interp_range():
+    """a/b outside the table: BAD_ARGUMENT with the index of the first bad a/b; nu outside
+    [0, 0.5]: BAD_ARGUMENT with no index."""
     from railvti._native import core
-    assert core.fastsim_kalker_c([0.09], 0.25)[3] == -1
-    assert core.fastsim_kalker_c([1.0], 0.51)[3] == -2
+    from railvti._status import Status
+    _, _, _, info, ibad = core.fastsim_kalker_c([1.0, 0.09, 11.0], 0.25, *_fortran_table())
+    assert info == Status.BAD_ARGUMENT and ibad == 2
+    _, _, _, info, ibad = core.fastsim_kalker_c([1.0], 0.51, *_fortran_table())
+    assert info == Status.BAD_ARGUMENT and ibad == 0
+
+
+def test_fastsim_uses_the_one_table():
+    """FASTSIM's coefficients come from the packaged CSV: at a table node they are the
+    published values (Kalker 1990, Table E.3, a/b = 0.5, nu = 0.25: C11 = 3.62, C22 = 3.01,
+    C23 = 0.929); an ellipse outside the table is refused."""
+    from railvti.contact import fastsim
+    mat = Material(shear_modulus=80e9, poisson=0.25)
+    r = fastsim(2e-3, 4e-3, 1e4, mat, 0.3, (1e-4, 0.0, 0.0), nx=4, ny=4)
+    assert r.coefficients == pytest.approx((3.62, 3.01, 0.929), rel=1e-13)
+    with pytest.raises(KalkerRangeError, match="a/b"):
+        fastsim(2e-3, 4e-2, 1e4, mat, 0.3, (1e-4, 0.0, 0.0), nx=4, ny=4)

@@ -158,3 +158,23 @@ def test_not_converged_raises_with_residual(method):
         solve_normal(GAP, GRID, MAT, fn=1e4, method=method, max_iter=2, tol=1e-12)
     assert info.value.residual > 1e-12
     assert info.value.result is not None and np.isfinite(info.value.result.pressure).all()
+
+
+def test_shim_reports_bad_handle_and_codes():
+    """normal_solve_c: an unknown workspace handle, or one of another grid size, gives
+    BAD_HANDLE; an unknown control or method code BAD_ARGUMENT."""
+    from railvti._native import core
+    from railvti._status import Status
+    from railvti.contact.workspace import workspace
+    grid = Grid(8, 8, 1e-4, 1e-4)
+    h = np.zeros(grid.shape, order="F")
+
+    def info(handle, control=1, method=1):
+        p = np.zeros(grid.shape, order="F")
+        return core.normal_solve_c(handle, h, control, method, 1e-8, 10, 1.0, 1.0, 0.0, p)[-1]
+
+    mat = Material(shear_modulus=80e9, poisson=0.3)
+    assert info(999) == Status.BAD_HANDLE
+    assert info(workspace(Grid(10, 8, 1e-4, 1e-4), mat)) == Status.BAD_HANDLE
+    assert info(workspace(grid, mat), control=3) == Status.BAD_ARGUMENT
+    assert info(workspace(grid, mat), method=4) == Status.BAD_ARGUMENT

@@ -263,3 +263,32 @@ def test_frictionless_gives_zero_traction():
     r = solve_rolling(gap, grid, MAT, 0.0, FN, (1e-3, 0, 0.5), 1.0)
     assert r.fx == 0 and r.fy == 0 and r.power == 0
     assert r.slip[r.contact].all()
+
+
+def test_kernel_reports_named_status_codes():
+    """The Fortran kernel's error paths (which the Python checks screen) give the named codes
+    of common_status: no contact, contact at the leading grid edge, a bad method, a bad handle
+    and a workspace made without the tangential kernels."""
+    from railvti._native import core
+    from railvti._status import Status
+    from railvti.contact.workspace import workspace
+    grid, _, _ = _case(n=4)
+    tang = workspace(grid, MAT, tangential=True)
+
+    def call(handle, p, method=2):
+        tx, ty = np.zeros(grid.shape, order="F"), np.zeros(grid.shape, order="F")
+        return core.rolling_solve_c(handle, p, grid.x0, grid.y0, 1e-3, 0.0, 0.0, 0.3, 1.0, method, 4, 1,
+                                    1e-7, 50, tx, ty)[-1]
+
+    p = np.zeros(grid.shape, order="F")
+    assert call(tang, p) == Status.NO_CONTACT
+    p[grid.nx // 2, grid.ny // 2] = 1e6
+    assert call(tang, p) == Status.OK
+    assert call(tang, p, method=7) == Status.BAD_ARGUMENT
+    assert call(999, p) == Status.BAD_HANDLE
+    other = Grid(grid.nx + 2, grid.ny, grid.dx, grid.dy, grid.x0, grid.y0)
+    assert call(workspace(other, MAT), p) == Status.BAD_HANDLE      # another grid size
+    normal_only = workspace(grid, Material(80e9, 0.3))              # not cached with tangential kernels
+    assert call(normal_only, p) == Status.BAD_HANDLE
+    p[-2, grid.ny // 2] = 1e6
+    assert call(tang, p) == Status.GRID_EDGE

@@ -1,9 +1,12 @@
 """The loaded wheelset: load control per wheel, mirror symmetry, flange contact, bad input."""
+import dataclasses
+
 import numpy as np
 import pytest
 
 from railvti import STEEL, InputError, profiles
 from railvti.contact.wheelset import solve_wheelset
+from railvti.geometry import gap_field
 
 WHEEL = profiles.s1002()
 RAIL = profiles.uic60()
@@ -53,15 +56,29 @@ def test_flange_contact_pushes_wheel_back():
     assert s.geometry.status[0] in ("ok", "flange climb")
 
 
-def test_patch_approach_follows_shared_motion():
-    """The approach of every patch is the linear function of the wheelset's sink and roll."""
-    s = solve_wheelset(WHEEL, RAIL, 2e-3, 0.0, FZ, None, None, STEEL, 4e-4)
-    c = s.geometry.pose.centre
+@pytest.mark.parametrize("y_mm, fz_right", [(3.0, 0.6 * FZ), (8.0, FZ)])
+def test_patch_approach_follows_shared_motion(y_mm, fz_right):
+    """Each patch's approach is the closure of the rigid gap that the solved sink and roll
+    produce, computed independently: the wheel surface of the moved pose (height - sink,
+    roll + roll) intersected along the contact normal by the geometry module (exact 3-D
+    surface of revolution, no linearisation). Unequal loads and flange contact (8 mm,
+    contact angle ~1 rad) make the roll part of the motion large in some patch."""
+    s = solve_wheelset(WHEEL, RAIL, y_mm * 1e-3, 0.0, (FZ, fz_right), None, None, STEEL, 4e-4)
+    pose = s.geometry.pose
+    moved = dataclasses.replace(pose, z=pose.z - s.sink, roll=pose.roll + s.roll)
+
+    def gap_at_point(cp):
+        return gap_field(WHEEL, RAIL, cp, 1e-4, 1e-4, 1, 1, x0=0.0, y0=0.0).gap[0, 0]
+
+    roll_share = 0.0
     for p in s.patches:
-        n = p.contact.normal
-        r = p.contact.position - c
-        expected = n[2] * s.sink + (r[2] * n[1] - r[1] * n[2]) * s.roll
-        assert p.approach == pytest.approx(expected, rel=1e-12, abs=1e-15)
+        closure = gap_at_point(p.contact) - gap_at_point(dataclasses.replace(p.contact, pose=moved))
+        # second-order terms of the finite motion: 1e-4 on the tread, 1e-2 on the steep flange
+        rel = 1e-4 if p.contact_angle < 0.5 else 1e-2
+        assert p.approach == pytest.approx(closure, rel=rel)
+        # the roll's own share of the closure (sink alone: n_z * sink)
+        roll_share = max(roll_share, abs(closure - p.contact.normal[2] * s.sink) / p.approach)
+    assert roll_share > 0.1   # a wrong roll lever arm would fail the check above
 
 
 @pytest.mark.parametrize("kwargs, word", [

@@ -1,30 +1,35 @@
 !> f2py shim for the contact kernels: plain arrays, explicit shapes, integer info.
-!> Argument checks live in Python (railvti.contact); info < 0 here names the
-!> offending argument by position, info > 0 is a solver status.
+!> Argument checks live in Python (railvti.contact); info is a status code of
+!> common_status (the codes here guard the kernels).
 !> Implements no equation (the kernels it calls do: see docs/equations.md).
 
 !> Influence coefficients of one kernel (1 zz, 2 xx, 3 yy, 4 xy) for all
 !> offsets of an nx x ny grid, circular layout on the 2nx x 2ny padded grid.
+!> info: STAT_OK; STAT_BAD_ARGUMENT an unknown kernel code.
 subroutine influence_field_c(kernel, nx, ny, dx, dy, g, nu, c, info)
     use iso_c_binding, only: c_int, c_double
-    use contact_influence, only: influence_field
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
+    use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XY
     implicit none
     integer(c_int), intent(in) :: kernel, nx, ny
     real(c_double), intent(in) :: dx, dy, g, nu
     real(c_double), intent(out) :: c(2 * nx, 2 * ny)
     integer(c_int), intent(out) :: info
-    info = 0
-    if (kernel < 1 .or. kernel > 4) then
-        info = -1
+    info = STAT_OK
+    if (kernel < KERNEL_ZZ .or. kernel > KERNEL_XY) then
+        info = STAT_BAD_ARGUMENT
         return
     end if
     call influence_field(kernel, nx, ny, dx, dy, g, nu, c)
 end subroutine influence_field_c
 
 !> u = A_kernel * q by FFT (method 1) or direct summation (method 2).
+!> info: STAT_OK; STAT_BAD_ARGUMENT an unknown kernel or method code;
+!> otherwise conv_init's status (STAT_NO_MEMORY, STAT_FFTW_PLAN).
 subroutine convolve_c(kernel, method, nx, ny, dx, dy, g, nu, q, u, info)
     use iso_c_binding, only: c_int, c_double
-    use contact_influence, only: influence_field
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
+    use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XY
     use contact_convolution, only: conv_plan, conv_init, conv_apply, conv_free, direct_apply
     implicit none
     integer(c_int), intent(in) :: kernel, method, nx, ny
@@ -35,15 +40,21 @@ subroutine convolve_c(kernel, method, nx, ny, dx, dy, g, nu, q, u, info)
     real(c_double), allocatable :: c(:, :, :)
     type(conv_plan) :: plan
     integer :: stat
-    info = 0
+    info = STAT_OK
+    u = 0.0_c_double
+    if (kernel < KERNEL_ZZ .or. kernel > KERNEL_XY .or. method < 1 .or. method > 2) then
+        info = STAT_BAD_ARGUMENT
+        return
+    end if
     allocate (c(0:2 * nx - 1, 0:2 * ny - 1, 1))
     call influence_field(kernel, nx, ny, dx, dy, g, nu, c(:, :, 1))
     if (method == 2) then
         call direct_apply(nx, ny, c(:, :, 1), q, u)
     else
         call conv_init(plan, nx, ny, c, stat)
-        if (stat /= 0) then
+        if (stat /= STAT_OK) then
             info = stat
+            call conv_free(plan)
             return
         end if
         call conv_apply(plan, 1, q, u)
@@ -52,9 +63,11 @@ subroutine convolve_c(kernel, method, nx, ny, dx, dy, g, nu, q, u, info)
 end subroutine convolve_c
 
 !> Apply the Boussinesq product of workspace `handle` nrep times to q (the
-!> benchmark times one FFT product with it). info -3: bad handle or grid.
+!> benchmark times one FFT product with it).
+!> info: STAT_OK; STAT_BAD_HANDLE no such workspace, or one of another grid size.
 subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
     use contact_convolution, only: conv_apply
     implicit none
@@ -64,19 +77,20 @@ subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     integer(c_int), intent(out) :: info
     type(workspace), pointer :: w
     integer :: k
-    info = -3
+    info = STAT_BAD_HANDLE
     u = 0.0_c_double
     w => ws_get(handle, nx, ny)
     if (.not. associated(w)) return
-    info = 0
+    info = STAT_OK
     do k = 1, nrep
         call conv_apply(w%plan, 1, q, u)
     end do
 end subroutine convolve_repeat_c
 
 !> Make a contact workspace (coefficients, spectra, FFTW plans) for an
-!> nx x ny grid; tangential /= 0 adds the Cerruti kernels. info: 0 ok,
-!> -1 too many workspaces (free some), other < 0 FFTW failure.
+!> nx x ny grid; tangential /= 0 adds the Cerruti kernels.
+!> info: STAT_OK; STAT_NO_MEMORY all workspace slots in use (free some) or an
+!> FFTW allocation failed; STAT_FFTW_PLAN no FFTW plan; STAT_BAD_ARGUMENT nx or ny < 1.
 subroutine contact_ws_create_c(nx, ny, dx, dy, g, nu, tangential, handle, info)
     use iso_c_binding, only: c_int, c_double
     use contact_plans, only: ws_create
@@ -103,13 +117,15 @@ end subroutine contact_ws_free_c
 !> method: 1 FFT-preconditioned projected CG, 2 projected Gauss-Seidel
 !> (relaxation omega), 3 projected CG without preconditioner.
 !> p: warm start on entry (all zero for a cold start), pressure (Pa) on exit.
-!> info: 0 converged, 1 not converged, 2 no contact, -3 bad handle or a
-!> grid other than the workspace's, <0 internal failure.
+!> info: normal_cg's status (STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT,
+!> STAT_NOT_FINITE); STAT_BAD_HANDLE no such workspace or one of another grid
+!> size; STAT_BAD_ARGUMENT an unknown control or method code.
 subroutine normal_solve_c(handle, nx, ny, h, control, method, tol, max_iter, omega, &
                           fn_in, approach_in, p, fn_out, approach_out, iters, nprod, resid, info)
     use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
     use contact_plans, only: workspace, ws_get
-    use contact_normal, only: normal_cg, normal_gs
+    use contact_normal, only: normal_cg, normal_gs, CONTROL_FORCE, CONTROL_APPROACH
     implicit none
     integer(c_int), intent(in) :: handle, nx, ny, control, method, max_iter
     real(c_double), intent(in) :: h(nx, ny), tol, omega, fn_in, approach_in
@@ -124,9 +140,13 @@ subroutine normal_solve_c(handle, nx, ny, h, control, method, tol, max_iter, ome
     resid = 0.0_c_double
     fn_out = fn_in
     approach_out = approach_in
+    if ((control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) .or. method < 1 .or. method > 3) then
+        info = STAT_BAD_ARGUMENT
+        return
+    end if
     w => ws_get(handle, nx, ny)
     if (.not. associated(w)) then
-        info = -3      ! no such workspace, or one of another grid size
+        info = STAT_BAD_HANDLE
         return
     end if
     np = 0

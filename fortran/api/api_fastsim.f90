@@ -63,19 +63,28 @@ subroutine fastsim_strips_c(nx, ny, dx, dy, x0, y0, p, g, c11, c22, c23, ae, be,
 end subroutine fastsim_strips_c
 
 !> Kalker's coefficients by the Fortran interpolation (kalker_interp), for n
-!> values of a/b at one nu. info: 0 ok, -1 an a/b outside [0.1, 10], -2 nu.
-subroutine fastsim_kalker_c(n, a_over_b, nu, c11, c22, c23, info)
+!> values of a/b at one nu, in the table (ab, tab) of ntab rows (the columns of
+!> railvti/data/kalker_table_e3.csv: ab, then C11, C22, C23 at nu = 0, 0.25, 0.5).
+!> info: STAT_OK; STAT_BAD_ARGUMENT an a/b outside the table or nu outside
+!> [0, 0.5]. ibad: index (1-based) of the first a/b outside the table, 0 if
+!> none (then the bad argument is nu).
+subroutine fastsim_kalker_c(n, a_over_b, nu, ntab, ab, tab, c11, c22, c23, info, ibad)
     use iso_c_binding, only: c_int, c_double
-    use contact_fastsim, only: kalker_interp
+    use common_status, only: STAT_OK
+    use contact_fastsim, only: kalker_interp, kalker_ratio_in_table
     implicit none
-    integer(c_int), intent(in) :: n
-    real(c_double), intent(in) :: a_over_b(n), nu
+    integer(c_int), intent(in) :: n, ntab
+    real(c_double), intent(in) :: a_over_b(n), nu, ab(ntab), tab(ntab, 9)
     real(c_double), intent(out) :: c11(n), c22(n), c23(n)
-    integer(c_int), intent(out) :: info
+    integer(c_int), intent(out) :: info, ibad
     integer :: k, stat
-    info = 0
+    info = STAT_OK
+    ibad = 0
     do k = 1, n
-        call kalker_interp(a_over_b(k), nu, c11(k), c22(k), c23(k), stat)
-        if (stat /= 0) info = stat
+        call kalker_interp(ab, tab, a_over_b(k), nu, c11(k), c22(k), c23(k), stat)
+        if (stat /= STAT_OK) then
+            info = stat
+            if (ibad == 0 .and. .not. kalker_ratio_in_table(ab, a_over_b(k))) ibad = k
+        end if
     end do
 end subroutine fastsim_kalker_c

@@ -10,12 +10,13 @@
 !> ('fftgs'); ninner passes per row run. x0, y0: centre of element
 !> [1, 1] (m); creepages xi, eta (1) and spin phi (1/m); speed (m/s).
 !> tx, ty: warm start on entry, tractions (Pa) on exit. status: 0 exterior,
-!> 1 adhesion, 2 slip. sx, sy: slip velocity (m/s). info: 0 converged,
-!> 1 not converged (resid), 2 no contact, -3 bad handle or grid, other < 0
-!> see rolling_steady.
+!> 1 adhesion, 2 slip. sx, sy: slip velocity (m/s). info: rolling_steady's
+!> status (STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, ...); STAT_BAD_HANDLE
+!> no such workspace, or one of another grid size.
 subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, &
                            ninner, tol, max_iter, tx, ty, status, sx, sy, iters, resid, info)
     use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
     use contact_rolling, only: rolling_steady
     implicit none
@@ -37,7 +38,7 @@ subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, m
     sy = 0.0_c_double
     w => ws_get(handle, nx, ny)
     if (.not. associated(w)) then
-        info = -3      ! no such workspace, or one of another grid size
+        info = STAT_BAD_HANDLE
         return
     end if
     allocate (st(nx, ny))

@@ -11,6 +11,7 @@ module contact_convolution
     ! fftw3.f03 needs the whole of iso_c_binding
     use, intrinsic :: iso_c_binding
     use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_NO_MEMORY, STAT_FFTW_PLAN
     implicit none
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply
@@ -40,6 +41,8 @@ contains
 
     !> Plan the padded FFTs of an nx x ny grid and store the spectra of the
     !> coefficient fields c(:, :, k) (circular layout of influence_field).
+    !> info: STAT_OK; STAT_BAD_ARGUMENT nx or ny < 1; STAT_NO_MEMORY FFTW could
+    !> not allocate its buffers; STAT_FFTW_PLAN no plan.
     subroutine conv_init(plan, nx, ny, c, info)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: nx, ny
@@ -47,10 +50,10 @@ contains
         integer, intent(out) :: info
         integer :: k, mxh
 
-        info = 0
+        info = STAT_OK
         call conv_free(plan)
         if (nx < 1 .or. ny < 1) then
-            info = -2
+            info = STAT_BAD_ARGUMENT
             return
         end if
         plan%nx = nx
@@ -65,7 +68,7 @@ contains
         plan%cmem2 = fftw_alloc_complex(int(mxh, c_size_t) * plan%my)
         if (.not. (c_associated(plan%rmem) .and. c_associated(plan%cmem) &
                    .and. c_associated(plan%cmem2))) then
-            info = -100
+            info = STAT_NO_MEMORY
             return
         end if
         call c_f_pointer(plan%rmem, plan%rbuf, [plan%mx, plan%my])
@@ -76,7 +79,7 @@ contains
         plan%fwd = fftw_plan_dft_r2c_2d(plan%my, plan%mx, plan%rbuf, plan%cbuf, FFTW_ESTIMATE)
         plan%bwd = fftw_plan_dft_c2r_2d(plan%my, plan%mx, plan%cbuf, plan%rbuf, FFTW_ESTIMATE)
         if (.not. (c_associated(plan%fwd) .and. c_associated(plan%bwd))) then
-            info = -101
+            info = STAT_FFTW_PLAN
             return
         end if
 
@@ -186,28 +189,34 @@ contains
     !> |k|^2 = (2/dx sin(kx dx/2))^2 + (2/dy sin(ky dy/2))^2, applied by
     !> periodic FFT on the unpadded grid (a quarter of a product's cost).
     !> The mean (k = 0) gets the weight of the lowest non-zero wave number.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT plan not initialised (conv_init);
+    !> STAT_NO_MEMORY, STAT_FFTW_PLAN as conv_init.
     subroutine conv_init_precond(plan, g, nu, dx, dy, info)
         type(conv_plan), intent(inout) :: plan
         real(dp), intent(in) :: g, nu, dx, dy
         integer, intent(out) :: info
         integer :: i, j, nxh, ii, jj
         real(dp) :: kx, ky, twopi
-        info = 0
+        info = STAT_OK
         if (plan%nx < 1) then
-            info = -1
+            info = STAT_BAD_ARGUMENT
             return
         end if
         nxh = plan%nx / 2 + 1
         plan%prmem = fftw_alloc_real(int(plan%nx, c_size_t) * plan%ny)
         plan%pcmem = fftw_alloc_complex(int(nxh, c_size_t) * plan%ny)
         if (.not. (c_associated(plan%prmem) .and. c_associated(plan%pcmem))) then
-            info = -100
+            info = STAT_NO_MEMORY
             return
         end if
         call c_f_pointer(plan%prmem, plan%prbuf, [plan%nx, plan%ny])
         call c_f_pointer(plan%pcmem, plan%pcbuf, [nxh, plan%ny])
         plan%pfwd = fftw_plan_dft_r2c_2d(plan%ny, plan%nx, plan%prbuf, plan%pcbuf, FFTW_ESTIMATE)
         plan%pbwd = fftw_plan_dft_c2r_2d(plan%ny, plan%nx, plan%pcbuf, plan%prbuf, FFTW_ESTIMATE)
+        if (.not. (c_associated(plan%pfwd) .and. c_associated(plan%pbwd))) then
+            info = STAT_FFTW_PLAN
+            return
+        end if
         allocate (plan%psym(nxh, plan%ny))
         twopi = 2.0_dp * acos(-1.0_dp)
         do j = 1, plan%ny

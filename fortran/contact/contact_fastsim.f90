@@ -26,9 +26,10 @@
 !> (kalker_interp); no Kaiser equation.
 module contact_fastsim
     use common_kinds, only: dp, pi
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_NO_CONTACT
     implicit none
     private
-    public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips, kalker_interp
+    public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips, kalker_interp, kalker_ratio_in_table
 
 contains
 
@@ -173,7 +174,8 @@ contains
     !> FASTSIM on an ellipse with the fields on the (nx, ny) strip grid:
     !> element (i, j) is centred at (x(i, j), y(j)), i = 1 at the leading edge.
     !> pkind 1 parabolic, 2 Hertz pressure (both scaled to sum to fn).
-    !> info: 0 ok, -1 bad a/b/g/coefficient, -2 fn <= 0, -3 pkind.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT a, b, g or a coefficient <= 0, fn <= 0,
+    !> or pkind not 1 or 2.
     pure subroutine fastsim_ellipse_fields(a, b, g, c11, c22, c23, mu, fn, xi, eta, phi, nx, ny, pkind, &
                                            x, y, pn, tx, ty, sx, sy, slip, fx, fy, mz, info)
         real(dp), intent(in) :: a, b, g, c11, c22, c23, mu, fn, xi, eta, phi
@@ -199,18 +201,10 @@ contains
         fx = 0.0_dp
         fy = 0.0_dp
         mz = 0.0_dp
-        info = 0
+        info = STAT_OK
         call flexibilities(a, b, g, c11, c22, c23, xi, eta, phi, cx, cy, cs, leff, ok)
-        if (.not. ok) then
-            info = -1
-            return
-        end if
-        if (fn <= 0.0_dp) then
-            info = -2
-            return
-        end if
-        if (pkind /= 1 .and. pkind /= 2) then
-            info = -3
+        if (.not. ok .or. fn <= 0.0_dp .or. (pkind /= 1 .and. pkind /= 2)) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
         p0 = fn / discrete_load(pkind, a, b, nx, ny)
@@ -250,8 +244,8 @@ contains
     !> k = sum(a_r) / sum(a_r^2) (sums over runs), so the linear-theory
     !> longitudinal force of the equivalent ellipse is kept while short strips
     !> get stiffer (strip-theory idea, cf. Sichani et al. 2016, FaStrip).
-    !> info: 0 ok, -1 bad ae/be/g/coefficient, -2 no element with p > 0,
-    !> -3 bad lmode, -4 dx or dy <= 0.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT dx or dy <= 0, lmode not 1 or 2, or ae,
+    !> be, g or a coefficient <= 0; STAT_NO_CONTACT no element with p > 0.
     pure subroutine fastsim_strips(nx, ny, dx, dy, x0, y0, p, g, c11, c22, c23, ae, be, mu, &
                                    xi, eta, phi, lmode, tx, ty, sx, sy, slip, fx, fy, mz, info)
         integer, intent(in) :: nx, ny, lmode
@@ -273,22 +267,14 @@ contains
         fx = 0.0_dp
         fy = 0.0_dp
         mz = 0.0_dp
-        info = 0
-        if (dx <= 0.0_dp .or. dy <= 0.0_dp) then
-            info = -4
-            return
-        end if
-        if (lmode /= 1 .and. lmode /= 2) then
-            info = -3
-            return
-        end if
+        info = STAT_OK
         call flexibilities(ae, be, g, c11, c22, c23, xi, eta, phi, cx, cy, cs, leff, ok)
-        if (.not. ok) then
-            info = -1
+        if (dx <= 0.0_dp .or. dy <= 0.0_dp .or. (lmode /= 1 .and. lmode /= 2) .or. .not. ok) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
         if (.not. any(p > 0.0_dp)) then
-            info = -2
+            info = STAT_NO_CONTACT
             return
         end if
         ! lmode 2: k = sum(a_r) / sum(a_r^2) over all runs of contact
@@ -354,57 +340,45 @@ contains
         end do
     end subroutine fastsim_strips
 
-    !> Kalker's creep coefficients C11, C22, C23 for a/b in [0.1, 10] and nu in
-    !> [0, 0.5], interpolated as railvti.contact.kalker does (same values to
-    !> rounding): monotone piecewise-cubic Hermite (PCHIP, Fritsch-Butland
-    !> slopes, one-sided three-point end slopes) in log(a/b), linear in nu.
-    !> Data: J.J. Kalker, "Three-dimensional elastic bodies in rolling
-    !> contact", Kluwer 1990, Table E.3 (also python/railvti/data/kalker_table_e3.csv).
-    !> info: 0 ok, -1 a/b outside [0.1, 10], -2 nu outside [0, 0.5].
-    pure subroutine kalker_interp(a_over_b, nu, c11, c22, c23, info)
+    !> Kalker's creep coefficients C11, C22, C23 for a/b and nu, interpolated in
+    !> Kalker's Table E.3 (J.J. Kalker, "Three-dimensional elastic bodies in
+    !> rolling contact", Kluwer 1990) as railvti.contact.kalker does (same values
+    !> to rounding): monotone piecewise-cubic Hermite (PCHIP, Fritsch-Butland
+    !> slopes, one-sided three-point end slopes) in log(a/b), linear in nu
+    !> between the columns nu = 0, 0.25, 0.5.
+    !> The table is the caller's: its one copy is python/railvti/data/kalker_table_e3.csv
+    !> (with its source lines), read by railvti.contact.kalker.kalker_table and
+    !> passed in here: ab(n) the tabulated a/b, ascending; tab(n, 9) the columns
+    !> C11 (nu = 0, 0.25, 0.5), C22 (same), C23 (same).
+    !> info: STAT_OK; STAT_BAD_ARGUMENT a/b outside [ab(1), ab(n)] (see
+    !> kalker_ratio_in_table) or nu outside [0, 0.5] (c11 = c22 = c23 = 0).
+    pure subroutine kalker_interp(ab, tab, a_over_b, nu, c11, c22, c23, info)
+        real(dp), intent(in) :: ab(:), tab(:, :)
         real(dp), intent(in) :: a_over_b, nu
         real(dp), intent(out) :: c11, c22, c23
         integer, intent(out) :: info
-        integer, parameter :: n = 19
-        real(dp), parameter :: ab(n) = [0.1_dp, 0.2_dp, 0.3_dp, 0.4_dp, 0.5_dp, 0.6_dp, 0.7_dp, 0.8_dp, 0.9_dp, 1.0_dp, 1.11111_dp, 1.25_dp, 1.42857_dp, 1.66667_dp, 2.0_dp, 2.5_dp, 3.33333_dp, 5.0_dp, 10.0_dp]
-        ! columns: C11 (nu = 0, 0.25, 0.5), C22 (same), C23 (same)
-        real(dp), parameter :: tab(9, n) = reshape([ &
-        2.51_dp, 3.31_dp, 4.85_dp, 2.51_dp, 2.52_dp, 2.53_dp, 0.334_dp, 0.473_dp, 0.731_dp, &
-        2.59_dp, 3.37_dp, 4.81_dp, 2.59_dp, 2.63_dp, 2.66_dp, 0.483_dp, 0.603_dp, 0.809_dp, &
-        2.68_dp, 3.44_dp, 4.8_dp, 2.68_dp, 2.75_dp, 2.81_dp, 0.607_dp, 0.715_dp, 0.889_dp, &
-        2.78_dp, 3.53_dp, 4.82_dp, 2.78_dp, 2.88_dp, 2.98_dp, 0.72_dp, 0.823_dp, 0.977_dp, &
-        2.88_dp, 3.62_dp, 4.83_dp, 2.88_dp, 3.01_dp, 3.14_dp, 0.827_dp, 0.929_dp, 1.07_dp, &
-        2.98_dp, 3.72_dp, 4.91_dp, 2.98_dp, 3.14_dp, 3.31_dp, 0.93_dp, 1.03_dp, 1.18_dp, &
-        3.09_dp, 3.81_dp, 4.97_dp, 3.09_dp, 3.28_dp, 3.48_dp, 1.03_dp, 1.14_dp, 1.29_dp, &
-        3.19_dp, 3.91_dp, 5.05_dp, 3.19_dp, 3.41_dp, 3.65_dp, 1.13_dp, 1.25_dp, 1.4_dp, &
-        3.29_dp, 4.01_dp, 5.12_dp, 3.29_dp, 3.54_dp, 3.82_dp, 1.23_dp, 1.36_dp, 1.51_dp, &
-        3.4_dp, 4.12_dp, 5.2_dp, 3.4_dp, 3.67_dp, 3.98_dp, 1.33_dp, 1.47_dp, 1.63_dp, &
-        3.51_dp, 4.22_dp, 5.3_dp, 3.51_dp, 3.81_dp, 4.16_dp, 1.44_dp, 1.59_dp, 1.77_dp, &
-        3.65_dp, 4.36_dp, 5.42_dp, 3.65_dp, 3.99_dp, 4.39_dp, 1.58_dp, 1.75_dp, 1.94_dp, &
-        3.82_dp, 4.54_dp, 5.58_dp, 3.82_dp, 4.21_dp, 4.67_dp, 1.76_dp, 1.95_dp, 2.18_dp, &
-        4.06_dp, 4.78_dp, 5.8_dp, 4.06_dp, 4.5_dp, 5.04_dp, 2.01_dp, 2.23_dp, 2.5_dp, &
-        4.37_dp, 5.1_dp, 6.11_dp, 4.37_dp, 4.9_dp, 5.56_dp, 2.35_dp, 2.62_dp, 2.96_dp, &
-        4.84_dp, 5.57_dp, 6.57_dp, 4.84_dp, 5.48_dp, 6.31_dp, 2.88_dp, 3.24_dp, 3.7_dp, &
-        5.57_dp, 6.34_dp, 7.34_dp, 5.57_dp, 6.4_dp, 7.51_dp, 3.79_dp, 4.32_dp, 5.01_dp, &
-        6.96_dp, 7.78_dp, 8.82_dp, 6.96_dp, 8.14_dp, 9.79_dp, 5.72_dp, 6.63_dp, 7.89_dp, &
-        10.7_dp, 11.7_dp, 12.9_dp, 10.7_dp, 12.8_dp, 16.0_dp, 12.2_dp, 14.6_dp, 18.0_dp], [9, n])
-        real(dp) :: t, v(9), w
-        integer :: m, k
+        real(dp) :: t, v(9), w, lab(size(ab))
+        integer :: m, k, n
         c11 = 0.0_dp
         c22 = 0.0_dp
         c23 = 0.0_dp
-        info = 0
-        if (.not. (a_over_b >= 0.1_dp * (1.0_dp - 1.0e-12_dp) .and. a_over_b <= 10.0_dp * (1.0_dp + 1.0e-12_dp))) then
-            info = -1
+        info = STAT_OK
+        n = size(ab)
+        if (.not. kalker_ratio_in_table(ab, a_over_b) .or. .not. (nu >= 0.0_dp .and. nu <= 0.5_dp) &
+            .or. n < 3 .or. size(tab, 1) /= n .or. size(tab, 2) /= 9) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
-        if (.not. (nu >= 0.0_dp .and. nu <= 0.5_dp)) then
-            info = -2
-            return
-        end if
-        t = min(max(log(a_over_b), log(ab(1))), log(ab(n)))
+        ! A scalar loop: gfortran -O3 would vectorize log(ab) with glibc's libmvec,
+        ! whose vector log is not correctly rounded (1 ulp off for some nodes, and
+        ! then the interpolated values differ from the Python ones in the last bit).
+        !GCC$ novector
+        do k = 1, n
+            lab(k) = log(ab(k))
+        end do
+        t = min(max(log(a_over_b), lab(1)), lab(n))
         do k = 1, 9
-            v(k) = pchip_eval(n, log(ab), tab(k, :), t)
+            v(k) = pchip_eval(n, lab, tab(:, k), t)
         end do
         m = min(int(nu / 0.25_dp), 1)
         w = (nu - 0.25_dp * m) / 0.25_dp
@@ -412,6 +386,15 @@ contains
         c22 = (1.0_dp - w) * v(4 + m) + w * v(5 + m)
         c23 = (1.0_dp - w) * v(7 + m) + w * v(8 + m)
     end subroutine kalker_interp
+
+    !> True when a_over_b lies in the table's range [ab(1), ab(n)], with a
+    !> relative tolerance of 1e-12 so that e.g. 1/(1/10) is accepted.
+    pure logical function kalker_ratio_in_table(ab, a_over_b) result(inside)
+        real(dp), intent(in) :: ab(:), a_over_b
+        inside = size(ab) > 0
+        if (.not. inside) return
+        inside = a_over_b >= ab(1) * (1.0_dp - 1.0e-12_dp) .and. a_over_b <= ab(size(ab)) * (1.0_dp + 1.0e-12_dp)
+    end function kalker_ratio_in_table
 
     !> Value at t (x(1) <= t <= x(n)) of the monotone piecewise-cubic Hermite
     !> interpolant of (x, y): slopes 0 at local extrema, weighted harmonic

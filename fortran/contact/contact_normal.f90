@@ -17,6 +17,7 @@
 !> and Polonsky & Keer's projected CG (docs/equations.md).
 module contact_normal
     use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_NOT_FINITE
     use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer
     implicit none
     private
@@ -50,8 +51,10 @@ contains
     end function normal_residual
 
     !> Projected conjugate gradients (Polonsky & Keer 1999).
-    !> info: 0 converged, 1 not converged in max_iter, 2 no contact (approach
-    !> prescribed and below the smallest gap), <0 bad argument.
+    !> info: STAT_OK converged; STAT_NOT_CONVERGED not converged in max_iter
+    !> (or a breakdown: a non-positive curvature (r, t), all pressure projected
+    !> away under force control); STAT_NO_CONTACT approach prescribed and below
+    !> the smallest gap (p = 0 is the solution); STAT_NOT_FINITE a NaN in p.
     !>
     !> Each iteration makes one FFT product A t and one preconditioner
     !> application, and a few fused passes over the grid; the products and
@@ -75,7 +78,7 @@ contains
         logical :: conjugate, exact, force, prec
         integer :: nc, nol, it, nd, i, j, nx, ny, m
 
-        info = 0
+        info = STAT_OK
         iters = 0
         nprod = 0
         resid = huge(1.0_dp)
@@ -152,7 +155,7 @@ contains
                 cycle
             end if
             if (it == max_iter) then
-                info = 1
+                info = STAT_NOT_CONVERGED
                 exit
             end if
             iters = it + 1
@@ -216,7 +219,7 @@ contains
             rt = srt
             if (force) rt = srt - sr / max(nc, 1) * st
             if (rt <= 0.0_dp) then
-                info = 1
+                info = STAT_NOT_CONVERGED
                 exit
             end if
             tau = sgt / rt
@@ -254,7 +257,7 @@ contains
             scale = 1.0_dp
             if (force) then
                 if (psum <= 0.0_dp) then
-                    info = 1
+                    info = STAT_NOT_CONVERGED
                     exit
                 end if
                 scale = fn / (area_el * psum)
@@ -290,8 +293,8 @@ contains
         else
             fn = area_el * sum(p)
         end if
-        if (info == 0 .and. resid > tol) info = 1
-        if (info == 0 .and. any(p /= p)) info = -99
+        if (info == STAT_OK .and. resid > tol) info = STAT_NOT_CONVERGED
+        if (info == STAT_OK .and. any(p /= p)) info = STAT_NOT_FINITE
     end subroutine normal_cg
 
     !> A cold start when p is all zero: p proportional to the interpenetration
@@ -332,7 +335,7 @@ contains
     end subroutine initial_pressure
 
     !> A prescribed approach that does not close the smallest gap has the
-    !> solution p = 0: set it with info = 2 and return true.
+    !> solution p = 0: set it with info = STAT_NO_CONTACT and return true.
     logical function no_contact(control, h, approach, p, fn, resid, info)
         integer, intent(in) :: control
         real(dp), intent(in) :: h(:, :), approach
@@ -343,7 +346,7 @@ contains
         p = 0.0_dp
         fn = 0.0_dp
         resid = 0.0_dp
-        info = 2
+        info = STAT_NO_CONTACT
     end function no_contact
 
     !> u = u + dkl * A(:, (k, l)), the column of element (k, l).
@@ -409,7 +412,7 @@ contains
         real(dp) :: scale
         integer :: sweeps
 
-        info = 0
+        info = STAT_OK
         iters = 0
         allocate (u, mold=h)
         p = max(p, 0.0_dp)
@@ -419,7 +422,7 @@ contains
             if (no_contact(control, h, approach, p, fn, resid, info)) return
             call gs_sweeps(c, h, approach, omega, tol, 0, max_iter, p, u, iters, resid)
             fn = area_el * sum(p)
-            if (resid > tol) info = 1
+            if (resid > tol) info = STAT_NOT_CONVERGED
             return
         end if
 
@@ -443,7 +446,7 @@ contains
             call gs_sweeps(c, h, approach, omega, 0.0_dp, 1, 1, p, u, sweeps, resid)
             iters = iters + sweeps
         end do
-        if (resid > tol) info = 1
+        if (resid > tol) info = STAT_NOT_CONVERGED
     end subroutine normal_gs
 
     !> Approach at which a bed of independent springs of compliance c0 per

@@ -6,6 +6,7 @@
 !> Implements no equation.
 module contact_plans
     use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_NO_MEMORY
     use contact_influence, only: influence_field, KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
     implicit none
@@ -28,8 +29,10 @@ module contact_plans
 
 contains
 
-    !> Make a workspace; handle in 1..MAX_WORKSPACES. info: 0 ok, -1 no free
-    !> slot, other < 0 from conv_init / conv_init_precond.
+    !> Make a workspace; handle in 1..MAX_WORKSPACES. info: STAT_OK;
+    !> STAT_NO_MEMORY when all MAX_WORKSPACES slots are in use (the registry is
+    !> a fixed pool) or FFTW could not allocate; otherwise conv_init's or
+    !> conv_init_precond's status (STAT_FFTW_PLAN, ...).
     subroutine ws_create(nx, ny, dx, dy, g, nu, tangential, handle, info)
         integer, intent(in) :: nx, ny
         real(dp), intent(in) :: dx, dy, g, nu
@@ -38,7 +41,7 @@ contains
         integer :: k
         type(workspace), pointer :: w
         handle = 0
-        info = -1
+        info = STAT_NO_MEMORY
         do k = 1, MAX_WORKSPACES
             if (.not. slots(k)%used) then
                 handle = k
@@ -62,8 +65,8 @@ contains
             call influence_field(KERNEL_XY, nx, ny, dx, dy, g, nu, w%c(:, :, 4))
         end if
         call conv_init(w%plan, nx, ny, w%c, info)
-        if (info == 0) call conv_init_precond(w%plan, g, nu, dx, dy, info)
-        if (info /= 0) then
+        if (info == STAT_OK) call conv_init_precond(w%plan, g, nu, dx, dy, info)
+        if (info /= STAT_OK) then
             call conv_free(w%plan)
             deallocate (w%c)
             handle = 0

@@ -55,14 +55,15 @@
 !> solved exactly in one pass, marching from the leading edge. The element
 !> problem on the Coulomb disc is solved exactly with that pivot
 !> (element_solve). The bases depend only on the run length (Toeplitz,
-!> LAPACK LU inverse, cached per solve). The row-to-row coupling is
+!> LAPACK LU inverse by common_dense, cached per solve). The row-to-row coupling is
 !> plain Gauss-Seidel: after each run its traction change updates the
 !> displacements of the rows still to be processed in the current block;
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block). Both accelerate the sweep map by Anderson mixing (depth AA_M), with a
-!> safeguard that falls back to the plain sweep when the residual grows.
+!> block). Both accelerate the sweep map by Anderson mixing (depth AA_M,
+!> common_anderson), with a safeguard that falls back to the plain sweep when
+!> the residual grows.
 !> (With th = 1/3 the plain sweeps stagnate or diverge in partial slip, e.g.
 !> residual 0.0065 after 500 sweeps on a 424-element Hertz patch with spin;
 !> Anderson mixing converges in 19-40 sweeps in every case tried.)
@@ -71,11 +72,21 @@
 !>   r = || F(t) - t ||_2 / || F(t) ||_2,
 !> F being the element solutions with a single-element pivot: zero exactly at
 !> the solution. At exit every traction is put on its disc.
+!>
+!> Layout: rolling_steady drives the iteration; patch_setup gathers the fixed
+!> data of one solve into a rolling_patch (contact set, bounding box, rigid slip,
+!> coefficients At by offset, in-row bases); sweep, solve_run, run_passes and
+!> spread_run_change make one row-implicit sweep; jacobi_residual and
+!> final_slip evaluate the element problems on the exact field.
 module contact_rolling
     use common_kinds, only: dp
-    use common_lapack, only: dgetrf, dgetri
+    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
+                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE
+    use common_dense, only: dense_inverse
+    use common_anderson, only: anderson_state, anderson_init, anderson_step, anderson_restart
+    use contact_influence, only: KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_plans, only: workspace
-    use contact_convolution, only: conv_apply_pair
+    use contact_convolution, only: conv_plan, conv_apply_pair
     implicit none
     private
     public :: rolling_steady, element_solve
@@ -83,8 +94,7 @@ module contact_rolling
 
     integer, parameter :: ROLL_GS = 1, ROLL_FFTGS = 2
     integer, parameter :: ST_EXTERIOR = 0, ST_ADHESION = 1, ST_SLIP = 2
-    integer, parameter :: KXX = 2, KYY = 3, KXY = 4
-    integer, parameter :: AA_M = 5   ! Anderson depth of method 'fftgs'
+    integer, parameter :: AA_M = 5   ! Anderson depth of both methods
     !> Weight of the three-point upwind difference (module doc) and its stencil.
     real(dp), parameter :: THETA = 1.0_dp / 3.0_dp
     real(dp), parameter :: WU0 = 1.0_dp + THETA, WU1 = -(1.0_dp + 2.0_dp * THETA), WU2 = THETA
@@ -94,6 +104,25 @@ module contact_rolling
         real(dp), allocatable :: mx(:, :), my(:, :), qx(:), qy(:)
     end type run_basis
 
+    !> The fixed data of one solve (patch_setup): the contact set and its
+    !> bounding box, the rigid slip, the coefficients At by offset and the
+    !> in-row bases. Only the tractions and displacement fields change.
+    type :: rolling_patch
+        integer :: nx = 0, ny = 0                 ! grid size
+        real(dp) :: dx = 0.0_dp                   ! element length along x (rolling), m
+        integer :: i1 = 0, i2 = 0, j1 = 0, j2 = 0 ! bounding box of the contact set
+        integer :: ib2 = 0                        ! i2 + 1: the upstream row the slip needs
+        integer :: nbx = 0, nby = 0               ! offsets spanned by the box
+        integer :: nc = 0                         ! elements in contact
+        real(dp) :: kx = 0.0_dp, ky = 0.0_dp      ! single-element pivots (At(0) - At(dx)) / dx, 1/Pa
+        logical, allocatable :: inc(:, :)         ! (nx, ny) element in contact, p > 0
+        integer, allocatable :: trail(:, :)       ! (nx, ny) trailing end of the run through (i, j)
+        real(dp), allocatable :: bound(:, :)      ! (nx, ny) traction bound mu p, Pa
+        real(dp), allocatable :: wx(:, :), wy(:, :)   ! (nx, ny) rigid slip, creepage units
+        !> At by offset (-nbx-1..nbx+1, -nby..nby), for the bases and the cross-row updates
+        real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :)
+        type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
+    end type rolling_patch
 
 contains
 
@@ -110,9 +139,9 @@ contains
         end if
     end subroutine project_on_disc
 
-    !> Exact solution of one element's friction problem with s = s0 + diag(kx, ky) t.
-    !> stat: ST_ADHESION (s = 0) or ST_SLIP (|t| = g, t opposite to s);
-    !> lam = |s| (0 in adhesion).
+    !> Exact solution of one element's friction problem with s = s0 + diag(kx, ky) t
+    !> (eqs 26 and 28). stat: ST_ADHESION (s = 0) or ST_SLIP (|t| = g, t opposite
+    !> to s); lam = |s| (0 in adhesion).
     pure subroutine element_solve(s0x, s0y, kx, ky, g, tx, ty, stat, lam)
         real(dp), intent(in) :: s0x, s0y   ! slip with the element's own traction removed
         real(dp), intent(in) :: kx, ky     ! diagonal self-influence (> 0), 1/Pa
@@ -169,10 +198,13 @@ contains
     !> Steady rolling: tangential tractions for the pressure p on the grid of
     !> workspace w (made with the tangential kernels).
     !>
-    !> info: 0 converged, 1 not converged in max_iter sweeps (resid holds the
-    !> residual), 2 no element in contact (t = 0), -1 workspace without the
-    !> tangential kernels, -2 bad method, -3 nblock or ninner < 1, -4 contact reaches
-    !> i = nx - 1 (fewer than two upstream elements), -5 non-finite values, -6 LAPACK failure of a run basis.
+    !> info: STAT_OK converged; STAT_NOT_CONVERGED after max_iter sweeps (resid
+    !> holds the residual, the tractions the last iterate); STAT_NO_CONTACT no
+    !> element with p > 0 (t = 0); STAT_BAD_HANDLE a workspace without the
+    !> tangential kernels; STAT_BAD_ARGUMENT a bad method, or nblock or ninner < 1;
+    !> STAT_GRID_EDGE the contact set reaches i = nx - 1 (fewer than two upstream
+    !> elements); STAT_NOT_FINITE non-finite values (resid = huge); STAT_SINGULAR
+    !> or STAT_LAPACK the LU inverse of a run basis failed.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
                               tx, ty, status, sx, sy, iters, resid, info)
         type(workspace), intent(inout) :: w
@@ -190,160 +222,43 @@ contains
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
 
-        integer :: nx, ny, i, j, i1, i2, j1, j2, ib2, nbx, nby, nblk, jb, je, it, st
-        real(dp) :: dx, dy, kx, ky, c0x, c0y, lam, s0x, s0y, ntx, nty, r2, n2, x, y
+        type(rolling_patch) :: pa
+        type(anderson_state) :: aa
         real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
-        real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :), wx(:, :), wy(:, :), bound(:, :)
-        integer, allocatable :: trail(:, :)
-        real(dp), allocatable :: tox(:), toy(:)
-        type(run_basis), allocatable :: bases(:)
-        integer :: stat, nc, naa, slot
-        real(dp) :: rbest
-        real(dp), allocatable :: xv(:), gv(:), fv(:), fold(:), gold(:), dfm(:, :), dgm(:, :)
-        logical, allocatable :: inc(:, :)
+        real(dp) :: r2, n2, rbest
+        integer :: nblk, it
 
-        nx = w%nx
-        ny = w%ny
-        dx = w%dx
-        dy = w%dy
         iters = 0
         resid = 0.0_dp
         status = ST_EXTERIOR
         sx = 0.0_dp
         sy = 0.0_dp
-        info = 0
+        info = STAT_OK
         if (w%nker < 4) then
-            info = -1
+            info = STAT_BAD_HANDLE     ! a workspace made without the tangential kernels
             return
         end if
-        if (method /= ROLL_GS .and. method /= ROLL_FFTGS) then
-            info = -2
+        if ((method /= ROLL_GS .and. method /= ROLL_FFTGS) .or. nblock < 1 .or. ninner < 1) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
-        if (nblock < 1 .or. ninner < 1) then
-            info = -3
-            return
-        end if
-
-        allocate (inc(nx, ny), bound(nx, ny))
-        bound = mu * p
-        inc = p > 0.0_dp
-        where (.not. inc)
-            tx = 0.0_dp
-            ty = 0.0_dp
-        end where
-        if (.not. any(inc)) then
-            info = 2
-            return
-        end if
-        ! bounding box of the contact area plus the upstream row (ut there
-        ! needs u one row further)
-        i1 = nx; i2 = 1; j1 = ny; j2 = 1
-        do j = 1, ny
-            do i = 1, nx
-                if (inc(i, j)) then
-                    i1 = min(i1, i); i2 = max(i2, i)
-                    j1 = min(j1, j); j2 = max(j2, j)
-                end if
-            end do
-        end do
-        if (i2 >= nx - 1) then
-            info = -4
-            return
-        end if
-        ib2 = i2 + 1
-        nbx = ib2 - i1
-        nby = j2 - j1
+        call patch_setup(w, p, x0, y0, xi, eta, phi, mu, tx, ty, pa, info)
+        if (info /= STAT_OK) return
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
-        nblk = nby + 1
-        if (method == ROLL_FFTGS) nblk = min(nblock, nby + 1)
+        nblk = pa%nby + 1
+        if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
 
-        ! trailing end of the contiguous run of contact elements through (i, j)
-        allocate (trail(nx, ny))
-        trail = 0
-        do j = j1, j2
-            do i = i1, i2
-                if (.not. inc(i, j)) cycle
-                if (i > 1) then
-                    if (inc(i - 1, j)) then
-                        trail(i, j) = trail(i - 1, j)
-                        cycle
-                    end if
-                end if
-                trail(i, j) = i
-            end do
-        end do
-
-        ! coefficients At of ut = At t by offset (-nbx-1..nbx, -nby..nby),
-        ! for the in-row bases and the cross-row updates
-        allocate (axx(-nbx - 1:nbx + 1, -nby:nby), ayy(-nbx - 1:nbx + 1, -nby:nby), &
-                  axy(-nbx - 1:nbx + 1, -nby:nby))
-        call centred(w%c(:, :, KXX), axx)
-        call centred(w%c(:, :, KYY), ayy)
-        call centred(w%c(:, :, KXY), axy)
-        ! in-row bases of every run length met (see module doc)
-        allocate (bases(nbx))
-        allocate (tox(nbx), toy(nbx))
-        do j = j1, j2
-            do i = i1, i2
-                if (.not. inc(i, j)) cycle
-                if (inc(i + 1, j)) cycle
-                call make_basis(i - trail(i, j) + 1, stat)
-                if (stat /= 0) then
-                    info = -6
-                    return
-                end if
-            end do
-        end do
-        c0x = w%c(0, 0, KXX)
-        c0y = w%c(0, 0, KYY)
-
-        allocate (wx(nx, ny), wy(nx, ny))
-        do j = 1, ny
-            y = y0 + (j - 1) * dy
-            do i = 1, nx
-                x = x0 + (i - 1) * dx
-                wx(i, j) = xi - phi * y
-                wy(i, j) = eta + phi * x
-            end do
-        end do
-
-        ! warm start: on the Coulomb disc
-        do j = 1, ny
-            do i = 1, nx
-                if (.not. inc(i, j)) cycle
-                call project_on_disc(tx(i, j), ty(i, j), bound(i, j))
-            end do
-        end do
-
-        allocate (ux(nx, ny), uy(nx, ny), dux(i1:ib2, j1:j2), duy(i1:ib2, j1:j2))
-        nc = count(inc)
-        allocate (xv(2 * nc), gv(2 * nc), fv(2 * nc), fold(2 * nc), gold(2 * nc), &
-                  dfm(2 * nc, AA_M), dgm(2 * nc, AA_M))
-        xv = [pack(tx, inc), pack(ty, inc)]
-        naa = 0
-        slot = 0
+        allocate (ux(pa%nx, pa%ny), uy(pa%nx, pa%ny), dux(pa%i1:pa%ib2, pa%j1:pa%j2), &
+                  duy(pa%i1:pa%ib2, pa%j1:pa%j2))
+        call anderson_init(aa, [pack(tx, pa%inc), pack(ty, pa%inc)], AA_M)
         rbest = huge(1.0_dp)
         it = 0
         do
             ! exact field and the Jacobi residual on it (pivot of a single element)
-            call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
-            kx = (WU0 * c0x + WU1 * w%c(1, 0, KXX) + WU2 * w%c(2, 0, KXX)) / dx
-            ky = (WU0 * c0y + WU1 * w%c(1, 0, KYY) + WU2 * w%c(2, 0, KYY)) / dx
-            r2 = 0.0_dp
-            n2 = 0.0_dp
-            do j = j1, j2
-                do i = i1, i2
-                    if (.not. inc(i, j)) cycle
-                    s0x = wx(i, j) + updiff(ux, i, j) - kx * tx(i, j)
-                    s0y = wy(i, j) + updiff(uy, i, j) - ky * ty(i, j)
-                    call element_solve(s0x, s0y, kx, ky, bound(i, j), ntx, nty, st, lam)
-                    r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
-                    n2 = n2 + ntx**2 + nty**2
-                end do
-            end do
+            call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            call jacobi_residual(pa, ux, uy, tx, ty, r2, n2)
             if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
-                info = -5
+                info = STAT_NOT_FINITE
                 resid = huge(1.0_dp)
                 exit
             end if
@@ -354,276 +269,393 @@ contains
             end if
             if (resid <= tol) exit
             if (it >= max_iter) then
-                info = 1
+                info = STAT_NOT_CONVERGED
                 exit
             end if
             ! safeguard: an extrapolated iterate that raised the residual is
             ! replaced by the last plain sweep and the history dropped
-            if (naa > 0 .and. resid > 2.0_dp * rbest) then
-                call unpack_tractions(gold)
-                xv = gold
-                naa = 0
-                slot = AA_M
-                call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
+            if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
+                call anderson_restart(aa)
+                call unpack_tractions(pa, aa%x, tx, ty)
+                call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
             end if
             rbest = min(rbest, resid)
             it = it + 1
-
-            ! one sweep: rows in blocks of nblk, the field refreshed by FFT
-            ! before each block; within a row march from the leading edge
-            do jb = j1, j2, nblk
-                je = min(j2, jb + nblk - 1)
-                if (jb > j1) call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
-                dux = 0.0_dp
-                duy = 0.0_dp
-                do j = jb, je
-                    ! runs of the row, leading (largest x) first
-                    do i = i2, i1, -1
-                        if (.not. inc(i, j)) cycle
-                        if (inc(i + 1, j)) cycle
-                        call solve_run(trail(i, j), i, j, je)
-                    end do
-                end do
-            end do
-            call anderson_step()
+            call sweep(pa, w%plan, nblk, ninner, tx, ty, ux, uy, dux, duy)
+            ! Anderson mixing of the sweep map, then every traction back on its disc
+            call anderson_step(aa, [pack(tx, pa%inc), pack(ty, pa%inc)])
+            call unpack_tractions(pa, aa%x, tx, ty)
         end do
         iters = it
 
         ! the in-row updates move other elements of a run too: put every
         ! traction on its disc (a change of the order of the residual)
-        do j = j1, j2
-            do i = i1, i2
-                if (.not. inc(i, j)) cycle
-                call project_on_disc(tx(i, j), ty(i, j), bound(i, j))
+        call project_all(pa, tx, ty)
+        if (info /= STAT_NOT_FINITE) then
+            call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            call final_slip(pa, ux, uy, tx, ty, speed, status, sx, sy)
+        end if
+    end subroutine rolling_steady
+
+    !> The fixed data of one solve: contact set, bounding box, coefficients,
+    !> in-row bases and rigid slip; tractions outside the contact set zeroed and
+    !> the warm start put on the Coulomb discs. info: STAT_OK, STAT_NO_CONTACT,
+    !> STAT_GRID_EDGE, or the failure of a basis (make_basis).
+    subroutine patch_setup(w, p, x0, y0, xi, eta, phi, mu, tx, ty, pa, info)
+        type(workspace), intent(in) :: w
+        real(dp), intent(in) :: p(:, :), x0, y0, xi, eta, phi, mu
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        type(rolling_patch), intent(out) :: pa
+        integer, intent(out) :: info
+        integer :: i, j, n
+        real(dp) :: x, y
+
+        info = STAT_OK
+        pa%nx = w%nx
+        pa%ny = w%ny
+        pa%dx = w%dx
+        allocate (pa%inc(pa%nx, pa%ny), pa%bound(pa%nx, pa%ny))
+        pa%bound = mu * p
+        pa%inc = p > 0.0_dp
+        where (.not. pa%inc)
+            tx = 0.0_dp
+            ty = 0.0_dp
+        end where
+        if (.not. any(pa%inc)) then
+            info = STAT_NO_CONTACT
+            return
+        end if
+        call contact_box(pa)
+        if (pa%i2 >= pa%nx - 1) then
+            info = STAT_GRID_EDGE
+            return
+        end if
+        pa%nc = count(pa%inc)
+
+        ! coefficients At of ut = At t by offset, and the in-row bases of every
+        ! run length met (see module doc)
+        allocate (pa%axx(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby), pa%ayy(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby), &
+                  pa%axy(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby))
+        call centred(w%c(:, :, KERNEL_XX), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axx)
+        call centred(w%c(:, :, KERNEL_YY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%ayy)
+        call centred(w%c(:, :, KERNEL_XY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axy)
+        allocate (pa%bases(pa%nbx))
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                if (pa%inc(i + 1, j)) cycle
+                n = i - pa%trail(i, j) + 1
+                if (allocated(pa%bases(n)%mx)) cycle
+                call make_basis(n, pa%nbx, pa%axx(:, 0), pa%ayy(:, 0), pa%bases(n), info)
+                if (info /= STAT_OK) return
             end do
         end do
+        pa%kx = (WU0 * w%c(0, 0, KERNEL_XX) + WU1 * w%c(1, 0, KERNEL_XX) + WU2 * w%c(2, 0, KERNEL_XX)) / pa%dx
+        pa%ky = (WU0 * w%c(0, 0, KERNEL_YY) + WU1 * w%c(1, 0, KERNEL_YY) + WU2 * w%c(2, 0, KERNEL_YY)) / pa%dx
 
-        ! slip of the final tractions on the exact field
-        if (info >= 0) then
-            call conv_apply_pair(w%plan, KXX, KXY, KYY, tx, ty, ux, uy)
-            do j = j1, j2
-                do i = i1, i2
-                    if (.not. inc(i, j)) cycle
-                    s0x = wx(i, j) + updiff(ux, i, j)
-                    s0y = wy(i, j) + updiff(uy, i, j)
-                    call element_solve(s0x - kx * tx(i, j), s0y - ky * ty(i, j), kx, ky, &
-                                       bound(i, j), ntx, nty, st, lam)
-                    status(i, j) = st
-                    if (st == ST_SLIP) then
-                        sx(i, j) = speed * s0x
-                        sy(i, j) = speed * s0y
+        ! rigid slip (eq. 29's w, creepage units)
+        allocate (pa%wx(pa%nx, pa%ny), pa%wy(pa%nx, pa%ny))
+        do j = 1, pa%ny
+            y = y0 + (j - 1) * w%dy
+            do i = 1, pa%nx
+                x = x0 + (i - 1) * pa%dx
+                pa%wx(i, j) = xi - phi * y
+                pa%wy(i, j) = eta + phi * x
+            end do
+        end do
+        ! warm start: on the Coulomb disc
+        call project_all(pa, tx, ty)
+    end subroutine patch_setup
+
+    !> Bounding box of the contact set (plus the upstream row: ut there needs u
+    !> one row further) and the trailing end of the contiguous run of contact
+    !> elements through each (i, j).
+    subroutine contact_box(pa)
+        type(rolling_patch), intent(inout) :: pa
+        integer :: i, j
+        pa%i1 = pa%nx
+        pa%i2 = 1
+        pa%j1 = pa%ny
+        pa%j2 = 1
+        do j = 1, pa%ny
+            do i = 1, pa%nx
+                if (pa%inc(i, j)) then
+                    pa%i1 = min(pa%i1, i)
+                    pa%i2 = max(pa%i2, i)
+                    pa%j1 = min(pa%j1, j)
+                    pa%j2 = max(pa%j2, j)
+                end if
+            end do
+        end do
+        pa%ib2 = pa%i2 + 1
+        pa%nbx = pa%ib2 - pa%i1
+        pa%nby = pa%j2 - pa%j1
+        allocate (pa%trail(pa%nx, pa%ny))
+        pa%trail = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                if (i > 1) then
+                    if (pa%inc(i - 1, j)) then
+                        pa%trail(i, j) = pa%trail(i - 1, j)
+                        cycle
+                    end if
+                end if
+                pa%trail(i, j) = i
+            end do
+        end do
+    end subroutine contact_box
+
+    !> At(offset) = (1 + th) c(offset) - th c(offset + (1, 0)) for offsets
+    !> (-nbx-1..nbx+1, -nby..nby), c zero beyond the grid (cc(nbx + 1, :) unused
+    !> and zero). cfull: one kernel in influence_field's circular layout on the
+    !> padded (2 nx, 2 ny) grid.
+    subroutine centred(cfull, nx, ny, nbx, nby, cc)
+        real(dp), intent(in) :: cfull(0:, 0:)
+        integer, intent(in) :: nx, ny, nbx, nby
+        real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
+        integer :: a, b
+        cc = 0.0_dp
+        do b = -nby, nby
+            do a = -nbx - 1, nbx + 1
+                if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
+            end do
+        end do
+        do a = -nbx - 1, nbx
+            cc(a, :) = (1.0_dp + THETA) * cc(a, :) - THETA * cc(a + 1, :)
+        end do
+        cc(nbx + 1, :) = 0.0_dp
+    end subroutine centred
+
+    !> The in-row basis of a run of n elements, per component:
+    !> m(:, q) = At_n^-1 C e_q (the tractions whose own-row displacement ut
+    !> is 1 on elements 0..q of the run and 0 upstream of q), and
+    !> q(q) = the ut they give at the element upstream of the run.
+    !> axr, ayr: the row At(:, 0) of the xx and yy kernels, offsets -nbx-1..nbx+1.
+    !> info: STAT_OK or dense_inverse's failure.
+    subroutine make_basis(n, nbx, axr, ayr, basis, info)
+        integer, intent(in) :: n, nbx
+        real(dp), intent(in) :: axr(-nbx - 1:), ayr(-nbx - 1:)
+        type(run_basis), intent(inout) :: basis
+        integer, intent(out) :: info
+        integer :: comp, a, b
+        real(dp), allocatable :: m(:, :)
+        allocate (basis%mx(n, n), basis%my(n, n), basis%qx(n), basis%qy(n))
+        allocate (m(n, n))
+        do comp = 1, 2
+            do b = 1, n
+                do a = 1, n
+                    if (comp == 1) then
+                        m(a, b) = axr(a - b)
+                    else
+                        m(a, b) = ayr(a - b)
                     end if
                 end do
             end do
-        end if
-
-    contains
-
-        !> The upwind difference quotient of the field u at element (i, j):
-        !> (ut_i - ut_i+1) / dx.
-        pure real(dp) function updiff(u, i, j)
-            real(dp), intent(in) :: u(:, :)
-            integer, intent(in) :: i, j
-            updiff = (WU0 * u(i, j) + WU1 * u(i + 1, j) + WU2 * u(i + 2, j)) / dx
-        end function updiff
-
-        !> At(offset) = (1 + th) c(offset) - th c(offset + (1, 0)) for offsets
-        !> (-nbx-1..nbx, -nby..nby), c zero beyond the grid (cc(nbx + 1, :) unused).
-        subroutine centred(cfull, cc)
-            real(dp), intent(in) :: cfull(0:, 0:)
-            real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
-            integer :: a, b
-            cc = 0.0_dp
-            do b = -nby, nby
-                do a = -nbx - 1, nbx + 1
-                    if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
-                end do
+            call dense_inverse(n, m, info)
+            if (info /= STAT_OK) return
+            ! C e_q = ones on elements 1..q (downstream of and at q): cumulative columns
+            do b = 2, n
+                m(:, b) = m(:, b) + m(:, b - 1)
             end do
-            do a = -nbx - 1, nbx
-                cc(a, :) = (1.0_dp + THETA) * cc(a, :) - THETA * cc(a + 1, :)
-            end do
-            cc(nbx + 1, :) = 0.0_dp
-        end subroutine centred
-
-        !> The in-row basis of a run of n elements, per component:
-        !> m(:, q) = At_n^-1 C e_q (the tractions whose own-row displacement ut
-        !> is 1 on elements 0..q of the run and 0 upstream of q), and
-        !> ql(q) = the ut they give at the element upstream of the run.
-        subroutine make_basis(n, stat)
-            integer, intent(in) :: n
-            integer, intent(out) :: stat
-            integer :: comp, a, b
-            integer, allocatable :: ipiv(:)
-            real(dp), allocatable :: m(:, :), work(:)
-            stat = 0
-            if (allocated(bases(n)%mx)) return
-            allocate (bases(n)%mx(n, n), bases(n)%my(n, n), bases(n)%qx(n), bases(n)%qy(n))
-            allocate (m(n, n), ipiv(n), work(64 * n))
-            do comp = 1, 2
+            if (comp == 1) then
+                basis%mx = m
                 do b = 1, n
-                    do a = 1, n
-                        if (comp == 1) then
-                            m(a, b) = axx(a - b, 0)
-                        else
-                            m(a, b) = ayy(a - b, 0)
-                        end if
-                    end do
+                    basis%qx(b) = sum([(axr(n + 1 - a) * m(a, b), a = 1, n)])
                 end do
-                call dgetrf(n, n, m, n, ipiv, stat)
-                if (stat /= 0) return
-                call dgetri(n, m, n, ipiv, work, size(work), stat)
-                if (stat /= 0) return
-                ! C e_q = ones on elements 1..q (downstream of and at q): cumulative columns
-                do b = 2, n
-                    m(:, b) = m(:, b) + m(:, b - 1)
-                end do
-                if (comp == 1) then
-                    bases(n)%mx = m
-                    do b = 1, n
-                        bases(n)%qx(b) = sum([(axx(n + 1 - a, 0) * m(a, b), a = 1, n)])
-                    end do
-                else
-                    bases(n)%my = m
-                    do b = 1, n
-                        bases(n)%qy(b) = sum([(ayy(n + 1 - a, 0) * m(a, b), a = 1, n)])
-                    end do
-                end if
-            end do
-        end subroutine make_basis
-
-        !> Anderson acceleration (depth AA_M) of the sweep map x -> G(x):
-        !> x+ = G(x) - dG gamma, gamma minimising |f - dF gamma|, f = G(x) - x;
-        !> then every traction back on its disc.
-        subroutine anderson_step()
-            real(dp) :: h(AA_M, AA_M), rhs(AA_M), gam(AA_M), reg
-            integer :: mk, a, b, stat2
-            gv = [pack(tx, inc), pack(ty, inc)]
-            fv = gv - xv
-            if (naa > 0 .or. slot > 0) then
-                slot = mod(slot, AA_M) + 1
-                dfm(:, slot) = fv - fold
-                dgm(:, slot) = gv - gold
-                naa = min(naa + 1, AA_M)
             else
-                slot = 0
-                naa = 0
+                basis%my = m
+                do b = 1, n
+                    basis%qy(b) = sum([(ayr(n + 1 - a) * m(a, b), a = 1, n)])
+                end do
             end if
-            fold = fv
-            gold = gv
-            if (slot == 0) slot = AA_M   ! first call: the next difference goes to slot 1
-            mk = naa
-            xv = gv
-            if (mk > 0) then
-                do b = 1, mk
-                    do a = 1, mk
-                        h(a, b) = dot_product(dfm(:, a), dfm(:, b))
-                    end do
-                    rhs(b) = dot_product(dfm(:, b), fv)
-                end do
-                reg = 1.0e-10_dp * maxval([(h(a, a), a = 1, mk)])
-                do a = 1, mk
-                    h(a, a) = h(a, a) + reg
-                end do
-                gam(1:mk) = rhs(1:mk)
-                ! tiny SPD system solved here: a LAPACK call would wake
-                ! OpenBLAS threads every sweep
-                call small_cholesky_solve(mk, h, gam, stat2)
-                if (stat2 == 0 .and. all(gam(1:mk) == gam(1:mk))) then
-                    do a = 1, mk
-                        xv = xv - gam(a) * dgm(:, a)
-                    end do
+        end do
+    end subroutine make_basis
+
+    !> The upwind difference quotient of the field u at element (i, j):
+    !> (ut_i - ut_i+1) / dx (eq. 29).
+    pure real(dp) function updiff(u, i, j, dx)
+        real(dp), intent(in) :: u(:, :)
+        integer, intent(in) :: i, j
+        real(dp), intent(in) :: dx
+        updiff = (WU0 * u(i, j) + WU1 * u(i + 1, j) + WU2 * u(i + 2, j)) / dx
+    end function updiff
+
+    !> Squared norms of the Jacobi step F(t) - t and of F(t) over the contact
+    !> set, F being the element solutions with a single-element pivot on the
+    !> exact field u = A t (the convergence measure, module doc).
+    subroutine jacobi_residual(pa, ux, uy, tx, ty, r2, n2)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: ux(:, :), uy(:, :), tx(:, :), ty(:, :)
+        real(dp), intent(out) :: r2, n2
+        real(dp) :: s0x, s0y, ntx, nty, lam
+        integer :: i, j, st
+        r2 = 0.0_dp
+        n2 = 0.0_dp
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                s0x = pa%wx(i, j) + updiff(ux, i, j, pa%dx) - pa%kx * tx(i, j)
+                s0y = pa%wy(i, j) + updiff(uy, i, j, pa%dx) - pa%ky * ty(i, j)
+                call element_solve(s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), ntx, nty, st, lam)
+                r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
+                n2 = n2 + ntx**2 + nty**2
+            end do
+        end do
+    end subroutine jacobi_residual
+
+    !> Status and slip velocity (m/s) of every element in contact for the
+    !> tractions t on the exact field u = A t.
+    subroutine final_slip(pa, ux, uy, tx, ty, speed, status, sx, sy)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: ux(:, :), uy(:, :), tx(:, :), ty(:, :), speed
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        real(dp) :: s0x, s0y, ntx, nty, lam
+        integer :: i, j, st
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                s0x = pa%wx(i, j) + updiff(ux, i, j, pa%dx)
+                s0y = pa%wy(i, j) + updiff(uy, i, j, pa%dx)
+                call element_solve(s0x - pa%kx * tx(i, j), s0y - pa%ky * ty(i, j), pa%kx, pa%ky, &
+                                   pa%bound(i, j), ntx, nty, st, lam)
+                status(i, j) = st
+                if (st == ST_SLIP) then
+                    sx(i, j) = speed * s0x
+                    sy(i, j) = speed * s0y
                 end if
-            end if
-            call unpack_tractions(xv)
-        end subroutine anderson_step
+            end do
+        end do
+    end subroutine final_slip
 
-        !> Solve h x = b in place (b -> x) for a small SPD h (Cholesky, lower).
-        pure subroutine small_cholesky_solve(m, h, b, stat)
-            integer, intent(in) :: m
-            real(dp), intent(inout) :: h(:, :), b(:)
-            integer, intent(out) :: stat
-            integer :: a, c
-            stat = 0
-            do c = 1, m
-                h(c, c) = h(c, c) - sum(h(c, 1:c - 1)**2)
-                if (h(c, c) <= 0.0_dp) then
-                    stat = c
-                    return
-                end if
-                h(c, c) = sqrt(h(c, c))
-                do a = c + 1, m
-                    h(a, c) = (h(a, c) - sum(h(a, 1:c - 1) * h(c, 1:c - 1))) / h(c, c)
+    !> Every traction of the contact set put on its Coulomb disc.
+    subroutine project_all(pa, tx, ty)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        integer :: i, j
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                call project_on_disc(tx(i, j), ty(i, j), pa%bound(i, j))
+            end do
+        end do
+    end subroutine project_all
+
+    !> tx, ty from a vector packed as [tx(inc), ty(inc)], each traction put on its disc.
+    subroutine unpack_tractions(pa, v, tx, ty)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: v(:)
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        tx = unpack(v(1:pa%nc), pa%inc, 0.0_dp)
+        ty = unpack(v(pa%nc + 1:2 * pa%nc), pa%inc, 0.0_dp)
+        call project_all(pa, tx, ty)
+    end subroutine unpack_tractions
+
+    !> One row-implicit Gauss-Seidel sweep: rows in blocks of nblk, the exact
+    !> field u refreshed by FFT before each block (the caller gives it for the
+    !> first) and the block's own changes kept in du; within a row the runs are
+    !> solved from the leading edge (largest x).
+    subroutine sweep(pa, plan, nblk, ninner, tx, ty, ux, uy, dux, duy)
+        type(rolling_patch), intent(in) :: pa
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: nblk, ninner
+        real(dp), intent(inout) :: tx(:, :), ty(:, :), ux(:, :), uy(:, :)
+        real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
+        integer :: i, j, jb, je
+        do jb = pa%j1, pa%j2, nblk
+            je = min(pa%j2, jb + nblk - 1)
+            if (jb > pa%j1) call conv_apply_pair(plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            dux = 0.0_dp
+            duy = 0.0_dp
+            do j = jb, je
+                do i = pa%i2, pa%i1, -1
+                    if (.not. pa%inc(i, j)) cycle
+                    if (pa%inc(i + 1, j)) cycle
+                    call solve_run(pa, pa%trail(i, j), i, j, je, ninner, tx, ty, ux, uy, dux, duy)
                 end do
             end do
-            do a = 1, m
-                b(a) = (b(a) - sum(h(a, 1:a - 1) * b(1:a - 1))) / h(a, a)
-            end do
-            do a = m, 1, -1
-                b(a) = (b(a) - sum(h(a + 1:m, a) * b(a + 1:m))) / h(a, a)
-            end do
-        end subroutine small_cholesky_solve
+        end do
+    end subroutine sweep
 
-        !> tx, ty from a packed vector, each traction put on its disc.
-        subroutine unpack_tractions(v)
-            real(dp), intent(in) :: v(:)
-            integer :: a, b
-            tx = unpack(v(1:nc), inc, 0.0_dp)
-            ty = unpack(v(nc + 1:2 * nc), inc, 0.0_dp)
-            do b = j1, j2
-                do a = i1, i2
-                    if (.not. inc(a, b)) cycle
-                    call project_on_disc(tx(a, b), ty(a, b), bound(a, b))
+    !> ninner passes over the run k..l of row jr with exact in-row updates,
+    !> then the run's traction change carried to the rows jr..je of the block.
+    subroutine solve_run(pa, k, l, jr, je, ninner, tx, ty, ux, uy, dux, duy)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: k, l, jr, je, ninner
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        real(dp), intent(in) :: ux(:, :), uy(:, :)
+        real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
+        real(dp) :: tox(l - k + 1), toy(l - k + 1)
+        tox = tx(k:l, jr)
+        toy = ty(k:l, jr)
+        call run_passes(pa, k, l, jr, ninner, tx, ty, ux, uy, dux, duy)
+        tox = tx(k:l, jr) - tox
+        toy = ty(k:l, jr) - toy
+        call spread_run_change(pa, k, l, jr, je, tox, toy, dux, duy)
+    end subroutine solve_run
+
+    !> ninner passes over the run k..l of row jr, from the leading element:
+    !> each element problem solved exactly on its disc with the pivot of the
+    !> in-row basis, the basis update applied to the run's tractions and to
+    !> the in-row displacement corrections du (the run and its upstream element).
+    subroutine run_passes(pa, k, l, jr, ninner, tx, ty, ux, uy, dux, duy)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: k, l, jr, ninner
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        real(dp), intent(in) :: ux(:, :), uy(:, :)
+        real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
+        integer :: n, q, ii, pass, st
+        real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx
+        n = l - k + 1
+        dx = pa%dx
+        associate (mx => pa%bases(n)%mx, my => pa%bases(n)%my, qx => pa%bases(n)%qx, qy => pa%bases(n)%qy)
+            do pass = 1, ninner
+                do q = n, 1, -1
+                    ii = k + q - 1
+                    scx = pa%wx(ii, jr) + updiff(ux, ii, jr, dx) + (dux(ii, jr) - dux(ii + 1, jr)) / dx
+                    scy = pa%wy(ii, jr) + updiff(uy, ii, jr, dx) + (duy(ii, jr) - duy(ii + 1, jr)) / dx
+                    if (q == n) then
+                        pivx = (1.0_dp - qx(q)) / (dx * mx(q, q))
+                        pivy = (1.0_dp - qy(q)) / (dx * my(q, q))
+                    else
+                        pivx = 1.0_dp / (dx * mx(q, q))
+                        pivy = 1.0_dp / (dx * my(q, q))
+                    end if
+                    s0x = scx - pivx * tx(ii, jr)
+                    s0y = scy - pivy * ty(ii, jr)
+                    call element_solve(s0x, s0y, pivx, pivy, pa%bound(ii, jr), ntx, nty, st, lam)
+                    dlx = (ntx - tx(ii, jr)) / mx(q, q)
+                    dly = (nty - ty(ii, jr)) / my(q, q)
+                    if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
+                    tx(k:l, jr) = tx(k:l, jr) + mx(:, q) * dlx
+                    ty(k:l, jr) = ty(k:l, jr) + my(:, q) * dly
+                    tx(ii, jr) = ntx
+                    ty(ii, jr) = nty
+                    dux(k:ii, jr) = dux(k:ii, jr) + dlx
+                    duy(k:ii, jr) = duy(k:ii, jr) + dly
+                    dux(l + 1, jr) = dux(l + 1, jr) + qx(q) * dlx
+                    duy(l + 1, jr) = duy(l + 1, jr) + qy(q) * dly
                 end do
             end do
-        end subroutine unpack_tractions
+        end associate
+    end subroutine run_passes
 
-        !> ninner passes over the run k..l of row jr with exact in-row updates,
-        !> then the run's traction change carried to the rows jr..je of the block.
-        subroutine solve_run(k, l, jr, je)
-            integer, intent(in) :: k, l, jr, je
-            integer :: n, q, ii, pass, a, b, st2
-            real(dp) :: scx, scy, kxx, kyy, s0xx, s0yy, nx2, ny2, lm, dlx, dly, fx, fy
-            n = l - k + 1
-            associate (mx => bases(n)%mx, my => bases(n)%my, qx => bases(n)%qx, qy => bases(n)%qy)
-                tox(1:n) = tx(k:l, jr)
-                toy(1:n) = ty(k:l, jr)
-                do pass = 1, ninner
-                    do q = n, 1, -1
-                        ii = k + q - 1
-                        scx = wx(ii, jr) + updiff(ux, ii, jr) + (dux(ii, jr) - dux(ii + 1, jr)) / dx
-                        scy = wy(ii, jr) + updiff(uy, ii, jr) + (duy(ii, jr) - duy(ii + 1, jr)) / dx
-                        if (q == n) then
-                            kxx = (1.0_dp - qx(q)) / (dx * mx(q, q))
-                            kyy = (1.0_dp - qy(q)) / (dx * my(q, q))
-                        else
-                            kxx = 1.0_dp / (dx * mx(q, q))
-                            kyy = 1.0_dp / (dx * my(q, q))
-                        end if
-                        s0xx = scx - kxx * tx(ii, jr)
-                        s0yy = scy - kyy * ty(ii, jr)
-                        call element_solve(s0xx, s0yy, kxx, kyy, bound(ii, jr), nx2, ny2, st2, lm)
-                        dlx = (nx2 - tx(ii, jr)) / mx(q, q)
-                        dly = (ny2 - ty(ii, jr)) / my(q, q)
-                        if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
-                        tx(k:l, jr) = tx(k:l, jr) + mx(:, q) * dlx
-                        ty(k:l, jr) = ty(k:l, jr) + my(:, q) * dly
-                        tx(ii, jr) = nx2
-                        ty(ii, jr) = ny2
-                        dux(k:ii, jr) = dux(k:ii, jr) + dlx
-                        duy(k:ii, jr) = duy(k:ii, jr) + dly
-                        dux(l + 1, jr) = dux(l + 1, jr) + qx(q) * dlx
-                        duy(l + 1, jr) = duy(l + 1, jr) + qy(q) * dly
-                    end do
-                end do
-            end associate
-            ! the run's change seen by the rest of the block (its own row outside
-            ! k..l+1 included; the xy coupling within a row vanishes)
-            tox(1:n) = tx(k:l, jr) - tox(1:n)
-            toy(1:n) = ty(k:l, jr) - toy(1:n)
+    !> The traction change (dtx, dty) of the run k..l of row jr seen by the rest
+    !> of the block, rows jr..je (its own row outside k..l+1 included; the xy
+    !> coupling within a row vanishes).
+    subroutine spread_run_change(pa, k, l, jr, je, dtx, dty, dux, duy)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: k, l, jr, je
+        real(dp), intent(in) :: dtx(:), dty(:)
+        real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
+        integer :: a, b, q, ii
+        real(dp) :: fx, fy
+        associate (axx => pa%axx, ayy => pa%ayy, axy => pa%axy, i1 => pa%i1, ib2 => pa%ib2)
             do b = jr, je
-                do q = 1, n
-                    fx = tox(q)
-                    fy = toy(q)
+                do q = 1, l - k + 1
+                    fx = dtx(q)
+                    fy = dty(q)
                     if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
                     ii = k + q - 1
                     if (b == jr) then
@@ -643,8 +675,7 @@ contains
                     end if
                 end do
             end do
-        end subroutine solve_run
-
-    end subroutine rolling_steady
+        end associate
+    end subroutine spread_run_change
 
 end module contact_rolling

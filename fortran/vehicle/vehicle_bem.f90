@@ -21,6 +21,7 @@
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
     use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
     use contact_rolling, only: rolling_steady, ROLL_FFTGS
@@ -229,11 +230,11 @@ contains
                            m%maxit_n, p, it, nprod, resid, stat)
             m%counts(1) = m%counts(1) + 1.0_dp
             m%counts(2) = m%counts(2) + real(it, dp)
-            if (stat == 2) then
+            if (stat == STAT_NO_CONTACT) then
                 call open_patch()
                 return
             end if
-            if (stat /= 0 .or. .not. all(abs(p) <= huge(1.0_dp))) then
+            if (stat /= STAT_OK .or. .not. all(abs(p) <= huge(1.0_dp))) then
                 info = BEM_NOCONV
                 p = 0.0_dp
                 return
@@ -251,11 +252,11 @@ contains
                                 m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
             m%counts(3) = m%counts(3) + 1.0_dp
             m%counts(4) = m%counts(4) + real(it, dp)
-            if (stat == -4) then
+            if (stat == STAT_GRID_EDGE) then
                 info = BEM_EDGE
                 return
             end if
-            if ((stat /= 0 .and. stat /= 2) .or. .not. all(abs(tx) <= huge(1.0_dp)) &
+            if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(tx) <= huge(1.0_dp)) &
                 .or. .not. all(abs(ty) <= huge(1.0_dp))) then
                 info = BEM_NOCONV
                 tx = 0.0_dp

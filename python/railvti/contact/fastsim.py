@@ -13,7 +13,7 @@ The tractions are marched along strips y = const from the leading edge
 (x = +a(y), particles move in -x) with ``dtau_x/dx = xi/L1 - phi y/L3``,
 ``dtau_y/dx = eta/L2 + phi x/L3`` and scaled back onto the Coulomb disc
 ``|tau| <= mu p`` where they leave it (slip). The kernel is Fortran
-(``fortran/contact_fastsim.f90``).
+(``fortran/contact/contact_fastsim.f90``).
 
 Slip: ``s = L_eff (tau - tau_trial) / h`` per unit rolled distance (h the step),
 ``L_eff`` Kalker's creepage-weighted flexibility; slip velocity ``V |s|`` and
@@ -24,16 +24,18 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
 from .. import _checks
 from .._native import core
+from .._status import Status, error
 from ..errors import InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
-from .kalker import A_OVER_B_RANGE, KalkerRangeError
+from .kalker import A_OVER_B_RANGE, KalkerRangeError, kalker_table
 
 log = logging.getLogger(__name__)
 
@@ -110,15 +112,27 @@ def _creepage(creepage: Any) -> tuple[float, float, float]:
     return xi, eta, phi
 
 
+@lru_cache(maxsize=1)
+def _fortran_table() -> tuple[np.ndarray, np.ndarray]:
+    """Kalker's Table E.3 (:func:`~railvti.contact.kalker.kalker_table`, the one copy) in
+    the layout of the Fortran kalker_interp: a/b (n,) and the columns (n, 9) C11, C22,
+    C23 at nu = 0, 0.25, 0.5."""
+    ab, c = kalker_table()
+    cols = np.asfortranarray(np.moveaxis(c, 1, 0).reshape(len(ab), 9))
+    return np.ascontiguousarray(ab, dtype=float), cols
+
+
 def _coefficients(a_over_b: float, poisson: float) -> tuple[float, float, float]:
     """Kalker's C11, C22, C23 by the Fortran kalker_interp (the same interpolation as
     :func:`~railvti.contact.kalker.kalker_coefficients`, without scipy's call overhead)."""
-    c11, c22, c23, info = core.fastsim_kalker_c(np.array([a_over_b]), poisson)
-    if info == -1:
-        raise KalkerRangeError(f"a/b = {a_over_b:.6g} lies outside Kalker's Table E.3 "
-                               f"[{A_OVER_B_RANGE[0]}, {A_OVER_B_RANGE[1]}]")
-    if info != 0:
+    c11, c22, c23, info, ibad = core.fastsim_kalker_c(np.array([a_over_b]), poisson, *_fortran_table())
+    if info == Status.BAD_ARGUMENT:
+        if ibad > 0:
+            raise KalkerRangeError(f"a/b = {a_over_b:.6g} lies outside Kalker's Table E.3 "
+                                   f"[{A_OVER_B_RANGE[0]}, {A_OVER_B_RANGE[1]}]")
         raise KalkerRangeError(f"poisson = {poisson} lies outside [0, 0.5]")
+    if info != Status.OK:  # pragma: no cover - kalker_interp reports BAD_ARGUMENT only
+        raise error(info, "Kalker interpolation failed", exc=RailvtiError)
     return float(c11[0]), float(c22[0]), float(c23[0])
 
 
@@ -194,8 +208,8 @@ def fastsim(a: float, b: float, fn: float, material: Material, mu: float, creepa
     g = material.shear_modulus
     x, y, pn, tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_fields_c(
         a, b, g, *c, mu, fn, xi, eta, phi, nx, ny, _PRESSURE[pressure])
-    if info != 0:  # pragma: no cover - the checks above exclude it
-        raise RailvtiError(f"FASTSIM kernel failed (info={info})")
+    if info != Status.OK:  # pragma: no cover - the checks above exclude it
+        raise error(info, "FASTSIM kernel failed", exc=RailvtiError)
     aj = a * np.sqrt(np.maximum(0.0, 1.0 - (y / b) ** 2))
     area = np.broadcast_to(2.0 * aj / nx * (2.0 * b / ny), (nx, ny)).copy()
     sv, dens, power = _power(tx, ty, sx, sy, speed, area)
@@ -324,8 +338,8 @@ def fastsim_grid(p: Any, grid: Grid, material: Material, mu: float, creepage: An
     tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_strips_c(
         grid.dx, grid.dy, grid.x0, grid.y0, pa, material.shear_modulus, *c, ae, be, mu,
         xi, eta, phi, _LMODE[flexibility])
-    if info != 0:  # pragma: no cover - the checks above exclude it
-        raise RailvtiError(f"strip-wise FASTSIM kernel failed (info={info})")
+    if info != Status.OK:  # pragma: no cover - the checks above exclude it
+        raise error(info, "strip-wise FASTSIM kernel failed", exc=RailvtiError)
     x, y = grid.mesh()
     area = np.full(grid.shape, grid.element_area)
     sv, dens, power = _power(tx, ty, sx, sy, speed, area)

@@ -5,6 +5,7 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
+from .._status import Status, error
 from ..errors import InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
@@ -42,8 +43,8 @@ def influence_field(grid: Grid, material: Material, kernel: str = "zz") -> np.nd
     code = _kernel_code(kernel)
     c, info = core.influence_field_c(code, grid.nx, grid.ny, grid.dx, grid.dy,
                                      material.shear_modulus, material.poisson)
-    if info != 0:
-        raise RailvtiError(f"influence_field_c failed with info={info}")
+    if info != Status.OK:
+        raise error(info, "influence_field_c failed", exc=RailvtiError)
     return c
 
 
@@ -69,6 +70,6 @@ def convolve(traction: np.ndarray, grid: Grid, material: Material, kernel: str =
         raise InputError(f"method must be 'fft' or 'direct', got {method!r}")
     u, info = core.convolve_c(_kernel_code(kernel), 1 if method == "fft" else 2, grid.dx, grid.dy,
                               material.shear_modulus, material.poisson, q)
-    if info != 0:
-        raise RailvtiError(f"convolve_c failed with info={info}")
+    if info != Status.OK:
+        raise error(info, "convolve_c failed", exc=RailvtiError)
     return u

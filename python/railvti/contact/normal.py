@@ -8,6 +8,7 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
+from .._status import Status, error
 from ..errors import ConvergenceError, GridTooSmallError, InputError, NoContactError, RailvtiError
 from ..material import Material
 from .grid import Grid
@@ -138,7 +139,7 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
     _, _, _, nprod, _, info = core.normal_solve_c(
         workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, 1.0, fn_in, app_in, pc)
     nprod_c += int(nprod)
-    if info not in (0, 1) or not np.isfinite(pc).all() or not (pc > 0.0).any():
+    if info not in (Status.OK, Status.NOT_CONVERGED) or not np.isfinite(pc).all() or not (pc > 0.0).any():
         return None, nprod_c
     return _prolong(pc, grid.shape), nprod_c
 
@@ -239,19 +240,20 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
 
     fn_out, app_out, iters, nprod, resid, info = core.normal_solve_c(
         workspace(grid, material), h, control, _METHODS[method], tol, max_iter, omega, fn_in, app_in, p)
-    if info == 2:
+    if info == Status.NO_CONTACT:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
-    if info < 0:
-        raise RailvtiError(f"normal contact solver failed internally (info={info})")
-    if not (np.isfinite(p).all() and np.isfinite(fn_out) and np.isfinite(app_out)):
+    if info not in (Status.OK, Status.NOT_CONVERGED, Status.NOT_FINITE):
+        raise error(info, "normal contact solver failed internally", exc=RailvtiError)
+    if info == Status.NOT_FINITE or not (np.isfinite(p).all() and np.isfinite(fn_out)
+                                         and np.isfinite(app_out)):
         raise ConvergenceError(f"normal contact solver ({method}) diverged to non-finite values",
                                iterations=int(iters), residual=float(resid))
     n_contact = int((p > 0.0).sum())
     result = NormalResult(grid=grid, pressure=p, fn=float(fn_out), approach=float(app_out),
                           area=n_contact * grid.element_area, n_contact=n_contact,
-                          iterations=int(iters), residual=float(resid), converged=info == 0,
+                          iterations=int(iters), residual=float(resid), converged=info == Status.OK,
                           method=method, fft_products=int(nprod), coarse_fft_products=nprod_coarse)
-    if info == 1:
+    if info == Status.NOT_CONVERGED:
         raise ConvergenceError(
             f"normal contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
             f"after {iters} iterations", iterations=int(iters), residual=float(resid), result=result)

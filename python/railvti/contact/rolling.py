@@ -3,7 +3,7 @@
 For quasi-identical bodies the normal and tangential problems decouple: the
 pressure comes from :func:`~railvti.contact.solve_normal`, then the tangential
 tractions from a Gauss-Seidel creep iteration in Fortran
-(``fortran/contact_rolling.f90``).
+(``fortran/contact/contact_rolling.f90``).
 
 Conventions (Kalker's): x is the rolling direction; particles move through the
 patch in -x at the speed V, so the leading edge is at the largest x. The rigid
@@ -27,6 +27,7 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
+from .._status import Status, error
 from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
@@ -37,6 +38,8 @@ log = logging.getLogger(__name__)
 
 _METHODS = {"gs": 1, "fftgs": 2}
 _DEFAULT_MAX_ITER = {"gs": 500, "fftgs": 2000}
+_EDGE_MESSAGE = ("the contact area reaches the last two element rows at the leading grid edge "
+                 "x = x_max (the slip needs two elements upstream): enlarge the grid")
 #: Rows per FFT refresh of method 'fftgs'.
 DEFAULT_BLOCK = 16
 #: Passes over each row before the next row (both methods).
@@ -212,15 +215,16 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
     inside = p > 0.0
     if inside[-2:, :].any():
-        raise GridTooSmallError("the contact area reaches the last two element rows at the leading grid edge "
-                                "x = x_max (the slip needs two elements upstream): enlarge the grid")
+        raise GridTooSmallError(_EDGE_MESSAGE)
 
     status, sx, sy, iters, resid, info = core.rolling_solve_c(
         workspace(grid, material, tangential=True), p, grid.x0, grid.y0, xi, eta, phi, mu, speed,
         _METHODS[method], block, inner, tol, max_iter, tx, ty)
-    if info < 0 and info != -5:
-        raise RailvtiError(f"rolling contact solver failed internally (info={info})")
-    finite = all(np.isfinite(a).all() for a in (tx, ty, sx, sy)) and info != -5
+    if info == Status.GRID_EDGE:
+        raise GridTooSmallError(_EDGE_MESSAGE)
+    if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):
+        raise error(info, "rolling contact solver failed internally", exc=RailvtiError)
+    finite = all(np.isfinite(a).all() for a in (tx, ty, sx, sy)) and info != Status.NOT_FINITE
     if not finite:
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
@@ -234,9 +238,9 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         slip_velocity_x=sx, slip_velocity_y=sy, fx=float(tx.sum() * da), fy=float(ty.sum() * da),
         mz=float((x * ty - y * tx).sum() * da),
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
-        iterations=int(iters), residual=float(resid), converged=info in (0, 2), method=method,
-        normal=normal)
-    if info == 1:
+        iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
+        method=method, normal=normal)
+    if info == Status.NOT_CONVERGED:
         raise ConvergenceError(
             f"rolling contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
             f"after {iters} sweeps", iterations=int(iters), residual=float(resid), result=result)
@@ -271,7 +275,7 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
         only; the tractions do not depend on it.
     method : {'fftgs', 'gs'}
         Both sweep the rows (lines along x) with exact in-row updates
-        (row-implicit Gauss-Seidel, see ``fortran/contact_rolling.f90``; a
+        (row-implicit Gauss-Seidel, see ``fortran/contact/contact_rolling.f90``; a
         point Gauss-Seidel diverges on this system), accelerated by Anderson
         mixing of the sweeps (safeguarded). 'gs': one FFT refresh per sweep,
         direct updates of all later rows (O(N^2) per sweep, the reference);

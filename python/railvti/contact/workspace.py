@@ -9,6 +9,7 @@ import atexit
 from collections import OrderedDict
 
 from .._native import core
+from .._status import Status, error
 from ..errors import RailvtiError
 from ..material import Material
 from .grid import Grid
@@ -43,8 +44,8 @@ def workspace(grid: Grid, material: Material, tangential: bool = False) -> int:
         _free(_cache.popitem(last=False)[1])
     handle, info = core.contact_ws_create_c(grid.nx, grid.ny, grid.dx, grid.dy, material.shear_modulus,
                                             material.poisson, int(tangential))
-    if info != 0:
-        raise RailvtiError(f"could not make a contact workspace (info={info})")
+    if info != Status.OK:
+        raise error(info, "could not make a contact workspace", exc=RailvtiError)
     _cache[key] = handle
     return handle
 
