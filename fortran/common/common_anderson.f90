@@ -1,4 +1,5 @@
-!> Anderson mixing (Anderson acceleration) of a fixed-point iteration x = G(x).
+!> Anderson mixing (Anderson acceleration) of a fixed-point iteration x = G(x). Implements
+!> no Kaiser equation: Anderson (1965) in the form of Walker & Ni (2011) eq. 2.1, below.
 !>
 !> With f_k = G(x_k) - x_k and the differences of the last m iterates
 !>   dF = [f_k - f_k-1, ...],  dG = [G(x_k) - G(x_k-1), ...],
