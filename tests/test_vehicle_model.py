@@ -132,6 +132,42 @@ def test_unknown_contact_and_model():
         scenarios.hunting(300.0, model="FF")
 
 
+def test_model_is_sent_once_and_freed_with_its_system(table):
+    """The System reaches Fortran through one handle, reused by every call and freed with
+    the System; a closed or foreign handle is STAT_BAD_HANDLE -> InputError; a System whose
+    DOF map points outside its matrices is refused when it is sent."""
+    import gc
+    import weakref
+    from dataclasses import replace
+    from railvti._status import Status, check
+    from railvti.vehicle.model import CallSettings
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    model = sy.native
+    q, _ = static_equilibrium(sy, 30.0)
+    simulate(sy, 30.0, 0.01, q0=q, progress=False)
+    assert sy.native is model                           # one model for every call
+    with pytest.raises(ValueError):
+        sy.k[0, 0] = 1.0                                 # the sent arrays cannot change
+    model.close()
+    info = model.force(CallSettings(30.0, 1), q, np.zeros(sy.n))[-1]
+    assert info == Status.BAD_HANDLE
+    with pytest.raises(InputError, match="BAD_HANDLE"):
+        check(info, "closed model")
+    q2, _ = static_equilibrium(sy, 30.0)                 # a new model on demand, same result
+    assert np.array_equal(q, q2) and sy.native is not model
+    ref = weakref.ref(sy.native)
+    del sy
+    gc.collect()
+    assert ref() is None
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    with pytest.raises(InputError, match="BAD_ARGUMENT"):
+        replace(sy, iws=sy.iws + 10).native
+    with pytest.raises(InputError, match="SIZE_MISMATCH"):
+        check(sy.native.force(CallSettings(30.0, 1), np.zeros(3), np.zeros(3))[-1], "sizes")
+
+
 def test_step_too_large_stops_with_clear_error(coach_system):
     sy = coach_system
     q, _ = static_equilibrium(sy, 400 / 3.6)
