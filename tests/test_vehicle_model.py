@@ -203,6 +203,41 @@ def test_creepages_match_geometry_module(table):
         assert spin == pytest.approx(cr.phi, rel=5e-2)
 
 
+def test_flange_creepage_at_large_yaw_matches_geometry_module(table):
+    """The yaw term of the lateral creepage at a flange contact, -psi / cos(delta) (the
+    rolling about the yawed axle at a point that leads or lags the axle by r tan(delta) psi),
+    against railvti.geometry.creepages (3-D contact search with yaw). At delta = 70 deg and
+    psi = 10 mrad the term is -0.029; -psi cos(delta) would give -0.003.
+
+    The same flange-flank point (delta 1.222 rad) is reached at y = 6.7 mm in the table (at
+    nominal height and zero roll) and at 6.3 mm in the geometry module's rigid pose (the
+    wheelset rolls as the flange takes the load): each model at its own y.
+    """
+    from railvti import geometry
+    from railvti.vehicle.simulate import WHEEL_OUTPUTS as W
+    wheel, rail = scenarios._profiles()
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    speed, v = 50.0, np.array([0.05, 0.0, 0.01, 0.02])
+    qs, _ = static_equilibrium(sy, speed)
+    eta_f, eta_g = [], []
+    for yaw in (0.0, 0.01):
+        q = lateral_disturbance(sy, qs, 0.0067, (0,))
+        q[3] = yaw
+        wout = force_and_tangent(sy, q, v, speed)[1][:, 0, 0]          # left wheel
+        assert wout[W.index("N_flange")] > wout[W.index("N_tread")]    # reported: the flange
+        c = geometry.contact_points(wheel, rail, y=0.0063, yaw=yaw)
+        pt = max(c.wheel("left"), key=lambda p: p.contact_angle)
+        assert wout[W.index("contact_angle")] == pytest.approx(pt.contact_angle, abs=5e-3)
+        cr = geometry.creepages(pt, speed, lateral_velocity=0.05, yaw_rate=0.02, roll_rate=0.01,
+                                angular_velocity=speed / table.r0)
+        eta_f.append(wout[W.index("eta")])
+        eta_g.append(cr.eta)
+        assert wout[W.index("spin")] == pytest.approx(cr.phi, rel=2e-2)
+    assert eta_f[1] == pytest.approx(eta_g[1], rel=0.05)                 # measured 3 %
+    assert eta_f[1] - eta_f[0] == pytest.approx(eta_g[1] - eta_g[0], rel=0.05)
+
+
 def test_friction_and_bumpstop_elements(coach_system):
     """Yaw friction torque T tanh(rate / w_eps) and the bump stop's force beyond its clearance."""
     sy = coach_system
