@@ -8,8 +8,9 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import GridTooSmallError, InputError
-from railvti.vehicle import (BemOptions, BemPatch, force_and_tangent, lateral_disturbance,
-                             simulate, static_equilibrium)
+from railvti.vehicle import (BemOptions, BemPatch, bem_state, build_single_wheelset,
+                             force_and_tangent, lateral_disturbance, simulate, static_equilibrium)
+from railvti.vehicle.table import QUANTITIES
 
 S = sys.modules["railvti.vehicle.simulate"]
 W = S.WHEEL_OUTPUTS
@@ -74,17 +75,44 @@ def test_bem_centred_running_static_load_and_patch():
     assert st["bem_max_normal_residual"] <= 1e-8
 
 
-def test_bem_hunting_follows_fastsim_over_a_short_run(coach_system):
-    """0.06 s after a 4 mm release at 300 km/h: the leading wheelset's lateral motion with
-    the BEM within 15 % of its FASTSIM counterpart (the contact models differ, the
-    kinematics dominate over so short a time)."""
-    rb = scenarios.hunting(300.0, contact="bem", duration=0.06, y0=0.004, progress=False)
-    rf = scenarios.hunting(300.0, contact="hertz-fastsim", duration=0.06, y0=0.004, progress=False)
-    assert np.isfinite(rb.q).all()
-    dy_b = rb.y_ws1[-1] - 0.004
-    dy_f = rf.y_ws1[-1] - 0.004
-    assert abs(dy_b) > 1e-4
-    assert dy_b == pytest.approx(dy_f, rel=0.15)
+def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
+    """A wheelset spinning 2e-3 rad/s faster than free rolling (xi ~ 3e-5 per wheel), held in
+    x, with the BEM in the time loop. Linear theory: the excess spin rate decays
+    exponentially at 2 r^2 k / (I v0), k = -dFx/dxi per wheel (two wheels, torque -r Fx).
+
+    - With k from quasi-static BEM solves at the steady state (force_and_tangent, a cold BEM
+      state): the time loop (warm starts, the modified Newton with the calibrated tangent)
+      reproduces the rate within 2 % (measured 0.1 %).
+    - k against Kalker's f11 = G a b C11 of the Hertz ellipse at the wheel load: within 12 %
+      (measured 7 % below: the centred S1002 / UIC60 1:40 gap is not quite Hertzian, the
+      static spin of the contact angle makes part of the patch slip under the exact Coulomb
+      law, and 0.75 mm elements resolve a ~ 6 mm).
+    """
+    tab = scenarios.contact_table()
+    inertia = 112.0
+    sy = build_single_wheelset(tab, mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0,
+                               ky=1e6, kx=2e6, half_spacing=1.0, axle_load=100e3,
+                               spin_inertia=inertia)
+    v0, jb = 30.0, sy.index("ws1_beta")
+    i0 = int(np.argmin(np.abs(tab.y)))
+    a1, b1, c11, r = (tab.data[QUANTITIES.index(k), 0, i0] for k in ("a1", "b1", "c11", "r"))
+    with bem_state(sy) as st:
+        q, v, w = static_equilibrium(sy, v0, "bem", bem=st, return_velocity=True)
+        kick = v.copy()
+        kick[jb] += 2e-3
+        dfx = (force_and_tangent(sy, q, kick, v0, "bem")[1] - w)[W.index("Fx"), :, 0]
+        k_bem = -dfx / (-2e-3 * r / v0)                  # dxi = -dbetadot r / v0
+        rate = 2 * r * r * k_bem.mean() / (inertia * v0)
+        h = 0.1 / rate
+        res = simulate(sy, v0, 2.0 / rate, contact="bem", bem=st, q0=q, v0=kick, h=h,
+                       output_dt=h, tol=1e-12, progress=False)
+    assert res.stats["bem_normal_solves"] >= 2 * res.stats["steps"]     # the BEM did the work
+    excess = res.v[:, jb] - v[jb]
+    assert 0 < excess[-1] < 0.2 * excess[0]
+    assert -np.polyfit(res.t, np.log(excess), 1)[0] == pytest.approx(rate, rel=0.02)
+    n = w[W.index("N_tread"), :, 0]
+    f11 = tab.material.shear_modulus * a1 * b1 * n ** (2 / 3) * c11
+    np.testing.assert_allclose(k_bem, f11, rtol=0.12)
 
 
 def test_bem_grid_too_small_is_a_clean_error(coach_system):

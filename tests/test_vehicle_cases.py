@@ -48,13 +48,32 @@ def test_bad_scenario_and_negative_mass():
         REGISTRY["vehicle"].run(_params(scenario="centred_running", coach_carbody_mass=-1.0))
 
 
-def test_example_deck_parses():
+def test_example_deck_parses_as_written_and_its_first_case_runs():
+    """The example deck's cases carry the file's values, read here with f90nml directly
+    (not through railvti.deck), and the case type's defaults for the keys the file leaves
+    out; the first case, centred running at 200 km/h, carries the coach's weight: Q on
+    every wheel within 0.1 % of (carbody + 2 bogies + 4 wheelsets) g / 8 with the
+    Manchester benchmark masses, and no net lateral force on any wheelset."""
+    import f90nml
+    raw = f90nml.read(EXAMPLE)["case"]
     cases = parse_deck(EXAMPLE.read_text())
-    assert [c.case_type.name for c in cases] == ["vehicle", "vehicle"]
-    assert cases[1].params["contact"] == "hertz-fastsim"
+    defaults = REGISTRY["vehicle"].defaults
+    assert len(cases) == len(raw) == 2
+    for case, group in zip(cases, raw):
+        assert case.case_type.name == group["type"] == "vehicle"
+        assert case.name == group["name"]
+        given = {k: v for k, v in group.items() if k not in ("type", "name")}
+        assert {k: case.params[k] for k in given} == given
+        assert all(case.params[k] == v for k, v in defaults.items() if k not in given)
     with pytest.raises(InputError, match="did you mean"):
         parse_deck("&case type='vehicle' speed_kmhh=200.0 /")
-    assert np.isfinite(cases[0].params["speed_kmh"])
+    first = cases[0]
+    assert first.params["scenario"] == "centred_running"
+    out = first.case_type.run(first.params)
+    load = (32000.0 + 2 * 2615.0 + 4 * 1813.0) * 9.81 / 8
+    np.testing.assert_allclose(out.datasets["Q_final"][0], load, rtol=1e-3)
+    assert np.abs(out.datasets["Y_final"][0].sum(axis=0)).max() < 1e-6 * load
+    assert out.scalars["contact"][0] == raw[0]["contact"]
 
 
 def test_critical_speed_case_short_sweep(tmp_path):

@@ -132,6 +132,42 @@ def test_unknown_contact_and_model():
         scenarios.hunting(300.0, model="FF")
 
 
+def test_model_is_sent_once_and_freed_with_its_system(table):
+    """The System reaches Fortran through one handle, reused by every call and freed with
+    the System; a closed or foreign handle is STAT_BAD_HANDLE -> InputError; a System whose
+    DOF map points outside its matrices is refused when it is sent."""
+    import gc
+    import weakref
+    from dataclasses import replace
+    from railvti._status import Status, check
+    from railvti.vehicle.model import CallSettings
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    model = sy.native
+    q, _ = static_equilibrium(sy, 30.0)
+    simulate(sy, 30.0, 0.01, q0=q, progress=False)
+    assert sy.native is model                           # one model for every call
+    with pytest.raises(ValueError):
+        sy.k[0, 0] = 1.0                                 # the sent arrays cannot change
+    model.close()
+    info = model.force(CallSettings(30.0, 1), q, np.zeros(sy.n))[-1]
+    assert info == Status.BAD_HANDLE
+    with pytest.raises(InputError, match="BAD_HANDLE"):
+        check(info, "closed model")
+    q2, _ = static_equilibrium(sy, 30.0)                 # a new model on demand, same result
+    assert np.array_equal(q, q2) and sy.native is not model
+    ref = weakref.ref(sy.native)
+    del sy
+    gc.collect()
+    assert ref() is None
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    with pytest.raises(InputError, match="BAD_ARGUMENT"):
+        replace(sy, iws=sy.iws + 10).native
+    with pytest.raises(InputError, match="SIZE_MISMATCH"):
+        check(sy.native.force(CallSettings(30.0, 1), np.zeros(3), np.zeros(3))[-1], "sizes")
+
+
 def test_step_too_large_stops_with_clear_error(coach_system):
     sy = coach_system
     q, _ = static_equilibrium(sy, 400 / 3.6)
@@ -165,6 +201,41 @@ def test_creepages_match_geometry_module(table):
         assert abs(xi - cr.xi) < 2e-5
         assert eta == pytest.approx(cr.eta, rel=1e-2)
         assert spin == pytest.approx(cr.phi, rel=5e-2)
+
+
+def test_flange_creepage_at_large_yaw_matches_geometry_module(table):
+    """The yaw term of the lateral creepage at a flange contact, -psi / cos(delta) (the
+    rolling about the yawed axle at a point that leads or lags the axle by r tan(delta) psi),
+    against railvti.geometry.creepages (3-D contact search with yaw). At delta = 70 deg and
+    psi = 10 mrad the term is -0.029; -psi cos(delta) would give -0.003.
+
+    The same flange-flank point (delta 1.222 rad) is reached at y = 6.7 mm in the table (at
+    nominal height and zero roll) and at 6.3 mm in the geometry module's rigid pose (the
+    wheelset rolls as the flange takes the load): each model at its own y.
+    """
+    from railvti import geometry
+    from railvti.vehicle.simulate import WHEEL_OUTPUTS as W
+    wheel, rail = scenarios._profiles()
+    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
+                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    speed, v = 50.0, np.array([0.05, 0.0, 0.01, 0.02])
+    qs, _ = static_equilibrium(sy, speed)
+    eta_f, eta_g = [], []
+    for yaw in (0.0, 0.01):
+        q = lateral_disturbance(sy, qs, 0.0067, (0,))
+        q[3] = yaw
+        wout = force_and_tangent(sy, q, v, speed)[1][:, 0, 0]          # left wheel
+        assert wout[W.index("N_flange")] > wout[W.index("N_tread")]    # reported: the flange
+        c = geometry.contact_points(wheel, rail, y=0.0063, yaw=yaw)
+        pt = max(c.wheel("left"), key=lambda p: p.contact_angle)
+        assert wout[W.index("contact_angle")] == pytest.approx(pt.contact_angle, abs=5e-3)
+        cr = geometry.creepages(pt, speed, lateral_velocity=0.05, yaw_rate=0.02, roll_rate=0.01,
+                                angular_velocity=speed / table.r0)
+        eta_f.append(wout[W.index("eta")])
+        eta_g.append(cr.eta)
+        assert wout[W.index("spin")] == pytest.approx(cr.phi, rel=2e-2)
+    assert eta_f[1] == pytest.approx(eta_g[1], rel=0.05)                 # measured 3 %
+    assert eta_f[1] - eta_f[0] == pytest.approx(eta_g[1] - eta_g[0], rel=0.05)
 
 
 def test_friction_and_bumpstop_elements(coach_system):

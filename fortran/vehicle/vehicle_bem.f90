@@ -21,18 +21,18 @@
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
     use common_kinds, only: dp
-    use common_status, only: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
     use contact_rolling, only: rolling_steady, ROLL_FFTGS
+    use common_status, only: STAT_OK, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, &
+                             STAT_NO_MEMORY, STAT_FFTW_PLAN, STAT_GRID_EDGE, STAT_OUTSIDE_TABLE, &
+                             STAT_CONTACT_NOT_CONVERGED
     implicit none
     private
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
-    public :: MAX_BEM, BEM_EDGE, BEM_NOCONV, BEM_NCOUNT
+    public :: MAX_BEM, BEM_NCOUNT
 
     integer, parameter :: MAX_BEM = 16
-    integer, parameter :: BEM_EDGE = 5     !< info: a patch reaches its grid's edge
-    integer, parameter :: BEM_NOCONV = 6   !< info: a BEM solver did not converge
     !> Counters (bem_counts): 1 normal solves, 2 CG iterations, 3 rolling solves,
     !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
     !> 7 worst accepted rolling residual.
@@ -62,7 +62,8 @@ contains
 
     !> Make a BEM contact state. gap: (nx, ny, 2, ntab) left-wheel gap fields on the table's
     !> y nodes ytab0 + (i - 1) dytab. g, nu: shear modulus and Poisson ratio.
-    !> info: 0 ok, -1 no free slot, -2 bad sizes, -3 workspace failure.
+    !> info: STAT_OK, STAT_BAD_ARGUMENT (sizes or steps), STAT_NO_MEMORY (no free slot),
+    !> STAT_FFTW_PLAN (the contact workspace, FFT plans and spectra, could not be made).
     subroutine bem_create(nx, ny, dx, dy, ntab, ytab0, dytab, gap, nws, g, nu, tol_n, tol_t, &
                           maxit_n, maxit_t, handle, info)
         integer, intent(in) :: nx, ny, ntab, nws, maxit_n, maxit_t
@@ -71,9 +72,9 @@ contains
         type(bem_model), pointer :: m
         integer :: k, stat
         handle = 0
-        info = -2
+        info = STAT_BAD_ARGUMENT
         if (nx < 4 .or. ny < 4 .or. ntab < 2 .or. nws < 1 .or. dx <= 0 .or. dy <= 0 .or. dytab <= 0) return
-        info = -1
+        info = STAT_NO_MEMORY
         do k = 1, MAX_BEM
             if (.not. models(k)%used) then
                 handle = k
@@ -84,7 +85,7 @@ contains
         m => models(handle)
         call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws, stat)
         if (stat /= 0) then
-            info = -3
+            info = STAT_FFTW_PLAN
             handle = 0
             return
         end if
@@ -106,7 +107,7 @@ contains
         allocate (m%h(nx, ny), m%st(nx, ny), m%ratio(2, 2, 2, nws))
         call reset(m)
         m%used = .true.
-        info = 0
+        info = STAT_OK
     end subroutine bem_create
 
     subroutine reset(m)
@@ -150,13 +151,14 @@ contains
         real(dp), intent(out) :: counts(BEM_NCOUNT)
         integer, intent(out) :: info
         counts = 0.0_dp
-        info = -1
+        info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         counts = models(handle)%counts
-        info = 0
+        info = STAT_OK
     end subroutine bem_counts
 
     !> The last fields of wheelset iws, wheel iw (1 left, 2 right), candidate point k.
+    !> info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (sizes or indices).
     subroutine bem_fields(handle, iws, iw, k, nx, ny, p, tx, ty, sx, sy, info)
         integer, intent(in) :: handle, iws, iw, k, nx, ny
         real(dp), intent(out) :: p(nx, ny), tx(nx, ny), ty(nx, ny), sx(nx, ny), sy(nx, ny)
@@ -167,9 +169,10 @@ contains
         ty = 0.0_dp
         sx = 0.0_dp
         sy = 0.0_dp
-        info = -1
+        info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         m => models(handle)
+        info = STAT_BAD_ARGUMENT
         if (nx /= m%nx .or. ny /= m%ny .or. iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 &
             .or. k < 1 .or. k > 2) return
         p = m%p(:, :, k, iw, iws)
@@ -177,14 +180,16 @@ contains
         ty = m%ty(:, :, k, iw, iws)
         sx = m%sx(:, :, k, iw, iws)
         sy = m%sy(:, :, k, iw, iws)
-        info = 0
+        info = STAT_OK
     end subroutine bem_fields
 
     !> Normal and tangential contact of one candidate point: wheelset iws, wheel iw (1 left,
     !> 2 right), point k, at table position ytab (the left-wheel shift: +y for the left wheel,
     !> -y for the right), normal approach dn (m), creepages xi, eta (-), spin (1/m), friction
     !> mu, rolling speed (m/s). fn, fx, fy: forces on the wheel in the contact frame (N).
-    !> info: 0 ok, 3 ytab outside the table, BEM_EDGE, BEM_NOCONV, -1 bad handle.
+    !> info: STAT_OK, STAT_OUTSIDE_TABLE (ytab outside the table), STAT_GRID_EDGE (the patch
+    !> reaches its grid's edge), STAT_CONTACT_NOT_CONVERGED (a solver did not converge),
+    !> STAT_BAD_HANDLE.
     subroutine bem_patch(handle, iws, iw, k, ytab, dn, xi, eta, spin, mu, speed, fn, fx, fy, info)
         integer, intent(in) :: handle, iws, iw, k
         real(dp), intent(in) :: ytab, dn, xi, eta, spin, mu, speed
@@ -197,7 +202,7 @@ contains
         fn = 0.0_dp
         fx = 0.0_dp
         fy = 0.0_dp
-        info = -1
+        info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         m => models(handle)
         w => ws_get(m%ws, m%nx, m%ny)
@@ -206,10 +211,10 @@ contains
         ny = m%ny
         s = (ytab - m%ytab0) / m%dytab
         if (.not. (s >= 0.0_dp .and. s <= real(m%ntab - 1, dp))) then
-            info = 3
+            info = STAT_OUTSIDE_TABLE
             return
         end if
-        info = 0
+        info = STAT_OK
         i = min(int(s), m%ntab - 2) + 1
         wt = s - real(i - 1, dp)
         if (iw == 1) then
@@ -235,30 +240,31 @@ contains
                 return
             end if
             if (stat /= STAT_OK .or. .not. all(abs(p) <= huge(1.0_dp))) then
-                info = BEM_NOCONV
+                info = STAT_CONTACT_NOT_CONVERGED
                 p = 0.0_dp
                 return
             end if
             m%counts(6) = max(m%counts(6), resid)
             if (any(p(1, :) > 0.0_dp) .or. any(p(nx, :) > 0.0_dp) .or. any(p(:, 1) > 0.0_dp) &
                 .or. any(p(:, ny) > 0.0_dp)) then
-                info = BEM_EDGE
+                info = STAT_GRID_EDGE
                 return
             end if
             fn = da * sum(p)
             x0 = -0.5_dp * real(nx - 1, dp) * m%dx
             y0 = -0.5_dp * real(ny - 1, dp) * m%dy
+            m%counts(3) = m%counts(3) + 1.0_dp
             call rolling_steady(w, p, x0, y0, xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, &
                                 m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
-            m%counts(3) = m%counts(3) + 1.0_dp
             m%counts(4) = m%counts(4) + real(it, dp)
             if (stat == STAT_GRID_EDGE) then
-                info = BEM_EDGE
+                ! steady rolling needs two free rows behind the patch (contact_rolling)
+                info = STAT_GRID_EDGE
                 return
             end if
             if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(tx) <= huge(1.0_dp)) &
                 .or. .not. all(abs(ty) <= huge(1.0_dp))) then
-                info = BEM_NOCONV
+                info = STAT_CONTACT_NOT_CONVERGED
                 tx = 0.0_dp
                 ty = 0.0_dp
                 return

@@ -20,10 +20,16 @@
 module vehicle_contact
     use common_kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_OUTSIDE_TABLE
     use vehicle_bem, only: bem_patch, bem_scale
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she
+    public :: CONTACT_HERTZ_KALKER, CONTACT_FASTSIM, CONTACT_BEM, CONTACT_BEM_TANGENT
+
+    !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names the first three.
+    integer, parameter :: CONTACT_HERTZ_KALKER = 1, CONTACT_FASTSIM = 2, CONTACT_BEM = 3
+    integer, parameter :: CONTACT_BEM_TANGENT = 4
 
     integer, parameter :: nq_table = 10
     !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
@@ -34,7 +40,7 @@ module vehicle_contact
 
 contains
 
-    !> Linear interpolation of the table at y; info 3 when y is outside it.
+    !> Linear interpolation of the table at y; info STAT_OUTSIDE_TABLE when y is outside it.
     pure subroutine table_at(ny, tab, y0, dy, y, vals, info)
         integer, intent(in) :: ny
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, y
@@ -44,11 +50,11 @@ contains
         integer :: i
         s = (y - y0) / dy
         if (.not. (s >= 0.0_dp .and. s <= real(ny - 1, dp))) then
-            info = 3
+            info = STAT_OUTSIDE_TABLE
             vals = 0.0_dp
             return
         end if
-        info = 0
+        info = STAT_OK
         i = min(int(s), ny - 2) + 1
         w = s - real(i - 1, dp)
         vals = (1.0_dp - w) * tab(:, :, i) + w * tab(:, :, i + 1)
@@ -84,14 +90,16 @@ contains
     !> qw, vw: wheelset (y, z, roll, yaw, x, beta) and rates (x longitudinal relative to the
     !> nominal position moving at v0, beta the spin perturbation about the axle on top of the
     !> nominal rolling v0/r0; only vw(5:6) enter); qt, vt: track element (y, z, roll) and rates.
-    !> model 1: Hertz + Kalker linear with SHE saturation; model 2: Hertz + FASTSIM
-    !> (contact_fastsim, fsn x fsn strips x points); model 3: the BEM normal and steady-rolling
-    !> solvers of vehicle_bem (state `bem`, wheelset index iws) with the same approach and
-    !> creepages (the Hertz semi-axes and energy are still reported in wout); model 4: Hertz +
-    !> Kalker with the normal force and the creep forces scaled by their ratios BEM / Hertz-
-    !> Kalker at the last BEM solve of each point (the Newton tangent of a BEM run).
+    !> model CONTACT_HERTZ_KALKER: Hertz + Kalker linear with SHE saturation; CONTACT_FASTSIM:
+    !> Hertz + FASTSIM (contact_fastsim, fsn x fsn strips x points); CONTACT_BEM: the BEM
+    !> normal and steady-rolling solvers of vehicle_bem (state `bem`, wheelset index iws) with
+    !> the same approach and creepages (the Hertz semi-axes and energy are still reported in
+    !> wout); CONTACT_BEM_TANGENT: Hertz + Kalker with the normal force and the creep forces
+    !> scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of each point (the
+    !> Newton tangent of a BEM run).
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
-    !> info: 0 ok, 3 outside the table, 5/6 BEM patch at its grid edge / not converged.
+    !> info: STAT_OK, STAT_BAD_ARGUMENT (unknown model), STAT_OUTSIDE_TABLE, or from
+    !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
     subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
                                 fw, ft, wout, info)
         integer, intent(in) :: ny, model, fsn, bem, iws
@@ -102,13 +110,13 @@ contains
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2)
-        integer :: w, k, m
+        integer :: w, k, stat
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
-        info = 0
-        if (model < 1 .or. model > 4) then
-            info = -9
+        info = STAT_OK
+        if (model < CONTACT_HERTZ_KALKER .or. model > CONTACT_BEM_TANGENT) then
+            info = STAT_BAD_ARGUMENT
             return
         end if
         yr = qw(1) - qt(1)
@@ -116,11 +124,8 @@ contains
         phr = qw(3) - qt(3)
         do w = 1, 2
             sg = merge(1.0_dp, -1.0_dp, w == 1)
-            call table_at(ny, tab, y0, dy, sg * yr, vals, m)
-            if (m /= 0) then
-                info = m
-                return
-            end if
+            call table_at(ny, tab, y0, dy, sg * yr, vals, info)
+            if (info /= STAT_OK) return
             nbest = -1.0_dp
             do k = 1, 2
                 gp = vals(1, k)
@@ -133,8 +138,8 @@ contains
                 dn = dv * cd
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == 3) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, 0.0_dp, &
-                                                   0.0_dp, mu, v0, fn, fx, fy, m)
+                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, &
+                                                             0.0_dp, 0.0_dp, mu, v0, fn, fx, fy, stat)
                     cycle
                 end if
                 fn = vals(7, k) * dn * sqrt(dn)
@@ -150,13 +155,10 @@ contains
                 xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
                 eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
-                if (model == 3) then
+                if (model == CONTACT_BEM) then
                     fnh = fn
-                    call bem_patch(bem, iws, w, k, sg * yr, dn, xi, eta, spin, mu, v0, fn, fx, fy, m)
-                    if (m /= 0) then
-                        info = m
-                        return
-                    end if
+                    call bem_patch(bem, iws, w, k, sg * yr, dn, xi, eta, spin, mu, v0, fn, fx, fy, info)
+                    if (info /= STAT_OK) return
                     if (fn <= 0.0_dp) cycle
                     ! calibration of the tangent's cheap model (4) against this solve
                     call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fnh, &
@@ -166,7 +168,7 @@ contains
                     if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
                         rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
                     call bem_scale(bem, iws, w, k, .true., rt)
-                else if (model == 4) then
+                else if (model == CONTACT_BEM_TANGENT) then
                     ! Hertz + Kalker scaled to the last BEM solve of this point (Newton tangent)
                     call bem_scale(bem, iws, w, k, .false., rt)
                     fn = rt(1) * fn
@@ -174,7 +176,7 @@ contains
                                           xi, eta, spin, fx, fy)
                     fx = rt(2) * fx
                     fy = rt(2) * fy
-                else if (model == 1) then
+                else if (model == CONTACT_HERTZ_KALKER) then
                     call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
                                           xi, eta, spin, fx, fy)
                 else

@@ -5,20 +5,34 @@
 !> Implements no Kaiser equation: the coach's force balance below (docs/vehicle.md).
 !>
 !>   F(q, v) = f0 - K q - C v + sum_e (-g_e f_e(g_e.q, g_e.v)) + contact(q, v)
+!>
+!> Models live in a registry (like contact_plans and vehicle_bem): vehicle_create copies
+!> the arrays once and returns an integer handle, vehicle_get gives the model to the
+!> integrator on every later call, vehicle_free releases it. The per-call conditions (speed,
+!> contact model, BEM state) travel separately in a vsettings value. Not thread-safe.
 module vehicle_model
     use common_kinds, only: dp
-    use vehicle_contact, only: nq_table, nwo, wheelset_contact
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
+                             STAT_NO_MEMORY
+    use vehicle_contact, only: nq_table, nwo, wheelset_contact, CONTACT_HERTZ_KALKER, CONTACT_BEM, &
+                               CONTACT_BEM_TANGENT
     implicit none
     private
-    public :: vmodel, vehicle_pack, force_total, tangent, element_force, is_spin
+    public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
+    public :: MAX_VEHICLE
+    public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
+    integer, parameter :: MAX_VEHICLE = 64
+    integer, parameter :: TANGENT_QV = 0    !< tangent mode: dF/dq + cv dF/dv
+    integer, parameter :: TANGENT_V = 1     !< tangent mode: dF/dv
 
+    !> One assembled system: what does not change from call to call.
     type :: vmodel
-        integer :: nd = 0, ne = 0, nw = 0, ny = 0, cmodel = 1, fsn = 8
-        integer :: bem = 0   !< vehicle_bem handle (cmodel 3)
+        logical :: used = .false.
+        integer :: nd = 0, ne = 0, nw = 0, ny = 0
         real(dp), allocatable :: m(:, :), c(:, :), k(:, :), f0(:)
         integer, allocatable :: etype(:)
         real(dp), allocatable :: eg(:, :), epar(:, :)
@@ -27,26 +41,53 @@ module vehicle_model
         !> track element, 0 = rigid ground.
         integer, allocatable :: iws(:, :), itr(:, :)
         real(dp), allocatable :: tab(:, :, :)
-        real(dp) :: y0 = 0.0_dp, dy = 1.0_dp, r0 = 0.46_dp, v0 = 1.0_dp, gmod = 8.2e10_dp, mu = 0.3_dp
+        real(dp) :: y0 = 0.0_dp, dy = 1.0_dp, r0 = 0.46_dp, gmod = 8.2e10_dp, mu = 0.3_dp
     end type vmodel
+
+    !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
+    !> CONTACT_*), FASTSIM strips and points per strip, and the vehicle_bem handle of a BEM run.
+    type :: vsettings
+        real(dp) :: v0 = 1.0_dp
+        integer :: cmodel = 1, fsn = 8, bem = 0
+    end type vsettings
+
+    type(vmodel), target :: models(MAX_VEHICLE)
 
 contains
 
-    !> Copy the flat arrays of the shim into a vmodel.
-    pure subroutine vehicle_pack(nd, ne, nw, ny, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                                 y0, dy, r0, v0, gmod, mu, cmodel, fsn, bem, md)
-        integer, intent(in) :: nd, ne, nw, ny, cmodel, fsn, bem
+    !> Store a model; handle in 1..MAX_VEHICLE. info: STAT_OK, STAT_SIZE_MISMATCH (a table
+    !> with other than nq_table quantities), STAT_BAD_ARGUMENT (no DOF, wheelset or element,
+    !> a table of fewer than 2 nodes or step <= 0, a DOF index out of range, a wheelset
+    !> without its y, z or roll DOF, an unknown element kind), STAT_NO_MEMORY (no free slot).
+    subroutine vehicle_create(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
+                              y0, dy, r0, gmod, mu, handle, info)
+        integer, intent(in) :: nd, ne, nw, ny, nq
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
         integer, intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
-        real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
-        type(vmodel), intent(out) :: md
+        real(dp), intent(in) :: tab(nq, 2, ny), y0, dy, r0, gmod, mu
+        integer, intent(out) :: handle, info
+        type(vmodel), pointer :: md
+        integer :: k
+        handle = 0
+        info = STAT_SIZE_MISMATCH
+        if (nq /= nq_table) return
+        info = STAT_BAD_ARGUMENT
+        if (nd < 1 .or. ne < 1 .or. nw < 1 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
+        if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
+            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= 0)) return
+        info = STAT_NO_MEMORY
+        do k = 1, MAX_VEHICLE
+            if (.not. models(k)%used) then
+                handle = k
+                exit
+            end if
+        end do
+        if (handle == 0) return
+        md => models(handle)
         md%nd = nd
         md%ne = ne
         md%nw = nw
         md%ny = ny
-        md%cmodel = cmodel
-        md%fsn = fsn
-        md%bem = bem
         md%m = mm
         md%c = cc
         md%k = kk
@@ -60,10 +101,56 @@ contains
         md%y0 = y0
         md%dy = dy
         md%r0 = r0
-        md%v0 = v0
         md%gmod = gmod
         md%mu = mu
-    end subroutine vehicle_pack
+        md%used = .true.
+        info = STAT_OK
+    end subroutine vehicle_create
+
+    !> Release a model (a handle not in use is ignored).
+    subroutine vehicle_free(handle)
+        integer, intent(in) :: handle
+        if (.not. associated(vehicle_get(handle))) return
+        deallocate (models(handle)%m, models(handle)%c, models(handle)%k, models(handle)%f0, &
+                    models(handle)%etype, models(handle)%eg, models(handle)%epar, &
+                    models(handle)%iws, models(handle)%itr, models(handle)%tab)
+        models(handle)%used = .false.
+    end subroutine vehicle_free
+
+    !> The model behind a handle; null for a handle not in use.
+    function vehicle_get(handle) result(md)
+        integer, intent(in) :: handle
+        type(vmodel), pointer :: md
+        md => null()
+        if (handle < 1 .or. handle > MAX_VEHICLE) return
+        if (models(handle)%used) md => models(handle)
+    end function vehicle_get
+
+    !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
+    !> wheelsets and nwo outputs per wheel. info: STAT_OK; STAT_BAD_HANDLE (no such model);
+    !> STAT_SIZE_MISMATCH (nd, nw or nwo not the model's); STAT_BAD_ARGUMENT (speed <= 0, an
+    !> unknown contact model, or CONTACT_BEM without a BEM handle). md is null unless STAT_OK.
+    subroutine vehicle_call(handle, nd, nw, nwo_in, rs, md, info)
+        integer, intent(in) :: handle, nd, nw, nwo_in
+        type(vsettings), intent(in) :: rs
+        type(vmodel), pointer, intent(out) :: md
+        integer, intent(out) :: info
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_SIZE_MISMATCH
+        if (nd /= md%nd .or. nw /= md%nw .or. nwo_in /= nwo) then
+            md => null()
+            return
+        end if
+        info = STAT_BAD_ARGUMENT
+        if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CONTACT_HERTZ_KALKER .or. &
+            rs%cmodel > CONTACT_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CONTACT_BEM .and. rs%bem <= 0)) then
+            md => null()
+            return
+        end if
+        info = STAT_OK
+    end subroutine vehicle_call
 
     !> Force and its derivatives (d f / d d, d f / d ddot) of one scalar element.
     pure subroutine element_force(etype, p, d, dd, f, kd, cd)
@@ -118,8 +205,9 @@ contains
 
     !> Contact forces of wheelset w added into f. cheap: for a BEM run, the Hertz + Kalker
     !> model calibrated by the last BEM solves (the tangent: modified Newton).
-    subroutine add_contact(md, w, q, v, f, wout, info, cheap)
+    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap)
         type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
         integer, intent(in) :: w
         real(dp), intent(in) :: q(:), v(:)
         real(dp), intent(inout) :: f(:)
@@ -128,13 +216,13 @@ contains
         logical, intent(in), optional :: cheap
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3)
         integer :: j, model
-        model = md%cmodel
+        model = rs%cmodel
         if (present(cheap)) then
-            if (cheap .and. model == 3) model = 4
+            if (cheap .and. model == CONTACT_BEM) model = CONTACT_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
-        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, md%v0, md%gmod, md%mu, model, md%fsn, &
-                              md%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
+        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, rs%v0, md%gmod, md%mu, model, &
+                              rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
         end do
@@ -143,11 +231,13 @@ contains
         end do
     end subroutine add_contact
 
-    !> Total force F(q, v); wout (nwo, 2, nw) the contact outputs per wheel. info 3: a
-    !> wheelset left the contact table (derailment or a diverging solution); 5, 6 a BEM patch
-    !> reached its grid edge / a BEM solver did not converge.
-    subroutine force_total(md, q, v, f, wout, info)
+    !> Total force F(q, v); wout (nwo, 2, nw) the contact outputs per wheel. info:
+    !> STAT_OUTSIDE_TABLE a wheelset left the contact table (derailment or a diverging
+    !> solution); STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED a BEM patch reached its grid edge
+    !> / a BEM solver did not converge (see vehicle_contact%wheelset_contact).
+    subroutine force_total(md, rs, q, v, f, wout, info)
         type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd)
         real(dp), intent(out) :: f(md%nd), wout(nwo, 2, md%nw)
         integer, intent(out) :: info
@@ -160,21 +250,22 @@ contains
             call element_force(md%etype(e), md%epar(:, e), d, dd, fe, kd, cd)
             f = f - md%eg(:, e) * fe
         end do
-        info = 0
+        info = STAT_OK
         do w = 1, md%nw
-            call add_contact(md, w, q, v, f, wout(:, :, w), info)
-            if (info /= 0) return
+            call add_contact(md, rs, w, q, v, f, wout(:, :, w), info)
+            if (info /= STAT_OK) return
         end do
     end subroutine force_total
 
     !> Tangent dF/dq + cv dF/dv at (q, v): the linear part exactly, the elements analytically,
     !> the contact by forward differences over each wheelset's own DOFs (up to 6 + 3 track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
-    !> dq = 0) the two parts separate: mode 0 -> dF/dq + cv dF/dv, mode 1 -> dF/dv only.
-    !> With the BEM contact (cmodel 3) the contact part is that of Hertz + Kalker scaled to the
-    !> last BEM solves (vehicle_contact model 4): modified Newton.
-    subroutine tangent(md, q, v, cv, mode, jac, info)
+    !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
+    !> With the BEM contact (CONTACT_BEM) the contact part is that of Hertz + Kalker scaled to
+    !> the last BEM solves (CONTACT_BEM_TANGENT): modified Newton.
+    subroutine tangent(md, rs, q, v, cv, mode, jac, info)
         type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
         integer, intent(in) :: mode
         real(dp), intent(out) :: jac(md%nd, md%nd)
@@ -183,7 +274,7 @@ contains
         real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
         integer :: e, w, j, jj, idx(9), n
         real(dp), parameter :: eps = 1.0e-8_dp
-        if (mode == 0) then
+        if (mode == TANGENT_QV) then
             jac = -md%k - cv * md%c
         else
             jac = -md%c
@@ -192,7 +283,7 @@ contains
             d = dot_product(md%eg(:, e), q)
             dd = dot_product(md%eg(:, e), v)
             call element_force(md%etype(e), md%epar(:, e), d, dd, fe, kd, cd)
-            if (mode == 0) then
+            if (mode == TANGENT_QV) then
                 s = kd + cv * cd
             else
                 s = cd
@@ -203,7 +294,7 @@ contains
                 end do
             end if
         end do
-        info = 0
+        info = STAT_OK
         do w = 1, md%nw
             n = 0
             do j = 1, 6
@@ -219,21 +310,21 @@ contains
                 end if
             end do
             f0w = 0.0_dp
-            call add_contact(md, w, q, v, f0w, wout, info, cheap=.true.)
-            if (info /= 0) return
+            call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true.)
+            if (info /= STAT_OK) return
             do jj = 1, n
                 j = idx(jj)
                 qp = q
                 vp = v
-                if (mode == 0) then
+                if (mode == TANGENT_QV) then
                     qp(j) = q(j) + eps
                     vp(j) = v(j) + cv * eps
                 else
                     vp(j) = v(j) + eps
                 end if
                 f1w = 0.0_dp
-                call add_contact(md, w, qp, vp, f1w, wout, info, cheap=.true.)
-                if (info /= 0) return
+                call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true.)
+                if (info /= STAT_OK) return
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
             end do
         end do

@@ -7,256 +7,384 @@
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
 !> at the first iteration of each step and again when an iteration does not contract.
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
+!>
+!> Layers: newmark_run (the steps and the output) -> cover_step (one output step, cut into
+!> 2^lev sub-steps when a step fails) -> hht_step (one step: predictor, Newton, acceptance)
+!> -> newton_iterate (tangent, solve, line_search) -> residual.
 module vehicle_newmark
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
+    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
+                             STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
     use vehicle_contact, only: nwo
-    use vehicle_model, only: vmodel, force_total, tangent, is_spin
+    use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V
     implicit none
     private
-    public :: newmark_run, static_solve, initial_acceleration, too_big
+    public :: newmark_run, static_solve, hht_options, NSTATS
 
+    !> Length of newmark_run's stats.
+    integer, parameter :: NSTATS = 6
+
+    !> Settings of a run: HHT alpha, Newton tolerance on the correction (m, rad) and iteration
+    !> limit, the deepest sub-step level (h / 2^maxsub) and the bound on |q| (m, rad).
+    type :: hht_options
+        real(dp) :: alpha = 0.0_dp, tol = 1.0e-9_dp, qmax = 1.0_dp
+        integer :: maxit = 20, maxsub = 6
+    end type hht_options
+
+    !> The state at the current time: q, v, a, F(q, v) and the contact outputs there.
+    type :: hht_state
+        real(dp), allocatable :: q(:), v(:), a(:), f(:), w(:, :, :)
+    end type hht_state
+
+    !> Counters of a run, and `why`: the soft failure (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE,
+    !> STAT_CONTACT_NOT_CONVERGED) of the last trial state that had one in the current step.
+    type :: hht_tally
+        integer :: nit = 0, njac = 0, why = STAT_OK
+        real(dp) :: maxerr = 0.0_dp, nsub = 0.0_dp, hmin = huge(1.0_dp)
+    end type hht_tally
+
+    !> The constants of one step of size h: HHT coefficients, cq = da/dq, cv = dv/dq, the
+    !> predictor parts qt, vt (a_{n+1} = 0) and F_n.
+    type :: hht_step_data
+        real(dp) :: h = 0.0_dp, alpha = 0.0_dp, beta = 0.0_dp, gamma = 0.0_dp
+        real(dp) :: cq = 0.0_dp, cv = 0.0_dp
+        real(dp), allocatable :: qt(:), vt(:), fn(:)
+    end type hht_step_data
 
 contains
-
-    !> a = M^-1 F(q, v).
-    subroutine initial_acceleration(md, q, v, a, info)
-        type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: q(md%nd), v(md%nd)
-        real(dp), intent(out) :: a(md%nd)
-        integer, intent(out) :: info
-        real(dp) :: f(md%nd), wout(nwo, 2, md%nw), mm(md%nd, md%nd)
-        integer :: ipiv(md%nd)
-        call force_total(md, q, v, f, wout, info)
-        a = 0.0_dp
-        if (info /= 0) return
-        mm = md%m
-        call dgetrf(md%nd, md%nd, mm, md%nd, ipiv, info)
-        if (info /= 0) then
-            info = -1
-            return
-        end if
-        a = f
-        call dgetrs('N', md%nd, 1, mm, md%nd, ipiv, a, md%nd, info)
-    end subroutine initial_acceleration
-
-    !> One HHT step of size h from (q, v, a, fn = F(q, v)); on success the state is advanced.
-    !> ok = .false. when Newton does not converge (the state is left unchanged). A trial
-    !> iterate outside the table (3) or with a BEM patch at its grid edge or unconverged
-    !> (5, 6) fails the step (to be retried with sub-steps) and is recorded in why.
-    subroutine hht_step(md, h, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, err, ok, why, info)
-        type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: h, alpha, tol, qmax
-        integer, intent(in) :: maxit
-        real(dp), intent(inout) :: q(md%nd), v(md%nd), a(md%nd), fn(md%nd)
-        real(dp), intent(out) :: wk(nwo, 2, md%nw), err
-        integer, intent(inout) :: nit, njac, why
-        logical, intent(out) :: ok
-        integer, intent(out) :: info
-        real(dp) :: beta, gamma, cq, cv, f1(md%nd), r(md%nd), jac(md%nd, md%nd)
-        real(dp) :: qt(md%nd), vt(md%nd), q1(md%nd), v1(md%nd), a1(md%nd), dq, dqold
-        real(dp) :: dqv(md%nd), qtry(md%nd), rtry(md%nd), rn, rnt, sl
-        real(dp) :: flast(md%nd), fkeep(md%nd), wlast(nwo, 2, md%nw), wkeep(nwo, 2, md%nw)
-        integer :: ipiv(md%nd), it, lin, ls
-        logical :: fresh
-        beta = 0.25_dp * (1.0_dp - alpha)**2
-        gamma = 0.5_dp - alpha
-        cq = 1.0_dp / (beta * h * h)
-        cv = gamma / (beta * h)
-        ok = .false.
-        err = 0.0_dp
-        qt = q + h * v + h * h * (0.5_dp - beta) * a     ! predictor (the a_{n+1} = 0 part)
-        vt = v + h * (1.0_dp - gamma) * a
-        q1 = q + h * v + 0.5_dp * h * h * a               ! start: constant acceleration
-        dqold = huge(1.0_dp)
-        dq = huge(1.0_dp)
-        fresh = .false.
-        call residual(q1, r, rn, info)
-        if (info /= 0) then
-            if (soft(info)) info = 0    ! e.g. an iterate outside the table: a failed step, retried
-            return
-        end if
-        fkeep = flast
-        wkeep = wlast
-        do it = 1, maxit
-            if (.not. fresh) then
-                a1 = cq * (q1 - qt)
-                v1 = vt + gamma * h * a1
-                call tangent(md, q1, v1, cv, 0, jac, info)
-                if (soft(info)) info = 0
-                if (info /= 0) return
-                jac = cq * md%m - (1.0_dp + alpha) * jac
-                call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
-                njac = njac + 1
-                fresh = .true.
-                if (lin /= 0) return
-            end if
-            dqv = r
-            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dqv, md%nd, lin)
-            nit = nit + 1
-            if (.not. (maxval(abs(dqv)) <= qmax)) return
-            ! backtracking on the residual norm (contact closing/opening makes full steps cycle)
-            sl = 1.0_dp
-            do ls = 1, 6
-                qtry = q1 + sl * dqv
-                call residual(qtry, rtry, rnt, info)
-                if (soft(info)) then
-                    info = 0
-                    rnt = huge(1.0_dp)
-                end if
-                if (info /= 0) return
-                if (rnt < rn .or. ls == 6) exit
-                sl = 0.5_dp * sl
-            end do
-            if (rnt == huge(1.0_dp)) return
-            q1 = qtry
-            r = rtry
-            rn = rnt
-            fkeep = flast
-            wkeep = wlast
-            dq = sl * maxval(abs(dqv))
-            if (sl == 1.0_dp .and. dq <= tol) exit
-            ! a damped step or a contraction worse than 1/2: refresh the tangent
-            if (sl < 1.0_dp .or. dq > 0.5_dp * dqold) fresh = .false.
-            dqold = dq
-            dq = huge(1.0_dp)
-        end do
-        if (.not. (dq <= tol)) return
-        a1 = cq * (q1 - qt)
-        v1 = vt + gamma * h * a1
-        f1 = fkeep      ! F(q1, v1) from the accepted residual: no extra (BEM) evaluation
-        wk = wkeep
-        if (too_big(md, q1, v1, qmax)) return
-        err = h * h * abs(beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - a))
-        q = q1
-        v = v1
-        a = a1
-        fn = f1
-        ok = .true.
-    contains
-        !> Residual -(M a - (1 + alpha) F(q, v) + alpha F_n) at the trial q and its 2-norm.
-        subroutine residual(qq, rr, nrm, inf)
-            real(dp), intent(in) :: qq(md%nd)
-            real(dp), intent(out) :: rr(md%nd), nrm
-            integer, intent(out) :: inf
-            real(dp) :: aa(md%nd), vv(md%nd), ff(md%nd)
-            aa = cq * (qq - qt)
-            vv = vt + gamma * h * aa
-            call force_total(md, qq, vv, ff, wlast, inf)
-            flast = ff
-            rr = -(matmul(md%m, aa) - (1.0_dp + alpha) * ff + alpha * fn)
-            nrm = norm2(rr)
-        end subroutine residual
-
-        !> A failure of one trial state: recorded, the step fails softly.
-        logical function soft(inf)
-            integer, intent(in) :: inf
-            soft = inf == 3 .or. inf == 5 .or. inf == 6
-            if (soft) why = inf
-        end function soft
-    end subroutine hht_step
 
     !> Integrate nsteps steps of size h from (t, q, v, a), storing every nevery-th step.
     !> A step whose Newton iterations fail is retried as 2, 4, ... 2^maxsub sub-steps
     !> (contact closing or opening within the step); the output stays on the h grid.
-    !> info: 0 ok, 2 Newton did not converge even at h / 2^maxsub, 3 a wheelset left the
-    !> contact table, 4 non-finite state or |q| above qmax, 5 a BEM patch at its grid edge,
-    !> 6 a BEM solver not converging (5 and 6 when they made the last sub-step fail); tfail
-    !> the time of the failure.
+    !> On return (t, q, v, a) is the last state reached. info: STAT_OK; STAT_NOT_CONVERGED
+    !> (Newton did not converge even at h / 2^maxsub); STAT_OUTSIDE_TABLE (a wheelset left the
+    !> contact table); STAT_MOTION_TOO_LARGE (non-finite state or |q| above qmax);
+    !> STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED (a BEM patch at its grid edge / a BEM solver
+    !> not converging, when they made the last sub-step fail); tfail the time of the failure.
     !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate
     !> (Zienkiewicz & Xie: h^2 |beta - 1/6| |a_{n+1} - a_n|, m or rad), 4 steps done,
     !> 5 steps that needed sub-steps, 6 smallest sub-step used (s).
-    subroutine newmark_run(md, h, nsteps, nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, &
-                           nout, tout, qout, vout, wout, stats, info, tfail)
+    subroutine newmark_run(md, rs, h, nsteps, nevery, opt, t, q, v, a, nout, tout, qout, vout, &
+                           wout, stats, info, tfail)
         type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: h, alpha, tol, qmax
-        integer, intent(in) :: nsteps, nevery, maxit, maxsub, nout
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: h
+        integer, intent(in) :: nsteps, nevery, nout
+        type(hht_options), intent(in) :: opt
         real(dp), intent(inout) :: t, q(md%nd), v(md%nd), a(md%nd)
         real(dp), intent(out) :: tout(nout), qout(md%nd, nout), vout(md%nd, nout)
-        real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(6)
+        real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(NSTATS), tfail
         integer, intent(out) :: info
-        real(dp), intent(out) :: tfail
-        real(dp) :: fn(md%nd), wk(nwo, 2, md%nw), err, tl
-        integer :: n, io, nit, njac, why
+        type(hht_state) :: st
+        type(hht_tally) :: tally
+        real(dp) :: tl
+        integer :: n, io, ndone
         logical :: ok
-        stats = 0.0_dp
-        stats(6) = h
         tout = 0.0_dp
         qout = 0.0_dp
         vout = 0.0_dp
         wout = 0.0_dp
         tfail = t
+        tally%hmin = h
         io = 0
-        nit = 0
-        njac = 0
-        why = 0
-        call force_total(md, q, v, fn, wk, info)
-        if (info /= 0) return
-        do n = 1, nsteps
-            tl = 0.0_dp
-            why = 0
-            call finish_rest(0)
-            if (info /= 0 .or. .not. ok) then
-                if (info == 0) info = 2
-                if (info == 2 .and. (why == 5 .or. why == 6)) info = why
-                if (info == 2 .and. near_edge()) info = 3
-                if (too_big(md, q, v, qmax)) info = 4
-                tfail = t + tl + h / 2**maxsub
-                stats(1) = nit
-                stats(2) = njac
+        ndone = 0
+        allocate (st%q, source=q)
+        allocate (st%v, source=v)
+        allocate (st%a, source=a)
+        allocate (st%f(md%nd), st%w(nwo, 2, md%nw))
+        call force_total(md, rs, q, v, st%f, st%w, info)
+        if (info == STAT_OK) then
+            do n = 1, nsteps
+                tl = 0.0_dp
+                tally%why = STAT_OK
+                call cover_step(md, rs, h, 0, opt, st, tally, tl, ok, info)
+                if (info /= STAT_OK .or. .not. ok) then
+                    info = run_failure(md, opt, st, info, tally%why)
+                    tfail = t + tl + h / 2**opt%maxsub
+                    exit
+                end if
+                t = t + h
+                ndone = n
+                if (mod(n, nevery) == 0 .and. io < nout) then
+                    io = io + 1
+                    tout(io) = t
+                    qout(:, io) = st%q
+                    vout(:, io) = st%v
+                    wout(:, :, :, io) = st%w
+                end if
+            end do
+        end if
+        q = st%q
+        v = st%v
+        a = st%a
+        call tally_stats(tally, ndone, stats)
+    end subroutine newmark_run
+
+    !> newmark_run's stats from the counters and the number of steps done.
+    pure subroutine tally_stats(tally, nsteps_done, stats)
+        type(hht_tally), intent(in) :: tally
+        integer, intent(in) :: nsteps_done
+        real(dp), intent(out) :: stats(NSTATS)
+        stats(1) = real(tally%nit, dp)
+        stats(2) = real(tally%njac, dp)
+        stats(3) = tally%maxerr
+        stats(4) = real(nsteps_done, dp)
+        stats(5) = tally%nsub
+        stats(6) = tally%hmin
+    end subroutine tally_stats
+
+    !> The status of a failed step: a Newton failure is reported as its cause where one is
+    !> known (a BEM failure of the last trial state, a wheelset at the table's end), and a
+    !> state beyond qmax or non-finite as STAT_MOTION_TOO_LARGE.
+    integer function run_failure(md, opt, st, info, why) result(stat)
+        type(vmodel), intent(in) :: md
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(in) :: st
+        integer, intent(in) :: info, why
+        stat = info
+        if (stat == STAT_OK) stat = STAT_NOT_CONVERGED
+        if (stat == STAT_NOT_CONVERGED .and. (why == STAT_GRID_EDGE .or. &
+                                              why == STAT_CONTACT_NOT_CONVERGED)) stat = why
+        if (stat == STAT_NOT_CONVERGED .and. near_edge(md, st%q)) stat = STAT_OUTSIDE_TABLE
+        if (too_big(md, st%q, st%v, opt%qmax)) stat = STAT_MOTION_TOO_LARGE
+    end function run_failure
+
+    !> A wheelset within 0.5 mm of the table's end (flange climb or divergence).
+    pure logical function near_edge(md, q)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: q(md%nd)
+        integer :: w
+        real(dp) :: yr
+        near_edge = .false.
+        do w = 1, md%nw
+            yr = q(md%iws(1, w))
+            if (md%itr(1, w) > 0) yr = yr - q(md%itr(1, w))
+            if (abs(yr) > -md%y0 - 5.0e-4_dp) near_edge = .true.
+        end do
+    end function near_edge
+
+    !> Cover the rest of one output step, h - tl, with sub-steps h / 2^lev, refining further
+    !> on failure down to h / 2^maxsub; ok when the step is complete (tl = h).
+    recursive subroutine cover_step(md, rs, h, lev, opt, st, tally, tl, ok, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: h
+        integer, intent(in) :: lev
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(inout) :: st
+        type(hht_tally), intent(inout) :: tally
+        real(dp), intent(inout) :: tl
+        logical, intent(out) :: ok
+        integer, intent(out) :: info
+        real(dp) :: hl, err
+        if (lev > 0) tally%nsub = tally%nsub + 1.0_dp
+        hl = h / 2**lev
+        tally%hmin = min(tally%hmin, hl)
+        do while (tl < h - 0.5_dp * hl)
+            call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
+            if (info /= STAT_OK) then
+                ok = .false.
                 return
             end if
-            t = t + h
-            stats(4) = stats(4) + 1.0_dp
-            if (mod(n, nevery) == 0 .and. io < nout) then
-                io = io + 1
-                tout(io) = t
-                qout(:, io) = q
-                vout(:, io) = v
-                wout(:, :, :, io) = wk
+            if (.not. ok) then
+                if (lev >= opt%maxsub) return
+                call cover_step(md, rs, h, lev + 1, opt, st, tally, tl, ok, info)
+                return
             end if
+            tl = tl + hl
+            tally%maxerr = max(tally%maxerr, err)
         end do
-        stats(1) = nit
-        stats(2) = njac
-    contains
-        !> A wheelset within 0.5 mm of the table's end (flange climb or divergence).
-        logical function near_edge()
-            integer :: w
-            real(dp) :: yr
-            near_edge = .false.
-            do w = 1, md%nw
-                yr = q(md%iws(1, w))
-                if (md%itr(1, w) > 0) yr = yr - q(md%itr(1, w))
-                if (abs(yr) > -md%y0 - 5.0e-4_dp) near_edge = .true.
-            end do
-        end function near_edge
+        ok = .true.
+    end subroutine cover_step
 
-        !> Cover the rest of the step, h - tl, with sub-steps h / 2^lev, refining further on
-        !> failure; sets ok.
-        recursive subroutine finish_rest(lev)
-            integer, intent(in) :: lev
-            real(dp) :: hl
-            if (lev > 0) stats(5) = stats(5) + 1.0_dp
-            hl = h / 2**lev
-            stats(6) = min(stats(6), hl)
-            do while (tl < h - 0.5_dp * hl)
-                call hht_step(md, hl, alpha, tol, maxit, qmax, q, v, a, fn, wk, nit, njac, &
-                              err, ok, why, info)
-                if (info /= 0) then
-                    ok = .false.
-                    return
-                end if
-                if (.not. ok) then
-                    if (lev >= maxsub) return
-                    call finish_rest(lev + 1)
-                    return
-                end if
-                tl = tl + hl
-                stats(3) = max(stats(3), err)
-            end do
-            ok = .true.
-        end subroutine finish_rest
-    end subroutine newmark_run
+    !> One HHT step of size h from st; on success (ok) st is advanced and err is the local
+    !> error estimate. ok = .false. when Newton does not converge or the new state is too big
+    !> (st unchanged). A trial state outside the table or with a failing BEM patch fails the
+    !> step softly (recorded in tally%why, info STAT_OK): it is retried with sub-steps.
+    subroutine hht_step(md, rs, h, opt, st, tally, err, ok, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: h
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(inout) :: st
+        type(hht_tally), intent(inout) :: tally
+        real(dp), intent(out) :: err
+        logical, intent(out) :: ok
+        integer, intent(out) :: info
+        type(hht_step_data) :: sd
+        real(dp) :: q1(md%nd), v1(md%nd), a1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        logical :: conv
+        ok = .false.
+        err = 0.0_dp
+        call step_data(h, opt%alpha, st, sd)
+        q1 = st%q + h * st%v + 0.5_dp * h * h * st%a       ! start: constant acceleration
+        call residual(md, rs, sd, q1, r, rn, f1, w1, info)
+        if (info /= STAT_OK) then
+            if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
+            return
+        end if
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, conv, info)
+        if (info /= STAT_OK .or. .not. conv) return
+        a1 = sd%cq * (q1 - sd%qt)
+        v1 = sd%vt + sd%gamma * h * a1
+        if (too_big(md, q1, v1, opt%qmax)) return
+        err = h * h * abs(sd%beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - st%a))
+        st%q = q1
+        st%v = v1
+        st%a = a1
+        st%f = f1      ! F(q1, v1) from the accepted residual: no extra (BEM) evaluation
+        st%w = w1
+        ok = .true.
+    end subroutine hht_step
+
+    !> HHT coefficients and predictor of a step of size h from st.
+    pure subroutine step_data(h, alpha, st, sd)
+        real(dp), intent(in) :: h, alpha
+        type(hht_state), intent(in) :: st
+        type(hht_step_data), intent(out) :: sd
+        sd%h = h
+        sd%alpha = alpha
+        sd%beta = 0.25_dp * (1.0_dp - alpha)**2
+        sd%gamma = 0.5_dp - alpha
+        sd%cq = 1.0_dp / (sd%beta * h * h)
+        sd%cv = sd%gamma / (sd%beta * h)
+        sd%qt = st%q + h * st%v + h * h * (0.5_dp - sd%beta) * st%a   ! the a_{n+1} = 0 part
+        sd%vt = st%v + h * (1.0_dp - sd%gamma) * st%a
+        sd%fn = st%f
+    end subroutine step_data
+
+    !> Newton's method on the step's residual from q1 (residual r, norm rn, force f1 and
+    !> outputs w1 there), with backtracking; the tangent is refreshed after a damped step or
+    !> a contraction worse than 1/2. conv: the last full correction was below opt%tol.
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, conv, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        type(hht_options), intent(in) :: opt
+        real(dp), intent(inout) :: q1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        type(hht_tally), intent(inout) :: tally
+        logical, intent(out) :: conv
+        integer, intent(out) :: info
+        real(dp) :: jac(md%nd, md%nd), dqv(md%nd), dq, dqold, sl
+        integer :: ipiv(md%nd), it, lin
+        logical :: fresh
+        conv = .false.
+        info = STAT_OK
+        dqold = huge(1.0_dp)
+        dq = huge(1.0_dp)
+        fresh = .false.
+        do it = 1, opt%maxit
+            if (.not. fresh) then
+                call step_matrix(md, rs, sd, q1, jac, ipiv, lin, tally, info)
+                if (info /= STAT_OK) return
+                fresh = .true.
+                if (lin /= 0) return
+            end if
+            dqv = r
+            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dqv, md%nd, lin)
+            tally%nit = tally%nit + 1
+            if (.not. (maxval(abs(dqv)) <= opt%qmax)) return
+            call line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+            if (info /= STAT_OK .or. sl == 0.0_dp) return
+            dq = sl * maxval(abs(dqv))
+            if (sl == 1.0_dp .and. dq <= opt%tol) exit
+            ! a damped step or a contraction worse than 1/2: refresh the tangent
+            if (sl < 1.0_dp .or. dq > 0.5_dp * dqold) fresh = .false.
+            dqold = dq
+            dq = huge(1.0_dp)
+        end do
+        conv = dq <= opt%tol
+    end subroutine newton_iterate
+
+    !> The LU factors of the step's iteration matrix cq M - (1 + alpha) dF/dq|_{cv} at q1;
+    !> lin /= 0 when it is singular. A soft failure inside the tangent is recorded and the
+    !> (partial) tangent used.
+    subroutine step_matrix(md, rs, sd, q1, jac, ipiv, lin, tally, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        real(dp), intent(in) :: q1(md%nd)
+        real(dp), intent(out) :: jac(md%nd, md%nd)
+        integer, intent(out) :: ipiv(md%nd), lin
+        type(hht_tally), intent(inout) :: tally
+        integer, intent(out) :: info
+        real(dp) :: a1(md%nd), v1(md%nd)
+        lin = 0
+        a1 = sd%cq * (q1 - sd%qt)
+        v1 = sd%vt + sd%gamma * sd%h * a1
+        call tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, info)
+        if (soft(info, tally)) info = STAT_OK
+        if (info /= STAT_OK) return
+        jac = sd%cq * md%m - (1.0_dp + sd%alpha) * jac
+        call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
+        tally%njac = tally%njac + 1
+    end subroutine step_matrix
+
+    !> Backtracking on the residual norm along the Newton correction dqv (contact closing or
+    !> opening makes full steps cycle): halve up to 5 times until the norm drops. On
+    !> acceptance q1, r, rn, f1, w1 move to the new point and sl is the step length taken;
+    !> sl = 0 when every trial state failed softly.
+    subroutine line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        real(dp), intent(in) :: dqv(md%nd)
+        real(dp), intent(inout) :: q1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        real(dp), intent(out) :: sl
+        type(hht_tally), intent(inout) :: tally
+        integer, intent(out) :: info
+        real(dp) :: qtry(md%nd), rtry(md%nd), rnt, ftry(md%nd), wtry(nwo, 2, md%nw)
+        integer :: ls
+        sl = 1.0_dp
+        do ls = 1, 6
+            qtry = q1 + sl * dqv
+            call residual(md, rs, sd, qtry, rtry, rnt, ftry, wtry, info)
+            if (soft(info, tally)) then
+                info = STAT_OK
+                rnt = huge(1.0_dp)
+            end if
+            if (info /= STAT_OK) return
+            if (rnt < rn .or. ls == 6) exit
+            sl = 0.5_dp * sl
+        end do
+        if (rnt == huge(1.0_dp)) then
+            sl = 0.0_dp
+            return
+        end if
+        q1 = qtry
+        r = rtry
+        rn = rnt
+        f1 = ftry
+        w1 = wtry
+    end subroutine line_search
+
+    !> Residual -(M a - (1 + alpha) F(q, v) + alpha F_n) at the trial qq and its 2-norm, with
+    !> F(qq, vv) and the contact outputs there.
+    subroutine residual(md, rs, sd, qq, rr, nrm, ff, ww, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        real(dp), intent(in) :: qq(md%nd)
+        real(dp), intent(out) :: rr(md%nd), nrm, ff(md%nd), ww(nwo, 2, md%nw)
+        integer, intent(out) :: info
+        real(dp) :: aa(md%nd), vv(md%nd)
+        aa = sd%cq * (qq - sd%qt)
+        vv = sd%vt + sd%gamma * sd%h * aa
+        call force_total(md, rs, qq, vv, ff, ww, info)
+        rr = -(matmul(md%m, aa) - (1.0_dp + sd%alpha) * ff + sd%alpha * sd%fn)
+        nrm = norm2(rr)
+    end subroutine residual
+
+    !> A failure of one trial state (outside the table, a BEM patch failing): recorded in
+    !> tally%why; the step then fails softly and is retried with sub-steps.
+    logical function soft(info, tally)
+        integer, intent(in) :: info
+        type(hht_tally), intent(inout) :: tally
+        soft = info == STAT_OUTSIDE_TABLE .or. info == STAT_GRID_EDGE &
+               .or. info == STAT_CONTACT_NOT_CONVERGED
+        if (soft) tally%why = info
+    end function soft
 
     !> A non-finite state, |q| above qmax or |v| above 1e6. The spin perturbations beta are
     !> only checked for being finite: no force depends on them, and at a steady spin rate
@@ -281,16 +409,18 @@ contains
     !> the wheelsets' spin perturbations beta, which are unknowns in place of the angles
     !> (no force depends on beta; free rolling fixes betadot). Newton's method with step
     !> halving on the residual; the spin columns of the tangent are dF/dv.
-    !> info: 0 ok, 2 not converged, 3 outside the contact table, -1 singular tangent.
-    subroutine static_solve(md, q, v, tol, maxit, iters, resid, info)
+    !> info: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR (singular tangent), or a contact
+    !> failure of force_total (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE, ...).
+    subroutine static_solve(md, rs, q, v, tol, maxit, iters, resid, info)
         type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
         real(dp), intent(inout) :: q(md%nd)
         real(dp), intent(out) :: v(md%nd)
         real(dp), intent(in) :: tol
         integer, intent(in) :: maxit
         integer, intent(out) :: iters, info
         real(dp), intent(out) :: resid
-        real(dp) :: f(md%nd), ftry(md%nd), jac(md%nd, md%nd), jv(md%nd, md%nd), dq(md%nd)
+        real(dp) :: f(md%nd), ftry(md%nd), jac(md%nd, md%nd), dq(md%nd)
         real(dp) :: wk(nwo, 2, md%nw), s, r0, r1
         logical :: spin(md%nd)
         integer :: ipiv(md%nd), it, lin, ls, j
@@ -300,43 +430,31 @@ contains
         do j = 1, md%nd
             spin(j) = is_spin(md, j)
         end do
-        call force_total(md, q, v, f, wk, info)
-        if (info /= 0) return
+        call force_total(md, rs, q, v, f, wk, info)
+        if (info /= STAT_OK) return
         r0 = norm2(f)
         do it = 1, maxit
             iters = it
-            call tangent(md, q, v, 0.0_dp, 0, jac, info)
-            if (info /= 0) return
-            if (any(spin)) then
-                call tangent(md, q, v, 0.0_dp, 1, jv, info)
-                if (info /= 0) return
-                do j = 1, md%nd
-                    if (.not. spin(j)) cycle
-                    jac(:, j) = jv(:, j)
-                    ! no creep force (friction 0, or wheels off the rails): the rate is free;
-                    ! keep it (its equation F_j = 0 holds already)
-                    if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
-                end do
-            end if
-            jac = -jac
+            call static_tangent(md, rs, q, v, spin, jac, info)
+            if (info /= STAT_OK) return
             call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
             if (lin /= 0) then
-                info = -1
+                info = STAT_SINGULAR
                 return
             end if
             dq = f
             call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dq, md%nd, lin)
             s = 1.0_dp
             do ls = 1, 30
-                call force_total(md, merge(q, q + s * dq, spin), merge(v + s * dq, v, spin), ftry, &
-                                 wk, info)
-                if (info == 0) then
+                call force_total(md, rs, merge(q, q + s * dq, spin), merge(v + s * dq, v, spin), &
+                                 ftry, wk, info)
+                if (info == STAT_OK) then
                     r1 = norm2(ftry)
                     if (r1 < r0 .or. ls == 30) exit
                 end if
                 s = 0.5_dp * s
             end do
-            if (info /= 0) return
+            if (info /= STAT_OK) return
             q = merge(q, q + s * dq, spin)
             v = merge(v + s * dq, v, spin)
             f = ftry
@@ -344,7 +462,33 @@ contains
             resid = maxval(abs(s * dq))
             if (resid <= tol) return
         end do
-        info = 2
+        info = STAT_NOT_CONVERGED
     end subroutine static_solve
+
+    !> -dF/d(unknowns) of static_solve: dF/dq, with dF/dv in the spin columns (a spin rate
+    !> with no creep force on it, friction 0 or wheels off the rails, is free: its column
+    !> becomes the identity and its equation F_j = 0 holds already).
+    subroutine static_tangent(md, rs, q, v, spin, jac, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: q(md%nd), v(md%nd)
+        logical, intent(in) :: spin(md%nd)
+        real(dp), intent(out) :: jac(md%nd, md%nd)
+        integer, intent(out) :: info
+        real(dp) :: jv(md%nd, md%nd)
+        integer :: j
+        call tangent(md, rs, q, v, 0.0_dp, TANGENT_QV, jac, info)
+        if (info /= STAT_OK) return
+        if (any(spin)) then
+            call tangent(md, rs, q, v, 0.0_dp, TANGENT_V, jv, info)
+            if (info /= STAT_OK) return
+            do j = 1, md%nd
+                if (.not. spin(j)) cycle
+                jac(:, j) = jv(:, j)
+                if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
+            end do
+        end if
+        jac = -jac
+    end subroutine static_tangent
 
 end module vehicle_newmark

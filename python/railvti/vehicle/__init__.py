@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from .bem import BemGrid, BemOptions, BemPatch, BemState
 from .assembly import DOF_NAMES, System, build_coach, build_single_wheelset
+from .model import VehicleModel
 from .params import DEFAULTS, Coach
 from .simulate import (CONTACT_MODELS, WHEEL_OUTPUTS, DivergenceError, SimulationResult,
                        bem_state, eigenvalues, force_and_tangent, lateral_disturbance, simulate,
@@ -18,4 +19,4 @@ __all__ = ["Coach", "DEFAULTS", "DOF_NAMES", "System", "build_coach", "build_sin
            "CONTACT_MODELS", "WHEEL_OUTPUTS", "DivergenceError", "SimulationResult",
            "eigenvalues", "force_and_tangent", "lateral_disturbance", "simulate", "static_equilibrium",
            "WheelTable", "linearised_table", "wheel_table", "BemGrid", "BemOptions", "BemPatch",
-           "BemState", "bem_state"]
+           "BemState", "bem_state", "VehicleModel"]

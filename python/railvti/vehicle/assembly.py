@@ -36,16 +36,18 @@ contact and track deflections.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
 from .. import _checks
 from ..errors import InputError
 from .params import Coach
+from .model import VehicleModel
 from .table import WheelTable
 
 EL_FRICTION, EL_BUMP = 1, 2
+_INT_FIELDS = ("etype", "iws", "itr")
 #: Per-wheelset DOFs in the global order.
 WS_DOFS = ("x", "y", "z", "roll", "yaw", "beta")
 #: Row order of System.iws (the Fortran per-wheelset state qw, vw).
@@ -86,6 +88,14 @@ class System:
         Longitudinal positions of the wheelsets, m.
     wheel_load : float
         Static vertical wheel load expected from the masses, N.
+    friction : float
+        Wheel-rail friction coefficient.
+
+    Notes
+    -----
+    The arrays are read-only copies: the system is sent to the Fortran core once
+    (:attr:`native`) and must not change afterwards; make a changed system with
+    ``dataclasses.replace``.
     """
 
     m: np.ndarray
@@ -102,6 +112,25 @@ class System:
     x_wheelsets: np.ndarray
     wheel_load: float
     friction: float = 0.3
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            val = getattr(self, f.name)
+            if isinstance(val, np.ndarray):
+                dtype = np.int32 if f.name in _INT_FIELDS else np.float64
+                arr = np.array(val, dtype=dtype, order="F")
+                arr.setflags(write=False)
+                object.__setattr__(self, f.name, arr)
+
+    @property
+    def native(self) -> VehicleModel:
+        """The system in the Fortran core: made on first use (or after it was closed) and kept,
+        and freed, with this System, so that every solve reuses it."""
+        model = self.__dict__.get("_native")
+        if model is None or not model.alive:
+            model = VehicleModel(self)
+            self.__dict__["_native"] = model     # a cache, not a field: the System stays frozen
+        return model
 
     @property
     def n(self) -> int:

@@ -32,7 +32,8 @@ import numpy as np
 
 from .. import _checks
 from .._native import core
-from ..errors import InputError, RailvtiError
+from .._status import Status, check, error
+from ..errors import InputError
 from ..geometry import layout
 from .table import WheelTable
 
@@ -266,9 +267,9 @@ class BemState:
             self.grid.dx, self.grid.dy, table.y0, table.dy, gap, int(n_wheelsets),
             m.shear_modulus, m.poisson, o.tol_normal, o.tol_rolling, o.max_iter_normal,
             o.max_iter_rolling)
-        if info != 0:
+        if info != Status.OK:
             self.handle = 0
-            raise RailvtiError(f"could not create the BEM contact state (info {info})")
+            raise error(info, "could not create the BEM contact state")
         log.debug("BEM contact state %d: grid %d x %d of %.2f mm", self.handle, self.grid.nx,
                   self.grid.ny, self.grid.dx * 1e3)
 
@@ -293,8 +294,7 @@ class BemState:
     def counts(self, reset: bool = False) -> dict:
         """Solver counters since creation or the last reset (:data:`COUNTERS`)."""
         c, info = core.vehicle_bem_counts_c(self.handle, int(reset))
-        if info != 0:
-            raise RailvtiError("BEM contact state already freed")
+        check(info, "BEM contact state already freed")
         return {k: (float(v) if k.startswith("max") else int(v)) for k, v in zip(COUNTERS, c)}
 
     def patch(self, wheelset: int, wheel: int, point: int, speed: float, fn_hint: float = 0.0
@@ -304,8 +304,7 @@ class BemState:
         g = self.grid
         p, tx, ty, sx, sy, info = core.vehicle_bem_fields_c(self.handle, wheelset + 1, wheel + 1,
                                                              point + 1, g.nx, g.ny)
-        if info != 0:
-            raise InputError(f"no BEM fields for wheelset {wheelset}, wheel {wheel}, point {point}")
+        check(info, f"no BEM fields for wheelset {wheelset}, wheel {wheel}, point {point}")
         if not (p > 0).any():
             return None
         x, y = g.mesh()

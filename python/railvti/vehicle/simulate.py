@@ -1,7 +1,9 @@
 """Static equilibrium, time integration and linearisation of an assembled System (Fortran core).
 
-The whole time loop runs in Fortran (railvti._core.vehicle_run_c); Python calls it in chunks
-of simulated time only to update a progress bar (simulated time and real-time factor).
+The System lives in the Fortran core behind a handle (``System.native``, a
+:class:`~railvti.vehicle.model.VehicleModel`), sent once. The whole time loop runs in Fortran
+(``vehicle_run_c``); Python calls it in chunks of simulated time only to update a progress bar
+(simulated time and real-time factor).
 """
 from __future__ import annotations
 
@@ -13,20 +15,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _checks
-from .._native import core
-from ..errors import ConvergenceError, DivergenceError, GridTooSmallError, InputError, RailvtiError
+from .._status import Status, check, error
+from ..errors import DivergenceError, InputError, RailvtiError
 from .assembly import System
 from .bem import BemOptions, BemState
+from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings  # noqa: F401 (NWO re-exported)
 
 log = logging.getLogger(__name__)
 
-#: Contact models: name -> Fortran id. 'bem': the BEM normal + steady-rolling solvers
-#: (railvti.vehicle.bem), with the Hertz + Kalker tangent in Newton's method.
-CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
-#: Outputs per wheel (second index of SimulationResult.wheel).
-WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
-                 "contact_angle", "a", "b")
-NWO = len(WHEEL_OUTPUTS)
+#: What a BEM patch at its grid's edge asks of the user.
+_BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
+                  "load_factor)")
 
 
 def contact_id(contact: str) -> int:
@@ -36,27 +35,19 @@ def contact_id(contact: str) -> int:
     return CONTACT_MODELS[contact]
 
 
-def _model_args(system: System, speed: float, contact: str, fastsim_n: int,
-                bem: BemState | None = None) -> tuple:
-    t = system.table
+def _settings(speed: float, contact: str, fastsim_n: int, bem: BemState | None) -> CallSettings:
+    """The per-call values of the shims; InputError for contact='bem' without a BEM state."""
     cid = contact_id(contact)
-    if cid == 3 and (bem is None or not bem.handle):
+    if contact != "bem":
+        return CallSettings(speed, cid, fastsim_n, 0)
+    if bem is None or not bem.handle:
         raise InputError("contact='bem' needs a BEM contact state")
-    return (system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,
-            system.iws, system.itr, t.data, t.y0, t.dy, t.r0, speed,
-            t.material.shear_modulus, system.friction, cid, fastsim_n,
-            bem.handle if (cid == 3 and bem is not None) else 0)
+    return CallSettings(speed, cid, fastsim_n, bem.handle)
 
 
 def bem_state(system: System, options: BemOptions | None = None) -> BemState:
     """A BEM contact state for ``system`` (close it, or use it as a context manager)."""
     return BemState(system.table, system.wheel_load, system.iws.shape[1], options)
-
-
-def _failure(info: int) -> str | None:
-    return {5: "a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
-               "load_factor)",
-            6: "a BEM contact solver (normal or steady rolling) did not converge"}.get(info)
 
 
 @dataclass(frozen=True)
@@ -145,24 +136,34 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     approach of the static load and each track element at its static deflection. With
     contact='bem' the BEM state ``bem`` is used (and left warm), or a temporary one made
     with ``bem_options``; the Newton tangent is then that of Hertz + Kalker.
+
+    Raises
+    ------
+    DivergenceError
+        A wheelset left its contact table.
+    GridTooSmallError
+        A BEM contact patch reached the edge of its grid.
+    ConvergenceError
+        Newton's method did not converge (or met a singular tangent).
     """
     speed = _checks.positive("speed", speed)
-    if contact_id(contact) == 3 and bem is None:
+    if contact == "bem" and bem is None:
         with bem_state(system, bem_options) as tmp:
             return static_equilibrium(system, speed, contact, q0=q0, tol=tol, maxit=maxit,
                                       fastsim_n=fastsim_n, bem=tmp,
                                       return_velocity=return_velocity)
+    cs = _settings(speed, contact, fastsim_n, bem)
     q = _initial_guess(system) if q0 is None else np.array(q0, dtype=float)
-    args = _model_args(system, speed, contact, fastsim_n, bem)
-    v, f, wout, iters, resid, info = core.vehicle_static_c(*args, tol, maxit, q, NWO)
-    if info == 3:
-        raise DivergenceError("static equilibrium: a wheelset left its contact table")
-    if info == 5:
-        raise GridTooSmallError(f"static equilibrium: {_failure(5)}")
-    if info != 0:
-        raise ConvergenceError(f"static equilibrium not found (info {info}) after {iters} Newton "
-                               f"iterations, last correction {resid:.3g}", iterations=int(iters),
-                               residual=float(resid))
+    v, _, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
+    context = "static equilibrium"
+    if info == Status.OUTSIDE_TABLE:
+        context = "static equilibrium: a wheelset left its contact table"
+    elif info == Status.GRID_EDGE:
+        context = f"static equilibrium: {_BEM_EDGE_HINT}"
+    elif info in (Status.NOT_CONVERGED, Status.SINGULAR):
+        context = (f"static equilibrium not found after {iters} Newton iterations, last "
+                   f"correction {resid:.3g}")
+    check(info, context, iterations=int(iters), residual=float(resid))
     return (q, v, wout) if return_velocity else (q, wout)
 
 
@@ -183,6 +184,22 @@ def _initial_guess(system: System) -> np.ndarray:
             q[jt] = zt
         q[system.iws[1, w] - 1] = zt - g0 - dn / math.cos(dl)
     return q
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """The checked integration settings of one simulate call."""
+
+    h: float
+    nsteps: int
+    nevery: int
+    alpha: float
+    tol: float
+    maxit: int
+    maxsub: int
+    qmax: float
+    per_chunk: int
+    progress: bool
 
 
 def simulate(system: System, speed: float, duration: float, *, contact: str = "hertz-kalker",
@@ -241,16 +258,37 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     DivergenceError
         Newton did not converge, the state became non-finite or huge, or a wheelset left
         its contact table; the message names the time and the step.
+    GridTooSmallError
+        A BEM contact patch reached the edge of its grid.
     """
-    if contact_id(contact) == 3 and bem is None:
+    if contact_id(contact) == CONTACT_MODELS["bem"] and bem is None:
         with bem_state(system, bem_options) as st:
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
                             qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st)
-    if tol is None:
-        tol = 1e-8 if contact_id(contact) == 3 else 1e-9
-    tol = _checks.positive("tol", tol)
     speed = _checks.positive("speed", speed)
+    plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk)
+    cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
+    q, v = _start_state(system, cs, contact, bem, q0, v0)
+    cnt0 = bem.counts() if bem is not None else None
+    wall0 = time.perf_counter()
+    res = _integrate(system, cs, plan, q, v, contact)
+    wall = time.perf_counter() - wall0
+    res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
+    if bem is not None:
+        res = _with_bem_fields(res, system, bem, cnt0, plan.nsteps)
+    if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
+        raise RailvtiError("non-finite values in the output")   # defensive: never return NaN
+    return res
+
+
+def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: float,
+          tol: float | None, maxit: int, maxsub: int, qmax: float, progress: bool | None,
+          chunk: float | None) -> _Plan:
+    """Check the integration settings and derive the step counts and chunk size."""
+    if tol is None:
+        tol = 1e-8 if contact == "bem" else 1e-9
+    tol = _checks.positive("tol", tol)
     duration = _checks.positive("duration", duration)
     h = _checks.positive("h", h)
     alpha = _checks.finite("alpha", alpha)
@@ -259,100 +297,153 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     nevery = max(1, int(round(_checks.positive("output_dt", output_dt) / h)))
     nsteps = int(math.ceil(duration / h - 1e-9))
     nevery = min(nevery, nsteps)
-    args = _model_args(system, speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
+    if progress is None:
+        progress = nsteps > 2000
+    per_chunk = (nsteps if not progress
+                 else max(nevery, int(round((chunk or 0.25) / h)) // nevery * nevery))
+    return _Plan(h=h, nsteps=nsteps, nevery=nevery, alpha=alpha, tol=tol, maxit=maxit,
+                 maxsub=maxsub, qmax=qmax, per_chunk=per_chunk, progress=bool(progress))
+
+
+def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState | None,
+                 q0: np.ndarray | None, v0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The initial (q, v): given, or the steady state of static_equilibrium."""
     if q0 is None:
-        q0, vs, _ = static_equilibrium(system, speed, contact, fastsim_n=fastsim_n, bem=bem,
-                                       return_velocity=True)
+        q0, vs, _ = static_equilibrium(system, cs.speed, contact, fastsim_n=cs.fastsim_n,
+                                       bem=bem, return_velocity=True)
         if v0 is None:
             v0 = vs
-    cnt0 = bem.counts() if bem is not None else None
     q = np.array(_checks.finite_array("q0", q0, shape=(system.n,)), dtype=float)
     v = (np.zeros(system.n) if v0 is None
          else np.array(_checks.finite_array("v0", v0, shape=(system.n,)), dtype=float))
-    f, _, _, _, info = core.vehicle_force_c(*args, q, v, NWO)
-    if info != 0:
-        raise DivergenceError(f"the initial state is outside the contact table (info {info})")
+    return q, v
+
+
+def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: np.ndarray,
+               contact: str) -> SimulationResult:
+    """Run the Fortran time loop in chunks from (q, v) at rest acceleration M^-1 F(q, v),
+    updating the progress bar; collect the output. Raises on a failed step."""
+    model = system.native
+    f, _, _, _, info = model.force(cs, q, v)
+    check(info, "the initial state (q0, v0)")
     a = np.linalg.solve(system.m, f)
     t = np.zeros((), dtype=float)
-    if progress is None:
-        progress = nsteps > 2000
-    per_chunk = nsteps if not progress else max(nevery, int(round((chunk or 0.25) / h)) // nevery * nevery)
-    out_t, out_q, out_v, out_w = [], [], [], []
-    stats = np.zeros(6)
-    stats[5] = h
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=round(nsteps * h, 6), unit="s sim", leave=False,
-                   bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim [{elapsed}, {postfix}]")
+    out = _Output(plan.h)
+    bar = _progress_bar(plan)
     wall0 = time.perf_counter()
-    done = 0
     try:
-        while done < nsteps:
-            ns = min(per_chunk, nsteps - done)
-            nout = max(1, ns // nevery)
-            tout, qout, vout, wout, st, info, tfail = core.vehicle_run_c(
-                *args, h, ns, nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, nout, NWO)
-            k = ns // nevery if info == 0 else int(np.count_nonzero(tout > 0))
-            out_t.append(tout[:k])
-            out_q.append(qout[:, :k].T)
-            out_v.append(vout[:, :k].T)
-            out_w.append(np.moveaxis(wout[..., :k], -1, 0))
-            stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
-            stats[2] = max(stats[2], st[2])
-            stats[5] = min(stats[5], st[5])
-            if info != 0:
-                step = int(round(tfail / h))
-                why = {2: f"Newton's method did not converge in {maxit} iterations, even with "
-                          f"the step cut to h/{2 ** maxsub}",
-                       3: "a wheelset left the contact table (|y| > "
-                          f"{system.table.y[-1] * 1e3:.0f} mm: flange climb or a diverging solution)",
-                       4: "the state became non-finite or exceeded qmax",
-                       5: _failure(5), 6: _failure(6)}.get(info, f"info {info}")
-                partial = SimulationResult(
-                    t=np.concatenate(out_t), q=np.concatenate(out_q), v=np.concatenate(out_v),
-                    wheel=np.concatenate(out_w), dof_names=system.dof_names, speed=speed,
-                    contact=contact, h=h, stats={"failed_at": float(tfail)})
-                if info == 5:
-                    raise GridTooSmallError(f"time integration stopped at t = {tfail:.5f} s "
-                                            f"(step {step}): {why}")
-                raise DivergenceError(f"time integration stopped at t = {tfail:.5f} s (step {step}, "
-                                      f"h = {h:g} s): {why}; try a smaller time step",
-                                      iterations=int(stats[0]), result=partial)
+        done = 0
+        while done < plan.nsteps:
+            ns = min(plan.per_chunk, plan.nsteps - done)
+            nout = max(1, ns // plan.nevery)
+            tout, qout, vout, wout, st, info, tfail = model.run(
+                cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
+                plan.qmax, t, q, v, a, nout)
+            out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
+            if info != Status.OK:
+                raise _run_error(info, float(tfail), plan, system,
+                                 out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
+                                 int(out.stats[0]))
             done += ns
             if bar is not None:
-                wall = time.perf_counter() - wall0
-                bar.update(round(ns * h, 6))
-                bar.set_postfix_str(f"RTF {wall / max(done * h, 1e-12):.2f}")
+                bar.update(round(ns * plan.h, 6))
+                bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
     finally:
         if bar is not None:
             bar.close()
-    wall = time.perf_counter() - wall0
-    res = SimulationResult(
-        t=np.concatenate(out_t), q=np.concatenate(out_q), v=np.concatenate(out_v),
-        wheel=np.concatenate(out_w), dof_names=system.dof_names, speed=speed, contact=contact,
-        h=h, stats={"newton_iterations": int(stats[0]), "tangents": int(stats[1]),
-                    "max_error_estimate": float(stats[2]), "steps": int(stats[3]),
-                    "substepped_steps": int(stats[4]), "smallest_step": float(stats[5]),
-                    "wall_time": wall, "real_time_factor": wall / (nsteps * h)})
-    if bem is not None:
-        cnt = {k: (v if k.startswith("max") else v - cnt0[k]) for k, v in bem.counts().items()}
-        res.stats.update({f"bem_{k}": v for k, v in cnt.items()})
-        res.stats["bem_solves_per_step"] = cnt["normal_solves"] / max(nsteps, 1)
-        res.stats["bem_grid"] = (bem.grid.nx, bem.grid.ny, bem.grid.dx)
-        patches = {}
-        for w in range(system.iws.shape[1]):
-            for side in (0, 1):
-                n_pt = [res.wheel[-1, WHEEL_OUTPUTS.index(n), side, w] for n in ("N_tread", "N_flange")]
-                pt = bem.patch(w, side, int(np.argmax(n_pt)), speed)
-                if pt is not None:
-                    patches[(w, side)] = pt
-        res = SimulationResult(t=res.t, q=res.q, v=res.v, wheel=res.wheel, dof_names=res.dof_names,
-                               speed=res.speed, contact=res.contact, h=res.h, stats=res.stats,
-                               bem_patches=patches)
-    if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
-        raise RailvtiError("non-finite values in the output")   # defensive: never return NaN
-    return res
+    return out.result(system, cs.speed, contact, out.named_stats())
+
+
+def _progress_bar(plan: _Plan):
+    """A tqdm bar over the simulated time, or None."""
+    if not plan.progress:
+        return None
+    from tqdm import tqdm
+    return tqdm(total=round(plan.nsteps * plan.h, 6), unit="s sim", leave=False,
+                bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim [{elapsed}, {postfix}]")
+
+
+class _Output:
+    """The outputs and statistics of the chunks of one run, gathered."""
+
+    def __init__(self, h: float) -> None:
+        self.h = h
+        self.t: list[np.ndarray] = []
+        self.q: list[np.ndarray] = []
+        self.v: list[np.ndarray] = []
+        self.w: list[np.ndarray] = []
+        self.stats = np.zeros(6)
+        self.stats[5] = h
+
+    def add(self, tout, qout, vout, wout, st, k: int | None) -> None:
+        """Append one chunk's first k outputs (None: those written before a failure)."""
+        if k is None:
+            k = int(np.count_nonzero(tout > 0))
+        self.t.append(tout[:k])
+        self.q.append(qout[:, :k].T)
+        self.v.append(vout[:, :k].T)
+        self.w.append(np.moveaxis(wout[..., :k], -1, 0))
+        self.stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
+        self.stats[2] = max(self.stats[2], st[2])
+        self.stats[5] = min(self.stats[5], st[5])
+
+    def named_stats(self) -> dict:
+        """The run statistics of SimulationResult.stats (without the wall time)."""
+        s = self.stats
+        return {"newton_iterations": int(s[0]), "tangents": int(s[1]),
+                "max_error_estimate": float(s[2]), "steps": int(s[3]),
+                "substepped_steps": int(s[4]), "smallest_step": float(s[5])}
+
+    def result(self, system: System, speed: float, contact: str, stats: dict) -> SimulationResult:
+        """The SimulationResult of what was gathered."""
+        return SimulationResult(
+            t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
+            wheel=np.concatenate(self.w), dof_names=system.dof_names, speed=speed,
+            contact=contact, h=self.h, stats=stats)
+
+
+def _run_error(info: int, tfail: float, plan: _Plan, system: System,
+               partial: SimulationResult, iterations: int) -> Exception:
+    """The exception of a failed time step: the time, the step and what went wrong."""
+    step = int(round(tfail / plan.h))
+    if info == Status.GRID_EDGE:
+        return error(info, f"time integration stopped at t = {tfail:.5f} s (step {step}): "
+                           f"{_BEM_EDGE_HINT}")
+    if info == Status.NOT_CONVERGED:
+        why = (f"Newton's method did not converge in {plan.maxit} iterations, even with the "
+               f"step cut to h/{2 ** plan.maxsub}")
+    elif info == Status.OUTSIDE_TABLE:
+        why = (f"a wheelset left the contact table (|y| > {system.table.y[-1] * 1e3:.0f} mm: "
+               "flange climb or a diverging solution)")
+    elif info == Status.MOTION_TOO_LARGE:
+        why = "the state became non-finite or exceeded qmax"
+    elif info == Status.CONTACT_NOT_CONVERGED:
+        why = "a BEM contact solver (normal or steady rolling) did not converge"
+    else:
+        return error(info, f"time integration stopped at t = {tfail:.5f} s (step {step})")
+    return error(info, f"time integration stopped at t = {tfail:.5f} s (step {step}, "
+                       f"h = {plan.h:g} s): {why}; try a smaller time step",
+                 exc=DivergenceError, iterations=iterations, result=partial)
+
+
+def _with_bem_fields(res: SimulationResult, system: System, bem: BemState, cnt0: dict,
+                     nsteps: int) -> SimulationResult:
+    """The result with the BEM counters of the run and the final BEM patches."""
+    cnt = {k: (v if k.startswith("max") else v - cnt0[k]) for k, v in bem.counts().items()}
+    stats = dict(res.stats)
+    stats.update({f"bem_{k}": v for k, v in cnt.items()})
+    stats["bem_solves_per_step"] = cnt["normal_solves"] / max(nsteps, 1)
+    stats["bem_grid"] = (bem.grid.nx, bem.grid.ny, bem.grid.dx)
+    patches = {}
+    for w in range(system.iws.shape[1]):
+        for side in (0, 1):
+            n_pt = [res.wheel[-1, WHEEL_OUTPUTS.index(n), side, w] for n in ("N_tread", "N_flange")]
+            pt = bem.patch(w, side, int(np.argmax(n_pt)), res.speed)
+            if pt is not None:
+                patches[(w, side)] = pt
+    return SimulationResult(t=res.t, q=res.q, v=res.v, wheel=res.wheel, dof_names=res.dof_names,
+                            speed=res.speed, contact=res.contact, h=res.h, stats=stats,
+                            bem_patches=patches)
 
 
 def lateral_disturbance(system: System, q: np.ndarray, y0: float,
@@ -382,20 +473,25 @@ def lateral_disturbance(system: System, q: np.ndarray, y0: float,
 
 def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float,
                       contact: str = "hertz-kalker", fastsim_n: int = 8):
-    """F(q, v), the per-wheel outputs, dF/dq and dF/dv (contact by forward differences)."""
-    if contact_id(contact) == 3:
+    """F(q, v), the per-wheel outputs, dF/dq and dF/dv (contact by forward differences).
+
+    Raises
+    ------
+    DivergenceError
+        The state is outside the contact table.
+    """
+    if contact_id(contact) == CONTACT_MODELS["bem"]:
         with bem_state(system) as st:
             return _force_and_tangent(system, q, v, speed, contact, fastsim_n, st)
     return _force_and_tangent(system, q, v, speed, contact, fastsim_n, None)
 
 
 def _force_and_tangent(system, q, v, speed, contact, fastsim_n, bem):
-    args = _model_args(system, _checks.positive("speed", speed), contact, fastsim_n, bem)
+    cs = _settings(_checks.positive("speed", speed), contact, fastsim_n, bem)
     q = _checks.finite_array("q", q, shape=(system.n,))
     v = _checks.finite_array("v", v, shape=(system.n,))
-    f, wout, jq, jv, info = core.vehicle_force_c(*args, q, v, NWO)
-    if info != 0:
-        raise DivergenceError(f"state outside the contact table (info {info})")
+    f, wout, jq, jv, info = system.native.force(cs, q, v)
+    check(info, "force and tangent at the given state")
     return f, wout, jq, jv
 
 
