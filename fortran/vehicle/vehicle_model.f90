@@ -24,6 +24,7 @@ module vehicle_model
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
+    integer, parameter :: el_none = 0       !< no force (a placeholder keeps the arrays non-empty)
     integer, parameter :: MAX_VEHICLE = 64
     integer, parameter :: TANGENT_QV = 0    !< tangent mode: dF/dq + cv dF/dv
     integer, parameter :: TANGENT_V = 1     !< tangent mode: dF/dv
@@ -73,7 +74,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nd < 1 .or. ne < 1 .or. nw < 1 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
         if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
-            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= 0)) return
+            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none)) return
         info = STAT_NO_MEMORY
         do k = 1, MAX_VEHICLE
             if (.not. models(k)%used) then
