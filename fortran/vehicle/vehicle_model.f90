@@ -13,8 +13,8 @@ module vehicle_model
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
                              STAT_NO_MEMORY
-    use vehicle_contact, only: nq_table, nwo, wheelset_contact, CONTACT_HERTZ_KALKER, CONTACT_BEM, &
-                               CONTACT_BEM_TANGENT
+    use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
+                               CMODEL_BEM_TANGENT
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
@@ -45,7 +45,7 @@ module vehicle_model
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
-    !> CONTACT_*), FASTSIM strips and points per strip, and the vehicle_bem handle of a BEM run.
+    !> CMODEL_*), FASTSIM strips and points per strip, and the vehicle_bem handle of a BEM run.
     type :: vsettings
         real(dp) :: v0 = 1.0_dp
         integer :: cmodel = 1, fsn = 8, bem = 0
@@ -129,7 +129,7 @@ contains
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel. info: STAT_OK; STAT_BAD_HANDLE (no such model);
     !> STAT_SIZE_MISMATCH (nd, nw or nwo not the model's); STAT_BAD_ARGUMENT (speed <= 0, an
-    !> unknown contact model, or CONTACT_BEM without a BEM handle). md is null unless STAT_OK.
+    !> unknown contact model, or CMODEL_BEM without a BEM handle). md is null unless STAT_OK.
     subroutine vehicle_call(handle, nd, nw, nwo_in, rs, md, info)
         integer, intent(in) :: handle, nd, nw, nwo_in
         type(vsettings), intent(in) :: rs
@@ -144,8 +144,8 @@ contains
             return
         end if
         info = STAT_BAD_ARGUMENT
-        if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CONTACT_HERTZ_KALKER .or. &
-            rs%cmodel > CONTACT_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CONTACT_BEM .and. rs%bem <= 0)) then
+        if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CMODEL_HERTZ_KALKER .or. &
+            rs%cmodel > CMODEL_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CMODEL_BEM .and. rs%bem <= 0)) then
             md => null()
             return
         end if
@@ -218,7 +218,7 @@ contains
         integer :: j, model
         model = rs%cmodel
         if (present(cheap)) then
-            if (cheap .and. model == CONTACT_BEM) model = CONTACT_BEM_TANGENT
+            if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, rs%v0, md%gmod, md%mu, model, &
@@ -261,8 +261,8 @@ contains
     !> the contact by forward differences over each wheelset's own DOFs (up to 6 + 3 track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
-    !> With the BEM contact (CONTACT_BEM) the contact part is that of Hertz + Kalker scaled to
-    !> the last BEM solves (CONTACT_BEM_TANGENT): modified Newton.
+    !> With the BEM contact (CMODEL_BEM) the contact part is that of Hertz + Kalker scaled to
+    !> the last BEM solves (CMODEL_BEM_TANGENT): modified Newton.
     subroutine tangent(md, rs, q, v, cv, mode, jac, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
