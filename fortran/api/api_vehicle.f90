@@ -4,7 +4,7 @@
 !> The model (matrices, nonlinear elements, wheelset DOF maps, contact table, material and
 !> friction) is sent once, vehicle_model_create_c, and reached by its handle afterwards; the
 !> run, static and force shims take the handle and the per-call values: the speed, the
-!> contact model (vehicle_contact CONTACT_*), FASTSIM's fsn and, for the BEM contact, the
+!> contact model (vehicle_contact CMODEL_*), FASTSIM's fsn and, for the BEM contact, the
 !> handle `bem` of a BEM contact state (vehicle_bem_create_c, which keeps its warm starts
 !> between calls). A handle not in use gives STAT_BAD_HANDLE.
 

@@ -84,7 +84,7 @@ contains
         if (handle == 0) return
         m => models(handle)
         call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws, stat)
-        if (stat /= 0) then
+        if (stat /= STAT_OK) then
             info = STAT_FFTW_PLAN
             handle = 0
             return

@@ -25,11 +25,11 @@ module vehicle_contact
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she
-    public :: CONTACT_HERTZ_KALKER, CONTACT_FASTSIM, CONTACT_BEM, CONTACT_BEM_TANGENT
+    public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM, CMODEL_BEM_TANGENT
 
     !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names the first three.
-    integer, parameter :: CONTACT_HERTZ_KALKER = 1, CONTACT_FASTSIM = 2, CONTACT_BEM = 3
-    integer, parameter :: CONTACT_BEM_TANGENT = 4
+    integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_FASTSIM = 2, CMODEL_BEM = 3
+    integer, parameter :: CMODEL_BEM_TANGENT = 4
 
     integer, parameter :: nq_table = 10
     !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
@@ -90,11 +90,11 @@ contains
     !> qw, vw: wheelset (y, z, roll, yaw, x, beta) and rates (x longitudinal relative to the
     !> nominal position moving at v0, beta the spin perturbation about the axle on top of the
     !> nominal rolling v0/r0; only vw(5:6) enter); qt, vt: track element (y, z, roll) and rates.
-    !> model CONTACT_HERTZ_KALKER: Hertz + Kalker linear with SHE saturation; CONTACT_FASTSIM:
-    !> Hertz + FASTSIM (contact_fastsim, fsn x fsn strips x points); CONTACT_BEM: the BEM
+    !> model CMODEL_HERTZ_KALKER: Hertz + Kalker linear with SHE saturation; CMODEL_FASTSIM:
+    !> Hertz + FASTSIM (contact_fastsim, fsn x fsn strips x points); CMODEL_BEM: the BEM
     !> normal and steady-rolling solvers of vehicle_bem (state `bem`, wheelset index iws) with
     !> the same approach and creepages (the Hertz semi-axes and energy are still reported in
-    !> wout); CONTACT_BEM_TANGENT: Hertz + Kalker with the normal force and the creep forces
+    !> wout); CMODEL_BEM_TANGENT: Hertz + Kalker with the normal force and the creep forces
     !> scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of each point (the
     !> Newton tangent of a BEM run).
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
@@ -115,7 +115,7 @@ contains
         ft = 0.0_dp
         wout = 0.0_dp
         info = STAT_OK
-        if (model < CONTACT_HERTZ_KALKER .or. model > CONTACT_BEM_TANGENT) then
+        if (model < CMODEL_HERTZ_KALKER .or. model > CMODEL_BEM_TANGENT) then
             info = STAT_BAD_ARGUMENT
             return
         end if
@@ -138,7 +138,7 @@ contains
                 dn = dv * cd
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, &
+                    if (model == CMODEL_BEM) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, &
                                                              0.0_dp, 0.0_dp, mu, v0, fn, fx, fy, stat)
                     cycle
                 end if
@@ -155,7 +155,7 @@ contains
                 xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
                 eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
-                if (model == CONTACT_BEM) then
+                if (model == CMODEL_BEM) then
                     fnh = fn
                     call bem_patch(bem, iws, w, k, sg * yr, dn, xi, eta, spin, mu, v0, fn, fx, fy, info)
                     if (info /= STAT_OK) return
@@ -168,7 +168,7 @@ contains
                     if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
                         rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
                     call bem_scale(bem, iws, w, k, .true., rt)
-                else if (model == CONTACT_BEM_TANGENT) then
+                else if (model == CMODEL_BEM_TANGENT) then
                     ! Hertz + Kalker scaled to the last BEM solve of this point (Newton tangent)
                     call bem_scale(bem, iws, w, k, .false., rt)
                     fn = rt(1) * fn
@@ -176,7 +176,7 @@ contains
                                           xi, eta, spin, fx, fy)
                     fx = rt(2) * fx
                     fy = rt(2) * fy
-                else if (model == CONTACT_HERTZ_KALKER) then
+                else if (model == CMODEL_HERTZ_KALKER) then
                     call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
                                           xi, eta, spin, fx, fy)
                 else

@@ -14,8 +14,8 @@ module vehicle_model
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
                              STAT_NO_MEMORY
-    use vehicle_contact, only: nq_table, nwo, wheelset_contact, CONTACT_HERTZ_KALKER, CONTACT_BEM, &
-                               CONTACT_BEM_TANGENT
+    use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
+                               CMODEL_BEM_TANGENT
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
@@ -25,6 +25,7 @@ module vehicle_model
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
+    integer, parameter :: el_none = 0       !< no force (a placeholder keeps the arrays non-empty)
     integer, parameter :: MAX_VEHICLE = 64
     integer, parameter :: TANGENT_QV = 0    !< tangent mode: dF/dq + cv dF/dv
     integer, parameter :: TANGENT_V = 1     !< tangent mode: dF/dv
@@ -45,7 +46,7 @@ module vehicle_model
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
-    !> CONTACT_*), FASTSIM strips and points per strip, and the vehicle_bem handle of a BEM run.
+    !> CMODEL_*), FASTSIM strips and points per strip, and the vehicle_bem handle of a BEM run.
     type :: vsettings
         real(dp) :: v0 = 1.0_dp
         integer :: cmodel = 1, fsn = 8, bem = 0
@@ -74,7 +75,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nd < 1 .or. ne < 1 .or. nw < 1 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
         if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
-            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= 0)) return
+            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none)) return
         info = STAT_NO_MEMORY
         do k = 1, MAX_VEHICLE
             if (.not. models(k)%used) then
@@ -129,7 +130,7 @@ contains
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel. info: STAT_OK; STAT_BAD_HANDLE (no such model);
     !> STAT_SIZE_MISMATCH (nd, nw or nwo not the model's); STAT_BAD_ARGUMENT (speed <= 0, an
-    !> unknown contact model, or CONTACT_BEM without a BEM handle). md is null unless STAT_OK.
+    !> unknown contact model, or CMODEL_BEM without a BEM handle). md is null unless STAT_OK.
     subroutine vehicle_call(handle, nd, nw, nwo_in, rs, md, info)
         integer, intent(in) :: handle, nd, nw, nwo_in
         type(vsettings), intent(in) :: rs
@@ -144,8 +145,8 @@ contains
             return
         end if
         info = STAT_BAD_ARGUMENT
-        if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CONTACT_HERTZ_KALKER .or. &
-            rs%cmodel > CONTACT_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CONTACT_BEM .and. rs%bem <= 0)) then
+        if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CMODEL_HERTZ_KALKER .or. &
+            rs%cmodel > CMODEL_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CMODEL_BEM .and. rs%bem <= 0)) then
             md => null()
             return
         end if
@@ -218,7 +219,7 @@ contains
         integer :: j, model
         model = rs%cmodel
         if (present(cheap)) then
-            if (cheap .and. model == CONTACT_BEM) model = CONTACT_BEM_TANGENT
+            if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, rs%v0, md%gmod, md%mu, model, &
@@ -261,8 +262,8 @@ contains
     !> the contact by forward differences over each wheelset's own DOFs (up to 6 + 3 track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
-    !> With the BEM contact (CONTACT_BEM) the contact part is that of Hertz + Kalker scaled to
-    !> the last BEM solves (CONTACT_BEM_TANGENT): modified Newton.
+    !> With the BEM contact (CMODEL_BEM) the contact part is that of Hertz + Kalker scaled to
+    !> the last BEM solves (CMODEL_BEM_TANGENT): modified Newton.
     subroutine tangent(md, rs, q, v, cv, mode, jac, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs

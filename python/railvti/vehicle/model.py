@@ -21,7 +21,7 @@ from .._status import check
 if TYPE_CHECKING:   # pragma: no cover
     from .assembly import System
 
-#: Contact models: name -> Fortran id (vehicle_contact CONTACT_*). 'bem': the BEM normal +
+#: Contact models: name -> Fortran id (vehicle_contact CMODEL_*). 'bem': the BEM normal +
 #: steady-rolling solvers (railvti.vehicle.bem), with the Hertz + Kalker tangent in Newton.
 CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
 #: Outputs per wheel (second index of SimulationResult.wheel).

@@ -321,8 +321,8 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
 
 def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: np.ndarray,
                contact: str) -> SimulationResult:
-    """Run the Fortran time loop in chunks from (q, v) at rest acceleration M^-1 F(q, v),
-    updating the progress bar; collect the output. Raises on a failed step."""
+    """Run the Fortran time loop from (q, v), with a = M^-1 F(q, v), in chunks (for the
+    progress bar) and gather the output. Raises the exception of a failed step."""
     model = system.native
     f, _, _, _, info = model.force(cs, q, v)
     check(info, "the initial state (q0, v0)")

@@ -81,6 +81,14 @@ class WheelTable:
     rail: Profile | None = None
     split: float = -0.022
 
+    def __post_init__(self) -> None:
+        # read-only copies: the table is cached (wheel_table) and sent to the Fortran core
+        # with its System once (System.native)
+        for name in ("y", "data", "s_wheel"):
+            arr = np.array(getattr(self, name), dtype=np.float64, order="F")
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
     @property
     def y0(self) -> float:
         """First table position, m."""
