@@ -85,7 +85,7 @@ contains
         m => models(handle)
         call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws, stat)
         if (stat /= STAT_OK) then
-            info = STAT_FFTW_PLAN
+            info = stat     ! STAT_NO_MEMORY (workspace pool full) or STAT_FFTW_PLAN
             handle = 0
             return
         end if
