@@ -179,6 +179,31 @@ def test_step_too_large_stops_with_clear_error(coach_system):
     assert part is not None and np.isfinite(part.q).all()
 
 
+def test_newton_stops_on_residual_as_well_as_correction(coach_system):
+    """A step converges only with a small residual AND a small correction; both are reported.
+
+    With the correction test switched off (tol = 1 m) the residual alone must hold every
+    accepted step below rtol (checked from the reported maximum), and the trajectory must agree
+    with the default (both tests) run to the size the residual bound allows; an rtol below the
+    round-off of the residual cannot be met and the run must stop, not accept the step."""
+    sy = coach_system
+    v = 300 / 3.6
+    q, _ = static_equilibrium(sy, v)
+    q = lateral_disturbance(sy, q, 0.004)
+    ref = simulate(sy, v, 0.2, q0=q, progress=False)
+    st = ref.stats
+    for k in ("newton_residual", "newton_residual_max", "newton_correction", "newton_correction_max"):
+        assert np.isfinite(st[k]) and st[k] >= 0.0, k
+    assert st["newton_correction_max"] <= st["newton_tol"]
+    assert st["newton_residual_max"] <= st["newton_rtol"]
+    assert st["load_scale"] == pytest.approx(sy.wheel_load)
+    res_only = simulate(sy, v, 0.2, q0=q, tol=1.0, rtol=1e-7, progress=False)
+    assert res_only.stats["newton_residual_max"] <= 1e-7
+    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-7
+    with pytest.raises(DivergenceError, match="did not converge"):
+        simulate(sy, v, 0.01, q0=q, rtol=1e-30, maxsub=0, progress=False)
+
+
 def test_creepages_match_geometry_module(table):
     """Fortran creepages of a shifted, yawed, moving wheelset against railvti.geometry.creepages
     (full 3-D kinematics with yaw in the contact search)."""

@@ -23,6 +23,13 @@ from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings  # noqa: F40
 
 log = logging.getLogger(__name__)
 
+#: Default Newton residual tolerance of :func:`simulate`, relative to the static wheel load:
+#: max |r| (N, or N m per metre of lever arm) over all DOFs <= NEWTON_RTOL * wheel load
+#: (66 N for the default coach). Hunting runs at 300-420 km/h reach at most 2e-4 (Hertz +
+#: Kalker / FASTSIM, tol 1e-9) and 5e-4 (BEM, tol 1e-8): the bound catches a modified Newton
+#: that stalls with a small correction but a large error, without moving those runs.
+NEWTON_RTOL = 1e-3
+
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
                   "load_factor)")
@@ -71,7 +78,13 @@ class SimulationResult:
         Contact model.
     stats : dict
         Newton iterations, tangent evaluations, max local error estimate (m), steps, wall
-        time (s), real-time factor (wall / simulated); with contact='bem' also the BEM
+        time (s), real-time factor (wall / simulated); Newton's convergence:
+        ``newton_residual`` / ``newton_residual_max`` (max |r| over the DOFs after the last
+        iteration of the last accepted step / the largest over all accepted steps, relative to
+        ``load_scale``, the static wheel load in N; rotations' residuals in N m are divided by
+        the same N, i.e. per metre of lever arm), ``newton_correction`` /
+        ``newton_correction_max`` (the last correction max |dq|, m or rad, likewise), and the
+        tolerances ``newton_tol`` (correction) and ``newton_rtol`` (residual, relative); with contact='bem' also the BEM
         counters (:data:`railvti.vehicle.bem.COUNTERS`, prefixed ``bem_``) and
         ``bem_solves_per_step`` (normal + rolling solve pairs per time step, all wheels).
     bem_patches : dict or None
@@ -198,6 +211,8 @@ class _Plan:
     maxit: int
     maxsub: int
     qmax: float
+    rtol: float
+    load_scale: float
     per_chunk: int
     progress: bool
 
@@ -207,7 +222,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
              q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float | None = None,
              maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None,
-             bem_options: BemOptions | None = None, bem: BemState | None = None) -> SimulationResult:
+             bem_options: BemOptions | None = None, bem: BemState | None = None,
+             rtol: float | None = None) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
     Parameters
@@ -234,6 +250,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
         wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %).
+    rtol : float, optional
+        Newton tolerance on the residual, relative to the load scale: a step has converged
+        when its last correction is a full step below ``tol`` AND the residual there,
+        max |M a - (1 + alpha) F + alpha F_n| over all DOFs (N, or N m for rotations, i.e.
+        N per metre of lever arm), is below ``rtol`` times the static wheel load
+        (``system.wheel_load``). Default :data:`NEWTON_RTOL`.
     maxit : int
         Newton iterations per step.
     maxsub : int
@@ -265,9 +287,11 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         with bem_state(system, bem_options) as st:
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
-                            qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st)
+                            qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st,
+                            rtol=rtol)
     speed = _checks.positive("speed", speed)
-    plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk)
+    plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
+                 rtol, system.wheel_load)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -284,11 +308,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
 
 def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: float,
           tol: float | None, maxit: int, maxsub: int, qmax: float, progress: bool | None,
-          chunk: float | None) -> _Plan:
+          chunk: float | None, rtol: float | None = None, load_scale: float = 1.0) -> _Plan:
     """Check the integration settings and derive the step counts and chunk size."""
     if tol is None:
         tol = 1e-8 if contact == "bem" else 1e-9
     tol = _checks.positive("tol", tol)
+    rtol = _checks.positive("rtol", NEWTON_RTOL if rtol is None else rtol)
     duration = _checks.positive("duration", duration)
     h = _checks.positive("h", h)
     alpha = _checks.finite("alpha", alpha)
@@ -302,7 +327,8 @@ def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: floa
     per_chunk = (nsteps if not progress
                  else max(nevery, int(round((chunk or 0.25) / h)) // nevery * nevery))
     return _Plan(h=h, nsteps=nsteps, nevery=nevery, alpha=alpha, tol=tol, maxit=maxit,
-                 maxsub=maxsub, qmax=qmax, per_chunk=per_chunk, progress=bool(progress))
+                 maxsub=maxsub, qmax=qmax, rtol=rtol, load_scale=float(load_scale),
+                 per_chunk=per_chunk, progress=bool(progress))
 
 
 def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState | None,
@@ -328,7 +354,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     check(info, "the initial state (q0, v0)")
     a = np.linalg.solve(system.m, f)
     t = np.zeros((), dtype=float)
-    out = _Output(plan.h)
+    out = _Output(plan.h, plan.load_scale)
     bar = _progress_bar(plan)
     wall0 = time.perf_counter()
     try:
@@ -338,7 +364,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             nout = max(1, ns // plan.nevery)
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
-                plan.qmax, t, q, v, a, nout)
+                plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout)
             out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
             if info != Status.OK:
                 raise _run_error(info, float(tfail), plan, system,
@@ -351,7 +377,8 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     finally:
         if bar is not None:
             bar.close()
-    return out.result(system, cs.speed, contact, out.named_stats())
+    return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
+                                                      newton_tol=plan.tol))
 
 
 def _progress_bar(plan: _Plan):
@@ -366,13 +393,14 @@ def _progress_bar(plan: _Plan):
 class _Output:
     """The outputs and statistics of the chunks of one run, gathered."""
 
-    def __init__(self, h: float) -> None:
+    def __init__(self, h: float, load_scale: float = 1.0) -> None:
         self.h = h
+        self.load_scale = load_scale
         self.t: list[np.ndarray] = []
         self.q: list[np.ndarray] = []
         self.v: list[np.ndarray] = []
         self.w: list[np.ndarray] = []
-        self.stats = np.zeros(6)
+        self.stats = np.zeros(10)
         self.stats[5] = h
 
     def add(self, tout, qout, vout, wout, st, k: int | None) -> None:
@@ -386,13 +414,20 @@ class _Output:
         self.stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
         self.stats[2] = max(self.stats[2], st[2])
         self.stats[5] = min(self.stats[5], st[5])
+        if st[3] > 0:      # the chunk accepted steps: its last residual/correction are the last
+            self.stats[[6, 8]] = st[[6, 8]]
+        self.stats[[7, 9]] = np.maximum(self.stats[[7, 9]], st[[7, 9]])
 
     def named_stats(self) -> dict:
         """The run statistics of SimulationResult.stats (without the wall time)."""
         s = self.stats
         return {"newton_iterations": int(s[0]), "tangents": int(s[1]),
                 "max_error_estimate": float(s[2]), "steps": int(s[3]),
-                "substepped_steps": int(s[4]), "smallest_step": float(s[5])}
+                "substepped_steps": int(s[4]), "smallest_step": float(s[5]),
+                "newton_residual": float(s[6] / self.load_scale),
+                "newton_residual_max": float(s[7] / self.load_scale),
+                "newton_correction": float(s[8]), "newton_correction_max": float(s[9]),
+                "load_scale": float(self.load_scale)}
 
     def result(self, system: System, speed: float, contact: str, stats: dict) -> SimulationResult:
         """The SimulationResult of what was gathered."""
