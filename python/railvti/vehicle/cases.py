@@ -123,12 +123,17 @@ def run(params: dict[str, Any]) -> CaseOutput:
         data["speeds_kmh"] = (b.speeds_kmh, "km/h")
         data["upper_amplitude"] = (b.upper, "m")
         data["decay_amplitude"] = (b.decay, "m")
+        data["upper_flange_force"] = (b.details["flange_force"], "N")
         scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
+        scalars["critical_branch"] = (b.branch, "")
+        scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
+        scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
-        summary = (f"critical speed ({contact}): nonlinear {b.critical_kmh:.0f} km/h "
-                   f"(flange-contact cycle from {b.flange_kmh:.0f} km/h), linear {lin:.0f} km/h")
+        scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
+        summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
+                   f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
     return CaseOutput(summary=summary, datasets=data, scalars=scalars)
 
 
