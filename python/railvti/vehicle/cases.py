@@ -56,6 +56,19 @@ def _history(res, data: dict, scalars: dict) -> None:
         data[f"wheel_{name}"] = (res.wheel[:, i], unit)
     for k, v in res.stats.items():
         scalars[f"stat_{k}"] = (v, "")
+    ws = res.wheels()
+    data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(res.wheel.shape[-1])], 1), "m")
+    data["wheel_amplitude"] = (ws.amplitude, "m")
+    data["wheel_Q_max"] = (ws.Q_max, "N")
+    data["wheel_Y_max"] = (ws.Y_max, "N")
+    data["wheel_YQ_max"] = (ws.YQ_max, "1")
+    scalars["nadal_limit"] = (ws.nadal, "1")
+    scalars["flange_angle"] = (ws.flange_angle, "rad")
+    scalars["friction"] = (ws.friction, "1")
+    scalars["worst_wheel_yq"] = (f"wheelset {ws.worst_yq[1] + 1} {('left', 'right')[ws.worst_yq[0]]}", "")
+    scalars["worst_wheel_q"] = (f"wheelset {ws.worst_q[1] + 1} {('left', 'right')[ws.worst_q[0]]}", "")
+    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "")
+    return ws.line()
 
 
 def _patch(pt, data: dict, scalars: dict) -> None:
@@ -84,7 +97,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
                                h=params["h"], coach=coach)
-        _history(c.run, data, scalars)
+        wl = _history(c.run, data, scalars)
         data["Q_final"] = (c.Q, "N")
         data["Y_final"] = (c.Y, "N")
         scalars["static_wheel_load"] = (c.static_wheel_load, "N")
@@ -93,12 +106,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
             _patch(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
         summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
-                   f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N")
+                   f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N; {wl}")
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
                        output_dt=params["output_dt"], coach=coach)
-        _history(r, data, scalars)
+        wl = _history(r, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
@@ -113,7 +126,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["amplitude_last_second"] = (amp, "m")
         scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
         summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
-                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}")
+                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}; "
+                   f"{wl}")
     else:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
@@ -139,7 +153,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
-    from .plots import plot_bifurcation, plot_history, plot_patch
+    from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 
     res = group["results"] if "results" in group else group
     outdir = Path(outdir)
@@ -150,6 +164,12 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                                  outdir / f"{stem}_bifurcation.png")]
     paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
                          np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+    if "ws_y" in res:
+        paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
+                                 np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
+                                 float(res.attrs.get("nadal_limit", np.nan)),
+                                 outdir / f"{stem}_wheels.png",
+                                 str(res.attrs.get("worst_wheel_yq", ""))))
     if "patch_pressure" in res:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),

@@ -10,13 +10,14 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .. import _checks
 from .._status import Status, check, error
 from ..errors import DivergenceError, InputError, RailvtiError
+from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
 from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings  # noqa: F401 (NWO re-exported)
@@ -90,6 +91,14 @@ class SimulationResult:
     bem_patches : dict or None
         contact='bem': the final BEM fields (:class:`railvti.vehicle.bem.BemPatch`) of the
         loaded candidate point of every wheel, keyed (wheelset, wheel), both 0-based.
+    friction : float
+        Wheel-rail friction coefficient of the run.
+    flange_angle : float
+        Flange angle of the wheel profile, rad (:func:`flange_angle`: the largest contact
+        angle of the table's flange point on the flange side), for Nadal's limit.
+
+    Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
+    worst wheel) and :attr:`nadal`.
     """
 
     t: np.ndarray
@@ -102,6 +111,28 @@ class SimulationResult:
     h: float
     stats: dict = field(default_factory=dict)
     bem_patches: dict | None = None
+    friction: float = float("nan")
+    flange_angle: float = float("nan")
+
+    @property
+    def nadal(self) -> float:
+        """Nadal's limit Y/Q for this run's flange angle and friction."""
+        return nadal_limit(self.flange_angle, self.friction)
+
+    @property
+    def y_over_q(self) -> np.ndarray:
+        """(nt, 2, nw) flange-climb ratio of every wheel: the lateral force of the rail on the
+        wheel towards the track centre (-Y on the left wheel, +Y on the right) over Q; 0
+        where Q < 1 % of the largest Q of the run (wheel lifted)."""
+        q = self.Q
+        yout = self.Y * np.array([-1.0, 1.0])[None, :, None]
+        ok = q > 0.01 * max(float(q.max()), 1e-30)
+        return np.where(ok, yout / np.where(ok, q, 1.0), 0.0)
+
+    def wheels(self, window: float = 1.0) -> "WheelSummary":
+        """Per wheelset and wheel over the last ``window`` seconds: lateral amplitude, max Q,
+        max |Y|, max Y/Q against Nadal's limit, and the worst wheel."""
+        return WheelSummary.of(self, window)
 
     def dof(self, name: str) -> np.ndarray:
         """Time history of one DOF by name (e.g. 'ws1_y')."""
@@ -134,6 +165,81 @@ class SimulationResult:
     def Y(self) -> np.ndarray:
         """Lateral wheel forces (nt, 2, nw), N (track y, + left)."""
         return self.wheel_output("Y")
+
+
+def flange_angle(table) -> float:
+    """The flange angle of a contact table's wheel profile, rad: the largest contact angle of
+    the flange-side candidate point (slot 1) over y >= 0 (70.0 deg for S1002 on UIC60 1:40,
+    reached at y = 7 mm; beyond it the contact climbs towards the flange tip)."""
+    d = table.at("delta", 1)
+    return float(np.max(d[table.y >= 0.0]))
+
+
+_SIDE = ("left", "right")
+
+
+@dataclass(frozen=True)
+class WheelSummary:
+    """All eight wheels of a run over its last window (arrays (2, nw): wheel 0 left / 1 right,
+    wheelset 0-based; amplitude (nw,)).
+
+    Attributes
+    ----------
+    amplitude : ndarray (nw,)
+        Half the peak-to-peak lateral displacement of each wheelset, m.
+    Q_max, Y_max : ndarray (2, nw)
+        Largest vertical force and largest |Y| (lateral, track y), N.
+    YQ_max : ndarray (2, nw)
+        Largest flange-climb ratio (:attr:`SimulationResult.y_over_q`).
+    nadal : float
+        Nadal's limit for ``flange_angle`` (rad) and ``friction``.
+    worst_yq, worst_q : tuple (wheel, wheelset)
+        The wheel with the largest Y/Q relative to Nadal's limit and the one with the
+        largest Q.
+    """
+
+    window: float
+    amplitude: np.ndarray
+    Q_max: np.ndarray
+    Y_max: np.ndarray
+    YQ_max: np.ndarray
+    nadal: float
+    flange_angle: float
+    friction: float
+    worst_yq: tuple
+    worst_q: tuple
+
+    @classmethod
+    def of(cls, res: "SimulationResult", window: float = 1.0) -> "WheelSummary":
+        """The summary of ``res`` over its last ``window`` seconds."""
+        k = res.t >= res.t[-1] - _checks.positive("window", window)
+        nw = res.wheel.shape[-1]
+        amp = np.array([0.5 * float(np.ptp(res.dof(f"ws{w + 1}_y")[k])) for w in range(nw)])
+        q = res.Q[k].max(axis=0)
+        y = np.abs(res.Y[k]).max(axis=0)
+        yq = res.y_over_q[k].max(axis=0)
+        wy = np.unravel_index(int(np.argmax(yq)), yq.shape)
+        wq = np.unravel_index(int(np.argmax(q)), q.shape)
+        return cls(window=float(window), amplitude=amp, Q_max=q, Y_max=y, YQ_max=yq,
+                   nadal=res.nadal, flange_angle=res.flange_angle, friction=res.friction,
+                   worst_yq=(int(wy[0]), int(wy[1])), worst_q=(int(wq[0]), int(wq[1])))
+
+    @property
+    def exceeds_nadal(self) -> bool:
+        """Any wheel above Nadal's limit."""
+        return bool(np.any(self.YQ_max > self.nadal))
+
+    def line(self) -> str:
+        """One line naming the worst wheel (largest Y/Q against Nadal, largest Q)."""
+        s, w = self.worst_yq
+        sq, wq = self.worst_q
+        yq = self.YQ_max[s, w]
+        flag = "ABOVE" if yq > self.nadal else "below"
+        return (f"worst wheel: wheelset {w + 1} {_SIDE[s]} Y/Q {yq:.2f} ({flag} Nadal "
+                f"{self.nadal:.2f}: {math.degrees(self.flange_angle):.1f} deg, mu "
+                f"{self.friction:g}); largest Q {self.Q_max[sq, wq] / 1e3:.0f} kN at wheelset "
+                f"{wq + 1} {_SIDE[sq]}; amplitudes "
+                + "/".join(f"{a * 1e3:.1f}" for a in self.amplitude) + " mm")
 
 
 def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalker", *,
@@ -434,7 +540,8 @@ class _Output:
         return SimulationResult(
             t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
             wheel=np.concatenate(self.w), dof_names=system.dof_names, speed=speed,
-            contact=contact, h=self.h, stats=stats)
+            contact=contact, h=self.h, stats=stats, friction=float(system.friction),
+            flange_angle=flange_angle(system.table))
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
@@ -476,9 +583,7 @@ def _with_bem_fields(res: SimulationResult, system: System, bem: BemState, cnt0:
             pt = bem.patch(w, side, int(np.argmax(n_pt)), res.speed)
             if pt is not None:
                 patches[(w, side)] = pt
-    return SimulationResult(t=res.t, q=res.q, v=res.v, wheel=res.wheel, dof_names=res.dof_names,
-                            speed=res.speed, contact=res.contact, h=res.h, stats=stats,
-                            bem_patches=patches)
+    return replace(res, stats=stats, bem_patches=patches)
 
 
 def lateral_disturbance(system: System, q: np.ndarray, y0: float,
