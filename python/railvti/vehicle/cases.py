@@ -65,8 +65,6 @@ def _history(res, data: dict, scalars: dict) -> None:
     scalars["nadal_limit"] = (ws.nadal, "1")
     scalars["flange_angle"] = (ws.flange_angle, "rad")
     scalars["friction"] = (ws.friction, "1")
-    scalars["worst_wheel_yq"] = (f"wheelset {ws.worst_yq[1] + 1} {('left', 'right')[ws.worst_yq[0]]}", "")
-    scalars["worst_wheel_q"] = (f"wheelset {ws.worst_q[1] + 1} {('left', 'right')[ws.worst_q[0]]}", "")
     scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "")
     return ws.line()
 
@@ -168,8 +166,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
         paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
                                  np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
                                  float(res.attrs.get("nadal_limit", np.nan)),
-                                 outdir / f"{stem}_wheels.png",
-                                 str(res.attrs.get("worst_wheel_yq", ""))))
+                                 outdir / f"{stem}_wheels.png"))
     if "patch_pressure" in res:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),
