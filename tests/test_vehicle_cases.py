@@ -32,6 +32,9 @@ def test_centred_case_outputs(tmp_path):
             g[k] = a
         paths = REGISTRY["vehicle"].plot(f, tmp_path, "c")
     assert all(p.exists() for p in paths)
+    assert any(p.name == "c_wheels.png" for p in paths)          # all eight wheels
+    assert out.datasets["wheel_YQ_max"][0].shape == (2, 4)
+    assert "worst wheel: wheelset" in out.summary
 
 
 def test_coach_parameter_through_deck():

@@ -179,6 +179,31 @@ def test_step_too_large_stops_with_clear_error(coach_system):
     assert part is not None and np.isfinite(part.q).all()
 
 
+def test_newton_stops_on_residual_as_well_as_correction(coach_system):
+    """A step converges only with a small residual AND a small correction; both are reported.
+
+    With the correction test switched off (tol = 1 m) the residual alone must hold every
+    accepted step below rtol (checked from the reported maximum), and the trajectory must agree
+    with the default (both tests) run to the size the residual bound allows; an rtol below the
+    round-off of the residual cannot be met and the run must stop, not accept the step."""
+    sy = coach_system
+    v = 300 / 3.6
+    q, _ = static_equilibrium(sy, v)
+    q = lateral_disturbance(sy, q, 0.004)
+    ref = simulate(sy, v, 0.2, q0=q, progress=False)
+    st = ref.stats
+    for k in ("newton_residual", "newton_residual_max", "newton_correction", "newton_correction_max"):
+        assert np.isfinite(st[k]) and st[k] >= 0.0, k
+    assert st["newton_correction_max"] <= st["newton_tol"]
+    assert st["newton_residual_max"] <= st["newton_rtol"]
+    assert st["load_scale"] == pytest.approx(sy.wheel_load)
+    res_only = simulate(sy, v, 0.2, q0=q, tol=1.0, rtol=1e-7, progress=False)
+    assert res_only.stats["newton_residual_max"] <= 1e-7
+    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-7
+    with pytest.raises(DivergenceError, match="did not converge"):
+        simulate(sy, v, 0.01, q0=q, rtol=1e-30, maxsub=0, progress=False)
+
+
 def test_creepages_match_geometry_module(table):
     """Fortran creepages of a shifted, yawed, moving wheelset against railvti.geometry.creepages
     (full 3-D kinematics with yaw in the contact search)."""
@@ -262,3 +287,18 @@ def test_friction_and_bumpstop_elements(coach_system):
     lin = sy.k[jb, jb]
     extra = (fb[jb] - fa[jb]) + lin * (d - 0.01)
     assert extra == pytest.approx(-coach["bumpstop_stiffness"] * 0.005, rel=1e-6)
+
+
+def test_every_default_names_its_source():
+    """Each Coach default carries a source: a publication or 'assumption' (or the track fit,
+    a standard constant, the regularisation); the Manchester values issue 13 quotes from
+    Iwnicki 1998 (primary dampers 15 / 2 / 4 kN s/m, bump-stop clearance 25 mm) are the
+    defaults."""
+    from railvti.vehicle import DEFAULTS
+    for name, (value, unit, source) in DEFAULTS.items():
+        assert unit and source, name
+        assert ("Iwnicki 1998" in source or "assumption" in source or "TrackElement" in source
+                or source in ("standard", "regularisation: torque = T tanh(rate / this)")), name
+    c = Coach()
+    assert (c["primary_cx"], c["primary_cy"], c["primary_cz"]) == (15e3, 2e3, 4e3)
+    assert c["bumpstop_clearance"] == 0.025

@@ -247,6 +247,7 @@ def part_hunting() -> dict:
         ax[1].plot(r.y_ws1[k] * 1e3, r.vy_ws1[k], lw=0.8, label=f"{kmh} km/h")
         print(f"  hunting {kmh} km/h: amplitude {scenarios.amplitude(r) * 1e3:.2f} mm, "
               f"max flange force {r.wheel_output('N_flange').max() / 1e3:.1f} kN")
+        print(f"    {r.wheels().line()}")
     ax[0].set_xlabel("time, s")
     ax[0].set_ylabel("y wheelset 1, mm")
     ax[1].set_xlabel("y wheelset 1, mm")
@@ -277,6 +278,9 @@ def part_bifurcation() -> dict:
     print(f"  nonlinear: lowest speed with a sustained limit cycle {b.critical_kmh:.0f} km/h; "
           f"flange-contact cycle (> 5 mm) from {flange.min() if flange.size else math.nan:.0f} km/h  "
           f"[{t_nl:.1f} s]")
+    print(f"  {b.message}")
+    slide, fs = scenarios.linear_critical_speed(damper="sliding")
+    print(f"  linear with the yaw damper sliding: {slide:.1f} km/h, {fs:.2f} Hz")
     for s, u, d in zip(b.speeds_kmh, b.upper, b.decay):
         print(f"    {s:5.0f} km/h: continuation {u * 1e3:6.2f} mm, from 0.5 mm {d * 1e3:6.2f} mm")
     amps = np.array([0.5, 1.0, 1.5, 2.0, 3.0, 4.0]) * 1e-3

@@ -37,8 +37,8 @@ end subroutine vehicle_model_free_c
 
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats.
 subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, tol, &
-                         maxit, maxsub, qmax, t, q, v, a, nout, nwo, tout, qout, vout, wout, stats, &
-                         info, tfail)
+                         maxit, maxsub, qmax, rtol, t, q, v, a, nout, nwo, tout, qout, vout, wout, &
+                         stats, info, tfail)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK
     use vehicle_model, only: vmodel, vsettings, vehicle_call
@@ -46,10 +46,10 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, nsteps, nevery, maxit, maxsub
     integer(c_int), intent(in) :: nout, nwo
-    real(c_double), intent(in) :: speed, h, alpha, tol, qmax
+    real(c_double), intent(in) :: speed, h, alpha, tol, qmax, rtol
     real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd)
     real(c_double), intent(out) :: tout(nout), qout(nd, nout), vout(nd, nout), wout(nwo, 2, nw, nout)
-    real(c_double), intent(out) :: stats(6), tfail
+    real(c_double), intent(out) :: stats(10), tfail
     integer(c_int), intent(out) :: info
     type(vmodel), pointer :: md
     integer :: stat
@@ -63,7 +63,7 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     info = stat
     if (stat /= STAT_OK) return
     call newmark_run(md, vsettings(speed, cmodel, fsn, bem), h, nsteps, nevery, &
-                     hht_options(alpha, tol, qmax, maxit, maxsub), t, q, v, a, nout, tout, qout, &
+                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol), t, q, v, a, nout, tout, qout, &
                      vout, wout, stats, stat, tfail)
     info = stat
 end subroutine vehicle_run_c

@@ -23,13 +23,15 @@ module vehicle_newmark
     public :: newmark_run, static_solve, hht_options, NSTATS
 
     !> Length of newmark_run's stats.
-    integer, parameter :: NSTATS = 6
+    integer, parameter :: NSTATS = 10
 
     !> Settings of a run: HHT alpha, Newton tolerance on the correction (m, rad) and iteration
-    !> limit, the deepest sub-step level (h / 2^maxsub) and the bound on |q| (m, rad).
+    !> limit, the deepest sub-step level (h / 2^maxsub), the bound on |q| (m, rad) and the
+    !> Newton tolerance on the residual, max |r| (N, N m).
     type :: hht_options
         real(dp) :: alpha = 0.0_dp, tol = 1.0e-9_dp, qmax = 1.0_dp
         integer :: maxit = 20, maxsub = 6
+        real(dp) :: rtol = huge(1.0_dp)
     end type hht_options
 
     !> The state at the current time: q, v, a, F(q, v) and the contact outputs there.
@@ -42,6 +44,9 @@ module vehicle_newmark
     type :: hht_tally
         integer :: nit = 0, njac = 0, why = STAT_OK
         real(dp) :: maxerr = 0.0_dp, nsub = 0.0_dp, hmin = huge(1.0_dp)
+        !> max |r| (N, N m) and max |dq| (m, rad) of the last Newton iteration of the last
+        !> accepted step, and their maxima over the accepted steps.
+        real(dp) :: rlast = 0.0_dp, rmax = 0.0_dp, dqlast = 0.0_dp, dqmax = 0.0_dp
     end type hht_tally
 
     !> The constants of one step of size h: HHT coefficients, cq = da/dq, cv = dv/dq, the
@@ -64,7 +69,9 @@ contains
     !> not converging, when they made the last sub-step fail); tfail the time of the failure.
     !> stats: 1 Newton iterations, 2 tangent evaluations, 3 max local error estimate
     !> (Zienkiewicz & Xie: h^2 |beta - 1/6| |a_{n+1} - a_n|, m or rad), 4 steps done,
-    !> 5 steps that needed sub-steps, 6 smallest sub-step used (s).
+    !> 5 steps that needed sub-steps, 6 smallest sub-step used (s), 7 and 8 max |r| (N, N m)
+    !> after the last Newton iteration of the last accepted step and the largest over the
+    !> accepted steps, 9 and 10 the same for the last correction max |dq| (m, rad).
     subroutine newmark_run(md, rs, h, nsteps, nevery, opt, t, q, v, a, nout, tout, qout, vout, &
                            wout, stats, info, tfail)
         type(vmodel), intent(in) :: md
@@ -132,6 +139,10 @@ contains
         stats(4) = real(nsteps_done, dp)
         stats(5) = tally%nsub
         stats(6) = tally%hmin
+        stats(7) = tally%rlast
+        stats(8) = tally%rmax
+        stats(9) = tally%dqlast
+        stats(10) = tally%dqmax
     end subroutine tally_stats
 
     !> The status of a failed step: a Newton failure is reported as its cause where one is
@@ -214,6 +225,7 @@ contains
         integer, intent(out) :: info
         type(hht_step_data) :: sd
         real(dp) :: q1(md%nd), v1(md%nd), a1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        real(dp) :: dq
         logical :: conv
         ok = .false.
         err = 0.0_dp
@@ -224,7 +236,7 @@ contains
             if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
             return
         end if
-        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, conv, info)
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, dq, conv, info)
         if (info /= STAT_OK .or. .not. conv) return
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * h * a1
@@ -235,6 +247,10 @@ contains
         st%a = a1
         st%f = f1      ! F(q1, v1) from the accepted residual: no extra (BEM) evaluation
         st%w = w1
+        tally%rlast = maxval(abs(r))
+        tally%dqlast = dq
+        tally%rmax = max(tally%rmax, tally%rlast)
+        tally%dqmax = max(tally%dqmax, dq)
         ok = .true.
     end subroutine hht_step
 
@@ -256,17 +272,20 @@ contains
 
     !> Newton's method on the step's residual from q1 (residual r, norm rn, force f1 and
     !> outputs w1 there), with backtracking; the tangent is refreshed after a damped step or
-    !> a contraction worse than 1/2. conv: the last full correction was below opt%tol.
-    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, conv, info)
+    !> a contraction worse than 1/2. conv: the last correction was a full step below opt%tol
+    !> (m, rad) AND the residual after it is below opt%rtol (max |r|, N or N m); dq is that
+    !> last correction, max |dq|.
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, dq, conv, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
         type(hht_options), intent(in) :: opt
         real(dp), intent(inout) :: q1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
         type(hht_tally), intent(inout) :: tally
+        real(dp), intent(out) :: dq
         logical, intent(out) :: conv
         integer, intent(out) :: info
-        real(dp) :: jac(md%nd, md%nd), dqv(md%nd), dq, dqold, sl
+        real(dp) :: jac(md%nd, md%nd), dqv(md%nd), dqold, sl
         integer :: ipiv(md%nd), it, lin
         logical :: fresh
         conv = .false.
@@ -288,13 +307,12 @@ contains
             call line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
             if (info /= STAT_OK .or. sl == 0.0_dp) return
             dq = sl * maxval(abs(dqv))
-            if (sl == 1.0_dp .and. dq <= opt%tol) exit
+            conv = sl == 1.0_dp .and. dq <= opt%tol .and. maxval(abs(r)) <= opt%rtol
+            if (conv) exit
             ! a damped step or a contraction worse than 1/2: refresh the tangent
             if (sl < 1.0_dp .or. dq > 0.5_dp * dqold) fresh = .false.
             dqold = dq
-            dq = huge(1.0_dp)
         end do
-        conv = dq <= opt%tol
     end subroutine newton_iterate
 
     !> The LU factors of the step's iteration matrix cq M - (1 + alpha) dF/dq|_{cv} at q1;

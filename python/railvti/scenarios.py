@@ -12,11 +12,12 @@ Examples
 >>> c.Q          # (2, 4) vertical wheel loads, N
 >>> r = scenarios.hunting(400, duration=3.0, y0=0.004)
 >>> r.y_ws1      # leading wheelset lateral displacement, m
->>> scenarios.critical_speed(method='linear')    # km/h
+>>> scenarios.critical_speed(method='linear').kmh    # km/h (float(...) works too)
 """
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -202,11 +203,31 @@ class Bifurcation:
         Amplitude (m) after ``duration`` from a small disturbance ``y_small`` (0: decayed).
     critical_kmh : float
         Nonlinear critical speed: the lowest speed with a sustained limit cycle on the upper
-        branch (amplitude > threshold).
+        branch (amplitude > threshold), to the sweep's step. NaN when there is none: see
+        ``no_decay_below_kmh`` and ``no_cycle_up_to_kmh``.
     flange_kmh : float
         Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
         (flange-contact hunting).
     linear_kmh : float or None
+    branch : str
+        Which cycle defines ``critical_kmh``: 'flange cycle' (the leading bogie's flanges
+        carry load in the cycle at that speed: max flange normal force above 1 % of the static
+        wheel load over the last second), 'tread cycle' (no flange contact), or 'none'.
+    branch_amplitude : float
+        The leading wheelset's amplitude in that cycle, m (compare with the flange clearance,
+        about 6.3 mm for S1002 / UIC60 1:40).
+    branch_flange_force : float
+        Max flange normal force on the leading bogie's wheels in that cycle (last second), N.
+    extended_kmh : ndarray
+        Speeds below the requested sweep that were added because the cycle had not died at
+        its bottom (empty when the sweep sufficed).
+    no_decay_below_kmh : float
+        NaN when the branch died within the (extended) sweep; otherwise the floor ``v_min_kmh``
+        at which the extension stopped with the cycle still alive: the critical speed is
+        below it and ``critical_kmh`` is NaN ("below X km/h: no decay found").
+    no_cycle_up_to_kmh : float
+        NaN, or the top of the sweep when no cycle was sustained even there (critical speed
+        above the sweep; ``critical_kmh`` NaN).
     """
 
     speeds_kmh: np.ndarray
@@ -217,18 +238,42 @@ class Bifurcation:
     flange_kmh: float = float("nan")
     linear_kmh: float | None = None
     details: dict = field(default_factory=dict)
+    branch: str = "none"
+    branch_amplitude: float = float("nan")
+    branch_flange_force: float = float("nan")
+    extended_kmh: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    no_decay_below_kmh: float = float("nan")
+    no_cycle_up_to_kmh: float = float("nan")
+
+    @property
+    def message(self) -> str:
+        """One line: the nonlinear critical speed and its branch, or why there is none."""
+        if np.isfinite(self.no_decay_below_kmh):
+            return (f"below {self.no_decay_below_kmh:.0f} km/h: no decay found (the cycle is "
+                    f"sustained at every speed swept down to there)")
+        if np.isfinite(self.no_cycle_up_to_kmh):
+            return f"no sustained cycle up to {self.no_cycle_up_to_kmh:.0f} km/h"
+        ext = (f"; sweep extended down to {self.extended_kmh.min():.0f} km/h"
+               if self.extended_kmh.size else "")
+        return (f"nonlinear critical speed {self.critical_kmh:.0f} km/h ({self.branch}, "
+                f"amplitude {self.branch_amplitude * 1e3:.2f} mm, max flange force "
+                f"{self.branch_flange_force / 1e3:.1f} kN{ext})")
 
 
 def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 contact: str = "hertz-kalker", *, duration: float = 4.0, y_large: float = 0.006,
                 y_small: float = 0.0005, threshold: float = 0.5e-3, h: float = 1e-3,
-                flange_amplitude: float = 5e-3,
+                flange_amplitude: float = 5e-3, v_min_kmh: float = 20.0,
                 coach: Coach | None = None, progress: bool = True) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
     ``duration``, lower the speed and continue from the last state; where the cycle dies the
-    branch ends (nonlinear critical speed). The decay tests: from each speed's static state
+    branch ends (nonlinear critical speed). If it is still alive at the sweep's bottom, the
+    sweep is extended downward by its smallest step until the cycle dies or the speed would
+    fall below ``v_min_kmh``; then the result says "below X km/h: no decay found"
+    (``no_decay_below_kmh``, ``critical_kmh`` NaN, and a RuntimeWarning), never the bottom
+    of the sweep as a critical speed. The decay tests: from each speed's static state
     with a small disturbance ``y_small``; growth there means the centred running itself is
     unstable (the linear critical speed is below that speed).
     """
@@ -236,19 +281,25 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                             else np.arange(200.0, 461.0, 20.0), dtype=float))[::-1]
     if sp.size < 2 or np.any(sp <= 0):
         raise InputError("speeds_kmh must hold at least two speeds > 0")
+    v_min = _checks.positive("v_min_kmh", v_min_kmh)
+    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
     _check_model(model, contact)
     sy = coach_system(model, coach)
-    upper = np.zeros(sp.size)
-    decay = np.zeros(sp.size)
-    q = v = None
-    it = sp
     bar = None
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=2 * sp.size, desc="bifurcation", leave=False)
+    speeds: list[float] = []
+    upper: list[float] = []
+    decay: list[float] = []
+    flange: list[float] = []
+    q = v = None
     alive = True
-    for i, s in enumerate(it):
+    todo = list(sp)
+    while todo:
+        s = todo.pop(0)
         vv = s / 3.6
+        up, fl = 0.0, 0.0
         if alive:
             if q is None:
                 qs, _ = static_equilibrium(sy, vv, contact)
@@ -256,40 +307,85 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 v = np.zeros(sy.n)
             r = simulate(sy, vv, duration, contact=contact, h=h, q0=q, v0=v, output_dt=0.002,
                          progress=False)
-            upper[i] = amplitude(r)
+            up = amplitude(r)
+            last = r.t >= r.t[-1] - 1.0
+            fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
             q, v = r.q[-1], r.v[-1]
-            alive = upper[i] > threshold
+            alive = up > threshold
         if bar is not None:
             bar.update()
         qs, _ = static_equilibrium(sy, vv, contact)
         r = simulate(sy, vv, duration, contact=contact, h=h,
                      q0=lateral_disturbance(sy, qs, y_small), output_dt=0.002, progress=False)
-        decay[i] = amplitude(r)
+        speeds.append(float(s))
+        upper.append(up)
+        flange.append(fl)
+        decay.append(amplitude(r))
         if bar is not None:
             bar.update()
+        if not todo and alive and s - step >= v_min - 1e-9:
+            todo.append(s - step)      # the cycle has not died: extend the sweep downward
+            if bar is not None:
+                bar.total += 2
     if bar is not None:
         bar.close()
-    on = upper > threshold
-    crit = float(sp[on].min()) if on.any() else float("nan")
-    fl = upper > flange_amplitude
-    order = np.argsort(sp)
-    return Bifurcation(speeds_kmh=sp[order], upper=upper[order], decay=decay[order],
+    spa, upa, fla = np.array(speeds), np.array(upper), np.array(flange)
+    on = upa > threshold
+    crit = float(spa[on].min()) if on.any() else float("nan")
+    no_decay = no_cycle = float("nan")
+    branch, amp_b, fl_b = "none", float("nan"), float("nan")
+    if on.any() and alive:
+        no_decay = float(spa.min())
+        crit = float("nan")
+        msg = (f"bifurcation: below {no_decay:.0f} km/h: no decay found (the cycle is "
+               f"sustained at every speed swept; lower v_min_kmh to search further)")
+        log.warning(msg)
+        warnings.warn(msg, RuntimeWarning, stacklevel=2)
+    elif not on.any():
+        no_cycle = float(spa.max())
+        log.warning("bifurcation: no sustained cycle up to %.0f km/h", no_cycle)
+    if np.isfinite(crit):
+        k = int(np.argmin(np.where(on, spa, np.inf)))
+        amp_b, fl_b = float(upa[k]), float(fla[k])
+        branch = "flange cycle" if fl_b > 0.01 * sy.wheel_load else "tread cycle"
+    fl = upa > flange_amplitude
+    order = np.argsort(spa)
+    return Bifurcation(speeds_kmh=spa[order], upper=upa[order], decay=np.array(decay)[order],
                        critical_kmh=crit, threshold=threshold,
-                       flange_kmh=float(sp[fl].min()) if fl.any() else float("nan"))
+                       flange_kmh=float(spa[fl].min()) if fl.any() else float("nan"),
+                       details={"flange_force": fla[order]},
+                       branch=branch, branch_amplitude=amp_b, branch_flange_force=fl_b,
+                       extended_kmh=np.sort(spa[spa < sp.min()]), no_decay_below_kmh=no_decay,
+                       no_cycle_up_to_kmh=no_cycle)
+
+
+#: The dry-friction yaw damper's states of the linear method.
+DAMPER_STATES = {
+    "stuck": ("stuck: friction torque T tanh(rate / w0) linearised at rest, a viscous slope "
+              "T / w0 (1.5e7 N m s/rad for the defaults), practically locked"),
+    "sliding": ("sliding: the friction torque saturated at +-T, no incremental stiffness or "
+                "damping (yaw_friction_torque set to 0 in the linearisation)"),
+}
 
 
 def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
                           conicity: float | None = None, amplitude_m: float = 0.003,
                           v_lo_kmh: float = 50.0, v_hi_kmh: float = 800.0,
-                          tol_kmh: float = 0.5) -> tuple[float, float]:
+                          tol_kmh: float = 0.5, damper: str = "stuck") -> tuple[float, float]:
     """Linear critical speed (km/h) and the hunting frequency there (Hz).
 
     Eigenvalues of the system linearised about centred running with the contact table
     replaced by its equivalent linearisation at the EN 15302 equivalent conicity for the
-    amplitude ``amplitude_m`` (Kalker's linear creep; the yaw friction enters with its
-    tangent at rest, i.e. practically locked). Bisection on the largest real part of the
-    oscillatory eigenvalues below 20 Hz.
+    amplitude ``amplitude_m`` (Kalker's linear creep). The dry-friction yaw damper enters in
+    the state ``damper`` (:data:`DAMPER_STATES`): 'stuck' (default; its tangent at rest, a
+    steep viscous slope) or 'sliding' (its torque saturated: no incremental contribution).
+    Bisection on the largest real part of the oscillatory eigenvalues below 20 Hz.
     """
+    if damper not in DAMPER_STATES:
+        raise InputError(f"damper must be one of {sorted(DAMPER_STATES)}, got {damper!r}")
+    coach = coach or Coach()
+    if damper == "sliding":
+        coach = coach.with_(yaw_friction_torque=0.0)
     lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
     sy = coach_system(model, coach, linear_conicity=lam)
 
@@ -313,16 +409,70 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
     return 0.5 * (lo + hi), growth(hi)[1]
 
 
-def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str = "nonlinear",
-                   *, coach: Coach | None = None, **kw: Any) -> float:
-    """Critical speed, km/h.
+@dataclass(frozen=True)
+class CriticalSpeed:
+    """A critical speed and what defines it.
 
-    method 'linear': :func:`linear_critical_speed` (eigenvalues; contact model irrelevant).
-    method 'nonlinear': :func:`bifurcation` (lowest speed with a sustained limit cycle).
+    Attributes
+    ----------
+    kmh : float
+        The critical speed, km/h; NaN when the nonlinear sweep found none (see ``message``).
+    method : str
+        'linear' or 'nonlinear'.
+    branch : str
+        nonlinear: 'tread cycle', 'flange cycle' or 'none' (:class:`Bifurcation`); linear:
+        'linear (equivalent conicity)'.
+    damper_state : str
+        The dry-friction yaw damper's state: linear, :data:`DAMPER_STATES`; nonlinear, 'as
+        simulated (stick-slip, regularised)'.
+    frequency_hz : float
+        linear: the hunting frequency at the critical speed; nonlinear: NaN.
+    no_decay_below_kmh : float
+        nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
+        otherwise).
+    bifurcation : Bifurcation or None
+    """
+
+    kmh: float
+    method: str
+    branch: str
+    damper_state: str
+    frequency_hz: float = float("nan")
+    no_decay_below_kmh: float = float("nan")
+    bifurcation: Bifurcation | None = None
+
+    def __float__(self) -> float:
+        return float(self.kmh)
+
+    @property
+    def message(self) -> str:
+        """One line: the value, its method, branch and damper state, or why there is none."""
+        if self.method == "nonlinear" and self.bifurcation is not None:
+            return self.bifurcation.message
+        return (f"linear critical speed {self.kmh:.1f} km/h, {self.frequency_hz:.2f} Hz; yaw "
+                f"damper {self.damper_state}")
+
+
+def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str = "nonlinear",
+                   *, coach: Coach | None = None, **kw: Any) -> CriticalSpeed:
+    """Critical speed (:class:`CriticalSpeed`; ``.kmh`` or ``float()`` for the value in km/h).
+
+    method 'linear': :func:`linear_critical_speed` (eigenvalues; contact model irrelevant;
+    ``damper='stuck'`` or ``'sliding'`` for the dry-friction yaw damper, reported in
+    ``damper_state``). method 'nonlinear': :func:`bifurcation` (lowest speed with a
+    sustained limit cycle; the sweep is extended downward until the cycle dies, otherwise
+    ``kmh`` is NaN and ``no_decay_below_kmh`` says down to where it was searched; ``branch``
+    names the tread or flange cycle that defines it).
     """
     _check_model(model, contact)
     if method == "linear":
-        return linear_critical_speed(model, coach, **kw)[0]
+        damper = kw.get("damper", "stuck")
+        v, f = linear_critical_speed(model, coach, **kw)
+        return CriticalSpeed(kmh=v, method="linear", branch="linear (equivalent conicity)",
+                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f)
     if method == "nonlinear":
-        return bifurcation(model=model, contact=contact, coach=coach, **kw).critical_kmh
+        b = bifurcation(model=model, contact=contact, coach=coach, **kw)
+        return CriticalSpeed(kmh=b.critical_kmh, method="nonlinear", branch=b.branch,
+                             damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
+                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b)
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

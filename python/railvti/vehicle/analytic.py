@@ -57,3 +57,24 @@ def klingel_wavelength(r0: float, l: float, conicity: float) -> float:
     """Klingel's kinematic wavelength 2 pi sqrt(r0 l / lambda), m."""
     return 2 * math.pi * math.sqrt(_checks.positive("r0", r0) * _checks.positive("l", l)
                                    / _checks.positive("conicity", conicity))
+
+
+def nadal_limit(flange_angle: float, friction: float) -> float:
+    """Nadal's limit of the flange-climb ratio Y/Q (Nadal 1908; e.g. Iwnicki (ed.), Handbook
+    of Railway Vehicle Dynamics, ch. 8): Y/Q = (tan(gamma) - mu) / (1 + mu tan(gamma)).
+
+    Parameters
+    ----------
+    flange_angle : float
+        Flange contact angle gamma, rad (in (0, pi/2)).
+    friction : float
+        Friction coefficient mu (>= 0).
+    """
+    g = float(flange_angle)
+    mu = float(friction)
+    if not (0.0 < g < 0.5 * math.pi) or not (mu >= 0.0):
+        from ..errors import InputError
+        raise InputError(f"flange_angle must lie in (0, pi/2) rad and friction be >= 0, got "
+                         f"{flange_angle}, {friction}")
+    t = math.tan(g)
+    return (t - mu) / (1.0 + mu * t)

@@ -56,6 +56,17 @@ def _history(res, data: dict, scalars: dict) -> None:
         data[f"wheel_{name}"] = (res.wheel[:, i], unit)
     for k, v in res.stats.items():
         scalars[f"stat_{k}"] = (v, "")
+    ws = res.wheels()
+    data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(res.wheel.shape[-1])], 1), "m")
+    data["wheel_amplitude"] = (ws.amplitude, "m")
+    data["wheel_Q_max"] = (ws.Q_max, "N")
+    data["wheel_Y_max"] = (ws.Y_max, "N")
+    data["wheel_YQ_max"] = (ws.YQ_max, "1")
+    scalars["nadal_limit"] = (ws.nadal, "1")
+    scalars["flange_angle"] = (ws.flange_angle, "rad")
+    scalars["friction"] = (ws.friction, "1")
+    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "")
+    return ws.line()
 
 
 def _patch(pt, data: dict, scalars: dict) -> None:
@@ -84,7 +95,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
                                h=params["h"], coach=coach)
-        _history(c.run, data, scalars)
+        wl = _history(c.run, data, scalars)
         data["Q_final"] = (c.Q, "N")
         data["Y_final"] = (c.Y, "N")
         scalars["static_wheel_load"] = (c.static_wheel_load, "N")
@@ -93,12 +104,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
             _patch(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
         summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
-                   f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N")
+                   f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N; {wl}")
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
                        output_dt=params["output_dt"], coach=coach)
-        _history(r, data, scalars)
+        wl = _history(r, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
@@ -113,7 +124,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["amplitude_last_second"] = (amp, "m")
         scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
         summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
-                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}")
+                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}; "
+                   f"{wl}")
     else:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
@@ -123,18 +135,23 @@ def run(params: dict[str, Any]) -> CaseOutput:
         data["speeds_kmh"] = (b.speeds_kmh, "km/h")
         data["upper_amplitude"] = (b.upper, "m")
         data["decay_amplitude"] = (b.decay, "m")
+        data["upper_flange_force"] = (b.details["flange_force"], "N")
         scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
+        scalars["critical_branch"] = (b.branch, "")
+        scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
+        scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
-        summary = (f"critical speed ({contact}): nonlinear {b.critical_kmh:.0f} km/h "
-                   f"(flange-contact cycle from {b.flange_kmh:.0f} km/h), linear {lin:.0f} km/h")
+        scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
+        summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
+                   f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
     return CaseOutput(summary=summary, datasets=data, scalars=scalars)
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
-    from .plots import plot_bifurcation, plot_history, plot_patch
+    from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 
     res = group["results"] if "results" in group else group
     outdir = Path(outdir)
@@ -145,6 +162,11 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                                  outdir / f"{stem}_bifurcation.png")]
     paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
                          np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+    if "ws_y" in res:
+        paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
+                                 np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
+                                 float(res.attrs.get("nadal_limit", np.nan)),
+                                 outdir / f"{stem}_wheels.png"))
     if "patch_pressure" in res:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),

@@ -105,12 +105,13 @@ class VehicleModel:
                                      NWO)
 
     def run(self, cs: CallSettings, h: float, nsteps: int, nevery: int, alpha: float,
-            tol: float, maxit: int, maxsub: int, qmax: float, t: np.ndarray, q: np.ndarray,
-            v: np.ndarray, a: np.ndarray, nout: int) -> tuple:
+            tol: float, maxit: int, maxsub: int, qmax: float, rtol: float, t: np.ndarray,
+            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int) -> tuple:
         """nsteps HHT steps from (t, q, v, a), all updated in place: (tout, qout, vout, wout,
-        stats, status, tfail); see vehicle_newmark%newmark_run."""
+        stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; see
+        vehicle_newmark%newmark_run."""
         return core.vehicle_run_c(self._handle(), self.n_wheelsets, *cs.args(), h, nsteps,
-                                  nevery, alpha, tol, maxit, maxsub, qmax, t, q, v, a, nout, NWO)
+                                  nevery, alpha, tol, maxit, maxsub, qmax, rtol, t, q, v, a, nout, NWO)
 
     def _handle(self) -> int:
         # a closed model passes 0, which the core rejects as a bad handle

@@ -1,15 +1,27 @@
 """Vehicle parameters: the passenger coach and its defaults, each with its source.
 
 Defaults follow the Manchester Benchmark passenger vehicle (vehicle 1 of S. Iwnicki, "The
-Manchester Benchmarks for rail vehicle simulation", Veh. Syst. Dyn. 30 (1998) 295-313),
-quoted here as "Iwnicki 1998". The values were taken from that benchmark's vehicle table as
-commonly reproduced (e.g. Iwnicki (ed.), Handbook of Railway Vehicle Dynamics, 2006). They were
-not re-checked against the original paper in this work; every value marked "Iwnicki 1998"
-agrees with two independent public reproductions of the benchmark's vehicle table (masses,
-inertias, primary and secondary stiffnesses and vertical dampers, spacings, wheelbase, bogie
-centres, wheel radius). Parameters the benchmark does not give
-(the paper's coach has a friction bolster after Diepen 1991, not public) are marked
-"assumption" and chosen plausibly.
+Manchester Benchmarks for Rail Vehicle Simulation", Veh. Syst. Dyn. 30 (1998) 295-313, and its
+supplement 31), quoted as "Iwnicki 1998", from the benchmark's vehicle 1 parameter table (the
+table number was not checked: the original paper was not at hand). Each entry of
+:data:`DEFAULTS` names its source:
+
+* "Iwnicki 1998 [confirmed]": also in an independent public reproduction of the table
+  (TTB-2D, DanielCanteroNTNU/TTB-2D, TrainProp_Manchester_BenchMark.m, which cites the paper):
+  carbody mass and pitch inertia, bogie centres, bogie mass and pitch inertia, wheelbase,
+  wheelset mass, primary vertical damper, secondary vertical stiffness and damper. That
+  reproduction gives the primary vertical stiffness as 1.2 MN/m (rounded?) where railvti has
+  1.22 MN/m: kept, not confirmed.
+* "Iwnicki 1998 [issue 13]": the values issue 13 quotes from the paper (primary dampers per
+  axlebox 15 / 2 / 4 kN s/m longitudinal / lateral / vertical, bump-stop clearance 25 mm),
+  corrected here from 0 / 0 / 4 kN s/m and 30 mm. The same source gives a secondary bending
+  stiffness of 10.5 kN m/rad and an anti-roll stiffness of 940 kN m/rad: the coach model
+  (railvti.vehicle.assembly) has no such elements yet, so they are not parameters here.
+* "Iwnicki 1998": from the earlier transcription of the table, not re-confirmed in this work
+  (roll and yaw inertias, primary and secondary horizontal stiffnesses, secondary lateral
+  damper, spacings, wheel radius).
+* "assumption": parameters the benchmark does not give (the paper's coach has a friction
+  bolster after Diepen 1991, not public), chosen plausibly.
 """
 from __future__ import annotations
 
@@ -21,33 +33,35 @@ from typing import Any
 from .. import _checks
 from ..errors import InputError
 
-_IW = "Iwnicki 1998 (Manchester Benchmark vehicle 1)"
+_IW = "Iwnicki 1998 (Manchester Benchmark vehicle 1, vehicle parameter table)"
+_IWC = _IW + " [confirmed: also TTB-2D TrainProp_Manchester_BenchMark.m]"
+_IWI = _IW + " [issue 13; not re-checked against the paper]"
 _ASSUME = "assumption"
 _TRACK = "railvti.track.TrackElement.from_ring(RingTrack(64)) with railvti.track.DEFAULTS"
 
 #: name -> (default, unit, source). Forces, stiffnesses and dampers are per element as stated.
 DEFAULTS: dict[str, tuple[float, str, str]] = {
     # carbody
-    "carbody_mass": (32000.0, "kg", _IW),
+    "carbody_mass": (32000.0, "kg", _IWC),
     "carbody_roll_inertia": (56800.0, "kg m^2", _IW),
-    "carbody_pitch_inertia": (1970000.0, "kg m^2", _IW),
+    "carbody_pitch_inertia": (1970000.0, "kg m^2", _IWC),
     "carbody_yaw_inertia": (1970000.0, "kg m^2", _IW),
     "carbody_cg_height": (1.8, "m", _ASSUME + " (above the rail top)"),
-    "half_bogie_distance": (9.5, "m", _IW + ": bogie centres 19 m"),
+    "half_bogie_distance": (9.5, "m", _IWC + ": bogie centres 19 m"),
     # bolster (yaw relative to the carbody through dry friction)
     "bolster_yaw_inertia": (400.0, "kg m^2", _ASSUME + " (about 600 kg over 2.6 m)"),
     "bolster_yaw_stiffness": (1.0e7, "N m/rad", _ASSUME + " (bolster anchor links to the bogie frame)"),
     "yaw_friction_torque": (15000.0, "N m", _ASSUME + " (friction bolster; Diepen 1991 not public)"),
     "yaw_friction_velocity": (1.0e-3, "rad/s", "regularisation: torque = T tanh(rate / this)"),
     # bogie frame
-    "bogie_mass": (2615.0, "kg", _IW),
+    "bogie_mass": (2615.0, "kg", _IWC),
     "bogie_roll_inertia": (1722.0, "kg m^2", _IW),
-    "bogie_pitch_inertia": (1476.0, "kg m^2", _IW),
+    "bogie_pitch_inertia": (1476.0, "kg m^2", _IWC),
     "bogie_yaw_inertia": (3067.0, "kg m^2", _IW),
     "bogie_cg_height": (0.6, "m", _ASSUME),
-    "half_wheelbase": (1.28, "m", _IW + ": wheelbase 2.56 m"),
+    "half_wheelbase": (1.28, "m", _IWC + ": wheelbase 2.56 m"),
     # wheelset
-    "wheelset_mass": (1813.0, "kg", _IW),
+    "wheelset_mass": (1813.0, "kg", _IWC),
     "wheelset_roll_inertia": (1120.0, "kg m^2", _IW),
     "wheelset_yaw_inertia": (1120.0, "kg m^2", _IW),
     "wheelset_pitch_inertia": (112.0, "kg m^2", _IW + " (Iwy, about the axle: the spin DOF)"),
@@ -55,22 +69,22 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     # primary suspension, per axlebox
     "primary_kx": (31.391e6, "N/m", _IW),
     "primary_ky": (3.884e6, "N/m", _IW),
-    "primary_kz": (1.22e6, "N/m", _IW),
-    "primary_cx": (0.0, "N s/m", _IW + " (none)"),
-    "primary_cy": (0.0, "N s/m", _IW + " (none)"),
-    "primary_cz": (4.0e3, "N s/m", _IW),
+    "primary_kz": (1.22e6, "N/m", _IW + " (TTB-2D's reproduction: 1.2e6)"),
+    "primary_cx": (15.0e3, "N s/m", _IWI + " (was 0)"),
+    "primary_cy": (2.0e3, "N s/m", _IWI + " (was 0)"),
+    "primary_cz": (4.0e3, "N s/m", _IWC),
     "primary_half_spacing": (1.0, "m", _IW),
     # secondary suspension, per side of a bogie
     "secondary_kx": (160.0e3, "N/m", _IW),
     "secondary_ky": (160.0e3, "N/m", _IW),
-    "secondary_kz": (430.0e3, "N/m", _IW),
-    "secondary_cz": (20.0e3, "N s/m", _IW),
+    "secondary_kz": (430.0e3, "N/m", _IWC),
+    "secondary_cz": (20.0e3, "N s/m", _IWC),
     "secondary_cy": (32.0e3, "N s/m", _IW + " (lateral damper, per bogie)"),
     "secondary_half_spacing": (1.0, "m", _IW),
     "secondary_height": (0.9, "m", _ASSUME + " (above the rail top)"),
     # lateral bump stops between bogie frame and bolster
-    "bumpstop_clearance": (0.03, "m", _ASSUME),
-    "bumpstop_stiffness": (2.0e6, "N/m", _ASSUME),
+    "bumpstop_clearance": (0.025, "m", _IWI + " (was 30 mm)"),
+    "bumpstop_stiffness": (2.0e6, "N/m", _ASSUME + " (the benchmark's stop characteristic not transcribed)"),
     # rigid track element under each wheelset (y, z, roll)
     "track_mass_y": (44.54, "kg", _TRACK),
     "track_mass_z": (666.5, "kg", _TRACK),

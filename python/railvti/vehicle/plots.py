@@ -49,6 +49,41 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     return [p1, p2]
 
 
+def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, nadal: float,
+                path: Path, title: str = "") -> Path:
+    """All eight wheels: per wheelset (columns) the lateral displacement, Q of both wheels and
+    the flange-climb ratio Y/Q (-Y/Q left, Y/Q right: the rail pushing the wheel towards the
+    track centre) with Nadal's limit. q_dof: (nt, nw) wheelset lateral displacements, m;
+    Q, Y: (nt, 2, nw), N."""
+    plt = _plt()
+    nw = Q.shape[-1]
+    fig, ax = plt.subplots(3, nw, figsize=(3.0 * nw, 6.4), sharex=True, sharey="row", squeeze=False)
+    yout = Y * np.array([-1.0, 1.0])[None, :, None]
+    ok = Q > 0.01 * max(float(Q.max()), 1e-30)
+    yq = np.where(ok, yout / np.where(ok, Q, 1.0), 0.0)
+    for w in range(nw):
+        ax[0, w].plot(t, q_dof[:, w] * 1e3, lw=0.8)
+        ax[0, w].set_title(f"wheelset {w + 1}", fontsize=9)
+        for s, lab in ((0, "left"), (1, "right")):
+            ax[1, w].plot(t, Q[:, s, w] / 1e3, lw=0.7, label=lab)
+            ax[2, w].plot(t, yq[:, s, w], lw=0.7, label=lab)
+        ax[2, w].axhline(nadal, color="r", lw=0.8, ls="--", label=f"Nadal {nadal:.2f}")
+        ax[2, w].set_xlabel("time, s")
+        for a in ax[:, w]:
+            a.grid(alpha=0.3)
+    ax[0, 0].set_ylabel("y, mm")
+    ax[1, 0].set_ylabel("Q, kN")
+    ax[2, 0].set_ylabel("Y/Q (flange side +)")
+    ax[1, 0].legend(fontsize=7)
+    ax[2, 0].legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return Path(path)
+
+
 def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
                      linear_kmh: float, path: Path, equivalent: tuple | None = None) -> Path:
     """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);

@@ -10,18 +10,26 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .. import _checks
 from .._status import Status, check, error
 from ..errors import DivergenceError, InputError, RailvtiError
+from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
 from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings  # noqa: F401 (NWO re-exported)
 
 log = logging.getLogger(__name__)
+
+#: Default Newton residual tolerance of :func:`simulate`, relative to the static wheel load:
+#: max |r| (N, or N m per metre of lever arm) over all DOFs <= NEWTON_RTOL * wheel load
+#: (66 N for the default coach). Hunting runs at 300-420 km/h reach at most 2e-4 (Hertz +
+#: Kalker / FASTSIM, tol 1e-9) and 5e-4 (BEM, tol 1e-8): the bound catches a modified Newton
+#: that stalls with a small correction but a large error, without moving those runs.
+NEWTON_RTOL = 1e-3
 
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
@@ -71,12 +79,26 @@ class SimulationResult:
         Contact model.
     stats : dict
         Newton iterations, tangent evaluations, max local error estimate (m), steps, wall
-        time (s), real-time factor (wall / simulated); with contact='bem' also the BEM
+        time (s), real-time factor (wall / simulated); Newton's convergence:
+        ``newton_residual`` / ``newton_residual_max`` (max |r| over the DOFs after the last
+        iteration of the last accepted step / the largest over all accepted steps, relative to
+        ``load_scale``, the static wheel load in N; rotations' residuals in N m are divided by
+        the same N, i.e. per metre of lever arm), ``newton_correction`` /
+        ``newton_correction_max`` (the last correction max |dq|, m or rad, likewise), and the
+        tolerances ``newton_tol`` (correction) and ``newton_rtol`` (residual, relative); with contact='bem' also the BEM
         counters (:data:`railvti.vehicle.bem.COUNTERS`, prefixed ``bem_``) and
         ``bem_solves_per_step`` (normal + rolling solve pairs per time step, all wheels).
     bem_patches : dict or None
         contact='bem': the final BEM fields (:class:`railvti.vehicle.bem.BemPatch`) of the
         loaded candidate point of every wheel, keyed (wheelset, wheel), both 0-based.
+    friction : float
+        Wheel-rail friction coefficient of the run.
+    flange_angle : float
+        Flange angle of the wheel profile, rad (:func:`flange_angle`: the largest contact
+        angle of the table's flange point on the flange side), for Nadal's limit.
+
+    Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
+    worst wheel) and :attr:`nadal`.
     """
 
     t: np.ndarray
@@ -89,6 +111,28 @@ class SimulationResult:
     h: float
     stats: dict = field(default_factory=dict)
     bem_patches: dict | None = None
+    friction: float = float("nan")
+    flange_angle: float = float("nan")
+
+    @property
+    def nadal(self) -> float:
+        """Nadal's limit Y/Q for this run's flange angle and friction."""
+        return nadal_limit(self.flange_angle, self.friction)
+
+    @property
+    def y_over_q(self) -> np.ndarray:
+        """(nt, 2, nw) flange-climb ratio of every wheel: the lateral force of the rail on the
+        wheel towards the track centre (-Y on the left wheel, +Y on the right) over Q; 0
+        where Q < 1 % of the largest Q of the run (wheel lifted)."""
+        q = self.Q
+        yout = self.Y * np.array([-1.0, 1.0])[None, :, None]
+        ok = q > 0.01 * max(float(q.max()), 1e-30)
+        return np.where(ok, yout / np.where(ok, q, 1.0), 0.0)
+
+    def wheels(self, window: float = 1.0) -> "WheelSummary":
+        """Per wheelset and wheel over the last ``window`` seconds: lateral amplitude, max Q,
+        max |Y|, max Y/Q against Nadal's limit, and the worst wheel."""
+        return WheelSummary.of(self, window)
 
     def dof(self, name: str) -> np.ndarray:
         """Time history of one DOF by name (e.g. 'ws1_y')."""
@@ -121,6 +165,81 @@ class SimulationResult:
     def Y(self) -> np.ndarray:
         """Lateral wheel forces (nt, 2, nw), N (track y, + left)."""
         return self.wheel_output("Y")
+
+
+def flange_angle(table) -> float:
+    """The flange angle of a contact table's wheel profile, rad: the largest contact angle of
+    the flange-side candidate point (slot 1) over y >= 0 (70.0 deg for S1002 on UIC60 1:40,
+    reached at y = 7 mm; beyond it the contact climbs towards the flange tip)."""
+    d = table.at("delta", 1)
+    return float(np.max(d[table.y >= 0.0]))
+
+
+_SIDE = ("left", "right")
+
+
+@dataclass(frozen=True)
+class WheelSummary:
+    """All eight wheels of a run over its last window (arrays (2, nw): wheel 0 left / 1 right,
+    wheelset 0-based; amplitude (nw,)).
+
+    Attributes
+    ----------
+    amplitude : ndarray (nw,)
+        Half the peak-to-peak lateral displacement of each wheelset, m.
+    Q_max, Y_max : ndarray (2, nw)
+        Largest vertical force and largest |Y| (lateral, track y), N.
+    YQ_max : ndarray (2, nw)
+        Largest flange-climb ratio (:attr:`SimulationResult.y_over_q`).
+    nadal : float
+        Nadal's limit for ``flange_angle`` (rad) and ``friction``.
+    worst_yq, worst_q : tuple (wheel, wheelset)
+        The wheel with the largest Y/Q relative to Nadal's limit and the one with the
+        largest Q.
+    """
+
+    window: float
+    amplitude: np.ndarray
+    Q_max: np.ndarray
+    Y_max: np.ndarray
+    YQ_max: np.ndarray
+    nadal: float
+    flange_angle: float
+    friction: float
+    worst_yq: tuple
+    worst_q: tuple
+
+    @classmethod
+    def of(cls, res: "SimulationResult", window: float = 1.0) -> "WheelSummary":
+        """The summary of ``res`` over its last ``window`` seconds."""
+        k = res.t >= res.t[-1] - _checks.positive("window", window)
+        nw = res.wheel.shape[-1]
+        amp = np.array([0.5 * float(np.ptp(res.dof(f"ws{w + 1}_y")[k])) for w in range(nw)])
+        q = res.Q[k].max(axis=0)
+        y = np.abs(res.Y[k]).max(axis=0)
+        yq = res.y_over_q[k].max(axis=0)
+        wy = np.unravel_index(int(np.argmax(yq)), yq.shape)
+        wq = np.unravel_index(int(np.argmax(q)), q.shape)
+        return cls(window=float(window), amplitude=amp, Q_max=q, Y_max=y, YQ_max=yq,
+                   nadal=res.nadal, flange_angle=res.flange_angle, friction=res.friction,
+                   worst_yq=(int(wy[0]), int(wy[1])), worst_q=(int(wq[0]), int(wq[1])))
+
+    @property
+    def exceeds_nadal(self) -> bool:
+        """Any wheel above Nadal's limit."""
+        return bool(np.any(self.YQ_max > self.nadal))
+
+    def line(self) -> str:
+        """One line naming the worst wheel (largest Y/Q against Nadal, largest Q)."""
+        s, w = self.worst_yq
+        sq, wq = self.worst_q
+        yq = self.YQ_max[s, w]
+        flag = "ABOVE" if yq > self.nadal else "below"
+        return (f"worst wheel: wheelset {w + 1} {_SIDE[s]} Y/Q {yq:.2f} ({flag} Nadal "
+                f"{self.nadal:.2f}: {math.degrees(self.flange_angle):.1f} deg, mu "
+                f"{self.friction:g}); largest Q {self.Q_max[sq, wq] / 1e3:.0f} kN at wheelset "
+                f"{wq + 1} {_SIDE[sq]}; amplitudes "
+                + "/".join(f"{a * 1e3:.1f}" for a in self.amplitude) + " mm")
 
 
 def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalker", *,
@@ -198,6 +317,8 @@ class _Plan:
     maxit: int
     maxsub: int
     qmax: float
+    rtol: float
+    load_scale: float
     per_chunk: int
     progress: bool
 
@@ -207,7 +328,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
              q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float | None = None,
              maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None,
-             bem_options: BemOptions | None = None, bem: BemState | None = None) -> SimulationResult:
+             bem_options: BemOptions | None = None, bem: BemState | None = None,
+             rtol: float | None = None) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
     Parameters
@@ -234,6 +356,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
         wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %).
+    rtol : float, optional
+        Newton tolerance on the residual, relative to the load scale: a step has converged
+        when its last correction is a full step below ``tol`` AND the residual there,
+        max |M a - (1 + alpha) F + alpha F_n| over all DOFs (N, or N m for rotations, i.e.
+        N per metre of lever arm), is below ``rtol`` times the static wheel load
+        (``system.wheel_load``). Default :data:`NEWTON_RTOL`.
     maxit : int
         Newton iterations per step.
     maxsub : int
@@ -265,9 +393,11 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         with bem_state(system, bem_options) as st:
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
-                            qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st)
+                            qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st,
+                            rtol=rtol)
     speed = _checks.positive("speed", speed)
-    plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk)
+    plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
+                 rtol, system.wheel_load)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -284,11 +414,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
 
 def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: float,
           tol: float | None, maxit: int, maxsub: int, qmax: float, progress: bool | None,
-          chunk: float | None) -> _Plan:
+          chunk: float | None, rtol: float | None = None, load_scale: float = 1.0) -> _Plan:
     """Check the integration settings and derive the step counts and chunk size."""
     if tol is None:
         tol = 1e-8 if contact == "bem" else 1e-9
     tol = _checks.positive("tol", tol)
+    rtol = _checks.positive("rtol", NEWTON_RTOL if rtol is None else rtol)
     duration = _checks.positive("duration", duration)
     h = _checks.positive("h", h)
     alpha = _checks.finite("alpha", alpha)
@@ -302,7 +433,8 @@ def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: floa
     per_chunk = (nsteps if not progress
                  else max(nevery, int(round((chunk or 0.25) / h)) // nevery * nevery))
     return _Plan(h=h, nsteps=nsteps, nevery=nevery, alpha=alpha, tol=tol, maxit=maxit,
-                 maxsub=maxsub, qmax=qmax, per_chunk=per_chunk, progress=bool(progress))
+                 maxsub=maxsub, qmax=qmax, rtol=rtol, load_scale=float(load_scale),
+                 per_chunk=per_chunk, progress=bool(progress))
 
 
 def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState | None,
@@ -328,7 +460,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     check(info, "the initial state (q0, v0)")
     a = np.linalg.solve(system.m, f)
     t = np.zeros((), dtype=float)
-    out = _Output(plan.h)
+    out = _Output(plan.h, plan.load_scale)
     bar = _progress_bar(plan)
     wall0 = time.perf_counter()
     try:
@@ -338,7 +470,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             nout = max(1, ns // plan.nevery)
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
-                plan.qmax, t, q, v, a, nout)
+                plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout)
             out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
             if info != Status.OK:
                 raise _run_error(info, float(tfail), plan, system,
@@ -351,7 +483,8 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     finally:
         if bar is not None:
             bar.close()
-    return out.result(system, cs.speed, contact, out.named_stats())
+    return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
+                                                      newton_tol=plan.tol))
 
 
 def _progress_bar(plan: _Plan):
@@ -366,13 +499,14 @@ def _progress_bar(plan: _Plan):
 class _Output:
     """The outputs and statistics of the chunks of one run, gathered."""
 
-    def __init__(self, h: float) -> None:
+    def __init__(self, h: float, load_scale: float = 1.0) -> None:
         self.h = h
+        self.load_scale = load_scale
         self.t: list[np.ndarray] = []
         self.q: list[np.ndarray] = []
         self.v: list[np.ndarray] = []
         self.w: list[np.ndarray] = []
-        self.stats = np.zeros(6)
+        self.stats = np.zeros(10)
         self.stats[5] = h
 
     def add(self, tout, qout, vout, wout, st, k: int | None) -> None:
@@ -386,20 +520,28 @@ class _Output:
         self.stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
         self.stats[2] = max(self.stats[2], st[2])
         self.stats[5] = min(self.stats[5], st[5])
+        if st[3] > 0:      # the chunk accepted steps: its last residual/correction are the last
+            self.stats[[6, 8]] = st[[6, 8]]
+        self.stats[[7, 9]] = np.maximum(self.stats[[7, 9]], st[[7, 9]])
 
     def named_stats(self) -> dict:
         """The run statistics of SimulationResult.stats (without the wall time)."""
         s = self.stats
         return {"newton_iterations": int(s[0]), "tangents": int(s[1]),
                 "max_error_estimate": float(s[2]), "steps": int(s[3]),
-                "substepped_steps": int(s[4]), "smallest_step": float(s[5])}
+                "substepped_steps": int(s[4]), "smallest_step": float(s[5]),
+                "newton_residual": float(s[6] / self.load_scale),
+                "newton_residual_max": float(s[7] / self.load_scale),
+                "newton_correction": float(s[8]), "newton_correction_max": float(s[9]),
+                "load_scale": float(self.load_scale)}
 
     def result(self, system: System, speed: float, contact: str, stats: dict) -> SimulationResult:
         """The SimulationResult of what was gathered."""
         return SimulationResult(
             t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
             wheel=np.concatenate(self.w), dof_names=system.dof_names, speed=speed,
-            contact=contact, h=self.h, stats=stats)
+            contact=contact, h=self.h, stats=stats, friction=float(system.friction),
+            flange_angle=flange_angle(system.table))
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
@@ -441,9 +583,7 @@ def _with_bem_fields(res: SimulationResult, system: System, bem: BemState, cnt0:
             pt = bem.patch(w, side, int(np.argmax(n_pt)), res.speed)
             if pt is not None:
                 patches[(w, side)] = pt
-    return SimulationResult(t=res.t, q=res.q, v=res.v, wheel=res.wheel, dof_names=res.dof_names,
-                            speed=res.speed, contact=res.contact, h=res.h, stats=stats,
-                            bem_patches=patches)
+    return replace(res, stats=stats, bem_patches=patches)
 
 
 def lateral_disturbance(system: System, q: np.ndarray, y0: float,
