@@ -62,11 +62,11 @@ def test_error_estimate_matches_local_error_and_scales_as_h_cubed(hunting_states
     """Resolved steps (h omega_max = 0.16 and 0.08): the remainder of the estimate is the next
     Taylor term, O(h omega) = 0.16 relative at most, so the largest true local error over the
     8 states must match the largest estimate within 15 % (measured: 0.973 at h = 0.125 ms,
-    0.989 at 0.0625 ms), and each state's within 25 % at h = 0.0625 ms (measured 0.94-1.04; a
-    state whose a' passes near zero has a larger relative remainder). Halving h must divide the
-    estimate by 2^3 = 8 within 1 (measured 7.90: the O(h) correction, 1 - 0.99 / 0.973 of it),
-    and the true error by as much (measured 7.77). An estimate with beta in place of
-    beta - 1/6 (3x too large), or a missing h (scaling 4), fails."""
+    0.989 at 0.0625 ms: the gap halves with h, as an O(h) remainder does), and each state's
+    within 25 % at h = 0.0625 ms (measured 0.944-1.037; a state whose a' passes near zero has
+    a larger relative remainder). Halving h must divide the estimate by 2^3 = 8 within 1
+    (measured 7.90) and the true error by as much (measured 7.78). An estimate with beta in
+    place of beta - 1/6 (3x too large), or with h in place of h^2 (ratio 4 on halving), fails."""
     sy, states = hunting_states
     est1, err1 = _over_states(sy, states, H_RESOLVED)
     est2, err2 = _over_states(sy, states, H_RESOLVED / 2)
