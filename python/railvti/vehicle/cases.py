@@ -165,8 +165,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     if "ws_y" in res:
         paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
                                  np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
-                                 float(res.attrs.get("nadal_limit", np.nan)),
-                                 outdir / f"{stem}_wheels.png"))
+                                 _scalar(res, "nadal_limit"), outdir / f"{stem}_wheels.png",
+                                 _run_title(res)))
     if "patch_pressure" in res:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),
@@ -176,3 +176,28 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
 
 
 register(CaseType(name="vehicle", defaults=DEFAULTS, run=run, plot=plot))
+
+
+def _scalar(res: Any, key: str) -> float:
+    """A scalar result stored as a dataset or an attribute; NaN when absent."""
+    if key in res:
+        return float(np.asarray(res[key]))
+    return float(res.attrs.get(key, np.nan))
+
+
+def _text(res: Any, key: str) -> str:
+    if key not in res:
+        return ""
+    v = np.asarray(res[key]).item()
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def _run_title(res: Any) -> str:
+    """'hunting, 420 km/h, model RR, hertz-fastsim' from a result group."""
+    parts = [_text(res, "scenario")]
+    speed = _scalar(res, "speed_kmh")
+    if np.isfinite(speed):
+        parts.append(f"{speed:.0f} km/h")
+    model, contact = _text(res, "model"), _text(res, "contact")
+    parts += [f"model {model}" if model else "", contact]
+    return ", ".join(p for p in parts if p)
