@@ -3,15 +3,19 @@
 !>
 !> Table (left wheel; the right wheel is its mirror): uniform in the lateral displacement
 !> y_r of the wheelset relative to the track, two candidate points per wheel (slot 1 the
-!> tread side, slot 2 the flange side of a fixed split of the wheel profile), quantities
+!> tread side, slot 2 the flange side of a split of the wheel profile), quantities
 !>   1 g   vertical gap at nominal height and zero roll, m
 !>   2 l   lateral position of the point from the wheelset centre (left wheel), m
 !>   3 delta contact angle (rail normal from vertical, + towards the track centre), rad
 !>   4 r   rolling radius, m
 !>   5 a1, 6 b1  Hertz semi-axes (rolling, lateral) for a 1 N load, m N^(-1/3)
 !>   7 kH  Hertz law N = kH * d^1.5 with d the normal approach, N m^(-1.5)
-!>   8 c11, 9 c22, 10 c23  Kalker's linear creep coefficients at a1/b1.
-!> Quasi-elastic contact: the vertical interference of a point is -(g + z_rel + phi_rel l),
+!>   8 c11, 9 c22, 10 c23  Kalker's linear creep coefficients at a1/b1,
+!>   11 branch label of the slot's point (a local minimum of the gap followed continuously
+!>      in y; table_at never interpolates between two labels).
+!> Quasi-elastic contact: the vertical interference of a point is
+!> -(g + z_w - z_t + phi_w l - phi_t (l + y_rel)) (wheelset roll about its centre, track roll
+!> about the track centre, the arms of the generalised forces),
 !> its normal approach that times cos(delta). Creepages from the wheelset's velocities with
 !> the nominal rolling speed Omega0 = v0/r0 plus the spin perturbation rate betadot (no
 !> rotation angle: only the rate enters). Forces on the wheel in track axes.
@@ -31,7 +35,9 @@ module vehicle_contact
     integer, parameter :: CONTACT_HERTZ_KALKER = 1, CONTACT_FASTSIM = 2, CONTACT_BEM = 3
     integer, parameter :: CONTACT_BEM_TANGENT = 4
 
-    integer, parameter :: nq_table = 10
+    integer, parameter :: nq_table = 11
+    !> Table quantity holding the branch label of each slot's point (see table_at).
+    integer, parameter :: IBRANCH = 11
     !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
     !> track y), 3 Fx (longitudinal), 4 N tread, 5 N flange, 6 xi, 7 eta, 8 spin (1/m) of the
     !> point with the larger normal force, 9 Hertz potential energy (J), 10 its contact angle,
@@ -40,14 +46,25 @@ module vehicle_contact
 
 contains
 
-    !> Linear interpolation of the table at y; info STAT_OUTSIDE_TABLE when y is outside it.
-    pure subroutine table_at(ny, tab, y0, dy, y, vals, info)
+    !> The table at y, per slot: vals(:, k) = (1 - wa(k)) tab(:, k, ia(k)) + wa(k) tab(:, k, ib(k)).
+    !> Within one branch (quantity IBRANCH equal at both nodes of the interval) that is the
+    !> linear interpolation. Where the slot's point changes branch inside the interval (it
+    !> jumps to another local minimum of the gap), fields and points of the two branches are
+    !> never mixed: each side's branch is extrapolated linearly from its own two nodes (a
+    !> single node when its neighbour is another branch) and the one with the smaller gap is
+    !> taken, as the geometry does (the slot's point is the minimum of the two branches;
+    !> their gaps cross inside the interval, so the choice and the gap are continuous).
+    !> info STAT_OUTSIDE_TABLE when y is outside the table.
+    pure subroutine table_at(ny, tab, y0, dy, y, vals, ia, ib, wa, info)
         integer, intent(in) :: ny
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, y
-        real(dp), intent(out) :: vals(nq_table, 2)
-        integer, intent(out) :: info
-        real(dp) :: s, w
-        integer :: i
+        real(dp), intent(out) :: vals(nq_table, 2), wa(2)
+        integer, intent(out) :: ia(2), ib(2), info
+        real(dp) :: s, w, g1, g2, w1, w2
+        integer :: i, k, a1, b1, a2, b2
+        ia = 1
+        ib = 1
+        wa = 0.0_dp
         s = (y - y0) / dy
         if (.not. (s >= 0.0_dp .and. s <= real(ny - 1, dp))) then
             info = STAT_OUTSIDE_TABLE
@@ -57,7 +74,54 @@ contains
         info = STAT_OK
         i = min(int(s), ny - 2) + 1
         w = s - real(i - 1, dp)
-        vals = (1.0_dp - w) * tab(:, :, i) + w * tab(:, :, i + 1)
+        do k = 1, 2
+            if (tab(IBRANCH, k, i) == tab(IBRANCH, k, i + 1)) then
+                ia(k) = i
+                ib(k) = i + 1
+                wa(k) = w
+            else
+                call side(i, -1, 1.0_dp + w, a1, b1, w1)
+                call side(i + 1, 1, w - 1.0_dp, a2, b2, w2)
+                g1 = (1.0_dp - w1) * tab(1, k, a1) + w1 * tab(1, k, b1)
+                g2 = (1.0_dp - w2) * tab(1, k, a2) + w2 * tab(1, k, b2)
+                if (g1 <= g2) then
+                    ia(k) = a1
+                    ib(k) = b1
+                    wa(k) = w1
+                else
+                    ia(k) = a2
+                    ib(k) = b2
+                    wa(k) = w2
+                end if
+            end if
+            vals(:, k) = (1.0_dp - wa(k)) * tab(:, k, ia(k)) + wa(k) * tab(:, k, ib(k))
+        end do
+    contains
+        !> Node j's branch at weight we between (na, nb): extrapolated from j and its
+        !> neighbour j + dir when that lies on the same branch, else node j alone.
+        pure subroutine side(j, dir, we, na, nb, wo)
+            integer, intent(in) :: j, dir
+            real(dp), intent(in) :: we
+            integer, intent(out) :: na, nb
+            real(dp), intent(out) :: wo
+            integer :: jn
+            jn = j + dir
+            na = j
+            nb = j
+            wo = 0.0_dp
+            if (jn < 1 .or. jn > ny) return
+            if (tab(IBRANCH, k, jn) /= tab(IBRANCH, k, j)) return
+            ! value = v_j + e (v_j - v_jn), e the distance from j away from jn in steps
+            if (dir < 0) then
+                na = jn
+                nb = j
+                wo = we
+            else
+                na = j
+                nb = jn
+                wo = we
+            end if
+        end subroutine side
     end subroutine table_at
 
     !> Kalker's linear creep forces with the Shen-Hedrick-Elkins (1983) saturation of the
@@ -110,7 +174,8 @@ contains
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2)
-        integer :: w, k, stat
+        real(dp) :: wa(2)
+        integer :: w, k, stat, ia(2), ib(2)
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
@@ -124,7 +189,7 @@ contains
         phr = qw(3) - qt(3)
         do w = 1, 2
             sg = merge(1.0_dp, -1.0_dp, w == 1)
-            call table_at(ny, tab, y0, dy, sg * yr, vals, info)
+            call table_at(ny, tab, y0, dy, sg * yr, vals, ia, ib, wa, info)
             if (info /= STAT_OK) return
             nbest = -1.0_dp
             do k = 1, 2
@@ -134,11 +199,14 @@ contains
                 r = vals(4, k)
                 cd = cos(dlt)
                 sd = sin(dlt)
-                dv = -(gp + zr + phr * l)
+                ! the wheel point moves with the wheelset's roll about its centre (arm l), the
+                ! rail point with the track element's roll about the track centre (arm l + yr,
+                ! the same arm as the generalised force ft(3) below: energy-consistent)
+                dv = -(gp + zr + qw(3) * l - qt(3) * (l + yr))
                 dn = dv * cd
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, sg * yr, dn, 0.0_dp, &
+                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, 0.0_dp, &
                                                              0.0_dp, 0.0_dp, mu, v0, fn, fx, fy, stat)
                     cycle
                 end if
@@ -147,7 +215,7 @@ contains
                 b = vals(6, k) * fn**(1.0_dp / 3.0_dp)
                 ! relative velocity of the wheel's material point over the rail's
                 dvy = (vw(1) + r * vw(3)) - vt(1)
-                dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * l)
+                dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * (l + yr))
                 ! longitudinal creepage: the material velocity of the wheel at the contact
                 ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
                 ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
@@ -157,7 +225,7 @@ contains
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
                 if (model == CONTACT_BEM) then
                     fnh = fn
-                    call bem_patch(bem, iws, w, k, sg * yr, dn, xi, eta, spin, mu, v0, fn, fx, fy, info)
+                    call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, xi, eta, spin, mu, v0, fn, fx, fy, info)
                     if (info /= STAT_OK) return
                     if (fn <= 0.0_dp) cycle
                     ! calibration of the tangent's cheap model (4) against this solve
