@@ -41,8 +41,10 @@ module vehicle_contact
     !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
     !> track y), 3 Fx (longitudinal), 4 N tread, 5 N flange, 6 xi, 7 eta, 8 spin (1/m) of the
     !> point with the larger normal force, 9 Hertz potential energy (J), 10 its contact angle,
-    !> 11 a, 12 b semi-axes of that point (m).
-    integer, parameter :: nwo = 12
+    !> 11 a, 12 b semi-axes of that point (m), 13 its centre of pressure along t_y from the
+    !> point (m, BEM; 0 for the Hertz patch), 14 the moment of the wheel's contact stresses
+    !> about its points along t_x (N m, sum Fn yc), 15 the spin moment about the normals (N m).
+    integer, parameter :: nwo = 15
 
 contains
 
@@ -173,7 +175,7 @@ contains
         integer, intent(out) :: info
         real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
-        real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2)
+        real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
         real(dp) :: wa(2)
         integer :: w, k, stat, ia(2), ib(2)
         fw = 0.0_dp
@@ -206,11 +208,15 @@ contains
                 dn = dv * cd
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, 0.0_dp, &
-                                                             0.0_dp, 0.0_dp, mu, v0, fn, fx, fy, stat)
+                    if (model == CONTACT_BEM) call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, &
+                                                             phr, 0.0_dp, 0.0_dp, 0.0_dp, mu, v0, &
+                                                             fn, fx, fy, mz, xc, yc, stat)
                     cycle
                 end if
                 fn = vals(7, k) * dn * sqrt(dn)
+                mz = 0.0_dp
+                xc = 0.0_dp
+                yc = 0.0_dp
                 a = vals(5, k) * fn**(1.0_dp / 3.0_dp)
                 b = vals(6, k) * fn**(1.0_dp / 3.0_dp)
                 ! relative velocity of the wheel's material point over the rail's
@@ -225,7 +231,8 @@ contains
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
                 if (model == CONTACT_BEM) then
                     fnh = fn
-                    call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, xi, eta, spin, mu, v0, fn, fx, fy, info)
+                    call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, phr, xi, eta, spin, mu, v0, &
+                                   fn, fx, fy, mz, xc, yc, info)
                     if (info /= STAT_OK) return
                     if (fn <= 0.0_dp) cycle
                     ! calibration of the tangent's cheap model (4) against this solve
@@ -254,22 +261,32 @@ contains
                 ! n = (0, -sg sin, cos), t_y = (0, cos, sg sin)
                 fyt = fy * cd - sg * fn * sd
                 fzt = fy * sg * sd + fn * cd
+                ! moment about the point of the contact stresses (patch's centre of pressure
+                ! and spin moment; the Hertz patch is centred on the point): Fn yc t_x
+                ! - Fn xc t_y + mz n, in track axes
+                mtx = fn * yc
+                mty = -fn * xc
+                mx = mtx
+                my = mty * cd - mz * sg * sd
+                mzt = mty * sg * sd + mz * cd
                 fw(1) = fw(1) + fyt
                 fw(2) = fw(2) + fzt
-                fw(3) = fw(3) + l * fzt + r * fyt
-                fw(4) = fw(4) - l * fx
+                fw(3) = fw(3) + l * fzt + r * fyt + mx
+                fw(4) = fw(4) - l * fx + mzt
                 ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
                 ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
                 fw(5) = fw(5) + fx
-                fw(6) = fw(6) - r * fx
+                fw(6) = fw(6) - r * fx + my
                 ft(1) = ft(1) - fyt
                 ft(2) = ft(2) - fzt
-                ft(3) = ft(3) - (l + yr) * fzt
+                ft(3) = ft(3) - (l + yr) * fzt - mx
                 wout(1, w) = wout(1, w) + fzt
                 wout(2, w) = wout(2, w) + fyt
                 wout(3, w) = wout(3, w) + fx
                 wout(3 + k, w) = fn
                 wout(9, w) = wout(9, w) + 0.4_dp * vals(7, k) * dn * dn * sqrt(dn)
+                wout(14, w) = wout(14, w) + mtx
+                wout(15, w) = wout(15, w) + mz
                 if (fn > nbest) then
                     nbest = fn
                     wout(6, w) = xi
@@ -278,6 +295,7 @@ contains
                     wout(10, w) = dlt
                     wout(11, w) = a
                     wout(12, w) = b
+                    wout(13, w) = yc
                 end if
             end do
         end do
