@@ -10,7 +10,9 @@
 !> railvti.vehicle.bem). The grid (nx x ny, dx x dy) is centred on the point: x along the
 !> rolling direction, y along the contact frame's t_y. The wheel's vertical interference at the
 !> point enters as a uniform approach d (the same d as the Hertz path), so the field is
-!> interpolated linearly in y and solved with delta = d.
+!> interpolated linearly in y within the point's branch (never across a jump of the point to
+!> another local minimum: vehicle_contact%table_at picks the nodes and the weight) and solved
+!> with delta = d.
 !>
 !> State. One bem_model per simulation behind an integer handle (registry like
 !> contact_plans): the gap table, one contact workspace (FFT plans and influence spectra of
@@ -33,6 +35,8 @@ module vehicle_bem
     public :: MAX_BEM, BEM_NCOUNT
 
     integer, parameter :: MAX_BEM = 16
+    !> Gap-field entries at or above this mark elements off the point's part of the wheel, m.
+    real(dp), parameter :: FAR = 0.5_dp
     !> Counters (bem_counts): 1 normal solves, 2 CG iterations, 3 rolling solves,
     !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
     !> 7 worst accepted rolling residual.
@@ -184,24 +188,35 @@ contains
     end subroutine bem_fields
 
     !> Normal and tangential contact of one candidate point: wheelset iws, wheel iw (1 left,
-    !> 2 right), point k, at table position ytab (the left-wheel shift: +y for the left wheel,
-    !> -y for the right), normal approach dn (m), creepages xi, eta (-), spin (1/m), friction
-    !> mu, rolling speed (m/s). fn, fx, fy: forces on the wheel in the contact frame (N).
-    !> info: STAT_OK, STAT_OUTSIDE_TABLE (ytab outside the table), STAT_GRID_EDGE (the patch
+    !> 2 right), point k, gap field (1 - wa) gap(ia) + wa gap(ib) of the left wheel's table
+    !> nodes ia, ib (vehicle_contact%table_at: the same nodes and weight as the point's
+    !> scalars, one branch only, wa outside [0, 1] where a branch is extrapolated), normal
+    !> approach dn (m), relative roll phi of wheel against rail (rad: the field tilts by
+    !> phi t, the normal component of the rotation e_x x t t_y, so that the roll moment of the
+    !> pressure below derives from the same gap), creepages xi, eta (-), spin (1/m), friction
+    !> mu, rolling speed (m/s). fn, fx, fy: forces on the wheel in the contact frame (N); mz:
+    !> spin moment of the tractions about the normal through the point (N m); xc, yc: centre
+    !> of pressure in the contact frame relative to the point (m), so that the moment of the
+    !> contact stresses about the point is Fn yc t_x - Fn xc t_y + mz n.
+    !> info: STAT_OK, STAT_OUTSIDE_TABLE (a node outside the table), STAT_GRID_EDGE (the patch
     !> reaches its grid's edge), STAT_CONTACT_NOT_CONVERGED (a solver did not converge),
     !> STAT_BAD_HANDLE.
-    subroutine bem_patch(handle, iws, iw, k, ytab, dn, xi, eta, spin, mu, speed, fn, fx, fy, info)
-        integer, intent(in) :: handle, iws, iw, k
-        real(dp), intent(in) :: ytab, dn, xi, eta, spin, mu, speed
-        real(dp), intent(out) :: fn, fx, fy
+    subroutine bem_patch(handle, iws, iw, k, ia, ib, wa, dn, phi, xi, eta, spin, mu, speed, &
+                         fn, fx, fy, mz, xc, yc, info)
+        integer, intent(in) :: handle, iws, iw, k, ia, ib
+        real(dp), intent(in) :: wa, dn, phi, xi, eta, spin, mu, speed
+        real(dp), intent(out) :: fn, fx, fy, mz, xc, yc
         integer, intent(out) :: info
         type(bem_model), pointer :: m
         type(workspace), pointer :: w
-        real(dp) :: s, wt, appr, resid, da, x0, y0
-        integer :: i, it, nprod, stat, nx, ny
+        real(dp) :: appr, resid, da, x0, y0
+        integer :: it, nprod, stat, nx, ny, j
         fn = 0.0_dp
         fx = 0.0_dp
         fy = 0.0_dp
+        mz = 0.0_dp
+        xc = 0.0_dp
+        yc = 0.0_dp
         info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         m => models(handle)
@@ -209,18 +224,26 @@ contains
         if (.not. associated(w)) return
         nx = m%nx
         ny = m%ny
-        s = (ytab - m%ytab0) / m%dytab
-        if (.not. (s >= 0.0_dp .and. s <= real(m%ntab - 1, dp))) then
+        if (min(ia, ib) < 1 .or. max(ia, ib) > m%ntab) then
             info = STAT_OUTSIDE_TABLE
             return
         end if
         info = STAT_OK
-        i = min(int(s), m%ntab - 2) + 1
-        wt = s - real(i - 1, dp)
         if (iw == 1) then
-            m%h = (1.0_dp - wt) * m%gap(:, :, k, i) + wt * m%gap(:, :, k, i + 1)
+            m%h = (1.0_dp - wa) * m%gap(:, :, k, ia) + wa * m%gap(:, :, k, ib)
+            ! an element outside the point's part of the wheel at either node stays outside
+            ! (an extrapolation must not pull the 1 m marker into the patch)
+            where (max(m%gap(:, :, k, ia), m%gap(:, :, k, ib)) >= FAR) m%h = 1.0_dp
         else
-            m%h = (1.0_dp - wt) * m%gap(:, ny:1:-1, k, i) + wt * m%gap(:, ny:1:-1, k, i + 1)
+            m%h = (1.0_dp - wa) * m%gap(:, ny:1:-1, k, ia) + wa * m%gap(:, ny:1:-1, k, ib)
+            where (max(m%gap(:, ny:1:-1, k, ia), m%gap(:, ny:1:-1, k, ib)) >= FAR) m%h = 1.0_dp
+        end if
+        x0 = -0.5_dp * real(nx - 1, dp) * m%dx
+        y0 = -0.5_dp * real(ny - 1, dp) * m%dy
+        if (phi /= 0.0_dp) then
+            do j = 1, ny
+                where (m%h(:, j) < FAR) m%h(:, j) = m%h(:, j) + phi * (y0 + real(j - 1, dp) * m%dy)
+            end do
         end if
         associate (p => m%p(:, :, k, iw, iws), tx => m%tx(:, :, k, iw, iws), &
                    ty => m%ty(:, :, k, iw, iws), sx => m%sx(:, :, k, iw, iws), &
@@ -251,8 +274,7 @@ contains
                 return
             end if
             fn = da * sum(p)
-            x0 = -0.5_dp * real(nx - 1, dp) * m%dx
-            y0 = -0.5_dp * real(ny - 1, dp) * m%dy
+            call pressure_centre(nx, ny, m%dx, m%dy, p, fn, xc, yc)
             m%counts(3) = m%counts(3) + 1.0_dp
             call rolling_steady(w, p, x0, y0, xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, &
                                 m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
@@ -272,6 +294,7 @@ contains
             m%counts(7) = max(m%counts(7), resid)
             fx = da * sum(tx)
             fy = da * sum(ty)
+            mz = spin_moment(nx, ny, m%dx, m%dy, tx, ty)
         end associate
     contains
         subroutine open_patch()
@@ -283,6 +306,42 @@ contains
             m%counts(5) = m%counts(5) + 1.0_dp
         end subroutine open_patch
     end subroutine bem_patch
+
+    !> Centre of pressure (xc, yc) of p on the grid centred on the point (0 when fn = 0).
+    pure subroutine pressure_centre(nx, ny, dx, dy, p, fn, xc, yc)
+        integer, intent(in) :: nx, ny
+        real(dp), intent(in) :: dx, dy, p(nx, ny), fn
+        real(dp), intent(out) :: xc, yc
+        integer :: i, j
+        xc = 0.0_dp
+        yc = 0.0_dp
+        if (fn <= 0.0_dp) return
+        do j = 1, ny
+            do i = 1, nx
+                xc = xc + p(i, j) * (real(i, dp) - 0.5_dp * real(nx + 1, dp)) * dx
+                yc = yc + p(i, j) * (real(j, dp) - 0.5_dp * real(ny + 1, dp)) * dy
+            end do
+        end do
+        xc = xc * dx * dy / fn
+        yc = yc * dx * dy / fn
+    end subroutine pressure_centre
+
+    !> Moment about the normal through the grid centre of the tractions (tx, ty), N m.
+    pure function spin_moment(nx, ny, dx, dy, tx, ty) result(mz)
+        integer, intent(in) :: nx, ny
+        real(dp), intent(in) :: dx, dy, tx(nx, ny), ty(nx, ny)
+        real(dp) :: mz, x, y
+        integer :: i, j
+        mz = 0.0_dp
+        do j = 1, ny
+            y = (real(j, dp) - 0.5_dp * real(ny + 1, dp)) * dy
+            do i = 1, nx
+                x = (real(i, dp) - 0.5_dp * real(nx + 1, dp)) * dx
+                mz = mz + x * ty(i, j) - y * tx(i, j)
+            end do
+        end do
+        mz = mz * dx * dy
+    end function spin_moment
 
     !> Get (set = .false.) or store (set = .true.) the calibration ratios (normal, tangential)
     !> of one point; a bad handle or index leaves r = 1.

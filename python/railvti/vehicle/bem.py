@@ -18,9 +18,11 @@ s = s_k + t cos(delta) and the normal gap
 G the vertical wheel-rail gap at nominal height and R(s) the wheel's radius there (the
 wheel is a body of revolution, the rail prismatic). This is the normal gap to second order
 (the vertical gap's curvature is the profiles' curvature difference over cos^3 delta). Elements
-on the other side of the table's split (the other candidate point's part of the wheel) get a
-1 m gap, so the two points of one wheel never share elements. The right wheel reads the
-field at -y with the lateral index reversed (the grid is symmetric about t = 0).
+on the other candidate point's part of the wheel get a 1 m gap, so the two points of one
+wheel never share elements. The wheel is divided between the two points at the ridge of the
+gap between them (``WheelTable.s_own``), not at a fixed split: a point owns its whole basin,
+and the whole wheel when the other slot is empty. The right wheel reads the field at -y with
+the lateral index reversed (the grid is symmetric about t = 0).
 """
 from __future__ import annotations
 
@@ -205,7 +207,8 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
         zw = np.interp(s, lay.ws, lay.wz, left=np.nan, right=np.nan)
         zr = np.interp(yrail, lay.ry, lay.rz, left=np.nan, right=np.nan)
         gv = zr - lay.rail_top - zw
-        own = (s > table.split) if k == 0 else (s <= table.split)
+        cut = (table.s_own if table.s_own is not None else np.full(table.y.size, table.split))[:, None]
+        own = (s > cut) if k == 0 else (s <= cut)
         ok = own & np.isfinite(gv) & (g0 < 0.5)
         radius = r_nom + np.where(np.isfinite(zw), zw, 0.0)    # (n, ny)
         if lines:

@@ -26,7 +26,7 @@ if TYPE_CHECKING:   # pragma: no cover
 CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
 #: Outputs per wheel (second index of SimulationResult.wheel).
 WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
-                 "contact_angle", "a", "b")
+                 "contact_angle", "a", "b", "y_cp", "M_x", "M_spin")
 NWO = len(WHEEL_OUTPUTS)
 
 

@@ -599,9 +599,9 @@ def lateral_disturbance(system: System, q: np.ndarray, y0: float,
         if abs(yr + y0) > t.y[-1]:
             raise InputError(f"|y0| too large for the contact table (+-{t.y[-1] * 1e3:.0f} mm)")
         def gaps(y):
-            gl = np.interp(y, t.y, t.data[0, 0])
-            gr = np.interp(-y, t.y, t.data[0, 0])
-            l = 0.5 * (np.interp(y, t.y, t.data[1, 0]) + np.interp(-y, t.y, t.data[1, 0]))
+            gl = np.interp(y, t.y, t.gap_min)
+            gr = np.interp(-y, t.y, t.gap_min)
+            l = 0.5 * (np.interp(y, t.y, t.l_carrying) + np.interp(-y, t.y, t.l_carrying))
             return gl, gr, l
         gl0, gr0, l0 = gaps(yr)
         gl1, gr1, l1 = gaps(yr + y0)

@@ -17,7 +17,15 @@ so a flange point appears smoothly as its gap closes. The right wheel is the mir
  a1,b1  Hertz semi-axes (rolling x, lateral y) under 1 N, m N^(-1/3)
  kH     normal law N = kH d^1.5 (d the normal approach), N m^(-1.5)
  c11, c22, c23  Kalker's creep coefficients at a1/b1 and the material's Poisson ratio
+ branch label of the point's branch (a local minimum followed continuously in y; -1: the
+        slot has no local minimum there and is empty, gap 1 m)
 =====  =====================================================================
+
+Branches. A slot's point is the lowest local minimum of the gap on its side of the split.
+Where it jumps to another local minimum (S1002 / UIC60 1:40 between y = 0.20 and 0.25 mm,
+about 10 mm across the tread), the label changes and the Fortran look-up never
+interpolates across it (vehicle_contact.table_at). A minimum pinned on the split itself is
+no contact point: the slot is empty there.
 
 Hertz curvatures: A = cos(delta) / (2 r) (the wheel's normal curvature along the rolling
 direction), B = (k_rail - k_wheel) / 2 from the profile curvatures (Profile.curvature), with
@@ -42,7 +50,7 @@ from ..profiles import Profile
 log = logging.getLogger(__name__)
 
 #: Names of the table quantities, in the Fortran order (first index).
-QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23")
+QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23", "branch")
 _RATIO_CLIP = 25.0
 
 
@@ -54,7 +62,7 @@ class WheelTable:
     ----------
     y : ndarray (n,)
         Lateral shift of the wheelset relative to the track, m (uniform).
-    data : ndarray (10, 2, n)
+    data : ndarray (11, 2, n)
         Quantities :data:`QUANTITIES` for slot 0 (tread side) and 1 (flange side),
         Fortran-ordered, as the Fortran kernel reads it.
     r0 : float
@@ -68,7 +76,11 @@ class WheelTable:
         The profiles the table was built from (the BEM contact needs them; None for a
         linearised table).
     split : float
-        Wheel profile coordinate separating the two slots, m.
+        Wheel profile coordinate separating the two slots' points, m (each slot's point is
+        the lowest local minimum of the gap on its side).
+    s_own : ndarray (n,) or None
+        Wheel profile coordinate dividing the wheel between the two slots' BEM gap fields,
+        m: the ridge of the gap between the two points (+-inf where a slot is empty).
     """
 
     y: np.ndarray
@@ -80,6 +92,7 @@ class WheelTable:
     wheel: Profile | None = None
     rail: Profile | None = None
     split: float = -0.022
+    s_own: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         # read-only copies: the table is cached (wheel_table) and sent to the Fortran core
@@ -104,6 +117,16 @@ class WheelTable:
         if name not in QUANTITIES:
             raise InputError(f"unknown table quantity {name!r}; one of {QUANTITIES}")
         return self.data[QUANTITIES.index(name), slot]
+
+    @property
+    def gap_min(self) -> np.ndarray:
+        """The wheel's smallest gap over both slots at each node, (n,), m."""
+        return np.minimum(self.data[0, 0], self.data[0, 1])
+
+    @property
+    def l_carrying(self) -> np.ndarray:
+        """Lateral position of the slot with the smaller gap at each node, (n,), m."""
+        return np.where(self.data[0, 0] <= self.data[0, 1], self.data[1, 0], self.data[1, 1])
 
     def delta_r(self, y: np.ndarray) -> np.ndarray:
         """Rolling-radius difference left minus right of the tread points at y, m."""
@@ -154,23 +177,36 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     data = np.empty((len(QUANTITIES), 2, n))
     s_w = np.empty((2, n))
     rows = np.arange(n)
+    lmin = _local_minima(gap)
+    kglob = np.empty((2, n), dtype=np.int64)
+    real = np.empty((2, n), dtype=bool)
     for slot, mask in enumerate((ws > split, ws <= split)):
         idx = np.nonzero(mask)[0]
-        gg = gap[:, idx]
+        graw = gap[:, idx]
+        # the lowest local minimum of the wheel's gap on this side (a minimum pinned on the
+        # split with the gap falling across it is no contact point: no phantoms)
+        gg = np.where(lmin[:, idx], graw, np.inf)
         k = np.argmin(gg, axis=1)
         fin = np.isfinite(gg[rows, k])
         if not fin.any():
-            raise InputError("a wheel region never meets the rail: check the profiles and split")
-        if not fin.all():
-            # that side of the wheel is beyond the rail's end: take the nearest position's
-            # point geometry, with a 1 m gap (never in contact)
+            # no contact point on this side anywhere in the table (e.g. a table that does
+            # not reach flange contact): empty slot, the lowest sample's geometry
+            k = np.argmin(np.where(np.isfinite(graw), graw, np.inf), axis=1)
+        elif not fin.all():
+            # no contact point on this side here (beyond the rail's end, or no local
+            # minimum): the nearest position's point geometry, with a 1 m gap (empty slot)
             near = np.nonzero(fin)[0]
-            j = near[np.clip(np.searchsorted(near, rows), 0, near.size - 1)]
+            pos = np.searchsorted(near, rows)
+            j = near[np.clip(pos, 0, near.size - 1)]
+            jl = near[np.clip(pos - 1, 0, near.size - 1)]
+            j = np.where(np.abs(jl - rows) < np.abs(j - rows), jl, j)
             k = np.where(fin, k, k[j])
+        kglob[slot] = idx[k]
+        real[slot] = fin
         # parabolic refinement of the minimum
         km = np.clip(k - 1, 0, idx.size - 1)
         kp = np.clip(k + 1, 0, idx.size - 1)
-        g0, gm, gp = gg[rows, k], gg[rows, km], gg[rows, kp]
+        g0, gm, gp = graw[rows, k], graw[rows, km], graw[rows, kp]
         ok3 = np.isfinite(g0) & np.isfinite(gm) & np.isfinite(gp)
         g0, gm, gp = (np.where(ok3, v, 0.0) for v in (g0, gm, gp))
         den = gm - 2 * g0 + gp
@@ -184,6 +220,7 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
         ds = ws[1] - ws[0]
         s = ws[idx[k]] + t * ds
         s_w[slot] = s
+        data[10, slot] = _branches(gap, idx[k], fin)
         yrail = np.clip(y + off + s - lay.rail_offset, rail.y_min, rail.y_max)
         delta = -np.arctan(rail.slope(yrail))
         r = r0n + wheel.height(s)
@@ -195,10 +232,11 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
         data[3, slot] = r
         data[4:7, slot] = _hertz_unit(A, B, material)
         data[7:10, slot] = kalker_coefficients(data[4, slot] / data[5, slot], material.poisson)
+    s_own = _ownership(gap, ws, kglob, real)
     n_clip = int(getattr(_hertz_unit, "last_clipped", 0))
     r0 = float(np.interp(0.0, y, data[3, 0]))
     out = WheelTable(y=y, data=np.asfortranarray(data), r0=r0, s_wheel=s_w, material=material,
-                     n_clipped=n_clip, wheel=wheel, rail=rail, split=split)
+                     n_clipped=n_clip, wheel=wheel, rail=rail, split=split, s_own=s_own)
     if n_clip:
         log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
                  n_clip, _RATIO_CLIP, _RATIO_CLIP)
@@ -206,6 +244,62 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
         _CACHE.clear()
     _CACHE[key] = out
     return out
+
+
+def _local_minima(gap: np.ndarray) -> np.ndarray:
+    """(n, m) mask of the wheel samples that are local minima of the gap at each position
+    (the left neighbour higher, the right one not lower; finite)."""
+    g = gap
+    out = np.zeros(g.shape, dtype=bool)
+    out[:, 1:-1] = (g[:, 1:-1] < g[:, :-2]) & (g[:, 1:-1] <= g[:, 2:])
+    return out & np.isfinite(g)
+
+
+def _ownership(gap: np.ndarray, ws: np.ndarray, kglob: np.ndarray, real: np.ndarray) -> np.ndarray:
+    """Wheel coordinate (n,) that divides the wheel between the two slots' gap fields: the
+    highest gap between the two points (the ridge between their basins); -inf where the
+    flange slot is empty (the tread point owns the whole wheel), +inf where the tread slot
+    is."""
+    out = np.empty(kglob.shape[1])
+    for i in range(out.size):
+        if not real[1, i]:
+            out[i] = -np.inf
+        elif not real[0, i]:
+            out[i] = np.inf
+        else:
+            a, b = sorted((kglob[0, i], kglob[1, i]))
+            out[i] = ws[a + int(np.argmax(gap[i, a:b + 1]))]
+    return out
+
+
+def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
+    """Branch labels of one slot's point over the table: consecutive positions share a label
+    while the point is the same local minimum of the gap followed continuously, i.e. at
+    either position the gap falls monotonically from the other position's point to this
+    one's (one basin: the point slid, it did not jump to another minimum). Empty positions
+    (no local minimum) get -1."""
+    lab = np.empty(k.size)
+    cur = 0.0
+    tol = 1e-9                                               # m: samples' round-off
+    for i in range(k.size):
+        if not real[i]:
+            lab[i] = -1.0
+            continue
+        if i > 0 and real[i - 1]:
+            # at either position, the gap descends monotonically from the other position's
+            # point to this position's point (both lie in one basin, they are one minimum)
+            same = True
+            for row, frm, to in ((i - 1, k[i], k[i - 1]), (i, k[i - 1], k[i])):
+                step = 1 if to >= frm else -1
+                seg = gap[row, frm:to + step if to + step >= 0 else None:step]
+                if seg.size > 1 and (np.diff(seg) > tol).any():
+                    same = False
+            if not same:
+                cur += 1.0
+        elif i > 0:
+            cur += 1.0
+        lab[i] = cur
+    return lab
 
 
 def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material) -> np.ndarray:
