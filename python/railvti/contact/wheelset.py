@@ -60,10 +60,12 @@ from .wheelset_pose import contact_points_at_roll
 log = logging.getLogger(__name__)
 
 _SIDES = ("left", "right")
-#: Relative residual of the first rolling solve (an estimate of each patch's tangential force
-#: per unit Fn: forces to ~1e-6) and of the load control before it.
-LOOSE_TOL = 1e-4
-_LOOSE_LOAD_TOL = 1e-3
+#: Relative residual of the first rolling solve: an estimate of each patch's tangential force
+#: per unit Fn (forces to ~1e-4), and the start of the converged solves.
+LOOSE_TOL = 1e-3
+#: Relative load tolerance of the load control before the first rolling solve (its targets
+#: are corrected afterwards).
+_LOOSE_LOAD_TOL = 1e-2
 #: Relative residual of the final rolling solves (solve_tangential's default).
 ROLLING_TOL = 1e-7
 #: With loose rolling solves free rolling is balanced to this many times the tolerance.
@@ -579,7 +581,7 @@ def _free_rolling(roll: _Rolling, omega: float) -> tuple[float, float]:
     """omega of zero torque about the axle: a secant on T(omega), each T taken after the
     vertical balance at that omega; its first slope by a difference at fixed pressures.
     The rolling solves are loose (their forces resolve the torque to ~1e-4 of its scale)
-    until the torque is within 100 times the tolerance, then converged."""
+    until the torque is within ``_LOOSE_TORQUE`` times the tolerance, then converged."""
     tol = LOOSE_TOL
     sec: _Secant | None = None
     for _ in range(roll.max_iter):
@@ -605,8 +607,8 @@ def _free_rolling(roll: _Rolling, omega: float) -> tuple[float, float]:
 
 def _rolling_balance(bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int) -> tuple[_Rolling, float, float]:
     """Rolling solves, vertical balance with tangential forces and (free rolling) the
-    torque balance: the rolling solves are loose (``LOOSE_TOL``: forces to ~1e-6) while the
-    loads are being balanced, then converged (``ROLLING_TOL``) and checked again. Returns the
+    torque balance: the first rolling solve (or, free rolling, those until the torque is
+    near zero) is loose (``LOOSE_TOL``), the others converged (``ROLLING_TOL``). Returns the
     state, omega and the axle torque."""
     roll = _Rolling(bal, loads, ctx, max_iter)
     motion = ctx["motion"]

@@ -177,19 +177,25 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
 def solve_patch_rolling(pt: PatchState, material: Material, mu: float, motion: WheelsetMotion, omega: float,
                         method: str | None, tol: float = 1e-7) -> None:
     """Steady rolling of a loaded patch on its pressure (quasi-identical bodies), with the
-    rigid slip of the wheelset's motion at its reference point; warm-started from the
-    patch's last tractions on the same grid."""
+    rigid slip of the wheelset's motion at its reference point; started from the patch's last
+    tractions on the same grid, or from full slip."""
     pt.slip = rigid_slip(pt.cp, motion, omega)
     if not pt.carrying:
         pt.rolling = None
         return
     c = pt.slip.creepage
     kw = {} if method is None else {"method": method}
-    t0 = None
     if pt.rolling is not None and pt.rolling.grid == pt.grid:
         # the last tractions, scaled by the change of pressure (exact for the slip area)
         old = pt.rolling.pressure
         scale = np.divide(pt.p, old, out=np.zeros_like(old), where=old > 0.0)
         t0 = (pt.rolling.tx * scale, pt.rolling.ty * scale)
+    else:
+        # full slip against the rigid slip w = (xi - phi y, eta + phi x): half the sweeps of a
+        # start from zero in the A-2.2 patches (most of them slide entirely)
+        x, y = pt.grid.mesh()
+        wx, wy = c.xi - c.phi * y, c.eta + c.phi * x
+        bound = mu * pt.p / np.maximum(np.hypot(wx, wy), 1e-300)
+        t0 = (-bound * wx, -bound * wy)
     pt.rolling = solve_tangential(pt.p, pt.grid, material, mu, (c.xi, c.eta, c.phi), pt.slip.reference_speed,
                                   tol=tol, t0=t0, approach=pt.approach, **kw)
