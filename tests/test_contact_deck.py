@@ -191,3 +191,20 @@ def test_a22_summary_in_contact_conventions(a22_small, capsys):
     fy_tr = float(last.split("FY_TR ")[1].split()[0])
     fz_tr = float(last.split("FZ_TR ")[1].split()[0])
     assert fy_tr > 5e3 and fz_tr == pytest.approx(1.0e4, abs=0.2)
+
+
+def test_wheel_rail_case_in_a_namelist_deck(tmp_path):
+    """The case type the CONTACT cases become, written as a namelist: both wheels, the roll
+    load-controlled, free rolling (omega = 0): no torque about the axle."""
+    deck = tmp_path / "wr.nml"
+    deck.write_text("&case\n  type = 'wheel_rail', name = 'both_free'\n  y_mm = -3.0, yaw_mrad = -7.2\n"
+                    "  dx_mm = 0.5, dy_mm = 0.5\n/\n")
+    h5 = tmp_path / "wr.h5"
+    assert main(["run", str(deck), "-o", str(h5), "-q"]) == 0
+    r, inp, summary = _cases(h5)["001_both_free"]
+    assert inp["side"] == "both" and inp["roll_mrad"] == "none"
+    assert np.all(np.isfinite(r["fn"][:, 0])) and np.all(np.isnan(r["fn"][:, 1:]))
+    assert r["fz"] == pytest.approx([1.0e4, 1.0e4], rel=1e-5)
+    scale = 0.3 * np.nansum(r["fn"] * r["rolling_radius"])
+    assert abs(r["axle_torque"]) <= 1e-5 * scale
+    assert summary.count("wheel:") == 2

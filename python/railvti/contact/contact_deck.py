@@ -103,8 +103,12 @@ class _Reader:
         self.i = 0
 
     def where(self, line: int | None = None) -> str:
+        """``file:line`` of a line number, or of the line being read (the last one at the end)."""
         if line is None:
-            line = self.lines[self.i].number if self.i < len(self.lines) else (self.lines[-1].number if self.lines else 0)
+            if self.i < len(self.lines):
+                line = self.lines[self.i].number
+            else:
+                line = self.lines[-1].number if self.lines else 0
         return f"{self.path.name}:{line}"
 
     def at_end(self) -> bool:
@@ -282,7 +286,7 @@ def _read_settings(r: _Reader, d: dict[str, int], line: int, state: dict) -> Non
         _keep(state, "grid", r, line, "D (DISCNS) = 1")
 
 
-def _read_state(r: _Reader, d: dict[str, int]) -> dict[str, Any]:
+def _read_state(r: _Reader) -> dict[str, Any]:
     """Wheelset position and velocity (CONTACT's frame), in railvti's keys and frame."""
     v, ln = r.group([("S", "real"), ("Y", "real"), ("FZ", "real"), ("ROLL", "angle"), ("YAW", "angle"),
                      ("PITCH", "angle")])
@@ -317,7 +321,7 @@ def _read_case(r: _Reader, state: dict, number: int) -> tuple[dict[str, Any], in
     params = dict(wheel_rail_cases.DEFAULTS)
     for key in ("friction", "material", "grid", "track", "wheelset"):
         params.update(state[key])
-    params.update(_read_state(r, d2))
+    params.update(_read_state(r))
     params.update(side="left" if d1["C"] == 0 else "right", store_fields=d3["A"],
                   origin=f"{r.path.name}:{line} (case {number})")
     return params, line

@@ -509,6 +509,8 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
         iters += roll.load_iterations
         outer = roll.solves
+    log.debug("solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s", a["y"], iters,
+              outer, om)
     return _solution(bal, geo, loads, om, motion, torque, iters, outer)
 
 
