@@ -4,7 +4,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from railvti import STEEL, InputError, profiles
+from railvti import STEEL, InputError, Material, profiles
 from railvti.contact.wheelset import solve_wheelset
 from railvti.geometry import gap_field
 
@@ -129,3 +129,141 @@ def test_rolling_patches_bounded_and_consistent():
         assert p.rolling.converged
     # yaw 7.2 mrad: lateral creepage eta ~ -yaw on both wheels, lateral creep forces push left
     assert all(p.creepage.eta < 0 and p.fy > 0 for p in s.patches)
+
+
+# --- full kinematics: prescribed omega and roll, free rolling, vertical balance with tangential forces
+
+MB_WHEEL = profiles.read(profiles.example_path("MBench_S1002_v3.prw"))
+MB_RAIL = profiles.read(profiles.example_path("MBench_UIC60_v3.prr"))
+MAT = Material(shear_modulus=82e9, poisson=0.28)
+# Manchester benchmark A-2.2 (inputs/mbench_a22_*.inp), railvti's frame: y, yaw to the left
+A22 = {  # CONTACT's y_ws (mm, to the right): (roll rad, pitch velocity rad/s)
+    3.0: (-0.00018030, -4.34515030),
+    8.0: (-0.00860600, -4.25348570),
+}
+
+
+def _a22(y_mm, dx=4e-4, **kw):
+    roll, vpitch = A22[y_mm]
+    args = dict(roll=roll, omega=-vpitch)
+    args.update(kw)
+    return solve_wheelset(MB_WHEEL, MB_RAIL, -y_mm * 1e-3, -2.4e-3 * y_mm, FZ, 0.3, 2.0, MAT, dx, **args)
+
+
+def _vertical_from_angle(p, side):
+    """Fn cos(d) + s Fy sin(d): the vertical force from the contact angle alone."""
+    s = 1.0 if side == "left" else -1.0
+    return p.fn * np.cos(p.contact_angle) + s * p.fy * np.sin(p.contact_angle)
+
+
+def test_flange_vertical_balance_with_tangential_forces():
+    """A-2.2 at 8 mm (deck kinematics): the right wheel runs on its flange (contact angle > 0.9
+    rad). Its load, 10 kN, equals Fn cos(d) + Fs sin(d) of its patches to 1e-5; the normal
+    force alone would carry 20 % more or less: the lateral creep force carries load."""
+    s = _a22(8.0)
+    flange = s.right[0]
+    assert flange.contact_angle > 0.9
+    for side in ("left", "right"):
+        fz = sum(_vertical_from_angle(p, side) for p in s.wheel(side))
+        assert fz == pytest.approx(FZ, rel=1e-5)
+        assert s.fz[("left", "right").index(side)] == pytest.approx(FZ, rel=1e-5)
+    normal_only = flange.fn * np.cos(flange.contact_angle)
+    assert abs(normal_only / FZ - 1) > 0.2
+    assert abs(flange.fy) > 0.25 * flange.fn     # near saturation: |F_t| -> mu Fn
+    assert np.hypot(flange.fx, flange.fy) <= 0.3 * flange.fn * (1 + 1e-8)
+
+
+def test_prescribed_omega_gives_the_rigid_creepages():
+    """No yaw, roll 0: xi = (V - omega r) / V_ref with V_ref = (V + omega r) / 2 (r the rolling
+    radius of the contact point), eta = 0, phi = -+ omega sin(d) / V_ref (left/right)."""
+    omega = 2.0 / 0.4601
+    s = solve_wheelset(MB_WHEEL, MB_RAIL, 0.0, 0.0, FZ, 0.3, 2.0, MAT, 4e-4, roll=0.0, omega=omega)
+    for p in s.patches:
+        r = p.contact.rolling_radius
+        v_ref = 0.5 * (2.0 + omega * r)
+        sg = 1.0 if p.side == "left" else -1.0
+        assert p.reference_speed == pytest.approx(v_ref, rel=1e-8)
+        # (the point and its rolling radius are interpolated separately: ~1e-8 m)
+        assert p.creepage.xi == pytest.approx((2.0 - omega * r) / v_ref, abs=1e-9)
+        assert p.creepage.eta == pytest.approx(0.0, abs=1e-12)
+        assert p.creepage.phi == pytest.approx(-sg * omega * np.sin(p.contact_angle) / v_ref, rel=1e-9)
+    assert s.omega == omega and not s.free_rolling
+
+
+def test_tread_forces_are_the_rolling_solution_at_the_prescribed_omega():
+    """A-2.2 at 3 mm: each tread patch's forces equal an independent steady-rolling solve of
+    its gap at its Fn with the creepages of the prescribed omega."""
+    from railvti.contact import solve_rolling
+    s = _a22(3.0)
+    for p in s.patches:
+        c = p.creepage
+        ref = solve_rolling(p.gap, p.grid, MAT, 0.3, p.fn, (c.xi, c.eta, c.phi), p.reference_speed)
+        assert p.fx == pytest.approx(ref.fx, rel=1e-5, abs=1e-3)
+        assert p.fy == pytest.approx(ref.fy, rel=1e-5, abs=1e-3)
+        assert p.n_contact == ref.n_contact
+
+
+@pytest.mark.parametrize("y_mm", [3.0])
+def test_free_rolling_matches_the_benchmark_pitch_velocity(y_mm):
+    """Free rolling (no torque about the axle) at the benchmark's roll gives the pitch velocity
+    that the A-2.2 decks prescribe (CONTACT's author found it from the same torque balance)
+    to 1e-5, and the axle torque of the contact forces and moments vanishes."""
+    roll, vpitch = A22[y_mm]
+    s = solve_wheelset(MB_WHEEL, MB_RAIL, -y_mm * 1e-3, -2.4e-3 * y_mm, FZ, 0.3, 2.0, MAT, 2e-4, roll=roll)
+    assert s.free_rolling
+    assert s.omega == pytest.approx(-vpitch, rel=1e-5)
+    scale = 0.3 * sum(p.fn * p.contact.rolling_radius for p in s.patches)
+    assert abs(s.axle_torque) <= 1e-5 * scale
+    # the torque recomputed from the patches' forces and moments (about their reference points)
+    yaw = -2.4e-3 * y_mm
+    a = np.array([-np.sin(yaw) * np.cos(roll), np.cos(yaw) * np.cos(roll), np.sin(roll)])   # Rz(yaw) Rx(roll) e_y
+    t = 0.0
+    for p in s.patches:
+        c = p.contact.pose.centre - np.array([0.0, 0.0, s.sinks[("left", "right").index(p.side)]])
+        t += a @ (np.cross(p.contact.position - c, p.force_track) + p.moment_track)
+    assert abs(t) <= 1e-5 * scale
+
+
+def test_half_wheelset_is_its_wheel_of_the_whole():
+    """With the roll prescribed the wheels are independent half wheelsets: solving one side
+    gives the same patch as solving both."""
+    both = _a22(3.0, dx=5e-4)
+    left = _a22(3.0, dx=5e-4, side="left")
+    assert left.right == [] and np.isnan(left.fz[1])
+    a, b = both.left[0], left.left[0]
+    assert b.fn == pytest.approx(a.fn, rel=1e-9)
+    assert b.fx == pytest.approx(a.fx, rel=1e-6)
+    assert b.fy == pytest.approx(a.fy, rel=1e-6)
+
+
+def test_grid_size_does_not_move_results(monkeypatch):
+    """Element centres are anchored to the reference point: a larger grid (more margin
+    around the contact area) gives the same forces to the solvers' tolerance."""
+    import railvti.contact.wheelset as ws_mod
+    import railvti.contact.wheelset_patch as patch_mod
+    a = _a22(8.0, dx=5e-4)
+    monkeypatch.setattr(patch_mod, "GROW", 2.0)
+    monkeypatch.setattr(ws_mod, "GROW", 2.0)
+    b = _a22(8.0, dx=5e-4)
+    for pa, pb in zip(a.patches, b.patches):
+        assert pb.grid.nx * pb.grid.ny > pa.grid.nx * pa.grid.ny
+        assert pb.n_contact == pa.n_contact
+        for q in ("fn", "fx", "fy"):
+            assert getattr(pb, q) == pytest.approx(getattr(pa, q), rel=1e-6, abs=1e-3)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(omega=0.0), "omega"), (dict(omega=-4.3), "omega"), (dict(roll=float("nan")), "roll"),
+    (dict(roll=0.2), "roll"), (dict(side="left"), "roll"), (dict(side="middle", roll=0.0), "side"),
+    (dict(side="left", roll=0.0, omega=None), "free rolling"),
+])
+def test_bad_kinematics(kwargs, word):
+    args = dict(omega=4.3)
+    args.update(kwargs)
+    with pytest.raises(InputError, match=word):
+        solve_wheelset(WHEEL, RAIL, 0.0, 0.0, FZ, 0.3, 2.0, STEEL, 5e-4, **args)
+
+
+def test_kinematics_without_rolling_is_refused():
+    with pytest.raises(InputError, match="mu and speed"):
+        solve_wheelset(WHEEL, RAIL, 0.0, 0.0, FZ, None, None, STEEL, 5e-4, omega=4.3)

@@ -1,4 +1,5 @@
-"""Input decks: Fortran namelist files of ``&case ... /`` groups, parsed with f90nml.
+"""Input decks: Fortran namelist files of ``&case ... /`` groups, parsed with f90nml, and
+CONTACT's wheel-rail decks (``.inp``, read by :mod:`railvti.contact.contact_deck`).
 
 Example::
 
@@ -113,8 +114,12 @@ def parse_deck(text: str) -> list[Case]:
 
 
 def read_deck(path: str | Path) -> list[Case]:
-    """Read and check a deck file; see :func:`parse_deck`."""
+    """Read and check a deck file: a namelist deck (see :func:`parse_deck`), or a CONTACT
+    wheel-rail deck if its name ends in ``.inp`` (:func:`railvti.contact.contact_deck.read_contact_deck`)."""
     path = Path(path)
+    if path.suffix.lower() == ".inp":
+        from .contact.contact_deck import read_contact_deck
+        return read_contact_deck(path)
     try:
         text = path.read_text()
     except OSError as exc:

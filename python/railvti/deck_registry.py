@@ -9,6 +9,7 @@ from .casetypes import REGISTRY, CaseType
 _AREAS = (
     "railvti.contact.cases",
     "railvti.contact.wheelset_cases",
+    "railvti.contact.wheel_rail_cases",
     "railvti.geometry.cases",
     "railvti.track.cases",
     "railvti.wheelset.cases",

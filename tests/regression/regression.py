@@ -80,6 +80,10 @@ DECKS: tuple[Deck, ...] = (
     Deck("vehicle_short", DECKS_DIR / "vehicle_short.nml"),
     Deck("vehicle_scenarios", DECKS_DIR / "vehicle_scenarios.nml"),
     Deck("vehicle_bem", DECKS_DIR / "vehicle_bem.nml", slow=True),
+    Deck("mbench_a22_left", INPUTS / "mbench_a22_left.inp", slow=True, reduced_by="mbench_a22_small_left"),
+    Deck("mbench_a22_right", INPUTS / "mbench_a22_right.inp", slow=True, reduced_by="mbench_a22_small_right"),
+    Deck("mbench_a22_small_left", DECKS_DIR / "mbench_a22_small_left.inp"),
+    Deck("mbench_a22_small_right", DECKS_DIR / "mbench_a22_small_right.inp"),
 )
 
 
@@ -174,6 +178,9 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
             "root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"))),
     ],
     "loaded_wheelset": [
+        ("*", _CONTACT),
+    ],
+    "wheel_rail": [
         ("*", _CONTACT),
     ],
     "track_receptance": [

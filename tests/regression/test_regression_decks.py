@@ -31,7 +31,7 @@ def test_deck_matches_its_reference(deck, tmp_path):
 
 def test_every_input_deck_and_case_type_is_covered():
     """Each inputs/ deck has a reference; each case type runs in the default suite."""
-    inputs = {p.resolve() for p in R.INPUTS.glob("*.nml")}
+    inputs = {p.resolve() for pattern in ("*.nml", "*.inp") for p in R.INPUTS.glob(pattern)}
     assert inputs == {d.path.resolve() for d in R.DECKS if d.path.parent == R.INPUTS}
     fast_types = set()
     for d in R.DECKS:

@@ -1,51 +1,75 @@
-"""The loaded wheelset: normal (and rolling) contact in every patch of both wheels,
-with the vertical load of each wheel prescribed.
+"""The loaded wheelset: normal and steady-rolling contact in every patch of both wheels, each
+wheel's vertical load balanced by the normal AND tangential contact forces, with the wheel's
+angular velocity prescribed or found from free rolling.
 
-Method. :func:`railvti.geometry.contact_points` gives the rigid pose (roll and height
-from the constraint that both wheels touch) and the candidate contact points of each
-wheel: the carrying point and any point within ``max_separation`` (e.g. the flange
-before it touches). Around each point :func:`railvti.geometry.gap_field` gives the
-undeformed gap h_k on a grid in its tangent plane. From the rigid pose the wheelset
-moves down by w and rolls by theta (about the track x axis through its centre c); a
-wheel point p then moves by u = (0, 0, -w) + theta e_x x (p - c), and the approach of
-patch k (motion of the wheel towards the rail along the rail normal n_k) is linear:
+Geometry. With the roll load-controlled (``roll=None``), :func:`railvti.geometry.contact_points`
+gives the rigid pose (roll and height from the constraint that both wheels touch) and the
+candidate points of each wheel. From that pose the wheelset sinks by w and rolls by theta
+(about the track x axis through its centre c); a wheel point p moves by
+u = (0, 0, -w) + theta e_x x (p - c), and the approach of patch k along its rail normal n_k is
 
-    delta_k = -u . n_k = a_k w + b_k theta,
-    a_k = n_k,z,   b_k = r_z n_k,y - r_y n_k,z,   r = p_k - c.
+    delta_k = a_k w + b_k theta,   a_k = n_k,z,   b_k = r_z n_k,y - r_y n_k,z,   r = p_k - c.
 
-Two patches on one wheel thus share the wheel's motion. (w, theta) are found by
-Newton's method such that each wheel's vertical load sum_k Fn_k n_k,z equals the
-prescribed load; the Jacobian uses each patch's stiffness dFn/ddelta ~ 1.5 Fn /
-(delta - min h), exact for Hertz. The gap fields stay those of the rigid pose (the
-extra roll is a few mrad). Patches are independent half-spaces (no cross influence).
-With ``mu`` and ``speed`` each loaded patch is then solved for steady rolling with its
-rigid creepages (:func:`railvti.geometry.creepages`).
+With the roll prescribed (CONTACT's ROLL), :func:`railvti.contact.wheelset_pose.contact_points_at_roll`
+places each wheel as a half wheelset at that roll (CONTACT's module 1) and each wheel sinks by
+its own w_s: delta_k = a_k w_s. Around each candidate point :func:`railvti.geometry.gap_field`
+gives the gap on a grid in its tangent plane; the gap fields stay those of the rigid pose.
+
+Balance. Each wheel's vertical load is the track-z component of its patches' forces on the
+wheel, Fz = sum_k (Fn n_z + Fy t_y,z)_k (t_x is horizontal). With n = (0, -s sin d, cos d) and
+t_y = n x e_x = (0, cos d, s sin d) (s = +1 on the left, -1 on the right wheel, d the contact
+angle) that is sum_k (Fn cos d + s Fy sin d)_k: on the flange (d > 1 rad) the lateral creep
+force carries a large part of the load. Newton's method on the unknown motion makes
+sum_k Fn_k c_k equal to a target per wheel, c_k the vertical force per unit Fn of patch k
+(n_z at first, then held at the value of its first rolling solve); the Jacobian uses each
+patch's stiffness dFn/ddelta (Hertz's 1.5 Fn / (delta - min h) at first, then the secant of
+its last two solves). Then the steady-rolling problem of every loaded patch is solved on its
+pressure and the targets are corrected (a secant per wheel) until the actual vertical
+forces, tangential ones included, equal the loads within ``load_tol``. The first rolling
+solve is loose (it only gives c_k); the last ones are converged.
+
+Kinematics (:mod:`railvti.contact.wheelset_kinematics`). The creepages at each patch's
+reference point (the candidate point on the rail surface, of the rigid pose) follow from
+the wheelset's forward speed, lateral and vertical velocity, roll and yaw rates and its
+angular velocity omega about the axle (CONTACT's VS..VPITCH), over the rolling speed
+V_ref = (V + omega r) / 2. omega is prescribed, or (``omega=None``) found so that the
+contact forces and moments exert no torque about the axle: free rolling of a wheelset
+without drive or brake torque. (Each wheel's Fx = 0 is impossible with one omega for two
+rolling radii; the wheelset's net Fx = 0 is a force balance, which the axleboxes take: the
+torque about the axle is what omega must balance.) Patches are independent half-spaces.
 """
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from .. import _checks
-from ..errors import ConvergenceError, GridTooSmallError, InputError, NoContactError
-from ..geometry import ContactPoint, Creepages, WheelsetContact, contact_points, creepages, gap_field
+from ..errors import ConvergenceError, InputError
+from ..geometry import ContactPoint, Creepages, WheelsetContact, contact_points
 from ..material import Material
 from ..profiles import Profile
 from .grid import Grid
 from .hertz import hertz
-from .normal import solve_normal
-from .rolling import solve_tangential
+from .wheelset_kinematics import WheelsetMotion, body_axes, patch_moment
+from .wheelset_patch import GROW, PatchState, curvature_fit, solve_patch_normal, solve_patch_rolling
+from .wheelset_pose import contact_points_at_roll
 
 log = logging.getLogger(__name__)
 
-_LINE_HALF = 0.025   # m: half-length of the lateral line that sizes a patch's grid
-_LINE_STEP = 1e-4    # m: its sampling
-_GROW = 1.6          # the grid covers h < sep + _GROW * (expected approach)
-_ROUND = 8          # grid sizes are multiples of this
-_RIDGE = 5e-5        # m: the geometry merges minima joined by lower ridges into one point
+_SIDES = ("left", "right")
+#: Relative residual of the first rolling solve: an estimate of each patch's tangential force
+#: per unit Fn (forces to ~1e-4), and the start of the converged solves.
+LOOSE_TOL = 1e-3
+#: Relative load tolerance of the load control before the first rolling solve (its targets
+#: are corrected afterwards).
+_LOOSE_LOAD_TOL = 1e-2
+#: Relative residual of the final rolling solves (solve_tangential's default).
+ROLLING_TOL = 1e-7
+#: With loose rolling solves free rolling is balanced to this many times the tolerance.
+_LOOSE_TORQUE = 100.0
 
 
 @dataclass(frozen=True)
@@ -60,23 +84,35 @@ class WheelsetPatch:
     side : str
         'left' or 'right'.
     contact : ContactPoint
-        The candidate point (rigid pose) the patch grows from.
+        The candidate point (rigid pose) the patch grows from: its reference point (the grid's
+        origin, where the creepages are taken and the forces and moments are reduced to).
     contact_angle : float
         rad.
     creepage : Creepages or None
-        Rigid creepages xi, eta (-) and spin phi (1/m); None without rolling.
+        Rigid creepages xi, eta (-) and spin phi (1/m) at the reference point, over
+        ``reference_speed``; None without rolling.
+    reference_speed : float
+        Rolling speed V_ref of the patch, m/s (nan without rolling).
     approach : float
         Approach of the patch along its normal, m.
     fn, fx, fy : float
         Forces on the wheel in the contact frame, N (fx = fy = 0 without rolling).
+    mz : float
+        Spin moment of the tangential tractions about the normal through the reference
+        point, N m.
+    centre_of_pressure : tuple of float
+        (x, y) of the pressure's centre in the contact frame, m.
     force_track : ndarray (3,)
-        The same force in track coordinates (x forward, y left, z up), N.
+        The force in track coordinates (x forward, y left, z up), N.
+    moment_track : ndarray (3,)
+        Moment of the tractions about the reference point, track coordinates, N m:
+        Fn (y_cp t_x - x_cp t_y) + Mz n.
     pmax : float
         Largest pressure, Pa.
-    n_contact : int
-        Elements in contact.
+    n_contact, n_adhesion, n_slip : int
+        Elements in contact, in adhesion, in slip (adhesion = contact without rolling).
     grid : Grid
-        The patch's grid (x along t_x, y along t_y, origin at the contact point).
+        The patch's grid (x along t_x, y along t_y, origin at the reference point).
     gap, pressure : ndarray (nx, ny)
         Undeformed gap (m) and pressure (Pa).
     tx, ty : ndarray (nx, ny) or None
@@ -89,19 +125,31 @@ class WheelsetPatch:
     contact: ContactPoint
     contact_angle: float
     creepage: Creepages | None
+    reference_speed: float
     approach: float
     fn: float
     fx: float
     fy: float
+    mz: float
+    centre_of_pressure: tuple[float, float]
     force_track: np.ndarray
+    moment_track: np.ndarray
     pmax: float
     n_contact: int
+    n_adhesion: int
+    n_slip: int
     grid: Grid
     gap: np.ndarray
     pressure: np.ndarray
     tx: np.ndarray | None = None
     ty: np.ndarray | None = None
     rolling: object | None = None
+
+    @property
+    def n_regions(self) -> int:
+        """Separate contact areas in the patch (edge-connected elements in contact): a patch
+        grows around one candidate point but may hold two areas joined by a low ridge."""
+        return int(ndimage.label(self.pressure > 0.0)[1])
 
 
 @dataclass(frozen=True)
@@ -113,13 +161,34 @@ class WheelsetSolution:
     geometry : WheelsetContact
         The rigid-pose contact search (pose, candidate points, status per wheel).
     left, right : list of WheelsetPatch
-        Loaded patches of each wheel (unloaded candidates are dropped).
+        Loaded patches of each wheel (unloaded candidates, and a wheel not solved, are empty).
     fz : tuple of float
-        Vertical load carried by the left and right wheel, N (normal forces only).
+        Vertical (track z) force on the left and right wheel from all their patches, normal
+        and tangential forces, N (nan for a wheel not solved).
     sink, roll : float
-        Vertical motion w (m, down) and extra roll theta (rad) from the rigid pose.
+        Load-controlled roll: vertical motion w (m, down) and extra roll theta (rad) of the
+        wheelset from the rigid pose. Prescribed roll: the mean sink of the half wheelsets
+        solved, and 0.
+    sinks : tuple of float
+        Downward motion of each wheel's profile reference circle centre (on the axle at the
+        tread datum), m: w -+ theta * contact_y, or each half wheelset's own sink.
+    pose_roll : float
+        Roll angle of the pose the geometry was taken at, rad (prescribed, or from the two
+        wheels' contact constraint).
+    roll_prescribed : bool
+        The roll was prescribed (each wheel a half wheelset).
+    omega : float or None
+        Angular velocity about the axle, rad/s (prescribed or free-rolling); None without rolling.
+    free_rolling : bool
+        omega was found from the torque balance about the axle.
+    axle_torque : float
+        Torque of the contact forces and moments about the axle, N m (the wheels solved);
+        ~0 with free rolling; nan without rolling.
     iterations : int
-        Load-control Newton iterations.
+        Load-control Newton iterations (all outer iterations together).
+    outer_iterations : int
+        Rolling solves per patch (balance with tangential forces and free rolling); 0
+        without rolling.
     """
 
     geometry: WheelsetContact
@@ -128,7 +197,14 @@ class WheelsetSolution:
     fz: tuple[float, float]
     sink: float
     roll: float
+    sinks: tuple[float, float]
+    pose_roll: float
+    roll_prescribed: bool
+    omega: float | None
+    free_rolling: bool
+    axle_torque: float
     iterations: int
+    outer_iterations: int
 
     @property
     def patches(self) -> list[WheelsetPatch]:
@@ -137,114 +213,209 @@ class WheelsetSolution:
 
     def wheel(self, side: str) -> list[WheelsetPatch]:
         """Patches of 'left' or 'right'."""
-        if side not in ("left", "right"):
+        if side not in _SIDES:
             raise InputError(f"side must be 'left' or 'right', got {side!r}")
         return self.left if side == "left" else self.right
 
 
-class _Patch:
-    """Working state of one candidate patch during load control."""
+class _Balance:
+    """The wheels solved, their candidate patches and the unknown motion u of the wheelset:
+    (w, theta) with the roll load-controlled, one sink per wheel solved with it prescribed."""
 
-    def __init__(self, cp: ContactPoint, centre: np.ndarray) -> None:
-        self.cp = cp
-        r = cp.position - centre
-        n = cp.normal
-        self.a = float(n[2])
-        self.b = float(r[2] * n[1] - r[1] * n[2])
-        self.grid: Grid | None = None
-        self.gap: np.ndarray | None = None
-        self.p: np.ndarray | None = None
-        self.fn = 0.0
-        self.approach = 0.0
-        self.stiffness = 0.0
-        self.pmax = 0.0
-        self.n_contact = 0
-        self.A = 1e-3          # gap coefficient along x (1/m), from the curvature fit
-        self.reach = 0.0       # the grid covers h < separation + reach, m
+    def __init__(self, geo: WheelsetContact, sides: tuple[str, ...], prescribed: bool) -> None:
+        self.geo = geo
+        self.sides = sides
+        self.prescribed = prescribed
+        n = len(sides) if prescribed else 2
+        self.u = np.zeros(n)
+        self.down = np.ones(n) if prescribed else np.array([1.0, 0.0])
+        self.patches: list[list[PatchState]] = []
+        for i, s in enumerate(sides):
+            row = []
+            for cp in geo.wheel(s):
+                n_ = cp.normal
+                if prescribed:
+                    grad = np.zeros(n)
+                    grad[i] = n_[2]
+                else:
+                    r = cp.position - geo.pose.centre
+                    grad = np.array([n_[2], r[2] * n_[1] - r[1] * n_[2]])
+                row.append(PatchState(cp, i, grad))
+            if not row:
+                raise InputError(f"the {s} wheel has no contact candidate at y = {geo.pose.y * 1e3:.2f} mm "
+                                 f"({geo.status[_SIDES.index(s)]})")
+            self.patches.append(row)
 
-    def delta(self, w: float, theta: float) -> float:
-        return self.a * w + self.b * theta
+    @property
+    def all(self) -> list[PatchState]:
+        return [p for row in self.patches for p in row]
 
+    def centre(self, i: int) -> np.ndarray:
+        """Loaded centre of the (half) wheelset of wheel i."""
+        pose = self.patches[i][0].cp.pose
+        w = self.u[i] if self.prescribed else self.u[0]
+        return pose.centre - np.array([0.0, 0.0, w])
 
-def _curvature_fit(wheel: Profile, rail: Profile, cp: ContactPoint, s: float) -> tuple[float, float]:
-    """Gap coefficients A, B of h ~ sep + A x^2 + B y^2 from a 3 x 3 stencil of spacing s."""
-    g = gap_field(wheel, rail, cp, s, s, 3, 3).gap
-    A = (g[0, 1] + g[2, 1] - 2.0 * g[1, 1]) / (2.0 * s * s)
-    B = (g[1, 0] + g[1, 2] - 2.0 * g[1, 1]) / (2.0 * s * s)
-    return A, B
+    def axle(self) -> np.ndarray:
+        """Axle direction of the loaded wheelset (the extra roll theta included)."""
+        a = body_axes(self.geo.pose)[1]
+        if self.prescribed:
+            return a
+        t = self.u[1]
+        return np.array([a[0], a[1] * np.cos(t) - a[2] * np.sin(t), a[1] * np.sin(t) + a[2] * np.cos(t)])
 
-
-def _round_up(n: int) -> int:
-    return _ROUND * -(-n // _ROUND)
-
-
-def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach: float,
-               dx: float, dy: float) -> tuple[Grid, np.ndarray]:
-    """The grid over {h < sep + reach} around a candidate point, bounded laterally by the
-    ridges to neighbouring points, with its gap field."""
-    n_line = int(2 * _LINE_HALF / _LINE_STEP) + 1
-    line = gap_field(wheel, rail, cp, dx, _LINE_STEP, 1, n_line, x0=0.0, y0=-_LINE_HALF).gap[0]
-    yl = -_LINE_HALF + _LINE_STEP * np.arange(n_line)
-    j0 = int(np.argmin(np.abs(yl)))
-    limit = cp.separation + reach
-    ends = []
-    for step in (-1, 1):
-        j = j0
-        while 0 < j + step < n_line - 1 and line[j + step] < limit:
-            if line[j + step] < line[j] - 1e-9 and line[j] > _RIDGE:
-                break   # past a ridge to another candidate point: its own patch
-            j += step
-        ends.append(yl[j])
-    y_lo, y_hi = ends[0] - 3 * dy, ends[1] + 3 * dy
-    x_half = math.sqrt(max(reach, 1e-7) / max(A, 1e-3)) + 3 * dx
-    # sizes rounded up to multiples of _ROUND so that sweeps reuse workspaces (FFT plans)
-    nx = _round_up(2 * int(math.ceil(x_half / dx)) + 1)
-    ny_raw = int(math.ceil((y_hi - y_lo) / dy)) + 1
-    ny = _round_up(ny_raw)
-    y_lo -= 0.5 * (ny - ny_raw) * dy
-    x0 = -(nx - 1) / 2 * dx
-    field = gap_field(wheel, rail, cp, dx, dy, nx, ny, x0=x0, y0=y_lo)
-    return Grid(nx, ny, dx, dy, x0, y_lo), field.gap
+    def sinks(self) -> tuple[float, float]:
+        out = [np.nan, np.nan]
+        for i, s in enumerate(self.sides):
+            k = _SIDES.index(s)
+            if self.prescribed:
+                out[k] = float(self.u[i])
+            else:
+                cy = self.geo.pose.layout.wheelset.contact_y
+                out[k] = float(self.u[0] - self.u[1] * (cy if s == "left" else -cy))
+        return out[0], out[1]
 
 
-def _solve_patch(wheel: Profile, rail: Profile, pt: _Patch, approach: float, material: Material,
-                 dx: float, dy: float, method: str) -> None:
-    """Normal solve of one patch at a prescribed approach; regrow its grid when the
-    contact area reaches the edge."""
-    pt.approach = approach
-    for _ in range(6):
-        if pt.gap is None or approach - pt.cp.separation > pt.reach:
-            pt.reach = max(pt.reach, _GROW * (approach - pt.cp.separation))
-            pt.grid, pt.gap = _size_grid(wheel, rail, pt.cp, pt.A, pt.reach, dx, dy)
-            pt.p = None
-        hmin = float(pt.gap.min())
-        if approach <= hmin:
-            pt.fn, pt.stiffness, pt.p = 0.0, 0.0, None
-            return
-        try:
-            r = solve_normal(pt.gap, pt.grid, material, approach=approach, method=method, p0=pt.p)
-        except NoContactError:
-            pt.fn, pt.stiffness, pt.p = 0.0, 0.0, None
-            return
-        except GridTooSmallError:
-            pt.reach *= 2.0
-            pt.gap = None
+def _start(bal: _Balance, wheel: Profile, rail: Profile, loads: np.ndarray, material: Material,
+           dx: float, dy: float) -> None:
+    """Hertz estimate of each patch's approach (grid size) and the start of u: the carrying
+    points get their Hertz approaches."""
+    s_fit = 5.0 * max(dx, dy)
+    rows, rhs = [], []
+    for i, row in enumerate(bal.patches):
+        for pt in row:
+            A, B = curvature_fit(wheel, rail, pt.cp, s_fit)
+            pt.A = max(A, 1e-3)
+            ref = hertz(pt.A, max(B, 0.05 * pt.A, 1e-3), loads[i] / max(pt.vertical, 0.2), material)
+            pt.reach = GROW * ref.approach
+        carry = row[0]
+        rows.append(carry.grad)
+        rhs.append(carry.reach / GROW + carry.cp.separation)
+    bal.u = np.linalg.solve(np.array(rows), np.array(rhs))
+
+
+def _load_control(bal: _Balance, targets: np.ndarray, wheel: Profile, rail: Profile, material: Material,
+                  dx: float, dy: float, method: str, tol: float, max_iter: int, rolling: bool = True) -> int:
+    """Newton on u until sum_k Fn_k c_k equals the target of each wheel (relative tol)."""
+    err = np.full(len(targets), np.inf)
+    for it in range(1, max_iter + 1):
+        J = np.zeros((len(targets), bal.u.size))
+        load = np.zeros(len(targets))
+        for i, row in enumerate(bal.patches):
+            for pt in row:
+                solve_patch_normal(wheel, rail, pt, float(pt.grad @ bal.u), material, dx, dy, method, rolling)
+                load[i] += pt.fn * pt.vertical
+                J[i] += pt.stiffness * pt.vertical * pt.grad
+        err = load - targets
+        if np.all(np.abs(err) <= tol * np.abs(targets)):
+            return it
+        if np.any(np.abs(np.diag(J)) <= 0.0) or abs(np.linalg.det(J)) < 1e-30:
+            # a wheel lost contact: push the wheels down by the Hertz scale
+            bal.u = bal.u + bal.down * 0.5 * max(pt.reach for pt in bal.all) / GROW
             continue
-        pt.p = r.pressure
-        pt.fn = r.fn
-        pt.pmax = r.pmax
-        pt.n_contact = r.n_contact
-        pt.stiffness = 1.5 * r.fn / max(approach - hmin, 1e-12)
-        return
-    raise GridTooSmallError(f"the {pt.cp.side} patch at y_rail = {pt.cp.y_rail * 1e3:.2f} mm outgrows "
-                            "its grid: the load is too large for the contact geometry")
+        bal.u = bal.u + np.linalg.solve(J, -err)
+    raise ConvergenceError(f"wheelset load control did not converge: vertical loads {load} N against targets "
+                           f"{targets} N after {max_iter} iterations", iterations=max_iter,
+                           residual=float(np.max(np.abs(err) / np.abs(targets))))
+
+
+def _axle_torque(bal: _Balance) -> float:
+    """Torque of all loaded patches' forces and moments about the (loaded) axle, N m."""
+    a = bal.axle()
+    total = 0.0
+    for i, row in enumerate(bal.patches):
+        c = bal.centre(i)
+        for pt in row:
+            if not pt.carrying:
+                continue
+            x_cp, y_cp = pt.centre_of_pressure()
+            mz = pt.rolling.mz if pt.rolling is not None else 0.0
+            total += float(a @ patch_moment(pt.cp, c, pt.force(), pt.fn, x_cp, y_cp, mz))
+    return total
+
+
+class _Secant:
+    """Secant iteration for a scalar root (a fixed slope until two points are known; regula
+    falsi, Illinois-modified, once the root is bracketed)."""
+
+    def __init__(self, x: float, slope: float) -> None:
+        self.x, self.slope = x, slope
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the points (the function changed); keep x and the last slope."""
+        self.prev: tuple[float, float] | None = None
+        self.lo: tuple[float, float] | None = None
+        self.hi: tuple[float, float] | None = None
+        self.side = 0
+
+    def step(self, f: float) -> float:
+        """Record f(x) at the current x and return the next x."""
+        x = self.x
+        if self.prev is not None and x != self.prev[0] and f != self.prev[1]:
+            self.slope = (f - self.prev[1]) / (x - self.prev[0])
+        self.prev = (x, f)
+        if f < 0:
+            if self.side == -1 and self.hi is not None:
+                self.hi = (self.hi[0], 0.5 * self.hi[1])     # Illinois: the stale end's value halved
+            self.lo, self.side = (x, f), -1
+        else:
+            if self.side == 1 and self.lo is not None:
+                self.lo = (self.lo[0], 0.5 * self.lo[1])
+            self.hi, self.side = (x, f), 1
+        new = x - f / self.slope if self.slope != 0.0 else x
+        if self.lo is not None and self.hi is not None and self.lo[0] != self.hi[0]:
+            (x0, f0), (x1, f1) = self.lo, self.hi
+            if not min(x0, x1) < new < max(x0, x1):
+                new = x0 - f0 * (x1 - x0) / (f1 - f0)
+        self.x = new
+        return new
+
+
+def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, motion_kw) -> dict:
+    out = {"y": _checks.finite("y", y), "yaw": _checks.finite("yaw", yaw)}
+    if side is not None and side not in _SIDES:
+        raise InputError(f"side must be None, 'left' or 'right', got {side!r}")
+    out["roll"] = None if roll is None else _checks.finite("roll", roll)
+    if side is not None and roll is None:
+        raise InputError(f"side={side!r} solves one wheel as a half wheelset: prescribe its roll")
+    sides = _SIDES if side is None else (side,)
+    if np.ndim(fz) == 0:
+        loads = (fz,) * len(sides)
+    else:
+        pair = tuple(fz)
+        if len(pair) != 2:
+            raise InputError("fz must be one load or a (left, right) pair")
+        loads = tuple(pair[_SIDES.index(s)] for s in sides)
+    out["loads"] = np.array([_checks.positive("fz", f) for f in loads])
+    out["sides"] = sides
+    if not isinstance(material, Material):
+        raise InputError("material must be a railvti.Material")
+    out["dx"] = _checks.positive("dx", dx)
+    out["dy"] = out["dx"] if dy is None else _checks.positive("dy", dy)
+    given = {k: v for k, v in motion_kw.items() if v is not None and v != 0.0}
+    if mu is None and speed is None:
+        if given:
+            raise InputError(f"{sorted(given)} need rolling contact: give mu and speed")
+        out["mu"], out["motion"] = None, None
+        return out
+    if mu is None or speed is None:
+        raise InputError("give both mu and speed for rolling contact, or neither")
+    out["mu"] = _checks.non_negative("mu", mu)
+    out["motion"] = WheelsetMotion(speed=speed, **{k: (0.0 if v is None and k != "omega" else v)
+                                                  for k, v in motion_kw.items()})
+    if side is not None and out["motion"].omega is None:
+        raise InputError(f"side={side!r}: free rolling needs both wheels; prescribe omega")
+    return out
 
 
 def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: float | tuple[float, float],
                    mu: float | None, speed: float | None, material: Material, dx: float, *,
-                   dy: float | None = None, method: str = "cg", rolling_method: str | None = None,
-                   track=None, wheelset=None, max_separation: float = 5e-3, load_tol: float = 1e-5,
-                   max_iter: int = 30) -> WheelsetSolution:
+                   dy: float | None = None, omega: float | None = None, roll: float | None = None,
+                   lateral_velocity: float = 0.0, vertical_velocity: float = 0.0, roll_rate: float = 0.0,
+                   yaw_rate: float = 0.0, side: str | None = None, method: str = "cg",
+                   rolling_method: str | None = None, track=None, wheelset=None, max_separation: float = 5e-3,
+                   load_tol: float = 1e-5, max_iter: int = 30) -> WheelsetSolution:
     """Normal and steady-rolling contact of a loaded rigid wheelset on rigid rails.
 
     Parameters
@@ -256,17 +427,34 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     yaw : float
         Yaw angle, rad.
     fz : float or (float, float)
-        Vertical load per wheel (left, right), N (> 0).
+        Vertical load per wheel (left, right), N (> 0): the track-z component of the
+        contact forces on the wheel, normal and tangential. With ``side``, one load (or
+        the pair, of which that wheel's is used).
     mu : float or None
         Coulomb friction coefficient; None: normal contact only.
     speed : float or None
-        Rolling speed, m/s (> 0); None: normal contact only.
+        Forward speed of the wheelset, m/s (> 0; CONTACT's VS); None: normal contact only.
     material : Material
         Wheel and rail material.
     dx : float
         Element size along the rolling direction, m.
     dy : float, optional
         Lateral element size, m (default dx).
+    omega : float, optional
+        Angular velocity about the axle, rad/s (> 0 rolling forward; CONTACT's -VPITCH).
+        None: free rolling, omega such that the contact forces and moments exert no torque
+        about the axle (both wheels together).
+    roll : float, optional
+        Prescribed roll angle, rad (positive raises the left wheel; CONTACT's ROLL): each
+        wheel is a half wheelset lowered until it carries its load. None: the roll is
+        load-controlled (both wheels touch in the rigid pose; the extra roll theta makes
+        each wheel carry its load).
+    lateral_velocity, vertical_velocity, roll_rate, yaw_rate : float
+        Further rigid-body velocities of the wheelset, m/s and rad/s, track frame (y left,
+        z up; CONTACT's VY, VZ, VROLL, VYAW with y and z flipped); rolling only.
+    side : {'left', 'right'}, optional
+        Solve this wheel only (CONTACT's half wheelset): needs ``roll`` and, rolling,
+        ``omega``.
     method : str
         Normal solver ('cg', 'pk', 'gs').
     rolling_method : str, optional
@@ -276,9 +464,10 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     max_separation : float
         Candidate points up to this rigid separation are patches that may close, m.
     load_tol : float
-        Relative tolerance on each wheel's vertical load.
+        Relative tolerance on each wheel's vertical load and, with free rolling, on the
+        axle torque (relative to mu sum Fn r).
     max_iter : int
-        Newton iterations of the load control.
+        Newton iterations of each load control, and outer (rolling) iterations.
 
     Returns
     -------
@@ -287,102 +476,185 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     Raises
     ------
     InputError
-        Bad arguments, or a wheel without any contact candidate.
+        Bad arguments (named: omega <= 0, a NaN roll, ...), or a wheel without any contact
+        candidate.
     ConvergenceError
-        The load control did not converge.
+        The load control, the vertical balance with tangential forces or the free-rolling
+        torque balance did not converge.
     GridTooSmallError
         A patch keeps outgrowing its grid.
     """
-    y = _checks.finite("y", y)
-    yaw = _checks.finite("yaw", yaw)
-    fzs = (fz, fz) if np.ndim(fz) == 0 else tuple(fz)
-    if len(fzs) != 2:
-        raise InputError("fz must be one load or a (left, right) pair")
-    fzs = tuple(_checks.positive("fz", f) for f in fzs)
-    if not isinstance(material, Material):
-        raise InputError("material must be a railvti.Material")
-    dx = _checks.positive("dx", dx)
-    dy = dx if dy is None else _checks.positive("dy", dy)
-    rolling = mu is not None or speed is not None
-    if rolling:
-        if mu is None or speed is None:
-            raise InputError("give both mu and speed for rolling contact, or neither")
-        mu = _checks.non_negative("mu", mu)
-        speed = _checks.positive("speed", speed)
+    a = _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side,
+                    dict(omega=omega, lateral_velocity=lateral_velocity, vertical_velocity=vertical_velocity,
+                         roll_rate=roll_rate, yaw_rate=yaw_rate))
     load_tol = _checks.positive("load_tol", load_tol)
-
-    geo = contact_points(wheel, rail, y, yaw, track=track, wheelset=wheelset,
-                         max_separation=max_separation)
-    centre = geo.pose.centre
-    sides = ("left", "right")
-    patches = {s: [_Patch(cp, centre) for cp in geo.wheel(s)] for s in sides}
-    for s in sides:
-        if not patches[s]:
-            raise InputError(f"the {s} wheel has no contact candidate at y = {y * 1e3:.2f} mm "
-                             f"({geo.status[sides.index(s)]})")
-
-    # Hertz estimate of each carrying patch's approach, for the start and the grid size
-    s_fit = 5.0 * max(dx, dy)
-    start = []
-    for k, s in enumerate(sides):
-        for pt in patches[s]:
-            A, B = _curvature_fit(wheel, rail, pt.cp, s_fit)
-            pt.A = max(A, 1e-3)
-            ref = hertz(pt.A, max(B, 0.05 * pt.A, 1e-3), fzs[k] / max(pt.a, 0.2), material)
-            pt.reach = _GROW * ref.approach
-        carry = patches[s][0]
-        start.append((carry, carry.reach / _GROW + carry.cp.separation))
-    # (w, theta) that give the carrying points their Hertz approaches
-    M = np.array([[pt.a, pt.b] for pt, _ in start])
-    w, theta = np.linalg.solve(M, np.array([d for _, d in start]))
-
-    it = 0
-    fz_now = np.zeros(2)
-    for it in range(1, max_iter + 1):
-        J = np.zeros((2, 2))
-        for k, s in enumerate(sides):
-            fz_now[k] = 0.0
-            for pt in patches[s]:
-                _solve_patch(wheel, rail, pt, pt.delta(w, theta), material, dx, dy, method)
-                fz_now[k] += pt.fn * pt.a
-                J[k] += pt.stiffness * pt.a * np.array([pt.a, pt.b])
-        err = fz_now - np.array(fzs)
-        if np.all(np.abs(err) <= load_tol * np.array(fzs)):
-            break
-        if np.any(np.diag(J) <= 0.0) or abs(np.linalg.det(J)) < 1e-30:
-            # a wheel lost contact: push both wheels down by the Hertz scale
-            w += 0.5 * max(pt.reach for s in sides for pt in patches[s]) / _GROW
-            continue
-        step = np.linalg.solve(J, -err)
-        w, theta = w + step[0], theta + step[1]
+    max_iter = _checks.positive_int("max_iter", max_iter)
+    dx, dy, loads, motion = a["dx"], a["dy"], a["loads"], a["motion"]
+    if a["roll"] is None:
+        geo = contact_points(wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset,
+                             max_separation=max_separation)
     else:
-        raise ConvergenceError(f"wheelset load control did not converge: vertical loads {fz_now} N "
-                               f"against {fzs} N after {max_iter} iterations",
-                               iterations=max_iter, residual=float(np.max(np.abs(err) / np.array(fzs))))
+        geo = contact_points_at_roll(wheel, rail, a["y"], a["roll"], a["yaw"], track=track, wheelset=wheelset,
+                                     max_separation=max_separation, sides=a["sides"])
+    bal = _Balance(geo, a["sides"], a["roll"] is not None)
+    _start(bal, wheel, rail, loads, material, dx, dy)
+    # with rolling, the first load control only needs to be close: its targets are corrected
+    first_tol = max(_LOOSE_LOAD_TOL, load_tol) if motion is not None else load_tol
+    iters = _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
+                          rolling=motion is not None)
+    outer, om, torque = 0, None, float("nan")
+    if motion is not None:
+        ctx = dict(wheel=wheel, rail=rail, material=material, mu=a["mu"], motion=motion, dx=dx, dy=dy,
+                   method=method, rolling_method=rolling_method, load_tol=load_tol)
+        roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
+        iters += roll.load_iterations
+        outer = roll.solves
+    log.debug("solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s", a["y"], iters,
+              outer, om)
+    return _solution(bal, geo, loads, om, motion, torque, iters, outer)
 
-    out = {}
-    for s in sides:
-        res = []
-        for pt in patches[s]:
-            if pt.fn <= 0.0:
+
+class _Rolling:
+    """The rolling part of the balance: rolling solves of every loaded patch at a given
+    omega, the wheels' vertical balance with the tangential forces (a secant per wheel on its
+    load-control target, each patch's vertical force per unit Fn held at its first rolling
+    solve's value) and the torque about the axle."""
+
+    def __init__(self, bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int) -> None:
+        self.bal, self.loads, self.ctx, self.max_iter = bal, loads, ctx, max_iter
+        self.targets = loads.copy()
+        self.secants: list[_Secant] | None = None
+        self.solves = 0          # rolling solves of every patch
+        self.load_iterations = 0
+
+    def solve(self, omega: float, tol: float) -> None:
+        c = self.ctx
+        for pt in self.bal.all:
+            solve_patch_rolling(pt, c["material"], c["mu"], c["motion"], omega, c["rolling_method"], tol=tol)
+        self.solves += 1
+
+    def residual(self) -> np.ndarray:
+        return np.array([sum(pt.force()[2] for pt in row) for row in self.bal.patches]) - self.loads
+
+    def balance(self, omega: float, tol: float, first_tol: float | None = None) -> None:
+        """Rolling solves (to ``tol``; the first one to ``first_tol`` if given) and load
+        control until each wheel's vertical force, tangential forces included, equals its load
+        within the load tolerance."""
+        c = self.ctx
+        for s_ in self.secants or []:
+            s_.reset()                  # omega or the tolerance changed: a new function of the targets
+        for k in range(self.max_iter):
+            self.solve(omega, first_tol if k == 0 and first_tol is not None else tol)
+            if k == 0 and first_tol is not None:
+                resid = self.residual()
+                if self.secants is None:
+                    for pt in self.bal.all:
+                        if pt.carrying:
+                            pt.vertical = float(pt.force()[2] / pt.fn)
+                    self.secants = [_Secant(t, 1.0) for t in self.targets]
+                self.load_iterations += _load_control(self.bal, self.targets, c["wheel"], c["rail"],
+                                                      c["material"], c["dx"], c["dy"], c["method"],
+                                                      0.25 * c["load_tol"], self.max_iter)
                 continue
-            cp = pt.cp
-            fx = fy = 0.0
-            tx = ty = roll_res = cr = None
-            if rolling:
-                cr = creepages(cp, speed)
-                kw = {} if rolling_method is None else {"method": rolling_method}
-                # quasi-identical bodies: the tangential problem on the load-controlled pressure
-                roll_res = solve_tangential(pt.p, pt.grid, material, mu, (cr.xi, cr.eta, cr.phi), speed,
-                                            approach=pt.approach, **kw)
-                fx, fy, tx, ty = roll_res.fx, roll_res.fy, roll_res.tx, roll_res.ty
-            f_track = pt.fn * cp.normal + fx * cp.t_x + fy * cp.t_y
-            res.append(WheelsetPatch(side=s, contact=cp, contact_angle=cp.contact_angle, creepage=cr,
-                                     approach=pt.approach, fn=pt.fn, fx=fx, fy=fy, force_track=f_track,
-                                     pmax=pt.pmax, n_contact=pt.n_contact, grid=pt.grid, gap=pt.gap,
-                                     pressure=pt.p, tx=tx, ty=ty, rolling=roll_res))
-        out[s] = res
-    log.debug("solve_wheelset y=%.4g: %d iterations, loads %s", y, it, fz_now)
-    return WheelsetSolution(geometry=geo, left=out["left"], right=out["right"],
-                            fz=(float(fz_now[0]), float(fz_now[1])), sink=float(w), roll=float(theta),
-                            iterations=it)
+            resid = self.residual()
+            if np.all(np.abs(resid) <= c["load_tol"] * self.loads):
+                return
+            if self.secants is None:
+                for pt in self.bal.all:
+                    if pt.carrying:
+                        pt.vertical = float(pt.force()[2] / pt.fn)
+                self.secants = [_Secant(t, 1.0) for t in self.targets]
+            else:
+                self.targets = np.array([s_.step(f) for s_, f in zip(self.secants, resid)])
+            self.load_iterations += _load_control(self.bal, self.targets, c["wheel"], c["rail"], c["material"],
+                                                  c["dx"], c["dy"], c["method"], 0.25 * c["load_tol"],
+                                                  self.max_iter)
+        raise ConvergenceError(f"the wheels' vertical balance with tangential forces did not converge in "
+                               f"{self.max_iter} rolling solves: residual {resid} N", iterations=self.max_iter,
+                               residual=float(np.max(np.abs(resid) / self.loads)))
+
+    def torque_ok(self, torque: float, factor: float = 1.0) -> bool:
+        """|torque| <= factor * load_tol * mu sum_k Fn_k r_k (the largest friction torque)."""
+        scale = self.ctx["mu"] * sum(pt.fn * pt.cp.rolling_radius for pt in self.bal.all)
+        return abs(torque) <= factor * self.ctx["load_tol"] * max(scale, 1e-30)
+
+
+def _free_rolling(roll: _Rolling, omega: float) -> tuple[float, float]:
+    """omega of zero torque about the axle: a secant on T(omega), each T taken after the
+    vertical balance at that omega; its first slope by a difference at fixed pressures.
+    The rolling solves are loose (their forces resolve the torque to ~1e-4 of its scale)
+    until the torque is within ``_LOOSE_TORQUE`` times the tolerance, then converged."""
+    tol = LOOSE_TOL
+    sec: _Secant | None = None
+    for _ in range(roll.max_iter):
+        roll.balance(omega, tol)
+        torque = _axle_torque(roll.bal)
+        if roll.torque_ok(torque, 1.0 if tol == ROLLING_TOL else _LOOSE_TORQUE):
+            if tol == ROLLING_TOL:
+                return omega, torque
+            tol = ROLLING_TOL
+            if sec is not None:
+                sec.reset()
+            continue
+        if sec is None:
+            d_om = 1e-4 * omega
+            roll.solve(omega + d_om, tol)
+            sec = _Secant(omega, (_axle_torque(roll.bal) - torque) / d_om)
+        omega = sec.step(torque)
+        if not omega > 0.0:
+            raise ConvergenceError("free rolling: the torque balance drove omega to <= 0", iterations=roll.solves)
+    raise ConvergenceError(f"free rolling did not converge in {roll.max_iter} steps of omega: torque about the "
+                           f"axle {torque:.4g} N m at omega = {omega:.6g} rad/s", iterations=roll.max_iter)
+
+
+def _rolling_balance(bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int) -> tuple[_Rolling, float, float]:
+    """Rolling solves, vertical balance with tangential forces and (free rolling) the
+    torque balance: the first rolling solve (or, free rolling, those until the torque is
+    near zero) is loose (``LOOSE_TOL``), the others converged (``ROLLING_TOL``). Returns the
+    state, omega and the axle torque."""
+    roll = _Rolling(bal, loads, ctx, max_iter)
+    motion = ctx["motion"]
+    if motion.omega is None:
+        fn = np.array([pt.fn for pt in bal.all])
+        r = np.array([pt.cp.rolling_radius for pt in bal.all])
+        omega, torque = _free_rolling(roll, motion.speed / float((fn * r).sum() / fn.sum()))
+        return roll, omega, torque
+    roll.balance(motion.omega, ROLLING_TOL, first_tol=LOOSE_TOL)
+    return roll, motion.omega, _axle_torque(bal)
+
+
+def _solution(bal: _Balance, geo: WheelsetContact, loads: np.ndarray, om: float | None,
+              motion: WheelsetMotion | None, torque: float, iters: int, outer: int) -> WheelsetSolution:
+    out: dict[str, list[WheelsetPatch]] = {"left": [], "right": []}
+    fz = [np.nan, np.nan]
+    for i, s in enumerate(bal.sides):
+        fz[_SIDES.index(s)] = float(sum(pt.force()[2] for pt in bal.patches[i]))
+        for pt in bal.patches[i]:
+            if pt.carrying:
+                out[s].append(_patch_result(pt))
+    sinks = bal.sinks()
+    solved = [v for v in sinks if np.isfinite(v)]
+    return WheelsetSolution(
+        geometry=geo, left=out["left"], right=out["right"], fz=(fz[0], fz[1]),
+        sink=float(np.mean(solved)) if bal.prescribed else float(bal.u[0]),
+        roll=0.0 if bal.prescribed else float(bal.u[1]), sinks=sinks, pose_roll=float(geo.pose.roll),
+        roll_prescribed=bal.prescribed, omega=None if motion is None else float(om),
+        free_rolling=motion is not None and motion.omega is None, axle_torque=float(torque),
+        iterations=iters, outer_iterations=outer)
+
+
+def _patch_result(pt: PatchState) -> WheelsetPatch:
+    cp = pt.cp
+    x_cp, y_cp = pt.centre_of_pressure()
+    r = pt.rolling
+    fx, fy, mz = (r.fx, r.fy, r.mz) if r is not None else (0.0, 0.0, 0.0)
+    n_adh = int(r.adhesion.sum()) if r is not None else pt.n_contact
+    n_slip = int(r.slip.sum()) if r is not None else 0
+    return WheelsetPatch(
+        side=cp.side, contact=cp, contact_angle=cp.contact_angle,
+        creepage=pt.slip.creepage if r is not None else None,
+        reference_speed=pt.slip.reference_speed if r is not None else float("nan"), approach=pt.approach,
+        fn=pt.fn, fx=fx, fy=fy, mz=mz, centre_of_pressure=(x_cp, y_cp), force_track=pt.force(),
+        moment_track=pt.fn * (y_cp * cp.t_x - x_cp * cp.t_y) + mz * cp.normal, pmax=pt.pmax,
+        n_contact=pt.n_contact, n_adhesion=n_adh, n_slip=n_slip, grid=pt.grid, gap=pt.gap, pressure=pt.p,
+        tx=None if r is None else r.tx, ty=None if r is None else r.ty, rolling=r)

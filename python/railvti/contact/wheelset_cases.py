@@ -1,5 +1,6 @@
 """Deck case type ``loaded_wheelset``: normal and rolling contact of a loaded wheelset over a
-sweep of lateral shifts (the Manchester Contact Benchmark's case A-2.2 by default)."""
+sweep of lateral shifts (the Manchester Contact Benchmark's case A-2.2 by default), and the
+per-patch result arrays that the ``wheel_rail`` case type shares."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,25 +16,42 @@ from .wheelset import WheelsetSolution, solve_wheelset
 
 #: Patches kept per wheel in the result arrays.
 MAX_PATCHES = 2
-_QUANTITIES = {   # name: (unit, getter)
+_QUANTITIES = {   # name: (unit, getter); forces on the wheel, track frame x forward, y left, z up
     "contact_angle": ("rad", lambda p: p.contact_angle),
+    "x_ref": ("m", lambda p: p.contact.position[0]),
+    "y_ref": ("m", lambda p: p.contact.position[1]),
+    "z_ref": ("m", lambda p: p.contact.position[2]),
     "y_rail": ("m", lambda p: p.contact.y_rail),
     "y_wheel": ("m", lambda p: p.contact.y_wheel),
     "rolling_radius": ("m", lambda p: p.contact.rolling_radius),
     "xi": ("1", lambda p: p.creepage.xi if p.creepage else np.nan),
     "eta": ("1", lambda p: p.creepage.eta if p.creepage else np.nan),
     "phi": ("1/m", lambda p: p.creepage.phi if p.creepage else np.nan),
+    "v_ref": ("m/s", lambda p: p.reference_speed),
+    "approach": ("m", lambda p: p.approach),
     "fn": ("N", lambda p: p.fn),
     "fx": ("N", lambda p: p.fx),
     "fy": ("N", lambda p: p.fy),
+    "mz": ("N m", lambda p: p.mz),
+    "x_cp": ("m", lambda p: p.centre_of_pressure[0]),
+    "y_cp": ("m", lambda p: p.centre_of_pressure[1]),
+    "fx_track": ("N", lambda p: p.force_track[0]),
+    "fy_track": ("N", lambda p: p.force_track[1]),
+    "fz_track": ("N", lambda p: p.force_track[2]),
     "pmax": ("Pa", lambda p: p.pmax),
     "n_contact": ("1", lambda p: p.n_contact),
+    "n_adhesion": ("1", lambda p: p.n_adhesion),
+    "n_slip": ("1", lambda p: p.n_slip),
+    "n_regions": ("1", lambda p: p.n_regions),
 }
+#: Units of the per-patch arrays of :func:`sweep_arrays`.
+UNITS = {k: v[0] for k, v in _QUANTITIES.items()}
 
 
 def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
     """Per-patch quantities of a sweep as arrays (n_positions, 2 wheels, MAX_PATCHES); NaN where
-    a wheel has fewer patches."""
+    a wheel has fewer patches. Forces on the wheel; contact frame (fx, fy, mz) or track frame
+    (x forward, y left, z up)."""
     n = len(solutions)
     out = {k: np.full((n, 2, MAX_PATCHES), np.nan) for k in _QUANTITIES}
     for i, s in enumerate(solutions):
@@ -48,9 +66,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
     """Loaded-wheelset sweep.
 
     Keys: wheel, rail, cant (as ``geometry_table``), y_min_mm, y_max_mm, n, yaw_mrad_per_mm,
-    fz (N per wheel), mu, speed (m/s; mu <= 0 or speed <= 0: normal contact only), g (Pa),
-    nu, dx_mm, gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm, field_at_mm (the shift
-    whose pressure and traction fields are stored).
+    fz (N per wheel: the vertical contact force, normal and tangential), mu, speed (m/s;
+    mu <= 0 or speed <= 0: normal contact only), omega (rad/s, the wheelset's angular velocity;
+    0: free rolling, no torque about the axle), g (Pa), nu, dx_mm, gauge_mm, gauge_depth_mm,
+    back_to_back_mm, radius_mm, field_at_mm (the shift whose pressure and traction fields are
+    stored). The roll is load-controlled (both wheels touch; each carries its load).
     """
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"])
@@ -62,14 +82,20 @@ def run(params: dict[str, Any]) -> CaseOutput:
     mu, speed = float(params["mu"]), float(params["speed"])
     rolling = mu > 0 and speed > 0
     dx = _checks.positive("dx_mm", params["dx_mm"]) * 1e-3
+    omega = _checks.non_negative("omega", params["omega"])
+    kw = {"omega": omega} if rolling and omega > 0 else {}
     sols = [solve_wheelset(wheel, rail, yi, wi, params["fz"], mu if rolling else None,
-                           speed if rolling else None, mat, dx, track=track, wheelset=ws)
+                           speed if rolling else None, mat, dx, track=track, wheelset=ws, **kw)
             for yi, wi in zip(y, yaw)]
     arr = sweep_arrays(sols)
     ds = {"y": (y, "m"), "yaw": (yaw, "rad"),
           "status": (np.array([[s.geometry.status[0] != "ok", s.geometry.status[1] != "ok"] for s in sols],
                               dtype=int), "0 ok, 1 no contact or flange climb")}
     ds.update({k: (v, _QUANTITIES[k][0]) for k, v in arr.items()})
+    if rolling:
+        ds["omega"] = (np.array([s.omega for s in sols]), "rad/s")
+        ds["axle_torque"] = (np.array([s.axle_torque for s in sols]), "N m")
+    ds["fz"] = (np.array([s.fz for s in sols]), "N")
     k_field = int(np.argmin(np.abs(y - params["field_at_mm"] * 1e-3)))
     for side in ("left", "right"):
         for j, p in enumerate(sols[k_field].wheel(side)[:MAX_PATCHES]):
@@ -111,7 +137,7 @@ register(CaseType(
     name="loaded_wheelset",
     defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
               "y_min_mm": 0.0, "y_max_mm": 10.0, "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4,
-              "mu": 0.3, "speed": 2.0, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2,
+              "mu": 0.3, "speed": 2.0, "omega": 0.0, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2,
               "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "field_at_mm": 0.0},

@@ -13,8 +13,10 @@ def _plt():
     return plt
 
 
-def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path) -> Path:
-    """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift."""
+def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
+               xlabel: str = "lateral shift y, mm") -> Path:
+    """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift
+    (``y`` in m, drawn in mm)."""
     plt = _plt()
     panels = [("contact_angle", "contact angle, rad", 1.0), ("y_rail", "contact position on rail, mm", 1e3),
               ("fn", "Fn, kN", 1e-3), ("fx", "Fx, kN", 1e-3), ("fy", "Fy, kN", 1e-3),
@@ -36,7 +38,7 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path) -
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7)
     for ax in axes[-ncol:]:
-        ax.set_xlabel("lateral shift y, mm")
+        ax.set_xlabel(xlabel)
     for ax in axes[len(panels):]:
         ax.set_visible(False)
     fig.tight_layout()

@@ -1,0 +1,213 @@
+"""Deck case type ``wheel_rail``: one position of a wheelset (one wheel, CONTACT's half
+wheelset, or both) on its rails with its full kinematics, as a CONTACT module-1 case.
+
+The CONTACT deck reader (:mod:`railvti.contact.contact_deck`) turns every case of a CONTACT
+``.inp`` file into a case of this type; a namelist deck may use it directly. Inputs are in
+railvti's conventions (SI units with mm / mrad in the key names; track frame x forward,
+y left, z up); the console summary repeats the results in CONTACT's conventions (mm, N,
+forces on the rail, y to the right, z down) for comparison with CONTACT's output.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import _checks
+from .. import profiles as P
+from ..casetypes import CaseOutput, CaseType, register
+from ..errors import InputError
+from ..geometry import TrackLayout
+from ..material import Material
+from ..wheelset.geometry import WheelsetGeometry
+from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .wheelset_cases import MAX_PATCHES, UNITS, sweep_arrays
+
+_SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
+_PROFILE_CACHE: dict[tuple, P.Profile] = {}
+
+
+def load_profile(spec: str, kind: str, mirror_y: bool = False, scale: float = 1.0,
+                 cant: float = 0.0) -> P.Profile:
+    """A wheel or rail profile as a CONTACT deck describes it (cached per file and options).
+
+    Parameters
+    ----------
+    spec : str
+        's1002', 'uic60' or a profile file: SIMPACK ``.prw``/``.prr`` (its header's units and
+        mirroring applied), otherwise two columns y, z in mm.
+    kind : {'wheel', 'rail'}
+    mirror_y : bool
+        Negate y (CONTACT's MIRRORY = 1).
+    scale : float
+        Factor on y and z after reading (CONTACT's SCALE; a plain file is mm times this).
+    cant : float
+        Rotation of a rail profile towards the track centre, rad (CONTACT's CANT).
+
+    Returns
+    -------
+    Profile
+    """
+    scale = _checks.positive("profile scale", scale)
+    cant = _checks.finite("cant", cant)
+    path = Path(spec)
+    stamp = path.stat().st_mtime_ns if path.is_file() else 0
+    key = (str(path.resolve()) if path.is_file() else spec, stamp, kind, bool(mirror_y), scale, cant)
+    hit = _PROFILE_CACHE.get(key)
+    if hit is not None:
+        return hit
+    prof = P.load(spec, kind)
+    y, z = prof.y * scale, prof.z * scale
+    if mirror_y:
+        y = -y
+    if cant:
+        if kind != "rail":
+            raise InputError("cant rotates a rail profile only")
+        y, z = y * math.cos(cant) + z * math.sin(cant), -y * math.sin(cant) + z * math.cos(cant)
+    if mirror_y or scale != 1.0 or cant:
+        prof = P.Profile(y, z, kind=kind, name=prof.name)
+    if len(_PROFILE_CACHE) > 16:
+        _PROFILE_CACHE.clear()
+    _PROFILE_CACHE[key] = prof
+    return prof
+
+
+def _solve(params: dict[str, Any]) -> WheelsetSolution:
+    side = str(params["side"]).strip().lower()
+    if side not in _SIDES:
+        raise InputError(f"side must be one of {sorted(_SIDES)}, got {params['side']!r}")
+    wheel = load_profile(params["wheel"], "wheel", bool(params["wheel_mirror_y"]), params["wheel_scale"])
+    rail = load_profile(params["rail"], "rail", bool(params["rail_mirror_y"]), params["rail_scale"],
+                        params["cant_rad"])
+    track = TrackLayout(gauge=_checks.positive("gauge_mm", params["gauge_mm"]) * 1e-3,
+                        gauge_depth=_checks.positive("gauge_depth_mm", params["gauge_depth_mm"]) * 1e-3)
+    ws = WheelsetGeometry(back_to_back=_checks.positive("back_to_back_mm", params["back_to_back_mm"]) * 1e-3,
+                          wheel_radius=_checks.positive("radius_mm", params["radius_mm"]) * 1e-3,
+                          contact_offset=_checks.finite("contact_offset_mm", params["contact_offset_mm"]) * 1e-3)
+    mat = Material(shear_modulus=params["g"], poisson=params["nu"])
+    mu, speed = _checks.non_negative("mu", params["mu"]), _checks.non_negative("speed", params["speed"])
+    rolling = mu > 0 and speed > 0
+    roll = params["roll_mrad"]
+    roll = None if roll is None else _checks.finite("roll_mrad", roll) * 1e-3
+    omega = _checks.non_negative("omega", params["omega"])
+    kin = {}
+    if rolling:
+        kin = dict(omega=omega if omega > 0 else None,
+                   lateral_velocity=params["lateral_velocity"], vertical_velocity=params["vertical_velocity"],
+                   roll_rate=params["roll_rate"], yaw_rate=params["yaw_rate"])
+    return solve_wheelset(wheel, rail, _checks.finite("y_mm", params["y_mm"]) * 1e-3,
+                          _checks.finite("yaw_mrad", params["yaw_mrad"]) * 1e-3, params["fz"],
+                          mu if rolling else None, speed if rolling else None, mat,
+                          _checks.positive("dx_mm", params["dx_mm"]) * 1e-3,
+                          dy=_checks.positive("dy_mm", params["dy_mm"]) * 1e-3, roll=roll,
+                          side=None if side == "both" else side, track=track, wheelset=ws, **kin)
+
+
+def contact_summary(sol: WheelsetSolution) -> list[str]:
+    """Lines per wheel and patch in CONTACT's conventions: mm, N, N mm, MPa; track frame with
+    y to the right and z down; forces and moments on the rail; creepages of the rail
+    relative to the wheel (CKSI = -xi, CETA = eta, CPHI = phi); DELTCP positive on the left."""
+    lines = []
+    for w, side in enumerate(("left", "right")):
+        if not math.isfinite(sol.fz[w]):
+            continue
+        patches = sol.wheel(side)
+        f = sum((p.force_track for p in patches), np.zeros(3))
+        lines.append(f"{side} wheel: {len(patches)} patch(es), FX_TR {-f[0]:.1f} FY_TR {f[1]:.1f} FZ_TR {f[2]:.1f} N"
+                     + (f", VPITCH {-sol.omega:.6f} rad/s" if sol.omega is not None else "")
+                     + f", ROLL {sol.pose_roll * 1e3:.4f} mrad")
+        for k, p in enumerate(patches, 1):
+            lines.append("  " + _patch_line(k, p, 1.0 if side == "left" else -1.0))
+    return lines
+
+
+def _patch_line(k: int, p: WheelsetPatch, sg: float) -> str:
+    x, y, z = p.contact.position * 1e3
+    s = (f"patch {k}: XCP,YCP,ZCP {x:.3f} {-y:.3f} {-z:.4f} mm, YCP_R {-sg * p.contact.y_rail * 1e3:.3f} mm, "
+         f"DELTCP {sg * p.contact_angle:.4f} rad, FN {p.fn:.1f} FX {-p.fx:.1f} FS {p.fy:.1f} N, "
+         f"MN {p.mz * 1e3:.1f} N mm, PEN {p.approach * 1e3:.5f} mm, PMAX {p.pmax * 1e-6:.0f} MPa")
+    if p.creepage is not None:
+        c = p.creepage
+        s += f", CKSI {-c.xi:.4e} CETA {c.eta:.4e} CPHI {c.phi * 1e-3:.4e} 1/mm"
+    n_reg = p.n_regions
+    return s + (f", elements {p.n_contact} (adhesion {p.n_adhesion}, slip {p.n_slip})"
+                + (f" in {n_reg} areas" if n_reg > 1 else ""))
+
+
+def run(params: dict[str, Any]) -> CaseOutput:
+    """One wheelset position.
+
+    Keys: side ('left' or 'right': that wheel as a half wheelset, CONTACT's module 1; 'both');
+    wheel, rail (profile: 's1002', 'uic60' or a file), wheel_mirror_y, rail_mirror_y (0/1),
+    wheel_scale, rail_scale (factors to the file's length unit: mm for plain files),
+    cant_rad (extra rail rotation towards the track centre, rad); gauge_mm, gauge_depth_mm,
+    back_to_back_mm, contact_offset_mm (tread datum from the flange back), radius_mm;
+    y_mm (lateral shift, to the left), yaw_mrad, roll_mrad (prescribed roll, positive raises
+    the left wheel; none: load-controlled, 'both' only), fz (vertical load per wheel, N:
+    normal and tangential contact forces); speed (m/s), omega (rad/s about the axle, > 0
+    rolling forward; 0: free rolling, 'both' only), lateral_velocity, vertical_velocity
+    (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu <= 0 or speed <= 0: normal
+    contact only), g (Pa), nu, dx_mm, dy_mm; store_fields (1: keep each patch's pressure and
+    tractions); origin (where the case comes from, for messages).
+    """
+    try:
+        sol = _solve(params)
+    except InputError as exc:
+        origin = str(params.get("origin") or "")
+        raise type(exc)(f"{origin}: {exc}" if origin else str(exc)) from None
+    arr = {k: v[0] for k, v in sweep_arrays([sol]).items()}
+    ds: dict[str, tuple[np.ndarray, str]] = {k: (v, UNITS[k]) for k, v in arr.items()}
+    ds["fz"] = (np.array(sol.fz), "N")
+    ds["sinks"] = (np.array(sol.sinks), "m")
+    out = CaseOutput(summary="", datasets=ds)
+    out.scalars["pose_roll"] = (sol.pose_roll, "rad")
+    out.scalars["load_iterations"] = (sol.iterations, "1")
+    if sol.omega is not None:
+        out.scalars["omega"] = (sol.omega, "rad/s")
+        out.scalars["axle_torque"] = (sol.axle_torque, "N m")
+        out.scalars["rolling_solves"] = (sol.outer_iterations, "1")
+    if int(params["store_fields"]):
+        for side in ("left", "right"):
+            for j, p in enumerate(sol.wheel(side)[:MAX_PATCHES]):
+                ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
+                ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
+                ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
+                if p.tx is not None:
+                    ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
+                    ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
+                    ds[f"field_{side}{j}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
+                                                     "0 exterior, 1 adhesion, 2 slip")
+    lines = contact_summary(sol)
+    out.summary = "\n    ".join(lines) if len(lines) > 1 else (lines[0] if lines else "no wheel solved")
+    return out
+
+
+def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
+    """The stored patches' pressure maps with traction vectors (store_fields = 1)."""
+    from .wheelset_plots import plot_fields
+    r = group["results"] if "results" in group else group
+    fields = {}
+    for name in r:
+        if name.startswith("field_") and name.endswith("_pressure"):
+            key = name[len("field_"):-len("_pressure")]
+            fields[key] = {q: np.asarray(r[f"field_{key}_{q}"]) for q in ("pressure", "x", "y", "tx", "ty")
+                           if f"field_{key}_{q}" in r}
+    return [plot_fields(fields, Path(outdir) / f"{stem}_patches.png")] if fields else []
+
+
+#: Keys of the ``wheel_rail`` case type and their defaults: the Manchester benchmark's data (its
+#: profile files, shipped with railvti; the rail file is already canted 1:40).
+DEFAULTS: dict[str, Any] = {
+    "side": "both", "wheel": str(P.example_path("MBench_S1002_v3.prw")),
+    "rail": str(P.example_path("MBench_UIC60_v3.prr")), "wheel_mirror_y": 0, "rail_mirror_y": 0,
+    "wheel_scale": 1.0, "rail_scale": 1.0, "cant_rad": 0.0,
+    "gauge_mm": 1435.0, "gauge_depth_mm": 14.0, "back_to_back_mm": 1360.0, "contact_offset_mm": 70.0,
+    "radius_mm": 460.0, "y_mm": 0.0, "yaw_mrad": 0.0, "roll_mrad": None, "fz": 1.0e4,
+    "speed": 2.0, "omega": 0.0, "lateral_velocity": 0.0, "vertical_velocity": 0.0, "roll_rate": 0.0,
+    "yaw_rate": 0.0, "mu": 0.3, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2, "dy_mm": 0.2, "store_fields": 0,
+    "origin": "",
+}
+
+register(CaseType(name="wheel_rail", defaults=DEFAULTS, run=run, plot=plot))
