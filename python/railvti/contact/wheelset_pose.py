@@ -20,7 +20,6 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from .. import _checks
 from ..errors import InputError
@@ -28,6 +27,7 @@ from ..geometry import (FLANGE_CLIMB, NO_CONTACT, OK, STATUS_NAMES, ContactPoint
                         WheelsetContact, WheelsetPose, layout)
 from ..geometry.frames import SIDES, SIGN, axle_direction
 from ..geometry.placement import ProfileLayout
+from ..geometry.table import gap_minima
 from ..profiles import Profile
 from ..wheelset.geometry import WheelsetGeometry
 
@@ -68,30 +68,14 @@ def _candidates(lay: ProfileLayout, gap: np.ndarray, px: np.ndarray, py: np.ndar
                 max_separation: float) -> tuple[float, list[tuple[float, float, float, float, float]]]:
     """The smallest gap (parabolically refined) and the candidate points
     (separation, wheel y, rail y, track x, track y), ordered by separation."""
-    fin = np.isfinite(gap)
-    if not fin.any():
-        return np.nan, []
-    first, last = int(np.argmax(fin)), len(gap) - 1 - int(np.argmax(fin[::-1]))
-    gg = np.where(fin, gap, gap[fin].max() + 1.0)
-    kmin = int(np.argmin(gg))
-    if kmin <= first or kmin >= last:
-        return np.nan, []      # the wheel rests on an edge of a profile: no proper contact
-    peaks, _ = find_peaks(-gg, prominence=_PROMINENCE)
-    if kmin not in peaks:
-        peaks = np.append(peaks, kmin)
+    minima = gap_minima(gap, _PROMINENCE)
+    if not minima:
+        return np.nan, []      # no finite gap, or the wheel rests on an edge of a profile
     pts = []
-    for k in peaks:
-        if k <= first or k >= last:
-            continue
-        gm, g0, gp = gg[k - 1], gg[k], gg[k + 1]
-        den = gm - 2.0 * g0 + gp
-        t = float(np.clip(0.5 * (gm - gp) / den, -0.5, 0.5)) if den > 0 else 0.0
-        j = k + 1 if t >= 0 else k - 1
-        lam = abs(t)
-
+    for sep, k, j, lam in minima:
         def mix(v: np.ndarray) -> float:
             return float((1 - lam) * v[k] + lam * v[j])
-        pts.append((g0 - 0.25 * (gm - gp) * t, mix(lay.ws), mix(yr), mix(px), mix(py)))
+        pts.append((sep, mix(lay.ws), mix(yr), mix(px), mix(py)))
     pts.sort(key=lambda p: p[0])
     base = pts[0][0]
     return base, [(p[0] - base,) + p[1:] for p in pts if p[0] - base <= max_separation]

@@ -318,6 +318,48 @@ def _args(y, yaw) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(ya), np.ascontiguousarray(yw)
 
 
+def gap_minima(gap: np.ndarray, prominence: float) -> list[tuple[float, int, int, float]] | None:
+    """Local minima of a gap sampled along the wheel profile, parabolically refined.
+
+    Parameters
+    ----------
+    gap : ndarray
+        Gap, m, at the wheel profile's samples (inf or NaN where the rail is not below).
+    prominence : float
+        Minima joined to a lower one by a ridge lower than this, m, belong to its patch
+        (conformal treads: one wide patch with several pressure maxima).
+
+    Returns
+    -------
+    list of (gap_min, k, j, lam) or None
+        None when no sample is finite or the smallest lies on an edge of the finite range
+        (the wheel rests on a profile's edge: no proper contact). Otherwise, per minimum, the
+        refined gap and the refined point's position (1 - lam) * s[k] + lam * s[j] between
+        samples k and j.
+    """
+    fin = np.isfinite(gap)
+    if not fin.any():
+        return None
+    first, last = int(np.argmax(fin)), len(gap) - 1 - int(np.argmax(fin[::-1]))
+    gg = np.where(fin, gap, gap[fin].max() + 1.0)
+    kmin = int(np.argmin(gg))
+    if kmin <= first or kmin >= last:
+        return None
+    peaks, _ = find_peaks(-gg, prominence=prominence)
+    if kmin not in peaks:
+        peaks = np.append(peaks, kmin)
+    out = []
+    for k in peaks:
+        if k <= first or k >= last:
+            continue
+        gm, g0, gp = gg[k - 1], gg[k], gg[k + 1]
+        den = gm - 2 * g0 + gp
+        t = 0.5 * (gm - gp) / den if den > 0 else 0.0
+        t = float(np.clip(t, -0.5, 0.5))
+        out.append((g0 - 0.25 * (gm - gp) * t, int(k), int(k + 1 if t >= 0 else k - 1), abs(t)))
+    return out
+
+
 def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separation: float,
             prominence: float = 5e-5) -> list[dict]:
     """Solve the pose and extract the candidate points: per position a dict with the roll,
@@ -341,32 +383,13 @@ def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_
         gap, px, py, yr = s
         for row, i in enumerate(idx):
             g = gap[row]
-            fin = np.isfinite(g)
-            if not fin.any():
-                continue
-            first, last = int(np.argmax(fin)), len(g) - 1 - int(np.argmax(fin[::-1]))
-            gg = np.where(fin, g, np.nanmax(np.where(fin, g, np.nan)) + 1.0)
-            kmin = int(np.argmin(gg))
-            if kmin <= first or kmin >= last:
-                continue  # the wheel rests on an edge of a profile: no proper contact
-            # minima joined to a lower one by a ridge lower than `prominence` belong to its
-            # patch (conformal treads: one wide patch with several pressure maxima)
-            peaks, _ = find_peaks(-gg, prominence=prominence)
-            if kmin not in peaks:
-                peaks = np.append(peaks, kmin)
+            minima = gap_minima(g, prominence)
+            if minima is None:
+                continue  # no finite gap, or the wheel rests on an edge of a profile
             pts = []
-            for k in peaks:
-                if k <= first or k >= last:
-                    continue
-                gm_, g0, gp_ = gg[k - 1], gg[k], gg[k + 1]
-                den = gm_ - 2 * g0 + gp_
-                t = 0.5 * (gm_ - gp_) / den if den > 0 else 0.0
-                t = float(np.clip(t, -0.5, 0.5))
-                sep = g0 - 0.25 * (gm_ - gp_) * t
+            for sep, k, j, lam in minima:
                 if sep > max_separation:
                     continue
-                j = k + 1 if t >= 0 else k - 1
-                lam = abs(t)
                 pts.append((sep, (1 - lam) * lay.ws[k] + lam * lay.ws[j],
                             (1 - lam) * yr[row, k] + lam * yr[row, j],
                             (1 - lam) * px[row, k] + lam * px[row, j],
