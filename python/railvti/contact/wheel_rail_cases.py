@@ -23,7 +23,7 @@ from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
-from .wheelset_cases import MAX_PATCHES, UNITS, sweep_arrays
+from .wheelset_cases import UNITS, store_patch_fields, sweep_arrays
 
 _SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
 _PROFILE_CACHE: dict[tuple, P.Profile] = {}
@@ -169,16 +169,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         out.scalars["axle_torque"] = (sol.axle_torque, "N m")
         out.scalars["rolling_solves"] = (sol.outer_iterations, "1")
     if int(params["store_fields"]):
-        for side in ("left", "right"):
-            for j, p in enumerate(sol.wheel(side)[:MAX_PATCHES]):
-                ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
-                ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
-                ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
-                if p.tx is not None:
-                    ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
-                    ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
-                    ds[f"field_{side}{j}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
-                                                     "0 exterior, 1 adhesion, 2 slip")
+        store_patch_fields(ds, sol, status=True)
     lines = contact_summary(sol)
     out.summary = "\n    ".join(lines) if len(lines) > 1 else (lines[0] if lines else "no wheel solved")
     return out

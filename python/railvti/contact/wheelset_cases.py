@@ -97,14 +97,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         ds["axle_torque"] = (np.array([s.axle_torque for s in sols]), "N m")
     ds["fz"] = (np.array([s.fz for s in sols]), "N")
     k_field = int(np.argmin(np.abs(y - params["field_at_mm"] * 1e-3)))
-    for side in ("left", "right"):
-        for j, p in enumerate(sols[k_field].wheel(side)[:MAX_PATCHES]):
-            ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
-            ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
-            ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
-            if p.tx is not None:
-                ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
-                ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
+    store_patch_fields(ds, sols[k_field])
     fl = np.nanmax(arr["contact_angle"][:, 0, :], axis=1)
     flange = y[fl > 1.0]
     summary = (f"loaded wheelset: {n} shifts, Fn left {np.nanmin(arr['fn'][:, 0, 0]):.0f}-"
@@ -142,3 +135,20 @@ register(CaseType(
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "field_at_mm": 0.0},
     run=run, plot=plot))
+
+
+def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False) -> None:
+    """Put each patch's fields of one loaded-wheelset solution into ``ds`` as
+    ``field_<side><j>_{pressure,x,y,tx,ty}`` (Pa, m), and the adhesion/slip map with
+    ``status`` (0 exterior, 1 adhesion, 2 slip)."""
+    for side in ("left", "right"):
+        for j, p in enumerate(sol.wheel(side)[:MAX_PATCHES]):
+            ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
+            ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
+            ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
+            if p.tx is not None:
+                ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
+                ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
+                if status:
+                    ds[f"field_{side}{j}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
+                                                     "0 exterior, 1 adhesion, 2 slip")
