@@ -9,19 +9,19 @@
 !> between calls). A handle not in use gives STAT_BAD_HANDLE.
 
 !> Store a model: handle for the calls below. info: see vehicle_model%vehicle_create.
-subroutine vehicle_model_create_c(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, &
-                                  tab, y0, dy, r0, gmod, mu, handle, info)
+subroutine vehicle_model_create_c(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, &
+                                  tab, y0, dy, p0, dph, rnom, r0, gmod, mu, handle, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_model, only: vehicle_create
     implicit none
-    integer(c_int), intent(in) :: nd, ne, nw, ny, nq
+    integer(c_int), intent(in) :: nd, ne, nw, ny, nr, nq
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
     integer(c_int), intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
-    real(c_double), intent(in) :: tab(nq, 2, ny), y0, dy, r0, gmod, mu
+    real(c_double), intent(in) :: tab(nq, 2, ny, nr), y0, dy, p0, dph, rnom, r0, gmod, mu
     integer(c_int), intent(out) :: handle, info
     integer :: hd, stat
-    call vehicle_create(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                        y0, dy, r0, gmod, mu, hd, stat)
+    call vehicle_create(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
+                        y0, dy, p0, dph, rnom, r0, gmod, mu, hd, stat)
     handle = hd
     info = stat
 end subroutine vehicle_model_create_c
@@ -186,3 +186,34 @@ subroutine vehicle_bem_fields_c(handle, iws, iw, k, nx, ny, p, tx, ty, sx, sy, i
     call bem_fields(handle, iws, iw, k, nx, ny, p, tx, ty, sx, sy, stat)
     info = stat
 end subroutine vehicle_bem_fields_c
+
+!> Evaluate a contact table at n poses (u, phi) as the time loop does (vehicle_contact%pose_at),
+!> for tests and the table-accuracy study. info: STAT_BAD_ARGUMENT (see pose_set),
+!> STAT_OUTSIDE_TABLE (a pose outside the table; ibad its index).
+subroutine vehicle_pose_at_c(nq, ny, nr, tab, u0, du, p0, dph, rnom, n, u, phi, vals, wt, grad, ibad, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK
+    use vehicle_contact, only: pose_table, pose_set, pose_at
+    implicit none
+    integer(c_int), intent(in) :: nq, ny, nr, n
+    real(c_double), intent(in) :: tab(nq, 2, ny, nr), u0, du, p0, dph, rnom, u(n), phi(n)
+    real(c_double), intent(out) :: vals(nq, 2, 2, n), wt(2, 2, n), grad(2, 2, 2, n)
+    integer(c_int), intent(out) :: ibad, info
+    type(pose_table) :: ct
+    integer :: i, stat
+    vals = 0.0_c_double
+    wt = 0.0_c_double
+    grad = 0.0_c_double
+    ibad = 0
+    call pose_set(nq, ny, nr, tab, u0, du, p0, dph, rnom, ct, stat)
+    info = stat
+    if (stat /= STAT_OK) return
+    do i = 1, n
+        call pose_at(ct, u(i), phi(i), vals(:, :, :, i), wt(:, :, i), grad(:, :, :, i), stat)
+        if (stat /= STAT_OK) then
+            info = stat
+            ibad = i
+            return
+        end if
+    end do
+end subroutine vehicle_pose_at_c

@@ -1,24 +1,37 @@
 !> Wheel-rail contact forces of one rigid wheelset on its (rigid or elastic) track element,
 !> from a precomputed per-wheel contact table (the usual MBS look-up-table approach).
 !>
-!> Table (left wheel; the right wheel is its mirror): uniform in the lateral displacement
-!> y_r of the wheelset relative to the track, two candidate points per wheel (slot 1 the
-!> tread side, slot 2 the flange side of a split of the wheel profile), quantities
-!>   1 g   vertical gap at nominal height and zero roll, m
-!>   2 l   lateral position of the point from the wheelset centre (left wheel), m
+!> Table (left wheel; the right wheel is its mirror, read at (-u, -phi)): uniform in
+!> u = Y + r_nom phi, the lateral position of the rolled wheel's lowest point (Y the
+!> wheelset centre's lateral shift in the track frame, r_nom the nominal radius = the
+!> centre's height above the rail top), and in the relative roll phi of wheel against
+!> rail; two candidate points per wheel (slot 1 the tread side, slot 2 the flange side of a
+!> split of the wheel profile), quantities
+!>   1 g   vertical gap of the rolled wheel with its centre at nominal height, m
+!>   2 l   lateral offset of the point from the wheelset centre (left wheel, track frame), m
 !>   3 delta contact angle (rail normal from vertical, + towards the track centre), rad
-!>   4 r   rolling radius, m
+!>   4 r   rolling radius (distance of the point from the axle), m
 !>   5 a1, 6 b1  Hertz semi-axes (rolling, lateral) for a 1 N load, m N^(-1/3)
 !>   7 kH  Hertz law N = kH * d^1.5 with d the normal approach, N m^(-1.5)
 !>   8 c11, 9 c22, 10 c23  Kalker's linear creep coefficients at a1/b1,
-!>   11 branch label of the slot's point (a local minimum of the gap followed continuously
-!>      in y; table_at never interpolates between two labels).
-!> Quasi-elastic contact: the vertical interference of a point is
-!> -(g + z_w - z_t + phi_w l - phi_t (l + y_rel)) (wheelset roll about its centre, track roll
-!> about the track centre, the arms of the generalised forces),
-!> its normal approach that times cos(delta). Creepages from the wheelset's velocities with
-!> the nominal rolling speed Omega0 = v0/r0 plus the spin perturbation rate betadot (no
-!> rotation angle: only the rate enters). Forces on the wheel in track axes.
+!>   11 branch label of the slot's point along u within one roll row (a local minimum of
+!>      the gap followed continuously),
+!>   12 zarm  depth of the point below the wheelset centre (track frame), m,
+!>   13 rlink 1 where the slot's point at this node and at the next roll row (same u) is
+!>      the same local minimum, else 0 (pose_at never interpolates across a missing link),
+!>   14 rzz   the rail's d2Z/dY2 under the point (track frame, Z up), 1/m.
+!> Quasi-elastic contact: with Y = y_rel + r_nom phi_t and the centre's height
+!> Z = z_rel - y_rel phi_t in the frame of the track element (rolled by phi_t about the
+!> track centre at rail-top height), the vertical interference of a point is -(g + Z), its
+!> normal approach that times cos(delta). The Hertz, Kalker and FASTSIM paths read the
+!> table at (u, phi); the BEM paths (their gap fields exist on the zero-roll row only) use
+!> the zero-roll row at u with the roll to first order (the point rotated about the centre,
+!> the gap field tilted by phi about the point: vehicle_bem). Lever arms (l, zarm) about the
+!> wheelset centre and (l + y_rel, r_nom - zarm) about the track's roll centre enter both
+!> the relative velocities and the generalised forces (energy-consistent).
+!> Creepages from the wheelset's velocities with the nominal rolling speed Omega0 = v0/r0
+!> plus the spin perturbation rate betadot (no rotation angle: only the rate enters).
+!> Forces on the wheel in track axes.
 !> Implements Hertz's law, Kalker's linear theory with the Shen-Hedrick-Elkins saturation
 !> (creep_kalker_she) and FASTSIM through contact_fastsim; no Kaiser equation.
 module vehicle_contact
@@ -28,16 +41,29 @@ module vehicle_contact
     use vehicle_bem, only: bem_patch, bem_scale
     implicit none
     private
-    public :: nq_table, nwo, wheelset_contact, creep_kalker_she
+    public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
     public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM, CMODEL_BEM_TANGENT
 
     !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names the first three.
     integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_FASTSIM = 2, CMODEL_BEM = 3
     integer, parameter :: CMODEL_BEM_TANGENT = 4
 
-    integer, parameter :: nq_table = 11
-    !> Table quantity holding the branch label of each slot's point (see table_at).
-    integer, parameter :: IBRANCH = 11
+    integer, parameter :: nq_table = 14
+    !> Table quantities: the branch label of each slot's point along u (table_at), the depth
+    !> of the point below the centre, the link to the next roll row, the rail's d2Z/dY2
+    !> (pose_at).
+    integer, parameter :: IBRANCH = 11, IZARM = 12, IRLINK = 13, IRZZ = 14
+    !> Gap difference over which two branches of one slot share its load, m (pose_at): a
+    !> branch change of the lowest point keeps the forces continuous.
+    real(dp), parameter :: SHARE_GAP = 2.0e-6_dp
+
+    !> The contact table of a model: tab(nq_table, 2, ny, nr) over u = u0 + (i - 1) du and
+    !> phi = p0 + (j - 1) dp, row j0 at phi = 0; r_nom the nominal radius (centre height).
+    type :: pose_table
+        integer :: ny = 0, nr = 0, j0 = 1
+        real(dp) :: u0 = 0.0_dp, du = 1.0_dp, p0 = 0.0_dp, dp = 1.0_dp, rnom = 0.46_dp
+        real(dp), allocatable :: tab(:, :, :, :)
+    end type pose_table
     !> Outputs per wheel: 1 Q (vertical force on the wheel), 2 Y (lateral force on the wheel,
     !> track y), 3 Fx (longitudinal), 4 N tread, 5 N flange, 6 xi, 7 eta, 8 spin (1/m) of the
     !> point with the larger normal force, 9 Hertz potential energy (J), 10 its contact angle,
@@ -126,6 +152,262 @@ contains
         end subroutine side
     end subroutine table_at
 
+    !> Store a table: info STAT_BAD_ARGUMENT for fewer than 2 nodes in u, steps <= 0, an even
+    !> number of roll rows or rows not symmetric about phi = 0, or a non-finite entry.
+    pure subroutine pose_set(nq, ny, nr, tab, u0, du, p0, dph, rnom, ct, info)
+        integer, intent(in) :: nq, ny, nr
+        real(dp), intent(in) :: tab(nq, 2, ny, nr), u0, du, p0, dph, rnom
+        type(pose_table), intent(out) :: ct
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (nq /= nq_table .or. ny < 2 .or. nr < 1 .or. mod(nr, 2) /= 1) return
+        if (.not. (du > 0.0_dp .and. dph > 0.0_dp .and. rnom > 0.0_dp)) return
+        if (abs(p0 + 0.5_dp * real(nr - 1, dp) * dph) > 1.0e-9_dp * dph) return
+        if (.not. all(abs(tab) <= huge(1.0_dp))) return
+        ct%ny = ny
+        ct%nr = nr
+        ct%j0 = (nr + 1) / 2
+        ct%u0 = u0
+        ct%du = du
+        ct%p0 = p0
+        ct%dp = dph
+        ct%rnom = rnom
+        ct%tab = tab
+        info = STAT_OK
+    end subroutine pose_set
+
+    !> The table at (u, phi), per slot: a bilinear blend of the cell's four nodes in which
+    !> each node's gap is first carried to (u, phi) along its own wheel point (the point
+    !> rotated rigidly about the wheelset centre by phi - phi_node, the centre moved to
+    !> Y = u - r_nom phi, the rail's slope tan(delta) under it: exact in the rotation, first
+    !> order in the rail's second derivative), so the blend is exact for a point that does not move
+    !> on the wheel. Branches: the four nodes fall into groups joined by the cell's edges
+    !> that keep one branch (equal labels along u, links along phi); each group is blended
+    !> alone (weights renormalised) and the group with the smallest gap is the slot's point
+    !> (the geometry's choice: the lowest local minimum). Fields and points of two branches
+    !> are never mixed, and on a cell edge only that edge's nodes count, so the look-up is
+    !> continuous across cells. A single row (nr = 1) gives the roll by the same carry.
+    !> info STAT_OUTSIDE_TABLE outside the table.
+    pure subroutine pose_at(ct, u, phi, vals, wt, grad, info)
+        type(pose_table), intent(in) :: ct
+        real(dp), intent(in) :: u, phi
+        real(dp), intent(out) :: vals(nq_table, 2, 2), wt(2, 2)    ! (., member, slot)
+        real(dp), intent(out) :: grad(2, 2, 2)                     ! (d/du d/dphi, member, slot)
+        integer, intent(out) :: info
+        real(dp) :: su, sp, wu, wp, w(4), wsum, v(nq_table), gg(4), pres(4), e
+        real(dp) :: gd(2, 4), hv(4), hs(2, 4), t(nq_table)
+        integer :: i, j, k, c, g, grp(4), ci(4), cj(4), nc, m, order(4), cn
+        vals = 0.0_dp
+        wt = 0.0_dp
+        grad = 0.0_dp
+        su = (u - ct%u0) / ct%du
+        if (.not. (su >= 0.0_dp .and. su <= real(ct%ny - 1, dp))) then
+            info = STAT_OUTSIDE_TABLE
+            return
+        end if
+        sp = 0.0_dp
+        if (ct%nr > 1) then
+            sp = (phi - ct%p0) / ct%dp
+            if (.not. (sp >= 0.0_dp .and. sp <= real(ct%nr - 1, dp))) then
+                info = STAT_OUTSIDE_TABLE
+                return
+            end if
+        end if
+        info = STAT_OK
+        i = min(int(su), ct%ny - 2) + 1
+        wu = su - real(i - 1, dp)
+        j = min(int(sp), max(ct%nr - 2, 0)) + 1
+        wp = sp - real(j - 1, dp)
+        ! corners 1 (i, j), 2 (i+1, j), 3 (i, j+1), 4 (i+1, j+1); a single row has two
+        ci = [i, i + 1, i, i + 1]
+        cj = [j, j, j + 1, j + 1]
+        w = [(1.0_dp - wu) * (1.0_dp - wp), wu * (1.0_dp - wp), (1.0_dp - wu) * wp, wu * wp]
+        nc = merge(2, 4, ct%nr == 1)
+        do k = 1, 2
+            call corner_groups(k, nc, grp)
+            ! each group's blend: gap gg and presence pres (its bilinear weight)
+            gg = huge(1.0_dp)
+            pres = 0.0_dp
+            gd = 0.0_dp
+            do g = 1, nc
+                wsum = sum(w(1:nc), mask=grp(1:nc) == g)
+                if (.not. (wsum > 0.0_dp)) cycle
+                pres(g) = wsum
+                ! the group's gap by cubic Hermite interpolation over the cell from the node
+                ! values and their exact slopes (C1 across cells: the forces' gradient is
+                ! continuous); a corner of another branch is stood in for by the nearest
+                ! corner of this group carried to it along its wheel point
+                do c = 1, nc
+                    if (grp(c) == g) then
+                        t = ct%tab(:, k, ci(c), cj(c))
+                        hv(c) = t(1)
+                        hs(1, c) = -tan(t(3))
+                        hs(2, c) = t(2) + (ct%rnom - t(IZARM)) * tan(t(3))
+                    else
+                        cn = nearest_member(c, g)
+                        call carried_gap(ct%tab(:, k, ci(cn), cj(cn)), real(ci(c) - ci(cn), dp) * ct%du, &
+                                         real(cj(c) - cj(cn), dp) * ct%dp, hv(c), hs(:, c))
+                    end if
+                end do
+                call hermite_gap(hv, hs, wu, wp, gg(g), gd(:, g))
+            end do
+            ! the two lowest groups become the slot's members
+            order = [1, 2, 3, 4]
+            do m = 1, 2
+                do g = m + 1, 4
+                    if (gg(order(g)) < gg(order(m))) order([m, g]) = order([g, m])
+                end do
+            end do
+            do m = 1, 2
+                g = order(m)
+                if (.not. (pres(g) > 0.0_dp)) cycle
+                v = 0.0_dp
+                do c = 1, nc
+                    if (grp(c) == g) v = v + w(c) * ct%tab(:, k, ci(c), cj(c))
+                end do
+                vals(:, m, k) = v / pres(g)
+                vals(1, m, k) = gg(g)
+                grad(:, m, k) = gd(:, g)
+            end do
+            ! load share of two branches with nearly equal gaps: softmin over SHARE_GAP
+            ! weighted by each group's presence, so a branch enters and leaves the slot
+            ! continuously (a cell edge has only its own nodes' groups: presence 0)
+            wt(1, k) = 1.0_dp
+            if (pres(order(2)) > 0.0_dp) then
+                e = pres(order(2)) * exp(-(gg(order(2)) - gg(order(1))) / SHARE_GAP)
+                wt(1, k) = pres(order(1)) / (pres(order(1)) + e)
+                wt(2, k) = 1.0_dp - wt(1, k)
+            end if
+        end do
+    contains
+        !> Cubic Hermite interpolation over the cell of the corner gaps hv with their slopes
+        !> hs (d/du, d/dphi): bicubic with zero cross derivatives (a single row: cubic in u,
+        !> then the roll by the carry of the u-interpolated point). The slopes are the exact
+        !> dg/du = -tan(delta), dg/dphi = l + (r_nom - za) tan(delta) of the minimum (its
+        !> envelope: the slopes at a fixed wheel point). Returns g and its gradient gdv.
+        pure subroutine hermite_gap(hv, hs, a, b, gv, gdv)
+            real(dp), intent(in) :: hv(4), hs(2, 4), a, b
+            real(dp), intent(out) :: gv, gdv(2)
+            real(dp) :: h0(2), h1(2), d0(2), d1(2), e0(2), e1(2), f0(2), f1(2), tt(nq_table)
+            real(dp) :: cu, cp
+            integer :: ia, ib, cc
+            h0 = [2 * a**3 - 3 * a**2 + 1, -2 * a**3 + 3 * a**2]
+            h1 = [a**3 - 2 * a**2 + a, a**3 - a**2] * ct%du
+            d0 = [6 * a**2 - 6 * a, -6 * a**2 + 6 * a] / ct%du
+            d1 = [3 * a**2 - 4 * a + 1, 3 * a**2 - 2 * a]
+            e0 = [1.0_dp, 0.0_dp]
+            e1 = 0.0_dp
+            f0 = 0.0_dp
+            f1 = 0.0_dp
+            if (ct%nr > 1) then
+                e0 = [2 * b**3 - 3 * b**2 + 1, -2 * b**3 + 3 * b**2]
+                e1 = [b**3 - 2 * b**2 + b, b**3 - b**2] * ct%dp
+                f0 = [6 * b**2 - 6 * b, -6 * b**2 + 6 * b] / ct%dp
+                f1 = [3 * b**2 - 4 * b + 1, 3 * b**2 - 2 * b]
+            end if
+            gv = 0.0_dp
+            gdv = 0.0_dp
+            do ib = 1, merge(1, 2, ct%nr == 1)
+                do ia = 1, 2
+                    cc = ia + 2 * (ib - 1)
+                    gv = gv + hv(cc) * h0(ia) * e0(ib) + hs(1, cc) * h1(ia) * e0(ib) &
+                         + hs(2, cc) * h0(ia) * e1(ib)
+                    gdv(1) = gdv(1) + hv(cc) * d0(ia) * e0(ib) + hs(1, cc) * d1(ia) * e0(ib) &
+                             + hs(2, cc) * d0(ia) * e1(ib)
+                    gdv(2) = gdv(2) + hv(cc) * h0(ia) * f0(ib) + hs(1, cc) * h1(ia) * f0(ib) &
+                             + hs(2, cc) * h0(ia) * f1(ib)
+                end do
+            end do
+            if (ct%nr == 1) then
+                cu = gv
+                cp = gdv(1)
+                tt = (1.0_dp - a) * ct%tab(:, k, ci(1), 1) + a * ct%tab(:, k, ci(2), 1)
+                tt(1) = cu
+                call carried_gap(tt, 0.0_dp, phi, gv, gdv)
+                gdv(1) = cp + (gdv(1) + tan(tt(3)))
+            end if
+        end subroutine hermite_gap
+
+        !> The corner of group gq nearest to corner c (along u first, then along phi).
+        pure integer function nearest_member(c, gq)
+            integer, intent(in) :: c, gq
+            integer, parameter :: pref(3, 4) = reshape([2, 3, 4, 1, 4, 3, 4, 1, 2, 3, 2, 1], [3, 4])
+            integer :: q
+            nearest_member = c
+            do q = 1, 3
+                if (pref(q, c) <= nc) then
+                    if (grp(pref(q, c)) == gq) then
+                        nearest_member = pref(q, c)
+                        return
+                    end if
+                end if
+            end do
+        end function nearest_member
+
+        !> The gap gc of a node's wheel point (quantities t) carried by du along u and dph in
+        !> roll, and its derivatives gd (d/du, d/dphi).
+        pure subroutine carried_gap(t, du, dph, gc, gd)
+            real(dp), intent(in) :: t(nq_table), du, dph
+            real(dp), intent(out) :: gc, gd(2)
+            real(dp) :: l, za, l1, za1, dy, slope
+            l = t(2)
+            za = t(IZARM)
+            l1 = l * cos(dph) + za * sin(dph)
+            za1 = za * cos(dph) - l * sin(dph)
+            dy = du - ct%rnom * dph + l1 - l
+            gc = t(1) + (za - za1) - tan(t(3)) * dy - 0.5_dp * t(IRZZ) * dy * dy
+            slope = tan(t(3)) + t(IRZZ) * dy
+            gd(1) = -slope
+            gd(2) = l1 - slope * (za1 - ct%rnom)
+        end subroutine carried_gap
+
+        !> Group labels of the corners joined by the cell's one-branch edges, for slot kk.
+        !> The edges' claims need not be transitive (a point that slides along one row but
+        !> jumps along the other): edges join corners in the order of the smallest movement of
+        !> the point (|l| difference), and an edge is skipped when its join would put the two
+        !> ends of an edge that keeps no branch into one group.
+        pure subroutine corner_groups(kk, n, gr)
+            integer, intent(in) :: kk, n
+            integer, intent(out) :: gr(4)
+            integer, parameter :: ea(4) = [1, 3, 1, 2], eb(4) = [2, 4, 3, 4]
+            logical :: e(4), used(4)
+            real(dp) :: dist(4)
+            integer :: it, m, q, old(4), ga, gb
+            associate (t => ct%tab)
+                e = .false.
+                e(1) = t(IBRANCH, kk, ci(1), cj(1)) == t(IBRANCH, kk, ci(2), cj(2))
+                if (n == 4) then
+                    e(2) = t(IBRANCH, kk, ci(3), cj(3)) == t(IBRANCH, kk, ci(4), cj(4))
+                    e(3) = t(IRLINK, kk, ci(1), cj(1)) > 0.5_dp
+                    e(4) = t(IRLINK, kk, ci(2), cj(2)) > 0.5_dp
+                end if
+                do q = 1, 4
+                    dist(q) = abs(t(2, kk, ci(ea(q)), cj(ea(q))) - t(2, kk, ci(eb(q)), cj(eb(q))))
+                end do
+            end associate
+            gr = [1, 2, 3, 4]
+            used = .not. e
+            do it = 1, 4
+                q = minloc(dist, dim=1, mask=.not. used)
+                if (q == 0) exit
+                used(q) = .true.
+                old = gr
+                ga = gr(ea(q))
+                gb = gr(eb(q))
+                m = min(ga, gb)
+                where (gr == ga .or. gr == gb) gr = m
+                do m = 1, 4
+                    if (.not. e(m) .and. (m <= 1 .or. n == 4)) then
+                        if (gr(ea(m)) == gr(eb(m))) then
+                            gr = old
+                            exit
+                        end if
+                    end if
+                end do
+            end do
+        end subroutine corner_groups
+    end subroutine pose_at
+
     !> Kalker's linear creep forces with the Shen-Hedrick-Elkins (1983) saturation of the
     !> resultant: F' = mu N (u - u^2/3 + u^3/27), u = F/(mu N), capped at mu N for u >= 3.
     pure subroutine creep_kalker_she(g, a, b, c11, c22, c23, mu, fn, xi, eta, phi, fx, fy)
@@ -166,18 +448,21 @@ contains
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
     !> info: STAT_OK, STAT_BAD_ARGUMENT (unknown model), STAT_OUTSIDE_TABLE, or from
     !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
-    subroutine wheelset_contact(ny, tab, y0, dy, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
+    subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
                                 fw, ft, wout, info)
-        integer, intent(in) :: ny, model, fsn, bem, iws
-        real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, r0, v0, gmod, mu
+        type(pose_table), intent(in) :: ct
+        integer, intent(in) :: model, fsn, bem, iws
+        real(dp), intent(in) :: r0, v0, gmod, mu
         real(dp), intent(in) :: qw(6), vw(6), qt(3), vt(3)
         real(dp), intent(out) :: fw(6), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
-        real(dp) :: vals(nq_table, 2), sg, yr, zr, phr, dvy, dvz
+        real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
+        real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
         real(dp) :: wa(2)
-        integer :: w, k, stat, ia(2), ib(2)
+        integer :: w, k, c, stat, ia(2), ib(2)
+        logical :: bemgeo
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
@@ -186,25 +471,53 @@ contains
             info = STAT_BAD_ARGUMENT
             return
         end if
+        ia = 1
+        ib = 1
+        wa = 0.0_dp
+        bemgeo = model == CMODEL_BEM .or. model == CMODEL_BEM_TANGENT
         yr = qw(1) - qt(1)
         zr = qw(2) - qt(2)
         phr = qw(3) - qt(3)
+        ! the pose in the frame of the track element (rolled by qt(3) about the track centre
+        ! at rail-top height): u = Y + r_nom phr with Y = yr + r_nom qt(3), centre height zc
+        u = yr + ct%rnom * qw(3)
+        zc = zr - yr * qt(3)
         do w = 1, 2
             sg = merge(1.0_dp, -1.0_dp, w == 1)
-            call table_at(ny, tab, y0, dy, sg * yr, vals, ia, ib, wa, info)
-            if (info /= STAT_OK) return
+            pl = sg * phr
+            if (bemgeo) then
+                ! zero-roll row, the point rotated about the centre to first order (the BEM's
+                ! gap field is tilted by phr about the point in vehicle_bem)
+                call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, sg * u, vals(:, 1:3:2), &
+                              ia, ib, wa, info)
+                if (info == STAT_OK .and. ct%nr > 1 .and. abs(pl) > abs(ct%p0)) info = STAT_OUTSIDE_TABLE
+                if (info /= STAT_OK) return
+                wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
+                do c = 1, 3, 2
+                    za = vals(IZARM, c)
+                    grd(1, c) = -tan(vals(3, c))
+                    grd(2, c) = vals(2, c) + (ct%rnom - za) * tan(vals(3, c))
+                    vals(1, c) = vals(1, c) + grd(2, c) * pl
+                    vals(IZARM, c) = za - vals(2, c) * pl
+                    vals(2, c) = vals(2, c) + za * pl
+                end do
+            else
+                call pose_at(ct, sg * u, pl, vals, wt, grd, info)
+                if (info /= STAT_OK) return
+            end if
             nbest = -1.0_dp
-            do k = 1, 2
-                gp = vals(1, k)
-                l = sg * vals(2, k)
-                dlt = vals(3, k)
-                r = vals(4, k)
+            ! candidates c: slot k = (c + 1) / 2, its member 1 or 2 (pose_at) with weight wt(c)
+            do c = 1, 4
+                k = (c + 1) / 2
+                if (.not. (wt(c) > 0.0_dp)) cycle
+                gp = vals(1, c)
+                l = sg * vals(2, c)
+                za = vals(IZARM, c)
+                dlt = vals(3, c)
+                r = vals(4, c)
                 cd = cos(dlt)
                 sd = sin(dlt)
-                ! the wheel point moves with the wheelset's roll about its centre (arm l), the
-                ! rail point with the track element's roll about the track centre (arm l + yr,
-                ! the same arm as the generalised force ft(3) below: energy-consistent)
-                dv = -(gp + zr + qw(3) * l - qt(3) * (l + yr))
+                dv = -(gp + zc)
                 dn = dv * cd
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
@@ -213,14 +526,16 @@ contains
                                                              fn, fx, fy, mz, xc, yc, stat)
                     cycle
                 end if
-                fn = vals(7, k) * dn * sqrt(dn)
+                fn = vals(7, c) * dn * sqrt(dn)
                 mz = 0.0_dp
                 xc = 0.0_dp
                 yc = 0.0_dp
-                a = vals(5, k) * fn**(1.0_dp / 3.0_dp)
-                b = vals(6, k) * fn**(1.0_dp / 3.0_dp)
-                ! relative velocity of the wheel's material point over the rail's
-                dvy = (vw(1) + r * vw(3)) - vt(1)
+                a = vals(5, c) * fn**(1.0_dp / 3.0_dp)
+                b = vals(6, c) * fn**(1.0_dp / 3.0_dp)
+                ! relative velocity of the wheel's material point (arms l, za about the
+                ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
+                ! roll centre): the arms of the generalised forces below (energy-consistent)
+                dvy = (vw(1) + za * vw(3)) - (vt(1) - (ct%rnom - za) * vt(3))
                 dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * (l + yr))
                 ! longitudinal creepage: the material velocity of the wheel at the contact
                 ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
@@ -236,7 +551,7 @@ contains
                     if (info /= STAT_OK) return
                     if (fn <= 0.0_dp) cycle
                     ! calibration of the tangent's cheap model (4) against this solve
-                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fnh, &
+                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fnh, &
                                           xi, eta, spin, fxk, fyk)
                     rt(1) = min(max(fn / fnh, 0.5_dp), 2.0_dp)
                     rt(2) = 1.0_dp
@@ -247,20 +562,33 @@ contains
                     ! Hertz + Kalker scaled to the last BEM solve of this point (Newton tangent)
                     call bem_scale(bem, iws, w, k, .false., rt)
                     fn = rt(1) * fn
-                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
                                           xi, eta, spin, fx, fy)
                     fx = rt(2) * fx
                     fy = rt(2) * fy
                 else if (model == CMODEL_HERTZ_KALKER) then
-                    call creep_kalker_she(gmod, a, b, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
                                           xi, eta, spin, fx, fy)
                 else
-                    call fastsim_ellipse(a, b, gmod, vals(8, k), vals(9, k), vals(10, k), mu, fn, &
+                    call fastsim_ellipse(a, b, gmod, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
                                          xi, eta, spin, fsn, fsn, fx, fy, mz)
                 end if
-                ! n = (0, -sg sin, cos), t_y = (0, cos, sg sin)
-                fyt = fy * cd - sg * fn * sd
-                fzt = fy * sg * sd + fn * cd
+                ! a member's share of its slot's load (pose_at)
+                fn = wt(c) * fn
+                fx = wt(c) * fx
+                fy = wt(c) * fy
+                mz = wt(c) * mz
+                ! the normal force's generalised components from the gradient of the gap the
+                ! approach came from (-dV/dq of the Hertz potential: conservative), the left
+                ! wheel's table read at (sg u, sg phr): g_u = -tan(delta), g_phi = l + (r_nom
+                ! - za) tan(delta) to first order; with the track's frame terms of zc
+                fzn = fn * cd
+                fyn = fzn * (sg * grd(1, c) - qt(3))
+                mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
+                mtn = -fzn * (sg * grd(2, c) + yr)
+                ! the creep forces along t_y = (0, cos, sg sin) with the geometric arms
+                fyt = fy * cd
+                fzt = fy * sg * sd
                 ! moment about the point of the contact stresses (patch's centre of pressure
                 ! and spin moment; the Hertz patch is centred on the point): Fn yc t_x
                 ! - Fn xc t_y + mz n, in track axes
@@ -269,22 +597,22 @@ contains
                 mx = mtx
                 my = mty * cd - mz * sg * sd
                 mzt = mty * sg * sd + mz * cd
-                fw(1) = fw(1) + fyt
-                fw(2) = fw(2) + fzt
-                fw(3) = fw(3) + l * fzt + r * fyt + mx
+                fw(1) = fw(1) + fyt + fyn
+                fw(2) = fw(2) + fzt + fzn
+                fw(3) = fw(3) + l * fzt + za * fyt + mx + mwn
                 fw(4) = fw(4) - l * fx + mzt
                 ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
                 ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
                 fw(5) = fw(5) + fx
                 fw(6) = fw(6) - r * fx + my
-                ft(1) = ft(1) - fyt
-                ft(2) = ft(2) - fzt
-                ft(3) = ft(3) - (l + yr) * fzt - mx
-                wout(1, w) = wout(1, w) + fzt
-                wout(2, w) = wout(2, w) + fyt
+                ft(1) = ft(1) - fyt - fyn
+                ft(2) = ft(2) - fzt - fzn
+                ft(3) = ft(3) - (l + yr) * fzt + (ct%rnom - za) * fyt - mx + mtn
+                wout(1, w) = wout(1, w) + fzt + fzn
+                wout(2, w) = wout(2, w) + fyt + fyn + fzn * qt(3)      ! track axes
                 wout(3, w) = wout(3, w) + fx
-                wout(3 + k, w) = fn
-                wout(9, w) = wout(9, w) + 0.4_dp * vals(7, k) * dn * dn * sqrt(dn)
+                wout(3 + k, w) = wout(3 + k, w) + fn
+                wout(9, w) = wout(9, w) + wt(c) * 0.4_dp * vals(7, c) * dn * dn * sqrt(dn)
                 wout(14, w) = wout(14, w) + mtx
                 wout(15, w) = wout(15, w) + mz
                 if (fn > nbest) then

@@ -15,7 +15,7 @@ module vehicle_model
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
-                               CMODEL_BEM_TANGENT
+                               CMODEL_BEM_TANGENT, pose_table, pose_set
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
@@ -33,7 +33,7 @@ module vehicle_model
     !> One assembled system: what does not change from call to call.
     type :: vmodel
         logical :: used = .false.
-        integer :: nd = 0, ne = 0, nw = 0, ny = 0
+        integer :: nd = 0, ne = 0, nw = 0
         real(dp), allocatable :: m(:, :), c(:, :), k(:, :), f0(:)
         integer, allocatable :: etype(:)
         real(dp), allocatable :: eg(:, :), epar(:, :)
@@ -41,8 +41,9 @@ module vehicle_model
         !> modelled (held at zero: e.g. a wheelset without x or spin); itr (y, z, roll) of the
         !> track element, 0 = rigid ground.
         integer, allocatable :: iws(:, :), itr(:, :)
-        real(dp), allocatable :: tab(:, :, :)
-        real(dp) :: y0 = 0.0_dp, dy = 1.0_dp, r0 = 0.46_dp, gmod = 8.2e10_dp, mu = 0.3_dp
+        !> The per-wheel contact table over (u, relative roll) (vehicle_contact).
+        type(pose_table) :: ct
+        real(dp) :: r0 = 0.46_dp, gmod = 8.2e10_dp, mu = 0.3_dp
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -60,20 +61,23 @@ contains
     !> with other than nq_table quantities), STAT_BAD_ARGUMENT (no DOF, wheelset or element,
     !> a table of fewer than 2 nodes or step <= 0, a DOF index out of range, a wheelset
     !> without its y, z or roll DOF, an unknown element kind), STAT_NO_MEMORY (no free slot).
-    subroutine vehicle_create(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                              y0, dy, r0, gmod, mu, handle, info)
-        integer, intent(in) :: nd, ne, nw, ny, nq
+    subroutine vehicle_create(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
+                              y0, dy, p0, dph, rnom, r0, gmod, mu, handle, info)
+        integer, intent(in) :: nd, ne, nw, ny, nr, nq
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
         integer, intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
-        real(dp), intent(in) :: tab(nq, 2, ny), y0, dy, r0, gmod, mu
+        real(dp), intent(in) :: tab(nq, 2, ny, nr), y0, dy, p0, dph, rnom, r0, gmod, mu
         integer, intent(out) :: handle, info
         type(vmodel), pointer :: md
+        type(pose_table) :: ct
         integer :: k
         handle = 0
         info = STAT_SIZE_MISMATCH
         if (nq /= nq_table) return
+        call pose_set(nq, ny, nr, tab, y0, dy, p0, dph, rnom, ct, info)
+        if (info /= STAT_OK) return
         info = STAT_BAD_ARGUMENT
-        if (nd < 1 .or. ne < 1 .or. nw < 1 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
+        if (nd < 1 .or. ne < 1 .or. nw < 1) return
         if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
             .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none)) return
         info = STAT_NO_MEMORY
@@ -88,7 +92,6 @@ contains
         md%nd = nd
         md%ne = ne
         md%nw = nw
-        md%ny = ny
         md%m = mm
         md%c = cc
         md%k = kk
@@ -98,9 +101,7 @@ contains
         md%epar = epar
         md%iws = iws
         md%itr = itr
-        md%tab = tab
-        md%y0 = y0
-        md%dy = dy
+        md%ct = ct
         md%r0 = r0
         md%gmod = gmod
         md%mu = mu
@@ -114,7 +115,7 @@ contains
         if (.not. associated(vehicle_get(handle))) return
         deallocate (models(handle)%m, models(handle)%c, models(handle)%k, models(handle)%f0, &
                     models(handle)%etype, models(handle)%eg, models(handle)%epar, &
-                    models(handle)%iws, models(handle)%itr, models(handle)%tab)
+                    models(handle)%iws, models(handle)%itr, models(handle)%ct%tab)
         models(handle)%used = .false.
     end subroutine vehicle_free
 
@@ -222,7 +223,7 @@ contains
             if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
-        call wheelset_contact(md%ny, md%tab, md%y0, md%dy, md%r0, rs%v0, md%gmod, md%mu, model, &
+        call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                               rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)

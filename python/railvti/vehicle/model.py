@@ -75,8 +75,8 @@ class VehicleModel:
         t = system.table
         handle, info = core.vehicle_model_create_c(
             system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,
-            system.iws, system.itr, t.data, t.y0, t.dy, t.r0, t.material.shear_modulus,
-            system.friction)
+            system.iws, system.itr, t.data_roll, t.y0, t.dy, t.roll0, t.droll, t.r_nominal, t.r0,
+            t.material.shear_modulus, system.friction)
         check(info, "vehicle model")
         self.handle = int(handle)
         self.n = int(system.n)

@@ -50,7 +50,15 @@ from ..profiles import Profile
 log = logging.getLogger(__name__)
 
 #: Names of the table quantities, in the Fortran order (first index).
-QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23", "branch")
+QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23", "branch", "zarm",
+              "rlink", "rzz")
+IBRANCH = QUANTITIES.index("branch")
+IZARM = QUANTITIES.index("zarm")
+IRLINK = QUANTITIES.index("rlink")
+IRZZ = QUANTITIES.index("rzz")
+#: Default relative-roll range and step of the table, rad (validation/contact_pose_table.py).
+ROLL_MAX = 0.02
+ROLL_STEP = 0.00125
 _RATIO_CLIP = 25.0
 
 
@@ -62,9 +70,14 @@ class WheelTable:
     ----------
     y : ndarray (n,)
         Lateral shift of the wheelset relative to the track, m (uniform).
-    data : ndarray (11, 2, n)
-        Quantities :data:`QUANTITIES` for slot 0 (tread side) and 1 (flange side),
-        Fortran-ordered, as the Fortran kernel reads it.
+    data : ndarray (14, 2, n)
+        Quantities :data:`QUANTITIES` for slot 0 (tread side) and 1 (flange side) at zero
+        relative roll (the row the BEM gap fields are built on).
+    roll : ndarray (nr,)
+        Relative roll of wheel against rail of the table's rows, rad (uniform, symmetric,
+        one row at 0).
+    data_roll : ndarray (14, 2, n, nr) or None
+        All rows, Fortran-ordered, as the Fortran kernel reads it (None: ``data`` only).
     r0 : float
         Rolling radius at y = 0 (the nominal rolling speed is v0 / r0), m.
     s_wheel : ndarray (2, n)
@@ -93,14 +106,35 @@ class WheelTable:
     rail: Profile | None = None
     split: float = -0.022
     s_own: np.ndarray | None = None
+    roll: np.ndarray | None = None
+    data_roll: np.ndarray | None = None
+    r_nominal: float | None = None
 
     def __post_init__(self) -> None:
         # read-only copies: the table is cached (wheel_table) and sent to the Fortran core
         # with its System once (System.native)
-        for name in ("y", "data", "s_wheel"):
+        if self.roll is None:
+            object.__setattr__(self, "roll", np.zeros(1))
+        if self.data_roll is None:
+            object.__setattr__(self, "data_roll", np.asarray(self.data)[..., None])
+        if self.r_nominal is None:
+            object.__setattr__(self, "r_nominal", float(self.r0))
+        for name in ("y", "data", "s_wheel", "roll", "data_roll"):
             arr = np.array(getattr(self, name), dtype=np.float64, order="F")
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
+        if self.data_roll.shape[:3] != self.data.shape or self.data_roll.shape[3] != self.roll.size:
+            raise InputError("contact table: data_roll must be (quantities, 2, n_y, n_roll)")
+
+    @property
+    def roll0(self) -> float:
+        """First roll row, rad."""
+        return float(self.roll[0])
+
+    @property
+    def droll(self) -> float:
+        """Roll step, rad (1 for a single row)."""
+        return float(self.roll[1] - self.roll[0]) if self.roll.size > 1 else 1.0
 
     @property
     def y0(self) -> float:
@@ -138,6 +172,7 @@ _CACHE: dict[tuple, WheelTable] = {}
 
 
 def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: float = 5e-5,
+                roll_max: float = ROLL_MAX, roll_step: float = ROLL_STEP,
                 split: float = -0.022, material: Material = STEEL) -> WheelTable:
     """Build (or fetch from the cache) the left wheel's contact table.
 
@@ -148,7 +183,13 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     y_max : float
         The table covers -y_max..y_max, m (a wheelset beyond it stops the simulation).
     step : float
-        Table step, m (0.05 mm).
+        Table step in y, m (0.05 mm).
+    roll_max, roll_step : float
+        The table covers the relative roll of wheel against rail -roll_max..roll_max in
+        steps of roll_step, rad (a pose beyond it stops the simulation). roll_max = 0 gives
+        a single zero-roll row (roll then enters to first order only).
+        The defaults come from the speed-against-accuracy study
+        ``validation/contact_pose_table.py``.
     split : float
         Wheel profile coordinate separating the tread (s > split) from the flange side, m.
         The default lies between the tread and the flange root of S1002 (the contact jumps
@@ -158,28 +199,98 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     """
     y_max = _checks.positive("y_max", y_max)
     step = _checks.positive("step", step)
+    roll_max = _checks.non_negative("roll_max", roll_max)
+    roll_step = _checks.positive("roll_step", roll_step)
+    if roll_max > 0.1:
+        raise InputError(f"roll_max = {roll_max} rad: the table is for small relative roll (<= 0.1 rad)")
     split = _checks.finite("split", split)
-    key = (id(wheel), id(rail), y_max, step, split, material)
+    key = (id(wheel), id(rail), y_max, step, roll_max, roll_step, split, material)
     hit = _CACHE.get(key)
-    if hit is not None:
+    if hit is not None and hit.wheel is wheel and hit.rail is rail:
         return hit
     lay = layout(wheel, rail)
     n = int(round(2 * y_max / step)) + 1
     y = np.linspace(-y_max, y_max, n)
-    ws, wz = lay.ws, lay.wz
-    off = lay.wheelset.contact_y
-    r0n = lay.wheelset.wheel_radius
-    ytr = y[:, None] + off + ws[None, :]                     # track y of the wheel samples
-    yr = ytr - lay.rail_offset                               # rail-local y
-    zr = np.interp(yr, lay.ry, lay.rz, left=np.nan, right=np.nan)
-    gap = -wz[None, :] - lay.rail_top + zr                   # vertical gap at nominal height
+    nr = int(round(roll_max / roll_step))
+    roll = roll_step * np.arange(-nr, nr + 1) if nr > 0 else np.zeros(1)
+    # the first coordinate is u = y + r_nom roll, the lateral position of the rolled wheel's
+    # lowest point: a rotation about the centre moves the contact point by r roll sideways,
+    # so branch changes lie almost along constant u and few cells mix branches
+    r_nom = lay.wheelset.wheel_radius
+    rows = [_row(lay, y - r_nom * float(p), float(p), split, material) for p in roll]
+    data = np.stack([r.data for r in rows], axis=-1)          # (nq, 2, n, nr)
+    for j in range(roll.size - 1):
+        data[IRLINK, :, :, j] = _links(rows[j], rows[j + 1])
+    data[IRLINK, :, :, -1] = 0.0
+    z = rows[roll.size // 2]
+    n_clip = int(sum(r.n_clipped for r in rows))
+    r0 = float(np.interp(0.0, y, z.data[3, 0]))
+    out = WheelTable(y=y, data=np.asfortranarray(z.data), r0=r0, s_wheel=z.s_wheel,
+                     material=material, n_clipped=n_clip, wheel=wheel, rail=rail, split=split,
+                     s_own=z.s_own, roll=roll, data_roll=np.asfortranarray(data),
+                     r_nominal=float(lay.wheelset.wheel_radius))
+    if n_clip:
+        log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
+                 n_clip, _RATIO_CLIP, _RATIO_CLIP)
+    if len(_CACHE) > 8:
+        _CACHE.clear()
+    _CACHE[key] = out
+    return out
+
+
+@dataclass(frozen=True)
+class _Row:
+    """One roll row of the table and what the branch links need."""
+    data: np.ndarray            # (nq, 2, n)
+    s_wheel: np.ndarray         # (2, n)
+    s_own: np.ndarray           # (n,)
+    gap: np.ndarray             # (n, m) vertical gap of every wheel sample
+    kglob: np.ndarray           # (2, n) sample index of each slot's point
+    real: np.ndarray            # (2, n) whether the slot has a point
+    n_clipped: int
+
+
+def rolled_gap(lay, y: np.ndarray, roll: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Vertical gap between the left wheel and rail for the wheelset at lateral shift y
+    (m, track frame) and relative roll ``roll`` (rad, about +x: the left wheel rises) about
+    its centre, which stands at the nominal radius above the rail top.
+
+    A rolled wheelset keeps its axle in the y-z plane, so the meridian section at x = 0 is
+    the wheel's lowest outline; the rotation is exact (no small-angle step).
+
+    Returns
+    -------
+    gap : ndarray (n, m)
+        Gap at each wheel sample ``lay.ws`` (+inf off the rail), m.
+    arm_y, arm_z : ndarray (m,)
+        Each sample's lateral offset from the wheelset centre and its depth below it, m.
+    """
+    r_nom = lay.wheelset.wheel_radius
+    y0w = lay.wheelset.contact_y + lay.ws                    # from the centre, unrolled
+    z0w = -(r_nom + lay.wz)                                 # up from the centre, unrolled
+    c, s = np.cos(roll), np.sin(roll)
+    arm_y = c * y0w - s * z0w
+    zc = s * y0w + c * z0w
+    yrail = y[:, None] + arm_y[None, :] - lay.rail_offset
+    zr = np.interp(yrail, lay.ry, lay.rz, left=np.nan, right=np.nan)
+    gap = (r_nom + zc)[None, :] + zr - lay.rail_top
     gap[~np.isfinite(gap)] = np.inf
+    return gap, arm_y, -zc
+
+
+def _row(lay, y: np.ndarray, roll: float, split: float, material: Material) -> _Row:
+    """The table quantities of both slots over y at one relative roll."""
+    wheel, rail = lay.wheel, lay.rail
+    n = y.size
+    ws = lay.ws
+    gap, arm_y, arm_z = rolled_gap(lay, y, roll)
     data = np.empty((len(QUANTITIES), 2, n))
     s_w = np.empty((2, n))
     rows = np.arange(n)
     lmin = _local_minima(gap)
     kglob = np.empty((2, n), dtype=np.int64)
     real = np.empty((2, n), dtype=bool)
+    n_clip = 0
     for slot, mask in enumerate((ws > split, ws <= split)):
         idx = np.nonzero(mask)[0]
         graw = gap[:, idx]
@@ -220,30 +331,99 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
         ds = ws[1] - ws[0]
         s = ws[idx[k]] + t * ds
         s_w[slot] = s
-        data[10, slot] = _branches(gap, idx[k], fin)
-        yrail = np.clip(y + off + s - lay.rail_offset, rail.y_min, rail.y_max)
+        data[IBRANCH, slot] = _branches(gap, idx[k], fin)
+        ly = np.interp(s, ws, arm_y)
+        lz = np.interp(s, ws, arm_z)
+        yrail = np.clip(y + ly - lay.rail_offset, rail.y_min, rail.y_max)   # y: the centre's
         delta = -np.arctan(rail.slope(yrail))
-        r = r0n + wheel.height(s)
-        A = np.cos(delta) / (2.0 * r)
+        r = lay.wheelset.wheel_radius + wheel.height(s)
+        # the wheel's normal curvature along x: its surface normal makes the angle
+        # delta - roll with the wheel's own radius
+        A = np.cos(delta - roll) / (2.0 * r)
         B = 0.5 * (rail.curvature(yrail) - wheel.curvature(s))
         data[0, slot] = gmin
-        data[1, slot] = off + s
+        data[1, slot] = ly
         data[2, slot] = delta
         data[3, slot] = r
         data[4:7, slot] = _hertz_unit(A, B, material)
+        n_clip += int(getattr(_hertz_unit, "last_clipped", 0))
         data[7:10, slot] = kalker_coefficients(data[4, slot] / data[5, slot], material.poisson)
+        data[IZARM, slot] = lz
+        # d2 Z_rail / dY2 at the point (track frame, Z up): carries a node's gap along u and
+        # roll in the Fortran look-up (vehicle_contact%pose_at)
+        hstep = 1e-5
+        data[IRZZ, slot] = -(rail.slope(np.clip(yrail + hstep, rail.y_min, rail.y_max))
+                             - rail.slope(np.clip(yrail - hstep, rail.y_min, rail.y_max))) / (2 * hstep)
+    data[IRLINK] = 0.0
     s_own = _ownership(gap, ws, kglob, real)
-    n_clip = int(getattr(_hertz_unit, "last_clipped", 0))
-    r0 = float(np.interp(0.0, y, data[3, 0]))
-    out = WheelTable(y=y, data=np.asfortranarray(data), r0=r0, s_wheel=s_w, material=material,
-                     n_clipped=n_clip, wheel=wheel, rail=rail, split=split, s_own=s_own)
-    if n_clip:
-        log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
-                 n_clip, _RATIO_CLIP, _RATIO_CLIP)
-    if len(_CACHE) > 8:
-        _CACHE.clear()
-    _CACHE[key] = out
+    return _Row(data=data, s_wheel=s_w, s_own=s_own, gap=gap, kglob=kglob, real=real,
+                n_clipped=n_clip)
+
+
+def _links(a: _Row, b: _Row) -> np.ndarray:
+    """(2, n) 1 where each slot's point at roll row a and the next row b (same y) is the same
+    local minimum of the gap (one basin at both rolls, the test of :func:`_branches`), or
+    both slots are empty; else 0."""
+    out = np.zeros(a.kglob.shape)
+    tol = 1e-9
+    for slot in range(2):
+        for i in range(out.shape[1]):
+            ra, rb = a.real[slot, i], b.real[slot, i]
+            if not (ra or rb):
+                out[slot, i] = 1.0
+                continue
+            if ra != rb:
+                continue
+            ka, kb = a.kglob[slot, i], b.kglob[slot, i]
+            same = True
+            for g, frm, to in ((a.gap[i], kb, ka), (b.gap[i], ka, kb)):
+                stp = 1 if to >= frm else -1
+                seg = g[frm:to + stp if to + stp >= 0 else None:stp]
+                if seg.size > 1 and (np.diff(seg) > tol).any():
+                    same = False
+            out[slot, i] = 1.0 if same else 0.0
     return out
+
+
+def pose_values(table: WheelTable, u, roll, members: bool = False):
+    """The table read by the Fortran time loop's look-up at poses (u, roll) of the left wheel.
+
+    Parameters
+    ----------
+    table : WheelTable
+    u : array_like (n,)
+        Lateral position of the rolled wheel's lowest point, u = Y + r_nom roll, m.
+    roll : array_like (n,)
+        Relative roll of wheel against rail, rad.
+
+    members : bool
+        Also return each slot's second branch and the load shares.
+
+    Returns
+    -------
+    ndarray (14, 2, n)
+        Quantities :data:`QUANTITIES` of each slot's lowest branch at each pose; with
+        ``members``, (14, 2 members, 2 slots, n), the members' load shares (2, 2, n) and
+        the gradients of their gaps (d/du, d/droll; 2, 2, 2, n)
+        (a slot's second member carries load only where two branches' gaps are within a
+        few micrometres: vehicle_contact%pose_at).
+
+    Raises
+    ------
+    InputError
+        A pose outside the table.
+    """
+    from .._native import core
+    from .._status import Status, error
+    ua = _checks.finite_array("u", np.atleast_1d(np.asarray(u, dtype=float)))
+    pa = _checks.finite_array("roll", np.atleast_1d(np.asarray(roll, dtype=float)), shape=ua.shape)
+    vals, wt, grad, ibad, info = core.vehicle_pose_at_c(table.data_roll, table.y0, table.dy, table.roll0,
+                                                  table.droll, table.r_nominal, ua, pa)
+    if info != Status.OK:
+        raise error(info, f"contact table look-up (pose {int(ibad) - 1}: u = "
+                          f"{ua[max(int(ibad) - 1, 0)]:.6g} m, roll = {pa[max(int(ibad) - 1, 0)]:.6g} rad)",
+                    exc=InputError)
+    return (vals, wt, grad) if members else vals[:, 0, :, :]
 
 
 def _local_minima(gap: np.ndarray) -> np.ndarray:
@@ -357,5 +537,22 @@ def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float
         d[QUANTITIES.index("c23"), 0] = 0.0
     d[:, 1, :] = d[:, 0, :]
     d[0, 1, :] = 1.0
+    d[IBRANCH] = 0.0
+    # roll rows: the wheel's point rotates rigidly about the centre, which moves by -r_nom roll
+    # at fixed u = y + r_nom roll, over a rail of slope tan(delta) (the look-up's own carry,
+    # vehicle_contact%pose_at, so the rows are consistent with it); to first order the gap
+    # gains (l + (r_nom - zarm) tan(delta)) roll. r stays r0 + conicity u (the classic model).
+    d[IRZZ] = 0.0
+    roll = table.roll
+    dr = np.repeat(d[..., None], roll.size, axis=-1)
+    l, za, td = d[1, 0][:, None], d[IZARM, 0][:, None], np.tan(d[2, 0])[:, None]
+    c, s = np.cos(roll)[None, :], np.sin(roll)[None, :]
+    l1, za1 = l * c + za * s, za * c - l * s
+    dr[0, 0] += (za - za1) - td * (-table.r_nominal * roll[None, :] + l1 - l)
+    dr[1, 0] = l1                                  # the rotated point's arms
+    dr[IZARM, 0] = za1
+    dr[IRLINK] = 1.0
+    dr[IRLINK, :, :, -1] = 0.0
     return WheelTable(y=y, data=np.asfortranarray(d), r0=table.r0, s_wheel=table.s_wheel,
-                      material=table.material, n_clipped=table.n_clipped)
+                      material=table.material, n_clipped=table.n_clipped, roll=roll,
+                      data_roll=np.asfortranarray(dr), r_nominal=table.r_nominal)
