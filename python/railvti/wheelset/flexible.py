@@ -1,0 +1,602 @@
+"""The flexible wheelset as a body for a vehicle model (Kaiser eqs 1-3, 9-11).
+
+Split between rigid and elastic motion: the six rigid-body DOFs belong to the vehicle
+model; the elastic part is the set of FREE-FREE elastic modes of the wheelset (no primary
+springs: the vehicle re-attaches the journal springs between the journal rows below and its
+moving bogie frame). The rigid-body modes of the free-free wheelset are removed: k = 0 the
+axial translation and the spin, k = 1 the two transverse translations and the two tilts.
+The modes are expressed in the axle-fixed (non-spinning) frame of eq. 11: pairs Q_A, Q_B
+per harmonic k > 0, constant matrices M = I, G, D, K.
+
+Frames and signs (see docs/wheelset_flexible.md):
+
+* vehicle frame x forward, y left, z up; the wheelset spins at Omega = v / r0 > 0 about
+  +y (forward rolling). Side 0 is the RIGHT wheel (vehicle y < 0, the FE mesh's y > 0),
+  side 1 the LEFT wheel, as in :meth:`Wheelset.axle_fixed` (note: the vehicle model's wheel
+  outputs number 0 left, 1 right). The FE meridian coordinate y_FE = -y_vehicle.
+* azimuth theta = 0 points from the axle down to the contact points; theta increases in the
+  sense of the material's motion (at theta = 0 that is backwards, -x): (r, theta, +y_vehicle)
+  is right-handed, the sense in which the Coriolis terms of eq. 11 take Omega > 0.
+* Shape rows give the elastic displacement in the vehicle frame (x, y, z), m per unit Q,
+  and the rim's rotation about the rolling axis x (rad per unit Q) = the change of the slope
+  of the running surface, d u_z / d y_vehicle along the tread/flange edge.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from .. import _checks
+from .._native import core
+from .._status import check
+from ..errors import InputError
+from .fe import HarmonicModes, check_harmonic
+
+log = logging.getLogger(__name__)
+
+#: Rows of a contact shape row: displacement x, y, z (vehicle frame) and the rim rotation.
+CONTACT_ROWS = ("x", "y", "z", "rx")
+#: Rows of a journal shape row: displacement x, y, z and the axle's rotations about x and z.
+JOURNAL_ROWS = ("x", "y", "z", "rx", "rz")
+#: Attachment DOFs of the residual flexibility, in order.
+ATTACHMENT_DOFS = tuple(f"contact{s}.{c}" for s in (0, 1) for c in CONTACT_ROWS) + tuple(
+    f"journal{s}.{c}" for s in (0, 1) for c in ("x", "y", "z"))
+#: A mode with a frequency below this (Hz) is a rigid-body mode of the free-free wheelset.
+_RIGID_HZ = 0.5
+
+
+@dataclass(frozen=True)
+class _Edge:
+    """Tread/flange edge of one wheel on the meridian mesh: evaluation of nodal fields."""
+
+    s_min: float
+    s_max: float
+    s_face: float          # flange face: s < s_face lies on the flange top
+    y_contact: float       # FE y of the taping line (s = 0) of this side
+    sign: float            # FE y = y_contact + sign * s... (sign +1 right wheel, -1 left)
+    r_tread: float
+    r_flange: float
+
+
+@dataclass(frozen=True)
+class FlexibleWheelset:
+    """The free-free elastic wheelset in the axle-fixed frame, for a vehicle integrator.
+
+    Equations of the elastic coordinates q (nq,), with the rigid wheelset's roll rate
+    a' and yaw rate b' (vehicle frame, rad/s)::
+
+        M q'' + (G + D) q' + K q - Omega * C @ [a', b'] = R^T F
+
+    and the rigid wheelset's roll and yaw equations gain ``+ Omega * C.T @ q'`` (left-hand
+    side) besides the rigid gyroscopic terms ``-I_y Omega b'`` (roll) and
+    ``+I_y Omega a'`` (yaw). R^T F: forces F (vehicle frame, N) and rim moments about x
+    (N m) at the contact points through :meth:`rows`, and the journal forces through
+    :attr:`journal`.
+
+    Attributes
+    ----------
+    speed : float
+        Running speed, m/s.
+    omega : float
+        Spin Omega = speed / r0, rad/s.
+    k : ndarray of int (nq,)
+        Harmonic of each coordinate.
+    family : ndarray of str (nq,)
+        '0' (k = 0), 'A' or 'B' (k > 0).
+    freq_hz : ndarray (nq,)
+        Free-free non-rotating natural frequency of each coordinate's mode, Hz.
+    mass, gyro, damping, stiffness : ndarray (nq, nq)
+        M = I, G (skew: Coriolis and frame rotation), D (modal damping), K (with the
+        centrifugal softening and prestress terms of eq. 11).
+    rigid_elastic : ndarray (nq, 2)
+        C: the Coriolis coupling of the elastic coordinates with the rigid wheelset's roll
+        (column 0) and yaw (column 1) rates, kg m per unit Q (see the equations above).
+    polar_moment : float
+        I_y, the wheelset's moment of inertia about its axle from the FE mass, kg m^2.
+    journal : ndarray (2, 5, nq)
+        Journal-centre rows (side 0 right, 1 left) :data:`JOURNAL_ROWS`.
+    s0, ds : float
+        First wheel-profile coordinate and step of the contact tables, m.
+    contact_table : ndarray (2, ns, 4, nq)
+        :meth:`rows` on the uniform grid s0 + i ds (linear interpolation for a kernel).
+    dtheta_table : ndarray (2, ns, 4, nq)
+        :meth:`dtheta_rows` on the same grid.
+    residual : ndarray (14, 14)
+        Residual flexibility of the truncated free-free elastic modes (harmonics
+        0..k_max, above f_max) over :data:`ATTACHMENT_DOFS` at the contact coordinates
+        ``residual_s``, m/N (rad/(N m) for rx-rx). Static deflection of the attachment
+        DOFs = rows Lambda^-1 rows^T F + residual F.
+    residual_s : tuple of float
+        Wheel-profile coordinate (right, left) of the contact points of ``residual``, m.
+    """
+
+    speed: float
+    omega: float
+    k: np.ndarray
+    family: np.ndarray
+    freq_hz: np.ndarray
+    mass: np.ndarray
+    gyro: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    rigid_elastic: np.ndarray
+    polar_moment: float
+    journal: np.ndarray
+    s0: float
+    ds: float
+    contact_table: np.ndarray
+    dtheta_table: np.ndarray
+    residual: np.ndarray
+    residual_s: tuple[float, float]
+    _edges: tuple = ()
+    _shapes: tuple = ()          # per coordinate group: (k, family, shapes (n, nn, 3))
+    _mesh: object = None
+
+    @property
+    def n(self) -> int:
+        """Number of elastic coordinates."""
+        return int(self.k.size)
+
+    @property
+    def s_range(self) -> tuple[float, float]:
+        """Wheel-profile coordinates covered by the rim edge (flange back .. outer rim face), m."""
+        e = self._edges[0]
+        return e.s_min, e.s_max
+
+    def rows(self, side: int, s: float) -> np.ndarray:
+        """Shape rows at the contact point of wheel ``side`` at profile coordinate s.
+
+        Parameters
+        ----------
+        side : int
+            0 right wheel, 1 left wheel (vehicle y > 0 is left).
+        s : float
+            Wheel-profile coordinate of the contact point (as :class:`railvti.profiles.Profile`
+            y and the vehicle table's s_wheel: from the taping line, + towards the field
+            side, flange at s < 0), m.
+
+        Returns
+        -------
+        ndarray (4, nq)
+            Displacement x, y, z (m) and rim rotation about x (rad) per unit Q.
+        """
+        return _point_rows(self, _check_side(side), _check_s(self, s), 0.0)[0]
+
+    def dtheta_rows(self, side: int, s: float) -> np.ndarray:
+        """d/dtheta of :meth:`rows` at the contact point (the Eulerian term).
+
+        The deformation velocity of the rim material at the contact point is
+        ``rows @ q' + Omega * dtheta_rows @ q`` (vehicle-frame components: the derivative
+        includes the turning of the cylindrical basis).
+        """
+        return _point_rows(self, _check_side(side), _check_s(self, s), 0.0)[1]
+
+    def static_deflection(self, force: np.ndarray, residual: bool = True) -> np.ndarray:
+        """Static deflection of the attachment DOFs under attachment loads (Omega = 0).
+
+        Parameters
+        ----------
+        force : array_like (14,)
+            Loads on :data:`ATTACHMENT_DOFS` (N, N m for rx), at ``residual_s``.
+        residual : bool
+            Add the residual flexibility of the truncated modes.
+
+        Returns
+        -------
+        ndarray (14,)
+            Elastic deflection (rigid-body parts removed, mass-orthogonally), m / rad.
+        """
+        f = _checks.finite_array("force", force, shape=(len(ATTACHMENT_DOFS),))
+        r = _attachment_rows(self, self.residual_s)
+        lam = (2.0 * np.pi * self.freq_hz) ** 2
+        u = r @ ((r.T @ f) / lam)
+        return u + self.residual @ f if residual else u
+
+
+def _check_side(side: object) -> int:
+    if side not in (0, 1) or isinstance(side, bool):
+        raise InputError(f"wheel side must be 0 (right) or 1 (left), got {side!r}")
+    return int(side)
+
+
+def _check_s(body: FlexibleWheelset, s: object) -> float:
+    s = _checks.finite("s", s)
+    lo, hi = body.s_range
+    if not lo - 1e-12 <= s <= hi + 1e-12:
+        raise InputError(f"wheel-profile coordinate s = {s * 1e3:.3f} mm lies outside the rim "
+                         f"edge ({lo * 1e3:.1f}..{hi * 1e3:.1f} mm)")
+    return min(max(s, lo), hi)
+
+
+# ----------------------------------------------------------------- field evaluation
+def _lagrange3(t: float) -> tuple[np.ndarray, np.ndarray]:
+    return (np.array([0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)]),
+            np.array([t - 0.5, -2.0 * t, t + 0.5]))
+
+
+def _locate(mesh, r: float, y: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Element nodes and shape functions (N, dN/dr, dN/dy) at (r, y), m.
+
+    The structured mesh has axis-parallel rectangles with mid-side nodes at the midpoints, so
+    the natural coordinates are linear in (r, y). A point on the rim edge lies on the top of
+    the elements below it. On a boundary between two elements along y (a node line) the
+    derivatives jump; the two elements' values are averaged (the displacement is continuous,
+    so N is unchanged; the slope is the mean of the one-sided slopes). Returns possibly
+    repeated node indices: sum over them.
+    """
+    x = mesh.nodes
+    c = mesh.conn
+    r0, r1 = x[c[:, 0], 0], x[c[:, 2], 0]
+    y0, y1 = x[c[:, 0], 1], x[c[:, 6], 1]
+    tol = 1e-9
+    hit = np.flatnonzero((r >= r0 - tol) & (r <= r1 + tol) & (y >= y0 - tol) & (y <= y1 + tol))
+    if hit.size == 0:
+        raise InputError(f"point (r={r:.4f}, y={y:.4f}) m lies outside the meridian mesh")
+    hit = hit[np.isclose(r0[hit], r0[hit].min(), rtol=0.0, atol=tol)]
+    nodes, ns, nrs, nys = [], [], [], []
+    for e in hit:
+        hr, hy = r1[e] - r0[e], y1[e] - y0[e]
+        xi = 2.0 * (r - 0.5 * (r0[e] + r1[e])) / hr
+        eta = 2.0 * (y - 0.5 * (y0[e] + y1[e])) / hy
+        li, dli = _lagrange3(xi)
+        lj, dlj = _lagrange3(eta)
+        nodes.append(c[e])
+        ns.append(np.outer(lj, li).ravel() / hit.size)           # column 3 j + i
+        nrs.append(np.outer(lj, dli).ravel() * 2.0 / hr / hit.size)
+        nys.append(np.outer(dlj, li).ravel() * 2.0 / hy / hit.size)
+    return np.concatenate(nodes), np.concatenate(ns), np.concatenate(nrs), np.concatenate(nys)
+
+
+def _edge_point(edge: _Edge, s: float) -> tuple[float, float]:
+    """(r, y_FE) of the rim edge at profile coordinate s."""
+    r = edge.r_tread if s >= edge.s_face else edge.r_flange
+    return r, edge.y_contact + edge.sign * s
+
+
+def _cyl_fields(shapes: np.ndarray, nodes, n, nr, ny) -> tuple[np.ndarray, ...]:
+    """U, dU/dr, dU/dy (each (nm, 3)) of nodal shapes (nm, nn, 3) at one point."""
+    s = shapes[:, nodes, :]
+    return (np.einsum("mac,a->mc", s, n), np.einsum("mac,a->mc", s, nr),
+            np.einsum("mac,a->mc", s, ny))
+
+
+def _vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: float,
+                  sign_y: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vehicle-frame rows (4, nm) (x, y, z, rx) at azimuth theta and their theta-derivative.
+
+    u: cylindrical amplitudes (U_r, U_y, U_th); du_dy_fe: their d/dy_FE. sign_y converts
+    d/dy_FE into d/ds along the edge (not needed for rx: rx = d u_r / d y_FE, see module doc).
+    """
+    ur, uy, ut = u[:, 0], u[:, 1], u[:, 2]
+    dur = du_dy_fe[:, 0]
+    if k == 0:
+        cr, sr, ct, st = 1.0, 0.0, 1.0, 0.0      # u_r = U_r, u_th = U_th (torsion)
+        dcr, dct = 0.0, 0.0
+    elif fam == "A":
+        cr, ct = np.cos(k * theta), np.sin(k * theta)
+        dcr, dct = -k * np.sin(k * theta), k * np.cos(k * theta)
+    else:
+        cr, ct = np.sin(k * theta), -np.cos(k * theta)
+        dcr, dct = k * np.cos(k * theta), k * np.sin(k * theta)
+    c, s = np.cos(theta), np.sin(theta)
+    # cylindrical components at theta and their theta-derivatives
+    vr, vy, vt, vdr = ur * cr, uy * cr, ut * ct, dur * cr
+    wr, wy, wt, wdr = ur * dcr, uy * dcr, ut * dct, dur * dcr
+    # e_r = -cos e_z - sin e_x, e_th = sin e_z - cos e_x, e_yFE = -e_y
+    rows = np.array([-s * vr - c * vt, -vy, -c * vr + s * vt, vdr])
+    drows = np.array([-c * vr - s * wr + s * vt - c * wt, -wy,
+                      s * vr - c * wr + c * vt + s * wt, wdr])
+    return rows, drows
+
+
+def _point_rows(body: FlexibleWheelset, side: int, s: float, theta: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and d/dtheta rows (4, nq) of the rim edge point (side, s) at azimuth theta."""
+    edge = body._edges[side]
+    r, y = _edge_point(edge, s)
+    nodes, n, nr, ny = _locate(body._mesh, r, y)
+    rows, drows = [], []
+    for k, fam, shapes in body._shapes:
+        u, _, dudy = _cyl_fields(shapes, nodes, n, nr, ny)
+        a, b = _vehicle_rows(k, fam, u, dudy, theta, edge.sign)
+        rows.append(a)
+        drows.append(b)
+    return np.concatenate(rows, axis=1), np.concatenate(drows, axis=1)
+
+
+def _journal_rows(body_shapes, mesh, node: int) -> np.ndarray:
+    """Journal-centre rows (5, nq): x, y, z, rotation about x and about z (vehicle frame).
+
+    Rotations: half the curl of the element's displacement field at the axis node (the
+    cross-section's rotation of the solid, shear included).
+    """
+    r, y = mesh.nodes[node]
+    nodes, n, nr, ny = _locate(mesh, r, y)
+    out = []
+    for k, fam, shapes in body_shapes:
+        u, dudr, dudy = _cyl_fields(shapes, nodes, n, nr, ny)
+        rows, _ = _vehicle_rows(k, fam, u, dudy, 0.0, 1.0)
+        rot = np.zeros((2, shapes.shape[0]))
+        if k == 1 and fam == "A":      # omega_x = (dU_r/dy_FE - dU_y/dr) / 2
+            rot[0] = 0.5 * (dudy[:, 0] - dudr[:, 1])
+        elif k == 1:                   # omega_z = (U_y / r + dU_th/dy_FE) / 2, U_y/r -> dU_y/dr
+            uy_r = dudr[:, 1] if r <= 1e-12 else u[:, 1] / r
+            rot[1] = 0.5 * (uy_r + dudy[:, 2])
+        out.append(np.vstack([rows[:3], rot]))
+    return np.concatenate(out, axis=1)
+
+
+# ------------------------------------------------------------ FE statics per harmonic
+def _dof_transform(mesh, k: int) -> sp.csr_matrix:
+    """T (3 nn, neq): nodal amplitudes from equations, with the axis regularity of
+    wheelset_modes.f90::dof_map (k = 0: U_y only; k = 1: U_th = -U_r, U_y = 0; k >= 2: 0)."""
+    x = mesh.nodes
+    tol = 1e-9 * max(float(np.abs(x[:, 0]).max()), 1e-30)
+    rows, cols, vals = [], [], []
+    neq = 0
+    for i, (r, _) in enumerate(x):
+        if r <= tol:
+            if k == 0:
+                rows.append(3 * i + 1); cols.append(neq); vals.append(1.0); neq += 1
+            elif k == 1:
+                rows += [3 * i, 3 * i + 2]; cols += [neq, neq]; vals += [1.0, -1.0]; neq += 1
+        else:
+            for c in range(3):
+                rows.append(3 * i + c); cols.append(neq); vals.append(1.0); neq += 1
+    return sp.csr_matrix((vals, (rows, cols)), shape=(3 * mesh.n_nodes, neq))
+
+
+def assemble_harmonic(mesh, k: int, young: float, poisson: float, density: float
+                      ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """Global stiffness and mass of harmonic k over the nodal amplitudes (3 nn, node-major).
+
+    The same element matrices as the eigen-solver (wheelset_element.f90::axisym_element),
+    assembled in Python (sparse) for the static solves of the residual flexibility.
+    """
+    ne = mesh.n_elements
+    idx = (3 * mesh.conn[:, :, None] + np.arange(3)[None, None, :]).reshape(ne, 27)
+    kv = np.empty((ne, 27, 27))
+    mv = np.empty((ne, 27, 27))
+    for e in range(ne):
+        ke, me, _, _, info = core.wheelset_element_c(k, np.asfortranarray(mesh.nodes[mesh.conn[e]].T),
+                                                     young, poisson, density)
+        check(info, f"harmonic k={k}: meridian element {e}")
+        kv[e], mv[e] = ke, me
+    ii = np.repeat(idx, 27, axis=1).ravel()
+    jj = np.tile(idx, (1, 27)).ravel()
+    n = 3 * mesh.n_nodes
+    return (sp.csr_matrix((kv.ravel(), (ii, jj)), shape=(n, n)),
+            sp.csr_matrix((mv.ravel(), (ii, jj)), shape=(n, n)))
+
+
+class HarmonicStatics:
+    """Static compliance of the free-free elastic wheelset for one harmonic k.
+
+    G = sum over ALL elastic modes of phi phi^T / omega^2 = K^+ restricted to the
+    mass-orthogonal complement of the rigid-body modes (the inertia-relief flexibility with
+    the rigid parts removed mass-orthogonally), from the bordered system
+    [[K, M Phi_r], [Phi_r^T M, 0]] [u; lam] = [f; 0] with the FE stiffness K of harmonic k.
+
+    Parameters
+    ----------
+    mesh : MeridianMesh
+    k : int
+    young, poisson, density : float
+    rigid : ndarray (nr, nn, 3)
+        Mass-normalised rigid-body modes of harmonic k (empty for k >= 2).
+    """
+
+    def __init__(self, mesh, k: int, young: float, poisson: float, density: float,
+                 rigid: np.ndarray) -> None:
+        self.k = k
+        self.T = _dof_transform(mesh, k)
+        kf, mf = assemble_harmonic(mesh, k, young, poisson, density)
+        self.K = (self.T.T @ kf @ self.T).tocsc()
+        self.M = (self.T.T @ mf @ self.T).tocsc()
+        w = np.asarray(self.T.T.multiply(self.T.T).sum(axis=1)).ravel()
+        self.rigid = np.zeros((self.K.shape[0], len(rigid)))
+        for j, p in enumerate(rigid):
+            self.rigid[:, j] = (self.T.T @ p.ravel()) / w
+        mr = self.M @ self.rigid
+        nr = self.rigid.shape[1]
+        a = self.K if nr == 0 else sp.bmat(
+            [[self.K, sp.csc_matrix(mr)], [sp.csc_matrix(mr.T), None]], format="csc")
+        self._lu = splu(a)
+        self._nr = nr
+
+    def solve(self, f_nodal: np.ndarray) -> np.ndarray:
+        """Elastic static displacement (3 nn, m) of nodal loads f (3 nn, N) (G f)."""
+        f = self.T.T @ f_nodal
+        rhs = np.concatenate([f, np.zeros(self._nr)])
+        u = self._lu.solve(rhs)[: f.size]
+        return self.T @ u
+
+
+def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None
+                    ) -> dict[str, list[tuple[str, np.ndarray]]]:
+    """Nodal operators of the attachment rows at theta = 0, per harmonic kind.
+
+    Returns {'0': [...], 'A': [...], 'B': [...]}: for each row, the nodal vector (3 nn) e with
+    row value = e . U of that set's amplitudes (k = 0 uses '0'; k > 0 'A' and 'B').
+    """
+    if edge is not None:
+        r, y = _edge_point(edge, s)
+    else:
+        r, y = mesh.nodes[node]
+    nodes, n, nr, ny = _locate(mesh, r, y)
+    nn3 = 3 * mesh.n_nodes
+
+    def vec(comp: int, w: np.ndarray, scale: float) -> np.ndarray:
+        v = np.zeros(nn3)
+        np.add.at(v, 3 * nodes + comp, scale * w)
+        return v
+
+    zero = np.zeros(nn3)
+    # rows x, y, z (+ rx on the rim), from _vehicle_rows at theta = 0
+    ops = {"0": [vec(2, n, -1.0), vec(1, n, -1.0), vec(0, n, -1.0)],
+           "A": [zero, vec(1, n, -1.0), vec(0, n, -1.0)],
+           "B": [vec(2, n, 1.0), zero, zero]}
+    if edge is not None:
+        ops["0"].append(vec(0, ny, 1.0))
+        ops["A"].append(vec(0, ny, 1.0))
+        ops["B"].append(zero)
+    return ops
+
+
+def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes
+                    ) -> np.ndarray:
+    """Static compliance (14, 14) over :data:`ATTACHMENT_DOFS` of all free-free elastic modes
+    of the harmonics in ``statics`` (Omega = 0), from the FE stiffness."""
+    pts = [_point_operator(mesh, edges[0], s_pair[0], None),
+           _point_operator(mesh, edges[1], s_pair[1], None),
+           _point_operator(mesh, None, None, journal_nodes[0]),
+           _point_operator(mesh, None, None, journal_nodes[1])]
+    g = np.zeros((len(ATTACHMENT_DOFS),) * 2)
+    for st in statics:
+        kinds = ("0",) if st.k == 0 else ("A", "B")
+        for kind in kinds:
+            e = np.array([v for p in pts for v in p[kind]])        # (14, 3 nn)
+            cols = [st.solve(e[j]) if np.any(e[j]) else np.zeros(e.shape[1])
+                    for j in range(e.shape[0])]
+            g += e @ np.array(cols).T
+    return 0.5 * (g + g.T)
+
+
+def _attachment_rows(body: FlexibleWheelset, s_pair) -> np.ndarray:
+    """Rows (14, nq) of the attachment DOFs at contact coordinates s_pair."""
+    c0 = body.rows(0, s_pair[0])
+    c1 = body.rows(1, s_pair[1])
+    return np.vstack([c0, c1, body.journal[0, :3], body.journal[1, :3]])
+
+
+# ------------------------------------------------------------------------ the body
+def _rigid_mask(h: HarmonicModes) -> np.ndarray:
+    return h.freq_hz < _RIGID_HZ
+
+
+def _edges(geometry) -> tuple[_Edge, _Edge]:
+    g = geometry
+    s_min = -g.contact_offset
+    s_max = g.rim_width - g.contact_offset
+    s_face = g.flange_width - g.contact_offset
+    rf = g.wheel_radius + g.flange_height
+    return (_Edge(s_min, s_max, s_face, g.contact_y, 1.0, g.wheel_radius, rf),
+            _Edge(s_min, s_max, s_face, -g.contact_y, -1.0, g.wheel_radius, rf))
+
+
+def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
+                  damping_ratio: float = 0.005, centrifugal: bool = True,
+                  residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
+                  residual: bool = True) -> FlexibleWheelset:
+    """Build the free-free flexible body; see :meth:`Wheelset.flexible_body`."""
+    speed = _checks.non_negative("speed", speed)
+    zeta = _checks.non_negative("damping_ratio", damping_ratio)
+    k_max = check_harmonic(k_max, "k_max")
+    try:
+        f_max = _checks.positive("f_max", f_max)
+    except InputError as exc:
+        raise InputError(f"f_max must be a positive frequency in Hz, got {f_max!r}") from exc
+    ds = _checks.positive("ds", ds)
+    g = ws.geometry
+    om = speed / g.wheel_radius
+    mesh = ws.mesh
+    edges = _edges(g)
+    gb, kb, db, fam, kq, fq, shapes, statics = [], [], [], [], [], [], [], []
+    for k in range(k_max + 1):
+        h = ws.harmonic(k, f_max, "free")
+        rig = _rigid_mask(h)
+        keep = ~rig
+        if residual:
+            statics.append(HarmonicStatics(mesh, k, g.young, g.poisson, g.density, h.shapes[rig]))
+        lam = h.lam[keep]
+        n = lam.size
+        if n == 0:
+            continue
+        w = np.sqrt(lam)
+        gam = h.coriolis[np.ix_(keep, keep)]
+        mc = (h.inplane_mass - h.prestress_stiffness)[np.ix_(keep, keep)] if centrifugal \
+            else np.zeros_like(gam)
+        shp = h.shapes[keep]
+        if k == 0:
+            gb.append(2.0 * om * gam)
+            kb.append(np.diag(lam) - om ** 2 * mc)
+            db.append(np.diag(2.0 * zeta * w))
+            fam += ["0"] * n
+            kq += [0] * n
+            fq += list(h.freq_hz[keep])
+            shapes.append((0, "0", shp))
+        else:
+            eye = np.eye(n)
+            gk = gam + k * eye
+            gb.append(2.0 * om * np.block([[np.zeros((n, n)), gk], [-gk, np.zeros((n, n))]]))
+            kd = np.diag(lam) - om ** 2 * mc - (k * om) ** 2 * eye - 2.0 * k * om ** 2 * gam
+            kb.append(np.block([[kd, np.zeros((n, n))], [np.zeros((n, n)), kd]]))
+            db.append(np.diag(np.concatenate([2.0 * zeta * w] * 2)))
+            fam += ["A"] * n + ["B"] * n
+            kq += [k] * (2 * n)
+            fq += list(h.freq_hz[keep]) * 2
+            shapes += [(k, "A", shp), (k, "B", shp)]
+    from scipy.linalg import block_diag
+    nq = len(kq)
+    if nq == 0:
+        log.info("flexible wheelset: no elastic mode below %.0f Hz for k <= %d", f_max, k_max)
+    # polar moment and rigid-elastic coupling from the FE mass (k = 0 and k = 1)
+    st0 = statics[0] if residual else HarmonicStatics(mesh, 0, g.young, g.poisson, g.density,
+                                                      np.zeros((0, mesh.n_nodes, 3)))
+    r = mesh.nodes[:, 0]
+    spin = np.zeros((mesh.n_nodes, 3))
+    spin[:, 2] = r
+    polar = float(_mass_product(st0, spin, spin))
+    cpl = np.zeros((nq, 2))
+    if k_max >= 1 and nq:
+        st1 = statics[1] if residual else HarmonicStatics(mesh, 1, g.young, g.poisson,
+                                                          g.density, np.zeros((0, mesh.n_nodes, 3)))
+        tilt = np.zeros((mesh.n_nodes, 3))
+        tilt[:, 1] = r                                   # the field U_y = r of harmonic 1
+        col = 0
+        for k, f, shp in shapes:
+            n = shp.shape[0]
+            if k == 1:
+                # c = -2 int rho X_x u_y (roll) and -2 int rho X_z u_y (yaw), vehicle frame:
+                # = -2 <phi, (0, r, 0)>_M1 for set B (roll) and set A (yaw)
+                v = np.array([-2.0 * _mass_product(st1, p, tilt) for p in shp])
+                cpl[col:col + n, 0 if f == "B" else 1] = v
+            col += n
+    s_grid = np.arange(edges[0].s_min, edges[0].s_max + 0.5 * ds, ds)
+    s_grid = s_grid[s_grid <= edges[0].s_max + 1e-12]
+    body = FlexibleWheelset(
+        speed=speed, omega=om, k=np.array(kq, dtype=int), family=np.array(fam, dtype="<U1"),
+        freq_hz=np.array(fq), mass=np.eye(nq), gyro=block_diag(*gb) if gb else np.zeros((0, 0)),
+        damping=block_diag(*db) if db else np.zeros((0, 0)),
+        stiffness=block_diag(*kb) if kb else np.zeros((0, 0)), rigid_elastic=cpl,
+        polar_moment=polar, journal=np.zeros((2, 5, nq)), s0=float(s_grid[0]), ds=ds,
+        contact_table=np.zeros((2, s_grid.size, 4, nq)),
+        dtheta_table=np.zeros((2, s_grid.size, 4, nq)), residual=np.zeros((14, 14)),
+        residual_s=(float(residual_s[0]), float(residual_s[1])), _edges=edges,
+        _shapes=tuple(shapes), _mesh=mesh)
+    for side in range(2):
+        body.journal[side] = _journal_rows(shapes, mesh, ws._journal_nodes[side]) if nq else 0.0
+        for i, s in enumerate(s_grid):
+            a, b = _point_rows(body, side, float(s), 0.0)
+            body.contact_table[side, i] = a
+            body.dtheta_table[side, i] = b
+    rs = tuple(_check_s(body, s) for s in residual_s)
+    if residual:
+        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes)
+        rr = _attachment_rows(body, rs)
+        lam = (2.0 * np.pi * body.freq_hz) ** 2
+        body.residual[:] = gfull - (rr / lam) @ rr.T
+    for a in (body.journal, body.contact_table, body.dtheta_table, body.residual):
+        a.setflags(write=False)
+    return body
+
+
+def _mass_product(st: HarmonicStatics, a: np.ndarray, b: np.ndarray) -> float:
+    """<a, b>_M of two nodal fields (nn, 3) of harmonic st.k (FE consistent mass)."""
+    w = np.asarray(st.T.T.multiply(st.T.T).sum(axis=1)).ravel()
+    xa = (st.T.T @ a.ravel()) / w
+    xb = (st.T.T @ b.ravel()) / w
+    return float(xa @ (st.M @ xb))
