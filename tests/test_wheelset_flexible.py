@@ -26,19 +26,12 @@ def body(ws):
 
 @pytest.fixture(scope="module")
 def statics(ws):
-    g = ws.geometry
-    out = []
-    for k in range(K_MAX + 1):
-        h = ws.harmonic(k, F_MAX, "free")
-        out.append(fl.HarmonicStatics(ws.mesh, k, g.young, g.poisson, g.density,
-                                      h.shapes[h.freq_hz < 0.5]))
-    return out
+    return [fl._statics(ws, k) for k in range(7)]
 
 
 def _reduced(st, field):
     """Equation vector of a nodal field (nn, 3) of harmonic st.k."""
-    w = np.asarray(st.T.T.multiply(st.T.T).sum(axis=1)).ravel()
-    return (st.T.T @ np.asarray(field).ravel()) / w
+    return st.reduce(field)
 
 
 def _groups(body):
@@ -77,6 +70,14 @@ def test_modes_mass_orthonormal_and_rigid_modes_removed(ws, body, statics):
             xr = _reduced(st, rig)
             xr /= np.sqrt(xr @ (st.M @ xr))
             assert np.abs(x.T @ (st.M @ xr)).max() < 1e-6
+    # the statics' rigid fields are rigid and span the eigen-solver's zero-frequency modes
+    for k in (0, 1):
+        st = statics[k]
+        assert np.abs(st.K @ st.rigid).max() < 1e-6 * abs(st.K).max()
+        h = ws.harmonic(k, F_MAX, "free")
+        z = np.array([_reduced(st, s) for s in h.shapes[h.freq_hz < 0.5]]).T
+        proj = st.rigid @ (st.rigid.T @ (st.M @ z))
+        assert np.allclose(proj, z, atol=1e-8 * np.abs(z).max())
     # the frequencies are the free-free elastic ones: the lowest k = 1 bending mode is kept
     assert body.freq_hz.min() > 50.0
     assert np.sum(body.k == 0) == np.sum(ws.harmonic(0, F_MAX, "free").freq_hz >= 0.5)
@@ -284,3 +285,25 @@ def test_bad_input(ws, body):
         body.rows(0, float("nan"))
     with pytest.raises(InputError, match="force"):
         body.static_deflection(np.zeros(3))
+
+
+def test_journal_rows(ws, body):
+    # displacements at the journal centre node equal the node's amplitudes (eq. 7 at theta 0)
+    for side in (0, 1):
+        node = ws._journal_nodes[side]
+        assert np.allclose(body.journal[side, :3], _node_rows(body, node), atol=1e-12)
+    # rotations: a rigid tilt (U_r, U_y, U_th) = (-y, r, y) is a rotation by -1 rad about the
+    # vehicle x axis in set A and by +1 rad about z in set B (vehicle y = -y_FE)
+    r, y = ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 1]
+    tilt = np.c_[-y, r, y][None]
+    for side in (0, 1):
+        rows = fl._journal_rows([(1, "A", tilt), (1, "B", tilt)], ws.mesh,
+                                ws._journal_nodes[side])
+        assert np.allclose(rows[3], [-1.0, 0.0]) and np.allclose(rows[4], [0.0, 1.0])
+        # and the displacements of that rotation: z = beta_x * y_v, x = -beta_z * y_v
+        yv = -ws.mesh.nodes[ws._journal_nodes[side], 1]
+        assert np.allclose(rows[2], [-yv, 0.0]) and np.allclose(rows[0], [0.0, -yv])
+        # the rim's slope row sees the same rotation about x
+        edge_rows = fl._vehicle_rows(1, "A", np.array([[0.0, 0.0, 0.0]]),
+                                     np.array([[-1.0, 0.0, 1.0]]), 0.0, 1.0)[0]
+        assert edge_rows[3, 0] == -1.0

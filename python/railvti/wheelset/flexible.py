@@ -24,6 +24,7 @@ Frames and signs (see docs/wheelset_flexible.md):
 from __future__ import annotations
 
 import logging
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,12 +107,15 @@ class FlexibleWheelset:
     dtheta_table : ndarray (2, ns, 4, nq)
         :meth:`dtheta_rows` on the same grid.
     residual : ndarray (14, 14)
-        Residual flexibility of the truncated free-free elastic modes (harmonics
-        0..k_max, above f_max) over :data:`ATTACHMENT_DOFS` at the contact coordinates
-        ``residual_s``, m/N (rad/(N m) for rx-rx). Static deflection of the attachment
-        DOFs = rows Lambda^-1 rows^T F + residual F.
+        Residual flexibility of the truncated free-free elastic modes (those of harmonics
+        0..k_max above f_max and all of harmonics k_max+1..residual_k_max) over
+        :data:`ATTACHMENT_DOFS` at the contact coordinates ``residual_s``: m/N, rad/N,
+        rad/(N m). Static deflection of the attachment DOFs (rigid parts removed
+        mass-orthogonally) = R Lambda^-1 R^T F + residual F, R the attachment rows.
     residual_s : tuple of float
         Wheel-profile coordinate (right, left) of the contact points of ``residual``, m.
+    residual_k_max : int
+        Highest harmonic in the residual flexibility.
     """
 
     speed: float
@@ -132,6 +136,7 @@ class FlexibleWheelset:
     dtheta_table: np.ndarray
     residual: np.ndarray
     residual_s: tuple[float, float]
+    residual_k_max: int = 0
     _edges: tuple = ()
     _shapes: tuple = ()          # per coordinate group: (k, family, shapes (n, nn, 3))
     _mesh: object = None
@@ -379,33 +384,46 @@ class HarmonicStatics:
     mass-orthogonal complement of the rigid-body modes (the inertia-relief flexibility with
     the rigid parts removed mass-orthogonally), from the bordered system
     [[K, M Phi_r], [Phi_r^T M, 0]] [u; lam] = [f; 0] with the FE stiffness K of harmonic k.
+    The rigid-body fields are built exactly (k = 0: axial translation (0, 1, 0) and spin
+    (0, 0, r); k = 1: translation (1, 0, -1) and tilt (-y, r, y); amplitudes (U_r, U_y,
+    U_th) of eq. 7) and made mass-orthonormal.
 
     Parameters
     ----------
     mesh : MeridianMesh
     k : int
     young, poisson, density : float
-    rigid : ndarray (nr, nn, 3)
-        Mass-normalised rigid-body modes of harmonic k (empty for k >= 2).
     """
 
-    def __init__(self, mesh, k: int, young: float, poisson: float, density: float,
-                 rigid: np.ndarray) -> None:
+    def __init__(self, mesh, k: int, young: float, poisson: float, density: float) -> None:
         self.k = k
         self.T = _dof_transform(mesh, k)
         kf, mf = assemble_harmonic(mesh, k, young, poisson, density)
         self.K = (self.T.T @ kf @ self.T).tocsc()
         self.M = (self.T.T @ mf @ self.T).tocsc()
-        w = np.asarray(self.T.T.multiply(self.T.T).sum(axis=1)).ravel()
-        self.rigid = np.zeros((self.K.shape[0], len(rigid)))
-        for j, p in enumerate(rigid):
-            self.rigid[:, j] = (self.T.T @ p.ravel()) / w
-        mr = self.M @ self.rigid
-        nr = self.rigid.shape[1]
+        self._w = np.asarray(self.T.T.multiply(self.T.T).sum(axis=1)).ravel()
+        r, y = mesh.nodes[:, 0], mesh.nodes[:, 1]
+        z, one = np.zeros_like(r), np.ones_like(r)
+        fields = {0: [np.c_[z, one, z], np.c_[z, z, r]],
+                  1: [np.c_[one, z, -one], np.c_[-y, r, y]]}.get(k, [])
+        rig = np.zeros((self.K.shape[0], len(fields)))
+        for j, f in enumerate(fields):
+            x = self.reduce(f)
+            for i in range(j):                              # Gram-Schmidt in the mass metric
+                x -= rig[:, i] * (rig[:, i] @ (self.M @ x))
+            rig[:, j] = x / np.sqrt(x @ (self.M @ x))
+        self.rigid = rig
+        nr = rig.shape[1]
+        mr = self.M @ rig
         a = self.K if nr == 0 else sp.bmat(
             [[self.K, sp.csc_matrix(mr)], [sp.csc_matrix(mr.T), None]], format="csc")
         self._lu = splu(a)
         self._nr = nr
+        self._compliance: dict[tuple, np.ndarray] = {}
+
+    def reduce(self, field: np.ndarray) -> np.ndarray:
+        """Equation vector of a nodal field (nn, 3) that obeys the axis regularity."""
+        return (self.T.T @ np.asarray(field, dtype=float).ravel()) / self._w
 
     def solve(self, f_nodal: np.ndarray) -> np.ndarray:
         """Elastic static displacement (3 nn, m) of nodal loads f (3 nn, N) (G f)."""
@@ -413,6 +431,40 @@ class HarmonicStatics:
         rhs = np.concatenate([f, np.zeros(self._nr)])
         u = self._lu.solve(rhs)[: f.size]
         return self.T @ u
+
+    def mass_product(self, a: np.ndarray, b: np.ndarray) -> float:
+        """<a, b>_M of two nodal fields (nn, 3) of this harmonic (FE consistent mass)."""
+        return float(self.reduce(a) @ (self.M @ self.reduce(b)))
+
+
+_STATICS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _statics(ws, k: int) -> HarmonicStatics:
+    """The (cached, per Wheelset) static solver of harmonic k."""
+    per = _STATICS.setdefault(ws, {})
+    if k not in per:
+        g = ws.geometry
+        per[k] = HarmonicStatics(ws.mesh, k, g.young, g.poisson, g.density)
+    return per[k]
+
+
+def _harmonic(ws, k: int, f_max: float) -> HarmonicModes:
+    """Free-free modes of harmonic k up to f_max, cut from a cached solve to a higher f_max
+    when there is one (the eigenpairs are the same)."""
+    best = None
+    for key, h in ws._cache.items():
+        if key[0] == k and key[2] == "free" and key[1] >= f_max and (best is None or key[1] < best[0]):
+            best = (key[1], h)
+    if best is None:
+        return ws.harmonic(k, f_max, "free")
+    h = best[1]
+    m = h.freq_hz <= f_max
+    ix = np.ix_(m, m)
+    return HarmonicModes(k=h.k, freq_hz=h.freq_hz[m], shapes=h.shapes[m], coriolis=h.coriolis[ix],
+                         inplane_mass=h.inplane_mass[ix],
+                         prestress_stiffness=h.prestress_stiffness[ix],
+                         n_equations=h.n_equations, bandwidth=h.bandwidth)
 
 
 def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None
@@ -450,19 +502,25 @@ def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal
                     ) -> np.ndarray:
     """Static compliance (14, 14) over :data:`ATTACHMENT_DOFS` of all free-free elastic modes
     of the harmonics in ``statics`` (Omega = 0), from the FE stiffness."""
-    pts = [_point_operator(mesh, edges[0], s_pair[0], None),
-           _point_operator(mesh, edges[1], s_pair[1], None),
-           _point_operator(mesh, None, None, journal_nodes[0]),
-           _point_operator(mesh, None, None, journal_nodes[1])]
+    pts = None
     g = np.zeros((len(ATTACHMENT_DOFS),) * 2)
     for st in statics:
-        kinds = ("0",) if st.k == 0 else ("A", "B")
-        for kind in kinds:
-            e = np.array([v for p in pts for v in p[kind]])        # (14, 3 nn)
-            cols = [st.solve(e[j]) if np.any(e[j]) else np.zeros(e.shape[1])
-                    for j in range(e.shape[0])]
-            g += e @ np.array(cols).T
-    return 0.5 * (g + g.T)
+        key = (tuple(s_pair), tuple(journal_nodes))
+        if key not in st._compliance:
+            if pts is None:
+                pts = [_point_operator(mesh, edges[0], s_pair[0], None),
+                       _point_operator(mesh, edges[1], s_pair[1], None),
+                       _point_operator(mesh, None, None, journal_nodes[0]),
+                       _point_operator(mesh, None, None, journal_nodes[1])]
+            gk = np.zeros_like(g)
+            for kind in (("0",) if st.k == 0 else ("A", "B")):
+                e = np.array([v for p in pts for v in p[kind]])        # (14, 3 nn)
+                cols = [st.solve(e[j]) if np.any(e[j]) else np.zeros(e.shape[1])
+                        for j in range(e.shape[0])]
+                gk += e @ np.array(cols).T
+            st._compliance[key] = 0.5 * (gk + gk.T)
+        g += st._compliance[key]
+    return g
 
 
 def _attachment_rows(body: FlexibleWheelset, s_pair) -> np.ndarray:
@@ -490,7 +548,7 @@ def _edges(geometry) -> tuple[_Edge, _Edge]:
 def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
                   damping_ratio: float = 0.005, centrifugal: bool = True,
                   residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
-                  residual: bool = True) -> FlexibleWheelset:
+                  residual: bool = True, residual_k_max: int | None = None) -> FlexibleWheelset:
     """Build the free-free flexible body; see :meth:`Wheelset.flexible_body`."""
     speed = _checks.non_negative("speed", speed)
     zeta = _checks.non_negative("damping_ratio", damping_ratio)
@@ -500,17 +558,18 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
     except InputError as exc:
         raise InputError(f"f_max must be a positive frequency in Hz, got {f_max!r}") from exc
     ds = _checks.positive("ds", ds)
+    k_res = max(k_max, 6) if residual_k_max is None else check_harmonic(residual_k_max,
+                                                                        "residual_k_max")
+    if k_res < k_max:
+        raise InputError(f"residual_k_max ({k_res}) must be >= k_max ({k_max})")
     g = ws.geometry
     om = speed / g.wheel_radius
     mesh = ws.mesh
     edges = _edges(g)
-    gb, kb, db, fam, kq, fq, shapes, statics = [], [], [], [], [], [], [], []
+    gb, kb, db, fam, kq, fq, shapes = [], [], [], [], [], [], []
     for k in range(k_max + 1):
-        h = ws.harmonic(k, f_max, "free")
-        rig = _rigid_mask(h)
-        keep = ~rig
-        if residual:
-            statics.append(HarmonicStatics(mesh, k, g.young, g.poisson, g.density, h.shapes[rig]))
+        h = _harmonic(ws, k, f_max)
+        keep = ~_rigid_mask(h)
         lam = h.lam[keep]
         n = lam.size
         if n == 0:
@@ -544,16 +603,14 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
     if nq == 0:
         log.info("flexible wheelset: no elastic mode below %.0f Hz for k <= %d", f_max, k_max)
     # polar moment and rigid-elastic coupling from the FE mass (k = 0 and k = 1)
-    st0 = statics[0] if residual else HarmonicStatics(mesh, 0, g.young, g.poisson, g.density,
-                                                      np.zeros((0, mesh.n_nodes, 3)))
+    st0 = _statics(ws, 0)
     r = mesh.nodes[:, 0]
     spin = np.zeros((mesh.n_nodes, 3))
     spin[:, 2] = r
-    polar = float(_mass_product(st0, spin, spin))
+    polar = st0.mass_product(spin, spin)
     cpl = np.zeros((nq, 2))
     if k_max >= 1 and nq:
-        st1 = statics[1] if residual else HarmonicStatics(mesh, 1, g.young, g.poisson,
-                                                          g.density, np.zeros((0, mesh.n_nodes, 3)))
+        st1 = _statics(ws, 1)
         tilt = np.zeros((mesh.n_nodes, 3))
         tilt[:, 1] = r                                   # the field U_y = r of harmonic 1
         col = 0
@@ -562,7 +619,7 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
             if k == 1:
                 # c = -2 int rho X_x u_y (roll) and -2 int rho X_z u_y (yaw), vehicle frame:
                 # = -2 <phi, (0, r, 0)>_M1 for set B (roll) and set A (yaw)
-                v = np.array([-2.0 * _mass_product(st1, p, tilt) for p in shp])
+                v = np.array([-2.0 * st1.mass_product(p, tilt) for p in shp])
                 cpl[col:col + n, 0 if f == "B" else 1] = v
             col += n
     s_grid = np.arange(edges[0].s_min, edges[0].s_max + 0.5 * ds, ds)
@@ -575,7 +632,8 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
         polar_moment=polar, journal=np.zeros((2, 5, nq)), s0=float(s_grid[0]), ds=ds,
         contact_table=np.zeros((2, s_grid.size, 4, nq)),
         dtheta_table=np.zeros((2, s_grid.size, 4, nq)), residual=np.zeros((14, 14)),
-        residual_s=(float(residual_s[0]), float(residual_s[1])), _edges=edges,
+        residual_s=(float(residual_s[0]), float(residual_s[1])), residual_k_max=k_res,
+        _edges=edges,
         _shapes=tuple(shapes), _mesh=mesh)
     for side in range(2):
         body.journal[side] = _journal_rows(shapes, mesh, ws._journal_nodes[side]) if nq else 0.0
@@ -585,6 +643,7 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
             body.dtheta_table[side, i] = b
     rs = tuple(_check_s(body, s) for s in residual_s)
     if residual:
+        statics = [_statics(ws, k) for k in range(k_res + 1)]
         gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes)
         rr = _attachment_rows(body, rs)
         lam = (2.0 * np.pi * body.freq_hz) ** 2
@@ -592,11 +651,3 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
     for a in (body.journal, body.contact_table, body.dtheta_table, body.residual):
         a.setflags(write=False)
     return body
-
-
-def _mass_product(st: HarmonicStatics, a: np.ndarray, b: np.ndarray) -> float:
-    """<a, b>_M of two nodal fields (nn, 3) of harmonic st.k (FE consistent mass)."""
-    w = np.asarray(st.T.T.multiply(st.T.T).sum(axis=1)).ravel()
-    xa = (st.T.T @ a.ravel()) / w
-    xb = (st.T.T @ b.ravel()) / w
-    return float(xa @ (st.M @ xb))

@@ -383,7 +383,8 @@ class Wheelset:
     def flexible_body(self, speed: float, k_max: int = 6, f_max: float = 3000.0,
                       damping_ratio: float = 0.005, centrifugal: bool = True,
                       residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
-                      residual: bool = True) -> "FlexibleWheelset":
+                      residual: bool = True, residual_k_max: int | None = None
+                      ) -> "FlexibleWheelset":
         """The free-free elastic wheelset in the axle-fixed frame, for a vehicle model.
 
         Elastic modes of the free wheelset (no suspension: the vehicle attaches the journal
@@ -411,7 +412,12 @@ class Wheelset:
         ds : float
             Step of the contact-row tables over the wheel-profile coordinate, m.
         residual : bool
-            Compute the residual flexibility (static FE solves of harmonics 0..k_max).
+            Compute the residual flexibility (static FE solves of harmonics
+            0..residual_k_max).
+        residual_k_max : int, optional
+            Highest harmonic whose truncated modes enter the residual flexibility; default
+            max(k_max, 6). Higher harmonics (the rim's local deformation under the contact
+            load) are left to the contact model.
 
         Returns
         -------
@@ -425,7 +431,7 @@ class Wheelset:
         from .flexible import flexible_body
         return flexible_body(self, speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio,
                              centrifugal=centrifugal, residual_s=residual_s, ds=ds,
-                             residual=residual)
+                             residual=residual, residual_k_max=residual_k_max)
 
     def frf(self, freqs: np.ndarray, speed: float, input: str = "lateral", output: str = "lateral",
             k_max: int = 6, f_max: float = 3000.0, damping_ratio: float = 0.005,
