@@ -166,11 +166,15 @@ def test_rows_at_nodes_and_between(ws, body, side):
                         for r in range(3) for j in range(body.n)]).reshape(3, body.n)
         got = body.rows(side, sq)[:3]
         assert np.allclose(got, lag, atol=1e-10 * np.abs(vals).max())
-        # the slope row is d/dy_vehicle of the vertical row, from the same quadratic
-        dz = np.array([np.polyval(np.polyder(np.polyfit(ss, vals[:, 2, j], 2)), sq)
-                       for j in range(body.n)])
-        dyv_ds = -1.0 if side == 0 else 1.0
-        assert np.allclose(body.rows(side, sq)[3], dz / dyv_ds, atol=1e-8 * np.abs(dz).max())
+    # the rim rotation: the least-squares slope d u_z / d y_vehicle of the vertical row over
+    # the whole tread, the same at every s
+    st = np.linspace(ws.geometry.flange_width - ws.geometry.contact_offset,
+                     ws.geometry.rim_width - ws.geometry.contact_offset, 301)
+    yv = -(ws.geometry.contact_y + st) if side == 0 else ws.geometry.contact_y + st
+    zs = np.array([body.rows(side, v)[2] for v in st])
+    fit = np.polyfit(yv, zs, 1)[0]
+    for sq in (ss[0], -0.05, 0.03):
+        assert np.allclose(body.rows(side, sq)[3], fit, atol=1e-4 * np.abs(fit).max())
     # the uniform table interpolates the rows linearly (ds = 1 mm: a small error)
     sm = body.s0 + 40.5 * body.ds
     lin = 0.5 * (body.contact_table[side, 40] + body.contact_table[side, 41])
@@ -305,5 +309,25 @@ def test_journal_rows(ws, body):
         assert np.allclose(rows[2], [-yv, 0.0]) and np.allclose(rows[0], [0.0, -yv])
         # the rim's slope row sees the same rotation about x
         edge_rows = fl._vehicle_rows(1, "A", np.array([[0.0, 0.0, 0.0]]),
-                                     np.array([[-1.0, 0.0, 1.0]]), 0.0, 1.0)[0]
+                                     np.array([[-1.0, 0.0, 1.0]]), 0.0)[0]
         assert edge_rows[3, 0] == -1.0
+
+
+def test_residual_follows_the_contact_point(ws, body, statics):
+    # loads at s = -10 mm (flange root side): the residual recomputed there restores the
+    # static FE solution (own constrained solve), the one of s = 0 does not
+    s_pair = (-0.01, -0.01)
+    ref = _direct_static(ws, statics, s_pair)
+    f = np.zeros(14)
+    f[[2, 6]] = Q
+    f[[10, 13]] = -Q
+    r = fl._attachment_rows(body, s_pair)
+    kept = r @ ((r.T @ f) / (2 * np.pi * body.freq_hz) ** 2)
+    fresh = kept + fl.residual_flexibility(ws, body, s_pair) @ f
+    stale = kept + body.residual @ f
+    for i in (2, 3):
+        assert fresh[i] == pytest.approx(ref[i], rel=0.02)
+    assert abs(stale[3] / ref[3] - 1.0) > 0.05
+    assert fl.static_fe_solve(ws, f, s_pair)[3] == pytest.approx(ref[3], rel=1e-6)
+    with pytest.raises(InputError, match="residual_k_max"):
+        ws.flexible_body(10.0, k_max=3, residual_k_max=2)

@@ -18,8 +18,14 @@ Frames and signs (see docs/wheelset_flexible.md):
   sense of the material's motion (at theta = 0 that is backwards, -x): (r, theta, +y_vehicle)
   is right-handed, the sense in which the Coriolis terms of eq. 11 take Omega > 0.
 * Shape rows give the elastic displacement in the vehicle frame (x, y, z), m per unit Q,
-  and the rim's rotation about the rolling axis x (rad per unit Q) = the change of the slope
-  of the running surface, d u_z / d y_vehicle along the tread/flange edge.
+  at the contact point on the rim edge (the FE field of the element there, not the nearest
+  node), and the rim's rotation about the rolling axis x (rad per unit Q): the change of the
+  slope of the running surface d u_z / d y_vehicle, taken as the least-squares slope of the
+  normal (radial) displacement along the whole tread edge. Not the local d/ds at the contact
+  point: under the concentrated contact load the local slope at the loaded point depends on
+  the mesh (0.95..1.12 mrad for 1715..4935 nodes under 85 kN per wheel) and jumps with the
+  load's position, while the tread slope is mesh-independent (1.258..1.259 mrad); the
+  local indentation belongs to the contact model.
 """
 from __future__ import annotations
 
@@ -58,9 +64,16 @@ class _Edge:
     s_max: float
     s_face: float          # flange face: s < s_face lies on the flange top
     y_contact: float       # FE y of the taping line (s = 0) of this side
-    sign: float            # FE y = y_contact + sign * s... (sign +1 right wheel, -1 left)
+    sign: float            # FE y = y_contact + sign * s (sign +1 right wheel, -1 left)
     r_tread: float
     r_flange: float
+
+    def rim_samples(self, n: int = 201) -> tuple[np.ndarray, np.ndarray]:
+        """Points s_j (m) on the tread edge and the weights w_j of the least-squares slope
+        d/dy_FE of a field sampled there: slope = sum w_j f(s_j)."""
+        s = np.linspace(self.s_face, self.s_max, n)
+        d = s - s.mean()
+        return s, self.sign * d / np.sum(d * d)
 
 
 @dataclass(frozen=True)
@@ -138,6 +151,7 @@ class FlexibleWheelset:
     residual_s: tuple[float, float]
     residual_k_max: int = 0
     _edges: tuple = ()
+    _rim_slope: tuple = ()       # per side, per coordinate group: rim rotation of U_r (nm,)
     _shapes: tuple = ()          # per coordinate group: (k, family, shapes (n, nn, 3))
     _mesh: object = None
 
@@ -167,7 +181,14 @@ class FlexibleWheelset:
         Returns
         -------
         ndarray (4, nq)
-            Displacement x, y, z (m) and rim rotation about x (rad) per unit Q.
+            Displacement x, y, z (m) per unit Q at the point, interpolated with the FE shape
+            functions of the element along the rim edge, and the rim's rotation about x (rad
+            per unit Q; the least-squares slope over the tread, the same for every s).
+
+        Raises
+        ------
+        InputError
+            An unknown side, s not finite or outside the rim edge.
         """
         return _point_rows(self, _check_side(side), _check_s(self, s), 0.0)[0]
 
@@ -269,12 +290,12 @@ def _cyl_fields(shapes: np.ndarray, nodes, n, nr, ny) -> tuple[np.ndarray, ...]:
             np.einsum("mac,a->mc", s, ny))
 
 
-def _vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: float,
-                  sign_y: float) -> tuple[np.ndarray, np.ndarray]:
+def _vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: float
+                  ) -> tuple[np.ndarray, np.ndarray]:
     """Vehicle-frame rows (4, nm) (x, y, z, rx) at azimuth theta and their theta-derivative.
 
-    u: cylindrical amplitudes (U_r, U_y, U_th); du_dy_fe: their d/dy_FE. sign_y converts
-    d/dy_FE into d/ds along the edge (not needed for rx: rx = d u_r / d y_FE, see module doc).
+    u: cylindrical amplitudes (U_r, U_y, U_th) at the point; du_dy_fe: the slope d/dy_FE of
+    the amplitudes (column 0 gives rx: d u_z / d y_vehicle = d u_r / d y_FE at theta = 0).
     """
     ur, uy, ut = u[:, 0], u[:, 1], u[:, 2]
     dur = du_dy_fe[:, 0]
@@ -304,9 +325,9 @@ def _point_rows(body: FlexibleWheelset, side: int, s: float, theta: float) -> tu
     r, y = _edge_point(edge, s)
     nodes, n, nr, ny = _locate(body._mesh, r, y)
     rows, drows = [], []
-    for k, fam, shapes in body._shapes:
-        u, _, dudy = _cyl_fields(shapes, nodes, n, nr, ny)
-        a, b = _vehicle_rows(k, fam, u, dudy, theta, edge.sign)
+    for (k, fam, shapes), slope in zip(body._shapes, body._rim_slope[side]):
+        u, _, _ = _cyl_fields(shapes, nodes, n, nr, ny)
+        a, b = _vehicle_rows(k, fam, u, np.c_[slope, 0 * slope, 0 * slope], theta)
         rows.append(a)
         drows.append(b)
     return np.concatenate(rows, axis=1), np.concatenate(drows, axis=1)
@@ -323,7 +344,7 @@ def _journal_rows(body_shapes, mesh, node: int) -> np.ndarray:
     out = []
     for k, fam, shapes in body_shapes:
         u, dudr, dudy = _cyl_fields(shapes, nodes, n, nr, ny)
-        rows, _ = _vehicle_rows(k, fam, u, dudy, 0.0, 1.0)
+        rows, _ = _vehicle_rows(k, fam, u, dudy, 0.0)
         rot = np.zeros((2, shapes.shape[0]))
         if k == 1 and fam == "A":      # omega_x = (dU_r/dy_FE - dU_y/dr) / 2
             rot[0] = 0.5 * (dudy[:, 0] - dudr[:, 1])
@@ -492,10 +513,32 @@ def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None
            "A": [zero, vec(1, n, -1.0), vec(0, n, -1.0)],
            "B": [vec(2, n, 1.0), zero, zero]}
     if edge is not None:
-        ops["0"].append(vec(0, ny, 1.0))
-        ops["A"].append(vec(0, ny, 1.0))
+        rim = _rim_operator(mesh, edge)
+        ops["0"].append(rim)
+        ops["A"].append(rim)
         ops["B"].append(zero)
     return ops
+
+
+_RIM: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _rim_operators(ws, edges) -> tuple[np.ndarray, ...]:
+    """:func:`_rim_operator` of both edges, cached per Wheelset."""
+    per = _RIM.setdefault(ws, {})
+    if edges not in per:
+        per[edges] = tuple(_rim_operator(ws.mesh, e) for e in edges)
+    return per[edges]
+
+
+def _rim_operator(mesh, edge: _Edge) -> np.ndarray:
+    """Nodal vector (3 nn) of the rim rotation: the least-squares slope d U_r / d y_FE of the
+    radial amplitude over the tread edge (= d u_z / d y_vehicle at theta = 0)."""
+    v = np.zeros(3 * mesh.n_nodes)
+    for s, w in zip(*edge.rim_samples()):
+        nodes, n, _, _ = _locate(mesh, *_edge_point(edge, float(s)))
+        np.add.at(v, 3 * nodes, w * n)
+    return v
 
 
 def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes
@@ -633,7 +676,9 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
         contact_table=np.zeros((2, s_grid.size, 4, nq)),
         dtheta_table=np.zeros((2, s_grid.size, 4, nq)), residual=np.zeros((14, 14)),
         residual_s=(float(residual_s[0]), float(residual_s[1])), residual_k_max=k_res,
-        _edges=edges,
+        _edges=edges, _rim_slope=tuple(
+            tuple(shp.reshape(shp.shape[0], -1) @ op for _, _, shp in shapes)
+            for op in _rim_operators(ws, edges)),
         _shapes=tuple(shapes), _mesh=mesh)
     for side in range(2):
         body.journal[side] = _journal_rows(shapes, mesh, ws._journal_nodes[side]) if nq else 0.0
@@ -651,3 +696,81 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
     for a in (body.journal, body.contact_table, body.dtheta_table, body.residual):
         a.setflags(write=False)
     return body
+
+
+def residual_flexibility(ws, body: FlexibleWheelset, s_pair: tuple[float, float]) -> np.ndarray:
+    """The residual flexibility of ``body`` (built from ``ws``) at other contact coordinates.
+
+    Parameters
+    ----------
+    ws : Wheelset
+        The wheelset the body was built from.
+    body : FlexibleWheelset
+    s_pair : (float, float)
+        Wheel-profile coordinates of the right and left contact points, m.
+
+    Returns
+    -------
+    ndarray (14, 14)
+        As :attr:`FlexibleWheelset.residual`, over :data:`ATTACHMENT_DOFS` at ``s_pair``.
+    """
+    rs = tuple(_check_s(body, s) for s in s_pair)
+    statics = [_statics(ws, k) for k in range(body.residual_k_max + 1)]
+    gfull = full_compliance(statics, ws.mesh, body._edges, rs, ws._journal_nodes)
+    rr = _attachment_rows(body, rs)
+    return gfull - (rr / (2.0 * np.pi * body.freq_hz) ** 2) @ rr.T
+
+
+def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0.0),
+                    k_max: int = 6) -> np.ndarray:
+    """Direct static FE solve of the free wheelset under self-equilibrated attachment loads.
+
+    Harmonic by harmonic (k = 0..k_max, both sets): the rigid-body motion is held by a few
+    point constraints (k = 0: axial and torsional, k = 1: the transverse translation of both
+    journal centres), K u = f is solved, and the rigid part is removed afterwards by the
+    mass-orthogonal projection. An independent check of the modal + residual statics (which
+    use the bordered system of :class:`HarmonicStatics`).
+
+    Parameters
+    ----------
+    ws : Wheelset
+    force : array_like (14,)
+        Loads on :data:`ATTACHMENT_DOFS`, N (N m for rx); they must be in equilibrium.
+    s_pair : (float, float)
+        Wheel-profile coordinates of the right and left contact points, m.
+    k_max : int
+        Highest harmonic.
+
+    Returns
+    -------
+    ndarray (14,)
+        Elastic deflection of the attachment DOFs, m / rad.
+    """
+    from scipy.sparse.linalg import spsolve
+    f14 = _checks.finite_array("force", force, shape=(len(ATTACHMENT_DOFS),))
+    k_max = check_harmonic(k_max, "k_max")
+    edges = _edges(ws.geometry)
+    jn = ws._journal_nodes
+    g = ws.geometry
+    rim = ws.mesh.node_at(g.wheel_radius, g.contact_y)
+    out = np.zeros(len(ATTACHMENT_DOFS))
+    pts = [_point_operator(ws.mesh, edges[0], s_pair[0], None),
+           _point_operator(ws.mesh, edges[1], s_pair[1], None),
+           _point_operator(ws.mesh, None, None, jn[0]), _point_operator(ws.mesh, None, None, jn[1])]
+    for k in range(k_max + 1):
+        st = _statics(ws, k)
+        eqs = np.asarray(abs(st.T).tocsr().argmax(axis=1)).ravel()
+        fix = {0: [eqs[3 * jn[0] + 1], eqs[3 * rim + 2]], 1: [eqs[3 * jn[0]], eqs[3 * jn[1]]]}
+        free = np.setdiff1d(np.arange(st.K.shape[0]), fix.get(k, []))
+        kff = st.K[free][:, free].tocsc()
+        for kind in (("0",) if k == 0 else ("A", "B")):
+            e = np.array([v for p in pts for v in p[kind]])
+            fr = st.T.T @ (e.T @ f14)
+            if not np.any(fr):
+                continue
+            u = np.zeros(fr.size)
+            u[free] = spsolve(kff, fr[free])
+            u -= st.rigid @ (st.rigid.T @ (st.M @ u))
+            out += e @ (st.T @ u)
+    return out
+
