@@ -331,3 +331,28 @@ def test_residual_follows_the_contact_point(ws, body, statics):
     assert fl.static_fe_solve(ws, f, s_pair)[3] == pytest.approx(ref[3], rel=1e-6)
     with pytest.raises(InputError, match="residual_k_max"):
         ws.flexible_body(10.0, k_max=3, residual_k_max=2)
+
+
+def test_rigid_elastic_coupling_is_the_fe_coriolis_block(ws, body, statics):
+    # the gyroscopic block of eq. 11 (2 Omega [[0, Gamma + k I], [-(Gamma + k I), 0]]) of the
+    # free-free modes INCLUDING the rigid ones, between a rigid rotation and the elastic modes,
+    # is what the vehicle must add: C = -2 ((Gamma + k I) a)_elastic, a the modal coordinates of
+    # the unit rotation (roll: the A-set tilt (-y, r, y) is a rotation of -1 rad about x, yaw:
+    # the B-set tilt is +1 rad about z; spin: (0, 0, r) of k = 0)
+    r, y = ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 1]
+    for k, field, cols in ((1, np.c_[-y, r, y], [(0, "B"), (1, "A")]),
+                           (0, np.c_[0 * r, 0 * r, r], [(None, "0")])):
+        h = ws.harmonic(k, F_MAX, "free")
+        st = statics[k]
+        x = np.array([_reduced(st, s) for s in h.shapes]).T
+        a = x.T @ (st.M @ _reduced(st, field))
+        g = h.coriolis + k * np.eye(h.freq_hz.size)
+        el = h.freq_hz >= 0.5
+        for col, fam in cols:
+            # B rows: 2 Omega (-(Gamma + I)) a t' with the roll angle = -t; A rows:
+            # 2 Omega (Gamma + I) a t' with the yaw angle = +t; both = -Omega C rate
+            want = -2.0 * (g @ a)[el] if k == 1 else -2.0 * (h.coriolis @ a)[el]
+            got = (body.rigid_elastic[(body.k == k) & (body.family == fam), col] if col is not None
+                   else body.spin_coupling[body.k == 0])
+            assert np.allclose(got, want, atol=1e-9 * np.abs(want).max())
+    assert np.all(body.spin_coupling[body.k != 0] == 0.0)

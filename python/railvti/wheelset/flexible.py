@@ -81,12 +81,12 @@ class FlexibleWheelset:
     """The free-free elastic wheelset in the axle-fixed frame, for a vehicle integrator.
 
     Equations of the elastic coordinates q (nq,), with the rigid wheelset's roll rate
-    a' and yaw rate b' (vehicle frame, rad/s)::
+    a' and yaw rate b' (vehicle frame, rad/s) and its spin-perturbation rate s'::
 
-        M q'' + (G + D) q' + K q - Omega * C @ [a', b'] = R^T F
+        M q'' + (G + D) q' + K q - Omega * (C @ [a', b'] + c_s * s') = R^T F
 
     and the rigid wheelset's roll and yaw equations gain ``+ Omega * C.T @ q'`` (left-hand
-    side) besides the rigid gyroscopic terms ``-I_y Omega b'`` (roll) and
+    side; the spin equation ``+ Omega * c_s @ q'``) besides the rigid gyroscopic terms ``-I_y Omega b'`` (roll) and
     ``+I_y Omega a'`` (yaw). R^T F: forces F (vehicle frame, N) and rim moments about x
     (N m) at the contact points through :meth:`rows`, and the journal forces through
     :attr:`journal`.
@@ -108,7 +108,14 @@ class FlexibleWheelset:
         centrifugal softening and prestress terms of eq. 11).
     rigid_elastic : ndarray (nq, 2)
         C: the Coriolis coupling of the elastic coordinates with the rigid wheelset's roll
-        (column 0) and yaw (column 1) rates, kg m per unit Q (see the equations above).
+        (column 0) and yaw (column 1) rates, kg^0.5 m per unit Q (see the equations above):
+        -2 <phi, (0, r, 0)>_M of the k = 1 modes (set B for roll, set A for yaw), zero for
+        the modes symmetric about the mid-plane; the same as the FE Coriolis matrix's block
+        between the rigid tilts and the elastic modes (tested).
+    spin_coupling : ndarray (nq,)
+        The same for the rate of the spin perturbation (about +y, rad/s) against the k = 0
+        modes (breathing: the polar moment changes): elastic equations ``- Omega * c * s'``,
+        the spin equation ``+ Omega * c @ q'``. From the FE Coriolis matrix.
     polar_moment : float
         I_y, the wheelset's moment of inertia about its axle from the FE mass, kg m^2.
     journal : ndarray (2, 5, nq)
@@ -141,6 +148,7 @@ class FlexibleWheelset:
     damping: np.ndarray
     stiffness: np.ndarray
     rigid_elastic: np.ndarray
+    spin_coupling: np.ndarray
     polar_moment: float
     journal: np.ndarray
     s0: float
@@ -613,6 +621,8 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
     for k in range(k_max + 1):
         h = _harmonic(ws, k, f_max)
         keep = ~_rigid_mask(h)
+        if k == 0:
+            h0 = h
         lam = h.lam[keep]
         n = lam.size
         if n == 0:
@@ -665,6 +675,14 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
                 v = np.array([-2.0 * st1.mass_product(p, tilt) for p in shp])
                 cpl[col:col + n, 0 if f == "B" else 1] = v
             col += n
+    # spin perturbation rate against the k = 0 modes: the FE Coriolis matrix (eq. 11) between
+    # the rigid spin field (0, 0, r) and the elastic modes, c = -2 (Gamma a)_elastic
+    spin_c = np.zeros(nq)
+    n0 = int(np.sum(np.array(kq) == 0))
+    if n0:
+        x = np.array([st0.reduce(p) for p in h0.shapes]).T
+        a = x.T @ (st0.M @ st0.reduce(spin))
+        spin_c[:n0] = -2.0 * (h0.coriolis @ a)[~_rigid_mask(h0)]
     s_grid = np.arange(edges[0].s_min, edges[0].s_max + 0.5 * ds, ds)
     s_grid = s_grid[s_grid <= edges[0].s_max + 1e-12]
     body = FlexibleWheelset(
@@ -672,6 +690,7 @@ def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
         freq_hz=np.array(fq), mass=np.eye(nq), gyro=block_diag(*gb) if gb else np.zeros((0, 0)),
         damping=block_diag(*db) if db else np.zeros((0, 0)),
         stiffness=block_diag(*kb) if kb else np.zeros((0, 0)), rigid_elastic=cpl,
+        spin_coupling=spin_c,
         polar_moment=polar, journal=np.zeros((2, 5, nq)), s0=float(s_grid[0]), ds=ds,
         contact_table=np.zeros((2, s_grid.size, 4, nq)),
         dtheta_table=np.zeros((2, s_grid.size, 4, nq)), residual=np.zeros((14, 14)),
