@@ -596,7 +596,7 @@ def _edges(geometry) -> tuple[_Edge, _Edge]:
             _Edge(s_min, s_max, s_face, -g.contact_y, -1.0, g.wheel_radius, rf))
 
 
-def flexible_body(ws, speed: float, k_max: int = 6, f_max: float = 3000.0,
+def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
                   damping_ratio: float = 0.005, centrifugal: bool = True,
                   residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
                   residual: bool = True, residual_k_max: int | None = None) -> FlexibleWheelset:
