@@ -356,3 +356,11 @@ def test_rigid_elastic_coupling_is_the_fe_coriolis_block(ws, body, statics):
                    else body.spin_coupling[body.k == 0])
             assert np.allclose(got, want, atol=1e-9 * np.abs(want).max())
     assert np.all(body.spin_coupling[body.k != 0] == 0.0)
+
+
+def test_residual_table_matches_pointwise_residual(ws, body):
+    tab = fl.residual_table(ws, body, ds=0.02)
+    for i, j in ((3, 3), (1, 4), (5, 0)):
+        s_pair = (tab.s0 + i * tab.ds, tab.s0 + j * tab.ds)
+        ref = fl.residual_flexibility(ws, body, s_pair)
+        assert np.allclose(tab.at(i, j), ref, rtol=1e-8, atol=1e-10 * np.abs(ref).max())

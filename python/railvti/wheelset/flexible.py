@@ -455,10 +455,10 @@ class HarmonicStatics:
         return (self.T.T @ np.asarray(field, dtype=float).ravel()) / self._w
 
     def solve(self, f_nodal: np.ndarray) -> np.ndarray:
-        """Elastic static displacement (3 nn, m) of nodal loads f (3 nn, N) (G f)."""
+        """Elastic static displacement (3 nn[, m], m) of nodal loads f (3 nn[, m], N): G f."""
         f = self.T.T @ f_nodal
-        rhs = np.concatenate([f, np.zeros(self._nr)])
-        u = self._lu.solve(rhs)[: f.size]
+        rhs = np.concatenate([f, np.zeros((self._nr,) + f.shape[1:])])
+        u = self._lu.solve(rhs)[: f.shape[0]]
         return self.T @ u
 
     def mass_product(self, a: np.ndarray, b: np.ndarray) -> float:
@@ -496,12 +496,13 @@ def _harmonic(ws, k: int, f_max: float) -> HarmonicModes:
                          n_equations=h.n_equations, bandwidth=h.bandwidth)
 
 
-def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None
-                    ) -> dict[str, list[tuple[str, np.ndarray]]]:
+def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None,
+                    rim: np.ndarray | None = None) -> dict[str, list[np.ndarray]]:
     """Nodal operators of the attachment rows at theta = 0, per harmonic kind.
 
     Returns {'0': [...], 'A': [...], 'B': [...]}: for each row, the nodal vector (3 nn) e with
-    row value = e . U of that set's amplitudes (k = 0 uses '0'; k > 0 'A' and 'B').
+    row value = e . U of that set's amplitudes (k = 0 uses '0'; k > 0 'A' and 'B'). rim: the
+    edge's :func:`_rim_operator` when already known.
     """
     if edge is not None:
         r, y = _edge_point(edge, s)
@@ -521,7 +522,7 @@ def _point_operator(mesh, edge: _Edge | None, s: float | None, node: int | None
            "A": [zero, vec(1, n, -1.0), vec(0, n, -1.0)],
            "B": [vec(2, n, 1.0), zero, zero]}
     if edge is not None:
-        rim = _rim_operator(mesh, edge)
+        rim = _rim_operator(mesh, edge) if rim is None else rim
         ops["0"].append(rim)
         ops["A"].append(rim)
         ops["B"].append(zero)
@@ -549,18 +550,20 @@ def _rim_operator(mesh, edge: _Edge) -> np.ndarray:
     return v
 
 
-def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes
-                    ) -> np.ndarray:
+def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes,
+                    rims: tuple | None = None) -> np.ndarray:
     """Static compliance (14, 14) over :data:`ATTACHMENT_DOFS` of all free-free elastic modes
-    of the harmonics in ``statics`` (Omega = 0), from the FE stiffness."""
+    of the harmonics in ``statics`` (Omega = 0), from the FE stiffness. rims: the edges'
+    :func:`_rim_operator` when already known."""
+    rims = rims if rims is not None else (None, None)
     pts = None
     g = np.zeros((len(ATTACHMENT_DOFS),) * 2)
     for st in statics:
         key = (tuple(s_pair), tuple(journal_nodes))
         if key not in st._compliance:
             if pts is None:
-                pts = [_point_operator(mesh, edges[0], s_pair[0], None),
-                       _point_operator(mesh, edges[1], s_pair[1], None),
+                pts = [_point_operator(mesh, edges[0], s_pair[0], None, rims[0]),
+                       _point_operator(mesh, edges[1], s_pair[1], None, rims[1]),
                        _point_operator(mesh, None, None, journal_nodes[0]),
                        _point_operator(mesh, None, None, journal_nodes[1])]
             gk = np.zeros_like(g)
@@ -708,7 +711,8 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
     rs = tuple(_check_s(body, s) for s in residual_s)
     if residual:
         statics = [_statics(ws, k) for k in range(k_res + 1)]
-        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes)
+        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes,
+                                _rim_operators(ws, edges))
         rr = _attachment_rows(body, rs)
         lam = (2.0 * np.pi * body.freq_hz) ** 2
         body.residual[:] = gfull - (rr / lam) @ rr.T
@@ -735,7 +739,8 @@ def residual_flexibility(ws, body: FlexibleWheelset, s_pair: tuple[float, float]
     """
     rs = tuple(_check_s(body, s) for s in s_pair)
     statics = [_statics(ws, k) for k in range(body.residual_k_max + 1)]
-    gfull = full_compliance(statics, ws.mesh, body._edges, rs, ws._journal_nodes)
+    gfull = full_compliance(statics, ws.mesh, body._edges, rs, ws._journal_nodes,
+                            _rim_operators(ws, body._edges))
     rr = _attachment_rows(body, rs)
     return gfull - (rr / (2.0 * np.pi * body.freq_hz) ** 2) @ rr.T
 
@@ -773,8 +778,9 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
     g = ws.geometry
     rim = ws.mesh.node_at(g.wheel_radius, g.contact_y)
     out = np.zeros(len(ATTACHMENT_DOFS))
-    pts = [_point_operator(ws.mesh, edges[0], s_pair[0], None),
-           _point_operator(ws.mesh, edges[1], s_pair[1], None),
+    rims = _rim_operators(ws, edges)
+    pts = [_point_operator(ws.mesh, edges[0], s_pair[0], None, rims[0]),
+           _point_operator(ws.mesh, edges[1], s_pair[1], None, rims[1]),
            _point_operator(ws.mesh, None, None, jn[0]), _point_operator(ws.mesh, None, None, jn[1])]
     for k in range(k_max + 1):
         st = _statics(ws, k)
@@ -792,4 +798,93 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
             u -= st.rigid @ (st.rigid.T @ (st.M @ u))
             out += e @ (st.T @ u)
     return out
+
+
+@dataclass(frozen=True)
+class ResidualTable:
+    """The residual flexibility of a :class:`FlexibleWheelset` as a function of the contact
+    points' wheel-profile coordinates, for linear interpolation by a kernel.
+
+    The residual at (s_right, s_left) over :data:`ATTACHMENT_DOFS` is assembled from the
+    blocks at the grid points i (right) and j (left)::
+
+        [[cc[0, i],        cross[i, j],     cj[0, i]],
+         [cross[i, j].T,   cc[1, j],        cj[1, j]],
+         [cj[0, i].T,      cj[1, j].T,      jj      ]]
+
+    Attributes
+    ----------
+    s0, ds : float
+        First wheel-profile coordinate and step of the grid, m.
+    cc : ndarray (2, ns, 4, 4)
+        Residual of a contact point with itself (rows and columns x, y, z, rx).
+    cross : ndarray (ns, ns, 4, 4)
+        Right contact at s0 + i ds (rows) against left contact at s0 + j ds (columns).
+    cj : ndarray (2, ns, 4, 6)
+        Contact point against the journals (journal0 x, y, z, journal1 x, y, z).
+    jj : ndarray (6, 6)
+        Journals against journals.
+    """
+
+    s0: float
+    ds: float
+    cc: np.ndarray
+    cross: np.ndarray
+    cj: np.ndarray
+    jj: np.ndarray
+
+    def at(self, i: int, j: int) -> np.ndarray:
+        """The (14, 14) residual at grid points i (right wheel) and j (left wheel)."""
+        top = np.hstack([self.cc[0, i], self.cross[i, j], self.cj[0, i]])
+        mid = np.hstack([self.cross[i, j].T, self.cc[1, j], self.cj[1, j]])
+        bot = np.hstack([self.cj[0, i].T, self.cj[1, j].T, self.jj])
+        return np.vstack([top, mid, bot])
+
+
+def residual_table(ws, body: FlexibleWheelset, ds: float = 5e-3) -> ResidualTable:
+    """Tabulate the residual flexibility of ``body`` over the contact points' coordinates.
+
+    Parameters
+    ----------
+    ws : Wheelset
+        The wheelset the body was built from.
+    body : FlexibleWheelset
+    ds : float
+        Grid step over the wheel-profile coordinate, m (the grid covers the rim edge).
+
+    Returns
+    -------
+    ResidualTable
+    """
+    ds = _checks.positive("ds", ds)
+    lo, hi = body.s_range
+    grid = np.arange(lo, hi + 0.5 * ds, ds)
+    grid = grid[grid <= hi + 1e-12]
+    ns = grid.size
+    mesh = ws.mesh
+    rims = _rim_operators(ws, body._edges)
+    ops = [[_point_operator(mesh, body._edges[side], float(s), None, rims[side]) for s in grid]
+           for side in (0, 1)]
+    jops = [_point_operator(mesh, None, None, n) for n in ws._journal_nodes]
+    n_all = 2 * 4 * ns + 6
+    g = np.zeros((n_all, n_all))
+    for k in range(body.residual_k_max + 1):
+        st = _statics(ws, k)
+        for kind in (("0",) if k == 0 else ("A", "B")):
+            e = np.array([v for side in (0, 1) for p in ops[side] for v in p[kind]]
+                         + [v for p in jops for v in p[kind][:3]])          # (n_all, 3 nn)
+            live = np.flatnonzero(np.any(e != 0.0, axis=1))
+            u = st.solve(e[live].T)                                       # (3 nn, n_live)
+            g[np.ix_(live, live)] += e[live] @ u
+    # kept modes' static part at the same points
+    rows = np.vstack([body.rows(side, float(s)) for side in (0, 1) for s in grid]
+                     + [body.journal[0, :3], body.journal[1, :3]])
+    g -= (rows / (2.0 * np.pi * body.freq_hz) ** 2) @ rows.T
+    g = 0.5 * (g + g.T)
+    c = g[:8 * ns, :8 * ns].reshape(2, ns, 4, 2, ns, 4)
+    cc = np.array([[c[side, i, :, side, i, :] for i in range(ns)] for side in (0, 1)])
+    cross = c[0, :, :, 1, :, :].transpose(0, 2, 1, 3)
+    cj = g[:8 * ns, 8 * ns:].reshape(2, ns, 4, 6)
+    return ResidualTable(s0=float(grid[0]), ds=ds, cc=cc, cross=np.ascontiguousarray(cross),
+                         cj=cj, jj=g[8 * ns:, 8 * ns:].copy())
 
