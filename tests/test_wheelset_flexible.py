@@ -1,7 +1,6 @@
 """The free-free flexible wheelset as a body for a vehicle model (railvti.wheelset.flexible)."""
 import numpy as np
 import pytest
-import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
 from railvti import InputError

@@ -86,10 +86,10 @@ class FlexibleWheelset:
         M q'' + (G + D) q' + K q - Omega * (C @ [a', b'] + c_s * s') = R^T F
 
     and the rigid wheelset's roll and yaw equations gain ``+ Omega * C.T @ q'`` (left-hand
-    side; the spin equation ``+ Omega * c_s @ q'``) besides the rigid gyroscopic terms ``-I_y Omega b'`` (roll) and
-    ``+I_y Omega a'`` (yaw). R^T F: forces F (vehicle frame, N) and rim moments about x
-    (N m) at the contact points through :meth:`rows`, and the journal forces through
-    :attr:`journal`.
+    side; the spin equation ``+ Omega * c_s @ q'``) besides the rigid gyroscopic terms
+    ``-I_y Omega b'`` (roll) and ``+I_y Omega a'`` (yaw). R^T F: the contact forces
+    (vehicle frame, N) and rim moments about x (N m) through ``rows(side, s).T``, the journal
+    forces through ``journal[side].T``.
 
     Attributes
     ----------
