@@ -62,10 +62,9 @@ module vehicle_model
 contains
 
     !> Store a model; handle in 1..MAX_VEHICLE. info: STAT_OK, STAT_SIZE_MISMATCH (a table
-    !> with other than nq_table quantities), STAT_BAD_ARGUMENT (no DOF or element, nw < 0,
+    !> with other than nq_table quantities), STAT_BAD_ARGUMENT (no DOF, wheelset or element,
     !> a table of fewer than 2 nodes or step <= 0, a DOF index out of range, a wheelset
     !> without its y, z or roll DOF, an unknown element kind), STAT_NO_MEMORY (no free slot).
-    !> nw = 0 (no wheelset, no contact) makes a purely linear/element model, e.g. for tests.
     subroutine vehicle_create(nd, ne, nw, ny, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
                               y0, dy, r0, gmod, mu, handle, info)
         integer, intent(in) :: nd, ne, nw, ny, nq
@@ -79,7 +78,7 @@ contains
         info = STAT_SIZE_MISMATCH
         if (nq /= nq_table) return
         info = STAT_BAD_ARGUMENT
-        if (nd < 1 .or. ne < 1 .or. nw < 0 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
+        if (nd < 1 .or. ne < 1 .or. nw < 1 .or. ny < 2 .or. .not. (dy > 0.0_dp)) return
         if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
             .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none)) return
         info = STAT_NO_MEMORY

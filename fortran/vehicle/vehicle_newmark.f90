@@ -324,7 +324,7 @@ contains
             call lin_solve(md, sd, mf, nl, r, dqv)
             tally%nit = tally%nit + 1
             if (.not. (maxval(abs(dqv)) <= opt%qmax)) return
-            call line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+            call line_search(md, rs, sd, dqv, opt%tol, q1, r, rn, f1, w1, sl, tally, info)
             if (info /= STAT_OK .or. sl == 0.0_dp) return
             dq = sl * maxval(abs(dqv))
             conv = sl == 1.0_dp .and. dq <= opt%tol .and. maxval(abs(r)) <= opt%rtol
@@ -422,14 +422,16 @@ contains
     end subroutine lin_solve
 
     !> Backtracking on the residual norm along the Newton correction dqv (contact closing or
-    !> opening makes full steps cycle): halve up to 5 times until the norm drops. On
+    !> opening makes full steps cycle): halve up to 5 times until the norm drops. A full step
+    !> below the tolerance tol (m, rad) is taken even when the norm does not drop: the residual
+    !> is then at its rounding floor (a linear system after one iteration). On
     !> acceptance q1, r, rn, f1, w1 move to the new point and sl is the step length taken;
     !> sl = 0 when every trial state failed softly.
-    subroutine line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+    subroutine line_search(md, rs, sd, dqv, tol, q1, r, rn, f1, w1, sl, tally, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
-        real(dp), intent(in) :: dqv(md%nd + md%mp%nm)
+        real(dp), intent(in) :: dqv(md%nd + md%mp%nm), tol
         real(dp), dimension(md%nd + md%mp%nm), intent(inout) :: q1, r, f1
         real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
         real(dp), intent(out) :: sl
@@ -448,6 +450,7 @@ contains
             end if
             if (info /= STAT_OK) return
             if (rnt < rn .or. ls == 6) exit
+            if (ls == 1 .and. rnt < huge(1.0_dp) .and. maxval(abs(dqv)) <= tol) exit
             sl = 0.5_dp * sl
         end do
         if (rnt == huge(1.0_dp)) then

@@ -31,6 +31,13 @@ log = logging.getLogger(__name__)
 #: that stalls with a small correction but a large error, without moving those runs.
 NEWTON_RTOL = 1e-3
 
+#: Largest h * omega_max allowed with modal blocks (omega_max: the highest undamped natural
+#: frequency kept, rad/s). The trapezoidal rule is stable for any step but shortens the discrete
+#: frequency to 2 atan(omega h / 2) / h: at omega h = 2 the highest mode runs 21 % slow and has
+#: pi steps per period. A step beyond this resolves none of that mode's dynamics: drop the mode
+#: (keep its static part) or take a smaller step.
+MODAL_STEP_LIMIT = 2.0
+
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
                   "load_factor)")
@@ -266,6 +273,7 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         Newton's method did not converge (or met a singular tangent).
     """
     speed = _checks.positive("speed", speed)
+    _rigid_only(system, "static_equilibrium")
     if contact == "bem" and bem is None:
         with bem_state(system, bem_options) as tmp:
             return static_equilibrium(system, speed, contact, q0=q0, tol=tol, maxit=maxit,
@@ -284,6 +292,26 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
                    f"correction {resid:.3g}")
     check(info, context, iterations=int(iters), residual=float(resid))
     return (q, v, wout) if return_velocity else (q, wout)
+
+
+def _rigid_only(system: System, what: str) -> None:
+    """InputError for a System with modal blocks where only rigid models are handled yet."""
+    if system.modal is not None:
+        raise InputError(f"{what} does not handle modal blocks yet: give q0 (and v0) to simulate")
+
+
+def check_modal_step(system: System, h: float) -> None:
+    """InputError when the step h is too large for the highest mode of the system's modal
+    blocks: h * omega_max > :data:`MODAL_STEP_LIMIT` (nothing to check without blocks)."""
+    if system.modal is None:
+        return
+    wmax = system.modal.max_frequency()
+    if h * wmax > MODAL_STEP_LIMIT:
+        raise InputError(
+            f"time step h = {h:.3g} s too large for the highest mode kept "
+            f"({wmax / (2 * math.pi):.4g} Hz): h * omega_max = {h * wmax:.3g} > "
+            f"{MODAL_STEP_LIMIT} (MODAL_STEP_LIMIT); take h <= {MODAL_STEP_LIMIT / wmax:.3g} s "
+            "or drop the mode")
 
 
 def _initial_guess(system: System) -> np.ndarray:
@@ -351,7 +379,10 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
     q0, v0 : ndarray, optional
         Initial state (default: the steady state of static_equilibrium, at rest but for the
-        wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0).
+        wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0). With modal
+        blocks (``system.modal``) q0 is required and q0, v0 hold the DOFs followed by the
+        modal coordinates (``system.state_names``); the step must then satisfy
+        :func:`check_modal_step`.
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
@@ -398,6 +429,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     speed = _checks.positive("speed", speed)
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
+    check_modal_step(system, plan.h)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -441,13 +473,15 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
                  q0: np.ndarray | None, v0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """The initial (q, v): given, or the steady state of static_equilibrium."""
     if q0 is None:
+        _rigid_only(system, "the default start (static_equilibrium)")
         q0, vs, _ = static_equilibrium(system, cs.speed, contact, fastsim_n=cs.fastsim_n,
                                        bem=bem, return_velocity=True)
         if v0 is None:
             v0 = vs
-    q = np.array(_checks.finite_array("q0", q0, shape=(system.n,)), dtype=float)
-    v = (np.zeros(system.n) if v0 is None
-         else np.array(_checks.finite_array("v0", v0, shape=(system.n,)), dtype=float))
+    n = system.n_state
+    q = np.array(_checks.finite_array("q0", q0, shape=(n,)), dtype=float)
+    v = (np.zeros(n) if v0 is None
+         else np.array(_checks.finite_array("v0", v0, shape=(n,)), dtype=float))
     return q, v
 
 
@@ -456,9 +490,14 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     """Run the Fortran time loop from (q, v), with a = M^-1 F(q, v), in chunks (for the
     progress bar) and gather the output. Raises the exception of a failed step."""
     model = system.native
-    f, _, _, _, info = model.force(cs, q, v)
-    check(info, "the initial state (q0, v0)")
-    a = np.linalg.solve(system.m, f)
+    if system.modal is None:
+        f, _, _, _, info = model.force(cs, q, v)
+        check(info, "the initial state (q0, v0)")
+        a = np.linalg.solve(system.m, f)
+    else:           # M = I on the modal coordinates
+        f, _, info = model.state_force(cs, q, v)
+        check(info, "the initial state (q0, v0)")
+        a = np.concatenate([np.linalg.solve(system.m, f[:system.n]), f[system.n:]])
     t = np.zeros((), dtype=float)
     out = _Output(plan.h, plan.load_scale)
     bar = _progress_bar(plan)
@@ -539,7 +578,7 @@ class _Output:
         """The SimulationResult of what was gathered."""
         return SimulationResult(
             t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
-            wheel=np.concatenate(self.w), dof_names=system.dof_names, speed=speed,
+            wheel=np.concatenate(self.w), dof_names=system.state_names, speed=speed,
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
             flange_angle=flange_angle(system.table))
 
@@ -627,6 +666,7 @@ def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float
 
 
 def _force_and_tangent(system, q, v, speed, contact, fastsim_n, bem):
+    _rigid_only(system, "force_and_tangent")
     cs = _settings(_checks.positive("speed", speed), contact, fastsim_n, bem)
     q = _checks.finite_array("q", q, shape=(system.n,))
     v = _checks.finite_array("v", v, shape=(system.n,))
