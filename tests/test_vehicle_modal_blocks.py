@@ -75,7 +75,7 @@ def test_condensed_matches_dense_linear():
 
 
 def test_condensed_matches_dense_hht_alpha():
-    """Same with numerical damping (HHT alpha = -0.1) and a sub-stepped step size."""
+    """Same with numerical damping (HHT alpha = -0.1) and a smaller step."""
     sy = _linear_system(seed=3)
     de = sy.dense_equivalent()
     q0 = _start(sy)
