@@ -15,11 +15,11 @@ from scipy.integrate import solve_ivp
 
 from railvti import scenarios
 from railvti._native import core
-from railvti._status import check
+from railvti._status import Status, check
 from railvti.errors import InputError
 from railvti.vehicle import lateral_disturbance, simulate, static_equilibrium
 from railvti.vehicle.assembly import build_rigid_system
-from railvti.vehicle.model import ModalBlocks, PointElement
+from railvti.vehicle.model import CallSettings, ModalBlocks, PointElement
 from railvti.vehicle.simulate import MODAL_STEP_LIMIT, force_and_tangent
 
 
@@ -275,6 +275,17 @@ def test_core_rejects_inconsistent_blocks():
                                        np.ones(9), np.ones((1, 3), order="F"), one, 2 * one, one, par)
     with pytest.raises(InputError):
         check(info, "modal blocks")
+    # a non-finite stiffness entry
+    kb = np.ones(9)
+    kb[4] = np.nan
+    info = core.vehicle_modal_attach_c(h, np.array([1, 4], dtype=np.int32), np.ones(9),
+                                       kb, np.ones((1, 3), order="F"), one, 0 * one, one, par)
+    with pytest.raises(InputError):
+        check(info, "modal blocks")
+    # the failed attachments left the model without blocks: the rigid force shim (which
+    # refuses models with blocks) still works on it
+    _, _, _, _, info = sy.native.force(CallSettings(1.0, 1), np.array([1e-3]), np.zeros(1))
+    assert info == Status.OK
 
 
 def test_step_too_large_for_highest_mode():
