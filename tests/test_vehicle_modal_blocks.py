@@ -17,7 +17,7 @@ from railvti import scenarios
 from railvti._native import core
 from railvti._status import Status, check
 from railvti.errors import InputError
-from railvti.vehicle import lateral_disturbance, simulate, static_equilibrium
+from railvti.vehicle import eigenvalues, lateral_disturbance, simulate, static_equilibrium
 from railvti.vehicle.assembly import build_rigid_system
 from railvti.vehicle.model import CallSettings, ModalBlocks, PointElement
 from railvti.vehicle.simulate import MODAL_STEP_LIMIT, force_and_tangent
@@ -302,10 +302,44 @@ def test_step_too_large_for_highest_mode():
 def test_rigid_only_functions_refuse_modal_systems():
     sy = _linear_system()
     with pytest.raises(InputError, match="modal blocks"):
-        simulate(sy, 1.0, 0.01)                      # default start: static equilibrium
-    with pytest.raises(InputError, match="modal blocks"):
-        static_equilibrium(sy, 1.0)
-    with pytest.raises(InputError, match="modal blocks"):
         force_and_tangent(sy, np.zeros(sy.n), np.zeros(sy.n), 1.0)
+    with pytest.raises(InputError, match="modal blocks"):
+        eigenvalues(sy, 1.0, q=np.zeros(sy.n))
     with pytest.raises(InputError, match="q0 must have shape"):
         simulate(sy, 1.0, 0.01, q0=np.zeros(sy.n))
+    with pytest.raises(InputError, match="q0 must have shape"):
+        static_equilibrium(sy, 1.0, q0=np.zeros(sy.n))
+
+
+# --- static equilibrium with modal blocks -------------------------------------------------
+
+def test_static_linear_matches_dense_solve():
+    """The condensed static Newton against numpy's solve of the dense K x = f0."""
+    sy = _linear_system()
+    de = sy.dense_equivalent()
+    q, _ = static_equilibrium(sy, 1.0)
+    x = np.linalg.solve(de.k, de.f0)
+    assert np.max(np.abs(q - x)) <= 1e-12 * np.max(np.abs(x))
+    r = simulate(sy, 1.0, 0.05, h=1e-3)              # the default start is that state: at rest
+    assert np.max(np.abs(r.q - x)) <= 1e-10 * np.max(np.abs(x))
+
+
+def test_static_hertz_point_contact():
+    """Mass on a Hertz point: approach (W / k_H)^(2/3) below the point, whose static
+    deflection solves the linear modal equations under the load W (numpy)."""
+    sy = _hertz_system()
+    x0 = _hertz_start(sy)                  # the static modal state, the mass 20 % too low
+    d0 = (981.0 / 5e8) ** (2.0 / 3.0)
+    q, _ = static_equilibrium(sy, 1.0, q0=x0)
+    assert q[0] == pytest.approx(x0[0] + 0.2 * d0, abs=1e-12 * d0 + 1e-15)
+    assert np.max(np.abs(q[1:] - x0[1:])) <= 1e-12 * np.max(np.abs(x0[1:]))
+
+
+def test_static_coach_with_modes_matches_dense():
+    """The coach with contact and sprung modes: condensed and dense static states agree."""
+    _, fr, _, _, _, _, v = _coach_with_modes(coupled=True)
+    q, vv, w = static_equilibrium(fr, v, return_velocity=True)
+    qd, vd, wd = static_equilibrium(fr.dense_equivalent(), v, return_velocity=True)
+    assert np.max(np.abs(q - qd)) <= 1e-10 * np.max(np.abs(qd))
+    assert np.max(np.abs(vv - vd)) <= 1e-10          # spin rates, rad/s (zero: centred)
+    assert np.max(np.abs(w - wd)) <= 1e-9 * np.max(np.abs(wd))

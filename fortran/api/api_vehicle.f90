@@ -113,16 +113,16 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     info = stat
 end subroutine vehicle_run_c
 
-!> Steady state of straight running (info: see vehicle_newmark%static_solve; a model with modal
-!> blocks: STAT_BAD_ARGUMENT, not done yet): q and the
+!> Steady state of straight running (info: see vehicle_newmark%static_solve, and
+!> static_solve_modal for a model with modal blocks; nd: rigid plus modal DOFs): q and the
 !> velocities v (zero but the wheelsets' spin rates). Also returns the total force and the
 !> contact outputs there.
 subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit, q, nwo, v, f, &
                             wout, iters, resid, info)
     use iso_c_binding, only: c_int, c_double
-    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
-    use vehicle_model, only: vmodel, vsettings, vehicle_call, force_total
-    use vehicle_newmark, only: static_solve
+    use common_status, only: STAT_OK
+    use vehicle_model, only: vmodel, vsettings, vehicle_call
+    use vehicle_newmark, only: static_solve, static_solve_modal, state_force
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, maxit, nwo
     real(c_double), intent(in) :: speed, tol
@@ -139,12 +139,15 @@ subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit,
     wout = 0.0_c_double
     rs = vsettings(speed, cmodel, fsn, bem)
     call vehicle_call(handle, nd, nw, nwo, rs, md, stat)
-    if (stat == STAT_OK .and. md%mp%nm > 0) stat = STAT_BAD_ARGUMENT   ! rigid models only
     info = stat
     if (stat /= STAT_OK) return
-    call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
+    if (md%mp%nm > 0) then
+        call static_solve_modal(md, rs, q, v, tol, maxit, it, resid, stat)
+    else
+        call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
+    end if
     iters = it
-    call force_total(md, rs, q, v, f, wout, stat2)
+    call state_force(md, rs, q, v, f, wout, stat2)
     if (stat == STAT_OK) stat = stat2
     info = stat
 end subroutine vehicle_static_c

@@ -29,7 +29,7 @@ module vehicle_newmark
                              modal_solve, modal_points
     implicit none
     private
-    public :: newmark_run, static_solve, state_force, hht_options, NSTATS
+    public :: newmark_run, static_solve, static_solve_modal, state_force, hht_options, NSTATS
 
     !> Length of newmark_run's stats.
     integer, parameter :: NSTATS = 10
@@ -614,5 +614,106 @@ contains
         end if
         jac = -jac
     end subroutine static_tangent
+
+    !> static_solve for a model with modal blocks: F(q, Q) = 0 over the rigid DOFs (spin rates
+    !> in place of the spin angles, as static_solve) and the modal coordinates, by Newton with
+    !> step halving. The tangent is condensed onto the points as in the time step, with
+    !> cq = cv = 0: S = K_m (elastic modes only: a singular block gives STAT_SINGULAR).
+    !> x, xd: the whole state (nd + nm); xd is zero but the spin rates. info as static_solve.
+    subroutine static_solve_modal(md, rs, x, xd, tol, maxit, iters, resid, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(inout) :: x(md%nd + md%mp%nm)
+        real(dp), intent(out) :: xd(md%nd + md%mp%nm)
+        real(dp), intent(in) :: tol
+        integer, intent(in) :: maxit
+        integer, intent(out) :: iters, info
+        real(dp), intent(out) :: resid
+        real(dp), dimension(md%nd + md%mp%nm) :: f, ftry, dx, xt, xdt
+        real(dp) :: wk(nwo, 2, md%nw), s, r0, r1
+        logical :: spin(md%nd + md%mp%nm)
+        type(modal_factor) :: mf
+        type(newton_lin) :: nl
+        type(hht_step_data) :: sd        ! alpha = 0: lin_solve's plain Newton
+        integer :: it, ls, j
+        xd = 0.0_dp
+        iters = 0
+        resid = 0.0_dp
+        spin = .false.
+        do j = 1, md%nd
+            spin(j) = is_spin(md, j)
+        end do
+        call state_force(md, rs, x, xd, f, wk, info)
+        if (info /= STAT_OK) return
+        r0 = norm2(f)
+        do it = 1, maxit
+            iters = it
+            call static_matrix(md, rs, x, xd, spin(1:md%nd), mf, nl, info)
+            if (info /= STAT_OK) return
+            call lin_solve(md, sd, mf, nl, f, dx)
+            s = 1.0_dp
+            do ls = 1, 30
+                xt = merge(x, x + s * dx, spin)
+                xdt = merge(xd + s * dx, xd, spin)
+                call state_force(md, rs, xt, xdt, ftry, wk, info)
+                if (info == STAT_OK) then
+                    r1 = norm2(ftry)
+                    if (r1 < r0 .or. ls == 30) exit
+                end if
+                s = 0.5_dp * s
+            end do
+            if (info /= STAT_OK) return
+            x = xt
+            xd = xdt
+            f = ftry
+            r0 = r1
+            resid = maxval(abs(s * dx))
+            if (resid <= tol) return
+        end do
+        info = STAT_NOT_CONVERGED
+    end subroutine static_solve_modal
+
+    !> The condensed LU of -dF/d(unknowns) for static_solve_modal: static_tangent's rigid part
+    !> (spin columns dF/dv) with the point elements' tangent, S = K_m, C = Phi K_m^-1 Phi^T.
+    !> info: STAT_OK, STAT_SINGULAR, or a contact failure.
+    subroutine static_matrix(md, rs, x, xd, spin, mf, nl, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: x(md%nd + md%mp%nm), xd(md%nd + md%mp%nm)
+        logical, intent(in) :: spin(md%nd)
+        type(modal_factor), intent(inout) :: mf
+        type(newton_lin), intent(inout) :: nl
+        integer, intent(out) :: info
+        real(dp) :: jac(md%nd, md%nd), jv(md%nd, md%nd), jru(md%nd, md%mp%np)
+        integer :: nd, np, nt, i, j, lin
+        nd = md%nd
+        np = md%mp%np
+        nt = nd + np
+        call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_QV, jac, info)
+        if (info /= STAT_OK) return
+        if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
+        call modal_point_tangent(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), 0.0_dp, &
+                                 jac, jru, nl%jpr, nl%jpu)
+        if (any(spin)) then     ! spin rates as unknowns (as static_tangent)
+            call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_V, jv, info)
+            if (info /= STAT_OK) return
+            do j = 1, nd
+                if (.not. spin(j)) cycle
+                jac(:, j) = jv(:, j)
+                if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
+            end do
+        end if
+        call modal_factorise(md%mp, 0.0_dp, 0.0_dp, 1.0_dp, mf, info)
+        if (info /= STAT_OK) return
+        nl%a(1:nd, 1:nd) = -jac
+        nl%a(1:nd, nd + 1:nt) = -jru
+        nl%a(nd + 1:nt, 1:nd) = -matmul(mf%c, nl%jpr)
+        nl%a(nd + 1:nt, nd + 1:nt) = -matmul(mf%c, nl%jpu)
+        do i = nd + 1, nt
+            nl%a(i, i) = nl%a(i, i) + 1.0_dp
+        end do
+        call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
+        if (lin /= 0) info = STAT_SINGULAR
+    end subroutine static_matrix
 
 end module vehicle_newmark

@@ -262,6 +262,9 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     approach of the static load and each track element at its static deflection. With
     contact='bem' the BEM state ``bem`` is used (and left warm), or a temporary one made
     with ``bem_options``; the Newton tangent is then that of Hertz + Kalker.
+    With modal blocks (``system.modal``) q, v run over the whole state (the DOFs, then the
+    modal coordinates, which start undeformed): Newton with the modal rows condensed onto the
+    attachment points (static stiffness K_m: elastic modes only).
 
     Raises
     ------
@@ -273,14 +276,16 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         Newton's method did not converge (or met a singular tangent).
     """
     speed = _checks.positive("speed", speed)
-    _rigid_only(system, "static_equilibrium")
     if contact == "bem" and bem is None:
         with bem_state(system, bem_options) as tmp:
             return static_equilibrium(system, speed, contact, q0=q0, tol=tol, maxit=maxit,
                                       fastsim_n=fastsim_n, bem=tmp,
                                       return_velocity=return_velocity)
     cs = _settings(speed, contact, fastsim_n, bem)
-    q = _initial_guess(system) if q0 is None else np.array(q0, dtype=float)
+    if q0 is None:      # modal coordinates (if any) start undeformed
+        q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
+    else:
+        q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
     v, _, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
@@ -297,7 +302,7 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
 def _rigid_only(system: System, what: str) -> None:
     """InputError for a System with modal blocks where only rigid models are handled yet."""
     if system.modal is not None:
-        raise InputError(f"{what} does not handle modal blocks yet: give q0 (and v0) to simulate")
+        raise InputError(f"{what} does not handle modal blocks yet")
 
 
 def check_modal_step(system: System, h: float) -> None:
@@ -320,6 +325,8 @@ def _initial_guess(system: System) -> np.ndarray:
     i0 = int(np.argmin(np.abs(t.y)))
     g0, dl, kh = t.data[0, 0, i0], t.data[2, 0, i0], t.data[6, 0, i0]
     k = np.diag(system.k)
+    if not kh > 0.0:        # a table without contact (build_rigid_system): start at zero
+        return q
     for w in range(system.iws.shape[1]):
         # wheel load from the preload on this wheelset
         load = -0.5 * system.f0[system.iws[1, w] - 1]
@@ -380,9 +387,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     q0, v0 : ndarray, optional
         Initial state (default: the steady state of static_equilibrium, at rest but for the
         wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0). With modal
-        blocks (``system.modal``) q0 is required and q0, v0 hold the DOFs followed by the
-        modal coordinates (``system.state_names``); the step must then satisfy
-        :func:`check_modal_step`.
+        blocks (``system.modal``) q0, v0 hold the DOFs followed by the modal coordinates
+        (``system.state_names``); the step must then satisfy :func:`check_modal_step`.
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
@@ -473,7 +479,6 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
                  q0: np.ndarray | None, v0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """The initial (q, v): given, or the steady state of static_equilibrium."""
     if q0 is None:
-        _rigid_only(system, "the default start (static_equilibrium)")
         q0, vs, _ = static_equilibrium(system, cs.speed, contact, fastsim_n=cs.fastsim_n,
                                        bem=bem, return_velocity=True)
         if v0 is None:
