@@ -100,6 +100,22 @@ def test_energy_conserved_trapezoidal():
     assert np.abs(de.c[sy.n:, sy.n:]).max() > 0.0                          # but gyroscopic
 
 
+def test_without_damping_is_conservative():
+    """System.without_damping keeps the gyroscopic (skew) part of B and drops the modal and
+    point dampers: the trapezoidal rule then conserves the energy as above."""
+    sy = _linear_system().without_damping()
+    assert all(np.array_equal(b, -b.T) for b in sy.modal.damping)
+    assert all(np.abs(b).max() > 0 for b in sy.modal.damping if b.shape[0] > 1)
+    assert all(e.params[1] == 0.0 for e in sy.modal.elements)
+    de = sy.dense_equivalent()
+    r = simulate(sy, 1.0, 0.5, q0=_start(sy), h=1e-3, output_dt=1e-3, tol=1e-12)
+    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
+         + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q) - r.q @ de.f0)
+    x0 = _start(sy)
+    e0 = 0.5 * x0 @ de.k @ x0 - x0 @ de.f0
+    assert np.max(np.abs(e - e0)) <= 1e-8 * abs(e0)
+
+
 def _hertz_system():
     """A 100 kg mass resting through a Hertz contact on point 0 of 12 modes (one 2 x 2 block
     with gyroscopic coupling), point 1 held by a spring to the ground."""

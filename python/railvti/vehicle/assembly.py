@@ -203,10 +203,12 @@ class System:
             raise InputError(f"unknown DOF {name!r}") from None
 
     def without_damping(self) -> "System":
-        """The same system with every damper and friction element removed."""
+        """The same system with every damper and friction element removed (modal blocks: B
+        reduced to its gyroscopic, skew part; point elements without dampers)."""
         epar = np.array(self.epar, copy=True, order="F")
         epar[:, self.etype == EL_FRICTION] = 0.0
-        return replace(self, c=np.zeros_like(self.c, order="F"), epar=epar)
+        modal = self.modal.without_damping() if self.modal is not None else None
+        return replace(self, c=np.zeros_like(self.c, order="F"), epar=epar, modal=modal)
 
 
 class _Builder:

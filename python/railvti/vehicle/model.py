@@ -176,6 +176,17 @@ class ModalBlocks:
         return cls(tuple((2.0 * z * w).reshape(1, 1) for z, w in zip(ze, om)),
                    tuple((w * w).reshape(1, 1) for w in om), phi, elements, names)
 
+    def without_damping(self) -> "ModalBlocks":
+        """The same blocks with B reduced to its skew (gyroscopic) part and the point elements'
+        dampers removed: a conservative system (modal damping is symmetric)."""
+        els = []
+        for e in self.elements:
+            p = list(e.params)
+            p[1 if e.kind == "linear" else 2] = 0.0
+            els.append(PointElement(e.kind, e.point, e.dof, tuple(p)))
+        return ModalBlocks(tuple(0.5 * (b - b.T) for b in self.damping), self.stiffness, self.phi,
+                           tuple(els), self.names)
+
     @property
     def n_modes(self) -> int:
         """Number of modal coordinates."""
