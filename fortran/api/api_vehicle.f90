@@ -26,6 +26,50 @@ subroutine vehicle_model_create_c(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype,
     info = stat
 end subroutine vehicle_model_create_c
 
+!> Attach modal blocks coupled through attachment points to a model (replacing any): nm modal
+!> coordinates in nb diagonal blocks starting at bs(1:nb+1) (1-based, bs(nb+1) = nm + 1), the
+!> blocks of B and K_m packed column-major (nbk = sum of squared sizes), the rows phi (np x nm)
+!> of the attachment points u = Phi Q, and npe point elements (kind ptype, rigid DOF prig
+!> (0: ground), point ppt, parameters ppar). info: see vehicle_model%vehicle_attach_modal.
+subroutine vehicle_modal_attach_c(handle, nm, nb, np, npe, nbk, bs, bb, kb, phi, ptype, prig, ppt, &
+                                  ppar, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_modal
+    implicit none
+    integer(c_int), intent(in) :: handle, nm, nb, np, npe, nbk
+    integer(c_int), intent(in) :: bs(nb + 1), ptype(npe), prig(npe), ppt(npe)
+    real(c_double), intent(in) :: bb(nbk), kb(nbk), phi(np, nm), ppar(4, npe)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_modal(handle, nm, nb, np, npe, nbk, bs, bb, kb, phi, ptype, prig, ppt, ppar, &
+                              stat)
+    info = stat
+end subroutine vehicle_modal_attach_c
+
+!> Force over the whole state x = (q, Q) of a model with or without modal blocks (n = nd + nm):
+!> the rigid forces with the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p;
+!> with the contact outputs. info: see vehicle_model%vehicle_call and force_total.
+subroutine vehicle_state_force_c(handle, n, nw, speed, cmodel, fsn, bem, x, xd, nwo, f, wout, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK
+    use vehicle_model, only: vmodel, vsettings, vehicle_call
+    use vehicle_newmark, only: state_force
+    implicit none
+    integer(c_int), intent(in) :: handle, n, nw, cmodel, fsn, bem, nwo
+    real(c_double), intent(in) :: speed, x(n), xd(n)
+    real(c_double), intent(out) :: f(n), wout(nwo, 2, nw)
+    integer(c_int), intent(out) :: info
+    type(vmodel), pointer :: md
+    type(vsettings) :: rs
+    integer :: stat
+    f = 0.0_c_double
+    wout = 0.0_c_double
+    rs = vsettings(speed, cmodel, fsn, bem)
+    call vehicle_call(handle, n, nw, nwo, rs, md, stat)
+    if (stat == STAT_OK) call state_force(md, rs, x, xd, f, wout, stat)
+    info = stat
+end subroutine vehicle_state_force_c
+
 !> Release a model (a handle not in use is ignored).
 subroutine vehicle_model_free_c(handle)
     use iso_c_binding, only: c_int
@@ -35,7 +79,8 @@ subroutine vehicle_model_free_c(handle)
     call vehicle_free(handle)
 end subroutine vehicle_model_free_c
 
-!> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats.
+!> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
+!> the state, rigid plus modal DOFs.
 subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, tol, &
                          maxit, maxsub, qmax, rtol, t, q, v, a, nout, nwo, tout, qout, vout, wout, &
                          stats, info, tfail)
@@ -68,15 +113,16 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     info = stat
 end subroutine vehicle_run_c
 
-!> Steady state of straight running (info: see vehicle_newmark%static_solve): q and the
+!> Steady state of straight running (info: see vehicle_newmark%static_solve, and
+!> static_solve_modal for a model with modal blocks; nd: rigid plus modal DOFs): q and the
 !> velocities v (zero but the wheelsets' spin rates). Also returns the total force and the
 !> contact outputs there.
 subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit, q, nwo, v, f, &
                             wout, iters, resid, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK
-    use vehicle_model, only: vmodel, vsettings, vehicle_call, force_total
-    use vehicle_newmark, only: static_solve
+    use vehicle_model, only: vmodel, vsettings, vehicle_call
+    use vehicle_newmark, only: static_solve, static_solve_modal, state_force
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, maxit, nwo
     real(c_double), intent(in) :: speed, tol
@@ -95,18 +141,22 @@ subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit,
     call vehicle_call(handle, nd, nw, nwo, rs, md, stat)
     info = stat
     if (stat /= STAT_OK) return
-    call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
+    if (md%mp%nm > 0) then
+        call static_solve_modal(md, rs, q, v, tol, maxit, it, resid, stat)
+    else
+        call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
+    end if
     iters = it
-    call force_total(md, rs, q, v, f, wout, stat2)
+    call state_force(md, rs, q, v, f, wout, stat2)
     if (stat == STAT_OK) stat = stat2
     info = stat
 end subroutine vehicle_static_c
 
 !> Force F(q, v), contact outputs, and the tangents dF/dq and dF/dv (forward differences
-!> for the contact, see vehicle_model%tangent).
+!> for the contact, see vehicle_model%tangent). Rigid models only (else STAT_BAD_ARGUMENT).
 subroutine vehicle_force_c(handle, nd, nw, speed, cmodel, fsn, bem, q, v, nwo, f, wout, jq, jv, info)
     use iso_c_binding, only: c_int, c_double
-    use common_status, only: STAT_OK
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     use vehicle_model, only: vmodel, vsettings, vehicle_call, force_total, tangent, TANGENT_QV, &
                              TANGENT_V
     implicit none
@@ -123,6 +173,7 @@ subroutine vehicle_force_c(handle, nd, nw, speed, cmodel, fsn, bem, q, v, nwo, f
     jv = 0.0_c_double
     rs = vsettings(speed, cmodel, fsn, bem)
     call vehicle_call(handle, nd, nw, nwo, rs, md, stat)
+    if (stat == STAT_OK .and. md%mp%nm > 0) stat = STAT_BAD_ARGUMENT   ! rigid models only
     if (stat == STAT_OK) call force_total(md, rs, q, v, f, wout, stat)
     if (stat == STAT_OK) call tangent(md, rs, q, v, 0.0_c_double, TANGENT_QV, jq, stat)
     if (stat == STAT_OK) call tangent(md, rs, q, v, 0.0_c_double, TANGENT_V, jv, stat)

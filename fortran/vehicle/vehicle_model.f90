@@ -16,9 +16,11 @@ module vehicle_model
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set
+    use vehicle_modal, only: modal_part, modal_create
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
+    public :: vehicle_attach_modal
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -44,6 +46,9 @@ module vehicle_model
         !> The per-wheel contact table over (u, relative roll) (vehicle_contact).
         type(pose_table) :: ct
         real(dp) :: r0 = 0.46_dp, gmod = 8.2e10_dp, mu = 0.3_dp
+        !> Modal blocks coupled through points (vehicle_modal; nm = 0: none). The integrator's
+        !> state is (q(1:nd), Q(1:nm)).
+        type(modal_part) :: mp
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -116,6 +121,7 @@ contains
         deallocate (models(handle)%m, models(handle)%c, models(handle)%k, models(handle)%f0, &
                     models(handle)%etype, models(handle)%eg, models(handle)%epar, &
                     models(handle)%iws, models(handle)%itr, models(handle)%ct%tab)
+        models(handle)%mp = modal_part()
         models(handle)%used = .false.
     end subroutine vehicle_free
 
@@ -128,8 +134,26 @@ contains
         if (models(handle)%used) md => models(handle)
     end function vehicle_get
 
+    !> Attach modal blocks and point elements to a model (replacing any it had); see
+    !> vehicle_modal%modal_create for the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_modal(handle, nm, nb, np, npe, nbk, bs, bb, kb, phi, ptype, prig, ppt, &
+                                    ppar, info)
+        integer, intent(in) :: handle, nm, nb, np, npe, nbk
+        integer, intent(in) :: bs(nb + 1), ptype(npe), prig(npe), ppt(npe)
+        real(dp), intent(in) :: bb(nbk), kb(nbk), phi(np, nm), ppar(4, npe)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        type(modal_part) :: mp
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_create(md%nd, nm, nb, np, npe, nbk, bs, bb, kb, phi, ptype, prig, ppt, ppar, mp, info)
+        if (info == STAT_OK) md%mp = mp
+    end subroutine vehicle_attach_modal
+
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
-    !> wheelsets and nwo outputs per wheel. info: STAT_OK; STAT_BAD_HANDLE (no such model);
+    !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
+    !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
     !> STAT_SIZE_MISMATCH (nd, nw or nwo not the model's); STAT_BAD_ARGUMENT (speed <= 0, an
     !> unknown contact model, or CMODEL_BEM without a BEM handle). md is null unless STAT_OK.
     subroutine vehicle_call(handle, nd, nw, nwo_in, rs, md, info)
@@ -141,7 +165,7 @@ contains
         info = STAT_BAD_HANDLE
         if (.not. associated(md)) return
         info = STAT_SIZE_MISMATCH
-        if (nd /= md%nd .or. nw /= md%nw .or. nwo_in /= nwo) then
+        if (nd /= md%nd + md%mp%nm .or. nw /= md%nw .or. nwo_in /= nwo) then
             md => null()
             return
         end if

@@ -11,6 +11,13 @@
 !> Layers: newmark_run (the steps and the output) -> cover_step (one output step, cut into
 !> 2^lev sub-steps when a step fails) -> hht_step (one step: predictor, Newton, acceptance)
 !> -> newton_iterate (tangent, solve, line_search) -> residual.
+!>
+!> The state is x = (q(1:nd), Q(1:nm)): the rigid DOFs of vehicle_model and the modal
+!> coordinates of its modal blocks (vehicle_modal; nm = 0 for a rigid model). The modal rows
+!> never enter a dense matrix: Newton's linear system is condensed onto the rigid DOFs and the
+!> np attachment points (step_matrix, lin_solve; docs/vehicle_integrator.md), so a step costs
+!> O(nd^3 + np^3 + nm (np + s)) for blocks of size s. With nm = 0 the arithmetic is exactly
+!> that of the dense rigid integrator.
 module vehicle_newmark
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
@@ -18,9 +25,11 @@ module vehicle_newmark
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
     use vehicle_contact, only: nwo
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V
+    use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
+                             modal_solve, modal_points
     implicit none
     private
-    public :: newmark_run, static_solve, hht_options, NSTATS
+    public :: newmark_run, static_solve, static_solve_modal, state_force, hht_options, NSTATS
 
     !> Length of newmark_run's stats.
     integer, parameter :: NSTATS = 10
@@ -34,10 +43,19 @@ module vehicle_newmark
         real(dp) :: rtol = huge(1.0_dp)
     end type hht_options
 
-    !> The state at the current time: q, v, a, F(q, v) and the contact outputs there.
+    !> The state at the current time: q, v, a, F(q, v) and the contact outputs there (over
+    !> the rigid and modal DOFs), and the modal factors of the last step size.
     type :: hht_state
         real(dp), allocatable :: q(:), v(:), a(:), f(:), w(:, :, :)
+        type(modal_factor) :: mf
     end type hht_state
+
+    !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
+    !> point elements' tangent blocks needed to recover the modal increments.
+    type :: newton_lin
+        real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :)
+        integer, allocatable :: ipiv(:)
+    end type newton_lin
 
     !> Counters of a run, and `why`: the soft failure (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE,
     !> STAT_CONTACT_NOT_CONVERGED) of the last trial state that had one in the current step.
@@ -79,8 +97,8 @@ contains
         real(dp), intent(in) :: h
         integer, intent(in) :: nsteps, nevery, nout
         type(hht_options), intent(in) :: opt
-        real(dp), intent(inout) :: t, q(md%nd), v(md%nd), a(md%nd)
-        real(dp), intent(out) :: tout(nout), qout(md%nd, nout), vout(md%nd, nout)
+        real(dp), intent(inout) :: t, q(md%nd + md%mp%nm), v(md%nd + md%mp%nm), a(md%nd + md%mp%nm)
+        real(dp), intent(out) :: tout(nout), qout(md%nd + md%mp%nm, nout), vout(md%nd + md%mp%nm, nout)
         real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(NSTATS), tfail
         integer, intent(out) :: info
         type(hht_state) :: st
@@ -99,8 +117,8 @@ contains
         allocate (st%q, source=q)
         allocate (st%v, source=v)
         allocate (st%a, source=a)
-        allocate (st%f(md%nd), st%w(nwo, 2, md%nw))
-        call force_total(md, rs, q, v, st%f, st%w, info)
+        allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
+        call state_force(md, rs, q, v, st%f, st%w, info)
         if (info == STAT_OK) then
             do n = 1, nsteps
                 tl = 0.0_dp
@@ -164,7 +182,7 @@ contains
     !> A wheelset within 0.5 mm of the table's end (flange climb or divergence).
     pure logical function near_edge(md, q)
         type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: q(md%nd)
+        real(dp), intent(in) :: q(md%nd + md%mp%nm)
         integer :: w
         real(dp) :: yr
         near_edge = .false.
@@ -224,8 +242,8 @@ contains
         logical, intent(out) :: ok
         integer, intent(out) :: info
         type(hht_step_data) :: sd
-        real(dp) :: q1(md%nd), v1(md%nd), a1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
-        real(dp) :: dq
+        real(dp), dimension(md%nd + md%mp%nm) :: q1, v1, a1, r, f1
+        real(dp) :: rn, w1(nwo, 2, md%nw), dq
         logical :: conv
         ok = .false.
         err = 0.0_dp
@@ -236,7 +254,7 @@ contains
             if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
             return
         end if
-        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, dq, conv, info)
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, tally, dq, conv, info)
         if (info /= STAT_OK .or. .not. conv) return
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * h * a1
@@ -275,18 +293,21 @@ contains
     !> a contraction worse than 1/2. conv: the last correction was a full step below opt%tol
     !> (m, rad) AND the residual after it is below opt%rtol (max |r|, N or N m); dq is that
     !> last correction, max |dq|.
-    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, tally, dq, conv, info)
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, tally, dq, conv, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
         type(hht_options), intent(in) :: opt
-        real(dp), intent(inout) :: q1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        real(dp), dimension(md%nd + md%mp%nm), intent(inout) :: q1, r, f1
+        real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
+        type(modal_factor), intent(inout) :: mf
         type(hht_tally), intent(inout) :: tally
         real(dp), intent(out) :: dq
         logical, intent(out) :: conv
         integer, intent(out) :: info
-        real(dp) :: jac(md%nd, md%nd), dqv(md%nd), dqold, sl
-        integer :: ipiv(md%nd), it, lin
+        type(newton_lin) :: nl
+        real(dp) :: dqv(md%nd + md%mp%nm), dqold, sl
+        integer :: it, lin
         logical :: fresh
         conv = .false.
         info = STAT_OK
@@ -295,16 +316,15 @@ contains
         fresh = .false.
         do it = 1, opt%maxit
             if (.not. fresh) then
-                call step_matrix(md, rs, sd, q1, jac, ipiv, lin, tally, info)
+                call step_matrix(md, rs, sd, q1, mf, nl, lin, tally, info)
                 if (info /= STAT_OK) return
                 fresh = .true.
                 if (lin /= 0) return
             end if
-            dqv = r
-            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dqv, md%nd, lin)
+            call lin_solve(md, sd, mf, nl, r, dqv)
             tally%nit = tally%nit + 1
             if (.not. (maxval(abs(dqv)) <= opt%qmax)) return
-            call line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+            call line_search(md, rs, sd, dqv, opt%tol, q1, r, rn, f1, w1, sl, tally, info)
             if (info /= STAT_OK .or. sl == 0.0_dp) return
             dq = sl * maxval(abs(dqv))
             conv = sl == 1.0_dp .and. dq <= opt%tol .and. maxval(abs(r)) <= opt%rtol
@@ -315,44 +335,110 @@ contains
         end do
     end subroutine newton_iterate
 
-    !> The LU factors of the step's iteration matrix cq M - (1 + alpha) dF/dq|_{cv} at q1;
+    !> The LU factors of the step's iteration matrix cq M - (1 + alpha) dF/dq|_{cv} at q1,
+    !> condensed onto the rigid DOFs and the attachment points (docs/vehicle_integrator.md):
+    !>   [ cq M - (1+alpha)(J + Jrr)      -(1+alpha) Jru          ] [dq]   [r_r        ]
+    !>   [ -(1+alpha) C Jpr               I - (1+alpha) C Jpu     ] [du] = [Phi S^-1 r_m]
+    !> with S = cq I + (1+alpha)(cv B + K_m) factored per block and C = Phi S^-1 Phi^T (kept in
+    !> mf while the step size stays); without modal blocks the plain rigid matrix.
     !> lin /= 0 when it is singular. A soft failure inside the tangent is recorded and the
     !> (partial) tangent used.
-    subroutine step_matrix(md, rs, sd, q1, jac, ipiv, lin, tally, info)
+    subroutine step_matrix(md, rs, sd, q1, mf, nl, lin, tally, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
-        real(dp), intent(in) :: q1(md%nd)
-        real(dp), intent(out) :: jac(md%nd, md%nd)
-        integer, intent(out) :: ipiv(md%nd), lin
+        real(dp), intent(in) :: q1(md%nd + md%mp%nm)
+        type(modal_factor), intent(inout) :: mf
+        type(newton_lin), intent(inout) :: nl
+        integer, intent(out) :: lin
         type(hht_tally), intent(inout) :: tally
         integer, intent(out) :: info
-        real(dp) :: a1(md%nd), v1(md%nd)
+        real(dp) :: a1(md%nd + md%mp%nm), v1(md%nd + md%mp%nm), jac(md%nd, md%nd)
+        real(dp) :: jru(md%nd, md%mp%np)
+        integer :: nd, np, nt, i
+        nd = md%nd
+        np = md%mp%np
+        nt = nd + np
         lin = 0
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * sd%h * a1
-        call tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, info)
+        call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
         if (soft(info, tally)) info = STAT_OK
         if (info /= STAT_OK) return
-        jac = sd%cq * md%m - (1.0_dp + sd%alpha) * jac
-        call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
+        if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
+        if (md%mp%nm > 0) then
+            call modal_point_tangent(md%mp, nd, q1(1:nd), v1(1:nd), q1(nd + 1:), v1(nd + 1:), sd%cv, &
+                                     jac, jru, nl%jpr, nl%jpu)
+            call modal_factorise(md%mp, sd%cq, sd%cv, 1.0_dp + sd%alpha, mf, info)
+            if (info /= STAT_OK) then   ! a singular modal block: Newton fails, sub-steps follow
+                info = STAT_OK
+                lin = 1
+                return
+            end if
+            nl%a(1:nd, nd + 1:nt) = -(1.0_dp + sd%alpha) * jru
+            nl%a(nd + 1:nt, 1:nd) = -(1.0_dp + sd%alpha) * matmul(mf%c, nl%jpr)
+            nl%a(nd + 1:nt, nd + 1:nt) = -(1.0_dp + sd%alpha) * matmul(mf%c, nl%jpu)
+            do i = nd + 1, nt
+                nl%a(i, i) = nl%a(i, i) + 1.0_dp
+            end do
+        end if
+        nl%a(1:nd, 1:nd) = sd%cq * md%m - (1.0_dp + sd%alpha) * jac
+        call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
         tally%njac = tally%njac + 1
     end subroutine step_matrix
 
+    !> Newton's correction dx from the residual r with the factors of step_matrix: the modal
+    !> rows' S^-1 r_m, condensed onto the points, the (nd + np) solve, then the modal
+    !> increments dQ = S^-1 (r_m + (1+alpha) Phi^T (Jpr dq + Jpu du)). O(nm (np + s)).
+    subroutine lin_solve(md, sd, mf, nl, r, dx)
+        type(vmodel), intent(in) :: md
+        type(hht_step_data), intent(in) :: sd
+        type(modal_factor), intent(in) :: mf
+        type(newton_lin), intent(in) :: nl
+        real(dp), intent(in) :: r(md%nd + md%mp%nm)
+        real(dp), intent(out) :: dx(md%nd + md%mp%nm)
+        real(dp) :: z(md%mp%nm), y(md%nd + md%mp%np), w(md%mp%np)
+        integer :: nd, np, nm, lin, j
+        nd = md%nd
+        np = md%mp%np
+        nm = md%mp%nm
+        if (nm == 0) then
+            dx = r
+            call dgetrs('N', nd, 1, nl%a, nd, nl%ipiv, dx, nd, lin)
+            return
+        end if
+        z = r(nd + 1:)
+        call modal_solve(md%mp, mf, z)
+        y(1:nd) = r(1:nd)
+        call modal_points(md%mp, z, y(nd + 1:))
+        call dgetrs('N', nd + np, 1, nl%a, nd + np, nl%ipiv, y, nd + np, lin)
+        dx(1:nd) = y(1:nd)
+        w = (1.0_dp + sd%alpha) * (matmul(nl%jpr, y(1:nd)) + matmul(nl%jpu, y(nd + 1:)))
+        do j = 1, nm
+            dx(nd + j) = dot_product(md%mp%phi(:, j), w)
+        end do
+        call modal_solve(md%mp, mf, dx(nd + 1:))
+        dx(nd + 1:) = dx(nd + 1:) + z
+    end subroutine lin_solve
+
     !> Backtracking on the residual norm along the Newton correction dqv (contact closing or
-    !> opening makes full steps cycle): halve up to 5 times until the norm drops. On
+    !> opening makes full steps cycle): halve up to 5 times until the norm drops. A full step
+    !> below the tolerance tol (m, rad) is taken even when the norm does not drop: the residual
+    !> is then at its rounding floor (a linear system after one iteration). On
     !> acceptance q1, r, rn, f1, w1 move to the new point and sl is the step length taken;
     !> sl = 0 when every trial state failed softly.
-    subroutine line_search(md, rs, sd, dqv, q1, r, rn, f1, w1, sl, tally, info)
+    subroutine line_search(md, rs, sd, dqv, tol, q1, r, rn, f1, w1, sl, tally, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
-        real(dp), intent(in) :: dqv(md%nd)
-        real(dp), intent(inout) :: q1(md%nd), r(md%nd), rn, f1(md%nd), w1(nwo, 2, md%nw)
+        real(dp), intent(in) :: dqv(md%nd + md%mp%nm), tol
+        real(dp), dimension(md%nd + md%mp%nm), intent(inout) :: q1, r, f1
+        real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
         real(dp), intent(out) :: sl
         type(hht_tally), intent(inout) :: tally
         integer, intent(out) :: info
-        real(dp) :: qtry(md%nd), rtry(md%nd), rnt, ftry(md%nd), wtry(nwo, 2, md%nw)
+        real(dp), dimension(md%nd + md%mp%nm) :: qtry, rtry, ftry
+        real(dp) :: rnt, wtry(nwo, 2, md%nw)
         integer :: ls
         sl = 1.0_dp
         do ls = 1, 6
@@ -364,6 +450,7 @@ contains
             end if
             if (info /= STAT_OK) return
             if (rnt < rn .or. ls == 6) exit
+            if (ls == 1 .and. rnt < huge(1.0_dp) .and. maxval(abs(dqv)) <= tol) exit
             sl = 0.5_dp * sl
         end do
         if (rnt == huge(1.0_dp)) then
@@ -383,16 +470,34 @@ contains
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
-        real(dp), intent(in) :: qq(md%nd)
-        real(dp), intent(out) :: rr(md%nd), nrm, ff(md%nd), ww(nwo, 2, md%nw)
+        real(dp), intent(in) :: qq(md%nd + md%mp%nm)
+        real(dp), intent(out) :: rr(md%nd + md%mp%nm), nrm, ff(md%nd + md%mp%nm), ww(nwo, 2, md%nw)
         integer, intent(out) :: info
-        real(dp) :: aa(md%nd), vv(md%nd)
+        real(dp) :: aa(md%nd + md%mp%nm), vv(md%nd + md%mp%nm)
+        integer :: nd
+        nd = md%nd
         aa = sd%cq * (qq - sd%qt)
         vv = sd%vt + sd%gamma * sd%h * aa
-        call force_total(md, rs, qq, vv, ff, ww, info)
-        rr = -(matmul(md%m, aa) - (1.0_dp + sd%alpha) * ff + sd%alpha * sd%fn)
+        call state_force(md, rs, qq, vv, ff, ww, info)
+        rr(1:nd) = -(matmul(md%m, aa(1:nd)) - (1.0_dp + sd%alpha) * ff(1:nd) + sd%alpha * sd%fn(1:nd))
+        rr(nd + 1:) = -(aa(nd + 1:) - (1.0_dp + sd%alpha) * ff(nd + 1:) + sd%alpha * sd%fn(nd + 1:))
         nrm = norm2(rr)
     end subroutine residual
+
+    !> F over the whole state x = (q, Q), velocities xd: vehicle_model%force_total on the rigid
+    !> DOFs plus the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p.
+    subroutine state_force(md, rs, x, xd, f, w, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: x(md%nd + md%mp%nm), xd(md%nd + md%mp%nm)
+        real(dp), intent(out) :: f(md%nd + md%mp%nm), w(nwo, 2, md%nw)
+        integer, intent(out) :: info
+        integer :: nd
+        nd = md%nd
+        call force_total(md, rs, x(1:nd), xd(1:nd), f(1:nd), w, info)
+        if (md%mp%nm > 0) call modal_force(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), &
+                                           f(1:nd), f(nd + 1:))
+    end subroutine state_force
 
     !> A failure of one trial state (outside the table, a BEM patch failing): recorded in
     !> tally%why; the step then fails softly and is retried with sub-steps.
@@ -404,14 +509,15 @@ contains
         if (soft) tally%why = info
     end function soft
 
-    !> A non-finite state, |q| above qmax or |v| above 1e6. The spin perturbations beta are
-    !> only checked for being finite: no force depends on them, and at a steady spin rate
-    !> (free rolling with a longitudinal creepage) they grow linearly in time.
+    !> A non-finite state, |q| above qmax or |v| above 1e6. The spin perturbations beta and
+    !> the modal coordinates are only checked for being finite: no force depends on beta, and
+    !> at a steady spin rate (free rolling with a longitudinal creepage) it grows linearly in
+    !> time; a modal coordinate (mass-normalised) is no length.
     pure logical function too_big(md, q, v, qmax)
         type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: q(md%nd), v(md%nd), qmax
+        real(dp), intent(in) :: q(md%nd + md%mp%nm), v(md%nd + md%mp%nm), qmax
         integer :: j
-        too_big = any(.not. (abs(v) <= 1.0e6_dp))
+        too_big = any(.not. (abs(v) <= 1.0e6_dp)) .or. any(.not. (abs(q(md%nd + 1:)) <= huge(1.0_dp)))
         if (too_big) return
         do j = 1, md%nd
             if (is_spin(md, j)) then
@@ -513,5 +619,106 @@ contains
         end if
         jac = -jac
     end subroutine static_tangent
+
+    !> static_solve for a model with modal blocks: F(q, Q) = 0 over the rigid DOFs (spin rates
+    !> in place of the spin angles, as static_solve) and the modal coordinates, by Newton with
+    !> step halving. The tangent is condensed onto the points as in the time step, with
+    !> cq = cv = 0: S = K_m (elastic modes only: a singular block gives STAT_SINGULAR).
+    !> x, xd: the whole state (nd + nm); xd is zero but the spin rates. info as static_solve.
+    subroutine static_solve_modal(md, rs, x, xd, tol, maxit, iters, resid, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(inout) :: x(md%nd + md%mp%nm)
+        real(dp), intent(out) :: xd(md%nd + md%mp%nm)
+        real(dp), intent(in) :: tol
+        integer, intent(in) :: maxit
+        integer, intent(out) :: iters, info
+        real(dp), intent(out) :: resid
+        real(dp), dimension(md%nd + md%mp%nm) :: f, ftry, dx, xt, xdt
+        real(dp) :: wk(nwo, 2, md%nw), s, r0, r1
+        logical :: spin(md%nd + md%mp%nm)
+        type(modal_factor) :: mf
+        type(newton_lin) :: nl
+        type(hht_step_data) :: sd        ! alpha = 0: lin_solve's plain Newton
+        integer :: it, ls, j
+        xd = 0.0_dp
+        iters = 0
+        resid = 0.0_dp
+        spin = .false.
+        do j = 1, md%nd
+            spin(j) = is_spin(md, j)
+        end do
+        call state_force(md, rs, x, xd, f, wk, info)
+        if (info /= STAT_OK) return
+        r0 = norm2(f)
+        do it = 1, maxit
+            iters = it
+            call static_matrix(md, rs, x, xd, spin(1:md%nd), mf, nl, info)
+            if (info /= STAT_OK) return
+            call lin_solve(md, sd, mf, nl, f, dx)
+            s = 1.0_dp
+            do ls = 1, 30
+                xt = merge(x, x + s * dx, spin)
+                xdt = merge(xd + s * dx, xd, spin)
+                call state_force(md, rs, xt, xdt, ftry, wk, info)
+                if (info == STAT_OK) then
+                    r1 = norm2(ftry)
+                    if (r1 < r0 .or. ls == 30) exit
+                end if
+                s = 0.5_dp * s
+            end do
+            if (info /= STAT_OK) return
+            x = xt
+            xd = xdt
+            f = ftry
+            r0 = r1
+            resid = maxval(abs(s * dx))
+            if (resid <= tol) return
+        end do
+        info = STAT_NOT_CONVERGED
+    end subroutine static_solve_modal
+
+    !> The condensed LU of -dF/d(unknowns) for static_solve_modal: static_tangent's rigid part
+    !> (spin columns dF/dv) with the point elements' tangent, S = K_m, C = Phi K_m^-1 Phi^T.
+    !> info: STAT_OK, STAT_SINGULAR, or a contact failure.
+    subroutine static_matrix(md, rs, x, xd, spin, mf, nl, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: x(md%nd + md%mp%nm), xd(md%nd + md%mp%nm)
+        logical, intent(in) :: spin(md%nd)
+        type(modal_factor), intent(inout) :: mf
+        type(newton_lin), intent(inout) :: nl
+        integer, intent(out) :: info
+        real(dp) :: jac(md%nd, md%nd), jv(md%nd, md%nd), jru(md%nd, md%mp%np)
+        integer :: nd, np, nt, i, j, lin
+        nd = md%nd
+        np = md%mp%np
+        nt = nd + np
+        call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_QV, jac, info)
+        if (info /= STAT_OK) return
+        if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
+        call modal_point_tangent(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), 0.0_dp, &
+                                 jac, jru, nl%jpr, nl%jpu)
+        if (any(spin)) then     ! spin rates as unknowns (as static_tangent)
+            call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_V, jv, info)
+            if (info /= STAT_OK) return
+            do j = 1, nd
+                if (.not. spin(j)) cycle
+                jac(:, j) = jv(:, j)
+                if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
+            end do
+        end if
+        call modal_factorise(md%mp, 0.0_dp, 0.0_dp, 1.0_dp, mf, info)
+        if (info /= STAT_OK) return
+        nl%a(1:nd, 1:nd) = -jac
+        nl%a(1:nd, nd + 1:nt) = -jru
+        nl%a(nd + 1:nt, 1:nd) = -matmul(mf%c, nl%jpr)
+        nl%a(nd + 1:nt, nd + 1:nt) = -matmul(mf%c, nl%jpu)
+        do i = nd + 1, nt
+            nl%a(i, i) = nl%a(i, i) + 1.0_dp
+        end do
+        call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
+        if (lin /= 0) info = STAT_SINGULAR
+    end subroutine static_matrix
 
 end module vehicle_newmark

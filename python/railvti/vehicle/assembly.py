@@ -42,9 +42,10 @@ import numpy as np
 
 from .. import _checks
 from ..errors import InputError
+from ..material import STEEL
 from .params import Coach
-from .model import VehicleModel
-from .table import WheelTable
+from .model import ModalBlocks, VehicleModel
+from .table import QUANTITIES, WheelTable
 
 EL_FRICTION, EL_BUMP = 1, 2
 _INT_FIELDS = ("etype", "iws", "itr")
@@ -90,6 +91,10 @@ class System:
         Static vertical wheel load expected from the masses, N.
     friction : float
         Wheel-rail friction coefficient.
+    modal : ModalBlocks or None
+        Flexible bodies as modal blocks coupled through attachment points (the state of
+        :func:`~railvti.vehicle.simulate` is then the DOFs followed by the modal
+        coordinates, :attr:`state_names`); None for a rigid model.
 
     Notes
     -----
@@ -112,6 +117,7 @@ class System:
     x_wheelsets: np.ndarray
     wheel_load: float
     friction: float = 0.3
+    modal: ModalBlocks | None = None
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -134,8 +140,60 @@ class System:
 
     @property
     def n(self) -> int:
-        """Number of DOFs."""
+        """Number of DOFs (rigid, without the modal coordinates)."""
         return self.m.shape[0]
+
+    @property
+    def n_state(self) -> int:
+        """Size of the integrated state: the DOFs and the modal coordinates."""
+        return self.n + (self.modal.n_modes if self.modal is not None else 0)
+
+    @property
+    def state_names(self) -> tuple:
+        """Names of the state's entries: dof_names, then the modal coordinates' names."""
+        return self.dof_names + (self.modal.names if self.modal is not None else ())
+
+    def with_modal(self, modal: ModalBlocks | None) -> "System":
+        """The same system with these modal blocks (None: without); InputError for a point
+        element on a DOF the system does not have."""
+        if modal is not None:
+            modal.element_arrays(self.n)     # checks the elements' DOFs
+        return replace(self, modal=modal)
+
+    def dense_equivalent(self) -> "System":
+        """The system with its modal blocks assembled as ordinary DOFs into dense M, C, K over
+        all n_state entries (linear point elements only): the reference of the condensed
+        integrator, practical up to a few thousand modes. InputError for a Hertz element."""
+        mb = self.modal
+        if mb is None:
+            return self
+        n, nm = self.n, mb.n_modes
+        nt = n + nm
+        m = np.zeros((nt, nt))
+        c = np.zeros((nt, nt))
+        k = np.zeros((nt, nt))
+        f0 = np.zeros(nt)
+        m[:n, :n], c[:n, :n], k[:n, :n], f0[:n] = self.m, self.c, self.k, self.f0
+        m[n:, n:] = np.eye(nm)
+        j = n
+        for b, kb in zip(mb.damping, mb.stiffness):
+            s = b.shape[0]
+            c[j:j + s, j:j + s] = b
+            k[j:j + s, j:j + s] = kb
+            j += s
+        for e in mb.elements:
+            if e.kind != "linear":
+                raise InputError("dense_equivalent: only linear point elements")
+            g = np.zeros(nt)             # d = g . x = u_point - q_dof
+            g[n:] = mb.phi[e.point]
+            if e.dof is not None:
+                g[e.dof] -= 1.0
+            k += e.params[0] * np.outer(g, g)
+            c += e.params[1] * np.outer(g, g)
+            f0 -= e.params[2] * g
+        eg = np.zeros((nt, self.eg.shape[1]))
+        eg[:n] = self.eg
+        return replace(self, m=m, c=c, k=k, f0=f0, eg=eg, dof_names=self.state_names, modal=None)
 
     def index(self, name: str) -> int:
         """0-based index of a DOF by name."""
@@ -145,10 +203,12 @@ class System:
             raise InputError(f"unknown DOF {name!r}") from None
 
     def without_damping(self) -> "System":
-        """The same system with every damper and friction element removed."""
+        """The same system with every damper and friction element removed (modal blocks: B
+        reduced to its gyroscopic, skew part; point elements without dampers)."""
         epar = np.array(self.epar, copy=True, order="F")
         epar[:, self.etype == EL_FRICTION] = 0.0
-        return replace(self, c=np.zeros_like(self.c, order="F"), epar=epar)
+        modal = self.modal.without_damping() if self.modal is not None else None
+        return replace(self, c=np.zeros_like(self.c, order="F"), epar=epar, modal=modal)
 
 
 class _Builder:
@@ -361,3 +421,44 @@ def _finish(b: _Builder, f0, iws, itr, table, names, xw, wheel_load, friction) -
                   itr=np.asfortranarray(itr.astype(np.int32)), table=table,
                   dof_names=names, x_wheelsets=np.asarray(xw, dtype=float),
                   wheel_load=float(wheel_load), friction=float(friction))
+
+
+def build_rigid_system(m: np.ndarray, c: np.ndarray, k: np.ndarray,
+                       f0: np.ndarray | None = None, names: tuple | None = None,
+                       modal: ModalBlocks | None = None) -> System:
+    """A System of rigid DOFs whose wheel never touches a rail: M a = f0 - K q - C v (plus
+    the modal blocks' point elements if given); for tests and benchmarks of the integrator.
+
+    The core needs one wheelset: it sits on DOF 0 (its y, z and roll) with a contact table
+    whose gap is 1 m everywhere over |y| <= 1 m, so no contact force arises while
+    |q_0| < 1 m (the integrator's default qmax).
+
+    Parameters
+    ----------
+    m, c, k : ndarray (n, n)
+        Mass (kg), damping (N s/m) and stiffness (N/m) of the rigid DOFs.
+    f0 : ndarray (n,), optional
+        Constant force, N (default zero).
+    names : tuple of str, optional
+        DOF names (default 'dof1', ...).
+    modal : ModalBlocks, optional
+    """
+    m = _checks.finite_array("m", m, ndim=2)
+    n = m.shape[0]
+    c = _checks.finite_array("c", c, shape=(n, n))
+    k = _checks.finite_array("k", k, shape=(n, n))
+    f0 = np.zeros(n) if f0 is None else _checks.finite_array("f0", f0, shape=(n,))
+    names = tuple(f"dof{i + 1}" for i in range(n)) if names is None else tuple(names)
+    if len(names) != n:
+        raise InputError(f"{len(names)} names for {n} DOFs")
+    data = np.zeros((len(QUANTITIES), 2, 2))
+    data[QUANTITIES.index("g")] = 1.0
+    data[QUANTITIES.index("r")] = 0.46
+    table = WheelTable(y=np.array([-1.0, 1.0]), data=data, r0=0.46, s_wheel=np.zeros((2, 2)),
+                       material=STEEL, n_clipped=0)
+    iws = np.zeros((6, 1), dtype=np.int32)
+    iws[:3] = 1
+    sy = System(m=m, c=c, k=k, f0=f0, etype=np.zeros(1, dtype=np.int32), eg=np.zeros((n, 1)),
+                epar=np.zeros((4, 1)), iws=iws, itr=np.zeros((3, 1), dtype=np.int32), table=table,
+                dof_names=names, x_wheelsets=np.zeros(1), wheel_load=1.0, friction=0.0)
+    return sy.with_modal(modal)

@@ -6,17 +6,26 @@ and frees them when the object goes away. ``System.native`` makes one per System
 use and keeps it for the System's lifetime, so every static solve, force evaluation and
 time-integration chunk of that System passes only the handle and the per-call values
 (:class:`CallSettings`: speed, contact model, FASTSIM size, BEM state).
+
+Flexible bodies enter as :class:`ModalBlocks`: modal coordinates with block-diagonal damping
+(+ gyroscopic) and stiffness matrices, coupled to the rigid DOFs only through attachment points
+u = Phi Q and :class:`PointElement` forces (docs/vehicle_integrator.md). A System carrying
+them (``System.modal``) is attached to its handle once; the integrator condenses the modal
+rows onto the points, so its cost per step is linear in the number of modes.
 """
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import _checks
 from .._native import core
 from .._status import check
+from ..errors import InputError
 
 if TYPE_CHECKING:   # pragma: no cover
     from .assembly import System
@@ -28,6 +37,194 @@ CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
 WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
                  "contact_angle", "a", "b", "y_cp", "M_x", "M_spin")
 NWO = len(WHEEL_OUTPUTS)
+
+
+#: Point element kinds: name -> Fortran id (vehicle_modal PEL_*).
+POINT_ELEMENT_KINDS = {"linear": 1, "hertz": 2}
+
+
+@dataclass(frozen=True)
+class PointElement:
+    """A force between a rigid DOF (or the ground) and an attachment point of ModalBlocks.
+
+    With d = u_point - q_dof (q_dof = 0 for the ground) and dd its rate, the element's force f
+    acts as +f on the rigid DOF and -f on the point (-Phi[point]^T f on the modal coordinates):
+
+    - 'linear': f = p[0] d + p[1] dd + p[2] (spring N/m, damper N s/m, preload N);
+    - 'hertz': f = p[0] max(d - p[1], 0)^1.5 + p[2] dd while d > p[1] (a one-sided
+      Hertz-like contact: p[0] in N/m^1.5, clearance p[1] in m, damper p[2] in N s/m).
+
+    Attributes
+    ----------
+    kind : str
+        'linear' or 'hertz' (:data:`POINT_ELEMENT_KINDS`).
+    point : int
+        Attachment point, 0-based row of ``ModalBlocks.phi``.
+    dof : int or None
+        Rigid DOF, 0-based index into the System's DOFs; None for the ground.
+    params : tuple of float
+        Up to 4 parameters (see above), the rest zero.
+    """
+
+    kind: str
+    point: int
+    dof: int | None
+    params: tuple = (0.0, 0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if self.kind not in POINT_ELEMENT_KINDS:
+            raise InputError(f"unknown point element kind {self.kind!r}; one of "
+                             f"{sorted(POINT_ELEMENT_KINDS)}")
+        p = np.asarray(_checks.finite_array("params", self.params), dtype=float).ravel()
+        if p.size > 4:
+            raise InputError(f"a point element has at most 4 parameters, got {p.size}")
+        object.__setattr__(self, "params", tuple(float(x) for x in np.pad(p, (0, 4 - p.size))))
+        if self.kind == "hertz" and self.params[0] < 0.0:
+            raise InputError("a Hertz point element needs a stiffness >= 0")
+
+    @classmethod
+    def linear(cls, point: int, dof: int | None, stiffness: float, damping: float = 0.0,
+               preload: float = 0.0) -> "PointElement":
+        """A spring (N/m), damper (N s/m) and preload (N) between ``dof`` and ``point``."""
+        return cls("linear", point, dof, (stiffness, damping, preload))
+
+    @classmethod
+    def hertz(cls, point: int, dof: int | None, stiffness: float, clearance: float = 0.0,
+              damping: float = 0.0) -> "PointElement":
+        """A one-sided d^1.5 contact spring (N/m^1.5) with clearance (m) and damper (N s/m)."""
+        return cls("hertz", point, dof, (stiffness, clearance, damping))
+
+
+@dataclass(frozen=True)
+class ModalBlocks:
+    """Modal coordinates Q of flexible bodies, coupled to the rigid DOFs through points.
+
+    Q'' + B Q' + K Q = Phi^T g_p, u = Phi Q, with B and K block-diagonal (mass-normalised
+    modes: M = I). Only the small blocks and Phi (n_points x n_modes) are stored: nothing of
+    size n_modes x n_modes.
+
+    Attributes
+    ----------
+    damping : tuple of ndarray (s_b, s_b)
+        Blocks of B (modal damping plus gyroscopic terms), 1/s.
+    stiffness : tuple of ndarray (s_b, s_b)
+        Blocks of K (same sizes), 1/s^2.
+    phi : ndarray (n_points, n_modes)
+        Attachment rows (the mode shapes at the points, m per unit modal coordinate).
+    elements : tuple of PointElement
+    names : tuple of str
+        Names of the modal coordinates (default 'mode1', 'mode2', ...).
+
+    Raises
+    ------
+    InputError
+        Blocks not square or of unequal sizes between B and K, phi of another width than the
+        modes, non-finite entries, an element on a point outside phi's rows.
+    """
+
+    damping: tuple
+    stiffness: tuple
+    phi: np.ndarray
+    elements: tuple = ()
+    names: tuple | None = None
+
+    def __post_init__(self) -> None:
+        if len(self.damping) != len(self.stiffness) or not self.damping:
+            raise InputError(f"damping and stiffness need the same, non-zero number of blocks "
+                             f"({len(self.damping)} and {len(self.stiffness)})")
+        bb, kb = [], []
+        for i, (b, k) in enumerate(zip(self.damping, self.stiffness)):
+            b = _checks.finite_array(f"damping block {i}", b)
+            k = _checks.finite_array(f"stiffness block {i}", k)
+            b, k = np.atleast_2d(b).astype(float), np.atleast_2d(k).astype(float)
+            if b.ndim != 2 or b.shape[0] != b.shape[1] or k.shape != b.shape:
+                raise InputError(f"block {i}: damping {b.shape} and stiffness {k.shape} must be "
+                                 "square and of the same size")
+            b.setflags(write=False)
+            k.setflags(write=False)
+            bb.append(b)
+            kb.append(k)
+        object.__setattr__(self, "damping", tuple(bb))
+        object.__setattr__(self, "stiffness", tuple(kb))
+        nm = sum(b.shape[0] for b in bb)
+        phi = np.array(_checks.finite_array("phi", self.phi), dtype=float, order="F")
+        if phi.ndim != 2 or phi.shape[1] != nm or phi.shape[0] < 1:
+            raise InputError(f"phi must have shape (n_points >= 1, {nm}) for {nm} modes, got "
+                             f"{phi.shape}")
+        phi.setflags(write=False)
+        object.__setattr__(self, "phi", phi)
+        els = tuple(self.elements)
+        for e in els:
+            if not isinstance(e, PointElement):
+                raise InputError(f"elements must be PointElement, got {type(e).__name__}")
+            if not 0 <= e.point < phi.shape[0]:
+                raise InputError(f"point element on point {e.point}: phi has {phi.shape[0]} points")
+        object.__setattr__(self, "elements", els)
+        names = (tuple(f"mode{i + 1}" for i in range(nm)) if self.names is None
+                 else tuple(str(n) for n in self.names))
+        if len(names) != nm:
+            raise InputError(f"{len(names)} names for {nm} modes")
+        object.__setattr__(self, "names", names)
+
+    @classmethod
+    def diagonal(cls, omega: np.ndarray, zeta: np.ndarray | float, phi: np.ndarray,
+                 elements: tuple = (), names: tuple | None = None) -> "ModalBlocks":
+        """Modes without coupling: one 1 x 1 block per mode, K = omega^2, B = 2 zeta omega
+        (omega in rad/s, zeta the damping ratios)."""
+        om = _checks.finite_array("omega", omega).astype(float).ravel()
+        ze = np.broadcast_to(np.asarray(zeta, dtype=float), om.shape)
+        return cls(tuple((2.0 * z * w).reshape(1, 1) for z, w in zip(ze, om)),
+                   tuple((w * w).reshape(1, 1) for w in om), phi, elements, names)
+
+    def without_damping(self) -> "ModalBlocks":
+        """The same blocks with B reduced to its skew (gyroscopic) part and the point elements'
+        dampers removed: a conservative system (modal damping is symmetric)."""
+        els = []
+        for e in self.elements:
+            p = list(e.params)
+            p[1 if e.kind == "linear" else 2] = 0.0
+            els.append(PointElement(e.kind, e.point, e.dof, tuple(p)))
+        return ModalBlocks(tuple(0.5 * (b - b.T) for b in self.damping), self.stiffness, self.phi,
+                           tuple(els), self.names)
+
+    @property
+    def n_modes(self) -> int:
+        """Number of modal coordinates."""
+        return self.phi.shape[1]
+
+    @property
+    def n_points(self) -> int:
+        """Number of attachment points."""
+        return self.phi.shape[0]
+
+    def max_frequency(self) -> float:
+        """The largest undamped natural frequency of the blocks, rad/s: sqrt of the largest
+        eigenvalue of each block's symmetric stiffness part (gyroscopic splitting ignored)."""
+        lam = max(float(np.max(np.linalg.eigvalsh(0.5 * (k + k.T)))) for k in self.stiffness)
+        return math.sqrt(max(lam, 0.0))
+
+    def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(bs, bb, kb): 1-based block starts (n_blocks + 1) and the blocks of B and K packed
+        column-major, as the Fortran core stores them."""
+        sizes = [b.shape[0] for b in self.damping]
+        bs = np.concatenate([[1], 1 + np.cumsum(sizes)]).astype(np.int32)
+        bb = np.concatenate([b.ravel(order="F") for b in self.damping])
+        kb = np.concatenate([k.ravel(order="F") for k in self.stiffness])
+        return bs, bb, kb
+
+    def element_arrays(self, n_dofs: int) -> tuple[np.ndarray, ...]:
+        """(ptype, prig, ppt, ppar) of the core (1-based; a zero dummy element when there is
+        none, which keeps the arrays non-empty for f2py). InputError for a DOF outside
+        0..n_dofs - 1."""
+        els = self.elements or (PointElement("linear", 0, None),)
+        for e in els:
+            if e.dof is not None and not 0 <= e.dof < n_dofs:
+                raise InputError(f"point element on DOF {e.dof}: the system has {n_dofs} DOFs")
+        ptype = np.array([POINT_ELEMENT_KINDS[e.kind] for e in els], dtype=np.int32)
+        prig = np.array([0 if e.dof is None else e.dof + 1 for e in els], dtype=np.int32)
+        ppt = np.array([e.point + 1 for e in els], dtype=np.int32)
+        ppar = np.asfortranarray(np.array([e.params for e in els], dtype=float).T)
+        return ptype, prig, ppt, ppar
 
 
 @dataclass(frozen=True)
@@ -82,6 +279,15 @@ class VehicleModel:
         self.n = int(system.n)
         self.n_wheelsets = int(system.iws.shape[1])
         self._free = weakref.finalize(self, core.vehicle_model_free_c, self.handle)
+        mb = system.modal
+        if mb is not None:
+            bs, bb, kb = mb.packed()
+            ptype, prig, ppt, ppar = mb.element_arrays(self.n)
+            info = core.vehicle_modal_attach_c(self.handle, bs, bb, kb, mb.phi, ptype, prig, ppt,
+                                               ppar)
+            check(info, "modal blocks")
+        #: size of the integrator's state: rigid DOFs plus modal coordinates
+        self.n_state = self.n + (mb.n_modes if mb is not None else 0)
 
     def close(self) -> None:
         """Free the Fortran model now (idempotent; later calls give InputError)."""
@@ -96,6 +302,12 @@ class VehicleModel:
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
         """F(q, v), wheel outputs (NWO, 2, nw), dF/dq, dF/dv and the status."""
         return core.vehicle_force_c(self._handle(), self.n_wheelsets, *cs.args(), q, v, NWO)
+
+    def state_force(self, cs: CallSettings, x: np.ndarray, xd: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, int]:
+        """Force over the whole state (rigid DOFs and modal coordinates, n_state) with the
+        point elements, the wheel outputs and the status (vehicle_state_force_c)."""
+        return core.vehicle_state_force_c(self._handle(), self.n_wheelsets, *cs.args(), x, xd, NWO)
 
     def static(self, cs: CallSettings, q: np.ndarray, tol: float, maxit: int
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:

@@ -31,6 +31,13 @@ log = logging.getLogger(__name__)
 #: that stalls with a small correction but a large error, without moving those runs.
 NEWTON_RTOL = 1e-3
 
+#: Largest h * omega_max allowed with modal blocks (omega_max: the highest undamped natural
+#: frequency kept, rad/s). The trapezoidal rule is stable for any step but shortens the discrete
+#: frequency to 2 atan(omega h / 2) / h: at omega h = 2 the highest mode runs 21 % slow and has
+#: pi steps per period. A step beyond this resolves none of that mode's dynamics: drop the mode
+#: (keep its static part) or take a smaller step.
+MODAL_STEP_LIMIT = 2.0
+
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
                   "load_factor)")
@@ -255,6 +262,9 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     approach of the static load and each track element at its static deflection. With
     contact='bem' the BEM state ``bem`` is used (and left warm), or a temporary one made
     with ``bem_options``; the Newton tangent is then that of Hertz + Kalker.
+    With modal blocks (``system.modal``) q, v run over the whole state (the DOFs, then the
+    modal coordinates, which start undeformed): Newton with the modal rows condensed onto the
+    attachment points (static stiffness K_m: elastic modes only).
 
     Raises
     ------
@@ -272,7 +282,10 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
                                       fastsim_n=fastsim_n, bem=tmp,
                                       return_velocity=return_velocity)
     cs = _settings(speed, contact, fastsim_n, bem)
-    q = _initial_guess(system) if q0 is None else np.array(q0, dtype=float)
+    if q0 is None:      # modal coordinates (if any) start undeformed
+        q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
+    else:
+        q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
     v, _, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
@@ -286,12 +299,34 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     return (q, v, wout) if return_velocity else (q, wout)
 
 
+def _rigid_only(system: System, what: str) -> None:
+    """InputError for a System with modal blocks where only rigid models are handled yet."""
+    if system.modal is not None:
+        raise InputError(f"{what} does not handle modal blocks yet")
+
+
+def check_modal_step(system: System, h: float) -> None:
+    """InputError when the step h is too large for the highest mode of the system's modal
+    blocks: h * omega_max > :data:`MODAL_STEP_LIMIT` (nothing to check without blocks)."""
+    if system.modal is None:
+        return
+    wmax = system.modal.max_frequency()
+    if h * wmax > MODAL_STEP_LIMIT:
+        raise InputError(
+            f"time step h = {h:.3g} s too large for the highest mode kept "
+            f"({wmax / (2 * math.pi):.4g} Hz): h * omega_max = {h * wmax:.3g} > "
+            f"{MODAL_STEP_LIMIT} (MODAL_STEP_LIMIT); take h <= {MODAL_STEP_LIMIT / wmax:.3g} s "
+            "or drop the mode")
+
+
 def _initial_guess(system: System) -> np.ndarray:
     q = np.zeros(system.n)
     t = system.table
     i0 = int(np.argmin(np.abs(t.y)))
     g0, dl, kh = t.data[0, 0, i0], t.data[2, 0, i0], t.data[6, 0, i0]
     k = np.diag(system.k)
+    if not kh > 0.0:        # a table without contact (build_rigid_system): start at zero
+        return q
     for w in range(system.iws.shape[1]):
         # wheel load from the preload on this wheelset
         load = -0.5 * system.f0[system.iws[1, w] - 1]
@@ -351,7 +386,9 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
     q0, v0 : ndarray, optional
         Initial state (default: the steady state of static_equilibrium, at rest but for the
-        wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0).
+        wheelsets' free-rolling spin rates; a q0 without v0 starts with v = 0). With modal
+        blocks (``system.modal``) q0, v0 hold the DOFs followed by the modal coordinates
+        (``system.state_names``); the step must then satisfy :func:`check_modal_step`.
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
@@ -398,6 +435,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     speed = _checks.positive("speed", speed)
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
+    check_modal_step(system, plan.h)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -445,9 +483,10 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
                                        bem=bem, return_velocity=True)
         if v0 is None:
             v0 = vs
-    q = np.array(_checks.finite_array("q0", q0, shape=(system.n,)), dtype=float)
-    v = (np.zeros(system.n) if v0 is None
-         else np.array(_checks.finite_array("v0", v0, shape=(system.n,)), dtype=float))
+    n = system.n_state
+    q = np.array(_checks.finite_array("q0", q0, shape=(n,)), dtype=float)
+    v = (np.zeros(n) if v0 is None
+         else np.array(_checks.finite_array("v0", v0, shape=(n,)), dtype=float))
     return q, v
 
 
@@ -456,9 +495,14 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     """Run the Fortran time loop from (q, v), with a = M^-1 F(q, v), in chunks (for the
     progress bar) and gather the output. Raises the exception of a failed step."""
     model = system.native
-    f, _, _, _, info = model.force(cs, q, v)
-    check(info, "the initial state (q0, v0)")
-    a = np.linalg.solve(system.m, f)
+    if system.modal is None:
+        f, _, _, _, info = model.force(cs, q, v)
+        check(info, "the initial state (q0, v0)")
+        a = np.linalg.solve(system.m, f)
+    else:           # M = I on the modal coordinates
+        f, _, info = model.state_force(cs, q, v)
+        check(info, "the initial state (q0, v0)")
+        a = np.concatenate([np.linalg.solve(system.m, f[:system.n]), f[system.n:]])
     t = np.zeros((), dtype=float)
     out = _Output(plan.h, plan.load_scale)
     bar = _progress_bar(plan)
@@ -539,7 +583,7 @@ class _Output:
         """The SimulationResult of what was gathered."""
         return SimulationResult(
             t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
-            wheel=np.concatenate(self.w), dof_names=system.dof_names, speed=speed,
+            wheel=np.concatenate(self.w), dof_names=system.state_names, speed=speed,
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
             flange_angle=flange_angle(system.table))
 
@@ -627,6 +671,7 @@ def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float
 
 
 def _force_and_tangent(system, q, v, speed, contact, fastsim_n, bem):
+    _rigid_only(system, "force_and_tangent")
     cs = _settings(_checks.positive("speed", speed), contact, fastsim_n, bem)
     q = _checks.finite_array("q", q, shape=(system.n,))
     v = _checks.finite_array("v", v, shape=(system.n,))
