@@ -532,8 +532,7 @@ contains
     !> Steady state of running on straight track: F(q, v) = 0 with v = 0 except the rates of
     !> the wheelsets' spin perturbations beta, which are unknowns in place of the angles
     !> (no force depends on beta; free rolling fixes betadot). Newton's method with step
-    !> halving on the residual; the spin columns of the tangent are dF/dv. Converged: the
-    !> correction within tol, or within 1000 tol with max |F| within 1e-7 of max |f0|.
+    !> halving on the residual; the spin columns of the tangent are dF/dv.
     !> info: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR (singular tangent), or a contact
     !> failure of force_total (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE, ...).
     subroutine static_solve(md, rs, q, v, tol, maxit, iters, resid, info)
@@ -586,10 +585,6 @@ contains
             r0 = r1
             resid = maxval(abs(s * dq))
             if (resid <= tol) return
-            ! the table look-up is piecewise smooth (kinks at its nodes, where the centred
-            ! pose sits): a correction within 1000 tol with the force balanced to 1e-7 of
-            ! the load scale is converged too
-            if (resid <= 1.0e3_dp * tol .and. maxval(abs(f)) <= 1.0e-7_dp * maxval(abs(md%f0))) return
         end do
         info = STAT_NOT_CONVERGED
     end subroutine static_solve
