@@ -217,13 +217,20 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     # lowest point: a rotation about the centre moves the contact point by r roll sideways,
     # so branch changes lie almost along constant u and few cells mix branches
     r_nom = lay.wheelset.wheel_radius
-    rows = [_row(lay, y - r_nom * float(p), float(p), split, material) for p in roll]
-    data = np.stack([r.data for r in rows], axis=-1)          # (nq, 2, n, nr)
-    for j in range(roll.size - 1):
-        data[IRLINK, :, :, j] = _links(rows[j], rows[j + 1])
+    # row by row, keeping only the previous row's gap samples (13 MB a row) for the links
+    data = np.empty((len(QUANTITIES), 2, n, roll.size))
+    prev = z = None
+    n_clip = 0
+    for j, p in enumerate(roll):
+        cur = _row(lay, y - r_nom * float(p), float(p), split, material)
+        data[..., j] = cur.data
+        if prev is not None:
+            data[IRLINK, :, :, j - 1] = _links(prev, cur)
+        if j == roll.size // 2:
+            z = cur
+        n_clip += cur.n_clipped
+        prev = cur
     data[IRLINK, :, :, -1] = 0.0
-    z = rows[roll.size // 2]
-    n_clip = int(sum(r.n_clipped for r in rows))
     r0 = float(np.interp(0.0, y, z.data[3, 0]))
     out = WheelTable(y=y, data=np.asfortranarray(z.data), r0=r0, s_wheel=z.s_wheel,
                      material=material, n_clipped=n_clip, wheel=wheel, rail=rail, split=split,
