@@ -339,6 +339,13 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
         for side in (1.0, -1.0):
             pt = (xb[i], side * p["secondary_half_spacing"], hs)
             b.spring(bolster_pt(i, pt), _body_point(n, f, (xb[i], 0.0, hb), pt), ks, cs)
+        # air-spring bending (per side, roll and pitch) and the anti-roll bar (roll): the
+        # bolster rolls and pitches with the carbody, so against the frame: carbody - frame
+        gr = np.zeros((2, n))
+        gr[0, car["roll"]], gr[0, f["roll"]] = 1.0, -1.0
+        gr[1, car["pitch"]], gr[1, f["pitch"]] = 1.0, -1.0
+        kb = 2.0 * p["secondary_bending_stiffness"]
+        b.spring(gr, np.zeros_like(gr), (kb + p["anti_roll_stiffness"], kb), (0.0, 0.0))
         gy = np.zeros((1, n))          # bolster anchor: yaw of the bolster relative to the frame
         gy[0, 5 + i] = 1.0
         gy[0, f["yaw"]] = -1.0

@@ -14,9 +14,9 @@ table number was not checked: the original paper was not at hand). Each entry of
   1.22 MN/m: kept, not confirmed.
 * "Iwnicki 1998 [issue 13]": the values issue 13 quotes from the paper (primary dampers per
   axlebox 15 / 2 / 4 kN s/m longitudinal / lateral / vertical, bump-stop clearance 25 mm),
-  corrected here from 0 / 0 / 4 kN s/m and 30 mm. The same source gives a secondary bending
-  stiffness of 10.5 kN m/rad and an anti-roll stiffness of 940 kN m/rad: the coach model
-  (railvti.vehicle.assembly) has no such elements yet, so they are not parameters here.
+  corrected here from 0 / 0 / 4 kN s/m and 30 mm, and the secondary bending stiffness of
+  10.5 kN m/rad (per air spring, about the roll and pitch axes) and the anti-roll bar's
+  940 kN m/rad (per bogie, roll of bolster against bogie frame), added in session 5.
 * "Iwnicki 1998": from the earlier transcription of the table, not re-confirmed in this work
   (roll and yaw inertias, primary and secondary horizontal stiffnesses, secondary lateral
   damper, spacings, wheel radius).
@@ -82,6 +82,9 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "secondary_cy": (32.0e3, "N s/m", _IW + " (lateral damper, per bogie)"),
     "secondary_half_spacing": (1.0, "m", _IW),
     "secondary_height": (0.9, "m", _ASSUME + " (above the rail top)"),
+    "secondary_bending_stiffness": (10.5e3, "N m/rad", _IWI + " (air spring bending, per side, "
+                                    "roll and pitch of bolster against bogie frame)"),
+    "anti_roll_stiffness": (940.0e3, "N m/rad", _IWI + " (anti-roll bar, per bogie)"),
     # lateral bump stops between bogie frame and bolster
     "bumpstop_clearance": (0.025, "m", _IWI + " (was 30 mm)"),
     "bumpstop_stiffness": (2.0e6, "N/m", _ASSUME + " (the benchmark's stop characteristic not transcribed)"),
@@ -101,7 +104,7 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
 }
 
 #: Parameters that may be zero (dampers, clearances); all others must be > 0.
-_MAY_BE_ZERO = {"bolster_yaw_stiffness", "primary_cx", "primary_cy", "primary_cz", "secondary_cz", "secondary_cy",
+_MAY_BE_ZERO = {"bolster_yaw_stiffness", "secondary_bending_stiffness", "anti_roll_stiffness", "primary_cx", "primary_cy", "primary_cz", "secondary_cz", "secondary_cy",
                 "yaw_friction_torque", "bumpstop_clearance", "bumpstop_stiffness",
                 "track_cy", "track_cz", "track_croll", "friction", "carbody_cg_height",
                 "bogie_cg_height", "secondary_height"}
