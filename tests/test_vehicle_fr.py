@@ -102,8 +102,8 @@ def test_rim_motion_equals_rigid_motion(fr):
     rp = mb.couplings.rim_points[:, :, 0]           # (y, z, rx) x (left, right), wheelset 1
     l0, r0 = mb.couplings.rim_arms[:, 0]
 
-    def gp(x):
-        f, wout, info = ps.native.state_force(cs, x, xd0)
+    def gp(x, xd=xd0):
+        f, wout, info = ps.native.state_force(cs, x, xd)
         assert info == 0
         return f[n:][rp], wout
 
@@ -122,6 +122,16 @@ def test_rim_motion_equals_rigid_motion(fr):
         gb, _ = gp(xb)
         assert np.max(np.abs(ga - g0)) > 10.0          # the motion changes the forces
         np.testing.assert_allclose(gb, ga, rtol=1e-7, atol=1e-5)
+        # the same for rates: the creepages see the rim rates as the rigid rates
+        d = 1e-3
+        va = xd0.copy()
+        va[sy.index(dof)] += d
+        vb = xd0.copy()
+        vb[n + rp] += d * np.array(rim)
+        ga, _ = gp(x0, va)
+        gb, _ = gp(x0, vb)
+        assert np.max(np.abs(ga - g0)) > 10.0
+        np.testing.assert_allclose(gb, ga, rtol=1e-9, atol=1e-6)
 
 
 def test_centred_running_fr(fr):
