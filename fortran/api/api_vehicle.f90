@@ -46,6 +46,24 @@ subroutine vehicle_modal_attach_c(handle, nm, nb, np, npe, nbk, bs, bb, kb, phi,
     info = stat
 end subroutine vehicle_modal_attach_c
 
+!> Attach linear couplings (kind lkind: 1 split spring, 2 gyroscopic; point lpt, rigid
+!> direction lg(:, e) over the nd rigid DOFs, parameters lpar = (k, c, f0)) and flexible-rim
+!> wheelsets (wheelset frw, rim points frpt (dy, dz, drx) x (left, right), reference arms
+!> frarm = (lateral, depth), m) to a model's modal part (model FR, vehicle_modal%modal_couple).
+!> info: see vehicle_model%vehicle_attach_couplings.
+subroutine vehicle_modal_couple_c(handle, nd, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_couplings
+    implicit none
+    integer(c_int), intent(in) :: handle, nd, nlc, nfr
+    integer(c_int), intent(in) :: lkind(nlc), lpt(nlc), frw(nfr), frpt(3, 2, nfr)
+    real(c_double), intent(in) :: lg(nd, nlc), lpar(3, nlc), frarm(2, nfr)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_couplings(handle, nd, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, stat)
+    info = stat
+end subroutine vehicle_modal_couple_c
+
 !> Force over the whole state x = (q, Q) of a model with or without modal blocks (n = nd + nm):
 !> the rigid forces with the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p;
 !> with the contact outputs. info: see vehicle_model%vehicle_call and force_total.

@@ -448,21 +448,36 @@ contains
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
     !> info: STAT_OK, STAT_BAD_ARGUMENT (unknown model), STAT_OUTSIDE_TABLE, or from
     !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
+    !> Flexible wheel rims (model FR, optional rim, rarm, frim, all three or none): rim(:, w)
+    !> = (dy, dz, drx, dy', dz', drx') of wheel w (1 left, 2 right): the elastic displacement
+    !> (track y, z) of the rim's reference point at (0, sg rarm(1), -rarm(2)) from the wheelset
+    !> centre and the rim's rotation about x (camber). To first order the wheel is moved
+    !> rigidly: rotated by drx about the centre and translated by (dy - rarm(2) drx,
+    !> dz - sg rarm(1) drx), so that its reference point moves by (dy, dz). Each wheel is then
+    !> evaluated at its own pose (Y, Z, roll) + that motion, velocities likewise; frim(:, w)
+    !> the generalised forces on (dy, dz, drx): (F_y, F_z, M_x - rarm(2) F_y - sg rarm(1) F_z)
+    !> of that wheel's forces and moment about the centre (the moment about the reference
+    !> point): the same arms as the pose change (energy-consistent). rim = 0 gives fw, ft,
+    !> wout exactly (bit for bit) as without.
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
-                                fw, ft, wout, info)
+                                fw, ft, wout, info, rim, rarm, frim)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
         real(dp), intent(in) :: qw(6), vw(6), qt(3), vt(3)
         real(dp), intent(out) :: fw(6), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
+        real(dp), intent(in), optional :: rim(6, 2), rarm(2)
+        real(dp), intent(out), optional :: frim(3, 2)
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
         real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(2)
+        real(dp) :: wa(2), ve(3), fwl(3), ty, tz
         integer :: w, k, c, stat, ia(2), ib(2)
-        logical :: bemgeo
+        logical :: bemgeo, flex
+        flex = present(rim) .and. present(rarm) .and. present(frim)
+        if (flex) frim = 0.0_dp
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
@@ -482,8 +497,23 @@ contains
         ! at rail-top height): u = Y + r_nom phr with Y = yr + r_nom qt(3), centre height zc
         u = yr + ct%rnom * qw(3)
         zc = zr - yr * qt(3)
+        ve = vw(1:3)
         do w = 1, 2
             sg = merge(1.0_dp, -1.0_dp, w == 1)
+            if (flex) then
+                ! this wheel's pose: the rigid wheelset's moved by the rim's deformation
+                ty = rim(1, w) - rarm(2) * rim(3, w)
+                tz = rim(2, w) - sg * rarm(1) * rim(3, w)
+                yr = qw(1) + ty - qt(1)
+                zr = qw(2) + tz - qt(2)
+                phr = qw(3) + rim(3, w) - qt(3)
+                u = yr + ct%rnom * (qw(3) + rim(3, w))
+                zc = zr - yr * qt(3)
+                ve(1) = vw(1) + rim(4, w) - rarm(2) * rim(6, w)
+                ve(2) = vw(2) + rim(5, w) - sg * rarm(1) * rim(6, w)
+                ve(3) = vw(3) + rim(6, w)
+                fwl = fw(1:3)
+            end if
             pl = sg * phr
             if (bemgeo) then
                 ! zero-roll row, the point rotated about the centre to first order (the BEM's
@@ -535,8 +565,8 @@ contains
                 ! relative velocity of the wheel's material point (arms l, za about the
                 ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
                 ! roll centre): the arms of the generalised forces below (energy-consistent)
-                dvy = (vw(1) + za * vw(3)) - (vt(1) - (ct%rnom - za) * vt(3))
-                dvz = (vw(2) + vw(3) * l) - (vt(2) + vt(3) * (l + yr))
+                dvy = (ve(1) + za * ve(3)) - (vt(1) - (ct%rnom - za) * vt(3))
+                dvz = (ve(2) + ve(3) * l) - (vt(2) + vt(3) * (l + yr))
                 ! longitudinal creepage: the material velocity of the wheel at the contact
                 ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
                 ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
@@ -626,6 +656,12 @@ contains
                     wout(13, w) = yc
                 end if
             end do
+            if (flex) then
+                fwl = fw(1:3) - fwl
+                frim(1, w) = fwl(1)
+                frim(2, w) = fwl(2)
+                frim(3, w) = fwl(3) - rarm(2) * fwl(1) - sg * rarm(1) * fwl(2)
+            end if
         end do
     end subroutine wheelset_contact
 

@@ -27,10 +27,19 @@ module vehicle_modal
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
     public :: modal_factorise, modal_solve, modal_points
-    public :: PEL_LINEAR, PEL_HERTZ
+    public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
+    public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
+    !> Linear couplings of a point p with a combination g.q of rigid DOFs (modal_couple):
+    !> LC_SPLIT (a spring/damper whose rigid-rigid part is already in the model's K, C, f0:
+    !>   the journal springs of a flexible wheelset): g_p += k (g.q - u_p) + c (g.v - u'_p) + f0,
+    !>   g_r += g (k u_p + c u'_p);
+    !> LC_GYRO (a skew velocity coupling, the Coriolis terms between the rigid wheelset's
+    !>   roll/yaw rates and its elastic modes): g_p += k g.v, g_r -= g k u'_p.
+    integer, parameter :: LC_SPLIT = 1
+    integer, parameter :: LC_GYRO = 2
 
     !> The constant modal part of a model (nm = 0: none; every loop below is then empty).
     type :: modal_part
@@ -41,6 +50,15 @@ module vehicle_modal
         real(dp), allocatable :: phi(:, :)          !< (np, nm) attachment rows
         integer, allocatable :: ptype(:), prig(:), ppt(:)   !< per point element
         real(dp), allocatable :: ppar(:, :)         !< (4, npe) element parameters
+        !> linear couplings (LC_*): kind, point, rigid direction g (nd, nlc), (k, c, f0)
+        integer :: nlc = 0
+        integer, allocatable :: lkind(:), lpt(:)
+        real(dp), allocatable :: lg(:, :), lpar(:, :)
+        !> flexible wheel rims (model FR): wheelset index, the points of (dy, dz, drx) of each
+        !> wheel (3, 2 [left, right], nfr) and the rim reference point's arms (lateral, depth)
+        integer :: nfr = 0
+        integer, allocatable :: frw(:), frpt(:, :, :)
+        real(dp), allocatable :: frarm(:, :)
     end type modal_part
 
     !> The factors of the modal step matrix S = cq I + ck (cb B + K_m), block by block, and the
@@ -106,6 +124,92 @@ contains
         info = STAT_OK
     end subroutine modal_create
 
+    !> Add linear couplings and flexible-rim wheelsets to a modal part (replacing any it had).
+    !> info: STAT_OK; STAT_BAD_ARGUMENT (no modal part, an unknown kind, a point outside 1..np,
+    !> a wheelset outside 1..nw or twice, non-finite entries, arms <= 0).
+    subroutine modal_couple(mp, nd, nw, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nd, nw, nlc, nfr
+        integer, intent(in) :: lkind(nlc), lpt(nlc), frw(nfr), frpt(3, 2, nfr)
+        real(dp), intent(in) :: lg(nd, nlc), lpar(3, nlc), frarm(2, nfr)
+        integer, intent(out) :: info
+        integer :: i
+        info = STAT_BAD_ARGUMENT
+        if (mp%nm == 0 .or. nlc < 0 .or. nfr < 0) return
+        if (any(lkind /= LC_SPLIT .and. lkind /= LC_GYRO) .or. any(lpt < 1) .or. any(lpt > mp%np)) return
+        if (any(frw < 1) .or. any(frw > nw) .or. any(frpt < 1) .or. any(frpt > mp%np)) return
+        do i = 2, nfr
+            if (any(frw(1:i - 1) == frw(i))) return
+        end do
+        if (.not. (all(abs(lg) <= huge(1.0_dp)) .and. all(abs(lpar) <= huge(1.0_dp)) &
+                   .and. all(frarm > 0.0_dp) .and. all(frarm <= huge(1.0_dp)))) return
+        mp%nlc = nlc
+        mp%lkind = lkind
+        mp%lpt = lpt
+        mp%lg = lg
+        mp%lpar = lpar
+        mp%nfr = nfr
+        mp%frw = frw
+        mp%frpt = frpt
+        mp%frarm = frarm
+        info = STAT_OK
+    end subroutine modal_couple
+
+    !> The index in 1..nfr of wheelset w's flexible rims, 0 for a rigid wheelset.
+    pure integer function modal_rim_wheelset(mp, w) result(i)
+        type(modal_part), intent(in) :: mp
+        integer, intent(in) :: w
+        do i = 1, mp%nfr
+            if (mp%frw(i) == w) return
+        end do
+        i = 0
+    end function modal_rim_wheelset
+
+    !> The linear couplings' forces: added to fr (rigid, nd) and gp (points, np).
+    pure subroutine modal_coupling_force(mp, nd, q, v, u, ud, fr, gp)
+        type(modal_part), intent(in) :: mp
+        integer, intent(in) :: nd
+        real(dp), intent(in) :: q(nd), v(nd), u(mp%np), ud(mp%np)
+        real(dp), intent(inout) :: fr(nd), gp(mp%np)
+        integer :: e, p
+        do e = 1, mp%nlc
+            p = mp%lpt(e)
+            associate (g => mp%lg(:, e), k => mp%lpar(1, e), c => mp%lpar(2, e))
+                if (mp%lkind(e) == LC_SPLIT) then
+                    gp(p) = gp(p) + k * (dot_product(g, q) - u(p)) + c * (dot_product(g, v) - ud(p)) &
+                            + mp%lpar(3, e)
+                    fr = fr + g * (k * u(p) + c * ud(p))
+                else
+                    gp(p) = gp(p) + k * dot_product(g, v)
+                    fr = fr - g * (k * ud(p))
+                end if
+            end associate
+        end do
+    end subroutine modal_coupling_force
+
+    !> The linear couplings' tangent d/dx + cv d/dx' added to jru, jpr, jpu.
+    pure subroutine modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
+        type(modal_part), intent(in) :: mp
+        integer, intent(in) :: nd
+        real(dp), intent(in) :: cv
+        real(dp), intent(inout) :: jru(nd, mp%np), jpr(mp%np, nd), jpu(mp%np, mp%np)
+        integer :: e, p
+        real(dp) :: s
+        do e = 1, mp%nlc
+            p = mp%lpt(e)
+            if (mp%lkind(e) == LC_SPLIT) then
+                s = mp%lpar(1, e) + cv * mp%lpar(2, e)
+                jru(:, p) = jru(:, p) + s * mp%lg(:, e)
+                jpr(p, :) = jpr(p, :) + s * mp%lg(:, e)
+                jpu(p, p) = jpu(p, p) - s
+            else
+                s = cv * mp%lpar(1, e)
+                jru(:, p) = jru(:, p) - s * mp%lg(:, e)
+                jpr(p, :) = jpr(p, :) + s * mp%lg(:, e)
+            end if
+        end do
+    end subroutine modal_coupling_tangent
+
     !> Force and its derivatives (df/dd, df/ddd) of one point element.
     pure subroutine point_element(kind, p, d, dd, f, kd, cd)
         integer, intent(in) :: kind
@@ -144,18 +248,22 @@ contains
 
     !> Add the point elements' forces to fr (rigid, nd) and set the modal force
     !> fm = -B Q' - K_m Q + Phi^T g_p.
-    pure subroutine modal_force(mp, nd, q, v, qm, vm, fr, fm)
+    !> gext (optional): further point forces (the wheel-rail contact on flexible rims).
+    pure subroutine modal_force(mp, nd, q, v, qm, vm, fr, fm, gext)
         type(modal_part), intent(in) :: mp
         integer, intent(in) :: nd
         real(dp), intent(in) :: q(nd), v(nd), qm(mp%nm), vm(mp%nm)
         real(dp), intent(inout) :: fr(nd)
         real(dp), intent(out) :: fm(mp%nm)
+        real(dp), intent(in), optional :: gext(mp%np)
         real(dp) :: u(mp%np), ud(mp%np), gp(mp%np), d, dd, f, kd, cd
         integer :: e, b, j, j0, s, r, p, o, ii, jj
         if (mp%nm == 0) return
         call modal_points(mp, qm, u)
         call modal_points(mp, vm, ud)
         gp = 0.0_dp
+        if (present(gext)) gp = gext
+        if (mp%nlc > 0) call modal_coupling_force(mp, nd, q, v, u, ud, fr, gp)
         do e = 1, mp%npe
             r = mp%prig(e)
             p = mp%ppt(e)
@@ -220,6 +328,7 @@ contains
                 jrr(r, r) = jrr(r, r) - s
             end if
         end do
+        if (mp%nlc > 0) call modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
     end subroutine modal_point_tangent
 
     !> Factor S = cq I + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless

@@ -16,11 +16,11 @@ module vehicle_model
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set
-    use vehicle_modal, only: modal_part, modal_create
+    use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
-    public :: vehicle_attach_modal
+    public :: vehicle_attach_modal, vehicle_attach_couplings
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -151,6 +151,23 @@ contains
         if (info == STAT_OK) md%mp = mp
     end subroutine vehicle_attach_modal
 
+    !> Attach linear couplings and flexible-rim wheelsets to a model's modal part; see
+    !> vehicle_modal%modal_couple for the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_couplings(handle, nd, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, &
+                                        frarm, info)
+        integer, intent(in) :: handle, nd, nlc, nfr
+        integer, intent(in) :: lkind(nlc), lpt(nlc), frw(nfr), frpt(3, 2, nfr)
+        real(dp), intent(in) :: lg(nd, nlc), lpar(3, nlc), frarm(2, nfr)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_SIZE_MISMATCH
+        if (nd /= md%nd) return
+        call modal_couple(md%mp, md%nd, md%nw, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, info)
+    end subroutine vehicle_attach_couplings
+
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
     !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
@@ -231,7 +248,10 @@ contains
 
     !> Contact forces of wheelset w added into f. cheap: for a BEM run, the Hertz + Kalker
     !> model calibrated by the last BEM solves (the tangent: modified Newton).
-    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap)
+    !> With the attachment points' coordinates u, ud (model FR: u, ud, gp all present) a
+    !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
+    !> deformed rims and the generalised forces on the rim points are added into gp.
+    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         integer, intent(in) :: w
@@ -240,15 +260,32 @@ contains
         real(dp), intent(out) :: wout(nwo, 2)
         integer, intent(out) :: info
         logical, intent(in), optional :: cheap
-        real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3)
-        integer :: j, model
+        real(dp), intent(in), optional :: u(:), ud(:)
+        real(dp), intent(inout), optional :: gp(:)
+        real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
+        integer :: j, k, model, ir
         model = rs%cmodel
         if (present(cheap)) then
             if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
-        call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
-                              rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
+        ir = 0
+        if (present(u) .and. present(ud) .and. present(gp)) ir = modal_rim_wheelset(md%mp, w)
+        if (ir > 0) then
+            do k = 1, 2
+                rim(1:3, k) = u(md%mp%frpt(:, k, ir))
+                rim(4:6, k) = ud(md%mp%frpt(:, k, ir))
+            end do
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
+                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim)
+            do k = 1, 2
+                gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
+            end do
+        else
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
+        end if
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
         end do
@@ -261,12 +298,15 @@ contains
     !> STAT_OUTSIDE_TABLE a wheelset left the contact table (derailment or a diverging
     !> solution); STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED a BEM patch reached its grid edge
     !> / a BEM solver did not converge (see vehicle_contact%wheelset_contact).
-    subroutine force_total(md, rs, q, v, f, wout, info)
+    !> u, ud, gp (optional, model FR): see add_contact.
+    subroutine force_total(md, rs, q, v, f, wout, info, u, ud, gp)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd)
         real(dp), intent(out) :: f(md%nd), wout(nwo, 2, md%nw)
         integer, intent(out) :: info
+        real(dp), intent(in), optional :: u(:), ud(:)
+        real(dp), intent(inout), optional :: gp(:)
         real(dp) :: d, dd, fe, kd, cd
         integer :: e, w
         f = md%f0 - matmul(md%k, q) - matmul(md%c, v)
@@ -278,7 +318,7 @@ contains
         end do
         info = STAT_OK
         do w = 1, md%nw
-            call add_contact(md, rs, w, q, v, f, wout(:, :, w), info)
+            call add_contact(md, rs, w, q, v, f, wout(:, :, w), info, u=u, ud=ud, gp=gp)
             if (info /= STAT_OK) return
         end do
     end subroutine force_total
@@ -289,17 +329,21 @@ contains
     !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
     !> With the BEM contact (CMODEL_BEM) the contact part is that of Hertz + Kalker scaled to
     !> the last BEM solves (CMODEL_BEM_TANGENT): modified Newton.
-    subroutine tangent(md, rs, q, v, cv, mode, jac, info)
+    !> Model FR (u, ud at the attachment points and jru, jpr, jpu all present): the contact of
+    !> a wheelset with flexible rims at the deformed rims, and its chain-rule blocks added to
+    !> jru (nd x np), jpr (np x nd), jpu (np x np) by the same differences over the wheelset's
+    !> DOFs and its six rim points (u by eps, ud by cv eps).
+    subroutine tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
         integer, intent(in) :: mode
         real(dp), intent(out) :: jac(md%nd, md%nd)
         integer, intent(out) :: info
+        real(dp), intent(in), optional :: u(:), ud(:)
+        real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
         real(dp) :: d, dd, fe, kd, cd, s
-        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
-        integer :: e, w, j, jj, idx(9), n
-        real(dp), parameter :: eps = 1.0e-8_dp
+        integer :: e, j
         if (mode == TANGENT_QV) then
             jac = -md%k - cv * md%c
         else
@@ -320,8 +364,38 @@ contains
                 end do
             end if
         end do
+        if (present(u) .and. present(ud) .and. present(jru) .and. present(jpr) .and. present(jpu)) then
+            call contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
+        else
+            call contact_tangent(md, rs, q, v, cv, mode, jac, info)
+        end if
+    end subroutine tangent
+
+    !> The contact part of tangent (added into jac; model FR: the rim blocks too).
+    subroutine contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: q(md%nd), v(md%nd), cv
+        integer, intent(in) :: mode
+        real(dp), intent(inout) :: jac(md%nd, md%nd)
+        integer, intent(out) :: info
+        real(dp), intent(in), optional :: u(:), ud(:)
+        real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
+        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
+        real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
+        integer :: w, j, jj, idx(9), n, ir, pts(6)
+        logical :: flex
+        real(dp), parameter :: eps = 1.0e-8_dp
+        flex = present(u)
+        if (flex) then
+            allocate (g0(md%mp%np), g1(md%mp%np))
+            up = u
+            udp = ud
+        end if
         info = STAT_OK
         do w = 1, md%nw
+            ir = 0
+            if (flex) ir = modal_rim_wheelset(md%mp, w)
             n = 0
             do j = 1, 6
                 if (md%iws(j, w) > 0) then
@@ -336,7 +410,13 @@ contains
                 end if
             end do
             f0w = 0.0_dp
-            call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true.)
+            if (ir > 0) then
+                pts = reshape(md%mp%frpt(:, :, ir), [6])
+                g0 = 0.0_dp
+                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., u=u, ud=ud, gp=g0)
+            else
+                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true.)
+            end if
             if (info /= STAT_OK) return
             do jj = 1, n
                 j = idx(jj)
@@ -349,12 +429,37 @@ contains
                     vp(j) = v(j) + eps
                 end if
                 f1w = 0.0_dp
-                call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true.)
+                if (ir > 0) then
+                    g1 = 0.0_dp
+                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, gp=g1)
+                    jpr(pts, j) = jpr(pts, j) + (g1(pts) - g0(pts)) / eps
+                else
+                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true.)
+                end if
                 if (info /= STAT_OK) return
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
             end do
+            if (ir == 0) cycle
+            ! the rim points' columns
+            do jj = 1, 6
+                j = pts(jj)
+                up = u
+                udp = ud
+                if (mode == TANGENT_QV) then
+                    up(j) = u(j) + eps
+                    udp(j) = ud(j) + cv * eps
+                else
+                    udp(j) = ud(j) + eps
+                end if
+                f1w = 0.0_dp
+                g1 = 0.0_dp
+                call add_contact(md, rs, w, q, v, f1w, wout, info, cheap=.true., u=up, ud=udp, gp=g1)
+                if (info /= STAT_OK) return
+                jru(idx(1:n), j) = jru(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
+                jpu(pts, j) = jpu(pts, j) + (g1(pts) - g0(pts)) / eps
+            end do
         end do
-    end subroutine tangent
+    end subroutine contact_tangent
 
     !> Whether DOF j is a wheelset spin perturbation beta (no stiffness: only its rate enters).
     pure logical function is_spin(md, j)

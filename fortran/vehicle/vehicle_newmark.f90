@@ -354,7 +354,8 @@ contains
         type(hht_tally), intent(inout) :: tally
         integer, intent(out) :: info
         real(dp) :: a1(md%nd + md%mp%nm), v1(md%nd + md%mp%nm), jac(md%nd, md%nd)
-        real(dp) :: jru(md%nd, md%mp%np)
+        real(dp) :: jru(md%nd, md%mp%np), jcru(md%nd, md%mp%np), jcpr(md%mp%np, md%nd)
+        real(dp) :: jcpu(md%mp%np, md%mp%np)
         integer :: nd, np, nt, i
         nd = md%nd
         np = md%mp%np
@@ -362,13 +363,22 @@ contains
         lin = 0
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * sd%h * a1
-        call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
+        if (md%mp%nfr > 0) then
+            call full_tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
+        else
+            call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
+        end if
         if (soft(info, tally)) info = STAT_OK
         if (info /= STAT_OK) return
         if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
         if (md%mp%nm > 0) then
             call modal_point_tangent(md%mp, nd, q1(1:nd), v1(1:nd), q1(nd + 1:), v1(nd + 1:), sd%cv, &
                                      jac, jru, nl%jpr, nl%jpu)
+            if (md%mp%nfr > 0) then
+                jru = jru + jcru
+                nl%jpr = nl%jpr + jcpr
+                nl%jpu = nl%jpu + jcpu
+            end if
             call modal_factorise(md%mp, sd%cq, sd%cv, 1.0_dp + sd%alpha, mf, info)
             if (info /= STAT_OK) then   ! a singular modal block: Newton fails, sub-steps follow
                 info = STAT_OK
@@ -493,11 +503,47 @@ contains
         real(dp), intent(out) :: f(md%nd + md%mp%nm), w(nwo, 2, md%nw)
         integer, intent(out) :: info
         integer :: nd
+        real(dp) :: u(md%mp%np), ud(md%mp%np), gp(md%mp%np)
         nd = md%nd
+        if (md%mp%nfr > 0) then
+            ! model FR: the contact on the deformed rims gives point forces too
+            call modal_points(md%mp, x(nd + 1:), u)
+            call modal_points(md%mp, xd(nd + 1:), ud)
+            gp = 0.0_dp
+            call force_total(md, rs, x(1:nd), xd(1:nd), f(1:nd), w, info, u=u, ud=ud, gp=gp)
+            call modal_force(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), f(1:nd), &
+                             f(nd + 1:), gext=gp)
+            return
+        end if
         call force_total(md, rs, x(1:nd), xd(1:nd), f(1:nd), w, info)
         if (md%mp%nm > 0) call modal_force(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), &
                                            f(1:nd), f(nd + 1:))
     end subroutine state_force
+
+    !> The rigid tangent (tangent) at x, xd; for model FR also the contact's chain-rule blocks
+    !> jcru, jcpr, jcpu over the attachment points (zero otherwise).
+    subroutine full_tangent(md, rs, x, xd, cv, mode, jac, jcru, jcpr, jcpu, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: x(md%nd + md%mp%nm), xd(md%nd + md%mp%nm), cv
+        integer, intent(in) :: mode
+        real(dp), intent(out) :: jac(md%nd, md%nd), jcru(md%nd, md%mp%np)
+        real(dp), intent(out) :: jcpr(md%mp%np, md%nd), jcpu(md%mp%np, md%mp%np)
+        integer, intent(out) :: info
+        real(dp) :: u(md%mp%np), ud(md%mp%np)
+        integer :: nd
+        nd = md%nd
+        jcru = 0.0_dp
+        jcpr = 0.0_dp
+        jcpu = 0.0_dp
+        if (md%mp%nfr > 0) then
+            call modal_points(md%mp, x(nd + 1:), u)
+            call modal_points(md%mp, xd(nd + 1:), ud)
+            call tangent(md, rs, x(1:nd), xd(1:nd), cv, mode, jac, info, u, ud, jcru, jcpr, jcpu)
+        else
+            call tangent(md, rs, x(1:nd), xd(1:nd), cv, mode, jac, info)
+        end if
+    end subroutine full_tangent
 
     !> A failure of one trial state (outside the table, a BEM patch failing): recorded in
     !> tally%why; the step then fails softly and is retried with sub-steps.
@@ -685,21 +731,27 @@ contains
         type(newton_lin), intent(inout) :: nl
         integer, intent(out) :: info
         real(dp) :: jac(md%nd, md%nd), jv(md%nd, md%nd), jru(md%nd, md%mp%np)
+        real(dp) :: jcru(md%nd, md%mp%np), jcpr(md%mp%np, md%nd), jcpu(md%mp%np, md%mp%np)
+        real(dp) :: jvru(md%nd, md%mp%np), jvpr(md%mp%np, md%nd), jvpu(md%mp%np, md%mp%np)
         integer :: nd, np, nt, i, j, lin
         nd = md%nd
         np = md%mp%np
         nt = nd + np
-        call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_QV, jac, info)
+        call full_tangent(md, rs, x, xd, 0.0_dp, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
         if (info /= STAT_OK) return
         if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
         call modal_point_tangent(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), 0.0_dp, &
                                  jac, jru, nl%jpr, nl%jpu)
+        jru = jru + jcru
+        nl%jpr = nl%jpr + jcpr
+        nl%jpu = nl%jpu + jcpu
         if (any(spin)) then     ! spin rates as unknowns (as static_tangent)
-            call tangent(md, rs, x(1:nd), xd(1:nd), 0.0_dp, TANGENT_V, jv, info)
+            call full_tangent(md, rs, x, xd, 0.0_dp, TANGENT_V, jv, jvru, jvpr, jvpu, info)
             if (info /= STAT_OK) return
             do j = 1, nd
                 if (.not. spin(j)) cycle
                 jac(:, j) = jv(:, j)
+                nl%jpr(:, j) = nl%jpr(:, j) - jcpr(:, j) + jvpr(:, j)
                 if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
             end do
         end if

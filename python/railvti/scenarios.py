@@ -1,6 +1,9 @@
 """Vehicle-track scenarios on straight track: centred running, hunting, critical speed.
 
-Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Contact models:
+Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model 'FR'
+(centred running only, so far): the same with flexible rotating wheelsets
+(railvti.vehicle.flexible: free-free elastic modes coupled through the rims and journals,
+docs/vehicle_integrator.md "Flexible wheelsets (FR)"). Contact models:
 'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
 'hertz-fastsim' (Hertz + FASTSIM) and 'bem' (the BEM normal + steady-rolling solvers on
 0.75 mm grids at every wheel, railvti.vehicle.bem). S1002 wheels on UIC60 rails inclined 1:40.
@@ -33,7 +36,9 @@ from .vehicle.table import WheelTable, linearised_table, wheel_table
 
 log = logging.getLogger(__name__)
 
-MODELS = ("RR",)
+MODELS = ("RR", "FR")
+#: Scenarios that run model FR so far (hunting, bifurcation and critical speed: RR only).
+_FR_SCENARIOS = ("centred_running", "coach_system")
 _PROFILES: dict[str, Any] = {}
 
 
@@ -60,21 +65,37 @@ def equivalent_conicity(amplitude: float = 0.003) -> float:
     return float(eqc(ctab(w, r, y), a))
 
 
-def _check_model(model: str, contact: str) -> None:
+def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
         raise InputError(f"model {model!r} is not available; the time simulation has {MODELS} "
-                         "(flexible wheelsets / ring track are not coupled yet)")
+                         "(the ring track is not coupled yet)")
+    if model == "FR" and scenario not in _FR_SCENARIOS:
+        raise InputError(f"model 'FR' is not available in {scenario or 'this scenario'} yet "
+                         f"(only {_FR_SCENARIOS}); use model='RR'")
     contact_id(contact)
 
 
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
-                 linear_conicity: float | None = None) -> System:
+                 linear_conicity: float | None = None, speed_kmh: float | None = None,
+                 k_max: int = 2, f_max: float = 800.0) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
-    equivalent linearisation (rolling radius linear in y, no flange)."""
-    _check_model(model, "hertz-kalker")
+    equivalent linearisation (rolling radius linear in y, no flange).
+
+    Model 'FR' (flexible wheelsets, :func:`railvti.vehicle.flexible.build_fr`) needs
+    ``speed_kmh`` (its modal matrices depend on the spin) and takes the mode selection
+    ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
+    """
+    _check_model(model, "hertz-kalker", "coach_system")
     tab = contact_table()
     if linear_conicity is not None:
         tab = linearised_table(tab, linear_conicity)
+    if model == "FR":
+        if linear_conicity is not None:
+            raise InputError("model 'FR' with a linearised table is not available yet")
+        if speed_kmh is None:
+            raise InputError("model 'FR' needs speed_kmh (the modes depend on the spin)")
+        from .vehicle.flexible import build_fr
+        return build_fr(coach or Coach(), tab, speed_m_s(speed_kmh), k_max=k_max, f_max=f_max)[0]
     return build_coach(coach or Coach(), tab)
 
 
@@ -98,6 +119,12 @@ class CentredRunning:
         velocity, friction power density on the 0.75 mm grid). Otherwise: Hertz pressure,
         FASTSIM tractions, slip and friction power density on a 40 x 40 strip grid of the
         Hertz ellipse, from the run's normal force, semi-axes and creepages.
+    model : str
+        'RR' or 'FR'.
+    rim_angle : ndarray (2, 4) or None
+        Model FR: the change of the rim-rail angle from the rims' camber at the end of the
+        run, rad [wheel, wheelset] (+: the tread's inner edge rises;
+        railvti.vehicle.flexible.rim_rail_angle_change); None for RR.
     """
 
     Q: np.ndarray
@@ -108,6 +135,8 @@ class CentredRunning:
     speed_kmh: float
     contact: str
     patch: Any = None
+    model: str = "RR"
+    rim_angle: np.ndarray | None = None
 
     @property
     def q_error(self) -> float:
@@ -116,7 +145,7 @@ class CentredRunning:
 
 
 def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = "hertz-kalker", *,
-                    duration: float = 1.0, h: float = 1e-3, coach: Coach | None = None,
+                    duration: float = 1.0, h: float | None = None, coach: Coach | None = None,
                     **kw: Any) -> CentredRunning:
     """Centred running on straight ideal track: the steady state and Q, Y per wheel.
 
@@ -128,14 +157,25 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
         'RR'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
     duration : float
         Simulated time after the static equilibrium, s.
-    h : float
-        Time step, s.
+    h : float, optional
+        Time step, s (default 1 ms; model FR: 1 ms divided into as many parts as the highest
+        kept mode needs, h omega_max <= 2).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
+    **kw
+        Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection.
     """
     v = speed_m_s(speed_kmh)
-    _check_model(model, contact)
-    sy = coach_system(model, coach)
+    _check_model(model, contact, "centred_running")
+    if model == "FR":
+        sy = coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", 2),
+                          f_max=kw.pop("f_max", 800.0))
+    else:
+        sy = coach_system(model, coach)
+    if h is None:
+        h = 1e-3
+        if sy.modal is not None:
+            h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
     if contact == "bem":
         from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
@@ -146,8 +186,13 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
         q0, v0, _ = static_equilibrium(sy, v, contact, return_velocity=True)
         run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
+    rim = None
+    if model == "FR":
+        from .vehicle.flexible import rim_rail_angle_change
+        rim = rim_rail_angle_change(sy, run.q[-1])
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
-                          run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch)
+                          run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch,
+                          model=model, rim_angle=rim)
 
 
 def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
@@ -175,7 +220,7 @@ def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", 
     ``q0``/``v0`` continue from a given state instead (speed sweeps).
     """
     v = speed_m_s(speed_kmh)
-    _check_model(model, contact)
+    _check_model(model, contact, "hunting")
     sy = coach_system(model, coach)
     if q0 is None:
         qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
@@ -283,7 +328,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         raise InputError("speeds_kmh must hold at least two speeds > 0")
     v_min = _checks.positive("v_min_kmh", v_min_kmh)
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
-    _check_model(model, contact)
+    _check_model(model, contact, "bifurcation")
     sy = coach_system(model, coach)
     bar = None
     if progress:
@@ -464,7 +509,7 @@ def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str
     ``kmh`` is NaN and ``no_decay_below_kmh`` says down to where it was searched; ``branch``
     names the tread or flange cycle that defines it).
     """
-    _check_model(model, contact)
+    _check_model(model, contact, "critical_speed")
     if method == "linear":
         damper = kw.get("damper", "stuck")
         v, f = linear_critical_speed(model, coach, **kw)

@@ -167,6 +167,8 @@ class System:
         mb = self.modal
         if mb is None:
             return self
+        if mb.couplings is not None:
+            raise InputError("dense_equivalent: modal couplings (model FR) are not assembled")
         n, nm = self.n, mb.n_modes
         nt = n + nm
         m = np.zeros((nt, nt))

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -95,6 +95,97 @@ class PointElement:
         return cls("hertz", point, dof, (stiffness, clearance, damping))
 
 
+#: Linear coupling kinds: name -> Fortran id (vehicle_modal LC_*).
+COUPLING_KINDS = {"split": 1, "gyro": 2}
+
+
+@dataclass(frozen=True)
+class ModalCouplings:
+    """Couplings of ModalBlocks' points with combinations of rigid DOFs, and flexible rims.
+
+    Linear couplings e (point p, rigid direction g over the System's DOFs, parameters
+    (k, c, f0)):
+
+    - 'split': a spring/damper between g.q and u_p whose rigid-rigid part is already in the
+      System's K, C and f0 (a journal spring of a flexible wheelset): the point gets
+      k (g.q - u_p) + c (g.v - u_p') + f0, the rigid DOFs g (k u_p + c u_p');
+    - 'gyro': a skew velocity coupling (Coriolis terms): the point gets k g.v, the rigid
+      DOFs -g k u_p'.
+
+    Flexible rims (model FR): for wheelset ``rim_wheelsets[i]`` (0-based) the points of the
+    elastic displacement (track y, z) of each wheel's rim reference point and the rim's
+    rotation about x, ``rim_points[:, w, i]`` for w = 0 left, 1 right; ``rim_arms[:, i]``
+    the reference point's lateral distance from the wheelset centre and depth below it, m.
+    The wheel-rail contact of that wheelset is evaluated on the moved wheels and its
+    generalised forces act on these points (docs/vehicle_integrator.md, "Flexible wheelsets").
+
+    Attributes
+    ----------
+    kinds : tuple of str
+    points : ndarray (nlc,) int
+    directions : ndarray (n_dofs, nlc)
+    params : ndarray (3, nlc)
+    rim_wheelsets : ndarray (nfr,) int
+    rim_points : ndarray (3, 2, nfr) int
+    rim_arms : ndarray (2, nfr)
+    """
+
+    kinds: tuple
+    points: np.ndarray
+    directions: np.ndarray
+    params: np.ndarray
+    rim_wheelsets: np.ndarray
+    rim_points: np.ndarray
+    rim_arms: np.ndarray
+
+    def __post_init__(self) -> None:
+        for k in self.kinds:
+            if k not in COUPLING_KINDS:
+                raise InputError(f"unknown coupling kind {k!r}; one of {sorted(COUPLING_KINDS)}")
+        nlc = len(self.kinds)
+        pts = np.asarray(self.points, dtype=np.int32).reshape(nlc)
+        g = np.asarray(_checks.finite_array("directions", self.directions), dtype=float)
+        par = np.asarray(_checks.finite_array("params", self.params), dtype=float)
+        if g.ndim != 2 or g.shape[1] != nlc or par.shape != (3, nlc):
+            raise InputError(f"directions (n_dofs, {nlc}) and params (3, {nlc}) expected, got "
+                             f"{g.shape} and {par.shape}")
+        rw = np.asarray(self.rim_wheelsets, dtype=np.int32).ravel()
+        rp = np.asarray(self.rim_points, dtype=np.int32).reshape(3, 2, rw.size)
+        ra = np.asarray(_checks.finite_array("rim_arms", self.rim_arms), dtype=float).reshape(2, rw.size)
+        if np.any(ra <= 0):
+            raise InputError("rim arms must be > 0")
+        for name, val in (("points", pts), ("directions", g), ("params", par),
+                          ("rim_wheelsets", rw), ("rim_points", rp), ("rim_arms", ra)):
+            val.setflags(write=False)
+            object.__setattr__(self, name, val)
+        object.__setattr__(self, "kinds", tuple(self.kinds))
+
+    def without_damping(self) -> "ModalCouplings":
+        """The same couplings without the split couplings' dampers."""
+        par = np.array(self.params, copy=True)
+        par[1] = 0.0
+        return replace(self, params=par)
+
+    def arrays(self, n_dofs: int, n_points: int) -> tuple[np.ndarray, ...]:
+        """The core's arrays (1-based indices; a dummy zero 'split' coupling and no rim when
+        empty would leave a zero-size array: a zero-stiffness coupling on point 1 is used)."""
+        if self.directions.shape[0] != n_dofs:
+            raise InputError(f"coupling directions over {self.directions.shape[0]} DOFs: the "
+                             f"system has {n_dofs}")
+        if np.any(self.points < 0) or np.any(self.points >= n_points) or \
+                np.any(self.rim_points < 0) or np.any(self.rim_points >= n_points):
+            raise InputError(f"a coupling or rim on a point outside 0..{n_points - 1}")
+        kinds = np.array([COUPLING_KINDS[k] for k in self.kinds], dtype=np.int32)
+        pts, g, par = self.points + 1, self.directions, self.params
+        if kinds.size == 0:
+            kinds, pts = np.ones(1, np.int32), np.ones(1, np.int32)
+            g, par = np.zeros((n_dofs, 1)), np.zeros((3, 1))
+        rw, rp, ra = self.rim_wheelsets + 1, self.rim_points + 1, self.rim_arms
+        return (kinds, np.asarray(pts, np.int32), np.asfortranarray(g), np.asfortranarray(par),
+                np.asarray(rw, np.int32), np.asfortranarray(rp, dtype=np.int32),
+                np.asfortranarray(ra))
+
+
 @dataclass(frozen=True)
 class ModalBlocks:
     """Modal coordinates Q of flexible bodies, coupled to the rigid DOFs through points.
@@ -127,6 +218,7 @@ class ModalBlocks:
     phi: np.ndarray
     elements: tuple = ()
     names: tuple | None = None
+    couplings: ModalCouplings | None = None
 
     def __post_init__(self) -> None:
         if len(self.damping) != len(self.stiffness) or not self.damping:
@@ -184,8 +276,9 @@ class ModalBlocks:
             p = list(e.params)
             p[1 if e.kind == "linear" else 2] = 0.0
             els.append(PointElement(e.kind, e.point, e.dof, tuple(p)))
+        cpl = self.couplings.without_damping() if self.couplings is not None else None
         return ModalBlocks(tuple(0.5 * (b - b.T) for b in self.damping), self.stiffness, self.phi,
-                           tuple(els), self.names)
+                           tuple(els), self.names, cpl)
 
     @property
     def n_modes(self) -> int:
@@ -286,6 +379,10 @@ class VehicleModel:
             info = core.vehicle_modal_attach_c(self.handle, bs, bb, kb, mb.phi, ptype, prig, ppt,
                                                ppar)
             check(info, "modal blocks")
+            if mb.couplings is not None:
+                kinds, pts, g, par, rw, rp, ra = mb.couplings.arrays(self.n, mb.n_points)
+                info = core.vehicle_modal_couple_c(self.handle, kinds, pts, g, par, rw, rp, ra)
+                check(info, "modal couplings")
         #: size of the integrator's state: rigid DOFs plus modal coordinates
         self.n_state = self.n + (mb.n_modes if mb is not None else 0)
 

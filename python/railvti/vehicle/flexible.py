@@ -1,0 +1,277 @@
+"""Model FR: the coach with flexible rotating wheelsets (issue 14, first coupled step).
+
+Each flexible wheelset keeps its six rigid DOFs in the coach (as in RR) and adds the
+free-free elastic coordinates of :meth:`railvti.wheelset.Wheelset.flexible_body` as one
+modal block (M = I, B = G + D, K of the axle-fixed frame, constant). The modes talk to the
+coach only through attachment points u = Phi Q (docs/vehicle_integrator.md, "Flexible
+wheelsets (FR)"):
+
+- per wheel (0 left, 1 right) the rim's lateral and vertical displacement at the taping
+  line (s = 0) and its rotation about x (camber): the wheel-rail contact is evaluated on the
+  wheel moved by them, and its generalised forces act on these points (vehicle_contact);
+- per journal the x, y, z displacement of the journal centre: the primary springs and
+  dampers (already in the rigid K, C and preload) act on the modes through them ('split'
+  couplings: k (g.q - u) + c (g.v - u') + preload on the point, g (k u + c u') on the coach);
+- the Coriolis coupling of the modes with the rigid wheelset's roll and yaw rates
+  (``rigid_elastic``: 'gyro' couplings).
+
+The state is the coach's DOFs followed by 4 x nq modal coordinates.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._status import check
+from ..errors import InputError
+from .assembly import System, _body_point, build_coach
+from .model import ModalBlocks, ModalCouplings
+from .params import Coach
+from .table import WheelTable
+
+#: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
+#: of the left and right journal, the roll and yaw Coriolis rows.
+POINTS_PER_WHEELSET = 14
+RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z",
+              "rim_right_rx")
+
+
+@dataclass(frozen=True)
+class FRLayout:
+    """Where a flexible wheelset's coordinates and points are in an FR System.
+
+    Attributes
+    ----------
+    wheelset : int
+        0-based wheelset (0 leading).
+    modes : slice
+        Its modal coordinates in the state (after the rigid DOFs: ``System.n + ...``).
+    points : slice
+        Its attachment points (rows of ``System.modal.phi``): RIM_POINTS, then journal left
+        x, y, z, right x, y, z, then the roll and yaw Coriolis rows.
+    """
+
+    wheelset: int
+    modes: slice
+    points: slice
+
+
+def primary_preload(coach: Coach, system: System) -> np.ndarray:
+    """The static displacement qu of the sprung bodies that build_coach's preload stands for
+    (K_uu qu = -F_g,u with the wheelsets held), over the system's DOFs."""
+    p = coach.params
+    n = system.n
+    fg = np.zeros(n)
+    fg[1] = -p["carbody_mass"] * p["gravity"]
+    fg[system.index("bogie1_z")] = -p["bogie_mass"] * p["gravity"]
+    fg[system.index("bogie2_z")] = -p["bogie_mass"] * p["gravity"]
+    up = np.arange(17)
+    qu = np.zeros(n)
+    qu[up] = np.linalg.solve(system.k[np.ix_(up, up)], -fg[up])
+    return qu
+
+
+def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int, int, np.ndarray]]:
+    """(side w [0 left, 1 right], component c, g = G_bogie - G_wheelset row c) of the primary
+    springs of wheelset i, as build_coach assembles them."""
+    p = coach.params
+    n = system.n
+    r0 = p["wheel_radius"]
+    hb = p["bogie_cg_height"]
+    xb = (p["half_bogie_distance"], -p["half_bogie_distance"])
+    xw = system.x_wheelsets
+    f = {c: system.index(f"bogie{i // 2 + 1}_{c}") for c in ("y", "z", "roll", "pitch", "yaw")}
+    wb = {c: system.index(f"ws{i + 1}_{c}") for c in ("x", "y", "z", "roll", "yaw")
+          if f"ws{i + 1}_{c}" in system.dof_names}
+    out = []
+    for w, side in enumerate((1.0, -1.0)):
+        pt = (xw[i], side * p["primary_half_spacing"], r0)
+        g = (_body_point(n, f, (xb[i // 2], 0.0, hb), pt)
+             - _body_point(n, wb, (xw[i], 0.0, r0), pt))
+        for c in range(3):
+            out.append((w, c, g[c]))
+    return out
+
+
+def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
+             f_max: float = 800.0, damping_ratio: float = 0.005,
+             flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
+             body=None) -> tuple[System, list[FRLayout]]:
+    """The coach with flexible wheelsets (model FR) at one speed.
+
+    Parameters
+    ----------
+    coach : Coach
+    table : WheelTable
+    speed : float
+        Running speed, m/s (the modal matrices depend on the spin Omega = speed / r0).
+    wheelset : railvti.wheelset.Wheelset, optional
+        The FE wheelset (default: ``Wheelset()``, the passenger wheelset of the coach).
+    k_max, f_max, damping_ratio
+        Mode selection and modal damping (:meth:`Wheelset.flexible_body`).
+    flexible : tuple of int
+        0-based wheelsets made flexible (the others stay rigid).
+    zero_rows : bool
+        Set every attachment row to zero (the modes decouple: the coach must then run
+        exactly as RR; a check of the coupling's bookkeeping).
+    body : FlexibleWheelset, optional
+        A ready flexible body (skips the modal solve).
+
+    Returns
+    -------
+    System, list of FRLayout
+    """
+    from ..wheelset import Wheelset
+    sy = build_coach(coach, table)
+    if "ws1_x" not in sy.dof_names:
+        raise InputError("model FR needs the six-DOF wheelsets")
+    flexible = tuple(sorted(set(int(i) for i in flexible)))
+    if not flexible or any(i not in (0, 1, 2, 3) for i in flexible):
+        raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")
+    if body is None:
+        ws = wheelset if wheelset is not None else Wheelset()
+        body = ws.flexible_body(speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio)
+    nq = body.n
+    if nq == 0:
+        raise InputError(f"no elastic mode below f_max = {f_max} Hz")
+    p = coach.params
+    qu = primary_preload(coach, sy)
+    kp = (p["primary_kx"], p["primary_ky"], p["primary_kz"])
+    cp = (p["primary_cx"], p["primary_cy"], p["primary_cz"])
+    npt = POINTS_PER_WHEELSET * len(flexible)
+    phi = np.zeros((npt, nq * len(flexible)))
+    kinds, pts, dirs, pars = [], [], [], []
+    rim_pts = np.zeros((3, 2, len(flexible)), dtype=int)
+    layouts = []
+    geo_y = _rim_lateral(body)
+    for j, i in enumerate(flexible):
+        p0, m0 = POINTS_PER_WHEELSET * j, nq * j
+        rows = np.zeros((POINTS_PER_WHEELSET, nq))
+        for w, side in enumerate((1, 0)):           # vehicle wheel 0 left = FE side 1
+            rows[3 * w:3 * w + 3] = body.rows(side, 0.0)[1:4]
+            rows[6 + 3 * w:9 + 3 * w] = body.journal[side][0:3]
+            rim_pts[:, w, j] = p0 + 3 * w + np.arange(3)
+        rows[12] = body.rigid_elastic[:, 0]
+        rows[13] = body.rigid_elastic[:, 1]
+        if not zero_rows:
+            phi[p0:p0 + POINTS_PER_WHEELSET, m0:m0 + nq] = rows
+        for w, c, g in _journal_directions(coach, sy, i):
+            kinds.append("split")
+            pts.append(p0 + 6 + 3 * w + c)
+            dirs.append(g)
+            pars.append((kp[c], cp[c], -kp[c] * float(g @ qu)))   # preload: f0 = fg + K qu
+        for r, name in ((12, "roll"), (13, "yaw")):
+            g = np.zeros(sy.n)
+            g[sy.index(f"ws{i + 1}_{name}")] = 1.0
+            kinds.append("gyro")
+            pts.append(p0 + r)
+            dirs.append(g)
+            pars.append((body.omega, 0.0, 0.0))
+        layouts.append(FRLayout(i, slice(sy.n + m0, sy.n + m0 + nq), slice(p0, p0 + POINTS_PER_WHEELSET)))
+    cpl = ModalCouplings(kinds=tuple(kinds), points=np.array(pts), directions=np.array(dirs).T,
+                         params=np.array(pars).T, rim_wheelsets=np.array(flexible),
+                         rim_points=rim_pts,
+                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))))
+    b = body.gyro + body.damping
+    names = tuple(f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq))
+    mb = ModalBlocks(damping=tuple(b for _ in flexible),
+                     stiffness=tuple(body.stiffness for _ in flexible), phi=phi, names=names,
+                     couplings=cpl)
+    return sy.with_modal(mb), layouts
+
+
+def _rim_lateral(body) -> float:
+    """Lateral distance of the taping line (s = 0) from the wheelset centre, m."""
+    return float(abs(body._edges[0].y_contact))
+
+
+def body_radius(body) -> float:
+    """The tread radius of the rim edge (depth of the taping line below the axle), m."""
+    return float(body._edges[0].r_tread)
+
+
+def point_forces(system: System, speed: float, x: np.ndarray, xd: np.ndarray | None = None,
+                 contact: str = "hertz-kalker") -> np.ndarray:
+    """The forces g_p on the attachment points of an FR system at state x (rates xd): the
+    contact's generalised forces on the rims, the journal springs' forces, the Coriolis terms.
+
+    Evaluated by the core on a probe system with the same couplings whose modes are the
+    points themselves (phi = I, B = K = 0): its modal forces are g_p.
+
+    Returns
+    -------
+    ndarray (n_points,)
+        N on displacement points, N m on rotation points.
+    """
+    from .model import CallSettings
+    from .simulate import contact_id
+    mb = system.modal
+    if mb is None or mb.couplings is None:
+        raise InputError("point_forces needs an FR system (modal blocks with couplings)")
+    npt = mb.n_points
+    probe = ModalBlocks(damping=(np.zeros((npt, npt)),), stiffness=(np.zeros((npt, npt)),),
+                        phi=np.eye(npt), couplings=mb.couplings)
+    ps = system.with_modal(probe)
+    n = system.n
+    x = np.asarray(x, dtype=float)
+    xd = np.zeros_like(x) if xd is None else np.asarray(xd, dtype=float)
+    xp = np.concatenate([x[:n], mb.phi @ x[n:]])
+    xdp = np.concatenate([xd[:n], mb.phi @ xd[n:]])
+    f, _, info = ps.native.state_force(CallSettings(speed, contact_id(contact)), xp, xdp)
+    check(info, "FR point forces")
+    return np.asarray(f[n:])
+
+
+def attachment_loads(system: System, layout: FRLayout, gp: np.ndarray) -> np.ndarray:
+    """The 14 loads over railvti.wheelset.flexible.ATTACHMENT_DOFS (contact right x, y, z,
+    rx, left ..., journal right x, y, z, left ...) of one flexible wheelset from the point
+    forces gp (the rims' x force is not coupled: 0)."""
+    g = np.asarray(gp)[layout.points]
+    f = np.zeros(14)
+    f[5:8] = g[0:3]        # left rim (FE side 1): y, z, rx
+    f[1:4] = g[3:6]        # right rim (FE side 0)
+    f[11:14] = g[6:9]      # left journal
+    f[8:11] = g[9:12]      # right journal
+    return f
+
+
+def attachment_deflection(system: System, layout: FRLayout, x: np.ndarray) -> np.ndarray:
+    """The 14 attachment displacements (ATTACHMENT_DOFS order; rim x from its row 0) of one
+    flexible wheelset at state x: the coupled model's u = Phi Q."""
+    u = system.modal.phi[layout.points] @ np.asarray(x)[system.n:]
+    d = np.full(14, np.nan)
+    d[5:8], d[1:4] = u[0:3], u[3:6]
+    d[11:14], d[8:11] = u[6:9], u[9:12]
+    return d
+
+
+def rim_deformation(system: System, x: np.ndarray) -> np.ndarray:
+    """The rims' elastic deformation at state x (or states, rows of a 2-D x).
+
+    Returns
+    -------
+    ndarray (..., 3, 2, 4)
+        (dy, dz, drx) [m, m, rad] of wheel 0 left / 1 right of each wheelset (zero for a
+        rigid one), track axes: dy + left, dz up, drx about x (+: the wheel's points at
+        larger y rise).
+    """
+    mb = system.modal
+    if mb is None or mb.couplings is None:
+        raise InputError("rim_deformation needs an FR system")
+    x = np.asarray(x, dtype=float)
+    u = x[..., system.n:] @ mb.phi.T
+    out = np.zeros(x.shape[:-1] + (3, 2, 4))
+    cp = mb.couplings
+    for j, i in enumerate(cp.rim_wheelsets):
+        out[..., :, :, i] = u[..., cp.rim_points[:, :, j]]
+    return out
+
+
+def rim_rail_angle_change(system: System, x: np.ndarray) -> np.ndarray:
+    """The change of each wheel's rim-rail angle from the rim's camber, rad, (..., 2, 4)
+    [wheel 0 left / 1 right, wheelset]: positive when the tread's inner edge rises against
+    its outer edge (-drx at the left wheel, +drx at the right; the paper's 25 -> 26 mrad is
+    +1 mrad)."""
+    d = rim_deformation(system, x)[..., 2, :, :]
+    return d * np.array([-1.0, 1.0])[:, None]

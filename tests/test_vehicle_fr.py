@@ -1,0 +1,155 @@
+"""Model FR: the coach with flexible wheelsets (railvti.vehicle.flexible), first coupled step.
+
+Checks against independent references: the rigid model RR (decoupled modes), the wheelset's
+own modal statics (FlexibleWheelset.static_deflection under the coupled model's point
+forces), and the Hertz potential (the rims' generalised forces are its gradient).
+"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from railvti import scenarios
+from railvti.errors import InputError
+from railvti.vehicle.flexible import (attachment_deflection, attachment_loads, build_fr,
+                                      point_forces, rim_rail_angle_change)
+from railvti.vehicle.model import CallSettings, ModalBlocks
+from railvti.vehicle.params import Coach, speed_m_s
+from railvti.vehicle.simulate import contact_id, simulate, static_equilibrium
+from railvti.wheelset import Wheelset
+
+V = speed_m_s(200.0)
+
+
+@pytest.fixture(scope="module")
+def body():
+    return Wheelset().flexible_body(V)
+
+
+@pytest.fixture(scope="module")
+def rr():
+    sy = scenarios.coach_system("RR")
+    q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+    return sy, q, v
+
+
+@pytest.fixture(scope="module")
+def fr(body):
+    sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body)
+    q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+    return sy, lay, q, v
+
+
+def test_zero_rows_reproduce_rr(body, rr):
+    """All attachment rows zero: the modes decouple and the coach runs exactly as RR."""
+    sy_rr, q_rr, v_rr = rr
+    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True)
+    q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+    assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
+    assert np.max(np.abs(q0[sy.n:])) == 0.0
+    # a lateral kick, 50 ms at 0.5 ms steps, both models
+    kick = np.zeros(sy.n_state)
+    kick[sy.index("ws1_y")] = 0.05
+    a = simulate(sy_rr, V, 0.05, h=5e-4, q0=q_rr, v0=v_rr + kick[:sy.n])
+    b = simulate(sy, V, 0.05, h=5e-4, q0=q0, v0=v0 + kick)
+    assert np.max(np.abs(b.q[:, :sy.n] - a.q)) < 1e-8
+    assert np.max(np.abs(b.Q - a.Q)) < 1e-8 * sy.wheel_load
+
+
+def test_static_deflection_matches_wheelset_statics(fr, body):
+    """The coupled static rim deflection equals the wheelset's modal statics under the
+    coupled model's own rim and journal forces (the same modes: only the spin's centrifugal
+    terms differ, < 0.1 %), and the rim camber raises each tread's inner edge."""
+    sy, lay, q, v = fr
+    gp = point_forces(sy, V, q, v)
+    for L in lay:
+        f = attachment_loads(sy, L, gp)
+        # loads: contact up near the static wheel load, journals down
+        assert f[2] == pytest.approx(sy.wheel_load, rel=0.02)
+        assert f[6] == pytest.approx(sy.wheel_load, rel=0.02)
+        assert f[10] < 0 and f[13] < 0
+        d = attachment_deflection(sy, L, q)
+        ref = body.static_deflection(f, residual=False)
+        for i in (1, 2, 3, 5, 6, 7, 10, 13):
+            assert d[i] == pytest.approx(ref[i], rel=2e-3, abs=1e-9)
+    ang = rim_rail_angle_change(sy, q)
+    assert np.all(ang > 3e-4) and np.all(ang < 2e-3)
+    np.testing.assert_allclose(ang[0], ang[1], rtol=1e-6)
+
+
+def _probe(sy):
+    """The FR system with its points as coordinates (phi = I, B = K = 0): its modal forces
+    are the point forces g_p, its modal coordinates the rim and journal displacements."""
+    mb = sy.modal
+    npt = mb.n_points
+    probe = ModalBlocks(damping=(np.zeros((npt, npt)),), stiffness=(np.zeros((npt, npt)),),
+                        phi=np.eye(npt), couplings=mb.couplings)
+    return replace(sy, modal=probe)
+
+
+def test_rim_motion_equals_rigid_motion(fr):
+    """Moving both rims as the rigid wheelset moves gives the same wheel poses: a lateral
+    shift (dy = d on both wheels) and a roll (dy = r0 a, dz = +-l0 a, drx = a) give the
+    contact forces on the rims of the rigidly moved wheelset (independent bookkeeping: the
+    rigid path has no rim terms); the rim and wheel forces agree with the wheel outputs."""
+    sy, _, q, v = fr
+    ps = _probe(sy)
+    mb = sy.modal
+    cs = CallSettings(V, contact_id("hertz-kalker"))
+    n = sy.n
+    x0 = np.concatenate([q[:n], mb.phi @ q[n:]])
+    xd0 = np.concatenate([v[:n], mb.phi @ v[n:]])
+    rp = mb.couplings.rim_points[:, :, 0]           # (y, z, rx) x (left, right), wheelset 1
+    l0, r0 = mb.couplings.rim_arms[:, 0]
+
+    def gp(x, xd=xd0):
+        f, wout, info = ps.native.state_force(cs, x, xd)
+        assert info == 0
+        return f[n:][rp], wout
+
+    g0, w0 = gp(x0)
+    # rim forces are this wheel's forces: vertical = Q, lateral = Y (track roll ~ 0)
+    np.testing.assert_allclose(g0[1], w0[0, :, 0], rtol=1e-9)
+    np.testing.assert_allclose(g0[0], w0[1, :, 0], rtol=1e-6, atol=1e-3)
+    for dof, rim in (("ws1_y", [[1, 1], [0, 0], [0, 0]]),
+                     ("ws1_roll", [[r0, r0], [l0, -l0], [1, 1]])):
+        d = 2e-4 if dof == "ws1_y" else 4e-4
+        xa = x0.copy()
+        xa[sy.index(dof)] += d
+        xb = x0.copy()
+        xb[n + rp] += d * np.array(rim)
+        ga, _ = gp(xa)
+        gb, _ = gp(xb)
+        assert np.max(np.abs(ga - g0)) > 10.0          # the motion changes the forces
+        np.testing.assert_allclose(gb, ga, rtol=1e-7, atol=1e-5)
+        # the same for rates: the creepages see the rim rates as the rigid rates
+        d = 1e-3
+        va = xd0.copy()
+        va[sy.index(dof)] += d
+        vb = xd0.copy()
+        vb[n + rp] += d * np.array(rim)
+        ga, _ = gp(x0, va)
+        gb, _ = gp(x0, vb)
+        assert np.max(np.abs(ga - g0)) > 10.0
+        np.testing.assert_allclose(gb, ga, rtol=1e-9, atol=1e-6)
+
+
+def test_centred_running_fr(fr):
+    """centred_running(model='FR') runs and gives the static loads and the rim angle."""
+    c = scenarios.centred_running(200, model="FR", duration=0.05)
+    assert c.model == "FR"
+    assert c.q_error < 0.01
+    assert c.rim_angle.shape == (2, 4)
+    sy, _, q, _ = fr
+    np.testing.assert_allclose(c.rim_angle, rim_rail_angle_change(sy, q), rtol=1e-3)
+
+
+def test_fr_errors():
+    with pytest.raises(InputError, match="FR"):
+        scenarios.hunting(300, model="FR", duration=0.1)
+    with pytest.raises(InputError, match="speed_kmh"):
+        scenarios.coach_system("FR")
+    with pytest.raises(InputError):
+        scenarios.coach_system("XX")
+    with pytest.raises(InputError, match="subset"):
+        build_fr(Coach(), scenarios.contact_table(), V, flexible=(5,))
