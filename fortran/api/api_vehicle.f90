@@ -131,8 +131,8 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     info = stat
 end subroutine vehicle_run_c
 
-!> Steady state of straight running (info: see vehicle_newmark%static_solve, and
-!> static_solve_modal for a model with modal blocks; nd: rigid plus modal DOFs): q and the
+!> Steady state of straight running (info: see vehicle_newmark%static_solve; with modal
+!> blocks over the rigid and modal DOFs, nd their number): q and the
 !> velocities v (zero but the wheelsets' spin rates). Also returns the total force and the
 !> contact outputs there.
 subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit, q, nwo, v, f, &
@@ -140,7 +140,7 @@ subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit,
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK
     use vehicle_model, only: vmodel, vsettings, vehicle_call
-    use vehicle_newmark, only: static_solve, static_solve_modal, state_force
+    use vehicle_newmark, only: static_solve, state_force
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, maxit, nwo
     real(c_double), intent(in) :: speed, tol
@@ -159,11 +159,7 @@ subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit,
     call vehicle_call(handle, nd, nw, nwo, rs, md, stat)
     info = stat
     if (stat /= STAT_OK) return
-    if (md%mp%nm > 0) then
-        call static_solve_modal(md, rs, q, v, tol, maxit, it, resid, stat)
-    else
-        call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
-    end if
+    call static_solve(md, rs, q, v, tol, maxit, it, resid, stat)
     iters = it
     call state_force(md, rs, q, v, f, wout, stat2)
     if (stat == STAT_OK) stat = stat2

@@ -267,12 +267,7 @@ contains
         do e = 1, mp%npe
             r = mp%prig(e)
             p = mp%ppt(e)
-            d = u(p)
-            dd = ud(p)
-            if (r > 0) then
-                d = d - q(r)
-                dd = dd - v(r)
-            end if
+            call element_deflection(mp, e, q, v, u, ud, d, dd)
             call point_element(mp%ptype(e), mp%ppar(:, e), d, dd, f, kd, cd)
             gp(p) = gp(p) - f
             if (r > 0) fr(r) = fr(r) + f
@@ -292,6 +287,21 @@ contains
             end do
         end do
     end subroutine modal_force
+
+    !> Deflection d = u_p - q_r of point element e and its rate (q_r = 0 for an element
+    !> grounded, prig = 0).
+    pure subroutine element_deflection(mp, e, q, v, u, ud, d, dd)
+        type(modal_part), intent(in) :: mp
+        integer, intent(in) :: e
+        real(dp), intent(in) :: q(:), v(:), u(:), ud(:)
+        real(dp), intent(out) :: d, dd
+        d = u(mp%ppt(e))
+        dd = ud(mp%ppt(e))
+        if (mp%prig(e) > 0) then
+            d = d - q(mp%prig(e))
+            dd = dd - v(mp%prig(e))
+        end if
+    end subroutine element_deflection
 
     !> The point elements' tangent d/dx + cv d/dx' (x = q or u) in four blocks: jrr (nd x nd,
     !> added), jru (nd x np), jpr (np x nd), jpu (np x np) of the forces on the rigid DOFs (r)
@@ -313,12 +323,7 @@ contains
         do e = 1, mp%npe
             r = mp%prig(e)
             p = mp%ppt(e)
-            d = u(p)
-            dd = ud(p)
-            if (r > 0) then
-                d = d - q(r)
-                dd = dd - v(r)
-            end if
+            call element_deflection(mp, e, q, v, u, ud, d, dd)
             call point_element(mp%ptype(e), mp%ppar(:, e), d, dd, f, kd, cd)
             s = kd + cv * cd
             jpu(p, p) = jpu(p, p) - s

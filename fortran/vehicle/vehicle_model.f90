@@ -420,14 +420,7 @@ contains
             if (info /= STAT_OK) return
             do jj = 1, n
                 j = idx(jj)
-                qp = q
-                vp = v
-                if (mode == TANGENT_QV) then
-                    qp(j) = q(j) + eps
-                    vp(j) = v(j) + cv * eps
-                else
-                    vp(j) = v(j) + eps
-                end if
+                call perturbed(q, v, j, mode, cv, eps, qp, vp)
                 f1w = 0.0_dp
                 if (ir > 0) then
                     g1 = 0.0_dp
@@ -443,14 +436,7 @@ contains
             ! the rim points' columns
             do jj = 1, 6
                 j = pts(jj)
-                up = u
-                udp = ud
-                if (mode == TANGENT_QV) then
-                    up(j) = u(j) + eps
-                    udp(j) = ud(j) + cv * eps
-                else
-                    udp(j) = ud(j) + eps
-                end if
+                call perturbed(u, ud, j, mode, cv, eps, up, udp)
                 f1w = 0.0_dp
                 g1 = 0.0_dp
                 call add_contact(md, rs, w, q, v, f1w, wout, info, cheap=.true., u=up, ud=udp, gp=g1)
@@ -460,6 +446,22 @@ contains
             end do
         end do
     end subroutine contact_tangent
+
+    !> The state (x, xd) with coordinate j perturbed for a forward difference of tangent's
+    !> mode: TANGENT_QV moves x_j by eps and xd_j by cv eps together, TANGENT_V xd_j by eps.
+    pure subroutine perturbed(x, xd, j, mode, cv, eps, xp, xdp)
+        real(dp), intent(in) :: x(:), xd(:), cv, eps
+        integer, intent(in) :: j, mode
+        real(dp), intent(out) :: xp(:), xdp(:)
+        xp = x
+        xdp = xd
+        if (mode == TANGENT_QV) then
+            xp(j) = x(j) + eps
+            xdp(j) = xd(j) + cv * eps
+        else
+            xdp(j) = xd(j) + eps
+        end if
+    end subroutine perturbed
 
     !> Whether DOF j is a wheelset spin perturbation beta (no stiffness: only its rate enters).
     pure logical function is_spin(md, j)

@@ -29,7 +29,7 @@ module vehicle_newmark
                              modal_solve, modal_points
     implicit none
     private
-    public :: newmark_run, static_solve, static_solve_modal, state_force, hht_options, NSTATS
+    public :: newmark_run, static_solve, state_force, hht_options, NSTATS
 
     !> Length of newmark_run's stats.
     integer, parameter :: NSTATS = 10
@@ -579,94 +579,13 @@ contains
     !> the wheelsets' spin perturbations beta, which are unknowns in place of the angles
     !> (no force depends on beta; free rolling fixes betadot). Newton's method with step
     !> halving on the residual; the spin columns of the tangent are dF/dv.
+    !> With modal blocks the unknowns include the modal coordinates and the tangent is condensed
+    !> onto the points as in the time step, with cq = cv = 0: S = K_m (elastic modes only: a
+    !> singular block gives STAT_SINGULAR); without, this is the plain dense Newton.
+    !> x, xd: the whole state (nd + nm); xd is zero but the spin rates.
     !> info: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR (singular tangent), or a contact
-    !> failure of force_total (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE, ...).
-    subroutine static_solve(md, rs, q, v, tol, maxit, iters, resid, info)
-        type(vmodel), intent(in) :: md
-        type(vsettings), intent(in) :: rs
-        real(dp), intent(inout) :: q(md%nd)
-        real(dp), intent(out) :: v(md%nd)
-        real(dp), intent(in) :: tol
-        integer, intent(in) :: maxit
-        integer, intent(out) :: iters, info
-        real(dp), intent(out) :: resid
-        real(dp) :: f(md%nd), ftry(md%nd), jac(md%nd, md%nd), dq(md%nd)
-        real(dp) :: wk(nwo, 2, md%nw), s, r0, r1
-        logical :: spin(md%nd)
-        integer :: ipiv(md%nd), it, lin, ls, j
-        v = 0.0_dp
-        iters = 0
-        resid = 0.0_dp
-        do j = 1, md%nd
-            spin(j) = is_spin(md, j)
-        end do
-        call force_total(md, rs, q, v, f, wk, info)
-        if (info /= STAT_OK) return
-        r0 = norm2(f)
-        do it = 1, maxit
-            iters = it
-            call static_tangent(md, rs, q, v, spin, jac, info)
-            if (info /= STAT_OK) return
-            call dgetrf(md%nd, md%nd, jac, md%nd, ipiv, lin)
-            if (lin /= 0) then
-                info = STAT_SINGULAR
-                return
-            end if
-            dq = f
-            call dgetrs('N', md%nd, 1, jac, md%nd, ipiv, dq, md%nd, lin)
-            s = 1.0_dp
-            do ls = 1, 30
-                call force_total(md, rs, merge(q, q + s * dq, spin), merge(v + s * dq, v, spin), &
-                                 ftry, wk, info)
-                if (info == STAT_OK) then
-                    r1 = norm2(ftry)
-                    if (r1 < r0 .or. ls == 30) exit
-                end if
-                s = 0.5_dp * s
-            end do
-            if (info /= STAT_OK) return
-            q = merge(q, q + s * dq, spin)
-            v = merge(v + s * dq, v, spin)
-            f = ftry
-            r0 = r1
-            resid = maxval(abs(s * dq))
-            if (resid <= tol) return
-        end do
-        info = STAT_NOT_CONVERGED
-    end subroutine static_solve
-
-    !> -dF/d(unknowns) of static_solve: dF/dq, with dF/dv in the spin columns (a spin rate
-    !> with no creep force on it, friction 0 or wheels off the rails, is free: its column
-    !> becomes the identity and its equation F_j = 0 holds already).
-    subroutine static_tangent(md, rs, q, v, spin, jac, info)
-        type(vmodel), intent(in) :: md
-        type(vsettings), intent(in) :: rs
-        real(dp), intent(in) :: q(md%nd), v(md%nd)
-        logical, intent(in) :: spin(md%nd)
-        real(dp), intent(out) :: jac(md%nd, md%nd)
-        integer, intent(out) :: info
-        real(dp) :: jv(md%nd, md%nd)
-        integer :: j
-        call tangent(md, rs, q, v, 0.0_dp, TANGENT_QV, jac, info)
-        if (info /= STAT_OK) return
-        if (any(spin)) then
-            call tangent(md, rs, q, v, 0.0_dp, TANGENT_V, jv, info)
-            if (info /= STAT_OK) return
-            do j = 1, md%nd
-                if (.not. spin(j)) cycle
-                jac(:, j) = jv(:, j)
-                if (all(jv(:, j) == 0.0_dp)) jac(j, j) = -1.0_dp
-            end do
-        end if
-        jac = -jac
-    end subroutine static_tangent
-
-    !> static_solve for a model with modal blocks: F(q, Q) = 0 over the rigid DOFs (spin rates
-    !> in place of the spin angles, as static_solve) and the modal coordinates, by Newton with
-    !> step halving. The tangent is condensed onto the points as in the time step, with
-    !> cq = cv = 0: S = K_m (elastic modes only: a singular block gives STAT_SINGULAR).
-    !> x, xd: the whole state (nd + nm); xd is zero but the spin rates. info as static_solve.
-    subroutine static_solve_modal(md, rs, x, xd, tol, maxit, iters, resid, info)
+    !> failure of state_force (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE, ...).
+    subroutine static_solve(md, rs, x, xd, tol, maxit, iters, resid, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(inout) :: x(md%nd + md%mp%nm)
@@ -717,10 +636,12 @@ contains
             if (resid <= tol) return
         end do
         info = STAT_NOT_CONVERGED
-    end subroutine static_solve_modal
+    end subroutine static_solve
 
-    !> The condensed LU of -dF/d(unknowns) for static_solve_modal: static_tangent's rigid part
-    !> (spin columns dF/dv) with the point elements' tangent, S = K_m, C = Phi K_m^-1 Phi^T.
+    !> The condensed LU of -dF/d(unknowns) for static_solve: dF/dq with dF/dv in the spin
+    !> columns (a spin rate with no creep force on it, friction 0 or wheels off the rails, is
+    !> free: its column becomes the identity and its equation F_j = 0 holds already), with the
+    !> point elements' tangent, S = K_m, C = Phi K_m^-1 Phi^T (no modes: the dense -dF/dq).
     !> info: STAT_OK, STAT_SINGULAR, or a contact failure.
     subroutine static_matrix(md, rs, x, xd, spin, mf, nl, info)
         type(vmodel), intent(in) :: md
@@ -745,7 +666,7 @@ contains
         jru = jru + jcru
         nl%jpr = nl%jpr + jcpr
         nl%jpu = nl%jpu + jcpu
-        if (any(spin)) then     ! spin rates as unknowns (as static_tangent)
+        if (any(spin)) then     ! spin rates as unknowns
             call full_tangent(md, rs, x, xd, 0.0_dp, TANGENT_V, jv, jvru, jvpr, jvpu, info)
             if (info /= STAT_OK) return
             do j = 1, nd
@@ -758,12 +679,14 @@ contains
         call modal_factorise(md%mp, 0.0_dp, 0.0_dp, 1.0_dp, mf, info)
         if (info /= STAT_OK) return
         nl%a(1:nd, 1:nd) = -jac
-        nl%a(1:nd, nd + 1:nt) = -jru
-        nl%a(nd + 1:nt, 1:nd) = -matmul(mf%c, nl%jpr)
-        nl%a(nd + 1:nt, nd + 1:nt) = -matmul(mf%c, nl%jpu)
-        do i = nd + 1, nt
-            nl%a(i, i) = nl%a(i, i) + 1.0_dp
-        end do
+        if (np > 0) then
+            nl%a(1:nd, nd + 1:nt) = -jru
+            nl%a(nd + 1:nt, 1:nd) = -matmul(mf%c, nl%jpr)
+            nl%a(nd + 1:nt, nd + 1:nt) = -matmul(mf%c, nl%jpu)
+            do i = nd + 1, nt
+                nl%a(i, i) = nl%a(i, i) + 1.0_dp
+            end do
+        end if
         call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
         if (lin /= 0) info = STAT_SINGULAR
     end subroutine static_matrix

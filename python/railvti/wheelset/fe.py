@@ -163,3 +163,42 @@ def _modes_error(info: int, k: int, bad_element: int, solver_info: int, nm: int)
                     Status.SINGULAR):
         what += f" (LAPACK/ARPACK info {solver_info})"
     return error(info, f"harmonic k={k}: {what}", iterations=0)
+
+
+def eq11_blocks(lam: np.ndarray, gam: np.ndarray, mc: np.ndarray, k: int, omega: float,
+                zeta: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One harmonic's constant blocks of the axle-fixed modal model (Kaiser eq. 11).
+
+    Parameters
+    ----------
+    lam : ndarray (n,)
+        The harmonic's kept eigenvalues omega_i^2 (non-rotating), rad^2/s^2.
+    gam, mc : ndarray (n, n)
+        Its Coriolis matrix Gamma and centrifugal matrix Mc - K_sigma (zero without the
+        centrifugal terms) between the kept modes.
+    k : int
+        The harmonic.
+    omega : float
+        Spin, rad/s.
+    zeta : float
+        Modal damping ratio.
+
+    Returns
+    -------
+    gyro : ndarray (n, n) for k = 0, (2n, 2n) for k > 0 (Q_A block, then Q_B)
+        G = 2 Omega Gamma (k = 0) or 2 Omega [[0, Gamma + k I], [-(Gamma + k I), 0]].
+    stiffness_diag : ndarray (n, n)
+        K of the k = 0 block, or the (equal) diagonal block of Q_A and Q_B for k > 0:
+        Lambda - Omega^2 Mc - k^2 Omega^2 I - 2 k Omega^2 Gamma.
+    damping : ndarray, the shape of gyro
+        diag(2 zeta omega_i).
+    """
+    w = np.sqrt(lam)
+    n = lam.size
+    if k == 0:
+        return 2.0 * omega * gam, np.diag(lam) - omega ** 2 * mc, np.diag(2.0 * zeta * w)
+    eye = np.eye(n)
+    gk = gam + k * eye
+    gyro = 2.0 * omega * np.block([[np.zeros((n, n)), gk], [-gk, np.zeros((n, n))]])
+    kd = np.diag(lam) - omega ** 2 * mc - (k * omega) ** 2 * eye - 2.0 * k * omega ** 2 * gam
+    return gyro, kd, np.diag(np.concatenate([2.0 * zeta * w] * 2))

@@ -41,7 +41,7 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
-from .fe import HarmonicModes, check_harmonic
+from .fe import HarmonicModes, check_harmonic, eq11_blocks
 
 log = logging.getLogger(__name__)
 
@@ -630,26 +630,21 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
         n = lam.size
         if n == 0:
             continue
-        w = np.sqrt(lam)
         gam = h.coriolis[np.ix_(keep, keep)]
         mc = (h.inplane_mass - h.prestress_stiffness)[np.ix_(keep, keep)] if centrifugal \
             else np.zeros_like(gam)
         shp = h.shapes[keep]
+        gk, kd, dk = eq11_blocks(lam, gam, mc, k, om, zeta)
+        gb.append(gk)
+        db.append(dk)
         if k == 0:
-            gb.append(2.0 * om * gam)
-            kb.append(np.diag(lam) - om ** 2 * mc)
-            db.append(np.diag(2.0 * zeta * w))
+            kb.append(kd)
             fam += ["0"] * n
             kq += [0] * n
             fq += list(h.freq_hz[keep])
             shapes.append((0, "0", shp))
         else:
-            eye = np.eye(n)
-            gk = gam + k * eye
-            gb.append(2.0 * om * np.block([[np.zeros((n, n)), gk], [-gk, np.zeros((n, n))]]))
-            kd = np.diag(lam) - om ** 2 * mc - (k * om) ** 2 * eye - 2.0 * k * om ** 2 * gam
             kb.append(np.block([[kd, np.zeros((n, n))], [np.zeros((n, n)), kd]]))
-            db.append(np.diag(np.concatenate([2.0 * zeta * w] * 2)))
             fam += ["A"] * n + ["B"] * n
             kq += [k] * (2 * n)
             fq += list(h.freq_hz[keep]) * 2

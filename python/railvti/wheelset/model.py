@@ -12,7 +12,7 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
-from .fe import HarmonicModes, check_harmonic, solve_harmonic
+from .fe import HarmonicModes, check_harmonic, eq11_blocks, solve_harmonic
 from .geometry import WheelsetGeometry
 from .mesh import MeridianMesh
 
@@ -321,7 +321,6 @@ class Wheelset:
                 theta_frac = np.array([np.sum(s[:, 2] ** 2) / np.sum(s ** 2) for s in h.shapes])
                 keep = ~((h.freq_hz < 0.5) & (theta_frac > 0.9))
             lam = h.lam[keep]
-            w = np.sqrt(lam)
             gam = h.coriolis[np.ix_(keep, keep)]
             mc = h.inplane_mass[np.ix_(keep, keep)] if centrifugal else np.zeros_like(gam)
             if centrifugal:
@@ -330,10 +329,11 @@ class Wheelset:
             n = lam.size
             if n == 0:
                 continue
+            gk, kd, dmp = eq11_blocks(lam, gam, mc, k, om, zeta)
+            blocks_g.append(gk)
+            blocks_d.append(dmp)
             if k == 0:
-                blocks_g.append(2.0 * om * gam)
-                blocks_kk.append(np.diag(lam) - om ** 2 * mc)
-                blocks_d.append(np.diag(2.0 * zeta * w))
+                blocks_kk.append(kd)
                 fam += ["0"] * n
                 kq += [0] * n
                 fq += list(h.freq_hz[keep])
@@ -345,17 +345,12 @@ class Wheelset:
                     sj = shp[:, self._journal_nodes[side], :]
                     j[side] = [sj[:, 1], np.zeros(n), np.zeros(n)]
             else:
-                eye = np.eye(n)
-                gb = gam + k * eye
-                blocks_g.append(2.0 * om * np.block([[np.zeros((n, n)), gb], [-gb, np.zeros((n, n))]]))
-                kd = np.diag(lam) - om ** 2 * mc - (k * om) ** 2 * eye - 2.0 * k * om ** 2 * gam
                 kb = kd.copy()
                 if k == 1:
                     for nj in self._journal_nodes:
                         pj = shp[:, nj, 0]
                         kb = kb + dk * np.outer(pj, pj)
                 blocks_kk.append(np.block([[kd, np.zeros((n, n))], [np.zeros((n, n)), kb]]))
-                blocks_d.append(np.diag(np.concatenate([2.0 * zeta * w] * 2)))
                 fam += ["A"] * n + ["B"] * n
                 kq += [k] * (2 * n)
                 fq += list(h.freq_hz[keep]) * 2
