@@ -114,15 +114,18 @@ def main() -> None:
         print(f"free rolling against the decks' pitch velocity: largest |rel. diff| {np.max(np.abs(diffs)):.1e}")
     FIG.mkdir(exist_ok=True)
     plot_sweep(y_mm * 1e-3, arr, FIG / "contact_a22_sweep.png",
-               xlabel="wheelset shift to the right (the benchmark's y), mm")
+               xlabel="wheelset shift to the right (the benchmark's y), mm",
+               title="Manchester benchmark A-2.2: loaded wheelset, BEM at the decks' kinematics\n"
+                     "(S1002 / UIC60 1:40, 10 kN per wheel, mu 0.3, 0.2 mm elements)")
     fields = {}
     for y_show in (0.0, 5.0, 7.0):
         i = int(np.argmin(np.abs(y_mm - y_show)))
         for side in ("left", "right"):
             for k, p in enumerate(sols[side][i].wheel(side)):
-                fields[f"y = {y_show:g} mm, {side} wheel, patch {k}"] = dict(
+                fields[f"y = {y_show:g} mm, {side} wheel, patch {k + 1}"] = dict(
                     pressure=p.pressure, x=p.grid.x, y=p.grid.y, tx=p.tx, ty=p.ty)
-    plot_fields(fields, FIG / "contact_a22_patches.png")
+    plot_fields(fields, FIG / "contact_a22_patches.png",
+                title="Manchester benchmark A-2.2: pressure and tractions (BEM)")
     print(f"wrote {FIG / 'contact_a22_sweep.png'} and {FIG / 'contact_a22_patches.png'}")
 
 

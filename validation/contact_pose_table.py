@@ -177,6 +177,8 @@ def main() -> None:
                     "continuous through the branch changes (0.2 mm, 6.6 mm)")
     ax[1].grid(True, alpha=0.3)
     ax[1].legend(fontsize=8)
+    fig.suptitle("S1002 on UIC60 1:40: the vehicle's contact table over lateral position and "
+                 "relative roll", fontsize=11)
     fig.tight_layout()
     OUT.parent.mkdir(exist_ok=True)
     fig.savefig(OUT, dpi=120)

@@ -107,7 +107,8 @@ def part_b() -> dict:
         ax.plot(r.t * v, r.y_ws1 * 1e3, label=f"V = {v:.0f} m/s: {wl:.2f} m")
     ax.set_xlabel("distance, m")
     ax.set_ylabel("y, mm")
-    ax.set_title(f"free wheelset, Klingel {out[0][2]:.2f} m")
+    ax.set_title(f"free wheelset on rigid rails (equivalent conicity {lam:.3f}): wavelength\n"
+                 f"against Klingel's {out[0][2]:.2f} m, Hertz + Kalker", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -149,7 +150,8 @@ def part_c() -> dict:
         ax.plot(r.t, drift, label=f"h = {h * 1e3:.1f} ms")
     ax.set_xlabel("time, s")
     ax.set_ylabel("(E - E0) / E_osc")
-    ax.set_title("energy drift, undamped coach, mu = 0")
+    ax.set_title("energy drift of the undamped coach RR at 50 m/s, friction 0\n"
+                 "(vertical disturbance; E_osc the oscillation energy)", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -252,7 +254,9 @@ def part_hunting() -> dict:
     ax[0].set_ylabel("y wheelset 1, mm")
     ax[1].set_xlabel("y wheelset 1, mm")
     ax[1].set_ylabel("dy/dt, m/s")
+    ax[0].set_title("leading wheelset from y0 = 4 mm")
     ax[1].set_title("phase portrait (last second)")
+    fig.suptitle("Coach RR on track elements, Hertz + Kalker: hunting at 300 / 360 / 420 km/h", fontsize=10)
     for a in ax:
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
@@ -292,7 +296,8 @@ def part_bifurcation() -> dict:
         eq.append(vl)
         print(f"    A = {a * 1e3:.1f} mm: conicity {lam:.4f} -> {vl:.1f} km/h")
     plot_bifurcation(b.speeds_kmh, b.upper, b.decay, lin, FIG / "vehicle_bifurcation.png",
-                     equivalent=(np.array(eq), amps))
+                     equivalent=(np.array(eq), amps),
+                     title="Coach RR on track elements, Hertz + Kalker: limit cycles of the leading wheelset")
     return {"linear": lin, "freq": f, "bif": b}
 
 

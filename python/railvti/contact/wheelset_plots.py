@@ -14,13 +14,14 @@ def _plt():
 
 
 def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
-               xlabel: str = "lateral shift y, mm") -> Path:
+               xlabel: str = "lateral shift y, mm", title: str = "") -> Path:
     """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift
-    (``y`` in m, drawn in mm)."""
+    (``y`` in m, drawn in mm); ``title`` names the case above the panels."""
     plt = _plt()
     panels = [("contact_angle", "contact angle, rad", 1.0), ("y_rail", "contact position on rail, mm", 1e3),
               ("fn", "Fn, kN", 1e-3), ("fx", "Fx, kN", 1e-3), ("fy", "Fy, kN", 1e-3),
-              ("pmax", "pmax, MPa", 1e-6), ("xi", "xi, eta (-)", 1.0), ("phi", "spin phi, 1/m", 1.0)]
+              ("pmax", "pmax, MPa", 1e-6), ("xi", "xi (solid), eta (dotted), -", 1.0),
+              ("phi", "spin phi, 1/m", 1.0)]
     panels = [p for p in panels if p[0] in arrays and np.isfinite(arrays[p[0]]).any()]
     ncol = 2
     nrow = (len(panels) + 1) // 2
@@ -31,7 +32,7 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
             for k, ls in enumerate(("-", "--")):
                 v = arrays[key][:, w, k] * scale
                 if np.isfinite(v).any():
-                    ax.plot(y * 1e3, v, ls, color=col, marker=".", ms=3, label=f"{side} {k}")
+                    ax.plot(y * 1e3, v, ls, color=col, marker=".", ms=3, label=f"{side} wheel, patch {k + 1}")
                 if key == "xi":
                     ax.plot(y * 1e3, arrays["eta"][:, w, k], ":", color=col)
         ax.set_ylabel(label)
@@ -41,14 +42,17 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
         ax.set_xlabel(xlabel)
     for ax in axes[len(panels):]:
         ax.set_visible(False)
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return Path(path)
 
 
-def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path) -> Path:
-    """Pressure maps of patches (key 'left0', 'right0', ...) with traction vectors if present."""
+def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, title: str = "") -> Path:
+    """Pressure maps of patches (key 'left0', 'right0', ...) with traction vectors if present
+    (each panel's largest traction drawn one sampling step long; its value in the panel title)."""
     plt = _plt()
     keys = list(fields)
     ncol = min(2, len(keys))
@@ -70,11 +74,14 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path) -> P
             # the largest traction is drawn one sampling step long
             ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], ty, tx, color="w", angles="xy",
                       scale_units="xy", scale=tmax / step, width=0.004)
+            key = f"{key}\narrows: traction, longest = {tmax * 1e-6:.0f} MPa"
         fig.colorbar(im, ax=ax, label="p, MPa")
         ax.set_aspect("equal")
         ax.set_xlabel("lateral y (contact frame), mm")
         ax.set_ylabel("rolling x, mm")
-        ax.set_title(key)
+        ax.set_title(key, fontsize=9)
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -85,7 +85,8 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
 
 
 def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
-                     linear_kmh: float, path: Path, equivalent: tuple | None = None) -> Path:
+                     linear_kmh: float, path: Path, equivalent: tuple | None = None,
+                     title: str = "") -> Path:
     """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);
     ``equivalent`` = (speeds km/h, amplitudes m): linear critical speeds at the equivalent
     conicity of each amplitude (describing-function estimate of the cycle)."""
@@ -100,6 +101,8 @@ def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
         ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear (3 mm conicity), {linear_kmh:.0f} km/h")
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("amplitude wheelset 1, mm")
+    if title:
+        ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
