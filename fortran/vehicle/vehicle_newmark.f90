@@ -33,6 +33,11 @@ module vehicle_newmark
 
     !> Length of newmark_run's stats.
     integer, parameter :: NSTATS = 10
+    !> A full Newton correction at most this large (m, rad; and within the correction
+    !> tolerance) is taken without a residual decrease: the residual is at its round-off
+    !> there. Capped so that a run with the correction test switched off (a huge tol) keeps
+    !> its line search (the defaults, 1e-9 and 1e-8, are below it).
+    real(dp), parameter :: LS_SMALL = 1.0e-8_dp
 
     !> Settings of a run: HHT alpha, Newton tolerance on the correction (m, rad) and iteration
     !> limit, the deepest sub-step level (h / 2^maxsub), the bound on |q| (m, rad) and the
@@ -460,7 +465,7 @@ contains
             end if
             if (info /= STAT_OK) return
             if (rnt < rn .or. ls == 6) exit
-            if (ls == 1 .and. rnt < huge(1.0_dp) .and. maxval(abs(dqv)) <= tol) exit
+            if (ls == 1 .and. rnt < huge(1.0_dp) .and. maxval(abs(dqv)) <= min(tol, LS_SMALL)) exit
             sl = 0.5_dp * sl
         end do
         if (rnt == huge(1.0_dp)) then
@@ -633,6 +638,9 @@ contains
             f = ftry
             r0 = r1
             resid = maxval(abs(s * dx))
+            ! converged: the (possibly cut) correction below tol; a cut step at the noise floor
+            ! of the forces (the BEM's) ends here too, so the caller checks the residual force
+            ! (simulate.static_equilibrium)
             if (resid <= tol) return
         end do
         info = STAT_NOT_CONVERGED

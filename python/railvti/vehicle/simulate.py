@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _checks
 from .._status import Status, check, error
-from ..errors import DivergenceError, InputError, RailvtiError
+from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
@@ -286,7 +286,8 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
     else:
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
-    v, _, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
+    v, f, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
+    fmax = float(np.max(np.abs(f)))
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
         context = "static equilibrium: a wheelset left its contact table"
@@ -296,6 +297,14 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         context = (f"static equilibrium not found after {iters} Newton iterations, last "
                    f"correction {resid:.3g}")
     check(info, context, iterations=int(iters), residual=float(resid))
+    # the Newton correction can end small because the line search cut it: the state is an
+    # equilibrium only if the forces balance too (NEWTON_RTOL of the wheel load, as a step)
+    if not fmax <= NEWTON_RTOL * system.wheel_load:
+        raise ConvergenceError(f"static equilibrium not found: the Newton correction stopped at "
+                               f"{resid:.3g} with an unbalanced force of {fmax:.3g} N (N m) "
+                               f"(limit {NEWTON_RTOL * system.wheel_load:.3g}); try another q0",
+                               iterations=int(iters), residual=fmax)
+    log.debug("static equilibrium: %d iterations, unbalanced force %.3g", iters, fmax)
     return (q, v, wout) if return_velocity else (q, wout)
 
 
