@@ -242,11 +242,31 @@ class CaseType:
             out[alias.key] = value
         return out, problems
 
-    def validate(self, params: dict[str, Any]) -> None:
-        """Raise one InputError listing every problem of ``params`` (for the Python API)."""
-        problems = self.problems(params)
+    def validate(self, params: dict[str, Any]) -> dict[str, Any]:
+        """Check a case's parameters for the Python API and return them with aliases resolved.
+
+        An alias beside its key's default value replaces it (``dict(defaults)`` updated with
+        ``speed_kmh=200`` means 200 km/h); beside another value it is a conflict.
+
+        Raises
+        ------
+        InputError
+            Every problem, listed in one message.
+        """
+        params = dict(params)
+        problems = []
+        for name in [k for k in params if k in self.aliases]:
+            target = self.aliases[name].key
+            if target in params and params[target] == self.defaults.get(target, object()):
+                del params[target]
+            given, probs = self.resolve_aliases({name: params.pop(name), **({target: params[target]}
+                                                                             if target in params else {})})
+            problems += probs
+            params.update(given)
+        problems += self.problems(params)
         if problems:
             raise InputError(f"{self.name} case: " + "; ".join(problems))
+        return params
 
 
 REGISTRY: dict[str, CaseType] = {}
@@ -267,13 +287,13 @@ def _implicit_key(default: Any) -> Key | None:
     return None
 
 
-def validate(type_name: str, params: dict[str, Any]) -> None:
-    """Check the parameters of a case of the registered type ``type_name`` (raises InputError).
+def validate(type_name: str, params: dict[str, Any]) -> dict[str, Any]:
+    """Check the parameters of a case of the registered type ``type_name`` and return them
+    with aliases resolved (:meth:`CaseType.validate`; raises InputError).
 
     Case runners call this first, so the Python API refuses what a deck would refuse."""
     ctype = REGISTRY.get(type_name)
-    if ctype is not None:
-        ctype.validate(params)
+    return dict(params) if ctype is None else ctype.validate(params)
 
 
 def register(case_type: CaseType) -> CaseType:

@@ -135,7 +135,7 @@ def make_gap(params: dict[str, Any]) -> tuple[Grid, np.ndarray, Material]:
 
 def run_normal(params: dict[str, Any]) -> CaseOutput:
     """Normal contact on a grid; force ``fn`` (N) or ``approach`` (m) prescribed."""
-    validate("normal", params)
+    params = validate("normal", params)
     grid, gap, material = make_gap(params)
     r = solve_normal(gap, grid, material, fn=params["fn"], approach=params["approach"],
                      method=params["method"], tol=params["tol"], max_iter=params["max_iter"])
@@ -210,7 +210,7 @@ def run_rolling(params: dict[str, Any]) -> CaseOutput:
     """Steady rolling: normal force ``fn`` (N), friction ``mu``, creepages ``xi``, ``eta`` (1),
     spin ``phi`` (1/m), rolling ``speed`` (m/s). The gap is 'hertz' (``gap_a``, ``gap_b`` in 1/m,
     or the Hertz semi-axes ``semi_a``, ``semi_b`` in m) or 'two_bumps'."""
-    validate("rolling", params)
+    params = validate("rolling", params)
     params = dict(params)
     material = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     if params["gap_a"] is None or params["gap_b"] is None:

@@ -155,7 +155,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     patch's pressure and tractions); origin (where the case comes from, for messages).
     """
     try:
-        validate("wheel_rail", params)
+        params = validate("wheel_rail", params)
         sol = _solve(params)
     except InputError as exc:
         origin = str(params.get("origin") or "")

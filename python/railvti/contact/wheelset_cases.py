@@ -104,7 +104,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     traction fields are stored). The roll is load-controlled (both wheels touch; each carries
     its load).
     """
-    validate("loaded_wheelset", params)
+    params = validate("loaded_wheelset", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"])
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),

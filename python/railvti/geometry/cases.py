@@ -120,7 +120,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     (yaw rising with the shift), gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm,
     amplitude_mm (for the equivalent conicity).
     """
-    validate("geometry_table", params)
+    params = validate("geometry_table", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"], 2)
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
