@@ -90,6 +90,8 @@ class Key:
         """The allowed range as text, e.g. '0 < mu <= 1' is '(0, 1]' here, with the unit."""
         if self.choices:
             return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind == "flag":
+            return "0 or 1"
         if self.lo is None and self.hi is None:
             return ""
         lo = "-inf" if self.lo is None else f"{self.lo:g}"

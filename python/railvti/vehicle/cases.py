@@ -65,7 +65,7 @@ KEYS: dict[str, Key] = {
                           why=_WHY_SPEED),
     "speeds_kmh_step": Key("km/h", "speed step of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH,
                            lo_open=True),
-    **{f"coach_{k}": Key(v[1], f"coach: {k.replace('_', ' ')} ({v[2]})") for k, v in COACH_DEFAULTS.items()},
+    **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (railvti.vehicle.DEFAULTS)") for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
 ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False)}
