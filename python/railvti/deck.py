@@ -14,8 +14,8 @@ Example::
 Every group must be ``&case``; its ``type`` selects a registered case type
 (:mod:`railvti.casetypes`) whose keys it may use. The whole deck is checked
 before any case runs, and every problem is reported at once, each naming the case
-and the key (or the line): the text (UTF-8, a byte-order mark allowed; UTF-16 with its
-byte-order mark; no NUL or other control bytes), the namelist syntax (quotes closed on
+and the key (or the line): the text (UTF-8, a byte-order mark allowed; UTF-16 refused by
+name; no NUL or other control bytes), the namelist syntax (quotes closed on
 their line, each key once per group), the case names (safe HDF5 group names), and
 each value (type, range, plausibility bound, consistency between keys: see
 :meth:`railvti.casetypes.CaseType.problems` and ``railvti cases TYPE``).
@@ -86,20 +86,20 @@ def name_problem(name: Any) -> str | None:
 
 
 def decode_deck(data: bytes, source: str = "deck") -> str:
-    """The text of a deck file's bytes: UTF-8 (a byte-order mark is dropped) or UTF-16 with
-    its byte-order mark.
+    """The text of a deck file's bytes: UTF-8 (a byte-order mark is dropped).
 
     Raises
     ------
     InputError
-        Bytes that are not UTF-8 (a Latin-1 or binary file), a NUL or another control byte;
-        the message names the line and column.
+        UTF-16 or UTF-32 text (named by its byte-order mark), bytes that are not UTF-8 (a
+        Latin-1 or binary file), a NUL or another control byte; the message names the line
+        and column.
     """
-    if data.startswith(codecs.BOM_UTF16_LE) or data.startswith(codecs.BOM_UTF16_BE):
-        try:
-            return check_text(data.decode("utf-16"), source)
-        except UnicodeDecodeError:
-            raise InputError(f"{source}: starts with a UTF-16 byte-order mark but is not UTF-16 text") from None
+    for bom, name in ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
+                      (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16")):
+        if data.startswith(bom):
+            raise InputError(f"{source}: line 1: the deck is {name} text (byte-order mark "
+                             f"{bom.hex(' ').upper()}); save it as UTF-8")
     if data.startswith(codecs.BOM_UTF8):
         data = data[len(codecs.BOM_UTF8):]
     try:
@@ -155,7 +155,11 @@ def _scan(text: str) -> tuple[list[str], list[dict[str, list[int]]]]:
         if quote:
             problems.append(f"line {ln}: unbalanced quote: the {quote} opened at column {qcol} is not "
                             "closed on its line")
-        for m in _TOKEN.finditer("".join(buf)):
+        clean = "".join(buf)
+        for m in re.finditer(r"=", clean):
+            if not re.search(r"[\w)]\s*$", clean[:m.start()]):
+                problems.append(f"line {ln}, column {m.start() + 1}: '=' without a key name before it")
+        for m in _TOKEN.finditer(clean):
             if m.group(1):
                 if m.group(1).lower() == "end":
                     current = None
