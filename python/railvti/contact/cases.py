@@ -59,7 +59,7 @@ KEYS: dict[str, Key] = {
     "tol": Key("1", "relative residual at which the solver stops", lo=0.0, hi=0.1, lo_open=True),
     "max_iter": Key("1", "iteration limit (default: the solver's)", "int", 1, 1e7, optional=True),
     "fn": Key("N", "normal force (or give approach)", lo=0.0, hi=1e7, lo_open=True, optional=True,
-              why="10 MN is 30 times the heaviest wheel load"),
+              why="10 MN is fifty times the wheel load of a 40 t heavy-haul axle"),
     "approach": Key("m", "approach of the bodies (or give fn)", lo=0.0, hi=0.01, lo_open=True, optional=True),
     "semi_a": Key("m", "Hertz semi-axis along x (instead of gap_a, gap_b)", lo=0.0, hi=0.05, lo_open=True,
                   optional=True),

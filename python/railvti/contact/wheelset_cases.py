@@ -67,7 +67,7 @@ def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
 #: Keys of a loaded wheelset shared by ``loaded_wheelset`` and ``wheel_rail``.
 WHEELSET_KEYS: dict[str, Key] = {
     "fz": Key("N", "vertical load per wheel (the vertical contact force)", lo=0.0, hi=1e6, lo_open=True,
-              why="1 MN is four times the heaviest wheel load"),
+              why="1 MN is five times the wheel load of a 40 t heavy-haul axle"),
     "mu": Key("1", "friction coefficient (0: normal contact only)", lo=0.0, hi=MAX_FRICTION,
               why="dry steel on steel is about 0.3-0.6"),
     "speed": Key("m/s", "rolling speed (0: normal contact only)", lo=0.0, hi=MAX_SPEED, why="600 km/h"),

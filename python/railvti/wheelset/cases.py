@@ -66,8 +66,15 @@ KEYS: dict[str, Key] = {
     "k_longitudinal": Key("N/m", "primary suspension stiffness, longitudinal", lo=0.0),
     "k_lateral": Key("N/m", "primary suspension stiffness, lateral", lo=0.0),
     "k_vertical": Key("N/m", "primary suspension stiffness, vertical", lo=0.0),
-    **{k: Key(_GEOMETRY_UNIT.get(k, "m"), _GEOMETRY_MEANING.get(k, k), "int" if k == "web_steps" else "float")
+    **{k: Key(_GEOMETRY_UNIT.get(k, "m"), _GEOMETRY_MEANING.get(k, k), "int" if k == "web_steps" else "float",
+              lo=None if k in ("web_offset", "hub_offset") else 0.0, lo_open=k != "web_steps")
        for k in _GEOMETRY_DEFAULTS},
+    "web_steps": Key("1", _GEOMETRY_MEANING["web_steps"], "int", 1, 100),
+    "poisson": Key("1", _GEOMETRY_MEANING["poisson"], lo=0.0, hi=0.5, hi_open=True),
+    "mesh_size": Key("m", _GEOMETRY_MEANING["mesh_size"], lo=0.002, hi=0.2,
+                     why="a finer mesh has hundreds of thousands of elements"),
+    "axle_mesh_size": Key("m", _GEOMETRY_MEANING["axle_mesh_size"], lo=0.002, hi=0.5,
+                          why="a finer mesh has hundreds of thousands of elements"),
 }
 
 
