@@ -1,0 +1,33 @@
+"""docs/decks.md: its table of plausibility bounds is what the deck check enforces, and every
+case type it names exists."""
+from pathlib import Path
+
+from railvti.deck_registry import case_types
+
+DOC = Path(__file__).resolve().parents[1] / "docs" / "decks.md"
+
+
+def _rows():
+    rows = []
+    for line in DOC.read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 4 and cells[0] not in ("type", "---") and not cells[0].startswith("-"):
+            rows.append(cells)
+    return rows
+
+
+def test_bounds_table_matches_the_checks():
+    types = case_types()
+    rows = _rows()
+    assert len(rows) >= 20
+    for tname, key, allowed, _ in rows:
+        assert tname in types, tname
+        spec = types[tname].keys[key]
+        assert spec.bounds() == allowed, (tname, key, spec.bounds(), allowed)
+
+
+def test_every_case_type_has_documented_keys():
+    """Every key of every case type has a unit and a meaning (for `railvti cases`)."""
+    for tname, ct in case_types().items():
+        missing = [k for k in ct.defaults if k not in ct.keys or not ct.keys[k].meaning]
+        assert not missing, (tname, missing)
