@@ -31,3 +31,10 @@ def test_every_case_type_has_documented_keys():
     for tname, ct in case_types().items():
         missing = [k for k in ct.defaults if k not in ct.keys or not ct.keys[k].meaning]
         assert not missing, (tname, missing)
+
+
+def test_aliases_name_no_key_and_point_to_one():
+    for tname, ct in case_types().items():
+        for alias, a in ct.aliases.items():
+            assert alias not in ct.defaults, (tname, alias)
+            assert a.key in ct.defaults, (tname, alias, a.key)

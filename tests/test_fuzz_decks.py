@@ -266,6 +266,11 @@ SYNTAX = [
     ("fraction-for-integer", deck("normal").replace("nx = 16", "nx = 16.5"), ["key 'nx'", "integer"]),
     ("infinity", deck("normal").replace("fn = 1.0e3", "fn = 1e999"), ["key 'fn'", "finite"]),
     ("minus-infinity", deck("normal").replace("dx = 4.0e-4", "dx = -Infinity"), ["key 'dx'", "finite"]),
+    ("too-many-cases", "&case /\n" * 1001, ["1001 groups", "at most 1000"]),
+    ("many-stray-equals", "&case " + "= " * 5000 + "/", ["'=' without a key", "4999 problems", "and 4959 more"]),
+    ("unclosed-paren-long-line", "&case a" + " (b" * 5000 + " /", ["namelist"]),
+    ("long-duplicate-list", "&case name = 'x', type = 'normal'\n" + " fn = 1.0\n" * 300 + "/",
+     ["key 'fn'", "given 300 times", "..."]),
 ]
 
 
@@ -370,6 +375,26 @@ def test_speed_kmh_alias_converts_to_si():
     assert "speed_kmh" not in case.params
 
 
+def test_si_aliases_of_mm_keys():
+    """SI names of the mm keys convert to them; both names at once are an error."""
+    from railvti.deck import parse_deck
+    (case,) = parse_deck(deck("loaded_wheelset", "y_min = -0.002, y_max = 0.004, dx = 5.0e-4, yaw_per_y = 2.4")
+                         .replace(", y_max_mm = 1.0", ""))
+    p = case.params
+    assert (p["y_min_mm"], p["y_max_mm"], p["dx_mm"], p["yaw_mrad_per_mm"]) == pytest.approx((-2.0, 4.0, 0.5, 2.4))
+    (case,) = parse_deck(deck("wheel_rail", "y = 0.003, yaw = -0.002, gauge = 1.435").replace("y_mm = 1.0,", ""))
+    assert (case.params["y_mm"], case.params["yaw_mrad"], case.params["gauge_mm"]) == pytest.approx((3.0, -2.0, 1435.0))
+
+
+def test_si_alias_beside_its_mm_key(tmp_path, capsys):
+    expect_error(tmp_path, capsys, deck("geometry_table", "y_min = -0.01, y_min_mm = -10.0"),
+                 "'y_min'", "'y_min_mm'", "give one")
+
+
+def test_si_alias_out_of_range_names_the_key_and_bound(tmp_path, capsys):
+    expect_error(tmp_path, capsys, deck("geometry_table", "y_max = 0.2"), "key 'y_max_mm' = 200", "[-50, 50] mm")
+
+
 @pytest.mark.parametrize("seed", range(12))
 def test_random_mutations_of_a_valid_deck(tmp_path, capsys, seed):
     """Random byte-level mutations of a valid deck (deleted, doubled or replaced characters):
@@ -405,6 +430,6 @@ def test_random_mutations_of_a_valid_deck(tmp_path, capsys, seed):
 
 def test_fuzz_suite_size():
     n = (len(BOUNDS) + len(TYPES) + len(WHY) + len(ENCODING) + len(OK_TEXTS) + len(SYNTAX) + len(NAMES)
-         + len(CONSISTENCY) + 12 + 4)
+         + len(CONSISTENCY) + 12 + 7)
     assert n >= 150, n
     assert math.isfinite(n)

@@ -148,12 +148,15 @@ class Key:
 
 @dataclass(frozen=True)
 class Alias:
-    """Another name of a key: an old name (``deprecated``), or the same quantity in a
-    suffixed non-SI unit (``factor`` converts to the key's SI unit, e.g. 1/3.6 for km/h)."""
+    """Another name of a key: an old name (``deprecated``), or the same quantity in another
+    unit named by ``unit`` (``factor`` converts a value to the key's unit: 1/3.6 from km/h to
+    m/s, 1000 from m to mm). Aliases are resolved when a deck is read; the case's parameters
+    hold the key."""
 
     key: str
     factor: float = 1.0
     deprecated: bool = True
+    unit: str = ""
 
 
 @dataclass(frozen=True)

@@ -39,6 +39,10 @@ from .errors import InputError
 
 #: Longest case name (it names an HDF5 group and the plot files).
 MAX_NAME = 64
+#: Most cases in one deck (f90nml's time grows with the square of the groups: 1000 take ~0.5 s).
+MAX_CASES = 1000
+#: Most problems listed in one message (the rest are counted).
+MAX_LISTED = 40
 _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
 
 
@@ -126,7 +130,7 @@ def check_text(text: str, source: str = "deck") -> str:
     return text
 
 
-_TOKEN = re.compile(r"&(\w+)|(/)|(?<![\w.&%])([A-Za-z_]\w*)\s*(\([^)]*\))?\s*=(?!=)")
+_TOKEN = re.compile(r"&(\w+)|(/)|(?<![\w.&%])([A-Za-z_]\w*)[ \t]*(\([^)]{0,80}\))?[ \t]*=(?!=)")
 
 
 def _scan(text: str) -> tuple[list[str], list[dict[str, list[int]]]]:
@@ -157,7 +161,10 @@ def _scan(text: str) -> tuple[list[str], list[dict[str, list[int]]]]:
                             "closed on its line")
         clean = "".join(buf)
         for m in re.finditer(r"=", clean):
-            if not re.search(r"[\w)]\s*$", clean[:m.start()]):
+            j = m.start() - 1
+            while j >= 0 and clean[j] in " \t\r\f":
+                j -= 1
+            if j < 0 or not (clean[j].isalnum() or clean[j] in "_)"):
                 problems.append(f"line {ln}, column {m.start() + 1}: '=' without a key name before it")
         for m in _TOKEN.finditer(clean):
             if m.group(1):
@@ -184,8 +191,8 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
     raw_name = group.pop("name", None)
     name = raw_name if isinstance(raw_name, str) and raw_name else None
     where = f"case {index}" + (f" '{name[:40]}{'...' if len(name) > MAX_NAME else ''}'" if name else "")
-    problems = [f"{where}: key '{k}' is given {len(v)} times (lines {', '.join(map(str, v))}): give it once"
-                for k, v in lines.items() if len(v) > 1]
+    problems = [f"{where}: key '{k}' is given {len(v)} times (lines {', '.join(map(str, sorted(set(v))[:10]))}"
+                f"{', ...' if len(set(v)) > 10 else ''}): give it once" for k, v in lines.items() if len(v) > 1]
     if raw_name is not None and (msg := name_problem(raw_name)):
         problems.append(f"{where}: {msg}")
     tname = group.pop("type", None)
@@ -240,7 +247,9 @@ def _raise(problems: list[str]) -> None:
     if problems:
         if len(problems) == 1:
             raise InputError(problems[0])
-        raise InputError(f"the deck has {len(problems)} problems:\n  " + "\n  ".join(problems))
+        listed = problems[:MAX_LISTED]
+        more = f"\n  ... and {len(problems) - len(listed)} more" if len(problems) > len(listed) else ""
+        raise InputError(f"the deck has {len(problems)} problems:\n  " + "\n  ".join(listed) + more)
 
 
 def parse_deck(text: str) -> list[Case]:
@@ -255,6 +264,8 @@ def parse_deck(text: str) -> list[Case]:
     """
     text = check_text(text)
     problems, scanned = _scan(text)
+    if len(scanned) > MAX_CASES:
+        problems.append(f"the deck has {len(scanned)} groups; at most {MAX_CASES} cases per deck (split it)")
     _raise(problems)
     out = io.StringIO()
     try:

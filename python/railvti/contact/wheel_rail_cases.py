@@ -18,7 +18,7 @@ import numpy as np
 from .. import _checks
 from .. import profiles as P
 from .._checks import MAX_SPEED
-from ..casetypes import CaseOutput, CaseType, Key, register, validate
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..geometry import TrackLayout
 from ..material import Material
@@ -244,6 +244,15 @@ def check(params: dict[str, Any]) -> list[str]:
     return out
 
 
+#: SI names of the keys in mm and mrad (the keys keep CONTACT's units; the aliases convert).
+SI_ALIASES = {
+    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
+       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "contact_offset_mm", "radius_mm", "y_mm",
+                 "dx_mm", "dy_mm")},
+    "yaw": Alias("yaw_mrad", 1e3, deprecated=False, unit="rad"),
+    "roll": Alias("roll_mrad", 1e3, deprecated=False, unit="rad"),
+}
+
 register(CaseType(name="wheel_rail", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check,
-                  aliases=MATERIAL_ALIASES,
+                  aliases={**MATERIAL_ALIASES, **SI_ALIASES},
                   summary="one wheelset position on its rails with its full kinematics (CONTACT module 1)"))

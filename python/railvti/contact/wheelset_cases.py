@@ -11,7 +11,8 @@ import numpy as np
 from .. import _checks
 from .._checks import MAX_FRICTION, MAX_SPEED
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
-from ..geometry.cases import PAIR_DEFAULTS, PAIR_KEYS, deck_layout, deck_profiles, profile_problems, sweep_problems
+from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_SI_ALIASES, deck_layout, deck_profiles,
+                              profile_problems, sweep_problems)
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
@@ -167,7 +168,10 @@ register(CaseType(
               "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "field_at_mm": 0.0},
-    run=run, plot=plot, keys=_KEYS, check=check, aliases=MATERIAL_ALIASES,
+    run=run, plot=plot, keys=_KEYS, check=check,
+    aliases={**MATERIAL_ALIASES, **{k: v for k, v in PAIR_SI_ALIASES.items() if k != "amplitude"},
+             "dx": Alias("dx_mm", 1e3, deprecated=False, unit="m"),
+             "field_at": Alias("field_at_mm", 1e3, deprecated=False, unit="m")},
     summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact"))
 
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import _checks
 from .. import profiles as P
-from ..casetypes import CaseOutput, CaseType, Key, register, validate
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
@@ -47,6 +47,15 @@ PAIR_KEYS: dict[str, Key] = {
     "n": Key("1", "number of shifts from y_min_mm to y_max_mm", "int", 2, 100001),
     "yaw_mrad_per_mm": Key("mrad/mm", "yaw angle rising with the shift", lo=-20.0, hi=20.0),
     "amplitude_mm": Key("mm", "amplitude for the equivalent conicity", lo=0.0, hi=20.0, lo_open=True),
+}
+
+
+#: SI names of the pair keys in mm (the key keeps the profile's mm; the alias converts).
+PAIR_SI_ALIASES: dict[str, Alias] = {
+    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
+       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "radius_mm", "y_min_mm", "y_max_mm",
+                 "amplitude_mm")},
+    "yaw_per_y": Alias("yaw_mrad_per_mm", 1.0, deprecated=False, unit="rad/m"),
 }
 
 
@@ -167,5 +176,5 @@ register(CaseType(
               "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "amplitude_mm": 3.0},
-    run=run, plot=plot, keys=PAIR_KEYS, check=check_table,
+    run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_SI_ALIASES,
     summary="rigid contact table of a wheel/rail pair over lateral shifts; equivalent conicity"))

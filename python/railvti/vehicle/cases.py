@@ -68,7 +68,7 @@ KEYS: dict[str, Key] = {
     **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (railvti.vehicle.DEFAULTS)") for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
-ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False)}
+ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False, unit="km/h")}
 
 
 def check(params: dict[str, Any]) -> list[str]:
