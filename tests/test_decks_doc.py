@@ -38,3 +38,24 @@ def test_aliases_name_no_key_and_point_to_one():
         for alias, a in ct.aliases.items():
             assert alias not in ct.defaults, (tname, alias)
             assert a.key in ct.defaults, (tname, alias, a.key)
+
+
+def test_cases_command_prints_units_meaning_and_bounds(capsys):
+    from railvti.cli import main
+    assert main(["cases", "rolling"]) == 0
+    out = capsys.readouterr().out
+    assert "type = 'rolling'" in out and "type = 'normal'" not in out
+    mu = next(line for line in out.splitlines() if line.split()[:1] == ["mu"])
+    assert "friction" in mu and "(0, 1]" in mu
+    speed = next(line for line in out.splitlines() if line.split()[:1] == ["speed"])
+    assert " m/s " in speed
+    assert main(["cases"]) == 0
+    out = capsys.readouterr().out
+    assert all(f"type = '{t}'" in out for t in case_types())
+    assert "alias of 'speed'" in out and "km/h" in out
+
+
+def test_cases_command_unknown_type(capsys):
+    from railvti.cli import main
+    assert main(["cases", "rollin"]) == 2
+    assert "did you mean 'rolling'" in capsys.readouterr().err

@@ -334,6 +334,7 @@ CONSISTENCY = [
 ]
 
 
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.parametrize("content, words", [c[1:] for c in CONSISTENCY], ids=[c[0] for c in CONSISTENCY])
 def test_inconsistent_keys_are_named(tmp_path, capsys, content, words):
     expect_error(tmp_path, capsys, content, *words)
@@ -362,8 +363,10 @@ def test_problem_in_last_case_stops_before_the_first_runs(tmp_path, capsys):
 
 def test_deprecated_material_names_still_work(tmp_path, capsys):
     from railvti.deck import parse_deck
-    with pytest.warns(DeprecationWarning, match="'g'.*'shear_modulus'"):
+    with pytest.warns(DeprecationWarning) as record:
         cases = parse_deck(deck("loaded_wheelset", "g = 8.0e10, nu = 0.25"))
+    messages = " ".join(str(w.message) for w in record)
+    assert "'g'" in messages and "'shear_modulus'" in messages and "'nu'" in messages and "'poisson'" in messages
     assert cases[0].params["shear_modulus"] == 8.0e10 and cases[0].params["poisson"] == 0.25
     assert "g" not in cases[0].params
 
