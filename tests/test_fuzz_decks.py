@@ -352,6 +352,12 @@ def test_every_problem_of_every_case_at_once(tmp_path, capsys):
     assert "case 2" not in err
 
 
+def test_key_and_value_problems_of_one_case_together(tmp_path, capsys):
+    text = deck("normal", "foo = 1, nx = 'abc'").replace("dy = 4.0e-4, ", "")
+    expect_error(tmp_path, capsys, text, "3 problems", "unknown key 'foo'", "key 'nx' must be an integer",
+                 "required key 'dy'")
+
+
 def test_problem_in_last_case_stops_before_the_first_runs(tmp_path, capsys):
     """A deck whose expensive first case would run for minutes fails at once on its last case."""
     text = deck("vehicle", "duration = 60.0").replace("duration = 1.0, ", "") + deck("normal", "nx = 'abc'", "bad")
@@ -433,6 +439,6 @@ def test_random_mutations_of_a_valid_deck(tmp_path, capsys, seed):
 
 def test_fuzz_suite_size():
     n = (len(BOUNDS) + len(TYPES) + len(WHY) + len(ENCODING) + len(OK_TEXTS) + len(SYNTAX) + len(NAMES)
-         + len(CONSISTENCY) + 12 + 7)
+         + len(CONSISTENCY) + 12 + 8)
     assert n >= 150, n
     assert math.isfinite(n)

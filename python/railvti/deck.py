@@ -223,9 +223,7 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
             spec = ctype.keys.get(key)
             if spec is not None and spec.choices and isinstance(given[key], str):
                 params[key] = spec.choice(given[key]) or given[key]
-        elif default is REQUIRED:
-            problems.append(f"{where}: missing value for required key '{key}'")
-        else:
+        elif default is not REQUIRED:      # a missing required key: CaseType.problems names it
             params[key] = default
     name = name or f"{tname}_{index}"
     return Case(index=index, name=str(name), case_type=ctype, params=params), problems
@@ -290,9 +288,9 @@ def parse_deck(text: str) -> list[Case]:
     for i, g in enumerate(groups):
         case, probs = _build_case(i + 1, dict(g), scanned[i], types)
         problems += probs
-        if case is not None and not probs:
+        if case is not None:     # its values too, whatever else is wrong with it
+            problems += [f"{case.label}: {p}" for p in case.case_type.problems(case.params)]
             cases.append(case)
-    problems += check_cases(cases)
     _raise(problems)
     return cases
 
