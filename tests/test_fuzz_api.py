@@ -99,7 +99,7 @@ SCENARIO_CALLS = [
     ("conicity-negative", lambda: scenarios.equivalent_conicity(-1.0), ["amplitude"]),
     ("coach-negative-mass", lambda: Coach(carbody_mass=-5.0), ["carbody_mass"]),
     ("coach-unknown", lambda: Coach(carbody_mas=5.0), ["carbody_mas"]),
-    ("coach-fr-no-speed", lambda: scenarios.coach_system("FR"), ["speed_kmh"]),
+    ("hunting-fr", lambda: scenarios.hunting(300.0, "FR", duration=0.01), ["FR", "hunting"]),
     ("linear-damper", lambda: scenarios.linear_critical_speed(damper="loose"), ["damper"]),
     ("critical-method", lambda: scenarios.critical_speed(method="guess"), ["method"]),
 ]
