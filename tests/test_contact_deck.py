@@ -63,7 +63,7 @@ def test_a22_decks_read_as_the_benchmark_defines_them():
             assert p["y_mm"] == pytest.approx(-0.5 * k)
             assert p["yaw_mrad"] == pytest.approx(-1.2 * k)
             assert p["fz"] == 1.0e4 and p["mu"] == 0.3 and p["speed"] == 2.0
-            assert p["g"] == 82.0e9 and p["nu"] == 0.28 and p["dx_mm"] == 0.2 and p["dy_mm"] == 0.2
+            assert p["shear_modulus"] == 82.0e9 and p["poisson"] == 0.28 and p["dx_mm"] == 0.2 and p["dy_mm"] == 0.2
             assert p["gauge_mm"] == 1435.0 and p["gauge_depth_mm"] == 14.0
             assert p["back_to_back_mm"] == 1360.0 and p["contact_offset_mm"] == 70.0 and p["radius_mm"] == 460.0
             assert Path(p["rail"]).name == "MBench_UIC60_v3.prr" and Path(p["rail"]).is_file()

@@ -66,8 +66,9 @@ def test_example_deck_parses_as_written_and_its_first_case_runs():
         assert case.case_type.name == group["type"] == "vehicle"
         assert case.name == group["name"]
         given = {k: v for k, v in group.items() if k not in ("type", "name")}
+        assert case.params["speed"] == pytest.approx(given.pop("speed_kmh") / 3.6, rel=1e-15)  # km/h alias
         assert {k: case.params[k] for k in given} == given
-        assert all(case.params[k] == v for k, v in defaults.items() if k not in given)
+        assert all(case.params[k] == v for k, v in defaults.items() if k not in given and k != "speed")
     with pytest.raises(InputError, match="did you mean"):
         parse_deck("&case type='vehicle' speed_kmhh=200.0 /")
     first = cases[0]

@@ -46,7 +46,7 @@ def _solve(p: dict, side: str | None, free: bool = False):
     ws = WheelsetGeometry(back_to_back=p["back_to_back_mm"] * 1e-3, wheel_radius=p["radius_mm"] * 1e-3,
                           contact_offset=p["contact_offset_mm"] * 1e-3)
     return solve_wheelset(wheel, rail, p["y_mm"] * 1e-3, p["yaw_mrad"] * 1e-3, p["fz"], p["mu"], p["speed"],
-                          Material(shear_modulus=p["g"], poisson=p["nu"]), p["dx_mm"] * 1e-3,
+                          Material(shear_modulus=p["shear_modulus"], poisson=p["poisson"]), p["dx_mm"] * 1e-3,
                           dy=p["dy_mm"] * 1e-3, roll=p["roll_mrad"] * 1e-3, omega=None if free else p["omega"],
                           side=side, track=track, wheelset=ws)
 

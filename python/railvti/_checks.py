@@ -8,6 +8,14 @@ import numpy as np
 
 from .errors import InputError
 
+#: Highest speed of a vehicle, km/h: above the fastest wheel-on-rail runs (574.8 km/h,
+#: TGV 2007) the contact and creep models are not meant to hold.
+MAX_SPEED_KMH = 600.0
+#: The same in m/s.
+MAX_SPEED = MAX_SPEED_KMH / 3.6
+#: Largest wheel-rail friction coefficient: dry clean steel reaches ~0.6; 1 is a generous bound.
+MAX_FRICTION = 1.0
+
 
 def finite(name: str, value: Any) -> float:
     """Return ``value`` as a float, or raise if it is not a finite number."""
@@ -62,3 +70,22 @@ def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None,
         idx = tuple(int(i) for i in np.argwhere(bad)[0])
         raise InputError(f"{name} has {int(bad.sum())} non-finite value(s), first at index {idx}")
     return a
+
+
+def speed_kmh(name: str, value: Any) -> float:
+    """Return a vehicle speed in km/h as a float; raise unless 0 < value <= MAX_SPEED_KMH."""
+    v = finite(name, value)
+    if not 0.0 < v <= MAX_SPEED_KMH:
+        raise InputError(f"{name} = {v:g} km/h must be in (0, {MAX_SPEED_KMH:g}] km/h (the fastest "
+                         "wheel-on-rail run was 575 km/h)")
+    return v
+
+
+def friction(name: str, value: Any, allow_zero: bool = False) -> float:
+    """Return a friction coefficient; raise unless it is in (0, MAX_FRICTION] ([0, ...] with
+    ``allow_zero``)."""
+    v = finite(name, value)
+    if v < 0.0 or v > MAX_FRICTION or (v == 0.0 and not allow_zero):
+        raise InputError(f"{name} = {v:g} must be in {'[' if allow_zero else '('}0, {MAX_FRICTION:g}] "
+                         "(dry steel on steel is about 0.3-0.6)")
+    return v

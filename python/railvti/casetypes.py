@@ -11,11 +11,18 @@ Each area registers its case types in :data:`REGISTRY` through
 """
 from __future__ import annotations
 
+import logging
+import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
+
+from .errors import InputError
+
+log = logging.getLogger("railvti")
 
 
 class _Required:
@@ -47,6 +54,112 @@ class CaseOutput:
 
 
 @dataclass(frozen=True)
+class Key:
+    """What a deck key means and which values it takes (checked before any case runs).
+
+    Attributes
+    ----------
+    unit : str
+        SI unit ('1' for a number without unit, '' for text and flags).
+    meaning : str
+        One line for ``railvti cases``.
+    kind : {'float', 'int', 'str', 'flag', 'floats'}
+        A real number, an integer, a text, 0 or 1, or one or more reals.
+    lo, hi : float or None
+        Bounds of a number (each element of 'floats'); ``lo_open``/``hi_open`` exclude them.
+    choices : tuple of str
+        The allowed texts of a 'str' key (compared without case); empty: any text.
+    optional : bool
+        ``None`` (the key left out) is allowed.
+    why : str
+        Why a plausibility bound is where it is (said in the error message).
+    """
+
+    unit: str
+    meaning: str
+    kind: str = "float"
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = False
+    hi_open: bool = False
+    choices: tuple[str, ...] = ()
+    optional: bool = False
+    why: str = ""
+
+    def bounds(self) -> str:
+        """The allowed range as text, e.g. '0 < mu <= 1' is '(0, 1]' here, with the unit."""
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind == "flag":
+            return "0 or 1"
+        if self.lo is None and self.hi is None:
+            return ""
+        lo = "-inf" if self.lo is None else f"{self.lo:g}"
+        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        unit = f" {self.unit}" if self.unit not in ("", "1") else ""
+        return f"{'(' if self.lo_open or self.lo is None else '['}{lo}, {hi}{')' if self.hi_open or self.hi is None else ']'}{unit}"
+
+    def choice(self, value: str) -> str | None:
+        """The allowed choice that ``value`` names (without regard to case and spaces), or None."""
+        folded = {c.lower(): c for c in self.choices}
+        return folded.get(value.strip().lower())
+
+    def problem(self, name: str, value: Any) -> str | None:
+        """Why ``value`` is not allowed for key ``name`` (a message naming key and bound), or None."""
+        if value is None:
+            return None if self.optional else f"key '{name}' needs a value"
+        if self.kind == "str":
+            if not isinstance(value, str):
+                return f"key '{name}' must be a text in quotes, got {value!r}"
+            if self.choices and self.choice(value) is None:
+                return f"key '{name}' = {value!r} must be {self.bounds()}"
+            return None
+        if self.kind == "floats":
+            values = value if isinstance(value, (list, tuple)) else [value]
+            if not values:
+                return f"key '{name}' needs at least one value"
+            for v in values:
+                msg = self._number(name, v, integer=False)
+                if msg:
+                    return msg
+            return None
+        return self._number(name, value, integer=self.kind in ("int", "flag"))
+
+    def _number(self, name: str, value: Any, integer: bool) -> str | None:
+        kind = "an integer" if integer else "a number"
+        if self.kind == "flag":
+            kind = "0 or 1"
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+            return f"key '{name}' must be {kind}, got {value!r}"
+        v = float(value)
+        if not math.isfinite(v):
+            return f"key '{name}' must be finite, got {v}"
+        if integer and not v.is_integer():
+            return f"key '{name}' must be {kind}, got {value!r}"
+        if self.kind == "flag" and v not in (0.0, 1.0):
+            return f"key '{name}' must be 0 or 1, got {value!r}"
+        bad = ((self.lo is not None and (v < self.lo or (self.lo_open and v == self.lo)))
+               or (self.hi is not None and (v > self.hi or (self.hi_open and v == self.hi))))
+        if bad:
+            why = f" ({self.why})" if self.why else ""
+            return f"key '{name}' = {value!r} is outside {self.bounds()}{why}"
+        return None
+
+
+@dataclass(frozen=True)
+class Alias:
+    """Another name of a key: an old name (``deprecated``), or the same quantity in another
+    unit named by ``unit`` (``factor`` converts a value to the key's unit: 1/3.6 from km/h to
+    m/s, 1000 from m to mm). Aliases are resolved when a deck is read; the case's parameters
+    hold the key."""
+
+    key: str
+    factor: float = 1.0
+    deprecated: bool = True
+    unit: str = ""
+
+
+@dataclass(frozen=True)
 class CaseType:
     """One kind of deck case.
 
@@ -61,15 +174,131 @@ class CaseType:
         ``run(params: dict) -> CaseOutput``. Raises railvti errors on bad input.
     plot : callable or None
         ``plot(group: h5py.Group, outdir: Path, stem: str) -> list[Path]``.
+    keys : dict
+        key -> :class:`Key`: unit, meaning and allowed values of each key of ``defaults``.
+    check : callable or None
+        ``check(params) -> list[str]``: consistency and plausibility between keys, run after
+        every key passed its own check; each message names the keys and the bound.
+    aliases : dict
+        Other accepted names of keys (old names, unit-suffixed variants): name -> :class:`Alias`.
+    summary : str
+        One line for ``railvti cases``.
     """
 
     name: str
     defaults: dict[str, Any]
     run: Callable[[dict[str, Any]], CaseOutput]
     plot: Callable[[Any, Path, str], list[Path]] | None = None
+    keys: dict[str, Key] = field(default_factory=dict)
+    check: Callable[[dict[str, Any]], list[str]] | None = None
+    aliases: dict[str, Alias] = field(default_factory=dict)
+    summary: str = ""
+
+    def problems(self, params: dict[str, Any]) -> list[str]:
+        """Every problem of a case's complete parameters: each key's type and range, then
+        the case type's consistency check. Empty if the case may run."""
+        out = []
+        for name, value in params.items():
+            spec = self.keys.get(name)
+            if spec is None:
+                if name not in self.defaults:
+                    out.append(f"unknown key '{name}'")
+                    continue
+                spec = _implicit_key(self.defaults[name])
+                if spec is None:
+                    continue
+            msg = spec.problem(name, value)
+            if msg:
+                out.append(msg)
+        for name, default in self.defaults.items():
+            if name not in params and default is REQUIRED:
+                out.append(f"missing value for required key '{name}'")
+        if not out and self.check is not None:
+            out.extend(self.check(params))
+        return out
+
+    def resolve_aliases(self, given: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
+        """Rename aliased keys of ``given`` (converting suffixed units); return the new dict
+        and the problems (a key given under two names). Deprecated names log a warning."""
+        out: dict[str, Any] = {}
+        problems = []
+        for name, value in given.items():
+            alias = self.aliases.get(name)
+            if alias is None:
+                if name in out:
+                    problems.append(f"key '{name}' is given twice (also as an alias)")
+                out[name] = value
+                continue
+            if alias.key in given or alias.key in out:
+                problems.append(f"key '{name}' and key '{alias.key}' name the same quantity: give one")
+                continue
+            if alias.deprecated:
+                msg = (f"deck key '{name}' of type '{self.name}' is deprecated: use '{alias.key}'"
+                       + (f" (unit {self.keys[alias.key].unit})" if alias.key in self.keys else ""))
+                warnings.warn(msg, DeprecationWarning, stacklevel=3)
+                log.warning(msg)
+            if alias.factor != 1.0 and value is not None:
+                try:
+                    value = ([float(v) * alias.factor for v in value] if isinstance(value, (list, tuple))
+                             else float(value) * alias.factor)
+                except (TypeError, ValueError):
+                    problems.append(f"key '{name}' must be a number, got {value!r}")
+                    continue
+            out[alias.key] = value
+        return out, problems
+
+    def validate(self, params: dict[str, Any]) -> dict[str, Any]:
+        """Check a case's parameters for the Python API and return them with aliases resolved.
+
+        An alias beside its key's default value replaces it (``dict(defaults)`` updated with
+        ``speed_kmh=200`` means 200 km/h); beside another value it is a conflict.
+
+        Raises
+        ------
+        InputError
+            Every problem, listed in one message.
+        """
+        params = dict(params)
+        problems = []
+        for name in [k for k in params if k in self.aliases]:
+            target = self.aliases[name].key
+            if target in params and params[target] == self.defaults.get(target, object()):
+                del params[target]
+            given, probs = self.resolve_aliases({name: params.pop(name), **({target: params[target]}
+                                                                             if target in params else {})})
+            problems += probs
+            params.update(given)
+        problems += self.problems(params)
+        if problems:
+            raise InputError(f"{self.name} case: " + "; ".join(problems))
+        return params
 
 
 REGISTRY: dict[str, CaseType] = {}
+
+
+def _implicit_key(default: Any) -> Key | None:
+    """The check of a key without a :class:`Key`: its default's type, finite."""
+    if isinstance(default, bool) or default is None or default is REQUIRED:
+        return None
+    if isinstance(default, int):
+        return Key("", "", "int")
+    if isinstance(default, float):
+        return Key("", "", "float")
+    if isinstance(default, str):
+        return Key("", "", "str")
+    if isinstance(default, (list, tuple)):
+        return Key("", "", "floats")
+    return None
+
+
+def validate(type_name: str, params: dict[str, Any]) -> dict[str, Any]:
+    """Check the parameters of a case of the registered type ``type_name`` and return them
+    with aliases resolved (:meth:`CaseType.validate`; raises InputError).
+
+    Case runners call this first, so the Python API refuses what a deck would refuse."""
+    ctype = REGISTRY.get(type_name)
+    return dict(params) if ctype is None else ctype.validate(params)
 
 
 def register(case_type: CaseType) -> CaseType:

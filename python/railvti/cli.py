@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import difflib
 import logging
 import sys
 import time
@@ -12,7 +13,7 @@ from tqdm import tqdm
 from .casetypes import REQUIRED
 from .deck import read_deck
 from .deck_registry import case_types
-from .errors import RailvtiError
+from .errors import InputError, RailvtiError
 from .plots import plot_results
 from .results import CaseRecord, write_results
 
@@ -49,11 +50,44 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _default_text(default: object) -> str:
+    if default is REQUIRED:
+        return "(required)"
+    if default is None:
+        return "(none)"
+    if isinstance(default, float):
+        return f"{default:.6g}"
+    text = repr(default)
+    return text if len(text) <= 14 else "..." + text[-11:]
+
+
 def _cases(args: argparse.Namespace) -> int:
-    for name, ctype in sorted(case_types().items()):
-        print(f"type = '{name}'")
+    types = case_types()
+    names = sorted(types)
+    if args.type:
+        want = args.type.strip().lower()
+        if want not in types:
+            close = difflib.get_close_matches(want, names, n=1, cutoff=0.5)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise InputError(f"unknown case type '{args.type}'{hint}; known types: {', '.join(names)}")
+        names = [want]
+    for name in names:
+        ctype = types[name]
+        print(f"type = '{name}'" + (f": {ctype.summary}" if ctype.summary else ""))
+        print(f"    {'key':28s} {'default':>14s}  {'unit':8s} meaning; allowed values")
         for key, default in ctype.defaults.items():
-            print(f"    {key:18s} {'(required)' if default is REQUIRED else repr(default)}")
+            spec = ctype.keys.get(key)
+            unit = (spec.unit or "-") if spec else "?"
+            meaning = spec.meaning if spec else ""
+            bounds = spec.bounds() if spec else ""
+            print(f"    {key:28s} {_default_text(default):>14s}  {unit:8s} {meaning}"
+                  + (f"; {bounds}" if bounds else ""))
+        for alias, a in ctype.aliases.items():
+            note = "old name, deprecated" if a.deprecated else f"the same in {a.unit} (x {a.factor:.6g})"
+            print(f"    {alias:28s} {'':>14s}  {a.unit or '':8s} alias of '{a.key}': {note}")
+        print()
+    print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "
+          "'railvti cases TYPE' lists one type")
     return 0
 
 
@@ -71,7 +105,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("results")
     p.add_argument("-o", "--output", help="folder for the PNGs (default: beside the file)")
     p.set_defaults(func=_plot)
-    p = sub.add_parser("cases", help="list the deck case types and their keys")
+    p = sub.add_parser("cases", help="list the deck case types, or one type's keys with units and meanings")
+    p.add_argument("type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)")
     p.set_defaults(func=_cases)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING,

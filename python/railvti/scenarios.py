@@ -326,6 +326,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                             else np.arange(200.0, 461.0, 20.0), dtype=float))[::-1]
     if sp.size < 2 or np.any(sp <= 0):
         raise InputError("speeds_kmh must hold at least two speeds > 0")
+    for s_kmh in sp:
+        _checks.speed_kmh("speeds_kmh", s_kmh)
     v_min = _checks.positive("v_min_kmh", v_min_kmh)
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
     _check_model(model, contact, "bifurcation")

@@ -6,7 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from ..casetypes import REQUIRED, CaseOutput, CaseType, register
+from .._checks import MAX_FRICTION, MAX_SPEED
+from ..casetypes import REQUIRED, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..material import Material
 from .grid import Grid
@@ -31,6 +32,87 @@ _COMMON = {
 }
 
 
+_WHY_GRID = "a larger grid needs more than ~1 GB for its influence spectra"
+#: Units, meanings and bounds of the keys of 'normal' and 'rolling'.
+KEYS: dict[str, Key] = {
+    "shear_modulus": Key("Pa", "shear modulus G of wheel and rail (quasi-identical bodies)", lo=1e6, hi=1e12,
+                         why="steel is 82e9 Pa"),
+    "poisson": Key("1", "Poisson's ratio of wheel and rail", lo=0.0, hi=0.5, hi_open=True),
+    "nx": Key("1", "elements of the grid along x (rolling direction)", "int", 2, 2048, why=_WHY_GRID),
+    "ny": Key("1", "elements of the grid along y (lateral)", "int", 2, 2048, why=_WHY_GRID),
+    "dx": Key("m", "element length along x", lo=0.0, hi=0.01, lo_open=True,
+              why="an element above 10 mm is coarser than any wheel-rail contact"),
+    "dy": Key("m", "element length along y", lo=0.0, hi=0.01, lo_open=True,
+              why="an element above 10 mm is coarser than any wheel-rail contact"),
+    "x0": Key("m", "x of the centre of element [0, 0] (default: grid centred)", lo=-1.0, hi=1.0, optional=True),
+    "y0": Key("m", "y of the centre of element [0, 0] (default: grid centred)", lo=-1.0, hi=1.0, optional=True),
+    "gap": Key("", "undeformed gap: 'hertz' (gap_a x^2 + gap_b y^2) or 'two_bumps'", "str",
+               choices=("hertz", "two_bumps")),
+    "gap_a": Key("1/m", "gap curvature along x, 1/(2 R_x)", lo=0.0, hi=1e4, lo_open=True,
+                 why="a radius below 50 um is no wheel or rail", optional=True),
+    "gap_b": Key("1/m", "gap curvature along y, 1/(2 R_y)", lo=0.0, hi=1e4, lo_open=True,
+                 why="a radius below 50 um is no wheel or rail", optional=True),
+    "bump_separation": Key("m", "lateral distance between the two bumps' centres ('two_bumps')", lo=0.0, hi=1.0),
+    "bump_height": Key("m", "how much higher the second bump starts ('two_bumps')", lo=-0.01, hi=0.01),
+    "method": Key("", "normal solver: 'cg' (preconditioned CG), 'pk' (plain CG) or 'gs' (Gauss-Seidel)", "str",
+                  choices=("cg", "pk", "gs")),
+    "tol": Key("1", "relative residual at which the solver stops", lo=0.0, hi=0.1, lo_open=True),
+    "max_iter": Key("1", "iteration limit (default: the solver's)", "int", 1, 1e7, optional=True),
+    "fn": Key("N", "normal force (or give approach)", lo=0.0, hi=1e7, lo_open=True, optional=True,
+              why="10 MN is fifty times the wheel load of a 40 t heavy-haul axle"),
+    "approach": Key("m", "approach of the bodies (or give fn)", lo=0.0, hi=0.01, lo_open=True, optional=True),
+    "semi_a": Key("m", "Hertz semi-axis along x (instead of gap_a, gap_b)", lo=0.0, hi=0.05, lo_open=True,
+                  optional=True),
+    "semi_b": Key("m", "Hertz semi-axis along y (instead of gap_a, gap_b)", lo=0.0, hi=0.05, lo_open=True,
+                  optional=True),
+    "mu": Key("1", "Coulomb friction coefficient (static = kinetic)", lo=0.0, hi=MAX_FRICTION, lo_open=True,
+              why="dry steel on steel is about 0.3-0.6; 0 has no tangential problem"),
+    "xi": Key("1", "longitudinal creepage", lo=-1.0, hi=1.0),
+    "eta": Key("1", "lateral creepage", lo=-1.0, hi=1.0),
+    "phi": Key("1/m", "spin creepage", lo=-100.0, hi=100.0, why="sin(contact angle) / radius stays below ~5 1/m"),
+    "speed": Key("m/s", "rolling speed", lo=0.0, hi=MAX_SPEED, lo_open=True, why="600 km/h"),
+    "normal_method": Key("", "normal solver of the rolling case: 'cg', 'pk' or 'gs'", "str", choices=("cg", "pk", "gs")),
+}
+_KEYS_ROLLING = dict(KEYS, method=Key("", "tangential solver: 'fftgs' (FFT-refreshed Gauss-Seidel) or 'gs'", "str",
+                                      choices=("fftgs", "gs")))
+
+
+def _check_gap(p: dict[str, Any]) -> list[str]:
+    out = []
+    if str(p["gap"]).lower() == "two_bumps":
+        if not p["bump_separation"] > 0:
+            out.append("gap = 'two_bumps' needs bump_separation > 0 (m)")
+        if p["gap_a"] is None or p["gap_b"] is None:
+            out.append("gap = 'two_bumps' needs gap_a and gap_b (1/m)")
+            return out
+    return out
+
+
+def check_normal(p: dict[str, Any]) -> list[str]:
+    """Consistency of a 'normal' case: fn or approach (one), the gap's keys."""
+    out = _check_gap(p)
+    if p["gap_a"] is None or p["gap_b"] is None:
+        out.append("give the gap curvatures gap_a and gap_b (1/m)")
+    if (p["fn"] is None) == (p["approach"] is None):
+        out.append("give exactly one of fn (N) and approach (m)")
+    return out
+
+
+def check_rolling(p: dict[str, Any]) -> list[str]:
+    """Consistency of a 'rolling' case: curvatures or semi-axes (not both), the gap's keys."""
+    out = _check_gap(p)
+    curv = [p["gap_a"] is not None, p["gap_b"] is not None]
+    semi = [p.get("semi_a") is not None, p.get("semi_b") is not None]
+    if any(curv) and any(semi):
+        out.append("give the gap curvatures gap_a, gap_b (1/m) or the Hertz semi-axes semi_a, semi_b (m), "
+                   "not both")
+    elif not all(curv) and not all(semi):
+        out.append("give both gap curvatures gap_a, gap_b (1/m) or both semi-axes semi_a, semi_b (m)")
+    if any(semi) and str(p["gap"]).lower() != "hertz":
+        out.append("semi_a, semi_b describe a 'hertz' gap only")
+    return out
+
+
 def make_gap(params: dict[str, Any]) -> tuple[Grid, np.ndarray, Material]:
     """Grid, undeformed gap and material of a contact case's parameters."""
     material = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
@@ -53,6 +135,7 @@ def make_gap(params: dict[str, Any]) -> tuple[Grid, np.ndarray, Material]:
 
 def run_normal(params: dict[str, Any]) -> CaseOutput:
     """Normal contact on a grid; force ``fn`` (N) or ``approach`` (m) prescribed."""
+    params = validate("normal", params)
     grid, gap, material = make_gap(params)
     r = solve_normal(gap, grid, material, fn=params["fn"], approach=params["approach"],
                      method=params["method"], tol=params["tol"], max_iter=params["max_iter"])
@@ -98,7 +181,8 @@ def plot_pressure(group: Any, outdir: Path, stem: str) -> list[Path]:
 
 
 register(CaseType(name="normal", defaults={**_COMMON, "fn": None, "approach": None},
-                  run=run_normal, plot=plot_pressure))
+                  run=run_normal, plot=plot_pressure, keys=KEYS, check=check_normal,
+                  summary="normal contact of two elastic bodies on a grid (BEM), force or approach given"))
 
 
 def _gap_from_semiaxes(a: float, b: float, fn: float, material: Material) -> tuple[float, float]:
@@ -126,6 +210,7 @@ def run_rolling(params: dict[str, Any]) -> CaseOutput:
     """Steady rolling: normal force ``fn`` (N), friction ``mu``, creepages ``xi``, ``eta`` (1),
     spin ``phi`` (1/m), rolling ``speed`` (m/s). The gap is 'hertz' (``gap_a``, ``gap_b`` in 1/m,
     or the Hertz semi-axes ``semi_a``, ``semi_b`` in m) or 'two_bumps'."""
+    params = validate("rolling", params)
     params = dict(params)
     material = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     if params["gap_a"] is None or params["gap_b"] is None:
@@ -159,4 +244,5 @@ _ROLLING = {k: v for k, v in _COMMON.items() if k not in ("method", "tol", "max_
 _ROLLING.update({"gap_a": None, "gap_b": None, "semi_a": None, "semi_b": None,
                  "fn": REQUIRED, "mu": REQUIRED, "xi": 0.0, "eta": 0.0, "phi": 0.0, "speed": REQUIRED,
                  "method": "fftgs", "tol": 1e-7, "max_iter": None, "normal_method": "cg"})
-register(CaseType(name="rolling", defaults=_ROLLING, run=run_rolling, plot=plot_rolling))
+register(CaseType(name="rolling", defaults=_ROLLING, run=run_rolling, plot=plot_rolling, keys=_KEYS_ROLLING,
+                  check=check_rolling, summary="steady rolling contact: tractions, slip and creep forces"))

@@ -274,7 +274,7 @@ def _read_settings(r: _Reader, d: dict[str, int], line: int, state: dict) -> Non
         _require(v["POISS1"] == v["POISS2"] and v["GG1"] == v["GG2"], r, ln,
                  "POISS 1,2 and GG 1,2 must be equal: railvti's contact model is for quasi-identical bodies")
         _require(v["GG1"] > 0 and 0 <= v["POISS1"] < 0.5, r, ln, "GG must be > 0 and 0 <= POISS < 0.5")
-        state["material"] = {"g": v["GG1"] * 1e6, "nu": v["POISS1"]}
+        state["material"] = {"shear_modulus": v["GG1"] * 1e6, "poisson": v["POISS1"]}
     else:
         _keep(state, "material", r, line, "C (INFLCF) = 1")
     if d["D"] == 2:

@@ -17,13 +17,15 @@ import numpy as np
 
 from .. import _checks
 from .. import profiles as P
-from ..casetypes import CaseOutput, CaseType, register
+from .._checks import MAX_SPEED
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
-from .wheelset_cases import UNITS, store_patch_fields, sweep_arrays
+from ..geometry.cases import PAIR_KEYS, profile_problems
+from .wheelset_cases import MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, store_patch_fields, sweep_arrays
 
 _SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
 _PROFILE_CACHE: dict[tuple, P.Profile] = {}
@@ -86,7 +88,7 @@ def _solve(params: dict[str, Any]) -> WheelsetSolution:
     ws = WheelsetGeometry(back_to_back=_checks.positive("back_to_back_mm", params["back_to_back_mm"]) * 1e-3,
                           wheel_radius=_checks.positive("radius_mm", params["radius_mm"]) * 1e-3,
                           contact_offset=_checks.finite("contact_offset_mm", params["contact_offset_mm"]) * 1e-3)
-    mat = Material(shear_modulus=params["g"], poisson=params["nu"])
+    mat = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     mu, speed = _checks.non_negative("mu", params["mu"]), _checks.non_negative("speed", params["speed"])
     rolling = mu > 0 and speed > 0
     roll = params["roll_mrad"]
@@ -148,11 +150,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
     the left wheel; none: load-controlled, 'both' only), fz (vertical load per wheel, N:
     normal and tangential contact forces); speed (m/s), omega (rad/s about the axle, > 0
     rolling forward; 0: free rolling, 'both' only), lateral_velocity, vertical_velocity
-    (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu <= 0 or speed <= 0: normal
-    contact only), g (Pa), nu, dx_mm, dy_mm; store_fields (1: keep each patch's pressure and
-    tractions); origin (where the case comes from, for messages).
+    (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu = 0 or speed = 0: normal
+    contact only), shear_modulus (Pa), poisson, dx_mm, dy_mm; store_fields (1: keep each
+    patch's pressure and tractions); origin (where the case comes from, for messages).
     """
     try:
+        params = validate("wheel_rail", params)
         sol = _solve(params)
     except InputError as exc:
         origin = str(params.get("origin") or "")
@@ -197,8 +200,59 @@ DEFAULTS: dict[str, Any] = {
     "gauge_mm": 1435.0, "gauge_depth_mm": 14.0, "back_to_back_mm": 1360.0, "contact_offset_mm": 70.0,
     "radius_mm": 460.0, "y_mm": 0.0, "yaw_mrad": 0.0, "roll_mrad": None, "fz": 1.0e4,
     "speed": 2.0, "omega": 0.0, "lateral_velocity": 0.0, "vertical_velocity": 0.0, "roll_rate": 0.0,
-    "yaw_rate": 0.0, "mu": 0.3, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2, "dy_mm": 0.2, "store_fields": 0,
-    "origin": "",
+    "yaw_rate": 0.0, "mu": 0.3, "shear_modulus": 82.0e9, "poisson": 0.28, "dx_mm": 0.2, "dy_mm": 0.2,
+    "store_fields": 0, "origin": "",
 }
 
-register(CaseType(name="wheel_rail", defaults=DEFAULTS, run=run, plot=plot))
+_WHY_SHIFT = "beyond 50 mm the flange has left the rail"
+KEYS: dict[str, Key] = {
+    **{k: PAIR_KEYS[k] for k in ("wheel", "rail", "gauge_mm", "gauge_depth_mm", "back_to_back_mm", "radius_mm")},
+    **WHEELSET_KEYS,
+    "side": Key("", "wheels solved: 'left' or 'right' (a half wheelset, CONTACT's module 1) or 'both'", "str",
+                choices=tuple(_SIDES)),
+    "wheel_mirror_y": Key("", "1: mirror the wheel profile's y (CONTACT's MIRRORY)", "flag"),
+    "rail_mirror_y": Key("", "1: mirror the rail profile's y", "flag"),
+    "wheel_scale": Key("1", "factor to the wheel file's length unit (mm for plain files)", lo=0.0, hi=1e4,
+                       lo_open=True),
+    "rail_scale": Key("1", "factor to the rail file's length unit (mm for plain files)", lo=0.0, hi=1e4,
+                      lo_open=True),
+    "cant_rad": Key("rad", "extra rail rotation towards the track centre", lo=-0.2, hi=0.2),
+    "contact_offset_mm": Key("mm", "tread datum from the flange back", lo=0.0, hi=200.0),
+    "y_mm": Key("mm", "lateral shift of the wheelset, to the left", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
+    "yaw_mrad": Key("mrad", "yaw angle of the wheelset", lo=-100.0, hi=100.0),
+    "roll_mrad": Key("mrad", "prescribed roll, > 0 raises the left wheel (none: load-controlled, 'both' only)",
+                     lo=-100.0, hi=100.0, optional=True),
+    "lateral_velocity": Key("m/s", "lateral velocity of the wheelset (y left)", lo=-MAX_SPEED, hi=MAX_SPEED),
+    "vertical_velocity": Key("m/s", "vertical velocity of the wheelset (z up)", lo=-MAX_SPEED, hi=MAX_SPEED),
+    "roll_rate": Key("rad/s", "roll rate of the wheelset", lo=-100.0, hi=100.0),
+    "yaw_rate": Key("rad/s", "yaw rate of the wheelset", lo=-100.0, hi=100.0),
+    "dy_mm": Key("mm", "element length of the contact grid along y", lo=0.0, hi=10.0, lo_open=True),
+    "store_fields": Key("", "1: keep each patch's pressure and tractions", "flag"),
+    "origin": Key("", "where the case comes from, for messages", "str"),
+}
+
+
+def check(params: dict[str, Any]) -> list[str]:
+    """Consistency of a 'wheel_rail' case."""
+    out = profile_problems(params)
+    side = str(params["side"]).strip().lower()
+    if side != "both" and params["roll_mrad"] is None:
+        out.append(f"side = '{side}' needs roll_mrad (mrad): a load-controlled roll needs both wheels")
+    if side != "both" and params["mu"] > 0 and params["speed"] > 0 and params["omega"] == 0:
+        out.append(f"side = '{side}' with rolling (mu, speed > 0) needs omega > 0 (rad/s): free rolling "
+                   "needs both wheels")
+    return out
+
+
+#: SI names of the keys in mm and mrad (the keys keep CONTACT's units; the aliases convert).
+SI_ALIASES = {
+    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
+       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "contact_offset_mm", "radius_mm", "y_mm",
+                 "dx_mm", "dy_mm")},
+    "yaw": Alias("yaw_mrad", 1e3, deprecated=False, unit="rad"),
+    "roll": Alias("roll_mrad", 1e3, deprecated=False, unit="rad"),
+}
+
+register(CaseType(name="wheel_rail", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check,
+                  aliases={**MATERIAL_ALIASES, **SI_ALIASES},
+                  summary="one wheelset position on its rails with its full kinematics (CONTACT module 1)"))

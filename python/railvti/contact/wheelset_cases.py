@@ -9,8 +9,11 @@ from typing import Any
 import numpy as np
 
 from .. import _checks
-from ..casetypes import CaseOutput, CaseType, register
-from ..geometry.cases import PAIR_DEFAULTS, deck_layout, deck_profiles
+from .._checks import MAX_FRICTION, MAX_SPEED
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
+from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_SI_ALIASES, deck_layout, deck_profiles,
+                              profile_problems, sweep_problems)
+from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
 
@@ -62,23 +65,54 @@ def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
     return out
 
 
+#: Keys of a loaded wheelset shared by ``loaded_wheelset`` and ``wheel_rail``.
+WHEELSET_KEYS: dict[str, Key] = {
+    "fz": Key("N", "vertical load per wheel (the vertical contact force)", lo=0.0, hi=1e6, lo_open=True,
+              why="1 MN is five times the wheel load of a 40 t heavy-haul axle"),
+    "mu": Key("1", "friction coefficient (0: normal contact only)", lo=0.0, hi=MAX_FRICTION,
+              why="dry steel on steel is about 0.3-0.6"),
+    "speed": Key("m/s", "rolling speed (0: normal contact only)", lo=0.0, hi=MAX_SPEED, why="600 km/h"),
+    "omega": Key("rad/s", "angular velocity about the axle, > 0 rolling forward (0: free rolling)",
+                 lo=0.0, hi=2000.0),
+    "shear_modulus": CONTACT_KEYS["shear_modulus"],
+    "poisson": CONTACT_KEYS["poisson"],
+    "dx_mm": Key("mm", "element length of the contact grid along x", lo=0.0, hi=10.0, lo_open=True),
+}
+#: Old names of keys (deprecated): g, nu as in the 'normal' and 'rolling' case types.
+MATERIAL_ALIASES = {"g": Alias("shear_modulus"), "nu": Alias("poisson")}
+_KEYS = {**PAIR_KEYS, **WHEELSET_KEYS,
+         "n": Key("1", "number of shifts from y_min_mm to y_max_mm", "int", 1, 10001),
+         "field_at_mm": Key("mm", "shift whose pressure and traction fields are stored", lo=-50.0, hi=50.0)}
+
+
+def check(params: dict[str, Any]) -> list[str]:
+    """Consistency of a 'loaded_wheelset' case."""
+    out = profile_problems(params) + sweep_problems(params)
+    if not out and not params["y_min_mm"] <= params["field_at_mm"] <= params["y_max_mm"]:
+        out.append(f"field_at_mm = {params['field_at_mm']:g} must lie in [y_min_mm, y_max_mm] = "
+                   f"[{params['y_min_mm']:g}, {params['y_max_mm']:g}] (mm)")
+    return out
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """Loaded-wheelset sweep.
 
     Keys: wheel, rail, cant (as ``geometry_table``), y_min_mm, y_max_mm, n, yaw_mrad_per_mm,
     fz (N per wheel: the vertical contact force, normal and tangential), mu, speed (m/s;
-    mu <= 0 or speed <= 0: normal contact only), omega (rad/s, the wheelset's angular velocity;
-    0: free rolling, no torque about the axle), g (Pa), nu, dx_mm, gauge_mm, gauge_depth_mm,
-    back_to_back_mm, radius_mm, field_at_mm (the shift whose pressure and traction fields are
-    stored). The roll is load-controlled (both wheels touch; each carries its load).
+    mu = 0 or speed = 0: normal contact only), omega (rad/s, the wheelset's angular velocity;
+    0: free rolling, no torque about the axle), shear_modulus (Pa), poisson, dx_mm, gauge_mm,
+    gauge_depth_mm, back_to_back_mm, radius_mm, field_at_mm (the shift whose pressure and
+    traction fields are stored). The roll is load-controlled (both wheels touch; each carries
+    its load).
     """
+    params = validate("loaded_wheelset", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"])
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
                     _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
     yaw = y * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"])
     track, ws = deck_layout(params)
-    mat = Material(shear_modulus=params["g"], poisson=params["nu"])
+    mat = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     mu, speed = float(params["mu"]), float(params["speed"])
     rolling = mu > 0 and speed > 0
     dx = _checks.positive("dx_mm", params["dx_mm"]) * 1e-3
@@ -130,11 +164,15 @@ register(CaseType(
     name="loaded_wheelset",
     defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
               "y_min_mm": 0.0, "y_max_mm": 10.0, "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4,
-              "mu": 0.3, "speed": 2.0, "omega": 0.0, "g": 82.0e9, "nu": 0.28, "dx_mm": 0.2,
+              "mu": 0.3, "speed": 2.0, "omega": 0.0, "shear_modulus": 82.0e9, "poisson": 0.28, "dx_mm": 0.2,
               "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "field_at_mm": 0.0},
-    run=run, plot=plot))
+    run=run, plot=plot, keys=_KEYS, check=check,
+    aliases={**MATERIAL_ALIASES, **{k: v for k, v in PAIR_SI_ALIASES.items() if k != "amplitude"},
+             "dx": Alias("dx_mm", 1e3, deprecated=False, unit="m"),
+             "field_at": Alias("field_at_mm", 1e3, deprecated=False, unit="m")},
+    summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact"))
 
 
 def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False) -> None:

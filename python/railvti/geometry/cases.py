@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import _checks
 from .. import profiles as P
-from ..casetypes import CaseOutput, CaseType, register
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
@@ -28,6 +28,59 @@ PAIR_DEFAULTS: dict[str, Any] = {
     "gauge_mm": _mm(TrackLayout.gauge), "gauge_depth_mm": _mm(TrackLayout.gauge_depth),
     "back_to_back_mm": _mm(WheelsetGeometry.back_to_back), "radius_mm": _mm(WheelsetGeometry.wheel_radius),
 }
+
+
+_WHY_SHIFT = "beyond 50 mm the flange has left the rail"
+#: Units, meanings and bounds of the keys shared by the wheel/rail pair case types.
+PAIR_KEYS: dict[str, Key] = {
+    "wheel": Key("", "wheel profile: 's1002' or a profile file (SIMPACK .prw, or two columns y z in mm)", "str"),
+    "rail": Key("", "rail profile: 'uic60' (inclined by cant) or a profile file, taken as already canted", "str"),
+    "cant": Key("1", "rail inclination, tan (for 'uic60'; 1:40 = 0.025)", lo=-0.2, hi=0.2),
+    "gauge_mm": Key("mm", "track gauge", lo=900.0, hi=1700.0, why="narrow 1000 mm to Iberian 1668 mm gauge"),
+    "gauge_depth_mm": Key("mm", "depth below the rail top at which the gauge is measured", lo=0.0, hi=30.0,
+                          lo_open=True),
+    "back_to_back_mm": Key("mm", "wheelset back-to-back distance", lo=850.0, hi=1650.0),
+    "radius_mm": Key("mm", "nominal wheel rolling radius", lo=150.0, hi=800.0,
+                     why="railway wheels have radii of 0.2-0.6 m"),
+    "y_min_mm": Key("mm", "first lateral shift of the wheelset (to the left)", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
+    "y_max_mm": Key("mm", "last lateral shift of the wheelset", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
+    "n": Key("1", "number of shifts from y_min_mm to y_max_mm", "int", 2, 100001),
+    "yaw_mrad_per_mm": Key("mrad/mm", "yaw angle rising with the shift", lo=-20.0, hi=20.0),
+    "amplitude_mm": Key("mm", "amplitude for the equivalent conicity", lo=0.0, hi=20.0, lo_open=True),
+}
+
+
+#: SI names of the pair keys in mm (the key keeps the profile's mm; the alias converts).
+PAIR_SI_ALIASES: dict[str, Alias] = {
+    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
+       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "radius_mm", "y_min_mm", "y_max_mm",
+                 "amplitude_mm")},
+    "yaw_per_y": Alias("yaw_mrad_per_mm", 1.0, deprecated=False, unit="rad/m"),
+}
+
+
+def profile_problems(params: dict[str, Any], keys: tuple[str, str] = ("wheel", "rail")) -> list[str]:
+    """Profile keys that name neither a standard profile nor an existing file."""
+    std = {"wheel": "s1002", "rail": "uic60"}
+    out = []
+    for key, kind in zip(keys, ("wheel", "rail")):
+        v = params[key]
+        if isinstance(v, str) and v.strip().lower() != std[kind] and not Path(v).is_file():
+            out.append(f"key '{key}' = {v!r}: neither '{std[kind]}' nor an existing profile file")
+    return out
+
+
+def sweep_problems(params: dict[str, Any]) -> list[str]:
+    """The shift range of a sweep: y_min_mm < y_max_mm (or equal with one shift)."""
+    lo, hi, n = params["y_min_mm"], params["y_max_mm"], params["n"]
+    if lo > hi or (lo == hi and n > 1):
+        return [f"y_min_mm = {lo:g} must be < y_max_mm = {hi:g} (mm)" + (" or n = 1" if lo == hi else "")]
+    return []
+
+
+def check_table(params: dict[str, Any]) -> list[str]:
+    """Consistency of a 'geometry_table' case."""
+    return profile_problems(params) + sweep_problems(params)
 
 
 def deck_profiles(params: dict[str, Any]) -> tuple[P.Profile, P.Profile]:
@@ -76,6 +129,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     (yaw rising with the shift), gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm,
     amplitude_mm (for the equivalent conicity).
     """
+    params = validate("geometry_table", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"], 2)
     y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
@@ -122,4 +176,5 @@ register(CaseType(
               "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
               "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
               "amplitude_mm": 3.0},
-    run=run, plot=plot))
+    run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_SI_ALIASES,
+    summary="rigid contact table of a wheel/rail pair over lateral shifts; equivalent conicity"))

@@ -12,13 +12,61 @@ from typing import Any
 
 import numpy as np
 
-from ..casetypes import REQUIRED, CaseOutput, CaseType, register
+from ..casetypes import REQUIRED, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack
 
 _COMMON: dict[str, Any] = {"n_sleepers": REQUIRED, **DEFAULTS,
                            **{k: v for k, v in NUMERICS.items() if k != "f_max"}}
+
+
+def _pos(unit: str, meaning: str, hi: float | None = None, zero: bool = False) -> Key:
+    return Key(unit, meaning, lo=0.0, hi=hi, lo_open=not zero)
+
+
+#: Units, meanings and bounds of the track keys.
+KEYS: dict[str, Key] = {
+    "n_sleepers": Key("1", "sleepers on the ring (ring length = n_sleepers x sleeper_spacing)", "int", 8, 1024,
+                      why="a ring of fewer than 8 bays has its own ring modes in the band and is no long track"),
+    "sleeper_spacing": _pos("m", "sleeper spacing", 2.0),
+    "rail_young": _pos("Pa", "rail Young's modulus", 1e12),
+    "rail_poisson": Key("1", "rail Poisson's ratio", lo=0.0, hi=0.5, hi_open=True),
+    "rail_density": _pos("kg/m^3", "rail density", 3e4),
+    "rail_loss_factor": _pos("1", "rail material loss factor", 1.0, zero=True),
+    "rail_distance": _pos("m", "distance between the rail axes", 3.0),
+    "cant": Key("1", "rail inclination, tan (1:40 = 0.025)", lo=-0.2, hi=0.2),
+    "pad_stiffness_vertical": _pos("N/m", "rail pad vertical stiffness per rail seat"),
+    "pad_stiffness_lateral": _pos("N/m", "rail pad lateral stiffness per rail seat"),
+    "pad_stiffness_longitudinal": _pos("N/m", "rail pad longitudinal stiffness per rail seat"),
+    "pad_damping_vertical": _pos("N s/m", "rail pad vertical damping per rail seat", zero=True),
+    "pad_damping_lateral": _pos("N s/m", "rail pad lateral damping per rail seat", zero=True),
+    "pad_damping_longitudinal": _pos("N s/m", "rail pad longitudinal damping per rail seat", zero=True),
+    "pad_length": _pos("m", "rail pad length along the rail", 1.0),
+    "sleeper_mass": _pos("kg", "mass of a whole sleeper", 5000.0),
+    "sleeper_length": _pos("m", "sleeper length (roll inertia, ballast roll stiffness)", 5.0),
+    "ballast_stiffness_vertical": _pos("N/m", "ballast vertical stiffness per sleeper"),
+    "ballast_stiffness_lateral": _pos("N/m", "ballast lateral stiffness per sleeper"),
+    "ballast_damping_vertical": _pos("N s/m", "ballast vertical damping per sleeper", zero=True),
+    "ballast_damping_lateral": _pos("N s/m", "ballast lateral damping per sleeper", zero=True),
+    "f_cut_factor": Key("1", "rail modes kept per wave number up to f_cut_factor x f_max", lo=1.0, hi=10.0),
+    "kappa_max": _pos("rad/m", "highest rail wave number in the series", 1e4),
+    "mesh_max_area": Key("m^2", "largest triangle of the rail-section mesh", lo=1e-6, hi=1e-2,
+                         why="a finer mesh has over 10^4 triangles in a 77 cm^2 rail"),
+    "arc_step": Key("mm", "spacing of the section outline's points on arcs", lo=0.5, hi=50.0),
+    "n_samples": Key("1", "sample wave numbers of the rail's reduced basis", "int", 2, 1000),
+    "f_min": Key("Hz", "lowest frequency of the receptances", lo=0.0, hi=1e5),
+    "f_max": _pos("Hz", "highest frequency (receptances and modes)", 2e4),
+    "n_freq": Key("1", "frequencies from f_min to f_max", "int", 2, 1_000_000),
+    "position": Key("", "where the element is fitted: 'midspan' or 'sleeper'", "str", choices=("midspan", "sleeper")),
+}
+
+
+def check_receptance(p: dict[str, Any]) -> list[str]:
+    """Consistency of a 'track_receptance' case: f_min < f_max."""
+    if not p["f_min"] < p["f_max"]:
+        return [f"f_min = {p['f_min']:g} must be < f_max = {p['f_max']:g} (Hz)"]
+    return []
 
 
 def _track(params: dict[str, Any], f_max: float) -> RingTrack:
@@ -32,6 +80,7 @@ def run_receptance(params: dict[str, Any]) -> CaseOutput:
     Keys: n_sleepers (-), every RingTrack parameter (SI units, see railvti.track.DEFAULTS),
     f_min, f_max (Hz), n_freq (-).
     """
+    params = validate("track_receptance", params)
     f_max = float(params["f_max"])
     n_freq = int(params["n_freq"])
     if n_freq < 2:
@@ -84,6 +133,7 @@ def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:
 
 def run_element(params: dict[str, Any]) -> CaseOutput:
     """Rigid track element fitted to a ring track (keys as track_receptance, plus position)."""
+    params = validate("track_element", params)
     tr = _track(params, 1000.0)
     e = TrackElement.from_ring(tr, position=str(params["position"]))
     names = ("y", "z", "roll")
@@ -105,7 +155,9 @@ def run_element(params: dict[str, Any]) -> CaseOutput:
 
 register(CaseType(name="track_receptance",
                   defaults={**_COMMON, "f_min": 0.0, "f_max": 3000.0, "n_freq": 3000},
-                  run=run_receptance, plot=plot_receptance))
+                  run=run_receptance, plot=plot_receptance, keys=KEYS, check=check_receptance,
+                  summary="ring track (2.5-D FE rails on discrete sleepers): rail-head receptances, modes"))
 register(CaseType(name="track_element",
                   defaults={**_COMMON, "position": "midspan"},
-                  run=run_element))
+                  run=run_element, keys=KEYS,
+                  summary="rigid track element (mass, stiffness, damping per direction) fitted to a ring track"))

@@ -2,10 +2,12 @@
 speed / bifurcation) with the contact model named in the deck; results record it.
 
 Keys (SI units unless the name says km/h): scenario ('centred_running' | 'hunting' |
-'critical_speed'), model ('RR'), contact ('hertz-kalker' | 'hertz-fastsim' | 'bem'), speed_kmh,
-duration (s), h (s), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
-output_dt (s), speeds_kmh_min/max/step (critical_speed sweep), and any Coach parameter
-prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the Manchester benchmark coach.
+'critical_speed'), model ('RR'; 'FR' in centred_running), contact ('hertz-kalker' |
+'hertz-fastsim' | 'bem'), speed (m/s; or speed_kmh, km/h), duration (s, at most max_duration),
+max_duration (s), h (s), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
+output_dt (s), speeds_kmh_min/max/step (critical_speed sweep, km/h), and any Coach parameter
+prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the
+Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and bounds.
 """
 from __future__ import annotations
 
@@ -14,8 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from ..casetypes import CaseOutput, CaseType, register
+from .._checks import MAX_SPEED, MAX_SPEED_KMH
+from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
+from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from .simulate import WHEEL_OUTPUTS
@@ -26,8 +30,9 @@ DEFAULTS: dict[str, Any] = {
     "scenario": "hunting",
     "model": "RR",
     "contact": "hertz-kalker",
-    "speed_kmh": 300.0,
+    "speed": 300.0 / 3.6,
     "duration": 3.0,
+    "max_duration": 600.0,
     "h": 1e-3,
     "alpha": 0.0,
     "y0": 0.004,
@@ -37,6 +42,56 @@ DEFAULTS: dict[str, Any] = {
     "speeds_kmh_step": 20.0,
     **{f"coach_{k}": v[0] for k, v in COACH_DEFAULTS.items()},
 }
+
+
+_WHY_SPEED = "the fastest wheel-on-rail run was 575 km/h"
+#: Units, meanings and bounds of the keys of 'vehicle'.
+KEYS: dict[str, Key] = {
+    "scenario": Key("", "what to run", "str", choices=_SCENARIOS),
+    "model": Key("", "'RR' rigid wheelsets on rigid track elements, 'FR' flexible (centred_running only)",
+                 "str", choices=("RR", "FR")),
+    "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
+    "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
+    "duration": Key("s", "simulated time (per speed in critical_speed)", lo=0.0, lo_open=True),
+    "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, lo_open=True),
+    "h": Key("s", "time step", lo=0.0, hi=0.01, lo_open=True),
+    "alpha": Key("1", "HHT alpha (0: average acceleration)", lo=-1.0 / 3.0, hi=0.0),
+    "y0": Key("m", "lateral disturbance of the leading bogie's wheelsets (hunting)", lo=-0.01, hi=0.01,
+              why="beyond 10 mm the wheelset is in flange contact"),
+    "output_dt": Key("s", "interval of the stored history", lo=0.0, hi=1.0, lo_open=True),
+    "speeds_kmh_min": Key("km/h", "first speed of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH, lo_open=True,
+                          why=_WHY_SPEED),
+    "speeds_kmh_max": Key("km/h", "last speed of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH, lo_open=True,
+                          why=_WHY_SPEED),
+    "speeds_kmh_step": Key("km/h", "speed step of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH,
+                           lo_open=True),
+    **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (railvti.vehicle.DEFAULTS)") for k, v in COACH_DEFAULTS.items()},
+}
+#: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
+ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False, unit="km/h")}
+
+
+def check(params: dict[str, Any]) -> list[str]:
+    """Consistency of a 'vehicle' case: duration, sweep and coach."""
+    out = []
+    if params["duration"] > params["max_duration"]:
+        out.append(f"duration = {params['duration']:g} s exceeds max_duration = {params['max_duration']:g} s "
+                   "(about 1 MB of history per simulated second; raise max_duration to run longer)")
+    if params["h"] > params["duration"]:
+        out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
+    if params["model"] == "FR" and params["scenario"] != "centred_running":
+        out.append(f"model = 'FR' runs in scenario 'centred_running' only, not {params['scenario']!r}")
+    if params["scenario"] == "critical_speed":
+        lo, hi, step = (params[f"speeds_kmh_{k}"] for k in ("min", "max", "step"))
+        if lo >= hi:
+            out.append(f"speeds_kmh_min = {lo:g} must be < speeds_kmh_max = {hi:g} (km/h)")
+        elif (hi - lo) / step > 200:
+            out.append(f"speeds_kmh_step = {step:g} km/h gives {int((hi - lo) / step) + 1} speeds; at most 201")
+    try:
+        _coach(params)
+    except InputError as exc:
+        out.append(f"coach: {exc}")
+    return out
 
 
 def _coach(params: dict[str, Any]) -> Coach:
@@ -84,6 +139,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
     from .. import scenarios as sc
 
+    params = validate("vehicle", params)
+    params = {**params, "speed_kmh": round(params["speed"] * 3.6, 9)}  # km/h as given, to 1e-9
     scen = str(params["scenario"])
     if scen not in _SCENARIOS:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
@@ -175,7 +232,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     return paths
 
 
-register(CaseType(name="vehicle", defaults=DEFAULTS, run=run, plot=plot))
+register(CaseType(name="vehicle", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check, aliases=ALIASES,
+                  summary="coach on track in time: centred running, hunting, critical speed"))
 
 
 def _scalar(res: Any, key: str) -> float:

@@ -165,10 +165,7 @@ class Coach:
 
 
 def speed_m_s(speed_kmh: Any) -> float:
-    """Check a speed in km/h (> 0) and return it in m/s."""
-    v = _checks.finite("speed_kmh", speed_kmh)
-    if v <= 0.0:
-        raise InputError(f"speed_kmh must be > 0, got {v}")
-    return v / 3.6
+    """Check a speed in km/h (0 < speed <= railvti._checks.MAX_SPEED_KMH) and return it in m/s."""
+    return _checks.speed_kmh("speed_kmh", speed_kmh) / 3.6
 
 

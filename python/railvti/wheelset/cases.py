@@ -8,7 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from ..casetypes import CaseOutput, CaseType, register
+from .._checks import MAX_SPEED_KMH
+from ..casetypes import CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from .geometry import WheelsetGeometry
 from .model import PrimarySuspension, Wheelset
@@ -33,8 +34,65 @@ DEFAULTS: dict[str, Any] = {
 }
 
 
+_GEOMETRY_MEANING = {
+    "wheel_radius": "nominal rolling radius at the taping line", "back_to_back": "distance between the flange backs",
+    "rim_width": "axial width of the rim", "rim_depth": "radial depth of the rim below the rolling radius",
+    "flange_height": "flange height above the rolling radius", "flange_width": "flange width at the rim face",
+    "web_thickness_hub": "web thickness at the hub", "web_thickness_rim": "web thickness at the rim",
+    "web_steps": "straight segments of the web's taper", "web_offset": "web centre from the rim centre (+ outward)",
+    "hub_radius": "hub outer radius", "hub_width": "hub axial width", "hub_offset": "hub centre from the rim centre",
+    "seat_radius": "axle radius at the wheel seats", "body_radius": "axle body radius",
+    "collar_radius": "axle radius at the collars", "journal_radius": "journal radius",
+    "journal_spacing": "distance between the journal centres", "journal_length": "journal length",
+    "contact_offset": "taping line from the inner rim face", "young": "steel Young's modulus",
+    "poisson": "steel Poisson's ratio", "density": "steel density", "mesh_size": "element edge in the wheels",
+    "axle_mesh_size": "element edge in the axle",
+}
+_GEOMETRY_UNIT = {"web_steps": "1", "young": "Pa", "poisson": "1", "density": "kg/m^3"}
+#: Units, meanings and bounds of the keys of 'wheelset'.
+KEYS: dict[str, Key] = {
+    "k_max": Key("1", "highest circumferential harmonic", "int", 0, 30),
+    "f_max": Key("Hz", "highest mode frequency", lo=0.0, hi=2e4, lo_open=True),
+    "support": Key("", "modes table: 'free' or on the primary 'suspension'", "str", choices=("free", "suspension")),
+    "speeds_kmh": Key("km/h", "speeds of the FRF (one or more)", "floats", 0.0, MAX_SPEED_KMH,
+                      why="the fastest wheel-on-rail run was 575 km/h"),
+    "f_lo": Key("Hz", "lowest FRF frequency", lo=0.0, hi=2e4),
+    "f_hi": Key("Hz", "highest FRF frequency", lo=0.0, hi=2e4, lo_open=True),
+    "n_freq": Key("1", "FRF frequencies", "int", 2, 1_000_000),
+    "input": Key("", "force direction at the contact point", "str", choices=("lateral", "vertical", "longitudinal")),
+    "output": Key("", "displacement direction at the contact point", "str",
+                  choices=("lateral", "vertical", "longitudinal")),
+    "damping_ratio": Key("1", "modal damping ratio", lo=0.0, hi=1.0, hi_open=True),
+    "k_longitudinal": Key("N/m", "primary suspension stiffness, longitudinal", lo=0.0),
+    "k_lateral": Key("N/m", "primary suspension stiffness, lateral", lo=0.0),
+    "k_vertical": Key("N/m", "primary suspension stiffness, vertical", lo=0.0),
+    **{k: Key(_GEOMETRY_UNIT.get(k, "m"), _GEOMETRY_MEANING.get(k, k), "int" if k == "web_steps" else "float",
+              lo=None if k in ("web_offset", "hub_offset") else 0.0, lo_open=k != "web_steps")
+       for k in _GEOMETRY_DEFAULTS},
+    "web_steps": Key("1", _GEOMETRY_MEANING["web_steps"], "int", 1, 100),
+    "poisson": Key("1", _GEOMETRY_MEANING["poisson"], lo=0.0, hi=0.5, hi_open=True),
+    "mesh_size": Key("m", _GEOMETRY_MEANING["mesh_size"], lo=0.002, hi=0.2,
+                     why="a finer mesh has hundreds of thousands of elements"),
+    "axle_mesh_size": Key("m", _GEOMETRY_MEANING["axle_mesh_size"], lo=0.002, hi=0.5,
+                          why="a finer mesh has hundreds of thousands of elements"),
+}
+
+
+def check(params: dict[str, Any]) -> list[str]:
+    """Consistency of a 'wheelset' case: the band, and the geometry (WheelsetGeometry's checks)."""
+    out = []
+    if not params["f_lo"] < params["f_hi"]:
+        out.append(f"f_lo = {params['f_lo']:g} must be < f_hi = {params['f_hi']:g} (Hz)")
+    try:
+        WheelsetGeometry(**{k: params[k] for k in _GEOMETRY_DEFAULTS})
+    except InputError as exc:
+        out.append(f"wheelset geometry: {exc}")
+    return out
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """Run a wheelset case (lengths m, stiffness N/m, frequencies Hz, speeds km/h)."""
+    params = validate("wheelset", params)
     geo = WheelsetGeometry(**{k: params[k] for k in _GEOMETRY_DEFAULTS})
     susp = PrimarySuspension(params["k_longitudinal"], params["k_lateral"], params["k_vertical"])
     ws = Wheelset(geo, suspension=susp)
@@ -72,4 +130,5 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     return [plot_frf(outdir / f"{stem}_frf.png", f, curves, "wheelset in bogie: contact-point receptance")]
 
 
-register(CaseType(name="wheelset", defaults=DEFAULTS, run=run, plot=plot))
+register(CaseType(name="wheelset", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check,
+                  summary="flexible rotating wheelset (axisymmetric FE): modes per harmonic and FRF"))
