@@ -2,8 +2,9 @@
 
 The System lives in the Fortran core behind a handle (``System.native``, a
 :class:`~railvti.vehicle.model.VehicleModel`), sent once. The whole time loop runs in Fortran
-(``vehicle_run_c``); Python calls it in chunks of simulated time only to update a progress bar
-(simulated time and real-time factor).
+(``vehicle_run_c``); Python calls it in chunks of about :data:`CHUNK_SECONDS` of wall time (whole
+output intervals: the numbers are those of one call) to update a progress bar (simulated time and
+real-time factor) and to let Ctrl-C / SIGTERM stop a run between chunks.
 """
 from __future__ import annotations
 
@@ -37,6 +38,10 @@ NEWTON_RTOL = 1e-3
 #: pi steps per period. A step beyond this resolves none of that mode's dynamics: drop the mode
 #: (keep its static part) or take a smaller step.
 MODAL_STEP_LIMIT = 2.0
+
+#: Wall time of one call of the Fortran time loop, s: Python runs the loop in calls of about
+#: this length (whole output intervals), so Ctrl-C or SIGTERM stops a run within about it.
+CHUNK_SECONDS = 0.2
 
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
@@ -411,7 +416,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     progress : bool, optional
         Show a tqdm bar (default: when the run has more than 2000 steps).
     chunk : float, optional
-        Simulated time per Fortran call (for the bar), s.
+        Largest simulated time per Fortran call with the bar, s (each call also lasts at
+        most about :data:`CHUNK_SECONDS` of wall time).
     bem_options : BemOptions, optional
         Grid and solver settings of contact='bem'.
     bem : BemState, optional
@@ -509,8 +515,10 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     wall0 = time.perf_counter()
     try:
         done = 0
+        size = min(plan.per_chunk, plan.nevery * max(1, 16 // plan.nevery))
         while done < plan.nsteps:
-            ns = min(plan.per_chunk, plan.nsteps - done)
+            ns = min(size, plan.nsteps - done)
+            tc = time.perf_counter()
             nout = max(1, ns // plan.nevery)
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
@@ -521,6 +529,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
                                  out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
                                  int(out.stats[0]))
             done += ns
+            size = _next_chunk(ns, time.perf_counter() - tc, plan)
             if bar is not None:
                 bar.update(round(ns * plan.h, 6))
                 bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
@@ -529,6 +538,15 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             bar.close()
     return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
                                                       newton_tol=plan.tol))
+
+
+def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:
+    """Steps of the next Fortran call: about :data:`CHUNK_SECONDS` of wall time at the pace
+    of the last call, a multiple of the output interval (so that the outputs, and every
+    number, are those of one call), at most ``plan.per_chunk``."""
+    per_step = max(wall, 1e-6) / ns
+    k = max(1, int(CHUNK_SECONDS / per_step) // plan.nevery)
+    return min(plan.per_chunk, k * plan.nevery)
 
 
 def _progress_bar(plan: _Plan):
