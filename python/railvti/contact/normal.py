@@ -173,12 +173,15 @@ def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter
                 break
             dt = time.perf_counter() - t0
             budget = float(np.clip(budget * GS_SLICE_SECONDS / max(dt, 1e-4), 1e3, 4.0 * budget))
-            if bar is None and time.perf_counter() - t_start > 2.0:
+            if bar is None and time.perf_counter() - t_start > 2.0 and np.isfinite(resid):
                 from tqdm import tqdm
-                bar = tqdm(total=max_iter, desc="normal gs", unit="sweep", leave=False)
-            if bar is not None:
-                bar.update(int(iters) - bar.n)
-                bar.set_postfix_str(f"residual {float(resid):.2e}")
+                r0 = max(float(resid), 10.0 * tol)      # the bar: decades of the residual to go
+                bar = tqdm(total=round(np.log10(r0 / tol), 2), unit="decade", leave=False,
+                           disable=None, bar_format="{desc} {bar}| [{elapsed}<{remaining}]")
+            if bar is not None and np.isfinite(resid) and resid > 0:
+                bar.update(max(0.0, min(bar.total, round(np.log10(r0 / float(resid)), 2))) - bar.n)
+                bar.set_description_str(f"normal gs: sweep {int(iters)}, residual {float(resid):.2e} "
+                                        f"> tol {tol:.0e}", refresh=False)
     finally:
         if bar is not None:
             bar.close()
