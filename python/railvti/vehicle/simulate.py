@@ -18,6 +18,7 @@ import numpy as np
 from .. import _checks
 from .._status import Status, check, error
 from ..errors import DivergenceError, InputError, RailvtiError
+from ..resources import check_memory
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
@@ -431,6 +432,10 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         its contact table; the message names the time and the step.
     GridTooSmallError
         A BEM contact patch reached the edge of its grid.
+    InputError
+        Bad settings, or a time history that would need more memory than the limit of
+        :mod:`railvti.resources` (``RAILVTI_MAX_MEMORY``; 80 % of the available memory by
+        default), said before the run starts.
     """
     if contact_id(contact) == CONTACT_MODELS["bem"] and bem is None:
         with bem_state(system, bem_options) as st:
@@ -442,6 +447,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
     check_modal_step(system, plan.h)
+    _check_history_memory(system, plan)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -538,6 +544,16 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             bar.close()
     return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
                                                       newton_tol=plan.tol))
+
+
+def _check_history_memory(system: System, plan: _Plan) -> None:
+    """InputError before a run whose time history would not fit the memory limit
+    (:mod:`railvti.resources`): q and v of every state and the 12 x 2 wheel outputs of every
+    wheelset per output time, gathered in chunks and then joined (about 2 copies)."""
+    nout = plan.nsteps // plan.nevery
+    per_output = 8 * (2 * system.n_state + len(WHEEL_OUTPUTS) * 2 * system.iws.shape[1] + 1)
+    check_memory(f"the time history ({nout} outputs of {per_output} bytes)", 2.0 * nout * per_output,
+                 "shorten the duration or raise output_dt")
 
 
 def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:
