@@ -108,7 +108,8 @@ def _attr(value: Any) -> Any:
     if isinstance(value, str):
         return value.replace("\x00", "\\0")      # HDF5 strings end at a NUL
     if isinstance(value, (list, tuple)):
-        return np.asarray(value)
+        arr = np.asarray(value)
+        return arr.astype(object).astype(h5py.string_dtype()) if arr.dtype.kind == "U" else arr
     return value
 
 
@@ -163,10 +164,50 @@ def _write_inputs(g: h5py.Group, case: Case) -> None:
             d.attrs["none"] = 1
 
 
-def _write_dataset(g: h5py.Group, name: str, spec: tuple) -> None:
+#: Datasets that are an axis of the others when their length matches (in this order).
+AXIS_NAMES = ("t", "freq", "speeds_kmh", "y", "x")
+
+
+def default_axes(name: str, arr: np.ndarray, output: CaseOutput) -> list[str] | None:
+    """Axis labels of a result array from the case's axis datasets (``t``, ``freq``, ``x``,
+    ``y``...) whose lengths match, when the case did not give them."""
+    if arr.ndim == 0 or name in AXIS_NAMES:
+        return [name] if arr.ndim == 1 else None
+    lengths = {a: np.asarray(output.datasets[a][0]).shape for a in AXIS_NAMES if a in output.datasets}
+    lengths = {a: s[0] for a, s in lengths.items() if len(s) == 1}
+    if arr.ndim == 2 and {"x", "y"} <= set(lengths) and arr.shape == (lengths["x"], lengths["y"]):
+        return ["x", "y"]
+    first = next((a for a in AXIS_NAMES if lengths.get(a) == arr.shape[0]), None)
+    if first is None:
+        return None
+    return [first] + [f"axis {i}" for i in range(1, arr.ndim)]
+
+
+def _unit_text(units: str, arr: np.ndarray) -> str:
+    """A unit for every dataset: '1' for a number without unit, 'text' for text."""
+    if units:
+        return units
+    return "text" if arr.dtype.kind in "OSU" else "1"
+
+
+def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
+    """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
+    ``attrs`` (labels)."""
+    return ({k: (v[0], v[1]) for k, v in data.items()},
+            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
+
+
+def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None) -> None:
     arr, units = spec[0], spec[1]
-    extra = spec[2] if len(spec) > 2 else {}
+    extra = dict(spec[2]) if len(spec) > 2 else {}
+    if output is not None:
+        extra.update(getattr(output, "attrs", {}).get(name, {}))
     arr = np.asarray(_data(arr))
+    units = _unit_text(units, arr)
+    if "axes" not in extra and output is not None:
+        axes = default_axes(name, arr, output)
+        if axes is not None:
+            extra["axes"] = axes
     if arr.ndim > 0 and arr.size > 16:
         d = g.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
     else:
@@ -195,9 +236,9 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
         return
     g.attrs["summary"] = rec.output.summary
     for dname, spec in rec.output.datasets.items():
-        _write_dataset(g, dname, spec)
+        _write_dataset(g, dname, spec, rec.output)
     for dname, spec in rec.output.scalars.items():
-        _write_dataset(g, dname, spec)
+        _write_dataset(g, dname, spec, rec.output)
 
 
 def _fsync(path: Path) -> None:
