@@ -126,7 +126,8 @@ def _input_unit(case: Case, key: str) -> tuple[str, str]:
     from the key's name (``_mm``, ``_kmh``...), else 'see railvti cases'."""
     spec = getattr(case.case_type, "keys", {}).get(key) if hasattr(case.case_type, "keys") else None
     if spec is not None:
-        return (getattr(spec, "unit", "") or "", getattr(spec, "meaning", "") or "")
+        unit = getattr(spec, "unit", "") or ("text" if isinstance(case.params.get(key), str) else "1")
+        return unit, getattr(spec, "meaning", "") or ""
     return _guess_unit(key, case.params.get(key)), ""
 
 
@@ -142,7 +143,7 @@ _KNOWN_UNITS = {"shear_modulus": "Pa", "g": "Pa", "poisson": "1", "nu": "1", "dx
 
 def _guess_unit(key: str, value: Any) -> str:
     if isinstance(value, str):
-        return ""
+        return "text"
     if key in _KNOWN_UNITS:
         return _KNOWN_UNITS[key]
     for suffix, unit in _UNIT_SUFFIXES:
@@ -360,10 +361,17 @@ def _nml(value: Any) -> str:
 FIELD_UNITS: dict[str, dict[str, str]] = {
     "SimulationResult": {"t": "s", "q": "m or rad (per dof_names)",
                          "v": "m/s or rad/s (per dof_names)",
-                         "wheel": "per quantity: see the quantities and units attributes",
-                         "dof_names": "", "speed": "m/s", "h": "s", "friction": "1",
-                         "flange_angle": "rad"},
+                         "wheel": "per quantity: see the quantities and quantity_units attributes",
+                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad"},
 }
+
+
+def _field_units(cls: type) -> dict[str, Any]:
+    """Units of nested fields (SimulationResult.stats) that live beside their classes."""
+    if cls.__name__ == "SimulationResult":
+        from .vehicle.cases import STAT_UNITS
+        return {"stats": STAT_UNITS}
+    return {}
 
 _UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
                       r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
@@ -383,33 +391,39 @@ def _doc_units(cls: type) -> dict[str, str]:
     return out
 
 
-def _units_of(cls: type) -> dict[str, str]:
-    units = _doc_units(cls)
+def _units_of(cls: type) -> dict[str, Any]:
+    units: dict[str, Any] = dict(_doc_units(cls))
     units.update(FIELD_UNITS.get(cls.__name__, {}))
+    units.update(_field_units(cls))
     return units
 
 
-def _save_value(g: h5py.Group, name: str, value: Any, unit: str) -> None:
+def _save_value(g: h5py.Group, name: str, value: Any, unit: Any) -> None:
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         _save_object(g.create_group(name), value)
     elif isinstance(value, dict):
         sub = g.create_group(name)
         sub.attrs["kind"] = "dict"
+        units = unit if isinstance(unit, dict) else {}
         for i, (k, v) in enumerate(value.items()):
-            key = json.dumps(list(k) if isinstance(k, tuple) else k)
-            item = f"item{i}"
-            _save_value(sub, item, v, "")
-            sub[item].attrs["key"] = key
+            plain = isinstance(k, str) and k and "/" not in k and k != "." and not k.startswith("item")
+            item = k if plain else f"item{i}"
+            _save_value(sub, item, v, units.get(k, "") if plain else "")
+            sub[item].attrs["key"] = json.dumps(list(k) if isinstance(k, tuple) else k)
+            sub[item].attrs["order"] = i
             sub[item].attrs["key_is_tuple"] = int(isinstance(k, tuple))
     elif value is None:
         d = g.create_dataset(name, data=h5py.Empty("f8"))
         d.attrs["kind"] = "none"
+        d.attrs["units"] = "none (no value)"
     elif isinstance(value, str):
         d = g.create_dataset(name, data=value)
         d.attrs["kind"] = "str"
+        d.attrs["units"] = "text"
     elif isinstance(value, (tuple, list)) and value and all(isinstance(v, str) for v in value):
         d = g.create_dataset(name, data=np.array(value, dtype=h5py.string_dtype()))
         d.attrs["kind"] = "tuple_str"
+        d.attrs["units"] = "text"
     elif isinstance(value, (tuple, list)) and not all(np.isscalar(v) for v in value):
         sub = g.create_group(name)
         sub.attrs["kind"] = "tuple" if isinstance(value, tuple) else "list"
@@ -424,7 +438,7 @@ def _save_value(g: h5py.Group, name: str, value: Any, unit: str) -> None:
         elif isinstance(value, list):
             kind = "list"
         d.attrs["kind"] = kind
-        d.attrs["units"] = unit or "1"
+        d.attrs["units"] = (unit if isinstance(unit, str) else "") or ("text" if arr.dtype.kind in "OSU" else "1")
 
 
 def _save_object(g: h5py.Group, obj: Any) -> None:
@@ -471,8 +485,11 @@ def _load_value(node: Any) -> Any:
         if "class" in node.attrs:
             return _load_object(node)
         kind = node.attrs.get("kind")
-        items = sorted(node.keys(), key=lambda s: int(s[4:]))
-        if kind == "dict":
+        items = list(node.keys())
+        if kind != "dict":
+            items.sort(key=lambda s: int(s[4:]))
+        else:
+            items.sort(key=lambda s: node[s].attrs.get("order", 0))
             out = {}
             for k in items:
                 key = json.loads(node[k].attrs["key"])

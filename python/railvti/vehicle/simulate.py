@@ -127,6 +127,26 @@ class SimulationResult:
     friction: float = float("nan")
     flange_angle: float = float("nan")
 
+    def save(self, path) -> "Path":
+        """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
+        it back equal): every array with its ``units``, q and v with ``dof_names``, the wheel
+        outputs with their quantity names and units."""
+        from ..results import save
+        return save(self, path)
+
+    def _save_attrs(self) -> dict:
+        """Labels written beside the arrays by :func:`railvti.results.save`."""
+        from .cases import WHEEL_UNITS
+        nw = self.wheel.shape[-1]
+        return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+                "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+                "t": {"axes": ["t"]},
+                "wheel": {"axes": ["t", "quantity", "wheel", "wheelset"],
+                          "quantities": list(WHEEL_OUTPUTS),
+                          "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
+                          "wheel": ["left", "right"],
+                          "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
+
     @property
     def nadal(self) -> float:
         """Nadal's limit Y/Q for this run's flange angle and friction."""
