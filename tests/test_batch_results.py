@@ -242,3 +242,27 @@ def test_vehicle_results_are_self_describing_and_round_trip(tmp_path):
         assert g["wheel_Q"].shape[1:] == (2, 4)
         assert g["stat_wall_time"].attrs["units"] == "s"
         assert list(f["002_n/pressure"].attrs["axes"]) == ["x", "y"]
+
+
+def test_a_result_hdf5_cannot_store_is_that_case_error(tmp_path, monkeypatch):
+    def odd(params):
+        return CaseOutput(summary="odd", datasets={"bad": (np.array([{}, {}], dtype=object), "1")})
+
+    monkeypatch.setitem(REGISTRY, "odd", CaseType(name="odd", defaults={}, run=odd))
+    deck = _deck(tmp_path, "&case name='o', type='odd' /\n" + SMALL.format(name="a", fn=1e4))
+    out = tmp_path / "out.h5"
+    assert main(["run", str(deck), "-o", str(out), "-q"]) == 1
+    st = _statuses(out)
+    assert st["001_o"].startswith("error: cannot store the results") and st["002_a"] == "ok"
+
+
+def test_a_very_long_case_name_runs_and_plots(tmp_path):
+    name = "n" * 20000
+    deck = _deck(tmp_path, SMALL.format(name=name, fn=1e4))
+    out = tmp_path / "out.h5"
+    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    with h5py.File(out, "r") as f:
+        (g,) = f.values()
+        assert g.attrs["name"] == name and len(g.name) < 200
+    assert main(["plot", str(out), "-o", str(tmp_path / "png")]) == 0
+    assert len(list((tmp_path / "png").glob("*.png"))) == 1

@@ -253,6 +253,29 @@ def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
     return CaseRecord(case, output=output, wall_time=time.perf_counter() - t0)
 
 
+def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> bool:
+    """Write one record; a result that cannot be stored (a value HDF5 refuses) becomes the
+    case's error. False when the file itself cannot be written (disk full, I/O error)."""
+    try:
+        writer.write([rec])
+        return True
+    except OSError as exc:
+        write(f"railvti: error: cannot write {out}: {exc.strerror or exc}")
+        return False
+    except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
+        tb = traceback.format_exc()
+        log.error("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
+        rec.output = None
+        rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
+        rec.traceback = tb
+    try:
+        writer.write([rec])
+        return True
+    except Exception as exc:  # noqa: BLE001
+        write(f"railvti: error: cannot write {out}: {exc}")
+        return False
+
+
 def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
               write: Any = print, progress: Any = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
@@ -285,10 +308,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
                 progress(case)
             announce(case, write)
             rec = run_case(case, guard)
-            try:
-                writer.write([rec])
-            except OSError as exc:
-                write(f"railvti: error: cannot write {out}: {exc.strerror or exc}")
+            if not _store(writer, rec, out, write):
                 report.status = EXIT_OUTPUT
                 return report
             if rec.interrupted:
