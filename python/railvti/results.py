@@ -138,7 +138,18 @@ _KNOWN_UNITS = {"shear_modulus": "Pa", "g": "Pa", "poisson": "1", "nu": "1", "dx
                 "bump_height": "m", "fn": "N", "approach": "m", "tol": "1", "max_iter": "1",
                 "mu": "1", "xi": "1", "eta": "1", "phi": "1/m", "speed": "m/s", "duration": "s",
                 "h": "s", "alpha": "1", "output_dt": "s", "semi_a": "m", "semi_b": "m",
-                "nx": "1", "ny": "1"}
+                "nx": "1", "ny": "1", "n": "1", "cant": "1 (tan of the rail inclination)",
+                "yaw_mrad_per_mm": "mrad/mm"}
+
+
+#: Units by a word in the key's name (the first match), for keys without a Key table entry.
+_UNIT_WORDS = (("stiffness", "N/m"), ("damping_ratio", "1"), ("damping", "N s/m"),
+               ("young", "Pa"), ("density", "kg/m^3"), ("mass", "kg"), ("poisson", "1"),
+               ("loss_factor", "1"), ("factor", "1"), ("mesh_max_area", "m^2"), ("kappa", "1/m"),
+               ("n_", "1"), ("k_max", "1"), ("web_steps", "1"), ("f_", "Hz"), ("omega", "rad/s"),
+               ("fz", "N"), ("radius", "m"), ("length", "m"), ("width", "m"), ("spacing", "m"),
+               ("distance", "m"), ("offset", "m"), ("height", "m"), ("depth", "m"), ("size", "m"),
+               ("thickness", "m"), ("back_to_back", "m"), ("arc_step", "m"), ("k_", "N/m"))
 
 
 def _guess_unit(key: str, value: Any) -> str:
@@ -146,8 +157,14 @@ def _guess_unit(key: str, value: Any) -> str:
         return "text"
     if key in _KNOWN_UNITS:
         return _KNOWN_UNITS[key]
+    low = key.lower()
+    if "_kmh" in low:
+        return "km/h"
     for suffix, unit in _UNIT_SUFFIXES:
-        if key.lower().endswith(suffix):
+        if low.endswith(suffix):
+            return unit
+    for word, unit in _UNIT_WORDS:
+        if low.startswith(word) if word.endswith("_") else word in low:
             return unit
     return "see 'railvti cases'"
 
