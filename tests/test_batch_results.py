@@ -266,3 +266,25 @@ def test_a_very_long_case_name_runs_and_plots(tmp_path):
         assert g.attrs["name"] == name and len(g.name) < 200
     assert main(["plot", str(out), "-o", str(tmp_path / "png")]) == 0
     assert len(list((tmp_path / "png").glob("*.png"))) == 1
+
+
+def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch, capsys):
+    from railvti import results
+
+    real = results.ResultsWriter.write
+    calls = []
+
+    def failing(self, records):
+        calls.append(1)
+        if len(calls) == 2:
+            raise OSError(28, "No space left on device")
+        return real(self, records)
+
+    monkeypatch.setattr(results.ResultsWriter, "write", failing)
+    deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4)
+                 + SMALL.format(name="c", fn=1e4))
+    out = tmp_path / "out.h5"
+    assert main(["run", str(deck), "-o", str(out), "-q"]) == 3
+    assert "No space left on device" in capsys.readouterr().out
+    assert _statuses(out) == {"001_a": "ok"}                  # the last complete version
+    assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
