@@ -117,3 +117,32 @@ def test_sigkill_leaves_the_previous_valid_file(tmp_path):
     # a kill between cases leaves no temporary file; one during a write could leave one
     assert len(_leftovers(tmp_path)) <= 1
     assert os.stat(out).st_size > 0
+
+
+def test_an_interrupted_vehicle_run_keeps_its_history():
+    """Ctrl-C in the time loop: the exception carries the history completed so far, equal to
+    the start of an uninterrupted run (in-process: interrupt_main raises KeyboardInterrupt)."""
+    import _thread
+    import threading
+
+    import numpy as np
+
+    from railvti import scenarios as sc
+    from railvti.batch import partial_output
+
+    sc.hunting(300.0, duration=0.01)                       # build the contact table first
+    timer = threading.Timer(1.5, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as info:
+            sc.hunting(300.0, duration=60.0, progress=False)
+    finally:
+        timer.cancel()
+    part = info.value.partial
+    n = len(part.t)
+    assert n > 10 and part.stats["interrupted_at"] == part.t[-1]
+    full = sc.hunting(300.0, duration=float(part.t[-1]) + 1e-9, progress=False)
+    assert np.array_equal(full.q[:n], part.q) and np.array_equal(full.wheel[:n], part.wheel)
+    out = partial_output(part)
+    assert out.datasets["q"][0].shape == part.q.shape
+    assert list(out.attrs["q"]["dof_names"]) == list(part.dof_names)

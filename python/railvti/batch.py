@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
+from .casetypes import CaseOutput
 from .deck import Case
 from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
@@ -234,6 +235,23 @@ class RunReport:
     interrupted: str | None = None
 
 
+def partial_output(res: Any) -> CaseOutput | None:
+    """The time history an interrupted vehicle run had completed (its exception's
+    ``partial`` SimulationResult) as a CaseOutput, or None."""
+    if res is None or not hasattr(res, "_save_attrs"):
+        return None
+    from .vehicle.cases import STAT_UNITS
+    labels = res._save_attrs()
+    data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
+            "v": (res.v, "m/s or rad/s (per dof_names)"),
+            "wheel": (res.wheel, "per quantity: see quantity_units")}
+    scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
+               if isinstance(v, (int, float))}
+    t_end = float(res.t[-1]) if len(res.t) else 0.0
+    return CaseOutput(summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
+                      datasets=data, scalars=scalars, attrs=labels)
+
+
 def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
     """Run one case; any exception becomes the record's error (with its traceback),
     a signal the record's ``interrupted``."""
@@ -241,10 +259,10 @@ def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
     try:
         with guard.live():
             output = case.case_type.run(case.params)
-    except Interrupted as exc:
-        return CaseRecord(case, interrupted=exc.signame, wall_time=time.perf_counter() - t0)
-    except KeyboardInterrupt:           # no handler installed (not the main thread)
-        return CaseRecord(case, interrupted="SIGINT", wall_time=time.perf_counter() - t0)
+    except KeyboardInterrupt as exc:    # Interrupted, or Ctrl-C without the guard's handler
+        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None)),
+                          interrupted=getattr(exc, "signame", "SIGINT"),
+                          wall_time=time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
         tb = traceback.format_exc()
         log.error("%s failed:\n%s", case.label, tb.rstrip())

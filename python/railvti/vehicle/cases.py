@@ -56,6 +56,7 @@ STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "
               "newton_correction": "m or rad", "newton_correction_max": "m or rad",
               "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
               "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
+              "interrupted_at": "s",
               "bem_grid": "1, 1, m (nx, ny, dx)"}
 _SIDES = ["left", "right"]
 

@@ -452,6 +452,10 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         its contact table; the message names the time and the step.
     GridTooSmallError
         A BEM contact patch reached the edge of its grid.
+    KeyboardInterrupt
+        Ctrl-C (or SIGTERM under ``railvti run``) between two chunks of the time loop; its
+        ``partial`` attribute holds the SimulationResult of the chunks completed (the
+        numbers of an uninterrupted run up to ``stats['interrupted_at']``).
     InputError
         Bad settings, or a time history that would need more memory than the limit of
         :mod:`railvti.resources` (``RAILVTI_MAX_MEMORY``; 80 % of the available memory by
@@ -559,6 +563,11 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             if bar is not None:
                 bar.update(round(ns * plan.h, 6))
                 bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
+    except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
+        if out.t and sum(len(x) for x in out.t):
+            exc.partial = out.result(system, cs.speed, contact,
+                                     dict(out.named_stats(), interrupted_at=float(out.t[-1][-1])))
+        raise
     finally:
         if bar is not None:
             bar.close()
