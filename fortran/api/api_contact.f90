@@ -163,3 +163,59 @@ subroutine normal_solve_c(handle, nx, ny, h, control, method, tol, max_iter, ome
     nprod = np
     info = stat
 end subroutine normal_solve_c
+
+!> One slice of a resumable projected Gauss-Seidel solve (contact_normal's
+!> normal_gs_start / normal_gs_resume): start = 1 begins from the pressure in p;
+!> start = 0 goes on from the state (p, u = A p, approach, iters, pos, resid) of the
+!> previous slice. Each slice spends about budget units of work (element visits plus
+!> nx ny per column correction), so Python can show progress and stop between slices;
+!> the numbers are those of normal_solve_c with method 2. done = 1 when the solve
+!> has finished, info then as for normal_solve_c (STAT_OK while done = 0).
+subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, fn_in, budget, &
+                             start, approach, p, u, iters, pos, resid, fn_out, done, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
+    use contact_plans, only: workspace, ws_get
+    use contact_normal, only: normal_gs_start, normal_gs_resume, CONTROL_FORCE, CONTROL_APPROACH
+    implicit none
+    integer(c_int), intent(in) :: handle, nx, ny, control, max_iter, start
+    real(c_double), intent(in) :: h(nx, ny), tol, omega, fn_in, budget
+    real(c_double), intent(inout) :: approach, p(nx, ny), u(nx, ny), resid
+    integer(c_int), intent(inout) :: iters, pos
+    real(c_double), intent(out) :: fn_out
+    integer(c_int), intent(out) :: done, info
+    type(workspace), pointer :: w
+    integer :: it, ps, stat
+    logical :: fin
+
+    fn_out = fn_in
+    done = 1
+    if (control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) then
+        info = STAT_BAD_ARGUMENT
+        return
+    end if
+    w => ws_get(handle, nx, ny)
+    if (.not. associated(w)) then
+        info = STAT_BAD_HANDLE
+        return
+    end if
+    it = iters
+    ps = pos
+    if (start == 1) then
+        call normal_gs_start(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach, &
+                             p, u, it, ps, resid, stat, fin)
+        if (fin) then
+            iters = it
+            pos = ps
+            info = stat
+            return
+        end if
+    end if
+    call normal_gs_resume(w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach, omega, tol, &
+                          max_iter, budget, p, u, it, ps, resid, stat, fin)
+    iters = it
+    pos = ps
+    done = merge(1, 0, fin)
+    info = stat
+    if (.not. fin) info = STAT_OK
+end subroutine normal_gs_slice_c

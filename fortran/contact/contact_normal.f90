@@ -10,7 +10,9 @@
 !>              (Polonsky & Keer, Wear 231, 1999, sect. 3);
 !>   normal_gs  projected Gauss-Seidel, p_i <- max(0, p_i - e_i / A_ii)
 !>              (eq. 23), with force scaling after each sweep when the
-!>              force is prescribed.
+!>              force is prescribed; also resumable in slices of work
+!>              (normal_gs_start, normal_gs_resume) so that a caller can
+!>              show progress and stop between slices.
 !> Both stop on the relative complementarity residual (normal_residual) and
 !> accept a warm start in p.
 !> Implements Kaiser eqs 17-23 (eq. 18 with piecewise-constant elements, not bilinear ones)
@@ -22,7 +24,7 @@ module contact_normal
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
-    public :: normal_cg, normal_gs, normal_residual
+    public :: normal_cg, normal_gs, normal_gs_start, normal_gs_resume, normal_residual
 
     integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
     !> Exact product every this many CG steps, against drift of the recurrence.
@@ -366,39 +368,8 @@ contains
         end do
     end subroutine add_column
 
-    !> Projected Gauss-Seidel (eq. 23) for prescribed approach, from the
-    !> pressure in p; u = A p is kept up to date column by column from the
-    !> circular coefficient field c (influence_field layout), O(N) per change.
-    subroutine gs_sweeps(c, h, approach, omega, tol, min_sweeps, max_sweeps, p, u, sweeps, resid)
-        real(dp), intent(in) :: c(0:, 0:), h(:, :), approach, omega, tol
-        integer, intent(in) :: min_sweeps, max_sweeps
-        real(dp), intent(inout) :: p(:, :), u(:, :)
-        integer, intent(out) :: sweeps
-        real(dp), intent(out) :: resid
-        integer :: nx, ny, k, l
-        real(dp) :: c0, e, pnew, d
-        nx = size(h, 1)
-        ny = size(h, 2)
-        c0 = c(0, 0)
-        sweeps = 0
-        resid = normal_residual(u + h - approach, p, u)
-        do while ((resid > tol .or. sweeps < min_sweeps) .and. sweeps < max_sweeps)
-            sweeps = sweeps + 1
-            do l = 1, ny
-                do k = 1, nx
-                    e = u(k, l) + h(k, l) - approach
-                    pnew = max(0.0_dp, p(k, l) - omega * e / c0)
-                    d = pnew - p(k, l)
-                    if (d == 0.0_dp) cycle
-                    p(k, l) = pnew
-                    call add_column(c, k, l, d, u)
-                end do
-            end do
-            resid = normal_residual(u + h - approach, p, u)
-        end do
-    end subroutine gs_sweeps
-
-    !> Projected Gauss-Seidel with prescribed approach or force. info as for normal_cg.
+    !> Projected Gauss-Seidel with prescribed approach or force, in one call.
+    !> info as for normal_cg.
     subroutine normal_gs(plan, kz, c, h, area_el, control, fn, approach, omega, tol, &
                          max_iter, p, iters, resid, info)
         type(conv_plan), intent(inout) :: plan
@@ -409,45 +380,116 @@ contains
         integer, intent(out) :: iters, info
         real(dp), intent(out) :: resid
         real(dp), allocatable :: u(:, :)
-        real(dp) :: scale
-        integer :: sweeps
+        integer :: pos
+        logical :: done
+
+        allocate (u, mold=h)
+        call normal_gs_start(plan, kz, c, h, area_el, control, fn, approach, p, u, iters, pos, &
+                             resid, info, done)
+        if (done) return
+        call normal_gs_resume(c, h, area_el, control, fn, approach, omega, tol, max_iter, &
+                              huge(1.0_dp), p, u, iters, pos, resid, info, done)
+    end subroutine normal_gs
+
+    !> Start of a resumable projected Gauss-Seidel solve: p = max(p, 0), u = A p, the
+    !> initial residual (prescribed approach) or, from p = 0, the approach of a bed of
+    !> springs (prescribed force). done (info = STAT_NO_CONTACT): the prescribed approach
+    !> does not close the smallest gap. The solve goes on with normal_gs_resume.
+    subroutine normal_gs_start(plan, kz, c, h, area_el, control, fn, approach, p, u, iters, &
+                               pos, resid, info, done)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, control
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el
+        real(dp), intent(inout) :: fn, approach
+        real(dp), intent(inout) :: p(:, :), u(:, :)
+        integer, intent(out) :: iters, pos, info
+        real(dp), intent(out) :: resid
+        logical, intent(out) :: done
 
         info = STAT_OK
         iters = 0
-        allocate (u, mold=h)
+        pos = 0
+        done = .false.
         p = max(p, 0.0_dp)
         call conv_apply(plan, kz, p, u)
-
         if (control == CONTROL_APPROACH) then
-            if (no_contact(control, h, approach, p, fn, resid, info)) return
-            call gs_sweeps(c, h, approach, omega, tol, 0, max_iter, p, u, iters, resid)
-            fn = area_el * sum(p)
-            if (resid > tol) info = STAT_NOT_CONVERGED
-            return
+            done = no_contact(control, h, approach, p, fn, resid, info)
+            if (.not. done) resid = normal_residual(u + h - approach, p, u)
+        else
+            if (.not. any(p > 0.0_dp)) approach = rigid_estimate(c(0, 0), h, area_el, fn)
+            resid = huge(1.0_dp)
         end if
+    end subroutine normal_gs_start
 
-        ! Prescribed force: after every sweep scale p (and u = A p) to the force
-        ! and set the approach to the mean of u + h over the contact set, as
-        ! Polonsky & Keer do in CG; the scaling corrects the smooth error mode
-        ! that Gauss-Seidel damps slowest.
-        if (.not. any(p > 0.0_dp)) then
-            approach = rigid_estimate(c(0, 0), h, area_el, fn)
-        end if
-        resid = huge(1.0_dp)
-        do while (iters < max_iter)
-            if (any(p > 0.0_dp)) then
-                scale = fn / (area_el * sum(p))
-                p = scale * p
-                u = scale * u
-                approach = sum(u + h, mask=p > 0.0_dp) / count(p > 0.0_dp)
-                resid = normal_residual(u + h - approach, p, u)
-                if (resid <= tol) exit
+    !> Projected Gauss-Seidel sweeps (eq. 23), resumable: u = A p is kept up to date
+    !> column by column from the circular coefficient field c (influence_field layout),
+    !> O(N) per changed element. With prescribed force, before every sweep p (and u) are
+    !> scaled to the force and the approach set to the mean of u + h over the contact set,
+    !> as Polonsky & Keer do in CG; the scaling corrects the smooth error mode that
+    !> Gauss-Seidel damps slowest.
+    !> The call returns (done false) once it has spent about budget units of work (one per
+    !> element visited, nx ny per column correction), so that a caller can show progress
+    !> and stop between calls; pos is the next element of the current sweep (0: before
+    !> the next sweep), iters the sweeps begun. Any sequence of calls gives the same
+    !> numbers as one call with an unbounded budget. On done, info as for normal_cg.
+    subroutine normal_gs_resume(c, h, area_el, control, fn, approach, omega, tol, max_iter, &
+                                budget, p, u, iters, pos, resid, info, done)
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el, omega, tol, budget
+        integer, intent(in) :: control, max_iter
+        real(dp), intent(inout) :: fn, approach, p(:, :), u(:, :), resid
+        integer, intent(inout) :: iters, pos
+        integer, intent(out) :: info
+        logical, intent(out) :: done
+        integer :: nx, ny, k, l, m
+        real(dp) :: c0, e, pnew, d, work, scale
+
+        nx = size(h, 1)
+        ny = size(h, 2)
+        c0 = c(0, 0)
+        info = STAT_OK
+        done = .false.
+        work = 0.0_dp
+        do
+            if (pos == 0) then          ! before a sweep: converged, or out of sweeps?
+                if (control == CONTROL_FORCE) then
+                    if (iters >= max_iter) exit
+                    if (any(p > 0.0_dp)) then
+                        scale = fn / (area_el * sum(p))
+                        p = scale * p
+                        u = scale * u
+                        approach = sum(u + h, mask=p > 0.0_dp) / count(p > 0.0_dp)
+                        resid = normal_residual(u + h - approach, p, u)
+                        if (resid <= tol) exit
+                    end if
+                else if (resid <= tol .or. iters >= max_iter) then
+                    exit
+                end if
+                iters = iters + 1
+                pos = 1
             end if
-            call gs_sweeps(c, h, approach, omega, 0.0_dp, 1, 1, p, u, sweeps, resid)
-            iters = iters + sweeps
+            do m = pos, nx * ny
+                if (work >= budget) then
+                    pos = m
+                    return
+                end if
+                k = mod(m - 1, nx) + 1
+                l = (m - 1) / nx + 1
+                work = work + 1.0_dp
+                e = u(k, l) + h(k, l) - approach
+                pnew = max(0.0_dp, p(k, l) - omega * e / c0)
+                d = pnew - p(k, l)
+                if (d == 0.0_dp) cycle
+                p(k, l) = pnew
+                call add_column(c, k, l, d, u)
+                work = work + real(nx, dp) * real(ny, dp)
+            end do
+            pos = 0
+            resid = normal_residual(u + h - approach, p, u)
         end do
+        done = .true.
+        if (control == CONTROL_APPROACH) fn = area_el * sum(p)
         if (resid > tol) info = STAT_NOT_CONVERGED
-    end subroutine normal_gs
+    end subroutine normal_gs_resume
 
     !> Approach at which a bed of independent springs of compliance c0 per
     !> element carries fn: sum(max(delta - h, 0)) area / c0 = fn. It lies below

@@ -46,11 +46,15 @@ class CaseOutput:
         name -> (array, unit string); written as HDF5 datasets with a ``units`` attribute.
     scalars : dict
         name -> (value, unit string); written as attributes of the case's ``results`` group.
+    attrs : dict
+        dataset name -> {attribute: value}: labels written beside ``units`` (``axes``,
+        ``dof_names``, ``empty_slots``...; see railvti.results).
     """
 
     summary: str
     datasets: dict[str, tuple[np.ndarray, str]] = field(default_factory=dict)
     scalars: dict[str, tuple[float | int | str, str]] = field(default_factory=dict)
+    attrs: dict[str, dict[str, Any]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

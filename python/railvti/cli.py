@@ -4,18 +4,19 @@ from __future__ import annotations
 import argparse
 import difflib
 import logging
+import os
 import sys
-import time
 from pathlib import Path
 
 from tqdm import tqdm
 
 from .casetypes import REQUIRED
 from .deck import read_deck
+from . import resources
 from .deck_registry import case_types
+from .batch import EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_output, check_resources, resume_hint, run_cases
 from .errors import InputError, RailvtiError
 from .plots import plot_results
-from .results import CaseRecord, write_results
 
 log = logging.getLogger("railvti")
 
@@ -24,24 +25,49 @@ def _run(args: argparse.Namespace) -> int:
     deck = Path(args.deck)
     cases = read_deck(deck)
     out = Path(args.output) if args.output else deck.with_suffix(".h5")
-    records = []
-    failed = 0
+    check_output(out, deck, force=args.force)
+    old_limit = os.environ.get(resources.ENV)
+    try:
+        if args.max_memory:
+            os.environ[resources.ENV] = str(args.max_memory)
+            resources.memory_limit()             # a bad size: InputError before any case
+        return _run_checked(args, deck, cases, out)
+    finally:
+        if old_limit is None:
+            os.environ.pop(resources.ENV, None)
+        else:
+            os.environ[resources.ENV] = old_limit
+
+
+def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -> int:
+    problems = check_resources(cases)
+    if problems:
+        raise InputError("\n".join(problems))
     bar = tqdm(cases, desc="cases", unit="case", disable=len(cases) < 2 or args.quiet, file=sys.stderr)
-    for case in bar:
-        bar.set_postfix_str(case.name)
-        t0 = time.perf_counter()
-        try:
-            output = case.case_type.run(case.params)
-        except RailvtiError as exc:
-            failed += 1
-            records.append(CaseRecord(case, error=f"{type(exc).__name__}: {exc}"))
-            tqdm.write(f"{case.label}: FAILED: {type(exc).__name__}: {exc}", file=sys.stdout)
-            continue
-        records.append(CaseRecord(case, output=output))
-        tqdm.write(f"{case.label}: {output.summary} [{time.perf_counter() - t0:.2f} s]", file=sys.stdout)
-    write_results(out, records, deck.read_text())
-    print(f"wrote {out} ({len(cases) - failed} of {len(cases)} cases ok)")
-    return 1 if failed else 0
+
+    def write(line: str) -> None:
+        tqdm.write(line, file=sys.stdout)
+
+    try:
+        report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
+                           progress=lambda c: (bar.update(c.index - 1 - bar.n), bar.set_postfix_str(c.name)))
+    finally:
+        bar.close()
+    n = len(cases)
+    if report.interrupted:
+        print(f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
+              f"cases complete); continue with: {resume_hint(deck, out)}")
+    elif report.status != EXIT_OUTPUT:
+        print(f"wrote {out} ({report.ok + report.skipped} of {n} cases ok"
+              + (f", {report.skipped} kept from before" if report.skipped else "") + ")")
+    return report.status
+
+
+def _deck_text(deck: Path) -> str:
+    try:
+        return deck.read_bytes().decode("utf-8", "replace")
+    except OSError:
+        return ""
 
 
 def _plot(args: argparse.Namespace) -> int:
@@ -96,10 +122,22 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="railvti", description="railway vehicle-track interaction")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("run", help="run every case of a deck and write one HDF5 file")
+    p = sub.add_parser(
+        "run", help="run every case of a deck and write one HDF5 file",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Run every case of a deck into one HDF5 file, written again after each case "
+                    "(a valid file at every moment; Ctrl-C or SIGTERM stop within about a second "
+                    "and keep the completed cases).",
+        epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()))
     p.add_argument("deck")
     p.add_argument("-o", "--output", help="HDF5 file (default: the deck's name with .h5)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the cases already complete in the output (same parameters) and run the others")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing output file that is not a railvti results file")
+    p.add_argument("--max-memory", metavar="SIZE",
+                   help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)")
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="write PNG plots of a results file")
     p.add_argument("results")
@@ -115,7 +153,7 @@ def main(argv: list[str] | None = None) -> int:
         return args.func(args)
     except RailvtiError as exc:
         print(f"railvti: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,6 +1,7 @@
 """PNG plots of HDF5 results (matplotlib, Agg backend)."""
 from __future__ import annotations
 
+import hashlib
 import logging
 from pathlib import Path
 
@@ -27,7 +28,12 @@ def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Pat
     """
     path = Path(path)
     outdir = Path(outdir) if outdir is not None else path.parent
-    outdir.mkdir(parents=True, exist_ok=True)
+    if outdir.exists() and not outdir.is_dir():
+        raise InputError(f"plot folder {outdir} is an existing file: give a folder with -o")
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the plot folder {outdir}: {exc.strerror}") from None
     types = case_types()
     written: list[Path] = []
     try:
@@ -42,5 +48,16 @@ def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Pat
             if ctype is None or ctype.plot is None:
                 log.info("no plot for %s", gname)
                 continue
-            written.extend(ctype.plot(group, outdir, f"{path.stem}_{gname}"))
+            try:
+                written.extend(ctype.plot(group, outdir, _stem(path.stem, gname)))
+            except Exception as exc:  # noqa: BLE001 - one bad case must not stop the others
+                log.error("no plot for %s: %s: %s", gname, type(exc).__name__, exc)
     return written
+
+
+def _stem(file_stem: str, gname: str) -> str:
+    """'FILE_GROUP' for the PNG names, cut (with a digest) to stay a valid file name."""
+    stem = f"{file_stem}_{gname}".replace("/", "_").replace("\x00", "_")
+    if len(stem) > 150:
+        stem = f"{stem[:139]}~{hashlib.sha1(stem.encode('utf-8', 'replace')).hexdigest()[:10]}"
+    return stem

@@ -1,15 +1,36 @@
-"""HDF5 results of a deck run (h5py).
+"""HDF5 results of a deck run (h5py), and saving / loading any result object.
 
-Layout: one group per case, ``/NNN_name``, with attributes ``type``, ``name``,
-``status`` ('ok' or the error) and ``summary``; a subgroup ``inputs`` whose
-attributes are the case's parameters; arrays and scalar results as datasets,
-each with a ``units`` attribute. The file is written to a temporary name and
-renamed when complete, so a failed run never leaves a half-written file.
+Layout of a ``railvti run`` file (docs/results.md has the full description):
+
+* file attributes: ``railvti_version``, ``deck`` (the deck's text), ``layout`` (this layout's
+  version);
+* one group per case, ``/NNN_name`` (NNN its position in the deck), with attributes ``type``,
+  ``name``, ``status`` ('ok', 'error: <exception>: <message>' or 'interrupted: <signal> ...'),
+  ``summary`` (ok cases), ``traceback`` (failed cases), ``wall_time`` (s) and
+  ``params_digest`` (what ``railvti run --resume`` compares to know a case is done);
+* a subgroup ``inputs``: the case's parameters as attributes (as before), and the same as
+  scalar or 1-D datasets each with ``units`` and ``meaning`` attributes, so a case can be
+  re-made from its group alone (:func:`case_deck`);
+* the results as datasets, each with a ``units`` attribute, and where an array has more than
+  one axis or labelled entries an ``axes`` attribute (one label per axis) and label
+  attributes (``dof_names``, ``quantities``, ``wheel``...); ``empty_slots`` says what NaN
+  marks where a result has fixed-size slots that may be unused.
+
+The file is rewritten after every case: the new version is written to a temporary file in the
+same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask) and renamed over the
+old one (``os.replace``), so whatever stops a run, the output is the previous complete version
+or the new one, never a half-written file.
 """
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import importlib
+import json
 import os
-import tempfile
+import re
+import secrets
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,55 +41,522 @@ import numpy as np
 from . import __version__
 from .casetypes import CaseOutput
 from .deck import Case
+from .errors import InputError
+
+#: Version of the HDF5 layout written here.
+LAYOUT = 2
+
+#: Longest case group name (longer names are cut and end in a digest of the full name).
+MAX_GROUP_NAME = 120
 
 
 @dataclass
 class CaseRecord:
-    """A case with its output, or the error that stopped it."""
+    """A case with its output, or the error or signal that stopped it.
+
+    Attributes
+    ----------
+    case : Case
+    output : CaseOutput or None
+    error : str or None
+        'ExceptionClass: message' of a failed case.
+    traceback : str
+        The failed case's traceback.
+    interrupted : str or None
+        The signal that stopped the case ('SIGINT', 'SIGTERM').
+    wall_time : float
+        Seconds the case ran.
+    """
 
     case: Case
     output: CaseOutput | None = None
     error: str | None = None
+    traceback: str = ""
+    interrupted: str | None = None
+    wall_time: float = float("nan")
+
+    @property
+    def status(self) -> str:
+        """The group's ``status`` attribute."""
+        if self.interrupted is not None:
+            return f"interrupted: {self.interrupted} after {self.wall_time:.1f} s"
+        if self.error is not None:
+            return f"error: {self.error}"
+        return "ok"
+
+
+def group_name(case: Case) -> str:
+    """The HDF5 group of a case: ``NNN_name``, '/' replaced, cut to :data:`MAX_GROUP_NAME`."""
+    name = re.sub(r"[/\x00]", "_", case.name) or "_"
+    full = f"{case.index:03d}_{name}"
+    if len(full) > MAX_GROUP_NAME:
+        digest = hashlib.sha1(case.name.encode("utf-8", "replace")).hexdigest()[:10]
+        full = f"{full[:MAX_GROUP_NAME - 11]}~{digest}"
+    return full
+
+
+def params_digest(case: Case) -> str:
+    """A digest of a case's type, name and parameters (equal digests: the same case)."""
+    text = json.dumps([case.case_type.name, case.name, sorted(case.params.items())],
+                      default=repr, sort_keys=True)
+    return hashlib.sha256(text.encode("utf-8", "replace")).hexdigest()
 
 
 def _attr(value: Any) -> Any:
     if value is None:
         return "none"
+    if isinstance(value, str):
+        return value.replace("\x00", "\\0")      # HDF5 strings end at a NUL
     if isinstance(value, (list, tuple)):
-        return np.asarray(value)
+        arr = np.asarray(value)
+        return arr.astype(object).astype(h5py.string_dtype()) if arr.dtype.kind == "U" else arr
     return value
+
+
+def _data(value: Any) -> Any:
+    """A value h5py can store as a dataset (text arrays as variable-length UTF-8)."""
+    arr = np.asarray(value)
+    if arr.dtype.kind == "U":
+        return arr.astype(object).astype(h5py.string_dtype())
+    return arr if arr.ndim else value
+
+
+def _input_unit(case: Case, key: str) -> tuple[str, str]:
+    """(unit, meaning) of a deck key: from the case type's key table when it has one, else
+    from the key's name (``_mm``, ``_kmh``...), else 'see railvti cases'."""
+    spec = getattr(case.case_type, "keys", {}).get(key) if hasattr(case.case_type, "keys") else None
+    if spec is not None:
+        unit = getattr(spec, "unit", "") or ("text" if isinstance(case.params.get(key), str) else "1")
+        return unit, getattr(spec, "meaning", "") or ""
+    return _guess_unit(key, case.params.get(key)), ""
+
+
+_UNIT_SUFFIXES = (("_kmh", "km/h"), ("_mm", "mm"), ("_deg", "deg"), ("_hz", "Hz"), ("_s", "s"),
+                  ("_m", "m"), ("_n", "N"), ("_pa", "Pa"), ("_kg", "kg"))
+_KNOWN_UNITS = {"shear_modulus": "Pa", "g": "Pa", "poisson": "1", "nu": "1", "dx": "m", "dy": "m",
+                "x0": "m", "y0": "m", "gap_a": "1/m", "gap_b": "1/m", "bump_separation": "m",
+                "bump_height": "m", "fn": "N", "approach": "m", "tol": "1", "max_iter": "1",
+                "mu": "1", "xi": "1", "eta": "1", "phi": "1/m", "speed": "m/s", "duration": "s",
+                "h": "s", "alpha": "1", "output_dt": "s", "semi_a": "m", "semi_b": "m",
+                "nx": "1", "ny": "1", "n": "1", "cant": "1 (tan of the rail inclination)",
+                "yaw_mrad_per_mm": "mrad/mm"}
+
+
+#: Units by a word in the key's name (the first match), for keys without a Key table entry.
+_UNIT_WORDS = (("stiffness", "N/m"), ("damping_ratio", "1"), ("damping", "N s/m"),
+               ("young", "Pa"), ("density", "kg/m^3"), ("mass", "kg"), ("poisson", "1"),
+               ("loss_factor", "1"), ("factor", "1"), ("mesh_max_area", "m^2"), ("kappa", "1/m"),
+               ("n_", "1"), ("k_max", "1"), ("web_steps", "1"), ("f_", "Hz"), ("omega", "rad/s"),
+               ("fz", "N"), ("radius", "m"), ("length", "m"), ("width", "m"), ("spacing", "m"),
+               ("distance", "m"), ("offset", "m"), ("height", "m"), ("depth", "m"), ("size", "m"),
+               ("thickness", "m"), ("back_to_back", "m"), ("arc_step", "m"), ("k_", "N/m"))
+
+
+def _guess_unit(key: str, value: Any) -> str:
+    if isinstance(value, str):
+        return "text"
+    if key in _KNOWN_UNITS:
+        return _KNOWN_UNITS[key]
+    low = key.lower()
+    if "_kmh" in low:
+        return "km/h"
+    for suffix, unit in _UNIT_SUFFIXES:
+        if low.endswith(suffix):
+            return unit
+    for word, unit in _UNIT_WORDS:
+        if low.startswith(word) if word.endswith("_") else word in low:
+            return unit
+    return "see 'railvti cases'"
+
+
+def _write_inputs(g: h5py.Group, case: Case) -> None:
+    gi = g.create_group("inputs")
+    for key, value in case.params.items():
+        gi.attrs[key] = _attr(value)
+        unit, meaning = _input_unit(case, key)
+        d = gi.create_dataset(key, data=_data(_attr(value)))
+        d.attrs["units"] = unit
+        if meaning:
+            d.attrs["meaning"] = meaning
+        if value is None:
+            d.attrs["none"] = 1
+
+
+#: Datasets that are an axis of the others when their length matches (in this order).
+AXIS_NAMES = ("t", "freq", "speeds_kmh", "y", "x")
+
+
+def default_axes(name: str, arr: np.ndarray, output: CaseOutput) -> list[str] | None:
+    """Axis labels of a result array from the case's axis datasets (``t``, ``freq``, ``x``,
+    ``y``...) whose lengths match, when the case did not give them."""
+    if arr.ndim == 0 or name in AXIS_NAMES:
+        return [name] if arr.ndim == 1 else None
+    lengths = {a: np.asarray(output.datasets[a][0]).shape for a in AXIS_NAMES if a in output.datasets}
+    lengths = {a: s[0] for a, s in lengths.items() if len(s) == 1}
+    if arr.ndim == 2 and {"x", "y"} <= set(lengths) and arr.shape == (lengths["x"], lengths["y"]):
+        return ["x", "y"]
+    first = next((a for a in AXIS_NAMES if lengths.get(a) == arr.shape[0]), None)
+    if first is None:
+        return None
+    return [first] + [f"axis {i}" for i in range(1, arr.ndim)]
+
+
+def _unit_text(units: str, arr: np.ndarray) -> str:
+    """A unit for every dataset: '1' for a number without unit, 'text' for text."""
+    if units:
+        return units
+    return "text" if arr.dtype.kind in "OSU" else "1"
+
+
+def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
+    """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
+    ``attrs`` (labels)."""
+    return ({k: (v[0], v[1]) for k, v in data.items()},
+            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
+
+
+def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None) -> None:
+    arr, units = spec[0], spec[1]
+    extra = dict(spec[2]) if len(spec) > 2 else {}
+    if output is not None:
+        extra.update(getattr(output, "attrs", {}).get(name, {}))
+    arr = np.asarray(_data(arr))
+    units = _unit_text(units, arr)
+    if "axes" not in extra and output is not None:
+        axes = default_axes(name, arr, output)
+        if axes is not None:
+            extra["axes"] = axes
+    if arr.ndim > 0 and arr.size > 16:
+        d = g.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
+    else:
+        d = g.create_dataset(name, data=arr)
+    d.attrs["units"] = units
+    for k, v in extra.items():
+        d.attrs[k] = _attr(v)
+
+
+def write_case(f: h5py.File, rec: CaseRecord) -> None:
+    """Write (or replace) one case's group in an open results file."""
+    c = rec.case
+    name = group_name(c)
+    if name in f:
+        del f[name]
+    g = f.create_group(name)
+    g.attrs["type"] = c.case_type.name
+    g.attrs["name"] = c.name
+    g.attrs["status"] = rec.status
+    g.attrs["params_digest"] = params_digest(c)
+    g.attrs["wall_time"] = float(rec.wall_time)
+    if rec.traceback:
+        g.attrs["traceback"] = rec.traceback
+    _write_inputs(g, c)
+    if rec.output is None:
+        return
+    g.attrs["summary"] = rec.output.summary
+    for dname, spec in rec.output.datasets.items():
+        _write_dataset(g, dname, spec, rec.output)
+    for dname, spec in rec.output.scalars.items():
+        _write_dataset(g, dname, spec, rec.output)
+
+
+def _fsync(path: Path) -> None:
+    with open(path, "rb") as fh:
+        os.fsync(fh.fileno())
+
+
+def temp_path(path: Path) -> Path:
+    """A new temporary file beside ``path`` (mode 0666 less the umask), created empty."""
+    while True:
+        tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:
+            continue
+        os.close(fd)
+        return tmp
+
+
+def is_results_file(path: str | Path) -> bool:
+    """Whether ``path`` is an HDF5 file written by railvti (its ``railvti_version`` attribute)."""
+    try:
+        with h5py.File(path, "r") as f:
+            return "railvti_version" in f.attrs
+    except (OSError, ValueError):
+        return False
+
+
+class ResultsWriter:
+    """Writes the cases of a run to one file, replacing it atomically after each case.
+
+    Parameters
+    ----------
+    path : path
+        The results file.
+    deck_text : str
+        The deck, stored as the file's ``deck`` attribute.
+    keep : bool
+        Keep the cases of an existing results file at ``path`` (``--resume``); otherwise
+        the first write starts a new file (the old one stays until then).
+    """
+
+    def __init__(self, path: str | Path, deck_text: str = "", keep: bool = False) -> None:
+        self.path = Path(path)
+        self.deck_text = deck_text
+        self._fresh = not keep
+        self.pending: Path | None = None
+
+    def write(self, records: list[CaseRecord]) -> None:
+        """Add or replace the groups of ``records`` and replace the file atomically."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = temp_path(self.path)
+        self.pending = tmp
+        try:
+            copy = not self._fresh and self.path.is_file() and is_results_file(self.path)
+            if copy:
+                shutil.copyfile(self.path, tmp)
+            with h5py.File(tmp, "a" if copy else "w") as f:
+                f.attrs["railvti_version"] = __version__
+                f.attrs["layout"] = LAYOUT
+                f.attrs["deck"] = self.deck_text.replace("\x00", "\\0")
+                for rec in records:
+                    write_case(f, rec)
+            _fsync(tmp)
+            os.replace(tmp, self.path)
+            self._fresh = False
+        finally:
+            self.pending = None
+            tmp.unlink(missing_ok=True)
+
+
+def completed(path: str | Path) -> dict[str, str]:
+    """Group name -> params digest of every case of a results file with status 'ok'
+    (empty if the file does not exist or is not a railvti results file)."""
+    path = Path(path)
+    if not path.is_file() or not is_results_file(path):
+        return {}
+    with h5py.File(path, "r") as f:
+        return {k: str(g.attrs.get("params_digest", "")) for k, g in f.items()
+                if isinstance(g, h5py.Group) and g.attrs.get("status") == "ok"}
 
 
 def write_results(path: str | Path, records: list[CaseRecord], deck_text: str = "") -> Path:
     """Write the records of a run to ``path`` atomically and return it."""
+    ResultsWriter(path, deck_text).write(records)
+    return Path(path)
+
+
+def case_deck(path: str | Path, group: str) -> str:
+    """The ``&case`` group that re-makes a stored case (from its ``inputs`` alone)."""
+    with h5py.File(path, "r") as f:
+        g = f[group]
+        lines = ["&case", f"    name = {_nml(str(g.attrs['name']))}", f"    type = {_nml(str(g.attrs['type']))}"]
+        for key, value in g["inputs"].attrs.items():
+            if isinstance(value, str) and value == "none":
+                continue
+            lines.append(f"    {key} = {_nml(value)}")
+    return "\n".join(lines + ["/", ""])
+
+
+def _nml(value: Any) -> str:
+    if isinstance(value, (bytes, np.bytes_)):
+        value = value.decode()
+    if isinstance(value, str):
+        return "'" + value.replace("'", "''") + "'"
+    if isinstance(value, np.ndarray):
+        return ", ".join(_nml(v) for v in value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return ".true." if value else ".false."
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    return str(value)
+
+
+# ---------------------------------------------------------------------------------------------
+# Saving and loading result objects (SimulationResult, NormalResult, RollingResult, ...)
+
+#: Units of the array fields of result classes whose docstrings do not end in one.
+FIELD_UNITS: dict[str, dict[str, str]] = {
+    "SimulationResult": {"t": "s", "q": "m or rad (per dof_names)",
+                         "v": "m/s or rad/s (per dof_names)",
+                         "wheel": "per quantity: see the quantities and quantity_units attributes",
+                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad"},
+}
+
+
+def _field_units(cls: type) -> dict[str, Any]:
+    """Units of nested fields (SimulationResult.stats) that live beside their classes."""
+    if cls.__name__ == "SimulationResult":
+        from .vehicle.cases import STAT_UNITS
+        return {"stats": STAT_UNITS}
+    return {}
+
+_UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
+                      r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
+
+
+def _doc_units(cls: type) -> dict[str, str]:
+    """Units from a numpydoc Attributes section: 'name : type' then a description whose
+    first sentence ends in ', UNIT.'"""
+    out: dict[str, str] = {}
+    doc = cls.__doc__ or ""
+    for m in re.finditer(r"^\s{4}([\w, ]+?) : [^\n]*\n((?:\s{8}[^\n]*\n?)+)", doc, re.M):
+        desc = " ".join(m.group(2).split())
+        u = _UNIT_RE.search(desc)
+        if u:
+            for name in m.group(1).split(","):
+                out[name.strip()] = u.group(1)
+    return out
+
+
+def _units_of(cls: type) -> dict[str, Any]:
+    units: dict[str, Any] = dict(_doc_units(cls))
+    units.update(FIELD_UNITS.get(cls.__name__, {}))
+    units.update(_field_units(cls))
+    return units
+
+
+def _save_value(g: h5py.Group, name: str, value: Any, unit: Any) -> None:
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        _save_object(g.create_group(name), value)
+    elif isinstance(value, dict):
+        sub = g.create_group(name)
+        sub.attrs["kind"] = "dict"
+        units = unit if isinstance(unit, dict) else {}
+        for i, (k, v) in enumerate(value.items()):
+            plain = isinstance(k, str) and k and "/" not in k and k != "." and not k.startswith("item")
+            item = k if plain else f"item{i}"
+            _save_value(sub, item, v, units.get(k, "") if plain else "")
+            sub[item].attrs["key"] = json.dumps(list(k) if isinstance(k, tuple) else k)
+            sub[item].attrs["order"] = i
+            sub[item].attrs["key_is_tuple"] = int(isinstance(k, tuple))
+    elif value is None:
+        d = g.create_dataset(name, data=h5py.Empty("f8"))
+        d.attrs["kind"] = "none"
+        d.attrs["units"] = "none (no value)"
+    elif isinstance(value, str):
+        d = g.create_dataset(name, data=value)
+        d.attrs["kind"] = "str"
+        d.attrs["units"] = "text"
+    elif isinstance(value, (tuple, list)) and value and all(isinstance(v, str) for v in value):
+        d = g.create_dataset(name, data=np.array(value, dtype=h5py.string_dtype()))
+        d.attrs["kind"] = "tuple_str"
+        d.attrs["units"] = "text"
+    elif isinstance(value, (tuple, list)) and not all(np.isscalar(v) for v in value):
+        sub = g.create_group(name)
+        sub.attrs["kind"] = "tuple" if isinstance(value, tuple) else "list"
+        for i, v in enumerate(value):
+            _save_value(sub, f"item{i}", v, "")
+    else:
+        arr = np.asarray(value)
+        d = g.create_dataset(name, data=arr, **({"compression": "gzip"} if arr.size > 64 else {}))
+        kind = {bool: "bool", int: "int", float: "float"}.get(type(value), "array")
+        if isinstance(value, tuple):
+            kind = "tuple"
+        elif isinstance(value, list):
+            kind = "list"
+        d.attrs["kind"] = kind
+        d.attrs["units"] = (unit if isinstance(unit, str) else "") or ("text" if arr.dtype.kind in "OSU" else "1")
+
+
+def _save_object(g: h5py.Group, obj: Any) -> None:
+    cls = type(obj)
+    g.attrs["class"] = f"{cls.__module__}:{cls.__qualname__}"
+    units = _units_of(cls)
+    for f in dataclasses.fields(obj):
+        if not f.init:
+            continue
+        _save_value(g, f.name, getattr(obj, f.name), units.get(f.name, ""))
+    extra = getattr(obj, "_save_attrs", None)
+    if callable(extra):
+        for node, attrs in extra().items():
+            for k, v in attrs.items():
+                g[node].attrs[k] = _attr(v)
+
+
+def save(obj: Any, path: str | Path) -> Path:
+    """Save a result object (any railvti result dataclass) to an HDF5 file, atomically.
+
+    Arrays become datasets with a ``units`` attribute; the class is recorded so that
+    :func:`load` returns an equal object.
+    """
+    if not dataclasses.is_dataclass(obj) or isinstance(obj, type):
+        raise InputError(f"save() takes a railvti result object, got {type(obj).__name__}")
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path} is a directory")
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    os.close(fd)
+    tmp = temp_path(path)
     try:
         with h5py.File(tmp, "w") as f:
             f.attrs["railvti_version"] = __version__
-            f.attrs["deck"] = deck_text
-            for rec in records:
-                c = rec.case
-                g = f.create_group(f"{c.index:03d}_{c.name}")
-                g.attrs["type"] = c.case_type.name
-                g.attrs["name"] = c.name
-                g.attrs["status"] = "ok" if rec.error is None else f"error: {rec.error}"
-                gi = g.create_group("inputs")
-                for key, value in c.params.items():
-                    gi.attrs[key] = _attr(value)
-                if rec.output is None:
-                    continue
-                g.attrs["summary"] = rec.output.summary
-                for name, (arr, units) in rec.output.datasets.items():
-                    d = g.create_dataset(name, data=np.asarray(arr), compression="gzip", compression_opts=4)
-                    d.attrs["units"] = units
-                for name, (value, units) in rec.output.scalars.items():
-                    d = g.create_dataset(name, data=value)
-                    d.attrs["units"] = units
+            f.attrs["layout"] = LAYOUT
+            _save_object(f.create_group("result"), obj)
         os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    finally:
+        tmp.unlink(missing_ok=True)
     return path
+
+
+def _load_value(node: Any) -> Any:
+    if isinstance(node, h5py.Group):
+        if "class" in node.attrs:
+            return _load_object(node)
+        kind = node.attrs.get("kind")
+        items = list(node.keys())
+        if kind != "dict":
+            items.sort(key=lambda s: int(s[4:]))
+        else:
+            items.sort(key=lambda s: node[s].attrs.get("order", 0))
+            out = {}
+            for k in items:
+                key = json.loads(node[k].attrs["key"])
+                if int(node[k].attrs.get("key_is_tuple", 0)):
+                    key = tuple(key)
+                out[key] = _load_value(node[k])
+            return out
+        seq = [_load_value(node[k]) for k in items]
+        return tuple(seq) if kind == "tuple" else seq
+    kind = node.attrs.get("kind", "array")
+    if kind == "none":
+        return None
+    if kind == "str":
+        v = node[()]
+        return v.decode() if isinstance(v, bytes) else str(v)
+    if kind == "tuple_str":
+        return tuple(s.decode() if isinstance(s, bytes) else str(s) for s in node[()])
+    v = node[()]
+    if kind == "bool":
+        return bool(v)
+    if kind == "int":
+        return int(v)
+    if kind == "float":
+        return float(v)
+    if kind == "tuple":
+        return tuple(np.asarray(v).tolist())
+    if kind == "list":
+        return list(np.asarray(v).tolist())
+    return np.asarray(v)
+
+
+def _load_object(g: h5py.Group) -> Any:
+    module, _, qualname = str(g.attrs["class"]).partition(":")
+    if not module.startswith("railvti"):
+        raise InputError(f"not a railvti result class: {module}:{qualname}")
+    obj: Any = importlib.import_module(module)
+    for part in qualname.split("."):
+        obj = getattr(obj, part)
+    kwargs = {name: _load_value(g[name]) for name in g.keys()}
+    return obj(**kwargs)
+
+
+def load(path: str | Path) -> Any:
+    """Load a result object saved by :func:`save` (or ``SimulationResult.save``)."""
+    try:
+        f = h5py.File(path, "r")
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot open results file {path}: {exc}") from None
+    with f:
+        if "result" not in f or "class" not in f["result"].attrs:
+            raise InputError(f"{path} holds no saved result object (a 'railvti run' file? "
+                             "read it with h5py, or re-make a case with case_deck)")
+        return _load_object(f["result"])

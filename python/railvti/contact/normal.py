@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import logging
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +19,8 @@ log = logging.getLogger(__name__)
 
 _METHODS = {"cg": 1, "gs": 2, "pk": 3}
 _DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000, "pk": 2000}
+#: Wall time of one slice of the Gauss-Seidel solver, s: Ctrl-C stops a solve within it.
+GS_SLICE_SECONDS = 0.1
 #: CG from zero pressure on grids with both sides at least this long starts from
 #: the solution on the grid of twice the element size (nested iteration).
 _NESTED_MIN = 128
@@ -144,6 +147,47 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
     return _prolong(pc, grid.shape), nprod_c
 
 
+def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter: int,
+                  omega: float, fn_in: float, app_in: float, p: np.ndarray
+                  ) -> tuple[float, float, int, int, float, int]:
+    """Projected Gauss-Seidel in slices of about :data:`GS_SLICE_SECONDS` of work each
+    (``normal_gs_slice_c``; the numbers are those of one call): between slices Python
+    handles Ctrl-C / SIGTERM and a progress bar (sweeps, residual) shows after 2 s.
+    Returns what ``normal_solve_c`` returns; p is updated in place."""
+    u = np.zeros(h.shape, order="F")
+    approach = np.array(app_in, dtype=np.float64)
+    resid = np.array(0.0, dtype=np.float64)
+    iters = np.array(0, dtype=np.int32)
+    pos = np.array(0, dtype=np.int32)
+    budget = 2.0e6                   # work units (element visits + N per column), adapted below
+    bar = None
+    start = 1
+    t_start = time.perf_counter()
+    try:
+        while True:
+            t0 = time.perf_counter()
+            fn_out, done, info = core.normal_gs_slice_c(handle, h, control, tol, max_iter, omega, fn_in,
+                                                         budget, start, approach, p, u, iters, pos, resid)
+            start = 0
+            if done:
+                break
+            dt = time.perf_counter() - t0
+            budget = float(np.clip(budget * GS_SLICE_SECONDS / max(dt, 1e-4), 1e3, 4.0 * budget))
+            if bar is None and time.perf_counter() - t_start > 2.0 and np.isfinite(resid):
+                from tqdm import tqdm
+                r0 = max(float(resid), 10.0 * tol)      # the bar: decades of the residual to go
+                bar = tqdm(total=round(np.log10(r0 / tol), 2), unit="decade", leave=False,
+                           disable=None, bar_format="{desc} {bar}| [{elapsed}<{remaining}]")
+            if bar is not None and np.isfinite(resid) and resid > 0:
+                bar.update(max(0.0, min(bar.total, round(np.log10(r0 / float(resid)), 2))) - bar.n)
+                bar.set_description_str(f"normal gs: sweep {int(iters)}, residual {float(resid):.2e} "
+                                        f"> tol {tol:.0e}", refresh=False)
+    finally:
+        if bar is not None:
+            bar.close()
+    return float(fn_out), float(approach), int(iters), 0, float(resid), int(info)
+
+
 def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | None = None,
                  approach: float | None = None, method: str = "cg", tol: float = 1e-8,
                  max_iter: int | None = None, p0: np.ndarray | None = None,
@@ -238,8 +282,13 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         if (p < 0.0).any():
             raise InputError("p0 must be >= 0 everywhere")
 
-    fn_out, app_out, iters, nprod, resid, info = core.normal_solve_c(
-        workspace(grid, material), h, control, _METHODS[method], tol, max_iter, omega, fn_in, app_in, p)
+    if method == "gs":
+        fn_out, app_out, iters, nprod, resid, info = _gs_in_slices(
+            workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p)
+    else:
+        fn_out, app_out, iters, nprod, resid, info = core.normal_solve_c(
+            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, omega, fn_in,
+            app_in, p)
     if info == Status.NO_CONTACT:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NOT_FINITE):

@@ -25,7 +25,8 @@ from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
 from ..geometry.cases import PAIR_KEYS, profile_problems
-from .wheelset_cases import MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, store_patch_fields, sweep_arrays
+from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
+                             sweep_arrays)
 
 _SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
 _PROFILE_CACHE: dict[tuple, P.Profile] = {}
@@ -164,7 +165,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     ds: dict[str, tuple[np.ndarray, str]] = {k: (v, UNITS[k]) for k, v in arr.items()}
     ds["fz"] = (np.array(sol.fz), "N")
     ds["sinks"] = (np.array(sol.sinks), "m")
-    out = CaseOutput(summary="", datasets=ds)
+    out = CaseOutput(summary="", datasets=ds, attrs={k: patch_slots() for k in arr})
     out.scalars["pose_roll"] = (sol.pose_roll, "rad")
     out.scalars["load_iterations"] = (sol.iterations, "1")
     if sol.omega is not None:
@@ -172,7 +173,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         out.scalars["axle_torque"] = (sol.axle_torque, "N m")
         out.scalars["rolling_solves"] = (sol.outer_iterations, "1")
     if int(params["store_fields"]):
-        store_patch_fields(ds, sol, status=True)
+        store_patch_fields(ds, sol, status=True, attrs=out.attrs)
     lines = contact_summary(sol)
     out.summary = "\n    ".join(lines) if len(lines) > 1 else (lines[0] if lines else "no wheel solved")
     return out

@@ -51,6 +51,12 @@ _QUANTITIES = {   # name: (unit, getter); forces on the wheel, track frame x for
 UNITS = {k: v[0] for k, v in _QUANTITIES.items()}
 
 
+def patch_slots(first: tuple[str, ...] = ()) -> dict[str, Any]:
+    """HDF5 labels of a per-patch array (..., 2 wheels, MAX_PATCHES) of :func:`sweep_arrays`."""
+    return {"axes": [*first, "wheel", "patch"], "wheel": ["left", "right"],
+            "empty_slots": f"NaN: the wheel has fewer than {MAX_PATCHES} contact patches"}
+
+
 def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
     """Per-patch quantities of a sweep as arrays (n_positions, 2 wheels, MAX_PATCHES); NaN where
     a wheel has fewer patches. Forces on the wheel; contact frame (fx, fy, mz) or track frame
@@ -126,18 +132,19 @@ def run(params: dict[str, Any]) -> CaseOutput:
           "status": (np.array([[s.geometry.status[0] != "ok", s.geometry.status[1] != "ok"] for s in sols],
                               dtype=int), "0 ok, 1 no contact or flange climb")}
     ds.update({k: (v, _QUANTITIES[k][0]) for k, v in arr.items()})
+    labels = {k: patch_slots(("y (lateral shift)",)) for k in arr}
     if rolling:
         ds["omega"] = (np.array([s.omega for s in sols]), "rad/s")
         ds["axle_torque"] = (np.array([s.axle_torque for s in sols]), "N m")
     ds["fz"] = (np.array([s.fz for s in sols]), "N")
     k_field = int(np.argmin(np.abs(y - params["field_at_mm"] * 1e-3)))
-    store_patch_fields(ds, sols[k_field])
+    store_patch_fields(ds, sols[k_field], attrs=labels)
     fl = np.nanmax(arr["contact_angle"][:, 0, :], axis=1)
     flange = y[fl > 1.0]
     summary = (f"loaded wheelset: {n} shifts, Fn left {np.nanmin(arr['fn'][:, 0, 0]):.0f}-"
                f"{np.nanmax(arr['fn'][:, 0, 0]):.0f} N" + (f", flange contact (> 1 rad) from "
                                                           f"{flange.min() * 1e3:.1f} mm" if flange.size else ""))
-    out = CaseOutput(summary=summary, datasets=ds)
+    out = CaseOutput(summary=summary, datasets=ds, attrs=labels)
     out.scalars["field_at"] = (float(y[k_field]), "m")
     return out
 
@@ -175,18 +182,27 @@ register(CaseType(
     summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact"))
 
 
-def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False) -> None:
+def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False,
+                       attrs: dict | None = None) -> None:
     """Put each patch's fields of one loaded-wheelset solution into ``ds`` as
     ``field_<side><j>_{pressure,x,y,tx,ty}`` (Pa, m), and the adhesion/slip map with
-    ``status`` (0 exterior, 1 adhesion, 2 slip)."""
+    ``status`` (0 exterior, 1 adhesion, 2 slip); their axis labels into ``attrs``
+    (CaseOutput.attrs) if given."""
     for side in ("left", "right"):
         for j, p in enumerate(sol.wheel(side)[:MAX_PATCHES]):
-            ds[f"field_{side}{j}_pressure"] = (p.pressure, "Pa")
-            ds[f"field_{side}{j}_x"] = (p.grid.x, "m")
-            ds[f"field_{side}{j}_y"] = (p.grid.y, "m")
+            pre = f"field_{side}{j}"
+            ds[f"{pre}_pressure"] = (p.pressure, "Pa")
+            ds[f"{pre}_x"] = (p.grid.x, "m")
+            ds[f"{pre}_y"] = (p.grid.y, "m")
             if p.tx is not None:
-                ds[f"field_{side}{j}_tx"] = (p.tx, "Pa")
-                ds[f"field_{side}{j}_ty"] = (p.ty, "Pa")
+                ds[f"{pre}_tx"] = (p.tx, "Pa")
+                ds[f"{pre}_ty"] = (p.ty, "Pa")
                 if status:
-                    ds[f"field_{side}{j}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
-                                                     "0 exterior, 1 adhesion, 2 slip")
+                    ds[f"{pre}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
+                                           "0 exterior, 1 adhesion, 2 slip")
+            if attrs is not None:
+                attrs[f"{pre}_x"] = {"axes": ["x (rolling)"]}
+                attrs[f"{pre}_y"] = {"axes": ["y (lateral, contact frame)"]}
+                for q in ("pressure", "tx", "ty", "status"):
+                    if f"{pre}_{q}" in ds:
+                        attrs[f"{pre}_{q}"] = {"axes": [f"{pre}_x", f"{pre}_y"]}

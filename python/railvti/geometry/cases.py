@@ -142,6 +142,14 @@ def run(params: dict[str, Any]) -> CaseOutput:
              "n_contact": "1", "separation": "m", "contact_angle": "rad", "rolling_radius": "m",
              "y_wheel": "m", "y_rail": "m", "x": "m", "y_track": "m", "z_track": "m", "delta_r": "m"}
     out = CaseOutput(summary="", datasets={k: (np.asarray(v), units[k]) for k, v in t.as_dict().items()})
+    axes = ["y (lateral shift)", "wheel", "candidate point (0 carries the wheel)"]
+    for k, (v, _) in out.datasets.items():
+        if v.ndim >= 2:
+            out.attrs[k] = {"axes": axes[:v.ndim], "wheel": ["left", "right"]}
+            if v.ndim == 3:
+                out.attrs[k]["empty_slots"] = "NaN: the wheel has fewer candidate points"
+        elif v.ndim == 1 and k != "y":
+            out.attrs[k] = {"axes": ["y (lateral shift)"]}
     amp = _checks.positive("amplitude_mm", params["amplitude_mm"]) * 1e-3
     msg = ""
     if np.all(yaw == 0) and -y.min() >= amp and y.max() >= amp:

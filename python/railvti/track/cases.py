@@ -101,7 +101,8 @@ def run_receptance(params: dict[str, Any]) -> CaseOutput:
                "static_lateral_midspan": (tr.static_modal("lateral", "midspan"), "m/N")}
     summary = (f"ring track n_sl={tr.n_sleepers}: {m.freq.size} modes <= {f_max:g} Hz, "
                f"static vertical {scalars['static_vertical_midspan'][0]:.3e} m/N")
-    return CaseOutput(summary=summary, datasets=data, scalars=scalars)
+    return CaseOutput(summary=summary, datasets=data, scalars=scalars,
+                      attrs={"mode_freq": {"axes": ["mode"]}, "mode_damping_ratio": {"axes": ["mode"]}})
 
 
 def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:

@@ -19,6 +19,7 @@ import numpy as np
 from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
+from ..results import split_labels
 from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -99,28 +100,65 @@ def _coach(params: dict[str, Any]) -> Coach:
     return Coach(**kw)
 
 
+#: Units of the per-wheel outputs (railvti.vehicle.simulate.WHEEL_OUTPUTS).
+WHEEL_UNITS = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
+               "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}
+#: Units of SimulationResult.stats (stored as stat_NAME).
+STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "m", "steps": "1",
+              "substepped_steps": "1", "smallest_step": "s",
+              "newton_residual": "1 (relative to stat_load_scale)",
+              "newton_residual_max": "1 (relative to stat_load_scale)",
+              "newton_correction": "m or rad", "newton_correction_max": "m or rad",
+              "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
+              "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
+              "interrupted_at": "s",
+              "bem_grid": "1, 1, m (nx, ny, dx)"}
+_SIDES = ["left", "right"]
+
+
+def _dof_unit(name: str, rate: bool) -> str:
+    """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
+    last = name.rsplit("_", 1)[-1]
+    if last in ("x", "y", "z"):
+        unit = "m"
+    elif last in ("roll", "pitch", "yaw", "beta"):
+        unit = "rad"
+    else:
+        unit = "1"          # modal coordinates: mass-normalised
+    return f"{unit}/s" if rate and unit != "1" else unit
+
+
 def _history(res, data: dict, scalars: dict) -> None:
-    data["t"] = (res.t, "s")
-    data["q"] = (res.q, "m or rad")
-    data["v"] = (res.v, "m/s or rad/s")
-    data["y_ws1"] = (res.y_ws1, "m")
-    data["vy_ws1"] = (res.vy_ws1, "m/s")
+    nw = res.wheel.shape[-1]
+    wheelsets = [f"ws{w + 1}" for w in range(nw)]
+    names = list(res.dof_names)
+    data["t"] = (res.t, "s", {"axes": ["t"]})
+    data["q"] = (res.q, "m or rad (per column: column_units)",
+                 {"axes": ["t", "state"], "dof_names": names,
+                  "column_units": [_dof_unit(n, False) for n in names]})
+    data["v"] = (res.v, "m/s or rad/s (per column: column_units)",
+                 {"axes": ["t", "state"], "dof_names": names,
+                  "column_units": [_dof_unit(n, True) for n in names]})
+    data["y_ws1"] = (res.y_ws1, "m", {"axes": ["t"]})
+    data["vy_ws1"] = (res.vy_ws1, "m/s", {"axes": ["t"]})
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets}
     for i, name in enumerate(WHEEL_OUTPUTS):
-        unit = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
-                "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}.get(name, "1")
-        data[f"wheel_{name}"] = (res.wheel[:, i], unit)
+        data[f"wheel_{name}"] = (res.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
     for k, v in res.stats.items():
-        scalars[f"stat_{k}"] = (v, "")
+        scalars[f"stat_{k}"] = (v, STAT_UNITS.get(k, "1"))
     ws = res.wheels()
-    data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(res.wheel.shape[-1])], 1), "m")
-    data["wheel_amplitude"] = (ws.amplitude, "m")
-    data["wheel_Q_max"] = (ws.Q_max, "N")
-    data["wheel_Y_max"] = (ws.Y_max, "N")
-    data["wheel_YQ_max"] = (ws.YQ_max, "1")
+    last = {"over": f"the last {ws.window:g} s"}
+    data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(nw)], 1), "m",
+                    {"axes": ["t", "wheelset"], "wheelset": wheelsets})
+    data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
+    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets, **last}
+    data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
+    data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
+    data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
     scalars["nadal_limit"] = (ws.nadal, "1")
     scalars["flange_angle"] = (ws.flange_angle, "rad")
     scalars["friction"] = (ws.friction, "1")
-    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "")
+    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
     return ws.line()
 
 
@@ -129,7 +167,9 @@ def _patch(pt, data: dict, scalars: dict) -> None:
     fields with contact='bem')."""
     for name, unit in (("x", "m"), ("y", "m"), ("pressure", "Pa"), ("tx", "Pa"),
                        ("ty", "Pa"), ("power_density", "W/m^2")):
-        data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit)
+        data[f"patch_{name}"] = (np.asarray(getattr(pt, name)), unit,
+                                 {"axes": ["x (rolling)", "y (lateral, contact frame)"],
+                                  "wheel": "right wheel of the leading wheelset"})
     scalars["patch_power"] = (float(pt.power), "W")
     scalars["patch_a"] = (float(pt.a), "m")
     scalars["patch_b"] = (float(pt.b), "m")
@@ -147,14 +187,16 @@ def run(params: dict[str, Any]) -> CaseOutput:
     coach = _coach(params)
     model, contact = str(params["model"]), str(params["contact"])
     data: dict[str, tuple[np.ndarray, str]] = {}
-    scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, ""), "model": (model, ""),
-                                           "contact": (contact, "")}
+    scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
+                                           "contact": (contact, "text")}
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
                                h=params["h"], coach=coach)
         wl = _history(c.run, data, scalars)
-        data["Q_final"] = (c.Q, "N")
-        data["Y_final"] = (c.Y, "N")
+        final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
+                 "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
+        data["Q_final"] = (c.Q, "N", final)
+        data["Y_final"] = (c.Y, "N", final)
         scalars["static_wheel_load"] = (c.static_wheel_load, "N")
         scalars["max_Q_error"] = (c.q_error, "1")
         if c.patch is not None:
@@ -189,10 +231,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
         b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
                            coach=coach, progress=False)
         lin, freq = sc.linear_critical_speed(model, coach)
-        data["speeds_kmh"] = (b.speeds_kmh, "km/h")
-        data["upper_amplitude"] = (b.upper, "m")
-        data["decay_amplitude"] = (b.decay, "m")
-        data["upper_flange_force"] = (b.details["flange_force"], "N")
+        data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
+        data["upper_amplitude"] = (b.upper, "m", {"axes": ["speed"]})
+        data["decay_amplitude"] = (b.decay, "m", {"axes": ["speed"]})
+        data["upper_flange_force"] = (b.details["flange_force"], "N", {"axes": ["speed"]})
         scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
         scalars["critical_branch"] = (b.branch, "")
         scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
@@ -203,7 +245,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
                    f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
-    return CaseOutput(summary=summary, datasets=data, scalars=scalars)
+    data, labels = split_labels(data)
+    return CaseOutput(summary=summary, datasets=data, scalars=scalars, attrs=labels)
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:

@@ -2,8 +2,9 @@
 
 The System lives in the Fortran core behind a handle (``System.native``, a
 :class:`~railvti.vehicle.model.VehicleModel`), sent once. The whole time loop runs in Fortran
-(``vehicle_run_c``); Python calls it in chunks of simulated time only to update a progress bar
-(simulated time and real-time factor).
+(``vehicle_run_c``); Python calls it in chunks of about :data:`CHUNK_SECONDS` of wall time (whole
+output intervals: the numbers are those of one call) to update a progress bar (simulated time and
+real-time factor) and to let Ctrl-C / SIGTERM stop a run between chunks.
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import numpy as np
 from .. import _checks
 from .._status import Status, check, error
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
+from ..resources import check_memory
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
@@ -37,6 +39,10 @@ NEWTON_RTOL = 1e-3
 #: pi steps per period. A step beyond this resolves none of that mode's dynamics: drop the mode
 #: (keep its static part) or take a smaller step.
 MODAL_STEP_LIMIT = 2.0
+
+#: Wall time of one call of the Fortran time loop, s: Python runs the loop in calls of about
+#: this length (whole output intervals), so Ctrl-C or SIGTERM stops a run within about it.
+CHUNK_SECONDS = 0.2
 
 #: What a BEM patch at its grid's edge asks of the user.
 _BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
@@ -120,6 +126,26 @@ class SimulationResult:
     bem_patches: dict | None = None
     friction: float = float("nan")
     flange_angle: float = float("nan")
+
+    def save(self, path) -> "Path":
+        """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
+        it back equal): every array with its ``units``, q and v with ``dof_names``, the wheel
+        outputs with their quantity names and units."""
+        from ..results import save
+        return save(self, path)
+
+    def _save_attrs(self) -> dict:
+        """Labels written beside the arrays by :func:`railvti.results.save`."""
+        from .cases import WHEEL_UNITS
+        nw = self.wheel.shape[-1]
+        return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+                "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+                "t": {"axes": ["t"]},
+                "wheel": {"axes": ["t", "quantity", "wheel", "wheelset"],
+                          "quantities": list(WHEEL_OUTPUTS),
+                          "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
+                          "wheel": ["left", "right"],
+                          "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
 
     @property
     def nadal(self) -> float:
@@ -420,7 +446,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     progress : bool, optional
         Show a tqdm bar (default: when the run has more than 2000 steps).
     chunk : float, optional
-        Simulated time per Fortran call (for the bar), s.
+        Largest simulated time per Fortran call with the bar, s (each call also lasts at
+        most about :data:`CHUNK_SECONDS` of wall time).
     bem_options : BemOptions, optional
         Grid and solver settings of contact='bem'.
     bem : BemState, optional
@@ -434,6 +461,14 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         its contact table; the message names the time and the step.
     GridTooSmallError
         A BEM contact patch reached the edge of its grid.
+    KeyboardInterrupt
+        Ctrl-C (or SIGTERM under ``railvti run``) between two chunks of the time loop; its
+        ``partial`` attribute holds the SimulationResult of the chunks completed (the
+        numbers of an uninterrupted run up to ``stats['interrupted_at']``).
+    InputError
+        Bad settings, or a time history that would need more memory than the limit of
+        :mod:`railvti.resources` (``RAILVTI_MAX_MEMORY``; 80 % of the available memory by
+        default), said before the run starts.
     """
     if contact_id(contact) == CONTACT_MODELS["bem"] and bem is None:
         with bem_state(system, bem_options) as st:
@@ -445,6 +480,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
     check_modal_step(system, plan.h)
+    _check_history_memory(system, plan)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
@@ -518,8 +554,10 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
     wall0 = time.perf_counter()
     try:
         done = 0
+        size = min(plan.per_chunk, plan.nevery * max(1, 16 // plan.nevery))
         while done < plan.nsteps:
-            ns = min(plan.per_chunk, plan.nsteps - done)
+            ns = min(size, plan.nsteps - done)
+            tc = time.perf_counter()
             nout = max(1, ns // plan.nevery)
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
@@ -530,14 +568,39 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
                                  out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
                                  int(out.stats[0]))
             done += ns
+            size = _next_chunk(ns, time.perf_counter() - tc, plan)
             if bar is not None:
                 bar.update(round(ns * plan.h, 6))
                 bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
+    except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
+        if out.t and sum(len(x) for x in out.t):
+            exc.partial = out.result(system, cs.speed, contact,
+                                     dict(out.named_stats(), interrupted_at=float(out.t[-1][-1])))
+        raise
     finally:
         if bar is not None:
             bar.close()
     return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
                                                       newton_tol=plan.tol))
+
+
+def _check_history_memory(system: System, plan: _Plan) -> None:
+    """InputError before a run whose time history would not fit the memory limit
+    (:mod:`railvti.resources`): q and v of every state and the 12 x 2 wheel outputs of every
+    wheelset per output time, gathered in chunks and then joined (about 2 copies)."""
+    nout = plan.nsteps // plan.nevery
+    per_output = 8 * (2 * system.n_state + len(WHEEL_OUTPUTS) * 2 * system.iws.shape[1] + 1)
+    check_memory(f"the time history ({nout} outputs of {per_output} bytes)", 2.0 * nout * per_output,
+                 "shorten the duration or raise output_dt")
+
+
+def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:
+    """Steps of the next Fortran call: about :data:`CHUNK_SECONDS` of wall time at the pace
+    of the last call, a multiple of the output interval (so that the outputs, and every
+    number, are those of one call), at most ``plan.per_chunk``."""
+    per_step = max(wall, 1e-6) / ns
+    k = max(1, int(CHUNK_SECONDS / per_step) // plan.nevery)
+    return min(plan.per_chunk, k * plan.nevery)
 
 
 def _progress_bar(plan: _Plan):

@@ -115,7 +115,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
         datasets={"mode_k": (table.k, "1"), "mode_freq": (table.freq_hz, "Hz"),
                   "frf_freq": (freqs, "Hz"), "speeds": (speeds, "km/h"),
                   "frf_real": (h.real, "m/N"), "frf_imag": (h.imag, "m/N")},
-        scalars={f"first_k{k}": (f, "Hz") for k, f in first.items()})
+        scalars={f"first_k{k}": (f, "Hz") for k, f in first.items()},
+        attrs={"mode_k": {"axes": ["mode"]}, "mode_freq": {"axes": ["mode"]},
+               "frf_freq": {"axes": ["frf_freq"]}, "speeds": {"axes": ["speed"]},
+               "frf_real": {"axes": ["speeds", "frf_freq"]}, "frf_imag": {"axes": ["speeds", "frf_freq"]}})
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:

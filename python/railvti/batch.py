@@ -1,0 +1,357 @@
+"""Running the cases of a deck into one results file without losing finished work.
+
+* Each case runs isolated: any exception (not only railvti's) becomes that case's recorded
+  error, with its traceback in the log and in the file; the other cases still run.
+* Each finished case is written at once (:class:`railvti.results.ResultsWriter`: a new
+  version of the file in a temporary file beside it, renamed over the old one), so there is a
+  valid file after every case; ``--resume`` keeps the cases already complete (status 'ok' and
+  the same parameters) and runs the others.
+* SIGINT (Ctrl-C) and SIGTERM stop the run: the case running is marked 'interrupted' in the
+  file, the completed ones are kept, no temporary file is left. The long Fortran loops are
+  called in slices of ~0.1-0.2 s (Gauss-Seidel normal contact, the vehicle time loop), so a
+  run stops within about that. SIGKILL leaves the previous complete file (or none) and at
+  most one ``.NAME.PID.XXXX.tmp`` file beside it.
+* The output path is checked before any case runs (:func:`check_output`).
+
+Exit status of ``railvti run`` (:data:`EXIT_CODES`).
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import signal
+import stat
+import threading
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator
+
+from .casetypes import CaseOutput
+from .deck import Case
+from .errors import InputError
+from .resources import check_memory, memory_limit, size_text
+from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
+
+log = logging.getLogger("railvti")
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_INPUT = 2
+EXIT_OUTPUT = 3
+EXIT_SIGINT = 128 + signal.SIGINT
+EXIT_SIGTERM = 128 + signal.SIGTERM
+
+#: Exit status of ``railvti run`` and what it means.
+EXIT_CODES = {
+    EXIT_OK: "every case ran",
+    EXIT_FAILED: "some cases failed (each recorded with its error; the others ran)",
+    EXIT_INPUT: "nothing ran: a bad deck, output path or option",
+    EXIT_OUTPUT: "the results file could not be written during the run (it holds the cases written before)",
+    EXIT_SIGINT: "stopped by SIGINT (Ctrl-C): completed cases kept, the running one marked interrupted",
+    EXIT_SIGTERM: "stopped by SIGTERM: as for SIGINT",
+}
+
+#: A case expected to take longer than this (s) or more memory than this (bytes) is
+#: announced before it starts.
+ANNOUNCE_SECONDS = 60.0
+ANNOUNCE_BYTES = 500e6
+
+
+class Interrupted(KeyboardInterrupt):
+    """A run stopped by a signal (SIGINT or SIGTERM)."""
+
+    def __init__(self, signame: str) -> None:
+        super().__init__(signame)
+        self.signame = signame
+
+
+class SignalGuard:
+    """SIGINT and SIGTERM raise :class:`Interrupted` only inside :meth:`live` (while a case
+    computes); elsewhere (writing the file, between cases) they are held in ``pending`` and
+    the runner stops at its next check. Restores the previous handlers on exit."""
+
+    def __init__(self) -> None:
+        self.pending: str | None = None
+        self._live = False
+        self._old: dict[int, Any] = {}
+
+    def __enter__(self) -> "SignalGuard":
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._handler)
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        self._old.clear()
+
+    def _handler(self, signum: int, frame: Any) -> None:
+        name = signal.Signals(signum).name
+        if self._live:
+            self._live = False
+            raise Interrupted(name)
+        self.pending = self.pending or name
+
+    @contextlib.contextmanager
+    def live(self) -> Iterator[None]:
+        """Signals interrupt the code inside (raising Interrupted)."""
+        if self.pending:
+            raise Interrupted(self.pending)
+        self._live = True
+        try:
+            yield
+        finally:
+            self._live = False
+
+
+def check_output(out: Path, deck: Path | None = None, force: bool = False) -> None:
+    """Refuse an output path before any work: a directory, a device or other non-regular
+    file, the deck itself, an existing file that is not a railvti results file (unless
+    ``force``), or a folder where no file can be created.
+
+    Raises
+    ------
+    InputError
+        Naming the path and the problem.
+    """
+    if out.exists() or out.is_symlink():
+        try:
+            st = os.stat(out)
+        except OSError as exc:
+            raise InputError(f"output {out}: {exc.strerror}") from None
+        if stat.S_ISDIR(st.st_mode):
+            raise InputError(f"output {out} is a directory: give a file name (-o DIR/results.h5)")
+        if not stat.S_ISREG(st.st_mode):
+            raise InputError(f"output {out} is not a regular file (a device, pipe or socket): "
+                             "railvti writes only regular files")
+        if deck is not None and deck.exists() and os.path.samefile(out, deck):
+            raise InputError(f"output {out} is the deck itself: give another name with -o")
+        if not force and not is_results_file(out):
+            raise InputError(f"output {out} exists and is not a railvti results file: give "
+                             "another name, or --force to replace it")
+    parent = out.parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the output folder {parent}: {exc.strerror}") from None
+    if not parent.is_dir():
+        raise InputError(f"output folder {parent} is not a directory")
+    try:
+        temp_path(out).unlink()
+    except OSError as exc:
+        raise InputError(f"cannot write in the output folder {parent}: {exc.strerror}") from None
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Rough memory (bytes) and wall time (s) of a case; NaN when unknown."""
+
+    memory: float = float("nan")
+    seconds: float = float("nan")
+
+
+#: Wall time per time step of the vehicle time loop, s (hunting at 400 km/h on this project's
+#: 2-core test machine: ~4 ms with Hertz + FASTSIM or Kalker; BEM much more).
+_STEP_SECONDS = {"bem": 0.1}
+_STEP_SECONDS_DEFAULT = 4e-3
+#: Bytes stored per output time of a vehicle run (q, v: 2 x ~60 states; 12 x 2 x 4 wheel
+#: outputs), times the copies made while gathering and writing.
+_OUTPUT_BYTES = (2 * 60 + 12 * 2 * 4) * 8 * 3
+
+
+def _num(params: dict[str, Any], key: str, default: float) -> float:
+    try:
+        v = float(params.get(key, default))
+    except (TypeError, ValueError):
+        return default
+    return v if v == v else default
+
+
+def estimate(case: Case) -> Estimate:
+    """A rough estimate of what a case needs (vehicle histories and contact grids)."""
+    p = case.params
+    t = case.case_type.name
+    if t == "vehicle":
+        duration = _num(p, "duration", 3.0)
+        h = max(_num(p, "h", 1e-3), 1e-9)
+        output_dt = max(_num(p, "output_dt", 0.002), h)
+        runs = 1.0
+        if p.get("scenario") == "critical_speed":
+            lo, hi = _num(p, "speeds_kmh_min", 160.0), _num(p, "speeds_kmh_max", 440.0)
+            runs = max(1.0, (hi - lo) / max(_num(p, "speeds_kmh_step", 20.0), 1e-9) + 1.0)
+        per_step = _STEP_SECONDS.get(str(p.get("contact")), _STEP_SECONDS_DEFAULT)
+        return Estimate(memory=duration / output_dt * _OUTPUT_BYTES,
+                        seconds=runs * duration / h * per_step)
+    if t in ("normal", "rolling"):
+        n = _num(p, "nx", 0.0) * _num(p, "ny", 0.0)
+        return Estimate(memory=n * 8 * 40)      # the fields and 4 N FFT buffers of a few kernels
+    return Estimate()
+
+
+def _duration_text(s: float) -> str:
+    if s >= 3600:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 60:.0f} min" if s >= 60 else f"{s:.0f} s"
+
+
+def check_resources(cases: list[Case]) -> list[str]:
+    """Problems of cases whose estimated memory exceeds the limit (see railvti.resources)."""
+    out = []
+    for c in cases:
+        e = estimate(c)
+        if e.memory == e.memory:
+            try:
+                check_memory(f"{c.label}", e.memory, "shorten 'duration' or raise 'output_dt'"
+                             if c.case_type.name == "vehicle" else "use a coarser grid")
+            except InputError as exc:
+                out.append(str(exc))
+    return out
+
+
+def announce(case: Case, write: Any) -> None:
+    """Say what a case is expected to need before it starts, when that is large."""
+    e = estimate(case)
+    parts = []
+    if e.memory == e.memory and e.memory > ANNOUNCE_BYTES:
+        parts.append(f"~{size_text(e.memory)} of memory (limit {size_text(memory_limit())})")
+    if e.seconds == e.seconds and e.seconds > ANNOUNCE_SECONDS:
+        parts.append(f"~{_duration_text(e.seconds)}")
+    if parts:
+        write(f"{case.label}: expected to need {' and '.join(parts)} (rough estimate)")
+
+
+@dataclass
+class RunReport:
+    """What a run did: its exit status and counts."""
+
+    status: int
+    ok: int = 0
+    failed: int = 0
+    skipped: int = 0
+    interrupted: str | None = None
+
+
+def partial_output(res: Any) -> CaseOutput | None:
+    """The time history an interrupted vehicle run had completed (its exception's
+    ``partial`` SimulationResult) as a CaseOutput, or None."""
+    if res is None or not hasattr(res, "_save_attrs"):
+        return None
+    from .vehicle.cases import STAT_UNITS
+    labels = res._save_attrs()
+    data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
+            "v": (res.v, "m/s or rad/s (per dof_names)"),
+            "wheel": (res.wheel, "per quantity: see quantity_units")}
+    scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
+               if isinstance(v, (int, float))}
+    t_end = float(res.t[-1]) if len(res.t) else 0.0
+    return CaseOutput(summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
+                      datasets=data, scalars=scalars, attrs=labels)
+
+
+def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
+    """Run one case; any exception becomes the record's error (with its traceback),
+    a signal the record's ``interrupted``."""
+    t0 = time.perf_counter()
+    try:
+        with guard.live():
+            output = case.case_type.run(case.params)
+    except KeyboardInterrupt as exc:    # Interrupted, or Ctrl-C without the guard's handler
+        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None)),
+                          interrupted=getattr(exc, "signame", "SIGINT"),
+                          wall_time=time.perf_counter() - t0)
+    except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
+        tb = traceback.format_exc()
+        log.error("%s failed:\n%s", case.label, tb.rstrip())
+        return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
+                          wall_time=time.perf_counter() - t0)
+    return CaseRecord(case, output=output, wall_time=time.perf_counter() - t0)
+
+
+def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> bool:
+    """Write one record; a result that cannot be stored (a value HDF5 refuses) becomes the
+    case's error. False when the file itself cannot be written (disk full, I/O error)."""
+    try:
+        writer.write([rec])
+        return True
+    except OSError as exc:
+        write(f"railvti: error: cannot write {out}: {exc.strerror or exc}")
+        return False
+    except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
+        tb = traceback.format_exc()
+        log.error("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
+        rec.output = None
+        rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
+        rec.traceback = tb
+    try:
+        writer.write([rec])
+        return True
+    except Exception as exc:  # noqa: BLE001
+        write(f"railvti: error: cannot write {out}: {exc}")
+        return False
+
+
+def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
+              write: Any = print, progress: Any = None) -> RunReport:
+    """Run ``cases`` into the results file ``out`` (checked beforehand with
+    :func:`check_output`), each finished case written at once.
+
+    Parameters
+    ----------
+    write : callable
+        Prints one line for the user.
+    progress : callable, optional
+        ``progress(case)`` before each case (e.g. a progress bar's postfix); the iterable of
+        cases may also be wrapped by the caller.
+    """
+    report = RunReport(status=EXIT_OK)
+    done = completed(out) if resume else {}
+    todo = []
+    for c in cases:
+        if done.get(group_name(c)) == params_digest(c):
+            report.skipped += 1
+        else:
+            todo.append(c)
+    if resume:
+        write(f"resume: {report.skipped} of {len(cases)} cases already complete in {out}")
+    writer = ResultsWriter(out, deck_text, keep=resume)
+    with SignalGuard() as guard:
+        for case in todo:
+            if guard.pending:
+                break
+            if progress is not None:
+                progress(case)
+            announce(case, write)
+            rec = run_case(case, guard)
+            if not _store(writer, rec, out, write):
+                report.status = EXIT_OUTPUT
+                return report
+            if rec.interrupted:
+                report.interrupted = rec.interrupted
+                write(f"{case.label}: INTERRUPTED by {rec.interrupted} after {rec.wall_time:.1f} s")
+                break
+            if rec.error is not None:
+                report.failed += 1
+                write(f"{case.label}: FAILED: {rec.error}")
+            else:
+                report.ok += 1
+                write(f"{case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
+        if guard.pending and not report.interrupted:
+            report.interrupted = guard.pending
+    if report.interrupted:
+        report.status = EXIT_SIGTERM if report.interrupted == "SIGTERM" else EXIT_SIGINT
+    elif report.failed:
+        report.status = EXIT_FAILED
+    return report
+
+
+def resume_hint(deck: Path, out: Path) -> str:
+    """The command that continues an interrupted run."""
+    return f"railvti run {deck} -o {out} --resume"
+
+
+__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_output", "check_resources",
+           "estimate", "run_case", "run_cases", "RunReport"]
