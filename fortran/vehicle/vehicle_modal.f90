@@ -19,6 +19,12 @@
 !> shape rows): whoever changes phi must increase rows_version; modal_factor then rebuilds the
 !> condensed flexibility C = Phi S^-1 Phi^T. A Phi that depends on q also adds the chain-rule
 !> term (dPhi/dq Q) to the point tangent: not needed (nor done) for constant rows.
+!>
+!> Massless coordinates (modal_set_mass, mass(j) = 0): Q_j'' drops out of its equation, which
+!> becomes the algebraic K_m Q = Phi^T g_p (with B = 0). A block of them with K_m = I and rows
+!> Phi_r = V diag(sqrt(lambda)) (R = V diag(lambda) V^T) is a point compliance: Phi_r Q_r =
+!> R g_p, the residual flexibility of truncated modes (static correction); in the condensed
+!> step matrix it adds R / ck to C (docs/vehicle_integrator.md, "Residual flexibility").
 module vehicle_modal
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
@@ -26,7 +32,7 @@ module vehicle_modal
     implicit none
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
-    public :: modal_factorise, modal_solve, modal_points
+    public :: modal_factorise, modal_solve, modal_points, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
 
@@ -48,6 +54,7 @@ module vehicle_modal
         integer, allocatable :: bs(:), off(:)       !< block starts, packed offsets (nb + 1)
         real(dp), allocatable :: bb(:), kb(:)       !< packed blocks of B and K_m
         real(dp), allocatable :: phi(:, :)          !< (np, nm) attachment rows
+        real(dp), allocatable :: mass(:)            !< (nm) modal masses: 1, or 0 (massless)
         integer, allocatable :: ptype(:), prig(:), ppt(:)   !< per point element
         real(dp), allocatable :: ppar(:, :)         !< (4, npe) element parameters
         !> linear couplings (LC_*): kind, point, rigid direction g (nd, nlc), (k, c, f0)
@@ -120,9 +127,28 @@ contains
         mp%prig = prig
         mp%ppt = ppt
         mp%ppar = ppar
+        allocate (mp%mass(nm))
+        mp%mass = 1.0_dp
         mp%rows_version = 1
         info = STAT_OK
     end subroutine modal_create
+
+    !> Set the modal masses (1: a mass-normalised mode, 0: a massless coordinate, an algebraic
+    !> equation). info: STAT_OK; STAT_SIZE_MISMATCH (nm not the part's); STAT_BAD_ARGUMENT
+    !> (an entry other than 0 or 1).
+    subroutine modal_set_mass(mp, nm, mass, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nm
+        real(dp), intent(in) :: mass(nm)
+        integer, intent(out) :: info
+        info = STAT_SIZE_MISMATCH
+        if (nm /= mp%nm .or. nm < 1) return
+        info = STAT_BAD_ARGUMENT
+        if (any(mass /= 0.0_dp .and. mass /= 1.0_dp)) return
+        mp%mass = mass
+        mp%rows_version = mp%rows_version + 1      ! the cached factors are stale
+        info = STAT_OK
+    end subroutine modal_set_mass
 
     !> Add linear couplings and flexible-rim wheelsets to a modal part (replacing any it had).
     !> info: STAT_OK; STAT_BAD_ARGUMENT (no modal part, an unknown kind, a point outside 1..np,
@@ -336,7 +362,7 @@ contains
         if (mp%nlc > 0) call modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
     end subroutine modal_point_tangent
 
-    !> Factor S = cq I + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless
+    !> Factor S = cq diag(mass) + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless
     !> mf already holds them for these coefficients and rows. Work: sum_b s_b^3 + nm np (s + np),
     !> linear in nm for bounded block sizes. info: STAT_OK or STAT_SINGULAR (a singular block).
     subroutine modal_factorise(mp, cq, cb, ck, mf, info)
@@ -360,7 +386,7 @@ contains
             o = mp%off(b)
             mf%lu(o + 1:o + s * s) = ck * (cb * mp%bb(o + 1:o + s * s) + mp%kb(o + 1:o + s * s))
             do i = 1, s
-                mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq
+                mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq * mp%mass(j0 + i - 1)
             end do
             if (s == 1) then
                 lin = merge(1, 0, mf%lu(o + 1) == 0.0_dp)

@@ -16,11 +16,11 @@ module vehicle_model
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set
-    use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset
+    use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
-    public :: vehicle_attach_modal, vehicle_attach_couplings
+    public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -167,6 +167,19 @@ contains
         if (nd /= md%nd) return
         call modal_couple(md%mp, md%nd, md%nw, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, info)
     end subroutine vehicle_attach_couplings
+
+    !> Set the modal masses of a model's modal part (1 or 0: massless coordinates); see
+    !> vehicle_modal%modal_set_mass for info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_mass(handle, nm, mass, info)
+        integer, intent(in) :: handle, nm
+        real(dp), intent(in) :: mass(nm)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_set_mass(md%mp, nm, mass, info)
+    end subroutine vehicle_attach_mass
 
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).

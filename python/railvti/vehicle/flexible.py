@@ -15,18 +15,23 @@ wheelsets (FR)"):
 - the Coriolis coupling of the modes with the rigid wheelset's roll and yaw rates
   (``rigid_elastic``: 'gyro' couplings).
 
-The state is the coach's DOFs followed by 4 x nq modal coordinates.
+The truncated modes' quasi-static contribution (the body's residual flexibility R over the
+rim and journal points) enters as a massless block per wheelset: u = Phi Q + R g_p, a point
+compliance in the condensed Newton system (vehicle_modal, ``compliance_block``).
+
+The state is the coach's DOFs followed by 4 x nq modal coordinates, then the residual
+block's coordinates of each flexible wheelset (at most 12 each).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import ModalBlocks, ModalCouplings
+from .model import ModalBlocks, ModalCouplings, compliance_block
 from .params import Coach
 from .table import WheelTable
 
@@ -50,11 +55,19 @@ class FRLayout:
     points : slice
         Its attachment points (rows of ``System.modal.phi``): RIM_POINTS, then journal left
         x, y, z, right x, y, z, then the roll and yaw Coriolis rows.
+    residual : slice
+        The massless coordinates of its residual flexibility in the state (empty without).
     """
 
     wheelset: int
     modes: slice
     points: slice
+    residual: slice = field(default_factory=lambda: slice(0, 0))
+
+
+#: ATTACHMENT_DOFS index of each displacement point of a flexible wheelset (rim left y, z, rx,
+#: rim right y, z, rx, journal left x, y, z, journal right x, y, z).
+_ATTACH_INDEX = np.array([5, 6, 7, 1, 2, 3, 11, 12, 13, 8, 9, 10])
 
 
 def primary_preload(coach: Coach, system: System) -> np.ndarray:
@@ -97,7 +110,7 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
 def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None) -> tuple[System, list[FRLayout]]:
+             body=None, residual: bool = True) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -117,6 +130,10 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         exactly as RR; a check of the coupling's bookkeeping).
     body : FlexibleWheelset, optional
         A ready flexible body (skips the modal solve).
+    residual : bool
+        Add the body's residual flexibility (its ``residual`` at the taping lines) over the rim
+        and journal points as a massless block per wheelset: the static deflection then does
+        not depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
 
     Returns
     -------
@@ -174,11 +191,37 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
                          rim_points=rim_pts,
                          rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))))
     b = body.gyro + body.damping
-    names = tuple(f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq))
-    mb = ModalBlocks(damping=tuple(b for _ in flexible),
-                     stiffness=tuple(body.stiffness for _ in flexible), phi=phi, names=names,
-                     couplings=cpl)
+    names = [f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)]
+    damp = [b for _ in flexible]
+    stiff = [body.stiffness for _ in flexible]
+    massless = [False for _ in flexible]
+    if residual and np.any(body.residual):
+        res = residual_points(body)
+        phi_r, k_r = compliance_block(res)
+        nr = phi_r.shape[1]
+        cols = [phi]
+        for j, i in enumerate(flexible):
+            c = np.zeros((npt, nr))
+            if not zero_rows:
+                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
+            cols.append(c)
+            names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
+            damp.append(np.zeros((nr, nr)))
+            stiff.append(k_r)
+            massless.append(True)
+            m0 = sy.n + nq * len(flexible) + nr * j
+            layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
+        phi = np.hstack(cols)
+    mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
+                     couplings=cpl, massless=tuple(massless))
     return sy.with_modal(mb), layouts
+
+
+def residual_points(body) -> np.ndarray:
+    """The body's residual flexibility (12, 12) over one flexible wheelset's displacement
+    points (rim left y, z, rx, rim right y, z, rx, journal left x, y, z, right x, y, z), from
+    ``body.residual`` (ATTACHMENT_DOFS at ``body.residual_s``; the rims' x is not coupled)."""
+    return np.asarray(body.residual)[np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)]
 
 
 def _rim_lateral(body) -> float:
