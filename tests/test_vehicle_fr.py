@@ -159,6 +159,57 @@ def test_rim_motion_equals_rigid_motion(fr):
         np.testing.assert_allclose(gb, ga, rtol=1e-9, atol=1e-6)
 
 
+def _frozen_rates(body, qm):
+    """Rates of the axle-fixed modal coordinates of a deformation frozen in the spinning
+    material: the cylindrical components move as w(theta - Omega t), and d/dtheta maps the
+    (A, B) pair of harmonic k to (k Q_B, -k Q_A) (A: cos k theta, B: sin k theta)."""
+    qd = np.zeros_like(qm)
+    for k in set(body.k[body.k > 0]):
+        ia = np.flatnonzero((body.k == k) & (body.family == "A"))
+        ib = np.flatnonzero((body.k == k) & (body.family == "B"))
+        qd[ia] = -body.omega * k * qm[ib]
+        qd[ib] = body.omega * k * qm[ia]
+    return qd
+
+
+def test_eulerian_term_frozen_pattern(body):
+    """A deformation frozen in the rolling material (an out-of-round wheel, k = 0..2): the
+    rim material under the fixed contact point moves at dW/dt + Omega dW/dtheta = Omega x u
+    (the rigid rotation of the displacement: no y or camber rate, a vertical rate -Omega u_x).
+    The contact forces with the Eulerian rows equal those of the same displaced rims with
+    exactly these rates, and differ without the Eulerian term (dW/dt alone)."""
+    sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, flexible=(0,),
+                       residual=False)
+    q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+    n, mb = sy.n, sy.modal
+    cp = mb.couplings
+    rp, ep = cp.rim_points[:, :, 0], cp.rim_euler[:, :, 0]
+    rng = np.random.default_rng(3)
+    qm = q[n:] + 2e-3 * rng.normal(size=body.n)         # rim motions of some um
+    qd = _frozen_rates(body, qm)
+    assert np.max(np.abs(mb.phi[rp] @ qd)) > 1e-3           # dW/dt alone is not small
+    ps = _probe(sy)
+    cs = CallSettings(V, contact_id("hertz-kalker"))
+
+    def forces(x, xd):
+        f, _, info = ps.native.state_force(cs, x, xd)
+        assert info == 0
+        return np.concatenate([f[:n], f[n:][rp].ravel()])
+
+    x = np.concatenate([q[:n], mb.phi @ qm])
+    xd = np.concatenate([v[:n], mb.phi @ qd])
+    with_euler = forces(x, xd)
+    # the same rims at rest against the contact point except Omega x u
+    xb, xdb = x.copy(), xd.copy()
+    xb[n + ep] = 0.0
+    for w, side in enumerate((1, 0)):
+        ux = body.rows(side, 0.0)[0] @ qm
+        xdb[n + rp[:, w]] = [0.0, -body.omega * ux, 0.0]
+    np.testing.assert_allclose(with_euler, forces(xb, xdb), rtol=1e-9, atol=1e-6)
+    without = forces(xb, xd)
+    assert np.max(np.abs(without - with_euler)) > 100.0      # N: the term matters
+
+
 def test_centred_running_fr(fr):
     """centred_running(model='FR') runs and gives the static loads and the rim angle."""
     c = scenarios.centred_running(200, model="FR", duration=0.05)

@@ -35,6 +35,7 @@ module vehicle_modal
     public :: modal_factorise, modal_solve, modal_points, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
+    public :: modal_euler
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
@@ -66,6 +67,11 @@ module vehicle_modal
         integer :: nfr = 0
         integer, allocatable :: frw(:), frpt(:, :, :)
         real(dp), allocatable :: frarm(:, :)
+        !> Eulerian term of the rims (modal_euler): the points e whose displacement is
+        !> dPhi/dtheta Q of each rim point (3, 2, nfr; 0: none) and the spin Omega (nfr):
+        !> the rim material's velocity at the contact point is u'_p + Omega u_e.
+        integer, allocatable :: frept(:, :, :)
+        real(dp), allocatable :: fromega(:)
     end type modal_part
 
     !> The factors of the modal step matrix S = cq I + ck (cb B + K_m), block by block, and the
@@ -178,8 +184,31 @@ contains
         mp%frw = frw
         mp%frpt = frpt
         mp%frarm = frarm
+        allocate (mp%frept(3, 2, nfr), mp%fromega(nfr))
+        mp%frept = 0
+        mp%fromega = 0.0_dp
         info = STAT_OK
     end subroutine modal_couple
+
+    !> Set the Eulerian term of the flexible rims (after modal_couple): the rim material's
+    !> velocity at the (fixed) contact point is dW/dt + Omega dW/dtheta = u'_p + Omega u_e,
+    !> with point e carrying the rows dPhi/dtheta of rim point p (ept(:, w, i), 0: no term).
+    !> info: STAT_OK; STAT_SIZE_MISMATCH (nfr not the part's); STAT_BAD_ARGUMENT (a point
+    !> outside 0..np, a non-finite Omega).
+    subroutine modal_euler(mp, nfr, ept, omega, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nfr
+        integer, intent(in) :: ept(3, 2, nfr)
+        real(dp), intent(in) :: omega(nfr)
+        integer, intent(out) :: info
+        info = STAT_SIZE_MISMATCH
+        if (nfr /= mp%nfr .or. nfr < 1) return
+        info = STAT_BAD_ARGUMENT
+        if (any(ept < 0) .or. any(ept > mp%np) .or. .not. all(abs(omega) <= huge(1.0_dp))) return
+        mp%frept = ept
+        mp%fromega = omega
+        info = STAT_OK
+    end subroutine modal_euler
 
     !> The index in 1..nfr of wheelset w's flexible rims, 0 for a rigid wheelset.
     pure integer function modal_rim_wheelset(mp, w) result(i)

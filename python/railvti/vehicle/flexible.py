@@ -13,7 +13,10 @@ wheelsets (FR)"):
   dampers (already in the rigid K, C and preload) act on the modes through them ('split'
   couplings: k (g.q - u) + c (g.v - u') + preload on the point, g (k u + c u') on the coach);
 - the Coriolis coupling of the modes with the rigid wheelset's roll and yaw rates
-  (``rigid_elastic``: 'gyro' couplings).
+  (``rigid_elastic``: 'gyro' couplings);
+- the Eulerian term: the rim material under the (fixed) contact point moves at
+  dW/dt + Omega dW/dtheta; points carrying the rows d/dtheta (``dtheta_rows``) of each rim
+  point add Omega times their displacement to the rim rates the creepages see.
 
 The truncated modes' quasi-static contribution (the body's residual flexibility R over the
 rim and journal points) enters as a massless block per wheelset: u = Phi Q + R g_p, a point
@@ -36,8 +39,9 @@ from .params import Coach
 from .table import WheelTable
 
 #: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
-#: of the left and right journal, the roll and yaw Coriolis rows.
-POINTS_PER_WHEELSET = 14
+#: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
+#: d/dtheta (y, z, rx) of the left and right wheel.
+POINTS_PER_WHEELSET = 20
 RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z",
               "rim_right_rx")
 
@@ -54,7 +58,8 @@ class FRLayout:
         Its modal coordinates in the state (after the rigid DOFs: ``System.n + ...``).
     points : slice
         Its attachment points (rows of ``System.modal.phi``): RIM_POINTS, then journal left
-        x, y, z, right x, y, z, then the roll and yaw Coriolis rows.
+        x, y, z, right x, y, z, then the roll and yaw Coriolis rows, then the rims' Eulerian
+        rows (d/dtheta of RIM_POINTS).
     residual : slice
         The massless coordinates of its residual flexibility in the state (empty without).
     """
@@ -110,7 +115,8 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
 def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None, residual: bool = True) -> tuple[System, list[FRLayout]]:
+             body=None, residual: bool = True, euler: bool = True
+             ) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -134,6 +140,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         Add the body's residual flexibility (its ``residual`` at the taping lines) over the rim
         and journal points as a massless block per wheelset: the static deflection then does
         not depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
+    euler : bool
+        Add the Eulerian term Omega dW/dtheta to the rims' rates in the contact.
 
     Returns
     -------
@@ -160,6 +168,7 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     phi = np.zeros((npt, nq * len(flexible)))
     kinds, pts, dirs, pars = [], [], [], []
     rim_pts = np.zeros((3, 2, len(flexible)), dtype=int)
+    eul_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     layouts = []
     geo_y = _rim_lateral(body)
     for j, i in enumerate(flexible):
@@ -168,7 +177,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         for w, side in enumerate((1, 0)):           # vehicle wheel 0 left = FE side 1
             rows[3 * w:3 * w + 3] = body.rows(side, 0.0)[1:4]
             rows[6 + 3 * w:9 + 3 * w] = body.journal[side][0:3]
+            rows[14 + 3 * w:17 + 3 * w] = body.dtheta_rows(side, 0.0)[1:4]
             rim_pts[:, w, j] = p0 + 3 * w + np.arange(3)
+            eul_pts[:, w, j] = p0 + 14 + 3 * w + np.arange(3)
         rows[12] = body.rigid_elastic[:, 0]
         rows[13] = body.rigid_elastic[:, 1]
         if not zero_rows:
@@ -189,7 +200,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     cpl = ModalCouplings(kinds=tuple(kinds), points=np.array(pts), directions=np.array(dirs).T,
                          params=np.array(pars).T, rim_wheelsets=np.array(flexible),
                          rim_points=rim_pts,
-                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))))
+                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))),
+                         rim_euler=eul_pts if euler else None,
+                         rim_omega=np.full(len(flexible), body.omega) if euler else None)
     b = body.gyro + body.damping
     names = [f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)]
     damp = [b for _ in flexible]

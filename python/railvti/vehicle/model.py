@@ -128,6 +128,12 @@ class ModalCouplings:
     rim_wheelsets : ndarray (nfr,) int
     rim_points : ndarray (3, 2, nfr) int
     rim_arms : ndarray (2, nfr)
+    rim_euler : ndarray (3, 2, nfr) int, optional
+        The Eulerian term Omega dW/dtheta of the rims: the points whose displacement is
+        dPhi/dtheta Q of each rim point (-1: none); the rim material's velocity at the contact
+        point is then u'_p + Omega u_e.
+    rim_omega : ndarray (nfr,), optional
+        The spin Omega of each flexible wheelset, rad/s (with ``rim_euler``).
     """
 
     kinds: tuple
@@ -137,6 +143,8 @@ class ModalCouplings:
     rim_wheelsets: np.ndarray
     rim_points: np.ndarray
     rim_arms: np.ndarray
+    rim_euler: np.ndarray | None = None
+    rim_omega: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         for k in self.kinds:
@@ -159,6 +167,14 @@ class ModalCouplings:
             val.setflags(write=False)
             object.__setattr__(self, name, val)
         object.__setattr__(self, "kinds", tuple(self.kinds))
+        if self.rim_euler is not None:
+            re = np.asarray(self.rim_euler, dtype=np.int32).reshape(3, 2, rw.size)
+            om = np.asarray(_checks.finite_array("rim_omega", self.rim_omega),
+                            dtype=float).reshape(rw.size)
+            re.setflags(write=False)
+            om.setflags(write=False)
+            object.__setattr__(self, "rim_euler", re)
+            object.__setattr__(self, "rim_omega", om)
 
     def without_damping(self) -> "ModalCouplings":
         """The same couplings without the split couplings' dampers."""
@@ -428,6 +444,14 @@ class VehicleModel:
                 kinds, pts, g, par, rw, rp, ra = mb.couplings.arrays(self.n, mb.n_points)
                 info = core.vehicle_modal_couple_c(self.handle, kinds, pts, g, par, rw, rp, ra)
                 check(info, "modal couplings")
+                if mb.couplings.rim_euler is not None:
+                    cp = mb.couplings
+                    if np.any(cp.rim_euler >= mb.n_points):
+                        raise InputError("an Eulerian rim point outside the points")
+                    info = core.vehicle_modal_euler_c(
+                        self.handle, np.asfortranarray(cp.rim_euler + 1, dtype=np.int32),
+                        np.asfortranarray(cp.rim_omega))
+                    check(info, "Eulerian rim rows")
             if mb.massless is not None:
                 info = core.vehicle_modal_mass_c(self.handle, np.asfortranarray(mb.mass))
                 check(info, "modal masses")
