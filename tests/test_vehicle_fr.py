@@ -102,6 +102,27 @@ def test_static_acceptance_against_fe(k_max, f_max):
     assert errs[False] > 0.1          # the truncated modes alone miss it
 
 
+def test_rows_at_the_static_contact_point(body):
+    """Rows, Eulerian rows, residual and arms at the static contact point (s = +3 mm, not
+    the taping line): the coupled statics still match the FE solve with the loads at that
+    point (2 %), and the contact point sits lower than at s = 0 (the tread's local
+    deflection grows outwards), while the camber (the tread's slope) barely moves."""
+    ws = Wheelset()
+    out = {}
+    for s_c in (0.0, 3e-3):
+        sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, wheelset=ws,
+                           flexible=(0,), s_contact=s_c)
+        q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+        f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
+        d = attachment_deflection(sy, lay[0], q)
+        ref = static_fe_solve(ws, f, s_pair=(s_c, s_c), inertia_relief=True)
+        for i in (1, 2, 3, 5, 6, 7):
+            assert d[i] == pytest.approx(ref[i], rel=0.02)
+        out[s_c] = d
+    assert out[3e-3][2] < out[0.0][2] * 1.03                    # z more negative by > 3 %
+    assert out[3e-3][3] == pytest.approx(out[0.0][3], rel=2e-3)
+
+
 def _probe(sy):
     """The FR system with its points as coordinates (phi = I, B = K = 0): its modal forces
     are the point forces g_p, its modal coordinates the rim and journal displacements."""

@@ -43,7 +43,7 @@ def energy(sy, r) -> np.ndarray:
         m = kb.shape[0]
         e += 0.5 * np.einsum("ti,ij,tj->t", qm[:, o:o + m], kb, qm[:, o:o + m])
         o += m
-    e += 0.5 * np.sum(vm * vm, axis=1)
+    e += 0.5 * np.sum(mb.mass * vm * vm, axis=1)      # massless (residual) coordinates: none
     cp = mb.couplings
     u = qm @ mb.phi.T
     for j, kind in enumerate(cp.kinds):

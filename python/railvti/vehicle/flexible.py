@@ -115,7 +115,7 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
 def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None, residual: bool = True, euler: bool = True
+             body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0
              ) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
@@ -142,6 +142,14 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         not depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
     euler : bool
         Add the Eulerian term Omega dW/dtheta to the rims' rates in the contact.
+    s_contact : float
+        Wheel-profile coordinate (m, + towards the field side) of the rim points, both
+        wheels: the rows (``FlexibleWheelset.rows``: the element's shape functions at that
+        point of the rim edge), the Eulerian rows, the residual flexibility
+        (``residual_flexibility``, recomputed unless s_contact is the body's ``residual_s``)
+        and the reference point's lateral arm (l0 + s_contact) are taken there. 0: the taping
+        line; the static contact point of the centred S1002/UIC60 pair is at about +3 mm.
+        Fixed for the run (the rows do not follow the contact point).
 
     Returns
     -------
@@ -170,14 +178,15 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     rim_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     eul_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     layouts = []
-    geo_y = _rim_lateral(body)
+    s_contact = float(s_contact)
+    geo_y = _rim_lateral(body) + s_contact
     for j, i in enumerate(flexible):
         p0, m0 = POINTS_PER_WHEELSET * j, nq * j
         rows = np.zeros((POINTS_PER_WHEELSET, nq))
         for w, side in enumerate((1, 0)):           # vehicle wheel 0 left = FE side 1
-            rows[3 * w:3 * w + 3] = body.rows(side, 0.0)[1:4]
+            rows[3 * w:3 * w + 3] = body.rows(side, s_contact)[1:4]
             rows[6 + 3 * w:9 + 3 * w] = body.journal[side][0:3]
-            rows[14 + 3 * w:17 + 3 * w] = body.dtheta_rows(side, 0.0)[1:4]
+            rows[14 + 3 * w:17 + 3 * w] = body.dtheta_rows(side, s_contact)[1:4]
             rim_pts[:, w, j] = p0 + 3 * w + np.arange(3)
             eul_pts[:, w, j] = p0 + 14 + 3 * w + np.arange(3)
         rows[12] = body.rigid_elastic[:, 0]
@@ -209,7 +218,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     stiff = [body.stiffness for _ in flexible]
     massless = [False for _ in flexible]
     if residual and np.any(body.residual):
-        res = residual_points(body)
+        res = residual_points(body, None if s_contact in body.residual_s and
+                              body.residual_s[0] == body.residual_s[1] else
+                              _residual_at(wheelset, body, s_contact))
         phi_r, k_r = compliance_block(res)
         nr = phi_r.shape[1]
         cols = [phi]
@@ -230,11 +241,21 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     return sy.with_modal(mb), layouts
 
 
-def residual_points(body) -> np.ndarray:
-    """The body's residual flexibility (12, 12) over one flexible wheelset's displacement
-    points (rim left y, z, rx, rim right y, z, rx, journal left x, y, z, right x, y, z), from
-    ``body.residual`` (ATTACHMENT_DOFS at ``body.residual_s``; the rims' x is not coupled)."""
-    return np.asarray(body.residual)[np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)]
+def residual_points(body, residual: np.ndarray | None = None) -> np.ndarray:
+    """The residual flexibility (12, 12) over one flexible wheelset's displacement points
+    (rim left y, z, rx, rim right y, z, rx, journal left x, y, z, right x, y, z), from
+    ``residual`` over ATTACHMENT_DOFS (default ``body.residual`` at ``body.residual_s``; the
+    rims' x is not coupled)."""
+    r = body.residual if residual is None else residual
+    return np.asarray(r)[np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)]
+
+
+def _residual_at(wheelset, body, s: float) -> np.ndarray:
+    """The body's residual flexibility with both contact points at profile coordinate s."""
+    from ..wheelset import Wheelset
+    from ..wheelset.flexible import residual_flexibility
+    ws = wheelset if wheelset is not None else Wheelset()
+    return residual_flexibility(ws, body, (s, s))
 
 
 def _rim_lateral(body) -> float:
