@@ -44,7 +44,8 @@ def fr(body):
 def test_zero_rows_reproduce_rr(body, rr):
     """All attachment rows zero: the modes decouple and the coach runs exactly as RR."""
     sy_rr, q_rr, v_rr = rr
-    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True)
+    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True,
+                     rigid_gyro=False)
     q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
     assert np.max(np.abs(q0[sy.n:])) == 0.0
@@ -121,6 +122,36 @@ def test_rows_at_the_static_contact_point(body):
         out[s_c] = d
     assert out[3e-3][2] < out[0.0][2] * 1.03                    # z more negative by > 3 %
     assert out[3e-3][3] == pytest.approx(out[0.0][3], rel=2e-3)
+
+
+def test_frf_peaks_match_wheelset_model():
+    """Issue 14's dynamic acceptance at 300 km/h: the flexible wheelset in the coach (contact
+    removed, the same wheelset's mass and inertias, primary springs without dampers as in the
+    reference) has the lateral receptance peaks of railvti.wheelset's gyroscopic axle-fixed
+    model (modes on the primary springs to a fixed bogie, k <= 6) within 1 %: the k = 1 and
+    k = 2 forward/backward pairs and the k = 0 modes (validation/wheelset_fr_frf.py)."""
+    from scipy.signal import find_peaks
+    from railvti.vehicle.flexible import contact_receptance
+    from railvti.wheelset import analytic
+    ws = Wheelset()
+    v = 300 / 3.6
+    f = np.arange(60.0, 600.0, 0.05)
+    h_ref = ws.frf(f, v, "lateral", "lateral")
+    idx, _ = find_peaks(np.log(np.abs(h_ref)), prominence=0.5)
+    p_ref = f[idx]
+    assert p_ref.size >= 8
+    mp = analytic.wheelset_mass_properties(ws.geometry)
+    coach = Coach(wheelset_mass=mp["mass"], wheelset_roll_inertia=mp["roll_inertia"],
+                  wheelset_yaw_inertia=mp["roll_inertia"],
+                  wheelset_pitch_inertia=mp["spin_inertia"], primary_cx=0.0, primary_cy=0.0,
+                  primary_cz=0.0)
+    sy, lay = build_fr(coach, scenarios.contact_table(), v, flexible=(0,), wheelset=ws)
+    for fp in p_ref:
+        fw = np.arange(0.985 * fp, 1.015 * fp, 0.05)
+        h = np.abs(contact_receptance(sy, lay[0], fw))
+        j = int(np.argmax(h))
+        assert 0 < j < fw.size - 1, f"no coupled peak within 1.5 % of {fp:.2f} Hz"
+        assert fw[j] == pytest.approx(fp, rel=0.01)
 
 
 def _probe(sy):

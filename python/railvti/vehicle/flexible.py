@@ -115,8 +115,8 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
 def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0
-             ) -> tuple[System, list[FRLayout]]:
+             body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
+             rigid_gyro: bool = True) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -150,6 +150,11 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         and the reference point's lateral arm (l0 + s_contact) are taken there. 0: the taping
         line; the static contact point of the centred S1002/UIC60 pair is at about +3 mm.
         Fixed for the run (the rows do not follow the contact point).
+    rigid_gyro : bool
+        Add the rigid wheelset's gyroscopic coupling of the flexible wheelsets to the coach's
+        C (skew: roll equation -I_y Omega yaw', yaw equation +I_y Omega roll', I_y the FE
+        polar moment). Model RR has no such term: with ``zero_rows`` and rigid_gyro=False FR
+        reproduces RR.
 
     Returns
     -------
@@ -238,6 +243,14 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         phi = np.hstack(cols)
     mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
                      couplings=cpl, massless=tuple(massless))
+    if rigid_gyro:
+        c = np.array(sy.c, copy=True)
+        h = body.polar_moment * body.omega
+        for i in flexible:
+            a, b = sy.index(f"ws{i + 1}_roll"), sy.index(f"ws{i + 1}_yaw")
+            c[a, b] -= h
+            c[b, a] += h
+        sy = replace(sy, c=c)
     return sy.with_modal(mb), layouts
 
 
@@ -352,3 +365,101 @@ def rim_rail_angle_change(system: System, x: np.ndarray) -> np.ndarray:
     +1 mrad)."""
     d = rim_deformation(system, x)[..., 2, :, :]
     return d * np.array([-1.0, 1.0])[:, None]
+
+
+def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Dense M, C, K (n_state x n_state) of an FR system without its wheel-rail contact,
+    linearised about zero: the coach's M, C, K with its scalar elements' linear parts (a dry
+    friction element's slope p1 / p2 + p3 at rest, a bump stop inside its clearance: none),
+    the modal blocks (M = the modal masses, massless residual blocks included) and the
+    journal ('split') and Coriolis ('gyro') couplings through Phi. A check tool for
+    frequency responses (dense: O(n_state^3) per frequency), not for the time loop.
+
+    Returns
+    -------
+    m, c, k : ndarray (n_state, n_state)
+    """
+    mb = system.modal
+    if mb is None or mb.couplings is None:
+        raise InputError("linear_matrices needs an FR system")
+    n, nm = system.n, mb.n_modes
+    nt = n + nm
+    m, c, k = np.zeros((nt, nt)), np.zeros((nt, nt)), np.zeros((nt, nt))
+    m[:n, :n], c[:n, :n], k[:n, :n] = system.m, system.c, system.k
+    for e in range(system.eg.shape[1]):
+        p = system.epar[:, e]
+        if system.etype[e] == 1:         # friction: p1 tanh(gd / p2) + p3 gd
+            cd = p[2] + (p[0] / p[1] if p[0] != 0.0 and p[1] > 0.0 else 0.0)
+            g = system.eg[:, e]
+            c[:n, :n] += cd * np.outer(g, g)
+    m[n:, n:] = np.diag(mb.mass)
+    j = n
+    for b, kb in zip(mb.damping, mb.stiffness):
+        s = b.shape[0]
+        c[j:j + s, j:j + s] = b
+        k[j:j + s, j:j + s] = kb
+        j += s
+    cp = mb.couplings
+    for e, kind in enumerate(cp.kinds):
+        ph = mb.phi[cp.points[e]]
+        g = cp.directions[:, e]
+        kk, cc, _ = cp.params[:, e]
+        if kind == "split":
+            for mat, v in ((k, kk), (c, cc)):
+                mat[n:, :n] -= v * np.outer(ph, g)
+                mat[n:, n:] += v * np.outer(ph, ph)
+                mat[:n, n:] -= v * np.outer(g, ph)
+        else:                                  # gyro: g_p += k g.v, g_r -= g k u_p'
+            c[n:, :n] -= kk * np.outer(ph, g)
+            c[:n, n:] += kk * np.outer(g, ph)
+    return m, c, k
+
+
+def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
+                       wheel: int = 1, direction: str = "lateral") -> np.ndarray:
+    """Point receptance at a wheel's rim point of an FR system with the wheel-rail contact
+    removed (:func:`linear_matrices`): a force at the rim reference point acts on the rigid
+    wheelset (with its roll moment about the centre) and on the rim point; the response is
+    the point's displacement, rigid plus elastic (m/N).
+
+    Parameters
+    ----------
+    system : System
+    layout : FRLayout
+        The flexible wheelset.
+    freqs : array_like
+        Frequencies, Hz (> 0).
+    wheel : int
+        0 left, 1 right.
+    direction : {'lateral', 'vertical'}
+
+    Returns
+    -------
+    ndarray of complex (nf,)
+    """
+    if wheel not in (0, 1) or direction not in ("lateral", "vertical"):
+        raise InputError(f"wheel 0 or 1 and direction 'lateral' or 'vertical', got {wheel!r}, "
+                         f"{direction!r}")
+    f = np.asarray(freqs, dtype=float)
+    if np.any(~(f > 0)):
+        raise InputError("freqs must be > 0")
+    m, c, k = linear_matrices(system)
+    n = system.n
+    i = layout.wheelset + 1
+    l0, r0 = system.modal.couplings.rim_arms[:, 0]
+    sg = 1.0 if wheel == 0 else -1.0
+    b = np.zeros(m.shape[0])
+    if direction == "lateral":
+        b[system.index(f"ws{i}_y")] = 1.0
+        b[system.index(f"ws{i}_roll")] = r0          # M_x = -z F_y at z = -r0
+        row = layout.points.start + 3 * wheel
+    else:
+        b[system.index(f"ws{i}_z")] = 1.0
+        b[system.index(f"ws{i}_roll")] = sg * l0     # M_x = y F_z
+        row = layout.points.start + 3 * wheel + 1
+    b[n:] += system.modal.phi[row]
+    out = np.empty(f.size, dtype=complex)
+    for j, fj in enumerate(f):
+        w = 2.0 * np.pi * fj
+        out[j] = b @ np.linalg.solve(k - w * w * m + 1j * w * c, b)
+    return out
