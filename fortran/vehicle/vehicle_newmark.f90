@@ -280,8 +280,8 @@ contains
     !> Newmark rate 2 dx / h - v_n of such a coordinate would carry an undamped alternating
     !> error and its acceleration a growing one. After each step they get a = 0 and the
     !> step's mean rate dx / h, so that the next step's predictor extrapolates linearly and
-    !> its rates (vehicle_modal: within the step (2 dx_{n+1} - dx_n) / h, first order) have
-    !> no memory.
+    !> the Newmark rate within the next step is (2 dx_{n+1} - dx_n) / h: first order, no
+    !> memory, and its derivative is still cv (the tangent stays consistent).
     pure subroutine massless_rates(md, h, q0, q1, v1, a1)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: h, q0(md%nd + md%mp%nm), q1(md%nd + md%mp%nm)
