@@ -407,5 +407,7 @@ def test_compliance_block_errors():
         compliance_block(np.array([[1.0, 0.0], [0.0, -1.0]]))
     with pytest.raises(InputError, match="square"):
         compliance_block(np.ones((2, 3)))
+    with pytest.raises(InputError, match="massless"):
+        _series_system(1e6, np.array([[1e-6]])).dense_equivalent()
     with pytest.raises(InputError, match="flags"):
         ModalBlocks((np.zeros((1, 1)),), (np.eye(1),), np.ones((1, 1)), massless=(True, False))
