@@ -399,6 +399,11 @@ def test_massless_block_is_a_series_compliance():
     # the massless coordinate follows the spring force at every output step: u = R g
     g = -kp * (sy.modal.phi[0] @ r.q[:, 1:].T - r.q[:, 0])
     np.testing.assert_allclose(sy.modal.phi[0] @ r.q[:, 1:].T, R * g, rtol=1e-9, atol=1e-15)
+    # HHT-alpha: the algebraic equation still holds at every step, and the motion decays
+    r = simulate(sy, 1.0, 0.5, q0=x0, h=h, output_dt=h, tol=1e-13, alpha=-0.1)
+    g = -kp * (sy.modal.phi[0] @ r.q[:, 1:].T - r.q[:, 0])
+    np.testing.assert_allclose(sy.modal.phi[0] @ r.q[:, 1:].T, R * g, rtol=1e-9, atol=1e-15)
+    assert 0.5 * a0 < np.abs(r.q[-50:, 0] - x_s[0]).max() < a0
 
 
 def test_compliance_block_errors():
