@@ -272,7 +272,7 @@ def test_centred_running_fr(fr):
     np.testing.assert_allclose(c.rim_angle, rim_rail_angle_change(sy, q), rtol=1e-3)
 
 
-def test_fr_errors():
+def test_fr_errors(body):
     with pytest.raises(InputError, match="FR"):
         scenarios.hunting(300, model="FR", duration=0.1)
     with pytest.raises(InputError, match="speed_kmh"):
@@ -281,3 +281,6 @@ def test_fr_errors():
         scenarios.coach_system("XX")
     with pytest.raises(InputError, match="subset"):
         build_fr(Coach(), scenarios.contact_table(), V, flexible=(5,))
+    with pytest.raises(InputError, match="tread"):
+        build_fr(Coach(), scenarios.contact_table(), V, body=body,
+                 s_contact=-0.05)

@@ -184,6 +184,10 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     eul_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     layouts = []
     s_contact = float(s_contact)
+    e = body._edges[0]
+    if not (np.isfinite(s_contact) and e.s_face <= s_contact <= e.s_max):
+        raise InputError(f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
+                         f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)")
     geo_y = _rim_lateral(body) + s_contact
     for j, i in enumerate(flexible):
         p0, m0 = POINTS_PER_WHEELSET * j, nq * j
