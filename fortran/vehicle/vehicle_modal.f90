@@ -21,8 +21,8 @@
 !> term (dPhi/dq Q) to the point tangent: not needed (nor done) for constant rows.
 !>
 !> Massless coordinates (modal_set_mass, mass(j) = 0): Q_j'' drops out of its equation, which
-!> becomes the algebraic K_m Q = Phi^T g_p (with B = 0). A block of them with K_m = I and rows
-!> Phi_r = V diag(sqrt(lambda)) (R = V diag(lambda) V^T) is a point compliance: Phi_r Q_r =
+!> becomes the algebraic K_m Q = Phi^T g_p (with B = 0). A block of them with K_m =
+!> diag(1/lambda) and rows Phi_r = V (R = V diag(lambda) V^T) is a point compliance: Phi_r Q_r =
 !> R g_p, the residual flexibility of truncated modes (static correction); in the condensed
 !> step matrix it adds R / ck to C (docs/vehicle_integrator.md, "Residual flexibility").
 module vehicle_modal

@@ -224,8 +224,8 @@ class ModalBlocks:
     couplings : ModalCouplings, optional
     massless : tuple of bool, optional
         Per block: a block of massless coordinates (M = 0 there): the equations
-        ``B Q' + K Q = Phi^T g_p`` are algebraic. With B = 0, K = I and rows
-        Phi_r = V sqrt(lambda) of a compliance R = V diag(lambda) V^T the block is the point
+        ``B Q' + K Q = Phi^T g_p`` are algebraic. With B = 0, K = diag(1 / lambda) and rows
+        Phi_r = V of a compliance R = V diag(lambda) V^T the block is the point
         compliance u = R g_p (the residual flexibility of truncated modes; see
         :func:`compliance_block`). Default: no massless block.
 
@@ -360,9 +360,11 @@ class ModalBlocks:
 
 def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
     """A symmetric positive semi-definite point compliance R (m/N, rad/(N m)) as a massless
-    modal block: rows Phi_r (n_points, r) and stiffness K_r = I (r, r) with Phi_r Phi_r^T = R
-    (R's eigenvectors scaled by the square roots of its eigenvalues; eigenvalues below
-    rtol times the largest, rounding, are dropped).
+    modal block: rows Phi_r = V (n_points, r), R's unit eigenvectors, and stiffness
+    K_r = diag(1 / lambda) (r, r), so that Phi_r K_r^-1 Phi_r^T = R and the coordinates are
+    the points' residual displacements along V (m or rad, like the rigid DOFs: Newton's
+    tolerance on the correction means the same for them). Eigenvalues below rtol times the
+    largest (rounding) are dropped.
 
     Returns
     -------
@@ -377,8 +379,7 @@ def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.nd
         raise InputError(f"the compliance is not positive semi-definite (eigenvalue "
                          f"{lam.min():.3g} against {lam.max():.3g})")
     keep = lam > rtol * max(float(lam.max()), 0.0) if lam.size else lam > 0
-    phi = vec[:, keep] * np.sqrt(lam[keep])
-    return phi, np.eye(int(keep.sum()))
+    return vec[:, keep], np.diag(1.0 / lam[keep])
 
 
 @dataclass(frozen=True)
