@@ -17,6 +17,7 @@ from railvti.vehicle.model import CallSettings, ModalBlocks
 from railvti.vehicle.params import Coach, speed_m_s
 from railvti.vehicle.simulate import contact_id, simulate, static_equilibrium
 from railvti.wheelset import Wheelset
+from railvti.wheelset.flexible import static_fe_solve
 
 V = speed_m_s(200.0)
 
@@ -43,7 +44,8 @@ def fr(body):
 def test_zero_rows_reproduce_rr(body, rr):
     """All attachment rows zero: the modes decouple and the coach runs exactly as RR."""
     sy_rr, q_rr, v_rr = rr
-    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True)
+    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True,
+                     rigid_gyro=False)
     q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
     assert np.max(np.abs(q0[sy.n:])) == 0.0
@@ -57,9 +59,10 @@ def test_zero_rows_reproduce_rr(body, rr):
 
 
 def test_static_deflection_matches_wheelset_statics(fr, body):
-    """The coupled static rim deflection equals the wheelset's modal statics under the
-    coupled model's own rim and journal forces (the same modes: only the spin's centrifugal
-    terms differ, < 0.1 %), and the rim camber raises each tread's inner edge."""
+    """The coupled static rim deflection equals the wheelset's modal + residual statics
+    under the coupled model's own rim and journal forces (the same modes and residual: only
+    the spin's centrifugal terms differ, < 0.1 %), and the rim camber raises each tread's
+    inner edge."""
     sy, lay, q, v = fr
     gp = point_forces(sy, V, q, v)
     for L in lay:
@@ -69,12 +72,86 @@ def test_static_deflection_matches_wheelset_statics(fr, body):
         assert f[6] == pytest.approx(sy.wheel_load, rel=0.02)
         assert f[10] < 0 and f[13] < 0
         d = attachment_deflection(sy, L, q)
-        ref = body.static_deflection(f, residual=False)
+        ref = body.static_deflection(f, residual=True)
         for i in (1, 2, 3, 5, 6, 7, 10, 13):
             assert d[i] == pytest.approx(ref[i], rel=2e-3, abs=1e-9)
     ang = rim_rail_angle_change(sy, q)
     assert np.all(ang > 3e-4) and np.all(ang < 2e-3)
     np.testing.assert_allclose(ang[0], ang[1], rtol=1e-6)
+
+
+@pytest.mark.parametrize("k_max, f_max", [(2, 800.0), (1, 300.0)])
+def test_static_acceptance_against_fe(k_max, f_max):
+    """Issue 14's static acceptance: under the static load the coupled model's rim rotation
+    and contact-point displacement agree with a direct static FE solve of the wheelset
+    (harmonics 0..6, point constraints, rigid parts removed; the unbalanced weight as the
+    d'Alembert body force) under the same contact and journal forces within 2 %, at the
+    default truncation and a smaller one; without the residual flexibility they do not."""
+    ws = Wheelset()
+    body = ws.flexible_body(V, k_max=k_max, f_max=f_max)
+    errs = {}
+    for res in (True, False):
+        sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, residual=res,
+                           flexible=(0,))
+        q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+        f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
+        d = attachment_deflection(sy, lay[0], q)
+        ref = static_fe_solve(ws, f, inertia_relief=True)
+        assert abs(ref[3]) > 3e-4 and abs(ref[2]) > 1e-5        # a real deflection
+        errs[res] = max(abs(d[i] / ref[i] - 1.0) for i in (1, 2, 3, 5, 6, 7))
+    assert errs[True] < 0.02
+    assert errs[False] > 0.1          # the truncated modes alone miss it
+
+
+def test_rows_at_the_static_contact_point(body):
+    """Rows, Eulerian rows, residual and arms at the static contact point (s = +3 mm, not
+    the taping line): the coupled statics still match the FE solve with the loads at that
+    point (2 %), and the contact point sits lower than at s = 0 (the tread's local
+    deflection grows outwards), while the camber (the tread's slope) barely moves."""
+    ws = Wheelset()
+    out = {}
+    for s_c in (0.0, 3e-3):
+        sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, wheelset=ws,
+                           flexible=(0,), s_contact=s_c)
+        q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+        f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
+        d = attachment_deflection(sy, lay[0], q)
+        ref = static_fe_solve(ws, f, s_pair=(s_c, s_c), inertia_relief=True)
+        for i in (1, 2, 3, 5, 6, 7):
+            assert d[i] == pytest.approx(ref[i], rel=0.02)
+        out[s_c] = d
+    assert out[3e-3][2] < out[0.0][2] * 1.03                    # z more negative by > 3 %
+    assert out[3e-3][3] == pytest.approx(out[0.0][3], rel=2e-3)
+
+
+def test_frf_peaks_match_wheelset_model():
+    """Issue 14's dynamic acceptance at 300 km/h: the flexible wheelset in the coach (contact
+    removed, the same wheelset's mass and inertias, primary springs without dampers as in the
+    reference) has the lateral receptance peaks of railvti.wheelset's gyroscopic axle-fixed
+    model (modes on the primary springs to a fixed bogie, k <= 6) within 1 %: the k = 1 and
+    k = 2 forward/backward pairs and the k = 0 modes (validation/wheelset_fr_frf.py)."""
+    from scipy.signal import find_peaks
+    from railvti.vehicle.flexible import contact_receptance
+    from railvti.wheelset import analytic
+    ws = Wheelset()
+    v = 300 / 3.6
+    f = np.arange(60.0, 600.0, 0.05)
+    h_ref = ws.frf(f, v, "lateral", "lateral")
+    idx, _ = find_peaks(np.log(np.abs(h_ref)), prominence=0.5)
+    p_ref = f[idx]
+    assert p_ref.size >= 8
+    mp = analytic.wheelset_mass_properties(ws.geometry)
+    coach = Coach(wheelset_mass=mp["mass"], wheelset_roll_inertia=mp["roll_inertia"],
+                  wheelset_yaw_inertia=mp["roll_inertia"],
+                  wheelset_pitch_inertia=mp["spin_inertia"], primary_cx=0.0, primary_cy=0.0,
+                  primary_cz=0.0)
+    sy, lay = build_fr(coach, scenarios.contact_table(), v, flexible=(0,), wheelset=ws)
+    for fp in p_ref:
+        fw = np.arange(0.985 * fp, 1.015 * fp, 0.05)
+        h = np.abs(contact_receptance(sy, lay[0], fw))
+        j = int(np.argmax(h))
+        assert 0 < j < fw.size - 1, f"no coupled peak within 1.5 % of {fp:.2f} Hz"
+        assert fw[j] == pytest.approx(fp, rel=0.01)
 
 
 def _probe(sy):
@@ -134,6 +211,57 @@ def test_rim_motion_equals_rigid_motion(fr):
         np.testing.assert_allclose(gb, ga, rtol=1e-9, atol=1e-6)
 
 
+def _frozen_rates(body, qm):
+    """Rates of the axle-fixed modal coordinates of a deformation frozen in the spinning
+    material: the cylindrical components move as w(theta - Omega t), and d/dtheta maps the
+    (A, B) pair of harmonic k to (k Q_B, -k Q_A) (A: cos k theta, B: sin k theta)."""
+    qd = np.zeros_like(qm)
+    for k in set(body.k[body.k > 0]):
+        ia = np.flatnonzero((body.k == k) & (body.family == "A"))
+        ib = np.flatnonzero((body.k == k) & (body.family == "B"))
+        qd[ia] = -body.omega * k * qm[ib]
+        qd[ib] = body.omega * k * qm[ia]
+    return qd
+
+
+def test_eulerian_term_frozen_pattern(body):
+    """A deformation frozen in the rolling material (an out-of-round wheel, k = 0..2): the
+    rim material under the fixed contact point moves at dW/dt + Omega dW/dtheta = Omega x u
+    (the rigid rotation of the displacement: no y or camber rate, a vertical rate -Omega u_x).
+    The contact forces with the Eulerian rows equal those of the same displaced rims with
+    exactly these rates, and differ without the Eulerian term (dW/dt alone)."""
+    sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, flexible=(0,),
+                       residual=False)
+    q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
+    n, mb = sy.n, sy.modal
+    cp = mb.couplings
+    rp, ep = cp.rim_points[:, :, 0], cp.rim_euler[:, :, 0]
+    rng = np.random.default_rng(3)
+    qm = q[n:] + 2e-3 * rng.normal(size=body.n)         # rim motions of some um
+    qd = _frozen_rates(body, qm)
+    assert np.max(np.abs(mb.phi[rp] @ qd)) > 1e-3           # dW/dt alone is not small
+    ps = _probe(sy)
+    cs = CallSettings(V, contact_id("hertz-kalker"))
+
+    def forces(x, xd):
+        f, _, info = ps.native.state_force(cs, x, xd)
+        assert info == 0
+        return np.concatenate([f[:n], f[n:][rp].ravel()])
+
+    x = np.concatenate([q[:n], mb.phi @ qm])
+    xd = np.concatenate([v[:n], mb.phi @ qd])
+    with_euler = forces(x, xd)
+    # the same rims at rest against the contact point except Omega x u
+    xb, xdb = x.copy(), xd.copy()
+    xb[n + ep] = 0.0
+    for w, side in enumerate((1, 0)):
+        ux = body.rows(side, 0.0)[0] @ qm
+        xdb[n + rp[:, w]] = [0.0, -body.omega * ux, 0.0]
+    np.testing.assert_allclose(with_euler, forces(xb, xdb), rtol=1e-9, atol=1e-6)
+    without = forces(xb, xd)
+    assert np.max(np.abs(without - with_euler)) > 100.0      # N: the term matters
+
+
 def test_centred_running_fr(fr):
     """centred_running(model='FR') runs and gives the static loads and the rim angle."""
     c = scenarios.centred_running(200, model="FR", duration=0.05)
@@ -144,7 +272,7 @@ def test_centred_running_fr(fr):
     np.testing.assert_allclose(c.rim_angle, rim_rail_angle_change(sy, q), rtol=1e-3)
 
 
-def test_fr_errors():
+def test_fr_errors(body):
     with pytest.raises(InputError, match="FR"):
         scenarios.hunting(300, model="FR", duration=0.1)
     with pytest.raises(InputError, match="speed_kmh"):
@@ -153,3 +281,6 @@ def test_fr_errors():
         scenarios.coach_system("XX")
     with pytest.raises(InputError, match="subset"):
         build_fr(Coach(), scenarios.contact_table(), V, flexible=(5,))
+    with pytest.raises(InputError, match="tread"):
+        build_fr(Coach(), scenarios.contact_table(), V, body=body,
+                 s_contact=-0.05)

@@ -359,3 +359,60 @@ def test_static_coach_with_modes_matches_dense():
     assert np.max(np.abs(q - qd)) <= 1e-10 * np.max(np.abs(qd))
     assert np.max(np.abs(vv - vd)) <= 1e-10          # spin rates, rad/s (zero: centred)
     assert np.max(np.abs(w - wd)) <= 1e-9 * np.max(np.abs(wd))
+
+
+def _series_system(kp: float, comp: np.ndarray):
+    """A 100 kg mass under gravity on a spring kp to point 0, whose compliance comp is a
+    massless block (compliance_block)."""
+    from railvti.vehicle.model import compliance_block
+    phi_r, k_r = compliance_block(comp)
+    mb = ModalBlocks((np.zeros_like(k_r),), (k_r,), phi_r, (PointElement.linear(0, 0, kp),),
+                     massless=(True,))
+    return build_rigid_system(np.array([[100.0]]), np.zeros((1, 1)), np.array([[0.0]]),
+                              f0=np.array([-981.0]), modal=mb)
+
+
+def test_massless_block_is_a_series_compliance():
+    """A point compliance R (massless block) in series with a spring kp: the static
+    deflection is W (1/kp + R) and the free vibration runs at the trapezoidal rule's discrete
+    frequency of sqrt(k_eff / m), k_eff = 1 / (1/kp + R) (exact for the linear oscillator:
+    2 atan(omega h / 2) / h), to rounding; the condensed and the static Newton agree."""
+    kp, R, m, h = 1e6, 1e-6, 100.0, 1e-3
+    sy = _series_system(kp, np.array([[R]]))
+    assert sy.modal.max_frequency() == 0.0            # no mass: no step limit from it
+    x_s = static_equilibrium(sy, 1.0)[0]
+    keff = 1.0 / (1.0 / kp + R)
+    assert x_s[0] == pytest.approx(-981.0 / keff, rel=1e-12)
+    assert sy.modal.phi[0] @ x_s[1:] == pytest.approx(-981.0 * R, rel=1e-12)
+    a0 = 1e-3
+    x0 = x_s.copy()
+    x0[0] += a0
+    # a consistent start: the massless coordinate at u = R g (it is algebraic)
+    u0 = R * kp * x0[0] / (1.0 + R * kp)
+    x0[1] = u0 / sy.modal.phi[0, 0]
+    r = simulate(sy, 1.0, 0.5, q0=x0, h=h, output_dt=h, tol=1e-13)
+    om = math.sqrt(keff / m)
+    omd = 2.0 * math.atan(om * h / 2.0) / h
+    # the trapezoidal rule's oscillator: amplitude a0 / cos(phase of the initial half step)
+    ref = x_s[0] + a0 * np.cos(omd * r.t)
+    np.testing.assert_allclose(r.q[:, 0], ref, atol=1e-9 * a0 / 1e-3)
+    # the massless coordinate follows the spring force at every output step: u = R g
+    g = -kp * (sy.modal.phi[0] @ r.q[:, 1:].T - r.q[:, 0])
+    np.testing.assert_allclose(sy.modal.phi[0] @ r.q[:, 1:].T, R * g, rtol=1e-9, atol=1e-15)
+    # HHT-alpha: the algebraic equation still holds at every step, and the motion decays
+    r = simulate(sy, 1.0, 0.5, q0=x0, h=h, output_dt=h, tol=1e-13, alpha=-0.1)
+    g = -kp * (sy.modal.phi[0] @ r.q[:, 1:].T - r.q[:, 0])
+    np.testing.assert_allclose(sy.modal.phi[0] @ r.q[:, 1:].T, R * g, rtol=1e-9, atol=1e-15)
+    assert 0.5 * a0 < np.abs(r.q[-50:, 0] - x_s[0]).max() < a0
+
+
+def test_compliance_block_errors():
+    from railvti.vehicle.model import compliance_block
+    with pytest.raises(InputError, match="semi-definite"):
+        compliance_block(np.array([[1.0, 0.0], [0.0, -1.0]]))
+    with pytest.raises(InputError, match="square"):
+        compliance_block(np.ones((2, 3)))
+    with pytest.raises(InputError, match="massless"):
+        _series_system(1e6, np.array([[1e-6]])).dense_equivalent()
+    with pytest.raises(InputError, match="flags"):
+        ModalBlocks((np.zeros((1, 1)),), (np.eye(1),), np.ones((1, 1)), massless=(True, False))

@@ -43,7 +43,7 @@ def energy(sy, r) -> np.ndarray:
         m = kb.shape[0]
         e += 0.5 * np.einsum("ti,ij,tj->t", qm[:, o:o + m], kb, qm[:, o:o + m])
         o += m
-    e += 0.5 * np.sum(vm * vm, axis=1)
+    e += 0.5 * np.sum(mb.mass * vm * vm, axis=1)      # massless (residual) coordinates: none
     cp = mb.couplings
     u = qm @ mb.phi.T
     for j, kind in enumerate(cp.kinds):
@@ -80,7 +80,7 @@ def main() -> None:
     rr = dataclasses.replace(scenarios.coach_system().without_damping(), friction=0.0)
     fr0, _ = build_fr(Coach(), table, V)
     fr = dataclasses.replace(fr0.without_damping(), friction=0.0)
-    fz0, _ = build_fr(Coach(), table, V, zero_rows=True)
+    fz0, _ = build_fr(Coach(), table, V, zero_rows=True, rigid_gyro=False)
     fz = dataclasses.replace(fz0.without_damping(), friction=0.0)
     print("undamped, frictionless coach at 50 m/s, 2 s, h = 0.5 ms")
     print("  RR, vertical:                 ", run(rr, 0.0, 5e-4, 2.0))

@@ -64,6 +64,36 @@ subroutine vehicle_modal_couple_c(handle, nd, nlc, lkind, lpt, lg, lpar, nfr, fr
     info = stat
 end subroutine vehicle_modal_couple_c
 
+!> Set the modal masses of a model's modal part: 1 (a mass-normalised mode) or 0 (a massless
+!> coordinate: the residual flexibility of model FR). info: see vehicle_model%vehicle_attach_mass.
+subroutine vehicle_modal_mass_c(handle, nm, mass, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_mass
+    implicit none
+    integer(c_int), intent(in) :: handle, nm
+    real(c_double), intent(in) :: mass(nm)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_mass(handle, nm, mass, stat)
+    info = stat
+end subroutine vehicle_modal_mass_c
+
+!> Set the Eulerian term of the flexible rims (model FR): ept(:, w, i) the 1-based points
+!> carrying dPhi/dtheta of the rim points (y, z, rx) of wheel w of flexible wheelset i (0: no
+!> term), omega(i) its spin, rad/s. info: see vehicle_model%vehicle_attach_euler.
+subroutine vehicle_modal_euler_c(handle, nfr, ept, omega, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_euler
+    implicit none
+    integer(c_int), intent(in) :: handle, nfr
+    integer(c_int), intent(in) :: ept(3, 2, nfr)
+    real(c_double), intent(in) :: omega(nfr)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_euler(handle, nfr, ept, omega, stat)
+    info = stat
+end subroutine vehicle_modal_euler_c
+
 !> Force over the whole state x = (q, Q) of a model with or without modal blocks (n = nd + nm):
 !> the rigid forces with the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p;
 !> with the contact outputs. info: see vehicle_model%vehicle_call and force_total.

@@ -19,6 +19,12 @@
 !> shape rows): whoever changes phi must increase rows_version; modal_factor then rebuilds the
 !> condensed flexibility C = Phi S^-1 Phi^T. A Phi that depends on q also adds the chain-rule
 !> term (dPhi/dq Q) to the point tangent: not needed (nor done) for constant rows.
+!>
+!> Massless coordinates (modal_set_mass, mass(j) = 0): Q_j'' drops out of its equation, which
+!> becomes the algebraic K_m Q = Phi^T g_p (with B = 0). A block of them with K_m =
+!> diag(1/lambda) and rows Phi_r = V (R = V diag(lambda) V^T) is a point compliance: Phi_r Q_r =
+!> R g_p, the residual flexibility of truncated modes (static correction); in the condensed
+!> step matrix it adds R / ck to C (docs/vehicle_integrator.md, "Residual flexibility").
 module vehicle_modal
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
@@ -26,9 +32,10 @@ module vehicle_modal
     implicit none
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
-    public :: modal_factorise, modal_solve, modal_points
+    public :: modal_factorise, modal_solve, modal_points, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
+    public :: modal_euler
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
@@ -48,6 +55,7 @@ module vehicle_modal
         integer, allocatable :: bs(:), off(:)       !< block starts, packed offsets (nb + 1)
         real(dp), allocatable :: bb(:), kb(:)       !< packed blocks of B and K_m
         real(dp), allocatable :: phi(:, :)          !< (np, nm) attachment rows
+        real(dp), allocatable :: mass(:)            !< (nm) modal masses: 1, or 0 (massless)
         integer, allocatable :: ptype(:), prig(:), ppt(:)   !< per point element
         real(dp), allocatable :: ppar(:, :)         !< (4, npe) element parameters
         !> linear couplings (LC_*): kind, point, rigid direction g (nd, nlc), (k, c, f0)
@@ -59,6 +67,11 @@ module vehicle_modal
         integer :: nfr = 0
         integer, allocatable :: frw(:), frpt(:, :, :)
         real(dp), allocatable :: frarm(:, :)
+        !> Eulerian term of the rims (modal_euler): the points e whose displacement is
+        !> dPhi/dtheta Q of each rim point (3, 2, nfr; 0: none) and the spin Omega (nfr):
+        !> the rim material's velocity at the contact point is u'_p + Omega u_e.
+        integer, allocatable :: frept(:, :, :)
+        real(dp), allocatable :: fromega(:)
     end type modal_part
 
     !> The factors of the modal step matrix S = cq I + ck (cb B + K_m), block by block, and the
@@ -120,9 +133,28 @@ contains
         mp%prig = prig
         mp%ppt = ppt
         mp%ppar = ppar
+        allocate (mp%mass(nm))
+        mp%mass = 1.0_dp
         mp%rows_version = 1
         info = STAT_OK
     end subroutine modal_create
+
+    !> Set the modal masses (1: a mass-normalised mode, 0: a massless coordinate, an algebraic
+    !> equation). info: STAT_OK; STAT_SIZE_MISMATCH (nm not the part's); STAT_BAD_ARGUMENT
+    !> (an entry other than 0 or 1).
+    subroutine modal_set_mass(mp, nm, mass, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nm
+        real(dp), intent(in) :: mass(nm)
+        integer, intent(out) :: info
+        info = STAT_SIZE_MISMATCH
+        if (nm /= mp%nm .or. nm < 1) return
+        info = STAT_BAD_ARGUMENT
+        if (any(mass /= 0.0_dp .and. mass /= 1.0_dp)) return
+        mp%mass = mass
+        mp%rows_version = mp%rows_version + 1      ! the cached factors are stale
+        info = STAT_OK
+    end subroutine modal_set_mass
 
     !> Add linear couplings and flexible-rim wheelsets to a modal part (replacing any it had).
     !> info: STAT_OK; STAT_BAD_ARGUMENT (no modal part, an unknown kind, a point outside 1..np,
@@ -152,8 +184,31 @@ contains
         mp%frw = frw
         mp%frpt = frpt
         mp%frarm = frarm
+        allocate (mp%frept(3, 2, nfr), mp%fromega(nfr))
+        mp%frept = 0
+        mp%fromega = 0.0_dp
         info = STAT_OK
     end subroutine modal_couple
+
+    !> Set the Eulerian term of the flexible rims (after modal_couple): the rim material's
+    !> velocity at the (fixed) contact point is dW/dt + Omega dW/dtheta = u'_p + Omega u_e,
+    !> with point e carrying the rows dPhi/dtheta of rim point p (ept(:, w, i), 0: no term).
+    !> info: STAT_OK; STAT_SIZE_MISMATCH (nfr not the part's); STAT_BAD_ARGUMENT (a point
+    !> outside 0..np, a non-finite Omega).
+    subroutine modal_euler(mp, nfr, ept, omega, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nfr
+        integer, intent(in) :: ept(3, 2, nfr)
+        real(dp), intent(in) :: omega(nfr)
+        integer, intent(out) :: info
+        info = STAT_SIZE_MISMATCH
+        if (nfr /= mp%nfr .or. nfr < 1) return
+        info = STAT_BAD_ARGUMENT
+        if (any(ept < 0) .or. any(ept > mp%np) .or. .not. all(abs(omega) <= huge(1.0_dp))) return
+        mp%frept = ept
+        mp%fromega = omega
+        info = STAT_OK
+    end subroutine modal_euler
 
     !> The index in 1..nfr of wheelset w's flexible rims, 0 for a rigid wheelset.
     pure integer function modal_rim_wheelset(mp, w) result(i)
@@ -336,7 +391,7 @@ contains
         if (mp%nlc > 0) call modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
     end subroutine modal_point_tangent
 
-    !> Factor S = cq I + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless
+    !> Factor S = cq diag(mass) + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless
     !> mf already holds them for these coefficients and rows. Work: sum_b s_b^3 + nm np (s + np),
     !> linear in nm for bounded block sizes. info: STAT_OK or STAT_SINGULAR (a singular block).
     subroutine modal_factorise(mp, cq, cb, ck, mf, info)
@@ -360,7 +415,7 @@ contains
             o = mp%off(b)
             mf%lu(o + 1:o + s * s) = ck * (cb * mp%bb(o + 1:o + s * s) + mp%kb(o + 1:o + s * s))
             do i = 1, s
-                mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq
+                mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq * mp%mass(j0 + i - 1)
             end do
             if (s == 1) then
                 lin = merge(1, 0, mf%lu(o + 1) == 0.0_dp)

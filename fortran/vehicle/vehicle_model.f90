@@ -16,11 +16,12 @@ module vehicle_model
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set
-    use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset
+    use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
+                             modal_euler
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
-    public :: vehicle_attach_modal, vehicle_attach_couplings
+    public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -168,6 +169,33 @@ contains
         call modal_couple(md%mp, md%nd, md%nw, nlc, lkind, lpt, lg, lpar, nfr, frw, frpt, frarm, info)
     end subroutine vehicle_attach_couplings
 
+    !> Set the modal masses of a model's modal part (1 or 0: massless coordinates); see
+    !> vehicle_modal%modal_set_mass for info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_mass(handle, nm, mass, info)
+        integer, intent(in) :: handle, nm
+        real(dp), intent(in) :: mass(nm)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_set_mass(md%mp, nm, mass, info)
+    end subroutine vehicle_attach_mass
+
+    !> Set the Eulerian term of a model's flexible rims; see vehicle_modal%modal_euler for the
+    !> arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_euler(handle, nfr, ept, omega, info)
+        integer, intent(in) :: handle, nfr
+        integer, intent(in) :: ept(3, 2, nfr)
+        real(dp), intent(in) :: omega(nfr)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_euler(md%mp, nfr, ept, omega, info)
+    end subroutine vehicle_attach_euler
+
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
     !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
@@ -275,6 +303,10 @@ contains
             do k = 1, 2
                 rim(1:3, k) = u(md%mp%frpt(:, k, ir))
                 rim(4:6, k) = ud(md%mp%frpt(:, k, ir))
+                do j = 1, 3     ! Eulerian term: + Omega dW/dtheta
+                    if (md%mp%frept(j, k, ir) > 0) rim(3 + j, k) = rim(3 + j, k) &
+                        + md%mp%fromega(ir) * u(md%mp%frept(j, k, ir))
+                end do
             end do
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
@@ -383,7 +415,7 @@ contains
         real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
         real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
-        integer :: w, j, jj, idx(9), n, ir, pts(6)
+        integer :: w, j, jj, idx(9), n, ir, pts(6), cols(12), nc
         logical :: flex
         real(dp), parameter :: eps = 1.0e-8_dp
         flex = present(u)
@@ -433,9 +465,18 @@ contains
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
             end do
             if (ir == 0) cycle
-            ! the rim points' columns
+            ! the rim points' columns, and their Eulerian points'
+            cols(1:6) = pts
+            nc = 6
             do jj = 1, 6
-                j = pts(jj)
+                j = md%mp%frept(mod(jj - 1, 3) + 1, (jj - 1) / 3 + 1, ir)
+                if (j > 0) then
+                    nc = nc + 1
+                    cols(nc) = j
+                end if
+            end do
+            do jj = 1, nc
+                j = cols(jj)
                 call perturbed(u, ud, j, mode, cv, eps, up, udp)
                 f1w = 0.0_dp
                 g1 = 0.0_dp

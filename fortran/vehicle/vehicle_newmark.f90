@@ -123,6 +123,9 @@ contains
         allocate (st%v, source=v)
         allocate (st%a, source=a)
         allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
+        if (md%mp%nm > 0) then      ! massless coordinates carry no acceleration
+            where (md%mp%mass == 0.0_dp) st%a(md%nd + 1:) = 0.0_dp
+        end if
         call state_force(md, rs, q, v, st%f, st%w, info)
         if (info == STAT_OK) then
             do n = 1, nsteps
@@ -263,6 +266,7 @@ contains
         if (info /= STAT_OK .or. .not. conv) return
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * h * a1
+        if (md%mp%nm > 0) call massless_rates(md, h, st%q, q1, v1, a1)
         if (too_big(md, q1, v1, opt%qmax)) return
         err = h * h * abs(sd%beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - st%a))
         st%q = q1
@@ -276,6 +280,24 @@ contains
         tally%dqmax = max(tally%dqmax, dq)
         ok = .true.
     end subroutine hht_step
+
+    !> Massless modal coordinates (a residual flexibility, vehicle_modal) are algebraic: the
+    !> Newmark rate 2 dx / h - v_n of such a coordinate would carry an undamped alternating
+    !> error and its acceleration a growing one. After each step they get a = 0 and the
+    !> step's mean rate dx / h, so that the next step's predictor extrapolates linearly and
+    !> the Newmark rate within the next step is (2 dx_{n+1} - dx_n) / h: first order, no
+    !> memory, and its derivative is still cv (the tangent stays consistent).
+    pure subroutine massless_rates(md, h, q0, q1, v1, a1)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: h, q0(md%nd + md%mp%nm), q1(md%nd + md%mp%nm)
+        real(dp), intent(inout) :: v1(md%nd + md%mp%nm), a1(md%nd + md%mp%nm)
+        integer :: j
+        do j = 1, md%mp%nm
+            if (md%mp%mass(j) /= 0.0_dp) cycle
+            a1(md%nd + j) = 0.0_dp
+            v1(md%nd + j) = (q1(md%nd + j) - q0(md%nd + j)) / h
+        end do
+    end subroutine massless_rates
 
     !> HHT coefficients and predictor of a step of size h from st.
     pure subroutine step_data(h, alpha, st, sd)
@@ -495,7 +517,8 @@ contains
         vv = sd%vt + sd%gamma * sd%h * aa
         call state_force(md, rs, qq, vv, ff, ww, info)
         rr(1:nd) = -(matmul(md%m, aa(1:nd)) - (1.0_dp + sd%alpha) * ff(1:nd) + sd%alpha * sd%fn(1:nd))
-        rr(nd + 1:) = -(aa(nd + 1:) - (1.0_dp + sd%alpha) * ff(nd + 1:) + sd%alpha * sd%fn(nd + 1:))
+        if (md%mp%nm > 0) rr(nd + 1:) = -(md%mp%mass * aa(nd + 1:) - (1.0_dp + sd%alpha) * ff(nd + 1:) &
+                                          + sd%alpha * sd%fn(nd + 1:))
         nrm = norm2(rr)
     end subroutine residual
 

@@ -169,6 +169,8 @@ class System:
             return self
         if mb.couplings is not None:
             raise InputError("dense_equivalent: modal couplings (model FR) are not assembled")
+        if mb.massless is not None:
+            raise InputError("dense_equivalent: massless blocks have no dense mass matrix")
         n, nm = self.n, mb.n_modes
         nt = n + nm
         m = np.zeros((nt, nt))

@@ -13,26 +13,35 @@ wheelsets (FR)"):
   dampers (already in the rigid K, C and preload) act on the modes through them ('split'
   couplings: k (g.q - u) + c (g.v - u') + preload on the point, g (k u + c u') on the coach);
 - the Coriolis coupling of the modes with the rigid wheelset's roll and yaw rates
-  (``rigid_elastic``: 'gyro' couplings).
+  (``rigid_elastic``: 'gyro' couplings);
+- the Eulerian term: the rim material under the (fixed) contact point moves at
+  dW/dt + Omega dW/dtheta; points carrying the rows d/dtheta (``dtheta_rows``) of each rim
+  point add Omega times their displacement to the rim rates the creepages see.
 
-The state is the coach's DOFs followed by 4 x nq modal coordinates.
+The truncated modes' quasi-static contribution (the body's residual flexibility R over the
+rim and journal points) enters as a massless block per wheelset: u = Phi Q + R g_p, a point
+compliance in the condensed Newton system (vehicle_modal, ``compliance_block``).
+
+The state is the coach's DOFs followed by 4 x nq modal coordinates, then the residual
+block's coordinates of each flexible wheelset (at most 12 each).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import ModalBlocks, ModalCouplings
+from .model import ModalBlocks, ModalCouplings, compliance_block
 from .params import Coach
 from .table import WheelTable
 
 #: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
-#: of the left and right journal, the roll and yaw Coriolis rows.
-POINTS_PER_WHEELSET = 14
+#: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
+#: d/dtheta (y, z, rx) of the left and right wheel.
+POINTS_PER_WHEELSET = 20
 RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z",
               "rim_right_rx")
 
@@ -49,12 +58,21 @@ class FRLayout:
         Its modal coordinates in the state (after the rigid DOFs: ``System.n + ...``).
     points : slice
         Its attachment points (rows of ``System.modal.phi``): RIM_POINTS, then journal left
-        x, y, z, right x, y, z, then the roll and yaw Coriolis rows.
+        x, y, z, right x, y, z, then the roll and yaw Coriolis rows, then the rims' Eulerian
+        rows (d/dtheta of RIM_POINTS).
+    residual : slice
+        The massless coordinates of its residual flexibility in the state (empty without).
     """
 
     wheelset: int
     modes: slice
     points: slice
+    residual: slice = field(default_factory=lambda: slice(0, 0))
+
+
+#: ATTACHMENT_DOFS index of each displacement point of a flexible wheelset (rim left y, z, rx,
+#: rim right y, z, rx, journal left x, y, z, journal right x, y, z).
+_ATTACH_INDEX = np.array([5, 6, 7, 1, 2, 3, 11, 12, 13, 8, 9, 10])
 
 
 def primary_preload(coach: Coach, system: System) -> np.ndarray:
@@ -97,7 +115,8 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
 def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None) -> tuple[System, list[FRLayout]]:
+             body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
+             rigid_gyro: bool = True) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -117,6 +136,25 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         exactly as RR; a check of the coupling's bookkeeping).
     body : FlexibleWheelset, optional
         A ready flexible body (skips the modal solve).
+    residual : bool
+        Add the body's residual flexibility (its ``residual`` at the taping lines) over the rim
+        and journal points as a massless block per wheelset: the static deflection then does
+        not depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
+    euler : bool
+        Add the Eulerian term Omega dW/dtheta to the rims' rates in the contact.
+    s_contact : float
+        Wheel-profile coordinate (m, + towards the field side) of the rim points, both
+        wheels: the rows (``FlexibleWheelset.rows``: the element's shape functions at that
+        point of the rim edge), the Eulerian rows, the residual flexibility
+        (``residual_flexibility``, recomputed unless s_contact is the body's ``residual_s``)
+        and the reference point's lateral arm (l0 + s_contact) are taken there. 0: the taping
+        line; the static contact point of the centred S1002/UIC60 pair is at about +3 mm.
+        Fixed for the run (the rows do not follow the contact point).
+    rigid_gyro : bool
+        Add the rigid wheelset's gyroscopic coupling of the flexible wheelsets to the coach's
+        C (skew: roll equation -I_y Omega yaw', yaw equation +I_y Omega roll', I_y the FE
+        polar moment). Model RR has no such term: with ``zero_rows`` and rigid_gyro=False FR
+        reproduces RR.
 
     Returns
     -------
@@ -143,15 +181,23 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     phi = np.zeros((npt, nq * len(flexible)))
     kinds, pts, dirs, pars = [], [], [], []
     rim_pts = np.zeros((3, 2, len(flexible)), dtype=int)
+    eul_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     layouts = []
-    geo_y = _rim_lateral(body)
+    s_contact = float(s_contact)
+    e = body._edges[0]
+    if not (np.isfinite(s_contact) and e.s_face <= s_contact <= e.s_max):
+        raise InputError(f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
+                         f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)")
+    geo_y = _rim_lateral(body) + s_contact
     for j, i in enumerate(flexible):
         p0, m0 = POINTS_PER_WHEELSET * j, nq * j
         rows = np.zeros((POINTS_PER_WHEELSET, nq))
         for w, side in enumerate((1, 0)):           # vehicle wheel 0 left = FE side 1
-            rows[3 * w:3 * w + 3] = body.rows(side, 0.0)[1:4]
+            rows[3 * w:3 * w + 3] = body.rows(side, s_contact)[1:4]
             rows[6 + 3 * w:9 + 3 * w] = body.journal[side][0:3]
+            rows[14 + 3 * w:17 + 3 * w] = body.dtheta_rows(side, s_contact)[1:4]
             rim_pts[:, w, j] = p0 + 3 * w + np.arange(3)
+            eul_pts[:, w, j] = p0 + 14 + 3 * w + np.arange(3)
         rows[12] = body.rigid_elastic[:, 0]
         rows[13] = body.rigid_elastic[:, 1]
         if not zero_rows:
@@ -172,13 +218,61 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     cpl = ModalCouplings(kinds=tuple(kinds), points=np.array(pts), directions=np.array(dirs).T,
                          params=np.array(pars).T, rim_wheelsets=np.array(flexible),
                          rim_points=rim_pts,
-                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))))
+                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))),
+                         rim_euler=eul_pts if euler else None,
+                         rim_omega=np.full(len(flexible), body.omega) if euler else None)
     b = body.gyro + body.damping
-    names = tuple(f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq))
-    mb = ModalBlocks(damping=tuple(b for _ in flexible),
-                     stiffness=tuple(body.stiffness for _ in flexible), phi=phi, names=names,
-                     couplings=cpl)
+    names = [f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)]
+    damp = [b for _ in flexible]
+    stiff = [body.stiffness for _ in flexible]
+    massless = [False for _ in flexible]
+    if residual and np.any(body.residual):
+        res = residual_points(body, None if s_contact in body.residual_s and
+                              body.residual_s[0] == body.residual_s[1] else
+                              _residual_at(wheelset, body, s_contact))
+        phi_r, k_r = compliance_block(res)
+        nr = phi_r.shape[1]
+        cols = [phi]
+        for j, i in enumerate(flexible):
+            c = np.zeros((npt, nr))
+            if not zero_rows:
+                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
+            cols.append(c)
+            names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
+            damp.append(np.zeros((nr, nr)))
+            stiff.append(k_r)
+            massless.append(True)
+            m0 = sy.n + nq * len(flexible) + nr * j
+            layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
+        phi = np.hstack(cols)
+    mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
+                     couplings=cpl, massless=tuple(massless))
+    if rigid_gyro:
+        c = np.array(sy.c, copy=True)
+        h = body.polar_moment * body.omega
+        for i in flexible:
+            a, b = sy.index(f"ws{i + 1}_roll"), sy.index(f"ws{i + 1}_yaw")
+            c[a, b] -= h
+            c[b, a] += h
+        sy = replace(sy, c=c)
     return sy.with_modal(mb), layouts
+
+
+def residual_points(body, residual: np.ndarray | None = None) -> np.ndarray:
+    """The residual flexibility (12, 12) over one flexible wheelset's displacement points
+    (rim left y, z, rx, rim right y, z, rx, journal left x, y, z, right x, y, z), from
+    ``residual`` over ATTACHMENT_DOFS (default ``body.residual`` at ``body.residual_s``; the
+    rims' x is not coupled)."""
+    r = body.residual if residual is None else residual
+    return np.asarray(r)[np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)]
+
+
+def _residual_at(wheelset, body, s: float) -> np.ndarray:
+    """The body's residual flexibility with both contact points at profile coordinate s."""
+    from ..wheelset import Wheelset
+    from ..wheelset.flexible import residual_flexibility
+    ws = wheelset if wheelset is not None else Wheelset()
+    return residual_flexibility(ws, body, (s, s))
 
 
 def _rim_lateral(body) -> float:
@@ -275,3 +369,101 @@ def rim_rail_angle_change(system: System, x: np.ndarray) -> np.ndarray:
     +1 mrad)."""
     d = rim_deformation(system, x)[..., 2, :, :]
     return d * np.array([-1.0, 1.0])[:, None]
+
+
+def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Dense M, C, K (n_state x n_state) of an FR system without its wheel-rail contact,
+    linearised about zero: the coach's M, C, K with its scalar elements' linear parts (a dry
+    friction element's slope p1 / p2 + p3 at rest, a bump stop inside its clearance: none),
+    the modal blocks (M = the modal masses, massless residual blocks included) and the
+    journal ('split') and Coriolis ('gyro') couplings through Phi. A check tool for
+    frequency responses (dense: O(n_state^3) per frequency), not for the time loop.
+
+    Returns
+    -------
+    m, c, k : ndarray (n_state, n_state)
+    """
+    mb = system.modal
+    if mb is None or mb.couplings is None:
+        raise InputError("linear_matrices needs an FR system")
+    n, nm = system.n, mb.n_modes
+    nt = n + nm
+    m, c, k = np.zeros((nt, nt)), np.zeros((nt, nt)), np.zeros((nt, nt))
+    m[:n, :n], c[:n, :n], k[:n, :n] = system.m, system.c, system.k
+    for e in range(system.eg.shape[1]):
+        p = system.epar[:, e]
+        if system.etype[e] == 1:         # friction: p1 tanh(gd / p2) + p3 gd
+            cd = p[2] + (p[0] / p[1] if p[0] != 0.0 and p[1] > 0.0 else 0.0)
+            g = system.eg[:, e]
+            c[:n, :n] += cd * np.outer(g, g)
+    m[n:, n:] = np.diag(mb.mass)
+    j = n
+    for b, kb in zip(mb.damping, mb.stiffness):
+        s = b.shape[0]
+        c[j:j + s, j:j + s] = b
+        k[j:j + s, j:j + s] = kb
+        j += s
+    cp = mb.couplings
+    for e, kind in enumerate(cp.kinds):
+        ph = mb.phi[cp.points[e]]
+        g = cp.directions[:, e]
+        kk, cc, _ = cp.params[:, e]
+        if kind == "split":
+            for mat, v in ((k, kk), (c, cc)):
+                mat[n:, :n] -= v * np.outer(ph, g)
+                mat[n:, n:] += v * np.outer(ph, ph)
+                mat[:n, n:] -= v * np.outer(g, ph)
+        else:                                  # gyro: g_p += k g.v, g_r -= g k u_p'
+            c[n:, :n] -= kk * np.outer(ph, g)
+            c[:n, n:] += kk * np.outer(g, ph)
+    return m, c, k
+
+
+def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
+                       wheel: int = 1, direction: str = "lateral") -> np.ndarray:
+    """Point receptance at a wheel's rim point of an FR system with the wheel-rail contact
+    removed (:func:`linear_matrices`): a force at the rim reference point acts on the rigid
+    wheelset (with its roll moment about the centre) and on the rim point; the response is
+    the point's displacement, rigid plus elastic (m/N).
+
+    Parameters
+    ----------
+    system : System
+    layout : FRLayout
+        The flexible wheelset.
+    freqs : array_like
+        Frequencies, Hz (> 0).
+    wheel : int
+        0 left, 1 right.
+    direction : {'lateral', 'vertical'}
+
+    Returns
+    -------
+    ndarray of complex (nf,)
+    """
+    if wheel not in (0, 1) or direction not in ("lateral", "vertical"):
+        raise InputError(f"wheel 0 or 1 and direction 'lateral' or 'vertical', got {wheel!r}, "
+                         f"{direction!r}")
+    f = np.asarray(freqs, dtype=float)
+    if np.any(~(f > 0)):
+        raise InputError("freqs must be > 0")
+    m, c, k = linear_matrices(system)
+    n = system.n
+    i = layout.wheelset + 1
+    l0, r0 = system.modal.couplings.rim_arms[:, 0]
+    sg = 1.0 if wheel == 0 else -1.0
+    b = np.zeros(m.shape[0])
+    if direction == "lateral":
+        b[system.index(f"ws{i}_y")] = 1.0
+        b[system.index(f"ws{i}_roll")] = r0          # M_x = -z F_y at z = -r0
+        row = layout.points.start + 3 * wheel
+    else:
+        b[system.index(f"ws{i}_z")] = 1.0
+        b[system.index(f"ws{i}_roll")] = sg * l0     # M_x = y F_z
+        row = layout.points.start + 3 * wheel + 1
+    b[n:] += system.modal.phi[row]
+    out = np.empty(f.size, dtype=complex)
+    for j, fj in enumerate(f):
+        w = 2.0 * np.pi * fj
+        out[j] = b @ np.linalg.solve(k - w * w * m + 1j * w * c, b)
+    return out

@@ -128,6 +128,12 @@ class ModalCouplings:
     rim_wheelsets : ndarray (nfr,) int
     rim_points : ndarray (3, 2, nfr) int
     rim_arms : ndarray (2, nfr)
+    rim_euler : ndarray (3, 2, nfr) int, optional
+        The Eulerian term Omega dW/dtheta of the rims: the points whose displacement is
+        dPhi/dtheta Q of each rim point (-1: none); the rim material's velocity at the contact
+        point is then u'_p + Omega u_e.
+    rim_omega : ndarray (nfr,), optional
+        The spin Omega of each flexible wheelset, rad/s (with ``rim_euler``).
     """
 
     kinds: tuple
@@ -137,6 +143,8 @@ class ModalCouplings:
     rim_wheelsets: np.ndarray
     rim_points: np.ndarray
     rim_arms: np.ndarray
+    rim_euler: np.ndarray | None = None
+    rim_omega: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         for k in self.kinds:
@@ -159,6 +167,14 @@ class ModalCouplings:
             val.setflags(write=False)
             object.__setattr__(self, name, val)
         object.__setattr__(self, "kinds", tuple(self.kinds))
+        if self.rim_euler is not None:
+            re = np.asarray(self.rim_euler, dtype=np.int32).reshape(3, 2, rw.size)
+            om = np.asarray(_checks.finite_array("rim_omega", self.rim_omega),
+                            dtype=float).reshape(rw.size)
+            re.setflags(write=False)
+            om.setflags(write=False)
+            object.__setattr__(self, "rim_euler", re)
+            object.__setattr__(self, "rim_omega", om)
 
     def without_damping(self) -> "ModalCouplings":
         """The same couplings without the split couplings' dampers."""
@@ -205,6 +221,13 @@ class ModalBlocks:
     elements : tuple of PointElement
     names : tuple of str
         Names of the modal coordinates (default 'mode1', 'mode2', ...).
+    couplings : ModalCouplings, optional
+    massless : tuple of bool, optional
+        Per block: a block of massless coordinates (M = 0 there): the equations
+        ``B Q' + K Q = Phi^T g_p`` are algebraic. With B = 0, K = diag(1 / lambda) and rows
+        Phi_r = V of a compliance R = V diag(lambda) V^T the block is the point
+        compliance u = R g_p (the residual flexibility of truncated modes; see
+        :func:`compliance_block`). Default: no massless block.
 
     Raises
     ------
@@ -219,6 +242,7 @@ class ModalBlocks:
     elements: tuple = ()
     names: tuple | None = None
     couplings: ModalCouplings | None = None
+    massless: tuple | None = None
 
     def __post_init__(self) -> None:
         if len(self.damping) != len(self.stiffness) or not self.damping:
@@ -257,6 +281,11 @@ class ModalBlocks:
         if len(names) != nm:
             raise InputError(f"{len(names)} names for {nm} modes")
         object.__setattr__(self, "names", names)
+        if self.massless is not None:
+            ml = tuple(bool(m) for m in self.massless)
+            if len(ml) != len(bb):
+                raise InputError(f"massless: {len(ml)} flags for {len(bb)} blocks")
+            object.__setattr__(self, "massless", ml if any(ml) else None)
 
     @classmethod
     def diagonal(cls, omega: np.ndarray, zeta: np.ndarray | float, phi: np.ndarray,
@@ -278,7 +307,14 @@ class ModalBlocks:
             els.append(PointElement(e.kind, e.point, e.dof, tuple(p)))
         cpl = self.couplings.without_damping() if self.couplings is not None else None
         return ModalBlocks(tuple(0.5 * (b - b.T) for b in self.damping), self.stiffness, self.phi,
-                           tuple(els), self.names, cpl)
+                           tuple(els), self.names, cpl, self.massless)
+
+    @property
+    def mass(self) -> np.ndarray:
+        """Modal masses (n_modes,): 1, or 0 for the coordinates of massless blocks."""
+        ml = self.massless or (False,) * len(self.damping)
+        return np.concatenate([np.full(b.shape[0], 0.0 if m else 1.0)
+                               for b, m in zip(self.damping, ml)])
 
     @property
     def n_modes(self) -> int:
@@ -293,7 +329,9 @@ class ModalBlocks:
     def max_frequency(self) -> float:
         """The largest undamped natural frequency of the blocks, rad/s: sqrt of the largest
         eigenvalue of each block's symmetric stiffness part (gyroscopic splitting ignored)."""
-        lam = max(float(np.max(np.linalg.eigvalsh(0.5 * (k + k.T)))) for k in self.stiffness)
+        ml = self.massless or (False,) * len(self.stiffness)
+        lam = max((float(np.max(np.linalg.eigvalsh(0.5 * (k + k.T))))
+                   for k, m in zip(self.stiffness, ml) if not m), default=0.0)
         return math.sqrt(max(lam, 0.0))
 
     def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -318,6 +356,30 @@ class ModalBlocks:
         ppt = np.array([e.point + 1 for e in els], dtype=np.int32)
         ppar = np.asfortranarray(np.array([e.params for e in els], dtype=float).T)
         return ptype, prig, ppt, ppar
+
+
+def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
+    """A symmetric positive semi-definite point compliance R (m/N, rad/(N m)) as a massless
+    modal block: rows Phi_r = V (n_points, r), R's unit eigenvectors, and stiffness
+    K_r = diag(1 / lambda) (r, r), so that Phi_r K_r^-1 Phi_r^T = R and the coordinates are
+    the points' residual displacements along V (m or rad, like the rigid DOFs: Newton's
+    tolerance on the correction means the same for them). Eigenvalues below rtol times the
+    largest (rounding) are dropped.
+
+    Returns
+    -------
+    phi_r : ndarray (n_points, r)
+    k_r : ndarray (r, r)
+    """
+    r = _checks.finite_array("compliance", compliance)
+    if r.ndim != 2 or r.shape[0] != r.shape[1]:
+        raise InputError(f"a compliance must be a square matrix, got {r.shape}")
+    lam, vec = np.linalg.eigh(0.5 * (r + r.T))
+    if lam.size and lam.min() < -1e-8 * max(lam.max(), 0.0):
+        raise InputError(f"the compliance is not positive semi-definite (eigenvalue "
+                         f"{lam.min():.3g} against {lam.max():.3g})")
+    keep = lam > rtol * max(float(lam.max()), 0.0) if lam.size else lam > 0
+    return vec[:, keep], np.diag(1.0 / lam[keep])
 
 
 @dataclass(frozen=True)
@@ -383,6 +445,17 @@ class VehicleModel:
                 kinds, pts, g, par, rw, rp, ra = mb.couplings.arrays(self.n, mb.n_points)
                 info = core.vehicle_modal_couple_c(self.handle, kinds, pts, g, par, rw, rp, ra)
                 check(info, "modal couplings")
+                if mb.couplings.rim_euler is not None:
+                    cp = mb.couplings
+                    if np.any(cp.rim_euler >= mb.n_points):
+                        raise InputError("an Eulerian rim point outside the points")
+                    info = core.vehicle_modal_euler_c(
+                        self.handle, np.asfortranarray(cp.rim_euler + 1, dtype=np.int32),
+                        np.asfortranarray(cp.rim_omega))
+                    check(info, "Eulerian rim rows")
+            if mb.massless is not None:
+                info = core.vehicle_modal_mass_c(self.handle, np.asfortranarray(mb.mass))
+                check(info, "modal masses")
         #: size of the integrator's state: rigid DOFs plus modal coordinates
         self.n_state = self.n + (mb.n_modes if mb is not None else 0)
 

@@ -741,7 +741,7 @@ def residual_flexibility(ws, body: FlexibleWheelset, s_pair: tuple[float, float]
 
 
 def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0.0),
-                    k_max: int = 6) -> np.ndarray:
+                    k_max: int = 6, inertia_relief: bool = False) -> np.ndarray:
     """Direct static FE solve of the free wheelset under self-equilibrated attachment loads.
 
     Harmonic by harmonic (k = 0..k_max, both sets): the rigid-body motion is held by a few
@@ -759,6 +759,12 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
         Wheel-profile coordinates of the right and left contact points, m.
     k_max : int
         Highest harmonic.
+    inertia_relief : bool
+        Loads not in equilibrium (a wheelset in the vehicle: contact and journal forces
+        carry its weight too): balance them by the d'Alembert forces of the rigid-body
+        acceleration they cause (per harmonic f - M Phi_r Phi_r^T f, mass-orthonormal rigid
+        fields Phi_r; under the static wheel loads this is the wheelset's weight as a body
+        force), as the free-free modes of the vehicle model do.
 
     Returns
     -------
@@ -788,6 +794,8 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
             fr = st.T.T @ (e.T @ f14)
             if not np.any(fr):
                 continue
+            if inertia_relief and st.rigid.shape[1]:
+                fr = fr - st.M @ (st.rigid @ (st.rigid.T @ fr))
             u = np.zeros(fr.size)
             u[free] = spsolve(kff, fr[free])
             u -= st.rigid @ (st.rigid.T @ (st.M @ u))
