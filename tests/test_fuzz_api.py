@@ -99,7 +99,8 @@ SCENARIO_CALLS = [
     ("conicity-negative", lambda: scenarios.equivalent_conicity(-1.0), ["amplitude"]),
     ("coach-negative-mass", lambda: Coach(carbody_mass=-5.0), ["carbody_mass"]),
     ("coach-unknown", lambda: Coach(carbody_mas=5.0), ["carbody_mas"]),
-    ("hunting-fr", lambda: scenarios.hunting(300.0, "FR", duration=0.01), ["FR", "hunting"]),
+    ("bifurcation-fr", lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01),
+     ["FR", "bifurcation"]),
     ("linear-damper", lambda: scenarios.linear_critical_speed(damper="loose"), ["damper"]),
     ("critical-method", lambda: scenarios.critical_speed(method="guess"), ["method"]),
 ]

@@ -274,7 +274,7 @@ def test_centred_running_fr(fr):
 
 def test_fr_errors(body):
     with pytest.raises(InputError, match="FR"):
-        scenarios.hunting(300, model="FR", duration=0.1)
+        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False)
     with pytest.raises(InputError, match="speed_kmh"):
         scenarios.coach_system("FR")
     with pytest.raises(InputError):
@@ -284,3 +284,21 @@ def test_fr_errors(body):
     with pytest.raises(InputError, match="tread"):
         build_fr(Coach(), scenarios.contact_table(), V, body=body,
                  s_contact=-0.05)
+
+
+def test_hunting_fr_starts_from_the_disturbed_fr_equilibrium():
+    """hunting(model='FR') builds the FR system at the speed, releases the leading bogie's
+    wheelsets by y0 from the FR static equilibrium (modes deflected, not from RR's), and
+    integrates the modal state with a step that resolves the kept modes."""
+    y0 = 0.004
+    fr = scenarios.hunting(350.0, model="FR", duration=0.02, y0=y0, output_dt=0.002,
+                           progress=False)
+    sy = scenarios.coach_system("FR", speed_kmh=350.0)
+    qs, _ = static_equilibrium(sy, speed_m_s(350.0), "hertz-kalker")
+    assert fr.q.shape[1] == sy.n_state and np.all(np.isfinite(fr.q))
+    assert np.max(np.abs(qs[sy.n:])) > 0.0               # the static modal deflection
+    # after one output interval the leading wheelset is still near y_static + y0, the
+    # trailing bogie's wheelsets near their static position
+    i1, i3 = sy.index("ws1_y"), sy.index("ws3_y")
+    assert abs(fr.q[0, i1] - (qs[i1] + y0)) < 0.05 * y0
+    assert abs(fr.q[0, i3] - qs[i3]) < 0.05 * y0

@@ -38,7 +38,7 @@ log = logging.getLogger(__name__)
 
 MODELS = ("RR", "FR")
 #: Scenarios that run model FR so far (hunting, bifurcation and critical speed: RR only).
-_FR_SCENARIOS = ("centred_running", "coach_system")
+_FR_SCENARIOS = ("centred_running", "coach_system", "hunting")
 _PROFILES: dict[str, Any] = {}
 
 
@@ -167,15 +167,9 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     """
     v = speed_m_s(speed_kmh)
     _check_model(model, contact, "centred_running")
-    if model == "FR":
-        sy = coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", 2),
-                          f_max=kw.pop("f_max", 800.0))
-    else:
-        sy = coach_system(model, coach)
+    sy = _system(model, coach, speed_kmh, kw)
     if h is None:
-        h = 1e-3
-        if sy.modal is not None:
-            h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
+        h = _default_step(sy)
     if contact == "bem":
         from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
@@ -211,22 +205,44 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
 
 
 def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", *,
-            duration: float = 5.0, y0: float = 0.004, h: float = 1e-3, output_dt: float = 0.002,
-            alpha: float = 0.0, coach: Coach | None = None, q0: np.ndarray | None = None,
-            v0: np.ndarray | None = None, **kw: Any) -> SimulationResult:
+            duration: float = 5.0, y0: float = 0.004, h: float | None = None,
+            output_dt: float = 0.002, alpha: float = 0.0, coach: Coach | None = None,
+            q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+            **kw: Any) -> SimulationResult:
     """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
 
     Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
-    ``q0``/``v0`` continue from a given state instead (speed sweeps).
+    ``q0``/``v0`` continue from a given state instead (speed sweeps). ``h`` defaults to 1 ms
+    (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
+    (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz).
     """
     v = speed_m_s(speed_kmh)
     _check_model(model, contact, "hunting")
-    sy = coach_system(model, coach)
+    sy = _system(model, coach, speed_kmh, kw)
+    if h is None:
+        h = _default_step(sy)
     if q0 is None:
         qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
         q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
     return simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
                     q0=q0, v0=v0, **kw)
+
+
+def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
+    """The scenario's system: RR, or FR at this speed with the mode selection popped from kw."""
+    if model == "FR":
+        return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", 2),
+                            f_max=kw.pop("f_max", 800.0))
+    return coach_system(model, coach)
+
+
+def _default_step(sy: System) -> float:
+    """1 ms, divided for a modal model so that h omega_max <= 2 (every kept mode resolved by the
+    trapezoidal rule without the step-size refusal of simulate)."""
+    h = 1e-3
+    if sy.modal is not None:
+        h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
+    return h
 
 
 def amplitude(res: SimulationResult, window: float = 1.0) -> float:
