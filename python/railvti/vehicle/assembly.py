@@ -179,12 +179,7 @@ class System:
         f0 = np.zeros(nt)
         m[:n, :n], c[:n, :n], k[:n, :n], f0[:n] = self.m, self.c, self.k, self.f0
         m[n:, n:] = np.eye(nm)
-        j = n
-        for b, kb in zip(mb.damping, mb.stiffness):
-            s = b.shape[0]
-            c[j:j + s, j:j + s] = b
-            k[j:j + s, j:j + s] = kb
-            j += s
+        mb.place_blocks(c, k, n)
         for e in mb.elements:
             if e.kind != "linear":
                 raise InputError("dense_equivalent: only linear point elements")

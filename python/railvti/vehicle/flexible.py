@@ -397,12 +397,7 @@ def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             g = system.eg[:, e]
             c[:n, :n] += cd * np.outer(g, g)
     m[n:, n:] = np.diag(mb.mass)
-    j = n
-    for b, kb in zip(mb.damping, mb.stiffness):
-        s = b.shape[0]
-        c[j:j + s, j:j + s] = b
-        k[j:j + s, j:j + s] = kb
-        j += s
+    mb.place_blocks(c, k, n)
     cp = mb.couplings
     for e, kind in enumerate(cp.kinds):
         ph = mb.phi[cp.points[e]]

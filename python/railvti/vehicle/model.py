@@ -297,6 +297,16 @@ class ModalBlocks:
         return cls(tuple((2.0 * z * w).reshape(1, 1) for z, w in zip(ze, om)),
                    tuple((w * w).reshape(1, 1) for w in om), phi, elements, names)
 
+    def place_blocks(self, c: np.ndarray, k: np.ndarray, start: int) -> None:
+        """Write the blocks' damping (B = G + D) and stiffness into dense c and k (in place),
+        block-diagonally from row/column ``start``: for small linear analyses only."""
+        j = start
+        for b, kb in zip(self.damping, self.stiffness):
+            s = b.shape[0]
+            c[j:j + s, j:j + s] = b
+            k[j:j + s, j:j + s] = kb
+            j += s
+
     def without_damping(self) -> "ModalBlocks":
         """The same blocks with B reduced to its skew (gyroscopic) part and the point elements'
         dampers removed: a conservative system (modal damping is symmetric)."""
