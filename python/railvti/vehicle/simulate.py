@@ -570,7 +570,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             done += ns
             size = _next_chunk(ns, time.perf_counter() - tc, plan)
             if bar is not None:
-                bar.update(round(ns * plan.h, 6))
+                bar.update(min(round(ns * plan.h, 6), max(bar.total - bar.n, 0.0)))
                 bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
     except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
         if out.t and sum(len(x) for x in out.t):
