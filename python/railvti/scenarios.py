@@ -65,6 +65,24 @@ def equivalent_conicity(amplitude: float = 0.003) -> float:
     return float(eqc(ctab(w, r, y), a))
 
 
+def _speeds(speed_kmh: float | None, speed: float | None, default_kmh: float | None = None
+            ) -> tuple[float, float]:
+    """(m/s, km/h) from exactly one of ``speed`` (m/s, the SI argument) and ``speed_kmh`` (its
+    suffixed alias), or the default (km/h) when neither is given."""
+    if speed is not None and speed_kmh is not None:
+        raise InputError("give the speed once: speed (m/s) or speed_kmh (km/h), not both")
+    if speed is not None:
+        v = _checks.finite("speed", speed)
+        if not 0.0 < v <= _checks.MAX_SPEED:
+            raise InputError(f"speed = {v:g} m/s must be in (0, {_checks.MAX_SPEED:.4g}] m/s")
+        return v, v * 3.6
+    if speed_kmh is None:
+        if default_kmh is None:
+            raise InputError("the speed is required: speed (m/s) or speed_kmh (km/h)")
+        speed_kmh = default_kmh
+    return speed_m_s(speed_kmh), float(speed_kmh)
+
+
 def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
         raise InputError(f"model {model!r} is not available; the time simulation has {MODELS} "
@@ -144,17 +162,20 @@ class CentredRunning:
         return float(np.max(np.abs(self.Q / self.static_wheel_load - 1.0)))
 
 
-def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = "hertz-kalker", *,
+def centred_running(speed_kmh: float | None = None, model: str = "RR",
+                    contact: str = "hertz-kalker", *, speed: float | None = None,
                     duration: float = 1.0, h: float | None = None, coach: Coach | None = None,
                     **kw: Any) -> CentredRunning:
     """Centred running on straight ideal track: the steady state and Q, Y per wheel.
 
     Parameters
     ----------
-    speed_kmh : float
-        Speed, km/h (> 0).
+    speed_kmh : float, optional
+        Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
     model, contact : str
         'RR'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+    speed : float, optional
+        Speed, m/s (give it or speed_kmh, not both).
     duration : float
         Simulated time after the static equilibrium, s.
     h : float, optional
@@ -165,7 +186,7 @@ def centred_running(speed_kmh: float = 200.0, model: str = "RR", contact: str = 
     **kw
         Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection.
     """
-    v = speed_m_s(speed_kmh)
+    v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
     sy = _system(model, coach, speed_kmh, kw)
     if h is None:
@@ -204,8 +225,8 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
                    speed=run.speed, pressure="hertz")
 
 
-def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", *,
-            duration: float = 5.0, y0: float = 0.004, h: float | None = None,
+def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "hertz-kalker", *,
+            speed: float | None = None, duration: float = 5.0, y0: float = 0.004, h: float | None = None,
             output_dt: float = 0.002, alpha: float = 0.0, coach: Coach | None = None,
             q0: np.ndarray | None = None, v0: np.ndarray | None = None,
             **kw: Any) -> SimulationResult:
@@ -214,9 +235,10 @@ def hunting(speed_kmh: float, model: str = "RR", contact: str = "hertz-kalker", 
     Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
     ``q0``/``v0`` continue from a given state instead (speed sweeps). ``h`` defaults to 1 ms
     (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
-    (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz).
+    (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
+    ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
     """
-    v = speed_m_s(speed_kmh)
+    v, speed_kmh = _speeds(speed_kmh, speed)
     _check_model(model, contact, "hunting")
     sy = _system(model, coach, speed_kmh, kw)
     if h is None:
