@@ -85,16 +85,22 @@ def test_condensed_matches_dense_hht_alpha():
     assert np.max(np.abs(r1.q - r2.q)) <= 1e-8 * np.max(np.abs(r2.q))
 
 
+def _energy(sy, de, r):
+    """E = v'Mv/2 + q'Kq/2 - f0'q of the dense equivalent along run r, and at the start
+    (at rest)."""
+    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
+         + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q) - r.q @ de.f0)
+    x0 = _start(sy)
+    return e, 0.5 * x0 @ de.k @ x0 - x0 @ de.f0
+
+
 def test_energy_conserved_trapezoidal():
     """Undamped, gyroscopic (skew B) and conservative: the trapezoidal rule keeps
     E = v'Mv/2 + q'Kq/2 - f0'q of the dense equivalent to 1e-8 over 2000 steps."""
     sy = _linear_system(damped=False)
     de = sy.dense_equivalent()
     r = simulate(sy, 1.0, 2.0, q0=_start(sy), h=1e-3, output_dt=1e-3, tol=1e-12)
-    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
-         + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q) - r.q @ de.f0)
-    x0 = _start(sy)
-    e0 = 0.5 * x0 @ de.k @ x0 - x0 @ de.f0
+    e, e0 = _energy(sy, de, r)
     assert np.max(np.abs(e - e0)) <= 1e-8 * abs(e0)
     assert np.abs(de.c[sy.n:, sy.n:] + de.c[sy.n:, sy.n:].T).max() == 0.0   # B skew: no damping
     assert np.abs(de.c[sy.n:, sy.n:]).max() > 0.0                          # but gyroscopic
@@ -109,10 +115,7 @@ def test_without_damping_is_conservative():
     assert all(e.params[1] == 0.0 for e in sy.modal.elements)
     de = sy.dense_equivalent()
     r = simulate(sy, 1.0, 0.5, q0=_start(sy), h=1e-3, output_dt=1e-3, tol=1e-12)
-    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
-         + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q) - r.q @ de.f0)
-    x0 = _start(sy)
-    e0 = 0.5 * x0 @ de.k @ x0 - x0 @ de.f0
+    e, e0 = _energy(sy, de, r)
     assert np.max(np.abs(e - e0)) <= 1e-8 * abs(e0)
 
 
