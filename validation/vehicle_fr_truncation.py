@@ -1,11 +1,11 @@
 """Model FR, centred running at 200 km/h: cost against error of the mode selection (issue 14
 item 4), and the time step's order.
 
-    .venv/bin/python validation/vehicle_fr_truncation.py            # all parts (~10 min)
+    .venv/bin/python validation/vehicle_fr_truncation.py            # all parts (~20 min, loaded)
     .venv/bin/python validation/vehicle_fr_truncation.py hertz      # mode grid, Hertz + Kalker
     .venv/bin/python validation/vehicle_fr_truncation.py timing     # 2 more timings per selection
     .venv/bin/python validation/vehicle_fr_truncation.py bem        # fewer selections, the BEM
-    .venv/bin/python validation/vehicle_fr_truncation.py steps      # h, h/2, ... h/32, with and without the residual
+    .venv/bin/python validation/vehicle_fr_truncation.py steps      # h .. h/32, with/without residual
     .venv/bin/python validation/vehicle_fr_truncation.py plot       # chart from the saved figures
 
 Each selection (k_max harmonics, modes up to f_max) is run as ``scenarios.centred_running``
@@ -13,8 +13,9 @@ runs it: build_fr at the speed (with the residual flexibility of the truncated m
 steady state of ``static_equilibrium``, then ``simulate`` from it at the scenario's default
 step (1 ms divided until h omega_max <= 2: the step comes with the selection). Measured:
 
-- steady: the relative rim-rail angle change (camber) at each wheel after 0.1 s of running
-  (``flexible.rim_rail_angle_change``), mrad; with contact='bem' also the pressure peak of
+- steady: the relative rim-rail angle change (camber) at each wheel of the steady state
+  (``flexible.rim_rail_angle_change``; 0.1 s of running moves it by < 1e-13 mrad), mrad;
+  with contact='bem' (after 0.01 s of running) also the pressure peak of
   every wheel's patch, MPa. The wheel loads Q of the steady state are the static load in every
   selection (the modes carry no weight): their error there is round-off, so Q is measured
   in the transient below.
@@ -24,9 +25,10 @@ step (1 ms divided until h omega_max <= 2: the step comes with the selection). M
   script calls static_equilibrium and simulate itself (the scenario's own steps; checked
   against ``scenarios.centred_running`` for the default selection).
 - cost: CPU time of this process per simulated second of the transient run, best of two
-  (the machine's two cores are shared, so the wall time varies by 3x with the others' load;
-  the wall time is printed beside it, and equals the CPU time on an unloaded core: the time
-  loop is single-threaded). The build and the static solve are printed apart.
+  (four with ``timing``; the machine's two cores are shared, so the wall time varies by 3x
+  with the others' load; the wall time is printed beside it, and equals the CPU time on an
+  unloaded core: the time loop is single-threaded). The build and the static solve are
+  printed apart.
 
 The errors are against the richest selection run (``REFERENCE``: k_max 6, f_max 3000 Hz, the
 harmonics the residual flexibility covers). The step study runs the default selection's
@@ -239,13 +241,15 @@ def print_bem(out: dict) -> None:
     runs = out["bem"]
     ref = runs[f"{REFERENCE[0]}/{REFERENCE[1]:g}"]
     print(f"\n{'k_max':>5s} {'f_max':>6s} {'h ms':>6s} {'static s':>8s} {'CPU/s':>8s} "
-          f"{'wall/s':>7s} {'p_max L/R, MPa':>16s} {'p err MPa':>9s} {'cam mrad':>9s} {'cam err':>8s} {'Q err N':>8s}")
+          f"{'wall/s':>7s} {'p_max L/R, MPa':>16s} {'p err MPa':>9s} {'cam mrad':>9s} "
+          f"{'cam err':>8s} {'Q err N':>8s}")
     for r in runs.values():
         pe = np.abs(np.array(r["p_max"]) - np.array(ref["p_max"])).max()
         ce = np.abs(np.array(r["camber"]) - np.array(ref["camber"])).max()
         qe = np.abs(np.array(r["Q"]) - np.array(ref["Q"])).max()
         print(f"{r['k_max']:5d} {r['f_max']:6.0f} {r['h'] * 1e3:6.3f} {r['t_static']:8.1f} "
-              f"{r['cost']:8.0f} {r['wall']:7.0f} {r['p_max'][0][0] / 1e6:7.2f}/{r['p_max'][1][0] / 1e6:7.2f} "
+              f"{r['cost']:8.0f} {r['wall']:7.0f} "
+              f"{r['p_max'][0][0] / 1e6:7.2f}/{r['p_max'][1][0] / 1e6:7.2f} "
               f"{pe / 1e6:9.3f} {r['camber'][0][0] * 1e3:+9.4f} {ce * 1e3:8.1e} {qe:8.1e}"
               + ("  (reference)" if r is ref else ""))
 

@@ -204,7 +204,8 @@ def plot_wheels(hz: dict, bm: dict) -> Path:
     fig, ax = plt.subplots(1, 3, figsize=(13.5, 4.0))
     xs = np.arange(8)
     labels = [f"ws{i + 1} {s[0].upper()}" for i in range(4) for s in SIDES]
-    style = {("RR", "hk"): ("s", "C0", "RR, Hertz + Kalker"), ("FR", "hk"): ("o", "C3", "FR, Hertz + Kalker"),
+    style = {("RR", "hk"): ("s", "C0", "RR, Hertz + Kalker"),
+             ("FR", "hk"): ("o", "C3", "FR, Hertz + Kalker"),
              ("RR", "bem"): ("s", "C2", "RR, BEM"), ("FR", "bem"): ("o", "C1", "FR, BEM")}
     for (model, c), (mk, col, lab) in style.items():
         d = (hz if c == "hk" else bm)[model]
