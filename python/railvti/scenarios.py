@@ -786,6 +786,7 @@ class CriticalSpeed:
     ----------
     kmh : float
         The critical speed, km/h; NaN when the nonlinear sweep found none (see ``message``).
+        Its SI twin: the property ``speed`` (m/s).
     method : str
         'linear' or 'nonlinear'.
     branch : str
@@ -798,8 +799,10 @@ class CriticalSpeed:
         linear: the hunting frequency at the critical speed; nonlinear: NaN.
     no_decay_below_kmh : float
         nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
-        otherwise).
+        otherwise), km/h (``no_decay_below``: m/s).
     bifurcation : Bifurcation or None
+    model : str
+        'RR' or 'FR'.
     """
 
     kmh: float
@@ -809,9 +812,20 @@ class CriticalSpeed:
     frequency_hz: float = float("nan")
     no_decay_below_kmh: float = float("nan")
     bifurcation: Bifurcation | None = None
+    model: str = "RR"
 
     def __float__(self) -> float:
         return float(self.kmh)
+
+    @property
+    def speed(self) -> float:
+        """The critical speed, m/s (NaN: none found)."""
+        return self.kmh / 3.6
+
+    @property
+    def no_decay_below(self) -> float:
+        """nonlinear: the extended sweep's floor with the cycle still alive, m/s (else NaN)."""
+        return self.no_decay_below_kmh / 3.6
 
     @property
     def message(self) -> str:
@@ -831,17 +845,21 @@ def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str
     ``damper_state``). method 'nonlinear': :func:`bifurcation` (lowest speed with a
     sustained limit cycle; the sweep is extended downward until the cycle dies, otherwise
     ``kmh`` is NaN and ``no_decay_below_kmh`` says down to where it was searched; ``branch``
-    names the tread or flange cycle that defines it).
+    names the tread or flange cycle that defines it; its speeds in m/s as ``speeds`` or in
+    km/h as ``speeds_kmh``). Model 'FR' takes ``k_max`` and ``f_max`` (Hz) in both methods
+    and is built at every speed. ``.speed`` is the result in m/s.
     """
     _check_model(model, contact, "critical_speed")
     if method == "linear":
         damper = kw.get("damper", "stuck")
         v, f = linear_critical_speed(model, coach, **kw)
         return CriticalSpeed(kmh=v, method="linear", branch="linear (equivalent conicity)",
-                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f)
+                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f,
+                             model=model)
     if method == "nonlinear":
         b = bifurcation(model=model, contact=contact, coach=coach, **kw)
         return CriticalSpeed(kmh=b.critical_kmh, method="nonlinear", branch=b.branch,
                              damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
-                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b)
+                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b,
+                             model=model)
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")
