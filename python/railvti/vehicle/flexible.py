@@ -31,6 +31,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .. import _checks
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
@@ -174,6 +175,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     System, list of FRLayout
     """
     from ..wheelset import Wheelset
+    from ..wheelset.fe import check_harmonic
+    from ..wheelset.flexible import _harmonic, _rigid_mask
     sy = build_coach(coach, table)
     if "ws1_x" not in sy.dof_names:
         raise InputError("model FR needs the six-DOF wheelsets")
@@ -182,6 +185,11 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")
     if body is None:
         ws = wheelset if wheelset is not None else Wheelset()
+        k_max = check_harmonic(k_max, "k_max")
+        f_max = _checks.positive("f_max", f_max)
+        if not any(np.any(~_rigid_mask(_harmonic(ws, k, f_max))) for k in range(k_max + 1)):
+            raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
+                             f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
         body = ws.flexible_body(speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio)
     nq = body.n
     if nq == 0:
