@@ -329,7 +329,6 @@ def run(params: dict[str, Any]) -> CaseOutput:
                            coach=coach, progress=False, **fr)
         lin, freq = sc.linear_critical_speed(model, coach, **fr)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
-        data["speeds"] = (b.speeds, "m/s", {"axes": ["speed"]})
         if fr:
             data["step"] = (b.details["h"], "s", {"axes": ["speed"],
                                                   "meaning": "time step at each speed"})
@@ -337,13 +336,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
         data["decay_amplitude"] = (b.decay, "m", {"axes": ["speed"]})
         data["upper_flange_force"] = (b.details["flange_force"], "N", {"axes": ["speed"]})
         scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
-        scalars["critical_speed_nonlinear_m_s"] = (b.critical, "m/s")
         scalars["critical_branch"] = (b.branch, "")
         scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
         scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
-        scalars["critical_speed_linear_m_s"] = (lin / 3.6, "m/s")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
         scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
