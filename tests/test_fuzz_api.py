@@ -99,8 +99,8 @@ SCENARIO_CALLS = [
     ("conicity-negative", lambda: scenarios.equivalent_conicity(-1.0), ["amplitude"]),
     ("coach-negative-mass", lambda: Coach(carbody_mass=-5.0), ["carbody_mass"]),
     ("coach-unknown", lambda: Coach(carbody_mas=5.0), ["carbody_mas"]),
-    ("bifurcation-fr", lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01),
-     ["FR", "bifurcation"]),
+    ("bifurcation-fr-harmonic", lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01,
+                                                              k_max=-1), ["k_max", "0..30"]),
     ("linear-damper", lambda: scenarios.linear_critical_speed(damper="loose"), ["damper"]),
     ("critical-method", lambda: scenarios.critical_speed(method="guess"), ["method"]),
 ]

@@ -316,7 +316,7 @@ CONSISTENCY = [
     ("track-f-min-above-max", deck("track_receptance", "f_min = 500.0, f_max = 100.0"), ["f_min = 500", "f_max = 100"]),
     ("wheelset-band", deck("wheelset", "f_lo = 900.0, f_hi = 100.0"), ["f_lo = 900", "f_hi = 100"]),
     ("wheelset-geometry", deck("wheelset", "seat_radius = 0.5"), ["wheelset geometry"]),
-    ("vehicle-fr-hunting", deck("vehicle", "model = 'FR'"), ["model = 'FR'", "centred_running"]),
+    ("vehicle-rr-modes", deck("vehicle", "k_max = 1"), ["k_max", "model 'RR' has rigid wheelsets"]),
     ("vehicle-sweep-reversed", deck("vehicle", "scenario = 'critical_speed', speeds_kmh_min = 400.0, "
                                     "speeds_kmh_max = 300.0").replace("scenario = 'hunting', ", ""),
      ["speeds_kmh_min = 400", "speeds_kmh_max = 300"]),

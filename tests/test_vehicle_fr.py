@@ -273,8 +273,9 @@ def test_centred_running_fr(fr):
 
 
 def test_fr_errors(body):
-    with pytest.raises(InputError, match="FR"):
-        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False)
+    with pytest.raises(InputError, match="f_max"):     # bifurcation takes FR (issue 14 item 5)
+        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False,
+                              f_max=-1.0)
     with pytest.raises(InputError, match="speed_kmh"):
         scenarios.coach_system("FR")
     with pytest.raises(InputError):

@@ -1,9 +1,10 @@
 """Vehicle-track scenarios on straight track: centred running, hunting, critical speed.
 
 Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model 'FR'
-(centred running only, so far): the same with flexible rotating wheelsets
-(railvti.vehicle.flexible: free-free elastic modes coupled through the rims and journals,
-docs/vehicle_integrator.md "Flexible wheelsets (FR)"). Contact models:
+(every scenario): the same with flexible rotating wheelsets (railvti.vehicle.flexible:
+free-free elastic modes coupled through the rims and journals, docs/vehicle_integrator.md
+"Flexible wheelsets (FR)"); its modal matrices depend on the spin, so it is built at each
+speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Contact models:
 'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
 'hertz-fastsim' (Hertz + FASTSIM) and 'bem' (the BEM normal + steady-rolling solvers on
 0.75 mm grids at every wheel, railvti.vehicle.bem). S1002 wheels on UIC60 rails inclined 1:40.
@@ -30,15 +31,20 @@ from . import _checks
 from .errors import InputError
 from .vehicle.assembly import System, build_coach
 from .vehicle.params import Coach, speed_m_s
-from .vehicle.simulate import (SimulationResult, contact_id, eigenvalues, lateral_disturbance,
-                               simulate, static_equilibrium)
+from .vehicle.simulate import (SimulationResult, check_modal_step, contact_id, eigenvalues,
+                               lateral_disturbance, simulate, static_equilibrium)
 from .vehicle.table import WheelTable, linearised_table, wheel_table
 
 log = logging.getLogger(__name__)
 
 MODELS = ("RR", "FR")
-#: Scenarios that run model FR so far (hunting, bifurcation and critical speed: RR only).
-_FR_SCENARIOS = ("centred_running", "coach_system", "hunting")
+#: Scenarios that run model FR.
+_FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
+                 "linear_critical_speed")
+#: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
+FR_K_MAX, FR_F_MAX = 2, 800.0
+#: The highest harmonic model FR accepts (as the wheelset deck's k_max).
+MAX_HARMONIC = 30
 _PROFILES: dict[str, Any] = {}
 
 
@@ -83,9 +89,47 @@ def _speeds(speed_kmh: float | None, speed: float | None, default_kmh: float | N
     return speed_m_s(speed_kmh), float(speed_kmh)
 
 
+def _fr_wheelset():
+    """The FE wheelset of model FR (cached: its harmonic solves and statics are reused by
+    every FR system built at another speed)."""
+    if "wheelset" not in _PROFILES:
+        from .wheelset import Wheelset
+        _PROFILES["wheelset"] = Wheelset()
+    return _PROFILES["wheelset"]
+
+
+def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
+    """(k_max, f_max) of model FR's mode selection, checked: k_max an integer harmonic in
+    0..MAX_HARMONIC, f_max a positive finite frequency (Hz).
+
+    Raises
+    ------
+    InputError
+        Naming the bad value and what is allowed.
+    """
+    ok = False
+    try:
+        ok = (not isinstance(k_max, bool) and float(k_max).is_integer()
+              and 0 <= int(k_max) <= MAX_HARMONIC)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise InputError(f"k_max = {k_max!r} is not a harmonic of the wheelset model: the "
+                         f"highest circumferential harmonic of model FR's modes must be an "
+                         f"integer in 0..{MAX_HARMONIC}")
+    try:
+        f = float(f_max)
+    except (TypeError, ValueError):
+        f = float("nan")
+    if isinstance(f_max, bool) or not (np.isfinite(f) and f > 0.0):
+        raise InputError(f"f_max = {f_max!r} must be a positive finite frequency, Hz (the "
+                         "highest non-rotating frequency of model FR's kept modes)")
+    return int(k_max), f
+
+
 def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
-        raise InputError(f"model {model!r} is not available; the time simulation has {MODELS} "
+        raise InputError(f"unknown model {model!r}: the time simulation has {MODELS} "
                          "(the ring track is not coupled yet)")
     if model == "FR" and scenario not in _FR_SCENARIOS:
         raise InputError(f"model 'FR' is not available in {scenario or 'this scenario'} yet "
@@ -95,26 +139,58 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
 
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
                  linear_conicity: float | None = None, speed_kmh: float | None = None,
-                 k_max: int = 2, f_max: float = 800.0) -> System:
+                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None
+                 ) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
 
-    Model 'FR' (flexible wheelsets, :func:`railvti.vehicle.flexible.build_fr`) needs
-    ``speed_kmh`` (its modal matrices depend on the spin) and takes the mode selection
+    Model 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
+    ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
     ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
     """
     _check_model(model, "hertz-kalker", "coach_system")
+    if model == "FR":
+        if speed is None and speed_kmh is None:
+            raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
+                             "depend on the spin)")
+        return fr_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
+                         linear_conicity=linear_conicity)[0]
     tab = contact_table()
     if linear_conicity is not None:
         tab = linearised_table(tab, linear_conicity)
-    if model == "FR":
-        if linear_conicity is not None:
-            raise InputError("model 'FR' with a linearised table is not available yet")
-        if speed_kmh is None:
-            raise InputError("model 'FR' needs speed_kmh (the modes depend on the spin)")
-        from .vehicle.flexible import build_fr
-        return build_fr(coach or Coach(), tab, speed_m_s(speed_kmh), k_max=k_max, f_max=f_max)[0]
     return build_coach(coach or Coach(), tab)
+
+
+def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
+              speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
+              linear_conicity: float | None = None) -> tuple[System, list]:
+    """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
+
+    Parameters
+    ----------
+    coach : Coach, optional
+    speed_kmh, speed : float
+        The speed, km/h or m/s (exactly one): the spin Omega = speed / r0 enters the modal
+        matrices (gyroscopic and centrifugal terms), so a speed sweep builds one per speed.
+    k_max, f_max : int, float
+        Mode selection: harmonics 0..k_max, non-rotating frequencies up to f_max (Hz); the
+        truncated modes stay as residual flexibility.
+    linear_conicity : float, optional
+        Replace the contact table by its equivalent linearisation (linear analyses).
+
+    Returns
+    -------
+    System, list of railvti.vehicle.flexible.FRLayout
+        The layouts carry the mode labels (``labels``, ``k``, ``family``, ``freq_hz``).
+    """
+    from .vehicle.flexible import build_fr
+    v, _ = _speeds(speed_kmh, speed)
+    k_max, f_max = check_fr_selection(k_max, f_max)
+    tab = contact_table()
+    if linear_conicity is not None:
+        tab = linearised_table(tab, linear_conicity)
+    return build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
+                    f_max=f_max)
 
 
 @dataclass(frozen=True)
@@ -189,8 +265,7 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
     sy = _system(model, coach, speed_kmh, kw)
-    if h is None:
-        h = _default_step(sy)
+    h = _step(sy, h)
     if contact == "bem":
         from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
@@ -241,8 +316,7 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     v, speed_kmh = _speeds(speed_kmh, speed)
     _check_model(model, contact, "hunting")
     sy = _system(model, coach, speed_kmh, kw)
-    if h is None:
-        h = _default_step(sy)
+    h = _step(sy, h)
     if q0 is None:
         qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
         q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
@@ -253,9 +327,18 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
 def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
     """The scenario's system: RR, or FR at this speed with the mode selection popped from kw."""
     if model == "FR":
-        return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", 2),
-                            f_max=kw.pop("f_max", 800.0))
+        return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
+                            f_max=kw.pop("f_max", FR_F_MAX))
+    _no_fr_keys(kw)
     return coach_system(model, coach)
+
+
+def _no_fr_keys(kw: dict) -> None:
+    """InputError for model FR's mode selection given to model RR."""
+    extra = sorted(k for k in ("k_max", "f_max") if k in kw)
+    if extra:
+        raise InputError(f"{', '.join(extra)}: the mode selection of model 'FR'; model 'RR' has "
+                         "rigid wheelsets (no modes)")
 
 
 def _default_step(sy: System) -> float:
@@ -264,6 +347,16 @@ def _default_step(sy: System) -> float:
     h = 1e-3
     if sy.modal is not None:
         h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
+    return h
+
+
+def _step(sy: System, h: float | None) -> float:
+    """The time step of a run of sy: h checked against the kept modes
+    (:func:`railvti.vehicle.simulate.check_modal_step`, before any work), or the default."""
+    if h is None:
+        return _default_step(sy)
+    h = _checks.positive("h", h)
+    check_modal_step(sy, h)
     return h
 
 
@@ -277,20 +370,25 @@ def amplitude(res: SimulationResult, window: float = 1.0) -> float:
 class Bifurcation:
     """Limit-cycle amplitude of the leading wheelset against speed.
 
+    The speeds are stored in km/h (the fields ``*_kmh``, as the sweep is usually written);
+    their SI twins in m/s are the properties ``speeds``, ``critical``, ``flange``,
+    ``extended``, ``no_decay_below`` and ``no_cycle_up_to``.
+
     Attributes
     ----------
     speeds_kmh : ndarray
+        Swept speeds, km/h (``speeds``: m/s).
     upper : ndarray
         Amplitude (m) on the branch followed down in speed from a large limit cycle.
     decay : ndarray
         Amplitude (m) after ``duration`` from a small disturbance ``y_small`` (0: decayed).
     critical_kmh : float
-        Nonlinear critical speed: the lowest speed with a sustained limit cycle on the upper
-        branch (amplitude > threshold), to the sweep's step. NaN when there is none: see
-        ``no_decay_below_kmh`` and ``no_cycle_up_to_kmh``.
+        Nonlinear critical speed, km/h (``critical``: m/s): the lowest speed with a sustained
+        limit cycle on the upper branch (amplitude > threshold), to the sweep's step. NaN when
+        there is none: see ``no_decay_below_kmh`` and ``no_cycle_up_to_kmh``.
     flange_kmh : float
         Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
-        (flange-contact hunting).
+        (flange-contact hunting), km/h (``flange``: m/s).
     linear_kmh : float or None
     branch : str
         Which cycle defines ``critical_kmh``: 'flange cycle' (the leading bogie's flanges
@@ -303,14 +401,22 @@ class Bifurcation:
         Max flange normal force on the leading bogie's wheels in that cycle (last second), N.
     extended_kmh : ndarray
         Speeds below the requested sweep that were added because the cycle had not died at
-        its bottom (empty when the sweep sufficed).
+        its bottom (empty when the sweep sufficed), km/h (``extended``: m/s).
     no_decay_below_kmh : float
         NaN when the branch died within the (extended) sweep; otherwise the floor ``v_min_kmh``
         at which the extension stopped with the cycle still alive: the critical speed is
-        below it and ``critical_kmh`` is NaN ("below X km/h: no decay found").
+        below it and ``critical_kmh`` is NaN ("below X km/h: no decay found"); km/h
+        (``no_decay_below``: m/s).
     no_cycle_up_to_kmh : float
         NaN, or the top of the sweep when no cycle was sustained even there (critical speed
-        above the sweep; ``critical_kmh`` NaN).
+        above the sweep; ``critical_kmh`` NaN), km/h (``no_cycle_up_to``: m/s).
+    model : str
+        'RR' or 'FR'.
+    details : dict
+        'flange_force' (N, per speed); model FR also 'h' (the step at each speed, s) and
+        'modal_restarts' (speeds, km/h, at which the upper branch's modal coordinates were
+        restarted from the static state instead of carried over; empty when every mode
+        set matched).
     """
 
     speeds_kmh: np.ndarray
@@ -327,6 +433,37 @@ class Bifurcation:
     extended_kmh: np.ndarray = field(default_factory=lambda: np.zeros(0))
     no_decay_below_kmh: float = float("nan")
     no_cycle_up_to_kmh: float = float("nan")
+    model: str = "RR"
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """Swept speeds, m/s."""
+        return self.speeds_kmh / 3.6
+
+    @property
+    def critical(self) -> float:
+        """Nonlinear critical speed, m/s (NaN: none, see :attr:`message`)."""
+        return self.critical_kmh / 3.6
+
+    @property
+    def flange(self) -> float:
+        """Lowest speed of flange-contact hunting on the upper branch, m/s."""
+        return self.flange_kmh / 3.6
+
+    @property
+    def extended(self) -> np.ndarray:
+        """Speeds added below the requested sweep, m/s."""
+        return np.asarray(self.extended_kmh) / 3.6
+
+    @property
+    def no_decay_below(self) -> float:
+        """The extended sweep's floor with the cycle still alive, m/s (NaN otherwise)."""
+        return self.no_decay_below_kmh / 3.6
+
+    @property
+    def no_cycle_up_to(self) -> float:
+        """The top of a sweep without a sustained cycle, m/s (NaN otherwise)."""
+        return self.no_cycle_up_to_kmh / 3.6
 
     @property
     def message(self) -> str:
@@ -343,11 +480,91 @@ class Bifurcation:
                 f"{self.branch_flange_force / 1e3:.1f} kN{ext})")
 
 
+def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None
+                  ) -> np.ndarray:
+    """The sweep's speeds in km/h, descending, from exactly one of ``speeds`` (m/s) and
+    ``speeds_kmh`` (its suffixed alias), or the default 200..460 km/h by 20."""
+    if speeds is not None and speeds_kmh is not None:
+        raise InputError("give the sweep's speeds once: speeds (m/s) or speeds_kmh (km/h), "
+                         "not both")
+    if speeds is not None:
+        v = np.atleast_1d(np.asarray(speeds, dtype=float))
+        if v.size < 2 or np.any(~np.isfinite(v)) or np.any(v <= 0) or np.any(v > _checks.MAX_SPEED):
+            raise InputError(f"speeds must hold at least two speeds in (0, "
+                             f"{_checks.MAX_SPEED:.4g}] m/s, got {np.asarray(speeds).tolist()}")
+        sp = v * 3.6
+    else:
+        sp = np.asarray(speeds_kmh if speeds_kmh is not None else np.arange(200.0, 461.0, 20.0),
+                        dtype=float)
+        if sp.ndim != 1 or sp.size < 2 or np.any(sp <= 0):
+            raise InputError("speeds_kmh must hold at least two speeds > 0")
+        for s_kmh in sp:
+            _checks.speed_kmh("speeds_kmh", s_kmh)
+    return np.sort(sp)[::-1]
+
+
+def _floor_kmh(v_min_kmh: float | None, v_min: float | None) -> float:
+    """The sweep extension's floor, km/h, from exactly one of v_min (m/s) and v_min_kmh."""
+    if v_min is not None and v_min_kmh is not None:
+        raise InputError("give the sweep's floor once: v_min (m/s) or v_min_kmh (km/h), not both")
+    if v_min is not None:
+        return _checks.positive("v_min", v_min) * 3.6
+    return _checks.positive("v_min_kmh", 20.0 if v_min_kmh is None else v_min_kmh)
+
+
+class _SweepSystems:
+    """The systems of a speed sweep: RR's one system, or model FR built per speed (cached by
+    speed; the modes depend on the spin) with its step and static states."""
+
+    def __init__(self, model: str, coach: Coach | None, contact: str, h: float | None,
+                 k_max: int, f_max: float) -> None:
+        self.model, self.coach, self.contact, self.h = model, coach, contact, h
+        self.k_max, self.f_max = k_max, f_max
+        self._cache: dict[float, tuple] = {}
+        self._rr = coach_system(model, coach) if model == "RR" else None
+        self.steps: dict[float, float] = {}
+
+    def at(self, s_kmh: float) -> tuple[System, list, float]:
+        """(system, FR layouts or [], step h) at s_kmh."""
+        if self._rr is not None:
+            return self._rr, [], 1e-3 if self.h is None else self.h
+        key = float(s_kmh)
+        if key not in self._cache:
+            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max, f_max=self.f_max)
+            self._cache[key] = (sy, lay, _step(sy, self.h))
+            self.steps[key] = self._cache[key][2]
+        return self._cache[key]
+
+    def carry(self, q: np.ndarray, v: np.ndarray, s_from: float, s_to: float,
+              static_to: Any) -> tuple[np.ndarray, np.ndarray, bool]:
+        """Map a state (q, v) of the system at s_from onto the system at s_to.
+
+        The rigid DOFs carry over. Model FR's modal coordinates (elastic and residual) carry
+        over by label when both systems keep the same labelled modes (the mode selection is by
+        non-rotating frequency, so it is the same set at every speed unless a mode crosses
+        f_max); otherwise they restart from the static state at s_to (``static_to()``: its
+        modal part, velocities zero). Returns (q, v, restarted)."""
+        if self._rr is not None:
+            return q, v, False
+        from .vehicle.flexible import mode_labels
+        a, la, _ = self.at(s_from)
+        b, lb, _ = self.at(s_to)
+        n = a.n
+        if mode_labels(a, la) == mode_labels(b, lb) and a.state_names == b.state_names:
+            return q, v, False
+        qs = static_to()
+        qn, vn = np.array(qs, dtype=float), np.zeros(b.n_state)
+        qn[:n], vn[:n] = q[:n], v[:n]
+        return qn, vn, True
+
+
 def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
-                contact: str = "hertz-kalker", *, duration: float = 4.0, y_large: float = 0.006,
-                y_small: float = 0.0005, threshold: float = 0.5e-3, h: float = 1e-3,
-                flange_amplitude: float = 5e-3, v_min_kmh: float = 20.0,
-                coach: Coach | None = None, progress: bool = True) -> Bifurcation:
+                contact: str = "hertz-kalker", *, speeds: Sequence[float] | None = None,
+                duration: float = 4.0, y_large: float = 0.006,
+                y_small: float = 0.0005, threshold: float = 0.5e-3, h: float | None = None,
+                flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
+                v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
+                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -359,62 +576,102 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
     of the sweep as a critical speed. The decay tests: from each speed's static state
     with a small disturbance ``y_small``; growth there means the centred running itself is
     unstable (the linear critical speed is below that speed).
+
+    Parameters
+    ----------
+    speeds_kmh : sequence of float, optional
+        The speeds, km/h: the suffixed alias of ``speeds`` (give one of them; default 200 to
+        460 km/h by 20).
+    model, contact : str
+        'RR' or 'FR'; the contact model.
+    speeds : sequence of float, optional
+        The speeds, m/s (at least two).
+    duration : float
+        Simulated time per speed and branch, s.
+    y_large, y_small, threshold, flange_amplitude : float
+        Disturbances, the living-cycle threshold and the flange-hunting amplitude, m.
+    h : float, optional
+        Time step, s: default 1 ms (RR) or, model FR, 1 ms divided so that h omega_max <= 2 at
+        each speed; a given h is checked against the kept modes at every speed.
+    v_min_kmh, v_min : float, optional
+        The floor of the downward extension, km/h or m/s (one of them; default 20 km/h).
+    coach : Coach, optional
+    progress : bool
+        Progress bar.
+    k_max, f_max : int, float
+        Model FR's mode selection (harmonics, Hz). Model FR is built at each speed; the
+        upper branch carries the rigid DOFs over from one speed to the next and the modal
+        coordinates by mode label when the mode sets match, else restarts them from the new
+        speed's static state (``details['modal_restarts']``).
     """
-    sp = np.sort(np.asarray(speeds_kmh if speeds_kmh is not None
-                            else np.arange(200.0, 461.0, 20.0), dtype=float))[::-1]
-    if sp.size < 2 or np.any(sp <= 0):
-        raise InputError("speeds_kmh must hold at least two speeds > 0")
-    for s_kmh in sp:
-        _checks.speed_kmh("speeds_kmh", s_kmh)
-    v_min = _checks.positive("v_min_kmh", v_min_kmh)
+    sp = _sweep_speeds(speeds_kmh, speeds)
+    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
     _check_model(model, contact, "bifurcation")
-    sy = coach_system(model, coach)
+    if model == "FR":
+        k_max, f_max = check_fr_selection(k_max, f_max)
+    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
+    systems = _SweepSystems(model, coach, contact, h, k_max, f_max)
+    systems.at(sp[0])                  # the step is checked before any run
     bar = None
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=2 * sp.size, desc="bifurcation", leave=False)
-    speeds: list[float] = []
+    speeds_out: list[float] = []
     upper: list[float] = []
     decay: list[float] = []
     flange: list[float] = []
+    restarts: list[float] = []
     q = v = None
     alive = True
     todo = list(sp)
+    prev = None
     while todo:
         s = todo.pop(0)
         vv = s / 3.6
+        sy, _, hs = systems.at(s)
+        statics: dict[str, np.ndarray] = {}
+
+        def static_state() -> np.ndarray:
+            if "q" not in statics:
+                statics["q"] = static_equilibrium(sy, vv, contact)[0]
+            return statics["q"]
         up, fl = 0.0, 0.0
         if alive:
             if q is None:
-                qs, _ = static_equilibrium(sy, vv, contact)
-                q = lateral_disturbance(sy, qs, y_large)
-                v = np.zeros(sy.n)
-            r = simulate(sy, vv, duration, contact=contact, h=h, q0=q, v0=v, output_dt=0.002,
+                q = lateral_disturbance(sy, static_state(), y_large)
+                v = np.zeros(sy.n_state)
+            elif prev is not None:
+                q, v, restarted = systems.carry(q, v, prev, s, static_state)
+                if restarted:
+                    restarts.append(float(s))
+            r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q, v0=v, output_dt=0.002,
                          progress=False)
             up = amplitude(r)
             last = r.t >= r.t[-1] - 1.0
             fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
             q, v = r.q[-1], r.v[-1]
             alive = up > threshold
+            prev = s
         if bar is not None:
             bar.update()
-        qs, _ = static_equilibrium(sy, vv, contact)
-        r = simulate(sy, vv, duration, contact=contact, h=h,
-                     q0=lateral_disturbance(sy, qs, y_small), output_dt=0.002, progress=False)
-        speeds.append(float(s))
+        r = simulate(sy, vv, duration, contact=contact, h=hs,
+                     q0=lateral_disturbance(sy, static_state(), y_small), output_dt=0.002,
+                     progress=False)
+        speeds_out.append(float(s))
         upper.append(up)
         flange.append(fl)
         decay.append(amplitude(r))
         if bar is not None:
             bar.update()
-        if not todo and alive and s - step >= v_min - 1e-9:
+        if not todo and alive and s - step >= v_min_kmh - 1e-9:
             todo.append(s - step)      # the cycle has not died: extend the sweep downward
             if bar is not None:
                 bar.total += 2
     if bar is not None:
         bar.close()
-    spa, upa, fla = np.array(speeds), np.array(upper), np.array(flange)
+    spa, upa, fla = np.array(speeds_out), np.array(upper), np.array(flange)
     on = upa > threshold
     crit = float(spa[on].min()) if on.any() else float("nan")
     no_decay = no_cycle = float("nan")
@@ -429,19 +686,24 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
     elif not on.any():
         no_cycle = float(spa.max())
         log.warning("bifurcation: no sustained cycle up to %.0f km/h", no_cycle)
+    wheel_load = systems.at(sp[0])[0].wheel_load
     if np.isfinite(crit):
         k = int(np.argmin(np.where(on, spa, np.inf)))
         amp_b, fl_b = float(upa[k]), float(fla[k])
-        branch = "flange cycle" if fl_b > 0.01 * sy.wheel_load else "tread cycle"
+        branch = "flange cycle" if fl_b > 0.01 * wheel_load else "tread cycle"
     fl = upa > flange_amplitude
     order = np.argsort(spa)
+    details: dict[str, Any] = {"flange_force": fla[order]}
+    if model == "FR":
+        details["h"] = np.array([systems.steps[float(x)] for x in spa[order]])
+        details["modal_restarts"] = np.array(sorted(restarts))
     return Bifurcation(speeds_kmh=spa[order], upper=upa[order], decay=np.array(decay)[order],
                        critical_kmh=crit, threshold=threshold,
                        flange_kmh=float(spa[fl].min()) if fl.any() else float("nan"),
-                       details={"flange_force": fla[order]},
+                       details=details,
                        branch=branch, branch_amplitude=amp_b, branch_flange_force=fl_b,
                        extended_kmh=np.sort(spa[spa < sp.min()]), no_decay_below_kmh=no_decay,
-                       no_cycle_up_to_kmh=no_cycle)
+                       no_cycle_up_to_kmh=no_cycle, model=model)
 
 
 #: The dry-friction yaw damper's states of the linear method.
@@ -456,7 +718,8 @@ DAMPER_STATES = {
 def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
                           conicity: float | None = None, amplitude_m: float = 0.003,
                           v_lo_kmh: float = 50.0, v_hi_kmh: float = 800.0,
-                          tol_kmh: float = 0.5, damper: str = "stuck") -> tuple[float, float]:
+                          tol_kmh: float = 0.5, damper: str = "stuck",
+                          k_max: int = FR_K_MAX, f_max: float = FR_F_MAX) -> tuple[float, float]:
     """Linear critical speed (km/h) and the hunting frequency there (Hz).
 
     Eigenvalues of the system linearised about centred running with the contact table
@@ -465,17 +728,38 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
     the state ``damper`` (:data:`DAMPER_STATES`): 'stuck' (default; its tangent at rest, a
     steep viscous slope) or 'sliding' (its torque saturated: no incremental contribution).
     Bisection on the largest real part of the oscillatory eigenvalues below 20 Hz.
+
+    Model 'FR' (mode selection ``k_max``, ``f_max``): the flexible DOFs are in the
+    linearisation (:func:`railvti.vehicle.flexible.eigenvalues`: elastic and residual
+    coordinates, about FR's own steady state); its modes depend on the spin, so the system is
+    rebuilt at every speed of the bisection. The wheelsets' elastic modes lie above 70 Hz,
+    outside the 20 Hz band searched: they change the hunting eigenvalue, not the band.
     """
     if damper not in DAMPER_STATES:
         raise InputError(f"damper must be one of {sorted(DAMPER_STATES)}, got {damper!r}")
+    _check_model(model, "hertz-kalker", "linear_critical_speed")
+    if model == "FR":
+        k_max, f_max = check_fr_selection(k_max, f_max)
+    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
     coach = coach or Coach()
     if damper == "sliding":
         coach = coach.with_(yaw_friction_torque=0.0)
     lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
-    sy = coach_system(model, coach, linear_conicity=lam)
+    if model == "RR":
+        sy = coach_system(model, coach, linear_conicity=lam)
+
+    def spectrum(kmh: float) -> np.ndarray:
+        if model == "RR":
+            return eigenvalues(sy, kmh / 3.6)
+        from .vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
+        # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
+        sf = build_fr(coach, linearised_table(contact_table(), lam), kmh / 3.6,
+                      wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max)[0]
+        return fr_eigenvalues(sf, kmh / 3.6)
 
     def growth(kmh: float) -> tuple[float, float]:
-        ev = eigenvalues(sy, kmh / 3.6)
+        ev = spectrum(kmh)
         osc = ev[(np.abs(ev.imag) > 0.1) & (np.abs(ev.imag) < 2 * np.pi * 20)]
         i = int(np.argmax(osc.real))
         return float(osc[i].real), float(abs(osc[i].imag) / (2 * np.pi))
@@ -502,6 +786,7 @@ class CriticalSpeed:
     ----------
     kmh : float
         The critical speed, km/h; NaN when the nonlinear sweep found none (see ``message``).
+        Its SI twin: the property ``speed`` (m/s).
     method : str
         'linear' or 'nonlinear'.
     branch : str
@@ -514,8 +799,10 @@ class CriticalSpeed:
         linear: the hunting frequency at the critical speed; nonlinear: NaN.
     no_decay_below_kmh : float
         nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
-        otherwise).
+        otherwise), km/h (``no_decay_below``: m/s).
     bifurcation : Bifurcation or None
+    model : str
+        'RR' or 'FR'.
     """
 
     kmh: float
@@ -525,9 +812,20 @@ class CriticalSpeed:
     frequency_hz: float = float("nan")
     no_decay_below_kmh: float = float("nan")
     bifurcation: Bifurcation | None = None
+    model: str = "RR"
 
     def __float__(self) -> float:
         return float(self.kmh)
+
+    @property
+    def speed(self) -> float:
+        """The critical speed, m/s (NaN: none found)."""
+        return self.kmh / 3.6
+
+    @property
+    def no_decay_below(self) -> float:
+        """nonlinear: the extended sweep's floor with the cycle still alive, m/s (else NaN)."""
+        return self.no_decay_below_kmh / 3.6
 
     @property
     def message(self) -> str:
@@ -547,17 +845,21 @@ def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str
     ``damper_state``). method 'nonlinear': :func:`bifurcation` (lowest speed with a
     sustained limit cycle; the sweep is extended downward until the cycle dies, otherwise
     ``kmh`` is NaN and ``no_decay_below_kmh`` says down to where it was searched; ``branch``
-    names the tread or flange cycle that defines it).
+    names the tread or flange cycle that defines it; its speeds in m/s as ``speeds`` or in
+    km/h as ``speeds_kmh``). Model 'FR' takes ``k_max`` and ``f_max`` (Hz) in both methods
+    and is built at every speed. ``.speed`` is the result in m/s.
     """
     _check_model(model, contact, "critical_speed")
     if method == "linear":
         damper = kw.get("damper", "stuck")
         v, f = linear_critical_speed(model, coach, **kw)
         return CriticalSpeed(kmh=v, method="linear", branch="linear (equivalent conicity)",
-                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f)
+                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f,
+                             model=model)
     if method == "nonlinear":
         b = bifurcation(model=model, contact=contact, coach=coach, **kw)
         return CriticalSpeed(kmh=b.critical_kmh, method="nonlinear", branch=b.branch,
                              damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
-                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b)
+                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b,
+                             model=model)
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

@@ -2,12 +2,18 @@
 speed / bifurcation) with the contact model named in the deck; results record it.
 
 Keys (SI units unless the name says km/h): scenario ('centred_running' | 'hunting' |
-'critical_speed'), model ('RR'; 'FR' in centred_running), contact ('hertz-kalker' |
-'hertz-fastsim' | 'bem'), speed (m/s; or speed_kmh, km/h), duration (s, at most max_duration),
-max_duration (s), h (s), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
+'critical_speed'), model ('RR' rigid or 'FR' flexible wheelsets, every scenario), k_max and
+f_max (model FR's mode selection: highest harmonic, highest frequency in Hz), contact
+('hertz-kalker' | 'hertz-fastsim' | 'bem'), speed (m/s; or speed_kmh, km/h), duration (s, at
+most max_duration), max_duration (s), h (s; default 1 ms, model FR 1 ms divided so that
+h omega_max <= 2), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
 output_dt (s), speeds_kmh_min/max/step (critical_speed sweep, km/h), and any Coach parameter
 prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the
 Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and bounds.
+
+Model FR's results add the modal coordinates with their mode labels (``modal_q`` and
+``mode_label``, ``mode_k``, ``mode_family``, ``mode_frequency``) and the rims' deformation at
+the contact points (``rim_deformation``, ``rim_rail_angle_change``).
 """
 from __future__ import annotations
 
@@ -34,7 +40,9 @@ DEFAULTS: dict[str, Any] = {
     "speed": 300.0 / 3.6,
     "duration": 3.0,
     "max_duration": 600.0,
-    "h": 1e-3,
+    "h": None,
+    "k_max": None,
+    "f_max": None,
     "alpha": 0.0,
     "y0": 0.004,
     "output_dt": 0.002,
@@ -49,13 +57,19 @@ _WHY_SPEED = "the fastest wheel-on-rail run was 575 km/h"
 #: Units, meanings and bounds of the keys of 'vehicle'.
 KEYS: dict[str, Key] = {
     "scenario": Key("", "what to run", "str", choices=_SCENARIOS),
-    "model": Key("", "'RR' rigid wheelsets on rigid track elements, 'FR' flexible (centred_running only)",
+    "model": Key("", "'RR' rigid wheelsets on rigid track elements, 'FR' flexible rotating wheelsets",
                  "str", choices=("RR", "FR")),
+    "k_max": Key("1", "model FR: highest circumferential harmonic of the kept wheelset modes (default 2)",
+                 "int", 0, 30, optional=True, why="the wheelset model's harmonics (as the wheelset deck)"),
+    "f_max": Key("Hz", "model FR: highest non-rotating frequency of the kept modes (default 800 Hz)",
+                 lo=0.0, hi=2e4, lo_open=True, optional=True,
+                 why="each kept mode needs h omega <= 2: 20 kHz asks for 16 us steps"),
     "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
     "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
     "duration": Key("s", "simulated time (per speed in critical_speed)", lo=0.0, lo_open=True),
     "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, lo_open=True),
-    "h": Key("s", "time step", lo=0.0, hi=0.01, lo_open=True),
+    "h": Key("s", "time step (default 1 ms; model FR: 1 ms divided so that h omega_max <= 2)",
+             lo=0.0, hi=0.01, lo_open=True, optional=True),
     "alpha": Key("1", "HHT alpha (0: average acceleration)", lo=-1.0 / 3.0, hi=0.0),
     "y0": Key("m", "lateral disturbance of the leading bogie's wheelsets (hunting)", lo=-0.01, hi=0.01,
               why="beyond 10 mm the wheelset is in flange contact"),
@@ -78,10 +92,17 @@ def check(params: dict[str, Any]) -> list[str]:
     if params["duration"] > params["max_duration"]:
         out.append(f"duration = {params['duration']:g} s exceeds max_duration = {params['max_duration']:g} s "
                    "(about 1 MB of history per simulated second; raise max_duration to run longer)")
-    if params["h"] > params["duration"]:
+    if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
-    if params["model"] == "FR" and params["scenario"] != "centred_running":
-        out.append(f"model = 'FR' runs in scenario 'centred_running' only, not {params['scenario']!r}")
+    if params["model"] != "FR":
+        given = [k for k in ("k_max", "f_max") if params.get(k) is not None]
+        if given:
+            out.append(f"{', '.join(given)}: model FR's mode selection; model "
+                       f"{params['model']!r} has rigid wheelsets")
+    elif params["h"] is not None:
+        problem = _fr_step_problem(params)
+        if problem:
+            out.append(problem)
     if params["scenario"] == "critical_speed":
         lo, hi, step = (params[f"speeds_kmh_{k}"] for k in ("min", "max", "step"))
         if lo >= hi:
@@ -93,6 +114,36 @@ def check(params: dict[str, Any]) -> list[str]:
     except InputError as exc:
         out.append(f"coach: {exc}")
     return out
+
+
+def _fr_selection(params: dict[str, Any]) -> dict[str, Any]:
+    """Model FR's k_max, f_max from the case (the scenarios' defaults where not given)."""
+    from ..scenarios import FR_F_MAX, FR_K_MAX
+    return {"k_max": FR_K_MAX if params.get("k_max") is None else params["k_max"],
+            "f_max": FR_F_MAX if params.get("f_max") is None else params["f_max"]}
+
+
+def _fr_step_problem(params: dict[str, Any]) -> str | None:
+    """Why the given h is too large for model FR's kept modes (None: it is not). Cheap when
+    h 2 pi f_max <= 2 (no kept mode is above f_max); otherwise the FR system is built at the
+    case's (highest) speed and its highest mode checked exactly (check_modal_step)."""
+    from ..scenarios import fr_system
+    from .simulate import MODAL_STEP_LIMIT, check_modal_step
+    sel = _fr_selection(params)
+    if params["h"] * 2.0 * np.pi * sel["f_max"] <= MODAL_STEP_LIMIT:
+        return None
+    kmh = (params["speeds_kmh_max"] if params["scenario"] == "critical_speed"
+           else params["speed"] * 3.6)
+    try:
+        coach = _coach(params)
+    except InputError:
+        return None                      # reported by check as a coach problem
+    try:
+        sy, _ = fr_system(coach, speed_kmh=min(kmh, MAX_SPEED_KMH), **sel)
+        check_modal_step(sy, params["h"])
+    except InputError as exc:
+        return f"model FR: {exc}"
+    return None
 
 
 def _coach(params: dict[str, Any]) -> Coach:
@@ -162,6 +213,42 @@ def _history(res, data: dict, scalars: dict) -> None:
     return ws.line()
 
 
+def _fr_history(res, system, layouts, data: dict) -> None:
+    """Model FR: the modal coordinates with their mode labels and the rims' deformation at
+    the contact points (railvti.vehicle.flexible.rim_deformation, rim_rail_angle_change)."""
+    from .flexible import mode_labels, rim_deformation, rim_rail_angle_change
+    n, nm = system.n, system.modal.n_modes
+    labels = list(mode_labels(system, layouts))
+    k = np.full(nm, -1)
+    fam = np.full(nm, "residual", dtype=object)
+    freq = np.full(nm, np.nan)
+    units = ["m"] * nm                   # residual coordinates: point displacements, m
+    for lay in layouts:
+        i = slice(lay.modes.start - n, lay.modes.stop - n)
+        k[i], fam[i], freq[i] = lay.k, lay.family, lay.freq_hz
+        units[i] = ["kg^0.5 m"] * (i.stop - i.start)       # mass-normalised (M = I)
+    mode = {"axes": ["mode"], "mode_label": labels}
+    data["mode_label"] = (np.array(labels, dtype=object), "text", {"axes": ["mode"]})
+    data["mode_k"] = (k, "1", {**mode, "meaning": "circumferential harmonic (-1: residual "
+                                                  "flexibility's massless coordinate)"})
+    data["mode_family"] = (np.array([str(f) for f in fam], dtype=object), "text",
+                           {**mode, "meaning": "'0' (k = 0), 'A' or 'B' (k > 0), 'residual'"})
+    data["mode_frequency"] = (freq, "Hz", {**mode, "meaning": "free-free non-rotating natural "
+                                                              "frequency (NaN: residual)"})
+    data["modal_q"] = (res.q[:, n:], "kg^0.5 m or m (per column: column_units)",
+                       {"axes": ["t", "mode"], "mode_label": labels, "column_units": units})
+    per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["dy", "dz", "drx"],
+           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
+           "column_units": ["m", "m", "rad"],
+           "meaning": "rim deformation at the contact points (taping line), track axes"}
+    data["rim_deformation"] = (rim_deformation(system, res.q), "m, m, rad (per component)", per)
+    data["rim_rail_angle_change"] = (
+        rim_rail_angle_change(system, res.q), "rad",
+        {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+         "wheelset": [f"ws{w + 1}" for w in range(4)],
+         "meaning": "change of the rim-rail angle from the rim's camber (+: inner edge rises)"})
+
+
 def _patch(pt, data: dict, scalars: dict) -> None:
     """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse, or the BEM
     fields with contact='bem')."""
@@ -189,10 +276,16 @@ def run(params: dict[str, Any]) -> CaseOutput:
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text")}
+    fr = _fr_selection(params) if model == "FR" else {}
+    if fr:
+        scalars["k_max"] = (int(fr["k_max"]), "1")
+        scalars["f_max"] = (float(fr["f_max"]), "Hz")
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach)
+                               h=params["h"], coach=coach, **fr)
         wl = _history(c.run, data, scalars)
+        if fr:
+            _fr_history(c.run, *sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr), data)
         final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
                  "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
         data["Q_final"] = (c.Q, "N", final)
@@ -207,15 +300,19 @@ def run(params: dict[str, Any]) -> CaseOutput:
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach)
+                       output_dt=params["output_dt"], coach=coach, **fr)
         wl = _history(r, data, scalars)
+        sy = (sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr) if fr
+              else (sc.coach_system(model, coach), []))
+        if fr:
+            _fr_history(r, *sy, data)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
             k = -1                           # BEM fields: the final state's
             pt = r.bem_patches.get((0, 1))
         else:
-            pt = sc.contact_patch(sc.coach_system(model, coach), r, k, wheel=1, wheelset=0)
+            pt = sc.contact_patch(sy[0], r, k, wheel=1, wheelset=0)
         if pt is not None:
             _patch(pt, data, scalars)
             scalars["patch_time"] = (float(r.t[k]), "s")
@@ -229,9 +326,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
         b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False)
-        lin, freq = sc.linear_critical_speed(model, coach)
+                           coach=coach, progress=False, **fr)
+        lin, freq = sc.linear_critical_speed(model, coach, **fr)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
+        if fr:
+            data["step"] = (b.details["h"], "s", {"axes": ["speed"],
+                                                  "meaning": "time step at each speed"})
         data["upper_amplitude"] = (b.upper, "m", {"axes": ["speed"]})
         data["decay_amplitude"] = (b.decay, "m", {"axes": ["speed"]})
         data["upper_flange_force"] = (b.details["flange_force"], "N", {"axes": ["speed"]})

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .. import _checks
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
@@ -62,12 +63,25 @@ class FRLayout:
         rows (d/dtheta of RIM_POINTS).
     residual : slice
         The massless coordinates of its residual flexibility in the state (empty without).
+    labels : tuple of str
+        The label of each modal coordinate (:func:`body_labels`: harmonic, family, order,
+        e.g. 'k1A_2'); the state's names stay ``ws<i>_q<j>``.
+    k : ndarray of int
+        Harmonic of each modal coordinate.
+    family : ndarray of str
+        '0' (k = 0), 'A' or 'B' of each modal coordinate.
+    freq_hz : ndarray
+        Free-free non-rotating natural frequency of each coordinate's mode, Hz.
     """
 
     wheelset: int
     modes: slice
     points: slice
     residual: slice = field(default_factory=lambda: slice(0, 0))
+    labels: tuple = ()
+    k: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    family: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype="<U1"))
+    freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 #: ATTACHMENT_DOFS index of each displacement point of a flexible wheelset (rim left y, z, rx,
@@ -161,6 +175,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     System, list of FRLayout
     """
     from ..wheelset import Wheelset
+    from ..wheelset.fe import check_harmonic
+    from ..wheelset.flexible import _harmonic, _rigid_mask
     sy = build_coach(coach, table)
     if "ws1_x" not in sy.dof_names:
         raise InputError("model FR needs the six-DOF wheelsets")
@@ -169,6 +185,11 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")
     if body is None:
         ws = wheelset if wheelset is not None else Wheelset()
+        k_max = check_harmonic(k_max, "k_max")
+        f_max = _checks.positive("f_max", f_max)
+        if not any(np.any(~_rigid_mask(_harmonic(ws, k, f_max))) for k in range(k_max + 1)):
+            raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
+                             f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
         body = ws.flexible_body(speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio)
     nq = body.n
     if nq == 0:
@@ -214,7 +235,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
             pts.append(p0 + r)
             dirs.append(g)
             pars.append((body.omega, 0.0, 0.0))
-        layouts.append(FRLayout(i, slice(sy.n + m0, sy.n + m0 + nq), slice(p0, p0 + POINTS_PER_WHEELSET)))
+        layouts.append(FRLayout(i, slice(sy.n + m0, sy.n + m0 + nq), slice(p0, p0 + POINTS_PER_WHEELSET),
+                                labels=body_labels(body), k=np.array(body.k),
+                                family=np.array(body.family), freq_hz=np.array(body.freq_hz)))
     cpl = ModalCouplings(kinds=tuple(kinds), points=np.array(pts), directions=np.array(dirs).T,
                          params=np.array(pars).T, rim_wheelsets=np.array(flexible),
                          rim_points=rim_pts,
@@ -256,6 +279,55 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
             c[b, a] += h
         sy = replace(sy, c=c)
     return sy.with_modal(mb), layouts
+
+
+def body_labels(body) -> tuple[str, ...]:
+    """Labels of a flexible body's coordinates: 'k<k>_<j>' for harmonic 0 and
+    'k<k><family>_<j>' (family A or B) above, j counting from 1 upward in frequency within its
+    harmonic and family (e.g. 'k0_1', 'k1A_1', 'k1B_1', 'k2A_3')."""
+    count: dict[tuple[int, str], int] = {}
+    out = []
+    for k, f in zip(np.asarray(body.k).tolist(), np.asarray(body.family).tolist()):
+        count[(k, f)] = count.get((k, f), 0) + 1
+        out.append(f"k{k}{'' if f == '0' else f}_{count[(k, f)]}")
+    return tuple(out)
+
+
+def mode_labels(system: System, layouts: list[FRLayout]) -> tuple[str, ...]:
+    """Labels of an FR system's modal coordinates in state order (``system.modal.names``):
+    'ws<i>_<body label>' (:func:`body_labels`) for the elastic coordinates and
+    'ws<i>_residual_<j>' for the residual flexibility's massless coordinates."""
+    mb = system.modal
+    if mb is None:
+        raise InputError("mode labels need an FR system (modal blocks)")
+    out = [""] * mb.n_modes
+    n = system.n
+    for lay in layouts:
+        w = lay.wheelset + 1
+        for j, lab in enumerate(lay.labels):
+            out[lay.modes.start - n + j] = f"ws{w}_{lab}"
+        for j in range(lay.residual.stop - lay.residual.start):
+            out[lay.residual.start - n + j] = f"ws{w}_residual_{j + 1}"
+    return tuple(out)
+
+
+def mode_index(system: System, layouts: list[FRLayout], label: str) -> int:
+    """Index in the state of the modal coordinate with this label (:func:`mode_labels`).
+
+    Raises
+    ------
+    InputError
+        An unknown label (the message lists the system's labels of that wheelset).
+    """
+    labels = mode_labels(system, layouts)
+    if isinstance(label, str) and label in labels:
+        return system.n + labels.index(label)
+    pre = str(label).split("_", 1)[0] + "_"
+    known = [x for x in labels if x.startswith(pre) and "residual" not in x] or \
+        [x for x in labels if "residual" not in x]
+    raise InputError(f"unknown mode label {label!r}: this FR system keeps "
+                     f"{', '.join(known[:40])}{' ...' if len(known) > 40 else ''} "
+                     "(labels 'ws<i>_k<k><family>_<j>'; more modes: raise k_max or f_max)")
 
 
 def residual_points(body, residual: np.ndarray | None = None) -> np.ndarray:
@@ -462,3 +534,91 @@ def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
         w = 2.0 * np.pi * fj
         out[j] = b @ np.linalg.solve(k - w * w * m + 1j * w * c, b)
     return out
+
+
+#: Forward-difference step of :func:`state_tangent` (the same as the core's contact tangent,
+#: vehicle_model%contact_tangent: model FR with decoupled modes then linearises exactly as RR).
+TANGENT_STEP = 1.0e-8
+
+
+def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
+                  contact: str = "hertz-kalker") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The force over the whole state of an FR system and its tangents at (x, xd).
+
+    Forward differences (step :data:`TANGENT_STEP`) of the core's state force (the coach's
+    elements, the modal blocks, the journal and Coriolis couplings and the contact on the
+    deformed rims with its Eulerian term) over every state entry: dense, O(n_state^2), a tool
+    for linear analyses (:func:`eigenvalues`), not for the time loop.
+
+    Returns
+    -------
+    f : ndarray (n_state,)
+    jq, jv : ndarray (n_state, n_state)
+        dF/dx and dF/dxd.
+    """
+    from .model import CallSettings
+    from .simulate import contact_id
+    if system.modal is None:
+        raise InputError("state_tangent needs a system with modal blocks (model FR)")
+    nt = system.n_state
+    x = np.array(x, dtype=float)
+    xd = np.array(xd, dtype=float)
+    if x.shape != (nt,) or xd.shape != (nt,):
+        raise InputError(f"x and xd must have the state's size {nt}")
+    cs = CallSettings(float(speed), contact_id(contact))
+
+    def force(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        f, _, info = system.native.state_force(cs, a, b)
+        check(info, "FR state force (linearisation)")
+        return np.array(f)
+    f0 = force(x, xd)
+    jq, jv = np.empty((nt, nt)), np.empty((nt, nt))
+    for j in range(nt):
+        xp = x.copy()
+        xp[j] += TANGENT_STEP
+        jq[:, j] = (force(xp, xd) - f0) / TANGENT_STEP
+        vp = xd.copy()
+        vp[j] += TANGENT_STEP
+        jv[:, j] = (force(x, vp) - f0) / TANGENT_STEP
+    return f0, jq, jv
+
+
+def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
+                v: np.ndarray | None = None, contact: str = "hertz-kalker") -> np.ndarray:
+    """Eigenvalues (1/s) of an FR system linearised about (q, v), flexible DOFs included.
+
+    Default (q, v): the FR steady state of centred running (static_equilibrium, with the
+    spin rates; the modes statically deflected). The first-order system
+    ``[I 0; 0 M] z' = [0 I; Jq Jv] z`` (:func:`state_tangent`) is solved as a generalised
+    eigenproblem because the residual flexibility's coordinates are massless (M singular):
+    their algebraic equations give infinite eigenvalues, which are dropped. As for RR
+    (railvti.vehicle.simulate.eigenvalues) each wheelset's free spin angle adds a zero.
+
+    Returns
+    -------
+    ndarray of complex
+        The finite eigenvalues.
+    """
+    from scipy.linalg import eigvals
+
+    from .simulate import static_equilibrium
+    if system.modal is None:
+        raise InputError("flexible.eigenvalues needs an FR system; use "
+                         "railvti.vehicle.simulate.eigenvalues for RR")
+    if q is None:
+        q, v, _ = static_equilibrium(system, speed, contact, return_velocity=True)
+    if v is None:
+        v = np.zeros(system.n_state)
+    _, jq, jv = state_tangent(system, speed, q, v, contact)
+    n, nt = system.n, system.n_state
+    mass = np.zeros((nt, nt))
+    mass[:n, :n] = system.m
+    mass[n:, n:] = np.diag(system.modal.mass)
+    a = np.zeros((2 * nt, 2 * nt))
+    a[:nt, nt:] = np.eye(nt)
+    a[nt:, :nt] = jq
+    a[nt:, nt:] = jv
+    b = np.eye(2 * nt)
+    b[nt:, nt:] = mass
+    ev = eigvals(a, b)
+    return ev[np.isfinite(ev)]
