@@ -266,7 +266,7 @@ contains
         if (info /= STAT_OK .or. .not. conv) return
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * h * a1
-        if (md%mp%nm > 0) call massless_rates(md, h, st%q, q1, v1, a1)
+        if (md%mp%nm > 0) call massless_rates(md, h, st%q, st%v, st%a, q1, v1, a1)
         if (too_big(md, q1, v1, opt%qmax)) return
         err = h * h * abs(sd%beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - st%a))
         st%q = q1
@@ -283,19 +283,27 @@ contains
 
     !> Massless modal coordinates (a residual flexibility, vehicle_modal) are algebraic: the
     !> Newmark rate 2 dx / h - v_n of such a coordinate would carry an undamped alternating
-    !> error and its acceleration a growing one. After each step they get a = 0 and the
-    !> step's mean rate dx / h, so that the next step's predictor extrapolates linearly and
-    !> the Newmark rate within the next step is (2 dx_{n+1} - dx_n) / h: first order, no
-    !> memory, and its derivative is still cv (the tangent stays consistent).
-    pure subroutine massless_rates(md, h, q0, q1, v1, a1)
+    !> error and its acceleration a growing one. After each step their rate and acceleration
+    !> are set from positions only, by the three-point (BDF2) derivative: with the step's mean
+    !> rate m1 = dx / h and the previous step's m0 = v0 - h a0 / 2 (the same h assumed),
+    !> a1 = (m1 - m0) / h and v1 = m1 + h a1 / 2 = (3 x1 - 4 x0 + x_-1) / (2 h). Nothing is
+    !> carried from the Newmark rates (no memory), and the next step's Newmark rate within
+    !> the step, from these v1 and a1, is second-order accurate; its derivative is still cv
+    !> (the tangent stays consistent).
+    pure subroutine massless_rates(md, h, q0, v0, a0, q1, v1, a1)
         type(vmodel), intent(in) :: md
-        real(dp), intent(in) :: h, q0(md%nd + md%mp%nm), q1(md%nd + md%mp%nm)
+        real(dp), intent(in) :: h
+        real(dp), dimension(md%nd + md%mp%nm), intent(in) :: q0, v0, a0, q1
         real(dp), intent(inout) :: v1(md%nd + md%mp%nm), a1(md%nd + md%mp%nm)
-        integer :: j
+        real(dp) :: m0, m1
+        integer :: j, i
         do j = 1, md%mp%nm
             if (md%mp%mass(j) /= 0.0_dp) cycle
-            a1(md%nd + j) = 0.0_dp
-            v1(md%nd + j) = (q1(md%nd + j) - q0(md%nd + j)) / h
+            i = md%nd + j
+            m1 = (q1(i) - q0(i)) / h
+            m0 = v0(i) - 0.5_dp * h * a0(i)
+            a1(i) = (m1 - m0) / h
+            v1(i) = m1 + 0.5_dp * h * a1(i)
         end do
     end subroutine massless_rates
 
