@@ -9,7 +9,15 @@ contact, one half wheelset at zero roll, the same profiles) resolves the whole p
 is the independent reference here: its sink under the same load is what a rigid wheel
 really moves.
 
-Prints P from both over y and the largest jumps; writes
+A third curve is the prototype of the contact model proposed as the cure (issue 13): a
+semi-Hertzian strip potential over the whole rigid interpenetration of wheel and rail,
+V = sum_i c_i P_i^2 dy_i over the wheel profile's samples (P_i the sample's vertical
+interference, dy_i its lateral width), with c_i = 3/8 kH(A_i, B_i) sqrt(B_i) cos(delta_i)
+from the local curvatures, so that a parabolic gap g = B t^2 (t across the contact, normal
+interference d) gives V = (16/15) c d^2.5 / sqrt(B) and Hertz's N = kH d^1.5 exactly; the
+vertical force is sum_i 2 c_i P_i dy_i. It needs no contact points, branches or jumps.
+
+Prints P from all three over y and the largest jumps; writes
 validation/figures/contact_table_stiffness.png.
 
 Run: python validation/contact_table_stiffness.py [step_mm]   (default 0.05 mm, ~1 min)
@@ -26,9 +34,54 @@ from railvti.contact.wheelset import solve_wheelset
 from railvti.errors import GridTooSmallError
 from railvti.material import STEEL
 from railvti.vehicle.params import Coach
-from railvti.vehicle.table import wheel_table
+from railvti.geometry import layout
+from railvti.vehicle.table import _hertz_unit, rolled_gap, wheel_table
 
 FIG = Path(__file__).resolve().parent / "figures" / "contact_table_stiffness.png"
+#: Curvature ratio bounds of the strip prototype's local Hertz constants, as the table's (with
+#: 1/400..400 the flank comes nearer the BEM, 13 % and 1 % at y = 7 and 7.5 mm, the tread farther).
+STRIP_RATIO = 25.0
+
+
+def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
+    """Vertical interference (m) of the left wheel under the vertical load fz at each lateral
+    shift ys (zero roll) from the strip potential (module docstring)."""
+    lay = layout(wheel, rail)
+    gap, arm_y, _ = rolled_gap(lay, ys, 0.0)
+    width = np.abs(np.gradient(arm_y))
+    out = np.empty(ys.size)
+    for n, y in enumerate(ys):
+        g = gap[n]
+        gmin = g[np.isfinite(g)].min()
+        near = np.isfinite(g) & (g - gmin < 2e-3)
+        yr = np.clip(y + arm_y[near] - lay.rail_offset, rail.y_min, rail.y_max)
+        delta = -np.arctan(rail.slope(yr))
+        a = np.cos(delta) / (2.0 * (lay.wheelset.wheel_radius + wheel.height(lay.ws[near])))
+        b = np.clip(0.5 * (rail.curvature(yr) - wheel.curvature(lay.ws[near])),
+                    a / STRIP_RATIO, a * STRIP_RATIO)
+        kh = _strip_kh(a, b)
+        c = 0.375 * kh * np.sqrt(b) * np.cos(delta) * width[near]
+        e = g[near] - gmin
+        lo, hi = 0.0, 5e-3
+        for _ in range(60):          # bisection on sum 2 c (P - e)+ = fz (monotone in P)
+            p = 0.5 * (lo + hi)
+            if np.sum(2.0 * c * np.maximum(p - e, 0.0)) < fz:
+                lo = p
+            else:
+                hi = p
+        out[n] = 0.5 * (lo + hi)
+    return out
+
+
+def _strip_kh(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hertz's kH (N m^-1.5) for curvatures a, b with the ratio bounds STRIP_RATIO."""
+    import railvti.vehicle.table as tab
+    clip = tab._RATIO_CLIP
+    try:
+        tab._RATIO_CLIP = STRIP_RATIO
+        return _hertz_unit(a, b, STEEL)[2]
+    finally:
+        tab._RATIO_CLIP = clip
 
 
 def main() -> None:
@@ -56,18 +109,27 @@ def main() -> None:
         kv = table.data[6, k, i] * np.cos(delta[n]) ** 2.5
         # the lower of the two slots carries the load; P measured from its first touch
         p_tab[n] = (fz / kv) ** (2.0 / 3.0)
+    p_strip = strip_interference(wheel, rail, ys, fz)
     print(f"wheel load {fz / 1e3:.1f} kN, BEM dx = dy = 0.5 mm, step {step * 1e3:.3f} mm")
-    print("   y mm   P table um   P BEM um   contact angle rad")
+    print("   y mm   P table um   P BEM um   P strip um   contact angle rad")
     for n in range(0, ys.size, max(1, int(round(0.5e-3 / step)))):
-        print(f"{ys[n] * 1e3:7.3f} {p_tab[n] * 1e6:11.1f} {p_bem[n] * 1e6:10.1f} {delta[n]:10.4f}")
-    for name, p in (("table", p_tab), ("BEM", p_bem)):
+        print(f"{ys[n] * 1e3:7.3f} {p_tab[n] * 1e6:11.1f} {p_bem[n] * 1e6:10.1f} "
+              f"{p_strip[n] * 1e6:11.1f} {delta[n]:10.4f}")
+    ok = np.isfinite(p_bem)
+    for name, p in (("table", p_tab), ("strip", p_strip)):
+        d = np.abs(p - p_bem)[ok] / p_bem[ok]
+        tread = (ys[ok] <= 5e-3)
+        print(f"{name} against the BEM: max {d[tread].max() * 100:.1f} % for y <= 5 mm, "
+              f"max {d.max() * 100:.1f} % over the table")
+    for name, p in (("table", p_tab), ("BEM", p_bem), ("strip", p_strip)):
         j = int(np.nanargmax(np.abs(np.diff(p))))
         print(f"largest step of P between neighbouring y, {name}: {np.diff(p)[j] * 1e6:+.1f} um "
               f"at y = {ys[j] * 1e3:.3f} -> {ys[j + 1] * 1e3:.3f} mm")
-    _plot(ys, p_tab, p_bem, fz)
+    _plot(ys, p_tab, p_bem, p_strip, fz)
 
 
-def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, fz: float) -> None:
+def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, p_strip: np.ndarray,
+          fz: float) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -76,6 +138,7 @@ def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, fz: float) -> No
         m = (ys >= lo - 1e-12) & (ys <= hi + 1e-12)
         ax.plot(ys[m] * 1e3, p_tab[m] * 1e6, label="table: Hertz at the lowest point, (Fz / kv)^(2/3)")
         ax.plot(ys[m] * 1e3, p_bem[m] * 1e6, label="BEM, whole patch (gaps: patch wider than its grid)")
+        ax.plot(ys[m] * 1e3, p_strip[m] * 1e6, "--", label="strip potential (prototype, no points)")
         ax.set_xlabel("lateral shift of the wheelset y, mm")
         ax.set_ylabel("vertical interference P under the load, um")
         ax.grid(alpha=0.3)
