@@ -1,0 +1,55 @@
+"""Model FR against RR: wall time and peak memory of hunting at 300 km/h (issue 14's speed
+acceptance: FR with Hertz + FASTSIM, 10 s at 300 km/h, under 4x RR's wall time at the
+default truncation).
+
+Each case runs in its own subprocess (the peak resident memory is then the case's own):
+RR, FR at the default selection (k_max 2 / 800 Hz, its default step h omega_max <= 2) and
+FR at k_max 1 / 300 Hz (the truncation study's choice for steady scenes). All from the
+scenario's 4 mm start, Hertz + FASTSIM, one run each; compare figures of one invocation
+only (the machine is shared).
+
+    .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s]      # default 10 s
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+CASES = (("RR", {}), ("FR", {}), ("FR", {"k_max": 1, "f_max": 300.0}))
+
+_CHILD = """
+import json, resource, sys, time
+from railvti import scenarios
+model, kw, dur = sys.argv[1], json.loads(sys.argv[2]), float(sys.argv[3])
+t0 = time.perf_counter()
+r = scenarios.hunting(300.0, model, "hertz-fastsim", duration=dur, progress=False, **kw)
+wall = time.perf_counter() - t0
+print(json.dumps({"wall": wall, "amp": scenarios.amplitude(r), "steps": r.stats["steps"],
+                  "newton": r.stats["newton_iterations"], "n_state": int(r.q.shape[1]),
+                  "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def main() -> None:
+    dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
+    print(f"hunting 300 km/h from 4 mm, Hertz + FASTSIM, {dur:g} s simulated, one run each "
+          "(wall time includes building the model and the static solve)")
+    out = []
+    for model, kw in CASES:
+        p = subprocess.run([sys.executable, "-c", _CHILD, model, json.dumps(kw), str(dur)],
+                           capture_output=True, text=True, check=True)
+        out.append(json.loads(p.stdout.strip().splitlines()[-1]))
+    rr = out[0]["wall"]
+    print(f"{'model':28s} {'wall s':>7s} {'x RR':>5s} {'steps':>6s} {'Newton/step':>11s} "
+          f"{'state':>5s} {'peak RSS MB':>11s} {'amplitude mm':>12s}")
+    for (model, kw), o in zip(CASES, out):
+        name = model + (f" k_max {kw['k_max']} / {kw['f_max']:.0f} Hz" if kw else
+                        (" (default selection)" if model == "FR" else ""))
+        print(f"{name:28s} {o['wall']:7.1f} {o['wall'] / rr:5.1f} {o['steps']:6d} "
+              f"{o['newton'] / max(o['steps'], 1):11.2f} {o['n_state']:5d} {o['rss_mb']:11.0f} "
+              f"{o['amp'] * 1e3:12.3f}")
+
+
+if __name__ == "__main__":
+    main()
