@@ -9,6 +9,12 @@ scenario's 4 mm start, Hertz + FASTSIM, one run each; compare figures of one inv
 only (the machine is shared).
 
     .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s]      # default 10 s
+    .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s]  # BEM 0.75 mm, default 0.1 s
+
+The BEM mode: centred running at 200 km/h with the BEM on all eight wheels from the BEM's
+static state (more Newton iterations than the scenario's default, as
+validation/vehicle_fr_vs_rr.py), RR and FR at the default selection: the real-time factor
+(wall time per simulated second) of the time loop alone.
 """
 from __future__ import annotations
 
@@ -31,7 +37,44 @@ print(json.dumps({"wall": wall, "amp": scenarios.amplitude(r), "steps": r.stats[
 """
 
 
+_BEM_CHILD = """
+import json, resource, sys, time
+from railvti import scenarios
+from railvti.vehicle import simulate, static_equilibrium
+from railvti.vehicle.simulate import bem_state
+model, dur = sys.argv[1], float(sys.argv[2])
+v = 200.0 / 3.6
+sy = scenarios.coach_system(model, speed_kmh=200.0) if model == "FR" else scenarios.coach_system()
+h = scenarios._default_step(sy)
+with bem_state(sy) as st:
+    q, qd, _ = static_equilibrium(sy, v, "bem", bem=st, return_velocity=True, tol=1e-9, maxit=200)
+    t0 = time.perf_counter()
+    r = simulate(sy, v, dur, q0=q, v0=qd, h=h, contact="bem", bem=st, progress=False)
+    wall = time.perf_counter() - t0
+print(json.dumps({"wall": wall, "h": h, "steps": r.stats["steps"],
+                  "newton": r.stats["newton_iterations"],
+                  "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def bem(dur: float) -> None:
+    print(f"centred running 200 km/h, BEM 0.75 mm on all eight wheels, {dur:g} s simulated "
+          "(time loop only)")
+    print(f"{'model':22s} {'h ms':>6s} {'wall s':>7s} {'RTF':>6s} {'Newton/step':>11s} "
+          f"{'peak RSS MB':>11s}")
+    for model in ("RR", "FR"):
+        p = subprocess.run([sys.executable, "-c", _BEM_CHILD, model, str(dur)],
+                           capture_output=True, text=True, check=True)
+        o = json.loads(p.stdout.strip().splitlines()[-1])
+        name = model + (" (default selection)" if model == "FR" else "")
+        print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
+              f"{o['newton'] / max(o['steps'], 1):11.2f} {o['rss_mb']:11.0f}")
+
+
 def main() -> None:
+    if sys.argv[1:2] == ["bem"]:
+        bem(float(sys.argv[2]) if len(sys.argv) > 2 else 0.1)
+        return
     dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
     print(f"hunting 300 km/h from 4 mm, Hertz + FASTSIM, {dur:g} s simulated, one run each "
           "(wall time includes building the model and the static solve)")
