@@ -12,6 +12,10 @@
   run stops within about that. SIGKILL leaves the previous complete file (or none) and at
   most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
+* A case with a long time history streams it (railvti.stream) to a temporary file beside the
+  output as it runs; its datasets are copied into the case's group when the case is written,
+  and the file is deleted then (also after an error or a signal). SIGKILL during such a case
+  leaves the previous complete file and that stream file (``.NAME.PID.XXXX.tmp``).
 
 Exit status of ``railvti run`` (:data:`EXIT_CODES`).
 """
@@ -33,6 +37,7 @@ from .casetypes import CaseOutput
 from .deck import Case
 from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
+from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SECONDS
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 
 log = logging.getLogger("railvti")
@@ -184,7 +189,10 @@ def estimate(case: Case) -> Estimate:
             lo, hi = _num(p, "speeds_kmh_min", 160.0), _num(p, "speeds_kmh_max", 440.0)
             runs = max(1.0, (hi - lo) / max(_num(p, "speeds_kmh_step", 20.0), 1e-9) + 1.0)
         per_step = _STEP_SECONDS.get(str(p.get("contact")), _STEP_SECONDS_DEFAULT)
-        return Estimate(memory=duration / output_dt * _OUTPUT_BYTES,
+        kept = duration
+        if runs == 1.0 and history_bytes(duration, output_dt) > stream_threshold():
+            kept = min(duration, STREAM_TAIL_SECONDS + 1.0)   # streamed: the tail and a chunk
+        return Estimate(memory=kept / output_dt * _OUTPUT_BYTES,
                         seconds=runs * duration / h * per_step)
     if t in ("normal", "rolling"):
         n = _num(p, "nx", 0.0) * _num(p, "ny", 0.0)
@@ -235,16 +243,43 @@ class RunReport:
     interrupted: str | None = None
 
 
-def partial_output(res: Any) -> CaseOutput | None:
+def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
+    """Datasets and labels of an interrupted run's streamed history: every dataset of the
+    stream (t, q, v and the per-wheel histories), referenced for copying."""
+    from .vehicle.cases import WHEEL_UNITS
+    labels = res._save_attrs()
+    nw = res.wheel.shape[-1]
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
+                 "wheelset": [f"ws{w + 1}" for w in range(nw)]}
+    units = {"t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
+             "y_ws1": "m", "vy_ws1": "m/s", "ws_y": "m"}
+    data = {}
+    for name in stream.names():
+        unit = units.get(name) or WHEEL_UNITS.get(name.removeprefix("wheel_"), "1")
+        data[name] = (stream.streamed(name), unit)
+        if name.startswith("wheel_"):
+            labels[name] = per_wheel
+    labels["ws_y"] = {"axes": ["t", "wheelset"], "wheelset": per_wheel["wheelset"]}
+    return data, {k: v for k, v in labels.items() if k in data}
+
+
+def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | None:
     """The time history an interrupted vehicle run had completed (its exception's
-    ``partial`` SimulationResult) as a CaseOutput, or None."""
+    ``partial`` SimulationResult) as a CaseOutput, or None. A history streamed to the case's
+    ``stream`` (``res.streamed``) is referenced there whole (the SimulationResult holds only
+    its tail)."""
     if res is None or not hasattr(res, "_save_attrs"):
         return None
     from .vehicle.cases import STAT_UNITS
-    labels = res._save_attrs()
-    data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
-            "v": (res.v, "m/s or rad/s (per dof_names)"),
-            "wheel": (res.wheel, "per quantity: see quantity_units")}
+    hs = stream.stream if stream is not None else None
+    if getattr(res, "streamed", "") and hs is not None and res.streamed == hs.where:
+        hs.close()
+        data, labels = _streamed_partial(res, hs)
+    else:
+        labels = res._save_attrs()
+        data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
+                "v": (res.v, "m/s or rad/s (per dof_names)"),
+                "wheel": (res.wheel, "per quantity: see quantity_units")}
     scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
                if isinstance(v, (int, float))}
     t_end = float(res.t[-1]) if len(res.t) else 0.0
@@ -252,15 +287,18 @@ def partial_output(res: Any) -> CaseOutput | None:
                       datasets=data, scalars=scalars, attrs=labels)
 
 
-def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
+def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -> CaseRecord:
     """Run one case; any exception becomes the record's error (with its traceback),
-    a signal the record's ``interrupted``."""
+    a signal the record's ``interrupted``. With ``stream`` the case may stream a long time
+    history to it (railvti.stream.case_stream); the stream is closed on return (the caller
+    writes the record, then removes the stream file)."""
     t0 = time.perf_counter()
+    active = stream.active() if stream is not None else contextlib.nullcontext()
     try:
-        with guard.live():
+        with active, guard.live():
             output = case.case_type.run(case.params)
     except KeyboardInterrupt as exc:    # Interrupted, or Ctrl-C without the guard's handler
-        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None)),
+        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None), stream),
                           interrupted=getattr(exc, "signame", "SIGINT"),
                           wall_time=time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
@@ -268,6 +306,9 @@ def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
         log.error("%s failed:\n%s", case.label, tb.rstrip())
         return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
                           wall_time=time.perf_counter() - t0)
+    finally:
+        if stream is not None:
+            stream.close()
     return CaseRecord(case, output=output, wall_time=time.perf_counter() - t0)
 
 
@@ -325,8 +366,13 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             if progress is not None:
                 progress(case)
             announce(case, write)
-            rec = run_case(case, guard)
-            if not _store(writer, rec, out, write):
+            stream = CaseStream(out)
+            try:
+                rec = run_case(case, guard, stream)
+                stored = _store(writer, rec, out, write)
+            finally:
+                stream.remove()
+            if not stored:
                 report.status = EXIT_OUTPUT
                 return report
             if rec.interrupted:

@@ -20,6 +20,7 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
+from ..stream import case_stream, history_bytes
 from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -162,6 +163,20 @@ def _history(res, data: dict, scalars: dict) -> None:
     return ws.line()
 
 
+def _stream_derived() -> dict:
+    """The full-length datasets of :func:`_history` computed from each block of a streamed
+    history (railvti.stream), so that a streamed case stores what an in-memory one does."""
+    def col(src: str, name: str):
+        return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]
+
+    def ws_y(b, a):
+        names = list(a["q"]["dof_names"])
+        return b["q"][:, [names.index(f"ws{w + 1}_y") for w in range(b["wheel"].shape[-1])]]
+    out = {"y_ws1": col("q", "ws1_y"), "vy_ws1": col("v", "ws1_y"), "ws_y": ws_y}
+    out.update({f"wheel_{n}": (lambda b, a, i=i: b["wheel"][:, i]) for i, n in enumerate(WHEEL_OUTPUTS)})
+    return out
+
+
 def _patch(pt, data: dict, scalars: dict) -> None:
     """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse, or the BEM
     fields with contact='bem')."""
@@ -189,9 +204,13 @@ def run(params: dict[str, Any]) -> CaseOutput:
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text")}
+    # a long history streams to the runner's file (railvti.stream; docs/results.md)
+    out_dt = params["output_dt"] if scen == "hunting" else 0.01
+    stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
+                          derived=_stream_derived()) if scen != "critical_speed" else None)
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach)
+                               h=params["h"], coach=coach, stream_to=stream)
         wl = _history(c.run, data, scalars)
         final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
                  "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
@@ -207,7 +226,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach)
+                       output_dt=params["output_dt"], coach=coach, stream_to=stream)
         wl = _history(r, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
@@ -245,6 +264,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
                    f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
+    if stream is not None:
+        data = stream.substitute(data)
     data, labels = split_labels(data)
     return CaseOutput(summary=summary, datasets=data, scalars=scalars, attrs=labels)
 
