@@ -29,6 +29,7 @@ import stat
 import threading
 import time
 import traceback
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
@@ -73,14 +74,38 @@ class Interrupted(KeyboardInterrupt):
         self.signame = signame
 
 
+#: Seconds after which a signal is sent again when the Interrupted it raised was swallowed
+#: (raised inside a weakref callback or a __del__, where Python prints "Exception ignored"
+#: and goes on: h5py's object registry does this while a history streams).
+RESEND_SECONDS = 0.25
+
+
+def _swallows(frame: Any, depth: int = 3) -> bool:
+    """Whether an exception raised in ``frame`` would be swallowed: a weakref callback or a
+    ``__del__`` among the innermost ``depth`` frames (Python prints it and goes on)."""
+    for _ in range(depth):
+        if frame is None:
+            return False
+        code = frame.f_code
+        if code.co_name == "__del__" or code.co_filename == weakref.__file__:
+            return True
+        frame = frame.f_back
+    return False
+
+
 class SignalGuard:
     """SIGINT and SIGTERM raise :class:`Interrupted` only inside :meth:`live` (while a case
     computes); elsewhere (writing the file, between cases) they are held in ``pending`` and
-    the runner stops at its next check. Restores the previous handlers on exit."""
+    the runner stops at its next check. Restores the previous handlers on exit.
+
+    If the case is still inside :meth:`live` :data:`RESEND_SECONDS` after the signal (the
+    exception was swallowed), the signal is sent again."""
 
     def __init__(self) -> None:
         self.pending: str | None = None
         self._live = False
+        self._inside = False
+        self._timer: threading.Timer | None = None
         self._old: dict[int, Any] = {}
 
     def __enter__(self) -> "SignalGuard":
@@ -96,10 +121,25 @@ class SignalGuard:
 
     def _handler(self, signum: int, frame: Any) -> None:
         name = signal.Signals(signum).name
+        if self._live and _swallows(frame):
+            self._resend_later(signum, 0.01)    # raise it once out of the callback
+            return
         if self._live:
             self._live = False
+            self._resend_later(signum, RESEND_SECONDS)
             raise Interrupted(name)
         self.pending = self.pending or name
+
+    def _resend_later(self, signum: int, delay: float) -> None:
+        def again() -> None:
+            if self._inside:            # the Interrupted was swallowed: raise it again
+                self._live = True
+                os.kill(os.getpid(), signum)
+        if self._timer is not None:
+            self._timer.cancel()
+        self._timer = threading.Timer(delay, again)
+        self._timer.daemon = True
+        self._timer.start()
 
     @contextlib.contextmanager
     def live(self) -> Iterator[None]:
@@ -107,10 +147,15 @@ class SignalGuard:
         if self.pending:
             raise Interrupted(self.pending)
         self._live = True
+        self._inside = True
         try:
             yield
         finally:
             self._live = False
+            self._inside = False
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
 
 
 def check_output(out: Path, deck: Path | None = None, force: bool = False) -> None:
