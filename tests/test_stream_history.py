@@ -25,8 +25,8 @@ STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 def test_a_streamed_run_stores_the_numbers_of_the_run_kept_in_memory(tmp_path):
     full = sc.hunting(300.0, duration=1.0, progress=False)
     path = tmp_path / "stream.h5"
-    tail = sc.hunting(300.0, duration=1.0, progress=False, stream_to=path, stream_tail=0.05,
-                      chunk=0.1)
+    tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=path, stream_tail=0.05,
+                      chunk=0.1)          # 0.1 s per Fortran call, the tail two calls
     with h5py.File(path, "r") as f:
         g = f["history"]
         for name in ("t", "q", "v", "wheel"):
@@ -128,17 +128,13 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path]:
 
 
 def _wait_for_stream(proc: subprocess.Popen, folder: Path, out: Path, timeout: float = 90.0) -> None:
-    """Until case 1 is in the file and case 2's stream file holds a few seconds of history."""
+    """Until case 1 is in the file and case 2 has streamed its first blocks."""
     t0 = time.monotonic()
     while time.monotonic() - t0 < timeout:
         tmp = [p for p in folder.iterdir() if p.name.endswith(".tmp")]
-        if out.exists() and tmp:
-            try:
-                with h5py.File(tmp[0], "r", locking=False) as f:
-                    if f["history"].attrs.get("rows", 0) > 2000:
-                        return
-            except (OSError, KeyError):
-                pass
+        if out.exists() and tmp and tmp[0].stat().st_size > 0:   # the first block is written
+            time.sleep(1.0)
+            return
         assert proc.poll() is None, proc.communicate()
         time.sleep(0.1)
     proc.kill()
@@ -161,7 +157,7 @@ def test_an_interrupted_streamed_case_leaves_a_valid_file(tmp_path):
         g = f["002_long"]
         assert str(g.attrs["status"]).startswith("interrupted: SIGINT")
         t = g["t"][()]
-        assert len(t) > 2000 and np.all(np.diff(t) > 0)
+        assert len(t) > 200 and np.all(np.diff(t) > 0)
         assert t[-1] == pytest.approx(g["stat_interrupted_at"][()])
         for name in ("q", "v", "y_ws1", "wheel_Q"):
             assert g[name].shape[0] == len(t), name
