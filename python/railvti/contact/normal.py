@@ -161,7 +161,7 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
     istate = np.zeros(5, dtype=np.int32)
     approach = np.array(app_in, dtype=np.float64)
     resid = np.array(0.0, dtype=np.float64)
-    budget, start = 4, 1
+    budget, start = 1, 1           # iterations in the next slice: one, then adapted
     while True:
         t0 = time.perf_counter()
         fn_out, done, info = core.normal_cg_slice_c(handle, h, control, method, tol, max_iter, fn_in,
