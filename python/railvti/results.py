@@ -220,15 +220,15 @@ COPY_BLOCK_BYTES = 16 * 2**20
 
 
 def _copy_streamed(g: h5py.Group, name: str, ref: Streamed) -> h5py.Dataset:
-    """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, compressed as the
-    datasets written whole are (gzip 4), in blocks of :data:`COPY_BLOCK_BYTES`: memory
-    stays bounded whatever its length."""
+    """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, chunked and
+    compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
+    :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length."""
     with h5py.File(ref.path, "r") as src:
         s = src[ref.name]
         n = s.shape[0]
         opts = {"compression": "gzip", "compression_opts": 4} if s.size > 16 else {}
-        d = g.create_dataset(name, shape=s.shape, dtype=s.dtype, maxshape=s.maxshape,
-                             chunks=s.chunks, **opts)
+        d = g.create_dataset(name, shape=s.shape, dtype=s.dtype,   # chunks as a whole write's
+                             **(dict(opts, chunks=True) if opts else {}))
         step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
         for i in range(0, n, step):
             d[i:i + step] = s[i:i + step]
