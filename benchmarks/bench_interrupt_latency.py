@@ -19,6 +19,8 @@ import time
 
 SETUP = """
 import sys
+import signal
+signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
 from railvti import STEEL
 from railvti._native import core
 from railvti.contact import Grid

@@ -42,6 +42,8 @@ def test_cg_in_slices_equals_one_call(monkeypatch, method, control):
 
 LONG_SOLVE = """
 import sys
+import signal
+signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
 from railvti import STEEL
 from railvti.contact import Grid
 from railvti.contact.hertz import hertz_gap

@@ -20,6 +20,8 @@ from railvti.contact.rolling import solve_rolling
 
 LONG_ROLLING = """
 import time
+import signal
+signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
 from railvti import STEEL
 from railvti.contact import Grid
 from railvti.contact.hertz import hertz_gap

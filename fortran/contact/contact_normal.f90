@@ -7,7 +7,9 @@
 !>
 !> Two solvers:
 !>   normal_cg  projected conjugate gradients with FFT products
-!>              (Polonsky & Keer, Wear 231, 1999, sect. 3);
+!>              (Polonsky & Keer, Wear 231, 1999, sect. 3); also resumable in
+!>              slices of iterations (normal_cg_begin, normal_cg_steps), the
+!>              iterate held by the caller;
 !>   normal_gs  projected Gauss-Seidel, p_i <- max(0, p_i - e_i / A_ii)
 !>              (eq. 23), with force scaling after each sweep when the
 !>              force is prescribed; also resumable in slices of work

@@ -8,8 +8,10 @@
   the same parameters) and runs the others.
 * SIGINT (Ctrl-C) and SIGTERM stop the run: the case running is marked 'interrupted' in the
   file, the completed ones are kept, no temporary file is left. The long Fortran loops are
-  called in slices of ~0.1-0.2 s (Gauss-Seidel normal contact, the vehicle time loop), so a
-  run stops within about that. SIGKILL leaves the previous complete file (or none) and at
+  called in slices of ~0.1-0.2 s (Gauss-Seidel and CG normal contact, the vehicle time loop),
+  and the steady rolling call runs in a worker thread while the main thread waits for
+  signals (railvti.contact.workspace.call_interruptibly), so a run stops within about that
+  (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous complete file (or none) and at
   most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
 * A case with a long time history streams it (railvti.stream) to a temporary file beside the
