@@ -43,8 +43,11 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path, Path]:
     deck = tmp_path / "deck.nml"
     deck.write_text(DECK)
     out = tmp_path / "out.h5"
+    # SIGINT back to its default in the child: a suite started in the background (SIGINT
+    # ignored) would pass the ignore on, and Python then installs no KeyboardInterrupt handler
     proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     return proc, deck, out
 
 
@@ -131,6 +134,8 @@ def test_an_interrupted_vehicle_run_keeps_its_history():
     from railvti.batch import partial_output
 
     sc.hunting(300.0, duration=0.01)                       # build the contact table first
+    # interrupt_main does nothing while SIGINT is ignored (a suite started in the background)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(1.5, _thread.interrupt_main)
     timer.start()
     try:
@@ -138,6 +143,7 @@ def test_an_interrupted_vehicle_run_keeps_its_history():
             sc.hunting(300.0, duration=60.0, progress=False)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     part = info.value.partial
     n = len(part.t)
     assert n > 10 and part.stats["interrupted_at"] == part.t[-1]

@@ -219,3 +219,54 @@ subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, f
     info = stat
     if (.not. fin) info = STAT_OK
 end subroutine normal_gs_slice_c
+
+!> One slice of a resumable projected CG solve (contact_normal's normal_cg_begin /
+!> normal_cg_steps): start = 1 begins from the pressure in p; start = 0 goes on from
+!> the state (p, u, t, rstate, istate, approach, resid) of the previous slice. Each slice runs at
+!> most budget iterations (one or two FFT products each), so Python can show progress
+!> and stop between slices; the numbers are those of normal_solve_c with the same
+!> method (1 with, 3 without the preconditioner). done = 1 when the solve has finished,
+!> info then as for normal_solve_c (STAT_OK while done = 0); iters, nprod: istate(2), istate(3).
+subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, fn_in, budget, &
+                             start, approach, p, u, t, rstate, istate, resid, fn_out, done, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
+    use contact_plans, only: workspace, ws_get
+    use contact_normal, only: normal_cg_begin, normal_cg_steps, CONTROL_FORCE, CONTROL_APPROACH
+    implicit none
+    integer(c_int), intent(in) :: handle, nx, ny, control, method, max_iter, budget, start
+    real(c_double), intent(in) :: h(nx, ny), tol, fn_in
+    real(c_double), intent(inout) :: approach, p(nx, ny), u(nx, ny), t(nx, ny), rstate(2), resid
+    integer(c_int), intent(inout) :: istate(5)
+    real(c_double), intent(out) :: fn_out
+    integer(c_int), intent(out) :: done, info
+    type(workspace), pointer :: w
+    integer :: ist(5), stat
+    logical :: fin
+
+    fn_out = fn_in
+    done = 1
+    if ((control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) .or. (method /= 1 .and. method /= 3)) then
+        info = STAT_BAD_ARGUMENT
+        return
+    end if
+    w => ws_get(handle, nx, ny)
+    if (.not. associated(w)) then
+        info = STAT_BAD_HANDLE
+        return
+    end if
+    ist = istate
+    w%plan%has_prec = method == 1
+    fin = .false.
+    stat = STAT_OK
+    if (start == 1) call normal_cg_begin(w%plan, 1, h, w%dx * w%dy, control, fn_out, approach, p, &
+                                         u, t, rstate, ist, resid, stat, fin)
+    if (.not. fin) call normal_cg_steps(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, &
+                                        approach, tol, max_iter, max(budget, 1), p, u, t, rstate, ist, &
+                                        resid, stat, fin)
+    w%plan%has_prec = .true.
+    istate = ist
+    done = merge(1, 0, fin)
+    info = stat
+    if (.not. fin) info = STAT_OK
+end subroutine normal_cg_slice_c

@@ -20,6 +20,7 @@ subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, m
     use contact_plans, only: workspace, ws_get
     use contact_rolling, only: rolling_steady
     implicit none
+    !f2py threadsafe
     integer(c_int), intent(in) :: handle, nx, ny, method, nblock, ninner, max_iter
     real(c_double), intent(in) :: p(nx, ny), x0, y0, xi, eta, phi, mu, speed, tol
     real(c_double), intent(inout) :: tx(nx, ny), ty(nx, ny)

@@ -7,7 +7,9 @@
 !>
 !> Two solvers:
 !>   normal_cg  projected conjugate gradients with FFT products
-!>              (Polonsky & Keer, Wear 231, 1999, sect. 3);
+!>              (Polonsky & Keer, Wear 231, 1999, sect. 3); also resumable in
+!>              slices of iterations (normal_cg_begin, normal_cg_steps), the
+!>              iterate held by the caller;
 !>   normal_gs  projected Gauss-Seidel, p_i <- max(0, p_i - e_i / A_ii)
 !>              (eq. 23), with force scaling after each sweep when the
 !>              force is prescribed; also resumable in slices of work
@@ -25,6 +27,7 @@ module contact_normal
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
     public :: normal_cg, normal_gs, normal_gs_start, normal_gs_resume, normal_residual
+    public :: normal_cg_begin, normal_cg_steps, CG_RSTATE, CG_ISTATE
 
     integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
     !> Exact product every this many CG steps, against drift of the recurrence.
@@ -32,6 +35,9 @@ module contact_normal
     !> Up to this many changed elements, u is corrected column by column
     !> (O(N) each) rather than by an FFT product (O(N log N)).
     integer, parameter :: MAX_COLUMNS = 24
+    !> Sizes of the scalar state of a resumable CG solve: rs = (gold, shift),
+    !> is = (it, iters, nprod, conjugate, exact) (logicals as 0/1).
+    integer, parameter :: CG_RSTATE = 2, CG_ISTATE = 5
 
 contains
 
@@ -73,38 +79,96 @@ contains
         real(dp), intent(inout) :: p(:, :)
         integer, intent(out) :: iters, nprod, info
         real(dp), intent(out) :: resid
-        real(dp), allocatable :: u(:, :), g(:, :), t(:, :), z(:, :)
-        real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg, gk, zk, tk, rk
-        real(dp) :: sr, srt, st, sgt, psum, pk, pn, dk, cd(MAX_COLUMNS)
-        integer :: ci(MAX_COLUMNS), cj(MAX_COLUMNS)
-        logical :: conjugate, exact, force, prec
-        integer :: nc, nol, it, nd, i, j, nx, ny, m
+        real(dp), allocatable :: u(:, :), t(:, :)
+        real(dp) :: rs(CG_RSTATE)
+        integer :: is(CG_ISTATE)
+        logical :: done
+
+        allocate (u, t, mold=h)
+        call normal_cg_begin(plan, kz, h, area_el, control, fn, approach, p, u, t, rs, is, &
+                             resid, info, done)
+        if (.not. done) call normal_cg_steps(plan, kz, c, h, area_el, control, fn, approach, tol, &
+                                             max_iter, huge(1), p, u, t, rs, is, resid, info, done)
+        iters = is(2)
+        nprod = is(3)
+    end subroutine normal_cg
+
+    !> The start of a resumable projected CG solve (normal_cg = normal_cg_begin, then
+    !> normal_cg_steps until done): the no-contact test, the initial pressure and
+    !> u = A p, and the state (t, rs, is) of iteration 0. done: the solve has
+    !> finished already (STAT_NO_CONTACT).
+    subroutine normal_cg_begin(plan, kz, h, area_el, control, fn, approach, p, u, t, rs, is, &
+                               resid, info, done)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, control
+        real(dp), intent(in) :: h(:, :), area_el
+        real(dp), intent(inout) :: fn, approach, p(:, :)
+        real(dp), intent(out) :: u(:, :), t(:, :), rs(CG_RSTATE), resid
+        integer, intent(out) :: is(CG_ISTATE), info
+        logical, intent(out) :: done
+        real(dp) :: scale
+        integer :: nprod
+        logical :: force
 
         info = STAT_OK
-        iters = 0
-        nprod = 0
         resid = huge(1.0_dp)
+        nprod = 0
         force = control == CONTROL_FORCE
-        prec = plan%has_prec
-        nx = size(h, 1)
-        ny = size(h, 2)
-        allocate (u, g, t, z, mold=h)
-
-        if (no_contact(control, h, approach, p, fn, resid, info)) return
-
+        u = 0.0_dp
+        t = 0.0_dp
+        rs = [1.0_dp, approach]
+        is = [0, 0, 0, 0, 1]
+        done = no_contact(control, h, approach, p, fn, resid, info)
+        if (done) return
         call initial_pressure(plan, kz, h, force, approach, p, u, nprod)
         if (force) then
             scale = fn / (area_el * sum(p))
             p = scale * p
             u = scale * u
         end if
+        is(3) = nprod
+    end subroutine normal_cg_begin
 
-        exact = .true.
-        conjugate = .false.
-        gold = 1.0_dp
-        t = 0.0_dp
-        shift = approach
-        do it = 0, max_iter
+    !> Up to budget iterations of a resumable projected CG solve from the state
+    !> (p, u = A p or its recurrence, t, rs, is) that normal_cg_begin or the previous
+    !> call left; the numbers are those of one normal_cg call. done: finished, with
+    !> fn or approach, resid and info final (info STAT_OK while not done).
+    subroutine normal_cg_steps(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
+                               budget, p, u, t, rs, is, resid, info, done)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, control, max_iter, budget
+        real(dp), intent(in) :: c(0:, 0:)     ! coefficients of kernel kz (influence_field layout)
+        real(dp), intent(in) :: h(:, :), area_el, tol
+        real(dp), intent(inout) :: fn, approach
+        real(dp), intent(inout) :: p(:, :), u(:, :), t(:, :), rs(CG_RSTATE), resid
+        integer, intent(inout) :: is(CG_ISTATE)
+        integer, intent(out) :: info
+        logical, intent(out) :: done
+        real(dp), allocatable :: g(:, :), z(:, :)
+        real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg, gk, zk, tk, rk
+        real(dp) :: sr, srt, st, sgt, psum, pk, pn, dk, cd(MAX_COLUMNS)
+        integer :: ci(MAX_COLUMNS), cj(MAX_COLUMNS)
+        logical :: conjugate, exact, force, prec
+        integer :: nc, nol, it, nd, i, j, nx, ny, m, iters, nprod, steps
+
+        info = STAT_OK
+        done = .false.
+        force = control == CONTROL_FORCE
+        prec = plan%has_prec
+        nx = size(h, 1)
+        ny = size(h, 2)
+        allocate (g, z, mold=h)
+        gold = rs(1)
+        shift = rs(2)
+        it = is(1)
+        iters = is(2)
+        nprod = is(3)
+        conjugate = is(4) == 1
+        exact = is(5) == 1
+        steps = 0
+        do while (it <= max_iter)
+            if (steps >= budget) exit
+            steps = steps + 1
             ! pass 1: the contact set's size and, under force control, its mean gap
             ! (the approach is the Lagrange multiplier of the force constraint)
             nc = 0
@@ -149,15 +213,20 @@ contains
             resid = 0.0_dp
             if (sb > 0.0_dp) resid = sqrt(sv / sb)
             if (resid <= tol) then
-                if (exact) exit
+                if (exact) then
+                    done = .true.
+                    exit
+                end if
                 ! confirm on an exact product before stopping
                 call conv_apply(plan, kz, p, u)
                 nprod = nprod + 1
                 exact = .true.
+                it = it + 1
                 cycle
             end if
             if (it == max_iter) then
                 info = STAT_NOT_CONVERGED
+                done = .true.
                 exit
             end if
             iters = it + 1
@@ -222,6 +291,7 @@ contains
             if (force) rt = srt - sr / max(nc, 1) * st
             if (rt <= 0.0_dp) then
                 info = STAT_NOT_CONVERGED
+                done = .true.
                 exit
             end if
             tau = sgt / rt
@@ -260,6 +330,7 @@ contains
             if (force) then
                 if (psum <= 0.0_dp) then
                     info = STAT_NOT_CONVERGED
+                    done = .true.
                     exit
                 end if
                 scale = fn / (area_el * psum)
@@ -288,8 +359,13 @@ contains
                 end if
                 exact = .false.
             end if
+            it = it + 1
         end do
+        if (it > max_iter) done = .true.
 
+        rs = [gold, shift]
+        is = [it, iters, nprod, merge(1, 0, conjugate), merge(1, 0, exact)]
+        if (.not. done) return
         if (force) then
             approach = shift
         else
@@ -297,7 +373,7 @@ contains
         end if
         if (info == STAT_OK .and. resid > tol) info = STAT_NOT_CONVERGED
         if (info == STAT_OK .and. any(p /= p)) info = STAT_NOT_FINITE
-    end subroutine normal_cg
+    end subroutine normal_cg_steps
 
     !> A cold start when p is all zero: p proportional to the interpenetration
     !> of the rigid surfaces, scaled to the best fit of A p = delta - h on it.

@@ -8,10 +8,16 @@
   the same parameters) and runs the others.
 * SIGINT (Ctrl-C) and SIGTERM stop the run: the case running is marked 'interrupted' in the
   file, the completed ones are kept, no temporary file is left. The long Fortran loops are
-  called in slices of ~0.1-0.2 s (Gauss-Seidel normal contact, the vehicle time loop), so a
-  run stops within about that. SIGKILL leaves the previous complete file (or none) and at
+  called in slices of ~0.1-0.2 s (Gauss-Seidel and CG normal contact, the vehicle time loop),
+  and the steady rolling call runs in a worker thread while the main thread waits for
+  signals (railvti.contact.workspace.call_interruptibly), so a run stops within about that
+  (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous complete file (or none) and at
   most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
+* A case with a long time history streams it (railvti.stream) to a temporary file beside the
+  output as it runs; its datasets are copied into the case's group when the case is written,
+  and the file is deleted then (also after an error or a signal). SIGKILL during such a case
+  leaves the previous complete file and that stream file (``.NAME.PID.XXXX.tmp``).
 
 Exit status of ``railvti run`` (:data:`EXIT_CODES`).
 """
@@ -25,6 +31,7 @@ import stat
 import threading
 import time
 import traceback
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
@@ -33,6 +40,7 @@ from .casetypes import CaseOutput
 from .deck import Case
 from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
+from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SECONDS
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 
 log = logging.getLogger("railvti")
@@ -68,14 +76,38 @@ class Interrupted(KeyboardInterrupt):
         self.signame = signame
 
 
+#: Seconds after which a signal is sent again when the Interrupted it raised was swallowed
+#: (raised inside a weakref callback or a __del__, where Python prints "Exception ignored"
+#: and goes on: h5py's object registry does this while a history streams).
+RESEND_SECONDS = 0.25
+
+
+def _swallows(frame: Any, depth: int = 3) -> bool:
+    """Whether an exception raised in ``frame`` would be swallowed: a weakref callback or a
+    ``__del__`` among the innermost ``depth`` frames (Python prints it and goes on)."""
+    for _ in range(depth):
+        if frame is None:
+            return False
+        code = frame.f_code
+        if code.co_name == "__del__" or code.co_filename == weakref.__file__:
+            return True
+        frame = frame.f_back
+    return False
+
+
 class SignalGuard:
     """SIGINT and SIGTERM raise :class:`Interrupted` only inside :meth:`live` (while a case
     computes); elsewhere (writing the file, between cases) they are held in ``pending`` and
-    the runner stops at its next check. Restores the previous handlers on exit."""
+    the runner stops at its next check. Restores the previous handlers on exit.
+
+    If the case is still inside :meth:`live` :data:`RESEND_SECONDS` after the signal (the
+    exception was swallowed), the signal is sent again."""
 
     def __init__(self) -> None:
         self.pending: str | None = None
         self._live = False
+        self._inside = False
+        self._timer: threading.Timer | None = None
         self._old: dict[int, Any] = {}
 
     def __enter__(self) -> "SignalGuard":
@@ -91,10 +123,25 @@ class SignalGuard:
 
     def _handler(self, signum: int, frame: Any) -> None:
         name = signal.Signals(signum).name
+        if self._live and _swallows(frame):
+            self._resend_later(signum, 0.01)    # raise it once out of the callback
+            return
         if self._live:
             self._live = False
+            self._resend_later(signum, RESEND_SECONDS)
             raise Interrupted(name)
         self.pending = self.pending or name
+
+    def _resend_later(self, signum: int, delay: float) -> None:
+        def again() -> None:
+            if self._inside:            # the Interrupted was swallowed: raise it again
+                self._live = True
+                os.kill(os.getpid(), signum)
+        if self._timer is not None:
+            self._timer.cancel()
+        self._timer = threading.Timer(delay, again)
+        self._timer.daemon = True
+        self._timer.start()
 
     @contextlib.contextmanager
     def live(self) -> Iterator[None]:
@@ -102,10 +149,15 @@ class SignalGuard:
         if self.pending:
             raise Interrupted(self.pending)
         self._live = True
+        self._inside = True
         try:
             yield
         finally:
             self._live = False
+            self._inside = False
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
 
 
 def check_output(out: Path, deck: Path | None = None, force: bool = False) -> None:
@@ -184,7 +236,10 @@ def estimate(case: Case) -> Estimate:
             lo, hi = _num(p, "speeds_kmh_min", 160.0), _num(p, "speeds_kmh_max", 440.0)
             runs = max(1.0, (hi - lo) / max(_num(p, "speeds_kmh_step", 20.0), 1e-9) + 1.0)
         per_step = _STEP_SECONDS.get(str(p.get("contact")), _STEP_SECONDS_DEFAULT)
-        return Estimate(memory=duration / output_dt * _OUTPUT_BYTES,
+        kept = duration
+        if runs == 1.0 and history_bytes(duration, output_dt) > stream_threshold():
+            kept = min(duration, STREAM_TAIL_SECONDS + 1.0)   # streamed: the tail and a chunk
+        return Estimate(memory=kept / output_dt * _OUTPUT_BYTES,
                         seconds=runs * duration / h * per_step)
     if t in ("normal", "rolling"):
         n = _num(p, "nx", 0.0) * _num(p, "ny", 0.0)
@@ -235,16 +290,43 @@ class RunReport:
     interrupted: str | None = None
 
 
-def partial_output(res: Any) -> CaseOutput | None:
+def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
+    """Datasets and labels of an interrupted run's streamed history: every dataset of the
+    stream (t, q, v and the per-wheel histories), referenced for copying."""
+    from .vehicle.cases import WHEEL_UNITS
+    labels = res._save_attrs()
+    nw = res.wheel.shape[-1]
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
+                 "wheelset": [f"ws{w + 1}" for w in range(nw)]}
+    units = {"t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
+             "y_ws1": "m", "vy_ws1": "m/s", "ws_y": "m"}
+    data = {}
+    for name in stream.names():
+        unit = units.get(name) or WHEEL_UNITS.get(name.removeprefix("wheel_"), "1")
+        data[name] = (stream.streamed(name), unit)
+        if name.startswith("wheel_"):
+            labels[name] = per_wheel
+    labels["ws_y"] = {"axes": ["t", "wheelset"], "wheelset": per_wheel["wheelset"]}
+    return data, {k: v for k, v in labels.items() if k in data}
+
+
+def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | None:
     """The time history an interrupted vehicle run had completed (its exception's
-    ``partial`` SimulationResult) as a CaseOutput, or None."""
+    ``partial`` SimulationResult) as a CaseOutput, or None. A history streamed to the case's
+    ``stream`` (``res.streamed``) is referenced there whole (the SimulationResult holds only
+    its tail)."""
     if res is None or not hasattr(res, "_save_attrs"):
         return None
     from .vehicle.cases import STAT_UNITS
-    labels = res._save_attrs()
-    data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
-            "v": (res.v, "m/s or rad/s (per dof_names)"),
-            "wheel": (res.wheel, "per quantity: see quantity_units")}
+    hs = stream.stream if stream is not None else None
+    if getattr(res, "streamed", "") and hs is not None and res.streamed == hs.where:
+        hs.close()
+        data, labels = _streamed_partial(res, hs)
+    else:
+        labels = res._save_attrs()
+        data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
+                "v": (res.v, "m/s or rad/s (per dof_names)"),
+                "wheel": (res.wheel, "per quantity: see quantity_units")}
     scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
                if isinstance(v, (int, float))}
     t_end = float(res.t[-1]) if len(res.t) else 0.0
@@ -252,15 +334,18 @@ def partial_output(res: Any) -> CaseOutput | None:
                       datasets=data, scalars=scalars, attrs=labels)
 
 
-def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
+def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -> CaseRecord:
     """Run one case; any exception becomes the record's error (with its traceback),
-    a signal the record's ``interrupted``."""
+    a signal the record's ``interrupted``. With ``stream`` the case may stream a long time
+    history to it (railvti.stream.case_stream); the stream is closed on return (the caller
+    writes the record, then removes the stream file)."""
     t0 = time.perf_counter()
+    active = stream.active() if stream is not None else contextlib.nullcontext()
     try:
-        with guard.live():
+        with active, guard.live():
             output = case.case_type.run(case.params)
     except KeyboardInterrupt as exc:    # Interrupted, or Ctrl-C without the guard's handler
-        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None)),
+        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None), stream),
                           interrupted=getattr(exc, "signame", "SIGINT"),
                           wall_time=time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
@@ -268,6 +353,9 @@ def run_case(case: Case, guard: SignalGuard) -> CaseRecord:
         log.error("%s failed:\n%s", case.label, tb.rstrip())
         return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
                           wall_time=time.perf_counter() - t0)
+    finally:
+        if stream is not None:
+            stream.close()
     return CaseRecord(case, output=output, wall_time=time.perf_counter() - t0)
 
 
@@ -325,8 +413,13 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             if progress is not None:
                 progress(case)
             announce(case, write)
-            rec = run_case(case, guard)
-            if not _store(writer, rec, out, write):
+            stream = CaseStream(out)
+            try:
+                rec = run_case(case, guard, stream)
+                stored = _store(writer, rec, out, write)
+            finally:
+                stream.remove()
+            if not stored:
                 report.status = EXIT_OUTPUT
                 return report
             if rec.interrupted:

@@ -34,6 +34,15 @@ class _Required:
 REQUIRED: Any = _Required()
 
 
+@dataclass(frozen=True)
+class Streamed:
+    """A dataset a case streamed to a file while it ran (railvti.stream): ``name`` (its HDF5
+    path) in the file ``path``; copied into the case's group when the case is written."""
+
+    path: str
+    name: str
+
+
 @dataclass
 class CaseOutput:
     """What one case returns to the runner.
@@ -44,6 +53,7 @@ class CaseOutput:
         One line for the console.
     datasets : dict
         name -> (array, unit string); written as HDF5 datasets with a ``units`` attribute.
+        The array may be a :class:`Streamed` reference (a history streamed to a file).
     scalars : dict
         name -> (value, unit string); written as attributes of the case's ``results`` group.
     attrs : dict

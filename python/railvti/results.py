@@ -39,7 +39,7 @@ import h5py
 import numpy as np
 
 from . import __version__
-from .casetypes import CaseOutput
+from .casetypes import CaseOutput, Streamed
 from .deck import Case
 from .errors import InputError
 
@@ -215,11 +215,37 @@ def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, di
             {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
 
 
+#: Bytes read at a time when a streamed dataset is copied into a results file.
+COPY_BLOCK_BYTES = 16 * 2**20
+
+
+def _copy_streamed(g: h5py.Group, name: str, ref: Streamed) -> h5py.Dataset:
+    """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, chunked and
+    compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
+    :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length."""
+    with h5py.File(ref.path, "r") as src:
+        s = src[ref.name]
+        n = s.shape[0]
+        opts = {"compression": "gzip", "compression_opts": 4} if s.size > 16 else {}
+        d = g.create_dataset(name, shape=s.shape, dtype=s.dtype,   # chunks as a whole write's
+                             **(dict(opts, chunks=True) if opts else {}))
+        step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
+        for i in range(0, n, step):
+            d[i:i + step] = s[i:i + step]
+    return d
+
+
 def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None) -> None:
     arr, units = spec[0], spec[1]
     extra = dict(spec[2]) if len(spec) > 2 else {}
     if output is not None:
         extra.update(getattr(output, "attrs", {}).get(name, {}))
+    if isinstance(arr, Streamed):
+        d = _copy_streamed(g, name, arr)
+        d.attrs["units"] = units or "1"
+        for k, v in extra.items():
+            d.attrs[k] = _attr(v)
+        return
     arr = np.asarray(_data(arr))
     units = _unit_text(units, arr)
     if "axes" not in extra and output is not None:

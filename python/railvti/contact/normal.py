@@ -21,6 +21,8 @@ _METHODS = {"cg": 1, "gs": 2, "pk": 3}
 _DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000, "pk": 2000}
 #: Wall time of one slice of the Gauss-Seidel solver, s: Ctrl-C stops a solve within it.
 GS_SLICE_SECONDS = 0.1
+#: Wall time of one slice of the CG solver, s (at least one iteration: ~0.1 s on 1600 x 1600).
+CG_SLICE_SECONDS = 0.1
 #: CG from zero pressure on grids with both sides at least this long starts from
 #: the solution on the grid of twice the element size (nested iteration).
 _NESTED_MIN = 128
@@ -139,12 +141,38 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
     pc, nprod_c = _nested_start(hc, coarse, material, control, fn_in, app_in, method, max_iter)
     if pc is None:
         pc = np.zeros(coarse.shape, order="F")
-    _, _, _, nprod, _, info = core.normal_solve_c(
-        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, 1.0, fn_in, app_in, pc)
+    _, _, _, nprod, _, info = _cg_in_slices(
+        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, fn_in, app_in, pc)
     nprod_c += int(nprod)
     if info not in (Status.OK, Status.NOT_CONVERGED) or not np.isfinite(pc).all() or not (pc > 0.0).any():
         return None, nprod_c
     return _prolong(pc, grid.shape), nprod_c
+
+
+def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: float, max_iter: int,
+                  fn_in: float, app_in: float, p: np.ndarray) -> tuple[float, float, int, int, float, int]:
+    """Projected CG (method 1, or 3 without preconditioner) in slices of about
+    :data:`CG_SLICE_SECONDS` each (``normal_cg_slice_c``; the numbers are those of one
+    ``normal_solve_c`` call): between slices Python handles Ctrl-C / SIGTERM. Returns what
+    ``normal_solve_c`` returns; p is updated in place."""
+    u = np.zeros(h.shape, order="F")
+    t = np.zeros(h.shape, order="F")
+    rstate = np.zeros(2)
+    istate = np.zeros(5, dtype=np.int32)
+    approach = np.array(app_in, dtype=np.float64)
+    resid = np.array(0.0, dtype=np.float64)
+    budget, start = 1, 1           # iterations in the next slice: one, then adapted
+    while True:
+        t0 = time.perf_counter()
+        fn_out, done, info = core.normal_cg_slice_c(handle, h, control, method, tol, max_iter, fn_in,
+                                                     budget, start, approach, p, u, t, rstate, istate,
+                                                     resid)
+        start = 0
+        if done:
+            break
+        dt = time.perf_counter() - t0
+        budget = int(np.clip(budget * CG_SLICE_SECONDS / max(dt, 1e-4), 1, 4 * budget))
+    return float(fn_out), float(approach), int(istate[1]), int(istate[2]), float(resid), int(info)
 
 
 def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter: int,
@@ -286,9 +314,8 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         fn_out, app_out, iters, nprod, resid, info = _gs_in_slices(
             workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p)
     else:
-        fn_out, app_out, iters, nprod, resid, info = core.normal_solve_c(
-            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, omega, fn_in,
-            app_in, p)
+        fn_out, app_out, iters, nprod, resid, info = _cg_in_slices(
+            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, fn_in, app_in, p)
     if info == Status.NO_CONTACT:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NOT_FINITE):

@@ -32,7 +32,7 @@ from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiErr
 from ..material import Material
 from .grid import Grid
 from .normal import NormalResult, solve_normal
-from .workspace import workspace
+from .workspace import call_interruptibly, workspace
 
 log = logging.getLogger(__name__)
 
@@ -217,9 +217,10 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     if inside[-2:, :].any():
         raise GridTooSmallError(_EDGE_MESSAGE)
 
-    status, sx, sy, iters, resid, info = core.rolling_solve_c(
-        workspace(grid, material, tangential=True), p, grid.x0, grid.y0, xi, eta, phi, mu, speed,
-        _METHODS[method], block, inner, tol, max_iter, tx, ty)
+    # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one
+    status, sx, sy, iters, resid, info = call_interruptibly(
+        workspace(grid, material, tangential=True), core.rolling_solve_c, p, grid.x0, grid.y0, xi,
+        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, tx, ty)
     if info == Status.GRID_EDGE:
         raise GridTooSmallError(_EDGE_MESSAGE)
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):

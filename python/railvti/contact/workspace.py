@@ -6,6 +6,8 @@ that grid, so repeated solves (sweeps, time steps) pay the set-up once.
 from __future__ import annotations
 
 import atexit
+import threading
+import time
 from collections import OrderedDict
 
 from .._native import core
@@ -18,8 +20,47 @@ _CACHE_SIZE = 16
 _cache: "OrderedDict[tuple, int]" = OrderedDict()
 
 
+#: Workspaces a Fortran call still uses in a worker thread (:func:`call_interruptibly`).
+_busy: set[int] = set()
+
+#: Seconds between the main thread's checks for signals while a worker thread computes.
+POLL_SECONDS = 0.05
+
+
 def _free(handle: int) -> None:
+    if handle in _busy:         # an interrupted call still runs on it: leave it (freed at exit)
+        return
     core.contact_ws_free_c(handle)
+
+
+def call_interruptibly(handle: int, fn, *args):
+    """``fn(handle, *args)``, an f2py routine that releases the GIL (``!f2py threadsafe``)
+    and works on the workspace ``handle``, run in a worker thread while the main thread
+    waits in steps of :data:`POLL_SECONDS`: Ctrl-C / SIGTERM then raise in the main thread
+    within that, however long the call. The interrupted call runs on to its end in the
+    background (its workspace kept busy: a later call on it waits, and it is not freed);
+    a Fortran call cannot be stopped from outside. Used for the calls that cannot run in
+    resumable slices (the steady rolling solver: its Anderson history and patch set-up)."""
+    while handle in _busy:      # a call interrupted earlier still runs on this workspace
+        time.sleep(POLL_SECONDS)
+    box: dict = {}
+    done = threading.Event()
+
+    def work() -> None:
+        try:
+            box["out"] = fn(handle, *args)
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller's thread
+            box["exc"] = exc
+        finally:
+            _busy.discard(handle)
+            done.set()
+    _busy.add(handle)
+    threading.Thread(target=work, name="railvti-fortran", daemon=True).start()
+    while not done.wait(POLL_SECONDS):
+        pass
+    if "exc" in box:
+        raise box["exc"]
+    return box["out"]
 
 
 def workspace(grid: Grid, material: Material, tangential: bool = False) -> int:

@@ -26,6 +26,7 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
+from ..stream import case_stream, history_bytes
 from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -249,6 +250,20 @@ def _fr_history(res, system, layouts, data: dict) -> None:
          "meaning": "change of the rim-rail angle from the rim's camber (+: inner edge rises)"})
 
 
+def _stream_derived() -> dict:
+    """The full-length datasets of :func:`_history` computed from each block of a streamed
+    history (railvti.stream), so that a streamed case stores what an in-memory one does."""
+    def col(src: str, name: str):
+        return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]
+
+    def ws_y(b, a):
+        names = list(a["q"]["dof_names"])
+        return b["q"][:, [names.index(f"ws{w + 1}_y") for w in range(b["wheel"].shape[-1])]]
+    out = {"y_ws1": col("q", "ws1_y"), "vy_ws1": col("v", "ws1_y"), "ws_y": ws_y}
+    out.update({f"wheel_{n}": (lambda b, a, i=i: b["wheel"][:, i]) for i, n in enumerate(WHEEL_OUTPUTS)})
+    return out
+
+
 def _patch(pt, data: dict, scalars: dict) -> None:
     """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse, or the BEM
     fields with contact='bem')."""
@@ -280,9 +295,15 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if fr:
         scalars["k_max"] = (int(fr["k_max"]), "1")
         scalars["f_max"] = (float(fr["f_max"]), "Hz")
+    # a long history streams to the runner's file (railvti.stream; docs/results.md); model FR
+    # keeps its history in memory (its modal datasets are derived from the whole run)
+    out_dt = params["output_dt"] if scen == "hunting" else 0.01
+    stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
+                          derived=_stream_derived())
+              if scen != "critical_speed" and not fr else None)
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach, **fr)
+                               h=params["h"], coach=coach, stream_to=stream, **fr)
         wl = _history(c.run, data, scalars)
         if fr:
             _fr_history(c.run, *sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr), data)
@@ -300,7 +321,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach, **fr)
+                       output_dt=params["output_dt"], coach=coach, stream_to=stream, **fr)
         wl = _history(r, data, scalars)
         sy = (sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr) if fr
               else (sc.coach_system(model, coach), []))
@@ -345,6 +366,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
                    f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
+    if stream is not None:
+        data = stream.substitute(data)
     data, labels = split_labels(data)
     return CaseOutput(summary=summary, datasets=data, scalars=scalars, attrs=labels)
 

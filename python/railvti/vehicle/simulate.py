@@ -8,10 +8,13 @@ real-time factor) and to let Ctrl-C / SIGTERM stop a run between chunks.
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import time
 from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Iterator
 
 import numpy as np
 
@@ -19,6 +22,7 @@ from .. import _checks
 from .._status import Status, check, error
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from ..resources import check_memory
+from ..stream import STREAM_TAIL_SECONDS, HistoryStream
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
@@ -109,6 +113,10 @@ class SimulationResult:
     flange_angle : float
         Flange angle of the wheel profile, rad (:func:`flange_angle`: the largest contact
         angle of the table's flange point on the flange side), for Nadal's limit.
+    streamed : str
+        '' for a history kept in memory; for a run streamed to HDF5 (``stream_to``), the
+        'FILE::GROUP' holding the whole history: ``t``, ``q``, ``v`` and ``wheel`` here
+        then hold only its last ``stream_tail`` seconds.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -126,6 +134,7 @@ class SimulationResult:
     bem_patches: dict | None = None
     friction: float = float("nan")
     flange_angle: float = float("nan")
+    streamed: str = ""
 
     def save(self, path) -> "Path":
         """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
@@ -399,7 +408,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
              maxit: int = 20, maxsub: int = 6, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None,
              bem_options: BemOptions | None = None, bem: BemState | None = None,
-             rtol: float | None = None) -> SimulationResult:
+             rtol: float | None = None, stream_to: "HistoryStream | str | Path | None" = None,
+             stream_tail: float = STREAM_TAIL_SECONDS) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
     Parameters
@@ -453,6 +463,18 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     bem : BemState, optional
         An existing BEM state to use (and leave open, with its warm starts); by default a
         state is made for the run and freed at its end.
+    stream_to : HistoryStream or path, optional
+        Write the history (``t``, ``q``, ``v``, ``wheel``) to HDF5 as the time loop's chunks
+        finish, in resizable chunked datasets (:class:`railvti.stream.HistoryStream`; a path
+        is a new file with the group 'history', closed at the end; a HistoryStream is left
+        open for its owner), and keep in memory only the last ``stream_tail`` seconds: the
+        returned SimulationResult (and an interruption's ``partial``) then holds that tail,
+        and its ``streamed`` names the file and group. The streamed rows equal, to the bit,
+        those of a run kept in memory. For long runs (``railvti run`` streams a case whose
+        history exceeds :func:`railvti.stream.stream_threshold`).
+    stream_tail : float
+        Simulated time kept in memory when streaming, s (default
+        :data:`railvti.stream.STREAM_TAIL_SECONDS`).
 
     Raises
     ------
@@ -475,17 +497,20 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
                             qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st,
-                            rtol=rtol)
+                            rtol=rtol, stream_to=stream_to, stream_tail=stream_tail)
     speed = _checks.positive("speed", speed)
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
     check_modal_step(system, plan.h)
-    _check_history_memory(system, plan)
+    stream_tail = _checks.positive("stream_tail", stream_tail)
+    if stream_to is None:
+        _check_history_memory(system, plan)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
     wall0 = time.perf_counter()
-    res = _integrate(system, cs, plan, q, v, contact)
+    with _open_stream(stream_to) as stream:
+        res = _integrate(system, cs, plan, q, v, contact, stream, stream_tail)
     wall = time.perf_counter() - wall0
     res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
     if bem is not None:
@@ -535,10 +560,25 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
     return q, v
 
 
+@contextlib.contextmanager
+def _open_stream(stream_to: Any) -> Iterator[HistoryStream | None]:
+    """The HistoryStream of ``stream_to``: None, the given stream (left open), or a new one
+    in the file at a path (closed at the end)."""
+    if stream_to is None or isinstance(stream_to, HistoryStream):
+        yield stream_to
+        return
+    if not isinstance(stream_to, (str, Path)):
+        raise InputError(f"stream_to must be a HistoryStream or a path, got {type(stream_to).__name__}")
+    with HistoryStream(stream_to) as stream:
+        yield stream
+
+
 def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: np.ndarray,
-               contact: str) -> SimulationResult:
+               contact: str, stream: HistoryStream | None = None,
+               tail: float = STREAM_TAIL_SECONDS) -> SimulationResult:
     """Run the Fortran time loop from (q, v), with a = M^-1 F(q, v), in chunks (for the
-    progress bar) and gather the output. Raises the exception of a failed step."""
+    progress bar) and gather the output (or stream it, keeping the last ``tail`` seconds).
+    Raises the exception of a failed step."""
     model = system.native
     if system.modal is None:
         f, _, _, _, info = model.force(cs, q, v)
@@ -549,7 +589,10 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
         check(info, "the initial state (q0, v0)")
         a = np.concatenate([np.linalg.solve(system.m, f[:system.n]), f[system.n:]])
     t = np.zeros((), dtype=float)
-    out = _Output(plan.h, plan.load_scale)
+    out = _Output(plan.h, plan.load_scale, stream, tail)
+    if stream is not None:
+        for name, attrs in _stream_attrs(system).items():
+            stream.attrs.setdefault(name, attrs)
     bar = _progress_bar(plan)
     wall0 = time.perf_counter()
     try:
@@ -562,13 +605,14 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
                 plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout)
+            wall_call = time.perf_counter() - tc    # the Fortran call alone (not the writing)
             out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
             if info != Status.OK:
                 raise _run_error(info, float(tfail), plan, system,
                                  out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
                                  int(out.stats[0]))
             done += ns
-            size = _next_chunk(ns, time.perf_counter() - tc, plan)
+            size = _next_chunk(ns, wall_call, plan)
             if bar is not None:
                 bar.update(min(round(ns * plan.h, 6), max(bar.total - bar.n, 0.0)))
                 bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
@@ -612,12 +656,31 @@ def _progress_bar(plan: _Plan):
                 bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim [{elapsed}, {postfix}]")
 
 
-class _Output:
-    """The outputs and statistics of the chunks of one run, gathered."""
+def _stream_attrs(system: System) -> dict[str, dict[str, Any]]:
+    """Units and labels of the streamed t, q, v and wheel (as SimulationResult.save)."""
+    from .cases import WHEEL_UNITS
+    names = list(system.state_names)
+    nw = system.iws.shape[1]
+    return {"t": {"units": "s", "axes": ["t"]},
+            "q": {"units": "m or rad (per dof_names)", "axes": ["t", "state"], "dof_names": names},
+            "v": {"units": "m/s or rad/s (per dof_names)", "axes": ["t", "state"], "dof_names": names},
+            "wheel": {"units": "per quantity: see quantity_units",
+                      "axes": ["t", "quantity", "wheel", "wheelset"],
+                      "quantities": list(WHEEL_OUTPUTS),
+                      "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
+                      "wheel": ["left", "right"], "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
 
-    def __init__(self, h: float, load_scale: float = 1.0) -> None:
+
+class _Output:
+    """The outputs and statistics of the chunks of one run, gathered (or streamed: appended
+    to a HistoryStream, only the chunks of the last ``tail`` seconds kept)."""
+
+    def __init__(self, h: float, load_scale: float = 1.0, stream: HistoryStream | None = None,
+                 tail: float = STREAM_TAIL_SECONDS) -> None:
         self.h = h
         self.load_scale = load_scale
+        self.stream = stream
+        self.tail = tail
         self.t: list[np.ndarray] = []
         self.q: list[np.ndarray] = []
         self.v: list[np.ndarray] = []
@@ -629,16 +692,29 @@ class _Output:
         """Append one chunk's first k outputs (None: those written before a failure)."""
         if k is None:
             k = int(np.count_nonzero(tout > 0))
-        self.t.append(tout[:k])
-        self.q.append(qout[:, :k].T)
-        self.v.append(vout[:, :k].T)
-        self.w.append(np.moveaxis(wout[..., :k], -1, 0))
+        block = {"t": tout[:k], "q": qout[:, :k].T, "v": vout[:, :k].T,
+                 "wheel": np.moveaxis(wout[..., :k], -1, 0)}
+        if self.stream is not None:
+            self.stream.append(block)
+        self.t.append(block["t"])
+        self.q.append(block["q"])
+        self.v.append(block["v"])
+        self.w.append(block["wheel"])
+        if self.stream is not None:
+            self._drop_before(self.t[-1][-1] - self.tail if k else -math.inf)
         self.stats[[0, 1, 3, 4]] += st[[0, 1, 3, 4]]
         self.stats[2] = max(self.stats[2], st[2])
         self.stats[5] = min(self.stats[5], st[5])
         if st[3] > 0:      # the chunk accepted steps: its last residual/correction are the last
             self.stats[[6, 8]] = st[[6, 8]]
         self.stats[[7, 9]] = np.maximum(self.stats[[7, 9]], st[[7, 9]])
+
+    def _drop_before(self, t0: float) -> None:
+        """Forget the oldest chunks while the next one still starts at or before t0 (they are
+        in the stream)."""
+        while len(self.t) > 1 and (not len(self.t[1]) or self.t[1][0] <= t0):
+            for lst in (self.t, self.q, self.v, self.w):
+                del lst[0]
 
     def named_stats(self) -> dict:
         """The run statistics of SimulationResult.stats (without the wall time)."""
@@ -657,7 +733,8 @@ class _Output:
             t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
             wheel=np.concatenate(self.w), dof_names=system.state_names, speed=speed,
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
-            flange_angle=flange_angle(system.table))
+            flange_angle=flange_angle(system.table),
+            streamed=self.stream.where if self.stream is not None else "")
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,

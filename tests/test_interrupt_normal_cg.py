@@ -1,0 +1,71 @@
+"""Ctrl-C inside the CG normal solver (issue 16 item 2): the solver runs in resumable slices
+(``normal_cg_slice_c``) whose numbers are those of one call, and SIGINT stops a long solve
+within about a slice (0.1 s) instead of at the end of the Fortran call."""
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from railvti import STEEL
+from railvti._native import core
+from railvti.contact import Grid
+from railvti.contact import normal as normal_mod
+from railvti.contact.hertz import hertz_gap
+
+
+@pytest.mark.parametrize("method", ["cg", "pk"])
+@pytest.mark.parametrize("control", ["fn", "approach"])
+def test_cg_in_slices_equals_one_call(monkeypatch, method, control):
+    """Slices of one iteration give the pressures, force, approach, iteration and product
+    counts of one normal_solve_c call, to the bit (nested start included: 160 x 160)."""
+    g = Grid(160, 160, 0.15e-3, 0.15e-3)
+    gap = hertz_gap(g, 1.0, 1.6)
+    kw = {"fn": 1e4} if control == "fn" else {"approach": 2e-5}
+    monkeypatch.setattr(normal_mod, "CG_SLICE_SECONDS", 1e-9)       # one iteration per slice
+    sliced = normal_mod.solve_normal(gap, g, STEEL, method=method, **kw)
+
+    def one_call(handle, h, ctrl, meth, tol, max_iter, fn_in, app_in, p):
+        return core.normal_solve_c(handle, h, ctrl, meth, tol, max_iter, 1.0, fn_in, app_in, p)
+    monkeypatch.setattr(normal_mod, "_cg_in_slices", one_call)
+    whole = normal_mod.solve_normal(gap, g, STEEL, method=method, **kw)
+    assert np.array_equal(sliced.pressure, whole.pressure)
+    assert (sliced.fn, sliced.approach, sliced.residual) == (whole.fn, whole.approach, whole.residual)
+    assert (sliced.iterations, sliced.fft_products, sliced.coarse_fft_products) == \
+        (whole.iterations, whole.fft_products, whole.coarse_fft_products)
+    assert sliced.iterations > 5
+
+
+LONG_SOLVE = """
+import sys
+import signal
+signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
+from railvti import STEEL
+from railvti.contact import Grid
+from railvti.contact.hertz import hertz_gap
+from railvti.contact.normal import solve_normal
+g = Grid(500, 500, 48e-6, 48e-6)
+gap = hertz_gap(g, 1.0, 1.6)
+print("ready", flush=True)
+solve_normal(gap, g, STEEL, method="pk", fn=1e5, tol=1e-12, max_iter=100000)
+print("finished", flush=True)
+"""
+
+
+def test_sigint_stops_a_long_cg_solve_within_a_second():
+    """Unpreconditioned CG on 500 x 500 to 1e-12 (~10 s): SIGINT 1.5 s into the solve."""
+    proc = subprocess.Popen([sys.executable, "-c", LONG_SOLVE], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "ready"
+    time.sleep(1.5)
+    assert proc.poll() is None
+    t0 = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=60)
+    latency = time.monotonic() - t0
+    assert "finished" not in stdout and "KeyboardInterrupt" in stderr
+    assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
