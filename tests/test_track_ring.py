@@ -117,6 +117,38 @@ def test_generalized_forces_continuous_and_periodic(ring8):
     assert np.sum(s1 ** 2 / ring8.lam) == pytest.approx(np.sum(s2 ** 2 / ring8.lam), rel=1e-8)
 
 
+_MIRROR = np.diag([1.0, -1.0, 1.0, -1.0])
+
+
+def _head_compliances(ring, x):
+    h1, h2 = ring.head_shapes(x, 1), ring.head_shapes(x, 2)
+    return (h1 / ring.lam) @ h1.T, _MIRROR @ ((h2 / ring.lam) @ h2.T) @ _MIRROR
+
+
+def test_rails_mirror_each_other(ring8):
+    """The ring's lateral axis: rail 1 at y = -d/2, rail 2 at +d/2, y to the right (the
+    vehicle's y points to the left: docs/track.md). The track is symmetric about y = 0, so
+    rail 1's static head compliance is rail 2's mirrored, G1 = M G2 M with
+    M = diag(1, -1, 1, -1) over (x, y, z, roll): the lateral displacement and the roll about x
+    change sign under y -> -y. Basis-free (degenerate cyclic pairs may mix). Checked here:
+    the diagonal and the lateral-roll coupling (the vertical-roll one: next test)."""
+    for x in (0.0, 0.13, 0.31):
+        g1, g2m = _head_compliances(ring8, x)
+        scale = np.abs(g1).max()
+        for i, j in ((0, 0), (1, 1), (2, 2), (3, 3), (1, 3), (1, 2)):
+            assert g1[i, j] == pytest.approx(g2m[i, j], abs=1e-4 * scale), (x, i, j)
+
+
+@pytest.mark.xfail(strict=True, reason="known defect (session 7): the rails' vertical-roll head "
+                   "compliance does not mirror (flat rails: -5.4e-4 against -1.33e-3 of the roll "
+                   "compliance), as if both rails were the same section translated, not mirrored "
+                   "(docs/track.md, 'Limits')")
+def test_rails_mirror_vertical_roll_coupling(ring8):
+    """The vertical-roll entry of the mirror test above: G1[z, roll] = -G2[z, roll]."""
+    g1, g2m = _head_compliances(ring8, 0.13)
+    assert g1[2, 3] == pytest.approx(g2m[2, 3], rel=0.02)
+
+
 @pytest.mark.parametrize("kw, msg", [
     (dict(pad_stiffness_vertical=-1e8), "pad_stiffness_vertical"),
     (dict(sleeper_mass=-10.0), "sleeper_mass"),
