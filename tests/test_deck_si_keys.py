@@ -93,3 +93,13 @@ def test_alias_bounds_are_the_keys_converted():
     """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m."""
     with pytest.raises(InputError, match=r"key 'y_max' = 0\.06 is outside \[-0\.05, 0\.05\] m"):
         parse_deck(GEOMETRY_MM.replace("y_max_mm = 4.0", "y_max_mm = 60.0"))
+
+
+def test_track_arc_step_is_metres_with_an_mm_alias():
+    """arc_step (m) and arc_step_mm give the same case; an old deck's mm value is refused."""
+    base = "&case\n type = 'track_element', name = 't'\n n_sleepers = 16\n {}\n/\n"
+    (si,) = parse_deck(base.format("arc_step = 0.015"))
+    (mm,) = parse_deck(base.format("arc_step_mm = 15.0"))
+    assert si.params == mm.params and si.params["arc_step"] == 0.015
+    with pytest.raises(InputError, match=r"key 'arc_step' = 8.*arc_step_mm takes mm"):
+        parse_deck(base.format("arc_step = 8.0"))
