@@ -58,9 +58,8 @@ def main() -> None:
     if args.only in (None, "decks"):
         wheel = profiles.read(profiles.example_path("MBench_S1002_v3.prw"))
         rail = profiles.read(profiles.example_path("MBench_UIC60_v3.prr"))
-        calls = [lambda p=p: solve_wheelset(wheel, rail, p["y_mm"] * 1e-3, p["yaw_mrad"] * 1e-3, p["fz"], p["mu"],
-                                            p["speed"], mat, p["dx_mm"] * 1e-3, omega=p["omega"],
-                                            roll=p["roll_mrad"] * 1e-3)
+        calls = [lambda p=p: solve_wheelset(wheel, rail, p["y"], p["yaw"], p["fz"], p["mu"],
+                                            p["speed"], mat, p["dx"], omega=p["omega"], roll=p["roll"])
                  for p in _deck_cases()]
         _time("decks' kinematics (roll, omega prescribed)", calls)
     wheel, rail = profiles.s1002(), profiles.uic60()

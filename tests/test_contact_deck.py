@@ -60,16 +60,16 @@ def test_a22_decks_read_as_the_benchmark_defines_them():
         for k, c in enumerate(cases):
             p = c.params
             assert p["side"] == side
-            assert p["y_mm"] == pytest.approx(-0.5 * k)
-            assert p["yaw_mrad"] == pytest.approx(-1.2 * k)
+            assert p["y"] == pytest.approx(-0.5e-3 * k)
+            assert p["yaw"] == pytest.approx(-1.2e-3 * k)
             assert p["fz"] == 1.0e4 and p["mu"] == 0.3 and p["speed"] == 2.0
-            assert p["shear_modulus"] == 82.0e9 and p["poisson"] == 0.28 and p["dx_mm"] == 0.2 and p["dy_mm"] == 0.2
-            assert p["gauge_mm"] == 1435.0 and p["gauge_depth_mm"] == 14.0
-            assert p["back_to_back_mm"] == 1360.0 and p["contact_offset_mm"] == 70.0 and p["radius_mm"] == 460.0
+            assert p["shear_modulus"] == 82.0e9 and p["poisson"] == 0.28 and p["dx"] == 0.2e-3 and p["dy"] == 0.2e-3
+            assert p["gauge"] == 1.435 and p["gauge_depth"] == 0.014
+            assert p["back_to_back"] == 1.36 and p["contact_offset"] == 0.07 and p["radius"] == 0.46
             assert Path(p["rail"]).name == "MBench_UIC60_v3.prr" and Path(p["rail"]).is_file()
         # position 13 (y = 6 mm), as the deck gives it
         p = cases[12].params
-        assert p["roll_mrad"] == pytest.approx(-0.6272) and p["omega"] == pytest.approx(4.3293718)
+        assert p["roll"] == pytest.approx(-0.6272e-3) and p["omega"] == pytest.approx(4.3293718)
         assert [c.params["store_fields"] for c in cases].count(1) == 3
 
 
@@ -77,7 +77,7 @@ def test_angles_in_degrees_and_comments(tmp_path):
     """'90d' is 90 degrees; '%' starts a comment anywhere; commas separate values."""
     text = CASE.replace("0.0072  0.0", "0.0072d, 0.0  % yaw in degrees").replace("  0.30  0.30 ", "0.30,0.30 ")
     p = read_contact_deck(_deck(tmp_path, text))[0].params
-    assert p["yaw_mrad"] == pytest.approx(-np.radians(0.0072) * 1e3)
+    assert p["yaw"] == pytest.approx(-np.radians(0.0072))
     assert p["mu"] == 0.3
 
 
@@ -164,12 +164,12 @@ def test_a22_one_patch_per_wheel_and_balanced_with_tangential_forces(a22_small):
             assert fz == pytest.approx(1.0e4, rel=1e-5), name
             assert r["fz"][w] == pytest.approx(1.0e4, rel=1e-5)
             assert r["omega"] == inp["omega"]
-            if inp["y_mm"] == 0.0:
+            if inp["y"] == 0.0:
                 # no roll, no yaw: xi = (V - omega r) / V_ref, V_ref = (V + omega r) / 2
                 omr = inp["omega"] * r["rolling_radius"][w, 0]
                 assert r["xi"][w, 0] == pytest.approx((2.0 - omr) / (0.5 * (2.0 + omr)), abs=1e-9)
             assert "FN" in summary and "CKSI" in summary and "PEN" in summary and "elements" in summary
-            if side == "right" and inp["y_mm"] <= -6.5:
+            if side == "right" and inp["y"] <= -6.5e-3:
                 assert ang[0] > 0.9 and abs(fn[0] * np.cos(ang[0]) / 1.0e4 - 1) > 0.2   # the flange
 
 
@@ -202,7 +202,8 @@ def test_wheel_rail_case_in_a_namelist_deck(tmp_path):
     h5 = tmp_path / "wr.h5"
     assert main(["run", str(deck), "-o", str(h5), "-q"]) == 0
     r, inp, summary = _cases(h5)["001_both_free"]
-    assert inp["side"] == "both" and inp["roll_mrad"] == "none"
+    assert inp["side"] == "both" and inp["roll"] == "none"
+    assert inp["y"] == pytest.approx(-3.0e-3) and inp["yaw"] == pytest.approx(-7.2e-3)   # the mm / mrad aliases, in SI
     assert np.all(np.isfinite(r["fn"][:, 0])) and np.all(np.isnan(r["fn"][:, 1:]))
     assert r["fz"] == pytest.approx([1.0e4, 1.0e4], rel=1e-5)
     scale = 0.3 * np.nansum(r["fn"] * r["rolling_radius"])

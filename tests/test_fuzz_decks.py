@@ -160,9 +160,9 @@ WHY = [
     ("friction-2", deck("rolling").replace("mu = 0.3", "mu = 2.0"), ["key 'mu'", "(0, 1]"]),
     ("ring-3-sleepers", deck("track_receptance").replace("16", "3"), ["key 'n_sleepers'", "[8, 1024]"]),
     ("ymin-above-ymax", deck("geometry_table", "y_min_mm = 5.0, y_max_mm = -5.0"),
-     ["y_min_mm = 5", "y_max_mm = -5"]),
+     ["y_min = 0.005", "y_max = -0.005"]),
     ("ymin-above-ymax-loaded", deck("loaded_wheelset", "y_min_mm = 3.0").replace("y_max_mm = 1.0", "y_max_mm = 0.5"),
-     ["y_min_mm = 3", "< y_max_mm"]),
+     ["y_min = 0.003", "< y_max"]),
     ("curvatures-and-semiaxes", deck("rolling", "semi_a = 3e-3, semi_b = 2e-3"), ["gap_a, gap_b", "not both"]),
     ("name-slash", deck("normal", name="a/b"), ["key 'name'", "'a/b'", "safe"]),
     ("name-20000", deck("normal", name="x" * 20000), ["key 'name'", "20000 characters", "at most 64"]),
@@ -305,8 +305,8 @@ CONSISTENCY = [
     ("rolling-semiaxes-two-bumps", deck("rolling", "semi_a = 3e-3, semi_b = 2e-3, gap = 'two_bumps', "
                                         "bump_separation = 1e-3").replace("gap_a = 1.0, gap_b = 1.0, ", ""),
      ["'hertz' gap only"]),
-    ("table-equal-ends", deck("geometry_table", "y_min_mm = 1.0, y_max_mm = 1.0"), ["y_min_mm = 1", "or n = 1"]),
-    ("loaded-field-outside", deck("loaded_wheelset", "field_at_mm = 5.0"), ["field_at_mm = 5", "[y_min_mm, y_max_mm]"]),
+    ("table-equal-ends", deck("geometry_table", "y_min_mm = 1.0, y_max_mm = 1.0"), ["y_min = 0.001", "or n = 1"]),
+    ("loaded-field-outside", deck("loaded_wheelset", "field_at_mm = 5.0"), ["field_at = 0.005", "[y_min, y_max]"]),
     ("profile-missing", deck("geometry_table", "wheel = 'no_such_profile.prw'"),
      ["key 'wheel'", "no_such_profile.prw", "neither 's1002'"]),
     ("rail-profile-missing", deck("loaded_wheelset", "rail = 'nope.txt'"), ["key 'rail'", "nope.txt"]),
@@ -384,24 +384,25 @@ def test_speed_kmh_alias_converts_to_si():
     assert "speed_kmh" not in case.params
 
 
-def test_si_aliases_of_mm_keys():
-    """SI names of the mm keys convert to them; both names at once are an error."""
+def test_mm_aliases_of_si_keys():
+    """The mm / mrad aliases convert to the SI keys (m, rad, rad/m); the case holds the keys."""
     from railvti.deck import parse_deck
-    (case,) = parse_deck(deck("loaded_wheelset", "y_min = -0.002, y_max = 0.004, dx = 5.0e-4, yaw_per_y = 2.4")
+    (case,) = parse_deck(deck("loaded_wheelset", "y_min_mm = -2.0, y_max_mm = 4.0, dx_mm = 0.5, yaw_mrad_per_mm = 2.4")
                          .replace(", y_max_mm = 1.0", ""))
     p = case.params
-    assert (p["y_min_mm"], p["y_max_mm"], p["dx_mm"], p["yaw_mrad_per_mm"]) == pytest.approx((-2.0, 4.0, 0.5, 2.4))
-    (case,) = parse_deck(deck("wheel_rail", "y = 0.003, yaw = -0.002, gauge = 1.435").replace("y_mm = 1.0,", ""))
-    assert (case.params["y_mm"], case.params["yaw_mrad"], case.params["gauge_mm"]) == pytest.approx((3.0, -2.0, 1435.0))
+    assert (p["y_min"], p["y_max"], p["dx"], p["yaw_per_y"]) == pytest.approx((-2e-3, 4e-3, 5e-4, 2.4))
+    assert not [k for k in p if k.endswith("_mm")]
+    (case,) = parse_deck(deck("wheel_rail", "y = 0.003, yaw_mrad = -2.0, gauge_mm = 1435.0").replace("y_mm = 1.0,", ""))
+    assert (case.params["y"], case.params["yaw"], case.params["gauge"]) == pytest.approx((3e-3, -2e-3, 1.435))
 
 
-def test_si_alias_beside_its_mm_key(tmp_path, capsys):
+def test_mm_alias_beside_its_si_key(tmp_path, capsys):
     expect_error(tmp_path, capsys, deck("geometry_table", "y_min = -0.01, y_min_mm = -10.0"),
                  "'y_min'", "'y_min_mm'", "give one")
 
 
-def test_si_alias_out_of_range_names_the_key_and_bound(tmp_path, capsys):
-    expect_error(tmp_path, capsys, deck("geometry_table", "y_max = 0.2"), "key 'y_max_mm' = 200", "[-50, 50] mm")
+def test_mm_alias_out_of_range_names_the_key_and_bound(tmp_path, capsys):
+    expect_error(tmp_path, capsys, deck("geometry_table", "y_max_mm = 200.0"), "key 'y_max' = 0.2", "[-0.05, 0.05] m")
 
 
 @pytest.mark.parametrize("seed", range(12))

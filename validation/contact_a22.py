@@ -42,12 +42,12 @@ FIG = Path(__file__).parent / "figures"
 def _solve(p: dict, side: str | None, free: bool = False):
     wheel = load_profile(p["wheel"], "wheel", bool(p["wheel_mirror_y"]), p["wheel_scale"])
     rail = load_profile(p["rail"], "rail", bool(p["rail_mirror_y"]), p["rail_scale"], p["cant_rad"])
-    track = TrackLayout(gauge=p["gauge_mm"] * 1e-3, gauge_depth=p["gauge_depth_mm"] * 1e-3)
-    ws = WheelsetGeometry(back_to_back=p["back_to_back_mm"] * 1e-3, wheel_radius=p["radius_mm"] * 1e-3,
-                          contact_offset=p["contact_offset_mm"] * 1e-3)
-    return solve_wheelset(wheel, rail, p["y_mm"] * 1e-3, p["yaw_mrad"] * 1e-3, p["fz"], p["mu"], p["speed"],
-                          Material(shear_modulus=p["shear_modulus"], poisson=p["poisson"]), p["dx_mm"] * 1e-3,
-                          dy=p["dy_mm"] * 1e-3, roll=p["roll_mrad"] * 1e-3, omega=None if free else p["omega"],
+    track = TrackLayout(gauge=p["gauge"], gauge_depth=p["gauge_depth"])
+    ws = WheelsetGeometry(back_to_back=p["back_to_back"], wheel_radius=p["radius"],
+                          contact_offset=p["contact_offset"])
+    return solve_wheelset(wheel, rail, p["y"], p["yaw"], p["fz"], p["mu"], p["speed"],
+                          Material(shear_modulus=p["shear_modulus"], poisson=p["poisson"]), p["dx"],
+                          dy=p["dy"], roll=p["roll"], omega=None if free else p["omega"],
                           side=side, track=track, wheelset=ws)
 
 
@@ -62,9 +62,9 @@ def main() -> None:
     if args.dx:
         for cases in decks.values():
             for p in cases:
-                p.update(dx_mm=args.dx, dy_mm=args.dx)
+                p.update(dx=args.dx * 1e-3, dy=args.dx * 1e-3)
     n = len(decks["left"])
-    y_mm = -np.array([p["y_mm"] for p in decks["left"]])       # the benchmark's y: to the right
+    y_mm = -np.array([p["y"] for p in decks["left"]]) * 1e3    # the benchmark's y: to the right
     sols, times = {}, np.zeros(n)
     for side, cases in decks.items():
         sols[side] = []
@@ -76,7 +76,7 @@ def main() -> None:
     for sl, sr in zip(sols["left"], sols["right"]):    # the two half wheelsets as one solution
         both.append(replace(sl, right=sr.right, fz=(sl.fz[0], sr.fz[1])))
     arr = sweep_arrays(both)
-    print(f"A-2.2 from the CONTACT decks at {decks['left'][0]['dx_mm']} mm: {n} positions, "
+    print(f"A-2.2 from the CONTACT decks at {decks['left'][0]['dx'] * 1e3:g} mm: {n} positions, "
           f"{times.mean() * 1e3:.0f} ms per position (both wheels, load control and rolling)")
     print(f"{'y mm':>5s} {'wheel':5s} {'y_rail mm':>9s} {'angle':>6s} {'xi':>9s} {'eta':>9s} {'phi 1/m':>8s} "
           f"{'Fn kN':>7s} {'Fx kN':>7s} {'Fy kN':>7s} {'Mz Nm':>7s} {'pmax MPa':>8s} {'elements (adh/slip)':>20s}")

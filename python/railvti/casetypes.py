@@ -164,7 +164,7 @@ class Key:
 class Alias:
     """Another name of a key: an old name (``deprecated``), or the same quantity in another
     unit named by ``unit`` (``factor`` converts a value to the key's unit: 1/3.6 from km/h to
-    m/s, 1000 from m to mm). Aliases are resolved when a deck is read; the case's parameters
+    m/s, 1e-3 from mm to m). Aliases are resolved when a deck is read; the case's parameters
     hold the key."""
 
     key: str

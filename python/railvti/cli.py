@@ -109,7 +109,9 @@ def _cases(args: argparse.Namespace) -> int:
             print(f"    {key:28s} {_default_text(default):>14s}  {unit:8s} {meaning}"
                   + (f"; {bounds}" if bounds else ""))
         for alias, a in ctype.aliases.items():
-            note = "old name, deprecated" if a.deprecated else f"the same in {a.unit} (x {a.factor:.6g})"
+            to = ctype.keys[a.key].unit if a.key in ctype.keys else ""
+            note = ("old name, deprecated" if a.deprecated
+                    else f"the same in {a.unit} (x {a.factor:.6g}" + (f" to {to})" if to else ")"))
             print(f"    {alias:28s} {'':>14s}  {a.unit or '':8s} alias of '{a.key}': {note}")
         print()
     print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "

@@ -3,7 +3,7 @@ wheelset, or both) on its rails with its full kinematics, as a CONTACT module-1 
 
 The CONTACT deck reader (:mod:`railvti.contact.contact_deck`) turns every case of a CONTACT
 ``.inp`` file into a case of this type; a namelist deck may use it directly. Inputs are in
-railvti's conventions (SI units with mm / mrad in the key names; track frame x forward,
+railvti's conventions (SI keys, mm / mrad only as suffixed aliases; track frame x forward,
 y left, z up); the console summary repeats the results in CONTACT's conventions (mm, N,
 forces on the rail, y to the right, z down) for comparison with CONTACT's output.
 """
@@ -24,7 +24,7 @@ from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
-from ..geometry.cases import PAIR_KEYS, profile_problems
+from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
                              sweep_arrays)
 
@@ -84,27 +84,27 @@ def _solve(params: dict[str, Any]) -> WheelsetSolution:
     wheel = load_profile(params["wheel"], "wheel", bool(params["wheel_mirror_y"]), params["wheel_scale"])
     rail = load_profile(params["rail"], "rail", bool(params["rail_mirror_y"]), params["rail_scale"],
                         params["cant_rad"])
-    track = TrackLayout(gauge=_checks.positive("gauge_mm", params["gauge_mm"]) * 1e-3,
-                        gauge_depth=_checks.positive("gauge_depth_mm", params["gauge_depth_mm"]) * 1e-3)
-    ws = WheelsetGeometry(back_to_back=_checks.positive("back_to_back_mm", params["back_to_back_mm"]) * 1e-3,
-                          wheel_radius=_checks.positive("radius_mm", params["radius_mm"]) * 1e-3,
-                          contact_offset=_checks.finite("contact_offset_mm", params["contact_offset_mm"]) * 1e-3)
+    track = TrackLayout(gauge=_checks.positive("gauge", params["gauge"]),
+                        gauge_depth=_checks.positive("gauge_depth", params["gauge_depth"]))
+    ws = WheelsetGeometry(back_to_back=_checks.positive("back_to_back", params["back_to_back"]),
+                          wheel_radius=_checks.positive("radius", params["radius"]),
+                          contact_offset=_checks.finite("contact_offset", params["contact_offset"]))
     mat = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     mu, speed = _checks.non_negative("mu", params["mu"]), _checks.non_negative("speed", params["speed"])
     rolling = mu > 0 and speed > 0
-    roll = params["roll_mrad"]
-    roll = None if roll is None else _checks.finite("roll_mrad", roll) * 1e-3
+    roll = params["roll"]
+    roll = None if roll is None else _checks.finite("roll", roll)
     omega = _checks.non_negative("omega", params["omega"])
     kin = {}
     if rolling:
         kin = dict(omega=omega if omega > 0 else None,
                    lateral_velocity=params["lateral_velocity"], vertical_velocity=params["vertical_velocity"],
                    roll_rate=params["roll_rate"], yaw_rate=params["yaw_rate"])
-    return solve_wheelset(wheel, rail, _checks.finite("y_mm", params["y_mm"]) * 1e-3,
-                          _checks.finite("yaw_mrad", params["yaw_mrad"]) * 1e-3, params["fz"],
+    return solve_wheelset(wheel, rail, _checks.finite("y", params["y"]),
+                          _checks.finite("yaw", params["yaw"]), params["fz"],
                           mu if rolling else None, speed if rolling else None, mat,
-                          _checks.positive("dx_mm", params["dx_mm"]) * 1e-3,
-                          dy=_checks.positive("dy_mm", params["dy_mm"]) * 1e-3, roll=roll,
+                          _checks.positive("dx", params["dx"]),
+                          dy=_checks.positive("dy", params["dy"]), roll=roll,
                           side=None if side == "both" else side, track=track, wheelset=ws, **kin)
 
 
@@ -145,15 +145,16 @@ def run(params: dict[str, Any]) -> CaseOutput:
     Keys: side ('left' or 'right': that wheel as a half wheelset, CONTACT's module 1; 'both');
     wheel, rail (profile: 's1002', 'uic60' or a file), wheel_mirror_y, rail_mirror_y (0/1),
     wheel_scale, rail_scale (factors to the file's length unit: mm for plain files),
-    cant_rad (extra rail rotation towards the track centre, rad); gauge_mm, gauge_depth_mm,
-    back_to_back_mm, contact_offset_mm (tread datum from the flange back), radius_mm;
-    y_mm (lateral shift, to the left), yaw_mrad, roll_mrad (prescribed roll, positive raises
+    cant_rad (extra rail rotation towards the track centre, rad); gauge, gauge_depth,
+    back_to_back, contact_offset (tread datum from the flange back), radius (m);
+    y (lateral shift, to the left, m), yaw, roll (rad; prescribed roll, positive raises
     the left wheel; none: load-controlled, 'both' only), fz (vertical load per wheel, N:
     normal and tangential contact forces); speed (m/s), omega (rad/s about the axle, > 0
     rolling forward; 0: free rolling, 'both' only), lateral_velocity, vertical_velocity
     (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu = 0 or speed = 0: normal
-    contact only), shear_modulus (Pa), poisson, dx_mm, dy_mm; store_fields (1: keep each
+    contact only), shear_modulus (Pa), poisson, dx, dy (m); store_fields (1: keep each
     patch's pressure and tractions); origin (where the case comes from, for messages).
+    The suffixed aliases (``gauge_mm``..., ``yaw_mrad``, ``roll_mrad``) are converted on reading.
     """
     try:
         params = validate("wheel_rail", params)
@@ -198,16 +199,16 @@ DEFAULTS: dict[str, Any] = {
     "side": "both", "wheel": str(P.example_path("MBench_S1002_v3.prw")),
     "rail": str(P.example_path("MBench_UIC60_v3.prr")), "wheel_mirror_y": 0, "rail_mirror_y": 0,
     "wheel_scale": 1.0, "rail_scale": 1.0, "cant_rad": 0.0,
-    "gauge_mm": 1435.0, "gauge_depth_mm": 14.0, "back_to_back_mm": 1360.0, "contact_offset_mm": 70.0,
-    "radius_mm": 460.0, "y_mm": 0.0, "yaw_mrad": 0.0, "roll_mrad": None, "fz": 1.0e4,
+    "gauge": 1.435, "gauge_depth": 0.014, "back_to_back": 1.36, "contact_offset": 0.07,
+    "radius": 0.46, "y": 0.0, "yaw": 0.0, "roll": None, "fz": 1.0e4,
     "speed": 2.0, "omega": 0.0, "lateral_velocity": 0.0, "vertical_velocity": 0.0, "roll_rate": 0.0,
-    "yaw_rate": 0.0, "mu": 0.3, "shear_modulus": 82.0e9, "poisson": 0.28, "dx_mm": 0.2, "dy_mm": 0.2,
+    "yaw_rate": 0.0, "mu": 0.3, "shear_modulus": 82.0e9, "poisson": 0.28, "dx": 0.0002, "dy": 0.0002,
     "store_fields": 0, "origin": "",
 }
 
 _WHY_SHIFT = "beyond 50 mm the flange has left the rail"
 KEYS: dict[str, Key] = {
-    **{k: PAIR_KEYS[k] for k in ("wheel", "rail", "gauge_mm", "gauge_depth_mm", "back_to_back_mm", "radius_mm")},
+    **{k: PAIR_KEYS[k] for k in ("wheel", "rail", "gauge", "gauge_depth", "back_to_back", "radius")},
     **WHEELSET_KEYS,
     "side": Key("", "wheels solved: 'left' or 'right' (a half wheelset, CONTACT's module 1) or 'both'", "str",
                 choices=tuple(_SIDES)),
@@ -218,16 +219,16 @@ KEYS: dict[str, Key] = {
     "rail_scale": Key("1", "factor to the rail file's length unit (mm for plain files)", lo=0.0, hi=1e4,
                       lo_open=True),
     "cant_rad": Key("rad", "extra rail rotation towards the track centre", lo=-0.2, hi=0.2),
-    "contact_offset_mm": Key("mm", "tread datum from the flange back", lo=0.0, hi=200.0),
-    "y_mm": Key("mm", "lateral shift of the wheelset, to the left", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
-    "yaw_mrad": Key("mrad", "yaw angle of the wheelset", lo=-100.0, hi=100.0),
-    "roll_mrad": Key("mrad", "prescribed roll, > 0 raises the left wheel (none: load-controlled, 'both' only)",
-                     lo=-100.0, hi=100.0, optional=True),
+    "contact_offset": Key("m", "tread datum from the flange back", lo=0.0, hi=0.2),
+    "y": Key("m", "lateral shift of the wheelset, to the left", lo=-0.05, hi=0.05, why=_WHY_SHIFT),
+    "yaw": Key("rad", "yaw angle of the wheelset", lo=-0.1, hi=0.1),
+    "roll": Key("rad", "prescribed roll, > 0 raises the left wheel (none: load-controlled, 'both' only)",
+                lo=-0.1, hi=0.1, optional=True),
     "lateral_velocity": Key("m/s", "lateral velocity of the wheelset (y left)", lo=-MAX_SPEED, hi=MAX_SPEED),
     "vertical_velocity": Key("m/s", "vertical velocity of the wheelset (z up)", lo=-MAX_SPEED, hi=MAX_SPEED),
     "roll_rate": Key("rad/s", "roll rate of the wheelset", lo=-100.0, hi=100.0),
     "yaw_rate": Key("rad/s", "yaw rate of the wheelset", lo=-100.0, hi=100.0),
-    "dy_mm": Key("mm", "element length of the contact grid along y", lo=0.0, hi=10.0, lo_open=True),
+    "dy": Key("m", "element length of the contact grid along y", lo=0.0, hi=0.01, lo_open=True),
     "store_fields": Key("", "1: keep each patch's pressure and tractions", "flag"),
     "origin": Key("", "where the case comes from, for messages", "str"),
 }
@@ -237,23 +238,21 @@ def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'wheel_rail' case."""
     out = profile_problems(params)
     side = str(params["side"]).strip().lower()
-    if side != "both" and params["roll_mrad"] is None:
-        out.append(f"side = '{side}' needs roll_mrad (mrad): a load-controlled roll needs both wheels")
+    if side != "both" and params["roll"] is None:
+        out.append(f"side = '{side}' needs roll (rad; or roll_mrad): a load-controlled roll needs both wheels")
     if side != "both" and params["mu"] > 0 and params["speed"] > 0 and params["omega"] == 0:
         out.append(f"side = '{side}' with rolling (mu, speed > 0) needs omega > 0 (rad/s): free rolling "
                    "needs both wheels")
     return out
 
 
-#: SI names of the keys in mm and mrad (the keys keep CONTACT's units; the aliases convert).
-SI_ALIASES = {
-    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
-       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "contact_offset_mm", "radius_mm", "y_mm",
-                 "dx_mm", "dy_mm")},
-    "yaw": Alias("yaw_mrad", 1e3, deprecated=False, unit="rad"),
-    "roll": Alias("roll_mrad", 1e3, deprecated=False, unit="rad"),
+#: The suffixed aliases of the SI keys: the same quantities in CONTACT's mm and mrad.
+MM_ALIASES = {
+    **mm_aliases("gauge", "gauge_depth", "back_to_back", "contact_offset", "radius", "y", "dx", "dy"),
+    "yaw_mrad": Alias("yaw", 1e-3, deprecated=False, unit="mrad"),
+    "roll_mrad": Alias("roll", 1e-3, deprecated=False, unit="mrad"),
 }
 
 register(CaseType(name="wheel_rail", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check,
-                  aliases={**MATERIAL_ALIASES, **SI_ALIASES},
+                  aliases={**MATERIAL_ALIASES, **MM_ALIASES},
                   summary="one wheelset position on its rails with its full kinematics (CONTACT module 1)"))

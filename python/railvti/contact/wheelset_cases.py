@@ -11,8 +11,8 @@ import numpy as np
 from .. import _checks
 from .._checks import MAX_FRICTION, MAX_SPEED
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
-from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_SI_ALIASES, deck_layout, deck_profiles,
-                              profile_problems, sweep_problems)
+from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_MM_ALIASES, deck_layout, deck_profiles,
+                              mm_aliases, profile_problems, sweep_problems)
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
@@ -82,46 +82,45 @@ WHEELSET_KEYS: dict[str, Key] = {
                  lo=0.0, hi=2000.0),
     "shear_modulus": CONTACT_KEYS["shear_modulus"],
     "poisson": CONTACT_KEYS["poisson"],
-    "dx_mm": Key("mm", "element length of the contact grid along x", lo=0.0, hi=10.0, lo_open=True),
+    "dx": Key("m", "element length of the contact grid along x", lo=0.0, hi=0.01, lo_open=True),
 }
 #: Old names of keys (deprecated): g, nu as in the 'normal' and 'rolling' case types.
 MATERIAL_ALIASES = {"g": Alias("shear_modulus"), "nu": Alias("poisson")}
 _KEYS = {**PAIR_KEYS, **WHEELSET_KEYS,
-         "n": Key("1", "number of shifts from y_min_mm to y_max_mm", "int", 1, 10001),
-         "field_at_mm": Key("mm", "shift whose pressure and traction fields are stored", lo=-50.0, hi=50.0)}
+         "n": Key("1", "number of shifts from y_min to y_max", "int", 1, 10001),
+         "field_at": Key("m", "shift whose pressure and traction fields are stored", lo=-0.05, hi=0.05)}
 
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'loaded_wheelset' case."""
     out = profile_problems(params) + sweep_problems(params)
-    if not out and not params["y_min_mm"] <= params["field_at_mm"] <= params["y_max_mm"]:
-        out.append(f"field_at_mm = {params['field_at_mm']:g} must lie in [y_min_mm, y_max_mm] = "
-                   f"[{params['y_min_mm']:g}, {params['y_max_mm']:g}] (mm)")
+    if not out and not params["y_min"] <= params["field_at"] <= params["y_max"]:
+        out.append(f"field_at = {params['field_at']:g} must lie in [y_min, y_max] = "
+                   f"[{params['y_min']:g}, {params['y_max']:g}] (m)")
     return out
 
 
 def run(params: dict[str, Any]) -> CaseOutput:
     """Loaded-wheelset sweep.
 
-    Keys: wheel, rail, cant (as ``geometry_table``), y_min_mm, y_max_mm, n, yaw_mrad_per_mm,
+    Keys: wheel, rail, cant (as ``geometry_table``), y_min, y_max (m), n, yaw_per_y (rad/m),
     fz (N per wheel: the vertical contact force, normal and tangential), mu, speed (m/s;
     mu = 0 or speed = 0: normal contact only), omega (rad/s, the wheelset's angular velocity;
-    0: free rolling, no torque about the axle), shear_modulus (Pa), poisson, dx_mm, gauge_mm,
-    gauge_depth_mm, back_to_back_mm, radius_mm, field_at_mm (the shift whose pressure and
-    traction fields are stored). The roll is load-controlled (both wheels touch; each carries
-    its load).
+    0: free rolling, no torque about the axle), shear_modulus (Pa), poisson, dx, gauge,
+    gauge_depth, back_to_back, radius, field_at (the shift whose pressure and traction fields
+    are stored), m; the mm-suffixed aliases (``dx_mm``...) are converted on reading. The roll
+    is load-controlled (both wheels touch; each carries its load).
     """
     params = validate("loaded_wheelset", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"])
-    y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
-                    _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
-    yaw = y * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"])
+    y = np.linspace(_checks.finite("y_min", params["y_min"]), _checks.finite("y_max", params["y_max"]), n)
+    yaw = y * _checks.finite("yaw_per_y", params["yaw_per_y"])
     track, ws = deck_layout(params)
     mat = Material(shear_modulus=params["shear_modulus"], poisson=params["poisson"])
     mu, speed = float(params["mu"]), float(params["speed"])
     rolling = mu > 0 and speed > 0
-    dx = _checks.positive("dx_mm", params["dx_mm"]) * 1e-3
+    dx = _checks.positive("dx", params["dx"])
     omega = _checks.non_negative("omega", params["omega"])
     kw = {"omega": omega} if rolling and omega > 0 else {}
     sols = [solve_wheelset(wheel, rail, yi, wi, params["fz"], mu if rolling else None,
@@ -137,7 +136,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         ds["omega"] = (np.array([s.omega for s in sols]), "rad/s")
         ds["axle_torque"] = (np.array([s.axle_torque for s in sols]), "N m")
     ds["fz"] = (np.array([s.fz for s in sols]), "N")
-    k_field = int(np.argmin(np.abs(y - params["field_at_mm"] * 1e-3)))
+    k_field = int(np.argmin(np.abs(y - params["field_at"])))
     store_patch_fields(ds, sols[k_field], attrs=labels)
     fl = np.nanmax(arr["contact_angle"][:, 0, :], axis=1)
     flange = y[fl > 1.0]
@@ -170,15 +169,14 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
 register(CaseType(
     name="loaded_wheelset",
     defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
-              "y_min_mm": 0.0, "y_max_mm": 10.0, "n": 21, "yaw_mrad_per_mm": 2.4, "fz": 1.0e4,
-              "mu": 0.3, "speed": 2.0, "omega": 0.0, "shear_modulus": 82.0e9, "poisson": 0.28, "dx_mm": 0.2,
-              "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
-              "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
-              "field_at_mm": 0.0},
+              "y_min": 0.0, "y_max": 0.01, "n": 21, "yaw_per_y": 2.4, "fz": 1.0e4,
+              "mu": 0.3, "speed": 2.0, "omega": 0.0, "shear_modulus": 82.0e9, "poisson": 0.28, "dx": 0.0002,
+              "gauge": PAIR_DEFAULTS["gauge"], "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
+              "back_to_back": PAIR_DEFAULTS["back_to_back"], "radius": PAIR_DEFAULTS["radius"],
+              "field_at": 0.0},
     run=run, plot=plot, keys=_KEYS, check=check,
-    aliases={**MATERIAL_ALIASES, **{k: v for k, v in PAIR_SI_ALIASES.items() if k != "amplitude"},
-             "dx": Alias("dx_mm", 1e3, deprecated=False, unit="m"),
-             "field_at": Alias("field_at_mm", 1e3, deprecated=False, unit="m")},
+    aliases={**MATERIAL_ALIASES, **{k: v for k, v in PAIR_MM_ALIASES.items() if k != "amplitude_mm"},
+             **mm_aliases("dx", "field_at")},
     summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact"))
 
 

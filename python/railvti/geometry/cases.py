@@ -15,18 +15,13 @@ from .placement import TrackLayout
 from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, ContactTable, contact_table
 
 
-def _mm(length: float) -> float:
-    """A length in m as the deck's mm value."""
-    return round(length * 1e3, 9)
-
-
 #: Deck keys (and defaults) that name a wheel/rail pair on the track, shared by the case
 #: types ``geometry_table`` and ``loaded_wheelset``: see :func:`deck_profiles` and
-#: :func:`deck_layout`. The layout defaults are those of TrackLayout and WheelsetGeometry.
+#: :func:`deck_layout`. The layout defaults are those of TrackLayout and WheelsetGeometry (m).
 PAIR_DEFAULTS: dict[str, Any] = {
     "wheel": "s1002", "rail": "uic60", "cant": 0.025,
-    "gauge_mm": _mm(TrackLayout.gauge), "gauge_depth_mm": _mm(TrackLayout.gauge_depth),
-    "back_to_back_mm": _mm(WheelsetGeometry.back_to_back), "radius_mm": _mm(WheelsetGeometry.wheel_radius),
+    "gauge": TrackLayout.gauge, "gauge_depth": TrackLayout.gauge_depth,
+    "back_to_back": WheelsetGeometry.back_to_back, "radius": WheelsetGeometry.wheel_radius,
 }
 
 
@@ -36,26 +31,30 @@ PAIR_KEYS: dict[str, Key] = {
     "wheel": Key("", "wheel profile: 's1002' or a profile file (SIMPACK .prw, or two columns y z in mm)", "str"),
     "rail": Key("", "rail profile: 'uic60' (inclined by cant) or a profile file, taken as already canted", "str"),
     "cant": Key("1", "rail inclination, tan (for 'uic60'; 1:40 = 0.025)", lo=-0.2, hi=0.2),
-    "gauge_mm": Key("mm", "track gauge", lo=900.0, hi=1700.0, why="narrow 1000 mm to Iberian 1668 mm gauge"),
-    "gauge_depth_mm": Key("mm", "depth below the rail top at which the gauge is measured", lo=0.0, hi=30.0,
-                          lo_open=True),
-    "back_to_back_mm": Key("mm", "wheelset back-to-back distance", lo=850.0, hi=1650.0),
-    "radius_mm": Key("mm", "nominal wheel rolling radius", lo=150.0, hi=800.0,
-                     why="railway wheels have radii of 0.2-0.6 m"),
-    "y_min_mm": Key("mm", "first lateral shift of the wheelset (to the left)", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
-    "y_max_mm": Key("mm", "last lateral shift of the wheelset", lo=-50.0, hi=50.0, why=_WHY_SHIFT),
-    "n": Key("1", "number of shifts from y_min_mm to y_max_mm", "int", 2, 100001),
-    "yaw_mrad_per_mm": Key("mrad/mm", "yaw angle rising with the shift", lo=-20.0, hi=20.0),
-    "amplitude_mm": Key("mm", "amplitude for the equivalent conicity", lo=0.0, hi=20.0, lo_open=True),
+    "gauge": Key("m", "track gauge", lo=0.9, hi=1.7, why="narrow 1000 mm to Iberian 1668 mm gauge"),
+    "gauge_depth": Key("m", "depth below the rail top at which the gauge is measured", lo=0.0, hi=0.03,
+                       lo_open=True),
+    "back_to_back": Key("m", "wheelset back-to-back distance", lo=0.85, hi=1.65),
+    "radius": Key("m", "nominal wheel rolling radius", lo=0.15, hi=0.8,
+                  why="railway wheels have radii of 0.2-0.6 m"),
+    "y_min": Key("m", "first lateral shift of the wheelset (to the left)", lo=-0.05, hi=0.05, why=_WHY_SHIFT),
+    "y_max": Key("m", "last lateral shift of the wheelset", lo=-0.05, hi=0.05, why=_WHY_SHIFT),
+    "n": Key("1", "number of shifts from y_min to y_max", "int", 2, 100001),
+    "yaw_per_y": Key("rad/m", "yaw angle rising with the shift", lo=-20.0, hi=20.0),
+    "amplitude": Key("m", "amplitude for the equivalent conicity", lo=0.0, hi=0.02, lo_open=True),
 }
 
 
-#: SI names of the pair keys in mm (the key keeps the profile's mm; the alias converts).
-PAIR_SI_ALIASES: dict[str, Alias] = {
-    **{k[:-3]: Alias(k, 1e3, deprecated=False, unit="m")
-       for k in ("gauge_mm", "gauge_depth_mm", "back_to_back_mm", "radius_mm", "y_min_mm", "y_max_mm",
-                 "amplitude_mm")},
-    "yaw_per_y": Alias("yaw_mrad_per_mm", 1.0, deprecated=False, unit="rad/m"),
+def mm_aliases(*keys: str) -> dict[str, Alias]:
+    """The documented mm-suffixed aliases ``<key>_mm`` of SI length keys (m): value x 1e-3."""
+    return {f"{k}_mm": Alias(k, 1e-3, deprecated=False, unit="mm") for k in keys}
+
+
+#: The suffixed aliases of the pair keys: the same quantities in mm (and mrad/mm), as
+#: profiles and drawings give them; the keys are SI.
+PAIR_MM_ALIASES: dict[str, Alias] = {
+    **mm_aliases("gauge", "gauge_depth", "back_to_back", "radius", "y_min", "y_max", "amplitude"),
+    "yaw_mrad_per_mm": Alias("yaw_per_y", 1.0, deprecated=False, unit="mrad/mm"),
 }
 
 
@@ -71,10 +70,10 @@ def profile_problems(params: dict[str, Any], keys: tuple[str, str] = ("wheel", "
 
 
 def sweep_problems(params: dict[str, Any]) -> list[str]:
-    """The shift range of a sweep: y_min_mm < y_max_mm (or equal with one shift)."""
-    lo, hi, n = params["y_min_mm"], params["y_max_mm"], params["n"]
+    """The shift range of a sweep: y_min < y_max (or equal with one shift)."""
+    lo, hi, n = params["y_min"], params["y_max"], params["n"]
     if lo > hi or (lo == hi and n > 1):
-        return [f"y_min_mm = {lo:g} must be < y_max_mm = {hi:g} (mm)" + (" or n = 1" if lo == hi else "")]
+        return [f"y_min = {lo:g} must be < y_max = {hi:g} (m)" + (" or n = 1" if lo == hi else "")]
     return []
 
 
@@ -107,17 +106,16 @@ def deck_layout(params: dict[str, Any]) -> tuple[TrackLayout, WheelsetGeometry]:
     Parameters
     ----------
     params : dict
-        Keys ``gauge_mm``, ``gauge_depth_mm``, ``back_to_back_mm`` and ``radius_mm`` (the
-        wheel's nominal rolling radius), mm.
+        Keys ``gauge``, ``gauge_depth``, ``back_to_back`` and ``radius`` (the wheel's
+        nominal rolling radius), m.
 
     Returns
     -------
     TrackLayout, WheelsetGeometry
         The wheelset has the other dimensions of ``WheelsetGeometry()``.
     """
-    track = TrackLayout(gauge=params["gauge_mm"] * 1e-3, gauge_depth=params["gauge_depth_mm"] * 1e-3)
-    wheelset = WheelsetGeometry(back_to_back=params["back_to_back_mm"] * 1e-3,
-                                wheel_radius=params["radius_mm"] * 1e-3)
+    track = TrackLayout(gauge=params["gauge"], gauge_depth=params["gauge_depth"])
+    wheelset = WheelsetGeometry(back_to_back=params["back_to_back"], wheel_radius=params["radius"])
     return track, wheelset
 
 
@@ -125,16 +123,15 @@ def run(params: dict[str, Any]) -> CaseOutput:
     """Contact table case.
 
     Keys: wheel ('s1002' or a file), rail ('uic60' or a file; a file is taken as already
-    canted), cant (tan, for 'uic60'), y_min_mm, y_max_mm, n (positions), yaw_mrad_per_mm
-    (yaw rising with the shift), gauge_mm, gauge_depth_mm, back_to_back_mm, radius_mm,
-    amplitude_mm (for the equivalent conicity).
+    canted), cant (tan, for 'uic60'), y_min, y_max (m), n (positions), yaw_per_y (rad/m, yaw
+    rising with the shift), gauge, gauge_depth, back_to_back, radius, amplitude (for the
+    equivalent conicity), m. The mm-suffixed aliases (``y_min_mm``...) are converted on reading.
     """
     params = validate("geometry_table", params)
     wheel, rail = deck_profiles(params)
     n = _checks.positive_int("n", params["n"], 2)
-    y = np.linspace(_checks.finite("y_min_mm", params["y_min_mm"]),
-                    _checks.finite("y_max_mm", params["y_max_mm"]), n) * 1e-3
-    yaw = y * 1e3 * _checks.finite("yaw_mrad_per_mm", params["yaw_mrad_per_mm"]) * 1e-3
+    y = np.linspace(_checks.finite("y_min", params["y_min"]), _checks.finite("y_max", params["y_max"]), n)
+    yaw = y * _checks.finite("yaw_per_y", params["yaw_per_y"])
     track, ws = deck_layout(params)
     t = contact_table(wheel, rail, y, yaw, track=track, wheelset=ws)
     status = ", ".join(f"{code} {name}" for code, name in STATUS_NAMES.items())
@@ -150,7 +147,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
                 out.attrs[k]["empty_slots"] = "NaN: the wheel has fewer candidate points"
         elif v.ndim == 1 and k != "y":
             out.attrs[k] = {"axes": ["y (lateral shift)"]}
-    amp = _checks.positive("amplitude_mm", params["amplitude_mm"]) * 1e-3
+    amp = _checks.positive("amplitude", params["amplitude"])
     msg = ""
     if np.all(yaw == 0) and -y.min() >= amp and y.max() >= amp:
         con = equivalent_conicity(t, amp)
@@ -180,9 +177,9 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
 register(CaseType(
     name="geometry_table",
     defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
-              "y_min_mm": -10.0, "y_max_mm": 10.0, "n": 201, "yaw_mrad_per_mm": 0.0,
-              "gauge_mm": PAIR_DEFAULTS["gauge_mm"], "gauge_depth_mm": PAIR_DEFAULTS["gauge_depth_mm"],
-              "back_to_back_mm": PAIR_DEFAULTS["back_to_back_mm"], "radius_mm": PAIR_DEFAULTS["radius_mm"],
-              "amplitude_mm": 3.0},
-    run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_SI_ALIASES,
+              "y_min": -0.01, "y_max": 0.01, "n": 201, "yaw_per_y": 0.0,
+              "gauge": PAIR_DEFAULTS["gauge"], "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
+              "back_to_back": PAIR_DEFAULTS["back_to_back"], "radius": PAIR_DEFAULTS["radius"],
+              "amplitude": 0.003},
+    run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_MM_ALIASES,
     summary="rigid contact table of a wheel/rail pair over lateral shifts; equivalent conicity"))

@@ -12,13 +12,16 @@ from typing import Any
 
 import numpy as np
 
-from ..casetypes import REQUIRED, CaseOutput, CaseType, Key, register, validate
+from ..casetypes import REQUIRED, Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack
 
 _COMMON: dict[str, Any] = {"n_sleepers": REQUIRED, **DEFAULTS,
-                           **{k: v for k, v in NUMERICS.items() if k != "f_max"}}
+                           **{k: v for k, v in NUMERICS.items() if k != "f_max"},
+                           "arc_step": NUMERICS["arc_step"] * 1e-3}    # the deck key is in m
+#: The deck's mm alias of arc_step (RingTrack takes mm; the deck key is SI).
+_ALIASES = {"arc_step_mm": Alias("arc_step", 1e-3, deprecated=False, unit="mm")}
 
 
 def _pos(unit: str, meaning: str, hi: float | None = None, zero: bool = False) -> Key:
@@ -53,7 +56,8 @@ KEYS: dict[str, Key] = {
     "kappa_max": _pos("rad/m", "highest rail wave number in the series", 1e4),
     "mesh_max_area": Key("m^2", "largest triangle of the rail-section mesh", lo=1e-6, hi=1e-2,
                          why="a finer mesh has over 10^4 triangles in a 77 cm^2 rail"),
-    "arc_step": Key("mm", "spacing of the section outline's points on arcs", lo=0.5, hi=50.0),
+    "arc_step": Key("m", "spacing of the section outline's points on arcs", lo=0.5e-3, hi=0.05,
+                    why="8 mm is 0.008 m; arc_step_mm takes mm"),
     "n_samples": Key("1", "sample wave numbers of the rail's reduced basis", "int", 2, 1000),
     "f_min": Key("Hz", "lowest frequency of the receptances", lo=0.0, hi=1e5),
     "f_max": _pos("Hz", "highest frequency (receptances and modes)", 2e4),
@@ -71,13 +75,15 @@ def check_receptance(p: dict[str, Any]) -> list[str]:
 
 def _track(params: dict[str, Any], f_max: float) -> RingTrack:
     kw = {k: params[k] for k in _COMMON if k != "n_sleepers"}
+    kw["arc_step"] = params["arc_step"] * 1e3        # RingTrack's arc_step is in mm
     return RingTrack(params["n_sleepers"], f_max=f_max, **kw)
 
 
 def run_receptance(params: dict[str, Any]) -> CaseOutput:
     """Receptances of a ring track.
 
-    Keys: n_sleepers (-), every RingTrack parameter (SI units, see railvti.track.DEFAULTS),
+    Keys: n_sleepers (-), every RingTrack parameter (SI units, see railvti.track.DEFAULTS;
+    arc_step in m here, arc_step_mm its mm alias; RingTrack takes mm),
     f_min, f_max (Hz), n_freq (-).
     """
     params = validate("track_receptance", params)
@@ -156,9 +162,9 @@ def run_element(params: dict[str, Any]) -> CaseOutput:
 
 register(CaseType(name="track_receptance",
                   defaults={**_COMMON, "f_min": 0.0, "f_max": 3000.0, "n_freq": 3000},
-                  run=run_receptance, plot=plot_receptance, keys=KEYS, check=check_receptance,
+                  run=run_receptance, plot=plot_receptance, keys=KEYS, check=check_receptance, aliases=_ALIASES,
                   summary="ring track (2.5-D FE rails on discrete sleepers): rail-head receptances, modes"))
 register(CaseType(name="track_element",
                   defaults={**_COMMON, "position": "midspan"},
-                  run=run_element, keys=KEYS,
+                  run=run_element, keys=KEYS, aliases=_ALIASES,
                   summary="rigid track element (mass, stiffness, damping per direction) fitted to a ring track"))
