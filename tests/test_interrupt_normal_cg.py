@@ -3,14 +3,10 @@
 within about a slice (0.1 s) instead of at the end of the Fortran call."""
 from __future__ import annotations
 
-import signal
-import subprocess
-import sys
-import time
-
 import numpy as np
 import pytest
 
+from interrupt_helper import sigint_after_ready
 from railvti import STEEL
 from railvti._native import core
 from railvti.contact import Grid
@@ -58,14 +54,6 @@ print("finished", flush=True)
 
 def test_sigint_stops_a_long_cg_solve_within_a_second():
     """Unpreconditioned CG on 500 x 500 to 1e-12 (~10 s): SIGINT 1.5 s into the solve."""
-    proc = subprocess.Popen([sys.executable, "-c", LONG_SOLVE], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    assert proc.stdout.readline().strip() == "ready"
-    time.sleep(1.5)
-    assert proc.poll() is None
-    t0 = time.monotonic()
-    proc.send_signal(signal.SIGINT)
-    stdout, stderr = proc.communicate(timeout=60)
-    latency = time.monotonic() - t0
+    stdout, stderr, latency, _ = sigint_after_ready(LONG_SOLVE, 1.5)
     assert "finished" not in stdout and "KeyboardInterrupt" in stderr
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"

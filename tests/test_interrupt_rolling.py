@@ -6,12 +6,11 @@ plus the exit, and the abandoned call's workspace is neither reused nor freed un
 from __future__ import annotations
 
 import signal
-import subprocess
-import sys
 import time
 
 import numpy as np
 
+from interrupt_helper import sigint_after_ready
 from railvti import STEEL
 from railvti.contact import Grid
 from railvti.contact import workspace as ws_mod
@@ -37,18 +36,11 @@ print("finished", flush=True)
 
 
 def test_sigint_stops_a_long_rolling_solve_within_a_second():
-    proc = subprocess.Popen([sys.executable, "-c", LONG_ROLLING], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    assert proc.stdout.readline().strip() == "ready"
-    time.sleep(2.5)                 # the normal solve (< 1 s), then inside the rolling call
-    assert proc.poll() is None
-    t0 = time.monotonic()
-    proc.send_signal(signal.SIGINT)
-    stdout, stderr = proc.communicate(timeout=60)
-    latency = time.monotonic() - t0
+    # 2.5 s: the normal solve (< 1 s), then inside the rolling call
+    stdout, stderr, latency, code = sigint_after_ready(LONG_ROLLING, 2.5)
     assert "finished" not in stdout and "KeyboardInterrupt" in stderr
     assert "call_interruptibly" in stderr           # stopped in the rolling call's wait
-    assert proc.returncode != -signal.SIGSEGV
+    assert code != -signal.SIGSEGV
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
 
 
