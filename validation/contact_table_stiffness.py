@@ -38,9 +38,6 @@ from railvti.geometry import layout
 from railvti.vehicle.table import _hertz_unit, rolled_gap, wheel_table
 
 FIG = Path(__file__).resolve().parent / "figures" / "contact_table_stiffness.png"
-#: Curvature ratio bounds of the strip prototype's local Hertz constants, as the table's (with
-#: 1/400..400 the flank comes nearer the BEM, 13 % and 1 % at y = 7 and 7.5 mm, the tread farther).
-STRIP_RATIO = 25.0
 
 
 def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
@@ -57,9 +54,11 @@ def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
         yr = np.clip(y + arm_y[near] - lay.rail_offset, rail.y_min, rail.y_max)
         delta = -np.arctan(rail.slope(yr))
         a = np.cos(delta) / (2.0 * (lay.wheelset.wheel_radius + wheel.height(lay.ws[near])))
-        b = np.clip(0.5 * (rail.curvature(yr) - wheel.curvature(lay.ws[near])),
-                    a / STRIP_RATIO, a * STRIP_RATIO)
-        kh = _strip_kh(a, b)
+        # the local Hertz constants with the table's curvature-ratio bounds (1/25..25; with
+        # 1/400..400 the flank comes nearer the BEM, 13 % and 1 % at 7 and 7.5 mm, the tread
+        # farther); _hertz_unit clips kH's ratio, sqrt(B) takes the same clipped B
+        b = np.clip(0.5 * (rail.curvature(yr) - wheel.curvature(lay.ws[near])), a / 25.0, a * 25.0)
+        kh = _hertz_unit(a, b, STEEL)[2]
         c = 0.375 * kh * np.sqrt(b) * np.cos(delta) * width[near]
         e = g[near] - gmin
         lo, hi = 0.0, 5e-3
@@ -71,17 +70,6 @@ def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
                 hi = p
         out[n] = 0.5 * (lo + hi)
     return out
-
-
-def _strip_kh(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hertz's kH (N m^-1.5) for curvatures a, b with the ratio bounds STRIP_RATIO."""
-    import railvti.vehicle.table as tab
-    clip = tab._RATIO_CLIP
-    try:
-        tab._RATIO_CLIP = STRIP_RATIO
-        return _hertz_unit(a, b, STEEL)[2]
-    finally:
-        tab._RATIO_CLIP = clip
 
 
 def main() -> None:
