@@ -312,3 +312,57 @@ subroutine vehicle_pose_at_c(nq, ny, nr, tab, u0, du, p0, dph, rnom, n, u, phi, 
         end if
     end do
 end subroutine vehicle_pose_at_c
+
+!> Switch a model's contact to the strip potential: wheel samples ws (6 x nw: y0, z0, r,
+!> kappa, z', tread weight) at step ds, the rail's spline on ry0 + (i - 1) rdy (values rz,
+!> second derivatives rm; track y = offset + y, height top - z; smoothed curvature rk and its
+!> rate rk1), the ratio table fv, fm
+!> (nf x 6) over x = fx0 + (i - 1) fdx. info: see vehicle_model%vehicle_attach_strip.
+subroutine vehicle_strip_attach_c(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, &
+                                  top, nf, fx0, fdx, fv, fm, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_strip
+    implicit none
+    integer(c_int), intent(in) :: handle, nw, nr, nf
+    real(c_double), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+    real(c_double), intent(in) :: offset, top
+    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_strip(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, &
+                              fx0, fdx, fv, fm, stat)
+    info = stat
+end subroutine vehicle_strip_attach_c
+
+!> The strip potential of one (left) wheel at np poses (y, zc, phi) (vehicle_strip%strip_wheel)
+!> without a model: out(nso, 2, np) per slot; props(5, 2, np) the slots' a1, b1, c11, c22, c23.
+!> info: see vehicle_strip%strip_set.
+subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, &
+                                fx0, fdx, fv, fm, np, pose, nso_in, out, props, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_SIZE_MISMATCH
+    use vehicle_strip, only: strip_geometry, strip_set, strip_wheel, strip_props, nso, SO_X, SO_A
+    implicit none
+    integer(c_int), intent(in) :: nw, nr, nf, np, nso_in
+    real(c_double), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+    real(c_double), intent(in) :: offset, top
+    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(3, np)
+    real(c_double), intent(out) :: out(nso_in, 2, np), props(5, 2, np)
+    integer(c_int), intent(out) :: info
+    type(strip_geometry) :: st
+    integer :: stat, i, k
+    out = 0.0_c_double
+    props = 0.0_c_double
+    info = STAT_SIZE_MISMATCH
+    if (nso_in /= nso) return
+    call strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, fdx, fv, fm, &
+                   st, stat)
+    info = stat
+    if (stat /= STAT_OK) return
+    do i = 1, np
+        call strip_wheel(st, pose(1, i), pose(2, i), pose(3, i), out(:, :, i))
+        do k = 1, 2
+            call strip_props(st, out(SO_X, k, i), out(SO_A, k, i), props(:, k, i))
+        end do
+    end do
+end subroutine vehicle_strip_eval_c

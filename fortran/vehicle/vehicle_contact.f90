@@ -39,6 +39,8 @@ module vehicle_contact
     use contact_fastsim, only: fastsim_ellipse
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_OUTSIDE_TABLE
     use vehicle_bem, only: bem_patch, bem_scale
+    use vehicle_strip, only: strip_geometry, strip_wheel, strip_props, nso, SO_N, SO_V, SO_DY, SO_DZ, &
+                             SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
@@ -459,8 +461,16 @@ contains
     !> of that wheel's forces and moment about the centre (the moment about the reference
     !> point): the same arms as the pose change (energy-consistent). rim = 0 gives fw, ft,
     !> wout exactly (bit for bit) as without.
+    !> Strip contact (optional st, switched on, models CMODEL_HERTZ_KALKER and CMODEL_FASTSIM):
+    !> each wheel's normal forces are -grad V of the strip potential (vehicle_strip) over the
+    !> pose, and each slot's creep forces act at its load-weighted point with the Hertz
+    !> ellipse and Kalker's coefficients of its mean curvature ratio; the table only bounds
+    !> the wheelset's lateral range (STAT_OUTSIDE_TABLE as before). skeep(:, :, w) returns
+    !> each wheel's strip outputs; sreuse takes them instead of evaluating the strips again
+    !> (a perturbation that leaves the wheels' poses as they were: the tangent's yaw, x and
+    !> spin columns).
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
-                                fw, ft, wout, info, rim, rarm, frim)
+                                fw, ft, wout, info, rim, rarm, frim, st, skeep, sreuse)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -469,14 +479,19 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: rim(6, 2), rarm(2)
         real(dp), intent(out), optional :: frim(3, 2)
+        type(strip_geometry), intent(in), optional :: st
+        real(dp), intent(out), optional :: skeep(nso, 2, 2)
+        real(dp), intent(in), optional :: sreuse(nso, 2, 2)
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
         real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(2), ve(3), fwl(3), ty, tz
+        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su
         integer :: w, k, c, stat, ia(2), ib(2)
-        logical :: bemgeo, flex
+        logical :: bemgeo, flex, strip
         flex = present(rim) .and. present(rarm) .and. present(frim)
+        strip = .false.
+        if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_FASTSIM)
         if (flex) frim = 0.0_dp
         fw = 0.0_dp
         ft = 0.0_dp
@@ -515,7 +530,32 @@ contains
                 fwl = fw(1:3)
             end if
             pl = sg * phr
-            if (bemgeo) then
+            if (strip) then
+                su = (sg * u - ct%u0) / ct%du
+                if (.not. (su >= 0.0_dp .and. su <= real(ct%ny - 1, dp))) then
+                    info = STAT_OUTSIDE_TABLE
+                    return
+                end if
+                ! the centre's lateral position in the element's frame: Y = u - r_nom phr
+                if (present(sreuse)) then
+                    so = sreuse(:, :, w)
+                else
+                    call strip_wheel(st, sg * (yr + ct%rnom * qt(3)), zc, pl, so)
+                end if
+                if (present(skeep)) skeep(:, :, w) = so
+                wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
+                vals = 0.0_dp
+                do k = 1, 2
+                    c = 2 * k - 1
+                    call strip_props(st, so(SO_X, k), so(SO_A, k), pr)
+                    vals(2, c) = so(SO_L, k)
+                    vals(3, c) = so(SO_DELTA, k)
+                    vals(4, c) = so(SO_R, k)
+                    vals(5:6, c) = pr(1:2)
+                    vals(8:10, c) = pr(3:5)
+                    vals(IZARM, c) = so(SO_ZA, k)
+                end do
+            else if (bemgeo) then
                 ! zero-roll row, the point rotated about the centre to first order (the BEM's
                 ! gap field is tilted by phr about the point in vehicle_bem)
                 call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, sg * u, vals(:, 1:3:2), &
@@ -549,6 +589,7 @@ contains
                 sd = sin(dlt)
                 dv = -(gp + zc)
                 dn = dv * cd
+                if (strip) dn = so(SO_N, k)
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
                     if (model == CMODEL_BEM) call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, &
@@ -556,7 +597,11 @@ contains
                                                              fn, fx, fy, mz, xc, yc, stat)
                     cycle
                 end if
-                fn = vals(7, c) * dn * sqrt(dn)
+                if (strip) then
+                    fn = so(SO_N, k)
+                else
+                    fn = vals(7, c) * dn * sqrt(dn)
+                end if
                 mz = 0.0_dp
                 xc = 0.0_dp
                 yc = 0.0_dp
@@ -612,10 +657,22 @@ contains
                 ! approach came from (-dV/dq of the Hertz potential: conservative), the left
                 ! wheel's table read at (sg u, sg phr): g_u = -tan(delta), g_phi = l + (r_nom
                 ! - za) tan(delta) to first order; with the track's frame terms of zc
-                fzn = fn * cd
-                fyn = fzn * (sg * grd(1, c) - qt(3))
-                mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
-                mtn = -fzn * (sg * grd(2, c) + yr)
+                if (strip) then
+                    ! -grad V over the generalised coordinates: Y = yr + r_nom qt(3), zc = zr
+                    ! - yr qt(3), phr = qw(3) - qt(3); the right wheel's V read mirrored
+                    gy = sg * so(SO_DY, k)
+                    gz = so(SO_DZ, k)
+                    gph = sg * so(SO_DPHI, k)
+                    fzn = -gz
+                    fyn = -(gy - gz * qt(3))
+                    mwn = -gph
+                    mtn = -(gy * ct%rnom - gz * yr - gph)
+                else
+                    fzn = fn * cd
+                    fyn = fzn * (sg * grd(1, c) - qt(3))
+                    mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
+                    mtn = -fzn * (sg * grd(2, c) + yr)
+                end if
                 ! the creep forces along t_y = (0, cos, sg sin) with the geometric arms
                 fyt = fy * cd
                 fzt = fy * sg * sd
@@ -642,7 +699,11 @@ contains
                 wout(2, w) = wout(2, w) + fyt + fyn + fzn * qt(3)      ! track axes
                 wout(3, w) = wout(3, w) + fx
                 wout(3 + k, w) = wout(3 + k, w) + fn
-                wout(9, w) = wout(9, w) + wt(c) * 0.4_dp * vals(7, c) * dn * dn * sqrt(dn)
+                if (strip) then
+                    wout(9, w) = wout(9, w) + so(SO_V, k)
+                else
+                    wout(9, w) = wout(9, w) + wt(c) * 0.4_dp * vals(7, c) * dn * dn * sqrt(dn)
+                end if
                 wout(14, w) = wout(14, w) + mtx
                 wout(15, w) = wout(15, w) + mz
                 if (fn > nbest) then

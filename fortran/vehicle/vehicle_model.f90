@@ -16,12 +16,14 @@ module vehicle_model
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set
+    use vehicle_strip, only: strip_geometry, strip_set, nso
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
+    public :: vehicle_attach_strip
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -46,6 +48,8 @@ module vehicle_model
         integer, allocatable :: iws(:, :), itr(:, :)
         !> The per-wheel contact table over (u, relative roll) (vehicle_contact).
         type(pose_table) :: ct
+        !> The strip contact (vehicle_strip; off: the table's points).
+        type(strip_geometry) :: st
         real(dp) :: r0 = 0.46_dp, gmod = 8.2e10_dp, mu = 0.3_dp
         !> Modal blocks coupled through points (vehicle_modal; nm = 0: none). The integrator's
         !> state is (q(1:nd), Q(1:nm)).
@@ -108,12 +112,28 @@ contains
         md%iws = iws
         md%itr = itr
         md%ct = ct
+        md%st = strip_geometry()
         md%r0 = r0
         md%gmod = gmod
         md%mu = mu
         md%used = .true.
         info = STAT_OK
     end subroutine vehicle_create
+
+    !> Switch a model's contact to the strip potential (vehicle_strip%strip_set's arrays).
+    !> info: STAT_BAD_HANDLE, or strip_set's STAT_BAD_ARGUMENT.
+    subroutine vehicle_attach_strip(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, &
+                                    offset, top, nf, fx0, fdx, fv, fm, info)
+        integer, intent(in) :: handle, nw, nr, nf
+        real(dp), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+        real(dp), intent(in) :: offset, top, fx0, fdx, fv(nf, 6), fm(nf, 6)
+        integer, intent(out) :: info
+        info = STAT_BAD_HANDLE
+        if (handle < 1 .or. handle > MAX_VEHICLE) return
+        if (.not. models(handle)%used) return
+        call strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, fdx, &
+                       fv, fm, models(handle)%st, info)
+    end subroutine vehicle_attach_strip
 
     !> Release a model (a handle not in use is ignored).
     subroutine vehicle_free(handle)
@@ -123,6 +143,7 @@ contains
                     models(handle)%etype, models(handle)%eg, models(handle)%epar, &
                     models(handle)%iws, models(handle)%itr, models(handle)%ct%tab)
         models(handle)%mp = modal_part()
+        models(handle)%st = strip_geometry()
         models(handle)%used = .false.
     end subroutine vehicle_free
 
@@ -279,7 +300,7 @@ contains
     !> With the attachment points' coordinates u, ud (model FR: u, ud, gp all present) a
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
-    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp)
+    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, skeep, sreuse)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         integer, intent(in) :: w
@@ -290,6 +311,8 @@ contains
         logical, intent(in), optional :: cheap
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: gp(:)
+        real(dp), intent(out), optional :: skeep(nso, 2, 2)
+        real(dp), intent(in), optional :: sreuse(nso, 2, 2)
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
         integer :: j, k, model, ir
         model = rs%cmodel
@@ -310,13 +333,15 @@ contains
             end do
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
-                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim)
+                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
+                                  skeep=skeep, sreuse=sreuse)
             do k = 1, 2
                 gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
             end do
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
-                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info)
+                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
+                                  skeep=skeep, sreuse=sreuse)
         end if
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
@@ -413,7 +438,7 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
-        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
+        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2), sk(nso, 2, 2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
         integer :: w, j, jj, idx(9), n, ir, pts(6), cols(12), nc
         logical :: flex
@@ -445,9 +470,10 @@ contains
             if (ir > 0) then
                 pts = reshape(md%mp%frpt(:, :, ir), [6])
                 g0 = 0.0_dp
-                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., u=u, ud=ud, gp=g0)
+                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., u=u, ud=ud, gp=g0, &
+                                 skeep=sk)
             else
-                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true.)
+                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., skeep=sk)
             end if
             if (info /= STAT_OK) return
             do jj = 1, n
@@ -456,8 +482,16 @@ contains
                 f1w = 0.0_dp
                 if (ir > 0) then
                     g1 = 0.0_dp
-                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, gp=g1)
+                    if (pose_kept(md, w, j)) then
+                        call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
+                                         gp=g1, sreuse=sk)
+                    else
+                        call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
+                                         gp=g1)
+                    end if
                     jpr(pts, j) = jpr(pts, j) + (g1(pts) - g0(pts)) / eps
+                else if (pose_kept(md, w, j)) then
+                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., sreuse=sk)
                 else
                     call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true.)
                 end if
@@ -505,6 +539,14 @@ contains
     end subroutine perturbed
 
     !> Whether DOF j is a wheelset spin perturbation beta (no stiffness: only its rate enters).
+    !> Whether DOF j is wheelset w's yaw, x or spin: perturbing it leaves the wheels' poses
+    !> (lateral position, height, roll) and so their strip potentials as they were.
+    pure logical function pose_kept(md, w, j)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: w, j
+        pose_kept = any(md%iws(4:6, w) == j)
+    end function pose_kept
+
     pure logical function is_spin(md, j)
         type(vmodel), intent(in) :: md
         integer, intent(in) :: j

@@ -62,6 +62,25 @@ def contact_table() -> WheelTable:
     return wheel_table(w, r)
 
 
+#: Contact geometries of the time simulation: the table's Hertz points, or the strip
+#: potential (railvti.vehicle.strip).
+GEOMETRIES = ("table", "strip")
+
+
+def _with_geometry(sy: System, geometry: str) -> System:
+    """The system with the contact geometry ``geometry`` (GEOMETRIES)."""
+    if geometry not in GEOMETRIES:
+        raise InputError(f"unknown contact geometry {geometry!r}: one of {GEOMETRIES}")
+    if geometry == "table":
+        return sy
+    if "strip" not in _PROFILES:
+        from .vehicle.strip import strip_geometry
+        w, r = _profiles()
+        _PROFILES["strip"] = strip_geometry(w, r, material=sy.table.material)
+    from dataclasses import replace
+    return replace(sy, strip=_PROFILES["strip"])
+
+
 def equivalent_conicity(amplitude: float = 0.003) -> float:
     """EN 15302 equivalent conicity of S1002 / UIC60 1:40 at the given amplitude (m)."""
     from .geometry import contact_table as ctab, equivalent_conicity as eqc
@@ -139,10 +158,15 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
 
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
                  linear_conicity: float | None = None, speed_kmh: float | None = None,
-                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None
-                 ) -> System:
+                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None,
+                 geometry: str = "table") -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
+
+    ``geometry`` is the contact geometry of the Hertz + Kalker and Hertz + FASTSIM contacts:
+    'table' (one Hertz point per slot at the table's lowest gap) or 'strip' (the strip
+    potential over the whole interpenetration, :mod:`railvti.vehicle.strip`; exactly
+    conservative, no jumps). The BEM contact always reads the table.
 
     Model 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
     ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
@@ -154,16 +178,24 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
             raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
                              "depend on the spin)")
         return fr_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
-                         linear_conicity=linear_conicity)[0]
+                         linear_conicity=linear_conicity, geometry=geometry)[0]
     tab = contact_table()
     if linear_conicity is not None:
+        _linear_table_geometry(geometry)
         tab = linearised_table(tab, linear_conicity)
-    return build_coach(coach or Coach(), tab)
+    return _with_geometry(build_coach(coach or Coach(), tab), geometry)
+
+
+def _linear_table_geometry(geometry: str) -> None:
+    if geometry != "table":
+        raise InputError("linear_conicity replaces the profiles by a cone: it has no strip "
+                         "geometry (geometry='table')")
 
 
 def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-              linear_conicity: float | None = None) -> tuple[System, list]:
+              linear_conicity: float | None = None, geometry: str = "table"
+              ) -> tuple[System, list]:
     """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
 
     Parameters
@@ -177,6 +209,8 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         truncated modes stay as residual flexibility.
     linear_conicity : float, optional
         Replace the contact table by its equivalent linearisation (linear analyses).
+    geometry : str
+        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
 
     Returns
     -------
@@ -188,9 +222,11 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     k_max, f_max = check_fr_selection(k_max, f_max)
     tab = contact_table()
     if linear_conicity is not None:
+        _linear_table_geometry(geometry)
         tab = linearised_table(tab, linear_conicity)
-    return build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
-                    f_max=f_max)
+    sy, lays = build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
+                        f_max=f_max)
+    return _with_geometry(sy, geometry), lays
 
 
 @dataclass(frozen=True)
@@ -326,11 +362,12 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
 
 def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
     """The scenario's system: RR, or FR at this speed with the mode selection popped from kw."""
+    geometry = kw.pop("geometry", "table")
     if model == "FR":
         return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
-                            f_max=kw.pop("f_max", FR_F_MAX))
+                            f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry)
     _no_fr_keys(kw)
-    return coach_system(model, coach)
+    return coach_system(model, coach, geometry=geometry)
 
 
 def _no_fr_keys(kw: dict) -> None:

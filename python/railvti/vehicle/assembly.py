@@ -37,6 +37,7 @@ contact and track deflections.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,6 +47,9 @@ from ..material import STEEL
 from .params import Coach
 from .model import ModalBlocks, VehicleModel
 from .table import QUANTITIES, WheelTable
+
+if TYPE_CHECKING:
+    from .strip import StripGeometry
 
 EL_FRICTION, EL_BUMP = 1, 2
 _INT_FIELDS = ("etype", "iws", "itr")
@@ -95,6 +99,11 @@ class System:
         Flexible bodies as modal blocks coupled through attachment points (the state of
         :func:`~railvti.vehicle.simulate` is then the DOFs followed by the modal
         coordinates, :attr:`state_names`); None for a rigid model.
+    strip : StripGeometry or None
+        The strip contact (:mod:`railvti.vehicle.strip`): the Hertz + Kalker and Hertz +
+        FASTSIM contacts then take their normal forces from the strip potential and their
+        creep forces at each slot's load-weighted point; None: the table's points. The
+        table still bounds the lateral range (derailment).
 
     Notes
     -----
@@ -118,6 +127,7 @@ class System:
     wheel_load: float
     friction: float = 0.3
     modal: ModalBlocks | None = None
+    strip: "StripGeometry | None" = None
 
     def __post_init__(self) -> None:
         for f in fields(self):

@@ -444,6 +444,9 @@ class VehicleModel:
         self.n = int(system.n)
         self.n_wheelsets = int(system.iws.shape[1])
         self._free = weakref.finalize(self, core.vehicle_model_free_c, self.handle)
+        if system.strip is not None:
+            info = core.vehicle_strip_attach_c(self.handle, *system.strip.args())
+            check(info, "strip contact")
         mb = system.modal
         if mb is not None:
             bs, bb, kb = mb.packed()

@@ -1,0 +1,295 @@
+!> Wheel-rail normal contact of one wheel as a strip potential over the whole rigid
+!> interpenetration of wheel and rail: no contact points, branches or look-up jumps.
+!>
+!> The wheel profile is sampled at a fixed step ds (samples fixed on the wheel); the rail is
+!> a C2 cubic spline of its profile on a uniform grid (rail-local y, z down, canted). For the
+!> wheelset centre at lateral Y and height Zc above its nominal height (track frame of the
+!> rail's element) and the relative roll phi of wheel against rail (left-wheel convention: y
+!> to the left, the right wheel is read mirrored), sample j with arms (y0_j, z0_j) about the
+!> centre (z0 up, negative) stands at
+!>   arm_j = cos(phi) y0_j - sin(phi) z0_j,   zw_j = sin(phi) y0_j + cos(phi) z0_j,
+!> over the rail-local y_r = Y + arm_j - offset; its vertical interference is
+!>   P_j = h(y_r) - (r_nom + Zc + zw_j),   h = rail_top - z_rail(y_r) the rail's height.
+!> The potential (a semi-Hertzian strip model: each strip a Hertzian slice of the local
+!> curvatures, summed across the patch) is
+!>   V = sum_j c(x_j) cos(delta_j) w_j P_j^2,   c = 3/8 kH(1, rho) sqrt(rho),  x = ln rho,
+!> with rho = B/A (clipped to the tabulated range), A = cos(delta - phi) / (2 r_j) the
+!> relative curvature along x, B = (kappa_rail - kappa_wheel) / 2 across (kappa_rail from a
+!> smoothed C1 table, so that the curvature's rate and with it the force are continuous), delta =
+!> -atan(z_rail') the rail's contact angle and w_j = ds (cos(phi) + sin(phi) z'_w) the
+!> strip's lateral width. For a parabolic gap B t^2 across the patch (t the arc length,
+!> normal approach d) it gives V = (16/15) c d^2.5 / sqrt(B), hence Hertz's N = kH d^1.5
+!> exactly, and the strip widths integrate a non-Hertzian gap without any point. The
+!> forces are -grad V over (Y, Zc, phi) with every term (the curvatures' change under the
+!> moving strip included): exactly conservative. The strips' normal forces N_j = 2 c w_j P_j
+!> are split smoothly between the tread and the flange slot by a weight fixed on the wheel,
+!> and each slot reports its load-weighted point for the creep forces (vehicle_contact).
+!> Implements the semi-Hertzian strip idea of Kik and Piotrowski (1996) and Ayasse and
+!> Chollet (2005) as a potential (docs/vehicle.md "Strip contact"); no Kaiser equation.
+module vehicle_strip
+    use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
+    implicit none
+    private
+    public :: strip_geometry, strip_set, strip_wheel, strip_props, nso
+    public :: SO_N, SO_V, SO_DY, SO_DZ, SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, SO_PMAX
+
+    !> Outputs of strip_wheel per slot (1 tread, 2 flange): normal force, potential, its
+    !> gradient (Y, Zc, phi), the load-weighted arm l, depth below the centre za, contact
+    !> angle, rolling radius, x = ln(B/A), A, and the largest interference.
+    integer, parameter :: nso = 12
+    integer, parameter :: SO_N = 1, SO_V = 2, SO_DY = 3, SO_DZ = 4, SO_DPHI = 5, SO_L = 6
+    integer, parameter :: SO_ZA = 7, SO_DELTA = 8, SO_R = 9, SO_X = 10, SO_A = 11, SO_PMAX = 12
+    !> Coarse scan: every STRIDE-th sample (0.4 mm apart at the default 0.2 mm step), a
+    !> segment looked at closely when an end is less than MARGIN from contact: a gap dips
+    !> below its ends by curvature x (0.4 mm)^2 / 8, under MARGIN for vertical curvatures up to
+    !> 5000 1/m (a flange flank at 70 degrees with 1/(2 mm) relative curvature).
+    integer, parameter :: STRIDE = 2
+    real(dp), parameter :: MARGIN = 1.0e-4_dp
+
+    !> Wheel samples ws(6, nw): y0, z0 (arms about the centre, z0 up), r (radius), kappa
+    !> (profile curvature, z down), z' (profile slope, z down), the tread slot's weight.
+    !> Rail: z (down) and its second derivative on y = ry0 + (i - 1) rdy, i = 1..nr, the
+    !> rail-local y of track y = offset + y; rk, rk1 the smoothed curvature and its rate
+    !> (cubic Hermite between the nodes). Ratio table over x = fx0 + (i - 1) fdx (flat at
+    !> both ends: a C1 saturation of the curvature ratio): values fv(nf, 6) and second
+    !> derivatives fm of c, a1, b1 (Hertz semi-axes for 1 N at A = 1), Kalker's c11, c22, c23.
+    type :: strip_geometry
+        logical :: on = .false.
+        integer :: nw = 0, nr = 0, nf = 0
+        real(dp) :: ds = 0.0_dp, rnom = 0.0_dp, ry0 = 0.0_dp, rdy = 1.0_dp, offset = 0.0_dp
+        real(dp) :: top = 0.0_dp, fx0 = 0.0_dp, fdx = 1.0_dp
+        real(dp), allocatable :: ws(:, :), rz(:), rm(:), rk(:), rk1(:), fv(:, :), fm(:, :)
+    end type strip_geometry
+
+contains
+
+    !> Store a strip geometry: info STAT_BAD_ARGUMENT for fewer than 2 samples, grid points or
+    !> table rows, a step <= 0 or a non-finite entry.
+    pure subroutine strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, &
+                              fdx, fv, fm, st, info)
+        integer, intent(in) :: nw, nr, nf
+        real(dp), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+        real(dp), intent(in) :: offset, top
+        real(dp), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6)
+        type(strip_geometry), intent(out) :: st
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (nw < 2 .or. nr < 2 .or. nf < 2) return
+        if (.not. (ds > 0.0_dp .and. rdy > 0.0_dp .and. fdx > 0.0_dp .and. rnom > 0.0_dp)) return
+        if (.not. (all(abs(ws) <= huge(1.0_dp)) .and. all(abs(rz) <= huge(1.0_dp)) &
+                   .and. all(abs(rm) <= huge(1.0_dp)) .and. all(abs(fv) <= huge(1.0_dp)) &
+                   .and. all(abs(rk) <= huge(1.0_dp)) .and. all(abs(rk1) <= huge(1.0_dp)) &
+                   .and. all(abs(fm) <= huge(1.0_dp)))) return
+        st%nw = nw
+        st%nr = nr
+        st%nf = nf
+        st%ws = ws
+        st%ds = ds
+        st%rnom = rnom
+        st%ry0 = ry0
+        st%rdy = rdy
+        st%rz = rz
+        st%rm = rm
+        st%rk = rk
+        st%rk1 = rk1
+        st%offset = offset
+        st%top = top
+        st%fx0 = fx0
+        st%fdx = fdx
+        st%fv = fv
+        st%fm = fm
+        st%on = .true.
+        info = STAT_OK
+    end subroutine strip_set
+
+    !> A natural-form cubic spline on a uniform grid (values v, second derivatives m at
+    !> x0 + (i - 1) h): value and first three derivatives at x; inside false off the grid.
+    pure subroutine spline_at(n, v, m, x0, h, x, f, f1, f2, f3, inside)
+        integer, intent(in) :: n
+        real(dp), intent(in) :: v(n), m(n), x0, h, x
+        real(dp), intent(out) :: f, f1, f2, f3
+        logical, intent(out) :: inside
+        real(dp) :: s, a, b
+        integer :: i
+        s = (x - x0) / h
+        inside = s >= 0.0_dp .and. s <= real(n - 1, dp)
+        f = 0.0_dp
+        f1 = 0.0_dp
+        f2 = 0.0_dp
+        f3 = 0.0_dp
+        if (.not. inside) return
+        i = min(int(s), n - 2) + 1
+        b = s - real(i - 1, dp)
+        a = 1.0_dp - b
+        f = a * v(i) + b * v(i + 1) + ((a**3 - a) * m(i) + (b**3 - b) * m(i + 1)) * h * h / 6.0_dp
+        f1 = (v(i + 1) - v(i)) / h + (-(3.0_dp * a * a - 1.0_dp) * m(i) &
+                                       + (3.0_dp * b * b - 1.0_dp) * m(i + 1)) * h / 6.0_dp
+        f2 = a * m(i) + b * m(i + 1)
+        f3 = (m(i + 1) - m(i)) / h
+    end subroutine spline_at
+
+    !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value and rate.
+    pure subroutine hermite_at(n, v, d, x0, h, x, f, f1)
+        integer, intent(in) :: n
+        real(dp), intent(in) :: v(n), d(n), x0, h, x
+        real(dp), intent(out) :: f, f1
+        real(dp) :: s, t
+        integer :: i
+        s = min(max((x - x0) / h, 0.0_dp), real(n - 1, dp))
+        i = min(int(s), n - 2) + 1
+        t = s - real(i - 1, dp)
+        f = (2 * t**3 - 3 * t**2 + 1) * v(i) + (t**3 - 2 * t**2 + t) * h * d(i) &
+            + (-2 * t**3 + 3 * t**2) * v(i + 1) + (t**3 - t**2) * h * d(i + 1)
+        f1 = (6 * t**2 - 6 * t) / h * v(i) + (3 * t**2 - 4 * t + 1) * d(i) &
+             + (-6 * t**2 + 6 * t) / h * v(i + 1) + (3 * t**2 - 2 * t) * d(i + 1)
+    end subroutine hermite_at
+
+    !> Column col of the ratio table at x (clamped to its range; df = 0 outside).
+    pure subroutine ratio_at(st, col, x, f, df)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: col
+        real(dp), intent(in) :: x
+        real(dp), intent(out) :: f, df
+        real(dp) :: xc, f2, f3
+        logical :: inside
+        xc = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        call spline_at(st%nf, st%fv(:, col), st%fm(:, col), st%fx0, st%fdx, xc, f, df, f2, f3, inside)
+        if (xc /= x) df = 0.0_dp
+    end subroutine ratio_at
+
+    !> Hertz semi-axes for a 1 N load (a1, b1, m N^(-1/3)) and Kalker's c11, c22, c23 of a
+    !> slot's point from its x = ln(B/A) and A (lengths scale as A^(-1/3) at a fixed ratio).
+    pure subroutine strip_props(st, x, a, props)
+        type(strip_geometry), intent(in) :: st
+        real(dp), intent(in) :: x, a
+        real(dp), intent(out) :: props(5)
+        real(dp) :: d
+        integer :: col
+        do col = 2, 6
+            call ratio_at(st, col, x, props(col - 1), d)
+        end do
+        props(1:2) = props(1:2) * a**(-1.0_dp / 3.0_dp)
+    end subroutine strip_props
+
+    !> The rail-local vertical interference of sample j at the pose (no derivatives): for
+    !> the coarse scan. -huge off the rail.
+    pure real(dp) function interference(st, j, y, zc, cph, sph)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: y, zc, cph, sph
+        real(dp) :: arm, zw, z, z1, z2, z3
+        logical :: inside
+        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
+        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, y + arm - st%offset, z, z1, z2, z3, inside)
+        interference = -huge(1.0_dp)
+        if (inside) interference = (st%top - z) - (st%rnom + zc + zw)
+    end function interference
+
+    !> The strip potential of one wheel (left-wheel convention) at the centre's lateral
+    !> position y, height zc above nominal and relative roll phi: per slot the outputs SO_*.
+    !> The partition weights are fixed on the wheel, so the slots' gradients add up to the
+    !> gradient of the total potential.
+    pure subroutine strip_wheel(st, y, zc, phi, out)
+        type(strip_geometry), intent(in) :: st
+        real(dp), intent(in) :: y, zc, phi
+        real(dp), intent(out) :: out(nso, 2)
+        real(dp) :: pc(st%nw), cph, sph, acc(nso + 1, 2)
+        integer :: j, jl, jh
+        out = 0.0_dp
+        acc = 0.0_dp
+        cph = cos(phi)
+        sph = sin(phi)
+        do j = 1, st%nw, STRIDE
+            pc(j) = interference(st, j, y, zc, cph, sph)
+        end do
+        pc(st%nw) = interference(st, st%nw, y, zc, cph, sph)
+        do j = 1, st%nw
+            jl = 1 + ((j - 1) / STRIDE) * STRIDE
+            jh = min(jl + STRIDE, st%nw)
+            if (max(pc(jl), pc(jh)) < -MARGIN) cycle
+            call add_strip(st, j, y, zc, phi, cph, sph, acc)
+        end do
+        out = acc(1:nso, :)
+        do j = 1, 2
+            if (.not. (acc(SO_N, j) > 0.0_dp)) cycle
+            out(SO_L:SO_A, j) = acc(SO_L:SO_A, j) / acc(SO_N, j)
+            ! the mean normal's angle: the load-weighted sin and cos (SO_DELTA, SO_PMAX slots)
+            out(SO_DELTA, j) = atan2(acc(SO_DELTA, j), acc(SO_PMAX, j))
+            out(SO_PMAX, j) = acc(nso + 1, j)
+        end do
+    end subroutine strip_wheel
+
+    !> Sample j's potential, gradient and load-weighted point quantities added into out.
+    pure subroutine add_strip(st, j, y, zc, phi, cph, sph, out)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: y, zc, phi, cph, sph
+        real(dp), intent(inout) :: out(nso + 1, 2)
+        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel
+        logical :: inside
+        integer :: k
+        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
+        yr = y + arm - st%offset
+        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
+        if (.not. inside) return
+        p = (st%top - z) - (st%rnom + zc + zw)
+        if (p <= 0.0_dp) return
+        ! the rail's contact angle and (smoothed) curvature, z down, and their rates along y_r
+        q = 1.0_dp + z1 * z1
+        cd = 1.0_dp / sqrt(q)
+        sd = -z1 * cd
+        ddl = -z2 / q
+        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr)
+        ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
+        crel = cd * cph + sd * sph
+        srel = sd * cph - cd * sph
+        a = crel / (2.0_dp * st%ws(3, j))
+        b = 0.5_dp * (kr - st%ws(4, j))
+        ! x = ln(B/A) and its rates (zero where the table clamps it)
+        if (b > 0.0_dp) then
+            x = log(b / a)
+            dxy = 0.5_dp * dkr / b + srel / crel * ddl
+            dxp = -srel / crel
+        else
+            x = st%fx0
+            dxy = 0.0_dp
+            dxp = 0.0_dp
+        end if
+        call ratio_at(st, 1, x, c, dc)
+        w = st%ds * (cph + sph * st%ws(5, j))
+        dw = st%ds * (-sph + cph * st%ws(5, j))
+        ! V_j = G P^2 with G = c cos(delta) w
+        g = c * cd * w
+        dgy = dc * dxy * cd * w - c * sd * ddl * w
+        dgp = dc * dxp * cd * w + c * cd * dw
+        ! dP/dY = h' = -z', dP/dZc = -1, dP/dphi = -h' zw - arm
+        dpy = -z1
+        dpp = z1 * zw - arm
+        n = 2.0_dp * c * w * p
+        e = 0.0_dp
+        e(SO_N) = n
+        e(SO_V) = g * p * p
+        e(SO_DY) = 2.0_dp * g * p * dpy + p * p * dgy
+        e(SO_DZ) = -2.0_dp * g * p
+        e(SO_DPHI) = 2.0_dp * g * p * dpp + p * p * (-dgy * zw + dgp)
+        e(SO_L) = n * arm
+        e(SO_ZA) = -n * zw
+        ! the slot's contact angle from its load-weighted normal (strip_wheel)
+        e(SO_DELTA) = n * sd
+        e(SO_PMAX) = n * cd
+        e(SO_R) = n * st%ws(3, j)
+        e(SO_X) = n * min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        e(SO_A) = n * a
+        do k = 1, 2
+            om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
+            if (om <= 0.0_dp) cycle
+            out(:, k) = out(:, k) + om * e
+            out(nso + 1, k) = max(out(nso + 1, k), p)
+        end do
+    end subroutine add_strip
+
+end module vehicle_strip
