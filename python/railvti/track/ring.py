@@ -406,6 +406,35 @@ class RingTrack:
         hr, hi = core.track_frf_c(self.lam, self.cmod, out * q, f)
         return hr + 1j * hi
 
+    def head_receptance(self, freqs: np.ndarray, x: float, rail: int) -> np.ndarray:
+        """Point receptance matrix of one rail's head at x, in the track frame.
+
+        Parameters
+        ----------
+        freqs : array_like
+            Frequencies, Hz (>= 0).
+        x : float
+            Load and response position along the ring, m.
+        rail : int
+            1 (left, y < 0) or 2 (right, y > 0); y points to the right (docs/track.md).
+
+        Returns
+        -------
+        ndarray of complex, shape (nf, 4, 4)
+            ``H[f, i, j]``: response i (u_x, u_y, u_z in m, roll about x in rad) to a unit
+            load j (F_x, F_y, F_z in N, M_x in N m) at the same point of the same rail.
+        """
+        f = _checks.finite_array("freqs", freqs, ndim=1)
+        if np.any(f < 0):
+            raise InputError("freqs must be >= 0")
+        h = self.head_shapes(x, rail)
+        out = np.empty((f.size, 4, 4), complex)
+        for i in range(4):
+            for j in range(i, 4):
+                hr, hi = core.track_frf_c(self.lam, self.cmod, h[i] * h[j], f)
+                out[:, i, j] = out[:, j, i] = hr + 1j * hi
+        return out
+
     def static_modal(self, direction: str = "vertical", position: str | float = "midspan") -> float:
         """Static deflection per unit load from the modal sum (all modes), m/N."""
         out, q = self._pattern(self._position(position), direction)

@@ -251,6 +251,50 @@ def _mesh_linear(outline: np.ndarray, max_area: float) -> tuple[np.ndarray, np.n
     return np.asarray(out["vertices"], float), np.asarray(out["triangles"], int)
 
 
+def _mirror_halves(outline: np.ndarray, tol: float = 1e-9) -> np.ndarray | None:
+    """The half of a mirror-symmetric outline on eta >= 0, closed along the axis, or None.
+
+    ``outline`` is counter-clockwise without the repeated point. It is mirror-symmetric when
+    its vertex set maps onto itself under eta -> -eta and exactly two vertices lie on eta = 0
+    (the top and the bottom of the axis). The half runs counter-clockwise from the bottom axis
+    vertex over eta > 0 to the top one; its last edge is the axis itself.
+    """
+    scale = max(float(np.abs(outline).max()), 1.0)
+    on_axis = np.where(np.abs(outline[:, 0]) <= tol * scale)[0]
+    if on_axis.size != 2:
+        return None
+    mirrored = outline * np.array([-1.0, 1.0])
+    d = np.linalg.norm(outline[:, None, :] - mirrored[None, :, :], axis=2).min(axis=1)
+    if d.max() > tol * scale:
+        return None
+    bot, top = on_axis[np.argsort(outline[on_axis, 1])]
+    n = len(outline)
+    chain = outline[[(bot + i) % n for i in range((top - bot) % n + 1)]]
+    if chain.shape[0] < 3 or np.any(chain[1:-1, 0] <= 0.0):
+        return None
+    return chain
+
+
+def _mesh_mirrored(half: np.ndarray, max_area: float) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh one half (eta >= 0, axis as a boundary edge) and mirror it, merging the axis nodes.
+
+    Every node off the axis has its mirror image, every triangle its mirror triangle, so the
+    section FE and everything computed from it are exactly symmetric about eta = 0.
+    """
+    nodes, tri = _mesh_linear(half, max_area)
+    scale = max(float(np.abs(half).max()), 1.0)
+    axis = np.abs(nodes[:, 0]) <= 1e-9 * scale
+    nodes[axis, 0] = 0.0                       # Steiner points on the axis edge: exactly on it
+    if np.any(nodes[:, 0] < 0.0):
+        raise InputError("half-section mesh crosses the axis of symmetry")
+    off = np.where(~axis)[0]
+    image = np.arange(len(nodes))
+    image[off] = len(nodes) + np.arange(off.size)
+    all_nodes = np.vstack([nodes, nodes[off] * np.array([-1.0, 1.0])])
+    all_tri = np.vstack([tri, image[tri][:, ::-1]])   # reversed: mirror flips orientation
+    return all_nodes, all_tri
+
+
 def _to_t6(nodes: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     edges: dict[tuple[int, int], int] = {}
     new = [p for p in nodes]
@@ -344,7 +388,11 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
     arc_step = _checks.positive("arc_step", arc_step)
     poly = uic60_outline(step=arc_step) if outline is None else np.asarray(outline, float)
     poly = check_outline(poly)
-    lin_nodes, tri = _mesh_linear(poly, max_element_area)
+    half = _mirror_halves(poly)
+    if half is None:
+        lin_nodes, tri = _mesh_linear(poly, max_element_area)
+    else:
+        lin_nodes, tri = _mesh_mirrored(half, max_element_area)
     nodes, el = _to_t6(lin_nodes, tri)
     props = section_properties(nodes, el)
     top = nodes[:, 1].max()
