@@ -183,6 +183,83 @@ def test_mirror_keeps_the_cant(ring8, ring8_outward):
     assert r1 * r2 < 0 and abs(r1 - r2) > 0.05
 
 
+def _compliance(h1, h2, lam):
+    return (h1 / lam) @ h2.T
+
+
+def test_head_surface_follows_the_outline(ring8):
+    """The head's running surface from the mesh: symmetric about the axis, through the crown
+    (172 mm, level), on the outline's polygon, and reaching the gauge corner (slope past
+    60 degrees) on both sides."""
+    hd, sec = ring8.head, ring8.section
+    assert np.array_equal(hd.eta, -hd.eta[::-1]) and np.array_equal(hd.zeta, hd.zeta[::-1])
+    z0, sl0 = hd.point(0.0)
+    assert z0 == pytest.approx(0.172, abs=1e-12) and abs(sl0) < 0.05
+    top = sec.outline[sec.outline[:, 1] > 0.15]
+    top = top[np.argsort(top[:, 0])]
+    for s in np.linspace(hd.eta[0], hd.eta[-1], 37):
+        z, _ = hd.point(s)
+        assert z == pytest.approx(np.interp(s, top[:, 0], top[:, 1]), abs=1e-9)
+    assert hd.point(hd.eta[0])[1] > np.tan(np.radians(60)) and hd.eta[-1] > 0.03
+    with pytest.raises(InputError, match="off the rail head"):
+        ring8.head_shapes(0.1, 1, hd.eta[-1] + 1e-3)
+
+
+def test_head_shapes_at_s_zero_are_the_crown_and_continuous(ring8):
+    """s = 0 is the crown node: the same values as the crown rows. Along the surface the values
+    are continuous across the ends of the mesh's edges (quadratic interpolation per edge)."""
+    for rail in (1, 2):
+        h0, hs = ring8.head_shapes(0.21, rail), ring8.head_shapes(0.21, rail, 0.0)
+        assert np.abs(hs - h0).max() <= 1e-12 * np.abs(h0).max()
+        for e in ring8.head.eta[1:-1]:
+            a = ring8.head_shapes(0.21, rail, e - 1e-9)
+            b = ring8.head_shapes(0.21, rail, e + 1e-9)
+            assert np.abs(a - b).max() < 1e-6 * np.abs(a).max()
+
+
+def test_rails_mirror_at_head_points(ring8):
+    """The mirror at a point off the crown: rail 1 at s maps onto rail 2 at -s (s is the
+    section's eta, along the ring's y on both rails)."""
+    for s in (0.012, -0.025, 0.033):
+        h1, h2 = ring8.head_shapes(0.13, 1, s), ring8.head_shapes(0.13, 2, -s)
+        g1 = _compliance(h1, h1, ring8.lam)
+        g2m = _MIRROR @ _compliance(h2, h2, ring8.lam) @ _MIRROR
+        assert np.abs(g1 - g2m).max() < 1e-8 * np.abs(g1).max(), s
+
+
+@pytest.mark.parametrize("track", ["ring8", "ring8_flat"])
+@pytest.mark.parametrize("load, tol", [((0, 0, 0, 1e3), 0.01), ((0, 1e4, 0, 0), 0.01),
+                                       ((0, 0, -1e5, 0), 0.10)])
+def test_head_roll_matches_finite_differences_of_the_surface(track, load, tol, request):
+    """Finite differences of the static deflection field along the head surface against the
+    roll the shapes give at each surface point. On a traction-free surface the shear strain
+    between its tangent t and normal n vanishes, so the rotation of the surface line,
+    n . du/dsigma (sigma the arc length), is the material rotation, the roll. Static field of
+    a crown load one bay (0.6 m) away, central differences inside each edge, in the rail's
+    section frame (the track frame turned back by the cant). The moment and lateral loads
+    rotate the head nearly rigidly: 0.25 % measured; under a vertical load the roll is a
+    small difference of large gradients near the crown (Poisson's anticlastic bending and the
+    local deformation under the load): 7 % of the largest roll measured."""
+    tr = request.getfixturevalue(track)
+    hd = tr.head
+    q = (np.array(load, float) @ tr.head_shapes(0.75, 2)) / tr.lam
+    b = tr._geom[1][1]
+    back = np.array([[np.cos(b), np.sin(b)], [-np.sin(b), np.cos(b)]])    # track -> section
+    diff, roll = [], []
+    for i in range(len(hd.edges)):
+        s = 0.5 * (hd.eta[i] + hd.eta[i + 1])
+        h = 0.25 * (hd.eta[i + 1] - hd.eta[i])
+        _, slope = hd.point(s)
+        du = back @ ((tr.head_shapes(0.15, 2, s + h) - tr.head_shapes(0.15, 2, s - h)) @ q)[1:3]
+        du /= 2 * h * np.hypot(1.0, slope)                     # d(u_eta, u_zeta)/d sigma
+        n = np.array([-slope, 1.0]) / np.hypot(1.0, slope)
+        diff.append(n @ du)
+        roll.append((tr.head_shapes(0.15, 2, s) @ q)[3])
+    diff, roll = np.array(diff), np.array(roll)
+    assert np.abs(diff - roll).max() < tol * np.abs(roll).max()
+    assert np.abs(roll).max() > 0
+
+
 @pytest.mark.parametrize("kw, msg", [
     (dict(pad_stiffness_vertical=-1e8), "pad_stiffness_vertical"),
     (dict(sleeper_mass=-10.0), "sleeper_mass"),
