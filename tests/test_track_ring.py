@@ -260,6 +260,42 @@ def test_head_roll_matches_finite_differences_of_the_surface(track, load, tol, r
     assert np.abs(roll).max() > 0
 
 
+@pytest.mark.parametrize("s", [None, 0.021, -0.032])
+def test_head_shapes_dx_match_finite_differences_in_x(ring8, s):
+    """The convective rows (analytic x-derivative of the trigonometric functions) against
+    central differences of head_shapes in x, on both rails, at the crown and off it (step
+    1e-5 m: truncation ~ (kappa_max * step)^2 = 1e-7)."""
+    d = 1e-5
+    for rail in (1, 2):
+        for x in (0.0, 0.17, 2.9):
+            fd = (ring8.head_shapes(x + d, rail, s) - ring8.head_shapes(x - d, rail, s)) / (2 * d)
+            an = ring8.head_shapes_dx(x, rail, s)
+            for c in range(4):
+                assert np.abs(an[c] - fd[c]).max() < 1e-5 * np.abs(an[c]).max(), (rail, x, c)
+
+
+def test_contact_rows_of_one_step(ring8):
+    """Several contact points in one call: the same rows as one call per point, positions
+    taken modulo the ring length; bad shapes are refused."""
+    x = np.array([0.1, 2.5, 0.1 + ring8.length, -0.4])
+    rail = np.array([1, 2, 1, 2])
+    s = np.array([0.0, 0.01, -0.02, 0.03])
+    shapes, dx = ring8.contact_rows(x, rail, s)
+    assert shapes.shape == (4, 4, ring8.n_modes) and dx.shape == shapes.shape
+    for i in range(4):
+        assert np.allclose(shapes[i], ring8.head_shapes(x[i], rail[i], s[i]), rtol=0,
+                           atol=1e-9 * np.abs(shapes[i]).max())
+        assert np.array_equal(dx[i], ring8.head_shapes_dx(x[i] % ring8.length, rail[i], s[i]))
+    crown, _ = ring8.contact_rows(x[:2], rail[:2])
+    assert np.array_equal(crown[1], ring8.head_shapes(2.5, 2))
+    with pytest.raises(InputError, match="rail must have the shape"):
+        ring8.contact_rows(x, rail[:3])
+    with pytest.raises(InputError, match="s must have the shape"):
+        ring8.contact_rows(x, rail, s[:2])
+    with pytest.raises(InputError, match="rail must be 1 or 2"):
+        ring8.contact_rows(x, np.array([1, 2, 3, 1]))
+
+
 @pytest.mark.parametrize("kw, msg", [
     (dict(pad_stiffness_vertical=-1e8), "pad_stiffness_vertical"),
     (dict(sleeper_mass=-10.0), "sleeper_mass"),

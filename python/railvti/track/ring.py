@@ -368,6 +368,57 @@ class RingTrack:
         InputError
             x not finite, rail not 1 or 2, s off the head surface.
         """
+        return self._eval(x, rail, s, dx=False)
+
+    def head_shapes_dx(self, x: float, rail: int, s: float | None = None) -> np.ndarray:
+        """Derivative along x of :meth:`head_shapes`, per m: the convective rows.
+
+        A contact point moving at speed v0 along the ring sees the rail head's velocity
+        ``head_shapes(x_c) @ dq/dt + v0 * head_shapes_dx(x_c) @ q``. Exact (the
+        trigonometric functions differentiated), same arguments and rows as
+        :meth:`head_shapes`.
+        """
+        return self._eval(x, rail, s, dx=True)
+
+    def contact_rows(self, x: np.ndarray, rail: np.ndarray, s: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """Head shapes and their x-derivatives at several contact points (one time step).
+
+        Parameters
+        ----------
+        x : array_like (n,)
+            Contact points' positions along the ring, m (taken modulo the ring length).
+        rail : array_like of int (n,)
+            Rail of each point, 1 (left) or 2 (right).
+        s : array_like (n,), optional
+            Lateral positions on the head surface, m (see :meth:`head_shapes`); default the
+            crown for all.
+
+        Returns
+        -------
+        shapes, shapes_dx : ndarray (n, 4, n_modes)
+            :meth:`head_shapes` and :meth:`head_shapes_dx` of each point (track frame).
+        """
+        xs = _checks.finite_array("x", x, ndim=1)
+        rails = np.asarray(rail).reshape(-1)
+        if rails.shape != xs.shape:
+            raise InputError(f"rail must have the shape of x {xs.shape}, got {rails.shape}")
+        if s is None:
+            ss: list[float | None] = [None] * xs.size
+        else:
+            sa = _checks.finite_array("s", s, ndim=1)
+            if sa.shape != xs.shape:
+                raise InputError(f"s must have the shape of x {xs.shape}, got {sa.shape}")
+            ss = [float(v) for v in sa]
+        xs = np.mod(xs, self.length)
+        shapes = np.empty((xs.size, 4, self.n_modes))
+        dx = np.empty_like(shapes)
+        for i, (xi, ri, si) in enumerate(zip(xs, rails, ss)):
+            shapes[i] = self._eval(float(xi), int(ri), si, dx=False)
+            dx[i] = self._eval(float(xi), int(ri), si, dx=True)
+        return shapes, dx
+
+    def _eval(self, x: float, rail: int, s: float | None, dx: bool) -> np.ndarray:
         x = _checks.finite("x", x)
         if rail not in (1, 2):
             raise InputError(f"rail must be 1 or 2, got {rail!r}")
@@ -377,7 +428,14 @@ class RingTrack:
             nodes, wts = self.head.weights(s)
             idx = np.searchsorted(self._head_nodes, nodes)
             obs = np.asfortranarray(np.tensordot(wts, self._head_basis[idx], axes=1))
-        psi = core.track_eval_x_c(self.bpos, self.mpos, self.vpos, self.kap, self.fam, self.rail,
+        fam = self.fam
+        if dx:
+            # d/dx of family 1 (sin for u_x, cos else) is -kappa times family 2's function
+            # (-cos, sin), and d/dx of family 2 is +kappa times family 1's; k = 0 is constant.
+            factor = np.where(fam == 1, -self.kap, np.where(fam == 2, self.kap, 0.0))
+            obs = np.asfortranarray(obs * factor[None, :])
+            fam = np.where(fam == 1, 2, np.where(fam == 2, 1, fam)).astype(np.int32)
+        psi = core.track_eval_x_c(self.bpos, self.mpos, self.vpos, self.kap, fam, self.rail,
                                   obs, self.vflat, self.n_modes, x, rail)
         b = self._geom[1][rail - 1]
         c, sn = math.cos(b), math.sin(b)
