@@ -14,10 +14,14 @@ from y towards z, and reflecting y reverses it. The map is its own inverse.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from .ring import RingTrack
 
 #: The reflection y -> -y over (x, y, z, roll about x).
 REFLECT_Y = np.diag([1.0, -1.0, 1.0, -1.0])
@@ -82,7 +86,7 @@ def rail_of_wheel(side: int | str) -> RailOfWheel:
     return RailOfWheel(rail=int(side) + 1, lateral_sign=-1.0, transform=REFLECT_Y.copy())
 
 
-def wheel_head_shapes(track, x: float, side: int | str, s: float | None = None) -> np.ndarray:
+def wheel_head_shapes(track: RingTrack, x: float, side: int | str, s: float | None = None) -> np.ndarray:
     """Rail-head shapes under a vehicle wheel, in the vehicle's frame.
 
     Parameters
