@@ -1,8 +1,10 @@
 """Flexible ring track (2.5-D rail FE on discrete sleepers) and the rigid track element."""
 from __future__ import annotations
 
+from .coupling import RailOfWheel, rail_of_wheel, wheel_head_shapes
 from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack, TrackModes
-from .section import RailSection, rail_section
+from .section import HeadSurface, RailSection, head_surface, rail_section
 
-__all__ = ["DEFAULTS", "NUMERICS", "RailSection", "RingTrack", "TrackElement", "TrackModes", "rail_section"]
+__all__ = ["DEFAULTS", "NUMERICS", "HeadSurface", "RailOfWheel", "RailSection", "RingTrack", "TrackElement",
+           "TrackModes", "head_surface", "rail_of_wheel", "rail_section", "wheel_head_shapes"]

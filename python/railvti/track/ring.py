@@ -21,7 +21,7 @@ from .. import _checks
 from .._native import core
 from .._status import Status, check, error
 from ..errors import ConvergenceError, InputError
-from .section import GAUSS_L, RailSection, rail_section, t6_shape
+from .section import GAUSS_L, RailSection, head_surface, rail_section, t6_shape
 
 log = logging.getLogger(__name__)
 
@@ -107,21 +107,23 @@ def _foot_quadrature(sec: RailSection) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return np.array(etas), np.array(ws), p
 
 
-def _crown_observation(sec: RailSection) -> np.ndarray:
-    """Rows: u_x, u_eta, u_zeta at the crown node and the roll 1/2 (du_zeta/deta - du_eta/dzeta)."""
+_NODE_L = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0],
+                    [0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]])   # T6 nodes, area coords
+
+
+def _node_observation(sec: RailSection, node: int) -> np.ndarray:
+    """Rows u_x, u_eta, u_zeta at a section node and its roll 1/2 (du_zeta/deta - du_eta/dzeta),
+    the curl averaged over the elements that hold the node (a continuous recovered field)."""
     ndof = 3 * sec.n_nodes
     o = np.zeros((4, ndof))
-    cn = sec.crown_node
     for c in range(3):
-        o[c, 3 * cn + c] = 1.0
-    corner_l = np.eye(3)
+        o[c, 3 * node + c] = 1.0
     cnt = 0
     for el in sec.elements:
-        hit = np.where(el[:3] == cn)[0]
+        hit = np.where(el == node)[0]
         if hit.size == 0:
             continue
-        l = corner_l[hit[0]][None, :]
-        _, dn = t6_shape(l)
+        _, dn = t6_shape(_NODE_L[hit[0]][None, :])
         xy = sec.nodes[el]
         jac = dn[0].T @ xy                       # (2 l, 2 yz)
         dxy = dn[0] @ np.linalg.inv(jac).T       # (6, 2)
@@ -131,6 +133,11 @@ def _crown_observation(sec: RailSection) -> np.ndarray:
         cnt += 1
     o[3] /= max(cnt, 1)
     return o
+
+
+def _crown_observation(sec: RailSection) -> np.ndarray:
+    """Rows: u_x, u_eta, u_zeta at the crown node and the roll 1/2 (du_zeta/deta - du_eta/dzeta)."""
+    return _node_observation(sec, sec.crown_node)
 
 
 def section_fe(sec: RailSection, young: float, poisson: float, density: float
@@ -210,6 +217,9 @@ class RingTrack:
         ndof = k0.shape[0]
         self.eta_p, self.w_p, self._pad_interp = _foot_quadrature(sec)
         self._obs = _crown_observation(sec)
+        self.head = head_surface(sec)
+        self._head_nodes = np.unique(self.head.edges)
+        self._head_obs = np.vstack([_node_observation(sec, int(i)) for i in self._head_nodes])
         cn = sec.crown_node
         f = np.zeros((ndof, 4), order="F")
         f[3 * cn + 1, 0] = 1.0                                  # crown lateral force
@@ -248,12 +258,15 @@ class RingTrack:
                         f"(LAPACK info {linfo})")
         pw = np.einsum("pcn,nr->pcr", self._pad_interp, w)
         ow = self._obs @ w
+        hw = self._head_obs @ w
         self._rail = []   # per k: (kappa, om2, pad traces (np,3,nm), obs (4,nm), y)
+        self._rail_head = []   # per k: head-node observations (4 nh, nm)
         for k in range(n_k + 1):
             yk = y[:, :nm[k], k]
             norm = 1.0 / math.sqrt(self.length if k == 0 else 0.5 * self.length)
             self._rail.append((kap[k], om2[:nm[k], k].copy(),
                                np.einsum("pcr,rm->pcm", pw, yk) * norm, (ow @ yk) * norm, yk * norm))
+            self._rail_head.append((hw @ yk) * norm)
 
     def _build_groups(self) -> None:
         p, n = self.params, self.n_sleepers
@@ -277,8 +290,9 @@ class RingTrack:
         self._geom = (y0, beta)
         bpos, mpos, vpos = [0], [0], [0]
         kap_l, fam_l, rail_l, obs_l, lam_l, cm_l, grp_l, v_l = [], [], [], [], [], [], [], []
+        head_l = []
         for j in range(n // 2 + 1):
-            kap, fam, sgn, rail, om2, tr, obs = [], [], [], [], [], [], []
+            kap, fam, sgn, rail, om2, tr, obs, head = [], [], [], [], [], [], [], []
             for rho in (1, 2):
                 for k, (kp, o2, trk, obk, _) in enumerate(self._rail):
                     km = k % n
@@ -289,6 +303,7 @@ class RingTrack:
                         for i in range(o2.size):
                             kap.append(kp); fam.append(f); sgn.append(s); rail.append(rho)
                             om2.append(o2[i]); tr.append(trk[:, :, i]); obs.append(obk[:, i])
+                            head.append(self._rail_head[k][:, i])
             nb = len(kap)
             nsd = 6 if (j != 0 and 2 * j != n) else 3
             ntot = nb + nsd
@@ -300,7 +315,7 @@ class RingTrack:
             check(info, f"ring group {j}: eigen-solver (LAPACK info {linfo})")
             if lam.min() <= 0:
                 raise ConvergenceError(f"ring group {j}: non-positive eigenvalue {lam.min():.3g}")
-            kap_l += kap; fam_l += fam; rail_l += rail; obs_l += obs
+            kap_l += kap; fam_l += fam; rail_l += rail; obs_l += obs; head_l += head
             lam_l.append(lam); cm_l.append(cm); grp_l.append(np.full(ntot, j))
             v_l.append(v.ravel(order="F"))
             bpos.append(bpos[-1] + nb); mpos.append(mpos[-1] + ntot); vpos.append(vpos[-1] + ntot * ntot)
@@ -308,6 +323,8 @@ class RingTrack:
         self.fam = np.array(fam_l, np.int32)
         self.rail = np.array(rail_l, np.int32)
         self.obs = np.asfortranarray(np.array(obs_l).T)
+        # head-node observations: (node of self._head_nodes, row x/eta/zeta/roll, basis function)
+        self._head_basis = np.array(head_l).T.reshape(self._head_nodes.size, 4, -1)
         self.lam = np.concatenate(lam_l)
         self.cmod = np.concatenate(cm_l)
         self.group = np.concatenate(grp_l)
@@ -322,7 +339,7 @@ class RingTrack:
         """Number of modes of the modal form (all groups, including the quasi-static ones)."""
         return int(self.lam.size)
 
-    def head_shapes(self, x: float, rail: int) -> np.ndarray:
+    def head_shapes(self, x: float, rail: int, s: float | None = None) -> np.ndarray:
         """Rail-head values of every mode at position x on a rail.
 
         Parameters
@@ -330,25 +347,102 @@ class RingTrack:
         x : float
             Position along the ring, m (sleeper s sits at x = s * spacing).
         rail : int
-            1 (left, y < 0) or 2 (right, y > 0).
+            1 (left, y < 0) or 2 (right, y > 0); the ring's y points to the right.
+        s : float, optional
+            Lateral position of the point on the head's running surface, m, in the rail's own
+            section frame: eta from the rail's axis, along the ring's +y tilted by the rail's
+            cant (so towards the track centre on rail 1, away from it on rail 2). The point
+            is on the surface of the section mesh (:attr:`head`, its height and slope from
+            ``head.point(s)``); its values are the section field interpolated along the
+            surface edge (quadratic), the roll from the nodal averages of the curl. Default:
+            the crown node (s = 0 gives the same values).
 
         Returns
         -------
         ndarray (4, n_modes)
             Rows: longitudinal, lateral (y), vertical (z) displacement, m, and roll rotation
             about x, rad, in the track frame, per unit modal coordinate.
+
+        Raises
+        ------
+        InputError
+            x not finite, rail not 1 or 2, s off the head surface.
         """
+        return self._eval(x, rail, s, dx=False)
+
+    def head_shapes_dx(self, x: float, rail: int, s: float | None = None) -> np.ndarray:
+        """Derivative along x of :meth:`head_shapes`, per m: the convective rows.
+
+        A contact point moving at speed v0 along the ring sees the rail head's velocity
+        ``head_shapes(x_c) @ dq/dt + v0 * head_shapes_dx(x_c) @ q``. Exact (the
+        trigonometric functions differentiated), same arguments and rows as
+        :meth:`head_shapes`.
+        """
+        return self._eval(x, rail, s, dx=True)
+
+    def contact_rows(self, x: np.ndarray, rail: np.ndarray, s: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """Head shapes and their x-derivatives at several contact points (one time step).
+
+        Parameters
+        ----------
+        x : array_like (n,)
+            Contact points' positions along the ring, m (taken modulo the ring length).
+        rail : array_like of int (n,)
+            Rail of each point, 1 (left) or 2 (right).
+        s : array_like (n,), optional
+            Lateral positions on the head surface, m (see :meth:`head_shapes`); default the
+            crown for all.
+
+        Returns
+        -------
+        shapes, shapes_dx : ndarray (n, 4, n_modes)
+            :meth:`head_shapes` and :meth:`head_shapes_dx` of each point (track frame).
+        """
+        xs = _checks.finite_array("x", x, ndim=1)
+        rails = np.asarray(rail).reshape(-1)
+        if rails.shape != xs.shape:
+            raise InputError(f"rail must have the shape of x {xs.shape}, got {rails.shape}")
+        if s is None:
+            ss: list[float | None] = [None] * xs.size
+        else:
+            sa = _checks.finite_array("s", s, ndim=1)
+            if sa.shape != xs.shape:
+                raise InputError(f"s must have the shape of x {xs.shape}, got {sa.shape}")
+            ss = [float(v) for v in sa]
+        xs = np.mod(xs, self.length)
+        shapes = np.empty((xs.size, 4, self.n_modes))
+        dx = np.empty_like(shapes)
+        for i, (xi, ri, si) in enumerate(zip(xs, rails, ss)):
+            shapes[i] = self._eval(float(xi), int(ri), si, dx=False)
+            dx[i] = self._eval(float(xi), int(ri), si, dx=True)
+        return shapes, dx
+
+    def _eval(self, x: float, rail: int, s: float | None, dx: bool) -> np.ndarray:
         x = _checks.finite("x", x)
         if rail not in (1, 2):
             raise InputError(f"rail must be 1 or 2, got {rail!r}")
-        psi = core.track_eval_x_c(self.bpos, self.mpos, self.vpos, self.kap, self.fam, self.rail,
-                                  self.obs, self.vflat, self.n_modes, x, rail)
+        if s is None:
+            obs = self.obs
+        else:
+            nodes, wts = self.head.weights(s)
+            idx = np.searchsorted(self._head_nodes, nodes)
+            obs = np.asfortranarray(np.tensordot(wts, self._head_basis[idx], axes=1))
+        fam = self.fam
+        if dx:
+            # d/dx of family 1 (sin for u_x, cos else) is -kappa times family 2's function
+            # (-cos, sin), and d/dx of family 2 is +kappa times family 1's; k = 0 is constant.
+            factor = np.where(fam == 1, -self.kap, np.where(fam == 2, self.kap, 0.0))
+            obs = np.asfortranarray(obs * factor[None, :])
+            fam = np.where(fam == 1, 2, np.where(fam == 2, 1, fam)).astype(np.int32)
+        psi = core.track_eval_x_c(self.bpos, self.mpos, self.vpos, self.kap, fam, self.rail,
+                                  obs, self.vflat, self.n_modes, x, rail)
         b = self._geom[1][rail - 1]
-        c, s = math.cos(b), math.sin(b)
+        c, sn = math.cos(b), math.sin(b)
         out = np.empty_like(psi)
         out[0] = psi[0]
-        out[1] = c * psi[1] - s * psi[2]
-        out[2] = s * psi[1] + c * psi[2]
+        out[1] = c * psi[1] - sn * psi[2]
+        out[2] = sn * psi[1] + c * psi[2]
         out[3] = psi[3]
         return out
 
@@ -405,6 +499,35 @@ class RingTrack:
         out, q = self._pattern(self._position(position), direction)
         hr, hi = core.track_frf_c(self.lam, self.cmod, out * q, f)
         return hr + 1j * hi
+
+    def head_receptance(self, freqs: np.ndarray, x: float, rail: int) -> np.ndarray:
+        """Point receptance matrix of one rail's head at x, in the track frame.
+
+        Parameters
+        ----------
+        freqs : array_like
+            Frequencies, Hz (>= 0).
+        x : float
+            Load and response position along the ring, m.
+        rail : int
+            1 (left, y < 0) or 2 (right, y > 0); y points to the right (docs/track.md).
+
+        Returns
+        -------
+        ndarray of complex, shape (nf, 4, 4)
+            ``H[f, i, j]``: response i (u_x, u_y, u_z in m, roll about x in rad) to a unit
+            load j (F_x, F_y, F_z in N, M_x in N m) at the same point of the same rail.
+        """
+        f = _checks.finite_array("freqs", freqs, ndim=1)
+        if np.any(f < 0):
+            raise InputError("freqs must be >= 0")
+        h = self.head_shapes(x, rail)
+        out = np.empty((f.size, 4, 4), complex)
+        for i in range(4):
+            for j in range(i, 4):
+                hr, hi = core.track_frf_c(self.lam, self.cmod, h[i] * h[j], f)
+                out[:, i, j] = out[:, j, i] = hr + 1j * hi
+        return out
 
     def static_modal(self, direction: str = "vertical", position: str | float = "midspan") -> float:
         """Static deflection per unit load from the modal sum (all modes), m/N."""

@@ -251,6 +251,50 @@ def _mesh_linear(outline: np.ndarray, max_area: float) -> tuple[np.ndarray, np.n
     return np.asarray(out["vertices"], float), np.asarray(out["triangles"], int)
 
 
+def _mirror_halves(outline: np.ndarray, tol: float = 1e-9) -> np.ndarray | None:
+    """The half of a mirror-symmetric outline on eta >= 0, closed along the axis, or None.
+
+    ``outline`` is counter-clockwise without the repeated point. It is mirror-symmetric when
+    its vertex set maps onto itself under eta -> -eta and exactly two vertices lie on eta = 0
+    (the top and the bottom of the axis). The half runs counter-clockwise from the bottom axis
+    vertex over eta > 0 to the top one; its last edge is the axis itself.
+    """
+    scale = max(float(np.abs(outline).max()), 1.0)
+    on_axis = np.where(np.abs(outline[:, 0]) <= tol * scale)[0]
+    if on_axis.size != 2:
+        return None
+    mirrored = outline * np.array([-1.0, 1.0])
+    d = np.linalg.norm(outline[:, None, :] - mirrored[None, :, :], axis=2).min(axis=1)
+    if d.max() > tol * scale:
+        return None
+    bot, top = on_axis[np.argsort(outline[on_axis, 1])]
+    n = len(outline)
+    chain = outline[[(bot + i) % n for i in range((top - bot) % n + 1)]]
+    if chain.shape[0] < 3 or np.any(chain[1:-1, 0] <= 0.0):
+        return None
+    return chain
+
+
+def _mesh_mirrored(half: np.ndarray, max_area: float) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh one half (eta >= 0, axis as a boundary edge) and mirror it, merging the axis nodes.
+
+    Every node off the axis has its mirror image, every triangle its mirror triangle, so the
+    section FE and everything computed from it are exactly symmetric about eta = 0.
+    """
+    nodes, tri = _mesh_linear(half, max_area)
+    scale = max(float(np.abs(half).max()), 1.0)
+    axis = np.abs(nodes[:, 0]) <= 1e-9 * scale
+    nodes[axis, 0] = 0.0                       # Steiner points on the axis edge: exactly on it
+    if np.any(nodes[:, 0] < 0.0):
+        raise InputError("half-section mesh crosses the axis of symmetry")
+    off = np.where(~axis)[0]
+    image = np.arange(len(nodes))
+    image[off] = len(nodes) + np.arange(off.size)
+    all_nodes = np.vstack([nodes, nodes[off] * np.array([-1.0, 1.0])])
+    all_tri = np.vstack([tri, image[tri][:, ::-1]])   # reversed: mirror flips orientation
+    return all_nodes, all_tri
+
+
 def _to_t6(nodes: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     edges: dict[tuple[int, int], int] = {}
     new = [p for p in nodes]
@@ -268,6 +312,96 @@ def _to_t6(nodes: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                 new.append(0.5 * (nodes[i] + nodes[j]))
             el[e, 3 + k] = edges[key]
     return np.array(new), el
+
+
+def boundary_edges(elements: np.ndarray) -> np.ndarray:
+    """Quadratic edges that belong to one element only: (a, b, m), a -> b counter-clockwise.
+
+    For a counter-clockwise element the outside of such an edge lies to the right of a -> b,
+    so its outward normal is (d_zeta, -d_eta) / |d| with d = node b - node a.
+    """
+    count: dict[tuple[int, int], list] = {}
+    for e in elements:
+        for a, b, m in ((e[0], e[1], e[3]), (e[1], e[2], e[4]), (e[2], e[0], e[5])):
+            count.setdefault((min(a, b), max(a, b)), []).append((a, b, m))
+    return np.array([v[0] for v in count.values() if len(v) == 1], dtype=int).reshape(-1, 3)
+
+
+@dataclass(frozen=True)
+class HeadSurface:
+    """The rail head's running surface as the section mesh has it: a chain of quadratic edges.
+
+    Attributes
+    ----------
+    edges : ndarray (ne, 3)
+        Boundary edges (a, b, m) ordered by eta, eta_a < eta_b, where the surface faces upwards
+        (outward normal's zeta component > ``min_normal_zeta``) above the centroid: the crown
+        and the gauge-corner radii, not the 1:20 head sides.
+    eta : ndarray (ne + 1,)
+        Lateral positions of the edges' ends, m, ascending: the surface spans eta[0]..eta[-1].
+    zeta : ndarray (ne + 1,)
+        Heights of the edges' ends above the foot, m.
+    """
+
+    edges: np.ndarray
+    eta: np.ndarray
+    zeta: np.ndarray
+
+    def locate(self, s: float) -> tuple[int, float]:
+        """The edge holding lateral position s (m) and the local coordinate t in [-1, 1] on it.
+
+        Raises
+        ------
+        InputError
+            s outside the head surface.
+        """
+        s = _checks.finite("s", s)
+        if not self.eta[0] <= s <= self.eta[-1]:
+            raise InputError(f"s = {s:.6g} m is off the rail head's surface "
+                             f"[{self.eta[0]:.6g}, {self.eta[-1]:.6g}] m")
+        i = int(np.clip(np.searchsorted(self.eta, s, side="right") - 1, 0, len(self.edges) - 1))
+        ea, eb = self.eta[i], self.eta[i + 1]
+        return i, float((2.0 * s - ea - eb) / (eb - ea))
+
+    def point(self, s: float) -> tuple[float, float]:
+        """Height zeta (m, above the foot) and slope d zeta / d eta of the surface at eta = s.
+
+        The mesh's boundary is the outline's polygon (straight-sided elements), so the
+        surface is piecewise linear between outline points; at an edge end the slope of the
+        edge to its right is returned.
+        """
+        i, t = self.locate(s)
+        slope = (self.zeta[i + 1] - self.zeta[i]) / (self.eta[i + 1] - self.eta[i])
+        return float(self.zeta[i] + slope * (s - self.eta[i])), float(slope)
+
+    def weights(self, s: float) -> tuple[np.ndarray, np.ndarray]:
+        """Section nodes (3,) and quadratic edge shape functions (3,) at eta = s."""
+        i, t = self.locate(s)
+        return self.edges[i], np.array([0.5 * t * (t - 1.0), 0.5 * t * (t + 1.0), 1.0 - t * t])
+
+
+def head_surface(sec: RailSection, min_normal_zeta: float = 0.1) -> HeadSurface:
+    """The running surface of a section's head (see :class:`HeadSurface`).
+
+    Raises
+    ------
+    InputError
+        No upward-facing boundary above the centroid, or one that is not a single chain.
+    """
+    nodes = sec.nodes
+    picked = []
+    for a, b, m in boundary_edges(sec.elements):
+        d = nodes[b] - nodes[a]
+        n_zeta = -d[0] / np.hypot(*d)
+        if n_zeta > min_normal_zeta and min(nodes[a, 1], nodes[b, 1]) > sec.centroid[1]:
+            picked.append((a, b, m) if nodes[a, 0] < nodes[b, 0] else (b, a, m))
+    if not picked:
+        raise InputError("the section has no upward-facing head surface above its centroid")
+    edges = np.array(sorted(picked, key=lambda e: nodes[e[0], 0]), dtype=int)
+    if np.any(edges[1:, 0] != edges[:-1, 1]):
+        raise InputError("the section's head surface is not one chain of edges")
+    ends = np.r_[edges[:, 0], edges[-1, 1]]
+    return HeadSurface(edges=edges, eta=nodes[ends, 0].copy(), zeta=nodes[ends, 1].copy())
 
 
 def section_properties(nodes: np.ndarray, elements: np.ndarray) -> dict[str, float]:
@@ -344,7 +478,11 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
     arc_step = _checks.positive("arc_step", arc_step)
     poly = uic60_outline(step=arc_step) if outline is None else np.asarray(outline, float)
     poly = check_outline(poly)
-    lin_nodes, tri = _mesh_linear(poly, max_element_area)
+    half = _mirror_halves(poly)
+    if half is None:
+        lin_nodes, tri = _mesh_linear(poly, max_element_area)
+    else:
+        lin_nodes, tri = _mesh_mirrored(half, max_element_area)
     nodes, el = _to_t6(lin_nodes, tri)
     props = section_properties(nodes, el)
     top = nodes[:, 1].max()
@@ -353,12 +491,8 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
     crown = int(cand[np.argmax(nodes[cand, 1])])
     zmin = nodes[:, 1].min()
     # Boundary edges (in one element only) on the lowest line.
-    count: dict[tuple[int, int], list] = {}
-    for e in el:
-        for a, b, m in ((e[0], e[1], e[3]), (e[1], e[2], e[4]), (e[2], e[0], e[5])):
-            count.setdefault((min(a, b), max(a, b)), []).append((a, b, m))
-    feet = [v[0] for v in count.values() if len(v) == 1
-            and abs(nodes[v[0][0], 1] - zmin) < 1e-9 and abs(nodes[v[0][1], 1] - zmin) < 1e-9]
+    feet = [tuple(v) for v in boundary_edges(el)
+            if abs(nodes[v[0], 1] - zmin) < 1e-9 and abs(nodes[v[1], 1] - zmin) < 1e-9]
     if not feet:
         raise InputError("the outline has no flat underside to carry the pads")
     log.debug("rail section: %d nodes, %d T6 elements, top %.4f m", len(nodes), len(el), top)
