@@ -9,13 +9,13 @@ contact, one half wheelset at zero roll, the same profiles) resolves the whole p
 is the independent reference here: its sink under the same load is what a rigid wheel
 really moves.
 
-A third curve is the prototype of the contact model proposed as the cure (issue 13): a
-semi-Hertzian strip potential over the whole rigid interpenetration of wheel and rail,
-V = sum_i c_i P_i^2 dy_i over the wheel profile's samples (P_i the sample's vertical
-interference, dy_i its lateral width), with c_i = 3/8 kH(A_i, B_i) sqrt(B_i) cos(delta_i)
-from the local curvatures, so that a parabolic gap g = B t^2 (t across the contact, normal
-interference d) gives V = (16/15) c d^2.5 / sqrt(B) and Hertz's N = kH d^1.5 exactly; the
-vertical force is sum_i 2 c_i P_i dy_i. It needs no contact points, branches or jumps.
+A third curve is the strip contact (railvti.vehicle.strip, ``geometry='strip'`` in the time
+loop, Fortran vehicle_strip): a semi-Hertzian strip potential over the whole rigid
+interpenetration of wheel and rail, V = sum_j c_j cos(delta_j) w_j P_j^2 over the wheel
+profile's samples (P_j the sample's vertical interference, w_j its lateral width), with
+c = 3/8 kH(1, B/A) sqrt(B/A) from the local curvatures, so that a parabolic gap gives Hertz's
+N = kH d^1.5 exactly; the vertical force is -dV/dz. It needs no contact points, branches or
+jumps.
 
 Prints P from all three over y and the largest jumps; writes
 validation/figures/contact_table_stiffness.png.
@@ -34,42 +34,25 @@ from railvti.contact.wheelset import solve_wheelset
 from railvti.errors import GridTooSmallError
 from railvti.material import STEEL
 from railvti.vehicle.params import Coach
-from railvti.geometry import layout
-from railvti.vehicle.table import _hertz_unit, rolled_gap, wheel_table
+from railvti.vehicle.strip import STRIP_OUTPUTS, strip_geometry, strip_wheel
+from railvti.vehicle.table import wheel_table
 
 FIG = Path(__file__).resolve().parent / "figures" / "contact_table_stiffness.png"
 
 
 def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
-    """Vertical interference (m) of the left wheel under the vertical load fz at each lateral
-    shift ys (zero roll) from the strip potential (module docstring)."""
-    lay = layout(wheel, rail)
-    gap, arm_y, _ = rolled_gap(lay, ys, 0.0)
-    width = np.abs(np.gradient(arm_y))
-    out = np.empty(ys.size)
-    for n, y in enumerate(ys):
-        g = gap[n]
-        gmin = g[np.isfinite(g)].min()
-        near = np.isfinite(g) & (g - gmin < 2e-3)
-        yr = np.clip(y + arm_y[near] - lay.rail_offset, rail.y_min, rail.y_max)
-        delta = -np.arctan(rail.slope(yr))
-        a = np.cos(delta) / (2.0 * (lay.wheelset.wheel_radius + wheel.height(lay.ws[near])))
-        # the local Hertz constants with the table's curvature-ratio bounds (1/25..25; with
-        # 1/400..400 the flank comes nearer the BEM, 13 % and 1 % at 7 and 7.5 mm, the tread
-        # farther); _hertz_unit clips kH's ratio, sqrt(B) takes the same clipped B
-        b = np.clip(0.5 * (rail.curvature(yr) - wheel.curvature(lay.ws[near])), a / 25.0, a * 25.0)
-        kh = _hertz_unit(a, b, STEEL)[2]
-        c = 0.375 * kh * np.sqrt(b) * np.cos(delta) * width[near]
-        e = g[near] - gmin
-        lo, hi = 0.0, 5e-3
-        for _ in range(60):          # bisection on sum 2 c (P - e)+ = fz (monotone in P)
-            p = 0.5 * (lo + hi)
-            if np.sum(2.0 * c * np.maximum(p - e, 0.0)) < fz:
-                lo = p
-            else:
-                hi = p
-        out[n] = 0.5 * (lo + hi)
-    return out
+    """Vertical interference (m, from first touch) of the left wheel under the vertical load
+    fz at each lateral shift ys (zero roll) from the strip contact (module docstring)."""
+    geo = strip_geometry(wheel, rail)
+    dz, pmax = STRIP_OUTPUTS.index("dV_dz"), STRIP_OUTPUTS.index("P_max")
+    lo, hi = np.full(ys.size, -0.02), np.full(ys.size, 0.02)
+    for _ in range(55):          # bisection on the centre height: the load falls as it rises
+        zc = 0.5 * (lo + hi)
+        out, _ = strip_wheel(geo, ys, zc, np.zeros(ys.size))
+        up = -out[:, :, dz].sum(axis=1) > fz
+        lo, hi = np.where(up, zc, lo), np.where(up, hi, zc)
+    out, _ = strip_wheel(geo, ys, 0.5 * (lo + hi), np.zeros(ys.size))
+    return out[:, :, pmax].max(axis=1)
 
 
 def main() -> None:
@@ -126,7 +109,7 @@ def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, p_strip: np.ndar
         m = (ys >= lo - 1e-12) & (ys <= hi + 1e-12)
         ax.plot(ys[m] * 1e3, p_tab[m] * 1e6, label="table: Hertz at the lowest point, (Fz / kv)^(2/3)")
         ax.plot(ys[m] * 1e3, p_bem[m] * 1e6, label="BEM, whole patch (gaps: patch wider than its grid)")
-        ax.plot(ys[m] * 1e3, p_strip[m] * 1e6, "--", label="strip potential (prototype, no points)")
+        ax.plot(ys[m] * 1e3, p_strip[m] * 1e6, "--", label="strip contact (geometry='strip': no points)")
         ax.set_xlabel("lateral shift of the wheelset y, mm")
         ax.set_ylabel("vertical interference P under the load, um")
         ax.grid(alpha=0.3)

@@ -37,9 +37,14 @@ from .table import _RATIO_CLIP, _hertz_unit
 STRIP_OUTPUTS = ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm", "delta", "r", "x", "A",
                  "P_max")
 _N_TABLE = 441
-#: The curvature ratio rho = B/A: ln(rho) as it is up to X_LINEAR, then saturated C1 to the
-#: table's clip ln(25) at X_FLAT (constant beyond: no force jump where a ratio is clipped).
+#: The curvature ratio rho = B/A of the strips' Hertz constants: ln(rho) as it is within
+#: (-X_LINEAR, UPPER_LINEAR), then saturated C1 to the clips ln(1/25) and ln(UPPER_CLIP)
+#: (constant beyond X_FLAT, UPPER_FLAT: no force jump where a ratio is clipped). Kalker's
+#: coefficients (a/b in 0.1..10) take the ratio saturated at 1/25..25 on both sides.
 X_LINEAR, X_FLAT = 2.0, 5.5
+UPPER_CLIP = 400.0
+UPPER_LINEAR = np.log(UPPER_CLIP) - 1.2
+UPPER_FLAT = UPPER_LINEAR + 3.0 * 1.2
 #: Gaussian width of the rail curvature's smoothing, m (C1 curvature: continuous forces).
 RAIL_SMOOTHING = 2.5e-4
 
@@ -133,10 +138,11 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
     ry = rail.y_min + rail_step * np.arange(n)
     sp = CubicSpline(ry, rail.height(ry), bc_type="not-a-knot")
     kappa, kappa1 = _smoothed_curvature(rail, ry)
-    x = np.linspace(-X_FLAT, X_FLAT, _N_TABLE)
-    rho = np.exp(saturated_log_ratio(x))
-    a1, b1, kh = _hertz_unit(np.ones_like(rho), rho, material)
-    c11, c22, c23 = kalker_coefficients(a1 / b1, material.poisson)
+    x = np.linspace(-X_FLAT, UPPER_FLAT, _N_TABLE)
+    rho = np.exp(saturated_log_ratio(x, UPPER_LINEAR, UPPER_FLAT, np.log(UPPER_CLIP)))
+    a1, b1, kh = _hertz_unit(np.ones_like(rho), rho, material, clip=UPPER_CLIP)
+    ak, bk, _ = _hertz_unit(np.ones_like(rho), np.exp(saturated_log_ratio(x)), material)
+    c11, c22, c23 = kalker_coefficients(ak / bk, material.poisson)
     fv = np.stack([0.375 * kh * np.sqrt(rho), a1, b1, c11, c22, c23], axis=1)
     fm = np.stack([CubicSpline(x, col, bc_type="clamped")(x, 2) for col in fv.T], axis=1)
     f = np.asfortranarray
@@ -147,16 +153,21 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
                          x0=float(x[0]), dx=float(x[1] - x[0]), fv=f(fv), fm=f(fm))
 
 
-def saturated_log_ratio(x: np.ndarray) -> np.ndarray:
-    """ln(rho) of the Hertz constants for x = ln(B/A): x itself for |x| <= X_LINEAR, then a
-    monotone cubic with slope 1 at X_LINEAR and 0 at X_FLAT up to the table's clip ln(25),
-    constant beyond (C1: the clip no longer makes the forces jump)."""
+def saturated_log_ratio(x: np.ndarray, hi_linear: float = X_LINEAR, hi_flat: float = X_FLAT,
+                        hi_limit: float = float(np.log(_RATIO_CLIP))) -> np.ndarray:
+    """ln(rho) for x = ln(B/A): x itself within (-X_LINEAR, hi_linear), then on either side a
+    monotone cubic with slope 1 at the linear end and 0 at the flat end, reaching the limit
+    (-ln 25 below, hi_limit above), constant beyond (C1: a clipped ratio makes no force
+    jump)."""
     x = np.asarray(x, dtype=float)
-    lim = np.log(_RATIO_CLIP)
-    a = (X_FLAT - X_LINEAR) / (lim - X_LINEAR)       # <= 3 keeps the cubic monotone
-    t = np.clip((np.abs(x) - X_LINEAR) / (X_FLAT - X_LINEAR), 0.0, 1.0)
-    sat = X_LINEAR + (lim - X_LINEAR) * (a * t + (3.0 - 2.0 * a) * t**2 + (a - 2.0) * t**3)
-    return np.where(np.abs(x) <= X_LINEAR, x, np.sign(x) * sat)
+    out = np.array(x, copy=True)
+    for sgn, lin, flat, lim in ((-1.0, X_LINEAR, X_FLAT, np.log(_RATIO_CLIP)),
+                                (1.0, hi_linear, hi_flat, hi_limit)):
+        a = (flat - lin) / (lim - lin)              # <= 3 keeps the cubic monotone
+        t = np.clip((sgn * x - lin) / (flat - lin), 0.0, 1.0)
+        sat = lin + (lim - lin) * (a * t + (3.0 - 2.0 * a) * t**2 + (a - 2.0) * t**3)
+        out = np.where(sgn * x > lin, sgn * sat, out)
+    return out
 
 
 def _smoothed_curvature(rail: Profile, ry: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

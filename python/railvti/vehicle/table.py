@@ -489,14 +489,15 @@ def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
     return lab
 
 
-def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material) -> np.ndarray:
-    """Hertz a, b (1 N) and kH for each (A, B); B/A clipped. Returns (3, n).
+def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material,
+                clip: float = _RATIO_CLIP) -> np.ndarray:
+    """Hertz a, b (1 N) and kH for each (A, B); B/A clipped to 1/25..clip. Returns (3, n).
 
     a, b and the approach d scale as N^(1/3), N^(1/3), N^(2/3), so N = d^1.5 / d1^1.5.
     The ratio B/A is rounded to 1e-3 in log scale and each distinct value solved once.
     """
     ratio = B / A
-    lo, hi = 1.0 / _RATIO_CLIP, _RATIO_CLIP
+    lo, hi = 1.0 / _RATIO_CLIP, clip
     clipped = ~((ratio >= lo) & (ratio <= hi))
     ratio = np.clip(np.where(np.isfinite(ratio), ratio, hi), lo, hi)
     key = np.round(np.log(ratio) * 1000.0).astype(np.int64)
