@@ -40,15 +40,20 @@ module vehicle_contact
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_OUTSIDE_TABLE
     use vehicle_bem, only: bem_patch, bem_scale
     use vehicle_strip, only: strip_geometry, strip_wheel, strip_props, nso, SO_N, SO_V, SO_DY, SO_DZ, &
-                             SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A
+                             SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, strip_lin, &
+                             strip_linearise, strip_extrapolate
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
     public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM, CMODEL_BEM_TANGENT
+    public :: SLIN_KEEP, SLIN_READ
 
     !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names the first three.
     integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_FASTSIM = 2, CMODEL_BEM = 3
     integer, parameter :: CMODEL_BEM_TANGENT = 4
+    !> Strip linearisation (wheelset_contact's slin, smode): evaluate and keep the wheels'
+    !> strip outputs with their pose derivatives, or read them linearly at the pose.
+    integer, parameter :: SLIN_KEEP = 1, SLIN_READ = 2
 
     integer, parameter :: nq_table = 14
     !> Table quantities: the branch label of each slot's point along u (table_at), the depth
@@ -465,12 +470,12 @@ contains
     !> each wheel's normal forces are -grad V of the strip potential (vehicle_strip) over the
     !> pose, and each slot's creep forces act at its load-weighted point with the Hertz
     !> ellipse and Kalker's coefficients of its mean curvature ratio; the table only bounds
-    !> the wheelset's lateral range (STAT_OUTSIDE_TABLE as before). skeep(:, :, w) returns
-    !> each wheel's strip outputs; sreuse takes them instead of evaluating the strips again
-    !> (a perturbation that leaves the wheels' poses as they were: the tangent's yaw, x and
-    !> spin columns).
+    !> the wheelset's lateral range (STAT_OUTSIDE_TABLE as before). With slin and smode
+    !> SLIN_KEEP each wheel's strip outputs are kept with their derivatives over its pose;
+    !> SLIN_READ reads them linearly at the pose instead of evaluating the strips (the Newton
+    !> tangent's perturbations: first order, like its forward differences).
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
-                                fw, ft, wout, info, rim, rarm, frim, st, skeep, sreuse)
+                                fw, ft, wout, info, rim, rarm, frim, st, slin, smode)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -480,14 +485,14 @@ contains
         real(dp), intent(in), optional :: rim(6, 2), rarm(2)
         real(dp), intent(out), optional :: frim(3, 2)
         type(strip_geometry), intent(in), optional :: st
-        real(dp), intent(out), optional :: skeep(nso, 2, 2)
-        real(dp), intent(in), optional :: sreuse(nso, 2, 2)
+        type(strip_lin), intent(inout), optional :: slin(2)
+        integer, intent(in), optional :: smode
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
         real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su
-        integer :: w, k, c, stat, ia(2), ib(2)
+        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(3)
+        integer :: w, k, c, stat, ia(2), ib(2), lm
         logical :: bemgeo, flex, strip
         flex = present(rim) .and. present(rarm) .and. present(frim)
         strip = .false.
@@ -537,12 +542,17 @@ contains
                     return
                 end if
                 ! the centre's lateral position in the element's frame: Y = u - r_nom phr
-                if (present(sreuse)) then
-                    so = sreuse(:, :, w)
+                pose = [sg * (yr + ct%rnom * qt(3)), zc, pl]
+                lm = 0
+                if (present(slin) .and. present(smode)) lm = smode
+                if (lm == SLIN_READ) then
+                    call strip_extrapolate(slin(w), pose, so)
+                else if (lm == SLIN_KEEP) then
+                    call strip_linearise(st, pose, slin(w))
+                    so = slin(w)%so
                 else
-                    call strip_wheel(st, sg * (yr + ct%rnom * qt(3)), zc, pl, so)
+                    call strip_wheel(st, pose(1), pose(2), pose(3), so)
                 end if
-                if (present(skeep)) skeep(:, :, w) = so
                 wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
                 vals = 0.0_dp
                 do k = 1, 2

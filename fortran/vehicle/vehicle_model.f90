@@ -15,8 +15,8 @@ module vehicle_model
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
-                               CMODEL_BEM_TANGENT, pose_table, pose_set
-    use vehicle_strip, only: strip_geometry, strip_set, nso
+                               CMODEL_BEM_TANGENT, pose_table, pose_set, SLIN_KEEP, SLIN_READ
+    use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler
     implicit none
@@ -300,7 +300,7 @@ contains
     !> With the attachment points' coordinates u, ud (model FR: u, ud, gp all present) a
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
-    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, skeep, sreuse)
+    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, slin, smode)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         integer, intent(in) :: w
@@ -311,8 +311,8 @@ contains
         logical, intent(in), optional :: cheap
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: gp(:)
-        real(dp), intent(out), optional :: skeep(nso, 2, 2)
-        real(dp), intent(in), optional :: sreuse(nso, 2, 2)
+        type(strip_lin), intent(inout), optional :: slin(2)
+        integer, intent(in), optional :: smode
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
         integer :: j, k, model, ir
         model = rs%cmodel
@@ -334,14 +334,14 @@ contains
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
-                                  skeep=skeep, sreuse=sreuse)
+                                  slin=slin, smode=smode)
             do k = 1, 2
                 gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
             end do
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
-                                  skeep=skeep, sreuse=sreuse)
+                                  slin=slin, smode=smode)
         end if
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
@@ -438,7 +438,8 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
-        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2), sk(nso, 2, 2)
+        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
+        type(strip_lin) :: sl(2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
         integer :: w, j, jj, idx(9), n, ir, pts(6), cols(12), nc
         logical :: flex
@@ -471,9 +472,9 @@ contains
                 pts = reshape(md%mp%frpt(:, :, ir), [6])
                 g0 = 0.0_dp
                 call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., u=u, ud=ud, gp=g0, &
-                                 skeep=sk)
+                                 slin=sl, smode=SLIN_KEEP)
             else
-                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., skeep=sk)
+                call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., slin=sl, smode=SLIN_KEEP)
             end if
             if (info /= STAT_OK) return
             do jj = 1, n
@@ -482,18 +483,12 @@ contains
                 f1w = 0.0_dp
                 if (ir > 0) then
                     g1 = 0.0_dp
-                    if (pose_kept(md, w, j)) then
-                        call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
-                                         gp=g1, sreuse=sk)
-                    else
-                        call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
-                                         gp=g1)
-                    end if
+                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
+                                     gp=g1, slin=sl, smode=SLIN_READ)
                     jpr(pts, j) = jpr(pts, j) + (g1(pts) - g0(pts)) / eps
-                else if (pose_kept(md, w, j)) then
-                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., sreuse=sk)
                 else
-                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true.)
+                    call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., slin=sl, &
+                                     smode=SLIN_READ)
                 end if
                 if (info /= STAT_OK) return
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
@@ -514,7 +509,8 @@ contains
                 call perturbed(u, ud, j, mode, cv, eps, up, udp)
                 f1w = 0.0_dp
                 g1 = 0.0_dp
-                call add_contact(md, rs, w, q, v, f1w, wout, info, cheap=.true., u=up, ud=udp, gp=g1)
+                call add_contact(md, rs, w, q, v, f1w, wout, info, cheap=.true., u=up, ud=udp, gp=g1, &
+                                 slin=sl, smode=SLIN_READ)
                 if (info /= STAT_OK) return
                 jru(idx(1:n), j) = jru(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
                 jpu(pts, j) = jpu(pts, j) + (g1(pts) - g0(pts)) / eps
@@ -539,14 +535,6 @@ contains
     end subroutine perturbed
 
     !> Whether DOF j is a wheelset spin perturbation beta (no stiffness: only its rate enters).
-    !> Whether DOF j is wheelset w's yaw, x or spin: perturbing it leaves the wheels' poses
-    !> (lateral position, height, roll) and so their strip potentials as they were.
-    pure logical function pose_kept(md, w, j)
-        type(vmodel), intent(in) :: md
-        integer, intent(in) :: w, j
-        pose_kept = any(md%iws(4:6, w) == j)
-    end function pose_kept
-
     pure logical function is_spin(md, j)
         type(vmodel), intent(in) :: md
         integer, intent(in) :: j

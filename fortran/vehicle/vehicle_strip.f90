@@ -31,7 +31,8 @@ module vehicle_strip
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     implicit none
     private
-    public :: strip_geometry, strip_set, strip_wheel, strip_props, nso
+    public :: strip_geometry, strip_set, strip_wheel, strip_props, nso, strip_lin, strip_linearise, &
+              strip_extrapolate
     public :: SO_N, SO_V, SO_DY, SO_DZ, SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, SO_PMAX
 
     !> Outputs of strip_wheel per slot (1 tread, 2 flange): normal force, potential, its
@@ -61,6 +62,16 @@ module vehicle_strip
         real(dp) :: top = 0.0_dp, fx0 = 0.0_dp, fdx = 1.0_dp
         real(dp), allocatable :: ws(:, :), rz(:), rm(:), rk(:), rk1(:), fv(:, :), fm(:, :)
     end type strip_geometry
+
+    !> One wheel's strip outputs at a pose and their derivatives over the pose (forward
+    !> differences): the Newton tangent's perturbations read them linearly instead of
+    !> evaluating the strips again (vehicle_model%contact_tangent).
+    type :: strip_lin
+        real(dp) :: pose(3) = 0.0_dp, so(nso, 2) = 0.0_dp, d(nso, 2, 3) = 0.0_dp
+    end type strip_lin
+
+    !> Pose step of strip_linearise, m and rad.
+    real(dp), parameter :: LIN_STEP = 1.0e-8_dp
 
 contains
 
@@ -220,6 +231,35 @@ contains
             out(SO_PMAX, j) = acc(nso + 1, j)
         end do
     end subroutine strip_wheel
+
+    !> The outputs at pose (y, zc, phi) and their forward-difference derivatives over it.
+    pure subroutine strip_linearise(st, pose, lin)
+        type(strip_geometry), intent(in) :: st
+        real(dp), intent(in) :: pose(3)
+        type(strip_lin), intent(out) :: lin
+        real(dp) :: p(3), sop(nso, 2)
+        integer :: k
+        lin%pose = pose
+        call strip_wheel(st, pose(1), pose(2), pose(3), lin%so)
+        do k = 1, 3
+            p = pose
+            p(k) = p(k) + LIN_STEP
+            call strip_wheel(st, p(1), p(2), p(3), sop)
+            lin%d(:, :, k) = (sop - lin%so) / LIN_STEP
+        end do
+    end subroutine strip_linearise
+
+    !> The outputs at pose read linearly from lin (first order in the pose's change).
+    pure subroutine strip_extrapolate(lin, pose, out)
+        type(strip_lin), intent(in) :: lin
+        real(dp), intent(in) :: pose(3)
+        real(dp), intent(out) :: out(nso, 2)
+        integer :: k
+        out = lin%so
+        do k = 1, 3
+            out = out + lin%d(:, :, k) * (pose(k) - lin%pose(k))
+        end do
+    end subroutine strip_extrapolate
 
     !> Sample j's potential, gradient and load-weighted point quantities added into out.
     pure subroutine add_strip(st, j, y, zc, phi, cph, sph, out)
