@@ -143,3 +143,20 @@ def test_bad_input(geo):
     w, r = scenarios._profiles()
     with pytest.raises(InputError, match="step"):
         strip_geometry(w, r, step=-1.0)
+
+
+def test_deck_case_runs_the_strip_geometry():
+    """A 'vehicle' deck case with geometry = 'strip' runs it (the stored geometry says so and
+    the static wheel loads balance the coach's weight), and the BEM with it is refused."""
+    from railvti.casetypes import REGISTRY
+    import railvti.vehicle.cases  # noqa: F401  (registers the case type)
+    p = dict(REGISTRY["vehicle"].defaults)
+    p.update(scenario="centred_running", speed_kmh=200.0, duration=0.05, geometry="strip")
+    out = REGISTRY["vehicle"].run(p)
+    assert out.scalars["geometry"][0] == "strip"
+    assert out.scalars["max_Q_error"][0] < 1e-3
+    p.update(contact="bem")
+    with pytest.raises(InputError, match="strip"):
+        REGISTRY["vehicle"].run(p)
+    with pytest.raises(InputError, match="geometry"):
+        scenarios.hunting(300, contact="bem", geometry="strip", duration=0.1)

@@ -67,6 +67,15 @@ def contact_table() -> WheelTable:
 GEOMETRIES = ("table", "strip")
 
 
+def _check_geometry(contact: str, geometry: str) -> None:
+    """InputError for an unknown geometry or the strip geometry with the BEM contact."""
+    if geometry not in GEOMETRIES:
+        raise InputError(f"unknown contact geometry {geometry!r}: one of {GEOMETRIES}")
+    if geometry == "strip" and contact == "bem":
+        raise InputError("geometry='strip' is the geometry of 'hertz-kalker' and 'hertz-fastsim'; "
+                         "the BEM contact reads the table's gap fields")
+
+
 def _with_geometry(sy: System, geometry: str) -> System:
     """The system with the contact geometry ``geometry`` (GEOMETRIES)."""
     if geometry not in GEOMETRIES:
@@ -300,6 +309,7 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     """
     v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
+    _check_geometry(contact, kw.get("geometry", "table"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
     if contact == "bem":
@@ -351,6 +361,7 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     """
     v, speed_kmh = _speeds(speed_kmh, speed)
     _check_model(model, contact, "hunting")
+    _check_geometry(contact, kw.get("geometry", "table"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
     if q0 is None:
@@ -554,11 +565,11 @@ class _SweepSystems:
     speed; the modes depend on the spin) with its step and static states."""
 
     def __init__(self, model: str, coach: Coach | None, contact: str, h: float | None,
-                 k_max: int, f_max: float) -> None:
+                 k_max: int, f_max: float, geometry: str = "table") -> None:
         self.model, self.coach, self.contact, self.h = model, coach, contact, h
-        self.k_max, self.f_max = k_max, f_max
+        self.k_max, self.f_max, self.geometry = k_max, f_max, geometry
         self._cache: dict[float, tuple] = {}
-        self._rr = coach_system(model, coach) if model == "RR" else None
+        self._rr = coach_system(model, coach, geometry=geometry) if model == "RR" else None
         self.steps: dict[float, float] = {}
 
     def at(self, s_kmh: float) -> tuple[System, list, float]:
@@ -567,7 +578,8 @@ class _SweepSystems:
             return self._rr, [], 1e-3 if self.h is None else self.h
         key = float(s_kmh)
         if key not in self._cache:
-            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max, f_max=self.f_max)
+            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max, f_max=self.f_max,
+                                geometry=self.geometry)
             self._cache[key] = (sy, lay, _step(sy, self.h))
             self.steps[key] = self._cache[key][2]
         return self._cache[key]
@@ -601,7 +613,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 y_small: float = 0.0005, threshold: float = 0.5e-3, h: float | None = None,
                 flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
                 v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
-                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX) -> Bifurcation:
+                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
+                geometry: str = "table") -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -640,6 +653,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         upper branch carries the rigid DOFs over from one speed to the next and the modal
         coordinates by mode label when the mode sets match, else restarts them from the new
         speed's static state (``details['modal_restarts']``).
+    geometry : str
+        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
     """
     sp = _sweep_speeds(speeds_kmh, speeds)
     v_min_kmh = _floor_kmh(v_min_kmh, v_min)
@@ -649,7 +664,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    systems = _SweepSystems(model, coach, contact, h, k_max, f_max)
+    _check_geometry(contact, geometry)
+    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
     systems.at(sp[0])                  # the step is checked before any run
     bar = None
     if progress:

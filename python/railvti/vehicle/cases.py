@@ -38,6 +38,7 @@ DEFAULTS: dict[str, Any] = {
     "scenario": "hunting",
     "model": "RR",
     "contact": "hertz-kalker",
+    "geometry": "table",
     "speed": 300.0 / 3.6,
     "duration": 3.0,
     "max_duration": 600.0,
@@ -66,6 +67,9 @@ KEYS: dict[str, Key] = {
                  lo=0.0, hi=2e4, lo_open=True, optional=True,
                  why="each kept mode needs h omega <= 2: 20 kHz asks for 16 us steps"),
     "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
+    "geometry": Key("", "contact geometry of hertz-kalker / hertz-fastsim: 'table' (one Hertz point "
+                    "per slot) or 'strip' (strip potential over the whole interpenetration: "
+                    "conservative, no jumps)", "str", choices=("table", "strip")),
     "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
     "duration": Key("s", "simulated time (per speed in critical_speed)", lo=0.0, lo_open=True),
     "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, lo_open=True),
@@ -93,6 +97,9 @@ def check(params: dict[str, Any]) -> list[str]:
     if params["duration"] > params["max_duration"]:
         out.append(f"duration = {params['duration']:g} s exceeds max_duration = {params['max_duration']:g} s "
                    "(about 1 MB of history per simulated second; raise max_duration to run longer)")
+    if params["geometry"] == "strip" and params["contact"] == "bem":
+        out.append("geometry = 'strip' is the geometry of hertz-kalker and hertz-fastsim; the "
+                   "BEM contact (contact = 'bem') reads the table's gap fields")
     if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
     if params["model"] != "FR":
@@ -288,9 +295,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
     coach = _coach(params)
     model, contact = str(params["model"]), str(params["contact"])
+    geometry = str(params["geometry"])
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
-                                           "contact": (contact, "text")}
+                                           "contact": (contact, "text"),
+                                           "geometry": (geometry, "text")}
     fr = _fr_selection(params) if model == "FR" else {}
     if fr:
         scalars["k_max"] = (int(fr["k_max"]), "1")
@@ -303,7 +312,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
               if scen != "critical_speed" and not fr else None)
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach, stream_to=stream, **fr)
+                               h=params["h"], coach=coach, stream_to=stream, geometry=geometry, **fr)
         wl = _history(c.run, data, scalars)
         if fr:
             _fr_history(c.run, *sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr), data)
@@ -321,7 +330,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
     elif scen == "hunting":
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach, stream_to=stream, **fr)
+                       output_dt=params["output_dt"], coach=coach, stream_to=stream,
+                       geometry=geometry, **fr)
         wl = _history(r, data, scalars)
         sy = (sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr) if fr
               else (sc.coach_system(model, coach), []))
@@ -347,7 +357,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
         b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False, **fr)
+                           coach=coach, progress=False, geometry=geometry, **fr)
         lin, freq = sc.linear_critical_speed(model, coach, **fr)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
         if fr:
