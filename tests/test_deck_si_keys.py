@@ -103,3 +103,27 @@ def test_track_arc_step_is_metres_with_an_mm_alias():
     assert si.params == mm.params and si.params["arc_step"] == 0.015
     with pytest.raises(InputError, match=r"key 'arc_step' = 8.*arc_step_mm takes mm"):
         parse_deck(base.format("arc_step = 8.0"))
+
+
+def test_track_api_arc_step_is_metres_with_a_deprecated_mm_alias():
+    """RingTrack's and rail_section's arc_step is in m, as the deck key: arc_step_mm (mm)
+    gives the same section with a DeprecationWarning; both together, or an old mm value
+    given as m, are refused with the way to write it."""
+    from railvti.track import RingTrack, rail_section
+
+    si = rail_section(4e-4, arc_step=0.012)
+    with pytest.warns(DeprecationWarning, match="arc_step_mm is deprecated"):
+        mm = rail_section(4e-4, arc_step_mm=12.0)
+    assert np.array_equal(si.nodes, mm.nodes) and si.n_nodes > 20
+    # the arcs' spacing is what the argument says: a finer step puts more nodes on the outline
+    assert rail_section(4e-4, arc_step=0.004).n_nodes > si.n_nodes
+    with pytest.raises(InputError, match=r"arc_step = 8 m is above 0\.05 m.*arc_step = 0\.008"):
+        rail_section(4e-4, arc_step=8.0)
+    with pytest.raises(InputError, match="not both"):
+        rail_section(4e-4, arc_step=0.008, arc_step_mm=8.0)
+    with pytest.raises(InputError, match=r"arc_step = 12 m is above"):
+        RingTrack(8, arc_step=12.0)
+    with pytest.raises(InputError, match="not both"):
+        RingTrack(8, arc_step=0.012, arc_step_mm=12.0)
+    with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="arc_step_mm"):
+        RingTrack(8, arc_step_mm=-1.0)

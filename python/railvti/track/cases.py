@@ -18,9 +18,8 @@ from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack
 
 _COMMON: dict[str, Any] = {"n_sleepers": REQUIRED, **DEFAULTS,
-                           **{k: v for k, v in NUMERICS.items() if k != "f_max"},
-                           "arc_step": NUMERICS["arc_step"] * 1e-3}    # the deck key is in m
-#: The deck's mm alias of arc_step (RingTrack takes mm; the deck key is SI).
+                           **{k: v for k, v in NUMERICS.items() if k != "f_max"}}
+#: The deck's mm alias of arc_step (the deck key and RingTrack's argument are in m).
 _ALIASES = {"arc_step_mm": Alias("arc_step", 1e-3, deprecated=False, unit="mm")}
 
 
@@ -75,7 +74,6 @@ def check_receptance(p: dict[str, Any]) -> list[str]:
 
 def _track(params: dict[str, Any], f_max: float) -> RingTrack:
     kw = {k: params[k] for k in _COMMON if k != "n_sleepers"}
-    kw["arc_step"] = params["arc_step"] * 1e3        # RingTrack's arc_step is in mm
     return RingTrack(params["n_sleepers"], f_max=f_max, **kw)
 
 
@@ -83,7 +81,7 @@ def run_receptance(params: dict[str, Any]) -> CaseOutput:
     """Receptances of a ring track.
 
     Keys: n_sleepers (-), every RingTrack parameter (SI units, see railvti.track.DEFAULTS;
-    arc_step in m here, arc_step_mm its mm alias; RingTrack takes mm),
+    arc_step in m, arc_step_mm its mm alias),
     f_min, f_max (Hz), n_freq (-).
     """
     params = validate("track_receptance", params)
