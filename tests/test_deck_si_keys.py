@@ -90,9 +90,29 @@ def test_key_and_its_alias_in_one_case_is_an_error_naming_both(text, key, alias)
 
 
 def test_alias_bounds_are_the_keys_converted():
-    """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m."""
-    with pytest.raises(InputError, match=r"key 'y_max' = 0\.06 is outside \[-0\.05, 0\.05\] m"):
+    """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m; the
+    message names the key as the deck wrote it, with the converted value."""
+    with pytest.raises(InputError, match=r"key 'y_max_mm' = 60\.0 \(y_max = 0\.06 m\) is outside "
+                                         r"\[-0\.05, 0\.05\] m"):
         parse_deck(GEOMETRY_MM.replace("y_max_mm = 4.0", "y_max_mm = 60.0"))
+
+
+@pytest.mark.parametrize("text, written", [
+    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min_mm = 4.0, y_max_mm = 2.0"),
+     ["y_min_mm = 4.0", "y_max_mm = 2.0"]),
+    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min = 0.004, y_max_mm = 2.0"),
+     ["y_max_mm = 2.0"]),
+    (WHEELSET_MM.replace("field_at_mm = 6.0", "field_at_mm = 9.0"), ["field_at_mm = 9.0"]),
+])
+def test_a_consistency_error_names_the_alias_the_deck_wrote(text, written):
+    """y_min_mm > y_max_mm (or field_at_mm beyond them): the consistency check runs on the
+    SI values, and its message names the keys as written, with their values as written."""
+    with pytest.raises(InputError) as err:
+        parse_deck(text)
+    msg = str(err.value)
+    assert "(the case gave " in msg
+    for w in written:
+        assert w in msg
 
 
 def test_track_arc_step_is_metres_with_an_mm_alias():
