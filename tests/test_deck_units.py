@@ -125,3 +125,30 @@ def test_results_saved_from_the_api_have_units(tmp_path):
             missing = [n for n, d in _datasets(f).items() if not _text(d.attrs.get("units", "")).strip()]
         assert not missing, (name, missing)
         assert type(load(path)) is type(obj)
+
+
+def test_vehicle_charts_name_the_run_and_draw_noise_flat(results):
+    """Plots an engineer can read (Deliver 7): the title names scenario, speed, model and
+    contact (read back from the stored case), and a history that varies by round-off only is
+    drawn flat over at least MIN_SPAN with its value written, without an axis offset."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from railvti.vehicle import cases as vcases
+    from railvti.vehicle import plots as vplots
+
+    assert vcases._run_title(results["001_vh"]) == "hunting, 300 km/h, model RR, hertz-kalker"
+    fig, ax = plt.subplots()
+    q = 54.546 + 1e-11 * np.sin(np.arange(50))       # kN: a static load with round-off on it
+    ax.plot(q)
+    vplots._readable(ax, q, "kN")
+    lo, hi = ax.get_ylim()
+    assert hi - lo >= 2 * vplots.MIN_SPAN["kN"] and lo < 54.546 < hi
+    assert ax.yaxis.get_major_formatter().get_useOffset() is False
+    assert any("flat y: 54.546 kN" in t.get_text() for t in ax.texts)
+    fig2, ax2 = plt.subplots()
+    ax2.plot(np.linspace(0, 3, 50))                  # a real signal keeps its autoscaled range
+    vplots._readable(ax2, np.linspace(0, 3, 50), "mm")
+    assert not ax2.texts and ax2.get_ylim()[1] - ax2.get_ylim()[0] < 4
+    plt.close("all")
