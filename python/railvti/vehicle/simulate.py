@@ -677,7 +677,8 @@ def _check_history_memory(system: System, plan: _Plan) -> None:
     nout = plan.nsteps // plan.nevery
     per_output = 8 * (2 * system.n_state + len(WHEEL_OUTPUTS) * 2 * system.iws.shape[1] + 1)
     check_memory(f"the time history ({nout} outputs of {per_output} bytes)", 2.0 * nout * per_output,
-                 "shorten the duration or raise output_dt")
+                 "shorten the duration, raise output_dt, or stream the history to a file "
+                 "(stream_to=PATH)")
 
 
 def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:
