@@ -117,6 +117,12 @@ def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:
 
     res = group["results"] if "results" in group else group
     f = np.asarray(res["freq"])
+    name = group.attrs.get("name", "")
+    name = name.decode() if isinstance(name, bytes) else str(name)
+    inputs = group["inputs"] if "inputs" in group else {}
+    ring = (f", ring of {int(np.asarray(inputs['n_sleepers']))} sleepers"
+            if "n_sleepers" in inputs else "")
+    how = {"vertical": "in phase on both rails", "lateral": "opposite on the two rails"}
     paths = []
     for d in ("vertical", "lateral"):
         fig, ax = plt.subplots(figsize=(6.4, 3.6))
@@ -125,9 +131,9 @@ def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:
             ax.semilogy(f, np.abs(h), label=pos)
         ax.set_xlabel("frequency, Hz")
         ax.set_ylabel("|receptance|, m/N")
-        ax.set_title(f"{d} receptance")
+        ax.set_title(f"{name}: {d} receptance at the rail head ({how[d]}){ring}", fontsize=9)
+        ax.legend(title="force and response", fontsize=8, title_fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
         p = Path(outdir) / f"{stem}_{d}.png"
         fig.tight_layout()
         fig.savefig(p, dpi=90)
