@@ -4,11 +4,16 @@ runs now ('sliced' / 'threaded') and as one blocking call ('one call', the code 
 * CG normal solver (preconditioned) on 1200 x 1200 and without preconditioner ('pk') on
   500 x 500: resumable slices of ~0.1 s (``normal_cg_slice_c``);
 * steady rolling on 320 x 320, 40 iterations (~10 s): one call in a worker thread
-  (``call_interruptibly``).
+  (``call_interruptibly``);
+* the vehicle's static equilibrium with the BEM contact (coach, 0.75 mm grids, ~3.5 s): one
+  Newton call in a worker thread (``simulate._static_call``);
+* the wheelset's modes, k = 0..6 up to 3 kHz (default mesh, 10,000 equations): one Fortran
+  call per harmonic (~1 s), each in a worker thread, one at a time (ARPACK is not reentrant;
+  ``wheelset.fe._modes_call``).
 
-Each run is a fresh process; SIGINT is sent 2 s into the call.
+Each run is a fresh process; SIGINT is sent 2 s into the call (1 s into the static solve).
 
-Run: ``.venv/bin/python benchmarks/bench_interrupt_latency.py``
+Run: ``.venv/bin/python benchmarks/bench_interrupt_latency.py [case name ...]``
 """
 from __future__ import annotations
 
@@ -30,6 +35,11 @@ mode = sys.argv[1]
 if mode == "one call":
     nm._cg_in_slices = lambda hd, h, c, m, tol, mi, fn, ap, p: core.normal_solve_c(hd, h, c, m, tol, mi, 1.0, fn, ap, p)
     rl.call_interruptibly = lambda hd, fn, *a: fn(hd, *a)
+    import railvti.vehicle  # noqa: F401 - its simulate() shadows the module of that name
+    vs = sys.modules["railvti.vehicle.simulate"]
+    vs._static_call = lambda system, cs, bem, q, tol, maxit: system.native.static(cs, q, tol, maxit)
+    from railvti.wheelset import fe
+    fe._modes_call = core.wheelset_modes_c
 """
 CASES = {
     "CG 1200 x 1200, fn": """
@@ -52,6 +62,21 @@ nm.solve_normal(gap, g, STEEL, fn=1e5)
 print("ready", flush=True)
 rl.solve_rolling(gap, g, STEEL, 0.3, 1e5, (1e-3, 5e-4, 0.5), 30.0, tol=1e-14, max_iter=40)
 """,
+    "vehicle static, BEM": """
+from railvti import scenarios
+from railvti.vehicle import bem_state, static_equilibrium
+sy = scenarios.coach_system()
+with bem_state(sy) as st:
+    print("ready", flush=True)
+    static_equilibrium(sy, 200 / 3.6, "bem", bem=st)
+""",
+    "wheelset modes": """
+from railvti.wheelset import Wheelset
+ws = Wheelset()
+print("ready", flush=True)
+for k in range(7):
+    ws.harmonic(k, 3000.0, "free")
+""",
 }
 
 
@@ -70,11 +95,16 @@ def latency(code: str, mode: str, delay: float = 2.0) -> tuple[float, str]:
     return dt, "KeyboardInterrupt" if "KeyboardInterrupt" in err else f"exit {proc.returncode}"
 
 
+#: Seconds from 'ready' to SIGINT (default 2 s): the static solve lasts ~3.5 s in all.
+DELAYS = {"vehicle static, BEM": 1.0}
+
+
 def main() -> None:
+    names = sys.argv[1:] or list(CASES)     # a subset by name, e.g. "vehicle static, BEM"
     print(f"{'call':<22} | {'mode':<9} | {'stop after SIGINT, s':>20} | how")
-    for name, code in CASES.items():
+    for name in names:
         for mode in ("one call", "now"):
-            dt, how = latency(code, mode)
+            dt, how = latency(CASES[name], mode, DELAYS.get(name, 2.0))
             print(f"{name:<22} | {mode:<9} | {dt:20.2f} | {how}")
 
 

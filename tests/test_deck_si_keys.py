@@ -90,9 +90,29 @@ def test_key_and_its_alias_in_one_case_is_an_error_naming_both(text, key, alias)
 
 
 def test_alias_bounds_are_the_keys_converted():
-    """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m."""
-    with pytest.raises(InputError, match=r"key 'y_max' = 0\.06 is outside \[-0\.05, 0\.05\] m"):
+    """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m; the
+    message names the key as the deck wrote it, with the converted value."""
+    with pytest.raises(InputError, match=r"key 'y_max_mm' = 60\.0 \(y_max = 0\.06 m\) is outside "
+                                         r"\[-0\.05, 0\.05\] m"):
         parse_deck(GEOMETRY_MM.replace("y_max_mm = 4.0", "y_max_mm = 60.0"))
+
+
+@pytest.mark.parametrize("text, written", [
+    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min_mm = 4.0, y_max_mm = 2.0"),
+     ["y_min_mm = 4.0", "y_max_mm = 2.0"]),
+    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min = 0.004, y_max_mm = 2.0"),
+     ["y_max_mm = 2.0"]),
+    (WHEELSET_MM.replace("field_at_mm = 6.0", "field_at_mm = 9.0"), ["field_at_mm = 9.0"]),
+])
+def test_a_consistency_error_names_the_alias_the_deck_wrote(text, written):
+    """y_min_mm > y_max_mm (or field_at_mm beyond them): the consistency check runs on the
+    SI values, and its message names the keys as written, with their values as written."""
+    with pytest.raises(InputError) as err:
+        parse_deck(text)
+    msg = str(err.value)
+    assert "(the case gave " in msg
+    for w in written:
+        assert w in msg
 
 
 def test_track_arc_step_is_metres_with_an_mm_alias():
@@ -103,3 +123,27 @@ def test_track_arc_step_is_metres_with_an_mm_alias():
     assert si.params == mm.params and si.params["arc_step"] == 0.015
     with pytest.raises(InputError, match=r"key 'arc_step' = 8.*arc_step_mm takes mm"):
         parse_deck(base.format("arc_step = 8.0"))
+
+
+def test_track_api_arc_step_is_metres_with_a_deprecated_mm_alias():
+    """RingTrack's and rail_section's arc_step is in m, as the deck key: arc_step_mm (mm)
+    gives the same section with a DeprecationWarning; both together, or an old mm value
+    given as m, are refused with the way to write it."""
+    from railvti.track import RingTrack, rail_section
+
+    si = rail_section(4e-4, arc_step=0.012)
+    with pytest.warns(DeprecationWarning, match="arc_step_mm is deprecated"):
+        mm = rail_section(4e-4, arc_step_mm=12.0)
+    assert np.array_equal(si.nodes, mm.nodes) and si.n_nodes > 20
+    # the arcs' spacing is what the argument says: a finer step puts more nodes on the outline
+    assert rail_section(4e-4, arc_step=0.004).n_nodes > si.n_nodes
+    with pytest.raises(InputError, match=r"arc_step = 8 m is above 0\.05 m.*arc_step = 0\.008"):
+        rail_section(4e-4, arc_step=8.0)
+    with pytest.raises(InputError, match="not both"):
+        rail_section(4e-4, arc_step=0.008, arc_step_mm=8.0)
+    with pytest.raises(InputError, match=r"arc_step = 12 m is above"):
+        RingTrack(8, arc_step=12.0)
+    with pytest.raises(InputError, match="not both"):
+        RingTrack(8, arc_step=0.012, arc_step_mm=12.0)
+    with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="arc_step_mm"):
+        RingTrack(8, arc_step_mm=-1.0)

@@ -156,13 +156,13 @@ def test_value_of_wrong_type(tmp_path, capsys, tname, key, value, words):
 WHY = [
     # (id, deck, words)
     ("nx-abc", deck("normal", "nx = 'abc'").replace("nx = 16, ", ""), ["key 'nx'", "integer"]),
-    ("hunting-5000-kmh", deck("vehicle", "speed_kmh = 5000.0"), ["key 'speed'", "166.667"]),
+    ("hunting-5000-kmh", deck("vehicle", "speed_kmh = 5000.0"), ["key 'speed_kmh' = 5000.0 (speed = 1388.89 m/s)", "166.667"]),
     ("friction-2", deck("rolling").replace("mu = 0.3", "mu = 2.0"), ["key 'mu'", "(0, 1]"]),
     ("ring-3-sleepers", deck("track_receptance").replace("16", "3"), ["key 'n_sleepers'", "[8, 1024]"]),
     ("ymin-above-ymax", deck("geometry_table", "y_min_mm = 5.0, y_max_mm = -5.0"),
-     ["y_min = 0.005", "y_max = -0.005"]),
+     ["y_min = 0.005", "y_max = -0.005", "the case gave y_min_mm = 5.0, y_max_mm = -5.0"]),
     ("ymin-above-ymax-loaded", deck("loaded_wheelset", "y_min_mm = 3.0").replace("y_max_mm = 1.0", "y_max_mm = 0.5"),
-     ["y_min = 0.003", "< y_max"]),
+     ["y_min = 0.003", "< y_max", "y_min_mm = 3.0", "y_max_mm = 0.5"]),
     ("curvatures-and-semiaxes", deck("rolling", "semi_a = 3e-3, semi_b = 2e-3"), ["gap_a, gap_b", "not both"]),
     ("name-slash", deck("normal", name="a/b"), ["key 'name'", "'a/b'", "safe"]),
     ("name-20000", deck("normal", name="x" * 20000), ["key 'name'", "20000 characters", "at most 64"]),
@@ -330,7 +330,7 @@ CONSISTENCY = [
     ("speed-and-speed-kmh", deck("vehicle", "speed = 50.0, speed_kmh = 180.0"), ["'speed_kmh'", "'speed'", "give one"]),
     ("g-and-shear-modulus", deck("loaded_wheelset", "g = 8.0e10, shear_modulus = 8.2e10"),
      ["'g'", "'shear_modulus'", "give one"]),
-    ("nu-out-of-range-old-name", deck("wheel_rail", "nu = 0.7"), ["key 'poisson'", "[0, 0.5)"]),
+    ("nu-out-of-range-old-name", deck("wheel_rail", "nu = 0.7"), ["key 'nu' = 0.7 (poisson = 0.7)", "[0, 0.5)"]),
 ]
 
 
@@ -402,7 +402,8 @@ def test_mm_alias_beside_its_si_key(tmp_path, capsys):
 
 
 def test_mm_alias_out_of_range_names_the_key_and_bound(tmp_path, capsys):
-    expect_error(tmp_path, capsys, deck("geometry_table", "y_max_mm = 200.0"), "key 'y_max' = 0.2", "[-0.05, 0.05] m")
+    expect_error(tmp_path, capsys, deck("geometry_table", "y_max_mm = 200.0"), "key 'y_max_mm' = 200.0 (y_max = 0.2 m)",
+                 "[-0.05, 0.05] m")
 
 
 @pytest.mark.parametrize("seed", range(12))

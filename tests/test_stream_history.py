@@ -88,7 +88,7 @@ def test_a_streamed_deck_case_equals_the_case_kept_in_memory(tmp_path, monkeypat
     import railvti.results as results_mod
     copied = []
     real_copy = results_mod._copy_streamed
-    monkeypatch.setattr(results_mod, "_copy_streamed", lambda g, n, r: copied.append(n) or real_copy(g, n, r))
+    monkeypatch.setattr(results_mod, "_copy_streamed", lambda g, n, r, *a: copied.append(n) or real_copy(g, n, r, *a))
     files = {}
     for mode, threshold in (("memory", "none"), ("stream", "0")):
         monkeypatch.setenv(STREAM_ENV, threshold)
@@ -169,6 +169,7 @@ def test_an_interrupted_streamed_case_leaves_a_valid_file(tmp_path):
         names = [s.decode() if isinstance(s, bytes) else s for s in g["q"].attrs["dof_names"]]
         assert np.array_equal(g["q"][:, names.index("ws1_y")], g["y_ws1"][()])
         assert g["wheel_Q"].attrs["units"] == "N"
+        assert g["q"].compression is None         # copied uncompressed: a prompt stop
     # the kept history is the start of the same run kept in memory
     full = sc.hunting(300.0, duration=float(t[200]) + 1e-9, output_dt=0.001, progress=False)
     with h5py.File(out, "r") as f:

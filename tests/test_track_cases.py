@@ -13,7 +13,7 @@ from test_track_ring import COARSE
 def _params(name, **kw):
     p = {k: v for k, v in REGISTRY[name].defaults.items()}
     p.update(n_sleepers=8, **COARSE)
-    p["arc_step"] = COARSE["arc_step"] * 1e-3        # the deck key is in m (RingTrack's in mm)
+    p["arc_step"] = COARSE["arc_step"]               # m, as RingTrack's
     p.update(kw)
     assert all(v is not REQUIRED for v in p.values())
     return p

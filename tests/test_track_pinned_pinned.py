@@ -11,7 +11,7 @@ from railvti.track import RingTrack
 from railvti.track.section import PUBLISHED_60E1
 from track_reference import jourawski_shear_coefficient
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12.0)
+COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
 
 
 def timoshenko_pinned_pinned(young: float, poisson: float, density: float, area: float,

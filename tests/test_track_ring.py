@@ -7,7 +7,7 @@ from railvti.errors import InputError
 from railvti.track import RingTrack
 from track_reference import beam_on_sleepers_static, jourawski_shear_coefficient, static_direct
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12.0)
+COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
 
 
 @pytest.fixture(scope="module")

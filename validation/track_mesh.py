@@ -17,7 +17,8 @@ import numpy as np  # noqa: E402
 from railvti.track import RingTrack, rail_section  # noqa: E402
 
 FIG = Path(__file__).resolve().parent / "figures"
-MESHES = [(16.0, 8e-4), (12.0, 4e-4), (8.0, 2e-4), (6.0, 1e-4), (5.0, 6e-5)]
+#: (outline arc step, m; largest triangle, m^2)
+MESHES = [(16e-3, 8e-4), (12e-3, 4e-4), (8e-3, 2e-4), (6e-3, 1e-4), (5e-3, 6e-5)]
 N_SL = 64
 
 

@@ -164,7 +164,8 @@ end subroutine vehicle_run_c
 !> Steady state of straight running (info: see vehicle_newmark%static_solve; with modal
 !> blocks over the rigid and modal DOFs, nd their number): q and the
 !> velocities v (zero but the wheelsets' spin rates). Also returns the total force and the
-!> contact outputs there.
+!> contact outputs there. Runs with the GIL released (f2py threadsafe): Python calls it in
+!> a worker thread and watches for Ctrl-C meanwhile (simulate._static_call).
 subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit, q, nwo, v, f, &
                             wout, iters, resid, info)
     use iso_c_binding, only: c_int, c_double
@@ -172,6 +173,7 @@ subroutine vehicle_static_c(handle, nd, nw, speed, cmodel, fsn, bem, tol, maxit,
     use vehicle_model, only: vmodel, vsettings, vehicle_call
     use vehicle_newmark, only: static_solve, state_force
     implicit none
+    !f2py threadsafe
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, maxit, nwo
     real(c_double), intent(in) :: speed, tol
     real(c_double), intent(inout) :: q(nd)

@@ -18,13 +18,16 @@ end subroutine wheelset_element_c
 
 !> Modes of harmonic k up to omega^2 = lam_max (see wheelset_modes::harmonic_modes).
 !> bad_element: the (1-based) inverted element when info = STAT_BAD_ELEMENT; solver_info:
-!> the LAPACK/ARPACK info behind an eigen-solver failure.
+!> the LAPACK/ARPACK info behind an eigen-solver failure. Runs with the GIL released (f2py
+!> threadsafe): Python calls it in a worker thread, one at a time (ARPACK's SAVEd state), and
+!> watches for Ctrl-C meanwhile (railvti.wheelset.fe).
 subroutine wheelset_modes_c(nn, ne, xn, conn, k, e, nu, rho, fixed, nspr, spr_node, spr_comp, &
                             spr_k, lam_max, nmax, nm, lam, phi, gam, mcq, kgq, neq, kd, info, &
                             bad_element, solver_info)
     use iso_c_binding, only: c_int, c_double
     use wheelset_modes, only: harmonic_modes
     implicit none
+    !f2py threadsafe
     integer(c_int), intent(in) :: nn, ne, k, nspr, nmax
     real(c_double), intent(in) :: xn(2, nn), e, nu, rho, lam_max
     integer(c_int), intent(in) :: conn(9, ne), fixed(3, nn)

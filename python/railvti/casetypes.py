@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import logging
 import math
+import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -208,9 +209,25 @@ class CaseType:
     aliases: dict[str, Alias] = field(default_factory=dict)
     summary: str = ""
 
-    def problems(self, params: dict[str, Any]) -> list[str]:
+    def problems(self, params: dict[str, Any],
+                 written: dict[str, tuple[str, Any]] | None = None) -> list[str]:
         """Every problem of a case's complete parameters: each key's type and range, then
-        the case type's consistency check. Empty if the case may run."""
+        the case type's consistency check. Empty if the case may run.
+
+        ``written`` (:meth:`aliases_written`): the keys the case gave under an alias; a
+        problem of such a key names the alias and the value as written (``y_min_mm = 4``),
+        not only the converted key."""
+        out = self._problems(params)
+        if not written:
+            return out
+        units = {k: self.keys[k].unit for k in written if k in self.keys}
+        return [as_written(m, written, units) for m in out]
+
+    def aliases_written(self, given: dict[str, Any]) -> dict[str, tuple[str, Any]]:
+        """key -> (alias, value as written) for the keys ``given`` names by an alias."""
+        return {self.aliases[k].key: (k, v) for k, v in given.items() if k in self.aliases}
+
+    def _problems(self, params: dict[str, Any]) -> list[str]:
         out = []
         for name, value in params.items():
             spec = self.keys.get(name)
@@ -274,6 +291,7 @@ class CaseType:
         """
         params = dict(params)
         problems = []
+        written = self.aliases_written(params)
         for name in [k for k in params if k in self.aliases]:
             target = self.aliases[name].key
             if target in params and params[target] == self.defaults.get(target, object()):
@@ -282,10 +300,36 @@ class CaseType:
                                                                              if target in params else {})})
             problems += probs
             params.update(given)
-        problems += self.problems(params)
+        problems += self.problems(params, written)
         if problems:
             raise InputError(f"{self.name} case: " + "; ".join(problems))
         return params
+
+
+def as_written(message: str, written: dict[str, tuple[str, Any]],
+               units: dict[str, str] | None = None) -> str:
+    """``message`` naming the keys a case gave under an alias as the case wrote them:
+    ``key 'y_max' = 0.08`` becomes ``key 'y_max_mm' = 80.0 (y_max = 0.08 m)`` (``units``:
+    key -> unit), and a message that names such a key otherwise (a consistency check:
+    ``y_min = 0.004 must be < y_max = 0.002 (m)``) gets ``(the case gave y_min_mm = 4.0,
+    y_max_mm = 2.0)``."""
+    named = []
+    units = units or {}
+
+    def converted(key: str, text: str) -> str:
+        try:
+            text = f"{float(text):.6g}"
+        except ValueError:
+            pass
+        unit = units.get(key, "")
+        return f"{key} = {text}" + (f" {unit}" if unit and unit not in ("1", "-") else "")
+    for key, (alias, value) in written.items():
+        pattern = re.compile(rf"key '{re.escape(key)}' = (\S+)")
+        message, n = pattern.subn(
+            lambda m: f"key '{alias}' = {value!r} ({converted(key, m.group(1))})", message)
+        if n == 0 and re.search(rf"(?<![\w']){re.escape(key)}(?![\w'])", message):
+            named.append(f"{alias} = {value!r}")
+    return message + (f" (the case gave {', '.join(named)})" if named else "")
 
 
 REGISTRY: dict[str, CaseType] = {}

@@ -27,7 +27,7 @@ import contextlib
 import difflib
 import io
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -58,12 +58,16 @@ class Case:
     case_type : CaseType
     params : dict
         Every key of the case type, the deck's value or the default.
+    written : dict
+        key -> (alias, value as written) for the keys the deck gave under an alias
+        (``y_min_mm = 4.0``): problems name them so.
     """
 
     index: int
     name: str
     case_type: CaseType
     params: dict[str, Any]
+    written: dict[str, tuple[str, Any]] = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -214,6 +218,7 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
             problems.append(f"{where}: key '{key}' has no value")
         else:
             given[key] = value
+    written = ctype.aliases_written(given)
     given, alias_problems = ctype.resolve_aliases(given)
     problems += [f"{where}: {p}" for p in alias_problems]
     params = {}
@@ -226,7 +231,7 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
         elif default is not REQUIRED:      # a missing required key: CaseType.problems names it
             params[key] = default
     name = name or f"{tname}_{index}"
-    return Case(index=index, name=str(name), case_type=ctype, params=params), problems
+    return Case(index=index, name=str(name), case_type=ctype, params=params, written=written), problems
 
 
 def check_cases(cases: list[Case]) -> list[str]:
@@ -237,7 +242,7 @@ def check_cases(cases: list[Case]) -> list[str]:
         msg = name_problem(c.name)
         if msg:
             out.append(f"{c.label}: {msg}")
-        out.extend(f"{c.label}: {p}" for p in c.case_type.problems(c.params))
+        out.extend(f"{c.label}: {p}" for p in c.case_type.problems(c.params, c.written))
     return out
 
 
@@ -289,7 +294,7 @@ def parse_deck(text: str) -> list[Case]:
         case, probs = _build_case(i + 1, dict(g), scanned[i], types)
         problems += probs
         if case is not None:     # its values too, whatever else is wrong with it
-            problems += [f"{case.label}: {p}" for p in case.case_type.problems(case.params)]
+            problems += [f"{case.label}: {p}" for p in case.case_type.problems(case.params, case.written)]
             cases.append(case)
     _raise(problems)
     return cases

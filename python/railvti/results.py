@@ -219,14 +219,16 @@ def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, di
 COPY_BLOCK_BYTES = 16 * 2**20
 
 
-def _copy_streamed(g: h5py.Group, name: str, ref: Streamed) -> h5py.Dataset:
+def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = True) -> h5py.Dataset:
     """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, chunked and
     compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
-    :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length."""
+    :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length. ``compress=False``
+    (an interrupted case, whose stop should be prompt): not compressed, 5 x faster (180 s
+    of hunting history: 1.2 s instead of 5.9 s), the file 2.3 x larger."""
     with h5py.File(ref.path, "r") as src:
         s = src[ref.name]
         n = s.shape[0]
-        opts = {"compression": "gzip", "compression_opts": 4} if s.size > 16 else {}
+        opts = {"compression": "gzip", "compression_opts": 4} if s.size > 16 and compress else {}
         d = g.create_dataset(name, shape=s.shape, dtype=s.dtype,   # chunks as a whole write's
                              **(dict(opts, chunks=True) if opts else {}))
         step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
@@ -235,13 +237,14 @@ def _copy_streamed(g: h5py.Group, name: str, ref: Streamed) -> h5py.Dataset:
     return d
 
 
-def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None) -> None:
+def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None,
+                   compress: bool = True) -> None:
     arr, units = spec[0], spec[1]
     extra = dict(spec[2]) if len(spec) > 2 else {}
     if output is not None:
         extra.update(getattr(output, "attrs", {}).get(name, {}))
     if isinstance(arr, Streamed):
-        d = _copy_streamed(g, name, arr)
+        d = _copy_streamed(g, name, arr, compress)
         d.attrs["units"] = units or "1"
         for k, v in extra.items():
             d.attrs[k] = _attr(v)
@@ -279,8 +282,10 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
     if rec.output is None:
         return
     g.attrs["summary"] = rec.output.summary
+    # an interrupted case's streamed history is copied uncompressed: the stop waits for it
+    compress = not str(rec.status).startswith("interrupted")
     for dname, spec in rec.output.datasets.items():
-        _write_dataset(g, dname, spec, rec.output)
+        _write_dataset(g, dname, spec, rec.output, compress)
     for dname, spec in rec.output.scalars.items():
         _write_dataset(g, dname, spec, rec.output)
 

@@ -37,9 +37,11 @@ def plot_rolling(group: Any, outdir: Path, stem: str) -> list[Path]:
     sel = np.zeros_like(inside)
     sel[::step, ::step] = True
     sel &= inside
+    tmax = max(np.hypot(tx, ty).max(), 1e-30)
     ax.quiver(X[sel], Y[sel], tx[sel], ty[sel], color="C3", angles="xy", scale_units="xy",
-              scale=max(np.hypot(tx, ty).max(), 1e-30) / (2.0 * step * dx))
-    ax.set_title("tangential traction on the wheel")
+              scale=tmax / (2.0 * step * dx))
+    ax.set_title(f"tangential traction on the wheel\narrows: longest = {tmax:.3g} MPa "
+                 f"(drawn {2.0 * step * dx:.2g} mm long)", fontsize=10)
     ax = axes[1]
     cmap = ListedColormap(["white", "#4c72b0", "#dd8452"])
     ax.imshow(status.T, origin="lower", cmap=cmap, vmin=-0.5, vmax=2.5, extent=ext, aspect="equal",
@@ -54,8 +56,14 @@ def plot_rolling(group: Any, outdir: Path, stem: str) -> list[Path]:
         ax.set_ylim(*yl)
         ax.set_xlabel("x, rolling direction (mm)")
     axes[0].set_ylabel("y, lateral (mm)")
-    fig.suptitle(f"{group.attrs['name']}: Fx = {float(group['fx'][()]):.4g} N, Fy = {float(group['fy'][()]):.4g} N, "
-                 f"Mz = {float(group['mz'][()]):.4g} N m  (particles move in -x)")
+    fx, fy, mz = (float(group[k][()]) for k in ("fx", "fy", "mz"))
+    fn = float(group["fn"][()]) if "fn" in group else max(abs(fx), abs(fy))
+    a = max(abs(x[-1] - x[0]), abs(y[-1] - y[0])) * 1e-3     # the grid's size, m
+
+    def shown(v: float, ref: float) -> str:     # solver noise (below 1e-7 of the load) as 0
+        return "0" if abs(v) <= 1e-7 * ref else f"{v:.4g}"
+    fig.suptitle(f"{group.attrs['name']}: Fx = {shown(fx, fn)} N, Fy = {shown(fy, fn)} N, "
+                 f"Mz = {shown(mz, fn * a)} N m  (particles move in -x)")
     fig.tight_layout()
     path = outdir / f"{stem}_rolling.png"
     fig.savefig(path, dpi=100)

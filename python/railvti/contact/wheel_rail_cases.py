@@ -182,7 +182,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """The stored patches' pressure maps with traction vectors (store_fields = 1)."""
-    from .wheelset_plots import plot_fields
+    from .wheelset_plots import case_title, plot_fields
     r = group["results"] if "results" in group else group
     fields = {}
     for name in r:
@@ -190,7 +190,10 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
             key = name[len("field_"):-len("_pressure")]
             fields[key] = {q: np.asarray(r[f"field_{key}_{q}"]) for q in ("pressure", "x", "y", "tx", "ty")
                            if f"field_{key}_{q}" in r}
-    return [plot_fields(fields, Path(outdir) / f"{stem}_patches.png")] if fields else []
+    title = "wheel on rail, " + case_title(group, (
+        ("y", "y", 1e3, " mm"), ("yaw", "yaw", 1e3, " mrad"), ("fz", "Fz", 1e-3, " kN"),
+        ("mu", "mu", 1.0, ""), ("speed", "speed", 1.0, " m/s")))
+    return [plot_fields(fields, Path(outdir) / f"{stem}_patches.png", title)] if fields else []
 
 
 #: Keys of the ``wheel_rail`` case type and their defaults: the Manchester benchmark's data (its

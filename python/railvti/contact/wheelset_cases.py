@@ -150,11 +150,14 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Patch quantities against the shift and the stored patches' pressure maps."""
-    from .wheelset_plots import plot_fields, plot_sweep
+    from .wheelset_plots import case_title, plot_fields, plot_sweep
     r = group["results"] if "results" in group else group
     arrays = {k: np.asarray(r[k]) for k in _QUANTITIES if k in r}
     y = np.asarray(r["y"])
-    paths = [plot_sweep(y, arrays, Path(outdir) / f"{stem}_sweep.png")]
+    title = "loaded wheelset, " + case_title(group, (
+        ("fz", "Fz", 1e-3, " kN"), ("mu", "mu", 1.0, ""), ("speed", "speed", 1.0, " m/s"),
+        ("yaw_per_y", "yaw/y", 1.0, " rad/m")))
+    paths = [plot_sweep(y, arrays, Path(outdir) / f"{stem}_sweep.png", title=title)]
     fields = {}
     for name in r:
         if name.startswith("field_") and name.endswith("_pressure"):
@@ -162,7 +165,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
             fields[key] = {q: np.asarray(r[f"field_{key}_{q}"]) for q in ("pressure", "x", "y", "tx", "ty")
                            if f"field_{key}_{q}" in r}
     if fields:
-        paths.append(plot_fields(fields, Path(outdir) / f"{stem}_patches.png"))
+        at = case_title(group, (("field_at", "fields at y =", 1e3, " mm"),)).split(": ")[-1]
+        paths.append(plot_fields(fields, Path(outdir) / f"{stem}_patches.png", f"{title}; {at}"))
     return paths
 
 

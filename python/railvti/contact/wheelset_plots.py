@@ -74,7 +74,7 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, titl
             # the largest traction is drawn one sampling step long
             ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], ty, tx, color="w", angles="xy",
                       scale_units="xy", scale=tmax / step, width=0.004)
-            key = f"{key}\narrows: traction, longest = {tmax * 1e-6:.0f} MPa"
+            key = f"{field_label(key)}\narrows: traction, longest = {tmax * 1e-6:.0f} MPa"
         fig.colorbar(im, ax=ax, label="p, MPa")
         ax.set_aspect("equal")
         ax.set_xlabel("lateral y (contact frame), mm")
@@ -86,3 +86,26 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, titl
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return Path(path)
+
+
+def case_title(group, keys: tuple[tuple[str, str, float, str], ...]) -> str:
+    """'NAME: fz 10000 N, mu 0.3, ...' from a stored case's inputs; keys: (input, label,
+    factor, unit) each shown when stored and numeric."""
+    parts = []
+    inputs = group["inputs"] if "inputs" in group else {}
+    for key, label, factor, unit in keys:
+        if key not in inputs:
+            continue
+        try:
+            parts.append(f"{label} {float(np.asarray(inputs[key])) * factor:.4g}{unit}")
+        except (TypeError, ValueError):
+            pass
+    name = group.attrs.get("name", "")
+    name = name.decode() if isinstance(name, bytes) else str(name)
+    return f"{name}: " + ", ".join(parts) if name else ", ".join(parts)
+
+
+def field_label(key: str) -> str:
+    """'left wheel, patch 1' for a stored field's key 'left0'."""
+    side, n = key.rstrip("0123456789"), key[len(key.rstrip("0123456789")):]
+    return f"{side} wheel, patch {int(n) + 1}" if side in ("left", "right") and n else key

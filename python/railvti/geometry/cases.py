@@ -171,7 +171,19 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     t = ContactTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
                      tolerance=float("nan"))
     p = Path(outdir) / f"{stem}_contact_table.png"
-    return [plot_table(t, p)]
+    inputs = group["inputs"] if "inputs" in group else {}
+
+    def given(key: str) -> str:
+        if key not in inputs:
+            return "?"
+        v = np.asarray(inputs[key]).item()
+        return Path(v.decode() if isinstance(v, bytes) else str(v)).name
+    name = group.attrs.get("name", "")
+    name = name.decode() if isinstance(name, bytes) else str(name)
+    title = f"{name}: contact table, wheel {given('wheel')} on rail {given('rail')}"
+    if "cant" in inputs:
+        title += f" (cant {float(np.asarray(inputs['cant'])):.4g})"
+    return [plot_table(t, p, title=title)]
 
 
 register(CaseType(

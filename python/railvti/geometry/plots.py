@@ -53,8 +53,10 @@ def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact]
     return Path(path)
 
 
-def plot_table(table: ContactTable, path: str | Path, conicity: tuple[np.ndarray, np.ndarray] | None = None) -> Path:
-    """Delta-r, contact angles and roll against the lateral shift (and conicity vs amplitude)."""
+def plot_table(table: ContactTable, path: str | Path, conicity: tuple[np.ndarray, np.ndarray] | None = None,
+               title: str = "") -> Path:
+    """Delta-r, contact angles and roll against the lateral shift (and conicity vs amplitude);
+    ``title``: the wheel/rail pair."""
     plt = _mpl()
     n = 4 if conicity is not None else 3
     fig, axs = plt.subplots(1, n, figsize=(3.2 * n, 3.2), dpi=90)
@@ -80,6 +82,8 @@ def plot_table(table: ContactTable, path: str | Path, conicity: tuple[np.ndarray
         axs[3].set_xlabel("amplitude, mm")
         axs[3].set_ylabel("equivalent conicity (EN 15302)")
         axs[3].grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

@@ -18,9 +18,8 @@ from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack
 
 _COMMON: dict[str, Any] = {"n_sleepers": REQUIRED, **DEFAULTS,
-                           **{k: v for k, v in NUMERICS.items() if k != "f_max"},
-                           "arc_step": NUMERICS["arc_step"] * 1e-3}    # the deck key is in m
-#: The deck's mm alias of arc_step (RingTrack takes mm; the deck key is SI).
+                           **{k: v for k, v in NUMERICS.items() if k != "f_max"}}
+#: The deck's mm alias of arc_step (the deck key and RingTrack's argument are in m).
 _ALIASES = {"arc_step_mm": Alias("arc_step", 1e-3, deprecated=False, unit="mm")}
 
 
@@ -75,7 +74,6 @@ def check_receptance(p: dict[str, Any]) -> list[str]:
 
 def _track(params: dict[str, Any], f_max: float) -> RingTrack:
     kw = {k: params[k] for k in _COMMON if k != "n_sleepers"}
-    kw["arc_step"] = params["arc_step"] * 1e3        # RingTrack's arc_step is in mm
     return RingTrack(params["n_sleepers"], f_max=f_max, **kw)
 
 
@@ -83,7 +81,7 @@ def run_receptance(params: dict[str, Any]) -> CaseOutput:
     """Receptances of a ring track.
 
     Keys: n_sleepers (-), every RingTrack parameter (SI units, see railvti.track.DEFAULTS;
-    arc_step in m here, arc_step_mm its mm alias; RingTrack takes mm),
+    arc_step in m, arc_step_mm its mm alias),
     f_min, f_max (Hz), n_freq (-).
     """
     params = validate("track_receptance", params)
@@ -119,6 +117,12 @@ def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:
 
     res = group["results"] if "results" in group else group
     f = np.asarray(res["freq"])
+    name = group.attrs.get("name", "")
+    name = name.decode() if isinstance(name, bytes) else str(name)
+    inputs = group["inputs"] if "inputs" in group else {}
+    ring = (f", ring of {int(np.asarray(inputs['n_sleepers']))} sleepers"
+            if "n_sleepers" in inputs else "")
+    how = {"vertical": "in phase on both rails", "lateral": "opposite on the two rails"}
     paths = []
     for d in ("vertical", "lateral"):
         fig, ax = plt.subplots(figsize=(6.4, 3.6))
@@ -127,9 +131,9 @@ def plot_receptance(group: Any, outdir: Path, stem: str) -> list[Path]:
             ax.semilogy(f, np.abs(h), label=pos)
         ax.set_xlabel("frequency, Hz")
         ax.set_ylabel("|receptance|, m/N")
-        ax.set_title(f"{d} receptance")
+        ax.set_title(f"{name}: {d} receptance at the rail head ({how[d]}){ring}", fontsize=9)
+        ax.legend(title="force and response", fontsize=8, title_fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
         p = Path(outdir) / f"{stem}_{d}.png"
         fig.tight_layout()
         fig.savefig(p, dpi=90)

@@ -21,7 +21,7 @@ from .. import _checks
 from .._native import core
 from .._status import Status, check, error
 from ..errors import ConvergenceError, InputError
-from .section import GAUSS_L, RailSection, head_surface, rail_section, t6_shape
+from .section import GAUSS_L, RailSection, arc_step_si, head_surface, rail_section, t6_shape
 
 log = logging.getLogger(__name__)
 
@@ -60,7 +60,7 @@ NUMERICS: dict[str, float] = {
     "f_cut_factor": 2.0,       # rail modes kept per wave number up to f_cut_factor * f_max
     "kappa_max": 50.0,         # rad/m, highest rail wave number in the series
     "mesh_max_area": 2e-4,     # m^2, largest triangle of the section mesh
-    "arc_step": 8.0,           # mm, spacing of outline points on arcs
+    "arc_step": 8e-3,          # m, spacing of outline points on arcs (arc_step_mm: deprecated mm)
     "n_samples": 12,           # sample wave numbers of the rail's reduced basis
 }
 
@@ -167,20 +167,25 @@ class RingTrack:
     section : RailSection, optional
         The meshed rail section (default: 60E1 with ``mesh_max_area``).
     **params
-        Any key of :data:`DEFAULTS` (track physics, SI units) or :data:`NUMERICS`.
+        Any key of :data:`DEFAULTS` (track physics, SI units) or :data:`NUMERICS` (SI:
+        ``arc_step`` in m; ``arc_step_mm``, the same in mm, is deprecated).
 
     Raises
     ------
     InputError
-        Unknown key, negative stiffness/mass/damping, spacing <= 0, n_sleepers < 2.
+        Unknown key, negative stiffness/mass/damping, spacing <= 0, n_sleepers < 2;
+        ``arc_step`` above 0.05 m (a mm value: the message says so), or given twice.
     """
 
     def __init__(self, n_sleepers: int, section: RailSection | None = None, **params: Any) -> None:
         self.n_sleepers = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
+        params = dict(params)
+        arc_step_mm = params.pop("arc_step_mm", None)
         unknown = set(params) - set(DEFAULTS) - set(NUMERICS)
         if unknown:
             raise InputError(f"unknown track parameter(s): {sorted(unknown)}")
         p = {**DEFAULTS, **NUMERICS, **params}
+        p["arc_step"] = arc_step_si(params.get("arc_step"), arc_step_mm, NUMERICS["arc_step"])
         for k in DEFAULTS:
             p[k] = _checks.finite(k, p[k])
         for k in _POSITIVE:
@@ -192,7 +197,7 @@ class RingTrack:
             raise InputError(f"rail_poisson must lie in [0, 0.5), got {p['rail_poisson']}")
         if abs(p["cant"]) > 0.2:
             raise InputError(f"cant must be a small inclination |tan| <= 0.2, got {p['cant']}")
-        for k in ("f_max", "f_cut_factor", "kappa_max", "mesh_max_area", "arc_step"):
+        for k in ("f_max", "f_cut_factor", "kappa_max", "mesh_max_area"):
             p[k] = _checks.positive(k, p[k])
         if p["f_cut_factor"] < 1.0:
             raise InputError(f"f_cut_factor must be >= 1, got {p['f_cut_factor']}")

@@ -14,6 +14,7 @@ rail's axis of symmetry.
 from __future__ import annotations
 
 import logging
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -33,6 +34,43 @@ _A2, _B2, _W2 = 0.091576213509771, 0.816847572980459, 0.109951743655322
 GAUSS_L = np.array([[_A1, _A1, _B1], [_A1, _B1, _A1], [_B1, _A1, _A1],
                     [_A2, _A2, _B2], [_A2, _B2, _A2], [_B2, _A2, _A2]])
 GAUSS_W = np.array([_W1] * 3 + [_W2] * 3)
+
+#: Largest ``arc_step`` taken, m: a larger value is refused as a probable mm value
+#: (``arc_step`` was in mm before issue 16; the deck key's bound is the same).
+ARC_STEP_MAX = 0.05
+
+
+def arc_step_si(arc_step: float | None, arc_step_mm: float | None, default: float) -> float:
+    """The outline's arc spacing in m from ``arc_step`` (m) or its deprecated mm alias.
+
+    Parameters
+    ----------
+    arc_step : float or None
+        Spacing, m.
+    arc_step_mm : float or None
+        The same in mm (deprecated: a DeprecationWarning; converted x 1e-3).
+    default : float
+        The spacing when neither is given, m.
+
+    Raises
+    ------
+    InputError
+        Both given; a value <= 0, non-finite, or above :data:`ARC_STEP_MAX` (a mm value
+        given as m: the message says how to write it).
+    """
+    if arc_step_mm is not None:
+        if arc_step is not None:
+            raise InputError("give arc_step (m) or arc_step_mm (mm, deprecated), not both")
+        warnings.warn("arc_step_mm is deprecated: give arc_step in m (arc_step_mm = 8 is "
+                      "arc_step = 0.008)", DeprecationWarning, stacklevel=3)
+        arc_step = _checks.positive("arc_step_mm", arc_step_mm) * 1e-3
+    elif arc_step is None:
+        arc_step = default
+    arc_step = _checks.positive("arc_step", arc_step)
+    if arc_step > ARC_STEP_MAX:
+        raise InputError(f"arc_step = {arc_step:g} m is above {ARC_STEP_MAX:g} m: arc_step is "
+                         f"in m (it was in mm before issue 16): 8 mm is arc_step = 0.008")
+    return arc_step
 
 
 def _arc(center, radius, a0, a1, step):
@@ -451,7 +489,8 @@ def section_properties(nodes: np.ndarray, elements: np.ndarray) -> dict[str, flo
 
 
 def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = None,
-                 arc_step: float = 3.0) -> RailSection:
+                 arc_step: float | None = None, *, arc_step_mm: float | None = None
+                 ) -> RailSection:
     """Mesh the UIC60 (60E1) rail cross-section and compute its properties.
 
     Parameters
@@ -462,8 +501,11 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
         A closed polygon (m, last point = first) to mesh instead of 60E1. The crown
         node is the highest point on eta = 0 (or the highest point); the foot edges are
         those on the lowest zeta.
-    arc_step : float
-        Spacing of outline points on the 60E1 arcs, mm.
+    arc_step : float, optional
+        Spacing of outline points on the 60E1 arcs, m (default 0.003; at most
+        :data:`ARC_STEP_MAX`).
+    arc_step_mm : float, optional
+        Deprecated: the same in mm (a DeprecationWarning). Not with ``arc_step``.
 
     Returns
     -------
@@ -472,11 +514,13 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
     Raises
     ------
     InputError
-        An outline that is not closed, crosses itself or encloses no area; a bad size.
+        An outline that is not closed, crosses itself or encloses no area; a bad size;
+        ``arc_step`` above :data:`ARC_STEP_MAX` (a mm value: the message says so).
     """
     max_element_area = _checks.positive("max_element_area", max_element_area)
-    arc_step = _checks.positive("arc_step", arc_step)
-    poly = uic60_outline(step=arc_step) if outline is None else np.asarray(outline, float)
+    arc_step = arc_step_si(arc_step, arc_step_mm, 3e-3)
+    # the outline is drawn in mm (the drawing's unit): 3e-3 * 1e3 is 3.0 to the bit
+    poly = uic60_outline(step=arc_step * 1e3) if outline is None else np.asarray(outline, float)
     poly = check_outline(poly)
     half = _mirror_halves(poly)
     if half is None:

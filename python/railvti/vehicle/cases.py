@@ -394,7 +394,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                                  float(res.attrs.get("critical_speed_linear", np.nan)),
                                  outdir / f"{stem}_bifurcation.png")]
     paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
-                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem,
+                         _run_title(res))
     if "ws_y" in res:
         paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
                                  np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
@@ -404,7 +405,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),
                                 outdir / f"{stem}_patch.png",
-                                "leading wheelset, right wheel"))
+                                f"{_run_title(res)}: leading wheelset, right wheel"))
     return paths
 
 
@@ -430,6 +431,11 @@ def _run_title(res: Any) -> str:
     """'hunting, 420 km/h, model RR, hertz-fastsim' from a result group."""
     parts = [_text(res, "scenario")]
     speed = _scalar(res, "speed_kmh")
+    if not np.isfinite(speed) and "inputs" in res and "speed" in res["inputs"]:
+        try:                               # the deck's speed, m/s (a case stores no speed_kmh)
+            speed = float(np.asarray(res["inputs"]["speed"])) * 3.6
+        except (TypeError, ValueError):
+            pass
     if np.isfinite(speed):
         parts.append(f"{speed:.0f} km/h")
     model, contact = _text(res, "model"), _text(res, "contact")

@@ -13,34 +13,65 @@ def _plt():
     return plt
 
 
+#: Smallest range drawn on a history's value axis, per unit of the chart: a history that
+#: varies less is drawn flat at its value, with the value and its spread written on the
+#: chart (numerical noise, 1e-18 mm or 0.1 N on a 54.5 kN wheel load, is not drawn as a signal).
+MIN_SPAN = {"mm": 0.01, "kN": 0.1, "m/s": 1e-4, "1": 0.01}
+
+
+def _readable(ax, values, unit: str, axis: str = "y") -> None:
+    """No offset on the value axis; at least :data:`MIN_SPAN` of it around a flat history."""
+    ax.ticklabel_format(axis=axis, useOffset=False)
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    span = MIN_SPAN[unit]
+    if v.size == 0 or v.max() - v.min() >= span:
+        return
+    c = 0.5 * (v.max() + v.min())
+    (ax.set_ylim if axis == "y" else ax.set_xlim)(c - span, c + span)
+    ax.text(0.01, 0.97 if axis == "y" else 0.03,
+            f"flat {axis}: {c:.6g} {unit} (spread {v.max() - v.min():.1e})",
+            transform=ax.transAxes, va="top" if axis == "y" else "bottom", fontsize=7)
+
+
 def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y: np.ndarray,
-                 outdir: Path, stem: str) -> list[Path]:
+                 outdir: Path, stem: str, title: str = "") -> list[Path]:
     """Leading wheelset lateral displacement and wheel forces against time, and the phase
-    portrait (y against dy/dt). Q, Y: (nt, 2, nw)."""
+    portrait (y against dy/dt). Q, Y: (nt, 2, nw). ``title``: the run (scenario, speed,
+    model, contact). A flat history is drawn flat with its value (:data:`MIN_SPAN`)."""
     plt = _plt()
     outdir = Path(outdir)
     fig, ax = plt.subplots(3, 1, figsize=(6.4, 6.4), sharex=True)
     ax[0].plot(t, y * 1e3, lw=0.8)
     ax[0].set_ylabel("y wheelset 1, mm")
+    _readable(ax[0], y * 1e3, "mm")
     ax[1].plot(t, Q[:, 0, 0] / 1e3, lw=0.8, label="left")
     ax[1].plot(t, Q[:, 1, 0] / 1e3, lw=0.8, label="right")
     ax[1].set_ylabel("Q wheelset 1, kN")
     ax[1].legend(fontsize=8)
+    _readable(ax[1], Q[:, :, 0] / 1e3, "kN")
     ax[2].plot(t, Y[:, 0, 0] / 1e3, lw=0.8, label="left")
     ax[2].plot(t, Y[:, 1, 0] / 1e3, lw=0.8, label="right")
     ax[2].set_ylabel("Y wheelset 1, kN")
     ax[2].set_xlabel("time, s")
+    _readable(ax[2], Y[:, :, 0] / 1e3, "kN")
     for a in ax:
         a.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     p1 = outdir / f"{stem}_history.png"
     fig.savefig(p1, dpi=80)
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(4.8, 4.2))
     ax.plot(y * 1e3, vy, lw=0.6)
+    ax.plot(y[-1:] * 1e3, vy[-1:], "o", ms=3, color="C0", label="last state")   # seen if flat
+    ax.legend(fontsize=7, loc="upper right")
     ax.set_xlabel("y wheelset 1, mm")
     ax.set_ylabel("dy/dt, m/s")
-    ax.set_title("phase portrait")
+    _readable(ax, y * 1e3, "mm", axis="x")
+    _readable(ax, vy, "m/s")
+    ax.set_title("phase portrait" + (f"\n{title}" if title else ""), fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     p2 = outdir / f"{stem}_phase.png"
@@ -67,6 +98,10 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
         for s, lab in ((0, "left"), (1, "right")):
             ax[1, w].plot(t, Q[:, s, w] / 1e3, lw=0.7, label=lab)
             ax[2, w].plot(t, yq[:, s, w], lw=0.7, label=lab)
+    # rows share their value axis: flat (noise only) when the whole row is
+    _readable(ax[0, 0], q_dof * 1e3, "mm")
+    _readable(ax[1, 0], Q / 1e3, "kN")
+    for w in range(nw):
         ax[2, w].axhline(nadal, color="r", lw=0.8, ls="--", label=f"Nadal {nadal:.2f}")
         ax[2, w].set_xlabel("time, s")
         for a in ax[:, w]:
@@ -128,7 +163,14 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
         a.set_aspect("equal")
     ax[0].set_ylabel("x (rolling), mm")
     k = (slice(None, None, 4), slice(None, None, 4))
-    ax[1].quiver(ym[k], xm[k], np.asarray(ty)[k], np.asarray(tx)[k], color="w", scale=None, width=0.004)
+    txk, tyk = np.asarray(tx)[k], np.asarray(ty)[k]
+    tmax = max(float(np.nanmax(np.hypot(txk, tyk), initial=0.0)), 1e-30)
+    pts = np.column_stack([ym[k].ravel(), xm[k].ravel()])
+    # the largest traction drawn as long as the mean spacing of the arrows' points, mm
+    step = float(np.sqrt(np.ptp(pts[:, 0]) * np.ptp(pts[:, 1]) / max(len(pts), 1))) or 1.0
+    ax[1].quiver(ym[k], xm[k], tyk, txk, color="w", angles="xy", scale_units="xy",
+                 scale=tmax / step, width=0.004)
+    ax[1].set_title(f"|traction|, MPa\narrows: traction, longest = {tmax / 1e6:.0f} MPa", fontsize=9)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()

@@ -18,7 +18,8 @@ from typing import Any, Iterator
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, _interrupt
+from .._native import core
 from .._status import Status, check, error
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from ..resources import check_memory
@@ -321,7 +322,7 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
     else:
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
-    v, f, wout, iters, resid, info = system.native.static(cs, q, tol, maxit)
+    v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
     fmax = float(np.max(np.abs(f)))
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
@@ -341,6 +342,46 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
                                iterations=int(iters), residual=fmax)
     log.debug("static equilibrium: %d iterations, unbalanced force %.3g", iters, fmax)
     return (q, v, wout) if return_velocity else (q, wout)
+
+
+#: Handles of the vehicle models a static solve still uses in a worker thread.
+_busy_models: set[int] = set()
+
+
+def _wait_idle(system: System) -> None:
+    """Wait until no interrupted static solve still runs on ``system``'s Fortran model."""
+    _interrupt.wait_while(lambda: system.native.handle in _busy_models)
+
+
+def _static_call(system: System, cs: CallSettings, bem: BemState | None, q: np.ndarray,
+                 tol: float, maxit: int) -> tuple:
+    """``system.native.static(cs, q, tol, maxit)`` (one Fortran call, ~3-5 s with the BEM)
+    in a worker thread, the shim releasing the GIL (``!f2py threadsafe``), while the main
+    thread waits for signals (:func:`railvti._interrupt.call_in_worker`): Ctrl-C / SIGTERM
+    raise here within ~0.05 s. The Newton iteration cannot be stopped from outside: an
+    interrupted call runs on to its end in the background. Meanwhile its model is kept (a
+    later call on it waits; it is not freed at exit) and its BEM state, mid-solve, is
+    abandoned: ``bem.handle`` becomes 0 (closing it does nothing) and the worker frees it
+    when the call ends."""
+    native = system.native
+    _wait_idle(system)
+    handle = native.handle
+    abandoned: list[int] = []
+
+    def on_abandon() -> None:
+        native._free.atexit = False          # not freed at exit under the running call
+        if bem is not None and bem.handle:
+            abandoned.append(bem.handle)
+            bem.handle = 0
+
+    def on_end() -> None:
+        for h in abandoned:
+            core.vehicle_bem_free_c(h)
+        native._free.atexit = True
+        _busy_models.discard(handle)
+    _busy_models.add(handle)
+    return _interrupt.call_in_worker(native.static, cs, q, tol, maxit, on_abandon=on_abandon,
+                                     on_end=on_end, name="railvti-static")
 
 
 def _rigid_only(system: System, what: str) -> None:
@@ -506,6 +547,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     if stream_to is None:
         _check_history_memory(system, plan)
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
+    _wait_idle(system)      # a static solve interrupted earlier may still run on this model
     q, v = _start_state(system, cs, contact, bem, q0, v0)
     cnt0 = bem.counts() if bem is not None else None
     wall0 = time.perf_counter()
@@ -635,7 +677,8 @@ def _check_history_memory(system: System, plan: _Plan) -> None:
     nout = plan.nsteps // plan.nevery
     per_output = 8 * (2 * system.n_state + len(WHEEL_OUTPUTS) * 2 * system.iws.shape[1] + 1)
     check_memory(f"the time history ({nout} outputs of {per_output} bytes)", 2.0 * nout * per_output,
-                 "shorten the duration or raise output_dt")
+                 "shorten the duration, raise output_dt, or stream the history to a file "
+                 "(stream_to=PATH)")
 
 
 def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:

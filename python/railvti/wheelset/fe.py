@@ -2,11 +2,12 @@
 from __future__ import annotations
 
 import logging
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, _interrupt
 from .._native import core
 from .._status import Status, error
 from ..errors import InputError
@@ -16,6 +17,20 @@ log = logging.getLogger(__name__)
 
 #: Modes requested in the first call to the Fortran solver (grown x4 while full).
 _FIRST_BUFFER = 48
+
+#: Held by a wheelset_modes_c call (ARPACK keeps its iteration state in SAVEd variables: one
+#: call at a time), until its end, also when Ctrl-C abandoned it (:func:`_modes_call`).
+_ARPACK = threading.Lock()
+
+
+def _modes_call(*args):
+    """``core.wheelset_modes_c(*args)`` (~1 s for the default mesh) in a worker thread, the
+    shim releasing the GIL, while the main thread waits for signals: Ctrl-C / SIGTERM raise
+    here within ~0.05 s (:func:`railvti._interrupt.call_in_worker`). An interrupted call runs
+    on to its end in the background, holding :data:`_ARPACK`, so the next call waits for it."""
+    _interrupt.acquire(_ARPACK)
+    return _interrupt.call_in_worker(core.wheelset_modes_c, *args, on_end=_ARPACK.release,
+                                     name="railvti-wheelset-modes")
 
 
 @dataclass(frozen=True)
@@ -126,7 +141,7 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     # buffer came back full (the solver may have stopped at n_buf modes).
     n_buf = min(n_max, _FIRST_BUFFER)
     while True:
-        nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = core.wheelset_modes_c(
+        nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = _modes_call(
             xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf)
         if info != Status.OK or nm < n_buf or n_buf >= n_max:
             break
