@@ -6,7 +6,7 @@ from railvti.errors import InputError
 from railvti.track import RingTrack
 from railvti.track.coupling import rail_of_wheel, wheel_head_shapes
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12.0)
+COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
 
 
 @pytest.fixture(scope="module")
