@@ -315,8 +315,8 @@ subroutine vehicle_pose_at_c(nq, ny, nr, tab, u0, du, p0, dph, rnom, n, u, phi, 
     end do
 end subroutine vehicle_pose_at_c
 
-!> Switch a model's contact to the strip potential: wheel samples ws (6 x nw: y0, z0, r,
-!> kappa, z', tread weight) at step ds, the rail's spline on ry0 + (i - 1) rdy (values rz,
+!> Switch a model's contact to the strip potential: wheel samples ws (7 x nw: y0, z0, r,
+!> kappa, z', tread weight, |kappa| (1 + z'^2)^1.5) at step ds, the rail's spline on ry0 + (i - 1) rdy (values rz,
 !> second derivatives rm; track y = offset + y, height top - z; smoothed curvature rk and its
 !> rate rk1), the ratio table fv, fm
 !> (nf x 6) over x = fx0 + (i - 1) fdx. info: see vehicle_model%vehicle_attach_strip.
@@ -326,7 +326,7 @@ subroutine vehicle_strip_attach_c(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm
     use vehicle_model, only: vehicle_attach_strip
     implicit none
     integer(c_int), intent(in) :: handle, nw, nr, nf
-    real(c_double), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+    real(c_double), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
     real(c_double), intent(in) :: offset, top
     real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6)
     integer(c_int), intent(out) :: info
@@ -346,7 +346,7 @@ subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1,
     use vehicle_strip, only: strip_geometry, strip_set, strip_wheel, strip_props, nso, SO_X, SO_A
     implicit none
     integer(c_int), intent(in) :: nw, nr, nf, np, nso_in
-    real(c_double), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+    real(c_double), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
     real(c_double), intent(in) :: offset, top
     real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(3, np)
     real(c_double), intent(out) :: out(nso_in, 2, np), props(5, 2, np)

@@ -125,7 +125,7 @@ contains
     subroutine vehicle_attach_strip(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, &
                                     offset, top, nf, fx0, fdx, fv, fm, info)
         integer, intent(in) :: handle, nw, nr, nf
-        real(dp), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+        real(dp), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
         real(dp), intent(in) :: offset, top, fx0, fdx, fv(nf, 6), fm(nf, 6)
         integer, intent(out) :: info
         info = STAT_BAD_HANDLE

@@ -42,14 +42,14 @@ module vehicle_strip
     integer, parameter :: SO_N = 1, SO_V = 2, SO_DY = 3, SO_DZ = 4, SO_DPHI = 5, SO_L = 6
     integer, parameter :: SO_ZA = 7, SO_DELTA = 8, SO_R = 9, SO_X = 10, SO_A = 11, SO_PMAX = 12
     !> Coarse scan: every STRIDE-th sample (0.4 mm apart at the default 0.2 mm step), a
-    !> segment looked at closely when an end is less than MARGIN from contact: a gap dips
-    !> below its ends by curvature x (0.4 mm)^2 / 8, under MARGIN for vertical curvatures up to
-    !> 5000 1/m (a flange flank at 70 degrees with 1/(2 mm) relative curvature).
+    !> segment looked at closely when an end is less than MARGIN plus its curvature's reach
+    !> (strip_wheel) from contact.
     integer, parameter :: STRIDE = 2
     real(dp), parameter :: MARGIN = 1.0e-4_dp
 
-    !> Wheel samples ws(6, nw): y0, z0 (arms about the centre, z0 up), r (radius), kappa
-    !> (profile curvature, z down), z' (profile slope, z down), the tread slot's weight.
+    !> Wheel samples ws(7, nw): y0, z0 (arms about the centre, z0 up), r (radius), kappa
+    !> (profile curvature, z down), z' (profile slope, z down), the tread slot's weight, and
+    !> |kappa| (1 + z'^2)^1.5 (the profile's curvature along y, for the coarse scan).
     !> Rail: z (down) and its second derivative on y = ry0 + (i - 1) rdy, i = 1..nr, the
     !> rail-local y of track y = offset + y; rk, rk1 the smoothed curvature and its rate
     !> (cubic Hermite between the nodes). Ratio table over x = fx0 + (i - 1) fdx (flat at
@@ -80,7 +80,7 @@ contains
     pure subroutine strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, &
                               fdx, fv, fm, st, info)
         integer, intent(in) :: nw, nr, nf
-        real(dp), intent(in) :: ws(6, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+        real(dp), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
         real(dp), intent(in) :: offset, top
         real(dp), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6)
         type(strip_geometry), intent(out) :: st
@@ -183,20 +183,25 @@ contains
         props(1:2) = props(1:2) * a**(-1.0_dp / 3.0_dp)
     end subroutine strip_props
 
-    !> The rail-local vertical interference of sample j at the pose (no derivatives): for
-    !> the coarse scan. -huge off the rail.
-    pure real(dp) function interference(st, j, y, zc, cph, sph)
+    !> The vertical interference p of sample j at the pose (no derivatives; -huge off the rail)
+    !> and a bound of its curvature along y, curv = |z_rail''| + |kappa_w| (1 + z_w'^2)^1.5:
+    !> for the coarse scan.
+    pure subroutine interference(st, j, y, zc, cph, sph, p, curv)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph
+        real(dp), intent(out) :: p, curv
         real(dp) :: arm, zw, z, z1, z2, z3
         logical :: inside
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
         call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, y + arm - st%offset, z, z1, z2, z3, inside)
-        interference = -huge(1.0_dp)
-        if (inside) interference = (st%top - z) - (st%rnom + zc + zw)
-    end function interference
+        p = -huge(1.0_dp)
+        curv = 0.0_dp
+        if (.not. inside) return
+        p = (st%top - z) - (st%rnom + zc + zw)
+        curv = abs(z2) + st%ws(7, j)
+    end subroutine interference
 
     !> The strip potential of one wheel (left-wheel convention) at the centre's lateral
     !> position y, height zc above nominal and relative roll phi: per slot the outputs SO_*.
@@ -206,20 +211,23 @@ contains
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, phi
         real(dp), intent(out) :: out(nso, 2)
-        real(dp) :: pc(st%nw), cph, sph, acc(nso + 1, 2)
+        real(dp) :: pc(st%nw), kc(st%nw), cph, sph, acc(nso + 1, 2), span
         integer :: j, jl, jh
         out = 0.0_dp
         acc = 0.0_dp
         cph = cos(phi)
         sph = sin(phi)
         do j = 1, st%nw, STRIDE
-            pc(j) = interference(st, j, y, zc, cph, sph)
+            call interference(st, j, y, zc, cph, sph, pc(j), kc(j))
         end do
-        pc(st%nw) = interference(st, st%nw, y, zc, cph, sph)
+        call interference(st, st%nw, y, zc, cph, sph, pc(st%nw), kc(st%nw))
+        ! a segment's interference rises above its ends' by at most curvature x span^2 / 8:
+        ! twice the ends' larger curvature is taken for the segment's
+        span = STRIDE * st%ds
         do j = 1, st%nw
             jl = 1 + ((j - 1) / STRIDE) * STRIDE
             jh = min(jl + STRIDE, st%nw)
-            if (max(pc(jl), pc(jh)) < -MARGIN) cycle
+            if (max(pc(jl), pc(jh)) < -(MARGIN + 0.25_dp * max(kc(jl), kc(jh)) * span * span)) cycle
             call add_strip(st, j, y, zc, phi, cph, sph, acc)
         end do
         out = acc(1:nso, :)

@@ -55,9 +55,10 @@ class StripGeometry:
 
     Attributes
     ----------
-    ws : ndarray (6, nw)
+    ws : ndarray (7, nw)
         Wheel samples: arms y0, z0 about the wheelset centre (z0 up), radius r, profile
-        curvature (z down), profile slope, the tread slot's weight (0..1), m and 1/m.
+        curvature (z down), profile slope, the tread slot's weight (0..1), and the profile's
+        curvature along y |kappa| (1 + slope^2)^1.5 (the coarse scan's bound), m and 1/m.
     ds : float
         Sample step along the wheel profile, m.
     r_nominal : float
@@ -132,8 +133,9 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
     wz = wheel.height(s)
     t = np.clip((s - split) / split_width, -1.0, 1.0)
     tread = 0.5 + t * (15.0 - 10.0 * t * t + 3.0 * t**4) / 16.0     # C2 step from 0 to 1
-    ws = np.stack([lay.wheelset.contact_y + s, -(r_nom + wz), r_nom + wz, wheel.curvature(s),
-                   wheel.slope(s), tread])
+    kw, sw = wheel.curvature(s), wheel.slope(s)
+    ws = np.stack([lay.wheelset.contact_y + s, -(r_nom + wz), r_nom + wz, kw, sw, tread,
+                   np.abs(kw) * (1.0 + sw * sw) ** 1.5])
     n = int(np.floor((rail.y_max - rail.y_min) / rail_step)) + 1
     ry = rail.y_min + rail_step * np.arange(n)
     sp = CubicSpline(ry, rail.height(ry), bc_type="not-a-knot")
