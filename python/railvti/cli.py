@@ -100,7 +100,7 @@ def _deck_text(deck: Path) -> str:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    for p in plot_results(args.results, args.output):
+    for p in plot_results(args.results, args.output, points=args.points):
         print(p)
     return 0
 
@@ -182,6 +182,8 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("plot", help="write PNG plots of a results file")
     p.add_argument("results")
     p.add_argument("-o", "--output", help="folder for the PNGs (default: beside the file)")
+    p.add_argument("--points", action="store_true",
+                   help="also plot every point of a large sweep (default: its summary plot only)")
     p.set_defaults(func=_plot)
     p = sub.add_parser("cases", help="list the deck case types, or one type's keys with units and meanings")
     p.add_argument("type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)")

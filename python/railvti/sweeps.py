@@ -53,7 +53,9 @@ MODES = ("product", "zip")
 #: Most points of one sweep (the results file is rewritten after each: keep it moderate).
 MAX_POINTS = 2000
 #: Environment of each worker process: one thread for BLAS/OpenMP (one task per core).
-WORKER_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: No tqdm bars in the workers (they would interleave on the console): the driver's bar counts tasks.
+WORKER_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+              "TQDM_DISABLE": "1"}
 
 
 @dataclass(frozen=True)
@@ -487,5 +489,153 @@ def task_bar(total: int, disable: bool = False) -> Any:
         bar.close()
 
 
-__all__ = ["MODES", "SweepPoint", "SweepSpec", "expand", "local_client", "remote_client", "run",
-           "run_on_client", "split_sweep", "sweep"]
+
+# ---------------------------------------------------------------------------------------------
+# Plots of sweeps
+
+#: Per-point plots are drawn for sweeps of at most this many points (``railvti plot --points``:
+#: every point); larger sweeps get their summary plot only.
+MAX_POINT_PLOTS = 4
+#: The quantity a sweep of a case type is plotted by: dataset, factor, unit, meaning.
+HEADLINES = {
+    "vehicle": ("amplitude_last_second", 1e3, "mm",
+                "leading wheelset's lateral amplitude over the last second"),
+}
+
+
+def _key_unit(ctype: CaseType | None, key: str) -> str:
+    """The unit of a swept key as written in the deck (an alias's own unit)."""
+    if ctype is None:
+        return ""
+    if key in ctype.aliases:
+        return ctype.aliases[key].unit
+    spec = ctype.keys.get(key)
+    return spec.unit if spec is not None and spec.unit not in ("", "1") else ""
+
+
+def _label(key: str, value: Any, unit: str) -> str:
+    return f"{key} = {_value_text(value)}" + (f" {unit}" if unit else "")
+
+
+def sweep_points(f: Any) -> dict[str, list[tuple[dict, Any]]]:
+    """Sweep name -> [(point values, h5py group)] of an open results file, in file order."""
+    out: dict[str, list[tuple[dict, Any]]] = {}
+    for _, g in f.items():
+        name = g.attrs.get("sweep") if hasattr(g, "attrs") else None
+        if name:
+            out.setdefault(str(name), []).append((json.loads(str(g.attrs["sweep_point"])), g))
+    return out
+
+
+def plot_sweeps(f: Any, outdir: Path, stem: str) -> list[Path]:
+    """One summary plot per sweep of an open results file (``stem_SWEEP_sweep.png``): the
+    headline quantity (:data:`HEADLINES`, else the numeric scalar results) against the swept
+    key with the most values, one line per value of the other keys; failed points marked.
+    A sweep of at most :data:`MAX_POINT_PLOTS` vehicle hunting runs gets the leading
+    wheelset's time histories and phase portraits overlaid (``stem_SWEEP_phase.png``)."""
+    from .deck_registry import case_types
+    from .vehicle.plots import _plt
+    types = case_types()
+    paths = []
+    for name, points in sweep_points(f).items():
+        ctype = types.get(str(points[0][1].attrs.get("type")))
+        ok = [(p, g) for p, g in points if g.attrs.get("status") == "ok"]
+        try:
+            if ok and "vy_ws1" in ok[0][1] and len(points) <= MAX_POINT_PLOTS:
+                paths.append(_plot_phases(_plt(), name, ok, ctype, outdir / f"{stem}_{name}_phase.png"))
+            else:
+                p = _plot_summary(_plt(), name, points, ctype, outdir / f"{stem}_{name}_sweep.png")
+                if p is not None:
+                    paths.append(p)
+        except Exception as exc:  # noqa: BLE001 - one bad sweep must not stop the others
+            log.error("no plot for sweep %s: %s: %s", name, type(exc).__name__, exc)
+    return paths
+
+
+def _plot_phases(plt: Any, name: str, points: list, ctype: CaseType | None, path: Path) -> Path:
+    import numpy as np
+    fig, ax = plt.subplots(1, 2, figsize=(10.0, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    for p, g in points:
+        label = ", ".join(_label(k, v, _key_unit(ctype, k)) for k, v in p.items())
+        y, vy, t = (np.asarray(g[k]) for k in ("y_ws1", "vy_ws1", "t"))
+        ax[0].plot(t, y * 1e3, lw=0.8, label=label)
+        ax[1].plot(y * 1e3, vy, lw=0.6, label=label)
+    ax[0].set_xlabel("time, s")
+    ax[0].set_ylabel("lateral displacement y, mm")
+    ax[0].set_title("leading wheelset: lateral displacement", fontsize=9)
+    ax[1].set_xlabel("lateral displacement y, mm")
+    ax[1].set_ylabel("lateral velocity dy/dt, m/s")
+    ax[1].set_title("phase portrait", fontsize=9)
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.suptitle(f"sweep '{name}'", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+def _scalar_results(g: Any) -> dict[str, tuple[float, str]]:
+    """Numeric 0-d datasets of a case group (not the run statistics)."""
+    import numpy as np
+    out = {}
+    for k, d in g.items():
+        if k == "inputs" or k.startswith("stat_") or not hasattr(d, "shape") or d.shape != ():
+            continue
+        v = d[()]
+        if isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool):
+            out[k] = (float(v), str(d.attrs.get("units", "")))
+    return out
+
+
+def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
+                  path: Path) -> Path | None:
+    import numpy as np
+    keys = list(points[0][0])
+    numeric = [k for k in keys if all(isinstance(p[k], (int, float)) for p, _ in points)]
+    if not numeric:
+        return None
+    xkey = max(numeric, key=lambda k: len({p[k] for p, _ in points}))
+    others = [k for k in keys if k != xkey]
+    head = HEADLINES.get(ctype.name if ctype is not None else "")
+    ok = [(p, g) for p, g in points if g.attrs.get("status") == "ok"]
+    if head is not None and ok and head[0] in ok[0][1]:
+        quantities = [(head[0], head[1], head[2], head[3])]
+    elif ok:
+        quantities = [(k, 1.0, u, k) for k, (_, u) in list(_scalar_results(ok[0][1]).items())[:4]]
+    else:
+        quantities = []
+    n = max(1, len(quantities))
+    fig, axes = plt.subplots(n, 1, figsize=(6.4, 1.2 + 2.8 * n), squeeze=False)
+    xunit = _key_unit(ctype, xkey)
+    for ax, (q, factor, unit, meaning) in zip(axes[:, 0], quantities or [(None, 1, "", "")]):
+        lines: dict[tuple, list] = {}
+        for p, g in points:
+            lines.setdefault(tuple(p[k] for k in others), []).append((p[xkey], g))
+        for combo, pts in lines.items():
+            label = ", ".join(_label(k, v, _key_unit(ctype, k)) for k, v in zip(others, combo))
+            good = [(x, float(np.asarray(g[q])) * factor) for x, g in pts
+                    if q is not None and g.attrs.get("status") == "ok" and q in g]
+            if good:
+                xs, ys = zip(*sorted(good))
+                ax.plot(xs, ys, "o-", ms=4, label=label or None)
+            bad = [x for x, g in pts if g.attrs.get("status") != "ok"]
+            if bad:
+                ax.plot(bad, [0.0] * len(bad), "rx", ms=8,
+                        label=f"failed ({label})" if label else "failed")
+        ax.set_ylabel(f"{q}, {unit}" if q else "")
+        ax.set_title(meaning, fontsize=9)
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=8)
+    axes[-1, 0].set_xlabel(f"{xkey}, {xunit}" if xunit else xkey)
+    fig.suptitle(f"sweep '{name}': {len(points)} points", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+__all__ = ["MODES", "SweepPoint", "SweepSpec", "expand", "local_client", "plot_sweeps",
+           "remote_client", "run", "run_on_client", "split_sweep", "sweep", "sweep_points"]
