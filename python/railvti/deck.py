@@ -298,13 +298,14 @@ def parse_deck(text: str) -> list[Case]:
             points, probs = expand(case, spec, given=[k for k in g if k not in ("name", "type")])
             problems += [f"{case.label}: {p}" for p in probs]
         for c in points:     # its values too, whatever else is wrong with it
+            if c.index != len(cases) + 1:       # numbered in the deck's order of cases and points
+                c = dataclasses.replace(c, index=len(cases) + 1)
             problems += [f"{c.label}: {p}" for p in c.case_type.problems(c.params)]
             cases.append(c)
     if len(cases) > MAX_TASKS:
         problems.append(f"the deck makes {len(cases)} cases with its sweeps; at most {MAX_TASKS}")
     _raise(problems)
-    return [c if c.index == k + 1 else dataclasses.replace(c, index=k + 1)
-            for k, c in enumerate(cases)]
+    return cases
 
 
 def read_deck(path: str | Path) -> list[Case]:

@@ -266,8 +266,13 @@ def sweep(case_type: str, params: dict[str, Any], axes: dict[str, Sequence[Any]]
     ctype = case_types().get(case_type)
     if ctype is None:
         raise InputError(f"unknown case type {case_type!r}; known: {', '.join(sorted(REGISTRY))}")
-    base_params = ctype.validate({**{k: v for k, v in ctype.defaults.items()
-                                     if not _required(v)}, **params})
+    given, problems = ctype.resolve_aliases(dict(params))
+    unknown = sorted(k for k in given if k not in ctype.defaults)
+    problems += [f"unknown key '{k}' for type '{case_type}'" for k in unknown]
+    if problems:
+        raise InputError(f"sweep '{name}': " + "; ".join(problems))
+    base_params = {k: v for k, v in ctype.defaults.items() if not _required(v)}
+    base_params.update(given)                  # each point is checked below, as a whole
     group = {f"{VALUES_PREFIX}{k}": list(v) for k, v in axes.items()}
     group[MODE_KEY] = mode
     _, spec, problems = split_sweep(group)
@@ -324,7 +329,7 @@ def local_client(n_workers: int | None = None) -> Any:
     if n < 1:
         raise InputError(f"--workers must be at least 1, got {n}")
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, env=dict(WORKER_ENV),
+                           dashboard_address=":0", env=dict(WORKER_ENV),
                            silence_logs=logging.ERROR)
     try:
         with Client(cluster) as client:
