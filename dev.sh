@@ -2,7 +2,7 @@
 # railvti set-up and everyday tasks. Each task first installs what is missing:
 # Debian packages (apt), a virtual environment in .venv, and the build.
 #
-#   ./dev.sh run        run the default deck (inputs/default.nml) -> results/
+#   ./dev.sh run        run the main job (inputs/default.nml) -> results/: HDF5, plots, summary
 #   ./dev.sh test       run the test suite
 #   ./dev.sh validate   run the validation scripts (charts in validation/figures)
 #   ./dev.sh bench      run the benchmark scripts
@@ -64,8 +64,11 @@ case "$task" in
     run)
         setup
         mkdir -p results
+        # the main job: cases and sweep points as tasks on a Dask LocalCluster (one per core)
         "$VENV/bin/railvti" run inputs/default.nml -o results/default.h5 "$@"
-        "$VENV/bin/railvti" plot results/default.h5 -o results
+        "$VENV/bin/railvti" plot results/default.h5 -o results >/dev/null
+        echo
+        "$VENV/bin/railvti" summary results/default.h5 --plots results
         ;;
     test)
         setup

@@ -105,6 +105,12 @@ def _plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _summary(args: argparse.Namespace) -> int:
+    from .summary import summary
+    print(summary(args.results, args.plots))
+    return 0
+
+
 def _default_text(default: object) -> str:
     if default is REQUIRED:
         return "(required)"
@@ -185,6 +191,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--points", action="store_true",
                    help="also plot every point of a large sweep (default: its summary plot only)")
     p.set_defaults(func=_plot)
+    p = sub.add_parser("summary", help="one screen: each case, each sweep's table, what each figure shows")
+    p.add_argument("results")
+    p.add_argument("--plots", help="folder of the PNGs (default: beside the file)")
+    p.set_defaults(func=_summary)
     p = sub.add_parser("cases", help="list the deck case types, or one type's keys with units and meanings")
     p.add_argument("type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)")
     p.set_defaults(func=_cases)
