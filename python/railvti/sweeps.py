@@ -312,10 +312,11 @@ def default_workers() -> int:
 
 
 def _quiet_dask() -> None:
-    """Dask's own INFO messages (scheduler and nanny start and stop) off the console: the
-    run's lines and progress bar are what the user reads; warnings still show."""
+    """Dask's own messages off the console (scheduler and nanny start and stop, and on an
+    interrupt the tasks it cannot reschedule and the workers it kills): the run's lines and
+    progress bar are what the user reads; errors still show, everything with -v."""
     if log.getEffectiveLevel() > logging.DEBUG:
-        logging.getLogger("distributed").setLevel(logging.WARNING)
+        logging.getLogger("distributed").setLevel(logging.ERROR)
 
 
 @contextlib.contextmanager
