@@ -177,6 +177,17 @@ def test_serial_local_cluster_and_scheduler_give_the_same_bits(tmp_path, schedul
     with h5py.File(files["scheduler"], "r") as f:
         assert "GridTooSmallError" in f["003_hz.fn_30000"].attrs["traceback"]
         assert json.loads(f["004_hunt.speed_kmh_420"].attrs["sweep_point"]) == {"speed_kmh": 420.0}
+    # railvti plot: each point of these small sweeps, and one summary plot per sweep
+    png = tmp_path / "png"
+    assert main(["plot", str(files["scheduler"]), "-o", str(png)]) == 0
+    names = {p.name for p in png.iterdir()}
+    assert {"scheduler_hz_sweep.png", "scheduler_hunt_phase.png",
+            "scheduler_001_hz.fn_1000_pressure.png"} <= names, names
+    assert not any(n.startswith("scheduler_003_") for n in names)          # the failed point
+    capsys.readouterr()
+    assert main(["summary", str(files["scheduler"]), "--plots", str(png)]) == 0
+    text = capsys.readouterr().out
+    assert "4 cases, 3 ok, 1 not" in text and "*_sweep.png (1)" in text and "*_pressure.png (2)" in text
 
 
 @pytest.mark.filterwarnings("ignore:bifurcation. below:RuntimeWarning")

@@ -151,6 +151,8 @@ def _cases(args: argparse.Namespace) -> int:
         print()
     print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "
           "'railvti cases TYPE' lists one type")
+    print("sweeps: any key as sweep_KEY = v1, v2, ... or sweep_range_KEY = start, stop, step, "
+          "with sweep = 'product' or 'zip' (docs/sweeps.md)")
     return 0
 
 

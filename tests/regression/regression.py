@@ -70,6 +70,7 @@ class Deck:
 DECKS: tuple[Deck, ...] = (
     Deck("normal_contact_example", INPUTS / "normal_contact_example.nml"),
     Deck("default", INPUTS / "default.nml", slow=True, reduced_by="vehicle_short"),
+    Deck("bifurcation_sweep", INPUTS / "bifurcation_sweep.nml", slow=True, reduced_by="vehicle_short"),
     Deck("rolling_example", INPUTS / "rolling_example.nml"),
     Deck("geometry_example", INPUTS / "geometry_example.nml"),
     Deck("wheelset_contact_example", INPUTS / "wheelset_contact_example.nml"),

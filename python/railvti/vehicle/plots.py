@@ -128,7 +128,15 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
         a.set_aspect("equal")
     ax[0].set_ylabel("x (rolling), mm")
     k = (slice(None, None, 4), slice(None, None, 4))
-    ax[1].quiver(ym[k], xm[k], np.asarray(ty)[k], np.asarray(tx)[k], color="w", scale=None, width=0.004)
+    loaded = np.asarray(pressure) > 0
+    sub = loaded[k]                     # arrows only where the wheel touches the rail
+    ax[1].quiver(ym[k][sub], xm[k][sub], np.asarray(ty)[k][sub], np.asarray(tx)[k][sub],
+                 color="w", scale=None, width=0.004)
+    if loaded.any() and loaded.mean() < 0.5:    # a patch much smaller than its grid (BEM)
+        pad = 2.0 * max(float(np.ptp(xm)) / max(xm.shape[0], 1), float(np.ptp(ym)) / max(ym.shape[-1], 1))
+        for a in ax:
+            a.set_xlim(ym[loaded].min() - pad, ym[loaded].max() + pad)
+            a.set_ylim(xm[loaded].min() - pad, xm[loaded].max() + pad)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
