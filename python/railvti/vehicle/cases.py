@@ -384,7 +384,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                                  float(res.attrs.get("critical_speed_linear", np.nan)),
                                  outdir / f"{stem}_bifurcation.png")]
     paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
-                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem)
+                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem,
+                         _run_title(res))
     if "ws_y" in res:
         paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
                                  np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),

@@ -14,9 +14,9 @@ def _plt():
 
 
 def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y: np.ndarray,
-                 outdir: Path, stem: str) -> list[Path]:
+                 outdir: Path, stem: str, title: str = "") -> list[Path]:
     """Leading wheelset lateral displacement and wheel forces against time, and the phase
-    portrait (y against dy/dt). Q, Y: (nt, 2, nw)."""
+    portrait (y against dy/dt). Q, Y: (nt, 2, nw); ``title`` names the run."""
     plt = _plt()
     outdir = Path(outdir)
     fig, ax = plt.subplots(3, 1, figsize=(6.4, 6.4), sharex=True)
@@ -32,6 +32,8 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     ax[2].set_xlabel("time, s")
     for a in ax:
         a.grid(alpha=0.3)
+    if title:
+        ax[0].set_title(title, fontsize=9)
     fig.tight_layout()
     p1 = outdir / f"{stem}_history.png"
     fig.savefig(p1, dpi=80)
@@ -40,7 +42,7 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     ax.plot(y * 1e3, vy, lw=0.6)
     ax.set_xlabel("y wheelset 1, mm")
     ax.set_ylabel("dy/dt, m/s")
-    ax.set_title("phase portrait")
+    ax.set_title(f"phase portrait: {title}" if title else "phase portrait", fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     p2 = outdir / f"{stem}_phase.png"
@@ -121,14 +123,18 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
     for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),
                             (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
                             (ax[2], power_density / 1e6, "friction power, W/mm^2")):
-        sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
+        if xm.shape == np.shape(field) and xm.ndim == 2:     # a (strip-wise) grid: filled cells
+            sc = a.pcolormesh(ym, xm, np.asarray(field), shading="nearest", cmap="viridis")
+        else:
+            sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
         fig.colorbar(sc, ax=a, shrink=0.85)
         a.set_title(label, fontsize=9)
         a.set_xlabel("y (lateral), mm")
         a.set_aspect("equal")
     ax[0].set_ylabel("x (rolling), mm")
-    k = (slice(None, None, 4), slice(None, None, 4))
     loaded = np.asarray(pressure) > 0
+    n = max(1, int(np.sqrt(max(int(loaded.sum()), 1)) // 10))    # about 10 arrows across
+    k = (slice(None, None, n), slice(None, None, n))
     sub = loaded[k]                     # arrows only where the wheel touches the rail
     ax[1].quiver(ym[k][sub], xm[k][sub], np.asarray(ty)[k][sub], np.asarray(tx)[k][sub],
                  color="w", scale=None, width=0.004)
