@@ -45,12 +45,12 @@ def _headline(g: h5py.Group) -> str:
     if _text(g.attrs.get("type", "")) == "vehicle":
         text = text.split(":")[0]                 # 'hunting 250 km/h (hertz-fastsim)'
     if "amplitude_last_second" in g:
-        text += (f": leading wheelset amplitude {float(g['amplitude_last_second'][()]) * 1e3:.2f} "
-                 "mm over the last second")
+        text += (f": amplitude {float(g['amplitude_last_second'][()]) * 1e3:.2f} mm "
+                 "(leading wheelset, last second)")
     elif "patch_pressure" in g:
         pmax = float(np.max(g["patch_pressure"][()])) / 1e6
-        text += (f": leading wheelset's right patch: pmax {pmax:.0f} MPa, friction power "
-                 f"{float(g['patch_power'][()]):.0f} W")
+        text += (f": patch pmax {pmax:.0f} MPa, friction power "
+                 f"{float(g['patch_power'][()]):.0f} W (wheelset 1, right wheel)")
     return text
 
 
@@ -103,11 +103,10 @@ def summary(path: str | Path, plots: str | Path | None = None) -> str:
         lines.append(f"{path}: {len(groups)} cases, {n_ok} ok, {len(groups) - n_ok} not "
                      f"(compute time {wall:.0f} s summed over the cases)")
         sweeps = sweep_points(f)
-        wname = min(34, max((len(k) for k, _ in groups), default=10))
-        for k, g in groups:
-            sweep = _text(g.attrs.get("sweep", ""))
-            if sweep and len(sweeps.get(sweep, [])) > MAX_POINT_PLOTS:
-                continue                              # in its sweep's table below
+        shown = [(k, g) for k, g in groups            # a large sweep: in its table below
+                 if len(sweeps.get(_text(g.attrs.get("sweep", "")), [])) <= MAX_POINT_PLOTS]
+        wname = min(34, max((len(k) for k, _ in shown), default=10))
+        for k, g in shown:
             status = _text(g.attrs.get("status", ""))
             text = _headline(g) if status == "ok" else status
             lines.append(f"  {k[:wname]:{wname}s} {text}"[:width])
