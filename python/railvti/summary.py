@@ -49,8 +49,8 @@ def _headline(g: h5py.Group) -> str:
                  "(leading wheelset, last second)")
     elif "patch_pressure" in g:
         pmax = float(np.max(g["patch_pressure"][()])) / 1e6
-        text += (f": patch pmax {pmax:.0f} MPa, friction power "
-                 f"{float(g['patch_power'][()]):.0f} W (wheelset 1, right wheel)")
+        text += (f": patch of wheelset 1 right: pmax {pmax:.0f} MPa, "
+                 f"{float(g['patch_power'][()]):.0f} W friction power")
     return text
 
 
