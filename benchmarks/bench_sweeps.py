@@ -6,7 +6,9 @@ twice (from a 6 mm and a 0.5 mm lateral shift, 2 s each): 48 independent runs
 (``scenarios.bifurcation(..., independent=True)`` serial, ``client=...`` on a cluster). Each
 new worker process first builds the contact table (as the serial process does once): the
 timings are given with that warm-up and without it. The results are checked to be the same
-bit for bit. The overhead per task is also measured directly with 200 empty tasks.
+bit for bit. The overhead per task is also measured directly with 200 empty tasks, and the
+CPU time the workers spent on the sweep is compared with the serial process's: on a machine
+shared with other jobs the wall-clock speed-up depends on their load, the CPU ratio does not.
 
     python benchmarks/bench_sweeps.py [--speeds 24] [--duration 2.0]
 
@@ -40,15 +42,23 @@ def _warm(_: int) -> float:
     return time.perf_counter() - t0
 
 
+def _cpu(client) -> float:
+    """CPU seconds used so far: this process (client None) or the sum over the workers."""
+    if client is None:
+        return time.process_time()
+    return float(sum(client.run(time.process_time).values()))
+
+
 def _sweep(client, speeds, duration):
+    """(Bifurcation, wall time, CPU time) of the sweep."""
     from railvti import scenarios
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)     # 'no decay found' at the bottom
-        t0 = time.perf_counter()
+        c0, t0 = _cpu(client), time.perf_counter()
         b = scenarios.bifurcation(speeds, contact="hertz-fastsim", duration=duration,
                                   v_min_kmh=float(min(speeds)), progress=False,
                                   independent=True, client=client)
-        return b, time.perf_counter() - t0
+        return b, time.perf_counter() - t0, _cpu(client) - c0
 
 
 def _overhead(client, n: int = 200) -> float:
@@ -62,8 +72,8 @@ def _measure(client, n_workers, speeds, duration):
     t0 = time.perf_counter()
     client.gather(client.map(_warm, range(n_workers), pure=False))
     warm = time.perf_counter() - t0
-    b, t = _sweep(client, speeds, duration)
-    return b, t, warm, _overhead(client)
+    b, t, cpu = _sweep(client, speeds, duration)
+    return b, t, cpu, warm, _overhead(client)
 
 
 def _scheduler(folder: Path):
@@ -100,8 +110,9 @@ def main() -> int:
     t0 = time.perf_counter()
     _warm(0)
     warm_serial = time.perf_counter() - t0
-    ref, t_serial = _sweep(None, speeds, args.duration)
-    print(f"serial:          {t_serial:7.1f} s  (+ {warm_serial:.1f} s contact table, once)")
+    ref, t_serial, cpu_serial = _sweep(None, speeds, args.duration)
+    print(f"serial: sweep {t_serial:.1f} s, CPU {cpu_serial:.1f} s (+ {warm_serial:.1f} s "
+          "contact table, once)")
     rows = {}
     t0 = time.perf_counter()
     with sweeps.local_client(2) as client:
@@ -121,7 +132,7 @@ def main() -> int:
             for p in reversed(procs):
                 p.wait(timeout=30)
     same = True
-    for name, (start, b, t, warm, over) in rows.items():
+    for name, (start, b, t, cpu, warm, over) in rows.items():
         ident = all(np.array_equal(getattr(ref, k), getattr(b, k)) for k in ("speeds_kmh", "upper", "decay"))
         same &= ident
         ideal = t_serial / 2
@@ -129,8 +140,10 @@ def main() -> int:
         print(f"{name}: start {start:.1f} s, worker warm-up {warm:.1f} s, sweep {t:.1f} s: "
               f"speed-up {t_serial / t:.2f} (with start and warm-up "
               f"{(t_serial + warm_serial) / (t + start + warm):.2f}); time over the ideal "
-              f"{per_task * 1e3:.0f} ms per task; empty task {over * 1e3:.2f} ms; "
-              f"results {'bit-identical' if ident else 'DIFFER'} to serial")
+              f"{per_task * 1e3:.0f} ms per task; empty task {over * 1e3:.2f} ms; workers' "
+              f"CPU {cpu:.1f} s ({cpu / cpu_serial:.2f} x serial: speed-up on an idle machine "
+              f"at most {2 * cpu_serial / cpu:.2f}); results "
+              f"{'bit-identical' if ident else 'DIFFER'} to serial")
     print(f"load after: {os.getloadavg()[0]:.2f} (1 min)")
     print(f"critical speed (serial): {ref.message}")
     return 0 if same else 1
