@@ -329,9 +329,22 @@ def local_client(n_workers: int | None = None) -> Any:
     n = default_workers() if n_workers is None else int(n_workers)
     if n < 1:
         raise InputError(f"--workers must be at least 1, got {n}")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", env=dict(WORKER_ENV),
-                           silence_logs=logging.CRITICAL)   # a heartbeat lost at close
+    # set before each worker process starts (BLAS reads its thread count when it loads): the
+    # nanny sets these in this process's environment to spawn; restored afterwards
+    import dask
+    pre = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **WORKER_ENV}
+    saved = {k: os.environ.get(k) for k in pre}
+    try:
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": pre}):
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0",
+                                   silence_logs=logging.CRITICAL)   # a heartbeat lost at close
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
     try:
         with Client(cluster) as client:
             yield client
