@@ -147,6 +147,9 @@ def scheduler(tmp_path_factory):
         with Client(address, timeout=30) as c:
             c.wait_for_workers(2, timeout=60)
         yield address
+        from distributed import Client
+        with Client(address, timeout=10) as c:
+            c.shutdown()                       # the scheduler closes its workers, then itself
     finally:
         for p in reversed(procs):
             p.terminate()
