@@ -166,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run every case of a deck into one HDF5 file, written again after each case "
                     "(a valid file at every moment; Ctrl-C or SIGTERM stop within about a second "
-                    "and keep the completed cases). The cases and sweep points run as tasks on a "
+                    "serially, a few seconds on a cluster, and keep the completed cases). The cases and sweep points run as tasks on a "
                     "Dask LocalCluster (one process per core, one thread each) unless --serial or "
                     "--scheduler; only this process writes the file.",
         epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()))
