@@ -2,7 +2,7 @@
 # railvti set-up and everyday tasks. Each task first installs what is missing:
 # Debian packages (apt), a virtual environment in .venv, and the build.
 #
-#   ./dev.sh run        run the default deck (inputs/default.nml) -> results/
+#   ./dev.sh run        run the main job (inputs/default.nml) -> results/: HDF5, plots, summary
 #   ./dev.sh test       run the test suite
 #   ./dev.sh validate   run the validation scripts (charts in validation/figures)
 #   ./dev.sh bench      run the benchmark scripts
@@ -41,11 +41,12 @@ ensure_venv() {
         log "creating the virtual environment in .venv"
         "${PYTHON:-python3}" -m venv "$VENV"
     fi
-    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle' 2>/dev/null; then
+    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle, dask, distributed' 2>/dev/null; then
         log "installing Python packages"
         "$PY" -m pip install -q --upgrade pip
         "$PY" -m pip install -q "meson-python>=0.15" "meson>=1.1" ninja "numpy>=1.26" \
-            "scipy>=1.11" "h5py>=3.9" "matplotlib>=3.7" "f90nml>=1.4" "tqdm>=4.60" "pytest>=7" "triangle>=20230923"
+            "scipy>=1.11" "h5py>=3.9" "matplotlib>=3.7" "f90nml>=1.4" "tqdm>=4.60" "pytest>=7" "triangle>=20230923" \
+            "dask>=2024.1" "distributed>=2024.1"
     fi
 }
 
@@ -63,8 +64,11 @@ case "$task" in
     run)
         setup
         mkdir -p results
+        # the main job: cases and sweep points as tasks on a Dask LocalCluster (one per core)
         "$VENV/bin/railvti" run inputs/default.nml -o results/default.h5 "$@"
-        "$VENV/bin/railvti" plot results/default.h5 -o results
+        "$VENV/bin/railvti" plot results/default.h5 -o results >/dev/null
+        echo
+        "$VENV/bin/railvti" summary results/default.h5 --plots results
         ;;
     test)
         setup

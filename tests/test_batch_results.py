@@ -59,7 +59,7 @@ def test_any_exception_is_the_case_error_and_the_others_run(tmp_path, test_types
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + "&case name='b', type='boom' /\n"
                  + SMALL.format(name="c", fn=5e3))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 1
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 1
     captured = capsys.readouterr()
     assert "case 2 'b': FAILED: KeyError" in captured.out
     assert "Traceback" in caplog.text and "KeyError: 'no such key'" in caplog.text   # the log
@@ -75,7 +75,7 @@ def test_each_finished_case_is_in_the_file_before_the_next_starts(tmp_path, test
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4)
                  + f"&case name='p', type='probe', path='{out}' /\n")
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
         assert f["003_p/seen"][()].decode() == "001_a,002_b"
 
@@ -83,12 +83,12 @@ def test_each_finished_case_is_in_the_file_before_the_next_starts(tmp_path, test
 def test_resume_keeps_complete_cases_and_reruns_changed_ones(tmp_path, capsys):
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4))
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
         wall_a = f["001_a"].attrs["wall_time"]
     deck.write_text(SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=7e3))
     capsys.readouterr()
-    assert main(["run", str(deck), "-o", str(out), "-q", "--resume"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial", "--resume"]) == 0
     text = capsys.readouterr().out
     assert "1 of 2 cases already complete" in text and "case 2 'b'" in text and "case 1 'a'" not in text
     with h5py.File(out, "r") as f:
@@ -106,11 +106,11 @@ def test_output_path_is_checked_before_any_work(tmp_path, test_types, capsys):
     other.write_text("my notes")
     for target, words in [(tmp_path / "adir", "is a directory"), (deck, "is the deck itself"),
                           (other, "not a railvti results file")]:
-        assert main(["run", str(deck), "-o", str(target), "-q"]) == 2
+        assert main(["run", str(deck), "-o", str(target), "-q", "--serial"]) == 2
         assert words in capsys.readouterr().err
     assert other.read_text() == "my notes" and deck.exists()
     if os.path.exists("/dev/full"):
-        assert main(["run", str(deck), "-o", "/dev/full", "-q"]) == 2
+        assert main(["run", str(deck), "-o", "/dev/full", "-q", "--serial"]) == 2
         assert "not a regular file" in capsys.readouterr().err
         assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
     small = _deck(tmp_path, SMALL.format(name="a", fn=1e4), "small.nml")
@@ -123,7 +123,7 @@ def test_results_honour_the_umask(tmp_path, umask, mode):
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4))
     old = os.umask(umask)
     try:
-        assert main(["run", str(deck), "-o", str(tmp_path / "out.h5"), "-q"]) == 0
+        assert main(["run", str(deck), "-o", str(tmp_path / "out.h5"), "-q", "--serial"]) == 0
     finally:
         os.umask(old)
     assert stat.S_IMODE(os.stat(tmp_path / "out.h5").st_mode) == mode
@@ -133,7 +133,7 @@ def test_results_honour_the_umask(tmp_path, umask, mode):
 def test_plot_into_an_existing_file_is_a_clear_error(tmp_path, capsys):
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     capsys.readouterr()
     assert main(["plot", str(out), "-o", str(deck)]) == 2
     err = capsys.readouterr().err
@@ -142,17 +142,17 @@ def test_plot_into_an_existing_file_is_a_clear_error(tmp_path, capsys):
 
 def test_memory_limit_refuses_before_running(tmp_path, test_types, capsys):
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4))
-    assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--max-memory", "1k"]) == 2
+    assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--serial", "--max-memory", "1k"]) == 2
     assert "more than the limit" in capsys.readouterr().err
     assert not (tmp_path / "o.h5").exists()
-    assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--max-memory", "lots"]) == 2
+    assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--serial", "--max-memory", "lots"]) == 2
     assert "not a size" in capsys.readouterr().err
 
 
 def test_a_case_is_remade_from_its_group_alone(tmp_path):
     deck = _deck(tmp_path, SMALL.format(name="a", fn=7.5e3))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     text = case_deck(out, "001_a")
     case = parse_deck(text)[0]
     again = case.case_type.run(case.params)
@@ -227,7 +227,7 @@ def test_vehicle_results_are_self_describing_and_round_trip(tmp_path):
     deck = _deck(tmp_path, "&case type='vehicle', name='v', scenario='centred_running', "
                            "duration=0.04, contact='hertz-fastsim' /\n" + SMALL.format(name="n", fn=1e4))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
         for gname in ("001_v", "002_n"):
             ds = _all_datasets(f[gname])
@@ -251,7 +251,7 @@ def test_a_result_hdf5_cannot_store_is_that_case_error(tmp_path, monkeypatch):
     monkeypatch.setitem(REGISTRY, "odd", CaseType(name="odd", defaults={}, run=odd))
     deck = _deck(tmp_path, "&case name='o', type='odd' /\n" + SMALL.format(name="a", fn=1e4))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 1
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 1
     st = _statuses(out)
     assert st["001_o"].startswith("error: cannot store the results") and st["002_a"] == "ok"
 
@@ -261,12 +261,12 @@ def test_a_very_long_case_name_is_refused_before_anything_runs(tmp_path, capsys)
     check), exit 2, no output file; a 64-character name runs and plots."""
     deck = _deck(tmp_path, SMALL.format(name="n" * 20000, fn=1e4))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 2
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 2
     assert "key 'name' has 20000 characters; at most 64" in capsys.readouterr().err
     assert not out.exists()
     name = "n" * 64
     deck = _deck(tmp_path, SMALL.format(name=name, fn=1e4))
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
         (g,) = f.values()
         assert g.attrs["name"] == name
@@ -290,7 +290,7 @@ def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch
     deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4)
                  + SMALL.format(name="c", fn=1e4))
     out = tmp_path / "out.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 3
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 3
     assert "No space left on device" in capsys.readouterr().out
     assert _statuses(out) == {"001_a": "ok"}                  # the last complete version
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []

@@ -53,7 +53,7 @@ def results(tmp_path_factory):
     deck = d / "fr.nml"
     deck.write_text(DECK)
     out = d / "fr.h5"
-    assert main(["run", str(deck), "-o", str(out), "-q"]) == 0
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     return out
 
 

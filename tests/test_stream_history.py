@@ -93,7 +93,7 @@ def test_a_streamed_deck_case_equals_the_case_kept_in_memory(tmp_path, monkeypat
     for mode, threshold in (("memory", "none"), ("stream", "0")):
         monkeypatch.setenv(STREAM_ENV, threshold)
         files[mode] = tmp_path / f"{mode}.h5"
-        assert main(["run", str(deck), "-o", str(files[mode]), "-q"]) == 0
+        assert main(["run", str(deck), "-o", str(files[mode]), "-q", "--serial"]) == 0
         assert bool(copied) == (mode == "stream")       # the second run streamed
     assert {"t", "q", "v", "y_ws1", "ws_y", "wheel_Q"} <= set(copied)
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
@@ -127,7 +127,7 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path]:
     deck.write_text(LONG)
     out = tmp_path / "out.h5"
     env = dict(os.environ, **{STREAM_ENV: "1M"})
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q"],
+    proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     return proc, out
 

@@ -382,8 +382,22 @@ def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> boo
         return False
 
 
+def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
+    """Count a stored record in the report and say what became of its case."""
+    if rec.interrupted:
+        report.interrupted = rec.interrupted
+        write(f"{rec.case.label}: INTERRUPTED by {rec.interrupted} after {rec.wall_time:.1f} s")
+    elif rec.error is not None:
+        report.failed += 1
+        write(f"{rec.case.label}: FAILED: {rec.error}")
+    else:
+        report.ok += 1
+        write(f"{rec.case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
+
+
 def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
-              write: Any = print, progress: Any = None) -> RunReport:
+              write: Any = print, progress: Any = None, client: Any = None,
+              on_record: Any = None, bar: Any = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output`), each finished case written at once.
 
@@ -392,8 +406,16 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     write : callable
         Prints one line for the user.
     progress : callable, optional
-        ``progress(case)`` before each case (e.g. a progress bar's postfix); the iterable of
-        cases may also be wrapped by the caller.
+        ``progress(case)`` before each case of a serial run (e.g. a progress bar's postfix).
+    client : distributed.Client, optional
+        Run the cases as tasks on this Dask client (railvti.sweeps.run_on_client); each
+        finished one is written here, by this process, as it arrives. None: one after
+        another in this process (dask is not imported).
+    on_record : callable, optional
+        ``on_record(record)`` after each record is stored.
+    bar : tqdm, optional
+        Advanced by one per finished case, its postfix the count of failures; its total is
+        set to the cases to run.
     """
     report = RunReport(status=EXIT_OK)
     done = completed(out) if resume else {}
@@ -405,9 +427,31 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             todo.append(c)
     if resume:
         write(f"resume: {report.skipped} of {len(cases)} cases already complete in {out}")
+    if bar is not None:
+        bar.reset(total=len(todo))
     writer = ResultsWriter(out, deck_text, keep=resume)
+
+    def finish(rec: CaseRecord) -> bool:
+        """Store a record (False: the file cannot be written) and count it."""
+        if not _store(writer, rec, out, write):
+            report.status = EXIT_OUTPUT
+            return False
+        _account(rec, report, write)
+        if on_record is not None:
+            on_record(rec)
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix_str(f"failed {report.failed}" if report.failed else "")
+        return True
+
     with SignalGuard() as guard:
-        for case in todo:
+        if client is not None and todo:
+            from .sweeps import run_on_client
+            stop = run_on_client(todo, client, finish, guard)
+            if report.status == EXIT_OUTPUT:
+                return report
+            report.interrupted = report.interrupted or stop
+        for case in (todo if client is None else []):
             if guard.pending:
                 break
             if progress is not None:
@@ -416,22 +460,13 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             stream = CaseStream(out)
             try:
                 rec = run_case(case, guard, stream)
-                stored = _store(writer, rec, out, write)
+                stored = finish(rec)
             finally:
                 stream.remove()
             if not stored:
-                report.status = EXIT_OUTPUT
                 return report
             if rec.interrupted:
-                report.interrupted = rec.interrupted
-                write(f"{case.label}: INTERRUPTED by {rec.interrupted} after {rec.wall_time:.1f} s")
                 break
-            if rec.error is not None:
-                report.failed += 1
-                write(f"{case.label}: FAILED: {rec.error}")
-            else:
-                report.ok += 1
-                write(f"{case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
         if guard.pending and not report.interrupted:
             report.interrupted = guard.pending
     if report.interrupted:

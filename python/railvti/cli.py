@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import difflib
 import logging
 import os
 import sys
 from pathlib import Path
+from typing import Any, Iterator
 
 from tqdm import tqdm
 
@@ -43,14 +45,20 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     problems = check_resources(cases)
     if problems:
         raise InputError("\n".join(problems))
-    bar = tqdm(cases, desc="cases", unit="case", disable=len(cases) < 2 or args.quiet, file=sys.stderr)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be at least 1, got {args.workers}")
+    serial = args.serial or (len(cases) < 2 and args.scheduler is None and args.workers is None)
+    bar = tqdm(total=len(cases), desc="cases" if serial else "tasks", unit="case",
+               disable=len(cases) < 2 or args.quiet, file=sys.stderr, dynamic_ncols=True)
 
     def write(line: str) -> None:
         tqdm.write(line, file=sys.stdout)
 
     try:
-        report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
-                           progress=lambda c: (bar.update(c.index - 1 - bar.n), bar.set_postfix_str(c.name)))
+        with _client(args, serial, len(cases), write) as client:
+            report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
+                               progress=lambda c: bar.set_postfix_str(c.name[-30:]),
+                               client=client, bar=bar)
     finally:
         bar.close()
     n = len(cases)
@@ -63,6 +71,27 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     return report.status
 
 
+@contextlib.contextmanager
+def _client(args: argparse.Namespace, serial: bool, n_cases: int, write: Any) -> Iterator[Any]:
+    """The Dask client of a run: none (--serial, or a deck of one case), an existing
+    scheduler (--scheduler ADDRESS), or a LocalCluster of --workers processes (default: the
+    cores, at most one per case)."""
+    if serial:
+        yield None
+        return
+    from . import sweeps
+    if args.scheduler:
+        with sweeps.remote_client(args.scheduler) as client:
+            n = len(client.scheduler_info().get("workers", {}))
+            write(f"dask: scheduler {args.scheduler} with {n} workers")
+            yield client
+        return
+    n = args.workers or min(sweeps.default_workers(), n_cases)
+    with sweeps.local_client(n) as client:
+        write(f"dask: LocalCluster of {n} worker processes, 1 thread each")
+        yield client
+
+
 def _deck_text(deck: Path) -> str:
     try:
         return deck.read_bytes().decode("utf-8", "replace")
@@ -71,8 +100,14 @@ def _deck_text(deck: Path) -> str:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    for p in plot_results(args.results, args.output):
+    for p in plot_results(args.results, args.output, points=args.points):
         print(p)
+    return 0
+
+
+def _summary(args: argparse.Namespace) -> int:
+    from .summary import summary
+    print(summary(args.results, args.plots))
     return 0
 
 
@@ -116,6 +151,8 @@ def _cases(args: argparse.Namespace) -> int:
         print()
     print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "
           "'railvti cases TYPE' lists one type")
+    print("sweeps: any key as sweep_KEY = v1, v2, ... or sweep_range_KEY = start, stop, step, "
+          "with sweep = 'product' or 'zip' (docs/sweeps.md)")
     return 0
 
 
@@ -129,7 +166,9 @@ def main(argv: list[str] | None = None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run every case of a deck into one HDF5 file, written again after each case "
                     "(a valid file at every moment; Ctrl-C or SIGTERM stop within about a second "
-                    "and keep the completed cases).",
+                    "serially, a few seconds on a cluster, and keep the completed cases). The cases and sweep points run as tasks on a "
+                    "Dask LocalCluster (one process per core, one thread each) unless --serial or "
+                    "--scheduler; only this process writes the file.",
         epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()))
     p.add_argument("deck")
     p.add_argument("-o", "--output", help="HDF5 file (default: the deck's name with .h5)")
@@ -140,11 +179,24 @@ def main(argv: list[str] | None = None) -> int:
                    help="replace an existing output file that is not a railvti results file")
     p.add_argument("--max-memory", metavar="SIZE",
                    help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--serial", action="store_true",
+                   help="run the cases one after another in this process (no Dask)")
+    g.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the cases as tasks on an existing Dask cluster (e.g. tcp://host:8786)")
+    g.add_argument("--workers", metavar="N", type=int,
+                   help="worker processes of the LocalCluster (default: the cores)")
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="write PNG plots of a results file")
     p.add_argument("results")
     p.add_argument("-o", "--output", help="folder for the PNGs (default: beside the file)")
+    p.add_argument("--points", action="store_true",
+                   help="also plot every point of a large sweep (default: its summary plot only)")
     p.set_defaults(func=_plot)
+    p = sub.add_parser("summary", help="one screen: each case, each sweep's table, what each figure shows")
+    p.add_argument("results")
+    p.add_argument("--plots", help="folder of the PNGs (default: beside the file)")
+    p.set_defaults(func=_summary)
     p = sub.add_parser("cases", help="list the deck case types, or one type's keys with units and meanings")
     p.add_argument("type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)")
     p.set_defaults(func=_cases)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import codecs
 import contextlib
+import dataclasses
 import difflib
 import io
 import re
@@ -41,6 +42,8 @@ from .errors import InputError
 MAX_NAME = 64
 #: Most cases in one deck (f90nml's time grows with the square of the groups: 1000 take ~0.5 s).
 MAX_CASES = 1000
+#: Most cases of a deck with its sweeps' points.
+MAX_TASKS = 10000
 #: Most problems listed in one message (the rest are counted).
 MAX_LISTED = 40
 _NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
@@ -289,13 +292,23 @@ def parse_deck(text: str) -> list[Case]:
     types = case_types()
     if len(scanned) != len(groups):
         scanned = [{} for _ in groups]
+    from .sweeps import expand, split_sweep     # sweep_KEY keys: one case per point
     cases = []
     for i, g in enumerate(groups):
-        case, probs = _build_case(i + 1, dict(g), scanned[i], types)
-        problems += probs
-        if case is not None:     # its values too, whatever else is wrong with it
-            problems += [f"{case.label}: {p}" for p in case.case_type.problems(case.params, case.written)]
-            cases.append(case)
+        g, spec, sweep_probs = split_sweep(dict(g))
+        case, probs = _build_case(i + 1, g, scanned[i], types)
+        problems += probs + [f"case {i + 1}: {p}" for p in sweep_probs]
+        points = [case] if case is not None else []
+        if case is not None and spec is not None and not sweep_probs:
+            points, probs = expand(case, spec, given=[k for k in g if k not in ("name", "type")])
+            problems += [f"{case.label}: {p}" for p in probs]
+        for c in points:     # its values too, whatever else is wrong with it
+            if c.index != len(cases) + 1:       # numbered in the deck's order of cases and points
+                c = dataclasses.replace(c, index=len(cases) + 1)
+            problems += [f"{c.label}: {p}" for p in c.case_type.problems(c.params, c.written)]
+            cases.append(c)
+    if len(cases) > MAX_TASKS:
+        problems.append(f"the deck makes {len(cases)} cases with its sweeps; at most {MAX_TASKS}")
     _raise(problems)
     return cases
 

@@ -16,8 +16,10 @@ from .errors import InputError  # noqa: E402
 log = logging.getLogger(__name__)
 
 
-def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Path]:
-    """Draw every successful case of a results file; return the PNG paths.
+def plot_results(path: str | Path, outdir: str | Path | None = None,
+                 points: bool = False) -> list[Path]:
+    """Draw every successful case of a results file, and a summary of each sweep
+    (railvti.sweeps.plot_sweeps); return the PNG paths.
 
     Parameters
     ----------
@@ -25,7 +27,10 @@ def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Pat
         HDF5 file written by ``railvti run``.
     outdir : path, optional
         Folder for the PNGs (default: next to the file).
+    points : bool
+        Also draw each point of the sweeps larger than railvti.sweeps.MAX_POINT_PLOTS.
     """
+    from .sweeps import MAX_POINT_PLOTS, plot_sweeps, sweep_points
     path = Path(path)
     outdir = Path(outdir) if outdir is not None else path.parent
     if outdir.exists() and not outdir.is_dir():
@@ -41,9 +46,12 @@ def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Pat
     except OSError as exc:
         raise InputError(f"cannot open results file {path}: {exc}") from None
     with f:
+        sizes = {k: len(v) for k, v in sweep_points(f).items()}
         for gname, group in f.items():
             if group.attrs.get("status") != "ok":
                 continue
+            if not points and sizes.get(str(group.attrs.get("sweep", "")), 0) > MAX_POINT_PLOTS:
+                continue                 # a large sweep: its summary plot only
             ctype = types.get(str(group.attrs.get("type")))
             if ctype is None or ctype.plot is None:
                 log.info("no plot for %s", gname)
@@ -52,6 +60,7 @@ def plot_results(path: str | Path, outdir: str | Path | None = None) -> list[Pat
                 written.extend(ctype.plot(group, outdir, _stem(path.stem, gname)))
             except Exception as exc:  # noqa: BLE001 - one bad case must not stop the others
                 log.error("no plot for %s: %s: %s", gname, type(exc).__name__, exc)
+        written.extend(plot_sweeps(f, outdir, path.stem))
     return written
 
 

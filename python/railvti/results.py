@@ -276,6 +276,9 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
     g.attrs["status"] = rec.status
     g.attrs["params_digest"] = params_digest(c)
     g.attrs["wall_time"] = float(rec.wall_time)
+    if getattr(c, "sweep", ""):                  # a sweep's point (railvti.sweeps.SweepPoint)
+        g.attrs["sweep"] = c.sweep
+        g.attrs["sweep_point"] = c.point_json
     if rec.traceback:
         g.attrs["traceback"] = rec.traceback
     _write_inputs(g, c)

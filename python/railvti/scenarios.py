@@ -613,8 +613,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 y_small: float = 0.0005, threshold: float = 0.5e-3, h: float | None = None,
                 flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
                 v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
-                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-                geometry: str = "table") -> Bifurcation:
+                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, client: Any = None,
+                independent: bool = False, geometry: str = "table") -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -653,9 +653,27 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         upper branch carries the rigid DOFs over from one speed to the next and the modal
         coordinates by mode label when the mode sets match, else restarts them from the new
         speed's static state (``details['modal_restarts']``).
+    client : distributed.Client or str, optional
+        Run the speeds as tasks on a Dask cluster: a Client, a scheduler address
+        (``tcp://host:8786``) or 'local' (a LocalCluster for the call, railvti.sweeps).
+        Implies ``independent``.
+    independent : bool
+        Every speed is a point of its own: the upper branch starts at each speed from its
+        static state shifted by ``y_large`` (as the top speed does in the continuation), instead
+        of carrying the state down from the speed above. The cycle found at a speed can then
+        differ from the continuation's where two cycles coexist (the continuation follows one
+        branch down; the independent start lands on the cycle whose basin holds ``y_large``).
+        A downward extension runs one speed at a time. Serial (``client=None``) and on any
+        cluster the results are the same bit for bit (model RR; railvti.sweeps).
     geometry : str
         Contact geometry, 'table' or 'strip' (:func:`coach_system`).
     """
+    if client is not None or independent:
+        return _bifurcation_independent(
+            speeds_kmh, speeds, model, contact, duration=duration, y_large=y_large,
+            y_small=y_small, threshold=threshold, h=h, flange_amplitude=flange_amplitude,
+            v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
+            client=client, geometry=geometry)
     sp = _sweep_speeds(speeds_kmh, speeds)
     v_min_kmh = _floor_kmh(v_min_kmh, v_min)
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
@@ -724,6 +742,14 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 bar.total += 2
     if bar is not None:
         bar.close()
+    return _bifurcation_result(sp, speeds_out, upper, flange, decay, alive, threshold,
+                               flange_amplitude, systems, model, restarts)
+
+
+def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: list,
+                        decay: list, alive: bool, threshold: float, flange_amplitude: float,
+                        systems: Any, model: str, restarts: list) -> Bifurcation:
+    """The Bifurcation of a finished sweep (its critical speed, branch and messages)."""
     spa, upa, fla = np.array(speeds_out), np.array(upper), np.array(flange)
     on = upa > threshold
     crit = float(spa[on].min()) if on.any() else float("nan")
@@ -735,7 +761,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         msg = (f"bifurcation: below {no_decay:.0f} km/h: no decay found (the cycle is "
                f"sustained at every speed swept; lower v_min_kmh to search further)")
         log.warning(msg)
-        warnings.warn(msg, RuntimeWarning, stacklevel=2)
+        warnings.warn(msg, RuntimeWarning, stacklevel=3)
     elif not on.any():
         no_cycle = float(spa.max())
         log.warning("bifurcation: no sustained cycle up to %.0f km/h", no_cycle)
@@ -757,6 +783,85 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                        branch=branch, branch_amplitude=amp_b, branch_flange_force=fl_b,
                        extended_kmh=np.sort(spa[spa < sp.min()]), no_decay_below_kmh=no_decay,
                        no_cycle_up_to_kmh=no_cycle, model=model)
+
+
+#: The sweep systems of bifurcation points run in this process (a worker keeps its own).
+_POINT_SYSTEMS: dict[str, "_SweepSystems"] = {}
+
+
+def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
+                      coach: Coach | None, h: float | None, k_max: int, f_max: float,
+                      duration: float, geometry: str = "table") -> tuple[float, float, float]:
+    """One run of an independent bifurcation sweep (a task): from the static state at
+    ``s_kmh`` with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
+
+    Returns
+    -------
+    amplitude : float
+        Leading wheelset's amplitude over the last second, m (:func:`amplitude`).
+    flange_force : float
+        Max flange normal force on the leading bogie's wheels over the last second, N.
+    h : float
+        The time step used, s.
+    """
+    key = repr((model, coach, contact, h, k_max, f_max, geometry))
+    if key not in _POINT_SYSTEMS:
+        _POINT_SYSTEMS.clear()
+        _POINT_SYSTEMS[key] = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
+    sy, _, hs = _POINT_SYSTEMS[key].at(s_kmh)
+    vv = s_kmh / 3.6
+    q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
+    r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q0, output_dt=0.002,
+                 progress=False)
+    last = r.t >= r.t[-1] - 1.0
+    return amplitude(r), float(r.wheel_output("N_flange")[last][:, :, :2].max()), hs
+
+
+def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
+                             model: str, contact: str, *, duration: float, y_large: float,
+                             y_small: float, threshold: float, h: float | None,
+                             flange_amplitude: float, v_min_kmh: float | None,
+                             v_min: float | None, coach: Coach | None, k_max: int, f_max: float,
+                             client: Any, geometry: str = "table") -> Bifurcation:
+    """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
+    import contextlib
+    sp = _sweep_speeds(speeds_kmh, speeds)
+    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
+    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
+    _check_model(model, contact, "bifurcation")
+    if model == "FR":
+        k_max, f_max = check_fr_selection(k_max, f_max)
+    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
+    _check_geometry(contact, geometry)
+    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
+    systems.at(sp[0])                  # the step is checked before any run
+    kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=k_max, f_max=f_max,
+              duration=duration, geometry=geometry)
+    with contextlib.ExitStack() as stack:
+        c = None
+        if client is not None:
+            from .sweeps import _client_from
+            c = stack.enter_context(_client_from(client))
+
+        def runs(todo: list[float]) -> list[tuple[float, float, float]]:
+            s_all = [s for s in todo for _ in (0, 1)]
+            y_all = [y for _ in todo for y in (y_large, y_small)]
+            if c is None:
+                return [bifurcation_point(s, y, **kw) for s, y in zip(s_all, y_all)]
+            futures = c.map(bifurcation_point, s_all, y_all, pure=False, **kw)
+            return c.gather(futures)
+        speeds_out = [float(s) for s in sp]
+        out = runs(speeds_out)
+        while out[-2][0] > threshold and speeds_out[-1] - step >= v_min_kmh - 1e-9:
+            speeds_out.append(speeds_out[-1] - step)   # alive at the bottom: extend downward
+            out += runs(speeds_out[-1:])
+    upper, flange = [o[0] for o in out[0::2]], [o[1] for o in out[0::2]]
+    decay = [o[0] for o in out[1::2]]
+    if model == "FR":
+        systems.steps.update({float(s): o[2] for s, o in zip(speeds_out, out[0::2])})
+    return _bifurcation_result(sp, speeds_out, upper, flange, decay, upper[-1] > threshold,
+                               threshold, flange_amplitude, systems, model, [])
 
 
 #: The dry-friction yaw damper's states of the linear method.

@@ -68,7 +68,9 @@ class Deck:
 
 
 DECKS: tuple[Deck, ...] = (
-    Deck("default", INPUTS / "default.nml"),
+    Deck("normal_contact_example", INPUTS / "normal_contact_example.nml"),
+    Deck("default", INPUTS / "default.nml", slow=True, reduced_by="vehicle_short"),
+    Deck("bifurcation_sweep", INPUTS / "bifurcation_sweep.nml", slow=True, reduced_by="vehicle_short"),
     Deck("rolling_example", INPUTS / "rolling_example.nml"),
     Deck("geometry_example", INPUTS / "geometry_example.nml"),
     Deck("wheelset_contact_example", INPUTS / "wheelset_contact_example.nml"),
@@ -329,7 +331,7 @@ def run_deck(d: Deck, workdir: str | Path) -> dict[str, Any]:
     """Run a deck through the ``railvti run`` command and summarise its results file."""
     from railvti.cli import main
     out = Path(workdir) / f"{d.name}.h5"
-    code = main(["run", str(d.path), "-o", str(out), "-q"])
+    code = main(["run", str(d.path), "-o", str(out), "-q", "--serial"])   # no cluster start-up
     cases = summarize_results(out)
     if code != 0:
         bad = {k: c["status"] for k, c in cases.items() if c["status"] != "ok"}

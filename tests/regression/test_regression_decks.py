@@ -130,7 +130,7 @@ def test_comparison_reports_a_perturbed_reference():
 
 
 def test_comparison_reports_structure_changes():
-    ref = R.read_reference(R.deck("default"))["cases"]
+    ref = R.read_reference(R.deck("normal_contact_example"))["cases"]
     case = next(iter(ref))
     for change, words in (
             (lambda r: r[case]["quantities"].pop("pressure"), "'pressure' is new"),

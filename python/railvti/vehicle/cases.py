@@ -405,7 +405,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),
                                 outdir / f"{stem}_patch.png",
-                                f"{_run_title(res)}: leading wheelset, right wheel"))
+                                f"leading wheelset, right wheel, t = {_scalar(res, 'patch_time'):.3g} s: "
+                                f"{_run_title(res)}"))
     return paths
 
 

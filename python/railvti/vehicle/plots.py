@@ -156,21 +156,33 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
     for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),
                             (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
                             (ax[2], power_density / 1e6, "friction power, W/mm^2")):
-        sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
+        if xm.shape == np.shape(field) and xm.ndim == 2:     # a (strip-wise) grid: filled cells
+            sc = a.pcolormesh(ym, xm, np.asarray(field), shading="nearest", cmap="viridis")
+        else:
+            sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
         fig.colorbar(sc, ax=a, shrink=0.85)
         a.set_title(label, fontsize=9)
         a.set_xlabel("y (lateral), mm")
         a.set_aspect("equal")
     ax[0].set_ylabel("x (rolling), mm")
-    k = (slice(None, None, 4), slice(None, None, 4))
-    txk, tyk = np.asarray(tx)[k], np.asarray(ty)[k]
+    loaded = np.asarray(pressure) > 0
+    n = max(1, int(np.sqrt(max(int(loaded.sum()), 1)) // 10))    # about 10 arrows across
+    k = (slice(None, None, n), slice(None, None, n))
+    sub = loaded[k]                     # arrows only where the wheel touches the rail
+    txk, tyk = np.asarray(tx)[k][sub], np.asarray(ty)[k][sub]
     tmax = max(float(np.nanmax(np.hypot(txk, tyk), initial=0.0)), 1e-30)
-    pts = np.column_stack([ym[k].ravel(), xm[k].ravel()])
+    pts = np.column_stack([ym[k][sub].ravel(), xm[k][sub].ravel()])
     # the largest traction drawn as long as the mean spacing of the arrows' points, mm
-    step = float(np.sqrt(np.ptp(pts[:, 0]) * np.ptp(pts[:, 1]) / max(len(pts), 1))) or 1.0
-    ax[1].quiver(ym[k], xm[k], tyk, txk, color="w", angles="xy", scale_units="xy",
+    step = (float(np.sqrt(np.ptp(pts[:, 0]) * np.ptp(pts[:, 1]) / max(len(pts), 1)))
+            if len(pts) > 1 else 0.0) or 1.0
+    ax[1].quiver(ym[k][sub], xm[k][sub], tyk, txk, color="w", angles="xy", scale_units="xy",
                  scale=tmax / step, width=0.004)
     ax[1].set_title(f"|traction|, MPa\narrows: traction, longest = {tmax / 1e6:.0f} MPa", fontsize=9)
+    if loaded.any() and loaded.mean() < 0.5:    # a patch much smaller than its grid (BEM)
+        pad = 2.0 * max(float(np.ptp(xm)) / max(xm.shape[0], 1), float(np.ptp(ym)) / max(ym.shape[-1], 1))
+        for a in ax:
+            a.set_xlim(ym[loaded].min() - pad, ym[loaded].max() + pad)
+            a.set_ylim(xm[loaded].min() - pad, xm[loaded].max() + pad)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
