@@ -23,9 +23,13 @@ SLOW = {
     ("track.md", 0): "RingTrack(64) and its receptances: ~25 s",
     ("wheelset.md", 0): "all harmonics k <= 6 to 3 kHz: ~15 s",
     ("results.md", 0): "reads results/vehicle_example.h5: run inputs/vehicle_example.nml first",
+    ("sweeps.md", 0): "six 3 s hunting runs, serial and on a LocalCluster: ~30 s",
+    ("sweeps.md", 2): "two 24-speed bifurcation sweeps: minutes",
 }
 #: Blocks that are sketches (names left for the reader to fill in): compiled, not run.
-SKETCH = {("vehicle_integrator.md", 0): "placeholders B1, B2, K1, phi, system"}
+SKETCH = {("vehicle_integrator.md", 0): "placeholders B1, B2, K1, phi, system",
+          ("sweeps.md", 1): "the reader's own scheduler address",
+          ("track.md", 1): "placeholders u_vehicle, x_c; tr from the (slow) block above"}
 
 _BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
 
