@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from railvti import scenarios
+from railvti.errors import DivergenceError
 
 FIG = Path(__file__).resolve().parent / "figures" / "vehicle_strip_bifurcation.png"
 SPEEDS = list(range(460, 239, -20))
@@ -39,8 +40,12 @@ def main() -> None:
     out = {}
     for model, geo, kw in RUNS:
         t0 = time.perf_counter()
-        b = scenarios.bifurcation(SPEEDS, model, duration=duration, geometry=geo,
-                                  progress=False, **kw)
+        try:
+            b = scenarios.bifurcation(SPEEDS, model, duration=duration, geometry=geo,
+                                      progress=False, **kw)
+        except DivergenceError as err:
+            print(f"{model} {geo}: stopped, {err}")
+            continue
         wall = time.perf_counter() - t0
         out[(model, geo)] = b
         print(f"{model} {geo}: critical {b.critical_kmh:.0f} km/h ({b.branch}), {wall:.0f} s")
