@@ -1,0 +1,108 @@
+!> The ring track's rows under the moving wheels (model RF): the rail-head motion of the kept
+!> ring modes at each wheel's contact point x_c = x0 + v0 t (mod the ring length), refreshed
+!> once per time step. Implements Kaiser sect. 3 (the moving contact on the ring with
+!> neglected curvature): the observation rows of the modal form at x_c (track_ring's basis
+!> functions, the same sums as track_ring%ring_eval_x restricted to the kept modes).
+!>
+!> Kept modes of group g: their eigenvector entries over the group's rail basis functions,
+!> vk(voff(g) + 1 : voff(g) + nb_g * nk_g), column-major (nb_g x nk_g). A contact point c on
+!> rail crho(c) gets psi(1:4, r) = sum_b obs(:, b) trig(fam_b, :, kap_b x) V(b, r) (rail-local
+!> x, eta, zeta, roll) and its rows ctr(:, :, c) psi (the cant, the mirror between the ring's
+!> y and the vehicle's, and the map onto the pose of a track element under that wheel). Work
+!> per point: 4 sum_g nb_g (nk_g + 1), linear in the kept modes; nothing over all modes.
+module vehicle_ring
+    use common_kinds, only: dp
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH
+    use track_ring, only: trig_at
+    implicit none
+    private
+    public :: ring_rows, ring_rows_create, ring_rows_eval
+
+    !> The kept modes' data and the contact points (nc = 2 per wheelset: left, right).
+    type :: ring_rows
+        integer :: ng = 0, nbt = 0, nk = 0, nc = 0
+        integer, allocatable :: bpos(:), kpos(:), voff(:)   !< (ng + 1)
+        integer, allocatable :: fam(:), rail(:)             !< (nbt)
+        real(dp), allocatable :: kap(:), obs(:, :), vk(:)   !< (nbt), (4, nbt), packed
+        integer, allocatable :: crho(:)                     !< (nc) rail 1 or 2
+        real(dp), allocatable :: cx0(:), ctr(:, :, :)       !< (nc), (3, 4, nc)
+        real(dp) :: v0 = 0.0_dp, length = 0.0_dp
+    end type ring_rows
+
+contains
+
+    !> Store the ring rows. info: STAT_OK; STAT_SIZE_MISMATCH (bpos, kpos, voff not starting at
+    !> 0 and non-decreasing to nbt, nk, nvk; a group with kept modes and no basis function);
+    !> STAT_BAD_ARGUMENT (nk, nc < 1, a rail not 1 or 2, length <= 0, non-finite entries).
+    subroutine ring_rows_create(ng, nbt, nk, nvk, nc, bpos, kpos, voff, kap, fam, rail, obs, vk, &
+                                crho, cx0, ctr, v0, length, rr, info)
+        integer, intent(in) :: ng, nbt, nk, nvk, nc
+        integer, intent(in) :: bpos(ng + 1), kpos(ng + 1), voff(ng + 1), fam(nbt), rail(nbt), crho(nc)
+        real(dp), intent(in) :: kap(nbt), obs(4, nbt), vk(nvk), cx0(nc), ctr(3, 4, nc), v0, length
+        type(ring_rows), intent(out) :: rr
+        integer, intent(out) :: info
+        integer :: g
+        info = STAT_BAD_ARGUMENT
+        if (ng < 1 .or. nk < 1 .or. nc < 1 .or. .not. (length > 0.0_dp)) return
+        if (any(rail < 1) .or. any(rail > 2) .or. any(crho < 1) .or. any(crho > 2)) return
+        if (.not. (all(abs(kap) <= huge(1.0_dp)) .and. all(abs(obs) <= huge(1.0_dp)) .and. &
+                   all(abs(vk) <= huge(1.0_dp)) .and. all(abs(cx0) <= huge(1.0_dp)) .and. &
+                   all(abs(ctr) <= huge(1.0_dp)) .and. abs(v0) <= huge(1.0_dp))) return
+        info = STAT_SIZE_MISMATCH
+        if (bpos(1) /= 0 .or. kpos(1) /= 0 .or. voff(1) /= 0) return
+        if (bpos(ng + 1) /= nbt .or. kpos(ng + 1) /= nk .or. voff(ng + 1) /= nvk) return
+        do g = 1, ng
+            if (bpos(g + 1) < bpos(g) .or. kpos(g + 1) < kpos(g)) return
+            if (voff(g + 1) - voff(g) /= (bpos(g + 1) - bpos(g)) * (kpos(g + 1) - kpos(g))) return
+        end do
+        rr%ng = ng
+        rr%nbt = nbt
+        rr%nk = nk
+        rr%nc = nc
+        rr%bpos = bpos
+        rr%kpos = kpos
+        rr%voff = voff
+        rr%fam = fam
+        rr%rail = rail
+        rr%kap = kap
+        rr%obs = obs
+        rr%vk = vk
+        rr%crho = crho
+        rr%cx0 = cx0
+        rr%ctr = ctr
+        rr%v0 = v0
+        rr%length = length
+        info = STAT_OK
+    end subroutine ring_rows_create
+
+    !> The rows of every contact point at time t: rows(i, c, r), i = 1..3 the point's three
+    !> components (ctr), r = 1..nk the kept modes.
+    pure subroutine ring_rows_eval(rr, t, rows)
+        type(ring_rows), intent(in) :: rr
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: rows(3, rr%nc, rr%nk)
+        real(dp) :: psi(4, rr%nk), tb(4, rr%nbt), x
+        integer :: c, g, b, j, r, nb, off
+        do c = 1, rr%nc
+            x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
+            do b = 1, rr%nbt
+                if (rr%rail(b) /= rr%crho(c)) then
+                    tb(:, b) = 0.0_dp
+                    cycle
+                end if
+                do j = 1, 4
+                    tb(j, b) = rr%obs(j, b) * trig_at(rr%fam(b), j, rr%kap(b) * x)
+                end do
+            end do
+            do g = 1, rr%ng
+                nb = rr%bpos(g + 1) - rr%bpos(g)
+                do r = rr%kpos(g) + 1, rr%kpos(g + 1)
+                    off = rr%voff(g) + (r - rr%kpos(g) - 1) * nb
+                    psi(:, r) = matmul(tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), rr%vk(off + 1:off + nb))
+                end do
+            end do
+            rows(:, c, :) = matmul(rr%ctr(:, :, c), psi)
+        end do
+    end subroutine ring_rows_eval
+
+end module vehicle_ring

@@ -1,0 +1,310 @@
+"""Model RF: the coach's rigid wheelsets on the flexible ring track (docs/vehicle.md, "Model RF").
+
+The four rigid track elements of model RR are replaced by one :class:`~railvti.track.RingTrack`
+of two rails under the whole coach. Each wheel's contact point moves along its rail,
+x_c = x_offset + x_wheelset + v0 t (mod the ring length); the rail head's motion there
+(lateral, vertical, roll at the crown, from the kept ring modes) is expressed as the pose
+(y, z, roll) of a track element of that wheel's own, so the wheel-rail contact of model RR is
+evaluated unchanged against it and its generalised forces on that pose drive the modes through
+the same rows (moving loads). The rows are time-dependent attachment rows of a modal block;
+the Fortran time loop evaluates them once per (sub-)step (fortran/vehicle/vehicle_ring.f90),
+so the per-step cost is linear in the kept modes.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .. import _checks
+from .._native import core
+from .._status import check
+from ..errors import InputError
+from ..track.coupling import rail_of_wheel
+from .assembly import System, build_coach
+from .model import ModalBlocks, VehicleModel
+
+if TYPE_CHECKING:   # pragma: no cover
+    from ..track.ring import RingTrack
+    from .params import Coach
+    from .table import WheelTable
+
+#: Points per wheel: the pose (y, z, roll) of the track element under it.
+POINT_COMPONENTS = ("y", "z", "roll")
+
+
+@dataclass(frozen=True)
+class RingRows:
+    """The kept ring modes' data for the Fortran row evaluation, and the contact points.
+
+    Attributes
+    ----------
+    modes : ndarray (nk,) int
+        Indices of the kept modes in the ring's modal form (``RingTrack.lam``).
+    bpos, kpos, voff : ndarray (ng + 1,) int
+        Per kept group: start of its basis functions, of its kept modes, of its packed
+        eigenvector entries (0-based).
+    kap, fam, rail, obs : ndarray
+        The groups' rail basis functions: wave number (rad/m), family, rail, crown
+        observation traces (4, nbt).
+    vk : ndarray
+        Packed eigenvector entries over the basis functions (nb_g x nk_g per group, column-major).
+    crho : ndarray (8,) int
+        Rail (1 left, 2 right) of each contact point, c = 2 wheelset + wheel.
+    cx0 : ndarray (8,)
+        Position of each contact point along the ring at t = 0, m.
+    ctr : ndarray (3, 4, 8)
+        Map of the rail-local head values (x, eta, zeta, roll) onto the point's track-element
+        pose (y, z, roll) in the vehicle's frame: the cant, the mirror and the element's arms.
+    speed : float
+        v0, m/s.
+    length : float
+        Ring length, m.
+    rail_distance : float
+        Distance between the rail axes, m.
+    """
+
+    modes: np.ndarray
+    bpos: np.ndarray
+    kpos: np.ndarray
+    voff: np.ndarray
+    kap: np.ndarray
+    fam: np.ndarray
+    rail: np.ndarray
+    obs: np.ndarray
+    vk: np.ndarray
+    crho: np.ndarray
+    cx0: np.ndarray
+    ctr: np.ndarray
+    speed: float
+    length: float
+    rail_distance: float
+
+    @property
+    def n_modes(self) -> int:
+        """Number of kept ring modes."""
+        return int(self.modes.size)
+
+    def rows(self, t: np.ndarray | float) -> np.ndarray:
+        """The contact points' rows at times t (numpy; the Fortran loop evaluates the same).
+
+        Returns
+        -------
+        ndarray (nt, 3, 8, nk)
+            Pose (y, z, roll) of the element under each contact point per unit modal
+            coordinate.
+        """
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.zeros((ts.size, 3, self.crho.size, self.n_modes))
+        for c in range(self.crho.size):
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            tb = self._trig(x) * self.obs[None]                        # (nt, 4, nbt)
+            tb[:, :, self.rail != self.crho[c]] = 0.0
+            psi = np.zeros((ts.size, 4, self.n_modes))
+            for g in range(self.bpos.size - 1):
+                b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
+                v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+                psi[:, :, k0:k1] = tb[:, :, b0:b1] @ v
+            out[:, :, c, :] = np.einsum("ij,tjr->tir", self.ctr[:, :, c], psi)
+        return out
+
+    def _trig(self, x: np.ndarray) -> np.ndarray:
+        """track_ring%trig_at for every basis function: (nt, 4, nbt)."""
+        kx = x[:, None] * self.kap[None, :]
+        s, co = np.sin(kx), np.cos(kx)
+        one = np.ones_like(kx)
+        f1 = self.fam == 1
+        f2 = self.fam == 2
+        comp_x = np.where(f1, s, np.where(f2, -co, one))
+        comp_o = np.where(f1, co, np.where(f2, s, one))
+        return np.stack([comp_x, comp_o, comp_o, comp_o], axis=1)
+
+
+@dataclass(frozen=True)
+class RingSystem(System):
+    """A System whose wheelsets run on the ring track (model RF).
+
+    Attributes
+    ----------
+    ring : RingRows
+        The kept ring modes and contact points (the modal block's last ``ring.n_modes``
+        coordinates); the 24 attachment points are (y, z, roll) of each wheel's element,
+        point 6 wheelset + 3 wheel + component.
+
+    Notes
+    -----
+    :attr:`native` also puts the wheelsets on the ring and sets its rows to t = 0 on every
+    access (a static solve and a run's initial force are at t = 0; the run sets the rows of
+    each step itself).
+    """
+
+    ring: RingRows | None = None
+
+    @property
+    def native(self) -> VehicleModel:
+        model = self.__dict__.get("_native")
+        fresh = model is None or not model.alive
+        model = super().native
+        r = self.ring
+        if fresh and r is not None:
+            nw = int(self.iws.shape[1])
+            rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1).astype(np.int32)
+            info = core.vehicle_ring_attach_c(
+                model.handle, np.arange(1, nw + 1, dtype=np.int32), np.asfortranarray(rlpt),
+                self.modal.n_modes - r.n_modes, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
+                r.rail, np.asfortranarray(r.obs), r.vk, r.crho, r.cx0, np.asfortranarray(r.ctr),
+                r.speed, r.length)
+            check(info, "ring track rows")
+        if r is not None:
+            check(core.vehicle_ring_time_c(model.handle, 0.0), "ring track time")
+        return model
+
+    def rail_deflection(self, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Rail-head motion under each wheel along a history.
+
+        Parameters
+        ----------
+        t : ndarray (nt,)
+            Times, s.
+        x : ndarray (nt, n_state)
+            States (DOFs then modal coordinates).
+
+        Returns
+        -------
+        ndarray (nt, 3, 2, nw)
+            The element pose (y m, z m, roll rad; vehicle frame) under wheel [., ., k, w];
+            z is the vertical displacement of the rail head's crown.
+        """
+        r = self.ring
+        qm = np.atleast_2d(x)[:, self.n_state - r.n_modes:]
+        rows = r.rows(t)
+        u = np.einsum("tipr,tr->tip", rows, qm)
+        nw = int(self.iws.shape[1])
+        return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
+
+
+def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
+              f_limit: float | None = None, x_offset: float = 0.0) -> RingRows:
+    """Pack the ring modes up to ``f_limit`` and the wheels' contact points.
+
+    Raises
+    ------
+    InputError
+        No mode at or below f_limit; a ring shorter than the wheelsets' span plus two bays.
+    """
+    xw = np.asarray(x_wheelsets, dtype=float)
+    length = float(track.length)
+    a = track.params["sleeper_spacing"]
+    span = float(xw.max() - xw.min())
+    if length < span + 2.0 * a:
+        n_min = int(math.ceil((span + 2.0 * a) / a - 1e-9))
+        raise InputError(f"ring of {track.n_sleepers} sleepers ({length:.4g} m) too short for the "
+                         f"coach: its wheelsets span {span:.4g} m; take n_sleepers >= {n_min}")
+    om = np.sqrt(track.lam)
+    if f_limit is None:
+        sel = np.arange(om.size)
+    else:
+        fl = _checks.positive("f_limit", f_limit)
+        sel = np.where(om <= 2 * math.pi * fl)[0]
+    if sel.size == 0:
+        raise InputError(f"no ring mode at or below f_limit = {f_limit} Hz (the lowest is "
+                         f"{om.min() / (2 * math.pi):.4g} Hz)")
+    keep = np.zeros(om.size, bool)
+    keep[sel] = True
+    bpos, kpos, voff = [0], [0], [0]
+    kap, fam, rail, obs, vk, modes = [], [], [], [], [], []
+    for g in range(track.mpos.size - 1):
+        m0, m1 = int(track.mpos[g]), int(track.mpos[g + 1])
+        kept = np.where(keep[m0:m1])[0]
+        if kept.size == 0:
+            continue
+        b0, b1 = int(track.bpos[g]), int(track.bpos[g + 1])
+        nt = m1 - m0
+        v = track.vflat[track.vpos[g]:track.vpos[g] + nt * nt].reshape(nt, nt, order="F")
+        kap.append(track.kap[b0:b1]); fam.append(track.fam[b0:b1]); rail.append(track.rail[b0:b1])
+        obs.append(track.obs[:, b0:b1])
+        vk.append(v[:b1 - b0, kept].ravel(order="F"))
+        modes.append(m0 + kept)
+        bpos.append(bpos[-1] + b1 - b0)
+        kpos.append(kpos[-1] + kept.size)
+        voff.append(voff[-1] + (b1 - b0) * kept.size)
+    nw = xw.size
+    half = 0.5 * track.params["rail_distance"]
+    crho = np.zeros(2 * nw, np.int32)
+    cx0 = np.zeros(2 * nw)
+    ctr = np.zeros((3, 4, 2 * nw))
+    for w in range(nw):
+        for k in range(2):
+            c = 2 * w + k
+            m = rail_of_wheel(k)
+            beta = track._geom[1][m.rail - 1]
+            cs, sn = math.cos(beta), math.sin(beta)
+            cant = np.array([[1, 0, 0, 0], [0, cs, -sn, 0], [0, sn, cs, 0], [0, 0, 0, 1.0]])
+            yp = half if k == 0 else -half          # the rail's crown, vehicle y (left +)
+            elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
+            ctr[:, :, c] = elem @ m.transform @ cant
+            crho[c] = m.rail
+            cx0[c] = x_offset + xw[w]
+    return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
+                    kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
+                    kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
+                    rail=np.concatenate(rail).astype(np.int32),
+                    obs=np.asfortranarray(np.concatenate(obs, axis=1)),
+                    vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
+                    length=length, rail_distance=2 * half)
+
+
+def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
+             f_limit: float | None = None, x_offset: float = 0.0,
+             stiffness_scale: float = 1.0) -> RingSystem:
+    """Model RF: the coach's rigid wheelsets on the flexible ring track.
+
+    Parameters
+    ----------
+    coach : Coach
+    table : WheelTable
+    speed : float
+        v0, m/s (the contact points move along the ring at v0).
+    track : RingTrack
+        The ring (length n_sleepers x spacing, longer than the wheelsets' span plus two bays).
+    f_limit : float, optional
+        Keep the ring modes up to this frequency, Hz (default: all). The truncated modes'
+        static contribution is not kept (no residual flexibility yet).
+    x_offset : float
+        Position along the ring of the coach centre at t = 0, m (sleeper s at s x spacing).
+    stiffness_scale : float
+        Multiplies the ring's modal stiffness (its damping by the square root: the same
+        damping ratios); 1 is the ring itself, a large value a nearly rigid ring (a check).
+
+    Returns
+    -------
+    RingSystem
+        DOFs of the coach on rigid ground, then the kept ring modes (names
+        ``ring_g<group>_<index>``).
+
+    Raises
+    ------
+    InputError
+        Speed <= 0, a ring too short, no mode kept, stiffness_scale <= 0.
+    """
+    v0 = _checks.positive("speed", speed)
+    s = _checks.positive("stiffness_scale", stiffness_scale)
+    x_offset = _checks.finite("x_offset", x_offset)
+    base = build_coach(coach, table, track=False)
+    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset)
+    lam = track.lam[rr.modes] * s
+    cm = track.cmod[rr.modes] * math.sqrt(s)
+    om = np.sqrt(lam)
+    phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")   # point 3 c + i
+    names = tuple(f"ring_g{int(track.group[m])}_{int(m)}" for m in rr.modes)
+    mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
+    base = base.with_modal(mb)
+    fields = {f: getattr(base, f) for f in base.__dataclass_fields__}
+    return RingSystem(**fields, ring=rr)
+
+
+def set_time(system: RingSystem, t: float) -> None:
+    """Set the system's ring rows to time t (the next force or static call sees them)."""
+    check(core.vehicle_ring_time_c(system.native.handle, _checks.finite("t", t)), "ring track time")
