@@ -185,6 +185,22 @@ class RingSystem(System):
         return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
 
 
+def _check_span(n_sleepers: int, spacing: float, span: float) -> None:
+    if n_sleepers * spacing < span + 2.0 * spacing:
+        n_min = int(math.ceil(span / spacing - 1e-9)) + 2
+        raise InputError(f"ring of {n_sleepers} sleepers ({n_sleepers * spacing:.4g} m) too short "
+                         f"for the coach: its wheelsets span {span:.4g} m; take n_sleepers >= "
+                         f"{n_min} (the span plus two sleeper bays)")
+
+
+def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
+    """InputError when a ring of n_sleepers bays of ``spacing`` (m) cannot hold the coach's
+    wheelsets (span 2 (half_bogie_distance + half_wheelbase)) plus two sleeper bays."""
+    s = _checks.positive("sleeper_spacing", spacing)
+    span = 2.0 * (coach["half_bogie_distance"] + coach["half_wheelbase"])
+    _check_span(int(n_sleepers), s, span)
+
+
 def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
               f_limit: float | None = None, x_offset: float = 0.0) -> RingRows:
     """Pack the ring modes up to ``f_limit`` and the wheels' contact points.
@@ -198,10 +214,7 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
     length = float(track.length)
     a = track.params["sleeper_spacing"]
     span = float(xw.max() - xw.min())
-    if length < span + 2.0 * a:
-        n_min = int(math.ceil((span + 2.0 * a) / a - 1e-9))
-        raise InputError(f"ring of {track.n_sleepers} sleepers ({length:.4g} m) too short for the "
-                         f"coach: its wheelsets span {span:.4g} m; take n_sleepers >= {n_min}")
+    _check_span(track.n_sleepers, a, span)
     om = np.sqrt(track.lam)
     if f_limit is None:
         sel = np.arange(om.size)
