@@ -17,7 +17,7 @@ module track_ring
     use common_status, only: STAT_OK, STAT_SIZE_MISMATCH, STAT_EIGEN_FAILED
     implicit none
     private
-    public :: ring_group_modes, ring_eval_x, ring_frf, trig_at
+    public :: ring_group_modes, ring_eval_x, ring_frf
 
 contains
 

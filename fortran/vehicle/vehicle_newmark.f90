@@ -401,7 +401,7 @@ contains
         lin = 0
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * sd%h * a1
-        if (md%mp%nfr > 0) then
+        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
             call full_tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
         else
             call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
@@ -412,7 +412,7 @@ contains
         if (md%mp%nm > 0) then
             call modal_point_tangent(md%mp, nd, q1(1:nd), v1(1:nd), q1(nd + 1:), v1(nd + 1:), sd%cv, &
                                      jac, jru, nl%jpr, nl%jpu)
-            if (md%mp%nfr > 0) then
+            if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
                 jru = jru + jcru
                 nl%jpr = nl%jpr + jcpr
                 nl%jpu = nl%jpu + jcpu

@@ -2,7 +2,8 @@
 !> ring modes at each wheel's contact point x_c = x0 + v0 t (mod the ring length), refreshed
 !> once per time step. Implements Kaiser sect. 3 (the moving contact on the ring with
 !> neglected curvature): the observation rows of the modal form at x_c (track_ring's basis
-!> functions, the same sums as track_ring%ring_eval_x restricted to the kept modes).
+!> functions, the same sums as track_ring%ring_eval_x restricted to the kept modes, with one
+!> sine and cosine per wave number k: kap = 2 pi k / length).
 !>
 !> Kept modes of group g: their eigenvector entries over the group's rail basis functions,
 !> vk(voff(g) + 1 : voff(g) + nb_g * nk_g), column-major (nb_g x nk_g). A contact point c on
@@ -13,7 +14,6 @@
 module vehicle_ring
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH
-    use track_ring, only: trig_at
     implicit none
     private
     public :: ring_rows, ring_rows_create, ring_rows_eval
@@ -22,7 +22,7 @@ module vehicle_ring
     type :: ring_rows
         integer :: ng = 0, nbt = 0, nk = 0, nc = 0
         integer, allocatable :: bpos(:), kpos(:), voff(:)   !< (ng + 1)
-        integer, allocatable :: fam(:), rail(:)             !< (nbt)
+        integer, allocatable :: fam(:), rail(:), kn(:)      !< (nbt); kn: kap = 2 pi kn / length
         real(dp), allocatable :: kap(:), obs(:, :), vk(:)   !< (nbt), (4, nbt), packed
         integer, allocatable :: crho(:)                     !< (nc) rail 1 or 2
         real(dp), allocatable :: cx0(:), ctr(:, :, :)       !< (nc), (3, 4, nc)
@@ -45,6 +45,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (ng < 1 .or. nk < 1 .or. nc < 1 .or. .not. (length > 0.0_dp)) return
         if (any(rail < 1) .or. any(rail > 2) .or. any(crho < 1) .or. any(crho > 2)) return
+        if (any(fam < 0) .or. any(fam > 2) .or. any(kap < 0.0_dp)) return
         if (.not. (all(abs(kap) <= huge(1.0_dp)) .and. all(abs(obs) <= huge(1.0_dp)) .and. &
                    all(abs(vk) <= huge(1.0_dp)) .and. all(abs(cx0) <= huge(1.0_dp)) .and. &
                    all(abs(ctr) <= huge(1.0_dp)) .and. abs(v0) <= huge(1.0_dp))) return
@@ -65,6 +66,7 @@ contains
         rr%fam = fam
         rr%rail = rail
         rr%kap = kap
+        rr%kn = nint(kap * length / (8.0_dp * atan(1.0_dp)))
         rr%obs = obs
         rr%vk = vk
         rr%crho = crho
@@ -81,28 +83,48 @@ contains
         type(ring_rows), intent(in) :: rr
         real(dp), intent(in) :: t
         real(dp), intent(out) :: rows(3, rr%nc, rr%nk)
-        real(dp) :: psi(4, rr%nk), tb(4, rr%nbt), x
-        integer :: c, g, b, j, r, nb, off
+        real(dp) :: psi(4, rr%nk), tb(4, rr%nbt), x, th
+        real(dp), allocatable :: sn(:), cs(:)
+        integer :: c, g, b, nb, nk, kk
+        allocate (sn(0:maxval(rr%kn)), cs(0:maxval(rr%kn)))
         do c = 1, rr%nc
             x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
+            ! the trig factors of track_ring%trig_at, one sin and cos per wave number
+            th = 8.0_dp * atan(1.0_dp) * x / rr%length
+            do kk = 0, ubound(sn, 1)
+                sn(kk) = sin(kk * th)
+                cs(kk) = cos(kk * th)
+            end do
             do b = 1, rr%nbt
+                kk = rr%kn(b)
                 if (rr%rail(b) /= rr%crho(c)) then
                     tb(:, b) = 0.0_dp
-                    cycle
+                else if (rr%fam(b) == 1) then        ! sin for u_x, cos for the others
+                    tb(1, b) = rr%obs(1, b) * sn(kk)
+                    tb(2:4, b) = rr%obs(2:4, b) * cs(kk)
+                else if (rr%fam(b) == 2) then        ! -cos for u_x, sin for the others
+                    tb(1, b) = -rr%obs(1, b) * cs(kk)
+                    tb(2:4, b) = rr%obs(2:4, b) * sn(kk)
+                else                                 ! k = 0: constant
+                    tb(:, b) = rr%obs(:, b)
                 end if
-                do j = 1, 4
-                    tb(j, b) = rr%obs(j, b) * trig_at(rr%fam(b), j, rr%kap(b) * x)
-                end do
             end do
             do g = 1, rr%ng
                 nb = rr%bpos(g + 1) - rr%bpos(g)
-                do r = rr%kpos(g) + 1, rr%kpos(g + 1)
-                    off = rr%voff(g) + (r - rr%kpos(g) - 1) * nb
-                    psi(:, r) = matmul(tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), rr%vk(off + 1:off + nb))
-                end do
+                nk = rr%kpos(g + 1) - rr%kpos(g)
+                call group_rows(nb, nk, tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), &
+                                rr%vk(rr%voff(g) + 1:rr%voff(g + 1)), psi(:, rr%kpos(g) + 1:rr%kpos(g + 1)))
             end do
             rows(:, c, :) = matmul(rr%ctr(:, :, c), psi)
         end do
     end subroutine ring_rows_eval
+
+    !> One group's kept modes at a point: psi = tb V (4 x nb times nb x nk).
+    pure subroutine group_rows(nb, nk, tb, v, psi)
+        integer, intent(in) :: nb, nk
+        real(dp), intent(in) :: tb(4, nb), v(nb, nk)
+        real(dp), intent(out) :: psi(4, nk)
+        psi = matmul(tb, v)
+    end subroutine group_rows
 
 end module vehicle_ring
