@@ -22,6 +22,7 @@ module vehicle_ring
     type :: ring_rows
         integer :: ng = 0, nbt = 0, nk = 0, nc = 0
         integer, allocatable :: bpos(:), kpos(:), voff(:)   !< (ng + 1)
+        integer, allocatable :: n1(:)                       !< (ng) rail-1 functions first
         integer, allocatable :: fam(:), rail(:), kn(:)      !< (nbt); kn: kap = 2 pi kn / length
         real(dp), allocatable :: kap(:), obs(:, :), vk(:)   !< (nbt), (4, nbt), packed
         integer, allocatable :: crho(:)                     !< (nc) rail 1 or 2
@@ -33,7 +34,8 @@ contains
 
     !> Store the ring rows. info: STAT_OK; STAT_SIZE_MISMATCH (bpos, kpos, voff not starting at
     !> 0 and non-decreasing to nbt, nk, nvk; a group with kept modes and no basis function);
-    !> STAT_BAD_ARGUMENT (nk, nc < 1, a rail not 1 or 2, length <= 0, non-finite entries).
+    !> STAT_BAD_ARGUMENT (nk, nc < 1, a rail not 1 or 2, a group's basis functions not those of
+    !> rail 1 first, length <= 0, non-finite entries).
     subroutine ring_rows_create(ng, nbt, nk, nvk, nc, bpos, kpos, voff, kap, fam, rail, obs, vk, &
                                 crho, cx0, ctr, v0, length, rr, info)
         integer, intent(in) :: ng, nbt, nk, nvk, nc
@@ -55,6 +57,12 @@ contains
         do g = 1, ng
             if (bpos(g + 1) < bpos(g) .or. kpos(g + 1) < kpos(g)) return
             if (voff(g + 1) - voff(g) /= (bpos(g + 1) - bpos(g)) * (kpos(g + 1) - kpos(g))) return
+        end do
+        info = STAT_BAD_ARGUMENT
+        allocate (rr%n1(ng))
+        do g = 1, ng     ! each point needs only its rail's half of a group
+            rr%n1(g) = count(rail(bpos(g) + 1:bpos(g + 1)) == 1)
+            if (any(rail(bpos(g) + 1:bpos(g) + rr%n1(g)) /= 1)) return
         end do
         rr%ng = ng
         rr%nbt = nbt
@@ -85,7 +93,7 @@ contains
         real(dp), intent(out) :: rows(3, rr%nc, rr%nk)
         real(dp) :: psi(4, rr%nk), tb(4, rr%nbt), x, th
         real(dp), allocatable :: sn(:), cs(:)
-        integer :: c, g, b, nb, nk, kk
+        integer :: c, g, b, nb, nk, kk, i0, i1
         allocate (sn(0:maxval(rr%kn)), cs(0:maxval(rr%kn)))
         do c = 1, rr%nc
             x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
@@ -95,36 +103,42 @@ contains
                 sn(kk) = sin(kk * th)
                 cs(kk) = cos(kk * th)
             end do
-            do b = 1, rr%nbt
-                kk = rr%kn(b)
-                if (rr%rail(b) /= rr%crho(c)) then
-                    tb(:, b) = 0.0_dp
-                else if (rr%fam(b) == 1) then        ! sin for u_x, cos for the others
-                    tb(1, b) = rr%obs(1, b) * sn(kk)
-                    tb(2:4, b) = rr%obs(2:4, b) * cs(kk)
-                else if (rr%fam(b) == 2) then        ! -cos for u_x, sin for the others
-                    tb(1, b) = -rr%obs(1, b) * cs(kk)
-                    tb(2:4, b) = rr%obs(2:4, b) * sn(kk)
-                else                                 ! k = 0: constant
-                    tb(:, b) = rr%obs(:, b)
-                end if
-            end do
             do g = 1, rr%ng
                 nb = rr%bpos(g + 1) - rr%bpos(g)
                 nk = rr%kpos(g + 1) - rr%kpos(g)
-                call group_rows(nb, nk, tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), &
+                if (rr%crho(c) == 1) then
+                    i0 = 1
+                    i1 = rr%n1(g)
+                else
+                    i0 = rr%n1(g) + 1
+                    i1 = nb
+                end if
+                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
+                    kk = rr%kn(b)
+                    if (rr%fam(b) == 1) then             ! sin for u_x, cos for the others
+                        tb(1, b) = rr%obs(1, b) * sn(kk)
+                        tb(2:4, b) = rr%obs(2:4, b) * cs(kk)
+                    else if (rr%fam(b) == 2) then        ! -cos for u_x, sin for the others
+                        tb(1, b) = -rr%obs(1, b) * cs(kk)
+                        tb(2:4, b) = rr%obs(2:4, b) * sn(kk)
+                    else                                 ! k = 0: constant
+                        tb(:, b) = rr%obs(:, b)
+                    end if
+                end do
+                call group_rows(nb, nk, i0, i1, tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), &
                                 rr%vk(rr%voff(g) + 1:rr%voff(g + 1)), psi(:, rr%kpos(g) + 1:rr%kpos(g + 1)))
             end do
             rows(:, c, :) = matmul(rr%ctr(:, :, c), psi)
         end do
     end subroutine ring_rows_eval
 
-    !> One group's kept modes at a point: psi = tb V (4 x nb times nb x nk).
-    pure subroutine group_rows(nb, nk, tb, v, psi)
-        integer, intent(in) :: nb, nk
+    !> One group's kept modes at a point on the rail of basis functions i0..i1:
+    !> psi = tb(:, i0:i1) V(i0:i1, :).
+    pure subroutine group_rows(nb, nk, i0, i1, tb, v, psi)
+        integer, intent(in) :: nb, nk, i0, i1
         real(dp), intent(in) :: tb(4, nb), v(nb, nk)
         real(dp), intent(out) :: psi(4, nk)
-        psi = matmul(tb, v)
+        psi = matmul(tb(:, i0:i1), v(i0:i1, :))
     end subroutine group_rows
 
 end module vehicle_ring

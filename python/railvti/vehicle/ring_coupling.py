@@ -236,9 +236,10 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
         b0, b1 = int(track.bpos[g]), int(track.bpos[g + 1])
         nt = m1 - m0
         v = track.vflat[track.vpos[g]:track.vpos[g] + nt * nt].reshape(nt, nt, order="F")
-        kap.append(track.kap[b0:b1]); fam.append(track.fam[b0:b1]); rail.append(track.rail[b0:b1])
-        obs.append(track.obs[:, b0:b1])
-        vk.append(v[:b1 - b0, kept].ravel(order="F"))
+        o = b0 + np.argsort(track.rail[b0:b1], kind="stable")     # rail 1's functions first
+        kap.append(track.kap[o]); fam.append(track.fam[o]); rail.append(track.rail[o])
+        obs.append(track.obs[:, o])
+        vk.append(v[o - b0][:, kept].ravel(order="F"))
         modes.append(m0 + kept)
         bpos.append(bpos[-1] + b1 - b0)
         kpos.append(kpos[-1] + kept.size)
