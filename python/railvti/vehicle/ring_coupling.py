@@ -110,6 +110,40 @@ class RingRows:
             out[:, :, c, :] = np.einsum("ij,tjr->tir", self.ctr[:, :, c], psi)
         return out
 
+    def displacement(self, t: np.ndarray, qm: np.ndarray) -> np.ndarray:
+        """The contact points' element poses rows(t) @ qm(t) along a history, without the rows.
+
+        Parameters
+        ----------
+        t : ndarray (nt,)
+            Times, s.
+        qm : ndarray (nt, nk)
+            The kept ring modes' coordinates.
+
+        Returns
+        -------
+        ndarray (nt, 3, 8)
+        """
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        qm = np.atleast_2d(qm)
+        amp = np.empty((ts.size, self.kap.size))      # basis-function amplitudes V Q per group
+        for g in range(self.bpos.size - 1):
+            b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
+            v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+            amp[:, b0:b1] = qm[:, k0:k1] @ v.T
+        out = np.empty((ts.size, 3, self.crho.size))
+        for c in range(self.crho.size):
+            on = self.rail == self.crho[c]
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            kx = x[:, None] * self.kap[None, on]
+            f1, f2 = (self.fam[on] == 1), (self.fam[on] == 2)
+            s, co = np.sin(kx), np.cos(kx)
+            tx = np.where(f1, s, np.where(f2, -co, 1.0)) * amp[:, on]     # u_x's factor
+            to = np.where(f1, co, np.where(f2, s, 1.0)) * amp[:, on]      # the others'
+            psi = np.concatenate([tx @ self.obs[0, on][:, None], to @ self.obs[1:, on].T], axis=1)
+            out[:, :, c] = psi @ self.ctr[:, :, c].T
+        return out
+
     def _trig(self, x: np.ndarray) -> np.ndarray:
         """track_ring%trig_at for every basis function: (nt, 4, nbt)."""
         kx = x[:, None] * self.kap[None, :]
@@ -179,8 +213,7 @@ class RingSystem(System):
         """
         r = self.ring
         qm = np.atleast_2d(x)[:, self.n_state - r.n_modes:]
-        rows = r.rows(t)
-        u = np.einsum("tipr,tr->tip", rows, qm)
+        u = r.displacement(t, qm)
         nw = int(self.iws.shape[1])
         return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
 
