@@ -29,14 +29,15 @@ module vehicle_modal
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH, STAT_SINGULAR
-    use vehicle_ring, only: ring_rows, ring_rows_create, ring_rows_eval
+    use vehicle_ring, only: ring_rows, ring_rows_create, ring_rows_eval, ring_residual_set, &
+                            ring_residual_eval
     implicit none
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
     public :: modal_factorise, modal_solve, modal_points, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
-    public :: modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset
+    public :: modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, modal_ring_residual
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
@@ -251,20 +252,44 @@ contains
         call modal_ring_time(mp, 0.0_dp)
     end subroutine modal_ring
 
+    !> Add the truncated ring modes' residual flexibility at the contact points (after
+    !> modal_ring): the coordinates rm0 + nk + 3 (c - 1) + 1..3 of contact point c (a massless
+    !> block with K = I each, modal_set_mass) get the rows L(x_c) of vehicle_ring's table.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT (no ring, the coordinates beyond nm) or from
+    !> vehicle_ring%ring_residual_set.
+    subroutine modal_ring_residual(mp, nrx, bay, rtab, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nrx
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (mp%nrl == 0) return
+        if (mp%rm0 + mp%rr%nk + 3 * mp%rr%nc > mp%nm) return
+        call ring_residual_set(mp%rr, nrx, bay, rtab, info)
+        if (info /= STAT_OK) return
+        call modal_ring_time(mp, 0.0_dp)
+    end subroutine modal_ring_residual
+
     !> Set the ring rows of the wheels' points to their values at time t (contact points at
-    !> x0 + v0 t); the cached factors become stale (rows_version). No ring: nothing.
+    !> x0 + v0 t), and the residual rows if any; the cached factors become stale
+    !> (rows_version). No ring: nothing.
     subroutine modal_ring_time(mp, t)
         type(modal_part), intent(inout) :: mp
         real(dp), intent(in) :: t
-        real(dp), allocatable :: rows(:, :, :)
-        integer :: i, k, c
+        real(dp), allocatable :: rows(:, :, :), lres(:, :, :)
+        integer :: i, k, c, j0
         if (mp%nrl == 0) return
-        allocate (rows(3, mp%rr%nc, mp%rr%nk))
+        allocate (rows(3, mp%rr%nc, mp%rr%nk), lres(3, 3, mp%rr%nc))
         call ring_rows_eval(mp%rr, t, rows)
+        if (mp%rr%nrx > 0) call ring_residual_eval(mp%rr, t, lres)
         do i = 1, mp%nrl
             do k = 1, 2
                 c = 2 * (i - 1) + k
                 mp%phi(mp%rlpt(:, k, i), mp%rm0 + 1:mp%rm0 + mp%rr%nk) = rows(:, c, :)
+                if (mp%rr%nrx > 0) then
+                    j0 = mp%rm0 + mp%rr%nk + 3 * (c - 1)
+                    mp%phi(mp%rlpt(:, k, i), j0 + 1:j0 + 3) = lres(:, :, c)
+                end if
             end do
         end do
         mp%rows_version = mp%rows_version + 1

@@ -18,12 +18,13 @@ module vehicle_model
                                CMODEL_BEM_TANGENT, pose_table, pose_set
     use vehicle_strip, only: strip_geometry, strip_set, nso
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
-                             modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset
+                             modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
+                             modal_ring_residual
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
-    public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time
+    public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time, vehicle_ring_residual
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -234,6 +235,19 @@ contains
         call modal_ring(md%mp, md%nw, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, bpos, kpos, voff, kap, &
                         fam, rail, obs, vk, crho, cx0, ctr, v0, length, info)
     end subroutine vehicle_attach_ring
+
+    !> Add the ring's residual flexibility at the contact points; see
+    !> vehicle_modal%modal_ring_residual for the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_ring_residual(handle, nrx, bay, rtab, info)
+        integer, intent(in) :: handle, nrx
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_ring_residual(md%mp, nrx, bay, rtab, info)
+    end subroutine vehicle_ring_residual
 
     !> Set the ring rows of a model to time t (the wheels' contact points at x0 + v0 t): what the
     !> next force, tangent or static call sees. info: STAT_OK, STAT_BAD_HANDLE.

@@ -16,7 +16,7 @@ module vehicle_ring
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH
     implicit none
     private
-    public :: ring_rows, ring_rows_create, ring_rows_eval
+    public :: ring_rows, ring_rows_create, ring_rows_eval, ring_residual_set, ring_residual_eval
 
     !> The kept modes' data and the contact points (nc = 2 per wheelset: left, right).
     type :: ring_rows
@@ -28,6 +28,12 @@ module vehicle_ring
         integer, allocatable :: crho(:)                     !< (nc) rail 1 or 2
         real(dp), allocatable :: cx0(:), ctr(:, :, :)       !< (nc), (3, 4, nc)
         real(dp) :: v0 = 0.0_dp, length = 0.0_dp
+        !> Residual flexibility of the truncated modes at a contact point (ring_residual_set):
+        !> the compliance R (3 x 3, over the point's three components) at nrx positions over
+        !> one sleeper bay of length bay, per rail (3, 3, nrx, 2); nrx = 0: none.
+        integer :: nrx = 0
+        real(dp) :: bay = 0.0_dp
+        real(dp), allocatable :: rtab(:, :, :, :)
     end type ring_rows
 
 contains
@@ -131,6 +137,60 @@ contains
             rows(:, c, :) = matmul(rr%ctr(:, :, c), psi)
         end do
     end subroutine ring_rows_eval
+
+    !> Set the residual compliance table (after ring_rows_create). info: STAT_OK;
+    !> STAT_BAD_ARGUMENT (nrx < 2, bay <= 0, non-finite entries).
+    subroutine ring_residual_set(rr, nrx, bay, rtab, info)
+        type(ring_rows), intent(inout) :: rr
+        integer, intent(in) :: nrx
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (nrx < 2 .or. .not. (bay > 0.0_dp) .or. .not. all(abs(rtab) <= huge(1.0_dp))) return
+        rr%nrx = nrx
+        rr%bay = bay
+        rr%rtab = rtab
+        info = STAT_OK
+    end subroutine ring_residual_set
+
+    !> The residual rows of every contact point at time t: L (3 x 3, lower) with L L^T = R(x_c),
+    !> R interpolated linearly (periodic over the bay) in the table. A coordinate z with
+    !> stiffness I and rows L is the point compliance u = R g (vehicle_modal, massless).
+    pure subroutine ring_residual_eval(rr, t, lres)
+        type(ring_rows), intent(in) :: rr
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: lres(3, 3, rr%nc)
+        real(dp) :: x, s, w, r(3, 3)
+        integer :: c, i0, i1, rho
+        do c = 1, rr%nc
+            x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
+            s = modulo(x, rr%bay) / rr%bay * rr%nrx
+            i0 = min(int(s), rr%nrx - 1)
+            w = s - i0
+            i1 = mod(i0 + 1, rr%nrx)
+            rho = rr%crho(c)
+            r = (1.0_dp - w) * rr%rtab(:, :, i0 + 1, rho) + w * rr%rtab(:, :, i1 + 1, rho)
+            call chol3(r, lres(:, :, c))
+        end do
+    end subroutine ring_residual_eval
+
+    !> Cholesky factor of a symmetric 3 x 3 matrix (non-positive pivots give zero columns: a
+    !> compliance with no stiffness behind it is dropped rather than made imaginary).
+    pure subroutine chol3(a, l)
+        real(dp), intent(in) :: a(3, 3)
+        real(dp), intent(out) :: l(3, 3)
+        real(dp) :: d
+        integer :: j, i
+        l = 0.0_dp
+        do j = 1, 3
+            d = a(j, j) - sum(l(j, 1:j - 1)**2)
+            if (.not. (d > 0.0_dp)) cycle
+            l(j, j) = sqrt(d)
+            do i = j + 1, 3
+                l(i, j) = (a(i, j) - sum(l(i, 1:j - 1) * l(j, 1:j - 1))) / l(j, j)
+            end do
+        end do
+    end subroutine chol3
 
     !> One group's kept modes at a point on the rail of basis functions i0..i1:
     !> psi = tb(:, i0:i1) V(i0:i1, :).

@@ -22,7 +22,7 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
-from ..track.coupling import rail_of_wheel
+from ..track.coupling import rail_of_wheel, wheel_head_shapes
 from .assembly import System, build_coach
 from .model import ModalBlocks, VehicleModel
 
@@ -81,11 +81,36 @@ class RingRows:
     speed: float
     length: float
     rail_distance: float
+    rtab: np.ndarray | None = None
+    bay: float = 0.0
 
     @property
     def n_modes(self) -> int:
         """Number of kept ring modes."""
         return int(self.modes.size)
+
+    @property
+    def n_residual(self) -> int:
+        """Number of residual coordinates (3 per contact point, or none)."""
+        return 0 if self.rtab is None else 3 * int(self.crho.size)
+
+    def residual_rows(self, t: np.ndarray | float) -> np.ndarray:
+        """Lower Cholesky factors L (nt, 3, 3, 8) of the residual compliance at each contact
+        point, R(x) interpolated linearly over the bay table (vehicle_ring%ring_residual_eval)."""
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        nrx = self.rtab.shape[2]
+        out = np.zeros((ts.size, 3, 3, self.crho.size))
+        for c in range(self.crho.size):
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            sx = np.mod(x, self.bay) / self.bay * nrx
+            i0 = np.minimum(sx.astype(int), nrx - 1)
+            w = sx - i0
+            i1 = (i0 + 1) % nrx
+            tab = self.rtab[:, :, :, self.crho[c] - 1]
+            r = (1 - w)[:, None, None] * tab[:, :, i0].transpose(2, 0, 1) \
+                + w[:, None, None] * tab[:, :, i1].transpose(2, 0, 1)
+            out[:, :, :, c] = np.linalg.cholesky(r)
+        return out
 
     def rows(self, t: np.ndarray | float) -> np.ndarray:
         """The contact points' rows at times t (numpy; the Fortran loop evaluates the same).
@@ -187,10 +212,13 @@ class RingSystem(System):
             rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1).astype(np.int32)
             info = core.vehicle_ring_attach_c(
                 model.handle, np.arange(1, nw + 1, dtype=np.int32), np.asfortranarray(rlpt),
-                self.modal.n_modes - r.n_modes, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
+                self.modal.n_modes - r.n_modes - r.n_residual, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
                 r.rail, np.asfortranarray(r.obs), r.vk, r.crho, r.cx0, np.asfortranarray(r.ctr),
                 r.speed, r.length)
             check(info, "ring track rows")
+            if r.n_residual:
+                info = core.vehicle_ring_residual_c(model.handle, r.bay, np.asfortranarray(r.rtab))
+                check(info, "ring track residual flexibility")
         if r is not None:
             check(core.vehicle_ring_time_c(model.handle, 0.0), "ring track time")
         return model
@@ -212,8 +240,12 @@ class RingSystem(System):
             z is the vertical displacement of the rail head's crown.
         """
         r = self.ring
-        qm = np.atleast_2d(x)[:, self.n_state - r.n_modes:]
-        u = r.displacement(t, qm)
+        x = np.atleast_2d(x)
+        m0 = self.n_state - r.n_modes - r.n_residual
+        u = r.displacement(t, x[:, m0:m0 + r.n_modes])
+        if r.n_residual:
+            z = x[:, m0 + r.n_modes:].reshape(x.shape[0], -1, 3)       # (nt, 8, 3)
+            u = u + np.einsum("tijc,tcj->tic", r.residual_rows(t), z)
         nw = int(self.iws.shape[1])
         return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
 
@@ -235,8 +267,14 @@ def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
 
 
 def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
-              f_limit: float | None = None, x_offset: float = 0.0) -> RingRows:
+              f_limit: float | None = None, x_offset: float = 0.0,
+              residual: bool = True, n_table: int = 24) -> RingRows:
     """Pack the ring modes up to ``f_limit`` and the wheels' contact points.
+
+    With ``residual`` (and modes truncated) the truncated modes' static compliance at a
+    contact point, R(x) = sum_r rows_r(x) rows_r(x)^T / lambda_r over the element pose, is
+    tabulated at ``n_table`` positions over one sleeper bay per rail (the ring repeats with
+    the bay); the cross-compliance between different wheels is left out.
 
     Raises
     ------
@@ -294,18 +332,28 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             ctr[:, :, c] = elem @ m.transform @ cant
             crho[c] = m.rail
             cx0[c] = x_offset + xw[w]
+    rtab = None
+    trunc = np.where(~keep)[0]
+    if residual and trunc.size:
+        rtab = np.zeros((3, 3, n_table, 2))
+        for k in range(2):
+            yp = half if k == 0 else -half
+            elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
+            for i in range(n_table):
+                h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
+                rtab[:, :, i, k] = (h / track.lam[trunc]) @ h.T
     return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
                     kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
                     kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
                     rail=np.concatenate(rail).astype(np.int32),
                     obs=np.asfortranarray(np.concatenate(obs, axis=1)),
                     vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
-                    length=length, rail_distance=2 * half)
+                    length=length, rail_distance=2 * half, rtab=rtab, bay=float(a))
 
 
 def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
              f_limit: float | None = None, x_offset: float = 0.0,
-             stiffness_scale: float = 1.0) -> RingSystem:
+             stiffness_scale: float = 1.0, residual: bool = True) -> RingSystem:
     """Model RF: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
@@ -317,8 +365,10 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     track : RingTrack
         The ring (length n_sleepers x spacing, longer than the wheelsets' span plus two bays).
     f_limit : float, optional
-        Keep the ring modes up to this frequency, Hz (default: all). The truncated modes'
-        static contribution is not kept (no residual flexibility yet).
+        Keep the ring modes up to this frequency, Hz (default: all).
+    residual : bool
+        Keep the truncated modes' static compliance at each contact point (residual
+        flexibility, :func:`ring_rows`): three massless coordinates per wheel after the modes.
     x_offset : float
         Position along the ring of the coach centre at t = 0, m (sleeper s at s x spacing).
     stiffness_scale : float
@@ -340,13 +390,26 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     s = _checks.positive("stiffness_scale", stiffness_scale)
     x_offset = _checks.finite("x_offset", x_offset)
     base = build_coach(coach, table, track=False)
-    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset)
+    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset,
+                   residual=residual)
     lam = track.lam[rr.modes] * s
     cm = track.cmod[rr.modes] * math.sqrt(s)
     om = np.sqrt(lam)
     phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")   # point 3 c + i
     names = tuple(f"ring_g{int(track.group[m])}_{int(m)}" for m in rr.modes)
     mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
+    if rr.n_residual:
+        nc = rr.crho.size
+        lres = rr.residual_rows(0.0)[0]          # rows L, stiffness s I: compliance R / s
+        pr = np.zeros((3 * nc, 3 * nc))
+        for c in range(nc):
+            pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
+        eye = np.eye(3) * s
+        mb = ModalBlocks(mb.damping + (np.zeros((3, 3)),) * nc, mb.stiffness + (eye,) * nc,
+                         np.hstack([mb.phi, pr]),
+                         names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
+                                             for c in range(nc) for i in "yzr"),
+                         massless=(False,) * rr.n_modes + (True,) * nc)
     base = base.with_modal(mb)
     fields = {f: getattr(base, f) for f in base.__dataclass_fields__}
     return RingSystem(**fields, ring=rr)
