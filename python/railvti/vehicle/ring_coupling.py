@@ -64,6 +64,16 @@ class RingRows:
         Ring length, m.
     rail_distance : float
         Distance between the rail axes, m.
+    rtab : ndarray (3, 3, n_table, 2) or None
+        The truncated modes' compliance R at each contact point over one bay per rail,
+        divided by rscale^2 (None: no residual flexibility).
+    bay : float
+        Sleeper spacing, m (the table's period).
+    rscale : float
+        sqrt of the largest diagonal compliance, sqrt(m/N): the residual coordinates z have
+        rows L(x) (L L^T = rtab) and stiffness I / rscale^2, so that z is a displacement of
+        the size of the residual deflection (the correction test in m stays meaningful, e.g.
+        with the BEM's noisy forces).
     """
 
     modes: np.ndarray
@@ -83,6 +93,7 @@ class RingRows:
     rail_distance: float
     rtab: np.ndarray | None = None
     bay: float = 0.0
+    rscale: float = 1.0
 
     @property
     def n_modes(self) -> int:
@@ -332,7 +343,7 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             ctr[:, :, c] = elem @ m.transform @ cant
             crho[c] = m.rail
             cx0[c] = x_offset + xw[w]
-    rtab = None
+    rtab, rscale = None, 1.0
     trunc = np.where(~keep)[0]
     if residual and trunc.size:
         rtab = np.zeros((3, 3, n_table, 2))
@@ -342,13 +353,16 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             for i in range(n_table):
                 h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
                 rtab[:, :, i, k] = (h / track.lam[trunc]) @ h.T
+        rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
+        rtab /= rscale ** 2
     return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
                     kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
                     kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
                     rail=np.concatenate(rail).astype(np.int32),
                     obs=np.asfortranarray(np.concatenate(obs, axis=1)),
                     vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
-                    length=length, rail_distance=2 * half, rtab=rtab, bay=float(a))
+                    length=length, rail_distance=2 * half, rtab=rtab, bay=float(a),
+                    rscale=rscale)
 
 
 def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
@@ -400,11 +414,11 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
     if rr.n_residual:
         nc = rr.crho.size
-        lres = rr.residual_rows(0.0)[0]          # rows L, stiffness s I: compliance R / s
+        lres = rr.residual_rows(0.0)[0]   # rows L, stiffness s I / rscale^2: compliance R / s
         pr = np.zeros((3 * nc, 3 * nc))
         for c in range(nc):
             pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
-        eye = np.eye(3) * s
+        eye = np.eye(3) * s / rr.rscale ** 2
         mb = ModalBlocks(mb.damping + (np.zeros((3, 3)),) * nc, mb.stiffness + (eye,) * nc,
                          np.hstack([mb.phi, pr]),
                          names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
