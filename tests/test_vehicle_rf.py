@@ -7,8 +7,6 @@ ground for a nearly rigid ring. Small rings (coarse section mesh), few modes.
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
