@@ -368,3 +368,56 @@ subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1,
         end do
     end do
 end subroutine vehicle_strip_eval_c
+
+!> Put wheelsets on the ring track (model RF): wheelset rlw(i) (1-based) has the points rlpt(:,
+!> k, i) of a track element's pose (y, z, roll) under wheel k; the rows over the modal
+!> coordinates rm0 + 1 .. rm0 + nk come from the kept ring modes (group starts bpos, kpos,
+!> voff; basis kap, fam, rail, obs; packed eigenvector entries vk) at the contact points
+!> (rail crho, position cx0 + v0 t, row map ctr). info: see vehicle_model%vehicle_attach_ring.
+subroutine vehicle_ring_attach_c(handle, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, nc, bpos, kpos, &
+                                 voff, kap, fam, rail, obs, vk, crho, cx0, ctr, v0, length, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_SIZE_MISMATCH
+    use vehicle_model, only: vehicle_attach_ring
+    implicit none
+    integer(c_int), intent(in) :: handle, nrl, rm0, ng, nbt, nk, nvk, nc
+    integer(c_int), intent(in) :: rlw(nrl), rlpt(3, 2, nrl), bpos(ng + 1), kpos(ng + 1), voff(ng + 1)
+    integer(c_int), intent(in) :: fam(nbt), rail(nbt), crho(nc)
+    real(c_double), intent(in) :: kap(nbt), obs(4, nbt), vk(nvk), cx0(nc), ctr(3, 4, nc), v0, length
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    info = STAT_SIZE_MISMATCH
+    if (nc /= 2 * nrl) return
+    call vehicle_attach_ring(handle, nrl, int(rlw), int(rlpt), rm0, ng, nbt, nk, nvk, int(bpos), &
+                             int(kpos), int(voff), kap, int(fam), int(rail), obs, vk, int(crho), cx0, &
+                             ctr, v0, length, stat)
+    info = stat
+end subroutine vehicle_ring_attach_c
+
+!> Set a model's ring rows to time t (model RF). info: see vehicle_model%vehicle_ring_time.
+subroutine vehicle_ring_time_c(handle, t, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_ring_time
+    implicit none
+    integer(c_int), intent(in) :: handle
+    real(c_double), intent(in) :: t
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_ring_time(handle, t, stat)
+    info = stat
+end subroutine vehicle_ring_time_c
+
+!> Add the ring's residual flexibility at the contact points (model RF, after
+!> vehicle_ring_attach_c): the compliance table rtab (3, 3, nrx, 2 rails) over one bay.
+!> info: see vehicle_model%vehicle_ring_residual.
+subroutine vehicle_ring_residual_c(handle, nrx, bay, rtab, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_ring_residual
+    implicit none
+    integer(c_int), intent(in) :: handle, nrx
+    real(c_double), intent(in) :: bay, rtab(3, 3, nrx, 2)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_ring_residual(handle, nrx, bay, rtab, stat)
+    info = stat
+end subroutine vehicle_ring_residual_c

@@ -474,8 +474,13 @@ contains
     !> SLIN_KEEP each wheel's strip outputs are kept with their derivatives over its pose;
     !> SLIN_READ reads them linearly at the pose instead of evaluating the strips (the Newton
     !> tangent's perturbations: first order, like its forward differences).
+    !> Ring track (model RF, optional rail, frail, both or none): rail(:, w) = (y, z, roll and
+    !> their rates) of a track element of its own under wheel w, added to qt, vt for that
+    !> wheel (the rail head's motion under the wheel expressed as an element's pose); frail(:,
+    !> w) the generalised forces on it (wheel w's share of ft). rail = 0 gives fw, ft, wout as
+    !> without.
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
-                                fw, ft, wout, info, rim, rarm, frim, st, slin, smode)
+                                fw, ft, wout, info, rim, rarm, frim, st, slin, smode, rail, frail)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -487,17 +492,24 @@ contains
         type(strip_geometry), intent(in), optional :: st
         type(strip_lin), intent(inout), optional :: slin(2)
         integer, intent(in), optional :: smode
+        real(dp), intent(in), optional :: rail(6, 2)
+        real(dp), intent(out), optional :: frail(3, 2)
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
         real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
         real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(3)
         integer :: w, k, c, stat, ia(2), ib(2), lm
-        logical :: bemgeo, flex, strip
+        real(dp) :: qtw(3), vtw(3), ftl(3)
+        logical :: bemgeo, flex, strip, ring
         flex = present(rim) .and. present(rarm) .and. present(frim)
         strip = .false.
         if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_FASTSIM)
         if (flex) frim = 0.0_dp
+        ring = present(rail) .and. present(frail)
+        if (ring) frail = 0.0_dp
+        qtw = qt
+        vtw = vt
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
@@ -520,15 +532,26 @@ contains
         ve = vw(1:3)
         do w = 1, 2
             sg = merge(1.0_dp, -1.0_dp, w == 1)
+            if (ring) then
+                ! this wheel's own track element: the rail head's motion under it (model RF)
+                qtw = qt + rail(1:3, w)
+                vtw = vt + rail(4:6, w)
+                ftl = ft
+                yr = qw(1) - qtw(1)
+                zr = qw(2) - qtw(2)
+                phr = qw(3) - qtw(3)
+                u = yr + ct%rnom * qw(3)
+                zc = zr - yr * qtw(3)
+            end if
             if (flex) then
                 ! this wheel's pose: the rigid wheelset's moved by the rim's deformation
                 ty = rim(1, w) - rarm(2) * rim(3, w)
                 tz = rim(2, w) - sg * rarm(1) * rim(3, w)
-                yr = qw(1) + ty - qt(1)
-                zr = qw(2) + tz - qt(2)
-                phr = qw(3) + rim(3, w) - qt(3)
+                yr = qw(1) + ty - qtw(1)
+                zr = qw(2) + tz - qtw(2)
+                phr = qw(3) + rim(3, w) - qtw(3)
                 u = yr + ct%rnom * (qw(3) + rim(3, w))
-                zc = zr - yr * qt(3)
+                zc = zr - yr * qtw(3)
                 ve(1) = vw(1) + rim(4, w) - rarm(2) * rim(6, w)
                 ve(2) = vw(2) + rim(5, w) - sg * rarm(1) * rim(6, w)
                 ve(3) = vw(3) + rim(6, w)
@@ -542,7 +565,7 @@ contains
                     return
                 end if
                 ! the centre's lateral position in the element's frame: Y = u - r_nom phr
-                pose = [sg * (yr + ct%rnom * qt(3)), zc, pl]
+                pose = [sg * (yr + ct%rnom * qtw(3)), zc, pl]
                 lm = 0
                 if (present(slin) .and. present(smode)) lm = smode
                 if (lm == SLIN_READ) then
@@ -620,8 +643,8 @@ contains
                 ! relative velocity of the wheel's material point (arms l, za about the
                 ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
                 ! roll centre): the arms of the generalised forces below (energy-consistent)
-                dvy = (ve(1) + za * ve(3)) - (vt(1) - (ct%rnom - za) * vt(3))
-                dvz = (ve(2) + ve(3) * l) - (vt(2) + vt(3) * (l + yr))
+                dvy = (ve(1) + za * ve(3)) - (vtw(1) - (ct%rnom - za) * vtw(3))
+                dvz = (ve(2) + ve(3) * l) - (vtw(2) + vtw(3) * (l + yr))
                 ! longitudinal creepage: the material velocity of the wheel at the contact
                 ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
                 ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
@@ -668,18 +691,18 @@ contains
                 ! wheel's table read at (sg u, sg phr): g_u = -tan(delta), g_phi = l + (r_nom
                 ! - za) tan(delta) to first order; with the track's frame terms of zc
                 if (strip) then
-                    ! -grad V over the generalised coordinates: Y = yr + r_nom qt(3), zc = zr
-                    ! - yr qt(3), phr = qw(3) - qt(3); the right wheel's V read mirrored
+                    ! -grad V over the generalised coordinates: Y = yr + r_nom qtw(3), zc = zr
+                    ! - yr qtw(3), phr = qw(3) - qtw(3); the right wheel's V read mirrored
                     gy = sg * so(SO_DY, k)
                     gz = so(SO_DZ, k)
                     gph = sg * so(SO_DPHI, k)
                     fzn = -gz
-                    fyn = -(gy - gz * qt(3))
+                    fyn = -(gy - gz * qtw(3))
                     mwn = -gph
                     mtn = -(gy * ct%rnom - gz * yr - gph)
                 else
                     fzn = fn * cd
-                    fyn = fzn * (sg * grd(1, c) - qt(3))
+                    fyn = fzn * (sg * grd(1, c) - qtw(3))
                     mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
                     mtn = -fzn * (sg * grd(2, c) + yr)
                 end if
@@ -706,7 +729,7 @@ contains
                 ft(2) = ft(2) - fzt - fzn
                 ft(3) = ft(3) - (l + yr) * fzt + (ct%rnom - za) * fyt - mx + mtn
                 wout(1, w) = wout(1, w) + fzt + fzn
-                wout(2, w) = wout(2, w) + fyt + fyn + fzn * qt(3)      ! track axes
+                wout(2, w) = wout(2, w) + fyt + fyn + fzn * qtw(3)      ! track axes
                 wout(3, w) = wout(3, w) + fx
                 wout(3 + k, w) = wout(3 + k, w) + fn
                 if (strip) then
@@ -733,6 +756,7 @@ contains
                 frim(2, w) = fwl(2)
                 frim(3, w) = fwl(3) - rarm(2) * fwl(1) - sg * rarm(1) * fwl(2)
             end if
+            if (ring) frail(:, w) = ft - ftl
         end do
     end subroutine wheelset_contact
 

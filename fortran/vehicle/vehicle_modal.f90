@@ -29,13 +29,15 @@ module vehicle_modal
     use common_kinds, only: dp
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH, STAT_SINGULAR
+    use vehicle_ring, only: ring_rows, ring_rows_create, ring_rows_eval, ring_residual_set, &
+                            ring_residual_eval
     implicit none
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
     public :: modal_factorise, modal_solve, modal_points, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
-    public :: modal_euler
+    public :: modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, modal_ring_residual
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
@@ -72,6 +74,13 @@ module vehicle_modal
         !> the rim material's velocity at the contact point is u'_p + Omega u_e.
         integer, allocatable :: frept(:, :, :)
         real(dp), allocatable :: fromega(:)
+        !> The ring track under the wheels (model RF, modal_ring): wheelset index and the points
+        !> of the pose (y, z, roll) of a track element under each wheel (3, 2 [left, right],
+        !> nrl), whose rows over the ring's modes rm0 + 1 .. rm0 + rr%nk depend on time
+        !> (modal_ring_time, at x_c = x0 + v0 t); their generalised forces are the contact's.
+        integer :: nrl = 0, rm0 = 0
+        integer, allocatable :: rlw(:), rlpt(:, :, :)
+        type(ring_rows) :: rr
     end type modal_part
 
     !> The factors of the modal step matrix S = cq I + ck (cb B + K_m), block by block, and the
@@ -209,6 +218,92 @@ contains
         mp%fromega = omega
         info = STAT_OK
     end subroutine modal_euler
+
+    !> Put wheelsets on the ring track (after modal_create): wheelset rlw(i) has the points
+    !> rlpt(:, k, i) (y, z, roll of a track element under wheel k), rows over the modes rm0 + 1
+    !> .. rm0 + nk evaluated by vehicle_ring (contact point c = 2 (i - 1) + k); the rows are
+    !> set at t = 0. info: STAT_OK; STAT_BAD_ARGUMENT (no modal part, a wheelset outside 1..nw
+    !> or twice, a point outside 1..np, ring modes outside 1..nm, nc not 2 nrl) or from
+    !> vehicle_ring%ring_rows_create.
+    subroutine modal_ring(mp, nw, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, bpos, kpos, voff, kap, &
+                          fam, rail, obs, vk, crho, cx0, ctr, v0, length, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nw, nrl, rm0, ng, nbt, nk, nvk
+        integer, intent(in) :: rlw(nrl), rlpt(3, 2, nrl), bpos(ng + 1), kpos(ng + 1), voff(ng + 1)
+        integer, intent(in) :: fam(nbt), rail(nbt), crho(2 * nrl)
+        real(dp), intent(in) :: kap(nbt), obs(4, nbt), vk(nvk), cx0(2 * nrl), ctr(3, 4, 2 * nrl)
+        real(dp), intent(in) :: v0, length
+        integer, intent(out) :: info
+        integer :: i
+        info = STAT_BAD_ARGUMENT
+        if (mp%nm == 0 .or. nrl < 1) return
+        if (any(rlw < 1) .or. any(rlw > nw) .or. any(rlpt < 1) .or. any(rlpt > mp%np)) return
+        if (rm0 < 0 .or. rm0 + nk > mp%nm) return
+        do i = 2, nrl
+            if (any(rlw(1:i - 1) == rlw(i))) return
+        end do
+        call ring_rows_create(ng, nbt, nk, nvk, 2 * nrl, bpos, kpos, voff, kap, fam, rail, obs, vk, &
+                              crho, cx0, ctr, v0, length, mp%rr, info)
+        if (info /= STAT_OK) return
+        mp%nrl = nrl
+        mp%rlw = rlw
+        mp%rlpt = rlpt
+        mp%rm0 = rm0
+        call modal_ring_time(mp, 0.0_dp)
+    end subroutine modal_ring
+
+    !> Add the truncated ring modes' residual flexibility at the contact points (after
+    !> modal_ring): the coordinates rm0 + nk + 3 (c - 1) + 1..3 of contact point c (a massless
+    !> block with K = I each, modal_set_mass) get the rows L(x_c) of vehicle_ring's table.
+    !> info: STAT_OK; STAT_BAD_ARGUMENT (no ring, the coordinates beyond nm) or from
+    !> vehicle_ring%ring_residual_set.
+    subroutine modal_ring_residual(mp, nrx, bay, rtab, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nrx
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (mp%nrl == 0) return
+        if (mp%rm0 + mp%rr%nk + 3 * mp%rr%nc > mp%nm) return
+        call ring_residual_set(mp%rr, nrx, bay, rtab, info)
+        if (info /= STAT_OK) return
+        call modal_ring_time(mp, 0.0_dp)
+    end subroutine modal_ring_residual
+
+    !> Set the ring rows of the wheels' points to their values at time t (contact points at
+    !> x0 + v0 t), and the residual rows if any; the cached factors become stale
+    !> (rows_version). No ring: nothing.
+    subroutine modal_ring_time(mp, t)
+        type(modal_part), intent(inout) :: mp
+        real(dp), intent(in) :: t
+        real(dp), allocatable :: rows(:, :, :), lres(:, :, :)
+        integer :: i, k, c, j0
+        if (mp%nrl == 0) return
+        allocate (rows(3, mp%rr%nc, mp%rr%nk), lres(3, 3, mp%rr%nc))
+        call ring_rows_eval(mp%rr, t, rows)
+        if (mp%rr%nrx > 0) call ring_residual_eval(mp%rr, t, lres)
+        do i = 1, mp%nrl
+            do k = 1, 2
+                c = 2 * (i - 1) + k
+                mp%phi(mp%rlpt(:, k, i), mp%rm0 + 1:mp%rm0 + mp%rr%nk) = rows(:, c, :)
+                if (mp%rr%nrx > 0) then
+                    j0 = mp%rm0 + mp%rr%nk + 3 * (c - 1)
+                    mp%phi(mp%rlpt(:, k, i), j0 + 1:j0 + 3) = lres(:, :, c)
+                end if
+            end do
+        end do
+        mp%rows_version = mp%rows_version + 1
+    end subroutine modal_ring_time
+
+    !> The index in 1..nrl of wheelset w on the ring track, 0 for one on track elements.
+    pure integer function modal_rail_wheelset(mp, w) result(i)
+        type(modal_part), intent(in) :: mp
+        integer, intent(in) :: w
+        do i = 1, mp%nrl
+            if (mp%rlw(i) == w) return
+        end do
+        i = 0
+    end function modal_rail_wheelset
 
     !> The index in 1..nfr of wheelset w's flexible rims, 0 for a rigid wheelset.
     pure integer function modal_rim_wheelset(mp, w) result(i)

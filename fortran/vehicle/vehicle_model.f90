@@ -18,12 +18,13 @@ module vehicle_model
                                CMODEL_BEM_TANGENT, pose_table, pose_set, SLIN_KEEP, SLIN_READ
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
-                             modal_euler
+                             modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
+                             modal_ring_residual
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
-    public :: vehicle_attach_strip
+    public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time, vehicle_ring_residual
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -217,6 +218,51 @@ contains
         call modal_euler(md%mp, nfr, ept, omega, info)
     end subroutine vehicle_attach_euler
 
+    !> Put a model's wheelsets on the ring track (model RF); see vehicle_modal%modal_ring for
+    !> the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_ring(handle, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, bpos, kpos, &
+                                   voff, kap, fam, rail, obs, vk, crho, cx0, ctr, v0, length, info)
+        integer, intent(in) :: handle, nrl, rm0, ng, nbt, nk, nvk
+        integer, intent(in) :: rlw(nrl), rlpt(3, 2, nrl), bpos(ng + 1), kpos(ng + 1), voff(ng + 1)
+        integer, intent(in) :: fam(nbt), rail(nbt), crho(2 * nrl)
+        real(dp), intent(in) :: kap(nbt), obs(4, nbt), vk(nvk), cx0(2 * nrl), ctr(3, 4, 2 * nrl)
+        real(dp), intent(in) :: v0, length
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_ring(md%mp, md%nw, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, bpos, kpos, voff, kap, &
+                        fam, rail, obs, vk, crho, cx0, ctr, v0, length, info)
+    end subroutine vehicle_attach_ring
+
+    !> Add the ring's residual flexibility at the contact points; see
+    !> vehicle_modal%modal_ring_residual for the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_ring_residual(handle, nrx, bay, rtab, info)
+        integer, intent(in) :: handle, nrx
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_ring_residual(md%mp, nrx, bay, rtab, info)
+    end subroutine vehicle_ring_residual
+
+    !> Set the ring rows of a model to time t (the wheels' contact points at x0 + v0 t): what the
+    !> next force, tangent or static call sees. info: STAT_OK, STAT_BAD_HANDLE.
+    subroutine vehicle_ring_time(handle, t, info)
+        integer, intent(in) :: handle
+        real(dp), intent(in) :: t
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_ring_time(md%mp, t)
+        info = STAT_OK
+    end subroutine vehicle_ring_time
+
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
     !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
@@ -314,14 +360,19 @@ contains
         type(strip_lin), intent(inout), optional :: slin(2)
         integer, intent(in), optional :: smode
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
-        integer :: j, k, model, ir
+        real(dp) :: rail(6, 2), frail(3, 2)
+        integer :: j, k, model, ir, il
         model = rs%cmodel
         if (present(cheap)) then
             if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         ir = 0
-        if (present(u) .and. present(ud) .and. present(gp)) ir = modal_rim_wheelset(md%mp, w)
+        il = 0
+        if (present(u) .and. present(ud) .and. present(gp)) then
+            ir = modal_rim_wheelset(md%mp, w)
+            il = modal_rail_wheelset(md%mp, w)
+        end if
         if (ir > 0) then
             do k = 1, 2
                 rim(1:3, k) = u(md%mp%frpt(:, k, ir))
@@ -331,18 +382,37 @@ contains
                         + md%mp%fromega(ir) * u(md%mp%frept(j, k, ir))
                 end do
             end do
+        end if
+        if (il > 0) then
+            ! the rail heads under the wheels (model RF): their material velocity Phi(x_c) Q'
+            do k = 1, 2
+                rail(1:3, k) = u(md%mp%rlpt(:, k, il))
+                rail(4:6, k) = ud(md%mp%rlpt(:, k, il))
+            end do
+        end if
+        if (ir > 0 .and. il > 0) then
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
+                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
+                                  slin=slin, smode=smode, rail=rail, frail=frail)
+        else if (ir > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
                                   slin=slin, smode=smode)
-            do k = 1, 2
-                gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
-            end do
+        else if (il > 0) then
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+                                  rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
+                                  slin=slin, smode=smode, rail=rail, frail=frail)
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
                                   slin=slin, smode=smode)
         end if
+        do k = 1, 2
+            if (ir > 0) gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
+            if (il > 0) gp(md%mp%rlpt(:, k, il)) = gp(md%mp%rlpt(:, k, il)) + frail(:, k)
+        end do
         do j = 1, 6
             if (md%iws(j, w) > 0) f(md%iws(j, w)) = f(md%iws(j, w)) + fw(j)
         end do
@@ -441,7 +511,7 @@ contains
         real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
         type(strip_lin) :: sl(2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
-        integer :: w, j, jj, idx(9), n, ir, pts(6), cols(12), nc
+        integer :: w, j, jj, idx(9), n, ir, il, pts(12), npt, cols(18), nc
         logical :: flex
         real(dp), parameter :: eps = 1.0e-8_dp
         flex = present(u)
@@ -453,7 +523,18 @@ contains
         info = STAT_OK
         do w = 1, md%nw
             ir = 0
+            il = 0
             if (flex) ir = modal_rim_wheelset(md%mp, w)
+            if (flex) il = modal_rail_wheelset(md%mp, w)
+            npt = 0
+            if (ir > 0) then
+                pts(1:6) = reshape(md%mp%frpt(:, :, ir), [6])
+                npt = 6
+            end if
+            if (il > 0) then
+                pts(npt + 1:npt + 6) = reshape(md%mp%rlpt(:, :, il), [6])
+                npt = npt + 6
+            end if
             n = 0
             do j = 1, 6
                 if (md%iws(j, w) > 0) then
@@ -468,8 +549,7 @@ contains
                 end if
             end do
             f0w = 0.0_dp
-            if (ir > 0) then
-                pts = reshape(md%mp%frpt(:, :, ir), [6])
+            if (npt > 0) then
                 g0 = 0.0_dp
                 call add_contact(md, rs, w, q, v, f0w, wout, info, cheap=.true., u=u, ud=ud, gp=g0, &
                                  slin=sl, smode=SLIN_KEEP)
@@ -481,11 +561,11 @@ contains
                 j = idx(jj)
                 call perturbed(q, v, j, mode, cv, eps, qp, vp)
                 f1w = 0.0_dp
-                if (ir > 0) then
+                if (npt > 0) then
                     g1 = 0.0_dp
                     call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., u=u, ud=ud, &
                                      gp=g1, slin=sl, smode=SLIN_READ)
-                    jpr(pts, j) = jpr(pts, j) + (g1(pts) - g0(pts)) / eps
+                    jpr(pts(1:npt), j) = jpr(pts(1:npt), j) + (g1(pts(1:npt)) - g0(pts(1:npt))) / eps
                 else
                     call add_contact(md, rs, w, qp, vp, f1w, wout, info, cheap=.true., slin=sl, &
                                      smode=SLIN_READ)
@@ -493,11 +573,12 @@ contains
                 if (info /= STAT_OK) return
                 jac(idx(1:n), j) = jac(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
             end do
-            if (ir == 0) cycle
-            ! the rim points' columns, and their Eulerian points'
-            cols(1:6) = pts
-            nc = 6
+            if (npt == 0) cycle
+            ! the rim and rail points' columns, and the rims' Eulerian points'
+            cols(1:npt) = pts(1:npt)
+            nc = npt
             do jj = 1, 6
+                if (ir == 0) exit
                 j = md%mp%frept(mod(jj - 1, 3) + 1, (jj - 1) / 3 + 1, ir)
                 if (j > 0) then
                     nc = nc + 1
@@ -513,7 +594,7 @@ contains
                                  slin=sl, smode=SLIN_READ)
                 if (info /= STAT_OK) return
                 jru(idx(1:n), j) = jru(idx(1:n), j) + (f1w(idx(1:n)) - f0w(idx(1:n))) / eps
-                jpu(pts, j) = jpu(pts, j) + (g1(pts) - g0(pts)) / eps
+                jpu(pts(1:npt), j) = jpu(pts(1:npt), j) + (g1(pts(1:npt)) - g0(pts(1:npt))) / eps
             end do
         end do
     end subroutine contact_tangent

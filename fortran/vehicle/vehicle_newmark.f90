@@ -26,7 +26,7 @@ module vehicle_newmark
     use vehicle_contact, only: nwo
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points
+                             modal_solve, modal_points, modal_ring_time
     implicit none
     private
     public :: newmark_run, static_solve, state_force, hht_options, NSTATS
@@ -97,7 +97,7 @@ contains
     !> accepted steps, 9 and 10 the same for the last correction max |dq| (m, rad).
     subroutine newmark_run(md, rs, h, nsteps, nevery, opt, t, q, v, a, nout, tout, qout, vout, &
                            wout, stats, info, tfail)
-        type(vmodel), intent(in) :: md
+        type(vmodel), intent(inout) :: md      ! the ring rows (model RF) follow the time
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: h
         integer, intent(in) :: nsteps, nevery, nout
@@ -123,6 +123,7 @@ contains
         allocate (st%v, source=v)
         allocate (st%a, source=a)
         allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
+        call modal_ring_time(md%mp, t)
         if (md%mp%nm > 0) then      ! massless coordinates carry no acceleration
             where (md%mp%mass == 0.0_dp) st%a(md%nd + 1:) = 0.0_dp
         end if
@@ -131,7 +132,7 @@ contains
             do n = 1, nsteps
                 tl = 0.0_dp
                 tally%why = STAT_OK
-                call cover_step(md, rs, h, 0, opt, st, tally, tl, ok, info)
+                call cover_step(md, rs, t, h, 0, opt, st, tally, tl, ok, info)
                 if (info /= STAT_OK .or. .not. ok) then
                     info = run_failure(md, opt, st, info, tally%why)
                     tfail = t + tl + h / 2**opt%maxsub
@@ -202,11 +203,12 @@ contains
     end function near_edge
 
     !> Cover the rest of one output step, h - tl, with sub-steps h / 2^lev, refining further
-    !> on failure down to h / 2^maxsub; ok when the step is complete (tl = h).
-    recursive subroutine cover_step(md, rs, h, lev, opt, st, tally, tl, ok, info)
-        type(vmodel), intent(in) :: md
+    !> on failure down to h / 2^maxsub; ok when the step is complete (tl = h). t0: the time at
+    !> the output step's start; the ring rows (model RF) are set to each sub-step's end time.
+    recursive subroutine cover_step(md, rs, t0, h, lev, opt, st, tally, tl, ok, info)
+        type(vmodel), intent(inout) :: md
         type(vsettings), intent(in) :: rs
-        real(dp), intent(in) :: h
+        real(dp), intent(in) :: t0, h
         integer, intent(in) :: lev
         type(hht_options), intent(in) :: opt
         type(hht_state), intent(inout) :: st
@@ -219,6 +221,7 @@ contains
         hl = h / 2**lev
         tally%hmin = min(tally%hmin, hl)
         do while (tl < h - 0.5_dp * hl)
+            if (md%mp%nrl > 0) call modal_ring_time(md%mp, t0 + tl + hl)
             call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
             if (info /= STAT_OK) then
                 ok = .false.
@@ -226,7 +229,7 @@ contains
             end if
             if (.not. ok) then
                 if (lev >= opt%maxsub) return
-                call cover_step(md, rs, h, lev + 1, opt, st, tally, tl, ok, info)
+                call cover_step(md, rs, t0, h, lev + 1, opt, st, tally, tl, ok, info)
                 return
             end if
             tl = tl + hl
@@ -398,7 +401,7 @@ contains
         lin = 0
         a1 = sd%cq * (q1 - sd%qt)
         v1 = sd%vt + sd%gamma * sd%h * a1
-        if (md%mp%nfr > 0) then
+        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
             call full_tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
         else
             call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
@@ -409,7 +412,7 @@ contains
         if (md%mp%nm > 0) then
             call modal_point_tangent(md%mp, nd, q1(1:nd), v1(1:nd), q1(nd + 1:), v1(nd + 1:), sd%cv, &
                                      jac, jru, nl%jpr, nl%jpu)
-            if (md%mp%nfr > 0) then
+            if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
                 jru = jru + jcru
                 nl%jpr = nl%jpr + jcpr
                 nl%jpu = nl%jpu + jcpu
@@ -541,8 +544,8 @@ contains
         integer :: nd
         real(dp) :: u(md%mp%np), ud(md%mp%np), gp(md%mp%np)
         nd = md%nd
-        if (md%mp%nfr > 0) then
-            ! model FR: the contact on the deformed rims gives point forces too
+        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
+            ! models FR, RF: the contact on the deformed rims / rails gives point forces too
             call modal_points(md%mp, x(nd + 1:), u)
             call modal_points(md%mp, xd(nd + 1:), ud)
             gp = 0.0_dp
@@ -572,7 +575,7 @@ contains
         jcru = 0.0_dp
         jcpr = 0.0_dp
         jcpu = 0.0_dp
-        if (md%mp%nfr > 0) then
+        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
             call modal_points(md%mp, x(nd + 1:), u)
             call modal_points(md%mp, xd(nd + 1:), ud)
             call tangent(md, rs, x(1:nd), xd(1:nd), cv, mode, jac, info, u, ud, jcru, jcpr, jcpu)

@@ -4,7 +4,10 @@ Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model
 (every scenario): the same with flexible rotating wheelsets (railvti.vehicle.flexible:
 free-free elastic modes coupled through the rims and journals, docs/vehicle_integrator.md
 "Flexible wheelsets (FR)"); its modal matrices depend on the spin, so it is built at each
-speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Contact models:
+speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Model 'RF' (centred
+running, hunting, coach_system): rigid wheelsets on the flexible ring track
+(railvti.vehicle.ring_coupling, docs/vehicle.md "Model RF"), built per speed
+(:func:`rf_system`) with ``n_sleepers``, ``f_limit``, ``track_params``. Contact models:
 'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
 'hertz-fastsim' (Hertz + FASTSIM) and 'bem' (the BEM normal + steady-rolling solvers on
 0.75 mm grids at every wheel, railvti.vehicle.bem). S1002 wheels on UIC60 rails inclined 1:40.
@@ -37,10 +40,17 @@ from .vehicle.table import WheelTable, linearised_table, wheel_table
 
 log = logging.getLogger(__name__)
 
-MODELS = ("RR", "FR")
+MODELS = ("RR", "FR", "RF")
 #: Scenarios that run model FR.
 _FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
+#: Scenarios that run model RF.
+_RF_SCENARIOS = ("centred_running", "coach_system", "hunting")
+#: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
+RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
+#: Model RF's keys (the ring and its mode selection).
+_RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset")
+_RINGS: dict[Any, Any] = {}
 #: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
 #: The highest harmonic model FR accepts (as the wheelset deck's k_max).
@@ -158,17 +168,20 @@ def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
 def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
         raise InputError(f"unknown model {model!r}: the time simulation has {MODELS} "
-                         "(the ring track is not coupled yet)")
+                         "(model 'FF' is not coupled yet)")
     if model == "FR" and scenario not in _FR_SCENARIOS:
         raise InputError(f"model 'FR' is not available in {scenario or 'this scenario'} yet "
                          f"(only {_FR_SCENARIOS}); use model='RR'")
+    if model == "RF" and scenario not in _RF_SCENARIOS:
+        raise InputError(f"model 'RF' is not available in {scenario or 'this scenario'} yet "
+                         f"(only {_RF_SCENARIOS}); use model='RR'")
     contact_id(contact)
 
 
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
                  linear_conicity: float | None = None, speed_kmh: float | None = None,
                  k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None,
-                 geometry: str = "table") -> System:
+                 geometry: str = "table", **rf: Any) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
 
@@ -180,8 +193,20 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     Model 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
     ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
     ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
+    Model 'RF' (the ring track, :func:`rf_system`) needs the speed too and takes
+    ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``.
     """
     _check_model(model, "hertz-kalker", "coach_system")
+    if model == "RF":
+        if speed is None and speed_kmh is None:
+            raise InputError("model 'RF' needs the speed, speed (m/s) or speed_kmh (the contact "
+                             "points move along the ring at it)")
+        if linear_conicity is not None:
+            raise InputError("model 'RF' has no linearised table (linear_conicity)")
+        return rf_system(coach, speed_kmh=speed_kmh, speed=speed, geometry=geometry, **rf)
+    if rf:
+        raise InputError(f"{', '.join(sorted(rf))}: not a key of model {model!r} "
+                         f"(model 'RF' takes {_RF_KEYS})")
     if model == "FR":
         if speed is None and speed_kmh is None:
             raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
@@ -238,6 +263,63 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     return _with_geometry(sy, geometry), lays
 
 
+def _ring(n_sleepers: Any, track_params: dict | None):
+    """The ring track of model RF (cached per n_sleepers and parameters)."""
+    from .track.ring import RingTrack
+    n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
+    tp = dict(track_params or {})
+    key = (n, tuple(sorted((k, repr(v)) for k, v in tp.items())))
+    if key not in _RINGS:
+        _RINGS.clear()          # one ring at a time: they are large
+        _RINGS[key] = RingTrack(n, **tp)
+    return _RINGS[key]
+
+
+def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
+              speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
+              f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
+              x_offset: float = 0.0, geometry: str = "table"):
+    """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
+
+    Parameters
+    ----------
+    coach : Coach, optional
+    speed_kmh, speed : float
+        The speed, km/h or m/s (exactly one): the wheels' contact points move along the ring
+        at it.
+    n_sleepers : int
+        Sleepers on the ring (length n_sleepers x spacing; the paper's is 128); the ring must
+        hold the wheelsets' span plus two sleeper bays.
+    f_limit : float or None
+        Keep the ring modes up to this frequency, Hz (None: all the ring's modes).
+    track_params : dict, optional
+        Parameters of :class:`railvti.track.RingTrack` (physics and numerics).
+    x_offset : float
+        The coach centre's position along the ring at t = 0, m.
+    geometry : str
+        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+
+    Returns
+    -------
+    railvti.vehicle.ring_coupling.RingSystem
+
+    Raises
+    ------
+    InputError
+        A ring too short for the coach (checked before it is built), no ring mode up to
+        f_limit, bad track parameters.
+    """
+    from .vehicle.ring_coupling import build_rf, check_ring_length
+    v, _ = _speeds(speed_kmh, speed)
+    cc = coach or Coach()
+    n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
+    spacing = dict(track_params or {}).get("sleeper_spacing", 0.6)
+    check_ring_length(n, spacing, cc)
+    track = _ring(n, track_params)
+    sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset)
+    return _with_geometry(sy, geometry)
+
+
 @dataclass(frozen=True)
 class CentredRunning:
     """Centred running: static equilibrium and a short run from it.
@@ -259,11 +341,15 @@ class CentredRunning:
         FASTSIM tractions, slip and friction power density on a 40 x 40 strip grid of the
         Hertz ellipse, from the run's normal force, semi-axes and creepages.
     model : str
-        'RR' or 'FR'.
+        'RR', 'FR' or 'RF'.
     rim_angle : ndarray (2, 4) or None
         Model FR: the change of the rim-rail angle from the rims' camber at the end of the
         run, rad [wheel, wheelset] (+: the tread's inner edge rises;
         railvti.vehicle.flexible.rim_rail_angle_change); None for RR.
+    rail : ndarray (nt, 3, 2, 4) or None
+        Model RF: the rail head's motion under each wheel at the run's outputs, the pose
+        (y m, z m, roll rad) of the element under wheel [., ., wheel, wheelset] in the
+        vehicle's frame (RingSystem.rail_deflection); None otherwise.
     """
 
     Q: np.ndarray
@@ -276,6 +362,7 @@ class CentredRunning:
     patch: Any = None
     model: str = "RR"
     rim_angle: np.ndarray | None = None
+    rail: np.ndarray | None = None
 
     @property
     def q_error(self) -> float:
@@ -294,7 +381,7 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     speed_kmh : float, optional
         Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
     model, contact : str
-        'RR'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+        'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
     speed : float, optional
         Speed, m/s (give it or speed_kmh, not both).
     duration : float
@@ -305,7 +392,8 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw
-        Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection.
+        Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection;
+        model RF n_sleepers, f_limit, track_params, x_offset (:func:`rf_system`).
     """
     v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
@@ -326,9 +414,12 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     if model == "FR":
         from .vehicle.flexible import rim_rail_angle_change
         rim = rim_rail_angle_change(sy, run.q[-1])
+    rail = None
+    if model == "RF":
+        rail = sy.rail_deflection(run.t, run.q)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
                           run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch,
-                          model=model, rim_angle=rim)
+                          model=model, rim_angle=rim, rail=rail)
 
 
 def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
@@ -374,6 +465,14 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
 def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
     """The scenario's system: RR, or FR at this speed with the mode selection popped from kw."""
     geometry = kw.pop("geometry", "table")
+    if model == "RF":
+        _no_fr_keys(kw)
+        rf = {k: kw.pop(k) for k in _RF_KEYS if k in kw}
+        return coach_system(model, coach, speed_kmh=speed_kmh, geometry=geometry, **rf)
+    extra = sorted(k for k in _RF_KEYS if k in kw)
+    if extra:
+        raise InputError(f"{', '.join(extra)}: keys of model 'RF' (the ring track); model "
+                         f"{model!r} has none")
     if model == "FR":
         return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
                             f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry)

@@ -1,0 +1,434 @@
+"""Model RF: the coach's rigid wheelsets on the flexible ring track (docs/vehicle.md, "Model RF").
+
+The four rigid track elements of model RR are replaced by one :class:`~railvti.track.RingTrack`
+of two rails under the whole coach. Each wheel's contact point moves along its rail,
+x_c = x_offset + x_wheelset + v0 t (mod the ring length); the rail head's motion there
+(lateral, vertical, roll at the crown, from the kept ring modes) is expressed as the pose
+(y, z, roll) of a track element of that wheel's own, so the wheel-rail contact of model RR is
+evaluated unchanged against it and its generalised forces on that pose drive the modes through
+the same rows (moving loads). The rows are time-dependent attachment rows of a modal block;
+the Fortran time loop evaluates them once per (sub-)step (fortran/vehicle/vehicle_ring.f90),
+so the per-step cost is linear in the kept modes.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .. import _checks
+from .._native import core
+from .._status import check
+from ..errors import InputError
+from ..track.coupling import rail_of_wheel, wheel_head_shapes
+from .assembly import System, build_coach
+from .model import ModalBlocks, VehicleModel
+
+if TYPE_CHECKING:   # pragma: no cover
+    from ..track.ring import RingTrack
+    from .params import Coach
+    from .table import WheelTable
+
+#: Points per wheel: the pose (y, z, roll) of the track element under it.
+POINT_COMPONENTS = ("y", "z", "roll")
+
+
+@dataclass(frozen=True)
+class RingRows:
+    """The kept ring modes' data for the Fortran row evaluation, and the contact points.
+
+    Attributes
+    ----------
+    modes : ndarray (nk,) int
+        Indices of the kept modes in the ring's modal form (``RingTrack.lam``).
+    bpos, kpos, voff : ndarray (ng + 1,) int
+        Per kept group: start of its basis functions, of its kept modes, of its packed
+        eigenvector entries (0-based).
+    kap, fam, rail, obs : ndarray
+        The groups' rail basis functions: wave number (rad/m), family, rail, crown
+        observation traces (4, nbt).
+    vk : ndarray
+        Packed eigenvector entries over the basis functions (nb_g x nk_g per group, column-major).
+    crho : ndarray (8,) int
+        Rail (1 left, 2 right) of each contact point, c = 2 wheelset + wheel.
+    cx0 : ndarray (8,)
+        Position of each contact point along the ring at t = 0, m.
+    ctr : ndarray (3, 4, 8)
+        Map of the rail-local head values (x, eta, zeta, roll) onto the point's track-element
+        pose (y, z, roll) in the vehicle's frame: the cant, the mirror and the element's arms.
+    speed : float
+        v0, m/s.
+    length : float
+        Ring length, m.
+    rail_distance : float
+        Distance between the rail axes, m.
+    rtab : ndarray (3, 3, n_table, 2) or None
+        The truncated modes' compliance R at each contact point over one bay per rail,
+        divided by rscale^2 (None: no residual flexibility).
+    bay : float
+        Sleeper spacing, m (the table's period).
+    rscale : float
+        sqrt of the largest diagonal compliance, sqrt(m/N): the residual coordinates z have
+        rows L(x) (L L^T = rtab) and stiffness I / rscale^2, so that z is a displacement of
+        the size of the residual deflection (the correction test in m stays meaningful, e.g.
+        with the BEM's noisy forces).
+    """
+
+    modes: np.ndarray
+    bpos: np.ndarray
+    kpos: np.ndarray
+    voff: np.ndarray
+    kap: np.ndarray
+    fam: np.ndarray
+    rail: np.ndarray
+    obs: np.ndarray
+    vk: np.ndarray
+    crho: np.ndarray
+    cx0: np.ndarray
+    ctr: np.ndarray
+    speed: float
+    length: float
+    rail_distance: float
+    rtab: np.ndarray | None = None
+    bay: float = 0.0
+    rscale: float = 1.0
+
+    @property
+    def n_modes(self) -> int:
+        """Number of kept ring modes."""
+        return int(self.modes.size)
+
+    @property
+    def n_residual(self) -> int:
+        """Number of residual coordinates (3 per contact point, or none)."""
+        return 0 if self.rtab is None else 3 * int(self.crho.size)
+
+    def residual_rows(self, t: np.ndarray | float) -> np.ndarray:
+        """Lower Cholesky factors L (nt, 3, 3, 8) of the residual compliance at each contact
+        point, R(x) interpolated linearly over the bay table (vehicle_ring%ring_residual_eval)."""
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        nrx = self.rtab.shape[2]
+        out = np.zeros((ts.size, 3, 3, self.crho.size))
+        for c in range(self.crho.size):
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            sx = np.mod(x, self.bay) / self.bay * nrx
+            i0 = np.minimum(sx.astype(int), nrx - 1)
+            w = sx - i0
+            i1 = (i0 + 1) % nrx
+            tab = self.rtab[:, :, :, self.crho[c] - 1]
+            r = (1 - w)[:, None, None] * tab[:, :, i0].transpose(2, 0, 1) \
+                + w[:, None, None] * tab[:, :, i1].transpose(2, 0, 1)
+            out[:, :, :, c] = np.linalg.cholesky(r)
+        return out
+
+    def rows(self, t: np.ndarray | float) -> np.ndarray:
+        """The contact points' rows at times t (numpy; the Fortran loop evaluates the same).
+
+        Returns
+        -------
+        ndarray (nt, 3, 8, nk)
+            Pose (y, z, roll) of the element under each contact point per unit modal
+            coordinate.
+        """
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.zeros((ts.size, 3, self.crho.size, self.n_modes))
+        for c in range(self.crho.size):
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            tb = self._trig(x) * self.obs[None]                        # (nt, 4, nbt)
+            tb[:, :, self.rail != self.crho[c]] = 0.0
+            psi = np.zeros((ts.size, 4, self.n_modes))
+            for g in range(self.bpos.size - 1):
+                b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
+                v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+                psi[:, :, k0:k1] = tb[:, :, b0:b1] @ v
+            out[:, :, c, :] = np.einsum("ij,tjr->tir", self.ctr[:, :, c], psi)
+        return out
+
+    def displacement(self, t: np.ndarray, qm: np.ndarray) -> np.ndarray:
+        """The contact points' element poses rows(t) @ qm(t) along a history, without the rows.
+
+        Parameters
+        ----------
+        t : ndarray (nt,)
+            Times, s.
+        qm : ndarray (nt, nk)
+            The kept ring modes' coordinates.
+
+        Returns
+        -------
+        ndarray (nt, 3, 8)
+        """
+        ts = np.atleast_1d(np.asarray(t, dtype=float))
+        qm = np.atleast_2d(qm)
+        amp = np.empty((ts.size, self.kap.size))      # basis-function amplitudes V Q per group
+        for g in range(self.bpos.size - 1):
+            b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
+            v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+            amp[:, b0:b1] = qm[:, k0:k1] @ v.T
+        out = np.empty((ts.size, 3, self.crho.size))
+        for c in range(self.crho.size):
+            on = self.rail == self.crho[c]
+            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
+            kx = x[:, None] * self.kap[None, on]
+            f1, f2 = (self.fam[on] == 1), (self.fam[on] == 2)
+            s, co = np.sin(kx), np.cos(kx)
+            tx = np.where(f1, s, np.where(f2, -co, 1.0)) * amp[:, on]     # u_x's factor
+            to = np.where(f1, co, np.where(f2, s, 1.0)) * amp[:, on]      # the others'
+            psi = np.concatenate([tx @ self.obs[0, on][:, None], to @ self.obs[1:, on].T], axis=1)
+            out[:, :, c] = psi @ self.ctr[:, :, c].T
+        return out
+
+    def _trig(self, x: np.ndarray) -> np.ndarray:
+        """track_ring%trig_at for every basis function: (nt, 4, nbt)."""
+        kx = x[:, None] * self.kap[None, :]
+        s, co = np.sin(kx), np.cos(kx)
+        one = np.ones_like(kx)
+        f1 = self.fam == 1
+        f2 = self.fam == 2
+        comp_x = np.where(f1, s, np.where(f2, -co, one))
+        comp_o = np.where(f1, co, np.where(f2, s, one))
+        return np.stack([comp_x, comp_o, comp_o, comp_o], axis=1)
+
+
+@dataclass(frozen=True)
+class RingSystem(System):
+    """A System whose wheelsets run on the ring track (model RF).
+
+    Attributes
+    ----------
+    ring : RingRows
+        The kept ring modes and contact points (the modal block's last ``ring.n_modes``
+        coordinates); the 24 attachment points are (y, z, roll) of each wheel's element,
+        point 6 wheelset + 3 wheel + component.
+
+    Notes
+    -----
+    :attr:`native` also puts the wheelsets on the ring and sets its rows to t = 0 on every
+    access (a static solve and a run's initial force are at t = 0; the run sets the rows of
+    each step itself).
+    """
+
+    ring: RingRows | None = None
+
+    @property
+    def native(self) -> VehicleModel:
+        model = self.__dict__.get("_native")
+        fresh = model is None or not model.alive
+        model = super().native
+        r = self.ring
+        if fresh and r is not None:
+            nw = int(self.iws.shape[1])
+            rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1).astype(np.int32)
+            info = core.vehicle_ring_attach_c(
+                model.handle, np.arange(1, nw + 1, dtype=np.int32), np.asfortranarray(rlpt),
+                self.modal.n_modes - r.n_modes - r.n_residual, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
+                r.rail, np.asfortranarray(r.obs), r.vk, r.crho, r.cx0, np.asfortranarray(r.ctr),
+                r.speed, r.length)
+            check(info, "ring track rows")
+            if r.n_residual:
+                info = core.vehicle_ring_residual_c(model.handle, r.bay, np.asfortranarray(r.rtab))
+                check(info, "ring track residual flexibility")
+        if r is not None:
+            check(core.vehicle_ring_time_c(model.handle, 0.0), "ring track time")
+        return model
+
+    def rail_deflection(self, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """Rail-head motion under each wheel along a history.
+
+        Parameters
+        ----------
+        t : ndarray (nt,)
+            Times, s.
+        x : ndarray (nt, n_state)
+            States (DOFs then modal coordinates).
+
+        Returns
+        -------
+        ndarray (nt, 3, 2, nw)
+            The element pose (y m, z m, roll rad; vehicle frame) under wheel [., ., k, w];
+            z is the vertical displacement of the rail head's crown.
+        """
+        r = self.ring
+        x = np.atleast_2d(x)
+        m0 = self.n_state - r.n_modes - r.n_residual
+        u = r.displacement(t, x[:, m0:m0 + r.n_modes])
+        if r.n_residual:
+            z = x[:, m0 + r.n_modes:].reshape(x.shape[0], -1, 3)       # (nt, 8, 3)
+            u = u + np.einsum("tijc,tcj->tic", r.residual_rows(t), z)
+        nw = int(self.iws.shape[1])
+        return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
+
+
+def _check_span(n_sleepers: int, spacing: float, span: float) -> None:
+    if n_sleepers * spacing < span + 2.0 * spacing:
+        n_min = int(math.ceil(span / spacing - 1e-9)) + 2
+        raise InputError(f"ring of {n_sleepers} sleepers ({n_sleepers * spacing:.4g} m) too short "
+                         f"for the coach: its wheelsets span {span:.4g} m; take n_sleepers >= "
+                         f"{n_min} (the span plus two sleeper bays)")
+
+
+def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
+    """InputError when a ring of n_sleepers bays of ``spacing`` (m) cannot hold the coach's
+    wheelsets (span 2 (half_bogie_distance + half_wheelbase)) plus two sleeper bays."""
+    s = _checks.positive("sleeper_spacing", spacing)
+    span = 2.0 * (coach["half_bogie_distance"] + coach["half_wheelbase"])
+    _check_span(int(n_sleepers), s, span)
+
+
+def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
+              f_limit: float | None = None, x_offset: float = 0.0,
+              residual: bool = True, n_table: int = 24) -> RingRows:
+    """Pack the ring modes up to ``f_limit`` and the wheels' contact points.
+
+    With ``residual`` (and modes truncated) the truncated modes' static compliance at a
+    contact point, R(x) = sum_r rows_r(x) rows_r(x)^T / lambda_r over the element pose, is
+    tabulated at ``n_table`` positions over one sleeper bay per rail (the ring repeats with
+    the bay); the cross-compliance between different wheels is left out.
+
+    Raises
+    ------
+    InputError
+        No mode at or below f_limit; a ring shorter than the wheelsets' span plus two bays.
+    """
+    xw = np.asarray(x_wheelsets, dtype=float)
+    length = float(track.length)
+    a = track.params["sleeper_spacing"]
+    span = float(xw.max() - xw.min())
+    _check_span(track.n_sleepers, a, span)
+    om = np.sqrt(track.lam)
+    if f_limit is None:
+        sel = np.arange(om.size)
+    else:
+        fl = _checks.positive("f_limit", f_limit)
+        sel = np.where(om <= 2 * math.pi * fl)[0]
+    if sel.size == 0:
+        raise InputError(f"no ring mode at or below f_limit = {f_limit} Hz (the lowest is "
+                         f"{om.min() / (2 * math.pi):.4g} Hz)")
+    keep = np.zeros(om.size, bool)
+    keep[sel] = True
+    bpos, kpos, voff = [0], [0], [0]
+    kap, fam, rail, obs, vk, modes = [], [], [], [], [], []
+    for g in range(track.mpos.size - 1):
+        m0, m1 = int(track.mpos[g]), int(track.mpos[g + 1])
+        kept = np.where(keep[m0:m1])[0]
+        if kept.size == 0:
+            continue
+        b0, b1 = int(track.bpos[g]), int(track.bpos[g + 1])
+        nt = m1 - m0
+        v = track.vflat[track.vpos[g]:track.vpos[g] + nt * nt].reshape(nt, nt, order="F")
+        o = b0 + np.argsort(track.rail[b0:b1], kind="stable")     # rail 1's functions first
+        kap.append(track.kap[o]); fam.append(track.fam[o]); rail.append(track.rail[o])
+        obs.append(track.obs[:, o])
+        vk.append(v[o - b0][:, kept].ravel(order="F"))
+        modes.append(m0 + kept)
+        bpos.append(bpos[-1] + b1 - b0)
+        kpos.append(kpos[-1] + kept.size)
+        voff.append(voff[-1] + (b1 - b0) * kept.size)
+    nw = xw.size
+    half = 0.5 * track.params["rail_distance"]
+    crho = np.zeros(2 * nw, np.int32)
+    cx0 = np.zeros(2 * nw)
+    ctr = np.zeros((3, 4, 2 * nw))
+    for w in range(nw):
+        for k in range(2):
+            c = 2 * w + k
+            m = rail_of_wheel(k)
+            beta = track._geom[1][m.rail - 1]
+            cs, sn = math.cos(beta), math.sin(beta)
+            cant = np.array([[1, 0, 0, 0], [0, cs, -sn, 0], [0, sn, cs, 0], [0, 0, 0, 1.0]])
+            yp = half if k == 0 else -half          # the rail's crown, vehicle y (left +)
+            elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
+            ctr[:, :, c] = elem @ m.transform @ cant
+            crho[c] = m.rail
+            cx0[c] = x_offset + xw[w]
+    rtab, rscale = None, 1.0
+    trunc = np.where(~keep)[0]
+    if residual and trunc.size:
+        rtab = np.zeros((3, 3, n_table, 2))
+        for k in range(2):
+            yp = half if k == 0 else -half
+            elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
+            for i in range(n_table):
+                h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
+                rtab[:, :, i, k] = (h / track.lam[trunc]) @ h.T
+        rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
+        rtab /= rscale ** 2
+    return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
+                    kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
+                    kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
+                    rail=np.concatenate(rail).astype(np.int32),
+                    obs=np.asfortranarray(np.concatenate(obs, axis=1)),
+                    vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
+                    length=length, rail_distance=2 * half, rtab=rtab, bay=float(a),
+                    rscale=rscale)
+
+
+def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
+             f_limit: float | None = None, x_offset: float = 0.0,
+             stiffness_scale: float = 1.0, residual: bool = True) -> RingSystem:
+    """Model RF: the coach's rigid wheelsets on the flexible ring track.
+
+    Parameters
+    ----------
+    coach : Coach
+    table : WheelTable
+    speed : float
+        v0, m/s (the contact points move along the ring at v0).
+    track : RingTrack
+        The ring (length n_sleepers x spacing, longer than the wheelsets' span plus two bays).
+    f_limit : float, optional
+        Keep the ring modes up to this frequency, Hz (default: all).
+    residual : bool
+        Keep the truncated modes' static compliance at each contact point (residual
+        flexibility, :func:`ring_rows`): three massless coordinates per wheel after the modes.
+    x_offset : float
+        Position along the ring of the coach centre at t = 0, m (sleeper s at s x spacing).
+    stiffness_scale : float
+        Multiplies the ring's modal stiffness (its damping by the square root: the same
+        damping ratios); 1 is the ring itself, a large value a nearly rigid ring (a check).
+
+    Returns
+    -------
+    RingSystem
+        DOFs of the coach on rigid ground, then the kept ring modes (names
+        ``ring_g<group>_<index>``).
+
+    Raises
+    ------
+    InputError
+        Speed <= 0, a ring too short, no mode kept, stiffness_scale <= 0.
+    """
+    v0 = _checks.positive("speed", speed)
+    s = _checks.positive("stiffness_scale", stiffness_scale)
+    x_offset = _checks.finite("x_offset", x_offset)
+    base = build_coach(coach, table, track=False)
+    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset,
+                   residual=residual)
+    lam = track.lam[rr.modes] * s
+    cm = track.cmod[rr.modes] * math.sqrt(s)
+    om = np.sqrt(lam)
+    phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")   # point 3 c + i
+    names = tuple(f"ring_g{int(track.group[m])}_{int(m)}" for m in rr.modes)
+    mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
+    if rr.n_residual:
+        nc = rr.crho.size
+        lres = rr.residual_rows(0.0)[0]   # rows L, stiffness s I / rscale^2: compliance R / s
+        pr = np.zeros((3 * nc, 3 * nc))
+        for c in range(nc):
+            pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
+        eye = np.eye(3) * s / rr.rscale ** 2
+        mb = ModalBlocks(mb.damping + (np.zeros((3, 3)),) * nc, mb.stiffness + (eye,) * nc,
+                         np.hstack([mb.phi, pr]),
+                         names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
+                                             for c in range(nc) for i in "yzr"),
+                         massless=(False,) * rr.n_modes + (True,) * nc)
+    base = base.with_modal(mb)
+    fields = {f: getattr(base, f) for f in base.__dataclass_fields__}
+    return RingSystem(**fields, ring=rr)
+
+
+def set_time(system: RingSystem, t: float) -> None:
+    """Set the system's ring rows to time t (the next force or static call sees them)."""
+    check(core.vehicle_ring_time_c(system.native.handle, _checks.finite("t", t)), "ring track time")
