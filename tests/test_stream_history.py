@@ -122,11 +122,11 @@ LONG = """
 """
 
 
-def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path]:
+def _start(tmp_path: Path, **extra_env: str) -> tuple[subprocess.Popen, Path]:
     deck = tmp_path / "deck.nml"
     deck.write_text(LONG)
     out = tmp_path / "out.h5"
-    env = dict(os.environ, **{STREAM_ENV: "1M"})
+    env = dict(os.environ, **{STREAM_ENV: "1M"}, **extra_env)
     proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     return proc, out
@@ -174,6 +174,29 @@ def test_an_interrupted_streamed_case_leaves_a_valid_file(tmp_path):
     full = sc.hunting(300.0, duration=float(t[200]) + 1e-9, output_dt=0.001, progress=False)
     with h5py.File(out, "r") as f:
         assert np.array_equal(f["002_long/q"][:201], full.q[:201])
+
+
+def test_an_interrupted_long_history_keeps_its_first_rows(tmp_path):
+    """Beyond the copy budget (here 0.05 MB) an interrupted case keeps the first rows of its
+    streamed history, says so, and every streamed dataset keeps the same rows: the stop does
+    not wait for a long copy."""
+    proc, out = _start(tmp_path, RAILVTI_INTERRUPTED_COPY_MB="0.05")
+    _wait_for_stream(proc, tmp_path, out)
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, (stdout, stderr)
+    with h5py.File(out, "r") as f:
+        g = f["002_long"]
+        assert str(g.attrs["status"]).startswith("interrupted: SIGINT")
+        kept = str(g.attrs["history_rows_kept"])
+        n_kept, n_all = (int(w) for w in kept.split()[:3:2])
+        t = g["t"][()]
+        assert len(t) == n_kept < n_all
+        assert t[0] == 0.0 and np.all(np.diff(t) > 0)
+        assert g["stat_interrupted_at"][()] > t[-1]
+        assert g["q"].shape[0] == g["v"].shape[0] == n_kept
+        assert g["q"].nbytes + g["v"].nbytes + g["t"].nbytes <= 0.05 * 2**20
 
 
 def test_sigkill_in_a_streamed_case_leaves_the_previous_valid_file(tmp_path):

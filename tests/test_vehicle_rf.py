@@ -20,7 +20,7 @@ from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import RingSystem, build_rf, ring_rows
 from railvti.vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12.0, f_max=500.0)
+COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6
 
 
