@@ -242,7 +242,7 @@ def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = Tru
                              **(dict(opts, chunks=True) if opts else {}))
         step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
         for i in range(0, n, step):
-            d[i:i + step] = s[i:i + step]
+            d[i:min(i + step, n)] = s[i:min(i + step, n)]
     return d
 
 
