@@ -236,11 +236,18 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
         assert proc.poll() is None, proc.communicate()
         time.sleep(0.05)
     time.sleep(0.3)
+    t_sig = time.monotonic()
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=60)
+    stopped = time.monotonic() - t_sig
     assert proc.returncode == 130, stdout + stderr
     assert "--resume" in stdout
-    assert _statuses(out) == {k: "ok" for k in fast}       # the running points are not written
+    st = _statuses(out)
+    assert {k: st[k] for k in fast} == {k: "ok" for k in fast}
+    # the points the workers were running are marked, as the serial path marks its case
+    running = {k: v for k, v in st.items() if k not in fast}
+    assert running and all(v.startswith("interrupted: SIGINT") for v in running.values()), st
+    assert stopped < 3.0          # the workers are killed, not waited for (about 0.9 s here)
     with h5py.File(out, "r") as f:
         walls = {k: f[k].attrs["wall_time"] for k in fast}
     r = subprocess.run(cmd + ["--resume"], capture_output=True, text=True, timeout=180)

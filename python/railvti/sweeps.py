@@ -34,6 +34,7 @@ import json
 import logging
 import math
 import os
+import signal
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -349,7 +350,19 @@ def local_client(n_workers: int | None = None) -> Any:
         with Client(cluster) as client:
             yield client
     finally:
+        _kill_workers(cluster)
         cluster.close()
+
+
+def _kill_workers(cluster: Any) -> None:
+    """Kill a LocalCluster's worker processes (ours, their tasks finished or abandoned): a
+    graceful close waits seconds for a worker busy in a Fortran call, an interrupted run must
+    stop within a second."""
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        try:
+            os.kill(nanny.process.process.pid, signal.SIGKILL)
+        except (AttributeError, ProcessLookupError, OSError):
+            pass
 
 
 @contextlib.contextmanager
@@ -406,6 +419,7 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
         by_key[key] = c
         futures.append(client.submit(run_task, c, key=key, pure=False, retries=0))
     stop: str | None = None
+    t_start = time.monotonic()
     ac = as_completed(futures)
     try:
         while True:
@@ -424,10 +438,30 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
                 stop = guard.pending
                 break
     finally:
+        if stop is not None:
+            _mark_interrupted(client, futures, by_key, stop, time.monotonic() - t_start,
+                              on_record)
         for f in futures:
             if not f.done():
                 f.cancel()
     return stop
+
+
+def _mark_interrupted(client: Any, futures: list, by_key: dict[str, Case], signame: str,
+                      elapsed: float, on_record: Callable[[Any], bool]) -> None:
+    """Record the cases a signal stopped while a worker was running them as interrupted (as
+    the serial path records its running case); queued cases stay absent (``--resume`` runs
+    them)."""
+    from .results import CaseRecord
+    try:
+        running = client.run(lambda dask_worker: [ts.key for ts in dask_worker.state.executing])
+    except Exception:  # noqa: BLE001 - a worker gone or busy: nothing to mark
+        return
+    keys = {k for ks in running.values() for k in ks}
+    for f in futures:
+        if f.key in keys and not f.done() and f.key in by_key:
+            if not on_record(CaseRecord(by_key[f.key], interrupted=signame, wall_time=elapsed)):
+                return
 
 
 def _record(fut: Any, by_key: dict[str, Case]) -> Any:
