@@ -124,9 +124,9 @@ contains
         allocate (st%a, source=a)
         allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
         call modal_ring_time(md%mp, t)
-        if (md%mp%nm > 0) then      ! massless coordinates carry no acceleration
-            where (md%mp%mass == 0.0_dp) st%a(md%nd + 1:) = 0.0_dp
-        end if
+        ! a massless coordinate's a is its BDF2 acceleration from the last call (massless_rates;
+        ! the caller starts it at 0): carried, so that splitting a run into calls (chunks
+        ! sized by wall time) does not change it
         call state_force(md, rs, q, v, st%f, st%w, info)
         if (info == STAT_OK) then
             do n = 1, nsteps
