@@ -622,11 +622,24 @@ def _plot_phases(plt: Any, name: str, points: list, ctype: CaseType | None, path
     for a in ax:
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
-    fig.suptitle(f"sweep '{name}'", fontsize=10)
+    fig.suptitle(f"sweep '{name}'{_what(points)}", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)
     return path
+
+
+def _what(points: list) -> str:
+    """', hunting, model RR, hertz-fastsim on the strips' for a vehicle sweep (its first
+    point's scenario, model, contact and geometry), else ''."""
+    for _, g in points:
+        if "contact" in g and "scenario" in g:
+            def text(k: str) -> str:
+                v = g[k][()] if k in g else b""
+                return v.decode() if isinstance(v, bytes) else str(v)
+            contact = text("contact") + (" on the strips" if text("geometry") == "strip" else "")
+            return f", {text('scenario')}, model {text('model')}, {contact}"
+    return ""
 
 
 def _scalar_results(g: Any) -> dict[str, tuple[float, str]]:
@@ -683,7 +696,7 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=8)
     axes[-1, 0].set_xlabel(f"{xkey}, {xunit}" if xunit else xkey)
-    fig.suptitle(f"sweep '{name}': {len(points)} points", fontsize=10)
+    fig.suptitle(f"sweep '{name}': {len(points)} points{_what(points)}", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)

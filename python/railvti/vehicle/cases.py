@@ -429,7 +429,8 @@ def _text(res: Any, key: str) -> str:
 
 
 def _run_title(res: Any) -> str:
-    """'hunting, 420 km/h, model RR, hertz-fastsim' from a result group."""
+    """'hunting, 420 km/h, model RR, hertz-fastsim' from a result group ('... on the strips'
+    with the strip contact geometry)."""
     parts = [_text(res, "scenario")]
     speed = _scalar(res, "speed_kmh")
     if not np.isfinite(speed) and "inputs" in res and "speed" in res["inputs"]:
@@ -440,5 +441,7 @@ def _run_title(res: Any) -> str:
     if np.isfinite(speed):
         parts.append(f"{speed:.0f} km/h")
     model, contact = _text(res, "model"), _text(res, "contact")
-    parts += [f"model {model}" if model else "", contact]
+    geometry = _text(res, "geometry")
+    parts += [f"model {model}" if model else "",
+              f"{contact} on the strips" if geometry == "strip" else contact]
     return ", ".join(p for p in parts if p)
