@@ -38,7 +38,7 @@ RUNS = (("RR", "table", {}), ("RR", "strip", {}),
 
 def main() -> None:
     duration = float(sys.argv[1]) if len(sys.argv) > 1 else 3.0
-    out = {}
+    out, stopped = {}, []
     for model, geo, kw in RUNS:
         t0 = time.perf_counter()
         try:
@@ -46,6 +46,7 @@ def main() -> None:
                                       progress=False, **kw)
         except DivergenceError as err:
             print(f"{model} {geo}: stopped, {err}")
+            stopped.append(f"{model}, {geo}")
             continue
         wall = time.perf_counter() - t0
         out[(model, geo)] = b
@@ -53,10 +54,10 @@ def main() -> None:
         for s, u, d in zip(b.speeds_kmh, b.upper, b.decay):
             print(f"   {s:5.0f} km/h  upper {u * 1e3:6.2f} mm  decay test {d * 1e3:6.2f} mm")
         sys.stdout.flush()
-    _plot(out, duration)
+    _plot(out, duration, stopped)
 
 
-def _plot(out: dict, duration: float) -> None:
+def _plot(out: dict, duration: float, stopped: list[str]) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -68,8 +69,10 @@ def _plot(out: dict, duration: float) -> None:
                 label=f"{model}, {geo}: from 0.5 mm")
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("limit-cycle amplitude of wheelset 1, mm")
-    ax.set_title(f"Coach on straight track, Hertz + Kalker, {duration:g} s per speed: "
-                 "table against strip contact", fontsize=10)
+    ax.set_title(f"Bifurcation of hunting (coach, straight track), Hertz + Kalker, "
+                 f"{duration:g} s per speed:\ntable against strip contact"
+                 + (f"; not drawn (Newton failed in a flange impact): {', '.join(stopped)}"
+                    if stopped else ""), fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()

@@ -88,8 +88,7 @@ def _check_geometry(contact: str, geometry: str) -> None:
 
 def _with_geometry(sy: System, geometry: str) -> System:
     """The system with the contact geometry ``geometry`` (GEOMETRIES)."""
-    if geometry not in GEOMETRIES:
-        raise InputError(f"unknown contact geometry {geometry!r}: one of {GEOMETRIES}")
+    _check_geometry("", geometry)
     if geometry == "table":
         return sy
     if "strip" not in _PROFILES:
@@ -706,6 +705,27 @@ class _SweepSystems:
         return qn, vn, True
 
 
+def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
+                 v_min_kmh: float | None, v_min: float | None, model: str, contact: str,
+                 coach: Coach | None, h: float | None, k_max: int, f_max: float,
+                 geometry: str) -> tuple[np.ndarray, float, float, _SweepSystems]:
+    """A bifurcation sweep's speeds (km/h), floor (km/h), smallest step (km/h) and systems,
+    every input checked and the step checked against the first speed's system before any
+    run (serial continuation and independent points alike)."""
+    sp = _sweep_speeds(speeds_kmh, speeds)
+    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
+    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
+    _check_model(model, contact, "bifurcation")
+    if model == "FR":
+        k_max, f_max = check_fr_selection(k_max, f_max)
+    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
+    _check_geometry(contact, geometry)
+    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
+    systems.at(sp[0])
+    return sp, v_min_kmh, step, systems
+
+
 def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 contact: str = "hertz-kalker", *, speeds: Sequence[float] | None = None,
                 duration: float = 4.0, y_large: float = 0.006,
@@ -773,17 +793,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
             y_small=y_small, threshold=threshold, h=h, flange_amplitude=flange_amplitude,
             v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
             client=client, geometry=geometry)
-    sp = _sweep_speeds(speeds_kmh, speeds)
-    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
-    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
-    _check_model(model, contact, "bifurcation")
-    if model == "FR":
-        k_max, f_max = check_fr_selection(k_max, f_max)
-    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
-        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    _check_geometry(contact, geometry)
-    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
-    systems.at(sp[0])                  # the step is checked before any run
+    sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
+                                                contact, coach, h, k_max, f_max, geometry)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -924,19 +935,10 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
                              client: Any, geometry: str = "table") -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
     import contextlib
-    sp = _sweep_speeds(speeds_kmh, speeds)
-    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
-    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
-    _check_model(model, contact, "bifurcation")
-    if model == "FR":
-        k_max, f_max = check_fr_selection(k_max, f_max)
-    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
-        _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    _check_geometry(contact, geometry)
-    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
-    systems.at(sp[0])                  # the step is checked before any run
-    kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=k_max, f_max=f_max,
-              duration=duration, geometry=geometry)
+    sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
+                                                contact, coach, h, k_max, f_max, geometry)
+    kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
+              f_max=systems.f_max, duration=duration, geometry=geometry)
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
