@@ -129,7 +129,7 @@ def test_unknown_contact_and_model():
     with pytest.raises(InputError, match="unknown contact"):
         scenarios.hunting(300.0, contact="carter")
     with pytest.raises(InputError, match="model"):
-        scenarios.hunting(300.0, model="FF")
+        scenarios.hunting(300.0, model="FX")
 
 
 def test_model_is_sent_once_and_freed_with_its_system(table):

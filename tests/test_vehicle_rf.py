@@ -189,8 +189,6 @@ def test_centred_running_rf(ring):
 
 
 def test_rf_bad_input():
-    with pytest.raises(InputError, match="FF"):
-        scenarios.centred_running(200.0, model="FF")
     with pytest.raises(InputError, match="too short"):
         scenarios.coach_system("RF", speed_kmh=200.0, n_sleepers=30)
     with pytest.raises(InputError, match="speed"):
@@ -200,4 +198,4 @@ def test_rf_bad_input():
     with pytest.raises(InputError, match="no ring mode"):
         ring_rows(RingTrack(8, **COARSE), np.zeros(1), V, f_limit=1.0)
     with pytest.raises(InputError, match="RF"):
-        scenarios.bifurcation([300.0, 310.0], model="RF")
+        scenarios.linear_critical_speed("RF")

@@ -40,12 +40,14 @@ from .vehicle.table import WheelTable, linearised_table, wheel_table
 
 log = logging.getLogger(__name__)
 
-MODELS = ("RR", "FR", "RF")
+MODELS = ("RR", "FR", "RF", "FF")
 #: Scenarios that run model FR.
 _FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
-#: Scenarios that run model RF.
-_RF_SCENARIOS = ("centred_running", "coach_system", "hunting")
+#: Scenarios that run the models on the ring track, RF and FF.
+_RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed")
+#: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
+FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
 #: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
 #: Model RF's keys (the ring and its mode selection).
@@ -166,14 +168,13 @@ def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
 
 def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
-        raise InputError(f"unknown model {model!r}: the time simulation has {MODELS} "
-                         "(model 'FF' is not coupled yet)")
-    if model == "FR" and scenario not in _FR_SCENARIOS:
-        raise InputError(f"model 'FR' is not available in {scenario or 'this scenario'} yet "
-                         f"(only {_FR_SCENARIOS}); use model='RR'")
-    if model == "RF" and scenario not in _RF_SCENARIOS:
-        raise InputError(f"model 'RF' is not available in {scenario or 'this scenario'} yet "
-                         f"(only {_RF_SCENARIOS}); use model='RR'")
+        raise InputError(f"unknown model {model!r}: the time simulation has {MODELS}")
+    if model in FLEXIBLE_WHEELSETS and scenario not in _FR_SCENARIOS:
+        raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
+                         f"yet (flexible wheelsets: only {_FR_SCENARIOS}); use model='RR'")
+    if model in RING_TRACK and scenario not in _RF_SCENARIOS:
+        raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
+                         f"yet (ring track: only {_RF_SCENARIOS}); use model='RR'")
     contact_id(contact)
 
 
@@ -193,19 +194,25 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
     ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
     Model 'RF' (the ring track, :func:`rf_system`) needs the speed too and takes
-    ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``.
+    ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``; model 'FF' (flexible
+    wheelsets on the ring, :func:`ff_system`) takes the keys of both.
     """
     _check_model(model, "hertz-kalker", "coach_system")
-    if model == "RF":
+    if model in RING_TRACK:
         if speed is None and speed_kmh is None:
-            raise InputError("model 'RF' needs the speed, speed (m/s) or speed_kmh (the contact "
-                             "points move along the ring at it)")
+            raise InputError(f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
+                             "contact points move along the ring at it)")
         if linear_conicity is not None:
-            raise InputError("model 'RF' has no linearised table (linear_conicity)")
+            raise InputError(f"model {model!r} has no linearised table (linear_conicity)")
+        if model == "FF":
+            return ff_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
+                             geometry=geometry, **rf)[0]
+        if (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+            _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
         return rf_system(coach, speed_kmh=speed_kmh, speed=speed, geometry=geometry, **rf)
     if rf:
         raise InputError(f"{', '.join(sorted(rf))}: not a key of model {model!r} "
-                         f"(model 'RF' takes {_RF_KEYS})")
+                         f"(models 'RF' and 'FF' take {_RF_KEYS})")
     if model == "FR":
         if speed is None and speed_kmh is None:
             raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
@@ -308,15 +315,59 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         A ring too short for the coach (checked before it is built), no ring mode up to
         f_limit, bad track parameters.
     """
-    from .vehicle.ring_coupling import build_rf, check_ring_length
+    from .vehicle.ring_coupling import build_rf
     v, _ = _speeds(speed_kmh, speed)
     cc = coach or Coach()
-    n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
-    spacing = dict(track_params or {}).get("sleeper_spacing", 0.6)
-    check_ring_length(n, spacing, cc)
-    track = _ring(n, track_params)
+    track = _checked_ring(cc, n_sleepers, track_params)
     sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset)
     return _with_geometry(sy, geometry)
+
+
+def _checked_ring(coach: Coach, n_sleepers: Any, track_params: dict | None):
+    """The ring of n_sleepers bays, its length checked against the coach before it is built."""
+    from .vehicle.ring_coupling import check_ring_length
+    n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
+    spacing = dict(track_params or {}).get("sleeper_spacing", 0.6)
+    check_ring_length(n, spacing, coach)
+    return _ring(n, track_params)
+
+
+def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
+              speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
+              n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
+              track_params: dict | None = None, x_offset: float = 0.0,
+              geometry: str = "table") -> tuple[System, list]:
+    """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
+
+    The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
+    ``f_max``, residual flexibility at the rims and journals) with the ring's modal block
+    appended (:func:`rf_system`'s ring: ``n_sleepers``, ``f_limit``, ``track_params``,
+    ``x_offset``). Each wheel's contact is evaluated between its deformed rim and the ring's
+    rail head under it (vehicle_model%add_contact with both the rim and the rail points);
+    nothing couples the two flexible bodies but the contact.
+
+    Returns
+    -------
+    railvti.vehicle.ring_coupling.RingSystem, list of railvti.vehicle.flexible.FRLayout
+        State: the coach's DOFs, the wheelsets' modal and residual coordinates, then the ring's
+        modes and residual coordinates (the layouts' slices stay valid).
+
+    Raises
+    ------
+    InputError
+        As :func:`fr_system` and :func:`rf_system`.
+    """
+    from .vehicle.flexible import build_fr
+    from .vehicle.ring_coupling import build_rf
+    v, _ = _speeds(speed_kmh, speed)
+    k_max, f_max = check_fr_selection(k_max, f_max)
+    cc = coach or Coach()
+    track = _checked_ring(cc, n_sleepers, track_params)
+    tab = contact_table()
+    base, lays = build_fr(cc, tab, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
+                          track=False)
+    sy = build_rf(cc, tab, v, track, f_limit=f_limit, x_offset=x_offset, base=base)
+    return _with_geometry(sy, geometry), lays
 
 
 @dataclass(frozen=True)
@@ -410,11 +461,11 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
         run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     rim = None
-    if model == "FR":
+    if model in FLEXIBLE_WHEELSETS:
         from .vehicle.flexible import rim_rail_angle_change
         rim = rim_rail_angle_change(sy, run.q[-1])
     rail = None
-    if model == "RF":
+    if model in RING_TRACK:
         rail = sy.rail_deflection(run.t, run.q)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
                           run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch,
@@ -462,16 +513,20 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
 
 
 def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
-    """The scenario's system: RR, or FR at this speed with the mode selection popped from kw."""
+    """The scenario's system: RR, or FR, RF, FF at this speed with their keys (the mode
+    selection, the ring's) popped from kw."""
     geometry = kw.pop("geometry", "table")
-    if model == "RF":
-        _no_fr_keys(kw)
+    if model in RING_TRACK:
         rf = {k: kw.pop(k) for k in _RF_KEYS if k in kw}
+        if model == "RF":
+            _no_fr_keys(kw)
+        else:
+            rf.update(k_max=kw.pop("k_max", FR_K_MAX), f_max=kw.pop("f_max", FR_F_MAX))
         return coach_system(model, coach, speed_kmh=speed_kmh, geometry=geometry, **rf)
     extra = sorted(k for k in _RF_KEYS if k in kw)
     if extra:
-        raise InputError(f"{', '.join(extra)}: keys of model 'RF' (the ring track); model "
-                         f"{model!r} has none")
+        raise InputError(f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); "
+                         f"model {model!r} has none")
     if model == "FR":
         return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
                             f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry)
@@ -483,8 +538,8 @@ def _no_fr_keys(kw: dict) -> None:
     """InputError for model FR's mode selection given to model RR."""
     extra = sorted(k for k in ("k_max", "f_max") if k in kw)
     if extra:
-        raise InputError(f"{', '.join(extra)}: the mode selection of model 'FR'; model 'RR' has "
-                         "rigid wheelsets (no modes)")
+        raise InputError(f"{', '.join(extra)}: the mode selection of models 'FR' and 'FF'; "
+                         "models 'RR' and 'RF' have rigid wheelsets (no modes)")
 
 
 def _default_step(sy: System) -> float:
@@ -659,13 +714,16 @@ def _floor_kmh(v_min_kmh: float | None, v_min: float | None) -> float:
 
 
 class _SweepSystems:
-    """The systems of a speed sweep: RR's one system, or model FR built per speed (cached by
-    speed; the modes depend on the spin) with its step and static states."""
+    """The systems of a speed sweep: RR's one system, or models FR, RF, FF built per speed
+    (cached by speed; the wheelsets' modes depend on the spin, the ring's rows move at the
+    speed) with their step and static states. ``ring``: the ring's keys (_RF_KEYS)."""
 
     def __init__(self, model: str, coach: Coach | None, contact: str, h: float | None,
-                 k_max: int, f_max: float, geometry: str = "table") -> None:
+                 k_max: int, f_max: float, geometry: str = "table",
+                 ring: dict | None = None) -> None:
         self.model, self.coach, self.contact, self.h = model, coach, contact, h
         self.k_max, self.f_max, self.geometry = k_max, f_max, geometry
+        self.ring = dict(ring or {})
         self._cache: dict[float, tuple] = {}
         self._rr = coach_system(model, coach, geometry=geometry) if model == "RR" else None
         self.steps: dict[float, float] = {}
@@ -676,8 +734,17 @@ class _SweepSystems:
             return self._rr, [], 1e-3 if self.h is None else self.h
         key = float(s_kmh)
         if key not in self._cache:
-            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max, f_max=self.f_max,
-                                geometry=self.geometry)
+            if len(self._cache) >= 4 and self.model in RING_TRACK:
+                self._cache.pop(next(iter(self._cache)))     # ring systems are large
+            if self.model == "FR":
+                sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max,
+                                    f_max=self.f_max, geometry=self.geometry)
+            elif self.model == "FF":
+                sy, lay = ff_system(self.coach, speed_kmh=key, k_max=self.k_max,
+                                    f_max=self.f_max, geometry=self.geometry, **self.ring)
+            else:
+                sy, lay = rf_system(self.coach, speed_kmh=key, geometry=self.geometry,
+                                    **self.ring), []
             self._cache[key] = (sy, lay, _step(sy, self.h))
             self.steps[key] = self._cache[key][2]
         return self._cache[key]
@@ -697,10 +764,19 @@ class _SweepSystems:
         a, la, _ = self.at(s_from)
         b, lb, _ = self.at(s_to)
         n = a.n
-        if mode_labels(a, la) == mode_labels(b, lb) and a.state_names == b.state_names:
+        same = a.state_names == b.state_names and (
+            self.model not in FLEXIBLE_WHEELSETS or mode_labels(a, la) == mode_labels(b, lb))
+        if same and self.model not in RING_TRACK:
             return q, v, False
         qs = static_to()
         qn, vn = np.array(qs, dtype=float), np.zeros(b.n_state)
+        if same:
+            # the ring's coordinates restart from the static state: each run starts its
+            # contact points at x_offset again (t = 0), where the carried ring state does not
+            # belong; the coach and the wheelsets' modes carry over
+            m = b.n_state - b.ring.n_modes - b.ring.n_residual
+            qn[:m], vn[:m] = q[:m], v[:m]
+            return qn, vn, False
         qn[:n], vn[:n] = q[:n], v[:n]
         return qn, vn, True
 
@@ -708,7 +784,8 @@ class _SweepSystems:
 def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
                  v_min_kmh: float | None, v_min: float | None, model: str, contact: str,
                  coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                 geometry: str) -> tuple[np.ndarray, float, float, _SweepSystems]:
+                 geometry: str, ring: dict | None = None
+                 ) -> tuple[np.ndarray, float, float, _SweepSystems]:
     """A bifurcation sweep's speeds (km/h), floor (km/h), smallest step (km/h) and systems,
     every input checked and the step checked against the first speed's system before any
     run (serial continuation and independent points alike)."""
@@ -716,14 +793,28 @@ def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | N
     v_min_kmh = _floor_kmh(v_min_kmh, v_min)
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
     _check_model(model, contact, "bifurcation")
-    if model == "FR":
+    if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
+    ring = _ring_keys(model, ring)
     _check_geometry(contact, geometry)
-    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
+    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry, ring)
     systems.at(sp[0])
     return sp, v_min_kmh, step, systems
+
+
+def _ring_keys(model: str, ring: dict | None) -> dict:
+    """The ring's keys of a sweep, checked: only _RF_KEYS, and only for RF and FF."""
+    ring = dict(ring or {})
+    bad = sorted(k for k in ring if k not in _RF_KEYS)
+    if bad:
+        raise InputError(f"{', '.join(bad)}: unknown keyword(s) (the ring track's keys of "
+                         f"models 'RF' and 'FF' are {_RF_KEYS})")
+    if ring and model not in RING_TRACK:
+        raise InputError(f"{', '.join(sorted(ring))}: keys of models 'RF' and 'FF' (the ring "
+                         f"track); model {model!r} has none")
+    return ring
 
 
 def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
@@ -733,7 +824,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
                 v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, client: Any = None,
-                independent: bool = False, geometry: str = "table") -> Bifurcation:
+                independent: bool = False, geometry: str = "table", **ring: Any) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -752,7 +843,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         The speeds, km/h: the suffixed alias of ``speeds`` (give one of them; default 200 to
         460 km/h by 20).
     model, contact : str
-        'RR' or 'FR'; the contact model.
+        'RR', 'FR', 'RF' or 'FF'; the contact model.
     speeds : sequence of float, optional
         The speeds, m/s (at least two).
     duration : float
@@ -786,15 +877,21 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         cluster the results are the same bit for bit (model RR; railvti.sweeps).
     geometry : str
         Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+    **ring
+        Models 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
+        ``track_params``, ``x_offset`` (:func:`rf_system`). The ring is built once and its
+        rows per speed; every run starts its contact points at ``x_offset`` (t = 0), so the
+        upper branch carries the coach's (and the wheelsets') state down and restarts the
+        ring's coordinates from the new speed's static state.
     """
     if client is not None or independent:
         return _bifurcation_independent(
             speeds_kmh, speeds, model, contact, duration=duration, y_large=y_large,
             y_small=y_small, threshold=threshold, h=h, flange_amplitude=flange_amplitude,
             v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
-            client=client, geometry=geometry)
+            client=client, geometry=geometry, ring=ring)
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry)
+                                                contact, coach, h, k_max, f_max, geometry, ring)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -883,7 +980,7 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     fl = upa > flange_amplitude
     order = np.argsort(spa)
     details: dict[str, Any] = {"flange_force": fla[order]}
-    if model == "FR":
+    if model != "RR":
         details["h"] = np.array([systems.steps[float(x)] for x in spa[order]])
         details["modal_restarts"] = np.array(sorted(restarts))
     return Bifurcation(speeds_kmh=spa[order], upper=upa[order], decay=np.array(decay)[order],
@@ -901,7 +998,8 @@ _POINT_SYSTEMS: dict[str, "_SweepSystems"] = {}
 
 def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
                       coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                      duration: float, geometry: str = "table") -> tuple[float, float, float]:
+                      duration: float, geometry: str = "table", ring: dict | None = None
+                      ) -> tuple[float, float, float]:
     """One run of an independent bifurcation sweep (a task): from the static state at
     ``s_kmh`` with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
 
@@ -914,10 +1012,11 @@ def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
     h : float
         The time step used, s.
     """
-    key = repr((model, coach, contact, h, k_max, f_max, geometry))
+    key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
     if key not in _POINT_SYSTEMS:
         _POINT_SYSTEMS.clear()
-        _POINT_SYSTEMS[key] = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry)
+        _POINT_SYSTEMS[key] = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry,
+                                            ring)
     sy, _, hs = _POINT_SYSTEMS[key].at(s_kmh)
     vv = s_kmh / 3.6
     q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
@@ -932,13 +1031,14 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
                              y_small: float, threshold: float, h: float | None,
                              flange_amplitude: float, v_min_kmh: float | None,
                              v_min: float | None, coach: Coach | None, k_max: int, f_max: float,
-                             client: Any, geometry: str = "table") -> Bifurcation:
+                             client: Any, geometry: str = "table",
+                             ring: dict | None = None) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
     import contextlib
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry)
+                                                contact, coach, h, k_max, f_max, geometry, ring)
     kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
-              f_max=systems.f_max, duration=duration, geometry=geometry)
+              f_max=systems.f_max, duration=duration, geometry=geometry, ring=systems.ring)
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
@@ -959,7 +1059,7 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
             out += runs(speeds_out[-1:])
     upper, flange = [o[0] for o in out[0::2]], [o[1] for o in out[0::2]]
     decay = [o[0] for o in out[1::2]]
-    if model == "FR":
+    if model != "RR":
         systems.steps.update({float(s): o[2] for s, o in zip(speeds_out, out[0::2])})
     return _bifurcation_result(sp, speeds_out, upper, flange, decay, upper[-1] > threshold,
                                threshold, flange_amplitude, systems, model, [])

@@ -130,7 +130,7 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
              body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
-             rigid_gyro: bool = True) -> tuple[System, list[FRLayout]]:
+             rigid_gyro: bool = True, track: bool = True) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -169,6 +169,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         C (skew: roll equation -I_y Omega yaw', yaw equation +I_y Omega roll', I_y the FE
         polar moment). Model RR has no such term: with ``zero_rows`` and rigid_gyro=False FR
         reproduces RR.
+    track : bool
+        False puts the wheelsets on rigid ground instead of the four track elements (model
+        FF: :func:`railvti.vehicle.ring_coupling.build_rf` then adds the ring track under them).
 
     Returns
     -------
@@ -177,7 +180,7 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     from ..wheelset import Wheelset
     from ..wheelset.fe import check_harmonic
     from ..wheelset.flexible import _harmonic, _rigid_mask
-    sy = build_coach(coach, table)
+    sy = build_coach(coach, table, track=track)
     if "ws1_x" not in sy.dof_names:
         raise InputError("model FR needs the six-DOF wheelsets")
     flexible = tuple(sorted(set(int(i) for i in flexible)))

@@ -220,7 +220,8 @@ class RingSystem(System):
         r = self.ring
         if fresh and r is not None:
             nw = int(self.iws.shape[1])
-            rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1).astype(np.int32)
+            p0 = self.modal.phi.shape[0] - 6 * nw     # the ring's points are the last 6 nw
+            rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1 + p0).astype(np.int32)
             info = core.vehicle_ring_attach_c(
                 model.handle, np.arange(1, nw + 1, dtype=np.int32), np.asfortranarray(rlpt),
                 self.modal.n_modes - r.n_modes - r.n_residual, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
@@ -367,8 +368,10 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
 
 def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
              f_limit: float | None = None, x_offset: float = 0.0,
-             stiffness_scale: float = 1.0, residual: bool = True) -> RingSystem:
-    """Model RF: the coach's rigid wheelsets on the flexible ring track.
+             stiffness_scale: float = 1.0, residual: bool = True,
+             base: System | None = None) -> RingSystem:
+    """Model RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
+    FR system on rigid ground, model FF (flexible wheelsets on the ring).
 
     Parameters
     ----------
@@ -388,6 +391,11 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     stiffness_scale : float
         Multiplies the ring's modal stiffness (its damping by the square root: the same
         damping ratios); 1 is the ring itself, a large value a nearly rigid ring (a check).
+    base : System, optional
+        The coach on rigid ground to put on the ring (``build_coach(..., track=False)``, the
+        default), or an FR system built with ``track=False`` (model FF): its modal blocks,
+        points and couplings come first, the ring's block and its 6 points per wheelset are
+        appended (the ring coordinates stay the state's last).
 
     Returns
     -------
@@ -403,7 +411,11 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     v0 = _checks.positive("speed", speed)
     s = _checks.positive("stiffness_scale", stiffness_scale)
     x_offset = _checks.finite("x_offset", x_offset)
-    base = build_coach(coach, table, track=False)
+    if base is None:
+        base = build_coach(coach, table, track=False)
+    elif np.any(np.asarray(base.itr) > 0):
+        raise InputError("the base system of the ring track must have no track elements "
+                         "(build it with track=False)")
     rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset,
                    residual=residual)
     lam = track.lam[rr.modes] * s
@@ -424,9 +436,27 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
                          names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
                                              for c in range(nc) for i in "yzr"),
                          massless=(False,) * rr.n_modes + (True,) * nc)
+    if base.modal is not None:
+        mb = _append_blocks(base.modal, mb)
     base = base.with_modal(mb)
     fields = {f: getattr(base, f) for f in base.__dataclass_fields__}
     return RingSystem(**fields, ring=rr)
+
+
+def _append_blocks(first: ModalBlocks, ring: ModalBlocks) -> ModalBlocks:
+    """The modal blocks of ``first`` (model FR's wheelsets) followed by the ring's: blocks
+    and names concatenated, Phi block-diagonal (first's points, then the ring's), first's
+    point elements and couplings unchanged (their point indices stay valid)."""
+    n1, m1 = first.phi.shape
+    n2, m2 = ring.phi.shape
+    phi = np.zeros((n1 + n2, m1 + m2))
+    phi[:n1, :m1] = first.phi
+    phi[n1:, m1:] = ring.phi
+    ml1 = first.massless or (False,) * len(first.damping)
+    ml2 = ring.massless or (False,) * len(ring.damping)
+    return ModalBlocks(first.damping + ring.damping, first.stiffness + ring.stiffness, phi,
+                       elements=first.elements, names=first.names + ring.names,
+                       couplings=first.couplings, massless=ml1 + ml2)
 
 
 def set_time(system: RingSystem, t: float) -> None:

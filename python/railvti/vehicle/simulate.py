@@ -322,7 +322,17 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
     else:
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
+    q_start = q.copy()
     v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
+    if info == Status.NOT_CONVERGED and contact == "hertz-fastsim":
+        # FASTSIM's Newton can stall far from equilibrium (its discretised creep forces; seen
+        # on the ring track from the undeformed start): start again from Hertz + Kalker's
+        # equilibrium, where it converges in a few iterations
+        log.debug("static equilibrium: FASTSIM's Newton stalled; restarting from Kalker's")
+        q = q_start
+        _static_call(system, _settings(speed, "hertz-kalker", fastsim_n, None), None, q, tol,
+                     maxit)
+        v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
     fmax = float(np.max(np.abs(f)))
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:

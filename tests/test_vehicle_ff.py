@@ -1,0 +1,116 @@
+"""Model FF: the coach's flexible rotating wheelsets on the flexible ring track.
+
+FF is model FR's system on rigid ground with the ring's modal block appended
+(railvti.vehicle.ring_coupling.build_rf(base=...)). Checks against independent paths: a nearly
+rigid ring against FR on rigid ground (the same wheelsets, no ring); the rims' camber against
+model FR's and the rail deflection against model RF's (each body's own response to nearly the
+same wheel loads); the mirror symmetry of the centred static state.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from railvti import scenarios
+from railvti.errors import InputError
+from railvti.vehicle.flexible import build_fr, rim_rail_angle_change
+from railvti.vehicle.params import Coach
+from railvti.vehicle.ring_coupling import build_rf
+from railvti.vehicle.simulate import static_equilibrium
+
+COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
+V = 200.0 / 3.6
+RING = dict(n_sleepers=40, f_limit=300.0, track_params=COARSE)
+
+
+@pytest.fixture(scope="module")
+def fr_ground():
+    """FR on rigid ground (no track elements), k_max 1, modes up to 300 Hz."""
+    return build_fr(Coach(), scenarios.contact_table(), V, wheelset=scenarios._fr_wheelset(),
+                    k_max=1, f_max=300.0, track=False)
+
+
+def test_stiff_ring_reproduces_fr_on_rigid_ground(fr_ground):
+    """A ring 1e6 times stiffer under FR's wheelsets: the static state of the coach and of the
+    wheelsets' modes is FR's on rigid ground (the ring deflects by ~1e-10 m)."""
+    base, _ = fr_ground
+    ring = scenarios._ring(40, COARSE)
+    ff = build_rf(Coach(), scenarios.contact_table(), V, ring, f_limit=300.0,
+                  stiffness_scale=1e6, base=base)
+    q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
+    q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
+    n = base.n_state
+    assert ff.n_state > n and ff.state_names[:n] == base.state_names
+    scale = np.maximum(np.abs(q_fr), 1e-3 * np.abs(q_fr).max())
+    assert np.max(np.abs(q_ff[:n] - q_fr) / scale) < 1e-3
+    rail = ff.rail_deflection(np.zeros(1), q_ff[None])[0]
+    assert np.max(np.abs(rail)) < 1e-8
+
+
+def test_ff_static_state_against_fr_and_rf(fr_ground):
+    """FF's centred static state: the rims' camber within 5 % of model FR's (on rigid ground:
+    the wheelsets answer nearly the same loads), mirror-symmetric left/right; with the rims'
+    rows set to zero (the wheelsets' modes decoupled) the ring's deflection is model RF's to
+    round-off. (With the rims coupled the rail rolls about twice as much as in RF: the rims'
+    lateral bending moves each wheel by ~0.2 mm, where the S1002/UIC60 contact point moves
+    by millimetres across the rail head, and with it the rail's roll moment.)"""
+    base, _ = fr_ground
+    ff, _ = scenarios.ff_system(speed=V, k_max=1, f_max=300.0, **RING)
+    q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
+    q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
+    cam_ff = rim_rail_angle_change(ff, q_ff)
+    cam_fr = rim_rail_angle_change(base, q_fr)
+    assert np.all(cam_fr > 0)
+    np.testing.assert_allclose(cam_ff, cam_fr, rtol=0.05)
+    np.testing.assert_allclose(cam_ff[0], cam_ff[1], rtol=1e-5)
+    tab = scenarios.contact_table()
+    off, _ = build_fr(Coach(), tab, V, wheelset=scenarios._fr_wheelset(), k_max=1, f_max=300.0,
+                      track=False, zero_rows=True)
+    ring = scenarios._ring(40, COARSE)
+    ff0 = build_rf(Coach(), tab, V, ring, f_limit=300.0, base=off)
+    rf = scenarios.rf_system(speed=V, **RING)
+    q0, _ = static_equilibrium(ff0, V, "hertz-kalker")
+    q_rf, _ = static_equilibrium(rf, V, "hertz-kalker")
+    d0 = ff0.rail_deflection(np.zeros(1), q0[None])[0]
+    d_rf = rf.rail_deflection(np.zeros(1), q_rf[None])[0]
+    assert np.all(d_rf[1] < 0)
+    np.testing.assert_allclose(d0, d_rf, rtol=1e-6, atol=1e-6 * np.abs(d_rf).max())
+
+
+def test_ff_centred_running():
+    """A short centred run of FF at 200 km/h: Q within 3 % of the static wheel load, the
+    rims' camber positive (the paper: +1 mrad from axle bending), the rails pressed down."""
+    c = scenarios.centred_running(200.0, "FF", "hertz-fastsim", duration=0.05, k_max=1,
+                                  f_max=300.0, **RING)
+    assert c.model == "FF" and c.rim_angle is not None and c.rail is not None
+    assert c.q_error < 0.03
+    assert np.all(c.rim_angle > 0)
+    assert np.all(c.rail[:, 1] < 0)
+
+
+@pytest.mark.filterwarnings("ignore:bifurcation")
+def test_ring_bifurcation_below_the_critical_speed():
+    """A ring-track sweep (model RF, continuation down from 200 km/h): centred running is
+    stable there (RR's linear critical speed is far above), so the disturbance decays along
+    the carried branch (each speed's amplitude below the one above it, all below y_large) and
+    the small one too; the step of every speed is reported."""
+    b = scenarios.bifurcation([200.0, 180.0], model="RF", contact="hertz-kalker",
+                              duration=0.6, y_large=0.003, y_small=0.0005, progress=False,
+                              v_min_kmh=180.0, **RING)
+    up = b.upper[::-1]                      # from 200 km/h down
+    assert np.all(up < 0.003) and np.all(np.diff(up) < 0)
+    assert np.all(b.decay < 0.0005)
+    assert b.details["h"].size == b.speeds_kmh.size
+
+
+def test_ff_and_ring_bad_input():
+    with pytest.raises(InputError, match="too short"):
+        scenarios.coach_system("FF", speed_kmh=200.0, n_sleepers=30)
+    with pytest.raises(InputError, match="k_max"):
+        scenarios.coach_system("RF", speed_kmh=200.0, k_max=1)
+    with pytest.raises(InputError, match="ring track"):
+        scenarios.bifurcation([300.0, 280.0], model="FR", n_sleepers=40, progress=False)
+    with pytest.raises(InputError, match="unknown keyword"):
+        scenarios.bifurcation([300.0, 280.0], model="RF", sleepers=40, progress=False)
+    with pytest.raises(InputError, match="linear_critical_speed"):
+        scenarios.critical_speed("FF", method="linear")
