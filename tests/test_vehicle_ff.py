@@ -112,5 +112,5 @@ def test_ff_and_ring_bad_input():
         scenarios.bifurcation([300.0, 280.0], model="FR", n_sleepers=40, progress=False)
     with pytest.raises(InputError, match="unknown keyword"):
         scenarios.bifurcation([300.0, 280.0], model="RF", sleepers=40, progress=False)
-    with pytest.raises(InputError, match="linear_critical_speed"):
-        scenarios.critical_speed("FF", method="linear")
+    with pytest.raises(InputError, match="f_limit"):
+        scenarios.critical_speed("FF", method="linear", f_limit=-1.0)

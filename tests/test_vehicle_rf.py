@@ -197,5 +197,5 @@ def test_rf_bad_input():
         scenarios.centred_running(200.0, model="RR", n_sleepers=40)
     with pytest.raises(InputError, match="no ring mode"):
         ring_rows(RingTrack(8, **COARSE), np.zeros(1), V, f_limit=1.0)
-    with pytest.raises(InputError, match="RF"):
-        scenarios.linear_critical_speed("RF")
+    with pytest.raises(InputError, match="ring track"):
+        scenarios.linear_critical_speed("RR", n_sleepers=40)

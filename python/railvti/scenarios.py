@@ -4,10 +4,12 @@ Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model
 (every scenario): the same with flexible rotating wheelsets (railvti.vehicle.flexible:
 free-free elastic modes coupled through the rims and journals, docs/vehicle_integrator.md
 "Flexible wheelsets (FR)"); its modal matrices depend on the spin, so it is built at each
-speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Model 'RF' (centred
-running, hunting, coach_system): rigid wheelsets on the flexible ring track
-(railvti.vehicle.ring_coupling, docs/vehicle.md "Model RF"), built per speed
-(:func:`rf_system`) with ``n_sleepers``, ``f_limit``, ``track_params``. Contact models:
+speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Model 'RF': rigid
+wheelsets on the flexible ring track (railvti.vehicle.ring_coupling, docs/vehicle.md "Model
+RF"), built per speed (:func:`rf_system`) with ``n_sleepers``, ``f_limit``,
+``track_params``, ``x_offset``, ``ring_residual``. Model 'FF': the
+flexible wheelsets on the ring (:func:`ff_system`, the keys of both). RF and FF also run in
+``bifurcation`` and the nonlinear ``critical_speed``. Contact models:
 'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
 'hertz-fastsim' (Hertz + FASTSIM) and 'bem' (the BEM normal + steady-rolling solvers on
 0.75 mm grids at every wheel, railvti.vehicle.bem). S1002 wheels on UIC60 rails inclined 1:40.
@@ -45,13 +47,14 @@ MODELS = ("RR", "FR", "RF", "FF")
 _FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
 #: Scenarios that run the models on the ring track, RF and FF.
-_RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed")
+_RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
+                 "linear_critical_speed")
 #: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
 #: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
 #: Model RF's keys (the ring and its mode selection).
-_RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset")
+_RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset", "ring_residual")
 _RINGS: dict[Any, Any] = {}
 #: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
@@ -284,7 +287,7 @@ def _ring(n_sleepers: Any, track_params: dict | None):
 def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
               f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
-              x_offset: float = 0.0, geometry: str = "table"):
+              x_offset: float = 0.0, geometry: str = "table", ring_residual: bool = True):
     """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
@@ -304,6 +307,12 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         The coach centre's position along the ring at t = 0, m.
     geometry : str
         Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+    ring_residual : bool
+        Keep the truncated ring modes' static compliance at the contact points (residual
+        flexibility, massless coordinates; default). False drops it: the rail under a wheel
+        is then stiffer than the ring by the truncated modes' share (docs/vehicle.md,
+        "Model RF"); runs with flange-only contact at 400 km/h need it off today (a Newton
+        failure with the massless coordinates, docs/vehicle.md "Models RF and FF: limits").
 
     Returns
     -------
@@ -319,7 +328,8 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     v, _ = _speeds(speed_kmh, speed)
     cc = coach or Coach()
     track = _checked_ring(cc, n_sleepers, track_params)
-    sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset)
+    sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset,
+                  residual=bool(ring_residual))
     return _with_geometry(sy, geometry)
 
 
@@ -336,15 +346,15 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
               n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
               track_params: dict | None = None, x_offset: float = 0.0,
-              geometry: str = "table") -> tuple[System, list]:
+              geometry: str = "table", ring_residual: bool = True) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
     ``f_max``, residual flexibility at the rims and journals) with the ring's modal block
     appended (:func:`rf_system`'s ring: ``n_sleepers``, ``f_limit``, ``track_params``,
-    ``x_offset``). Each wheel's contact is evaluated between its deformed rim and the ring's
-    rail head under it (vehicle_model%add_contact with both the rim and the rail points);
-    nothing couples the two flexible bodies but the contact.
+    ``x_offset``, ``ring_residual``). Each wheel's contact is evaluated between its deformed
+    rim and the ring's rail head under it (vehicle_model%add_contact with both the rim and
+    the rail points); nothing couples the two flexible bodies but the contact.
 
     Returns
     -------
@@ -366,7 +376,8 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     tab = contact_table()
     base, lays = build_fr(cc, tab, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
                           track=False)
-    sy = build_rf(cc, tab, v, track, f_limit=f_limit, x_offset=x_offset, base=base)
+    sy = build_rf(cc, tab, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
+                  residual=bool(ring_residual))
     return _with_geometry(sy, geometry), lays
 
 
@@ -612,7 +623,7 @@ class Bifurcation:
         NaN, or the top of the sweep when no cycle was sustained even there (critical speed
         above the sweep; ``critical_kmh`` NaN), km/h (``no_cycle_up_to``: m/s).
     model : str
-        'RR' or 'FR'.
+        'RR', 'FR', 'RF' or 'FF'.
     details : dict
         'flange_force' (N, per speed); model FR also 'h' (the step at each speed, s) and
         'modal_restarts' (speeds, km/h, at which the upper branch's modal coordinates were
@@ -1078,7 +1089,8 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
                           conicity: float | None = None, amplitude_m: float = 0.003,
                           v_lo_kmh: float = 50.0, v_hi_kmh: float = 800.0,
                           tol_kmh: float = 0.5, damper: str = "stuck",
-                          k_max: int = FR_K_MAX, f_max: float = FR_F_MAX) -> tuple[float, float]:
+                          k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
+                          **ring: Any) -> tuple[float, float]:
     """Linear critical speed (km/h) and the hunting frequency there (Hz).
 
     Eigenvalues of the system linearised about centred running with the contact table
@@ -1093,14 +1105,21 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
     coordinates, about FR's own steady state); its modes depend on the spin, so the system is
     rebuilt at every speed of the bisection. The wheelsets' elastic modes lie above 70 Hz,
     outside the 20 Hz band searched: they change the hunting eigenvalue, not the band.
+
+    Models 'RF' and 'FF' (the ring's keys ``**ring``, :func:`rf_system`): the ring's kept
+    modes and residual coordinates are in the linearisation with the contact points frozen
+    at their t = 0 positions along the ring (rows at x_offset + x_wheelset): the sleeper
+    passing makes the real system periodic in time (Floquet), which this time-invariant
+    linearisation leaves out; the ring's modes lie above the 20 Hz band.
     """
     if damper not in DAMPER_STATES:
         raise InputError(f"damper must be one of {sorted(DAMPER_STATES)}, got {damper!r}")
     _check_model(model, "hertz-kalker", "linear_critical_speed")
-    if model == "FR":
+    if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
+    ring = _ring_keys(model, ring)
     coach = coach or Coach()
     if damper == "sliding":
         coach = coach.with_(yaw_friction_torque=0.0)
@@ -1112,10 +1131,21 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
         if model == "RR":
             return eigenvalues(sy, kmh / 3.6)
         from .vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
+        from .vehicle.ring_coupling import build_rf
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
-        sf = build_fr(coach, linearised_table(contact_table(), lam), kmh / 3.6,
-                      wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max)[0]
-        return fr_eigenvalues(sf, kmh / 3.6)
+        tab = linearised_table(contact_table(), lam)
+        base = None
+        if model in FLEXIBLE_WHEELSETS:
+            base = build_fr(coach, tab, kmh / 3.6, wheelset=_fr_wheelset(), k_max=k_max,
+                            f_max=f_max, track=model == "FR")[0]
+        if model in RING_TRACK:
+            track = _checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS),
+                                  ring.get("track_params"))
+            base = build_rf(coach, tab, kmh / 3.6, track,
+                            f_limit=ring.get("f_limit", RF_F_LIMIT),
+                            x_offset=ring.get("x_offset", 0.0),
+                            residual=bool(ring.get("ring_residual", True)), base=base)
+        return fr_eigenvalues(base, kmh / 3.6)
 
     def growth(kmh: float) -> tuple[float, float]:
         ev = spectrum(kmh)
@@ -1161,7 +1191,7 @@ class CriticalSpeed:
         otherwise), km/h (``no_decay_below``: m/s).
     bifurcation : Bifurcation or None
     model : str
-        'RR' or 'FR'.
+        'RR', 'FR', 'RF' or 'FF'.
     """
 
     kmh: float
