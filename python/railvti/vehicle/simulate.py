@@ -118,6 +118,11 @@ class SimulationResult:
         '' for a history kept in memory; for a run streamed to HDF5 (``stream_to``), the
         'FILE::GROUP' holding the whole history: ``t``, ``q``, ``v`` and ``wheel`` here
         then hold only its last ``stream_tail`` seconds.
+    rail : ndarray (nt, 3, 2, nw) or None
+        Model RF (a system on the ring track): the rail head's motion under each wheel at the
+        outputs, the pose (y m, z m, roll rad; vehicle frame) of the element under wheel
+        [., ., wheel, wheelset] (``RingSystem.rail_deflection``); None on rigid track. The
+        ring's modal coordinates are the last columns of ``q``, named in ``dof_names``.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -136,6 +141,7 @@ class SimulationResult:
     friction: float = float("nan")
     flange_angle: float = float("nan")
     streamed: str = ""
+    rail: np.ndarray | None = None
 
     def save(self, path) -> "Path":
         """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
@@ -155,7 +161,12 @@ class SimulationResult:
                           "quantities": list(WHEEL_OUTPUTS),
                           "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
                           "wheel": ["left", "right"],
-                          "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
+                          "wheelset": [f"ws{w + 1}" for w in range(nw)]},
+                **({"rail": {"axes": ["t", "component", "wheel", "wheelset"],
+                             "component": ["y", "z", "roll"], "column_units": ["m", "m", "rad"],
+                             "wheel": ["left", "right"],
+                             "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
+                   if self.rail is not None else {})}
 
     @property
     def nadal(self) -> float:
@@ -775,13 +786,17 @@ class _Output:
                 "load_scale": float(self.load_scale)}
 
     def result(self, system: System, speed: float, contact: str, stats: dict) -> SimulationResult:
-        """The SimulationResult of what was gathered."""
+        """The SimulationResult of what was gathered (on the ring track with the rail's
+        motion under the wheels)."""
+        t, q = np.concatenate(self.t), np.concatenate(self.q)
+        rail = (system.rail_deflection(t, q) if getattr(system, "ring", None) is not None
+                and t.size else None)
         return SimulationResult(
-            t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
+            t=t, q=q, v=np.concatenate(self.v),
             wheel=np.concatenate(self.w), dof_names=system.state_names, speed=speed,
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
             flange_angle=flange_angle(system.table),
-            streamed=self.stream.where if self.stream is not None else "")
+            streamed=self.stream.where if self.stream is not None else "", rail=rail)
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
