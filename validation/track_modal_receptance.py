@@ -21,6 +21,7 @@ first-order inertia (a residual mass, + w^2 sum phi^2 / lambda^2), neither of wh
 RF has. Writes validation/figures/track_modal_receptance.png.
 
     python validation/track_modal_receptance.py [--n-sleepers 40] [--f-limit 500] [--f-max 3000]
+        [--figure validation/figures/track_modal_receptance.png]
 """
 from __future__ import annotations
 
@@ -117,6 +118,7 @@ def main() -> None:
     ap.add_argument("--n-sleepers", type=int, default=40, help="sleepers on the ring (RF default 40)")
     ap.add_argument("--f-limit", type=float, default=500.0, help="kept modes up to, Hz (RF default 500)")
     ap.add_argument("--f-max", type=float, default=3000.0, help="the ring's modal form up to, Hz")
+    ap.add_argument("--figure", default=str(FIG / "track_modal_receptance.png"), help="chart to write")
     args = ap.parse_args()
     logging.disable(logging.WARNING)
     t0 = time.perf_counter()
@@ -181,8 +183,8 @@ def main() -> None:
     fig.suptitle(f"Ring track (n_sl = {args.n_sleepers}), right rail's head point receptance: "
                  f"model RF's truncation (f_limit = {fl:g} Hz) against RingTrack.head_receptance")
     fig.tight_layout()
-    FIG.mkdir(exist_ok=True)
-    out = FIG / "track_modal_receptance.png"
+    out = Path(args.figure)
+    out.parent.mkdir(exist_ok=True)
     fig.savefig(out, dpi=110)
     print(f"wrote {out}")
 

@@ -92,20 +92,22 @@ def main() -> None:
     fig, ax = plt.subplots(1, 2, figsize=(13, 4.8))
     for j, n in enumerate(ns):
         o = out[n]
-        ax[0].plot(o["t"], o["q"][:, 0, 0] / 1e3, f"C{j}-", label=f"n_sl = {n}: wheelset 1, left")
-        ax[0].plot(o["t"], o["q"][:, 0, 3] / 1e3, f"C{j}--", label=f"n_sl = {n}: wheelset 4, left")
-        x = np.arange(8) + 0.1 * (j - 0.5 * (len(ns) - 1))
-        ax[1].bar(x, o["amp"].T.ravel() / 1e3, width=0.25 / max(len(ns) - 1, 1) + 0.05,
-                  color=f"C{j}", label=f"n_sl = {n} ({o['modes']} modes)")
+        last = o["t"] > o["t"][-1] - 0.05
+        ax[0].plot(o["t"][last], o["q"][last, 0, 0] / 1e3, f"C{j}-", label=f"n_sl = {n}: wheelset 1, left")
+        ax[0].plot(o["t"][last], o["q"][last, 0, 3] / 1e3, f"C{j}--", label=f"n_sl = {n}: wheelset 4, left")
+        width = 0.8 / len(ns)
+        x = np.arange(8) + (j - 0.5 * (len(ns) - 1)) * width
+        ax[1].bar(x, o["amp"].T.ravel() / 1e3, width=width, color=f"C{j}",
+                  label=f"n_sl = {n} ({o['modes']} modes): mean {o['amp'].mean():.0f} N")
     ax[0].set_xlabel("time, s")
     ax[0].set_ylabel("Q, kN")
-    ax[0].set_title(f"vertical wheel load, last {args.window:g} s")
-    ax[0].legend(fontsize=8)
+    ax[0].set_title("vertical wheel load, the last 0.05 s")
+    ax[0].legend(fontsize=8, loc="upper right")
     ax[0].grid(alpha=0.3)
     ax[1].set_xticks(np.arange(8), [f"ws{w + 1}{s}" for w in range(4) for s in "LR"])
     ax[1].set_ylabel(f"Q amplitude at {f_sl:.1f} Hz, kN")
-    ax[1].set_title("sleeper-passing harmonic of Q per wheel")
-    ax[1].legend(fontsize=8)
+    ax[1].set_title(f"sleeper-passing harmonic of Q per wheel (fit over the last {args.window:g} s)")
+    ax[1].legend(fontsize=8, loc="lower center")
     ax[1].grid(alpha=0.3, axis="y")
     fig.suptitle(f"Model RF ring-length check: centred running {args.speed_kmh:g} km/h, "
                  f"ring modes up to {args.f_limit:g} Hz + residual flexibility, hertz-kalker "
