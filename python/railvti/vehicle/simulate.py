@@ -121,8 +121,9 @@ class SimulationResult:
     rail : ndarray (nt, 3, 2, nw) or None
         Model RF (a system on the ring track): the rail head's motion under each wheel at the
         outputs, the pose (y m, z m, roll rad; vehicle frame) of the element under wheel
-        [., ., wheel, wheelset] (``RingSystem.rail_deflection``); None on rigid track. The
-        ring's modal coordinates are the last columns of ``q``, named in ``dof_names``.
+        [., ., wheel, wheelset] (``RingSystem.rail_deflection``, after a completed run); None
+        on rigid track. The ring's modal coordinates are the last columns of ``q``, named in
+        ``dof_names``.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -566,6 +567,9 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         res = _integrate(system, cs, plan, q, v, contact, stream, stream_tail)
     wall = time.perf_counter() - wall0
     res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
+    if getattr(system, "ring", None) is not None and res.t.size:
+        # model RF: the rail under the wheels, after the timed loop (the RTF stays the loop's)
+        res = replace(res, rail=system.rail_deflection(res.t, res.q))
     if bem is not None:
         res = _with_bem_fields(res, system, bem, cnt0, plan.nsteps)
     if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
@@ -786,17 +790,13 @@ class _Output:
                 "load_scale": float(self.load_scale)}
 
     def result(self, system: System, speed: float, contact: str, stats: dict) -> SimulationResult:
-        """The SimulationResult of what was gathered (on the ring track with the rail's
-        motion under the wheels)."""
-        t, q = np.concatenate(self.t), np.concatenate(self.q)
-        rail = (system.rail_deflection(t, q) if getattr(system, "ring", None) is not None
-                and t.size else None)
+        """The SimulationResult of what was gathered."""
         return SimulationResult(
-            t=t, q=q, v=np.concatenate(self.v),
+            t=np.concatenate(self.t), q=np.concatenate(self.q), v=np.concatenate(self.v),
             wheel=np.concatenate(self.w), dof_names=system.state_names, speed=speed,
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
             flange_angle=flange_angle(system.table),
-            streamed=self.stream.where if self.stream is not None else "", rail=rail)
+            streamed=self.stream.where if self.stream is not None else "")
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
