@@ -176,6 +176,62 @@ def test_moving_load_follows_quasi_static_deflection(kmh, bays, rtol):
         np.testing.assert_allclose(uz[-n:], uz[-2 * n:-n], rtol=0.01)
 
 
+def _all_mode_crown_z(track, sy, t, wheel):
+    """The ring's static solution over all its modes under the eight wheel loads of a run
+    output (Q, Y of the rail on each wheel: the rail carries -Q, -Y): the crown's vertical
+    displacement under each wheel (2, nw), m."""
+    nw = sy.x_wheelsets.size
+    hs = {(k, w): wheel_head_shapes(track, sy.ring.cx0[2 * w + k] + sy.ring.speed * t, k)
+          for w in range(nw) for k in range(2)}
+    fm = sum(-wheel[0, k, w] * hs[k, w][2] - wheel[1, k, w] * hs[k, w][1] for (k, w) in hs)
+    qm = fm / track.lam
+    return np.array([[hs[k, w][2] @ qm for w in range(nw)] for k in range(2)])
+
+
+def test_moving_coach_at_5_kmh_matches_ring_static_solution(ring, table):
+    """Model RF as the scenarios build it (ring modes up to 300 Hz of 2260, residual
+    flexibility at the contact points), the coach moving at 5 km/h over a bay and a half:
+    the crown deflection under every wheel within 1 % of the ring's static solution over all
+    its modes under the same wheel loads (the loads from the run), which differs by more than
+    that between sleeper and midspan."""
+    v = 5.0 / 3.6
+    sy = build_rf(Coach(), table, v, ring, f_limit=300.0, x_offset=0.05)
+    assert sy.ring.n_modes < 0.1 * ring.n_modes and sy.ring.n_residual == 24
+    q0, v0, _ = static_equilibrium(sy, v, return_velocity=True)
+    run = simulate(sy, v, 0.65, q0=q0, v0=v0, output_dt=0.02, progress=False)
+    half = 0.5 * ring.params["rail_distance"]
+    uz = _crown_z(sy.rail_deflection(run.t, run.q), half)           # (nt, 2, 4)
+    ref = np.array([_all_mode_crown_z(ring, sy, t, run.wheel[i]) for i, t in enumerate(run.t)])
+    assert np.all(ref < -1e-4)
+    print(f"5 km/h: max |u_z / static - 1| = {np.max(np.abs(uz / ref - 1)):.2e}, "
+          f"sleeper-midspan variation {np.ptp(ref[:, 0, 0]) / abs(ref[:, 0, 0]).mean():.3f}")
+    assert np.ptp(ref[:, 0, 0]) > 0.01 * abs(ref[:, 0, 0]).mean()   # sleeper against midspan
+    np.testing.assert_allclose(uz, ref, rtol=0.01)
+
+
+def test_deflection_under_wheel_at_sleeper_passing_frequency(ring, table):
+    """Model RF at 200 km/h (modes up to 300 Hz and the residual flexibility): the crown
+    deflection under the leading wheel oscillates at the sleeper-passing frequency v0 / a
+    = 92.6 Hz: the peak of its spectrum (Hann window, zero-padded) within 1 %."""
+    sy = build_rf(Coach(), table, V, ring, f_limit=300.0)
+    q0, v0, _ = static_equilibrium(sy, V, return_velocity=True)
+    h = 5e-4
+    run = simulate(sy, V, 0.3, h=h, q0=q0, v0=v0, output_dt=h, progress=False)
+    half = 0.5 * ring.params["rail_distance"]
+    z = _crown_z(sy.rail_deflection(run.t, run.q), half)[run.t > 0.05, 0, 0]
+    s = (z - z.mean()) * np.hanning(z.size)
+    n = 16 * z.size
+    f = np.fft.rfftfreq(n, h)
+    a = np.abs(np.fft.rfft(s, n))
+    band = (f > 20.0) & (f < 1000.0)
+    peak = f[band][a[band].argmax()]
+    f_sl = V / ring.params["sleeper_spacing"]
+    print(f"deflection spectrum peak {peak:.2f} Hz, sleeper passing {f_sl:.2f} Hz, "
+          f"peak-to-peak {np.ptp(z) * 1e6:.1f} um")
+    assert abs(peak / f_sl - 1) < 0.01
+    assert np.ptp(z) > 0.01 * abs(z.mean())
+
+
 def test_centred_running_rf(ring):
     """scenarios.centred_running(model='RF') on a small ring: wheel loads about the static
     load, the rail deflected under every wheel, mirror-symmetric."""

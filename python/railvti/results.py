@@ -450,7 +450,9 @@ FIELD_UNITS: dict[str, dict[str, str]] = {
     "SimulationResult": {"t": "s", "q": "m or rad (per dof_names)",
                          "v": "m/s or rad/s (per dof_names)",
                          "wheel": "per quantity: see the quantities and quantity_units attributes",
-                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad"},
+                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad",
+                         "rail": "m, m, rad (per component: y, z, roll of the element under "
+                                 "each wheel)"},
 }
 
 

@@ -2,8 +2,12 @@
 speed / bifurcation) with the contact model named in the deck; results record it.
 
 Keys (SI units unless the name says km/h): scenario ('centred_running' | 'hunting' |
-'critical_speed'), model ('RR' rigid or 'FR' flexible wheelsets, every scenario), k_max and
-f_max (model FR's mode selection: highest harmonic, highest frequency in Hz), contact
+'critical_speed'), model (railvti.scenarios.MODELS: 'RR' rigid or 'FR' flexible wheelsets on
+rigid track elements; 'RF' rigid and 'FF' flexible wheelsets on the flexible ring track;
+every scenario), k_max and f_max (models FR and FF: the wheelsets' mode selection, highest
+harmonic, highest frequency in Hz), n_sleepers, f_limit (Hz), x_offset (m) and the ring's
+parameters prefixed 'track_' (railvti.track.DEFAULTS and NUMERICS, e.g.
+track_pad_stiffness_vertical, track_f_max) for the ring track of models RF and FF, contact
 ('hertz-kalker' | 'hertz-fastsim' | 'bem'), speed (m/s; or speed_kmh, km/h), duration (s, at
 most max_duration), max_duration (s), h (s; default 1 ms, model FR 1 ms divided so that
 h omega_max <= 2), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
@@ -13,7 +17,12 @@ Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and 
 
 Model FR's results add the modal coordinates with their mode labels (``modal_q`` and
 ``mode_label``, ``mode_k``, ``mode_family``, ``mode_frequency``) and the rims' deformation at
-the contact points (``rim_deformation``, ``rim_rail_angle_change``).
+the contact points (``rim_deformation``, ``rim_rail_angle_change``). Model RF's add the ring's
+modal coordinates with their labels (``modal_q``, ``mode_label``, ``mode_group``,
+``mode_frequency``) and the rail's motion under each wheel (``rail_deflection``: the pose
+y, z, roll of the element under the wheel; ``rail_crown_z``: the crown's vertical
+displacement there). Model FF's add both: the wheelsets' as FR's, the ring's with the
+prefix 'ring_' (``ring_modal_q``, ``ring_mode_label``, ...) beside ``rail_deflection``.
 """
 from __future__ import annotations
 
@@ -22,17 +31,32 @@ from typing import Any
 
 import numpy as np
 
+from dataclasses import replace
+
 from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
+from ..scenarios import _RF_SCENARIOS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS
 from ..stream import case_stream, history_bytes
+from ..track.cases import KEYS as TRACK_KEYS
+from ..track.ring import DEFAULTS as TRACK_DEFAULTS
+from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from .simulate import WHEEL_OUTPUTS
 
 _SCENARIOS = ("centred_running", "hunting", "critical_speed")
+#: The railvti.scenarios functions each deck scenario runs.
+_RUNS = {"centred_running": ("centred_running",), "hunting": ("hunting",),
+         "critical_speed": ("bifurcation", "linear_critical_speed")}
+#: The models whose results a deck case stores (the model key's choices are scenarios.MODELS).
+_DECK_MODELS = ("RR", "FR", "RF", "FF")
+#: The models with flexible wheelsets (mode selection k_max, f_max).
+_FLEXIBLE = ("FR", "FF")
+#: The ring track's parameters in a deck: 'track_' + a RingTrack parameter (physics, numerics).
+_TRACK_PARAMS = tuple(TRACK_DEFAULTS) + tuple(TRACK_NUMERICS)
 
 DEFAULTS: dict[str, Any] = {
     "scenario": "hunting",
@@ -51,6 +75,10 @@ DEFAULTS: dict[str, Any] = {
     "speeds_kmh_min": 160.0,
     "speeds_kmh_max": 440.0,
     "speeds_kmh_step": 20.0,
+    "n_sleepers": None,
+    "f_limit": None,
+    "x_offset": None,
+    **{f"track_{k}": None for k in _TRACK_PARAMS},
     **{f"coach_{k}": v[0] for k, v in COACH_DEFAULTS.items()},
 }
 
@@ -59,11 +87,12 @@ _WHY_SPEED = "the fastest wheel-on-rail run was 575 km/h"
 #: Units, meanings and bounds of the keys of 'vehicle'.
 KEYS: dict[str, Key] = {
     "scenario": Key("", "what to run", "str", choices=_SCENARIOS),
-    "model": Key("", "'RR' rigid wheelsets on rigid track elements, 'FR' flexible rotating wheelsets",
-                 "str", choices=("RR", "FR")),
-    "k_max": Key("1", "model FR: highest circumferential harmonic of the kept wheelset modes (default 2)",
+    "model": Key("", "'RR' rigid wheelsets on rigid track elements, 'FR' flexible rotating wheelsets, "
+                 "'RF' rigid wheelsets on the flexible ring track, 'FF' flexible wheelsets on the ring",
+                 "str", choices=MODELS),
+    "k_max": Key("1", "models FR and FF: highest circumferential harmonic of the kept wheelset modes (default 2)",
                  "int", 0, 30, optional=True, why="the wheelset model's harmonics (as the wheelset deck)"),
-    "f_max": Key("Hz", "model FR: highest non-rotating frequency of the kept modes (default 800 Hz)",
+    "f_max": Key("Hz", "models FR and FF: highest non-rotating frequency of the kept modes (default 800 Hz)",
                  lo=0.0, hi=2e4, lo_open=True, optional=True,
                  why="each kept mode needs h omega <= 2: 20 kHz asks for 16 us steps"),
     "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
@@ -85,6 +114,18 @@ KEYS: dict[str, Key] = {
                           why=_WHY_SPEED),
     "speeds_kmh_step": Key("km/h", "speed step of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH,
                            lo_open=True),
+    "n_sleepers": Key("1", f"models RF and FF: sleepers on the ring track (default {RF_N_SLEEPERS}; the paper's 128); "
+                      "the ring must hold the wheelsets' span plus two bays", "int", 8, 1024, optional=True,
+                      why="as the track_receptance deck's n_sleepers"),
+    "f_limit": Key("Hz", f"models RF and FF: kept ring modes up to this frequency (default {RF_F_LIMIT:g} Hz), the "
+                   "rest as residual flexibility", lo=0.0, hi=2e4, lo_open=True, optional=True,
+                   why="each kept mode needs h omega <= 2: 20 kHz asks for 16 us steps"),
+    "x_offset": Key("m", "models RF and FF: the coach centre's position along the ring at t = 0 (default 0: "
+                    "above a sleeper)", lo=-1e3, hi=1e3, optional=True),
+    **{f"track_{k}": replace(TRACK_KEYS[k], optional=True,
+                             meaning=f"models RF and FF: ring track {TRACK_KEYS[k].meaning} "
+                                     f"(default {v:g}, railvti.track.{'DEFAULTS' if k in TRACK_DEFAULTS else 'NUMERICS'})")
+       for k, v in {**TRACK_DEFAULTS, **TRACK_NUMERICS}.items()},
     **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (railvti.vehicle.DEFAULTS)") for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
@@ -102,15 +143,20 @@ def check(params: dict[str, Any]) -> list[str]:
                    "BEM contact (contact = 'bem') reads the table's gap fields")
     if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
-    if params["model"] != "FR":
+    if params["model"] not in _FLEXIBLE:
         given = [k for k in ("k_max", "f_max") if params.get(k) is not None]
         if given:
-            out.append(f"{', '.join(given)}: model FR's mode selection; model "
+            out.append(f"{', '.join(given)}: the mode selection of models FR and FF; model "
                        f"{params['model']!r} has rigid wheelsets")
     elif params["h"] is not None:
         problem = _fr_step_problem(params)
         if problem:
             out.append(problem)
+    if params["model"] not in _DECK_MODELS:
+        out.append(f"model {params['model']!r} runs from railvti.scenarios but not from a deck yet "
+                   f"(decks run {_DECK_MODELS})")
+    else:
+        out += _ring_problems(params)
     if params["scenario"] == "critical_speed":
         lo, hi, step = (params[f"speeds_kmh_{k}"] for k in ("min", "max", "step"))
         if lo >= hi:
@@ -121,6 +167,55 @@ def check(params: dict[str, Any]) -> list[str]:
         _coach(params)
     except InputError as exc:
         out.append(f"coach: {exc}")
+    return out
+
+
+def _on_ring(model: str) -> bool:
+    """Whether the model runs on the flexible ring track ('RF'; its second letter)."""
+    return len(model) == 2 and model[1] == "F"
+
+
+def _ring_keys(params: dict[str, Any]) -> list[str]:
+    """The keys of the ring track given in a case (not left at None)."""
+    return [k for k in ("n_sleepers", "f_limit", "x_offset", *(f"track_{t}" for t in _TRACK_PARAMS))
+            if params.get(k) is not None]
+
+
+def _ring_selection(params: dict[str, Any]) -> dict[str, Any]:
+    """The ring keys of railvti.scenarios (n_sleepers, f_limit, x_offset, track_params) from
+    a case, the scenarios' defaults where not given."""
+    tp = {t: params[f"track_{t}"] for t in _TRACK_PARAMS if params.get(f"track_{t}") is not None}
+    return {"n_sleepers": RF_N_SLEEPERS if params.get("n_sleepers") is None else int(params["n_sleepers"]),
+            "f_limit": RF_F_LIMIT if params.get("f_limit") is None else float(params["f_limit"]),
+            "x_offset": 0.0 if params.get("x_offset") is None else float(params["x_offset"]),
+            "track_params": tp}
+
+
+def _ring_problems(params: dict[str, Any]) -> list[str]:
+    """Model RF's keys: only with a model on the ring, a scenario it runs, a ring that holds
+    the coach (checked before any ring is built) and track parameters RingTrack takes."""
+    model = str(params["model"])
+    given = _ring_keys(params)
+    if not _on_ring(model):
+        return [f"{', '.join(given)}: keys of the ring track (model 'RF'); model {model!r} runs on "
+                "rigid track elements"] if given else []
+    out = []
+    allowed = _RF_SCENARIOS
+    missing = [f for f in _RUNS.get(str(params["scenario"]), ()) if allowed is not None and f not in allowed]
+    if missing:
+        out.append(f"model {model!r} does not run scenario {params['scenario']!r} yet "
+                   f"(railvti.scenarios.{', '.join(missing)}); it runs {allowed}")
+    sel = _ring_selection(params)
+    spacing = sel["track_params"].get("sleeper_spacing", TRACK_DEFAULTS["sleeper_spacing"])
+    try:
+        coach = _coach(params)
+    except InputError:
+        return out                       # reported by check as a coach problem
+    from .ring_coupling import check_ring_length
+    try:
+        check_ring_length(sel["n_sleepers"], spacing, coach)
+    except InputError as exc:
+        out.append(f"n_sleepers = {sel['n_sleepers']}: {exc}")
     return out
 
 
@@ -178,6 +273,8 @@ _SIDES = ["left", "right"]
 def _dof_unit(name: str, rate: bool) -> str:
     """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
     last = name.rsplit("_", 1)[-1]
+    if name.startswith("ring_res") and last == "r":
+        last = "roll"                   # model RF's residual coordinate of the element's roll
     if last in ("x", "y", "z"):
         unit = "m"
     elif last in ("roll", "pitch", "yaw", "beta"):
@@ -221,12 +318,15 @@ def _history(res, data: dict, scalars: dict) -> None:
     return ws.line()
 
 
-def _fr_history(res, system, layouts, data: dict) -> None:
+def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
     """Model FR: the modal coordinates with their mode labels and the rims' deformation at
-    the contact points (railvti.vehicle.flexible.rim_deformation, rim_rail_angle_change)."""
+    the contact points (railvti.vehicle.flexible.rim_deformation, rim_rail_angle_change);
+    ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
     from .flexible import mode_labels, rim_deformation, rim_rail_angle_change
-    n, nm = system.n, system.modal.n_modes
-    labels = list(mode_labels(system, layouts))
+    n = system.n
+    stop = system.n_state if stop is None else stop
+    nm = stop - n
+    labels = list(mode_labels(system, layouts))[:nm]
     k = np.full(nm, -1)
     fam = np.full(nm, "residual", dtype=object)
     freq = np.full(nm, np.nan)
@@ -243,7 +343,7 @@ def _fr_history(res, system, layouts, data: dict) -> None:
                            {**mode, "meaning": "'0' (k = 0), 'A' or 'B' (k > 0), 'residual'"})
     data["mode_frequency"] = (freq, "Hz", {**mode, "meaning": "free-free non-rotating natural "
                                                               "frequency (NaN: residual)"})
-    data["modal_q"] = (res.q[:, n:], "kg^0.5 m or m (per column: column_units)",
+    data["modal_q"] = (res.q[:, n:stop], "kg^0.5 m or m (per column: column_units)",
                        {"axes": ["t", "mode"], "mode_label": labels, "column_units": units})
     per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["dy", "dz", "drx"],
            "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
@@ -255,6 +355,72 @@ def _fr_history(res, system, layouts, data: dict) -> None:
         {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
          "wheelset": [f"ws{w + 1}" for w in range(4)],
          "meaning": "change of the rim-rail angle from the rim's camber (+: inner edge rises)"})
+
+
+def _ring_history(res, system, data: dict, prefix: str = "") -> None:
+    """Model RF: the ring's modal coordinates with their labels and the rail's motion under
+    each wheel (RingSystem.rail_deflection; the crown's vertical displacement beside it);
+    the mode datasets' names get ``prefix`` (model FF: 'ring_', beside the wheelsets')."""
+    ring = system.ring
+    n0 = system.n_state - ring.n_modes - ring.n_residual
+    labels = list(system.state_names[n0:])
+    mb = system.modal
+    nm = ring.n_modes
+    om = np.sqrt([float(mb.stiffness[i][0, 0]) for i in range(nm)])
+    freq = np.concatenate([om / (2 * np.pi), np.full(ring.n_residual, np.nan)])
+    zeta = np.concatenate([[float(mb.damping[i][0, 0]) / (2 * o) for i, o in enumerate(om)],
+                           np.full(ring.n_residual, np.nan)])
+    group = np.array([int(n.split("_")[1][1:]) if n.startswith("ring_g") else -1 for n in labels])
+    units = ["kg^0.5 m"] * nm + [("rad" if n.endswith("_r") else "m") for n in labels[nm:]]
+    mode = {"axes": ["mode"], "mode_label": labels}
+    data[prefix + "mode_label"] = (np.array(labels, dtype=object), "text", {"axes": ["mode"]})
+    data[prefix + "mode_group"] = (group, "1", {**mode, "meaning": "cyclic group j of the ring mode (its "
+                                                          "sleeper-pattern wave number; -1: a residual "
+                                                          "flexibility coordinate)"})
+    data[prefix + "mode_frequency"] = (freq, "Hz", {**mode, "meaning": "natural frequency of the ring mode "
+                                                              "(NaN: residual)"})
+    data[prefix + "mode_damping_ratio"] = (zeta, "1", {**mode, "meaning": "modal damping ratio (NaN: residual)"})
+    data[prefix + "modal_q"] = (res.q[:, n0:], "kg^0.5 m, m or rad (per column: column_units)",
+                       {"axes": ["t", "mode"], "mode_label": labels, "column_units": units,
+                        "meaning": "ring modes (mass-normalised), then per wheel the residual "
+                                   "flexibility's coordinates (y, z, roll of the element pose)"})
+    rail = system.rail_deflection(res.t, res.q)                  # (nt, 3, 2, nw)
+    nw = rail.shape[-1]
+    per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["y", "z", "roll"],
+           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(nw)],
+           "column_units": ["m", "m", "rad"],
+           "meaning": "rail head's motion under each wheel: the pose (y, z, roll; vehicle frame, y "
+                      "to the left) of the track element under the wheel, from the ring's modes"}
+    data["rail_deflection"] = (rail, "m, m, rad (per component)", per)
+    half = 0.5 * ring.rail_distance
+    crown = rail[:, 1] + np.array([half, -half])[:, None] * rail[:, 2]
+    data["rail_crown_z"] = (crown, "m", {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+                                         "wheelset": [f"ws{w + 1}" for w in range(nw)],
+                                         "meaning": "vertical displacement of the rail crown under "
+                                                    "each wheel (+ up)"})
+
+
+def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, fr: dict,
+                     ring: dict, data: dict, scalars: dict) -> tuple:
+    """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
+    ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
+    FR layouts or [])."""
+    from .. import scenarios as sc
+    if model == "FF":
+        sy, lays = sc.ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
+    elif model == "FR":
+        sy, lays = sc.fr_system(coach, speed_kmh=kmh, geometry=geometry, **fr)
+    elif model == "RF":
+        sy, lays = sc.coach_system(model, coach, speed_kmh=kmh, geometry=geometry, **ring), []
+    else:
+        return sc.coach_system(model, coach), []
+    if fr:
+        stop = sy.n_state - (sy.ring.n_modes + sy.ring.n_residual if ring else 0)
+        _fr_history(res, sy, lays, data, stop=stop)
+    if ring:
+        _ring_history(res, sy, data, prefix="ring_" if fr else "")
+        scalars["n_ring_modes"] = (int(sy.ring.n_modes), "1")
+    return sy, lays
 
 
 def _stream_derived() -> dict:
@@ -300,22 +466,28 @@ def run(params: dict[str, Any]) -> CaseOutput:
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text"),
                                            "geometry": (geometry, "text")}
-    fr = _fr_selection(params) if model == "FR" else {}
+    fr = _fr_selection(params) if model in _FLEXIBLE else {}
     if fr:
         scalars["k_max"] = (int(fr["k_max"]), "1")
         scalars["f_max"] = (float(fr["f_max"]), "Hz")
-    # a long history streams to the runner's file (railvti.stream; docs/results.md); model FR
-    # keeps its history in memory (its modal datasets are derived from the whole run)
+    ring = _ring_selection(params) if _on_ring(model) else {}
+    if ring:
+        scalars["n_sleepers"] = (ring["n_sleepers"], "1")
+        scalars["f_limit"] = (ring["f_limit"], "Hz")
+        scalars["x_offset"] = (ring["x_offset"], "m")
+    # a long history streams to the runner's file (railvti.stream; docs/results.md); models FR
+    # and RF keep their history in memory (their modal datasets are derived from the whole run)
     out_dt = params["output_dt"] if scen == "hunting" else 0.01
     stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
                           derived=_stream_derived())
-              if scen != "critical_speed" and not fr else None)
+              if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach, stream_to=stream, geometry=geometry, **fr)
+                               h=params["h"], coach=coach, stream_to=stream, geometry=geometry,
+                               **fr, **ring)
         wl = _history(c.run, data, scalars)
-        if fr:
-            _fr_history(c.run, *sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr), data)
+        _modal_histories(c.run, model, coach, params["speed_kmh"], geometry, fr, ring, data,
+                         scalars)
         final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
                  "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
         data["Q_final"] = (c.Q, "N", final)
@@ -331,12 +503,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
         r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
                        output_dt=params["output_dt"], coach=coach, stream_to=stream,
-                       geometry=geometry, **fr)
+                       geometry=geometry, **fr, **ring)
         wl = _history(r, data, scalars)
-        sy = (sc.fr_system(coach, speed_kmh=params["speed_kmh"], **fr) if fr
-              else (sc.coach_system(model, coach), []))
-        if fr:
-            _fr_history(r, *sy, data)
+        sy = _modal_histories(r, model, coach, params["speed_kmh"], geometry, fr, ring, data,
+                              scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
@@ -357,8 +527,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
         b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False, geometry=geometry, **fr)
-        lin, freq = sc.linear_critical_speed(model, coach, **fr)
+                           coach=coach, progress=False, geometry=geometry, **fr, **ring)
+        lin, freq = sc.linear_critical_speed(model, coach, **fr, **ring)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
         if fr:
             data["step"] = (b.details["h"], "s", {"axes": ["speed"],

@@ -118,6 +118,12 @@ class SimulationResult:
         '' for a history kept in memory; for a run streamed to HDF5 (``stream_to``), the
         'FILE::GROUP' holding the whole history: ``t``, ``q``, ``v`` and ``wheel`` here
         then hold only its last ``stream_tail`` seconds.
+    rail : ndarray (nt, 3, 2, nw) or None
+        Model RF (a system on the ring track): the rail head's motion under each wheel at the
+        outputs, the pose (y m, z m, roll rad; vehicle frame) of the element under wheel
+        [., ., wheel, wheelset] (``RingSystem.rail_deflection``, after a completed run); None
+        on rigid track. The ring's modal coordinates are the last columns of ``q``, named in
+        ``dof_names``.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -136,6 +142,7 @@ class SimulationResult:
     friction: float = float("nan")
     flange_angle: float = float("nan")
     streamed: str = ""
+    rail: np.ndarray | None = None
 
     def save(self, path) -> "Path":
         """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
@@ -155,7 +162,12 @@ class SimulationResult:
                           "quantities": list(WHEEL_OUTPUTS),
                           "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
                           "wheel": ["left", "right"],
-                          "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
+                          "wheelset": [f"ws{w + 1}" for w in range(nw)]},
+                **({"rail": {"axes": ["t", "component", "wheel", "wheelset"],
+                             "component": ["y", "z", "roll"], "column_units": ["m", "m", "rad"],
+                             "wheel": ["left", "right"],
+                             "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
+                   if self.rail is not None else {})}
 
     @property
     def nadal(self) -> float:
@@ -565,6 +577,9 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         res = _integrate(system, cs, plan, q, v, contact, stream, stream_tail)
     wall = time.perf_counter() - wall0
     res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
+    if getattr(system, "ring", None) is not None and res.t.size:
+        # model RF: the rail under the wheels, after the timed loop (the RTF stays the loop's)
+        res = replace(res, rail=system.rail_deflection(res.t, res.q))
     if bem is not None:
         res = _with_bem_fields(res, system, bem, cnt0, plan.nsteps)
     if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
