@@ -32,7 +32,7 @@ from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiErr
 from ..material import Material
 from .grid import Grid
 from .normal import NormalResult, solve_normal
-from .workspace import call_interruptibly, workspace
+from .workspace import call_directly, call_interruptibly, workspace
 
 log = logging.getLogger(__name__)
 
@@ -44,6 +44,11 @@ _EDGE_MESSAGE = ("the contact area reaches the last two element rows at the lead
 DEFAULT_BLOCK = 16
 #: Passes over each row before the next row (both methods).
 DEFAULT_INNER = 1
+#: Solves of at most this many element sweeps (nx ny max_iter; about 0.3 s at the worst)
+#: call the Fortran directly; larger ones run in a worker thread that Ctrl-C can leave
+#: (call_interruptibly). Starting that thread and handing the result back costs
+#: 0.1-1 ms, more than a whole 11 x 11 solve.
+DIRECT_CALL_WORK = 2_500_000
 
 STATUS_EXTERIOR, STATUS_ADHESION, STATUS_SLIP = 0, 1, 2
 
@@ -217,8 +222,10 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     if inside[-2:, :].any():
         raise GridTooSmallError(_EDGE_MESSAGE)
 
-    # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one
-    status, sx, sy, iters, resid, info = call_interruptibly(
+    # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one;
+    # a small one directly (it ends within DIRECT_CALL_WORK element sweeps)
+    call = call_interruptibly if grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
+    status, sx, sy, iters, resid, info = call(
         workspace(grid, material, tangential=True), core.rolling_solve_c, p, grid.x0, grid.y0, xi,
         eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, tx, ty)
     if info == Status.GRID_EDGE:
@@ -230,14 +237,13 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
     da = grid.element_area
-    x, y = grid.mesh()
     n_contact = int(inside.sum())
     result = RollingResult(
         grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
         approach=float(approach), area=n_contact * da, n_contact=n_contact, mu=mu,
         creepage=(xi, eta, phi), speed=speed, tx=tx, ty=ty, status=np.asarray(status, dtype=np.int8),
         slip_velocity_x=sx, slip_velocity_y=sy, fx=float(tx.sum() * da), fy=float(ty.sum() * da),
-        mz=float((x * ty - y * tx).sum() * da),
+        mz=float((grid.x @ ty.sum(axis=1) - tx.sum(axis=0) @ grid.y) * da),
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
         iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
         method=method, normal=normal)
