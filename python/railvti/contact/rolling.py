@@ -37,6 +37,7 @@ from .workspace import call_directly, call_interruptibly, workspace
 log = logging.getLogger(__name__)
 
 _METHODS = {"gs": 1, "fftgs": 2}
+_PRODUCTS = {"auto": 0, "fft": 1, "direct": 2}
 _DEFAULT_MAX_ITER = {"gs": 500, "fftgs": 2000}
 _EDGE_MESSAGE = ("the contact area reaches the last two element rows at the leading grid edge "
                  "x = x_max (the slip needs two elements upstream): enlarge the grid")
@@ -174,14 +175,14 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
                      creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
                      tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
                      block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal: NormalResult | None = None,
-                     approach: float = math.nan) -> RollingResult:
+                     approach: float = math.nan, product: str = "auto") -> RollingResult:
     """Steady rolling tangential problem for a given pressure.
 
     Parameters
     ----------
     pressure : ndarray, shape (nx, ny)
         Normal pressure, Pa (>= 0); the elements with p > 0 are in contact.
-    grid, material, mu, creepage, speed, method, tol, max_iter, t0, block, inner
+    grid, material, mu, creepage, speed, method, tol, max_iter, t0, block, inner, product
         As in :func:`solve_rolling`.
     normal : NormalResult, optional
         Attached to the result.
@@ -210,6 +211,8 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     max_iter = _checks.positive_int("max_iter", max_iter)
     block = _checks.positive_int("block", block)
     inner = _checks.positive_int("inner", inner)
+    if product not in _PRODUCTS:
+        raise InputError(f"product must be one of {sorted(_PRODUCTS)}, got {product!r}")
     if t0 is None:
         tx = np.zeros(grid.shape, order="F")
         ty = np.zeros(grid.shape, order="F")
@@ -227,7 +230,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     call = call_interruptibly if grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
     status, sx, sy, iters, resid, info = call(
         workspace(grid, material, tangential=True), core.rolling_solve_c, p, grid.x0, grid.y0, xi,
-        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, tx, ty)
+        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, _PRODUCTS[product], tx, ty)
     if info == Status.GRID_EDGE:
         raise GridTooSmallError(_EDGE_MESSAGE)
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):
@@ -259,7 +262,7 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
                   creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
                   tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
                   block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal_method: str = "cg",
-                  normal_tol: float = 1e-8) -> RollingResult:
+                  normal_tol: float = 1e-8, product: str = "auto") -> RollingResult:
     """Steady-state rolling contact: normal problem, then the tangential one.
 
     Parameters
@@ -299,6 +302,12 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
         Rows per FFT refresh of 'fftgs'.
     inner : int
         Passes over each run of a row before the next row.
+    product : {'auto', 'fft', 'direct'}
+        How the displacement field u = A t is formed in each sweep: 'fft' by
+        zero-padded FFT over the grid (the reference), 'direct' by direct sums
+        over the contact set onto its bounding box, 'auto' the one with fewer
+        operations (direct on small patches, e.g. 11 x 11 grids). The answers
+        agree to rounding.
     normal_method, normal_tol
         Passed to :func:`~railvti.contact.solve_normal`.
 
@@ -323,4 +332,4 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
     normal = solve_normal(gap, grid, material, fn=fn, method=normal_method, tol=normal_tol)
     return solve_tangential(normal.pressure, grid, material, mu, creepage, speed, method=method, tol=tol,
                             max_iter=max_iter, t0=t0, block=block, inner=inner, normal=normal,
-                            approach=normal.approach)
+                            approach=normal.approach, product=product)
