@@ -75,8 +75,8 @@ PERF_GROUPS = [("__contact_normal_MOD", "normal solver"), ("__contact_rolling_MO
                ("__vehicle_contact_MOD", "contact geometry + Hertz/Kalker"),
                ("__vehicle_newmark_MOD", "Newton / HHT"), ("__vehicle_model_MOD", "forces / tangent"),
                ("__vehicle_modal_MOD", "modal blocks"), ("__common_", "common (Anderson, dense)"),
-               ("lapack", "LAPACK / BLAS"), ("blas", "LAPACK / BLAS"), ("dget", "LAPACK / BLAS"),
-               ("_Py", "Python"), ("PyEval", "Python")]
+               ("lapack", "LAPACK / BLAS"), ("blas", "LAPACK / BLAS"), ("libpython", "Python + numpy"),
+               ("_multiarray", "Python + numpy"), ("kernel", "kernel"), ("libc", "libc (memory)")]
 
 
 def profile(dur: float, use_perf: bool) -> None:
@@ -116,14 +116,14 @@ def profile(dur: float, use_perf: bool) -> None:
           f"{d['normal'] / steps:.1f} normal + rolling solve pairs ({d['sub']} steps sub-stepped)")
     if perf_data:
         report = subprocess.run(["perf", "report", "-i", perf_data, "--no-children", "--stdio",
-                                 "--sort", "sym"], capture_output=True, text=True).stdout
+                                 "--sort", "dso,sym"], capture_output=True, text=True).stdout
         share: dict[str, float] = {}
         for line in report.splitlines():
             parts = line.split()
             if len(parts) < 3 or not parts[0].endswith("%"):
                 continue
-            sym = parts[-1]
-            group = next((g for key, g in PERF_GROUPS if key.lower() in sym.lower()), "other")
+            dso_sym = parts[1] + " " + parts[-1]      # e.g. '_core...so __contact_rolling_MOD_field'
+            group = next((g for key, g in PERF_GROUPS if key.lower() in dso_sym.lower()), "other")
             share[group] = share.get(group, 0.0) + float(parts[0][:-1])
         print("  perf samples of the whole child (imports and the static equilibrium included):")
         for g, v in sorted(share.items(), key=lambda kv: -kv[1]):

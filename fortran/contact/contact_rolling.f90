@@ -61,7 +61,12 @@
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block). Both accelerate the sweep map by Anderson mixing (depth AA_M,
+!> block). On a small patch in a large grid (the 11 x 11 creep case, the
+!> vehicle's fixed grids around a wheel's patch) the refresh is cheaper as
+!> direct sums of the contact set's tractions onto the rows and columns the
+!> slip reads (box_apply, O(nc x box)) than as a padded FFT over the whole grid;
+!> direct_is_cheaper picks by a count of operations (product PRODUCT_AUTO), and
+!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding. Both accelerate the sweep map by Anderson mixing (depth AA_M,
 !> common_anderson), with a safeguard that falls back to the plain sweep when
 !> the residual grows.
 !> (With th = 1/3 the plain sweeps stagnate or diverge in partial slip, e.g.

@@ -198,7 +198,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     if not isinstance(material, Material):
         raise InputError("material must be a railvti.Material")
     p = _checks.finite_array("pressure", pressure, shape=grid.shape)
-    if (p < 0.0).any():
+    if p.min() < 0.0:
         raise InputError("pressure must be >= 0 everywhere")
     mu = _checks.non_negative("mu", mu)
     xi, eta, phi = _check_creepage(creepage)
@@ -221,8 +221,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
             raise InputError("t0 must be a pair (tx, ty) of (nx, ny) arrays")
         tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape)
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
-    inside = p > 0.0
-    if inside[-2:, :].any():
+    if p[-2:, :].max() > 0.0:
         raise GridTooSmallError(_EDGE_MESSAGE)
 
     # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one;
@@ -235,17 +234,19 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         raise GridTooSmallError(_EDGE_MESSAGE)
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):
         raise error(info, "rolling contact solver failed internally", exc=RailvtiError)
-    finite = all(np.isfinite(a).all() for a in (tx, ty, sx, sy)) and info != Status.NOT_FINITE
-    if not finite:
+    # one sum per field (needed anyway): a NaN or inf anywhere makes it non-finite, and
+    # tractions (<= mu p) and slip velocities are far from overflowing a sum
+    sum_tx, sum_ty = float(tx.sum()), float(ty.sum())
+    if info == Status.NOT_FINITE or not math.isfinite(sum_tx + sum_ty + float(sx.sum()) + float(sy.sum())):
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
     da = grid.element_area
-    n_contact = int(inside.sum())
+    n_contact = int(np.count_nonzero(p))        # p >= 0
     result = RollingResult(
         grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
         approach=float(approach), area=n_contact * da, n_contact=n_contact, mu=mu,
         creepage=(xi, eta, phi), speed=speed, tx=tx, ty=ty, status=np.asarray(status, dtype=np.int8),
-        slip_velocity_x=sx, slip_velocity_y=sy, fx=float(tx.sum() * da), fy=float(ty.sum() * da),
+        slip_velocity_x=sx, slip_velocity_y=sy, fx=sum_tx * da, fy=sum_ty * da,
         mz=float((grid.x @ ty.sum(axis=1) - tx.sum(axis=0) @ grid.y) * da),
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
         iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
