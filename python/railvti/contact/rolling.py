@@ -241,13 +241,14 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
     da = grid.element_area
+    x, y = grid.mesh()
     n_contact = int(np.count_nonzero(p))        # p >= 0
     result = RollingResult(
         grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
         approach=float(approach), area=n_contact * da, n_contact=n_contact, mu=mu,
         creepage=(xi, eta, phi), speed=speed, tx=tx, ty=ty, status=np.asarray(status, dtype=np.int8),
         slip_velocity_x=sx, slip_velocity_y=sy, fx=sum_tx * da, fy=sum_ty * da,
-        mz=float((grid.x @ ty.sum(axis=1) - tx.sum(axis=0) @ grid.y) * da),
+        mz=float((x * ty - y * tx).sum() * da),     # this order: Mz of a saturated patch cancels
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
         iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
         method=method, normal=normal)
