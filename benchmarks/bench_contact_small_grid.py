@@ -94,7 +94,8 @@ for _ in range(repeats):
     best_cpu = min(best_cpu, (c1 - c0) / ncase)
     best_tang = min(best_tang, (t2 - t1) / ncase)
 print(json.dumps({"module": railvti.__file__, "ncase": ncase, "case_ms": best_case * 1e3,
-                  "tang_ms": best_tang * 1e3, "cpu_ms": best_cpu * 1e3, "ratios": [round(r, 3) for _, _, r in problems],
+                  "tang_ms": best_tang * 1e3, "cpu_ms": best_cpu * 1e3,
+                  "ratios": [round(r, 3) for _, _, r in problems],
                   "n_contact": [r.n_contact for r in ref[::len(CREEP)]],
                   "sweeps": float(np.mean([r.iterations for r in ref])),
                   "slip_frac": [float(r.slip.sum() / r.n_contact) for r in ref],

@@ -66,7 +66,8 @@
 !> direct sums of the contact set's tractions onto the rows and columns the
 !> slip reads (box_apply, O(nc x box)) than as a padded FFT over the whole grid;
 !> direct_is_cheaper picks by a count of operations (product PRODUCT_AUTO), and
-!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding. Both accelerate the sweep map by Anderson mixing (depth AA_M,
+!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding.
+!> Both accelerate the sweep map by Anderson mixing (depth AA_M,
 !> common_anderson), with a safeguard that falls back to the plain sweep when
 !> the residual grows.
 !> (With th = 1/3 the plain sweeps stagnate or diverge in partial slip, e.g.
