@@ -7,6 +7,17 @@
 the table's points and on the strip contact (``geometry='strip'``).
 
     .venv/bin/python benchmarks/bench_vehicle.py [duration_s] [bem_duration_s]
+    .venv/bin/python benchmarks/bench_vehicle.py --profile [duration_s]   (default 0.3 s)
+
+``--profile``: where the time of one BEM run goes (issue 18 item 1). The same hunting run with
+the BEM (RR, 300 km/h, 0.75 mm), on its own BEM state so that its wall-time counters
+(``BemState.timers``: system_clock around the solves in fortran/vehicle/vehicle_bem.f90) can
+be read: time in normal solves, in rolling solves, in the rest of the BEM patches (gap field
+interpolation, checks, force sums), and outside the patches (contact geometry from the table,
+Newton residuals and line search, tangents and their LU, the chunks in Python), with the
+counts per step (Newton iterations, tangents, normal + rolling solve pairs) and per solve (CG
+iterations, rolling sweeps). With ``perf`` on the path, ``--perf`` also samples the child and
+splits the time outside the patches by module.
 """
 from __future__ import annotations
 
@@ -36,7 +47,94 @@ print(json.dumps({"wall": wall, "rtf": wall / dur, "amp_mm": scenarios.amplitude
 """
 
 
+PROFILE_CHILD = r"""
+import json, sys, time
+from railvti import scenarios
+from railvti.vehicle.simulate import bem_state
+dur = float(sys.argv[1])
+sy = scenarios.coach_system("RR")
+scenarios.contact_table()
+with bem_state(sy) as st:
+    t0 = time.perf_counter()
+    r = scenarios.hunting(300.0, contact="bem", duration=dur, y0=0.004, progress=False, bem=st)
+    wall = time.perf_counter() - t0
+    tm = st.timers()
+s = r.stats
+print(json.dumps({"wall": wall, "sim_wall": s["wall_time"], "timers": tm,
+                  "steps": s["steps"], "newton": s["newton_iterations"], "tangents": s["tangents"],
+                  "sub": s["substepped_steps"], "normal": s["bem_normal_solves"],
+                  "cg": s["bem_cg_iterations"], "rolling": s["bem_rolling_solves"],
+                  "sweeps": s["bem_rolling_sweeps"], "open": s["bem_open_points"],
+                  "grid": list(s["bem_grid"])}))
+"""
+
+#: perf symbol prefixes -> the part of the run they belong to (--perf)
+PERF_GROUPS = [("__contact_normal_MOD", "normal solver"), ("__contact_rolling_MOD", "rolling solver"),
+               ("__contact_convolution_MOD", "FFT products (normal + rolling)"),
+               ("fftw", "FFT products (normal + rolling)"), ("__vehicle_bem_MOD", "BEM patch set-up"),
+               ("__vehicle_contact_MOD", "contact geometry + Hertz/Kalker"),
+               ("__vehicle_newmark_MOD", "Newton / HHT"), ("__vehicle_model_MOD", "forces / tangent"),
+               ("__vehicle_modal_MOD", "modal blocks"), ("__common_", "common (Anderson, dense)"),
+               ("lapack", "LAPACK / BLAS"), ("blas", "LAPACK / BLAS"), ("libpython", "Python + numpy"),
+               ("_multiarray", "Python + numpy"), ("kernel", "kernel"), ("libc", "libc (memory)")]
+
+
+def profile(dur: float, use_perf: bool) -> None:
+    """Print where the time of one BEM run goes (see the module doc)."""
+    import os
+    import shutil
+    import tempfile
+    cmd = [sys.executable, "-c", PROFILE_CHILD, str(dur)]
+    perf_data = None
+    if use_perf and shutil.which("perf"):
+        perf_data = os.path.join(tempfile.mkdtemp(), "perf.data")
+        cmd = ["perf", "record", "-q", "-o", perf_data, "--"] + cmd
+    load0 = os.getloadavg()[0]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    d = json.loads(out.stdout.strip().splitlines()[-1])
+    tm, steps = d["timers"], d["steps"]
+    wall = d["sim_wall"]
+    rest_patch = tm["patch_seconds"] - tm["normal_seconds"] - tm["rolling_seconds"]
+    outside = wall - tm["patch_seconds"]
+    print(f"profile of one BEM run: RR coach, hunting at 300 km/h, {dur:g} s simulated, h = 1 ms, "
+          f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm; "
+          f"load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print(f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps")
+    rows = [("normal solves", tm["normal_seconds"],
+             f"{d['normal']} solves, {d['cg'] / max(d['normal'], 1):.1f} CG iterations and "
+             f"{tm['normal_seconds'] / max(d['normal'], 1) * 1e3:.3f} ms each"),
+            ("rolling solves", tm["rolling_seconds"],
+             f"{d['rolling']} solves, {d['sweeps'] / max(d['rolling'], 1):.1f} sweeps and "
+             f"{tm['rolling_seconds'] / max(d['rolling'], 1) * 1e3:.3f} ms each"),
+            ("rest of the BEM patches", rest_patch,
+             f"gap field interpolation, checks, sums; {d['open']} points found open"),
+            ("outside the BEM patches", outside,
+             "contact geometry (table), Newton residuals + line search, tangents + LU, Python")]
+    for name, t, note in rows:
+        print(f"  {name:>24s} {t:8.2f} s {100 * t / wall:5.1f} %   {note}")
+    print(f"  per step: {d['newton'] / steps:.2f} Newton iterations, {d['tangents'] / steps:.2f} tangents, "
+          f"{d['normal'] / steps:.1f} normal + rolling solve pairs ({d['sub']} steps sub-stepped)")
+    if perf_data:
+        report = subprocess.run(["perf", "report", "-i", perf_data, "--no-children", "--stdio",
+                                 "--sort", "dso,sym"], capture_output=True, text=True).stdout
+        share: dict[str, float] = {}
+        for line in report.splitlines():
+            parts = line.split()
+            if len(parts) < 3 or not parts[0].endswith("%"):
+                continue
+            dso_sym = parts[1] + " " + parts[-1]      # e.g. '_core...so __contact_rolling_MOD_field'
+            group = next((g for key, g in PERF_GROUPS if key.lower() in dso_sym.lower()), "other")
+            share[group] = share.get(group, 0.0) + float(parts[0][:-1])
+        print("  perf samples of the whole child (imports and the static equilibrium included):")
+        for g, v in sorted(share.items(), key=lambda kv: -kv[1]):
+            print(f"  {g:>34s} {v:5.1f} %")
+
+
 def main() -> None:
+    if len(sys.argv) > 1 and sys.argv[1] == "--profile":
+        rest = [a for a in sys.argv[2:] if a != "--perf"]
+        profile(float(rest[0]) if rest else 0.3, "--perf" in sys.argv)
+        return
     dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
     dur_bem = float(sys.argv[2]) if len(sys.argv) > 2 else min(dur, 1.0)
     print(f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "

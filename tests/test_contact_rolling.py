@@ -278,7 +278,7 @@ def test_kernel_reports_named_status_codes():
     def call(handle, p, method=2):
         tx, ty = np.zeros(grid.shape, order="F"), np.zeros(grid.shape, order="F")
         return core.rolling_solve_c(handle, p, grid.x0, grid.y0, 1e-3, 0.0, 0.0, 0.3, 1.0, method, 4, 1,
-                                    1e-7, 50, tx, ty)[-1]
+                                    1e-7, 50, 0, tx, ty)[-1]
 
     p = np.zeros(grid.shape, order="F")
     assert call(tang, p) == Status.NO_CONTACT

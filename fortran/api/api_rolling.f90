@@ -10,18 +10,21 @@
 !> ('fftgs'); ninner passes per row run. x0, y0: centre of element
 !> [1, 1] (m); creepages xi, eta (1) and spin phi (1/m); speed (m/s).
 !> tx, ty: warm start on entry, tractions (Pa) on exit. status: 0 exterior,
-!> 1 adhesion, 2 slip. sx, sy: slip velocity (m/s). info: rolling_steady's
+!> 1 adhesion, 2 slip. sx, sy: slip velocity (m/s). product: how u = A t is
+!> formed, 0 the cheaper way, 1 FFT (the reference), 2 direct sums over the
+!> contact box (contact_rolling's PRODUCT_*). info: rolling_steady's
 !> status (STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, ...); STAT_BAD_HANDLE
 !> no such workspace, or one of another grid size.
 subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, &
-                           ninner, tol, max_iter, tx, ty, status, sx, sy, iters, resid, info)
+                           ninner, tol, max_iter, product, tx, ty, status, sx, sy, iters, resid, &
+                           info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
     use contact_rolling, only: rolling_steady
     implicit none
     !f2py threadsafe
-    integer(c_int), intent(in) :: handle, nx, ny, method, nblock, ninner, max_iter
+    integer(c_int), intent(in) :: handle, nx, ny, method, nblock, ninner, max_iter, product
     real(c_double), intent(in) :: p(nx, ny), x0, y0, xi, eta, phi, mu, speed, tol
     real(c_double), intent(inout) :: tx(nx, ny), ty(nx, ny)
     integer(c_int), intent(out) :: status(nx, ny)
@@ -44,7 +47,7 @@ subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, m
     end if
     allocate (st(nx, ny))
     call rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                        tx, ty, st, sx, sy, it, resid, stat)
+                        tx, ty, st, sx, sy, it, resid, stat, product=product)
     status = st
     iters = it
     info = stat

@@ -259,7 +259,7 @@ subroutine vehicle_bem_counts_c(handle, reset, counts, info)
     use vehicle_bem, only: bem_counts, bem_reset, BEM_NCOUNT
     implicit none
     integer(c_int), intent(in) :: handle, reset
-    real(c_double), intent(out) :: counts(7)
+    real(c_double), intent(out) :: counts(10)
     integer(c_int), intent(out) :: info
     real(c_double) :: c(BEM_NCOUNT)
     integer :: stat

@@ -61,7 +61,13 @@
 !> before each block the whole field u = A t is refreshed by one FFT pair
 !> product. Method 'gs' (1) uses one block (exact direct updates, O(N^2) per
 !> sweep); 'fftgs' (2) blocks of nblock rows (O(N nblock nx) + one FFT per
-!> block). Both accelerate the sweep map by Anderson mixing (depth AA_M,
+!> block). On a small patch in a large grid (the 11 x 11 creep case, the
+!> vehicle's fixed grids around a wheel's patch) the refresh is cheaper as
+!> direct sums of the contact set's tractions onto the rows and columns the
+!> slip reads (box_apply, O(nc x box)) than as a padded FFT over the whole grid;
+!> direct_is_cheaper picks by a count of operations (product PRODUCT_AUTO), and
+!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding.
+!> Both accelerate the sweep map by Anderson mixing (depth AA_M,
 !> common_anderson), with a safeguard that falls back to the plain sweep when
 !> the residual grows.
 !> (With th = 1/3 the plain sweeps stagnate or diverge in partial slip, e.g.
@@ -91,10 +97,14 @@ module contact_rolling
     private
     public :: rolling_steady, element_solve
     public :: ROLL_GS, ROLL_FFTGS, ST_EXTERIOR, ST_ADHESION, ST_SLIP
+    public :: PRODUCT_AUTO, PRODUCT_FFT, PRODUCT_DIRECT
 
     integer, parameter :: ROLL_GS = 1, ROLL_FFTGS = 2
     integer, parameter :: ST_EXTERIOR = 0, ST_ADHESION = 1, ST_SLIP = 2
     integer, parameter :: AA_M = 5   ! Anderson depth of both methods
+    !> How the field u = A t is formed: the cheaper way by a count of operations
+    !> (direct_is_cheaper), always by FFT (the reference), or always directly.
+    integer, parameter :: PRODUCT_AUTO = 0, PRODUCT_FFT = 1, PRODUCT_DIRECT = 2
     !> Weight of the three-point upwind difference (module doc) and its stencil.
     real(dp), parameter :: THETA = 1.0_dp / 3.0_dp
     real(dp), parameter :: WU0 = 1.0_dp + THETA, WU1 = -(1.0_dp + 2.0_dp * THETA), WU2 = THETA
@@ -114,6 +124,8 @@ module contact_rolling
         integer :: ib2 = 0                        ! i2 + 1: the upstream row the slip needs
         integer :: nbx = 0, nby = 0               ! offsets spanned by the box
         integer :: nc = 0                         ! elements in contact
+        logical :: direct = .false.               ! u = A t by direct sums over the box (box_apply)
+        integer, allocatable :: ic(:), jc(:)      ! (nc) the contact set, column by column
         real(dp) :: kx = 0.0_dp, ky = 0.0_dp      ! single-element pivots (At(0) - At(dx)) / dx, 1/Pa
         logical, allocatable :: inc(:, :)         ! (nx, ny) element in contact, p > 0
         integer, allocatable :: trail(:, :)       ! (nx, ny) trailing end of the run through (i, j)
@@ -121,6 +133,8 @@ module contact_rolling
         real(dp), allocatable :: wx(:, :), wy(:, :)   ! (nx, ny) rigid slip, creepage units
         !> At by offset (-nbx-1..nbx+1, -nby..nby), for the bases and the cross-row updates
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :)
+        !> A itself by offset, same bounds (direct products only)
+        real(dp), allocatable :: rxx(:, :), ryy(:, :), rxy(:, :)
         type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
     end type rolling_patch
 
@@ -132,7 +146,7 @@ contains
         real(dp), intent(inout) :: tx, ty
         real(dp), intent(in) :: bound
         real(dp) :: t
-        t = hypot(tx, ty)
+        t = sqrt(tx * tx + ty * ty)    ! tractions and slips are far from over/underflow
         if (t > bound) then
             tx = tx * bound / t
             ty = ty * bound / t
@@ -165,15 +179,21 @@ contains
         if (g <= 0.0_dp) then
             tx = 0.0_dp
             ty = 0.0_dp
-            lam = hypot(s0x, s0y)
+            lam = sqrt(s0x * s0x + s0y * s0y)
             return
         end if
         ! s = lam e and t = -g e  =>  e = (s0x / (lam + g kx), s0y / (lam + g ky)),
-        ! |e| = 1 fixes lam. f(lam) = |e|^2 - 1 is convex and decreasing, and
-        ! f >= 0 at lam = |s0| - g max(kx, ky), so Newton from there is monotone.
+        ! |e| = 1 fixes lam. f(lam) = |e|^2 - 1 is convex and decreasing, so Newton
+        ! converges from any start: at worst the first step overshoots below the
+        ! root and the rest is monotone. The start |s0| - g k, k the mean of kx, ky
+        ! weighted by s0's components, is exact for kx = ky and within a few per
+        ! cent of the root otherwise: 2-3 steps (4-5 from |s0| - g max(kx, ky)).
+        ! The convergence is quadratic, so a step below 1e-8 of the scale leaves an
+        ! error of order 1e-16 after it.
         gx = g * kx
         gy = g * ky
-        lam = max(0.0_dp, hypot(s0x, s0y) - max(gx, gy))
+        en = s0x * s0x + s0y * s0y
+        lam = max(0.0_dp, sqrt(en) - (gx * s0x * s0x + gy * s0y * s0y) / en)
         do it = 1, 100
             dx3 = 1.0_dp / (lam + gx)
             dy3 = 1.0_dp / (lam + gy)
@@ -182,11 +202,11 @@ contains
             if (fp >= 0.0_dp) exit
             dl = -f / fp
             lam = max(lam + dl, 0.0_dp)
-            if (abs(dl) <= 1.0e-15_dp * (lam + gx + gy)) exit
+            if (abs(dl) <= 1.0e-8_dp * (lam + gx + gy)) exit
         end do
         ex = s0x / (lam + gx)
         ey = s0y / (lam + gy)
-        en = hypot(ex, ey)
+        en = sqrt(ex * ex + ey * ey)
         if (en > 0.0_dp) then
             ex = ex / en
             ey = ey / en
@@ -205,8 +225,11 @@ contains
     !> STAT_GRID_EDGE the contact set reaches i = nx - 1 (fewer than two upstream
     !> elements); STAT_NOT_FINITE non-finite values (resid = huge); STAT_SINGULAR
     !> or STAT_LAPACK the LU inverse of a run basis failed.
+    !> product (optional, PRODUCT_AUTO by default): how u = A t is formed, by FFT
+    !> (PRODUCT_FFT) or by direct sums over the contact box (PRODUCT_DIRECT); the
+    !> two agree to rounding.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                              tx, ty, status, sx, sy, iters, resid, info)
+                              tx, ty, status, sx, sy, iters, resid, info, product)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: p(:, :)            ! pressure, Pa, (nx, ny)
         real(dp), intent(in) :: x0, y0             ! centre of element (1, 1), m
@@ -221,12 +244,13 @@ contains
         integer, intent(out) :: iters
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
+        integer, intent(in), optional :: product
 
         type(rolling_patch) :: pa
         type(anderson_state) :: aa
-        real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :)
+        real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :), v(:)
         real(dp) :: r2, n2, rbest
-        integer :: nblk, it
+        integer :: nblk, it, prod
 
         iters = 0
         resid = 0.0_dp
@@ -238,24 +262,30 @@ contains
             info = STAT_BAD_HANDLE     ! a workspace made without the tangential kernels
             return
         end if
-        if ((method /= ROLL_GS .and. method /= ROLL_FFTGS) .or. nblock < 1 .or. ninner < 1) then
+        prod = PRODUCT_AUTO
+        if (present(product)) prod = product
+        if ((method /= ROLL_GS .and. method /= ROLL_FFTGS) .or. nblock < 1 .or. ninner < 1 &
+            .or. prod < PRODUCT_AUTO .or. prod > PRODUCT_DIRECT) then
             info = STAT_BAD_ARGUMENT
             return
         end if
-        call patch_setup(w, p, x0, y0, xi, eta, phi, mu, tx, ty, pa, info)
+        call patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
         if (info /= STAT_OK) return
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
 
         allocate (ux(pa%nx, pa%ny), uy(pa%nx, pa%ny), dux(pa%i1:pa%ib2, pa%j1:pa%j2), &
-                  duy(pa%i1:pa%ib2, pa%j1:pa%j2))
-        call anderson_init(aa, [pack(tx, pa%inc), pack(ty, pa%inc)], AA_M)
+                  duy(pa%i1:pa%ib2, pa%j1:pa%j2), v(2 * pa%nc))
+        ux = 0.0_dp      ! box_apply sets the box only; nothing reads u outside it
+        uy = 0.0_dp
+        call pack_tractions(pa, tx, ty, v)
+        call anderson_init(aa, v, AA_M)
         rbest = huge(1.0_dp)
         it = 0
         do
             ! exact field and the Jacobi residual on it (pivot of a single element)
-            call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            call field(pa, w%plan, tx, ty, ux, uy)
             call jacobi_residual(pa, ux, uy, tx, ty, r2, n2)
             if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
                 info = STAT_NOT_FINITE
@@ -277,13 +307,14 @@ contains
             if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
                 call anderson_restart(aa)
                 call unpack_tractions(pa, aa%x, tx, ty)
-                call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+                call field(pa, w%plan, tx, ty, ux, uy)
             end if
             rbest = min(rbest, resid)
             it = it + 1
             call sweep(pa, w%plan, nblk, ninner, tx, ty, ux, uy, dux, duy)
             ! Anderson mixing of the sweep map, then every traction back on its disc
-            call anderson_step(aa, [pack(tx, pa%inc), pack(ty, pa%inc)])
+            call pack_tractions(pa, tx, ty, v)
+            call anderson_step(aa, v)
             call unpack_tractions(pa, aa%x, tx, ty)
         end do
         iters = it
@@ -292,18 +323,20 @@ contains
         ! traction on its disc (a change of the order of the residual)
         call project_all(pa, tx, ty)
         if (info /= STAT_NOT_FINITE) then
-            call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            call field(pa, w%plan, tx, ty, ux, uy)
             call final_slip(pa, ux, uy, tx, ty, speed, status, sx, sy)
         end if
     end subroutine rolling_steady
 
     !> The fixed data of one solve: contact set, bounding box, coefficients,
     !> in-row bases and rigid slip; tractions outside the contact set zeroed and
-    !> the warm start put on the Coulomb discs. info: STAT_OK, STAT_NO_CONTACT,
-    !> STAT_GRID_EDGE, or the failure of a basis (make_basis).
-    subroutine patch_setup(w, p, x0, y0, xi, eta, phi, mu, tx, ty, pa, info)
+    !> the warm start put on the Coulomb discs; prod: the product choice of
+    !> rolling_steady. info: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE, or the
+    !> failure of a basis (make_basis).
+    subroutine patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
         type(workspace), intent(in) :: w
         real(dp), intent(in) :: p(:, :), x0, y0, xi, eta, phi, mu
+        integer, intent(in) :: prod
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
         type(rolling_patch), intent(out) :: pa
         integer, intent(out) :: info
@@ -331,14 +364,31 @@ contains
             return
         end if
         pa%nc = count(pa%inc)
+        call contact_list(pa)
+        select case (prod)
+        case (PRODUCT_FFT)
+            pa%direct = .false.
+        case (PRODUCT_DIRECT)
+            pa%direct = .true.
+        case default
+            pa%direct = direct_is_cheaper(pa)
+        end select
 
         ! coefficients At of ut = At t by offset, and the in-row bases of every
         ! run length met (see module doc)
         allocate (pa%axx(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby), pa%ayy(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby), &
                   pa%axy(-pa%nbx - 1:pa%nbx + 1, -pa%nby:pa%nby))
-        call centred(w%c(:, :, KERNEL_XX), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axx)
-        call centred(w%c(:, :, KERNEL_YY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%ayy)
-        call centred(w%c(:, :, KERNEL_XY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axy)
+        call by_offset(w%c(:, :, KERNEL_XX), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axx)
+        call by_offset(w%c(:, :, KERNEL_YY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%ayy)
+        call by_offset(w%c(:, :, KERNEL_XY), pa%nx, pa%ny, pa%nbx, pa%nby, pa%axy)
+        if (pa%direct) then
+            pa%rxx = pa%axx
+            pa%ryy = pa%ayy
+            pa%rxy = pa%axy
+        end if
+        call extrapolated(pa%nbx, pa%axx)
+        call extrapolated(pa%nbx, pa%ayy)
+        call extrapolated(pa%nbx, pa%axy)
         allocate (pa%bases(pa%nbx))
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
@@ -406,11 +456,10 @@ contains
         end do
     end subroutine contact_box
 
-    !> At(offset) = (1 + th) c(offset) - th c(offset + (1, 0)) for offsets
-    !> (-nbx-1..nbx+1, -nby..nby), c zero beyond the grid (cc(nbx + 1, :) unused
-    !> and zero). cfull: one kernel in influence_field's circular layout on the
-    !> padded (2 nx, 2 ny) grid.
-    subroutine centred(cfull, nx, ny, nbx, nby, cc)
+    !> The coefficients c(offset) for offsets (-nbx-1..nbx+1, -nby..nby), zero
+    !> beyond the grid. cfull: one kernel in influence_field's circular layout
+    !> on the padded (2 nx, 2 ny) grid.
+    subroutine by_offset(cfull, nx, ny, nbx, nby, cc)
         real(dp), intent(in) :: cfull(0:, 0:)
         integer, intent(in) :: nx, ny, nbx, nby
         real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
@@ -421,11 +470,19 @@ contains
                 if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
             end do
         end do
+    end subroutine by_offset
+
+    !> c by offset (by_offset) turned in place into At(offset) = (1 + th) c(offset)
+    !> - th c(offset + (1, 0)) (cc(nbx + 1, :) unused and set to zero).
+    subroutine extrapolated(nbx, cc)
+        integer, intent(in) :: nbx
+        real(dp), intent(inout) :: cc(-nbx - 1:, :)
+        integer :: a
         do a = -nbx - 1, nbx
             cc(a, :) = (1.0_dp + THETA) * cc(a, :) - THETA * cc(a + 1, :)
         end do
         cc(nbx + 1, :) = 0.0_dp
-    end subroutine centred
+    end subroutine extrapolated
 
     !> The in-row basis of a run of n elements, per component:
     !> m(:, q) = At_n^-1 C e_q (the tractions whose own-row displacement ut
@@ -542,15 +599,102 @@ contains
         end do
     end subroutine project_all
 
-    !> tx, ty from a vector packed as [tx(inc), ty(inc)], each traction put on its disc.
+    !> The tractions of the contact set packed as [tx(inc), ty(inc)] (pack's order).
+    subroutine pack_tractions(pa, tx, ty, v)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: tx(:, :), ty(:, :)
+        real(dp), intent(out) :: v(:)
+        integer :: k
+        do k = 1, pa%nc
+            v(k) = tx(pa%ic(k), pa%jc(k))
+            v(pa%nc + k) = ty(pa%ic(k), pa%jc(k))
+        end do
+    end subroutine pack_tractions
+
+    !> tx, ty on the contact set from a vector packed as [tx(inc), ty(inc)], each
+    !> traction put on its disc (outside the set they stay zero: patch_setup).
     subroutine unpack_tractions(pa, v, tx, ty)
         type(rolling_patch), intent(in) :: pa
         real(dp), intent(in) :: v(:)
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
-        tx = unpack(v(1:pa%nc), pa%inc, 0.0_dp)
-        ty = unpack(v(pa%nc + 1:2 * pa%nc), pa%inc, 0.0_dp)
-        call project_all(pa, tx, ty)
+        integer :: k, i, j
+        do k = 1, pa%nc
+            i = pa%ic(k)
+            j = pa%jc(k)
+            tx(i, j) = v(k)
+            ty(i, j) = v(pa%nc + k)
+            call project_on_disc(tx(i, j), ty(i, j), pa%bound(i, j))
+        end do
     end subroutine unpack_tractions
+
+    !> The contact set as a list, column by column (the order of pack).
+    subroutine contact_list(pa)
+        type(rolling_patch), intent(inout) :: pa
+        integer :: i, j, k
+        allocate (pa%ic(pa%nc), pa%jc(pa%nc))
+        k = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i1, pa%i2
+                if (.not. pa%inc(i, j)) cycle
+                k = k + 1
+                pa%ic(k) = i
+                pa%jc(k) = j
+            end do
+        end do
+    end subroutine contact_list
+
+    !> Whether direct sums over the box (box_apply) take fewer operations than
+    !> the FFT pair product: 8 flops per source and target against about
+    !> 5 M log2 M + 10 M for the four real transforms of M = 4 nx ny points,
+    !> the padding, copies and spectral products (a count, checked by timing
+    !> on 11 x 11 to 25 x 25 grids: benchmarks/bench_contact_small_grid.py).
+    logical function direct_is_cheaper(pa)
+        type(rolling_patch), intent(in) :: pa
+        real(dp) :: m, ntarget
+        m = 4.0_dp * pa%nx * pa%ny
+        ntarget = real(pa%ib2 + 2 - pa%i1, dp) * (pa%j2 - pa%j1 + 1)
+        direct_is_cheaper = 8.0_dp * pa%nc * ntarget < 5.0_dp * m * log(m) / log(2.0_dp) + 10.0_dp * m
+    end function direct_is_cheaper
+
+    !> The field u = A t where the solver reads it, by FFT or (pa%direct) by box_apply.
+    subroutine field(pa, plan, tx, ty, ux, uy)
+        type(rolling_patch), intent(in) :: pa
+        type(conv_plan), intent(inout) :: plan
+        real(dp), intent(in) :: tx(:, :), ty(:, :)
+        real(dp), intent(inout) :: ux(:, :), uy(:, :)
+        if (pa%direct) then
+            call box_apply(pa, tx, ty, ux, uy)
+        else
+            call conv_apply_pair(plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+        end if
+    end subroutine field
+
+    !> u = A t by direct sums over the contact set, on the box the solver reads:
+    !> rows i1..i2 + 2 (the slip stencil's upstream elements), columns j1..j2
+    !> (Kaiser eq. 20; the xy coupling is symmetric, A_xy = A_yx).
+    subroutine box_apply(pa, tx, ty, ux, uy)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: tx(:, :), ty(:, :)
+        real(dp), intent(inout) :: ux(:, :), uy(:, :)
+        integer :: k, a, b, i, j, ie
+        real(dp) :: fx, fy
+        ie = pa%ib2 + 1
+        ux(pa%i1:ie, pa%j1:pa%j2) = 0.0_dp
+        uy(pa%i1:ie, pa%j1:pa%j2) = 0.0_dp
+        do k = 1, pa%nc
+            i = pa%ic(k)
+            j = pa%jc(k)
+            fx = tx(i, j)
+            fy = ty(i, j)
+            if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
+            do b = pa%j1, pa%j2
+                do a = pa%i1, ie
+                    ux(a, b) = ux(a, b) + pa%rxx(a - i, b - j) * fx + pa%rxy(a - i, b - j) * fy
+                    uy(a, b) = uy(a, b) + pa%rxy(a - i, b - j) * fx + pa%ryy(a - i, b - j) * fy
+                end do
+            end do
+        end do
+    end subroutine box_apply
 
     !> One row-implicit Gauss-Seidel sweep: rows in blocks of nblk, the exact
     !> field u refreshed by FFT before each block (the caller gives it for the
@@ -565,7 +709,7 @@ contains
         integer :: i, j, jb, je
         do jb = pa%j1, pa%j2, nblk
             je = min(pa%j2, jb + nblk - 1)
-            if (jb > pa%j1) call conv_apply_pair(plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
+            if (jb > pa%j1) call field(pa, plan, tx, ty, ux, uy)
             dux = 0.0_dp
             duy = 0.0_dp
             do j = jb, je

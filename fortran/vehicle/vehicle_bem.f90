@@ -22,6 +22,7 @@
 !> Implements no equation itself: it applies contact_normal (Kaiser eqs 17-23) and
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
+    use, intrinsic :: iso_fortran_env, only: int64
     use common_kinds, only: dp
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
@@ -39,8 +40,9 @@ module vehicle_bem
     real(dp), parameter :: FAR = 0.5_dp
     !> Counters (bem_counts): 1 normal solves, 2 CG iterations, 3 rolling solves,
     !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
-    !> 7 worst accepted rolling residual.
-    integer, parameter :: BEM_NCOUNT = 7
+    !> 7 worst accepted rolling residual, 8 wall seconds in normal solves, 9 in rolling
+    !> solves, 10 in bem_patch as a whole (the solves, the gap field and the sums).
+    integer, parameter :: BEM_NCOUNT = 10
 
     type :: bem_model
         logical :: used = .false.
@@ -211,6 +213,7 @@ contains
         type(workspace), pointer :: w
         real(dp) :: appr, resid, da, x0, y0
         integer :: it, nprod, stat, nx, ny, j
+        integer(int64) :: c0, c1, c2
         fn = 0.0_dp
         fx = 0.0_dp
         fy = 0.0_dp
@@ -222,6 +225,7 @@ contains
         m => models(handle)
         w => ws_get(m%ws, m%nx, m%ny)
         if (.not. associated(w)) return
+        call system_clock(c0)
         nx = m%nx
         ny = m%ny
         if (min(ia, ib) < 1 .or. max(ia, ib) > m%ntab) then
@@ -254,8 +258,11 @@ contains
             end if
             appr = dn
             da = m%dx * m%dy
+            call system_clock(c1)
             call normal_cg(w%plan, 1, w%c(:, :, 1), m%h, da, CONTROL_APPROACH, fn, appr, m%tol_n, &
                            m%maxit_n, p, it, nprod, resid, stat)
+            call system_clock(c2)
+            m%counts(8) = m%counts(8) + seconds(c1, c2)
             m%counts(1) = m%counts(1) + 1.0_dp
             m%counts(2) = m%counts(2) + real(it, dp)
             if (stat == STAT_NO_CONTACT) then
@@ -276,8 +283,11 @@ contains
             fn = da * sum(p)
             call pressure_centre(nx, ny, m%dx, m%dy, p, fn, xc, yc)
             m%counts(3) = m%counts(3) + 1.0_dp
+            call system_clock(c1)
             call rolling_steady(w, p, x0, y0, xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, &
                                 m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
+            call system_clock(c2)
+            m%counts(9) = m%counts(9) + seconds(c1, c2)
             m%counts(4) = m%counts(4) + real(it, dp)
             if (stat == STAT_GRID_EDGE) then
                 ! steady rolling needs two free rows behind the patch (contact_rolling)
@@ -296,7 +306,15 @@ contains
             fy = da * sum(ty)
             mz = spin_moment(nx, ny, m%dx, m%dy, tx, ty)
         end associate
+        call patch_time()
     contains
+        !> The patch's wall time into counter 10 (every return after c0 goes through it
+        !> except the failures, which end the run).
+        subroutine patch_time()
+            call system_clock(c2)
+            m%counts(10) = m%counts(10) + seconds(c0, c2)
+        end subroutine patch_time
+
         subroutine open_patch()
             m%p(:, :, k, iw, iws) = 0.0_dp
             m%tx(:, :, k, iw, iws) = 0.0_dp
@@ -304,8 +322,17 @@ contains
             m%sx(:, :, k, iw, iws) = 0.0_dp
             m%sy(:, :, k, iw, iws) = 0.0_dp
             m%counts(5) = m%counts(5) + 1.0_dp
+            call patch_time()
         end subroutine open_patch
     end subroutine bem_patch
+
+    !> Wall seconds between two system_clock counts (int64: microsecond or finer ticks).
+    real(dp) function seconds(c1, c2)
+        integer(int64), intent(in) :: c1, c2
+        integer(int64) :: rate
+        call system_clock(count_rate=rate)
+        seconds = real(c2 - c1, dp) / real(rate, dp)
+    end function seconds
 
     !> Centre of pressure (xc, yc) of p on the grid centred on the point (0 when fn = 0).
     pure subroutine pressure_centre(nx, ny, dx, dy, p, fn, xc, yc)

@@ -23,6 +23,9 @@ _DEFAULT_MAX_ITER = {"cg": 2000, "gs": 20000, "pk": 2000}
 GS_SLICE_SECONDS = 0.1
 #: Wall time of one slice of the CG solver, s (at least one iteration: ~0.1 s on 1600 x 1600).
 CG_SLICE_SECONDS = 0.1
+#: A CG solve of at most this many element iterations (nx ny max_iter) runs as one slice
+#: (an 11 x 11 grid: the second call and its argument conversion cost as much as the solve).
+_ONE_SLICE_WORK = 2_500_000
 #: CG from zero pressure on grids with both sides at least this long starts from
 #: the solution on the grid of twice the element size (nested iteration).
 _NESTED_MIN = 128
@@ -161,7 +164,8 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
     istate = np.zeros(5, dtype=np.int32)
     approach = np.array(app_in, dtype=np.float64)
     resid = np.array(0.0, dtype=np.float64)
-    budget, start = 1, 1           # iterations in the next slice: one, then adapted
+    # iterations in the next slice: one, then adapted; all at once for a small problem
+    budget, start = (max_iter if h.size * max_iter <= _ONE_SLICE_WORK else 1), 1
     while True:
         t0 = time.perf_counter()
         fn_out, done, info = core.normal_cg_slice_c(handle, h, control, method, tol, max_iter, fn_in,

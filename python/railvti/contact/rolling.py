@@ -32,11 +32,12 @@ from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiErr
 from ..material import Material
 from .grid import Grid
 from .normal import NormalResult, solve_normal
-from .workspace import call_interruptibly, workspace
+from .workspace import call_directly, call_interruptibly, workspace
 
 log = logging.getLogger(__name__)
 
 _METHODS = {"gs": 1, "fftgs": 2}
+_PRODUCTS = {"auto": 0, "fft": 1, "direct": 2}
 _DEFAULT_MAX_ITER = {"gs": 500, "fftgs": 2000}
 _EDGE_MESSAGE = ("the contact area reaches the last two element rows at the leading grid edge "
                  "x = x_max (the slip needs two elements upstream): enlarge the grid")
@@ -44,6 +45,11 @@ _EDGE_MESSAGE = ("the contact area reaches the last two element rows at the lead
 DEFAULT_BLOCK = 16
 #: Passes over each row before the next row (both methods).
 DEFAULT_INNER = 1
+#: Solves of at most this many element sweeps (nx ny max_iter; about 0.3 s at the worst)
+#: call the Fortran directly; larger ones run in a worker thread that Ctrl-C can leave
+#: (call_interruptibly). Starting that thread and handing the result back costs
+#: 0.1-1 ms, more than a whole 11 x 11 solve.
+DIRECT_CALL_WORK = 2_500_000
 
 STATUS_EXTERIOR, STATUS_ADHESION, STATUS_SLIP = 0, 1, 2
 
@@ -169,14 +175,14 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
                      creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
                      tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
                      block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal: NormalResult | None = None,
-                     approach: float = math.nan) -> RollingResult:
+                     approach: float = math.nan, product: str = "auto") -> RollingResult:
     """Steady rolling tangential problem for a given pressure.
 
     Parameters
     ----------
     pressure : ndarray, shape (nx, ny)
         Normal pressure, Pa (>= 0); the elements with p > 0 are in contact.
-    grid, material, mu, creepage, speed, method, tol, max_iter, t0, block, inner
+    grid, material, mu, creepage, speed, method, tol, max_iter, t0, block, inner, product
         As in :func:`solve_rolling`.
     normal : NormalResult, optional
         Attached to the result.
@@ -192,7 +198,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     if not isinstance(material, Material):
         raise InputError("material must be a railvti.Material")
     p = _checks.finite_array("pressure", pressure, shape=grid.shape)
-    if (p < 0.0).any():
+    if p.min() < 0.0:
         raise InputError("pressure must be >= 0 everywhere")
     mu = _checks.non_negative("mu", mu)
     xi, eta, phi = _check_creepage(creepage)
@@ -205,6 +211,8 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     max_iter = _checks.positive_int("max_iter", max_iter)
     block = _checks.positive_int("block", block)
     inner = _checks.positive_int("inner", inner)
+    if product not in _PRODUCTS:
+        raise InputError(f"product must be one of {sorted(_PRODUCTS)}, got {product!r}")
     if t0 is None:
         tx = np.zeros(grid.shape, order="F")
         ty = np.zeros(grid.shape, order="F")
@@ -213,31 +221,34 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
             raise InputError("t0 must be a pair (tx, ty) of (nx, ny) arrays")
         tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape)
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
-    inside = p > 0.0
-    if inside[-2:, :].any():
+    if p[-2:, :].max() > 0.0:
         raise GridTooSmallError(_EDGE_MESSAGE)
 
-    # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one
-    status, sx, sy, iters, resid, info = call_interruptibly(
+    # one Fortran call (not resumable), in a worker thread so that Ctrl-C stops a long one;
+    # a small one directly (it ends within DIRECT_CALL_WORK element sweeps)
+    call = call_interruptibly if grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
+    status, sx, sy, iters, resid, info = call(
         workspace(grid, material, tangential=True), core.rolling_solve_c, p, grid.x0, grid.y0, xi,
-        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, tx, ty)
+        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, _PRODUCTS[product], tx, ty)
     if info == Status.GRID_EDGE:
         raise GridTooSmallError(_EDGE_MESSAGE)
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):
         raise error(info, "rolling contact solver failed internally", exc=RailvtiError)
-    finite = all(np.isfinite(a).all() for a in (tx, ty, sx, sy)) and info != Status.NOT_FINITE
-    if not finite:
+    # one sum per field (needed anyway): a NaN or inf anywhere makes it non-finite, and
+    # tractions (<= mu p) and slip velocities are far from overflowing a sum
+    sum_tx, sum_ty = float(tx.sum()), float(ty.sum())
+    if info == Status.NOT_FINITE or not math.isfinite(sum_tx + sum_ty + float(sx.sum()) + float(sy.sum())):
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
     da = grid.element_area
     x, y = grid.mesh()
-    n_contact = int(inside.sum())
+    n_contact = int(np.count_nonzero(p))        # p >= 0
     result = RollingResult(
         grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
         approach=float(approach), area=n_contact * da, n_contact=n_contact, mu=mu,
         creepage=(xi, eta, phi), speed=speed, tx=tx, ty=ty, status=np.asarray(status, dtype=np.int8),
-        slip_velocity_x=sx, slip_velocity_y=sy, fx=float(tx.sum() * da), fy=float(ty.sum() * da),
-        mz=float((x * ty - y * tx).sum() * da),
+        slip_velocity_x=sx, slip_velocity_y=sy, fx=sum_tx * da, fy=sum_ty * da,
+        mz=float((x * ty - y * tx).sum() * da),     # this order: Mz of a saturated patch cancels
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
         iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
         method=method, normal=normal)
@@ -253,7 +264,7 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
                   creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
                   tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
                   block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal_method: str = "cg",
-                  normal_tol: float = 1e-8) -> RollingResult:
+                  normal_tol: float = 1e-8, product: str = "auto") -> RollingResult:
     """Steady-state rolling contact: normal problem, then the tangential one.
 
     Parameters
@@ -293,6 +304,12 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
         Rows per FFT refresh of 'fftgs'.
     inner : int
         Passes over each run of a row before the next row.
+    product : {'auto', 'fft', 'direct'}
+        How the displacement field u = A t is formed in each sweep: 'fft' by
+        zero-padded FFT over the grid (the reference), 'direct' by direct sums
+        over the contact set onto its bounding box, 'auto' the one with fewer
+        operations (direct on small patches, e.g. 11 x 11 grids). The answers
+        agree to rounding.
     normal_method, normal_tol
         Passed to :func:`~railvti.contact.solve_normal`.
 
@@ -317,4 +334,4 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
     normal = solve_normal(gap, grid, material, fn=fn, method=normal_method, tol=normal_tol)
     return solve_tangential(normal.pressure, grid, material, mu, creepage, speed, method=method, tol=tol,
                             max_iter=max_iter, t0=t0, block=block, inner=inner, normal=normal,
-                            approach=normal.approach)
+                            approach=normal.approach, product=product)

@@ -63,6 +63,15 @@ def call_interruptibly(handle: int, fn, *args):
     return box["out"]
 
 
+def call_directly(handle: int, fn, *args):
+    """``fn(handle, *args)`` in the calling thread, once no interrupted call still runs on
+    the workspace ``handle`` (the signature of :func:`call_interruptibly`): for calls short
+    enough that Ctrl-C may wait for their end."""
+    while handle in _busy:
+        time.sleep(POLL_SECONDS)
+    return fn(handle, *args)
+
+
 def workspace(grid: Grid, material: Material, tangential: bool = False) -> int:
     """Handle of the workspace of ``grid`` and ``material`` (made if needed).
 

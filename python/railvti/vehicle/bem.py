@@ -44,6 +44,9 @@ log = logging.getLogger(__name__)
 #: Counter names returned by the Fortran state (``vehicle_bem_counts_c``).
 COUNTERS = ("normal_solves", "cg_iterations", "rolling_solves", "rolling_sweeps", "open_points",
             "max_normal_residual", "max_rolling_residual")
+#: Wall-time counters of the Fortran state after :data:`COUNTERS` (s; :meth:`BemState.timers`):
+#: normal solves, rolling solves, and whole patches (the solves, the gap field and the sums).
+TIMERS = ("normal_seconds", "rolling_seconds", "patch_seconds")
 
 
 def _smooth(n: int) -> int:
@@ -299,6 +302,13 @@ class BemState:
         c, info = core.vehicle_bem_counts_c(self.handle, int(reset))
         check(info, "BEM contact state already freed")
         return {k: (float(v) if k.startswith("max") else int(v)) for k, v in zip(COUNTERS, c)}
+
+    def timers(self) -> dict:
+        """Wall seconds spent in the BEM patches since creation or the last reset
+        (:data:`TIMERS`): the profile of ``benchmarks/bench_vehicle.py``."""
+        c, info = core.vehicle_bem_counts_c(self.handle, 0)
+        check(info, "BEM contact state already freed")
+        return {k: float(v) for k, v in zip(TIMERS, c[len(COUNTERS):])}
 
     def patch(self, wheelset: int, wheel: int, point: int, speed: float, fn_hint: float = 0.0
               ) -> "BemPatch | None":

@@ -1,0 +1,79 @@
+"""The 11 x 11 creep-force case (issue 18 item 4): the fast path of the steady rolling solver
+(u = A t by direct sums over the contact box, chosen by product='auto' on small patches)
+against the reference path (zero-padded FFT products, product='fft'), on the table of
+cases of benchmarks/bench_contact_small_grid.py, and both against Kalker's linear theory in
+the small-creepage limit."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from railvti import STEEL
+from railvti.contact import Grid, hertz, hertz_gap, solve_normal, solve_tangential
+from railvti.contact.kalker import kalker_coefficients
+from railvti.errors import InputError
+
+FN, MU, V, MARGIN, N = 10e3, 0.3, 30.0, 1.57, 11
+# a/b = 0.5, 1.0, 1.33, 2.0 (benchmarks/bench_contact_small_grid.py)
+SHAPES = [(2.8, 1.0), (1.0, 1.0), (0.5 / 0.46, 0.5 / 0.30), (0.35, 1.0)]
+CREEP = [(xi, eta, phi) for xi in (0.0, 5e-4, 2e-3) for eta in (0.0, 1e-3) for phi in (0.0, 0.5, 2.0)]
+
+
+def _problem(A: float, B: float):
+    h = hertz(A, B, FN, STEEL)
+    g = Grid(N, N, 2 * MARGIN * h.a / N, 2 * MARGIN * h.b / N)
+    return h, g, solve_normal(hertz_gap(g, A, B), g, STEEL, fn=FN)
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["a/b=0.5", "a/b=1", "a/b=1.33", "a/b=2"])
+def test_direct_products_give_the_fft_answer(shape):
+    """Same sweeps and the same tractions to 1e-10 of the largest traction bound (a few 1e-15
+    measured): the two products differ by rounding only, which the iteration does not amplify."""
+    _, g, nr = _problem(*shape)
+    worst = 0.0
+    for c in CREEP:
+        ref = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="fft")
+        fast = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="auto")
+        direct = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="direct")
+        assert ref.converged and fast.converged
+        assert fast.iterations == ref.iterations
+        scale = MU * nr.pressure.max()
+        for r in (fast, direct):
+            worst = max(worst, np.abs(r.tx - ref.tx).max() / scale, np.abs(r.ty - ref.ty).max() / scale)
+            np.testing.assert_array_equal(r.status, ref.status)
+        fscale = MU * FN
+        assert abs(fast.fx - ref.fx) <= 1e-10 * fscale and abs(fast.fy - ref.fy) <= 1e-10 * fscale
+        assert abs(fast.mz - ref.mz) <= 1e-10 * fscale * g.dx * g.nx
+    assert worst < 1e-10
+
+
+def test_direct_products_on_a_larger_patch():
+    """On a 24 x 24 grid ('auto' takes the FFT there) forced direct products agree too."""
+    h = hertz(0.5 / 0.46, 0.5 / 0.30, FN, STEEL)
+    g = Grid(24, 24, 2 * 1.3 * h.a / 24, 2 * 1.3 * h.b / 24)
+    nr = solve_normal(hertz_gap(g, 0.5 / 0.46, 0.5 / 0.30), g, STEEL, fn=FN)
+    ref = solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 5e-4, 0.5), V, product="fft")
+    direct = solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 5e-4, 0.5), V, product="direct")
+    assert direct.iterations == ref.iterations
+    assert np.abs(direct.tx - ref.tx).max() < 1e-10 * MU * nr.pressure.max()
+    assert np.abs(direct.ty - ref.ty).max() < 1e-10 * MU * nr.pressure.max()
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["a/b=0.5", "a/b=1", "a/b=1.33", "a/b=2"])
+def test_small_grid_small_creepage_follows_kalker(shape):
+    """Independent check of the fast path: at small creepage the 11 x 11 grid's Fx, Fy lie
+    within 6 % of Kalker's linear theory (Fx = -G a b C11 xi; 1-5 % measured, the coarse
+    grid's discretisation error, not the solver's)."""
+    h, g, nr = _problem(*shape)
+    xi = eta = 2e-5
+    r = solve_tangential(nr.pressure, g, STEEL, MU, (xi, eta, 0.0), V)
+    c11, c22, _ = kalker_coefficients(h.a / h.b, STEEL.poisson)
+    gc2 = STEEL.shear_modulus * h.a * h.b
+    assert r.fx == pytest.approx(-gc2 * c11 * xi, rel=0.06)
+    assert r.fy == pytest.approx(-gc2 * c22 * eta, rel=0.06)
+
+
+def test_bad_product_is_named():
+    _, g, nr = _problem(1.0, 1.0)
+    with pytest.raises(InputError, match="product"):
+        solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 0.0, 0.0), V, product="dense")
