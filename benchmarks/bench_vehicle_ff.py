@@ -38,10 +38,10 @@ def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "F
         rtf[model] = loop / duration
         nst = 0 if sy is None else sy.n_state - sy.n
         rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-        h = r.stats.get("h", float("nan"))
+        h = 1e-3 if sy is None else scenarios._default_step(sy)
         print(f"{model}: {nst} modal coordinates; build {build:.1f} s; time loop {loop:.1f} s "
               f"(real-time factor {loop / duration:.2f}), centred_running {wall:.1f} s; "
-              f"h {h * 1e3 if np.isfinite(h) else float('nan'):.3g} ms; Newton iterations "
+              f"h {h * 1e3:.3g} ms; Newton iterations "
               f"{r.stats['newton_iterations']:.0f}; Q {r.Q.min() / 1e3:.2f}..{r.Q.max() / 1e3:.2f} kN; "
               f"peak memory {rss:.0f} MB")
     if "RR" in rtf:
