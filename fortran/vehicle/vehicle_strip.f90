@@ -41,10 +41,11 @@ module vehicle_strip
     integer, parameter :: nso = 12
     integer, parameter :: SO_N = 1, SO_V = 2, SO_DY = 3, SO_DZ = 4, SO_DPHI = 5, SO_L = 6
     integer, parameter :: SO_ZA = 7, SO_DELTA = 8, SO_R = 9, SO_X = 10, SO_A = 11, SO_PMAX = 12
-    !> Coarse scan: every STRIDE-th sample (0.4 mm apart at the default 0.2 mm step), a
-    !> segment looked at closely when an end is less than MARGIN plus its curvature's reach
-    !> (strip_wheel) from contact.
-    integer, parameter :: STRIDE = 2
+    !> Coarse scan (strip_scan): the interference at every SEG-th sample (1.6 mm apart at the
+    !> default 0.2 mm step); a segment's samples are evaluated when the bound of its
+    !> interference (ends and curvature) is less than MARGIN from contact. The rail's second
+    !> derivative is bounded per block of RB grid nodes.
+    integer, parameter :: SEG = 8, RB = 16
     real(dp), parameter :: MARGIN = 1.0e-4_dp
 
     !> Wheel samples ws(7, nw): y0, z0 (arms about the centre, z0 up), r (radius), kappa
@@ -61,6 +62,12 @@ module vehicle_strip
         real(dp) :: ds = 0.0_dp, rnom = 0.0_dp, ry0 = 0.0_dp, rdy = 1.0_dp, offset = 0.0_dp
         real(dp) :: top = 0.0_dp, fx0 = 0.0_dp, fdx = 1.0_dp
         real(dp), allocatable :: ws(:, :), rz(:), rm(:), rk(:), rk1(:), fv(:, :), fm(:, :)
+        !> The coarse scan's bounds: per segment of SEG samples the largest |z_w''| (1.5 x the
+        !> samples'), |z_w'| and the least and largest z0; per block of RB rail nodes the
+        !> largest |z''| (exact: z'' is linear between nodes); the rail's largest |z'| (1.2 x).
+        integer :: nseg = 0
+        real(dp) :: rz1max = 0.0_dp
+        real(dp), allocatable :: segw(:, :), rbm(:)
     end type strip_geometry
 
     !> One wheel's strip outputs at a pose and their exact derivatives over the pose
@@ -107,9 +114,37 @@ contains
         st%fdx = fdx
         st%fv = fv
         st%fm = fm
+        call scan_bounds(st)
         st%on = .true.
         info = STAT_OK
     end subroutine strip_set
+
+    !> The coarse scan's bounds of a stored geometry (strip_geometry's segw, rbm, rz1max).
+    pure subroutine scan_bounds(st)
+        type(strip_geometry), intent(inout) :: st
+        real(dp) :: f, f1, f2, f3
+        integer :: k, jl, jh, i
+        logical :: inside
+        st%nseg = (st%nw - 2) / SEG + 1
+        allocate (st%segw(4, st%nseg), st%rbm((st%nr - 1) / RB + 1))
+        do k = 1, st%nseg
+            jl = 1 + (k - 1) * SEG
+            jh = min(jl + SEG, st%nw)
+            st%segw(1, k) = 1.5_dp * maxval(st%ws(7, max(jl - 1, 1):min(jh + 1, st%nw)))
+            st%segw(2, k) = maxval(abs(st%ws(5, jl:jh)))
+            st%segw(3, k) = minval(st%ws(2, jl:jh))
+            st%segw(4, k) = maxval(st%ws(2, jl:jh))
+        end do
+        st%rbm = 0.0_dp
+        st%rz1max = 0.0_dp
+        do i = 1, st%nr
+            k = (i - 1) / RB + 1
+            st%rbm(k) = max(st%rbm(k), abs(st%rm(i)))
+            call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, st%ry0 + (i - 1) * st%rdy, f, f1, f2, f3, &
+                           inside)
+            st%rz1max = max(st%rz1max, 1.2_dp * abs(f1))
+        end do
+    end subroutine scan_bounds
 
     !> A natural-form cubic spline on a uniform grid (values v, second derivatives m at
     !> x0 + (i - 1) h): value and first three derivatives at x; inside false off the grid.
@@ -138,11 +173,12 @@ contains
     end subroutine spline_at
 
     !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value, rate and
-    !> second derivative (the end cell's polynomial at the end value off the grid).
+    !> (optional) second derivative (the end cell's polynomial at the end value off the grid).
     pure subroutine hermite_at(n, v, d, x0, h, x, f, f1, f2)
         integer, intent(in) :: n
         real(dp), intent(in) :: v(n), d(n), x0, h, x
-        real(dp), intent(out) :: f, f1, f2
+        real(dp), intent(out) :: f, f1
+        real(dp), intent(out), optional :: f2
         real(dp) :: s, t
         integer :: i
         s = min(max((x - x0) / h, 0.0_dp), real(n - 1, dp))
@@ -152,7 +188,8 @@ contains
             + (-2 * t**3 + 3 * t**2) * v(i + 1) + (t**3 - t**2) * h * d(i + 1)
         f1 = (6 * t**2 - 6 * t) / h * v(i) + (3 * t**2 - 4 * t + 1) * d(i) &
              + (-6 * t**2 + 6 * t) / h * v(i + 1) + (3 * t**2 - 2 * t) * d(i + 1)
-        f2 = ((12 * t - 6) / h * (v(i) - v(i + 1)) + (6 * t - 4) * d(i) + (6 * t - 2) * d(i + 1)) / h
+        if (present(f2)) f2 = ((12 * t - 6) / h * (v(i) - v(i + 1)) + (6 * t - 4) * d(i) &
+                               + (6 * t - 2) * d(i + 1)) / h
     end subroutine hermite_at
 
     !> Column col of the ratio table at x (clamped to its range; df = d2f = 0 outside).
@@ -187,44 +224,59 @@ contains
         props(1:2) = props(1:2) * a**(-1.0_dp / 3.0_dp)
     end subroutine strip_props
 
-    !> The vertical interference p of sample j at the pose (no derivatives; -huge off the rail)
-    !> and a bound of its curvature along y, curv = |z_rail''| + |kappa_w| (1 + z_w'^2)^1.5:
-    !> for the coarse scan.
-    pure subroutine interference(st, j, y, zc, cph, sph, p, curv)
+    !> The vertical interference p of sample j at the pose (-huge off the rail's grid).
+    pure subroutine interference(st, j, y, zc, cph, sph, p)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph
-        real(dp), intent(out) :: p, curv
-        real(dp) :: arm, zw, z, z1, z2, z3
-        logical :: inside
-        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        real(dp), intent(out) :: p
+        real(dp) :: zw, s, a, b, h
+        integer :: i
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, y + arm - st%offset, z, z1, z2, z3, inside)
+        s = (y + cph * st%ws(1, j) - sph * st%ws(2, j) - st%offset - st%ry0) / st%rdy
         p = -huge(1.0_dp)
-        curv = 0.0_dp
-        if (.not. inside) return
-        p = (st%top - z) - (st%rnom + zc + zw)
-        curv = abs(z2) + st%ws(7, j)
+        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        ! the rail spline's value (spline_at's, without its derivatives)
+        i = min(int(s), st%nr - 2) + 1
+        b = s - real(i - 1, dp)
+        a = 1.0_dp - b
+        h = st%rdy
+        p = (st%top - (a * st%rz(i) + b * st%rz(i + 1) &
+                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * h * h / 6.0_dp)) &
+            - (st%rnom + zc + zw)
     end subroutine interference
 
-    !> The samples the strips of a pose may touch (act), from a coarse scan of every
-    !> STRIDE-th sample: a segment's interference rises above its ends' by at most its
-    !> curvature x span^2 / 8; twice the ends' larger curvature is taken for the segment's.
+    !> The samples the strips of a pose may touch (act): the interference at the ends of each
+    !> segment of SEG samples; between them a C2 function rises above the ends' larger value
+    !> by at most its second derivative's bound x span^2 / 8, here
+    !>   |P''| <= max|z''_rail| (cos + |sin| max|z_w'|)^2 + (|sin| max|z'_rail| + cos) max|z_w''|
+    !> over the rail nodes the segment can reach (P = h(y_r(s)) - z_w(s) along the profile).
+    !> A segment with one end off the rail's grid is evaluated whole (both off: none).
     pure subroutine strip_scan(st, y, zc, cph, sph, act)
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, cph, sph
         logical, intent(out) :: act(st%nw)
-        real(dp) :: pc(st%nw), kc(st%nw), span
-        integer :: j, jl, jh
-        do j = 1, st%nw, STRIDE
-            call interference(st, j, y, zc, cph, sph, pc(j), kc(j))
+        real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m
+        integer :: k, jl, jh, il, ih
+        do k = 0, st%nseg
+            call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, pe(k))
         end do
-        call interference(st, st%nw, y, zc, cph, sph, pc(st%nw), kc(st%nw))
-        span = STRIDE * st%ds
-        do j = 1, st%nw
-            jl = 1 + ((j - 1) / STRIDE) * STRIDE
-            jh = min(jl + STRIDE, st%nw)
-            act(j) = max(pc(jl), pc(jh)) >= -(MARGIN + 0.25_dp * max(kc(jl), kc(jh)) * span * span)
+        act = .false.
+        do k = 1, st%nseg
+            jl = 1 + (k - 1) * SEG
+            jh = min(jl + SEG, st%nw)
+            if (pe(k - 1) == -huge(1.0_dp) .or. pe(k) == -huge(1.0_dp)) then
+                if (pe(k - 1) /= pe(k)) act(jl:jh) = .true.
+                cycle
+            end if
+            ylo = y - st%offset + cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k))
+            yhi = y - st%offset + cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k))
+            il = min(max(int((ylo - st%ry0) / st%rdy), 0), st%nr - 1) / RB + 1
+            ih = min(max(int((yhi - st%ry0) / st%rdy) + 1, 0), st%nr - 1) / RB + 1
+            rmax = maxval(st%rbm(min(il, ih):max(il, ih)))
+            span = real(jh - jl, dp) * st%ds
+            m = rmax * (cph + abs(sph) * st%segw(2, k))**2 + (abs(sph) * st%rz1max + cph) * st%segw(1, k)
+            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span >= -MARGIN) act(jl:jh) = .true.
         end do
     end subroutine strip_scan
 
@@ -314,9 +366,12 @@ contains
         real(dp), intent(in) :: y, zc, phi, cph, sph
         real(dp), intent(inout) :: out(nso + 1, 2)
         real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
-        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, d2kr
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel
         logical :: inside
         integer :: k
+        ! most samples the scan lets through are clear of the rail: the value first
+        call interference(st, j, y, zc, cph, sph, p)
+        if (p <= 0.0_dp) return
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
         yr = y + arm - st%offset
@@ -329,7 +384,7 @@ contains
         cd = 1.0_dp / sqrt(q)
         sd = -z1 * cd
         ddl = -z2 / q
-        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr, d2kr)
+        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr)
         ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
         crel = cd * cph + sd * sph
         srel = sd * cph - cd * sph
