@@ -10,6 +10,7 @@ the strip/table ratio, the load average, and the counts (Newton iterations and t
 step, sub-stepped steps) and the amplitude of each build.
 
     .venv/bin/python benchmarks/bench_vehicle_strip.py [duration_s] [--repeat N] [--python PY ...]
+        [--contact hertz-fastsim|hertz-kalker]
 """
 from __future__ import annotations
 
@@ -44,14 +45,17 @@ def main() -> None:
     ap.add_argument("duration", nargs="?", type=float, default=10.0, help="simulated s")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--python", nargs="*", default=[], help="further interpreters to compare")
+    ap.add_argument("--contact", choices=["hertz-fastsim", "hertz-kalker"], default=None,
+                    help="only this contact model (default both)")
     a = ap.parse_args()
+    cases = [c for c in CASES if a.contact in (None, c[0])]
     pythons = [sys.executable] + a.python
     runs: dict = {}
     loads = []
     print(f"hunting at 300 km/h, {a.duration:g} s simulated, h = 1 ms (RR coach, 8 wheels); "
           f"{a.repeat} interleaved repetitions")
     for _ in range(a.repeat):
-        for contact, geo in CASES:
+        for contact, geo in cases:
             for py in pythons:
                 loads.append(os.getloadavg()[0])
                 out = subprocess.run([py, "-c", CHILD, contact, str(a.duration), geo],
@@ -62,7 +66,7 @@ def main() -> None:
     print(f"{'build':>6s} {'contact':>14s} {'geometry':>8s} {'wall s (median)':>15s} {'strip/table':>11s} "
           f"{'amp mm':>7s} {'Newton/step':>11s} {'tangents/step':>13s} {'sub-stepped':>11s}")
     for i, py in enumerate(pythons):
-        for contact, geo in CASES:
+        for contact, geo in cases:
             rs = runs[(py, contact, geo)]
             wall = statistics.median(r["wall"] for r in rs)
             ref = statistics.median(r["wall"] for r in runs[(py, contact, "table")])

@@ -365,26 +365,38 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, phi, cph, sph
         real(dp), intent(inout) :: out(nso + 1, 2)
-        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
-        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel
-        logical :: inside
-        integer :: k
-        ! most samples the scan lets through are clear of the rail: the value first
-        call interference(st, j, y, zc, cph, sph, p)
-        if (p <= 0.0_dp) return
+        real(dp) :: arm, zw, z, z1, z2, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, s, t, h, ca, cb
+        integer :: k, i
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
         yr = y + arm - st%offset
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
-        if (.not. inside) return
+        ! the rail spline's value first (most samples the scan lets through are clear of the
+        ! rail), then its derivatives and the curvature table's Hermite cubic in the same cell
+        ! (spline_at's and hermite_at's arithmetic)
+        h = st%rdy
+        s = (yr - st%ry0) / h
+        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        i = min(int(s), st%nr - 2) + 1
+        cb = s - real(i - 1, dp)
+        ca = 1.0_dp - cb
+        z = ca * st%rz(i) + cb * st%rz(i + 1) &
+            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * h * h / 6.0_dp
         p = (st%top - z) - (st%rnom + zc + zw)
         if (p <= 0.0_dp) return
+        z1 = (st%rz(i + 1) - st%rz(i)) / h + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
+                                              + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * h / 6.0_dp
+        z2 = ca * st%rm(i) + cb * st%rm(i + 1)
+        t = cb
+        kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
+             + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
+        dkr = (6 * t**2 - 6 * t) / h * st%rk(i) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
+              + (-6 * t**2 + 6 * t) / h * st%rk(i + 1) + (3 * t**2 - 2 * t) * st%rk1(i + 1)
         ! the rail's contact angle and (smoothed) curvature, z down, and their rates along y_r
         q = 1.0_dp + z1 * z1
         cd = 1.0_dp / sqrt(q)
         sd = -z1 * cd
         ddl = -z2 / q
-        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr)
         ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
         crel = cd * cph + sd * sph
         srel = sd * cph - cd * sph
