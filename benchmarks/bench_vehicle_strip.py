@@ -6,7 +6,8 @@ each run in its own subprocess, the cases interleaved (table, strip, table, stri
 repeated, so that the machine's load falls on both alike. With ``--python`` the same cases also
 run under other interpreters (e.g. the virtual environment of a previous build), interleaved
 with this one: a before/after comparison in one run. Reports the median wall time per case,
-the strip/table ratio, the load average, and the counts (Newton iterations and tangents per
+the strip/table ratio of both wall and CPU time (the process's own: less noisy when the
+machine is oversubscribed), the load average, and the counts (Newton iterations and tangents per
 step, sub-stepped steps) and the amplitude of each build.
 
     .venv/bin/python benchmarks/bench_vehicle_strip.py [duration_s] [--repeat N] [--python PY ...]
@@ -31,10 +32,12 @@ contact, dur, geo = sys.argv[1], float(sys.argv[2]), sys.argv[3]
 scenarios.contact_table()
 scenarios.coach_system(geometry=geo)
 t0 = time.perf_counter()
+c0 = time.process_time()
 r = scenarios.hunting(300.0, contact=contact, duration=dur, y0=0.004, fastsim_n=8,
                       progress=False, geometry=geo)
 wall = time.perf_counter() - t0
-print(json.dumps({"wall": wall, "amp_mm": scenarios.amplitude(r) * 1e3,
+cpu = time.process_time() - c0
+print(json.dumps({"wall": wall, "cpu": cpu, "amp_mm": scenarios.amplitude(r) * 1e3,
                   "steps": r.stats["steps"], "newton": r.stats["newton_iterations"],
                   "tangents": r.stats["tangents"], "sub": r.stats["substepped_steps"]}))
 """
@@ -64,14 +67,18 @@ def main() -> None:
     print(f"load average (1 min) during the runs: {min(loads):.1f} .. {max(loads):.1f} on "
           f"{os.cpu_count()} cores")
     print(f"{'build':>6s} {'contact':>14s} {'geometry':>8s} {'wall s (median)':>15s} {'strip/table':>11s} "
+          f"{'CPU s (median)':>14s} {'strip/table':>11s} "
           f"{'amp mm':>7s} {'Newton/step':>11s} {'tangents/step':>13s} {'sub-stepped':>11s}")
     for i, py in enumerate(pythons):
         for contact, geo in cases:
             rs = runs[(py, contact, geo)]
             wall = statistics.median(r["wall"] for r in rs)
             ref = statistics.median(r["wall"] for r in runs[(py, contact, "table")])
+            cpu = statistics.median(r["cpu"] for r in rs)
+            cref = statistics.median(r["cpu"] for r in runs[(py, contact, "table")])
             d = rs[-1]
-            print(f"{i:6d} {contact:>14s} {geo:>8s} {wall:15.2f} {wall / ref:11.2f} {d['amp_mm']:7.3f} "
+            print(f"{i:6d} {contact:>14s} {geo:>8s} {wall:15.2f} {wall / ref:11.2f} {cpu:14.2f} {cpu / cref:11.2f} "
+                  f"{d['amp_mm']:7.3f} "
                   f"{d['newton'] / d['steps']:11.2f} {d['tangents'] / d['steps']:13.2f} {d['sub']:11d}")
     for i, py in enumerate(pythons):
         print(f"build {i}: {py}")
