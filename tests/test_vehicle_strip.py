@@ -14,7 +14,7 @@ from railvti.material import STEEL
 from railvti.vehicle import simulate, static_equilibrium
 from railvti.vehicle.model import CallSettings
 from railvti.vehicle.params import Coach
-from railvti.vehicle.strip import STRIP_OUTPUTS, strip_geometry, strip_wheel
+from railvti.vehicle.strip import STRIP_OUTPUTS, strip_geometry, strip_linearise, strip_wheel
 
 N, DZ, P_MAX = (STRIP_OUTPUTS.index(k) for k in ("N", "dV_dz", "P_max"))
 
@@ -69,6 +69,56 @@ def test_forces_are_the_gradient_of_the_potential(geo):
             fd.append((vp - vm) / (2 * h))
         assert out[:, N].sum() > 1e3
         np.testing.assert_allclose(grad, fd, rtol=1e-5, atol=1e-5 * np.abs(grad).max())
+
+
+def test_linearisation_is_the_derivative_of_the_outputs(geo):
+    """The Newton tangent's linearisation (strip_linearise, forward mode) equals central
+    differences of strip_wheel at steps small enough to stay between the rail spline's knots
+    (the potential's Hessian varies on the 0.05 mm grid), for every output the contact reads,
+    tread and flange; the Hessian of V is symmetric."""
+    cols = [STRIP_OUTPUTS.index(k) for k in ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm",
+                                             "delta", "r", "x", "A")]
+    for y, roll, fz in ((0.21e-3, 0.003, 5e4), (3e-3, -0.004, 7e4), (7e-3, 0.002, 9e4)):
+        zc = _height(geo, y, roll, fz)
+        out, d = strip_linearise(geo, y, zc, roll)
+        np.testing.assert_array_equal(out, strip_wheel(geo, y, zc, roll)[0])
+        for k, h in enumerate((2e-10, 2e-10, 2e-10)):
+            e = np.zeros(3)
+            e[k] = h
+            fd = (strip_wheel(geo, y + e[0], zc + e[1], roll + e[2])[0]
+                  - strip_wheel(geo, y - e[0], zc - e[1], roll - e[2])[0]) / (2 * h)
+            for i in cols:
+                a, b = d[:, i, k], fd[:, i]
+                scale = max(np.abs(d[:, i, :]).max(), 1e-12)
+                np.testing.assert_allclose(a, b, rtol=0, atol=2e-4 * scale,
+                                           err_msg=f"{STRIP_OUTPUTS[i]} over pose {k} at y={y}")
+        hess = d[:, 2:5, :].sum(axis=0)
+        np.testing.assert_allclose(hess, hess.T, rtol=1e-12, atol=1e-12 * np.abs(hess).max())
+
+
+def test_coarse_scan_misses_no_interference(geo):
+    """The coarse scan (segments of 8 samples with a curvature bound) finds the deepest strip
+    at random poses, tread to flange and rolled: the largest interference the strips report
+    equals numpy's over every wheel sample (SciPy's spline of the rail through the same
+    nodes, each sample's pose by its own rotation)."""
+    from scipy.interpolate import CubicSpline
+    ry = geo.rail_y0 + geo.rail_dy * np.arange(geo.rail_z.size)
+    rail = CubicSpline(ry, geo.rail_z, bc_type=((2, geo.rail_m[0]), (2, geo.rail_m[-1])))
+    rng = np.random.default_rng(3)
+    y = rng.uniform(-0.012, 0.012, 300)
+    zc = rng.uniform(-6e-4, 1e-4, 300)
+    roll = rng.uniform(-0.02, 0.02, 300)
+    out, _ = strip_wheel(geo, y, zc, roll)
+    y0, z0 = geo.ws[0], geo.ws[1]
+    c, s = np.cos(roll)[:, None], np.sin(roll)[:, None]
+    yr = y[:, None] + c * y0 - s * z0 - geo.offset
+    p = np.where((yr >= ry[0]) & (yr <= ry[-1]),
+                 geo.top - rail(np.clip(yr, ry[0], ry[-1])) - (geo.r_nominal + zc[:, None] + s * y0 + c * z0),
+                 -np.inf).max(axis=1)
+    touching = p > 0
+    assert 50 < touching.sum() < 300
+    np.testing.assert_allclose(out[touching][:, :, P_MAX].max(axis=1), p[touching], rtol=0, atol=1e-12)
+    assert np.all(out[~touching][:, :, N] == 0.0)
 
 
 def test_no_force_jump_where_the_table_point_jumps(geo):

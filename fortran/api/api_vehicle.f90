@@ -369,6 +369,39 @@ subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1,
     end do
 end subroutine vehicle_strip_eval_c
 
+!> The strip outputs of one (left) wheel at np poses and their exact derivatives over the pose
+!> (vehicle_strip%strip_linearise, the Newton tangent's linearisation): out(nso, 2, np),
+!> dout(nso, 2, 3, np) over (y, zc, phi). info: see vehicle_strip%strip_set.
+subroutine vehicle_strip_lin_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, &
+                               fx0, fdx, fv, fm, np, pose, nso_in, out, dout, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_SIZE_MISMATCH
+    use vehicle_strip, only: strip_geometry, strip_set, strip_lin, strip_linearise, nso
+    implicit none
+    integer(c_int), intent(in) :: nw, nr, nf, np, nso_in
+    real(c_double), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
+    real(c_double), intent(in) :: offset, top
+    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(3, np)
+    real(c_double), intent(out) :: out(nso_in, 2, np), dout(nso_in, 2, 3, np)
+    integer(c_int), intent(out) :: info
+    type(strip_geometry) :: st
+    type(strip_lin) :: lin
+    integer :: stat, i
+    out = 0.0_c_double
+    dout = 0.0_c_double
+    info = STAT_SIZE_MISMATCH
+    if (nso_in /= nso) return
+    call strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, fdx, fv, fm, &
+                   st, stat)
+    info = stat
+    if (stat /= STAT_OK) return
+    do i = 1, np
+        call strip_linearise(st, pose(:, i), lin)
+        out(:, :, i) = lin%so
+        dout(:, :, :, i) = lin%d
+    end do
+end subroutine vehicle_strip_lin_c
+
 !> Put wheelsets on the ring track (model RF): wheelset rlw(i) (1-based) has the points rlpt(:,
 !> k, i) of a track element's pose (y, z, roll) under wheel k; the rows over the modal
 !> coordinates rm0 + 1 .. rm0 + nk come from the kept ring modes (group starts bpos, kpos,

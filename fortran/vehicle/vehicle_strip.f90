@@ -41,10 +41,11 @@ module vehicle_strip
     integer, parameter :: nso = 12
     integer, parameter :: SO_N = 1, SO_V = 2, SO_DY = 3, SO_DZ = 4, SO_DPHI = 5, SO_L = 6
     integer, parameter :: SO_ZA = 7, SO_DELTA = 8, SO_R = 9, SO_X = 10, SO_A = 11, SO_PMAX = 12
-    !> Coarse scan: every STRIDE-th sample (0.4 mm apart at the default 0.2 mm step), a
-    !> segment looked at closely when an end is less than MARGIN plus its curvature's reach
-    !> (strip_wheel) from contact.
-    integer, parameter :: STRIDE = 2
+    !> Coarse scan (strip_scan): the interference at every SEG-th sample (1.6 mm apart at the
+    !> default 0.2 mm step); a segment's samples are evaluated when the bound of its
+    !> interference (ends and curvature) is less than MARGIN from contact. The rail's second
+    !> derivative is bounded per block of RB grid nodes.
+    integer, parameter :: SEG = 8, RB = 16
     real(dp), parameter :: MARGIN = 1.0e-4_dp
 
     !> Wheel samples ws(7, nw): y0, z0 (arms about the centre, z0 up), r (radius), kappa
@@ -61,17 +62,20 @@ module vehicle_strip
         real(dp) :: ds = 0.0_dp, rnom = 0.0_dp, ry0 = 0.0_dp, rdy = 1.0_dp, offset = 0.0_dp
         real(dp) :: top = 0.0_dp, fx0 = 0.0_dp, fdx = 1.0_dp
         real(dp), allocatable :: ws(:, :), rz(:), rm(:), rk(:), rk1(:), fv(:, :), fm(:, :)
+        !> The coarse scan's bounds: per segment of SEG samples the largest |z_w''| (1.5 x the
+        !> samples'), |z_w'| and the least and largest z0; per block of RB rail nodes the
+        !> largest |z''| (exact: z'' is linear between nodes); the rail's largest |z'| (1.2 x).
+        integer :: nseg = 0
+        real(dp) :: rz1max = 0.0_dp
+        real(dp), allocatable :: segw(:, :), rbm(:)
     end type strip_geometry
 
-    !> One wheel's strip outputs at a pose and their derivatives over the pose (forward
-    !> differences): the Newton tangent's perturbations read them linearly instead of
+    !> One wheel's strip outputs at a pose and their exact derivatives over the pose
+    !> (strip_linearise): the Newton tangent's perturbations read them linearly instead of
     !> evaluating the strips again (vehicle_model%contact_tangent).
     type :: strip_lin
         real(dp) :: pose(3) = 0.0_dp, so(nso, 2) = 0.0_dp, d(nso, 2, 3) = 0.0_dp
     end type strip_lin
-
-    !> Pose step of strip_linearise, m and rad.
-    real(dp), parameter :: LIN_STEP = 1.0e-8_dp
 
 contains
 
@@ -110,9 +114,37 @@ contains
         st%fdx = fdx
         st%fv = fv
         st%fm = fm
+        call scan_bounds(st)
         st%on = .true.
         info = STAT_OK
     end subroutine strip_set
+
+    !> The coarse scan's bounds of a stored geometry (strip_geometry's segw, rbm, rz1max).
+    pure subroutine scan_bounds(st)
+        type(strip_geometry), intent(inout) :: st
+        real(dp) :: f, f1, f2, f3
+        integer :: k, jl, jh, i
+        logical :: inside
+        st%nseg = (st%nw - 2) / SEG + 1
+        allocate (st%segw(4, st%nseg), st%rbm((st%nr - 1) / RB + 1))
+        do k = 1, st%nseg
+            jl = 1 + (k - 1) * SEG
+            jh = min(jl + SEG, st%nw)
+            st%segw(1, k) = 1.5_dp * maxval(st%ws(7, max(jl - 1, 1):min(jh + 1, st%nw)))
+            st%segw(2, k) = maxval(abs(st%ws(5, jl:jh)))
+            st%segw(3, k) = minval(st%ws(2, jl:jh))
+            st%segw(4, k) = maxval(st%ws(2, jl:jh))
+        end do
+        st%rbm = 0.0_dp
+        st%rz1max = 0.0_dp
+        do i = 1, st%nr
+            k = (i - 1) / RB + 1
+            st%rbm(k) = max(st%rbm(k), abs(st%rm(i)))
+            call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, st%ry0 + (i - 1) * st%rdy, f, f1, f2, f3, &
+                           inside)
+            st%rz1max = max(st%rz1max, 1.2_dp * abs(f1))
+        end do
+    end subroutine scan_bounds
 
     !> A natural-form cubic spline on a uniform grid (values v, second derivatives m at
     !> x0 + (i - 1) h): value and first three derivatives at x; inside false off the grid.
@@ -140,11 +172,13 @@ contains
         f3 = (m(i + 1) - m(i)) / h
     end subroutine spline_at
 
-    !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value and rate.
-    pure subroutine hermite_at(n, v, d, x0, h, x, f, f1)
+    !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value, rate and
+    !> (optional) second derivative (the end cell's polynomial at the end value off the grid).
+    pure subroutine hermite_at(n, v, d, x0, h, x, f, f1, f2)
         integer, intent(in) :: n
         real(dp), intent(in) :: v(n), d(n), x0, h, x
         real(dp), intent(out) :: f, f1
+        real(dp), intent(out), optional :: f2
         real(dp) :: s, t
         integer :: i
         s = min(max((x - x0) / h, 0.0_dp), real(n - 1, dp))
@@ -154,19 +188,26 @@ contains
             + (-2 * t**3 + 3 * t**2) * v(i + 1) + (t**3 - t**2) * h * d(i + 1)
         f1 = (6 * t**2 - 6 * t) / h * v(i) + (3 * t**2 - 4 * t + 1) * d(i) &
              + (-6 * t**2 + 6 * t) / h * v(i + 1) + (3 * t**2 - 2 * t) * d(i + 1)
+        if (present(f2)) f2 = ((12 * t - 6) / h * (v(i) - v(i + 1)) + (6 * t - 4) * d(i) &
+                               + (6 * t - 2) * d(i + 1)) / h
     end subroutine hermite_at
 
-    !> Column col of the ratio table at x (clamped to its range; df = 0 outside).
-    pure subroutine ratio_at(st, col, x, f, df)
+    !> Column col of the ratio table at x (clamped to its range; df = d2f = 0 outside).
+    pure subroutine ratio_at(st, col, x, f, df, d2f)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: col
         real(dp), intent(in) :: x
         real(dp), intent(out) :: f, df
+        real(dp), intent(out), optional :: d2f
         real(dp) :: xc, f2, f3
         logical :: inside
         xc = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
         call spline_at(st%nf, st%fv(:, col), st%fm(:, col), st%fx0, st%fdx, xc, f, df, f2, f3, inside)
-        if (xc /= x) df = 0.0_dp
+        if (xc /= x) then
+            df = 0.0_dp
+            f2 = 0.0_dp
+        end if
+        if (present(d2f)) d2f = f2
     end subroutine ratio_at
 
     !> Hertz semi-axes for a 1 N load (a1, b1, m N^(-1/3)) and Kalker's c11, c22, c23 of a
@@ -183,25 +224,61 @@ contains
         props(1:2) = props(1:2) * a**(-1.0_dp / 3.0_dp)
     end subroutine strip_props
 
-    !> The vertical interference p of sample j at the pose (no derivatives; -huge off the rail)
-    !> and a bound of its curvature along y, curv = |z_rail''| + |kappa_w| (1 + z_w'^2)^1.5:
-    !> for the coarse scan.
-    pure subroutine interference(st, j, y, zc, cph, sph, p, curv)
+    !> The vertical interference p of sample j at the pose (-huge off the rail's grid).
+    pure subroutine interference(st, j, y, zc, cph, sph, p)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph
-        real(dp), intent(out) :: p, curv
-        real(dp) :: arm, zw, z, z1, z2, z3
-        logical :: inside
-        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        real(dp), intent(out) :: p
+        real(dp) :: zw, s, a, b, h
+        integer :: i
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, y + arm - st%offset, z, z1, z2, z3, inside)
+        s = (y + cph * st%ws(1, j) - sph * st%ws(2, j) - st%offset - st%ry0) / st%rdy
         p = -huge(1.0_dp)
-        curv = 0.0_dp
-        if (.not. inside) return
-        p = (st%top - z) - (st%rnom + zc + zw)
-        curv = abs(z2) + st%ws(7, j)
+        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        ! the rail spline's value (spline_at's, without its derivatives)
+        i = min(int(s), st%nr - 2) + 1
+        b = s - real(i - 1, dp)
+        a = 1.0_dp - b
+        h = st%rdy
+        p = (st%top - (a * st%rz(i) + b * st%rz(i + 1) &
+                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * h * h / 6.0_dp)) &
+            - (st%rnom + zc + zw)
     end subroutine interference
+
+    !> The samples the strips of a pose may touch (act): the interference at the ends of each
+    !> segment of SEG samples; between them a C2 function rises above the ends' larger value
+    !> by at most its second derivative's bound x span^2 / 8, here
+    !>   |P''| <= max|z''_rail| (cos + |sin| max|z_w'|)^2 + (|sin| max|z'_rail| + cos) max|z_w''|
+    !> over the rail nodes the segment can reach (P = h(y_r(s)) - z_w(s) along the profile).
+    !> A segment with one end off the rail's grid is evaluated whole (both off: none).
+    pure subroutine strip_scan(st, y, zc, cph, sph, act)
+        type(strip_geometry), intent(in) :: st
+        real(dp), intent(in) :: y, zc, cph, sph
+        logical, intent(out) :: act(st%nw)
+        real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m
+        integer :: k, jl, jh, il, ih
+        do k = 0, st%nseg
+            call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, pe(k))
+        end do
+        act = .false.
+        do k = 1, st%nseg
+            jl = 1 + (k - 1) * SEG
+            jh = min(jl + SEG, st%nw)
+            if (pe(k - 1) == -huge(1.0_dp) .or. pe(k) == -huge(1.0_dp)) then
+                if (pe(k - 1) /= pe(k)) act(jl:jh) = .true.
+                cycle
+            end if
+            ylo = y - st%offset + cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k))
+            yhi = y - st%offset + cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k))
+            il = min(max(int((ylo - st%ry0) / st%rdy), 0), st%nr - 1) / RB + 1
+            ih = min(max(int((yhi - st%ry0) / st%rdy) + 1, 0), st%nr - 1) / RB + 1
+            rmax = maxval(st%rbm(min(il, ih):max(il, ih)))
+            span = real(jh - jl, dp) * st%ds
+            m = rmax * (cph + abs(sph) * st%segw(2, k))**2 + (abs(sph) * st%rz1max + cph) * st%segw(1, k)
+            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span >= -MARGIN) act(jl:jh) = .true.
+        end do
+    end subroutine strip_scan
 
     !> The strip potential of one wheel (left-wheel convention) at the centre's lateral
     !> position y, height zc above nominal and relative roll phi: per slot the outputs SO_*.
@@ -211,24 +288,16 @@ contains
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, phi
         real(dp), intent(out) :: out(nso, 2)
-        real(dp) :: pc(st%nw), kc(st%nw), cph, sph, acc(nso + 1, 2), span
-        integer :: j, jl, jh
+        real(dp) :: cph, sph, acc(nso + 1, 2)
+        logical :: act(st%nw)
+        integer :: j
         out = 0.0_dp
         acc = 0.0_dp
         cph = cos(phi)
         sph = sin(phi)
-        do j = 1, st%nw, STRIDE
-            call interference(st, j, y, zc, cph, sph, pc(j), kc(j))
-        end do
-        call interference(st, st%nw, y, zc, cph, sph, pc(st%nw), kc(st%nw))
-        ! a segment's interference rises above its ends' by at most curvature x span^2 / 8:
-        ! twice the ends' larger curvature is taken for the segment's
-        span = STRIDE * st%ds
+        call strip_scan(st, y, zc, cph, sph, act)
         do j = 1, st%nw
-            jl = 1 + ((j - 1) / STRIDE) * STRIDE
-            jh = min(jl + STRIDE, st%nw)
-            if (max(pc(jl), pc(jh)) < -(MARGIN + 0.25_dp * max(kc(jl), kc(jh)) * span * span)) cycle
-            call add_strip(st, j, y, zc, phi, cph, sph, acc)
+            if (act(j)) call add_strip(st, j, y, zc, phi, cph, sph, acc)
         end do
         out = acc(1:nso, :)
         do j = 1, 2
@@ -240,20 +309,41 @@ contains
         end do
     end subroutine strip_wheel
 
-    !> The outputs at pose (y, zc, phi) and their forward-difference derivatives over it.
+    !> The outputs at pose (y, zc, phi) and their exact derivatives over it (the potential's
+    !> Hessian among them): one scan and one pass over the strips in forward mode (dual
+    !> numbers of add_strip_dual), normalised by the quotient rule as strip_wheel normalises.
     pure subroutine strip_linearise(st, pose, lin)
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: pose(3)
         type(strip_lin), intent(out) :: lin
-        real(dp) :: p(3), sop(nso, 2)
-        integer :: k
+        real(dp) :: cph, sph, acc(4, nso + 1, 2), s, c, n
+        logical :: act(st%nw)
+        integer :: j, i
         lin%pose = pose
-        call strip_wheel(st, pose(1), pose(2), pose(3), lin%so)
-        do k = 1, 3
-            p = pose
-            p(k) = p(k) + LIN_STEP
-            call strip_wheel(st, p(1), p(2), p(3), sop)
-            lin%d(:, :, k) = (sop - lin%so) / LIN_STEP
+        lin%so = 0.0_dp
+        lin%d = 0.0_dp
+        acc = 0.0_dp
+        cph = cos(pose(3))
+        sph = sin(pose(3))
+        call strip_scan(st, pose(1), pose(2), cph, sph, act)
+        do j = 1, st%nw
+            if (act(j)) call add_strip_dual(st, j, pose, cph, sph, acc)
+        end do
+        do j = 1, 2
+            lin%so(:, j) = acc(1, 1:nso, j)
+            lin%d(:, j, :) = transpose(acc(2:4, 1:nso, j))
+            n = acc(1, SO_N, j)
+            if (.not. (n > 0.0_dp)) cycle
+            do i = SO_L, SO_A
+                lin%so(i, j) = acc(1, i, j) / n
+                lin%d(i, j, :) = (acc(2:4, i, j) - lin%so(i, j) * acc(2:4, SO_N, j)) / n
+            end do
+            s = acc(1, SO_DELTA, j)
+            c = acc(1, SO_PMAX, j)
+            lin%so(SO_DELTA, j) = atan2(s, c)
+            lin%d(SO_DELTA, j, :) = (c * acc(2:4, SO_DELTA, j) - s * acc(2:4, SO_PMAX, j)) / (s * s + c * c)
+            lin%so(SO_PMAX, j) = acc(1, nso + 1, j)
+            lin%d(SO_PMAX, j, :) = acc(2:4, nso + 1, j)
         end do
     end subroutine strip_linearise
 
@@ -275,23 +365,38 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, phi, cph, sph
         real(dp), intent(inout) :: out(nso + 1, 2)
-        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
-        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel
-        logical :: inside
-        integer :: k
+        real(dp) :: arm, zw, z, z1, z2, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, s, t, h, ca, cb
+        integer :: k, i
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
         yr = y + arm - st%offset
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
-        if (.not. inside) return
+        ! the rail spline's value first (most samples the scan lets through are clear of the
+        ! rail), then its derivatives and the curvature table's Hermite cubic in the same cell
+        ! (spline_at's and hermite_at's arithmetic)
+        h = st%rdy
+        s = (yr - st%ry0) / h
+        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        i = min(int(s), st%nr - 2) + 1
+        cb = s - real(i - 1, dp)
+        ca = 1.0_dp - cb
+        z = ca * st%rz(i) + cb * st%rz(i + 1) &
+            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * h * h / 6.0_dp
         p = (st%top - z) - (st%rnom + zc + zw)
         if (p <= 0.0_dp) return
+        z1 = (st%rz(i + 1) - st%rz(i)) / h + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
+                                              + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * h / 6.0_dp
+        z2 = ca * st%rm(i) + cb * st%rm(i + 1)
+        t = cb
+        kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
+             + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
+        dkr = (6 * t**2 - 6 * t) / h * st%rk(i) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
+              + (-6 * t**2 + 6 * t) / h * st%rk(i + 1) + (3 * t**2 - 2 * t) * st%rk1(i + 1)
         ! the rail's contact angle and (smoothed) curvature, z down, and their rates along y_r
         q = 1.0_dp + z1 * z1
         cd = 1.0_dp / sqrt(q)
         sd = -z1 * cd
         ddl = -z2 / q
-        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr)
         ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
         crel = cd * cph + sd * sph
         srel = sd * cph - cd * sph
@@ -339,5 +444,109 @@ contains
             out(nso + 1, k) = max(out(nso + 1, k), p)
         end do
     end subroutine add_strip
+
+    !> Sample j's contribution to the outputs as dual numbers (value, d/dy, d/dzc, d/dphi)
+    !> added into acc(4, nso + 1, 2): add_strip's terms differentiated once more (the rail's
+    !> third derivative, the curvature's and the ratio table's second derivatives enter).
+    pure subroutine add_strip_dual(st, j, pose, cph, sph, acc)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: pose(3), cph, sph
+        real(dp), intent(inout) :: acc(4, nso + 1, 2)
+        real(dp), dimension(4) :: armd, zwd, pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd
+        real(dp), dimension(4) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
+        real(dp), dimension(4) :: dgyd, dgpd, nd, gp, pp, xcd
+        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(3), kr, dkr, d2kr, c, dc, d2c, sw, om, e(4, nso)
+        logical :: inside
+        integer :: k
+        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
+        yr = pose(1) + arm - st%offset
+        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
+        if (.not. inside) return
+        p = (st%top - z) - (st%rnom + pose(2) + zw)
+        if (p <= 0.0_dp) return
+        ! the pose's tangents: d yr = dy - zw dphi, d arm = -zw dphi, d zw = arm dphi
+        armd = [arm, 0.0_dp, 0.0_dp, -zw]
+        zwd = [zw, 0.0_dp, 0.0_dp, arm]
+        yrg = [1.0_dp, 0.0_dp, -zw]
+        pd = [p, -z1, -1.0_dp, z1 * zw - arm]
+        z1d = [z1, z2 * yrg]
+        z2d = [z2, z3 * yrg]
+        qd = [1.0_dp + z1 * z1, 2.0_dp * z1 * z2 * yrg]
+        cdd(1) = 1.0_dp / sqrt(qd(1))
+        cdd(2:4) = -0.5_dp * cdd(1) / qd(1) * qd(2:4)
+        sdd = -dmul(z1d, cdd)
+        ddld = -ddiv(z2d, qd)
+        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr, d2kr)
+        krd = [kr, dkr * yrg]
+        dkrd = [dkr, d2kr * yrg]
+        cphd = [cph, 0.0_dp, 0.0_dp, -sph]
+        sphd = [sph, 0.0_dp, 0.0_dp, cph]
+        creld = dmul(cdd, cphd) + dmul(sdd, sphd)
+        sreld = dmul(sdd, cphd) - dmul(cdd, sphd)
+        ad = creld / (2.0_dp * st%ws(3, j))
+        bd = 0.5_dp * krd
+        bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
+        if (bd(1) > 0.0_dp) then
+            xd = [log(bd(1) / ad(1)), bd(2:4) / bd(1) - ad(2:4) / ad(1)]
+            td = ddiv(sreld, creld)
+            dxyd = 0.5_dp * ddiv(dkrd, bd) + dmul(td, ddld)
+            dxpd = -td
+        else
+            xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp]
+            dxyd = 0.0_dp
+            dxpd = 0.0_dp
+        end if
+        call ratio_at(st, 1, xd(1), c, dc, d2c)
+        cld = [c, dc * xd(2:4)]
+        dcd = [dc, d2c * xd(2:4)]
+        sw = st%ws(5, j)
+        wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw]
+        dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw]
+        gd = dmul(dmul(cld, cdd), wd)
+        dgyd = dmul(dmul(dmul(dcd, dxyd), cdd), wd) - dmul(dmul(dmul(cld, sdd), ddld), wd)
+        dgpd = dmul(dmul(dmul(dcd, dxpd), cdd), wd) + dmul(dmul(cld, cdd), dwd)
+        nd = 2.0_dp * dmul(dmul(cld, wd), pd)
+        gp = dmul(gd, pd)
+        pp = dmul(pd, pd)
+        xcd = xd
+        xcd(1) = min(max(xd(1), st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        if (xcd(1) /= xd(1)) xcd(2:4) = 0.0_dp
+        e(:, SO_N) = nd
+        e(:, SO_V) = dmul(gp, pd)
+        e(:, SO_DY) = -2.0_dp * dmul(gp, z1d) + dmul(pp, dgyd)
+        e(:, SO_DZ) = -2.0_dp * gp
+        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dmul(z1d, zwd) - armd) + dmul(pp, dgpd - dmul(dgyd, zwd))
+        e(:, SO_L) = dmul(nd, armd)
+        e(:, SO_ZA) = -dmul(nd, zwd)
+        e(:, SO_DELTA) = dmul(nd, sdd)
+        e(:, SO_PMAX) = dmul(nd, cdd)
+        e(:, SO_R) = nd * st%ws(3, j)
+        e(:, SO_X) = dmul(nd, xcd)
+        e(:, SO_A) = dmul(nd, ad)
+        do k = 1, 2
+            om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
+            if (om <= 0.0_dp) cycle
+            acc(:, 1:nso, k) = acc(:, 1:nso, k) + om * e
+            if (p > acc(1, nso + 1, k)) acc(:, nso + 1, k) = pd
+        end do
+    end subroutine add_strip_dual
+
+    !> Product of two dual numbers (value, gradient(3)).
+    pure function dmul(a, b) result(r)
+        real(dp), intent(in) :: a(4), b(4)
+        real(dp) :: r(4)
+        r(1) = a(1) * b(1)
+        r(2:4) = a(1) * b(2:4) + b(1) * a(2:4)
+    end function dmul
+
+    !> Quotient of two dual numbers.
+    pure function ddiv(a, b) result(r)
+        real(dp), intent(in) :: a(4), b(4)
+        real(dp) :: r(4)
+        r(1) = a(1) / b(1)
+        r(2:4) = (a(2:4) - r(1) * b(2:4)) / b(1)
+    end function ddiv
 
 end module vehicle_strip

@@ -206,15 +206,46 @@ def strip_wheel(geometry: StripGeometry, y, zc, roll) -> tuple[np.ndarray, np.nd
     props : ndarray (..., 2, 5)
         Per slot: Hertz a1, b1 for 1 N (m N^(-1/3)) and Kalker's c11, c22, c23.
     """
+    shape, pose = _poses("strip_wheel", y, zc, roll)
+    out, props, info = core.vehicle_strip_eval_c(*geometry.args(), pose, len(STRIP_OUTPUTS))
+    check(info, "strip contact")
+    return _reshape(out, shape, len(STRIP_OUTPUTS)), _reshape(props, shape, 5)
+
+
+def strip_linearise(geometry: StripGeometry, y, zc, roll) -> tuple[np.ndarray, np.ndarray]:
+    """The strip outputs of the left wheel and their exact derivatives over the pose (the
+    linearisation the Newton tangent reads; the potential's Hessian among them).
+
+    Parameters
+    ----------
+    geometry : StripGeometry
+    y, zc, roll : float or array_like (broadcast together)
+        As for :func:`strip_wheel` (m, m, rad).
+
+    Returns
+    -------
+    out : ndarray (..., 2, 12)
+        As :func:`strip_wheel`'s.
+    dout : ndarray (..., 2, 12, 3)
+        Their derivatives over (y, zc, roll), per metre or per radian.
+    """
+    shape, pose = _poses("strip_linearise", y, zc, roll)
+    n = len(STRIP_OUTPUTS)
+    out, dout, info = core.vehicle_strip_lin_c(*geometry.args(), pose, n)
+    check(info, "strip contact")
+    dout = np.transpose(dout, (3, 1, 0, 2)).reshape(shape + (2, n, 3))
+    return _reshape(out, shape, n), dout
+
+
+def _poses(name: str, y, zc, roll) -> tuple[tuple, np.ndarray]:
+    """Broadcast shape and the (3, np) Fortran array of finite poses (InputError otherwise)."""
     yb, zb, pb = np.broadcast_arrays(np.asarray(y, float), np.asarray(zc, float),
                                      np.asarray(roll, float))
     pose = np.asfortranarray(np.stack([yb.ravel(), zb.ravel(), pb.ravel()]))
     if not np.all(np.isfinite(pose)):
         from ..errors import InputError
-        raise InputError("strip_wheel: the poses must be finite")
-    out, props, info = core.vehicle_strip_eval_c(*geometry.args(), pose, len(STRIP_OUTPUTS))
-    check(info, "strip contact")
-    return _reshape(out, yb.shape, len(STRIP_OUTPUTS)), _reshape(props, yb.shape, 5)
+        raise InputError(f"{name}: the poses must be finite")
+    return yb.shape, pose
 
 
 def _reshape(a: np.ndarray, shape: tuple, n: int) -> np.ndarray:
