@@ -114,3 +114,21 @@ def test_ff_and_ring_bad_input():
         scenarios.bifurcation([300.0, 280.0], model="RF", sleepers=40, progress=False)
     with pytest.raises(InputError, match="f_limit"):
         scenarios.critical_speed("FF", method="linear", f_limit=-1.0)
+
+
+def test_massive_residual_keeps_the_static_deflection():
+    """The ring's residual coordinates with a mass (residual_hz) keep the massless residual's
+    static compliance: the rail deflection under every wheel in the static state is the same
+    to 1e-6, and the blocks' natural frequency is residual_hz (what the default step then
+    resolves)."""
+    a = scenarios.rf_system(speed=V, **RING)
+    b = scenarios.rf_system(speed=V, ring_residual_hz=1500.0, **RING)
+    assert a.modal.massless is not None and b.modal.massless is None
+    np.testing.assert_allclose(b.modal.max_frequency() / (2 * np.pi), 1500.0, rtol=1e-12)
+    qa, _ = static_equilibrium(a, V, "hertz-kalker")
+    qb, _ = static_equilibrium(b, V, "hertz-kalker")
+    da = a.rail_deflection(np.zeros(1), qa[None])[0]
+    db = b.rail_deflection(np.zeros(1), qb[None])[0]
+    np.testing.assert_allclose(db, da, rtol=0, atol=1e-6 * np.abs(da).max())
+    with pytest.raises(InputError, match="residual_hz"):
+        scenarios.rf_system(speed=V, ring_residual_hz=-1.0, **RING)

@@ -54,7 +54,8 @@ FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
 #: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
 #: Model RF's keys (the ring and its mode selection).
-_RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset", "ring_residual")
+_RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset", "ring_residual",
+            "ring_residual_hz")
 _RINGS: dict[Any, Any] = {}
 #: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
@@ -287,7 +288,8 @@ def _ring(n_sleepers: Any, track_params: dict | None):
 def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
               f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
-              x_offset: float = 0.0, geometry: str = "table", ring_residual: bool = True):
+              x_offset: float = 0.0, geometry: str = "table", ring_residual: bool = True,
+              ring_residual_hz: float | None = None):
     """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
@@ -311,8 +313,14 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         Keep the truncated ring modes' static compliance at the contact points (residual
         flexibility, massless coordinates; default). False drops it: the rail under a wheel
         is then stiffer than the ring by the truncated modes' share (docs/vehicle.md,
-        "Model RF"); runs with flange-only contact at 400 km/h need it off today (a Newton
-        failure with the massless coordinates, docs/vehicle.md "Models RF and FF: limits").
+        "Model RF"); runs with flange-only contact at 400 km/h need it off or massive today
+        (a Newton failure with the massless coordinates, docs/vehicle.md "Models RF and FF:
+        limits").
+    ring_residual_hz : float, optional
+        Give the residual coordinates a mass: each contact point's block at this natural
+        frequency, Hz, with the same static compliance
+        (:func:`railvti.vehicle.ring_coupling.build_rf`'s ``residual_hz``); the default step
+        then resolves it. None (default): massless.
 
     Returns
     -------
@@ -329,7 +337,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     cc = coach or Coach()
     track = _checked_ring(cc, n_sleepers, track_params)
     sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset,
-                  residual=bool(ring_residual))
+                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
     return _with_geometry(sy, geometry)
 
 
@@ -346,13 +354,14 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
               n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
               track_params: dict | None = None, x_offset: float = 0.0,
-              geometry: str = "table", ring_residual: bool = True) -> tuple[System, list]:
+              geometry: str = "table", ring_residual: bool = True,
+              ring_residual_hz: float | None = None) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
     ``f_max``, residual flexibility at the rims and journals) with the ring's modal block
     appended (:func:`rf_system`'s ring: ``n_sleepers``, ``f_limit``, ``track_params``,
-    ``x_offset``, ``ring_residual``). Each wheel's contact is evaluated between its deformed
+    ``x_offset``, ``ring_residual``, ``ring_residual_hz``). Each wheel's contact is evaluated between its deformed
     rim and the ring's rail head under it (vehicle_model%add_contact with both the rim and
     the rail points); nothing couples the two flexible bodies but the contact.
 
@@ -377,7 +386,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     base, lays = build_fr(cc, tab, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
                           track=False)
     sy = build_rf(cc, tab, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
-                  residual=bool(ring_residual))
+                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
     return _with_geometry(sy, geometry), lays
 
 
@@ -1144,7 +1153,8 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
             base = build_rf(coach, tab, kmh / 3.6, track,
                             f_limit=ring.get("f_limit", RF_F_LIMIT),
                             x_offset=ring.get("x_offset", 0.0),
-                            residual=bool(ring.get("ring_residual", True)), base=base)
+                            residual=bool(ring.get("ring_residual", True)), base=base,
+                            residual_hz=ring.get("ring_residual_hz"))
         return fr_eigenvalues(base, kmh / 3.6)
 
     def growth(kmh: float) -> tuple[float, float]:

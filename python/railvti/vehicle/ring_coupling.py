@@ -13,7 +13,7 @@ so the per-step cost is linear in the kept modes.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -31,6 +31,9 @@ if TYPE_CHECKING:   # pragma: no cover
     from .params import Coach
     from .table import WheelTable
 
+#: Damping ratio of the residual coordinates' blocks when they get a mass (build_rf's
+#: residual_hz).
+RESIDUAL_ZETA = 0.05
 #: Points per wheel: the pose (y, z, roll) of the track element under it.
 POINT_COMPONENTS = ("y", "z", "roll")
 
@@ -369,7 +372,7 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
 def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
              f_limit: float | None = None, x_offset: float = 0.0,
              stiffness_scale: float = 1.0, residual: bool = True,
-             base: System | None = None) -> RingSystem:
+             base: System | None = None, residual_hz: float | None = None) -> RingSystem:
     """Model RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
     FR system on rigid ground, model FF (flexible wheelsets on the ring).
 
@@ -396,6 +399,13 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
         default), or an FR system built with ``track=False`` (model FF): its modal blocks,
         points and couplings come first, the ring's block and its 6 points per wheelset are
         appended (the ring coordinates stay the state's last).
+    residual_hz : float, optional
+        Give the residual coordinates a mass: each contact point's 3 x 3 block then has the
+        natural frequency residual_hz (Hz) and the damping ratio :data:`RESIDUAL_ZETA`, its
+        static compliance unchanged (the same static deflection). None (default): massless
+        coordinates (a quasi-static point compliance). With a mass, Newton goes through
+        flange-only contact where the massless coordinates stop it (docs/vehicle.md,
+        "Models RF and FF: limits"); the step must resolve residual_hz (h omega <= 2).
 
     Returns
     -------
@@ -431,11 +441,20 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
         for c in range(nc):
             pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
         eye = np.eye(3) * s / rr.rscale ** 2
-        mb = ModalBlocks(mb.damping + (np.zeros((3, 3)),) * nc, mb.stiffness + (eye,) * nc,
+        damp = np.zeros((3, 3))
+        if residual_hz is not None:
+            # a mass mu per coordinate: z' = sqrt(mu) z, rows L / sqrt(mu), K / mu = w^2 I
+            w = 2.0 * math.pi * _checks.positive("residual_hz", residual_hz)
+            mu = (s / rr.rscale ** 2) / w ** 2
+            rr = replace(rr, rtab=rr.rtab / mu)
+            pr = pr / math.sqrt(mu)
+            eye = np.eye(3) * w ** 2
+            damp = np.eye(3) * 2.0 * RESIDUAL_ZETA * w
+        mb = ModalBlocks(mb.damping + (damp,) * nc, mb.stiffness + (eye,) * nc,
                          np.hstack([mb.phi, pr]),
                          names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
                                              for c in range(nc) for i in "yzr"),
-                         massless=(False,) * rr.n_modes + (True,) * nc)
+                         massless=(False,) * rr.n_modes + (residual_hz is None,) * nc)
     if base.modal is not None:
         mb = _append_blocks(base.modal, mb)
     base = base.with_modal(mb)
