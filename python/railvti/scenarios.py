@@ -332,13 +332,32 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         A ring too short for the coach (checked before it is built), no ring mode up to
         f_limit, bad track parameters.
     """
-    from .vehicle.ring_coupling import build_rf
     v, _ = _speeds(speed_kmh, speed)
-    cc = coach or Coach()
-    track = _checked_ring(cc, n_sleepers, track_params)
-    sy = build_rf(cc, contact_table(), v, track, f_limit=f_limit, x_offset=x_offset,
-                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
+    sy, _ = _on_ring("RF", coach or Coach(), contact_table(), v, n_sleepers=n_sleepers,
+                     f_limit=f_limit, track_params=track_params, x_offset=x_offset,
+                     ring_residual=ring_residual, ring_residual_hz=ring_residual_hz)
     return _with_geometry(sy, geometry)
+
+
+def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: int = FR_K_MAX,
+             f_max: float = FR_F_MAX, n_sleepers: Any = RF_N_SLEEPERS,
+             f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
+             x_offset: float = 0.0, ring_residual: bool = True,
+             ring_residual_hz: float | None = None) -> tuple[System, list]:
+    """Model RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
+    linear method's bisection may pass it): the ring checked and built (cached), FR's
+    wheelsets on rigid ground for FF, the ring's block appended. Returns (system, FR layouts
+    or [])."""
+    from .vehicle.flexible import build_fr
+    from .vehicle.ring_coupling import build_rf
+    track = _checked_ring(coach, n_sleepers, track_params)
+    base, lays = None, []
+    if model == "FF":
+        base, lays = build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max,
+                              f_max=f_max, track=False)
+    sy = build_rf(coach, table, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
+                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
+    return sy, lays
 
 
 def _checked_ring(coach: Coach, n_sleepers: Any, track_params: dict | None):
@@ -376,17 +395,12 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     InputError
         As :func:`fr_system` and :func:`rf_system`.
     """
-    from .vehicle.flexible import build_fr
-    from .vehicle.ring_coupling import build_rf
     v, _ = _speeds(speed_kmh, speed)
     k_max, f_max = check_fr_selection(k_max, f_max)
-    cc = coach or Coach()
-    track = _checked_ring(cc, n_sleepers, track_params)
-    tab = contact_table()
-    base, lays = build_fr(cc, tab, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
-                          track=False)
-    sy = build_rf(cc, tab, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
-                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
+    sy, lays = _on_ring("FF", coach or Coach(), contact_table(), v, k_max=k_max, f_max=f_max,
+                        n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
+                        x_offset=x_offset, ring_residual=ring_residual,
+                        ring_residual_hz=ring_residual_hz)
     return _with_geometry(sy, geometry), lays
 
 
@@ -1140,22 +1154,14 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
         if model == "RR":
             return eigenvalues(sy, kmh / 3.6)
         from .vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
-        from .vehicle.ring_coupling import build_rf
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
         tab = linearised_table(contact_table(), lam)
-        base = None
-        if model in FLEXIBLE_WHEELSETS:
-            base = build_fr(coach, tab, kmh / 3.6, wheelset=_fr_wheelset(), k_max=k_max,
-                            f_max=f_max, track=model == "FR")[0]
         if model in RING_TRACK:
-            track = _checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS),
-                                  ring.get("track_params"))
-            base = build_rf(coach, tab, kmh / 3.6, track,
-                            f_limit=ring.get("f_limit", RF_F_LIMIT),
-                            x_offset=ring.get("x_offset", 0.0),
-                            residual=bool(ring.get("ring_residual", True)), base=base,
-                            residual_hz=ring.get("ring_residual_hz"))
-        return fr_eigenvalues(base, kmh / 3.6)
+            sf = _on_ring(model, coach, tab, kmh / 3.6, k_max=k_max, f_max=f_max, **ring)[0]
+        else:
+            sf = build_fr(coach, tab, kmh / 3.6, wheelset=_fr_wheelset(), k_max=k_max,
+                          f_max=f_max)[0]
+        return fr_eigenvalues(sf, kmh / 3.6)
 
     def growth(kmh: float) -> tuple[float, float]:
         ev = spectrum(kmh)

@@ -37,7 +37,8 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
-from ..scenarios import _RF_SCENARIOS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS
+from ..scenarios import (_RF_SCENARIOS, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+                         RING_TRACK)
 from ..stream import case_stream, history_bytes
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
@@ -53,8 +54,6 @@ _RUNS = {"centred_running": ("centred_running",), "hunting": ("hunting",),
          "critical_speed": ("bifurcation", "linear_critical_speed")}
 #: The models whose results a deck case stores (the model key's choices are scenarios.MODELS).
 _DECK_MODELS = ("RR", "FR", "RF", "FF")
-#: The models with flexible wheelsets (mode selection k_max, f_max).
-_FLEXIBLE = ("FR", "FF")
 #: The ring track's parameters in a deck: 'track_' + a RingTrack parameter (physics, numerics).
 _TRACK_PARAMS = tuple(TRACK_DEFAULTS) + tuple(TRACK_NUMERICS)
 
@@ -143,7 +142,7 @@ def check(params: dict[str, Any]) -> list[str]:
                    "BEM contact (contact = 'bem') reads the table's gap fields")
     if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
-    if params["model"] not in _FLEXIBLE:
+    if params["model"] not in FLEXIBLE_WHEELSETS:
         given = [k for k in ("k_max", "f_max") if params.get(k) is not None]
         if given:
             out.append(f"{', '.join(given)}: the mode selection of models FR and FF; model "
@@ -170,11 +169,6 @@ def check(params: dict[str, Any]) -> list[str]:
     return out
 
 
-def _on_ring(model: str) -> bool:
-    """Whether the model runs on the flexible ring track ('RF'; its second letter)."""
-    return len(model) == 2 and model[1] == "F"
-
-
 def _ring_keys(params: dict[str, Any]) -> list[str]:
     """The keys of the ring track given in a case (not left at None)."""
     return [k for k in ("n_sleepers", "f_limit", "x_offset", *(f"track_{t}" for t in _TRACK_PARAMS))
@@ -196,7 +190,7 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
     the coach (checked before any ring is built) and track parameters RingTrack takes."""
     model = str(params["model"])
     given = _ring_keys(params)
-    if not _on_ring(model):
+    if model not in RING_TRACK:
         return [f"{', '.join(given)}: keys of the ring track (model 'RF'); model {model!r} runs on "
                 "rigid track elements"] if given else []
     out = []
@@ -466,11 +460,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text"),
                                            "geometry": (geometry, "text")}
-    fr = _fr_selection(params) if model in _FLEXIBLE else {}
+    fr = _fr_selection(params) if model in FLEXIBLE_WHEELSETS else {}
     if fr:
         scalars["k_max"] = (int(fr["k_max"]), "1")
         scalars["f_max"] = (float(fr["f_max"]), "Hz")
-    ring = _ring_selection(params) if _on_ring(model) else {}
+    ring = _ring_selection(params) if model in RING_TRACK else {}
     if ring:
         scalars["n_sleepers"] = (ring["n_sleepers"], "1")
         scalars["f_limit"] = (ring["f_limit"], "Hz")
