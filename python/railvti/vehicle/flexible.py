@@ -19,8 +19,10 @@ wheelsets (FR)"):
   point add Omega times their displacement to the rim rates the creepages see.
 
 The truncated modes' quasi-static contribution (the body's residual flexibility R over the
-rim and journal points) enters as a massless block per wheelset: u = Phi Q + R g_p, a point
-compliance in the condensed Newton system (vehicle_modal, ``compliance_block``).
+rim and journal points) enters as a block per wheelset: u = Phi Q + R g_p in the statics
+(``compliance_block``), its coordinates given a mass at the highest kept mode's frequency
+(``with_mass``; ``residual_mass=False``: massless, a point compliance in the condensed Newton
+system).
 
 The state is the coach's DOFs followed by 4 x nq modal coordinates, then the residual
 block's coordinates of each flexible wheelset (at most 12 each).
@@ -35,7 +37,7 @@ from .. import _checks
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import ModalBlocks, ModalCouplings, compliance_block
+from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, compliance_block, with_mass
 from .params import Coach
 from .table import WheelTable
 
@@ -130,7 +132,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
              f_max: float = 800.0, damping_ratio: float = 0.005,
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
              body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
-             rigid_gyro: bool = True, track: bool = True) -> tuple[System, list[FRLayout]]:
+             rigid_gyro: bool = True, track: bool = True, residual_mass: bool = True,
+             residual_hz: float | None = None) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -152,8 +155,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         A ready flexible body (skips the modal solve).
     residual : bool
         Add the body's residual flexibility (its ``residual`` at the taping lines) over the rim
-        and journal points as a massless block per wheelset: the static deflection then does
-        not depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
+        and journal points as a block per wheelset: the static deflection then does not
+        depend on the truncation (docs/vehicle_integrator.md, "Residual flexibility").
     euler : bool
         Add the Eulerian term Omega dW/dtheta to the rims' rates in the contact.
     s_contact : float
@@ -172,6 +175,17 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     track : bool
         False puts the wheelsets on rigid ground instead of the four track elements (model
         FF: :func:`railvti.vehicle.ring_coupling.build_rf` then adds the ring track under them).
+    residual_mass : bool
+        Give the residual coordinates a mass (:func:`railvti.vehicle.model.with_mass`): each
+        at the natural frequency ``residual_hz`` with the damping ratio
+        :data:`railvti.vehicle.model.RESIDUAL_ZETA`, the static compliance unchanged (the same
+        static deflection). False: massless coordinates, a quasi-static point compliance;
+        Newton then stops in flange-only contact at high speed, where the saturated creep
+        force drives the massless coordinates' rates (docs/vehicle.md, "Residual flexibility
+        with a mass").
+    residual_hz : float, optional
+        The residual coordinates' frequency, Hz; default: the highest kept mode's (the
+        default step then resolves them without a change).
 
     Returns
     -------
@@ -257,6 +271,10 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
                               body.residual_s[0] == body.residual_s[1] else
                               _residual_at(wheelset, body, s_contact))
         phi_r, k_r = compliance_block(res)
+        c_r = np.zeros_like(k_r)
+        if residual_mass:
+            hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
+            phi_r, k_r, c_r = with_mass(phi_r, k_r, hz, RESIDUAL_ZETA)
         nr = phi_r.shape[1]
         cols = [phi]
         for j, i in enumerate(flexible):
@@ -265,9 +283,9 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
                 c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
             cols.append(c)
             names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
-            damp.append(np.zeros((nr, nr)))
+            damp.append(c_r)
             stiff.append(k_r)
-            massless.append(True)
+            massless.append(not residual_mass)
             m0 = sy.n + nq * len(flexible) + nr * j
             layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
         phi = np.hstack(cols)

@@ -392,6 +392,33 @@ def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.nd
     return vec[:, keep], np.diag(1.0 / lam[keep])
 
 
+#: Damping ratio of residual coordinates given a mass (:func:`with_mass`; build_fr's and
+#: build_rf's residual_hz).
+RESIDUAL_ZETA = 0.05
+
+
+def with_mass(phi_r: np.ndarray, k_r: np.ndarray, freq_hz: float, zeta: float
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A compliance block (:func:`compliance_block`) given a mass: each coordinate z_i with
+    stiffness k_i gets the modal mass mu_i = k_i / w^2 (w = 2 pi freq_hz), rescaled to unit
+    mass (z' = sqrt(mu_i) z): rows phi_i / sqrt(mu_i), stiffness w^2, damping 2 zeta w. The
+    static compliance sum_i phi_i phi_i^T / k_i is unchanged; the block now stores kinetic
+    energy and the step must resolve freq_hz (h w <= 2).
+
+    Returns
+    -------
+    phi, stiffness, damping : ndarray (n_points, r), (r, r), (r, r)
+    """
+    w = 2.0 * np.pi * _checks.positive("residual_hz", freq_hz)
+    k = np.diag(k_r)
+    if np.any(k <= 0.0) or not np.allclose(k_r, np.diag(k)):
+        raise InputError("a compliance block to give a mass must have a positive diagonal "
+                         "stiffness (compliance_block's)")
+    mu = k / w ** 2
+    eye = np.eye(k.size)
+    return phi_r / np.sqrt(mu), eye * w ** 2, eye * 2.0 * zeta * w
+
+
 @dataclass(frozen=True)
 class CallSettings:
     """The per-call values of the Fortran vehicle shims.

@@ -24,16 +24,13 @@ from .._status import check
 from ..errors import InputError
 from ..track.coupling import rail_of_wheel, wheel_head_shapes
 from .assembly import System, build_coach
-from .model import ModalBlocks, VehicleModel
+from .model import RESIDUAL_ZETA, ModalBlocks, VehicleModel
 
 if TYPE_CHECKING:   # pragma: no cover
     from ..track.ring import RingTrack
     from .params import Coach
     from .table import WheelTable
 
-#: Damping ratio of the residual coordinates' blocks when they get a mass (build_rf's
-#: residual_hz).
-RESIDUAL_ZETA = 0.05
 #: Points per wheel: the pose (y, z, roll) of the track element under it.
 POINT_COMPONENTS = ("y", "z", "roll")
 
