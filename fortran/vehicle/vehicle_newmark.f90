@@ -1,5 +1,6 @@
 !> Implicit time integration of M a = F(q, v) and the static equilibrium F(q, 0) = 0.
-!> Implements Newmark/HHT-alpha and the Zienkiewicz-Xie estimate; no Kaiser equation.
+!> Implements Newmark/HHT-alpha, the Zienkiewicz-Xie estimate and the energy-conserving midpoint
+!> rule with Gonzalez's discrete gradient (Gonzalez 1996); no Kaiser equation.
 !>
 !> Newmark with HHT-alpha (Hilber, Hughes & Taylor 1977): alpha in [-1/3, 0],
 !> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
@@ -7,6 +8,10 @@
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
 !> at the first iteration of each step and again when an iteration does not contract.
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
+!> Option SCHEME_ENERGY (hht_options%scheme): the midpoint rule M (v1 - v0) / h = F(x_m, v_m) +
+!> F_dg, (x1 - x0) / h = (v0 + v1) / 2, with the discrete gradient F_dg of the contact potential
+!> and the bump stops: an undamped frictionless run keeps its energy to the Newton tolerance
+!> (energy_residual; docs/vehicle.md, "Energy-conserving integrator").
 !>
 !> Layers: newmark_run (the steps and the output) -> cover_step (one output step, cut into
 !> 2^lev sub-steps when a step fails) -> hht_step (one step: predictor, Newton, acceptance)
