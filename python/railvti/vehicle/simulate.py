@@ -588,6 +588,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     _wait_idle(system)      # a static solve interrupted earlier may still run on this model
     q, v = _start_state(system, cs, contact, bem, q0, v0)
+    if plan.scheme == INTEGRATORS["energy"]:
+        q = consistent_massless(system, speed, q, v, contact, fastsim_n)
     cnt0 = bem.counts() if bem is not None else None
     wall0 = time.perf_counter()
     with _open_stream(stream_to) as stream:
@@ -617,6 +619,56 @@ def _scheme(integrator: str, alpha: float, system: System) -> int:
             raise InputError("integrator='energy' needs the strip contact geometry "
                              "(geometry='strip'): the table contact has no potential")
     return INTEGRATORS[integrator]
+
+
+def consistent_massless(system: System, speed: float, q: np.ndarray, v: np.ndarray | None = None,
+                        contact: str = "hertz-kalker", fastsim_n: int = 8, tol: float = 1e-9,
+                        maxit: int = 8) -> np.ndarray:
+    """The state q with its massless coordinates (the residual flexibility, ``modal.mass`` 0)
+    solved from their algebraic equations F_r(q, v) = 0 at the others' values (a copy; q itself
+    without massless coordinates). Newton with a forward-difference Jacobian over the massless
+    coordinates until max |F_r| <= tol times the static wheel load.
+
+    integrator='energy' starts from it: the midpoint rule holds a massless row at the step's
+    midpoint, so an inconsistent start (e.g. a wheelset moved off its equilibrium, its rim
+    loads changed) would stay as an undamped alternating error of those coordinates, which
+    the endpoint contact (and the discrete gradient through it) would see at every step.
+
+    Raises
+    ------
+    ConvergenceError
+        The equations are not met after ``maxit`` iterations.
+    """
+    q = np.array(q, dtype=float)
+    mb = system.modal
+    if mb is None or not np.any(mb.mass == 0.0):
+        return q
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+    cs = _settings(speed, contact, fastsim_n, None)
+    idx = system.n + np.flatnonzero(mb.mass == 0.0)
+
+    def f_r(x: np.ndarray) -> np.ndarray:
+        f, _, info = system.native.state_force(cs, x, v)
+        check(info, "the massless coordinates' equations at the start")
+        return f[idx]
+    r = f_r(q)
+    limit = tol * system.wheel_load
+    for _ in range(maxit):
+        if np.abs(r).max() <= limit:
+            return q
+        eps = 1e-10 * max(1.0, float(np.abs(q[idx]).max()) * 1e3)
+        jac = np.empty((idx.size, idx.size))
+        for j, i in enumerate(idx):
+            x = q.copy()
+            x[i] += eps
+            jac[:, j] = (f_r(x) - r) / eps
+        q[idx] -= np.linalg.solve(jac, r)
+        r = f_r(q)
+    if np.abs(r).max() <= limit:
+        return q
+    raise ConvergenceError(f"the massless coordinates' equations at the start: max |F| "
+                           f"{np.abs(r).max():.3g} N after {maxit} Newton iterations",
+                           iterations=maxit, residual=float(np.abs(r).max()))
 
 
 def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: float,
