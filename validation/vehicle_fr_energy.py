@@ -210,7 +210,7 @@ def plot(curves: dict, duration: float) -> None:
                  f"h = {H_FR * 1e3:g} ms: energy error, {duration:g} s")
     ax.set_xlim(0, duration)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(loc="center right", fontsize=9)
+    ax.legend(loc="lower right", fontsize=9)
     fig.tight_layout()
     fig.savefig(FIG, dpi=110)
     print(f"  chart: {FIG}")
