@@ -28,6 +28,7 @@ module vehicle_model
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
+    public :: add_contact
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
@@ -346,7 +347,9 @@ contains
     !> With the attachment points' coordinates u, ud (model FR: u, ud, gp all present) a
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
-    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, slin, smode)
+    !> frictionless (optional, .true.): the contact with mu = 0, its normal (conservative)
+    !> part only (vehicle_newmark's energy-conserving step).
+    subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, slin, smode, frictionless)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         integer, intent(in) :: w
@@ -359,10 +362,15 @@ contains
         real(dp), intent(inout), optional :: gp(:)
         type(strip_lin), intent(inout), optional :: slin(2)
         integer, intent(in), optional :: smode
+        logical, intent(in), optional :: frictionless
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
-        real(dp) :: rail(6, 2), frail(3, 2)
+        real(dp) :: rail(6, 2), frail(3, 2), mu
         integer :: j, k, model, ir, il
         model = rs%cmodel
+        mu = md%mu
+        if (present(frictionless)) then
+            if (frictionless) mu = 0.0_dp
+        end if
         if (present(cheap)) then
             if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
         end if
@@ -391,21 +399,21 @@ contains
             end do
         end if
         if (ir > 0 .and. il > 0) then
-            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
                                   slin=slin, smode=smode, rail=rail, frail=frail)
         else if (ir > 0) then
-            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
                                   slin=slin, smode=smode)
         else if (il > 0) then
-            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
                                   slin=slin, smode=smode, rail=rail, frail=frail)
         else
-            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, md%mu, model, &
+            call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
                                   slin=slin, smode=smode)
         end if

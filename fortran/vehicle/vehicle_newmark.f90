@@ -1,5 +1,6 @@
 !> Implicit time integration of M a = F(q, v) and the static equilibrium F(q, 0) = 0.
-!> Implements Newmark/HHT-alpha and the Zienkiewicz-Xie estimate; no Kaiser equation.
+!> Implements Newmark/HHT-alpha, the Zienkiewicz-Xie estimate and the energy-conserving midpoint
+!> rule with Gonzalez's discrete gradient (Gonzalez 1996); no Kaiser equation.
 !>
 !> Newmark with HHT-alpha (Hilber, Hughes & Taylor 1977): alpha in [-1/3, 0],
 !> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
@@ -7,6 +8,10 @@
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
 !> at the first iteration of each step and again when an iteration does not contract.
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
+!> Option SCHEME_ENERGY (hht_options%scheme): the midpoint rule M (v1 - v0) / h = F(x_m, v_m) +
+!> F_dg, (x1 - x0) / h = (v0 + v1) / 2, with the discrete gradient F_dg of the contact potential
+!> and the bump stops: an undamped frictionless run keeps its energy to the Newton tolerance
+!> (energy_residual; docs/vehicle.md, "Energy-conserving integrator").
 !>
 !> Layers: newmark_run (the steps and the output) -> cover_step (one output step, cut into
 !> 2^lev sub-steps when a step fails) -> hht_step (one step: predictor, Newton, acceptance)
@@ -24,12 +29,23 @@ module vehicle_newmark
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
     use vehicle_contact, only: nwo
-    use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V
+    use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
+                             add_contact, element_force, el_bump
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points, modal_ring_time
+                             modal_solve, modal_points, modal_ring_time, modal_rim_wheelset, &
+                             modal_rail_wheelset
     implicit none
     private
-    public :: newmark_run, static_solve, state_force, hht_options, NSTATS
+    public :: newmark_run, static_solve, state_force, hht_options, NSTATS, SCHEME_HHT, SCHEME_ENERGY
+
+    !> Time-stepping schemes (hht_options%scheme): HHT-alpha / Newmark (the default), and the
+    !> energy-conserving midpoint rule with the discrete gradient of the contact potential
+    !> (energy_residual; alpha is then 0).
+    integer, parameter :: SCHEME_HHT = 0, SCHEME_ENERGY = 1
+    !> The wheel output holding the contact's potential energy (vehicle_contact, J).
+    integer, parameter :: IO_ENERGY = 9
+    !> Length (m, rad) below which the discrete gradient's bracket fades out (contact_correction).
+    real(dp), parameter :: DG_FLOOR = 1.0e-9_dp
 
     !> Length of newmark_run's stats.
     integer, parameter :: NSTATS = 10
@@ -41,11 +57,12 @@ module vehicle_newmark
 
     !> Settings of a run: HHT alpha, Newton tolerance on the correction (m, rad) and iteration
     !> limit, the deepest sub-step level (h / 2^maxsub), the bound on |q| (m, rad) and the
-    !> Newton tolerance on the residual, max |r| (N, N m).
+    !> Newton tolerance on the residual, max |r| (N, N m); the scheme (SCHEME_*).
     type :: hht_options
         real(dp) :: alpha = 0.0_dp, tol = 1.0e-9_dp, qmax = 1.0_dp
         integer :: maxit = 20, maxsub = 6
         real(dp) :: rtol = huge(1.0_dp)
+        integer :: scheme = SCHEME_HHT
     end type hht_options
 
     !> The state at the current time: q, v, a, F(q, v) and the contact outputs there (over
@@ -73,11 +90,14 @@ module vehicle_newmark
     end type hht_tally
 
     !> The constants of one step of size h: HHT coefficients, cq = da/dq, cv = dv/dq, the
-    !> predictor parts qt, vt (a_{n+1} = 0) and F_n.
+    !> predictor parts qt, vt (a_{n+1} = 0) and F_n. The energy-conserving scheme (energy):
+    !> the start of the step x0, v0 and each wheelset's contact potential there, w0 (J).
     type :: hht_step_data
         real(dp) :: h = 0.0_dp, alpha = 0.0_dp, beta = 0.0_dp, gamma = 0.0_dp
         real(dp) :: cq = 0.0_dp, cv = 0.0_dp
         real(dp), allocatable :: qt(:), vt(:), fn(:)
+        logical :: energy = .false.
+        real(dp), allocatable :: x0(:), v0(:), w0(:)
     end type hht_step_data
 
 contains
@@ -259,6 +279,7 @@ contains
         ok = .false.
         err = 0.0_dp
         call step_data(h, opt%alpha, st, sd)
+        if (opt%scheme == SCHEME_ENERGY) call energy_data(md, h, st, sd)
         q1 = st%q + h * st%v + 0.5_dp * h * h * st%a       ! start: constant acceleration
         call residual(md, rs, sd, q1, r, rn, f1, w1, info)
         if (info /= STAT_OK) then
@@ -267,8 +288,15 @@ contains
         end if
         call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, tally, dq, conv, info)
         if (info /= STAT_OK .or. .not. conv) return
-        a1 = sd%cq * (q1 - sd%qt)
-        v1 = sd%vt + sd%gamma * h * a1
+        if (sd%energy) then
+            ! midpoint rule: (x1 - x0) / h = (v0 + v1) / 2; a: the step's mean acceleration
+            ! (the predictor's only; no alternating error carried)
+            v1 = 2.0_dp * (q1 - st%q) / h - st%v
+            a1 = (v1 - st%v) / h
+        else
+            a1 = sd%cq * (q1 - sd%qt)
+            v1 = sd%vt + sd%gamma * h * a1
+        end if
         if (md%mp%nm > 0) call massless_rates(md, h, st%q, st%v, st%a, q1, v1, a1)
         if (too_big(md, q1, v1, opt%qmax)) return
         err = h * h * abs(sd%beta - 1.0_dp / 6.0_dp) * maxval(abs(a1 - st%a))
@@ -346,8 +374,9 @@ contains
         type(newton_lin) :: nl
         real(dp) :: dqv(md%nd + md%mp%nm), dqold, sl
         integer :: it, lin
-        logical :: fresh
+        logical :: fresh, polished
         conv = .false.
+        polished = .false.
         info = STAT_OK
         dqold = huge(1.0_dp)
         dq = huge(1.0_dp)
@@ -365,7 +394,19 @@ contains
             call line_search(md, rs, sd, dqv, opt%tol, q1, r, rn, f1, w1, sl, tally, info)
             if (info /= STAT_OK .or. sl == 0.0_dp) return
             dq = sl * maxval(abs(dqv))
+            if (polished) then
+                conv = .true.       ! the step had converged before this extra correction
+                exit
+            end if
             conv = sl == 1.0_dp .and. dq <= opt%tol .and. maxval(abs(r)) <= opt%rtol
+            if (conv .and. sd%energy) then
+                ! the energy scheme's error is the work of the last residual, one-sided with
+                ! the modified Newton iterates: one more correction cuts it (model FR at tol
+                ! 1e-9: 2.6e-5 of the kick's energy over 1 s without it, 2.8e-7 over 0.5 s with)
+                polished = .true.
+                conv = .false.
+                cycle
+            end if
             if (conv) exit
             ! a damped step or a contraction worse than 1/2: refresh the tangent
             if (sl < 1.0_dp .or. dq > 0.5_dp * dqold) fresh = .false.
@@ -393,24 +434,32 @@ contains
         integer, intent(out) :: info
         real(dp) :: a1(md%nd + md%mp%nm), v1(md%nd + md%mp%nm), jac(md%nd, md%nd)
         real(dp) :: jru(md%nd, md%mp%np), jcru(md%nd, md%mp%np), jcpr(md%mp%np, md%nd)
-        real(dp) :: jcpu(md%mp%np, md%mp%np)
+        real(dp) :: jcpu(md%mp%np, md%mp%np), xe(md%nd + md%mp%nm)
         integer :: nd, np, nt, i
         nd = md%nd
         np = md%mp%np
         nt = nd + np
         lin = 0
-        a1 = sd%cq * (q1 - sd%qt)
-        v1 = sd%vt + sd%gamma * sd%h * a1
-        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
-            call full_tangent(md, rs, q1, v1, sd%cv, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
+        if (sd%energy) then
+            ! the midpoint rule's residual (energy_residual, scaled by 2) has this same matrix
+            ! at the midpoint (x0 + x1) / 2, (x1 - x0) / h: cq = 4 / h^2, cv = 2 / h
+            xe = 0.5_dp * (sd%x0 + q1)
+            v1 = (q1 - sd%x0) / sd%h
         else
-            call tangent(md, rs, q1(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
+            xe = q1
+            a1 = sd%cq * (q1 - sd%qt)
+            v1 = sd%vt + sd%gamma * sd%h * a1
+        end if
+        if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
+            call full_tangent(md, rs, xe, v1, sd%cv, TANGENT_QV, jac, jcru, jcpr, jcpu, info)
+        else
+            call tangent(md, rs, xe(1:nd), v1(1:nd), sd%cv, TANGENT_QV, jac, info)
         end if
         if (soft(info, tally)) info = STAT_OK
         if (info /= STAT_OK) return
         if (.not. allocated(nl%a)) allocate (nl%a(nt, nt), nl%ipiv(nt), nl%jpr(np, nd), nl%jpu(np, np))
         if (md%mp%nm > 0) then
-            call modal_point_tangent(md%mp, nd, q1(1:nd), v1(1:nd), q1(nd + 1:), v1(nd + 1:), sd%cv, &
+            call modal_point_tangent(md%mp, nd, xe(1:nd), v1(1:nd), xe(nd + 1:), v1(nd + 1:), sd%cv, &
                                      jac, jru, nl%jpr, nl%jpu)
             if (md%mp%nfr > 0 .or. md%mp%nrl > 0) then
                 jru = jru + jcru
@@ -523,6 +572,10 @@ contains
         integer, intent(out) :: info
         real(dp) :: aa(md%nd + md%mp%nm), vv(md%nd + md%mp%nm)
         integer :: nd
+        if (sd%energy) then
+            call energy_residual(md, rs, sd, qq, rr, nrm, ff, ww, info)
+            return
+        end if
         nd = md%nd
         aa = sd%cq * (qq - sd%qt)
         vv = sd%vt + sd%gamma * sd%h * aa
@@ -532,6 +585,185 @@ contains
                                           + sd%alpha * sd%fn(nd + 1:))
         nrm = norm2(rr)
     end subroutine residual
+
+    !> The energy-conserving step's data: alpha = 0 (cq = 4 / h^2, cv = 2 / h for the tangent),
+    !> the start x0, v0 and each wheelset's contact potential there (both wheels, J).
+    pure subroutine energy_data(md, h, st, sd)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: h
+        type(hht_state), intent(in) :: st
+        type(hht_step_data), intent(inout) :: sd
+        integer :: w
+        call step_data(h, 0.0_dp, st, sd)
+        sd%energy = .true.
+        sd%x0 = st%q
+        sd%v0 = st%v
+        allocate (sd%w0(md%nw))
+        do w = 1, md%nw
+            sd%w0(w) = st%w(IO_ENERGY, 1, w) + st%w(IO_ENERGY, 2, w)
+        end do
+    end subroutine energy_data
+
+    !> Residual of the energy-conserving step (Gonzalez 1996; Simo & Tarnow 1992) at the trial
+    !> end x1 = qq, times 2 so that its Jacobian is step_matrix's at the midpoint:
+    !>   r = -2 [ M (v1 - v0) / h - F(x_m, v_m) - F_dg ],   v_m = (x1 - x0) / h = (v0 + v1) / 2,
+    !> x_m = (x0 + x1) / 2. The linear forces at the midpoint are the trapezoidal rule's (the
+    !> gyroscopic ones do no work: v_m . G v_m = 0); F_dg (contact_correction,
+    !> element_correction) makes the work of the contact potential and the bump stops over the
+    !> step exactly the drop of their energy. Massless rows (mass 0) read 0 = F(x_m) + F_dg:
+    !> no kinetic energy, their elastic energy 1/2 Q K Q counted by the midpoint rule exactly.
+    !> ff, ww: the force and the contact outputs at the end (x1, v1), whose potential energies
+    !> the discrete gradient needs anyway.
+    subroutine energy_residual(md, rs, sd, qq, rr, nrm, ff, ww, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        real(dp), intent(in) :: qq(md%nd + md%mp%nm)
+        real(dp), intent(out) :: rr(md%nd + md%mp%nm), nrm, ff(md%nd + md%mp%nm), ww(nwo, 2, md%nw)
+        integer, intent(out) :: info
+        real(dp), dimension(md%nd + md%mp%nm) :: xm, vm, fm, dx
+        real(dp) :: wm(nwo, 2, md%nw)
+        integer :: nd
+        nd = md%nd
+        vm = (qq - sd%x0) / sd%h
+        xm = 0.5_dp * (sd%x0 + qq)
+        call state_force(md, rs, qq, 2.0_dp * vm - sd%v0, ff, ww, info)
+        if (info /= STAT_OK) return
+        call state_force(md, rs, xm, vm, fm, wm, info)
+        if (info /= STAT_OK) return
+        call contact_correction(md, rs, sd, qq, xm, vm, ww, fm, info)
+        if (info /= STAT_OK) return
+        call element_correction(md, sd%x0(1:nd), qq(1:nd), vm(1:nd), fm(1:nd))
+        dx = qq - sd%x0 - sd%h * sd%v0      ! M (v1 - v0) / h = 2 M dx / h^2
+        rr(1:nd) = -(sd%cq * matmul(md%m, dx(1:nd)) - 2.0_dp * fm(1:nd))
+        if (md%mp%nm > 0) rr(nd + 1:) = -(sd%cq * md%mp%mass * dx(nd + 1:) - 2.0_dp * fm(nd + 1:))
+        nrm = norm2(rr)
+    end subroutine energy_residual
+
+    !> The discrete gradient of each wheelset's contact potential W(g) (Gonzalez 1996) added
+    !> to fm, the forces at the midpoint: g are the coordinates W depends on, linear in the
+    !> state (wheelset_coords: the wheelset's and its track element's DOFs, its rim and rail
+    !> points u = Phi Q; the modal blocks stay condensed onto those points), and
+    !>   F_dg = -grad W(g_m) - [(W(g1) - W(g0) - grad W(g_m).dg) / |dg|^2] dg,
+    !> so that F_dg . dg = W(g0) - W(g1) exactly. -grad W(g_m): the frictionless contact's
+    !> generalised forces at the midpoint (the creep forces stay at the midpoint, in fm); the
+    !> bracket goes on the rigid DOFs and, through Phi^T, on the modal coordinates: O(nm np).
+    !> w1: the contact outputs at x1 (their potential energies).
+    subroutine contact_correction(md, rs, sd, x1, xm, vm, w1, fm, info)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_step_data), intent(in) :: sd
+        real(dp), dimension(md%nd + md%mp%nm), intent(in) :: x1, xm, vm
+        real(dp), intent(in) :: w1(nwo, 2, md%nw)
+        real(dp), intent(inout) :: fm(md%nd + md%mp%nm)
+        integer, intent(out) :: info
+        real(dp), dimension(md%mp%np) :: u0, u1, um, udm, gpn, gpc
+        real(dp) :: fn(md%nd), wk(nwo, 2), dg(20), fg(20), dg2, c
+        integer :: nd, w, j, nr, npt, idx(8), pts(12)
+        nd = md%nd
+        info = STAT_OK
+        gpc = 0.0_dp
+        if (md%mp%np > 0) then
+            call modal_points(md%mp, sd%x0(nd + 1:), u0)
+            call modal_points(md%mp, x1(nd + 1:), u1)
+            call modal_points(md%mp, xm(nd + 1:), um)
+            call modal_points(md%mp, vm(nd + 1:), udm)
+        end if
+        do w = 1, md%nw
+            call wheelset_coords(md, w, idx, nr, pts, npt)
+            dg(1:nr) = x1(idx(1:nr)) - sd%x0(idx(1:nr))
+            dg(nr + 1:nr + npt) = u1(pts(1:npt)) - u0(pts(1:npt))
+            dg2 = sum(dg(1:nr + npt)**2)
+            if (.not. dg2 > 0.0_dp) cycle
+            fn = 0.0_dp
+            gpn = 0.0_dp
+            if (npt > 0) then
+                call add_contact(md, rs, w, xm(1:nd), vm(1:nd), fn, wk, info, u=um, ud=udm, gp=gpn, &
+                                 frictionless=.true.)
+            else
+                call add_contact(md, rs, w, xm(1:nd), vm(1:nd), fn, wk, info, frictionless=.true.)
+            end if
+            if (info /= STAT_OK) return
+            fg(1:nr) = fn(idx(1:nr))
+            fg(nr + 1:nr + npt) = gpn(pts(1:npt))
+            c = w1(IO_ENERGY, 1, w) + w1(IO_ENERGY, 2, w) - sd%w0(w) &
+                + dot_product(fg(1:nr + npt), dg(1:nr + npt))
+            ! the strip sums' rounding noise in W1 - W0 (~1e-12 J) divided by |dg| would be a
+            ! force noise on a wheelset that hardly moves: the bracket fades out below
+            ! |dg| ~ DG_FLOOR (the noise force stays below 1e-12 J / (2 DG_FLOOR)), where the
+            ! exact bracket, O(W''' |dg|^3), is below 1e-14 J anyway
+            c = c / (dg2 + DG_FLOOR**2)
+            fm(idx(1:nr)) = fm(idx(1:nr)) - c * dg(1:nr)
+            gpc(pts(1:npt)) = gpc(pts(1:npt)) - c * dg(nr + 1:nr + npt)
+        end do
+        if (.not. any(gpc /= 0.0_dp)) return
+        do j = 1, md%mp%nm
+            fm(nd + j) = fm(nd + j) + dot_product(md%mp%phi(:, j), gpc)
+        end do
+    end subroutine contact_correction
+
+    !> The state coordinates wheelset w's contact potential depends on: idx(1:nr) its DOFs
+    !> y, z, roll, yaw, x (not the spin angle) and its track element's, pts(1:npt) its rims'
+    !> and rails' attachment points (models FR, RF).
+    pure subroutine wheelset_coords(md, w, idx, nr, pts, npt)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: w
+        integer, intent(out) :: idx(8), nr, pts(12), npt
+        integer :: j, ir, il
+        nr = 0
+        do j = 1, 5
+            if (md%iws(j, w) > 0) then
+                nr = nr + 1
+                idx(nr) = md%iws(j, w)
+            end if
+        end do
+        do j = 1, 3
+            if (md%itr(j, w) > 0) then
+                nr = nr + 1
+                idx(nr) = md%itr(j, w)
+            end if
+        end do
+        npt = 0
+        if (md%mp%nm == 0) return
+        ir = modal_rim_wheelset(md%mp, w)
+        il = modal_rail_wheelset(md%mp, w)
+        if (ir > 0) then
+            pts(1:6) = reshape(md%mp%frpt(:, :, ir), [6])
+            npt = 6
+        end if
+        if (il > 0) then
+            pts(npt + 1:npt + 6) = reshape(md%mp%rlpt(:, :, il), [6])
+            npt = npt + 6
+        end if
+    end subroutine wheelset_coords
+
+    !> The bump stops' discrete gradient: the force of a bump stop (potential
+    !> V(d) = p2 (|d| - p1)^2 / 2 beyond its clearance p1) over the step from d0 to d1 becomes
+    !> (V(d1) - V(d0)) / (d1 - d0) in place of its midpoint value (fm: the rigid forces).
+    pure subroutine element_correction(md, x0, x1, vm, fm)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: x0(md%nd), x1(md%nd), vm(md%nd)
+        real(dp), intent(inout) :: fm(md%nd)
+        real(dp) :: d0, d1, fe, kd, cd, fdg
+        integer :: e
+        do e = 1, md%ne
+            if (md%etype(e) /= el_bump) cycle
+            d0 = dot_product(md%eg(:, e), x0)
+            d1 = dot_product(md%eg(:, e), x1)
+            if (d1 == d0) cycle
+            call element_force(md%etype(e), md%epar(:, e), 0.5_dp * (d0 + d1), &
+                               dot_product(md%eg(:, e), vm), fe, kd, cd)
+            fdg = (bump_energy(md%epar(:, e), d1) - bump_energy(md%epar(:, e), d0)) / (d1 - d0)
+            fm = fm - md%eg(:, e) * (fdg - fe)
+        end do
+    end subroutine element_correction
+
+    !> A bump stop's potential energy at deflection d (J).
+    pure real(dp) function bump_energy(p, d)
+        real(dp), intent(in) :: p(4), d
+        bump_energy = 0.0_dp
+        if (abs(d) > p(1)) bump_energy = 0.5_dp * p(2) * (abs(d) - p(1))**2
+    end function bump_energy
 
     !> F over the whole state x = (q, Q), velocities xd: vehicle_model%force_total on the rigid
     !> DOFs plus the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p.

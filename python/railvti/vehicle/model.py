@@ -528,10 +528,14 @@ class VehicleModel:
 
     def run(self, cs: CallSettings, h: float, nsteps: int, nevery: int, alpha: float,
             tol: float, maxit: int, maxsub: int, qmax: float, rtol: float, t: np.ndarray,
-            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int) -> tuple:
+            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int, scheme: int = 0) -> tuple:
         """nsteps HHT steps from (t, q, v, a), all updated in place: (tout, qout, vout, wout,
-        stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; see
-        vehicle_newmark%newmark_run."""
+        stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; scheme
+        1: the energy-conserving midpoint rule (alpha 0); see vehicle_newmark%newmark_run."""
+        if scheme:
+            return core.vehicle_run_scheme_c(self._handle(), self.n_wheelsets, *cs.args(), h,
+                                             nsteps, nevery, alpha, tol, maxit, maxsub, qmax, rtol,
+                                             scheme, t, q, v, a, nout, NWO)
         return core.vehicle_run_c(self._handle(), self.n_wheelsets, *cs.args(), h, nsteps,
                                   nevery, alpha, tol, maxit, maxsub, qmax, rtol, t, q, v, a, nout, NWO)
 

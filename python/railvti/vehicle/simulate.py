@@ -45,6 +45,12 @@ NEWTON_RTOL = 1e-3
 #: (keep its static part) or take a smaller step.
 MODAL_STEP_LIMIT = 2.0
 
+#: Time-stepping schemes of :func:`simulate` (``integrator``) and their core ids
+#: (vehicle_newmark SCHEME_*): 'hht' Newmark / HHT-alpha (the default), 'energy' the
+#: energy-conserving midpoint rule with the discrete gradient of the strip contact's potential
+#: (docs/vehicle.md, "Energy-conserving integrator").
+INTEGRATORS = {"hht": 0, "energy": 1}
+
 #: Wall time of one call of the Fortran time loop, s: Python runs the loop in calls of about
 #: this length (whole output intervals), so Ctrl-C or SIGTERM stops a run within about it.
 CHUNK_SECONDS = 0.2
@@ -463,6 +469,7 @@ class _Plan:
     load_scale: float
     per_chunk: int
     progress: bool
+    scheme: int = 0
 
 
 def simulate(system: System, speed: float, duration: float, *, contact: str = "hertz-kalker",
@@ -472,7 +479,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
              progress: bool | None = None, chunk: float | None = None,
              bem_options: BemOptions | None = None, bem: BemState | None = None,
              rtol: float | None = None, stream_to: "HistoryStream | str | Path | None" = None,
-             stream_tail: float = STREAM_TAIL_SECONDS) -> SimulationResult:
+             stream_tail: float = STREAM_TAIL_SECONDS, integrator: str = "hht") -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
     Parameters
@@ -538,6 +545,14 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     stream_tail : float
         Simulated time kept in memory when streaming, s (default
         :data:`railvti.stream.STREAM_TAIL_SECONDS`).
+    integrator : str
+        'hht' (default): Newmark / HHT-alpha. 'energy': the energy-conserving midpoint rule
+        (alpha must be 0; the strip contact geometry, whose normal contact has a potential):
+        the linear forces at the step's midpoint and the Gonzalez discrete gradient of the
+        contact potential and the bump stops, so that an undamped frictionless run keeps its
+        energy to the Newton tolerance (docs/vehicle.md, "Energy-conserving integrator").
+        Each Newton iteration evaluates the contact three times (end, midpoint, frictionless
+        midpoint).
 
     Raises
     ------
@@ -560,10 +575,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
             return simulate(system, speed, duration, contact=contact, h=h, output_dt=output_dt,
                             alpha=alpha, q0=q0, v0=v0, tol=tol, maxit=maxit, maxsub=maxsub,
                             qmax=qmax, fastsim_n=fastsim_n, progress=progress, chunk=chunk, bem=st,
-                            rtol=rtol, stream_to=stream_to, stream_tail=stream_tail)
+                            rtol=rtol, stream_to=stream_to, stream_tail=stream_tail,
+                            integrator=integrator)
     speed = _checks.positive("speed", speed)
     plan = _plan(contact, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress, chunk,
                  rtol, system.wheel_load)
+    plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
     check_modal_step(system, plan.h)
     stream_tail = _checks.positive("stream_tail", stream_tail)
     if stream_to is None:
@@ -571,6 +588,8 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     cs = _settings(speed, contact, _checks.positive_int("fastsim_n", fastsim_n), bem)
     _wait_idle(system)      # a static solve interrupted earlier may still run on this model
     q, v = _start_state(system, cs, contact, bem, q0, v0)
+    if plan.scheme == INTEGRATORS["energy"]:
+        q = consistent_massless(system, speed, q, v, contact, fastsim_n)
     cnt0 = bem.counts() if bem is not None else None
     wall0 = time.perf_counter()
     with _open_stream(stream_to) as stream:
@@ -585,6 +604,71 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
         raise RailvtiError("non-finite values in the output")   # defensive: never return NaN
     return res
+
+
+def _scheme(integrator: str, alpha: float, system: System) -> int:
+    """The core id of ``integrator`` (:data:`INTEGRATORS`); InputError for an unknown name, or
+    'energy' with alpha /= 0 or without the strip geometry (the table contact has no
+    potential whose discrete gradient could be taken)."""
+    if integrator not in INTEGRATORS:
+        raise InputError(f"unknown integrator {integrator!r}; one of {sorted(INTEGRATORS)}")
+    if integrator == "energy":
+        if alpha != 0.0:
+            raise InputError(f"integrator='energy' is the midpoint rule: alpha must be 0, got {alpha}")
+        if system.strip is None:
+            raise InputError("integrator='energy' needs the strip contact geometry "
+                             "(geometry='strip'): the table contact has no potential")
+    return INTEGRATORS[integrator]
+
+
+def consistent_massless(system: System, speed: float, q: np.ndarray, v: np.ndarray | None = None,
+                        contact: str = "hertz-kalker", fastsim_n: int = 8, tol: float = 1e-9,
+                        maxit: int = 8) -> np.ndarray:
+    """The state q with its massless coordinates (the residual flexibility, ``modal.mass`` 0)
+    solved from their algebraic equations F_r(q, v) = 0 at the others' values (a copy; q itself
+    without massless coordinates). Newton with a forward-difference Jacobian over the massless
+    coordinates until max |F_r| <= tol times the static wheel load.
+
+    integrator='energy' starts from it: the midpoint rule holds a massless row at the step's
+    midpoint, so an inconsistent start (e.g. a wheelset moved off its equilibrium, its rim
+    loads changed) would stay as an undamped alternating error of those coordinates, which
+    the endpoint contact (and the discrete gradient through it) would see at every step.
+
+    Raises
+    ------
+    ConvergenceError
+        The equations are not met after ``maxit`` iterations.
+    """
+    q = np.array(q, dtype=float)
+    mb = system.modal
+    if mb is None or not np.any(mb.mass == 0.0):
+        return q
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+    cs = _settings(speed, contact, fastsim_n, None)
+    idx = system.n + np.flatnonzero(mb.mass == 0.0)
+
+    def f_r(x: np.ndarray) -> np.ndarray:
+        f, _, info = system.native.state_force(cs, x, v)
+        check(info, "the massless coordinates' equations at the start")
+        return f[idx]
+    r = f_r(q)
+    limit = tol * system.wheel_load
+    for _ in range(maxit):
+        if np.abs(r).max() <= limit:
+            return q
+        eps = 1e-10 * max(1.0, float(np.abs(q[idx]).max()) * 1e3)
+        jac = np.empty((idx.size, idx.size))
+        for j, i in enumerate(idx):
+            x = q.copy()
+            x[i] += eps
+            jac[:, j] = (f_r(x) - r) / eps
+        q[idx] -= np.linalg.solve(jac, r)
+        r = f_r(q)
+    if np.abs(r).max() <= limit:
+        return q
+    raise ConvergenceError(f"the massless coordinates' equations at the start: max |F| "
+                           f"{np.abs(r).max():.3g} N after {maxit} Newton iterations",
+                           iterations=maxit, residual=float(np.abs(r).max()))
 
 
 def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: float,
@@ -675,7 +759,7 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             nout = max(1, ns // plan.nevery)
             tout, qout, vout, wout, st, info, tfail = model.run(
                 cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
-                plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout)
+                plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout, scheme=plan.scheme)
             wall_call = time.perf_counter() - tc    # the Fortran call alone (not the writing)
             out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
             if info != Status.OK:
