@@ -28,8 +28,7 @@ def fr():
 def fr_energy(sy):
     """E(q, v, W) over the whole state, J: kinetic + elastic (the dense M, K of
     flexible.linear_matrices: coach, modal blocks with the residual flexibility (its mass,
-    none if massless), the
-    journal couplings) - the work of the constant loads (gravity and spring preloads, the
+    none if massless), the journal couplings) - the work of the constant loads (gravity and spring preloads, the
     journal couplings' preloads through Phi) + the contacts' potential W. The gyroscopic
     terms (modal G, the 'gyro' couplings: skew) do no work."""
     from railvti.vehicle.flexible import linear_matrices
@@ -52,8 +51,7 @@ def fr_energy(sy):
 def energy_error(sy, integrator: str, duration: float, h: float, tol: float = 1e-9) -> float:
     """max |E - E0| over a run from the static state with ws1 kicked 0.5 mm to the left (the
     massless coordinates, if any, consistent with it, as integrator='energy' starts),
-    relative to the
-    kick's energy (the start against the static state)."""
+    relative to the kick's energy (the start against the static state)."""
     energy = fr_energy(sy)
     x, _ = static_equilibrium(sy, SPEED)
     x1 = x.copy()
