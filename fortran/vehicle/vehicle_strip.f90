@@ -68,6 +68,11 @@ module vehicle_strip
         integer :: nseg = 0
         real(dp) :: rz1max = 0.0_dp
         real(dp), allocatable :: segw(:, :), rbm(:)
+        !> Reciprocals and constants of the inner loops (multiplications instead of divisions):
+        !> 1 / rdy, rdy^2 / 6, rdy / 6, 1 / fdx, fdx^2 / 6, fdx / 6, and per sample 1 / (2 r).
+        real(dp) :: rinv = 1.0_dp, rh26 = 0.0_dp, rh6 = 0.0_dp, finv = 1.0_dp, fh26 = 0.0_dp
+        real(dp) :: fh6 = 0.0_dp
+        real(dp), allocatable :: hr(:)
     end type strip_geometry
 
     !> One wheel's strip outputs at a pose and their exact derivatives over the pose
@@ -92,6 +97,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nw < 2 .or. nr < 2 .or. nf < 2) return
         if (.not. (ds > 0.0_dp .and. rdy > 0.0_dp .and. fdx > 0.0_dp .and. rnom > 0.0_dp)) return
+        if (.not. all(ws(3, :) > 0.0_dp)) return
         if (.not. (all(abs(ws) <= huge(1.0_dp)) .and. all(abs(rz) <= huge(1.0_dp)) &
                    .and. all(abs(rm) <= huge(1.0_dp)) .and. all(abs(fv) <= huge(1.0_dp)) &
                    .and. all(abs(rk) <= huge(1.0_dp)) .and. all(abs(rk1) <= huge(1.0_dp)) &
@@ -114,6 +120,13 @@ contains
         st%fdx = fdx
         st%fv = fv
         st%fm = fm
+        st%rinv = 1.0_dp / rdy
+        st%rh26 = rdy * rdy / 6.0_dp
+        st%rh6 = rdy / 6.0_dp
+        st%finv = 1.0_dp / fdx
+        st%fh26 = fdx * fdx / 6.0_dp
+        st%fh6 = fdx / 6.0_dp
+        st%hr = 0.5_dp / ws(3, :)
         call scan_bounds(st)
         st%on = .true.
         info = STAT_OK
@@ -153,9 +166,10 @@ contains
         real(dp), intent(in) :: v(n), m(n), x0, h, x
         real(dp), intent(out) :: f, f1, f2, f3
         logical, intent(out) :: inside
-        real(dp) :: s, a, b
+        real(dp) :: s, a, b, hi
         integer :: i
-        s = (x - x0) / h
+        hi = 1.0_dp / h
+        s = (x - x0) * hi
         inside = s >= 0.0_dp .and. s <= real(n - 1, dp)
         f = 0.0_dp
         f1 = 0.0_dp
@@ -166,31 +180,11 @@ contains
         b = s - real(i - 1, dp)
         a = 1.0_dp - b
         f = a * v(i) + b * v(i + 1) + ((a**3 - a) * m(i) + (b**3 - b) * m(i + 1)) * h * h / 6.0_dp
-        f1 = (v(i + 1) - v(i)) / h + (-(3.0_dp * a * a - 1.0_dp) * m(i) &
+        f1 = (v(i + 1) - v(i)) * hi + (-(3.0_dp * a * a - 1.0_dp) * m(i) &
                                        + (3.0_dp * b * b - 1.0_dp) * m(i + 1)) * h / 6.0_dp
         f2 = a * m(i) + b * m(i + 1)
-        f3 = (m(i + 1) - m(i)) / h
+        f3 = (m(i + 1) - m(i)) * hi
     end subroutine spline_at
-
-    !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value, rate and
-    !> (optional) second derivative (the end cell's polynomial at the end value off the grid).
-    pure subroutine hermite_at(n, v, d, x0, h, x, f, f1, f2)
-        integer, intent(in) :: n
-        real(dp), intent(in) :: v(n), d(n), x0, h, x
-        real(dp), intent(out) :: f, f1
-        real(dp), intent(out), optional :: f2
-        real(dp) :: s, t
-        integer :: i
-        s = min(max((x - x0) / h, 0.0_dp), real(n - 1, dp))
-        i = min(int(s), n - 2) + 1
-        t = s - real(i - 1, dp)
-        f = (2 * t**3 - 3 * t**2 + 1) * v(i) + (t**3 - 2 * t**2 + t) * h * d(i) &
-            + (-2 * t**3 + 3 * t**2) * v(i + 1) + (t**3 - t**2) * h * d(i + 1)
-        f1 = (6 * t**2 - 6 * t) / h * v(i) + (3 * t**2 - 4 * t + 1) * d(i) &
-             + (-6 * t**2 + 6 * t) / h * v(i + 1) + (3 * t**2 - 2 * t) * d(i + 1)
-        if (present(f2)) f2 = ((12 * t - 6) / h * (v(i) - v(i + 1)) + (6 * t - 4) * d(i) &
-                               + (6 * t - 2) * d(i + 1)) / h
-    end subroutine hermite_at
 
     !> Column col of the ratio table at x (clamped to its range; df = d2f = 0 outside).
     pure subroutine ratio_at(st, col, x, f, df, d2f)
@@ -199,15 +193,23 @@ contains
         real(dp), intent(in) :: x
         real(dp), intent(out) :: f, df
         real(dp), intent(out), optional :: d2f
-        real(dp) :: xc, f2, f3
-        logical :: inside
+        real(dp) :: xc, s, a, b
+        integer :: i
+        ! spline_at's arithmetic on the stored grid, with its reciprocals
         xc = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
-        call spline_at(st%nf, st%fv(:, col), st%fm(:, col), st%fx0, st%fdx, xc, f, df, f2, f3, inside)
-        if (xc /= x) then
-            df = 0.0_dp
-            f2 = 0.0_dp
+        s = min(max((xc - st%fx0) * st%finv, 0.0_dp), real(st%nf - 1, dp))
+        i = min(int(s), st%nf - 2) + 1
+        b = s - real(i - 1, dp)
+        a = 1.0_dp - b
+        f = a * st%fv(i, col) + b * st%fv(i + 1, col) &
+            + ((a**3 - a) * st%fm(i, col) + (b**3 - b) * st%fm(i + 1, col)) * st%fh26
+        df = (st%fv(i + 1, col) - st%fv(i, col)) * st%finv &
+             + (-(3.0_dp * a * a - 1.0_dp) * st%fm(i, col) + (3.0_dp * b * b - 1.0_dp) * st%fm(i + 1, col)) * st%fh6
+        if (xc /= x) df = 0.0_dp
+        if (present(d2f)) then
+            d2f = a * st%fm(i, col) + b * st%fm(i + 1, col)
+            if (xc /= x) d2f = 0.0_dp
         end if
-        if (present(d2f)) d2f = f2
     end subroutine ratio_at
 
     !> Hertz semi-axes for a 1 N load (a1, b1, m N^(-1/3)) and Kalker's c11, c22, c23 of a
@@ -230,19 +232,18 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph
         real(dp), intent(out) :: p
-        real(dp) :: zw, s, a, b, h
+        real(dp) :: zw, s, a, b
         integer :: i
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        s = (y + cph * st%ws(1, j) - sph * st%ws(2, j) - st%offset - st%ry0) / st%rdy
+        s = (y + cph * st%ws(1, j) - sph * st%ws(2, j) - st%offset - st%ry0) * st%rinv
         p = -huge(1.0_dp)
         if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
         ! the rail spline's value (spline_at's, without its derivatives)
         i = min(int(s), st%nr - 2) + 1
         b = s - real(i - 1, dp)
         a = 1.0_dp - b
-        h = st%rdy
         p = (st%top - (a * st%rz(i) + b * st%rz(i + 1) &
-                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * h * h / 6.0_dp)) &
+                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * st%rh26)) &
             - (st%rnom + zc + zw)
     end subroutine interference
 
@@ -366,7 +367,7 @@ contains
         real(dp), intent(in) :: y, zc, phi, cph, sph
         real(dp), intent(inout) :: out(nso + 1, 2)
         real(dp) :: arm, zw, z, z1, z2, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
-        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, s, t, h, ca, cb
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, s, t, h, ca, cb, ci
         integer :: k, i
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
@@ -375,38 +376,39 @@ contains
         ! rail), then its derivatives and the curvature table's Hermite cubic in the same cell
         ! (spline_at's and hermite_at's arithmetic)
         h = st%rdy
-        s = (yr - st%ry0) / h
+        s = (yr - st%ry0) * st%rinv
         if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
         i = min(int(s), st%nr - 2) + 1
         cb = s - real(i - 1, dp)
         ca = 1.0_dp - cb
         z = ca * st%rz(i) + cb * st%rz(i + 1) &
-            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * h * h / 6.0_dp
+            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * st%rh26
         p = (st%top - z) - (st%rnom + zc + zw)
         if (p <= 0.0_dp) return
-        z1 = (st%rz(i + 1) - st%rz(i)) / h + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
-                                              + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * h / 6.0_dp
+        z1 = (st%rz(i + 1) - st%rz(i)) * st%rinv + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
+                                                    + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * st%rh6
         z2 = ca * st%rm(i) + cb * st%rm(i + 1)
         t = cb
         kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
              + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
-        dkr = (6 * t**2 - 6 * t) / h * st%rk(i) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
-              + (-6 * t**2 + 6 * t) / h * st%rk(i + 1) + (3 * t**2 - 2 * t) * st%rk1(i + 1)
+        dkr = (6 * t**2 - 6 * t) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
+              + (3 * t**2 - 2 * t) * st%rk1(i + 1)
         ! the rail's contact angle and (smoothed) curvature, z down, and their rates along y_r
         q = 1.0_dp + z1 * z1
         cd = 1.0_dp / sqrt(q)
         sd = -z1 * cd
-        ddl = -z2 / q
+        ddl = -z2 * (cd * cd)
         ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
         crel = cd * cph + sd * sph
         srel = sd * cph - cd * sph
-        a = crel / (2.0_dp * st%ws(3, j))
+        a = crel * st%hr(j)
         b = 0.5_dp * (kr - st%ws(4, j))
         ! x = ln(B/A) and its rates (zero where the table clamps it)
         if (b > 0.0_dp) then
-            x = log(b / a)
-            dxy = 0.5_dp * dkr / b + srel / crel * ddl
-            dxp = -srel / crel
+            ci = 1.0_dp / crel
+            x = log(b * (2.0_dp * st%ws(3, j)) * ci)
+            dxy = 0.5_dp * dkr / b + srel * ci * ddl
+            dxp = -srel * ci
         else
             x = st%fx0
             dxy = 0.0_dp
@@ -457,15 +459,34 @@ contains
         real(dp), dimension(4) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
         real(dp), dimension(4) :: dgyd, dgpd, nd, gp, pp, xcd
         real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(3), kr, dkr, d2kr, c, dc, d2c, sw, om, e(4, nso)
-        logical :: inside
-        integer :: k
+        real(dp) :: h, s, ca, cb, t, bi, ci
+        integer :: k, i
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
         yr = pose(1) + arm - st%offset
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
-        if (.not. inside) return
+        ! the rail spline and the curvature's Hermite cubic in yr's cell (spline_at's and
+        ! hermite_at's arithmetic with the stored reciprocals)
+        h = st%rdy
+        s = (yr - st%ry0) * st%rinv
+        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        i = min(int(s), st%nr - 2) + 1
+        cb = s - real(i - 1, dp)
+        ca = 1.0_dp - cb
+        z = ca * st%rz(i) + cb * st%rz(i + 1) &
+            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * st%rh26
         p = (st%top - z) - (st%rnom + pose(2) + zw)
         if (p <= 0.0_dp) return
+        z1 = (st%rz(i + 1) - st%rz(i)) * st%rinv + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
+                                                    + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * st%rh6
+        z2 = ca * st%rm(i) + cb * st%rm(i + 1)
+        z3 = (st%rm(i + 1) - st%rm(i)) * st%rinv
+        t = cb
+        kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
+             + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
+        dkr = (6 * t**2 - 6 * t) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
+              + (3 * t**2 - 2 * t) * st%rk1(i + 1)
+        d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
+                + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
         ! the pose's tangents: d yr = dy - zw dphi, d arm = -zw dphi, d zw = arm dphi
         armd = [arm, 0.0_dp, 0.0_dp, -zw]
         zwd = [zw, 0.0_dp, 0.0_dp, arm]
@@ -475,23 +496,26 @@ contains
         z2d = [z2, z3 * yrg]
         qd = [1.0_dp + z1 * z1, 2.0_dp * z1 * z2 * yrg]
         cdd(1) = 1.0_dp / sqrt(qd(1))
-        cdd(2:4) = -0.5_dp * cdd(1) / qd(1) * qd(2:4)
+        cdd(2:4) = -0.5_dp * cdd(1) * cdd(1) * cdd(1) * qd(2:4)
         sdd = -dmul(z1d, cdd)
-        ddld = -ddiv(z2d, qd)
-        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr, d2kr)
+        ! 1 / q = cos(delta)^2
+        ddld = -dmul(z2d, [cdd(1) * cdd(1), 2.0_dp * cdd(1) * cdd(2:4)])
         krd = [kr, dkr * yrg]
         dkrd = [dkr, d2kr * yrg]
         cphd = [cph, 0.0_dp, 0.0_dp, -sph]
         sphd = [sph, 0.0_dp, 0.0_dp, cph]
         creld = dmul(cdd, cphd) + dmul(sdd, sphd)
         sreld = dmul(sdd, cphd) - dmul(cdd, sphd)
-        ad = creld / (2.0_dp * st%ws(3, j))
+        ad = creld * st%hr(j)
         bd = 0.5_dp * krd
         bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
         if (bd(1) > 0.0_dp) then
-            xd = [log(bd(1) / ad(1)), bd(2:4) / bd(1) - ad(2:4) / ad(1)]
-            td = ddiv(sreld, creld)
-            dxyd = 0.5_dp * ddiv(dkrd, bd) + dmul(td, ddld)
+            bi = 1.0_dp / bd(1)
+            ci = 1.0_dp / creld(1)
+            ! ln(B / A) = ln(B 2 r / crel)
+            xd = [log(bd(1) * (2.0_dp * st%ws(3, j)) * ci), bd(2:4) * bi - creld(2:4) * ci]
+            td = drec(sreld, creld, ci)
+            dxyd = 0.5_dp * drec(dkrd, bd, bi) + dmul(td, ddld)
             dxpd = -td
         else
             xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp]
@@ -541,12 +565,12 @@ contains
         r(2:4) = a(1) * b(2:4) + b(1) * a(2:4)
     end function dmul
 
-    !> Quotient of two dual numbers.
-    pure function ddiv(a, b) result(r)
-        real(dp), intent(in) :: a(4), b(4)
+    !> Quotient a / b of two dual numbers given bi = 1 / b(1).
+    pure function drec(a, b, bi) result(r)
+        real(dp), intent(in) :: a(4), b(4), bi
         real(dp) :: r(4)
-        r(1) = a(1) / b(1)
-        r(2:4) = (a(2:4) - r(1) * b(2:4)) / b(1)
-    end function ddiv
+        r(1) = a(1) * bi
+        r(2:4) = (a(2:4) - r(1) * b(2:4)) * bi
+    end function drec
 
 end module vehicle_strip
