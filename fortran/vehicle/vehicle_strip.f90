@@ -491,10 +491,11 @@ contains
             th = th + dth
             cth = cos(th)
             sth = sin(th)
-            y1 = y0 * cph - z0 * cth * sph
-            z2w = y0 * sph + z0 * cth * cph
-            xc = r * sth * cps - y1 * sps
-            yr = y - st%offset + (r * sth * sps + y1 * cps)
+            ! (the products grouped as add_strip_dual's dual numbers group them)
+            y1 = y0 * cph - z0 * (cth * sph)
+            z2w = y0 * sph + z0 * (cth * cph)
+            xc = r * (sth * cps) - y1 * sps
+            yr = y - st%offset + (r * (sth * sps) + y1 * cps)
             call rail_at(st, yr, z, z1, z2, z3, i, t, inside)
             if (.not. inside) return
         end do
@@ -540,7 +541,7 @@ contains
             call ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
             if (.not. inside) return
             p = (st%top - z) - (st%rnom + zc + z2w)
-            lat = r * sin(th) * sps + y1 * cps
+            lat = r * (sin(th) * sps) + y1 * cps
         end if
         if (p <= 0.0_dp) return
         call curvature_at(st, il, tl, kr, dkr, d2kr)
