@@ -14,8 +14,12 @@ local relative curvatures A (rolling direction) and B (across). A parabolic gap 
 N = kH d^1.5 exactly; any other gap is integrated strip by strip. The forces are the exact
 gradient of V: the contact stores and returns energy without loss or gain.
 
+The pose is the wheelset centre's lateral position and height and its roll and yaw against
+the rail; under yaw each sample's interference is the deepest point of its wheel circle (the
+contact leads the wheel's lowest point), and each slot reports its longitudinal position.
+
 Vehicle y points to the left; the geometry is the left wheel's and the right wheel is read
-mirrored (as for the table).
+mirrored (as for the table; the yaw changes sign, the longitudinal position does not).
 """
 from __future__ import annotations
 
