@@ -336,7 +336,7 @@ subroutine vehicle_strip_attach_c(handle, nw, ws, ds, rnom, nr, ry0, rdy, rz, rm
     info = stat
 end subroutine vehicle_strip_attach_c
 
-!> The strip potential of one (left) wheel at np poses (y, zc, phi) (vehicle_strip%strip_wheel)
+!> The strip potential of one (left) wheel at np poses (y, zc, phi, psi) (vehicle_strip%strip_wheel)
 !> without a model: out(nso, 2, np) per slot; props(5, 2, np) the slots' a1, b1, c11, c22, c23.
 !> info: see vehicle_strip%strip_set.
 subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, &
@@ -348,7 +348,7 @@ subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1,
     integer(c_int), intent(in) :: nw, nr, nf, np, nso_in
     real(c_double), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
     real(c_double), intent(in) :: offset, top
-    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(3, np)
+    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(4, np)
     real(c_double), intent(out) :: out(nso_in, 2, np), props(5, 2, np)
     integer(c_int), intent(out) :: info
     type(strip_geometry) :: st
@@ -362,7 +362,7 @@ subroutine vehicle_strip_eval_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1,
     info = stat
     if (stat /= STAT_OK) return
     do i = 1, np
-        call strip_wheel(st, pose(1, i), pose(2, i), pose(3, i), out(:, :, i))
+        call strip_wheel(st, pose(1, i), pose(2, i), pose(3, i), out(:, :, i), pose(4, i))
         do k = 1, 2
             call strip_props(st, out(SO_X, k, i), out(SO_A, k, i), props(:, k, i))
         end do
@@ -371,7 +371,7 @@ end subroutine vehicle_strip_eval_c
 
 !> The strip outputs of one (left) wheel at np poses and their exact derivatives over the pose
 !> (vehicle_strip%strip_linearise, the Newton tangent's linearisation): out(nso, 2, np),
-!> dout(nso, 2, 3, np) over (y, zc, phi). info: see vehicle_strip%strip_set.
+!> dout(nso, 2, 4, np) over (y, zc, phi, psi). info: see vehicle_strip%strip_set.
 subroutine vehicle_strip_lin_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, &
                                fx0, fdx, fv, fm, np, pose, nso_in, out, dout, info)
     use iso_c_binding, only: c_int, c_double
@@ -381,8 +381,8 @@ subroutine vehicle_strip_lin_c(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, 
     integer(c_int), intent(in) :: nw, nr, nf, np, nso_in
     real(c_double), intent(in) :: ws(7, nw), ds, rnom, ry0, rdy, rz(nr), rm(nr), rk(nr), rk1(nr)
     real(c_double), intent(in) :: offset, top
-    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(3, np)
-    real(c_double), intent(out) :: out(nso_in, 2, np), dout(nso_in, 2, 3, np)
+    real(c_double), intent(in) :: fx0, fdx, fv(nf, 6), fm(nf, 6), pose(4, np)
+    real(c_double), intent(out) :: out(nso_in, 2, np), dout(nso_in, 2, 4, np)
     integer(c_int), intent(out) :: info
     type(strip_geometry) :: st
     type(strip_lin) :: lin

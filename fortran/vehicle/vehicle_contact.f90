@@ -41,7 +41,7 @@ module vehicle_contact
     use vehicle_bem, only: bem_patch, bem_scale
     use vehicle_strip, only: strip_geometry, strip_wheel, strip_props, nso, SO_N, SO_V, SO_DY, SO_DZ, &
                              SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, strip_lin, &
-                             strip_linearise, strip_extrapolate
+                             strip_linearise, strip_extrapolate, SO_DPSI, SO_XC
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
@@ -498,7 +498,7 @@ contains
         real(dp) :: fyn, fzn, mwn, mtn
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(3)
+        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
         integer :: w, k, c, stat, ia(2), ib(2), lm
         real(dp) :: qtw(3), vtw(3), ftl(3)
         logical :: bemgeo, flex, strip, ring
@@ -565,7 +565,8 @@ contains
                     return
                 end if
                 ! the centre's lateral position in the element's frame: Y = u - r_nom phr
-                pose = [sg * (yr + ct%rnom * qtw(3)), zc, pl]
+                ! and the yaw against the rail (mirrored for the right wheel; x is not)
+                pose = [sg * (yr + ct%rnom * qtw(3)), zc, pl, sg * qw(4)]
                 lm = 0
                 if (present(slin) .and. present(smode)) lm = smode
                 if (lm == SLIN_READ) then
@@ -574,7 +575,7 @@ contains
                     call strip_linearise(st, pose, slin(w))
                     so = slin(w)%so
                 else
-                    call strip_wheel(st, pose(1), pose(2), pose(3), so)
+                    call strip_wheel(st, pose(1), pose(2), pose(3), so, pose(4))
                 end if
                 wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
                 vals = 0.0_dp
@@ -640,11 +641,14 @@ contains
                 yc = 0.0_dp
                 a = vals(5, c) * fn**(1.0_dp / 3.0_dp)
                 b = vals(6, c) * fn**(1.0_dp / 3.0_dp)
+                ! the strip's contact lies xcp ahead of the axle under yaw (the table's at 0)
+                xcp = 0.0_dp
+                if (strip) xcp = so(SO_XC, k)
                 ! relative velocity of the wheel's material point (arms l, za about the
                 ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
                 ! roll centre): the arms of the generalised forces below (energy-consistent)
-                dvy = (ve(1) + za * ve(3)) - (vtw(1) - (ct%rnom - za) * vtw(3))
-                dvz = (ve(2) + ve(3) * l) - (vtw(2) + vtw(3) * (l + yr))
+                dvy = (ve(1) + za * ve(3) + xcp * vw(4)) - (vtw(1) - (ct%rnom - za) * vtw(3))
+                dvz = (ve(2) + ve(3) * l - xcp * vw(6)) - (vtw(2) + vtw(3) * (l + yr))
                 ! longitudinal creepage: the material velocity of the wheel at the contact
                 ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
                 ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
@@ -700,11 +704,14 @@ contains
                     fyn = -(gy - gz * qtw(3))
                     mwn = -gph
                     mtn = -(gy * ct%rnom - gz * yr - gph)
+                    ! the yaw moment of the normal forces: -dV/dpsi
+                    mpn = -sg * so(SO_DPSI, k)
                 else
                     fzn = fn * cd
                     fyn = fzn * (sg * grd(1, c) - qtw(3))
                     mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
                     mtn = -fzn * (sg * grd(2, c) + yr)
+                    mpn = 0.0_dp
                 end if
                 ! the creep forces along t_y = (0, cos, sg sin) with the geometric arms
                 fyt = fy * cd
@@ -720,11 +727,11 @@ contains
                 fw(1) = fw(1) + fyt + fyn
                 fw(2) = fw(2) + fzt + fzn
                 fw(3) = fw(3) + l * fzt + za * fyt + mx + mwn
-                fw(4) = fw(4) - l * fx + mzt
+                fw(4) = fw(4) - l * fx + xcp * fyt + mzt + mpn
                 ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
                 ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
                 fw(5) = fw(5) + fx
-                fw(6) = fw(6) - r * fx + my
+                fw(6) = fw(6) - r * fx - xcp * fzt + my
                 ft(1) = ft(1) - fyt - fyn
                 ft(2) = ft(2) - fzt - fzn
                 ft(3) = ft(3) - (l + yr) * fzt + (ct%rnom - za) * fyt - mx + mtn

@@ -33,14 +33,20 @@ module vehicle_strip
     private
     public :: strip_geometry, strip_set, strip_wheel, strip_props, nso, strip_lin, strip_linearise, &
               strip_extrapolate
+    public :: SO_DPSI, SO_XC
     public :: SO_N, SO_V, SO_DY, SO_DZ, SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, SO_PMAX
 
     !> Outputs of strip_wheel per slot (1 tread, 2 flange): normal force, potential, its
     !> gradient (Y, Zc, phi), the load-weighted arm l, depth below the centre za, contact
-    !> angle, rolling radius, x = ln(B/A), A, and the largest interference.
-    integer, parameter :: nso = 12
+    !> angle, rolling radius, x = ln(B/A), A, the largest interference, the gradient over the
+    !> yaw psi and the load-weighted longitudinal position xc of the contact (track x, ahead
+    !> of the axle positive).
+    integer, parameter :: nso = 14
     integer, parameter :: SO_N = 1, SO_V = 2, SO_DY = 3, SO_DZ = 4, SO_DPHI = 5, SO_L = 6
     integer, parameter :: SO_ZA = 7, SO_DELTA = 8, SO_R = 9, SO_X = 10, SO_A = 11, SO_PMAX = 12
+    integer, parameter :: SO_DPSI = 13, SO_XC = 14
+    !> Number of dual-number components (value and the derivatives over y, zc, phi, psi).
+    integer, parameter :: NDL = 5
     !> Coarse scan (strip_scan): the interference at every SEG-th sample (1.6 mm apart at the
     !> default 0.2 mm step); a segment's samples are evaluated when the bound of its
     !> interference (ends and curvature) is less than MARGIN from contact. The rail's second
@@ -67,14 +73,19 @@ module vehicle_strip
         !> largest |z''| (exact: z'' is linear between nodes); the rail's largest |z'| (1.2 x).
         integer :: nseg = 0
         real(dp) :: rz1max = 0.0_dp
-        real(dp), allocatable :: segw(:, :), rbm(:)
+        real(dp), allocatable :: segw(:, :), rbm(:), rb1(:)
+        !> Reciprocals and constants of the inner loops (multiplications instead of divisions):
+        !> 1 / rdy, rdy^2 / 6, rdy / 6, 1 / fdx, fdx^2 / 6, fdx / 6, and per sample 1 / (2 r).
+        real(dp) :: rinv = 1.0_dp, rh26 = 0.0_dp, rh6 = 0.0_dp, finv = 1.0_dp, fh26 = 0.0_dp
+        real(dp) :: fh6 = 0.0_dp
+        real(dp), allocatable :: hr(:)
     end type strip_geometry
 
     !> One wheel's strip outputs at a pose and their exact derivatives over the pose
     !> (strip_linearise): the Newton tangent's perturbations read them linearly instead of
     !> evaluating the strips again (vehicle_model%contact_tangent).
     type :: strip_lin
-        real(dp) :: pose(3) = 0.0_dp, so(nso, 2) = 0.0_dp, d(nso, 2, 3) = 0.0_dp
+        real(dp) :: pose(4) = 0.0_dp, so(nso, 2) = 0.0_dp, d(nso, 2, 4) = 0.0_dp
     end type strip_lin
 
 contains
@@ -92,6 +103,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nw < 2 .or. nr < 2 .or. nf < 2) return
         if (.not. (ds > 0.0_dp .and. rdy > 0.0_dp .and. fdx > 0.0_dp .and. rnom > 0.0_dp)) return
+        if (.not. all(ws(3, :) > 0.0_dp)) return
         if (.not. (all(abs(ws) <= huge(1.0_dp)) .and. all(abs(rz) <= huge(1.0_dp)) &
                    .and. all(abs(rm) <= huge(1.0_dp)) .and. all(abs(fv) <= huge(1.0_dp)) &
                    .and. all(abs(rk) <= huge(1.0_dp)) .and. all(abs(rk1) <= huge(1.0_dp)) &
@@ -114,6 +126,13 @@ contains
         st%fdx = fdx
         st%fv = fv
         st%fm = fm
+        st%rinv = 1.0_dp / rdy
+        st%rh26 = rdy * rdy / 6.0_dp
+        st%rh6 = rdy / 6.0_dp
+        st%finv = 1.0_dp / fdx
+        st%fh26 = fdx * fdx / 6.0_dp
+        st%fh6 = fdx / 6.0_dp
+        st%hr = 0.5_dp / ws(3, :)
         call scan_bounds(st)
         st%on = .true.
         info = STAT_OK
@@ -126,7 +145,7 @@ contains
         integer :: k, jl, jh, i
         logical :: inside
         st%nseg = (st%nw - 2) / SEG + 1
-        allocate (st%segw(4, st%nseg), st%rbm((st%nr - 1) / RB + 1))
+        allocate (st%segw(4, st%nseg), st%rbm((st%nr - 1) / RB + 1), st%rb1((st%nr - 1) / RB + 1))
         do k = 1, st%nseg
             jl = 1 + (k - 1) * SEG
             jh = min(jl + SEG, st%nw)
@@ -136,6 +155,7 @@ contains
             st%segw(4, k) = maxval(st%ws(2, jl:jh))
         end do
         st%rbm = 0.0_dp
+        st%rb1 = 0.0_dp
         st%rz1max = 0.0_dp
         do i = 1, st%nr
             k = (i - 1) / RB + 1
@@ -143,6 +163,9 @@ contains
             call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, st%ry0 + (i - 1) * st%rdy, f, f1, f2, f3, &
                            inside)
             st%rz1max = max(st%rz1max, 1.2_dp * abs(f1))
+            ! |z'| within a cell exceeds its nodes' by at most rdy max|z''| / 2
+            st%rb1(k) = max(st%rb1(k), abs(f1) + 0.5_dp * st%rdy * max(abs(st%rm(i)), &
+                                                                 abs(st%rm(max(i - 1, 1)))))
         end do
     end subroutine scan_bounds
 
@@ -153,9 +176,10 @@ contains
         real(dp), intent(in) :: v(n), m(n), x0, h, x
         real(dp), intent(out) :: f, f1, f2, f3
         logical, intent(out) :: inside
-        real(dp) :: s, a, b
+        real(dp) :: s, a, b, hi
         integer :: i
-        s = (x - x0) / h
+        hi = 1.0_dp / h
+        s = (x - x0) * hi
         inside = s >= 0.0_dp .and. s <= real(n - 1, dp)
         f = 0.0_dp
         f1 = 0.0_dp
@@ -166,31 +190,11 @@ contains
         b = s - real(i - 1, dp)
         a = 1.0_dp - b
         f = a * v(i) + b * v(i + 1) + ((a**3 - a) * m(i) + (b**3 - b) * m(i + 1)) * h * h / 6.0_dp
-        f1 = (v(i + 1) - v(i)) / h + (-(3.0_dp * a * a - 1.0_dp) * m(i) &
+        f1 = (v(i + 1) - v(i)) * hi + (-(3.0_dp * a * a - 1.0_dp) * m(i) &
                                        + (3.0_dp * b * b - 1.0_dp) * m(i + 1)) * h / 6.0_dp
         f2 = a * m(i) + b * m(i + 1)
-        f3 = (m(i + 1) - m(i)) / h
+        f3 = (m(i + 1) - m(i)) * hi
     end subroutine spline_at
-
-    !> Cubic Hermite interpolation on a uniform grid of values v and rates d: value, rate and
-    !> (optional) second derivative (the end cell's polynomial at the end value off the grid).
-    pure subroutine hermite_at(n, v, d, x0, h, x, f, f1, f2)
-        integer, intent(in) :: n
-        real(dp), intent(in) :: v(n), d(n), x0, h, x
-        real(dp), intent(out) :: f, f1
-        real(dp), intent(out), optional :: f2
-        real(dp) :: s, t
-        integer :: i
-        s = min(max((x - x0) / h, 0.0_dp), real(n - 1, dp))
-        i = min(int(s), n - 2) + 1
-        t = s - real(i - 1, dp)
-        f = (2 * t**3 - 3 * t**2 + 1) * v(i) + (t**3 - 2 * t**2 + t) * h * d(i) &
-            + (-2 * t**3 + 3 * t**2) * v(i + 1) + (t**3 - t**2) * h * d(i + 1)
-        f1 = (6 * t**2 - 6 * t) / h * v(i) + (3 * t**2 - 4 * t + 1) * d(i) &
-             + (-6 * t**2 + 6 * t) / h * v(i + 1) + (3 * t**2 - 2 * t) * d(i + 1)
-        if (present(f2)) f2 = ((12 * t - 6) / h * (v(i) - v(i + 1)) + (6 * t - 4) * d(i) &
-                               + (6 * t - 2) * d(i + 1)) / h
-    end subroutine hermite_at
 
     !> Column col of the ratio table at x (clamped to its range; df = d2f = 0 outside).
     pure subroutine ratio_at(st, col, x, f, df, d2f)
@@ -199,15 +203,23 @@ contains
         real(dp), intent(in) :: x
         real(dp), intent(out) :: f, df
         real(dp), intent(out), optional :: d2f
-        real(dp) :: xc, f2, f3
-        logical :: inside
+        real(dp) :: xc, s, a, b
+        integer :: i
+        ! spline_at's arithmetic on the stored grid, with its reciprocals
         xc = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
-        call spline_at(st%nf, st%fv(:, col), st%fm(:, col), st%fx0, st%fdx, xc, f, df, f2, f3, inside)
-        if (xc /= x) then
-            df = 0.0_dp
-            f2 = 0.0_dp
+        s = min(max((xc - st%fx0) * st%finv, 0.0_dp), real(st%nf - 1, dp))
+        i = min(int(s), st%nf - 2) + 1
+        b = s - real(i - 1, dp)
+        a = 1.0_dp - b
+        f = a * st%fv(i, col) + b * st%fv(i + 1, col) &
+            + ((a**3 - a) * st%fm(i, col) + (b**3 - b) * st%fm(i + 1, col)) * st%fh26
+        df = (st%fv(i + 1, col) - st%fv(i, col)) * st%finv &
+             + (-(3.0_dp * a * a - 1.0_dp) * st%fm(i, col) + (3.0_dp * b * b - 1.0_dp) * st%fm(i + 1, col)) * st%fh6
+        if (xc /= x) df = 0.0_dp
+        if (present(d2f)) then
+            d2f = a * st%fm(i, col) + b * st%fm(i + 1, col)
+            if (xc /= x) d2f = 0.0_dp
         end if
-        if (present(d2f)) d2f = f2
     end subroutine ratio_at
 
     !> Hertz semi-axes for a 1 N load (a1, b1, m N^(-1/3)) and Kalker's c11, c22, c23 of a
@@ -224,25 +236,25 @@ contains
         props(1:2) = props(1:2) * a**(-1.0_dp / 3.0_dp)
     end subroutine strip_props
 
-    !> The vertical interference p of sample j at the pose (-huge off the rail's grid).
-    pure subroutine interference(st, j, y, zc, cph, sph, p)
+    !> The vertical interference p of sample j's lowest point (theta = 0) at the pose (-huge
+    !> off the rail's grid); cps = cos(psi) shortens the lateral arm.
+    pure subroutine interference(st, j, y, zc, cph, sph, cps, p)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
-        real(dp), intent(in) :: y, zc, cph, sph
+        real(dp), intent(in) :: y, zc, cph, sph, cps
         real(dp), intent(out) :: p
-        real(dp) :: zw, s, a, b, h
+        real(dp) :: zw, s, a, b
         integer :: i
         zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        s = (y + cph * st%ws(1, j) - sph * st%ws(2, j) - st%offset - st%ry0) / st%rdy
+        s = (y + cps * (cph * st%ws(1, j) - sph * st%ws(2, j)) - st%offset - st%ry0) * st%rinv
         p = -huge(1.0_dp)
         if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
         ! the rail spline's value (spline_at's, without its derivatives)
         i = min(int(s), st%nr - 2) + 1
         b = s - real(i - 1, dp)
         a = 1.0_dp - b
-        h = st%rdy
         p = (st%top - (a * st%rz(i) + b * st%rz(i + 1) &
-                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * h * h / 6.0_dp)) &
+                       + ((a**3 - a) * st%rm(i) + (b**3 - b) * st%rm(i + 1)) * st%rh26)) &
             - (st%rnom + zc + zw)
     end subroutine interference
 
@@ -251,17 +263,22 @@ contains
     !> by at most its second derivative's bound x span^2 / 8, here
     !>   |P''| <= max|z''_rail| (cos + |sin| max|z_w'|)^2 + (|sin| max|z'_rail| + cos) max|z_w''|
     !> over the rail nodes the segment can reach (P = h(y_r(s)) - z_w(s) along the profile).
-    !> A segment with one end off the rail's grid is evaluated whole (both off: none).
-    pure subroutine strip_scan(st, y, zc, cph, sph, act)
+    !> Under yaw the deepest point of a sample's circle lies ahead of or behind its lowest
+    !> point (ring_deepest), deeper by at most r sin(psi)^2 max|z'|^2 / (2 D), D = cos(phi) -
+    !> |sin(phi)| max|z'| - r sin(psi)^2 max|z''| (the Newton step's quadratic model, bounded
+    !> below by 0.1), added to the bound. A segment with one end off the rail's grid is
+    !> evaluated whole (both off: none).
+    pure subroutine strip_scan(st, y, zc, cph, sph, cps, sps, act)
         type(strip_geometry), intent(in) :: st
-        real(dp), intent(in) :: y, zc, cph, sph
+        real(dp), intent(in) :: y, zc, cph, sph, cps, sps
         logical, intent(out) :: act(st%nw)
-        real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m
-        integer :: k, jl, jh, il, ih
+        real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m, gain, h1, rw
+        integer :: k, jl, jh, il, ih, nb
         do k = 0, st%nseg
-            call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, pe(k))
+            call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, cps, pe(k))
         end do
         act = .false.
+        nb = size(st%rbm)
         do k = 1, st%nseg
             jl = 1 + (k - 1) * SEG
             jh = min(jl + SEG, st%nw)
@@ -269,144 +286,282 @@ contains
                 if (pe(k - 1) /= pe(k)) act(jl:jh) = .true.
                 cycle
             end if
-            ylo = y - st%offset + cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k))
-            yhi = y - st%offset + cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k))
-            il = min(max(int((ylo - st%ry0) / st%rdy), 0), st%nr - 1) / RB + 1
-            ih = min(max(int((yhi - st%ry0) / st%rdy) + 1, 0), st%nr - 1) / RB + 1
+            ylo = y - st%offset + cps * (cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k)))
+            yhi = y - st%offset + cps * (cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k)))
+            il = min(max(int((ylo - st%ry0) * st%rinv), 0), st%nr - 1) / RB + 1
+            ih = min(max(int((yhi - st%ry0) * st%rinv) + 1, 0), st%nr - 1) / RB + 1
             rmax = maxval(st%rbm(min(il, ih):max(il, ih)))
             span = real(jh - jl, dp) * st%ds
             m = rmax * (cph + abs(sph) * st%segw(2, k))**2 + (abs(sph) * st%rz1max + cph) * st%segw(1, k)
-            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span >= -MARGIN) act(jl:jh) = .true.
+            gain = 0.0_dp
+            if (sps /= 0.0_dp) then
+                ! the lead moves the point laterally by less than a block: one more each side
+                h1 = maxval(st%rb1(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
+                rmax = maxval(st%rbm(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
+                rw = -st%segw(3, k)
+                gain = 0.5_dp * rw * sps * sps * h1 * h1 &
+                       / max(cph - abs(sph) * h1 - rw * sps * sps * rmax, 0.1_dp)
+            end if
+            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span + gain >= -MARGIN) act(jl:jh) = .true.
         end do
     end subroutine strip_scan
 
     !> The strip potential of one wheel (left-wheel convention) at the centre's lateral
-    !> position y, height zc above nominal and relative roll phi: per slot the outputs SO_*.
-    !> The partition weights are fixed on the wheel, so the slots' gradients add up to the
-    !> gradient of the total potential.
-    pure subroutine strip_wheel(st, y, zc, phi, out)
+    !> position y, height zc above nominal, relative roll phi and (optional, default 0) yaw
+    !> psi of the wheelset against the rail: per slot the outputs SO_*. The partition weights
+    !> are fixed on the wheel, so the slots' gradients add up to the gradient of the total
+    !> potential.
+    pure subroutine strip_wheel(st, y, zc, phi, out, psi)
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, phi
         real(dp), intent(out) :: out(nso, 2)
-        real(dp) :: cph, sph, acc(nso + 1, 2)
+        real(dp), intent(in), optional :: psi
+        real(dp) :: cph, sph, cps, sps, acc(nso + 1, 2)
         logical :: act(st%nw)
         integer :: j
         out = 0.0_dp
         acc = 0.0_dp
         cph = cos(phi)
         sph = sin(phi)
-        call strip_scan(st, y, zc, cph, sph, act)
+        cps = 1.0_dp
+        sps = 0.0_dp
+        if (present(psi)) then
+            cps = cos(psi)
+            sps = sin(psi)
+        end if
+        call strip_scan(st, y, zc, cph, sph, cps, sps, act)
         do j = 1, st%nw
-            if (act(j)) call add_strip(st, j, y, zc, phi, cph, sph, acc)
+            if (act(j)) call add_strip(st, j, y, zc, cph, sph, cps, sps, acc)
         end do
         out = acc(1:nso, :)
         do j = 1, 2
             if (.not. (acc(SO_N, j) > 0.0_dp)) cycle
             out(SO_L:SO_A, j) = acc(SO_L:SO_A, j) / acc(SO_N, j)
+            out(SO_XC, j) = acc(SO_XC, j) / acc(SO_N, j)
             ! the mean normal's angle: the load-weighted sin and cos (SO_DELTA, SO_PMAX slots)
             out(SO_DELTA, j) = atan2(acc(SO_DELTA, j), acc(SO_PMAX, j))
             out(SO_PMAX, j) = acc(nso + 1, j)
         end do
     end subroutine strip_wheel
 
-    !> The outputs at pose (y, zc, phi) and their exact derivatives over it (the potential's
-    !> Hessian among them): one scan and one pass over the strips in forward mode (dual
-    !> numbers of add_strip_dual), normalised by the quotient rule as strip_wheel normalises.
+    !> The outputs at pose (y, zc, phi[, psi]) and their exact derivatives over (y, zc, phi,
+    !> psi) (the potential's Hessian among them): one scan and one pass over the strips in
+    !> forward mode (dual numbers of add_strip_dual), normalised by the quotient rule as
+    !> strip_wheel normalises. A pose of 3 entries has psi = 0.
     pure subroutine strip_linearise(st, pose, lin)
         type(strip_geometry), intent(in) :: st
-        real(dp), intent(in) :: pose(3)
+        real(dp), intent(in) :: pose(:)
         type(strip_lin), intent(out) :: lin
-        real(dp) :: cph, sph, acc(4, nso + 1, 2), s, c, n
+        real(dp) :: cph, sph, cps, sps, acc(NDL, nso + 1, 2), s, c, n
         logical :: act(st%nw)
         integer :: j, i
-        lin%pose = pose
+        lin%pose = 0.0_dp
+        lin%pose(1:min(size(pose), 4)) = pose(1:min(size(pose), 4))
         lin%so = 0.0_dp
         lin%d = 0.0_dp
         acc = 0.0_dp
-        cph = cos(pose(3))
-        sph = sin(pose(3))
-        call strip_scan(st, pose(1), pose(2), cph, sph, act)
+        cph = cos(lin%pose(3))
+        sph = sin(lin%pose(3))
+        cps = 1.0_dp
+        sps = 0.0_dp
+        if (size(pose) >= 4) then
+            cps = cos(lin%pose(4))
+            sps = sin(lin%pose(4))
+        end if
+        call strip_scan(st, lin%pose(1), lin%pose(2), cph, sph, cps, sps, act)
         do j = 1, st%nw
-            if (act(j)) call add_strip_dual(st, j, pose, cph, sph, acc)
+            if (act(j)) call add_strip_dual(st, j, lin%pose, cph, sph, cps, sps, acc)
         end do
         do j = 1, 2
             lin%so(:, j) = acc(1, 1:nso, j)
-            lin%d(:, j, :) = transpose(acc(2:4, 1:nso, j))
+            lin%d(:, j, :) = transpose(acc(2:NDL, 1:nso, j))
             n = acc(1, SO_N, j)
             if (.not. (n > 0.0_dp)) cycle
-            do i = SO_L, SO_A
+            do i = SO_L, SO_XC
+                if (i == SO_DELTA .or. i == SO_PMAX .or. i == SO_DPSI) cycle
                 lin%so(i, j) = acc(1, i, j) / n
-                lin%d(i, j, :) = (acc(2:4, i, j) - lin%so(i, j) * acc(2:4, SO_N, j)) / n
+                lin%d(i, j, :) = (acc(2:NDL, i, j) - lin%so(i, j) * acc(2:NDL, SO_N, j)) / n
             end do
             s = acc(1, SO_DELTA, j)
             c = acc(1, SO_PMAX, j)
             lin%so(SO_DELTA, j) = atan2(s, c)
-            lin%d(SO_DELTA, j, :) = (c * acc(2:4, SO_DELTA, j) - s * acc(2:4, SO_PMAX, j)) / (s * s + c * c)
+            lin%d(SO_DELTA, j, :) = (c * acc(2:NDL, SO_DELTA, j) - s * acc(2:NDL, SO_PMAX, j)) / (s * s + c * c)
             lin%so(SO_PMAX, j) = acc(1, nso + 1, j)
-            lin%d(SO_PMAX, j, :) = acc(2:4, nso + 1, j)
+            lin%d(SO_PMAX, j, :) = acc(2:NDL, nso + 1, j)
         end do
     end subroutine strip_linearise
 
-    !> The outputs at pose read linearly from lin (first order in the pose's change).
+    !> The outputs at pose (4 entries) read linearly from lin (first order in the pose's change).
     pure subroutine strip_extrapolate(lin, pose, out)
         type(strip_lin), intent(in) :: lin
-        real(dp), intent(in) :: pose(3)
+        real(dp), intent(in) :: pose(4)
         real(dp), intent(out) :: out(nso, 2)
         integer :: k
         out = lin%so
-        do k = 1, 3
+        do k = 1, 4
             out = out + lin%d(:, :, k) * (pose(k) - lin%pose(k))
         end do
     end subroutine strip_extrapolate
 
-    !> Sample j's potential, gradient and load-weighted point quantities added into out.
-    pure subroutine add_strip(st, j, y, zc, phi, cph, sph, out)
+    !> The rail spline (z down) and its first three derivatives at rail-local y (the cell i and
+    !> its fraction t for the curvature's cubic); inside false off the grid.
+    pure subroutine rail_at(st, yr, z, z1, z2, z3, i, t, inside)
         type(strip_geometry), intent(in) :: st
-        integer, intent(in) :: j
-        real(dp), intent(in) :: y, zc, phi, cph, sph
-        real(dp), intent(inout) :: out(nso + 1, 2)
-        real(dp) :: arm, zw, z, z1, z2, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
-        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, n, e(nso + 1), om, crel, srel, s, t, h, ca, cb
-        integer :: k, i
-        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
-        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        yr = y + arm - st%offset
-        ! the rail spline's value first (most samples the scan lets through are clear of the
-        ! rail), then its derivatives and the curvature table's Hermite cubic in the same cell
-        ! (spline_at's and hermite_at's arithmetic)
-        h = st%rdy
-        s = (yr - st%ry0) / h
-        if (.not. (s >= 0.0_dp .and. s <= real(st%nr - 1, dp))) return
+        real(dp), intent(in) :: yr
+        real(dp), intent(out) :: z, z1, z2, z3, t
+        integer, intent(out) :: i
+        logical, intent(out) :: inside
+        real(dp) :: s, ca
+        s = (yr - st%ry0) * st%rinv
+        inside = s >= 0.0_dp .and. s <= real(st%nr - 1, dp)
+        i = 1
+        t = 0.0_dp
+        z = 0.0_dp
+        z1 = 0.0_dp
+        z2 = 0.0_dp
+        z3 = 0.0_dp
+        if (.not. inside) return
         i = min(int(s), st%nr - 2) + 1
-        cb = s - real(i - 1, dp)
-        ca = 1.0_dp - cb
-        z = ca * st%rz(i) + cb * st%rz(i + 1) &
-            + ((ca**3 - ca) * st%rm(i) + (cb**3 - cb) * st%rm(i + 1)) * h * h / 6.0_dp
-        p = (st%top - z) - (st%rnom + zc + zw)
-        if (p <= 0.0_dp) return
-        z1 = (st%rz(i + 1) - st%rz(i)) / h + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
-                                              + (3.0_dp * cb * cb - 1.0_dp) * st%rm(i + 1)) * h / 6.0_dp
-        z2 = ca * st%rm(i) + cb * st%rm(i + 1)
-        t = cb
+        t = s - real(i - 1, dp)
+        ca = 1.0_dp - t
+        z = ca * st%rz(i) + t * st%rz(i + 1) &
+            + ((ca**3 - ca) * st%rm(i) + (t**3 - t) * st%rm(i + 1)) * st%rh26
+        z1 = (st%rz(i + 1) - st%rz(i)) * st%rinv + (-(3.0_dp * ca * ca - 1.0_dp) * st%rm(i) &
+                                                    + (3.0_dp * t * t - 1.0_dp) * st%rm(i + 1)) * st%rh6
+        z2 = ca * st%rm(i) + t * st%rm(i + 1)
+        z3 = (st%rm(i + 1) - st%rm(i)) * st%rinv
+    end subroutine rail_at
+
+    !> The rail's smoothed curvature (cubic Hermite) and its first two rates in cell i at t.
+    pure subroutine curvature_at(st, i, t, kr, dkr, d2kr)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: i
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: kr, dkr, d2kr
+        real(dp) :: h
+        h = st%rdy
         kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
              + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
-        dkr = (6 * t**2 - 6 * t) / h * st%rk(i) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
-              + (-6 * t**2 + 6 * t) / h * st%rk(i + 1) + (3 * t**2 - 2 * t) * st%rk1(i + 1)
-        ! the rail's contact angle and (smoothed) curvature, z down, and their rates along y_r
-        q = 1.0_dp + z1 * z1
+        dkr = (6 * t**2 - 6 * t) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
+              + (3 * t**2 - 2 * t) * st%rk1(i + 1)
+        d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
+                + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
+    end subroutine curvature_at
+
+    !> The deepest point of sample j's wheel circle under yaw. The circle's point at angle
+    !> theta ahead of the lowest point (wheelset frame: x = r sin(theta), y0, z = z0 cos(theta),
+    !> rolled by phi about x, yawed by psi about z) stands at track x_c = r s_th c_ps - y1 s_ps,
+    !> lateral y_r = y - offset + r s_th s_ps + y1 c_ps and height z2 with
+    !>   y1 = y0 c_ph - z0 c_th s_ph,   z2 = y0 s_ph + z0 c_th c_ph;
+    !> its interference P(theta) = h(y_r) - (r_nom + zc + z2) is largest where dP/dtheta = 0:
+    !> Newton from theta = 0 (where z, z1, z2, z3 hold the rail at the lowest point on entry)
+    !> until the point moves less than 1e-13 m. On return th, the point (yr, y1, z2w, xc) and
+    !> the rail there (z, z1, z2, z3). Exactly theta = 0 without yaw.
+    pure subroutine ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: y, cph, sph, cps, sps
+        real(dp), intent(out) :: th, y1, z2w, xc
+        real(dp), intent(inout) :: yr, z, z1, z2, z3
+        logical, intent(out) :: inside
+        real(dp) :: r, y0, z0, cth, sth, yt, ytt, zt, ztt, pt, ptt, dth, t
+        integer :: it, i
+        y0 = st%ws(1, j)
+        z0 = st%ws(2, j)
+        r = st%ws(3, j)
+        th = 0.0_dp
+        cth = 1.0_dp
+        sth = 0.0_dp
+        inside = .true.
+        y1 = cph * y0 - sph * z0
+        z2w = sph * y0 + cph * z0
+        xc = -y1 * sps
+        if (sps == 0.0_dp) return
+        do it = 1, 8
+            ! dP/dtheta and d2P/dtheta2 with h' = -z1, h'' = -z2
+            yt = r * cth * sps + z0 * sth * sph * cps
+            ytt = -r * sth * sps + z0 * cth * sph * cps
+            zt = -z0 * sth * cph
+            ztt = -z0 * cth * cph
+            pt = -z1 * yt - zt
+            ptt = -z2 * yt * yt - z1 * ytt - ztt
+            if (.not. (ptt < 0.0_dp)) return
+            dth = -pt / ptt
+            if (abs(dth) * r < 1.0e-13_dp) return
+            th = th + dth
+            cth = cos(th)
+            sth = sin(th)
+            ! (the products grouped as add_strip_dual's dual numbers group them)
+            y1 = y0 * cph - z0 * (cth * sph)
+            z2w = y0 * sph + z0 * (cth * cph)
+            xc = r * (sth * cps) - y1 * sps
+            yr = y - st%offset + (r * (sth * sps) + y1 * cps)
+            call rail_at(st, yr, z, z1, z2, z3, i, t, inside)
+            if (.not. inside) return
+        end do
+    end subroutine ring_deepest
+
+    !> Sample j's potential, gradient and load-weighted point quantities added into out: the
+    !> interference at the deepest point of the sample's circle (ring_deepest; its gradient
+    !> over the pose by the envelope theorem, dP/dtheta = 0 there), the strip's constant G =
+    !> c cos(delta) w from the rail under the lowest point (y_r0 = y + arm cos(psi) - offset).
+    pure subroutine add_strip(st, j, y, zc, cph, sph, cps, sps, out)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: y, zc, cph, sph, cps, sps
+        real(dp), intent(inout) :: out(nso + 1, 2)
+        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, d2kr, a, b, x, dxy, dxp, yr
+        real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, dps, n, e(nso + 1), om, crel, srel, t, ci
+        real(dp) :: z1l, z2l, tl, th, y1, z2w, xc, lat, pt, ptt, r
+        integer :: k, i, il
+        logical :: inside
+        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
+        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
+        yr = y + arm * cps - st%offset
+        call rail_at(st, yr, z, z1, z2, z3, i, t, inside)
+        if (.not. inside) return
+        p = (st%top - z) - (st%rnom + zc + zw)
+        z1l = z1
+        z2l = z2
+        il = i
+        tl = t
+        y1 = arm
+        z2w = zw
+        xc = 0.0_dp
+        lat = arm
+        if (sps /= 0.0_dp) then
+            ! the circle's deepest point lies deeper than its lowest by about pt^2 / (-2 ptt)
+            ! (Newton's first step): skip the sample when twice that cannot reach the rail
+            r = st%ws(3, j)
+            pt = -z1 * r * sps
+            ptt = -z2 * (r * sps)**2 - z1 * st%ws(2, j) * sph * cps + st%ws(2, j) * cph
+            if (p <= 0.0_dp .and. ptt < 0.0_dp) then
+                if (p - pt * pt / ptt <= 0.0_dp) return
+            end if
+            call ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            if (.not. inside) return
+            p = (st%top - z) - (st%rnom + zc + z2w)
+            lat = r * (sin(th) * sps) + y1 * cps
+        end if
+        if (p <= 0.0_dp) return
+        call curvature_at(st, il, tl, kr, dkr, d2kr)
+        ! the rail's contact angle and (smoothed) curvature under the lowest point, z down, and
+        ! their rates along y_r
+        q = 1.0_dp + z1l * z1l
         cd = 1.0_dp / sqrt(q)
-        sd = -z1 * cd
-        ddl = -z2 / q
+        sd = -z1l * cd
+        ddl = -z2l * (cd * cd)
         ! cos and sin of delta - phi, the rail normal's angle to the wheel's radius
         crel = cd * cph + sd * sph
         srel = sd * cph - cd * sph
-        a = crel / (2.0_dp * st%ws(3, j))
+        a = crel * st%hr(j)
         b = 0.5_dp * (kr - st%ws(4, j))
         ! x = ln(B/A) and its rates (zero where the table clamps it)
         if (b > 0.0_dp) then
-            x = log(b / a)
-            dxy = 0.5_dp * dkr / b + srel / crel * ddl
-            dxp = -srel / crel
+            ci = 1.0_dp / crel
+            x = log(b * (2.0_dp * st%ws(3, j)) * ci)
+            dxy = 0.5_dp * dkr / b + srel * ci * ddl
+            dxp = -srel * ci
         else
             x = st%fx0
             dxy = 0.0_dp
@@ -419,18 +574,22 @@ contains
         g = c * cd * w
         dgy = dc * dxy * cd * w - c * sd * ddl * w
         dgp = dc * dxp * cd * w + c * cd * dw
-        ! dP/dY = h' = -z', dP/dZc = -1, dP/dphi = -h' zw - arm
+        ! at the deepest point: dP/dY = h' = -z', dP/dZc = -1, dP/dphi = -h' z2 cos(psi) - y1,
+        ! dP/dpsi = h' xc; y_r0 moves by -zw cos(psi) dphi - arm sin(psi) dpsi
         dpy = -z1
-        dpp = z1 * zw - arm
+        dpp = z1 * z2w * cps - y1
+        dps = -z1 * xc
         n = 2.0_dp * c * w * p
         e = 0.0_dp
         e(SO_N) = n
         e(SO_V) = g * p * p
         e(SO_DY) = 2.0_dp * g * p * dpy + p * p * dgy
         e(SO_DZ) = -2.0_dp * g * p
-        e(SO_DPHI) = 2.0_dp * g * p * dpp + p * p * (-dgy * zw + dgp)
-        e(SO_L) = n * arm
-        e(SO_ZA) = -n * zw
+        e(SO_DPHI) = 2.0_dp * g * p * dpp + p * p * (-dgy * zw * cps + dgp)
+        e(SO_DPSI) = 2.0_dp * g * p * dps + p * p * (-dgy * arm * sps)
+        e(SO_L) = n * lat
+        e(SO_ZA) = -n * z2w
+        e(SO_XC) = n * xc
         ! the slot's contact angle from its load-weighted normal (strip_wheel)
         e(SO_DELTA) = n * sd
         e(SO_PMAX) = n * cd
@@ -445,85 +604,145 @@ contains
         end do
     end subroutine add_strip
 
-    !> Sample j's contribution to the outputs as dual numbers (value, d/dy, d/dzc, d/dphi)
-    !> added into acc(4, nso + 1, 2): add_strip's terms differentiated once more (the rail's
-    !> third derivative, the curvature's and the ratio table's second derivatives enter).
-    pure subroutine add_strip_dual(st, j, pose, cph, sph, acc)
+    !> Sample j's contribution to the outputs as dual numbers (value and the derivatives over
+    !> y, zc, phi, psi) added into acc(NDL, nso + 1, 2): add_strip's terms differentiated once
+    !> more (the rail's third derivative, the curvature's and the ratio table's second
+    !> derivatives enter; the deepest point's angle theta moves with the pose as
+    !> dtheta/dq = -(d2P/dtheta dq) / (d2P/dtheta2)).
+    pure subroutine add_strip_dual(st, j, pose, cph, sph, cps, sps, acc)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
-        real(dp), intent(in) :: pose(3), cph, sph
-        real(dp), intent(inout) :: acc(4, nso + 1, 2)
-        real(dp), dimension(4) :: armd, zwd, pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd
-        real(dp), dimension(4) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
-        real(dp), dimension(4) :: dgyd, dgpd, nd, gp, pp, xcd
-        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(3), kr, dkr, d2kr, c, dc, d2c, sw, om, e(4, nso)
+        real(dp), intent(in) :: pose(4), cph, sph, cps, sps
+        real(dp), intent(inout) :: acc(NDL, nso + 1, 2)
+        real(dp), dimension(NDL) :: pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd, cpsd, spsd
+        real(dp), dimension(NDL) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
+        real(dp), dimension(NDL) :: dgyd, dgpd, nd, gp, pp, xcd, cthd, sthd, y1d, z2wd, latd, xsd
+        real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, zw0d, arm0d, xkd
+        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, c, dc, d2c, sw, om, e(NDL, nso)
+        real(dp) :: t, bi, ci, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
+        real(dp) :: yt, ytt, ztt, thq(4), yq(4), ytq(4), ztq(4)
+        integer :: k, i, il
         logical :: inside
-        integer :: k
-        arm = cph * st%ws(1, j) - sph * st%ws(2, j)
-        zw = sph * st%ws(1, j) + cph * st%ws(2, j)
-        yr = pose(1) + arm - st%offset
-        call spline_at(st%nr, st%rz, st%rm, st%ry0, st%rdy, yr, z, z1, z2, z3, inside)
+        y0 = st%ws(1, j)
+        z0 = st%ws(2, j)
+        r = st%ws(3, j)
+        arm = cph * y0 - sph * z0
+        zw = sph * y0 + cph * z0
+        yr = pose(1) + arm * cps - st%offset
+        call rail_at(st, yr, z, z1, z2, z3, i, t, inside)
         if (.not. inside) return
         p = (st%top - z) - (st%rnom + pose(2) + zw)
+        z1l = z1
+        z2l = z2
+        z3l = z3
+        il = i
+        tl = t
+        th = 0.0_dp
+        if (sps /= 0.0_dp) then
+            pt = -z1 * r * sps
+            ptt = -z2 * (r * sps)**2 - z1 * z0 * sph * cps + z0 * cph
+            if (p <= 0.0_dp .and. ptt < 0.0_dp) then
+                if (p - pt * pt / ptt <= 0.0_dp) return
+            end if
+            call ring_deepest(st, j, pose(1), cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            if (.not. inside) return
+            p = (st%top - z) - (st%rnom + pose(2) + z2w)
+        end if
         if (p <= 0.0_dp) return
-        ! the pose's tangents: d yr = dy - zw dphi, d arm = -zw dphi, d zw = arm dphi
-        armd = [arm, 0.0_dp, 0.0_dp, -zw]
-        zwd = [zw, 0.0_dp, 0.0_dp, arm]
-        yrg = [1.0_dp, 0.0_dp, -zw]
-        pd = [p, -z1, -1.0_dp, z1 * zw - arm]
-        z1d = [z1, z2 * yrg]
-        z2d = [z2, z3 * yrg]
-        qd = [1.0_dp + z1 * z1, 2.0_dp * z1 * z2 * yrg]
+        ! theta's derivatives over the pose from dP/dtheta = 0 (also without yaw: d/dpsi)
+        cth = cos(th)
+        sth = sin(th)
+        yt = r * cth * sps + z0 * sth * sph * cps
+        ytt = -r * sth * sps + z0 * cth * sph * cps
+        ztt = -z0 * cth * cph
+        ptt = -z2 * yt * yt - z1 * ytt - ztt
+        z2w = sph * y0 + z0 * cth * cph
+        yq = [1.0_dp, 0.0_dp, -z2w * cps, r * sth * cps - (y0 * cph - z0 * cth * sph) * sps]
+        ytq = [0.0_dp, 0.0_dp, z0 * sth * cph * cps, r * cth * cps - z0 * sth * sph * sps]
+        ztq = [0.0_dp, 0.0_dp, z0 * sth * sph, 0.0_dp]
+        thq = 0.0_dp
+        if (ptt < 0.0_dp) thq = (-z2 * yq * yt - z1 * ytq - ztq) / (-ptt)
+        cphd = [cph, 0.0_dp, 0.0_dp, -sph, 0.0_dp]
+        sphd = [sph, 0.0_dp, 0.0_dp, cph, 0.0_dp]
+        cpsd = [cps, 0.0_dp, 0.0_dp, 0.0_dp, -sps]
+        spsd = [sps, 0.0_dp, 0.0_dp, 0.0_dp, cps]
+        cthd = [cth, -sth * thq]
+        sthd = [sth, cth * thq]
+        ! the deepest point: y1, z2, its lateral arm, its x and the rail's slope there
+        y1d = y0 * cphd - z0 * dmul(cthd, sphd)
+        z2wd = y0 * sphd + z0 * dmul(cthd, cphd)
+        latd = r * dmul(sthd, spsd) + dmul(y1d, cpsd)
+        xcd = r * dmul(sthd, cpsd) - dmul(y1d, spsd)
+        xsd = latd
+        xsd(2) = xsd(2) + 1.0_dp
+        z1sd = [z1, z2 * xsd(2:NDL)]
+        ! P's gradient (envelope theorem) as dual numbers
+        dpyd = -z1sd
+        dppd = dmul(dmul(z1sd, z2wd), cpsd) - y1d
+        dpsd = -dmul(z1sd, xcd)
+        pd = [p, dpyd(1), -1.0_dp, dppd(1), dpsd(1)]
+        ! G under the lowest point: d y_r0 = dy - zw cos(psi) dphi - arm sin(psi) dpsi
+        zw0d = [zw, 0.0_dp, 0.0_dp, arm, 0.0_dp]
+        arm0d = [arm, 0.0_dp, 0.0_dp, -zw, 0.0_dp]
+        yrg = [1.0_dp, 0.0_dp, -zw * cps, -arm * sps]
+        call curvature_at(st, il, tl, kr, dkr, d2kr)
+        z1d = [z1l, z2l * yrg]
+        z2d = [z2l, z3l * yrg]
+        qd = [1.0_dp + z1l * z1l, 2.0_dp * z1l * z2l * yrg]
         cdd(1) = 1.0_dp / sqrt(qd(1))
-        cdd(2:4) = -0.5_dp * cdd(1) / qd(1) * qd(2:4)
+        cdd(2:NDL) = -0.5_dp * cdd(1) * cdd(1) * cdd(1) * qd(2:NDL)
         sdd = -dmul(z1d, cdd)
-        ddld = -ddiv(z2d, qd)
-        call hermite_at(st%nr, st%rk, st%rk1, st%ry0, st%rdy, yr, kr, dkr, d2kr)
+        ! 1 / q = cos(delta)^2
+        ddld = -dmul(z2d, [cdd(1) * cdd(1), 2.0_dp * cdd(1) * cdd(2:NDL)])
         krd = [kr, dkr * yrg]
         dkrd = [dkr, d2kr * yrg]
-        cphd = [cph, 0.0_dp, 0.0_dp, -sph]
-        sphd = [sph, 0.0_dp, 0.0_dp, cph]
         creld = dmul(cdd, cphd) + dmul(sdd, sphd)
         sreld = dmul(sdd, cphd) - dmul(cdd, sphd)
-        ad = creld / (2.0_dp * st%ws(3, j))
+        ad = creld * st%hr(j)
         bd = 0.5_dp * krd
         bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
         if (bd(1) > 0.0_dp) then
-            xd = [log(bd(1) / ad(1)), bd(2:4) / bd(1) - ad(2:4) / ad(1)]
-            td = ddiv(sreld, creld)
-            dxyd = 0.5_dp * ddiv(dkrd, bd) + dmul(td, ddld)
+            bi = 1.0_dp / bd(1)
+            ci = 1.0_dp / creld(1)
+            ! ln(B / A) = ln(B 2 r / crel)
+            xd = [log(bd(1) * (2.0_dp * r) * ci), bd(2:NDL) * bi - creld(2:NDL) * ci]
+            td = drec(sreld, creld, ci)
+            dxyd = 0.5_dp * drec(dkrd, bd, bi) + dmul(td, ddld)
             dxpd = -td
         else
-            xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp]
+            xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
             dxyd = 0.0_dp
             dxpd = 0.0_dp
         end if
         call ratio_at(st, 1, xd(1), c, dc, d2c)
-        cld = [c, dc * xd(2:4)]
-        dcd = [dc, d2c * xd(2:4)]
+        cld = [c, dc * xd(2:NDL)]
+        dcd = [dc, d2c * xd(2:NDL)]
         sw = st%ws(5, j)
-        wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw]
-        dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw]
+        wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw, 0.0_dp]
+        dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw, 0.0_dp]
         gd = dmul(dmul(cld, cdd), wd)
         dgyd = dmul(dmul(dmul(dcd, dxyd), cdd), wd) - dmul(dmul(dmul(cld, sdd), ddld), wd)
         dgpd = dmul(dmul(dmul(dcd, dxpd), cdd), wd) + dmul(dmul(cld, cdd), dwd)
         nd = 2.0_dp * dmul(dmul(cld, wd), pd)
         gp = dmul(gd, pd)
         pp = dmul(pd, pd)
-        xcd = xd
-        xcd(1) = min(max(xd(1), st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
-        if (xcd(1) /= xd(1)) xcd(2:4) = 0.0_dp
         e(:, SO_N) = nd
         e(:, SO_V) = dmul(gp, pd)
-        e(:, SO_DY) = -2.0_dp * dmul(gp, z1d) + dmul(pp, dgyd)
+        e(:, SO_DY) = 2.0_dp * dmul(gp, dpyd) + dmul(pp, dgyd)
         e(:, SO_DZ) = -2.0_dp * gp
-        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dmul(z1d, zwd) - armd) + dmul(pp, dgpd - dmul(dgyd, zwd))
-        e(:, SO_L) = dmul(nd, armd)
-        e(:, SO_ZA) = -dmul(nd, zwd)
+        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dppd) + dmul(pp, dgpd - dmul(dmul(dgyd, zw0d), cpsd))
+        e(:, SO_DPSI) = 2.0_dp * dmul(gp, dpsd) - dmul(pp, dmul(dmul(dgyd, arm0d), spsd))
+        e(:, SO_L) = dmul(nd, latd)
+        e(:, SO_ZA) = -dmul(nd, z2wd)
+        e(:, SO_XC) = dmul(nd, xcd)
         e(:, SO_DELTA) = dmul(nd, sdd)
         e(:, SO_PMAX) = dmul(nd, cdd)
-        e(:, SO_R) = nd * st%ws(3, j)
-        e(:, SO_X) = dmul(nd, xcd)
+        e(:, SO_R) = nd * r
+        ! x as the table clamps it (its rates zero there)
+        xkd = xd
+        xkd(1) = min(max(xd(1), st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        if (xkd(1) /= xd(1)) xkd(2:NDL) = 0.0_dp
+        e(:, SO_X) = dmul(nd, xkd)
         e(:, SO_A) = dmul(nd, ad)
         do k = 1, 2
             om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
@@ -533,20 +752,20 @@ contains
         end do
     end subroutine add_strip_dual
 
-    !> Product of two dual numbers (value, gradient(3)).
+    !> Product of two dual numbers (value, gradient(NDL - 1)).
     pure function dmul(a, b) result(r)
-        real(dp), intent(in) :: a(4), b(4)
-        real(dp) :: r(4)
+        real(dp), intent(in) :: a(NDL), b(NDL)
+        real(dp) :: r(NDL)
         r(1) = a(1) * b(1)
-        r(2:4) = a(1) * b(2:4) + b(1) * a(2:4)
+        r(2:NDL) = a(1) * b(2:NDL) + b(1) * a(2:NDL)
     end function dmul
 
-    !> Quotient of two dual numbers.
-    pure function ddiv(a, b) result(r)
-        real(dp), intent(in) :: a(4), b(4)
-        real(dp) :: r(4)
-        r(1) = a(1) / b(1)
-        r(2:4) = (a(2:4) - r(1) * b(2:4)) / b(1)
-    end function ddiv
+    !> Quotient a / b of two dual numbers given bi = 1 / b(1).
+    pure function drec(a, b, bi) result(r)
+        real(dp), intent(in) :: a(NDL), b(NDL), bi
+        real(dp) :: r(NDL)
+        r(1) = a(1) * bi
+        r(2:NDL) = (a(2:NDL) - r(1) * b(2:NDL)) * bi
+    end function drec
 
 end module vehicle_strip

@@ -14,8 +14,12 @@ local relative curvatures A (rolling direction) and B (across). A parabolic gap 
 N = kH d^1.5 exactly; any other gap is integrated strip by strip. The forces are the exact
 gradient of V: the contact stores and returns energy without loss or gain.
 
+The pose is the wheelset centre's lateral position and height and its roll and yaw against
+the rail; under yaw each sample's interference is the deepest point of its wheel circle (the
+contact leads the wheel's lowest point), and each slot reports its longitudinal position.
+
 Vehicle y points to the left; the geometry is the left wheel's and the right wheel is read
-mirrored (as for the table).
+mirrored (as for the table; the yaw changes sign, the longitudinal position does not).
 """
 from __future__ import annotations
 
@@ -35,7 +39,7 @@ from .table import _RATIO_CLIP, _hertz_unit
 
 #: Outputs of one wheel's slot (Fortran vehicle_strip SO_*), in order.
 STRIP_OUTPUTS = ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm", "delta", "r", "x", "A",
-                 "P_max")
+                 "P_max", "dV_dyaw", "xc")
 _N_TABLE = 441
 #: The curvature ratio rho = B/A of the strips' Hertz constants: ln(rho) as it is within
 #: (-X_LINEAR, UPPER_LINEAR), then saturated C1 to the clips ln(1/25) and ln(UPPER_CLIP)
@@ -186,62 +190,66 @@ def _smoothed_curvature(rail: Profile, ry: np.ndarray) -> tuple[np.ndarray, np.n
     return np.interp(ry, yf, ks), np.interp(ry, yf, k1)
 
 
-def strip_wheel(geometry: StripGeometry, y, zc, roll) -> tuple[np.ndarray, np.ndarray]:
-    """The strip contact of the left wheel at poses (y, zc, roll).
+def strip_wheel(geometry: StripGeometry, y, zc, roll, yaw=0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The strip contact of the left wheel at poses (y, zc, roll, yaw).
 
     Parameters
     ----------
     geometry : StripGeometry
-    y, zc, roll : float or array_like (broadcast together)
+    y, zc, roll, yaw : float or array_like (broadcast together)
         The wheelset centre's lateral position (m, + left), its height above the nominal
-        (m, + up) and the relative roll of wheel against rail (rad, + the left wheel rises).
+        (m, + up), the relative roll of wheel against rail (rad, + the left wheel rises) and
+        the wheelset's yaw against the rail (rad, + about the vertical: the left wheel moves
+        back).
 
     Returns
     -------
-    out : ndarray (..., 2, 12)
+    out : ndarray (..., 2, 14)
         Per pose and slot (0 tread, 1 flange) the quantities :data:`STRIP_OUTPUTS`: normal
         force N (N), potential V (J), its gradient over (y, zc, roll), the load-weighted
         arm l and depth zarm about the centre (m), contact angle (rad), rolling radius (m),
-        x = ln(B/A), A (1/m), and the largest vertical interference (m).
+        x = ln(B/A), A (1/m), the largest vertical interference (m), the gradient of V over
+        the yaw (J/rad) and the load-weighted longitudinal position xc of the contact (m,
+        ahead of the axle positive).
     props : ndarray (..., 2, 5)
         Per slot: Hertz a1, b1 for 1 N (m N^(-1/3)) and Kalker's c11, c22, c23.
     """
-    shape, pose = _poses("strip_wheel", y, zc, roll)
+    shape, pose = _poses("strip_wheel", y, zc, roll, yaw)
     out, props, info = core.vehicle_strip_eval_c(*geometry.args(), pose, len(STRIP_OUTPUTS))
     check(info, "strip contact")
     return _reshape(out, shape, len(STRIP_OUTPUTS)), _reshape(props, shape, 5)
 
 
-def strip_linearise(geometry: StripGeometry, y, zc, roll) -> tuple[np.ndarray, np.ndarray]:
+def strip_linearise(geometry: StripGeometry, y, zc, roll, yaw=0.0) -> tuple[np.ndarray, np.ndarray]:
     """The strip outputs of the left wheel and their exact derivatives over the pose (the
     linearisation the Newton tangent reads; the potential's Hessian among them).
 
     Parameters
     ----------
     geometry : StripGeometry
-    y, zc, roll : float or array_like (broadcast together)
-        As for :func:`strip_wheel` (m, m, rad).
+    y, zc, roll, yaw : float or array_like (broadcast together)
+        As for :func:`strip_wheel` (m, m, rad, rad).
 
     Returns
     -------
-    out : ndarray (..., 2, 12)
+    out : ndarray (..., 2, 14)
         As :func:`strip_wheel`'s.
-    dout : ndarray (..., 2, 12, 3)
-        Their derivatives over (y, zc, roll), per metre or per radian.
+    dout : ndarray (..., 2, 14, 4)
+        Their derivatives over (y, zc, roll, yaw), per metre or per radian.
     """
-    shape, pose = _poses("strip_linearise", y, zc, roll)
+    shape, pose = _poses("strip_linearise", y, zc, roll, yaw)
     n = len(STRIP_OUTPUTS)
     out, dout, info = core.vehicle_strip_lin_c(*geometry.args(), pose, n)
     check(info, "strip contact")
-    dout = np.transpose(dout, (3, 1, 0, 2)).reshape(shape + (2, n, 3))
+    dout = np.transpose(dout, (3, 1, 0, 2)).reshape(shape + (2, n, 4))
     return _reshape(out, shape, n), dout
 
 
-def _poses(name: str, y, zc, roll) -> tuple[tuple, np.ndarray]:
-    """Broadcast shape and the (3, np) Fortran array of finite poses (InputError otherwise)."""
-    yb, zb, pb = np.broadcast_arrays(np.asarray(y, float), np.asarray(zc, float),
-                                     np.asarray(roll, float))
-    pose = np.asfortranarray(np.stack([yb.ravel(), zb.ravel(), pb.ravel()]))
+def _poses(name: str, y, zc, roll, yaw) -> tuple[tuple, np.ndarray]:
+    """Broadcast shape and the (4, np) Fortran array of finite poses (InputError otherwise)."""
+    yb, zb, pb, sb = np.broadcast_arrays(np.asarray(y, float), np.asarray(zc, float),
+                                         np.asarray(roll, float), np.asarray(yaw, float))
+    pose = np.asfortranarray(np.stack([yb.ravel(), zb.ravel(), pb.ravel(), sb.ravel()]))
     if not np.all(np.isfinite(pose)):
         from ..errors import InputError
         raise InputError(f"{name}: the poses must be finite")
