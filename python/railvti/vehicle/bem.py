@@ -97,7 +97,7 @@ class BemOptions:
     load_factor: float = 1.5
     y_range: float = 0.010
     tol_normal: float = 1e-8
-    tol_rolling: float = 1e-6
+    tol_rolling: float = 1e-5
     max_iter_normal: int = 300
     max_iter_rolling: int = 500
     window: bool = True
