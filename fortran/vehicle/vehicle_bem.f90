@@ -56,14 +56,16 @@ module vehicle_bem
     !> Free elements around the interpenetration in a solve window (steady rolling needs
     !> two free rows behind the patch, the edge test one more), and the step its sides are
     !> rounded up to (few distinct window sizes, so few workspaces).
-    integer, parameter :: WIN_MARGIN = 3, WIN_QUANTUM = 8
+    integer, parameter :: WIN_MARGIN = 3, WIN_QUANTUM = 4
     !> Window sizes (workspaces) kept per model; beyond it a solve uses the full grid.
     integer, parameter :: MAX_WIN = 48
 
     type :: bem_model
         logical :: used = .false.
         integer :: nx = 0, ny = 0, ntab = 0, nws = 0, ws = 0
-        integer :: maxit_n = 200, maxit_t = 400, nblock = 16, ninner = 1
+        !> nblock: rows per FFT refresh of the rolling sweeps ('fftgs'): a window's rows all
+        !> in one block (one field product per sweep; the in-block changes are summed directly)
+        integer :: maxit_n = 200, maxit_t = 400, nblock = 64, ninner = 1
         real(dp) :: dx = 0, dy = 0, ytab0 = 0, dytab = 1, tol_n = 1e-8_dp, tol_t = 1e-6_dp
         real(dp) :: g = 0, nu = 0
         !> solves on windows (see the module doc); win(:, i) = (nx, ny, workspace) of the

@@ -86,7 +86,7 @@ class BemOptions:
         Iteration limits (CG iterations, sweeps).
     window : bool
         Solve each patch on the window of the grid around its rigid interpenetration (its
-        bounding box plus 3 elements a side, sides rounded up to multiples of 8) instead of
+        bounding box plus 3 elements a side, sides rounded up to multiples of 4) instead of
         the whole grid: the same solution to the solvers' tolerances (the contact area lies
         inside the interpenetration), with FFTs of the window (``vehicle_bem.f90``).
     """
