@@ -28,6 +28,9 @@
 !> the influence coefficients of an element pair depend on their offset only, so the
 !> window's solution is the full grid's, to the solvers' tolerances, at the cost of FFTs of
 !> the window (a tread patch's window is about a fifth of the 0.75 mm grid).
+!> The window workspaces are made inside the time loop (the GIL released): two BEM runs in
+!> threads of one process must not run at the same time (contact_plans' registry is not
+!> thread-safe; the sweeps run one thread per process).
 !> Implements no equation itself: it applies contact_normal (Kaiser eqs 17-23) and
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
