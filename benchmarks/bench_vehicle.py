@@ -34,11 +34,11 @@ from railvti import scenarios
 contact, n, dur, geo = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
 scenarios.contact_table()                      # table build (cached per process)
 scenarios.coach_system(geometry=geo)           # the strip arrays too
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 r = scenarios.hunting(300.0, contact=contact, duration=dur, y0=0.004, fastsim_n=max(n, 1),
                      progress=False, geometry=geo)
-wall = time.perf_counter() - t0
-print(json.dumps({"wall": wall, "rtf": wall / dur, "amp_mm": scenarios.amplitude(r) * 1e3,
+wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+print(json.dumps({"wall": wall, "cpu": cpu, "rtf": wall / dur, "amp_mm": scenarios.amplitude(r) * 1e3,
                   "bem_per_step": r.stats.get("bem_solves_per_step", 0.0),
                   "grid": list(r.stats.get("bem_grid", ()))[:2],
                   "steps": r.stats["steps"], "newton": r.stats["newton_iterations"],
@@ -55,12 +55,12 @@ dur = float(sys.argv[1])
 sy = scenarios.coach_system("RR")
 scenarios.contact_table()
 with bem_state(sy) as st:
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     r = scenarios.hunting(300.0, contact="bem", duration=dur, y0=0.004, progress=False, bem=st)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     tm = st.timers()
 s = r.stats
-print(json.dumps({"wall": wall, "sim_wall": s["wall_time"], "timers": tm,
+print(json.dumps({"wall": wall, "cpu": cpu, "sim_wall": s["wall_time"], "timers": tm,
                   "steps": s["steps"], "newton": s["newton_iterations"], "tangents": s["tangents"],
                   "sub": s["substepped_steps"], "normal": s["bem_normal_solves"],
                   "cg": s["bem_cg_iterations"], "rolling": s["bem_rolling_solves"],
@@ -99,7 +99,9 @@ def profile(dur: float, use_perf: bool) -> None:
     print(f"profile of one BEM run: RR coach, hunting at 300 km/h, {dur:g} s simulated, h = 1 ms, "
           f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm; "
           f"load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    print(f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps")
+    print(f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps; CPU {d['cpu']:.2f} s "
+          f"for the whole hunting call (static equilibrium included, RTF {d['cpu'] / dur:.1f}; the "
+          "timers below are wall time, inflated by the load)")
     rows = [("normal solves", tm["normal_seconds"],
              f"{d['normal']} solves, {d['cg'] / max(d['normal'], 1):.1f} CG iterations and "
              f"{tm['normal_seconds'] / max(d['normal'], 1) * 1e3:.3f} ms each"),
@@ -139,7 +141,10 @@ def main() -> None:
     dur_bem = float(sys.argv[2]) if len(sys.argv) > 2 else min(dur, 1.0)
     print(f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "
           "(RR coach, 53 DOF, 8 wheels)")
-    print(f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} {'amp mm':>7s} "
+    import os
+    print(f"load {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; RTF from wall time, RTF cpu from the "
+          "child's CPU time (both include the static equilibrium)")
+    print(f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} {'RTF cpu':>8s} {'amp mm':>7s} "
           f"{'steps':>6s} {'Newton/step':>11s} {'tangents':>8s} {'sub-stepped':>11s} "
           f"{'BEM/step':>8s} {'peak RSS MB':>11s}")
     for contact, n, geo in CASES:
@@ -147,7 +152,7 @@ def main() -> None:
         out = subprocess.run([sys.executable, "-c", CHILD, contact, str(n), str(d_run), geo],
                              capture_output=True, text=True, check=True)
         d = json.loads(out.stdout.strip().splitlines()[-1])
-        print(f"{contact:>14s} {geo:>8s} {n:3d} {d_run:6.2f} {d['wall']:8.2f} {d['rtf']:8.3f} "
+        print(f"{contact:>14s} {geo:>8s} {n:3d} {d_run:6.2f} {d['wall']:8.2f} {d['rtf']:8.3f} {d['cpu'] / d_run:8.3f} "
               f"{d['amp_mm']:7.2f} {d['steps']:6d} {d['newton'] / d['steps']:11.2f} "
               f"{d['tangents']:8d} {d['sub']:11d} {d['bem_per_step']:8.1f} {d['rss_mb']:11.0f}")
         if contact == "bem":

@@ -25,9 +25,10 @@ LONG_STATIC = """
 import signal
 signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
 from railvti import scenarios
-from railvti.vehicle import bem_state, static_equilibrium
+from railvti.vehicle import BemOptions, bem_state, static_equilibrium
 sy = scenarios.coach_system()
-with bem_state(sy) as st:
+# full-grid solves (no windows, issue 18): the call must outlast the SIGINT 1 s after ready
+with bem_state(sy, BemOptions(window=False, tol_rolling=1e-6)) as st:
     print("ready", flush=True)
     static_equilibrium(sy, 200 / 3.6, "bem", bem=st)
 print("finished", flush=True)

@@ -492,3 +492,16 @@ subroutine vehicle_run_scheme_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nste
                      tout, qout, vout, wout, stats, stat, tfail)
     info = stat
 end subroutine vehicle_run_scheme_c
+
+!> Solve the BEM patches on windows around the interpenetration (on /= 0, the default) or on
+!> the full grid (vehicle_bem%bem_window). info: STAT_OK or STAT_BAD_HANDLE.
+subroutine vehicle_bem_window_c(handle, on, info)
+    use iso_c_binding, only: c_int
+    use vehicle_bem, only: bem_window
+    implicit none
+    integer(c_int), intent(in) :: handle, on
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call bem_window(handle, on /= 0, stat)
+    info = stat
+end subroutine vehicle_bem_window_c

@@ -13,7 +13,7 @@ module contact_plans
     private
     public :: workspace, ws_create, ws_free, ws_get, MAX_WORKSPACES
 
-    integer, parameter :: MAX_WORKSPACES = 64
+    integer, parameter :: MAX_WORKSPACES = 512
 
     !> One grid's state. c(:, :, k) holds kernel k's coefficients
     !> (1 zz; with tangential kernels also 2 xx, 3 yy, 4 xy).

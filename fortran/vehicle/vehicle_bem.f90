@@ -19,6 +19,18 @@
 !> the grid, with the tangential kernels) shared by every patch, and per wheelset, wheel and
 !> candidate point the last pressure, tractions and slip velocities (the warm starts and the
 !> fields reported after a run). Not thread-safe.
+!>
+!> Windows. Each solve runs on the window of the grid around the point's rigid
+!> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
+!> rounded up to multiples of WIN_QUANTUM, clipped to the grid), with a workspace of the
+!> window's size made on first use and kept (bem_window switches this off). The contact area
+!> lies inside {h < dn} (the normal displacement of a positive pressure is positive), and
+!> the influence coefficients of an element pair depend on their offset only, so the
+!> window's solution is the full grid's, to the solvers' tolerances, at the cost of FFTs of
+!> the window (a tread patch's window is about a fifth of the 0.75 mm grid).
+!> The window workspaces are made inside the time loop (the GIL released): two BEM runs in
+!> threads of one process must not run at the same time (contact_plans' registry is not
+!> thread-safe; the sweeps run one thread per process).
 !> Implements no equation itself: it applies contact_normal (Kaiser eqs 17-23) and
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
@@ -33,6 +45,7 @@ module vehicle_bem
     implicit none
     private
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
+    public :: bem_window
     public :: MAX_BEM, BEM_NCOUNT
 
     integer, parameter :: MAX_BEM = 16
@@ -43,12 +56,26 @@ module vehicle_bem
     !> 7 worst accepted rolling residual, 8 wall seconds in normal solves, 9 in rolling
     !> solves, 10 in bem_patch as a whole (the solves, the gap field and the sums).
     integer, parameter :: BEM_NCOUNT = 10
+    !> Free elements around the interpenetration in a solve window (steady rolling needs
+    !> two free rows behind the patch, the edge test one more), and the step its sides are
+    !> rounded up to (few distinct window sizes, so few workspaces).
+    integer, parameter :: WIN_MARGIN = 3, WIN_QUANTUM = 4
+    !> Window sizes (workspaces) kept per model; beyond it a solve uses the full grid.
+    integer, parameter :: MAX_WIN = 48
 
     type :: bem_model
         logical :: used = .false.
         integer :: nx = 0, ny = 0, ntab = 0, nws = 0, ws = 0
-        integer :: maxit_n = 200, maxit_t = 400, nblock = 16, ninner = 1
+        !> nblock: rows per FFT refresh of the rolling sweeps ('fftgs'): a window's rows all
+        !> in one block (one field product per sweep; the in-block changes are summed directly)
+        integer :: maxit_n = 200, maxit_t = 400, nblock = 64, ninner = 1
         real(dp) :: dx = 0, dy = 0, ytab0 = 0, dytab = 1, tol_n = 1e-8_dp, tol_t = 1e-6_dp
+        real(dp) :: g = 0, nu = 0
+        !> solves on windows (see the module doc); win(:, i) = (nx, ny, workspace) of the
+        !> nwin window workspaces made so far
+        logical :: window = .true.
+        integer :: nwin = 0
+        integer :: win(3, MAX_WIN) = 0
         real(dp), allocatable :: gap(:, :, :, :)          ! (nx, ny, 2 points, ntab), left wheel
         real(dp), allocatable :: p(:, :, :, :, :)         ! (nx, ny, point, wheel, wheelset)
         real(dp), allocatable :: tx(:, :, :, :, :), ty(:, :, :, :, :)
@@ -107,6 +134,11 @@ contains
         m%tol_t = tol_t
         m%maxit_n = maxit_n
         m%maxit_t = maxit_t
+        m%g = g
+        m%nu = nu
+        m%window = .true.
+        m%nwin = 0
+        m%win = 0
         m%gap = gap
         allocate (m%p(nx, ny, 2, 2, nws), source=0.0_dp)
         allocate (m%tx, m%ty, m%sx, m%sy, mold=m%p)
@@ -136,8 +168,13 @@ contains
 
     subroutine bem_free(handle)
         integer, intent(in) :: handle
+        integer :: i
         if (.not. live(handle)) return
         call ws_free(models(handle)%ws)
+        do i = 1, models(handle)%nwin
+            call ws_free(models(handle)%win(3, i))
+        end do
+        models(handle)%nwin = 0
         deallocate (models(handle)%gap, models(handle)%p, models(handle)%tx, models(handle)%ty, &
                     models(handle)%sx, models(handle)%sy, models(handle)%h, models(handle)%st, &
                     models(handle)%ratio)
@@ -150,6 +187,18 @@ contains
         if (handle < 1 .or. handle > MAX_BEM) return
         live = models(handle)%used
     end function live
+
+    !> Solve on windows around the interpenetration (on = .true., the default) or on the
+    !> full grid (the reference of the window's test). info: STAT_OK or STAT_BAD_HANDLE.
+    subroutine bem_window(handle, on, info)
+        integer, intent(in) :: handle
+        logical, intent(in) :: on
+        integer, intent(out) :: info
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        models(handle)%window = on
+        info = STAT_OK
+    end subroutine bem_window
 
     !> Counters since creation or the last reset (see BEM_NCOUNT).
     subroutine bem_counts(handle, counts, info)
@@ -211,9 +260,9 @@ contains
         integer, intent(out) :: info
         type(bem_model), pointer :: m
         type(workspace), pointer :: w
-        real(dp) :: appr, resid, da, x0, y0
-        integer :: it, nprod, stat, nx, ny, j
-        integer(int64) :: c0, c1, c2
+        real(dp) :: x0, y0
+        integer :: nx, ny, j
+        integer(int64) :: c0, c2
         fn = 0.0_dp
         fx = 0.0_dp
         fy = 0.0_dp
@@ -249,63 +298,17 @@ contains
                 where (m%h(:, j) < FAR) m%h(:, j) = m%h(:, j) + phi * (y0 + real(j - 1, dp) * m%dy)
             end do
         end if
-        associate (p => m%p(:, :, k, iw, iws), tx => m%tx(:, :, k, iw, iws), &
-                   ty => m%ty(:, :, k, iw, iws), sx => m%sx(:, :, k, iw, iws), &
-                   sy => m%sy(:, :, k, iw, iws))
-            if (.not. (dn > minval(m%h))) then
-                call open_patch()
-                return
-            end if
-            appr = dn
-            da = m%dx * m%dy
-            call system_clock(c1)
-            call normal_cg(w%plan, 1, w%c(:, :, 1), m%h, da, CONTROL_APPROACH, fn, appr, m%tol_n, &
-                           m%maxit_n, p, it, nprod, resid, stat)
-            call system_clock(c2)
-            m%counts(8) = m%counts(8) + seconds(c1, c2)
-            m%counts(1) = m%counts(1) + 1.0_dp
-            m%counts(2) = m%counts(2) + real(it, dp)
-            if (stat == STAT_NO_CONTACT) then
-                call open_patch()
-                return
-            end if
-            if (stat /= STAT_OK .or. .not. all(abs(p) <= huge(1.0_dp))) then
-                info = STAT_CONTACT_NOT_CONVERGED
-                p = 0.0_dp
-                return
-            end if
-            m%counts(6) = max(m%counts(6), resid)
-            if (any(p(1, :) > 0.0_dp) .or. any(p(nx, :) > 0.0_dp) .or. any(p(:, 1) > 0.0_dp) &
-                .or. any(p(:, ny) > 0.0_dp)) then
-                info = STAT_GRID_EDGE
-                return
-            end if
-            fn = da * sum(p)
-            call pressure_centre(nx, ny, m%dx, m%dy, p, fn, xc, yc)
-            m%counts(3) = m%counts(3) + 1.0_dp
-            call system_clock(c1)
-            call rolling_steady(w, p, x0, y0, xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, &
-                                m%ninner, m%tol_t, m%maxit_t, tx, ty, m%st, sx, sy, it, resid, stat)
-            call system_clock(c2)
-            m%counts(9) = m%counts(9) + seconds(c1, c2)
-            m%counts(4) = m%counts(4) + real(it, dp)
-            if (stat == STAT_GRID_EDGE) then
-                ! steady rolling needs two free rows behind the patch (contact_rolling)
-                info = STAT_GRID_EDGE
-                return
-            end if
-            if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(tx) <= huge(1.0_dp)) &
-                .or. .not. all(abs(ty) <= huge(1.0_dp))) then
-                info = STAT_CONTACT_NOT_CONVERGED
-                tx = 0.0_dp
-                ty = 0.0_dp
-                return
-            end if
-            m%counts(7) = max(m%counts(7), resid)
-            fx = da * sum(tx)
-            fy = da * sum(ty)
-            mz = spin_moment(nx, ny, m%dx, m%dy, tx, ty)
-        end associate
+        if (.not. (dn > minval(m%h))) then
+            call open_patch()
+            return
+        end if
+        call solve_point(m, w, k, iw, iws, dn, x0, y0, xi, eta, spin, mu, speed, fn, fx, fy, mz, &
+                         xc, yc, info)
+        if (info /= STAT_OK) return
+        if (fn <= 0.0_dp) then
+            call open_patch()
+            return
+        end if
         call patch_time()
     contains
         !> The patch's wall time into counter 10 (every return after c0 goes through it
@@ -325,6 +328,172 @@ contains
             call patch_time()
         end subroutine open_patch
     end subroutine bem_patch
+
+    !> The normal and steady-rolling solves of one point on its window (module doc) with
+    !> the gap m%h and approach dn, the point's fields (full grid) updated; the arguments as
+    !> for bem_patch, x0, y0 the centre of the grid's element (1, 1). fn = 0 (info STAT_OK)
+    !> when the normal solve finds no contact.
+    subroutine solve_point(m, w, k, iw, iws, dn, x0, y0, xi, eta, spin, mu, speed, fn, fx, fy, &
+                           mz, xc, yc, info)
+        type(bem_model), intent(inout) :: m
+        type(workspace), pointer, intent(in) :: w
+        integer, intent(in) :: k, iw, iws
+        real(dp), intent(in) :: dn, x0, y0, xi, eta, spin, mu, speed
+        real(dp), intent(out) :: fn, fx, fy, mz, xc, yc
+        integer, intent(out) :: info
+        type(workspace), pointer :: ww
+        real(dp), allocatable :: hw(:, :), pw(:, :), txw(:, :), tyw(:, :), sxw(:, :), syw(:, :)
+        integer, allocatable :: stw(:, :)
+        real(dp) :: appr, resid, da
+        integer :: it, nprod, stat, nx, ny, i1, i2, j1, j2
+        integer(int64) :: c1, c2
+        fn = 0.0_dp
+        fx = 0.0_dp
+        fy = 0.0_dp
+        mz = 0.0_dp
+        xc = 0.0_dp
+        yc = 0.0_dp
+        info = STAT_OK
+        nx = m%nx
+        ny = m%ny
+        call patch_window(m, dn, i1, i2, j1, j2, ww)
+        if (.not. associated(ww)) ww => w
+        allocate (hw(i2 - i1 + 1, j2 - j1 + 1), stw(i2 - i1 + 1, j2 - j1 + 1))
+        allocate (pw, txw, tyw, sxw, syw, mold=hw)
+        hw = m%h(i1:i2, j1:j2)
+        associate (p => m%p(:, :, k, iw, iws), tx => m%tx(:, :, k, iw, iws), &
+                   ty => m%ty(:, :, k, iw, iws), sx => m%sx(:, :, k, iw, iws), &
+                   sy => m%sy(:, :, k, iw, iws))
+            pw = p(i1:i2, j1:j2)
+            txw = tx(i1:i2, j1:j2)
+            tyw = ty(i1:i2, j1:j2)
+            appr = dn
+            da = m%dx * m%dy
+            call system_clock(c1)
+            call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, appr, m%tol_n, &
+                           m%maxit_n, pw, it, nprod, resid, stat)
+            call system_clock(c2)
+            m%counts(8) = m%counts(8) + seconds(c1, c2)
+            m%counts(1) = m%counts(1) + 1.0_dp
+            m%counts(2) = m%counts(2) + real(it, dp)
+            fn = 0.0_dp
+            p = 0.0_dp
+            if (stat == STAT_NO_CONTACT) return
+            if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
+                info = STAT_CONTACT_NOT_CONVERGED
+                return
+            end if
+            p(i1:i2, j1:j2) = pw
+            m%counts(6) = max(m%counts(6), resid)
+            if (any(p(1, :) > 0.0_dp) .or. any(p(nx, :) > 0.0_dp) .or. any(p(:, 1) > 0.0_dp) &
+                .or. any(p(:, ny) > 0.0_dp)) then
+                info = STAT_GRID_EDGE
+                return
+            end if
+            fn = da * sum(p)
+            call pressure_centre(nx, ny, m%dx, m%dy, p, fn, xc, yc)
+            m%counts(3) = m%counts(3) + 1.0_dp
+            call system_clock(c1)
+            call rolling_steady(ww, pw, x0 + real(i1 - 1, dp) * m%dx, y0 + real(j1 - 1, dp) * m%dy, &
+                                xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, m%ninner, m%tol_t, &
+                                m%maxit_t, txw, tyw, stw, sxw, syw, it, resid, stat)
+            call system_clock(c2)
+            m%counts(9) = m%counts(9) + seconds(c1, c2)
+            m%counts(4) = m%counts(4) + real(it, dp)
+            tx = 0.0_dp
+            ty = 0.0_dp
+            sx = 0.0_dp
+            sy = 0.0_dp
+            if (stat == STAT_GRID_EDGE) then
+                ! steady rolling needs two free rows behind the patch (contact_rolling)
+                info = STAT_GRID_EDGE
+                return
+            end if
+            if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &
+                .or. .not. all(abs(tyw) <= huge(1.0_dp))) then
+                info = STAT_CONTACT_NOT_CONVERGED
+                return
+            end if
+            tx(i1:i2, j1:j2) = txw
+            ty(i1:i2, j1:j2) = tyw
+            sx(i1:i2, j1:j2) = sxw
+            sy(i1:i2, j1:j2) = syw
+            m%counts(7) = max(m%counts(7), resid)
+            fx = da * sum(tx)
+            fy = da * sum(ty)
+            mz = spin_moment(nx, ny, m%dx, m%dy, tx, ty)
+        end associate
+    end subroutine solve_point
+
+    !> The window (i1:i2, j1:j2) of a solve with approach dn on the gap m%h (module doc) and
+    !> its workspace ww; the full grid, ww null, when windows are off, the window is the grid
+    !> or no workspace of its size could be made (the registry or this model's list full).
+    subroutine patch_window(m, dn, i1, i2, j1, j2, ww)
+        type(bem_model), intent(inout) :: m
+        real(dp), intent(in) :: dn
+        integer, intent(out) :: i1, i2, j1, j2
+        type(workspace), pointer, intent(out) :: ww
+        integer :: i, j, lo(2), hi(2), nxw, nyw, hd, stat
+        ww => null()
+        i1 = 1
+        i2 = m%nx
+        j1 = 1
+        j2 = m%ny
+        if (.not. m%window) return
+        lo = [m%nx, m%ny]
+        hi = [1, 1]
+        do j = 1, m%ny
+            do i = 1, m%nx
+                if (m%h(i, j) < dn) then
+                    lo = min(lo, [i, j])
+                    hi = max(hi, [i, j])
+                end if
+            end do
+        end do
+        call window_span(lo(1), hi(1), m%nx, i1, i2)
+        call window_span(lo(2), hi(2), m%ny, j1, j2)
+        nxw = i2 - i1 + 1
+        nyw = j2 - j1 + 1
+        if (nxw == m%nx .and. nyw == m%ny) return
+        do i = 1, m%nwin
+            if (m%win(1, i) == nxw .and. m%win(2, i) == nyw) then
+                ww => ws_get(m%win(3, i), nxw, nyw)
+                if (associated(ww)) return
+            end if
+        end do
+        stat = STAT_NO_MEMORY
+        if (m%nwin < MAX_WIN) call ws_create(nxw, nyw, m%dx, m%dy, m%g, m%nu, .true., hd, stat)
+        if (stat == STAT_OK) then
+            m%nwin = m%nwin + 1
+            m%win(:, m%nwin) = [nxw, nyw, hd]
+            ww => ws_get(hd, nxw, nyw)
+        end if
+        if (.not. associated(ww)) then
+            i1 = 1
+            i2 = m%nx
+            j1 = 1
+            j2 = m%ny
+        end if
+    end subroutine patch_window
+
+    !> One side of a window: lo..hi widened by WIN_MARGIN, its length rounded up to a
+    !> multiple of WIN_QUANTUM, inside 1..n (the whole side when that does not fit); the
+    !> widened lo..hi stays inside a..b.
+    pure subroutine window_span(lo, hi, n, a, b)
+        integer, intent(in) :: lo, hi, n
+        integer, intent(out) :: a, b
+        integer :: len
+        a = max(1, lo - WIN_MARGIN)
+        b = min(n, hi + WIN_MARGIN)
+        len = WIN_QUANTUM * ((b - a + WIN_QUANTUM) / WIN_QUANTUM)
+        if (len >= n) then
+            a = 1
+            b = n
+            return
+        end if
+        b = min(n, a + len - 1)
+        a = b - len + 1
+    end subroutine window_span
 
     !> Wall seconds between two system_clock counts (int64: microsecond or finer ticks).
     real(dp) function seconds(c1, c2)

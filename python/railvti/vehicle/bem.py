@@ -84,6 +84,11 @@ class BemOptions:
         Relative residual of the steady-rolling solver.
     max_iter_normal, max_iter_rolling : int
         Iteration limits (CG iterations, sweeps).
+    window : bool
+        Solve each patch on the window of the grid around its rigid interpenetration (its
+        bounding box plus 3 elements a side, sides rounded up to multiples of 4) instead of
+        the whole grid: the same solution to the solvers' tolerances (the contact area lies
+        inside the interpenetration), with FFTs of the window (``vehicle_bem.f90``).
     """
 
     dx: float = 7.5e-4
@@ -92,9 +97,10 @@ class BemOptions:
     load_factor: float = 1.5
     y_range: float = 0.010
     tol_normal: float = 1e-8
-    tol_rolling: float = 1e-6
+    tol_rolling: float = 1e-5
     max_iter_normal: int = 300
     max_iter_rolling: int = 500
+    window: bool = True
 
     def __post_init__(self) -> None:
         _checks.positive("dx", self.dx)
@@ -276,6 +282,8 @@ class BemState:
         if info != Status.OK:
             self.handle = 0
             raise error(info, "could not create the BEM contact state")
+        info = core.vehicle_bem_window_c(self.handle, int(bool(o.window)))
+        check(info, "could not set the BEM solve windows")
         log.debug("BEM contact state %d: grid %d x %d of %.2f mm", self.handle, self.grid.nx,
                   self.grid.ny, self.grid.dx * 1e3)
 
