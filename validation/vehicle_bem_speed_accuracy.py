@@ -65,6 +65,7 @@ def plot(rows: list[dict], speed: float, dur: float, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), constrained_layout=True)
     ref = rows[-1]
     for ax, key, name in ((axes[0], "err_amp", f"amplitude (last {0.5 * dur:g} s)"),
@@ -74,7 +75,7 @@ def plot(rows: list[dict], speed: float, dur: float, path: Path) -> None:
             err = max(abs(r[key]), 1e-6)
             ax.loglog(r["rtf_cpu"], 100 * err, marker, ms=8, label=r["label"])
             ax.annotate(r["label"], (r["rtf_cpu"], 100 * err), textcoords="offset points",
-                        xytext=(5, 4 - 10 * (i % 2)), fontsize=7)
+                        xytext=(6, -13) if "FASTSIM" in r["label"] else (6, 6), fontsize=7)
         ax.axvline(ref["rtf_cpu"], color="0.6", ls="--", lw=1,
                    label=f"reference BEM 0.5 mm (RTF {ref['rtf_cpu']:.0f})")
         ax.axvline(1.0, color="0.8", ls=":", lw=1, label="real time")
@@ -82,6 +83,10 @@ def plot(rows: list[dict], speed: float, dur: float, path: Path) -> None:
         ax.set_ylabel(f"|error| of {name} against BEM 0.5 mm, %")
         ax.set_title(f"{name}: RR hunting {speed:g} km/h, {dur:g} s")
         ax.grid(True, which="both", alpha=0.3)
+        ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.yaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.tick_params(axis="y", which="minor", labelsize=7)
     axes[0].legend(fontsize=7, loc="lower left")
     fig.suptitle(f"Speed against accuracy of the contact models (reference amplitude "
                  f"{ref['amp'] * 1e3:.2f} mm, Q max {ref['qmax'] / 1e3:.1f} kN)")
