@@ -770,18 +770,33 @@ class _SweepSystems:
         if key not in self._cache:
             if len(self._cache) >= 4 and self.model in RING_TRACK:
                 self._cache.pop(next(iter(self._cache)))     # ring systems are large
-            if self.model == "FR":
-                sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max,
-                                    f_max=self.f_max, geometry=self.geometry)
-            elif self.model == "FF":
-                sy, lay = ff_system(self.coach, speed_kmh=key, k_max=self.k_max,
-                                    f_max=self.f_max, geometry=self.geometry, **self.ring)
-            else:
-                sy, lay = rf_system(self.coach, speed_kmh=key, geometry=self.geometry,
-                                    **self.ring), []
-            self._cache[key] = (sy, lay, _step(sy, self.h))
+            self._cache[key] = self._build(key, self.ring)
             self.steps[key] = self._cache[key][2]
         return self._cache[key]
+
+    def _build(self, key: float, ring: dict) -> tuple:
+        if self.model == "FR":
+            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max,
+                                f_max=self.f_max, geometry=self.geometry)
+        elif self.model == "FF":
+            sy, lay = ff_system(self.coach, speed_kmh=key, k_max=self.k_max,
+                                f_max=self.f_max, geometry=self.geometry, **ring)
+        else:
+            sy, lay = rf_system(self.coach, speed_kmh=key, geometry=self.geometry, **ring), []
+        return sy, lay, _step(sy, self.h)
+
+    def upper_at(self, s_kmh: float, travel: float) -> tuple[System, list, float]:
+        """The system of the upper branch's run at s_kmh: ``at(s_kmh)``, except on the ring
+        track, where its contact points start ``travel`` (m, the distance run along the ring
+        by the branch so far) beyond x_offset, so that a ring state carried from the previous
+        run belongs to them (the ring repeats: travel is taken modulo its length)."""
+        base = self.at(s_kmh)
+        if self.model not in RING_TRACK or travel == 0.0:
+            return base
+        ring = dict(self.ring)
+        length = float(base[0].ring.length)
+        ring["x_offset"] = (float(ring.get("x_offset", 0.0)) + travel) % length
+        return self._build(float(s_kmh), ring)
 
     def carry(self, q: np.ndarray, v: np.ndarray, s_from: float, s_to: float,
               static_to: Any) -> tuple[np.ndarray, np.ndarray, bool]:
@@ -805,12 +820,9 @@ class _SweepSystems:
         qs = static_to()
         qn, vn = np.array(qs, dtype=float), np.zeros(b.n_state)
         if same:
-            # the ring's coordinates restart from the static state: each run starts its
-            # contact points at x_offset again (t = 0), where the carried ring state does not
-            # belong; the coach and the wheelsets' modes carry over
-            m = b.n_state - b.ring.n_modes - b.ring.n_residual
-            qn[:m], vn[:m] = q[:m], v[:m]
-            return qn, vn, False
+            # everything carries over: the upper branch's next run starts its contact points
+            # where the previous run's ended (upper_at), so the ring's state belongs to them
+            return q, v, False
         qn[:n], vn[:n] = q[:n], v[:n]
         return qn, vn, True
 
@@ -914,9 +926,10 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
     **ring
         Models 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
         ``track_params``, ``x_offset`` (:func:`rf_system`). The ring is built once and its
-        rows per speed; every run starts its contact points at ``x_offset`` (t = 0), so the
-        upper branch carries the coach's (and the wheelsets') state down and restarts the
-        ring's coordinates from the new speed's static state.
+        rows per speed. The upper branch carries the whole state down, the ring's
+        coordinates too: each of its runs starts the contact points where the previous run
+        left them (x_offset plus the distance run so far, modulo the ring's length), so the
+        carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
     if client is not None or independent:
         return _bifurcation_independent(
@@ -939,6 +952,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
     alive = True
     todo = list(sp)
     prev = None
+    travel = 0.0        # distance run along the ring by the upper branch, m
     while todo:
         s = todo.pop(0)
         vv = s / 3.6
@@ -954,12 +968,16 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
             if q is None:
                 q = lateral_disturbance(sy, static_state(), y_large)
                 v = np.zeros(sy.n_state)
-            elif prev is not None:
-                q, v, restarted = systems.carry(q, v, prev, s, static_state)
+            su = systems.upper_at(s, travel)[0]
+            if prev is not None:
+                q, v, restarted = systems.carry(
+                    q, v, prev, s, static_state if su is sy else
+                    (lambda: static_equilibrium(su, vv, contact)[0]))
                 if restarted:
                     restarts.append(float(s))
-            r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q, v0=v, output_dt=0.002,
+            r = simulate(su, vv, duration, contact=contact, h=hs, q0=q, v0=v, output_dt=0.002,
                          progress=False)
+            travel += vv * float(r.t[-1])
             up = amplitude(r)
             last = r.t >= r.t[-1] - 1.0
             fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
