@@ -13,11 +13,9 @@ in speed; a decay test from 0.5 mm at each speed; extended downward until the cy
 with Hertz + FASTSIM on the strip geometry as validation/vehicle_four_variants.py, runs of
 ``--duration`` s (default 3 s: the amplitude over the last second is an estimate, not a
 settled cycle) and a ``--step`` km/h grid (default 40: a coarse bracket). RF and FF run
-without the ring's residual flexibility (docs/vehicle.md, "Models RF and FF: limits") and
-with independent runs (``bifurcation(independent=True)``: each speed from its own static
-state plus 6 mm, not continued): the continuation restarts the ring's coordinates from each
-speed's static state under a coach carried in flange contact, and that start stopped Newton
-in its first step in RF's sweep (not isolated).
+without the ring's residual flexibility (docs/vehicle.md, "Models RF and FF: limits").
+``--independent``: each speed from its own static state plus 6 mm
+(``bifurcation(independent=True)``), not continued.
 
 Prints a markdown table and keeps the numbers in validation/figures/vehicle_four_critical.npz
 (each model's row as it finishes).
@@ -41,7 +39,7 @@ def _ring(model: str) -> dict:
 
 
 def run(models: list[str], top: float, step: float, duration: float, bottom: float = 100.0,
-        store: Path = STORE) -> dict:
+        store: Path = STORE, independent: bool = False) -> dict:
     out = dict(np.load(store)) if store.exists() else {}
     for m in models:
         t0 = time.perf_counter()
@@ -53,7 +51,7 @@ def run(models: list[str], top: float, step: float, duration: float, bottom: flo
         c = scenarios.critical_speed(m, "hertz-fastsim", method="nonlinear",
                                      speeds_kmh=speeds, duration=duration, progress=False,
                                      geometry="strip", v_min_kmh=float(speeds[-1]),
-                                     independent=m in scenarios.RING_TRACK, **_ring(m))
+                                     independent=independent, **_ring(m))
         b = c.bifurcation
         out[f"{m}_nonlinear"] = np.array([c.kmh, c.no_decay_below_kmh])
         out[f"{m}_branch"] = np.array(c.branch)
@@ -102,11 +100,13 @@ def main() -> None:
     ap.add_argument("--store", type=Path, nargs="*", default=[STORE],
                     help="npz files: the first is written, all are read for the table (so "
                          "models run in parallel processes can be reported together)")
+    ap.add_argument("--independent", action="store_true",
+                    help="each speed from its own static state plus 6 mm (no continuation)")
     ap.add_argument("--replot", action="store_true")
     a = ap.parse_args()
     if not a.replot:
         run([m.strip() for m in a.models.split(",")], a.top, a.step, a.duration, a.bottom,
-            a.store[0])
+            a.store[0], a.independent)
     d: dict = {}
     for f in a.store:
         d.update(dict(np.load(f)))
