@@ -28,7 +28,7 @@ module vehicle_model
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
-    public :: add_contact
+    public :: add_contact, wheelset_coords
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
@@ -519,7 +519,7 @@ contains
         real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
         type(strip_lin) :: sl(2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
-        integer :: w, j, jj, idx(9), n, ir, il, pts(12), npt, cols(18), nc
+        integer :: w, j, jj, idx(9), n, ir, pts(12), npt, cols(18), nc
         logical :: flex
         real(dp), parameter :: eps = 1.0e-8_dp
         flex = present(u)
@@ -531,31 +531,9 @@ contains
         info = STAT_OK
         do w = 1, md%nw
             ir = 0
-            il = 0
             if (flex) ir = modal_rim_wheelset(md%mp, w)
-            if (flex) il = modal_rail_wheelset(md%mp, w)
-            npt = 0
-            if (ir > 0) then
-                pts(1:6) = reshape(md%mp%frpt(:, :, ir), [6])
-                npt = 6
-            end if
-            if (il > 0) then
-                pts(npt + 1:npt + 6) = reshape(md%mp%rlpt(:, :, il), [6])
-                npt = npt + 6
-            end if
-            n = 0
-            do j = 1, 6
-                if (md%iws(j, w) > 0) then
-                    n = n + 1
-                    idx(n) = md%iws(j, w)
-                end if
-            end do
-            do j = 1, 3
-                if (md%itr(j, w) > 0) then
-                    n = n + 1
-                    idx(n) = md%itr(j, w)
-                end if
-            end do
+            call wheelset_coords(md, w, 6, idx, n, pts, npt)
+            if (.not. flex) npt = 0
             f0w = 0.0_dp
             if (npt > 0) then
                 g0 = 0.0_dp
@@ -629,5 +607,40 @@ contains
         integer, intent(in) :: j
         is_spin = any(md%iws(6, :) == j)
     end function is_spin
+
+    !> The state coordinates wheelset w's contact depends on: idx(1:nr) its first nwdof DOFs
+    !> (y, z, roll, yaw, x and, with nwdof = 6, the spin angle) and its track element's,
+    !> pts(1:npt) its rims' and rails' attachment points (models FR, RF; none without modes).
+    pure subroutine wheelset_coords(md, w, nwdof, idx, nr, pts, npt)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: w, nwdof
+        integer, intent(out) :: idx(9), nr, pts(12), npt
+        integer :: j, ir, il
+        nr = 0
+        do j = 1, nwdof
+            if (md%iws(j, w) > 0) then
+                nr = nr + 1
+                idx(nr) = md%iws(j, w)
+            end if
+        end do
+        do j = 1, 3
+            if (md%itr(j, w) > 0) then
+                nr = nr + 1
+                idx(nr) = md%itr(j, w)
+            end if
+        end do
+        npt = 0
+        if (md%mp%nm == 0) return
+        ir = modal_rim_wheelset(md%mp, w)
+        il = modal_rail_wheelset(md%mp, w)
+        if (ir > 0) then
+            pts(1:6) = reshape(md%mp%frpt(:, :, ir), [6])
+            npt = 6
+        end if
+        if (il > 0) then
+            pts(npt + 1:npt + 6) = reshape(md%mp%rlpt(:, :, il), [6])
+            npt = npt + 6
+        end if
+    end subroutine wheelset_coords
 
 end module vehicle_model

@@ -30,10 +30,9 @@ module vehicle_newmark
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
     use vehicle_contact, only: nwo
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
-                             add_contact, element_force, el_bump
+                             add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points, modal_ring_time, modal_rim_wheelset, &
-                             modal_rail_wheelset
+                             modal_solve, modal_points, modal_ring_time
     implicit none
     private
     public :: newmark_run, static_solve, state_force, hht_options, NSTATS, SCHEME_HHT, SCHEME_ENERGY
@@ -659,7 +658,7 @@ contains
         integer, intent(out) :: info
         real(dp), dimension(md%mp%np) :: u0, u1, um, udm, gpn, gpc
         real(dp) :: fn(md%nd), wk(nwo, 2), dg(20), fg(20), dg2, c
-        integer :: nd, w, j, nr, npt, idx(8), pts(12)
+        integer :: nd, w, j, nr, npt, idx(9), pts(12)
         nd = md%nd
         info = STAT_OK
         gpc = 0.0_dp
@@ -670,7 +669,7 @@ contains
             call modal_points(md%mp, vm(nd + 1:), udm)
         end if
         do w = 1, md%nw
-            call wheelset_coords(md, w, idx, nr, pts, npt)
+            call wheelset_coords(md, w, 5, idx, nr, pts, npt)
             dg(1:nr) = x1(idx(1:nr)) - sd%x0(idx(1:nr))
             dg(nr + 1:nr + npt) = u1(pts(1:npt)) - u0(pts(1:npt))
             dg2 = sum(dg(1:nr + npt)**2)
@@ -701,41 +700,6 @@ contains
             fm(nd + j) = fm(nd + j) + dot_product(md%mp%phi(:, j), gpc)
         end do
     end subroutine contact_correction
-
-    !> The state coordinates wheelset w's contact potential depends on: idx(1:nr) its DOFs
-    !> y, z, roll, yaw, x (not the spin angle) and its track element's, pts(1:npt) its rims'
-    !> and rails' attachment points (models FR, RF).
-    pure subroutine wheelset_coords(md, w, idx, nr, pts, npt)
-        type(vmodel), intent(in) :: md
-        integer, intent(in) :: w
-        integer, intent(out) :: idx(8), nr, pts(12), npt
-        integer :: j, ir, il
-        nr = 0
-        do j = 1, 5
-            if (md%iws(j, w) > 0) then
-                nr = nr + 1
-                idx(nr) = md%iws(j, w)
-            end if
-        end do
-        do j = 1, 3
-            if (md%itr(j, w) > 0) then
-                nr = nr + 1
-                idx(nr) = md%itr(j, w)
-            end if
-        end do
-        npt = 0
-        if (md%mp%nm == 0) return
-        ir = modal_rim_wheelset(md%mp, w)
-        il = modal_rail_wheelset(md%mp, w)
-        if (ir > 0) then
-            pts(1:6) = reshape(md%mp%frpt(:, :, ir), [6])
-            npt = 6
-        end if
-        if (il > 0) then
-            pts(npt + 1:npt + 6) = reshape(md%mp%rlpt(:, :, il), [6])
-            npt = npt + 6
-        end if
-    end subroutine wheelset_coords
 
     !> The bump stops' discrete gradient: the force of a bump stop (potential
     !> V(d) = p2 (|d| - p1)^2 / 2 beyond its clearance p1) over the step from d0 to d1 becomes
