@@ -127,40 +127,6 @@ subroutine vehicle_model_free_c(handle)
     call vehicle_free(handle)
 end subroutine vehicle_model_free_c
 
-!> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
-!> the state, rigid plus modal DOFs.
-subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, tol, &
-                         maxit, maxsub, qmax, rtol, t, q, v, a, nout, nwo, tout, qout, vout, wout, &
-                         stats, info, tfail)
-    use iso_c_binding, only: c_int, c_double
-    use common_status, only: STAT_OK
-    use vehicle_model, only: vmodel, vsettings, vehicle_call
-    use vehicle_newmark, only: newmark_run, hht_options
-    implicit none
-    integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, nsteps, nevery, maxit, maxsub
-    integer(c_int), intent(in) :: nout, nwo
-    real(c_double), intent(in) :: speed, h, alpha, tol, qmax, rtol
-    real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd)
-    real(c_double), intent(out) :: tout(nout), qout(nd, nout), vout(nd, nout), wout(nwo, 2, nw, nout)
-    real(c_double), intent(out) :: stats(10), tfail
-    integer(c_int), intent(out) :: info
-    type(vmodel), pointer :: md
-    integer :: stat
-    tout = 0.0_c_double
-    qout = 0.0_c_double
-    vout = 0.0_c_double
-    wout = 0.0_c_double
-    stats = 0.0_c_double
-    tfail = t
-    call vehicle_call(handle, nd, nw, nwo, vsettings(speed, cmodel, fsn, bem), md, stat)
-    info = stat
-    if (stat /= STAT_OK) return
-    call newmark_run(md, vsettings(speed, cmodel, fsn, bem), h, nsteps, nevery, &
-                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol), t, q, v, a, nout, tout, qout, &
-                     vout, wout, stats, stat, tfail)
-    info = stat
-end subroutine vehicle_run_c
-
 !> Steady state of straight running (info: see vehicle_newmark%static_solve; with modal
 !> blocks over the rigid and modal DOFs, nd their number): q and the
 !> velocities v (zero but the wheelsets' spin rates). Also returns the total force and the
@@ -455,12 +421,13 @@ subroutine vehicle_ring_residual_c(handle, nrx, bay, rtab, info)
     info = stat
 end subroutine vehicle_ring_residual_c
 
-!> vehicle_run_c with a choice of scheme (vehicle_newmark SCHEME_*: 0 HHT-alpha, 1 the
-!> energy-conserving midpoint rule with discrete gradients; alpha must then be 0).
-!> info: as vehicle_run_c, STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 with alpha /= 0.
-subroutine vehicle_run_scheme_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, &
-                                tol, maxit, maxsub, qmax, rtol, scheme, t, q, v, a, nout, nwo, tout, &
-                                qout, vout, wout, stats, info, tfail)
+!> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
+!> the state, rigid plus modal DOFs. scheme (vehicle_newmark SCHEME_*): 0 HHT-alpha, 1 the
+!> energy-conserving midpoint rule with discrete gradients (alpha must then be 0).
+!> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 with alpha /= 0.
+subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, &
+                         tol, maxit, maxsub, qmax, rtol, scheme, t, q, v, a, nout, nwo, tout, &
+                         qout, vout, wout, stats, info, tfail)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     use vehicle_model, only: vmodel, vsettings, vehicle_call
@@ -491,7 +458,7 @@ subroutine vehicle_run_scheme_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nste
                      hht_options(alpha, tol, qmax, maxit, maxsub, rtol, scheme), t, q, v, a, nout, &
                      tout, qout, vout, wout, stats, stat, tfail)
     info = stat
-end subroutine vehicle_run_scheme_c
+end subroutine vehicle_run_c
 
 !> Solve the BEM patches on windows around the interpenetration (on /= 0, the default) or on
 !> the full grid (vehicle_bem%bem_window). info: STAT_OK or STAT_BAD_HANDLE.

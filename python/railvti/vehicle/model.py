@@ -532,12 +532,9 @@ class VehicleModel:
         """nsteps HHT steps from (t, q, v, a), all updated in place: (tout, qout, vout, wout,
         stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; scheme
         1: the energy-conserving midpoint rule (alpha 0); see vehicle_newmark%newmark_run."""
-        if scheme:
-            return core.vehicle_run_scheme_c(self._handle(), self.n_wheelsets, *cs.args(), h,
-                                             nsteps, nevery, alpha, tol, maxit, maxsub, qmax, rtol,
-                                             scheme, t, q, v, a, nout, NWO)
         return core.vehicle_run_c(self._handle(), self.n_wheelsets, *cs.args(), h, nsteps,
-                                  nevery, alpha, tol, maxit, maxsub, qmax, rtol, t, q, v, a, nout, NWO)
+                                  nevery, alpha, tol, maxit, maxsub, qmax, rtol, scheme, t, q, v,
+                                  a, nout, NWO)
 
     def _handle(self) -> int:
         # a closed model passes 0, which the core rejects as a bad handle
