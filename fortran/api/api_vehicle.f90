@@ -407,17 +407,18 @@ subroutine vehicle_ring_time_c(handle, t, info)
 end subroutine vehicle_ring_time_c
 
 !> Add the ring's residual flexibility at the contact points (model RF, after
-!> vehicle_ring_attach_c): the compliance table rtab (3, 3, nrx, 2 rails) over one bay.
+!> vehicle_ring_attach_c): the compliance table rtab (3, 3, nrx, 2 rails) over one bay and
+!> the residual coordinates' change of coordinates rpost (3, 3, 2 rails; rows L(x) rpost).
 !> info: see vehicle_model%vehicle_ring_residual.
-subroutine vehicle_ring_residual_c(handle, nrx, bay, rtab, info)
+subroutine vehicle_ring_residual_c(handle, nrx, bay, rtab, rpost, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_model, only: vehicle_ring_residual
     implicit none
     integer(c_int), intent(in) :: handle, nrx
-    real(c_double), intent(in) :: bay, rtab(3, 3, nrx, 2)
+    real(c_double), intent(in) :: bay, rtab(3, 3, nrx, 2), rpost(3, 3, 2)
     integer(c_int), intent(out) :: info
     integer :: stat
-    call vehicle_ring_residual(handle, nrx, bay, rtab, stat)
+    call vehicle_ring_residual(handle, nrx, bay, rtab, rpost, stat)
     info = stat
 end subroutine vehicle_ring_residual_c
 

@@ -257,15 +257,15 @@ contains
     !> block with K = I each, modal_set_mass) get the rows L(x_c) of vehicle_ring's table.
     !> info: STAT_OK; STAT_BAD_ARGUMENT (no ring, the coordinates beyond nm) or from
     !> vehicle_ring%ring_residual_set.
-    subroutine modal_ring_residual(mp, nrx, bay, rtab, info)
+    subroutine modal_ring_residual(mp, nrx, bay, rtab, rpost, info)
         type(modal_part), intent(inout) :: mp
         integer, intent(in) :: nrx
-        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2), rpost(3, 3, 2)
         integer, intent(out) :: info
         info = STAT_BAD_ARGUMENT
         if (mp%nrl == 0) return
         if (mp%rm0 + mp%rr%nk + 3 * mp%rr%nc > mp%nm) return
-        call ring_residual_set(mp%rr, nrx, bay, rtab, info)
+        call ring_residual_set(mp%rr, nrx, bay, rtab, rpost, info)
         if (info /= STAT_OK) return
         call modal_ring_time(mp, 0.0_dp)
     end subroutine modal_ring_residual

@@ -239,15 +239,15 @@ contains
 
     !> Add the ring's residual flexibility at the contact points; see
     !> vehicle_modal%modal_ring_residual for the arguments and info, and STAT_BAD_HANDLE.
-    subroutine vehicle_ring_residual(handle, nrx, bay, rtab, info)
+    subroutine vehicle_ring_residual(handle, nrx, bay, rtab, rpost, info)
         integer, intent(in) :: handle, nrx
-        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2), rpost(3, 3, 2)
         integer, intent(out) :: info
         type(vmodel), pointer :: md
         md => vehicle_get(handle)
         info = STAT_BAD_HANDLE
         if (.not. associated(md)) return
-        call modal_ring_residual(md%mp, nrx, bay, rtab, info)
+        call modal_ring_residual(md%mp, nrx, bay, rtab, rpost, info)
     end subroutine vehicle_ring_residual
 
     !> Set the ring rows of a model to time t (the wheels' contact points at x0 + v0 t): what the

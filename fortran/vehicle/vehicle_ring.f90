@@ -30,10 +30,13 @@ module vehicle_ring
         real(dp) :: v0 = 0.0_dp, length = 0.0_dp
         !> Residual flexibility of the truncated modes at a contact point (ring_residual_set):
         !> the compliance R (3 x 3, over the point's three components) at nrx positions over
-        !> one sleeper bay of length bay, per rail (3, 3, nrx, 2); nrx = 0: none.
+        !> one sleeper bay of length bay, per rail (3, 3, nrx, 2); nrx = 0: none. The residual
+        !> coordinates' rows are L(x) P with L L^T = R(x) and P (3, 3, 2 rails) a constant
+        !> change of coordinates (identity, or the unit-mass coordinates of a residual with
+        !> inertia: docs/vehicle.md "Residual inertia of the ring").
         integer :: nrx = 0
         real(dp) :: bay = 0.0_dp
-        real(dp), allocatable :: rtab(:, :, :, :)
+        real(dp), allocatable :: rtab(:, :, :, :), rpost(:, :, :)
     end type ring_rows
 
 contains
@@ -140,27 +143,30 @@ contains
 
     !> Set the residual compliance table (after ring_rows_create). info: STAT_OK;
     !> STAT_BAD_ARGUMENT (nrx < 2, bay <= 0, non-finite entries).
-    subroutine ring_residual_set(rr, nrx, bay, rtab, info)
+    subroutine ring_residual_set(rr, nrx, bay, rtab, rpost, info)
         type(ring_rows), intent(inout) :: rr
         integer, intent(in) :: nrx
-        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2)
+        real(dp), intent(in) :: bay, rtab(3, 3, nrx, 2), rpost(3, 3, 2)
         integer, intent(out) :: info
         info = STAT_BAD_ARGUMENT
         if (nrx < 2 .or. .not. (bay > 0.0_dp) .or. .not. all(abs(rtab) <= huge(1.0_dp))) return
+        if (.not. all(abs(rpost) <= huge(1.0_dp))) return
         rr%nrx = nrx
         rr%bay = bay
         rr%rtab = rtab
+        rr%rpost = rpost
         info = STAT_OK
     end subroutine ring_residual_set
 
-    !> The residual rows of every contact point at time t: L (3 x 3, lower) with L L^T = R(x_c),
-    !> R interpolated linearly (periodic over the bay) in the table. A coordinate z with
-    !> stiffness I and rows L is the point compliance u = R g (vehicle_modal, massless).
+    !> The residual rows of every contact point at time t: L P with L (3 x 3, lower) the
+    !> Cholesky factor of R(x_c), R interpolated linearly (periodic over the bay) in the table,
+    !> and P the rail's rpost. A coordinate z with stiffness P^T P and rows L P is the
+    !> point compliance u = R g (vehicle_modal, massless).
     pure subroutine ring_residual_eval(rr, t, lres)
         type(ring_rows), intent(in) :: rr
         real(dp), intent(in) :: t
         real(dp), intent(out) :: lres(3, 3, rr%nc)
-        real(dp) :: x, s, w, r(3, 3)
+        real(dp) :: x, s, w, r(3, 3), l(3, 3)
         integer :: c, i0, i1, rho
         do c = 1, rr%nc
             x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
@@ -170,7 +176,8 @@ contains
             i1 = mod(i0 + 1, rr%nrx)
             rho = rr%crho(c)
             r = (1.0_dp - w) * rr%rtab(:, :, i0 + 1, rho) + w * rr%rtab(:, :, i1 + 1, rho)
-            call chol3(r, lres(:, :, c))
+            call chol3(r, l)
+            lres(:, :, c) = matmul(l, rr%rpost(:, :, rho))
         end do
     end subroutine ring_residual_eval
 

@@ -55,7 +55,7 @@ FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
 #: Model RF's keys (the ring and its mode selection).
 _RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset", "ring_residual",
-            "ring_residual_hz")
+            "ring_residual_hz", "ring_residual_inertia")
 _RINGS: dict[Any, Any] = {}
 #: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
@@ -289,7 +289,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
               f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
               x_offset: float = 0.0, geometry: str = "table", ring_residual: bool = True,
-              ring_residual_hz: float | None = None):
+              ring_residual_hz: float | None = None, ring_residual_inertia: bool = False):
     """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
@@ -321,6 +321,11 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         frequency, Hz, with the same static compliance
         (:func:`railvti.vehicle.ring_coupling.build_rf`'s ``residual_hz``); the default step
         then resolves it. None (default): massless.
+    ring_residual_inertia : bool
+        Give the residual coordinates the truncated ring modes' own inertia and damping
+        (:func:`railvti.vehicle.ring_coupling.build_rf`'s ``residual_inertia``): the rail's
+        point receptance then follows the full ring to f_limit / 2 within 1 %
+        (docs/vehicle.md, "Residual inertia of the ring"). Default False: massless.
 
     Returns
     -------
@@ -335,7 +340,8 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     v, _ = _speeds(speed_kmh, speed)
     sy, _ = _on_ring("RF", coach or Coach(), contact_table(), v, n_sleepers=n_sleepers,
                      f_limit=f_limit, track_params=track_params, x_offset=x_offset,
-                     ring_residual=ring_residual, ring_residual_hz=ring_residual_hz)
+                     ring_residual=ring_residual, ring_residual_hz=ring_residual_hz,
+                     ring_residual_inertia=ring_residual_inertia)
     return _with_geometry(sy, geometry)
 
 
@@ -343,7 +349,8 @@ def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: in
              f_max: float = FR_F_MAX, n_sleepers: Any = RF_N_SLEEPERS,
              f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
              x_offset: float = 0.0, ring_residual: bool = True,
-             ring_residual_hz: float | None = None) -> tuple[System, list]:
+             ring_residual_hz: float | None = None,
+             ring_residual_inertia: bool = False) -> tuple[System, list]:
     """Model RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
     linear method's bisection may pass it): the ring checked and built (cached), FR's
     wheelsets on rigid ground for FF, the ring's block appended. Returns (system, FR layouts
@@ -356,7 +363,8 @@ def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: in
         base, lays = build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max,
                               f_max=f_max, track=False)
     sy = build_rf(coach, table, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
-                  residual=bool(ring_residual), residual_hz=ring_residual_hz)
+                  residual=bool(ring_residual), residual_hz=ring_residual_hz,
+                  residual_inertia=bool(ring_residual_inertia))
     return sy, lays
 
 
@@ -374,13 +382,15 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
               track_params: dict | None = None, x_offset: float = 0.0,
               geometry: str = "table", ring_residual: bool = True,
-              ring_residual_hz: float | None = None) -> tuple[System, list]:
+              ring_residual_hz: float | None = None,
+              ring_residual_inertia: bool = False) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
     ``f_max``, residual flexibility at the rims and journals) with the ring's modal block
     appended (:func:`rf_system`'s ring: ``n_sleepers``, ``f_limit``, ``track_params``,
-    ``x_offset``, ``ring_residual``, ``ring_residual_hz``). Each wheel's contact is evaluated between its deformed
+    ``x_offset``, ``ring_residual``, ``ring_residual_hz``, ``ring_residual_inertia``). Each
+    wheel's contact is evaluated between its deformed
     rim and the ring's rail head under it (vehicle_model%add_contact with both the rim and
     the rail points); nothing couples the two flexible bodies but the contact.
 
@@ -400,7 +410,8 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     sy, lays = _on_ring("FF", coach or Coach(), contact_table(), v, k_max=k_max, f_max=f_max,
                         n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
                         x_offset=x_offset, ring_residual=ring_residual,
-                        ring_residual_hz=ring_residual_hz)
+                        ring_residual_hz=ring_residual_hz,
+                        ring_residual_inertia=ring_residual_inertia)
     return _with_geometry(sy, geometry), lays
 
 

@@ -336,6 +336,38 @@ class ModalBlocks:
         """Number of attachment points."""
         return self.phi.shape[0]
 
+    def receptance(self, points: np.ndarray, freqs: np.ndarray) -> np.ndarray:
+        """The blocks' receptance between attachment points, without the point elements and
+        couplings: H(f) = sum_b Phi_pb (K_b - w^2 M_b + i w B_b)^-1 Phi_pb^T.
+
+        Parameters
+        ----------
+        points : array of int
+            Rows of ``phi`` (point components), 0-based.
+        freqs : ndarray (nf,)
+            Frequencies, Hz.
+
+        Returns
+        -------
+        ndarray (nf, n, n) complex
+            Displacement per force, m/N (in the rows' units), [f, response, load].
+        """
+        p = np.asarray(points, dtype=int)
+        w = 2.0 * math.pi * np.atleast_1d(np.asarray(freqs, dtype=float))
+        ml = self.massless or (False,) * len(self.stiffness)
+        out = np.zeros((w.size, p.size, p.size), complex)
+        j = 0
+        for b, k, m in zip(self.damping, self.stiffness, ml):
+            n = k.shape[0]
+            ph = self.phi[np.ix_(p, np.arange(j, j + n))]
+            j += n
+            if not np.any(ph):
+                continue
+            mass = np.zeros((n, n)) if m else np.eye(n)
+            dyn = k[None] - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * b[None]
+            out += np.einsum("ab,fbc,dc->fad", ph, np.linalg.inv(dyn), ph)
+        return out
+
     def max_frequency(self) -> float:
         """The largest undamped natural frequency of the blocks, rad/s: sqrt of the largest
         eigenvalue of each block's symmetric stiffness part (gyroscopic splitting ignored)."""

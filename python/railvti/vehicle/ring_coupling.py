@@ -74,6 +74,13 @@ class RingRows:
         rows L(x) (L L^T = rtab) and stiffness I / rscale^2, so that z is a displacement of
         the size of the residual deflection (the correction test in m stays meaningful, e.g.
         with the BEM's noisy forces).
+    mtab, ctab : ndarray (3, 3, n_table, 2) or None
+        The truncated modes' inertia and damping moments at the same points, divided by
+        rscale^4: sum phi phi^T / lambda^2 and sum phi c phi^T / lambda^2 (the w^2 and i w
+        terms of their receptance; :func:`residual_inertia`).
+    rpost : ndarray (3, 3, 2) or None
+        A constant change of the residual coordinates per rail: rows L(x) rpost (None: the
+        identity).
     """
 
     modes: np.ndarray
@@ -94,6 +101,9 @@ class RingRows:
     rtab: np.ndarray | None = None
     bay: float = 0.0
     rscale: float = 1.0
+    mtab: np.ndarray | None = None
+    ctab: np.ndarray | None = None
+    rpost: np.ndarray | None = None
 
     @property
     def n_modes(self) -> int:
@@ -106,8 +116,9 @@ class RingRows:
         return 0 if self.rtab is None else 3 * int(self.crho.size)
 
     def residual_rows(self, t: np.ndarray | float) -> np.ndarray:
-        """Lower Cholesky factors L (nt, 3, 3, 8) of the residual compliance at each contact
-        point, R(x) interpolated linearly over the bay table (vehicle_ring%ring_residual_eval)."""
+        """Rows L P (nt, 3, 3, 8) of the residual coordinates at each contact point: L the
+        lower Cholesky factor of the residual compliance R(x) interpolated linearly over the
+        bay table, P the rail's ``rpost`` (vehicle_ring%ring_residual_eval)."""
         ts = np.atleast_1d(np.asarray(t, dtype=float))
         nrx = self.rtab.shape[2]
         out = np.zeros((ts.size, 3, 3, self.crho.size))
@@ -120,8 +131,15 @@ class RingRows:
             tab = self.rtab[:, :, :, self.crho[c] - 1]
             r = (1 - w)[:, None, None] * tab[:, :, i0].transpose(2, 0, 1) \
                 + w[:, None, None] * tab[:, :, i1].transpose(2, 0, 1)
-            out[:, :, :, c] = np.linalg.cholesky(r)
+            out[:, :, :, c] = np.linalg.cholesky(r) @ self.post[:, :, self.crho[c] - 1]
         return out
+
+    @property
+    def post(self) -> np.ndarray:
+        """The residual coordinates' change of coordinates per rail (3, 3, 2)."""
+        if self.rpost is None:
+            return np.repeat(np.eye(3)[:, :, None], 2, axis=2)
+        return self.rpost
 
     def rows(self, t: np.ndarray | float) -> np.ndarray:
         """The contact points' rows at times t (numpy; the Fortran loop evaluates the same).
@@ -229,7 +247,8 @@ class RingSystem(System):
                 r.speed, r.length)
             check(info, "ring track rows")
             if r.n_residual:
-                info = core.vehicle_ring_residual_c(model.handle, r.bay, np.asfortranarray(r.rtab))
+                info = core.vehicle_ring_residual_c(model.handle, r.bay, np.asfortranarray(r.rtab),
+                                                    np.asfortranarray(r.post))
                 check(info, "ring track residual flexibility")
         if r is not None:
             check(core.vehicle_ring_time_c(model.handle, 0.0), "ring track time")
@@ -344,18 +363,23 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             ctr[:, :, c] = elem @ m.transform @ cant
             crho[c] = m.rail
             cx0[c] = x_offset + xw[w]
-    rtab, rscale = None, 1.0
+    rtab, mtab, ctab, rscale = None, None, None, 1.0
     trunc = np.where(~keep)[0]
     if residual and trunc.size:
-        rtab = np.zeros((3, 3, n_table, 2))
+        rtab, mtab, ctab = (np.zeros((3, 3, n_table, 2)) for _ in range(3))
+        lam, cm = track.lam[trunc], track.cmod[trunc]
         for k in range(2):
             yp = half if k == 0 else -half
             elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
             for i in range(n_table):
                 h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
-                rtab[:, :, i, k] = (h / track.lam[trunc]) @ h.T
+                rtab[:, :, i, k] = (h / lam) @ h.T
+                mtab[:, :, i, k] = (h / lam ** 2) @ h.T
+                ctab[:, :, i, k] = (h * (cm / lam ** 2)) @ h.T
         rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
         rtab /= rscale ** 2
+        mtab /= rscale ** 4
+        ctab /= rscale ** 4
     return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
                     kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
                     kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
@@ -363,13 +387,100 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
                     obs=np.asfortranarray(np.concatenate(obs, axis=1)),
                     vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
                     length=length, rail_distance=2 * half, rtab=rtab, bay=float(a),
-                    rscale=rscale)
+                    rscale=rscale, mtab=mtab, ctab=ctab)
+
+
+def residual_inertia_of(rr: RingRows, stiffness_scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Mass and damping of the residual coordinates z (rows L(x), stiffness s I / rscale^2)
+    that give the truncated modes' receptance to first order in w^2 and i w.
+
+    The truncated modes' receptance at a point is, for w below their frequencies,
+    R - i w D + w^2 M + ... with R = sum phi phi^T / lambda, D = sum phi c phi^T / lambda^2,
+    M = sum phi phi^T / lambda^2 (the Rayleigh / residual-mode expansion). A coordinate block
+    (K_z - w^2 M_z + i w C_z) behind rows L gives L K_z^-1 L^T + L K_z^-1 (w^2 M_z - i w C_z)
+    K_z^-1 L^T + ...; with K_z = k I, k = s / rscale^2: M_z = k^2 L^-1 M L^-T, C_z likewise.
+    They vary along the bay with x; the block takes their average over the bay table (per
+    rail), in the Cholesky coordinates of each entry.
+
+    Parameters
+    ----------
+    rr : RingRows
+        With the residual tables (``ring_rows(..., residual=True)``).
+    stiffness_scale : float
+        The ring's stiffness factor s (modal stiffness x s, damping x sqrt(s)).
+
+    Returns
+    -------
+    mz, cz : ndarray (3, 3, 2)
+        Per rail: the bay-averaged mass and damping of the residual coordinates.
+    """
+    if rr.mtab is None or rr.ctab is None:
+        raise InputError("the ring rows carry no residual inertia table (residual=False or no "
+                         "mode truncated)")
+    nrx = rr.rtab.shape[2]
+    mz, cz = np.zeros((3, 3, 2)), np.zeros((3, 3, 2))
+    for rho in range(2):
+        for i in range(nrx):
+            li = np.linalg.inv(np.linalg.cholesky(rr.rtab[:, :, i, rho]))
+            # M_s = M / s^2, D_s = D / s^1.5 and k = s / rscale^2 (tables / rscale^4)
+            mz[:, :, rho] += li @ rr.mtab[:, :, i, rho] @ li.T / nrx
+            cz[:, :, rho] += li @ rr.ctab[:, :, i, rho] @ li.T * math.sqrt(stiffness_scale) / nrx
+    return mz, cz
+
+
+def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: float | None = None,
+                    inertia: bool = False) -> tuple[RingRows, list, list]:
+    """The residual coordinates' blocks, one per contact point (unit mass unless massless).
+
+    Parameters
+    ----------
+    rr : RingRows
+        With the residual tables.
+    stiffness_scale : float
+        The ring's stiffness factor s.
+    residual_hz : float, optional
+        An isotropic mass: the natural frequency (Hz) with damping ratio RESIDUAL_ZETA.
+    inertia : bool
+        The truncated modes' inertia and damping (:func:`residual_inertia_of`).
+
+    Returns
+    -------
+    rr : RingRows
+        The rows with the change of coordinates the blocks need (rtab or rpost).
+    stiffness, damping : list of ndarray (3, 3)
+        Per contact point. Without residual_hz and inertia: massless coordinates of
+        stiffness s I / rscale^2 behind rows L (compliance R / s) and no damping.
+    """
+    s = stiffness_scale
+    nc = rr.crho.size
+    stiff = [np.eye(3) * s / rr.rscale ** 2] * nc
+    damp = [np.zeros((3, 3))] * nc
+    if residual_hz is not None:
+        # a mass mu per coordinate: z' = sqrt(mu) z, rows L / sqrt(mu), K / mu = w^2 I
+        w = 2.0 * math.pi * _checks.positive("residual_hz", residual_hz)
+        mu = (s / rr.rscale ** 2) / w ** 2
+        rr = replace(rr, rtab=rr.rtab / mu)
+        stiff = [np.eye(3) * w ** 2] * nc
+        damp = [np.eye(3) * 2.0 * RESIDUAL_ZETA * w] * nc
+    elif inertia:
+        # unit-mass coordinates z = A z', A = M_z^-1/2: rows L A, K = k A A, C = A C_z A
+        mz, cz = residual_inertia_of(rr, s)
+        post = np.zeros((3, 3, 2))
+        for rho in range(2):
+            ev, vec = np.linalg.eigh(mz[:, :, rho])
+            post[:, :, rho] = (vec / np.sqrt(ev)) @ vec.T
+        rr = replace(rr, rpost=post)
+        k = s / rr.rscale ** 2
+        stiff = [k * post[:, :, r - 1] @ post[:, :, r - 1] for r in rr.crho]
+        damp = [post[:, :, r - 1] @ cz[:, :, r - 1] @ post[:, :, r - 1] for r in rr.crho]
+    return rr, stiff, damp
 
 
 def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
              f_limit: float | None = None, x_offset: float = 0.0,
              stiffness_scale: float = 1.0, residual: bool = True,
-             base: System | None = None, residual_hz: float | None = None) -> RingSystem:
+             base: System | None = None, residual_hz: float | None = None,
+             residual_inertia: bool = False) -> RingSystem:
     """Model RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
     FR system on rigid ground, model FF (flexible wheelsets on the ring).
 
@@ -403,6 +514,13 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
         coordinates (a quasi-static point compliance). With a mass, Newton goes through
         flange-only contact where the massless coordinates stop it (docs/vehicle.md,
         "Models RF and FF: limits"); the step must resolve residual_hz (h omega <= 2).
+    residual_inertia : bool
+        Give the residual coordinates the truncated modes' own inertia and damping to first
+        order (:func:`residual_inertia_of`: per contact point a 3 x 3 block with mass and
+        damping matrices, averaged over the bay), the static compliance unchanged. With it
+        the point receptance follows the ring's direct FRF to f_limit / 2 within 1 % where
+        the static residual errs by 7 % (validation/track_modal_receptance.py). Excludes
+        ``residual_hz``.
 
     Returns
     -------
@@ -413,9 +531,13 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     Raises
     ------
     InputError
-        Speed <= 0, a ring too short, no mode kept, stiffness_scale <= 0.
+        Speed <= 0, a ring too short, no mode kept, stiffness_scale <= 0, both
+        residual_hz and residual_inertia.
     """
     v0 = _checks.positive("speed", speed)
+    if residual_hz is not None and residual_inertia:
+        raise InputError("residual_hz and residual_inertia both give the ring's residual "
+                         "coordinates a mass: choose one")
     s = _checks.positive("stiffness_scale", stiffness_scale)
     x_offset = _checks.finite("x_offset", x_offset)
     if base is None:
@@ -433,25 +555,17 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
     if rr.n_residual:
         nc = rr.crho.size
-        lres = rr.residual_rows(0.0)[0]   # rows L, stiffness s I / rscale^2: compliance R / s
+        rr, stiff, damp = residual_blocks(rr, s, residual_hz, residual_inertia)
+        lres = rr.residual_rows(0.0)[0]
         pr = np.zeros((3 * nc, 3 * nc))
         for c in range(nc):
             pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
-        eye = np.eye(3) * s / rr.rscale ** 2
-        damp = np.zeros((3, 3))
-        if residual_hz is not None:
-            # a mass mu per coordinate: z' = sqrt(mu) z, rows L / sqrt(mu), K / mu = w^2 I
-            w = 2.0 * math.pi * _checks.positive("residual_hz", residual_hz)
-            mu = (s / rr.rscale ** 2) / w ** 2
-            rr = replace(rr, rtab=rr.rtab / mu)
-            pr = pr / math.sqrt(mu)
-            eye = np.eye(3) * w ** 2
-            damp = np.eye(3) * 2.0 * RESIDUAL_ZETA * w
-        mb = ModalBlocks(mb.damping + (damp,) * nc, mb.stiffness + (eye,) * nc,
+        massless = residual_hz is None and not residual_inertia
+        mb = ModalBlocks(mb.damping + tuple(damp), mb.stiffness + tuple(stiff),
                          np.hstack([mb.phi, pr]),
                          names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
                                              for c in range(nc) for i in "yzr"),
-                         massless=(False,) * rr.n_modes + (residual_hz is None,) * nc)
+                         massless=(False,) * rr.n_modes + (massless,) * nc)
     if base.modal is not None:
         mb = _append_blocks(base.modal, mb)
     base = base.with_modal(mb)
