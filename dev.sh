@@ -41,12 +41,12 @@ ensure_venv() {
         log "creating the virtual environment in .venv"
         "${PYTHON:-python3}" -m venv "$VENV"
     fi
-    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle, dask, distributed' 2>/dev/null; then
+    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle, dask, distributed, threadpoolctl' 2>/dev/null; then
         log "installing Python packages"
         "$PY" -m pip install -q --upgrade pip
         "$PY" -m pip install -q "meson-python>=0.15" "meson>=1.1" ninja "numpy>=1.26" \
             "scipy>=1.11" "h5py>=3.9" "matplotlib>=3.7" "f90nml>=1.4" "tqdm>=4.60" "pytest>=7" "triangle>=20230923" \
-            "dask>=2024.1" "distributed>=2024.1"
+            "dask>=2024.1" "distributed>=2024.1" "threadpoolctl>=3.1"
     fi
 }
 

@@ -48,8 +48,9 @@ contains
         ! exact for the linear (spin: quadratic) adhesion profiles: x at mid-step
         ux = tx - (cx - cs * y) * h
         uy = ty - (cy + cs * 0.5_dp * (xold + xnew)) * h
-        t = hypot(ux, uy)
-        if (t > bound) then
+        t = ux * ux + uy * uy       ! squared: no hypot call in the innermost loop
+        if (t > bound * bound) then
+            t = sqrt(t)
             if (t > 0.0_dp) then
                 tx = ux * (bound / t)
                 ty = uy * (bound / t)

@@ -21,6 +21,7 @@ import numpy as np
 from .. import _checks, _interrupt
 from .._native import core
 from .._status import Status, check, error
+from .._threads import serial_blas
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from ..resources import check_memory
 from ..stream import STREAM_TAIL_SECONDS, HistoryStream
@@ -750,35 +751,36 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
             stream.attrs.setdefault(name, attrs)
     bar = _progress_bar(plan)
     wall0 = time.perf_counter()
-    try:
-        done = 0
-        size = min(plan.per_chunk, plan.nevery * max(1, 16 // plan.nevery))
-        while done < plan.nsteps:
-            ns = min(size, plan.nsteps - done)
-            tc = time.perf_counter()
-            nout = max(1, ns // plan.nevery)
-            tout, qout, vout, wout, st, info, tfail = model.run(
-                cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
-                plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout, scheme=plan.scheme)
-            wall_call = time.perf_counter() - tc    # the Fortran call alone (not the writing)
-            out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
-            if info != Status.OK:
-                raise _run_error(info, float(tfail), plan, system,
-                                 out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
-                                 int(out.stats[0]))
-            done += ns
-            size = _next_chunk(ns, wall_call, plan)
+    with serial_blas():         # small dense solves: a threaded BLAS only spins
+        try:
+            done = 0
+            size = min(plan.per_chunk, plan.nevery * max(1, 16 // plan.nevery))
+            while done < plan.nsteps:
+                ns = min(size, plan.nsteps - done)
+                tc = time.perf_counter()
+                nout = max(1, ns // plan.nevery)
+                tout, qout, vout, wout, st, info, tfail = model.run(
+                    cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
+                    plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout, scheme=plan.scheme)
+                wall_call = time.perf_counter() - tc    # the Fortran call alone (not the writing)
+                out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
+                if info != Status.OK:
+                    raise _run_error(info, float(tfail), plan, system,
+                                     out.result(system, cs.speed, contact, {"failed_at": float(tfail)}),
+                                     int(out.stats[0]))
+                done += ns
+                size = _next_chunk(ns, wall_call, plan)
+                if bar is not None:
+                    bar.update(min(round(ns * plan.h, 6), max(bar.total - bar.n, 0.0)))
+                    bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
+        except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
+            if out.t and sum(len(x) for x in out.t):
+                exc.partial = out.result(system, cs.speed, contact,
+                                         dict(out.named_stats(), interrupted_at=float(out.t[-1][-1])))
+            raise
+        finally:
             if bar is not None:
-                bar.update(min(round(ns * plan.h, 6), max(bar.total - bar.n, 0.0)))
-                bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
-    except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
-        if out.t and sum(len(x) for x in out.t):
-            exc.partial = out.result(system, cs.speed, contact,
-                                     dict(out.named_stats(), interrupted_at=float(out.t[-1][-1])))
-        raise
-    finally:
-        if bar is not None:
-            bar.close()
+                bar.close()
     return out.result(system, cs.speed, contact, dict(out.named_stats(), newton_rtol=plan.rtol,
                                                       newton_tol=plan.tol))
 
