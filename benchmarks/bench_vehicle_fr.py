@@ -8,7 +8,7 @@ FR at k_max 1 / 300 Hz (the truncation study's choice for steady scenes). All fr
 scenario's 4 mm start, Hertz + FASTSIM, one run each; compare figures of one invocation
 only (the machine is shared).
 
-    .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s]      # default 10 s
+    .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s] [--python PY ...]  # 10 s
     .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s]  # BEM 0.75 mm, default 0.1 s
 
 The BEM mode: centred running at 200 km/h with the BEM on all eight wheels from the BEM's
@@ -18,7 +18,9 @@ validation/vehicle_fr_vs_rr.py), RR and FR at the default selection: the real-ti
 """
 from __future__ import annotations
 
+import argparse
 import json
+import os
 import subprocess
 import sys
 
@@ -28,10 +30,10 @@ _CHILD = """
 import json, resource, sys, time
 from railvti import scenarios
 model, kw, dur = sys.argv[1], json.loads(sys.argv[2]), float(sys.argv[3])
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 r = scenarios.hunting(300.0, model, "hertz-fastsim", duration=dur, progress=False, **kw)
-wall = time.perf_counter() - t0
-print(json.dumps({"wall": wall, "amp": scenarios.amplitude(r), "steps": r.stats["steps"],
+wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+print(json.dumps({"wall": wall, "cpu": cpu, "amp": scenarios.amplitude(r), "steps": r.stats["steps"],
                   "newton": r.stats["newton_iterations"], "n_state": int(r.q.shape[1]),
                   "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
@@ -75,23 +77,35 @@ def main() -> None:
     if sys.argv[1:2] == ["bem"]:
         bem(float(sys.argv[2]) if len(sys.argv) > 2 else 0.1)
         return
-    dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
+    ap = argparse.ArgumentParser()
+    ap.add_argument("duration", nargs="?", type=float, default=10.0, help="simulated s")
+    ap.add_argument("--python", nargs="+", default=[sys.executable],
+                    help="interpreters of the builds to compare (e.g. an older commit's venv); "
+                         "their cases run interleaved, so they share the machine's load alike")
+    args = ap.parse_args()
+    dur = args.duration
     print(f"hunting 300 km/h from 4 mm, Hertz + FASTSIM, {dur:g} s simulated, one run each "
-          "(wall time includes building the model and the static solve)")
-    out = []
+          "(wall time includes building the model and the static solve); "
+          f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores")
+    out = {py: [] for py in args.python}
     for model, kw in CASES:
-        p = subprocess.run([sys.executable, "-c", _CHILD, model, json.dumps(kw), str(dur)],
-                           capture_output=True, text=True, check=True)
-        out.append(json.loads(p.stdout.strip().splitlines()[-1]))
-    rr = out[0]["wall"]
-    print(f"{'model':28s} {'wall s':>7s} {'x RR':>5s} {'steps':>6s} {'Newton/step':>11s} "
-          f"{'state':>5s} {'peak RSS MB':>11s} {'amplitude mm':>12s}")
-    for (model, kw), o in zip(CASES, out):
-        name = model + (f" k_max {kw['k_max']} / {kw['f_max']:.0f} Hz" if kw else
-                        (" (default selection)" if model == "FR" else ""))
-        print(f"{name:28s} {o['wall']:7.1f} {o['wall'] / rr:5.1f} {o['steps']:6d} "
-              f"{o['newton'] / max(o['steps'], 1):11.2f} {o['n_state']:5d} {o['rss_mb']:11.0f} "
-              f"{o['amp'] * 1e3:12.3f}")
+        for py in args.python:
+            p = subprocess.run([py, "-c", _CHILD, model, json.dumps(kw), str(dur)],
+                               capture_output=True, text=True, check=True)
+            out[py].append(json.loads(p.stdout.strip().splitlines()[-1]))
+    for py in args.python:
+        rr = out[py][0]["wall"]
+        print(f"\n{py}")
+        print(f"{'model':28s} {'wall s':>7s} {'x RR':>5s} {'CPU s':>6s} {'x RR':>5s} {'steps':>6s} "
+              f"{'Newton/step':>11s} {'state':>5s} {'peak RSS MB':>11s} {'amplitude mm':>12s}")
+        for (model, kw), o in zip(CASES, out[py]):
+            name = model + (f" k_max {kw['k_max']} / {kw['f_max']:.0f} Hz" if kw else
+                            (" (default selection)" if model == "FR" else ""))
+            cpu, cpu_rr = o.get("cpu", float("nan")), out[py][0].get("cpu", float("nan"))
+            print(f"{name:28s} {o['wall']:7.1f} {o['wall'] / rr:5.1f} {cpu:6.1f} {cpu / cpu_rr:5.1f} "
+                  f"{o['steps']:6d} {o['newton'] / max(o['steps'], 1):11.2f} {o['n_state']:5d} "
+                  f"{o['rss_mb']:11.0f} {o['amp'] * 1e3:12.3f}")
+    print(f"load {os.getloadavg()[0]:.2f} (1 min) at the end")
 
 
 if __name__ == "__main__":

@@ -343,11 +343,14 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
     q_start = q.copy()
     v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
-    if info == Status.NOT_CONVERGED and contact == "hertz-fastsim":
-        # FASTSIM's Newton can stall far from equilibrium (its discretised creep forces; seen
-        # on the ring track from the undeformed start): start again from Hertz + Kalker's
-        # equilibrium, where it converges in a few iterations
-        log.debug("static equilibrium: FASTSIM's Newton stalled; restarting from Kalker's")
+    stalled = info == Status.NOT_CONVERGED or (
+        info == Status.OK and not float(np.max(np.abs(f))) <= NEWTON_RTOL * system.wheel_load)
+    if stalled and contact in ("hertz-fastsim", "bem"):
+        # FASTSIM's and the BEM's Newton (with Hertz + Kalker's tangent) can stall far from
+        # equilibrium (discretised creep forces; seen on the ring track from the undeformed
+        # start: FF with the BEM stopped with 447 N unbalanced): start again from Hertz +
+        # Kalker's equilibrium, where it converges in a few iterations
+        log.debug("static equilibrium: %s's Newton stalled; restarting from Kalker's", contact)
         q = q_start
         _static_call(system, _settings(speed, "hertz-kalker", fastsim_n, None), None, q, tol,
                      maxit)
