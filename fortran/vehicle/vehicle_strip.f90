@@ -437,15 +437,16 @@ contains
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: i
         real(dp), intent(in) :: t
-        real(dp), intent(out) :: kr, dkr, d2kr
+        real(dp), intent(out) :: kr, dkr
+        real(dp), intent(out), optional :: d2kr
         real(dp) :: h
         h = st%rdy
         kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
              + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
         dkr = (6 * t**2 - 6 * t) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
               + (3 * t**2 - 2 * t) * st%rk1(i + 1)
-        d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
-                + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
+        if (present(d2kr)) d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
+                                   + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
     end subroutine curvature_at
 
     !> The deepest point of sample j's wheel circle under yaw. The circle's point at angle
@@ -454,17 +455,20 @@ contains
     !> lateral y_r = y - offset + r s_th s_ps + y1 c_ps and height z2 with
     !>   y1 = y0 c_ph - z0 c_th s_ph,   z2 = y0 s_ph + z0 c_th c_ph;
     !> its interference P(theta) = h(y_r) - (r_nom + zc + z2) is largest where dP/dtheta = 0:
-    !> Newton from theta = 0 (where z, z1, z2, z3 hold the rail at the lowest point on entry)
-    !> until the point moves less than 1e-13 m. On return th, the point (yr, y1, z2w, xc) and
-    !> the rail there (z, z1, z2, z3). Exactly theta = 0 without yaw.
-    pure subroutine ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+    !> Newton from theta = 0 (where z, z1, z2, z3 hold the rail at the lowest point on entry
+    !> and pt0, ptt0 are dP/dtheta and d2P/dtheta2 there: the caller's pre-check has them)
+    !> until the point moves less than 1e-13 m (in the time loop one step gets there, the
+    !> second confirms it). On return th, its cosine and sine, the point (yr, y1, z2w, xc)
+    !> and the rail there (z, z1, z2, z3). Exactly theta = 0 without yaw.
+    pure subroutine ring_deepest(st, j, y, cph, sph, cps, sps, pt0, ptt0, th, cth, sth, yr, y1, z2w, xc, &
+                                 z, z1, z2, z3, inside)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
-        real(dp), intent(in) :: y, cph, sph, cps, sps
-        real(dp), intent(out) :: th, y1, z2w, xc
+        real(dp), intent(in) :: y, cph, sph, cps, sps, pt0, ptt0
+        real(dp), intent(out) :: th, cth, sth, y1, z2w, xc
         real(dp), intent(inout) :: yr, z, z1, z2, z3
         logical, intent(out) :: inside
-        real(dp) :: r, y0, z0, cth, sth, yt, ytt, zt, ztt, pt, ptt, dth, t
+        real(dp) :: r, y0, z0, yt, ytt, zt, ztt, pt, ptt, dth, t
         integer :: it, i
         y0 = st%ws(1, j)
         z0 = st%ws(2, j)
@@ -477,20 +481,23 @@ contains
         z2w = sph * y0 + cph * z0
         xc = -y1 * sps
         if (sps == 0.0_dp) return
+        pt = pt0
+        ptt = ptt0
         do it = 1, 8
-            ! dP/dtheta and d2P/dtheta2 with h' = -z1, h'' = -z2
-            yt = r * cth * sps + z0 * sth * sph * cps
-            ytt = -r * sth * sps + z0 * cth * sph * cps
-            zt = -z0 * sth * cph
-            ztt = -z0 * cth * cph
-            pt = -z1 * yt - zt
-            ptt = -z2 * yt * yt - z1 * ytt - ztt
+            if (it > 1) then
+                ! dP/dtheta and d2P/dtheta2 with h' = -z1, h'' = -z2
+                yt = r * cth * sps + z0 * sth * sph * cps
+                ytt = -r * sth * sps + z0 * cth * sph * cps
+                zt = -z0 * sth * cph
+                ztt = -z0 * cth * cph
+                pt = -z1 * yt - zt
+                ptt = -z2 * yt * yt - z1 * ytt - ztt
+            end if
             if (.not. (ptt < 0.0_dp)) return
             dth = -pt / ptt
             if (abs(dth) * r < 1.0e-13_dp) return
             th = th + dth
-            cth = cos(th)
-            sth = sin(th)
+            call cos_sin(th, cth, sth)
             ! (the products grouped as add_strip_dual's dual numbers group them)
             y1 = y0 * cph - z0 * (cth * sph)
             z2w = y0 * sph + z0 * (cth * cph)
@@ -501,6 +508,23 @@ contains
         end do
     end subroutine ring_deepest
 
+    !> cos(x) and sin(x): for |x| <= 0.02 (the deepest point's angle in the time loop is
+    !> ~1e-4) their Taylor series, exact to round-off (the first omitted terms are below
+    !> 1e-19 relative), instead of the library's calls.
+    pure subroutine cos_sin(x, c, s)
+        real(dp), intent(in) :: x
+        real(dp), intent(out) :: c, s
+        real(dp) :: x2
+        if (abs(x) <= 0.02_dp) then
+            x2 = x * x
+            c = 1.0_dp - x2 * (0.5_dp - x2 * (1.0_dp / 24.0_dp - x2 * (1.0_dp / 720.0_dp - x2 / 40320.0_dp)))
+            s = x * (1.0_dp - x2 * (1.0_dp / 6.0_dp - x2 * (1.0_dp / 120.0_dp - x2 / 5040.0_dp)))
+        else
+            c = cos(x)
+            s = sin(x)
+        end if
+    end subroutine cos_sin
+
     !> Sample j's potential, gradient and load-weighted point quantities added into out: the
     !> interference at the deepest point of the sample's circle (ring_deepest; its gradient
     !> over the pose by the envelope theorem, dP/dtheta = 0 there), the strip's constant G =
@@ -510,9 +534,9 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph, cps, sps
         real(dp), intent(inout) :: out(nso + 1, 2)
-        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, d2kr, a, b, x, dxy, dxp, yr
+        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
         real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, dps, n, e(nso + 1), om, crel, srel, t, ci
-        real(dp) :: z1l, z2l, tl, th, y1, z2w, xc, lat, pt, ptt, r
+        real(dp) :: z1l, z2l, tl, th, y1, z2w, xc, lat, pt, ptt, r, cth, sth
         integer :: k, i, il
         logical :: inside
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
@@ -533,18 +557,19 @@ contains
             ! the circle's deepest point lies deeper than its lowest by about pt^2 / (-2 ptt)
             ! (Newton's first step): skip the sample when twice that cannot reach the rail
             r = st%ws(3, j)
-            pt = -z1 * r * sps
-            ptt = -z2 * (r * sps)**2 - z1 * st%ws(2, j) * sph * cps + st%ws(2, j) * cph
+            pt = -z1 * (r * sps)
+            ptt = -z2 * (r * sps)**2 - z1 * (st%ws(2, j) * sph * cps) + st%ws(2, j) * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
                 if (p - pt * pt / ptt <= 0.0_dp) return
             end if
-            call ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            call ring_deepest(st, j, y, cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
+                              z, z1, z2, z3, inside)
             if (.not. inside) return
             p = (st%top - z) - (st%rnom + zc + z2w)
-            lat = r * (sin(th) * sps) + y1 * cps
+            lat = r * (sth * sps) + y1 * cps
         end if
         if (p <= 0.0_dp) return
-        call curvature_at(st, il, tl, kr, dkr, d2kr)
+        call curvature_at(st, il, tl, kr, dkr)
         ! the rail's contact angle and (smoothed) curvature under the lowest point, z down, and
         ! their rates along y_r
         q = 1.0_dp + z1l * z1l
@@ -614,10 +639,10 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: pose(4), cph, sph, cps, sps
         real(dp), intent(inout) :: acc(NDL, nso + 1, 2)
-        real(dp), dimension(NDL) :: pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd, cpsd, spsd
+        real(dp), dimension(NDL) :: pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd
         real(dp), dimension(NDL) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
         real(dp), dimension(NDL) :: dgyd, dgpd, nd, gp, pp, xcd, cthd, sthd, y1d, z2wd, latd, xsd
-        real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, zw0d, arm0d, xkd
+        real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, xkd
         real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, c, dc, d2c, sw, om, e(NDL, nso)
         real(dp) :: t, bi, ci, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
         real(dp) :: yt, ytt, ztt, thq(4), yq(4), ytq(4), ztq(4)
@@ -638,20 +663,21 @@ contains
         il = i
         tl = t
         th = 0.0_dp
+        cth = 1.0_dp
+        sth = 0.0_dp
         if (sps /= 0.0_dp) then
-            pt = -z1 * r * sps
-            ptt = -z2 * (r * sps)**2 - z1 * z0 * sph * cps + z0 * cph
+            pt = -z1 * (r * sps)
+            ptt = -z2 * (r * sps)**2 - z1 * (z0 * sph * cps) + z0 * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
                 if (p - pt * pt / ptt <= 0.0_dp) return
             end if
-            call ring_deepest(st, j, pose(1), cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            call ring_deepest(st, j, pose(1), cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
+                              z, z1, z2, z3, inside)
             if (.not. inside) return
             p = (st%top - z) - (st%rnom + pose(2) + z2w)
         end if
         if (p <= 0.0_dp) return
         ! theta's derivatives over the pose from dP/dtheta = 0 (also without yaw: d/dpsi)
-        cth = cos(th)
-        sth = sin(th)
         yt = r * cth * sps + z0 * sth * sph * cps
         ytt = -r * sth * sps + z0 * cth * sph * cps
         ztt = -z0 * cth * cph
@@ -664,26 +690,22 @@ contains
         if (ptt < 0.0_dp) thq = (-z2 * yq * yt - z1 * ytq - ztq) / (-ptt)
         cphd = [cph, 0.0_dp, 0.0_dp, -sph, 0.0_dp]
         sphd = [sph, 0.0_dp, 0.0_dp, cph, 0.0_dp]
-        cpsd = [cps, 0.0_dp, 0.0_dp, 0.0_dp, -sps]
-        spsd = [sps, 0.0_dp, 0.0_dp, 0.0_dp, cps]
         cthd = [cth, -sth * thq]
         sthd = [sth, cth * thq]
         ! the deepest point: y1, z2, its lateral arm, its x and the rail's slope there
-        y1d = y0 * cphd - z0 * dmul(cthd, sphd)
-        z2wd = y0 * sphd + z0 * dmul(cthd, cphd)
-        latd = r * dmul(sthd, spsd) + dmul(y1d, cpsd)
-        xcd = r * dmul(sthd, cpsd) - dmul(y1d, spsd)
+        y1d = y0 * cphd - z0 * dmul1(cthd, sph, cph, 4)
+        z2wd = y0 * sphd + z0 * dmul1(cthd, cph, -sph, 4)
+        latd = r * dmul1(sthd, sps, cps, 5) + dmul1(y1d, cps, -sps, 5)
+        xcd = r * dmul1(sthd, cps, -sps, 5) - dmul1(y1d, sps, cps, 5)
         xsd = latd
         xsd(2) = xsd(2) + 1.0_dp
         z1sd = [z1, z2 * xsd(2:NDL)]
         ! P's gradient (envelope theorem) as dual numbers
         dpyd = -z1sd
-        dppd = dmul(dmul(z1sd, z2wd), cpsd) - y1d
+        dppd = dmul1(dmul(z1sd, z2wd), cps, -sps, 5) - y1d
         dpsd = -dmul(z1sd, xcd)
         pd = [p, dpyd(1), -1.0_dp, dppd(1), dpsd(1)]
         ! G under the lowest point: d y_r0 = dy - zw cos(psi) dphi - arm sin(psi) dpsi
-        zw0d = [zw, 0.0_dp, 0.0_dp, arm, 0.0_dp]
-        arm0d = [arm, 0.0_dp, 0.0_dp, -zw, 0.0_dp]
         yrg = [1.0_dp, 0.0_dp, -zw * cps, -arm * sps]
         call curvature_at(st, il, tl, kr, dkr, d2kr)
         z1d = [z1l, z2l * yrg]
@@ -696,8 +718,8 @@ contains
         ddld = -dmul(z2d, [cdd(1) * cdd(1), 2.0_dp * cdd(1) * cdd(2:NDL)])
         krd = [kr, dkr * yrg]
         dkrd = [dkr, d2kr * yrg]
-        creld = dmul(cdd, cphd) + dmul(sdd, sphd)
-        sreld = dmul(sdd, cphd) - dmul(cdd, sphd)
+        creld = dmul1(cdd, cph, -sph, 4) + dmul1(sdd, sph, cph, 4)
+        sreld = dmul1(sdd, cph, -sph, 4) - dmul1(cdd, sph, cph, 4)
         ad = creld * st%hr(j)
         bd = 0.5_dp * krd
         bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
@@ -720,18 +742,18 @@ contains
         sw = st%ws(5, j)
         wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw, 0.0_dp]
         dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw, 0.0_dp]
-        gd = dmul(dmul(cld, cdd), wd)
-        dgyd = dmul(dmul(dmul(dcd, dxyd), cdd), wd) - dmul(dmul(dmul(cld, sdd), ddld), wd)
-        dgpd = dmul(dmul(dmul(dcd, dxpd), cdd), wd) + dmul(dmul(cld, cdd), dwd)
-        nd = 2.0_dp * dmul(dmul(cld, wd), pd)
+        gd = dmul1(dmul(cld, cdd), wd(1), wd(4), 4)
+        dgyd = dmul1(dmul(dmul(dcd, dxyd), cdd), wd(1), wd(4), 4) - dmul1(dmul(dmul(cld, sdd), ddld), wd(1), wd(4), 4)
+        dgpd = dmul1(dmul(dmul(dcd, dxpd), cdd), wd(1), wd(4), 4) + dmul1(dmul(cld, cdd), dwd(1), dwd(4), 4)
+        nd = 2.0_dp * dmul(dmul1(cld, wd(1), wd(4), 4), pd)
         gp = dmul(gd, pd)
         pp = dmul(pd, pd)
         e(:, SO_N) = nd
         e(:, SO_V) = dmul(gp, pd)
         e(:, SO_DY) = 2.0_dp * dmul(gp, dpyd) + dmul(pp, dgyd)
         e(:, SO_DZ) = -2.0_dp * gp
-        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dppd) + dmul(pp, dgpd - dmul(dmul(dgyd, zw0d), cpsd))
-        e(:, SO_DPSI) = 2.0_dp * dmul(gp, dpsd) - dmul(pp, dmul(dmul(dgyd, arm0d), spsd))
+        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dppd) + dmul(pp, dgpd - dmul1(dmul1(dgyd, zw, arm, 4), cps, -sps, 5))
+        e(:, SO_DPSI) = 2.0_dp * dmul(gp, dpsd) - dmul(pp, dmul1(dmul1(dgyd, arm, -zw, 4), sps, cps, 5))
         e(:, SO_L) = dmul(nd, latd)
         e(:, SO_ZA) = -dmul(nd, z2wd)
         e(:, SO_XC) = dmul(nd, xcd)
@@ -759,6 +781,16 @@ contains
         r(1) = a(1) * b(1)
         r(2:NDL) = a(1) * b(2:NDL) + b(1) * a(2:NDL)
     end function dmul
+
+    !> Product of a dual number a and one whose derivative has a single non-zero entry:
+    !> value c, derivative dc in component k (sines and cosines of the pose's angles, widths).
+    pure function dmul1(a, c, dc, k) result(r)
+        real(dp), intent(in) :: a(NDL), c, dc
+        integer, intent(in) :: k
+        real(dp) :: r(NDL)
+        r = c * a
+        r(k) = r(k) + a(1) * dc
+    end function dmul1
 
     !> Quotient a / b of two dual numbers given bi = 1 / b(1).
     pure function drec(a, b, bi) result(r)
