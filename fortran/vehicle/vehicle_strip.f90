@@ -47,6 +47,10 @@ module vehicle_strip
     integer, parameter :: SO_DPSI = 13, SO_XC = 14
     !> Number of dual-number components (value and the derivatives over y, zc, phi, psi).
     integer, parameter :: NDL = 5
+    !> The strip constant's factors with their rates (constant_lin): G, dG/dY, dG/dphi, c w,
+    !> sin and cos of the contact angle, A, x.
+    integer, parameter :: NGL = 8, GL_G = 1, GL_GY = 2, GL_GP = 3, GL_CW = 4, GL_SD = 5, GL_CD = 6, &
+                          GL_A = 7, GL_X = 8
     !> Coarse scan (strip_scan): the interference at every SEG-th sample (1.6 mm apart at the
     !> default 0.2 mm step); a segment's samples are evaluated when the bound of its
     !> interference (ends and curvature) is less than MARGIN from contact. The rail's second
@@ -624,7 +628,12 @@ contains
         do k = 1, 2
             om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
             if (om <= 0.0_dp) cycle
-            out(:, k) = out(:, k) + om * e
+            ! (a whole sample, weight 1, saves the products)
+            if (om == 1.0_dp) then
+                out(:, k) = out(:, k) + e
+            else
+                out(:, k) = out(:, k) + om * e
+            end if
             out(nso + 1, k) = max(out(nso + 1, k), p)
         end do
     end subroutine add_strip
@@ -639,12 +648,11 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: pose(4), cph, sph, cps, sps
         real(dp), intent(inout) :: acc(NDL, nso + 1, 2)
-        real(dp), dimension(NDL) :: pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd
-        real(dp), dimension(NDL) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
+        real(dp), dimension(NDL) :: pd, cdd, sdd, cphd, sphd, ad, gd
         real(dp), dimension(NDL) :: dgyd, dgpd, nd, gp, pp, xcd, cthd, sthd, y1d, z2wd, latd, xsd
         real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, xkd
-        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, c, dc, d2c, sw, om, e(NDL, nso)
-        real(dp) :: t, bi, ci, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
+        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, om, e(NDL, nso), gs(3, NGL)
+        real(dp) :: t, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
         real(dp) :: yt, ytt, ztt, thq(4), yq(4), ytq(4), ztq(4)
         integer :: k, i, il
         logical :: inside
@@ -708,44 +716,15 @@ contains
         ! G under the lowest point: d y_r0 = dy - zw cos(psi) dphi - arm sin(psi) dpsi
         yrg = [1.0_dp, 0.0_dp, -zw * cps, -arm * sps]
         call curvature_at(st, il, tl, kr, dkr, d2kr)
-        z1d = [z1l, z2l * yrg]
-        z2d = [z2l, z3l * yrg]
-        qd = [1.0_dp + z1l * z1l, 2.0_dp * z1l * z2l * yrg]
-        cdd(1) = 1.0_dp / sqrt(qd(1))
-        cdd(2:NDL) = -0.5_dp * cdd(1) * cdd(1) * cdd(1) * qd(2:NDL)
-        sdd = -dmul(z1d, cdd)
-        ! 1 / q = cos(delta)^2
-        ddld = -dmul(z2d, [cdd(1) * cdd(1), 2.0_dp * cdd(1) * cdd(2:NDL)])
-        krd = [kr, dkr * yrg]
-        dkrd = [dkr, d2kr * yrg]
-        creld = dmul1(cdd, cph, -sph, 4) + dmul1(sdd, sph, cph, 4)
-        sreld = dmul1(sdd, cph, -sph, 4) - dmul1(cdd, sph, cph, 4)
-        ad = creld * st%hr(j)
-        bd = 0.5_dp * krd
-        bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
-        if (bd(1) > 0.0_dp) then
-            bi = 1.0_dp / bd(1)
-            ci = 1.0_dp / creld(1)
-            ! ln(B / A) = ln(B 2 r / crel)
-            xd = [log(bd(1) * (2.0_dp * r) * ci), bd(2:NDL) * bi - creld(2:NDL) * ci]
-            td = drec(sreld, creld, ci)
-            dxyd = 0.5_dp * drec(dkrd, bd, bi) + dmul(td, ddld)
-            dxpd = -td
-        else
-            xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
-            dxyd = 0.0_dp
-            dxpd = 0.0_dp
-        end if
-        call ratio_at(st, 1, xd(1), c, dc, d2c)
-        cld = [c, dc * xd(2:NDL)]
-        dcd = [dc, d2c * xd(2:NDL)]
-        sw = st%ws(5, j)
-        wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw, 0.0_dp]
-        dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw, 0.0_dp]
-        gd = dmul1(dmul(cld, cdd), wd(1), wd(4), 4)
-        dgyd = dmul1(dmul(dmul(dcd, dxyd), cdd), wd(1), wd(4), 4) - dmul1(dmul(dmul(cld, sdd), ddld), wd(1), wd(4), 4)
-        dgpd = dmul1(dmul(dmul(dcd, dxpd), cdd), wd(1), wd(4), 4) + dmul1(dmul(cld, cdd), dwd(1), dwd(4), 4)
-        nd = 2.0_dp * dmul(dmul1(cld, wd(1), wd(4), 4), pd)
+        call constant_lin(st, j, z1l, z2l, z3l, kr, dkr, d2kr, cph, sph, gs)
+        gd = up5(gs(:, GL_G), yrg)
+        dgyd = up5(gs(:, GL_GY), yrg)
+        dgpd = up5(gs(:, GL_GP), yrg)
+        sdd = up5(gs(:, GL_SD), yrg)
+        cdd = up5(gs(:, GL_CD), yrg)
+        ad = up5(gs(:, GL_A), yrg)
+        xkd = up5(gs(:, GL_X), yrg)
+        nd = 2.0_dp * dmul(up5(gs(:, GL_CW), yrg), pd)
         gp = dmul(gd, pd)
         pp = dmul(pd, pd)
         e(:, SO_N) = nd
@@ -760,19 +739,135 @@ contains
         e(:, SO_DELTA) = dmul(nd, sdd)
         e(:, SO_PMAX) = dmul(nd, cdd)
         e(:, SO_R) = nd * r
-        ! x as the table clamps it (its rates zero there)
-        xkd = xd
-        xkd(1) = min(max(xd(1), st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
-        if (xkd(1) /= xd(1)) xkd(2:NDL) = 0.0_dp
         e(:, SO_X) = dmul(nd, xkd)
         e(:, SO_A) = dmul(nd, ad)
         do k = 1, 2
             om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
             if (om <= 0.0_dp) cycle
-            acc(:, 1:nso, k) = acc(:, 1:nso, k) + om * e
+            if (om == 1.0_dp) then
+                acc(:, 1:nso, k) = acc(:, 1:nso, k) + e
+            else
+                acc(:, 1:nso, k) = acc(:, 1:nso, k) + om * e
+            end if
             if (p > acc(1, nso + 1, k)) acc(:, nso + 1, k) = pd
         end do
     end subroutine add_strip_dual
+
+    !> The strip constant's factors of sample j and their rates over the rail-local y of the
+    !> lowest point (u) and the roll (phi), gs(:, GL_*) = (value, d/du, d/dphi): G = c cos(delta)
+    !> w, its rates dG/dY and dG/dphi of add_strip, c w, sin and cos of the rail's contact angle,
+    !> A and x = ln(B/A) as the table clamps it. They depend on the pose through u and phi only
+    !> (the rail at u: z1, z2, z3 its slope and next derivatives, kr, dkr, d2kr the smoothed
+    !> curvature and its rates), so two partials carry them (add_strip_dual's dual numbers
+    !> take them as d/dq = d/du du/dq + d/dphi dphi/dq, up5).
+    pure subroutine constant_lin(st, j, z1, z2, z3, kr, dkr, d2kr, cph, sph, gs)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: z1, z2, z3, kr, dkr, d2kr, cph, sph
+        real(dp), intent(out) :: gs(3, NGL)
+        real(dp) :: cd, cdu, sd, sdu, dl, dlu, cr, cru, crp, sr, sru, srp, b, bu, bi, ci, x, xu, xp
+        real(dp) :: td, tdu, tdp, dk, dku, dy, dyu, dyp, dx, dxu, dxp, c, dc, d2c, cu, cp, dcu, dcp
+        real(dp) :: w, wp, dw, dwp, cc, ccu, ccp, f, fu, fp, g, gu, gp, sw
+        cd = 1.0_dp / sqrt(1.0_dp + z1 * z1)
+        cdu = -0.5_dp * cd * cd * cd * (2.0_dp * z1 * z2)
+        sd = -z1 * cd
+        sdu = -(z1 * cdu + cd * z2)
+        ! the rate of delta along u (1 / q = cos(delta)^2)
+        dl = -z2 * (cd * cd)
+        dlu = -(z2 * (2.0_dp * cd * cdu) + cd * cd * z3)
+        cr = cd * cph + sd * sph
+        cru = cdu * cph + sdu * sph
+        crp = -cd * sph + sd * cph
+        sr = sd * cph - cd * sph
+        sru = sdu * cph - cdu * sph
+        srp = -sd * sph - cd * cph
+        b = 0.5_dp * kr - 0.5_dp * st%ws(4, j)
+        bu = 0.5_dp * dkr
+        x = st%fx0
+        xu = 0.0_dp
+        xp = 0.0_dp
+        dy = 0.0_dp
+        dyu = 0.0_dp
+        dyp = 0.0_dp
+        dx = 0.0_dp
+        dxu = 0.0_dp
+        dxp = 0.0_dp
+        if (b > 0.0_dp) then
+            bi = 1.0_dp / b
+            ci = 1.0_dp / cr
+            ! ln(B / A) = ln(B 2 r / crel) and the rates dx/dY, dx/dphi of add_strip
+            x = log(b * (2.0_dp * st%ws(3, j)) * ci)
+            xu = bu * bi - cru * ci
+            xp = -crp * ci
+            td = sr * ci
+            tdu = (sru - td * cru) * ci
+            tdp = (srp - td * crp) * ci
+            dk = dkr * bi
+            dku = (d2kr - dk * bu) * bi
+            dy = 0.5_dp * dk + td * dl
+            dyu = 0.5_dp * dku + (td * dlu + dl * tdu)
+            dyp = dl * tdp
+            dx = -td
+            dxu = -tdu
+            dxp = -tdp
+        end if
+        call ratio_at(st, 1, x, c, dc, d2c)
+        cu = dc * xu
+        cp = dc * xp
+        dcu = d2c * xu
+        dcp = d2c * xp
+        sw = st%ws(5, j)
+        w = st%ds * (cph + sph * sw)
+        wp = st%ds * (-sph + cph * sw)
+        dw = wp
+        dwp = st%ds * (-cph - sph * sw)
+        ! G = (c cos(delta)) w
+        cc = c * cd
+        ccu = c * cdu + cd * cu
+        ccp = cd * cp
+        gs(:, GL_G) = [cc * w, ccu * w, ccp * w + cc * wp]
+        ! dG/dY = dc dxy cos(delta) w - c sin(delta) ddelta w
+        f = dc * dy
+        fu = dc * dyu + dy * dcu
+        fp = dc * dyp + dy * dcp
+        g = f * cd
+        gu = fu * cd + f * cdu
+        gp = fp * cd
+        gs(:, GL_GY) = [g * w, gu * w, gp * w + g * wp]
+        f = c * sd
+        fu = c * sdu + sd * cu
+        fp = sd * cp
+        g = f * dl
+        gu = fu * dl + f * dlu
+        gp = fp * dl
+        gs(:, GL_GY) = gs(:, GL_GY) - [g * w, gu * w, gp * w + g * wp]
+        ! dG/dphi = dc dxp cos(delta) w + c cos(delta) dw
+        f = dc * dx
+        fu = dc * dxu + dx * dcu
+        fp = dc * dxp + dx * dcp
+        g = f * cd
+        gu = fu * cd + f * cdu
+        gp = fp * cd
+        gs(:, GL_GP) = [g * w + cc * dw, gu * w + ccu * dw, gp * w + g * wp + (ccp * dw + cc * dwp)]
+        gs(:, GL_CW) = [c * w, cu * w, cp * w + c * wp]
+        gs(:, GL_SD) = [sd, sdu, 0.0_dp]
+        gs(:, GL_CD) = [cd, cdu, 0.0_dp]
+        gs(:, GL_A) = [cr, cru, crp] * st%hr(j)
+        ! x as the table clamps it (its rates zero there)
+        gs(:, GL_X) = [x, xu, xp]
+        gs(1, GL_X) = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        if (gs(1, GL_X) /= x) gs(2:3, GL_X) = 0.0_dp
+    end subroutine constant_lin
+
+    !> A quantity with rates (value, d/du, d/dphi) over the lowest point's rail-local y u and
+    !> the roll as a dual number over the pose, yrg = du/d(y, zc, phi, psi).
+    pure function up5(g, yrg) result(r)
+        real(dp), intent(in) :: g(3), yrg(4)
+        real(dp) :: r(NDL)
+        r(1) = g(1)
+        r(2:NDL) = g(2) * yrg
+        r(4) = r(4) + g(3)
+    end function up5
 
     !> Product of two dual numbers (value, gradient(NDL - 1)).
     pure function dmul(a, b) result(r)
@@ -791,13 +886,5 @@ contains
         r = c * a
         r(k) = r(k) + a(1) * dc
     end function dmul1
-
-    !> Quotient a / b of two dual numbers given bi = 1 / b(1).
-    pure function drec(a, b, bi) result(r)
-        real(dp), intent(in) :: a(NDL), b(NDL), bi
-        real(dp) :: r(NDL)
-        r(1) = a(1) * bi
-        r(2:NDL) = (a(2:NDL) - r(1) * b(2:NDL)) * bi
-    end function drec
 
 end module vehicle_strip
