@@ -271,13 +271,14 @@ contains
     !> point (ring_deepest), deeper by at most r sin(psi)^2 max|z'|^2 / (2 D), D = cos(phi) -
     !> |sin(phi)| max|z'| - r sin(psi)^2 max|z''| (the Newton step's quadratic model, bounded
     !> below by 0.1), added to the bound. A segment with one end off the rail's grid is
-    !> evaluated whole (both off: none).
+    !> evaluated whole (both off: none). act(k): segment k's samples (1 + (k - 1) SEG to
+    !> 1 + k SEG, the last one shared with the next segment) are evaluated.
     pure subroutine strip_scan(st, y, zc, cph, sph, cps, sps, act)
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, cph, sph, cps, sps
-        logical, intent(out) :: act(st%nw)
+        logical, intent(out) :: act(st%nseg)
         real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m, gain, h1, rw
-        integer :: k, jl, jh, il, ih, nb
+        integer :: k, jl, jh, il, ih, nb, lo, hi, kb
         do k = 0, st%nseg
             call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, cps, pe(k))
         end do
@@ -287,26 +288,36 @@ contains
             jl = 1 + (k - 1) * SEG
             jh = min(jl + SEG, st%nw)
             if (pe(k - 1) == -huge(1.0_dp) .or. pe(k) == -huge(1.0_dp)) then
-                if (pe(k - 1) /= pe(k)) act(jl:jh) = .true.
+                if (pe(k - 1) /= pe(k)) act(k) = .true.
                 cycle
             end if
             ylo = y - st%offset + cps * (cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k)))
             yhi = y - st%offset + cps * (cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k)))
             il = min(max(int((ylo - st%ry0) * st%rinv), 0), st%nr - 1) / RB + 1
             ih = min(max(int((yhi - st%ry0) * st%rinv) + 1, 0), st%nr - 1) / RB + 1
-            rmax = maxval(st%rbm(min(il, ih):max(il, ih)))
+            lo = min(il, ih)
+            hi = max(il, ih)
+            ! (maxima by loops: the blocks are few, and maxval's NaN handling costs)
+            rmax = st%rbm(lo)
+            do kb = lo + 1, hi
+                rmax = max(rmax, st%rbm(kb))
+            end do
             span = real(jh - jl, dp) * st%ds
             m = rmax * (cph + abs(sph) * st%segw(2, k))**2 + (abs(sph) * st%rz1max + cph) * st%segw(1, k)
             gain = 0.0_dp
             if (sps /= 0.0_dp) then
                 ! the lead moves the point laterally by less than a block: one more each side
-                h1 = maxval(st%rb1(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
-                rmax = maxval(st%rbm(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
+                h1 = st%rb1(max(lo - 1, 1))
+                do kb = max(lo - 1, 1) + 1, min(hi + 1, nb)
+                    h1 = max(h1, st%rb1(kb))
+                end do
+                if (lo > 1) rmax = max(rmax, st%rbm(lo - 1))
+                if (hi < nb) rmax = max(rmax, st%rbm(hi + 1))
                 rw = -st%segw(3, k)
                 gain = 0.5_dp * rw * sps * sps * h1 * h1 &
                        / max(cph - abs(sph) * h1 - rw * sps * sps * rmax, 0.1_dp)
             end if
-            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span + gain >= -MARGIN) act(jl:jh) = .true.
+            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span + gain >= -MARGIN) act(k) = .true.
         end do
     end subroutine strip_scan
 
@@ -321,8 +332,8 @@ contains
         real(dp), intent(out) :: out(nso, 2)
         real(dp), intent(in), optional :: psi
         real(dp) :: cph, sph, cps, sps, acc(nso + 1, 2)
-        logical :: act(st%nw)
-        integer :: j
+        logical :: act(st%nseg)
+        integer :: j, k, jlast
         out = 0.0_dp
         acc = 0.0_dp
         cph = cos(phi)
@@ -334,8 +345,14 @@ contains
             sps = sin(psi)
         end if
         call strip_scan(st, y, zc, cph, sph, cps, sps, act)
-        do j = 1, st%nw
-            if (act(j)) call add_strip(st, j, y, zc, cph, sph, cps, sps, acc)
+        ! the active segments' samples in order, each once
+        jlast = 0
+        do k = 1, st%nseg
+            if (.not. act(k)) cycle
+            do j = max(1 + (k - 1) * SEG, jlast + 1), min(1 + k * SEG, st%nw)
+                call add_strip(st, j, y, zc, cph, sph, cps, sps, acc)
+            end do
+            jlast = min(1 + k * SEG, st%nw)
         end do
         out = acc(1:nso, :)
         do j = 1, 2
@@ -357,8 +374,8 @@ contains
         real(dp), intent(in) :: pose(:)
         type(strip_lin), intent(out) :: lin
         real(dp) :: cph, sph, cps, sps, acc(NDL, nso + 1, 2), s, c, n
-        logical :: act(st%nw)
-        integer :: j, i
+        logical :: act(st%nseg)
+        integer :: j, i, k, jlast
         lin%pose = 0.0_dp
         lin%pose(1:min(size(pose), 4)) = pose(1:min(size(pose), 4))
         lin%so = 0.0_dp
@@ -373,8 +390,13 @@ contains
             sps = sin(lin%pose(4))
         end if
         call strip_scan(st, lin%pose(1), lin%pose(2), cph, sph, cps, sps, act)
-        do j = 1, st%nw
-            if (act(j)) call add_strip_dual(st, j, lin%pose, cph, sph, cps, sps, acc)
+        jlast = 0
+        do k = 1, st%nseg
+            if (.not. act(k)) cycle
+            do j = max(1 + (k - 1) * SEG, jlast + 1), min(1 + k * SEG, st%nw)
+                call add_strip_dual(st, j, lin%pose, cph, sph, cps, sps, acc)
+            end do
+            jlast = min(1 + k * SEG, st%nw)
         end do
         do j = 1, 2
             lin%so(:, j) = acc(1, 1:nso, j)
@@ -518,11 +540,14 @@ contains
     pure subroutine cos_sin(x, c, s)
         real(dp), intent(in) :: x
         real(dp), intent(out) :: c, s
+        real(dp), parameter :: C6 = 1.0_dp / 6.0_dp, C24 = 1.0_dp / 24.0_dp, C120 = 1.0_dp / 120.0_dp
+        real(dp), parameter :: C720 = 1.0_dp / 720.0_dp, C5040 = 1.0_dp / 5040.0_dp, C40320 = 1.0_dp / 40320.0_dp
         real(dp) :: x2
         if (abs(x) <= 0.02_dp) then
             x2 = x * x
-            c = 1.0_dp - x2 * (0.5_dp - x2 * (1.0_dp / 24.0_dp - x2 * (1.0_dp / 720.0_dp - x2 / 40320.0_dp)))
-            s = x * (1.0_dp - x2 * (1.0_dp / 6.0_dp - x2 * (1.0_dp / 120.0_dp - x2 / 5040.0_dp)))
+            ! (constant reciprocals: the compiler keeps a division by a literal)
+            c = 1.0_dp - x2 * (0.5_dp - x2 * (C24 - x2 * (C720 - x2 * C40320)))
+            s = x * (1.0_dp - x2 * (C6 - x2 * (C120 - x2 * C5040)))
         else
             c = cos(x)
             s = sin(x)
@@ -564,7 +589,8 @@ contains
             pt = -z1 * (r * sps)
             ptt = -z2 * (r * sps)**2 - z1 * (st%ws(2, j) * sph * cps) + st%ws(2, j) * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
-                if (p - pt * pt / ptt <= 0.0_dp) return
+                ! p - pt^2 / ptt <= 0 (ptt < 0), without the division
+                if (p * ptt - pt * pt >= 0.0_dp) return
             end if
             call ring_deepest(st, j, y, cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
                               z, z1, z2, z3, inside)
@@ -677,7 +703,8 @@ contains
             pt = -z1 * (r * sps)
             ptt = -z2 * (r * sps)**2 - z1 * (z0 * sph * cps) + z0 * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
-                if (p - pt * pt / ptt <= 0.0_dp) return
+                ! p - pt^2 / ptt <= 0 (ptt < 0), without the division
+                if (p * ptt - pt * pt >= 0.0_dp) return
             end if
             call ring_deepest(st, j, pose(1), cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
                               z, z1, z2, z3, inside)
