@@ -47,6 +47,10 @@ module vehicle_strip
     integer, parameter :: SO_DPSI = 13, SO_XC = 14
     !> Number of dual-number components (value and the derivatives over y, zc, phi, psi).
     integer, parameter :: NDL = 5
+    !> The strip constant's factors with their rates (constant_lin): G, dG/dY, dG/dphi, c w,
+    !> sin and cos of the contact angle, A, x.
+    integer, parameter :: NGL = 8, GL_G = 1, GL_GY = 2, GL_GP = 3, GL_CW = 4, GL_SD = 5, GL_CD = 6, &
+                          GL_A = 7, GL_X = 8
     !> Coarse scan (strip_scan): the interference at every SEG-th sample (1.6 mm apart at the
     !> default 0.2 mm step); a segment's samples are evaluated when the bound of its
     !> interference (ends and curvature) is less than MARGIN from contact. The rail's second
@@ -267,13 +271,14 @@ contains
     !> point (ring_deepest), deeper by at most r sin(psi)^2 max|z'|^2 / (2 D), D = cos(phi) -
     !> |sin(phi)| max|z'| - r sin(psi)^2 max|z''| (the Newton step's quadratic model, bounded
     !> below by 0.1), added to the bound. A segment with one end off the rail's grid is
-    !> evaluated whole (both off: none).
+    !> evaluated whole (both off: none). act(k): segment k's samples (1 + (k - 1) SEG to
+    !> 1 + k SEG, the last one shared with the next segment) are evaluated.
     pure subroutine strip_scan(st, y, zc, cph, sph, cps, sps, act)
         type(strip_geometry), intent(in) :: st
         real(dp), intent(in) :: y, zc, cph, sph, cps, sps
-        logical, intent(out) :: act(st%nw)
+        logical, intent(out) :: act(st%nseg)
         real(dp) :: pe(0:st%nseg), span, ylo, yhi, rmax, m, gain, h1, rw
-        integer :: k, jl, jh, il, ih, nb
+        integer :: k, jl, jh, il, ih, nb, lo, hi, kb
         do k = 0, st%nseg
             call interference(st, min(1 + k * SEG, st%nw), y, zc, cph, sph, cps, pe(k))
         end do
@@ -283,26 +288,36 @@ contains
             jl = 1 + (k - 1) * SEG
             jh = min(jl + SEG, st%nw)
             if (pe(k - 1) == -huge(1.0_dp) .or. pe(k) == -huge(1.0_dp)) then
-                if (pe(k - 1) /= pe(k)) act(jl:jh) = .true.
+                if (pe(k - 1) /= pe(k)) act(k) = .true.
                 cycle
             end if
             ylo = y - st%offset + cps * (cph * st%ws(1, jl) - max(sph * st%segw(3, k), sph * st%segw(4, k)))
             yhi = y - st%offset + cps * (cph * st%ws(1, jh) - min(sph * st%segw(3, k), sph * st%segw(4, k)))
             il = min(max(int((ylo - st%ry0) * st%rinv), 0), st%nr - 1) / RB + 1
             ih = min(max(int((yhi - st%ry0) * st%rinv) + 1, 0), st%nr - 1) / RB + 1
-            rmax = maxval(st%rbm(min(il, ih):max(il, ih)))
+            lo = min(il, ih)
+            hi = max(il, ih)
+            ! (maxima by loops: the blocks are few, and maxval's NaN handling costs)
+            rmax = st%rbm(lo)
+            do kb = lo + 1, hi
+                rmax = max(rmax, st%rbm(kb))
+            end do
             span = real(jh - jl, dp) * st%ds
             m = rmax * (cph + abs(sph) * st%segw(2, k))**2 + (abs(sph) * st%rz1max + cph) * st%segw(1, k)
             gain = 0.0_dp
             if (sps /= 0.0_dp) then
                 ! the lead moves the point laterally by less than a block: one more each side
-                h1 = maxval(st%rb1(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
-                rmax = maxval(st%rbm(max(min(il, ih) - 1, 1):min(max(il, ih) + 1, nb)))
+                h1 = st%rb1(max(lo - 1, 1))
+                do kb = max(lo - 1, 1) + 1, min(hi + 1, nb)
+                    h1 = max(h1, st%rb1(kb))
+                end do
+                if (lo > 1) rmax = max(rmax, st%rbm(lo - 1))
+                if (hi < nb) rmax = max(rmax, st%rbm(hi + 1))
                 rw = -st%segw(3, k)
                 gain = 0.5_dp * rw * sps * sps * h1 * h1 &
                        / max(cph - abs(sph) * h1 - rw * sps * sps * rmax, 0.1_dp)
             end if
-            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span + gain >= -MARGIN) act(jl:jh) = .true.
+            if (max(pe(k - 1), pe(k)) + 0.125_dp * m * span * span + gain >= -MARGIN) act(k) = .true.
         end do
     end subroutine strip_scan
 
@@ -317,8 +332,8 @@ contains
         real(dp), intent(out) :: out(nso, 2)
         real(dp), intent(in), optional :: psi
         real(dp) :: cph, sph, cps, sps, acc(nso + 1, 2)
-        logical :: act(st%nw)
-        integer :: j
+        logical :: act(st%nseg)
+        integer :: j, k, jlast
         out = 0.0_dp
         acc = 0.0_dp
         cph = cos(phi)
@@ -330,8 +345,14 @@ contains
             sps = sin(psi)
         end if
         call strip_scan(st, y, zc, cph, sph, cps, sps, act)
-        do j = 1, st%nw
-            if (act(j)) call add_strip(st, j, y, zc, cph, sph, cps, sps, acc)
+        ! the active segments' samples in order, each once
+        jlast = 0
+        do k = 1, st%nseg
+            if (.not. act(k)) cycle
+            do j = max(1 + (k - 1) * SEG, jlast + 1), min(1 + k * SEG, st%nw)
+                call add_strip(st, j, y, zc, cph, sph, cps, sps, acc)
+            end do
+            jlast = min(1 + k * SEG, st%nw)
         end do
         out = acc(1:nso, :)
         do j = 1, 2
@@ -353,8 +374,8 @@ contains
         real(dp), intent(in) :: pose(:)
         type(strip_lin), intent(out) :: lin
         real(dp) :: cph, sph, cps, sps, acc(NDL, nso + 1, 2), s, c, n
-        logical :: act(st%nw)
-        integer :: j, i
+        logical :: act(st%nseg)
+        integer :: j, i, k, jlast
         lin%pose = 0.0_dp
         lin%pose(1:min(size(pose), 4)) = pose(1:min(size(pose), 4))
         lin%so = 0.0_dp
@@ -369,8 +390,13 @@ contains
             sps = sin(lin%pose(4))
         end if
         call strip_scan(st, lin%pose(1), lin%pose(2), cph, sph, cps, sps, act)
-        do j = 1, st%nw
-            if (act(j)) call add_strip_dual(st, j, lin%pose, cph, sph, cps, sps, acc)
+        jlast = 0
+        do k = 1, st%nseg
+            if (.not. act(k)) cycle
+            do j = max(1 + (k - 1) * SEG, jlast + 1), min(1 + k * SEG, st%nw)
+                call add_strip_dual(st, j, lin%pose, cph, sph, cps, sps, acc)
+            end do
+            jlast = min(1 + k * SEG, st%nw)
         end do
         do j = 1, 2
             lin%so(:, j) = acc(1, 1:nso, j)
@@ -437,15 +463,16 @@ contains
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: i
         real(dp), intent(in) :: t
-        real(dp), intent(out) :: kr, dkr, d2kr
+        real(dp), intent(out) :: kr, dkr
+        real(dp), intent(out), optional :: d2kr
         real(dp) :: h
         h = st%rdy
         kr = (2 * t**3 - 3 * t**2 + 1) * st%rk(i) + (t**3 - 2 * t**2 + t) * h * st%rk1(i) &
              + (-2 * t**3 + 3 * t**2) * st%rk(i + 1) + (t**3 - t**2) * h * st%rk1(i + 1)
         dkr = (6 * t**2 - 6 * t) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (3 * t**2 - 4 * t + 1) * st%rk1(i) &
               + (3 * t**2 - 2 * t) * st%rk1(i + 1)
-        d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
-                + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
+        if (present(d2kr)) d2kr = ((12 * t - 6) * st%rinv * (st%rk(i) - st%rk(i + 1)) + (6 * t - 4) * st%rk1(i) &
+                                   + (6 * t - 2) * st%rk1(i + 1)) * st%rinv
     end subroutine curvature_at
 
     !> The deepest point of sample j's wheel circle under yaw. The circle's point at angle
@@ -454,17 +481,20 @@ contains
     !> lateral y_r = y - offset + r s_th s_ps + y1 c_ps and height z2 with
     !>   y1 = y0 c_ph - z0 c_th s_ph,   z2 = y0 s_ph + z0 c_th c_ph;
     !> its interference P(theta) = h(y_r) - (r_nom + zc + z2) is largest where dP/dtheta = 0:
-    !> Newton from theta = 0 (where z, z1, z2, z3 hold the rail at the lowest point on entry)
-    !> until the point moves less than 1e-13 m. On return th, the point (yr, y1, z2w, xc) and
-    !> the rail there (z, z1, z2, z3). Exactly theta = 0 without yaw.
-    pure subroutine ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+    !> Newton from theta = 0 (where z, z1, z2, z3 hold the rail at the lowest point on entry
+    !> and pt0, ptt0 are dP/dtheta and d2P/dtheta2 there: the caller's pre-check has them)
+    !> until the point moves less than 1e-13 m (in the time loop one step gets there, the
+    !> second confirms it). On return th, its cosine and sine, the point (yr, y1, z2w, xc)
+    !> and the rail there (z, z1, z2, z3). Exactly theta = 0 without yaw.
+    pure subroutine ring_deepest(st, j, y, cph, sph, cps, sps, pt0, ptt0, th, cth, sth, yr, y1, z2w, xc, &
+                                 z, z1, z2, z3, inside)
         type(strip_geometry), intent(in) :: st
         integer, intent(in) :: j
-        real(dp), intent(in) :: y, cph, sph, cps, sps
-        real(dp), intent(out) :: th, y1, z2w, xc
+        real(dp), intent(in) :: y, cph, sph, cps, sps, pt0, ptt0
+        real(dp), intent(out) :: th, cth, sth, y1, z2w, xc
         real(dp), intent(inout) :: yr, z, z1, z2, z3
         logical, intent(out) :: inside
-        real(dp) :: r, y0, z0, cth, sth, yt, ytt, zt, ztt, pt, ptt, dth, t
+        real(dp) :: r, y0, z0, yt, ytt, zt, ztt, pt, ptt, dth, t
         integer :: it, i
         y0 = st%ws(1, j)
         z0 = st%ws(2, j)
@@ -477,20 +507,23 @@ contains
         z2w = sph * y0 + cph * z0
         xc = -y1 * sps
         if (sps == 0.0_dp) return
+        pt = pt0
+        ptt = ptt0
         do it = 1, 8
-            ! dP/dtheta and d2P/dtheta2 with h' = -z1, h'' = -z2
-            yt = r * cth * sps + z0 * sth * sph * cps
-            ytt = -r * sth * sps + z0 * cth * sph * cps
-            zt = -z0 * sth * cph
-            ztt = -z0 * cth * cph
-            pt = -z1 * yt - zt
-            ptt = -z2 * yt * yt - z1 * ytt - ztt
+            if (it > 1) then
+                ! dP/dtheta and d2P/dtheta2 with h' = -z1, h'' = -z2
+                yt = r * cth * sps + z0 * sth * sph * cps
+                ytt = -r * sth * sps + z0 * cth * sph * cps
+                zt = -z0 * sth * cph
+                ztt = -z0 * cth * cph
+                pt = -z1 * yt - zt
+                ptt = -z2 * yt * yt - z1 * ytt - ztt
+            end if
             if (.not. (ptt < 0.0_dp)) return
             dth = -pt / ptt
             if (abs(dth) * r < 1.0e-13_dp) return
             th = th + dth
-            cth = cos(th)
-            sth = sin(th)
+            call cos_sin(th, cth, sth)
             ! (the products grouped as add_strip_dual's dual numbers group them)
             y1 = y0 * cph - z0 * (cth * sph)
             z2w = y0 * sph + z0 * (cth * cph)
@@ -501,6 +534,26 @@ contains
         end do
     end subroutine ring_deepest
 
+    !> cos(x) and sin(x): for |x| <= 0.02 (the deepest point's angle in the time loop is
+    !> ~1e-4) their Taylor series, exact to round-off (the first omitted terms are below
+    !> 1e-19 relative), instead of the library's calls.
+    pure subroutine cos_sin(x, c, s)
+        real(dp), intent(in) :: x
+        real(dp), intent(out) :: c, s
+        real(dp), parameter :: C6 = 1.0_dp / 6.0_dp, C24 = 1.0_dp / 24.0_dp, C120 = 1.0_dp / 120.0_dp
+        real(dp), parameter :: C720 = 1.0_dp / 720.0_dp, C5040 = 1.0_dp / 5040.0_dp, C40320 = 1.0_dp / 40320.0_dp
+        real(dp) :: x2
+        if (abs(x) <= 0.02_dp) then
+            x2 = x * x
+            ! (constant reciprocals: the compiler keeps a division by a literal)
+            c = 1.0_dp - x2 * (0.5_dp - x2 * (C24 - x2 * (C720 - x2 * C40320)))
+            s = x * (1.0_dp - x2 * (C6 - x2 * (C120 - x2 * C5040)))
+        else
+            c = cos(x)
+            s = sin(x)
+        end if
+    end subroutine cos_sin
+
     !> Sample j's potential, gradient and load-weighted point quantities added into out: the
     !> interference at the deepest point of the sample's circle (ring_deepest; its gradient
     !> over the pose by the envelope theorem, dP/dtheta = 0 there), the strip's constant G =
@@ -510,9 +563,9 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: y, zc, cph, sph, cps, sps
         real(dp), intent(inout) :: out(nso + 1, 2)
-        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, d2kr, a, b, x, dxy, dxp, yr
+        real(dp) :: arm, zw, z, z1, z2, z3, p, q, cd, sd, ddl, kr, dkr, a, b, x, dxy, dxp, yr
         real(dp) :: c, dc, w, dw, g, dgy, dgp, dpy, dpp, dps, n, e(nso + 1), om, crel, srel, t, ci
-        real(dp) :: z1l, z2l, tl, th, y1, z2w, xc, lat, pt, ptt, r
+        real(dp) :: z1l, z2l, tl, th, y1, z2w, xc, lat, pt, ptt, r, cth, sth
         integer :: k, i, il
         logical :: inside
         arm = cph * st%ws(1, j) - sph * st%ws(2, j)
@@ -533,18 +586,20 @@ contains
             ! the circle's deepest point lies deeper than its lowest by about pt^2 / (-2 ptt)
             ! (Newton's first step): skip the sample when twice that cannot reach the rail
             r = st%ws(3, j)
-            pt = -z1 * r * sps
-            ptt = -z2 * (r * sps)**2 - z1 * st%ws(2, j) * sph * cps + st%ws(2, j) * cph
+            pt = -z1 * (r * sps)
+            ptt = -z2 * (r * sps)**2 - z1 * (st%ws(2, j) * sph * cps) + st%ws(2, j) * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
-                if (p - pt * pt / ptt <= 0.0_dp) return
+                ! p - pt^2 / ptt <= 0 (ptt < 0), without the division
+                if (p * ptt - pt * pt >= 0.0_dp) return
             end if
-            call ring_deepest(st, j, y, cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            call ring_deepest(st, j, y, cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
+                              z, z1, z2, z3, inside)
             if (.not. inside) return
             p = (st%top - z) - (st%rnom + zc + z2w)
-            lat = r * (sin(th) * sps) + y1 * cps
+            lat = r * (sth * sps) + y1 * cps
         end if
         if (p <= 0.0_dp) return
-        call curvature_at(st, il, tl, kr, dkr, d2kr)
+        call curvature_at(st, il, tl, kr, dkr)
         ! the rail's contact angle and (smoothed) curvature under the lowest point, z down, and
         ! their rates along y_r
         q = 1.0_dp + z1l * z1l
@@ -599,7 +654,12 @@ contains
         do k = 1, 2
             om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
             if (om <= 0.0_dp) cycle
-            out(:, k) = out(:, k) + om * e
+            ! (a whole sample, weight 1, saves the products)
+            if (om == 1.0_dp) then
+                out(:, k) = out(:, k) + e
+            else
+                out(:, k) = out(:, k) + om * e
+            end if
             out(nso + 1, k) = max(out(nso + 1, k), p)
         end do
     end subroutine add_strip
@@ -614,12 +674,11 @@ contains
         integer, intent(in) :: j
         real(dp), intent(in) :: pose(4), cph, sph, cps, sps
         real(dp), intent(inout) :: acc(NDL, nso + 1, 2)
-        real(dp), dimension(NDL) :: pd, z1d, z2d, qd, cdd, sdd, ddld, krd, dkrd, cphd, sphd, cpsd, spsd
-        real(dp), dimension(NDL) :: creld, sreld, ad, bd, xd, td, dxyd, dxpd, cld, dcd, wd, dwd, gd
+        real(dp), dimension(NDL) :: pd, cdd, sdd, cphd, sphd, ad, gd
         real(dp), dimension(NDL) :: dgyd, dgpd, nd, gp, pp, xcd, cthd, sthd, y1d, z2wd, latd, xsd
-        real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, zw0d, arm0d, xkd
-        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, c, dc, d2c, sw, om, e(NDL, nso)
-        real(dp) :: t, bi, ci, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
+        real(dp), dimension(NDL) :: z1sd, dpyd, dppd, dpsd, xkd
+        real(dp) :: arm, zw, yr, z, z1, z2, z3, p, yrg(4), kr, dkr, d2kr, om, e(NDL, nso), gs(3, NGL)
+        real(dp) :: t, z1l, z2l, z3l, tl, th, y1, z2w, xc, r, y0, z0, pt, ptt, cth, sth
         real(dp) :: yt, ytt, ztt, thq(4), yq(4), ytq(4), ztq(4)
         integer :: k, i, il
         logical :: inside
@@ -638,20 +697,22 @@ contains
         il = i
         tl = t
         th = 0.0_dp
+        cth = 1.0_dp
+        sth = 0.0_dp
         if (sps /= 0.0_dp) then
-            pt = -z1 * r * sps
-            ptt = -z2 * (r * sps)**2 - z1 * z0 * sph * cps + z0 * cph
+            pt = -z1 * (r * sps)
+            ptt = -z2 * (r * sps)**2 - z1 * (z0 * sph * cps) + z0 * cph
             if (p <= 0.0_dp .and. ptt < 0.0_dp) then
-                if (p - pt * pt / ptt <= 0.0_dp) return
+                ! p - pt^2 / ptt <= 0 (ptt < 0), without the division
+                if (p * ptt - pt * pt >= 0.0_dp) return
             end if
-            call ring_deepest(st, j, pose(1), cph, sph, cps, sps, th, yr, y1, z2w, xc, z, z1, z2, z3, inside)
+            call ring_deepest(st, j, pose(1), cph, sph, cps, sps, pt, ptt, th, cth, sth, yr, y1, z2w, xc, &
+                              z, z1, z2, z3, inside)
             if (.not. inside) return
             p = (st%top - z) - (st%rnom + pose(2) + z2w)
         end if
         if (p <= 0.0_dp) return
         ! theta's derivatives over the pose from dP/dtheta = 0 (also without yaw: d/dpsi)
-        cth = cos(th)
-        sth = sin(th)
         yt = r * cth * sps + z0 * sth * sph * cps
         ytt = -r * sth * sps + z0 * cth * sph * cps
         ztt = -z0 * cth * cph
@@ -664,93 +725,176 @@ contains
         if (ptt < 0.0_dp) thq = (-z2 * yq * yt - z1 * ytq - ztq) / (-ptt)
         cphd = [cph, 0.0_dp, 0.0_dp, -sph, 0.0_dp]
         sphd = [sph, 0.0_dp, 0.0_dp, cph, 0.0_dp]
-        cpsd = [cps, 0.0_dp, 0.0_dp, 0.0_dp, -sps]
-        spsd = [sps, 0.0_dp, 0.0_dp, 0.0_dp, cps]
         cthd = [cth, -sth * thq]
         sthd = [sth, cth * thq]
         ! the deepest point: y1, z2, its lateral arm, its x and the rail's slope there
-        y1d = y0 * cphd - z0 * dmul(cthd, sphd)
-        z2wd = y0 * sphd + z0 * dmul(cthd, cphd)
-        latd = r * dmul(sthd, spsd) + dmul(y1d, cpsd)
-        xcd = r * dmul(sthd, cpsd) - dmul(y1d, spsd)
+        y1d = y0 * cphd - z0 * dmul1(cthd, sph, cph, 4)
+        z2wd = y0 * sphd + z0 * dmul1(cthd, cph, -sph, 4)
+        latd = r * dmul1(sthd, sps, cps, 5) + dmul1(y1d, cps, -sps, 5)
+        xcd = r * dmul1(sthd, cps, -sps, 5) - dmul1(y1d, sps, cps, 5)
         xsd = latd
         xsd(2) = xsd(2) + 1.0_dp
         z1sd = [z1, z2 * xsd(2:NDL)]
         ! P's gradient (envelope theorem) as dual numbers
         dpyd = -z1sd
-        dppd = dmul(dmul(z1sd, z2wd), cpsd) - y1d
+        dppd = dmul1(dmul(z1sd, z2wd), cps, -sps, 5) - y1d
         dpsd = -dmul(z1sd, xcd)
         pd = [p, dpyd(1), -1.0_dp, dppd(1), dpsd(1)]
         ! G under the lowest point: d y_r0 = dy - zw cos(psi) dphi - arm sin(psi) dpsi
-        zw0d = [zw, 0.0_dp, 0.0_dp, arm, 0.0_dp]
-        arm0d = [arm, 0.0_dp, 0.0_dp, -zw, 0.0_dp]
         yrg = [1.0_dp, 0.0_dp, -zw * cps, -arm * sps]
         call curvature_at(st, il, tl, kr, dkr, d2kr)
-        z1d = [z1l, z2l * yrg]
-        z2d = [z2l, z3l * yrg]
-        qd = [1.0_dp + z1l * z1l, 2.0_dp * z1l * z2l * yrg]
-        cdd(1) = 1.0_dp / sqrt(qd(1))
-        cdd(2:NDL) = -0.5_dp * cdd(1) * cdd(1) * cdd(1) * qd(2:NDL)
-        sdd = -dmul(z1d, cdd)
-        ! 1 / q = cos(delta)^2
-        ddld = -dmul(z2d, [cdd(1) * cdd(1), 2.0_dp * cdd(1) * cdd(2:NDL)])
-        krd = [kr, dkr * yrg]
-        dkrd = [dkr, d2kr * yrg]
-        creld = dmul(cdd, cphd) + dmul(sdd, sphd)
-        sreld = dmul(sdd, cphd) - dmul(cdd, sphd)
-        ad = creld * st%hr(j)
-        bd = 0.5_dp * krd
-        bd(1) = bd(1) - 0.5_dp * st%ws(4, j)
-        if (bd(1) > 0.0_dp) then
-            bi = 1.0_dp / bd(1)
-            ci = 1.0_dp / creld(1)
-            ! ln(B / A) = ln(B 2 r / crel)
-            xd = [log(bd(1) * (2.0_dp * r) * ci), bd(2:NDL) * bi - creld(2:NDL) * ci]
-            td = drec(sreld, creld, ci)
-            dxyd = 0.5_dp * drec(dkrd, bd, bi) + dmul(td, ddld)
-            dxpd = -td
-        else
-            xd = [st%fx0, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
-            dxyd = 0.0_dp
-            dxpd = 0.0_dp
-        end if
-        call ratio_at(st, 1, xd(1), c, dc, d2c)
-        cld = [c, dc * xd(2:NDL)]
-        dcd = [dc, d2c * xd(2:NDL)]
-        sw = st%ws(5, j)
-        wd = st%ds * [cph + sph * sw, 0.0_dp, 0.0_dp, -sph + cph * sw, 0.0_dp]
-        dwd = st%ds * [-sph + cph * sw, 0.0_dp, 0.0_dp, -cph - sph * sw, 0.0_dp]
-        gd = dmul(dmul(cld, cdd), wd)
-        dgyd = dmul(dmul(dmul(dcd, dxyd), cdd), wd) - dmul(dmul(dmul(cld, sdd), ddld), wd)
-        dgpd = dmul(dmul(dmul(dcd, dxpd), cdd), wd) + dmul(dmul(cld, cdd), dwd)
-        nd = 2.0_dp * dmul(dmul(cld, wd), pd)
+        call constant_lin(st, j, z1l, z2l, z3l, kr, dkr, d2kr, cph, sph, gs)
+        gd = up5(gs(:, GL_G), yrg)
+        dgyd = up5(gs(:, GL_GY), yrg)
+        dgpd = up5(gs(:, GL_GP), yrg)
+        sdd = up5(gs(:, GL_SD), yrg)
+        cdd = up5(gs(:, GL_CD), yrg)
+        ad = up5(gs(:, GL_A), yrg)
+        xkd = up5(gs(:, GL_X), yrg)
+        nd = 2.0_dp * dmul(up5(gs(:, GL_CW), yrg), pd)
         gp = dmul(gd, pd)
         pp = dmul(pd, pd)
         e(:, SO_N) = nd
         e(:, SO_V) = dmul(gp, pd)
         e(:, SO_DY) = 2.0_dp * dmul(gp, dpyd) + dmul(pp, dgyd)
         e(:, SO_DZ) = -2.0_dp * gp
-        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dppd) + dmul(pp, dgpd - dmul(dmul(dgyd, zw0d), cpsd))
-        e(:, SO_DPSI) = 2.0_dp * dmul(gp, dpsd) - dmul(pp, dmul(dmul(dgyd, arm0d), spsd))
+        e(:, SO_DPHI) = 2.0_dp * dmul(gp, dppd) + dmul(pp, dgpd - dmul1(dmul1(dgyd, zw, arm, 4), cps, -sps, 5))
+        e(:, SO_DPSI) = 2.0_dp * dmul(gp, dpsd) - dmul(pp, dmul1(dmul1(dgyd, arm, -zw, 4), sps, cps, 5))
         e(:, SO_L) = dmul(nd, latd)
         e(:, SO_ZA) = -dmul(nd, z2wd)
         e(:, SO_XC) = dmul(nd, xcd)
         e(:, SO_DELTA) = dmul(nd, sdd)
         e(:, SO_PMAX) = dmul(nd, cdd)
         e(:, SO_R) = nd * r
-        ! x as the table clamps it (its rates zero there)
-        xkd = xd
-        xkd(1) = min(max(xd(1), st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
-        if (xkd(1) /= xd(1)) xkd(2:NDL) = 0.0_dp
         e(:, SO_X) = dmul(nd, xkd)
         e(:, SO_A) = dmul(nd, ad)
         do k = 1, 2
             om = merge(st%ws(6, j), 1.0_dp - st%ws(6, j), k == 1)
             if (om <= 0.0_dp) cycle
-            acc(:, 1:nso, k) = acc(:, 1:nso, k) + om * e
+            if (om == 1.0_dp) then
+                acc(:, 1:nso, k) = acc(:, 1:nso, k) + e
+            else
+                acc(:, 1:nso, k) = acc(:, 1:nso, k) + om * e
+            end if
             if (p > acc(1, nso + 1, k)) acc(:, nso + 1, k) = pd
         end do
     end subroutine add_strip_dual
+
+    !> The strip constant's factors of sample j and their rates over the rail-local y of the
+    !> lowest point (u) and the roll (phi), gs(:, GL_*) = (value, d/du, d/dphi): G = c cos(delta)
+    !> w, its rates dG/dY and dG/dphi of add_strip, c w, sin and cos of the rail's contact angle,
+    !> A and x = ln(B/A) as the table clamps it. They depend on the pose through u and phi only
+    !> (the rail at u: z1, z2, z3 its slope and next derivatives, kr, dkr, d2kr the smoothed
+    !> curvature and its rates), so two partials carry them (add_strip_dual's dual numbers
+    !> take them as d/dq = d/du du/dq + d/dphi dphi/dq, up5).
+    pure subroutine constant_lin(st, j, z1, z2, z3, kr, dkr, d2kr, cph, sph, gs)
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: j
+        real(dp), intent(in) :: z1, z2, z3, kr, dkr, d2kr, cph, sph
+        real(dp), intent(out) :: gs(3, NGL)
+        real(dp) :: cd, cdu, sd, sdu, dl, dlu, cr, cru, crp, sr, sru, srp, b, bu, bi, ci, x, xu, xp
+        real(dp) :: td, tdu, tdp, dk, dku, dy, dyu, dyp, dx, dxu, dxp, c, dc, d2c, cu, cp, dcu, dcp
+        real(dp) :: w, wp, dw, dwp, cc, ccu, ccp, f, fu, fp, g, gu, gp, sw
+        cd = 1.0_dp / sqrt(1.0_dp + z1 * z1)
+        cdu = -0.5_dp * cd * cd * cd * (2.0_dp * z1 * z2)
+        sd = -z1 * cd
+        sdu = -(z1 * cdu + cd * z2)
+        ! the rate of delta along u (1 / q = cos(delta)^2)
+        dl = -z2 * (cd * cd)
+        dlu = -(z2 * (2.0_dp * cd * cdu) + cd * cd * z3)
+        cr = cd * cph + sd * sph
+        cru = cdu * cph + sdu * sph
+        crp = -cd * sph + sd * cph
+        sr = sd * cph - cd * sph
+        sru = sdu * cph - cdu * sph
+        srp = -sd * sph - cd * cph
+        b = 0.5_dp * kr - 0.5_dp * st%ws(4, j)
+        bu = 0.5_dp * dkr
+        x = st%fx0
+        xu = 0.0_dp
+        xp = 0.0_dp
+        dy = 0.0_dp
+        dyu = 0.0_dp
+        dyp = 0.0_dp
+        dx = 0.0_dp
+        dxu = 0.0_dp
+        dxp = 0.0_dp
+        if (b > 0.0_dp) then
+            bi = 1.0_dp / b
+            ci = 1.0_dp / cr
+            ! ln(B / A) = ln(B 2 r / crel) and the rates dx/dY, dx/dphi of add_strip
+            x = log(b * (2.0_dp * st%ws(3, j)) * ci)
+            xu = bu * bi - cru * ci
+            xp = -crp * ci
+            td = sr * ci
+            tdu = (sru - td * cru) * ci
+            tdp = (srp - td * crp) * ci
+            dk = dkr * bi
+            dku = (d2kr - dk * bu) * bi
+            dy = 0.5_dp * dk + td * dl
+            dyu = 0.5_dp * dku + (td * dlu + dl * tdu)
+            dyp = dl * tdp
+            dx = -td
+            dxu = -tdu
+            dxp = -tdp
+        end if
+        call ratio_at(st, 1, x, c, dc, d2c)
+        cu = dc * xu
+        cp = dc * xp
+        dcu = d2c * xu
+        dcp = d2c * xp
+        sw = st%ws(5, j)
+        w = st%ds * (cph + sph * sw)
+        wp = st%ds * (-sph + cph * sw)
+        dw = wp
+        dwp = st%ds * (-cph - sph * sw)
+        ! G = (c cos(delta)) w
+        cc = c * cd
+        ccu = c * cdu + cd * cu
+        ccp = cd * cp
+        gs(:, GL_G) = [cc * w, ccu * w, ccp * w + cc * wp]
+        ! dG/dY = dc dxy cos(delta) w - c sin(delta) ddelta w
+        f = dc * dy
+        fu = dc * dyu + dy * dcu
+        fp = dc * dyp + dy * dcp
+        g = f * cd
+        gu = fu * cd + f * cdu
+        gp = fp * cd
+        gs(:, GL_GY) = [g * w, gu * w, gp * w + g * wp]
+        f = c * sd
+        fu = c * sdu + sd * cu
+        fp = sd * cp
+        g = f * dl
+        gu = fu * dl + f * dlu
+        gp = fp * dl
+        gs(:, GL_GY) = gs(:, GL_GY) - [g * w, gu * w, gp * w + g * wp]
+        ! dG/dphi = dc dxp cos(delta) w + c cos(delta) dw
+        f = dc * dx
+        fu = dc * dxu + dx * dcu
+        fp = dc * dxp + dx * dcp
+        g = f * cd
+        gu = fu * cd + f * cdu
+        gp = fp * cd
+        gs(:, GL_GP) = [g * w + cc * dw, gu * w + ccu * dw, gp * w + g * wp + (ccp * dw + cc * dwp)]
+        gs(:, GL_CW) = [c * w, cu * w, cp * w + c * wp]
+        gs(:, GL_SD) = [sd, sdu, 0.0_dp]
+        gs(:, GL_CD) = [cd, cdu, 0.0_dp]
+        gs(:, GL_A) = [cr, cru, crp] * st%hr(j)
+        ! x as the table clamps it (its rates zero there)
+        gs(:, GL_X) = [x, xu, xp]
+        gs(1, GL_X) = min(max(x, st%fx0), st%fx0 + real(st%nf - 1, dp) * st%fdx)
+        if (gs(1, GL_X) /= x) gs(2:3, GL_X) = 0.0_dp
+    end subroutine constant_lin
+
+    !> A quantity with rates (value, d/du, d/dphi) over the lowest point's rail-local y u and
+    !> the roll as a dual number over the pose, yrg = du/d(y, zc, phi, psi).
+    pure function up5(g, yrg) result(r)
+        real(dp), intent(in) :: g(3), yrg(4)
+        real(dp) :: r(NDL)
+        r(1) = g(1)
+        r(2:NDL) = g(2) * yrg
+        r(4) = r(4) + g(3)
+    end function up5
 
     !> Product of two dual numbers (value, gradient(NDL - 1)).
     pure function dmul(a, b) result(r)
@@ -760,12 +904,14 @@ contains
         r(2:NDL) = a(1) * b(2:NDL) + b(1) * a(2:NDL)
     end function dmul
 
-    !> Quotient a / b of two dual numbers given bi = 1 / b(1).
-    pure function drec(a, b, bi) result(r)
-        real(dp), intent(in) :: a(NDL), b(NDL), bi
+    !> Product of a dual number a and one whose derivative has a single non-zero entry:
+    !> value c, derivative dc in component k (sines and cosines of the pose's angles, widths).
+    pure function dmul1(a, c, dc, k) result(r)
+        real(dp), intent(in) :: a(NDL), c, dc
+        integer, intent(in) :: k
         real(dp) :: r(NDL)
-        r(1) = a(1) * bi
-        r(2:NDL) = (a(2:NDL) - r(1) * b(2:NDL)) * bi
-    end function drec
+        r = c * a
+        r(k) = r(k) + a(1) * dc
+    end function dmul1
 
 end module vehicle_strip
