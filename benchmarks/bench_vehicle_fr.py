@@ -9,12 +9,13 @@ scenario's 4 mm start, Hertz + FASTSIM, one run each; compare figures of one inv
 only (the machine is shared).
 
     .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s] [--python PY ...]  # 10 s
-    .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s]  # BEM 0.75 mm, default 0.1 s
+    .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s] [RR,FR,RF,FF]  # BEM 0.75 mm
 
 The BEM mode: centred running at 200 km/h with the BEM on all eight wheels from the BEM's
 static state (more Newton iterations than the scenario's default, as
-validation/vehicle_fr_vs_rr.py), RR and FR at the default selection: the real-time factor
-(wall time per simulated second) of the time loop alone.
+validation/vehicle_fr_vs_rr.py), RR and FR (or the models named: RF and FF on the default
+ring) at the default selection: the real-time factor (wall time per simulated second) of
+the time loop alone.
 """
 from __future__ import annotations
 
@@ -46,7 +47,7 @@ from railvti.vehicle import simulate, static_equilibrium
 from railvti.vehicle.simulate import bem_state
 model, dur = sys.argv[1], float(sys.argv[2])
 v = 200.0 / 3.6
-sy = scenarios.coach_system(model, speed_kmh=200.0) if model == "FR" else scenarios.coach_system()
+sy = scenarios.coach_system(model, speed_kmh=200.0) if model != "RR" else scenarios.coach_system()
 h = scenarios._default_step(sy)
 with bem_state(sy) as st:
     q, qd, _ = static_equilibrium(sy, v, "bem", bem=st, return_velocity=True, tol=1e-9, maxit=200)
@@ -59,23 +60,25 @@ print(json.dumps({"wall": wall, "h": h, "steps": r.stats["steps"],
 """
 
 
-def bem(dur: float) -> None:
+def bem(dur: float, models: tuple[str, ...] = ("RR", "FR")) -> None:
     print(f"centred running 200 km/h, BEM 0.75 mm on all eight wheels, {dur:g} s simulated "
           "(time loop only)")
     print(f"{'model':22s} {'h ms':>6s} {'wall s':>7s} {'RTF':>6s} {'Newton/step':>11s} "
           f"{'peak RSS MB':>11s}")
-    for model in ("RR", "FR"):
+    print(f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores")
+    for model in models:
         p = subprocess.run([sys.executable, "-c", _BEM_CHILD, model, str(dur)],
                            capture_output=True, text=True, check=True)
         o = json.loads(p.stdout.strip().splitlines()[-1])
-        name = model + (" (default selection)" if model == "FR" else "")
+        name = model + (" (default selection)" if model in ("FR", "FF") else "")
         print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
               f"{o['newton'] / max(o['steps'], 1):11.2f} {o['rss_mb']:11.0f}")
 
 
 def main() -> None:
     if sys.argv[1:2] == ["bem"]:
-        bem(float(sys.argv[2]) if len(sys.argv) > 2 else 0.1)
+        bem(float(sys.argv[2]) if len(sys.argv) > 2 else 0.1,
+            tuple(sys.argv[3].split(",")) if len(sys.argv) > 3 else ("RR", "FR"))
         return
     ap = argparse.ArgumentParser()
     ap.add_argument("duration", nargs="?", type=float, default=10.0, help="simulated s")
