@@ -477,6 +477,7 @@ contains
                 end do
             end do
         end do
+        call largest_first(m, list(:, 1:n))
         ! each point writes its own bem_point only; the workspaces are the thread's own
         !$omp parallel do if (nt > 1 .and. n > 1) num_threads(nt) schedule(dynamic, 1) &
         !$omp default(shared) private(i, t)
@@ -506,6 +507,33 @@ contains
             end do
         end do
     end subroutine bem_solve_recorded
+
+    !> Order the points to solve by their window's area, largest first (stable): the threads
+    !> take them in this order, so the long solves (flange and wide tread patches) start first
+    !> and the short ones fill in (the results do not depend on the order).
+    subroutine largest_first(m, list)
+        type(bem_model), intent(in) :: m
+        integer, intent(inout) :: list(:, :)
+        integer :: i, j, area(size(list, 2)), key(3), a
+        do i = 1, size(list, 2)
+            associate (pt => m%pts(list(1, i), list(2, i), list(3, i)))
+                area(i) = (pt%i2 - pt%i1 + 1) * (pt%j2 - pt%j1 + 1)
+            end associate
+        end do
+        do i = 2, size(list, 2)         ! insertion sort: at most 4 points per wheelset
+            key = list(:, i)
+            a = area(i)
+            j = i - 1
+            do while (j >= 1)
+                if (area(j) >= a) exit
+                list(:, j + 1) = list(:, j)
+                area(j + 1) = area(j)
+                j = j - 1
+            end do
+            list(:, j + 1) = key
+            area(j + 1) = a
+        end do
+    end subroutine largest_first
 
     !> A point's counters cnt into the model's counts (sums; 6, 7 the worst).
     pure subroutine add_counts(counts, cnt)
