@@ -26,11 +26,14 @@
 !> records each point's problem (bem_patch then only stores its arguments), bem_solve_recorded
 !> prepares every point serially (gap field, window, the window's workspaces made for every
 !> thread: FFTW planning is not thread-safe) and runs the normal + rolling solves in an OpenMP
-!> loop over the points (nthreads, bem_threads; each thread executes its own plans on its own
-!> buffers, each point writes its own fields only), and the second pass reads each point's
-!> solution back through bem_patch when its arguments are the recorded ones. The counters are
-!> summed in a fixed order after the loop, so a run gives the same numbers to the bit with any
-!> number of threads, and with none (a build without OpenMP runs the loop serially).
+!> loop over the points, largest window first (nthreads, bem_threads; each thread executes its
+!> own plans on its own buffers, each point writes its own bem_point only), and the second
+!> pass reads each point's solution back through bem_patch when its arguments are the recorded
+!> ones. After the loop the solutions are committed (their fields become the warm starts) and
+!> the counters summed in the serial order (wheelset, wheel, point), the points after the first
+!> failure dropped as a serial evaluation, which stops there, would leave them: a run gives
+!> the same numbers to the bit with any number of threads, and with none (a build without
+!> OpenMP runs the loop serially), as the serial code did.
 !>
 !> Windows. Each solve runs on the window of the grid around the point's rigid
 !> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
@@ -313,10 +316,14 @@ contains
         info = STAT_OK
     end subroutine bem_threads
 
+    !> The threads bem_threads sets for n (1 without OpenMP).
     integer function threads_of(n)
         integer, intent(in) :: n
+        logical :: omp
+        omp = .false.
+        !$ omp = .true.
         threads_of = 1
-        !$ threads_of = n
+        if (omp) threads_of = n
         !$ if (n <= 0) threads_of = omp_get_max_threads()
         threads_of = min(max(threads_of, 1), MAX_THREADS)
     end function threads_of
