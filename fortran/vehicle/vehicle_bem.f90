@@ -306,6 +306,9 @@ contains
     !> Threads of the patch loop: n, or with n <= 0 all the OpenMP runtime offers
     !> (omp_get_max_threads: the cores, or OMP_NUM_THREADS), at most MAX_THREADS; always 1 in
     !> a build without OpenMP. nset: the number set. info: STAT_OK or STAT_BAD_HANDLE.
+    !> Python's interrupt handler calls it while a call still runs on the state (a static
+    !> solve abandoned to Ctrl-C, down to one thread): each bem_solve_recorded reads the count
+    !> once, at its start (one aligned integer).
     subroutine bem_threads(handle, n, nset, info)
         integer, intent(in) :: handle, n
         integer, intent(out) :: nset, info
