@@ -6,10 +6,17 @@
 1 s), unless given; its RTF is wall / simulated time of that run. The Hertz contacts run on
 the table's points and on the strip contact (``geometry='strip'``).
 
-    .venv/bin/python benchmarks/bench_vehicle.py [duration_s] [bem_duration_s]
-    .venv/bin/python benchmarks/bench_vehicle.py --profile [duration_s]   (default 0.3 s)
+    .venv/bin/python benchmarks/bench_vehicle.py [duration_s] [bem_duration_s] [--threads 1,2] [--bem-only]
+    .venv/bin/python benchmarks/bench_vehicle.py --profile [duration_s] [--threads N]   (default 0.3 s)
 
-``--profile``: where the time of one BEM run goes (issue 18 item 1). The same hunting run with
+``--threads``: the BEM case once per thread count given (``simulate(threads=)``: the patches of
+the eight wheels solved concurrently; default: all cores), each in its own process, one after
+the other, so the counts are compared in one run; the amplitude and Q max of each say that
+the results are the same. ``--bem-only`` skips the Hertz cases.
+
+``--profile``: where the time of one BEM run goes (issue 18 item 1; one thread unless
+``--threads`` says otherwise: the patch timers sum the patches' own wall times, which overlap
+with several threads). The same hunting run with
 the BEM (RR, 300 km/h, 0.75 mm), on its own BEM state so that its wall-time counters
 (``BemState.timers``: system_clock around the solves in fortran/vehicle/vehicle_bem.f90) can
 be read: time in normal solves, in rolling solves, in the rest of the BEM patches (gap field
@@ -21,7 +28,9 @@ splits the time outside the patches by module.
 """
 from __future__ import annotations
 
+import argparse
 import json
+import os
 import subprocess
 import sys
 
@@ -31,14 +40,16 @@ CASES = [("hertz-kalker", 8, "table"), ("hertz-fastsim", 8, "table"), ("hertz-fa
 CHILD = r"""
 import json, resource, sys, time
 from railvti import scenarios
-contact, n, dur, geo = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
+contact, n, dur, geo, thr = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), sys.argv[4], sys.argv[5]
 scenarios.contact_table()                      # table build (cached per process)
 scenarios.coach_system(geometry=geo)           # the strip arrays too
+kw = {"threads": int(thr)} if contact == "bem" and thr != "all" else {}
 t0, c0 = time.perf_counter(), time.process_time()
 r = scenarios.hunting(300.0, contact=contact, duration=dur, y0=0.004, fastsim_n=max(n, 1),
-                     progress=False, geometry=geo)
+                     progress=False, geometry=geo, **kw)
 wall, cpu = time.perf_counter() - t0, time.process_time() - c0
 print(json.dumps({"wall": wall, "cpu": cpu, "rtf": wall / dur, "amp_mm": scenarios.amplitude(r) * 1e3,
+                  "qmax_kn": float(r.Q.max()) / 1e3, "threads": r.stats.get("bem_threads", 1),
                   "bem_per_step": r.stats.get("bem_solves_per_step", 0.0),
                   "grid": list(r.stats.get("bem_grid", ()))[:2],
                   "steps": r.stats["steps"], "newton": r.stats["newton_iterations"],
@@ -51,12 +62,13 @@ PROFILE_CHILD = r"""
 import json, sys, time
 from railvti import scenarios
 from railvti.vehicle.simulate import bem_state
-dur = float(sys.argv[1])
+dur, thr = float(sys.argv[1]), int(sys.argv[2])
 sy = scenarios.coach_system("RR")
 scenarios.contact_table()
 with bem_state(sy) as st:
     t0, c0 = time.perf_counter(), time.process_time()
-    r = scenarios.hunting(300.0, contact="bem", duration=dur, y0=0.004, progress=False, bem=st)
+    r = scenarios.hunting(300.0, contact="bem", duration=dur, y0=0.004, progress=False, bem=st,
+                          threads=thr)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     tm = st.timers()
 s = r.stats
@@ -79,12 +91,11 @@ PERF_GROUPS = [("__contact_normal_MOD", "normal solver"), ("__contact_rolling_MO
                ("_multiarray", "Python + numpy"), ("kernel", "kernel"), ("libc", "libc (memory)")]
 
 
-def profile(dur: float, use_perf: bool) -> None:
+def profile(dur: float, use_perf: bool, threads: int = 1) -> None:
     """Print where the time of one BEM run goes (see the module doc)."""
-    import os
     import shutil
     import tempfile
-    cmd = [sys.executable, "-c", PROFILE_CHILD, str(dur)]
+    cmd = [sys.executable, "-c", PROFILE_CHILD, str(dur), str(threads)]
     perf_data = None
     if use_perf and shutil.which("perf"):
         perf_data = os.path.join(tempfile.mkdtemp(), "perf.data")
@@ -97,7 +108,7 @@ def profile(dur: float, use_perf: bool) -> None:
     rest_patch = tm["patch_seconds"] - tm["normal_seconds"] - tm["rolling_seconds"]
     outside = wall - tm["patch_seconds"]
     print(f"profile of one BEM run: RR coach, hunting at 300 km/h, {dur:g} s simulated, h = 1 ms, "
-          f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm; "
+          f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm, {threads} thread(s); "
           f"load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     print(f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps; CPU {d['cpu']:.2f} s "
           f"for the whole hunting call (static equilibrium included, RTF {d['cpu'] / dur:.1f}; the "
@@ -133,31 +144,46 @@ def profile(dur: float, use_perf: bool) -> None:
 
 
 def main() -> None:
-    if len(sys.argv) > 1 and sys.argv[1] == "--profile":
-        rest = [a for a in sys.argv[2:] if a != "--perf"]
-        profile(float(rest[0]) if rest else 0.3, "--perf" in sys.argv)
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("duration", nargs="?", type=float, help="simulated time, s")
+    ap.add_argument("bem_duration", nargs="?", type=float, help="simulated time with the BEM, s")
+    ap.add_argument("--profile", action="store_true", help="where the time of one BEM run goes")
+    ap.add_argument("--perf", action="store_true", help="with --profile: perf samples too")
+    ap.add_argument("--threads", default=None,
+                    help="BEM threads, comma-separated counts each run in turn (default: all cores; "
+                         "--profile: 1)")
+    ap.add_argument("--bem-only", action="store_true", help="skip the Hertz cases")
+    args = ap.parse_args()
+    if args.profile:
+        profile(args.duration or 0.3, args.perf, int(args.threads or 1))
         return
-    dur = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
-    dur_bem = float(sys.argv[2]) if len(sys.argv) > 2 else min(dur, 1.0)
+    dur = args.duration if args.duration is not None else 10.0
+    dur_bem = args.bem_duration if args.bem_duration is not None else min(dur, 1.0)
+    threads = args.threads.split(",") if args.threads else ["all"]
     print(f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "
           "(RR coach, 53 DOF, 8 wheels)")
-    import os
     print(f"load {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; RTF from wall time, RTF cpu from the "
           "child's CPU time (both include the static equilibrium)")
-    print(f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} {'RTF cpu':>8s} {'amp mm':>7s} "
+    print(f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'thr':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} "
+          f"{'RTF cpu':>8s} {'amp mm':>9s} {'Q max kN':>9s} "
           f"{'steps':>6s} {'Newton/step':>11s} {'tangents':>8s} {'sub-stepped':>11s} "
           f"{'BEM/step':>8s} {'peak RSS MB':>11s}")
     for contact, n, geo in CASES:
+        if args.bem_only and contact != "bem":
+            continue
         d_run = dur_bem if contact == "bem" else dur
-        out = subprocess.run([sys.executable, "-c", CHILD, contact, str(n), str(d_run), geo],
-                             capture_output=True, text=True, check=True)
-        d = json.loads(out.stdout.strip().splitlines()[-1])
-        print(f"{contact:>14s} {geo:>8s} {n:3d} {d_run:6.2f} {d['wall']:8.2f} {d['rtf']:8.3f} {d['cpu'] / d_run:8.3f} "
-              f"{d['amp_mm']:7.2f} {d['steps']:6d} {d['newton'] / d['steps']:11.2f} "
-              f"{d['tangents']:8d} {d['sub']:11d} {d['bem_per_step']:8.1f} {d['rss_mb']:11.0f}")
+        for thr in (threads if contact == "bem" else ["all"]):
+            out = subprocess.run([sys.executable, "-c", CHILD, contact, str(n), str(d_run), geo, thr],
+                                 capture_output=True, text=True, check=True)
+            d = json.loads(out.stdout.strip().splitlines()[-1])
+            print(f"{contact:>14s} {geo:>8s} {n:3d} {d['threads']:3d} {d_run:6.2f} {d['wall']:8.2f} "
+                  f"{d['rtf']:8.3f} {d['cpu'] / d_run:8.3f} {d['amp_mm']:9.5f} {d['qmax_kn']:9.4f} "
+                  f"{d['steps']:6d} {d['newton'] / d['steps']:11.2f} "
+                  f"{d['tangents']:8d} {d['sub']:11d} {d['bem_per_step']:8.1f} {d['rss_mb']:11.0f}")
         if contact == "bem":
             print(f"{'':>23s} BEM grid {d['grid'][0]} x {d['grid'][1]} elements of 0.75 mm per "
-                  "wheel and candidate point; BEM/step = normal + rolling solve pairs per step")
+                  "wheel and candidate point; BEM/step = normal + rolling solve pairs per step; "
+                  f"load now {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

@@ -473,3 +473,18 @@ subroutine vehicle_bem_window_c(handle, on, info)
     call bem_window(handle, on /= 0, stat)
     info = stat
 end subroutine vehicle_bem_window_c
+
+!> Threads of the BEM patch loop (vehicle_bem%bem_threads): n, or all the OpenMP runtime
+!> offers for n <= 0; nset the number set (1 in a build without OpenMP). info: STAT_OK or
+!> STAT_BAD_HANDLE.
+subroutine vehicle_bem_threads_c(handle, n, nset, info)
+    use iso_c_binding, only: c_int
+    use vehicle_bem, only: bem_threads
+    implicit none
+    integer(c_int), intent(in) :: handle, n
+    integer(c_int), intent(out) :: nset, info
+    integer :: ns, stat
+    call bem_threads(handle, n, ns, stat)
+    nset = ns
+    info = stat
+end subroutine vehicle_bem_threads_c

@@ -15,10 +15,25 @@
 !> with delta = d.
 !>
 !> State. One bem_model per simulation behind an integer handle (registry like
-!> contact_plans): the gap table, one contact workspace (FFT plans and influence spectra of
-!> the grid, with the tangential kernels) shared by every patch, and per wheelset, wheel and
-!> candidate point the last pressure, tractions and slip velocities (the warm starts and the
-!> fields reported after a run). Not thread-safe.
+!> contact_plans): the gap table, the contact workspaces (FFT plans and influence spectra, with
+!> the tangential kernels) of the full grid and of the windows, one per thread, and per
+!> wheelset, wheel and candidate point a bem_point: the last pressure, tractions and slip
+!> velocities (the warm starts and the fields reported after a run) and the patch problem of
+!> the current force evaluation with its solution.
+!>
+!> Threads. A force evaluation solves the patches of all wheels together (bem_record,
+!> bem_solve_recorded, called by vehicle_model%force_total): a first pass over the wheelsets
+!> records each point's problem (bem_patch then only stores its arguments), bem_solve_recorded
+!> prepares every point serially (gap field, window, the window's workspaces made for every
+!> thread: FFTW planning is not thread-safe) and runs the normal + rolling solves in an OpenMP
+!> loop over the points, largest window first (nthreads, bem_threads; each thread executes its
+!> own plans on its own buffers, each point writes its own bem_point only), and the second
+!> pass reads each point's solution back through bem_patch when its arguments are the recorded
+!> ones. After the loop the solutions are committed (their fields become the warm starts) and
+!> the counters summed in the serial order (wheelset, wheel, point), the points after the first
+!> failure dropped as a serial evaluation, which stops there, would leave them: a run gives
+!> the same numbers to the bit with any number of threads, and with none (a build without
+!> OpenMP runs the loop serially), as the serial code did.
 !>
 !> Windows. Each solve runs on the window of the grid around the point's rigid
 !> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
@@ -28,13 +43,14 @@
 !> the influence coefficients of an element pair depend on their offset only, so the
 !> window's solution is the full grid's, to the solvers' tolerances, at the cost of FFTs of
 !> the window (a tread patch's window is about a fifth of the 0.75 mm grid).
-!> The window workspaces are made inside the time loop (the GIL released): two BEM runs in
-!> threads of one process must not run at the same time (contact_plans' registry is not
-!> thread-safe; the sweeps run one thread per process).
+!> The window workspaces are made inside the time loop (the GIL released), always outside the
+!> parallel loop: two BEM runs in Python threads of one process must not run at the same time
+!> (contact_plans' registry is not thread-safe; the sweeps run one thread per process).
 !> Implements no equation itself: it applies contact_normal (Kaiser eqs 17-23) and
 !> contact_rolling (eqs 24-29) at every wheel.
 module vehicle_bem
     use, intrinsic :: iso_fortran_env, only: int64
+    !$ use omp_lib, only: omp_get_thread_num, omp_get_max_threads
     use common_kinds, only: dp
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
@@ -45,47 +61,80 @@ module vehicle_bem
     implicit none
     private
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
-    public :: bem_window
-    public :: MAX_BEM, BEM_NCOUNT
+    public :: bem_window, bem_threads, bem_record, bem_solve_recorded
+    public :: MAX_BEM, BEM_NCOUNT, MAX_THREADS
 
     integer, parameter :: MAX_BEM = 16
+    !> Threads of the patch loop at most (bem_threads clips to it).
+    integer, parameter :: MAX_THREADS = 64
     !> Gap-field entries at or above this mark elements off the point's part of the wheel, m.
     real(dp), parameter :: FAR = 0.5_dp
     !> Counters (bem_counts): 1 normal solves, 2 CG iterations, 3 rolling solves,
     !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
-    !> 7 worst accepted rolling residual, 8 wall seconds in normal solves, 9 in rolling
-    !> solves, 10 in bem_patch as a whole (the solves, the gap field and the sums).
+    !> 7 worst accepted rolling residual, 8 seconds in normal solves, 9 in rolling solves,
+    !> 10 in the patches as a whole (the solves, the gap field and the sums); 8-10 are summed
+    !> over the patches (wall seconds of each patch: thread-seconds with several threads).
     integer, parameter :: BEM_NCOUNT = 10
     !> Free elements around the interpenetration in a solve window (steady rolling needs
     !> two free rows behind the patch, the edge test one more), and the step its sides are
     !> rounded up to (few distinct window sizes, so few workspaces).
     integer, parameter :: WIN_MARGIN = 3, WIN_QUANTUM = 4
-    !> Window sizes (workspaces) kept per model; beyond it a solve uses the full grid.
+    !> Window sizes kept per model (each with a workspace per thread); beyond it a solve uses
+    !> the full grid.
     integer, parameter :: MAX_WIN = 48
+    !> A point's patch problem: none pending, recorded (bem_record), solved (bem_solve_recorded).
+    integer, parameter :: PT_IDLE = 0, PT_RECORDED = 1, PT_SOLVED = 2
 
-    type :: bem_model
-        logical :: used = .false.
-        integer :: nx = 0, ny = 0, ntab = 0, nws = 0, ws = 0
+    !> What every solve of a model reads and none changes.
+    type :: bem_setup
+        integer :: nx = 0, ny = 0
         !> nblock: rows per FFT refresh of the rolling sweeps ('fftgs'): a window's rows all
         !> in one block (one field product per sweep; the in-block changes are summed directly)
         integer :: maxit_n = 200, maxit_t = 400, nblock = 64, ninner = 1
-        real(dp) :: dx = 0, dy = 0, ytab0 = 0, dytab = 1, tol_n = 1e-8_dp, tol_t = 1e-6_dp
-        real(dp) :: g = 0, nu = 0
-        !> solves on windows (see the module doc); win(:, i) = (nx, ny, workspace) of the
-        !> nwin window workspaces made so far
+        real(dp) :: dx = 0, dy = 0, tol_n = 1e-8_dp, tol_t = 1e-6_dp
+    end type bem_setup
+
+    !> One candidate point of one wheel: its fields on the full grid (p, tx, ty, sx, sy: the
+    !> warm starts and the reported fields), and the patch problem of the current evaluation
+    !> (bem_patch's arguments), its gap field h, window (i1:i2, j1:j2; iwin its entry in the
+    !> model's list, 0 the full grid) and solution: out = fn, fx, fy, mz, xc, yc, info, its
+    !> counters, and its fields (pn, txn, tyn, sxn, syn), which become the point's fields
+    !> when the solve is committed (commit_point).
+    type :: bem_point
+        integer :: state = PT_IDLE
+        integer :: ia = 0, ib = 0
+        real(dp) :: wa = 0, dn = 0, phi = 0, xi = 0, eta = 0, spin = 0, mu = 0, speed = 0
+        logical :: open = .false.
+        integer :: i1 = 1, i2 = 1, j1 = 1, j2 = 1, iwin = 0
+        real(dp) :: out(6) = 0
+        integer :: info = STAT_OK
+        real(dp) :: cnt(BEM_NCOUNT) = 0
+        real(dp), allocatable :: h(:, :), p(:, :), tx(:, :), ty(:, :), sx(:, :), sy(:, :)
+        real(dp), allocatable :: pn(:, :), txn(:, :), tyn(:, :), sxn(:, :), syn(:, :)
+    end type bem_point
+
+    type :: bem_model
+        logical :: used = .false.
+        integer :: ntab = 0, nws = 0
+        type(bem_setup) :: s
+        real(dp) :: ytab0 = 0, dytab = 1, g = 0, nu = 0
+        !> threads of the patch loop; recording: bem_patch stores the problems (bem_record)
+        integer :: nthreads = 1
+        logical :: recording = .false.
+        !> full-grid workspace per thread (1 made at creation, the others when needed)
+        integer :: ws(MAX_THREADS) = 0
+        !> solves on windows (see the module doc); win(:, i) = (nx, ny) of the nwin window
+        !> sizes met so far, winws(t, i) the workspace of size i of thread t (0: not made)
         logical :: window = .true.
         integer :: nwin = 0
-        integer :: win(3, MAX_WIN) = 0
+        integer :: win(2, MAX_WIN) = 0
+        integer :: winws(MAX_THREADS, MAX_WIN) = 0
         real(dp), allocatable :: gap(:, :, :, :)          ! (nx, ny, 2 points, ntab), left wheel
-        real(dp), allocatable :: p(:, :, :, :, :)         ! (nx, ny, point, wheel, wheelset)
-        real(dp), allocatable :: tx(:, :, :, :, :), ty(:, :, :, :, :)
-        real(dp), allocatable :: sx(:, :, :, :, :), sy(:, :, :, :, :)
-        real(dp), allocatable :: h(:, :)
+        type(bem_point), allocatable :: pts(:, :, :)      ! (point, wheel, wheelset)
         !> BEM / Hertz-Kalker ratios of the normal force and the creep-force magnitude per
         !> (point, wheel, wheelset), from the last BEM solve: they calibrate the cheap model
         !> of the Newton tangent (vehicle_contact model 4).
         real(dp), allocatable :: ratio(:, :, :, :)
-        integer, allocatable :: st(:, :)
         real(dp) :: counts(BEM_NCOUNT) = 0
     end type bem_model
 
@@ -94,7 +143,8 @@ module vehicle_bem
 contains
 
     !> Make a BEM contact state. gap: (nx, ny, 2, ntab) left-wheel gap fields on the table's
-    !> y nodes ytab0 + (i - 1) dytab. g, nu: shear modulus and Poisson ratio.
+    !> y nodes ytab0 + (i - 1) dytab. g, nu: shear modulus and Poisson ratio. Threads: all the
+    !> OpenMP runtime offers (bem_threads with n = 0).
     !> info: STAT_OK, STAT_BAD_ARGUMENT (sizes or steps), STAT_NO_MEMORY (no free slot),
     !> STAT_FFTW_PLAN (the contact workspace, FFT plans and spectra, could not be made).
     subroutine bem_create(nx, ny, dx, dy, ntab, ytab0, dytab, gap, nws, g, nu, tol_n, tol_t, &
@@ -103,7 +153,7 @@ contains
         real(dp), intent(in) :: dx, dy, ytab0, dytab, gap(nx, ny, 2, ntab), g, nu, tol_n, tol_t
         integer, intent(out) :: handle, info
         type(bem_model), pointer :: m
-        integer :: k, stat
+        integer :: k, stat, i, j, l
         handle = 0
         info = STAT_BAD_ARGUMENT
         if (nx < 4 .or. ny < 4 .or. ntab < 2 .or. nws < 1 .or. dx <= 0 .or. dy <= 0 .or. dytab <= 0) return
@@ -116,33 +166,40 @@ contains
         end do
         if (handle == 0) return
         m => models(handle)
-        call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws, stat)
+        m%ws = 0
+        call ws_create(nx, ny, dx, dy, g, nu, .true., m%ws(1), stat)
         if (stat /= STAT_OK) then
             info = stat     ! STAT_NO_MEMORY (workspace pool full) or STAT_FFTW_PLAN
             handle = 0
             return
         end if
-        m%nx = nx
-        m%ny = ny
-        m%dx = dx
-        m%dy = dy
+        m%s = bem_setup(nx=nx, ny=ny, maxit_n=maxit_n, maxit_t=maxit_t, dx=dx, dy=dy, &
+                        tol_n=tol_n, tol_t=tol_t)
         m%ntab = ntab
         m%ytab0 = ytab0
         m%dytab = dytab
         m%nws = nws
-        m%tol_n = tol_n
-        m%tol_t = tol_t
-        m%maxit_n = maxit_n
-        m%maxit_t = maxit_t
         m%g = g
         m%nu = nu
         m%window = .true.
+        m%recording = .false.
         m%nwin = 0
         m%win = 0
+        m%winws = 0
+        m%nthreads = threads_of(0)
         m%gap = gap
-        allocate (m%p(nx, ny, 2, 2, nws), source=0.0_dp)
-        allocate (m%tx, m%ty, m%sx, m%sy, mold=m%p)
-        allocate (m%h(nx, ny), m%st(nx, ny), m%ratio(2, 2, 2, nws))
+        allocate (m%pts(2, 2, nws), m%ratio(2, 2, 2, nws))
+        do l = 1, nws
+            do j = 1, 2
+                do i = 1, 2
+                    allocate (m%pts(i, j, l)%p(nx, ny), source=0.0_dp)
+                    associate (pt => m%pts(i, j, l))
+                        allocate (pt%h, pt%tx, pt%ty, pt%sx, pt%sy, pt%pn, pt%txn, pt%tyn, &
+                                  pt%sxn, pt%syn, mold=pt%p)
+                    end associate
+                end do
+            end do
+        end do
         call reset(m)
         m%used = .true.
         info = STAT_OK
@@ -150,14 +207,56 @@ contains
 
     subroutine reset(m)
         type(bem_model), intent(inout) :: m
-        m%p = 0.0_dp
-        m%tx = 0.0_dp
-        m%ty = 0.0_dp
-        m%sx = 0.0_dp
-        m%sy = 0.0_dp
+        integer :: i, j, l
+        do l = 1, m%nws
+            do j = 1, 2
+                do i = 1, 2
+                    call clear_fields(m%pts(i, j, l))
+                    m%pts(i, j, l)%state = PT_IDLE
+                end do
+            end do
+        end do
+        m%recording = .false.
         m%counts = 0.0_dp
         m%ratio = 1.0_dp
     end subroutine reset
+
+    pure subroutine clear_fields(pt)
+        type(bem_point), intent(inout) :: pt
+        pt%p = 0.0_dp
+        pt%tx = 0.0_dp
+        pt%ty = 0.0_dp
+        pt%sx = 0.0_dp
+        pt%sy = 0.0_dp
+    end subroutine clear_fields
+
+    !> The solve's fields of a point that is out of contact: zero.
+    pure subroutine clear_new(pt)
+        type(bem_point), intent(inout) :: pt
+        pt%pn = 0.0_dp
+        pt%txn = 0.0_dp
+        pt%tyn = 0.0_dp
+        pt%sxn = 0.0_dp
+        pt%syn = 0.0_dp
+    end subroutine clear_new
+
+    !> The solve's fields become the point's (a swap of the allocations, no copy).
+    subroutine commit_point(pt)
+        type(bem_point), intent(inout) :: pt
+        call swap(pt%p, pt%pn)
+        call swap(pt%tx, pt%txn)
+        call swap(pt%ty, pt%tyn)
+        call swap(pt%sx, pt%sxn)
+        call swap(pt%sy, pt%syn)
+    contains
+        subroutine swap(a, b)
+            real(dp), allocatable, intent(inout) :: a(:, :), b(:, :)
+            real(dp), allocatable :: t(:, :)
+            call move_alloc(a, t)
+            call move_alloc(b, a)
+            call move_alloc(t, b)
+        end subroutine swap
+    end subroutine commit_point
 
     !> Clear the warm starts and counters.
     subroutine bem_reset(handle)
@@ -168,17 +267,21 @@ contains
 
     subroutine bem_free(handle)
         integer, intent(in) :: handle
-        integer :: i
+        integer :: i, t
         if (.not. live(handle)) return
-        call ws_free(models(handle)%ws)
-        do i = 1, models(handle)%nwin
-            call ws_free(models(handle)%win(3, i))
-        end do
-        models(handle)%nwin = 0
-        deallocate (models(handle)%gap, models(handle)%p, models(handle)%tx, models(handle)%ty, &
-                    models(handle)%sx, models(handle)%sy, models(handle)%h, models(handle)%st, &
-                    models(handle)%ratio)
-        models(handle)%used = .false.
+        associate (m => models(handle))
+            do t = 1, MAX_THREADS
+                call ws_free(m%ws(t))
+                do i = 1, m%nwin
+                    call ws_free(m%winws(t, i))
+                end do
+            end do
+            m%ws = 0
+            m%winws = 0
+            m%nwin = 0
+            deallocate (m%gap, m%pts, m%ratio)
+            m%used = .false.
+        end associate
     end subroutine bem_free
 
     logical function live(handle)
@@ -199,6 +302,34 @@ contains
         models(handle)%window = on
         info = STAT_OK
     end subroutine bem_window
+
+    !> Threads of the patch loop: n, or with n <= 0 all the OpenMP runtime offers
+    !> (omp_get_max_threads: the cores, or OMP_NUM_THREADS), at most MAX_THREADS; always 1 in
+    !> a build without OpenMP. nset: the number set. info: STAT_OK or STAT_BAD_HANDLE.
+    !> Python's interrupt handler calls it while a call still runs on the state (a static
+    !> solve abandoned to Ctrl-C, down to one thread): each bem_solve_recorded reads the count
+    !> once, at its start (one aligned integer).
+    subroutine bem_threads(handle, n, nset, info)
+        integer, intent(in) :: handle, n
+        integer, intent(out) :: nset, info
+        nset = threads_of(n)
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        models(handle)%nthreads = nset
+        info = STAT_OK
+    end subroutine bem_threads
+
+    !> The threads bem_threads sets for n (1 without OpenMP).
+    integer function threads_of(n)
+        integer, intent(in) :: n
+        logical :: omp
+        omp = .false.
+        !$ omp = .true.
+        threads_of = 1
+        if (omp) threads_of = n
+        !$ if (n <= 0) threads_of = omp_get_max_threads()
+        threads_of = min(max(threads_of, 1), MAX_THREADS)
+    end function threads_of
 
     !> Counters since creation or the last reset (see BEM_NCOUNT).
     subroutine bem_counts(handle, counts, info)
@@ -228,13 +359,13 @@ contains
         if (.not. live(handle)) return
         m => models(handle)
         info = STAT_BAD_ARGUMENT
-        if (nx /= m%nx .or. ny /= m%ny .or. iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 &
+        if (nx /= m%s%nx .or. ny /= m%s%ny .or. iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 &
             .or. k < 1 .or. k > 2) return
-        p = m%p(:, :, k, iw, iws)
-        tx = m%tx(:, :, k, iw, iws)
-        ty = m%ty(:, :, k, iw, iws)
-        sx = m%sx(:, :, k, iw, iws)
-        sy = m%sy(:, :, k, iw, iws)
+        p = m%pts(k, iw, iws)%p
+        tx = m%pts(k, iw, iws)%tx
+        ty = m%pts(k, iw, iws)%ty
+        sx = m%pts(k, iw, iws)%sx
+        sy = m%pts(k, iw, iws)%sy
         info = STAT_OK
     end subroutine bem_fields
 
@@ -249,9 +380,12 @@ contains
     !> spin moment of the tractions about the normal through the point (N m); xc, yc: centre
     !> of pressure in the contact frame relative to the point (m), so that the moment of the
     !> contact stresses about the point is Fn yc t_x - Fn xc t_y + mz n.
+    !> While recording (bem_record) the problem is only stored (fn = 0, info STAT_OK); after
+    !> bem_solve_recorded a call with the recorded arguments returns the solution; any other
+    !> call solves at once.
     !> info: STAT_OK, STAT_OUTSIDE_TABLE (a node outside the table), STAT_GRID_EDGE (the patch
     !> reaches its grid's edge), STAT_CONTACT_NOT_CONVERGED (a solver did not converge),
-    !> STAT_BAD_HANDLE.
+    !> STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (iws, iw or k out of range).
     subroutine bem_patch(handle, iws, iw, k, ia, ib, wa, dn, phi, xi, eta, spin, mu, speed, &
                          fn, fx, fy, mz, xc, yc, info)
         integer, intent(in) :: handle, iws, iw, k, ia, ib
@@ -259,10 +393,8 @@ contains
         real(dp), intent(out) :: fn, fx, fy, mz, xc, yc
         integer, intent(out) :: info
         type(bem_model), pointer :: m
-        type(workspace), pointer :: w
-        real(dp) :: x0, y0
-        integer :: nx, ny, j
-        integer(int64) :: c0, c2
+        integer :: nt
+        logical :: same
         fn = 0.0_dp
         fx = 0.0_dp
         fy = 0.0_dp
@@ -272,209 +404,432 @@ contains
         info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         m => models(handle)
-        w => ws_get(m%ws, m%nx, m%ny)
-        if (.not. associated(w)) return
-        call system_clock(c0)
-        nx = m%nx
-        ny = m%ny
         if (min(ia, ib) < 1 .or. max(ia, ib) > m%ntab) then
             info = STAT_OUTSIDE_TABLE
             return
         end if
+        info = STAT_BAD_ARGUMENT
+        if (iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
         info = STAT_OK
-        if (iw == 1) then
-            m%h = (1.0_dp - wa) * m%gap(:, :, k, ia) + wa * m%gap(:, :, k, ib)
-            ! an element outside the point's part of the wheel at either node stays outside
-            ! (an extrapolation must not pull the 1 m marker into the patch)
-            where (max(m%gap(:, :, k, ia), m%gap(:, :, k, ib)) >= FAR) m%h = 1.0_dp
-        else
-            m%h = (1.0_dp - wa) * m%gap(:, ny:1:-1, k, ia) + wa * m%gap(:, ny:1:-1, k, ib)
-            where (max(m%gap(:, ny:1:-1, k, ia), m%gap(:, ny:1:-1, k, ib)) >= FAR) m%h = 1.0_dp
-        end if
-        x0 = -0.5_dp * real(nx - 1, dp) * m%dx
-        y0 = -0.5_dp * real(ny - 1, dp) * m%dy
-        if (phi /= 0.0_dp) then
-            do j = 1, ny
-                where (m%h(:, j) < FAR) m%h(:, j) = m%h(:, j) + phi * (y0 + real(j - 1, dp) * m%dy)
-            end do
-        end if
-        if (.not. (dn > minval(m%h))) then
-            call open_patch()
-            return
-        end if
-        call solve_point(m, w, k, iw, iws, dn, x0, y0, xi, eta, spin, mu, speed, fn, fx, fy, mz, &
-                         xc, yc, info)
-        if (info /= STAT_OK) return
-        if (fn <= 0.0_dp) then
-            call open_patch()
-            return
-        end if
-        call patch_time()
-    contains
-        !> The patch's wall time into counter 10 (every return after c0 goes through it
-        !> except the failures, which end the run).
-        subroutine patch_time()
-            call system_clock(c2)
-            m%counts(10) = m%counts(10) + seconds(c0, c2)
-        end subroutine patch_time
-
-        subroutine open_patch()
-            m%p(:, :, k, iw, iws) = 0.0_dp
-            m%tx(:, :, k, iw, iws) = 0.0_dp
-            m%ty(:, :, k, iw, iws) = 0.0_dp
-            m%sx(:, :, k, iw, iws) = 0.0_dp
-            m%sy(:, :, k, iw, iws) = 0.0_dp
-            m%counts(5) = m%counts(5) + 1.0_dp
-            call patch_time()
-        end subroutine open_patch
+        associate (pt => m%pts(k, iw, iws))
+            same = pt%state == PT_SOLVED .and. pt%ia == ia .and. pt%ib == ib .and. pt%wa == wa &
+                   .and. pt%dn == dn .and. pt%phi == phi .and. pt%xi == xi .and. pt%eta == eta &
+                   .and. pt%spin == spin .and. pt%mu == mu .and. pt%speed == speed
+            if (.not. same) then
+                pt%ia = ia
+                pt%ib = ib
+                pt%wa = wa
+                pt%dn = dn
+                pt%phi = phi
+                pt%xi = xi
+                pt%eta = eta
+                pt%spin = spin
+                pt%mu = mu
+                pt%speed = speed
+                pt%state = PT_RECORDED
+                if (m%recording) return
+                nt = 1
+                call setup_point(m, k, iw, iws, nt)
+                if (.not. pt%open) call solve_point(m%s, point_ws(m, k, iw, iws, 1), pt)
+                call commit_point(pt)
+                call add_counts(m%counts, pt%cnt)
+            end if
+            pt%state = PT_IDLE
+            fn = pt%out(1)
+            fx = pt%out(2)
+            fy = pt%out(3)
+            mz = pt%out(4)
+            xc = pt%out(5)
+            yc = pt%out(6)
+            info = pt%info
+        end associate
     end subroutine bem_patch
 
-    !> The normal and steady-rolling solves of one point on its window (module doc) with
-    !> the gap m%h and approach dn, the point's fields (full grid) updated; the arguments as
-    !> for bem_patch, x0, y0 the centre of the grid's element (1, 1). fn = 0 (info STAT_OK)
-    !> when the normal solve finds no contact.
-    subroutine solve_point(m, w, k, iw, iws, dn, x0, y0, xi, eta, spin, mu, speed, fn, fx, fy, &
-                           mz, xc, yc, info)
+    !> Start recording the patch problems of one force evaluation (module doc, Threads).
+    subroutine bem_record(handle)
+        integer, intent(in) :: handle
+        integer :: i, j, l
+        if (.not. live(handle)) return
+        associate (m => models(handle))
+            do l = 1, m%nws
+                do j = 1, 2
+                    do i = 1, 2
+                        m%pts(i, j, l)%state = PT_IDLE
+                    end do
+                end do
+            end do
+            m%recording = .true.
+        end associate
+    end subroutine bem_record
+
+    !> Stop recording and solve the recorded patches, nthreads at a time (module doc,
+    !> Threads). Their solutions and statuses wait in the points for bem_patch.
+    subroutine bem_solve_recorded(handle)
+        integer, intent(in) :: handle
+        type(bem_model), pointer :: m
+        integer :: i, j, l, n, nt, t
+        integer, allocatable :: list(:, :)
+        logical :: failed
+        if (.not. live(handle)) return
+        m => models(handle)
+        m%recording = .false.
+        nt = m%nthreads
+        allocate (list(3, 4 * m%nws))
+        n = 0
+        do l = 1, m%nws
+            do j = 1, 2
+                do i = 1, 2
+                    if (m%pts(i, j, l)%state /= PT_RECORDED) cycle
+                    call setup_point(m, i, j, l, nt)
+                    if (m%pts(i, j, l)%open) cycle
+                    n = n + 1
+                    list(:, n) = [i, j, l]
+                end do
+            end do
+        end do
+        call largest_first(m, list(:, 1:n))
+        ! each point writes its own bem_point only; the workspaces are the thread's own
+        !$omp parallel do if (nt > 1 .and. n > 1) num_threads(nt) schedule(dynamic, 1) &
+        !$omp default(shared) private(i, t)
+        do i = 1, n
+            t = 1
+            !$ t = omp_get_thread_num() + 1
+            call solve_point(m%s, point_ws(m, list(1, i), list(2, i), list(3, i), t), &
+                             m%pts(list(1, i), list(2, i), list(3, i)))
+        end do
+        !$omp end parallel do
+        ! commit in the order of a serial evaluation (wheelset, wheel, point), which stops at
+        ! the first failure: the points after it keep their fields and are dropped
+        failed = .false.
+        do l = 1, m%nws
+            do j = 1, 2
+                do i = 1, 2
+                    if (m%pts(i, j, l)%state /= PT_RECORDED) cycle
+                    if (failed) then
+                        m%pts(i, j, l)%state = PT_IDLE
+                        cycle
+                    end if
+                    call commit_point(m%pts(i, j, l))
+                    call add_counts(m%counts, m%pts(i, j, l)%cnt)
+                    m%pts(i, j, l)%state = PT_SOLVED
+                    failed = m%pts(i, j, l)%info /= STAT_OK
+                end do
+            end do
+        end do
+    end subroutine bem_solve_recorded
+
+    !> Order the points to solve by their window's area, largest first (stable): the threads
+    !> take them in this order, so the long solves (flange and wide tread patches) start first
+    !> and the short ones fill in (the results do not depend on the order).
+    subroutine largest_first(m, list)
+        type(bem_model), intent(in) :: m
+        integer, intent(inout) :: list(:, :)
+        integer :: i, j, area(size(list, 2)), key(3), a
+        do i = 1, size(list, 2)
+            associate (pt => m%pts(list(1, i), list(2, i), list(3, i)))
+                area(i) = (pt%i2 - pt%i1 + 1) * (pt%j2 - pt%j1 + 1)
+            end associate
+        end do
+        do i = 2, size(list, 2)         ! insertion sort: at most 4 points per wheelset
+            key = list(:, i)
+            a = area(i)
+            j = i - 1
+            do while (j >= 1)
+                if (area(j) >= a) exit
+                list(:, j + 1) = list(:, j)
+                area(j + 1) = area(j)
+                j = j - 1
+            end do
+            list(:, j + 1) = key
+            area(j + 1) = a
+        end do
+    end subroutine largest_first
+
+    !> A point's counters cnt into the model's counts (sums; 6, 7 the worst).
+    pure subroutine add_counts(counts, cnt)
+        real(dp), intent(inout) :: counts(BEM_NCOUNT)
+        real(dp), intent(in) :: cnt(BEM_NCOUNT)
+        counts(1:5) = counts(1:5) + cnt(1:5)
+        counts(6:7) = max(counts(6:7), cnt(6:7))
+        counts(8:10) = counts(8:10) + cnt(8:10)
+    end subroutine add_counts
+
+    !> Prepare the recorded problem of point (k, iw, iws) for solve_point: its gap field, then
+    !> either its opening (no interpenetration: fields cleared, no solve) or its window with a
+    !> workspace of the window's size for each of threads 1..nt (made here, serially). nt comes
+    !> back lowered when full-grid workspaces could be made for fewer threads.
+    subroutine setup_point(m, k, iw, iws, nt)
         type(bem_model), intent(inout) :: m
-        type(workspace), pointer, intent(in) :: w
         integer, intent(in) :: k, iw, iws
-        real(dp), intent(in) :: dn, x0, y0, xi, eta, spin, mu, speed
-        real(dp), intent(out) :: fn, fx, fy, mz, xc, yc
-        integer, intent(out) :: info
+        integer, intent(inout) :: nt
+        integer :: j, ny
+        integer(int64) :: c0, c1
+        real(dp) :: y0
+        call system_clock(c0)
+        ny = m%s%ny
+        associate (pt => m%pts(k, iw, iws), h => m%pts(k, iw, iws)%h)
+            pt%cnt = 0.0_dp
+            pt%out = 0.0_dp
+            pt%info = STAT_OK
+            if (iw == 1) then
+                h = (1.0_dp - pt%wa) * m%gap(:, :, k, pt%ia) + pt%wa * m%gap(:, :, k, pt%ib)
+                ! an element outside the point's part of the wheel at either node stays outside
+                ! (an extrapolation must not pull the 1 m marker into the patch)
+                where (max(m%gap(:, :, k, pt%ia), m%gap(:, :, k, pt%ib)) >= FAR) h = 1.0_dp
+            else
+                h = (1.0_dp - pt%wa) * m%gap(:, ny:1:-1, k, pt%ia) + pt%wa * m%gap(:, ny:1:-1, k, pt%ib)
+                where (max(m%gap(:, ny:1:-1, k, pt%ia), m%gap(:, ny:1:-1, k, pt%ib)) >= FAR) h = 1.0_dp
+            end if
+            y0 = -0.5_dp * real(ny - 1, dp) * m%s%dy
+            if (pt%phi /= 0.0_dp) then
+                do j = 1, ny
+                    where (h(:, j) < FAR) h(:, j) = h(:, j) + pt%phi * (y0 + real(j - 1, dp) * m%s%dy)
+                end do
+            end if
+            pt%open = .not. (pt%dn > minval(h))
+            if (pt%open) then
+                call clear_new(pt)
+                pt%cnt(5) = 1.0_dp
+            else
+                call patch_window(m, k, iw, iws, nt)
+            end if
+            call system_clock(c1)
+            pt%cnt(10) = seconds(c0, c1)
+        end associate
+    end subroutine setup_point
+
+    !> The workspace handle of point (k, iw, iws) on thread t: its window's or the full grid's.
+    integer function point_ws(m, k, iw, iws, t)
+        type(bem_model), intent(in) :: m
+        integer, intent(in) :: k, iw, iws, t
+        if (m%pts(k, iw, iws)%iwin > 0) then
+            point_ws = m%winws(t, m%pts(k, iw, iws)%iwin)
+        else
+            point_ws = m%ws(t)
+        end if
+    end function point_ws
+
+    !> The normal and steady-rolling solves of a prepared point (setup_point) on workspace
+    !> wsh (its window's size, the thread's own), warm-started from the point's fields: the
+    !> solution (pt%out: fn, fx, fy, mz, xc, yc as for bem_patch; fn = 0 when the normal solve
+    !> finds no contact), status, counters and the solve's fields (pn, ...; after a failure the
+    !> fields a serial solve would have left: those not reached are the point's) set. Touches
+    !> nothing outside pt and the workspace.
+    subroutine solve_point(s, wsh, pt)
+        type(bem_setup), intent(in) :: s
+        integer, intent(in) :: wsh
+        type(bem_point), intent(inout) :: pt
         type(workspace), pointer :: ww
         real(dp), allocatable :: hw(:, :), pw(:, :), txw(:, :), tyw(:, :), sxw(:, :), syw(:, :)
         integer, allocatable :: stw(:, :)
-        real(dp) :: appr, resid, da
+        real(dp) :: appr, resid, da, fn, xc, yc, x0, y0
         integer :: it, nprod, stat, nx, ny, i1, i2, j1, j2
-        integer(int64) :: c1, c2
-        fn = 0.0_dp
-        fx = 0.0_dp
-        fy = 0.0_dp
-        mz = 0.0_dp
-        xc = 0.0_dp
-        yc = 0.0_dp
-        info = STAT_OK
-        nx = m%nx
-        ny = m%ny
-        call patch_window(m, dn, i1, i2, j1, j2, ww)
-        if (.not. associated(ww)) ww => w
+        integer(int64) :: c0, c1, c2
+        call system_clock(c0)
+        nx = s%nx
+        ny = s%ny
+        i1 = pt%i1
+        i2 = pt%i2
+        j1 = pt%j1
+        j2 = pt%j2
+        x0 = -0.5_dp * real(nx - 1, dp) * s%dx
+        y0 = -0.5_dp * real(ny - 1, dp) * s%dy
+        pt%out = 0.0_dp
+        ww => ws_get(wsh, i2 - i1 + 1, j2 - j1 + 1)
+        if (.not. associated(ww)) then
+            pt%info = STAT_CONTACT_NOT_CONVERGED
+            call keep_fields(.true.)
+            return
+        end if
+        pt%info = STAT_OK
         allocate (hw(i2 - i1 + 1, j2 - j1 + 1), stw(i2 - i1 + 1, j2 - j1 + 1))
         allocate (pw, txw, tyw, sxw, syw, mold=hw)
-        hw = m%h(i1:i2, j1:j2)
-        associate (p => m%p(:, :, k, iw, iws), tx => m%tx(:, :, k, iw, iws), &
-                   ty => m%ty(:, :, k, iw, iws), sx => m%sx(:, :, k, iw, iws), &
-                   sy => m%sy(:, :, k, iw, iws))
-            pw = p(i1:i2, j1:j2)
-            txw = tx(i1:i2, j1:j2)
-            tyw = ty(i1:i2, j1:j2)
-            appr = dn
-            da = m%dx * m%dy
-            call system_clock(c1)
-            call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, appr, m%tol_n, &
-                           m%maxit_n, pw, it, nprod, resid, stat)
+        hw = pt%h(i1:i2, j1:j2)
+        pw = pt%p(i1:i2, j1:j2)
+        txw = pt%tx(i1:i2, j1:j2)
+        tyw = pt%ty(i1:i2, j1:j2)
+        appr = pt%dn
+        da = s%dx * s%dy
+        call system_clock(c1)
+        call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, appr, s%tol_n, &
+                       s%maxit_n, pw, it, nprod, resid, stat)
+        call system_clock(c2)
+        pt%cnt(8) = pt%cnt(8) + seconds(c1, c2)
+        pt%cnt(1) = pt%cnt(1) + 1.0_dp
+        pt%cnt(2) = pt%cnt(2) + real(it, dp)
+        pt%pn = 0.0_dp
+        if (stat == STAT_NO_CONTACT) then
+            call open_point()
+            return
+        end if
+        if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
+            pt%info = STAT_CONTACT_NOT_CONVERGED
+            call keep_fields(.false.)
+            return
+        end if
+        pt%pn(i1:i2, j1:j2) = pw
+        pt%cnt(6) = max(pt%cnt(6), resid)
+        if (any(pt%pn(1, :) > 0.0_dp) .or. any(pt%pn(nx, :) > 0.0_dp) .or. any(pt%pn(:, 1) > 0.0_dp) &
+            .or. any(pt%pn(:, ny) > 0.0_dp)) then
+            pt%info = STAT_GRID_EDGE
+            call keep_fields(.false.)
+            return
+        end if
+        fn = da * sum(pt%pn)
+        if (.not. (fn > 0.0_dp)) then
+            call open_point()
+            return
+        end if
+        call pressure_centre(nx, ny, s%dx, s%dy, pt%pn, fn, xc, yc)
+        pt%out(1) = fn
+        pt%out(5) = xc
+        pt%out(6) = yc
+        pt%cnt(3) = pt%cnt(3) + 1.0_dp
+        call system_clock(c1)
+        call rolling_steady(ww, pw, x0 + real(i1 - 1, dp) * s%dx, y0 + real(j1 - 1, dp) * s%dy, &
+                            pt%xi, pt%eta, pt%spin, pt%mu, pt%speed, ROLL_FFTGS, s%nblock, s%ninner, &
+                            s%tol_t, s%maxit_t, txw, tyw, stw, sxw, syw, it, resid, stat)
+        call system_clock(c2)
+        pt%cnt(9) = pt%cnt(9) + seconds(c1, c2)
+        pt%cnt(4) = pt%cnt(4) + real(it, dp)
+        pt%txn = 0.0_dp
+        pt%tyn = 0.0_dp
+        pt%sxn = 0.0_dp
+        pt%syn = 0.0_dp
+        if (stat == STAT_GRID_EDGE) then
+            ! steady rolling needs two free rows behind the patch (contact_rolling)
+            pt%info = STAT_GRID_EDGE
+        else if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &
+                 .or. .not. all(abs(tyw) <= huge(1.0_dp))) then
+            pt%info = STAT_CONTACT_NOT_CONVERGED
+        else
+            pt%txn(i1:i2, j1:j2) = txw
+            pt%tyn(i1:i2, j1:j2) = tyw
+            pt%sxn(i1:i2, j1:j2) = sxw
+            pt%syn(i1:i2, j1:j2) = syw
+            pt%cnt(7) = max(pt%cnt(7), resid)
+            pt%out(2) = da * sum(pt%txn)
+            pt%out(3) = da * sum(pt%tyn)
+            pt%out(4) = spin_moment(nx, ny, s%dx, s%dy, pt%txn, pt%tyn)
+        end if
+        call point_time()
+    contains
+        !> The solve's wall time into counter 10 (after the set-up's).
+        subroutine point_time()
             call system_clock(c2)
-            m%counts(8) = m%counts(8) + seconds(c1, c2)
-            m%counts(1) = m%counts(1) + 1.0_dp
-            m%counts(2) = m%counts(2) + real(it, dp)
-            fn = 0.0_dp
-            p = 0.0_dp
-            if (stat == STAT_NO_CONTACT) return
-            if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
-                info = STAT_CONTACT_NOT_CONVERGED
-                return
-            end if
-            p(i1:i2, j1:j2) = pw
-            m%counts(6) = max(m%counts(6), resid)
-            if (any(p(1, :) > 0.0_dp) .or. any(p(nx, :) > 0.0_dp) .or. any(p(:, 1) > 0.0_dp) &
-                .or. any(p(:, ny) > 0.0_dp)) then
-                info = STAT_GRID_EDGE
-                return
-            end if
-            fn = da * sum(p)
-            call pressure_centre(nx, ny, m%dx, m%dy, p, fn, xc, yc)
-            m%counts(3) = m%counts(3) + 1.0_dp
-            call system_clock(c1)
-            call rolling_steady(ww, pw, x0 + real(i1 - 1, dp) * m%dx, y0 + real(j1 - 1, dp) * m%dy, &
-                                xi, eta, spin, mu, speed, ROLL_FFTGS, m%nblock, m%ninner, m%tol_t, &
-                                m%maxit_t, txw, tyw, stw, sxw, syw, it, resid, stat)
-            call system_clock(c2)
-            m%counts(9) = m%counts(9) + seconds(c1, c2)
-            m%counts(4) = m%counts(4) + real(it, dp)
-            tx = 0.0_dp
-            ty = 0.0_dp
-            sx = 0.0_dp
-            sy = 0.0_dp
-            if (stat == STAT_GRID_EDGE) then
-                ! steady rolling needs two free rows behind the patch (contact_rolling)
-                info = STAT_GRID_EDGE
-                return
-            end if
-            if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &
-                .or. .not. all(abs(tyw) <= huge(1.0_dp))) then
-                info = STAT_CONTACT_NOT_CONVERGED
-                return
-            end if
-            tx(i1:i2, j1:j2) = txw
-            ty(i1:i2, j1:j2) = tyw
-            sx(i1:i2, j1:j2) = sxw
-            sy(i1:i2, j1:j2) = syw
-            m%counts(7) = max(m%counts(7), resid)
-            fx = da * sum(tx)
-            fy = da * sum(ty)
-            mz = spin_moment(nx, ny, m%dx, m%dy, tx, ty)
-        end associate
+            pt%cnt(10) = pt%cnt(10) + seconds(c0, c2)
+        end subroutine point_time
+
+        !> A failure before the rolling solve: the tractions and slips stay the point's (and
+        !> with pressure, the pressure too).
+        subroutine keep_fields(pressure)
+            logical, intent(in) :: pressure
+            if (pressure) pt%pn = pt%p
+            pt%txn = pt%tx
+            pt%tyn = pt%ty
+            pt%sxn = pt%sx
+            pt%syn = pt%sy
+            call point_time()
+        end subroutine keep_fields
+
+        !> No contact after all: the fields cleared, counted as an open point.
+        subroutine open_point()
+            pt%out = 0.0_dp
+            call clear_new(pt)
+            pt%cnt(5) = pt%cnt(5) + 1.0_dp
+            call point_time()
+        end subroutine open_point
     end subroutine solve_point
 
-    !> The window (i1:i2, j1:j2) of a solve with approach dn on the gap m%h (module doc) and
-    !> its workspace ww; the full grid, ww null, when windows are off, the window is the grid
-    !> or no workspace of its size could be made (the registry or this model's list full).
-    subroutine patch_window(m, dn, i1, i2, j1, j2, ww)
+    !> The window (pt%i1:i2, j1:j2) of point (k, iw, iws)'s solve with approach pt%dn on its
+    !> gap pt%h (module doc), and its entry pt%iwin in the model's window list with a
+    !> workspace for each of threads 1..nt; the full grid (iwin = 0, the full grid's
+    !> workspaces made for threads 1..nt, nt lowered if some cannot be) when windows are off,
+    !> the window is the grid, or the window's workspaces cannot all be made (the registry or
+    !> this model's list full).
+    subroutine patch_window(m, k, iw, iws, nt)
         type(bem_model), intent(inout) :: m
-        real(dp), intent(in) :: dn
-        integer, intent(out) :: i1, i2, j1, j2
-        type(workspace), pointer, intent(out) :: ww
-        integer :: i, j, lo(2), hi(2), nxw, nyw, hd, stat
-        ww => null()
+        integer, intent(in) :: k, iw, iws
+        integer, intent(inout) :: nt
+        integer :: i, j, lo(2), hi(2), nxw, nyw, e, t, stat, i1, i2, j1, j2
         i1 = 1
-        i2 = m%nx
+        i2 = m%s%nx
         j1 = 1
-        j2 = m%ny
-        if (.not. m%window) return
-        lo = [m%nx, m%ny]
-        hi = [1, 1]
-        do j = 1, m%ny
-            do i = 1, m%nx
-                if (m%h(i, j) < dn) then
-                    lo = min(lo, [i, j])
-                    hi = max(hi, [i, j])
+        j2 = m%s%ny
+        e = 0
+        if (m%window) then
+            lo = [m%s%nx, m%s%ny]
+            hi = [1, 1]
+            associate (h => m%pts(k, iw, iws)%h, dn => m%pts(k, iw, iws)%dn)
+                do j = 1, m%s%ny
+                    do i = 1, m%s%nx
+                        if (h(i, j) < dn) then
+                            lo = min(lo, [i, j])
+                            hi = max(hi, [i, j])
+                        end if
+                    end do
+                end do
+            end associate
+            call window_span(lo(1), hi(1), m%s%nx, i1, i2)
+            call window_span(lo(2), hi(2), m%s%ny, j1, j2)
+            nxw = i2 - i1 + 1
+            nyw = j2 - j1 + 1
+            if (nxw /= m%s%nx .or. nyw /= m%s%ny) e = window_entry(m, nxw, nyw, nt)
+            if (e == 0) then
+                i1 = 1
+                i2 = m%s%nx
+                j1 = 1
+                j2 = m%s%ny
+            end if
+        end if
+        if (e == 0) then
+            do t = 2, nt
+                if (m%ws(t) /= 0) cycle
+                call ws_create(m%s%nx, m%s%ny, m%s%dx, m%s%dy, m%g, m%nu, .true., m%ws(t), stat)
+                if (stat /= STAT_OK) then
+                    m%ws(t) = 0
+                    nt = t - 1
+                    exit
                 end if
             end do
-        end do
-        call window_span(lo(1), hi(1), m%nx, i1, i2)
-        call window_span(lo(2), hi(2), m%ny, j1, j2)
-        nxw = i2 - i1 + 1
-        nyw = j2 - j1 + 1
-        if (nxw == m%nx .and. nyw == m%ny) return
+        end if
+        m%pts(k, iw, iws)%i1 = i1
+        m%pts(k, iw, iws)%i2 = i2
+        m%pts(k, iw, iws)%j1 = j1
+        m%pts(k, iw, iws)%j2 = j2
+        m%pts(k, iw, iws)%iwin = e
+    end subroutine patch_window
+
+    !> The entry of window size nxw x nyw in the model's list with workspaces for threads
+    !> 1..nt (added and made here when missing), or 0 when they cannot all be made.
+    integer function window_entry(m, nxw, nyw, nt) result(e)
+        type(bem_model), intent(inout) :: m
+        integer, intent(in) :: nxw, nyw, nt
+        integer :: i, t, stat
+        e = 0
         do i = 1, m%nwin
             if (m%win(1, i) == nxw .and. m%win(2, i) == nyw) then
-                ww => ws_get(m%win(3, i), nxw, nyw)
-                if (associated(ww)) return
+                e = i
+                exit
             end if
         end do
-        stat = STAT_NO_MEMORY
-        if (m%nwin < MAX_WIN) call ws_create(nxw, nyw, m%dx, m%dy, m%g, m%nu, .true., hd, stat)
-        if (stat == STAT_OK) then
+        if (e == 0) then
+            if (m%nwin >= MAX_WIN) return
             m%nwin = m%nwin + 1
-            m%win(:, m%nwin) = [nxw, nyw, hd]
-            ww => ws_get(hd, nxw, nyw)
+            e = m%nwin
+            m%win(:, e) = [nxw, nyw]
+            m%winws(:, e) = 0
         end if
-        if (.not. associated(ww)) then
-            i1 = 1
-            i2 = m%nx
-            j1 = 1
-            j2 = m%ny
-        end if
-    end subroutine patch_window
+        do t = 1, nt
+            if (m%winws(t, e) /= 0) cycle
+            call ws_create(nxw, nyw, m%s%dx, m%s%dy, m%g, m%nu, .true., m%winws(t, e), stat)
+            if (stat /= STAT_OK) then
+                m%winws(t, e) = 0
+                e = 0
+                return
+            end if
+        end do
+    end function window_entry
 
     !> One side of a window: lo..hi widened by WIN_MARGIN, its length rounded up to a
     !> multiple of WIN_QUANTUM, inside 1..n (the whole side when that does not fit); the

@@ -17,6 +17,7 @@ module vehicle_model
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
                                CMODEL_BEM_TANGENT, pose_table, pose_set, SLIN_KEEP, SLIN_READ
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
+    use vehicle_bem, only: bem_record, bem_solve_recorded
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
                              modal_ring_residual
@@ -442,7 +443,8 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: gp(:)
-        real(dp) :: d, dd, fe, kd, cd
+        real(dp) :: d, dd, fe, kd, cd, fs(md%nd)
+        real(dp), allocatable :: gs(:)
         integer :: e, w
         f = md%f0 - matmul(md%k, q) - matmul(md%c, v)
         do e = 1, md%ne
@@ -452,6 +454,20 @@ contains
             f = f - md%eg(:, e) * fe
         end do
         info = STAT_OK
+        if (rs%cmodel == CMODEL_BEM) then
+            ! the BEM patches of all wheels solved together (vehicle_bem, Threads): a pass
+            ! that records them (its forces, on scratch fs, gs, are dropped), the solves, then
+            ! the pass below reads them back
+            fs = 0.0_dp
+            if (present(gp)) gs = gp
+            call bem_record(rs%bem)
+            do w = 1, md%nw
+                call add_contact(md, rs, w, q, v, fs, wout(:, :, w), info, u=u, ud=ud, gp=gs)
+                if (info /= STAT_OK) exit
+            end do
+            call bem_solve_recorded(rs%bem)
+            if (info /= STAT_OK) return
+        end if
         do w = 1, md%nw
             call add_contact(md, rs, w, q, v, f, wout(:, :, w), info, u=u, ud=ud, gp=gp)
             if (info /= STAT_OK) return
