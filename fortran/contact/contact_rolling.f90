@@ -134,6 +134,7 @@ module contact_rolling
         real(dp) :: kx = 0.0_dp, ky = 0.0_dp      ! single-element pivots (At(0) - At(dx)) / dx, 1/Pa
         logical, allocatable :: inc(:, :)         ! (nx, ny) element in contact, p > 0
         integer, allocatable :: trail(:, :)       ! (nx, ny) trailing end of the run through (i, j)
+        integer, allocatable :: rlo(:), rhi(:)    ! (j1:j2) first and last element in contact of row j
         real(dp), allocatable :: bound(:, :)      ! (nx, ny) traction bound mu p, Pa
         real(dp), allocatable :: wx(:, :), wy(:, :)   ! (nx, ny) rigid slip, creepage units
         !> At by offset (-nbx-1..nbx+1, -nby..nby), for the bases and the cross-row updates
@@ -450,11 +451,15 @@ contains
         pa%ib2 = pa%i2 + 1
         pa%nbx = pa%ib2 - pa%i1
         pa%nby = pa%j2 - pa%j1
-        allocate (pa%trail(pa%nx, pa%ny))
+        allocate (pa%trail(pa%nx, pa%ny), pa%rlo(pa%j1:pa%j2), pa%rhi(pa%j1:pa%j2))
         pa%trail = 0
+        pa%rlo = pa%nx + 1
+        pa%rhi = 0
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
                 if (.not. pa%inc(i, j)) cycle
+                pa%rlo(j) = min(pa%rlo(j), i)
+                pa%rhi(j) = max(pa%rhi(j), i)
                 if (i > 1) then
                     if (pa%inc(i - 1, j)) then
                         pa%trail(i, j) = pa%trail(i - 1, j)
@@ -718,18 +723,28 @@ contains
     !> tractions, packed [x(inc), y(inc)] (pack_tractions), from A by offset (pa%rxx, ...).
     subroutine slip_operator(pa)
         type(rolling_patch), intent(inout) :: pa
-        integer :: k, m, n, a, b
+        real(dp), allocatable :: dxx(:, :), dyy(:, :), dxy(:, :)
+        integer :: k, m, n, a, b, na
         n = pa%nc
+        na = pa%i2 - pa%i1
+        ! the difference quotient by offset, then gathered by the pairs of the set
+        allocate (dxx(-na:na, -pa%nby:pa%nby), dyy(-na:na, -pa%nby:pa%nby), dxy(-na:na, -pa%nby:pa%nby))
+        do b = -pa%nby, pa%nby
+            do a = -na, na
+                dxx(a, b) = (WU0 * pa%rxx(a, b) + WU1 * pa%rxx(a + 1, b) + WU2 * pa%rxx(a + 2, b)) / pa%dx
+                dxy(a, b) = (WU0 * pa%rxy(a, b) + WU1 * pa%rxy(a + 1, b) + WU2 * pa%rxy(a + 2, b)) / pa%dx
+                dyy(a, b) = (WU0 * pa%ryy(a, b) + WU1 * pa%ryy(a + 1, b) + WU2 * pa%ryy(a + 2, b)) / pa%dx
+            end do
+        end do
         allocate (pa%sop(2 * n, 2 * n))
         do m = 1, n
             do k = 1, n
                 a = pa%ic(k) - pa%ic(m)
                 b = pa%jc(k) - pa%jc(m)
-                pa%sop(k, m) = (WU0 * pa%rxx(a, b) + WU1 * pa%rxx(a + 1, b) + WU2 * pa%rxx(a + 2, b)) / pa%dx
-                pa%sop(k, n + m) = (WU0 * pa%rxy(a, b) + WU1 * pa%rxy(a + 1, b) + WU2 * pa%rxy(a + 2, b)) / pa%dx
-                pa%sop(n + k, m) = pa%sop(k, n + m)
-                pa%sop(n + k, n + m) = (WU0 * pa%ryy(a, b) + WU1 * pa%ryy(a + 1, b) + WU2 * pa%ryy(a + 2, b)) &
-                                       / pa%dx
+                pa%sop(k, m) = dxx(a, b)
+                pa%sop(k, n + m) = dxy(a, b)
+                pa%sop(n + k, m) = dxy(a, b)
+                pa%sop(n + k, n + m) = dyy(a, b)
             end do
         end do
     end subroutine slip_operator
@@ -852,7 +867,8 @@ contains
 
     !> The traction change (dtx, dty) of the run k..l of row jr seen by the rest
     !> of the block, rows jr..je (its own row outside k..l+1 included; the xy
-    !> coupling within a row vanishes).
+    !> coupling within a row vanishes), on the elements the slip of each row reads:
+    !> its elements in contact and the one upstream of its last (rlo..rhi + 1).
     subroutine spread_run_change(pa, k, l, jr, je, dtx, dty, dux, duy)
         type(rolling_patch), intent(in) :: pa
         integer, intent(in) :: k, l, jr, je
@@ -860,7 +876,7 @@ contains
         real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
         integer :: a, b, q, ii
         real(dp) :: fx, fy
-        associate (axx => pa%axx, ayy => pa%ayy, axy => pa%axy, i1 => pa%i1, ib2 => pa%ib2)
+        associate (axx => pa%axx, ayy => pa%ayy, axy => pa%axy, rlo => pa%rlo, rhi => pa%rhi)
             do b = jr, je
                 do q = 1, l - k + 1
                     fx = dtx(q)
@@ -868,16 +884,16 @@ contains
                     if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
                     ii = k + q - 1
                     if (b == jr) then
-                        do a = i1, k - 1
+                        do a = rlo(b), k - 1
                             dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
                             duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
                         end do
-                        do a = l + 2, ib2
+                        do a = l + 2, rhi(b) + 1
                             dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
                             duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
                         end do
                     else
-                        do a = i1, ib2
+                        do a = rlo(b), rhi(b) + 1
                             dux(a, b) = dux(a, b) + axx(a - ii, b - jr) * fx + axy(a - ii, b - jr) * fy
                             duy(a, b) = duy(a, b) + axy(a - ii, b - jr) * fx + ayy(a - ii, b - jr) * fy
                         end do
