@@ -241,7 +241,7 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
         raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
                                iterations=int(iters), residual=float("inf"))
     da = grid.element_area
-    x, y = grid.x[:, None], grid.y[None, :]     # broadcast: the (nx, ny) mesh's values, no meshgrid
+    x, y = grid.mesh()
     n_contact = int(np.count_nonzero(p))        # p >= 0
     result = RollingResult(
         grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
