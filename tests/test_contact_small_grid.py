@@ -2,14 +2,14 @@
 (u = A t by direct sums over the contact box, chosen by product='auto' on small patches)
 against the reference path (zero-padded FFT products, product='fft'), on the table of
 cases of benchmarks/bench_contact_small_grid.py, and both against Kalker's linear theory in
-the small-creepage limit."""
+the small-creepage limit; the normal solution (dense products) against numpy sums."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from railvti import STEEL
-from railvti.contact import Grid, hertz, hertz_gap, solve_normal, solve_tangential
+from railvti.contact import Grid, hertz, hertz_gap, influence_field, solve_normal, solve_tangential
 from railvti.contact.kalker import kalker_coefficients
 from railvti.errors import InputError
 
@@ -77,3 +77,37 @@ def test_bad_product_is_named():
     _, g, nr = _problem(1.0, 1.0)
     with pytest.raises(InputError, match="product"):
         solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 0.0, 0.0), V, product="dense")
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["a/b=0.5", "a/b=1", "a/b=1.33", "a/b=2"])
+def test_small_grid_normal_solution_is_complementary(shape):
+    """The 11 x 11 normal solve (products by the kernel's dense matrix) checked against an
+    independent product (numpy sums of influence_field's coefficients): the deformed gap
+    e = h + A p - approach vanishes where p > 0 and is >= 0 elsewhere, to 1e-6 of the
+    approach, and the pressures carry Fn."""
+    h, g, nr = _problem(*shape)
+    gap = hertz_gap(g, *shape)
+    c = influence_field(g, STEEL, "zz")            # circular layout on the (2 nx, 2 ny) grid
+    ii = np.arange(g.nx)
+    jj = np.arange(g.ny)
+    a = c[np.subtract.outer(ii, ii) % (2 * g.nx)][:, :, np.subtract.outer(jj, jj) % (2 * g.ny)]
+    u = np.einsum("ikjl,kl->ij", a, nr.pressure)   # u_ij = sum_kl C(i - k, j - l) p_kl
+    e = gap + u - nr.approach
+    tol = 1e-6 * nr.approach
+    assert np.abs(e[nr.pressure > 0]).max() < tol
+    assert e[nr.pressure == 0].min() > -tol
+    assert nr.pressure.sum() * g.element_area == pytest.approx(FN, rel=1e-12)
+
+
+def test_direct_products_on_a_contact_set_beyond_the_dense_operator():
+    """A contact set of more than 100 elements (36 x 36 grid) takes the direct sums over the
+    box instead of the dense slip operator (11 x 11 grids): they agree with the FFT products too."""
+    g0 = hertz(1.0, 1.0, FN, STEEL)
+    g = Grid(36, 36, 2 * 1.3 * g0.a / 36, 2 * 1.3 * g0.b / 36)
+    nr = solve_normal(hertz_gap(g, 1.0, 1.0), g, STEEL, fn=FN)
+    assert nr.n_contact > 100
+    ref = solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 5e-4, 0.5), V, product="fft")
+    direct = solve_tangential(nr.pressure, g, STEEL, MU, (1e-3, 5e-4, 0.5), V, product="direct")
+    assert direct.iterations == ref.iterations
+    assert np.abs(direct.tx - ref.tx).max() < 1e-10 * MU * nr.pressure.max()
+    assert np.abs(direct.ty - ref.ty).max() < 1e-10 * MU * nr.pressure.max()

@@ -260,7 +260,7 @@ subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, 
     fin = .false.
     stat = STAT_OK
     if (start == 1) call normal_cg_begin(w%plan, 1, h, w%dx * w%dy, control, fn_out, approach, p, &
-                                         u, t, rstate, ist, resid, stat, fin)
+                                         u, t, rstate, ist, resid, stat, fin, w%c(:, :, 1))
     if (.not. fin) call normal_cg_steps(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, &
                                         approach, tol, max_iter, max(budget, 1), p, u, t, rstate, ist, &
                                         resid, stat, fin)

@@ -52,3 +52,59 @@ subroutine rolling_solve_c(handle, nx, ny, p, x0, y0, xi, eta, phi, mu, speed, m
     iters = it
     info = stat
 end subroutine rolling_solve_c
+
+!> A creep-force table on the grid of workspace `handle` (made with tangential /= 0):
+!> for each of the ncase cases the normal problem with the gap gap(:, :, kgap(k)) (m)
+!> and the force fn(k) (N), solved again only when these differ from the previous
+!> case's, then steady rolling with creep(:, k) = (xi, eta, phi) (1, 1, 1/m), each from
+!> zero (contact_table::creep_table). Per case: fx, fy (N), mz (N m, about x = y = 0),
+!> power (W), ncontact, approach (m), iters_n (CG iterations), iters_t (sweeps),
+!> nfo_n (normal status, STAT_GRID_EDGE if the pressure reaches the grid's edge),
+!> nfo_t (rolling status, where nfo_n is STAT_OK). info: STAT_OK; STAT_BAD_HANDLE no
+!> such workspace, one of another grid size or without the tangential kernels;
+!> STAT_BAD_ARGUMENT a kgap outside 1..ngap.
+subroutine rolling_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu, speed, x0, y0, &
+                           tol_n, tol_t, max_iter_n, max_iter_t, fx, fy, mz, power, ncontact, &
+                           approach, iters_n, iters_t, nfo_n, nfo_t, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_BAD_HANDLE
+    use contact_plans, only: workspace, ws_get
+    use contact_table, only: creep_table
+    implicit none
+    !f2py threadsafe
+    integer(c_int), intent(in) :: handle, nx, ny, ngap, ncase, max_iter_n, max_iter_t
+    real(c_double), intent(in) :: gap(nx, ny, ngap), fn(ncase), creep(3, ncase)
+    integer(c_int), intent(in) :: kgap(ncase)
+    real(c_double), intent(in) :: mu, speed, x0, y0, tol_n, tol_t
+    real(c_double), intent(out) :: fx(ncase), fy(ncase), mz(ncase), power(ncase), approach(ncase)
+    integer(c_int), intent(out) :: ncontact(ncase), iters_n(ncase), iters_t(ncase)
+    integer(c_int), intent(out) :: nfo_n(ncase), nfo_t(ncase), info
+    type(workspace), pointer :: w
+    integer, allocatable :: kg(:), nc(:), itn(:), itt(:), sn(:), stt(:)
+    integer :: stat
+
+    fx = 0.0_c_double
+    fy = 0.0_c_double
+    mz = 0.0_c_double
+    power = 0.0_c_double
+    approach = 0.0_c_double
+    ncontact = 0
+    iters_n = 0
+    iters_t = 0
+    nfo_n = 0
+    nfo_t = 0
+    w => ws_get(handle, nx, ny)
+    info = STAT_BAD_HANDLE
+    if (.not. associated(w)) return
+    if (w%nker < 4) return
+    allocate (kg(ncase), nc(ncase), itn(ncase), itt(ncase), sn(ncase), stt(ncase))
+    kg = kgap
+    call creep_table(w, gap, kg, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, max_iter_t, &
+                     fx, fy, mz, power, nc, approach, itn, itt, sn, stt, stat)
+    ncontact = nc
+    iters_n = itn
+    iters_t = itt
+    nfo_n = sn
+    nfo_t = stt
+    info = stat
+end subroutine rolling_table_c

@@ -5,7 +5,9 @@
 !> the linear one (Kaiser, sect. 4; Vollebregt 2014). FFTW plans and the
 !> coefficient spectra are made once per grid (conv_init) and reused by every
 !> product (conv_apply). The direct form (direct_apply) sums in O(N^2) and is
-!> kept for small grids and as a reference.
+!> kept for small grids and as a reference. On small grids (N = nx ny <= DENSE_MAX)
+!> conv_apply_dense multiplies by the dense N x N matrix of a kernel, made on first
+!> use and kept in the plan: O(nq N) for nq non-zero sources, contiguous columns.
 !> Implements Kaiser eq. 20, u_I = sum_J A_IJ q_J (role inferred: docs/equations.md).
 module contact_convolution
     ! fftw3.f03 needs the whole of iso_c_binding
@@ -16,6 +18,7 @@ module contact_convolution
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply
     public :: conv_init_precond, conv_apply_buffer, conv_precond_buffer
+    public :: conv_apply_dense, DENSE_MAX
 
     include 'fftw3.f03'
 
@@ -35,7 +38,13 @@ module contact_convolution
         real(c_double), pointer :: prbuf(:, :) => null()
         complex(c_double_complex), pointer :: pcbuf(:, :) => null()
         real(dp), allocatable :: psym(:, :)
+        ! Dense matrix of kernel dense_k (conv_apply_dense), (N, N), N = nx ny.
+        integer :: dense_k = 0
+        real(dp), allocatable :: dense(:, :)
     end type conv_plan
+
+    !> Largest grid (elements) whose dense matrix conv_apply_dense makes (8 MB).
+    integer, parameter :: DENSE_MAX = 1024
 
 contains
 
@@ -107,6 +116,8 @@ contains
         call free_mem(plan%pcmem)
         nullify (plan%prbuf, plan%pcbuf)
         if (allocated(plan%psym)) deallocate (plan%psym)
+        if (allocated(plan%dense)) deallocate (plan%dense)
+        plan%dense_k = 0
         plan%has_prec = .false.
         plan%nx = 0
         plan%ny = 0
@@ -243,6 +254,56 @@ contains
         plan%pcbuf = plan%pcbuf * plan%psym
         call fftw_execute_dft_c2r(plan%pbwd, plan%pcbuf, plan%prbuf)
     end subroutine conv_precond_buffer
+
+    !> u = C_k * q by the columns of the dense matrix of kernel k for q's non-zero
+    !> elements, O(nq N); the matrix is made from c (kernel k's coefficients,
+    !> influence_field layout) on first use and kept in the plan. For grids of at
+    !> most DENSE_MAX elements (larger ones: conv_apply). Agrees with conv_apply to
+    !> rounding.
+    subroutine conv_apply_dense(plan, k, c, q, u)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: k
+        real(dp), intent(in) :: c(0:, 0:), q(:, :)
+        real(dp), intent(out) :: u(:, :)
+        real(dp) :: v(plan%nx * plan%ny)
+        integer :: i, j, n, nx, ny
+        nx = plan%nx
+        ny = plan%ny
+        if (plan%dense_k /= k) call make_dense(plan, k, c)
+        v = 0.0_dp
+        n = 0
+        do j = 1, ny
+            do i = 1, nx
+                n = n + 1
+                if (q(i, j) /= 0.0_dp) v = v + q(i, j) * plan%dense(:, n)
+            end do
+        end do
+        u = reshape(v, [nx, ny])
+    end subroutine conv_apply_dense
+
+    !> The dense matrix of kernel k: dense(i + (j - 1) nx, k + (l - 1) nx) = C(i - k, j - l).
+    subroutine make_dense(plan, k, c)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: k
+        real(dp), intent(in) :: c(0:, 0:)
+        integer :: i, j, kk, l, nx, ny, mx, my
+        nx = plan%nx
+        ny = plan%ny
+        mx = 2 * nx
+        my = 2 * ny
+        if (allocated(plan%dense)) deallocate (plan%dense)
+        allocate (plan%dense(nx * ny, nx * ny))
+        do l = 1, ny
+            do kk = 1, nx
+                do j = 1, ny
+                    do i = 1, nx
+                        plan%dense(i + (j - 1) * nx, kk + (l - 1) * nx) = c(modulo(i - kk, mx), modulo(j - l, my))
+                    end do
+                end do
+            end do
+        end do
+        plan%dense_k = k
+    end subroutine make_dense
 
     !> u = C * q by direct summation over the non-zero entries of q, O(N Nq).
     pure subroutine direct_apply(nx, ny, c, q, u)

@@ -22,7 +22,8 @@
 module contact_normal
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_NOT_FINITE
-    use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer
+    use contact_convolution, only: conv_plan, conv_apply, conv_apply_buffer, conv_precond_buffer, &
+                                   conv_apply_dense, DENSE_MAX
     implicit none
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
@@ -64,11 +65,14 @@ contains
     !> away under force control); STAT_NO_CONTACT approach prescribed and below
     !> the smallest gap (p = 0 is the solution); STAT_NOT_FINITE a NaN in p.
     !>
-    !> Each iteration makes one FFT product A t and one preconditioner
+    !> Each iteration makes one product A t and one preconditioner
     !> application, and a few fused passes over the grid; the products and
     !> the preconditioner read and write the FFT buffers in place. After the
     !> projection, u = A p is corrected column by column when few elements
-    !> changed, by an exact product otherwise.
+    !> changed, by an exact product otherwise. A product is a sum of columns of A
+    !> (O(nc N), nc elements in contact) when that takes fewer operations than the
+    !> zero-padded FFT (columns_are_cheaper: small grids such as 11 x 11); the two
+    !> agree to rounding.
     subroutine normal_cg(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
                          p, iters, nprod, resid, info)
         type(conv_plan), intent(inout) :: plan
@@ -86,7 +90,7 @@ contains
 
         allocate (u, t, mold=h)
         call normal_cg_begin(plan, kz, h, area_el, control, fn, approach, p, u, t, rs, is, &
-                             resid, info, done)
+                             resid, info, done, c)
         if (.not. done) call normal_cg_steps(plan, kz, c, h, area_el, control, fn, approach, tol, &
                                              max_iter, huge(1), p, u, t, rs, is, resid, info, done)
         iters = is(2)
@@ -96,12 +100,14 @@ contains
     !> The start of a resumable projected CG solve (normal_cg = normal_cg_begin, then
     !> normal_cg_steps until done): the no-contact test, the initial pressure and
     !> u = A p, and the state (t, rs, is) of iteration 0. done: the solve has
-    !> finished already (STAT_NO_CONTACT).
+    !> finished already (STAT_NO_CONTACT). c (optional): the coefficients of kernel kz
+    !> (influence_field layout), for a product by columns on small grids (apply_a).
     subroutine normal_cg_begin(plan, kz, h, area_el, control, fn, approach, p, u, t, rs, is, &
-                               resid, info, done)
+                               resid, info, done, c)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, control
         real(dp), intent(in) :: h(:, :), area_el
+        real(dp), intent(in), optional :: c(0:, 0:)
         real(dp), intent(inout) :: fn, approach, p(:, :)
         real(dp), intent(out) :: u(:, :), t(:, :), rs(CG_RSTATE), resid
         integer, intent(out) :: is(CG_ISTATE), info
@@ -120,7 +126,7 @@ contains
         is = [0, 0, 0, 0, 1]
         done = no_contact(control, h, approach, p, fn, resid, info)
         if (done) return
-        call initial_pressure(plan, kz, h, force, approach, p, u, nprod)
+        call initial_pressure(plan, kz, h, force, approach, p, u, nprod, c)
         if (force) then
             scale = fn / (area_el * sum(p))
             p = scale * p
@@ -218,7 +224,7 @@ contains
                     exit
                 end if
                 ! confirm on an exact product before stopping
-                call conv_apply(plan, kz, p, u)
+                call apply_a(plan, kz, c, p, u, nc)
                 nprod = nprod + 1
                 exact = .true.
                 it = it + 1
@@ -268,7 +274,11 @@ contains
                     plan%rbuf(i, j) = tk
                 end do
             end do
-            call conv_apply_buffer(plan, kz)
+            if (columns_are_cheaper(nc, nx, ny)) then
+                call conv_apply_dense(plan, kz, c, t, plan%rbuf(1:nx, 1:ny))
+            else
+                call conv_apply_buffer(plan, kz)
+            end if
             nprod = nprod + 1
 
             ! pass 5: step length tau = (g, t) / (r - rbar, t) with r = A t
@@ -340,7 +350,7 @@ contains
             ! sparse d, an exact product when d is large or to stop drift
             if (nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0) then
                 if (scale /= 1.0_dp) p = scale * p
-                call conv_apply(plan, kz, p, u)
+                call apply_a(plan, kz, c, p, u, nc + nd)
                 nprod = nprod + 1
                 exact = .true.
             else
@@ -377,11 +387,12 @@ contains
 
     !> A cold start when p is all zero: p proportional to the interpenetration
     !> of the rigid surfaces, scaled to the best fit of A p = delta - h on it.
-    !> On return u = A p.
-    subroutine initial_pressure(plan, kz, h, force, approach, p, u, nprod)
+    !> On return u = A p (c, optional: kernel kz's coefficients, for apply_a).
+    subroutine initial_pressure(plan, kz, h, force, approach, p, u, nprod, c)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz
         real(dp), intent(in) :: h(:, :), approach
+        real(dp), intent(in), optional :: c(0:, 0:)
         logical, intent(in) :: force
         real(dp), intent(inout) :: p(:, :)
         real(dp), intent(inout) :: u(:, :)
@@ -401,7 +412,11 @@ contains
             p = max(d - h, 0.0_dp)
             if (.not. any(p > 0.0_dp)) p = 1.0_dp
         end if
-        call conv_apply(plan, kz, p, u)
+        if (present(c)) then
+            call apply_a(plan, kz, c, p, u, count(p > 0.0_dp))
+        else
+            call conv_apply(plan, kz, p, u)
+        end if
         nprod = nprod + 1
         if (.not. force) then
             s = sum(u * (approach - h), mask=p > 0.0_dp) / max(sum(u**2, mask=p > 0.0_dp), tiny(1.0_dp))
@@ -426,6 +441,36 @@ contains
         resid = 0.0_dp
         info = STAT_NO_CONTACT
     end function no_contact
+
+    !> Whether a product by columns of A (2 flops per source and target, nq sources
+    !> on an nx x ny grid of at most DENSE_MAX elements, conv_apply_dense) takes fewer
+    !> operations than the zero-padded FFT product:
+    !> about 5 M log2 M + 10 M for the two real transforms of M = 4 nx ny points and
+    !> the spectral product (the count of contact_rolling's direct_is_cheaper; by
+    !> instruction counts the column sums win by more, so the choice is
+    !> conservative: an 11 x 11 grid takes columns, 25 x 25 with 200 elements in
+    !> contact and the vehicle's 48 x 80 grids the FFT).
+    pure logical function columns_are_cheaper(nq, nx, ny)
+        integer, intent(in) :: nq, nx, ny
+        real(dp) :: m
+        m = 4.0_dp * nx * ny
+        columns_are_cheaper = nx * ny <= DENSE_MAX .and. &
+                              2.0_dp * nq * nx * ny < 5.0_dp * m * log(m) / log(2.0_dp) + 10.0_dp * m
+    end function columns_are_cheaper
+
+    !> u = A q for kernel kz: by the columns of the dense matrix (conv_apply_dense) when
+    !> q's nq non-zero elements make that cheaper (columns_are_cheaper), else by FFT.
+    subroutine apply_a(plan, kz, c, q, u, nq)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, nq
+        real(dp), intent(in) :: c(0:, 0:), q(:, :)
+        real(dp), intent(out) :: u(:, :)
+        if (columns_are_cheaper(nq, size(q, 1), size(q, 2))) then
+            call conv_apply_dense(plan, kz, c, q, u)
+        else
+            call conv_apply(plan, kz, q, u)
+        end if
+    end subroutine apply_a
 
     !> u = u + dkl * A(:, (k, l)), the column of element (k, l).
     pure subroutine add_column(c, k, l, dkl, u)

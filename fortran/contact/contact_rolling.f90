@@ -66,7 +66,10 @@
 !> direct sums of the contact set's tractions onto the rows and columns the
 !> slip reads (box_apply, O(nc x box)) than as a padded FFT over the whole grid;
 !> direct_is_cheaper picks by a count of operations (product PRODUCT_AUTO), and
-!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding.
+!> PRODUCT_FFT / PRODUCT_DIRECT force one. They agree to rounding. The solver reads
+!> u only through the slip's difference quotient at the elements in contact
+!> (field), so the direct form of a contact set of at most SOP_MAX elements is one
+!> dense (2 nc x 2 nc) slip operator made per solve (slip_operator).
 !> Both accelerate the sweep map by Anderson mixing (depth AA_M,
 !> common_anderson), with a safeguard that falls back to the plain sweep when
 !> the residual grows.
@@ -108,6 +111,10 @@ module contact_rolling
     !> Weight of the three-point upwind difference (module doc) and its stencil.
     real(dp), parameter :: THETA = 1.0_dp / 3.0_dp
     real(dp), parameter :: WU0 = 1.0_dp + THETA, WU1 = -(1.0_dp + 2.0_dp * THETA), WU2 = THETA
+    !> Largest contact set whose dense slip operator direct products use: its matrix
+    !> (at most 313 KB) stays in cache; a larger one streams from memory on every
+    !> product and loses to box_apply (25 x 25 grid, 210 in contact: 6 % slower).
+    integer, parameter :: SOP_MAX = 100
 
     !> In-row basis of a run of n elements (make_basis).
     type :: run_basis
@@ -129,12 +136,15 @@ module contact_rolling
         real(dp) :: kx = 0.0_dp, ky = 0.0_dp      ! single-element pivots (At(0) - At(dx)) / dx, 1/Pa
         logical, allocatable :: inc(:, :)         ! (nx, ny) element in contact, p > 0
         integer, allocatable :: trail(:, :)       ! (nx, ny) trailing end of the run through (i, j)
+        integer, allocatable :: rlo(:), rhi(:)    ! (j1:j2) first and last element in contact of row j
         real(dp), allocatable :: bound(:, :)      ! (nx, ny) traction bound mu p, Pa
         real(dp), allocatable :: wx(:, :), wy(:, :)   ! (nx, ny) rigid slip, creepage units
         !> At by offset (-nbx-1..nbx+1, -nby..nby), for the bases and the cross-row updates
         real(dp), allocatable :: axx(:, :), ayy(:, :), axy(:, :)
         !> A itself by offset, same bounds (direct products only)
         real(dp), allocatable :: rxx(:, :), ryy(:, :), rxy(:, :)
+        !> (2 nc, 2 nc) dense slip operator of the contact set (direct products, nc <= SOP_MAX)
+        real(dp), allocatable :: sop(:, :)
         type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
     end type rolling_patch
 
@@ -248,7 +258,7 @@ contains
 
         type(rolling_patch) :: pa
         type(anderson_state) :: aa
-        real(dp), allocatable :: ux(:, :), uy(:, :), dux(:, :), duy(:, :), v(:)
+        real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
         real(dp) :: r2, n2, rbest
         integer :: nblk, it, prod
 
@@ -275,18 +285,20 @@ contains
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
 
-        allocate (ux(pa%nx, pa%ny), uy(pa%nx, pa%ny), dux(pa%i1:pa%ib2, pa%j1:pa%j2), &
-                  duy(pa%i1:pa%ib2, pa%j1:pa%j2), v(2 * pa%nc))
+        allocate (ux(pa%nx, pa%ny), uy(pa%nx, pa%ny), gx(pa%nx, pa%ny), gy(pa%nx, pa%ny), &
+                  dux(pa%i1:pa%ib2, pa%j1:pa%j2), duy(pa%i1:pa%ib2, pa%j1:pa%j2), v(2 * pa%nc))
         ux = 0.0_dp      ! box_apply sets the box only; nothing reads u outside it
         uy = 0.0_dp
+        gx = 0.0_dp      ! field sets the contact set only; nothing reads g outside it
+        gy = 0.0_dp
         call pack_tractions(pa, tx, ty, v)
         call anderson_init(aa, v, AA_M)
         rbest = huge(1.0_dp)
         it = 0
         do
             ! exact field and the Jacobi residual on it (pivot of a single element)
-            call field(pa, w%plan, tx, ty, ux, uy)
-            call jacobi_residual(pa, ux, uy, tx, ty, r2, n2)
+            call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
+            call jacobi_residual(pa, gx, gy, tx, ty, r2, n2)
             if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
                 info = STAT_NOT_FINITE
                 resid = huge(1.0_dp)
@@ -307,11 +319,11 @@ contains
             if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
                 call anderson_restart(aa)
                 call unpack_tractions(pa, aa%x, tx, ty)
-                call field(pa, w%plan, tx, ty, ux, uy)
+                call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
             end if
             rbest = min(rbest, resid)
             it = it + 1
-            call sweep(pa, w%plan, nblk, ninner, tx, ty, ux, uy, dux, duy)
+            call sweep(pa, w%plan, nblk, ninner, tx, ty, ux, uy, gx, gy, dux, duy)
             ! Anderson mixing of the sweep map, then every traction back on its disc
             call pack_tractions(pa, tx, ty, v)
             call anderson_step(aa, v)
@@ -323,8 +335,8 @@ contains
         ! traction on its disc (a change of the order of the residual)
         call project_all(pa, tx, ty)
         if (info /= STAT_NOT_FINITE) then
-            call field(pa, w%plan, tx, ty, ux, uy)
-            call final_slip(pa, ux, uy, tx, ty, speed, status, sx, sy)
+            call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
+            call final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy)
         end if
     end subroutine rolling_steady
 
@@ -385,6 +397,7 @@ contains
             pa%rxx = pa%axx
             pa%ryy = pa%ayy
             pa%rxy = pa%axy
+            if (pa%nc <= SOP_MAX) call slip_operator(pa)
         end if
         call extrapolated(pa%nbx, pa%axx)
         call extrapolated(pa%nbx, pa%ayy)
@@ -440,11 +453,15 @@ contains
         pa%ib2 = pa%i2 + 1
         pa%nbx = pa%ib2 - pa%i1
         pa%nby = pa%j2 - pa%j1
-        allocate (pa%trail(pa%nx, pa%ny))
+        allocate (pa%trail(pa%nx, pa%ny), pa%rlo(pa%j1:pa%j2), pa%rhi(pa%j1:pa%j2))
         pa%trail = 0
+        pa%rlo = pa%nx + 1
+        pa%rhi = 0
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
                 if (.not. pa%inc(i, j)) cycle
+                pa%rlo(j) = min(pa%rlo(j), i)
+                pa%rhi(j) = max(pa%rhi(j), i)
                 if (i > 1) then
                     if (pa%inc(i - 1, j)) then
                         pa%trail(i, j) = pa%trail(i - 1, j)
@@ -540,10 +557,11 @@ contains
 
     !> Squared norms of the Jacobi step F(t) - t and of F(t) over the contact
     !> set, F being the element solutions with a single-element pivot on the
-    !> exact field u = A t (the convergence measure, module doc).
-    subroutine jacobi_residual(pa, ux, uy, tx, ty, r2, n2)
+    !> exact field u = A t, whose slip g (field) is given (the convergence measure,
+    !> module doc).
+    subroutine jacobi_residual(pa, gx, gy, tx, ty, r2, n2)
         type(rolling_patch), intent(in) :: pa
-        real(dp), intent(in) :: ux(:, :), uy(:, :), tx(:, :), ty(:, :)
+        real(dp), intent(in) :: gx(:, :), gy(:, :), tx(:, :), ty(:, :)
         real(dp), intent(out) :: r2, n2
         real(dp) :: s0x, s0y, ntx, nty, lam
         integer :: i, j, st
@@ -552,8 +570,8 @@ contains
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
                 if (.not. pa%inc(i, j)) cycle
-                s0x = pa%wx(i, j) + updiff(ux, i, j, pa%dx) - pa%kx * tx(i, j)
-                s0y = pa%wy(i, j) + updiff(uy, i, j, pa%dx) - pa%ky * ty(i, j)
+                s0x = pa%wx(i, j) + gx(i, j) - pa%kx * tx(i, j)
+                s0y = pa%wy(i, j) + gy(i, j) - pa%ky * ty(i, j)
                 call element_solve(s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), ntx, nty, st, lam)
                 r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
                 n2 = n2 + ntx**2 + nty**2
@@ -562,10 +580,10 @@ contains
     end subroutine jacobi_residual
 
     !> Status and slip velocity (m/s) of every element in contact for the
-    !> tractions t on the exact field u = A t.
-    subroutine final_slip(pa, ux, uy, tx, ty, speed, status, sx, sy)
+    !> tractions t on the exact field u = A t (its slip g given, field).
+    subroutine final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy)
         type(rolling_patch), intent(in) :: pa
-        real(dp), intent(in) :: ux(:, :), uy(:, :), tx(:, :), ty(:, :), speed
+        real(dp), intent(in) :: gx(:, :), gy(:, :), tx(:, :), ty(:, :), speed
         integer, intent(inout) :: status(:, :)
         real(dp), intent(inout) :: sx(:, :), sy(:, :)
         real(dp) :: s0x, s0y, ntx, nty, lam
@@ -573,8 +591,8 @@ contains
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
                 if (.not. pa%inc(i, j)) cycle
-                s0x = pa%wx(i, j) + updiff(ux, i, j, pa%dx)
-                s0y = pa%wy(i, j) + updiff(uy, i, j, pa%dx)
+                s0x = pa%wx(i, j) + gx(i, j)
+                s0y = pa%wy(i, j) + gy(i, j)
                 call element_solve(s0x - pa%kx * tx(i, j), s0y - pa%ky * ty(i, j), pa%kx, pa%ky, &
                                    pa%bound(i, j), ntx, nty, st, lam)
                 status(i, j) = st
@@ -656,18 +674,82 @@ contains
         direct_is_cheaper = 8.0_dp * pa%nc * ntarget < 5.0_dp * m * log(m) / log(2.0_dp) + 10.0_dp * m
     end function direct_is_cheaper
 
-    !> The field u = A t where the solver reads it, by FFT or (pa%direct) by box_apply.
-    subroutine field(pa, plan, tx, ty, ux, uy)
+    !> The slip of the field u = A t at every element in contact, g = (ut_i - ut_i+1) / dx
+    !> (eq. 29's difference quotient; the solver reads u nowhere else): on small patches
+    !> (pa%sop made) by the dense slip operator on the contact set, else from u (ux, uy:
+    !> scratch) by box_apply (pa%direct) or by FFT. They agree to rounding.
+    subroutine field(pa, plan, tx, ty, ux, uy, gx, gy)
         type(rolling_patch), intent(in) :: pa
         type(conv_plan), intent(inout) :: plan
         real(dp), intent(in) :: tx(:, :), ty(:, :)
-        real(dp), intent(inout) :: ux(:, :), uy(:, :)
+        real(dp), intent(inout) :: ux(:, :), uy(:, :), gx(:, :), gy(:, :)
+        integer :: k, i, j
+        if (allocated(pa%sop)) then
+            call slip_operator_apply(pa, tx, ty, gx, gy)
+            return
+        end if
         if (pa%direct) then
             call box_apply(pa, tx, ty, ux, uy)
         else
             call conv_apply_pair(plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
         end if
+        do k = 1, pa%nc
+            i = pa%ic(k)
+            j = pa%jc(k)
+            gx(i, j) = updiff(ux, i, j, pa%dx)
+            gy(i, j) = updiff(uy, i, j, pa%dx)
+        end do
     end subroutine field
+
+    !> g = S t on the contact set by the dense slip operator pa%sop (slip_operator).
+    subroutine slip_operator_apply(pa, tx, ty, gx, gy)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: tx(:, :), ty(:, :)
+        real(dp), intent(inout) :: gx(:, :), gy(:, :)
+        real(dp) :: v(2 * pa%nc), g(2 * pa%nc)
+        integer :: k, n
+        n = pa%nc
+        call pack_tractions(pa, tx, ty, v)
+        g = 0.0_dp
+        do k = 1, 2 * n
+            if (v(k) /= 0.0_dp) g = g + v(k) * pa%sop(:, k)
+        end do
+        do k = 1, n
+            gx(pa%ic(k), pa%jc(k)) = g(k)
+            gy(pa%ic(k), pa%jc(k)) = g(n + k)
+        end do
+    end subroutine slip_operator_apply
+
+    !> The dense slip operator of the contact set, pa%sop(2 nc, 2 nc): the slip
+    !> g = (ut_i - ut_i+1) / dx of u = A t at the elements in contact from their
+    !> tractions, packed [x(inc), y(inc)] (pack_tractions), from A by offset (pa%rxx, ...).
+    subroutine slip_operator(pa)
+        type(rolling_patch), intent(inout) :: pa
+        real(dp), allocatable :: dxx(:, :), dyy(:, :), dxy(:, :)
+        integer :: k, m, n, a, b, na
+        n = pa%nc
+        na = pa%i2 - pa%i1
+        ! the difference quotient by offset, then gathered by the pairs of the set
+        allocate (dxx(-na:na, -pa%nby:pa%nby), dyy(-na:na, -pa%nby:pa%nby), dxy(-na:na, -pa%nby:pa%nby))
+        do b = -pa%nby, pa%nby
+            do a = -na, na
+                dxx(a, b) = (WU0 * pa%rxx(a, b) + WU1 * pa%rxx(a + 1, b) + WU2 * pa%rxx(a + 2, b)) / pa%dx
+                dxy(a, b) = (WU0 * pa%rxy(a, b) + WU1 * pa%rxy(a + 1, b) + WU2 * pa%rxy(a + 2, b)) / pa%dx
+                dyy(a, b) = (WU0 * pa%ryy(a, b) + WU1 * pa%ryy(a + 1, b) + WU2 * pa%ryy(a + 2, b)) / pa%dx
+            end do
+        end do
+        allocate (pa%sop(2 * n, 2 * n))
+        do m = 1, n
+            do k = 1, n
+                a = pa%ic(k) - pa%ic(m)
+                b = pa%jc(k) - pa%jc(m)
+                pa%sop(k, m) = dxx(a, b)
+                pa%sop(k, n + m) = dxy(a, b)
+                pa%sop(n + k, m) = dxy(a, b)
+                pa%sop(n + k, n + m) = dyy(a, b)
+            end do
+        end do
+    end subroutine slip_operator
 
     !> u = A t by direct sums over the contact set, on the box the solver reads:
     !> rows i1..i2 + 2 (the slip stencil's upstream elements), columns j1..j2
@@ -700,23 +782,23 @@ contains
     !> field u refreshed by FFT before each block (the caller gives it for the
     !> first) and the block's own changes kept in du; within a row the runs are
     !> solved from the leading edge (largest x).
-    subroutine sweep(pa, plan, nblk, ninner, tx, ty, ux, uy, dux, duy)
+    subroutine sweep(pa, plan, nblk, ninner, tx, ty, ux, uy, gx, gy, dux, duy)
         type(rolling_patch), intent(in) :: pa
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: nblk, ninner
-        real(dp), intent(inout) :: tx(:, :), ty(:, :), ux(:, :), uy(:, :)
+        real(dp), intent(inout) :: tx(:, :), ty(:, :), ux(:, :), uy(:, :), gx(:, :), gy(:, :)
         real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
         integer :: i, j, jb, je
         do jb = pa%j1, pa%j2, nblk
             je = min(pa%j2, jb + nblk - 1)
-            if (jb > pa%j1) call field(pa, plan, tx, ty, ux, uy)
+            if (jb > pa%j1) call field(pa, plan, tx, ty, ux, uy, gx, gy)
             dux = 0.0_dp
             duy = 0.0_dp
             do j = jb, je
                 do i = pa%i2, pa%i1, -1
                     if (.not. pa%inc(i, j)) cycle
                     if (pa%inc(i + 1, j)) cycle
-                    call solve_run(pa, pa%trail(i, j), i, j, je, ninner, tx, ty, ux, uy, dux, duy)
+                    call solve_run(pa, pa%trail(i, j), i, j, je, ninner, tx, ty, gx, gy, dux, duy)
                 end do
             end do
         end do
@@ -724,16 +806,16 @@ contains
 
     !> ninner passes over the run k..l of row jr with exact in-row updates,
     !> then the run's traction change carried to the rows jr..je of the block.
-    subroutine solve_run(pa, k, l, jr, je, ninner, tx, ty, ux, uy, dux, duy)
+    subroutine solve_run(pa, k, l, jr, je, ninner, tx, ty, gx, gy, dux, duy)
         type(rolling_patch), intent(in) :: pa
         integer, intent(in) :: k, l, jr, je, ninner
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
-        real(dp), intent(in) :: ux(:, :), uy(:, :)
+        real(dp), intent(in) :: gx(:, :), gy(:, :)
         real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
         real(dp) :: tox(l - k + 1), toy(l - k + 1)
         tox = tx(k:l, jr)
         toy = ty(k:l, jr)
-        call run_passes(pa, k, l, jr, ninner, tx, ty, ux, uy, dux, duy)
+        call run_passes(pa, k, l, jr, ninner, tx, ty, gx, gy, dux, duy)
         tox = tx(k:l, jr) - tox
         toy = ty(k:l, jr) - toy
         call spread_run_change(pa, k, l, jr, je, tox, toy, dux, duy)
@@ -743,11 +825,11 @@ contains
     !> each element problem solved exactly on its disc with the pivot of the
     !> in-row basis, the basis update applied to the run's tractions and to
     !> the in-row displacement corrections du (the run and its upstream element).
-    subroutine run_passes(pa, k, l, jr, ninner, tx, ty, ux, uy, dux, duy)
+    subroutine run_passes(pa, k, l, jr, ninner, tx, ty, gx, gy, dux, duy)
         type(rolling_patch), intent(in) :: pa
         integer, intent(in) :: k, l, jr, ninner
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
-        real(dp), intent(in) :: ux(:, :), uy(:, :)
+        real(dp), intent(in) :: gx(:, :), gy(:, :)
         real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
         integer :: n, q, ii, pass, st
         real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx
@@ -757,8 +839,8 @@ contains
             do pass = 1, ninner
                 do q = n, 1, -1
                     ii = k + q - 1
-                    scx = pa%wx(ii, jr) + updiff(ux, ii, jr, dx) + (dux(ii, jr) - dux(ii + 1, jr)) / dx
-                    scy = pa%wy(ii, jr) + updiff(uy, ii, jr, dx) + (duy(ii, jr) - duy(ii + 1, jr)) / dx
+                    scx = pa%wx(ii, jr) + gx(ii, jr) + (dux(ii, jr) - dux(ii + 1, jr)) / dx
+                    scy = pa%wy(ii, jr) + gy(ii, jr) + (duy(ii, jr) - duy(ii + 1, jr)) / dx
                     if (q == n) then
                         pivx = (1.0_dp - qx(q)) / (dx * mx(q, q))
                         pivy = (1.0_dp - qy(q)) / (dx * my(q, q))
@@ -787,7 +869,8 @@ contains
 
     !> The traction change (dtx, dty) of the run k..l of row jr seen by the rest
     !> of the block, rows jr..je (its own row outside k..l+1 included; the xy
-    !> coupling within a row vanishes).
+    !> coupling within a row vanishes), on the elements the slip of each row reads:
+    !> its elements in contact and the one upstream of its last (rlo..rhi + 1).
     subroutine spread_run_change(pa, k, l, jr, je, dtx, dty, dux, duy)
         type(rolling_patch), intent(in) :: pa
         integer, intent(in) :: k, l, jr, je
@@ -795,7 +878,7 @@ contains
         real(dp), intent(inout) :: dux(pa%i1:, pa%j1:), duy(pa%i1:, pa%j1:)
         integer :: a, b, q, ii
         real(dp) :: fx, fy
-        associate (axx => pa%axx, ayy => pa%ayy, axy => pa%axy, i1 => pa%i1, ib2 => pa%ib2)
+        associate (axx => pa%axx, ayy => pa%ayy, axy => pa%axy, rlo => pa%rlo, rhi => pa%rhi)
             do b = jr, je
                 do q = 1, l - k + 1
                     fx = dtx(q)
@@ -803,16 +886,16 @@ contains
                     if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
                     ii = k + q - 1
                     if (b == jr) then
-                        do a = i1, k - 1
+                        do a = rlo(b), k - 1
                             dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
                             duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
                         end do
-                        do a = l + 2, ib2
+                        do a = l + 2, rhi(b) + 1
                             dux(a, b) = dux(a, b) + axx(a - ii, 0) * fx
                             duy(a, b) = duy(a, b) + ayy(a - ii, 0) * fy
                         end do
                     else
-                        do a = i1, ib2
+                        do a = rlo(b), rhi(b) + 1
                             dux(a, b) = dux(a, b) + axx(a - ii, b - jr) * fx + axy(a - ii, b - jr) * fy
                             duy(a, b) = duy(a, b) + axy(a - ii, b - jr) * fx + ayy(a - ii, b - jr) * fy
                         end do

@@ -1,0 +1,102 @@
+"""Creep-force tables in one Fortran call (railvti.contact.creep_force_table, issue 18 item 4):
+each case the same as solve_rolling's, the table against Kalker's linear theory and the
+symmetry of a Hertz patch, and the error paths."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from railvti import STEEL
+from railvti.contact import Grid, creep_force_table, hertz, hertz_gap, solve_rolling
+from railvti.contact.kalker import kalker_coefficients
+from railvti.errors import GridTooSmallError, InputError
+
+FN, MU, V, MARGIN, N = 10e3, 0.3, 30.0, 1.57, 11
+# a/b = 0.5, 1.33 (a wheel-rail patch) of benchmarks/bench_contact_small_grid.py
+SHAPES = [(2.8, 1.0), (0.5 / 0.46, 0.5 / 0.30)]
+CREEP = np.array([(xi, eta, phi) for xi in (0.0, 5e-4, 2e-3) for eta in (0.0, 1e-3) for phi in (0.0, 0.5, 2.0)])
+
+
+def _problem(A: float, B: float, n: int = N, margin: float = MARGIN):
+    h = hertz(A, B, FN, STEEL)
+    g = Grid(n, n, 2 * margin * h.a / n, 2 * margin * h.b / n)
+    return h, g, hertz_gap(g, A, B)
+
+
+@pytest.mark.parametrize("shape", SHAPES, ids=["a/b=0.5", "a/b=1.33"])
+def test_table_gives_the_cases_of_solve_rolling(shape):
+    """Every case of the table equals solve_rolling's (same sweeps, forces to 1e-10 of mu Fn),
+    whether the normal problem is shared (one gap) or solved per case (a gap per case)."""
+    _, g, gap = _problem(*shape)
+    shared = creep_force_table(gap, g, STEEL, MU, FN, CREEP, V)
+    each = creep_force_table(np.repeat(gap[None], len(CREEP), axis=0), g, STEEL, MU, FN, CREEP, V)
+    assert shared.normal_solves == 1 and each.normal_solves == len(CREEP)
+    scale = MU * FN
+    for k, c in enumerate(CREEP):
+        r = solve_rolling(gap, g, STEEL, MU, FN, tuple(c), V)
+        for t in (shared, each):
+            assert t.iterations[k] == r.iterations
+            assert t.n_contact[k] == r.n_contact
+            assert abs(t.fx[k] - r.fx) <= 1e-10 * scale and abs(t.fy[k] - r.fy) <= 1e-10 * scale
+            assert abs(t.mz[k] - r.mz) <= 1e-10 * scale * g.nx * g.dx
+            assert t.power[k] == pytest.approx(r.power, rel=1e-10, abs=1e-10 * scale * V)
+            assert t.approach[k] == pytest.approx(r.approach, rel=1e-10)
+
+
+def test_mixed_table_equals_separate_tables():
+    """Cases of two geometries and two loads in one table give the forces of separate tables."""
+    (_, g, gap1), (_, _, gap2) = _problem(1.0, 1.0), _problem(1.0, 1.0)
+    gap2 = gap2 * 1.2                    # another curvature on the same grid
+    creep = CREEP[::3]
+    gaps = np.array([gap1] * len(creep) + [gap2] * len(creep))
+    fns = np.array([FN] * len(creep) + [0.8 * FN] * len(creep))
+    mixed = creep_force_table(gaps, g, STEEL, MU, fns, np.vstack([creep, creep]), V)
+    t1 = creep_force_table(gap1, g, STEEL, MU, FN, creep, V)
+    t2 = creep_force_table(gap2, g, STEEL, MU, 0.8 * FN, creep, V)
+    np.testing.assert_allclose(mixed.fx, np.concatenate([t1.fx, t2.fx]), rtol=0, atol=1e-10 * MU * FN)
+    np.testing.assert_allclose(mixed.fy, np.concatenate([t1.fy, t2.fy]), rtol=0, atol=1e-10 * MU * FN)
+    assert t1.normal_solves == t2.normal_solves == 1
+
+
+def test_table_is_odd_in_the_creepages():
+    """A Hertz patch is symmetric: reversing all creepages reverses Fx, Fy and Mz (to the
+    solver's tolerance; the grid is symmetric about the patch's centre)."""
+    _, g, gap = _problem(0.5 / 0.46, 0.5 / 0.30)
+    creep = CREEP[1:]
+    plus = creep_force_table(gap, g, STEEL, MU, FN, creep, V)
+    minus = creep_force_table(gap, g, STEEL, MU, FN, -creep, V)
+    np.testing.assert_allclose(minus.fx, -plus.fx, rtol=0, atol=1e-5 * MU * FN)
+    np.testing.assert_allclose(minus.fy, -plus.fy, rtol=0, atol=1e-5 * MU * FN)
+
+
+def test_table_follows_kalker_at_small_creepage():
+    """At small creepage the table's Fx, Fy lie within 6 % of Kalker's linear theory (the
+    11 x 11 grid's discretisation error; as tests/test_contact_small_grid.py)."""
+    h, g, gap = _problem(0.5 / 0.46, 0.5 / 0.30)
+    s = 2e-5
+    t = creep_force_table(gap, g, STEEL, MU, FN, np.array([[s, 0.0, 0.0], [0.0, s, 0.0]]), V)
+    c11, c22, _ = kalker_coefficients(h.a / h.b, STEEL.poisson)
+    gc2 = STEEL.shear_modulus * h.a * h.b
+    assert t.fx[0] == pytest.approx(-gc2 * c11 * s, rel=0.06)
+    assert t.fy[1] == pytest.approx(-gc2 * c22 * s, rel=0.06)
+
+
+def test_bad_input_is_named():
+    _, g, gap = _problem(1.0, 1.0)
+    with pytest.raises(InputError, match="creepages"):
+        creep_force_table(gap, g, STEEL, MU, FN, np.zeros((4, 2)), V)
+    with pytest.raises(InputError, match="gap"):
+        creep_force_table(gap[:, :5], g, STEEL, MU, FN, CREEP, V)
+    with pytest.raises(InputError, match="fn"):
+        creep_force_table(gap, g, STEEL, MU, np.array([FN, FN]), CREEP, V)
+    with pytest.raises(InputError, match="fn"):
+        creep_force_table(gap, g, STEEL, MU, -FN, CREEP, V)
+    with pytest.raises(InputError, match="creepages"):
+        creep_force_table(gap, g, STEEL, MU, FN, np.array([[np.nan, 0.0, 0.0]]), V)
+
+
+def test_patch_cut_by_the_grid_is_refused():
+    """A grid of 1.1 semi-axes each side leaves the contact area on its last rows."""
+    _, g, gap = _problem(1.0, 1.0, margin=1.1)
+    with pytest.raises(GridTooSmallError, match="case 0"):
+        creep_force_table(gap, g, STEEL, MU, FN, CREEP[:2], V)
