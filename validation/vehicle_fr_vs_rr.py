@@ -3,6 +3,8 @@ Figs 11-15).
 
     .venv/bin/python validation/vehicle_fr_vs_rr.py            # ~2 min (the FR BEM statics ~30-50 s)
     .venv/bin/python validation/vehicle_fr_vs_rr.py --replot   # tables and charts from the last run
+    .venv/bin/python validation/vehicle_fr_vs_rr.py --model FF # FF (flexible wheelsets on the
+                                                               # ring track) against RR instead
 
 Both models on the same coach, S1002 / UIC60 1:40, 200 km/h; model FR at the default mode
 selection of ``scenarios`` (k_max 2, f_max 800 Hz, with the truncated modes' residual
@@ -48,35 +50,41 @@ K_MAX, F_MAX = 2, 800.0          # scenarios' default selection for model FR
 T_BEM = 0.02                     # s of BEM running after the steady state
 RAIL_ANGLE = float(np.arctan(1.0 / 40.0))
 SIDES = ("left", "right")
+#: The flexible model beside RR: FR (flexible wheelsets) or FF (also the ring track), --model.
+FLEX = "FR"
 
 
 def _system(model: str):
-    if model == "FR":
-        return scenarios.coach_system("FR", speed_kmh=SPEED_KMH, k_max=K_MAX, f_max=F_MAX)
+    if model in ("FR", "FF"):
+        return scenarios.coach_system(model, speed_kmh=SPEED_KMH, k_max=K_MAX, f_max=F_MAX)
     return scenarios.coach_system("RR")
 
 
-def _relative_roll(sy, q: np.ndarray) -> np.ndarray:
+def _relative_roll(sy, q: np.ndarray, t: float) -> np.ndarray:
     """(2, 4): each wheel's rigid rim-rail angle change, rad: the wheelset's roll against its
-    track element, signed as rim_rail_angle_change (the tread's inner edge rising): a roll
-    about +x lifts the left wheel's outer edge (-roll) and the right wheel's inner edge
-    (+roll)."""
-    rel = np.array([q[sy.index(f"ws{i}_roll")] - q[sy.index(f"track{i}_roll")]
-                    for i in (1, 2, 3, 4)])
-    return rel[None, :] * np.array([-1.0, 1.0])[:, None]
+    track element (on the ring: against the rail head's roll under the wheel at time t),
+    signed as rim_rail_angle_change (the tread's inner edge rising): a roll about +x lifts
+    the left wheel's outer edge (-roll) and the right wheel's inner edge (+roll)."""
+    ws = np.array([q[sy.index(f"ws{i}_roll")] for i in (1, 2, 3, 4)])
+    if getattr(sy, "ring", None) is not None:
+        rail = sy.rail_deflection(np.array([t]), q[None])[0][2]        # (2 wheels, 4)
+        rel = ws[None, :] - rail
+    else:
+        rel = (ws - np.array([q[sy.index(f"track{i}_roll")] for i in (1, 2, 3, 4)]))[None, :]
+    return rel * np.array([-1.0, 1.0])[:, None]
 
 
 def hertz_runs() -> dict:
     out = {}
-    for model in ("RR", "FR"):
+    for model in ("RR", FLEX):
         t0 = time.perf_counter()
-        kw = {"k_max": K_MAX, "f_max": F_MAX} if model == "FR" else {}
+        kw = {"k_max": K_MAX, "f_max": F_MAX} if model != "RR" else {}
         c = scenarios.centred_running(speed_kmh=SPEED_KMH, model=model, duration=1.0,
                                       progress=False, **kw)
         sy = _system(model)
         cam = c.rim_angle if c.rim_angle is not None else np.zeros((2, 4))
         out[model] = {"Q": c.Q, "Y": c.Y, "camber": cam,
-                      "rigid": _relative_roll(sy, c.run.q[-1]),
+                      "rigid": _relative_roll(sy, c.run.q[-1], float(c.run.t[-1])),
                       "wall": time.perf_counter() - t0}
     return out
 
@@ -84,7 +92,7 @@ def hertz_runs() -> dict:
 def bem_runs() -> dict:
     out = {}
     v = speed_m_s(SPEED_KMH)
-    for model in ("RR", "FR"):
+    for model in ("RR", FLEX):
         sy = _system(model)
         h = scenarios._default_step(sy)
         t0 = time.perf_counter()
@@ -93,9 +101,9 @@ def bem_runs() -> dict:
                                           maxit=200)
             t_static = time.perf_counter() - t0
             r = simulate(sy, v, T_BEM, q0=q, v0=qd, h=h, contact="bem", bem=st, progress=False)
-        cam = rim_rail_angle_change(sy, r.q[-1]) if model == "FR" else np.zeros((2, 4))
+        cam = rim_rail_angle_change(sy, r.q[-1]) if model != "RR" else np.zeros((2, 4))
         out[model] = {"Q": r.Q[-1], "Y": r.Y[-1], "camber": cam,
-                      "rigid": _relative_roll(sy, r.q[-1]),
+                      "rigid": _relative_roll(sy, r.q[-1], float(r.t[-1])),
                       "patches": [r.bem_patches[(0, w)] for w in (0, 1)],
                       "t_static": t_static, "wall": time.perf_counter() - t0,
                       "rtf": r.stats["real_time_factor"]}
@@ -135,10 +143,10 @@ def _patch_row(p, wheel: int) -> dict:
 
 
 def print_tables(hz: dict, bm: dict) -> None:
-    print(f"centred running {SPEED_KMH:.0f} km/h; FR: k_max {K_MAX} / {F_MAX:.0f} Hz with the residual")
+    print(f"centred running {SPEED_KMH:.0f} km/h; {FLEX}: k_max {K_MAX} / {F_MAX:.0f} Hz with the residual")
     for name, d in (("Hertz + Kalker, 1 s", hz), (f"BEM 0.75 mm, {T_BEM} s", bm)):
         print(f"\n{name}: per wheelset (1 leading) left / right")
-        for model in ("RR", "FR"):
+        for model in ("RR", FLEX):
             x = d[model]
             a = _angle(x)
             print(f"  {model} Q, kN:             " + "  ".join(
@@ -150,29 +158,29 @@ def print_tables(hz: dict, bm: dict) -> None:
             print(f"  {model}   of it rigid roll, mrad: " + "  ".join(
                 f"{x['rigid'][0, i] * 1e3:+.1e}/{x['rigid'][1, i] * 1e3:+.1e}" for i in range(4))
                 + f"; camber change {x['camber'].min() * 1e3:+.4f}..{x['camber'].max() * 1e3:+.4f}")
-        dq = np.abs(d["FR"]["Q"] - d["RR"]["Q"]).max()
-        print(f"  max |Q_FR - Q_RR| = {dq:.2e} N")
-    print(f"\nBEM timing: RR static {bm['RR']['t_static']:.1f} s, FR static {bm['FR']['t_static']:.1f} s; "
-          f"RTF of the {T_BEM} s run RR {bm['RR']['rtf']:.0f}, FR {bm['FR']['rtf']:.0f}")
-    rows = {m: [_patch_row(p, w) for w, p in enumerate(bm[m]["patches"])] for m in ("RR", "FR")}
+        dq = np.abs(d[FLEX]["Q"] - d["RR"]["Q"]).max()
+        print(f"  max |Q_{FLEX} - Q_RR| = {dq:.2e} N")
+    print(f"\nBEM timing: RR static {bm['RR']['t_static']:.1f} s, {FLEX} static {bm[FLEX]['t_static']:.1f} s; "
+          f"RTF of the {T_BEM} s run RR {bm['RR']['rtf']:.0f}, {FLEX} {bm[FLEX]['rtf']:.0f}")
+    rows = {m: [_patch_row(p, w) for w, p in enumerate(bm[m]["patches"])] for m in ("RR", FLEX)}
     print("\nBEM patches, leading wheelset (contact frame: x rolling + forward, y track lateral + left; "
           "flange side: left wheel -y, right wheel +y)")
-    print(f"{'':24s} " + " ".join(f"{m + ' ' + s:>10s}" for s in SIDES for m in ("RR", "FR"))
-          + f" {'FR/RR-1 L':>10s} {'FR/RR-1 R':>10s}")
+    print(f"{'':24s} " + " ".join(f"{m + ' ' + s:>10s}" for s in SIDES for m in ("RR", FLEX))
+          + f" {FLEX + '/RR-1 L':>10s} {FLEX + '/RR-1 R':>10s}")
     for key, sc, unit in (("fn", 1e-3, "kN"), ("p_max", 1e-6, "MPa"), ("y_pmax", 1e3, "mm"),
                           ("p_flange", 1e-6, "MPa"), ("y_flange", 1e3, "mm"),
                           ("p_other", 1e-6, "MPa"), ("y_other", 1e3, "mm"),
                           ("y_centroid", 1e3, "mm"), ("a", 1e3, "mm"), ("b", 1e3, "mm"),
                           ("area", 1e6, "mm^2"), ("fx", 1.0, "N"), ("fy", 1.0, "N"),
                           ("t_max", 1e-6, "MPa"), ("power", 1.0, "W"), ("pd_max", 1e-6, "W/mm^2")):
-        vals = [rows[m][w][key] for w in (0, 1) for m in ("RR", "FR")]
-        rel = [rows["FR"][w][key] / rows["RR"][w][key] - 1 if not key.startswith("y_")
+        vals = [rows[m][w][key] for w in (0, 1) for m in ("RR", FLEX)]
+        rel = [rows[FLEX][w][key] / rows["RR"][w][key] - 1 if not key.startswith("y_")
                else float("nan") for w in (0, 1)]
         print(f"{key + ', ' + unit:>24s} " + " ".join(f"{v * sc:10.3f}" for v in vals)
               + " " + " ".join(f"{100 * r:+9.1f}%" if np.isfinite(r) else f"{'':>10s}" for r in rel))
-    a_rr, a_fr = _angle(hz["RR"])[:, 0], _angle(hz["FR"])[:, 0]
-    b_rr, b_fr = _angle(bm["RR"])[:, 0], _angle(bm["FR"])[:, 0]
-    l_rr, l_fr = rows["RR"][0], rows["FR"][0]
+    a_rr, a_fr = _angle(hz["RR"])[:, 0], _angle(hz[FLEX])[:, 0]
+    b_rr, b_fr = _angle(bm["RR"])[:, 0], _angle(bm[FLEX])[:, 0]
+    l_rr, l_fr = rows["RR"][0], rows[FLEX][0]
     print("\nthe paper's findings for centred running beside ours (leading wheelset, left wheel)")
     print(f"  camber: paper 25 -> ~26 mrad; ours Hertz+Kalker {a_rr[0] * 1e3:.2f} -> {a_fr[0] * 1e3:.2f}"
           f" mrad, BEM {b_rr[0] * 1e3:.2f} -> {b_fr[0] * 1e3:.2f} mrad")
@@ -205,8 +213,8 @@ def plot_wheels(hz: dict, bm: dict) -> Path:
     xs = np.arange(8)
     labels = [f"ws{i + 1} {s[0].upper()}" for i in range(4) for s in SIDES]
     style = {("RR", "hk"): ("s", "C0", "RR, Hertz + Kalker"),
-             ("FR", "hk"): ("o", "C3", "FR, Hertz + Kalker"),
-             ("RR", "bem"): ("s", "C2", "RR, BEM"), ("FR", "bem"): ("o", "C1", "FR, BEM")}
+             (FLEX, "hk"): ("o", "C3", f"{FLEX}, Hertz + Kalker"),
+             ("RR", "bem"): ("s", "C2", "RR, BEM"), (FLEX, "bem"): ("o", "C1", f"{FLEX}, BEM")}
     for (model, c), (mk, col, lab) in style.items():
         d = (hz if c == "hk" else bm)[model]
         off = (-0.15 if c == "hk" else 0.15) + (-0.05 if model == "RR" else 0.05)
@@ -218,11 +226,11 @@ def plot_wheels(hz: dict, bm: dict) -> Path:
     ax[2].set_ylabel("rim-rail angle, mrad")
     ax[2].axhline(RAIL_ANGLE * 1e3, color="0.5", lw=0.8, ls="--",
                   label=f"rail inclination 1:40 ({RAIL_ANGLE * 1e3:.2f} mrad)")
-    dq = max(np.abs(hz["FR"]["Q"] - hz["RR"]["Q"]).max(), np.abs(bm["FR"]["Q"] - bm["RR"]["Q"]).max())
+    dq = max(np.abs(hz[FLEX]["Q"] - hz["RR"]["Q"]).max(), np.abs(bm[FLEX]["Q"] - bm["RR"]["Q"]).max())
     q0 = float(np.mean(hz["RR"]["Q"])) / 1e3
     ax[0].set_ylim(q0 - 1.0, q0 + 1.0)      # sub-newton differences are not drawn as signal
     ax[0].ticklabel_format(axis="y", useOffset=False)
-    ax[0].set_title(f"Q: FR = RR within {dq:.1g} N (the static load)", fontsize=9)
+    ax[0].set_title(f"Q: {FLEX} - RR within {dq:.2g} N", fontsize=9)
     ax[1].set_title("Y: the camber lowers the lateral force", fontsize=9)
     ax[2].set_title("rim-rail angle: rail 1:40 + roll + rim camber", fontsize=9)
     for a in ax:
@@ -230,11 +238,11 @@ def plot_wheels(hz: dict, bm: dict) -> Path:
         a.set_xticklabels(labels, fontsize=7, rotation=45)
         a.grid(alpha=0.3)
     ax[2].legend(fontsize=7, loc="center right")
-    fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, models RR and FR (k_max {K_MAX} / "
+    fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, models RR and {FLEX} (k_max {K_MAX} / "
                  f"{F_MAX:.0f} Hz), Hertz + Kalker and BEM 0.75 mm: the eight wheels (L left, "
                  "R right)", fontsize=10)
     fig.tight_layout()
-    path = FIG / "vehicle_fr_vs_rr_wheels.png"
+    path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_wheels.png"
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
@@ -244,7 +252,7 @@ def plot_patches(bm: dict) -> Path:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    pats = [(m, w, bm[m]["patches"][w]) for w in (0, 1) for m in ("RR", "FR")]
+    pats = [(m, w, bm[m]["patches"][w]) for w in (0, 1) for m in ("RR", FLEX)]
     si, sj = _crop([p for _, _, p in pats])
     fields = (("pressure", lambda p: p.pressure / 1e6, "pressure, MPa"),
               ("traction", lambda p: np.hypot(p.tx, p.ty) / 1e6, "|traction|, MPa (arrows: direction)"),
@@ -274,9 +282,9 @@ def plot_patches(bm: dict) -> Path:
         fig.colorbar(ax[0, c].collections[0], ax=ax[:, c], location="bottom", shrink=0.8,
                      label=fields[c][2])
     fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, BEM 0.75 mm: the leading wheelset's "
-                 f"patches, RR against FR (k_max {K_MAX} / {F_MAX:.0f} Hz)\none colour scale per "
+                 f"patches, RR against {FLEX} (k_max {K_MAX} / {F_MAX:.0f} Hz)\none colour scale per "
                  "column; flange side: left wheel -y, right wheel +y", fontsize=10)
-    path = FIG / "vehicle_fr_vs_rr_patches.png"
+    path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_patches.png"
     fig.savefig(path, dpi=85)
     plt.close(fig)
     return path
@@ -288,7 +296,7 @@ def plot_sections(bm: dict) -> Path:
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(2, 2, figsize=(11.0, 7.0), sharex=True)
     for w in (0, 1):
-        for m, ls in (("RR", "--"), ("FR", "-")):
+        for m, ls in (("RR", "--"), (FLEX, "-")):
             p = bm[m]["patches"][w]
             i0 = int(np.argmin(np.abs(p.x[:, 0])))
             y = p.y[0] * 1e3
@@ -307,21 +315,26 @@ def plot_sections(bm: dict) -> Path:
         for a in ax[:, w]:
             a.grid(alpha=0.3)
             a.legend(fontsize=8)
-    pats = [bm[m]["patches"][w] for m in ("RR", "FR") for w in (0, 1)]
+    pats = [bm[m]["patches"][w] for m in ("RR", FLEX) for w in (0, 1)]
     _, sj = _crop(pats)
     y = pats[0].y[0] * 1e3
     ax[1, 0].set_xlim(y[sj.start], y[sj.stop - 1])
     fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, BEM 0.75 mm, leading wheelset: RR "
-                 f"against FR (k_max {K_MAX} / {F_MAX:.0f} Hz)", fontsize=10)
+                 f"against {FLEX} (k_max {K_MAX} / {F_MAX:.0f} Hz)", fontsize=10)
     fig.tight_layout()
-    path = FIG / "vehicle_fr_vs_rr_sections.png"
+    path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_sections.png"
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
 
 
 def main(argv: list[str]) -> None:
-    cache = Path("/tmp/vehicle_fr_vs_rr.pkl")
+    global FLEX
+    if "--model" in argv:
+        FLEX = argv[argv.index("--model") + 1]
+        if FLEX not in ("FR", "FF"):
+            raise SystemExit(f"--model: FR or FF, not {FLEX}")
+    cache = Path(f"/tmp/vehicle_{FLEX.lower()}_vs_rr.pkl")
     if "--replot" in argv and cache.exists():
         hz, bm = pickle.loads(cache.read_bytes())
     else:
