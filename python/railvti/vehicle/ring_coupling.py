@@ -446,7 +446,7 @@ def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: flo
     Returns
     -------
     rr : RingRows
-        The rows with the change of coordinates the blocks need (rtab or rpost).
+        The rows with the change of coordinates the blocks need (``rpost``).
     stiffness, damping : list of ndarray (3, 3)
         Per contact point. Without residual_hz and inertia: massless coordinates of
         stiffness s I / rscale^2 behind rows L (compliance R / s) and no damping.
@@ -459,7 +459,7 @@ def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: flo
         # a mass mu per coordinate: z' = sqrt(mu) z, rows L / sqrt(mu), K / mu = w^2 I
         w = 2.0 * math.pi * _checks.positive("residual_hz", residual_hz)
         mu = (s / rr.rscale ** 2) / w ** 2
-        rr = replace(rr, rtab=rr.rtab / mu)
+        rr = replace(rr, rpost=rr.post / math.sqrt(mu))
         stiff = [np.eye(3) * w ** 2] * nc
         damp = [np.eye(3) * 2.0 * RESIDUAL_ZETA * w] * nc
     elif inertia:

@@ -343,9 +343,10 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     else:
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
     q_start = q.copy()
+    limit = NEWTON_RTOL * system.wheel_load     # forces balanced: an equilibrium, not a stall
     v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
     stalled = info == Status.NOT_CONVERGED or (
-        info == Status.OK and not float(np.max(np.abs(f))) <= NEWTON_RTOL * system.wheel_load)
+        info == Status.OK and not float(np.max(np.abs(f))) <= limit)
     if stalled and contact in ("hertz-fastsim", "bem"):
         # FASTSIM's and the BEM's Newton (with Hertz + Kalker's tangent) can stall far from
         # equilibrium (discretised creep forces; seen on the ring track from the undeformed
@@ -368,10 +369,10 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
     check(info, context, iterations=int(iters), residual=float(resid))
     # the Newton correction can end small because the line search cut it: the state is an
     # equilibrium only if the forces balance too (NEWTON_RTOL of the wheel load, as a step)
-    if not fmax <= NEWTON_RTOL * system.wheel_load:
+    if not fmax <= limit:
         raise ConvergenceError(f"static equilibrium not found: the Newton correction stopped at "
                                f"{resid:.3g} with an unbalanced force of {fmax:.3g} N (N m) "
-                               f"(limit {NEWTON_RTOL * system.wheel_load:.3g}); try another q0",
+                               f"(limit {limit:.3g}); try another q0",
                                iterations=int(iters), residual=fmax)
     log.debug("static equilibrium: %d iterations, unbalanced force %.3g", iters, fmax)
     return (q, v, wout) if return_velocity else (q, wout)
