@@ -14,6 +14,16 @@ the eight wheels solved concurrently; default: all cores), each in its own proce
 the other, so the counts are compared in one run; the amplitude and Q max of each say that
 the results are the same. ``--bem-only`` skips the Hertz cases.
 
+``--compare OLD_PYTHON``: the BEM case (RR, 1 thread) run by this interpreter's railvti and by
+another build's (e.g. the previous commit installed in a worktree: ``/tmp/old/.venv/bin/python``)
+at the same time, one process per core, so that both share the machine's load; prints each
+run's wall time, RTF, Newton iterations and solve pairs per step, and how far the new run's
+results are from the old one's: the leading wheelset's lateral displacement (largest
+difference over the run, amplitude per second while the motion exceeds 1 um), Q max and Q at
+every output step (issue 18's acceptance: amplitude within 0.5 %, Q within 0.1 %).
+
+    .venv/bin/python benchmarks/bench_vehicle.py --compare OLD_PYTHON [bem_duration_s] [--speed 300]   (10 s)
+
 ``--profile``: where the time of one BEM run goes (issue 18 item 1; one thread unless
 ``--threads`` says otherwise: the patch timers sum the patches' own wall times, which overlap
 with several threads). The same hunting run with
@@ -80,6 +90,23 @@ print(json.dumps({"wall": wall, "cpu": cpu, "sim_wall": s["wall_time"], "timers"
                   "grid": list(s["bem_grid"])}))
 """
 
+COMPARE_CHILD = r"""
+import json, sys, time
+import numpy as np
+from railvti import scenarios
+dur, out, speed = float(sys.argv[1]), sys.argv[2], float(sys.argv[3])
+scenarios.contact_table()
+scenarios.coach_system("RR")
+t0 = time.perf_counter()
+r = scenarios.hunting(speed, contact="bem", duration=dur, y0=0.004, progress=False, threads=1)
+wall = time.perf_counter() - t0
+s = r.stats
+np.savez(out, t=r.t, y=r.y_ws1, q=r.Q)
+print(json.dumps({"wall": wall, "steps": s["steps"], "newton": s["newton_iterations"],
+                  "pairs": s["bem_normal_solves"], "cg": s["bem_cg_iterations"],
+                  "sweeps": s["bem_rolling_sweeps"]}))
+"""
+
 #: perf symbol prefixes -> the part of the run they belong to (--perf)
 PERF_GROUPS = [("__contact_normal_MOD", "normal solver"), ("__contact_rolling_MOD", "rolling solver"),
                ("__contact_convolution_MOD", "FFT products (normal + rolling)"),
@@ -143,6 +170,50 @@ def profile(dur: float, use_perf: bool, threads: int = 1) -> None:
             print(f"  {g:>34s} {v:5.1f} %")
 
 
+def compare(old_python: str, dur: float, speed_kmh: float = 300.0) -> None:
+    """Run the BEM case with this build and old_python's side by side (see the module doc)."""
+    import tempfile
+    import numpy as np
+    tmp = tempfile.mkdtemp()
+    builds = {"new": sys.executable, "old": old_python}
+    load0 = os.getloadavg()[0]
+    procs = {k: subprocess.Popen([py, "-c", COMPARE_CHILD, str(dur), os.path.join(tmp, k + ".npz"),
+                                  str(speed_kmh)],
+                                 stdout=subprocess.PIPE, text=True) for k, py in builds.items()}
+    res = {}
+    for k, p in procs.items():
+        out, _ = p.communicate()
+        if p.returncode != 0:
+            raise SystemExit(f"the {k} build's run failed ({builds[k]})")
+        res[k] = json.loads(out.strip().splitlines()[-1])
+        res[k].update(dict(np.load(os.path.join(tmp, k + ".npz"))))
+    print(f"BEM 0.75 mm, RR, hunting at {speed_kmh:g} km/h from 4 mm, {dur:g} s, 1 thread per run, both runs "
+          f"at once; load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print(f"{'build':>5s} {'wall s':>8s} {'RTF':>6s} {'Newton/step':>11s} {'pairs/step':>10s} "
+          f"{'CG/solve':>8s} {'sweeps/solve':>12s} {'Q max kN':>10s}  python")
+    for k, d in res.items():
+        print(f"{k:>5s} {d['wall']:8.1f} {d['wall'] / dur:6.2f} {d['newton'] / d['steps']:11.2f} "
+              f"{d['pairs'] / d['steps']:10.2f} {d['cg'] / d['pairs']:8.2f} "
+              f"{d['sweeps'] / d['pairs']:12.2f} {d['q'].max() / 1e3:10.4f}  {builds[k]}")
+    a, b = res["new"], res["old"]
+    if a["t"].shape != b["t"].shape or not np.array_equal(a["t"], b["t"]):
+        raise SystemExit("the two runs have different output times")
+    dy = np.abs(a["y"] - b["y"]).max()
+    print(f"y_ws1: largest difference {dy * 1e3:.3g} mm over the run ({dy / np.abs(b['y']).max():.2e} "
+          f"of its largest |y|, {np.abs(b['y']).max() * 1e3:.3f} mm)")
+    print("amplitude of y_ws1 per second (half peak-to-peak, mm), while the old run's exceeds 1 um:")
+    for k in range(int(round(dur))):
+        m = (b["t"] >= k) & (b["t"] <= k + 1)
+        amp_b, amp_a = 0.5 * np.ptp(b["y"][m]), 0.5 * np.ptp(a["y"][m])
+        if amp_b < 1e-6:
+            print(f"  {k}-{k + 1} s: old {amp_b * 1e3:.2e} mm, new {amp_a * 1e3:.2e} mm (decayed: not compared)")
+            break
+        print(f"  {k}-{k + 1} s: old {amp_b * 1e3:.5f}, new {amp_a * 1e3:.5f} mm ({100 * (amp_a / amp_b - 1):+.3f} %)")
+    dq = np.abs(a["q"] - b["q"]).max()
+    print(f"Q max: old {b['q'].max():.1f} N, new {a['q'].max():.1f} N ({100 * (a['q'].max() / b['q'].max() - 1):+.4f} %); "
+          f"Q at every output step within {dq:.1f} N ({100 * dq / b['q'].max():.4f} % of Q max)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("duration", nargs="?", type=float, help="simulated time, s")
@@ -153,7 +224,12 @@ def main() -> None:
                     help="BEM threads, comma-separated counts each run in turn (default: all cores; "
                          "--profile: 1)")
     ap.add_argument("--bem-only", action="store_true", help="skip the Hertz cases")
+    ap.add_argument("--compare", metavar="OLD_PYTHON", help="the BEM case against another build's python")
+    ap.add_argument("--speed", type=float, default=300.0, help="with --compare: the speed, km/h")
     args = ap.parse_args()
+    if args.compare:
+        compare(args.compare, args.bem_duration or args.duration or 10.0, args.speed)
+        return
     if args.profile:
         profile(args.duration or 0.3, args.perf, int(args.threads or 1))
         return

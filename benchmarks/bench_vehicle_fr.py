@@ -9,13 +9,14 @@ scenario's 4 mm start, Hertz + FASTSIM, one run each; compare figures of one inv
 only (the machine is shared).
 
     .venv/bin/python benchmarks/bench_vehicle_fr.py [duration_s] [--python PY ...]  # 10 s
-    .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s] [RR,FR,RF,FF]  # BEM 0.75 mm
+    .venv/bin/python benchmarks/bench_vehicle_fr.py bem [duration_s] [RR,FR,RF,FF] [PY ...]  # BEM 0.75 mm
 
 The BEM mode: centred running at 200 km/h with the BEM on all eight wheels from the BEM's
 static state (more Newton iterations than the scenario's default, as
 validation/vehicle_fr_vs_rr.py), RR and FR (or the models named: RF and FF on the default
 ring) at the default selection: the real-time factor (wall time per simulated second) of
-the time loop alone.
+the time loop alone. Interpreters given after the models (e.g. an older commit's venv) run
+each model in turn, interleaved, so that the builds share the machine's load alike.
 """
 from __future__ import annotations
 
@@ -60,25 +61,27 @@ print(json.dumps({"wall": wall, "h": h, "steps": r.stats["steps"],
 """
 
 
-def bem(dur: float, models: tuple[str, ...] = ("RR", "FR")) -> None:
+def bem(dur: float, models: tuple[str, ...] = ("RR", "FR"), pythons: tuple[str, ...] = ()) -> None:
+    pythons = pythons or (sys.executable,)
     print(f"centred running 200 km/h, BEM 0.75 mm on all eight wheels, {dur:g} s simulated "
           "(time loop only)")
-    print(f"{'model':22s} {'h ms':>6s} {'wall s':>7s} {'RTF':>6s} {'Newton/step':>11s} "
-          f"{'peak RSS MB':>11s}")
     print(f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores")
+    print(f"{'model':22s} {'h ms':>6s} {'wall s':>7s} {'RTF':>6s} {'Newton/step':>11s} "
+          f"{'peak RSS MB':>11s}  python")
     for model in models:
-        p = subprocess.run([sys.executable, "-c", _BEM_CHILD, model, str(dur)],
-                           capture_output=True, text=True, check=True)
-        o = json.loads(p.stdout.strip().splitlines()[-1])
-        name = model + (" (default selection)" if model in ("FR", "FF") else "")
-        print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
-              f"{o['newton'] / max(o['steps'], 1):11.2f} {o['rss_mb']:11.0f}")
+        for py in pythons:
+            p = subprocess.run([py, "-c", _BEM_CHILD, model, str(dur)],
+                               capture_output=True, text=True, check=True)
+            o = json.loads(p.stdout.strip().splitlines()[-1])
+            name = model + (" (default selection)" if model in ("FR", "FF") else "")
+            print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
+                  f"{o['newton'] / max(o['steps'], 1):11.2f} {o['rss_mb']:11.0f}  {py}")
 
 
 def main() -> None:
     if sys.argv[1:2] == ["bem"]:
         bem(float(sys.argv[2]) if len(sys.argv) > 2 else 0.1,
-            tuple(sys.argv[3].split(",")) if len(sys.argv) > 3 else ("RR", "FR"))
+            tuple(sys.argv[3].split(",")) if len(sys.argv) > 3 else ("RR", "FR"), tuple(sys.argv[4:]))
         return
     ap = argparse.ArgumentParser()
     ap.add_argument("duration", nargs="?", type=float, default=10.0, help="simulated s")

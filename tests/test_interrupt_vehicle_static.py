@@ -29,7 +29,7 @@ from railvti.vehicle import BemOptions, bem_state, static_equilibrium
 sy = scenarios.coach_system()
 # full-grid solves (no windows, issue 18) on a 0.5 mm grid: the call (~5 s at load 1) must
 # outlast the SIGINT 1 s after ready; at 0.75 mm the faster solvers ended it in ~1 s
-with bem_state(sy, BemOptions(window=False, tol_rolling=1e-6, dx=5e-4)) as st:
+with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6, dx=5e-4)) as st:
     print("ready", flush=True)
     static_equilibrium(sy, 200 / 3.6, "bem", bem=st)
 print("finished", flush=True)
@@ -66,7 +66,7 @@ def test_an_interrupted_solve_keeps_its_model_and_abandons_its_bem_state():
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)
     try:
-        with bem_state(sy, BemOptions(window=False, tol_rolling=1e-6)) as st:
+        with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6)) as st:
             timer.start()
             with pytest.raises(KeyboardInterrupt):
                 static_equilibrium(sy, V, "bem", bem=st)

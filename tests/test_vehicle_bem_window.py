@@ -23,7 +23,7 @@ def coach_system():
 
 def _evaluate(sy, q, v, window):
     """F, wheel outputs and the leading wheelset's patches with windows on or off."""
-    with bem_state(sy, BemOptions(window=window)) as st:
+    with bem_state(sy, BemOptions(window=window, tol_normal=1e-8, tol_rolling=1e-6)) as st:
         f, wout, _, _ = S._force_and_tangent(sy, q, v, V, "bem", 8, st)
         patches = [st.patch(0, w, k, V) for w in (0, 1) for k in (0, 1)]
     return f, wout, patches

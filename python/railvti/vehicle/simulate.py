@@ -516,11 +516,12 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         (``system.state_names``); the step must then satisfy :func:`check_modal_step`.
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
-        whose modified Newton converges linearly: hunting at 300 km/h, 0.1 s, the leading
+        whose tangent is a calibrated cheap model: hunting at 300 km/h, 0.1 s, the leading
         wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %).
     rtol : float, optional
         Newton tolerance on the residual, relative to the load scale: a step has converged
-        when its last correction is a full step below ``tol`` AND the residual there,
+        when, at the predictor or after a full step, the next correction is below ``tol``
+        (it is then added without a new force evaluation) AND the residual there,
         max |M a - (1 + alpha) F + alpha F_n| over all DOFs (N, or N m for rotations, i.e.
         N per metre of lever arm), is below ``rtol`` times the static wheel load
         (``system.wheel_load``). Default :data:`NEWTON_RTOL`.
