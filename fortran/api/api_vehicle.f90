@@ -425,19 +425,21 @@ end subroutine vehicle_ring_residual_c
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
 !> the state, rigid plus modal DOFs. scheme (vehicle_newmark SCHEME_*): 0 HHT-alpha, 1 the
 !> energy-conserving midpoint rule with discrete gradients (alpha must then be 0).
+!> (f, w): the force and wheel outputs at (q, v) carried from the previous call (carried /= 0)
+!> or evaluated first (carried = 0); updated to the last state's.
 !> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 with alpha /= 0.
 subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, &
-                         tol, maxit, maxsub, qmax, rtol, scheme, t, q, v, a, nout, nwo, tout, &
-                         qout, vout, wout, stats, info, tfail)
+                         tol, maxit, maxsub, qmax, rtol, scheme, t, q, v, a, f, w, carried, &
+                         nout, nwo, tout, qout, vout, wout, stats, info, tfail)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     use vehicle_model, only: vmodel, vsettings, vehicle_call
     use vehicle_newmark, only: newmark_run, hht_options, SCHEME_HHT, SCHEME_ENERGY
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, nsteps, nevery, maxit, maxsub
-    integer(c_int), intent(in) :: nout, nwo, scheme
+    integer(c_int), intent(in) :: nout, nwo, scheme, carried
     real(c_double), intent(in) :: speed, h, alpha, tol, qmax, rtol
-    real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd)
+    real(c_double), intent(inout) :: t, q(nd), v(nd), a(nd), f(nd), w(nwo, 2, nw)
     real(c_double), intent(out) :: tout(nout), qout(nd, nout), vout(nd, nout), wout(nwo, 2, nw, nout)
     real(c_double), intent(out) :: stats(10), tfail
     integer(c_int), intent(out) :: info
@@ -456,8 +458,8 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     info = stat
     if (stat /= STAT_OK) return
     call newmark_run(md, vsettings(speed, cmodel, fsn, bem), h, nsteps, nevery, &
-                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, scheme), t, q, v, a, nout, &
-                     tout, qout, vout, wout, stats, stat, tfail)
+                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, scheme), t, q, v, a, f, &
+                     w, carried /= 0, nout, tout, qout, vout, wout, stats, stat, tfail)
     info = stat
 end subroutine vehicle_run_c
 

@@ -114,14 +114,22 @@ contains
     !> 5 steps that needed sub-steps, 6 smallest sub-step used (s), 7 and 8 max |r| (N, N m)
     !> after the last Newton iteration of the last accepted step and the largest over the
     !> accepted steps, 9 and 10 the same for the last correction max |dq| (m, rad).
-    subroutine newmark_run(md, rs, h, nsteps, nevery, opt, t, q, v, a, nout, tout, qout, vout, &
-                           wout, stats, info, tfail)
+    !> (f, w): the force F(q, v) and the wheel outputs of the state, carried from call to call
+    !> like a: with carried = .false. they are evaluated at (q, v) first; on return they are
+    !> those of the last accepted step (hht_step). A run split into calls therefore takes the
+    !> same steps as one call: no extra force evaluation at a call's start, whose BEM solves
+    !> would move the warm starts (and the forces by the solvers' tolerance) wherever a call
+    !> begins (and the calls are sized by wall time).
+    subroutine newmark_run(md, rs, h, nsteps, nevery, opt, t, q, v, a, f, w, carried, nout, tout, &
+                           qout, vout, wout, stats, info, tfail)
         type(vmodel), intent(inout) :: md      ! the ring rows (model RF) follow the time
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: h
         integer, intent(in) :: nsteps, nevery, nout
         type(hht_options), intent(in) :: opt
         real(dp), intent(inout) :: t, q(md%nd + md%mp%nm), v(md%nd + md%mp%nm), a(md%nd + md%mp%nm)
+        real(dp), intent(inout) :: f(md%nd + md%mp%nm), w(nwo, 2, md%nw)
+        logical, intent(in) :: carried
         real(dp), intent(out) :: tout(nout), qout(md%nd + md%mp%nm, nout), vout(md%nd + md%mp%nm, nout)
         real(dp), intent(out) :: wout(nwo, 2, md%nw, nout), stats(NSTATS), tfail
         integer, intent(out) :: info
@@ -141,12 +149,14 @@ contains
         allocate (st%q, source=q)
         allocate (st%v, source=v)
         allocate (st%a, source=a)
-        allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
+        allocate (st%f, source=f)
+        allocate (st%w, source=w)
         call modal_ring_time(md%mp, t)
         ! a massless coordinate's a is its BDF2 acceleration from the last call (massless_rates;
         ! the caller starts it at 0): carried, so that splitting a run into calls (chunks
-        ! sized by wall time) does not change it
-        call state_force(md, rs, q, v, st%f, st%w, info)
+        ! sized by wall time) does not change it; f and w likewise
+        info = STAT_OK
+        if (.not. carried) call state_force(md, rs, q, v, st%f, st%w, info)
         if (info == STAT_OK) then
             do n = 1, nsteps
                 tl = 0.0_dp
@@ -171,6 +181,8 @@ contains
         q = st%q
         v = st%v
         a = st%a
+        f = st%f
+        w = st%w
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
 

@@ -39,6 +39,29 @@ WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "en
 NWO = len(WHEEL_OUTPUTS)
 
 
+class RunCarry:
+    """The force F(q, v) and the wheel outputs of a run's current state, carried from one call
+    of the Fortran time loop to the next (:meth:`VehicleModel.run`), as the accelerations are.
+
+    Attributes
+    ----------
+    f : numpy.ndarray
+        Force at the state, (n_state,), N or N m (Fortran-ordered, updated in place).
+    w : numpy.ndarray
+        Wheel outputs at the state, (NWO, 2, n_wheelsets).
+    valid : bool
+        False until a call has filled them: that call evaluates them at its start.
+    """
+
+    def __init__(self, f: np.ndarray, w: np.ndarray, valid: bool = False) -> None:
+        self.f, self.w, self.valid = f, w, valid
+
+    @classmethod
+    def fresh(cls, n_state: int, n_wheelsets: int) -> "RunCarry":
+        """An empty carry: the first call evaluates the force at its start."""
+        return cls(np.zeros(n_state, order="F"), np.zeros((NWO, 2, n_wheelsets), order="F"))
+
+
 #: Point element kinds: name -> Fortran id (vehicle_modal PEL_*).
 POINT_ELEMENT_KINDS = {"linear": 1, "hertz": 2}
 
@@ -560,13 +583,20 @@ class VehicleModel:
 
     def run(self, cs: CallSettings, h: float, nsteps: int, nevery: int, alpha: float,
             tol: float, maxit: int, maxsub: int, qmax: float, rtol: float, t: np.ndarray,
-            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int, scheme: int = 0) -> tuple:
+            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int, scheme: int = 0,
+            carry: "RunCarry | None" = None) -> tuple:
         """nsteps HHT steps from (t, q, v, a), all updated in place: (tout, qout, vout, wout,
         stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; scheme
-        1: the energy-conserving midpoint rule (alpha 0); see vehicle_newmark%newmark_run."""
-        return core.vehicle_run_c(self._handle(), self.n_wheelsets, *cs.args(), h, nsteps,
-                                  nevery, alpha, tol, maxit, maxsub, qmax, rtol, scheme, t, q, v,
-                                  a, nout, NWO)
+        1: the energy-conserving midpoint rule (alpha 0); see vehicle_newmark%newmark_run.
+        ``carry`` holds the force and wheel outputs at (q, v) from the previous call of the
+        same run (updated in place), so that a run split into calls takes the same steps as
+        one call; None (or a fresh carry) evaluates them at (q, v) first."""
+        carry = carry if carry is not None else RunCarry.fresh(q.size, self.n_wheelsets)
+        out = core.vehicle_run_c(self._handle(), *cs.args(), h, nsteps, nevery, alpha, tol,
+                                 maxit, maxsub, qmax, rtol, scheme, t, q, v, a, carry.f,
+                                 carry.w, int(carry.valid), nout, nw=self.n_wheelsets, nwo=NWO)
+        carry.valid = True
+        return out
 
     def _handle(self) -> int:
         # a closed model passes 0, which the core rejects as a bad handle

@@ -29,7 +29,7 @@ from ..stream import STREAM_TAIL_SECONDS, HistoryStream
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
-from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings  # noqa: F401 (NWO re-exported)
+from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings, RunCarry  # noqa: F401 (NWO re-exported)
 
 log = logging.getLogger(__name__)
 
@@ -800,13 +800,15 @@ def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: 
         try:
             done = 0
             size = min(plan.per_chunk, plan.nevery * max(1, 16 // plan.nevery))
+            carry = RunCarry.fresh(q.size, model.n_wheelsets)     # F(q, v) from call to call
             while done < plan.nsteps:
                 ns = min(size, plan.nsteps - done)
                 tc = time.perf_counter()
                 nout = max(1, ns // plan.nevery)
                 tout, qout, vout, wout, st, info, tfail = model.run(
                     cs, plan.h, ns, plan.nevery, plan.alpha, plan.tol, plan.maxit, plan.maxsub,
-                    plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout, scheme=plan.scheme)
+                    plan.qmax, plan.rtol * plan.load_scale, t, q, v, a, nout, scheme=plan.scheme,
+                    carry=carry)
                 wall_call = time.perf_counter() - tc    # the Fortran call alone (not the writing)
                 out.add(tout, qout, vout, wout, st, ns // plan.nevery if info == Status.OK else None)
                 if info != Status.OK:
