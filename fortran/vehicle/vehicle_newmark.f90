@@ -28,7 +28,7 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
-    use vehicle_contact, only: nwo
+    use vehicle_contact, only: nwo, CMODEL_HERTZ_KALKER, CMODEL_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
@@ -64,19 +64,24 @@ module vehicle_newmark
         integer :: scheme = SCHEME_HHT
     end type hht_options
 
-    !> The state at the current time: q, v, a, F(q, v) and the contact outputs there (over
-    !> the rigid and modal DOFs), and the modal factors of the last step size.
-    type :: hht_state
-        real(dp), allocatable :: q(:), v(:), a(:), f(:), w(:, :, :)
-        type(modal_factor) :: mf
-    end type hht_state
-
     !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
     !> point elements' tangent blocks needed to recover the modal increments.
     type :: newton_lin
         real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :)
         integer, allocatable :: ipiv(:)
     end type newton_lin
+
+    !> The state at the current time: q, v, a, F(q, v) and the contact outputs there (over
+    !> the rigid and modal DOFs), and the modal factors of the last step size. keep: the
+    !> iteration matrix is kept from step to step (keeps_matrix); nl its factors, made for
+    !> the step size nlh (0: none).
+    type :: hht_state
+        real(dp), allocatable :: q(:), v(:), a(:), f(:), w(:, :, :)
+        type(modal_factor) :: mf
+        logical :: keep = .false.
+        type(newton_lin) :: nl
+        real(dp) :: nlh = 0.0_dp
+    end type hht_state
 
     !> Counters of a run, and `why`: the soft failure (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE,
     !> STAT_CONTACT_NOT_CONVERGED) of the last trial state that had one in the current step.
@@ -143,6 +148,8 @@ contains
         allocate (st%a, source=a)
         allocate (st%f(md%nd + md%mp%nm), st%w(nwo, 2, md%nw))
         call modal_ring_time(md%mp, t)
+        st%keep = keeps_matrix(md, rs, opt)
+        if (st%keep) call kept_matrix_load(md, rs, h, opt, st)
         ! a massless coordinate's a is its BDF2 acceleration from the last call (massless_rates;
         ! the caller starts it at 0): carried, so that splitting a run into calls (chunks
         ! sized by wall time) does not change it
@@ -171,8 +178,62 @@ contains
         q = st%q
         v = st%v
         a = st%a
+        if (allocated(md%kmkey)) deallocate (md%kmkey)
+        if (st%keep .and. st%nlh > 0.0_dp) call kept_matrix_store(md, rs, opt, st)
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
+
+    !> Whether the time loop keeps its iteration matrix from step to step: with the strip
+    !> contact and Hertz + Kalker or FASTSIM, on the rigid model (no modal blocks), HHT. The
+    !> strip's tangent (one linearisation per wheel and the contact's forward differences)
+    !> costs about two force evaluations, and in a settled or slowly varying motion the last
+    !> step's matrix with Broyden's update converges as fast as a fresh one (docs/vehicle.md
+    !> "Strip contact", Cost). The table's tangent is cheap and the BEM's evaluations are
+    !> dear: they refresh at every step as before.
+    pure logical function keeps_matrix(md, rs, opt) result(keep)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        keep = md%st%on .and. (rs%cmodel == CMODEL_HERTZ_KALKER .or. rs%cmodel == CMODEL_FASTSIM) &
+               .and. md%mp%nm == 0 .and. opt%scheme == SCHEME_HHT
+    end function keeps_matrix
+
+    !> The key of a kept matrix: the state it continues from, its step size and the call's
+    !> settings (a later call reads the matrix only when it continues from exactly these:
+    !> the next chunk of the same run, so that the chunking cannot change the result).
+    pure function kept_key(rs, opt, q, v, a, h) result(key)
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        real(dp), intent(in) :: q(:), v(:), a(:), h
+        real(dp) :: key(3 * size(q) + 5)
+        key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp)]
+    end function kept_key
+
+    !> The matrix kept by the last call, when this call continues from its key with step h.
+    subroutine kept_matrix_load(md, rs, h, opt, st)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: h
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(inout) :: st
+        if (.not. allocated(md%kmkey)) return
+        if (size(md%kmkey) /= 3 * size(st%q) + 5) return
+        if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
+        st%nl%a = md%kma
+        st%nl%ipiv = md%kmpiv
+        st%nlh = h
+    end subroutine kept_matrix_load
+
+    !> Keep the time loop's matrix in the model with the key of the state it ended at.
+    subroutine kept_matrix_store(md, rs, opt, st)
+        type(vmodel), intent(inout) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(in) :: st
+        md%kma = st%nl%a
+        md%kmpiv = st%nl%ipiv
+        md%kmkey = kept_key(rs, opt, st%q, st%v, st%a, st%nlh)
+    end subroutine kept_matrix_store
 
     !> newmark_run's stats from the counters and the number of steps done.
     pure subroutine tally_stats(tally, nsteps_done, stats)
@@ -274,7 +335,7 @@ contains
         type(hht_step_data) :: sd
         real(dp), dimension(md%nd + md%mp%nm) :: q1, v1, a1, r, f1
         real(dp) :: rn, w1(nwo, 2, md%nw), dq
-        logical :: conv
+        logical :: conv, stale, valid
         ok = .false.
         err = 0.0_dp
         call step_data(h, opt%alpha, st, sd)
@@ -285,7 +346,23 @@ contains
             if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
             return
         end if
-        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, tally, dq, conv, info)
+        ! a matrix kept from the last step of this size (keeps_matrix), or a fresh one
+        stale = st%keep .and. st%nlh == h
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, stale, tally, dq, conv, &
+                            valid, info)
+        if (info == STAT_OK .and. .not. conv .and. stale) then
+            ! the kept matrix failed: once more from the start with a fresh one
+            q1 = st%q + h * st%v + 0.5_dp * h * h * st%a
+            call residual(md, rs, sd, q1, r, rn, f1, w1, info)
+            if (info /= STAT_OK) then
+                if (soft(info, tally)) info = STAT_OK
+                return
+            end if
+            call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, .false., tally, dq, &
+                                conv, valid, info)
+        end if
+        st%nlh = 0.0_dp
+        if (st%keep .and. valid) st%nlh = h
         if (info /= STAT_OK .or. .not. conv) return
         if (sd%energy) then
             ! midpoint rule: (x1 - x0) / h = (v0 + v1) / 2; a: the step's mean acceleration
@@ -368,7 +445,8 @@ contains
     !> The energy scheme evaluates it (its error is the work of the last residual, one-sided
     !> with modified Newton: model FR at tol 1e-9, 2.6e-5 of the kick's energy over 1 s
     !> without the evaluated correction, 2.8e-7 over 0.5 s with).
-    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, tally, dq, conv, info)
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, nl, stale, tally, dq, conv, &
+                              valid, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
@@ -376,11 +454,12 @@ contains
         real(dp), dimension(md%nd + md%mp%nm), intent(inout) :: q1, r, f1
         real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
         type(modal_factor), intent(inout) :: mf
+        type(newton_lin), intent(inout) :: nl
+        logical, intent(in) :: stale
         type(hht_tally), intent(inout) :: tally
         real(dp), intent(out) :: dq
-        logical, intent(out) :: conv
+        logical, intent(out) :: conv, valid
         integer, intent(out) :: info
-        type(newton_lin) :: nl
         real(dp) :: dqv(md%nd + md%mp%nm), dqold, sl, dqn
         real(dp) :: steps(md%nd + md%mp%nm, opt%maxit + 1)
         integer :: it, lin, ns
@@ -389,16 +468,19 @@ contains
         info = STAT_OK
         dqold = huge(1.0_dp)
         dq = huge(1.0_dp)
-        fresh = .false.
+        fresh = stale         ! a kept matrix (hht_step) is used as if made at the start
+        valid = stale
         full = .true.          ! the current iterate is the start or the end of a full step
         ns = 0                 ! full steps since the factors were made (Broyden's memory)
         do it = 1, opt%maxit + 1
             if (.not. fresh) then
+                valid = .false.
                 call step_matrix(md, rs, sd, q1, mf, nl, lin, tally, info)
                 if (info /= STAT_OK) return
                 fresh = .true.
                 ns = 0
                 if (lin /= 0) return
+                valid = .true.
             end if
             call lin_solve(md, sd, mf, nl, r, dqv)
             call broyden_step(steps, ns, dqv)
