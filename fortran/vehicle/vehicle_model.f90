@@ -58,9 +58,10 @@ module vehicle_model
         !> state is (q(1:nd), Q(1:nm)).
         type(modal_part) :: mp
         !> The time loop's iteration matrix kept from the end of the last run call
-        !> (vehicle_newmark%newmark_run, strip contact): its LU factors and the key of the
-        !> state and settings it continues from; kmkey not allocated: none kept.
-        real(dp), allocatable :: kma(:, :), kmkey(:)
+        !> (vehicle_newmark%newmark_run, strip contact): its LU factors and the matrix itself
+        !> (kma(:, :, 1:2)) and the key of the state and settings it continues from; kmkey not
+        !> allocated: none kept.
+        real(dp), allocatable :: kma(:, :, :), kmkey(:)
         integer, allocatable :: kmpiv(:)
     end type vmodel
 

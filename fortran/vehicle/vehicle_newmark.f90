@@ -66,8 +66,9 @@ module vehicle_newmark
 
     !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
     !> point elements' tangent blocks needed to recover the modal increments.
+    !> b: the rigid matrix before factoring (kept matrices: Broyden's update, newton_iterate).
     type :: newton_lin
-        real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :)
+        real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :), b(:, :)
         integer, allocatable :: ipiv(:)
     end type newton_lin
 
@@ -219,7 +220,8 @@ contains
         if (.not. allocated(md%kmkey)) return
         if (size(md%kmkey) /= 3 * size(st%q) + 5) return
         if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
-        st%nl%a = md%kma
+        st%nl%a = md%kma(:, :, 1)
+        st%nl%b = md%kma(:, :, 2)
         st%nl%ipiv = md%kmpiv
         st%nlh = h
     end subroutine kept_matrix_load
@@ -230,7 +232,7 @@ contains
         type(vsettings), intent(in) :: rs
         type(hht_options), intent(in) :: opt
         type(hht_state), intent(in) :: st
-        md%kma = st%nl%a
+        md%kma = reshape([st%nl%a, st%nl%b], [size(st%nl%b, 1), size(st%nl%b, 2), 2])
         md%kmpiv = st%nl%ipiv
         md%kmkey = kept_key(rs, opt, st%q, st%v, st%a, st%nlh)
     end subroutine kept_matrix_store
@@ -348,8 +350,8 @@ contains
         end if
         ! a matrix kept from the last step of this size (keeps_matrix), or a fresh one
         stale = st%keep .and. st%nlh == h
-        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, stale, tally, dq, conv, &
-                            valid, info)
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, stale, st%keep, tally, dq, &
+                            conv, valid, info)
         if (info == STAT_OK .and. .not. conv .and. stale) then
             ! the kept matrix failed: once more from the start with a fresh one
             q1 = st%q + h * st%v + 0.5_dp * h * h * st%a
@@ -358,8 +360,8 @@ contains
                 if (soft(info, tally)) info = STAT_OK
                 return
             end if
-            call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, .false., tally, dq, &
-                                conv, valid, info)
+            call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, .false., st%keep, tally, &
+                                dq, conv, valid, info)
         end if
         st%nlh = 0.0_dp
         if (st%keep .and. valid) st%nlh = h
@@ -445,7 +447,7 @@ contains
     !> The energy scheme evaluates it (its error is the work of the last residual, one-sided
     !> with modified Newton: model FR at tol 1e-9, 2.6e-5 of the kick's energy over 1 s
     !> without the evaluated correction, 2.8e-7 over 0.5 s with).
-    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, nl, stale, tally, dq, conv, &
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, nl, stale, upd, tally, dq, conv, &
                               valid, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
@@ -455,13 +457,14 @@ contains
         real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
         type(modal_factor), intent(inout) :: mf
         type(newton_lin), intent(inout) :: nl
-        logical, intent(in) :: stale
+        logical, intent(in) :: stale, upd
         type(hht_tally), intent(inout) :: tally
         real(dp), intent(out) :: dq
         logical, intent(out) :: conv, valid
         integer, intent(out) :: info
         real(dp) :: dqv(md%nd + md%mp%nm), dqold, sl, dqn
-        real(dp) :: steps(md%nd + md%mp%nm, opt%maxit + 1)
+        real(dp) :: steps(md%nd + md%mp%nm, opt%maxit + 1), ys(md%nd + md%mp%nm, opt%maxit + 1)
+        real(dp) :: rold(md%nd + md%mp%nm)
         integer :: it, lin, ns
         logical :: fresh, full
         conv = .false.
@@ -499,6 +502,7 @@ contains
                 exit
             end if
             if (it > opt%maxit) exit
+            rold = r
             call line_search(md, rs, sd, dqv, opt%tol, q1, r, rn, f1, w1, sl, tally, info)
             tally%nit = tally%nit + 1
             if (info /= STAT_OK .or. sl == 0.0_dp) return
@@ -507,12 +511,41 @@ contains
             if (full) then
                 ns = ns + 1
                 steps(:, ns) = dqv
+                ys(:, ns) = rold - r      ! the matrix's secant condition: B s = r_old - r
             end if
             ! a damped step or a growing correction: new factors at this iterate
             if (.not. full .or. dq > dqold) fresh = .false.
             dqold = dq
         end do
+        ! a matrix kept for the next step (upd, rigid model) carries this step's updates
+        if (conv .and. upd .and. valid .and. ns > 0 .and. md%mp%nm == 0) &
+            call broyden_matrix(md%nd, steps, ys, ns, nl, valid)
     end subroutine newton_iterate
+
+    !> Broyden's "good" update in direct form of the kept rigid matrix B (nl%b) by the full
+    !> steps s_j of a converged step and their residual changes y_j (B s_j = y_j after each):
+    !>   B <- B + (y_j - B s_j) s_j^T / |s_j|^2,  j = 1 .. ns,
+    !> then factored again (nl%a). In exact arithmetic the matrix whose inverse newton_iterate's
+    !> inverse-form updates applied (broyden_step), so the next step continues the same
+    !> secant sequence instead of restarting from the last tangent. valid false when B turns
+    !> singular (the next step then makes a fresh one).
+    subroutine broyden_matrix(nd, steps, ys, ns, nl, valid)
+        integer, intent(in) :: nd, ns
+        real(dp), intent(in) :: steps(:, :), ys(:, :)
+        type(newton_lin), intent(inout) :: nl
+        logical, intent(inout) :: valid
+        real(dp) :: u(nd)
+        integer :: j, k, lin
+        do j = 1, ns
+            u = (ys(1:nd, j) - matmul(nl%b, steps(1:nd, j))) / dot_product(steps(1:nd, j), steps(1:nd, j))
+            do k = 1, nd
+                nl%b(:, k) = nl%b(:, k) + u * steps(k, j)
+            end do
+        end do
+        nl%a = nl%b
+        call dgetrf(nd, nd, nl%a, nd, nl%ipiv, lin)
+        if (lin /= 0) valid = .false.
+    end subroutine broyden_matrix
 
     !> Broyden's "good" update in inverse form (Kelley 1995, Iterative Methods for Linear and
     !> Nonlinear Equations, sec. 7.3, eq. 7.41): with H0 the factored matrix's inverse and the
@@ -606,6 +639,7 @@ contains
             end do
         end if
         nl%a(1:nd, 1:nd) = sd%cq * md%m - (1.0_dp + sd%alpha) * jac
+        if (np == 0) nl%b = nl%a
         call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
         tally%njac = tally%njac + 1
     end subroutine step_matrix
