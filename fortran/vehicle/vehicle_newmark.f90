@@ -6,7 +6,9 @@
 !> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
 !> (trapezoidal) rule. Residual at t_{n+1}:  M a_{n+1} - (1 + alpha) F_{n+1} + alpha F_n = 0,
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
-!> at the first iteration of each step and again when an iteration does not contract.
+!> at the first iteration of each step and again when an iteration does not contract, and
+!> Broyden's update in between (Kelley 1995, sec. 7.3). With the strip contact the matrix is
+!> kept from step to step instead, carrying Broyden's update (keeps_matrix, broyden_matrix).
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
 !> Option SCHEME_ENERGY (hht_options%scheme): the midpoint rule M (v1 - v0) / h = F(x_m, v_m) +
 !> F_dg, (x1 - x0) / h = (v0 + v1) / 2, with the discrete gradient F_dg of the contact potential
