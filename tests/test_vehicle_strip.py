@@ -183,6 +183,26 @@ def energy_drift(sy, h: float, duration: float) -> float:
     return float(np.abs(e - e[0]).max() / abs(e[0] - e_static))
 
 
+def test_run_does_not_depend_on_the_chunking_or_an_earlier_run():
+    """With the strip contact the time loop keeps its iteration matrix from step to step and,
+    in the model, from one Fortran call (a chunk sized by wall time) to the next; a call reads
+    it only when it continues from exactly the state and settings the last one ended at. So a
+    run split into other chunks gives the same numbers bit for bit, and so does the same run
+    repeated on the model after another one (whose kept matrix it must not read)."""
+    from railvti.vehicle.simulate import lateral_disturbance
+    sy = scenarios.coach_system(geometry="strip")
+    v = 300.0 / 3.6
+    qs, _ = static_equilibrium(sy, v)
+    q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
+    runs = [simulate(sy, v, 0.08, q0=q0, h=1e-3, output_dt=0.002, progress=True, chunk=c)
+            for c in (0.004, 0.02, 0.08)]
+    simulate(sy, v, 0.03, q0=qs, h=1e-3, progress=False)
+    runs.append(simulate(sy, v, 0.08, q0=q0, h=1e-3, output_dt=0.002, progress=False))
+    assert runs[0].stats["tangents"] < 0.5 * runs[0].stats["steps"]     # the matrix was kept
+    for r in runs[1:]:
+        np.testing.assert_array_equal(r.q, runs[0].q)
+
+
 def test_bad_input(geo):
     with pytest.raises(InputError, match="finite"):
         strip_wheel(geo, np.nan, 0.0, 0.0)

@@ -57,6 +57,12 @@ module vehicle_model
         !> Modal blocks coupled through points (vehicle_modal; nm = 0: none). The integrator's
         !> state is (q(1:nd), Q(1:nm)).
         type(modal_part) :: mp
+        !> The time loop's iteration matrix kept from the end of the last run call
+        !> (vehicle_newmark%newmark_run, strip contact): its LU factors and the matrix itself
+        !> (kma(:, :, 1:2)) and the key of the state and settings it continues from; kmkey not
+        !> allocated: none kept.
+        real(dp), allocatable :: kma(:, :, :), kmkey(:)
+        integer, allocatable :: kmpiv(:)
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -116,6 +122,7 @@ contains
         md%itr = itr
         md%ct = ct
         md%st = strip_geometry()
+        if (allocated(md%kmkey)) deallocate (md%kmkey)
         md%r0 = r0
         md%gmod = gmod
         md%mu = mu
@@ -136,6 +143,7 @@ contains
         if (.not. models(handle)%used) return
         call strip_set(nw, ws, ds, rnom, nr, ry0, rdy, rz, rm, rk, rk1, offset, top, nf, fx0, fdx, &
                        fv, fm, models(handle)%st, info)
+        if (allocated(models(handle)%kmkey)) deallocate (models(handle)%kmkey)
     end subroutine vehicle_attach_strip
 
     !> Release a model (a handle not in use is ignored).
@@ -147,6 +155,7 @@ contains
                     models(handle)%iws, models(handle)%itr, models(handle)%ct%tab)
         models(handle)%mp = modal_part()
         models(handle)%st = strip_geometry()
+        if (allocated(models(handle)%kmkey)) deallocate (models(handle)%kmkey)
         models(handle)%used = .false.
     end subroutine vehicle_free
 

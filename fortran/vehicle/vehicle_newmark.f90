@@ -6,7 +6,9 @@
 !> beta = (1 - alpha)^2 / 4, gamma = 1/2 - alpha; alpha = 0 is the average acceleration
 !> (trapezoidal) rule. Residual at t_{n+1}:  M a_{n+1} - (1 + alpha) F_{n+1} + alpha F_n = 0,
 !> solved for q_{n+1} by Newton's method with the tangent of vehicle_model%tangent, refreshed
-!> at the first iteration of each step and again when an iteration does not contract.
+!> at the first iteration of each step and again when an iteration does not contract, and
+!> Broyden's update in between (Kelley 1995, sec. 7.3). With the strip contact the matrix is
+!> kept from step to step instead, carrying Broyden's update (keeps_matrix, broyden_matrix).
 !> Local error estimate per step (Zienkiewicz & Xie 1991): e = h^2 |beta - 1/6| |a_{n+1} - a_n|.
 !> Option SCHEME_ENERGY (hht_options%scheme): the midpoint rule M (v1 - v0) / h = F(x_m, v_m) +
 !> F_dg, (x1 - x0) / h = (v0 + v1) / 2, with the discrete gradient F_dg of the contact potential
@@ -28,7 +30,7 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
-    use vehicle_contact, only: nwo
+    use vehicle_contact, only: nwo, CMODEL_HERTZ_KALKER, CMODEL_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
@@ -64,19 +66,25 @@ module vehicle_newmark
         integer :: scheme = SCHEME_HHT
     end type hht_options
 
+    !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
+    !> point elements' tangent blocks needed to recover the modal increments.
+    !> b: the rigid matrix before factoring (kept matrices: Broyden's update, newton_iterate).
+    type :: newton_lin
+        real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :), b(:, :)
+        integer, allocatable :: ipiv(:)
+    end type newton_lin
+
     !> The state at the current time: q, v, a, F(q, v) and the contact outputs there (over
-    !> the rigid and modal DOFs), and the modal factors of the last step size.
+    !> the rigid and modal DOFs), and the modal factors of the last step size. keep: the
+    !> iteration matrix is kept from step to step (keeps_matrix); nl its factors, made for
+    !> the step size nlh (0: none).
     type :: hht_state
         real(dp), allocatable :: q(:), v(:), a(:), f(:), w(:, :, :)
         type(modal_factor) :: mf
+        logical :: keep = .false.
+        type(newton_lin) :: nl
+        real(dp) :: nlh = 0.0_dp
     end type hht_state
-
-    !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
-    !> point elements' tangent blocks needed to recover the modal increments.
-    type :: newton_lin
-        real(dp), allocatable :: a(:, :), jpr(:, :), jpu(:, :)
-        integer, allocatable :: ipiv(:)
-    end type newton_lin
 
     !> Counters of a run, and `why`: the soft failure (STAT_OUTSIDE_TABLE, STAT_GRID_EDGE,
     !> STAT_CONTACT_NOT_CONVERGED) of the last trial state that had one in the current step.
@@ -152,6 +160,8 @@ contains
         allocate (st%f, source=f)
         allocate (st%w, source=w)
         call modal_ring_time(md%mp, t)
+        st%keep = keeps_matrix(md, rs, opt)
+        if (st%keep) call kept_matrix_load(md, rs, h, opt, st)
         ! a massless coordinate's a is its BDF2 acceleration from the last call (massless_rates;
         ! the caller starts it at 0): carried, so that splitting a run into calls (chunks
         ! sized by wall time) does not change it; f and w likewise
@@ -183,8 +193,63 @@ contains
         a = st%a
         f = st%f
         w = st%w
+        if (allocated(md%kmkey)) deallocate (md%kmkey)
+        if (st%keep .and. st%nlh > 0.0_dp) call kept_matrix_store(md, rs, opt, st)
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
+
+    !> Whether the time loop keeps its iteration matrix from step to step: with the strip
+    !> contact and Hertz + Kalker or FASTSIM, on the rigid model (no modal blocks), HHT. The
+    !> strip's tangent (one linearisation per wheel and the contact's forward differences)
+    !> costs about two force evaluations, and in a settled or slowly varying motion the last
+    !> step's matrix with Broyden's update converges as fast as a fresh one (docs/vehicle.md
+    !> "Strip contact", Cost). The table's tangent is cheap and the BEM's evaluations are
+    !> dear: they refresh at every step as before.
+    pure logical function keeps_matrix(md, rs, opt) result(keep)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        keep = md%st%on .and. (rs%cmodel == CMODEL_HERTZ_KALKER .or. rs%cmodel == CMODEL_FASTSIM) &
+               .and. md%mp%nm == 0 .and. opt%scheme == SCHEME_HHT
+    end function keeps_matrix
+
+    !> The key of a kept matrix: the state it continues from, its step size and the call's
+    !> settings (a later call reads the matrix only when it continues from exactly these:
+    !> the next chunk of the same run, so that the chunking cannot change the result).
+    pure function kept_key(rs, opt, q, v, a, h) result(key)
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        real(dp), intent(in) :: q(:), v(:), a(:), h
+        real(dp) :: key(3 * size(q) + 5)
+        key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp)]
+    end function kept_key
+
+    !> The matrix kept by the last call, when this call continues from its key with step h.
+    subroutine kept_matrix_load(md, rs, h, opt, st)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: h
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(inout) :: st
+        if (.not. allocated(md%kmkey)) return
+        if (size(md%kmkey) /= 3 * size(st%q) + 5) return
+        if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
+        st%nl%a = md%kma(:, :, 1)
+        st%nl%b = md%kma(:, :, 2)
+        st%nl%ipiv = md%kmpiv
+        st%nlh = h
+    end subroutine kept_matrix_load
+
+    !> Keep the time loop's matrix in the model with the key of the state it ended at.
+    subroutine kept_matrix_store(md, rs, opt, st)
+        type(vmodel), intent(inout) :: md
+        type(vsettings), intent(in) :: rs
+        type(hht_options), intent(in) :: opt
+        type(hht_state), intent(in) :: st
+        md%kma = reshape([st%nl%a, st%nl%b], [size(st%nl%b, 1), size(st%nl%b, 2), 2])
+        md%kmpiv = st%nl%ipiv
+        md%kmkey = kept_key(rs, opt, st%q, st%v, st%a, st%nlh)
+    end subroutine kept_matrix_store
 
     !> newmark_run's stats from the counters and the number of steps done.
     pure subroutine tally_stats(tally, nsteps_done, stats)
@@ -286,7 +351,7 @@ contains
         type(hht_step_data) :: sd
         real(dp), dimension(md%nd + md%mp%nm) :: q1, v1, a1, r, f1
         real(dp) :: rn, w1(nwo, 2, md%nw), dq
-        logical :: conv
+        logical :: conv, stale, valid
         ok = .false.
         err = 0.0_dp
         call step_data(h, opt%alpha, st, sd)
@@ -297,7 +362,23 @@ contains
             if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
             return
         end if
-        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, tally, dq, conv, info)
+        ! a matrix kept from the last step of this size (keeps_matrix), or a fresh one
+        stale = st%keep .and. st%nlh == h
+        call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, stale, st%keep, tally, dq, &
+                            conv, valid, info)
+        if (info == STAT_OK .and. .not. conv .and. stale) then
+            ! the kept matrix failed: once more from the start with a fresh one
+            q1 = st%q + h * st%v + 0.5_dp * h * h * st%a
+            call residual(md, rs, sd, q1, r, rn, f1, w1, info)
+            if (info /= STAT_OK) then
+                if (soft(info, tally)) info = STAT_OK
+                return
+            end if
+            call newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, st%mf, st%nl, .false., st%keep, tally, &
+                                dq, conv, valid, info)
+        end if
+        st%nlh = 0.0_dp
+        if (st%keep .and. valid) st%nlh = h
         if (info /= STAT_OK .or. .not. conv) return
         if (sd%energy) then
             ! midpoint rule: (x1 - x0) / h = (v0 + v1) / 2; a: the step's mean acceleration
@@ -380,7 +461,8 @@ contains
     !> The energy scheme evaluates it (its error is the work of the last residual, one-sided
     !> with modified Newton: model FR at tol 1e-9, 2.6e-5 of the kick's energy over 1 s
     !> without the evaluated correction, 2.8e-7 over 0.5 s with).
-    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, tally, dq, conv, info)
+    subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, nl, stale, upd, tally, dq, conv, &
+                              valid, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_step_data), intent(in) :: sd
@@ -388,29 +470,34 @@ contains
         real(dp), dimension(md%nd + md%mp%nm), intent(inout) :: q1, r, f1
         real(dp), intent(inout) :: rn, w1(nwo, 2, md%nw)
         type(modal_factor), intent(inout) :: mf
+        type(newton_lin), intent(inout) :: nl
+        logical, intent(in) :: stale, upd
         type(hht_tally), intent(inout) :: tally
         real(dp), intent(out) :: dq
-        logical, intent(out) :: conv
+        logical, intent(out) :: conv, valid
         integer, intent(out) :: info
-        type(newton_lin) :: nl
         real(dp) :: dqv(md%nd + md%mp%nm), dqold, sl, dqn
-        real(dp) :: steps(md%nd + md%mp%nm, opt%maxit + 1)
+        real(dp) :: steps(md%nd + md%mp%nm, opt%maxit + 1), ys(md%nd + md%mp%nm, opt%maxit + 1)
+        real(dp) :: rold(md%nd + md%mp%nm)
         integer :: it, lin, ns
         logical :: fresh, full
         conv = .false.
         info = STAT_OK
         dqold = huge(1.0_dp)
         dq = huge(1.0_dp)
-        fresh = .false.
+        fresh = stale         ! a kept matrix (hht_step) is used as if made at the start
+        valid = stale
         full = .true.          ! the current iterate is the start or the end of a full step
         ns = 0                 ! full steps since the factors were made (Broyden's memory)
         do it = 1, opt%maxit + 1
             if (.not. fresh) then
+                valid = .false.
                 call step_matrix(md, rs, sd, q1, mf, nl, lin, tally, info)
                 if (info /= STAT_OK) return
                 fresh = .true.
                 ns = 0
                 if (lin /= 0) return
+                valid = .true.
             end if
             call lin_solve(md, sd, mf, nl, r, dqv)
             call broyden_step(steps, ns, dqv)
@@ -429,6 +516,7 @@ contains
                 exit
             end if
             if (it > opt%maxit) exit
+            rold = r
             call line_search(md, rs, sd, dqv, opt%tol, q1, r, rn, f1, w1, sl, tally, info)
             tally%nit = tally%nit + 1
             if (info /= STAT_OK .or. sl == 0.0_dp) return
@@ -437,12 +525,41 @@ contains
             if (full) then
                 ns = ns + 1
                 steps(:, ns) = dqv
+                ys(:, ns) = rold - r      ! the matrix's secant condition: B s = r_old - r
             end if
             ! a damped step or a growing correction: new factors at this iterate
             if (.not. full .or. dq > dqold) fresh = .false.
             dqold = dq
         end do
+        ! a matrix kept for the next step (upd, rigid model) carries this step's updates
+        if (conv .and. upd .and. valid .and. ns > 0 .and. md%mp%nm == 0) &
+            call broyden_matrix(md%nd, steps, ys, ns, nl, valid)
     end subroutine newton_iterate
+
+    !> Broyden's "good" update in direct form of the kept rigid matrix B (nl%b) by the full
+    !> steps s_j of a converged step and their residual changes y_j (B s_j = y_j after each):
+    !>   B <- B + (y_j - B s_j) s_j^T / |s_j|^2,  j = 1 .. ns,
+    !> then factored again (nl%a). In exact arithmetic the matrix whose inverse newton_iterate's
+    !> inverse-form updates applied (broyden_step), so the next step continues the same
+    !> secant sequence instead of restarting from the last tangent. valid false when B turns
+    !> singular (the next step then makes a fresh one).
+    subroutine broyden_matrix(nd, steps, ys, ns, nl, valid)
+        integer, intent(in) :: nd, ns
+        real(dp), intent(in) :: steps(:, :), ys(:, :)
+        type(newton_lin), intent(inout) :: nl
+        logical, intent(inout) :: valid
+        real(dp) :: u(nd)
+        integer :: j, k, lin
+        do j = 1, ns
+            u = (ys(1:nd, j) - matmul(nl%b, steps(1:nd, j))) / dot_product(steps(1:nd, j), steps(1:nd, j))
+            do k = 1, nd
+                nl%b(:, k) = nl%b(:, k) + u * steps(k, j)
+            end do
+        end do
+        nl%a = nl%b
+        call dgetrf(nd, nd, nl%a, nd, nl%ipiv, lin)
+        if (lin /= 0) valid = .false.
+    end subroutine broyden_matrix
 
     !> Broyden's "good" update in inverse form (Kelley 1995, Iterative Methods for Linear and
     !> Nonlinear Equations, sec. 7.3, eq. 7.41): with H0 the factored matrix's inverse and the
@@ -536,6 +653,7 @@ contains
             end do
         end if
         nl%a(1:nd, 1:nd) = sd%cq * md%m - (1.0_dp + sd%alpha) * jac
+        if (np == 0) nl%b = nl%a
         call dgetrf(nt, nt, nl%a, nt, nl%ipiv, lin)
         tally%njac = tally%njac + 1
     end subroutine step_matrix
