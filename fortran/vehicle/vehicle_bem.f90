@@ -35,6 +35,12 @@
 !> the same numbers to the bit with any number of threads, and with none (a build without
 !> OpenMP runs the loop serially), as the serial code did.
 !>
+!> Tangent. Each point keeps a linear model of its patch for the Newton tangent (bem_linear:
+!> the last committed solve plus a Jacobian over approach, relative roll, creepages and
+!> lateral position), the Jacobian from forward differences of the point's own solves made in
+!> the patch loop after its solve (point_jacobian; when due: jacobian_due, decided serially
+!> in setup_point) and committed with it, so threads give the same numbers here too.
+!>
 !> Windows. Each solve runs on the window of the grid around the point's rigid
 !> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
 !> rounded up to multiples of WIN_QUANTUM, clipped to the grid), with a workspace of the
