@@ -16,7 +16,9 @@ static state (more Newton iterations than the scenario's default, as
 validation/vehicle_fr_vs_rr.py), RR and FR (or the models named: RF and FF on the default
 ring) at the default selection: the real-time factor (wall time per simulated second) of
 the time loop alone. Interpreters given after the models (e.g. an older commit's venv) run
-each model in turn, interleaved, so that the builds share the machine's load alike.
+each model in turn, interleaved, so that the builds share the machine's load alike; the
+leading wheelset's lateral displacement and its wheels' Q and Y of each build are then
+compared with the first build's (largest difference over the run).
 """
 from __future__ import annotations
 
@@ -55,8 +57,11 @@ with bem_state(sy) as st:
     t0 = time.perf_counter()
     r = simulate(sy, v, dur, q0=q, v0=qd, h=h, contact="bem", bem=st, progress=False)
     wall = time.perf_counter() - t0
+if len(sys.argv) > 3:
+    import numpy as np
+    np.savez(sys.argv[3], t=r.t, y=r.y_ws1, q=r.Q[:, :, 0], yf=r.Y[:, :, 0])
 print(json.dumps({"wall": wall, "h": h, "steps": r.stats["steps"],
-                  "newton": r.stats["newton_iterations"],
+                  "newton": r.stats["newton_iterations"], "pairs": r.stats["bem_normal_solves"],
                   "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
@@ -67,15 +72,30 @@ def bem(dur: float, models: tuple[str, ...] = ("RR", "FR"), pythons: tuple[str, 
           "(time loop only)")
     print(f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores")
     print(f"{'model':22s} {'h ms':>6s} {'wall s':>7s} {'RTF':>6s} {'Newton/step':>11s} "
-          f"{'peak RSS MB':>11s}  python")
-    for model in models:
-        for py in pythons:
-            p = subprocess.run([py, "-c", _BEM_CHILD, model, str(dur)],
-                               capture_output=True, text=True, check=True)
-            o = json.loads(p.stdout.strip().splitlines()[-1])
-            name = model + (" (default selection)" if model in ("FR", "FF") else "")
-            print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
-                  f"{o['newton'] / max(o['steps'], 1):11.2f} {o['rss_mb']:11.0f}  {py}")
+          f"{'pairs/step':>10s} {'peak RSS MB':>11s}  python")
+    import tempfile
+
+    import numpy as np
+    with tempfile.TemporaryDirectory() as tmp:
+        for model in models:
+            runs = []
+            for i, py in enumerate(pythons):
+                out = os.path.join(tmp, f"{model}_{i}.npz")
+                p = subprocess.run([py, "-c", _BEM_CHILD, model, str(dur), out],
+                                   capture_output=True, text=True, check=True)
+                o = json.loads(p.stdout.strip().splitlines()[-1])
+                runs.append(np.load(out))
+                name = model + (" (default selection)" if model in ("FR", "FF") else "")
+                steps = max(o["steps"], 1)
+                print(f"{name:22s} {o['h'] * 1e3:6.3f} {o['wall']:7.1f} {o['wall'] / dur:6.0f} "
+                      f"{o['newton'] / steps:11.2f} {o['pairs'] / steps:10.1f} {o['rss_mb']:11.0f}  {py}")
+            for i, r in enumerate(runs[1:], 1):
+                a = runs[0]
+                print(f"  {model}, build {i} - build 0, largest over the run: y_ws1 "
+                      f"{np.abs(r['y'] - a['y']).max():.3g} m (|y| max {np.abs(a['y']).max():.3g} m), "
+                      f"Q {np.abs(r['q'] - a['q']).max():.3g} N (Q max {a['q'].max():.6g} N), "
+                      f"Y {np.abs(r['yf'] - a['yf']).max():.3g} N (|Y| max {np.abs(a['yf']).max():.4g} N)")
+    print(f"load {os.getloadavg()[0]:.2f} (1 min) at the end")
 
 
 def main() -> None:

@@ -28,8 +28,10 @@ from railvti import scenarios
 from railvti.vehicle import BemOptions, bem_state, static_equilibrium
 sy = scenarios.coach_system()
 # full-grid solves (no windows, issue 18) on a 0.5 mm grid: the call (~5 s at load 1) must
-# outlast the SIGINT 1 s after ready; at 0.75 mm the faster solvers ended it in ~1 s
-with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6, dx=5e-4)) as st:
+# outlast the SIGINT 1 s after ready; at 0.75 mm the faster solvers ended it in ~1 s; the
+# tangent's cheap model (no patch Jacobians): the patch Jacobian's Newton ends it 2.6x sooner
+with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6, dx=5e-4,
+                              jacobian_age=0)) as st:
     print("ready", flush=True)
     static_equilibrium(sy, 200 / 3.6, "bem", bem=st)
 print("finished", flush=True)
@@ -60,13 +62,15 @@ def test_an_interrupted_solve_keeps_its_model_and_abandons_its_bem_state():
     (handle 0: closing it frees nothing under the running call); the model is kept busy,
     so the next static solve on it waits for the first to end and then gives the numbers
     of a fresh model. The solve runs on the whole grid (no windows) so that it lasts well
-    beyond the interrupt (about 1.2 s; with windows it took 0.45-0.6 s, a race with 0.5 s)."""
+    beyond the interrupt (about 1.2 s; with windows it took 0.45-0.6 s, a race with 0.5 s),
+    with the tangent's cheap model (the patch Jacobians end it 2.6x sooner)."""
     sy = scenarios.coach_system()
     ref = static_equilibrium(scenarios.coach_system(), V)[0]
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)
     try:
-        with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6)) as st:
+        with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6,
+                                      jacobian_age=0)) as st:
             timer.start()
             with pytest.raises(KeyboardInterrupt):
                 static_equilibrium(sy, V, "bem", bem=st)

@@ -115,6 +115,49 @@ def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
     np.testing.assert_allclose(k_bem, f11, rtol=0.12)
 
 
+@pytest.mark.parametrize("offset", [0.0, 0.003])
+def test_bem_patch_jacobian_matches_central_differences_of_the_solves(coach_system, offset):
+    """The Newton tangent's linear model of a BEM patch (issue 18): its Jacobian over
+    (approach, relative roll, xi, eta, spin, lateral position), forward differences of the
+    point's own solves on its window warm-started from the solution, against central
+    differences of independent full-grid solves (BemState.probe) with twice the steps, at
+    the leading wheelset's tread points, centred (the wide non-Hertzian patch) and 3 mm off
+    centre, with a lateral velocity (eta ~ 1e-4). Each column's predicted change over a step
+    agrees within 3 % plus the solvers' noise (tol_normal, tol_rolling of the traction bound
+    mu Fn, 10x; a lever arm of 1 cm for the moments); the probe at the base reproduces the
+    time loop's solve within tol_normal."""
+    sy = coach_system
+    qs, _ = static_equilibrium(sy, V)
+    q = lateral_disturbance(sy, qs, offset, wheelsets=(0,))
+    v = np.zeros(sy.n)
+    v[sy.dof_names.index("ws1_y")] = 1e-4 * V
+    o = BemOptions(jacobian_age=1)       # a Jacobian at every solve: at the base
+    with bem_state(sy, o) as st:
+        S._force_and_tangent(sy, q, v, V, "bem", 8, st)
+        for wheel in (0, 1):
+            lm = st.linear_model(0, wheel, 0)
+            x0, jac = lm["x"], lm["jac"]
+            fn = lm["y"][0]
+            assert st.probe(0, wheel, 0, x0)[0] == pytest.approx(fn, rel=o.tol_normal)
+            steps = np.array([4e-3 * x0[0], 4e-5, 4e-5, 4e-5, 1e-2, 0.2])
+            cd = np.empty((6, 6))
+            for j, d in enumerate(steps):
+                e = np.zeros(6)
+                e[j] = d
+                cd[:, j] = (st.probe(0, wheel, 0, x0 + e) - st.probe(0, wheel, 0, x0 - e)) / (2 * d)
+            ft = 10 * o.tol_rolling * 0.3 * fn
+            noise = np.array([10 * o.tol_normal * fn, ft, ft, 0.01 * ft, 1e-7 * fn, 1e-7 * fn])
+            err = np.abs(jac - cd) * steps
+            assert (err <= 0.03 * np.abs(cd) * steps + noise[:, None]).all(), (wheel, jac, cd)
+            # the columns are not noise: each input moves its own force well above it
+            for i, j in [(0, 0), (1, 2), (2, 3), (2, 4), (5, 1), (0, 5)]:
+                assert abs(cd[i, j]) * steps[j] > 10 * noise[i]
+        assert st.counts()["normal_solves"] > 0
+    with bem_state(sy, BemOptions(jacobian_age=0)) as st:
+        S._force_and_tangent(sy, q, v, V, "bem", 8, st)
+        assert st.linear_model(0, 0, 0) is None
+
+
 def test_bem_grid_too_small_is_a_clean_error(coach_system):
     with pytest.raises(GridTooSmallError, match="edge"):
         static_equilibrium(coach_system, V, "bem", bem_options=BemOptions(nx=8, ny=8))
@@ -128,5 +171,7 @@ def test_bem_rejects_linearised_table_and_bad_options():
         BemOptions(dx=-1e-3)
     with pytest.raises(InputError, match="nx"):
         BemOptions(nx=4)
+    with pytest.raises(InputError, match="jacobian_age"):
+        BemOptions(jacobian_age=-1)
     with pytest.raises(InputError, match="bem_options"):
         simulate(scenarios.coach_system(), V, 0.01, contact="bem", bem_options="fine")

@@ -476,6 +476,53 @@ subroutine vehicle_bem_window_c(handle, on, info)
     info = stat
 end subroutine vehicle_bem_window_c
 
+!> Committed solves of a BEM point between its patch Jacobians, the Newton tangent's linear
+!> model (vehicle_bem%bem_jacobian); 0: Hertz + Kalker scaled to the BEM instead. info:
+!> STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (age < 0).
+subroutine vehicle_bem_jacobian_c(handle, age, info)
+    use iso_c_binding, only: c_int
+    use vehicle_bem, only: bem_jacobian
+    implicit none
+    integer(c_int), intent(in) :: handle, age
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call bem_jacobian(handle, age, stat)
+    info = stat
+end subroutine vehicle_bem_jacobian_c
+
+!> The linear model of one BEM point (vehicle_bem%bem_point_jacobian): jac (6, 6) = dy/dx,
+!> x = (dn, phi, xi, eta, spin, s), y = (fn, fx, fy, mz, fn xc, fn yc), the base xb, yb, the
+!> solves since the Jacobian (age), ok /= 0 when the point has a model.
+subroutine vehicle_bem_point_jacobian_c(handle, iws, iw, k, jac, xb, yb, age, ok, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_bem, only: bem_point_jacobian
+    implicit none
+    integer(c_int), intent(in) :: handle, iws, iw, k
+    real(c_double), intent(out) :: jac(6, 6), xb(6), yb(6)
+    integer(c_int), intent(out) :: age, ok, info
+    integer :: stat, ag
+    logical :: lok
+    call bem_point_jacobian(handle, iws, iw, k, jac, xb, yb, ag, lok, stat)
+    age = ag
+    ok = merge(1, 0, lok)
+    info = stat
+end subroutine vehicle_bem_point_jacobian_c
+
+!> Solve one BEM point's patch at the linear model's inputs x (6) on the full grid without
+!> changing the point (vehicle_bem%bem_probe): y (6) its outputs. info: see bem_probe.
+subroutine vehicle_bem_probe_c(handle, iws, iw, k, x, y, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_bem, only: bem_probe
+    implicit none
+    integer(c_int), intent(in) :: handle, iws, iw, k
+    real(c_double), intent(in) :: x(6)
+    real(c_double), intent(out) :: y(6)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call bem_probe(handle, iws, iw, k, x, y, stat)
+    info = stat
+end subroutine vehicle_bem_probe_c
+
 !> Threads of the BEM patch loop (vehicle_bem%bem_threads): n, or all the OpenMP runtime
 !> offers for n <= 0; nset the number set (1 in a build without OpenMP). info: STAT_OK or
 !> STAT_BAD_HANDLE.

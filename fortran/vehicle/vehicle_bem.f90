@@ -35,6 +35,12 @@
 !> the same numbers to the bit with any number of threads, and with none (a build without
 !> OpenMP runs the loop serially), as the serial code did.
 !>
+!> Tangent. Each point keeps a linear model of its patch for the Newton tangent (bem_linear:
+!> the last committed solve plus a Jacobian over approach, relative roll, creepages and
+!> lateral position), the Jacobian from forward differences of the point's own solves made in
+!> the patch loop after its solve (point_jacobian; when due: jacobian_due, decided serially
+!> in setup_point) and committed with it, so threads give the same numbers here too.
+!>
 !> Windows. Each solve runs on the window of the grid around the point's rigid
 !> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
 !> rounded up to multiples of WIN_QUANTUM, clipped to the grid), with a workspace of the
@@ -62,6 +68,7 @@ module vehicle_bem
     private
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
     public :: bem_window, bem_threads, bem_record, bem_solve_recorded
+    public :: bem_jacobian, bem_linear, bem_point_jacobian, bem_probe, NLIN
     public :: MAX_BEM, BEM_NCOUNT, MAX_THREADS
 
     integer, parameter :: MAX_BEM = 16
@@ -84,6 +91,22 @@ module vehicle_bem
     integer, parameter :: MAX_WIN = 48
     !> A point's patch problem: none pending, recorded (bem_record), solved (bem_solve_recorded).
     integer, parameter :: PT_IDLE = 0, PT_RECORDED = 1, PT_SOLVED = 2
+    !> The patch's linear model (bem_linear): inputs x = (dn, phi, xi, eta, spin, s), s = ia - 1
+    !> + wa the lateral position in table nodes; outputs y = (fn, fx, fy, mz, fn xc, fn yc).
+    integer, parameter :: NLIN = 6
+    !> Forward-difference steps of the patch Jacobian (point_jacobian): the approach by
+    !> -JAC_DN dn (inwards: the patch stays in its window), the roll by JAC_PHI rad (2e-7 m of
+    !> gap over a 10 mm half width), xi and eta by JAC_CREEP, spin by JAC_SPIN 1/m and s by
+    !> JAC_DS nodes: each moves the forces by ~1e-3 of their size, 100-1000 times the solvers'
+    !> tolerances (1e-6 Fn, 3e-5 of the traction bound), and stays in the linear range.
+    real(dp), parameter :: JAC_DN = 2.0e-3_dp, JAC_PHI = 2.0e-5_dp, JAC_CREEP = 2.0e-5_dp
+    real(dp), parameter :: JAC_SPIN = 5.0e-3_dp, JAC_DS = 0.1_dp
+    !> A patch Jacobian is made again when the approach moved by more than JAC_MOVE of its value
+    !> at the Jacobian, or the lateral position by more than JAC_SMOVE table nodes, or after
+    !> the point's jage-th committed solve since (bem_jacobian).
+    real(dp), parameter :: JAC_MOVE = 0.2_dp, JAC_SMOVE = 4.0_dp
+    !> The default of bem_jacobian's age (committed solves of a point between Jacobians).
+    integer, parameter :: JAC_AGE = 128
 
     !> What every solve of a model reads and none changes.
     type :: bem_setup
@@ -111,6 +134,16 @@ module vehicle_bem
         real(dp) :: cnt(BEM_NCOUNT) = 0
         real(dp), allocatable :: h(:, :), p(:, :), tx(:, :), ty(:, :), sx(:, :), sy(:, :)
         real(dp), allocatable :: pn(:, :), txn(:, :), tyn(:, :), sxn(:, :), syn(:, :)
+        !> The linear model of the patch (bem_linear; the Newton tangent): jac = dy/dx at the
+        !> inputs xj, by forward differences of the point's own solves (point_jacobian), valid
+        !> (jok) since age committed solves; xb, yb the inputs and outputs of the last committed
+        !> solve in contact (bok). jwant: make a Jacobian at this solve (set serially in
+        !> setup_point, with hs = dh/ds, the gap field's slope per table node); jnew, jn: the
+        !> one made, committed with the solve.
+        logical :: jok = .false., bok = .false., jwant = .false., jnew = .false.
+        integer :: age = 0
+        real(dp) :: jac(NLIN, NLIN) = 0, jn(NLIN, NLIN) = 0, xj(NLIN) = 0, xb(NLIN) = 0, yb(NLIN) = 0
+        real(dp), allocatable :: hs(:, :)
     end type bem_point
 
     type :: bem_model
@@ -121,6 +154,9 @@ module vehicle_bem
         !> threads of the patch loop; recording: bem_patch stores the problems (bem_record)
         integer :: nthreads = 1
         logical :: recording = .false.
+        !> committed solves of a point between its patch Jacobians (bem_jacobian); 0: no
+        !> Jacobian, the tangent's cheap model is Hertz + Kalker scaled by ratio
+        integer :: jage = JAC_AGE
         !> full-grid workspace per thread (1 made at creation, the others when needed)
         integer :: ws(MAX_THREADS) = 0
         !> solves on windows (see the module doc); win(:, i) = (nx, ny) of the nwin window
@@ -187,6 +223,7 @@ contains
         m%win = 0
         m%winws = 0
         m%nthreads = threads_of(0)
+        m%jage = JAC_AGE
         m%gap = gap
         allocate (m%pts(2, 2, nws), m%ratio(2, 2, 2, nws))
         do l = 1, nws
@@ -213,6 +250,9 @@ contains
                 do i = 1, 2
                     call clear_fields(m%pts(i, j, l))
                     m%pts(i, j, l)%state = PT_IDLE
+                    m%pts(i, j, l)%jok = .false.
+                    m%pts(i, j, l)%bok = .false.
+                    m%pts(i, j, l)%jnew = .false.
                 end do
             end do
         end do
@@ -240,7 +280,9 @@ contains
         pt%syn = 0.0_dp
     end subroutine clear_new
 
-    !> The solve's fields become the point's (a swap of the allocations, no copy).
+    !> The solve's fields become the point's (a swap of the allocations, no copy); its inputs
+    !> and outputs the linear model's base, and a Jacobian made at it the model's (a point
+    !> out of contact or failing drops both: the next solve in contact makes a new one).
     subroutine commit_point(pt)
         type(bem_point), intent(inout) :: pt
         call swap(pt%p, pt%pn)
@@ -248,6 +290,21 @@ contains
         call swap(pt%ty, pt%tyn)
         call swap(pt%sx, pt%sxn)
         call swap(pt%sy, pt%syn)
+        pt%age = pt%age + 1
+        pt%bok = pt%info == STAT_OK .and. pt%out(1) > 0.0_dp
+        if (pt%bok) then
+            pt%xb = point_inputs(pt)
+            pt%yb = linear_outputs(pt%out)
+            if (pt%jnew) then
+                pt%jac = pt%jn
+                pt%xj = pt%xb
+                pt%age = 0
+                pt%jok = .true.
+            end if
+        else
+            pt%jok = .false.
+        end if
+        pt%jnew = .false.
     contains
         subroutine swap(a, b)
             real(dp), allocatable, intent(inout) :: a(:, :), b(:, :)
@@ -430,7 +487,10 @@ contains
                 if (m%recording) return
                 nt = 1
                 call setup_point(m, k, iw, iws, nt)
-                if (.not. pt%open) call solve_point(m%s, point_ws(m, k, iw, iws, 1), pt)
+                if (.not. pt%open) then
+                    call solve_point(m%s, point_ws(m, k, iw, iws, 1), pt)
+                    if (pt%jwant) call point_jacobian(m%s, point_ws(m, k, iw, iws, 1), pt)
+                end if
                 call commit_point(pt)
                 call add_counts(m%counts, pt%cnt)
             end if
@@ -496,6 +556,9 @@ contains
             !$ t = omp_get_thread_num() + 1
             call solve_point(m%s, point_ws(m, list(1, i), list(2, i), list(3, i), t), &
                              m%pts(list(1, i), list(2, i), list(3, i)))
+            if (m%pts(list(1, i), list(2, i), list(3, i))%jwant) &
+                call point_jacobian(m%s, point_ws(m, list(1, i), list(2, i), list(3, i), t), &
+                                    m%pts(list(1, i), list(2, i), list(3, i)))
         end do
         !$omp end parallel do
         ! commit in the order of a serial evaluation (wheelset, wheel, point), which stops at
@@ -587,11 +650,24 @@ contains
                 end do
             end if
             pt%open = .not. (pt%dn > minval(h))
+            pt%jnew = .false.
+            pt%jwant = .false.
             if (pt%open) then
                 call clear_new(pt)
                 pt%cnt(5) = 1.0_dp
             else
                 call patch_window(m, k, iw, iws, nt)
+                pt%jwant = jacobian_due(m%jage, pt)
+                if (pt%jwant) then
+                    ! dh/ds of the field above, h from the nodes ia, ib at weight wa
+                    if (.not. allocated(pt%hs)) allocate (pt%hs, mold=h)
+                    if (iw == 1) then
+                        pt%hs = m%gap(:, :, k, pt%ib) - m%gap(:, :, k, pt%ia)
+                    else
+                        pt%hs = m%gap(:, ny:1:-1, k, pt%ib) - m%gap(:, ny:1:-1, k, pt%ia)
+                    end if
+                    where (h >= FAR) pt%hs = 0.0_dp
+                end if
             end if
             call system_clock(c1)
             pt%cnt(10) = seconds(c0, c1)
@@ -893,6 +969,283 @@ contains
         end do
         mz = mz * dx * dy
     end function spin_moment
+
+    !> Committed solves of a point between its patch Jacobians: age (> 0), or 0 for none (the
+    !> Newton tangent's cheap model is then Hertz + Kalker scaled to the last solves, as
+    !> before issue 18's patch Jacobian). info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
+    !> (age < 0).
+    subroutine bem_jacobian(handle, age, info)
+        integer, intent(in) :: handle, age
+        integer, intent(out) :: info
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        info = STAT_BAD_ARGUMENT
+        if (age < 0) return
+        models(handle)%jage = age
+        if (age == 0) models(handle)%pts(:, :, :)%jok = .false.
+        info = STAT_OK
+    end subroutine bem_jacobian
+
+    !> The patch forces of point (k, iw, iws) from its linear model (the Newton tangent's):
+    !> y = yb + jac (x - xb), x = (dn, phi, xi, eta, spin, ia - 1 + wa), y = (fn, fx, fy, mz,
+    !> fn xc, fn yc) (bem_patch's arguments and results), the last committed solve (xb, yb)
+    !> and the Jacobian from finite differences of the point's own solves (point_jacobian).
+    !> ok = .false. (results zero) when the point has none: out of contact at its last solve,
+    !> Jacobians off (bem_jacobian), or a bad handle or index.
+    subroutine bem_linear(handle, iws, iw, k, ia, wa, dn, phi, xi, eta, spin, fn, fx, fy, mz, xc, yc, ok)
+        integer, intent(in) :: handle, iws, iw, k, ia
+        real(dp), intent(in) :: wa, dn, phi, xi, eta, spin
+        real(dp), intent(out) :: fn, fx, fy, mz, xc, yc
+        logical, intent(out) :: ok
+        real(dp) :: y(NLIN)
+        fn = 0.0_dp
+        fx = 0.0_dp
+        fy = 0.0_dp
+        mz = 0.0_dp
+        xc = 0.0_dp
+        yc = 0.0_dp
+        ok = .false.
+        if (.not. live(handle)) return
+        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
+        associate (pt => models(handle)%pts(k, iw, iws))
+            if (.not. (pt%jok .and. pt%bok)) return
+            y = pt%yb + matmul(pt%jac, [dn, phi, xi, eta, spin, real(ia - 1, dp) + wa] - pt%xb)
+        end associate
+        ok = .true.
+        fn = y(1)
+        fx = y(2)
+        fy = y(3)
+        mz = y(4)
+        if (fn > 0.0_dp) then
+            xc = y(5) / fn
+            yc = y(6) / fn
+        end if
+    end subroutine bem_linear
+
+    !> The linear model of point (k, iw, iws): jac (dy/dx), the base inputs xb and outputs
+    !> yb (bem_linear), the committed solves since the Jacobian (age); ok = .false. when it
+    !> has none. info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (indices).
+    subroutine bem_point_jacobian(handle, iws, iw, k, jac, xb, yb, age, ok, info)
+        integer, intent(in) :: handle, iws, iw, k
+        real(dp), intent(out) :: jac(NLIN, NLIN), xb(NLIN), yb(NLIN)
+        integer, intent(out) :: age, info
+        logical, intent(out) :: ok
+        jac = 0.0_dp
+        xb = 0.0_dp
+        yb = 0.0_dp
+        age = 0
+        ok = .false.
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        info = STAT_BAD_ARGUMENT
+        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
+        info = STAT_OK
+        associate (pt => models(handle)%pts(k, iw, iws))
+            ok = pt%jok .and. pt%bok
+            jac = pt%jac
+            xb = pt%xb
+            yb = pt%yb
+            age = pt%age
+        end associate
+    end subroutine bem_point_jacobian
+
+    !> Solve point (k, iw, iws)'s patch at inputs x (bem_linear's; s within the table nodes
+    !> ia, ib of its last committed solve) on the full grid, warm-started from its fields,
+    !> without changing the point: y its outputs (bem_linear's). For checks of the linear
+    !> model against differences of the solves. info: STAT_OK, STAT_BAD_HANDLE,
+    !> STAT_BAD_ARGUMENT (indices, or the point has no committed solve in contact),
+    !> STAT_CONTACT_NOT_CONVERGED (a solver failed or the patch is empty).
+    subroutine bem_probe(handle, iws, iw, k, x, y, info)
+        integer, intent(in) :: handle, iws, iw, k
+        real(dp), intent(in) :: x(NLIN)
+        real(dp), intent(out) :: y(NLIN)
+        integer, intent(out) :: info
+        type(bem_model), pointer :: m
+        type(workspace), pointer :: ww
+        real(dp), allocatable :: h(:, :)
+        real(dp) :: cnt(BEM_NCOUNT), wa, y0
+        integer :: nx, ny, j
+        y = 0.0_dp
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        m => models(handle)
+        info = STAT_BAD_ARGUMENT
+        if (iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
+        if (.not. m%pts(k, iw, iws)%bok) return
+        nx = m%s%nx
+        ny = m%s%ny
+        associate (pt => m%pts(k, iw, iws))
+            wa = x(6) - real(pt%ia - 1, dp)
+            if (iw == 1) then
+                h = (1.0_dp - wa) * m%gap(:, :, k, pt%ia) + wa * m%gap(:, :, k, pt%ib)
+                where (max(m%gap(:, :, k, pt%ia), m%gap(:, :, k, pt%ib)) >= FAR) h = 1.0_dp
+            else
+                h = (1.0_dp - wa) * m%gap(:, ny:1:-1, k, pt%ia) + wa * m%gap(:, ny:1:-1, k, pt%ib)
+                where (max(m%gap(:, ny:1:-1, k, pt%ia), m%gap(:, ny:1:-1, k, pt%ib)) >= FAR) h = 1.0_dp
+            end if
+            y0 = -0.5_dp * real(ny - 1, dp) * m%s%dy
+            do j = 1, ny
+                where (h(:, j) < FAR) h(:, j) = h(:, j) + x(2) * (y0 + real(j - 1, dp) * m%s%dy)
+            end do
+            ww => ws_get(m%ws(1), nx, ny)
+            info = STAT_CONTACT_NOT_CONVERGED
+            if (.not. associated(ww)) return
+            cnt = 0.0_dp
+            call probe_solve(m%s, ww, 1, nx, 1, ny, h, x(1), x(3), x(4), x(5), pt%mu, pt%speed, &
+                             pt%p, pt%tx, pt%ty, .true., y, cnt, info)
+        end associate
+    end subroutine bem_probe
+
+    !> Whether point pt's solve should make a new patch Jacobian (the age jage > 0; module
+    !> parameters JAC_*): none yet, jage solves old, or the approach or lateral position
+    !> moved far from the Jacobian's.
+    pure logical function jacobian_due(jage, pt) result(due)
+        integer, intent(in) :: jage
+        type(bem_point), intent(in) :: pt
+        real(dp) :: x(NLIN)
+        due = .false.
+        if (jage <= 0) return
+        x = point_inputs(pt)
+        due = .not. pt%jok .or. pt%age >= jage .or. abs(x(1) - pt%xj(1)) > JAC_MOVE * pt%xj(1) &
+              .or. abs(x(6) - pt%xj(6)) > JAC_SMOVE
+    end function jacobian_due
+
+    !> The linear model's inputs of pt's current problem (bem_linear).
+    pure function point_inputs(pt) result(x)
+        type(bem_point), intent(in) :: pt
+        real(dp) :: x(NLIN)
+        x = [pt%dn, pt%phi, pt%xi, pt%eta, pt%spin, real(pt%ia - 1, dp) + pt%wa]
+    end function point_inputs
+
+    !> The linear model's outputs (fn, fx, fy, mz, fn xc, fn yc) of a solve's out.
+    pure function linear_outputs(out) result(y)
+        real(dp), intent(in) :: out(6)
+        real(dp) :: y(NLIN)
+        y = [out(1), out(2), out(3), out(4), out(1) * out(5), out(1) * out(6)]
+    end function linear_outputs
+
+    !> The patch Jacobian of a solved point (solve_point, in contact) by forward differences
+    !> of its own solves on its window (workspace wsh), each warm-started from the solution:
+    !> approach, roll and lateral position move the gap and need a normal and a rolling solve,
+    !> the creepages a rolling solve on the same pressure (the normal problem does not see
+    !> them): 3 normal + 6 rolling solves, counted in pt%cnt. Sets pt%jn, and pt%jnew when all
+    !> solves succeeded (otherwise the point keeps its old model). Touches nothing outside pt
+    !> and the workspace (thread-safe as solve_point).
+    subroutine point_jacobian(s, wsh, pt)
+        type(bem_setup), intent(in) :: s
+        integer, intent(in) :: wsh
+        type(bem_point), intent(inout) :: pt
+        type(workspace), pointer :: ww
+        real(dp), allocatable :: hw(:, :), tilt(:, :)
+        real(dp) :: x(NLIN), y0(NLIN), y(NLIN), d, appr, cr(3), yl
+        integer :: j, jj, stat, i1, i2, j1, j2
+        pt%jnew = .false.
+        if (pt%info /= STAT_OK .or. .not. (pt%out(1) > 0.0_dp)) return
+        i1 = pt%i1
+        i2 = pt%i2
+        j1 = pt%j1
+        j2 = pt%j2
+        ww => ws_get(wsh, i2 - i1 + 1, j2 - j1 + 1)
+        if (.not. associated(ww)) return
+        x = point_inputs(pt)
+        y0 = linear_outputs(pt%out)
+        allocate (tilt(i2 - i1 + 1, j2 - j1 + 1))
+        do jj = j1, j2     ! d h / d phi: the lateral coordinate, where the field is the point's
+            yl = (-0.5_dp * real(s%ny - 1, dp) + real(jj - 1, dp)) * s%dy
+            tilt(:, jj - j1 + 1) = merge(yl, 0.0_dp, pt%h(i1:i2, jj) < FAR)
+        end do
+        do j = 1, NLIN
+            hw = pt%h(i1:i2, j1:j2)
+            appr = pt%dn
+            cr = [pt%xi, pt%eta, pt%spin]
+            select case (j)
+            case (1)
+                d = -JAC_DN * pt%dn
+                appr = appr + d
+            case (2)
+                d = JAC_PHI
+                hw = hw + d * tilt
+            case (3, 4)
+                d = JAC_CREEP
+                cr(j - 2) = cr(j - 2) + d
+            case (5)
+                d = JAC_SPIN
+                cr(3) = cr(3) + d
+            case default
+                ! within the cell of ia, ib (the field is linear in wa there)
+                d = merge(-JAC_DS, JAC_DS, pt%wa > 0.5_dp)
+                hw = hw + d * pt%hs(i1:i2, j1:j2)
+            end select
+            call probe_solve(s, ww, i1, i2, j1, j2, hw, appr, cr(1), cr(2), cr(3), pt%mu, pt%speed, &
+                             pt%pn, pt%txn, pt%tyn, j /= 3 .and. j /= 4 .and. j /= 5, y, pt%cnt, stat)
+            if (stat /= STAT_OK) return
+            pt%jn(:, j) = (y - y0) / d
+        end do
+        pt%jnew = .true.
+    end subroutine point_jacobian
+
+    !> The outputs y (linear_outputs) of the patch problem on the window (i1:i2, j1:j2) of
+    !> the grid (workspace ww of its size): gap hw (the window's), approach appr, creepages,
+    !> friction, speed, warm-started from the full-grid fields p0, tx0, ty0; normal =
+    !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4). stat:
+    !> STAT_OK, or STAT_CONTACT_NOT_CONVERGED when a solver fails or the patch is empty.
+    subroutine probe_solve(s, ww, i1, i2, j1, j2, hw, appr, xi, eta, spin, mu, speed, p0, tx0, ty0, &
+                           normal, y, cnt, stat)
+        type(bem_setup), intent(in) :: s
+        type(workspace), intent(inout) :: ww
+        integer, intent(in) :: i1, i2, j1, j2
+        real(dp), intent(in) :: hw(:, :), appr, xi, eta, spin, mu, speed
+        real(dp), intent(in) :: p0(:, :), tx0(:, :), ty0(:, :)
+        logical, intent(in) :: normal
+        real(dp), intent(out) :: y(NLIN)
+        real(dp), intent(inout) :: cnt(BEM_NCOUNT)
+        integer, intent(out) :: stat
+        real(dp), allocatable :: pw(:, :), txw(:, :), tyw(:, :), sxw(:, :), syw(:, :), full(:, :), fy2(:, :)
+        integer, allocatable :: stw(:, :)
+        real(dp) :: da, fn, ap, resid, xc, yc
+        integer :: it, nprod
+        y = 0.0_dp
+        da = s%dx * s%dy
+        pw = p0(i1:i2, j1:j2)
+        txw = tx0(i1:i2, j1:j2)
+        tyw = ty0(i1:i2, j1:j2)
+        allocate (sxw, syw, mold=pw)
+        allocate (stw(i2 - i1 + 1, j2 - j1 + 1))
+        if (normal) then
+            ap = appr
+            call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, ap, s%tol_n, &
+                           s%maxit_n, pw, it, nprod, resid, stat)
+            cnt(1) = cnt(1) + 1.0_dp
+            cnt(2) = cnt(2) + real(it, dp)
+            if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
+                stat = STAT_CONTACT_NOT_CONVERGED
+                return
+            end if
+        end if
+        fn = da * sum(pw)
+        stat = STAT_CONTACT_NOT_CONVERGED
+        if (.not. (fn > 0.0_dp)) return
+        allocate (full(s%nx, s%ny), fy2(s%nx, s%ny), source=0.0_dp)
+        full(i1:i2, j1:j2) = pw
+        call pressure_centre(s%nx, s%ny, s%dx, s%dy, full, fn, xc, yc)
+        call rolling_steady(ww, pw, (real(i1 - 1, dp) - 0.5_dp * real(s%nx - 1, dp)) * s%dx, &
+                            (real(j1 - 1, dp) - 0.5_dp * real(s%ny - 1, dp)) * s%dy, xi, eta, spin, &
+                            mu, speed, ROLL_FFTGS, s%nblock, s%ninner, s%tol_t, s%maxit_t, txw, tyw, &
+                            stw, sxw, syw, it, resid, stat)
+        cnt(3) = cnt(3) + 1.0_dp
+        cnt(4) = cnt(4) + real(it, dp)
+        if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &
+            .or. .not. all(abs(tyw) <= huge(1.0_dp))) then
+            stat = STAT_CONTACT_NOT_CONVERGED
+            return
+        end if
+        stat = STAT_OK
+        full = 0.0_dp
+        full(i1:i2, j1:j2) = txw
+        fy2(i1:i2, j1:j2) = tyw
+        y = [fn, da * sum(txw), da * sum(tyw), spin_moment(s%nx, s%ny, s%dx, s%dy, full, fy2), &
+             fn * xc, fn * yc]
+    end subroutine probe_solve
 
     !> Get (set = .false.) or store (set = .true.) the calibration ratios (normal, tangential)
     !> of one point; a bad handle or index leaves r = 1.

@@ -38,7 +38,7 @@ module vehicle_contact
     use common_kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_OUTSIDE_TABLE
-    use vehicle_bem, only: bem_patch, bem_scale
+    use vehicle_bem, only: bem_patch, bem_scale, bem_linear
     use vehicle_strip, only: strip_geometry, strip_wheel, strip_props, nso, SO_N, SO_V, SO_DY, SO_DZ, &
                              SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, strip_lin, &
                              strip_linearise, strip_extrapolate, SO_DPSI, SO_XC
@@ -450,8 +450,9 @@ contains
     !> normal and steady-rolling solvers of vehicle_bem (state `bem`, wheelset index iws) with
     !> the same approach and creepages (the Hertz semi-axes and energy are still reported in
     !> wout); CMODEL_BEM_TANGENT: Hertz + Kalker with the normal force and the creep forces
-    !> scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of each point (the
-    !> Newton tangent of a BEM run).
+    !> scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of each point, or where
+    !> the point has one the linear model of its BEM patch (vehicle_bem%bem_linear: the
+    !> Jacobian from differences of its own solves), the Newton tangent of a BEM run.
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
     !> info: STAT_OK, STAT_BAD_ARGUMENT (unknown model), STAT_OUTSIDE_TABLE, or from
     !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
@@ -501,7 +502,7 @@ contains
         real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
         integer :: w, k, c, stat, ia(2), ib(2), lm
         real(dp) :: qtw(3), vtw(3), ftl(3)
-        logical :: bemgeo, flex, strip, ring
+        logical :: bemgeo, flex, strip, ring, lin
         flex = present(rim) .and. present(rarm) .and. present(frim)
         strip = .false.
         if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_FASTSIM)
@@ -671,13 +672,20 @@ contains
                         rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
                     call bem_scale(bem, iws, w, k, .true., rt)
                 else if (model == CMODEL_BEM_TANGENT) then
-                    ! Hertz + Kalker scaled to the last BEM solve of this point (Newton tangent)
-                    call bem_scale(bem, iws, w, k, .false., rt)
-                    fn = rt(1) * fn
-                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
-                                          xi, eta, spin, fx, fy)
-                    fx = rt(2) * fx
-                    fy = rt(2) * fy
+                    ! the Newton tangent: the patch's linear model from differences of its own
+                    ! solves (vehicle_bem%bem_linear), else Hertz + Kalker scaled to the last
+                    ! BEM solve of this point
+                    call bem_linear(bem, iws, w, k, ia(k), wa(k), dn, phr, xi, eta, spin, &
+                                    fn, fx, fy, mz, xc, yc, lin)
+                    if (.not. lin) then
+                        fn = vals(7, c) * dn * sqrt(dn)
+                        call bem_scale(bem, iws, w, k, .false., rt)
+                        fn = rt(1) * fn
+                        call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, &
+                                              fn, xi, eta, spin, fx, fy)
+                        fx = rt(2) * fx
+                        fy = rt(2) * fy
+                    end if
                 else if (model == CMODEL_HERTZ_KALKER) then
                     call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
                                           xi, eta, spin, fx, fy)

@@ -352,8 +352,8 @@ contains
         end do
     end subroutine ws_state
 
-    !> Contact forces of wheelset w added into f. cheap: for a BEM run, the Hertz + Kalker
-    !> model calibrated by the last BEM solves (the tangent: modified Newton).
+    !> Contact forces of wheelset w added into f. cheap: for a BEM run, each patch's linear
+    !> model, or Hertz + Kalker calibrated by the last BEM solves (the tangent: modified Newton).
     !> With the attachment points' coordinates u, ud (model FR: u, ud, gp all present) a
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
@@ -487,8 +487,9 @@ contains
     !> the contact by forward differences over each wheelset's own DOFs (up to 6 + 3 track),
     !> perturbing q by eps and v by cv eps together. With cv = 0 (or a second call with
     !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
-    !> With the BEM contact (CMODEL_BEM) the contact part is that of Hertz + Kalker scaled to
-    !> the last BEM solves (CMODEL_BEM_TANGENT): modified Newton.
+    !> With the BEM contact (CMODEL_BEM) the contact part is that of each patch's linear model
+    !> (vehicle_bem%bem_linear; else Hertz + Kalker scaled to the last BEM solves):
+    !> CMODEL_BEM_TANGENT, modified Newton.
     !> Model FR (u, ud at the attachment points and jru, jpr, jpu all present): the contact of
     !> a wheelset with flexible rims at the deformed rims, and its chain-rule blocks added to
     !> jru (nd x np), jpr (np x nd), jpu (np x np) by the same differences over the wheelset's

@@ -94,6 +94,13 @@ class BemOptions:
         bounding box plus 3 elements a side, sides rounded up to multiples of 4) instead of
         the whole grid: the same solution to the solvers' tolerances (the contact area lies
         inside the interpenetration), with FFTs of the window (``vehicle_bem.f90``).
+    jacobian_age : int
+        The Newton tangent's model of each patch (issue 18): its Jacobian over (approach,
+        relative roll, xi, eta, spin, lateral position) from forward differences of its own
+        solves (3 normal + 6 rolling solves), made again after this many solves of the point
+        or when its approach or lateral position moved far (``vehicle_bem.f90``,
+        ``bem_linear``). 0: Hertz + Kalker scaled to the last BEM solves instead (the cheap
+        model before; FF at 200 km/h then needs about 1.7x the Newton iterations).
     """
 
     dx: float = 7.5e-4
@@ -106,6 +113,7 @@ class BemOptions:
     max_iter_normal: int = 300
     max_iter_rolling: int = 500
     window: bool = True
+    jacobian_age: int = 128
 
     def __post_init__(self) -> None:
         _checks.positive("dx", self.dx)
@@ -115,6 +123,8 @@ class BemOptions:
         _checks.positive("tol_rolling", self.tol_rolling)
         _checks.positive_int("max_iter_normal", self.max_iter_normal)
         _checks.positive_int("max_iter_rolling", self.max_iter_rolling)
+        if not isinstance(self.jacobian_age, (int, np.integer)) or self.jacobian_age < 0:
+            raise InputError(f"jacobian_age must be an integer >= 0, got {self.jacobian_age!r}")
         for name in ("nx", "ny"):
             v = getattr(self, name)
             if v is not None and _checks.positive_int(name, v) < 8:
@@ -289,6 +299,8 @@ class BemState:
             raise error(info, "could not create the BEM contact state")
         info = core.vehicle_bem_window_c(self.handle, int(bool(o.window)))
         check(info, "could not set the BEM solve windows")
+        info = core.vehicle_bem_jacobian_c(self.handle, int(o.jacobian_age))
+        check(info, "could not set the BEM patch Jacobians")
         log.debug("BEM contact state %d: grid %d x %d of %.2f mm", self.handle, self.grid.nx,
                   self.grid.ny, self.grid.dx * 1e3)
 
@@ -322,6 +334,30 @@ class BemState:
         c, info = core.vehicle_bem_counts_c(self.handle, 0)
         check(info, "BEM contact state already freed")
         return {k: float(v) for k, v in zip(TIMERS, c[len(COUNTERS):])}
+
+    def linear_model(self, wheelset: int, wheel: int, point: int) -> dict | None:
+        """The Newton tangent's linear model of one candidate point (0-based indices as
+        :meth:`patch`): ``jac`` (6, 6) = dy/dx with inputs x = (approach m, relative roll rad,
+        xi, eta, spin 1/m, lateral position in table nodes) and outputs y = (Fn, Fx, Fy N,
+        Mz N m, Fn xc, Fn yc N m), the last solve's ``x`` and ``y``, and ``age`` (solves since
+        the Jacobian); None when the point has none (out of contact, Jacobians off)."""
+        jac, xb, yb, age, ok, info = core.vehicle_bem_point_jacobian_c(self.handle, wheelset + 1,
+                                                                        wheel + 1, point + 1)
+        check(info, f"no BEM point wheelset {wheelset}, wheel {wheel}, point {point}")
+        if not ok:
+            return None
+        return {"jac": np.array(jac), "x": np.array(xb), "y": np.array(yb), "age": int(age)}
+
+    def probe(self, wheelset: int, wheel: int, point: int, x) -> np.ndarray:
+        """Solve one point's patch at the linear model's inputs ``x`` (see
+        :meth:`linear_model`; the lateral position within its last solve's table cell) on the
+        full grid, warm-started from its fields, without changing the state: the outputs y."""
+        x = np.asarray(x, dtype=np.float64)
+        if x.shape != (6,):
+            raise InputError(f"x must have 6 entries, got shape {x.shape}")
+        y, info = core.vehicle_bem_probe_c(self.handle, wheelset + 1, wheel + 1, point + 1, x)
+        check(info, f"BEM probe of wheelset {wheelset}, wheel {wheel}, point {point}")
+        return np.array(y)
 
     def patch(self, wheelset: int, wheel: int, point: int, speed: float, fn_hint: float = 0.0
               ) -> "BemPatch | None":
