@@ -158,6 +158,28 @@ def test_bem_patch_jacobian_matches_central_differences_of_the_solves(coach_syst
         assert st.linear_model(0, 0, 0) is None
 
 
+def test_bem_run_does_not_depend_on_the_chunking(coach_system, monkeypatch):
+    """The time loop runs in calls sized by wall time; a BEM run cut into 3-step calls gives
+    the same numbers, bit for bit, as one call (each call used to re-evaluate the force at
+    its start, whose BEM solves moved the warm starts: results then differed by the solvers'
+    tolerance and depended on the machine's load)."""
+    sy = coach_system
+    opts = BemOptions(dx=1.5e-3)
+    with bem_state(sy, opts) as st:
+        qs, _ = static_equilibrium(sy, V, "bem", bem=st)
+    q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
+    runs = []
+    for size in (3, 10_000):
+        monkeypatch.setattr(S, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
+        monkeypatch.setattr(S, "CHUNK_SECONDS", 0.0)
+        with bem_state(sy, opts) as st:
+            runs.append(simulate(sy, V, 0.012, contact="bem", bem=st, q0=q0, h=1e-3,
+                                 output_dt=1e-3, progress=size == 3, chunk=0.003, threads=1))
+    assert runs[0].stats["newton_iterations"] > 0
+    np.testing.assert_array_equal(runs[0].q, runs[1].q)
+    np.testing.assert_array_equal(runs[0].wheel, runs[1].wheel)
+
+
 def test_bem_grid_too_small_is_a_clean_error(coach_system):
     with pytest.raises(GridTooSmallError, match="edge"):
         static_equilibrium(coach_system, V, "bem", bem_options=BemOptions(nx=8, ny=8))
