@@ -125,6 +125,12 @@ def test_speed_must_be_positive(speed):
         scenarios.centred_running(speed)
 
 
+@pytest.mark.parametrize("maxsub", [-1, 21, 2.5, True, "6"])
+def test_maxsub_must_be_a_small_nonnegative_integer(maxsub):
+    with pytest.raises(InputError, match="maxsub"):
+        scenarios.hunting(300.0, duration=0.01, maxsub=maxsub, progress=False)
+
+
 def test_unknown_contact_and_model():
     with pytest.raises(InputError, match="unknown contact"):
         scenarios.hunting(300.0, contact="carter")
