@@ -83,6 +83,29 @@ def contact_table() -> WheelTable:
 GEOMETRIES = ("table", "strip")
 
 
+#: The contact geometry of each contact model when none is given: the strip potential for the
+#: Hertz models (the table's contact-point jumps sustain tread cycles that the strips and the
+#: BEM do not have: docs/speed_accuracy.md), the table's gap fields for the BEM.
+DEFAULT_GEOMETRY = {"hertz-kalker": "strip", "hertz-fastsim": "strip", "bem": "table"}
+
+
+def resolve_geometry(contact: str, geometry: str | None) -> str:
+    """The contact geometry of a run: ``geometry``, or the contact model's default
+    (:data:`DEFAULT_GEOMETRY`) when None; checked against the contact model."""
+    g = DEFAULT_GEOMETRY.get(contact, "strip") if geometry is None else geometry
+    _check_geometry(contact, g)
+    return g
+
+
+def _system_geometry(geometry: str | None, linear_conicity: float | None = None) -> str:
+    """A system builder's geometry: the given one, else the strips (the Hertz models'
+    default; the BEM ignores them), or the table under a linearised table (a cone has no
+    strips)."""
+    if geometry is None:
+        return "table" if linear_conicity is not None else "strip"
+    return geometry
+
+
 def _check_geometry(contact: str, geometry: str) -> None:
     """InputError for an unknown geometry or the strip geometry with the BEM contact."""
     if geometry not in GEOMETRIES:
@@ -185,14 +208,16 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
                  linear_conicity: float | None = None, speed_kmh: float | None = None,
                  k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None,
-                 geometry: str = "table", **rf: Any) -> System:
+                 geometry: str | None = None, **rf: Any) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
 
     ``geometry`` is the contact geometry of the Hertz + Kalker and Hertz + FASTSIM contacts:
-    'table' (one Hertz point per slot at the table's lowest gap) or 'strip' (the strip
-    potential over the whole interpenetration, :mod:`railvti.vehicle.strip`; exactly
-    conservative, no jumps). The BEM contact always reads the table.
+    'strip' (default: the strip potential over the whole interpenetration,
+    :mod:`railvti.vehicle.strip`; exactly conservative, no jumps) or 'table' (one Hertz point
+    per slot at the table's lowest gap: the fast option, whose contact-point jumps sustain
+    spurious tread cycles). The BEM contact always reads the table. Default under
+    ``linear_conicity``: 'table'.
 
     Model 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
     ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
@@ -202,6 +227,7 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     wheelsets on the ring, :func:`ff_system`) takes the keys of both.
     """
     _check_model(model, "hertz-kalker", "coach_system")
+    geometry = _system_geometry(geometry, linear_conicity)
     if model in RING_TRACK:
         if speed is None and speed_kmh is None:
             raise InputError(f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
@@ -238,7 +264,7 @@ def _linear_table_geometry(geometry: str) -> None:
 
 def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-              linear_conicity: float | None = None, geometry: str = "table"
+              linear_conicity: float | None = None, geometry: str | None = None
               ) -> tuple[System, list]:
     """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
 
@@ -254,7 +280,7 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     linear_conicity : float, optional
         Replace the contact table by its equivalent linearisation (linear analyses).
     geometry : str
-        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+        Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
 
     Returns
     -------
@@ -264,6 +290,7 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     from .vehicle.flexible import build_fr
     v, _ = _speeds(speed_kmh, speed)
     k_max, f_max = check_fr_selection(k_max, f_max)
+    geometry = _system_geometry(geometry, linear_conicity)
     tab = contact_table()
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
@@ -288,7 +315,7 @@ def _ring(n_sleepers: Any, track_params: dict | None):
 def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
               f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
-              x_offset: float = 0.0, geometry: str = "table", ring_residual: bool = True,
+              x_offset: float = 0.0, geometry: str | None = None, ring_residual: bool = True,
               ring_residual_hz: float | None = None, ring_residual_inertia: bool = False):
     """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
@@ -308,7 +335,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     x_offset : float
         The coach centre's position along the ring at t = 0, m.
     geometry : str
-        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+        Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
     ring_residual : bool
         Keep the truncated ring modes' static compliance at the contact points (residual
         flexibility, massless coordinates; default). False drops it: the rail under a wheel
@@ -342,7 +369,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
                      f_limit=f_limit, track_params=track_params, x_offset=x_offset,
                      ring_residual=ring_residual, ring_residual_hz=ring_residual_hz,
                      ring_residual_inertia=ring_residual_inertia)
-    return _with_geometry(sy, geometry)
+    return _with_geometry(sy, _system_geometry(geometry))
 
 
 def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: int = FR_K_MAX,
@@ -381,7 +408,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
               n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
               track_params: dict | None = None, x_offset: float = 0.0,
-              geometry: str = "table", ring_residual: bool = True,
+              geometry: str | None = None, ring_residual: bool = True,
               ring_residual_hz: float | None = None,
               ring_residual_inertia: bool = False) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
@@ -412,7 +439,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
                         x_offset=x_offset, ring_residual=ring_residual,
                         ring_residual_hz=ring_residual_hz,
                         ring_residual_inertia=ring_residual_inertia)
-    return _with_geometry(sy, geometry), lays
+    return _with_geometry(sy, _system_geometry(geometry)), lays
 
 
 @dataclass(frozen=True)
@@ -492,7 +519,7 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     """
     v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
-    _check_geometry(contact, kw.get("geometry", "table"))
+    kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
     if contact == "bem":
@@ -547,7 +574,7 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     """
     v, speed_kmh = _speeds(speed_kmh, speed)
     _check_model(model, contact, "hunting")
-    _check_geometry(contact, kw.get("geometry", "table"))
+    kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
     if q0 is None:
@@ -560,7 +587,7 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
 def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
     """The scenario's system: RR, or FR, RF, FF at this speed with their keys (the mode
     selection, the ring's) popped from kw."""
-    geometry = kw.pop("geometry", "table")
+    geometry = kw.pop("geometry", None)
     if model in RING_TRACK:
         rf = {k: kw.pop(k) for k in _RF_KEYS if k in kw}
         if model == "RF":
@@ -764,10 +791,11 @@ class _SweepSystems:
     speed) with their step and static states. ``ring``: the ring's keys (_RF_KEYS)."""
 
     def __init__(self, model: str, coach: Coach | None, contact: str, h: float | None,
-                 k_max: int, f_max: float, geometry: str = "table",
+                 k_max: int, f_max: float, geometry: str | None = None,
                  ring: dict | None = None) -> None:
         self.model, self.coach, self.contact, self.h = model, coach, contact, h
-        self.k_max, self.f_max, self.geometry = k_max, f_max, geometry
+        self.k_max, self.f_max = k_max, f_max
+        self.geometry = resolve_geometry(contact, geometry)
         self.ring = dict(ring or {})
         self._cache: dict[float, tuple] = {}
         self._rr = coach_system(model, coach, geometry=geometry) if model == "RR" else None
@@ -855,7 +883,7 @@ def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | N
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
     ring = _ring_keys(model, ring)
-    _check_geometry(contact, geometry)
+    geometry = resolve_geometry(contact, geometry)
     systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry, ring)
     systems.at(sp[0])
     return sp, v_min_kmh, step, systems
@@ -881,7 +909,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
                 v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, client: Any = None,
-                independent: bool = False, geometry: str = "table", **ring: Any) -> Bifurcation:
+                independent: bool = False, geometry: str | None = None, **ring: Any) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -933,7 +961,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         A downward extension runs one speed at a time. Serial (``client=None``) and on any
         cluster the results are the same bit for bit (model RR; railvti.sweeps).
     geometry : str
-        Contact geometry, 'table' or 'strip' (:func:`coach_system`).
+        Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
     **ring
         Models 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
         ``track_params``, ``x_offset`` (:func:`rf_system`). The ring is built once and its
@@ -1061,7 +1089,7 @@ _POINT_SYSTEMS: dict[str, "_SweepSystems"] = {}
 
 def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
                       coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                      duration: float, geometry: str = "table", ring: dict | None = None
+                      duration: float, geometry: str | None = None, ring: dict | None = None
                       ) -> tuple[float, float, float]:
     """One run of an independent bifurcation sweep (a task): from the static state at
     ``s_kmh`` with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
@@ -1075,6 +1103,7 @@ def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
     h : float
         The time step used, s.
     """
+    geometry = resolve_geometry(contact, geometry)
     key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
     if key not in _POINT_SYSTEMS:
         _POINT_SYSTEMS.clear()
@@ -1094,14 +1123,15 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
                              y_small: float, threshold: float, h: float | None,
                              flange_amplitude: float, v_min_kmh: float | None,
                              v_min: float | None, coach: Coach | None, k_max: int, f_max: float,
-                             client: Any, geometry: str = "table",
+                             client: Any, geometry: str | None = None,
                              ring: dict | None = None) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
     import contextlib
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
                                                 contact, coach, h, k_max, f_max, geometry, ring)
     kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
-              f_max=systems.f_max, duration=duration, geometry=geometry, ring=systems.ring)
+              f_max=systems.f_max, duration=duration, geometry=systems.geometry,
+              ring=systems.ring)
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:

@@ -61,7 +61,7 @@ DEFAULTS: dict[str, Any] = {
     "scenario": "hunting",
     "model": "RR",
     "contact": "hertz-kalker",
-    "geometry": "table",
+    "geometry": None,
     "speed": 300.0 / 3.6,
     "duration": 3.0,
     "max_duration": 600.0,
@@ -95,9 +95,11 @@ KEYS: dict[str, Key] = {
                  lo=0.0, hi=2e4, lo_open=True, optional=True,
                  why="each kept mode needs h omega <= 2: 20 kHz asks for 16 us steps"),
     "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
-    "geometry": Key("", "contact geometry of hertz-kalker / hertz-fastsim: 'table' (one Hertz point "
-                    "per slot) or 'strip' (strip potential over the whole interpenetration: "
-                    "conservative, no jumps)", "str", choices=("table", "strip")),
+    "geometry": Key("", "contact geometry of hertz-kalker / hertz-fastsim: 'strip' (default: strip "
+                    "potential over the whole interpenetration, conservative, no jumps) or 'table' "
+                    "(one Hertz point per slot: faster, its point jumps sustain spurious tread "
+                    "cycles); contact = 'bem' reads the table", "str", choices=("table", "strip"),
+                    optional=True),
     "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
     "duration": Key("s", "simulated time (per speed in critical_speed)", lo=0.0, lo_open=True),
     "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, lo_open=True),
@@ -455,7 +457,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
     coach = _coach(params)
     model, contact = str(params["model"]), str(params["contact"])
-    geometry = str(params["geometry"])
+    geometry = sc.resolve_geometry(contact, params["geometry"])
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text"),
