@@ -26,9 +26,9 @@ def test_sweep_that_starts_too_high_says_so():
 
 
 def test_sweep_is_extended_down_to_decay_and_names_its_branch():
-    """From 340-300 km/h the sweep goes down in 40 km/h steps until the cycle dies; the
+    """From 380-340 km/h the sweep goes down in 40 km/h steps until the cycle dies; the
     critical speed is the lowest living speed, below the requested bottom."""
-    b = scenarios.bifurcation([340.0, 300.0], duration=2.0, progress=False)
+    b = scenarios.bifurcation([380.0, 340.0], duration=2.0, progress=False)
     assert b.extended_kmh.size > 0 and math.isfinite(b.critical_kmh)
     assert b.critical_kmh < 300.0 and math.isnan(b.no_decay_below_kmh)
     below = b.speeds_kmh < b.critical_kmh

@@ -138,7 +138,7 @@ def test_vehicle_charts_name_the_run_and_draw_noise_flat(results):
     from railvti.vehicle import cases as vcases
     from railvti.vehicle import plots as vplots
 
-    assert vcases._run_title(results["001_vh"]) == "hunting, 300 km/h, model RR, hertz-kalker"
+    assert vcases._run_title(results["001_vh"]) == "hunting, 300 km/h, model RR, hertz-kalker on the strips"
     fig, ax = plt.subplots()
     q = 54.546 + 1e-11 * np.sin(np.arange(50))       # kN: a static load with round-off on it
     ax.plot(q)

@@ -87,6 +87,6 @@ def test_energy_scheme_bad_input(fr):
         simulate(fr, SPEED, 0.01, h=5e-4, integrator="verlet", progress=False)
     with pytest.raises(InputError, match="alpha"):
         simulate(fr, SPEED, 0.01, h=5e-4, integrator="energy", alpha=-0.05, progress=False)
-    rr = scenarios.coach_system()        # the table geometry: no potential
+    rr = scenarios.coach_system(geometry="table")        # no potential
     with pytest.raises(InputError, match="strip"):
         simulate(rr, SPEED, 0.01, integrator="energy", progress=False)

@@ -55,7 +55,7 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
     lateral bending moves each wheel by ~0.2 mm, where the S1002/UIC60 contact point moves
     by millimetres across the rail head, and with it the rail's roll moment.)"""
     base, _ = fr_ground
-    ff, _ = scenarios.ff_system(speed=V, k_max=1, f_max=300.0, **RING)
+    ff, _ = scenarios.ff_system(speed=V, k_max=1, f_max=300.0, geometry="table", **RING)
     q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
     q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
     cam_ff = rim_rail_angle_change(ff, q_ff)
@@ -68,7 +68,7 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
                       track=False, zero_rows=True)
     ring = scenarios._ring(40, COARSE)
     ff0 = build_rf(Coach(), tab, V, ring, f_limit=300.0, base=off)
-    rf = scenarios.rf_system(speed=V, **RING)
+    rf = scenarios.rf_system(speed=V, geometry="table", **RING)
     q0, _ = static_equilibrium(ff0, V, "hertz-kalker")
     q_rf, _ = static_equilibrium(rf, V, "hertz-kalker")
     d0 = ff0.rail_deflection(np.zeros(1), q0[None])[0]

@@ -29,7 +29,7 @@ def body():
 
 @pytest.fixture(scope="module")
 def rr():
-    sy = scenarios.coach_system("RR")
+    sy = scenarios.coach_system("RR", geometry="table")    # build_fr's geometry
     q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     return sy, q, v
 
@@ -264,7 +264,7 @@ def test_eulerian_term_frozen_pattern(body):
 
 def test_centred_running_fr(fr):
     """centred_running(model='FR') runs and gives the static loads and the rim angle."""
-    c = scenarios.centred_running(200, model="FR", duration=0.05)
+    c = scenarios.centred_running(200, model="FR", duration=0.05, geometry="table")
     assert c.model == "FR"
     assert c.q_error < 0.01
     assert c.rim_angle.shape == (2, 4)

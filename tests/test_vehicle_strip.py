@@ -81,7 +81,10 @@ def test_linearisation_is_the_derivative_of_the_outputs(geo):
     for y, roll, fz in ((0.21e-3, 0.003, 5e4), (3e-3, -0.004, 7e4), (7e-3, 0.002, 9e4)):
         zc = _height(geo, y, roll, fz)
         out, d = strip_linearise(geo, y, zc, roll)
-        np.testing.assert_array_equal(out, strip_wheel(geo, y, zc, roll)[0])
+        # two code paths: equal to round-off (one element differs by 1 ulp under OpenBLAS's
+        # SkylakeX kernels), not bit for bit
+        ref = strip_wheel(geo, y, zc, roll)[0]
+        assert np.all(np.abs(out - ref) <= 1e-12 * (np.abs(ref) + np.abs(ref).max(axis=0)))
         for k, h in enumerate((2e-10, 2e-10, 2e-10)):
             e = np.zeros(3)
             e[k] = h
@@ -156,7 +159,8 @@ def test_undamped_frictionless_energy_is_conserved():
     its energy within 0.5 % of the kick's (what remains is the trapezoidal rule's O(h^2)
     oscillation of the stiff contact modes, not a drift), where the table contact gains more
     than the kick's energy itself (it is not the gradient of a potential)."""
-    rr_t = dataclasses.replace(scenarios.coach_system().without_damping(), friction=0.0)
+    rr_t = dataclasses.replace(scenarios.coach_system(geometry="table").without_damping(),
+                               friction=0.0)
     rr_s = dataclasses.replace(scenarios.coach_system(geometry="strip").without_damping(),
                                friction=0.0)
     e_h = energy_drift(rr_s, 5e-4, 0.4)

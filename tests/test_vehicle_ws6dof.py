@@ -116,7 +116,8 @@ def test_spin_mode_stable_and_accurate_at_the_default_step(kmh):
     runs = [simulate(sy, kmh / 3.6, 0.05, q0=q, v0=v, h=h, output_dt=1e-3, progress=False)
             for h in (1e-3, 2.5e-4)]
     assert np.isfinite(runs[0].q).all()
-    assert np.abs(runs[0].v[:, jb]).max() < 0.05
+    # the kick decays about the static spin (the strips' rolling radius differs from r0)
+    assert np.abs(runs[0].v[:, jb] - (v[jb] - 0.05)).max() < 0.05
     peak = np.abs(runs[1].q[:, jx]).max()
     assert peak > 1e-5
     assert np.abs(runs[0].q[:, jx] - runs[1].q[:, jx]).max() < 0.1 * peak

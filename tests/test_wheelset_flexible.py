@@ -270,7 +270,10 @@ def test_static_deflection_with_residual_matches_fe(ws, body, statics):
     err_kept = np.abs(kept[[2, 3]] - ref[[2, 3]]) / np.abs(ref[[2, 3]])
     assert np.all(err_kept > err_full)
     assert ref[3] > 0.5e-3                # the wheel's camber change, rad: about +1 mrad
-    assert ref[7] == pytest.approx(-ref[3], rel=1e-9)  # mirror images: rx is odd in y
+    # mirror images: rx is odd in y. The sparse solve is exact to cond(K) eps only: 1.3e-9
+    # apart under OpenBLAS's SkylakeX kernels (5e-12 under Haswell); a lost mirror symmetry
+    # (a sign, a node) is an O(1) difference
+    assert ref[7] == pytest.approx(-ref[3], rel=1e-7)
 
 
 def test_bad_input(ws, body):
