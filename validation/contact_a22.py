@@ -5,7 +5,8 @@ flange-back distance 1360 mm, nominal radius 460 mm, 10 kN vertical force per wh
 wheelset shifted 0..10 mm to the right with the yaw rising 2.4 mrad/mm, roll and pitch
 velocity prescribed per position, mu = 0.3, G = 82 GPa, nu = 0.28, V = 2 m/s, 0.2 mm grid.
 
-Runs every case of both decks as `railvti run` does (the ``wheel_rail`` case type) and prints
+Runs every case of both decks as `railvti run` does (the ``wheel_rail`` case type: each patch
+at CONTACT's contact reference point, docs/contact_decks.md) and prints
 per position and wheel, in railvti's frame (forces on the wheel, y to the left): contact
 position on the rail, contact angle, creepages, Fn, Fx, Fy, Mz, pmax, elements in contact
 (adhesion/slip). Checks: one patch per wheel; each wheel's vertical force (normal and
@@ -48,7 +49,7 @@ def _solve(p: dict, side: str | None, free: bool = False):
     return solve_wheelset(wheel, rail, p["y"], p["yaw"], p["fz"], p["mu"], p["speed"],
                           Material(shear_modulus=p["shear_modulus"], poisson=p["poisson"]), p["dx"],
                           dy=p["dy"], roll=p["roll"], omega=None if free else p["omega"],
-                          side=side, track=track, wheelset=ws)
+                          side=side, track=track, wheelset=ws, reference=p["reference"])
 
 
 def main() -> None:

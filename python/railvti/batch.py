@@ -244,7 +244,28 @@ def estimate(case: Case) -> Estimate:
     if t in ("normal", "rolling"):
         n = _num(p, "nx", 0.0) * _num(p, "ny", 0.0)
         return Estimate(memory=n * 8 * 40)      # the fields and 4 N FFT buffers of a few kernels
+    if t == "wheel_rail":
+        # one wheel of A-2.2 at 0.2 mm: ~0.07 s (0.5 s at worst); time ~ elements ~ 1 / (dx dy)
+        elements = (2e-4 * 2e-4) / max(_num(p, "dx", 2e-4) * _num(p, "dy", 2e-4), 1e-12)
+        wheels = 2.0 if str(p.get("side", "both")).strip().lower() == "both" else 1.0
+        return Estimate(seconds=0.1 * wheels * elements)
     return Estimate()
+
+
+#: A deck whose estimated run time is below this runs in the main process, without a Dask
+#: LocalCluster: the cluster's start-up (worker processes that each import railvti, ~3-5 s
+#: on a 2-core machine) would cost more than it saves (CONTACT's A-2.2 deck of 21
+#: positions: 15.7 s with the cluster, 5.0 s without, 1.4 s of solves).
+SERIAL_SECONDS = 10.0
+
+
+def small_deck(cases: list[Case]) -> bool:
+    """The deck is one case, or its cases' estimated times are known and add up to less than
+    :data:`SERIAL_SECONDS`."""
+    if len(cases) < 2:
+        return True
+    total = sum(estimate(c).seconds for c in cases)
+    return total == total and total < SERIAL_SECONDS
 
 
 def _duration_text(s: float) -> str:

@@ -16,9 +16,9 @@ from .casetypes import REQUIRED
 from .deck import read_deck
 from . import resources
 from .deck_registry import case_types
-from .batch import EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_output, check_resources, resume_hint, run_cases
+from .batch import (EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_output, check_resources, resume_hint, run_cases,
+                    small_deck)
 from .errors import InputError, RailvtiError
-from .plots import plot_results
 
 log = logging.getLogger("railvti")
 
@@ -47,7 +47,8 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
         raise InputError("\n".join(problems))
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
-    serial = args.serial or (len(cases) < 2 and args.scheduler is None and args.workers is None)
+    # no LocalCluster where its start-up (worker processes importing railvti) outweighs the work
+    serial = args.serial or (args.scheduler is None and args.workers is None and small_deck(cases))
     bar = tqdm(total=len(cases), desc="cases" if serial else "tasks", unit="case",
                disable=len(cases) < 2 or args.quiet, file=sys.stderr, dynamic_ncols=True)
 
@@ -100,6 +101,7 @@ def _deck_text(deck: Path) -> str:
 
 
 def _plot(args: argparse.Namespace) -> int:
+    from .plots import plot_results      # matplotlib: only for plotting, not at every start
     for p in plot_results(args.results, args.output, points=args.points):
         print(p)
     return 0

@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
-from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .wheelset import REFERENCES, WheelsetPatch, WheelsetSolution, solve_wheelset
 from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
                              sweep_arrays)
@@ -105,7 +105,8 @@ def _solve(params: dict[str, Any]) -> WheelsetSolution:
                           mu if rolling else None, speed if rolling else None, mat,
                           _checks.positive("dx", params["dx"]),
                           dy=_checks.positive("dy", params["dy"]), roll=roll,
-                          side=None if side == "both" else side, track=track, wheelset=ws, **kin)
+                          side=None if side == "both" else side, track=track, wheelset=ws,
+                          reference=str(params["reference"]).strip().lower(), **kin)
 
 
 def contact_summary(sol: WheelsetSolution) -> list[str]:
@@ -152,8 +153,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
     normal and tangential contact forces); speed (m/s), omega (rad/s about the axle, > 0
     rolling forward; 0: free rolling, 'both' only), lateral_velocity, vertical_velocity
     (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu = 0 or speed = 0: normal
-    contact only), shear_modulus (Pa), poisson, dx, dy (m); store_fields (1: keep each
-    patch's pressure and tractions); origin (where the case comes from, for messages).
+    contact only), shear_modulus (Pa), poisson, dx, dy (m); reference ('contact': each
+    patch's creepages at CONTACT's contact reference point, the default; 'minimum': at the
+    point of smallest gap); store_fields (1: keep each patch's pressure and tractions);
+    origin (where the case comes from, for messages).
     The suffixed aliases (``gauge_mm``..., ``yaw_mrad``, ``roll_mrad``) are converted on reading.
     """
     try:
@@ -206,7 +209,7 @@ DEFAULTS: dict[str, Any] = {
     "radius": 0.46, "y": 0.0, "yaw": 0.0, "roll": None, "fz": 1.0e4,
     "speed": 2.0, "omega": 0.0, "lateral_velocity": 0.0, "vertical_velocity": 0.0, "roll_rate": 0.0,
     "yaw_rate": 0.0, "mu": 0.3, "shear_modulus": 82.0e9, "poisson": 0.28, "dx": 0.0002, "dy": 0.0002,
-    "store_fields": 0, "origin": "",
+    "store_fields": 0, "origin": "", "reference": "contact",
 }
 
 _WHY_SHIFT = "beyond 50 mm the flange has left the rail"
@@ -233,6 +236,9 @@ KEYS: dict[str, Key] = {
     "yaw_rate": Key("rad/s", "yaw rate of the wheelset", lo=-100.0, hi=100.0),
     "dy": Key("m", "element length of the contact grid along y", lo=0.0, hi=0.01, lo_open=True),
     "store_fields": Key("", "1: keep each patch's pressure and tractions", "flag"),
+    "reference": Key("", "each patch's reference point, where the creepages are taken: 'contact' (CONTACT's "
+                     "weighted interpenetration centre at the loaded pose) or 'minimum' (the rigid pose's point "
+                     "of smallest gap)", "str", choices=REFERENCES),
     "origin": Key("", "where the case comes from, for messages", "str"),
 }
 

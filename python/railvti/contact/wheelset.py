@@ -48,7 +48,7 @@ from scipy import ndimage
 
 from .. import _checks
 from ..errors import ConvergenceError, InputError
-from ..geometry import ContactPoint, Creepages, WheelsetContact, contact_points
+from ..geometry import ContactPoint, Creepages, WheelsetContact, WheelsetPose, contact_points
 from ..material import Material
 from ..profiles import Profile
 from .grid import Grid
@@ -56,6 +56,7 @@ from .hertz import hertz
 from .wheelset_kinematics import WheelsetMotion, body_axes, patch_moment
 from .wheelset_patch import GROW, PatchState, curvature_fit, solve_patch_normal, solve_patch_rolling
 from .wheelset_pose import contact_points_at_roll
+from .wheelset_reference import contact_references, moved
 
 log = logging.getLogger(__name__)
 
@@ -70,6 +71,14 @@ _LOOSE_LOAD_TOL = 1e-2
 ROLLING_TOL = 1e-7
 #: With loose rolling solves free rolling is balanced to this many times the tolerance.
 _LOOSE_TORQUE = 100.0
+#: The patches' reference points (solve_wheelset's ``reference``).
+REFERENCES = ("minimum", "contact")
+#: CONTACT's reference points are settled when no patch's point moves by more than this
+#: fraction of an element, or by more than _REFERENCE_ANGLE_TOL (rad) in contact angle.
+_REFERENCE_TOL = 0.01
+_REFERENCE_ANGLE_TOL = 1e-4
+#: Passes of the balance (each after the reference points moved) before giving up.
+_REFERENCE_PASSES = 6
 
 
 @dataclass(frozen=True)
@@ -231,20 +240,29 @@ class _Balance:
         self.down = np.ones(n) if prescribed else np.array([1.0, 0.0])
         self.patches: list[list[PatchState]] = []
         for i, s in enumerate(sides):
-            row = []
-            for cp in geo.wheel(s):
-                n_ = cp.normal
-                if prescribed:
-                    grad = np.zeros(n)
-                    grad[i] = n_[2]
-                else:
-                    r = cp.position - geo.pose.centre
-                    grad = np.array([n_[2], r[2] * n_[1] - r[1] * n_[2]])
-                row.append(PatchState(cp, i, grad))
+            row = [PatchState(cp, i, self.gradient(cp, i)) for cp in geo.wheel(s)]
             if not row:
                 raise InputError(f"the {s} wheel has no contact candidate at y = {geo.pose.y * 1e3:.2f} mm "
                                  f"({geo.status[_SIDES.index(s)]})")
             self.patches.append(row)
+
+    def gradient(self, cp: ContactPoint, i: int) -> np.ndarray:
+        """d(approach)/du of a patch of wheel i with reference point cp."""
+        n_ = cp.normal
+        if self.prescribed:
+            grad = np.zeros(self.u.size)
+            grad[i] = n_[2]
+            return grad
+        r = cp.position - self.geo.pose.centre
+        return np.array([n_[2], r[2] * n_[1] - r[1] * n_[2]])
+
+    def loaded_pose(self, i: int) -> WheelsetPose:
+        """The loaded pose of the (half) wheelset of wheel i: its rigid pose lowered by the
+        sink (and rolled by the extra roll)."""
+        pose = self.patches[i][0].seed.pose
+        if self.prescribed:
+            return WheelsetPose(pose.y, pose.z - float(self.u[i]), pose.roll, pose.yaw, pose.layout)
+        return WheelsetPose(pose.y, pose.z - float(self.u[0]), pose.roll + float(self.u[1]), pose.yaw, pose.layout)
 
     @property
     def all(self) -> list[PatchState]:
@@ -284,7 +302,7 @@ def _start(bal: _Balance, wheel: Profile, rail: Profile, loads: np.ndarray, mate
     rows, rhs = [], []
     for i, row in enumerate(bal.patches):
         for pt in row:
-            A, B = curvature_fit(wheel, rail, pt.cp, s_fit)
+            A, B = curvature_fit(wheel, rail, pt.seed, s_fit)
             pt.A = max(A, 1e-3)
             ref = hertz(pt.A, max(B, 0.05 * pt.A, 1e-3), loads[i] / max(pt.vertical, 0.2), material)
             pt.reach = GROW * ref.approach
@@ -415,7 +433,7 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
                    lateral_velocity: float = 0.0, vertical_velocity: float = 0.0, roll_rate: float = 0.0,
                    yaw_rate: float = 0.0, side: str | None = None, method: str = "cg",
                    rolling_method: str | None = None, track=None, wheelset=None, max_separation: float = 5e-3,
-                   load_tol: float = 1e-5, max_iter: int = 30) -> WheelsetSolution:
+                   load_tol: float = 1e-5, max_iter: int = 30, reference: str = "minimum") -> WheelsetSolution:
     """Normal and steady-rolling contact of a loaded rigid wheelset on rigid rails.
 
     Parameters
@@ -468,6 +486,15 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         axle torque (relative to mu sum Fn r).
     max_iter : int
         Newton iterations of each load control, and outer (rolling) iterations.
+    reference : {'minimum', 'contact'}
+        Each loaded patch's reference point (grid origin and contact frame, where the
+        creepages are taken): 'minimum', the candidate point of smallest gap of the rigid pose
+        (creepages of the rigid pose); 'contact', CONTACT's contact reference point, the
+        weighted centre of the interpenetration at the loaded pose with the weighted contact
+        angle (:mod:`railvti.contact.wheelset_reference`; creepages of the loaded wheelset,
+        as CONTACT evaluates them). The loaded pose depends on the forces, so the points are
+        found by a fixed-point iteration (a patch moved by more than 1 % of an element or
+        1e-4 rad is rebuilt and the balance repeated).
 
     Returns
     -------
@@ -479,8 +506,8 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         Bad arguments (named: omega <= 0, a NaN roll, ...), or a wheel without any contact
         candidate.
     ConvergenceError
-        The load control, the vertical balance with tangential forces or the free-rolling
-        torque balance did not converge.
+        The load control, the vertical balance with tangential forces, the free-rolling
+        torque balance or (``reference='contact'``) the reference points did not converge.
     GridTooSmallError
         A patch keeps outgrowing its grid.
     """
@@ -489,6 +516,8 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
                          roll_rate=roll_rate, yaw_rate=yaw_rate))
     load_tol = _checks.positive("load_tol", load_tol)
     max_iter = _checks.positive_int("max_iter", max_iter)
+    if reference not in REFERENCES:
+        raise InputError(f"reference must be one of {REFERENCES}, got {reference!r}")
     dx, dy, loads, motion = a["dx"], a["dy"], a["loads"], a["motion"]
     if a["roll"] is None:
         geo = contact_points(wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset,
@@ -502,16 +531,54 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     first_tol = max(_LOOSE_LOAD_TOL, load_tol) if motion is not None else load_tol
     iters = _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
                           rolling=motion is not None)
+    at_contact = reference == "contact"
+    tol_ref = (_REFERENCE_TOL * min(dx, dy), _REFERENCE_ANGLE_TOL)
+    if at_contact and _relocate(bal, *tol_ref):
+        iters += _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
+                               rolling=motion is not None)
     outer, om, torque = 0, None, float("nan")
-    if motion is not None:
-        ctx = dict(wheel=wheel, rail=rail, material=material, mu=a["mu"], motion=motion, dx=dx, dy=dy,
-                   method=method, rolling_method=rolling_method, load_tol=load_tol)
-        roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
-        iters += roll.load_iterations
-        outer = roll.solves
+    ctx = dict(wheel=wheel, rail=rail, material=material, mu=a["mu"], motion=motion, dx=dx, dy=dy,
+               method=method, rolling_method=rolling_method, load_tol=load_tol)
+    for _ in range(_REFERENCE_PASSES):
+        if motion is not None:
+            roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
+            iters += roll.load_iterations
+            outer += roll.solves
+        if not at_contact or not _relocate(bal, *tol_ref):
+            break
+        if motion is None:
+            iters += _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, load_tol, max_iter)
+    else:
+        raise ConvergenceError(f"the patches' contact reference points did not settle in {_REFERENCE_PASSES} "
+                               f"passes at y = {a['y'] * 1e3:.3f} mm", iterations=_REFERENCE_PASSES)
     log.debug("solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s", a["y"], iters,
               outer, om)
     return _solution(bal, geo, loads, om, motion, torque, iters, outer)
+
+
+def _relocate(bal: _Balance, tol_position: float, tol_angle: float) -> bool:
+    """Move every carrying patch to CONTACT's reference point at the current loaded pose; a
+    patch whose point moved more than the tolerances (m, rad) is rebuilt (new grid and gap
+    field, solved afresh). Returns whether any patch was rebuilt."""
+    changed = False
+    for i, row in enumerate(bal.patches):
+        carrying = [k for k, pt in enumerate(row) if pt.carrying]
+        if not carrying:
+            continue
+        loaded = bal.loaded_pose(i)
+        refs = contact_references([row[k].seed for k in carrying], loaded)
+        for k, ref in zip(carrying, refs):
+            pt = row[k]
+            if ref is None:
+                continue
+            pt.loaded = loaded
+            if pt.cp is not pt.seed and not moved(ref, pt.cp, tol_position, tol_angle):
+                continue
+            new = PatchState(ref, i, bal.gradient(ref, i), seed=pt.seed, loaded=loaded)
+            new.A, new.reach = pt.A, pt.reach
+            row[k] = new
+            changed = True
+    return changed
 
 
 class _Rolling:
@@ -530,6 +597,8 @@ class _Rolling:
     def solve(self, omega: float, tol: float) -> None:
         c = self.ctx
         for pt in self.bal.all:
+            if pt.loaded is not None:
+                pt.loaded = self.bal.loaded_pose(pt.side_index)     # CONTACT: the loaded wheelset's motion
             solve_patch_rolling(pt, c["material"], c["mu"], c["motion"], omega, c["rolling_method"], tol=tol)
         self.solves += 1
 

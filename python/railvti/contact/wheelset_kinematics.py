@@ -26,6 +26,11 @@ the wheel's velocity relative to the rail (railvti's sign: Kalker's, forces on t
 The rigid slip in the patch is then w = V_ref (xi - phi y, eta + phi x) about the reference
 point (x, y in the contact frame), which is how the rolling solver takes it.
 
+At CONTACT's contact reference point (:mod:`railvti.contact.wheelset_reference`), as CONTACT
+evaluates it (``wr_creep_cref``): Q is the wheel point at the approach ``pen`` below the
+reference point P on the rail, Q = P - pen n (n into the wheel), and the velocities are those
+of the LOADED wheelset (centre c lowered by its sink), v_Q = v_c + Omega x (Q - c).
+
 Implements no equation of the paper (rigid-body kinematics; CONTACT's definitions).
 """
 from __future__ import annotations
@@ -106,7 +111,8 @@ def angular_velocity(pose: WheelsetPose, motion: WheelsetMotion, omega: float) -
     return omega * a + motion.roll_rate * ex + motion.yaw_rate * ez
 
 
-def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float) -> RigidSlip:
+def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float, *,
+               loaded: WheelsetPose | None = None, approach: float = 0.0) -> RigidSlip:
     """Creepages of the wheel over the (fixed) rail at a contact reference point.
 
     Parameters
@@ -118,6 +124,12 @@ def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float) -> R
     omega : float
         Angular velocity about the axle, rad/s (> 0): ``motion.omega``, or the free-rolling
         value being iterated.
+    loaded : WheelsetPose, optional
+        CONTACT's evaluation: the loaded pose of the (half) wheelset; the wheel point is then
+        Q = P - approach n relative to the loaded centre. None: Q = P + separation n
+        relative to the rigid pose's centre (the point of smallest gap's own wheel point).
+    approach : float
+        The patch's approach along n, m (with ``loaded``).
 
     Returns
     -------
@@ -127,8 +139,12 @@ def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float) -> R
     if not isinstance(contact, ContactPoint):
         raise InputError("contact must be a railvti.geometry.ContactPoint")
     omega = _checks.positive("omega", omega)
-    pose = contact.pose
-    rel = contact.position + contact.separation * contact.normal - pose.centre
+    if loaded is None:
+        pose = contact.pose
+        rel = contact.position + contact.separation * contact.normal - pose.centre
+    else:
+        pose = loaded
+        rel = contact.position - _checks.finite("approach", approach) * contact.normal - pose.centre
     ex, a, ez = body_axes(pose)
     v_pitch = np.cross(omega * a, rel)
     v_trans = np.array([motion.speed, motion.lateral_velocity, motion.vertical_velocity]) + \

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from ..errors import GridTooSmallError, NoContactError
-from ..geometry import ContactPoint, gap_field
+from ..geometry import ContactPoint, WheelsetPose, gap_field
 from ..material import Material
 from ..profiles import Profile
 from .grid import Grid
@@ -35,10 +35,17 @@ class PatchState:
 
     The approach of the patch is ``grad @ u`` for the wheelset's unknown motion ``u``
     (sink and roll, or one sink per half wheelset); its vertical force is ``fn * vertical``.
+    ``cp`` is the patch's reference point (grid origin and contact frame, where the creepages
+    are taken); ``seed`` the candidate point of smallest gap it grew from (the same point,
+    or the patch's point before it moved to CONTACT's reference). ``loaded``: the loaded pose
+    the creepages are evaluated at (CONTACT's reference), or None (the rigid pose).
     """
 
-    def __init__(self, cp: ContactPoint, side_index: int, grad: np.ndarray) -> None:
+    def __init__(self, cp: ContactPoint, side_index: int, grad: np.ndarray, seed: ContactPoint | None = None,
+                 loaded: WheelsetPose | None = None) -> None:
         self.cp = cp
+        self.seed = cp if seed is None else seed
+        self.loaded = loaded
         self.side_index = side_index
         self.grad = np.asarray(grad, dtype=float)
         self.vertical = float(cp.normal[2])    # vertical force per unit Fn (normal force alone at first)
@@ -106,24 +113,40 @@ def _lateral_extent(line: np.ndarray, j0: int, limit: float) -> tuple[int, int]:
     return ends[0], ends[1]
 
 
+def _centred_range(lo: float, hi: float, h: float) -> tuple[int, float]:
+    """Elements (a multiple of _ROUND) covering [lo, hi] with centres at (m + 1/2) h, the
+    padding shared by both ends: their number and the first centre."""
+    m_lo, m_hi = math.floor(lo / h - 0.5), math.ceil(hi / h - 0.5)
+    n = _round_up(m_hi - m_lo + 1)
+    m_lo -= (n - (m_hi - m_lo + 1)) // 2
+    return n, (m_lo + 0.5) * h
+
+
 def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach: float,
-               dx: float, dy: float) -> tuple[Grid, np.ndarray]:
+               dx: float, dy: float, seed: ContactPoint | None = None) -> tuple[Grid, np.ndarray]:
     """The grid over {h < sep + reach} around a candidate point, bounded laterally by the
     ridges to neighbouring points, with its gap field. Element centres lie at odd multiples
     of dx/2, dy/2 from the reference point whatever the grid's size (results do not move
-    when a grid is regrown)."""
+    when a grid is regrown). With a ``seed`` other than ``cp`` (CONTACT's reference point
+    ``cp`` of the patch grown from the point of smallest gap ``seed``), the grid lies in
+    cp's plane and is sized around the seed's place in it."""
+    ex = ey = 0.0
+    if seed is not None and seed is not cp:
+        d = seed.position - cp.position
+        ex, ey = float(d @ cp.t_x), float(d @ cp.t_y)
     n_line = int(2 * _LINE_HALF / _LINE_STEP) + 1
-    line = gap_field(wheel, rail, cp, dx, _LINE_STEP, 1, n_line, x0=0.0, y0=-_LINE_HALF).gap[0]
-    yl = -_LINE_HALF + _LINE_STEP * np.arange(n_line)
-    j_lo, j_hi = _lateral_extent(line, int(np.argmin(np.abs(yl))), cp.separation + reach)
+    line = gap_field(wheel, rail, cp, dx, _LINE_STEP, 1, n_line, x0=ex, y0=ey - _LINE_HALF).gap[0]
+    yl = ey - _LINE_HALF + _LINE_STEP * np.arange(n_line)
+    j_lo, j_hi = _lateral_extent(line, int(np.argmin(np.abs(yl - ey))), cp.separation + reach)
     y_lo, y_hi = yl[j_lo] - _MARGIN * dy, yl[j_hi] + _MARGIN * dy
     x_half = math.sqrt(max(reach, 1e-7) / max(A, 1e-3)) + _MARGIN * dx
     # sizes rounded up to multiples of _ROUND so that sweeps reuse workspaces (FFT plans)
-    nx = _round_up(2 * int(math.ceil(x_half / dx)))
-    m_lo, m_hi = math.floor(y_lo / dy - 0.5), math.ceil(y_hi / dy - 0.5)   # centres at (m + 1/2) dy
-    ny = _round_up(m_hi - m_lo + 1)
-    m_lo -= (ny - (m_hi - m_lo + 1)) // 2
-    x0, y0 = -(nx - 1) / 2 * dx, (m_lo + 0.5) * dy
+    if ex == 0.0:
+        nx = _round_up(2 * int(math.ceil(x_half / dx)))
+        x0 = -(nx - 1) / 2 * dx
+    else:
+        nx, x0 = _centred_range(min(ex, 0.0) - x_half, max(ex, 0.0) + x_half, dx)
+    ny, y0 = _centred_range(y_lo, y_hi, dy)
     field = gap_field(wheel, rail, cp, dx, dy, nx, ny, x0=x0, y0=y0)
     return Grid(nx, ny, dx, dy, x0, y0), field.gap
 
@@ -140,7 +163,7 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
     for _ in range(6):
         if pt.gap is None or approach - pt.cp.separation > pt.reach:
             pt.reach = max(pt.reach, GROW * (approach - pt.cp.separation))
-            pt.grid, pt.gap = _size_grid(wheel, rail, pt.cp, pt.A, pt.reach, dx, dy)
+            pt.grid, pt.gap = _size_grid(wheel, rail, pt.cp, pt.A, pt.reach, dx, dy, pt.seed)
             if rolling:
                 workspace(pt.grid, material, tangential=True)
             pt.p = None
@@ -179,7 +202,7 @@ def solve_patch_rolling(pt: PatchState, material: Material, mu: float, motion: W
     """Steady rolling of a loaded patch on its pressure (quasi-identical bodies), with the
     rigid slip of the wheelset's motion at its reference point; started from the patch's last
     tractions on the same grid, or from full slip."""
-    pt.slip = rigid_slip(pt.cp, motion, omega)
+    pt.slip = rigid_slip(pt.cp, motion, omega, loaded=pt.loaded, approach=pt.approach)
     if not pt.carrying:
         pt.rolling = None
         return
