@@ -158,6 +158,49 @@ def _vehicle_noise(atol: float, unit: str) -> Tol:
         "(measured |noise| < 1e-14 m/s, 1e-12 N, 1e-16 for creepages)"))
 
 
+def _spread(rtol: float, atol: float, measured: str) -> Tol:
+    """A statistic's tolerance: MARGIN times the spread measured by measure_spread.py."""
+    return Tol(rtol, atol, reason=f"{MARGIN:g}x the spread over OpenBLAS kernels and thread "
+                                  f"counts (measure_spread.py): {measured}")
+
+
+#: The margin between a tolerance of a statistic and its measured spread.
+MARGIN = 10.0
+
+# A hunting run's end state is not reproducible beyond round-off: the strip contact's Newton
+# (kept matrix, Broyden) stops within its tolerance at an iterate that the BLAS kernel's LU
+# moves, and the lateral instability grows that difference (1e-4 of y_ws1 after 1 s at
+# 300 km/h, flange impacts at 400 km/h reorder the sub-steps). So it is compared on its
+# statistics: amplitude over the last second, dominant frequency, range of Q, largest Y,
+# the per-wheel maxima; its histories and end states by shape only.
+_HUNTING_RULES: list[tuple[str, Tol]] = [
+    ("@hunting:t", EXACT),
+    ("@hunting:speed_kmh", EXACT),
+    ("@hunting:stat_steps", EXACT),
+    ("@hunting:stat_newton_tol", EXACT),
+    ("@hunting:stat_newton_rtol", EXACT),
+    ("@hunting:stat_load_scale", EXACT),
+    ("@hunting:amplitude_last_second", Tol(1e-6, 1e-12, reason="measuring")),
+    ("@hunting:wheel_amplitude", Tol(1e-6, 1e-12, reason="measuring")),
+    ("@hunting:stats_frequency", Tol(1e-6, reason="measuring")),
+    ("@hunting:stats_Q_*", Tol(1e-6, reason="measuring")),
+    ("@hunting:stats_Y_absmax", Tol(1e-6, reason="measuring")),
+    ("@hunting:wheel_Q_max", Tol(1e-6, reason="measuring")),
+    ("@hunting:wheel_Y_max", Tol(1e-6, reason="measuring")),
+    ("@hunting:wheel_YQ_max", Tol(1e-6, reason="measuring")),
+    ("@hunting:exceeds_nadal", EXACT),
+    ("@hunting:stat_newton_iterations", Tol(1e-6, reason="measuring")),
+    ("@hunting:stat_tangents", Tol(1e-6, reason="measuring")),
+    ("@hunting:stat_substepped_steps", Tol(1e-6, reason="measuring")),
+    ("@hunting:*", NOT_REPRODUCIBLE),
+]
+_CRITICAL_RULES: list[tuple[str, Tol]] = [
+    ("@critical_speed:upper_flange_force", Tol(1e-6, reason="measuring")),
+    ("@critical_speed:critical_branch_amplitude", Tol(1e-6, reason="measuring")),
+    ("@critical_speed:decay_amplitude", Tol(1e-6, reason="measuring")),
+    ("@critical_speed:upper_amplitude", Tol(1e-6, reason="measuring")),
+]
+
 #: Per case type: (pattern, tolerance), first match wins; ``"*"`` is the case type's
 #: default. A pattern matches the quantity name, or ``"case:quantity"`` with the case's name
 #: in its deck (without the ``NNN_`` prefix of the results file).
@@ -187,6 +230,9 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
             "root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"))),
     ],
     "loaded_wheelset": [
+        ("axle_torque", Tol(1e-9, 1e-9, scaled=True, reason=(
+            "free rolling's torque balance, zero to the balance's tolerance (~0.03 N m): "
+            "2e-11 N m apart between OpenBLAS kernels (measure_spread.py); atol 50x that"))),
         ("*", _CONTACT),
     ],
     "wheel_rail": [
@@ -208,20 +254,8 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
     "vehicle": [
         ("stat_wall_time", IGNORE),
         ("stat_real_time_factor", IGNORE),
-        # inputs/vehicle_example.nml, 'hunting_400' (3 s in flange contact): after ~1.8 s a
-        # step-size (substep) decision flips under perturbation B, and the run goes its own
-        # way by ~1e-4 m; the limit-cycle amplitude stays within 2e-3 (measured).
-        ("hunting_400:amplitude_last_second", Tol(2e-2, reason=(
-            "limit-cycle amplitude of a run whose step-size decisions round-off flips: "
-            "measured B <= 1.8e-3"))),
-        ("hunting_400:t", EXACT),
-        ("hunting_400:speed_kmh", EXACT),
-        ("hunting_400:stat_steps", EXACT),
-        # Hertz patches are centred on their points: centre of pressure and its moment are
-        # exactly zero (an unbounded tolerance times a zero reference would be NaN)
-        ("hunting_400:wheel_y_cp", EXACT),
-        ("hunting_400:wheel_M_x", EXACT),
-        ("hunting_400:*", NOT_REPRODUCIBLE),
+        *_HUNTING_RULES,
+        *_CRITICAL_RULES,
         ("upper_amplitude", Tol(1e-2, scaled=True, reason=(
             "bifurcation sweep: the upper-branch runs are in flange contact with step-size "
             "decisions that round-off flips; measured B <= 2.2e-4 of the maximum"))),
@@ -242,14 +276,17 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("wheel_spin", _vehicle_noise(1e-12, "1/m")),
         ("wheel_y_cp", _vehicle_noise(1e-12, "m")),
         ("wheel_M_*", _vehicle_noise(1e-6, "N m")),
-        ("max_Q_error", _vehicle_noise(1e-12, "")),
+        ("max_Q_error", Tol(1e-6, 1e-10, reason=(
+            "max |Q / static load - 1| of a centred run, a round-off level: 4e-12 apart "
+            "between OpenBLAS kernels (measure_spread.py); atol 25x that"))),
         ("stat_max_error_estimate", _vehicle_noise(1e-12, "")),
         ("*", _VEHICLE),
     ],
 }
 
 
-def tolerance(case_type: str, case: str, quantity: str, integer: bool = False) -> Tol:
+def tolerance(case_type: str, case: str, quantity: str, integer: bool = False,
+              scenario: str = "") -> Tol:
     """The tolerance of a quantity of a case (integers default to exact).
 
     Parameters
@@ -262,11 +299,18 @@ def tolerance(case_type: str, case: str, quantity: str, integer: bool = False) -
         The result's name.
     integer : bool
         The quantity holds integers: the case type's ``"*"`` default does not apply to it.
+    scenario : str
+        The case's scenario (vehicle cases): patterns ``"@scenario:quantity"`` match it.
     """
     name = case.split("_", 1)[1] if case[:3].isdigit() and case[3:4] == "_" else case
     for pattern, tol in TOLERANCES.get(case_type, []):
         if pattern == "*" and integer:
             return EXACT
+        if pattern.startswith("@"):
+            scen, _, qpat = pattern[1:].partition(":")
+            if scen == scenario and fnmatch.fnmatchcase(quantity, qpat):
+                return tol
+            continue
         target = f"{name}:{quantity}" if ":" in pattern else quantity
         if fnmatch.fnmatchcase(target, pattern):
             return tol
@@ -320,8 +364,46 @@ def summarize_value(value: Any) -> dict[str, Any]:
             "samples": [_float(x) for x in flat[idx]]}
 
 
+def dominant_frequency(t: np.ndarray, y: np.ndarray) -> float:
+    """Frequency of an oscillation from its mean-level crossings (linear interpolation
+    between samples), Hz; NaN with fewer than three crossings."""
+    d = y - y.mean()
+    k = np.flatnonzero(np.signbit(d[:-1]) != np.signbit(d[1:]))
+    if k.size < 3:
+        return math.nan
+    tc = t[k] - d[k] * (t[k + 1] - t[k]) / (d[k + 1] - d[k])
+    return float((k.size - 1) / (2.0 * (tc[-1] - tc[0])))
+
+
+def hunting_statistics(g: "h5py.Group") -> dict[str, Any]:
+    """The statistics a hunting run is compared on (its end state is not reproducible beyond
+    round-off: see README.md): the leading wheelset's dominant frequency over the last
+    second (NaN below a 0.1 mm amplitude, where there is no cycle to have one), and the
+    range of the vertical and the largest lateral wheel force over the run."""
+    t, y = g["t"][()], g["y_ws1"][()]
+    last = t >= t[-1] - 1.0
+    amp = 0.5 * float(np.ptp(y[last]))
+    freq = dominant_frequency(t[last], y[last]) if amp > 1e-4 else math.nan
+    out = {"stats_frequency": summarize_value(freq)}
+    if "wheel_Q" in g:
+        q = g["wheel_Q"][()]
+        out["stats_Q_min"] = summarize_value(float(q.min()))
+        out["stats_Q_max"] = summarize_value(float(q.max()))
+    if "wheel_Y" in g:
+        out["stats_Y_absmax"] = summarize_value(float(np.abs(g["wheel_Y"][()]).max()))
+    return out
+
+
+def _scenario(g: "h5py.Group") -> str:
+    if "scenario" not in g:
+        return ""
+    v = g["scenario"][()]
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
 def summarize_results(path: str | Path) -> dict[str, Any]:
-    """Summary of every case of a results file written by ``railvti run``."""
+    """Summary of every case of a results file written by ``railvti run`` (hunting runs also
+    their :func:`hunting_statistics`, named ``stats_*``)."""
     cases: dict[str, Any] = {}
     with h5py.File(path, "r") as f:
         for gname, g in f.items():
@@ -329,6 +411,8 @@ def summarize_results(path: str | Path) -> dict[str, Any]:
             for name, d in g.items():
                 if isinstance(d, h5py.Dataset):
                     q[name] = summarize_value(d[()])
+            if _scenario(g) == "hunting" and "t" in g and "y_ws1" in g:
+                q.update(hunting_statistics(g))
             cases[gname] = {"type": str(g.attrs["type"]), "status": str(g.attrs["status"]),
                             "quantities": q}
     return cases
@@ -415,6 +499,8 @@ def _compare_float_array(name: str, new: dict, ref: dict, tol: Tol) -> list[str]
         return [f"{name}: shape {new['shape']} != reference {ref['shape']}"]
     if new["nonfinite"] != ref["nonfinite"]:
         out.append(f"{name}: {new['nonfinite']} NaN/inf elements != reference {ref['nonfinite']}")
+    if math.isinf(tol.rtol) or math.isinf(tol.atol):
+        return out                      # not reproducible: shape and NaN count only
     bounds = array_bounds(tol, ref)
     big = bounds.pop("scale")
     for key, allowed in bounds.items():
@@ -443,12 +529,19 @@ def _compare_integer_array(name: str, new: dict, ref: dict, tol: Tol) -> list[st
     return []
 
 
-def compare_quantity(case_type: str, case: str, name: str, new: dict, ref: dict) -> list[str]:
+def case_scenario(case: dict) -> str:
+    """The scenario a case summary records ('' for none)."""
+    rec = case["quantities"].get("scenario", {})
+    return str(rec.get("value", "")) if rec.get("kind") == "text" else ""
+
+
+def compare_quantity(case_type: str, case: str, name: str, new: dict, ref: dict,
+                     scenario: str = "") -> list[str]:
     """Differences of one quantity of a case beyond its tolerance (empty: within tolerance)."""
     if new["kind"] != ref["kind"]:
         return [f"{name}: a {new['kind']} where the reference has a {ref['kind']}"]
     kind = ref["kind"]
-    tol = tolerance(case_type, case, name, integer=kind.startswith("integer"))
+    tol = tolerance(case_type, case, name, integer=kind.startswith("integer"), scenario=scenario)
     if tol is IGNORE:
         return []
     if kind == "text":
@@ -489,7 +582,8 @@ def compare(new: dict[str, Any], ref: dict[str, Any]) -> list[str]:
         for name in sorted(set(qn) ^ set(qr)):
             out.append(f"{cname}: quantity {name!r} " + ("is new" if name in qn else "is missing"))
         for name in sorted(set(qn) & set(qr)):
-            out.extend(f"{cname}: {m}" for m in compare_quantity(cr["type"], cname, name, qn[name], qr[name]))
+            out.extend(f"{cname}: {m}" for m in compare_quantity(cr["type"], cname, name, qn[name],
+                                                                 qr[name], case_scenario(cr)))
     return out
 
 
@@ -508,12 +602,13 @@ def _used(x: float, r: float, allowed: float) -> float:
     return abs(x - r) / allowed
 
 
-def quantity_usage(case_type: str, case: str, name: str, new: dict, ref: dict) -> float:
+def quantity_usage(case_type: str, case: str, name: str, new: dict, ref: dict,
+                   scenario: str = "") -> float:
     """The largest fraction of its tolerance a quantity uses: max over the checks that
     :func:`compare_quantity` makes of |x - ref| / allowed (NaN: not compared; inf: a change
     of shape, kind, text or count where nothing is allowed)."""
     kind = ref["kind"]
-    tol = tolerance(case_type, case, name, integer=kind.startswith("integer"))
+    tol = tolerance(case_type, case, name, integer=kind.startswith("integer"), scenario=scenario)
     if tol is IGNORE or math.isinf(tol.rtol) or math.isinf(tol.atol):
         return math.nan
     if new["kind"] != kind or new.get("shape") != ref.get("shape"):
@@ -545,5 +640,5 @@ def usage(new: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
         for name in sorted(set(cn["quantities"]) & set(cr["quantities"])):
             out[f"{cname}:{name}"] = quantity_usage(cr["type"], cname, name,
                                                     cn["quantities"][name],
-                                                    cr["quantities"][name])
+                                                    cr["quantities"][name], case_scenario(cr))
     return out

@@ -74,7 +74,8 @@ def _compared_quantities():
             continue
         for cname, case in R.read_reference(d)["cases"].items():
             for qname, rec in case["quantities"].items():
-                tol = R.tolerance(case["type"], cname, qname, rec["kind"].startswith("integer"))
+                tol = R.tolerance(case["type"], cname, qname, rec["kind"].startswith("integer"),
+                                  scenario=R.case_scenario(case))
                 if not math.isinf(tol.rtol):
                     out.append((d.name, {cname: {**case, "quantities": {qname: rec}}}))
     return out
@@ -88,7 +89,8 @@ def test_comparison_reports_a_perturbed_reference():
     for dname, ref in _compared_quantities():
         cname = next(iter(ref))
         qname, rec = next(iter(ref[cname]["quantities"].items()))
-        tol = R.tolerance(ref[cname]["type"], cname, qname, rec["kind"].startswith("integer"))
+        tol = R.tolerance(ref[cname]["type"], cname, qname, rec["kind"].startswith("integer"),
+                          scenario=R.case_scenario(ref[cname]))
         keys: list[tuple[str, int | None]] = []
         if rec["kind"] in ("float", "integer"):
             keys = [("value", None)]
