@@ -198,7 +198,7 @@ def test_bifurcation_on_a_client_equals_its_serial_independent_sweep(scheduler):
     from railvti import scenarios
     kw = dict(contact="hertz-kalker", duration=1.2, v_min_kmh=300.0, progress=False)
     serial = scenarios.bifurcation([340.0, 300.0], independent=True, **kw)
-    dist = scenarios.bifurcation([340.0, 300.0], client=scheduler, **kw)
+    dist = scenarios.bifurcation([340.0, 300.0], client=scheduler, independent=True, **kw)
     for name in ("speeds_kmh", "upper", "decay"):
         assert np.array_equal(getattr(serial, name), getattr(dist, name)), name
     assert serial.details["flange_force"].tobytes() == dist.details["flange_force"].tobytes()
@@ -261,3 +261,44 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
         p = f["004_gs.method_gs.fn_13000/pressure"][()]
         assert p.sum() * 0.12e-3 * 0.096e-3 == pytest.approx(1.3e4, rel=1e-9)
     assert not [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+
+
+@pytest.mark.filterwarnings("ignore:bifurcation. below:RuntimeWarning")
+def test_a_client_never_changes_the_bifurcation():
+    """The same call with and without a LocalCluster returns the same bits: the
+    continuation (its upper branch one sequential task, here extended below the sweep from
+    340 to 300 km/h because the cycle lives at 340) and the independent sweep alike. The
+    independent upper branch differs from the continuation's (a coexisting cycle): the
+    client does not imply it. The table geometry keeps the workers' set-up short; the code
+    path is the strip's too."""
+    from railvti import scenarios
+    from railvti.sweeps import local_client
+    kw = dict(contact="hertz-kalker", geometry="table", duration=0.3, v_min_kmh=300.0,
+              progress=False)
+    serial = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, **kw)
+              for ind in (False, True)}
+    with local_client(2) as c:
+        dist = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, client=c, **kw)
+                for ind in (False, True)}
+    for ind in (False, True):
+        a, b = serial[ind], dist[ind]
+        for name in ("speeds_kmh", "upper", "decay"):
+            assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), (ind, name)
+        assert a.details["flange_force"].tobytes() == b.details["flange_force"].tobytes()
+        assert a.speeds_kmh.tolist() == [300.0, 340.0, 380.0]      # 300: the extension
+    assert serial[False].upper[0] > 0 and serial[False].upper[0] != serial[True].upper[0]
+
+
+@pytest.mark.parametrize("address, message", [
+    ("tcp://127.0.0.1:1", r"'tcp://127.0.0.1:1': no Dask scheduler reachable at 127.0.0.1:1"),
+    ("tcp://127.0.0.1", r"'tcp://127.0.0.1': malformed scheduler address"),
+    ("http://127.0.0.1:8786", r"'http://127.0.0.1:8786': malformed scheduler address"),
+])
+def test_an_unreachable_client_is_an_input_error_within_seconds(address, message):
+    from railvti import scenarios
+    t0 = time.monotonic()
+    with pytest.raises(InputError, match=message):
+        scenarios.bifurcation([380.0, 340.0], client=address, progress=False)
+    assert time.monotonic() - t0 < 5.0
+    with pytest.raises(InputError, match="client must be a distributed.Client"):
+        scenarios.critical_speed(method="nonlinear", speeds_kmh=[380.0, 340.0], client=42)

@@ -46,3 +46,9 @@ class ConvergenceError(RailvtiError, RuntimeError):
 
 class DivergenceError(ConvergenceError):
     """The time integration diverged (Newton failed, NaN, or a wheelset left its table)."""
+
+
+class AliasingWarning(UserWarning):
+    """An output interval too coarse for a known periodic excitation of the run (the
+    sleeper passing, hunting): the stored history shows it at a false frequency
+    (railvti.vehicle.output)."""

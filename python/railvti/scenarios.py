@@ -33,8 +33,10 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _checks
+from ._threads import serial_blas
 from .errors import InputError
 from .vehicle.assembly import System, build_coach
+from .vehicle import output as _output
 from .vehicle.params import Coach, speed_m_s
 from .vehicle.simulate import (SimulationResult, check_modal_step, contact_id, eigenvalues,
                                lateral_disturbance, simulate, static_equilibrium)
@@ -516,12 +518,19 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     **kw
         Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection;
         model RF n_sleepers, f_limit, track_params, x_offset (:func:`rf_system`).
+        ``output_dt`` (s): the interval of the stored history. Default: 10 ms, shortened
+        so that the known periodic excitations get 10 samples per period each
+        (railvti.vehicle.output): the sleeper passing v / sleeper spacing on the ring track
+        (RF, FF: 1 ms at 200 km/h on 0.6 m with the 0.5 ms step) and hunting; the elastic
+        modes only when asked with a finer ``output_dt``. A given ``output_dt`` coarser
+        than the Nyquist limit of one of them gives an AliasingWarning.
     """
     v, speed_kmh = _speeds(speed_kmh, speed, 200.0)
     _check_model(model, contact, "centred_running")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
+    kw["output_dt"] = _output_dt(sy, v, h, kw.get("output_dt"), 0.01)
     if contact == "bem":
         from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
@@ -561,7 +570,7 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
 
 def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "hertz-kalker", *,
             speed: float | None = None, duration: float = 5.0, y0: float = 0.004, h: float | None = None,
-            output_dt: float = 0.002, alpha: float = 0.0, coach: Coach | None = None,
+            output_dt: float | None = None, alpha: float = 0.0, coach: Coach | None = None,
             q0: np.ndarray | None = None, v0: np.ndarray | None = None,
             **kw: Any) -> SimulationResult:
     """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
@@ -571,12 +580,16 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
     (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
     ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
+    ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
+    10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
+    the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
     """
     v, speed_kmh = _speeds(speed_kmh, speed)
     _check_model(model, contact, "hunting")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy = _system(model, coach, speed_kmh, kw)
     h = _step(sy, h)
+    output_dt = _output_dt(sy, v, h, output_dt, 0.002)
     if q0 is None:
         qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
         q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
@@ -631,6 +644,34 @@ def _step(sy: System, h: float | None) -> float:
     h = _checks.positive("h", h)
     check_modal_step(sy, h)
     return h
+
+
+def _hunting_conicity() -> float:
+    """The equivalent conicity at 3 mm of the profiles (computed once, ~0.6 s)."""
+    if "conicity" not in _PROFILES:
+        _PROFILES["conicity"] = equivalent_conicity(0.003)
+    return _PROFILES["conicity"]
+
+
+def _excitations(sy: System, v: float) -> list:
+    """The known periodic excitations of a run of sy at v (m/s), railvti.vehicle.output:
+    hunting (Klingel's frequency at the profiles' equivalent conicity at 3 mm), and on the
+    ring track the sleeper passing."""
+    out = [_output.hunting(v, _hunting_conicity(), float(sy.table.r0))]
+    ring = getattr(sy, "ring", None)
+    if ring is not None:
+        out.append(_output.sleeper_passing(v, float(ring.bay)))
+    return out
+
+
+def _output_dt(sy: System, v: float, h: float, output_dt: float | None, base: float,
+               check: bool = True) -> float:
+    """The output interval of a run of sy at v (m/s) with step h: the given ``output_dt``
+    (an AliasingWarning when it aliases a known excitation, unless ``check`` is False) or
+    the scene's ``base`` shortened to resolve the excitations (railvti.vehicle.output)."""
+    if output_dt is not None and not check:
+        return _checks.positive("output_dt", output_dt)
+    return _output.output_interval(output_dt, h, _excitations(sy, v), base)
 
 
 def amplitude(res: SimulationResult, window: float = 1.0) -> float:
@@ -869,7 +910,7 @@ class _SweepSystems:
 def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
                  v_min_kmh: float | None, v_min: float | None, model: str, contact: str,
                  coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                 geometry: str, ring: dict | None = None
+                 geometry: str, ring: dict | None = None, output_dt: float | None = None
                  ) -> tuple[np.ndarray, float, float, _SweepSystems]:
     """A bifurcation sweep's speeds (km/h), floor (km/h), smallest step (km/h) and systems,
     every input checked and the step checked against the first speed's system before any
@@ -884,8 +925,10 @@ def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | N
         _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
     ring = _ring_keys(model, ring)
     geometry = resolve_geometry(contact, geometry)
-    systems = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry, ring)
-    systems.at(sp[0])
+    systems = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+    sy, _, hs = systems.at(sp[0])
+    if output_dt is not None:           # the top speed's excitations are the highest
+        _output_dt(sy, sp[0] / 3.6, hs, output_dt, 0.002)
     return sp, v_min_kmh, step, systems
 
 
@@ -909,7 +952,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                 flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
                 v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, client: Any = None,
-                independent: bool = False, geometry: str | None = None, **ring: Any) -> Bifurcation:
+                independent: bool = False, geometry: str | None = None,
+                output_dt: float | None = None, **ring: Any) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -949,9 +993,13 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         coordinates by mode label when the mode sets match, else restarts them from the new
         speed's static state (``details['modal_restarts']``).
     client : distributed.Client or str, optional
-        Run the speeds as tasks on a Dask cluster: a Client, a scheduler address
-        (``tcp://host:8786``) or 'local' (a LocalCluster for the call, railvti.sweeps).
-        Implies ``independent``.
+        Run on a Dask cluster: a Client, a scheduler address (``tcp://host:8786``) or
+        'local' (a LocalCluster for the call, railvti.sweeps); an address where no scheduler
+        answers is an InputError within seconds. The client never changes the answer: the
+        same call returns the same numbers bit for bit with and without it. The upper
+        branch's continuation is one sequential chain, one task
+        (:func:`bifurcation_upper`); the decay tests run beside it, one task per speed
+        (:func:`bifurcation_point`); with ``independent`` every run is a task.
     independent : bool
         Every speed is a point of its own: the upper branch starts at each speed from its
         static state shifted by ``y_large`` (as the top speed does in the continuation), instead
@@ -959,9 +1007,16 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         differ from the continuation's where two cycles coexist (the continuation follows one
         branch down; the independent start lands on the cycle whose basin holds ``y_large``).
         A downward extension runs one speed at a time. Serial (``client=None``) and on any
-        cluster the results are the same bit for bit (model RR; railvti.sweeps).
+        cluster the results are the same bit for bit (railvti.sweeps). Never implied by
+        ``client``.
     geometry : str
         Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
+    output_dt : float, optional
+        Output interval of every run, s (the amplitudes and flange forces are read from
+        it). Default 2 ms, shortened so that the known periodic excitations get 10 samples
+        per period (railvti.vehicle.output: the sleeper passing on the ring track, RF and
+        FF; hunting); a given one that aliases them at the top speed gives an
+        AliasingWarning.
     **ring
         Models 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
         ``track_params``, ``x_offset`` (:func:`rf_system`). The ring is built once and its
@@ -970,78 +1025,138 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         left them (x_offset plus the distance run so far, modulo the ring's length), so the
         carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
-    if client is not None or independent:
-        return _bifurcation_independent(
-            speeds_kmh, speeds, model, contact, duration=duration, y_large=y_large,
-            y_small=y_small, threshold=threshold, h=h, flange_amplitude=flange_amplitude,
-            v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
-            client=client, geometry=geometry, ring=ring)
+    if client is not None:
+        from .sweeps import check_client
+        check_client(client)            # an unreachable address: InputError before any work
+    kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
+              h=h, v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
+              geometry=geometry, ring=ring, output_dt=output_dt)
+    if independent:
+        return _bifurcation_independent(speeds_kmh, speeds, model, contact, client=client,
+                                        flange_amplitude=flange_amplitude, progress=progress,
+                                        **kw)
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry, ring)
+                                                contact, coach, h, k_max, f_max, geometry, ring,
+                                                output_dt)
+    point = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
+                 f_max=systems.f_max, duration=duration, geometry=systems.geometry,
+                 ring=systems.ring, output_dt=output_dt)
+    chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min_kmh=v_min_kmh)
     bar = None
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=2 * sp.size, desc="bifurcation", leave=False)
+    decay: list[float] = []
+    if client is None:
+        def decay_at(s: float) -> None:       # after the upper run at s, as one loop
+            if bar is not None:
+                bar.total = max(bar.total, bar.n + 2)   # an extension below the sweep
+                bar.update()
+            decay.append(bifurcation_point(s, y_small, **point)[0])
+            if bar is not None:
+                bar.update()
+        up = bifurcation_upper(list(sp), each=decay_at, **chain)
+    else:
+        up, decay = _bifurcation_on_client(client, sp, y_small, point, chain, bar)
+    if bar is not None:
+        bar.close()
+    systems.steps.update(up["steps"])
+    return _bifurcation_result(sp, up["speeds"], up["upper"], up["flange"], decay, up["alive"],
+                               threshold, flange_amplitude, systems, model, up["restarts"])
+
+
+def bifurcation_upper(speeds_kmh: Sequence[float], *, y_large: float, threshold: float,
+                      step: float, v_min_kmh: float, model: str, contact: str,
+                      coach: Coach | None, h: float | None, k_max: int, f_max: float,
+                      duration: float, geometry: str | None = None, ring: dict | None = None,
+                      output_dt: float | None = None, each: Any = None) -> dict:
+    """The upper branch of a :func:`bifurcation` sweep, one sequential chain (one task on a
+    Dask client): from the static state at the first (highest) speed shifted by ``y_large``
+    (m), ``duration`` s at each speed, each speed starting from the state carried down from
+    the speed above, until the cycle dies (amplitude <= threshold); while it lives at the
+    bottom, the sweep is extended by ``step`` (km/h) down to ``v_min_kmh``.
+
+    ``each(s_kmh)``, when given, is called after each speed's run (the serial sweep runs the
+    decay test there). Returns a dict: 'speeds' (km/h, the sweep's and the extension's),
+    'upper' (amplitude, m; 0 below the speed where the cycle died), 'flange' (max flange
+    normal force on the leading bogie over the last second, N), 'alive' (at the last speed),
+    'restarts' (km/h, :class:`Bifurcation` ``details``) and 'steps' (km/h -> h, s).
+    """
+    systems = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
     speeds_out: list[float] = []
     upper: list[float] = []
-    decay: list[float] = []
     flange: list[float] = []
     restarts: list[float] = []
     q = v = None
     alive = True
-    todo = list(sp)
+    todo = [float(s) for s in speeds_kmh]
     prev = None
     travel = 0.0        # distance run along the ring by the upper branch, m
-    while todo:
-        s = todo.pop(0)
-        vv = s / 3.6
-        sy, _, hs = systems.at(s)
-        statics: dict[str, np.ndarray] = {}
+    with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
+        while todo:
+            s = todo.pop(0)
+            vv = s / 3.6
+            sy, _, hs = systems.at(s)
+            up, fl = 0.0, 0.0
+            if alive:
+                if q is None:
+                    q = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y_large)
+                    v = np.zeros(sy.n_state)
+                su = systems.upper_at(s, travel)[0]
+                if prev is not None:
+                    q, v, restarted = systems.carry(
+                        q, v, prev, s, lambda: static_equilibrium(su, vv, contact)[0])
+                    if restarted:
+                        restarts.append(float(s))
+                r = simulate(su, vv, duration, contact=contact, h=hs, q0=q, v0=v,
+                             output_dt=_output_dt(su, vv, hs, output_dt, 0.002, check=False),
+                             progress=False)
+                travel += vv * float(r.t[-1])
+                up = amplitude(r)
+                last = r.t >= r.t[-1] - 1.0
+                fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
+                q, v = r.q[-1], r.v[-1]
+                alive = up > threshold
+                prev = s
+            speeds_out.append(s)
+            upper.append(up)
+            flange.append(fl)
+            if each is not None:
+                each(s)
+            if not todo and alive and s - step >= v_min_kmh - 1e-9:
+                todo.append(s - step)      # the cycle has not died: extend the sweep downward
+    return {"speeds": speeds_out, "upper": upper, "flange": flange, "alive": alive,
+            "restarts": restarts, "steps": {k: systems.steps[k] for k in systems.steps}}
 
-        def static_state() -> np.ndarray:
-            if "q" not in statics:
-                statics["q"] = static_equilibrium(sy, vv, contact)[0]
-            return statics["q"]
-        up, fl = 0.0, 0.0
-        if alive:
-            if q is None:
-                q = lateral_disturbance(sy, static_state(), y_large)
-                v = np.zeros(sy.n_state)
-            su = systems.upper_at(s, travel)[0]
-            if prev is not None:
-                q, v, restarted = systems.carry(
-                    q, v, prev, s, static_state if su is sy else
-                    (lambda: static_equilibrium(su, vv, contact)[0]))
-                if restarted:
-                    restarts.append(float(s))
-            r = simulate(su, vv, duration, contact=contact, h=hs, q0=q, v0=v, output_dt=0.002,
-                         progress=False)
-            travel += vv * float(r.t[-1])
-            up = amplitude(r)
-            last = r.t >= r.t[-1] - 1.0
-            fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
-            q, v = r.q[-1], r.v[-1]
-            alive = up > threshold
-            prev = s
-        if bar is not None:
-            bar.update()
-        r = simulate(sy, vv, duration, contact=contact, h=hs,
-                     q0=lateral_disturbance(sy, static_state(), y_small), output_dt=0.002,
-                     progress=False)
-        speeds_out.append(float(s))
-        upper.append(up)
-        flange.append(fl)
-        decay.append(amplitude(r))
-        if bar is not None:
-            bar.update()
-        if not todo and alive and s - step >= v_min_kmh - 1e-9:
-            todo.append(s - step)      # the cycle has not died: extend the sweep downward
+
+def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: dict,
+                           chain: dict, bar: Any) -> tuple[dict, list[float]]:
+    """The continuation sweep on a Dask client: the upper branch as one task
+    (:func:`bifurcation_upper`), the decay tests (independent by nature) as one task per
+    speed beside it; the same runs as the serial sweep, so the same numbers."""
+    from distributed import as_completed
+    from .sweeps import _client_from
+    with _client_from(client) as c:
+        fut_up = c.submit(bifurcation_upper, list(map(float, sp)), pure=False, **chain)
+        fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size,
+                          pure=False, **point)
+        pending = as_completed([fut_up, *fut_decay])
+        up = None
+        for f in pending:
+            if f is fut_up:
+                up = f.result()
+                extra = up["speeds"][sp.size:]
+                if extra:                           # the sweep was extended downward
+                    more = c.map(bifurcation_point, extra, [y_small] * len(extra), pure=False,
+                                 **point)
+                    fut_decay += more
+                    pending.update(more)
+                    if bar is not None:
+                        bar.total += 2 * len(extra)
             if bar is not None:
-                bar.total += 2
-    if bar is not None:
-        bar.close()
-    return _bifurcation_result(sp, speeds_out, upper, flange, decay, alive, threshold,
-                               flange_amplitude, systems, model, restarts)
+                bar.update(len(up["speeds"]) if f is fut_up else 1)
+        decay = [f.result()[0] for f in fut_decay]
+    return up, decay
 
 
 def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: list,
@@ -1083,14 +1198,28 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
                        no_cycle_up_to_kmh=no_cycle, model=model)
 
 
-#: The sweep systems of bifurcation points run in this process (a worker keeps its own).
+#: The sweep systems of bifurcation runs in this process (a worker keeps its own).
 _POINT_SYSTEMS: dict[str, "_SweepSystems"] = {}
+
+
+def _point_systems(model: str, coach: Coach | None, contact: str, h: float | None,
+                   k_max: int, f_max: float, geometry: str | None, ring: dict | None
+                   ) -> _SweepSystems:
+    """The sweep systems of these settings in this process: one set at a time, shared by a
+    sweep's upper branch and its decay runs (each run starts from its own state)."""
+    geometry = resolve_geometry(contact, geometry)
+    key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
+    if key not in _POINT_SYSTEMS:
+        _POINT_SYSTEMS.clear()
+        _POINT_SYSTEMS[key] = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry,
+                                            ring)
+    return _POINT_SYSTEMS[key]
 
 
 def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
                       coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                      duration: float, geometry: str | None = None, ring: dict | None = None
-                      ) -> tuple[float, float, float]:
+                      duration: float, geometry: str | None = None, ring: dict | None = None,
+                      output_dt: float | None = None) -> tuple[float, float, float]:
     """One run of an independent bifurcation sweep (a task): from the static state at
     ``s_kmh`` with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
 
@@ -1103,17 +1232,13 @@ def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
     h : float
         The time step used, s.
     """
-    geometry = resolve_geometry(contact, geometry)
-    key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
-    if key not in _POINT_SYSTEMS:
-        _POINT_SYSTEMS.clear()
-        _POINT_SYSTEMS[key] = _SweepSystems(model, coach, contact, h, k_max, f_max, geometry,
-                                            ring)
-    sy, _, hs = _POINT_SYSTEMS[key].at(s_kmh)
+    sy, _, hs = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring).at(s_kmh)
     vv = s_kmh / 3.6
-    q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
-    r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q0, output_dt=0.002,
-                 progress=False)
+    with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
+        q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
+        r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q0,
+                     output_dt=_output_dt(sy, vv, hs, output_dt, 0.002, check=False),
+                     progress=False)
     last = r.t >= r.t[-1] - 1.0
     return amplitude(r), float(r.wheel_output("N_flange")[last][:, :, :2].max()), hs
 
@@ -1124,27 +1249,44 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
                              flange_amplitude: float, v_min_kmh: float | None,
                              v_min: float | None, coach: Coach | None, k_max: int, f_max: float,
                              client: Any, geometry: str | None = None,
-                             ring: dict | None = None) -> Bifurcation:
+                             ring: dict | None = None, output_dt: float | None = None,
+                             progress: bool = False) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
     import contextlib
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry, ring)
+                                                contact, coach, h, k_max, f_max, geometry, ring,
+                                                output_dt)
     kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
               f_max=systems.f_max, duration=duration, geometry=systems.geometry,
-              ring=systems.ring)
+              ring=systems.ring, output_dt=output_dt)
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
             from .sweeps import _client_from
             c = stack.enter_context(_client_from(client))
 
+        bar = None
+        if progress:
+            from tqdm import tqdm
+            bar = stack.enter_context(tqdm(total=2 * sp.size, desc="bifurcation", leave=False))
+
         def runs(todo: list[float]) -> list[tuple[float, float, float]]:
             s_all = [s for s in todo for _ in (0, 1)]
             y_all = [y for _ in todo for y in (y_large, y_small)]
+            if bar is not None:
+                bar.total = max(bar.total, bar.n + len(s_all))
             if c is None:
-                return [bifurcation_point(s, y, **kw) for s, y in zip(s_all, y_all)]
+                out = []
+                for s, y in zip(s_all, y_all):
+                    out.append(bifurcation_point(s, y, **kw))
+                    if bar is not None:
+                        bar.update()
+                return out
             futures = c.map(bifurcation_point, s_all, y_all, pure=False, **kw)
-            return c.gather(futures)
+            out = c.gather(futures)
+            if bar is not None:
+                bar.update(len(out))
+            return out
         speeds_out = [float(s) for s in sp]
         out = runs(speeds_out)
         while out[-2][0] > threshold and speeds_out[-1] - step >= v_min_kmh - 1e-9:

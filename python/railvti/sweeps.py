@@ -365,31 +365,76 @@ def _kill_workers(cluster: Any) -> None:
             pass
 
 
+#: Seconds to open a TCP connection to a scheduler's address before it counts as unreachable
+#: (a port where nothing listens refuses at once; a host that drops the packets waits this).
+CONNECT_TIMEOUT = 3.0
+
+
+def _check_address(address: str, timeout: float = CONNECT_TIMEOUT) -> None:
+    """InputError unless ``address`` is a well-formed scheduler address whose host and port
+    accept a TCP connection within ``timeout`` s (Dask itself retries a refused connection
+    until its own timeout, 30 s by default)."""
+    import socket
+    from distributed.comm.addressing import get_address_host_port, parse_address
+    how = ("a scheduler address is 'tcp://host:port' (as 'dask scheduler' prints it), "
+           "'local' or a distributed.Client")
+    try:
+        scheme, _ = parse_address(address)
+        if scheme in ("inproc", "ucx"):
+            return                        # no TCP port to try: Dask's own connect decides
+        host, port = get_address_host_port(address)
+    except (ValueError, TypeError) as exc:
+        raise InputError(f"client {address!r}: malformed scheduler address ({exc}); "
+                         f"{how}") from None
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except OSError as exc:
+        raise InputError(f"client {address!r}: no Dask scheduler reachable at {host}:{port} "
+                         f"({exc.strerror or type(exc).__name__} within {timeout:g} s)"
+                         ) from None
+
+
 @contextlib.contextmanager
-def remote_client(address: str, timeout: float = 30.0) -> Any:
+def remote_client(address: str, timeout: float = 10.0) -> Any:
     """A Client connected to an existing scheduler (``tcp://host:8786``); closed on exit.
 
     Raises
     ------
     InputError
-        When no scheduler answers at ``address`` within ``timeout`` seconds.
+        A malformed address, or one where nothing accepts a connection within
+        :data:`CONNECT_TIMEOUT` seconds (at once for a port where nothing listens), or no
+        scheduler answering there within ``timeout`` seconds; the message names the address.
     """
     from distributed import Client
     _quiet_dask()
+    _check_address(address)
     try:
         client = Client(address, timeout=timeout)
-    except (OSError, TimeoutError) as exc:
-        raise InputError(f"no Dask scheduler at {address}: {exc}") from None
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"client {address!r}: no Dask scheduler at this address: "
+                         f"{exc}") from None
     try:
         yield client
     finally:
         client.close()
 
 
+def check_client(client: Any) -> None:
+    """InputError unless ``client`` is a Client, 'local' or a scheduler address that accepts
+    a connection (:func:`_check_address`): said before any work, within seconds."""
+    if isinstance(client, str):
+        if client != "local":
+            _check_address(client)
+    elif not all(hasattr(client, k) for k in ("submit", "map", "gather")):
+        raise InputError(f"client must be a distributed.Client, a scheduler address "
+                         f"('tcp://host:port') or 'local', got {client!r}")
+
+
 @contextlib.contextmanager
 def _client_from(client: Any, workers: int | None = None) -> Any:
     """A client from what the caller gave: a Client (kept open), a scheduler address, or
-    'local' (a LocalCluster for the call)."""
+    'local' (a LocalCluster for the call). Anything else is an InputError."""
     if isinstance(client, str) and client == "local":
         with local_client(workers) as c:
             yield c
@@ -397,6 +442,7 @@ def _client_from(client: Any, workers: int | None = None) -> Any:
         with remote_client(client) as c:
             yield c
     else:
+        check_client(client)
         yield client
 
 
@@ -703,5 +749,6 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
     return path
 
 
-__all__ = ["MODES", "SweepPoint", "SweepSpec", "expand", "local_client", "plot_sweeps",
+__all__ = ["MODES", "SweepPoint", "SweepSpec", "check_client", "expand", "local_client",
+           "plot_sweeps",
            "remote_client", "run", "run_on_client", "split_sweep", "sweep", "sweep_points"]

@@ -11,7 +11,8 @@ track_pad_stiffness_vertical, track_f_max) for the ring track of models RF and F
 ('hertz-kalker' | 'hertz-fastsim' | 'bem'), speed (m/s; or speed_kmh, km/h), duration (s, at
 most max_duration), max_duration (s), h (s; default 1 ms, model FR 1 ms divided so that
 h omega_max <= 2), alpha (HHT, 0 = average acceleration), y0 (m, hunting disturbance),
-output_dt (s), speeds_kmh_min/max/step (critical_speed sweep, km/h), and any Coach parameter
+output_dt (s; default: the scenario's, resolving the sleeper passing and hunting,
+railvti.vehicle.output), speeds_kmh_min/max/step (critical_speed sweep, km/h), and any Coach parameter
 prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the
 Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and bounds.
 
@@ -38,7 +39,7 @@ from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
 from ..scenarios import (_RF_SCENARIOS, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                         RING_TRACK)
+                         RING_TRACK, _hunting_conicity)
 from ..stream import case_stream, history_bytes
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
@@ -46,6 +47,7 @@ from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
+from . import output
 from .simulate import WHEEL_OUTPUTS
 
 _SCENARIOS = ("centred_running", "hunting", "critical_speed")
@@ -70,7 +72,7 @@ DEFAULTS: dict[str, Any] = {
     "f_max": None,
     "alpha": 0.0,
     "y0": 0.004,
-    "output_dt": 0.002,
+    "output_dt": None,
     "speeds_kmh_min": 160.0,
     "speeds_kmh_max": 440.0,
     "speeds_kmh_step": 20.0,
@@ -108,7 +110,10 @@ KEYS: dict[str, Key] = {
     "alpha": Key("1", "HHT alpha (0: average acceleration)", lo=-1.0 / 3.0, hi=0.0),
     "y0": Key("m", "lateral disturbance of the leading bogie's wheelsets (hunting)", lo=-0.01, hi=0.01,
               why="beyond 10 mm the wheelset is in flange contact"),
-    "output_dt": Key("s", "interval of the stored history", lo=0.0, hi=1.0, lo_open=True),
+    "output_dt": Key("s", "interval of the stored history and of the runs of critical_speed (default: 10 ms "
+                     "centred running, 2 ms hunting and sweeps, shortened to 10 samples per period of "
+                     "the sleeper passing (RF, FF) and of hunting; a value that aliases them warns)",
+                     lo=0.0, hi=1.0, lo_open=True, optional=True),
     "speeds_kmh_min": Key("km/h", "first speed of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH, lo_open=True,
                           why=_WHY_SPEED),
     "speeds_kmh_max": Key("km/h", "last speed of the critical_speed sweep", lo=0.0, hi=MAX_SPEED_KMH, lo_open=True,
@@ -446,6 +451,14 @@ def _patch(pt, data: dict, scalars: dict) -> None:
     scalars["patch_b"] = (float(pt.b), "m")
 
 
+def _estimated_output_dt(scen: str, speed: float) -> float:
+    """The default output interval of a case on the rigid track (RR, FR), for the size of
+    its history (whether to stream it): the scenario's, shortened for hunting at Klingel's
+    frequency (railvti.vehicle.output; the run rounds it to its step)."""
+    f = output.hunting(speed, _hunting_conicity(), COACH_DEFAULTS["wheel_radius"][0])
+    return output.default_interval([f], 1e-9, 0.01 if scen == "centred_running" else 0.002)
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
     from .. import scenarios as sc
@@ -473,14 +486,14 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["x_offset"] = (ring["x_offset"], "m")
     # a long history streams to the runner's file (railvti.stream; docs/results.md); models FR
     # and RF keep their history in memory (their modal datasets are derived from the whole run)
-    out_dt = params["output_dt"] if scen == "hunting" else 0.01
+    out_dt = params["output_dt"] or _estimated_output_dt(scen, params["speed"])
     stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
         c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
                                h=params["h"], coach=coach, stream_to=stream, geometry=geometry,
-                               **fr, **ring)
+                               output_dt=params["output_dt"], **fr, **ring)
         wl = _history(c.run, data, scalars)
         _modal_histories(c.run, model, coach, params["speed_kmh"], geometry, fr, ring, data,
                          scalars)
@@ -523,7 +536,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
         b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False, geometry=geometry, **fr, **ring)
+                           coach=coach, progress=False, geometry=geometry,
+                           output_dt=params["output_dt"], **fr, **ring)
         lin, freq = sc.linear_critical_speed(model, coach, **fr, **ring)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
         if fr:
