@@ -180,25 +180,35 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
     ("@hunting:stat_newton_tol", EXACT),
     ("@hunting:stat_newton_rtol", EXACT),
     ("@hunting:stat_load_scale", EXACT),
-    ("@hunting:amplitude_last_second", Tol(1e-6, 1e-12, reason="measuring")),
-    ("@hunting:wheel_amplitude", Tol(1e-6, 1e-12, reason="measuring")),
-    ("@hunting:stats_frequency", Tol(1e-6, reason="measuring")),
-    ("@hunting:stats_Q_*", Tol(1e-6, reason="measuring")),
-    ("@hunting:stats_Y_absmax", Tol(1e-6, reason="measuring")),
-    ("@hunting:wheel_Q_max", Tol(1e-6, reason="measuring")),
-    ("@hunting:wheel_Y_max", Tol(1e-6, reason="measuring")),
-    ("@hunting:wheel_YQ_max", Tol(1e-6, reason="measuring")),
-    ("@hunting:exceeds_nadal", EXACT),
-    ("@hunting:stat_newton_iterations", Tol(1e-6, reason="measuring")),
-    ("@hunting:stat_tangents", Tol(1e-6, reason="measuring")),
-    ("@hunting:stat_substepped_steps", Tol(1e-6, reason="measuring")),
+    # spreads measured on the decks vehicle_short (1 s at 400 km/h in flange contact, 1 s
+    # at 300 km/h) and vehicle_example (3 s at 400 km/h), relative to the value (scaled:
+    # to the array's largest)
+    ("@hunting:amplitude_last_second", _spread(2e-3, 1e-6, "1.2e-4; atol 1 um for decayed runs")),
+    ("@hunting:stats_frequency", _spread(2e-4, 0.0, "1.3e-5")),
+    ("@hunting:stats_Q_*", _spread(1e-2, 0.0, "8.5e-4")),
+    ("@hunting:stats_Y_absmax", _spread(0.1, 0.0, "1.0e-2 (the flange impacts' peaks)")),
+    ("@hunting:wheel_Q_max", _spread(3e-2, 0.0, "2.5e-3")),
+    ("@hunting:wheel_Y*_max", Tol(0.1, scaled=True, reason=(
+        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+        "1.0e-2 of each wheel's own peak, less of the largest"))),
+    ("@hunting:wheel_amplitude", Tol(0.15, 1e-6, scaled=True, reason=(
+        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+        "1.4e-2 of each wheel's own amplitude, less of the largest; atol 1 um"))),
+    ("@hunting:stat_newton_iterations", _spread(0.6, 0.0, "5.7e-2 (solver effort)")),
+    ("@hunting:stat_tangents", NOT_REPRODUCIBLE),
+    ("@hunting:stat_substepped_steps", NOT_REPRODUCIBLE),
     ("@hunting:*", NOT_REPRODUCIBLE),
 ]
+# The critical-speed sweep of vehicle_scenarios (0.6 s per speed): its runs hunt as above.
 _CRITICAL_RULES: list[tuple[str, Tol]] = [
-    ("@critical_speed:upper_flange_force", Tol(1e-6, reason="measuring")),
-    ("@critical_speed:critical_branch_amplitude", Tol(1e-6, reason="measuring")),
-    ("@critical_speed:decay_amplitude", Tol(1e-6, reason="measuring")),
-    ("@critical_speed:upper_amplitude", Tol(1e-6, reason="measuring")),
+    ("@critical_speed:upper_flange_force", Tol(0.2, scaled=True, reason=(
+        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+        "1.6e-2 (flange impacts' peaks)"))),
+    ("@critical_speed:upper_amplitude", Tol(1.5e-2, scaled=True, reason=(
+        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+        "1.2e-3"))),
+    ("@critical_speed:critical_branch_amplitude", _spread(3e-3, 0.0, "2.2e-4")),
+    ("@critical_speed:decay_amplitude", _spread(5e-4, 1e-7, "3.4e-5; atol 0.1 um")),
 ]
 
 #: Per case type: (pattern, tolerance), first match wins; ``"*"`` is the case type's
