@@ -44,7 +44,6 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from .. import _checks
 from ..errors import ConvergenceError, InputError
@@ -158,7 +157,7 @@ class WheelsetPatch:
     def n_regions(self) -> int:
         """Separate contact areas in the patch (edge-connected elements in contact): a patch
         grows around one candidate point but may hold two areas joined by a low ridge."""
-        return int(ndimage.label(self.pressure > 0.0)[1])
+        return count_regions(self.pressure > 0.0)
 
 
 @dataclass(frozen=True)
@@ -225,6 +224,36 @@ class WheelsetSolution:
         if side not in _SIDES:
             raise InputError(f"side must be 'left' or 'right', got {side!r}")
         return self.left if side == "left" else self.right
+
+
+def count_regions(mask: np.ndarray) -> int:
+    """Number of edge-connected regions of True in a 2-D mask (4-neighbourhood): the runs of
+    True along axis 0 in each column, joined (union-find) with the runs they overlap in the
+    next column."""
+    parent: list[int] = []
+
+    def root(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    prev: list[tuple[int, int, int]] = []
+    m = np.asarray(mask, dtype=np.int8)
+    pad = np.zeros((1, m.shape[1]), dtype=np.int8)
+    edges = np.diff(np.concatenate([pad, m, pad]), axis=0)
+    for j in range(m.shape[1]):
+        starts, ends = np.flatnonzero(edges[:, j] == 1), np.flatnonzero(edges[:, j] == -1)
+        cur = []
+        for a, b in zip(starts.tolist(), ends.tolist()):
+            k = len(parent)
+            parent.append(k)
+            for pa, pb, pk in prev:
+                if pa < b and a < pb:               # the runs [a, b) and [pa, pb) touch
+                    parent[root(pk)] = root(k)
+            cur.append((a, b, k))
+        prev = cur
+    return sum(1 for k in range(len(parent)) if root(k) == k)
 
 
 class _Balance:
