@@ -33,7 +33,7 @@ from railvti.contact import normal as nm, rolling as rl
 from railvti.contact.hertz import hertz_gap
 mode = sys.argv[1]
 if mode == "one call":
-    nm._cg_in_slices = lambda hd, h, c, m, tol, mi, fn, ap, p: core.normal_solve_c(hd, h, c, m, tol, mi, 1.0, fn, ap, p)
+    nm._cg_in_slices = lambda hd, h, c, m, tol, mi, fn, ap, p, sub: core.normal_solve_c(hd, h, c, m, tol, mi, 1.0, fn, ap, p)
     rl.call_interruptibly = lambda hd, fn, *a: fn(hd, *a)
     import railvti.vehicle  # noqa: F401 - its simulate() shadows the module of that name
     vs = sys.modules["railvti.vehicle.simulate"]

@@ -7,12 +7,13 @@ CONTACT's public repository, eve70a/CONTACT, examples/mbench_a22_{left,right}.re
 point and its creepages, in CONTACT's conventions (forces on the rail, y to the right, z down,
 creepages of the rail relative to the wheel: CKSI = -xi, CETA = eta, CPHI = phi).
 
-Checked at every position: |FX - FX_ref| and |FS - FS_ref| <= 2 % of mu FN_ref, FN within
-0.5 %, the creepages and the reference point. One exception, documented in
-docs/contact_decks.md: the right wheel at y = 5 mm, where the patch holds two areas 6.5 mm
-apart (flange root and tread) and CONTACT reduces their elastic interaction (its sub-patch
-factor 0.46, IPLAN = 4), which railvti's solvers do not: its FX is held to 3.5 % and the
-2 % bound is a strict xfail. Run time ~10 s (both decks, serial).
+Checked at every position (42): |FX - FX_ref| and |FS - FS_ref| <= 2 % of mu FN_ref, FN within
+0.5 %, the creepages and the reference point. The right wheel at y = 5 mm holds two areas
+6.6 mm apart (flange root and tread) in one patch, whose elastic interaction in the normal
+problem CONTACT reduces (its sub-patch factor ((D_SEP - d) / (D_SEP - D_COMB))^0.8, IPLAN = 4)
+and railvti does the same (docs/contact_decks.md); its reference point follows the split of
+the load between the areas, so its creepages and point are held a little looser.
+Run time ~10 s (both decks, serial).
 """
 import csv
 from pathlib import Path
@@ -26,7 +27,7 @@ from railvti.cli import main
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).resolve().parent / "data"
 MU = 0.3
-#: (side, case) where CONTACT's sub-patch interaction factor applies (see the module doc).
+#: (side, case) of the patch with two sub-patches (see the module doc).
 TWO_AREAS = ("right", 11)
 
 
@@ -68,33 +69,21 @@ def test_forces_within_two_percent_of_mu_fn(a22, side):
     bound = 0.02 * MU * ref["fn"]
     assert np.abs(got["fn"] / ref["fn"] - 1).max() <= 5e-3
     assert np.all(np.abs(got["fs"] - ref["fs"]) <= bound), (got["fs"] - ref["fs"]) / (MU * ref["fn"])
-    dfx = np.abs(got["fx"] - ref["fx"])
-    exempt = np.arange(1, 22) == (TWO_AREAS[1] if side == TWO_AREAS[0] else 0)
-    assert np.all(dfx[~exempt] <= bound[~exempt]), dfx / (MU * ref["fn"])
-    assert np.all(dfx[exempt] <= 0.035 * MU * ref["fn"][exempt])
-
-
-@pytest.mark.xfail(strict=True, reason="CONTACT's reduced interaction of a patch's sub-patches (IPLAN = 4) "
-                                       "is not modelled: FX 2.8 % of mu FN off at the right wheel, y = 5 mm")
-def test_two_area_patch_within_two_percent(a22):
-    side, case = TWO_AREAS
-    got, ref = a22[side], load_reference(side)
-    i = case - 1
-    assert abs(got["fx"][i] - ref["fx"][i]) <= 0.02 * MU * ref["fn"][i]
+    assert np.all(np.abs(got["fx"] - ref["fx"]) <= bound), (got["fx"] - ref["fx"]) / (MU * ref["fn"])
 
 
 @pytest.mark.parametrize("side", ["left", "right"])
 def test_creepages_and_reference_point(a22, side):
     """CKSI, CETA, CPHI and the reference point (YCP(R), DELTCP, XCP) as CONTACT's, to a few
-    units of its last printed digit (away from the two-area patch, whose point follows its
-    loads: within 0.25 mm and 3 %)."""
+    units of its last printed digit (away from the two-area patch, whose point follows the
+    split of its load between the areas: within 0.15 mm and 2 %)."""
     got, ref = a22[side], load_reference(side)
     ok = np.arange(1, 22) != (TWO_AREAS[1] if side == TWO_AREAS[0] else 0)
     for q in ("cksi", "ceta", "cphi"):
         err = np.abs(got[q] - ref[q])
         assert np.all(err[ok] <= 5e-3 * np.abs(ref[q][ok]) + 2e-7), (q, err)
-        assert np.all(err[~ok] <= 3e-2 * np.abs(ref[q][~ok])), (q, err)
+        assert np.all(err[~ok] <= 2e-2 * np.abs(ref[q][~ok])), (q, err)
     dy = np.abs(got["ycp_r"] - ref["ycp_r"])
-    assert np.all(dy[ok] <= 5e-3) and np.all(dy[~ok] <= 0.25), dy
+    assert np.all(dy[ok] <= 5e-3) and np.all(dy[~ok] <= 0.15), dy
     assert np.all(np.abs(got["deltcp_tr"] - ref["deltcp_tr"])[ok] <= 2e-4)
     assert np.all(np.abs(got["xcp_tr"] - ref["xcp_tr"])[ok] <= 5e-3)

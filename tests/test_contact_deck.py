@@ -101,6 +101,7 @@ def test_angles_in_degrees_and_comments(tmp_path):
     ("  10000.  ", "  abc  ", r"case.inp:15: expected a number for FZ, got 'abc'"),
     ("  0 MODULE\n", "", r"ends without '0 MODULE'"),
     ("  0.28  0.28  82000.  82000. ", "  0.28  0.30  82000.  82000. ", r"quasi-identical"),
+    ("  8.0  4.0 ", "  4.0  8.0 ", r"0 < D_COMB < D_SEP, got 8.0, 4.0"),
 ])
 def test_bad_decks_name_the_flag_line_or_file(tmp_path, old, new, words):
     assert old in CASE

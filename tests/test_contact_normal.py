@@ -4,7 +4,7 @@ import pytest
 from scipy import ndimage
 
 from railvti import ConvergenceError, GridTooSmallError, InputError, Material, NoContactError
-from railvti.contact import Grid, convolve, hertz, hertz_gap, solve_normal
+from railvti.contact import Grid, SubPatches, convolve, hertz, hertz_gap, solve_normal
 
 MAT = Material(shear_modulus=82e9, poisson=0.28)
 FN = 1.0e4
@@ -81,6 +81,50 @@ def test_two_bumps_complementarity(method):
     assert e.min() >= -1e-6 * scale
     assert np.abs(e[r.contact]).max() <= 1e-6 * scale
     assert np.abs(r.pressure * e).max() <= 1e-6 * r.pmax * scale
+
+
+@pytest.mark.parametrize("method", ["cg", "pk", "gs"])
+def test_subpatches_interaction_factor(method):
+    """Two bumps cut apart at y = 0 (CONTACT's reduced interaction between sub-patches):
+    factor 1 is the plain half-space; factor 0 makes each bump the contact problem of its
+    own gap alone (the other bump lifted away), solved separately; in between, the
+    reduced operator f A + (1 - f) diag(A_aa) is checked by complementarity."""
+    grid = Grid(40, 80, 0.25e-3, 0.25e-3)
+    gap = two_bump_gap(grid, sep=4.5e-3)
+    _, y = grid.mesh()
+    approach = 2e-5
+    kw = dict(approach=approach, method=method, tol=1e-10)
+    plain = solve_normal(gap, grid, MAT, **kw)
+    one = solve_normal(gap, grid, MAT, subpatches=SubPatches((0.0,), (1.0,)), **kw)
+    assert np.abs(one.pressure - plain.pressure).max() <= 1e-8 * plain.pmax
+    zero = solve_normal(gap, grid, MAT, subpatches=SubPatches((0.0,), (0.0,)), **kw)
+    alone = sum(solve_normal(np.where(side, gap, 1.0), grid, MAT, **kw).pressure for side in (y <= 0, y > 0))
+    assert np.abs(zero.pressure - alone).max() <= 1e-7 * plain.pmax
+    assert zero.fn > plain.fn     # less interaction, stiffer: more force at the same approach
+    f = 0.46
+    half = solve_normal(gap, grid, MAT, subpatches=SubPatches((0.0,), (f,)), **kw)
+    assert plain.fn < half.fn < zero.fn
+    lo = y <= 0
+    u = np.zeros(grid.shape)
+    for src in (lo, ~lo):
+        part = convolve(np.where(src, half.pressure, 0.0), grid, MAT)
+        u += np.where(src, part, f * part)     # full within the source's sub-patch
+    e = gap + u - approach
+    scale = approach - gap.min()
+    assert e.min() >= -1e-6 * scale and np.abs(e[half.contact]).max() <= 1e-6 * scale
+
+
+@pytest.mark.parametrize("args, word", [
+    (((0.0, 1e-3), (0.5,)), "2 cuts need as many factors"),
+    (((1e-3, 0.0), (0.5, 0.5)), "ascending"),
+    (((0.0,), (1.5,)), r"\[0, 1\]"),
+    (((np.nan,), (0.5,)), "finite"),
+])
+def test_subpatches_bad_arguments(args, word):
+    with pytest.raises(InputError, match=word):
+        SubPatches(*args)
+    with pytest.raises(InputError, match="SubPatches"):
+        solve_normal(np.ones((4, 4)), Grid(4, 4, 1e-4, 1e-4), MAT, fn=1.0, subpatches=(0.0, 0.5))
 
 
 @pytest.mark.parametrize("control", ["fn", "approach"])

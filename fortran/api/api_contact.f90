@@ -171,15 +171,19 @@ end subroutine normal_solve_c
 !> nx ny per column correction), so Python can show progress and stop between slices;
 !> the numbers are those of normal_solve_c with method 2. done = 1 when the solve
 !> has finished, info then as for normal_solve_c (STAT_OK while done = 0).
+!> nsub, lab, fac: sub-patches (contact_normal): grid column j in sub-patch lab(j) (1..nsub),
+!> their interaction scaled by fac(a, b); nsub = 1 (fac = 1) for the plain half-space.
 subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, fn_in, budget, &
-                             start, approach, p, u, iters, pos, resid, fn_out, done, info)
+                             start, nsub, lab, fac, approach, p, u, iters, pos, resid, fn_out, done, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
     use contact_plans, only: workspace, ws_get
-    use contact_normal, only: normal_gs_start, normal_gs_resume, CONTROL_FORCE, CONTROL_APPROACH
+    use contact_normal, only: normal_gs_start, normal_gs_resume, subpatches_valid, CONTROL_FORCE, &
+                              CONTROL_APPROACH
     implicit none
-    integer(c_int), intent(in) :: handle, nx, ny, control, max_iter, start
-    real(c_double), intent(in) :: h(nx, ny), tol, omega, fn_in, budget
+    integer(c_int), intent(in) :: handle, nx, ny, control, max_iter, start, nsub
+    integer(c_int), intent(in) :: lab(ny)
+    real(c_double), intent(in) :: h(nx, ny), tol, omega, fn_in, budget, fac(nsub, nsub)
     real(c_double), intent(inout) :: approach, p(nx, ny), u(nx, ny), resid
     integer(c_int), intent(inout) :: iters, pos
     real(c_double), intent(out) :: fn_out
@@ -190,7 +194,7 @@ subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, f
 
     fn_out = fn_in
     done = 1
-    if (control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) then
+    if ((control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) .or. .not. subpatches_valid(nsub, lab, fac)) then
         info = STAT_BAD_ARGUMENT
         return
     end if
@@ -203,7 +207,7 @@ subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, f
     ps = pos
     if (start == 1) then
         call normal_gs_start(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach, &
-                             p, u, it, ps, resid, stat, fin)
+                             p, u, it, ps, resid, stat, fin, lab, fac)
         if (fin) then
             iters = it
             pos = ps
@@ -212,7 +216,7 @@ subroutine normal_gs_slice_c(handle, nx, ny, h, control, tol, max_iter, omega, f
         end if
     end if
     call normal_gs_resume(w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, approach, omega, tol, &
-                          max_iter, budget, p, u, it, ps, resid, stat, fin)
+                          max_iter, budget, p, u, it, ps, resid, stat, fin, lab, fac)
     iters = it
     pos = ps
     done = merge(1, 0, fin)
@@ -227,15 +231,19 @@ end subroutine normal_gs_slice_c
 !> and stop between slices; the numbers are those of normal_solve_c with the same
 !> method (1 with, 3 without the preconditioner). done = 1 when the solve has finished,
 !> info then as for normal_solve_c (STAT_OK while done = 0); iters, nprod: istate(2), istate(3).
+!> nsub, lab, fac: sub-patches, as for normal_gs_slice_c.
 subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, fn_in, budget, &
-                             start, approach, p, u, t, rstate, istate, resid, fn_out, done, info)
+                             start, nsub, lab, fac, approach, p, u, t, rstate, istate, resid, fn_out, &
+                             done, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT
     use contact_plans, only: workspace, ws_get
-    use contact_normal, only: normal_cg_begin, normal_cg_steps, CONTROL_FORCE, CONTROL_APPROACH
+    use contact_normal, only: normal_cg_begin, normal_cg_steps, subpatches_valid, CONTROL_FORCE, &
+                              CONTROL_APPROACH
     implicit none
-    integer(c_int), intent(in) :: handle, nx, ny, control, method, max_iter, budget, start
-    real(c_double), intent(in) :: h(nx, ny), tol, fn_in
+    integer(c_int), intent(in) :: handle, nx, ny, control, method, max_iter, budget, start, nsub
+    integer(c_int), intent(in) :: lab(ny)
+    real(c_double), intent(in) :: h(nx, ny), tol, fn_in, fac(nsub, nsub)
     real(c_double), intent(inout) :: approach, p(nx, ny), u(nx, ny), t(nx, ny), rstate(2), resid
     integer(c_int), intent(inout) :: istate(5)
     real(c_double), intent(out) :: fn_out
@@ -246,7 +254,8 @@ subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, 
 
     fn_out = fn_in
     done = 1
-    if ((control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) .or. (method /= 1 .and. method /= 3)) then
+    if ((control /= CONTROL_FORCE .and. control /= CONTROL_APPROACH) .or. (method /= 1 .and. method /= 3) &
+        .or. .not. subpatches_valid(nsub, lab, fac)) then
         info = STAT_BAD_ARGUMENT
         return
     end if
@@ -260,13 +269,14 @@ subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, 
     fin = .false.
     stat = STAT_OK
     if (start == 1) call normal_cg_begin(w%plan, 1, h, w%dx * w%dy, control, fn_out, approach, p, &
-                                         u, t, rstate, ist, resid, stat, fin, w%c(:, :, 1))
+                                         u, t, rstate, ist, resid, stat, fin, w%c(:, :, 1), lab, fac)
     if (.not. fin) call normal_cg_steps(w%plan, 1, w%c(:, :, 1), h, w%dx * w%dy, control, fn_out, &
                                         approach, tol, max_iter, max(budget, 1), p, u, t, rstate, ist, &
-                                        resid, stat, fin)
+                                        resid, stat, fin, lab, fac)
     w%plan%has_prec = .true.
     istate = ist
     done = merge(1, 0, fin)
     info = stat
     if (.not. fin) info = STAT_OK
 end subroutine normal_cg_slice_c
+

@@ -17,6 +17,16 @@
 !>              show progress and stop between slices.
 !> Both stop on the relative complementarity residual (normal_residual) and
 !> accept a warm start in p.
+!>
+!> Sub-patches (optional lab, fac of the resumable solvers): a patch holding several
+!> contact areas side by side may weaken the elastic interaction between them, as CONTACT
+!> does (its planform IPLAN = 4, reduced interaction between sub-patches): grid column j
+!> belongs to sub-patch lab(j), and the displacement that pressures in sub-patch b cause
+!> in sub-patch a is scaled by fac(a, b), fac(a, a) = 1,
+!>     u_I = sum_J fac(lab(I), lab(J)) A_IJ p_J.
+!> For a symmetric fac with entries in [0, 1] this operator is f A + (1 - f) diag(A_aa)
+!> for two sub-patches, symmetric positive definite: CG applies unchanged. Each product
+!> then costs one FFT product per sub-patch; the preconditioner stays that of A.
 !> Implements Kaiser eqs 17-23 (eq. 18 with piecewise-constant elements, not bilinear ones)
 !> and Polonsky & Keer's projected CG (docs/equations.md).
 module contact_normal
@@ -28,7 +38,7 @@ module contact_normal
     private
     public :: CONTROL_FORCE, CONTROL_APPROACH
     public :: normal_cg, normal_gs, normal_gs_start, normal_gs_resume, normal_residual
-    public :: normal_cg_begin, normal_cg_steps, CG_RSTATE, CG_ISTATE
+    public :: normal_cg_begin, normal_cg_steps, subpatches_valid, CG_RSTATE, CG_ISTATE
 
     integer, parameter :: CONTROL_FORCE = 1, CONTROL_APPROACH = 2
     !> Exact product every this many CG steps, against drift of the recurrence.
@@ -103,11 +113,13 @@ contains
     !> finished already (STAT_NO_CONTACT). c (optional): the coefficients of kernel kz
     !> (influence_field layout), for a product by columns on small grids (apply_a).
     subroutine normal_cg_begin(plan, kz, h, area_el, control, fn, approach, p, u, t, rs, is, &
-                               resid, info, done, c)
+                               resid, info, done, c, lab, fac)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, control
         real(dp), intent(in) :: h(:, :), area_el
         real(dp), intent(in), optional :: c(0:, 0:)
+        integer, intent(in), optional :: lab(:)       ! sub-patch of each grid column
+        real(dp), intent(in), optional :: fac(:, :)   ! interaction factors between sub-patches
         real(dp), intent(inout) :: fn, approach, p(:, :)
         real(dp), intent(out) :: u(:, :), t(:, :), rs(CG_RSTATE), resid
         integer, intent(out) :: is(CG_ISTATE), info
@@ -126,7 +138,7 @@ contains
         is = [0, 0, 0, 0, 1]
         done = no_contact(control, h, approach, p, fn, resid, info)
         if (done) return
-        call initial_pressure(plan, kz, h, force, approach, p, u, nprod, c)
+        call initial_pressure(plan, kz, h, force, approach, p, u, nprod, c, lab, fac)
         if (force) then
             scale = fn / (area_el * sum(p))
             p = scale * p
@@ -140,7 +152,7 @@ contains
     !> call left; the numbers are those of one normal_cg call. done: finished, with
     !> fn or approach, resid and info final (info STAT_OK while not done).
     subroutine normal_cg_steps(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
-                               budget, p, u, t, rs, is, resid, info, done)
+                               budget, p, u, t, rs, is, resid, info, done, lab, fac)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, control, max_iter, budget
         real(dp), intent(in) :: c(0:, 0:)     ! coefficients of kernel kz (influence_field layout)
@@ -150,6 +162,8 @@ contains
         integer, intent(inout) :: is(CG_ISTATE)
         integer, intent(out) :: info
         logical, intent(out) :: done
+        integer, intent(in), optional :: lab(:)       ! sub-patch of each grid column
+        real(dp), intent(in), optional :: fac(:, :)   ! interaction factors between sub-patches
         real(dp), allocatable :: g(:, :), z(:, :)
         real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg, gk, zk, tk, rk
         real(dp) :: sr, srt, st, sgt, psum, pk, pn, dk, cd(MAX_COLUMNS)
@@ -224,7 +238,7 @@ contains
                     exit
                 end if
                 ! confirm on an exact product before stopping
-                call apply_a(plan, kz, c, p, u, nc)
+                call apply_op(plan, kz, p, u, nc, c, lab, fac)
                 nprod = nprod + 1
                 exact = .true.
                 it = it + 1
@@ -274,7 +288,10 @@ contains
                     plan%rbuf(i, j) = tk
                 end do
             end do
-            if (columns_are_cheaper(nc, nx, ny)) then
+            if (coupled(lab, fac)) then
+                call apply_op(plan, kz, t, z, nc, c, lab, fac)
+                plan%rbuf(1:nx, 1:ny) = z
+            else if (columns_are_cheaper(nc, nx, ny)) then
                 call conv_apply_dense(plan, kz, c, t, plan%rbuf(1:nx, 1:ny))
             else
                 call conv_apply_buffer(plan, kz)
@@ -350,7 +367,7 @@ contains
             ! sparse d, an exact product when d is large or to stop drift
             if (nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0) then
                 if (scale /= 1.0_dp) p = scale * p
-                call apply_a(plan, kz, c, p, u, nc + nd)
+                call apply_op(plan, kz, p, u, nc + nd, c, lab, fac)
                 nprod = nprod + 1
                 exact = .true.
             else
@@ -361,7 +378,7 @@ contains
                     end do
                 end do
                 do m = 1, nd
-                    call add_column(c, ci(m), cj(m), cd(m), u)
+                    call add_column(c, ci(m), cj(m), cd(m), u, lab, fac)
                 end do
                 if (scale /= 1.0_dp) then
                     p = scale * p
@@ -388,11 +405,13 @@ contains
     !> A cold start when p is all zero: p proportional to the interpenetration
     !> of the rigid surfaces, scaled to the best fit of A p = delta - h on it.
     !> On return u = A p (c, optional: kernel kz's coefficients, for apply_a).
-    subroutine initial_pressure(plan, kz, h, force, approach, p, u, nprod, c)
+    subroutine initial_pressure(plan, kz, h, force, approach, p, u, nprod, c, lab, fac)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz
         real(dp), intent(in) :: h(:, :), approach
         real(dp), intent(in), optional :: c(0:, 0:)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
         logical, intent(in) :: force
         real(dp), intent(inout) :: p(:, :)
         real(dp), intent(inout) :: u(:, :)
@@ -412,11 +431,7 @@ contains
             p = max(d - h, 0.0_dp)
             if (.not. any(p > 0.0_dp)) p = 1.0_dp
         end if
-        if (present(c)) then
-            call apply_a(plan, kz, c, p, u, count(p > 0.0_dp))
-        else
-            call conv_apply(plan, kz, p, u)
-        end if
+        call apply_op(plan, kz, p, u, count(p > 0.0_dp), c, lab, fac)
         nprod = nprod + 1
         if (.not. force) then
             s = sum(u * (approach - h), mask=p > 0.0_dp) / max(sum(u**2, mask=p > 0.0_dp), tiny(1.0_dp))
@@ -472,20 +487,95 @@ contains
         end if
     end subroutine apply_a
 
-    !> u = u + dkl * A(:, (k, l)), the column of element (k, l).
-    pure subroutine add_column(c, k, l, dkl, u)
+    !> Whether a sub-patch description is valid: nsub >= 1, every column's sub-patch in
+    !> 1..nsub, fac (nsub x nsub) symmetric with ones on the diagonal and entries in [0, 1].
+    pure logical function subpatches_valid(nsub, lab, fac) result(ok)
+        integer, intent(in) :: nsub, lab(:)
+        real(dp), intent(in) :: fac(:, :)
+        integer :: a
+        ok = nsub >= 1 .and. size(fac, 1) == nsub .and. size(fac, 2) == nsub
+        if (.not. ok) return
+        ok = all(lab >= 1 .and. lab <= nsub) .and. all(fac >= 0.0_dp .and. fac <= 1.0_dp) &
+             .and. all(fac == transpose(fac))
+        do a = 1, nsub
+            ok = ok .and. fac(a, a) == 1.0_dp
+        end do
+    end function subpatches_valid
+
+    !> Whether a sub-patch coupling is given and reduces any interaction (more than one
+    !> sub-patch).
+    pure logical function coupled(lab, fac)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
+        coupled = .false.
+        if (present(lab) .and. present(fac)) coupled = size(fac, 1) > 1
+    end function coupled
+
+    !> u = A q, or with a sub-patch coupling (lab, fac) u = sum_b fac(lab(:), b) A (q on
+    !> sub-patch b): one product per sub-patch that holds load. c (optional): kernel kz's
+    !> coefficients, for products by columns on small grids (apply_a); FFT without it.
+    subroutine apply_op(plan, kz, q, u, nq, c, lab, fac)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, nq
+        real(dp), intent(in) :: q(:, :)
+        real(dp), intent(out) :: u(:, :)
+        real(dp), intent(in), optional :: c(0:, 0:)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
+        real(dp), allocatable :: w(:, :), v(:, :)
+        integer :: b, j
+        if (.not. coupled(lab, fac)) then
+            if (present(c)) then
+                call apply_a(plan, kz, c, q, u, nq)
+            else
+                call conv_apply(plan, kz, q, u)
+            end if
+            return
+        end if
+        allocate (w, v, mold=q)
+        u = 0.0_dp
+        do b = 1, size(fac, 1)
+            do j = 1, size(q, 2)
+                if (lab(j) == b) then
+                    w(:, j) = q(:, j)
+                else
+                    w(:, j) = 0.0_dp
+                end if
+            end do
+            if (.not. any(w /= 0.0_dp)) cycle
+            if (present(c)) then
+                call apply_a(plan, kz, c, w, v, count(w /= 0.0_dp))
+            else
+                call conv_apply(plan, kz, w, v)
+            end if
+            do j = 1, size(q, 2)
+                u(:, j) = u(:, j) + fac(lab(j), b) * v(:, j)
+            end do
+        end do
+    end subroutine apply_op
+
+    !> u = u + dkl * A(:, (k, l)), the column of element (k, l); with a sub-patch coupling
+    !> (lab, fac) its entries in column j scaled by fac(lab(j), lab(l)).
+    pure subroutine add_column(c, k, l, dkl, u, lab, fac)
         real(dp), intent(in) :: c(0:, 0:), dkl
         integer, intent(in) :: k, l
         real(dp), intent(inout) :: u(:, :)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
         integer :: nx, ny, mx, my, j, jj
+        real(dp) :: s
+        logical :: cpl
         nx = size(u, 1)
         ny = size(u, 2)
         mx = 2 * nx
         my = 2 * ny
+        cpl = coupled(lab, fac)
+        s = dkl
         do j = 1, ny
             jj = modulo(j - l, my)
-            u(k:nx, j) = u(k:nx, j) + dkl * c(0:nx - k, jj)
-            if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + dkl * c(mx + 1 - k:mx - 1, jj)
+            if (cpl) s = dkl * fac(lab(j), lab(l))
+            u(k:nx, j) = u(k:nx, j) + s * c(0:nx - k, jj)
+            if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + s * c(mx + 1 - k:mx - 1, jj)
         end do
     end subroutine add_column
 
@@ -517,7 +607,7 @@ contains
     !> springs (prescribed force). done (info = STAT_NO_CONTACT): the prescribed approach
     !> does not close the smallest gap. The solve goes on with normal_gs_resume.
     subroutine normal_gs_start(plan, kz, c, h, area_el, control, fn, approach, p, u, iters, &
-                               pos, resid, info, done)
+                               pos, resid, info, done, lab, fac)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, control
         real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el
@@ -526,13 +616,15 @@ contains
         integer, intent(out) :: iters, pos, info
         real(dp), intent(out) :: resid
         logical, intent(out) :: done
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
 
         info = STAT_OK
         iters = 0
         pos = 0
         done = .false.
         p = max(p, 0.0_dp)
-        call conv_apply(plan, kz, p, u)
+        call apply_op(plan, kz, p, u, count(p > 0.0_dp), lab=lab, fac=fac)
         if (control == CONTROL_APPROACH) then
             done = no_contact(control, h, approach, p, fn, resid, info)
             if (.not. done) resid = normal_residual(u + h - approach, p, u)
@@ -554,13 +646,15 @@ contains
     !> the next sweep), iters the sweeps begun. Any sequence of calls gives the same
     !> numbers as one call with an unbounded budget. On done, info as for normal_cg.
     subroutine normal_gs_resume(c, h, area_el, control, fn, approach, omega, tol, max_iter, &
-                                budget, p, u, iters, pos, resid, info, done)
+                                budget, p, u, iters, pos, resid, info, done, lab, fac)
         real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el, omega, tol, budget
         integer, intent(in) :: control, max_iter
         real(dp), intent(inout) :: fn, approach, p(:, :), u(:, :), resid
         integer, intent(inout) :: iters, pos
         integer, intent(out) :: info
         logical, intent(out) :: done
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
         integer :: nx, ny, k, l, m
         real(dp) :: c0, e, pnew, d, work, scale
 
@@ -601,7 +695,7 @@ contains
                 d = pnew - p(k, l)
                 if (d == 0.0_dp) cycle
                 p(k, l) = pnew
-                call add_column(c, k, l, d, u)
+                call add_column(c, k, l, d, u, lab, fac)
                 work = work + real(nx, dp) * real(ny, dp)
             end do
             pos = 0

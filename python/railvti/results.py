@@ -113,6 +113,28 @@ def _attr(value: Any) -> Any:
     return value
 
 
+_VLEN_STR = h5py.h5t.py_create(h5py.string_dtype(), logical=True)
+_SCALAR_TYPES = {str: (_VLEN_STR, h5py.string_dtype()), float: (h5py.h5t.py_create(np.dtype("<f8")), "<f8"),
+                 int: (h5py.h5t.py_create(np.dtype("<i8")), "<i8")}
+
+
+def _set_attr(obj: h5py.Group | h5py.Dataset, name: str, value: Any) -> None:
+    """obj.attrs[name] = value for a new attribute, through h5py's low-level calls for the
+    common scalars (str, float, int: the same HDF5 types as the high-level call, ~1.5 x
+    faster: a case writes some 200 attributes); anything else, or an existing name, through
+    ``attrs``."""
+    spec = _SCALAR_TYPES.get(type(value))
+    if spec is not None:
+        try:
+            aid = h5py.h5a.create(obj.id, name.encode("utf-8"), spec[0], h5py.h5s.create(h5py.h5s.SCALAR))
+        except (KeyError, ValueError, RuntimeError):
+            pass
+        else:
+            aid.write(np.array(value, dtype=spec[1]))
+            return
+    obj.attrs[name] = value
+
+
 def _data(value: Any) -> Any:
     """A value h5py can store as a dataset (text arrays as variable-length UTF-8)."""
     arr = np.asarray(value)
@@ -172,14 +194,14 @@ def _guess_unit(key: str, value: Any) -> str:
 def _write_inputs(g: h5py.Group, case: Case) -> None:
     gi = g.create_group("inputs")
     for key, value in case.params.items():
-        gi.attrs[key] = _attr(value)
+        _set_attr(gi, key, _attr(value))
         unit, meaning = _input_unit(case, key)
         d = gi.create_dataset(key, data=_data(_attr(value)))
-        d.attrs["units"] = unit
+        _set_attr(d, "units", unit)
         if meaning:
-            d.attrs["meaning"] = meaning
+            _set_attr(d, "meaning", meaning)
         if value is None:
-            d.attrs["none"] = 1
+            _set_attr(d, "none", 1)
 
 
 #: Datasets that are an axis of the others when their length matches (in this order).
@@ -254,9 +276,9 @@ def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | N
         extra.update(getattr(output, "attrs", {}).get(name, {}))
     if isinstance(arr, Streamed):
         d = _copy_streamed(g, name, arr, compress, rows)
-        d.attrs["units"] = units or "1"
+        _set_attr(d, "units", units or "1")
         for k, v in extra.items():
-            d.attrs[k] = _attr(v)
+            _set_attr(d, k, _attr(v))
         return
     arr = np.asarray(_data(arr))
     units = _unit_text(units, arr)
@@ -268,9 +290,9 @@ def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | N
         d = g.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
     else:
         d = g.create_dataset(name, data=arr)
-    d.attrs["units"] = units
+    _set_attr(d, "units", units)
     for k, v in extra.items():
-        d.attrs[k] = _attr(v)
+        _set_attr(d, k, _attr(v))
 
 
 def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
@@ -306,11 +328,11 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
     if name in f:
         del f[name]
     g = f.create_group(name)
-    g.attrs["type"] = c.case_type.name
-    g.attrs["name"] = c.name
-    g.attrs["status"] = rec.status
-    g.attrs["params_digest"] = params_digest(c)
-    g.attrs["wall_time"] = float(rec.wall_time)
+    _set_attr(g, "type", c.case_type.name)
+    _set_attr(g, "name", c.name)
+    _set_attr(g, "status", str(rec.status))
+    _set_attr(g, "params_digest", params_digest(c))
+    _set_attr(g, "wall_time", float(rec.wall_time))
     if getattr(c, "sweep", ""):                  # a sweep's point (railvti.sweeps.SweepPoint)
         g.attrs["sweep"] = c.sweep
         g.attrs["sweep_point"] = c.point_json
@@ -319,7 +341,7 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
     _write_inputs(g, c)
     if rec.output is None:
         return
-    g.attrs["summary"] = rec.output.summary
+    _set_attr(g, "summary", str(rec.output.summary))
     # an interrupted case's streamed history is copied uncompressed and, beyond
     # INTERRUPTED_COPY_BYTES, only its first rows: the stop waits for the copy
     interrupted = str(rec.status).startswith("interrupted")

@@ -5,7 +5,7 @@ from __future__ import annotations
 from .grid import Grid
 from .hertz import HertzResult, hertz, hertz_gap
 from .influence import convolve, influence_field
-from .normal import NormalResult, solve_normal
+from .normal import NormalResult, SubPatches, solve_normal
 from .rolling import RollingResult, solve_rolling, solve_tangential
 from .creep_table import CreepForceTable, creep_force_table
 from .kalker import kalker_coefficients
@@ -13,7 +13,7 @@ from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
 
 __all__ = ["Grid", "HertzResult", "hertz", "hertz_gap", "convolve", "influence_field",
-           "NormalResult", "solve_normal",
+           "NormalResult", "SubPatches", "solve_normal",
            "RollingResult", "solve_rolling", "solve_tangential", "CreepForceTable", "creep_force_table",
            "kalker_coefficients", "FastsimResult", "fastsim", "fastsim_grid",
            "WheelsetPatch", "WheelsetSolution", "solve_wheelset"]

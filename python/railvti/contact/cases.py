@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from .._checks import MAX_FRICTION, MAX_SPEED
+from .._roots import brent_root
 from ..casetypes import REQUIRED, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..material import Material
@@ -187,8 +188,6 @@ register(CaseType(name="normal", defaults={**_COMMON, "fn": None, "approach": No
 
 def _gap_from_semiaxes(a: float, b: float, fn: float, material: Material) -> tuple[float, float]:
     """Gap coefficients (A, B) whose Hertz contact under fn has the semi-axes a (x), b (y)."""
-    from scipy.optimize import brentq
-
     a = float(a)
     b = float(b)
     if not (a > 0 and b > 0):
@@ -200,7 +199,7 @@ def _gap_from_semiaxes(a: float, b: float, fn: float, material: Material) -> tup
         def f(x: float) -> float:
             h = hertz(A, A * np.exp(x), fn, material)
             return float(np.log(h.a / h.b) - np.log(a / b))
-        lb = brentq(f, -14.0, 14.0, xtol=1e-12)
+        lb = brent_root(f, -14.0, 14.0, xtol=1e-12)
     h = hertz(A, A * np.exp(lb), fn, material)
     scale = (h.a / a) ** 3          # a ~ A^(-1/3) at a fixed ratio B/A
     return A * scale, A * np.exp(lb) * scale

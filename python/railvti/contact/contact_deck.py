@@ -281,7 +281,10 @@ def _read_settings(r: _Reader, d: dict[str, int], line: int, state: dict) -> Non
         v, ln = r.group([("DX", "real"), ("DS", "real"), ("DQREL", "real"), ("A_SEP", "angle"), ("D_SEP", "real"),
                          ("D_COMB", "real")], [("D_TURN", "real"), ("G_MISS", "real")])
         _require(v["DX"] > 0 and v["DS"] > 0, r, ln, f"DX and DS must be > 0, got {v['DX']}, {v['DS']}")
-        state["grid"] = {"dx": v["DX"] * 1e-3, "dy": v["DS"] * 1e-3}
+        _require(0 < v["D_COMB"] < v["D_SEP"], r, ln,
+                 f"D_COMB and D_SEP must satisfy 0 < D_COMB < D_SEP, got {v['D_COMB']}, {v['D_SEP']}")
+        state["grid"] = {"dx": v["DX"] * 1e-3, "dy": v["DS"] * 1e-3, "d_sep": v["D_SEP"] * 1e-3,
+                         "d_comb": v["D_COMB"] * 1e-3}
     else:
         _keep(state, "grid", r, line, "D (DISCNS) = 1")
 

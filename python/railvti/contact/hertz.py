@@ -5,10 +5,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
 from .. import _checks
+from .._roots import brent_root
 from ..material import Material
 from .grid import Grid
 
@@ -90,7 +90,7 @@ def hertz(A: float, B: float, fn: float, material: Material) -> HertzResult:
     if ratio <= r_ub:
         k = 1.0 - (1.0 - k_ub) * (ratio - 1.0) / (r_ub - 1.0)
     else:
-        k = brentq(_ratio_residual, 1e-7, k_ub, args=(ratio,), xtol=1e-17, rtol=1e-15, maxiter=500)
+        k = brent_root(_ratio_residual, 1e-7, k_ub, args=(ratio,), xtol=1e-17, rtol=1e-15, maxiter=500)
     e2 = 1.0 - k * k
     kk, ee = float(ellipk(e2)), float(ellipe(e2))
     km = (kk - ee) / e2 if e2 > 1e-12 else math.pi / 4.0

@@ -34,6 +34,58 @@ _NESTED_TOL = 1e-4
 
 
 @dataclass(frozen=True)
+class SubPatches:
+    """Sub-patches of a patch that holds several contact areas side by side, with a reduced
+    elastic interaction between neighbours (CONTACT's planform IPLAN = 4).
+
+    The grid's columns (lateral positions y) are cut at ``split``; sub-patch a holds the
+    columns with split[a-1] < y <= split[a]. The displacement that pressures in sub-patch b
+    cause in sub-patch a is scaled by F[a, b]: 1 for a = b, ``factor[a]`` between the
+    neighbours a and a + 1, 0 between sub-patches that are not neighbours (CONTACT's
+    tridiagonal factor matrix); docs/contact_decks.md.
+
+    Attributes
+    ----------
+    split : tuple of float
+        Lateral positions of the cuts in the grid's frame, m, ascending.
+    factor : tuple of float
+        Interaction factor of each pair of neighbours, in [0, 1]; one per cut.
+    """
+
+    split: tuple[float, ...]
+    factor: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        split = tuple(float(v) for v in self.split)
+        factor = tuple(float(v) for v in self.factor)
+        if len(split) != len(factor):
+            raise InputError(f"SubPatches: {len(split)} cuts need as many factors, got {len(factor)}")
+        if not all(np.isfinite(split)) or any(b <= a for a, b in zip(split, split[1:])):
+            raise InputError(f"SubPatches: the cuts must be finite and ascending, got {split}")
+        if not all(0.0 <= f <= 1.0 for f in factor):
+            raise InputError(f"SubPatches: the factors must lie in [0, 1], got {factor}")
+        object.__setattr__(self, "split", split)
+        object.__setattr__(self, "factor", factor)
+
+    def operator(self, grid: Grid) -> tuple[int, np.ndarray, np.ndarray]:
+        """(nsub, lab, fac) for the kernels: the sub-patch (1-based) of each grid column and
+        the factor matrix."""
+        y = grid.y0 + grid.dy * np.arange(grid.ny)
+        lab = 1 + np.searchsorted(np.array(self.split), y, side="left").astype(np.int32)
+        n = len(self.split) + 1
+        fac = np.eye(n, order="F")
+        for a, f in enumerate(self.factor):
+            fac[a, a + 1] = fac[a + 1, a] = f
+        return n, lab, fac
+
+
+def _plain(grid: Grid, sub: SubPatches | None) -> tuple[int, np.ndarray, np.ndarray]:
+    if sub is None:
+        return 1, np.ones(grid.ny, dtype=np.int32), np.ones((1, 1), order="F")
+    return sub.operator(grid)
+
+
+@dataclass(frozen=True)
 class NormalResult:
     """Solution of a normal contact problem.
 
@@ -134,7 +186,8 @@ def _prolong(pc: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 
 def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, fn_in: float,
-                  app_in: float, method: int, max_iter: int) -> tuple[np.ndarray | None, int]:
+                  app_in: float, method: int, max_iter: int, sub: SubPatches | None = None
+                  ) -> tuple[np.ndarray | None, int]:
     """A start pressure for a large grid from the solution on the grid of twice the
     element size, itself started the same way (nested iteration, as in full multigrid).
 
@@ -143,11 +196,12 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
     if min(grid.shape) < _NESTED_MIN:
         return None, 0
     hc, coarse = _coarsen(h, grid)
-    pc, nprod_c = _nested_start(hc, coarse, material, control, fn_in, app_in, method, max_iter)
+    pc, nprod_c = _nested_start(hc, coarse, material, control, fn_in, app_in, method, max_iter, sub)
     if pc is None:
         pc = np.zeros(coarse.shape, order="F")
     _, _, _, nprod, _, info = _cg_in_slices(
-        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, fn_in, app_in, pc)
+        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, fn_in, app_in, pc,
+        _plain(coarse, sub))
     nprod_c += int(nprod)
     if info not in (Status.OK, Status.NOT_CONVERGED) or not np.isfinite(pc).all() or not (pc > 0.0).any():
         return None, nprod_c
@@ -155,10 +209,12 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
 
 
 def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: float, max_iter: int,
-                  fn_in: float, app_in: float, p: np.ndarray) -> tuple[float, float, int, int, float, int]:
+                  fn_in: float, app_in: float, p: np.ndarray, sub: tuple[int, np.ndarray, np.ndarray]
+                  ) -> tuple[float, float, int, int, float, int]:
     """Projected CG (method 1, or 3 without preconditioner) in slices of about
     :data:`CG_SLICE_SECONDS` each (``normal_cg_slice_c``; the numbers are those of one
-    ``normal_solve_c`` call): between slices Python handles Ctrl-C / SIGTERM. Returns what
+    ``normal_solve_c`` call): between slices Python handles Ctrl-C / SIGTERM. ``sub``: the
+    sub-patch operator (nsub, lab, fac) of :meth:`SubPatches.operator`. Returns what
     ``normal_solve_c`` returns; p is updated in place."""
     u = np.zeros(h.shape, order="F")
     t = np.zeros(h.shape, order="F")
@@ -171,8 +227,8 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
     while True:
         t0 = time.perf_counter()
         fn_out, done, info = core.normal_cg_slice_c(handle, h, control, method, tol, max_iter, fn_in,
-                                                     budget, start, approach, p, u, t, rstate, istate,
-                                                     resid)
+                                                     budget, start, sub[1], sub[2], approach, p, u, t,
+                                                     rstate, istate, resid)
         start = 0
         if done:
             break
@@ -182,8 +238,8 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
 
 
 def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter: int,
-                  omega: float, fn_in: float, app_in: float, p: np.ndarray
-                  ) -> tuple[float, float, int, int, float, int]:
+                  omega: float, fn_in: float, app_in: float, p: np.ndarray,
+                  sub: tuple[int, np.ndarray, np.ndarray]) -> tuple[float, float, int, int, float, int]:
     """Projected Gauss-Seidel in slices of about :data:`GS_SLICE_SECONDS` of work each
     (``normal_gs_slice_c``; the numbers are those of one call): between slices Python
     handles Ctrl-C / SIGTERM and a progress bar (sweeps, residual) shows after 2 s.
@@ -201,7 +257,8 @@ def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter
         while True:
             t0 = time.perf_counter()
             fn_out, done, info = core.normal_gs_slice_c(handle, h, control, tol, max_iter, omega, fn_in,
-                                                         budget, start, approach, p, u, iters, pos, resid)
+                                                         budget, start, sub[1], sub[2], approach, p, u,
+                                                         iters, pos, resid)
             start = 0
             if done:
                 break
@@ -225,7 +282,7 @@ def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter
 def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | None = None,
                  approach: float | None = None, method: str = "cg", tol: float = 1e-8,
                  max_iter: int | None = None, p0: np.ndarray | None = None,
-                 omega: float = 1.0, nested: bool = True) -> NormalResult:
+                 omega: float = 1.0, nested: bool = True, subpatches: SubPatches | None = None) -> NormalResult:
     """Solve the normal contact problem for a given undeformed gap.
 
     Finds the pressure p >= 0 with deformed gap ``e = gap + A p - approach``
@@ -262,6 +319,10 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         start from the solution on the grid of twice the element size, found
         the same way (nested iteration). It saves about half the FFT products
         on this grid; the answer is the same to the tolerance.
+    subpatches : SubPatches, optional
+        A patch of several contact areas whose elastic interaction is reduced
+        (CONTACT's IPLAN = 4): A becomes sum_ab F[a, b] A_ab over the sub-patches'
+        blocks. Each product then costs one FFT product per loaded sub-patch.
 
     Returns
     -------
@@ -301,6 +362,8 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         max_iter = _DEFAULT_MAX_ITER[method]
     max_iter = _checks.positive_int("max_iter", max_iter)
     omega = _checks.positive("omega", omega)
+    if subpatches is not None and not isinstance(subpatches, SubPatches):
+        raise InputError("subpatches must be a railvti.contact.SubPatches or None")
     if omega >= 2.0:
         raise InputError(f"omega must lie in (0, 2), got {omega}")
     nprod_coarse = 0
@@ -308,7 +371,7 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         p = None
         if nested and method in ("cg", "pk"):
             p, nprod_coarse = _nested_start(h, grid, material, control, fn_in, app_in, _METHODS[method],
-                                            max_iter)
+                                            max_iter, subpatches)
         if p is None:
             p = np.zeros(grid.shape, order="F")
     else:
@@ -316,12 +379,13 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         if (p < 0.0).any():
             raise InputError("p0 must be >= 0 everywhere")
 
+    sub = _plain(grid, subpatches)
     if method == "gs":
         fn_out, app_out, iters, nprod, resid, info = _gs_in_slices(
-            workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p)
+            workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p, sub)
     else:
         fn_out, app_out, iters, nprod, resid, info = _cg_in_slices(
-            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, fn_in, app_in, p)
+            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, fn_in, app_in, p, sub)
     if info == Status.NO_CONTACT:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NOT_FINITE):

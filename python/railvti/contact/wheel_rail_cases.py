@@ -106,7 +106,9 @@ def _solve(params: dict[str, Any]) -> WheelsetSolution:
                           _checks.positive("dx", params["dx"]),
                           dy=_checks.positive("dy", params["dy"]), roll=roll,
                           side=None if side == "both" else side, track=track, wheelset=ws,
-                          reference=str(params["reference"]).strip().lower(), **kin)
+                          reference=str(params["reference"]).strip().lower(),
+                          d_sep=_checks.positive("d_sep", params["d_sep"]),
+                          d_comb=_checks.positive("d_comb", params["d_comb"]), **kin)
 
 
 def contact_summary(sol: WheelsetSolution) -> list[str]:
@@ -155,7 +157,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
     (m/s, y left, z up), roll_rate, yaw_rate (rad/s); mu (mu = 0 or speed = 0: normal
     contact only), shear_modulus (Pa), poisson, dx, dy (m); reference ('contact': each
     patch's creepages at CONTACT's contact reference point, the default; 'minimum': at the
-    point of smallest gap); store_fields (1: keep each patch's pressure and tractions);
+    point of smallest gap); d_sep, d_comb (m; CONTACT's D_SEP, D_COMB: with 'contact', a patch's
+    areas further apart than d_comb interact with CONTACT's reduced factor); store_fields (1: keep each patch's pressure and tractions);
     origin (where the case comes from, for messages).
     The suffixed aliases (``gauge_mm``..., ``yaw_mrad``, ``roll_mrad``) are converted on reading.
     """
@@ -209,7 +212,7 @@ DEFAULTS: dict[str, Any] = {
     "radius": 0.46, "y": 0.0, "yaw": 0.0, "roll": None, "fz": 1.0e4,
     "speed": 2.0, "omega": 0.0, "lateral_velocity": 0.0, "vertical_velocity": 0.0, "roll_rate": 0.0,
     "yaw_rate": 0.0, "mu": 0.3, "shear_modulus": 82.0e9, "poisson": 0.28, "dx": 0.0002, "dy": 0.0002,
-    "store_fields": 0, "origin": "", "reference": "contact",
+    "store_fields": 0, "origin": "", "reference": "contact", "d_sep": 0.008, "d_comb": 0.004,
 }
 
 _WHY_SHIFT = "beyond 50 mm the flange has left the rail"
@@ -239,6 +242,10 @@ KEYS: dict[str, Key] = {
     "reference": Key("", "each patch's reference point, where the creepages are taken: 'contact' (CONTACT's "
                      "weighted interpenetration centre at the loaded pose) or 'minimum' (the rigid pose's point "
                      "of smallest gap)", "str", choices=REFERENCES),
+    "d_sep": Key("m", "CONTACT's D_SEP: a patch's areas closer than this are one patch (reference 'contact': "
+                 "sets their interaction factor)", lo=0.0, hi=0.1, lo_open=True),
+    "d_comb": Key("m", "CONTACT's D_COMB: a patch's areas further apart than this interact with the factor "
+                  "((d_sep - d) / (d_sep - d_comb))^0.8 (reference 'contact')", lo=0.0, hi=0.1, lo_open=True),
     "origin": Key("", "where the case comes from, for messages", "str"),
 }
 
@@ -249,6 +256,8 @@ def check(params: dict[str, Any]) -> list[str]:
     side = str(params["side"]).strip().lower()
     if side != "both" and params["roll"] is None:
         out.append(f"side = '{side}' needs roll (rad; or roll_mrad): a load-controlled roll needs both wheels")
+    if not params["d_comb"] < params["d_sep"]:
+        out.append(f"d_comb ({params['d_comb']} m) must be smaller than d_sep ({params['d_sep']} m)")
     if side != "both" and params["mu"] > 0 and params["speed"] > 0 and params["omega"] == 0:
         out.append(f"side = '{side}' with rolling (mu, speed > 0) needs omega > 0 (rad/s): free rolling "
                    "needs both wheels")
@@ -257,7 +266,8 @@ def check(params: dict[str, Any]) -> list[str]:
 
 #: The suffixed aliases of the SI keys: the same quantities in CONTACT's mm and mrad.
 MM_ALIASES = {
-    **mm_aliases("gauge", "gauge_depth", "back_to_back", "contact_offset", "radius", "y", "dx", "dy"),
+    **mm_aliases("gauge", "gauge_depth", "back_to_back", "contact_offset", "radius", "y", "dx", "dy", "d_sep",
+                 "d_comb"),
     "yaw_mrad": Alias("yaw", 1e-3, deprecated=False, unit="mrad"),
     "roll_mrad": Alias("roll", 1e-3, deprecated=False, unit="mrad"),
 }

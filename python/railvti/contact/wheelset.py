@@ -44,7 +44,6 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from .. import _checks
 from ..errors import ConvergenceError, InputError
@@ -158,7 +157,7 @@ class WheelsetPatch:
     def n_regions(self) -> int:
         """Separate contact areas in the patch (edge-connected elements in contact): a patch
         grows around one candidate point but may hold two areas joined by a low ridge."""
-        return int(ndimage.label(self.pressure > 0.0)[1])
+        return count_regions(self.pressure > 0.0)
 
 
 @dataclass(frozen=True)
@@ -225,6 +224,36 @@ class WheelsetSolution:
         if side not in _SIDES:
             raise InputError(f"side must be 'left' or 'right', got {side!r}")
         return self.left if side == "left" else self.right
+
+
+def count_regions(mask: np.ndarray) -> int:
+    """Number of edge-connected regions of True in a 2-D mask (4-neighbourhood): the runs of
+    True along axis 0 in each column, joined (union-find) with the runs they overlap in the
+    next column."""
+    parent: list[int] = []
+
+    def root(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    prev: list[tuple[int, int, int]] = []
+    m = np.asarray(mask, dtype=np.int8)
+    pad = np.zeros((1, m.shape[1]), dtype=np.int8)
+    edges = np.diff(np.concatenate([pad, m, pad]), axis=0)
+    for j in range(m.shape[1]):
+        starts, ends = np.flatnonzero(edges[:, j] == 1), np.flatnonzero(edges[:, j] == -1)
+        cur = []
+        for a, b in zip(starts.tolist(), ends.tolist()):
+            k = len(parent)
+            parent.append(k)
+            for pa, pb, pk in prev:
+                if pa < b and a < pb:               # the runs [a, b) and [pa, pb) touch
+                    parent[root(pk)] = root(k)
+            cur.append((a, b, k))
+        prev = cur
+    return sum(1 for k in range(len(parent)) if root(k) == k)
 
 
 class _Balance:
@@ -433,7 +462,8 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
                    lateral_velocity: float = 0.0, vertical_velocity: float = 0.0, roll_rate: float = 0.0,
                    yaw_rate: float = 0.0, side: str | None = None, method: str = "cg",
                    rolling_method: str | None = None, track=None, wheelset=None, max_separation: float = 5e-3,
-                   load_tol: float = 1e-5, max_iter: int = 30, reference: str = "minimum") -> WheelsetSolution:
+                   load_tol: float = 1e-5, max_iter: int = 30, reference: str = "minimum",
+                   d_sep: float = 8e-3, d_comb: float = 4e-3) -> WheelsetSolution:
     """Normal and steady-rolling contact of a loaded rigid wheelset on rigid rails.
 
     Parameters
@@ -495,6 +525,12 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         as CONTACT evaluates them). The loaded pose depends on the forces, so the points are
         found by a fixed-point iteration (a patch moved by more than 1 % of an element or
         1e-4 rad is rebuilt and the balance repeated).
+    d_sep, d_comb : float
+        ``reference='contact'`` only: CONTACT's D_SEP and D_COMB, m (0 < d_comb < d_sep).
+        A patch whose interpenetration at the loaded pose holds areas further apart than
+        d_comb has their elastic interaction in the normal problem reduced by CONTACT's factor
+        ((d_sep - d) / (d_sep - d_comb))^0.8 (:class:`railvti.contact.SubPatches`;
+        docs/contact_decks.md). railvti's own rule decides what is one patch.
 
     Returns
     -------
@@ -518,6 +554,9 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     max_iter = _checks.positive_int("max_iter", max_iter)
     if reference not in REFERENCES:
         raise InputError(f"reference must be one of {REFERENCES}, got {reference!r}")
+    d_sep, d_comb = _checks.positive("d_sep", d_sep), _checks.positive("d_comb", d_comb)
+    if d_comb >= d_sep:
+        raise InputError(f"d_comb must be smaller than d_sep, got d_comb = {d_comb} m, d_sep = {d_sep} m")
     dx, dy, loads, motion = a["dx"], a["dy"], a["loads"], a["motion"]
     if a["roll"] is None:
         geo = contact_points(wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset,
@@ -532,7 +571,7 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     iters = _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
                           rolling=motion is not None)
     at_contact = reference == "contact"
-    tol_ref = (_REFERENCE_TOL * min(dx, dy), _REFERENCE_ANGLE_TOL)
+    tol_ref = (_REFERENCE_TOL * min(dx, dy), _REFERENCE_ANGLE_TOL, d_sep, d_comb)
     if at_contact and _relocate(bal, *tol_ref):
         iters += _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
                                rolling=motion is not None)
@@ -556,26 +595,26 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     return _solution(bal, geo, loads, om, motion, torque, iters, outer)
 
 
-def _relocate(bal: _Balance, tol_position: float, tol_angle: float) -> bool:
+def _relocate(bal: _Balance, tol_position: float, tol_angle: float, d_sep: float, d_comb: float) -> bool:
     """Move every carrying patch to CONTACT's reference point at the current loaded pose; a
     patch whose point moved more than the tolerances (m, rad) is rebuilt (new grid and gap
-    field, solved afresh). Returns whether any patch was rebuilt."""
+    field, solved afresh, with its sub-patches). Returns whether any patch was rebuilt."""
     changed = False
     for i, row in enumerate(bal.patches):
         carrying = [k for k, pt in enumerate(row) if pt.carrying]
         if not carrying:
             continue
         loaded = bal.loaded_pose(i)
-        refs = contact_references([row[k].seed for k in carrying], loaded)
+        refs = contact_references([row[k].seed for k in carrying], loaded, d_sep, d_comb)
         for k, ref in zip(carrying, refs):
             pt = row[k]
             if ref is None:
                 continue
             pt.loaded = loaded
-            if pt.cp is not pt.seed and not moved(ref, pt.cp, tol_position, tol_angle):
+            if pt.cp is not pt.seed and not moved(ref.point, pt.cp, tol_position, tol_angle):
                 continue
-            new = PatchState(ref, i, bal.gradient(ref, i), seed=pt.seed, loaded=loaded)
-            new.A, new.reach = pt.A, pt.reach
+            new = PatchState(ref.point, i, bal.gradient(ref.point, i), seed=pt.seed, loaded=loaded)
+            new.A, new.reach, new.subpatches = pt.A, pt.reach, ref.subpatches
             row[k] = new
             changed = True
     return changed

@@ -16,7 +16,7 @@ from ..geometry import ContactPoint, WheelsetPose, gap_field
 from ..material import Material
 from ..profiles import Profile
 from .grid import Grid
-from .normal import solve_normal
+from .normal import SubPatches, solve_normal
 from .rolling import RollingResult, solve_tangential
 from .workspace import workspace
 from .wheelset_kinematics import RigidSlip, WheelsetMotion, rigid_slip
@@ -62,6 +62,8 @@ class PatchState:
         self.last: tuple[float, float] | None = None   # (approach, fn) of the last loaded solve
         self.slip: RigidSlip | None = None
         self.rolling: RollingResult | None = None
+        #: CONTACT's sub-patches (reduced interaction of its areas in the normal problem), or None
+        self.subpatches: SubPatches | None = None
 
     @property
     def carrying(self) -> bool:
@@ -174,7 +176,8 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
             pt.fn, pt.stiffness, pt.p, pt.last = 0.0, 0.0, None, None
             return
         try:
-            r = solve_normal(pt.gap, pt.grid, material, approach=approach, method=method, p0=pt.p)
+            r = solve_normal(pt.gap, pt.grid, material, approach=approach, method=method, p0=pt.p,
+                             subpatches=pt.subpatches)
         except NoContactError:
             pt.fn, pt.stiffness, pt.p, pt.last = 0.0, 0.0, None, None
             return

@@ -33,24 +33,49 @@ see :func:`railvti.contact.wheelset_kinematics.rigid_slip` with a loaded pose.
 Regions: the lateral runs with g < 0 are given to the candidate patch whose point lies in
 them (or the nearest one), so that a patch holding two areas joined by a low ridge (railvti's
 rule; CONTACT combines areas closer than D_SEP) has one reference over both.
+
+Sub-patches (CONTACT's ``combine_cpatches`` and IPLAN = 4): two neighbouring runs of one
+patch whose distance d = sqrt(dy^2 + dz^2) (from the end of one run to the start of the
+next, rail surface points in the track's y-z plane) exceeds D_COMB stay one patch but
+interact elastically with the factor
+
+    f = ((D_SEP - d) / (D_SEP - D_COMB))^0.8      (0 for d >= D_SEP)
+
+in the normal problem; the cut between them lies at the midpoint y_sep of the gap, at
+s = (y_sep - y_ref) / cos(delta_ref) on the patch's grid (its projection on the tangent plane).
 docs/contact_decks.md gives the equations and the comparison with CONTACT's output.
 Implements no equation of the paper (CONTACT's definitions, rigid geometry).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..geometry import ContactPoint, WheelsetPose
 from ..geometry.frames import SIDES, SIGN
+from .normal import SubPatches
 from .wheelset_pose import _silhouette_gap
 
 #: Lateral sampling of the locus for the weighted centre, m (CONTACT samples at DS).
 STEP = 1e-5
 #: Exponent of the interpenetration p in the weight w(y) ~ p^(5/2) (squared gap along x).
 WEIGHT_POWER = 2.5
+#: Exponent of CONTACT's sub-patch interaction factor ((D_SEP - d) / (D_SEP - D_COMB))^0.8.
+SUBPATCH_POWER = 0.8
 
 
-def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose) -> list[ContactPoint | None]:
+@dataclass(frozen=True)
+class Reference:
+    """A patch's contact reference point and, when it holds areas further apart than
+    D_COMB, its sub-patches (cuts in its grid's lateral coordinate, interaction factors)."""
+
+    point: ContactPoint
+    subpatches: SubPatches | None = None
+
+
+def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose, d_sep: float = 8e-3,
+                       d_comb: float = 4e-3) -> list[Reference | None]:
     """CONTACT's reference points of one wheel's patches at the wheel's loaded pose.
 
     Parameters
@@ -60,13 +85,16 @@ def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose) -> list[
     loaded : WheelsetPose
         The loaded pose of the (half) wheelset: the rigid pose lowered by the sink (and,
         with a load-controlled roll, rolled by the extra roll).
+    d_sep, d_comb : float
+        CONTACT's D_SEP and D_COMB, m (d_comb < d_sep): areas of a patch further apart than
+        d_comb are sub-patches with the interaction factor of the module doc.
 
     Returns
     -------
-    list of ContactPoint or None
+    list of Reference or None
         Per seed, its reference point (on the rail, frame at the weighted contact angle,
-        the seed's rigid pose, separation and flags); None for a seed that does not
-        interpenetrate at the loaded pose.
+        the seed's rigid pose, separation and flags) and sub-patches; None for a seed that
+        does not interpenetrate at the loaded pose.
     """
     if not seeds:
         return []
@@ -104,8 +132,25 @@ def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose) -> list[
         y_ref = float(w @ y_sel / w.sum())
         x_ref = float(w @ np.interp(y_sel, ys, xs) / w.sum())
         d_ref = float(w @ delta / w.sum())
-        out.append(_reference_point(seed, lay, sg, x_ref, y_ref, d_ref, float(np.interp(y_ref, ys, ws))))
+        point = _reference_point(seed, lay, sg, x_ref, y_ref, d_ref, float(np.interp(y_ref, ys, ws)))
+        mine = [(yy[a], yy[b - 1]) for (a, b), o in zip(runs, owner) if o == i]
+        out.append(Reference(point, _subpatches(mine, lay, sg, y_ref, d_ref, d_sep, d_comb)))
     return out
+
+
+def _subpatches(runs: list[tuple[float, float]], lay, sg: float, y_ref: float, d_ref: float, d_sep: float,
+                d_comb: float) -> SubPatches | None:
+    """CONTACT's sub-patches of a patch from its interpenetration runs [y0, y1] (track y,
+    ascending): a cut between neighbours further apart than d_comb (see the module doc)."""
+    cuts, factors = [], []
+    for (_, y_end), (y_start, _) in zip(runs, runs[1:]):
+        z_end, z_start = (-float(lay.rail.height(sg * v - lay.rail_offset)) for v in (y_end, y_start))
+        d = float(np.hypot(y_start - y_end, z_start - z_end))
+        if d <= d_comb:
+            continue
+        cuts.append((0.5 * (y_end + y_start) - y_ref) / np.cos(d_ref))
+        factors.append((max(d_sep - d, 0.0) / (d_sep - d_comb)) ** SUBPATCH_POWER)
+    return SubPatches(tuple(cuts), tuple(factors)) if cuts else None
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .. import _checks
+from .._roots import brent_root
 from ..errors import InputError
 from ..profiles import Profile
 from ..wheelset.geometry import WheelsetGeometry
@@ -142,7 +142,7 @@ def layout(wheel: Profile, rail: Profile, track: TrackLayout | None = None,
         raise InputError(f"the rail profile {rail.name!r} does not reach {track.gauge_depth * 1e3:.1f} mm "
                          "below its top on the gauge side: cannot place it at the gauge")
     i = int(np.argmax(below))
-    yg = brentq(lambda t: float(rail.height(t)) - level, ry[i - 1], ry[i], xtol=1e-12)
+    yg = brent_root(lambda t: float(rail.height(t)) - level, ry[i - 1], ry[i], xtol=1e-12)
     offset = 0.5 * track.gauge - yg
     # wheel samples
     ws, wz = wheel.sample(step)
