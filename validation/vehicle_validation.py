@@ -256,7 +256,8 @@ def part_hunting() -> dict:
     ax[1].set_ylabel("dy/dt, m/s")
     ax[0].set_title("leading wheelset from y0 = 4 mm")
     ax[1].set_title("phase portrait (last second)")
-    fig.suptitle("Coach RR on track elements, Hertz + Kalker: hunting at 300 / 360 / 420 km/h", fontsize=10)
+    fig.suptitle("Coach RR on track elements, Hertz + Kalker on the strip contact: hunting at "
+                 "300 / 360 / 420 km/h", fontsize=10)
     for a in ax:
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
@@ -297,7 +298,8 @@ def part_bifurcation() -> dict:
         print(f"    A = {a * 1e3:.1f} mm: conicity {lam:.4f} -> {vl:.1f} km/h")
     plot_bifurcation(b.speeds_kmh, b.upper, b.decay, lin, FIG / "vehicle_bifurcation.png",
                      equivalent=(np.array(eq), amps),
-                     title="Coach RR on track elements, Hertz + Kalker: limit cycles of the leading wheelset")
+                     title="Coach RR on track elements, Hertz + Kalker on the strip contact: limit cycles "
+                           "of the leading wheelset")
     return {"linear": lin, "freq": f, "bif": b}
 
 

@@ -158,6 +158,12 @@ def _vehicle_noise(atol: float, unit: str) -> Tol:
         "(measured |noise| < 1e-14 m/s, 1e-12 N, 1e-16 for creepages)"))
 
 
+_AXLE_TORQUE = Tol(1e-8, 1e-7, scaled=True, reason=(
+    "free rolling's torque balance, zero to the balance's tolerance: 2e-11 N m (the loaded "
+    "wheelset, ~0.03 N m) and 1e-9 N m (CONTACT's decks, ~1 N m) apart between OpenBLAS "
+    "kernels (measure_spread.py)"))
+
+
 def _spread(rtol: float, atol: float, measured: str) -> Tol:
     """A statistic's tolerance: MARGIN times the spread measured by measure_spread.py."""
     return Tol(rtol, atol, reason=f"{MARGIN:g}x the spread over OpenBLAS kernels and thread "
@@ -185,12 +191,10 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
     # to the array's largest)
     ("@hunting:amplitude_last_second", _spread(2e-3, 1e-6, "1.2e-4; atol 1 um for decayed runs")),
     ("@hunting:stats_frequency", _spread(2e-4, 0.0, "1.3e-5")),
-    ("@hunting:stats_Q_*", _spread(1e-2, 0.0, "8.5e-4")),
-    ("@hunting:stats_Y_absmax", _spread(0.1, 0.0, "1.0e-2 (the flange impacts' peaks)")),
-    ("@hunting:wheel_Q_max", _spread(3e-2, 0.0, "2.5e-3")),
-    ("@hunting:wheel_Y*_max", Tol(0.1, scaled=True, reason=(
-        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
-        "1.0e-2 of each wheel's own peak, less of the largest"))),
+    ("@hunting:stats_Q_p*", Tol(1e-6, reason="measuring")),
+    ("@hunting:stats_Y_p99", Tol(1e-6, reason="measuring")),
+    ("@hunting:wheel_Q_max", NOT_REPRODUCIBLE),     # flange impacts' peaks: 3.3e-2 in 3 s
+    ("@hunting:wheel_Y*_max", NOT_REPRODUCIBLE),    # 2.8e-2 (measure_spread.py)
     ("@hunting:wheel_amplitude", Tol(0.15, 1e-6, scaled=True, reason=(
         f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
         "1.4e-2 of each wheel's own amplitude, less of the largest; atol 1 um"))),
@@ -240,12 +244,38 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
             "root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"))),
     ],
     "loaded_wheelset": [
-        ("axle_torque", Tol(1e-9, 1e-9, scaled=True, reason=(
-            "free rolling's torque balance, zero to the balance's tolerance (~0.03 N m): "
-            "2e-11 N m apart between OpenBLAS kernels (measure_spread.py); atol 50x that"))),
+        ("axle_torque", _AXLE_TORQUE),
+        ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
+            "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
+            "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
+            "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
+        ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
+            "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
+            "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
+        ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
+            "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
+            "(measure_spread.py); atol 1e-9 N m"))),
+        ("field_*", Tol(1e-8, scaled=True, reason=(
+            "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
+            "(measure_spread.py)"))),
+
         ("*", _CONTACT),
     ],
     "wheel_rail": [
+        ("axle_torque", _AXLE_TORQUE),
+        ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
+            "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
+            "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
+            "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
+        ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
+            "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
+            "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
+        ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
+            "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
+            "(measure_spread.py); atol 1e-9 N m"))),
+        ("field_*", Tol(1e-8, scaled=True, reason=(
+            "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
+            "(measure_spread.py)"))),
         ("*", _CONTACT),
     ],
     "track_receptance": [
@@ -389,18 +419,20 @@ def hunting_statistics(g: "h5py.Group") -> dict[str, Any]:
     """The statistics a hunting run is compared on (its end state is not reproducible beyond
     round-off: see README.md): the leading wheelset's dominant frequency over the last
     second (NaN below a 0.1 mm amplitude, where there is no cycle to have one), and the
-    range of the vertical and the largest lateral wheel force over the run."""
+    range of the vertical and the size of the lateral wheel forces over the run as
+    percentiles over all wheels and outputs (1st and 99th of Q, 99th of |Y|): the extremes
+    of flange impacts are single events that round-off moves by 3 % in 3 s."""
     t, y = g["t"][()], g["y_ws1"][()]
     last = t >= t[-1] - 1.0
     amp = 0.5 * float(np.ptp(y[last]))
     freq = dominant_frequency(t[last], y[last]) if amp > 1e-4 else math.nan
     out = {"stats_frequency": summarize_value(freq)}
     if "wheel_Q" in g:
-        q = g["wheel_Q"][()]
-        out["stats_Q_min"] = summarize_value(float(q.min()))
-        out["stats_Q_max"] = summarize_value(float(q.max()))
+        q01, q99 = np.percentile(g["wheel_Q"][()], [1.0, 99.0])
+        out["stats_Q_p01"] = summarize_value(float(q01))
+        out["stats_Q_p99"] = summarize_value(float(q99))
     if "wheel_Y" in g:
-        out["stats_Y_absmax"] = summarize_value(float(np.abs(g["wheel_Y"][()]).max()))
+        out["stats_Y_p99"] = summarize_value(float(np.percentile(np.abs(g["wheel_Y"][()]), 99.0)))
     return out
 
 
