@@ -190,9 +190,9 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
     # at 300 km/h) and vehicle_example (3 s at 400 km/h), relative to the value (scaled:
     # to the array's largest)
     ("@hunting:amplitude_last_second", _spread(2e-3, 1e-6, "1.2e-4; atol 1 um for decayed runs")),
-    ("@hunting:stats_frequency", _spread(2e-4, 0.0, "1.3e-5")),
-    ("@hunting:stats_Q_p*", Tol(1e-6, reason="measuring")),
-    ("@hunting:stats_Y_p99", Tol(1e-6, reason="measuring")),
+    ("@hunting:stats_frequency", _spread(5e-4, 0.0, "3.0e-5")),
+    ("@hunting:stats_Q_p*", _spread(3e-2, 0.0, "2.8e-3 (99th), 8.6e-4 (1st)")),
+    ("@hunting:stats_Y_p99", _spread(5e-2, 0.0, "3.7e-3 (in flange contact)")),
     ("@hunting:wheel_Q_max", NOT_REPRODUCIBLE),     # flange impacts' peaks: 3.3e-2 in 3 s
     ("@hunting:wheel_Y*_max", NOT_REPRODUCIBLE),    # 2.8e-2 (measure_spread.py)
     ("@hunting:wheel_amplitude", Tol(0.15, 1e-6, scaled=True, reason=(
@@ -255,7 +255,7 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
             "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
             "(measure_spread.py); atol 1e-9 N m"))),
-        ("field_*", Tol(1e-8, scaled=True, reason=(
+        ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
             "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
             "(measure_spread.py)"))),
 
@@ -273,7 +273,7 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
             "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
             "(measure_spread.py); atol 1e-9 N m"))),
-        ("field_*", Tol(1e-8, scaled=True, reason=(
+        ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
             "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
             "(measure_spread.py)"))),
         ("*", _CONTACT),
