@@ -298,8 +298,8 @@ def part_bifurcation() -> dict:
         print(f"    A = {a * 1e3:.1f} mm: conicity {lam:.4f} -> {vl:.1f} km/h")
     plot_bifurcation(b.speeds_kmh, b.upper, b.decay, lin, FIG / "vehicle_bifurcation.png",
                      equivalent=(np.array(eq), amps),
-                     title="Coach RR on track elements, Hertz + Kalker on the strip contact: limit cycles "
-                           "of the leading wheelset")
+                     title="Coach RR on track elements, Hertz + Kalker on the strip contact:\n"
+                           "limit cycles of the leading wheelset")
     return {"linear": lin, "freq": f, "bif": b}
 
 
