@@ -244,20 +244,25 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     assert "--resume" in stdout
     st = _statuses(out)
     assert {k: st[k] for k in fast} == {k: "ok" for k in fast}
-    # the points the workers were running are marked, as the serial path marks its case
+    # the points the workers were running are marked, as the serial path marks its case (a
+    # Gauss-Seidel point may end before the signal on a quiet machine: it is then complete)
     running = {k: v for k, v in st.items() if k not in fast}
-    assert running and all(v.startswith("interrupted: SIGINT") for v in running.values()), st
+    interrupted = {k for k, v in running.items() if v.startswith("interrupted: SIGINT")}
+    assert interrupted and all(v == "ok" for k, v in running.items() if k not in interrupted), st
     assert stopped < 3.0          # the workers are killed, not waited for (about 0.9 s here)
+    done = {k for k, v in st.items() if v == "ok"}
     with h5py.File(out, "r") as f:
-        walls = {k: f[k].attrs["wall_time"] for k in fast}
+        walls = {k: f[k].attrs["wall_time"] for k in done}
     r = subprocess.run(cmd + ["--resume"], capture_output=True, text=True, timeout=180)
     assert r.returncode == 0, r.stdout + r.stderr
-    assert "resume: 2 of 4 cases already complete" in r.stdout
-    assert "case 1 " not in r.stdout and "case 2 " not in r.stdout and "case 3 'gs." in r.stdout
+    assert f"resume: {len(done)} of 4 cases already complete" in r.stdout
+    for k in sorted(st):
+        ran = f"case {int(k[:3])} 'gs." in r.stdout
+        assert ran == (k in interrupted), (k, r.stdout)
     st = _statuses(out)
     assert st == {k: "ok" for k in fast | {"003_gs.method_gs.fn_12000", "004_gs.method_gs.fn_13000"}}
     with h5py.File(out, "r") as f:
-        assert {k: f[k].attrs["wall_time"] for k in fast} == walls        # kept, not re-run
+        assert {k: f[k].attrs["wall_time"] for k in done} == walls        # kept, not re-run
         p = f["004_gs.method_gs.fn_13000/pressure"][()]
         assert p.sum() * 0.12e-3 * 0.096e-3 == pytest.approx(1.3e4, rel=1e-9)
     assert not [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
