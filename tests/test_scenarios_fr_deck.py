@@ -69,6 +69,8 @@ def test_hunting_case_stores_labelled_modes_and_rim_deformation(results):
         modal_q, q, t = g["modal_q"][()], g["q"][()], g["t"][()]
         rim = g["rim_deformation"][()]
         angle = g["rim_rail_angle_change"][()]
+        camber = g["rim_camber_change"][()]
+        assert "rail_head_roll" not in g          # FR: the rigid track's head does not roll
         assert g["rim_deformation"].attrs["units"] and g["rim_rail_angle_change"].attrs["units"] == "rad"
         dof_names = [x.decode() if isinstance(x, bytes) else str(x) for x in g["q"].attrs["dof_names"]]
     # the labels: the mode set of the FR system at 300 km/h with k <= 1 up to 300 Hz
@@ -87,6 +89,9 @@ def test_hunting_case_stores_labelled_modes_and_rim_deformation(results):
     np.testing.assert_allclose(rim, rim_deformation(sy, q), rtol=1e-12, atol=1e-15)
     # statically loaded rims: camber raises each tread's inner edge by 0.3-2 mrad
     assert np.all(angle[0] > 3e-4) and np.all(angle[0] < 2e-3)
+    # FR's rigid rail: the relative angle is the camber, -drx left and +drx right
+    np.testing.assert_array_equal(angle, camber)
+    np.testing.assert_allclose(camber, rim[:, 2] * np.array([-1.0, 1.0])[:, None], rtol=1e-12)
 
 
 def test_sweep_case_runs_fr_with_its_steps(results):

@@ -13,7 +13,8 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import InputError
-from railvti.vehicle.flexible import build_fr, rim_rail_angle_change
+from railvti.vehicle.flexible import (build_fr, rail_head_roll, rim_camber_change,
+                                      rim_rail_angle_change)
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
 from railvti.vehicle.simulate import simulate, static_equilibrium
@@ -58,8 +59,8 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
     ff, _ = scenarios.ff_system(speed=V, k_max=1, f_max=300.0, geometry="table", **RING)
     q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
     q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
-    cam_ff = rim_rail_angle_change(ff, q_ff)
-    cam_fr = rim_rail_angle_change(base, q_fr)
+    cam_ff = rim_camber_change(ff, q_ff)
+    cam_fr = rim_camber_change(base, q_fr)
     assert np.all(cam_fr > 0)
     np.testing.assert_allclose(cam_ff, cam_fr, rtol=0.05)
     np.testing.assert_allclose(cam_ff[0], cam_ff[1], rtol=1e-5)
@@ -79,13 +80,36 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
 
 def test_ff_centred_running():
     """A short centred run of FF at 200 km/h: Q within 3 % of the static wheel load, the
-    rims' camber positive (the paper: +1 mrad from axle bending), the rails pressed down."""
+    rims' camber positive (the paper: +1 mrad from axle bending), the rails pressed down.
+    The rim-rail relative angle is the camber minus the rail head's roll read from the ring
+    (RingSystem.rail_deflection's roll under each wheel, -roll on the left rail, +roll on the
+    right: the inner edge rising) to round-off, and left and right mirror each other."""
     c = scenarios.centred_running(200.0, "FF", "hertz-fastsim", duration=0.05, k_max=1,
                                   f_max=300.0, **RING)
     assert c.model == "FF" and c.rim_angle is not None and c.rail is not None
     assert c.q_error < 0.03
-    assert np.all(c.rim_angle > 0)
+    assert np.all(c.rim_camber > 0)
     assert np.all(c.rail[:, 1] < 0)
+    roll = c.rail[-1, 2] * np.array([-1.0, 1.0])[:, None]
+    assert np.max(np.abs(roll)) > 1e-5                # the head rolls: not the rigid-rail limit
+    np.testing.assert_allclose(c.rail_roll, roll, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(c.rim_angle, c.rim_camber - roll, rtol=0, atol=1e-15)
+    # mirror symmetry of centred running: the left wheel's angles are the right one's
+    for a in (c.rim_camber, c.rail_roll, c.rim_angle):
+        np.testing.assert_allclose(a[0], a[1], rtol=0, atol=1e-3 * np.abs(c.rim_camber).max())
+
+
+def test_rail_head_roll_needs_the_time(fr_ground):
+    """On the ring track the rail head's roll needs the states' times (the contact points
+    move along the ring): a clear error naming the key; FR's rigid rail does not roll."""
+    base, _ = fr_ground
+    ff, _ = scenarios.ff_system(speed=V, k_max=1, f_max=300.0, geometry="table", **RING)
+    x = np.zeros(ff.n_state)
+    with pytest.raises(InputError, match="'t'"):
+        rail_head_roll(ff, x)
+    with pytest.raises(InputError, match="'t'"):
+        rim_rail_angle_change(ff, np.zeros((3, ff.n_state)), np.zeros(2))
+    assert not np.any(rail_head_roll(base, np.ones(base.n_state)))
 
 
 @pytest.mark.filterwarnings("ignore:bifurcation")

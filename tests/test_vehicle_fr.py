@@ -12,7 +12,8 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle.flexible import (attachment_deflection, attachment_loads, build_fr,
-                                      point_forces, rim_rail_angle_change)
+                                      point_forces, rim_camber_change, rim_deformation,
+                                      rim_rail_angle_change)
 from railvti.vehicle.model import CallSettings, ModalBlocks
 from railvti.vehicle.params import Coach, speed_m_s
 from railvti.vehicle.simulate import contact_id, simulate, static_equilibrium
@@ -78,6 +79,10 @@ def test_static_deflection_matches_wheelset_statics(fr, body):
     ang = rim_rail_angle_change(sy, q)
     assert np.all(ang > 3e-4) and np.all(ang < 2e-3)
     np.testing.assert_allclose(ang[0], ang[1], rtol=1e-6)
+    # rigid rail: the relative angle is the rim's camber, -drx on the left, +drx on the right
+    drx = rim_deformation(sy, q)[2]
+    np.testing.assert_array_equal(ang, rim_camber_change(sy, q))
+    np.testing.assert_allclose(ang, drx * np.array([-1.0, 1.0])[:, None], rtol=1e-15)
 
 
 @pytest.mark.parametrize("k_max, f_max", [(2, 800.0), (1, 300.0)])
@@ -270,6 +275,8 @@ def test_centred_running_fr(fr):
     assert c.rim_angle.shape == (2, 4)
     sy, _, q, _ = fr
     np.testing.assert_allclose(c.rim_angle, rim_rail_angle_change(sy, q), rtol=1e-3)
+    assert not np.any(c.rail_roll)
+    np.testing.assert_array_equal(c.rim_angle, c.rim_camber)
 
 
 def test_fr_errors(body):

@@ -223,4 +223,11 @@ def test_ff_deck_case_stores_wheelset_and_ring_modes(results):
         assert len(wl) == sy.n_state - sy.n - nr and wl[0].startswith("ws1_k")
         assert g["modal_q"].shape[1] == len(wl) and g["ring_modal_q"].shape[1] == nr
         assert np.all(g["rail_crown_z"][-1] < 0)
-        assert np.all(g["rim_rail_angle_change"][-1] > 0)
+        assert np.all(g["rim_camber_change"][-1] > 0)
+        # the relative angle: the camber minus the rail head's roll, read from the ring's
+        # rail_deflection (-roll left, +roll right: the inner edge rising)
+        roll = g["rail_deflection"][-1, 2] * np.array([-1.0, 1.0])[:, None]
+        np.testing.assert_allclose(g["rail_head_roll"][-1], roll, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(g["rim_rail_angle_change"][-1],
+                                   g["rim_camber_change"][-1] - roll, rtol=0, atol=1e-15)
+        assert g["rim_rail_angle_change"].attrs["units"] == "rad"

@@ -366,3 +366,81 @@ def test_residual_table_matches_pointwise_residual(ws, body):
         s_pair = (tab.s0 + i * tab.ds, tab.s0 + j * tab.ds)
         ref = fl.residual_flexibility(ws, body, s_pair)
         assert np.allclose(tab.at(i, j), ref, rtol=1e-8, atol=1e-10 * np.abs(ref).max())
+
+
+def _direct_relieved(ws, statics, s_pair, f14):
+    """Direct sparse static solve of the FE wheelset under attachment loads f14 not in
+    equilibrium: per harmonic the load is balanced by the d'Alembert forces of the rigid-body
+    acceleration it causes (inertia relief, as the free-free modes of the vehicle model),
+    the rigid motion held by point constraints, the rigid part removed mass-orthogonally."""
+    edges = fl._edges(ws.geometry)
+    jn = ws._journal_nodes
+    pts = [fl._point_operator(ws.mesh, edges[0], s_pair[0], None),
+           fl._point_operator(ws.mesh, edges[1], s_pair[1], None),
+           fl._point_operator(ws.mesh, None, None, jn[0]),
+           fl._point_operator(ws.mesh, None, None, jn[1])]
+    out = np.zeros(14)
+    for st in statics:
+        eqs = np.asarray(st.T.tocsc().argmax(axis=1)).ravel()
+        if st.k == 0:
+            fix = [eqs[3 * jn[0] + 1], eqs[3 * ws.mesh.node_at(ws.geometry.wheel_radius, 0.7) + 2]]
+        elif st.k == 1:
+            fix = [eqs[3 * jn[0]], eqs[3 * jn[1]]]
+        else:
+            fix = []
+        free = np.setdiff1d(np.arange(st.K.shape[0]), fix)
+        for kind in (("0",) if st.k == 0 else ("A", "B")):
+            e = np.array([v for p in pts for v in p[kind]])                 # (14, 3 nn)
+            fr = st.T.T @ (e.T @ f14)
+            if not np.any(fr):
+                continue
+            fr = fr - st.M @ (st.rigid @ (st.rigid.T @ fr))
+            u = np.zeros(fr.size)
+            u[free] = spsolve(st.K[free][:, free].tocsc(), fr[free])
+            u -= st.rigid @ (st.rigid.T @ (st.M @ u))
+            out += e @ (st.T @ u)
+    return out
+
+
+@pytest.fixture(scope="module")
+def residual_5mm(ws, body):
+    return fl.residual_table(ws, body, ds=5e-3)
+
+
+#: Contact points of the left wheel, m: the taping line, the flange root and the flange flank
+#: (on the FE rim's tread edge; its flange face is at s = -37.5 mm), the last two between the
+#: 5 mm residual grid's points.
+CONTACT_POINTS = {"tread": 0.0, "flange root": -0.023, "flange flank": -0.034}
+
+
+@pytest.mark.parametrize("where", list(CONTACT_POINTS))
+def test_compliance_follows_the_contact_point(ws, body, statics, residual_5mm, where):
+    """Issue 30 item 3 (eq. 3): the wheelset's compliance at the contact point from the
+    tabulated rows (1 mm) and residual (5 mm), interpolated at s, within 2 % of a direct FE
+    solve with the load at that point: lateral and vertical point compliance and the camber
+    per unit force, left wheel (the right one at the taping line); measured: within 0.6 %
+    (tread: 1e-9). The taping line's tables used at the flange points would not be."""
+    s = CONTACT_POINTS[where]
+    pair = (0.0, s)
+    g = fl.contact_compliance(body, residual_5mm, pair)
+    g0 = fl.contact_compliance(body, residual_5mm, (0.0, 0.0))
+    for col in (5, 6):                       # unit lateral, vertical force at the left contact
+        f = np.zeros(14)
+        f[col] = 1.0
+        ref = _direct_relieved(ws, statics, pair, f)
+        for i in (5, 6, 7):                  # left contact y, z, rx
+            assert g[i, col] == pytest.approx(ref[i], rel=0.02), (where, i, col)
+        if s != 0.0 and col == 6:
+            # the taping line's tables at a flange point: the vertical compliance 11-28 % too
+            # large, the camber under a vertical load of the wrong sign
+            assert g0[6, 6] / ref[6] - 1.0 > 0.1
+            assert g0[7, 6] * ref[7] < 0.0
+
+
+def test_contact_compliance_bad_input(body, residual_5mm):
+    with pytest.raises(InputError, match=r"s_pair\[1\]"):
+        residual_5mm.interpolate((0.0, float("nan")))
+    with pytest.raises(InputError, match=r"s_pair\[0\]"):
+        residual_5mm.interpolate((0.5, 0.0))
+    with pytest.raises(InputError, match="outside the rim"):
+        fl.interpolated_rows(body, 0, -0.2)

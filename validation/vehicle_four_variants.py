@@ -15,7 +15,8 @@ to 500 Hz.
    Q of every wheel over time, its spectrum (the sleeper-passing frequency v0 / 0.6 m =
    92.6 Hz), its range beside the paper's FF (59-60.8 kN; the paper's coach is heavier:
    its static wheel load is about 60 kN, ours 54.5 kN, so the comparison is the relative
-   fluctuation), the rims' camber (FR, FF: the rim-rail angle change).
+   fluctuation), the rims' camber (FR, FF: ``CentredRunning.rim_camber``; the rim-rail relative angle,
+   camber minus the rail head's roll, is ``rim_angle``).
 2. Hunting from a 6 mm shift of the leading bogie's wheelsets, 3 s at each speed: phase
    portraits of the leading wheelset (last 1.5 s) in a grid of variants x speeds, and the
    amplitude over the last second against speed. The ring's residual flexibility is off in
@@ -63,7 +64,7 @@ def centred(model: str) -> dict:
     a = np.abs(np.fft.rfft(s * np.hanning(s.size))) * 2 / s.size
     band = f > 20.0                              # above the carbody and bogie modes
     fpk = float(f[band][np.argmax(a[band])])
-    rim = c.rim_angle if c.rim_angle is not None else np.zeros((2, 4))
+    rim = c.rim_camber if c.rim_camber is not None else np.zeros((2, 4))
     return dict(t=r.t[k], q=q, f=f, a=a, fpk=fpk, rim=rim, load=c.static_wheel_load,
                 wall=time.perf_counter() - t0)
 

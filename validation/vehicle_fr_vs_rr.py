@@ -22,7 +22,7 @@ flexibility).
 The rim-rail angle is the angle between the wheel's mid-plane and the rail's axis: the rail
 inclination atan(1/40) = 24.99 mrad, plus the wheelset's roll against its track element
 (sign: the tread's inner edge rising), plus in FR the rim's camber change
-(``flexible.rim_rail_angle_change``).
+(``flexible.rim_camber_change``).
 
 Writes validation/figures/vehicle_fr_vs_rr_wheels.png (Q, Y and the rim-rail angle at the
 eight wheels), vehicle_fr_vs_rr_patches.png (the leading wheelset's patches) and
@@ -40,7 +40,7 @@ import numpy as np
 
 from railvti import scenarios
 from railvti.vehicle import simulate, static_equilibrium
-from railvti.vehicle.flexible import rim_rail_angle_change
+from railvti.vehicle.flexible import rim_camber_change
 from railvti.vehicle.params import speed_m_s
 from railvti.vehicle.simulate import bem_state
 
@@ -63,7 +63,7 @@ def _system(model: str):
 def _relative_roll(sy, q: np.ndarray, t: float) -> np.ndarray:
     """(2, 4): each wheel's rigid rim-rail angle change, rad: the wheelset's roll against its
     track element (on the ring: against the rail head's roll under the wheel at time t),
-    signed as rim_rail_angle_change (the tread's inner edge rising): a roll about +x lifts
+    signed as rim_camber_change (the tread's inner edge rising): a roll about +x lifts
     the left wheel's outer edge (-roll) and the right wheel's inner edge (+roll)."""
     ws = np.array([q[sy.index(f"ws{i}_roll")] for i in (1, 2, 3, 4)])
     if getattr(sy, "ring", None) is not None:
@@ -82,7 +82,7 @@ def hertz_runs() -> dict:
         c = scenarios.centred_running(speed_kmh=SPEED_KMH, model=model, duration=1.0,
                                       progress=False, **kw)
         sy = _system(model)
-        cam = c.rim_angle if c.rim_angle is not None else np.zeros((2, 4))
+        cam = c.rim_camber if c.rim_camber is not None else np.zeros((2, 4))
         out[model] = {"Q": c.Q, "Y": c.Y, "camber": cam,
                       "rigid": _relative_roll(sy, c.run.q[-1], float(c.run.t[-1])),
                       "wall": time.perf_counter() - t0}
@@ -101,7 +101,7 @@ def bem_runs() -> dict:
                                           maxit=200)
             t_static = time.perf_counter() - t0
             r = simulate(sy, v, T_BEM, q0=q, v0=qd, h=h, contact="bem", bem=st, progress=False)
-        cam = rim_rail_angle_change(sy, r.q[-1]) if model != "RR" else np.zeros((2, 4))
+        cam = rim_camber_change(sy, r.q[-1]) if model != "RR" else np.zeros((2, 4))
         out[model] = {"Q": r.Q[-1], "Y": r.Y[-1], "camber": cam,
                       "rigid": _relative_roll(sy, r.q[-1], float(r.t[-1])),
                       "patches": [r.bem_patches[(0, w)] for w in (0, 1)],

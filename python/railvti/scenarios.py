@@ -467,9 +467,15 @@ class CentredRunning:
     model : str
         'RR', 'FR' or 'RF'.
     rim_angle : ndarray (2, 4) or None
-        Model FR: the change of the rim-rail angle from the rims' camber at the end of the
-        run, rad [wheel, wheelset] (+: the tread's inner edge rises;
-        railvti.vehicle.flexible.rim_rail_angle_change); None for RR.
+        Models FR and FF: the change of the rim-rail relative angle at the end of the run,
+        rad [wheel, wheelset]: rim_camber - rail_roll (+: the inner edge, towards the track
+        centre, rises; railvti.vehicle.flexible.rim_rail_angle_change); None for RR and RF.
+    rim_camber : ndarray (2, 4) or None
+        Models FR and FF: the rims' elastic camber alone, rad, same convention
+        (railvti.vehicle.flexible.rim_camber_change); None for RR and RF.
+    rail_roll : ndarray (2, 4) or None
+        Models FR and FF: the rail head's elastic roll under each wheel, rad, same convention
+        (railvti.vehicle.flexible.rail_head_roll; zero on FR's rigid track); None otherwise.
     rail : ndarray (nt, 3, 2, 4) or None
         Model RF: the rail head's motion under each wheel at the run's outputs, the pose
         (y m, z m, roll rad) of the element under wheel [., ., wheel, wheelset] in the
@@ -487,6 +493,8 @@ class CentredRunning:
     model: str = "RR"
     rim_angle: np.ndarray | None = None
     rail: np.ndarray | None = None
+    rim_camber: np.ndarray | None = None
+    rail_roll: np.ndarray | None = None
 
     @property
     def q_error(self) -> float:
@@ -541,16 +549,19 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
         q0, v0, _ = static_equilibrium(sy, v, contact, return_velocity=True)
         run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
-    rim = None
+    rim = camber = roll = None
     if model in FLEXIBLE_WHEELSETS:
-        from .vehicle.flexible import rim_rail_angle_change
-        rim = rim_rail_angle_change(sy, run.q[-1])
+        from .vehicle.flexible import rail_head_roll, rim_camber_change
+        camber = rim_camber_change(sy, run.q[-1])
+        roll = rail_head_roll(sy, run.q[-1], run.t[-1])
+        rim = camber - roll
     rail = None
     if model in RING_TRACK:
         rail = sy.rail_deflection(run.t, run.q)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
                           run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch,
-                          model=model, rim_angle=rim, rail=rail)
+                          model=model, rim_angle=rim, rail=rail, rim_camber=camber,
+                          rail_roll=roll)
 
 
 def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,

@@ -18,12 +18,15 @@ Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and 
 
 Model FR's results add the modal coordinates with their mode labels (``modal_q`` and
 ``mode_label``, ``mode_k``, ``mode_family``, ``mode_frequency``) and the rims' deformation at
-the contact points (``rim_deformation``, ``rim_rail_angle_change``). Model RF's add the ring's
+the contact points (``rim_deformation``; ``rim_camber_change``, the rims' camber, rad;
+``rim_rail_angle_change``, the rim-rail relative angle: camber minus the rail head's roll
+under the wheel, rad, + when the inner edge rises). Model RF's add the ring's
 modal coordinates with their labels (``modal_q``, ``mode_label``, ``mode_group``,
 ``mode_frequency``) and the rail's motion under each wheel (``rail_deflection``: the pose
 y, z, roll of the element under the wheel; ``rail_crown_z``: the crown's vertical
 displacement there). Model FF's add both: the wheelsets' as FR's, the ring's with the
-prefix 'ring_' (``ring_modal_q``, ``ring_mode_label``, ...) beside ``rail_deflection``.
+prefix 'ring_' (``ring_modal_q``, ``ring_mode_label``, ...) beside ``rail_deflection``, and
+``rail_head_roll`` (the rail head's roll under each wheel in the angle convention, rad).
 """
 from __future__ import annotations
 
@@ -321,9 +324,10 @@ def _history(res, data: dict, scalars: dict) -> None:
 
 def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
     """Model FR: the modal coordinates with their mode labels and the rims' deformation at
-    the contact points (railvti.vehicle.flexible.rim_deformation, rim_rail_angle_change);
+    the contact points (railvti.vehicle.flexible.rim_deformation, rim_camber_change,
+    rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
     ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
-    from .flexible import mode_labels, rim_deformation, rim_rail_angle_change
+    from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
     n = system.n
     stop = system.n_state if stop is None else stop
     nm = stop - n
@@ -351,11 +355,22 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
            "column_units": ["m", "m", "rad"],
            "meaning": "rim deformation at the contact points (taping line), track axes"}
     data["rim_deformation"] = (rim_deformation(system, res.q), "m, m, rad (per component)", per)
+    per_w = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+             "wheelset": [f"ws{w + 1}" for w in range(4)]}
+    inner = ("+: the inner edge, towards the track centre, rises; -drx on the left wheel, +drx "
+             "on the right, drx about the vehicle's x, y positive to the left")
+    camber = rim_camber_change(system, res.q)
+    roll = rail_head_roll(system, res.q, res.t)
+    data["rim_camber_change"] = (camber, "rad", {**per_w, "meaning": "elastic camber of the rim "
+                                                 "at the contact point (" + inner + ")"})
+    if getattr(system, "ring", None) is not None:
+        data["rail_head_roll"] = (roll, "rad", {**per_w, "meaning": "elastic roll of the rail head "
+                                                "under the wheel from the ring's modes (" + inner + ")"})
     data["rim_rail_angle_change"] = (
-        rim_rail_angle_change(system, res.q), "rad",
-        {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
-         "wheelset": [f"ws{w + 1}" for w in range(4)],
-         "meaning": "change of the rim-rail angle from the rim's camber (+: inner edge rises)"})
+        camber - roll, "rad",
+        {**per_w, "meaning": "change of the rim-rail relative angle: rim_camber_change minus the "
+                             "rail head's roll under the wheel (rail_head_roll; 0 on the rigid "
+                             "track of model FR) (" + inner + ")"})
 
 
 def _ring_history(res, system, data: dict, prefix: str = "") -> None:

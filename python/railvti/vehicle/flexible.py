@@ -455,13 +455,72 @@ def rim_deformation(system: System, x: np.ndarray) -> np.ndarray:
     return out
 
 
-def rim_rail_angle_change(system: System, x: np.ndarray) -> np.ndarray:
-    """The change of each wheel's rim-rail angle from the rim's camber, rad, (..., 2, 4)
-    [wheel 0 left / 1 right, wheelset]: positive when the tread's inner edge rises against
-    its outer edge (-drx at the left wheel, +drx at the right; the paper's 25 -> 26 mrad is
-    +1 mrad)."""
+#: Sign of the angle convention per wheel (0 left, 1 right): a rotation drx about the vehicle's
+#: x (+: the points at larger y rise; y positive to the left) turns the wheel's or the rail's
+#: inner edge (towards the track centre) up by -drx on the left and +drx on the right.
+_INNER_EDGE_SIGN = np.array([-1.0, 1.0])
+
+
+def rim_camber_change(system: System, x: np.ndarray) -> np.ndarray:
+    """The rims' elastic camber at the contact points, rad, (..., 2, 4) [wheel 0 left /
+    1 right, wheelset]: positive when the tread's inner edge (towards the track centre) rises
+    against its outer edge (-drx at the left wheel, +drx at the right, drx the rim's rotation
+    about the vehicle's x, :func:`rim_deformation`). Zero for a rigid wheelset. The rail's
+    roll is not in it: :func:`rim_rail_angle_change` is the relative angle."""
     d = rim_deformation(system, x)[..., 2, :, :]
-    return d * np.array([-1.0, 1.0])[:, None]
+    return d * _INNER_EDGE_SIGN[:, None]
+
+
+def rail_head_roll(system: System, x: np.ndarray, t: np.ndarray | float | None = None) -> np.ndarray:
+    """The rail head's elastic roll under each wheel, rad, (..., 2, 4) [wheel, wheelset], in
+    the convention of :func:`rim_camber_change` (+: the head's inner edge, towards the track
+    centre, rises; -roll on the left rail, +roll on the right, roll about the vehicle's x).
+
+    On the ring track (models RF, FF) the roll of the track element under the wheel from the
+    ring's modes (:meth:`RingSystem.rail_deflection`); on the rigid track elements of models
+    RR and FR the rail head does not deform: zero (the elements' rigid roll, like the
+    wheelset's, is the same for both wheels and sits in the contact geometry, not here).
+
+    Parameters
+    ----------
+    system : System
+    x : ndarray (n_state,) or (nt, n_state)
+        State(s).
+    t : float or ndarray (nt,), optional
+        Time(s) of the state(s), s: needed on the ring track (the contact points move along it).
+
+    Raises
+    ------
+    InputError
+        A ring-track system without ``t``, or ``t`` not matching the states.
+    """
+    x = np.asarray(x, dtype=float)
+    ring = getattr(system, "ring", None)
+    if ring is None:
+        return np.zeros(x.shape[:-1] + (2, int(system.iws.shape[1])))
+    if t is None:
+        raise InputError("rail_head_roll: key 't' (the states' times, s) is needed on the ring "
+                         "track: the contact points move along it")
+    ts = np.atleast_1d(np.asarray(t, dtype=float))
+    xs = np.atleast_2d(x)
+    if ts.shape != (xs.shape[0],) or not np.all(np.isfinite(ts)):
+        raise InputError(f"rail_head_roll: key 't' must be finite with one time per state "
+                         f"({xs.shape[0]}), got shape {ts.shape}")
+    roll = system.rail_deflection(ts, xs)[:, 2] * _INNER_EDGE_SIGN[:, None]
+    return roll.reshape(x.shape[:-1] + roll.shape[1:])
+
+
+def rim_rail_angle_change(system: System, x: np.ndarray,
+                          t: np.ndarray | float | None = None) -> np.ndarray:
+    """The change of each wheel's rim-rail angle, the paper's relative angle, rad, (..., 2, 4)
+    [wheel 0 left / 1 right, wheelset]: the rim's elastic camber (:func:`rim_camber_change`)
+    minus the rail head's elastic roll under the wheel (:func:`rail_head_roll`), both
+    positive when the inner edge (towards the track centre) rises, i.e. -drx on the left and
+    +drx on the right, drx about the vehicle's x (y positive to the left). The paper's
+    25 -> 26 mrad is +1 mrad. On the rigid track (model FR) it is the camber; on the ring
+    (model FF) ``t`` is needed. The same difference is what the contact sees: it evaluates
+    the wheel at the relative roll wheelset + rim - rail (vehicle_contact)."""
+    return rim_camber_change(system, x) - rail_head_roll(system, x, t)
 
 
 def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -843,6 +843,77 @@ class ResidualTable:
         bot = np.hstack([self.cj[0, i].T, self.cj[1, j].T, self.jj])
         return np.vstack([top, mid, bot])
 
+    def interpolate(self, s_pair: tuple[float, float]) -> np.ndarray:
+        """The (14, 14) residual at contact coordinates (s_right, s_left), m, between the grid
+        points: each block linear in its contact point's s (the cross block bilinear), as a
+        kernel interpolates it per step (the paper's eq. 3 with the contact point moving).
+
+        Raises
+        ------
+        InputError
+            s_pair not two finite coordinates inside the grid.
+        """
+        (i0, i1, wi), (j0, j1, wj) = (self._cell("s_pair[0] (right)", s_pair[0]),
+                                      self._cell("s_pair[1] (left)", s_pair[1]))
+
+        def lin(a, k0, k1, w):
+            return (1.0 - w) * a[k0] + w * a[k1]
+        cross = ((1 - wi) * ((1 - wj) * self.cross[i0, j0] + wj * self.cross[i0, j1])
+                 + wi * ((1 - wj) * self.cross[i1, j0] + wj * self.cross[i1, j1]))
+        c0, c1 = lin(self.cc[0], i0, i1, wi), lin(self.cc[1], j0, j1, wj)
+        j0c, j1c = lin(self.cj[0], i0, i1, wi), lin(self.cj[1], j0, j1, wj)
+        top = np.hstack([c0, cross, j0c])
+        mid = np.hstack([cross.T, c1, j1c])
+        bot = np.hstack([j0c.T, j1c.T, self.jj])
+        return np.vstack([top, mid, bot])
+
+    def _cell(self, key: str, s: object) -> tuple[int, int, float]:
+        ns = self.cc.shape[1]
+        try:
+            x = float(s)
+        except (TypeError, ValueError):
+            raise InputError(f"{key} must be a wheel-profile coordinate in m, got {s!r}") from None
+        t = (x - self.s0) / self.ds
+        if not (np.isfinite(t) and -1e-9 <= t <= ns - 1 + 1e-9):
+            raise InputError(f"{key} = {s!r} m outside the table's grid {self.s0:.4g}.."
+                             f"{self.s0 + (ns - 1) * self.ds:.4g} m")
+        i0 = min(int(np.floor(max(t, 0.0))), ns - 2)
+        return i0, i0 + 1, min(max(t - i0, 0.0), 1.0)
+
+
+def interpolated_rows(body: FlexibleWheelset, side: int, s: float) -> np.ndarray:
+    """The contact rows (4, nq) at profile coordinate s, m, linearly interpolated in the
+    body's ``contact_table`` (grid s0 + i ds): what a kernel that follows the contact point
+    evaluates per step, against :meth:`FlexibleWheelset.rows` (the element's shape functions
+    at s)."""
+    side = _check_side(side)
+    s = _check_s(body, s)
+    ns = body.contact_table.shape[1]
+    t = (s - body.s0) / body.ds
+    i0 = min(max(int(np.floor(t)), 0), ns - 2)
+    w = min(max(t - i0, 0.0), 1.0)
+    return (1.0 - w) * body.contact_table[side, i0] + w * body.contact_table[side, i0 + 1]
+
+
+def contact_compliance(body: FlexibleWheelset, table: ResidualTable,
+                       s_pair: tuple[float, float]) -> np.ndarray:
+    """The static compliance (14, 14) over :data:`ATTACHMENT_DOFS` with the contact points at
+    (s_right, s_left), m, from the tables alone: the kept modes through the interpolated
+    rows (:func:`interpolated_rows`), R Lambda^-1 R^T, plus the interpolated residual
+    (:meth:`ResidualTable.interpolate`). The tabulate-then-interpolate scheme of the moving
+    contact point (eq. 3), checked against direct FE solves at tread and flange points.
+
+    Returns
+    -------
+    ndarray (14, 14)
+        m/N, rad/N, rad/(N m); the inertia-relief compliance of the free-free body (rigid
+        parts removed mass-orthogonally), as :meth:`FlexibleWheelset.static_deflection`.
+    """
+    res = table.interpolate(s_pair)
+    r = np.vstack([interpolated_rows(body, 0, s_pair[0]), interpolated_rows(body, 1, s_pair[1]),
+                   body.journal[0, :3], body.journal[1, :3]])
+    return (r / (2.0 * np.pi * body.freq_hz) ** 2) @ r.T + res
+
 
 def residual_table(ws, body: FlexibleWheelset, ds: float = 5e-3) -> ResidualTable:
     """Tabulate the residual flexibility of ``body`` over the contact points' coordinates.
