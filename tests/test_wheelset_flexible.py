@@ -444,3 +444,52 @@ def test_contact_compliance_bad_input(body, residual_5mm):
         residual_5mm.interpolate((0.5, 0.0))
     with pytest.raises(InputError, match="outside the rim"):
         fl.interpolated_rows(body, 0, -0.2)
+
+
+def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
+    """Issue 30 item 3 in the time loop: with build_fr(follow_contact=True) the rows the
+    Fortran step sets at a flange-contact pose (left wheel at the flange root, right at the
+    taping line) are the tables' interpolation there (the rim rows of the 1 mm table, the
+    Eulerian rows of the d/dtheta table), and the static compliance the coupled model sees
+    through its rows (kept modes K^-1 plus the residual coordinates' L L^T / post^2, from the
+    Fortran Cholesky factor) equals contact_compliance's (the Python interpolation), which is
+    within 2 % of direct FE solves (test_compliance_follows_the_contact_point)."""
+    from railvti import scenarios
+    from railvti.vehicle.flexible import _ATTACH_INDEX, build_fr
+    from railvti.vehicle.params import Coach
+    sy, lay = build_fr(Coach(), scenarios.contact_table(), 300 / 3.6, body=body, wheelset=ws,
+                       flexible=(0,), follow_contact=True, residual_grid=residual_5mm,
+                       residual_mass=False)
+    mb, la = sy.modal, lay[0]
+    s_left, s_right = CONTACT_POINTS["flange root"], 0.0
+    phi = sy.native.follow_rows(np.array([[s_left], [s_right]]), mb.n_points, mb.n_modes)
+    m = slice(la.modes.start - sy.n, la.modes.stop - sy.n)
+    r = slice(la.residual.start - sy.n, la.residual.stop - sy.n)
+    for w, (side, s) in enumerate(((1, s_left), (0, s_right))):
+        np.testing.assert_allclose(phi[3 * w:3 * w + 3, m], fl.interpolated_rows(body, side, s)[1:4],
+                                   rtol=0, atol=1e-12 * np.abs(body.contact_table).max())
+        t = (s - body.s0) / body.ds
+        i0 = int(np.floor(t + 1e-9))
+        wt = t - i0
+        ref = (1 - wt) * body.dtheta_table[side, i0, 1:4] + wt * body.dtheta_table[side, i0 + 1, 1:4]
+        np.testing.assert_allclose(phi[14 + 3 * w:17 + 3 * w, m], ref, rtol=0,
+                                   atol=1e-9 * np.abs(body.dtheta_table).max())
+    # the residual coordinates' compliance L L^T (Fortran: interpolated blocks, Cholesky)
+    # equals the Python interpolation of the residual table
+    ix = np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)
+    lres = phi[:12, r]
+    res = residual_5mm.interpolate((s_right, s_left))[ix]
+    np.testing.assert_allclose(lres @ np.linalg.solve(mb.stiffness[1], lres.T), res, rtol=0,
+                               atol=1e-9 * np.abs(res).max())
+    # the coupled compliance over the 12 points, kept modes through the model's K (with the
+    # spin's centrifugal terms, which contact_compliance's non-rotating frequencies leave out:
+    # 0.2 % on the largest entries at 300 km/h)
+    k = mb.stiffness[0]
+    rows = phi[:12, m]
+    g = rows @ np.linalg.solve(k, rows.T) + lres @ np.linalg.solve(mb.stiffness[1], lres.T)
+    ref = fl.contact_compliance(body, residual_5mm, (s_right, s_left))[ix]
+    np.testing.assert_allclose(g, ref, rtol=0, atol=1e-2 * np.abs(ref).max())
+    # the flange point's own compliance differs from the taping line's (what was used before)
+    phi0 = sy.native.follow_rows(np.zeros((2, 1)), mb.n_points, mb.n_modes)
+    g0 = phi0[:12, m] @ np.linalg.solve(k, phi0[:12, m].T) + phi0[:12, r] @ phi0[:12, r].T
+    assert abs(g0[1, 1] / g[1, 1] - 1.0) > 0.05

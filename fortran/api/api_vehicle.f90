@@ -94,6 +94,44 @@ subroutine vehicle_modal_euler_c(handle, nfr, ept, omega, info)
     info = stat
 end subroutine vehicle_modal_euler_c
 
+!> Make the flexible rims' rows follow the contact point along the wheel profile (model FR,
+!> Kaiser eq. 3; vehicle_modal%modal_follow_set): rim rows (y, z, rx) tab and their d/dtheta
+!> etab (3, nq, ns, 2 wheels [left, right]) on s = s0 + (i - 1) ds, m; the residual's blocks
+!> over the 12 points pt(:, i) (1-based) on s = rs0 + (i - 1) rds; m0, r0 (nfr) the 0-based
+!> first modal column of each wheelset's modes and residual coordinates (r0 < 0: none); post
+!> the residual rows' factor (stiffness post^2 I). info: see vehicle_model%vehicle_attach_follow.
+subroutine vehicle_modal_follow_c(handle, nfr, nq, ns, s0, ds, tab, etab, nrs, rs0, rds, rcc, rcx, &
+                                  rcj, rjj, m0, r0, pt, post, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_follow
+    implicit none
+    integer(c_int), intent(in) :: handle, nfr, nq, ns, nrs, m0(nfr), r0(nfr), pt(12, nfr)
+    real(c_double), intent(in) :: s0, ds, tab(3, nq, ns, 2), etab(3, nq, ns, 2), rs0, rds
+    real(c_double), intent(in) :: rcc(3, 3, nrs, 2), rcx(3, 3, nrs, nrs), rcj(3, 6, nrs, 2), rjj(6, 6)
+    real(c_double), intent(in) :: post
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_follow(handle, nfr, nq, ns, s0, ds, tab, etab, nrs, rs0, rds, rcc, rcx, rcj, &
+                               rjj, m0, r0, pt, post, stat)
+    info = stat
+end subroutine vehicle_modal_follow_c
+
+!> The modal rows phi (np, nm) with the flexible rims' contact points at s(w, i), m from the
+!> taping line (wheel w 1 left, 2 right of flexible wheelset i), as a time step sets them.
+!> info: see vehicle_model%vehicle_follow_rows.
+subroutine vehicle_follow_rows_c(handle, nfr, s, np, nm, phi, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_follow_rows
+    implicit none
+    integer(c_int), intent(in) :: handle, nfr, np, nm
+    real(c_double), intent(in) :: s(2, nfr)
+    real(c_double), intent(out) :: phi(np, nm)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_follow_rows(handle, nfr, s, np, nm, phi, stat)
+    info = stat
+end subroutine vehicle_follow_rows_c
+
 !> Force over the whole state x = (q, Q) of a model with or without modal blocks (n = nd + nm):
 !> the rigid forces with the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p;
 !> with the contact outputs. info: see vehicle_model%vehicle_call and force_total.

@@ -76,8 +76,11 @@ module vehicle_contact
     !> point with the larger normal force, 9 Hertz potential energy (J), 10 its contact angle,
     !> 11 a, 12 b semi-axes of that point (m), 13 its centre of pressure along t_y from the
     !> point (m, BEM; 0 for the Hertz patch), 14 the moment of the wheel's contact stresses
-    !> about its points along t_x (N m, sum Fn yc), 15 the spin moment about the normals (N m).
-    integer, parameter :: nwo = 15
+    !> about its points along t_x (N m, sum Fn yc), 15 the spin moment about the normals (N m),
+    !> 16 the contact's lateral arm on the wheel (m, wheel frame: unrolled by the relative roll;
+    !> tread and flange weighted by their normal forces; 0 without contact): where the
+    !> flexible rims' rows are evaluated (vehicle_modal%modal_follow).
+    integer, parameter :: nwo = 16
 
 contains
 
@@ -458,12 +461,12 @@ contains
     !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
     !> Flexible wheel rims (model FR, optional rim, rarm, frim, all three or none): rim(:, w)
     !> = (dy, dz, drx, dy', dz', drx') of wheel w (1 left, 2 right): the elastic displacement
-    !> (track y, z) of the rim's reference point at (0, sg rarm(1), -rarm(2)) from the wheelset
+    !> (track y, z) of the rim's reference point at (0, sg rarm(1, w), -rarm(2, w)) from the wheelset
     !> centre and the rim's rotation about x (camber). To first order the wheel is moved
-    !> rigidly: rotated by drx about the centre and translated by (dy - rarm(2) drx,
-    !> dz - sg rarm(1) drx), so that its reference point moves by (dy, dz). Each wheel is then
+    !> rigidly: rotated by drx about the centre and translated by (dy - rarm(2, w) drx,
+    !> dz - sg rarm(1, w) drx), so that its reference point moves by (dy, dz). Each wheel is then
     !> evaluated at its own pose (Y, Z, roll) + that motion, velocities likewise; frim(:, w)
-    !> the generalised forces on (dy, dz, drx): (F_y, F_z, M_x - rarm(2) F_y - sg rarm(1) F_z)
+    !> the generalised forces on (dy, dz, drx): (F_y, F_z, M_x - rarm(2, w) F_y - sg rarm(1, w) F_z)
     !> of that wheel's forces and moment about the centre (the moment about the reference
     !> point): the same arms as the pose change (energy-consistent). rim = 0 gives fw, ft,
     !> wout exactly (bit for bit) as without.
@@ -488,7 +491,7 @@ contains
         real(dp), intent(in) :: qw(6), vw(6), qt(3), vt(3)
         real(dp), intent(out) :: fw(6), ft(3), wout(nwo, 2)
         integer, intent(out) :: info
-        real(dp), intent(in), optional :: rim(6, 2), rarm(2)
+        real(dp), intent(in), optional :: rim(6, 2), rarm(2, 2)
         real(dp), intent(out), optional :: frim(3, 2)
         type(strip_geometry), intent(in), optional :: st
         type(strip_lin), intent(inout), optional :: slin(2)
@@ -496,7 +499,7 @@ contains
         real(dp), intent(in), optional :: rail(6, 2)
         real(dp), intent(out), optional :: frail(3, 2)
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
-        real(dp) :: fyn, fzn, mwn, mtn
+        real(dp) :: fyn, fzn, mwn, mtn, fnsum
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
         real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
@@ -546,15 +549,15 @@ contains
             end if
             if (flex) then
                 ! this wheel's pose: the rigid wheelset's moved by the rim's deformation
-                ty = rim(1, w) - rarm(2) * rim(3, w)
-                tz = rim(2, w) - sg * rarm(1) * rim(3, w)
+                ty = rim(1, w) - rarm(2, w) * rim(3, w)
+                tz = rim(2, w) - sg * rarm(1, w) * rim(3, w)
                 yr = qw(1) + ty - qtw(1)
                 zr = qw(2) + tz - qtw(2)
                 phr = qw(3) + rim(3, w) - qtw(3)
                 u = yr + ct%rnom * (qw(3) + rim(3, w))
                 zc = zr - yr * qtw(3)
-                ve(1) = vw(1) + rim(4, w) - rarm(2) * rim(6, w)
-                ve(2) = vw(2) + rim(5, w) - sg * rarm(1) * rim(6, w)
+                ve(1) = vw(1) + rim(4, w) - rarm(2, w) * rim(6, w)
+                ve(2) = vw(2) + rim(5, w) - sg * rarm(1, w) * rim(6, w)
                 ve(3) = vw(3) + rim(6, w)
                 fwl = fw(1:3)
             end if
@@ -611,6 +614,7 @@ contains
                 if (info /= STAT_OK) return
             end if
             nbest = -1.0_dp
+            fnsum = 0.0_dp
             ! candidates c: slot k = (c + 1) / 2, its member 1 or 2 (pose_at) with weight wt(c)
             do c = 1, 4
                 k = (c + 1) / 2
@@ -754,6 +758,9 @@ contains
                 end if
                 wout(14, w) = wout(14, w) + mtx
                 wout(15, w) = wout(15, w) + mz
+                ! the point's arm in the wheel's frame: (l, -za) rotated back by the roll pl
+                wout(16, w) = wout(16, w) + fn * (cos(pl) * sg * l - sin(pl) * za)
+                fnsum = fnsum + fn
                 if (fn > nbest) then
                     nbest = fn
                     wout(6, w) = xi
@@ -765,11 +772,12 @@ contains
                     wout(13, w) = yc
                 end if
             end do
+            if (fnsum > 0.0_dp) wout(16, w) = wout(16, w) / fnsum
             if (flex) then
                 fwl = fw(1:3) - fwl
                 frim(1, w) = fwl(1)
                 frim(2, w) = fwl(2)
-                frim(3, w) = fwl(3) - rarm(2) * fwl(1) - sg * rarm(1) * fwl(2)
+                frim(3, w) = fwl(3) - rarm(2, w) * fwl(1) - sg * rarm(1, w) * fwl(2)
             end if
             if (ring) frail(:, w) = ft - ftl
         end do

@@ -38,6 +38,7 @@ module vehicle_modal
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
     public :: modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, modal_ring_residual
+    public :: modal_follow_set, modal_follow, modal_follow_reset
 
     integer, parameter :: PEL_LINEAR = 1
     integer, parameter :: PEL_HERTZ = 2
@@ -74,6 +75,20 @@ module vehicle_modal
         !> the rim material's velocity at the contact point is u'_p + Omega u_e.
         integer, allocatable :: frept(:, :, :)
         real(dp), allocatable :: fromega(:)
+        !> Rows that follow the contact point along the wheel profile (modal_follow_set,
+        !> Kaiser eq. 3): fsc (2, nfr) each wheel's current s (0: the taping line; the rims'
+        !> lateral arm is frarm(1) + fsc). The rim rows (y, z, rx) and their d/dtheta on s = fs0
+        !> + (i - 1) fds, ftab, fetab (3, fnq, fns, 2 wheels) over the modes fm0(i) + 1 ..
+        !> fm0(i) + fnq of wheelset i; the residual over the 12 points fpt(:, i) (rims y, z,
+        !> rx left, right; journals x, y, z left, right) on s = rs0 + (i - 1) rds: the rims'
+        !> self blocks rcc (3, 3, rns, 2), left-right rcx (3, 3, rns [left], rns [right]),
+        !> rim-journals rcj (3, 6, rns, 2), journals rjj (6, 6); its coordinates fr0(i) + 1 ..
+        !> + 12 get the rows L fpost (L L^T = R; stiffness fpost^2 I, constant).
+        integer :: fnq = 0, fns = 0, rns = 0
+        real(dp) :: fs0 = 0.0_dp, fds = 1.0_dp, rs0 = 0.0_dp, rds = 1.0_dp, fpost = 1.0_dp
+        integer, allocatable :: fm0(:), fr0(:), fpt(:, :)
+        real(dp), allocatable :: fsc(:, :), ftab(:, :, :, :), fetab(:, :, :, :)
+        real(dp), allocatable :: rcc(:, :, :, :), rcx(:, :, :, :), rcj(:, :, :, :), rjj(:, :)
         !> The ring track under the wheels (model RF, modal_ring): wheelset index and the points
         !> of the pose (y, z, roll) of a track element under each wheel (3, 2 [left, right],
         !> nrl), whose rows over the ring's modes rm0 + 1 .. rm0 + rr%nk depend on time
@@ -193,9 +208,11 @@ contains
         mp%frw = frw
         mp%frpt = frpt
         mp%frarm = frarm
-        allocate (mp%frept(3, 2, nfr), mp%fromega(nfr))
+        allocate (mp%frept(3, 2, nfr), mp%fromega(nfr), mp%fsc(2, nfr))
         mp%frept = 0
         mp%fromega = 0.0_dp
+        mp%fsc = 0.0_dp
+        mp%fns = 0
         info = STAT_OK
     end subroutine modal_couple
 
@@ -218,6 +235,142 @@ contains
         mp%fromega = omega
         info = STAT_OK
     end subroutine modal_euler
+
+    !> Make the rims' rows follow the contact point (after modal_couple and modal_euler): the
+    !> tables of vehicle_modal's fields f* and r* (see modal_part); the rows are set at the
+    !> taping line (s = 0). info: STAT_OK; STAT_SIZE_MISMATCH (nfr not the part's);
+    !> STAT_BAD_ARGUMENT (fewer than 2 grid points, steps <= 0, s = 0 outside a grid, modes or
+    !> points outside the part, non-finite entries).
+    subroutine modal_follow_set(mp, nfr, nq, ns, s0, ds, tab, etab, nrs, rs0, rds, rcc, rcx, rcj, &
+                                rjj, m0, r0, pt, post, info)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: nfr, nq, ns, nrs, m0(nfr), r0(nfr), pt(12, nfr)
+        real(dp), intent(in) :: s0, ds, tab(3, nq, ns, 2), etab(3, nq, ns, 2), rs0, rds
+        real(dp), intent(in) :: rcc(3, 3, nrs, 2), rcx(3, 3, nrs, nrs), rcj(3, 6, nrs, 2), rjj(6, 6)
+        real(dp), intent(in) :: post
+        integer, intent(out) :: info
+        info = STAT_SIZE_MISMATCH
+        if (nfr /= mp%nfr .or. nfr < 1) return
+        info = STAT_BAD_ARGUMENT
+        if (ns < 2 .or. nrs < 2 .or. nq < 1 .or. .not. (ds > 0.0_dp .and. rds > 0.0_dp)) return
+        if (s0 > 0.0_dp .or. s0 + (ns - 1) * ds < 0.0_dp) return
+        if (rs0 > 0.0_dp .or. rs0 + (nrs - 1) * rds < 0.0_dp) return
+        if (any(m0 < 0) .or. any(m0 + nq > mp%nm) .or. any(r0 + 12 > mp%nm)) return
+        if (any(pt < 1) .or. any(pt > mp%np)) return
+        if (.not. (all(abs(tab) <= huge(1.0_dp)) .and. all(abs(etab) <= huge(1.0_dp)) .and. &
+                   all(abs(rcc) <= huge(1.0_dp)) .and. all(abs(rcx) <= huge(1.0_dp)) .and. &
+                   all(abs(rcj) <= huge(1.0_dp)) .and. all(abs(rjj) <= huge(1.0_dp)) .and. &
+                   abs(post) <= huge(1.0_dp))) return
+        mp%fnq = nq
+        mp%fns = ns
+        mp%fs0 = s0
+        mp%fds = ds
+        mp%ftab = tab
+        mp%fetab = etab
+        mp%rns = nrs
+        mp%rs0 = rs0
+        mp%rds = rds
+        mp%rcc = rcc
+        mp%rcx = rcx
+        mp%rcj = rcj
+        mp%rjj = rjj
+        mp%fm0 = m0
+        mp%fr0 = r0
+        mp%fpt = pt
+        mp%fpost = post
+        call modal_follow_reset(mp)
+        info = STAT_OK
+    end subroutine modal_follow_set
+
+    !> Rows at the taping line (s = 0) of every wheel: what the statics, the force shims and
+    !> the linear analysis see. No following rows: nothing.
+    subroutine modal_follow_reset(mp)
+        type(modal_part), intent(inout) :: mp
+        real(dp) :: s(2, max(mp%nfr, 1))
+        if (mp%nfr == 0) return
+        if (mp%fns == 0) return
+        s = 0.0_dp
+        call modal_follow(mp, s)
+    end subroutine modal_follow_reset
+
+    !> Set the rims' rows, Eulerian rows, residual rows and arms at the contact points' s(w, i)
+    !> (wheel w of flexible wheelset i, m along the wheel profile from the taping line, clipped
+    !> to the tables): linear interpolation in the tables, the residual R (12 x 12) assembled
+    !> from its blocks (the left-right block bilinear) and its rows L fpost, L L^T = R. The
+    !> cached factors become stale (rows_version). Work per wheelset: 6 nq + 12^3 / 6.
+    subroutine modal_follow(mp, s)
+        type(modal_part), intent(inout) :: mp
+        real(dp), intent(in) :: s(2, mp%nfr)
+        real(dp) :: w(2), v(2), r(12, 12), l(12, 12), x
+        integer :: i, k, j, ia(2), ib(2), c0
+        if (mp%fns == 0) return
+        do i = 1, mp%nfr
+            c0 = mp%fm0(i)
+            do k = 1, 2
+                x = min(max(s(k, i), mp%fs0), mp%fs0 + (mp%fns - 1) * mp%fds)
+                mp%fsc(k, i) = x
+                call grid_cell(mp%fs0, mp%fds, mp%fns, x, ia(k), w(k))
+                mp%phi(mp%frpt(:, k, i), c0 + 1:c0 + mp%fnq) = (1.0_dp - w(k)) * mp%ftab(:, :, ia(k), k) &
+                                                              + w(k) * mp%ftab(:, :, ia(k) + 1, k)
+                do j = 1, 3
+                    if (mp%frept(j, k, i) > 0) mp%phi(mp%frept(j, k, i), c0 + 1:c0 + mp%fnq) = &
+                        (1.0_dp - w(k)) * mp%fetab(j, :, ia(k), k) + w(k) * mp%fetab(j, :, ia(k) + 1, k)
+                end do
+                x = min(max(x, mp%rs0), mp%rs0 + (mp%rns - 1) * mp%rds)
+                call grid_cell(mp%rs0, mp%rds, mp%rns, x, ib(k), v(k))
+            end do
+            if (mp%fr0(i) < 0) cycle
+            r = 0.0_dp
+            do k = 1, 2
+                r(3 * k - 2:3 * k, 3 * k - 2:3 * k) = (1.0_dp - v(k)) * mp%rcc(:, :, ib(k), k) &
+                                                      + v(k) * mp%rcc(:, :, ib(k) + 1, k)
+                r(3 * k - 2:3 * k, 7:12) = (1.0_dp - v(k)) * mp%rcj(:, :, ib(k), k) &
+                                           + v(k) * mp%rcj(:, :, ib(k) + 1, k)
+                r(7:12, 3 * k - 2:3 * k) = transpose(r(3 * k - 2:3 * k, 7:12))
+            end do
+            r(1:3, 4:6) = (1.0_dp - v(1)) * ((1.0_dp - v(2)) * mp%rcx(:, :, ib(1), ib(2)) &
+                                             + v(2) * mp%rcx(:, :, ib(1), ib(2) + 1)) &
+                          + v(1) * ((1.0_dp - v(2)) * mp%rcx(:, :, ib(1) + 1, ib(2)) &
+                                    + v(2) * mp%rcx(:, :, ib(1) + 1, ib(2) + 1))
+            r(4:6, 1:3) = transpose(r(1:3, 4:6))
+            r(7:12, 7:12) = mp%rjj
+            call cholesky(12, r, l)
+            mp%phi(mp%fpt(:, i), mp%fr0(i) + 1:mp%fr0(i) + 12) = mp%fpost * l
+        end do
+        mp%rows_version = mp%rows_version + 1
+    end subroutine modal_follow
+
+    !> The cell i (1-based, 1..n - 1) of x on the grid x0 + (i - 1) dx and the weight w of
+    !> node i + 1 (x inside the grid).
+    pure subroutine grid_cell(x0, dx, n, x, i, w)
+        real(dp), intent(in) :: x0, dx, x
+        integer, intent(in) :: n
+        integer, intent(out) :: i
+        real(dp), intent(out) :: w
+        real(dp) :: t
+        t = (x - x0) / dx
+        i = min(max(int(t), 0), n - 2) + 1
+        w = min(max(t - real(i - 1, dp), 0.0_dp), 1.0_dp)
+    end subroutine grid_cell
+
+    !> Cholesky factor L (lower) of a symmetric n x n matrix; a non-positive pivot gives a zero
+    !> column (a compliance with no stiffness behind it is dropped, as vehicle_ring's chol3).
+    pure subroutine cholesky(n, a, l)
+        integer, intent(in) :: n
+        real(dp), intent(in) :: a(n, n)
+        real(dp), intent(out) :: l(n, n)
+        real(dp) :: d
+        integer :: i, j
+        l = 0.0_dp
+        do j = 1, n
+            d = a(j, j) - sum(l(j, 1:j - 1)**2)
+            if (.not. (d > 1.0e-14_dp * abs(a(j, j)))) cycle
+            l(j, j) = sqrt(d)
+            do i = j + 1, n
+                l(i, j) = (a(i, j) - sum(l(i, 1:j - 1) * l(j, 1:j - 1))) / l(j, j)
+            end do
+        end do
+    end subroutine cholesky
 
     !> Put wheelsets on the ring track (after modal_create): wheelset rlw(i) has the points
     !> rlpt(:, k, i) (y, z, roll of a track element under wheel k), rows over the modes rm0 + 1

@@ -20,11 +20,13 @@ module vehicle_model
     use vehicle_bem, only: bem_record, bem_solve_recorded
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
-                             modal_ring_residual
+                             modal_ring_residual, modal_follow_set, modal_follow, &
+                             modal_follow_reset
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
+    public :: vehicle_attach_follow, vehicle_follow_rows
     public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time, vehicle_ring_residual
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
@@ -229,6 +231,47 @@ contains
         call modal_euler(md%mp, nfr, ept, omega, info)
     end subroutine vehicle_attach_euler
 
+    !> Make a model's flexible rims follow the contact point; see vehicle_modal%modal_follow_set
+    !> for the arguments and info, and STAT_BAD_HANDLE.
+    subroutine vehicle_attach_follow(handle, nfr, nq, ns, s0, ds, tab, etab, nrs, rs0, rds, rcc, &
+                                     rcx, rcj, rjj, m0, r0, pt, post, info)
+        integer, intent(in) :: handle, nfr, nq, ns, nrs, m0(nfr), r0(nfr), pt(12, nfr)
+        real(dp), intent(in) :: s0, ds, tab(3, nq, ns, 2), etab(3, nq, ns, 2), rs0, rds
+        real(dp), intent(in) :: rcc(3, 3, nrs, 2), rcx(3, 3, nrs, nrs), rcj(3, 6, nrs, 2), rjj(6, 6)
+        real(dp), intent(in) :: post
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        call modal_follow_set(md%mp, nfr, nq, ns, s0, ds, tab, etab, nrs, rs0, rds, rcc, rcx, rcj, &
+                              rjj, m0, r0, pt, post, info)
+    end subroutine vehicle_attach_follow
+
+    !> The modal rows phi (np x nm) with the rims' contact points at s(w, i) (m from the taping
+    !> line), as a time step sets them (vehicle_modal%modal_follow); the model keeps the
+    !> taping line's. info: STAT_OK; STAT_BAD_HANDLE; STAT_SIZE_MISMATCH (nfr, np, nm not the
+    !> model's); STAT_BAD_ARGUMENT (no rows that follow the contact point).
+    subroutine vehicle_follow_rows(handle, nfr, s, np, nm, phi, info)
+        integer, intent(in) :: handle, nfr, np, nm
+        real(dp), intent(in) :: s(2, nfr)
+        real(dp), intent(out) :: phi(np, nm)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        phi = 0.0_dp
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_SIZE_MISMATCH
+        if (nfr /= md%mp%nfr .or. np /= md%mp%np .or. nm /= md%mp%nm) return
+        info = STAT_BAD_ARGUMENT
+        if (md%mp%fns == 0) return
+        call modal_follow(md%mp, s)
+        phi = md%mp%phi
+        call modal_follow_reset(md%mp)
+        info = STAT_OK
+    end subroutine vehicle_follow_rows
+
     !> Put a model's wheelsets on the ring track (model RF); see vehicle_modal%modal_ring for
     !> the arguments and info, and STAT_BAD_HANDLE.
     subroutine vehicle_attach_ring(handle, nrl, rlw, rlpt, rm0, ng, nbt, nk, nvk, bpos, kpos, &
@@ -374,7 +417,7 @@ contains
         integer, intent(in), optional :: smode
         logical, intent(in), optional :: frictionless
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
-        real(dp) :: rail(6, 2), frail(3, 2), mu
+        real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2)
         integer :: j, k, model, ir, il
         model = rs%cmodel
         mu = md%mu
@@ -393,6 +436,9 @@ contains
         end if
         if (ir > 0) then
             do k = 1, 2
+                ! the rim point's arms: at the contact point's s when the rows follow it
+                arm(1, k) = md%mp%frarm(1, ir) + md%mp%fsc(k, ir)
+                arm(2, k) = md%mp%frarm(2, ir)
                 rim(1:3, k) = u(md%mp%frpt(:, k, ir))
                 rim(4:6, k) = ud(md%mp%frpt(:, k, ir))
                 do j = 1, 3     ! Eulerian term: + Omega dW/dtheta
@@ -411,12 +457,12 @@ contains
         if (ir > 0 .and. il > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
-                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
+                                  rim=rim, rarm=arm, frim=frim, st=md%st, &
                                   slin=slin, smode=smode, rail=rail, frail=frail)
         else if (ir > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
-                                  rim=rim, rarm=md%mp%frarm(:, ir), frim=frim, st=md%st, &
+                                  rim=rim, rarm=arm, frim=frim, st=md%st, &
                                   slin=slin, smode=smode)
         else if (il > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &

@@ -34,7 +34,8 @@ module vehicle_newmark
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points, modal_ring_time
+                             modal_solve, modal_points, modal_ring_time, modal_follow, &
+                             modal_follow_reset
     implicit none
     private
     public :: newmark_run, static_solve, state_force, hht_options, NSTATS, SCHEME_HHT, SCHEME_ENERGY
@@ -45,6 +46,8 @@ module vehicle_newmark
     integer, parameter :: SCHEME_HHT = 0, SCHEME_ENERGY = 1
     !> The wheel output holding the contact's potential energy (vehicle_contact, J).
     integer, parameter :: IO_ENERGY = 9
+    !> The wheel output holding the contact's arm on the wheel (vehicle_contact, m).
+    integer, parameter :: IO_ARM = 16
     !> Length (m, rad) below which the discrete gradient's bracket fades out (contact_correction).
     real(dp), parameter :: DG_FLOOR = 1.0e-9_dp
 
@@ -160,6 +163,9 @@ contains
         allocate (st%f, source=f)
         allocate (st%w, source=w)
         call modal_ring_time(md%mp, t)
+        ! rims whose rows follow the contact point: at the taping line for the start's force
+        ! when it is not carried, then each step at the carried state's contact points
+        if (.not. carried) call modal_follow_reset(md%mp)
         st%keep = keeps_matrix(md, rs, opt)
         if (st%keep) call kept_matrix_load(md, rs, h, opt, st)
         ! a massless coordinate's a is its BDF2 acceleration from the last call (massless_rates;
@@ -195,6 +201,7 @@ contains
         w = st%w
         if (allocated(md%kmkey)) deallocate (md%kmkey)
         if (st%keep .and. st%nlh > 0.0_dp) call kept_matrix_store(md, rs, opt, st)
+        call modal_follow_reset(md%mp)     ! the statics and force shims see the taping line
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
 
@@ -318,6 +325,7 @@ contains
         tally%hmin = min(tally%hmin, hl)
         do while (tl < h - 0.5_dp * hl)
             if (md%mp%nrl > 0) call modal_ring_time(md%mp, t0 + tl + hl)
+            if (md%mp%fns > 0) call follow_contact(md, st%w)
             call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
             if (info /= STAT_OK) then
                 ok = .false.
@@ -333,6 +341,25 @@ contains
         end do
         ok = .true.
     end subroutine cover_step
+
+    !> The rims' rows at the contact points of the wheel outputs w (the last accepted state's:
+    !> a function of the carried state, so that the chunking of a run cannot change it): each
+    !> wheel's arm on the wheel (output 16) less the taping line's, s = 0 without contact
+    !> (Kaiser eq. 3, the contact point moving on the flexible wheelset).
+    subroutine follow_contact(md, w)
+        type(vmodel), intent(inout) :: md
+        real(dp), intent(in) :: w(nwo, 2, md%nw)
+        real(dp) :: s(2, md%mp%nfr)
+        integer :: i, k
+        do i = 1, md%mp%nfr
+            do k = 1, 2
+                s(k, i) = 0.0_dp
+                if (w(IO_ARM, k, md%mp%frw(i)) > 0.0_dp) &
+                    s(k, i) = w(IO_ARM, k, md%mp%frw(i)) - md%mp%frarm(1, i)
+            end do
+        end do
+        call modal_follow(md%mp, s)
+    end subroutine follow_contact
 
     !> One HHT step of size h from st; on success (ok) st is advanced and err is the local
     !> error estimate. ok = .false. when Newton does not converge or the new state is too big

@@ -266,8 +266,8 @@ def _linear_table_geometry(geometry: str) -> None:
 
 def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-              linear_conicity: float | None = None, geometry: str | None = None
-              ) -> tuple[System, list]:
+              linear_conicity: float | None = None, geometry: str | None = None,
+              follow_contact: bool = False) -> tuple[System, list]:
     """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
 
     Parameters
@@ -283,6 +283,10 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         Replace the contact table by its equivalent linearisation (linear analyses).
     geometry : str
         Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
+    follow_contact : bool
+        The rims' rows and residual flexibility follow each wheel's contact point along the
+        profile in the time loop (Kaiser eq. 3; ``build_fr``'s ``follow_contact``; the
+        residual's 5 mm table is made once per speed, about 30 s).
 
     Returns
     -------
@@ -297,8 +301,18 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
         tab = linearised_table(tab, linear_conicity)
-    sy, lays = build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
-                        f_max=f_max)
+    if not follow_contact:
+        sy, lays = build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
+                            f_max=f_max)
+        return _with_geometry(sy, geometry), lays
+    from .wheelset.flexible import residual_table
+    ws = _fr_wheelset()
+    body = ws.flexible_body(v, k_max=k_max, f_max=f_max)
+    key = ("residual_grid", float(v), k_max, float(f_max))
+    if key not in _PROFILES:
+        _PROFILES[key] = residual_table(ws, body)
+    sy, lays = build_fr(coach or Coach(), tab, v, wheelset=ws, body=body, follow_contact=True,
+                        residual_grid=_PROFILES[key])
     return _with_geometry(sy, geometry), lays
 
 

@@ -37,7 +37,7 @@ from .. import _checks
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, compliance_block, with_mass
+from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
 from .params import Coach
 from .table import WheelTable
 
@@ -133,7 +133,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
              flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
              body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
              rigid_gyro: bool = True, track: bool = True, residual_mass: bool = True,
-             residual_hz: float | None = None) -> tuple[System, list[FRLayout]]:
+             residual_hz: float | None = None, follow_contact: bool = False,
+             residual_grid=None) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -186,6 +187,16 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     residual_hz : float, optional
         The residual coordinates' frequency, Hz; default: the highest kept mode's (the
         default step then resolves them without a change).
+    follow_contact : bool
+        The rims' rows, Eulerian rows, residual flexibility and reference arm follow each
+        wheel's contact point along the profile in the time loop (Kaiser eq. 3; tread and
+        flange normal-force weighted, at the last accepted step's point): interpolated in the
+        body's 1 mm ``contact_table`` / ``dtheta_table`` and in ``residual_grid``, the
+        residual as 12 coordinates with rows L (L L^T = R(s), Cholesky) and constant
+        stiffness. The statics and linear analysis see the taping line. Needs s_contact = 0.
+    residual_grid : ResidualTable, optional
+        The residual over the contact points (:func:`railvti.wheelset.flexible.residual_table`,
+        about 30 s for the default mesh); default: made here at 5 mm (follow_contact only).
 
     Returns
     -------
@@ -266,7 +277,32 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     damp = [b for _ in flexible]
     stiff = [body.stiffness for _ in flexible]
     massless = [False for _ in flexible]
-    if residual and np.any(body.residual):
+    follow = None
+    if follow_contact:
+        if s_contact != 0.0:
+            raise InputError("follow_contact: the rows start at the taping line, s_contact must be 0")
+        follow = _follow_tables(wheelset, body, residual and bool(np.any(body.residual)),
+                                residual_grid)
+    if follow is not None and follow[1] is not None:
+        res = follow[1]
+        l0 = _cholesky_psd(res)
+        hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
+        post = 2.0 * np.pi * _checks.positive("residual_hz", hz) if residual_mass else 1.0
+        nr = 12
+        cols = [phi]
+        for j, i in enumerate(flexible):
+            c = np.zeros((npt, nr))
+            if not zero_rows:
+                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = post * l0
+            cols.append(c)
+            names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
+            damp.append(np.eye(nr) * (2.0 * RESIDUAL_ZETA * post if residual_mass else 0.0))
+            stiff.append(np.eye(nr) * post ** 2)
+            massless.append(not residual_mass)
+            m0 = sy.n + nq * len(flexible) + nr * j
+            layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
+        phi = np.hstack(cols)
+    elif residual and np.any(body.residual):
         res = residual_points(body, None if s_contact in body.residual_s and
                               body.residual_s[0] == body.residual_s[1] else
                               _residual_at(wheelset, body, s_contact))
@@ -289,6 +325,14 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
             m0 = sy.n + nq * len(flexible) + nr * j
             layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
         phi = np.hstack(cols)
+    if follow is not None:
+        nflex = len(flexible)
+        has_res = follow[1] is not None
+        rf = replace(follow[0], modes=np.arange(nflex) * nq,
+                     residual=(nq * nflex + 12 * np.arange(nflex)) if has_res else np.full(nflex, -1),
+                     points=np.array([POINTS_PER_WHEELSET * j + np.arange(12) for j in range(nflex)]).T,
+                     post=post if has_res else 1.0)
+        cpl = replace(cpl, rim_follow=rf)
     mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
                      couplings=cpl, massless=tuple(massless))
     if rigid_gyro:
@@ -300,6 +344,50 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
             c[b, a] += h
         sy = replace(sy, c=c)
     return sy.with_modal(mb), layouts
+
+
+def _follow_tables(wheelset, body, with_residual: bool, grid):
+    """The rim rows and residual blocks of :class:`RimFollow` in the vehicle's order (wheel 0
+    left = FE side 1; journals left, right) and the 12 x 12 residual at the taping lines
+    (None without residual)."""
+    from ..wheelset import Wheelset
+    from ..wheelset.flexible import residual_table
+    sides = (1, 0)
+    rows = np.stack([body.contact_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
+    drows = np.stack([body.dtheta_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
+    if with_residual:
+        if grid is None:
+            grid = residual_table(wheelset if wheelset is not None else Wheelset(), body)
+        perm = [3, 4, 5, 0, 1, 2]
+        rcc = np.stack([grid.cc[sd][:, 1:4, 1:4].transpose(1, 2, 0) for sd in sides], axis=-1)
+        # left (FE 1) at a against right (FE 0) at b: cross[b, a] is right rows, left columns
+        rcx = grid.cross[:, :, 1:4, 1:4].transpose(3, 2, 1, 0)
+        rcj = np.stack([grid.cj[sd][:, 1:4, :][:, :, perm].transpose(1, 2, 0) for sd in sides],
+                       axis=-1)
+        rjj = grid.jj[np.ix_(perm, perm)]
+        rs0, rds = grid.s0, grid.ds
+        res0 = residual_points(body, grid.interpolate((0.0, 0.0)))
+    else:
+        rcc, rcx, rcj = np.zeros((3, 3, 2, 2)), np.zeros((3, 3, 2, 2)), np.zeros((3, 6, 2, 2))
+        rjj, rs0, rds, res0 = np.zeros((6, 6)), -1.0, 2.0, None
+    rf = RimFollow(s0=body.s0, ds=body.ds, rows=rows, drows=drows, rs0=rs0, rds=rds, rcc=rcc,
+                   rcx=rcx, rcj=rcj, rjj=rjj, modes=np.zeros(1, int), residual=np.zeros(1, int),
+                   points=np.zeros((12, 1), int), post=1.0)
+    return rf, res0
+
+
+def _cholesky_psd(r: np.ndarray) -> np.ndarray:
+    """Lower Cholesky factor of a symmetric positive semi-definite matrix, a non-positive
+    pivot giving a zero column (vehicle_modal%cholesky)."""
+    n = r.shape[0]
+    lo = np.zeros_like(r)
+    for j in range(n):
+        d = r[j, j] - lo[j, :j] @ lo[j, :j]
+        if not d > 1e-14 * abs(r[j, j]):
+            continue
+        lo[j, j] = np.sqrt(d)
+        lo[j + 1:, j] = (r[j + 1:, j] - lo[j + 1:, :j] @ lo[j, :j]) / lo[j, j]
+    return lo
 
 
 def body_labels(body) -> tuple[str, ...]:

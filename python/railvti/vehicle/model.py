@@ -37,6 +37,10 @@ CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
 WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
                  "contact_angle", "a", "b", "y_cp", "M_x", "M_spin")
 NWO = len(WHEEL_OUTPUTS)
+#: Rows per wheel the Fortran core computes and carries: WHEEL_OUTPUTS, then the contact's
+#: lateral arm on the wheel (m, normal-force weighted; where flexible rims that follow the
+#: contact point take their rows, vehicle_contact's output 16), kept internal.
+NWO_CORE = NWO + 1
 
 
 class RunCarry:
@@ -59,7 +63,7 @@ class RunCarry:
     @classmethod
     def fresh(cls, n_state: int, n_wheelsets: int) -> "RunCarry":
         """An empty carry: the first call evaluates the force at its start."""
-        return cls(np.zeros(n_state, order="F"), np.zeros((NWO, 2, n_wheelsets), order="F"))
+        return cls(np.zeros(n_state, order="F"), np.zeros((NWO_CORE, 2, n_wheelsets), order="F"))
 
 
 #: Point element kinds: name -> Fortran id (vehicle_modal PEL_*).
@@ -118,6 +122,64 @@ class PointElement:
         return cls("hertz", point, dof, (stiffness, clearance, damping))
 
 
+@dataclass(frozen=True)
+class RimFollow:
+    """Rows of flexible rims that follow the contact point (model FR, Kaiser eq. 3): the time
+    loop sets each rim's rows (y, z, rx), their d/dtheta, its residual coordinates' rows and
+    its reference arm at the wheel's contact point of the last accepted step
+    (vehicle_modal%modal_follow); everything else (statics, forces, linear analysis) sees
+    the taping line (s = 0).
+
+    Attributes
+    ----------
+    s0, ds : float
+        Grid of the rim rows, m along the wheel profile from the taping line (+ field side).
+    rows, drows : ndarray (3, nq, ns, 2)
+        Rim rows (y, z, rx) and their d/dtheta per grid point, wheel 0 left, 1 right.
+    rs0, rds : float
+        Grid of the residual's blocks, m.
+    rcc : ndarray (3, 3, nrs, 2)
+        Rim self blocks (y, z, rx) of the residual, m/N and rad/(N m).
+    rcx : ndarray (3, 3, nrs, nrs)
+        Left rim (rows, at its grid point) against right rim (columns, at its grid point).
+    rcj : ndarray (3, 6, nrs, 2)
+        Rim against the journals (left x, y, z, right x, y, z).
+    rjj : ndarray (6, 6)
+        Journals against journals.
+    modes, residual : ndarray (nfr,) int
+        0-based first modal column of each wheelset's modes and of its 12 residual
+        coordinates (-1: none).
+    points : ndarray (12, nfr) int
+        0-based points of the residual (rims y, z, rx left, right; journals x, y, z left,
+        right).
+    post : float
+        The residual rows' factor: rows L post with L L^T = R, stiffness post^2 I.
+    """
+
+    s0: float
+    ds: float
+    rows: np.ndarray
+    drows: np.ndarray
+    rs0: float
+    rds: float
+    rcc: np.ndarray
+    rcx: np.ndarray
+    rcj: np.ndarray
+    rjj: np.ndarray
+    modes: np.ndarray
+    residual: np.ndarray
+    points: np.ndarray
+    post: float
+
+    def args(self) -> tuple:
+        """The arguments of vehicle_modal_follow_c after the handle (1-based points)."""
+        f = np.asfortranarray
+        return (float(self.s0), float(self.ds), f(self.rows), f(self.drows), float(self.rs0),
+                float(self.rds), f(self.rcc), f(self.rcx), f(self.rcj), f(self.rjj),
+                np.asarray(self.modes, np.int32), np.asarray(self.residual, np.int32),
+                f(np.asarray(self.points) + 1, dtype=np.int32), float(self.post))
+
+
 #: Linear coupling kinds: name -> Fortran id (vehicle_modal LC_*).
 COUPLING_KINDS = {"split": 1, "gyro": 2}
 
@@ -157,6 +219,9 @@ class ModalCouplings:
         point is then u'_p + Omega u_e.
     rim_omega : ndarray (nfr,), optional
         The spin Omega of each flexible wheelset, rad/s (with ``rim_euler``).
+    rim_follow : RimFollow, optional
+        Tables that make the rims' rows follow the contact point along the wheel profile
+        (Kaiser eq. 3); None: the rows stay where the model put them.
     """
 
     kinds: tuple
@@ -168,6 +233,7 @@ class ModalCouplings:
     rim_arms: np.ndarray
     rim_euler: np.ndarray | None = None
     rim_omega: np.ndarray | None = None
+    rim_follow: "RimFollow | None" = None
 
     def __post_init__(self) -> None:
         for k in self.kinds:
@@ -548,6 +614,10 @@ class VehicleModel:
                         self.handle, np.asfortranarray(cp.rim_euler + 1, dtype=np.int32),
                         np.asfortranarray(cp.rim_omega))
                     check(info, "Eulerian rim rows")
+                if mb.couplings.rim_follow is not None:
+                    info = core.vehicle_modal_follow_c(self.handle,
+                                                       *mb.couplings.rim_follow.args())
+                    check(info, "rim rows that follow the contact point")
             if mb.massless is not None:
                 info = core.vehicle_modal_mass_c(self.handle, np.asfortranarray(mb.mass))
                 check(info, "modal masses")
@@ -566,20 +636,34 @@ class VehicleModel:
     def force(self, cs: CallSettings, q: np.ndarray, v: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
         """F(q, v), wheel outputs (NWO, 2, nw), dF/dq, dF/dv and the status."""
-        return core.vehicle_force_c(self._handle(), self.n_wheelsets, *cs.args(), q, v, NWO)
+        f, w, jq, jv, info = core.vehicle_force_c(self._handle(), self.n_wheelsets, *cs.args(), q,
+                                                  v, NWO_CORE)
+        return f, w[:NWO], jq, jv, info
+
+    def follow_rows(self, s: np.ndarray, n_points: int, n_modes: int) -> np.ndarray:
+        """The modal rows (n_points, n_modes) with the flexible rims' contact points at s (2,
+        nfr), m from the taping line (0 left, 1 right), as a time step sets them
+        (vehicle_follow_rows_c; build_fr's follow_contact)."""
+        phi, info = core.vehicle_follow_rows_c(self._handle(), np.asfortranarray(s, dtype=float),
+                                               n_points, n_modes)
+        check(info, "rows that follow the contact point")
+        return phi
 
     def state_force(self, cs: CallSettings, x: np.ndarray, xd: np.ndarray
                     ) -> tuple[np.ndarray, np.ndarray, int]:
         """Force over the whole state (rigid DOFs and modal coordinates, n_state) with the
         point elements, the wheel outputs and the status (vehicle_state_force_c)."""
-        return core.vehicle_state_force_c(self._handle(), self.n_wheelsets, *cs.args(), x, xd, NWO)
+        f, w, info = core.vehicle_state_force_c(self._handle(), self.n_wheelsets, *cs.args(), x,
+                                                xd, NWO_CORE)
+        return f, w[:NWO], info
 
     def static(self, cs: CallSettings, q: np.ndarray, tol: float, maxit: int
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
         """Steady state from q (updated in place): v, F, wheel outputs, iterations, last
         correction and the status."""
-        return core.vehicle_static_c(self._handle(), self.n_wheelsets, *cs.args(), tol, maxit, q,
-                                     NWO)
+        v, f, w, it, resid, info = core.vehicle_static_c(self._handle(), self.n_wheelsets,
+                                                         *cs.args(), tol, maxit, q, NWO_CORE)
+        return v, f, w[:NWO], it, resid, info
 
     def run(self, cs: CallSettings, h: float, nsteps: int, nevery: int, alpha: float,
             tol: float, maxit: int, maxsub: int, qmax: float, rtol: float, t: np.ndarray,
@@ -594,9 +678,11 @@ class VehicleModel:
         carry = carry if carry is not None else RunCarry.fresh(q.size, self.n_wheelsets)
         out = core.vehicle_run_c(self._handle(), *cs.args(), h, nsteps, nevery, alpha, tol,
                                  maxit, maxsub, qmax, rtol, scheme, t, q, v, a, carry.f,
-                                 carry.w, int(carry.valid), nout, nw=self.n_wheelsets, nwo=NWO)
+                                 carry.w, int(carry.valid), nout, nw=self.n_wheelsets,
+                                 nwo=NWO_CORE)
         carry.valid = True
-        return out
+        tout, qout, vout, wout = out[:4]
+        return (tout, qout, vout, wout[:NWO]) + tuple(out[4:])
 
     def _handle(self) -> int:
         # a closed model passes 0, which the core rejects as a bad handle
