@@ -164,6 +164,26 @@ _AXLE_TORQUE = Tol(1e-8, 1e-7, scaled=True, reason=(
     "kernels (measure_spread.py)"))
 
 
+#: The loaded wheelset's quantities that are zero by symmetry or set by a balance's tolerance
+#: (case types loaded_wheelset and wheel_rail).
+_WHEELSET_CONTACT: list[tuple[str, Tol]] = [
+    ("axle_torque", _AXLE_TORQUE),
+    ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
+        "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
+        "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
+        "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
+    ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
+        "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
+        "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
+    ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
+        "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
+        "(measure_spread.py); atol 1e-9 N m"))),
+    ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
+        "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
+        "(measure_spread.py)"))),
+]
+
+
 def _spread(rtol: float, atol: float, measured: str) -> Tol:
     """A statistic's tolerance: MARGIN times the spread measured by measure_spread.py."""
     return Tol(rtol, atol, reason=f"{MARGIN:g}x the spread over OpenBLAS kernels and thread "
@@ -244,38 +264,11 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
             "root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"))),
     ],
     "loaded_wheelset": [
-        ("axle_torque", _AXLE_TORQUE),
-        ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
-            "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
-            "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
-            "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
-        ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
-            "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
-            "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
-        ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
-            "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
-            "(measure_spread.py); atol 1e-9 N m"))),
-        ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
-            "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
-            "(measure_spread.py)"))),
-
+        *_WHEELSET_CONTACT,
         ("*", _CONTACT),
     ],
     "wheel_rail": [
-        ("axle_torque", _AXLE_TORQUE),
-        ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
-            "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
-            "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
-            "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
-        ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
-            "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
-            "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
-        ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
-            "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
-            "(measure_spread.py); atol 1e-9 N m"))),
-        ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
-            "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
-            "(measure_spread.py)"))),
+        *_WHEELSET_CONTACT,
         ("*", _CONTACT),
     ],
     "track_receptance": [
