@@ -74,10 +74,19 @@ def _profiles():
     return _PROFILES["wheel"], _PROFILES["rail"]
 
 
-def contact_table() -> WheelTable:
-    """The S1002 / UIC60 1:40 per-wheel contact table used by the scenarios (cached)."""
+#: The lateral range of the contact table on the ring track (models RF and FF), m: the
+#: relative wheel-rail position there is the wheelset's plus the rail's lateral deflection and
+#: roll under the flange (up to ~4.5 mm and ~14 mrad with the ring's residual flexibility in FF
+#: flange hunting at 400 km/h), so the non-flanging wheel ran past the rigid track's
+#: 15 mm (docs/vehicle.md, "Models RF and FF: limits").
+RING_TABLE_Y_MAX = 0.020
+
+
+def contact_table(y_max: float = 0.015) -> WheelTable:
+    """The S1002 / UIC60 1:40 per-wheel contact table used by the scenarios (cached), over
+    -y_max..y_max (m; the ring track's systems take :data:`RING_TABLE_Y_MAX`)."""
     w, r = _profiles()
-    return wheel_table(w, r)
+    return wheel_table(w, r, y_max=y_max)
 
 
 #: Contact geometries of the time simulation: the table's Hertz points, or the strip
@@ -381,7 +390,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         f_limit, bad track parameters.
     """
     v, _ = _speeds(speed_kmh, speed)
-    sy, _ = _on_ring("RF", coach or Coach(), contact_table(), v, n_sleepers=n_sleepers,
+    sy, _ = _on_ring("RF", coach or Coach(), contact_table(RING_TABLE_Y_MAX), v, n_sleepers=n_sleepers,
                      f_limit=f_limit, track_params=track_params, x_offset=x_offset,
                      ring_residual=ring_residual, ring_residual_hz=ring_residual_hz,
                      ring_residual_inertia=ring_residual_inertia)
@@ -450,7 +459,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     """
     v, _ = _speeds(speed_kmh, speed)
     k_max, f_max = check_fr_selection(k_max, f_max)
-    sy, lays = _on_ring("FF", coach or Coach(), contact_table(), v, k_max=k_max, f_max=f_max,
+    sy, lays = _on_ring("FF", coach or Coach(), contact_table(RING_TABLE_Y_MAX), v, k_max=k_max, f_max=f_max,
                         n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
                         x_offset=x_offset, ring_residual=ring_residual,
                         ring_residual_hz=ring_residual_hz,
