@@ -767,8 +767,6 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
     ndarray of complex
         The finite eigenvalues.
     """
-    from scipy.linalg import eigvals
-
     from .simulate import static_equilibrium
     if system.modal is None:
         raise InputError("flexible.eigenvalues needs an FR system; use "
@@ -778,6 +776,17 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
     if v is None:
         v = np.zeros(system.n_state)
     _, jq, jv = state_tangent(system, speed, q, v, contact)
+    return tangent_eigenvalues(system, jq, jv)
+
+
+def tangent_eigenvalues(system: System, jq: np.ndarray, jv: np.ndarray) -> np.ndarray:
+    """Finite eigenvalues (1/s) of ``[I 0; 0 M] z' = [0 I; jq jv] z`` with the system's mass M.
+
+    The tangents (:func:`state_tangent`) may be of another system of the same layout and mass;
+    the massless residual coordinates' infinite eigenvalues are dropped (:func:`eigenvalues`).
+    """
+    from scipy.linalg import eigvals
+
     n, nt = system.n, system.n_state
     mass = np.zeros((nt, nt))
     mass[:n, :n] = system.m
