@@ -43,10 +43,10 @@ def fr(body):
 
 
 def test_zero_rows_reproduce_rr(body, rr):
-    """All attachment rows zero: the modes decouple and the coach runs exactly as RR."""
+    """All attachment rows zero: the modes decouple and the coach runs exactly as RR (the
+    same wheelset body and gyroscopic moments, railvti.vehicle.wheelset_body)."""
     sy_rr, q_rr, v_rr = rr
-    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True,
-                     rigid_gyro=False)
+    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True)
     q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
     assert np.max(np.abs(q0[sy.n:])) == 0.0

@@ -231,7 +231,7 @@ def test_rr_with_decoupled_blocks_reproduces_rr():
     r1 = simulate(fr, v, 0.1, q0=x0, v0=v0, output_dt=1e-3)
     assert r1.q.shape[1] == sy.n + 6 and r1.dof_names[-1] == "mode6"
     assert np.max(np.abs(r1.q[:, :sy.n] - r0.q)) <= 1e-12 * np.max(np.abs(r0.q))
-    assert np.array_equal(r1.wheel, r0.wheel) or np.allclose(r1.wheel, r0.wheel, rtol=1e-12)
+    assert np.allclose(r1.wheel, r0.wheel, rtol=1e-10, atol=1e-10 * sy.wheel_load)  # round-off
     assert np.max(np.abs(r1.q[:, sy.n:])) == 0.0
 
 

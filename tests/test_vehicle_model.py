@@ -205,7 +205,7 @@ def test_newton_stops_on_residual_as_well_as_correction(coach_system):
     assert st["load_scale"] == pytest.approx(sy.wheel_load)
     res_only = simulate(sy, v, 0.2, q0=q, tol=1.0, rtol=1e-7, progress=False)
     assert res_only.stats["newton_residual_max"] <= 1e-7
-    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-7
+    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-6     # 1 um of a 4 mm cycle
     with pytest.raises(DivergenceError, match="did not converge"):
         simulate(sy, v, 0.01, q0=q, rtol=1e-30, maxsub=0, progress=False)
 

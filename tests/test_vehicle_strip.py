@@ -156,15 +156,17 @@ def test_the_right_wheel_mirrors_the_left():
 
 def test_undamped_frictionless_energy_is_conserved():
     """The undamped frictionless coach with the leading wheelset kicked 0.5 mm sideways keeps
-    its energy within 0.5 % of the kick's (what remains is the trapezoidal rule's O(h^2)
-    oscillation of the stiff contact modes, not a drift), where the table contact gains more
-    than the kick's energy itself (it is not the gradient of a potential)."""
+    its energy within 1 % of the kick's, and halving the step more than halves what remains
+    (the trapezoidal rule's oscillation of the stiff contact modes, not a drift; measured
+    0.54 % and 0.21 %, the gyroscopic moments doing no work), where the table contact gains
+    more than the kick's energy itself (it is not the gradient of a potential)."""
     rr_t = dataclasses.replace(scenarios.coach_system(geometry="table").without_damping(),
                                friction=0.0)
     rr_s = dataclasses.replace(scenarios.coach_system(geometry="strip").without_damping(),
                                friction=0.0)
     e_h = energy_drift(rr_s, 5e-4, 0.4)
-    assert e_h < 5e-3
+    assert e_h < 1e-2
+    assert energy_drift(rr_s, 2.5e-4, 0.4) < 0.5 * e_h
     assert energy_drift(rr_t, 5e-4, 0.4) > 1.0
 
 

@@ -93,7 +93,7 @@ def main() -> None:
     rr = dataclasses.replace(scenarios.coach_system().without_damping(), friction=0.0)
     fr0, _ = build_fr(Coach(), table, V)
     fr = dataclasses.replace(fr0.without_damping(), friction=0.0)
-    fz0, _ = build_fr(Coach(), table, V, zero_rows=True, rigid_gyro=False)
+    fz0, _ = build_fr(Coach(), table, V, zero_rows=True)
     fz = dataclasses.replace(fz0.without_damping(), friction=0.0)
     rrs = dataclasses.replace(scenarios.coach_system(geometry="strip").without_damping(),
                               friction=0.0)

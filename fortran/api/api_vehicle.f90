@@ -10,7 +10,7 @@
 
 !> Store a model: handle for the calls below. info: see vehicle_model%vehicle_create.
 subroutine vehicle_model_create_c(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, &
-                                  tab, y0, dy, p0, dph, rnom, r0, gmod, mu, handle, info)
+                                  tab, y0, dy, p0, dph, rnom, r0, gmod, mu, ispin, handle, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_model, only: vehicle_create
     implicit none
@@ -18,10 +18,11 @@ subroutine vehicle_model_create_c(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype,
     real(c_double), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
     integer(c_int), intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
     real(c_double), intent(in) :: tab(nq, 2, ny, nr), y0, dy, p0, dph, rnom, r0, gmod, mu
+    real(c_double), intent(in) :: ispin(nw)
     integer(c_int), intent(out) :: handle, info
     integer :: hd, stat
     call vehicle_create(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                        y0, dy, p0, dph, rnom, r0, gmod, mu, hd, stat)
+                        y0, dy, p0, dph, rnom, r0, gmod, mu, ispin, hd, stat)
     handle = hd
     info = stat
 end subroutine vehicle_model_create_c

@@ -51,6 +51,9 @@ module vehicle_model
         !> modelled (held at zero: e.g. a wheelset without x or spin); itr (y, z, roll) of the
         !> track element, 0 = rigid ground.
         integer, allocatable :: iws(:, :), itr(:, :)
+        !> Spin (polar) inertia I_y of each wheelset's rotating parts, kg m^2 (0: no
+        !> gyroscopic term): add_gyroscopic.
+        real(dp), allocatable :: ispin(:)
         !> The per-wheel contact table over (u, relative roll) (vehicle_contact).
         type(pose_table) :: ct
         !> The strip contact (vehicle_strip; off: the table's points).
@@ -83,9 +86,10 @@ contains
     !> a table of fewer than 2 nodes or step <= 0, a DOF index out of range, a wheelset
     !> without its y, z or roll DOF, an unknown element kind), STAT_NO_MEMORY (no free slot).
     subroutine vehicle_create(nd, ne, nw, ny, nr, nq, mm, cc, kk, f0, etype, eg, epar, iws, itr, tab, &
-                              y0, dy, p0, dph, rnom, r0, gmod, mu, handle, info)
+                              y0, dy, p0, dph, rnom, r0, gmod, mu, ispin, handle, info)
         integer, intent(in) :: nd, ne, nw, ny, nr, nq
         real(dp), intent(in) :: mm(nd, nd), cc(nd, nd), kk(nd, nd), f0(nd), eg(nd, ne), epar(4, ne)
+        real(dp), intent(in) :: ispin(nw)
         integer, intent(in) :: etype(ne), iws(6, nw), itr(3, nw)
         real(dp), intent(in) :: tab(nq, 2, ny, nr), y0, dy, p0, dph, rnom, r0, gmod, mu
         integer, intent(out) :: handle, info
@@ -100,7 +104,8 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nd < 1 .or. ne < 1 .or. nw < 1) return
         if (any(iws < 0) .or. any(iws > nd) .or. any(iws(1:3, :) == 0) .or. any(itr < 0) &
-            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none)) return
+            .or. any(itr > nd) .or. any(etype /= el_friction .and. etype /= el_bump .and. etype /= el_none) &
+            .or. any(.not. (ispin >= 0.0_dp))) return
         info = STAT_NO_MEMORY
         do k = 1, MAX_VEHICLE
             if (.not. models(k)%used) then
@@ -122,6 +127,7 @@ contains
         md%epar = epar
         md%iws = iws
         md%itr = itr
+        md%ispin = ispin
         md%ct = ct
         md%st = strip_geometry()
         if (allocated(md%kmkey)) deallocate (md%kmkey)
@@ -154,7 +160,8 @@ contains
         if (.not. associated(vehicle_get(handle))) return
         deallocate (models(handle)%m, models(handle)%c, models(handle)%k, models(handle)%f0, &
                     models(handle)%etype, models(handle)%eg, models(handle)%epar, &
-                    models(handle)%iws, models(handle)%itr, models(handle)%ct%tab)
+                    models(handle)%iws, models(handle)%itr, models(handle)%ct%tab, &
+                    models(handle)%ispin)
         models(handle)%mp = modal_part()
         models(handle)%st = strip_geometry()
         if (allocated(models(handle)%kmkey)) deallocate (models(handle)%kmkey)
@@ -485,6 +492,34 @@ contains
         end do
     end subroutine add_contact
 
+    !> The wheelsets' gyroscopic moments: the spin Omega = v0 / r0 about +y has the angular
+    !> momentum H = I_y Omega (e_y - yaw e_x + roll e_z) (small rotations), and dH/dt = M gives
+    !> the forces roll +I_y Omega yaw', yaw -I_y Omega roll' (docs/wheelset_flexible.md,
+    !> "Equations for the integrator": the same skew term as the FE wheelset's rigid part).
+    !> Added to f (at the rates v), or its rate derivative times cv to jac.
+    pure subroutine add_gyroscopic(md, rs, v, cv, f, jac)
+        type(vmodel), intent(in) :: md
+        type(vsettings), intent(in) :: rs
+        real(dp), intent(in) :: v(md%nd), cv
+        real(dp), intent(inout), optional :: f(md%nd), jac(md%nd, md%nd)
+        real(dp) :: h
+        integer :: w, ir, iy
+        do w = 1, md%nw
+            h = md%ispin(w) * rs%v0 / md%r0
+            ir = md%iws(3, w)
+            iy = md%iws(4, w)
+            if (h == 0.0_dp .or. iy == 0) cycle
+            if (present(f)) then
+                f(ir) = f(ir) + h * v(iy)
+                f(iy) = f(iy) - h * v(ir)
+            end if
+            if (present(jac)) then
+                jac(ir, iy) = jac(ir, iy) + cv * h
+                jac(iy, ir) = jac(iy, ir) - cv * h
+            end if
+        end do
+    end subroutine add_gyroscopic
+
     !> Total force F(q, v); wout (nwo, 2, nw) the contact outputs per wheel. info:
     !> STAT_OUTSIDE_TABLE a wheelset left the contact table (derailment or a diverging
     !> solution); STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED a BEM patch reached its grid edge
@@ -502,6 +537,7 @@ contains
         real(dp), allocatable :: gs(:)
         integer :: e, w
         f = md%f0 - matmul(md%k, q) - matmul(md%c, v)
+        call add_gyroscopic(md, rs, v, 1.0_dp, f=f)
         do e = 1, md%ne
             d = dot_product(md%eg(:, e), q)
             dd = dot_product(md%eg(:, e), v)
@@ -553,8 +589,10 @@ contains
         integer :: e, j
         if (mode == TANGENT_QV) then
             jac = -md%k - cv * md%c
+            call add_gyroscopic(md, rs, v, cv, jac=jac)
         else
             jac = -md%c
+            call add_gyroscopic(md, rs, v, 1.0_dp, jac=jac)
         end if
         do e = 1, md%ne
             d = dot_product(md%eg(:, e), q)

@@ -104,6 +104,12 @@ class System:
         FASTSIM contacts then take their normal forces from the strip potential and their
         creep forces at each slot's load-weighted point; None: the table's points. The
         table still bounds the lateral range (derailment).
+    spin_inertia : ndarray (nw,), optional
+        Spin (polar) inertia I_y of each wheelset's rotating parts, kg m^2: the core adds the
+        gyroscopic moments (forces on the right-hand side) roll +I_y Omega yaw', yaw
+        -I_y Omega roll' (Omega = v0 / r0, the spin about +y) at each call's speed
+        (vehicle_model add_gyroscopic; as C[roll, yaw] = -I_y Omega in M a + C v = F).
+        Default zeros: none.
 
     Notes
     -----
@@ -128,8 +134,17 @@ class System:
     friction: float = 0.3
     modal: ModalBlocks | None = None
     strip: "StripGeometry | None" = None
+    spin_inertia: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        if self.spin_inertia is None:
+            object.__setattr__(self, "spin_inertia", np.zeros(self.iws.shape[1]))
+        elif np.shape(self.spin_inertia) != (np.shape(self.iws)[1],):
+            raise InputError(f"spin_inertia must have one entry per wheelset "
+                             f"({np.shape(self.iws)[1]}), got shape {np.shape(self.spin_inertia)}")
+        elif not np.all(np.asarray(self.spin_inertia, dtype=float) >= 0.0):
+            raise InputError(f"spin_inertia must be finite and >= 0 (kg m^2), got "
+                             f"{self.spin_inertia}")
         for f in fields(self):
             val = getattr(self, f.name)
             if isinstance(val, np.ndarray):
@@ -258,7 +273,7 @@ def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
 
 
 def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
-                wheelset_dofs: int = 6) -> System:
+                wheelset_dofs: int = 6, gyroscopic: bool = True) -> System:
     """Assemble the coach on four track elements (RR model: rigid bodies, rigid track element).
 
     Parameters
@@ -270,6 +285,10 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
     wheelset_dofs : int
         6 (x, y, z, roll, yaw, beta) or 4 (y, z, roll, yaw: no longitudinal motion, rolling
         exactly at v0/r0, as the model before the x and spin DOFs).
+    gyroscopic : bool
+        The wheelsets' gyroscopic moments from their spin inertia ``wheelset_pitch_inertia``
+        (:attr:`System.spin_inertia`; the same term as model FR's rigid part). False: none,
+        the model before issue 30.
     """
     if wheelset_dofs not in (4, 6):
         raise InputError(f"wheelset_dofs must be 4 or 6, got {wheelset_dofs!r}")
@@ -381,7 +400,10 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
            if track else np.zeros((3, 4), dtype=int))
     names = tuple(DOF_NAMES[:17] + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
                   + DOF_NAMES[17 + 4 * len(WS_DOFS):][:n - it0])
-    return _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
+    sy = _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
+    if gyroscopic:
+        sy = replace(sy, spin_inertia=np.full(4, p["wheelset_pitch_inertia"]))
+    return sy
 
 
 def build_single_wheelset(table: WheelTable, *, mass: float, roll_inertia: float,

@@ -169,10 +169,11 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         line; the static contact point of the centred S1002/UIC60 pair is at about +3 mm.
         Fixed for the run (the rows do not follow the contact point).
     rigid_gyro : bool
-        Add the rigid wheelset's gyroscopic coupling of the flexible wheelsets to the coach's
-        C (skew: roll equation -I_y Omega yaw', yaw equation +I_y Omega roll', I_y the FE
-        polar moment). Model RR has no such term: with ``zero_rows`` and rigid_gyro=False FR
-        reproduces RR.
+        Keep the flexible wheelsets' rigid gyroscopic moments (in M a + C v = F: C[roll, yaw]
+        = -I_y Omega, C[yaw, roll] = +I_y Omega; I_y the coach's ``wheelset_pitch_inertia``: the FE wheelset's polar
+        moment plus the rotating lumped parts, railvti.vehicle.wheelset_body), as model RR
+        has them (:func:`~railvti.vehicle.assembly.build_coach`); False drops them (with
+        ``zero_rows``, FR then reproduces RR built with ``gyroscopic=False``).
     track : bool
         False puts the wheelsets on rigid ground instead of the four track elements (model
         FF: :func:`railvti.vehicle.ring_coupling.build_rf` then adds the ring track under them).
@@ -335,14 +336,10 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         cpl = replace(cpl, rim_follow=rf)
     mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
                      couplings=cpl, massless=tuple(massless))
-    if rigid_gyro:
-        c = np.array(sy.c, copy=True)
-        h = body.polar_moment * body.omega
-        for i in flexible:
-            a, b = sy.index(f"ws{i + 1}_roll"), sy.index(f"ws{i + 1}_yaw")
-            c[a, b] -= h
-            c[b, a] += h
-        sy = replace(sy, c=c)
+    if not rigid_gyro:
+        ispin = np.array(sy.spin_inertia, copy=True)
+        ispin[list(flexible)] = 0.0
+        sy = replace(sy, spin_inertia=ispin)
     return sy.with_modal(mb), layouts
 
 
@@ -630,6 +627,13 @@ def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     nt = n + nm
     m, c, k = np.zeros((nt, nt)), np.zeros((nt, nt)), np.zeros((nt, nt))
     m[:n, :n], c[:n, :n], k[:n, :n] = system.m, system.c, system.k
+    cp = mb.couplings
+    omega = next((float(cp.params[0, e]) for e, kind in enumerate(cp.kinds) if kind == "gyro"),
+                 0.0)                          # the spin Omega of the rigid-elastic couplings
+    for w in range(system.iws.shape[1]):       # the rigid gyroscopic moments (build_coach)
+        a, b = system.iws[2, w] - 1, system.iws[3, w] - 1
+        c[a, b] -= system.spin_inertia[w] * omega
+        c[b, a] += system.spin_inertia[w] * omega
     for e in range(system.eg.shape[1]):
         p = system.epar[:, e]
         if system.etype[e] == 1:         # friction: p1 tanh(gd / p2) + p3 gd

@@ -586,7 +586,8 @@ class VehicleModel:
         handle, info = core.vehicle_model_create_c(
             system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,
             system.iws, system.itr, t.data_roll, t.y0, t.dy, t.roll0, t.droll, t.r_nominal, t.r0,
-            t.material.shear_modulus, system.friction)
+            t.material.shear_modulus, system.friction,
+            np.asfortranarray(system.spin_inertia, dtype=np.float64))
         check(info, "vehicle model")
         self.handle = int(handle)
         self.n = int(system.n)

@@ -20,6 +20,10 @@ table number was not checked: the original paper was not at hand). Each entry of
 * "Iwnicki 1998": from the earlier transcription of the table, not re-confirmed in this work
   (roll and yaw inertias, primary and secondary horizontal stiffnesses, secondary lateral
   damper, spacings, wheel radius).
+* The wheelset's inertias come from the FE wheelset of models FR and FF plus its lumped
+  parts (:func:`railvti.vehicle.wheelset_body.coach_wheelset`, issue 30): RR and FR carry
+  the same body; the benchmark's 1813 kg is kept (the axleboxes make it up), its 1120 /
+  112 kg m^2 become 1099.21 / 111.51 kg m^2.
 * "assumption": parameters the benchmark does not give (the paper's coach has a friction
   bolster after Diepen 1991, not public), chosen plausibly.
 """
@@ -37,6 +41,8 @@ _IW = "Iwnicki 1998 (Manchester Benchmark vehicle 1, vehicle parameter table)"
 _IWC = _IW + " [confirmed: also TTB-2D TrainProp_Manchester_BenchMark.m]"
 _IWI = _IW + " [issue 13; not re-checked against the paper]"
 _ASSUME = "assumption"
+_WSB = ("railvti.vehicle.wheelset_body.coach_wheelset(): the FE wheelset's rigid part "
+        "(railvti.wheelset.WheelsetGeometry) plus two brake discs and two axleboxes")
 _TRACK = "railvti.track.TrackElement.from_ring(RingTrack(64)) with railvti.track.DEFAULTS"
 
 #: name -> (default, unit, source). Forces, stiffnesses and dampers are per element as stated.
@@ -60,11 +66,13 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "bogie_yaw_inertia": (3067.0, "kg m^2", _IW),
     "bogie_cg_height": (0.6, "m", _ASSUME),
     "half_wheelbase": (1.28, "m", _IWC + ": wheelbase 2.56 m"),
-    # wheelset
-    "wheelset_mass": (1813.0, "kg", _IWC),
-    "wheelset_roll_inertia": (1120.0, "kg m^2", _IW),
-    "wheelset_yaw_inertia": (1120.0, "kg m^2", _IW),
-    "wheelset_pitch_inertia": (112.0, "kg m^2", _IW + " (Iwy, about the axle: the spin DOF)"),
+    # wheelset: one body for every model (railvti.vehicle.wheelset_body.coach_wheelset())
+    "wheelset_mass": (1813.0, "kg", _IWC + "; = the FE wheelset's 1094.29 kg + 2 brake discs "
+                      "+ 2 axleboxes (" + _WSB + ")"),
+    "wheelset_roll_inertia": (1099.21, "kg m^2", _WSB + " (Iwnicki 1998: 1120)"),
+    "wheelset_yaw_inertia": (1099.21, "kg m^2", _WSB + " (Iwnicki 1998: 1120)"),
+    "wheelset_pitch_inertia": (111.51, "kg m^2", _WSB + " (Iwy, about the axle: the spin DOF "
+                               "and the gyroscopic moments' spin inertia; Iwnicki 1998: 112)"),
     "wheel_radius": (0.46, "m", _IW),
     # primary suspension, per axlebox
     "primary_kx": (31.391e6, "N/m", _IW),
