@@ -315,12 +315,14 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
                             f_max=f_max)
         return _with_geometry(sy, geometry), lays
     from .wheelset.flexible import residual_table
-    ws = _fr_wheelset()
-    body = ws.flexible_body(v, k_max=k_max, f_max=f_max)
-    key = ("residual_grid", float(v), k_max, float(f_max))
+    coach = coach or Coach()
+    scale = coach["wheelset_stiffness_scale"]
+    ws = _fr_wheelset().stiffness_scaled(scale)
+    body = ws.flexible_body(v, k_max=k_max, f_max=f_max * np.sqrt(scale))
+    key = ("residual_grid", float(v), k_max, float(f_max), scale)
     if key not in _PROFILES:
         _PROFILES[key] = residual_table(ws, body)
-    sy, lays = build_fr(coach or Coach(), tab, v, wheelset=ws, body=body, follow_contact=True,
+    sy, lays = build_fr(coach, tab, v, wheelset=ws, body=body, follow_contact=True,
                         residual_grid=_PROFILES[key])
     return _with_geometry(sy, geometry), lays
 

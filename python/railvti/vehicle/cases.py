@@ -237,7 +237,8 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
     from ..scenarios import fr_system
     from .simulate import MODAL_STEP_LIMIT, check_modal_step
     sel = _fr_selection(params)
-    if params["h"] * 2.0 * np.pi * sel["f_max"] <= MODAL_STEP_LIMIT:
+    scale = params.get("coach_wheelset_stiffness_scale") or 1.0
+    if params["h"] * 2.0 * np.pi * sel["f_max"] * np.sqrt(scale) <= MODAL_STEP_LIMIT:
         return None
     kmh = (params["speeds_kmh_max"] if params["scenario"] == "critical_speed"
            else params["speed"] * 3.6)

@@ -45,6 +45,9 @@ from .table import WheelTable
 #: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
 #: d/dtheta (y, z, rx) of the left and right wheel.
 POINTS_PER_WHEELSET = 20
+#: The smallest time step, s, the kept modes may ask for (h omega_max <= 2): a stiffer
+#: wheelset (``wheelset_stiffness_scale``) is refused before any run.
+MIN_MODAL_STEP = 1.0e-6
 RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z",
               "rim_right_rx")
 
@@ -146,14 +149,17 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     wheelset : railvti.wheelset.Wheelset, optional
         The FE wheelset (default: ``Wheelset()``, the passenger wheelset of the coach).
     k_max, f_max, damping_ratio
-        Mode selection and modal damping (:meth:`Wheelset.flexible_body`).
+        Mode selection and modal damping (:meth:`Wheelset.flexible_body`). The coach's
+        ``wheelset_stiffness_scale`` s multiplies Young's modulus; f_max then selects among
+        the unscaled wheelset's frequencies (the FE's up to f_max sqrt(s): the same modes).
     flexible : tuple of int
         0-based wheelsets made flexible (the others stay rigid).
     zero_rows : bool
         Set every attachment row to zero (the modes decouple: the coach must then run
         exactly as RR; a check of the coupling's bookkeeping).
     body : FlexibleWheelset, optional
-        A ready flexible body (skips the modal solve).
+        A ready flexible body (skips the modal solve; built from the wheelset scaled by the
+        coach's ``wheelset_stiffness_scale``, :meth:`Wheelset.stiffness_scaled`).
     residual : bool
         Add the body's residual flexibility (its ``residual`` at the taping lines) over the rim
         and journal points as a block per wheelset: the static deflection then does not
@@ -212,14 +218,21 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     flexible = tuple(sorted(set(int(i) for i in flexible)))
     if not flexible or any(i not in (0, 1, 2, 3) for i in flexible):
         raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")
+    scale = coach["wheelset_stiffness_scale"]
     if body is None:
-        ws = wheelset if wheelset is not None else Wheelset()
+        wheelset = (wheelset if wheelset is not None else Wheelset()).stiffness_scaled(scale)
         k_max = check_harmonic(k_max, "k_max")
         f_max = _checks.positive("f_max", f_max)
-        if not any(np.any(~_rigid_mask(_harmonic(ws, k, f_max))) for k in range(k_max + 1)):
+        f_fe = f_max * np.sqrt(scale)           # the same modes as the unscaled wheelset's
+        if not any(np.any(~_rigid_mask(_harmonic(wheelset, k, f_fe))) for k in range(k_max + 1)):
             raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
                              f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
-        body = ws.flexible_body(speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio)
+        body = wheelset.flexible_body(speed, k_max=k_max, f_max=f_fe,
+                                      damping_ratio=damping_ratio)
+    if body.n and 2.0 / (2.0 * np.pi * float(np.max(body.freq_hz))) < MIN_MODAL_STEP:
+        raise InputError(f"wheelset_stiffness_scale = {scale:g}: the highest kept mode "
+                         f"({float(np.max(body.freq_hz)):.4g} Hz) would need a time step below "
+                         f"{MIN_MODAL_STEP * 1e6:g} us; lower the scale or f_max")
     nq = body.n
     if nq == 0:
         raise InputError(f"no elastic mode below f_max = {f_max} Hz")

@@ -74,6 +74,10 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "wheelset_pitch_inertia": (111.51, "kg m^2", _WSB + " (Iwy, about the axle: the spin DOF "
                                "and the gyroscopic moments' spin inertia; Iwnicki 1998: 112)"),
     "wheel_radius": (0.46, "m", _IW),
+    "wheelset_stiffness_scale": (1.0, "-", "models FR and FF: Young's modulus of the FE wheelset "
+                                 "times this (every elastic frequency times its square root, "
+                                 "the same modes kept; 1e3: the stiff limit, which must "
+                                 "reproduce RR; issue 30). RR and RF: no effect"),
     # primary suspension, per axlebox
     "primary_kx": (31.391e6, "N/m", _IW),
     "primary_ky": (3.884e6, "N/m", _IW),

@@ -3,7 +3,7 @@ model (Kaiser, eq. 11) and the gyroscopic frequency response."""
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -205,6 +205,19 @@ class Wheelset:
         self._contact_nodes = (self.mesh.node_at(g.wheel_radius, g.contact_y),
                                self.mesh.node_at(g.wheel_radius, -g.contact_y))
         self._cache: dict[tuple, HarmonicModes] = {}
+        self._scaled: dict[float, "Wheelset"] = {}
+
+    def stiffness_scaled(self, scale: float) -> "Wheelset":
+        """This wheelset with Young's modulus times ``scale`` (> 0; every elastic frequency
+        times sqrt(scale), the masses unchanged): itself for 1, else a copy kept for the next
+        call (the stiff-limit checks of issue 30)."""
+        scale = _checks.positive("wheelset_stiffness_scale", scale)
+        if scale == 1.0:
+            return self
+        if scale not in self._scaled:
+            g = replace(self.geometry, young=self.geometry.young * scale)
+            self._scaled[scale] = Wheelset(geometry=g, suspension=self.suspension)
+        return self._scaled[scale]
 
     # ----------------------------------------------------------------- modes
     def harmonic(self, k: int, f_max: float, support: str = "free",
