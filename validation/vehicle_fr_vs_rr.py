@@ -114,10 +114,12 @@ def _angle(d: dict) -> np.ndarray:
     return RAIL_ANGLE + d["rigid"] + d["camber"]
 
 
-def _two_maxima(p, wheel: int) -> tuple[tuple[float, float], tuple[float, float]]:
-    """The patch's two pressure maxima across the track: (p, y) of the flange-side maximum and
-    of the other, from the lateral profile of max over x of the pressure (local maxima)."""
-    prof = p.pressure.max(axis=0)
+def _two_maxima(p, wheel: int, field: str = "pressure"
+                ) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The patch's two maxima across the track of a field ('pressure' or 'power_density'):
+    (value, y) of the flange-side maximum and of the other (field-side), from the lateral
+    profile of max over x of the field (its two largest local maxima)."""
+    prof = getattr(p, field).max(axis=0)
     y = p.y[0]
     j = [k for k in range(1, prof.size - 1)
          if prof[k] > 0 and prof[k] >= prof[k - 1] and prof[k] >= prof[k + 1]]
@@ -134,11 +136,13 @@ def _patch_row(p, wheel: int) -> dict:
     k = np.unravel_index(np.argmax(p.pressure), p.pressure.shape)
     da = (p.x[1, 0] - p.x[0, 0]) * (p.y[0, 1] - p.y[0, 0])
     (pf, yf), (po, yo) = _two_maxima(p, wheel)
+    (qf, zf), (qo, zo) = _two_maxima(p, wheel, "power_density")
     return {"fn": p.fn, "p_max": p.pressure.max(), "y_pmax": p.y[k], "x_pmax": p.x[k],
             "p_flange": pf, "y_flange": yf, "p_other": po, "y_other": yo,
             "y_centroid": float((p.pressure * p.y).sum() / p.pressure.sum()),
             "area": inside.sum() * da, "a": p.a, "b": p.b, "fx": p.fx, "fy": p.fy,
             "power": p.power, "pd_max": p.power_density.max(),
+            "pd_flange": qf, "y_pd_flange": zf, "pd_other": qo, "y_pd_other": zo,
             "t_max": np.hypot(p.tx, p.ty).max()}
 
 
@@ -172,7 +176,9 @@ def print_tables(hz: dict, bm: dict) -> None:
                           ("p_other", 1e-6, "MPa"), ("y_other", 1e3, "mm"),
                           ("y_centroid", 1e3, "mm"), ("a", 1e3, "mm"), ("b", 1e3, "mm"),
                           ("area", 1e6, "mm^2"), ("fx", 1.0, "N"), ("fy", 1.0, "N"),
-                          ("t_max", 1e-6, "MPa"), ("power", 1.0, "W"), ("pd_max", 1e-6, "W/mm^2")):
+                          ("t_max", 1e-6, "MPa"), ("power", 1.0, "W"), ("pd_max", 1e-6, "W/mm^2"),
+                          ("pd_flange", 1e-6, "W/mm^2"), ("y_pd_flange", 1e3, "mm"),
+                          ("pd_other", 1e-6, "W/mm^2"), ("y_pd_other", 1e3, "mm")):
         vals = [rows[m][w][key] for w in (0, 1) for m in ("RR", FLEX)]
         rel = [rows[FLEX][w][key] / rows["RR"][w][key] - 1 if not key.startswith("y_")
                else float("nan") for w in (0, 1)]
@@ -193,6 +199,13 @@ def print_tables(hz: dict, bm: dict) -> None:
     print(f"  friction power changes: ours {l_rr['power']:.2f} -> {l_fr['power']:.2f} W "
           f"({100 * (l_fr['power'] / l_rr['power'] - 1):+.1f} %), peak density "
           f"{l_rr['pd_max'] / 1e6:.3f} -> {l_fr['pd_max'] / 1e6:.3f} W/mm^2")
+    for w, side in enumerate(SIDES):
+        a, b = rows["RR"][w], rows[FLEX][w]
+        print(f"  friction power density maxima, {side} wheel (paper RR 13 / 7, FF 4 / 5 W/mm^2, "
+              f"flange / field side): RR {a['pd_flange'] / 1e6:.2f} / {a['pd_other'] / 1e6:.2f}, "
+              f"{FLEX} {b['pd_flange'] / 1e6:.2f} / {b['pd_other'] / 1e6:.2f} W/mm^2 "
+              f"({100 * (b['pd_flange'] / a['pd_flange'] - 1):+.0f} % / "
+              f"{100 * (b['pd_other'] / a['pd_other'] - 1):+.0f} %; paper -69 % / -29 %)")
 
 
 def _crop(patches) -> tuple[slice, slice]:

@@ -67,7 +67,7 @@ _PROFILES: dict[str, Any] = {}
 
 
 def _profiles():
-    if not _PROFILES:
+    if "wheel" not in _PROFILES:
         from .profiles import s1002, uic60
         _PROFILES["wheel"] = s1002()
         _PROFILES["rail"] = uic60(cant=1.0 / 40.0)
@@ -219,7 +219,7 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
 def coach_system(model: str = "RR", coach: Coach | None = None, *,
                  linear_conicity: float | None = None, speed_kmh: float | None = None,
                  k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None,
-                 geometry: str | None = None, **rf: Any) -> System:
+                 geometry: str | None = None, follow_contact: bool = False, **rf: Any) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
 
@@ -235,9 +235,13 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
     Model 'RF' (the ring track, :func:`rf_system`) needs the speed too and takes
     ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``; model 'FF' (flexible
-    wheelsets on the ring, :func:`ff_system`) takes the keys of both.
+    wheelsets on the ring, :func:`ff_system`) takes the keys of both. Models 'FR' and 'FF'
+    take ``follow_contact`` (the rims' rows follow the contact point, :func:`fr_system`).
     """
     _check_model(model, "hertz-kalker", "coach_system")
+    if follow_contact and model not in FLEXIBLE_WHEELSETS:
+        raise InputError(f"follow_contact: a key of models 'FR' and 'FF' (flexible wheelsets); "
+                         f"model {model!r} has rigid wheelsets")
     geometry = _system_geometry(geometry, linear_conicity)
     if model in RING_TRACK:
         if speed is None and speed_kmh is None:
@@ -247,7 +251,7 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
             raise InputError(f"model {model!r} has no linearised table (linear_conicity)")
         if model == "FF":
             return ff_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
-                             geometry=geometry, **rf)[0]
+                             geometry=geometry, follow_contact=follow_contact, **rf)[0]
         if (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
             _no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
         return rf_system(coach, speed_kmh=speed_kmh, speed=speed, geometry=geometry, **rf)
@@ -259,7 +263,8 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
             raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
                              "depend on the spin)")
         return fr_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
-                         linear_conicity=linear_conicity, geometry=geometry)[0]
+                         linear_conicity=linear_conicity, geometry=geometry,
+                         follow_contact=follow_contact)[0]
     tab = contact_table()
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
@@ -302,7 +307,6 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     System, list of railvti.vehicle.flexible.FRLayout
         The layouts carry the mode labels (``labels``, ``k``, ``family``, ``freq_hz``).
     """
-    from .vehicle.flexible import build_fr
     v, _ = _speeds(speed_kmh, speed)
     k_max, f_max = check_fr_selection(k_max, f_max)
     geometry = _system_geometry(geometry, linear_conicity)
@@ -310,21 +314,28 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
         tab = linearised_table(tab, linear_conicity)
+    sy, lays = _fr_build(coach or Coach(), tab, v, k_max, f_max, follow_contact=follow_contact)
+    return _with_geometry(sy, geometry), lays
+
+
+def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: float, *,
+              track: bool = True, follow_contact: bool = False) -> tuple[System, list]:
+    """build_fr on the scenarios' cached FE wheelset (scaled by the coach's
+    wheelset_stiffness_scale); with follow_contact, the residual's 5 mm table over the contact
+    points made once per speed and selection (about 30 s)."""
+    from .vehicle.flexible import build_fr
     if not follow_contact:
-        sy, lays = build_fr(coach or Coach(), tab, v, wheelset=_fr_wheelset(), k_max=k_max,
-                            f_max=f_max)
-        return _with_geometry(sy, geometry), lays
+        return build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
+                        track=track)
     from .wheelset.flexible import residual_table
-    coach = coach or Coach()
     scale = coach["wheelset_stiffness_scale"]
     ws = _fr_wheelset().stiffness_scaled(scale)
     body = ws.flexible_body(v, k_max=k_max, f_max=f_max * np.sqrt(scale))
     key = ("residual_grid", float(v), k_max, float(f_max), scale)
     if key not in _PROFILES:
         _PROFILES[key] = residual_table(ws, body)
-    sy, lays = build_fr(coach, tab, v, wheelset=ws, body=body, follow_contact=True,
-                        residual_grid=_PROFILES[key])
-    return _with_geometry(sy, geometry), lays
+    return build_fr(coach, table, v, wheelset=ws, body=body, follow_contact=True,
+                    residual_grid=_PROFILES[key], track=track)
 
 
 def _ring(n_sleepers: Any, track_params: dict | None):
@@ -405,20 +416,20 @@ def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: in
              x_offset: float = 0.0, ring_residual: bool = True,
              ring_residual_hz: float | None = None,
              ring_residual_inertia: bool = False,
-             fr_base: tuple | None = None) -> tuple[System, list]:
+             fr_base: tuple | None = None, follow_contact: bool = False
+             ) -> tuple[System, list]:
     """Model RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
     linear method's bisection may pass it): the ring checked and built (cached), FR's
     wheelsets on rigid ground for FF (``fr_base``: that (system, layouts) already built at v),
     the ring's block appended. Returns (system, FR layouts or [])."""
-    from .vehicle.flexible import build_fr
     from .vehicle.ring_coupling import build_rf
     track = _checked_ring(coach, n_sleepers, track_params)
     base, lays = None, []
     if model == "FF" and fr_base is not None:
         base, lays = fr_base
     elif model == "FF":
-        base, lays = build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max,
-                              f_max=f_max, track=False)
+        base, lays = _fr_build(coach, table, v, k_max, f_max, track=False,
+                               follow_contact=follow_contact)
     sy = build_rf(coach, table, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
                   residual=bool(ring_residual), residual_hz=ring_residual_hz,
                   residual_inertia=bool(ring_residual_inertia))
@@ -440,7 +451,8 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
               track_params: dict | None = None, x_offset: float = 0.0,
               geometry: str | None = None, ring_residual: bool = True,
               ring_residual_hz: float | None = None,
-              ring_residual_inertia: bool = False) -> tuple[System, list]:
+              ring_residual_inertia: bool = False,
+              follow_contact: bool = False) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
@@ -450,6 +462,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     wheel's contact is evaluated between its deformed
     rim and the ring's rail head under it (vehicle_model%add_contact with both the rim and
     the rail points); nothing couples the two flexible bodies but the contact.
+    ``follow_contact``: the rims' rows follow the contact point (:func:`fr_system`).
 
     Returns
     -------
@@ -468,7 +481,8 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
                         n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
                         x_offset=x_offset, ring_residual=ring_residual,
                         ring_residual_hz=ring_residual_hz,
-                        ring_residual_inertia=ring_residual_inertia)
+                        ring_residual_inertia=ring_residual_inertia,
+                        follow_contact=bool(follow_contact))
     return _with_geometry(sy, _system_geometry(geometry)), lays
 
 
@@ -640,22 +654,23 @@ def _system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> Syst
     """The scenario's system: RR, or FR, RF, FF at this speed with their keys (the mode
     selection, the ring's) popped from kw."""
     geometry = kw.pop("geometry", None)
+    follow = {"follow_contact": kw.pop("follow_contact")} if "follow_contact" in kw else {}
     if model in RING_TRACK:
         rf = {k: kw.pop(k) for k in _RF_KEYS if k in kw}
         if model == "RF":
             _no_fr_keys(kw)
         else:
             rf.update(k_max=kw.pop("k_max", FR_K_MAX), f_max=kw.pop("f_max", FR_F_MAX))
-        return coach_system(model, coach, speed_kmh=speed_kmh, geometry=geometry, **rf)
+        return coach_system(model, coach, speed_kmh=speed_kmh, geometry=geometry, **follow, **rf)
     extra = sorted(k for k in _RF_KEYS if k in kw)
     if extra:
         raise InputError(f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); "
                          f"model {model!r} has none")
     if model == "FR":
         return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
-                            f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry)
+                            f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry, **follow)
     _no_fr_keys(kw)
-    return coach_system(model, coach, geometry=geometry)
+    return coach_system(model, coach, geometry=geometry, **follow)
 
 
 def _no_fr_keys(kw: dict) -> None:
