@@ -1,0 +1,228 @@
+"""The four-variant study like for like (issue 30): RR, FR, RF, FF by three methods.
+
+    .venv/bin/python validation/vehicle_four_study.py                  # all; hours with FF
+    .venv/bin/python validation/vehicle_four_study.py --models RR,FR   # some variants
+    .venv/bin/python validation/vehicle_four_study.py --bem RR         # BEM brackets of RR
+    .venv/bin/python validation/vehicle_four_study.py --replot         # table and charts again
+
+Every variant on the same coach and the same wheelset body (railvti.vehicle.wheelset_body:
+RR's rigid wheelset is the FE wheelset's rigid part plus its discs and axleboxes, with the
+gyroscopic moments), S1002 / UIC60 1:40, the scenarios' defaults (flexible wheelsets k_max 2 /
+800 Hz with their residual flexibility; the ring of ``scenarios.RF_N_SLEEPERS`` sleepers with
+its residual flexibility), unless ``--cheap`` (k_max 1 / 300 Hz).
+
+1. **linear**: ``scenarios.critical_speed(model, method='linear')`` (eigenvalues about centred
+   running at the equivalent conicity, the yaw damper stuck; RF and FF: the ring's rows
+   averaged over a sleeper bay).
+2. **nonlinear, strip**: ``railvti.critical_search.nonlinear_critical_speed`` with Hertz +
+   Kalker on the strip geometry (the default contact): the fold (lowest speed with a limit
+   cycle, path-following down from 6 mm at 420 km/h, 20 km/h steps, bisection to
+   ``--resolution``) and the decay boundary (a 0.5 mm disturbance grows).
+3. **nonlinear, BEM** (``--bem`` models): the BEM contact (0.75 mm elements) on the upper
+   branch around the strip model's fold: a path from ``fold + 10`` km/h down in 10 km/h
+   steps (one bracket of 10 km/h: the fold lies in it).
+
+Each finished item is written at once to validation/figures/vehicle_four_study.npz (a run
+interrupted keeps what finished; a rerun skips what is stored unless ``--force``). Prints the
+table with the paper's claims and each item's wall time and the process's peak memory;
+charts: vehicle_four_study_bifurcation.png (the four diagrams: the upper branch and the decay
+tests), vehicle_four_study_speeds.png (the table as a chart).
+"""
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+from pathlib import Path
+
+import numpy as np
+
+from railvti import scenarios
+from railvti.critical_search import nonlinear_critical_speed
+
+FIG = Path(__file__).resolve().parent / "figures"
+STORE = FIG / "vehicle_four_study.npz"
+MODELS = ("RR", "FR", "RF", "FF")
+#: Kaiser's critical speeds, km/h (the paper's summary: FF <= 330 < FR ~ RF ~ 350 < RR ~ 390).
+PAPER_KMH = {"RR": 390.0, "FR": 350.0, "RF": 350.0, "FF": 330.0}
+
+
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _load() -> dict:
+    return dict(np.load(STORE, allow_pickle=False)) if STORE.exists() else {}
+
+
+def _save(out: dict) -> None:
+    FIG.mkdir(exist_ok=True)
+    tmp = STORE.with_name(STORE.stem + ".tmp.npz")
+    np.savez(tmp, **out)
+    tmp.replace(STORE)
+
+
+def _selection(model: str, cheap: bool) -> dict:
+    return {"k_max": 1, "f_max": 300.0} if cheap and model in ("FR", "FF") else {}
+
+
+def linear(model: str, cheap: bool) -> tuple[float, float]:
+    c = scenarios.critical_speed(model, method="linear", tol_kmh=0.5, **_selection(model, cheap))
+    return c.kmh, c.frequency_hz
+
+
+def path(model: str, contact: str, cheap: bool, **kw) -> dict:
+    c = nonlinear_critical_speed(model, contact, **_selection(model, cheap), **kw)
+    print("  " + c.message, flush=True)
+    return {"fold": c.fold_kmh, "fold_lo": c.fold_bracket_kmh[0], "fold_hi": c.fold_bracket_kmh[1],
+            "decay": c.decay_boundary_kmh, "decay_lo": c.decay_bracket_kmh[0],
+            "decay_hi": c.decay_bracket_kmh[1], "amp": c.fold_amplitude,
+            "branch": c.fold_branch,
+            "path_kmh": np.asarray(c.path_speeds) * 3.6, "path_amp": np.asarray(c.path_amplitudes),
+            "path_alive": np.asarray(c.path_alive), "decay_kmh": np.asarray(c.decay_speeds) * 3.6,
+            "decay_amp": np.asarray(c.decay_amplitudes), "decay_rate": np.asarray(c.decay_rates)}
+
+
+def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
+    for k, v in d.items():
+        out[f"{prefix}_{k}"] = np.asarray(v)
+    out[f"{prefix}_wall"] = np.array(wall)
+    out[f"{prefix}_peak_mb"] = np.array(_peak_mb())
+    _save(out)
+
+
+def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
+        force: bool) -> dict:
+    out = _load()
+    for m in models:
+        if force or f"{m}_linear" not in out:
+            t = time.perf_counter()
+            v, f = linear(m, cheap)
+            print(f"{m} linear: {v:.1f} km/h, {f:.2f} Hz [{time.perf_counter() - t:.0f} s]",
+                  flush=True)
+            _store(out, f"{m}_linear", {"kmh": v, "hz": f}, time.perf_counter() - t)
+        if force or f"{m}_strip_fold" not in out:
+            t = time.perf_counter()
+            d = path(m, "hertz-kalker", cheap, resolution_kmh=resolution, duration=duration)
+            _store(out, f"{m}_strip", d, time.perf_counter() - t)
+            print(f"{m} strip path [{time.perf_counter() - t:.0f} s]", flush=True)
+    for m in bem:
+        fold = float(out.get(f"{m}_strip_fold", np.nan))
+        if not np.isfinite(fold):
+            print(f"{m}: no strip fold stored: run the strip path first")
+            continue
+        if force or f"{m}_bem_fold_hi" not in out:
+            t = time.perf_counter()
+            d = path(m, "bem", cheap, speed_top_kmh=fold + 10.0, speed_floor_kmh=fold - 25.0,
+                     step_kmh=10.0, resolution_kmh=10.0, duration=duration, decay=False)
+            _store(out, f"{m}_bem", d, time.perf_counter() - t)
+            print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
+    return out
+
+
+def _f(out: dict, key: str) -> float:
+    return float(out[key]) if key in out else float("nan")
+
+
+def table(out: dict) -> str:
+    rows = ["| variant | linear, km/h | nonlinear strip: fold [bracket], km/h | decay boundary, "
+            "km/h | nonlinear BEM: fold bracket, km/h | paper | wall time (lin / strip / BEM) |",
+            "|---|---|---|---|---|---|---|"]
+    for m in MODELS:
+        if f"{m}_linear_kmh" not in out:
+            continue
+        bem = (f"[{_f(out, f'{m}_bem_fold_lo'):.0f}, {_f(out, f'{m}_bem_fold_hi'):.0f}]"
+               if f"{m}_bem_fold_hi" in out else "not run")
+        walls = " / ".join(f"{_f(out, f'{m}_{k}_wall'):.0f} s" if f"{m}_{k}_wall" in out else "-"
+                           for k in ("linear", "strip", "bem"))
+        rows.append(
+            f"| {m} | {_f(out, f'{m}_linear_kmh'):.1f} | {_f(out, f'{m}_strip_fold'):.1f} "
+            f"[{_f(out, f'{m}_strip_fold_lo'):.1f}, {_f(out, f'{m}_strip_fold_hi'):.1f}] "
+            f"| {_f(out, f'{m}_strip_decay'):.1f} | {bem} | ~{PAPER_KMH[m]:.0f} | {walls} |")
+    peak = max((_f(out, k) for k in out if k.endswith("_peak_mb")), default=float("nan"))
+    return "\n".join(rows) + f"\n\npeak memory of the runs: {peak:.0f} MB"
+
+
+def plot(out: dict) -> list[Path]:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8), sharex=True, sharey=True)
+    for ax, m in zip(axes.flat, MODELS):
+        ax.set_title(m, fontsize=10)
+        ax.grid(alpha=0.3)
+        if f"{m}_strip_path_kmh" not in out:
+            ax.text(0.5, 0.5, "not run", transform=ax.transAxes, ha="center")
+            continue
+        s, a = out[f"{m}_strip_path_kmh"], out[f"{m}_strip_path_amp"] * 1e3
+        alive = out[f"{m}_strip_path_alive"].astype(bool)
+        ax.plot(s[alive], a[alive], "o", color="C0", label="upper branch (cycle alive)")
+        ax.plot(s[~alive], a[~alive], "x", color="C0", label="upper branch (died)")
+        if f"{m}_strip_decay_kmh" in out:
+            ax.plot(out[f"{m}_strip_decay_kmh"], out[f"{m}_strip_decay_amp"] * 1e3, "s",
+                    mfc="none", color="C1", label="from 0.5 mm (decay test)")
+        if f"{m}_bem_path_kmh" in out:
+            sb, ab = out[f"{m}_bem_path_kmh"], out[f"{m}_bem_path_amp"] * 1e3
+            ax.plot(sb, ab, "D", color="C3", label="upper branch, BEM")
+        for key, ls, lab in (("strip_fold", "-", "fold (strip)"),
+                             ("strip_decay", "--", "decay boundary"),
+                             ("linear_kmh", ":", "linear")):
+            if np.isfinite(_f(out, f"{m}_{key}")):
+                ax.axvline(_f(out, f"{m}_{key}"), ls=ls, color="k", lw=0.8, label=lab)
+        ax.legend(fontsize=7)
+    for ax in axes[1]:
+        ax.set_xlabel("speed, km/h")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("leading wheelset amplitude, mm")
+    fig.suptitle("Bifurcation diagrams of the four variants: Hertz + Kalker on the strips "
+                 "(BEM where run)", fontsize=11)
+    fig.tight_layout()
+    p1 = FIG / "vehicle_four_study_bifurcation.png"
+    fig.savefig(p1, dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    x = np.arange(len(MODELS))
+    series = [("linear", [_f(out, f"{m}_linear_kmh") for m in MODELS]),
+              ("fold, strip", [_f(out, f"{m}_strip_fold") for m in MODELS]),
+              ("decay boundary, strip", [_f(out, f"{m}_strip_decay") for m in MODELS]),
+              ("fold, BEM (bracket top)", [_f(out, f"{m}_bem_fold_hi") for m in MODELS]),
+              ("paper (Kaiser)", [PAPER_KMH[m] for m in MODELS])]
+    wdt = 0.16
+    for i, (lab, vals) in enumerate(series):
+        ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
+    ax.set_xticks(x, MODELS)
+    ax.set_ylabel("critical speed, km/h")
+    ax.set_ylim(200, 450)
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8, ncol=3, loc="upper right")
+    ax.set_title("Critical speeds of the four variants (missing bars: not run)", fontsize=10)
+    fig.tight_layout()
+    p2 = FIG / "vehicle_four_study_speeds.png"
+    fig.savefig(p2, dpi=110)
+    plt.close(fig)
+    return [p1, p2]
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--bem", default="", help="models bracketed with the BEM, e.g. RR,FF")
+    ap.add_argument("--resolution", type=float, default=2.5, help="fold bracket, km/h")
+    ap.add_argument("--duration", type=float, default=4.0, help="s per speed")
+    ap.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
+    ap.add_argument("--force", action="store_true", help="recompute stored items")
+    ap.add_argument("--replot", action="store_true")
+    a = ap.parse_args(argv)
+    models = [m for m in a.models.split(",") if m]
+    bem = [m for m in a.bem.split(",") if m]
+    for m in models + bem:
+        if m not in MODELS:
+            raise SystemExit(f"unknown model {m!r}: {MODELS}")
+    out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force)
+    print(table(out))
+    for p in plot(out):
+        print(f"wrote {p}")
+
+
+if __name__ == "__main__":
+    main()
