@@ -30,6 +30,7 @@ from railvti.errors import InputError
     (dict(duration=0.6), "window"),                         # fewer than two windows
     (dict(threshold=0.0), "threshold"),
     (dict(rate_tol=-0.1), "rate_tol"),
+    (dict(collapse=1.0), "collapse"),
     (dict(segments=0), "segments"),
     (dict(max_extensions=1.5), "max_extensions"),
     (dict(h=float("nan")), "h"),
@@ -91,9 +92,14 @@ def test_cycle_verdict():
     assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.5)[0] == "dead"
     # a cycle settling onto a smaller one (the envelope falls, then levels) is alive
     t, _ = _signal(0.0)
-    a = 3e-3 + 3e-3 * np.exp(-3.0 * t)
+    a = 4e-3 + 2e-3 * np.exp(-3.0 * t)
+    y = a * np.sin(2 * np.pi * 6.0 * t)
+    assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.05, collapse=0.5)[0] == "alive"
+    # a carried cycle that collapses onto a slowly decaying remnant has left its branch
+    a = 0.3e-3 * np.exp(-0.02 * t) + 7e-3 * np.exp(-4.0 * t)
     y = a * np.sin(2 * np.pi * 6.0 * t)
     assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.05)[0] == "alive"
+    assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.05, collapse=0.5)[0] == "dead"
 
 
 # ---- the bracketing on stand-ins with a known answer ---------------------------------------

@@ -17,8 +17,10 @@ The criteria (:func:`cycle_verdict`, :func:`growth_rate`) judge the amplitude *e
 of ``window`` s) rather than one amplitude against one threshold:
 
 * a run carries a **living cycle** when the envelope's fitted growth rate over the second
-  half of the run, d ln A / dt, is above ``-rate_tol`` (settled or growing) and its last
-  window is above the floor ``threshold``; a run whose envelope still falls faster is
+  half of the run, d ln A / dt, is above ``-rate_tol`` (settled or growing), its last
+  window is above the floor ``threshold`` and, for a run carried in on the cycle, above
+  ``collapse`` (0.5) times its first window (the followed branch is kept, not a slowly
+  decaying remnant); a run whose envelope still falls faster is
   continued (``max_extensions`` times by ``duration``) before it is declared dead; below the
   floor it is dead at once. The floor only separates a cycle from the rest of a decay;
   the trend decides near the fold.
@@ -120,7 +122,8 @@ def growth_rate(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> float:
 
 
 def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: float,
-                  window: float = 0.5) -> tuple[str, float, float]:
+                  window: float = 0.5, collapse: float | None = None
+                  ) -> tuple[str, float, float]:
     """Is a limit cycle alive at the end of this run?
 
     Parameters
@@ -134,12 +137,16 @@ def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: f
         is at least ``-rate_tol``; otherwise still dying ('decaying': continue the run).
     window : float
         Envelope window, s.
+    collapse : float, optional
+        A run carried in on a cycle: dead when the last window is below ``collapse`` times
+        the first (the run has left the branch it followed, even if what remains decays
+        slowly enough to pass ``rate_tol``). None: no such check (a start from a shift).
 
     Returns
     -------
     verdict : str
-        'alive', 'dead' (below the floor) or 'decaying' (above the floor, falling faster
-        than ``rate_tol``).
+        'alive', 'dead' (below the floor, or collapsed) or 'decaying' (above the floor,
+        falling faster than ``rate_tol``).
     amplitude : float
         The envelope's last window, m.
     rate : float
@@ -149,7 +156,7 @@ def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: f
     half = tc >= 0.5 * (t[0] + t[-1])
     rate = _log_slope(tc[half], a[half]) if half.sum() >= 2 else _log_slope(tc, a)
     amp = float(a[-1])
-    if amp < threshold:
+    if amp < threshold or (collapse is not None and amp < collapse * float(a[0])):
         return "dead", amp, rate
     return ("alive" if rate >= -rate_tol else "decaying"), amp, rate
 
@@ -383,6 +390,7 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
                              resolution_kmh: float | None = None, duration: float = 4.0,
                              y_large: float = 0.006, y_small: float = 0.0005,
                              threshold: float = 0.25e-3, rate_tol: float = 0.05,
+                             collapse: float = 0.5,
                              window: float = 0.5, max_extensions: int = 2,
                              h: float | None = None, segments: int = 1,
                              output_dt: float | None = None, decay: bool = True,
@@ -423,6 +431,9 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
         The living cycle's floor, m (the envelope's last window).
     rate_tol : float
         The settled envelope's tolerance, 1/s (alive: growth rate >= -rate_tol).
+    collapse : float
+        A run carried in on the cycle is dead when its last window falls below this fraction
+        of its first (it has left the followed branch), in (0, 1).
     window : float
         Envelope window, s.
     max_extensions : int
@@ -461,6 +472,10 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     y_small = _checks.positive("y_small", y_small)
     threshold = _checks.positive("threshold", threshold)
     rate_tol = _checks.positive("rate_tol", rate_tol)
+    collapse = _checks.positive("collapse", collapse)
+    if collapse >= 1.0:
+        raise InputError(f"collapse = {collapse:g} must lie in (0, 1): the fraction of the "
+                         f"carried cycle's amplitude below which it has died")
     window = _checks.positive("window", window)
     if 2.0 * window > duration:
         raise InputError(f"window = {window:g} s: the run (duration = {duration:g} s) must hold "
@@ -485,15 +500,17 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
             q = lateral_disturbance(sy, runs.static(s), y_large)
             state = (q, np.zeros(sy.n_state), s, 0.0)
         q, v, s_from, travel = state
+        carried = s_from != s or travel > 0.0
         if s_from != s:
             q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
         t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-        verdict, amp, rate = cycle_verdict(t, y, **crit)
+        cut = collapse if carried else None
+        verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
         n_ext = 0
         while verdict == "decaying" and n_ext < max_extensions:
             t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
             t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
-            verdict, amp, rate = cycle_verdict(t, y, **crit)
+            verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
             n_ext += 1
         alive = verdict == "alive"
         log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", s, verdict, amp * 1e3,
@@ -525,12 +542,13 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     method = (f"fold: continuation down from {y_large * 1e3:g} mm at {top:g} km/h in "
               f"{dstep:g} km/h steps, bisection from the last living state to "
               f"{res:g} km/h; alive = envelope ({window:g} s windows) growth rate over the "
-              f"run's second half >= -{rate_tol:g} 1/s and last window >= {threshold * 1e3:g} mm "
+              f"run's second half >= -{rate_tol:g} 1/s, last window >= {threshold * 1e3:g} mm and "
+              f">= {collapse:g} x the first when carried "
               f"({duration:g} s per run, up to {max_extensions} extensions); decay boundary: "
               f"independent runs from {y_small * 1e3:g} mm, grows = last envelope window above the first")
     settings = dict(speed_top=top / 3.6, speed_floor=bottom / 3.6, step=dstep / 3.6,
                     resolution=res / 3.6, duration=duration, y_large=y_large, y_small=y_small,
-                    threshold=threshold, rate_tol=rate_tol, window=window,
+                    threshold=threshold, rate_tol=rate_tol, collapse=collapse, window=window,
                     max_extensions=max_extensions, h=runs.systems.at(top)[2], segments=segments,
                     contact=contact, geometry=geometry, decay=bool(decay))
     pv = fb.visited
