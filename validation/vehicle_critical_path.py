@@ -73,7 +73,8 @@ def run_variant(name: str, parts: Path | None) -> dict:
     wall = time.perf_counter() - t0
     print(f"[{name}] {c.message} [{wall:.0f} s]", flush=True)
     out = {f: np.asarray(getattr(c, f)) for f in FIELDS}
-    out.update(resolution_kmh=c.settings["resolution"] * 3.6, fold_kmh=c.fold_kmh, fold_bracket_kmh=np.array(c.fold_bracket_kmh),
+    out.update(resolution_kmh=c.settings["resolution"] * 3.6, fold_kmh=c.fold_kmh,
+               fold_bracket_kmh=np.array(c.fold_bracket_kmh),
                decay_kmh=c.decay_boundary_kmh, decay_bracket_kmh=np.array(c.decay_bracket_kmh),
                fold_amplitude=c.fold_amplitude, fold_branch=c.fold_branch, wall=wall,
                label=label, method=c.method, has_decay=kw.get("decay", True))

@@ -20,10 +20,10 @@ of ``window`` s) rather than one amplitude against one threshold:
   half of the run, d ln A / dt, is above ``-rate_tol`` (settled or growing), its last
   window is above the floor ``threshold`` and, for a run carried in on the cycle, above
   ``collapse`` (0.5) times its first window (the followed branch is kept, not a slowly
-  decaying remnant); a run whose envelope still falls faster is
-  continued (``max_extensions`` times by ``duration``) before it is declared dead; below the
-  floor it is dead at once. The floor only separates a cycle from the rest of a decay;
-  the trend decides near the fold.
+  decaying remnant); a run whose envelope still falls faster is continued
+  (``max_extensions`` times by ``duration``) before it is declared dead; below the floor it
+  is dead at once. The floor only separates a cycle from the rest of a decay; the trend
+  decides near the fold.
 * a small disturbance **grows** when its envelope's last window exceeds its first (the
   release from ``y_small``): no threshold at all (:func:`growth_rate` > 0).
 
@@ -394,6 +394,7 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
                              window: float = 0.5, max_extensions: int = 2,
                              h: float | None = None, segments: int = 1,
                              output_dt: float | None = None, decay: bool = True,
+                             progress: bool = False,
                              coach: Coach | None = None, k_max: int = FR_K_MAX,
                              f_max: float = FR_F_MAX, geometry: str | None = None,
                              **ring: Any) -> PathCriticalSpeed:
@@ -446,6 +447,9 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
         Output interval, s (default 2 ms or finer, as the sweeps).
     decay : bool
         Also the decay boundary (default True).
+    progress : bool
+        A tqdm bar over the runs (their number is not known beforehand); every run is also
+        logged at INFO level (``railvti.critical_search``).
     coach, k_max, f_max, geometry, **ring
         As :func:`railvti.scenarios.bifurcation`.
 
@@ -515,6 +519,9 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
         alive = verdict == "alive"
         log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", s, verdict, amp * 1e3,
                  rate, t[-1])
+        if bar is not None:
+            bar.set_postfix_str(f"fold search {s:.2f} km/h {verdict}")
+            bar.update()
         rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl)
         return alive, (q, v, s, travel), rec
 
@@ -525,12 +532,23 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
         rate = growth_rate(t, y, window)
         amp = float(envelope(t, y, window)[1][-1])
         log.info("decay %.2f km/h: rate %.4f 1/s, %.4f mm", s, rate, amp * 1e3)
+        if bar is not None:
+            bar.set_postfix_str(f"decay test {s:.2f} km/h {'grows' if rate > 0 else 'decays'}")
+            bar.update()
         return rate > 0.0, None, dict(amplitude=amp, rate=rate)
 
-    with serial_blas():
-        fb = bracket_down(upper, top, dstep, bottom, res)
-        db = (bracket_down(grows, top, dstep, bottom, res) if decay
-              else Bracket(float("nan"), float("nan"), []))
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(desc="critical speed (runs)", leave=False)
+    try:
+        with serial_blas():
+            fb = bracket_down(upper, top, dstep, bottom, res)
+            db = (bracket_down(grows, top, dstep, bottom, res) if decay
+                  else Bracket(float("nan"), float("nan"), []))
+    finally:
+        if bar is not None:
+            bar.close()
     amp_f, branch = float("nan"), "none"
     if not (math.isnan(fb.hi) or math.isnan(fb.lo)):
         rec = next(r for s, ok, r in fb.visited if ok and s == fb.hi)
@@ -542,10 +560,11 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     method = (f"fold: continuation down from {y_large * 1e3:g} mm at {top:g} km/h in "
               f"{dstep:g} km/h steps, bisection from the last living state to "
               f"{res:g} km/h; alive = envelope ({window:g} s windows) growth rate over the "
-              f"run's second half >= -{rate_tol:g} 1/s, last window >= {threshold * 1e3:g} mm and "
-              f">= {collapse:g} x the first when carried "
+              f"run's second half >= -{rate_tol:g} 1/s, last window >= "
+              f"{threshold * 1e3:g} mm and >= {collapse:g} x the first when carried "
               f"({duration:g} s per run, up to {max_extensions} extensions); decay boundary: "
-              f"independent runs from {y_small * 1e3:g} mm, grows = last envelope window above the first")
+              f"independent runs from {y_small * 1e3:g} mm, grows = last envelope window "
+              f"above the first")
     settings = dict(speed_top=top / 3.6, speed_floor=bottom / 3.6, step=dstep / 3.6,
                     resolution=res / 3.6, duration=duration, y_large=y_large, y_small=y_small,
                     threshold=threshold, rate_tol=rate_tol, collapse=collapse, window=window,
