@@ -1,0 +1,587 @@
+"""Nonlinear critical speed by path-following down from a large limit cycle (issue 30 item 5).
+
+Two numbers, named:
+
+* the **fold** (:attr:`PathCriticalSpeed.fold`): the lowest speed at which a limit cycle
+  exists, found by following the large cycle down in speed with the whole state carried
+  (continuation) and, where it dies, bisecting between the last speed with a cycle and the
+  first without, every bisection run restarting from the last living state, until the
+  bracket is no wider than ``resolution``;
+* the **decay boundary** (:attr:`PathCriticalSpeed.decay_boundary`): the lowest speed at
+  which a small disturbance ``y_small`` of centred running grows rather than decays (a
+  linear-stability-like boundary), found by the same walk down and bisection, each run
+  independent (from the static state at its speed).
+
+The criteria (:func:`cycle_verdict`, :func:`growth_rate`) judge the amplitude *envelope*
+(half the peak-to-peak lateral displacement of the leading wheelset in consecutive windows
+of ``window`` s) rather than one amplitude against one threshold:
+
+* a run carries a **living cycle** when the envelope's fitted growth rate over the second
+  half of the run, d ln A / dt, is above ``-rate_tol`` (settled or growing), its last
+  window is above the floor ``threshold`` and, for a run carried in on the cycle, above
+  ``collapse`` (0.5) times its first window (the followed branch is kept, not a slowly
+  decaying remnant); a run whose envelope still falls faster is continued
+  (``max_extensions`` times by ``duration``) before it is declared dead; below the floor it
+  is dead at once. The floor only separates a cycle from the rest of a decay; the trend
+  decides near the fold.
+* a small disturbance **grows** when its envelope's last window exceeds its first (the
+  release from ``y_small``): no threshold at all (:func:`growth_rate` > 0).
+
+Examples
+--------
+>>> from railvti.critical_search import nonlinear_critical_speed
+>>> c = nonlinear_critical_speed("RR", speed_top_kmh=420, resolution_kmh=2.5)
+>>> c.fold_kmh, c.decay_boundary_kmh, c.message
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from . import _checks
+from ._threads import serial_blas
+from .errors import InputError
+from .scenarios import (FR_F_MAX, FR_K_MAX, _check_model, _output_dt, _point_systems,
+                        _ring_keys, check_fr_selection, FLEXIBLE_WHEELSETS, resolve_geometry)
+from .vehicle.params import Coach
+from .vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
+
+log = logging.getLogger(__name__)
+
+#: Default fold bracket width and coarse walk step, km/h (their SI twins are the keywords
+#: ``resolution`` and ``step`` in m/s).
+RESOLUTION_KMH, STEP_KMH = 2.5, 20.0
+
+
+# --------------------------------------------------------------------------------------------
+# The criteria
+# --------------------------------------------------------------------------------------------
+
+def envelope(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude envelope of a time history: half the peak-to-peak of ``y`` in consecutive
+    windows of ``window`` s counted back from the end (each sample closes an interval of the
+    sampling step; a partial first window is dropped).
+
+    Parameters
+    ----------
+    t : ndarray
+        Times, s, increasing.
+    y : ndarray
+        The signal (the leading wheelset's lateral displacement, m).
+    window : float
+        Window length, s (a few hunting periods: 0.5 s holds 2.5-3.5 periods at 5-7 Hz).
+
+    Returns
+    -------
+    tc : ndarray
+        Window centres, s.
+    a : ndarray
+        Half the peak-to-peak in each window, m.
+    """
+    t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
+    window = _checks.positive("window", window)
+    span = t[-1] - t[0] + (t[1] - t[0] if t.size > 1 else 0.0)    # samples end intervals
+    n = int(math.floor(span / window + 1e-9))
+    if n < 1:
+        raise InputError(f"window = {window:g} s is longer than the run ({span:g} s)")
+    edges = t[-1] - window * np.arange(n, -1, -1)
+    tc, a = np.empty(n), np.empty(n)
+    for k in range(n):
+        m = (t >= edges[k] - 1e-12) & (t <= edges[k + 1] + 1e-12)
+        tc[k] = 0.5 * (edges[k] + edges[k + 1])
+        a[k] = 0.5 * float(np.ptp(y[m])) if m.any() else 0.0
+    return tc, a
+
+
+def _log_slope(tc: np.ndarray, a: np.ndarray) -> float:
+    """Least-squares slope of ln a against tc, 1/s (a floored at 1e-12 m)."""
+    if tc.size < 2:
+        return 0.0
+    return float(np.polyfit(tc, np.log(np.maximum(a, 1e-12)), 1)[0])
+
+
+def growth_rate(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> float:
+    """Mean growth rate of the envelope between its first and last windows,
+    ln(A_last / A_first) / (their distance), 1/s.
+
+    Positive: the motion ends larger than it started (it grows, or settles on a cycle above
+    the disturbance); negative: it decays. The decay boundary's criterion: the sign alone
+    decides (no threshold). The first window holds the release from the disturbance, so
+    A_first is about the disturbance itself; a motion that grows and then saturates on a
+    cycle keeps its sign however long the run (a fitted slope over the run would tend to 0).
+    """
+    tc, a = envelope(t, y, window)
+    if tc.size < 2:
+        raise InputError(f"window = {window:g} s: the run must hold at least two windows")
+    a = np.maximum(a, 1e-12)
+    return float(np.log(a[-1] / a[0]) / (tc[-1] - tc[0]))
+
+
+def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: float,
+                  window: float = 0.5, collapse: float | None = None
+                  ) -> tuple[str, float, float]:
+    """Is a limit cycle alive at the end of this run?
+
+    Parameters
+    ----------
+    t, y : ndarray
+        Times (s) and the leading wheelset's lateral displacement (m).
+    threshold : float
+        The floor, m: a last window below it is no cycle (dead at once).
+    rate_tol : float
+        1/s: alive when the envelope's fitted growth rate over the second half of the run
+        is at least ``-rate_tol``; otherwise still dying ('decaying': continue the run).
+    window : float
+        Envelope window, s.
+    collapse : float, optional
+        A run carried in on a cycle: dead when the last window is below ``collapse`` times
+        the first (the run has left the branch it followed, even if what remains decays
+        slowly enough to pass ``rate_tol``). None: no such check (a start from a shift).
+
+    Returns
+    -------
+    verdict : str
+        'alive', 'dead' (below the floor, or collapsed) or 'decaying' (above the floor,
+        falling faster than ``rate_tol``).
+    amplitude : float
+        The envelope's last window, m.
+    rate : float
+        The fitted growth rate over the second half, 1/s.
+    """
+    tc, a = envelope(t, y, window)
+    half = tc >= 0.5 * (t[0] + t[-1])
+    rate = _log_slope(tc[half], a[half]) if half.sum() >= 2 else _log_slope(tc, a)
+    amp = float(a[-1])
+    if amp < threshold or (collapse is not None and amp < collapse * float(a[0])):
+        return "dead", amp, rate
+    return ("alive" if rate >= -rate_tol else "decaying"), amp, rate
+
+
+# --------------------------------------------------------------------------------------------
+# The bracketing
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Bracket:
+    """A walk down in speed and its bisection (:func:`bracket_down`).
+
+    Attributes
+    ----------
+    lo : float
+        The highest speed tested where the test failed below ``hi`` (NaN: it never failed
+        down to the floor), same unit as the speeds given.
+    hi : float
+        The lowest speed where the test passed (NaN: it failed at the top already).
+    visited : list of (speed, passed, record)
+        Every test in order (the walk, then the bisection).
+    """
+
+    lo: float
+    hi: float
+    visited: list = field(default_factory=list)
+
+
+def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float, step: float,
+                 floor: float, resolution: float, state: Any = None) -> Bracket:
+    """Walk down from ``top`` by ``step`` while ``test`` passes, then bisect between the last
+    pass and the first failure until they are at most ``resolution`` apart.
+
+    ``test(speed, state) -> (passed, state_after, record)``. The walk carries the state of
+    each pass to the next speed (continuation); every bisection test starts from the state
+    of the current upper bracket end (the last living state), and a pass moves that end and
+    its state down. The walk stops at the last speed not below ``floor``.
+
+    Returns
+    -------
+    Bracket
+    """
+    visited: list = []
+    s = float(top)
+    hi = lo = float("nan")
+    while s >= floor - 1e-9:
+        ok, after, rec = test(s, state)
+        visited.append((s, bool(ok), rec))
+        if not ok:
+            lo = s
+            break
+        hi, state = s, after
+        s = s - step
+    if math.isnan(hi) or math.isnan(lo):
+        return Bracket(lo=lo, hi=hi, visited=visited)
+    while hi - lo > resolution + 1e-9:
+        mid = 0.5 * (hi + lo)
+        ok, after, rec = test(mid, state)
+        visited.append((mid, bool(ok), rec))
+        if ok:
+            hi, state = mid, after
+        else:
+            lo = mid
+    return Bracket(lo=lo, hi=hi, visited=visited)
+
+
+# --------------------------------------------------------------------------------------------
+# The result
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PathCriticalSpeed:
+    """The fold and the decay boundary of :func:`nonlinear_critical_speed`.
+
+    Speeds are in m/s (fields); their km/h twins are the ``*_kmh`` properties.
+
+    Attributes
+    ----------
+    fold : float
+        The lowest speed with a limit cycle (the upper end of ``fold_bracket``), m/s; NaN
+        when the cycle died at the top or lived down to the floor (see ``message``).
+    fold_bracket : tuple of float
+        (highest speed without, lowest speed with a cycle), m/s; width <= the resolution.
+    decay_boundary : float
+        The lowest speed at which the small disturbance grows (upper end of
+        ``decay_bracket``), m/s; NaN when none was found.
+    decay_bracket : tuple of float
+        (highest speed where it decays, lowest where it grows), m/s.
+    path_speeds, path_amplitudes, path_rates : ndarray
+        The upper branch's runs in order (walk, then bisection): speed (m/s), the envelope's
+        last window (m), its growth rate over the run's second half (1/s).
+    path_alive : ndarray of bool
+    path_durations : ndarray
+        Simulated time of each run (s): ``duration`` times (1 + extensions).
+    decay_speeds, decay_amplitudes, decay_rates : ndarray
+        The decay tests in order: speed (m/s), last window (m), fitted growth rate (1/s).
+    fold_amplitude : float
+        The cycle's amplitude at the fold, m.
+    fold_branch : str
+        'flange cycle' (flange force above 1 % of the static wheel load in the last window
+        of the fold's run), 'tread cycle' or 'none'.
+    model : str
+    method : str
+        The criteria and settings in words.
+    settings : dict
+        The settings (SI).
+    """
+
+    fold: float
+    fold_bracket: tuple
+    decay_boundary: float
+    decay_bracket: tuple
+    path_speeds: np.ndarray
+    path_amplitudes: np.ndarray
+    path_rates: np.ndarray
+    path_alive: np.ndarray
+    path_durations: np.ndarray
+    decay_speeds: np.ndarray
+    decay_amplitudes: np.ndarray
+    decay_rates: np.ndarray
+    fold_amplitude: float = float("nan")
+    fold_branch: str = "none"
+    model: str = "RR"
+    method: str = ""
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def fold_kmh(self) -> float:
+        """The fold, km/h."""
+        return self.fold * 3.6
+
+    @property
+    def decay_boundary_kmh(self) -> float:
+        """The decay boundary, km/h."""
+        return self.decay_boundary * 3.6
+
+    @property
+    def fold_bracket_kmh(self) -> tuple[float, float]:
+        """The fold bracket, km/h."""
+        return (self.fold_bracket[0] * 3.6, self.fold_bracket[1] * 3.6)
+
+    @property
+    def decay_bracket_kmh(self) -> tuple[float, float]:
+        """The decay bracket, km/h."""
+        return (self.decay_bracket[0] * 3.6, self.decay_bracket[1] * 3.6)
+
+    @property
+    def message(self) -> str:
+        """One line: both numbers with their brackets, or why one is missing."""
+        top = self.settings.get("speed_top", float("nan")) * 3.6
+        bottom = self.settings.get("speed_floor", float("nan")) * 3.6
+        lo, hi = self.fold_bracket_kmh
+        if math.isnan(hi):
+            f = f"no limit cycle at the top speed {top:.1f} km/h"
+        elif math.isnan(lo):
+            f = f"fold below {hi:.1f} km/h (the cycle lives down to the floor {bottom:.1f})"
+        else:
+            f = (f"fold (lowest speed with a limit cycle) {self.fold_kmh:.1f} km/h "
+                 f"[{lo:.1f}, {hi:.1f}], {self.fold_branch} {self.fold_amplitude * 1e3:.2f} mm")
+        lo, hi = self.decay_bracket_kmh
+        if not self.settings.get("decay", True):
+            d = "decay boundary not computed"
+        elif math.isnan(hi):
+            d = f"a small disturbance decays at the top speed {top:.1f} km/h"
+        elif math.isnan(lo):
+            d = f"decay boundary below {hi:.1f} km/h (grows down to the floor)"
+        else:
+            d = f"decay boundary {self.decay_boundary_kmh:.1f} km/h [{lo:.1f}, {hi:.1f}]"
+        return f"{self.model}: {f}; {d}"
+
+
+# --------------------------------------------------------------------------------------------
+# The runs
+# --------------------------------------------------------------------------------------------
+
+class _Runs:
+    """The simulations of one search: the systems at each speed (scenarios' sweep systems:
+    RR's one system, FR, RF, FF built per speed), a run continued in ``segments`` calls."""
+
+    def __init__(self, model: str, contact: str, coach: Coach | None, h: float | None,
+                 k_max: int, f_max: float, geometry: str, ring: dict,
+                 output_dt: float | None, segments: int) -> None:
+        self.contact, self.output_dt, self.segments = contact, output_dt, segments
+        self.systems = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+
+    def static(self, s_kmh: float, travel: float = 0.0) -> np.ndarray:
+        sy = self.systems.upper_at(s_kmh, travel)[0]
+        return static_equilibrium(sy, s_kmh / 3.6, self.contact)[0]
+
+    def run(self, s_kmh: float, q: np.ndarray, v: np.ndarray | None, duration: float,
+            travel: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
+        """``duration`` s at s_kmh from (q, v), in ``segments`` continued calls.
+
+        Returns (t, y_ws1, q_end, v_end, travel_end, max flange force of the leading bogie
+        over the last 0.5 s)."""
+        vv = s_kmh / 3.6
+        _, _, hs = self.systems.at(s_kmh)
+        ts, ys, fl = [], [], []
+        t0 = 0.0
+        part = duration / self.segments
+        for _ in range(self.segments):
+            sy = self.systems.upper_at(s_kmh, travel)[0]
+            r = simulate(sy, vv, part, contact=self.contact, h=hs, q0=q, v0=v,
+                         output_dt=_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
+                         progress=False)
+            ts.append(r.t + t0)
+            ys.append(r.y_ws1)
+            fl.append(r.wheel_output("N_flange")[:, :, :2].max(axis=(1, 2)))
+            t0 += float(r.t[-1])
+            travel += vv * float(r.t[-1])
+            q, v = r.q[-1], r.v[-1]
+        t, f = np.concatenate(ts), np.concatenate(fl)
+        return t, np.concatenate(ys), q, v, travel, float(f[t >= t[-1] - 0.5].max())
+
+
+def _speed_arg(name: str, si: Any, kmh: Any, default_kmh: float) -> float:
+    """A speed-like keyword in km/h from exactly one of ``name`` (m/s) and ``name_kmh``."""
+    if si is not None and kmh is not None:
+        raise InputError(f"give {name} once: {name} (m/s) or {name}_kmh (km/h), not both")
+    if si is not None:
+        return _checks.positive(name, si) * 3.6
+    return _checks.positive(f"{name}_kmh", default_kmh if kmh is None else kmh)
+
+
+def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *,
+                             speed_top: float | None = None, speed_top_kmh: float | None = None,
+                             speed_floor: float | None = None,
+                             speed_floor_kmh: float | None = None,
+                             step: float | None = None, step_kmh: float | None = None,
+                             resolution: float | None = None,
+                             resolution_kmh: float | None = None, duration: float = 4.0,
+                             y_large: float = 0.006, y_small: float = 0.0005,
+                             threshold: float = 0.25e-3, rate_tol: float = 0.05,
+                             collapse: float = 0.5,
+                             window: float = 0.5, max_extensions: int = 2,
+                             h: float | None = None, segments: int = 1,
+                             output_dt: float | None = None, decay: bool = True,
+                             progress: bool = False,
+                             coach: Coach | None = None, k_max: int = FR_K_MAX,
+                             f_max: float = FR_F_MAX, geometry: str | None = None,
+                             **ring: Any) -> PathCriticalSpeed:
+    """The fold (lowest speed with a limit cycle) and the decay boundary, by path-following.
+
+    The upper branch: the static state at the top speed with the leading bogie's wheelsets
+    shifted by ``y_large``, ``duration`` s; then down by ``step`` with the whole state carried
+    (continuation); where the cycle dies (:func:`cycle_verdict`), bisection between the last
+    speed with a cycle and the first without, each run from the last living state, down to a
+    bracket of ``resolution``. The decay boundary: the same walk and bisection with
+    independent runs from ``y_small`` (grows: :func:`growth_rate` > 0). See the module's
+    docstring for the criteria.
+
+    Parameters
+    ----------
+    model : str
+        'RR', 'FR', 'RF' or 'FF' (FR, RF, FF built at each speed, as in
+        :func:`railvti.scenarios.bifurcation`).
+    contact : str
+        'hertz-kalker' (default), 'hertz-fastsim' or 'bem'.
+    speed_top, speed_top_kmh : float, optional
+        Top speed, m/s or km/h (one of them; default 420 km/h).
+    speed_floor, speed_floor_kmh : float, optional
+        The walk's lowest speed, m/s or km/h (default 150 km/h); below the top.
+    step, step_kmh : float, optional
+        The walk's coarse step, m/s or km/h (default 20 km/h).
+    resolution, resolution_kmh : float, optional
+        The brackets' final width, m/s or km/h (default 2.5 km/h); at most the step.
+    duration : float
+        Simulated time per speed, s (a run still dying above the floor is continued up to
+        ``max_extensions`` times by ``duration``).
+    y_large, y_small : float
+        The upper branch's initial shift and the decay test's disturbance, m.
+    threshold : float
+        The living cycle's floor, m (the envelope's last window).
+    rate_tol : float
+        The settled envelope's tolerance, 1/s (alive: growth rate >= -rate_tol).
+    collapse : float
+        A run carried in on the cycle is dead when its last window falls below this fraction
+        of its first (it has left the followed branch), in (0, 1).
+    window : float
+        Envelope window, s.
+    max_extensions : int
+        How often a still-dying run is continued before it is declared dead.
+    h : float, optional
+        Time step, s (default: 1 ms, divided for the flexible wheelsets' modes).
+    segments : int
+        Each run as this many continued :func:`simulate` calls (chunking check; 1: one call).
+    output_dt : float, optional
+        Output interval, s (default 2 ms or finer, as the sweeps).
+    decay : bool
+        Also the decay boundary (default True).
+    progress : bool
+        A tqdm bar over the runs (their number is not known beforehand); every run is also
+        logged at INFO level (``railvti.critical_search``).
+    coach, k_max, f_max, geometry, **ring
+        As :func:`railvti.scenarios.bifurcation`.
+
+    Returns
+    -------
+    PathCriticalSpeed
+
+    Raises
+    ------
+    InputError
+        A bad key (named), before any run.
+    """
+    top = _speed_arg("speed_top", speed_top, speed_top_kmh, 420.0)
+    bottom = _speed_arg("speed_floor", speed_floor, speed_floor_kmh, 150.0)
+    dstep = _speed_arg("step", step, step_kmh, STEP_KMH)
+    res = _speed_arg("resolution", resolution, resolution_kmh, RESOLUTION_KMH)
+    _checks.speed_kmh("speed_top_kmh", top)
+    if bottom >= top:
+        raise InputError(f"speed_top = {top:g} km/h must lie above speed_floor = {bottom:g} km/h")
+    if res > dstep:
+        raise InputError(f"resolution = {res:g} km/h must not exceed step = {dstep:g} km/h")
+    duration = _checks.positive("duration", duration)
+    y_large = _checks.positive("y_large", y_large)
+    y_small = _checks.positive("y_small", y_small)
+    threshold = _checks.positive("threshold", threshold)
+    rate_tol = _checks.positive("rate_tol", rate_tol)
+    collapse = _checks.positive("collapse", collapse)
+    if collapse >= 1.0:
+        raise InputError(f"collapse = {collapse:g} must lie in (0, 1): the fraction of the "
+                         f"carried cycle's amplitude below which it has died")
+    window = _checks.positive("window", window)
+    if 2.0 * window > duration:
+        raise InputError(f"window = {window:g} s: the run (duration = {duration:g} s) must hold "
+                         f"at least two windows")
+    max_extensions = _checks.positive_int("max_extensions", max_extensions, minimum=0)
+    segments = _checks.positive_int("segments", segments)
+    if h is not None:
+        _checks.positive("h", h)
+    _check_model(model, contact, "bifurcation")
+    if model in FLEXIBLE_WHEELSETS:
+        k_max, f_max = check_fr_selection(k_max, f_max)
+    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        raise InputError("k_max, f_max: the mode selection of models 'FR' and 'FF'")
+    ring = _ring_keys(model, ring)
+    geometry = resolve_geometry(contact, geometry)
+    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt, segments)
+    crit = dict(threshold=threshold, rate_tol=rate_tol, window=window)
+
+    def upper(s: float, state: Any) -> tuple[bool, Any, dict]:
+        if state is None:                       # the top: a large shift of the static state
+            sy = runs.systems.at(s)[0]
+            q = lateral_disturbance(sy, runs.static(s), y_large)
+            state = (q, np.zeros(sy.n_state), s, 0.0)
+        q, v, s_from, travel = state
+        carried = s_from != s or travel > 0.0
+        if s_from != s:
+            q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
+        t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+        cut = collapse if carried else None
+        verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
+        n_ext = 0
+        while verdict == "decaying" and n_ext < max_extensions:
+            t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+            t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
+            verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
+            n_ext += 1
+        alive = verdict == "alive"
+        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", s, verdict, amp * 1e3,
+                 rate, t[-1])
+        if bar is not None:
+            bar.set_postfix_str(f"fold search {s:.2f} km/h {verdict}")
+            bar.update()
+        rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl)
+        return alive, (q, v, s, travel), rec
+
+    def grows(s: float, state: Any) -> tuple[bool, Any, dict]:
+        sy = runs.systems.at(s)[0]
+        q = lateral_disturbance(sy, runs.static(s), y_small)
+        t, y, *_ = runs.run(s, q, None, duration, 0.0)
+        rate = growth_rate(t, y, window)
+        amp = float(envelope(t, y, window)[1][-1])
+        log.info("decay %.2f km/h: rate %.4f 1/s, %.4f mm", s, rate, amp * 1e3)
+        if bar is not None:
+            bar.set_postfix_str(f"decay test {s:.2f} km/h {'grows' if rate > 0 else 'decays'}")
+            bar.update()
+        return rate > 0.0, None, dict(amplitude=amp, rate=rate)
+
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(desc="critical speed (runs)", leave=False)
+    try:
+        with serial_blas():
+            fb = bracket_down(upper, top, dstep, bottom, res)
+            db = (bracket_down(grows, top, dstep, bottom, res) if decay
+                  else Bracket(float("nan"), float("nan"), []))
+    finally:
+        if bar is not None:
+            bar.close()
+    amp_f, branch = float("nan"), "none"
+    if not (math.isnan(fb.hi) or math.isnan(fb.lo)):
+        rec = next(r for s, ok, r in fb.visited if ok and s == fb.hi)
+        amp_f = rec["amplitude"]
+        wheel_load = runs.systems.at(fb.hi)[0].wheel_load
+        branch = "flange cycle" if rec["flange"] > 0.01 * wheel_load else "tread cycle"
+    fold = fb.hi if not math.isnan(fb.lo) else float("nan")
+    boundary = db.hi if not math.isnan(db.lo) else float("nan")
+    method = (f"fold: continuation down from {y_large * 1e3:g} mm at {top:g} km/h in "
+              f"{dstep:g} km/h steps, bisection from the last living state to "
+              f"{res:g} km/h; alive = envelope ({window:g} s windows) growth rate over the "
+              f"run's second half >= -{rate_tol:g} 1/s, last window >= "
+              f"{threshold * 1e3:g} mm and >= {collapse:g} x the first when carried "
+              f"({duration:g} s per run, up to {max_extensions} extensions); decay boundary: "
+              f"independent runs from {y_small * 1e3:g} mm, grows = last envelope window "
+              f"above the first")
+    settings = dict(speed_top=top / 3.6, speed_floor=bottom / 3.6, step=dstep / 3.6,
+                    resolution=res / 3.6, duration=duration, y_large=y_large, y_small=y_small,
+                    threshold=threshold, rate_tol=rate_tol, collapse=collapse, window=window,
+                    max_extensions=max_extensions, h=runs.systems.at(top)[2], segments=segments,
+                    contact=contact, geometry=geometry, decay=bool(decay))
+    pv = fb.visited
+    dv = db.visited
+    return PathCriticalSpeed(
+        fold=fold / 3.6, fold_bracket=(fb.lo / 3.6, fb.hi / 3.6),
+        decay_boundary=boundary / 3.6, decay_bracket=(db.lo / 3.6, db.hi / 3.6),
+        path_speeds=np.array([s for s, _, _ in pv]) / 3.6,
+        path_amplitudes=np.array([r["amplitude"] for _, _, r in pv]),
+        path_rates=np.array([r["rate"] for _, _, r in pv]),
+        path_alive=np.array([ok for _, ok, _ in pv], dtype=bool),
+        path_durations=np.array([r["duration"] for _, _, r in pv]),
+        decay_speeds=np.array([s for s, _, _ in dv]) / 3.6,
+        decay_amplitudes=np.array([r["amplitude"] for _, _, r in dv]),
+        decay_rates=np.array([r["rate"] for _, _, r in dv]),
+        fold_amplitude=amp_f, fold_branch=branch, model=model, method=method,
+        settings=settings)
