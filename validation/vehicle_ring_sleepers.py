@@ -187,7 +187,7 @@ def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
         err = np.array([abs(r.get(k, np.nan) / rk[k] - 1.0) * 100.0 for r in sub])
         # the linear run's cost is its own (CPU s per critical speed); the others' the hunting
         cost = np.array([r.get(cost_key, np.nan) for r in sub])
-        ax[0].plot(cost, np.maximum(err, 1e-3), "o-", color=f"C{j}",
+        ax[0].plot(cost, np.maximum(err, 1e-3), "o", color=f"C{j}",
                    label=f"{QUANTITIES[k][0]} (vs n_sl = {rk['n']})")
         for c, e, n in zip(cost, err, [r["n"] for r in sub]):
             ax[0].annotate(str(n), (c, max(e, 1e-3)), fontsize=7, xytext=(3, 3),
@@ -197,7 +197,7 @@ def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
         ax[0].set_yscale("log")
     ax[0].set_xlabel(f"time-loop cost, CPU s per simulated s ({cost_key.split('_')[0]} run)")
     ax[0].set_ylabel("|error| against the largest ring, %")
-    ax[0].set_title("cost against error (labels: n_sleepers)")
+    ax[0].set_title("cost against error (labels: n_sl; one run each)")
     ax[0].grid(alpha=0.3, which="both")
     ax[0].legend(fontsize=8)
     for key, lab, mk in (("build_s", "system build, CPU s", "s-"), ("rss_peak_mb", "peak RSS / 100, MB", "^-"),
@@ -210,7 +210,8 @@ def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
         sc = 0.01 if key == "rss_peak_mb" else (0.1 if key.startswith("linear") else 1.0)
         ax[1].plot(ns, [r.get(key, np.nan) * sc for r in rows], mk, label=lab)
     ax[1].set_xlabel("sleepers on the ring, n_sl")
-    ax[1].set_ylabel("cost (units in the legend)")
+    ax[1].set_yscale("log")
+    ax[1].set_ylabel("cost (units in the legend), log scale")
     ax[1].set_title("cost against ring length")
     ax[1].grid(alpha=0.3)
     ax[1].legend(fontsize=8)

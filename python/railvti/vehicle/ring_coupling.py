@@ -183,7 +183,7 @@ class RingRows:
         Notes
         -----
         Evaluated :data:`DISPLACEMENT_BLOCK` times at a time: the work arrays hold one value per
-        basis function and time (5196 functions at n_sl 40, 16,600 at 128), so a whole
+        basis function and time (5196 functions at n_sl 40, ~3.2x that at 128), so a whole
         hunting history at once (5000 outputs) took 1.2 GB at n_sl 40 and 3.3 GB at 128 after
         the run (validation/vehicle_ring_sleepers.py).
         """
