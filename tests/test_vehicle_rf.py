@@ -57,6 +57,21 @@ def test_rows_match_ring_head_shapes(ring):
                 assert np.allclose(got, want, rtol=0, atol=1e-9 * np.abs(want).max())
 
 
+def test_displacement_in_blocks_matches_rows(ring):
+    """RingRows.displacement (the history's rail motion without the rows, evaluated in blocks
+    of DISPLACEMENT_BLOCK times to bound its memory) against rows(t) @ qm at each time, over
+    2.5 blocks of random modal coordinates."""
+    from railvti.vehicle.ring_coupling import DISPLACEMENT_BLOCK
+    xw = np.array([10.78, 8.22, -8.22, -10.78])
+    rr = ring_rows(ring, xw, V, x_offset=0.3, f_limit=300.0)
+    nt = int(2.5 * DISPLACEMENT_BLOCK)
+    t = np.linspace(0.0, 0.05, nt)
+    qm = np.random.default_rng(3).standard_normal((nt, rr.n_modes))
+    got = rr.displacement(t, qm)
+    want = np.einsum("tipk,tk->tip", rr.rows(t), qm)
+    assert np.allclose(got, want, rtol=0, atol=1e-10 * np.abs(want).max())
+
+
 def test_static_deflection_against_ring_solution(ring, table):
     """RF's static equilibrium (all ring modes kept): the rail deflection under each wheel
     against the ring's modal static solution for the eight wheel loads (vertical and lateral

@@ -33,6 +33,8 @@ if TYPE_CHECKING:   # pragma: no cover
 
 #: Points per wheel: the pose (y, z, roll) of the track element under it.
 POINT_COMPONENTS = ("y", "z", "roll")
+#: Times per block of RingRows.displacement (bounds its work arrays: ~0.1 GB at n_sl 128).
+DISPLACEMENT_BLOCK = 64
 
 
 @dataclass(frozen=True)
@@ -177,9 +179,24 @@ class RingRows:
         Returns
         -------
         ndarray (nt, 3, 8)
+
+        Notes
+        -----
+        Evaluated :data:`DISPLACEMENT_BLOCK` times at a time: the work arrays hold one value per
+        basis function and time (5196 functions at n_sl 40, ~3.2x that at 128), so a whole
+        hunting history at once (5000 outputs) took 1.2 GB at n_sl 40 and 3.3 GB at 128 after
+        the run (validation/vehicle_ring_sleepers.py).
         """
         ts = np.atleast_1d(np.asarray(t, dtype=float))
         qm = np.atleast_2d(qm)
+        out = np.empty((ts.size, 3, self.crho.size))
+        for i0 in range(0, ts.size, DISPLACEMENT_BLOCK):
+            blk = slice(i0, i0 + DISPLACEMENT_BLOCK)
+            out[blk] = self._displacement(ts[blk], qm[blk])
+        return out
+
+    def _displacement(self, ts: np.ndarray, qm: np.ndarray) -> np.ndarray:
+        """:meth:`displacement` of one block of times (nt, 3, 8)."""
         amp = np.empty((ts.size, self.kap.size))      # basis-function amplitudes V Q per group
         for g in range(self.bpos.size - 1):
             b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]

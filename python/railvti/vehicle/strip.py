@@ -146,8 +146,12 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
     kappa, kappa1 = _smoothed_curvature(rail, ry)
     x = np.linspace(-X_FLAT, UPPER_FLAT, _N_TABLE)
     rho = np.exp(saturated_log_ratio(x, UPPER_LINEAR, UPPER_FLAT, np.log(UPPER_CLIP)))
-    a1, b1, kh = _hertz_unit(np.ones_like(rho), rho, material, clip=UPPER_CLIP)
-    ak, bk, _ = _hertz_unit(np.ones_like(rho), np.exp(saturated_log_ratio(x)), material)
+    # solved at every node (exact): the table is differentiated (the strips' forces take
+    # dc/dx, times dx/dy = kappa_rail' / (2 B), ~3e6 1/m in a near-conformal flange-root
+    # strip), and ratios rounded to 1e-3 in ln make a staircase whose spline slope
+    # alternates from node to node (docs/vehicle.md, "Models RF and FF: limits")
+    a1, b1, kh = _hertz_unit(np.ones_like(rho), rho, material, clip=UPPER_CLIP, exact=True)
+    ak, bk, _ = _hertz_unit(np.ones_like(rho), np.exp(saturated_log_ratio(x)), material, exact=True)
     c11, c22, c23 = kalker_coefficients(ak / bk, material.poisson)
     fv = np.stack([0.375 * kh * np.sqrt(rho), a1, b1, c11, c22, c23], axis=1)
     fm = np.stack([CubicSpline(x, col, bc_type="clamped")(x, 2) for col in fv.T], axis=1)

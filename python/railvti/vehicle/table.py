@@ -490,21 +490,29 @@ def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
 
 
 def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material,
-                clip: float = _RATIO_CLIP) -> np.ndarray:
+                clip: float = _RATIO_CLIP, exact: bool = False) -> np.ndarray:
     """Hertz a, b (1 N) and kH for each (A, B); B/A clipped to 1/25..clip. Returns (3, n).
 
     a, b and the approach d scale as N^(1/3), N^(1/3), N^(2/3), so N = d^1.5 / d1^1.5.
-    The ratio B/A is rounded to 1e-3 in log scale and each distinct value solved once.
+    The ratio B/A is rounded to 1e-3 in log scale and each distinct value solved once; with
+    ``exact`` every distinct ratio is solved as it is (a table that is differentiated, such
+    as the strips' ratio table: the rounding is a staircase whose spline has a derivative
+    that oscillates from node to node).
     """
     ratio = B / A
     lo, hi = 1.0 / _RATIO_CLIP, clip
     clipped = ~((ratio >= lo) & (ratio <= hi))
     ratio = np.clip(np.where(np.isfinite(ratio), ratio, hi), lo, hi)
-    key = np.round(np.log(ratio) * 1000.0).astype(np.int64)
-    uniq, inv = np.unique(key, return_inverse=True)
+    if exact:
+        uniq, inv = np.unique(ratio, return_inverse=True)
+        values = uniq
+    else:
+        key = np.round(np.log(ratio) * 1000.0).astype(np.int64)
+        uniq, inv = np.unique(key, return_inverse=True)
+        values = np.exp(uniq / 1000.0)
     sol = np.empty((uniq.size, 3))
-    for i, kk in enumerate(uniq):
-        h = hertz(1.0, float(np.exp(kk / 1000.0)), 1.0, material)
+    for i, rk in enumerate(values):
+        h = hertz(1.0, float(rk), 1.0, material)
         sol[i] = (h.a, h.b, h.approach)
     a = sol[inv, 0]
     b = sol[inv, 1]
