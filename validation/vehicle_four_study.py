@@ -51,8 +51,12 @@ def _peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def _load() -> dict:
-    return dict(np.load(STORE, allow_pickle=False)) if STORE.exists() else {}
+def _load(*paths: Path) -> dict:
+    out: dict = {}
+    for p in paths or (STORE,):
+        if p.exists():
+            out.update(dict(np.load(p, allow_pickle=False)))
+    return out
 
 
 def _save(out: dict) -> None:
@@ -204,6 +208,7 @@ def plot(out: dict) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> None:
+    global STORE
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--bem", default="", help="models bracketed with the BEM, e.g. RR,FF")
@@ -212,7 +217,14 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
     ap.add_argument("--force", action="store_true", help="recompute stored items")
     ap.add_argument("--replot", action="store_true")
+    ap.add_argument("--store", type=Path, default=STORE,
+                    help="results file (two runs side by side: one each, then --merge)")
+    ap.add_argument("--merge", type=Path, nargs="*", default=[],
+                    help="with --replot: results files to merge into --store first")
     a = ap.parse_args(argv)
+    STORE = a.store
+    if a.merge:
+        _save(_load(STORE, *a.merge))
     models = [m for m in a.models.split(",") if m]
     bem = [m for m in a.bem.split(",") if m]
     for m in models + bem:
