@@ -19,8 +19,8 @@ its residual flexibility), unless ``--cheap`` (k_max 1 / 300 Hz).
    cycle, path-following down from 6 mm at 420 km/h, 20 km/h steps, bisection to
    ``--resolution``) and the decay boundary (a 0.5 mm disturbance grows).
 3. **nonlinear, BEM** (``--bem`` models): the BEM contact (0.75 mm elements) on the upper
-   branch around the strip model's fold: a path from ``fold + 10`` km/h down in 10 km/h
-   steps (one bracket of 10 km/h: the fold lies in it).
+   branch around the strip model's fold: a path from ``--bem-above`` (40) km/h above it down
+   in ``--bem-step`` (10) km/h steps, the fold bracketed to half a step.
 
 Each finished item is written at once to validation/figures/vehicle_four_study.npz (a run
 interrupted keeps what finished; a rerun skips what is stored unless ``--force``). Prints the
@@ -96,7 +96,7 @@ def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
 
 
 def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
-        force: bool) -> dict:
+        force: bool, bem_above: float = 40.0, bem_step: float = 10.0) -> dict:
     out = _load()
     for m in models:
         if force or f"{m}_linear" not in out:
@@ -117,8 +117,9 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
             continue
         if force or f"{m}_bem_fold_hi" not in out:
             t = time.perf_counter()
-            d = path(m, "bem", cheap, speed_top_kmh=fold + 10.0, speed_floor_kmh=fold - 25.0,
-                     step_kmh=10.0, resolution_kmh=10.0, duration=duration, decay=False)
+            d = path(m, "bem", cheap, speed_top_kmh=min(fold + bem_above, 460.0),
+                     speed_floor_kmh=fold - 25.0, step_kmh=bem_step,
+                     resolution_kmh=bem_step / 2.0, duration=duration, decay=False)
             _store(out, f"{m}_bem", d, time.perf_counter() - t)
             print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
     return out
@@ -215,6 +216,10 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--resolution", type=float, default=2.5, help="fold bracket, km/h")
     ap.add_argument("--duration", type=float, default=4.0, help="s per speed")
     ap.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
+    ap.add_argument("--bem-above", type=float, default=40.0,
+                    help="the BEM path starts this far above the strip fold, km/h")
+    ap.add_argument("--bem-step", type=float, default=10.0,
+                    help="the BEM path's step, km/h (bracket: half of it)")
     ap.add_argument("--force", action="store_true", help="recompute stored items")
     ap.add_argument("--replot", action="store_true")
     ap.add_argument("--store", type=Path, default=STORE,
@@ -230,7 +235,8 @@ def main(argv: list[str] | None = None) -> None:
     for m in models + bem:
         if m not in MODELS:
             raise SystemExit(f"unknown model {m!r}: {MODELS}")
-    out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force)
+    out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force,
+                                       a.bem_above, a.bem_step)
     print(table(out))
     for p in plot(out):
         print(f"wrote {p}")
