@@ -297,14 +297,16 @@ def test_friction_and_bumpstop_elements(coach_system):
 
 def test_every_default_names_its_source():
     """Each Coach default carries a source: a publication or 'assumption' (or the track fit,
-    a standard constant, the regularisation); the Manchester values issue 13 quotes from
+    a standard constant, the regularisation, a model setting such as the stiff-limit
+    scale); the Manchester values issue 13 quotes from
     Iwnicki 1998 (primary dampers 15 / 2 / 4 kN s/m, bump-stop clearance 25 mm) are the
     defaults."""
     from railvti.vehicle import DEFAULTS
     for name, (value, unit, source) in DEFAULTS.items():
         assert unit and source, name
         assert ("Iwnicki 1998" in source or "assumption" in source or "TrackElement" in source
-                or source in ("standard", "regularisation: torque = T tanh(rate / this)")), name
+                or source in ("standard", "regularisation: torque = T tanh(rate / this)")
+                or source.startswith("model setting:")), name
     c = Coach()
     assert (c["primary_cx"], c["primary_cy"], c["primary_cz"]) == (15e3, 2e3, 4e3)
     assert c["bumpstop_clearance"] == 0.025

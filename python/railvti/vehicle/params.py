@@ -74,7 +74,7 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "wheelset_pitch_inertia": (111.51, "kg m^2", _WSB + " (Iwy, about the axle: the spin DOF "
                                "and the gyroscopic moments' spin inertia; Iwnicki 1998: 112)"),
     "wheel_radius": (0.46, "m", _IW),
-    "wheelset_stiffness_scale": (1.0, "-", "models FR and FF: Young's modulus of the FE wheelset "
+    "wheelset_stiffness_scale": (1.0, "-", "model setting: models FR and FF, Young's modulus of the FE wheelset "
                                  "times this (every elastic frequency times its square root, "
                                  "the same modes kept; 1e3: the stiff limit, which must "
                                  "reproduce RR; issue 30). RR and RF: no effect"),
