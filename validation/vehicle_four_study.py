@@ -96,7 +96,8 @@ def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
 
 
 def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
-        force: bool, bem_above: float = 40.0, bem_step: float = 10.0) -> dict:
+        force: bool, bem_above: float = 40.0, bem_step: float = 10.0,
+        bem_h: float | None = None) -> dict:
     out = _load()
     for m in models:
         if force or f"{m}_linear" not in out:
@@ -115,11 +116,12 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
         if not np.isfinite(fold):
             print(f"{m}: no strip fold stored: run the strip path first")
             continue
-        if force or f"{m}_bem_fold_hi" not in out:
+        if force or f"{m}_bem_fold_hi" not in out or not np.isfinite(out[f"{m}_bem_fold_hi"]):
             t = time.perf_counter()
             d = path(m, "bem", cheap, speed_top_kmh=min(fold + bem_above, 460.0),
                      speed_floor_kmh=fold - 25.0, step_kmh=bem_step,
-                     resolution_kmh=bem_step / 2.0, duration=duration, decay=False)
+                     resolution_kmh=bem_step / 2.0, duration=duration, decay=False,
+                     h=bem_h)
             _store(out, f"{m}_bem", d, time.perf_counter() - t)
             print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
     return out
@@ -220,6 +222,8 @@ def main(argv: list[str] | None = None) -> None:
                     help="the BEM path starts this far above the strip fold, km/h")
     ap.add_argument("--bem-step", type=float, default=10.0,
                     help="the BEM path's step, km/h (bracket: half of it)")
+    ap.add_argument("--bem-h", type=float, default=None,
+                    help="the BEM runs' time step, s (default: the scenarios')")
     ap.add_argument("--force", action="store_true", help="recompute stored items")
     ap.add_argument("--replot", action="store_true")
     ap.add_argument("--store", type=Path, default=STORE,
@@ -236,7 +240,7 @@ def main(argv: list[str] | None = None) -> None:
         if m not in MODELS:
             raise SystemExit(f"unknown model {m!r}: {MODELS}")
     out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force,
-                                       a.bem_above, a.bem_step)
+                                       a.bem_above, a.bem_step, a.bem_h)
     print(table(out))
     for p in plot(out):
         print(f"wrote {p}")

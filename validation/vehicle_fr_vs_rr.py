@@ -5,6 +5,7 @@ Figs 11-15).
     .venv/bin/python validation/vehicle_fr_vs_rr.py --replot   # tables and charts from the last run
     .venv/bin/python validation/vehicle_fr_vs_rr.py --model FF # FF (flexible wheelsets on the
                                                                # ring track) against RR instead
+    .venv/bin/python validation/vehicle_fr_vs_rr.py --model RF # RF (rigid wheelsets, ring)
 
 Both models on the same coach, S1002 / UIC60 1:40, 200 km/h; model FR at the default mode
 selection of ``scenarios`` (k_max 2, f_max 800 Hz, with the truncated modes' residual
@@ -57,6 +58,8 @@ FLEX = "FR"
 def _system(model: str):
     if model in ("FR", "FF"):
         return scenarios.coach_system(model, speed_kmh=SPEED_KMH, k_max=K_MAX, f_max=F_MAX)
+    if model == "RF":
+        return scenarios.coach_system("RF", speed_kmh=SPEED_KMH)
     return scenarios.coach_system("RR")
 
 
@@ -78,7 +81,7 @@ def hertz_runs() -> dict:
     out = {}
     for model in ("RR", FLEX):
         t0 = time.perf_counter()
-        kw = {"k_max": K_MAX, "f_max": F_MAX} if model != "RR" else {}
+        kw = {"k_max": K_MAX, "f_max": F_MAX} if model in ("FR", "FF") else {}
         c = scenarios.centred_running(speed_kmh=SPEED_KMH, model=model, duration=1.0,
                                       progress=False, **kw)
         sy = _system(model)
@@ -101,7 +104,8 @@ def bem_runs() -> dict:
                                           maxit=200)
             t_static = time.perf_counter() - t0
             r = simulate(sy, v, T_BEM, q0=q, v0=qd, h=h, contact="bem", bem=st, progress=False)
-        cam = rim_camber_change(sy, r.q[-1]) if model != "RR" else np.zeros((2, 4))
+        cam = (rim_camber_change(sy, r.q[-1]) if model in ("FR", "FF")
+               else np.zeros((2, 4)))
         out[model] = {"Q": r.Q[-1], "Y": r.Y[-1], "camber": cam,
                       "rigid": _relative_roll(sy, r.q[-1], float(r.t[-1])),
                       "patches": [r.bem_patches[(0, w)] for w in (0, 1)],
@@ -345,8 +349,8 @@ def main(argv: list[str]) -> None:
     global FLEX
     if "--model" in argv:
         FLEX = argv[argv.index("--model") + 1]
-        if FLEX not in ("FR", "FF"):
-            raise SystemExit(f"--model: FR or FF, not {FLEX}")
+        if FLEX not in ("FR", "FF", "RF"):
+            raise SystemExit(f"--model: FR, FF or RF, not {FLEX}")
     cache = Path(f"/tmp/vehicle_{FLEX.lower()}_vs_rr.pkl")
     if "--replot" in argv and cache.exists():
         hz, bm = pickle.loads(cache.read_bytes())
