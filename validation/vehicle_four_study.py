@@ -211,7 +211,7 @@ def plot(out: dict) -> list[Path]:
                 if _bem_value(out, m)[1]:       # no cycle found: a lower bound
                     b.set_hatch("//")
                     b.set_alpha(0.5)
-                    ax.annotate("BEM: no cycle\nat or below", (b.get_x() + wdt / 2, b.get_height()),
+                    ax.annotate("BEM: no cycle here\n(a lower bound)", (b.get_x() + wdt / 2, b.get_height()),
                                 ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, MODELS)
     ax.set_ylabel("critical speed, km/h")
