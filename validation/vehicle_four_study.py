@@ -99,6 +99,7 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
         force: bool, bem_above: float = 40.0, bem_step: float = 10.0,
         bem_h: float | None = None) -> dict:
     out = _load()
+    out["selection"] = np.array("k_max 1 / 300 Hz" if cheap else "k_max 2 / 800 Hz")
     for m in models:
         if force or f"{m}_linear" not in out:
             t = time.perf_counter()
@@ -179,7 +180,10 @@ def plot(out: dict) -> list[Path]:
                     mfc="none", color="C1", label="from 0.5 mm (decay test)")
         if f"{m}_bem_path_kmh" in out:
             sb, ab = out[f"{m}_bem_path_kmh"], out[f"{m}_bem_path_amp"] * 1e3
-            ax.plot(sb, ab, "D", color="C3", label="upper branch, BEM")
+            ok = out[f"{m}_bem_path_alive"].astype(bool)
+            for sel, mfc, lab in ((ok, "C3", "BEM: cycle alive"), (~ok, "none", "BEM: died")):
+                if sel.any():
+                    ax.plot(sb[sel], ab[sel], "D", mfc=mfc, color="C3", label=lab)
         for key, ls, lab in (("strip_fold", "-", "fold (strip)"),
                              ("strip_decay", "--", "decay boundary"),
                              ("linear_kmh", ":", "linear")):
@@ -191,7 +195,8 @@ def plot(out: dict) -> list[Path]:
     for ax in axes[:, 0]:
         ax.set_ylabel("leading wheelset amplitude, mm")
     fig.suptitle("Bifurcation diagrams of the four variants: Hertz + Kalker on the strips "
-                 "(BEM where run)", fontsize=11)
+                 f"(BEM where run); FR, FF: {out.get('selection', 'selection not stored')}",
+                 fontsize=11)
     fig.tight_layout()
     p1 = FIG / "vehicle_four_study_bifurcation.png"
     fig.savefig(p1, dpi=110)

@@ -55,6 +55,11 @@ SIDES = ("left", "right")
 FLEX = "FR"
 
 
+def _flex_label() -> str:
+    """The flexible model beside RR, with its wheelsets' mode selection where it has one."""
+    return f"{FLEX} (k_max {K_MAX} / {F_MAX:.0f} Hz)" if FLEX in ("FR", "FF") else FLEX
+
+
 def _system(model: str):
     if model in ("FR", "FF"):
         return scenarios.coach_system(model, speed_kmh=SPEED_KMH, k_max=K_MAX, f_max=F_MAX)
@@ -151,7 +156,7 @@ def _patch_row(p, wheel: int) -> dict:
 
 
 def print_tables(hz: dict, bm: dict) -> None:
-    print(f"centred running {SPEED_KMH:.0f} km/h; {FLEX}: k_max {K_MAX} / {F_MAX:.0f} Hz with the residual")
+    print(f"centred running {SPEED_KMH:.0f} km/h; {_flex_label()}, with the residual")
     for name, d in (("Hertz + Kalker, 1 s", hz), (f"BEM 0.75 mm, {T_BEM} s", bm)):
         print(f"\n{name}: per wheelset (1 leading) left / right")
         for model in ("RR", FLEX):
@@ -248,16 +253,16 @@ def plot_wheels(hz: dict, bm: dict) -> Path:
     ax[0].set_ylim(q0 - 1.0, q0 + 1.0)      # sub-newton differences are not drawn as signal
     ax[0].ticklabel_format(axis="y", useOffset=False)
     ax[0].set_title(f"Q: {FLEX} - RR within {dq:.2g} N", fontsize=9)
-    ax[1].set_title("Y: the camber lowers the lateral force", fontsize=9)
+    ax[1].set_title("Y: lateral wheel force per wheel", fontsize=9)
     ax[2].set_title("rim-rail angle: rail 1:40 + roll + rim camber", fontsize=9)
     for a in ax:
         a.set_xticks(xs)
         a.set_xticklabels(labels, fontsize=7, rotation=45)
         a.grid(alpha=0.3)
     ax[2].legend(fontsize=7, loc="center right")
-    fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, models RR and {FLEX} (k_max {K_MAX} / "
-                 f"{F_MAX:.0f} Hz), Hertz + Kalker and BEM 0.75 mm: the eight wheels (L left, "
-                 "R right)", fontsize=10)
+    fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, models RR and {_flex_label()}, "
+                 "Hertz + Kalker and BEM 0.75 mm: the eight wheels (L left, R right)",
+                 fontsize=10)
     fig.tight_layout()
     path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_wheels.png"
     fig.savefig(path, dpi=90)
@@ -294,13 +299,13 @@ def plot_patches(bm: dict) -> Path:
             if r == 3:
                 a.set_xlabel("y (track lateral, + left), mm", fontsize=8)
             if c == 0:
-                a.set_ylabel("x (rolling, + forward), mm", fontsize=8)
+                a.set_ylabel("x, mm", fontsize=8)
     for c in range(3):
         fig.colorbar(ax[0, c].collections[0], ax=ax[:, c], location="bottom", shrink=0.8,
                      label=fields[c][2])
     fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, BEM 0.75 mm: the leading wheelset's "
-                 f"patches, RR against {FLEX} (k_max {K_MAX} / {F_MAX:.0f} Hz)\none colour scale per "
-                 "column; flange side: left wheel -y, right wheel +y", fontsize=10)
+                 f"patches, RR against {_flex_label()}\none colour scale per "
+                 "column; x rolling (+ forward), flange side: left wheel -y, right wheel +y", fontsize=10)
     path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_patches.png"
     fig.savefig(path, dpi=85)
     plt.close(fig)
@@ -337,7 +342,7 @@ def plot_sections(bm: dict) -> Path:
     y = pats[0].y[0] * 1e3
     ax[1, 0].set_xlim(y[sj.start], y[sj.stop - 1])
     fig.suptitle(f"Centred running {SPEED_KMH:.0f} km/h, BEM 0.75 mm, leading wheelset: RR "
-                 f"against {FLEX} (k_max {K_MAX} / {F_MAX:.0f} Hz)", fontsize=10)
+                 f"against {_flex_label()}", fontsize=10)
     fig.tight_layout()
     path = FIG / f"vehicle_{FLEX.lower()}_vs_rr_sections.png"
     fig.savefig(path, dpi=90)
