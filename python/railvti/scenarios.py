@@ -327,11 +327,10 @@ def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: floa
     if not follow_contact:
         return build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
                         track=track)
+    from .vehicle.flexible import coach_body
     from .wheelset.flexible import residual_table
-    scale = coach["wheelset_stiffness_scale"]
-    ws = _fr_wheelset().stiffness_scaled(scale)
-    body = ws.flexible_body(v, k_max=k_max, f_max=f_max * np.sqrt(scale))
-    key = ("residual_grid", float(v), k_max, float(f_max), scale)
+    ws, body = coach_body(coach, _fr_wheelset(), v, k_max, f_max)
+    key = ("residual_grid", float(v), k_max, float(f_max), coach["wheelset_stiffness_scale"])
     if key not in _PROFILES:
         _PROFILES[key] = residual_table(ws, body)
     return build_fr(coach, table, v, wheelset=ws, body=body, follow_contact=True,

@@ -209,30 +209,16 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     -------
     System, list of FRLayout
     """
-    from ..wheelset import Wheelset
-    from ..wheelset.fe import check_harmonic
-    from ..wheelset.flexible import _harmonic, _rigid_mask
     sy = build_coach(coach, table, track=track)
     if "ws1_x" not in sy.dof_names:
         raise InputError("model FR needs the six-DOF wheelsets")
     flexible = tuple(sorted(set(int(i) for i in flexible)))
     if not flexible or any(i not in (0, 1, 2, 3) for i in flexible):
         raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")
-    scale = coach["wheelset_stiffness_scale"]
     if body is None:
-        wheelset = (wheelset if wheelset is not None else Wheelset()).stiffness_scaled(scale)
-        k_max = check_harmonic(k_max, "k_max")
-        f_max = _checks.positive("f_max", f_max)
-        f_fe = f_max * np.sqrt(scale)           # the same modes as the unscaled wheelset's
-        if not any(np.any(~_rigid_mask(_harmonic(wheelset, k, f_fe))) for k in range(k_max + 1)):
-            raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
-                             f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
-        body = wheelset.flexible_body(speed, k_max=k_max, f_max=f_fe,
-                                      damping_ratio=damping_ratio)
-    if body.n and 2.0 / (2.0 * np.pi * float(np.max(body.freq_hz))) < MIN_MODAL_STEP:
-        raise InputError(f"wheelset_stiffness_scale = {scale:g}: the highest kept mode "
-                         f"({float(np.max(body.freq_hz)):.4g} Hz) would need a time step below "
-                         f"{MIN_MODAL_STEP * 1e6:g} us; lower the scale or f_max")
+        wheelset, body = coach_body(coach, wheelset, speed, k_max, f_max, damping_ratio)
+    else:
+        _check_body_step(body, coach["wheelset_stiffness_scale"])
     nq = body.n
     if nq == 0:
         raise InputError(f"no elastic mode below f_max = {f_max} Hz")
@@ -354,6 +340,40 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         ispin[list(flexible)] = 0.0
         sy = replace(sy, spin_inertia=ispin)
     return sy.with_modal(mb), layouts
+
+
+def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
+               damping_ratio: float = 0.005):
+    """The coach's flexible wheelset at a speed: (the FE wheelset scaled by the coach's
+    ``wheelset_stiffness_scale`` s, its :class:`FlexibleWheelset`).
+
+    Young's modulus times s (:meth:`Wheelset.stiffness_scaled`); f_max (Hz) selects among
+    the unscaled wheelset's frequencies (the FE's up to f_max sqrt(s): the same modes kept).
+    InputError for no elastic mode below f_max, or kept modes that would need a time step
+    below :data:`MIN_MODAL_STEP`.
+    """
+    from ..wheelset import Wheelset
+    from ..wheelset.fe import check_harmonic
+    from ..wheelset.flexible import _harmonic, _rigid_mask
+    scale = coach["wheelset_stiffness_scale"]
+    ws = (wheelset if wheelset is not None else Wheelset()).stiffness_scaled(scale)
+    k_max = check_harmonic(k_max, "k_max")
+    f_max = _checks.positive("f_max", f_max)
+    f_fe = f_max * np.sqrt(scale)
+    if not any(np.any(~_rigid_mask(_harmonic(ws, k, f_fe))) for k in range(k_max + 1)):
+        raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
+                         f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
+    body = ws.flexible_body(speed, k_max=k_max, f_max=f_fe, damping_ratio=damping_ratio)
+    _check_body_step(body, scale)
+    return ws, body
+
+
+def _check_body_step(body, scale: float) -> None:
+    """InputError when the body's highest kept mode needs a step below MIN_MODAL_STEP."""
+    if body.n and 2.0 / (2.0 * np.pi * float(np.max(body.freq_hz))) < MIN_MODAL_STEP:
+        raise InputError(f"wheelset_stiffness_scale = {scale:g}: the highest kept mode "
+                         f"({float(np.max(body.freq_hz)):.4g} Hz) would need a time step below "
+                         f"{MIN_MODAL_STEP * 1e6:g} us; lower the scale or f_max")
 
 
 def _follow_tables(wheelset, body, with_residual: bool, grid):
