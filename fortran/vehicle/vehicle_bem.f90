@@ -11,7 +11,8 @@
 !> rolling direction, y along the contact frame's t_y. The wheel's vertical interference at the
 !> point enters as a uniform approach d (the same d as the Hertz path), so the field is
 !> interpolated linearly in y within the point's branch (never across a jump of the point to
-!> another local minimum: vehicle_contact%table_at picks the nodes and the weight) and solved
+!> another local minimum: vehicle_contact%table_at picks the nodes and the weight; near a jump
+!> both branches are solved, each as its own point, and their forces blended) and solved
 !> with delta = d.
 !>
 !> State. One bem_model per simulation behind an integer handle (registry like
@@ -69,9 +70,13 @@ module vehicle_bem
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
     public :: bem_window, bem_threads, bem_record, bem_solve_recorded
     public :: bem_jacobian, bem_linear, bem_point_jacobian, bem_probe, NLIN
-    public :: MAX_BEM, BEM_NCOUNT, MAX_THREADS
+    public :: MAX_BEM, BEM_NCOUNT, MAX_THREADS, NPT, bem_lead
 
     integer, parameter :: MAX_BEM = 16
+    !> Points per wheel: each of the table's two slots (candidate points) has two members, the
+    !> branches on either side of a jump of its point to another local minimum, point
+    !> c = 2 (slot - 1) + member (vehicle_contact%table_at blends their forces across the jump).
+    integer, parameter :: NPT = 4
     !> Threads of the patch loop at most (bem_threads clips to it).
     integer, parameter :: MAX_THREADS = 64
     !> Gap-field entries at or above this mark elements off the point's part of the wheel, m.
@@ -167,6 +172,10 @@ module vehicle_bem
         integer :: winws(MAX_THREADS, MAX_WIN) = 0
         real(dp), allocatable :: gap(:, :, :, :)          ! (nx, ny, 2 points, ntab), left wheel
         type(bem_point), allocatable :: pts(:, :, :)      ! (point, wheel, wheelset)
+        !> per (slot, wheel, wheelset) the point of the member that carried the larger share
+        !> at the last evaluation (bem_lead): the one bem_fields, bem_probe and
+        !> bem_point_jacobian report for the slot
+        integer, allocatable :: lead(:, :, :)
         !> BEM / Hertz-Kalker ratios of the normal force and the creep-force magnitude per
         !> (point, wheel, wheelset), from the last BEM solve: they calibrate the cheap model
         !> of the Newton tangent (vehicle_contact model 4).
@@ -225,10 +234,10 @@ contains
         m%nthreads = threads_of(0)
         m%jage = JAC_AGE
         m%gap = gap
-        allocate (m%pts(2, 2, nws), m%ratio(2, 2, 2, nws))
+        allocate (m%pts(NPT, 2, nws), m%ratio(2, NPT, 2, nws), m%lead(2, 2, nws))
         do l = 1, nws
             do j = 1, 2
-                do i = 1, 2
+                do i = 1, NPT
                     allocate (m%pts(i, j, l)%p(nx, ny), source=0.0_dp)
                     associate (pt => m%pts(i, j, l))
                         allocate (pt%h, pt%tx, pt%ty, pt%sx, pt%sy, pt%pn, pt%txn, pt%tyn, &
@@ -247,7 +256,8 @@ contains
         integer :: i, j, l
         do l = 1, m%nws
             do j = 1, 2
-                do i = 1, 2
+                m%lead(:, j, l) = [1, 3]
+                do i = 1, NPT
                     call clear_fields(m%pts(i, j, l))
                     m%pts(i, j, l)%state = PT_IDLE
                     m%pts(i, j, l)%jok = .false.
@@ -336,7 +346,7 @@ contains
             m%ws = 0
             m%winws = 0
             m%nwin = 0
-            deallocate (m%gap, m%pts, m%ratio)
+            deallocate (m%gap, m%pts, m%ratio, m%lead)
             m%used = .false.
         end associate
     end subroutine bem_free
@@ -400,7 +410,7 @@ contains
         info = STAT_OK
     end subroutine bem_counts
 
-    !> The last fields of wheelset iws, wheel iw (1 left, 2 right), candidate point k.
+    !> The last fields of wheelset iws, wheel iw (1 left, 2 right), slot k (its lead member's).
     !> info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (sizes or indices).
     subroutine bem_fields(handle, iws, iw, k, nx, ny, p, tx, ty, sx, sy, info)
         integer, intent(in) :: handle, iws, iw, k, nx, ny
@@ -418,18 +428,20 @@ contains
         info = STAT_BAD_ARGUMENT
         if (nx /= m%s%nx .or. ny /= m%s%ny .or. iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 &
             .or. k < 1 .or. k > 2) return
-        p = m%pts(k, iw, iws)%p
-        tx = m%pts(k, iw, iws)%tx
-        ty = m%pts(k, iw, iws)%ty
-        sx = m%pts(k, iw, iws)%sx
-        sy = m%pts(k, iw, iws)%sy
+        associate (pt => m%pts(m%lead(k, iw, iws), iw, iws))
+            p = pt%p
+            tx = pt%tx
+            ty = pt%ty
+            sx = pt%sx
+            sy = pt%sy
+        end associate
         info = STAT_OK
     end subroutine bem_fields
 
     !> Normal and tangential contact of one candidate point: wheelset iws, wheel iw (1 left,
-    !> 2 right), point k, gap field (1 - wa) gap(ia) + wa gap(ib) of the left wheel's table
+    !> 2 right), point k (1..NPT: slot (k + 1) / 2, one member of it), gap field (1 - wa) gap(ia) + wa gap(ib) of the left wheel's table
     !> nodes ia, ib (vehicle_contact%table_at: the same nodes and weight as the point's
-    !> scalars, one branch only, wa outside [0, 1] where a branch is extrapolated), normal
+    !> scalars, one branch per point, wa outside [0, 1] where a branch is extrapolated), normal
     !> approach dn (m), relative roll phi of wheel against rail (rad: the field tilts by
     !> phi t, the normal component of the rotation e_x x t t_y, so that the roll moment of the
     !> pressure below derives from the same gap), creepages xi, eta (-), spin (1/m), friction
@@ -466,7 +478,7 @@ contains
             return
         end if
         info = STAT_BAD_ARGUMENT
-        if (iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
+        if (iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > NPT) return
         info = STAT_OK
         associate (pt => m%pts(k, iw, iws))
             same = pt%state == PT_SOLVED .and. pt%ia == ia .and. pt%ib == ib .and. pt%wa == wa &
@@ -513,7 +525,7 @@ contains
         associate (m => models(handle))
             do l = 1, m%nws
                 do j = 1, 2
-                    do i = 1, 2
+                    do i = 1, NPT
                         m%pts(i, j, l)%state = PT_IDLE
                     end do
                 end do
@@ -534,11 +546,11 @@ contains
         m => models(handle)
         m%recording = .false.
         nt = m%nthreads
-        allocate (list(3, 4 * m%nws))
+        allocate (list(3, 2 * NPT * m%nws))
         n = 0
         do l = 1, m%nws
             do j = 1, 2
-                do i = 1, 2
+                do i = 1, NPT
                     if (m%pts(i, j, l)%state /= PT_RECORDED) cycle
                     call setup_point(m, i, j, l, nt)
                     if (m%pts(i, j, l)%open) cycle
@@ -566,7 +578,7 @@ contains
         failed = .false.
         do l = 1, m%nws
             do j = 1, 2
-                do i = 1, 2
+                do i = 1, NPT
                     if (m%pts(i, j, l)%state /= PT_RECORDED) cycle
                     if (failed) then
                         m%pts(i, j, l)%state = PT_IDLE
@@ -593,7 +605,7 @@ contains
                 area(i) = (pt%i2 - pt%i1 + 1) * (pt%j2 - pt%j1 + 1)
             end associate
         end do
-        do i = 2, size(list, 2)         ! insertion sort: at most 4 points per wheelset
+        do i = 2, size(list, 2)         ! insertion sort: a few points per wheelset
             key = list(:, i)
             a = area(i)
             j = i - 1
@@ -625,23 +637,24 @@ contains
         type(bem_model), intent(inout) :: m
         integer, intent(in) :: k, iw, iws
         integer, intent(inout) :: nt
-        integer :: j, ny
+        integer :: j, ny, ks
         integer(int64) :: c0, c1
         real(dp) :: y0
         call system_clock(c0)
         ny = m%s%ny
+        ks = (k + 1) / 2                ! the point's slot: its gap fields
         associate (pt => m%pts(k, iw, iws), h => m%pts(k, iw, iws)%h)
             pt%cnt = 0.0_dp
             pt%out = 0.0_dp
             pt%info = STAT_OK
             if (iw == 1) then
-                h = (1.0_dp - pt%wa) * m%gap(:, :, k, pt%ia) + pt%wa * m%gap(:, :, k, pt%ib)
+                h = (1.0_dp - pt%wa) * m%gap(:, :, ks, pt%ia) + pt%wa * m%gap(:, :, ks, pt%ib)
                 ! an element outside the point's part of the wheel at either node stays outside
                 ! (an extrapolation must not pull the 1 m marker into the patch)
-                where (max(m%gap(:, :, k, pt%ia), m%gap(:, :, k, pt%ib)) >= FAR) h = 1.0_dp
+                where (max(m%gap(:, :, ks, pt%ia), m%gap(:, :, ks, pt%ib)) >= FAR) h = 1.0_dp
             else
-                h = (1.0_dp - pt%wa) * m%gap(:, ny:1:-1, k, pt%ia) + pt%wa * m%gap(:, ny:1:-1, k, pt%ib)
-                where (max(m%gap(:, ny:1:-1, k, pt%ia), m%gap(:, ny:1:-1, k, pt%ib)) >= FAR) h = 1.0_dp
+                h = (1.0_dp - pt%wa) * m%gap(:, ny:1:-1, ks, pt%ia) + pt%wa * m%gap(:, ny:1:-1, ks, pt%ib)
+                where (max(m%gap(:, ny:1:-1, ks, pt%ia), m%gap(:, ny:1:-1, ks, pt%ib)) >= FAR) h = 1.0_dp
             end if
             y0 = -0.5_dp * real(ny - 1, dp) * m%s%dy
             if (pt%phi /= 0.0_dp) then
@@ -662,9 +675,9 @@ contains
                     ! dh/ds of the field above, h from the nodes ia, ib at weight wa
                     if (.not. allocated(pt%hs)) allocate (pt%hs, mold=h)
                     if (iw == 1) then
-                        pt%hs = m%gap(:, :, k, pt%ib) - m%gap(:, :, k, pt%ia)
+                        pt%hs = m%gap(:, :, ks, pt%ib) - m%gap(:, :, ks, pt%ia)
                     else
-                        pt%hs = m%gap(:, ny:1:-1, k, pt%ib) - m%gap(:, ny:1:-1, k, pt%ia)
+                        pt%hs = m%gap(:, ny:1:-1, ks, pt%ib) - m%gap(:, ny:1:-1, ks, pt%ia)
                     end if
                     where (h >= FAR) pt%hs = 0.0_dp
                 end if
@@ -1006,7 +1019,7 @@ contains
         yc = 0.0_dp
         ok = .false.
         if (.not. live(handle)) return
-        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
+        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > NPT) return
         associate (pt => models(handle)%pts(k, iw, iws))
             if (.not. (pt%jok .and. pt%bok)) return
             y = pt%yb + matmul(pt%jac, [dn, phi, xi, eta, spin, real(ia - 1, dp) + wa] - pt%xb)
@@ -1022,7 +1035,7 @@ contains
         end if
     end subroutine bem_linear
 
-    !> The linear model of point (k, iw, iws): jac (dy/dx), the base inputs xb and outputs
+    !> The linear model of slot k's lead point (wheel iw, wheelset iws): jac (dy/dx), the base inputs xb and outputs
     !> yb (bem_linear), the committed solves since the Jacobian (age); ok = .false. when it
     !> has none. info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (indices).
     subroutine bem_point_jacobian(handle, iws, iw, k, jac, xb, yb, age, ok, info)
@@ -1040,7 +1053,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
         info = STAT_OK
-        associate (pt => models(handle)%pts(k, iw, iws))
+        associate (pt => models(handle)%pts(models(handle)%lead(k, iw, iws), iw, iws))
             ok = pt%jok .and. pt%bok
             jac = pt%jac
             xb = pt%xb
@@ -1049,7 +1062,7 @@ contains
         end associate
     end subroutine bem_point_jacobian
 
-    !> Solve point (k, iw, iws)'s patch at inputs x (bem_linear's; s within the table nodes
+    !> Solve slot k's lead point's patch (wheel iw, wheelset iws) at inputs x (bem_linear's; s within the table nodes
     !> ia, ib of its last committed solve) on the full grid, warm-started from its fields,
     !> without changing the point: y its outputs (bem_linear's). For checks of the linear
     !> model against differences of the solves. info: STAT_OK, STAT_BAD_HANDLE,
@@ -1064,24 +1077,26 @@ contains
         type(workspace), pointer :: ww
         real(dp), allocatable :: h(:, :)
         real(dp) :: cnt(BEM_NCOUNT), wa, y0
-        integer :: nx, ny, j
+        integer :: nx, ny, j, ks, c
         y = 0.0_dp
         info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         m => models(handle)
         info = STAT_BAD_ARGUMENT
         if (iws < 1 .or. iws > m%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > 2) return
-        if (.not. m%pts(k, iw, iws)%bok) return
+        ks = k
+        c = m%lead(k, iw, iws)
+        if (.not. m%pts(c, iw, iws)%bok) return
         nx = m%s%nx
         ny = m%s%ny
-        associate (pt => m%pts(k, iw, iws))
+        associate (pt => m%pts(c, iw, iws))
             wa = x(6) - real(pt%ia - 1, dp)
             if (iw == 1) then
-                h = (1.0_dp - wa) * m%gap(:, :, k, pt%ia) + wa * m%gap(:, :, k, pt%ib)
-                where (max(m%gap(:, :, k, pt%ia), m%gap(:, :, k, pt%ib)) >= FAR) h = 1.0_dp
+                h = (1.0_dp - wa) * m%gap(:, :, ks, pt%ia) + wa * m%gap(:, :, ks, pt%ib)
+                where (max(m%gap(:, :, ks, pt%ia), m%gap(:, :, ks, pt%ib)) >= FAR) h = 1.0_dp
             else
-                h = (1.0_dp - wa) * m%gap(:, ny:1:-1, k, pt%ia) + wa * m%gap(:, ny:1:-1, k, pt%ib)
-                where (max(m%gap(:, ny:1:-1, k, pt%ia), m%gap(:, ny:1:-1, k, pt%ib)) >= FAR) h = 1.0_dp
+                h = (1.0_dp - wa) * m%gap(:, ny:1:-1, ks, pt%ia) + wa * m%gap(:, ny:1:-1, ks, pt%ib)
+                where (max(m%gap(:, ny:1:-1, ks, pt%ia), m%gap(:, ny:1:-1, ks, pt%ib)) >= FAR) h = 1.0_dp
             end if
             y0 = -0.5_dp * real(ny - 1, dp) * m%s%dy
             do j = 1, ny
@@ -1257,12 +1272,22 @@ contains
             if (.not. set) r = 1.0_dp
             return
         end if
-        if (iws < 1 .or. iws > models(handle)%nws) return
+        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. k < 1 .or. k > NPT) return
         if (set) then
             models(handle)%ratio(:, k, iw, iws) = r
         else
             r = models(handle)%ratio(:, k, iw, iws)
         end if
     end subroutine bem_scale
+
+    !> Record point c (1..NPT) as the lead member of its slot (c + 1) / 2 at wheel iw of
+    !> wheelset iws: the member that carried the larger share at this evaluation. A bad
+    !> handle or index is ignored.
+    subroutine bem_lead(handle, iws, iw, c)
+        integer, intent(in) :: handle, iws, iw, c
+        if (.not. live(handle)) return
+        if (iws < 1 .or. iws > models(handle)%nws .or. iw < 1 .or. iw > 2 .or. c < 1 .or. c > NPT) return
+        models(handle)%lead((c + 1) / 2, iw, iws) = c
+    end subroutine bem_lead
 
 end module vehicle_bem

@@ -38,7 +38,7 @@ module vehicle_contact
     use common_kinds, only: dp
     use contact_fastsim, only: fastsim_ellipse
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_OUTSIDE_TABLE
-    use vehicle_bem, only: bem_patch, bem_scale, bem_linear
+    use vehicle_bem, only: bem_patch, bem_scale, bem_linear, bem_lead
     use vehicle_strip, only: strip_geometry, strip_wheel, strip_props, nso, SO_N, SO_V, SO_DY, SO_DZ, &
                              SO_DPHI, SO_L, SO_ZA, SO_DELTA, SO_R, SO_X, SO_A, strip_lin, &
                              strip_linearise, strip_extrapolate, SO_DPSI, SO_XC
@@ -63,6 +63,9 @@ module vehicle_contact
     !> Gap difference over which two branches of one slot share its load, m (pose_at): a
     !> branch change of the lowest point keeps the forces continuous.
     real(dp), parameter :: SHARE_GAP = 2.0e-6_dp
+    !> A branch's share below which the BEM's look-up drops it (table_at): its force then
+    !> jumps by this fraction of the difference between the branches (~1e-3 N).
+    real(dp), parameter :: SHARE_MIN = 1.0e-6_dp
 
     !> The contact table of a model: tab(nq_table, 2, ny, nr) over u = u0 + (i - 1) du and
     !> phi = p0 + (j - 1) dp, row j0 at phi = 0; r_nom the nominal radius (centre height).
@@ -84,55 +87,73 @@ module vehicle_contact
 
 contains
 
-    !> The table at y, per slot: vals(:, k) = (1 - wa(k)) tab(:, k, ia(k)) + wa(k) tab(:, k, ib(k)).
-    !> Within one branch (quantity IBRANCH equal at both nodes of the interval) that is the
-    !> linear interpolation. Where the slot's point changes branch inside the interval (it
+    !> The table at y for the BEM, per slot k and member: point c = 2 (k - 1) + member (the
+    !> BEM's point, vehicle_bem NPT) with vals(:, c) = (1 - wa(c)) tab(:, k, ia(c)) + wa(c)
+    !> tab(:, k, ib(c)) and load share wt(c) (0: the member is not used). Within one branch
+    !> (quantity IBRANCH equal at both nodes of the interval) that is the linear interpolation,
+    !> one member of share 1. Where the slot's point changes branch inside the interval (it
     !> jumps to another local minimum of the gap), fields and points of the two branches are
     !> never mixed: each side's branch is extrapolated linearly from its own two nodes (a
-    !> single node when its neighbour is another branch) and the one with the smaller gap is
-    !> taken, as the geometry does (the slot's point is the minimum of the two branches;
-    !> their gaps cross inside the interval, so the choice and the gap are continuous).
-    !> info STAT_OUTSIDE_TABLE when y is outside the table.
-    pure subroutine table_at(ny, tab, y0, dy, y, vals, ia, ib, wa, info)
+    !> single node when its neighbour is another branch), and the two share the slot's load by
+    !> the softmin of pose_at (SHARE_GAP, weighted by each side's presence 1 - w, w), so that
+    !> the forces stay continuous where the lowest point jumps: a hard switch is a jump of the
+    !> creepages and the contact frame at the point (1.7 kN of Fx on a tread jump at 420 km/h)
+    !> on which Newton's method cannot converge at any step size. Shares below SHARE_MIN are
+    !> dropped (the other member's raised to 1). A branch keeps its member (the parity of its
+    !> label), so that its BEM point keeps its own warm starts. info STAT_OUTSIDE_TABLE when y
+    !> is outside the table.
+    pure subroutine table_at(ny, tab, y0, dy, y, vals, ia, ib, wa, wt, info)
         integer, intent(in) :: ny
         real(dp), intent(in) :: tab(nq_table, 2, ny), y0, dy, y
-        real(dp), intent(out) :: vals(nq_table, 2), wa(2)
-        integer, intent(out) :: ia(2), ib(2), info
-        real(dp) :: s, w, g1, g2, w1, w2
-        integer :: i, k, a1, b1, a2, b2
+        real(dp), intent(out) :: vals(nq_table, 4), wa(4), wt(4)
+        integer, intent(out) :: ia(4), ib(4), info
+        real(dp) :: s, w, g1, g2, w1, w2, e1, e2, gmin, s1
+        integer :: i, k, a1, b1, a2, b2, c1, c2
         ia = 1
         ib = 1
         wa = 0.0_dp
+        wt = 0.0_dp
+        vals = 0.0_dp
         s = (y - y0) / dy
         if (.not. (s >= 0.0_dp .and. s <= real(ny - 1, dp))) then
             info = STAT_OUTSIDE_TABLE
-            vals = 0.0_dp
             return
         end if
         info = STAT_OK
         i = min(int(s), ny - 2) + 1
         w = s - real(i - 1, dp)
         do k = 1, 2
+            c1 = 2 * (k - 1) + 1 + modulo(nint(tab(IBRANCH, k, i)), 2)
+            c2 = 4 * k - 1 - c1                  ! the slot's other point
             if (tab(IBRANCH, k, i) == tab(IBRANCH, k, i + 1)) then
-                ia(k) = i
-                ib(k) = i + 1
-                wa(k) = w
-            else
-                call side(i, -1, 1.0_dp + w, a1, b1, w1)
-                call side(i + 1, 1, w - 1.0_dp, a2, b2, w2)
-                g1 = (1.0_dp - w1) * tab(1, k, a1) + w1 * tab(1, k, b1)
-                g2 = (1.0_dp - w2) * tab(1, k, a2) + w2 * tab(1, k, b2)
-                if (g1 <= g2) then
-                    ia(k) = a1
-                    ib(k) = b1
-                    wa(k) = w1
-                else
-                    ia(k) = a2
-                    ib(k) = b2
-                    wa(k) = w2
-                end if
+                ia(c1) = i
+                ib(c1) = i + 1
+                wa(c1) = w
+                wt(c1) = 1.0_dp
+                cycle
             end if
-            vals(:, k) = (1.0_dp - wa(k)) * tab(:, k, ia(k)) + wa(k) * tab(:, k, ib(k))
+            call side(i, -1, 1.0_dp + w, a1, b1, w1)
+            call side(i + 1, 1, w - 1.0_dp, a2, b2, w2)
+            g1 = (1.0_dp - w1) * tab(1, k, a1) + w1 * tab(1, k, b1)
+            g2 = (1.0_dp - w2) * tab(1, k, a2) + w2 * tab(1, k, b2)
+            gmin = min(g1, g2)
+            e1 = (1.0_dp - w) * exp(-(g1 - gmin) / SHARE_GAP)
+            e2 = w * exp(-(g2 - gmin) / SHARE_GAP)
+            if (e1 + e2 > 0.0_dp) then
+                s1 = e1 / (e1 + e2)
+            else
+                s1 = merge(1.0_dp, 0.0_dp, g1 <= g2)
+            end if
+            if (s1 < SHARE_MIN) s1 = 0.0_dp
+            if (s1 > 1.0_dp - SHARE_MIN) s1 = 1.0_dp
+            ia([c1, c2]) = [a1, a2]
+            ib([c1, c2]) = [b1, b2]
+            wa([c1, c2]) = [w1, w2]
+            wt([c1, c2]) = [s1, 1.0_dp - s1]
+        end do
+        do c1 = 1, 4
+            if (wt(c1) > 0.0_dp) vals(:, c1) = (1.0_dp - wa(c1)) * tab(:, (c1 + 1) / 2, ia(c1)) &
+                                                + wa(c1) * tab(:, (c1 + 1) / 2, ib(c1))
         end do
     contains
         !> Node j's branch at weight we between (na, nb): extrapolated from j and its
@@ -502,8 +523,8 @@ contains
         real(dp) :: fyn, fzn, mwn, mtn, fnsum
         real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
         real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(2), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
-        integer :: w, k, c, stat, ia(2), ib(2), lm
+        real(dp) :: wa(4), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
+        integer :: w, k, c, stat, ia(4), ib(4), lm
         real(dp) :: qtw(3), vtw(3), ftl(3)
         logical :: bemgeo, flex, strip, ring, lin
         flex = present(rim) .and. present(rarm) .and. present(frim)
@@ -596,12 +617,20 @@ contains
             else if (bemgeo) then
                 ! zero-roll row, the point rotated about the centre to first order (the BEM's
                 ! gap field is tilted by phr about the point in vehicle_bem)
-                call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, sg * u, vals(:, 1:3:2), &
-                              ia, ib, wa, info)
+                call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, sg * u, vals, ia, ib, wa, &
+                              wt, info)
                 if (info == STAT_OK .and. ct%nr > 1 .and. abs(pl) > abs(ct%p0)) info = STAT_OUTSIDE_TABLE
                 if (info /= STAT_OK) return
-                wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
-                do c = 1, 3, 2
+                ! the slot's member of the larger share: the point its fields are reported of
+                if (model == CMODEL_BEM) then
+                    do k = 1, 2
+                        c = 2 * k - 1
+                        if (wt(c + 1) > wt(c)) c = c + 1
+                        call bem_lead(bem, iws, w, c)
+                    end do
+                end if
+                do c = 1, 4
+                    if (.not. (wt(c) > 0.0_dp)) cycle
                     za = vals(IZARM, c)
                     grd(1, c) = -tan(vals(3, c))
                     grd(2, c) = vals(2, c) + (ct%rnom - za) * tan(vals(3, c))
@@ -631,7 +660,7 @@ contains
                 if (strip) dn = so(SO_N, k)
                 if (dn <= 0.0_dp) then
                     ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == CMODEL_BEM) call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, &
+                    if (model == CMODEL_BEM) call bem_patch(bem, iws, w, c, ia(c), ib(c), wa(c), dn, &
                                                              phr, 0.0_dp, 0.0_dp, 0.0_dp, mu, v0, &
                                                              fn, fx, fy, mz, xc, yc, stat)
                     cycle
@@ -663,7 +692,7 @@ contains
                 spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
                 if (model == CMODEL_BEM) then
                     fnh = fn
-                    call bem_patch(bem, iws, w, k, ia(k), ib(k), wa(k), dn, phr, xi, eta, spin, mu, v0, &
+                    call bem_patch(bem, iws, w, c, ia(c), ib(c), wa(c), dn, phr, xi, eta, spin, mu, v0, &
                                    fn, fx, fy, mz, xc, yc, info)
                     if (info /= STAT_OK) return
                     if (fn <= 0.0_dp) cycle
@@ -674,16 +703,16 @@ contains
                     rt(2) = 1.0_dp
                     if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
                         rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
-                    call bem_scale(bem, iws, w, k, .true., rt)
+                    call bem_scale(bem, iws, w, c, .true., rt)
                 else if (model == CMODEL_BEM_TANGENT) then
                     ! the Newton tangent: the patch's linear model from differences of its own
                     ! solves (vehicle_bem%bem_linear), else Hertz + Kalker scaled to the last
                     ! BEM solve of this point
-                    call bem_linear(bem, iws, w, k, ia(k), wa(k), dn, phr, xi, eta, spin, &
+                    call bem_linear(bem, iws, w, c, ia(c), wa(c), dn, phr, xi, eta, spin, &
                                     fn, fx, fy, mz, xc, yc, lin)
                     if (.not. lin) then
                         fn = vals(7, c) * dn * sqrt(dn)
-                        call bem_scale(bem, iws, w, k, .false., rt)
+                        call bem_scale(bem, iws, w, c, .false., rt)
                         fn = rt(1) * fn
                         call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, &
                                               fn, xi, eta, spin, fx, fy)
