@@ -150,6 +150,24 @@ def test_bracket_edges():
     assert math.isnan(b.lo) and b.hi == 160.0
 
 
+
+def test_a_failed_run_stops_the_search_and_keeps_what_it_had():
+    """A run that cannot be completed (Newton, a BEM patch at its grid's edge) is neither a
+    living nor a dead cycle: the walk stops with the fold unknown below the last living
+    speed, the bisection with the bracket as it stood; the reason is kept."""
+    def walk(s, st):
+        return (True, st, {}) if s > 370.0 else (False, st, {"failed": "Newton"})
+    b = bracket_down(walk, 420.0, 20.0, 150.0, 2.5)
+    assert b.hi == 380.0 and math.isnan(b.lo)
+    assert [s for s, _, _ in b.visited] == [420.0, 400.0, 380.0, 360.0]
+    assert "360" in b.failure and "Newton" in b.failure
+
+    def bisect(s, st):
+        if s == 290.0:
+            return False, st, {"failed": "grid edge"}
+        return s > 285.0, st, {}
+    b = bracket_down(bisect, 420.0, 20.0, 150.0, 2.5)
+    assert (b.lo, b.hi) == (280.0, 300.0) and "290" in b.failure
 # ---- RR at two speeds far from the fold ----------------------------------------------------
 
 def test_rr_lives_at_420_and_dies_at_250():

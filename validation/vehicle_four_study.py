@@ -84,7 +84,8 @@ def path(model: str, contact: str, cheap: bool, **kw) -> dict:
             "branch": c.fold_branch,
             "path_kmh": np.asarray(c.path_speeds) * 3.6, "path_amp": np.asarray(c.path_amplitudes),
             "path_alive": np.asarray(c.path_alive), "decay_kmh": np.asarray(c.decay_speeds) * 3.6,
-            "decay_amp": np.asarray(c.decay_amplitudes), "decay_rate": np.asarray(c.decay_rates)}
+            "decay_amp": np.asarray(c.decay_amplitudes), "decay_rate": np.asarray(c.decay_rates),
+            "failure": c.failure}
 
 
 def _store(out: dict, prefix: str, d: dict, wall: float) -> None:

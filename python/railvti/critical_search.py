@@ -44,7 +44,7 @@ import numpy as np
 
 from . import _checks
 from ._threads import serial_blas
-from .errors import InputError
+from .errors import ConvergenceError, GridTooSmallError, InputError
 from .scenarios import (FR_F_MAX, FR_K_MAX, _check_model, _output_dt, _point_systems,
                         _ring_keys, check_fr_selection, FLEXIBLE_WHEELSETS, resolve_geometry)
 from .vehicle.params import Coach
@@ -178,11 +178,16 @@ class Bracket:
         The lowest speed where the test passed (NaN: it failed at the top already).
     visited : list of (speed, passed, record)
         Every test in order (the walk, then the bisection).
+    failure : str
+        '' or why the search stopped early: a test whose record has ``failed`` (a run that
+        could not be completed) ends the walk (lo NaN: unknown) or the bisection (the
+        bracket as it stood).
     """
 
     lo: float
     hi: float
     visited: list = field(default_factory=list)
+    failure: str = ""
 
 
 def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float, step: float,
@@ -205,6 +210,9 @@ def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float
     while s >= floor - 1e-9:
         ok, after, rec = test(s, state)
         visited.append((s, bool(ok), rec))
+        if isinstance(rec, dict) and rec.get("failed"):
+            return Bracket(lo=float("nan"), hi=hi, visited=visited,
+                           failure=f"the run at {s:g} failed: {rec['failed']}")
         if not ok:
             lo = s
             break
@@ -216,6 +224,9 @@ def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float
         mid = 0.5 * (hi + lo)
         ok, after, rec = test(mid, state)
         visited.append((mid, bool(ok), rec))
+        if isinstance(rec, dict) and rec.get("failed"):
+            return Bracket(lo=lo, hi=hi, visited=visited,
+                           failure=f"the run at {mid:g} failed: {rec['failed']}")
         if ok:
             hi, state = mid, after
         else:
@@ -263,6 +274,10 @@ class PathCriticalSpeed:
         The criteria and settings in words.
     settings : dict
         The settings (SI).
+    failure : str
+        '' or the run that could not be completed (a time integration that stopped, a BEM
+        patch at its grid's edge) and where: the search stopped there, keeping what it had
+        (``fold_bracket`` then as it stood; NaN where unknown).
     """
 
     fold: float
@@ -282,6 +297,7 @@ class PathCriticalSpeed:
     model: str = "RR"
     method: str = ""
     settings: dict = field(default_factory=dict)
+    failure: str = ""
 
     @property
     def fold_kmh(self) -> float:
@@ -325,12 +341,28 @@ class PathCriticalSpeed:
             d = f"decay boundary below {hi:.1f} km/h (grows down to the floor)"
         else:
             d = f"decay boundary {self.decay_boundary_kmh:.1f} km/h [{lo:.1f}, {hi:.1f}]"
+        if self.failure:
+            return f"{self.model}: {f}; {d}; stopped early: {self.failure}"
         return f"{self.model}: {f}; {d}"
 
 
 # --------------------------------------------------------------------------------------------
 # The runs
 # --------------------------------------------------------------------------------------------
+
+#: What stops one run of a search without stopping the search's finished results: a time
+#: integration that could not go on (Newton, a wheelset at the table's end), a BEM patch at
+#: its grid's edge.
+RUN_FAILURES = (ConvergenceError, GridTooSmallError)
+
+
+def _failed(s_kmh: float, err: Exception) -> tuple[bool, None, dict]:
+    """A test's result for a run that failed: not passed, the reason recorded."""
+    log.warning("run at %.2f km/h failed: %s", s_kmh, err)
+    nan = float("nan")
+    return False, None, dict(amplitude=nan, rate=nan, duration=nan, flange=nan,
+                             failed=str(err).split(";")[0])
+
 
 class _Runs:
     """The simulations of one search: the systems at each speed (scenarios' sweep systems:
@@ -505,17 +537,20 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
             state = (q, np.zeros(sy.n_state), s, 0.0)
         q, v, s_from, travel = state
         carried = s_from != s or travel > 0.0
-        if s_from != s:
-            q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
-        t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-        cut = collapse if carried else None
-        verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
-        n_ext = 0
-        while verdict == "decaying" and n_ext < max_extensions:
-            t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-            t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
+        try:
+            if s_from != s:
+                q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
+            t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+            cut = collapse if carried else None
             verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
-            n_ext += 1
+            n_ext = 0
+            while verdict == "decaying" and n_ext < max_extensions:
+                t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+                t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
+                verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
+                n_ext += 1
+        except RUN_FAILURES as e:
+            return _failed(s, e)
         alive = verdict == "alive"
         log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", s, verdict, amp * 1e3,
                  rate, t[-1])
@@ -527,8 +562,11 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
 
     def grows(s: float, state: Any) -> tuple[bool, Any, dict]:
         sy = runs.systems.at(s)[0]
-        q = lateral_disturbance(sy, runs.static(s), y_small)
-        t, y, *_ = runs.run(s, q, None, duration, 0.0)
+        try:
+            q = lateral_disturbance(sy, runs.static(s), y_small)
+            t, y, *_ = runs.run(s, q, None, duration, 0.0)
+        except RUN_FAILURES as e:
+            return _failed(s, e)
         rate = growth_rate(t, y, window)
         amp = float(envelope(t, y, window)[1][-1])
         log.info("decay %.2f km/h: rate %.4f 1/s, %.4f mm", s, rate, amp * 1e3)
@@ -572,6 +610,8 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
                     contact=contact, geometry=geometry, decay=bool(decay))
     pv = fb.visited
     dv = db.visited
+    failure = "; ".join(f"{name}: {b.failure}" for name, b in (("fold", fb), ("decay", db))
+                        if b.failure)
     return PathCriticalSpeed(
         fold=fold / 3.6, fold_bracket=(fb.lo / 3.6, fb.hi / 3.6),
         decay_boundary=boundary / 3.6, decay_bracket=(db.lo / 3.6, db.hi / 3.6),
@@ -584,4 +624,4 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
         decay_amplitudes=np.array([r["amplitude"] for _, _, r in dv]),
         decay_rates=np.array([r["rate"] for _, _, r in dv]),
         fold_amplitude=amp_f, fold_branch=branch, model=model, method=method,
-        settings=settings)
+        settings=settings, failure=failure)
