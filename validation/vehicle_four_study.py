@@ -98,7 +98,7 @@ def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
 
 def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
         force: bool, bem_above: float = 40.0, bem_step: float = 10.0,
-        bem_h: float | None = None) -> dict:
+        bem_h: float | None = None, bem_ring_inertia: bool = False) -> dict:
     out = _load()
     out["selection"] = np.array("k_max 1 / 300 Hz" if cheap else "k_max 2 / 800 Hz")
     for m in models:
@@ -123,7 +123,7 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
             d = path(m, "bem", cheap, speed_top_kmh=min(fold + bem_above, 460.0),
                      speed_floor_kmh=fold - 25.0, step_kmh=bem_step,
                      resolution_kmh=bem_step / 2.0, duration=duration, decay=False,
-                     h=bem_h)
+                     h=bem_h, **({"ring_residual_inertia": True} if bem_ring_inertia else {}))
             _store(out, f"{m}_bem", d, time.perf_counter() - t)
             print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
     return out
@@ -134,12 +134,25 @@ def _f(out: dict, key: str) -> float:
 
 
 def _bem_value(out: dict, m: str) -> tuple[float, bool]:
-    """The BEM fold to draw: the bracket's top, or (no cycle found down the path) its lowest
-    speed tried as a lower bound, flagged True."""
+    """The BEM fold to draw and whether it is bracketed. A path whose top run already had no
+    cycle gives no bound (a cycle may live there from a larger start: RR's did, issue 30)."""
     hi = _f(out, f"{m}_bem_fold_hi")
-    if np.isfinite(hi):
-        return hi, False
-    return _f(out, f"{m}_bem_fold_lo"), True
+    return hi, bool(np.isfinite(hi))
+
+
+def _bem_text(out: dict, m: str) -> str:
+    """The BEM column of the table."""
+    if f"{m}_bem_fold_hi" not in out:
+        return "not run"
+    hi, ok = _bem_value(out, m)
+    if ok:
+        return f"[{_f(out, f'{m}_bem_fold_lo'):.0f}, {hi:.0f}]"
+    sp = out[f"{m}_bem_path_kmh"]
+    dead = sp[~out[f"{m}_bem_path_alive"].astype(bool) & np.isfinite(out[f"{m}_bem_path_amp"])]
+    why = str(out.get(f"{m}_bem_failure", ""))
+    parts = ([f"no cycle at {', '.join(f'{v:.0f}' for v in dead)} km/h from 6 mm"] if dead.size
+             else []) + ([why] if why else [])
+    return "not bracketed: " + "; ".join(parts)
 
 
 def table(out: dict) -> str:
@@ -149,8 +162,7 @@ def table(out: dict) -> str:
     for m in MODELS:
         if f"{m}_linear_kmh" not in out:
             continue
-        bem = (f"[{_f(out, f'{m}_bem_fold_lo'):.0f}, {_f(out, f'{m}_bem_fold_hi'):.0f}]"
-               if f"{m}_bem_fold_hi" in out else "not run")
+        bem = _bem_text(out, m)
         walls = " / ".join(f"{_f(out, f'{m}_{k}_wall'):.0f} s" if f"{m}_{k}_wall" in out else "-"
                            for k in ("linear", "strip", "bem"))
         rows.append(
@@ -214,17 +226,16 @@ def plot(out: dict) -> list[Path]:
         bars = ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
         if lab == "fold, BEM":
             for b, m in zip(bars, MODELS):
-                if _bem_value(out, m)[1]:       # no cycle found: a lower bound
-                    b.set_hatch("//")
-                    b.set_alpha(0.5)
-                    ax.annotate("BEM: no cycle here\n(a lower bound)", (b.get_x() + wdt / 2, b.get_height()),
+                if f"{m}_bem_fold_hi" in out and not _bem_value(out, m)[1]:
+                    ax.annotate("BEM:\nnot\nbracketed", (b.get_x() + wdt / 2, 205.0),
                                 ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, MODELS)
     ax.set_ylabel("critical speed, km/h")
     ax.set_ylim(200, 450)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=3, loc="upper right")
-    ax.set_title("Critical speeds of the four variants (missing bars: not run)", fontsize=10)
+    ax.set_title("Critical speeds of the four variants (missing bars: not run or not bracketed)",
+                 fontsize=10)
     fig.tight_layout()
     p2 = FIG / "vehicle_four_study_speeds.png"
     fig.savefig(p2, dpi=110)
@@ -246,6 +257,9 @@ def main(argv: list[str] | None = None) -> None:
                     help="the BEM path's step, km/h (bracket: half of it)")
     ap.add_argument("--bem-h", type=float, default=None,
                     help="the BEM runs' time step, s (default: the scenarios')")
+    ap.add_argument("--bem-ring-inertia", action="store_true",
+                    help="the BEM path with the ring's residual inertia (ring_residual_inertia: "
+                         "FF's flange impacts need it with the BEM)")
     ap.add_argument("--force", action="store_true", help="recompute stored items")
     ap.add_argument("--replot", action="store_true")
     ap.add_argument("--store", type=Path, default=STORE,
@@ -262,7 +276,7 @@ def main(argv: list[str] | None = None) -> None:
         if m not in MODELS:
             raise SystemExit(f"unknown model {m!r}: {MODELS}")
     out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force,
-                                       a.bem_above, a.bem_step, a.bem_h)
+                                       a.bem_above, a.bem_step, a.bem_h, a.bem_ring_inertia)
     print(table(out))
     for p in plot(out):
         print(f"wrote {p}")

@@ -325,7 +325,9 @@ class PathCriticalSpeed:
         top = self.settings.get("speed_top", float("nan")) * 3.6
         bottom = self.settings.get("speed_floor", float("nan")) * 3.6
         lo, hi = self.fold_bracket_kmh
-        if math.isnan(hi):
+        if math.isnan(hi) and self.failure.startswith("fold"):
+            f = f"fold unknown (no verdict at the top speed {top:.1f} km/h)"
+        elif math.isnan(hi):
             f = f"no limit cycle at the top speed {top:.1f} km/h"
         elif math.isnan(lo):
             f = f"fold below {hi:.1f} km/h (the cycle lives down to the floor {bottom:.1f})"
