@@ -133,20 +133,31 @@ def _f(out: dict, key: str) -> float:
     return float(out[key]) if key in out else float("nan")
 
 
+def _bem_bracket(out: dict, m: str) -> tuple[float, float]:
+    """The BEM fold bracket (lo, hi), km/h: the path's, its lower side from the low path
+    (validation/vehicle_four_study_ff_low.py) where the path lived down to its floor."""
+    lo, hi = _f(out, f"{m}_bem_fold_lo"), _f(out, f"{m}_bem_fold_hi")
+    if np.isnan(lo) and np.isfinite(hi) and f"{m}_bem_low_fold_hi" in out:
+        low_lo, low_hi = _f(out, f"{m}_bem_low_fold_lo"), _f(out, f"{m}_bem_low_fold_hi")
+        if np.isfinite(low_hi):             # the low path's top lived: it extends the path
+            lo, hi = low_lo, low_hi
+    return lo, hi
+
+
 def _bem_value(out: dict, m: str) -> tuple[float, bool]:
     """The BEM fold to draw and whether it is bracketed. A path whose top run already had no
     cycle gives no bound (a cycle may live there from a larger start: RR's did, issue 30)."""
-    hi = _f(out, f"{m}_bem_fold_hi")
-    return hi, bool(np.isfinite(hi))
+    lo, hi = _bem_bracket(out, m)
+    return hi, bool(np.isfinite(hi) and np.isfinite(lo))
 
 
 def _bem_text(out: dict, m: str) -> str:
     """The BEM column of the table."""
     if f"{m}_bem_fold_hi" not in out:
         return "not run"
-    hi, ok = _bem_value(out, m)
-    if ok:
-        return f"[{_f(out, f'{m}_bem_fold_lo'):.0f}, {hi:.0f}]"
+    lo, hi = _bem_bracket(out, m)
+    if np.isfinite(hi):
+        return f"[{lo:.0f}, {hi:.0f}]" if np.isfinite(lo) else f"<= {hi:.0f} (alive down to there)"
     sp = out[f"{m}_bem_path_kmh"]
     dead = sp[~out[f"{m}_bem_path_alive"].astype(bool) & np.isfinite(out[f"{m}_bem_path_amp"])]
     why = str(out.get(f"{m}_bem_failure", ""))
@@ -194,6 +205,10 @@ def plot(out: dict) -> list[Path]:
         if f"{m}_bem_path_kmh" in out:
             sb, ab = out[f"{m}_bem_path_kmh"], out[f"{m}_bem_path_amp"] * 1e3
             ok = out[f"{m}_bem_path_alive"].astype(bool)
+            if f"{m}_bem_low_path_kmh" in out and np.isfinite(_f(out, f"{m}_bem_low_fold_hi")):
+                sb = np.concatenate([sb, out[f"{m}_bem_low_path_kmh"]])
+                ab = np.concatenate([ab, out[f"{m}_bem_low_path_amp"] * 1e3])
+                ok = np.concatenate([ok, out[f"{m}_bem_low_path_alive"].astype(bool)])
             for sel, mfc, lab in ((ok, "C3", "BEM: cycle alive"), (~ok, "none", "BEM: died")):
                 if sel.any():
                     ax.plot(sb[sel], ab[sel], "D", mfc=mfc, color="C3", label=lab)
@@ -226,7 +241,13 @@ def plot(out: dict) -> list[Path]:
         bars = ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
         if lab == "fold, BEM":
             for b, m in zip(bars, MODELS):
-                if f"{m}_bem_fold_hi" in out and not _bem_value(out, m)[1]:
+                if f"{m}_bem_fold_hi" not in out or _bem_value(out, m)[1]:
+                    continue
+                if np.isfinite(_bem_value(out, m)[0]):       # alive down to there: <=
+                    b.set_hatch("//")
+                    ax.annotate("<=", (b.get_x() + wdt / 2, b.get_height()), ha="center",
+                                va="bottom", fontsize=8)
+                else:
                     ax.annotate("BEM:\nnot\nbracketed", (b.get_x() + wdt / 2, 205.0),
                                 ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, MODELS)
@@ -234,7 +255,8 @@ def plot(out: dict) -> list[Path]:
     ax.set_ylim(200, 450)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=3, loc="upper right")
-    ax.set_title("Critical speeds of the four variants (missing bars: not run or not bracketed)",
+    ax.set_title("Critical speeds of the four variants (missing bars: not run or not bracketed; "
+                 "hatched: an upper bound, the cycle alive down to there)",
                  fontsize=10)
     fig.tight_layout()
     p2 = FIG / "vehicle_four_study_speeds.png"
