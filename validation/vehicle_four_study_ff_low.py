@@ -5,13 +5,15 @@ to 260 km/h, with the same settings as the study's FF BEM path (k_max 1 / 300 Hz
 residual inertia, 3 s per speed). A start that dies is no bound (a cycle may live there from
 the carried state); one that lives and dies below brackets the fold.
 
-    .venv/bin/python validation/vehicle_four_study_ff_low.py     # ~20 min on 2 cores
+    .venv/bin/python validation/vehicle_four_study_ff_low.py              # from 280 km/h
+    .venv/bin/python validation/vehicle_four_study_ff_low.py --top 300    # ~20 min on 2 cores
 
 Stores FF_bem_low_* into validation/figures/vehicle_four_study.npz (the study's store) and
 prints the path.
 """
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -21,9 +23,12 @@ from railvti.critical_search import nonlinear_critical_speed
 import vehicle_four_study as study
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--top", type=float, default=280.0, help="the first speed, km/h")
+    a = ap.parse_args(argv)
     t = time.perf_counter()
-    c = nonlinear_critical_speed("FF", "bem", k_max=1, f_max=300.0, speed_top_kmh=280.0,
+    c = nonlinear_critical_speed("FF", "bem", k_max=1, f_max=300.0, speed_top_kmh=a.top,
                                  step_kmh=10.0, speed_floor_kmh=260.0, resolution_kmh=5.0,
                                  duration=3.0, y_large=0.006, decay=False,
                                  ring_residual_inertia=True)
