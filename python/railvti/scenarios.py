@@ -628,7 +628,10 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
 
     Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
-    ``q0``/``v0`` continue from a given state instead (speed sweeps). ``h`` defaults to 1 ms
+    ``q0``/``v0`` continue from a given state instead (speed sweeps); on the ring track (RF,
+    FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
+    at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
+    critical_search does this), not from 0. ``h`` defaults to 1 ms
     (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
     (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
     ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
