@@ -323,11 +323,10 @@ def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: floa
     """build_fr on the scenarios' cached FE wheelset (scaled by the coach's
     wheelset_stiffness_scale); with follow_contact, the residual's 5 mm table over the contact
     points made once per speed and selection (about 30 s)."""
-    from .vehicle.flexible import build_fr
+    from .vehicle.flexible import build_fr, coach_body
     if not follow_contact:
         return build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
                         track=track)
-    from .vehicle.flexible import coach_body
     from .wheelset.flexible import residual_table
     ws, body = coach_body(coach, _fr_wheelset(), v, k_max, f_max)
     key = ("residual_grid", float(v), k_max, float(f_max), coach["wheelset_stiffness_scale"])
