@@ -98,7 +98,8 @@ def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
 
 def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
         force: bool, bem_above: float = 40.0, bem_step: float = 10.0,
-        bem_h: float | None = None, bem_ring_inertia: bool = False) -> dict:
+        bem_h: float | None = None, bem_ring_inertia: bool = False,
+        bem_below: float = 25.0, bem_resolution: float | None = None) -> dict:
     out = _load()
     out["selection"] = np.array("k_max 1 / 300 Hz" if cheap else "k_max 2 / 800 Hz")
     for m in models:
@@ -121,8 +122,8 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
         if force or f"{m}_bem_fold_hi" not in out or not np.isfinite(out[f"{m}_bem_fold_hi"]):
             t = time.perf_counter()
             d = path(m, "bem", cheap, speed_top_kmh=min(fold + bem_above, 460.0),
-                     speed_floor_kmh=fold - 25.0, step_kmh=bem_step,
-                     resolution_kmh=bem_step / 2.0, duration=duration, decay=False,
+                     speed_floor_kmh=fold - bem_below, step_kmh=bem_step,
+                     resolution_kmh=bem_resolution or bem_step / 2.0, duration=duration, decay=False,
                      h=bem_h, **({"ring_residual_inertia": True} if bem_ring_inertia else {}))
             _store(out, f"{m}_bem", d, time.perf_counter() - t)
             print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
@@ -277,6 +278,10 @@ def main(argv: list[str] | None = None) -> None:
                     help="the BEM path starts this far above the strip fold, km/h")
     ap.add_argument("--bem-step", type=float, default=10.0,
                     help="the BEM path's step, km/h (bracket: half of it)")
+    ap.add_argument("--bem-below", type=float, default=25.0,
+                    help="the BEM path's floor this far below the strip fold, km/h")
+    ap.add_argument("--bem-resolution", type=float, default=None,
+                    help="the BEM fold bracket's width, km/h (default: half the step)")
     ap.add_argument("--bem-h", type=float, default=None,
                     help="the BEM runs' time step, s (default: the scenarios')")
     ap.add_argument("--bem-ring-inertia", action="store_true",
@@ -298,7 +303,8 @@ def main(argv: list[str] | None = None) -> None:
         if m not in MODELS:
             raise SystemExit(f"unknown model {m!r}: {MODELS}")
     out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force,
-                                       a.bem_above, a.bem_step, a.bem_h, a.bem_ring_inertia)
+                                       a.bem_above, a.bem_step, a.bem_h, a.bem_ring_inertia,
+                                       a.bem_below, a.bem_resolution)
     print(table(out))
     for p in plot(out):
         print(f"wrote {p}")
