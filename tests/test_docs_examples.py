@@ -19,7 +19,7 @@ FILES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 #: (file, block index from 0) -> why it runs only with RAILVTI_SLOW_DOCS=1 (its cost here).
 SLOW = {
     ("README.md", 2): "critical speeds (linear and nonlinear sweep) and 5 s of hunting: minutes",
-    ("vehicle.md", 0): "speed sweeps (bifurcation, critical speeds, FR): many minutes",
+    ("vehicle_scenarios.md", 0): "speed sweeps (bifurcation, critical speeds, FR): many minutes",
     ("track.md", 0): "RingTrack(64) and its receptances: ~25 s",
     ("wheelset.md", 0): "all harmonics k <= 6 to 3 kHz: ~15 s",
     ("results.md", 0): "reads results/vehicle_example.h5: run inputs/vehicle_example.nml first",
