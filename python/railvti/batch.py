@@ -176,6 +176,9 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
     if out.exists() or out.is_symlink():
         try:
             st = os.stat(out)
+        except FileNotFoundError:
+            raise InputError(f"output {out} is a symbolic link to {os.readlink(out)}, which does "
+                             "not exist: give the target's path or another name") from None
         except OSError as exc:
             raise InputError(f"output {out}: {exc.strerror}") from None
         if stat.S_ISDIR(st.st_mode):

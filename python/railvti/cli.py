@@ -29,6 +29,9 @@ def _run(args: argparse.Namespace) -> int:
     cases = read_deck(deck)
     out = Path(args.output) if args.output else deck.with_suffix(".h5")
     check_output(out, deck, force=args.force)
+    if out.is_symlink():          # write the file it points to (the link stays a link)
+        out = Path(os.path.realpath(out))
+        check_output(out, deck, force=args.force)
     old_limit = os.environ.get(resources.ENV)
     note = lambda line: print(line, file=sys.stderr)      # noqa: E731
     try:

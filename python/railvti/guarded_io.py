@@ -22,6 +22,11 @@ from typing import Any
 
 import h5py
 
+#: The system calls that write (tests replace them to simulate a full disk).
+_pwrite = os.pwrite
+_ftruncate = os.ftruncate
+_fsync = os.fsync
+
 
 class WriteFailed(OSError):
     """A results or stream file could not be written (disk full, quota, I/O error): the run
@@ -89,7 +94,7 @@ class GuardedFile:
         if self.error is None:
             try:
                 while done < n:
-                    k = os.pwrite(self._fd, data[done:], pos + done)
+                    k = _pwrite(self._fd, data[done:], pos + done)
                     if k <= 0:
                         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
                     done += k
@@ -106,7 +111,7 @@ class GuardedFile:
         size = self._pos if size is None else int(size)
         if self.error is None:
             try:
-                os.ftruncate(self._fd, size)
+                _ftruncate(self._fd, size)
             except OSError as exc:
                 self.error = exc
         self._end = size
@@ -129,7 +134,7 @@ class GuardedFile:
         """fsync the file (raises WriteFailed)."""
         self.check()
         try:
-            os.fsync(self._fd)
+            _fsync(self._fd)
         except OSError as exc:
             self.error = exc
             raise failure(self.path, exc) from None

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import InputError
+from .results import side_name
 
 #: Locks this process holds: resolved lock path -> [OutputLock, depth] (a lock is re-entrant
 #: within one process: the CLI takes it before the cluster starts, run_cases again).
@@ -37,7 +38,7 @@ _HELD_LOCK = threading.Lock()
 def lock_path(out: str | Path) -> Path:
     """The lock file of an output: ``.NAME.lock`` beside it."""
     out = Path(out)
-    return out.parent / f".{out.name}.lock"
+    return out.parent / f".{side_name(out)}.lock"
 
 
 def _alive(pid: int) -> bool:

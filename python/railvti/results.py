@@ -364,10 +364,24 @@ def _fsync(path: Path) -> None:
         os.fsync(fh.fileno())
 
 
+#: Longest output name used whole in the names of its side files (temporary files, the lock):
+#: a longer one is cut and ends in a digest, so the side file stays under NAME_MAX (255).
+SIDE_NAME_MAX = 160
+
+
+def side_name(path: Path) -> str:
+    """The output's name as used in its side files (cut to :data:`SIDE_NAME_MAX`)."""
+    name = path.name
+    if len(name.encode("utf-8", "surrogateescape")) <= SIDE_NAME_MAX:
+        return name
+    digest = hashlib.sha1(name.encode("utf-8", "surrogateescape")).hexdigest()[:10]
+    return name.encode("utf-8", "surrogateescape")[:SIDE_NAME_MAX - 11].decode("utf-8", "ignore") + "~" + digest
+
+
 def temp_path(path: Path) -> Path:
     """A new temporary file beside ``path`` (mode 0666 less the umask), created empty."""
     while True:
-        tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+        tmp = path.parent / f".{side_name(path)}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
         try:
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
         except FileExistsError:
