@@ -173,7 +173,11 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
     InputError
         Naming the path and the problem.
     """
-    if out.exists() or out.is_symlink():
+    try:
+        there = out.exists() or out.is_symlink()
+    except OSError as exc:        # a name too long, a loop of links...
+        raise InputError(f"output {out}: {exc.strerror}") from None
+    if there:
         try:
             st = os.stat(out)
         except FileNotFoundError:
