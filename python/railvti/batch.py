@@ -454,18 +454,23 @@ def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
     writer.write([rec])
 
 
+def _cases(n: int) -> str:
+    return f"{n} case" if n == 1 else f"{n} cases"
+
+
 def write_error(out: Path, exc: OSError, kept: int, lost: list[Case], not_run: int) -> str:
     """The one line that says why a run stopped on its output: the error, what the file
     holds, what is not in it."""
     why = exc.strerror or str(exc)
     code = f" (errno {exc.errno})" if exc.errno else ""
-    held = f"it keeps the {kept} cases written before" if kept else "no case of this run is in it"
+    held = (f"it keeps the {_cases(kept)} written before" if kept
+            else "no case of this run is in it")
     line = f"cannot write {out}: {why}{code}; {held} (no temporary file left)"
     if lost:
         names = ", ".join(c.label for c in lost[:3]) + (" ..." if len(lost) > 3 else "")
         line += f"; finished but not written: {names}"
     if not_run:
-        line += f"; {not_run} other cases not in it"
+        line += f"; {_cases(not_run)} more not in it"
     return line
 
 
