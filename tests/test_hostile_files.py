@@ -773,6 +773,56 @@ def test_api_write_error(tmp_path, monkeypatch, capfd, code):
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
 
 
+class SignalInWrite:
+    """os.pwrite raising KeyboardInterrupt (a signal handler) at its ``at``-th call, once."""
+
+    def __init__(self, at: int) -> None:
+        self.at, self.calls = at, 0
+
+    def __call__(self, fd, data, pos):
+        self.calls += 1
+        if self.calls == self.at:
+            raise KeyboardInterrupt
+        return os.pwrite(fd, data, pos)
+
+
+@pytest.mark.parametrize("at", [1, 3, 8])
+def test_signal_inside_a_stream_write(tmp_path, monkeypatch, capfd, at):
+    """Ctrl-C while HDF5 writes a streamed block: HDF5 never sees it, the block finishes,
+    the interrupt is raised after it, the stream closes into a valid file of whole blocks."""
+    monkeypatch.setattr(guarded_io, "_pwrite", SignalInWrite(at))
+    s = HistoryStream(tmp_path / "s.h5", store=("t", "q"))
+    blocks = 0
+    with pytest.raises(KeyboardInterrupt):
+        for b in range(200):
+            s.append({"t": np.arange(4000.0) + 4000 * b, "q": np.ones((4000, 4)) * b})
+            blocks += 1
+    s.close()
+    with h5py.File(tmp_path / "s.h5", "r") as f:
+        t = f["history/t"][()]
+        assert len(t) == 4000 * blocks and np.array_equal(t, np.arange(4000.0 * blocks))
+        assert f["history"].attrs["rows"] == 4000 * blocks
+    assert "Exception ignored" not in capfd.readouterr().err
+
+
+def test_signal_inside_save(tmp_path, monkeypatch, capfd):
+    from dataclasses import dataclass
+
+    @dataclass
+    class R:
+        x: np.ndarray
+
+    target = tmp_path / "r.h5"
+    target.write_bytes(b"old")
+    monkeypatch.setattr(guarded_io, "_pwrite", SignalInWrite(2))
+    with pytest.raises(KeyboardInterrupt):
+        results.save(R(np.arange(5000.0)), target)
+    assert target.read_bytes() == b"old" and side_files(tmp_path) == []
+    monkeypatch.setattr(guarded_io, "_pwrite", os.pwrite)
+    results.save(R(np.arange(5.0)), target)                     # HDF5 still sound
+    assert "Exception ignored" not in capfd.readouterr().err
+
+
 # ---------------------------------------------------------------------------------------------
 # GuardedFile itself: handled edge cases
 

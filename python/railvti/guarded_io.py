@@ -12,6 +12,11 @@ remembered (:attr:`GuardedFile.error`); it and every later write are kept in mem
 (reads see them), so HDF5 goes on, closes the file cleanly and frees everything. The writer
 then raises :class:`WriteFailed` and deletes the file. The writers check
 :meth:`GuardedFile.check` between datasets and blocks, so little is written after a failure.
+
+The driver's calls run Python code inside HDF5, where a signal handler may raise (Ctrl-C
+while a history streams). An exception must not reach HDF5 from there (it would be a failed
+write, with the consequences above): each call runs to its end and the exception is raised
+again by the next :meth:`GuardedFile.check`, after HDF5 has returned.
 """
 from __future__ import annotations
 
@@ -54,7 +59,26 @@ class GuardedFile:
         self._pos = 0
         self._end = os.fstat(self._fd).st_size
         self.error: OSError | None = None
+        self.pending: BaseException | None = None   # raised in a call, raised again by check()
         self._lost: list[tuple[int, bytes]] = []    # writes after the error, in order
+
+    def _whole(self, fn: Any, *args: Any) -> Any:
+        """fn(*args) run to its end: a KeyboardInterrupt (a signal handler) raised inside is
+        kept for :meth:`check` and the call made again (each call is idempotent: writes
+        and reads at fixed offsets); another exception becomes the write error."""
+        start = self._pos
+        for _ in range(1000):
+            self._pos = start
+            try:
+                return fn(*args)
+            except Exception as exc:  # noqa: BLE001 - HDF5 must not see it
+                if self.error is None:
+                    self.error = OSError(errno.EIO, f"{type(exc).__name__}: {exc}")
+                self._pos = start
+                return fn(*args)      # a write now goes to memory only
+            except BaseException as exc:  # noqa: BLE001 - KeyboardInterrupt, SystemExit
+                self.pending = self.pending or exc
+        raise RuntimeError("GuardedFile: interrupted 1000 times in one call")
 
     # -- the file-like interface h5py's fileobj driver uses ----------------------------------
     def seek(self, pos: int, whence: int = 0) -> int:
@@ -68,6 +92,9 @@ class GuardedFile:
 
     def readinto(self, buf: Any) -> int:
         """Fill ``buf`` from the position (zeros past the end), the lost writes laid over."""
+        return self._whole(self._readinto, buf)
+
+    def _readinto(self, buf: Any) -> int:
         mv = memoryview(buf).cast("B")
         n = len(mv)
         data = os.pread(self._fd, n, self._pos) if n else b""
@@ -89,6 +116,9 @@ class GuardedFile:
 
     def write(self, buf: Any) -> int:
         """Write at the position; after a failure keep the bytes in memory instead."""
+        return self._whole(self._write, buf)
+
+    def _write(self, buf: Any) -> int:
         data = memoryview(buf).cast("B")
         n, pos, done = len(data), self._pos, 0
         if self.error is None:
@@ -108,6 +138,9 @@ class GuardedFile:
 
     def truncate(self, size: int | None = None) -> int:
         """Set the file's length (HDF5 does so when it closes the file)."""
+        return self._whole(self._truncate, size)
+
+    def _truncate(self, size: int | None) -> int:
         size = self._pos if size is None else int(size)
         if self.error is None:
             try:
@@ -126,7 +159,11 @@ class GuardedFile:
 
     # -- for the writers --------------------------------------------------------------------
     def check(self) -> None:
-        """Raise :class:`WriteFailed` if a write has failed."""
+        """Raise the exception a signal raised inside a call, then :class:`WriteFailed` if
+        a write has failed."""
+        if self.pending is not None:
+            exc, self.pending = self.pending, None
+            raise exc
         if self.error is not None:
             raise failure(self.path, self.error)
 

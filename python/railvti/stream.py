@@ -202,8 +202,10 @@ class HistoryStream:
             self._file.close()
             self._file = None
             fh, self._fh = self._fh, None
-            error = fh.error
+            error, pending = fh.error, fh.pending
             fh.close()
+        if pending is not None:           # a signal inside HDF5's last writes
+            raise pending
         if error is not None:
             self.failed = True
             raise WriteFailed(error.errno, error.strerror or str(error), str(self.path))
