@@ -377,22 +377,21 @@ def test_damaged_results_file_refused(tmp_path, capfd, how):
     before = out.read_bytes()
     deck = write_deck(tmp_path, "a", "b", "c", fname="first.nml")
     rc, text, err = run(capfd, str(deck), "-o", str(out), "--resume")
-    # refused (exit 2, naming the file) unless the damage spared what resume reads; then
-    # the run completes and every case is in a valid file
-    if rc == 2:
-        assert str(out) in err and "--force" in err and out.read_bytes() == before
-    else:
-        assert rc == 0 and set(groups(out)) == {"001_a", "002_b", "003_c"}
+    # refused, naming the file (each of these damages reaches the metadata resume reads)
+    assert rc == 2 and str(out) in err and "--force" in err and len(err.splitlines()) == 1
+    assert out.read_bytes() == before
     assert side_files(tmp_path) == []
 
 
+@pytest.mark.parametrize("resume", [False, True], ids=["plain", "resume"])
 @pytest.mark.parametrize("how", DAMAGE)
-def test_damaged_results_file_forced(tmp_path, capfd, how):
+def test_damaged_results_file_forced(tmp_path, capfd, how, resume):
     out = _results_of(tmp_path, capfd, "a", "b")
     _damage(out, how)
     deck = write_deck(tmp_path, "a", "b", fname="first.nml")
-    rc, _, _ = run(capfd, str(deck), "-o", str(out), "--force")
+    rc, text, _ = run(capfd, str(deck), "-o", str(out), "--force", *(["--resume"] if resume else []))
     assert rc == 0 and groups(out) == {"001_a": "ok", "002_b": "ok"}
+    assert "2 of 2 cases ok" in text and "kept from before" not in text      # both ran again
     no_nan(out)
 
 
@@ -821,6 +820,27 @@ def test_signal_inside_save(tmp_path, monkeypatch, capfd):
     monkeypatch.setattr(guarded_io, "_pwrite", os.pwrite)
     results.save(R(np.arange(5.0)), target)                     # HDF5 still sound
     assert "Exception ignored" not in capfd.readouterr().err
+
+
+@pytest.mark.parametrize("out_given", [True, False], ids=["out", "temporary_out"])
+def test_sweeps_run_raises_on_a_write_error(tmp_path, monkeypatch, out_given):
+    """The API (railvti.sweeps.run): a run stopped by its file raises WriteFailed naming it,
+    it does not return a short list of records."""
+    from railvti import sweeps
+    monkeypatch.setattr(guarded_io, "_pwrite", Disk(2, 0).pwrite)
+    cases = parse_deck(deck_text("a", "b", "c"))
+    with pytest.raises(WriteFailed, match="keeps the 1 case written before") as exc:
+        sweeps.run(cases, out=tmp_path / "o.h5" if out_given else None)
+    assert exc.value.errno == errno.ENOSPC
+    assert side_files(tmp_path) == []
+
+
+def test_sweeps_run_refused_by_a_live_lock(holder, tmp_path):
+    from railvti import sweeps
+    out, proc = holder
+    with pytest.raises(InputError, match=f"PID {proc.pid}"):
+        sweeps.run(parse_deck(deck_text("a")), out=out)
+    assert not out.exists()
 
 
 # ---------------------------------------------------------------------------------------------

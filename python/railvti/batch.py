@@ -42,7 +42,7 @@ from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
 from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SECONDS
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
-from .results import deck_owner
+from .results import damage, deck_owner
 from .guarded_io import WriteFailed
 from .output_lock import OutputLock
 
@@ -212,9 +212,10 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
                force: bool = False, note: Any = None) -> bool:
     """Refuse an existing results file written from another deck (railvti.results.deck_owner
     says which files belong to a deck, and why), unless ``force``: plain ``-o`` would
-    replace it, ``--resume`` would mix two decks' cases in one file. Returns whether the
-    run resumes: with ``force`` another deck's file is replaced, never resumed (``note``
-    says so).
+    replace it, ``--resume`` would mix two decks' cases in one file. With ``resume``, also
+    refuse a damaged file (railvti.results.damage: every dataset is read once). Returns
+    whether the run resumes: with ``force`` another deck's or a damaged file is replaced,
+    never resumed (``note`` says so).
 
     Raises
     ------
@@ -231,7 +232,13 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
         raise InputError(f"output {out} cannot be read as a results file ({exc}): give "
                          "another -o, or --force to replace it") from None
     if owner.same:
-        return resume
+        hurt = damage(out) if resume else ""
+        if hurt and not force:
+            raise InputError(f"output {out} is damaged ({hurt}): --resume cannot keep its "
+                             "cases; give another -o, or --force to replace it")
+        if hurt and note is not None:
+            note(f"note: output {out} is damaged ({hurt}); --force: it is replaced")
+        return resume and not hurt
     if force:
         if note is not None:
             note(f"note: output {out} was {owner.describe()}; --force: it is replaced"
@@ -356,6 +363,7 @@ class RunReport:
     skipped: int = 0
     interrupted: str | None = None
     error: str | None = None
+    failure: OSError | None = None
 
 
 def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
@@ -539,6 +547,7 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
     def stop_on(exc: OSError, lost: list[Case]) -> None:
         """The file cannot be written: say so in report.error (one line)."""
         report.status = EXIT_OUTPUT
+        report.failure = exc
         report.error = write_error(out, exc, len(stored) + report.skipped, lost,
                                    len(todo) - len(stored) - len(lost))
 

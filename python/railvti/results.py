@@ -557,6 +557,34 @@ def completed(path: str | Path) -> dict[str, str]:
                 if isinstance(g, h5py.Group) and g.attrs.get("status") == "ok"}
 
 
+def damage(path: str | Path) -> str:
+    """Where a results file is damaged ('' if every case group, attribute and dataset reads):
+    what ``--resume`` checks before it keeps a file's cases (a damaged file copied and
+    written again would carry the damage on). Datasets are read in blocks of
+    :data:`COPY_BLOCK_BYTES` (memory stays bounded; time: the file read once)."""
+    where = str(path)
+    try:
+        with h5py.File(path, "r") as f:
+            dict(f.attrs)
+
+            def visit(name: str, obj: Any) -> None:
+                nonlocal where
+                where = f"{obj.name}"
+                dict(obj.attrs)
+                if isinstance(obj, h5py.Dataset) and obj.shape:
+                    row = max(1, obj.dtype.itemsize * int(np.prod(obj.shape[1:])))
+                    step = max(1, COPY_BLOCK_BYTES // row)
+                    for i in range(0, obj.shape[0], step):
+                        obj[i:i + step]
+                elif isinstance(obj, h5py.Dataset):
+                    obj[()]
+
+            f.visititems(visit)
+    except Exception as exc:  # noqa: BLE001 - any failure to read is damage
+        return f"{where}: {exc}"
+    return ""
+
+
 def write_results(path: str | Path, records: list[CaseRecord], deck_text: str = "") -> Path:
     """Write the records of a run to ``path`` atomically and return it."""
     ResultsWriter(path, deck_text).write(records)
