@@ -688,6 +688,24 @@ def test_write_error_exit_3_os_calls(tmp_path, capfd, monkeypatch, stage):
                   frozenset({"001_a"}) if stage == "resume_copy_enospc" else frozenset())
 
 
+def test_a_file_that_takes_no_record_at_all_is_exit_3(tmp_path, capfd, monkeypatch):
+    """A record HDF5 refuses, and then the same record without its results refused too:
+    the file's fault, exit 3 (not a traceback, not a case error)."""
+    real = results.write_case
+
+    def refuse(f, rec, check=None):
+        if rec.case.name == "b":
+            raise TypeError("Object dtype dtype('O') has no native HDF5 equivalent")
+        return real(f, rec, check)
+
+    monkeypatch.setattr(results, "write_case", refuse)
+    deck = write_deck(tmp_path, "a", "b", "c")
+    out = tmp_path / "out.h5"
+    rc, text, err = run(capfd, str(deck), "-o", str(out))
+    _check_exit_3(rc, text, err, tmp_path, out, 1)
+    assert "TypeError" in err and "case 2 'b'" in err
+
+
 @pytest.fixture
 def streamer(monkeypatch):
     """A case type that streams ``blocks`` blocks of 100 rows through railvti.stream."""

@@ -24,6 +24,7 @@ Exit status of ``railvti run`` (:data:`EXIT_CODES`).
 from __future__ import annotations
 
 import contextlib
+import errno
 import logging
 import os
 import signal
@@ -459,7 +460,13 @@ def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
         rec.output = None
         rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
         rec.traceback = tb
-    writer.write([rec])
+    try:
+        writer.write([rec])       # the record without its results
+    except WriteFailed:
+        raise
+    except Exception as exc:  # noqa: BLE001 - even that cannot be stored: the file's fault
+        code = exc.errno if isinstance(exc, OSError) and exc.errno else errno.EIO
+        raise WriteFailed(code, f"{type(exc).__name__}: {exc}", str(writer.path)) from None
 
 
 def _cases(n: int) -> str:
