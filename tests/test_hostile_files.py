@@ -1,18 +1,29 @@
 """Hostile files, disks and locks for ``railvti run`` (issue 31, items 1, 2 and 9).
 
-Outcome classes of the cases (parametrized ids in brackets), counted in the closing note:
+Outcome classes of the cases (121 in all), counted in the closing note of issue 31:
 
-* refused clearly (InputError / exit 2, naming the file, nothing written):
-  ``test_output_path_refused`` (output paths of every kind), ``test_other_deck_refused``
-  (another deck's file, with and without --resume), ``test_damaged_results_file_refused``,
-  ``test_live_lock_refused`` (a second concurrent writer), ``test_lock_cannot_be_created``;
-* handled edge cases (exit 0 / the documented behaviour): ``test_output_path_handled``,
-  ``test_same_deck_accepted``, ``test_force_replaces_other_deck``,
-  ``test_damaged_results_file_forced``, ``test_stale_lock_taken_over``, ``test_lock_behaviour``,
-  ``test_guarded_file``;
-* exit 3 (the file cannot be written: one line, the cases written before kept, no ``.tmp``,
-  no lock, no traceback, no "Exception ignored"): ``test_write_error_exit_3``,
-  ``test_stream_write_error_exit_3``, ``test_api_write_error``.
+* refused clearly (InputError / exit 2, naming the file or the other run, nothing written),
+  39: ``test_output_path_refused`` (17 output paths of every kind),
+  ``test_output_in_a_read_only_folder_is_refused``, ``test_other_deck_refused`` (8: another
+  deck's file, plain and --resume), ``test_other_deck_of_another_type_refused``,
+  ``test_damaged_results_file_refused`` (4), ``test_live_lock_refused`` (5: a second
+  concurrent writer), ``test_lock_cannot_be_created``,
+  ``test_two_concurrent_cli_runs_the_second_refused``, ``test_sweeps_run_refused_by_a_live_lock``;
+* handled edge cases (exit 0 / the documented behaviour), 55: ``test_output_path_handled``
+  (8), the symlinked output, the default output beside a stale .tmp,
+  ``test_force_replaces_other_deck`` (2), ``test_same_deck_accepted`` (14), the deck digest,
+  ``test_damaged_results_file_forced`` (8), ``test_stale_lock_taken_over`` (6), a killed
+  holder's lock, ``test_lock_behaviour`` (6), the lock held while cases run, a stream copied,
+  ``test_guarded_file`` (4), HDF5 through a GuardedFile;
+* stopped by a signal (raised after HDF5 returns, the file sound), 4:
+  ``test_signal_inside_a_stream_write`` (3), ``test_signal_inside_save``;
+* exit 3 (the file cannot be written: one line, the cases written before kept and exactly
+  the ones reported, no ``.tmp``, no lock, no traceback, no "Exception ignored"), 23:
+  ``test_write_error_exit_3`` (9: ENOSPC, EDQUOT, EIO, EFBIG, EROFS at the first, second and
+  third case, short writes), ``test_write_error_exit_3_os_calls`` (5: fsync, rename, temp
+  file creation, the --resume copy, truncate), ``test_stream_write_error_exit_3`` (4: the
+  stream file's first and later blocks, its close, its copy), ``test_api_write_error`` (2),
+  ``test_sweeps_run_raises_on_a_write_error`` (2), a record refused twice.
 
 Every case also asserts: no "Traceback" in the output, no NaN in a result of exit 0, no
 temporary file left, subprocesses under a timeout.
