@@ -291,6 +291,7 @@ def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch
                  + SMALL.format(name="c", fn=1e4))
     out = tmp_path / "out.h5"
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 3
-    assert "No space left on device" in capsys.readouterr().out
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and len(err.splitlines()) == 1
     assert _statuses(out) == {"001_a": "ok"}                  # the last complete version
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []

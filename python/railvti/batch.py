@@ -24,6 +24,7 @@ Exit status of ``railvti run`` (:data:`EXIT_CODES`).
 from __future__ import annotations
 
 import contextlib
+import errno
 import logging
 import os
 import signal
@@ -42,6 +43,9 @@ from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
 from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SECONDS
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
+from .results import damage, deck_owner
+from .guarded_io import WriteFailed
+from .output_lock import OutputLock
 
 log = logging.getLogger("railvti")
 
@@ -170,9 +174,16 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
     InputError
         Naming the path and the problem.
     """
-    if out.exists() or out.is_symlink():
+    try:
+        there = out.exists() or out.is_symlink()
+    except OSError as exc:        # a name too long, a loop of links...
+        raise InputError(f"output {out}: {exc.strerror}") from None
+    if there:
         try:
             st = os.stat(out)
+        except FileNotFoundError:
+            raise InputError(f"output {out} is a symbolic link to {os.readlink(out)}, which does "
+                             "not exist: give the target's path or another name") from None
         except OSError as exc:
             raise InputError(f"output {out}: {exc.strerror}") from None
         if stat.S_ISDIR(st.st_mode):
@@ -196,6 +207,48 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
         temp_path(out).unlink()
     except OSError as exc:
         raise InputError(f"cannot write in the output folder {parent}: {exc.strerror}") from None
+
+
+def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = False,
+               force: bool = False, note: Any = None) -> bool:
+    """Refuse an existing results file written from another deck (railvti.results.deck_owner
+    says which files belong to a deck, and why), unless ``force``: plain ``-o`` would
+    replace it, ``--resume`` would mix two decks' cases in one file. With ``resume``, also
+    refuse a damaged file (railvti.results.damage: every dataset is read once). Returns
+    whether the run resumes: with ``force`` another deck's or a damaged file is replaced,
+    never resumed (``note`` says so).
+
+    Raises
+    ------
+    InputError
+        Naming the file, the deck it was written from, and how to go on.
+    """
+    if not out.is_file() or not is_results_file(out):
+        return resume
+    try:
+        owner = deck_owner(out, deck, cases)
+    except (OSError, KeyError, ValueError) as exc:   # a damaged results file
+        if force:
+            return False
+        raise InputError(f"output {out} cannot be read as a results file ({exc}): give "
+                         "another -o, or --force to replace it") from None
+    if owner.same:
+        hurt = damage(out) if resume else ""
+        if hurt and not force:
+            raise InputError(f"output {out} is damaged ({hurt}): --resume cannot keep its "
+                             "cases; give another -o, or --force to replace it")
+        if hurt and note is not None:
+            note(f"note: output {out} is damaged ({hurt}); --force: it is replaced")
+        return resume and not hurt
+    if force:
+        if note is not None:
+            note(f"note: output {out} was {owner.describe()}; --force: it is replaced"
+                 + (", none of its cases kept" if resume else ""))
+        return False
+    what = ("--resume would mix two decks' cases in one file" if resume
+            else "running would replace it")
+    raise InputError(f"output {out} was {owner.describe()}: {what}; give another -o, "
+                     "or --force to replace it")
 
 
 @dataclass(frozen=True)
@@ -302,13 +355,16 @@ def announce(case: Case, write: Any) -> None:
 
 @dataclass
 class RunReport:
-    """What a run did: its exit status and counts."""
+    """What a run did: its exit status and counts; ``error`` the one line saying why the
+    file could not be written (status :data:`EXIT_OUTPUT`)."""
 
     status: int
     ok: int = 0
     failed: int = 0
     skipped: int = 0
     interrupted: str | None = None
+    error: str | None = None
+    failure: OSError | None = None
 
 
 def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
@@ -369,6 +425,8 @@ def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -
         return CaseRecord(case, output=partial_output(getattr(exc, "partial", None), stream),
                           interrupted=getattr(exc, "signame", "SIGINT"),
                           wall_time=time.perf_counter() - t0)
+    except WriteFailed:                 # its stream file: the disk, not the case (exit 3)
+        raise
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
         tb = traceback.format_exc()
         log.error("%s failed:\n%s", case.label, tb.rstrip())
@@ -380,15 +438,22 @@ def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -
     return CaseRecord(case, output=output, wall_time=time.perf_counter() - t0)
 
 
-def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> bool:
+def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
     """Write one record; a result that cannot be stored (a value HDF5 refuses) becomes the
-    case's error. False when the file itself cannot be written (disk full, I/O error)."""
+    case's error.
+
+    Raises
+    ------
+    WriteFailed
+        The file itself cannot be written (disk full, I/O error): the run stops.
+    """
     try:
         writer.write([rec])
-        return True
-    except OSError as exc:
-        write(f"railvti: error: cannot write {out}: {exc.strerror or exc}")
-        return False
+        return
+    except WriteFailed:
+        raise
+    except OSError as exc:    # an OSError of the file itself (the writer wraps its own)
+        raise WriteFailed(exc.errno, exc.strerror or str(exc), str(writer.path)) from None
     except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
         tb = traceback.format_exc()
         log.error("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
@@ -396,11 +461,32 @@ def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> boo
         rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
         rec.traceback = tb
     try:
-        writer.write([rec])
-        return True
-    except Exception as exc:  # noqa: BLE001
-        write(f"railvti: error: cannot write {out}: {exc}")
-        return False
+        writer.write([rec])       # the record without its results
+    except WriteFailed:
+        raise
+    except Exception as exc:  # noqa: BLE001 - even that cannot be stored: the file's fault
+        code = exc.errno if isinstance(exc, OSError) and exc.errno else errno.EIO
+        raise WriteFailed(code, f"{type(exc).__name__}: {exc}", str(writer.path)) from None
+
+
+def _cases(n: int) -> str:
+    return f"{n} case" if n == 1 else f"{n} cases"
+
+
+def write_error(out: Path, exc: OSError, kept: int, lost: list[Case], not_run: int) -> str:
+    """The one line that says why a run stopped on its output: the error, what the file
+    holds, what is not in it."""
+    why = exc.strerror or str(exc)
+    code = f" (errno {exc.errno})" if exc.errno else ""
+    held = (f"it keeps the {_cases(kept)} written before" if kept
+            else "no case of this run is in it")
+    line = f"cannot write {out}: {why}{code}; {held} (no temporary file left)"
+    if lost:
+        names = ", ".join(c.label for c in lost[:3]) + (" ..." if len(lost) > 3 else "")
+        line += f"; finished but not written: {names}"
+    if not_run:
+        line += f"; {_cases(not_run)} more not in it"
+    return line
 
 
 def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
@@ -418,9 +504,12 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
 
 def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
               write: Any = print, progress: Any = None, client: Any = None,
-              on_record: Any = None, bar: Any = None) -> RunReport:
+              on_record: Any = None, bar: Any = None, deck_path: str = "") -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
-    :func:`check_output`), each finished case written at once.
+    :func:`check_output` and :func:`check_deck`), each finished case written at once, under
+    the output's lock (railvti.output_lock: a second run on ``out`` is refused). A file
+    that cannot be written stops the run: status :data:`EXIT_OUTPUT`, ``report.error``
+    says why in one line, the file is its last complete version.
 
     Parameters
     ----------
@@ -437,7 +526,16 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     bar : tqdm, optional
         Advanced by one per finished case, its postfix the count of failures; its total is
         set to the cases to run.
+    deck_path : str
+        The deck's file, recorded in the results file and in the lock.
     """
+    with OutputLock(out, deck_path or "(API call)", note=write):
+        return _run_locked(cases, out, deck_text, resume=resume, write=write, progress=progress,
+                           client=client, on_record=on_record, bar=bar, deck_path=deck_path)
+
+
+def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, write: Any,
+                progress: Any, client: Any, on_record: Any, bar: Any, deck_path: str) -> RunReport:
     report = RunReport(status=EXIT_OK)
     done = completed(out) if resume else {}
     todo = []
@@ -450,13 +548,24 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
         write(f"resume: {report.skipped} of {len(cases)} cases already complete in {out}")
     if bar is not None:
         bar.reset(total=len(todo))
-    writer = ResultsWriter(out, deck_text, keep=resume)
+    writer = ResultsWriter(out, deck_text, keep=resume, deck_path=deck_path, cases=cases)
+    stored: list[Case] = []
+
+    def stop_on(exc: OSError, lost: list[Case]) -> None:
+        """The file cannot be written: say so in report.error (one line)."""
+        report.status = EXIT_OUTPUT
+        report.failure = exc
+        report.error = write_error(out, exc, len(stored) + report.skipped, lost,
+                                   len(todo) - len(stored) - len(lost))
 
     def finish(rec: CaseRecord) -> bool:
         """Store a record (False: the file cannot be written) and count it."""
-        if not _store(writer, rec, out, write):
-            report.status = EXIT_OUTPUT
+        try:
+            _store(writer, rec)
+        except WriteFailed as exc:
+            stop_on(exc, [rec.case])
             return False
+        stored.append(rec.case)
         _account(rec, report, write)
         if on_record is not None:
             on_record(rec)
@@ -481,10 +590,13 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             stream = CaseStream(out)
             try:
                 rec = run_case(case, guard, stream)
-                stored = finish(rec)
+                ok = finish(rec)
+            except WriteFailed as exc:          # the case's stream file
+                stop_on(exc, [])
+                ok = False
             finally:
                 stream.remove()
-            if not stored:
+            if not ok:
                 return report
             if rec.interrupted:
                 break
@@ -502,5 +614,5 @@ def resume_hint(deck: Path, out: Path) -> str:
     return f"railvti run {deck} -o {out} --resume"
 
 
-__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_output", "check_resources",
+__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "check_resources",
            "estimate", "run_case", "run_cases", "RunReport"]

@@ -16,8 +16,9 @@ from .casetypes import REQUIRED
 from .deck import read_deck
 from . import resources
 from .deck_registry import case_types
-from .batch import (EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_output, check_resources, resume_hint, run_cases,
-                    small_deck)
+from .batch import (EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_deck, check_output, check_resources, resume_hint,
+                    run_cases, small_deck)
+from .output_lock import OutputLock
 from .errors import InputError, RailvtiError
 
 log = logging.getLogger("railvti")
@@ -28,12 +29,19 @@ def _run(args: argparse.Namespace) -> int:
     cases = read_deck(deck)
     out = Path(args.output) if args.output else deck.with_suffix(".h5")
     check_output(out, deck, force=args.force)
+    if out.is_symlink():          # write the file it points to (the link stays a link)
+        out = Path(os.path.realpath(out))
+        check_output(out, deck, force=args.force)
     old_limit = os.environ.get(resources.ENV)
+    note = lambda line: print(line, file=sys.stderr)      # noqa: E731
     try:
-        if args.max_memory:
-            os.environ[resources.ENV] = str(args.max_memory)
-            resources.memory_limit()             # a bad size: InputError before any case
-        return _run_checked(args, deck, cases, out)
+        # the lock before the deck check: no other run can change the file in between
+        with OutputLock(out, str(deck.resolve()), note=note):
+            args.resume = check_deck(out, deck, cases, args.resume, args.force, note)
+            if args.max_memory:
+                os.environ[resources.ENV] = str(args.max_memory)
+                resources.memory_limit()             # a bad size: InputError before any case
+            return _run_checked(args, deck, cases, out)
     finally:
         if old_limit is None:
             os.environ.pop(resources.ENV, None)
@@ -59,10 +67,13 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
         with _client(args, serial, len(cases), write) as client:
             report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
                                progress=lambda c: bar.set_postfix_str(c.name[-30:]),
-                               client=client, bar=bar)
+                               client=client, bar=bar, deck_path=str(deck.resolve()))
     finally:
         bar.close()
     n = len(cases)
+    if report.error:
+        print(f"railvti: error: {report.error}; continue with: {resume_hint(deck, out)}",
+              file=sys.stderr)
     if report.interrupted:
         print(f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
               f"cases complete); continue with: {resume_hint(deck, out)}")
@@ -178,7 +189,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--resume", action="store_true",
                    help="keep the cases already complete in the output (same parameters) and run the others")
     p.add_argument("--force", action="store_true",
-                   help="replace an existing output file that is not a railvti results file")
+                   help="replace an existing output file that is not a railvti results file, "
+                        "or one written from another deck")
     p.add_argument("--max-memory", metavar="SIZE",
                    help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)")
     g = p.add_mutually_exclusive_group()

@@ -42,6 +42,7 @@ from . import __version__
 from .casetypes import CaseOutput, Streamed
 from .deck import Case
 from .errors import InputError
+from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
 
 #: Version of the HDF5 layout written here.
 LAYOUT = 2
@@ -249,13 +250,13 @@ INTERRUPTED_COPY_ENV = "RAILVTI_INTERRUPTED_COPY_MB"
 
 
 def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = True,
-                   rows: int | None = None) -> h5py.Dataset:
+                   rows: int | None = None, check: Any = None) -> h5py.Dataset:
     """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, chunked and
     compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
     :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length. ``compress=False``
     (an interrupted case, whose stop should be prompt): not compressed, 5 x faster (180 s
     of hunting history: 1.2 s instead of 5.9 s), the file 2.3 x larger. ``rows``: only the
-    first rows."""
+    first rows. ``check()`` after each block raises if the output cannot be written."""
     with h5py.File(ref.path, "r") as src:
         s = src[ref.name]
         n = s.shape[0] if rows is None else min(rows, s.shape[0])
@@ -265,17 +266,19 @@ def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = Tru
         step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
         for i in range(0, n, step):
             d[i:min(i + step, n)] = s[i:min(i + step, n)]
+            if check is not None:
+                check()
     return d
 
 
 def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None,
-                   compress: bool = True, rows: int | None = None) -> None:
+                   compress: bool = True, rows: int | None = None, check: Any = None) -> None:
     arr, units = spec[0], spec[1]
     extra = dict(spec[2]) if len(spec) > 2 else {}
     if output is not None:
         extra.update(getattr(output, "attrs", {}).get(name, {}))
     if isinstance(arr, Streamed):
-        d = _copy_streamed(g, name, arr, compress, rows)
+        d = _copy_streamed(g, name, arr, compress, rows, check)
         _set_attr(d, "units", units or "1")
         for k, v in extra.items():
             _set_attr(d, k, _attr(v))
@@ -321,8 +324,9 @@ def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
     return keep
 
 
-def write_case(f: h5py.File, rec: CaseRecord) -> None:
-    """Write (or replace) one case's group in an open results file."""
+def write_case(f: h5py.File, rec: CaseRecord, check: Any = None) -> None:
+    """Write (or replace) one case's group in an open results file; ``check()`` (if given)
+    after each dataset raises if the file cannot be written (railvti.guarded_io)."""
     c = rec.case
     name = group_name(c)
     if name in f:
@@ -346,10 +350,13 @@ def write_case(f: h5py.File, rec: CaseRecord) -> None:
     # INTERRUPTED_COPY_BYTES, only its first rows: the stop waits for the copy
     interrupted = str(rec.status).startswith("interrupted")
     rows = _interrupted_rows(g, rec.output) if interrupted else None
+    check = check or (lambda: None)
     for dname, spec in rec.output.datasets.items():
-        _write_dataset(g, dname, spec, rec.output, not interrupted, rows)
+        _write_dataset(g, dname, spec, rec.output, not interrupted, rows, check)
+        check()
     for dname, spec in rec.output.scalars.items():
         _write_dataset(g, dname, spec, rec.output)
+        check()
 
 
 def _fsync(path: Path) -> None:
@@ -357,10 +364,24 @@ def _fsync(path: Path) -> None:
         os.fsync(fh.fileno())
 
 
+#: Longest output name used whole in the names of its side files (temporary files, the lock):
+#: a longer one is cut and ends in a digest, so the side file stays under NAME_MAX (255).
+SIDE_NAME_MAX = 160
+
+
+def side_name(path: Path) -> str:
+    """The output's name as used in its side files (cut to :data:`SIDE_NAME_MAX`)."""
+    name = path.name
+    if len(name.encode("utf-8", "surrogateescape")) <= SIDE_NAME_MAX:
+        return name
+    digest = hashlib.sha1(name.encode("utf-8", "surrogateescape")).hexdigest()[:10]
+    return name.encode("utf-8", "surrogateescape")[:SIDE_NAME_MAX - 11].decode("utf-8", "ignore") + "~" + digest
+
+
 def temp_path(path: Path) -> Path:
     """A new temporary file beside ``path`` (mode 0666 less the umask), created empty."""
     while True:
-        tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+        tmp = path.parent / f".{side_name(path)}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
         try:
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
         except FileExistsError:
@@ -390,35 +411,139 @@ class ResultsWriter:
     keep : bool
         Keep the cases of an existing results file at ``path`` (``--resume``); otherwise
         the first write starts a new file (the old one stays until then).
+    deck_path : str
+        The deck's file (absolute), stored as ``deck_path`` (see :func:`deck_owner`).
+    cases : list of Case, optional
+        The deck's cases: their :func:`deck_digest` is stored as ``deck_digest``.
+
+    A write that fails (disk full, quota, I/O error, the rename refused) raises
+    :class:`railvti.guarded_io.WriteFailed`; the temporary file is removed and the file at
+    ``path`` is the last complete version. HDF5 never sees the failure (railvti.guarded_io),
+    so the process stays sound and exits normally.
     """
 
-    def __init__(self, path: str | Path, deck_text: str = "", keep: bool = False) -> None:
+    def __init__(self, path: str | Path, deck_text: str = "", keep: bool = False,
+                 deck_path: str = "", cases: list[Case] | None = None) -> None:
         self.path = Path(path)
         self.deck_text = deck_text
+        self.deck_path = str(deck_path)
+        self.deck_digest = deck_digest(cases) if cases is not None else ""
         self._fresh = not keep
         self.pending: Path | None = None
 
     def write(self, records: list[CaseRecord]) -> None:
-        """Add or replace the groups of ``records`` and replace the file atomically."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = temp_path(self.path)
-        self.pending = tmp
+        """Add or replace the groups of ``records`` and replace the file atomically.
+
+        Raises
+        ------
+        WriteFailed
+            The file could not be written; the previous version is untouched.
+        """
+        tmp: Path | None = None
+        fh: GuardedFile | None = None
         try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = temp_path(self.path)
+            self.pending = tmp
             copy = not self._fresh and self.path.is_file() and is_results_file(self.path)
             if copy:
                 shutil.copyfile(self.path, tmp)
-            with h5py.File(tmp, "a" if copy else "w") as f:
-                f.attrs["railvti_version"] = __version__
-                f.attrs["layout"] = LAYOUT
-                f.attrs["deck"] = self.deck_text.replace("\x00", "\\0")
-                for rec in records:
-                    write_case(f, rec)
-            _fsync(tmp)
+            fh = GuardedFile(tmp, "a" if copy else "w")
+            try:
+                with open_h5(fh, "a" if copy else "w") as f:
+                    self._write_attrs(f)
+                    for rec in records:
+                        write_case(f, rec, fh.check)
+                        fh.check()
+            except WriteFailed:
+                raise
+            except Exception:
+                fh.check()        # an HDF5 error that follows a failed write: say the write's
+                raise             # not: a value HDF5 refuses (the caller records it)
+            fh.sync()
+            fh.close()
             os.replace(tmp, self.path)
             self._fresh = False
+        except WriteFailed:
+            raise
+        except OSError as exc:    # creating, copying, syncing or renaming the file
+            raise failure(self.path, exc) from None
         finally:
             self.pending = None
-            tmp.unlink(missing_ok=True)
+            if fh is not None:
+                fh.close()
+            if tmp is not None:
+                try:
+                    tmp.unlink(missing_ok=True)
+                except OSError:
+                    pass
+
+    def _write_attrs(self, f: h5py.File) -> None:
+        f.attrs["railvti_version"] = __version__
+        f.attrs["layout"] = LAYOUT
+        f.attrs["deck"] = self.deck_text.replace("\x00", "\\0")
+        if self.deck_path:
+            f.attrs["deck_path"] = self.deck_path.replace("\x00", "\\0")
+        if self.deck_digest:
+            f.attrs["deck_digest"] = self.deck_digest
+
+
+def deck_digest(cases: list[Case]) -> str:
+    """A digest of a deck's case groups and types (not their parameters): equal for a deck
+    whose cases' parameters changed, different once a case is added, renamed or removed."""
+    text = json.dumps(sorted([group_name(c), c.case_type.name] for c in cases))
+    return hashlib.sha256(text.encode("utf-8", "replace")).hexdigest()
+
+
+@dataclass(frozen=True)
+class DeckOwner:
+    """Whether a results file belongs to a deck (:func:`deck_owner`).
+
+    Attributes
+    ----------
+    same : bool
+    deck_path : str
+        The deck the file was written from ('' if not recorded: a file of an older railvti).
+    groups : int
+        Case groups in the file.
+    shared : int
+        Of those, groups with the name and type of a case of the deck.
+    """
+
+    same: bool
+    deck_path: str = ""
+    groups: int = 0
+    shared: int = 0
+
+    def describe(self) -> str:
+        """'written from deck X (N cases, M of them in this deck)'."""
+        src = f"written from {self.deck_path}" if self.deck_path else "written from another deck"
+        return f"{src} ({self.groups} cases, {self.shared} of them in this deck)"
+
+
+def deck_owner(path: str | Path, deck_path: str | Path, cases: list[Case]) -> DeckOwner:
+    """Whether the railvti results file ``path`` belongs to the deck (``deck_path``, its
+    ``cases``).
+
+    The rule (docs/results.md, "An output file belongs to one deck"): the file belongs to the
+    deck when it was written from the same deck file (its ``deck_path`` attribute, the
+    resolved path), when its ``deck_digest`` (case groups and types) is the deck's, or when
+    at least half of its case groups have the name and type of a case of the deck. The
+    parameters do not count: editing a case's parameters and running with ``--resume`` is
+    what ``--resume`` is for (it re-runs the changed cases). A renamed or moved deck keeps
+    its case names; two unrelated decks share few. A file with no case group belongs to
+    any deck.
+    """
+    mine = {group_name(c): c.case_type.name for c in cases}
+    with h5py.File(path, "r") as f:
+        src = str(f.attrs.get("deck_path", ""))
+        digest = str(f.attrs.get("deck_digest", ""))
+        groups = {k: str(g.attrs.get("type", "")) for k, g in f.items() if isinstance(g, h5py.Group)}
+    shared = sum(1 for k, t in groups.items() if mine.get(k) == t)
+    here = str(Path(deck_path).resolve()) if str(deck_path) else ""
+    same = ((bool(src) and src == here) or (bool(digest) and digest == deck_digest(cases))
+            or not groups or 2 * shared >= len(groups))
+    return DeckOwner(same, src, len(groups), shared)
 
 
 def completed(path: str | Path) -> dict[str, str]:
@@ -430,6 +555,34 @@ def completed(path: str | Path) -> dict[str, str]:
     with h5py.File(path, "r") as f:
         return {k: str(g.attrs.get("params_digest", "")) for k, g in f.items()
                 if isinstance(g, h5py.Group) and g.attrs.get("status") == "ok"}
+
+
+def damage(path: str | Path) -> str:
+    """Where a results file is damaged ('' if every case group, attribute and dataset reads):
+    what ``--resume`` checks before it keeps a file's cases (a damaged file copied and
+    written again would carry the damage on). Datasets are read in blocks of
+    :data:`COPY_BLOCK_BYTES` (memory stays bounded; time: the file read once)."""
+    where = str(path)
+    try:
+        with h5py.File(path, "r") as f:
+            dict(f.attrs)
+
+            def visit(name: str, obj: Any) -> None:
+                nonlocal where
+                where = f"{obj.name}"
+                dict(obj.attrs)
+                if isinstance(obj, h5py.Dataset) and obj.shape:
+                    row = max(1, obj.dtype.itemsize * int(np.prod(obj.shape[1:])))
+                    step = max(1, COPY_BLOCK_BYTES // row)
+                    for i in range(0, obj.shape[0], step):
+                        obj[i:i + step]
+                elif isinstance(obj, h5py.Dataset):
+                    obj[()]
+
+            f.visititems(visit)
+    except Exception as exc:  # noqa: BLE001 - any failure to read is damage
+        return f"{where}: {exc}"
+    return ""
 
 
 def write_results(path: str | Path, records: list[CaseRecord], deck_text: str = "") -> Path:
@@ -581,13 +734,24 @@ def save(obj: Any, path: str | Path) -> Path:
         raise InputError(f"{path} is a directory")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_path(path)
+    fh = GuardedFile(tmp, "w")        # a full disk raises WriteFailed, HDF5 stays sound
     try:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["railvti_version"] = __version__
-            f.attrs["layout"] = LAYOUT
-            _save_object(f.create_group("result"), obj)
-        os.replace(tmp, path)
+        try:
+            with open_h5(fh, "w") as f:
+                f.attrs["railvti_version"] = __version__
+                f.attrs["layout"] = LAYOUT
+                _save_object(f.create_group("result"), obj)
+        except Exception:
+            fh.check()
+            raise
+        fh.sync()
+        fh.close()
+        try:
+            os.replace(tmp, path)
+        except OSError as exc:
+            raise failure(path, exc) from None
     finally:
+        fh.close()
         tmp.unlink(missing_ok=True)
     return path
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from .casetypes import Streamed
 from .errors import InputError
+from .guarded_io import GuardedFile, WriteFailed, open_h5
 
 #: Environment variable: a case whose stored time history would exceed this size (bytes, or
 #: '64M', '1G'; '0' streams every history, 'none' never) streams it under ``railvti run``.
@@ -106,15 +107,27 @@ class HistoryStream:
         self.rows = 0
         self._names: list[str] = []
         self._closed = False
+        self.failed = False                       # a write failed: not a valid stream
         self._file: h5py.File | None = None      # opened by the first block
+        self._fh: GuardedFile | None = None
 
     def _open(self) -> None:
+        # through a GuardedFile: a full disk raises WriteFailed here, never inside HDF5
+        # (railvti.guarded_io says why: HDF5 cannot close a file whose write failed)
+        mode = "a" if self.path.is_file() and self.path.stat().st_size > 0 else "w"
         try:
-            self._file = h5py.File(self.path, "a")
+            self._fh = GuardedFile(self.path, mode)
+        except OSError as exc:
+            raise WriteFailed(exc.errno, f"cannot open the stream file: {exc.strerror}",
+                              str(self.path)) from None
+        try:
+            self._file = open_h5(self._fh, mode)
         except (OSError, ValueError) as exc:
+            self._fh.close()
             raise InputError(f"cannot open the stream file {self.path}: {exc}") from None
         if self.group_name in self._file and len(self._file[self.group_name]):
             self._file.close()
+            self._fh.close()
             self._file = None
             raise InputError(f"{self.path}: group {self.group_name!r} already holds datasets")
         self._group = self._file.require_group(self.group_name)
@@ -158,6 +171,7 @@ class HistoryStream:
             d = self._dataset(name, a)
             d.resize(self.rows + k, axis=0)
             d[self.rows:self.rows + k] = a
+        self._fh.check()          # a full disk: WriteFailed (the run stops with exit 3)
         self.rows += k
 
     def names(self) -> list[str]:
@@ -165,7 +179,13 @@ class HistoryStream:
         return list(self._group.keys()) if self._file is not None else list(self._names)
 
     def close(self) -> None:
-        """Cut every dataset to the committed rows, write :attr:`attrs`, close the file."""
+        """Cut every dataset to the committed rows, write :attr:`attrs`, close the file.
+
+        Raises
+        ------
+        WriteFailed
+            The file could not be written (disk full...): it is not a valid stream.
+        """
         self._closed = True
         if self._file is None:
             return
@@ -181,6 +201,14 @@ class HistoryStream:
         finally:
             self._file.close()
             self._file = None
+            fh, self._fh = self._fh, None
+            error, pending = fh.error, fh.pending
+            fh.close()
+        if pending is not None:           # a signal inside HDF5's last writes
+            raise pending
+        if error is not None:
+            self.failed = True
+            raise WriteFailed(error.errno, error.strerror or str(error), str(self.path))
 
     def streamed(self, name: str) -> Streamed:
         """A reference to one dataset of the stream (copied when a case is written)."""
@@ -208,7 +236,12 @@ class CaseStream:
         if self.stream is not None:
             raise InputError("a case opens at most one stream")
         from .results import temp_path
-        self.stream = HistoryStream(temp_path(self.out), **kw)
+        try:
+            path = temp_path(self.out)
+        except OSError as exc:
+            raise WriteFailed(exc.errno, f"cannot create a stream file: {exc.strerror}",
+                              str(self.out)) from None
+        self.stream = HistoryStream(path, **kw)
         return self.stream
 
     def close(self) -> None:
@@ -217,11 +250,15 @@ class CaseStream:
             self.stream.close()
 
     def remove(self) -> None:
-        """Close and delete the stream file."""
+        """Close and delete the stream file (also when it could not be written)."""
         if self.stream is not None:
-            self.stream.close()
-            self.stream.path.unlink(missing_ok=True)
-            self.stream = None
+            stream, self.stream = self.stream, None
+            try:
+                stream.close()
+            except WriteFailed:
+                pass              # reported where the run noticed it; the file goes anyway
+            finally:
+                stream.path.unlink(missing_ok=True)
 
     @contextlib.contextmanager
     def active(self) -> Iterator["CaseStream"]:

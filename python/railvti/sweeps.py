@@ -43,6 +43,7 @@ from typing import Any, Callable, Iterable, Sequence
 from .casetypes import CaseType, REGISTRY
 from .deck import MAX_NAME, Case, name_problem
 from .errors import InputError
+from .guarded_io import WriteFailed
 
 log = logging.getLogger("railvti")
 
@@ -565,9 +566,11 @@ def run(cases: list[Case], client: Any = None, *, out: str | Path | None = None,
         with contextlib.ExitStack() as stack:
             c = None if client is None else stack.enter_context(_client_from(client, workers))
             bar = stack.enter_context(task_bar(len(cases), disable=not progress))
-            run_cases(cases, Path(out), deck_text, resume=resume, write=log.info,
-                      client=c, on_record=lambda r: records.__setitem__(group_name(r.case), r),
-                      bar=bar)
+            report = run_cases(cases, Path(out), deck_text, resume=resume, write=log.info,
+                               client=c, bar=bar,
+                               on_record=lambda r: records.__setitem__(group_name(r.case), r))
+            if report.error:              # the file could not be written: the run stopped
+                raise WriteFailed(report.failure.errno, report.error, str(out))
     finally:
         if tmpdir is not None:
             tmpdir.cleanup()
