@@ -729,7 +729,11 @@ def _output_dt(sy: System, v: float, h: float, output_dt: float | None, base: fl
     return _output.output_interval(output_dt, h, _excitations(sy, v), base)
 
 
-def amplitude(res: SimulationResult, window: float = 1.0) -> float:
+#: The window of :func:`amplitude` (s): a run's amplitude is that of its last second.
+AMPLITUDE_WINDOW = 1.0
+
+
+def amplitude(res: SimulationResult, window: float = AMPLITUDE_WINDOW) -> float:
     """Half the peak-to-peak leading wheelset lateral displacement over the last window, m."""
     k = res.t >= res.t[-1] - window
     return 0.5 * float(np.ptp(res.y_ws1[k]))

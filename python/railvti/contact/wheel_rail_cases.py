@@ -24,7 +24,7 @@ from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import REFERENCES, WheelsetPatch, WheelsetSolution, solve_wheelset
-from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems
+from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems, wheelset_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
                              sweep_arrays)
 
@@ -252,7 +252,7 @@ KEYS: dict[str, Key] = {
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'wheel_rail' case."""
-    out = profile_problems(params)
+    out = profile_problems(params) + wheelset_problems(params, contact_offset="contact_offset")
     side = str(params["side"]).strip().lower()
     if side != "both" and params["roll"] is None:
         out.append(f"side = '{side}' needs roll (rad; or roll_mrad): a load-controlled roll needs both wheels")

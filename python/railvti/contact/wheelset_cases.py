@@ -12,7 +12,7 @@ from .. import _checks
 from .._checks import MAX_FRICTION, MAX_SPEED
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_MM_ALIASES, deck_layout, deck_profiles,
-                              mm_aliases, profile_problems, sweep_problems)
+                              mm_aliases, profile_problems, sweep_problems, wheelset_problems)
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
@@ -93,7 +93,7 @@ _KEYS = {**PAIR_KEYS, **WHEELSET_KEYS,
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'loaded_wheelset' case."""
-    out = profile_problems(params) + sweep_problems(params)
+    out = profile_problems(params) + sweep_problems(params) + wheelset_problems(params)
     if not out and not params["y_min"] <= params["field_at"] <= params["y_max"]:
         out.append(f"field_at = {params['field_at']:g} must lie in [y_min, y_max] = "
                    f"[{params['y_min']:g}, {params['y_max']:g}] (m)")
