@@ -142,6 +142,30 @@ def _patch_line(k: int, p: WheelsetPatch, sg: float) -> str:
                 + (f" in {n_reg} areas" if n_reg > 1 else ""))
 
 
+#: Fewest elements a wheel's main contact patch spans along x or along y: a patch of at most
+#: 2 x 2 elements resolves no pressure distribution (the force is shared by a few elements,
+#: whatever the Hertz p0). A narrow flange patch (39 x 2 elements) is resolved along x.
+MIN_PATCH_ELEMENTS = 3
+
+
+def resolution_problem(sol: WheelsetSolution, params: dict[str, Any]) -> str | None:
+    """Why a solution's contact is unresolved by the grid (None: it is resolved): the patch
+    carrying most of a wheel's load spans fewer than :data:`MIN_PATCH_ELEMENTS` elements
+    along both x and y. Small secondary patches (a flange touching) are not judged."""
+    for side, patches in (("left", sol.left), ("right", sol.right)):
+        if not patches:
+            continue
+        main = max(patches, key=lambda p: p.fn)
+        inside = np.asarray(main.pressure) > 0
+        nx, ny = int(inside.any(axis=1).sum()), int(inside.any(axis=0).sum())
+        if max(nx, ny) < MIN_PATCH_ELEMENTS:
+            return (f"the {side} wheel's contact patch spans {nx} x {ny} elements (x, y) of dx = "
+                    f"{params['dx']:g} m, dy = {params['dy']:g} m: fewer than {MIN_PATCH_ELEMENTS} "
+                    "along x or y do not resolve its pressure; make dx and dy smaller (the patch is "
+                    f"about {nx * params['dx'] * 1e3:.3g} x {ny * params['dy'] * 1e3:.3g} mm)")
+    return None
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """One wheelset position.
 
@@ -168,6 +192,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
     except InputError as exc:
         origin = str(params.get("origin") or "")
         raise type(exc)(f"{origin}: {exc}" if origin else str(exc)) from None
+    problem = resolution_problem(sol, params)
+    if problem:
+        origin = str(params.get("origin") or "")
+        raise InputError(f"{origin}: {problem}" if origin else problem)
     arr = {k: v[0] for k, v in sweep_arrays([sol]).items()}
     ds: dict[str, tuple[np.ndarray, str]] = {k: (v, UNITS[k]) for k, v in arr.items()}
     ds["fz"] = (np.array(sol.fz), "N")

@@ -736,6 +736,9 @@ def _plan(contact: str, duration: float, h: float, output_dt: float, alpha: floa
     rtol = _checks.positive("rtol", NEWTON_RTOL if rtol is None else rtol)
     duration = _checks.positive("duration", duration)
     h = _checks.positive("h", h)
+    if h < MIN_STEP:
+        raise InputError(f"h = {h:g} s is below {MIN_STEP:g} s: the Newton tolerance on the step's "
+                         "increments is then round-off (the stiffest kept mode, 20 kHz, needs 16 us)")
     alpha = _checks.finite("alpha", alpha)
     if not -1.0 / 3.0 - 1e-12 <= alpha <= 0.0:
         raise InputError(f"alpha must lie in [-1/3, 0], got {alpha}")
@@ -954,6 +957,10 @@ class _Output:
             streamed=self.stream.where if self.stream is not None else "")
 
 
+#: Smallest time step of a simulation, s (below it the step's increments are round-off).
+MIN_STEP = 1e-6
+
+
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
                partial: SimulationResult, iterations: int) -> Exception:
     """The exception of a failed time step: the time, the step and what went wrong."""
@@ -973,8 +980,11 @@ def _run_error(info: int, tfail: float, plan: _Plan, system: System,
         why = "a BEM contact solver (normal or steady rolling) did not converge"
     else:
         return error(info, f"time integration stopped at t = {tfail:.5f} s (step {step})")
+    hint = ("try a smaller time step" if plan.h > 10 * MIN_STEP else
+            f"a smaller time step will not help (h is {plan.h / MIN_STEP:.3g} x the smallest, "
+            f"{MIN_STEP:g} s): check the case's stiffnesses, masses and speed")
     return error(info, f"time integration stopped at t = {tfail:.5f} s (step {step}, "
-                       f"h = {plan.h:g} s): {why}; try a smaller time step",
+                       f"h = {plan.h:g} s): {why}; {hint}",
                  exc=DivergenceError, iterations=iterations, result=partial)
 
 
