@@ -26,7 +26,7 @@ from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import REFERENCES, WheelsetPatch, WheelsetSolution, solve_wheelset
 from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems, wheelset_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
-                             sweep_arrays)
+                             sweep_arrays, wheel_nan_labels)
 
 _SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
 _PROFILE_CACHE: dict[tuple, P.Profile] = {}
@@ -201,6 +201,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     ds["fz"] = (np.array(sol.fz), "N")
     ds["sinks"] = (np.array(sol.sinks), "m")
     out = CaseOutput(summary="", datasets=ds, attrs={k: patch_slots() for k in arr})
+    out.attrs.update(wheel_nan_labels(["wheel"]))
     out.scalars["pose_roll"] = (sol.pose_roll, "rad")
     out.scalars["load_iterations"] = (sol.iterations, "1")
     if sol.omega is not None:

@@ -57,6 +57,14 @@ def patch_slots(first: tuple[str, ...] = ()) -> dict[str, Any]:
             "empty_slots": f"NaN: the wheel has fewer than {MAX_PATCHES} contact patches"}
 
 
+def wheel_nan_labels(axes: list[str]) -> dict[str, dict[str, Any]]:
+    """The labels of the per-wheel datasets ``fz`` and ``sinks`` (``axes``, e.g. ['wheel'] or
+    ['shift', 'wheel']) with the meaning of their NaN: a wheel not solved (the other wheel of
+    a half wheelset, ``side = 'left'`` or 'right')."""
+    nan = "NaN: the wheel was not solved (a half wheelset of the other side)"
+    return {k: {"axes": list(axes), "wheel": ["left", "right"], "nan": nan} for k in ("fz", "sinks")}
+
+
 def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
     """Per-patch quantities of a sweep as arrays (n_positions, 2 wheels, MAX_PATCHES); NaN where
     a wheel has fewer patches. Forces on the wheel; contact frame (fx, fy, mz) or track frame

@@ -583,6 +583,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["critical_branch"] = (b.branch, "")
         scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
         scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
+        scalars["no_cycle_up_to_kmh"] = (b.no_cycle_up_to_kmh, "km/h")
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
@@ -592,7 +593,24 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if stream is not None:
         data = stream.substitute(data)
     data, labels = split_labels(data)
+    for name, meaning in NAN_MEANINGS.items():      # NaN as "none found", said in the file
+        if name in scalars:
+            labels.setdefault(name, {})["nan"] = meaning
     return CaseOutput(summary=summary, datasets=data, scalars=scalars, attrs=labels)
+
+
+#: What NaN (or inf) means in the scalars of a critical_speed case: "none found", not a
+#: failed computation (the ``nan`` attribute of each in the results file).
+NAN_MEANINGS = {
+    "critical_speed_nonlinear": "NaN: no sustained limit cycle found in the sweep: see no_decay_below_kmh "
+                                "(the cycle lived down to there) and no_cycle_up_to_kmh (none up to the top)",
+    "no_decay_below_kmh": "NaN: the limit cycle died within the sweep (critical_speed_nonlinear holds it)",
+    "no_cycle_up_to_kmh": "NaN: a limit cycle was sustained within the sweep",
+    "flange_hunting_speed": "NaN: no speed of the upper branch had a flange-contact cycle",
+    "critical_branch_amplitude": "NaN: no critical speed, so no cycle to measure",
+    "critical_speed_linear": "inf: the centred running is stable up to the top of the search",
+    "hunting_frequency_linear": "NaN: no unstable hunting mode up to the top of the search",
+}
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:

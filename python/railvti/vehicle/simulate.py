@@ -366,6 +366,12 @@ def static_equilibrium(system: System, speed: float, contact: str = "hertz-kalke
                      maxit)
         v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
     fmax = float(np.max(np.abs(f)))
+    if info == Status.NOT_CONVERGED and resid <= 100.0 * tol and fmax <= limit:
+        # the correction stalls at round-off a little above tol (RF's critical_speed stopped
+        # at 1.87e-11 against 1e-11) with the forces balanced: that is the equilibrium
+        log.debug("static equilibrium: correction %.3g stalled above tol %.3g, forces balanced "
+                  "(%.3g N): accepted", resid, tol, fmax)
+        info = Status.OK
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
         context = "static equilibrium: a wheelset left its contact table"
