@@ -166,7 +166,8 @@ def check(params: dict[str, Any]) -> list[str]:
     if params["scenario"] == "critical_speed" and params["duration"] <= AMPLITUDE_WINDOW:
         out.append(f"duration = {params['duration']:g} s must be > {AMPLITUDE_WINDOW:g} s for scenario "
                    f"'critical_speed': each speed's amplitude is measured over the last "
-                   f"{AMPLITUDE_WINDOW:g} s of its run, which must lie inside the run after its start")
+                   f"{AMPLITUDE_WINDOW:g} s of its run (the amplitude window), which must lie inside "
+                   "the run after its start")
     if params["model"] not in FLEXIBLE_WHEELSETS:
         given = [k for k in ("k_max", "f_max") if params.get(k) is not None]
         if given:
