@@ -178,6 +178,12 @@ API_TEXT = [
     ("api-text-array", lambda: _checks.finite_array("q0", ["1.0", "2.0"]), ["q0", "text"]),
     ("api-text-int", lambda: _checks.positive_int("n", "3"), ["n", "text"]),
     ("api-text-friction", lambda: _checks.friction("mu", "0.3"), ["mu", "text"]),
+    ("api-text-grid", lambda: __import__("railvti.contact", fromlist=["Grid"]).Grid("16", 16, 1e-4, 1e-4),
+     ["nx", "give nx=16, not nx='16'"]),
+    ("api-text-sweep-speeds", lambda: scenarios.bifurcation(["300", "320"], progress=False),
+     ["speeds_kmh", "texts"]),
+    ("api-text-sweep-speeds-ms", lambda: scenarios.bifurcation(speeds=["80", "90"], progress=False),
+     ["speeds", "texts"]),
 ]
 
 

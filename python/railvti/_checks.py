@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -21,8 +22,14 @@ def _text_problem(name: str, value: Any) -> str | None:
     """Why ``value`` (a text, or an array of texts) is refused where a number is expected:
     the API converts no text to a number (``fn='1e4'`` is a mistake a deck would refuse)."""
     if isinstance(value, (str, bytes)) or np.asarray(value).dtype.kind in "USa":
-        return (f"{name} must be a number, got the text {value!r} (give {name}=1e4, not "
-                f"{name}='1e4': the API converts no text to a number)")
+        if not isinstance(value, (str, bytes)):
+            return (f"{name} must hold numbers, got the texts {value!r} (give numbers, not "
+                    "quoted texts: the API converts no text to a number)")
+        example = value.decode(errors="replace") if isinstance(value, bytes) else value
+        if not isinstance(example, str) or not re.fullmatch(r"\s*[-+0-9.eE]+\s*", example):
+            example = "1e4"
+        return (f"{name} must be a number, got the text {value!r} (give {name}={example.strip()}, "
+                f"not {name}={example.strip()!r}: the API converts no text to a number)")
     return None
 
 
