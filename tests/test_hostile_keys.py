@@ -303,6 +303,13 @@ MALFORMED = [
 ]
 
 
+@pytest.mark.parametrize("tname", ["geometry_table", "loaded_wheelset", "wheel_rail"],
+                         ids=lambda t: f"cross-no-journal-spacing-{t}")
+def test_a_wheelset_that_does_not_fit_names_no_key_of_another_type(tname):
+    msg = refused(lambda: REGISTRY[tname].validate(params(tname, back_to_back=1.6)), "back_to_back = 1.6 m")
+    assert "increase journal_spacing" not in msg
+
+
 @pytest.mark.parametrize("text, words", [c[1:] for c in MALFORMED], ids=[c[0] for c in MALFORMED])
 def test_a_malformed_deck_names_the_line(text, words):
     refused(lambda: parse_deck(text), *words)
@@ -444,3 +451,11 @@ def test_labels_hunting_summary_says_the_window_of_a_short_run():
     """A hunting run shorter than the 1 s window says its amplitude is over the whole run."""
     from railvti.vehicle.cases import AMPLITUDE_WINDOW
     assert AMPLITUDE_WINDOW == scenarios.AMPLITUDE_WINDOW == 1.0
+
+
+def test_labels_rf_critical_speed_is_accepted_up_front():
+    """Model RF runs every scenario (README, scenarios._RF_SCENARIOS): its critical_speed deck
+    case passes the checks (measured: the nonlinear sweep 300/340 km/h, 1.2 s, 260 km/h tread
+    cycle in 113 s; the linear method 314.95 km/h in 530 s)."""
+    (case,) = parse_deck(vehicle_deck("model = 'RF'").replace("'hunting'", "'critical_speed'"))
+    assert case.params["model"] == "RF" and case.params["scenario"] == "critical_speed"

@@ -90,7 +90,8 @@ def wheelset_problems(params: dict[str, Any], **extra: str) -> list[str]:
         return [f"{given} do not fit the default wheelset's other dimensions (WheelsetGeometry(): "
                 f"journal_spacing {WheelsetGeometry.journal_spacing:g} m, hub_radius "
                 f"{WheelsetGeometry.hub_radius:g} m, rim_depth {WheelsetGeometry.rim_depth:g} m; "
-                f"back_to_back up to about 1.55 m, radius from about 0.22 m): {exc}"]
+                f"back_to_back up to about 1.55 m, radius from about 0.22 m): "
+                f"{str(exc).replace('; increase journal_spacing', '')}"]     # not a key here
     return []
 
 
