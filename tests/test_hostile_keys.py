@@ -198,6 +198,8 @@ API_NAN = [
     ("api-nan-coach", lambda: Coach(primary_kx=math.nan), ["primary_kx", "finite"]),
     ("api-coach-friction-5", lambda: Coach(friction=5.0), ["friction = 5", "[0, 1]", "0.3-0.6"]),
     ("api-nan-speed", lambda: scenarios.hunting(math.nan), ["speed", "finite"]),
+    ("api-h-1e-9", lambda: scenarios.hunting(300.0, duration=0.01, h=1e-9, progress=False),
+     ["h = 1e-09 s", "below 1e-06 s", "round-off"]),
 ]
 
 

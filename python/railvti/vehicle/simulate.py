@@ -54,6 +54,8 @@ MAXSUB = 10
 #: pi steps per period. A step beyond this resolves none of that mode's dynamics: drop the mode
 #: (keep its static part) or take a smaller step.
 MODAL_STEP_LIMIT = 2.0
+#: Smallest time step of a simulation, s (below it the step's increments are round-off).
+MIN_STEP = 1e-6
 
 #: Time-stepping schemes of :func:`simulate` (``integrator``) and their core ids
 #: (vehicle_newmark SCHEME_*): 'hht' Newmark / HHT-alpha (the default), 'energy' the
@@ -961,10 +963,6 @@ class _Output:
             contact=contact, h=self.h, stats=stats, friction=float(system.friction),
             flange_angle=flange_angle(system.table),
             streamed=self.stream.where if self.stream is not None else "")
-
-
-#: Smallest time step of a simulation, s (below it the step's increments are round-off).
-MIN_STEP = 1e-6
 
 
 def _run_error(info: int, tfail: float, plan: _Plan, system: System,
