@@ -33,7 +33,7 @@ DECK = """
     speeds_kmh_min = 220.0
     speeds_kmh_max = 380.0
     speeds_kmh_step = 160.0
-    duration = 0.2
+    duration = 1.1
 /
 """
 

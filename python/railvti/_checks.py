@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -17,8 +18,26 @@ MAX_SPEED = MAX_SPEED_KMH / 3.6
 MAX_FRICTION = 1.0
 
 
+def _text_problem(name: str, value: Any) -> str | None:
+    """Why ``value`` (a text, or an array of texts) is refused where a number is expected:
+    the API converts no text to a number (``fn='1e4'`` is a mistake a deck would refuse)."""
+    if isinstance(value, (str, bytes)) or np.asarray(value).dtype.kind in "USa":
+        if not isinstance(value, (str, bytes)):
+            return (f"{name} must hold numbers, got the texts {value!r} (give numbers, not "
+                    "quoted texts: the API converts no text to a number)")
+        example = value.decode(errors="replace") if isinstance(value, bytes) else value
+        if not isinstance(example, str) or not re.fullmatch(r"\s*[-+0-9.eE]+\s*", example):
+            example = "1e4"
+        return (f"{name} must be a number, got the text {value!r} (give {name}={example.strip()}, "
+                f"not {name}={example.strip()!r}: the API converts no text to a number)")
+    return None
+
+
 def finite(name: str, value: Any) -> float:
-    """Return ``value`` as a float, or raise if it is not a finite number."""
+    """Return ``value`` as a float, or raise if it is not a finite number (a text such as
+    '1e4' is refused, not converted)."""
+    if isinstance(value, (str, bytes)):
+        raise InputError(_text_problem(name, value))
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -45,8 +64,10 @@ def non_negative(name: str, value: Any) -> float:
 
 
 def positive_int(name: str, value: Any, minimum: int = 1) -> int:
-    """Return ``value`` as an int, or raise unless it is an integer >= minimum."""
-    if isinstance(value, bool) or not float(value).is_integer():
+    """Return ``value`` as an int, or raise unless it is an integer >= minimum (a number,
+    not a text)."""
+    v = finite(name, value)
+    if isinstance(value, bool) or not v.is_integer():
         raise InputError(f"{name} must be an integer, got {value!r}")
     v = int(value)
     if v < minimum:
@@ -56,7 +77,14 @@ def positive_int(name: str, value: Any, minimum: int = 1) -> int:
 
 def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None,
                  ndim: int | None = None) -> np.ndarray:
-    """Return a Fortran-ordered float64 copy of ``value``; raise on NaN, inf or wrong shape."""
+    """Return a Fortran-ordered float64 copy of ``value``; raise on NaN, inf, wrong shape or
+    texts (not converted to numbers)."""
+    try:
+        text = _text_problem(name, value)
+    except (TypeError, ValueError):      # a ragged sequence: np.array below names it
+        text = None
+    if text:
+        raise InputError(text)
     try:
         a = np.array(value, dtype=np.float64, order="F")
     except (TypeError, ValueError):

@@ -384,6 +384,7 @@ def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
         if name.startswith("wheel_"):
             labels[name] = per_wheel
     labels["ws_y"] = {"axes": ["t", "wheelset"], "wheelset": per_wheel["wheelset"]}
+    labels.update({k: {"axes": ["t"]} for k in ("t", "y_ws1", "vy_ws1")})   # as a finished case's
     return data, {k: v for k, v in labels.items() if k in data}
 
 

@@ -111,7 +111,7 @@ class Key:
             return ""
         lo = "-inf" if self.lo is None else f"{self.lo:g}"
         hi = "inf" if self.hi is None else f"{self.hi:g}"
-        unit = f" {self.unit}" if self.unit not in ("", "1") else ""
+        unit = f" {self.unit}" if self.unit not in ("", "1", "-") else ""
         return f"{'(' if self.lo_open or self.lo is None else '['}{lo}, {hi}{')' if self.hi_open or self.hi is None else ']'}{unit}"
 
     def choice(self, value: str) -> str | None:

@@ -258,6 +258,56 @@ def _raise(problems: list[str]) -> None:
         raise InputError(f"the deck has {len(problems)} problems:\n  " + "\n  ".join(listed) + more)
 
 
+_NUMBERISH = re.compile(r"[-+]?[0-9.]*(?:[eEdD][-+]?[0-9]*)?")
+
+
+def _bad_value_line(lines: list[str], start: int, stop: int) -> int | None:
+    """The number (from 1) of the first line in ``lines[start:stop]`` with a value that
+    looks like a number cut short ('82.0e', '-', '1.5e+'), or None."""
+    for i in range(start, stop):
+        code = re.sub(r"'[^']*'|\"[^\"]*\"", "''", lines[i]).split("!")[0]
+        for part in code.split("=")[1:]:
+            for tok in re.split(r"[\s,/]+", part):
+                if tok and _NUMBERISH.fullmatch(tok) and (re.search(r"[0-9]", tok) or tok in "+-."):
+                    try:
+                        float(tok.replace("d", "e").replace("D", "e"))
+                    except ValueError:
+                        return i + 1
+    return None
+
+
+def _namelist_error(text: str, exc: Exception) -> str:
+    """A message for f90nml's failure on ``text`` that names the line: the group the deck
+    ends inside (a truncated file), a value cut short, or the group f90nml cannot read."""
+    detail = str(exc).strip()
+    if isinstance(exc, AssertionError) or not detail:   # f90nml's bare asserts say nothing
+        detail = "a malformed value"
+    hint = "check the quotes, the 'key = value' pairs and the '/' that closes each group"
+    lines = text.split("\n")
+    starts = [i for i, ln in enumerate(lines) if re.match(r"\s*&(?!end\b)", ln, re.IGNORECASE)]
+    for j, start in enumerate(starts):
+        stop = starts[j + 1] if j + 1 < len(starts) else len(lines)
+        chunk = "\n".join(lines[start:stop])
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                f90nml.reads(chunk)
+            continue
+        except Exception:
+            pass
+        bad = _bad_value_line(lines, start, stop)
+        if bad is not None:
+            return (f"line {bad}: a value that is not a number (cut short? e.g. '82.0e' or '-'): "
+                    f"'{lines[bad - 1].strip()[:60]}' in the group of line {start + 1}")
+        code = [re.sub(r"'[^']*'|\"[^\"]*\"", "''", ln).split("!")[0] for ln in lines[start:stop]]
+        if not any("/" in c for c in code) and j == len(starts) - 1:
+            last = max((i + 1 for i in range(start, stop) if lines[i].strip()), default=start + 1)
+            return (f"line {last}: the deck ends inside the group opened at line {start + 1} "
+                    "(no '/' closes the namelist group: a truncated file?)")
+        return (f"lines {start + 1}-{stop}: the group is not a valid Fortran namelist group "
+                f"({detail}): {hint}")
+    return f"deck is not a valid Fortran namelist ({detail}): {hint}"
+
+
 def parse_deck(text: str) -> list[Case]:
     """Parse and check the text of a deck: every problem is collected, then raised at once.
 
@@ -278,9 +328,7 @@ def parse_deck(text: str) -> list[Case]:
         with contextlib.redirect_stdout(out):   # f90nml prints its token table on some errors
             nml = f90nml.reads(text)
     except Exception as exc:  # f90nml raises ValueError, AssertionError and others on syntax errors
-        detail = str(exc).strip() or type(exc).__name__
-        raise InputError(f"deck is not a valid Fortran namelist ({detail}): check the quotes, the "
-                         "'key = value' pairs and the '/' that closes each group") from None
+        raise InputError(_namelist_error(text, exc)) from None
     groups: list[dict[str, Any]] = []
     for gname in dict.fromkeys(str(k) for k in nml.keys()):  # cogroup keys print as the name
         if gname != "case":

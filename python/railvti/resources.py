@@ -48,7 +48,11 @@ def memory_limit() -> float:
     :data:`DEFAULT_SHARE` of the available memory."""
     text = os.environ.get(ENV, "").strip()
     if text:
-        return parse_size(text)
+        try:
+            return parse_size(text)
+        except InputError as exc:
+            raise InputError(f"environment variable {ENV} = {text!r} (set by 'railvti run "
+                             f"--max-memory' or the shell): {exc}") from None
     return DEFAULT_SHARE * available_memory()
 
 

@@ -27,6 +27,7 @@ import dataclasses
 import hashlib
 import importlib
 import json
+import logging
 import os
 import re
 import secrets
@@ -313,8 +314,12 @@ def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
     budget = INTERRUPTED_COPY_BYTES
     try:
         budget = int(float(os.environ[INTERRUPTED_COPY_ENV]) * 2**20)
-    except (KeyError, ValueError):
+    except KeyError:
         pass
+    except ValueError:       # an interrupted run still ends cleanly: warn, keep the default
+        logging.getLogger("railvti").warning(
+            "environment variable %s = %r is not a number of MB; using %g MB",
+            INTERRUPTED_COPY_ENV, os.environ[INTERRUPTED_COPY_ENV], budget / 2**20)
     keep = max(1, budget // max(row_bytes, 1))
     if n is None or keep >= n:
         return None

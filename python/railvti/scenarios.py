@@ -729,7 +729,11 @@ def _output_dt(sy: System, v: float, h: float, output_dt: float | None, base: fl
     return _output.output_interval(output_dt, h, _excitations(sy, v), base)
 
 
-def amplitude(res: SimulationResult, window: float = 1.0) -> float:
+#: The window of :func:`amplitude` (s): a run's amplitude is that of its last second.
+AMPLITUDE_WINDOW = 1.0
+
+
+def amplitude(res: SimulationResult, window: float = AMPLITUDE_WINDOW) -> float:
     """Half the peak-to-peak leading wheelset lateral displacement over the last window, m."""
     k = res.t >= res.t[-1] - window
     return 0.5 * float(np.ptp(res.y_ws1[k]))
@@ -857,14 +861,14 @@ def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | 
         raise InputError("give the sweep's speeds once: speeds (m/s) or speeds_kmh (km/h), "
                          "not both")
     if speeds is not None:
-        v = np.atleast_1d(np.asarray(speeds, dtype=float))
+        v = np.atleast_1d(_checks.finite_array("speeds", speeds))
         if v.size < 2 or np.any(~np.isfinite(v)) or np.any(v <= 0) or np.any(v > _checks.MAX_SPEED):
             raise InputError(f"speeds must hold at least two speeds in (0, "
                              f"{_checks.MAX_SPEED:.4g}] m/s, got {np.asarray(speeds).tolist()}")
         sp = v * 3.6
     else:
-        sp = np.asarray(speeds_kmh if speeds_kmh is not None else np.arange(200.0, 461.0, 20.0),
-                        dtype=float)
+        sp = _checks.finite_array("speeds_kmh", speeds_kmh if speeds_kmh is not None
+                                  else np.arange(200.0, 461.0, 20.0))
         if sp.ndim != 1 or sp.size < 2 or np.any(sp <= 0):
             raise InputError("speeds_kmh must hold at least two speeds > 0")
         for s_kmh in sp:

@@ -64,7 +64,11 @@ def stream_threshold() -> float:
         return DEFAULT_STREAM_BYTES
     if text in ("0", "0.0"):
         return 0.0
-    return parse_size(text)
+    try:
+        return parse_size(text)
+    except InputError as exc:
+        raise InputError(f"environment variable {STREAM_ENV} = {text!r}: {exc} (0 streams every "
+                         "vehicle history)") from None
 
 
 class HistoryStream:

@@ -224,7 +224,8 @@ def expand(case: Case, spec: SweepSpec, given: Iterable[str] = ()) -> tuple[list
         return [], problems
     seen_problems: set[str] = set()
     out: list[Case] = []
-    for name, point in zip(_point_names(case.name, points), points):
+    first: dict[str, int] = {}          # a point's resolved values -> its number, from 1
+    for i, (name, point) in enumerate(zip(_point_names(case.name, points), points), 1):
         params = dict(case.params)
         for key, value in point:
             target, v, msg = _resolve(ctype, key, value)
@@ -232,6 +233,13 @@ def expand(case: Case, spec: SweepSpec, given: Iterable[str] = ()) -> tuple[list
                 seen_problems.add(msg)
                 problems.append(msg)
             params[target] = v
+        # the same case twice is the same run twice, and two groups of one name in the file
+        same = repr([(k, params[ctype.aliases[k].key if k in ctype.aliases else k]) for k, _ in point])
+        if same in first:
+            problems.append(f"the sweep has the same point twice: points {first[same]} and {i} are "
+                            + ", ".join(f"{k} = {_value_text(v)}" for k, v in point)
+                            + ": give each point once")
+        first.setdefault(same, i)
         out.append(SweepPoint(index=case.index, name=name, case_type=ctype, params=params,
                               sweep=case.name, point=tuple(point)))
     return ([] if problems else out), problems

@@ -172,10 +172,10 @@ class _Reader:
 
 def _digits(reader: _Reader, word: str, token: str, line: int) -> dict[str, int]:
     letters = word
-    sig = token.lstrip("0")
-    if len(sig) > len(letters):
-        raise InputError(f"{reader.where(line)}: control word {'-'.join(letters)} has {len(sig)} digits "
-                         f"({token}); railvti reads at most {len(letters)}")
+    if len(token) > len(letters):       # leading zeros too: '02203100' would shift every digit
+        raise InputError(f"{reader.where(line)}: control word {'-'.join(letters)} has {len(token)} digits "
+                         f"({token}); it has at most {len(letters)}, one per letter {', '.join(letters)} "
+                         "(leading zeros may be left out, not added)")
     padded = token[-len(letters):].rjust(len(letters), "0")
     out = {}
     for letter, name, d in zip(letters, WORDS[word], padded):

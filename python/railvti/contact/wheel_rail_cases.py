@@ -24,9 +24,9 @@ from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import REFERENCES, WheelsetPatch, WheelsetSolution, solve_wheelset
-from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems
+from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems, wheelset_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
-                             sweep_arrays)
+                             sweep_arrays, wheel_nan_labels)
 
 _SIDES = {"left": ("left",), "right": ("right",), "both": ("left", "right")}
 _PROFILE_CACHE: dict[tuple, P.Profile] = {}
@@ -142,6 +142,30 @@ def _patch_line(k: int, p: WheelsetPatch, sg: float) -> str:
                 + (f" in {n_reg} areas" if n_reg > 1 else ""))
 
 
+#: Fewest elements a wheel's main contact patch spans along x or along y: a patch of at most
+#: 2 x 2 elements resolves no pressure distribution (the force is shared by a few elements,
+#: whatever the Hertz p0). A narrow flange patch (39 x 2 elements) is resolved along x.
+MIN_PATCH_ELEMENTS = 3
+
+
+def resolution_problem(sol: WheelsetSolution, params: dict[str, Any]) -> str | None:
+    """Why a solution's contact is unresolved by the grid (None: it is resolved): the patch
+    carrying most of a wheel's load spans fewer than :data:`MIN_PATCH_ELEMENTS` elements
+    along both x and y. Small secondary patches (a flange touching) are not judged."""
+    for side, patches in (("left", sol.left), ("right", sol.right)):
+        if not patches:
+            continue
+        main = max(patches, key=lambda p: p.fn)
+        inside = np.asarray(main.pressure) > 0
+        nx, ny = int(inside.any(axis=1).sum()), int(inside.any(axis=0).sum())
+        if max(nx, ny) < MIN_PATCH_ELEMENTS:
+            return (f"the {side} wheel's contact patch spans {nx} x {ny} elements (x, y) of dx = "
+                    f"{params['dx']:g} m, dy = {params['dy']:g} m: fewer than {MIN_PATCH_ELEMENTS} "
+                    "along x or y do not resolve its pressure; make dx and dy smaller (the patch is "
+                    f"about {nx * params['dx'] * 1e3:.3g} x {ny * params['dy'] * 1e3:.3g} mm)")
+    return None
+
+
 def run(params: dict[str, Any]) -> CaseOutput:
     """One wheelset position.
 
@@ -168,11 +192,16 @@ def run(params: dict[str, Any]) -> CaseOutput:
     except InputError as exc:
         origin = str(params.get("origin") or "")
         raise type(exc)(f"{origin}: {exc}" if origin else str(exc)) from None
+    problem = resolution_problem(sol, params)
+    if problem:
+        origin = str(params.get("origin") or "")
+        raise InputError(f"{origin}: {problem}" if origin else problem)
     arr = {k: v[0] for k, v in sweep_arrays([sol]).items()}
     ds: dict[str, tuple[np.ndarray, str]] = {k: (v, UNITS[k]) for k, v in arr.items()}
     ds["fz"] = (np.array(sol.fz), "N")
     ds["sinks"] = (np.array(sol.sinks), "m")
     out = CaseOutput(summary="", datasets=ds, attrs={k: patch_slots() for k in arr})
+    out.attrs.update(wheel_nan_labels(["wheel"]))
     out.scalars["pose_roll"] = (sol.pose_roll, "rad")
     out.scalars["load_iterations"] = (sol.iterations, "1")
     if sol.omega is not None:
@@ -252,7 +281,7 @@ KEYS: dict[str, Key] = {
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'wheel_rail' case."""
-    out = profile_problems(params)
+    out = profile_problems(params) + wheelset_problems(params, contact_offset="contact_offset")
     side = str(params["side"]).strip().lower()
     if side != "both" and params["roll"] is None:
         out.append(f"side = '{side}' needs roll (rad; or roll_mrad): a load-controlled roll needs both wheels")

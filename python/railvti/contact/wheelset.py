@@ -725,6 +725,9 @@ def _rolling_balance(bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int)
     if motion.omega is None:
         fn = np.array([pt.fn for pt in bal.all])
         r = np.array([pt.cp.rolling_radius for pt in bal.all])
+        if not fn.sum() > 0:     # no element in contact: no rolling radius to roll at
+            raise InputError("no contact patch carries a normal force on this grid: its elements "
+                             "(dx, dy) are larger than the contact patch; make dx and dy smaller")
         omega, torque = _free_rolling(roll, motion.speed / float((fn * r).sum() / fn.sum()))
         return roll, omega, torque
     roll.balance(motion.omega, ROLLING_TOL, first_tol=LOOSE_TOL)

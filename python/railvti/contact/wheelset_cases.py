@@ -12,7 +12,7 @@ from .. import _checks
 from .._checks import MAX_FRICTION, MAX_SPEED
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_MM_ALIASES, deck_layout, deck_profiles,
-                              mm_aliases, profile_problems, sweep_problems)
+                              mm_aliases, profile_problems, sweep_problems, wheelset_problems)
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
@@ -57,6 +57,14 @@ def patch_slots(first: tuple[str, ...] = ()) -> dict[str, Any]:
             "empty_slots": f"NaN: the wheel has fewer than {MAX_PATCHES} contact patches"}
 
 
+def wheel_nan_labels(axes: list[str]) -> dict[str, dict[str, Any]]:
+    """The labels of the per-wheel datasets ``fz`` and ``sinks`` (``axes``, e.g. ['wheel'] or
+    ['shift', 'wheel']) with the meaning of their NaN: a wheel not solved (the other wheel of
+    a half wheelset, ``side = 'left'`` or 'right')."""
+    nan = "NaN: the wheel was not solved (a half wheelset of the other side)"
+    return {k: {"axes": list(axes), "wheel": ["left", "right"], "nan": nan} for k in ("fz", "sinks")}
+
+
 def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
     """Per-patch quantities of a sweep as arrays (n_positions, 2 wheels, MAX_PATCHES); NaN where
     a wheel has fewer patches. Forces on the wheel; contact frame (fx, fy, mz) or track frame
@@ -93,7 +101,7 @@ _KEYS = {**PAIR_KEYS, **WHEELSET_KEYS,
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'loaded_wheelset' case."""
-    out = profile_problems(params) + sweep_problems(params)
+    out = profile_problems(params) + sweep_problems(params) + wheelset_problems(params)
     if not out and not params["y_min"] <= params["field_at"] <= params["y_max"]:
         out.append(f"field_at = {params['field_at']:g} must lie in [y_min, y_max] = "
                    f"[{params['y_min']:g}, {params['y_max']:g}] (m)")

@@ -10,9 +10,11 @@ import threading
 import time
 from collections import OrderedDict
 
+import numpy as np
+
 from .._native import core
 from .._status import Status, error
-from ..errors import RailvtiError
+from ..errors import InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
 
@@ -27,9 +29,19 @@ _busy: set[int] = set()
 POLL_SECONDS = 0.05
 
 
+#: Workspaces made here and not yet freed: only these may be freed.
+_live: set[int] = set()
+
+
 def _free(handle: int) -> None:
+    """Free a workspace this module made (InputError for any other handle: the core would
+    ignore it, and a wrong handle is a bug to name, not to pass over)."""
+    if isinstance(handle, bool) or not isinstance(handle, (int, np.integer)) or int(handle) not in _live:
+        raise InputError(f"contact workspace handle {handle!r} is not a live workspace (never made, "
+                         "or already freed); live: " + (", ".join(map(str, sorted(_live))) or "none"))
     if handle in _busy:         # an interrupted call still runs on it: leave it (freed at exit)
         return
+    _live.discard(int(handle))
     core.contact_ws_free_c(handle)
 
 
@@ -97,6 +109,7 @@ def workspace(grid: Grid, material: Material, tangential: bool = False) -> int:
     if info != Status.OK:
         raise error(info, "could not make a contact workspace", exc=RailvtiError)
     _cache[key] = handle
+    _live.add(int(handle))
     return handle
 
 

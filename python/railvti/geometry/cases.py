@@ -9,6 +9,7 @@ import numpy as np
 from .. import _checks
 from .. import profiles as P
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
+from ..errors import InputError
 from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
@@ -77,9 +78,26 @@ def sweep_problems(params: dict[str, Any]) -> list[str]:
     return []
 
 
+def wheelset_problems(params: dict[str, Any], **extra: str) -> list[str]:
+    """The deck's wheelset dimensions (back_to_back, radius and the ``extra`` keys: key ->
+    WheelsetGeometry field) against the other dimensions of ``WheelsetGeometry()`` they are
+    built with: a message naming the case's keys, not the fixed dimensions it cannot set."""
+    keys = {"back_to_back": "back_to_back", "radius": "wheel_radius", **extra}
+    try:
+        WheelsetGeometry(**{f: params[k] for k, f in keys.items()})
+    except InputError as exc:
+        given = ", ".join(f"{k} = {params[k]:g} m" for k in keys)
+        return [f"{given} do not fit the default wheelset's other dimensions (WheelsetGeometry(): "
+                f"journal_spacing {WheelsetGeometry.journal_spacing:g} m, hub_radius "
+                f"{WheelsetGeometry.hub_radius:g} m, rim_depth {WheelsetGeometry.rim_depth:g} m; "
+                f"back_to_back up to about 1.55 m, radius from about 0.22 m): "
+                f"{str(exc).replace('; increase journal_spacing', '')}"]     # not a key here
+    return []
+
+
 def check_table(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'geometry_table' case."""
-    return profile_problems(params) + sweep_problems(params)
+    return profile_problems(params) + sweep_problems(params) + wheelset_problems(params)
 
 
 def deck_profiles(params: dict[str, Any]) -> tuple[P.Profile, P.Profile]:

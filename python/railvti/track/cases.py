@@ -23,8 +23,18 @@ _COMMON: dict[str, Any] = {"n_sleepers": REQUIRED, **DEFAULTS,
 _ALIASES = {"arc_step_mm": Alias("arc_step", 1e-3, deprecated=False, unit="mm")}
 
 
-def _pos(unit: str, meaning: str, hi: float | None = None, zero: bool = False) -> Key:
-    return Key(unit, meaning, lo=0.0, hi=hi, lo_open=not zero)
+def _pos(unit: str, meaning: str, hi: float | None = None, zero: bool = False, why: str = "") -> Key:
+    return Key(unit, meaning, lo=0.0, hi=hi, lo_open=not zero, why=why)
+
+
+#: The plausibility bound of the pads' and the ballast's stiffness and damping.
+_WHY_DECADES = "at most two decades above railvti.track.DEFAULTS (soft pads ~20 MN/m, stiff ~1 GN/m)"
+
+
+def _decades(unit: str, meaning: str, key: str, zero: bool = False) -> Key:
+    """A stiffness or damping of the track: > 0 (>= 0 with ``zero``), at most two decades
+    above its default in railvti.track.DEFAULTS."""
+    return _pos(unit, meaning, 1e2 * DEFAULTS[key], zero=zero, why=_WHY_DECADES)
 
 
 #: Units, meanings and bounds of the track keys.
@@ -38,19 +48,19 @@ KEYS: dict[str, Key] = {
     "rail_loss_factor": _pos("1", "rail material loss factor", 1.0, zero=True),
     "rail_distance": _pos("m", "distance between the rail axes", 3.0),
     "cant": Key("1", "rail inclination, tan (1:40 = 0.025)", lo=-0.2, hi=0.2),
-    "pad_stiffness_vertical": _pos("N/m", "rail pad vertical stiffness per rail seat"),
-    "pad_stiffness_lateral": _pos("N/m", "rail pad lateral stiffness per rail seat"),
-    "pad_stiffness_longitudinal": _pos("N/m", "rail pad longitudinal stiffness per rail seat"),
-    "pad_damping_vertical": _pos("N s/m", "rail pad vertical damping per rail seat", zero=True),
-    "pad_damping_lateral": _pos("N s/m", "rail pad lateral damping per rail seat", zero=True),
-    "pad_damping_longitudinal": _pos("N s/m", "rail pad longitudinal damping per rail seat", zero=True),
+    "pad_stiffness_vertical": _decades("N/m", "rail pad vertical stiffness per rail seat", "pad_stiffness_vertical"),
+    "pad_stiffness_lateral": _decades("N/m", "rail pad lateral stiffness per rail seat", "pad_stiffness_lateral"),
+    "pad_stiffness_longitudinal": _decades("N/m", "rail pad longitudinal stiffness per rail seat", "pad_stiffness_longitudinal"),
+    "pad_damping_vertical": _decades("N s/m", "rail pad vertical damping per rail seat", "pad_damping_vertical", zero=True),
+    "pad_damping_lateral": _decades("N s/m", "rail pad lateral damping per rail seat", "pad_damping_lateral", zero=True),
+    "pad_damping_longitudinal": _decades("N s/m", "rail pad longitudinal damping per rail seat", "pad_damping_longitudinal", zero=True),
     "pad_length": _pos("m", "rail pad length along the rail", 1.0),
     "sleeper_mass": _pos("kg", "mass of a whole sleeper", 5000.0),
     "sleeper_length": _pos("m", "sleeper length (roll inertia, ballast roll stiffness)", 5.0),
-    "ballast_stiffness_vertical": _pos("N/m", "ballast vertical stiffness per sleeper"),
-    "ballast_stiffness_lateral": _pos("N/m", "ballast lateral stiffness per sleeper"),
-    "ballast_damping_vertical": _pos("N s/m", "ballast vertical damping per sleeper", zero=True),
-    "ballast_damping_lateral": _pos("N s/m", "ballast lateral damping per sleeper", zero=True),
+    "ballast_stiffness_vertical": _decades("N/m", "ballast vertical stiffness per sleeper", "ballast_stiffness_vertical"),
+    "ballast_stiffness_lateral": _decades("N/m", "ballast lateral stiffness per sleeper", "ballast_stiffness_lateral"),
+    "ballast_damping_vertical": _decades("N s/m", "ballast vertical damping per sleeper", "ballast_damping_vertical", zero=True),
+    "ballast_damping_lateral": _decades("N s/m", "ballast lateral damping per sleeper", "ballast_damping_lateral", zero=True),
     "f_cut_factor": Key("1", "rail modes kept per wave number up to f_cut_factor x f_max", lo=1.0, hi=10.0),
     "kappa_max": _pos("rad/m", "highest rail wave number in the series", 1e4),
     "mesh_max_area": Key("m^2", "largest triangle of the rail-section mesh", lo=1e-6, hi=1e-2,

@@ -41,13 +41,14 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from ..results import split_labels
-from ..scenarios import (_RF_SCENARIOS, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+from ..scenarios import (_RF_SCENARIOS, AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
                          RING_TRACK, _hunting_conicity)
 from ..stream import case_stream, history_bytes
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
+from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from . import output
@@ -106,10 +107,14 @@ KEYS: dict[str, Key] = {
                     "cycles); contact = 'bem' reads the table", "str", choices=("table", "strip"),
                     optional=True),
     "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
-    "duration": Key("s", "simulated time (per speed in critical_speed)", lo=0.0, lo_open=True),
-    "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, lo_open=True),
+    "duration": Key("s", "simulated time (per speed in critical_speed: more than the amplitude window of "
+                    f"{AMPLITUDE_WINDOW:g} s; at most max_duration)", lo=1e-3,
+                    why="at least one default time step of 1 ms"),
+    "max_duration": Key("s", "largest duration accepted (raise it for longer runs)", lo=0.0, hi=86400.0,
+                        lo_open=True, why="a day of simulated time is about 86 GB of history"),
     "h": Key("s", "time step (default 1 ms; model FR: 1 ms divided so that h omega_max <= 2)",
-             lo=0.0, hi=0.01, lo_open=True, optional=True),
+             lo=1e-6, hi=0.01, optional=True,
+             why="below 1 us the step's increments are round-off; above 10 ms the wheelset's modes are missed"),
     "alpha": Key("1", "HHT alpha (0: average acceleration)", lo=-1.0 / 3.0, hi=0.0),
     "y0": Key("m", "lateral disturbance of the leading bogie's wheelsets (hunting)", lo=-0.01, hi=0.01,
               why="beyond 10 mm the wheelset is in flange contact"),
@@ -135,7 +140,10 @@ KEYS: dict[str, Key] = {
                              meaning=f"models RF and FF: ring track {TRACK_KEYS[k].meaning} "
                                      f"(default {v:g}, railvti.track.{'DEFAULTS' if k in TRACK_DEFAULTS else 'NUMERICS'})")
        for k, v in {**TRACK_DEFAULTS, **TRACK_NUMERICS}.items()},
-    **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (railvti.vehicle.DEFAULTS)") for k, v in COACH_DEFAULTS.items()},
+    **{f"coach_{k}": Key(v[1], f"coach {k.replace('_', ' ')} (default {v[0]:g}: {v[2].split(' (')[0]})",
+                         lo=COACH_BOUNDS[k][0], hi=COACH_BOUNDS[k][1], lo_open=k == "friction",
+                         why=COACH_BOUNDS[k][2])
+       for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
 ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False, unit="km/h")}
@@ -152,6 +160,14 @@ def check(params: dict[str, Any]) -> list[str]:
                    "BEM contact (contact = 'bem') reads the table's gap fields")
     if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
+    if params["output_dt"] is not None and params["output_dt"] > params["duration"]:
+        out.append(f"output_dt = {params['output_dt']:g} s must be <= duration = {params['duration']:g} s "
+                   "(the history would hold the start only)")
+    if params["scenario"] == "critical_speed" and params["duration"] <= AMPLITUDE_WINDOW:
+        out.append(f"duration = {params['duration']:g} s must be > {AMPLITUDE_WINDOW:g} s for scenario "
+                   f"'critical_speed': each speed's amplitude is measured over the last "
+                   f"{AMPLITUDE_WINDOW:g} s of its run (the amplitude window), which must lie inside "
+                   "the run after its start")
     if params["model"] not in FLEXIBLE_WHEELSETS:
         given = [k for k in ("k_max", "f_max") if params.get(k) is not None]
         if given:
@@ -545,8 +561,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
         amp = sc.amplitude(r)
         scalars["amplitude_last_second"] = (amp, "m")
         scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
+        window = ("the last second" if params["duration"] > AMPLITUDE_WINDOW
+                  else f"the whole {params['duration']:g} s run (shorter than the 1 s window)")
         summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
-                   f"{amp * 1e3:.2f} mm over the last second, RTF {r.stats['real_time_factor']:.3f}; "
+                   f"{amp * 1e3:.2f} mm over {window}, RTF {r.stats['real_time_factor']:.3f}; "
                    f"{wl}")
     else:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
@@ -566,6 +584,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["critical_branch"] = (b.branch, "")
         scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
         scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
+        scalars["no_cycle_up_to_kmh"] = (b.no_cycle_up_to_kmh, "km/h")
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
@@ -575,7 +594,24 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if stream is not None:
         data = stream.substitute(data)
     data, labels = split_labels(data)
+    for name, meaning in NAN_MEANINGS.items():      # NaN as "none found", said in the file
+        if name in scalars:
+            labels.setdefault(name, {})["nan"] = meaning
     return CaseOutput(summary=summary, datasets=data, scalars=scalars, attrs=labels)
+
+
+#: What NaN (or inf) means in the scalars of a critical_speed case: "none found", not a
+#: failed computation (the ``nan`` attribute of each in the results file).
+NAN_MEANINGS = {
+    "critical_speed_nonlinear": "NaN: no sustained limit cycle found in the sweep: see no_decay_below_kmh "
+                                "(the cycle lived down to there) and no_cycle_up_to_kmh (none up to the top)",
+    "no_decay_below_kmh": "NaN: the limit cycle died within the sweep (critical_speed_nonlinear holds it)",
+    "no_cycle_up_to_kmh": "NaN: a limit cycle was sustained within the sweep",
+    "flange_hunting_speed": "NaN: no speed of the upper branch had a flange-contact cycle",
+    "critical_branch_amplitude": "NaN: no critical speed, so no cycle to measure",
+    "critical_speed_linear": "inf: the centred running is stable up to the top of the search",
+    "hunting_frequency_linear": "NaN: no unstable hunting mode up to the top of the search",
+}
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:

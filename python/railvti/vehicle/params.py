@@ -122,6 +122,45 @@ _MAY_BE_ZERO = {"bolster_yaw_stiffness", "secondary_bending_stiffness", "anti_ro
                 "bogie_cg_height", "secondary_height"}
 
 
+#: Why a coach parameter's plausibility bound is where it is (:data:`BOUNDS`).
+_DECADES = "within two decades of the Manchester benchmark's value (DEFAULTS)"
+_MASSES = "within a decade of the Manchester benchmark's value (DEFAULTS)"
+
+
+def _bound(name: str, default: float, unit: str) -> tuple[float, float, str]:
+    """The plausibility bound of a coach parameter that :data:`_EXPLICIT` does not fix: masses
+    and inertias within a decade of the benchmark's value, stiffnesses, dampers and the
+    friction torque within two decades (zero allowed where :data:`_MAY_BE_ZERO` says)."""
+    lo_zero = name in _MAY_BE_ZERO
+    if unit in ("kg", "kg m^2"):
+        return default / 10.0, default * 10.0, _MASSES
+    return (0.0 if lo_zero else default / 1e2), default * 1e2, _DECADES
+
+
+#: Bounds a railway engineer would give a coach parameter (a 1:1 railway coach: standard
+#: gauge, Earth's gravity), with the reason; the rest follow :func:`_bound`.
+_EXPLICIT: dict[str, tuple[float, float, str]] = {
+    "carbody_cg_height": (0.0, 4.0, "the loading gauge is about 4.3 m above the rail top"),
+    "bogie_cg_height": (0.0, 1.5, "a bogie frame sits below the carbody floor, about 0.6 m up"),
+    "secondary_height": (0.0, 2.5, "the secondary suspension sits between bogie frame and carbody"),
+    "half_bogie_distance": (2.0, 15.0, "bogie centres of 4-30 m (the benchmark's 19 m)"),
+    "half_wheelbase": (0.5, 2.0, "bogie wheelbases of 1-4 m (the benchmark's 2.56 m)"),
+    "wheel_radius": (0.2, 0.8, "wheel diameters of 0.4-1.6 m (the benchmark's 0.92 m)"),
+    "wheelset_stiffness_scale": (1e-2, 1e4, "1 is the steel wheelset; 1e3 its stiff limit (issue 30)"),
+    "primary_half_spacing": (0.5, 1.5, "axleboxes about 2 m apart on a standard-gauge wheelset"),
+    "secondary_half_spacing": (0.5, 1.5, "air springs about 2 m apart on a standard-gauge bogie"),
+    "bumpstop_clearance": (0.0, 0.1, "lateral bump-stop clearances are some tens of mm"),
+    "yaw_friction_velocity": (1e-6, 0.1, "the regularisation of the friction torque, rad/s"),
+    "friction": (0.0, 1.0, "dry clean steel on steel reaches about 0.6; 1 is a generous bound"),
+    "gravity": (9.7, 9.9, "g on the Earth's surface is 9.78-9.83 m/s^2"),
+}
+
+#: name -> (lo, hi, why): the plausibility bounds of the coach parameters (deck keys
+#: ``coach_NAME``; the friction coefficient's lower bound is open: 0 < mu).
+BOUNDS: dict[str, tuple[float, float, str]] = {
+    k: _EXPLICIT.get(k) or _bound(k, v[0], v[1]) for k, v in DEFAULTS.items()}
+
+
 def _did_you_mean(name: str, options) -> str:
     close = difflib.get_close_matches(name, list(options), n=1)
     return f" (did you mean {close[0]!r}?)" if close else ""
@@ -149,6 +188,8 @@ class Coach:
             if k not in DEFAULTS:
                 raise InputError(f"unknown vehicle parameter {k!r}{_did_you_mean(k, DEFAULTS)}")
             out[k] = (_checks.non_negative(k, v) if k in _MAY_BE_ZERO else _checks.positive(k, v))
+        if out["friction"] > _checks.MAX_FRICTION:     # beyond any wheel-rail contact
+            _checks.friction("friction", out["friction"], allow_zero=True)
         if out["yaw_friction_torque"] > 0 and out["yaw_friction_velocity"] <= 0:
             raise InputError("yaw_friction_velocity must be > 0")
         object.__setattr__(self, "params", out)

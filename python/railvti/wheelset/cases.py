@@ -49,6 +49,18 @@ _GEOMETRY_MEANING = {
     "axle_mesh_size": "element edge in the axle",
 }
 _GEOMETRY_UNIT = {"web_steps": "1", "young": "Pa", "poisson": "1", "density": "kg/m^3"}
+#: Upper plausibility bounds of the geometry keys (m unless _GEOMETRY_UNIT says; the two
+#: offsets within +-this); the rest (web_steps, poisson, mesh sizes) are set in KEYS.
+_GEOMETRY_HI = {"wheel_radius": 0.8, "back_to_back": 1.65, "rim_width": 0.3, "rim_depth": 0.3,
+                "flange_height": 0.1, "flange_width": 0.1, "web_thickness_hub": 0.2,
+                "web_thickness_rim": 0.2, "web_offset": 0.2, "hub_radius": 0.8, "hub_width": 0.5,
+                "hub_offset": 0.2, "seat_radius": 0.8, "body_radius": 0.8, "collar_radius": 0.8,
+                "journal_radius": 0.8, "journal_spacing": 3.0, "journal_length": 0.5,
+                "contact_offset": 0.3, "young": 1e12, "density": 3e4}
+_GEOMETRY_WHY = {"wheel_radius": "wheel diameters up to 1.6 m",
+                 "back_to_back": "narrow 1000 mm to Iberian 1668 mm gauge",
+                 "journal_spacing": "axleboxes about 2 m apart on a standard-gauge wheelset",
+                 "young": "steels are about 2.1e11 Pa", "density": "steels are about 7850 kg/m^3"}
 #: Units, meanings and bounds of the keys of 'wheelset'.
 KEYS: dict[str, Key] = {
     "k_max": Key("1", "highest circumferential harmonic", "int", 0, 30),
@@ -63,12 +75,14 @@ KEYS: dict[str, Key] = {
     "output": Key("", "displacement direction at the contact point", "str",
                   choices=("lateral", "vertical", "longitudinal")),
     "damping_ratio": Key("1", "modal damping ratio", lo=0.0, hi=1.0, hi_open=True),
-    "k_longitudinal": Key("N/m", "primary suspension stiffness, longitudinal", lo=0.0),
-    "k_lateral": Key("N/m", "primary suspension stiffness, lateral", lo=0.0),
-    "k_vertical": Key("N/m", "primary suspension stiffness, vertical", lo=0.0),
+    **{f"k_{d}": Key("N/m", f"primary suspension stiffness, {d}", lo=0.0,
+                     hi=1e2 * getattr(PrimarySuspension, d),
+                     why="at most two decades above railvti.wheelset.PrimarySuspension's value")
+       for d in ("longitudinal", "lateral", "vertical")},
     **{k: Key(_GEOMETRY_UNIT.get(k, "m"), _GEOMETRY_MEANING.get(k, k), "int" if k == "web_steps" else "float",
-              lo=None if k in ("web_offset", "hub_offset") else 0.0, lo_open=k != "web_steps")
-       for k in _GEOMETRY_DEFAULTS},
+              lo=-_GEOMETRY_HI[k] if k in ("web_offset", "hub_offset") else 0.0, hi=_GEOMETRY_HI[k],
+              lo_open=k != "web_steps", why=_GEOMETRY_WHY.get(k, "a railway wheelset's dimensions"))
+       for k in _GEOMETRY_DEFAULTS if k in _GEOMETRY_HI},
     "web_steps": Key("1", _GEOMETRY_MEANING["web_steps"], "int", 1, 100),
     "poisson": Key("1", _GEOMETRY_MEANING["poisson"], lo=0.0, hi=0.5, hi_open=True),
     "mesh_size": Key("m", _GEOMETRY_MEANING["mesh_size"], lo=0.002, hi=0.2,
