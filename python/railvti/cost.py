@@ -72,6 +72,9 @@ class Estimate:
         The key (or keys, 'nx, ny') whose value drives the cost most.
     size : str
         The size that key makes, for messages ('3.1e+06 grid elements').
+    memory_key : str
+        The key that drives the memory, if not ``key`` (a vehicle's stored samples:
+        'duration, output_dt').
     warnings : tuple of str
         Results expected to be poor (an under-resolved contact patch), one line each.
     """
@@ -80,6 +83,7 @@ class Estimate:
     memory: float = float("nan")
     key: str = ""
     size: str = ""
+    memory_key: str = ""
     warnings: tuple[str, ...] = field(default=())
 
 
@@ -173,13 +177,14 @@ def _resolution(label: str, axes: tuple[float, float] | None, dx: float, dy: flo
 # Per case type. Each constant: measured wall time per unit on the 2-core test machine
 # (benchmarks/bench_cost_estimate.py), in its comment the cases it comes from.
 
-#: normal: s per n log2 n of the grid (80 x 64 CG: 0.03 s; 256 x 256: 0.6 s).
+#: normal: s per n log2 n of the grid (Hertz 10 kN, CG: 40 x 32 0.0065 s, 160 x 128 0.028 s,
+#: 320 x 256 0.14 s).
 _NORMAL_S = 8e-8
-#: rolling: s per n log2 n (80 x 64 FFT-GS with spin: 0.35 s; 128 x 128: 1.6 s).
-_ROLLING_S = 8e-7
-#: Bytes per grid element of a contact solve: the fields (pressure, 2 tractions, slip, gap:
-#: ~10 arrays) and the FFT buffers of the influence kernels (4 n complex each, 3-6 kernels).
-_GRID_BYTES = 8 * 250
+#: rolling: s per n log2 n (FFT-GS with spin: 40 x 32 0.019 s, 80 x 64 0.15 s, 120 x 96 0.47 s).
+_ROLLING_S = 2.5e-6
+#: Bytes per grid element of a contact solve: the fields and the FFT buffers of the influence
+#: kernels (320 x 256: 22.7 MB above the interpreter).
+_GRID_BYTES = 300
 #: Start-up of a case (imports done): material, grid, kernels, s.
 _CASE_START_S = 0.01
 
@@ -207,14 +212,19 @@ def _grid_case(p: dict[str, Any], label: str, rolling: bool) -> Estimate:
 
 
 #: wheel_rail / loaded_wheelset: the grid a patch gets spans its Hertz ellipse with margins:
-#: ~ _GRID_SPAN x (2a) by (2b) (A-2.2's tread patch at 0.2 mm: ~ 75 x 60 elements), and one
-#: steady rolling solve on it costs _PATCH_S per n log2 n (plus the profile geometry, the
-#: pose iteration and a second solve on a regrown grid now and then). Measured: A-2.2
-#: position y = 0 both wheels at 0.2 mm 0.4 s, at 0.1 mm 1.6 s.
+#: ~ _GRID_SPAN x (2a) by (2b) (the tread patch at 0.2 mm: ~ 67 x 50 elements), and the
+#: loaded patch's solves on it (the pose iteration's normal solves, steady rolling) cost
+#: _PATCH_S per n log2 n. Measured: y = 0 both wheels at 0.2 mm 0.31 s; loaded_wheelset
+#: 0.06 s per position at 0.4 mm, 0.18 s at 0.2 mm.
 _GRID_SPAN = 2.0
-_PATCH_S = 2e-6
-#: Profiles, the rigid pose and the geometry of one wheel, s.
-_WHEEL_START_S = 0.1
+_PATCH_S = 3e-6
+#: Bytes per element of a wheel-rail patch: its gap and potential fields, the influence
+#: kernels and the pose iteration's copies (0.4 mm: 5.7 MB, 0.2 mm: 8.7 MB, 0.1 mm: 23.8 MB
+#: above the interpreter: ~1.5 kB per element added).
+_PATCH_BYTES = 1500.0
+#: Profiles and the rigid pose of one case, s; of one wheel at one position, s.
+_WHEEL_RAIL_START_S = 0.07
+_WHEEL_START_S = 0.01
 #: The tread patch of the S1002 / UIC60 pair: wheel radius (x) and rail crown 300 mm (y).
 _RAIL_CROWN = 0.3
 
@@ -236,8 +246,8 @@ def _wheel_rail(p: dict[str, Any], label: str) -> Estimate:
     wheels = 1.0 if str(p.get("side", "both")).strip().lower() in ("left", "right") else 2.0
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dy)
-    secs = wheels * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
-    return Estimate(seconds=secs, memory=n * _GRID_BYTES, key="dx, dy",
+    secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
+    return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key="dx, dy",
                     size=f"~{_sci(n)} grid elements per patch",
                     warnings=tuple(_resolution(label, axes, dx, dy, where=" on the tread")))
 
@@ -247,18 +257,20 @@ def _loaded_wheelset(p: dict[str, Any], label: str) -> Estimate:
     n_pos = max(_num(p, "n", 21), 1.0)
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dx)
-    secs = n_pos * 2.0 * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
+    secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
     key = "n, dx" if n_pos > 50 else "dx"
-    return Estimate(seconds=secs, memory=n * _GRID_BYTES, key=key,
+    return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key=key,
                     size=f"{n_pos:.0f} positions x ~{_sci(n)} grid elements per patch",
                     warnings=tuple(_resolution(label, axes, dx, dx, ("dx", "dx"), " on the tread")))
 
 
-#: geometry_table: profiles and conicity, s; then s per shift (201 shifts 0.3 s).
-_TABLE_START_S = 0.5
-_TABLE_NODE_S = 1.5e-3
-#: Bytes per shift of the table (~40 quantities x both wheels, several copies).
-_TABLE_NODE_BYTES = 8 * 40 * 2 * 4
+#: geometry_table: profiles and conicity, s; then s per shift (51 shifts 0.31 s, 201 1.5 s,
+#: 2001 28 s, 10001 3 min).
+_TABLE_START_S = 0.2
+_TABLE_NODE_S = 1.6e-2
+#: Bytes per shift of the table: each shift keeps its gap and potential fields (201 shifts:
+#: 64 MB, 2001: 647 MB, 10001: 3.16 GB).
+_TABLE_NODE_BYTES = 3.2e5
 
 
 def _geometry_table(p: dict[str, Any], label: str) -> Estimate:
@@ -268,33 +280,40 @@ def _geometry_table(p: dict[str, Any], label: str) -> Estimate:
 
 
 #: wheelset (axisymmetric FE): s per harmonic at the default meshes (0.02 m wheel, 0.04 m
-#: axle, 3 kHz): ~1.5 s; the equations grow as mesh_size^-2 and the banded solve as
-#: equations x bandwidth^2 ~ mesh_size^-4 (rough: ~3); the FRF per line, speed and mode.
-_WS_HARMONIC_S = 1.5
+#: axle, 3 kHz): k_max 0 9.8 s, k_max 2 39 s (28 s at mesh_size 0.015: the machine's load
+#: moves it more than the mesh); the equations grow as mesh_size^-2, the solve faster
+#: (taken as mesh_size^-2.5); the FRF per line, speed and mode.
+_WS_HARMONIC_S = 11.0
 _WS_FRF_S = 2e-7
 _WS_BYTES_PER_EQ = 8 * 400
+#: The wheelset model's own memory (measured ~100 MB at the defaults), bytes.
+_WS_BASE_BYTES = 90e6
 
 
 def _wheelset(p: dict[str, Any], label: str) -> Estimate:
     ms, ams = _pos(p, "mesh_size", 0.02), _pos(p, "axle_mesh_size", 0.04)
     k = max(_num(p, "k_max", 6), 0.0) + 1.0
     f_max = _pos(p, "f_max", 3000.0)
-    refine = 0.7 * (0.02 / ms) ** 3 + 0.3 * (0.04 / ams) ** 3
+    refine = 0.7 * (0.02 / ms) ** 2.5 + 0.3 * (0.04 / ams) ** 2.5
     modes = k * max(f_max / 3000.0, 0.05) * 20.0
     lines = max(_num(p, "n_freq", 800), 1.0) * _count(p, "speeds_kmh", 2.0)
     secs = 0.3 + _WS_HARMONIC_S * k * refine * max(f_max / 3000.0, 0.3) ** 0.5 + _WS_FRF_S * lines * modes
     eq = 2000.0 * (0.7 * (0.02 / ms) ** 2 + 0.3 * (0.04 / ams) ** 2)
     key = "mesh_size" if refine > 4 else ("k_max" if k > 12 else ("n_freq" if lines * modes > 1e8 else "mesh_size, k_max"))
-    return Estimate(seconds=secs, memory=eq * _WS_BYTES_PER_EQ + lines * 16 * 4, key=key,
+    return Estimate(seconds=secs, memory=_WS_BASE_BYTES + eq * _WS_BYTES_PER_EQ + lines * 16 * 4, key=key,
                     size=f"~{eq:.0f} FE equations x {k:.0f} harmonics, {lines:.0f} FRF lines")
 
 
-#: Ring track (2.5-D FE rail on discrete sleepers): build s per sleeper at the defaults (3 kHz,
-#: kappa_max 50, mesh 2e-4 m^2): n_sl = 32: ~3 s; grows with f_max (modes) and the section mesh.
-_RING_SLEEPER_S = 0.1
-_RING_START_S = 1.0
+#: Ring track (2.5-D FE rail on discrete sleepers): the rail section's FE and reduced basis
+#: (mesh 2e-4 m^2, 12 samples) ~5.5 s whatever the ring, then s per sleeper at 1 kHz
+#: (track_receptance at 1 kHz, 200 lines: 8 sleepers 6.0 s, 16 6.1 s, 32 6.9 s; model RF's
+#: ring of 40 at 3 kHz ~12 s); grows with f_max (modes) and the section mesh.
+_RING_SLEEPER_S = 0.04
+_RING_START_S = 5.5
 _RING_FRF_S = 2e-6
 _RING_BYTES_PER_MODE = 8 * 2000
+#: The ring model's own memory (measured ~90 MB for 8 to 32 sleepers), bytes.
+_RING_BASE_BYTES = 85e6
 
 
 def _ring_build(p: dict[str, Any], prefix: str = "") -> tuple[float, float, float]:
@@ -305,9 +324,10 @@ def _ring_build(p: dict[str, Any], prefix: str = "") -> tuple[float, float, floa
     kappa = _pos(p, prefix + "kappa_max", 50.0) / 50.0
     fcut = _pos(p, prefix + "f_cut_factor", 2.0) / 2.0
     samples = _pos(p, prefix + "n_samples", 12.0) / 12.0
-    work = n_sl * (f_max / 3000.0) * fcut * max(kappa, 0.2) ** 0.5 * max(mesh, 0.1) * max(samples, 0.5)
+    work = n_sl * (f_max / 1000.0) * fcut * max(kappa, 0.2) ** 0.5 * max(mesh, 0.1) * max(samples, 0.5)
     modes = n_sl * 4.0 * f_max / 3000.0 * fcut
-    return _RING_START_S * max(mesh, 0.1) * max(samples, 0.5) + _RING_SLEEPER_S * work, modes * _RING_BYTES_PER_MODE, n_sl
+    return (_RING_START_S * max(mesh, 0.1) * max(samples, 0.5) + _RING_SLEEPER_S * work,
+            _RING_BASE_BYTES + modes * _RING_BYTES_PER_MODE, n_sl)
 
 
 def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
@@ -322,15 +342,29 @@ def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
 #: vehicle: the time loop's wall time per step (each includes sub-steps and Newton
 #: iterations of the hunting motion), by contact model and geometry, s: RR hunting at
 #: 300 km/h (bench_vehicle_strip, bench_cost_estimate).
-_STEP_S = {("hertz-kalker", "strip"): 3e-3, ("hertz-kalker", "table"): 1.5e-3,
-           ("hertz-fastsim", "strip"): 3e-3, ("hertz-fastsim", "table"): 1.5e-3,
-           ("bem", "table"): 0.15}
-#: Extra wall time per step and per kept mode (FR: wheelset modes; RF: ring modes), s.
-_MODE_STEP_S = 2e-5
-#: Building the coach and the table (and the conicity), s.
-_VEHICLE_START_S = 2.0
-#: Building model FR's wheelsets: s per harmonic at f_max 800 Hz (k_max 2: ~3 s).
-_FR_BUILD_S = 1.0
+_STEP_S = {("hertz-kalker", "strip"): 2.5e-3, ("hertz-kalker", "table"): 1.5e-3,
+           ("hertz-fastsim", "strip"): 2.5e-3, ("hertz-fastsim", "table"): 1.2e-3,
+           ("bem", "table"): 0.05}
+#: Extra wall time per step and per kept mode, s: FR's rotating wheelset modes (FF 10 s at
+#: 300 km/h: 125 s, ~4 ms per step with ~150 modes), RF's ring modes (128 sleepers, 926
+#: modes up to 500 Hz: real-time factor 4.1 at h = 0.5 ms, ~2 ms per step; README).
+_WS_MODE_STEP_S = 2e-5
+_RING_MODE_STEP_S = 2e-6
+#: The BEM in the loop: building the gap tables of the eight wheels, s (BEM hunting 0.02 s:
+#: 23 s); the critical speed: the linear analysis and the equilibria, s (18 s for 3 speeds of
+#: 0.2 s), and each run's start (its equilibrium and the static state), s.
+_BEM_START_S = 15.0
+_CRITICAL_START_S = 8.0
+_RUN_START_S = 1.0
+#: Building the coach, the table, the conicity and the static equilibrium, s (RR hunting
+#: 0.3 s: 6.5-7.1 s of which ~0.5 s of steps).
+_VEHICLE_START_S = 6.0
+#: Building model FR's wheelsets: s per harmonic at f_max 800 Hz (FR hunting 0.1 s: 17 s at
+#: k_max 2 / 800 Hz, 18 s at 2000 Hz: the FE solve grows slowly with f_max).
+_FR_BUILD_S = 3.0
+#: Memory of the models above the interpreter (RR 77 MB, FR 240 MB, RF 122 MB), bytes.
+_VEHICLE_BASE_BYTES = 75e6
+_FR_BASE_BYTES = 160e6
 #: Bytes per stored sample per state (q, v and the wheel outputs, with the copies made while
 #: gathering and writing).
 _SAMPLE_BYTES = 8 * 3
@@ -350,7 +384,7 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
     if model in ("RF", "FF"):
         n_sl = max(_num(p, "n_sleepers", 40), 8.0)
         f_lim = _pos(p, "f_limit", 500.0)
-        ring_modes = n_sl * 3.0 * f_lim / 500.0
+        ring_modes = n_sl * 7.2 * f_lim / 500.0   # 128 sleepers: 926 modes up to 500 Hz
         f_top = max(f_top, f_lim)
     return ws_modes, f_top, ring_modes
 
@@ -361,7 +395,7 @@ def _vehicle_step(p: dict[str, Any], ws_modes: float, f_top: float) -> float:
     if h > 0:
         return h
     h = 1e-3
-    if ws_modes > 0 and f_top > 0:
+    if f_top > 0:
         h = 1e-3 / math.ceil(1e-3 * 2.0 * math.pi * f_top * 1.05 / 2.0)
     return h
 
@@ -377,20 +411,23 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     if str(p.get("scenario", "hunting")).strip().lower() == "critical_speed":
         lo, hi = _num(p, "speeds_kmh_min", 160.0), _num(p, "speeds_kmh_max", 440.0)
         step = _pos(p, "speeds_kmh_step", 20.0)
-        # two runs per speed (the upper branch and the decay) but the decay stops early
-        runs = 1.5 * max(1.0, math.floor(max(hi - lo, 0.0) / step + 1e-9) + 1.0)
+        # two runs per speed: the upper branch (speed lowered) and the decay from 0.5 mm
+        runs = 2.0 * max(1.0, math.floor(max(hi - lo, 0.0) / step + 1e-9) + 1.0)
     steps = runs * duration / h
-    per = _STEP_S.get((contact, geometry), 3e-3) + _MODE_STEP_S * (ws_modes + ring_modes)
-    start = _VEHICLE_START_S
+    per = (_STEP_S.get((contact, geometry), 3e-3) + _WS_MODE_STEP_S * ws_modes
+           + _RING_MODE_STEP_S * ring_modes)
+    start = _VEHICLE_START_S + (_BEM_START_S if contact == "bem" else 0.0)
+    if runs > 1:
+        start += _CRITICAL_START_S + _RUN_START_S * runs
     if ws_modes:
-        start += _FR_BUILD_S * (max(_num(p, "k_max", 2), 0.0) + 1.0) * max(f_top / 800.0, 1.0) ** 1.5
+        start += _FR_BUILD_S * (max(_num(p, "k_max", 2), 0.0) + 1.0) * max(f_top / 800.0, 1.0) ** 0.5
     if ring_modes:
         ring_p = {"n_sleepers": _num(p, "n_sleepers", 40), **{k[6:]: v for k, v in p.items()
                                                                if k.startswith("track_")}}
-        ring_p.setdefault("f_max", None)
         if ring_p.get("f_max") is None:
-            ring_p["f_max"] = max(_pos(p, "f_limit", 500.0), 500.0)
-        start += _ring_build(ring_p)[0]
+            ring_p["f_max"] = 3000.0           # RingTrack's (railvti.track.NUMERICS)
+        ring_s, ring_bytes, _ = _ring_build(ring_p)
+        start += ring_s
     secs = start + steps * per
     if p.get("h") is not None and _num(p, "h", 1e-3) < 1e-4:
         key = "h"
@@ -408,11 +445,19 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     samples = duration / out_dt
     streamed = model == "RR" and runs == 1.0
     kept = min(samples, 11.0 / out_dt) if streamed else samples
-    memory = kept * states * _SAMPLE_BYTES + (ws_modes + ring_modes) ** 2 * 8 * 4
+    memory = (_VEHICLE_BASE_BYTES + (_FR_BASE_BYTES if ws_modes else 0.0)
+              + kept * states * _SAMPLE_BYTES + (ws_modes + ring_modes) ** 2 * 8 * 4)
+    if ring_modes:
+        memory += ring_bytes
     if contact == "bem":
         memory += 8 * 200e3 * 8       # eight wheels' BEM grids and kernels
-    return Estimate(seconds=secs, memory=memory, key=key,
-                    size=f"{steps:.3g} time steps (h = {h:.3g} s{f', {runs:.0f} runs' if runs > 1 else ''})"
+    mem_key = key
+    if kept * states * _SAMPLE_BYTES > 0.5 * memory:
+        mem_key = "duration, output_dt"
+    elif (ws_modes + ring_modes) ** 2 * 32 > 0.5 * memory:
+        mem_key = "f_limit, n_sleepers" if ring_modes > ws_modes else "f_max, k_max"
+    return Estimate(seconds=secs, memory=memory, key=key, memory_key=mem_key,
+                    size=f"{samples:.3g} stored samples, {steps:.3g} time steps (h = {h:.3g} s{f', {runs:.0f} runs' if runs > 1 else ''})"
                     + (f", {ws_modes + ring_modes:.0f} kept modes" if ws_modes + ring_modes else ""))
 
 
@@ -452,7 +497,7 @@ def estimate(case: Any) -> Estimate:
 # ---------------------------------------------------------------------------------------
 # Limits
 
-_UNITS = {"": 1.0, "S": 1.0, "SEC": 1.0, "MIN": 60.0, "M": 60.0, "H": 3600.0, "D": 86400.0}
+_UNITS = {"": 1.0, "MS": 1e-3, "S": 1.0, "SEC": 1.0, "MIN": 60.0, "M": 60.0, "H": 3600.0, "D": 86400.0}
 
 
 def parse_time(text: Any, source: str = ENV_TIME) -> float:
@@ -473,7 +518,7 @@ def parse_time(text: Any, source: str = ENV_TIME) -> float:
             value = float(m.group(1)) * _UNITS[m.group(2)]
         except ValueError:
             pass
-    if not (value > 0 and value == value):
+    if not (value > 0 and math.isfinite(value)):
         raise InputError(f"{source} = {text!r} is not a time such as 7200, 90s, 30min, 2h or none")
     return value
 
@@ -530,10 +575,11 @@ def check_cost(cases: list[Any]) -> list[str]:
                            f"the limit with 'railvti run --max-time 8h' or {ENV_TIME}=8h (none: no limit)")
         if e.memory == e.memory:
             try:
-                check_memory(c.label, e.memory, f"{e.size}; driven by '{e.key}': reduce it")
+                check_memory(c.label, e.memory, f"{e.size}; driven by '{e.memory_key or e.key}': reduce it")
             except InputError as exc:
                 out.append(str(exc))
-    if total > deck_limit and not out:
+    # one case is its own limit's; a deck of several is refused past the larger of the two
+    if len(cases) > 1 and total > max(deck_limit, limit) and not out:
         out.append(f"the deck's {len(cases)} cases add up to ~{duration_text(total)} of computing, "
                    f"more than the deck's limit of {duration_text(deck_limit)} "
                    f"({_limit_source(ENV_DECK_TIME, DEFAULT_MAX_DECK_TIME)}): fewer cases or sweep "
