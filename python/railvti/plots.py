@@ -58,11 +58,15 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
             status = str(group.attrs.get("status", ""))
             partial = status.startswith("interrupted")
             if status != "ok" and not partial:
-                notes.append(f"{gname}: not plotted: the case {status or 'has no status'}"
-                             + (f" ({_text(group.attrs.get('error'))})" if group.attrs.get("error") else ""))
+                failed = status.startswith("error")
+                notes.append(f"{gname}: not plotted: " + (f"the case failed ({status[5:].lstrip(': ')})"
+                                                          if failed else f"status {status or 'unknown'}"))
                 continue
             if not points and sizes.get(str(group.attrs.get("sweep", "")), 0) > MAX_POINT_PLOTS:
                 continue                 # a large sweep: its summary plot only
+            if partial and all(k == "inputs" for k in group):
+                notes.append(f"{gname}: not plotted: {status}, before it kept any result")
+                continue
             ctype = types.get(str(group.attrs.get("type")))
             if ctype is None or ctype.plot is None:
                 notes.append(f"{gname}: not plotted: case type {group.attrs.get('type')!s} has no plot")
@@ -70,7 +74,8 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
             try:
                 new = ctype.plot(group, outdir, _stem(path.stem, gname))
             except Exception as exc:  # noqa: BLE001 - one bad case must not stop the others
-                log.error("no plot for %s: %s: %s", gname, type(exc).__name__, exc)
+                (log.debug if partial else log.warning)("no plot for %s: %s: %s", gname,
+                                                         type(exc).__name__, exc)
                 new = []
                 why = (f"it was {status} before it kept a result ({type(exc).__name__}: {exc})"
                        if partial else f"its plot failed: {type(exc).__name__}: {exc}")
