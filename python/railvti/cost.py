@@ -345,10 +345,13 @@ def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
 _STEP_S = {("hertz-kalker", "strip"): 2.5e-3, ("hertz-kalker", "table"): 1.5e-3,
            ("hertz-fastsim", "strip"): 2.5e-3, ("hertz-fastsim", "table"): 1.2e-3,
            ("bem", "table"): 0.05}
-#: Extra wall time per step and per kept mode, s: FR's rotating wheelset modes (FF 10 s at
-#: 300 km/h: 125 s, ~4 ms per step with ~150 modes), RF's ring modes (128 sleepers, 926
-#: modes up to 500 Hz: real-time factor 4.1 at h = 0.5 ms, ~2 ms per step; README).
-_WS_MODE_STEP_S = 2e-5
+#: Extra wall time per step of the kept modes, s: FR's rotating wheelset modes cost
+#: _WS_MODE_STEP_S x modes^1.33 (k_max 2: 384 modes at 5 kHz 37 ms per step, 1792 modes at
+#: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
+#: _RING_MODE_STEP_S per mode (128 sleepers, 926 modes up to 500 Hz: real-time factor 4.1
+#: at h = 0.5 ms, ~2 ms per step; README).
+_WS_MODE_STEP_S = 1.36e-5
+_WS_MODE_EXPONENT = 1.33
 _RING_MODE_STEP_S = 2e-6
 #: The BEM in the loop: building the gap tables of the eight wheels, s (BEM hunting 0.02 s:
 #: 23 s); the critical speed: the linear analysis and the equilibria, s (18 s for 3 speeds of
@@ -359,9 +362,10 @@ _RUN_START_S = 1.0
 #: Building the coach, the table, the conicity and the static equilibrium, s (RR hunting
 #: 0.3 s: 6.5-7.1 s of which ~0.5 s of steps).
 _VEHICLE_START_S = 6.0
-#: Building model FR's wheelsets: s per harmonic at f_max 800 Hz (FR hunting 0.1 s: 17 s at
-#: k_max 2 / 800 Hz, 18 s at 2000 Hz: the FE solve grows slowly with f_max).
-_FR_BUILD_S = 3.0
+#: Building model FR's wheelsets at k_max 2, s: ~10 s up to 5 kHz, then growing as f_max^3
+#: (scenarios.fr_system: 800 Hz 17 s, 5 kHz 12 s, 20 kHz 112 s at load ~5).
+_FR_BUILD_S = 10.0
+_FR_BUILD_5KHZ_S = 1.6
 #: Memory of the models above the interpreter (RR 77 MB, FR 240 MB, RF 122 MB), bytes.
 _VEHICLE_BASE_BYTES = 75e6
 _FR_BASE_BYTES = 160e6
@@ -379,8 +383,9 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
         f_top = _pos(p, "f_max", 800.0)
         scale = max(_num(p, "coach_wheelset_stiffness_scale", 1.0), 1e-6)
         f_top *= math.sqrt(scale)
-        # ~2 modes per harmonic per 800 Hz (k_max 2 / 800 Hz: 4 wheelsets x ~6 modes)
-        ws_modes = 4.0 * k * max(2.0 * f_top / 800.0, 1.0)
+        # the four wheelsets' modes at k_max 2 (scenarios.fr_system): 108 up to 800 Hz, 384 up
+        # to 5 kHz, 1792 up to 20 kHz
+        ws_modes = k / 3.0 * max(108.0 * (f_top / 800.0) ** 0.7, 0.0334 * f_top ** 1.1 - 7.0)
     if model in ("RF", "FF"):
         n_sl = max(_num(p, "n_sleepers", 40), 8.0)
         f_lim = _pos(p, "f_limit", 500.0)
@@ -414,13 +419,14 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         # two runs per speed: the upper branch (speed lowered) and the decay from 0.5 mm
         runs = 2.0 * max(1.0, math.floor(max(hi - lo, 0.0) / step + 1e-9) + 1.0)
     steps = runs * duration / h
-    per = (_STEP_S.get((contact, geometry), 3e-3) + _WS_MODE_STEP_S * ws_modes
+    per = (_STEP_S.get((contact, geometry), 3e-3) + _WS_MODE_STEP_S * ws_modes ** _WS_MODE_EXPONENT
            + _RING_MODE_STEP_S * ring_modes)
     start = _VEHICLE_START_S + (_BEM_START_S if contact == "bem" else 0.0)
     if runs > 1:
         start += _CRITICAL_START_S + _RUN_START_S * runs
     if ws_modes:
-        start += _FR_BUILD_S * (max(_num(p, "k_max", 2), 0.0) + 1.0) * max(f_top / 800.0, 1.0) ** 0.5
+        start += ((max(_num(p, "k_max", 2), 0.0) + 1.0) / 3.0
+                  * (_FR_BUILD_S + _FR_BUILD_5KHZ_S * (f_top / 5000.0) ** 3))
     if ring_modes:
         ring_p = {"n_sleepers": _num(p, "n_sleepers", 40), **{k[6:]: v for k, v in p.items()
                                                                if k.startswith("track_")}}
