@@ -12,7 +12,7 @@ Outcome classes (counted in the closing note of issue 31):
 * handled edge case (runs, or is accepted, as it should): ``test_raised_limit_lets_it_through``,
   ``test_cli_raised_max_time_runs``, ``test_limit_values_parsed``,
   ``test_estimate_survives_odd_values`` (no exception, finite or NaN, never negative),
-  ``test_estimate_sane`` and ``test_estimate_monotone`` (finite, positive, growing with size),
+  ``test_estimate_survives_bad_stream_variable``, ``test_estimate_sane`` and ``test_estimate_monotone`` (finite, positive, growing with size),
   ``test_no_warning_when_resolved``;
 * warned (runs, with a warning naming the case and the key): ``test_under_resolved_warns``.
 """
@@ -349,3 +349,11 @@ def test_cli_bad_max_time(tmp_path):
     r = _cli(tmp_path, "--max-time", "soon")
     assert r.returncode == 2
     assert "Traceback" not in r.stderr and "--max-time" in r.stderr and "'soon'" in r.stderr
+
+
+@pytest.mark.parametrize("value", ["bogus", "-1", "0"])
+def test_estimate_survives_bad_stream_variable(limits, value):
+    """A bad RAILVTI_STREAM_ABOVE (the run names it) leaves the estimate finite."""
+    limits.setenv("RAILVTI_STREAM_ABOVE", value)
+    e = cost.estimate_params("vehicle", dict(duration=600.0))
+    assert math.isfinite(e.seconds) and math.isfinite(e.memory) and e.memory > 0

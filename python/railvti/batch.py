@@ -39,7 +39,8 @@ from typing import Any, Iterator
 from .casetypes import CaseOutput
 from .deck import Case
 from .errors import InputError
-from .cost import ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce, check_cost, estimate, small_deck  # noqa: F401
+from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
+                   check_cost, estimate, small_deck)
 from .stream import CaseStream
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 

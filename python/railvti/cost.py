@@ -30,6 +30,7 @@ from typing import Any, Callable
 
 from .errors import InputError
 from .resources import check_memory, memory_limit, size_text
+from .stream import STREAM_TAIL_SECONDS, history_bytes, stream_threshold
 
 #: Environment variable of the time limit of one case: seconds, or '90s', '30min', '2h',
 #: '1d', or 'none'. ``railvti run --max-time`` sets it.
@@ -405,6 +406,15 @@ def _vehicle_step(p: dict[str, Any], ws_modes: float, f_top: float) -> float:
     return h
 
 
+def _streams(duration: float, out_dt: float) -> bool:
+    """Whether ``railvti run`` streams this history (a bad RAILVTI_STREAM_ABOVE: as unset;
+    the run names it)."""
+    try:
+        return history_bytes(duration, out_dt) > stream_threshold()
+    except Exception:  # noqa: BLE001
+        return False
+
+
 def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     model = str(p.get("model", "RR")).strip().upper()
     contact = str(p.get("contact", "hertz-kalker")).strip().lower()
@@ -445,12 +455,20 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         key = "contact = 'bem', duration"
     elif runs > 20:
         key = "speeds_kmh_step"
-    out_dt = _num(p, "output_dt", -1.0) if p.get("output_dt") is not None else 2e-3
+    out_dt = _num(p, "output_dt", -1.0) if p.get("output_dt") is not None else -1.0
+    if out_dt <= 0:                   # the deck's defaults (railvti.vehicle.output)
+        scen = str(p.get("scenario", "hunting")).strip().lower()
+        out_dt = 0.01 if scen == "centred_running" else 2e-3
+        if ring_modes:                # 10 samples per period of the sleeper passing
+            spacing = _pos(p, "track_sleeper_spacing", 0.6)
+            out_dt = min(out_dt, spacing / _pos(p, "speed", 300 / 3.6) / 10.0)
     out_dt = max(out_dt, h)
     states = 2.0 * (70.0 + ws_modes + ring_modes) + 12 * 2 * 4
     samples = duration / out_dt
-    streamed = model == "RR" and runs == 1.0
-    kept = min(samples, 11.0 / out_dt) if streamed else samples
+    kept = samples
+    # RR's single runs stream a long history to the file (railvti.stream) and keep its tail
+    if model == "RR" and runs == 1.0 and _streams(duration, out_dt):
+        kept = min(samples, (STREAM_TAIL_SECONDS + 1.0) / out_dt)
     memory = (_VEHICLE_BASE_BYTES + (_FR_BASE_BYTES if ws_modes else 0.0)
               + kept * states * _SAMPLE_BYTES + (ws_modes + ring_modes) ** 2 * 8 * 4)
     if ring_modes:
