@@ -215,10 +215,13 @@ def _grid_case(p: dict[str, Any], label: str, rolling: bool) -> Estimate:
 #: wheel_rail / loaded_wheelset: the grid a patch gets spans its Hertz ellipse with margins:
 #: ~ _GRID_SPAN x (2a) by (2b) (the tread patch at 0.2 mm: ~ 67 x 50 elements), and the
 #: loaded patch's solves on it (the pose iteration's normal solves, steady rolling) cost
-#: _PATCH_S per n log2 n. Measured: y = 0 both wheels at 0.2 mm 0.31 s; loaded_wheelset
-#: 0.06 s per position at 0.4 mm, 0.18 s at 0.2 mm.
+#: _PATCH_S x n^_PATCH_EXPONENT (the iterations grow with the grid). Measured: y = 0 both
+#: wheels at 0.2 mm 0.31 s (load 1.9); at load ~7: 0.4 mm 0.19 s, 0.2 mm 0.83 s, 0.1 mm
+#: 7.5 s, 0.05 mm 44 s (n^1.43); loaded_wheelset 0.06 s per position at 0.4 mm, 0.18 s at
+#: 0.2 mm.
 _GRID_SPAN = 2.0
-_PATCH_S = 3e-6
+_PATCH_S = 1.4e-6
+_PATCH_EXPONENT = 1.4
 #: Bytes per element of a wheel-rail patch: its gap and potential fields, the influence
 #: kernels and the pose iteration's copies (0.4 mm: 5.7 MB, 0.2 mm: 8.7 MB, 0.1 mm: 23.8 MB
 #: above the interpreter: ~1.5 kB per element added).
@@ -247,7 +250,7 @@ def _wheel_rail(p: dict[str, Any], label: str) -> Estimate:
     wheels = 1.0 if str(p.get("side", "both")).strip().lower() in ("left", "right") else 2.0
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dy)
-    secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
+    secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _PATCH_S * n ** _PATCH_EXPONENT)
     return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key="dx, dy",
                     size=f"~{_sci(n)} grid elements per patch",
                     warnings=tuple(_resolution(label, axes, dx, dy, where=" on the tread")))
@@ -258,7 +261,7 @@ def _loaded_wheelset(p: dict[str, Any], label: str) -> Estimate:
     n_pos = max(_num(p, "n", 21), 1.0)
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dx)
-    secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _PATCH_S * _nlogn(n))
+    secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _PATCH_S * n ** _PATCH_EXPONENT)
     key = "n, dx" if n_pos > 50 else "dx"
     return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key=key,
                     size=f"{n_pos:.0f} positions x ~{_sci(n)} grid elements per patch",
