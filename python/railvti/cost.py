@@ -28,7 +28,9 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from .contact.hertz import hertz
 from .errors import InputError
+from .material import Material
 from .resources import check_memory, memory_limit, size_text
 from .stream import STREAM_TAIL_SECONDS, history_bytes, stream_threshold
 
@@ -135,8 +137,6 @@ def _hertz_axes(A: float, B: float, fn: float, shear_modulus: float, poisson: fl
     """Semi-axes (a along x, b along y) of Hertz's ellipse of the gap A x^2 + B y^2 under
     fn, m; None when the inputs do not allow it."""
     try:
-        from .contact.hertz import hertz
-        from .material import Material
         if not (A > 0 and B > 0 and fn > 0):
             return None
         h = hertz(A, B, fn, Material(shear_modulus, poisson))
@@ -148,8 +148,6 @@ def _hertz_axes(A: float, B: float, fn: float, shear_modulus: float, poisson: fl
 def _fn_from_approach(A: float, B: float, approach: float, g: float, nu: float) -> float | None:
     """The force of a Hertz contact of this approach (approach ~ fn^(2/3))."""
     try:
-        from .contact.hertz import hertz
-        from .material import Material
         unit = hertz(A, B, 1.0, Material(g, nu)).approach
         return (approach / unit) ** 1.5 if unit > 0 else None
     except Exception:  # noqa: BLE001
@@ -284,9 +282,10 @@ def _geometry_table(p: dict[str, Any], label: str) -> Estimate:
 
 
 #: wheelset (axisymmetric FE): s per harmonic at the default meshes (0.02 m wheel, 0.04 m
-#: axle, 3 kHz): k_max 0 9.8 s, k_max 2 39 s (28 s at mesh_size 0.015: the machine's load
-#: moves it more than the mesh); the equations grow as mesh_size^-2, the solve faster
-#: (taken as mesh_size^-2.5); the FRF per line, speed and mode.
+#: axle, 3 kHz): k_max 0 9.8 s, k_max 2 39 s at load ~2, 5 s and 21 s in another run at
+#: load ~7 (28 s at mesh_size 0.015: the machine's load moves it more than the mesh); the
+#: equations grow as mesh_size^-2, the solve faster (taken as mesh_size^-2.5); the FRF per
+#: line, speed and mode.
 _WS_HARMONIC_S = 11.0
 _WS_FRF_S = 2e-7
 _WS_BYTES_PER_EQ = 8 * 400
