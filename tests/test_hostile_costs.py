@@ -63,7 +63,9 @@ REFUSED = [
      {cost.ENV_TIME: "10s"}, "nx, ny"),
     ("rolling-2048sq-mem", "rolling", dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5, mu=0.3, speed=30.0),
      {MEM_ENV: "100M", cost.ENV_TIME: "none"}, "nx, ny"),
-    ("wheel_rail-dx1e-5-1min", "wheel_rail", dict(dx=1e-5, dy=1e-5), {cost.ENV_TIME: "1min"}, "dx, dy"),
+    ("wheel_rail-dx1e-5", "wheel_rail", dict(dx=1e-5, dy=1e-5), {}, "dx, dy"),          # the issue's case
+    ("wheel_rail-dx1e-5-left", "wheel_rail", dict(dx=1e-5, dy=1e-5, side="left", roll=0.0, omega=4.3), {},
+     "dx, dy"),
     ("wheel_rail-dx2e-6", "wheel_rail", dict(dx=2e-6, dy=2e-6), {}, "dx, dy"),
     ("wheel_rail-dx2e-6-time", "wheel_rail", dict(dx=2e-6, dy=2e-6), {MEM_ENV: "none", cost.ENV_TIME: "30min"},
      "dx, dy"),
@@ -164,7 +166,7 @@ def test_limit_values_parsed(text, seconds):
 
 
 ANNOUNCED = [
-    ("wheel_rail-dx1e-5", "wheel_rail", dict(dx=1e-5, dy=1e-5), "grid elements per patch"),
+    ("wheel_rail-dx4e-5", "wheel_rail", dict(dx=4e-5, dy=4e-5), "grid elements per patch"),
     ("table-n20001", "geometry_table", dict(n=20001), "table nodes"),
     ("vehicle-60s", "vehicle", dict(duration=60.0), "time steps"),
     ("vehicle-FR-fmax5k", "vehicle", dict(model="FR", f_max=5000.0), "kept modes"),
@@ -173,8 +175,8 @@ ANNOUNCED = [
 
 @pytest.mark.parametrize("tname, params, size", [a[1:] for a in ANNOUNCED], ids=[a[0] for a in ANNOUNCED])
 def test_long_case_announced(tname, params, size):
-    """A case under the limit but over a minute (the issue's dx = 1e-5 m wheel-rail grid, an
-    FR run with f_max = 5 kHz) is accepted and announced before it starts, with its size."""
+    """A case under the limit but over a minute (a 0.04 mm wheel-rail grid, an FR run with
+    f_max = 5 kHz) is accepted and announced before it starts, with its size."""
     cases, problems = _problems(deck(tname, "long", **params))
     assert problems == []
     said: list[str] = []

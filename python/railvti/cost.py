@@ -213,13 +213,14 @@ def _grid_case(p: dict[str, Any], label: str, rolling: bool) -> Estimate:
 #: wheel_rail / loaded_wheelset: the grid a patch gets spans its Hertz ellipse with margins:
 #: ~ _GRID_SPAN x (2a) by (2b) (the tread patch at 0.2 mm: ~ 67 x 50 elements), and the
 #: loaded patch's solves on it (the pose iteration's normal solves, steady rolling) cost
-#: _PATCH_S x n^_PATCH_EXPONENT (the iterations grow with the grid). Measured: y = 0 both
-#: wheels at 0.2 mm 0.31 s (load 1.9); at load ~7: 0.4 mm 0.19 s, 0.2 mm 0.83 s, 0.1 mm
-#: 7.5 s, 0.05 mm 44 s (n^1.43); loaded_wheelset 0.06 s per position at 0.4 mm, 0.18 s at
-#: 0.2 mm.
+#: _PATCH_S x n^1.1 + _PATCH_S2 x n^2.5 per wheel: the second term, the solvers' iterations
+#: growing with the grid, takes over below 0.1 mm. Measured per wheel (both wheels of y = 0
+#: less 0.07 s): 0.2 mm (3.4e3 elements) 0.14 s, 0.1 mm (1.3e4) 0.77 s, 0.05 mm (5.4e4)
+#: 10.5-14 s, 0.035 mm (1.1e5) 67 s; the fit is within 15 % of each. loaded_wheelset: 0.06 s
+#: per position at 0.4 mm, 0.18 s at 0.2 mm.
 _GRID_SPAN = 2.0
-_PATCH_S = 1.4e-6
-_PATCH_EXPONENT = 1.4
+_PATCH_S = 1.6e-5
+_PATCH_S2 = 1.54e-11
 #: Bytes per element of a wheel-rail patch: its gap and potential fields, the influence
 #: kernels and the pose iteration's copies (0.4 mm: 5.7 MB, 0.2 mm: 8.7 MB, 0.1 mm: 23.8 MB
 #: above the interpreter: ~1.5 kB per element added).
@@ -238,6 +239,11 @@ def _wheel_axes(p: dict[str, Any]) -> tuple[float, float] | None:
                        _pos(p, "shear_modulus", 82e9), _num(p, "poisson", 0.28))
 
 
+def _patch_seconds(n: float) -> float:
+    """Wall time of one wheel's patch of ``n`` grid elements, s."""
+    return _PATCH_S * n ** 1.1 + _PATCH_S2 * n ** 2.5
+
+
 def _patch_elements(axes: tuple[float, float] | None, dx: float, dy: float) -> float:
     a, b = axes if axes is not None else (6e-3, 5e-3)
     return max(_GRID_SPAN * 2 * a / dx, 2.0) * max(_GRID_SPAN * 2 * b / dy, 2.0)
@@ -248,7 +254,7 @@ def _wheel_rail(p: dict[str, Any], label: str) -> Estimate:
     wheels = 1.0 if str(p.get("side", "both")).strip().lower() in ("left", "right") else 2.0
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dy)
-    secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _PATCH_S * n ** _PATCH_EXPONENT)
+    secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _patch_seconds(n))
     return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key="dx, dy",
                     size=f"~{_sci(n)} grid elements per patch",
                     warnings=tuple(_resolution(label, axes, dx, dy, where=" on the tread")))
@@ -259,7 +265,7 @@ def _loaded_wheelset(p: dict[str, Any], label: str) -> Estimate:
     n_pos = max(_num(p, "n", 21), 1.0)
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dx)
-    secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _PATCH_S * n ** _PATCH_EXPONENT)
+    secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _patch_seconds(n))
     key = "n, dx" if n_pos > 50 else "dx"
     return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key=key,
                     size=f"{n_pos:.0f} positions x ~{_sci(n)} grid elements per patch",
