@@ -40,8 +40,9 @@ from typing import Any, Iterator
 from .casetypes import CaseOutput
 from .deck import Case
 from .errors import InputError
-from .resources import check_memory, memory_limit, size_text
-from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SECONDS
+from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
+                   check_cost, estimate, small_deck)
+from .stream import CaseStream
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 from .results import damage, deck_owner
 from .guarded_io import WriteFailed
@@ -65,12 +66,6 @@ EXIT_CODES = {
     EXIT_SIGINT: "stopped by SIGINT (Ctrl-C): completed cases kept, the running one marked interrupted",
     EXIT_SIGTERM: "stopped by SIGTERM: as for SIGINT",
 }
-
-#: A case expected to take longer than this (s) or more memory than this (bytes) is
-#: announced before it starts.
-ANNOUNCE_SECONDS = 60.0
-ANNOUNCE_BYTES = 500e6
-
 
 class Interrupted(KeyboardInterrupt):
     """A run stopped by a signal (SIGINT or SIGTERM)."""
@@ -251,106 +246,8 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
                      "or --force to replace it")
 
 
-@dataclass(frozen=True)
-class Estimate:
-    """Rough memory (bytes) and wall time (s) of a case; NaN when unknown."""
-
-    memory: float = float("nan")
-    seconds: float = float("nan")
-
-
-#: Wall time per time step of the vehicle time loop, s (hunting at 400 km/h on this project's
-#: 2-core test machine: ~4 ms with Hertz + FASTSIM or Kalker; BEM much more).
-_STEP_SECONDS = {"bem": 0.1}
-_STEP_SECONDS_DEFAULT = 4e-3
-#: Bytes stored per output time of a vehicle run (q, v: 2 x ~60 states; 12 x 2 x 4 wheel
-#: outputs), times the copies made while gathering and writing.
-_OUTPUT_BYTES = (2 * 60 + 12 * 2 * 4) * 8 * 3
-
-
-def _num(params: dict[str, Any], key: str, default: float) -> float:
-    try:
-        v = float(params.get(key, default))
-    except (TypeError, ValueError):
-        return default
-    return v if v == v else default
-
-
-def estimate(case: Case) -> Estimate:
-    """A rough estimate of what a case needs (vehicle histories and contact grids)."""
-    p = case.params
-    t = case.case_type.name
-    if t == "vehicle":
-        duration = _num(p, "duration", 3.0)
-        h = max(_num(p, "h", 1e-3), 1e-9)
-        output_dt = max(_num(p, "output_dt", 0.002), h)
-        runs = 1.0
-        if p.get("scenario") == "critical_speed":
-            lo, hi = _num(p, "speeds_kmh_min", 160.0), _num(p, "speeds_kmh_max", 440.0)
-            runs = max(1.0, (hi - lo) / max(_num(p, "speeds_kmh_step", 20.0), 1e-9) + 1.0)
-        per_step = _STEP_SECONDS.get(str(p.get("contact")), _STEP_SECONDS_DEFAULT)
-        kept = duration
-        if runs == 1.0 and history_bytes(duration, output_dt) > stream_threshold():
-            kept = min(duration, STREAM_TAIL_SECONDS + 1.0)   # streamed: the tail and a chunk
-        return Estimate(memory=kept / output_dt * _OUTPUT_BYTES,
-                        seconds=runs * duration / h * per_step)
-    if t in ("normal", "rolling"):
-        n = _num(p, "nx", 0.0) * _num(p, "ny", 0.0)
-        return Estimate(memory=n * 8 * 40)      # the fields and 4 N FFT buffers of a few kernels
-    if t == "wheel_rail":
-        # one wheel of A-2.2 at 0.2 mm: ~0.07 s (0.5 s at worst); time ~ elements ~ 1 / (dx dy)
-        elements = (2e-4 * 2e-4) / max(_num(p, "dx", 2e-4) * _num(p, "dy", 2e-4), 1e-12)
-        wheels = 2.0 if str(p.get("side", "both")).strip().lower() == "both" else 1.0
-        return Estimate(seconds=0.1 * wheels * elements)
-    return Estimate()
-
-
-#: A deck whose estimated run time is below this runs in the main process, without a Dask
-#: LocalCluster: the cluster's start-up (worker processes that each import railvti, ~3-5 s
-#: on a 2-core machine) would cost more than it saves (CONTACT's A-2.2 deck of 21
-#: positions: 15.7 s with the cluster, 5.0 s without, 1.4 s of solves).
-SERIAL_SECONDS = 10.0
-
-
-def small_deck(cases: list[Case]) -> bool:
-    """The deck is one case, or its cases' estimated times are known and add up to less than
-    :data:`SERIAL_SECONDS`."""
-    if len(cases) < 2:
-        return True
-    total = sum(estimate(c).seconds for c in cases)
-    return total == total and total < SERIAL_SECONDS
-
-
-def _duration_text(s: float) -> str:
-    if s >= 3600:
-        return f"{s / 3600:.1f} h"
-    return f"{s / 60:.0f} min" if s >= 60 else f"{s:.0f} s"
-
-
-def check_resources(cases: list[Case]) -> list[str]:
-    """Problems of cases whose estimated memory exceeds the limit (see railvti.resources)."""
-    out = []
-    for c in cases:
-        e = estimate(c)
-        if e.memory == e.memory:
-            try:
-                check_memory(f"{c.label}", e.memory, "shorten 'duration' or raise 'output_dt'"
-                             if c.case_type.name == "vehicle" else "use a coarser grid")
-            except InputError as exc:
-                out.append(str(exc))
-    return out
-
-
-def announce(case: Case, write: Any) -> None:
-    """Say what a case is expected to need before it starts, when that is large."""
-    e = estimate(case)
-    parts = []
-    if e.memory == e.memory and e.memory > ANNOUNCE_BYTES:
-        parts.append(f"~{size_text(e.memory)} of memory (limit {size_text(memory_limit())})")
-    if e.seconds == e.seconds and e.seconds > ANNOUNCE_SECONDS:
-        parts.append(f"~{_duration_text(e.seconds)}")
-    if parts:
-        write(f"{case.label}: expected to need {' and '.join(parts)} (rough estimate)")
+# The cost estimate and its limits live in railvti.cost; check_resources is its check.
+check_resources = check_cost
 
 
 @dataclass

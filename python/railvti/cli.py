@@ -14,7 +14,7 @@ from tqdm import tqdm
 
 from .casetypes import REQUIRED
 from .deck import read_deck
-from . import resources
+from . import cost, resources
 from .deck_registry import case_types
 from .batch import (EXIT_CODES, EXIT_INPUT, EXIT_OUTPUT, check_deck, check_output, check_resources, resume_hint,
                     run_cases, small_deck)
@@ -32,27 +32,37 @@ def _run(args: argparse.Namespace) -> int:
     if out.is_symlink():          # write the file it points to (the link stays a link)
         out = Path(os.path.realpath(out))
         check_output(out, deck, force=args.force)
-    old_limit = os.environ.get(resources.ENV)
+    limits = {resources.ENV: args.max_memory, cost.ENV_TIME: args.max_time,
+              cost.ENV_DECK_TIME: args.max_deck_time}
+    old = {env: os.environ.get(env) for env in limits}
     note = lambda line: print(line, file=sys.stderr)      # noqa: E731
     try:
         # the lock before the deck check: no other run can change the file in between
         with OutputLock(out, str(deck.resolve()), note=note):
             args.resume = check_deck(out, deck, cases, args.resume, args.force, note)
-            if args.max_memory:
-                os.environ[resources.ENV] = str(args.max_memory)
-                resources.memory_limit()             # a bad size: InputError before any case
+            for env, value in limits.items():
+                if value:
+                    os.environ[env] = str(value)
+            resources.memory_limit()             # a bad size or time: InputError before any case
+            if args.max_time:
+                cost.parse_time(args.max_time, "--max-time")
+            if args.max_deck_time:
+                cost.parse_time(args.max_deck_time, "--max-deck-time")
             return _run_checked(args, deck, cases, out)
     finally:
-        if old_limit is None:
-            os.environ.pop(resources.ENV, None)
-        else:
-            os.environ[resources.ENV] = old_limit
+        for env, value in old.items():
+            if value is None:
+                os.environ.pop(env, None)
+            else:
+                os.environ[env] = value
 
 
 def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -> int:
     problems = check_resources(cases)
     if problems:
         raise InputError("\n".join(problems))
+    for line in cost.resolution_warnings(cases):
+        print(f"railvti: warning: {line}", file=sys.stderr)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
     # no LocalCluster where its start-up (worker processes importing railvti) outweighs the work
@@ -113,8 +123,16 @@ def _deck_text(deck: Path) -> str:
 
 def _plot(args: argparse.Namespace) -> int:
     from .plots import plot_results      # matplotlib: only for plotting, not at every start
-    for p in plot_results(args.results, args.output, points=args.points):
+    notes: list[str] = []
+    paths = plot_results(args.results, args.output, points=args.points, notes=notes)
+    for p in paths:
         print(p)
+    for line in notes:
+        print(f"railvti: note: {line}", file=sys.stderr)
+    if not paths:
+        print(f"railvti: error: no figure written from {args.results}"
+              + (": every case above was left out" if notes else ": it holds no case"), file=sys.stderr)
+        return 1
     return 0
 
 
@@ -193,6 +211,11 @@ def main(argv: list[str] | None = None) -> int:
                         "or one written from another deck")
     p.add_argument("--max-memory", metavar="SIZE",
                    help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)")
+    p.add_argument("--max-time", metavar="TIME",
+                   help="time limit of a case's estimate, e.g. 8h, 30min or none (default: 2h; "
+                        "env RAILVTI_MAX_TIME)")
+    p.add_argument("--max-deck-time", metavar="TIME",
+                   help="time limit of the deck's cases added up (default: 24h; env RAILVTI_MAX_DECK_TIME)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--serial", action="store_true",
                    help="run the cases one after another in this process (no Dask)")

@@ -624,7 +624,35 @@ def _key_unit(ctype: CaseType | None, key: str) -> str:
 
 
 def _label(key: str, value: Any, unit: str) -> str:
-    return f"{key} = {_value_text(value)}" + (f" {unit}" if unit else "")
+    return f"{key} = {_short(value)}" + (f" {unit}" if unit else "")
+
+
+def _short(value: Any) -> str:
+    """A swept value for a legend: 8e+10, not 80000000000."""
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
+#: Names of result quantities for the axes of sweep plots (else the dataset's name in words).
+QUANTITIES = {"approach": "approach", "area": "contact area", "fn": "normal force",
+              "pmax": "peak pressure", "hertz_a": "Hertz semi-axis a", "hertz_b": "Hertz semi-axis b",
+              "fx": "longitudinal creep force", "fy": "lateral creep force", "mz": "spin moment",
+              "conicity": "equivalent conicity"}
+
+
+def _quantity(ctype: CaseType | None, key: str) -> str:
+    """'normal force fn, N' for an axis: the swept key's meaning (up to its first
+    parenthesis, colon or semicolon), its name and unit."""
+    unit = _key_unit(ctype, key)
+    meaning = ""
+    if ctype is not None:
+        target = ctype.aliases[key].key if key in ctype.aliases else key
+        spec = ctype.keys.get(target)
+        if spec is not None and spec.meaning:
+            cut = min([i for i in (spec.meaning.find(c) for c in "(:;") if i >= 0] or [len(spec.meaning)])
+            meaning = spec.meaning[:cut].strip()
+            meaning = meaning if len(meaning) <= 40 else meaning[:38] + ".."
+    text = f"{meaning} ({key})" if meaning and meaning != key else key
+    return f"{text}, {unit}" if unit else text
 
 
 def sweep_points(f: Any) -> dict[str, list[tuple[dict, Any]]]:
@@ -662,14 +690,33 @@ def plot_sweeps(f: Any, outdir: Path, stem: str) -> list[Path]:
     return paths
 
 
+#: Most lines a sweep plot's legend lists (the others are counted under it).
+MAX_LEGEND = 20
+
+
+def _legend(fig: Any, ax: Any, title: str) -> None:
+    """One legend for the figure, right of its panels (not over them): the lines of ``ax``,
+    at most :data:`MAX_LEGEND` listed; ``title`` names the keys of the entries."""
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return
+    more = len(handles) - MAX_LEGEND
+    if more > 0:
+        handles, labels = handles[:MAX_LEGEND], labels[:MAX_LEGEND]
+        title += f"\n(first {MAX_LEGEND} of {MAX_LEGEND + more} lines)"
+    fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=7,
+               title=title or None, title_fontsize=7, frameon=False)
+
+
 def _plot_phases(plt: Any, name: str, points: list, ctype: CaseType | None, path: Path) -> Path:
     import numpy as np
     fig, ax = plt.subplots(1, 2, figsize=(10.0, 3.8), gridspec_kw={"width_ratios": [1.6, 1]})
+    keys = list(points[0][0]) if points else []
     for p, g in points:
-        label = ", ".join(_label(k, v, _key_unit(ctype, k)) for k, v in p.items())
+        label = ", ".join(_short(v) for v in p.values())
         y, vy, t = (np.asarray(g[k]) for k in ("y_ws1", "vy_ws1", "t"))
         ax[0].plot(t, y * 1e3, lw=0.8, label=label)
-        ax[1].plot(y * 1e3, vy, lw=0.6, label=label)
+        ax[1].plot(y * 1e3, vy, lw=0.6)
     ax[0].set_xlabel("time, s")
     ax[0].set_ylabel("lateral displacement y, mm")
     ax[0].set_title("leading wheelset: lateral displacement", fontsize=9)
@@ -678,12 +725,17 @@ def _plot_phases(plt: Any, name: str, points: list, ctype: CaseType | None, path
     ax[1].set_title("phase portrait", fontsize=9)
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
     fig.suptitle(f"sweep '{name}'{_what(points)}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    _legend(fig, ax[0], "\n".join(_key_title(ctype, k) for k in keys))
+    fig.savefig(path, dpi=80, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def _key_title(ctype: CaseType | None, key: str) -> str:
+    unit = _key_unit(ctype, key)
+    return f"{key}, {unit}" if unit and unit != "-" else key
 
 
 def _what(points: list) -> str:
@@ -730,14 +782,13 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
     else:
         quantities = []
     n = max(1, len(quantities))
-    fig, axes = plt.subplots(n, 1, figsize=(6.4, 1.2 + 2.8 * n), squeeze=False)
-    xunit = _key_unit(ctype, xkey)
+    fig, axes = plt.subplots(n, 1, figsize=(6.4, 1.2 + 2.8 * n), squeeze=False, sharex=True)
     for ax, (q, factor, unit, meaning) in zip(axes[:, 0], quantities or [(None, 1, "", "")]):
         lines: dict[tuple, list] = {}
         for p, g in points:
             lines.setdefault(tuple(p[k] for k in others), []).append((p[xkey], g))
         for combo, pts in lines.items():
-            label = ", ".join(_label(k, v, _key_unit(ctype, k)) for k, v in zip(others, combo))
+            label = ", ".join(_short(v) for v in combo)
             good = [(x, float(np.asarray(g[q])) * factor) for x, g in pts
                     if q is not None and g.attrs.get("status") == "ok" and q in g]
             if good:
@@ -747,15 +798,16 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
             if bad:
                 ax.plot(bad, [0.0] * len(bad), "rx", ms=8,
                         label=f"failed ({label})" if label else "failed")
-        ax.set_ylabel(f"{q}, {unit}" if q else "")
-        ax.set_title(meaning, fontsize=9)
+        if q:
+            what = QUANTITIES.get(q, meaning if meaning != q else q.replace("_", " "))
+            ax.set_ylabel(f"{what}, {unit}" if unit and unit not in ("1", "-") else what, fontsize=9)
+        ax.set_title(meaning if meaning != q else "", fontsize=9)
         ax.grid(alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=8)
-    axes[-1, 0].set_xlabel(f"{xkey}, {xunit}" if xunit else xkey)
+    axes[-1, 0].set_xlabel(_quantity(ctype, xkey))
     fig.suptitle(f"sweep '{name}': {len(points)} points{_what(points)}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    _legend(fig, axes[0, 0], "\n".join(_key_title(ctype, k) for k in others))
+    fig.savefig(path, dpi=80, bbox_inches="tight")
     plt.close(fig)
     return path
 

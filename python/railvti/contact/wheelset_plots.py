@@ -1,6 +1,7 @@
 """Charts of a loaded-wheelset sweep and of its contact patches (Kaiser Figs 11-12, 17)."""
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -81,11 +82,27 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, titl
         ax.set_ylabel("rolling x, mm")
         ax.set_title(key, fontsize=9)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(wrap_title(title, fig.get_figwidth(), 10), fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return Path(path)
+
+
+def wrap_title(text: str, width_in: float, fontsize: float = 10.0) -> str:
+    """``text`` broken into lines that fit a figure ``width_in`` inches wide at ``fontsize``
+    points (a character of DejaVu Sans is ~0.6 em wide on average), between its ', '-separated
+    items where possible: a one-panel figure's long title is otherwise cut at both edges."""
+    chars = max(int(width_in * 72.0 / (0.6 * fontsize)) - 2, 20)
+    lines: list[str] = []
+    for item in text.split(", "):
+        if lines and len(lines[-1]) + 2 + len(item) <= chars:
+            lines[-1] += ", " + item
+        else:
+            if lines:
+                lines[-1] += ","
+            lines.extend(textwrap.wrap(item, chars, break_on_hyphens=False) or [""])
+    return "\n".join(lines)
 
 
 def case_title(group, keys: tuple[tuple[str, str, float, str], ...]) -> str:
@@ -97,7 +114,8 @@ def case_title(group, keys: tuple[tuple[str, str, float, str], ...]) -> str:
         if key not in inputs:
             continue
         try:
-            parts.append(f"{label} {float(np.asarray(inputs[key])) * factor:.4g}{unit}")
+            value = float(np.asarray(inputs[key])) * factor + 0.0    # + 0.0: no '-0'
+            parts.append(f"{label} {value:.4g}{unit}")
         except (TypeError, ValueError):
             pass
     name = group.attrs.get("name", "")

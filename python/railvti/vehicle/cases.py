@@ -623,16 +623,18 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     if "speeds_kmh" in res:
         return [plot_bifurcation(np.asarray(res["speeds_kmh"]), np.asarray(res["upper_amplitude"]),
                                  np.asarray(res["decay_amplitude"]),
-                                 float(res.attrs.get("critical_speed_linear", np.nan)),
-                                 outdir / f"{stem}_bifurcation.png")]
+                                 _scalar(res, "critical_speed_linear"),
+                                 outdir / f"{stem}_bifurcation.png", title=_sweep_title(group, res),
+                                 critical_kmh=_scalar(res, "critical_speed_nonlinear"))]
+    title = _run_title(res)
+    if str(group.attrs.get("status", "ok")).startswith("interrupted") and len(res["t"]):
+        title += f"; INTERRUPTED at t = {float(res['t'][-1]):.3g} s"     # what the case kept
     paths = plot_history(np.asarray(res["t"]), np.asarray(res["y_ws1"]), np.asarray(res["vy_ws1"]),
-                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem,
-                         _run_title(res))
+                         np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]), outdir, stem, title)
     if "ws_y" in res:
         paths.append(plot_wheels(np.asarray(res["t"]), np.asarray(res["ws_y"]),
                                  np.asarray(res["wheel_Q"]), np.asarray(res["wheel_Y"]),
-                                 _scalar(res, "nadal_limit"), outdir / f"{stem}_wheels.png",
-                                 _run_title(res)))
+                                 _scalar(res, "nadal_limit"), outdir / f"{stem}_wheels.png", title))
     if "patch_pressure" in res:
         paths.append(plot_patch(*(np.asarray(res[f"patch_{k}"]) for k in
                                   ("x", "y", "pressure", "tx", "ty", "power_density")),
@@ -654,10 +656,25 @@ def _scalar(res: Any, key: str) -> float:
 
 
 def _text(res: Any, key: str) -> str:
+    """A text result, else the case's input of that name (an interrupted case stores no
+    scenario, model...: its inputs say them), else ''."""
     if key not in res:
-        return ""
+        inputs = res["inputs"] if "inputs" in res else None
+        if inputs is None or key not in inputs:
+            return ""
+        res = inputs
     v = np.asarray(res[key]).item()
     return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def _sweep_title(group: Any, res: Any) -> str:
+    """'NAME: critical speed, model RR, hertz-fastsim (table)' of a critical_speed result."""
+    name = group.attrs.get("name", "")
+    name = name.decode() if isinstance(name, bytes) else str(name)
+    geometry = _text(res, "geometry")
+    parts = ["critical speed", f"model {_text(res, 'model')}",
+             _text(res, "contact") + (f" ({geometry})" if geometry else "")]
+    return (f"{name}: " if name else "") + ", ".join(p for p in parts if p.strip())
 
 
 def _run_title(res: Any) -> str:

@@ -102,7 +102,8 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
     _readable(ax[0, 0], q_dof * 1e3, "mm")
     _readable(ax[1, 0], Q / 1e3, "kN")
     for w in range(nw):
-        ax[2, w].axhline(nadal, color="r", lw=0.8, ls="--", label=f"Nadal {nadal:.2f}")
+        if np.isfinite(nadal):      # an interrupted case stores no limit
+            ax[2, w].axhline(nadal, color="r", lw=0.8, ls="--", label=f"Nadal {nadal:.2f}")
         ax[2, w].set_xlabel("time, s")
         for a in ax[:, w]:
             a.grid(alpha=0.3)
@@ -121,12 +122,20 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
 
 def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
                      linear_kmh: float, path: Path, equivalent: tuple | None = None,
-                     title: str = "") -> Path:
+                     title: str = "", critical_kmh: float | None = None) -> Path:
     """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);
     ``equivalent`` = (speeds km/h, amplitudes m): linear critical speeds at the equivalent
-    conicity of each amplitude (describing-function estimate of the cycle)."""
+    conicity of each amplitude (describing-function estimate of the cycle). ``critical_kmh``:
+    the nonlinear critical speed, marked by a vertical line (NaN: none found in the range,
+    said on the chart; None: not marked)."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.0, 3.8))
+    if critical_kmh is not None and np.isfinite(critical_kmh):
+        ax.axvline(critical_kmh, color="C3", lw=1.2,
+                   label=f"critical speed (nonlinear), {critical_kmh:.0f} km/h")
+    elif critical_kmh is not None:
+        ax.text(0.02, 0.97, f"no critical speed found in {np.nanmin(speeds):.0f}-{np.nanmax(speeds):.0f} km/h",
+                transform=ax.transAxes, va="top", fontsize=8, color="C3")
     ax.plot(speeds, upper * 1e3, "o-", label="from a large cycle (speed lowered)")
     ax.plot(speeds, decay * 1e3, "s--", label="from a 0.5 mm disturbance")
     if equivalent is not None:
