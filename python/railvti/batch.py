@@ -44,6 +44,10 @@ from .stream import CaseStream, history_bytes, stream_threshold, STREAM_TAIL_SEC
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 
 log = logging.getLogger("railvti")
+#: The logger of failed cases' tracebacks, at DEBUG level: shown by ``railvti --debug``
+#: (and -v); the console otherwise shows one line per failure, the file keeps the traceback.
+TRACEBACK_LOGGER = "railvti.traceback"
+tb_log = logging.getLogger(TRACEBACK_LOGGER)
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -107,6 +111,7 @@ class SignalGuard:
         self.pending: str | None = None
         self._live = False
         self._inside = False
+        self._resend = True
         self._timer: threading.Timer | None = None
         self._old: dict[int, Any] = {}
 
@@ -128,7 +133,8 @@ class SignalGuard:
             return
         if self._live:
             self._live = False
-            self._resend_later(signum, RESEND_SECONDS)
+            if self._resend:
+                self._resend_later(signum, RESEND_SECONDS)
             raise Interrupted(name)
         self.pending = self.pending or name
 
@@ -144,12 +150,15 @@ class SignalGuard:
         self._timer.start()
 
     @contextlib.contextmanager
-    def live(self) -> Iterator[None]:
-        """Signals interrupt the code inside (raising Interrupted)."""
+    def live(self, resend: bool = True) -> Iterator[None]:
+        """Signals interrupt the code inside (raising Interrupted). ``resend=False``: no
+        second signal when the code is still inside after :data:`RESEND_SECONDS` (code
+        that cleans up inside, as an interrupted cluster start-up does)."""
         if self.pending:
             raise Interrupted(self.pending)
         self._live = True
         self._inside = True
+        self._resend = resend
         try:
             yield
         finally:
@@ -370,8 +379,7 @@ def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -
                           interrupted=getattr(exc, "signame", "SIGINT"),
                           wall_time=time.perf_counter() - t0)
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
-        tb = traceback.format_exc()
-        log.error("%s failed:\n%s", case.label, tb.rstrip())
+        tb = traceback.format_exc()    # to the file; the console's line and --debug: _account
         return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
                           wall_time=time.perf_counter() - t0)
     finally:
@@ -403,6 +411,24 @@ def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> boo
         return False
 
 
+#: Said after the line of a case that failed with an exception railvti does not expect.
+UNEXPECTED_HINT = (" (unexpected: its traceback is in the results file; "
+                   "'railvti run --debug' prints it)")
+
+
+def expected_error(error: str) -> bool:
+    """Whether a record's error ('ExceptionClass: message') is one of railvti's own
+    (:class:`railvti.errors.RailvtiError` and its subclasses, wherever defined): a failure the
+    code foresaw and explained, not a bug."""
+    from .errors import RailvtiError
+    names, todo = set(), [RailvtiError]
+    while todo:
+        cls = todo.pop()
+        names.add(cls.__name__)
+        todo.extend(cls.__subclasses__())
+    return error.split(":", 1)[0].strip() in names
+
+
 def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
     """Count a stored record in the report and say what became of its case."""
     if rec.interrupted:
@@ -410,7 +436,10 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
         write(f"{rec.case.label}: INTERRUPTED by {rec.interrupted} after {rec.wall_time:.1f} s")
     elif rec.error is not None:
         report.failed += 1
-        write(f"{rec.case.label}: FAILED: {rec.error}")
+        hint = "" if expected_error(rec.error) else UNEXPECTED_HINT
+        write(f"{rec.case.label}: FAILED: {rec.error}{hint}")
+        if rec.traceback:
+            tb_log.debug("%s failed:\n%s", rec.case.label, rec.traceback.rstrip())
     else:
         report.ok += 1
         write(f"{rec.case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
@@ -418,7 +447,7 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
 
 def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
               write: Any = print, progress: Any = None, client: Any = None,
-              on_record: Any = None, bar: Any = None) -> RunReport:
+              on_record: Any = None, bar: Any = None, guard: SignalGuard | None = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output`), each finished case written at once.
 
@@ -437,6 +466,9 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     bar : tqdm, optional
         Advanced by one per finished case, its postfix the count of failures; its total is
         set to the cases to run.
+    guard : SignalGuard, optional
+        Already installed by the caller (from before a cluster's start-up); default: one
+        installed for the run.
     """
     report = RunReport(status=EXIT_OK)
     done = completed(out) if resume else {}
@@ -465,7 +497,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
             bar.set_postfix_str(f"failed {report.failed}" if report.failed else "")
         return True
 
-    with SignalGuard() as guard:
+    with contextlib.nullcontext(guard) if guard is not None else SignalGuard() as guard:
         if client is not None and todo:
             from .sweeps import run_on_client
             stop = run_on_client(todo, client, finish, guard)
