@@ -45,7 +45,9 @@ def _run(args: argparse.Namespace) -> int:
     check_output(out, deck, force=args.force)
     old_limit = os.environ.get(resources.ENV)
     try:
-        if args.max_memory:
+        if args.max_memory is not None:     # '' too: refused, not the default in silence
+            if not args.max_memory.strip():
+                raise InputError("--max-memory '': give a size such as 8G, 500M, 1e9 or none")
             os.environ[resources.ENV] = str(args.max_memory)
             resources.memory_limit()             # a bad size: InputError before any case
         return _run_checked(args, deck, cases, out)

@@ -413,8 +413,8 @@ def _kill_workers(cluster: Any) -> None:
 CONNECT_TIMEOUT = 3.0
 #: Seconds from the start of :func:`remote_client` until a scheduler must have answered: an
 #: unreachable or silent address, or one where something else answers (an HTTP proxy), fails
-#: within this, naming the address.
-SCHEDULER_TIMEOUT = 5.0
+#: within this, naming the address (``railvti run --scheduler`` within 5 s of its start).
+SCHEDULER_TIMEOUT = 4.0
 #: Schemes of a scheduler address Dask can connect to.
 SCHEMES = ("tcp", "tls", "ws", "wss", "ucx", "inproc")
 #: The expected form of a scheduler address, said in every refusal.
@@ -480,7 +480,7 @@ def scheduler_address(address: Any, what: str = "client") -> tuple[str, str, int
             raise bad("several ':' (an IPv6 address is written [addr]:port)")
         if any(ch not in _HOST_CHARS for ch in host):
             raise bad(f"'{host}' is not a host name")
-    if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
+    if not (port_text.isascii() and port_text.isdigit()) or not 1 <= int(port_text) <= 65535:
         raise bad(f"port '{port_text}' is not a number in 1..65535")
     return scheme, host, int(port_text)
 
@@ -502,6 +502,36 @@ def _check_address(address: str, timeout: float = CONNECT_TIMEOUT, what: str = "
                else exc.strerror or type(exc).__name__)
         raise InputError(f"{what} {address!r}: no Dask scheduler reachable at {host}:{port} "
                          f"({why})") from None
+
+
+def _probe_scheduler(address: str, timeout: float) -> None:
+    """Ask the scheduler at ``address`` who it is (Dask's 'identity' call), all within
+    ``timeout`` s: a distributed.Client bounds its connection by its timeout but not the
+    handshake after it, so a listener that never answers would hang it for ever.
+
+    Raises
+    ------
+    TimeoutError
+        No answer within ``timeout``.
+    Exception
+        Whatever the reply raised (not Dask's protocol: an HTTP proxy's reply read as a Dask
+        frame asks numpy for exabytes), or the reply was not a scheduler's.
+    """
+    import asyncio
+    from distributed.comm import connect
+
+    async def identity() -> Any:
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    reply = asyncio.run(asyncio.wait_for(identity(), timeout))
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
+        raise ValueError(f"a {kind} answered, not a Scheduler")
 
 
 @contextlib.contextmanager
@@ -546,7 +576,9 @@ def remote_client(address: str, timeout: float = SCHEDULER_TIMEOUT, what: str = 
                 raise
 
     try:
-        client = _Client(address, timeout=left, set_as_default=False)
+        _probe_scheduler(address, left)
+        left = max(timeout - (time.monotonic() - t0), 1.0)
+        client = _Client(address, timeout=left)
     except Exception as exc:  # noqa: BLE001 - whatever answered there, it is not a scheduler
         # (an HTTP proxy's reply read as a Dask frame asks numpy for exabytes: say so briefly)
         why = "no answer" if isinstance(exc, (TimeoutError, OSError)) else "not Dask's protocol"
