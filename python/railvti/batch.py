@@ -437,7 +437,8 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
     elif rec.error is not None:
         report.failed += 1
         hint = "" if expected_error(rec.error) else UNEXPECTED_HINT
-        write(f"{rec.case.label}: FAILED: {rec.error}{hint}")
+        error = "; ".join(ln.strip() for ln in rec.error.splitlines() if ln.strip())  # one line
+        write(f"{rec.case.label}: FAILED: {error}{hint}")
         if rec.traceback:
             tb_log.debug("%s failed:\n%s", rec.case.label, rec.traceback.rstrip())
     else:

@@ -357,7 +357,10 @@ def _main(argv: list[str] | None) -> int:
         tracebacks.setLevel(logging.DEBUG)
     try:
         status = args.func(args)
-        sys.stdout.flush()          # here, not at exit: a closed pipe is caught below
+        try:
+            sys.stdout.flush()      # here, not at the interpreter's exit ("Exception ignored")
+        except BrokenPipeError:     # the work is done; the reader did not want the rest
+            _stdout_closed()
         return status
     except RailvtiError as exc:
         tracebacks.debug("%s", type(exc).__name__, exc_info=True)
