@@ -109,6 +109,7 @@ class SignalGuard:
 
     def __init__(self) -> None:
         self.pending: str | None = None
+        self.received: str | None = None     # the last signal, whatever became of it
         self._live = False
         self._inside = False
         self._resend = True
@@ -128,6 +129,7 @@ class SignalGuard:
 
     def _handler(self, signum: int, frame: Any) -> None:
         name = signal.Signals(signum).name
+        self.received = name
         if self._live and _swallows(frame):
             self._resend_later(signum, 0.01)    # raise it once out of the callback
             return

@@ -96,11 +96,20 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
                 report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
                                    progress=lambda c: bar.set_postfix_str(c.name[-30:]),
                                    client=client, bar=bar, guard=guard)
+        except Exception:
+            # a signal inside a C extension's import (Dask's) comes out as its ImportError
+            if guard.received is None:
+                raise
+            signame = guard.received
         except Interrupted as exc:
-            where = "before any case ran" if serial else "while the Dask cluster started"
-            kept = f"{out} is unchanged" if out.exists() else f"{out} was not written"
-            _say(f"railvti: stopped by {exc.signame} {where}: no case ran, {kept}")
-            return 128 + signal.Signals[exc.signame].value
+            signame = exc.signame
+        else:
+            signame = None
+    if signame is not None:
+        where = "before any case ran" if serial else "while the Dask cluster started"
+        kept = f"{out} is unchanged" if out.exists() else f"{out} was not written"
+        _say(f"railvti: stopped by {signame} {where}: no case ran, {kept}")
+        return 128 + signal.Signals[signame].value
     n = len(cases)
     if report.interrupted:
         _say(f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
@@ -236,8 +245,13 @@ class Stopped(KeyboardInterrupt):
         self.signame = signame
 
 
+#: The signals :func:`_raise_signal` received during this call of :func:`main`.
+_RECEIVED: list[str] = []
+
+
 def _raise_signal(signum: int, frame: Any) -> None:
     """A signal before the batch runner's guard: stop where we are."""
+    _RECEIVED.append(signal.Signals(signum).name)
     raise Stopped(signal.Signals(signum).name)
 
 
@@ -335,6 +349,7 @@ def _quick_exit() -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``railvti`` command; returns the exit status."""
     _quick_exit()
+    _RECEIVED.clear()
     with _signals_raise():          # first: a signal during the imports below stops too
         try:
             return _main(argv)
@@ -346,9 +361,20 @@ def main(argv: list[str] | None = None) -> int:
             return _stdout_closed()
 
 
+def _signal_instead() -> None:
+    """Raise :class:`Stopped` if a signal came during this command: its exception may come
+    out as another one (a C extension's import turns it into ImportError)."""
+    if _RECEIVED:
+        raise Stopped(_RECEIVED[-1]) from None
+
+
 def _main(argv: list[str] | None) -> int:
-    from .batch import EXIT_INPUT, TRACEBACK_LOGGER
-    args = _parser().parse_args(argv)
+    try:
+        from .batch import EXIT_INPUT, TRACEBACK_LOGGER
+        args = _parser().parse_args(argv)
+    except Exception:
+        _signal_instead()
+        raise
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     tracebacks = logging.getLogger(TRACEBACK_LOGGER)
@@ -362,13 +388,15 @@ def _main(argv: list[str] | None) -> int:
         except BrokenPipeError:     # the work is done; the reader did not want the rest
             _stdout_closed()
         return status
+    except BrokenPipeError:
+        raise
     except RailvtiError as exc:
+        _signal_instead()
         tracebacks.debug("%s", type(exc).__name__, exc_info=True)
         _say(f"railvti: error: {exc}")
         return EXIT_INPUT
-    except (KeyboardInterrupt, BrokenPipeError):
-        raise
     except Exception as exc:  # noqa: BLE001 - a bug: one line, the traceback with --debug
+        _signal_instead()
         tracebacks.debug("%s", type(exc).__name__, exc_info=True)
         first = (str(exc).strip().splitlines() or [""])[0]
         _say(f"railvti: unexpected error: {type(exc).__name__}: {first} (a bug; run again with "

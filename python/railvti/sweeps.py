@@ -36,6 +36,7 @@ import math
 import os
 import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -356,9 +357,9 @@ def local_client(n_workers: int | None = None) -> Any:
     try:
         try:
             with dask.config.set({"distributed.nanny.pre-spawn-environ": pre}):
-                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       dashboard_address=":0",
-                                       silence_logs=logging.CRITICAL)   # a heartbeat lost at close
+                cluster = _start_without_sigint(lambda: LocalCluster(
+                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                    silence_logs=logging.CRITICAL))       # a heartbeat lost at close
         finally:
             for k, v in saved.items():
                 if v is None:
@@ -377,6 +378,37 @@ def local_client(n_workers: int | None = None) -> Any:
         cluster.close()
 
 
+def _start_without_sigint(start: Callable[[], Any]) -> Any:
+    """``start()`` in a helper thread with SIGINT blocked, while this thread waits (a signal
+    interrupts the wait). The threads the helper starts, and the worker processes they
+    spawn, inherit the blocked SIGINT: a terminal's Ctrl-C, sent to the whole process group,
+    then reaches only this process, which stops the run and kills the workers, instead of
+    each worker printing its own KeyboardInterrupt traceback (during its imports, a second
+    or two)."""
+    box: dict[str, Any] = {}
+    done = threading.Event()
+
+    def helper() -> None:
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            box["result"] = start()
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the waiting thread
+            box["error"] = exc
+        finally:
+            done.set()
+
+    threading.Thread(target=helper, name="railvti-cluster-start", daemon=True).start()
+    while not done.wait(0.05):
+        pass
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
+
+
+#: Sweeps, 0.05 s apart, that kill an interrupted start-up's worker processes.
+ABANDON_SWEEPS = 5
+
+
 def _abandon_start(children: set, clusters: set) -> None:
     """Kill the worker processes of a LocalCluster whose start-up was interrupted (those of
     this process's children not in ``children``) and forget the cluster (not in
@@ -386,13 +418,14 @@ def _abandon_start(children: set, clusters: set) -> None:
     from distributed.deploy.spec import SpecCluster
     # the half-started nannies' "Task exception was never retrieved" once their workers die
     logging.getLogger("asyncio").setLevel(logging.CRITICAL)
-    for proc in set(multiprocessing.active_children()) - children:
-        try:
-            proc.kill()
-        except (OSError, ValueError):
-            pass
-    for proc in set(multiprocessing.active_children()) - children:
-        proc.join(timeout=1.0)
+    # a worker whose spawn was under way joins the children a few ms later: sweep a while
+    for _ in range(ABANDON_SWEEPS):
+        for proc in set(multiprocessing.active_children()) - children:
+            try:
+                proc.kill()
+            except (OSError, ValueError):
+                pass
+        time.sleep(0.05)
     for cluster in set(SpecCluster._instances) - clusters:
         SpecCluster._instances.discard(cluster)
 
