@@ -401,7 +401,7 @@ def _store(writer: ResultsWriter, rec: CaseRecord, out: Path, write: Any) -> boo
         return False
     except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
         tb = traceback.format_exc()
-        log.error("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
+        tb_log.debug("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
         rec.output = None
         rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
         rec.traceback = tb

@@ -290,9 +290,9 @@ def _parser() -> argparse.ArgumentParser:
                     "thread each) unless --serial or --scheduler; only this process writes the "
                     "file.\n\n"
                     "Small decks run serially, without a cluster: a deck of one case, or one whose "
-                    f"estimated run time (vehicle and wheel_rail cases) is known and below "
-                    f"{SERIAL_SECONDS:g} s in all,\nruns in this process, as with --serial (starting "
-                    "the cluster takes ~3-5 s). --workers N or --scheduler force a cluster.\n\n"
+                    "cases' estimated run times are all known\nand add up to less than "
+                    f"{SERIAL_SECONDS:g} s, runs in this process, as with --serial (starting the "
+                    "cluster takes ~3-5 s).\n--workers N or --scheduler force a cluster.\n\n"
                     "An expected failure (bad input, a grid too small, no convergence) prints one "
                     "line; --debug adds the tracebacks.",
         epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()))
