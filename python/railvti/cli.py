@@ -334,6 +334,10 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Non-empty once :func:`_quick_exit` registered its hook (once per process).
+_QUICK_EXIT: list[bool] = []
+
+
 def _quick_exit() -> None:
     """At the interpreter's exit, skip the final garbage collection of everything imported
     (numpy, h5py, Dask: ~0.4 s, over a second under load, of the time a Ctrl-C takes): the
@@ -341,9 +345,9 @@ def _quick_exit() -> None:
     dask's and multiprocessing's clean-ups are atexit hooks, which still run."""
     import atexit
     import gc
-    if not getattr(_quick_exit, "done", False):
+    if not _QUICK_EXIT:
         atexit.register(gc.freeze)
-        _quick_exit.done = True            # type: ignore[attr-defined]
+        _QUICK_EXIT.append(True)
 
 
 def main(argv: list[str] | None = None) -> int:
