@@ -2,6 +2,8 @@
 self-describing results; result objects round-trip through HDF5 (issue 16, items 2-5)."""
 from __future__ import annotations
 
+import logging
+
 import os
 import stat
 
@@ -61,8 +63,14 @@ def test_any_exception_is_the_case_error_and_the_others_run(tmp_path, test_types
     out = tmp_path / "out.h5"
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 1
     captured = capsys.readouterr()
-    assert "case 2 'b': FAILED: KeyError" in captured.out
-    assert "Traceback" in caplog.text and "KeyError: 'no such key'" in caplog.text   # the log
+    # one line on the console, saying it was unexpected and where the traceback is
+    assert "case 2 'b': FAILED: KeyError: 'no such key' (unexpected: its traceback" in captured.out
+    assert "Traceback" not in captured.out + captured.err + caplog.text
+    # --debug: the traceback in the log (stderr)
+    caplog.set_level(logging.DEBUG, logger="railvti.traceback")
+    out.unlink()
+    assert main(["run", str(deck), "-o", str(out), "-q", "--serial", "--debug"]) == 1
+    assert "Traceback" in caplog.text and "KeyError: 'no such key'" in caplog.text
     st = _statuses(out)
     assert st["001_a"] == "ok" and st["003_c"] == "ok"
     assert st["002_b"].startswith("error: KeyError")

@@ -49,6 +49,10 @@ from .guarded_io import WriteFailed
 from .output_lock import OutputLock
 
 log = logging.getLogger("railvti")
+#: The logger of failed cases' tracebacks, at DEBUG level: shown by ``railvti --debug``
+#: (and -v); the console otherwise shows one line per failure, the file keeps the traceback.
+TRACEBACK_LOGGER = "railvti.traceback"
+tb_log = logging.getLogger(TRACEBACK_LOGGER)
 
 EXIT_OK = 0
 EXIT_FAILED = 1
@@ -104,8 +108,10 @@ class SignalGuard:
 
     def __init__(self) -> None:
         self.pending: str | None = None
+        self.received: str | None = None     # the last signal, whatever became of it
         self._live = False
         self._inside = False
+        self._resend = True
         self._timer: threading.Timer | None = None
         self._old: dict[int, Any] = {}
 
@@ -122,12 +128,14 @@ class SignalGuard:
 
     def _handler(self, signum: int, frame: Any) -> None:
         name = signal.Signals(signum).name
+        self.received = name
         if self._live and _swallows(frame):
             self._resend_later(signum, 0.01)    # raise it once out of the callback
             return
         if self._live:
             self._live = False
-            self._resend_later(signum, RESEND_SECONDS)
+            if self._resend:
+                self._resend_later(signum, RESEND_SECONDS)
             raise Interrupted(name)
         self.pending = self.pending or name
 
@@ -143,12 +151,15 @@ class SignalGuard:
         self._timer.start()
 
     @contextlib.contextmanager
-    def live(self) -> Iterator[None]:
-        """Signals interrupt the code inside (raising Interrupted)."""
+    def live(self, resend: bool = True) -> Iterator[None]:
+        """Signals interrupt the code inside (raising Interrupted). ``resend=False``: no
+        second signal when the code is still inside after :data:`RESEND_SECONDS` (code
+        that cleans up inside, as an interrupted cluster start-up does)."""
         if self.pending:
             raise Interrupted(self.pending)
         self._live = True
         self._inside = True
+        self._resend = resend
         try:
             yield
         finally:
@@ -326,8 +337,7 @@ def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -
     except WriteFailed:                 # its stream file: the disk, not the case (exit 3)
         raise
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
-        tb = traceback.format_exc()
-        log.error("%s failed:\n%s", case.label, tb.rstrip())
+        tb = traceback.format_exc()    # to the file; the console's line and --debug: _account
         return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
                           wall_time=time.perf_counter() - t0)
     finally:
@@ -354,7 +364,7 @@ def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
         raise WriteFailed(exc.errno, exc.strerror or str(exc), str(writer.path)) from None
     except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
         tb = traceback.format_exc()
-        log.error("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
+        tb_log.debug("%s: its results cannot be stored:\n%s", rec.case.label, tb.rstrip())
         rec.output = None
         rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
         rec.traceback = tb
@@ -387,6 +397,24 @@ def write_error(out: Path, exc: OSError, kept: int, lost: list[Case], not_run: i
     return line
 
 
+#: Said after the line of a case that failed with an exception railvti does not expect.
+UNEXPECTED_HINT = (" (unexpected: its traceback is in the results file; "
+                   "'railvti run --debug' prints it)")
+
+
+def expected_error(error: str) -> bool:
+    """Whether a record's error ('ExceptionClass: message') is one of railvti's own
+    (:class:`railvti.errors.RailvtiError` and its subclasses, wherever defined): a failure the
+    code foresaw and explained, not a bug."""
+    from .errors import RailvtiError
+    names, todo = set(), [RailvtiError]
+    while todo:
+        cls = todo.pop()
+        names.add(cls.__name__)
+        todo.extend(cls.__subclasses__())
+    return error.split(":", 1)[0].strip() in names
+
+
 def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
     """Count a stored record in the report and say what became of its case."""
     if rec.interrupted:
@@ -394,7 +422,11 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
         write(f"{rec.case.label}: INTERRUPTED by {rec.interrupted} after {rec.wall_time:.1f} s")
     elif rec.error is not None:
         report.failed += 1
-        write(f"{rec.case.label}: FAILED: {rec.error}")
+        hint = "" if expected_error(rec.error) else UNEXPECTED_HINT
+        error = "; ".join(ln.strip() for ln in rec.error.splitlines() if ln.strip())  # one line
+        write(f"{rec.case.label}: FAILED: {error}{hint}")
+        if rec.traceback:
+            tb_log.debug("%s failed:\n%s", rec.case.label, rec.traceback.rstrip())
     else:
         report.ok += 1
         write(f"{rec.case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
@@ -402,7 +434,8 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
 
 def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
               write: Any = print, progress: Any = None, client: Any = None,
-              on_record: Any = None, bar: Any = None, deck_path: str = "") -> RunReport:
+              on_record: Any = None, bar: Any = None, deck_path: str = "",
+              guard: SignalGuard | None = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output` and :func:`check_deck`), each finished case written at once, under
     the output's lock (railvti.output_lock: a second run on ``out`` is refused). A file
@@ -426,14 +459,19 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
         set to the cases to run.
     deck_path : str
         The deck's file, recorded in the results file and in the lock.
+    guard : SignalGuard, optional
+        Already installed by the caller (from before a cluster's start-up); default: one
+        installed for the run.
     """
     with OutputLock(out, deck_path or "(API call)", note=write):
         return _run_locked(cases, out, deck_text, resume=resume, write=write, progress=progress,
-                           client=client, on_record=on_record, bar=bar, deck_path=deck_path)
+                           client=client, on_record=on_record, bar=bar, deck_path=deck_path,
+                           guard=guard)
 
 
 def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, write: Any,
-                progress: Any, client: Any, on_record: Any, bar: Any, deck_path: str) -> RunReport:
+                progress: Any, client: Any, on_record: Any, bar: Any, deck_path: str,
+                guard: SignalGuard | None) -> RunReport:
     report = RunReport(status=EXIT_OK)
     done = completed(out) if resume else {}
     todo = []
@@ -472,7 +510,7 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
             bar.set_postfix_str(f"failed {report.failed}" if report.failed else "")
         return True
 
-    with SignalGuard() as guard:
+    with contextlib.nullcontext(guard) if guard is not None else SignalGuard() as guard:
         if client is not None and todo:
             from .sweeps import run_on_client
             stop = run_on_client(todo, client, finish, guard)

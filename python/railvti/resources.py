@@ -26,7 +26,7 @@ def parse_size(text: str) -> float:
         value = float(m.group(1)) * _SUFFIX[m.group(2)] if m else float("nan")
     except ValueError:
         value = float("nan")
-    if not value > 0:
+    if not 0 < value < float("inf"):           # 1e400 is no size: 'none' says no limit
         raise InputError(f"memory size {text!r} is not a size such as 8G, 500M, 1e9 or none")
     return value
 
