@@ -61,6 +61,7 @@ def test_a_workspace_still_in_use_waits_and_is_not_freed(monkeypatch):
     freeing skips it."""
     freed = []
     monkeypatch.setattr(ws_mod.core, "contact_ws_free_c", freed.append)
+    monkeypatch.setattr(ws_mod, "_live", ws_mod._live | {-7})    # a made workspace, busy
     ws_mod._busy.add(-7)
     try:
         ws_mod._free(-7)
