@@ -523,7 +523,8 @@ class DeckOwner:
     def describe(self) -> str:
         """'written from deck X (N cases, M of them in this deck)'."""
         src = f"written from {self.deck_path}" if self.deck_path else "written from another deck"
-        return f"{src} ({self.groups} cases, {self.shared} of them in this deck)"
+        cases = "1 case" if self.groups == 1 else f"{self.groups} cases"
+        return f"{src} ({cases}, {self.shared} of them in this deck)"
 
 
 def deck_owner(path: str | Path, deck_path: str | Path, cases: list[Case]) -> DeckOwner:
