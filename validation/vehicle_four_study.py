@@ -238,8 +238,17 @@ def plot(out: dict) -> list[Path]:
               ("fold, BEM", [_bem_value(out, m)[0] for m in MODELS]),
               ("paper (Kaiser)", [PAPER_KMH[m] for m in MODELS])]
     wdt = 0.16
+    brackets = {"fold, strip": [(_f(out, f"{m}_strip_fold_lo"), _f(out, f"{m}_strip_fold_hi"))
+                                for m in MODELS],
+                "fold, BEM": [_bem_bracket(out, m) for m in MODELS]}
     for i, (lab, vals) in enumerate(series):
         bars = ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
+        if lab in brackets:         # the bracket [lo, hi] as a whisker below the bar's top
+            lo = np.array([b[0] for b in brackets[lab]])
+            hi = np.array([b[1] for b in brackets[lab]])
+            ok = np.isfinite(lo) & np.isfinite(hi)
+            ax.errorbar((x + (i - 2) * wdt)[ok], hi[ok], yerr=[hi[ok] - lo[ok], 0 * hi[ok]],
+                        fmt="none", ecolor="k", capsize=3, lw=1)
         if lab == "fold, BEM":
             for b, m in zip(bars, MODELS):
                 if f"{m}_bem_fold_hi" not in out or _bem_value(out, m)[1]:
@@ -256,9 +265,9 @@ def plot(out: dict) -> list[Path]:
     ax.set_ylim(200, 450)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=3, loc="upper right")
-    ax.set_title("Critical speeds of the four variants (missing bars: not run or not bracketed; "
-                 "hatched: an upper bound, the cycle alive down to there)",
-                 fontsize=10)
+    ax.set_title("Critical speeds of the four variants (folds drawn at the bracket's top, whisker: "
+                 "the bracket)\nmissing bars: not run or not bracketed; hatched: an upper bound, "
+                 "the cycle alive down to there", fontsize=10)
     fig.tight_layout()
     p2 = FIG / "vehicle_four_study_speeds.png"
     fig.savefig(p2, dpi=110)
