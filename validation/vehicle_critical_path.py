@@ -25,6 +25,9 @@ Prints the table of both numbers per variant and their differences from the base
 same resolution against the bound (one bracket width), saves
 validation/figures/vehicle_critical_path.npz and draws vehicle_critical_path.png.
 
+Another variant: ``--model FR --cheap`` (k_max 1 / 300 Hz as the four-variant study; files
+vehicle_critical_path_fr.*).
+
 Run: python validation/vehicle_critical_path.py   (about 55 min of runs: on 2 cores run it
      as two processes, below, about 30 min)
      --variants base,duration --parts DIR   (a subset, each variant to DIR/<name>.npz)
@@ -62,6 +65,10 @@ VARIANTS = {
     "fine_collapse": ("fine: collapse fraction halved", dict(resolution_kmh=0.625, collapse=0.25,
                                                             decay=False)),
 }
+#: The variant searched (``--model``) and the flexible wheelsets' mode selection (``--cheap``:
+#: k_max 1 / 300 Hz, as the four-variant study's FR/FF).
+MODEL = "RR"
+SELECTION: dict = {}
 FIELDS = ("path_speeds", "path_amplitudes", "path_rates", "path_alive", "path_durations",
           "decay_speeds", "decay_amplitudes", "decay_rates")
 
@@ -69,7 +76,8 @@ FIELDS = ("path_speeds", "path_amplitudes", "path_rates", "path_alive", "path_du
 def run_variant(name: str, parts: Path | None) -> dict:
     label, kw = VARIANTS[name]
     t0 = time.perf_counter()
-    c = nonlinear_critical_speed("RR", speed_top_kmh=420.0, **{"resolution_kmh": 2.5, **kw})
+    c = nonlinear_critical_speed(MODEL, speed_top_kmh=420.0, **SELECTION,
+                                 **{"resolution_kmh": 2.5, **kw})
     wall = time.perf_counter() - t0
     print(f"[{name}] {c.message} [{wall:.0f} s]", flush=True)
     out = {f: np.asarray(getattr(c, f)) for f in FIELDS}
@@ -95,7 +103,7 @@ def load(parts: Path) -> dict:
 
 
 def table(res: dict) -> None:
-    print("\nRR, Hertz + Kalker (strips); diff against the baseline of the same resolution; "
+    print(f"\n{MODEL}, Hertz + Kalker (strips); diff against the baseline of the same resolution; "
           "bound: one bracket width (the resolution)")
     print(f"{'variant':34s} {'fold km/h':>10s} {'bracket':>15s} {'diff':>6s} "
           f"{'decay km/h':>10s} {'bracket':>15s} {'diff':>6s} {'wall s':>7s}")
@@ -138,12 +146,12 @@ def figure(res: dict, path: Path) -> None:
     ax.axvline(b["decay_kmh"], color="C3", ls=":",
                label=f"decay boundary {b['decay_kmh']:.1f} km/h")
     ax.axhline(0.25, color="grey", lw=0.8, ls="-.", label="living-cycle floor 0.25 mm")
-    lin = float(critical_speed(method="linear"))          # context: eigenvalues, ~2 s
+    lin = float(critical_speed(MODEL, method="linear", **SELECTION))   # context: eigenvalues
     ax.axvline(lin, color="k", lw=0.8, ls="--",
                label=f"linear critical speed {lin:.1f} km/h (damper stuck)")
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("leading wheelset amplitude (last 0.5 s), mm")
-    ax.set_title("RR, Hertz + Kalker (strips): path down from 420 km/h")
+    ax.set_title(f"{MODEL}, Hertz + Kalker (strips): path down from 420 km/h")
     ax.legend(fontsize=7, loc="lower right")
     ax.grid(alpha=0.3, which="both")
     names = list(res)
@@ -183,7 +191,13 @@ def main() -> None:
     p.add_argument("--parts", type=Path, default=None, help="directory of one npz per variant")
     p.add_argument("--replot", action="store_true", help="only combine the parts")
     p.add_argument("-v", action="store_true", help="log every run")
+    p.add_argument("--model", default="RR", choices=("RR", "FR", "RF", "FF"),
+                   help="the variant (files: vehicle_critical_path_<model> unless RR)")
+    p.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
     a = p.parse_args()
+    global MODEL, SELECTION
+    MODEL = a.model
+    SELECTION = {"k_max": 1, "f_max": 300.0} if a.cheap and MODEL in ("FR", "FF") else {}
     if a.v:
         logging.basicConfig(level=logging.INFO, format="%(message)s")
     if a.replot:
@@ -197,8 +211,9 @@ def main() -> None:
     res = {"base": res.pop("base"), **res}
     table(res)
     FIG.mkdir(exist_ok=True)
-    save(res, FIG / "vehicle_critical_path.npz")
-    figure(res, FIG / "vehicle_critical_path.png")
+    stem = "vehicle_critical_path" + ("" if MODEL == "RR" else f"_{MODEL.lower()}")
+    save(res, FIG / f"{stem}.npz")
+    figure(res, FIG / f"{stem}.png")
 
 
 if __name__ == "__main__":
