@@ -151,6 +151,9 @@ contains
     !> (p, u = A p or its recurrence, t, rs, is) that normal_cg_begin or the previous
     !> call left; the numbers are those of one normal_cg call. done: finished, with
     !> fn or approach, resid and info final (info STAT_OK while not done).
+    !> One iteration is seven passes over the grid: cg_contact_set (1), cg_gap (2),
+    !> cg_precondition (3), cg_direction (4, with the product A t), cg_curvature (5),
+    !> cg_project (6), cg_update (7, u = A p by columns or by an exact product).
     subroutine normal_cg_steps(plan, kz, c, h, area_el, control, fn, approach, tol, max_iter, &
                                budget, p, u, t, rs, is, resid, info, done, lab, fac)
         type(conv_plan), intent(inout) :: plan
@@ -165,18 +168,16 @@ contains
         integer, intent(in), optional :: lab(:)       ! sub-patch of each grid column
         real(dp), intent(in), optional :: fac(:, :)   ! interaction factors between sub-patches
         real(dp), allocatable :: g(:, :), z(:, :)
-        real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg, gk, zk, tk, rk
-        real(dp) :: sr, srt, st, sgt, psum, pk, pn, dk, cd(MAX_COLUMNS)
+        real(dp) :: shift, gg, gold, tau, rt, scale, zbar, beta, sv, sb, sg
+        real(dp) :: sr, srt, st, sgt, psum, cd(MAX_COLUMNS)
         integer :: ci(MAX_COLUMNS), cj(MAX_COLUMNS)
         logical :: conjugate, exact, force, prec
-        integer :: nc, nol, it, nd, i, j, nx, ny, m, iters, nprod, steps
+        integer :: nc, nol, it, nd, iters, nprod, steps
 
         info = STAT_OK
         done = .false.
         force = control == CONTROL_FORCE
         prec = plan%has_prec
-        nx = size(h, 1)
-        ny = size(h, 2)
         allocate (g, z, mold=h)
         gold = rs(1)
         shift = rs(2)
@@ -191,45 +192,12 @@ contains
             steps = steps + 1
             ! pass 1: the contact set's size and, under force control, its mean gap
             ! (the approach is the Lagrange multiplier of the force constraint)
-            nc = 0
-            sg = 0.0_dp
-            do j = 1, ny
-                do i = 1, nx
-                    if (p(i, j) > 0.0_dp) then
-                        nc = nc + 1
-                        sg = sg + u(i, j) + h(i, j)
-                    end if
-                end do
-            end do
+            call cg_contact_set(p, u, h, nc, sg)
             if (force) shift = sg / max(nc, 1)
 
             ! pass 2: deformed gap g, residual sums (see normal_residual), and the
             ! preconditioner's input g restricted to the contact set
-            sv = 0.0_dp
-            sb = 0.0_dp
-            sg = 0.0_dp
-            do j = 1, ny
-                do i = 1, nx
-                    gk = u(i, j) + h(i, j) - shift
-                    g(i, j) = gk
-                    if (p(i, j) > 0.0_dp) then
-                        sv = sv + gk**2
-                        sb = sb + (u(i, j) - gk)**2
-                        sg = sg + gk
-                    else
-                        if (gk < 0.0_dp) then
-                            sv = sv + gk**2
-                            sb = sb + (u(i, j) - gk)**2
-                        end if
-                        gk = 0.0_dp
-                    end if
-                    if (prec) then
-                        plan%prbuf(i, j) = gk
-                    else
-                        z(i, j) = gk
-                    end if
-                end do
-            end do
+            call cg_gap(plan, prec, p, u, h, shift, g, z, sv, sb, sg)
             resid = 0.0_dp
             if (sb > 0.0_dp) resid = sqrt(sv / sb)
             if (resid <= tol) then
@@ -253,22 +221,7 @@ contains
 
             ! pass 3: z = M g on the contact set (PK eqs 3.3-3.5), made mean-free
             ! under force control; gg = (g, z) uses sum(g) = sg on the set
-            if (prec) call conv_precond_buffer(plan)
-            zbar = 0.0_dp
-            gg = 0.0_dp
-            do j = 1, ny
-                do i = 1, nx
-                    if (p(i, j) > 0.0_dp) then
-                        zk = z(i, j)
-                        if (prec) zk = plan%prbuf(i, j)
-                        z(i, j) = zk
-                        zbar = zbar + zk
-                        gg = gg + g(i, j) * zk
-                    else
-                        z(i, j) = 0.0_dp
-                    end if
-                end do
-            end do
+            call cg_precondition(plan, prec, p, g, z, zbar, gg)
             if (force) then
                 zbar = zbar / max(nc, 1)
                 gg = gg - zbar * sg
@@ -276,44 +229,15 @@ contains
                 zbar = 0.0_dp
             end if
 
-            ! pass 4: conjugate direction t, written into the product's buffer
+            ! pass 4: conjugate direction t, written into the product's buffer, and r = A t
             beta = 0.0_dp
             if (conjugate) beta = gg / gold
             gold = gg
-            do j = 1, ny
-                do i = 1, nx
-                    tk = 0.0_dp
-                    if (p(i, j) > 0.0_dp) tk = z(i, j) - zbar + beta * t(i, j)
-                    t(i, j) = tk
-                    plan%rbuf(i, j) = tk
-                end do
-            end do
-            if (coupled(lab, fac)) then
-                call apply_op(plan, kz, t, z, nc, c, lab, fac)
-                plan%rbuf(1:nx, 1:ny) = z
-            else if (columns_are_cheaper(nc, nx, ny)) then
-                call conv_apply_dense(plan, kz, c, t, plan%rbuf(1:nx, 1:ny))
-            else
-                call conv_apply_buffer(plan, kz)
-            end if
+            call cg_direction(plan, kz, c, p, z, zbar, beta, nc, t, lab, fac)
             nprod = nprod + 1
 
             ! pass 5: step length tau = (g, t) / (r - rbar, t) with r = A t
-            sr = 0.0_dp
-            srt = 0.0_dp
-            st = 0.0_dp
-            sgt = 0.0_dp
-            do j = 1, ny
-                do i = 1, nx
-                    if (p(i, j) > 0.0_dp) then
-                        rk = plan%rbuf(i, j)
-                        sr = sr + rk
-                        srt = srt + rk * t(i, j)
-                        st = st + t(i, j)
-                        sgt = sgt + g(i, j) * t(i, j)
-                    end if
-                end do
-            end do
+            call cg_curvature(plan, p, t, g, sr, srt, st, sgt)
             rt = srt
             if (force) rt = srt - sr / max(nc, 1) * st
             if (rt <= 0.0_dp) then
@@ -324,33 +248,8 @@ contains
             tau = sgt / rt
 
             ! pass 6: step, projection on p >= 0 and re-entry of overlapping points
-            ! (PK eqs 3.6-3.8); the changes d against the plain step are counted
-            ! and the first MAX_COLUMNS of them kept for column corrections
-            nol = 0
-            nd = 0
-            psum = 0.0_dp
-            do j = 1, ny
-                do i = 1, nx
-                    pk = p(i, j)
-                    if (pk > 0.0_dp) pk = pk - tau * t(i, j)
-                    pn = max(pk, 0.0_dp)
-                    if (pn <= 0.0_dp .and. g(i, j) < 0.0_dp) then
-                        pn = -tau * g(i, j)
-                        nol = nol + 1
-                    end if
-                    dk = pn - pk
-                    if (dk /= 0.0_dp) then
-                        nd = nd + 1
-                        if (nd <= MAX_COLUMNS) then
-                            ci(nd) = i
-                            cj(nd) = j
-                            cd(nd) = dk
-                        end if
-                    end if
-                    p(i, j) = pn
-                    psum = psum + pn
-                end do
-            end do
+            ! (PK eqs 3.6-3.8)
+            call cg_project(tau, t, g, p, nol, nd, ci, cj, cd, psum)
             conjugate = nol == 0
 
             scale = 1.0_dp
@@ -363,29 +262,10 @@ contains
                 scale = fn / (area_el * psum)
             end if
 
-            ! A p_new = scale (A p_old - tau A t + A d): a few columns of A for a
-            ! sparse d, an exact product when d is large or to stop drift
-            if (nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0) then
-                if (scale /= 1.0_dp) p = scale * p
-                call apply_op(plan, kz, p, u, nc + nd, c, lab, fac)
-                nprod = nprod + 1
-                exact = .true.
-            else
-                ! pass 7
-                do j = 1, ny
-                    do i = 1, nx
-                        u(i, j) = u(i, j) - tau * plan%rbuf(i, j)
-                    end do
-                end do
-                do m = 1, nd
-                    call add_column(c, ci(m), cj(m), cd(m), u, lab, fac)
-                end do
-                if (scale /= 1.0_dp) then
-                    p = scale * p
-                    u = scale * u
-                end if
-                exact = .false.
-            end if
+            ! pass 7: A p_new = scale (A p_old - tau A t + A d)
+            exact = nd > MAX_COLUMNS .or. mod(iters, REFRESH) == 0
+            call cg_update(plan, kz, c, exact, tau, scale, nc + nd, nd, ci, cj, cd, p, u, lab, fac)
+            if (exact) nprod = nprod + 1
             it = it + 1
         end do
         if (it > max_iter) done = .true.
@@ -401,6 +281,219 @@ contains
         if (info == STAT_OK .and. resid > tol) info = STAT_NOT_CONVERGED
         if (info == STAT_OK .and. any(p /= p)) info = STAT_NOT_FINITE
     end subroutine normal_cg_steps
+
+    !> CG pass 1 (normal_cg_steps): the contact set's size nc and the sum sg of u + h over it.
+    pure subroutine cg_contact_set(p, u, h, nc, sg)
+        real(dp), intent(in) :: p(:, :), u(:, :), h(:, :)
+        integer, intent(out) :: nc
+        real(dp), intent(out) :: sg
+        integer :: i, j
+        nc = 0
+        sg = 0.0_dp
+        do j = 1, size(h, 2)
+            do i = 1, size(h, 1)
+                if (p(i, j) > 0.0_dp) then
+                    nc = nc + 1
+                    sg = sg + u(i, j) + h(i, j)
+                end if
+            end do
+        end do
+    end subroutine cg_contact_set
+
+    !> CG pass 2 (normal_cg_steps): the deformed gap g = u + h - shift, the residual's sums
+    !> sv, sb (normal_residual), the sum sg of g over the contact set, and g restricted to
+    !> the set as the preconditioner's input (its buffer under prec, else z).
+    subroutine cg_gap(plan, prec, p, u, h, shift, g, z, sv, sb, sg)
+        type(conv_plan), intent(inout) :: plan
+        logical, intent(in) :: prec
+        real(dp), intent(in) :: p(:, :), u(:, :), h(:, :), shift
+        real(dp), intent(inout) :: g(:, :), z(:, :)
+        real(dp), intent(out) :: sv, sb, sg
+        real(dp) :: gk
+        integer :: i, j
+        sv = 0.0_dp
+        sb = 0.0_dp
+        sg = 0.0_dp
+        do j = 1, size(h, 2)
+            do i = 1, size(h, 1)
+                gk = u(i, j) + h(i, j) - shift
+                g(i, j) = gk
+                if (p(i, j) > 0.0_dp) then
+                    sv = sv + gk**2
+                    sb = sb + (u(i, j) - gk)**2
+                    sg = sg + gk
+                else
+                    if (gk < 0.0_dp) then
+                        sv = sv + gk**2
+                        sb = sb + (u(i, j) - gk)**2
+                    end if
+                    gk = 0.0_dp
+                end if
+                if (prec) then
+                    plan%prbuf(i, j) = gk
+                else
+                    z(i, j) = gk
+                end if
+            end do
+        end do
+    end subroutine cg_gap
+
+    !> CG pass 3 (normal_cg_steps): z = M g on the contact set (PK eqs 3.3-3.5; z = g without
+    !> a preconditioner), zero off it; zbar the sum of z and gg = (g, z) over the set.
+    subroutine cg_precondition(plan, prec, p, g, z, zbar, gg)
+        type(conv_plan), intent(inout) :: plan
+        logical, intent(in) :: prec
+        real(dp), intent(in) :: p(:, :), g(:, :)
+        real(dp), intent(inout) :: z(:, :)
+        real(dp), intent(out) :: zbar, gg
+        real(dp) :: zk
+        integer :: i, j
+        if (prec) call conv_precond_buffer(plan)
+        zbar = 0.0_dp
+        gg = 0.0_dp
+        do j = 1, size(p, 2)
+            do i = 1, size(p, 1)
+                if (p(i, j) > 0.0_dp) then
+                    zk = z(i, j)
+                    if (prec) zk = plan%prbuf(i, j)
+                    z(i, j) = zk
+                    zbar = zbar + zk
+                    gg = gg + g(i, j) * zk
+                else
+                    z(i, j) = 0.0_dp
+                end if
+            end do
+        end do
+    end subroutine cg_precondition
+
+    !> CG pass 4 (normal_cg_steps): the conjugate direction t = z - zbar + beta t on the
+    !> contact set (0 off it), and r = A t in the product's buffer plan%rbuf (nc elements in
+    !> contact; z is overwritten with sub-patches).
+    subroutine cg_direction(plan, kz, c, p, z, zbar, beta, nc, t, lab, fac)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, nc
+        real(dp), intent(in) :: c(0:, 0:), p(:, :), zbar, beta
+        real(dp), intent(inout) :: z(:, :), t(:, :)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
+        real(dp) :: tk
+        integer :: i, j, nx, ny
+        nx = size(p, 1)
+        ny = size(p, 2)
+        do j = 1, ny
+            do i = 1, nx
+                tk = 0.0_dp
+                if (p(i, j) > 0.0_dp) tk = z(i, j) - zbar + beta * t(i, j)
+                t(i, j) = tk
+                plan%rbuf(i, j) = tk
+            end do
+        end do
+        if (coupled(lab, fac)) then
+            call apply_op(plan, kz, t, z, nc, c, lab, fac)
+            plan%rbuf(1:nx, 1:ny) = z
+        else if (columns_are_cheaper(nc, nx, ny)) then
+            call conv_apply_dense(plan, kz, c, t, plan%rbuf(1:nx, 1:ny))
+        else
+            call conv_apply_buffer(plan, kz)
+        end if
+    end subroutine cg_direction
+
+    !> CG pass 5 (normal_cg_steps): over the contact set, with r = A t in plan%rbuf, the sums
+    !> sr of r, srt of r t, st of t and sgt of g t (the step length's terms).
+    subroutine cg_curvature(plan, p, t, g, sr, srt, st, sgt)
+        type(conv_plan), intent(in) :: plan
+        real(dp), intent(in) :: p(:, :), t(:, :), g(:, :)
+        real(dp), intent(out) :: sr, srt, st, sgt
+        real(dp) :: rk
+        integer :: i, j
+        sr = 0.0_dp
+        srt = 0.0_dp
+        st = 0.0_dp
+        sgt = 0.0_dp
+        do j = 1, size(p, 2)
+            do i = 1, size(p, 1)
+                if (p(i, j) > 0.0_dp) then
+                    rk = plan%rbuf(i, j)
+                    sr = sr + rk
+                    srt = srt + rk * t(i, j)
+                    st = st + t(i, j)
+                    sgt = sgt + g(i, j) * t(i, j)
+                end if
+            end do
+        end do
+    end subroutine cg_curvature
+
+    !> CG pass 6 (normal_cg_steps): the step p - tau t on the contact set, the projection on
+    !> p >= 0 and the re-entry of overlapping points (PK eqs 3.6-3.8); nol the points that
+    !> re-entered, nd the changes d against the plain step, the first MAX_COLUMNS of them kept
+    !> (ci, cj, cd) for column corrections; psum the new sum of p.
+    pure subroutine cg_project(tau, t, g, p, nol, nd, ci, cj, cd, psum)
+        real(dp), intent(in) :: tau, t(:, :), g(:, :)
+        real(dp), intent(inout) :: p(:, :)
+        integer, intent(out) :: nol, nd
+        integer, intent(inout) :: ci(MAX_COLUMNS), cj(MAX_COLUMNS)
+        real(dp), intent(inout) :: cd(MAX_COLUMNS)
+        real(dp), intent(out) :: psum
+        real(dp) :: pk, pn, dk
+        integer :: i, j
+        nol = 0
+        nd = 0
+        psum = 0.0_dp
+        do j = 1, size(p, 2)
+            do i = 1, size(p, 1)
+                pk = p(i, j)
+                if (pk > 0.0_dp) pk = pk - tau * t(i, j)
+                pn = max(pk, 0.0_dp)
+                if (pn <= 0.0_dp .and. g(i, j) < 0.0_dp) then
+                    pn = -tau * g(i, j)
+                    nol = nol + 1
+                end if
+                dk = pn - pk
+                if (dk /= 0.0_dp) then
+                    nd = nd + 1
+                    if (nd <= MAX_COLUMNS) then
+                        ci(nd) = i
+                        cj(nd) = j
+                        cd(nd) = dk
+                    end if
+                end if
+                p(i, j) = pn
+                psum = psum + pn
+            end do
+        end do
+    end subroutine cg_project
+
+    !> CG pass 7 (normal_cg_steps): u = A p for the new p scaled by scale (force control),
+    !> A p_new = scale (A p_old - tau A t + A d): an exact product of nnz elements when exact
+    !> (d large, or every REFRESH steps against drift), else the recurrence with r = A t in
+    !> plan%rbuf and the nd columns (ci, cj, cd) of A.
+    subroutine cg_update(plan, kz, c, exact, tau, scale, nnz, nd, ci, cj, cd, p, u, lab, fac)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kz, nnz, nd, ci(MAX_COLUMNS), cj(MAX_COLUMNS)
+        real(dp), intent(in) :: c(0:, 0:), tau, scale, cd(MAX_COLUMNS)
+        logical, intent(in) :: exact
+        real(dp), intent(inout) :: p(:, :), u(:, :)
+        integer, intent(in), optional :: lab(:)
+        real(dp), intent(in), optional :: fac(:, :)
+        integer :: i, j, m
+        if (exact) then
+            if (scale /= 1.0_dp) p = scale * p
+            call apply_op(plan, kz, p, u, nnz, c, lab, fac)
+            return
+        end if
+        do j = 1, size(u, 2)
+            do i = 1, size(u, 1)
+                u(i, j) = u(i, j) - tau * plan%rbuf(i, j)
+            end do
+        end do
+        do m = 1, nd
+            call add_column(c, ci(m), cj(m), cd(m), u, lab, fac)
+        end do
+        if (scale /= 1.0_dp) then
+            p = scale * p
+            u = scale * u
+        end if
+    end subroutine cg_update
 
     !> A cold start when p is all zero: p proportional to the interpenetration
     !> of the rigid surfaces, scaled to the best fit of A p = delta - h on it.

@@ -178,7 +178,7 @@ module vehicle_bem
         integer, allocatable :: lead(:, :, :)
         !> BEM / Hertz-Kalker ratios of the normal force and the creep-force magnitude per
         !> (point, wheel, wheelset), from the last BEM solve: they calibrate the cheap model
-        !> of the Newton tangent (vehicle_contact model 4).
+        !> of the Newton tangent (vehicle_contact%point_bem_tangent).
         real(dp), allocatable :: ratio(:, :, :, :)
         real(dp) :: counts(BEM_NCOUNT) = 0
     end type bem_model

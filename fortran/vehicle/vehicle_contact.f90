@@ -45,12 +45,12 @@ module vehicle_contact
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
-    public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM, CMODEL_BEM_TANGENT
+    public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM
     public :: SLIN_KEEP, SLIN_READ
 
-    !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names the first three.
+    !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names them. The
+    !> Newton tangent of a BEM run is CMODEL_BEM with wheelset_contact's flag `tangent`.
     integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_FASTSIM = 2, CMODEL_BEM = 3
-    integer, parameter :: CMODEL_BEM_TANGENT = 4
     !> Strip linearisation (wheelset_contact's slin, smode): evaluate and keep the wheels'
     !> strip outputs with their pose derivatives, or read them linearly at the pose.
     integer, parameter :: SLIN_KEEP = 1, SLIN_READ = 2
@@ -84,6 +84,14 @@ module vehicle_contact
     !> tread and flange weighted by their normal forces; 0 without contact): where the
     !> flexible rims' rows are evaluated (vehicle_modal%modal_follow).
     integer, parameter :: nwo = 16
+    !> One wheel's pose and velocities in the frame of its track element (wheel_at): sg 1 for
+    !> the left wheel, -1 for the right; yr, phr the lateral shift and roll against the
+    !> element, u = Y + r_nom phi the table's coordinate, zc the centre's height, pl = sg phr;
+    !> ve the wheel's (y, z, roll) rates; qtw, vtw the element's pose and rates under the wheel.
+    type :: wheel_pose
+        real(dp) :: sg, yr, phr, u, zc, pl
+        real(dp) :: ve(3), qtw(3), vtw(3)
+    end type wheel_pose
 
 contains
 
@@ -255,7 +263,7 @@ contains
         w = [(1.0_dp - wu) * (1.0_dp - wp), wu * (1.0_dp - wp), (1.0_dp - wu) * wp, wu * wp]
         nc = merge(2, 4, ct%nr == 1)
         do k = 1, 2
-            call corner_groups(k, nc, grp)
+            call corner_groups(ct, k, nc, ci, cj, grp)
             ! each group's blend: gap gg and presence pres (its bilinear weight)
             gg = huge(1.0_dp)
             pres = 0.0_dp
@@ -275,12 +283,13 @@ contains
                         hs(1, c) = -tan(t(3))
                         hs(2, c) = t(2) + (ct%rnom - t(IZARM)) * tan(t(3))
                     else
-                        cn = nearest_member(c, g)
-                        call carried_gap(ct%tab(:, k, ci(cn), cj(cn)), real(ci(c) - ci(cn), dp) * ct%du, &
+                        cn = nearest_member(c, g, nc, grp)
+                        call carried_gap(ct%rnom, ct%tab(:, k, ci(cn), cj(cn)), &
+                                         real(ci(c) - ci(cn), dp) * ct%du, &
                                          real(cj(c) - cj(cn), dp) * ct%dp, hv(c), hs(:, c))
                     end if
                 end do
-                call hermite_gap(hv, hs, wu, wp, gg(g), gd(:, g))
+                call hermite_gap(ct, k, ci(1:2), phi, hv, hs, wu, wp, gg(g), gd(:, g))
             end do
             ! the two lowest groups become the slot's members
             order = [1, 2, 3, 4]
@@ -310,134 +319,139 @@ contains
                 wt(2, k) = 1.0_dp - wt(1, k)
             end if
         end do
-    contains
-        !> Cubic Hermite interpolation over the cell of the corner gaps hv with their slopes
-        !> hs (d/du, d/dphi): bicubic with zero cross derivatives (a single row: cubic in u,
-        !> then the roll by the carry of the u-interpolated point). The slopes are the exact
-        !> dg/du = -tan(delta), dg/dphi = l + (r_nom - za) tan(delta) of the minimum (its
-        !> envelope: the slopes at a fixed wheel point). Returns g and its gradient gdv.
-        pure subroutine hermite_gap(hv, hs, a, b, gv, gdv)
-            real(dp), intent(in) :: hv(4), hs(2, 4), a, b
-            real(dp), intent(out) :: gv, gdv(2)
-            real(dp) :: h0(2), h1(2), d0(2), d1(2), e0(2), e1(2), f0(2), f1(2), tt(nq_table)
-            real(dp) :: cu, cp
-            integer :: ia, ib, cc
-            h0 = [2 * a**3 - 3 * a**2 + 1, -2 * a**3 + 3 * a**2]
-            h1 = [a**3 - 2 * a**2 + a, a**3 - a**2] * ct%du
-            d0 = [6 * a**2 - 6 * a, -6 * a**2 + 6 * a] / ct%du
-            d1 = [3 * a**2 - 4 * a + 1, 3 * a**2 - 2 * a]
-            e0 = [1.0_dp, 0.0_dp]
-            e1 = 0.0_dp
-            f0 = 0.0_dp
-            f1 = 0.0_dp
-            if (ct%nr > 1) then
-                e0 = [2 * b**3 - 3 * b**2 + 1, -2 * b**3 + 3 * b**2]
-                e1 = [b**3 - 2 * b**2 + b, b**3 - b**2] * ct%dp
-                f0 = [6 * b**2 - 6 * b, -6 * b**2 + 6 * b] / ct%dp
-                f1 = [3 * b**2 - 4 * b + 1, 3 * b**2 - 2 * b]
-            end if
-            gv = 0.0_dp
-            gdv = 0.0_dp
-            do ib = 1, merge(1, 2, ct%nr == 1)
-                do ia = 1, 2
-                    cc = ia + 2 * (ib - 1)
-                    gv = gv + hv(cc) * h0(ia) * e0(ib) + hs(1, cc) * h1(ia) * e0(ib) &
-                         + hs(2, cc) * h0(ia) * e1(ib)
-                    gdv(1) = gdv(1) + hv(cc) * d0(ia) * e0(ib) + hs(1, cc) * d1(ia) * e0(ib) &
-                             + hs(2, cc) * d0(ia) * e1(ib)
-                    gdv(2) = gdv(2) + hv(cc) * h0(ia) * f0(ib) + hs(1, cc) * h1(ia) * f0(ib) &
-                             + hs(2, cc) * h0(ia) * f1(ib)
-                end do
-            end do
-            if (ct%nr == 1) then
-                cu = gv
-                cp = gdv(1)
-                tt = (1.0_dp - a) * ct%tab(:, k, ci(1), 1) + a * ct%tab(:, k, ci(2), 1)
-                tt(1) = cu
-                call carried_gap(tt, 0.0_dp, phi, gv, gdv)
-                gdv(1) = cp + (gdv(1) + tan(tt(3)))
-            end if
-        end subroutine hermite_gap
-
-        !> The corner of group gq nearest to corner c (along u first, then along phi).
-        pure integer function nearest_member(c, gq)
-            integer, intent(in) :: c, gq
-            integer, parameter :: pref(3, 4) = reshape([2, 3, 4, 1, 4, 3, 4, 1, 2, 3, 2, 1], [3, 4])
-            integer :: q
-            nearest_member = c
-            do q = 1, 3
-                if (pref(q, c) <= nc) then
-                    if (grp(pref(q, c)) == gq) then
-                        nearest_member = pref(q, c)
-                        return
-                    end if
-                end if
-            end do
-        end function nearest_member
-
-        !> The gap gc of a node's wheel point (quantities t) carried by du along u and dph in
-        !> roll, and its derivatives gd (d/du, d/dphi).
-        pure subroutine carried_gap(t, du, dph, gc, gd)
-            real(dp), intent(in) :: t(nq_table), du, dph
-            real(dp), intent(out) :: gc, gd(2)
-            real(dp) :: l, za, l1, za1, dy, slope
-            l = t(2)
-            za = t(IZARM)
-            l1 = l * cos(dph) + za * sin(dph)
-            za1 = za * cos(dph) - l * sin(dph)
-            dy = du - ct%rnom * dph + l1 - l
-            gc = t(1) + (za - za1) - tan(t(3)) * dy - 0.5_dp * t(IRZZ) * dy * dy
-            slope = tan(t(3)) + t(IRZZ) * dy
-            gd(1) = -slope
-            gd(2) = l1 - slope * (za1 - ct%rnom)
-        end subroutine carried_gap
-
-        !> Group labels of the corners joined by the cell's one-branch edges, for slot kk.
-        !> The edges' claims need not be transitive (a point that slides along one row but
-        !> jumps along the other): edges join corners in the order of the smallest movement of
-        !> the point (|l| difference), and an edge is skipped when its join would put the two
-        !> ends of an edge that keeps no branch into one group.
-        pure subroutine corner_groups(kk, n, gr)
-            integer, intent(in) :: kk, n
-            integer, intent(out) :: gr(4)
-            integer, parameter :: ea(4) = [1, 3, 1, 2], eb(4) = [2, 4, 3, 4]
-            logical :: e(4), used(4)
-            real(dp) :: dist(4)
-            integer :: it, m, q, old(4), ga, gb
-            associate (t => ct%tab)
-                e = .false.
-                e(1) = t(IBRANCH, kk, ci(1), cj(1)) == t(IBRANCH, kk, ci(2), cj(2))
-                if (n == 4) then
-                    e(2) = t(IBRANCH, kk, ci(3), cj(3)) == t(IBRANCH, kk, ci(4), cj(4))
-                    e(3) = t(IRLINK, kk, ci(1), cj(1)) > 0.5_dp
-                    e(4) = t(IRLINK, kk, ci(2), cj(2)) > 0.5_dp
-                end if
-                do q = 1, 4
-                    dist(q) = abs(t(2, kk, ci(ea(q)), cj(ea(q))) - t(2, kk, ci(eb(q)), cj(eb(q))))
-                end do
-            end associate
-            gr = [1, 2, 3, 4]
-            used = .not. e
-            do it = 1, 4
-                q = minloc(dist, dim=1, mask=.not. used)
-                if (q == 0) exit
-                used(q) = .true.
-                old = gr
-                ga = gr(ea(q))
-                gb = gr(eb(q))
-                m = min(ga, gb)
-                where (gr == ga .or. gr == gb) gr = m
-                do m = 1, 4
-                    if (.not. e(m) .and. (m <= 1 .or. n == 4)) then
-                        if (gr(ea(m)) == gr(eb(m))) then
-                            gr = old
-                            exit
-                        end if
-                    end if
-                end do
-            end do
-        end subroutine corner_groups
     end subroutine pose_at
+
+    !> Cubic Hermite interpolation over the cell of the corner gaps hv with their slopes
+    !> hs (d/du, d/dphi): bicubic with zero cross derivatives (a single row: cubic in u,
+    !> then the roll by the carry of the u-interpolated point). The slopes are the exact
+    !> dg/du = -tan(delta), dg/dphi = l + (r_nom - za) tan(delta) of the minimum (its
+    !> envelope: the slopes at a fixed wheel point). Returns g and its gradient gdv.
+    pure subroutine hermite_gap(ct, k, ci, phi, hv, hs, a, b, gv, gdv)
+        type(pose_table), intent(in) :: ct
+        integer, intent(in) :: k, ci(2)              ! the slot, the cell's corners along u
+        real(dp), intent(in) :: phi, hv(4), hs(2, 4), a, b
+        real(dp), intent(out) :: gv, gdv(2)
+        real(dp) :: h0(2), h1(2), d0(2), d1(2), e0(2), e1(2), f0(2), f1(2), tt(nq_table)
+        real(dp) :: cu, cp
+        integer :: ia, ib, cc
+        h0 = [2 * a**3 - 3 * a**2 + 1, -2 * a**3 + 3 * a**2]
+        h1 = [a**3 - 2 * a**2 + a, a**3 - a**2] * ct%du
+        d0 = [6 * a**2 - 6 * a, -6 * a**2 + 6 * a] / ct%du
+        d1 = [3 * a**2 - 4 * a + 1, 3 * a**2 - 2 * a]
+        e0 = [1.0_dp, 0.0_dp]
+        e1 = 0.0_dp
+        f0 = 0.0_dp
+        f1 = 0.0_dp
+        if (ct%nr > 1) then
+            e0 = [2 * b**3 - 3 * b**2 + 1, -2 * b**3 + 3 * b**2]
+            e1 = [b**3 - 2 * b**2 + b, b**3 - b**2] * ct%dp
+            f0 = [6 * b**2 - 6 * b, -6 * b**2 + 6 * b] / ct%dp
+            f1 = [3 * b**2 - 4 * b + 1, 3 * b**2 - 2 * b]
+        end if
+        gv = 0.0_dp
+        gdv = 0.0_dp
+        do ib = 1, merge(1, 2, ct%nr == 1)
+            do ia = 1, 2
+                cc = ia + 2 * (ib - 1)
+                gv = gv + hv(cc) * h0(ia) * e0(ib) + hs(1, cc) * h1(ia) * e0(ib) &
+                     + hs(2, cc) * h0(ia) * e1(ib)
+                gdv(1) = gdv(1) + hv(cc) * d0(ia) * e0(ib) + hs(1, cc) * d1(ia) * e0(ib) &
+                         + hs(2, cc) * d0(ia) * e1(ib)
+                gdv(2) = gdv(2) + hv(cc) * h0(ia) * f0(ib) + hs(1, cc) * h1(ia) * f0(ib) &
+                         + hs(2, cc) * h0(ia) * f1(ib)
+            end do
+        end do
+        if (ct%nr == 1) then
+            cu = gv
+            cp = gdv(1)
+            tt = (1.0_dp - a) * ct%tab(:, k, ci(1), 1) + a * ct%tab(:, k, ci(2), 1)
+            tt(1) = cu
+            call carried_gap(ct%rnom, tt, 0.0_dp, phi, gv, gdv)
+            gdv(1) = cp + (gdv(1) + tan(tt(3)))
+        end if
+    end subroutine hermite_gap
+
+    !> The corner of group gq nearest to corner c (along u first, then along phi), among the
+    !> nc corners of group labels grp.
+    pure integer function nearest_member(c, gq, nc, grp)
+        integer, intent(in) :: c, gq, nc, grp(4)
+        integer, parameter :: pref(3, 4) = reshape([2, 3, 4, 1, 4, 3, 4, 1, 2, 3, 2, 1], [3, 4])
+        integer :: q
+        nearest_member = c
+        do q = 1, 3
+            if (pref(q, c) <= nc) then
+                if (grp(pref(q, c)) == gq) then
+                    nearest_member = pref(q, c)
+                    return
+                end if
+            end if
+        end do
+    end function nearest_member
+
+    !> The gap gc of a node's wheel point (quantities t) carried by du along u and dph in
+    !> roll, and its derivatives gd (d/du, d/dphi).
+    pure subroutine carried_gap(rnom, t, du, dph, gc, gd)
+        real(dp), intent(in) :: rnom, t(nq_table), du, dph
+        real(dp), intent(out) :: gc, gd(2)
+        real(dp) :: l, za, l1, za1, dy, slope
+        l = t(2)
+        za = t(IZARM)
+        l1 = l * cos(dph) + za * sin(dph)
+        za1 = za * cos(dph) - l * sin(dph)
+        dy = du - rnom * dph + l1 - l
+        gc = t(1) + (za - za1) - tan(t(3)) * dy - 0.5_dp * t(IRZZ) * dy * dy
+        slope = tan(t(3)) + t(IRZZ) * dy
+        gd(1) = -slope
+        gd(2) = l1 - slope * (za1 - rnom)
+    end subroutine carried_gap
+
+    !> Group labels of the corners joined by the cell's one-branch edges, for slot kk
+    !> (pose_at: n corners ci, cj).
+    !> The edges' claims need not be transitive (a point that slides along one row but
+    !> jumps along the other): edges join corners in the order of the smallest movement of
+    !> the point (|l| difference), and an edge is skipped when its join would put the two
+    !> ends of an edge that keeps no branch into one group.
+    pure subroutine corner_groups(ct, kk, n, ci, cj, gr)
+        type(pose_table), intent(in) :: ct
+        integer, intent(in) :: kk, n, ci(4), cj(4)   ! the cell's corners (pose_at)
+        integer, intent(out) :: gr(4)
+        integer, parameter :: ea(4) = [1, 3, 1, 2], eb(4) = [2, 4, 3, 4]
+        logical :: e(4), used(4)
+        real(dp) :: dist(4)
+        integer :: it, m, q, old(4), ga, gb
+        associate (t => ct%tab)
+            e = .false.
+            e(1) = t(IBRANCH, kk, ci(1), cj(1)) == t(IBRANCH, kk, ci(2), cj(2))
+            if (n == 4) then
+                e(2) = t(IBRANCH, kk, ci(3), cj(3)) == t(IBRANCH, kk, ci(4), cj(4))
+                e(3) = t(IRLINK, kk, ci(1), cj(1)) > 0.5_dp
+                e(4) = t(IRLINK, kk, ci(2), cj(2)) > 0.5_dp
+            end if
+            do q = 1, 4
+                dist(q) = abs(t(2, kk, ci(ea(q)), cj(ea(q))) - t(2, kk, ci(eb(q)), cj(eb(q))))
+            end do
+        end associate
+        gr = [1, 2, 3, 4]
+        used = .not. e
+        do it = 1, 4
+            q = minloc(dist, dim=1, mask=.not. used)
+            if (q == 0) exit
+            used(q) = .true.
+            old = gr
+            ga = gr(ea(q))
+            gb = gr(eb(q))
+            m = min(ga, gb)
+            where (gr == ga .or. gr == gb) gr = m
+            do m = 1, 4
+                if (.not. e(m) .and. (m <= 1 .or. n == 4)) then
+                    if (gr(ea(m)) == gr(eb(m))) then
+                        gr = old
+                        exit
+                    end if
+                end if
+            end do
+        end do
+    end subroutine corner_groups
 
     !> Kalker's linear creep forces with the Shen-Hedrick-Elkins (1983) saturation of the
     !> resultant: F' = mu N (u - u^2/3 + u^3/27), u = F/(mu N), capped at mu N for u >= 3.
@@ -473,10 +487,11 @@ contains
     !> Hertz + FASTSIM (contact_fastsim, fsn x fsn strips x points); CMODEL_BEM: the BEM
     !> normal and steady-rolling solvers of vehicle_bem (state `bem`, wheelset index iws) with
     !> the same approach and creepages (the Hertz semi-axes and energy are still reported in
-    !> wout); CMODEL_BEM_TANGENT: Hertz + Kalker with the normal force and the creep forces
-    !> scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of each point, or where
-    !> the point has one the linear model of its BEM patch (vehicle_bem%bem_linear: the
-    !> Jacobian from differences of its own solves), the Newton tangent of a BEM run.
+    !> wout; point_bem). With CMODEL_BEM and tangent (optional, default false), the Newton
+    !> tangent of a BEM run instead (point_bem_tangent): Hertz + Kalker with the normal force
+    !> and the creep forces scaled by their ratios BEM / Hertz-Kalker at the last BEM solve of
+    !> each point, or where the point has one the linear model of its BEM patch
+    !> (vehicle_bem%bem_linear: the Jacobian from differences of its own solves).
     !> fw: generalised forces on the wheelset (y, z, roll, yaw, x, beta); ft: on the track element.
     !> info: STAT_OK, STAT_BAD_ARGUMENT (unknown model), STAT_OUTSIDE_TABLE, or from
     !> vehicle_bem%bem_patch (STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_BAD_HANDLE).
@@ -504,8 +519,11 @@ contains
     !> wheel (the rail head's motion under the wheel expressed as an element's pose); frail(:,
     !> w) the generalised forces on it (wheel w's share of ft). rail = 0 gives fw, ft, wout as
     !> without.
+    !> Per wheel: its pose (wheel_at), its candidate points from the strips (strip_points),
+    !> the zero-roll row (bem_points) or the table (pose_at), then their forces (wheel_points).
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
-                                fw, ft, wout, info, rim, rarm, frim, st, slin, smode, rail, frail)
+                                fw, ft, wout, info, rim, rarm, frim, st, slin, smode, rail, frail, &
+                                tangent)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -519,297 +537,397 @@ contains
         integer, intent(in), optional :: smode
         real(dp), intent(in), optional :: rail(6, 2)
         real(dp), intent(out), optional :: frail(3, 2)
-        real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), sg, yr, zr, phr, dvy, dvz, u, zc, za, pl
-        real(dp) :: fyn, fzn, mwn, mtn, fnsum
-        real(dp) :: gp, l, dlt, r, dv, dn, fn, a, b, cd, sd, xi, eta, spin, fx, fy, fyt, fzt
-        real(dp) :: nbest, mz, fnh, fxk, fyk, rt(2), xc, yc, mtx, mty, mx, my, mzt
-        real(dp) :: wa(4), ve(3), fwl(3), ty, tz, so(nso, 2), pr(5), gy, gz, gph, su, pose(4), xcp, mpn
-        integer :: w, k, c, stat, ia(4), ib(4), lm
-        real(dp) :: qtw(3), vtw(3), ftl(3)
-        logical :: bemgeo, flex, strip, ring, lin
+        logical, intent(in), optional :: tangent
+        real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), wa(4), so(nso, 2), fwl(3), ftl(3)
+        integer :: w, ia(4), ib(4)
+        logical :: flex, strip, ring, tng
+        type(wheel_pose) :: wp
         flex = present(rim) .and. present(rarm) .and. present(frim)
         strip = .false.
         if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_FASTSIM)
+        tng = .false.
+        if (present(tangent)) tng = tangent .and. model == CMODEL_BEM
         if (flex) frim = 0.0_dp
         ring = present(rail) .and. present(frail)
         if (ring) frail = 0.0_dp
-        qtw = qt
-        vtw = vt
         fw = 0.0_dp
         ft = 0.0_dp
         wout = 0.0_dp
         info = STAT_OK
-        if (model < CMODEL_HERTZ_KALKER .or. model > CMODEL_BEM_TANGENT) then
+        if (model < CMODEL_HERTZ_KALKER .or. model > CMODEL_BEM) then
             info = STAT_BAD_ARGUMENT
             return
         end if
         ia = 1
         ib = 1
         wa = 0.0_dp
-        bemgeo = model == CMODEL_BEM .or. model == CMODEL_BEM_TANGENT
-        yr = qw(1) - qt(1)
-        zr = qw(2) - qt(2)
-        phr = qw(3) - qt(3)
-        ! the pose in the frame of the track element (rolled by qt(3) about the track centre
-        ! at rail-top height): u = Y + r_nom phr with Y = yr + r_nom qt(3), centre height zc
-        u = yr + ct%rnom * qw(3)
-        zc = zr - yr * qt(3)
-        ve = vw(1:3)
         do w = 1, 2
-            sg = merge(1.0_dp, -1.0_dp, w == 1)
-            if (ring) then
-                ! this wheel's own track element: the rail head's motion under it (model RF)
-                qtw = qt + rail(1:3, w)
-                vtw = vt + rail(4:6, w)
-                ftl = ft
-                yr = qw(1) - qtw(1)
-                zr = qw(2) - qtw(2)
-                phr = qw(3) - qtw(3)
-                u = yr + ct%rnom * qw(3)
-                zc = zr - yr * qtw(3)
-            end if
-            if (flex) then
-                ! this wheel's pose: the rigid wheelset's moved by the rim's deformation
-                ty = rim(1, w) - rarm(2, w) * rim(3, w)
-                tz = rim(2, w) - sg * rarm(1, w) * rim(3, w)
-                yr = qw(1) + ty - qtw(1)
-                zr = qw(2) + tz - qtw(2)
-                phr = qw(3) + rim(3, w) - qtw(3)
-                u = yr + ct%rnom * (qw(3) + rim(3, w))
-                zc = zr - yr * qtw(3)
-                ve(1) = vw(1) + rim(4, w) - rarm(2, w) * rim(6, w)
-                ve(2) = vw(2) + rim(5, w) - sg * rarm(1, w) * rim(6, w)
-                ve(3) = vw(3) + rim(6, w)
-                fwl = fw(1:3)
-            end if
-            pl = sg * phr
+            call wheel_at(ct%rnom, w, qw, vw, qt, vt, flex, ring, wp, rim, rarm, rail)
+            ftl = ft
+            fwl = fw(1:3)
             if (strip) then
-                su = (sg * u - ct%u0) / ct%du
-                if (.not. (su >= 0.0_dp .and. su <= real(ct%ny - 1, dp))) then
-                    info = STAT_OUTSIDE_TABLE
-                    return
-                end if
-                ! the centre's lateral position in the element's frame: Y = u - r_nom phr
-                ! and the yaw against the rail (mirrored for the right wheel; x is not)
-                pose = [sg * (yr + ct%rnom * qtw(3)), zc, pl, sg * qw(4)]
-                lm = 0
-                if (present(slin) .and. present(smode)) lm = smode
-                if (lm == SLIN_READ) then
-                    call strip_extrapolate(slin(w), pose, so)
-                else if (lm == SLIN_KEEP) then
-                    call strip_linearise(st, pose, slin(w))
-                    so = slin(w)%so
-                else
-                    call strip_wheel(st, pose(1), pose(2), pose(3), so, pose(4))
-                end if
-                wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
-                vals = 0.0_dp
-                do k = 1, 2
-                    c = 2 * k - 1
-                    call strip_props(st, so(SO_X, k), so(SO_A, k), pr)
-                    vals(2, c) = so(SO_L, k)
-                    vals(3, c) = so(SO_DELTA, k)
-                    vals(4, c) = so(SO_R, k)
-                    vals(5:6, c) = pr(1:2)
-                    vals(8:10, c) = pr(3:5)
-                    vals(IZARM, c) = so(SO_ZA, k)
-                end do
-            else if (bemgeo) then
-                ! zero-roll row, the point rotated about the centre to first order (the BEM's
-                ! gap field is tilted by phr about the point in vehicle_bem)
-                call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, sg * u, vals, ia, ib, wa, &
-                              wt, info)
-                if (info == STAT_OK .and. ct%nr > 1 .and. abs(pl) > abs(ct%p0)) info = STAT_OUTSIDE_TABLE
-                if (info /= STAT_OK) return
-                ! the slot's member of the larger share: the point its fields are reported of
-                if (model == CMODEL_BEM) then
-                    do k = 1, 2
-                        c = 2 * k - 1
-                        if (wt(c + 1) > wt(c)) c = c + 1
-                        call bem_lead(bem, iws, w, c)
-                    end do
-                end if
-                do c = 1, 4
-                    if (.not. (wt(c) > 0.0_dp)) cycle
-                    za = vals(IZARM, c)
-                    grd(1, c) = -tan(vals(3, c))
-                    grd(2, c) = vals(2, c) + (ct%rnom - za) * tan(vals(3, c))
-                    vals(1, c) = vals(1, c) + grd(2, c) * pl
-                    vals(IZARM, c) = za - vals(2, c) * pl
-                    vals(2, c) = vals(2, c) + za * pl
-                end do
+                call strip_points(ct, st, w, qw(4), wp, so, vals, wt, info, slin, smode)
+            else if (model == CMODEL_BEM) then
+                call bem_points(ct, bem, iws, w, .not. tng, wp, vals, wt, grd, ia, ib, wa, info)
             else
-                call pose_at(ct, sg * u, pl, vals, wt, grd, info)
-                if (info /= STAT_OK) return
+                call pose_at(ct, wp%sg * wp%u, wp%pl, vals, wt, grd, info)
             end if
-            nbest = -1.0_dp
-            fnsum = 0.0_dp
-            ! candidates c: slot k = (c + 1) / 2, its member 1 or 2 (pose_at) with weight wt(c)
-            do c = 1, 4
-                k = (c + 1) / 2
-                if (.not. (wt(c) > 0.0_dp)) cycle
-                gp = vals(1, c)
-                l = sg * vals(2, c)
-                za = vals(IZARM, c)
-                dlt = vals(3, c)
-                r = vals(4, c)
-                cd = cos(dlt)
-                sd = sin(dlt)
-                dv = -(gp + zc)
-                dn = dv * cd
-                if (strip) dn = so(SO_N, k)
-                if (dn <= 0.0_dp) then
-                    ! clear a BEM point's state (warm start, reported fields) when it opens
-                    if (model == CMODEL_BEM) call bem_patch(bem, iws, w, c, ia(c), ib(c), wa(c), dn, &
-                                                             phr, 0.0_dp, 0.0_dp, 0.0_dp, mu, v0, &
-                                                             fn, fx, fy, mz, xc, yc, stat)
-                    cycle
-                end if
-                if (strip) then
-                    fn = so(SO_N, k)
-                else
-                    fn = vals(7, c) * dn * sqrt(dn)
-                end if
-                mz = 0.0_dp
-                xc = 0.0_dp
-                yc = 0.0_dp
-                a = vals(5, c) * fn**(1.0_dp / 3.0_dp)
-                b = vals(6, c) * fn**(1.0_dp / 3.0_dp)
-                ! the strip's contact lies xcp ahead of the axle under yaw (the table's at 0)
-                xcp = 0.0_dp
-                if (strip) xcp = so(SO_XC, k)
-                ! relative velocity of the wheel's material point (arms l, za about the
-                ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
-                ! roll centre): the arms of the generalised forces below (energy-consistent)
-                dvy = (ve(1) + za * ve(3) + xcp * vw(4)) - (vtw(1) - (ct%rnom - za) * vtw(3))
-                dvz = (ve(2) + ve(3) * l - xcp * vw(6)) - (vtw(2) + vtw(3) * (l + yr))
-                ! longitudinal creepage: the material velocity of the wheel at the contact
-                ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
-                ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
-                ! over the rail (at rest), divided by v0, with Omega0 = v0 / r0:
-                xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
-                eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
-                spin = (-sg * sd + cd * phr) / r0 + cd * vw(4) / v0
-                if (model == CMODEL_BEM) then
-                    fnh = fn
-                    call bem_patch(bem, iws, w, c, ia(c), ib(c), wa(c), dn, phr, xi, eta, spin, mu, v0, &
-                                   fn, fx, fy, mz, xc, yc, info)
-                    if (info /= STAT_OK) return
-                    if (fn <= 0.0_dp) cycle
-                    ! calibration of the tangent's cheap model (4) against this solve
-                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fnh, &
-                                          xi, eta, spin, fxk, fyk)
-                    rt(1) = min(max(fn / fnh, 0.5_dp), 2.0_dp)
-                    rt(2) = 1.0_dp
-                    if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
-                        rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
-                    call bem_scale(bem, iws, w, c, .true., rt)
-                else if (model == CMODEL_BEM_TANGENT) then
-                    ! the Newton tangent: the patch's linear model from differences of its own
-                    ! solves (vehicle_bem%bem_linear), else Hertz + Kalker scaled to the last
-                    ! BEM solve of this point
-                    call bem_linear(bem, iws, w, c, ia(c), wa(c), dn, phr, xi, eta, spin, &
-                                    fn, fx, fy, mz, xc, yc, lin)
-                    if (.not. lin) then
-                        fn = vals(7, c) * dn * sqrt(dn)
-                        call bem_scale(bem, iws, w, c, .false., rt)
-                        fn = rt(1) * fn
-                        call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, &
-                                              fn, xi, eta, spin, fx, fy)
-                        fx = rt(2) * fx
-                        fy = rt(2) * fy
-                    end if
-                else if (model == CMODEL_HERTZ_KALKER) then
-                    call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
-                                          xi, eta, spin, fx, fy)
-                else
-                    call fastsim_ellipse(a, b, gmod, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
-                                         xi, eta, spin, fsn, fsn, fx, fy, mz)
-                end if
-                ! a member's share of its slot's load (pose_at)
-                fn = wt(c) * fn
-                fx = wt(c) * fx
-                fy = wt(c) * fy
-                mz = wt(c) * mz
-                ! the normal force's generalised components from the gradient of the gap the
-                ! approach came from (-dV/dq of the Hertz potential: conservative), the left
-                ! wheel's table read at (sg u, sg phr): g_u = -tan(delta), g_phi = l + (r_nom
-                ! - za) tan(delta) to first order; with the track's frame terms of zc
-                if (strip) then
-                    ! -grad V over the generalised coordinates: Y = yr + r_nom qtw(3), zc = zr
-                    ! - yr qtw(3), phr = qw(3) - qtw(3); the right wheel's V read mirrored
-                    gy = sg * so(SO_DY, k)
-                    gz = so(SO_DZ, k)
-                    gph = sg * so(SO_DPHI, k)
-                    fzn = -gz
-                    fyn = -(gy - gz * qtw(3))
-                    mwn = -gph
-                    mtn = -(gy * ct%rnom - gz * yr - gph)
-                    ! the yaw moment of the normal forces: -dV/dpsi
-                    mpn = -sg * so(SO_DPSI, k)
-                else
-                    fzn = fn * cd
-                    fyn = fzn * (sg * grd(1, c) - qtw(3))
-                    mwn = fzn * sg * (grd(1, c) * ct%rnom + grd(2, c))
-                    mtn = -fzn * (sg * grd(2, c) + yr)
-                    mpn = 0.0_dp
-                end if
-                ! the creep forces along t_y = (0, cos, sg sin) with the geometric arms
-                fyt = fy * cd
-                fzt = fy * sg * sd
-                ! moment about the point of the contact stresses (patch's centre of pressure
-                ! and spin moment; the Hertz patch is centred on the point): Fn yc t_x
-                ! - Fn xc t_y + mz n, in track axes
-                mtx = fn * yc
-                mty = -fn * xc
-                mx = mtx
-                my = mty * cd - mz * sg * sd
-                mzt = mty * sg * sd + mz * cd
-                fw(1) = fw(1) + fyt + fyn
-                fw(2) = fw(2) + fzt + fzn
-                fw(3) = fw(3) + l * fzt + za * fyt + mx + mwn
-                fw(4) = fw(4) - l * fx + xcp * fyt + mzt + mpn
-                ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
-                ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
-                fw(5) = fw(5) + fx
-                fw(6) = fw(6) - r * fx - xcp * fzt + my
-                ft(1) = ft(1) - fyt - fyn
-                ft(2) = ft(2) - fzt - fzn
-                ft(3) = ft(3) - (l + yr) * fzt + (ct%rnom - za) * fyt - mx + mtn
-                wout(1, w) = wout(1, w) + fzt + fzn
-                wout(2, w) = wout(2, w) + fyt + fyn + fzn * qtw(3)      ! track axes
-                wout(3, w) = wout(3, w) + fx
-                wout(3 + k, w) = wout(3 + k, w) + fn
-                if (strip) then
-                    wout(9, w) = wout(9, w) + so(SO_V, k)
-                else
-                    wout(9, w) = wout(9, w) + wt(c) * 0.4_dp * vals(7, c) * dn * dn * sqrt(dn)
-                end if
-                wout(14, w) = wout(14, w) + mtx
-                wout(15, w) = wout(15, w) + mz
-                ! the point's arm in the wheel's frame: (l, -za) rotated back by the roll pl
-                wout(16, w) = wout(16, w) + fn * (cos(pl) * sg * l - sin(pl) * za)
-                fnsum = fnsum + fn
-                if (fn > nbest) then
-                    nbest = fn
-                    wout(6, w) = xi
-                    wout(7, w) = eta
-                    wout(8, w) = spin
-                    wout(10, w) = dlt
-                    wout(11, w) = a
-                    wout(12, w) = b
-                    wout(13, w) = yc
-                end if
-            end do
-            if (fnsum > 0.0_dp) wout(16, w) = wout(16, w) / fnsum
+            if (info /= STAT_OK) return
+            call wheel_points(ct%rnom, r0, v0, gmod, mu, model, tng, fsn, bem, iws, w, qw, vw, wp, &
+                              strip, so, vals, wt, grd, ia, ib, wa, fw, ft, wout(:, w), info)
+            if (info /= STAT_OK) return
             if (flex) then
                 fwl = fw(1:3) - fwl
                 frim(1, w) = fwl(1)
                 frim(2, w) = fwl(2)
-                frim(3, w) = fwl(3) - rarm(2, w) * fwl(1) - sg * rarm(1, w) * fwl(2)
+                frim(3, w) = fwl(3) - rarm(2, w) * fwl(1) - wp%sg * rarm(1, w) * fwl(2)
             end if
             if (ring) frail(:, w) = ft - ftl
         end do
     end subroutine wheelset_contact
+
+    !> Wheel w's pose and velocities in the frame of its track element (wheelset_contact): the
+    !> element qt, vt, plus under a ring track (ring) the rail head's motion rail(:, w); the
+    !> wheel the rigid wheelset's, moved by its rim's deformation rim(:, w) (flex). u = Y +
+    !> r_nom phr with Y = yr + r_nom qtw(3), the centre's height zc (the element is rolled by
+    !> qtw(3) about the track centre at rail-top height).
+    pure subroutine wheel_at(rnom, w, qw, vw, qt, vt, flex, ring, wp, rim, rarm, rail)
+        real(dp), intent(in) :: rnom, qw(6), vw(6), qt(3), vt(3)
+        integer, intent(in) :: w
+        logical, intent(in) :: flex, ring
+        type(wheel_pose), intent(out) :: wp
+        real(dp), intent(in), optional :: rim(6, 2), rarm(2, 2), rail(6, 2)
+        real(dp) :: zr, ty, tz
+        wp%sg = merge(1.0_dp, -1.0_dp, w == 1)
+        wp%qtw = qt
+        wp%vtw = vt
+        if (ring) then
+            ! this wheel's own track element: the rail head's motion under it (model RF)
+            wp%qtw = qt + rail(1:3, w)
+            wp%vtw = vt + rail(4:6, w)
+        end if
+        wp%yr = qw(1) - wp%qtw(1)
+        zr = qw(2) - wp%qtw(2)
+        wp%phr = qw(3) - wp%qtw(3)
+        wp%u = wp%yr + rnom * qw(3)
+        wp%zc = zr - wp%yr * wp%qtw(3)
+        wp%ve = vw(1:3)
+        if (flex) then
+            ! this wheel's pose: the rigid wheelset's moved by the rim's deformation
+            ty = rim(1, w) - rarm(2, w) * rim(3, w)
+            tz = rim(2, w) - wp%sg * rarm(1, w) * rim(3, w)
+            wp%yr = qw(1) + ty - wp%qtw(1)
+            zr = qw(2) + tz - wp%qtw(2)
+            wp%phr = qw(3) + rim(3, w) - wp%qtw(3)
+            wp%u = wp%yr + rnom * (qw(3) + rim(3, w))
+            wp%zc = zr - wp%yr * wp%qtw(3)
+            wp%ve(1) = vw(1) + rim(4, w) - rarm(2, w) * rim(6, w)
+            wp%ve(2) = vw(2) + rim(5, w) - wp%sg * rarm(1, w) * rim(6, w)
+            wp%ve(3) = vw(3) + rim(6, w)
+        end if
+        wp%pl = wp%sg * wp%phr
+    end subroutine wheel_at
+
+    !> The strip contact's points of wheel w (wheelset_contact, strip): its strip outputs so at
+    !> the pose (evaluated, kept with their derivatives in slin(w) under smode SLIN_KEEP, or
+    !> read linearly from it under SLIN_READ) and one point per slot (candidates 1 and 3) with
+    !> the Hertz ellipse and Kalker's coefficients of its mean curvature ratio. The table only
+    !> bounds the lateral range: info STAT_OUTSIDE_TABLE outside it.
+    pure subroutine strip_points(ct, st, w, yaw, wp, so, vals, wt, info, slin, smode)
+        type(pose_table), intent(in) :: ct
+        type(strip_geometry), intent(in) :: st
+        integer, intent(in) :: w
+        real(dp), intent(in) :: yaw
+        type(wheel_pose), intent(in) :: wp
+        real(dp), intent(out) :: so(nso, 2), vals(nq_table, 4), wt(4)
+        integer, intent(inout) :: info
+        type(strip_lin), intent(inout), optional :: slin(2)
+        integer, intent(in), optional :: smode
+        real(dp) :: su, pose(4), pr(5)
+        integer :: k, c, lm
+        su = (wp%sg * wp%u - ct%u0) / ct%du
+        if (.not. (su >= 0.0_dp .and. su <= real(ct%ny - 1, dp))) then
+            info = STAT_OUTSIDE_TABLE
+            return
+        end if
+        ! the centre's lateral position in the element's frame: Y = u - r_nom phr
+        ! and the yaw against the rail (mirrored for the right wheel; x is not)
+        pose = [wp%sg * (wp%yr + ct%rnom * wp%qtw(3)), wp%zc, wp%pl, wp%sg * yaw]
+        lm = 0
+        if (present(slin) .and. present(smode)) lm = smode
+        if (lm == SLIN_READ) then
+            call strip_extrapolate(slin(w), pose, so)
+        else if (lm == SLIN_KEEP) then
+            call strip_linearise(st, pose, slin(w))
+            so = slin(w)%so
+        else
+            call strip_wheel(st, pose(1), pose(2), pose(3), so, pose(4))
+        end if
+        wt = [1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp]
+        vals = 0.0_dp
+        do k = 1, 2
+            c = 2 * k - 1
+            call strip_props(st, so(SO_X, k), so(SO_A, k), pr)
+            vals(2, c) = so(SO_L, k)
+            vals(3, c) = so(SO_DELTA, k)
+            vals(4, c) = so(SO_R, k)
+            vals(5:6, c) = pr(1:2)
+            vals(8:10, c) = pr(3:5)
+            vals(IZARM, c) = so(SO_ZA, k)
+        end do
+    end subroutine strip_points
+
+    !> The BEM's points of wheel w (wheelset_contact, CMODEL_BEM): the zero-roll row at u
+    !> (table_at: members, nodes ia, ib, weights wa and shares wt), the point rotated about the
+    !> centre by the roll to first order (the BEM's gap field is tilted by phr about the point
+    !> in vehicle_bem), grd the gap's gradient (d/du, d/dphi). lead: tell the BEM which member
+    !> of each slot has the larger share (the point its fields are reported of).
+    subroutine bem_points(ct, bem, iws, w, lead, wp, vals, wt, grd, ia, ib, wa, info)
+        type(pose_table), intent(in) :: ct
+        integer, intent(in) :: bem, iws, w
+        logical, intent(in) :: lead
+        type(wheel_pose), intent(in) :: wp
+        real(dp), intent(out) :: vals(nq_table, 4), wt(4), grd(2, 4), wa(4)
+        integer, intent(out) :: ia(4), ib(4), info
+        real(dp) :: za
+        integer :: k, c
+        call table_at(ct%ny, ct%tab(:, :, :, ct%j0), ct%u0, ct%du, wp%sg * wp%u, vals, ia, ib, wa, &
+                      wt, info)
+        if (info == STAT_OK .and. ct%nr > 1 .and. abs(wp%pl) > abs(ct%p0)) info = STAT_OUTSIDE_TABLE
+        if (info /= STAT_OK) return
+        if (lead) then
+            do k = 1, 2
+                c = 2 * k - 1
+                if (wt(c + 1) > wt(c)) c = c + 1
+                call bem_lead(bem, iws, w, c)
+            end do
+        end if
+        do c = 1, 4
+            if (.not. (wt(c) > 0.0_dp)) cycle
+            za = vals(IZARM, c)
+            grd(1, c) = -tan(vals(3, c))
+            grd(2, c) = vals(2, c) + (ct%rnom - za) * tan(vals(3, c))
+            vals(1, c) = vals(1, c) + grd(2, c) * wp%pl
+            vals(IZARM, c) = za - vals(2, c) * wp%pl
+            vals(2, c) = vals(2, c) + za * wp%pl
+        end do
+    end subroutine bem_points
+
+    !> The forces of wheel w's candidate points c (slot k = (c + 1) / 2, its member 1 or 2 with
+    !> load share wt(c); quantities vals(:, c), gap gradient grd(:, c), strip outputs so(:, k)
+    !> under strip) added to fw, ft and to the wheel's outputs wo (wheelset_contact's wout(:, w)).
+    !> Each point: its approach and Hertz force, its creepages from the relative velocities,
+    !> its creep forces by the contact model (creep_kalker_she, fastsim_ellipse, point_bem or,
+    !> under tangent, point_bem_tangent), then the generalised forces with the arms of the
+    !> relative velocities (energy-consistent).
+    subroutine wheel_points(rnom, r0, v0, gmod, mu, model, tangent, fsn, bem, iws, w, qw, vw, wp, &
+                            strip, so, vals, wt, grd, ia, ib, wa, fw, ft, wo, info)
+        real(dp), intent(in) :: rnom, r0, v0, gmod, mu, qw(6), vw(6)
+        integer, intent(in) :: model, fsn, bem, iws, w, ia(4), ib(4)
+        logical, intent(in) :: tangent, strip
+        type(wheel_pose), intent(in) :: wp
+        real(dp), intent(in) :: so(nso, 2), vals(nq_table, 4), wt(4), grd(2, 4), wa(4)
+        real(dp), intent(inout) :: fw(6), ft(3), wo(nwo)
+        integer, intent(inout) :: info
+        real(dp) :: fyn, fzn, mwn, mtn, mpn, fnsum, nbest, sg, gp, l, za, dlt, r, cd, sd, dv, dn
+        real(dp) :: fn, a, b, xcp, dvy, dvz, xi, eta, spin, fx, fy, mz, xc, yc, fyt, fzt
+        real(dp) :: mtx, mty, mx, my, mzt
+        integer :: k, c, stat
+        sg = wp%sg
+        nbest = -1.0_dp
+        fnsum = 0.0_dp
+        do c = 1, 4
+            k = (c + 1) / 2
+            if (.not. (wt(c) > 0.0_dp)) cycle
+            gp = vals(1, c)
+            l = sg * vals(2, c)
+            za = vals(IZARM, c)
+            dlt = vals(3, c)
+            r = vals(4, c)
+            cd = cos(dlt)
+            sd = sin(dlt)
+            dv = -(gp + wp%zc)
+            dn = dv * cd
+            if (strip) dn = so(SO_N, k)
+            if (dn <= 0.0_dp) then
+                ! clear a BEM point's state (warm start, reported fields) when it opens
+                if (model == CMODEL_BEM .and. .not. tangent) &
+                    call bem_patch(bem, iws, w, c, ia(c), ib(c), wa(c), dn, wp%phr, 0.0_dp, 0.0_dp, &
+                                   0.0_dp, mu, v0, fn, fx, fy, mz, xc, yc, stat)
+                cycle
+            end if
+            if (strip) then
+                fn = so(SO_N, k)
+            else
+                fn = vals(7, c) * dn * sqrt(dn)
+            end if
+            mz = 0.0_dp
+            xc = 0.0_dp
+            yc = 0.0_dp
+            a = vals(5, c) * fn**(1.0_dp / 3.0_dp)
+            b = vals(6, c) * fn**(1.0_dp / 3.0_dp)
+            ! the strip's contact lies xcp ahead of the axle under yaw (the table's at 0)
+            xcp = 0.0_dp
+            if (strip) xcp = so(SO_XC, k)
+            ! relative velocity of the wheel's material point (arms l, za about the
+            ! wheelset centre) over the rail's (arms l + yr, r_nom - za about the track's
+            ! roll centre): the arms of the generalised forces below (energy-consistent)
+            dvy = (wp%ve(1) + za * wp%ve(3) + xcp * vw(4)) - (wp%vtw(1) - (rnom - za) * wp%vtw(3))
+            dvz = (wp%ve(2) + wp%ve(3) * l - xcp * vw(6)) - (wp%vtw(2) + wp%vtw(3) * (l + wp%yr))
+            ! longitudinal creepage: the material velocity of the wheel at the contact
+            ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
+            ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
+            ! over the rail (at rest), divided by v0, with Omega0 = v0 / r0:
+            xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
+            eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
+            spin = (-sg * sd + cd * wp%phr) / r0 + cd * vw(4) / v0
+            if (model == CMODEL_BEM .and. tangent) then
+                call point_bem_tangent(bem, iws, w, c, ia(c), wa(c), dn, wp%phr, xi, eta, spin, gmod, &
+                                       a, b, vals(7:10, c), mu, fn, fx, fy, mz, xc, yc)
+            else if (model == CMODEL_BEM) then
+                call point_bem(bem, iws, w, c, ia(c), ib(c), wa(c), dn, wp%phr, xi, eta, spin, mu, v0, &
+                               gmod, a, b, vals(8:10, c), fn, fx, fy, mz, xc, yc, info)
+                if (info /= STAT_OK) return
+                if (fn <= 0.0_dp) cycle
+            else if (model == CMODEL_HERTZ_KALKER) then
+                call creep_kalker_she(gmod, a, b, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
+                                      xi, eta, spin, fx, fy)
+            else
+                call fastsim_ellipse(a, b, gmod, vals(8, c), vals(9, c), vals(10, c), mu, fn, &
+                                     xi, eta, spin, fsn, fsn, fx, fy, mz)
+            end if
+            ! a member's share of its slot's load (pose_at)
+            fn = wt(c) * fn
+            fx = wt(c) * fx
+            fy = wt(c) * fy
+            mz = wt(c) * mz
+            call normal_forces(strip, so(:, k), grd(:, c), sg, rnom, wp%yr, wp%qtw(3), fn * cd, &
+                               fyn, fzn, mwn, mtn, mpn)
+            ! the creep forces along t_y = (0, cos, sg sin) with the geometric arms
+            fyt = fy * cd
+            fzt = fy * sg * sd
+            ! moment about the point of the contact stresses (patch's centre of pressure
+            ! and spin moment; the Hertz patch is centred on the point): Fn yc t_x
+            ! - Fn xc t_y + mz n, in track axes
+            mtx = fn * yc
+            mty = -fn * xc
+            mx = mtx
+            my = mty * cd - mz * sg * sd
+            mzt = mty * sg * sd + mz * cd
+            fw(1) = fw(1) + fyt + fyn
+            fw(2) = fw(2) + fzt + fzn
+            fw(3) = fw(3) + l * fzt + za * fyt + mx + mwn
+            fw(4) = fw(4) - l * fx + xcp * fyt + mzt + mpn
+            ! Fx acts on x; its moment about the axle (y) at p = (0, l, -r) is
+            ! (p x F)_y = p_z Fx - p_x Fz = -r Fx (it opposes the xi it comes from)
+            fw(5) = fw(5) + fx
+            fw(6) = fw(6) - r * fx - xcp * fzt + my
+            ft(1) = ft(1) - fyt - fyn
+            ft(2) = ft(2) - fzt - fzn
+            ft(3) = ft(3) - (l + wp%yr) * fzt + (rnom - za) * fyt - mx + mtn
+            wo(1) = wo(1) + fzt + fzn
+            wo(2) = wo(2) + fyt + fyn + fzn * wp%qtw(3)      ! track axes
+            wo(3) = wo(3) + fx
+            wo(3 + k) = wo(3 + k) + fn
+            if (strip) then
+                wo(9) = wo(9) + so(SO_V, k)
+            else
+                wo(9) = wo(9) + wt(c) * 0.4_dp * vals(7, c) * dn * dn * sqrt(dn)
+            end if
+            wo(14) = wo(14) + mtx
+            wo(15) = wo(15) + mz
+            ! the point's arm in the wheel's frame: (l, -za) rotated back by the roll pl
+            wo(16) = wo(16) + fn * (cos(wp%pl) * sg * l - sin(wp%pl) * za)
+            fnsum = fnsum + fn
+            if (fn > nbest) then
+                nbest = fn
+                wo(6) = xi
+                wo(7) = eta
+                wo(8) = spin
+                wo(10) = dlt
+                wo(11) = a
+                wo(12) = b
+                wo(13) = yc
+            end if
+        end do
+        if (fnsum > 0.0_dp) wo(16) = wo(16) / fnsum
+    end subroutine wheel_points
+
+    !> The generalised components of one point's normal force (wheel_points): fyn, fzn on the
+    !> wheelset's y, z, mwn on its roll, mtn on the track element's roll, mpn on the yaw.
+    !> From the gradient of the gap the approach came from (-dV/dq of the Hertz potential:
+    !> conservative), the left wheel's table read at (sg u, sg phr): g_u = -tan(delta), g_phi
+    !> = l + (r_nom - za) tan(delta) to first order (grd), with the track's frame terms of zc,
+    !> and fzn = fnc the normal force's vertical part; or under strip -grad V of the strip
+    !> potential (sok: the slot's strip outputs) over Y = yr + r_nom qt3, zc = zr - yr qt3,
+    !> phr (the right wheel's V read mirrored).
+    pure subroutine normal_forces(strip, sok, grd, sg, rnom, yr, qt3, fnc, fyn, fzn, mwn, mtn, mpn)
+        logical, intent(in) :: strip
+        real(dp), intent(in) :: sok(nso), grd(2), sg, rnom, yr, qt3, fnc
+        real(dp), intent(out) :: fyn, fzn, mwn, mtn, mpn
+        real(dp) :: gy, gz, gph
+        if (strip) then
+            gy = sg * sok(SO_DY)
+            gz = sok(SO_DZ)
+            gph = sg * sok(SO_DPHI)
+            fzn = -gz
+            fyn = -(gy - gz * qt3)
+            mwn = -gph
+            mtn = -(gy * rnom - gz * yr - gph)
+            ! the yaw moment of the normal forces: -dV/dpsi
+            mpn = -sg * sok(SO_DPSI)
+        else
+            fzn = fnc
+            fyn = fzn * (sg * grd(1) - qt3)
+            mwn = fzn * sg * (grd(1) * rnom + grd(2))
+            mtn = -fzn * (sg * grd(2) + yr)
+            mpn = 0.0_dp
+        end if
+    end subroutine normal_forces
+
+    !> CMODEL_BEM at one point (wheel_points): the BEM's normal and steady-rolling solve of
+    !> the patch (vehicle_bem%bem_patch; fn in: the Hertz force, out: the BEM's), then the
+    !> calibration of the Newton tangent's cheap model (point_bem_tangent) against this solve:
+    !> the ratios BEM / Hertz-Kalker of the normal force and of the creep force (bem_scale).
+    subroutine point_bem(bem, iws, w, c, ia, ib, wa, dn, phr, xi, eta, spin, mu, v0, gmod, a, b, &
+                         ck, fn, fx, fy, mz, xc, yc, info)
+        integer, intent(in) :: bem, iws, w, c, ia, ib
+        real(dp), intent(in) :: wa, dn, phr, xi, eta, spin, mu, v0, gmod, a, b, ck(3)
+        real(dp), intent(inout) :: fn
+        real(dp), intent(out) :: fx, fy, mz, xc, yc
+        integer, intent(out) :: info
+        real(dp) :: fnh, fxk, fyk, rt(2)
+        fnh = fn
+        call bem_patch(bem, iws, w, c, ia, ib, wa, dn, phr, xi, eta, spin, mu, v0, &
+                       fn, fx, fy, mz, xc, yc, info)
+        if (info /= STAT_OK) return
+        if (fn <= 0.0_dp) return
+        call creep_kalker_she(gmod, a, b, ck(1), ck(2), ck(3), mu, fnh, xi, eta, spin, fxk, fyk)
+        rt(1) = min(max(fn / fnh, 0.5_dp), 2.0_dp)
+        rt(2) = 1.0_dp
+        if (hypot(fxk, fyk) > 0.05_dp * mu * fnh) &
+            rt(2) = min(max(hypot(fx, fy) / hypot(fxk, fyk), 0.5_dp), 2.0_dp)
+        call bem_scale(bem, iws, w, c, .true., rt)
+    end subroutine point_bem
+
+    !> The Newton tangent of a BEM run at one point (wheel_points, CMODEL_BEM with tangent): the
+    !> patch's linear model from differences of its own solves (vehicle_bem%bem_linear), else
+    !> Hertz (kc(1) = kH) + Kalker (kc(2:4)) scaled to the last BEM solve of this point.
+    subroutine point_bem_tangent(bem, iws, w, c, ia, wa, dn, phr, xi, eta, spin, gmod, a, b, kc, mu, &
+                                 fn, fx, fy, mz, xc, yc)
+        integer, intent(in) :: bem, iws, w, c, ia
+        real(dp), intent(in) :: wa, dn, phr, xi, eta, spin, gmod, a, b, kc(4), mu
+        real(dp), intent(inout) :: fn, fx, fy, mz, xc, yc
+        real(dp) :: rt(2)
+        logical :: lin
+        call bem_linear(bem, iws, w, c, ia, wa, dn, phr, xi, eta, spin, fn, fx, fy, mz, xc, yc, lin)
+        if (lin) return
+        fn = kc(1) * dn * sqrt(dn)
+        call bem_scale(bem, iws, w, c, .false., rt)
+        fn = rt(1) * fn
+        call creep_kalker_she(gmod, a, b, kc(2), kc(3), kc(4), mu, fn, xi, eta, spin, fx, fy)
+        fx = rt(2) * fx
+        fy = rt(2) * fy
+    end subroutine point_bem_tangent
 
 end module vehicle_contact

@@ -15,7 +15,7 @@ module vehicle_model
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH, &
                              STAT_NO_MEMORY
     use vehicle_contact, only: nq_table, nwo, wheelset_contact, CMODEL_HERTZ_KALKER, CMODEL_BEM, &
-                               CMODEL_BEM_TANGENT, pose_table, pose_set, SLIN_KEEP, SLIN_READ
+                               pose_table, pose_set, SLIN_KEEP, SLIN_READ
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_bem, only: bem_record, bem_solve_recorded
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
@@ -426,14 +426,14 @@ contains
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
         real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2)
         integer :: j, k, model, ir, il
+        logical :: tng
         model = rs%cmodel
         mu = md%mu
         if (present(frictionless)) then
             if (frictionless) mu = 0.0_dp
         end if
-        if (present(cheap)) then
-            if (cheap .and. model == CMODEL_BEM) model = CMODEL_BEM_TANGENT
-        end if
+        tng = .false.
+        if (present(cheap)) tng = cheap
         call ws_state(md, w, q, v, qw, vw, qt, vt)
         ir = 0
         il = 0
@@ -465,20 +465,20 @@ contains
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
-                                  slin=slin, smode=smode, rail=rail, frail=frail)
+                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng)
         else if (ir > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
-                                  slin=slin, smode=smode)
+                                  slin=slin, smode=smode, tangent=tng)
         else if (il > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
-                                  slin=slin, smode=smode, rail=rail, frail=frail)
+                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng)
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
-                                  slin=slin, smode=smode)
+                                  slin=slin, smode=smode, tangent=tng)
         end if
         do k = 1, 2
             if (ir > 0) gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
@@ -571,7 +571,7 @@ contains
     !> dq = 0) the two parts separate: mode TANGENT_QV -> dF/dq + cv dF/dv, TANGENT_V -> dF/dv.
     !> With the BEM contact (CMODEL_BEM) the contact part is that of each patch's linear model
     !> (vehicle_bem%bem_linear; else Hertz + Kalker scaled to the last BEM solves):
-    !> CMODEL_BEM_TANGENT, modified Newton.
+    !> add_contact's cheap, wheelset_contact's tangent; modified Newton.
     !> Model FR (u, ud at the attachment points and jru, jpr, jpu all present): the contact of
     !> a wheelset with flexible rims at the deformed rims, and its chain-rule blocks added to
     !> jru (nd x np), jpr (np x nd), jpu (np x np) by the same differences over the wheelset's
