@@ -1,5 +1,5 @@
 """Peak memory of a long vehicle run with its history kept in memory against streamed to HDF5
-(railvti.stream): through the Python API (``simulate(..., stream_to=)``) and through
+(railvti.runner.stream): through the Python API (``simulate(..., stream_to=)``) and through
 ``railvti run`` (a deck case above / below ``RAILVTI_STREAM_ABOVE``).
 
 Each run is a fresh process (peak RSS is per process: ``ru_maxrss`` of the child); the API
@@ -75,7 +75,7 @@ def main() -> None:
         for mode, threshold in (("memory", "none"), ("streamed", "0")):
             out_h5 = Path(tmp) / f"{mode}.h5"
             env = dict(os.environ, RAILVTI_STREAM_ABOVE=threshold)
-            rss, _, wall = _child_rss([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o",
+            rss, _, wall = _child_rss([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o",
                                        str(out_h5), "-q"], env)
             print(f"{mode:>10} | {rss / mb:11.0f} | {out_h5.stat().st_size / mb:7.1f} | {wall:6.1f}")
 

@@ -1,4 +1,4 @@
-"""Long time histories streamed to HDF5 as the time loop runs (railvti.stream, issue 16 item 4):
+"""Long time histories streamed to HDF5 as the time loop runs (railvti.runner.stream, issue 16 item 4):
 a streamed run stores exactly the numbers of a run kept in memory, keeps only its tail in
 memory, and a streamed case interrupted (SIGINT) or killed (SIGKILL) under ``railvti run``
 leaves a valid results file."""
@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from railvti import scenarios as sc
-from railvti.cli import main
-from railvti.stream import STREAM_ENV, HistoryStream
+from railvti.runner.cli import main
+from railvti.runner.stream import STREAM_ENV, HistoryStream
 
 STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 
@@ -86,7 +86,7 @@ VEHICLE = """
 def test_a_streamed_deck_case_equals_the_case_kept_in_memory(tmp_path, monkeypatch):
     deck = tmp_path / "deck.nml"
     deck.write_text(VEHICLE)
-    import railvti.results as results_mod
+    import railvti.runner.results as results_mod
     copied = []
     real_copy = results_mod._copy_streamed
     monkeypatch.setattr(results_mod, "_copy_streamed", lambda g, n, r, *a: copied.append(n) or real_copy(g, n, r, *a))
@@ -128,7 +128,7 @@ def _start(tmp_path: Path, **extra_env: str) -> tuple[subprocess.Popen, Path]:
     deck.write_text(LONG)
     out = tmp_path / "out.h5"
     env = dict(os.environ, **{STREAM_ENV: "1M"}, **extra_env)
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+    proc = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     return proc, out
 

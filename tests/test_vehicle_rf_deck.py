@@ -11,9 +11,9 @@ import pytest
 
 from railvti import scenarios
 from railvti.casetypes import REGISTRY
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.errors import InputError
-from railvti.results import load
+from railvti.runner.results import load
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 RING = dict(n_sleepers=40, f_limit=300.0, x_offset=0.1,

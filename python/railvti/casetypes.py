@@ -7,7 +7,7 @@ InputError), calls ``run`` with the completed parameters, and writes the
 returned :class:`CaseOutput` to HDF5. ``plot``, if given, draws a stored case.
 
 Each area registers its case types in :data:`REGISTRY` through
-:func:`register` (see ``railvti.deck_registry``).
+:func:`register` (see ``railvti.runner.deck_registry``).
 """
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ REQUIRED: Any = _Required()
 
 @dataclass(frozen=True)
 class Streamed:
-    """A dataset a case streamed to a file while it ran (railvti.stream): ``name`` (its HDF5
+    """A dataset a case streamed to a file while it ran (railvti.runner.stream): ``name`` (its HDF5
     path) in the file ``path``; copied into the case's group when the case is written."""
 
     path: str
@@ -59,7 +59,7 @@ class CaseOutput:
         name -> (value, unit string); written as attributes of the case's ``results`` group.
     attrs : dict
         dataset name -> {attribute: value}: labels written beside ``units`` (``axes``,
-        ``dof_names``, ``empty_slots``...; see railvti.results).
+        ``dof_names``, ``empty_slots``...; see railvti.runner.results).
     """
 
     summary: str

@@ -1053,7 +1053,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         speed's static state (``details['modal_restarts']``).
     client : distributed.Client or str, optional
         Run on a Dask cluster: a Client, a scheduler address (``tcp://host:8786``) or
-        'local' (a LocalCluster for the call, railvti.sweeps); an address where no scheduler
+        'local' (a LocalCluster for the call, railvti.runner.sweeps); an address where no scheduler
         answers is an InputError within seconds. The client never changes the answer: the
         same call returns the same numbers bit for bit with and without it. The upper
         branch's continuation is one sequential chain, one task
@@ -1066,7 +1066,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         differ from the continuation's where two cycles coexist (the continuation follows one
         branch down; the independent start lands on the cycle whose basin holds ``y_large``).
         A downward extension runs one speed at a time. Serial (``client=None``) and on any
-        cluster the results are the same bit for bit (railvti.sweeps). Never implied by
+        cluster the results are the same bit for bit (railvti.runner.sweeps). Never implied by
         ``client``.
     geometry : str
         Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
@@ -1085,7 +1085,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
     if client is not None:
-        from .sweeps import check_client
+        from .runner.sweeps import check_client
         check_client(client)            # an unreachable address: InputError before any work
     kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
               h=h, v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
@@ -1194,7 +1194,7 @@ def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: d
     (:func:`bifurcation_upper`), the decay tests (independent by nature) as one task per
     speed beside it; the same runs as the serial sweep, so the same numbers."""
     from distributed import as_completed
-    from .sweeps import _client_from
+    from .runner.sweeps import _client_from
     with _client_from(client) as c:
         fut_up = c.submit(bifurcation_upper, list(map(float, sp)), pure=False, **chain)
         fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size,
@@ -1321,7 +1321,7 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
-            from .sweeps import _client_from
+            from .runner.sweeps import _client_from
             c = stack.enter_context(_client_from(client))
 
         bar = None

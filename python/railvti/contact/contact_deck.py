@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from ..casetypes import REGISTRY
-from ..deck import Case
+from ..runner.deck import Case
 from ..errors import InputError
 from . import wheel_rail_cases
 

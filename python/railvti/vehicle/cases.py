@@ -40,10 +40,10 @@ from dataclasses import replace
 from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
-from ..results import split_labels
+from ..runner.results import split_labels
 from ..scenarios import (_RF_SCENARIOS, AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
                          RING_TRACK, _hunting_conicity)
-from ..stream import case_stream, history_bytes
+from ..runner.stream import case_stream, history_bytes
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
@@ -458,7 +458,7 @@ def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, f
 
 def _stream_derived() -> dict:
     """The full-length datasets of :func:`_history` computed from each block of a streamed
-    history (railvti.stream), so that a streamed case stores what an in-memory one does."""
+    history (railvti.runner.stream), so that a streamed case stores what an in-memory one does."""
     def col(src: str, name: str):
         return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]
 
@@ -516,7 +516,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["n_sleepers"] = (ring["n_sleepers"], "1")
         scalars["f_limit"] = (ring["f_limit"], "Hz")
         scalars["x_offset"] = (ring["x_offset"], "m")
-    # a long history streams to the runner's file (railvti.stream; docs/results.md); models FR
+    # a long history streams to the runner's file (railvti.runner.stream; docs/results.md); models FR
     # and RF keep their history in memory (their modal datasets are derived from the whole run)
     out_dt = params["output_dt"] or _estimated_output_dt(scen, params["speed"])
     stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),

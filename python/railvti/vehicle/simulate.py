@@ -25,7 +25,7 @@ from .._status import Status, check, error
 from .._threads import serial_blas
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from ..resources import check_memory
-from ..stream import STREAM_TAIL_SECONDS, HistoryStream
+from ..runner.stream import STREAM_TAIL_SECONDS, HistoryStream
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
@@ -163,14 +163,14 @@ class SimulationResult:
     rail: np.ndarray | None = None
 
     def save(self, path) -> "Path":
-        """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
+        """Write the result to an HDF5 file (atomically; :func:`railvti.runner.results.load` reads
         it back equal): every array with its ``units``, q and v with ``dof_names``, the wheel
         outputs with their quantity names and units."""
-        from ..results import save
+        from ..runner.results import save
         return save(self, path)
 
     def _save_attrs(self) -> dict:
-        """Labels written beside the arrays by :func:`railvti.results.save`."""
+        """Labels written beside the arrays by :func:`railvti.runner.results.save`."""
         from .cases import WHEEL_UNITS
         nw = self.wheel.shape[-1]
         return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
@@ -563,16 +563,16 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
         state is made for the run and freed at its end.
     stream_to : HistoryStream or path, optional
         Write the history (``t``, ``q``, ``v``, ``wheel``) to HDF5 as the time loop's chunks
-        finish, in resizable chunked datasets (:class:`railvti.stream.HistoryStream`; a path
+        finish, in resizable chunked datasets (:class:`railvti.runner.stream.HistoryStream`; a path
         is a new file with the group 'history', closed at the end; a HistoryStream is left
         open for its owner), and keep in memory only the last ``stream_tail`` seconds: the
         returned SimulationResult (and an interruption's ``partial``) then holds that tail,
         and its ``streamed`` names the file and group. The streamed rows equal, to the bit,
         those of a run kept in memory. For long runs (``railvti run`` streams a case whose
-        history exceeds :func:`railvti.stream.stream_threshold`).
+        history exceeds :func:`railvti.runner.stream.stream_threshold`).
     stream_tail : float
         Simulated time kept in memory when streaming, s (default
-        :data:`railvti.stream.STREAM_TAIL_SECONDS`).
+        :data:`railvti.runner.stream.STREAM_TAIL_SECONDS`).
     integrator : str
         'hht' (default): Newmark / HHT-alpha. 'energy': the energy-conserving midpoint rule
         (alpha must be 0; the strip contact geometry, whose normal contact has a potential):

@@ -24,8 +24,8 @@ from typing import Any, Callable, Iterator
 import h5py
 import numpy as np
 
-from .casetypes import Streamed
-from .errors import InputError
+from ..casetypes import Streamed
+from ..errors import InputError
 from .guarded_io import GuardedFile, WriteFailed, open_h5
 
 #: Environment variable: a case whose stored time history would exceed this size (bytes, or
@@ -58,7 +58,7 @@ def history_bytes(duration: float, output_dt: float) -> float:
 
 def stream_threshold() -> float:
     """History size above which ``railvti run`` streams a case (:data:`STREAM_ENV`), bytes."""
-    from .resources import parse_size
+    from ..resources import parse_size
     text = os.environ.get(STREAM_ENV, "").strip()
     if not text:
         return DEFAULT_STREAM_BYTES
@@ -117,7 +117,7 @@ class HistoryStream:
 
     def _open(self) -> None:
         # through a GuardedFile: a full disk raises WriteFailed here, never inside HDF5
-        # (railvti.guarded_io says why: HDF5 cannot close a file whose write failed)
+        # (railvti.runner.guarded_io says why: HDF5 cannot close a file whose write failed)
         mode = "a" if self.path.is_file() and self.path.stat().st_size > 0 else "w"
         try:
             self._fh = GuardedFile(self.path, mode)

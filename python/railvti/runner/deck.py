@@ -34,9 +34,9 @@ from typing import Any
 
 import f90nml
 
-from .casetypes import REQUIRED, CaseType
+from ..casetypes import REQUIRED, CaseType
 from .deck_registry import case_types
-from .errors import InputError
+from ..errors import InputError
 
 #: Longest case name (it names an HDF5 group and the plot files).
 MAX_NAME = 64
@@ -367,7 +367,7 @@ def read_deck(path: str | Path) -> list[Case]:
     Every case's values are checked (:func:`check_cases`) before this returns."""
     path = Path(path)
     if path.suffix.lower() == ".inp":
-        from .contact.contact_deck import read_contact_deck
+        from ..contact.contact_deck import read_contact_deck
         cases = read_contact_deck(path)
         _raise(check_cases(cases))
         return cases

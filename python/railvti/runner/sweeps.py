@@ -21,7 +21,7 @@ case runs, and written to its own HDF5 group with the attributes ``sweep`` (the 
 
 Running: :func:`run_on_client` sends every case (deck cases and sweep points alike) as a task to
 a dask.distributed client and writes each finished one at once through the batch runner's
-writer (railvti.batch: only this process writes the file; the workers return their records).
+writer (railvti.runner.batch: only this process writes the file; the workers return their records).
 ``railvti run`` does this on a ``LocalCluster`` by default; ``--serial`` runs in-process
 without importing dask. Dask is imported only inside the functions that use it: ``import
 railvti`` and the serial path do not import it.
@@ -42,9 +42,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-from .casetypes import CaseType, REGISTRY
+from ..casetypes import CaseType, REGISTRY
 from .deck import MAX_NAME, Case, name_problem
-from .errors import InputError
+from ..errors import InputError
 from .guarded_io import WriteFailed
 
 log = logging.getLogger("railvti")
@@ -300,7 +300,7 @@ def sweep(case_type: str, params: dict[str, Any], axes: dict[str, Sequence[Any]]
 
 
 def _required(value: Any) -> bool:
-    from .casetypes import REQUIRED
+    from ..casetypes import REQUIRED
     return value is REQUIRED
 
 
@@ -309,7 +309,7 @@ def _required(value: Any) -> bool:
 
 
 def run_task(case: Case) -> Any:
-    """Run one case on a worker and return its :class:`railvti.results.CaseRecord` (the
+    """Run one case on a worker and return its :class:`railvti.runner.results.CaseRecord` (the
     worker never writes the results file). Signals are the worker's business: no guard."""
     from .batch import SignalGuard, run_case
     return run_case(case, SignalGuard(), None)
@@ -746,7 +746,7 @@ def run(cases: list[Case], client: Any = None, *, out: str | Path | None = None,
     Parameters
     ----------
     cases : list of Case
-        From :func:`railvti.deck.read_deck` or :func:`sweep`.
+        From :func:`railvti.runner.deck.read_deck` or :func:`sweep`.
     client : None, 'local', str or distributed.Client
         None: in this process, one after another (dask is not imported). 'local': a new
         LocalCluster of ``workers`` processes (default: the cores). Another text: the address
@@ -876,7 +876,7 @@ def plot_sweeps(f: Any, outdir: Path, stem: str) -> list[Path]:
     A sweep of at most :data:`MAX_POINT_PLOTS` vehicle hunting runs gets the leading
     wheelset's time histories and phase portraits overlaid (``stem_SWEEP_phase.png``)."""
     from .deck_registry import case_types
-    from .vehicle.plots import _plt
+    from ..vehicle.plots import _plt
     types = case_types()
     paths = []
     for name, points in sweep_points(f).items():

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import importlib
 
-from .casetypes import REGISTRY, CaseType
+from ..casetypes import REGISTRY, CaseType
 
 # Each area's module registers its case types when imported.
 _AREAS = (

@@ -2,7 +2,7 @@
 
 * Each case runs isolated: any exception (not only railvti's) becomes that case's recorded
   error, with its traceback in the log and in the file; the other cases still run.
-* Each finished case is written at once (:class:`railvti.results.ResultsWriter`: a new
+* Each finished case is written at once (:class:`railvti.runner.results.ResultsWriter`: a new
   version of the file in a temporary file beside it, renamed over the old one), so there is a
   valid file after every case; ``--resume`` keeps the cases already complete (status 'ok' and
   the same parameters) and runs the others.
@@ -14,7 +14,7 @@
   (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous complete file (or none) and at
   most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
-* A case with a long time history streams it (railvti.stream) to a temporary file beside the
+* A case with a long time history streams it (railvti.runner.stream) to a temporary file beside the
   output as it runs; its datasets are copied into the case's group when the case is written,
   and the file is deleted then (also after an error or a signal). SIGKILL during such a case
   leaves the previous complete file and that stream file (``.NAME.PID.XXXX.tmp``).
@@ -37,9 +37,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
-from .casetypes import CaseOutput
+from ..casetypes import CaseOutput
 from .deck import Case
-from .errors import InputError
+from ..errors import InputError
 from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
                    check_cost, estimate, small_deck)
 from .stream import CaseStream
@@ -217,10 +217,10 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
 
 def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = False,
                force: bool = False, note: Any = None) -> bool:
-    """Refuse an existing results file written from another deck (railvti.results.deck_owner
+    """Refuse an existing results file written from another deck (railvti.runner.results.deck_owner
     says which files belong to a deck, and why), unless ``force``: plain ``-o`` would
     replace it, ``--resume`` would mix two decks' cases in one file. With ``resume``, also
-    refuse a damaged file (railvti.results.damage: every dataset is read once). Returns
+    refuse a damaged file (railvti.runner.results.damage: every dataset is read once). Returns
     whether the run resumes: with ``force`` another deck's or a damaged file is replaced,
     never resumed (``note`` says so).
 
@@ -257,7 +257,7 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
                      "or --force to replace it")
 
 
-# The cost estimate and its limits live in railvti.cost; check_resources is its check.
+# The cost estimate and its limits live in railvti.runner.cost; check_resources is its check.
 check_resources = check_cost
 
 
@@ -278,7 +278,7 @@ class RunReport:
 def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
     """Datasets and labels of an interrupted run's streamed history: every dataset of the
     stream (t, q, v and the per-wheel histories), referenced for copying."""
-    from .vehicle.cases import WHEEL_UNITS
+    from ..vehicle.cases import WHEEL_UNITS
     labels = res._save_attrs()
     nw = res.wheel.shape[-1]
     per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
@@ -303,7 +303,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
     its tail)."""
     if res is None or not hasattr(res, "_save_attrs"):
         return None
-    from .vehicle.cases import STAT_UNITS
+    from ..vehicle.cases import STAT_UNITS
     hs = stream.stream if stream is not None else None
     if getattr(res, "streamed", "") and hs is not None and res.streamed == hs.where:
         hs.close()
@@ -323,7 +323,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
 def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -> CaseRecord:
     """Run one case; any exception becomes the record's error (with its traceback),
     a signal the record's ``interrupted``. With ``stream`` the case may stream a long time
-    history to it (railvti.stream.case_stream); the stream is closed on return (the caller
+    history to it (railvti.runner.stream.case_stream); the stream is closed on return (the caller
     writes the record, then removes the stream file)."""
     t0 = time.perf_counter()
     active = stream.active() if stream is not None else contextlib.nullcontext()
@@ -406,7 +406,7 @@ def expected_error(error: str) -> bool:
     """Whether a record's error ('ExceptionClass: message') is one of railvti's own
     (:class:`railvti.errors.RailvtiError` and its subclasses, wherever defined): a failure the
     code foresaw and explained, not a bug."""
-    from .errors import RailvtiError
+    from ..errors import RailvtiError
     names, todo = set(), [RailvtiError]
     while todo:
         cls = todo.pop()
@@ -438,7 +438,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
               guard: SignalGuard | None = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output` and :func:`check_deck`), each finished case written at once, under
-    the output's lock (railvti.output_lock: a second run on ``out`` is refused). A file
+    the output's lock (railvti.runner.output_lock: a second run on ``out`` is refused). A file
     that cannot be written stops the run: status :data:`EXIT_OUTPUT`, ``report.error``
     says why in one line, the file is its last complete version.
 
@@ -449,7 +449,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     progress : callable, optional
         ``progress(case)`` before each case of a serial run (e.g. a progress bar's postfix).
     client : distributed.Client, optional
-        Run the cases as tasks on this Dask client (railvti.sweeps.run_on_client); each
+        Run the cases as tasks on this Dask client (railvti.runner.sweeps.run_on_client); each
         finished one is written here, by this process, as it arrives. None: one after
         another in this process (dask is not imported).
     on_record : callable, optional

@@ -11,7 +11,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 from .deck_registry import case_types  # noqa: E402
-from .errors import InputError  # noqa: E402
+from ..errors import InputError  # noqa: E402
 
 log = logging.getLogger(__name__)
 
@@ -20,7 +20,7 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
                  points: bool = False, notes: list[str] | None = None) -> list[Path]:
     """Draw every successful case of a results file, what an interrupted case kept (its
     time history up to the signal), and a summary of each sweep
-    (railvti.sweeps.plot_sweeps); return the PNG paths.
+    (railvti.runner.sweeps.plot_sweeps); return the PNG paths.
 
     Parameters
     ----------
@@ -29,7 +29,7 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
     outdir : path, optional
         Folder for the PNGs (default: next to the file).
     points : bool
-        Also draw each point of the sweeps larger than railvti.sweeps.MAX_POINT_PLOTS.
+        Also draw each point of the sweeps larger than railvti.runner.sweeps.MAX_POINT_PLOTS.
     notes : list, optional
         Gets one line per case drawn partly or not at all, saying why (failed, interrupted
         before it kept anything, no plot for its type, a plot that failed).
