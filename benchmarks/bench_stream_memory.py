@@ -22,13 +22,16 @@ from pathlib import Path
 CHILD = r"""
 import json, resource, sys, time, tracemalloc
 from railvti import scenarios as sc
+from railvti.runner.stream import HistoryStream
 duration, stream = float(sys.argv[1]), sys.argv[2]
 sc.hunting(300.0, duration=0.01, progress=False)          # contact table and imports first
 rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 tracemalloc.start()
 t0 = time.perf_counter()
-r = sc.hunting(300.0, duration=duration, output_dt=1e-3, progress=False,
-               stream_to=None if stream == "-" else stream)
+sink = None if stream == "-" else HistoryStream(stream)
+r = sc.hunting(300.0, duration=duration, output_dt=1e-3, progress=False, stream_to=sink)
+if sink is not None:
+    sink.close()
 wall = time.perf_counter() - t0
 peak = tracemalloc.get_traced_memory()[1]
 print(json.dumps({"wall": wall, "traced_peak": peak, "rss_before": rss0 * 1024,

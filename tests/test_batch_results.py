@@ -223,7 +223,7 @@ def test_vehicle_results_are_self_describing_and_round_trip(tmp_path):
     from railvti import scenarios as sc
 
     res = sc.hunting(300.0, duration=0.04)
-    back = load(res.save(tmp_path / "sim.h5"))
+    back = load(save(res, tmp_path / "sim.h5"))
     for k in ("t", "q", "v", "wheel"):
         assert np.array_equal(getattr(back, k), getattr(res, k))
     assert back.dof_names == res.dof_names and back.stats == res.stats

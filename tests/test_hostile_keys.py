@@ -456,7 +456,7 @@ def test_labels_hunting_summary_says_the_window_of_a_short_run():
 
 
 def test_labels_rf_critical_speed_is_accepted_up_front():
-    """Model RF runs every scenario (README, scenarios._RF_SCENARIOS): its critical_speed deck
+    """Model RF runs every scenario (README, scenarios.RF_SCENARIOS): its critical_speed deck
     case passes the checks (measured: the nonlinear sweep 300/340 km/h, 1.2 s, 260 km/h tread
     cycle in 113 s; the linear method 314.95 km/h in 530 s)."""
     (case,) = parse_deck(vehicle_deck("model = 'RF'").replace("'hunting'", "'critical_speed'"))

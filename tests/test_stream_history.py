@@ -26,8 +26,9 @@ STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 def test_a_streamed_run_stores_the_numbers_of_the_run_kept_in_memory(tmp_path):
     full = sc.hunting(300.0, duration=1.0, progress=False)
     path = tmp_path / "stream.h5"
-    tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=path, stream_tail=0.05,
-                      chunk=0.1)          # 0.1 s per Fortran call, the tail two calls
+    with HistoryStream(path) as sink:       # the caller's sink, closed by its owner
+        tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=sink, stream_tail=0.05,
+                          chunk=0.1)      # 0.1 s per Fortran call, the tail two calls
     with h5py.File(path, "r") as f:
         g = f["history"]
         for name in ("t", "q", "v", "wheel"):

@@ -49,7 +49,7 @@ MODELS = ("RR", "FR", "RF", "FF")
 _FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
 #: Scenarios that run the models on the ring track, RF and FF.
-_RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
+RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
 #: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
@@ -210,9 +210,9 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model in FLEXIBLE_WHEELSETS and scenario not in _FR_SCENARIOS:
         raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
                          f"yet (flexible wheelsets: only {_FR_SCENARIOS}); use model='RR'")
-    if model in RING_TRACK and scenario not in _RF_SCENARIOS:
+    if model in RING_TRACK and scenario not in RF_SCENARIOS:
         raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
-                         f"yet (ring track: only {_RF_SCENARIOS}); use model='RR'")
+                         f"yet (ring track: only {RF_SCENARIOS}); use model='RR'")
     contact_id(contact)
 
 
@@ -701,7 +701,7 @@ def _step(sy: System, h: float | None) -> float:
     return h
 
 
-def _hunting_conicity() -> float:
+def hunting_conicity() -> float:
     """The equivalent conicity at 3 mm of the profiles (computed once, ~0.6 s)."""
     if "conicity" not in _PROFILES:
         _PROFILES["conicity"] = equivalent_conicity(0.003)
@@ -712,7 +712,7 @@ def _excitations(sy: System, v: float) -> list:
     """The known periodic excitations of a run of sy at v (m/s), railvti.vehicle.output:
     hunting (Klingel's frequency at the profiles' equivalent conicity at 3 mm), and on the
     ring track the sleeper passing."""
-    out = [_output.hunting(v, _hunting_conicity(), float(sy.table.r0))]
+    out = [_output.hunting(v, hunting_conicity(), float(sy.table.r0))]
     ring = getattr(sy, "ring", None)
     if ring is not None:
         out.append(_output.sleeper_passing(v, float(ring.bay)))
@@ -1085,7 +1085,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
     if client is not None:
-        from .runner.sweeps import check_client
+        from ._cluster import check_client
         check_client(client)            # an unreachable address: InputError before any work
     kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
               h=h, v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
@@ -1194,8 +1194,8 @@ def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: d
     (:func:`bifurcation_upper`), the decay tests (independent by nature) as one task per
     speed beside it; the same runs as the serial sweep, so the same numbers."""
     from distributed import as_completed
-    from .runner.sweeps import _client_from
-    with _client_from(client) as c:
+    from ._cluster import client_from
+    with client_from(client) as c:
         fut_up = c.submit(bifurcation_upper, list(map(float, sp)), pure=False, **chain)
         fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size,
                           pure=False, **point)
@@ -1321,8 +1321,8 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
-            from .runner.sweeps import _client_from
-            c = stack.enter_context(_client_from(client))
+            from ._cluster import client_from
+            c = stack.enter_context(client_from(client))
 
         bar = None
         if progress:

@@ -35,11 +35,10 @@ import traceback
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
-from ..casetypes import CaseOutput
-from .deck import Case
-from ..errors import InputError
+from ..casetypes import Case, CaseOutput
+from ..errors import InputError, RailvtiError
 from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
                    check_cost, estimate, small_deck)
 from .stream import CaseStream
@@ -278,7 +277,7 @@ class RunReport:
 def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
     """Datasets and labels of an interrupted run's streamed history: every dataset of the
     stream (t, q, v and the per-wheel histories), referenced for copying."""
-    from ..vehicle.cases import WHEEL_UNITS
+    wheel_units = getattr(res, "WHEEL_UNITS", {})
     labels = res._save_attrs()
     nw = res.wheel.shape[-1]
     per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
@@ -287,7 +286,7 @@ def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
              "y_ws1": "m", "vy_ws1": "m/s", "ws_y": "m"}
     data = {}
     for name in stream.names():
-        unit = units.get(name) or WHEEL_UNITS.get(name.removeprefix("wheel_"), "1")
+        unit = units.get(name) or wheel_units.get(name.removeprefix("wheel_"), "1")
         data[name] = (stream.streamed(name), unit)
         if name.startswith("wheel_"):
             labels[name] = per_wheel
@@ -303,7 +302,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
     its tail)."""
     if res is None or not hasattr(res, "_save_attrs"):
         return None
-    from ..vehicle.cases import STAT_UNITS
+    stat_units = getattr(res, "STAT_UNITS", {})
     hs = stream.stream if stream is not None else None
     if getattr(res, "streamed", "") and hs is not None and res.streamed == hs.where:
         hs.close()
@@ -313,7 +312,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
         data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
                 "v": (res.v, "m/s or rad/s (per dof_names)"),
                 "wheel": (res.wheel, "per quantity: see quantity_units")}
-    scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
+    scalars = {f"stat_{k}": (v, stat_units.get(k, "1")) for k, v in res.stats.items()
                if isinstance(v, (int, float))}
     t_end = float(res.t[-1]) if len(res.t) else 0.0
     return CaseOutput(summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
@@ -406,7 +405,6 @@ def expected_error(error: str) -> bool:
     """Whether a record's error ('ExceptionClass: message') is one of railvti's own
     (:class:`railvti.errors.RailvtiError` and its subclasses, wherever defined): a failure the
     code foresaw and explained, not a bug."""
-    from ..errors import RailvtiError
     names, todo = set(), [RailvtiError]
     while todo:
         cls = todo.pop()
@@ -449,7 +447,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     progress : callable, optional
         ``progress(case)`` before each case of a serial run (e.g. a progress bar's postfix).
     client : distributed.Client, optional
-        Run the cases as tasks on this Dask client (railvti.runner.sweeps.run_on_client); each
+        Run the cases as tasks on this Dask client (:func:`run_on_client`); each
         finished one is written here, by this process, as it arrives. None: one after
         another in this process (dask is not imported).
     on_record : callable, optional
@@ -512,7 +510,6 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
 
     with contextlib.nullcontext(guard) if guard is not None else SignalGuard() as guard:
         if client is not None and todo:
-            from .sweeps import run_on_client
             stop = run_on_client(todo, client, finish, guard)
             if report.status == EXIT_OUTPUT:
                 return report
@@ -550,5 +547,90 @@ def resume_hint(deck: Path, out: Path) -> str:
     return f"railvti run {deck} -o {out} --resume"
 
 
+
+# ---------------------------------------------------------------------------------------------
+# The cases as tasks on a dask.distributed client (the client: railvti._cluster)
+
+
+def run_task(case: Case) -> Any:
+    """Run one case on a worker and return its :class:`railvti.runner.results.CaseRecord` (the
+    worker never writes the results file). Signals are the worker's business: no guard."""
+    return run_case(case, SignalGuard(), None)
+
+
+def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], bool],
+                  guard: Any = None) -> str | None:
+    """Submit every case to ``client`` and call ``on_record(record)`` in this process as each
+    finishes (in the order they finish). ``on_record`` returns False to stop (the file cannot
+    be written). Returns the signal that stopped the run, or None.
+
+    Each case is a task with a key from its position and name (``railvti-NNN-name``), so
+    dask never merges two points; no task is retried on another worker after an exception
+    (its record carries it)."""
+    from distributed import as_completed
+    stamp = f"{os.getpid()}-{time.time_ns()}"
+    futures, by_key = [], {}
+    for c in cases:
+        key = f"railvti-{group_name(c)}-{stamp}"
+        by_key[key] = c
+        futures.append(client.submit(run_task, c, key=key, pure=False, retries=0))
+    stop: str | None = None
+    t_start = time.monotonic()
+    ac = as_completed(futures)
+    try:
+        while True:
+            try:
+                with (guard.live() if guard is not None else contextlib.nullcontext()):
+                    fut = next(ac)
+            except StopIteration:
+                break
+            except Interrupted as exc:
+                stop = exc.signame
+                break
+            rec = _record(fut, by_key)
+            if not on_record(rec):
+                break
+            if guard is not None and guard.pending:
+                stop = guard.pending
+                break
+    finally:
+        if stop is not None:
+            _mark_interrupted(client, futures, by_key, stop, time.monotonic() - t_start,
+                              on_record)
+        for f in futures:
+            if not f.done():
+                f.cancel()
+    return stop
+
+
+def _mark_interrupted(client: Any, futures: list, by_key: dict[str, Case], signame: str,
+                      elapsed: float, on_record: Callable[[Any], bool]) -> None:
+    """Record the cases a signal stopped while a worker was running them as interrupted (as
+    the serial path records its running case); queued cases stay absent (``--resume`` runs
+    them)."""
+    try:
+        running = client.run(lambda dask_worker: [ts.key for ts in dask_worker.state.executing])
+    except Exception:  # noqa: BLE001 - a worker gone or busy: nothing to mark
+        return
+    keys = {k for ks in running.values() for k in ks}
+    for f in futures:
+        if f.key in keys and not f.done() and f.key in by_key:
+            if not on_record(CaseRecord(by_key[f.key], interrupted=signame, wall_time=elapsed)):
+                return
+
+
+def _record(fut: Any, by_key: dict[str, Case]) -> Any:
+    """The CaseRecord of a finished future (a task lost with its worker becomes the case's
+    error)."""
+    try:
+        return fut.result()
+    except Exception as exc:  # noqa: BLE001 - a worker died or the task could not run
+        case = by_key.get(fut.key)
+        if case is None:
+            raise
+        return CaseRecord(case, error=f"{type(exc).__name__}: {exc} (the task did not return)",
+                          traceback=traceback.format_exc())
+
+
 __all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "check_resources",
-           "estimate", "run_case", "run_cases", "RunReport"]
+           "estimate", "run_case", "run_cases", "run_on_client", "run_task", "RunReport"]

@@ -40,8 +40,8 @@ import h5py
 import numpy as np
 
 from .. import __version__
-from ..casetypes import CaseOutput, Streamed
-from .deck import Case
+from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
+from ..casetypes import Case
 from ..errors import InputError
 from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
 
@@ -230,13 +230,6 @@ def _unit_text(units: str, arr: np.ndarray) -> str:
     if units:
         return units
     return "text" if arr.dtype.kind in "OSU" else "1"
-
-
-def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
-    """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
-    ``attrs`` (labels)."""
-    return ({k: (v[0], v[1]) for k, v in data.items()},
-            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
 
 
 #: Bytes read at a time when a streamed dataset is copied into a results file.
@@ -626,24 +619,6 @@ def _nml(value: Any) -> str:
 # ---------------------------------------------------------------------------------------------
 # Saving and loading result objects (SimulationResult, NormalResult, RollingResult, ...)
 
-#: Units of the array fields of result classes whose docstrings do not end in one.
-FIELD_UNITS: dict[str, dict[str, str]] = {
-    "SimulationResult": {"t": "s", "q": "m or rad (per dof_names)",
-                         "v": "m/s or rad/s (per dof_names)",
-                         "wheel": "per quantity: see the quantities and quantity_units attributes",
-                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad",
-                         "rail": "m, m, rad (per component: y, z, roll of the element under "
-                                 "each wheel)"},
-}
-
-
-def _field_units(cls: type) -> dict[str, Any]:
-    """Units of nested fields (SimulationResult.stats) that live beside their classes."""
-    if cls.__name__ == "SimulationResult":
-        from ..vehicle.cases import STAT_UNITS
-        return {"stats": STAT_UNITS}
-    return {}
-
 _UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
                       r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
 
@@ -664,8 +639,7 @@ def _doc_units(cls: type) -> dict[str, str]:
 
 def _units_of(cls: type) -> dict[str, Any]:
     units: dict[str, Any] = dict(_doc_units(cls))
-    units.update(FIELD_UNITS.get(cls.__name__, {}))
-    units.update(_field_units(cls))
+    units.update(getattr(cls, "FIELD_UNITS", {}))      # the class's own (SimulationResult's)
     return units
 
 

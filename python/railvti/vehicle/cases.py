@@ -38,16 +38,16 @@ import numpy as np
 from dataclasses import replace
 
 from .._checks import MAX_SPEED, MAX_SPEED_KMH
-from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
+from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
+                         split_labels, validate)
 from ..errors import InputError
-from ..runner.results import split_labels
-from ..scenarios import (_RF_SCENARIOS, AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                         RING_TRACK, _hunting_conicity)
-from ..runner.stream import case_stream, history_bytes
+from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
+                         RING_TRACK, hunting_conicity)
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
+from .simulate import STAT_UNITS, WHEEL_UNITS
 from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -220,7 +220,7 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
         return [f"{', '.join(given)}: keys of the ring track (model 'RF'); model {model!r} runs on "
                 "rigid track elements"] if given else []
     out = []
-    allowed = _RF_SCENARIOS
+    allowed = RF_SCENARIOS
     missing = [f for f in _RUNS.get(str(params["scenario"]), ()) if allowed is not None and f not in allowed]
     if missing:
         out.append(f"model {model!r} does not run scenario {params['scenario']!r} yet "
@@ -275,19 +275,6 @@ def _coach(params: dict[str, Any]) -> Coach:
     return Coach(**kw)
 
 
-#: Units of the per-wheel outputs (railvti.vehicle.simulate.WHEEL_OUTPUTS).
-WHEEL_UNITS = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
-               "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}
-#: Units of SimulationResult.stats (stored as stat_NAME).
-STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "m", "steps": "1",
-              "substepped_steps": "1", "smallest_step": "s",
-              "newton_residual": "1 (relative to stat_load_scale)",
-              "newton_residual_max": "1 (relative to stat_load_scale)",
-              "newton_correction": "m or rad", "newton_correction_max": "m or rad",
-              "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
-              "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
-              "interrupted_at": "s",
-              "bem_grid": "1, 1, m (nx, ny, dx)"}
 _SIDES = ["left", "right"]
 
 
@@ -487,7 +474,7 @@ def _estimated_output_dt(scen: str, speed: float) -> float:
     """The default output interval of a case on the rigid track (RR, FR), for the size of
     its history (whether to stream it): the scenario's, shortened for hunting at Klingel's
     frequency (railvti.vehicle.output; the run rounds it to its step)."""
-    f = output.hunting(speed, _hunting_conicity(), COACH_DEFAULTS["wheel_radius"][0])
+    f = output.hunting(speed, hunting_conicity(), COACH_DEFAULTS["wheel_radius"][0])
     return output.default_interval([f], 1e-9, 0.01 if scen == "centred_running" else 0.002)
 
 
@@ -519,7 +506,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     # a long history streams to the runner's file (railvti.runner.stream; docs/results.md); models FR
     # and RF keep their history in memory (their modal datasets are derived from the whole run)
     out_dt = params["output_dt"] or _estimated_output_dt(scen, params["speed"])
-    stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
+    stream = (case_sink(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
