@@ -14,8 +14,10 @@
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import difflib
+import gc
 import io
 import logging
 import os
@@ -384,8 +386,6 @@ def _quick_exit() -> None:
     (numpy, h5py, Dask: ~0.4 s, over a second under load, of the time a Ctrl-C takes): the
     objects alive then are frozen (``gc.freeze``) first. Our files are closed explicitly;
     dask's and multiprocessing's clean-ups are atexit hooks, which still run."""
-    import atexit
-    import gc
     if not _QUICK_EXIT:
         atexit.register(gc.freeze)
         _QUICK_EXIT.append(True)

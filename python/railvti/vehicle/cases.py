@@ -41,13 +41,17 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
                          split_labels, validate)
 from ..errors import InputError
-from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
-                         RING_TRACK, hunting_conicity)
+from .. import scenarios as sc
+from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+                         RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity)
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
-from .simulate import STAT_UNITS, WHEEL_UNITS
+from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
+from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
+from .ring_coupling import check_ring_length
+from .simulate import MODAL_STEP_LIMIT, STAT_UNITS, WHEEL_UNITS, check_modal_step
 from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -231,7 +235,6 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
         coach = _coach(params)
     except InputError:
         return out                       # reported by check as a coach problem
-    from .ring_coupling import check_ring_length
     try:
         check_ring_length(sel["n_sleepers"], spacing, coach)
     except InputError as exc:
@@ -241,7 +244,6 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
 
 def _fr_selection(params: dict[str, Any]) -> dict[str, Any]:
     """Model FR's k_max, f_max from the case (the scenarios' defaults where not given)."""
-    from ..scenarios import FR_F_MAX, FR_K_MAX
     return {"k_max": FR_K_MAX if params.get("k_max") is None else params["k_max"],
             "f_max": FR_F_MAX if params.get("f_max") is None else params["f_max"]}
 
@@ -250,8 +252,6 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
     """Why the given h is too large for model FR's kept modes (None: it is not). Cheap when
     h 2 pi f_max <= 2 (no kept mode is above f_max); otherwise the FR system is built at the
     case's (highest) speed and its highest mode checked exactly (check_modal_step)."""
-    from ..scenarios import fr_system
-    from .simulate import MODAL_STEP_LIMIT, check_modal_step
     sel = _fr_selection(params)
     scale = params.get("coach_wheelset_stiffness_scale") or 1.0
     if params["h"] * 2.0 * np.pi * sel["f_max"] * np.sqrt(scale) <= MODAL_STEP_LIMIT:
@@ -331,7 +331,6 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
     the contact points (railvti.vehicle.flexible.rim_deformation, rim_camber_change,
     rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
     ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
-    from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
     n = system.n
     stop = system.n_state if stop is None else stop
     nm = stop - n
@@ -425,7 +424,6 @@ def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, f
     """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
     ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
     FR layouts or [])."""
-    from .. import scenarios as sc
     if model == "FF":
         sy, lays = sc.ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
     elif model == "FR":
@@ -480,7 +478,6 @@ def _estimated_output_dt(scen: str, speed: float) -> float:
 
 def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
-    from .. import scenarios as sc
 
     params = validate("vehicle", params)
     params = {**params, "speed_kmh": round(params["speed"] * 3.6, 9)}  # km/h as given, to 1e-9
@@ -603,7 +600,6 @@ NAN_MEANINGS = {
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
-    from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 
     res = group["results"] if "results" in group else group
     outdir = Path(outdir)
