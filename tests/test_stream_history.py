@@ -17,6 +17,8 @@ import numpy as np
 import pytest
 
 from railvti import scenarios as sc
+from railvti.casetypes import HistorySink
+from railvti.errors import InputError
 from railvti.runner.cli import main
 from railvti.runner.stream import STREAM_ENV, HistoryStream
 
@@ -210,3 +212,13 @@ def test_sigkill_in_a_streamed_case_leaves_the_previous_valid_file(tmp_path):
         assert {k: str(g.attrs["status"]) for k, g in f.items()} == {"001_first": "ok"}
     # the stream file, and at most one file of a write cut short
     assert 1 <= len([p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]) <= 2
+
+
+def test_a_path_as_stream_to_is_refused_with_the_sink_to_use(tmp_path):
+    """The simulation writes to a sink its caller hands in (railvti.casetypes.HistorySink):
+    it makes no file itself."""
+    with pytest.raises(InputError, match=r"HistoryStream\(path\)"):
+        sc.hunting(300.0, duration=0.01, progress=False, stream_to=tmp_path / "s.h5")
+    assert not (tmp_path / "s.h5").exists()
+    with HistoryStream(tmp_path / "s.h5") as sink:
+        assert isinstance(sink, HistorySink)
