@@ -1,9 +1,9 @@
-"""The cost estimate of railvti.cost against measured runs: wall time and peak memory of a
+"""The cost estimate of railvti.runner.cost against measured runs: wall time and peak memory of a
 handful of small cases of each case type, each run in its own subprocess (ru_maxrss is then
 the case's own; the memory reported is the peak above the resident size before the run).
 
 Prints, per case, the estimate and the measurement and their ratio (estimate / measured),
-then per case type the range of the time ratios. The per-unit costs of railvti.cost were
+then per case type the range of the time ratios. The per-unit costs of railvti.runner.cost were
 set from this script's output on the 2-core test machine (one core taken by another job):
 the ratios say how far the estimate is from this machine at the time of the run.
 
@@ -16,12 +16,12 @@ import subprocess
 import sys
 import time
 
-from railvti.cost import duration_text, estimate_params
+from railvti.runner.cost import duration_text, estimate_params
 from railvti.resources import size_text
 
 CHILD = r"""
 import json, resource, sys, time
-from railvti.deck_registry import case_types
+from railvti.runner.deck_registry import case_types
 name, given = sys.argv[1], json.loads(sys.argv[2])
 ctype = case_types()[name]
 params = ctype.validate({**ctype.defaults, **given})

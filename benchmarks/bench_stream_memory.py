@@ -1,5 +1,5 @@
 """Peak memory of a long vehicle run with its history kept in memory against streamed to HDF5
-(railvti.stream): through the Python API (``simulate(..., stream_to=)``) and through
+(railvti.runner.stream): through the Python API (``simulate(..., stream_to=)``) and through
 ``railvti run`` (a deck case above / below ``RAILVTI_STREAM_ABOVE``).
 
 Each run is a fresh process (peak RSS is per process: ``ru_maxrss`` of the child); the API
@@ -22,13 +22,16 @@ from pathlib import Path
 CHILD = r"""
 import json, resource, sys, time, tracemalloc
 from railvti import scenarios as sc
+from railvti.runner.stream import HistoryStream
 duration, stream = float(sys.argv[1]), sys.argv[2]
 sc.hunting(300.0, duration=0.01, progress=False)          # contact table and imports first
 rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 tracemalloc.start()
 t0 = time.perf_counter()
-r = sc.hunting(300.0, duration=duration, output_dt=1e-3, progress=False,
-               stream_to=None if stream == "-" else stream)
+sink = None if stream == "-" else HistoryStream(stream)
+r = sc.hunting(300.0, duration=duration, output_dt=1e-3, progress=False, stream_to=sink)
+if sink is not None:
+    sink.close()
 wall = time.perf_counter() - t0
 peak = tracemalloc.get_traced_memory()[1]
 print(json.dumps({"wall": wall, "traced_peak": peak, "rss_before": rss0 * 1024,
@@ -75,7 +78,7 @@ def main() -> None:
         for mode, threshold in (("memory", "none"), ("streamed", "0")):
             out_h5 = Path(tmp) / f"{mode}.h5"
             env = dict(os.environ, RAILVTI_STREAM_ABOVE=threshold)
-            rss, _, wall = _child_rss([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o",
+            rss, _, wall = _child_rss([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o",
                                        str(out_h5), "-q"], env)
             print(f"{mode:>10} | {rss / mb:11.0f} | {out_h5.stat().st_size / mb:7.1f} | {wall:6.1f}")
 

@@ -101,7 +101,7 @@ def main() -> int:
     import logging
     logging.getLogger("railvti").setLevel(logging.ERROR)     # the 'no decay found' warning
     from distributed import Client
-    from railvti import sweeps
+    from railvti.runner import sweeps
     speeds = [440.0 - 10.0 * i for i in range(args.speeds)]
     n_tasks = 2 * len(speeds)
     print(f"load before: {os.getloadavg()[0]:.2f} (1 min), {os.cpu_count()} cores")

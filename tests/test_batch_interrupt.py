@@ -45,7 +45,7 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path, Path]:
     out = tmp_path / "out.h5"
     # SIGINT back to its default in the child: a suite started in the background (SIGINT
     # ignored) would pass the ignore on, and Python then installs no KeyboardInterrupt handler
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+    proc = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     return proc, deck, out
@@ -95,7 +95,7 @@ def test_signal_keeps_completed_cases_and_resume_completes(tmp_path, sig, code):
         first_pressure = f["001_first/pressure"][()]
     if sig != signal.SIGINT:
         return
-    r = subprocess.run([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial",
+    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial",
                         "--resume"], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "1 of 3 cases already complete" in r.stdout
@@ -131,7 +131,7 @@ def test_an_interrupted_vehicle_run_keeps_its_history():
     import numpy as np
 
     from railvti import scenarios as sc
-    from railvti.batch import partial_output
+    from railvti.runner.batch import partial_output
 
     sc.hunting(300.0, duration=0.01)                       # build the contact table first
     # interrupt_main does nothing while SIGINT is ignored (a suite started in the background)

@@ -13,12 +13,12 @@ import pytest
 
 from railvti import STEEL
 from railvti.casetypes import REGISTRY, CaseOutput, CaseType
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.contact import Grid
 from railvti.contact import normal as normal_mod
 from railvti.contact.hertz import hertz_gap
-from railvti.deck import parse_deck
-from railvti.results import case_deck, load, save
+from railvti.runner.deck import parse_deck
+from railvti.runner.results import case_deck, load, save
 
 SMALL = """
 &case
@@ -223,7 +223,7 @@ def test_vehicle_results_are_self_describing_and_round_trip(tmp_path):
     from railvti import scenarios as sc
 
     res = sc.hunting(300.0, duration=0.04)
-    back = load(res.save(tmp_path / "sim.h5"))
+    back = load(save(res, tmp_path / "sim.h5"))
     for k in ("t", "q", "v", "wheel"):
         assert np.array_equal(getattr(back, k), getattr(res, k))
     assert back.dof_names == res.dof_names and back.stats == res.stats
@@ -283,7 +283,7 @@ def test_a_very_long_case_name_is_refused_before_anything_runs(tmp_path, capsys)
 
 
 def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch, capsys):
-    from railvti import results
+    from railvti.runner import results
 
     real = results.ResultsWriter.write
     calls = []

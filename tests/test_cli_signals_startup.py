@@ -70,7 +70,7 @@ def _run(tmp_path: Path, options: list[str], sig: int, when: Any) -> dict:
     out = tmp_path / "out.h5"
     tag = uuid.uuid4().hex
     env = {**os.environ, TAG: tag}
-    cmd = [sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", *options]
+    cmd = [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", *options]
     t0 = time.monotonic()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))

@@ -22,7 +22,7 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
+from railvti.runner.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).resolve().parent / "data"

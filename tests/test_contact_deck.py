@@ -11,9 +11,9 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.contact.contact_deck import read_contact_deck
-from railvti.deck import read_deck
+from railvti.runner.deck import read_deck
 from railvti.errors import InputError
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -3,8 +3,8 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
-from railvti.deck import parse_deck
+from railvti.runner.cli import main
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
 
 CASE = """

@@ -8,8 +8,8 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
-from railvti.deck import parse_deck
+from railvti.runner.cli import main
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
 
 # The same two cases twice: SI keys, then the mm / mrad aliases (values x 1000; each

@@ -10,8 +10,8 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
-from railvti.results import load, save
+from railvti.runner.cli import main
+from railvti.runner.results import load, save
 
 DECK = """
 &case name = 'vh', type = 'vehicle', scenario = 'hunting', duration = 0.04 /

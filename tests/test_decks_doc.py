@@ -2,7 +2,7 @@
 case type it names exists."""
 from pathlib import Path
 
-from railvti.deck_registry import case_types
+from railvti.runner.deck_registry import case_types
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "decks.md"
 
@@ -41,7 +41,7 @@ def test_aliases_name_no_key_and_point_to_one():
 
 
 def test_cases_command_prints_units_meaning_and_bounds(capsys):
-    from railvti.cli import main
+    from railvti.runner.cli import main
     assert main(["cases", "rolling"]) == 0
     out = capsys.readouterr().out
     assert "type = 'rolling'" in out and "type = 'normal'" not in out
@@ -56,6 +56,6 @@ def test_cases_command_prints_units_meaning_and_bounds(capsys):
 
 
 def test_cases_command_unknown_type(capsys):
-    from railvti.cli import main
+    from railvti.runner.cli import main
     assert main(["cases", "rollin"]) == 2
     assert "did you mean 'rolling'" in capsys.readouterr().err

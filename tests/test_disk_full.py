@@ -2,7 +2,7 @@
 
 On a real 2 MB tmpfs (mounted here when the tests run as root and may mount; skipped with the
 reason otherwise) and with a full disk simulated in-process (the write system call of
-railvti.guarded_io replaced), so CI covers it either way, on the serial and the Dask path:
+railvti.runner.guarded_io replaced), so CI covers it either way, on the serial and the Dask path:
 exit status 3, every case reported finished is in the final file, no ``.tmp`` or lock file
 left, fewer than 20 lines of output, no traceback, no "Exception ignored", no crash.
 
@@ -21,8 +21,8 @@ from pathlib import Path
 import h5py
 import pytest
 
-from railvti import guarded_io
-from railvti.cli import main
+from railvti.runner import guarded_io
+from railvti.runner.cli import main
 
 #: A normal-contact case whose group takes ~190 kB: 5 fit in a 2 MB tmpfs (the file is
 #: copied for each rewrite, so at most half the disk holds results).
@@ -80,12 +80,12 @@ def _check(rc: int, out: str, err: str, folder: Path, result: Path) -> list[str]
 def test_a_full_tmpfs_ends_the_run_with_exit_3(tmp_path, tmpfs, mode):
     deck = _deck(tmp_path)
     out = tmpfs / "out.h5"
-    r = subprocess.run([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out),
+    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
                         "-q", mode], capture_output=True, text=True, timeout=240)
     groups = _check(r.returncode, r.stdout, r.stderr, tmpfs, out)
     assert len(groups) < 8                              # the disk did fill
     # --resume on the still full disk: exit 3 again, nothing lost
-    r = subprocess.run([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out),
+    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
                         "-q", "--serial", "--resume"], capture_output=True, text=True, timeout=240)
     assert r.returncode == 3 and "Traceback" not in r.stderr
     with h5py.File(out, "r") as f:

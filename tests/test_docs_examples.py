@@ -60,7 +60,7 @@ def test_the_python_examples_run(name, blocks, tmp_path, monkeypatch):
         if (name, i) in SLOW and not slow:
             continue          # later blocks of the file do not depend on a slow one (checked here)
         if name == "results.md":              # the file the example reads
-            from railvti.cli import main
+            from railvti.runner.cli import main
             (tmp_path / "results").mkdir()
             assert main(["run", str(ROOT / "inputs" / "vehicle_example.nml"), "-o",
                          "results/vehicle_example.h5", "-q"]) == 0

@@ -12,7 +12,7 @@ import pytest
 
 from railvti import scenarios
 from railvti.casetypes import REGISTRY
-from railvti.deck_registry import case_types
+from railvti.runner.deck_registry import case_types
 from railvti.errors import InputError
 from railvti.vehicle import Coach
 

@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 from railvti.casetypes import REGISTRY
-from railvti.cli import main
-from railvti.deck_registry import case_types
+from railvti.runner.cli import main
+from railvti.runner.deck_registry import case_types
 
 case_types()
 
@@ -368,7 +368,7 @@ def test_problem_in_last_case_stops_before_the_first_runs(tmp_path, capsys):
 
 
 def test_deprecated_material_names_still_work(tmp_path, capsys):
-    from railvti.deck import parse_deck
+    from railvti.runner.deck import parse_deck
     with pytest.warns(DeprecationWarning) as record:
         cases = parse_deck(deck("loaded_wheelset", "g = 8.0e10, nu = 0.25"))
     messages = " ".join(str(w.message) for w in record)
@@ -378,7 +378,7 @@ def test_deprecated_material_names_still_work(tmp_path, capsys):
 
 
 def test_speed_kmh_alias_converts_to_si():
-    from railvti.deck import parse_deck
+    from railvti.runner.deck import parse_deck
     (case,) = parse_deck(deck("vehicle", "speed_kmh = 252.0"))
     assert case.params["speed"] == pytest.approx(70.0, rel=1e-15)
     assert "speed_kmh" not in case.params
@@ -386,7 +386,7 @@ def test_speed_kmh_alias_converts_to_si():
 
 def test_mm_aliases_of_si_keys():
     """The mm / mrad aliases convert to the SI keys (m, rad, rad/m); the case holds the keys."""
-    from railvti.deck import parse_deck
+    from railvti.runner.deck import parse_deck
     (case,) = parse_deck(deck("loaded_wheelset", "y_min_mm = -2.0, y_max_mm = 4.0, dx_mm = 0.5, yaw_mrad_per_mm = 2.4")
                          .replace(", y_max_mm = 1.0", ""))
     p = case.params

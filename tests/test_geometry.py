@@ -217,7 +217,7 @@ def test_deck_case_runs():
 def test_deck_layout_defaults_are_the_class_defaults():
     """One back-to-back (and gauge, radius) default: the decks' mm keys repeat the classes'."""
     from railvti.casetypes import REGISTRY
-    from railvti.deck_registry import case_types
+    from railvti.runner.deck_registry import case_types
     from railvti.geometry.cases import deck_layout
     case_types()
     for name in ("geometry_table", "loaded_wheelset"):

@@ -17,7 +17,7 @@ Outcome classes, by group (the counts are the parametrized cases):
 * **stopped by signal** (SIGINT / SIGTERM while the deck is read, the output is checked or
   the cluster starts: exit 130 / 143, one line saying nothing ran, the output untouched).
 
-Most cases run ``railvti.cli.main`` in this process; the broken pipes run a few child
+Most cases run ``railvti.runner.cli.main`` in this process; the broken pipes run a few child
 processes (a real pipe is needed).
 """
 from __future__ import annotations
@@ -36,12 +36,13 @@ from pathlib import Path
 import h5py
 import pytest
 
-from railvti import cli, errors
-from railvti.deck_registry import case_types
+from railvti import errors
+from railvti.runner import cli
+from railvti.runner.deck_registry import case_types
 from railvti.casetypes import REGISTRY, CaseOutput, CaseType
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.errors import InputError
-from railvti.sweeps import scheduler_address
+from railvti.runner.sweeps import scheduler_address
 
 CASE = """
 &case
@@ -359,12 +360,12 @@ def test_an_unexpected_failure_is_one_line_with_a_hint(tmp_path, capsys, caplog,
 def test_an_error_outside_the_cases_is_one_line(tmp_path, capsys, caplog, monkeypatch, exc, code, words,
                                                debug):
     caplog.set_level(logging.DEBUG if debug else logging.WARNING, logger="railvti.traceback")
-    import railvti.deck
+    import railvti.runner.deck
 
     def read_deck(path):
         raise exc
 
-    monkeypatch.setattr(railvti.deck, "read_deck", read_deck)
+    monkeypatch.setattr(railvti.runner.deck, "read_deck", read_deck)
     assert main(["run", str(_deck(tmp_path)), "--serial"] + (["--debug"] if debug else [])) == code
     err = _no_traceback(capsys.readouterr())
     assert err.startswith(words), err
@@ -418,7 +419,7 @@ def test_a_run_with_a_closed_stdout_completes_its_file(tmp_path, capsys, monkeyp
 def test_a_closed_pipe_for_a_real_process_is_quiet(tmp_path, argv):
     """``railvti ... | head -1``: the reader closes after one line."""
     deck = _deck(tmp_path)
-    cmd = [sys.executable, "-m", "railvti.cli", *[str(deck) if a == "DECK" else a for a in argv]]
+    cmd = [sys.executable, "-m", "railvti.runner.cli", *[str(deck) if a == "DECK" else a for a in argv]]
     if "run" in argv and "--help" not in argv:
         cmd += ["-o", str(tmp_path / "res.h5")]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -442,9 +443,9 @@ def test_a_closed_pipe_for_a_real_process_is_quiet(tmp_path, argv):
 @pytest.mark.parametrize("where", ["reading the deck", "checking the output", "starting the cluster",
                                    "an import (as ImportError)", "the cluster's imports (as ImportError)"])
 def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypatch, sig, where):
-    import railvti.batch
-    import railvti.deck
-    from railvti import sweeps
+    import railvti.runner.batch
+    import railvti.runner.deck
+    from railvti.runner import sweeps
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path)
     fired = []
@@ -461,10 +462,10 @@ def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypa
         pytest.fail("the signal did not stop the start-up")
 
     if where in ("reading the deck", "an import (as ImportError)"):
-        real = railvti.deck.read_deck
-        monkeypatch.setattr(railvti.deck, "read_deck", lambda p: (send(), real(p))[1])
+        real = railvti.runner.deck.read_deck
+        monkeypatch.setattr(railvti.runner.deck, "read_deck", lambda p: (send(), real(p))[1])
     elif where == "checking the output":
-        monkeypatch.setattr(railvti.batch, "check_output", lambda *a, **k: send())
+        monkeypatch.setattr(railvti.runner.batch, "check_output", lambda *a, **k: send())
     else:
         @contextlib.contextmanager
         def local_client(n):
@@ -486,7 +487,7 @@ def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypa
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_at_cluster_start_leaves_an_existing_file_unchanged(tmp_path, capsys, monkeypatch, sig):
-    from railvti import sweeps
+    from railvti.runner import sweeps
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path)
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0

@@ -1,4 +1,4 @@
-"""Hostile cases of the cost estimate (railvti.cost, issue 31 item 4): decks too large to
+"""Hostile cases of the cost estimate (railvti.runner.cost, issue 31 item 4): decks too large to
 run, patches too coarse to resolve, odd values the estimate must survive. In process, except
 three CLI runs.
 
@@ -24,8 +24,8 @@ import sys
 
 import pytest
 
-from railvti import cost
-from railvti.deck import parse_deck
+from railvti.runner import cost
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
 from railvti.resources import ENV as MEM_ENV
 
@@ -328,7 +328,7 @@ SMALL = deck("normal", "grid", **dict(HERTZ, nx=96, ny=96, dx=1e-4, dy=1e-4))
 def _cli(tmp_path, *args):
     d = tmp_path / "deck.nml"
     d.write_text(SMALL)
-    return subprocess.run([sys.executable, "-m", "railvti.cli", "run", str(d), "-o", str(tmp_path / "r.h5"),
+    return subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(d), "-o", str(tmp_path / "r.h5"),
                            "-q", *args], capture_output=True, text=True, timeout=120)
 
 

@@ -44,15 +44,15 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti import guarded_io, results
-from railvti.batch import check_deck, check_output
+from railvti.runner import guarded_io, results
+from railvti.runner.batch import check_deck, check_output
 from railvti.casetypes import REGISTRY, CaseOutput, CaseType
-from railvti.cli import main
-from railvti.deck import parse_deck
+from railvti.runner.cli import main
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
-from railvti.guarded_io import GuardedFile, WriteFailed, open_h5
-from railvti.output_lock import OutputLock, lock_path
-from railvti.stream import STREAM_ENV, HistoryStream, case_stream
+from railvti.runner.guarded_io import GuardedFile, WriteFailed, open_h5
+from railvti.runner.output_lock import OutputLock, lock_path
+from railvti.runner.stream import STREAM_ENV, HistoryStream, case_stream
 
 SMALL = """
 &case
@@ -256,7 +256,7 @@ def test_default_output_and_a_stale_temp_file_beside_it(tmp_path, capfd):
 
 
 # ---------------------------------------------------------------------------------------------
-# Another deck's file (railvti.results.deck_owner, railvti.batch.check_deck)
+# Another deck's file (railvti.runner.results.deck_owner, railvti.runner.batch.check_deck)
 
 def _results_of(tmp: Path, capfd, *names: str, fname: str = "first.nml", out: str = "out.h5",
                 type_: str = "normal") -> Path:
@@ -407,7 +407,7 @@ def test_damaged_results_file_forced(tmp_path, capfd, how, resume):
 
 
 # ---------------------------------------------------------------------------------------------
-# Locks (railvti.output_lock)
+# Locks (railvti.runner.output_lock)
 
 HOLDER = textwrap.dedent("""
     import fcntl, json, os, socket, sys, time
@@ -564,7 +564,7 @@ def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
     slow.write_text("&case name='s', type='normal', gap_a=1.0, gap_b=1.0, nx=200, ny=200, "
                     "dx=0.05e-3, dy=0.05e-3, fn=1e4, method='gs' /\n")
     out = tmp_path / "out.h5"
-    first = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(slow), "-o", str(out),
+    first = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(slow), "-o", str(out),
                               "-q", "--serial"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True)
     try:
@@ -576,7 +576,7 @@ def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
             import time
             time.sleep(0.05)
         deck = write_deck(tmp_path, "a")
-        r = subprocess.run([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out),
+        r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
                             "-q", "--serial"], capture_output=True, text=True, timeout=120)
         assert r.returncode == 2 and f"PID {first.pid}" in r.stderr and str(slow.resolve()) in r.stderr
         assert "Traceback" not in r.stderr
@@ -590,7 +590,7 @@ def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
 # Disk errors while the run writes: exit 3
 
 class Disk:
-    """The write calls of railvti.guarded_io on a disk that fails at file number ``at``
+    """The write calls of railvti.runner.guarded_io on a disk that fails at file number ``at``
     (1: the first file written through guarded_io) after ``after`` bytes, with ``code``."""
 
     def __init__(self, at: int, after: int = 0, code: int = errno.ENOSPC) -> None:
@@ -719,7 +719,7 @@ def test_a_file_that_takes_no_record_at_all_is_exit_3(tmp_path, capfd, monkeypat
 
 @pytest.fixture
 def streamer(monkeypatch):
-    """A case type that streams ``blocks`` blocks of 100 rows through railvti.stream."""
+    """A case type that streams ``blocks`` blocks of 100 rows through railvti.runner.stream."""
     def run_streamer(params):
         stream = case_stream(1e9, store=("t", "q"))
         assert stream is not None
@@ -853,9 +853,9 @@ def test_signal_inside_save(tmp_path, monkeypatch, capfd):
 
 @pytest.mark.parametrize("out_given", [True, False], ids=["out", "temporary_out"])
 def test_sweeps_run_raises_on_a_write_error(tmp_path, monkeypatch, out_given):
-    """The API (railvti.sweeps.run): a run stopped by its file raises WriteFailed naming it,
+    """The API (railvti.runner.sweeps.run): a run stopped by its file raises WriteFailed naming it,
     it does not return a short list of records."""
-    from railvti import sweeps
+    from railvti.runner import sweeps
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(2, 0).pwrite)
     cases = parse_deck(deck_text("a", "b", "c"))
     with pytest.raises(WriteFailed, match="keeps the 1 case written before") as exc:
@@ -865,7 +865,7 @@ def test_sweeps_run_raises_on_a_write_error(tmp_path, monkeypatch, out_given):
 
 
 def test_sweeps_run_refused_by_a_live_lock(holder, tmp_path):
-    from railvti import sweeps
+    from railvti.runner import sweeps
     out, proc = holder
     with pytest.raises(InputError, match=f"PID {proc.pid}"):
         sweeps.run(parse_deck(deck_text("a")), out=out)

@@ -23,8 +23,8 @@ import pytest
 
 from railvti import _checks, scenarios
 from railvti.casetypes import REGISTRY
-from railvti.deck import parse_deck, read_deck
-from railvti.deck_registry import case_types
+from railvti.runner.deck import parse_deck, read_deck
+from railvti.runner.deck_registry import case_types
 from railvti.errors import InputError
 from railvti.vehicle import Coach
 from railvti.vehicle.params import BOUNDS as COACH_BOUNDS
@@ -270,7 +270,7 @@ def test_a_sweep_with_the_same_point_twice_is_refused(extra, words):
 
 
 def test_python_sweep_with_the_same_point_twice_is_refused():
-    from railvti.sweeps import sweep
+    from railvti.runner.sweeps import sweep
     refused(lambda: sweep("vehicle", {"duration": 2.0}, {"speed_kmh": [300.0, 300.0]}), "same point twice")
 
 
@@ -354,7 +354,7 @@ def test_bad_memory_limit_names_the_variable(monkeypatch):
 
 
 def test_bad_stream_threshold_names_the_variable(monkeypatch):
-    from railvti.stream import stream_threshold
+    from railvti.runner.stream import stream_threshold
     monkeypatch.setenv("RAILVTI_STREAM_ABOVE", "-3")
     refused(stream_threshold, "RAILVTI_STREAM_ABOVE", "'-3'")
 
@@ -370,7 +370,7 @@ def test_bad_interrupted_copy_size_warns_naming_the_variable(monkeypatch, caplog
     import h5py
 
     from railvti.casetypes import CaseOutput, Streamed
-    from railvti.results import _interrupted_rows
+    from railvti.runner.results import _interrupted_rows
     monkeypatch.setenv("RAILVTI_INTERRUPTED_COPY_MB", "much")
     src = tmp_path / "s.h5"
     with h5py.File(src, "w") as f:
@@ -431,8 +431,8 @@ def test_labels_nan_meanings_are_written_for_none_found():
 
 def test_labels_an_interrupted_stream_keeps_its_axes(tmp_path):
     """batch._streamed_partial labels t, y_ws1, vy_ws1 as a finished case does."""
-    from railvti.batch import _streamed_partial
-    from railvti.stream import HistoryStream
+    from railvti.runner.batch import _streamed_partial
+    from railvti.runner.stream import HistoryStream
 
     class Part:
         wheel = np.zeros((3, 15, 2, 4))
@@ -456,7 +456,7 @@ def test_labels_hunting_summary_says_the_window_of_a_short_run():
 
 
 def test_labels_rf_critical_speed_is_accepted_up_front():
-    """Model RF runs every scenario (README, scenarios._RF_SCENARIOS): its critical_speed deck
+    """Model RF runs every scenario (README, scenarios.RF_SCENARIOS): its critical_speed deck
     case passes the checks (measured: the nonlinear sweep 300/340 km/h, 1.2 s, 260 km/h tread
     cycle in 113 s; the linear method 314.95 km/h in 530 s)."""
     (case,) = parse_deck(vehicle_deck("model = 'RF'").replace("'hunting'", "'critical_speed'"))

@@ -10,7 +10,7 @@ import matplotlib.figure  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from railvti.cli import main  # noqa: E402
+from railvti.runner.cli import main  # noqa: E402
 from railvti.contact.wheelset_plots import case_title, wrap_title  # noqa: E402
 from railvti.vehicle.plots import plot_bifurcation  # noqa: E402
 

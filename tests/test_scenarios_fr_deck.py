@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.vehicle.flexible import rim_deformation
 
 DECK = """

@@ -56,7 +56,7 @@ def test_scale_too_stiff_for_any_step_is_refused_before_a_run():
 
 
 def test_deck_key_is_checked_before_a_run(tmp_path):
-    from railvti.deck import read_deck
+    from railvti.runner.deck import read_deck
     deck = tmp_path / "d.nml"
     deck.write_text("&case\n  type = 'vehicle'\n  scenario = 'hunting'\n  model = 'FR'\n"
                     "  speed_kmh = 300.0\n  coach_wheelset_stiffness_scale = -2.0\n/\n")

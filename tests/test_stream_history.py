@@ -1,4 +1,4 @@
-"""Long time histories streamed to HDF5 as the time loop runs (railvti.stream, issue 16 item 4):
+"""Long time histories streamed to HDF5 as the time loop runs (railvti.runner.stream, issue 16 item 4):
 a streamed run stores exactly the numbers of a run kept in memory, keeps only its tail in
 memory, and a streamed case interrupted (SIGINT) or killed (SIGKILL) under ``railvti run``
 leaves a valid results file."""
@@ -17,8 +17,10 @@ import numpy as np
 import pytest
 
 from railvti import scenarios as sc
-from railvti.cli import main
-from railvti.stream import STREAM_ENV, HistoryStream
+from railvti.casetypes import HistorySink
+from railvti.errors import InputError
+from railvti.runner.cli import main
+from railvti.runner.stream import STREAM_ENV, HistoryStream
 
 STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 
@@ -26,8 +28,9 @@ STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 def test_a_streamed_run_stores_the_numbers_of_the_run_kept_in_memory(tmp_path):
     full = sc.hunting(300.0, duration=1.0, progress=False)
     path = tmp_path / "stream.h5"
-    tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=path, stream_tail=0.05,
-                      chunk=0.1)          # 0.1 s per Fortran call, the tail two calls
+    with HistoryStream(path) as sink:       # the caller's sink, closed by its owner
+        tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=sink, stream_tail=0.05,
+                          chunk=0.1)      # 0.1 s per Fortran call, the tail two calls
     with h5py.File(path, "r") as f:
         g = f["history"]
         for name in ("t", "q", "v", "wheel"):
@@ -86,7 +89,7 @@ VEHICLE = """
 def test_a_streamed_deck_case_equals_the_case_kept_in_memory(tmp_path, monkeypatch):
     deck = tmp_path / "deck.nml"
     deck.write_text(VEHICLE)
-    import railvti.results as results_mod
+    import railvti.runner.results as results_mod
     copied = []
     real_copy = results_mod._copy_streamed
     monkeypatch.setattr(results_mod, "_copy_streamed", lambda g, n, r, *a: copied.append(n) or real_copy(g, n, r, *a))
@@ -128,7 +131,7 @@ def _start(tmp_path: Path, **extra_env: str) -> tuple[subprocess.Popen, Path]:
     deck.write_text(LONG)
     out = tmp_path / "out.h5"
     env = dict(os.environ, **{STREAM_ENV: "1M"}, **extra_env)
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+    proc = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     return proc, out
 
@@ -209,3 +212,13 @@ def test_sigkill_in_a_streamed_case_leaves_the_previous_valid_file(tmp_path):
         assert {k: str(g.attrs["status"]) for k, g in f.items()} == {"001_first": "ok"}
     # the stream file, and at most one file of a write cut short
     assert 1 <= len([p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]) <= 2
+
+
+def test_a_path_as_stream_to_is_refused_with_the_sink_to_use(tmp_path):
+    """The simulation writes to a sink its caller hands in (railvti.casetypes.HistorySink):
+    it makes no file itself."""
+    with pytest.raises(InputError, match=r"HistoryStream\(path\)"):
+        sc.hunting(300.0, duration=0.01, progress=False, stream_to=tmp_path / "s.h5")
+    assert not (tmp_path / "s.h5").exists()
+    with HistoryStream(tmp_path / "s.h5") as sink:
+        assert isinstance(sink, HistorySink)

@@ -1,4 +1,4 @@
-"""Sweeps (railvti.sweeps, docs/sweeps.md): the deck declaration, and the same numbers bit for
+"""Sweeps (railvti.runner.sweeps, docs/sweeps.md): the deck declaration, and the same numbers bit for
 bit serial, on a LocalCluster and through a scheduler address (a scheduler and two worker
 processes started here on 127.0.0.1); a failing point is recorded and the others finish;
 ``--resume`` after SIGINT runs only the missing points; ``import railvti`` imports no dask."""
@@ -16,8 +16,8 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.cli import main
-from railvti.deck import parse_deck
+from railvti.runner.cli import main
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
 
 #: Run statistics that are wall-clock times (not results).
@@ -110,9 +110,10 @@ def test_import_railvti_and_the_serial_path_import_no_dask(tmp_path):
     deck.write_text(DECK.split("&case", 2)[1].join(["&case", ""]).replace("3.0e4", "2.0e3"))
     code = f"""
 import sys, railvti
-from railvti.cli import main
+from railvti.runner.cli import main
 assert main(["run", {str(deck)!r}, "-o", {str(tmp_path / 'o.h5')!r}, "-q", "--serial"]) == 0
-from railvti import sweeps, scenarios
+from railvti import scenarios
+from railvti.runner import sweeps
 cases = sweeps.sweep("normal", dict(gap_a=1.0, gap_b=1.0, nx=16, ny=16, dx=3e-4, dy=3e-4),
                      {{"fn": [1e3, 2e3]}})
 recs = sweeps.run(cases)
@@ -227,7 +228,7 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     deck = tmp_path / "slow.nml"
     deck.write_text(SLOW)
     out = tmp_path / "out.h5"
-    cmd = [sys.executable, "-m", "railvti.cli", "run", str(deck), "-o", str(out), "-q", "--workers", "2"]
+    cmd = [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--workers", "2"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     fast = {"001_gs.method_cg.fn_10000", "002_gs.method_cg.fn_11000"}
@@ -277,7 +278,7 @@ def test_a_client_never_changes_the_bifurcation():
     client does not imply it. The table geometry keeps the workers' set-up short; the code
     path is the strip's too."""
     from railvti import scenarios
-    from railvti.sweeps import local_client
+    from railvti.runner.sweeps import local_client
     kw = dict(contact="hertz-kalker", geometry="table", duration=0.3, v_min_kmh=300.0,
               progress=False)
     serial = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, **kw)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from railvti.casetypes import REGISTRY
-from railvti.deck import parse_deck
+from railvti.runner.deck import parse_deck
 from railvti.errors import InputError
 import railvti.vehicle.cases  # noqa: F401  (registers the case type)
 
@@ -53,7 +53,7 @@ def test_bad_scenario_and_negative_mass():
 
 def test_example_deck_parses_as_written_and_its_first_case_runs():
     """The example deck's cases carry the file's values, read here with f90nml directly
-    (not through railvti.deck), and the case type's defaults for the keys the file leaves
+    (not through railvti.runner.deck), and the case type's defaults for the keys the file leaves
     out; the first case, centred running at 200 km/h, carries the coach's weight: Q on
     every wheel within 0.1 % of (carbody + 2 bogies + 4 wheelsets) g / 8 with the
     Manchester benchmark masses, and no net lateral force on any wheelset."""

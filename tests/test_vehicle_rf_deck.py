@@ -11,9 +11,9 @@ import pytest
 
 from railvti import scenarios
 from railvti.casetypes import REGISTRY
-from railvti.cli import main
+from railvti.runner.cli import main
 from railvti.errors import InputError
-from railvti.results import load
+from railvti.runner.results import load, save
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 RING = dict(n_sleepers=40, f_limit=300.0, x_offset=0.1,
@@ -132,7 +132,7 @@ def test_simulation_result_saves_and_loads_the_rail(tmp_path):
     run = c.run
     assert run.rail is not None and run.rail.shape == (run.t.size, 3, 2, 4)
     np.testing.assert_allclose(run.rail, c.rail, rtol=1e-12, atol=0)
-    back = load(run.save(tmp_path / "rf.h5"))
+    back = load(save(run, tmp_path / "rf.h5"))
     np.testing.assert_array_equal(back.rail, run.rail)
     assert back.dof_names == run.dof_names and any(n.startswith("ring_g") for n in back.dof_names)
     with h5py.File(tmp_path / "rf.h5", "r") as f:

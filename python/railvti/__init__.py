@@ -14,7 +14,7 @@ __version__ = "0.1.0"
 
 
 def __getattr__(name: str) -> Any:
-    """``Material`` and ``STEEL`` on first use (PEP 562): ``import railvti.cli`` then loads no
+    """``Material`` and ``STEEL`` on first use (PEP 562): ``import railvti.runner.cli`` then loads no
     numpy, so the ``railvti`` command installs its signal handlers within ~0.05 s of its start."""
     if name in ("Material", "STEEL"):
         from . import material

@@ -7,17 +7,19 @@ InputError), calls ``run`` with the completed parameters, and writes the
 returned :class:`CaseOutput` to HDF5. ``plot``, if given, draws a stored case.
 
 Each area registers its case types in :data:`REGISTRY` through
-:func:`register` (see ``railvti.deck_registry``).
+:func:`register` (see ``railvti.runner.deck_registry``).
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import logging
 import math
 import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -37,7 +39,7 @@ REQUIRED: Any = _Required()
 
 @dataclass(frozen=True)
 class Streamed:
-    """A dataset a case streamed to a file while it ran (railvti.stream): ``name`` (its HDF5
+    """A dataset a case streamed to a file while it ran (railvti.runner.stream): ``name`` (its HDF5
     path) in the file ``path``; copied into the case's group when the case is written."""
 
     path: str
@@ -59,7 +61,7 @@ class CaseOutput:
         name -> (value, unit string); written as attributes of the case's ``results`` group.
     attrs : dict
         dataset name -> {attribute: value}: labels written beside ``units`` (``axes``,
-        ``dof_names``, ``empty_slots``...; see railvti.results).
+        ``dof_names``, ``empty_slots``...; see railvti.runner.results).
     """
 
     summary: str
@@ -365,3 +367,141 @@ def register(case_type: CaseType) -> CaseType:
         raise ValueError(f"case type {case_type.name!r} registered twice")
     REGISTRY[case_type.name] = case_type
     return case_type
+
+
+
+def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
+    """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
+    ``attrs`` (labels)."""
+    return ({k: (v[0], v[1]) for k, v in data.items()},
+            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
+
+# ---------------------------------------------------------------------------------------------
+# A case: what the runner reads from a deck and hands to a case type
+
+#: Longest case name (it names an HDF5 group and the plot files).
+MAX_NAME = 64
+_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One checked case of a deck.
+
+    Attributes
+    ----------
+    index : int
+        Position in the deck, from 1.
+    name : str
+    case_type : CaseType
+    params : dict
+        Every key of the case type, the deck's value or the default.
+    written : dict
+        key -> (alias, value as written) for the keys the deck gave under an alias
+        (``y_min_mm = 4.0``): problems name them so.
+    """
+
+    index: int
+    name: str
+    case_type: CaseType
+    params: dict[str, Any]
+    written: dict[str, tuple[str, Any]] = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        """``case N 'name'`` for messages (a long name cut)."""
+        name = self.name if len(self.name) <= MAX_NAME else self.name[:40] + "..."
+        return f"case {self.index} '{name}'"
+
+
+def name_problem(name: Any) -> str | None:
+    """Why ``name`` cannot name a case (an HDF5 group and plot files), or None."""
+    if not isinstance(name, str):
+        return f"key 'name' must be a text in quotes, got {name!r}"
+    if len(name) > MAX_NAME:
+        return f"key 'name' has {len(name)} characters; at most {MAX_NAME}"
+    if not _NAME.fullmatch(name):
+        return (f"key 'name' = {name!r} is not a safe name: use letters, digits, '_', '-', '.', '+' "
+                "(no '/', spaces or other characters; not starting with '.', '-' or '+')")
+    return None
+
+
+#: Readers of deck files in another format, by file suffix (lower case, with the dot):
+#: path -> list of Case. An area registers its reader when imported (the CONTACT ``.inp``
+#: reader of railvti.contact.contact_deck); the runner's read_deck asks here.
+DECK_READERS: dict[str, Callable[[Path], list[Case]]] = {}
+
+
+def register_deck_reader(suffix: str, reader: Callable[[Path], list[Case]]) -> None:
+    """Read deck files ending in ``suffix`` (e.g. '.inp') with ``reader(path)``."""
+    DECK_READERS[suffix.lower()] = reader
+
+
+
+# ---------------------------------------------------------------------------------------------
+# History sinks: where a long simulation writes its time history as it runs
+
+#: Simulated time whose history a streamed run keeps in memory (its returned
+#: SimulationResult holds these last seconds), s: at least the 1 s window of the summaries
+#: (amplitude, largest Q, Y, Y/Q).
+STREAM_TAIL_SECONDS = 2.0
+
+#: Bytes of one output time of a vehicle history in memory, for the threshold rule: t, then
+#: q and v of up to 64 states, then 15 quantities x 2 wheels x 4 wheelsets, 8 bytes each.
+ROW_BYTES = 8 * (1 + 2 * 64 + 15 * 2 * 4)
+
+
+def history_bytes(duration: float, output_dt: float) -> float:
+    """Memory of a vehicle history kept in memory (:data:`ROW_BYTES` per output), bytes."""
+    return float(duration) / max(float(output_dt), 1e-12) * ROW_BYTES
+
+
+@runtime_checkable
+class HistorySink(Protocol):
+    """What a simulation writes its time history to as it runs (``simulate(stream_to=...)``):
+    the caller makes it and hands it in (railvti.runner.stream.HistoryStream is one, writing
+    HDF5), the simulation only calls these.
+
+    Attributes
+    ----------
+    attrs : dict
+        name -> {attribute: value}: units and labels the simulation sets for each dataset.
+    where : str
+        Where the whole history is ('FILE::GROUP'), recorded in the result's ``streamed``.
+    """
+
+    attrs: dict[str, dict[str, Any]]
+
+    @property
+    def where(self) -> str: ...
+
+    def append(self, block: dict[str, Any]) -> None:
+        """Append one block of rows: name -> array whose first axis is the output time."""
+
+    def substitute(self, data: dict[str, tuple]) -> dict[str, tuple]:
+        """``data`` (name -> (array, unit[, labels])) with the arrays the sink holds replaced
+        by references (:class:`Streamed`) to them: a case's output that the runner copies."""
+
+
+#: The provider of sinks for the case running in this context (set by the runner while it
+#: runs a case; None outside ``railvti run``): nbytes, **kw -> a HistorySink or None.
+_SINK_PROVIDER: contextvars.ContextVar[Callable[..., HistorySink | None] | None] = \
+    contextvars.ContextVar("railvti_sink_provider", default=None)
+
+
+@contextlib.contextmanager
+def offering_sinks(provider: Callable[..., HistorySink | None]) -> Iterator[None]:
+    """While inside, :func:`case_sink` asks ``provider(nbytes, **kw)`` (the runner's)."""
+    token = _SINK_PROVIDER.set(provider)
+    try:
+        yield
+    finally:
+        _SINK_PROVIDER.reset(token)
+
+
+def case_sink(nbytes: float, **kw: Any) -> HistorySink | None:
+    """The sink a case should stream its time history to, or None (keep it in memory): under
+    ``railvti run`` the runner's when the history (``nbytes`` in memory) is large enough to
+    stream (railvti.runner.stream). ``kw`` go to the runner's sink (``store``, ``derived``)."""
+    provider = _SINK_PROVIDER.get()
+    return provider(nbytes, **kw) if provider is not None else None

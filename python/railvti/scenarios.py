@@ -25,22 +25,35 @@ Examples
 """
 from __future__ import annotations
 
+import contextlib
 import logging
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
 
 from . import _checks
+from ._cluster import check_client, client_from
 from ._threads import serial_blas
+from .contact.fastsim import fastsim
 from .errors import InputError
-from .vehicle.assembly import System, build_coach
+from .geometry import contact_table as ctab
+from .geometry import equivalent_conicity as eqc
+from .profiles import s1002, uic60
+from .track.ring import RingTrack
 from .vehicle import output as _output
+from .vehicle.assembly import System, build_coach
+from .vehicle.flexible import build_fr, coach_body, mode_labels, rail_head_roll, rim_camber_change
+from .vehicle.flexible import eigenvalues as fr_eigenvalues
 from .vehicle.params import Coach, speed_m_s
-from .vehicle.simulate import (SimulationResult, check_modal_step, contact_id, eigenvalues,
-                               lateral_disturbance, simulate, static_equilibrium)
+from .vehicle.ring_coupling import build_rf, check_ring_length
+from .vehicle.simulate import (WHEEL_OUTPUTS, SimulationResult, bem_state, check_modal_step, contact_id,
+                               eigenvalues, lateral_disturbance, simulate, static_equilibrium)
+from .vehicle.strip import strip_geometry
 from .vehicle.table import WheelTable, linearised_table, wheel_table
+from .wheelset import Wheelset
+from .wheelset.flexible import residual_table
 
 log = logging.getLogger(__name__)
 
@@ -49,7 +62,7 @@ MODELS = ("RR", "FR", "RF", "FF")
 _FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
 #: Scenarios that run the models on the ring track, RF and FF.
-_RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
+RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
                  "linear_critical_speed")
 #: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
@@ -68,7 +81,6 @@ _PROFILES: dict[str, Any] = {}
 
 def _profiles():
     if "wheel" not in _PROFILES:
-        from .profiles import s1002, uic60
         _PROFILES["wheel"] = s1002()
         _PROFILES["rail"] = uic60(cant=1.0 / 40.0)
     return _PROFILES["wheel"], _PROFILES["rail"]
@@ -132,16 +144,13 @@ def _with_geometry(sy: System, geometry: str) -> System:
     if geometry == "table":
         return sy
     if "strip" not in _PROFILES:
-        from .vehicle.strip import strip_geometry
         w, r = _profiles()
         _PROFILES["strip"] = strip_geometry(w, r, material=sy.table.material)
-    from dataclasses import replace
     return replace(sy, strip=_PROFILES["strip"])
 
 
 def equivalent_conicity(amplitude: float = 0.003) -> float:
     """EN 15302 equivalent conicity of S1002 / UIC60 1:40 at the given amplitude (m)."""
-    from .geometry import contact_table as ctab, equivalent_conicity as eqc
     w, r = _profiles()
     a = _checks.positive("amplitude", amplitude)
     y = np.linspace(-a - 1e-3, a + 1e-3, int(round((2 * a + 2e-3) / 5e-5)) + 1)
@@ -170,7 +179,6 @@ def _fr_wheelset():
     """The FE wheelset of model FR (cached: its harmonic solves and statics are reused by
     every FR system built at another speed)."""
     if "wheelset" not in _PROFILES:
-        from .wheelset import Wheelset
         _PROFILES["wheelset"] = Wheelset()
     return _PROFILES["wheelset"]
 
@@ -210,9 +218,9 @@ def _check_model(model: str, contact: str, scenario: str = "") -> None:
     if model in FLEXIBLE_WHEELSETS and scenario not in _FR_SCENARIOS:
         raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
                          f"yet (flexible wheelsets: only {_FR_SCENARIOS}); use model='RR'")
-    if model in RING_TRACK and scenario not in _RF_SCENARIOS:
+    if model in RING_TRACK and scenario not in RF_SCENARIOS:
         raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
-                         f"yet (ring track: only {_RF_SCENARIOS}); use model='RR'")
+                         f"yet (ring track: only {RF_SCENARIOS}); use model='RR'")
     contact_id(contact)
 
 
@@ -323,11 +331,9 @@ def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: floa
     """build_fr on the scenarios' cached FE wheelset (scaled by the coach's
     wheelset_stiffness_scale); with follow_contact, the residual's 5 mm table over the contact
     points made once per speed and selection (about 30 s)."""
-    from .vehicle.flexible import build_fr, coach_body
     if not follow_contact:
         return build_fr(coach, table, v, wheelset=_fr_wheelset(), k_max=k_max, f_max=f_max,
                         track=track)
-    from .wheelset.flexible import residual_table
     ws, body = coach_body(coach, _fr_wheelset(), v, k_max, f_max)
     key = ("residual_grid", float(v), k_max, float(f_max), coach["wheelset_stiffness_scale"])
     if key not in _PROFILES:
@@ -338,7 +344,6 @@ def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: floa
 
 def _ring(n_sleepers: Any, track_params: dict | None):
     """The ring track of model RF (cached per n_sleepers and parameters)."""
-    from .track.ring import RingTrack
     n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
     tp = dict(track_params or {})
     key = (n, tuple(sorted((k, repr(v)) for k, v in tp.items())))
@@ -420,7 +425,6 @@ def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: in
     linear method's bisection may pass it): the ring checked and built (cached), FR's
     wheelsets on rigid ground for FF (``fr_base``: that (system, layouts) already built at v),
     the ring's block appended. Returns (system, FR layouts or [])."""
-    from .vehicle.ring_coupling import build_rf
     track = _checked_ring(coach, n_sleepers, track_params)
     base, lays = None, []
     if model == "FF" and fr_base is not None:
@@ -436,7 +440,6 @@ def _on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: in
 
 def _checked_ring(coach: Coach, n_sleepers: Any, track_params: dict | None):
     """The ring of n_sleepers bays, its length checked against the coach before it is built."""
-    from .vehicle.ring_coupling import check_ring_length
     n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
     spacing = dict(track_params or {}).get("sleeper_spacing", 0.6)
     check_ring_length(n, spacing, coach)
@@ -580,7 +583,6 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     h = _step(sy, h)
     kw["output_dt"] = _output_dt(sy, v, h, kw.get("output_dt"), 0.01)
     if contact == "bem":
-        from .vehicle.simulate import bem_state
         with bem_state(sy, kw.pop("bem_options", None)) as st:
             q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
             run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
@@ -591,7 +593,6 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     rim = camber = roll = None
     if model in FLEXIBLE_WHEELSETS:
-        from .vehicle.flexible import rail_head_roll, rim_camber_change
         camber = rim_camber_change(sy, run.q[-1])
         roll = rail_head_roll(sy, run.q[-1], run.t[-1])
         rim = camber - roll
@@ -608,14 +609,12 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
                   wheelset: int = 0, n: int = 40):
     """FASTSIM fields (Hertz pressure) of one wheel's more loaded contact point at output
     ``index`` of a run: pressure, tractions, slip, friction power density."""
-    from .contact.fastsim import fastsim
-    from .vehicle.simulate import WHEEL_OUTPUTS as W
     w = run.wheel[index, :, wheel, wheelset]
-    fn = max(w[W.index("N_tread")], w[W.index("N_flange")])
+    fn = max(w[WHEEL_OUTPUTS.index("N_tread")], w[WHEEL_OUTPUTS.index("N_flange")])
     if fn <= 0:
         return None
-    return fastsim(w[W.index("a")], w[W.index("b")], fn, system.table.material, system.friction,
-                   (w[W.index("xi")], w[W.index("eta")], w[W.index("spin")]), nx=n, ny=n,
+    return fastsim(w[WHEEL_OUTPUTS.index("a")], w[WHEEL_OUTPUTS.index("b")], fn, system.table.material, system.friction,
+                   (w[WHEEL_OUTPUTS.index("xi")], w[WHEEL_OUTPUTS.index("eta")], w[WHEEL_OUTPUTS.index("spin")]), nx=n, ny=n,
                    speed=run.speed, pressure="hertz")
 
 
@@ -701,7 +700,7 @@ def _step(sy: System, h: float | None) -> float:
     return h
 
 
-def _hunting_conicity() -> float:
+def hunting_conicity() -> float:
     """The equivalent conicity at 3 mm of the profiles (computed once, ~0.6 s)."""
     if "conicity" not in _PROFILES:
         _PROFILES["conicity"] = equivalent_conicity(0.003)
@@ -712,7 +711,7 @@ def _excitations(sy: System, v: float) -> list:
     """The known periodic excitations of a run of sy at v (m/s), railvti.vehicle.output:
     hunting (Klingel's frequency at the profiles' equivalent conicity at 3 mm), and on the
     ring track the sleeper passing."""
-    out = [_output.hunting(v, _hunting_conicity(), float(sy.table.r0))]
+    out = [_output.hunting(v, hunting_conicity(), float(sy.table.r0))]
     ring = getattr(sy, "ring", None)
     if ring is not None:
         out.append(_output.sleeper_passing(v, float(ring.bay)))
@@ -948,7 +947,6 @@ class _SweepSystems:
         modal part, velocities zero). Returns (q, v, restarted)."""
         if self._rr is not None:
             return q, v, False
-        from .vehicle.flexible import mode_labels
         a, la, _ = self.at(s_from)
         b, lb, _ = self.at(s_to)
         n = a.n
@@ -1053,7 +1051,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         speed's static state (``details['modal_restarts']``).
     client : distributed.Client or str, optional
         Run on a Dask cluster: a Client, a scheduler address (``tcp://host:8786``) or
-        'local' (a LocalCluster for the call, railvti.sweeps); an address where no scheduler
+        'local' (a LocalCluster for the call, railvti.runner.sweeps); an address where no scheduler
         answers is an InputError within seconds. The client never changes the answer: the
         same call returns the same numbers bit for bit with and without it. The upper
         branch's continuation is one sequential chain, one task
@@ -1066,7 +1064,7 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         differ from the continuation's where two cycles coexist (the continuation follows one
         branch down; the independent start lands on the cycle whose basin holds ``y_large``).
         A downward extension runs one speed at a time. Serial (``client=None``) and on any
-        cluster the results are the same bit for bit (railvti.sweeps). Never implied by
+        cluster the results are the same bit for bit (railvti.runner.sweeps). Never implied by
         ``client``.
     geometry : str
         Contact geometry, 'strip' (default) or 'table' (:func:`coach_system`).
@@ -1085,7 +1083,6 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
     if client is not None:
-        from .sweeps import check_client
         check_client(client)            # an unreachable address: InputError before any work
     kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
               h=h, v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
@@ -1194,8 +1191,7 @@ def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: d
     (:func:`bifurcation_upper`), the decay tests (independent by nature) as one task per
     speed beside it; the same runs as the serial sweep, so the same numbers."""
     from distributed import as_completed
-    from .sweeps import _client_from
-    with _client_from(client) as c:
+    with client_from(client) as c:
         fut_up = c.submit(bifurcation_upper, list(map(float, sp)), pure=False, **chain)
         fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size,
                           pure=False, **point)
@@ -1311,7 +1307,6 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
                              ring: dict | None = None, output_dt: float | None = None,
                              progress: bool = False) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
-    import contextlib
     sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
                                                 contact, coach, h, k_max, f_max, geometry, ring,
                                                 output_dt)
@@ -1321,8 +1316,7 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
-            from .sweeps import _client_from
-            c = stack.enter_context(_client_from(client))
+            c = stack.enter_context(client_from(client))
 
         bar = None
         if progress:
@@ -1454,7 +1448,6 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
     def spectrum(kmh: float) -> np.ndarray:
         if model == "RR":
             return eigenvalues(sy, kmh / 3.6)
-        from .vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
         tab = linearised_table(contact_table(), lam)
         if model in RING_TRACK:
@@ -1512,7 +1505,6 @@ def _bay_rates(model: str, coach: Coach, table: WheelTable, v: float, n_offsets:
     """Model RF or FF at v (m/s): the hunting growth rate (1/s) and frequency (Hz) with the
     contact rows frozen at each of n_offsets positions across one sleeper bay
     (:func:`linear_critical_speed`)."""
-    from .vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
     ring = dict(ring)
     x0 = float(ring.pop("x_offset", 0.0))
     spacing = _checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS),

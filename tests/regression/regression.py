@@ -455,7 +455,7 @@ def summarize_results(path: str | Path) -> dict[str, Any]:
 
 def run_deck(d: Deck, workdir: str | Path) -> dict[str, Any]:
     """Run a deck through the ``railvti run`` command and summarise its results file."""
-    from railvti.cli import main
+    from railvti.runner.cli import main
     out = Path(workdir) / f"{d.name}.h5"
     code = main(["run", str(d.path), "-o", str(out), "-q", "--serial"])   # no cluster start-up
     cases = summarize_results(out)

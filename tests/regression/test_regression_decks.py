@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import regression as R
-from railvti.deck import read_deck
-from railvti.deck_registry import case_types
+from railvti.runner.deck import read_deck
+from railvti.runner.deck_registry import case_types
 
 
 @pytest.mark.parametrize("deck", R.DECKS, ids=[d.name for d in R.DECKS])

@@ -29,8 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..casetypes import REGISTRY
-from ..deck import Case
+from ..casetypes import REGISTRY, Case, register_deck_reader
 from ..errors import InputError
 from . import wheel_rail_cases
 
@@ -378,3 +377,6 @@ def read_contact_deck(path: str | Path) -> list[Case]:
     if not cases:
         raise InputError(f"{path.name}: the deck holds no case")
     return cases
+
+
+register_deck_reader(".inp", read_contact_deck)

@@ -24,6 +24,7 @@ from ..geometry import TrackLayout
 from ..material import Material
 from ..wheelset.geometry import WheelsetGeometry
 from .wheelset import REFERENCES, WheelsetPatch, WheelsetSolution, solve_wheelset
+from .wheelset_plots import case_title, plot_fields
 from ..geometry.cases import PAIR_KEYS, mm_aliases, profile_problems, wheelset_problems
 from .wheelset_cases import (MATERIAL_ALIASES, UNITS, WHEELSET_KEYS, patch_slots, store_patch_fields,
                              sweep_arrays, wheel_nan_labels)
@@ -217,7 +218,6 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """The stored patches' pressure maps with traction vectors (store_fields = 1)."""
-    from .wheelset_plots import case_title, plot_fields
     r = group["results"] if "results" in group else group
     fields = {}
     for name in r:

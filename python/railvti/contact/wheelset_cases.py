@@ -16,6 +16,7 @@ from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_MM_ALIASES, deck_la
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
+from .wheelset_plots import case_title, plot_fields, plot_sweep
 
 #: Patches kept per wheel in the result arrays.
 MAX_PATCHES = 2
@@ -158,7 +159,6 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Patch quantities against the shift and the stored patches' pressure maps."""
-    from .wheelset_plots import case_title, plot_fields, plot_sweep
     r = group["results"] if "results" in group else group
     arrays = {k: np.asarray(r[k]) for k in _QUANTITIES if k in r}
     y = np.asarray(r["y"])

@@ -6,19 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
-
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+from .._plotting import pyplot
 
 
 def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
                xlabel: str = "lateral shift y, mm", title: str = "") -> Path:
     """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift
     (``y`` in m, drawn in mm); ``title`` names the case above the panels."""
-    plt = _plt()
+    plt = pyplot()
     panels = [("contact_angle", "contact angle, rad", 1.0), ("y_rail", "contact position on rail, mm", 1e3),
               ("fn", "Fn, kN", 1e-3), ("fx", "Fx, kN", 1e-3), ("fy", "Fy, kN", 1e-3),
               ("pmax", "pmax, MPa", 1e-6), ("xi", "xi (solid), eta (dotted), -", 1.0),
@@ -54,7 +49,7 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
 def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, title: str = "") -> Path:
     """Pressure maps of patches (key 'left0', 'right0', ...) with traction vectors if present
     (each panel's largest traction drawn one sampling step long; its value in the panel title)."""
-    plt = _plt()
+    plt = pyplot()
     keys = list(fields)
     ncol = min(2, len(keys))
     nrow = -(-len(keys) // ncol)

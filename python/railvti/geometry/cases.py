@@ -13,6 +13,7 @@ from ..errors import InputError
 from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
+from .plots import plot_table
 from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, ContactTable, contact_table
 
 
@@ -184,7 +185,6 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Delta-r, contact angle and roll against y from a stored case."""
-    from .plots import plot_table
     r = group["results"] if "results" in group else group
     t = ContactTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
                      tolerance=float("nan"))

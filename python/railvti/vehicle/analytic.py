@@ -73,7 +73,6 @@ def nadal_limit(flange_angle: float, friction: float) -> float:
     g = float(flange_angle)
     mu = float(friction)
     if not (0.0 < g < 0.5 * math.pi) or not (mu >= 0.0):
-        from ..errors import InputError
         raise InputError(f"flange_angle must lie in (0, pi/2) rad and friction be >= 0, got "
                          f"{flange_angle}, {friction}")
     t = math.tan(g)

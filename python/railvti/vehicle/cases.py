@@ -38,16 +38,20 @@ import numpy as np
 from dataclasses import replace
 
 from .._checks import MAX_SPEED, MAX_SPEED_KMH
-from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
+from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
+                         split_labels, validate)
 from ..errors import InputError
-from ..results import split_labels
-from ..scenarios import (_RF_SCENARIOS, AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                         RING_TRACK, _hunting_conicity)
-from ..stream import case_stream, history_bytes
+from .. import scenarios as sc
+from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+                         RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity)
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
+from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
+from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
+from .ring_coupling import check_ring_length
+from .simulate import MODAL_STEP_LIMIT, STAT_UNITS, WHEEL_UNITS, check_modal_step
 from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
@@ -220,7 +224,7 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
         return [f"{', '.join(given)}: keys of the ring track (model 'RF'); model {model!r} runs on "
                 "rigid track elements"] if given else []
     out = []
-    allowed = _RF_SCENARIOS
+    allowed = RF_SCENARIOS
     missing = [f for f in _RUNS.get(str(params["scenario"]), ()) if allowed is not None and f not in allowed]
     if missing:
         out.append(f"model {model!r} does not run scenario {params['scenario']!r} yet "
@@ -231,7 +235,6 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
         coach = _coach(params)
     except InputError:
         return out                       # reported by check as a coach problem
-    from .ring_coupling import check_ring_length
     try:
         check_ring_length(sel["n_sleepers"], spacing, coach)
     except InputError as exc:
@@ -241,7 +244,6 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
 
 def _fr_selection(params: dict[str, Any]) -> dict[str, Any]:
     """Model FR's k_max, f_max from the case (the scenarios' defaults where not given)."""
-    from ..scenarios import FR_F_MAX, FR_K_MAX
     return {"k_max": FR_K_MAX if params.get("k_max") is None else params["k_max"],
             "f_max": FR_F_MAX if params.get("f_max") is None else params["f_max"]}
 
@@ -250,8 +252,6 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
     """Why the given h is too large for model FR's kept modes (None: it is not). Cheap when
     h 2 pi f_max <= 2 (no kept mode is above f_max); otherwise the FR system is built at the
     case's (highest) speed and its highest mode checked exactly (check_modal_step)."""
-    from ..scenarios import fr_system
-    from .simulate import MODAL_STEP_LIMIT, check_modal_step
     sel = _fr_selection(params)
     scale = params.get("coach_wheelset_stiffness_scale") or 1.0
     if params["h"] * 2.0 * np.pi * sel["f_max"] * np.sqrt(scale) <= MODAL_STEP_LIMIT:
@@ -275,19 +275,6 @@ def _coach(params: dict[str, Any]) -> Coach:
     return Coach(**kw)
 
 
-#: Units of the per-wheel outputs (railvti.vehicle.simulate.WHEEL_OUTPUTS).
-WHEEL_UNITS = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
-               "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}
-#: Units of SimulationResult.stats (stored as stat_NAME).
-STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "m", "steps": "1",
-              "substepped_steps": "1", "smallest_step": "s",
-              "newton_residual": "1 (relative to stat_load_scale)",
-              "newton_residual_max": "1 (relative to stat_load_scale)",
-              "newton_correction": "m or rad", "newton_correction_max": "m or rad",
-              "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
-              "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
-              "interrupted_at": "s",
-              "bem_grid": "1, 1, m (nx, ny, dx)"}
 _SIDES = ["left", "right"]
 
 
@@ -344,7 +331,6 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
     the contact points (railvti.vehicle.flexible.rim_deformation, rim_camber_change,
     rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
     ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
-    from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
     n = system.n
     stop = system.n_state if stop is None else stop
     nm = stop - n
@@ -438,7 +424,6 @@ def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, f
     """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
     ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
     FR layouts or [])."""
-    from .. import scenarios as sc
     if model == "FF":
         sy, lays = sc.ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
     elif model == "FR":
@@ -458,7 +443,7 @@ def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, f
 
 def _stream_derived() -> dict:
     """The full-length datasets of :func:`_history` computed from each block of a streamed
-    history (railvti.stream), so that a streamed case stores what an in-memory one does."""
+    history (railvti.runner.stream), so that a streamed case stores what an in-memory one does."""
     def col(src: str, name: str):
         return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]
 
@@ -487,13 +472,12 @@ def _estimated_output_dt(scen: str, speed: float) -> float:
     """The default output interval of a case on the rigid track (RR, FR), for the size of
     its history (whether to stream it): the scenario's, shortened for hunting at Klingel's
     frequency (railvti.vehicle.output; the run rounds it to its step)."""
-    f = output.hunting(speed, _hunting_conicity(), COACH_DEFAULTS["wheel_radius"][0])
+    f = output.hunting(speed, hunting_conicity(), COACH_DEFAULTS["wheel_radius"][0])
     return output.default_interval([f], 1e-9, 0.01 if scen == "centred_running" else 0.002)
 
 
 def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
-    from .. import scenarios as sc
 
     params = validate("vehicle", params)
     params = {**params, "speed_kmh": round(params["speed"] * 3.6, 9)}  # km/h as given, to 1e-9
@@ -516,10 +500,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["n_sleepers"] = (ring["n_sleepers"], "1")
         scalars["f_limit"] = (ring["f_limit"], "Hz")
         scalars["x_offset"] = (ring["x_offset"], "m")
-    # a long history streams to the runner's file (railvti.stream; docs/results.md); models FR
+    # a long history streams to the runner's file (railvti.runner.stream; docs/results.md); models FR
     # and RF keep their history in memory (their modal datasets are derived from the whole run)
     out_dt = params["output_dt"] or _estimated_output_dt(scen, params["speed"])
-    stream = (case_stream(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
+    stream = (case_sink(history_bytes(params["duration"], out_dt), store=("t", "q", "v"),
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
@@ -616,7 +600,6 @@ NAN_MEANINGS = {
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Time histories and phase portrait (hunting / centred running) or the bifurcation diagram."""
-    from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 
     res = group["results"] if "results" in group else group
     outdir = Path(outdir)

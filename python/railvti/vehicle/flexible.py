@@ -37,9 +37,13 @@ from .. import _checks
 from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
+from .model import RESIDUAL_ZETA, CallSettings, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
 from .params import Coach
 from .table import WheelTable
+from ..wheelset import Wheelset
+from ..wheelset.fe import check_harmonic
+from ..wheelset.flexible import _harmonic, _rigid_mask, residual_flexibility, residual_table
+from .simulate import contact_id, static_equilibrium
 
 #: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
 #: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
@@ -352,9 +356,6 @@ def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
     InputError for no elastic mode below f_max, or kept modes that would need a time step
     below :data:`MIN_MODAL_STEP`.
     """
-    from ..wheelset import Wheelset
-    from ..wheelset.fe import check_harmonic
-    from ..wheelset.flexible import _harmonic, _rigid_mask
     scale = coach["wheelset_stiffness_scale"]
     ws = (wheelset if wheelset is not None else Wheelset()).stiffness_scaled(scale)
     k_max = check_harmonic(k_max, "k_max")
@@ -380,8 +381,6 @@ def _follow_tables(wheelset, body, with_residual: bool, grid):
     """The rim rows and residual blocks of :class:`RimFollow` in the vehicle's order (wheel 0
     left = FE side 1; journals left, right) and the 12 x 12 residual at the taping lines
     (None without residual)."""
-    from ..wheelset import Wheelset
-    from ..wheelset.flexible import residual_table
     sides = (1, 0)
     rows = np.stack([body.contact_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
     drows = np.stack([body.dtheta_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
@@ -480,8 +479,6 @@ def residual_points(body, residual: np.ndarray | None = None) -> np.ndarray:
 
 def _residual_at(wheelset, body, s: float) -> np.ndarray:
     """The body's residual flexibility with both contact points at profile coordinate s."""
-    from ..wheelset import Wheelset
-    from ..wheelset.flexible import residual_flexibility
     ws = wheelset if wheelset is not None else Wheelset()
     return residual_flexibility(ws, body, (s, s))
 
@@ -509,8 +506,6 @@ def point_forces(system: System, speed: float, x: np.ndarray, xd: np.ndarray | N
     ndarray (n_points,)
         N on displacement points, N m on rotation points.
     """
-    from .model import CallSettings
-    from .simulate import contact_id
     mb = system.modal
     if mb is None or mb.couplings is None:
         raise InputError("point_forces needs an FR system (modal blocks with couplings)")
@@ -761,8 +756,6 @@ def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
     jq, jv : ndarray (n_state, n_state)
         dF/dx and dF/dxd.
     """
-    from .model import CallSettings
-    from .simulate import contact_id
     if system.modal is None:
         raise InputError("state_tangent needs a system with modal blocks (model FR)")
     nt = system.n_state
@@ -804,7 +797,6 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
     ndarray of complex
         The finite eigenvalues.
     """
-    from .simulate import static_equilibrium
     if system.modal is None:
         raise InputError("flexible.eigenvalues needs an FR system; use "
                          "railvti.vehicle.simulate.eigenvalues for RR")

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -26,9 +26,6 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
-
-if TYPE_CHECKING:   # pragma: no cover
-    from .assembly import System
 
 #: Contact models: name -> Fortran id (vehicle_contact CMODEL_*). 'bem': the BEM normal +
 #: steady-rolling solvers (railvti.vehicle.bem), with the Hertz + Kalker tangent in Newton.
@@ -581,7 +578,7 @@ class VehicleModel:
         registry is full.
     """
 
-    def __init__(self, system: "System") -> None:
+    def __init__(self, system: Any) -> None:    # a railvti.vehicle.assembly.System (which makes this)
         t = system.table
         handle, info = core.vehicle_model_create_c(
             system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,

@@ -5,12 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+from .._plotting import pyplot
 
 
 #: Smallest range drawn on a history's value axis, per unit of the chart: a history that
@@ -39,7 +34,7 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     """Leading wheelset lateral displacement and wheel forces against time, and the phase
     portrait (y against dy/dt). Q, Y: (nt, 2, nw). ``title``: the run (scenario, speed,
     model, contact). A flat history is drawn flat with its value (:data:`MIN_SPAN`)."""
-    plt = _plt()
+    plt = pyplot()
     outdir = Path(outdir)
     fig, ax = plt.subplots(3, 1, figsize=(6.4, 6.4), sharex=True)
     ax[0].plot(t, y * 1e3, lw=0.8)
@@ -86,7 +81,7 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
     the flange-climb ratio Y/Q (-Y/Q left, Y/Q right: the rail pushing the wheel towards the
     track centre) with Nadal's limit. q_dof: (nt, nw) wheelset lateral displacements, m;
     Q, Y: (nt, 2, nw), N."""
-    plt = _plt()
+    plt = pyplot()
     nw = Q.shape[-1]
     fig, ax = plt.subplots(3, nw, figsize=(3.0 * nw, 6.4), sharex=True, sharey="row", squeeze=False)
     yout = Y * np.array([-1.0, 1.0])[None, :, None]
@@ -128,7 +123,7 @@ def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
     conicity of each amplitude (describing-function estimate of the cycle). ``critical_kmh``:
     the nonlinear critical speed, marked by a vertical line (NaN: none found in the range,
     said on the chart; None: not marked)."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 3.8))
     if critical_kmh is not None and np.isfinite(critical_kmh):
         ax.axvline(critical_kmh, color="C3", lw=1.2,
@@ -159,7 +154,7 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
                ty: np.ndarray, power_density: np.ndarray, path: Path, title: str = "") -> Path:
     """Contact-patch fields on the (non-uniform, strip-wise) ellipse grid: pressure, the
     tangential traction magnitude with its direction, the friction power density."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(1, 3, figsize=(10.5, 3.4))
     xm, ym = np.asarray(x) * 1e3, np.asarray(y) * 1e3
     for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),

@@ -15,23 +15,37 @@ import os
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, ClassVar, Iterator
 
 import numpy as np
 
 from .. import _checks, _interrupt
+from ..casetypes import STREAM_TAIL_SECONDS, HistorySink
 from .._native import core
 from .._status import Status, check, error
 from .._threads import serial_blas
 from ..errors import ConvergenceError, DivergenceError, InputError, RailvtiError
 from ..resources import check_memory
-from ..stream import STREAM_TAIL_SECONDS, HistoryStream
 from .analytic import nadal_limit
 from .assembly import System
 from .bem import BemOptions, BemState
 from .model import CONTACT_MODELS, NWO, WHEEL_OUTPUTS, CallSettings, RunCarry  # noqa: F401 (NWO re-exported)
 
 log = logging.getLogger(__name__)
+
+#: Units of the per-wheel outputs (:data:`WHEEL_OUTPUTS`).
+WHEEL_UNITS = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
+               "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}
+#: Units of SimulationResult.stats (stored as stat_NAME).
+STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "m", "steps": "1",
+              "substepped_steps": "1", "smallest_step": "s",
+              "newton_residual": "1 (relative to stat_load_scale)",
+              "newton_residual_max": "1 (relative to stat_load_scale)",
+              "newton_correction": "m or rad", "newton_correction_max": "m or rad",
+              "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
+              "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
+              "interrupted_at": "s",
+              "bem_grid": "1, 1, m (nx, ny, dx)"}
 
 #: Default Newton residual tolerance of :func:`simulate`, relative to the static wheel load:
 #: max |r| (N, or N m per metre of lever arm) over all DOFs <= NEWTON_RTOL * wheel load
@@ -147,6 +161,18 @@ class SimulationResult:
     worst wheel) and :attr:`nadal`.
     """
 
+    #: The units this class gives its fields where its docstring does not end in one
+    #: (railvti.runner.results.save reads them here: the result owns its file layout's units).
+    FIELD_UNITS: ClassVar[dict[str, Any]] = {
+        "t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
+        "wheel": "per quantity: see the quantities and quantity_units attributes",
+        "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad",
+        "rail": "m, m, rad (per component: y, z, roll of the element under each wheel)",
+        "stats": STAT_UNITS}
+    #: Units of the per-wheel outputs and of the statistics (for the runner's records).
+    WHEEL_UNITS: ClassVar[dict[str, str]] = WHEEL_UNITS
+    STAT_UNITS: ClassVar[dict[str, str]] = STAT_UNITS
+
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
@@ -162,16 +188,8 @@ class SimulationResult:
     streamed: str = ""
     rail: np.ndarray | None = None
 
-    def save(self, path) -> "Path":
-        """Write the result to an HDF5 file (atomically; :func:`railvti.results.load` reads
-        it back equal): every array with its ``units``, q and v with ``dof_names``, the wheel
-        outputs with their quantity names and units."""
-        from ..results import save
-        return save(self, path)
-
     def _save_attrs(self) -> dict:
-        """Labels written beside the arrays by :func:`railvti.results.save`."""
-        from .cases import WHEEL_UNITS
+        """Labels written beside the arrays by :func:`railvti.runner.results.save`."""
         nw = self.wheel.shape[-1]
         return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
                 "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
@@ -503,7 +521,7 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
              maxit: int = 20, maxsub: int = MAXSUB, qmax: float = 1.0, fastsim_n: int = 8,
              progress: bool | None = None, chunk: float | None = None,
              bem_options: BemOptions | None = None, bem: BemState | None = None,
-             rtol: float | None = None, stream_to: "HistoryStream | str | Path | None" = None,
+             rtol: float | None = None, stream_to: HistorySink | None = None,
              stream_tail: float = STREAM_TAIL_SECONDS, integrator: str = "hht",
              threads: int | None = None) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
@@ -561,18 +579,19 @@ def simulate(system: System, speed: float, duration: float, *, contact: str = "h
     bem : BemState, optional
         An existing BEM state to use (and leave open, with its warm starts); by default a
         state is made for the run and freed at its end.
-    stream_to : HistoryStream or path, optional
-        Write the history (``t``, ``q``, ``v``, ``wheel``) to HDF5 as the time loop's chunks
-        finish, in resizable chunked datasets (:class:`railvti.stream.HistoryStream`; a path
-        is a new file with the group 'history', closed at the end; a HistoryStream is left
-        open for its owner), and keep in memory only the last ``stream_tail`` seconds: the
+    stream_to : HistorySink, optional
+        Hand the history (``t``, ``q``, ``v``, ``wheel``) to this sink
+        (:class:`railvti.casetypes.HistorySink`) as the time loop's chunks finish, e.g.
+        ``railvti.runner.stream.HistoryStream(path)``, resizable chunked HDF5 datasets in the
+        group 'history' (the sink is left open for its owner), and keep in memory only the
+        last ``stream_tail`` seconds: the
         returned SimulationResult (and an interruption's ``partial``) then holds that tail,
         and its ``streamed`` names the file and group. The streamed rows equal, to the bit,
         those of a run kept in memory. For long runs (``railvti run`` streams a case whose
-        history exceeds :func:`railvti.stream.stream_threshold`).
+        history exceeds :func:`railvti.runner.stream.stream_threshold`).
     stream_tail : float
         Simulated time kept in memory when streaming, s (default
-        :data:`railvti.stream.STREAM_TAIL_SECONDS`).
+        :data:`railvti.runner.stream.STREAM_TAIL_SECONDS`).
     integrator : str
         'hht' (default): Newmark / HHT-alpha. 'energy': the energy-conserving midpoint rule
         (alpha must be 0; the strip contact geometry, whose normal contact has a potential):
@@ -781,20 +800,18 @@ def _start_state(system: System, cs: CallSettings, contact: str, bem: BemState |
 
 
 @contextlib.contextmanager
-def _open_stream(stream_to: Any) -> Iterator[HistoryStream | None]:
-    """The HistoryStream of ``stream_to``: None, the given stream (left open), or a new one
-    in the file at a path (closed at the end)."""
-    if stream_to is None or isinstance(stream_to, HistoryStream):
-        yield stream_to
-        return
-    if not isinstance(stream_to, (str, Path)):
-        raise InputError(f"stream_to must be a HistoryStream or a path, got {type(stream_to).__name__}")
-    with HistoryStream(stream_to) as stream:
-        yield stream
+def _open_stream(stream_to: Any) -> Iterator[HistorySink | None]:
+    """The sink of ``stream_to``: None or the given sink (left open for its owner)."""
+    if stream_to is not None and not isinstance(stream_to, HistorySink):
+        hint = (" (a path: pass railvti.runner.stream.HistoryStream(path) and close it after the run)"
+                if isinstance(stream_to, (str, Path)) else "")
+        raise InputError("stream_to must be a history sink (railvti.casetypes.HistorySink), got "
+                         f"{type(stream_to).__name__}{hint}")
+    yield stream_to
 
 
 def _integrate(system: System, cs: CallSettings, plan: _Plan, q: np.ndarray, v: np.ndarray,
-               contact: str, stream: HistoryStream | None = None,
+               contact: str, stream: HistorySink | None = None,
                tail: float = STREAM_TAIL_SECONDS) -> SimulationResult:
     """Run the Fortran time loop from (q, v), with a = M^-1 F(q, v), in chunks (for the
     progress bar) and gather the output (or stream it, keeping the last ``tail`` seconds).
@@ -863,7 +880,7 @@ def _check_history_memory(system: System, plan: _Plan) -> None:
     per_output = 8 * (2 * system.n_state + len(WHEEL_OUTPUTS) * 2 * system.iws.shape[1] + 1)
     check_memory(f"the time history ({nout} outputs of {per_output} bytes)", 2.0 * nout * per_output,
                  "shorten the duration, raise output_dt, or stream the history to a file "
-                 "(stream_to=PATH)")
+                 "(stream_to=HistoryStream(PATH), railvti.runner.stream)")
 
 
 def _next_chunk(ns: int, wall: float, plan: _Plan) -> int:
@@ -885,8 +902,7 @@ def _progress_bar(plan: _Plan):
 
 
 def _stream_attrs(system: System) -> dict[str, dict[str, Any]]:
-    """Units and labels of the streamed t, q, v and wheel (as SimulationResult.save)."""
-    from .cases import WHEEL_UNITS
+    """Units and labels of the streamed t, q, v and wheel (as railvti.runner.results.save)."""
     names = list(system.state_names)
     nw = system.iws.shape[1]
     return {"t": {"units": "s", "axes": ["t"]},
@@ -903,7 +919,7 @@ class _Output:
     """The outputs and statistics of the chunks of one run, gathered (or streamed: appended
     to a HistoryStream, only the chunks of the last ``tail`` seconds kept)."""
 
-    def __init__(self, h: float, load_scale: float = 1.0, stream: HistoryStream | None = None,
+    def __init__(self, h: float, load_scale: float = 1.0, stream: HistorySink | None = None,
                  tail: float = STREAM_TAIL_SECONDS) -> None:
         self.h = h
         self.load_scale = load_scale

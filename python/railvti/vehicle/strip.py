@@ -33,6 +33,7 @@ from .._native import core
 from .._status import check
 from ..contact.kalker import kalker_coefficients
 from ..geometry import layout
+from ..errors import InputError
 from ..material import STEEL, Material
 from ..profiles import Profile
 from .table import _RATIO_CLIP, _hertz_unit
@@ -255,7 +256,6 @@ def _poses(name: str, y, zc, roll, yaw) -> tuple[tuple, np.ndarray]:
                                          np.asarray(roll, float), np.asarray(yaw, float))
     pose = np.asfortranarray(np.stack([yb.ravel(), zb.ravel(), pb.ravel(), sb.ravel()]))
     if not np.all(np.isfinite(pose)):
-        from ..errors import InputError
         raise InputError(f"{name}: the poses must be finite")
     return yb.shape, pose
 

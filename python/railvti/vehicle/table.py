@@ -40,6 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
+from .._native import core
+from .._status import Status, error
 from ..contact.hertz import hertz
 from ..contact.kalker import kalker_coefficients
 from ..errors import InputError
@@ -420,8 +422,6 @@ def pose_values(table: WheelTable, u, roll, members: bool = False):
     InputError
         A pose outside the table.
     """
-    from .._native import core
-    from .._status import Status, error
     ua = _checks.finite_array("u", np.atleast_1d(np.asarray(u, dtype=float)))
     pa = _checks.finite_array("roll", np.atleast_1d(np.asarray(roll, dtype=float)), shape=ua.shape)
     vals, wt, grad, ibad, info = core.vehicle_pose_at_c(table.data_roll, table.y0, table.dy, table.roll0,

@@ -13,6 +13,7 @@ from ..casetypes import CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from .geometry import WheelsetGeometry
 from .model import PrimarySuspension, Wheelset
+from .plots import plot_frf
 
 _GEOMETRY_DEFAULTS = {f.name: f.default for f in fields(WheelsetGeometry)}
 
@@ -137,7 +138,6 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """FRF magnitude at each speed."""
-    from .plots import plot_frf
     res = group["results"] if "results" in group else group
     f = res["frf_freq"][()]
     h = res["frf_real"][()] + 1j * res["frf_imag"][()]

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,11 +12,9 @@ from .._native import core
 from .._status import check
 from ..errors import InputError
 from .fe import HarmonicModes, check_harmonic, eq11_blocks, solve_harmonic
+from .flexible import FlexibleWheelset, flexible_body
 from .geometry import WheelsetGeometry
 from .mesh import MeridianMesh
-
-if TYPE_CHECKING:
-    from .flexible import FlexibleWheelset
 
 log = logging.getLogger(__name__)
 
@@ -439,7 +436,6 @@ class Wheelset:
         InputError
             A negative speed, f_max <= 0, a bad k_max, s outside the rim edge.
         """
-        from .flexible import flexible_body
         return flexible_body(self, speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio,
                              centrifugal=centrifugal, residual_s=residual_s, ds=ds,
                              residual=residual, residual_k_max=residual_k_max)

@@ -26,7 +26,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
-from .errors import InputError
+from ..errors import InputError
 from .results import side_name
 
 #: Locks this process holds: resolved lock path -> [OutputLock, depth] (a lock is re-entrant

@@ -4,7 +4,7 @@
   imports (numpy, h5py, Dask: this module imports them inside the commands): a signal before
   the cases start ends the command at once with exit 130 / 143 and one line, a half-started
   Dask cluster shut down (its worker processes killed); from then on the batch runner's
-  :class:`railvti.batch.SignalGuard` keeps the completed cases.
+  :class:`railvti.runner.batch.SignalGuard` keeps the completed cases.
 * An expected failure (a ``railvti.errors`` class) prints one line; an unexpected exception
   one line and a hint; ``--debug`` prints their tracebacks (a failed case's is also stored in
   the results file).
@@ -14,8 +14,10 @@
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import difflib
+import gc
 import io
 import logging
 import os
@@ -25,7 +27,7 @@ import threading
 from pathlib import Path
 from typing import Any, Iterator
 
-from .errors import InputError, RailvtiError
+from ..errors import InputError, RailvtiError
 
 log = logging.getLogger("railvti")
 #: Exit status when stdout's reader went away (128 + SIGPIPE, as a shell reports it).
@@ -35,7 +37,8 @@ EXIT_UNEXPECTED = 1
 
 
 def _run(args: argparse.Namespace) -> int:
-    from . import cost, resources
+    from .. import resources
+    from . import cost
     from .batch import check_deck, check_output
     from .deck import read_deck
     from .output_lock import OutputLock
@@ -106,7 +109,7 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
             _stdout_closed()
 
     # the guard from before the cluster starts: a signal during its start-up stops at once
-    # (the half-started cluster killed, railvti.sweeps.local_client), later ones keep the
+    # (the half-started cluster killed, railvti.runner.sweeps.local_client), later ones keep the
     # completed cases (run_cases)
     with SignalGuard() as guard:
         try:
@@ -196,7 +199,7 @@ def _summary(args: argparse.Namespace) -> int:
 
 
 def _default_text(default: object) -> str:
-    from .casetypes import REQUIRED
+    from ..casetypes import REQUIRED
     if default is REQUIRED:
         return "(required)"
     if default is None:
@@ -383,8 +386,6 @@ def _quick_exit() -> None:
     (numpy, h5py, Dask: ~0.4 s, over a second under load, of the time a Ctrl-C takes): the
     objects alive then are frozen (``gc.freeze``) first. Our files are closed explicitly;
     dask's and multiprocessing's clean-ups are atexit hooks, which still run."""
-    import atexit
-    import gc
     if not _QUICK_EXIT:
         atexit.register(gc.freeze)
         _QUICK_EXIT.append(True)

@@ -11,8 +11,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from .errors import InputError
-from .sweeps import HEADLINES, MAX_POINT_PLOTS, sweep_points
+from ..errors import InputError
+from .sweep_plots import HEADLINES, MAX_POINT_PLOTS, sweep_points
 
 #: What each kind of PNG shows, by the end of its name (the first match counts).
 FIGURES = (

@@ -11,7 +11,8 @@ import matplotlib
 matplotlib.use("Agg")
 
 from .deck_registry import case_types  # noqa: E402
-from .errors import InputError  # noqa: E402
+from ..errors import InputError  # noqa: E402
+from .sweep_plots import MAX_POINT_PLOTS, plot_sweeps, sweep_points  # noqa: E402
 
 log = logging.getLogger(__name__)
 
@@ -20,7 +21,7 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
                  points: bool = False, notes: list[str] | None = None) -> list[Path]:
     """Draw every successful case of a results file, what an interrupted case kept (its
     time history up to the signal), and a summary of each sweep
-    (railvti.sweeps.plot_sweeps); return the PNG paths.
+    (railvti.runner.sweep_plots.plot_sweeps); return the PNG paths.
 
     Parameters
     ----------
@@ -29,13 +30,12 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
     outdir : path, optional
         Folder for the PNGs (default: next to the file).
     points : bool
-        Also draw each point of the sweeps larger than railvti.sweeps.MAX_POINT_PLOTS.
+        Also draw each point of the sweeps larger than railvti.runner.sweep_plots.MAX_POINT_PLOTS.
     notes : list, optional
         Gets one line per case drawn partly or not at all, saying why (failed, interrupted
         before it kept anything, no plot for its type, a plot that failed).
     """
     notes = notes if notes is not None else []
-    from .sweeps import MAX_POINT_PLOTS, plot_sweeps, sweep_points
     path = Path(path)
     outdir = Path(outdir) if outdir is not None else path.parent
     if outdir.exists() and not outdir.is_dir():

@@ -35,7 +35,7 @@ _fsync = os.fsync
 
 class WriteFailed(OSError):
     """A results or stream file could not be written (disk full, quota, I/O error): the run
-    stops with exit status 3 (``railvti.batch.EXIT_OUTPUT``); it is not a case's error."""
+    stops with exit status 3 (``railvti.runner.batch.EXIT_OUTPUT``); it is not a case's error."""
 
 
 class GuardedFile:

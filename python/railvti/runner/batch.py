@@ -2,7 +2,7 @@
 
 * Each case runs isolated: any exception (not only railvti's) becomes that case's recorded
   error, with its traceback in the log and in the file; the other cases still run.
-* Each finished case is written at once (:class:`railvti.results.ResultsWriter`: a new
+* Each finished case is written at once (:class:`railvti.runner.results.ResultsWriter`: a new
   version of the file in a temporary file beside it, renamed over the old one), so there is a
   valid file after every case; ``--resume`` keeps the cases already complete (status 'ok' and
   the same parameters) and runs the others.
@@ -14,7 +14,7 @@
   (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous complete file (or none) and at
   most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
-* A case with a long time history streams it (railvti.stream) to a temporary file beside the
+* A case with a long time history streams it (railvti.runner.stream) to a temporary file beside the
   output as it runs; its datasets are copied into the case's group when the case is written,
   and the file is deleted then (also after an error or a signal). SIGKILL during such a case
   leaves the previous complete file and that stream file (``.NAME.PID.XXXX.tmp``).
@@ -35,11 +35,10 @@ import traceback
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
-from .casetypes import CaseOutput
-from .deck import Case
-from .errors import InputError
+from ..casetypes import Case, CaseOutput
+from ..errors import InputError, RailvtiError
 from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
                    check_cost, estimate, small_deck)
 from .stream import CaseStream
@@ -217,10 +216,10 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
 
 def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = False,
                force: bool = False, note: Any = None) -> bool:
-    """Refuse an existing results file written from another deck (railvti.results.deck_owner
+    """Refuse an existing results file written from another deck (railvti.runner.results.deck_owner
     says which files belong to a deck, and why), unless ``force``: plain ``-o`` would
     replace it, ``--resume`` would mix two decks' cases in one file. With ``resume``, also
-    refuse a damaged file (railvti.results.damage: every dataset is read once). Returns
+    refuse a damaged file (railvti.runner.results.damage: every dataset is read once). Returns
     whether the run resumes: with ``force`` another deck's or a damaged file is replaced,
     never resumed (``note`` says so).
 
@@ -257,7 +256,7 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
                      "or --force to replace it")
 
 
-# The cost estimate and its limits live in railvti.cost; check_resources is its check.
+# The cost estimate and its limits live in railvti.runner.cost; check_resources is its check.
 check_resources = check_cost
 
 
@@ -278,7 +277,7 @@ class RunReport:
 def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
     """Datasets and labels of an interrupted run's streamed history: every dataset of the
     stream (t, q, v and the per-wheel histories), referenced for copying."""
-    from .vehicle.cases import WHEEL_UNITS
+    wheel_units = getattr(res, "WHEEL_UNITS", {})
     labels = res._save_attrs()
     nw = res.wheel.shape[-1]
     per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
@@ -287,7 +286,7 @@ def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
              "y_ws1": "m", "vy_ws1": "m/s", "ws_y": "m"}
     data = {}
     for name in stream.names():
-        unit = units.get(name) or WHEEL_UNITS.get(name.removeprefix("wheel_"), "1")
+        unit = units.get(name) or wheel_units.get(name.removeprefix("wheel_"), "1")
         data[name] = (stream.streamed(name), unit)
         if name.startswith("wheel_"):
             labels[name] = per_wheel
@@ -303,7 +302,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
     its tail)."""
     if res is None or not hasattr(res, "_save_attrs"):
         return None
-    from .vehicle.cases import STAT_UNITS
+    stat_units = getattr(res, "STAT_UNITS", {})
     hs = stream.stream if stream is not None else None
     if getattr(res, "streamed", "") and hs is not None and res.streamed == hs.where:
         hs.close()
@@ -313,7 +312,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
         data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
                 "v": (res.v, "m/s or rad/s (per dof_names)"),
                 "wheel": (res.wheel, "per quantity: see quantity_units")}
-    scalars = {f"stat_{k}": (v, STAT_UNITS.get(k, "1")) for k, v in res.stats.items()
+    scalars = {f"stat_{k}": (v, stat_units.get(k, "1")) for k, v in res.stats.items()
                if isinstance(v, (int, float))}
     t_end = float(res.t[-1]) if len(res.t) else 0.0
     return CaseOutput(summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
@@ -323,7 +322,7 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
 def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -> CaseRecord:
     """Run one case; any exception becomes the record's error (with its traceback),
     a signal the record's ``interrupted``. With ``stream`` the case may stream a long time
-    history to it (railvti.stream.case_stream); the stream is closed on return (the caller
+    history to it (railvti.runner.stream.case_stream); the stream is closed on return (the caller
     writes the record, then removes the stream file)."""
     t0 = time.perf_counter()
     active = stream.active() if stream is not None else contextlib.nullcontext()
@@ -406,7 +405,6 @@ def expected_error(error: str) -> bool:
     """Whether a record's error ('ExceptionClass: message') is one of railvti's own
     (:class:`railvti.errors.RailvtiError` and its subclasses, wherever defined): a failure the
     code foresaw and explained, not a bug."""
-    from .errors import RailvtiError
     names, todo = set(), [RailvtiError]
     while todo:
         cls = todo.pop()
@@ -438,7 +436,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
               guard: SignalGuard | None = None) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output` and :func:`check_deck`), each finished case written at once, under
-    the output's lock (railvti.output_lock: a second run on ``out`` is refused). A file
+    the output's lock (railvti.runner.output_lock: a second run on ``out`` is refused). A file
     that cannot be written stops the run: status :data:`EXIT_OUTPUT`, ``report.error``
     says why in one line, the file is its last complete version.
 
@@ -449,7 +447,7 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
     progress : callable, optional
         ``progress(case)`` before each case of a serial run (e.g. a progress bar's postfix).
     client : distributed.Client, optional
-        Run the cases as tasks on this Dask client (railvti.sweeps.run_on_client); each
+        Run the cases as tasks on this Dask client (:func:`run_on_client`); each
         finished one is written here, by this process, as it arrives. None: one after
         another in this process (dask is not imported).
     on_record : callable, optional
@@ -512,7 +510,6 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
 
     with contextlib.nullcontext(guard) if guard is not None else SignalGuard() as guard:
         if client is not None and todo:
-            from .sweeps import run_on_client
             stop = run_on_client(todo, client, finish, guard)
             if report.status == EXIT_OUTPUT:
                 return report
@@ -550,5 +547,90 @@ def resume_hint(deck: Path, out: Path) -> str:
     return f"railvti run {deck} -o {out} --resume"
 
 
+
+# ---------------------------------------------------------------------------------------------
+# The cases as tasks on a dask.distributed client (the client: railvti._cluster)
+
+
+def run_task(case: Case) -> Any:
+    """Run one case on a worker and return its :class:`railvti.runner.results.CaseRecord` (the
+    worker never writes the results file). Signals are the worker's business: no guard."""
+    return run_case(case, SignalGuard(), None)
+
+
+def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], bool],
+                  guard: Any = None) -> str | None:
+    """Submit every case to ``client`` and call ``on_record(record)`` in this process as each
+    finishes (in the order they finish). ``on_record`` returns False to stop (the file cannot
+    be written). Returns the signal that stopped the run, or None.
+
+    Each case is a task with a key from its position and name (``railvti-NNN-name``), so
+    dask never merges two points; no task is retried on another worker after an exception
+    (its record carries it)."""
+    from distributed import as_completed
+    stamp = f"{os.getpid()}-{time.time_ns()}"
+    futures, by_key = [], {}
+    for c in cases:
+        key = f"railvti-{group_name(c)}-{stamp}"
+        by_key[key] = c
+        futures.append(client.submit(run_task, c, key=key, pure=False, retries=0))
+    stop: str | None = None
+    t_start = time.monotonic()
+    ac = as_completed(futures)
+    try:
+        while True:
+            try:
+                with (guard.live() if guard is not None else contextlib.nullcontext()):
+                    fut = next(ac)
+            except StopIteration:
+                break
+            except Interrupted as exc:
+                stop = exc.signame
+                break
+            rec = _record(fut, by_key)
+            if not on_record(rec):
+                break
+            if guard is not None and guard.pending:
+                stop = guard.pending
+                break
+    finally:
+        if stop is not None:
+            _mark_interrupted(client, futures, by_key, stop, time.monotonic() - t_start,
+                              on_record)
+        for f in futures:
+            if not f.done():
+                f.cancel()
+    return stop
+
+
+def _mark_interrupted(client: Any, futures: list, by_key: dict[str, Case], signame: str,
+                      elapsed: float, on_record: Callable[[Any], bool]) -> None:
+    """Record the cases a signal stopped while a worker was running them as interrupted (as
+    the serial path records its running case); queued cases stay absent (``--resume`` runs
+    them)."""
+    try:
+        running = client.run(lambda dask_worker: [ts.key for ts in dask_worker.state.executing])
+    except Exception:  # noqa: BLE001 - a worker gone or busy: nothing to mark
+        return
+    keys = {k for ks in running.values() for k in ks}
+    for f in futures:
+        if f.key in keys and not f.done() and f.key in by_key:
+            if not on_record(CaseRecord(by_key[f.key], interrupted=signame, wall_time=elapsed)):
+                return
+
+
+def _record(fut: Any, by_key: dict[str, Case]) -> Any:
+    """The CaseRecord of a finished future (a task lost with its worker becomes the case's
+    error)."""
+    try:
+        return fut.result()
+    except Exception as exc:  # noqa: BLE001 - a worker died or the task could not run
+        case = by_key.get(fut.key)
+        if case is None:
+            raise
+        return CaseRecord(case, error=f"{type(exc).__name__}: {exc} (the task did not return)",
+                          traceback=traceback.format_exc())
+
+
 __all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "check_resources",
-           "estimate", "run_case", "run_cases", "RunReport"]
+           "estimate", "run_case", "run_cases", "run_on_client", "run_task", "RunReport"]

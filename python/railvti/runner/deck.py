@@ -28,72 +28,27 @@ import dataclasses
 import difflib
 import io
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import f90nml
 
-from .casetypes import REQUIRED, CaseType
-from .deck_registry import case_types
-from .errors import InputError
+from ..casetypes import MAX_NAME, REQUIRED, Case, CaseType, name_problem  # noqa: F401 (Case, MAX_NAME: names of this module too)
+from .deck_registry import case_types, deck_readers
+from .sweeps import expand, split_sweep
+from ..errors import InputError
 
-#: Longest case name (it names an HDF5 group and the plot files).
-MAX_NAME = 64
 #: Most cases in one deck (f90nml's time grows with the square of the groups: 1000 take ~0.5 s).
 MAX_CASES = 1000
 #: Most cases of a deck with its sweeps' points.
 MAX_TASKS = 10000
 #: Most problems listed in one message (the rest are counted).
 MAX_LISTED = 40
-_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
-
-
-@dataclass(frozen=True)
-class Case:
-    """One checked case of a deck.
-
-    Attributes
-    ----------
-    index : int
-        Position in the deck, from 1.
-    name : str
-    case_type : CaseType
-    params : dict
-        Every key of the case type, the deck's value or the default.
-    written : dict
-        key -> (alias, value as written) for the keys the deck gave under an alias
-        (``y_min_mm = 4.0``): problems name them so.
-    """
-
-    index: int
-    name: str
-    case_type: CaseType
-    params: dict[str, Any]
-    written: dict[str, tuple[str, Any]] = field(default_factory=dict)
-
-    @property
-    def label(self) -> str:
-        """``case N 'name'`` for messages (a long name cut)."""
-        name = self.name if len(self.name) <= MAX_NAME else self.name[:40] + "..."
-        return f"case {self.index} '{name}'"
 
 
 def _suggest(key: str, known: list[str]) -> str:
     close = difflib.get_close_matches(key, known, n=1, cutoff=0.5)
     return f" (did you mean '{close[0]}'?)" if close else ""
-
-
-def name_problem(name: Any) -> str | None:
-    """Why ``name`` cannot name a case (an HDF5 group and plot files), or None."""
-    if not isinstance(name, str):
-        return f"key 'name' must be a text in quotes, got {name!r}"
-    if len(name) > MAX_NAME:
-        return f"key 'name' has {len(name)} characters; at most {MAX_NAME}"
-    if not _NAME.fullmatch(name):
-        return (f"key 'name' = {name!r} is not a safe name: use letters, digits, '_', '-', '.', '+' "
-                "(no '/', spaces or other characters; not starting with '.', '-' or '+')")
-    return None
 
 
 def decode_deck(data: bytes, source: str = "deck") -> str:
@@ -340,7 +295,6 @@ def parse_deck(text: str) -> list[Case]:
     types = case_types()
     if len(scanned) != len(groups):
         scanned = [{} for _ in groups]
-    from .sweeps import expand, split_sweep     # sweep_KEY keys: one case per point
     cases = []
     for i, g in enumerate(groups):
         g, spec, sweep_probs = split_sweep(dict(g))
@@ -366,9 +320,9 @@ def read_deck(path: str | Path) -> list[Case]:
     wheel-rail deck if its name ends in ``.inp`` (:func:`railvti.contact.contact_deck.read_contact_deck`).
     Every case's values are checked (:func:`check_cases`) before this returns."""
     path = Path(path)
-    if path.suffix.lower() == ".inp":
-        from .contact.contact_deck import read_contact_deck
-        cases = read_contact_deck(path)
+    reader = deck_readers().get(path.suffix.lower())
+    if reader is not None:
+        cases = reader(path)
         _raise(check_cases(cases))
         return cases
     try:

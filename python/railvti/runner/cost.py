@@ -28,10 +28,10 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from .contact.hertz import hertz
-from .errors import InputError
-from .material import Material
-from .resources import check_memory, memory_limit, size_text
+from ..contact.hertz import hertz
+from ..errors import InputError
+from ..material import Material
+from ..resources import check_memory, memory_limit, size_text
 from .stream import STREAM_TAIL_SECONDS, history_bytes, stream_threshold
 
 #: Environment variable of the time limit of one case: seconds, or '90s', '30min', '2h',
@@ -474,7 +474,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     states = 2.0 * (70.0 + ws_modes + ring_modes) + 12 * 2 * 4
     samples = duration / out_dt
     kept = samples
-    # RR's single runs stream a long history to the file (railvti.stream) and keep its tail
+    # RR's single runs stream a long history to the file (railvti.runner.stream) and keep its tail
     if model == "RR" and runs == 1.0 and _streams(duration, out_dt):
         kept = min(samples, (STREAM_TAIL_SECONDS + 1.0) / out_dt)
     memory = (_VEHICLE_BASE_BYTES + (_FR_BASE_BYTES if ws_modes else 0.0)
@@ -519,7 +519,7 @@ def estimate_params(type_name: str, params: dict[str, Any], label: str = "case")
 
 
 def estimate(case: Any) -> Estimate:
-    """The estimate of a deck case (railvti.deck.Case)."""
+    """The estimate of a deck case (railvti.runner.deck.Case)."""
     try:
         return estimate_params(case.case_type.name, case.params, case.label)
     except Exception:  # noqa: BLE001

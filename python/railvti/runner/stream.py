@@ -16,7 +16,6 @@ docs/results.md ("Long time histories") states the guarantees.
 from __future__ import annotations
 
 import contextlib
-import contextvars
 import os
 from pathlib import Path
 from typing import Any, Callable, Iterator
@@ -24,9 +23,12 @@ from typing import Any, Callable, Iterator
 import h5py
 import numpy as np
 
-from .casetypes import Streamed
-from .errors import InputError
+from ..casetypes import (ROW_BYTES, STREAM_TAIL_SECONDS, Streamed, case_sink,  # noqa: F401 (names of this module too)
+                         history_bytes, offering_sinks)
+from ..errors import InputError
+from ..resources import parse_size
 from .guarded_io import GuardedFile, WriteFailed, open_h5
+from .results import temp_path
 
 #: Environment variable: a case whose stored time history would exceed this size (bytes, or
 #: '64M', '1G'; '0' streams every history, 'none' never) streams it under ``railvti run``.
@@ -36,29 +38,14 @@ STREAM_ENV = "RAILVTI_STREAM_ABOVE"
 #: 2 ms output interval (:data:`ROW_BYTES` per output, ~1 MB per simulated second).
 DEFAULT_STREAM_BYTES = 64e6
 
-#: Simulated time whose history a streamed run keeps in memory (its returned
-#: SimulationResult holds these last seconds), s: at least the 1 s window of the summaries
-#: (amplitude, largest Q, Y, Y/Q).
-STREAM_TAIL_SECONDS = 2.0
-
 #: Target size of one HDF5 chunk of a streamed dataset, bytes.
 CHUNK_BYTES = 256 * 1024
-
-#: Bytes of one output time of a vehicle history in memory, for the threshold rule: t, then
-#: q and v of up to 64 states, then 15 quantities x 2 wheels x 4 wheelsets, 8 bytes each.
-ROW_BYTES = 8 * (1 + 2 * 64 + 15 * 2 * 4)
 
 Derived = Callable[[dict[str, np.ndarray], dict[str, dict[str, Any]]], np.ndarray]
 
 
-def history_bytes(duration: float, output_dt: float) -> float:
-    """Memory of a vehicle history kept in memory (:data:`ROW_BYTES` per output), bytes."""
-    return float(duration) / max(float(output_dt), 1e-12) * ROW_BYTES
-
-
 def stream_threshold() -> float:
     """History size above which ``railvti run`` streams a case (:data:`STREAM_ENV`), bytes."""
-    from .resources import parse_size
     text = os.environ.get(STREAM_ENV, "").strip()
     if not text:
         return DEFAULT_STREAM_BYTES
@@ -72,7 +59,8 @@ def stream_threshold() -> float:
 
 
 class HistoryStream:
-    """Rows appended block by block to resizable, chunked datasets of one HDF5 group.
+    """Rows appended block by block to resizable, chunked datasets of one HDF5 group: a
+    :class:`railvti.casetypes.HistorySink` writing HDF5.
 
     Parameters
     ----------
@@ -117,7 +105,7 @@ class HistoryStream:
 
     def _open(self) -> None:
         # through a GuardedFile: a full disk raises WriteFailed here, never inside HDF5
-        # (railvti.guarded_io says why: HDF5 cannot close a file whose write failed)
+        # (railvti.runner.guarded_io says why: HDF5 cannot close a file whose write failed)
         mode = "a" if self.path.is_file() and self.path.stat().st_size > 0 else "w"
         try:
             self._fh = GuardedFile(self.path, mode)
@@ -239,7 +227,6 @@ class CaseStream:
             return None
         if self.stream is not None:
             raise InputError("a case opens at most one stream")
-        from .results import temp_path
         try:
             path = temp_path(self.out)
         except OSError as exc:
@@ -267,23 +254,14 @@ class CaseStream:
     @contextlib.contextmanager
     def active(self) -> Iterator["CaseStream"]:
         """:func:`case_stream` returns this case's stream inside."""
-        token = _ACTIVE.set(self)
-        try:
+        with offering_sinks(self.open):
             yield self
-        finally:
-            _ACTIVE.reset(token)
 
 
-_ACTIVE: contextvars.ContextVar[CaseStream | None] = contextvars.ContextVar("railvti_case_stream",
-                                                                            default=None)
-
-
-def case_stream(nbytes: float, **kw: Any) -> HistoryStream | None:
-    """The stream a case should write its time history to: a :class:`HistoryStream` under
-    ``railvti run`` when the history (``nbytes`` in memory) exceeds :func:`stream_threshold`,
-    else None (keep it in memory). ``kw`` go to HistoryStream (``store``, ``derived``)."""
-    cs = _ACTIVE.get()
-    return cs.open(nbytes, **kw) if cs is not None else None
+#: The stream a case should write its time history to (the case-type contract's
+#: railvti.casetypes.case_sink): a :class:`HistoryStream` under ``railvti run`` when the
+#: history (``nbytes`` in memory) exceeds :func:`stream_threshold`, else None.
+case_stream = case_sink
 
 
 __all__ = ["CaseStream", "HistoryStream", "STREAM_ENV", "STREAM_TAIL_SECONDS", "case_stream",

@@ -39,10 +39,10 @@ from typing import Any
 import h5py
 import numpy as np
 
-from . import __version__
-from .casetypes import CaseOutput, Streamed
-from .deck import Case
-from .errors import InputError
+from .. import __version__
+from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
+from ..casetypes import Case
+from ..errors import InputError
 from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
 
 #: Version of the HDF5 layout written here.
@@ -232,13 +232,6 @@ def _unit_text(units: str, arr: np.ndarray) -> str:
     return "text" if arr.dtype.kind in "OSU" else "1"
 
 
-def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
-    """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
-    ``attrs`` (labels)."""
-    return ({k: (v[0], v[1]) for k, v in data.items()},
-            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
-
-
 #: Bytes read at a time when a streamed dataset is copied into a results file.
 COPY_BLOCK_BYTES = 16 * 2**20
 
@@ -252,7 +245,7 @@ INTERRUPTED_COPY_ENV = "RAILVTI_INTERRUPTED_COPY_MB"
 
 def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = True,
                    rows: int | None = None, check: Any = None) -> h5py.Dataset:
-    """Copy a streamed dataset (railvti.stream) into ``g`` as ``name``, chunked and
+    """Copy a streamed dataset (railvti.runner.stream) into ``g`` as ``name``, chunked and
     compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
     :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length. ``compress=False``
     (an interrupted case, whose stop should be prompt): not compressed, 5 x faster (180 s
@@ -331,7 +324,7 @@ def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
 
 def write_case(f: h5py.File, rec: CaseRecord, check: Any = None) -> None:
     """Write (or replace) one case's group in an open results file; ``check()`` (if given)
-    after each dataset raises if the file cannot be written (railvti.guarded_io)."""
+    after each dataset raises if the file cannot be written (railvti.runner.guarded_io)."""
     c = rec.case
     name = group_name(c)
     if name in f:
@@ -342,7 +335,7 @@ def write_case(f: h5py.File, rec: CaseRecord, check: Any = None) -> None:
     _set_attr(g, "status", str(rec.status))
     _set_attr(g, "params_digest", params_digest(c))
     _set_attr(g, "wall_time", float(rec.wall_time))
-    if getattr(c, "sweep", ""):                  # a sweep's point (railvti.sweeps.SweepPoint)
+    if getattr(c, "sweep", ""):                  # a sweep's point (railvti.runner.sweeps.SweepPoint)
         g.attrs["sweep"] = c.sweep
         g.attrs["sweep_point"] = c.point_json
     if rec.traceback:
@@ -422,8 +415,8 @@ class ResultsWriter:
         The deck's cases: their :func:`deck_digest` is stored as ``deck_digest``.
 
     A write that fails (disk full, quota, I/O error, the rename refused) raises
-    :class:`railvti.guarded_io.WriteFailed`; the temporary file is removed and the file at
-    ``path`` is the last complete version. HDF5 never sees the failure (railvti.guarded_io),
+    :class:`railvti.runner.guarded_io.WriteFailed`; the temporary file is removed and the file at
+    ``path`` is the last complete version. HDF5 never sees the failure (railvti.runner.guarded_io),
     so the process stays sound and exits normally.
     """
 
@@ -626,24 +619,6 @@ def _nml(value: Any) -> str:
 # ---------------------------------------------------------------------------------------------
 # Saving and loading result objects (SimulationResult, NormalResult, RollingResult, ...)
 
-#: Units of the array fields of result classes whose docstrings do not end in one.
-FIELD_UNITS: dict[str, dict[str, str]] = {
-    "SimulationResult": {"t": "s", "q": "m or rad (per dof_names)",
-                         "v": "m/s or rad/s (per dof_names)",
-                         "wheel": "per quantity: see the quantities and quantity_units attributes",
-                         "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad",
-                         "rail": "m, m, rad (per component: y, z, roll of the element under "
-                                 "each wheel)"},
-}
-
-
-def _field_units(cls: type) -> dict[str, Any]:
-    """Units of nested fields (SimulationResult.stats) that live beside their classes."""
-    if cls.__name__ == "SimulationResult":
-        from .vehicle.cases import STAT_UNITS
-        return {"stats": STAT_UNITS}
-    return {}
-
 _UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
                       r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
 
@@ -664,8 +639,7 @@ def _doc_units(cls: type) -> dict[str, str]:
 
 def _units_of(cls: type) -> dict[str, Any]:
     units: dict[str, Any] = dict(_doc_units(cls))
-    units.update(FIELD_UNITS.get(cls.__name__, {}))
-    units.update(_field_units(cls))
+    units.update(getattr(cls, "FIELD_UNITS", {}))      # the class's own (SimulationResult's)
     return units
 
 
