@@ -112,6 +112,9 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     # (the half-started cluster killed, railvti.runner.sweeps.local_client), later ones keep the
     # completed cases (run_cases)
     with SignalGuard() as guard:
+        # a signal before the guard whose Stopped was swallowed on its way (a library's
+        # `except ImportError` around an optional C extension: its import turns it into one)
+        _signal_instead()
         try:
             with contextlib.ExitStack() as stack:
                 with guard.live(resend=False):
