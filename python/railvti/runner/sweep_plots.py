@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import logging
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -206,10 +207,12 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
             if bad:
                 ax.plot(bad, [0.0] * len(bad), "rx", ms=8,
                         label=f"failed ({label})" if label else "failed")
+        what = ""
         if q:
             what = QUANTITIES.get(q, meaning if meaning != q else q.replace("_", " "))
-            ax.set_ylabel(f"{what}, {unit}" if unit and unit not in ("1", "-") else what, fontsize=9)
-        ax.set_title(meaning if meaning != q else "", fontsize=9)
+            text = f"{what}, {unit}" if unit and unit not in ("1", "-") else what
+            ax.set_ylabel(textwrap.fill(text, 32), fontsize=9)     # a long name: two lines
+        ax.set_title(meaning if meaning not in (q, what) else "", fontsize=9)
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel(_quantity(ctype, xkey))
     fig.suptitle(f"sweep '{name}': {len(points)} points{_what(points)}", fontsize=10)
