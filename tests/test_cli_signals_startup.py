@@ -34,6 +34,8 @@ DECK = """
     sweep_fn = 1.0e4, 1.1e4, 1.2e4, 1.3e4, 1.4e4, 1.5e4
 /
 """
+pytestmark = pytest.mark.slow       # starts clusters and waits for signals: ~36 s
+
 #: The stop must take at most this (s), from the signal to the end of the process.
 STOP_SECONDS = 1.0
 TAG = "RAILVTI_SIGNAL_TEST_TAG"

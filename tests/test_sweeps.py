@@ -161,6 +161,7 @@ def scheduler(tmp_path_factory):
                 p.kill()
 
 
+@pytest.mark.slow
 def test_serial_local_cluster_and_scheduler_give_the_same_bits(tmp_path, scheduler, capsys):
     deck = tmp_path / "sweep.nml"
     deck.write_text(DECK)

@@ -129,6 +129,7 @@ def test_rows_at_the_static_contact_point(body):
     assert out[3e-3][3] == pytest.approx(out[0.0][3], rel=2e-3)
 
 
+@pytest.mark.slow
 def test_frf_peaks_match_wheelset_model():
     """Issue 14's dynamic acceptance at 300 km/h: the flexible wheelset in the coach (contact
     removed, the same wheelset's mass and inertias, primary springs without dampers as in the

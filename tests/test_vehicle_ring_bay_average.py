@@ -53,6 +53,7 @@ def test_bay_average_is_mean_of_frozen_growth():
     assert np.ptp(frozen) > 1e-3
 
 
+@pytest.mark.slow
 def test_stiff_ring_reproduces_rigid_ground():
     """A ring with rail, pads and ballast 100 times stiffer (modes kept to 5 kHz): the
     bay-averaged linear critical speed of RF within 0.5 % of RR's on rigid ground
