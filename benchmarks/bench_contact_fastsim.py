@@ -51,7 +51,7 @@ def main() -> None:
     t = best_of(lambda: fastsim_grid(normal.pressure, grid, STEEL, MU, CREEP), number=20)
     rows.append((f"strip-wise on a {grid.nx}x{grid.ny} grid, {normal.n_contact} elements in contact", t))
     t = best_of(lambda: fastsim_grid(normal.pressure, grid, STEEL, MU, CREEP, flexibility="strip"), number=20)
-    rows.append((f"strip-wise, flexibility='strip', same grid", t))
+    rows.append(("strip-wise, flexibility='strip', same grid", t))
     width = max(len(r[0]) for r in rows)
     print(f"{'case':<{width}}  time per case")
     for name, t in rows:

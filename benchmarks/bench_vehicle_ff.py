@@ -16,7 +16,6 @@ import resource
 import sys
 import time
 
-import numpy as np
 
 from railvti import scenarios
 

@@ -21,7 +21,6 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.casetypes import REGISTRY
 from railvti.runner.cli import main
 from railvti.runner.deck_registry import case_types
 

@@ -34,7 +34,7 @@ HERTZ = dict(gap="hertz", gap_a=1.087, gap_b=1.6667, fn=1e4)
 
 def deck(type_name: str, name: str = "c", **params) -> str:
     """The text of a one-case deck."""
-    lines = [f"&case", f"  name = '{name}', type = '{type_name}'"]
+    lines = ["&case", f"  name = '{name}', type = '{type_name}'"]
     for k, v in params.items():
         if isinstance(v, str):
             lines.append(f"  {k} = '{v}'")

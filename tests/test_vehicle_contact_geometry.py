@@ -10,8 +10,7 @@ import pytest
 
 from railvti import scenarios
 from railvti.geometry import layout
-from railvti.vehicle import (BemOptions, bem_state, build_single_wheelset, force_and_tangent,
-                             lateral_disturbance, static_equilibrium)
+from railvti.vehicle import (BemOptions, bem_state, build_single_wheelset, lateral_disturbance, static_equilibrium)
 from railvti.vehicle.bem import grid_for
 from railvti.vehicle.table import QUANTITIES, linearised_table, wheel_table
 

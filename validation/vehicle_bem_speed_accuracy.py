@@ -187,7 +187,7 @@ def plot(scenes: list[dict], path: Path) -> None:
             ax.set_title(f"{sc['title']}: {QUANTITIES[key][0]} (ref. {_unit(key, ref[key])})",
                          fontsize=9)
             ax.set_xlabel("real-time factor (CPU s / simulated s, one core)", fontsize=8)
-            ax.set_ylabel(f"|error| against BEM 0.5 mm, %", fontsize=8)
+            ax.set_ylabel("|error| against BEM 0.5 mm, %", fontsize=8)
             ax.grid(True, which="both", alpha=0.3)
             ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
             ax.yaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))

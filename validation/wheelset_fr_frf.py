@@ -38,7 +38,7 @@ from scipy.signal import find_peaks  # noqa: E402
 
 from railvti import scenarios  # noqa: E402
 from railvti.vehicle.flexible import build_fr, contact_receptance  # noqa: E402
-from railvti.vehicle.params import Coach, speed_m_s  # noqa: E402
+from railvti.vehicle.params import Coach  # noqa: E402
 from railvti.wheelset import Wheelset, analytic  # noqa: E402
 
 FIG = Path(__file__).resolve().parent / "figures"

@@ -21,7 +21,7 @@ from .. import _checks
 from .._native import core
 from .._status import Status, check, error
 from ..errors import ConvergenceError, InputError
-from .section import GAUSS_L, RailSection, arc_step_si, head_surface, rail_section, t6_shape
+from .section import RailSection, arc_step_si, head_surface, rail_section, t6_shape
 
 log = logging.getLogger(__name__)
 

@@ -27,7 +27,6 @@ the lateral index reversed (the grid is symmetric about t = 0).
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass
 
 import numpy as np

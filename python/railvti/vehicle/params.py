@@ -30,7 +30,6 @@ table number was not checked: the original paper was not at hand). Each entry of
 from __future__ import annotations
 
 import difflib
-import math
 from dataclasses import dataclass, field
 from typing import Any
 

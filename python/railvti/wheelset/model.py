@@ -3,7 +3,7 @@ model (Kaiser, eq. 11) and the gyroscopic frequency response."""
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
