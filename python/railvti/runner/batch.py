@@ -39,8 +39,7 @@ from typing import Any, Callable, Iterator
 
 from ..casetypes import Case, CaseOutput
 from ..errors import InputError, RailvtiError
-from .cost import (ANNOUNCE_BYTES, ANNOUNCE_SECONDS, SERIAL_SECONDS, Estimate, announce,  # noqa: F401
-                   check_cost, estimate, small_deck)
+from .cost import announce
 from .stream import CaseStream
 from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
 from .results import damage, deck_owner
@@ -254,10 +253,6 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
             else "running would replace it")
     raise InputError(f"output {out} was {owner.describe()}: {what}; give another -o, "
                      "or --force to replace it")
-
-
-# The cost estimate and its limits live in railvti.runner.cost; check_resources is its check.
-check_resources = check_cost
 
 
 @dataclass
@@ -632,5 +627,4 @@ def _record(fut: Any, by_key: dict[str, Case]) -> Any:
                           traceback=traceback.format_exc())
 
 
-__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "check_resources",
-           "estimate", "run_case", "run_cases", "run_on_client", "run_task", "RunReport"]
+__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "run_case", "run_cases", "run_on_client", "run_task", "RunReport"]

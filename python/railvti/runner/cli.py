@@ -92,15 +92,14 @@ def _check_options(args: argparse.Namespace) -> None:
 def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -> int:
     from tqdm import tqdm
     from . import cost
-    from .batch import (EXIT_OUTPUT, Interrupted, SignalGuard, check_resources, resume_hint, run_cases,
-                        small_deck)
-    problems = check_resources(cases)
+    from .batch import EXIT_OUTPUT, Interrupted, SignalGuard, resume_hint, run_cases
+    problems = cost.check_cost(cases)
     if problems:
         raise InputError("\n".join(problems))
     for line in cost.resolution_warnings(cases):
         print(f"railvti: warning: {line}", file=sys.stderr)
     # no LocalCluster where its start-up (worker processes importing railvti) outweighs the work
-    serial = args.serial or (args.scheduler is None and args.workers is None and small_deck(cases))
+    serial = args.serial or (args.scheduler is None and args.workers is None and cost.small_deck(cases))
 
     def write(line: str) -> None:
         try:
@@ -311,7 +310,8 @@ def _signals_raise() -> Iterator[None]:
 
 
 def _parser() -> argparse.ArgumentParser:
-    from .batch import EXIT_CODES, SERIAL_SECONDS
+    from .batch import EXIT_CODES
+    from .cost import SERIAL_SECONDS
     parser = argparse.ArgumentParser(prog="railvti", description="railway vehicle-track interaction")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     debug = argparse.ArgumentParser(add_help=False)
