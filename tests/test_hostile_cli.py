@@ -313,17 +313,22 @@ def _failing_deck(tmp_path: Path, what: str) -> Path:
                            "&case name='good', type='fine' /\n")
 
 
-@pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
-@pytest.mark.parametrize("cls", EXPECTED, ids=lambda c: c.__name__)
-def test_an_expected_failure_is_one_line_and_the_traceback_only_with_debug(
-        tmp_path, capsys, caplog, raising_type, cls, debug):
+def _run_failing(tmp_path: Path, capsys, caplog, cls: type, debug: bool) -> tuple[Path, str, list[str]]:
+    """Run the deck whose first case raises ``cls``: the file, the console's text, its FAILED lines."""
     caplog.set_level(logging.DEBUG if debug else logging.WARNING, logger="railvti.traceback")
     out = tmp_path / "out.h5"
     argv = ["run", str(_failing_deck(tmp_path, cls.__name__)), "-o", str(out), "-q", "--serial"]
     assert main(argv + (["--debug"] if debug else [])) == 1
     captured = capsys.readouterr()
     text = captured.out + captured.err
-    lines = [ln for ln in text.splitlines() if "FAILED" in ln]
+    return out, text, [ln for ln in text.splitlines() if "FAILED" in ln]
+
+
+@pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
+@pytest.mark.parametrize("cls", EXPECTED, ids=lambda c: c.__name__)
+def test_an_expected_failure_is_one_line_and_the_traceback_only_with_debug(
+        tmp_path, capsys, caplog, raising_type, cls, debug):
+    out, text, lines = _run_failing(tmp_path, capsys, caplog, cls, debug)
     assert lines == [f"case 1 'bad': FAILED: {cls.__name__}: {cls.__name__} in key 'fn' = 3; second line"], text
     assert "\nsecond line" not in text
     assert "unexpected" not in text
@@ -336,13 +341,7 @@ def test_an_expected_failure_is_one_line_and_the_traceback_only_with_debug(
 @pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
 @pytest.mark.parametrize("cls", UNEXPECTED, ids=lambda c: c.__name__)
 def test_an_unexpected_failure_is_one_line_with_a_hint(tmp_path, capsys, caplog, raising_type, cls, debug):
-    caplog.set_level(logging.DEBUG if debug else logging.WARNING, logger="railvti.traceback")
-    out = tmp_path / "out.h5"
-    argv = ["run", str(_failing_deck(tmp_path, cls.__name__)), "-o", str(out), "-q", "--serial"]
-    assert main(argv + (["--debug"] if debug else [])) == 1
-    captured = capsys.readouterr()
-    text = captured.out + captured.err
-    lines = [ln for ln in text.splitlines() if "FAILED" in ln]
+    out, text, lines = _run_failing(tmp_path, capsys, caplog, cls, debug)
     assert len(lines) == 1 and lines[0].startswith(f"case 1 'bad': FAILED: {cls.__name__}: "), text
     assert "unexpected" in lines[0] and "--debug" in lines[0]
     assert ("Traceback" in caplog.text) == debug and "Traceback" not in text
