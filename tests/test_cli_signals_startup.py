@@ -124,6 +124,8 @@ def _phase(r: dict) -> str:
         return "cluster start-up"
     if "before any case ran" in r["stderr"]:
         return "imports / deck"
+    if "before any case finished" in r["stdout"]:
+        return "the first tasks' start"
     return "cases running" if r["statuses"] else "?"
 
 
@@ -144,7 +146,8 @@ def _check(r: dict, sig: int, label: str) -> None:
         assert all(v == "ok" or v.startswith(f"interrupted: {name}") for v in r["statuses"].values())
     else:                   # stopped before any case: said so, nothing written
         assert f"stopped by {name}" in r["stderr"] and "no case ran" in r["stderr"] or \
-            "before any case ran" in r["stderr"], text
+            "before any case ran" in r["stderr"] or \
+            f"{name} before any case finished" in r["stdout"] and "was not written" in r["stdout"], text
     assert r["stopped"] < STOP_SECONDS, f"{label}: stopped {r['stopped']:.2f} s after the signal"
 
 

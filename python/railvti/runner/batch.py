@@ -547,10 +547,27 @@ def resume_hint(deck: Path, out: Path) -> str:
 # The cases as tasks on a dask.distributed client (the client: railvti._cluster)
 
 
+#: The Dask event topic on which a worker announces the key of each case it starts: the
+#: client keeps the set as the run goes, so a signal knows the running cases without asking
+#: the (busy) workers, a round trip of up to seconds on a loaded machine.
+STARTED_TOPIC = "railvti-case-started"
+
+
 def run_task(case: Case) -> Any:
     """Run one case on a worker and return its :class:`railvti.runner.results.CaseRecord` (the
     worker never writes the results file). Signals are the worker's business: no guard."""
+    _announce_start()
     return run_case(case, SignalGuard(), None)
+
+
+def _announce_start() -> None:
+    """Log the running task's key on :data:`STARTED_TOPIC` (nothing outside a worker)."""
+    try:
+        from distributed import get_worker
+        worker = get_worker()
+        worker.log_event(STARTED_TOPIC, worker.get_current_task())
+    except (ImportError, ValueError, AttributeError):
+        pass
 
 
 def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], bool],
@@ -565,6 +582,9 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
     from distributed import as_completed
     stamp = f"{os.getpid()}-{time.time_ns()}"
     futures, by_key = [], {}
+    started: set[str] = set()
+    # subscribed before the tasks are submitted (one ordered stream to the scheduler)
+    client.subscribe_topic(STARTED_TOPIC, lambda event: started.add(event[1]))
     for c in cases:
         key = f"railvti-{group_name(c)}-{stamp}"
         by_key[key] = c
@@ -590,26 +610,23 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
                 break
     finally:
         if stop is not None:
-            _mark_interrupted(client, futures, by_key, stop, time.monotonic() - t_start,
+            _mark_interrupted(set(started), futures, by_key, stop, time.monotonic() - t_start,
                               on_record)
         for f in futures:
             if not f.done():
                 f.cancel()
+        with contextlib.suppress(Exception):    # a client already closed by the signal
+            client.unsubscribe_topic(STARTED_TOPIC)
     return stop
 
 
-def _mark_interrupted(client: Any, futures: list, by_key: dict[str, Case], signame: str,
+def _mark_interrupted(started: set[str], futures: list, by_key: dict[str, Case], signame: str,
                       elapsed: float, on_record: Callable[[Any], bool]) -> None:
-    """Record the cases a signal stopped while a worker was running them as interrupted (as
-    the serial path records its running case); queued cases stay absent (``--resume`` runs
-    them)."""
-    try:
-        running = client.run(lambda dask_worker: [ts.key for ts in dask_worker.state.executing])
-    except Exception:  # noqa: BLE001 - a worker gone or busy: nothing to mark
-        return
-    keys = {k for ks in running.values() for k in ks}
+    """Record the cases a signal stopped while a worker was running them (started, not
+    done) as interrupted (as the serial path records its running case); queued cases stay
+    absent (``--resume`` runs them)."""
     for f in futures:
-        if f.key in keys and not f.done() and f.key in by_key:
+        if f.key in started and not f.done() and f.key in by_key:
             if not on_record(CaseRecord(by_key[f.key], interrupted=signame, wall_time=elapsed)):
                 return
 

@@ -142,7 +142,10 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     n = len(cases)
     if report.error:
         _say(f"railvti: error: {report.error}; continue with: {resume_hint(deck, out)}")
-    if report.interrupted:
+    if report.interrupted and not out.exists():     # the first cases had not yet started
+        _say(f"interrupted by {report.interrupted} before any case finished: {out} was not "
+             f"written; continue with: {resume_hint(deck, out)}", sys.stdout)
+    elif report.interrupted:
         _say(f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
              f"cases complete); continue with: {resume_hint(deck, out)}", sys.stdout)
     elif report.status != EXIT_OUTPUT:
