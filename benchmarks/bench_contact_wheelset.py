@@ -75,9 +75,9 @@ def main() -> None:
                  for y in Y_MM]
         _time("normal only", calls)
         y = np.linspace(-10e-3, 10e-3, 201)
-        geometry.contact_table(wheel, rail, y[:3])
+        geometry.geometry_table(wheel, rail, y[:3])
         t0 = time.perf_counter()
-        geometry.contact_table(wheel, rail, y)
+        geometry.geometry_table(wheel, rail, y)
         print(f"contact table, 201 positions: {time.perf_counter() - t0:.3f} s")
     print(f"peak memory {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 

@@ -29,10 +29,10 @@ def main() -> None:
     G.layout(wheel, rail)
     print(f"profiles + layout: {time.perf_counter() - t0:.3f} s (once)")
     y = np.linspace(-0.01, 0.01, 201)
-    tmin, tmed, _ = best(lambda: G.contact_table(wheel, rail, y))
+    tmin, tmed, _ = best(lambda: G.geometry_table(wheel, rail, y))
     print(f"contact table, 201 positions, yaw 0:        best {tmin:.3f} s, median {tmed:.3f} s (target < 1 s)")
     yaw = 2.4e-3 * np.abs(y) * 1e3 * np.sign(y)
-    tmin, tmed, _ = best(lambda: G.contact_table(wheel, rail, y, yaw=yaw))
+    tmin, tmed, _ = best(lambda: G.geometry_table(wheel, rail, y, yaw=yaw))
     print(f"contact table, 201 positions, yaw 2.4 mrad/mm: best {tmin:.3f} s, median {tmed:.3f} s")
     c = G.contact_points(wheel, rail, 0.0).left[0]
     tmin, tmed, _ = best(lambda: G.gap_field(wheel, rail, c, 2e-4, 2e-4, 100, 100))

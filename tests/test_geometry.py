@@ -1,4 +1,4 @@
-"""Rigid wheel-rail geometry: contact table, mirror symmetry, gap field vs Hertz curvatures, creepages."""
+"""Rigid wheel-rail geometry: geometry table, mirror symmetry, gap field vs Hertz curvatures, creepages."""
 import numpy as np
 import pytest
 
@@ -16,7 +16,7 @@ def pair():
 
 @pytest.fixture(scope="module")
 def table(pair):
-    return G.contact_table(*pair, np.linspace(-0.01, 0.01, 81))
+    return G.geometry_table(*pair, np.linspace(-0.01, 0.01, 81))
 
 
 def test_layout_gauge(pair):
@@ -99,7 +99,7 @@ def test_flange_climb_status(table):
 
 def test_no_contact_status(pair):
     # a wheelset so narrow that the wheels miss the rails' heads
-    t = G.contact_table(*pair, [0.0], wheelset=WheelsetGeometry(back_to_back=1.2))
+    t = G.geometry_table(*pair, [0.0], wheelset=WheelsetGeometry(back_to_back=1.2))
     assert np.all(t.status[0] == G.NO_CONTACT)
     assert np.isnan(t.roll[0])
 
@@ -170,7 +170,7 @@ def test_equivalent_conicity(pair):
     ye = np.clip(yr, -0.003, 0.003)
     zr = 0.005 - np.sqrt(0.005**2 - ye**2) + (np.abs(yr) - np.abs(ye)) * 0.003 / np.sqrt(0.005**2 - 0.003**2)
     rail = P.Profile(yr, zr, kind="rail")
-    t = G.contact_table(cone, rail, np.linspace(-0.004, 0.004, 41), track=G.TrackLayout(gauge_depth=0.001))
+    t = G.geometry_table(cone, rail, np.linspace(-0.004, 0.004, 41), track=G.TrackLayout(gauge_depth=0.001))
     # rigid kinematics: the roll moves the wheel's contact point by r0 * roll, so
     # Delta-r = 2 lambda y (1 + r0 lambda / b)
     assert G.equivalent_conicity(t, 0.003) == pytest.approx(0.05 * (1 + 0.46 * 0.05 / 0.75), rel=5e-3)
@@ -185,13 +185,13 @@ def test_equivalent_conicity(pair):
 ])
 def test_bad_positions(pair, kw, word):
     with pytest.raises(InputError, match=word):
-        G.contact_table(*pair, **kw)
+        G.geometry_table(*pair, **kw)
 
 
 def test_bad_profiles_and_grid(pair):
     wheel, rail = pair
     with pytest.raises(InputError, match="rail profile"):
-        G.contact_table(rail, rail, [0.0])
+        G.geometry_table(rail, rail, [0.0])
     c = G.contact_points(wheel, rail, 0.0).left[0]
     with pytest.raises(InputError, match="dx"):
         G.gap_field(wheel, rail, c, 0.0, 1e-4, 10, 10)

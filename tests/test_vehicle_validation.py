@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.geometry import klingel_wavelength
 from railvti.vehicle import (build_single_wheelset, eigenvalues, lateral_disturbance,
                              linearised_table, simulate, static_equilibrium)
-from railvti.vehicle.analytic import klingel_wavelength, wickens_coefficients, wickens_critical_speed
+from railvti.vehicle.analytic import wickens_coefficients, wickens_critical_speed
 from railvti.vehicle.table import QUANTITIES
 
 WS = dict(mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0)
@@ -60,7 +61,7 @@ def test_kinematic_wavelength_matches_klingel(lam):
     v = 5.0
     qs, _ = static_equilibrium(sy, v)
     i0 = int(np.argmin(np.abs(tab.y)))
-    ref = klingel_wavelength(tab.r0, tab.data[1, 0, i0], lam)
+    ref = klingel_wavelength(lam, tab.r0, tab.data[1, 0, i0])
     r = simulate(sy, v, 2.2 * ref / v, q0=lateral_disturbance(sy, qs, 0.001, (0,)), h=2e-3,
                  output_dt=2e-3, progress=False)
     y = r.y_ws1 - r.y_ws1.mean()

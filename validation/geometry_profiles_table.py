@@ -55,8 +55,8 @@ def main() -> None:
 
     print("\n== Contact table S1002 / UIC60 1:40, 201 positions, yaw 0")
     y = np.linspace(-0.01, 0.01, 201)
-    t = G.contact_table(wheel, rail, y)
-    tb = G.contact_table(bw, br, y)
+    t = G.geometry_table(wheel, rail, y)
+    tb = G.geometry_table(bw, br, y)
     print("   y mm   dr mm   angleL rad angleR rad roll mrad  nL nR statusL/R   | dr (benchmark files)")
     for i in range(100, 201, 10):
         print(f"{t.y[i] * 1e3:7.2f} {t.delta_r[i] * 1e3:7.3f} {t.contact_angle[i, 0, 0]:10.4f} "

@@ -24,9 +24,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from railvti import scenarios  # noqa: E402
+from railvti.geometry import klingel_wavelength  # noqa: E402
 from railvti.vehicle import (DivergenceError, build_single_wheelset, eigenvalues,  # noqa: E402
                              lateral_disturbance, linearised_table, simulate, static_equilibrium)
-from railvti.vehicle.analytic import klingel_wavelength, wickens_critical_speed  # noqa: E402
+from railvti.vehicle.analytic import wickens_critical_speed  # noqa: E402
 from railvti.vehicle.table import QUANTITIES  # noqa: E402
 
 FIG = Path(__file__).resolve().parent / "figures"
@@ -90,7 +91,7 @@ def part_b() -> dict:
     for v in (2.0, 5.0):
         tab, sy = _single(lam, 1.0, 1.0)       # practically free (1 N/m springs)
         qs, _ = static_equilibrium(sy, v)
-        dist = 3.2 * klingel_wavelength(tab.r0, tab.data[1, 0, 300], lam)
+        dist = 3.2 * klingel_wavelength(lam, tab.r0, tab.data[1, 0, 300])
         r = simulate(sy, v, dist / v, q0=lateral_disturbance(sy, qs, 0.001, (0,)), h=2e-3,
                      output_dt=2e-3, progress=False)
         y = r.y_ws1 - r.y_ws1.mean()
@@ -99,7 +100,7 @@ def part_b() -> dict:
         tz = r.t[idx] - y[idx] * (r.t[idx + 1] - r.t[idx]) / (y[idx + 1] - y[idx])
         wl = 2 * np.mean(np.diff(tz)) * v
         i0 = int(np.argmin(np.abs(tab.y)))
-        ref = klingel_wavelength(tab.r0, tab.data[1, 0, i0], lam)
+        ref = klingel_wavelength(lam, tab.r0, tab.data[1, 0, i0])
         out.append((v, wl, ref, wl / ref - 1, r))
         print(f"  V = {v:.0f} m/s: simulated {wl:.3f} m, Klingel {ref:.3f} m ({100 * (wl / ref - 1):+.2f} %)")
     fig, ax = plt.subplots(figsize=(6.0, 3.0))

@@ -38,7 +38,7 @@ from ._cluster import check_client, client_from
 from ._threads import serial_blas
 from .contact.fastsim import fastsim
 from .errors import InputError
-from .geometry import contact_table as ctab
+from .geometry import geometry_table as ctab
 from .geometry import equivalent_conicity as eqc
 from .profiles import s1002, uic60
 from .track.ring import RingTrack

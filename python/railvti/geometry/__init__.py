@@ -1,4 +1,4 @@
-"""Wheel-rail contact geometry: rigid wheelset on rigid rails, contact table, gap fields, creepages.
+"""Wheel-rail contact geometry: rigid wheelset on rigid rails, geometry table, gap fields, creepages.
 
 Track frame: x forward, y to the left, z up (:mod:`railvti.geometry.frames`). The wheelset is
 a :class:`railvti.wheelset.WheelsetGeometry`; the rails stand as a :class:`TrackLayout` says.
@@ -7,13 +7,13 @@ See :mod:`railvti.geometry.table` for the method.
 from __future__ import annotations
 
 from .placement import ProfileLayout, TrackLayout, layout
-from .table import (FLANGE_CLIMB, NO_CONTACT, OK, STATUS_NAMES, ContactPoint, ContactTable,
-                    WheelsetContact, WheelsetPose, contact_points, contact_table)
+from .table import (FLANGE_CLIMB, NO_CONTACT, OK, STATUS_NAMES, ContactPoint, GeometryTable,
+                    WheelsetContact, WheelsetPose, contact_points, geometry_table)
 from .field import Creepages, GapField, creepages, gap_field
 from .conicity import equivalent_conicity, klingel_wavelength
 
-__all__ = ["TrackLayout", "ProfileLayout", "layout", "ContactPoint", "ContactTable",
-           "WheelsetContact", "WheelsetPose", "contact_points", "contact_table",
+__all__ = ["TrackLayout", "ProfileLayout", "layout", "ContactPoint", "GeometryTable",
+           "WheelsetContact", "WheelsetPose", "contact_points", "geometry_table",
            "OK", "NO_CONTACT", "FLANGE_CLIMB", "STATUS_NAMES",
            "GapField", "Creepages", "gap_field", "creepages", "equivalent_conicity",
            "klingel_wavelength"]

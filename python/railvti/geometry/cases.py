@@ -1,4 +1,4 @@
-"""Deck case type ``geometry_table``: the rigid contact table of a wheel/rail pair."""
+"""Deck case type ``geometry_table``: the rigid geometry table of a wheel/rail pair."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -14,7 +14,7 @@ from ..wheelset.geometry import WheelsetGeometry
 from .conicity import equivalent_conicity, klingel_wavelength
 from .placement import TrackLayout
 from .plots import plot_table
-from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, ContactTable, contact_table
+from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, GeometryTable, geometry_table
 
 
 #: Deck keys (and defaults) that name a wheel/rail pair on the track, shared by the case
@@ -139,7 +139,7 @@ def deck_layout(params: dict[str, Any]) -> tuple[TrackLayout, WheelsetGeometry]:
 
 
 def run(params: dict[str, Any]) -> CaseOutput:
-    """Contact table case.
+    """Geometry table case.
 
     Keys: wheel ('s1002' or a file), rail ('uic60' or a file; a file is taken as already
     canted), cant (tan, for 'uic60'), y_min, y_max (m), n (positions), yaw_per_y (rad/m, yaw
@@ -152,7 +152,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     y = np.linspace(_checks.finite("y_min", params["y_min"]), _checks.finite("y_max", params["y_max"]), n)
     yaw = y * _checks.finite("yaw_per_y", params["yaw_per_y"])
     track, ws = deck_layout(params)
-    t = contact_table(wheel, rail, y, yaw, track=track, wheelset=ws)
+    t = geometry_table(wheel, rail, y, yaw, track=track, wheelset=ws)
     status = ", ".join(f"{code} {name}" for code, name in STATUS_NAMES.items())
     units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": status,
              "n_contact": "1", "separation": "m", "contact_angle": "rad", "rolling_radius": "m",
@@ -178,7 +178,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if climb.any():
         out.scalars["flange_climb_from"] = (float(np.min(np.abs(t.y[climb]))), "m")
     nok = int(np.sum(np.any(t.status == NO_CONTACT, axis=1)))
-    out.summary = (f"contact table: {n} positions, {nok} without contact, "
+    out.summary = (f"geometry table: {n} positions, {nok} without contact, "
                    f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}")
     return out
 
@@ -186,7 +186,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Delta-r, contact angle and roll against y from a stored case."""
     r = group["results"] if "results" in group else group
-    t = ContactTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
+    t = GeometryTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
                      tolerance=float("nan"))
     p = Path(outdir) / f"{stem}_contact_table.png"
     inputs = group["inputs"] if "inputs" in group else {}
@@ -198,7 +198,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
         return Path(v.decode() if isinstance(v, bytes) else str(v)).name
     name = group.attrs.get("name", "")
     name = name.decode() if isinstance(name, bytes) else str(name)
-    title = f"{name}: contact table, wheel {given('wheel')} on rail {given('rail')}"
+    title = f"{name}: geometry table, wheel {given('wheel')} on rail {given('rail')}"
     if "cant" in inputs:
         title += f" (cant {float(np.asarray(inputs['cant'])):.4g})"
     return [plot_table(t, p, title=title)]
@@ -212,4 +212,4 @@ register(CaseType(
               "back_to_back": PAIR_DEFAULTS["back_to_back"], "radius": PAIR_DEFAULTS["radius"],
               "amplitude": 0.003},
     run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_MM_ALIASES,
-    summary="rigid contact table of a wheel/rail pair over lateral shifts; equivalent conicity"))
+    summary="rigid geometry table of a wheel/rail pair over lateral shifts; equivalent conicity"))

@@ -1,14 +1,14 @@
-"""Equivalent conicity (EN 15302) and Klingel wavelength from a contact table."""
+"""Equivalent conicity (EN 15302) and Klingel wavelength from a geometry table."""
 from __future__ import annotations
 
 import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from .table import ContactTable
+from .table import GeometryTable
 
 
-def equivalent_conicity(table: ContactTable, amplitude: float | np.ndarray = 0.003,
+def equivalent_conicity(table: GeometryTable, amplitude: float | np.ndarray = 0.003,
                         n_quad: int = 4000) -> float | np.ndarray:
     """Equivalent conicity tan(gamma_e) for a lateral oscillation of the given amplitude.
 
@@ -21,7 +21,7 @@ def equivalent_conicity(table: ContactTable, amplitude: float | np.ndarray = 0.0
 
     Parameters
     ----------
-    table : ContactTable
+    table : GeometryTable
         Computed at zero yaw, covering [-A, A] (status ok there).
     amplitude : float or ndarray
         Amplitude(s) A of the wheelset's lateral motion, m (EN 15302 quotes A = 3 mm).
@@ -38,7 +38,7 @@ def equivalent_conicity(table: ContactTable, amplitude: float | np.ndarray = 0.0
     if np.any(amp <= 0):
         raise InputError("amplitude must be > 0")
     if np.any(np.abs(table.yaw) > 0):
-        raise InputError("equivalent conicity needs a contact table at zero yaw")
+        raise InputError("equivalent conicity needs a geometry table at zero yaw")
     ok = table.ok & np.isfinite(table.delta_r)
     y, dr = table.y[ok], table.delta_r[ok]
     order = np.argsort(y)

@@ -1,4 +1,4 @@
-"""Charts of profiles with contact points and of the contact table (matplotlib, Agg)."""
+"""Charts of profiles with contact points and of the geometry table (matplotlib, Agg)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -7,7 +7,7 @@ import numpy as np
 
 from ..profiles import Profile
 from .frames import SIGN, axle_direction
-from .table import FLANGE_CLIMB, ContactTable, WheelsetContact
+from .table import FLANGE_CLIMB, GeometryTable, WheelsetContact
 
 
 def _mpl():
@@ -53,7 +53,7 @@ def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact]
     return Path(path)
 
 
-def plot_table(table: ContactTable, path: str | Path, conicity: tuple[np.ndarray, np.ndarray] | None = None,
+def plot_table(table: GeometryTable, path: str | Path, conicity: tuple[np.ndarray, np.ndarray] | None = None,
                title: str = "") -> Path:
     """Delta-r, contact angles and roll against the lateral shift (and conicity vs amplitude);
     ``title``: the wheel/rail pair."""

@@ -1,4 +1,4 @@
-"""Rigid wheelset on rigid rails: contact constraint, contact points and the contact table.
+"""Rigid wheelset on rigid rails: contact constraint, contact points and the geometry table.
 
 Method. The rail is prismatic (invariant along x), so the vertical gap between the wheel
 and the rail at track lateral position y is the height of the wheel's lower silhouette
@@ -137,13 +137,13 @@ class WheelsetContact:
         return self.left if side == "left" else self.right
 
 
-#: The array fields of a :class:`ContactTable`.
+#: The array fields of a :class:`GeometryTable`.
 TABLE_ARRAYS = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
                 "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
 
 
 @dataclass(frozen=True)
-class ContactTable:
+class GeometryTable:
     """Rigid contact geometry tabulated against the lateral shift.
 
     Index ``[i, w, k]``: position i, wheel w (0 left, 1 right), candidate point k ordered
@@ -502,9 +502,9 @@ def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
     return WheelsetContact(pose, lists[LEFT], lists[RIGHT], st)  # type: ignore[arg-type]
 
 
-def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayout | None = None,
-                  wheelset: WheelsetGeometry | None = None, tol: float = 1e-5,
-                  max_separation: float = 2e-3, max_points: int = 3) -> ContactTable:
+def geometry_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayout | None = None,
+                   wheelset: WheelsetGeometry | None = None, tol: float = 1e-5,
+                   max_separation: float = 2e-3, max_points: int = 3) -> GeometryTable:
     """Rigid contact geometry tabulated against the lateral shift (the vehicle model's table).
 
     Parameters
@@ -522,7 +522,7 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayo
 
     Returns
     -------
-    ContactTable
+    GeometryTable
         Positions where a wheel has no contact carry NaN and status 1; flange climb is
         status 2 (the geometry is still given).
     """
@@ -563,5 +563,5 @@ def contact_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayo
     bad = np.any(status == NO_CONTACT, axis=1)
     if bad.any():
         log.warning("%d of %d positions without proper contact on a wheel", int(bad.sum()), n)
-    return ContactTable(y=ya, yaw=yw, rise=rise, roll=roll, status=status, n_contact=ncon,
+    return GeometryTable(y=ya, yaw=yw, rise=rise, roll=roll, status=status, n_contact=ncon,
                         wheel_radius=lay.wheelset.wheel_radius, tolerance=tol, **arr)

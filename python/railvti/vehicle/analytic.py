@@ -1,4 +1,6 @@
-"""Closed-form references: Wickens' single suspended wheelset and Klingel's wavelength.
+"""Closed-form references: Wickens' single suspended wheelset and Nadal's flange-climb limit.
+
+Klingel's kinematic wavelength is :func:`railvti.geometry.klingel_wavelength`.
 
 Single wheelset of mass m and yaw inertia I on lateral springs (total k_y) and a yaw spring
 k_psi, conicity lambda, contact points at +-l, radius r0, linear creep coefficients f11, f22
@@ -51,12 +53,6 @@ def wickens_critical_speed(m: float, inertia: float, ky: float, kpsi: float, f11
     if hurwitz(v_max) > 0:
         return math.inf
     return float(brentq(hurwitz, lo, v_max, xtol=1e-10, rtol=1e-12))
-
-
-def klingel_wavelength(r0: float, l: float, conicity: float) -> float:
-    """Klingel's kinematic wavelength 2 pi sqrt(r0 l / lambda), m."""
-    return 2 * math.pi * math.sqrt(_checks.positive("r0", r0) * _checks.positive("l", l)
-                                   / _checks.positive("conicity", conicity))
 
 
 def nadal_limit(flange_angle: float, friction: float) -> float:

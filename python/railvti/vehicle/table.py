@@ -181,7 +181,7 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
     Parameters
     ----------
     wheel, rail : Profile
-        Wheel and canted rail profiles (as for :func:`railvti.geometry.contact_table`).
+        Wheel and canted rail profiles (as for :func:`railvti.geometry.geometry_table`).
     y_max : float
         The table covers -y_max..y_max, m (a wheelset beyond it stops the simulation).
     step : float
