@@ -14,7 +14,7 @@ from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.params import Coach
 from railvti.vehicle.simulate import (WHEEL_OUTPUTS, lateral_disturbance, simulate,
                                       static_equilibrium)
-from railvti.wheelset.flexible import residual_table
+from railvti.wheelset.residual import residual_table
 
 SMALL = {"k_max": 1, "f_max": 300.0}
 V = 420.0 / 3.6

@@ -9,7 +9,7 @@ import pytest
 
 from railvti import scenarios
 from railvti.runner.cli import main
-from railvti.vehicle.flexible import rim_deformation
+from railvti.vehicle.flexible_points import rim_deformation
 
 DECK = """
 &case

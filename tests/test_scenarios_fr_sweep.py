@@ -14,7 +14,8 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from railvti import scenarios
-from railvti.vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues, mode_labels
+from railvti.vehicle.flexible import build_fr, mode_labels
+from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
 from railvti.vehicle.simulate import (eigenvalues, lateral_disturbance, simulate,
                                       static_equilibrium)

@@ -11,7 +11,8 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import InputError
-from railvti.vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues
+from railvti.vehicle.flexible import build_fr
+from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
 from railvti.vehicle.simulate import eigenvalues
 from railvti.vehicle.table import linearised_table

@@ -27,11 +27,11 @@ def fr():
 
 def fr_energy(sy):
     """E(q, v, W) over the whole state, J: kinetic + elastic (the dense M, K of
-    flexible.linear_matrices: coach, modal blocks with the residual flexibility (its mass,
+    flexible_linear.linear_matrices: coach, modal blocks with the residual flexibility (its mass,
     none if massless), the journal couplings) - the work of the constant loads (gravity and spring preloads, the
     journal couplings' preloads through Phi) + the contacts' potential W. The gyroscopic
     terms (modal G, the 'gyro' couplings: skew) do no work."""
-    from railvti.vehicle.flexible import linear_matrices
+    from railvti.vehicle.flexible_linear import linear_matrices
     m, _, k = linear_matrices(sy)
     assert np.abs(k - k.T).max() < 1e-9 * np.abs(k).max()     # conservative: K symmetric
     k = 0.5 * (k + k.T)

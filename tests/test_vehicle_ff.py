@@ -13,8 +13,8 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import InputError
-from railvti.vehicle.flexible import (build_fr, rail_head_roll, rim_camber_change,
-                                      rim_rail_angle_change)
+from railvti.vehicle.flexible import build_fr
+from railvti.vehicle.flexible_points import rail_head_roll, rim_camber_change, rim_rail_angle_change
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
 from railvti.vehicle.simulate import simulate, static_equilibrium

@@ -11,14 +11,14 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import InputError
-from railvti.vehicle.flexible import (attachment_deflection, attachment_loads, build_fr,
-                                      point_forces, rim_camber_change, rim_deformation,
-                                      rim_rail_angle_change)
+from railvti.vehicle.flexible import build_fr
+from railvti.vehicle.flexible_points import (attachment_deflection, attachment_loads, point_forces,
+                                             rim_camber_change, rim_deformation, rim_rail_angle_change)
 from railvti.vehicle.model import CallSettings, ModalBlocks
 from railvti.vehicle.params import Coach, speed_m_s
 from railvti.vehicle.simulate import contact_id, simulate, static_equilibrium
 from railvti.wheelset import Wheelset
-from railvti.wheelset.flexible import static_fe_solve
+from railvti.wheelset.statics import static_fe_solve
 
 V = speed_m_s(200.0)
 
@@ -137,7 +137,7 @@ def test_frf_peaks_match_wheelset_model():
     model (modes on the primary springs to a fixed bogie, k <= 6) within 1 %: the k = 1 and
     k = 2 forward/backward pairs and the k = 0 modes (validation/wheelset_fr_frf.py)."""
     from scipy.signal import find_peaks
-    from railvti.vehicle.flexible import contact_receptance
+    from railvti.vehicle.flexible_linear import contact_receptance
     from railvti.wheelset import analytic
     ws = Wheelset()
     v = 300 / 3.6

@@ -15,7 +15,7 @@ from railvti.errors import InputError
 from railvti.track import RingTrack
 from railvti.track.ring import DEFAULTS
 from railvti.vehicle.assembly import build_coach
-from railvti.vehicle.flexible import eigenvalues as fr_eigenvalues
+from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
 from railvti.vehicle.simulate import eigenvalues
@@ -36,7 +36,7 @@ def _table():
 
 def test_bay_average_is_mean_of_frozen_growth():
     """At 320 km/h, 4 offsets: the bay average's growth rates are those of four frozen
-    systems built here (build_rf at each offset, flexible.eigenvalues), their mean the rate
+    systems built here (build_rf at each offset, flexible_linear.eigenvalues), their mean the rate
     the bisection uses; the offsets differ (the average is not one frozen position)."""
     n, v = 4, 320.0 / 3.6
     ring = RingTrack(40, **COARSE)

@@ -5,7 +5,9 @@ from scipy.sparse.linalg import spsolve
 
 from railvti import InputError
 from railvti.wheelset import Wheelset
-from railvti.wheelset import flexible as fl
+from railvti.wheelset import residual as wres
+from railvti.wheelset import rim_rows as wrows
+from railvti.wheelset import statics as wstat
 from railvti.wheelset.analytic import wheelset_mass_properties
 
 COARSE = dict(mesh_size=0.035, axle_mesh_size=0.08)
@@ -25,7 +27,7 @@ def body(ws):
 
 @pytest.fixture(scope="module")
 def statics(ws):
-    return [fl._statics(ws, k) for k in range(7)]
+    return [wstat.harmonic_statics(ws, k) for k in range(7)]
 
 
 def _reduced(st, field):
@@ -176,7 +178,7 @@ def test_rows_at_nodes_and_between(ws, body, side):
         assert np.allclose(body.rows(side, sq)[3], fit, atol=1e-4 * np.abs(fit).max())
     # the uniform table interpolates the rows linearly (ds = 1 mm: a small error)
     sm = body.s0 + 40.5 * body.ds
-    lin = 0.5 * (body.contact_table[side, 40] + body.contact_table[side, 41])
+    lin = 0.5 * (body.rim_rows[side, 40] + body.rim_rows[side, 41])
     ref = body.rows(side, sm)
     assert np.abs(lin - ref)[:3].max() < 1e-3 * np.abs(ref[:3]).max()
 
@@ -184,9 +186,9 @@ def test_rows_at_nodes_and_between(ws, body, side):
 def _cartesian(body, side, s, theta):
     """Vehicle-frame displacement (3, nq) at azimuth theta, built from eq. 7 and the basis
     e_r = -cos(th) e_z - sin(th) e_x, e_th = sin(th) e_z - cos(th) e_x, e_yFE = -e_y."""
-    edge = body._edges[side]
-    r, y = fl._edge_point(edge, s)
-    nodes, n, _, ny = fl._locate(body._mesh, r, y)
+    edge = body.edges[side]
+    r, y = wrows.edge_point(edge, s)
+    nodes, n, _, ny = wrows.locate(body._mesh, r, y)
     er = np.array([-np.sin(theta), 0.0, -np.cos(theta)])
     et = np.array([-np.cos(theta), 0.0, np.sin(theta)])
     ey = np.array([0.0, -1.0, 0.0])
@@ -222,14 +224,14 @@ def _direct_static(ws, statics, s_pair):
     """Static FE solve, harmonic by harmonic: the rigid-body DOFs held by a few constraints,
     the rigid part removed afterwards by mass-orthogonal projection; loads Q up at the two
     contact points, Q down at the two journals. Returns the 14 attachment values."""
-    edges = fl._edges(ws.geometry)
+    edges = wrows.rim_edges(ws.geometry)
     out = np.zeros(14)
     jn = ws._journal_nodes
     for st in statics:
-        pts = [fl._point_operator(ws.mesh, edges[0], s_pair[0], None),
-               fl._point_operator(ws.mesh, edges[1], s_pair[1], None),
-               fl._point_operator(ws.mesh, None, None, jn[0]),
-               fl._point_operator(ws.mesh, None, None, jn[1])]
+        pts = [wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
+               wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
+               wstat.point_operator(ws.mesh, None, None, jn[0]),
+               wstat.point_operator(ws.mesh, None, None, jn[1])]
         kinds = ("0",) if st.k == 0 else ("A", "B")
         for kind in kinds:
             e = np.array([v for p in pts for v in p[kind]])                 # (14, 3 nn)
@@ -303,14 +305,14 @@ def test_journal_rows(ws, body):
     r, y = ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 1]
     tilt = np.c_[-y, r, y][None]
     for side in (0, 1):
-        rows = fl._journal_rows([(1, "A", tilt), (1, "B", tilt)], ws.mesh,
+        rows = wrows.journal_rows([(1, "A", tilt), (1, "B", tilt)], ws.mesh,
                                 ws._journal_nodes[side])
         assert np.allclose(rows[3], [-1.0, 0.0]) and np.allclose(rows[4], [0.0, 1.0])
         # and the displacements of that rotation: z = beta_x * y_v, x = -beta_z * y_v
         yv = -ws.mesh.nodes[ws._journal_nodes[side], 1]
         assert np.allclose(rows[2], [-yv, 0.0]) and np.allclose(rows[0], [0.0, -yv])
         # the rim's slope row sees the same rotation about x
-        edge_rows = fl._vehicle_rows(1, "A", np.array([[0.0, 0.0, 0.0]]),
+        edge_rows = wrows.vehicle_rows(1, "A", np.array([[0.0, 0.0, 0.0]]),
                                      np.array([[-1.0, 0.0, 1.0]]), 0.0)[0]
         assert edge_rows[3, 0] == -1.0
 
@@ -323,14 +325,14 @@ def test_residual_follows_the_contact_point(ws, body, statics):
     f = np.zeros(14)
     f[[2, 6]] = Q
     f[[10, 13]] = -Q
-    r = fl._attachment_rows(body, s_pair)
+    r = body.attachment_rows(s_pair)
     kept = r @ ((r.T @ f) / (2 * np.pi * body.freq_hz) ** 2)
-    fresh = kept + fl.residual_flexibility(ws, body, s_pair) @ f
+    fresh = kept + wres.residual_flexibility(ws, body, s_pair) @ f
     stale = kept + body.residual @ f
     for i in (2, 3):
         assert fresh[i] == pytest.approx(ref[i], rel=0.02)
     assert abs(stale[3] / ref[3] - 1.0) > 0.05
-    assert fl.static_fe_solve(ws, f, s_pair)[3] == pytest.approx(ref[3], rel=1e-6)
+    assert wstat.static_fe_solve(ws, f, s_pair)[3] == pytest.approx(ref[3], rel=1e-6)
     with pytest.raises(InputError, match="residual_k_max"):
         ws.flexible_body(10.0, k_max=3, residual_k_max=2)
 
@@ -361,10 +363,10 @@ def test_rigid_elastic_coupling_is_the_fe_coriolis_block(ws, body, statics):
 
 
 def test_residual_table_matches_pointwise_residual(ws, body):
-    tab = fl.residual_table(ws, body, ds=0.02)
+    tab = wres.residual_table(ws, body, ds=0.02)
     for i, j in ((3, 3), (1, 4), (5, 0)):
         s_pair = (tab.s0 + i * tab.ds, tab.s0 + j * tab.ds)
-        ref = fl.residual_flexibility(ws, body, s_pair)
+        ref = wres.residual_flexibility(ws, body, s_pair)
         assert np.allclose(tab.at(i, j), ref, rtol=1e-8, atol=1e-10 * np.abs(ref).max())
 
 
@@ -373,12 +375,12 @@ def _direct_relieved(ws, statics, s_pair, f14):
     equilibrium: per harmonic the load is balanced by the d'Alembert forces of the rigid-body
     acceleration it causes (inertia relief, as the free-free modes of the vehicle model),
     the rigid motion held by point constraints, the rigid part removed mass-orthogonally."""
-    edges = fl._edges(ws.geometry)
+    edges = wrows.rim_edges(ws.geometry)
     jn = ws._journal_nodes
-    pts = [fl._point_operator(ws.mesh, edges[0], s_pair[0], None),
-           fl._point_operator(ws.mesh, edges[1], s_pair[1], None),
-           fl._point_operator(ws.mesh, None, None, jn[0]),
-           fl._point_operator(ws.mesh, None, None, jn[1])]
+    pts = [wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
+           wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
+           wstat.point_operator(ws.mesh, None, None, jn[0]),
+           wstat.point_operator(ws.mesh, None, None, jn[1])]
     out = np.zeros(14)
     for st in statics:
         eqs = np.asarray(st.T.tocsc().argmax(axis=1)).ravel()
@@ -404,7 +406,7 @@ def _direct_relieved(ws, statics, s_pair, f14):
 
 @pytest.fixture(scope="module")
 def residual_5mm(ws, body):
-    return fl.residual_table(ws, body, ds=5e-3)
+    return wres.residual_table(ws, body, ds=5e-3)
 
 
 #: Contact points of the left wheel, m: the taping line, the flange root and the flange flank
@@ -422,8 +424,8 @@ def test_compliance_follows_the_contact_point(ws, body, statics, residual_5mm, w
     (tread: 1e-9). The taping line's tables used at the flange points would not be."""
     s = CONTACT_POINTS[where]
     pair = (0.0, s)
-    g = fl.contact_compliance(body, residual_5mm, pair)
-    g0 = fl.contact_compliance(body, residual_5mm, (0.0, 0.0))
+    g = wres.contact_compliance(body, residual_5mm, pair)
+    g0 = wres.contact_compliance(body, residual_5mm, (0.0, 0.0))
     for col in (5, 6):                       # unit lateral, vertical force at the left contact
         f = np.zeros(14)
         f[col] = 1.0
@@ -443,7 +445,7 @@ def test_contact_compliance_bad_input(body, residual_5mm):
     with pytest.raises(InputError, match=r"s_pair\[0\]"):
         residual_5mm.interpolate((0.5, 0.0))
     with pytest.raises(InputError, match="outside the rim"):
-        fl.interpolated_rows(body, 0, -0.2)
+        wres.interpolated_rows(body, 0, -0.2)
 
 
 def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
@@ -466,14 +468,14 @@ def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
     m = slice(la.modes.start - sy.n, la.modes.stop - sy.n)
     r = slice(la.residual.start - sy.n, la.residual.stop - sy.n)
     for w, (side, s) in enumerate(((1, s_left), (0, s_right))):
-        np.testing.assert_allclose(phi[3 * w:3 * w + 3, m], fl.interpolated_rows(body, side, s)[1:4],
-                                   rtol=0, atol=1e-12 * np.abs(body.contact_table).max())
+        np.testing.assert_allclose(phi[3 * w:3 * w + 3, m], wres.interpolated_rows(body, side, s)[1:4],
+                                   rtol=0, atol=1e-12 * np.abs(body.rim_rows).max())
         t = (s - body.s0) / body.ds
         i0 = int(np.floor(t + 1e-9))
         wt = t - i0
-        ref = (1 - wt) * body.dtheta_table[side, i0, 1:4] + wt * body.dtheta_table[side, i0 + 1, 1:4]
+        ref = (1 - wt) * body.rim_dtheta_rows[side, i0, 1:4] + wt * body.rim_dtheta_rows[side, i0 + 1, 1:4]
         np.testing.assert_allclose(phi[14 + 3 * w:17 + 3 * w, m], ref, rtol=0,
-                                   atol=1e-9 * np.abs(body.dtheta_table).max())
+                                   atol=1e-9 * np.abs(body.rim_dtheta_rows).max())
     # the residual coordinates' compliance L L^T (Fortran: interpolated blocks, Cholesky)
     # equals the Python interpolation of the residual table
     ix = np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)
@@ -487,7 +489,7 @@ def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
     k = mb.stiffness[0]
     rows = phi[:12, m]
     g = rows @ np.linalg.solve(k, rows.T) + lres @ np.linalg.solve(mb.stiffness[1], lres.T)
-    ref = fl.contact_compliance(body, residual_5mm, (s_right, s_left))[ix]
+    ref = wres.contact_compliance(body, residual_5mm, (s_right, s_left))[ix]
     np.testing.assert_allclose(g, ref, rtol=0, atol=1e-2 * np.abs(ref).max())
     # the flange point's own compliance differs from the taping line's (what was used before)
     phi0 = sy.native.follow_rows(np.zeros((2, 1)), mb.n_points, mb.n_modes)

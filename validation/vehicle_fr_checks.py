@@ -26,11 +26,12 @@ import numpy as np
 
 from railvti import scenarios
 from railvti.vehicle import simulate, static_equilibrium
-from railvti.vehicle.flexible import (attachment_deflection, attachment_loads, build_fr,
-                                      point_forces, rim_rail_angle_change)
+from railvti.vehicle.flexible import build_fr
+from railvti.vehicle.flexible_points import (attachment_deflection, attachment_loads, point_forces,
+                                             rim_rail_angle_change)
 from railvti.vehicle.params import Coach, speed_m_s
 from railvti.wheelset import Wheelset
-from railvti.wheelset.flexible import static_fe_solve
+from railvti.wheelset.statics import static_fe_solve
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 

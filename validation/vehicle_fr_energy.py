@@ -121,10 +121,10 @@ FIG = Path(__file__).parent / "figures" / "vehicle_fr_energy.png"
 def fr_conservative():
     """Model FR at the scenario defaults on the strip geometry, undamped and frictionless, and
     its energy E(q, v, W) over the whole state (J): the dense M, K of
-    flexible.linear_matrices (coach, modal blocks, residual flexibility, journal
+    flexible_linear.linear_matrices (coach, modal blocks, residual flexibility, journal
     couplings), the constant loads' work (coach preloads, the couplings' through Phi) and the
     contacts' potential W."""
-    from railvti.vehicle.flexible import linear_matrices
+    from railvti.vehicle.flexible_linear import linear_matrices
     sy0, _ = scenarios.fr_system(speed=SPEED_FR, geometry="strip")
     sy = dataclasses.replace(sy0.without_damping(), friction=0.0)
     m, _, k = linear_matrices(sy)

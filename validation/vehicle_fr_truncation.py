@@ -14,7 +14,7 @@ steady state of ``static_equilibrium``, then ``simulate`` from it at the scenari
 step (1 ms divided until h omega_max <= 2: the step comes with the selection). Measured:
 
 - steady: the relative rim-rail angle change (camber) at each wheel of the steady state
-  (``flexible.rim_rail_angle_change``; 0.1 s of running moves it by < 1e-13 mrad), mrad;
+  (``flexible_points.rim_rail_angle_change``; 0.1 s of running moves it by < 1e-13 mrad), mrad;
   with contact='bem' (after 0.01 s of running) also the pressure peak of
   every wheel's patch, MPa. The wheel loads Q of the steady state are the static load in every
   selection (the modes carry no weight): their error there is round-off, so Q is measured
@@ -52,7 +52,8 @@ import numpy as np
 
 from railvti import scenarios
 from railvti.vehicle import Coach, simulate, static_equilibrium
-from railvti.vehicle.flexible import build_fr, rim_rail_angle_change
+from railvti.vehicle.flexible import build_fr
+from railvti.vehicle.flexible_points import rim_rail_angle_change
 from railvti.vehicle.params import speed_m_s
 from railvti.vehicle.simulate import bem_state
 from railvti.wheelset import Wheelset

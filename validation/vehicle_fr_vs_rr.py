@@ -23,7 +23,7 @@ flexibility).
 The rim-rail angle is the angle between the wheel's mid-plane and the rail's axis: the rail
 inclination atan(1/40) = 24.99 mrad, plus the wheelset's roll against its track element
 (sign: the tread's inner edge rising), plus in FR the rim's camber change
-(``flexible.rim_camber_change``).
+(``flexible_points.rim_camber_change``).
 
 Writes validation/figures/vehicle_fr_vs_rr_wheels.png (Q, Y and the rim-rail angle at the
 eight wheels), vehicle_fr_vs_rr_patches.png (the leading wheelset's patches) and
@@ -41,7 +41,7 @@ import numpy as np
 
 from railvti import scenarios
 from railvti.vehicle import simulate, static_equilibrium
-from railvti.vehicle.flexible import rim_camber_change
+from railvti.vehicle.flexible_points import rim_camber_change
 from railvti.vehicle.params import speed_m_s
 from railvti.vehicle.simulate import bem_state
 

@@ -4,7 +4,7 @@ acceptance).
 The coupled model FR (``build_fr``: free-free modes k_max 2 / 800 Hz of the leading wheelset
 with its residual flexibility, journal springs to the moving bogie, Coriolis couplings and the
 rigid wheelset's gyroscopic term), the wheel-rail contact removed, linearised
-(``flexible.linear_matrices``): the lateral point receptance at the right wheel's contact point
+(``flexible_linear.linear_matrices``): the lateral point receptance at the right wheel's contact point
 (force on the rigid wheelset and the rim, response rigid + elastic), at rest and at 300 km/h.
 Reference: ``Wheelset.frf`` (the axle-fixed model, eq. 11: modes of the wheelset on its primary
 springs grounded to a fixed bogie, k <= 6, f <= 3000 Hz, modal damping 0.5 %).
@@ -37,7 +37,8 @@ from scipy.linalg import eig  # noqa: E402
 from scipy.signal import find_peaks  # noqa: E402
 
 from railvti import scenarios  # noqa: E402
-from railvti.vehicle.flexible import build_fr, contact_receptance  # noqa: E402
+from railvti.vehicle.flexible import build_fr  # noqa: E402
+from railvti.vehicle.flexible_linear import contact_receptance  # noqa: E402
 from railvti.vehicle.params import Coach  # noqa: E402
 from railvti.wheelset import Wheelset, analytic  # noqa: E402
 

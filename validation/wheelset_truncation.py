@@ -27,8 +27,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from railvti.wheelset import Wheelset  # noqa: E402
-from railvti.wheelset import flexible as fl  # noqa: E402
+from railvti.wheelset import FlexibleWheelset, Wheelset  # noqa: E402
+from railvti.wheelset import residual as wres  # noqa: E402
+from railvti.wheelset import rim_rows as wrows  # noqa: E402
+from railvti.wheelset import statics as wstat  # noqa: E402
 
 FIG = Path(__file__).resolve().parent / "figures"
 FIG.mkdir(exist_ok=True)
@@ -38,17 +40,17 @@ F_REF, K_REF = 5000.0, 6
 F_PEAKS = 600.0
 F_MAXES = (200.0, 300.0, 500.0, 800.0, 1200.0, 2000.0, 3000.0)
 K_MAXES = tuple(range(7))
-CAMBER, UZ, UY = (fl.ATTACHMENT_DOFS.index(f"contact0.{c}") for c in ("rx", "z", "y"))
+CAMBER, UZ, UY = (wrows.ATTACHMENT_DOFS.index(f"contact0.{c}") for c in ("rx", "z", "y"))
 
 
 def load() -> np.ndarray:
-    f = np.zeros(len(fl.ATTACHMENT_DOFS))
+    f = np.zeros(len(wrows.ATTACHMENT_DOFS))
     for name, v in (("contact0.z", Q), ("contact1.z", Q), ("journal0.z", -Q), ("journal1.z", -Q)):
-        f[fl.ATTACHMENT_DOFS.index(name)] = v
+        f[wrows.ATTACHMENT_DOFS.index(name)] = v
     return f
 
 
-def peaks(body: fl.FlexibleWheelset, k_max: int) -> dict[int, np.ndarray]:
+def peaks(body: FlexibleWheelset, k_max: int) -> dict[int, np.ndarray]:
     """Undamped eigenfrequencies (Hz) per harmonic of the axle-fixed model."""
     out = {}
     for k in range(k_max + 1):
@@ -83,23 +85,23 @@ def tread_camber(ws: Wheelset, f: np.ndarray) -> tuple[float, float]:
     point (mean of the two elements there) and the least-squares slope of the vertical
     displacement over the whole tread (rad; what the rx rows measure)."""
     g = ws.geometry
-    edges = fl._edges(g)
+    edges = wrows.rim_edges(g)
     s_tread = np.linspace(edges[0].s_face, edges[0].s_max, 41)
     uz = np.zeros(s_tread.size)
     local = 0.0
     for k in range(K_REF + 1):
-        st = fl._statics(ws, k)
-        pts = [fl._point_operator(ws.mesh, edges[0], 0.0, None),
-               fl._point_operator(ws.mesh, edges[1], 0.0, None),
-               fl._point_operator(ws.mesh, None, None, ws._journal_nodes[0]),
-               fl._point_operator(ws.mesh, None, None, ws._journal_nodes[1])]
+        st = wstat.harmonic_statics(ws, k)
+        pts = [wstat.point_operator(ws.mesh, edges[0], 0.0, None),
+               wstat.point_operator(ws.mesh, edges[1], 0.0, None),
+               wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[0]),
+               wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[1])]
         kind = "0" if k == 0 else "A"
         e = np.array([v for p in pts for v in p[kind]])
         u = st.solve(e.T @ f)
-        nodes, _, _, ny = fl._locate(ws.mesh, *fl._edge_point(edges[0], 0.0))
+        nodes, _, _, ny = wrows.locate(ws.mesh, *wrows.edge_point(edges[0], 0.0))
         local += float(np.sum(u[3 * nodes] * ny))        # d u_r / d y_FE at the loaded point
         for i, s in enumerate(s_tread):
-            uz[i] += fl._point_operator(ws.mesh, edges[0], float(s), None)[kind][2] @ u
+            uz[i] += wstat.point_operator(ws.mesh, edges[0], float(s), None)[kind][2] @ u
     yv = -(g.contact_y + s_tread)                  # right wheel: vehicle y = -y_FE
     return float(local), float(np.polyfit(yv, uz, 1)[0])
 
@@ -109,9 +111,9 @@ def main() -> None:
     ws = Wheelset()
     f = load()
     ref_body = ws.flexible_body(SPEED, k_max=K_REF, f_max=F_REF)     # solves and caches the modes
-    gfull = fl.full_compliance([fl._statics(ws, k) for k in range(K_REF + 1)], ws.mesh,
-                               fl._edges(ws.geometry), (0.0, 0.0), ws._journal_nodes)
-    u_ref = fl.static_fe_solve(ws, f, k_max=K_REF)                  # independent direct solve
+    gfull = wstat.full_compliance([wstat.harmonic_statics(ws, k) for k in range(K_REF + 1)], ws.mesh,
+                               wrows.rim_edges(ws.geometry), (0.0, 0.0), ws._journal_nodes)
+    u_ref = wstat.static_fe_solve(ws, f, k_max=K_REF)                  # independent direct solve
     print(f"bordered (inertia-relief) compliance against the direct solve: "
           f"{np.abs(gfull @ f - u_ref).max() / np.abs(u_ref).max():.1e} (relative)")
     ref_peaks = peaks(ref_body, K_REF)
@@ -163,10 +165,10 @@ def moving_contact(ws: Wheelset, f: np.ndarray) -> None:
     print("\ncontact point moving (k_max 2, f_max 800 Hz), camber of the right wheel, mrad:")
     print(f"{'s mm':>6} {'FE':>8} {'kept':>8} {'+res(s)':>8} {'+res(0)':>8}")
     for s in (0.0, 0.005, -0.01, -0.03):
-        ref = fl.static_fe_solve(ws, f, (s, s), k_max=K_REF)
-        r = fl._attachment_rows(b, (s, s))
+        ref = wstat.static_fe_solve(ws, f, (s, s), k_max=K_REF)
+        r = b.attachment_rows((s, s))
         kept = r @ ((r.T @ f) / (2 * np.pi * b.freq_hz) ** 2)
-        fresh = kept + fl.residual_flexibility(ws, b, (s, s)) @ f
+        fresh = kept + wres.residual_flexibility(ws, b, (s, s)) @ f
         stale = kept + b.residual @ f
         print(f"{s * 1e3:>6.1f} {ref[CAMBER] * 1e3:>8.3f} {kept[CAMBER] * 1e3:>8.3f} "
               f"{fresh[CAMBER] * 1e3:>8.3f} {stale[CAMBER] * 1e3:>8.3f}")

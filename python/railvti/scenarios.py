@@ -44,8 +44,9 @@ from .profiles import s1002, uic60
 from .track.ring import RingTrack
 from .vehicle import output as _output
 from .vehicle.assembly import System, build_coach
-from .vehicle.flexible import build_fr, coach_body, mode_labels, rail_head_roll, rim_camber_change
-from .vehicle.flexible import eigenvalues as fr_eigenvalues
+from .vehicle.flexible import build_fr, coach_body, mode_labels
+from .vehicle.flexible_linear import eigenvalues as fr_eigenvalues
+from .vehicle.flexible_points import rail_head_roll, rim_camber_change
 from .vehicle.params import Coach, speed_m_s
 from .vehicle.ring_coupling import build_rf, check_ring_length
 from .vehicle.simulate import (WHEEL_OUTPUTS, SimulationResult, bem_state, check_modal_step, contact_id,
@@ -53,7 +54,7 @@ from .vehicle.simulate import (WHEEL_OUTPUTS, SimulationResult, bem_state, check
 from .vehicle.strip import strip_geometry
 from .vehicle.table import WheelTable, linearised_table, wheel_table
 from .wheelset import Wheelset
-from .wheelset.flexible import residual_table
+from .wheelset.residual import residual_table
 
 log = logging.getLogger(__name__)
 

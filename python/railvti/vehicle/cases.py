@@ -48,7 +48,8 @@ from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .model import CONTACT_MODELS
-from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
+from .flexible import mode_labels
+from .flexible_points import rail_head_roll, rim_camber_change, rim_deformation
 from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 from .ring_coupling import check_ring_length
 from .simulate import MODAL_STEP_LIMIT, STAT_UNITS, WHEEL_UNITS, check_modal_step

@@ -26,6 +26,10 @@ system).
 
 The state is the coach's DOFs followed by 4 x nq modal coordinates, then the residual
 block's coordinates of each flexible wheelset (at most 12 each).
+
+What the attachment points carry at a state (point forces, rim deformation and camber):
+:mod:`railvti.vehicle.flexible_points`; the linear analyses (M, C, K, receptances, tangents,
+eigenvalues): :mod:`railvti.vehicle.flexible_linear`.
 """
 from __future__ import annotations
 
@@ -34,16 +38,19 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .. import _checks
-from .._status import check
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import RESIDUAL_ZETA, CallSettings, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
+from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
 from .params import Coach
 from .table import WheelTable
 from ..wheelset import Wheelset
 from ..wheelset.fe import check_harmonic
-from ..wheelset.flexible import _harmonic, _rigid_mask, residual_flexibility, residual_table
-from .simulate import contact_id, static_equilibrium
+from ..wheelset.flexible import free_modes, rigid_mask
+from ..wheelset.residual import residual_flexibility, residual_table
+
+__all__ = ["POINTS_PER_WHEELSET", "MIN_MODAL_STEP", "RIM_POINTS", "FRLayout", "primary_preload",
+           "build_fr", "coach_body", "body_labels", "mode_labels", "mode_index", "residual_points",
+           "body_radius"]
 
 #: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
 #: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
@@ -202,11 +209,11 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         The rims' rows, Eulerian rows, residual flexibility and reference arm follow each
         wheel's contact point along the profile in the time loop (Kaiser eq. 3; tread and
         flange normal-force weighted, at the last accepted step's point): interpolated in the
-        body's 1 mm ``contact_table`` / ``dtheta_table`` and in ``residual_grid``, the
+        body's 1 mm ``rim_rows`` / ``rim_dtheta_rows`` and in ``residual_grid``, the
         residual as 12 coordinates with rows L (L L^T = R(s), Cholesky) and constant
         stiffness. The statics and linear analysis see the taping line. Needs s_contact = 0.
     residual_grid : ResidualTable, optional
-        The residual over the contact points (:func:`railvti.wheelset.flexible.residual_table`,
+        The residual over the contact points (:func:`railvti.wheelset.residual.residual_table`,
         about 30 s for the default mesh); default: made here at 5 mm (follow_contact only).
 
     Returns
@@ -223,9 +230,85 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         wheelset, body = coach_body(coach, wheelset, speed, k_max, f_max, damping_ratio)
     else:
         _check_body_step(body, coach["wheelset_stiffness_scale"])
-    nq = body.n
-    if nq == 0:
+    if body.n == 0:
         raise InputError(f"no elastic mode below f_max = {f_max} Hz")
+    s_contact = _check_s_contact(body, s_contact)
+    blocks, cpl = _modal_rows(coach, sy, body, flexible, s_contact, zero_rows, euler)
+    follow = None
+    if follow_contact:
+        if s_contact != 0.0:
+            raise InputError("follow_contact: the rows start at the taping line, s_contact must be 0")
+        follow = _follow_tables(wheelset, body, residual and bool(np.any(body.residual)),
+                                residual_grid)
+    if follow is not None and follow[1] is not None:
+        post = _add_followed_residual(blocks, sy, body, flexible, follow[1], residual_mass,
+                                      residual_hz, zero_rows)
+        cpl = replace(cpl, rim_follow=_placed_follow(follow[0], body.n, len(flexible), post))
+    else:
+        if residual and np.any(body.residual):
+            _add_residual(blocks, sy, body, flexible, wheelset, s_contact, residual_mass,
+                          residual_hz, zero_rows)
+        if follow is not None:
+            cpl = replace(cpl, rim_follow=_placed_follow(follow[0], body.n, len(flexible), None))
+    mb = ModalBlocks(damping=tuple(blocks.damp), stiffness=tuple(blocks.stiff), phi=blocks.phi,
+                     names=tuple(blocks.names), couplings=cpl, massless=tuple(blocks.massless))
+    if not rigid_gyro:
+        ispin = np.array(sy.spin_inertia, copy=True)
+        ispin[list(flexible)] = 0.0
+        sy = replace(sy, spin_inertia=ispin)
+    return sy.with_modal(mb), blocks.layouts
+
+
+@dataclass
+class _Blocks:
+    """The modal blocks of an FR system while :func:`build_fr` assembles them: the rows over
+    all attachment points (columns: the coordinates), each block's name, damping, stiffness and
+    masslessness, and each flexible wheelset's layout."""
+
+    phi: np.ndarray
+    names: list
+    damp: list
+    stiff: list
+    massless: list
+    layouts: list
+
+    def add_residual(self, sy: System, flexible: tuple, phi_r: np.ndarray, c_r: np.ndarray,
+                     k_r: np.ndarray, massless: bool, zero_rows: bool) -> None:
+        """Add one residual block (rows phi_r over a wheelset's 12 displacement points,
+        damping c_r, stiffness k_r) per flexible wheelset, after the elastic coordinates."""
+        nq = self.layouts[0].k.size
+        npt, nr = self.phi.shape[0], phi_r.shape[1]
+        cols = [self.phi]
+        for j, i in enumerate(flexible):
+            c = np.zeros((npt, nr))
+            if not zero_rows:
+                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
+            cols.append(c)
+            self.names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
+            self.damp.append(c_r)
+            self.stiff.append(k_r)
+            self.massless.append(massless)
+            m0 = sy.n + nq * len(flexible) + nr * j
+            self.layouts[j] = replace(self.layouts[j], residual=slice(m0, m0 + nr))
+        self.phi = np.hstack(cols)
+
+
+def _check_s_contact(body, s_contact: float) -> float:
+    """The rim points' wheel-profile coordinate (m), checked to lie on the tread."""
+    s_contact = float(s_contact)
+    e = body.edges[0]
+    if not (np.isfinite(s_contact) and e.s_face <= s_contact <= e.s_max):
+        raise InputError(f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
+                         f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)")
+    return s_contact
+
+
+def _modal_rows(coach: Coach, sy: System, body, flexible: tuple, s_contact: float,
+                zero_rows: bool, euler: bool) -> tuple[_Blocks, ModalCouplings]:
+    """The elastic coordinates of each flexible wheelset: their rows at the rims, journals,
+    Coriolis and Eulerian points, the journal springs ('split') and Coriolis ('gyro')
+    couplings to the coach, the rims' reference arms."""
+    nq = body.n
     p = coach.params
     qu = primary_preload(coach, sy)
     kp = (p["primary_kx"], p["primary_ky"], p["primary_kz"])
@@ -236,11 +319,6 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     rim_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     eul_pts = np.zeros((3, 2, len(flexible)), dtype=int)
     layouts = []
-    s_contact = float(s_contact)
-    e = body._edges[0]
-    if not (np.isfinite(s_contact) and e.s_face <= s_contact <= e.s_max):
-        raise InputError(f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
-                         f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)")
     geo_y = _rim_lateral(body) + s_contact
     for j, i in enumerate(flexible):
         p0, m0 = POINTS_PER_WHEELSET * j, nq * j
@@ -277,73 +355,50 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
                          rim_euler=eul_pts if euler else None,
                          rim_omega=np.full(len(flexible), body.omega) if euler else None)
     b = body.gyro + body.damping
-    names = [f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)]
-    damp = [b for _ in flexible]
-    stiff = [body.stiffness for _ in flexible]
-    massless = [False for _ in flexible]
-    follow = None
-    if follow_contact:
-        if s_contact != 0.0:
-            raise InputError("follow_contact: the rows start at the taping line, s_contact must be 0")
-        follow = _follow_tables(wheelset, body, residual and bool(np.any(body.residual)),
-                                residual_grid)
-    if follow is not None and follow[1] is not None:
-        res = follow[1]
-        l0 = _cholesky_psd(res)
+    blocks = _Blocks(phi=phi, names=[f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)],
+                     damp=[b for _ in flexible], stiff=[body.stiffness for _ in flexible],
+                     massless=[False for _ in flexible], layouts=layouts)
+    return blocks, cpl
+
+
+def _add_followed_residual(blocks: _Blocks, sy: System, body, flexible: tuple, res: np.ndarray,
+                           residual_mass: bool, residual_hz: float | None, zero_rows: bool) -> float:
+    """Add the residual flexibility that follows the contact points: 12 coordinates per
+    wheelset with rows post L (L L^T = R at the taping lines) and stiffness post^2; returns
+    post (2 pi residual_hz with a mass, else 1)."""
+    l0 = _cholesky_psd(res)
+    hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
+    post = 2.0 * np.pi * _checks.positive("residual_hz", hz) if residual_mass else 1.0
+    nr = 12
+    blocks.add_residual(sy, flexible, post * l0,
+                        np.eye(nr) * (2.0 * RESIDUAL_ZETA * post if residual_mass else 0.0),
+                        np.eye(nr) * post ** 2, not residual_mass, zero_rows)
+    return post
+
+
+def _add_residual(blocks: _Blocks, sy: System, body, flexible: tuple, wheelset, s_contact: float,
+                  residual_mass: bool, residual_hz: float | None, zero_rows: bool) -> None:
+    """Add the body's residual flexibility at the rim points s_contact (fixed for the run) as a
+    compliance block per wheelset, with a mass unless ``residual_mass`` is False."""
+    res = residual_points(body, None if s_contact in body.residual_s and
+                          body.residual_s[0] == body.residual_s[1] else
+                          _residual_at(wheelset, body, s_contact))
+    phi_r, k_r = compliance_block(res)
+    c_r = np.zeros_like(k_r)
+    if residual_mass:
         hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
-        post = 2.0 * np.pi * _checks.positive("residual_hz", hz) if residual_mass else 1.0
-        nr = 12
-        cols = [phi]
-        for j, i in enumerate(flexible):
-            c = np.zeros((npt, nr))
-            if not zero_rows:
-                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = post * l0
-            cols.append(c)
-            names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
-            damp.append(np.eye(nr) * (2.0 * RESIDUAL_ZETA * post if residual_mass else 0.0))
-            stiff.append(np.eye(nr) * post ** 2)
-            massless.append(not residual_mass)
-            m0 = sy.n + nq * len(flexible) + nr * j
-            layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
-        phi = np.hstack(cols)
-    elif residual and np.any(body.residual):
-        res = residual_points(body, None if s_contact in body.residual_s and
-                              body.residual_s[0] == body.residual_s[1] else
-                              _residual_at(wheelset, body, s_contact))
-        phi_r, k_r = compliance_block(res)
-        c_r = np.zeros_like(k_r)
-        if residual_mass:
-            hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
-            phi_r, k_r, c_r = with_mass(phi_r, k_r, hz, RESIDUAL_ZETA)
-        nr = phi_r.shape[1]
-        cols = [phi]
-        for j, i in enumerate(flexible):
-            c = np.zeros((npt, nr))
-            if not zero_rows:
-                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
-            cols.append(c)
-            names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
-            damp.append(c_r)
-            stiff.append(k_r)
-            massless.append(not residual_mass)
-            m0 = sy.n + nq * len(flexible) + nr * j
-            layouts[j] = replace(layouts[j], residual=slice(m0, m0 + nr))
-        phi = np.hstack(cols)
-    if follow is not None:
-        nflex = len(flexible)
-        has_res = follow[1] is not None
-        rf = replace(follow[0], modes=np.arange(nflex) * nq,
-                     residual=(nq * nflex + 12 * np.arange(nflex)) if has_res else np.full(nflex, -1),
-                     points=np.array([POINTS_PER_WHEELSET * j + np.arange(12) for j in range(nflex)]).T,
-                     post=post if has_res else 1.0)
-        cpl = replace(cpl, rim_follow=rf)
-    mb = ModalBlocks(damping=tuple(damp), stiffness=tuple(stiff), phi=phi, names=tuple(names),
-                     couplings=cpl, massless=tuple(massless))
-    if not rigid_gyro:
-        ispin = np.array(sy.spin_inertia, copy=True)
-        ispin[list(flexible)] = 0.0
-        sy = replace(sy, spin_inertia=ispin)
-    return sy.with_modal(mb), layouts
+        phi_r, k_r, c_r = with_mass(phi_r, k_r, hz, RESIDUAL_ZETA)
+    blocks.add_residual(sy, flexible, phi_r, c_r, k_r, not residual_mass, zero_rows)
+
+
+def _placed_follow(rf: RimFollow, nq: int, nflex: int, post: float | None) -> RimFollow:
+    """The followed rows' tables placed in the state: each wheelset's modes, its residual
+    coordinates (post: their scale; None: no residual block) and its 12 points."""
+    has_res = post is not None
+    return replace(rf, modes=np.arange(nflex) * nq,
+                   residual=(nq * nflex + 12 * np.arange(nflex)) if has_res else np.full(nflex, -1),
+                   points=np.array([POINTS_PER_WHEELSET * j + np.arange(12) for j in range(nflex)]).T,
+                   post=post if has_res else 1.0)
 
 
 def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
@@ -361,7 +416,7 @@ def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
     k_max = check_harmonic(k_max, "k_max")
     f_max = _checks.positive("f_max", f_max)
     f_fe = f_max * np.sqrt(scale)
-    if not any(np.any(~_rigid_mask(_harmonic(ws, k, f_fe))) for k in range(k_max + 1)):
+    if not any(np.any(~rigid_mask(free_modes(ws, k, f_fe))) for k in range(k_max + 1)):
         raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
                          f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
     body = ws.flexible_body(speed, k_max=k_max, f_max=f_fe, damping_ratio=damping_ratio)
@@ -382,8 +437,8 @@ def _follow_tables(wheelset, body, with_residual: bool, grid):
     left = FE side 1; journals left, right) and the 12 x 12 residual at the taping lines
     (None without residual)."""
     sides = (1, 0)
-    rows = np.stack([body.contact_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
-    drows = np.stack([body.dtheta_table[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
+    rows = np.stack([body.rim_rows[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
+    drows = np.stack([body.rim_dtheta_rows[sd][:, 1:4, :].transpose(1, 2, 0) for sd in sides], axis=-1)
     if with_residual:
         if grid is None:
             grid = residual_table(wheelset if wheelset is not None else Wheelset(), body)
@@ -485,346 +540,9 @@ def _residual_at(wheelset, body, s: float) -> np.ndarray:
 
 def _rim_lateral(body) -> float:
     """Lateral distance of the taping line (s = 0) from the wheelset centre, m."""
-    return float(abs(body._edges[0].y_contact))
+    return float(abs(body.edges[0].y_contact))
 
 
 def body_radius(body) -> float:
     """The tread radius of the rim edge (depth of the taping line below the axle), m."""
-    return float(body._edges[0].r_tread)
-
-
-def point_forces(system: System, speed: float, x: np.ndarray, xd: np.ndarray | None = None,
-                 contact: str = "hertz-kalker") -> np.ndarray:
-    """The forces g_p on the attachment points of an FR system at state x (rates xd): the
-    contact's generalised forces on the rims, the journal springs' forces, the Coriolis terms.
-
-    Evaluated by the core on a probe system with the same couplings whose modes are the
-    points themselves (phi = I, B = K = 0): its modal forces are g_p.
-
-    Returns
-    -------
-    ndarray (n_points,)
-        N on displacement points, N m on rotation points.
-    """
-    mb = system.modal
-    if mb is None or mb.couplings is None:
-        raise InputError("point_forces needs an FR system (modal blocks with couplings)")
-    npt = mb.n_points
-    probe = ModalBlocks(damping=(np.zeros((npt, npt)),), stiffness=(np.zeros((npt, npt)),),
-                        phi=np.eye(npt), couplings=mb.couplings)
-    ps = system.with_modal(probe)
-    n = system.n
-    x = np.asarray(x, dtype=float)
-    xd = np.zeros_like(x) if xd is None else np.asarray(xd, dtype=float)
-    xp = np.concatenate([x[:n], mb.phi @ x[n:]])
-    xdp = np.concatenate([xd[:n], mb.phi @ xd[n:]])
-    f, _, info = ps.native.state_force(CallSettings(speed, contact_id(contact)), xp, xdp)
-    check(info, "FR point forces")
-    return np.asarray(f[n:])
-
-
-def attachment_loads(system: System, layout: FRLayout, gp: np.ndarray) -> np.ndarray:
-    """The 14 loads over railvti.wheelset.flexible.ATTACHMENT_DOFS (contact right x, y, z,
-    rx, left ..., journal right x, y, z, left ...) of one flexible wheelset from the point
-    forces gp (the rims' x force is not coupled: 0)."""
-    g = np.asarray(gp)[layout.points]
-    f = np.zeros(14)
-    f[5:8] = g[0:3]        # left rim (FE side 1): y, z, rx
-    f[1:4] = g[3:6]        # right rim (FE side 0)
-    f[11:14] = g[6:9]      # left journal
-    f[8:11] = g[9:12]      # right journal
-    return f
-
-
-def attachment_deflection(system: System, layout: FRLayout, x: np.ndarray) -> np.ndarray:
-    """The 14 attachment displacements (ATTACHMENT_DOFS order; rim x from its row 0) of one
-    flexible wheelset at state x: the coupled model's u = Phi Q."""
-    u = system.modal.phi[layout.points] @ np.asarray(x)[system.n:]
-    d = np.full(14, np.nan)
-    d[5:8], d[1:4] = u[0:3], u[3:6]
-    d[11:14], d[8:11] = u[6:9], u[9:12]
-    return d
-
-
-def rim_deformation(system: System, x: np.ndarray) -> np.ndarray:
-    """The rims' elastic deformation at state x (or states, rows of a 2-D x).
-
-    Returns
-    -------
-    ndarray (..., 3, 2, 4)
-        (dy, dz, drx) [m, m, rad] of wheel 0 left / 1 right of each wheelset (zero for a
-        rigid one), track axes: dy + left, dz up, drx about x (+: the wheel's points at
-        larger y rise).
-    """
-    mb = system.modal
-    if mb is None or mb.couplings is None:
-        raise InputError("rim_deformation needs an FR system")
-    x = np.asarray(x, dtype=float)
-    u = x[..., system.n:] @ mb.phi.T
-    out = np.zeros(x.shape[:-1] + (3, 2, 4))
-    cp = mb.couplings
-    for j, i in enumerate(cp.rim_wheelsets):
-        out[..., :, :, i] = u[..., cp.rim_points[:, :, j]]
-    return out
-
-
-#: Sign of the angle convention per wheel (0 left, 1 right): a rotation drx about the vehicle's
-#: x (+: the points at larger y rise; y positive to the left) turns the wheel's or the rail's
-#: inner edge (towards the track centre) up by -drx on the left and +drx on the right.
-_INNER_EDGE_SIGN = np.array([-1.0, 1.0])
-
-
-def rim_camber_change(system: System, x: np.ndarray) -> np.ndarray:
-    """The rims' elastic camber at the contact points, rad, (..., 2, 4) [wheel 0 left /
-    1 right, wheelset]: positive when the tread's inner edge (towards the track centre) rises
-    against its outer edge (-drx at the left wheel, +drx at the right, drx the rim's rotation
-    about the vehicle's x, :func:`rim_deformation`). Zero for a rigid wheelset. The rail's
-    roll is not in it: :func:`rim_rail_angle_change` is the relative angle."""
-    d = rim_deformation(system, x)[..., 2, :, :]
-    return d * _INNER_EDGE_SIGN[:, None]
-
-
-def rail_head_roll(system: System, x: np.ndarray, t: np.ndarray | float | None = None) -> np.ndarray:
-    """The rail head's elastic roll under each wheel, rad, (..., 2, 4) [wheel, wheelset], in
-    the convention of :func:`rim_camber_change` (+: the head's inner edge, towards the track
-    centre, rises; -roll on the left rail, +roll on the right, roll about the vehicle's x).
-
-    On the ring track (models RF, FF) the roll of the track element under the wheel from the
-    ring's modes (:meth:`RingSystem.rail_deflection`); on the rigid track elements of models
-    RR and FR the rail head does not deform: zero (the elements' rigid roll, like the
-    wheelset's, is the same for both wheels and sits in the contact geometry, not here).
-
-    Parameters
-    ----------
-    system : System
-    x : ndarray (n_state,) or (nt, n_state)
-        State(s).
-    t : float or ndarray (nt,), optional
-        Time(s) of the state(s), s: needed on the ring track (the contact points move along it).
-
-    Raises
-    ------
-    InputError
-        A ring-track system without ``t``, or ``t`` not matching the states.
-    """
-    x = np.asarray(x, dtype=float)
-    ring = getattr(system, "ring", None)
-    if ring is None:
-        return np.zeros(x.shape[:-1] + (2, int(system.iws.shape[1])))
-    if t is None:
-        raise InputError("rail_head_roll: key 't' (the states' times, s) is needed on the ring "
-                         "track: the contact points move along it")
-    ts = np.atleast_1d(np.asarray(t, dtype=float))
-    xs = np.atleast_2d(x)
-    if ts.shape != (xs.shape[0],) or not np.all(np.isfinite(ts)):
-        raise InputError(f"rail_head_roll: key 't' must be finite with one time per state "
-                         f"({xs.shape[0]}), got shape {ts.shape}")
-    roll = system.rail_deflection(ts, xs)[:, 2] * _INNER_EDGE_SIGN[:, None]
-    return roll.reshape(x.shape[:-1] + roll.shape[1:])
-
-
-def rim_rail_angle_change(system: System, x: np.ndarray,
-                          t: np.ndarray | float | None = None) -> np.ndarray:
-    """The change of each wheel's rim-rail angle, the paper's relative angle, rad, (..., 2, 4)
-    [wheel 0 left / 1 right, wheelset]: the rim's elastic camber (:func:`rim_camber_change`)
-    minus the rail head's elastic roll under the wheel (:func:`rail_head_roll`), both
-    positive when the inner edge (towards the track centre) rises, i.e. -drx on the left and
-    +drx on the right, drx about the vehicle's x (y positive to the left). The paper's
-    25 -> 26 mrad is +1 mrad. On the rigid track (model FR) it is the camber; on the ring
-    (model FF) ``t`` is needed. The same difference is what the contact sees: it evaluates
-    the wheel at the relative roll wheelset + rim - rail (vehicle_contact)."""
-    return rim_camber_change(system, x) - rail_head_roll(system, x, t)
-
-
-def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Dense M, C, K (n_state x n_state) of an FR system without its wheel-rail contact,
-    linearised about zero: the coach's M, C, K with its scalar elements' linear parts (a dry
-    friction element's slope p1 / p2 + p3 at rest, a bump stop inside its clearance: none),
-    the modal blocks (M = the modal masses, massless residual blocks included) and the
-    journal ('split') and Coriolis ('gyro') couplings through Phi. A check tool for
-    frequency responses (dense: O(n_state^3) per frequency), not for the time loop.
-
-    Returns
-    -------
-    m, c, k : ndarray (n_state, n_state)
-    """
-    mb = system.modal
-    if mb is None or mb.couplings is None:
-        raise InputError("linear_matrices needs an FR system")
-    n, nm = system.n, mb.n_modes
-    nt = n + nm
-    m, c, k = np.zeros((nt, nt)), np.zeros((nt, nt)), np.zeros((nt, nt))
-    m[:n, :n], c[:n, :n], k[:n, :n] = system.m, system.c, system.k
-    cp = mb.couplings
-    omega = next((float(cp.params[0, e]) for e, kind in enumerate(cp.kinds) if kind == "gyro"),
-                 0.0)                          # the spin Omega of the rigid-elastic couplings
-    for w in range(system.iws.shape[1]):       # the rigid gyroscopic moments (build_coach)
-        a, b = system.iws[2, w] - 1, system.iws[3, w] - 1
-        c[a, b] -= system.spin_inertia[w] * omega
-        c[b, a] += system.spin_inertia[w] * omega
-    for e in range(system.eg.shape[1]):
-        p = system.epar[:, e]
-        if system.etype[e] == 1:         # friction: p1 tanh(gd / p2) + p3 gd
-            cd = p[2] + (p[0] / p[1] if p[0] != 0.0 and p[1] > 0.0 else 0.0)
-            g = system.eg[:, e]
-            c[:n, :n] += cd * np.outer(g, g)
-    m[n:, n:] = np.diag(mb.mass)
-    mb.place_blocks(c, k, n)
-    cp = mb.couplings
-    for e, kind in enumerate(cp.kinds):
-        ph = mb.phi[cp.points[e]]
-        g = cp.directions[:, e]
-        kk, cc, _ = cp.params[:, e]
-        if kind == "split":
-            for mat, v in ((k, kk), (c, cc)):
-                mat[n:, :n] -= v * np.outer(ph, g)
-                mat[n:, n:] += v * np.outer(ph, ph)
-                mat[:n, n:] -= v * np.outer(g, ph)
-        else:                                  # gyro: g_p += k g.v, g_r -= g k u_p'
-            c[n:, :n] -= kk * np.outer(ph, g)
-            c[:n, n:] += kk * np.outer(g, ph)
-    return m, c, k
-
-
-def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
-                       wheel: int = 1, direction: str = "lateral") -> np.ndarray:
-    """Point receptance at a wheel's rim point of an FR system with the wheel-rail contact
-    removed (:func:`linear_matrices`): a force at the rim reference point acts on the rigid
-    wheelset (with its roll moment about the centre) and on the rim point; the response is
-    the point's displacement, rigid plus elastic (m/N).
-
-    Parameters
-    ----------
-    system : System
-    layout : FRLayout
-        The flexible wheelset.
-    freqs : array_like
-        Frequencies, Hz (> 0).
-    wheel : int
-        0 left, 1 right.
-    direction : {'lateral', 'vertical'}
-
-    Returns
-    -------
-    ndarray of complex (nf,)
-    """
-    if wheel not in (0, 1) or direction not in ("lateral", "vertical"):
-        raise InputError(f"wheel 0 or 1 and direction 'lateral' or 'vertical', got {wheel!r}, "
-                         f"{direction!r}")
-    f = np.asarray(freqs, dtype=float)
-    if np.any(~(f > 0)):
-        raise InputError("freqs must be > 0")
-    m, c, k = linear_matrices(system)
-    n = system.n
-    i = layout.wheelset + 1
-    l0, r0 = system.modal.couplings.rim_arms[:, 0]
-    sg = 1.0 if wheel == 0 else -1.0
-    b = np.zeros(m.shape[0])
-    if direction == "lateral":
-        b[system.index(f"ws{i}_y")] = 1.0
-        b[system.index(f"ws{i}_roll")] = r0          # M_x = -z F_y at z = -r0
-        row = layout.points.start + 3 * wheel
-    else:
-        b[system.index(f"ws{i}_z")] = 1.0
-        b[system.index(f"ws{i}_roll")] = sg * l0     # M_x = y F_z
-        row = layout.points.start + 3 * wheel + 1
-    b[n:] += system.modal.phi[row]
-    out = np.empty(f.size, dtype=complex)
-    for j, fj in enumerate(f):
-        w = 2.0 * np.pi * fj
-        out[j] = b @ np.linalg.solve(k - w * w * m + 1j * w * c, b)
-    return out
-
-
-#: Forward-difference step of :func:`state_tangent` (the same as the core's contact tangent,
-#: vehicle_model%contact_tangent: model FR with decoupled modes then linearises exactly as RR).
-TANGENT_STEP = 1.0e-8
-
-
-def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
-                  contact: str = "hertz-kalker") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The force over the whole state of an FR system and its tangents at (x, xd).
-
-    Forward differences (step :data:`TANGENT_STEP`) of the core's state force (the coach's
-    elements, the modal blocks, the journal and Coriolis couplings and the contact on the
-    deformed rims with its Eulerian term) over every state entry: dense, O(n_state^2), a tool
-    for linear analyses (:func:`eigenvalues`), not for the time loop.
-
-    Returns
-    -------
-    f : ndarray (n_state,)
-    jq, jv : ndarray (n_state, n_state)
-        dF/dx and dF/dxd.
-    """
-    if system.modal is None:
-        raise InputError("state_tangent needs a system with modal blocks (model FR)")
-    nt = system.n_state
-    x = np.array(x, dtype=float)
-    xd = np.array(xd, dtype=float)
-    if x.shape != (nt,) or xd.shape != (nt,):
-        raise InputError(f"x and xd must have the state's size {nt}")
-    cs = CallSettings(float(speed), contact_id(contact))
-
-    def force(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        f, _, info = system.native.state_force(cs, a, b)
-        check(info, "FR state force (linearisation)")
-        return np.array(f)
-    f0 = force(x, xd)
-    jq, jv = np.empty((nt, nt)), np.empty((nt, nt))
-    for j in range(nt):
-        xp = x.copy()
-        xp[j] += TANGENT_STEP
-        jq[:, j] = (force(xp, xd) - f0) / TANGENT_STEP
-        vp = xd.copy()
-        vp[j] += TANGENT_STEP
-        jv[:, j] = (force(x, vp) - f0) / TANGENT_STEP
-    return f0, jq, jv
-
-
-def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
-                v: np.ndarray | None = None, contact: str = "hertz-kalker") -> np.ndarray:
-    """Eigenvalues (1/s) of an FR system linearised about (q, v), flexible DOFs included.
-
-    Default (q, v): the FR steady state of centred running (static_equilibrium, with the
-    spin rates; the modes statically deflected). The first-order system
-    ``[I 0; 0 M] z' = [0 I; Jq Jv] z`` (:func:`state_tangent`) is solved as a generalised
-    eigenproblem because the residual flexibility's coordinates are massless (M singular):
-    their algebraic equations give infinite eigenvalues, which are dropped. As for RR
-    (railvti.vehicle.simulate.eigenvalues) each wheelset's free spin angle adds a zero.
-
-    Returns
-    -------
-    ndarray of complex
-        The finite eigenvalues.
-    """
-    if system.modal is None:
-        raise InputError("flexible.eigenvalues needs an FR system; use "
-                         "railvti.vehicle.simulate.eigenvalues for RR")
-    if q is None:
-        q, v, _ = static_equilibrium(system, speed, contact, return_velocity=True)
-    if v is None:
-        v = np.zeros(system.n_state)
-    _, jq, jv = state_tangent(system, speed, q, v, contact)
-    return tangent_eigenvalues(system, jq, jv)
-
-
-def tangent_eigenvalues(system: System, jq: np.ndarray, jv: np.ndarray) -> np.ndarray:
-    """Finite eigenvalues (1/s) of ``[I 0; 0 M] z' = [0 I; jq jv] z`` with the system's mass M.
-
-    The tangents (:func:`state_tangent`) may be of another system of the same layout and mass;
-    the massless residual coordinates' infinite eigenvalues are dropped (:func:`eigenvalues`).
-    """
-    from scipy.linalg import eigvals
-
-    n, nt = system.n, system.n_state
-    mass = np.zeros((nt, nt))
-    mass[:n, :n] = system.m
-    mass[n:, n:] = np.diag(system.modal.mass)
-    a = np.zeros((2 * nt, 2 * nt))
-    a[:nt, nt:] = np.eye(nt)
-    a[nt:, :nt] = jq
-    a[nt:, nt:] = jv
-    b = np.eye(2 * nt)
-    b[nt:, nt:] = mass
-    ev = eigvals(a, b)
-    return ev[np.isfinite(ev)]
+    return float(body.edges[0].r_tread)
