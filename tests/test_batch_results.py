@@ -18,7 +18,8 @@ from railvti.contact import Grid
 from railvti.contact import normal as normal_mod
 from railvti.contact.hertz import hertz_gap
 from railvti.runner.deck import parse_deck
-from railvti.runner.results import case_deck, load, save
+from railvti.runner.result_objects import load, save
+from railvti.runner.results import case_deck
 
 SMALL = """
 &case

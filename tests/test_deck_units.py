@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from railvti.runner.cli import main
-from railvti.runner.results import load, save
+from railvti.runner.result_objects import load, save
 
 DECK = """
 &case name = 'vh', type = 'vehicle', scenario = 'hunting', duration = 0.04 /

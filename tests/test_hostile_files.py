@@ -44,7 +44,7 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.runner import guarded_io, results
+from railvti.runner import guarded_io, result_objects, results
 from railvti.runner.batch import check_deck, check_output
 from railvti.casetypes import REGISTRY, CaseOutput, CaseType
 from railvti.runner.cli import main
@@ -782,7 +782,7 @@ def test_api_write_error(tmp_path, monkeypatch, capfd, code):
         x: np.ndarray
 
     with pytest.raises(WriteFailed) as exc:
-        results.save(R(np.arange(5000.0)), target)
+        result_objects.save(R(np.arange(5000.0)), target)
     assert exc.value.errno == code and target.read_bytes() == b"old"
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(1, 500, code).pwrite)
     s = HistoryStream(tmp_path / "s.h5")
@@ -844,10 +844,10 @@ def test_signal_inside_save(tmp_path, monkeypatch, capfd):
     target.write_bytes(b"old")
     monkeypatch.setattr(guarded_io, "_pwrite", SignalInWrite(2))
     with pytest.raises(KeyboardInterrupt):
-        results.save(R(np.arange(5000.0)), target)
+        result_objects.save(R(np.arange(5000.0)), target)
     assert target.read_bytes() == b"old" and side_files(tmp_path) == []
     monkeypatch.setattr(guarded_io, "_pwrite", os.pwrite)
-    results.save(R(np.arange(5.0)), target)                     # HDF5 still sound
+    result_objects.save(R(np.arange(5.0)), target)                     # HDF5 still sound
     assert "Exception ignored" not in capfd.readouterr().err
 
 

@@ -1,7 +1,7 @@
 """Model RF in decks and results (issue 15, deliverable 4): the 'vehicle' case type takes
 model = 'RF' with n_sleepers, f_limit, x_offset and the ring's parameters (track_*); the HDF5
 results hold the ring's modal coordinates with their labels and the rail's motion under each
-wheel, with units; SimulationResult.save / results.load carry the same. A tiny case (coarse
+wheel, with units; SimulationResult.save / result_objects.load carry the same. A tiny case (coarse
 40-sleeper ring, 20 ms) run end to end through `railvti run` and read back."""
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from railvti import scenarios
 from railvti.casetypes import REGISTRY
 from railvti.runner.cli import main
 from railvti.errors import InputError
-from railvti.runner.results import load, save
+from railvti.runner.result_objects import load, save
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 RING = dict(n_sleepers=40, f_limit=300.0, x_offset=0.1,

@@ -1,4 +1,5 @@
-"""HDF5 results of a deck run (h5py), and saving / loading any result object.
+"""HDF5 results of a deck run (h5py); saving and loading one result object is
+:mod:`railvti.runner.result_objects`.
 
 Layout of a ``railvti run`` file (docs/results.md has the full description):
 
@@ -23,9 +24,7 @@ or the new one, never a half-written file.
 """
 from __future__ import annotations
 
-import dataclasses
 import hashlib
-import importlib
 import json
 import logging
 import os
@@ -42,8 +41,13 @@ import numpy as np
 from .. import __version__
 from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
 from ..casetypes import Case
-from ..errors import InputError
 from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
+
+__all__ = ["LAYOUT", "MAX_GROUP_NAME", "CaseRecord", "group_name", "params_digest", "attr_value",
+           "AXIS_NAMES", "default_axes", "COPY_BLOCK_BYTES", "INTERRUPTED_COPY_BYTES",
+           "INTERRUPTED_COPY_ENV", "write_case", "SIDE_NAME_MAX", "side_name", "temp_path",
+           "is_results_file", "ResultsWriter", "deck_digest", "DeckOwner", "deck_owner", "completed",
+           "damage", "write_results", "case_deck"]
 
 #: Version of the HDF5 layout written here.
 LAYOUT = 2
@@ -104,7 +108,9 @@ def params_digest(case: Case) -> str:
     return hashlib.sha256(text.encode("utf-8", "replace")).hexdigest()
 
 
-def _attr(value: Any) -> Any:
+def attr_value(value: Any) -> Any:
+    """A value as an HDF5 attribute stores it (None as 'none', text without NULs, text
+    sequences as variable-length strings)."""
     if value is None:
         return "none"
     if isinstance(value, str):
@@ -196,9 +202,9 @@ def _guess_unit(key: str, value: Any) -> str:
 def _write_inputs(g: h5py.Group, case: Case) -> None:
     gi = g.create_group("inputs")
     for key, value in case.params.items():
-        _set_attr(gi, key, _attr(value))
+        _set_attr(gi, key, attr_value(value))
         unit, meaning = _input_unit(case, key)
-        d = gi.create_dataset(key, data=_data(_attr(value)))
+        d = gi.create_dataset(key, data=_data(attr_value(value)))
         _set_attr(d, "units", unit)
         if meaning:
             _set_attr(d, "meaning", meaning)
@@ -275,7 +281,7 @@ def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | N
         d = _copy_streamed(g, name, arr, compress, rows, check)
         _set_attr(d, "units", units or "1")
         for k, v in extra.items():
-            _set_attr(d, k, _attr(v))
+            _set_attr(d, k, attr_value(v))
         return
     arr = np.asarray(_data(arr))
     units = _unit_text(units, arr)
@@ -289,7 +295,7 @@ def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | N
         d = g.create_dataset(name, data=arr)
     _set_attr(d, "units", units)
     for k, v in extra.items():
-        _set_attr(d, k, _attr(v))
+        _set_attr(d, k, attr_value(v))
 
 
 def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
@@ -614,188 +620,3 @@ def _nml(value: Any) -> str:
     if isinstance(value, (float, np.floating)):
         return repr(float(value))
     return str(value)
-
-
-# ---------------------------------------------------------------------------------------------
-# Saving and loading result objects (SimulationResult, NormalResult, RollingResult, ...)
-
-_UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
-                      r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
-
-
-def _doc_units(cls: type) -> dict[str, str]:
-    """Units from a numpydoc Attributes section: 'name : type' then a description whose
-    first sentence ends in ', UNIT.'"""
-    out: dict[str, str] = {}
-    doc = cls.__doc__ or ""
-    for m in re.finditer(r"^\s{4}([\w, ]+?) : [^\n]*\n((?:\s{8}[^\n]*\n?)+)", doc, re.M):
-        desc = " ".join(m.group(2).split())
-        u = _UNIT_RE.search(desc)
-        if u:
-            for name in m.group(1).split(","):
-                out[name.strip()] = u.group(1)
-    return out
-
-
-def _units_of(cls: type) -> dict[str, Any]:
-    units: dict[str, Any] = dict(_doc_units(cls))
-    units.update(getattr(cls, "FIELD_UNITS", {}))      # the class's own (SimulationResult's)
-    return units
-
-
-def _save_value(g: h5py.Group, name: str, value: Any, unit: Any) -> None:
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        _save_object(g.create_group(name), value)
-    elif isinstance(value, dict):
-        sub = g.create_group(name)
-        sub.attrs["kind"] = "dict"
-        units = unit if isinstance(unit, dict) else {}
-        for i, (k, v) in enumerate(value.items()):
-            plain = isinstance(k, str) and k and "/" not in k and k != "." and not k.startswith("item")
-            item = k if plain else f"item{i}"
-            _save_value(sub, item, v, units.get(k, "") if plain else "")
-            sub[item].attrs["key"] = json.dumps(list(k) if isinstance(k, tuple) else k)
-            sub[item].attrs["order"] = i
-            sub[item].attrs["key_is_tuple"] = int(isinstance(k, tuple))
-    elif value is None:
-        d = g.create_dataset(name, data=h5py.Empty("f8"))
-        d.attrs["kind"] = "none"
-        d.attrs["units"] = "none (no value)"
-    elif isinstance(value, str):
-        d = g.create_dataset(name, data=value)
-        d.attrs["kind"] = "str"
-        d.attrs["units"] = "text"
-    elif isinstance(value, (tuple, list)) and value and all(isinstance(v, str) for v in value):
-        d = g.create_dataset(name, data=np.array(value, dtype=h5py.string_dtype()))
-        d.attrs["kind"] = "tuple_str"
-        d.attrs["units"] = "text"
-    elif isinstance(value, (tuple, list)) and not all(np.isscalar(v) for v in value):
-        sub = g.create_group(name)
-        sub.attrs["kind"] = "tuple" if isinstance(value, tuple) else "list"
-        for i, v in enumerate(value):
-            _save_value(sub, f"item{i}", v, "")
-    else:
-        arr = np.asarray(value)
-        d = g.create_dataset(name, data=arr, **({"compression": "gzip"} if arr.size > 64 else {}))
-        kind = {bool: "bool", int: "int", float: "float"}.get(type(value), "array")
-        if isinstance(value, tuple):
-            kind = "tuple"
-        elif isinstance(value, list):
-            kind = "list"
-        d.attrs["kind"] = kind
-        d.attrs["units"] = (unit if isinstance(unit, str) else "") or ("text" if arr.dtype.kind in "OSU" else "1")
-
-
-def _save_object(g: h5py.Group, obj: Any) -> None:
-    cls = type(obj)
-    g.attrs["class"] = f"{cls.__module__}:{cls.__qualname__}"
-    units = _units_of(cls)
-    for f in dataclasses.fields(obj):
-        if not f.init:
-            continue
-        _save_value(g, f.name, getattr(obj, f.name), units.get(f.name, ""))
-    extra = getattr(obj, "_save_attrs", None)
-    if callable(extra):
-        for node, attrs in extra().items():
-            for k, v in attrs.items():
-                g[node].attrs[k] = _attr(v)
-
-
-def save(obj: Any, path: str | Path) -> Path:
-    """Save a result object (any railvti result dataclass) to an HDF5 file, atomically.
-
-    Arrays become datasets with a ``units`` attribute; the class is recorded so that
-    :func:`load` returns an equal object.
-    """
-    if not dataclasses.is_dataclass(obj) or isinstance(obj, type):
-        raise InputError(f"save() takes a railvti result object, got {type(obj).__name__}")
-    path = Path(path)
-    if path.is_dir():
-        raise InputError(f"{path} is a directory")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = temp_path(path)
-    fh = GuardedFile(tmp, "w")        # a full disk raises WriteFailed, HDF5 stays sound
-    try:
-        try:
-            with open_h5(fh, "w") as f:
-                f.attrs["railvti_version"] = __version__
-                f.attrs["layout"] = LAYOUT
-                _save_object(f.create_group("result"), obj)
-        except Exception:
-            fh.check()
-            raise
-        fh.sync()
-        fh.close()
-        try:
-            os.replace(tmp, path)
-        except OSError as exc:
-            raise failure(path, exc) from None
-    finally:
-        fh.close()
-        tmp.unlink(missing_ok=True)
-    return path
-
-
-def _load_value(node: Any) -> Any:
-    if isinstance(node, h5py.Group):
-        if "class" in node.attrs:
-            return _load_object(node)
-        kind = node.attrs.get("kind")
-        items = list(node.keys())
-        if kind != "dict":
-            items.sort(key=lambda s: int(s[4:]))
-        else:
-            items.sort(key=lambda s: node[s].attrs.get("order", 0))
-            out = {}
-            for k in items:
-                key = json.loads(node[k].attrs["key"])
-                if int(node[k].attrs.get("key_is_tuple", 0)):
-                    key = tuple(key)
-                out[key] = _load_value(node[k])
-            return out
-        seq = [_load_value(node[k]) for k in items]
-        return tuple(seq) if kind == "tuple" else seq
-    kind = node.attrs.get("kind", "array")
-    if kind == "none":
-        return None
-    if kind == "str":
-        v = node[()]
-        return v.decode() if isinstance(v, bytes) else str(v)
-    if kind == "tuple_str":
-        return tuple(s.decode() if isinstance(s, bytes) else str(s) for s in node[()])
-    v = node[()]
-    if kind == "bool":
-        return bool(v)
-    if kind == "int":
-        return int(v)
-    if kind == "float":
-        return float(v)
-    if kind == "tuple":
-        return tuple(np.asarray(v).tolist())
-    if kind == "list":
-        return list(np.asarray(v).tolist())
-    return np.asarray(v)
-
-
-def _load_object(g: h5py.Group) -> Any:
-    module, _, qualname = str(g.attrs["class"]).partition(":")
-    if not module.startswith("railvti"):
-        raise InputError(f"not a railvti result class: {module}:{qualname}")
-    obj: Any = importlib.import_module(module)
-    for part in qualname.split("."):
-        obj = getattr(obj, part)
-    kwargs = {name: _load_value(g[name]) for name in g.keys()}
-    return obj(**kwargs)
-
-
-def load(path: str | Path) -> Any:
-    """Load a result object saved by :func:`save` (or ``SimulationResult.save``)."""
-    try:
-        f = h5py.File(path, "r")
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot open results file {path}: {exc}") from None
-    with f:
-        if "result" not in f or "class" not in f["result"].attrs:
-            raise InputError(f"{path} holds no saved result object (a 'railvti run' file? "
-                             "read it with h5py, or re-make a case with case_deck)")
-        return _load_object(f["result"])

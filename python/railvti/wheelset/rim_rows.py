@@ -125,7 +125,7 @@ def vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: f
     ur, uy, ut = u[:, 0], u[:, 1], u[:, 2]
     dur = du_dy_fe[:, 0]
     if k == 0:
-        cr, sr, ct, st = 1.0, 0.0, 1.0, 0.0      # u_r = U_r, u_th = U_th (torsion)
+        cr, ct = 1.0, 1.0                        # u_r = U_r, u_th = U_th (torsion)
         dcr, dct = 0.0, 0.0
     elif fam == "A":
         cr, ct = np.cos(k * theta), np.sin(k * theta)
