@@ -16,6 +16,9 @@ from .placement import TrackLayout
 from .plots import plot_table
 from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, GeometryTable, geometry_table
 
+__all__ = ["PAIR_DEFAULTS", "PAIR_KEYS", "mm_aliases", "PAIR_MM_ALIASES", "profile_problems", "sweep_problems",
+           "wheelset_problems", "check_table", "deck_profiles", "deck_layout", "run", "plot"]
+
 
 #: Deck keys (and defaults) that name a wheel/rail pair on the track, shared by the case
 #: types ``geometry_table`` and ``loaded_wheelset``: see :func:`deck_profiles` and

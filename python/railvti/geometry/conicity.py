@@ -7,6 +7,8 @@ from .. import _checks
 from ..errors import InputError
 from .table import GeometryTable
 
+__all__ = ["equivalent_conicity", "klingel_wavelength"]
+
 
 def equivalent_conicity(table: GeometryTable, amplitude: float | np.ndarray = 0.003,
                         n_quad: int = 4000) -> float | np.ndarray:

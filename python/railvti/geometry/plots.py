@@ -9,6 +9,8 @@ from ..profiles import Profile
 from .frames import SIGN, axle_direction
 from .table import FLANGE_CLIMB, GeometryTable, WheelsetContact
 
+__all__ = ["plot_profiles", "plot_table"]
+
 
 def _mpl():
     import matplotlib

@@ -25,6 +25,10 @@ from ..wheelset.geometry import WheelsetGeometry
 from .frames import LEFT, RIGHT, SIDES, SIGN, axle_direction
 from .placement import ProfileLayout, TrackLayout, layout
 
+__all__ = ["OK", "NO_CONTACT", "FLANGE_CLIMB", "STATUS_NAMES", "WheelsetPose", "ContactPoint",
+           "WheelsetContact", "TABLE_ARRAYS", "GeometryTable", "prominent_peaks", "gap_minima",
+           "contact_points", "geometry_table"]
+
 log = logging.getLogger(__name__)
 
 #: Status codes of a wheel or a position.

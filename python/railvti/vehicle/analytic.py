@@ -25,6 +25,8 @@ from scipy.optimize import brentq
 from .. import _checks
 from ..errors import InputError
 
+__all__ = ["wickens_coefficients", "wickens_critical_speed", "nadal_limit"]
+
 
 def wickens_coefficients(v: float, m: float, inertia: float, ky: float, kpsi: float,
                          f11: float, f22: float, conicity: float, l: float, r0: float) -> np.ndarray:
