@@ -16,8 +16,8 @@ from scipy.optimize import linear_sum_assignment
 from railvti import scenarios
 from railvti.vehicle.flexible import build_fr, eigenvalues as fr_eigenvalues, mode_labels
 from railvti.vehicle.params import Coach
-from railvti.vehicle.simulate import (eigenvalues, lateral_disturbance, simulate,
-                                      static_equilibrium)
+from railvti.vehicle.equilibrium import eigenvalues, lateral_disturbance, static_equilibrium
+from railvti.vehicle.simulate import simulate
 from railvti.vehicle.table import linearised_table
 
 #: a small mode selection: k <= 1 up to 300 Hz (15 -> 8 modes per wheelset), 1 ms steps
