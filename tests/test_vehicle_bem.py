@@ -8,6 +8,7 @@ from railvti import scenarios
 from railvti.errors import GridTooSmallError, InputError
 from railvti.vehicle import (BemOptions, BemPatch, bem_state, build_single_wheelset,
                              force_and_tangent, lateral_disturbance, simulate, static_equilibrium)
+from railvti.vehicle import time_loop
 from railvti.vehicle.equilibrium import _force_and_tangent
 from railvti.vehicle.model import WHEEL_OUTPUTS
 from railvti.vehicle.table import QUANTITIES
@@ -170,8 +171,8 @@ def test_bem_run_does_not_depend_on_the_chunking(coach_system, monkeypatch):
     q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
     runs = []
     for size in (3, 10_000):
-        monkeypatch.setattr(S, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
-        monkeypatch.setattr(S, "CHUNK_SECONDS", 0.0)
+        monkeypatch.setattr(time_loop, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
+        monkeypatch.setattr(time_loop, "CHUNK_SECONDS", 0.0)
         with bem_state(sy, opts) as st:
             runs.append(simulate(sy, V, 0.012, contact="bem", bem=st, q0=q0, h=1e-3,
                                  output_dt=1e-3, progress=size == 3, chunk=0.003, threads=1))
