@@ -86,7 +86,8 @@ class ContactModel:
         if g not in GEOMETRIES:
             raise InputError(f"unknown contact geometry {g!r}: one of {GEOMETRIES}")
         if g not in self.geometries:
-            readers = " and ".join(repr(m.name) for m in CONTACT_MODELS.values() if g in m.geometries)
+            readers = " and ".join(repr(m.name) for m in CONTACT_MODELS.values()
+                                   if g in m.geometries)
             raise InputError(f"geometry={g!r} is the geometry of {readers}; the "
                              f"{self.description} reads the {self.default_geometry}'s gap fields")
         return g
@@ -132,5 +133,6 @@ def parse_contact_model(contact: str | ContactModel) -> ContactModel:
 
 
 def contact_id(contact: str | ContactModel) -> int:
-    """The Fortran id (``CMODEL_*``) of a contact model: ``parse_contact_model(contact).fortran_id``."""
+    """The Fortran id (``CMODEL_*``) of a contact model,
+    ``parse_contact_model(contact).fortran_id``."""
     return parse_contact_model(contact).fortran_id

@@ -29,10 +29,11 @@ __all__ = ["NEWTON_RTOL", "bem_state", "contact_state", "call_settings", "static
 log = logging.getLogger(__name__)
 
 #: Default Newton residual tolerance of :func:`~railvti.vehicle.simulate.simulate`, relative to
-#: the static wheel load: max |r| (N, or N m per metre of lever arm) over all DOFs <= NEWTON_RTOL
-#: * wheel load (66 N for the default coach). Hunting runs at 300-420 km/h reach at most 2e-4 (Hertz +
-#: Kalker / FASTSIM, tol 1e-9) and 5e-4 (BEM, tol 1e-8): the bound catches a modified Newton
-#: that stalls with a small correction but a large error, without moving those runs.
+#: the static wheel load: max |r| (N, or N m per metre of lever arm) over all DOFs <=
+#: NEWTON_RTOL * wheel load (66 N for the default coach). Hunting runs at 300-420 km/h reach at
+#: most 2e-4 (Hertz + Kalker / FASTSIM, tol 1e-9) and 5e-4 (BEM, tol 1e-8): the bound catches a
+#: modified Newton that stalls with a small correction but a large error, without moving those
+#: runs.
 NEWTON_RTOL = 1e-3
 
 #: What a BEM patch at its grid's edge asks of the user.

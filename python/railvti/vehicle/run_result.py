@@ -58,9 +58,10 @@ class SimulationResult:
         ``load_scale``, the static wheel load in N; rotations' residuals in N m are divided by
         the same N, i.e. per metre of lever arm), ``newton_correction`` /
         ``newton_correction_max`` (the last correction max |dq|, m or rad, likewise), and the
-        tolerances ``newton_tol`` (correction) and ``newton_rtol`` (residual, relative); with contact='bem' also the BEM
-        counters (:data:`railvti.vehicle.bem.COUNTERS`, prefixed ``bem_``) and
-        ``bem_solves_per_step`` (normal + rolling solve pairs per time step, all wheels).
+        tolerances ``newton_tol`` (correction) and ``newton_rtol`` (residual, relative); with
+        contact='bem' also the BEM counters (:data:`railvti.vehicle.bem.COUNTERS`, prefixed
+        ``bem_``) and ``bem_solves_per_step`` (normal + rolling solve pairs per time step, all
+        wheels).
     bem_patches : dict or None
         contact='bem': the final BEM fields (:class:`railvti.vehicle.bem.BemPatch`) of the
         loaded candidate point of every wheel, keyed (wheelset, wheel), both 0-based.

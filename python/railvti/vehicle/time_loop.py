@@ -139,7 +139,8 @@ def integrate(system: System, cs: CallSettings, plan: RunPlan, q: np.ndarray, v:
                 size = _next_chunk(ns, wall_call, plan)
                 if bar is not None:
                     bar.update(min(round(ns * plan.h, 6), max(bar.total - bar.n, 0.0)))
-                    bar.set_postfix_str(f"RTF {(time.perf_counter() - wall0) / max(done * plan.h, 1e-12):.2f}")
+                    rtf = (time.perf_counter() - wall0) / max(done * plan.h, 1e-12)
+                    bar.set_postfix_str(f"RTF {rtf:.2f}")
         except KeyboardInterrupt as exc:       # Ctrl-C or the runner's SIGTERM: keep what is done
             if out.t and sum(len(x) for x in out.t):
                 exc.partial = out.result(system, cs.speed, contact,
