@@ -6,7 +6,7 @@ runs now ('sliced' / 'threaded') and as one blocking call ('one call', the code 
 * steady rolling on 320 x 320, 40 iterations (~10 s): one call in a worker thread
   (``call_interruptibly``);
 * the vehicle's static equilibrium with the BEM contact (coach, 0.75 mm grids, ~3.5 s): one
-  Newton call in a worker thread (``simulate._static_call``);
+  Newton call in a worker thread (``equilibrium._static_call``);
 * the wheelset's modes, k = 0..6 up to 3 kHz (default mesh, 10,000 equations): one Fortran
   call per harmonic (~1 s), each in a worker thread, one at a time (ARPACK is not reentrant;
   ``wheelset.fe._modes_call``).
@@ -35,8 +35,7 @@ mode = sys.argv[1]
 if mode == "one call":
     nm._cg_in_slices = lambda hd, h, c, m, tol, mi, fn, ap, p, sub: core.normal_solve_c(hd, h, c, m, tol, mi, 1.0, fn, ap, p)
     rl.call_interruptibly = lambda hd, fn, *a: fn(hd, *a)
-    import railvti.vehicle  # noqa: F401 - its simulate() shadows the module of that name
-    vs = sys.modules["railvti.vehicle.simulate"]
+    import railvti.vehicle.equilibrium as vs
     vs._static_call = lambda system, cs, bem, q, tol, maxit: system.native.static(cs, q, tol, maxit)
     from railvti.wheelset import fe
     fe._modes_call = core.wheelset_modes_c

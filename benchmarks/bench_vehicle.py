@@ -71,7 +71,7 @@ print(json.dumps({"wall": wall, "cpu": cpu, "rtf": wall / dur, "amp_mm": scenari
 PROFILE_CHILD = r"""
 import json, sys, time
 from railvti import scenarios
-from railvti.vehicle.simulate import bem_state
+from railvti.vehicle.equilibrium import bem_state
 dur, thr = float(sys.argv[1]), int(sys.argv[2])
 sy = scenarios.coach_system("RR")
 scenarios.contact_table()

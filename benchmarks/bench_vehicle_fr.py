@@ -47,7 +47,7 @@ _BEM_CHILD = """
 import json, resource, sys, time
 from railvti import scenarios
 from railvti.vehicle import simulate, static_equilibrium
-from railvti.vehicle.simulate import bem_state
+from railvti.vehicle.equilibrium import bem_state
 model, dur = sys.argv[1], float(sys.argv[2])
 v = 200.0 / 3.6
 sy = scenarios.coach_system(model, speed_kmh=200.0) if model != "RR" else scenarios.coach_system()

@@ -12,8 +12,9 @@ from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.params import Coach
-from railvti.vehicle.simulate import (WHEEL_OUTPUTS, lateral_disturbance, simulate,
-                                      static_equilibrium)
+from railvti.vehicle.equilibrium import lateral_disturbance, static_equilibrium
+from railvti.vehicle.model import WHEEL_OUTPUTS
+from railvti.vehicle.simulate import simulate
 from railvti.wheelset.residual import residual_table
 
 SMALL = {"k_max": 1, "f_max": 300.0}

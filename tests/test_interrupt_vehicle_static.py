@@ -1,7 +1,7 @@
 """Ctrl-C inside the vehicle's static equilibrium (issue 16 item 2). With the BEM contact its
 Newton solve is one Fortran call of ~3.5 s (coach, 0.75 mm grids); it runs in a worker thread
 with the GIL released (``!f2py threadsafe``) while the main thread waits for signals
-(``vehicle.simulate._static_call``): SIGINT stops the process within about 0.05 s plus the
+(``vehicle.equilibrium._static_call``): SIGINT stops the process within about 0.05 s plus the
 exit (one blocking call: ~2.3 s, benchmarks/bench_interrupt_latency.py). The interrupted call
 keeps its model (a later call waits for it) and abandons its BEM state."""
 from __future__ import annotations
@@ -18,7 +18,7 @@ from interrupt_helper import sigint_after_ready
 from railvti import scenarios
 from railvti.vehicle import BemOptions, bem_state, static_equilibrium
 
-S = sys.modules["railvti.vehicle.simulate"]
+S = sys.modules["railvti.vehicle.equilibrium"]
 V = 200 / 3.6
 
 LONG_STATIC = """

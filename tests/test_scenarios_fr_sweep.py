@@ -17,8 +17,8 @@ from railvti import scenarios
 from railvti.vehicle.flexible import build_fr, mode_labels
 from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
-from railvti.vehicle.simulate import (eigenvalues, lateral_disturbance, simulate,
-                                      static_equilibrium)
+from railvti.vehicle.equilibrium import eigenvalues, lateral_disturbance, static_equilibrium
+from railvti.vehicle.simulate import simulate
 from railvti.vehicle.table import linearised_table
 
 #: a small mode selection: k <= 1 up to 300 Hz (15 -> 8 modes per wheelset), 1 ms steps

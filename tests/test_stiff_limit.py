@@ -14,7 +14,7 @@ from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
-from railvti.vehicle.simulate import eigenvalues
+from railvti.vehicle.equilibrium import eigenvalues
 from railvti.vehicle.table import linearised_table
 
 SMALL = {"k_max": 1, "f_max": 300.0}

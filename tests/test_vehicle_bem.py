@@ -1,8 +1,6 @@
 """contact='bem' in the time simulation: BEM normal + steady rolling at every wheel."""
 from __future__ import annotations
 
-import sys
-
 import numpy as np
 import pytest
 
@@ -10,10 +8,12 @@ from railvti import scenarios
 from railvti.errors import GridTooSmallError, InputError
 from railvti.vehicle import (BemOptions, BemPatch, bem_state, build_single_wheelset,
                              force_and_tangent, lateral_disturbance, simulate, static_equilibrium)
+from railvti.vehicle import time_loop
+from railvti.vehicle.equilibrium import _force_and_tangent
+from railvti.vehicle.model import WHEEL_OUTPUTS
 from railvti.vehicle.table import QUANTITIES
 
-S = sys.modules["railvti.vehicle.simulate"]
-W = S.WHEEL_OUTPUTS
+W = WHEEL_OUTPUTS
 V = 200 / 3.6
 
 
@@ -134,7 +134,7 @@ def test_bem_patch_jacobian_matches_central_differences_of_the_solves(coach_syst
     v[sy.dof_names.index("ws1_y")] = 1e-4 * V
     o = BemOptions(jacobian_age=1)       # a Jacobian at every solve: at the base
     with bem_state(sy, o) as st:
-        S._force_and_tangent(sy, q, v, V, "bem", 8, st)
+        _force_and_tangent(sy, q, v, V, "bem", 8, st)
         for wheel in (0, 1):
             lm = st.linear_model(0, wheel, 0)
             x0, jac = lm["x"], lm["jac"]
@@ -155,7 +155,7 @@ def test_bem_patch_jacobian_matches_central_differences_of_the_solves(coach_syst
                 assert abs(cd[i, j]) * steps[j] > 10 * noise[i]
         assert st.counts()["normal_solves"] > 0
     with bem_state(sy, BemOptions(jacobian_age=0)) as st:
-        S._force_and_tangent(sy, q, v, V, "bem", 8, st)
+        _force_and_tangent(sy, q, v, V, "bem", 8, st)
         assert st.linear_model(0, 0, 0) is None
 
 
@@ -171,8 +171,8 @@ def test_bem_run_does_not_depend_on_the_chunking(coach_system, monkeypatch):
     q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
     runs = []
     for size in (3, 10_000):
-        monkeypatch.setattr(S, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
-        monkeypatch.setattr(S, "CHUNK_SECONDS", 0.0)
+        monkeypatch.setattr(time_loop, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
+        monkeypatch.setattr(time_loop, "CHUNK_SECONDS", 0.0)
         with bem_state(sy, opts) as st:
             runs.append(simulate(sy, V, 0.012, contact="bem", bem=st, q0=q0, h=1e-3,
                                  output_dt=1e-3, progress=size == 3, chunk=0.003, threads=1))

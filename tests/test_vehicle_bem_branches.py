@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
-from railvti.vehicle.simulate import (_force_and_tangent, bem_state, lateral_disturbance,
-                                      static_equilibrium)
+from railvti.vehicle.equilibrium import (_force_and_tangent, bem_state, lateral_disturbance,
+                                         static_equilibrium)
 from railvti.vehicle.table import IBRANCH
 
 SPEED = 300.0 / 3.6

@@ -10,7 +10,8 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle import BemOptions, bem_state, lateral_disturbance, simulate, static_equilibrium
-from railvti.vehicle.simulate import WHEEL_OUTPUTS, bem_threads
+from railvti.vehicle.model import WHEEL_OUTPUTS
+from railvti.vehicle.simulate import bem_threads
 
 V = 300 / 3.6
 #: A coarse grid keeps the runs short (two 0.05 s runs, 8 wheels, about 5 s each).

@@ -3,16 +3,15 @@ same solves on the whole grid: the contact area lies inside the rigid interpenet
 the window must give the full grid's forces and fields to the solvers' tolerances."""
 from __future__ import annotations
 
-import sys
-
 import numpy as np
 import pytest
 
 from railvti import scenarios
 from railvti.vehicle import BemOptions, bem_state, lateral_disturbance, static_equilibrium
+from railvti.vehicle.equilibrium import _force_and_tangent
+from railvti.vehicle.model import WHEEL_OUTPUTS
 
-S = sys.modules["railvti.vehicle.simulate"]
-W = S.WHEEL_OUTPUTS
+W = WHEEL_OUTPUTS
 V = 300 / 3.6
 
 
@@ -24,7 +23,7 @@ def coach_system():
 def _evaluate(sy, q, v, window):
     """F, wheel outputs and the leading wheelset's patches with windows on or off."""
     with bem_state(sy, BemOptions(window=window, tol_normal=1e-8, tol_rolling=1e-6)) as st:
-        f, wout, _, _ = S._force_and_tangent(sy, q, v, V, "bem", 8, st)
+        f, wout, _, _ = _force_and_tangent(sy, q, v, V, "bem", 8, st)
         patches = [st.patch(0, w, k, V) for w in (0, 1) for k in (0, 1)]
     return f, wout, patches
 

@@ -3,7 +3,6 @@ lever arms (issue 13, deliverables 1 and 2)."""
 from __future__ import annotations
 
 import dataclasses
-import sys
 
 import numpy as np
 import pytest
@@ -11,11 +10,13 @@ import pytest
 from railvti import scenarios
 from railvti.geometry import layout
 from railvti.vehicle import (BemOptions, bem_state, build_single_wheelset, lateral_disturbance, static_equilibrium)
+from railvti._status import check
 from railvti.vehicle.bem import grid_for
+from railvti.vehicle.equilibrium import call_settings
+from railvti.vehicle.model import WHEEL_OUTPUTS
 from railvti.vehicle.table import QUANTITIES, linearised_table, wheel_table
 
-S = sys.modules["railvti.vehicle.simulate"]
-W = S.WHEEL_OUTPUTS
+W = WHEEL_OUTPUTS
 V = 200 / 3.6
 D0 = 60e-6          # vertical approach below the minimum gap, m
 
@@ -38,11 +39,11 @@ def _left_fn(table, y, grid):
                                ky=0.0, kx=0.0, half_spacing=1.0, axle_load=1e5)
     out = []
     with bem_state(sy, BemOptions(nx=grid.nx, ny=grid.ny)) as st:
-        cs = S._settings(V, "bem", 8, st)
+        cs = call_settings(V, "bem", 8, st)
         for yi, gi in zip(y, _min_gap(table, y)):
             _, wout, _, _, info = sy.native.force(cs, np.array([yi, -gi - D0, 0.0, 0.0]),
                                                   np.zeros(4))
-            S.check(info, "BEM force")
+            check(info, "BEM force")
             out.append(wout[W.index("N_tread"), 0, 0] + wout[W.index("N_flange"), 0, 0])
     return np.array(out)
 
@@ -106,7 +107,7 @@ def test_track_roll_arm_is_the_same_in_penetration_and_force(table):
     sy = dataclasses.replace(base, friction=0.0, table=tab)
     qs, _ = static_equilibrium(sy, V)
     q = lateral_disturbance(sy, qs, 0.003, wheelsets=(0,))
-    cs = S._settings(V, "hertz-kalker", 8, None)
+    cs = call_settings(V, "hertz-kalker", 8, None)
     wz, wr, tz, tr = sy.iws[1, 0] - 1, sy.iws[2, 0] - 1, sy.itr[1, 0] - 1, sy.itr[2, 0] - 1
 
     def column(j: int, h: float = 1e-8) -> np.ndarray:

@@ -17,7 +17,8 @@ from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_points import rail_head_roll, rim_camber_change, rim_rail_angle_change
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
-from railvti.vehicle.simulate import simulate, static_equilibrium
+from railvti.vehicle.equilibrium import static_equilibrium
+from railvti.vehicle.simulate import simulate
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6

@@ -16,7 +16,9 @@ from railvti.vehicle.flexible_points import (attachment_deflection, attachment_l
                                              rim_camber_change, rim_deformation, rim_rail_angle_change)
 from railvti.vehicle.model import CallSettings, ModalBlocks
 from railvti.vehicle.params import Coach, speed_m_s
-from railvti.vehicle.simulate import contact_id, simulate, static_equilibrium
+from railvti.vehicle.contact_models import contact_id
+from railvti.vehicle.equilibrium import static_equilibrium
+from railvti.vehicle.simulate import simulate
 from railvti.wheelset import Wheelset
 from railvti.wheelset.statics import static_fe_solve
 

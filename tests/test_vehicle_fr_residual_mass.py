@@ -16,7 +16,8 @@ from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.params import Coach
-from railvti.vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
+from railvti.vehicle.equilibrium import lateral_disturbance, static_equilibrium
+from railvti.vehicle.simulate import simulate
 
 SMALL = {"k_max": 1, "f_max": 300.0}
 

@@ -20,7 +20,8 @@ from railvti.errors import InputError
 from railvti.vehicle import eigenvalues, lateral_disturbance, simulate, static_equilibrium
 from railvti.vehicle.assembly import build_rigid_system
 from railvti.vehicle.model import CallSettings, ModalBlocks, PointElement
-from railvti.vehicle.simulate import MODAL_STEP_LIMIT, force_and_tangent
+from railvti.vehicle.equilibrium import force_and_tangent
+from railvti.vehicle.simulate import MODAL_STEP_LIMIT
 
 
 def _blocks(rng, sizes, zeta=0.02, gyro=5.0):

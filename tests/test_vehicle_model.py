@@ -245,7 +245,7 @@ def test_flange_creepage_at_large_yaw_matches_geometry_module(table):
     wheelset rolls as the flange takes the load): each model at its own y.
     """
     from railvti import geometry
-    from railvti.vehicle.simulate import WHEEL_OUTPUTS as W
+    from railvti.vehicle.model import WHEEL_OUTPUTS as W
     wheel, rail = scenarios._profiles()
     sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
                                ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)

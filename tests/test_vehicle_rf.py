@@ -18,7 +18,8 @@ from railvti.vehicle.assembly import build_coach, build_rigid_system
 from railvti.vehicle.model import ModalBlocks, PointElement
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import RingSystem, build_rf, ring_rows
-from railvti.vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
+from railvti.vehicle.equilibrium import lateral_disturbance, static_equilibrium
+from railvti.vehicle.simulate import simulate
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6
@@ -81,8 +82,8 @@ def test_static_deflection_against_ring_solution(ring, table):
     d = sy.rail_deflection(np.zeros(1), q[None])[0]
     half = 0.5 * ring.params["rail_distance"]
     uz = _crown_z(d, half)
-    from railvti.vehicle.simulate import _settings
-    _, wo, info = sy.native.state_force(_settings(V, "hertz-kalker", 8, None), q,
+    from railvti.vehicle.equilibrium import call_settings
+    _, wo, info = sy.native.state_force(call_settings(V, "hertz-kalker", 8, None), q,
                                         np.zeros_like(q))
     assert info == 0
     qv, yv = wo[0], wo[1]

@@ -18,7 +18,7 @@ from railvti.vehicle.assembly import build_coach
 from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
-from railvti.vehicle.simulate import eigenvalues
+from railvti.vehicle.equilibrium import eigenvalues
 from railvti.vehicle.table import linearised_table
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)

@@ -16,7 +16,7 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.track.coupling import rail_of_wheel
-from railvti.vehicle.simulate import static_equilibrium
+from railvti.vehicle.equilibrium import static_equilibrium
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6

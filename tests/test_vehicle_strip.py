@@ -195,7 +195,7 @@ def test_run_does_not_depend_on_the_chunking_or_an_earlier_run():
     it only when it continues from exactly the state and settings the last one ended at. So a
     run split into other chunks gives the same numbers bit for bit, and so does the same run
     repeated on the model after another one (whose kept matrix it must not read)."""
-    from railvti.vehicle.simulate import lateral_disturbance
+    from railvti.vehicle.equilibrium import lateral_disturbance
     sy = scenarios.coach_system(geometry="strip")
     v = 300.0 / 3.6
     qs, _ = static_equilibrium(sy, v)

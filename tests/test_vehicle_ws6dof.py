@@ -10,7 +10,7 @@ from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle import (Coach, build_coach, build_single_wheelset, linearised_table, simulate,
                              static_equilibrium)
-from railvti.vehicle.simulate import WHEEL_OUTPUTS as W
+from railvti.vehicle.model import WHEEL_OUTPUTS as W
 from railvti.vehicle.table import QUANTITIES
 
 V = 200 / 3.6

@@ -13,7 +13,7 @@ from railvti import scenarios
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_linear import state_tangent
 from railvti.vehicle.params import Coach, speed_m_s
-from railvti.vehicle.simulate import force_and_tangent, static_equilibrium
+from railvti.vehicle.equilibrium import force_and_tangent, static_equilibrium
 from railvti.vehicle.wheelset_body import coach_wheelset
 from railvti.wheelset import Wheelset
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import sys
 import time
 from pathlib import Path
 
@@ -26,10 +25,11 @@ from railvti._status import Status, describe
 from railvti.geometry import layout
 from railvti.vehicle import BemOptions, bem_state, build_single_wheelset
 from railvti.vehicle.bem import grid_for
+from railvti.vehicle.equilibrium import call_settings
+from railvti.vehicle.model import WHEEL_OUTPUTS
 from railvti.vehicle.table import QUANTITIES, wheel_table
 
-S = sys.modules["railvti.vehicle.simulate"]
-W = S.WHEEL_OUTPUTS
+W = WHEEL_OUTPUTS
 log = logging.getLogger("vehicle_branches")
 FIG = Path(__file__).resolve().parent / "figures"
 V = 200 / 3.6
@@ -52,7 +52,7 @@ def left_fn(table, y: np.ndarray, grid: tuple[int, int]) -> np.ndarray:
     g = exact_min_gap(table, y)
     out = np.empty((y.size, 2))
     with bem_state(sy, BemOptions(nx=grid[0], ny=grid[1])) as st:
-        cs = S._settings(V, "bem", 8, st)
+        cs = call_settings(V, "bem", 8, st)
         for i, (yi, gi) in enumerate(zip(y, g)):
             q = np.array([yi, -gi - D0, 0.0, 0.0])
             _, wout, _, _, info = sy.native.force(cs, q, np.zeros(4))

@@ -55,7 +55,7 @@ from railvti.vehicle import Coach, simulate, static_equilibrium
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_points import rim_rail_angle_change
 from railvti.vehicle.params import speed_m_s
-from railvti.vehicle.simulate import bem_state
+from railvti.vehicle.equilibrium import bem_state
 from railvti.wheelset import Wheelset
 
 FIG = Path(__file__).resolve().parent / "figures"

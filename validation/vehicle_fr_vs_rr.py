@@ -43,7 +43,7 @@ from railvti import scenarios
 from railvti.vehicle import simulate, static_equilibrium
 from railvti.vehicle.flexible_points import rim_camber_change
 from railvti.vehicle.params import speed_m_s
-from railvti.vehicle.simulate import bem_state
+from railvti.vehicle.equilibrium import bem_state
 
 FIG = Path(__file__).resolve().parent / "figures"
 SPEED_KMH = 200.0

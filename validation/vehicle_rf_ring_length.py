@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from railvti import scenarios
-from railvti.vehicle.simulate import simulate, static_equilibrium
+from railvti.vehicle.equilibrium import static_equilibrium
+from railvti.vehicle.simulate import simulate
 
 FIG = Path(__file__).parent / "figures"
 

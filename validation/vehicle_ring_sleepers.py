@@ -65,7 +65,8 @@ def _rss_mb() -> float:
 def one_ring(n: int, args: argparse.Namespace) -> dict:
     """The costs and results of one ring of n sleepers (run in a process of its own)."""
     from railvti import scenarios
-    from railvti.vehicle.simulate import simulate, static_equilibrium
+    from railvti.vehicle.equilibrium import static_equilibrium
+    from railvti.vehicle.simulate import simulate
     from railvti.errors import ConvergenceError
     out: dict = {"n": n, "rss_start_mb": _rss_mb()}
     t0, c0 = time.perf_counter(), time.process_time()

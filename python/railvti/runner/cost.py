@@ -32,6 +32,7 @@ from ..contact.hertz import hertz
 from ..errors import InputError
 from ..material import Material
 from ..resources import check_memory, memory_limit, size_text
+from ..vehicle.contact_models import BEM, CONTACT_MODELS, HERTZ_FASTSIM, HERTZ_KALKER
 from .stream import STREAM_TAIL_SECONDS, history_bytes, stream_threshold
 
 #: Environment variable of the time limit of one case: seconds, or '90s', '30min', '2h',
@@ -349,11 +350,11 @@ def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
 
 
 #: vehicle: the time loop's wall time per step (each includes sub-steps and Newton
-#: iterations of the hunting motion), by contact model and geometry, s: RR hunting at
-#: 300 km/h (bench_vehicle_strip, bench_cost_estimate).
-_STEP_S = {("hertz-kalker", "strip"): 2.5e-3, ("hertz-kalker", "table"): 1.5e-3,
-           ("hertz-fastsim", "strip"): 2.5e-3, ("hertz-fastsim", "table"): 1.2e-3,
-           ("bem", "table"): 0.05}
+#: iterations of the hunting motion), by contact model (railvti.vehicle.contact_models names)
+#: and geometry, s: RR hunting at 300 km/h (bench_vehicle_strip, bench_cost_estimate).
+_STEP_S = {(HERTZ_KALKER.name, "strip"): 2.5e-3, (HERTZ_KALKER.name, "table"): 1.5e-3,
+           (HERTZ_FASTSIM.name, "strip"): 2.5e-3, (HERTZ_FASTSIM.name, "table"): 1.2e-3,
+           (BEM.name, "table"): 0.05}
 #: Extra wall time per step of the kept modes, s: FR's rotating wheelset modes cost
 #: _WS_MODE_STEP_S x modes^1.33 (k_max 2: 384 modes at 5 kHz 37 ms per step, 1792 modes at
 #: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
@@ -426,7 +427,13 @@ def _streams(duration: float, out_dt: float) -> bool:
 def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     model = str(p.get("model", "RR")).strip().upper()
     contact = str(p.get("contact", "hertz-kalker")).strip().lower()
-    geometry = "table" if contact == "bem" else str(p.get("geometry") or "strip").strip().lower()
+    # the deck is not checked yet: an unknown model costs as the default (its check names it)
+    spec = CONTACT_MODELS.get(contact)
+    needs_bem = spec is not None and spec.needs_bem
+    if spec is not None and len(spec.geometries) == 1:      # the BEM reads the table only
+        geometry = spec.geometries[0]
+    else:
+        geometry = str(p.get("geometry") or "strip").strip().lower()
     duration = _pos(p, "duration", 3.0)
     ws_modes, f_top, ring_modes = _vehicle_modes(p)
     h = max(_vehicle_step(p, ws_modes, f_top), 1e-12)
@@ -439,7 +446,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     steps = runs * duration / h
     per = (_STEP_S.get((contact, geometry), 3e-3) + _WS_MODE_STEP_S * ws_modes ** _WS_MODE_EXPONENT
            + _RING_MODE_STEP_S * ring_modes)
-    start = _VEHICLE_START_S + (_BEM_START_S if contact == "bem" else 0.0)
+    start = _VEHICLE_START_S + (_BEM_START_S if needs_bem else 0.0)
     if runs > 1:
         start += _CRITICAL_START_S + _RUN_START_S * runs
     if ws_modes:
@@ -459,8 +466,8 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         key = "f_max"
     elif ring_modes and _pos(p, "f_limit", 500.0) > 2000:
         key = "f_limit"
-    elif contact == "bem":
-        key = "contact = 'bem', duration"
+    elif needs_bem:
+        key = f"contact = '{contact}', duration"
     elif runs > 20:
         key = "speeds_kmh_step"
     out_dt = _num(p, "output_dt", -1.0) if p.get("output_dt") is not None else -1.0
@@ -481,7 +488,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
               + kept * states * _SAMPLE_BYTES + (ws_modes + ring_modes) ** 2 * 8 * 4)
     if ring_modes:
         memory += ring_bytes
-    if contact == "bem":
+    if needs_bem:
         memory += 8 * 200e3 * 8       # eight wheels' BEM grids and kernels
     mem_key = key
     if kept * states * _SAMPLE_BYTES > 0.5 * memory:

@@ -51,6 +51,9 @@ from .table import QUANTITIES, WheelTable
 if TYPE_CHECKING:
     from .strip import StripGeometry
 
+__all__ = ["WS_DOFS", "IWS_ROWS", "DOF_NAMES", "System", "build_coach", "build_single_wheelset",
+           "build_rigid_system"]
+
 EL_FRICTION, EL_BUMP = 1, 2
 _INT_FIELDS = ("etype", "iws", "itr")
 #: Per-wheelset DOFs in the global order.

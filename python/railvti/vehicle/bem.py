@@ -38,6 +38,9 @@ from ..errors import InputError
 from ..geometry import layout
 from .table import WheelTable
 
+__all__ = ["COUNTERS", "TIMERS", "BemOptions", "BemGrid", "grid_for", "gap_fields", "BemState",
+           "BemPatch"]
+
 log = logging.getLogger(__name__)
 
 #: Counter names returned by the Fortran state (``vehicle_bem_counts_c``).

@@ -26,10 +26,13 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
+# vehicle/cases.py imports CONTACT_MODELS from here until it imports it where it lives
+from .contact_models import CONTACT_MODELS  # noqa: F401
 
-#: Contact models: name -> Fortran id (vehicle_contact CMODEL_*). 'bem': the BEM normal +
-#: steady-rolling solvers (railvti.vehicle.bem), with the Hertz + Kalker tangent in Newton.
-CONTACT_MODELS = {"hertz-kalker": 1, "hertz-fastsim": 2, "bem": 3}
+__all__ = ["WHEEL_OUTPUTS", "NWO", "NWO_CORE", "RunCarry", "POINT_ELEMENT_KINDS", "PointElement",
+           "RimFollow", "COUPLING_KINDS", "ModalCouplings", "ModalBlocks", "compliance_block",
+           "RESIDUAL_ZETA", "with_mass", "CallSettings", "VehicleModel"]
+
 #: Outputs per wheel (second index of SimulationResult.wheel).
 WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
                  "contact_angle", "a", "b", "y_cp", "M_x", "M_spin")
@@ -546,7 +549,8 @@ class CallSettings:
     speed : float
         Forward speed v0, m/s.
     contact : int
-        Fortran contact model id (:data:`CONTACT_MODELS`).
+        Fortran contact model id (``ContactModel.fortran_id``, the ``CMODEL_*`` of
+        vehicle_contact: :func:`railvti.vehicle.contact_models.parse_contact_model`).
     fastsim_n : int
         FASTSIM strips and points per strip.
     bem : int
