@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
+from railvti.vehicle.bifurcation import SweepSystems
 from railvti.errors import InputError
 from railvti.vehicle.flexible import (build_fr, rail_head_roll, rim_camber_change,
                                       rim_rail_angle_change)
@@ -27,7 +29,7 @@ RING = dict(n_sleepers=40, f_limit=300.0, track_params=COARSE)
 @pytest.fixture(scope="module")
 def fr_ground():
     """FR on rigid ground (no track elements), k_max 1, modes up to 300 Hz."""
-    return build_fr(Coach(), scenarios.contact_table(), V, wheelset=scenarios._fr_wheelset(),
+    return build_fr(Coach(), scenarios.wheel_table(), V, wheelset=systems.fr_wheelset(),
                     k_max=1, f_max=300.0, track=False)
 
 
@@ -35,8 +37,8 @@ def test_stiff_ring_reproduces_fr_on_rigid_ground(fr_ground):
     """A ring 1e6 times stiffer under FR's wheelsets: the static state of the coach and of the
     wheelsets' modes is FR's on rigid ground (the ring deflects by ~1e-10 m)."""
     base, _ = fr_ground
-    ring = scenarios._ring(40, COARSE)
-    ff = build_rf(Coach(), scenarios.contact_table(), V, ring, f_limit=300.0,
+    ring = systems.ring_track(40, COARSE)
+    ff = build_rf(Coach(), scenarios.wheel_table(), V, ring, f_limit=300.0,
                   stiffness_scale=1e6, base=base)
     q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
     q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
@@ -64,10 +66,10 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
     assert np.all(cam_fr > 0)
     np.testing.assert_allclose(cam_ff, cam_fr, rtol=0.05)
     np.testing.assert_allclose(cam_ff[0], cam_ff[1], rtol=1e-5)
-    tab = scenarios.contact_table()
-    off, _ = build_fr(Coach(), tab, V, wheelset=scenarios._fr_wheelset(), k_max=1, f_max=300.0,
+    tab = scenarios.wheel_table()
+    off, _ = build_fr(Coach(), tab, V, wheelset=systems.fr_wheelset(), k_max=1, f_max=300.0,
                       track=False, zero_rows=True)
-    ring = scenarios._ring(40, COARSE)
+    ring = systems.ring_track(40, COARSE)
     ff0 = build_rf(Coach(), tab, V, ring, f_limit=300.0, base=off)
     rf = scenarios.rf_system(speed=V, geometry="table", **RING)
     q0, _ = static_equilibrium(ff0, V, "hertz-kalker")
@@ -134,7 +136,7 @@ def test_ring_continuation_carries_the_rail_under_the_wheels():
     200 km/h (an independent path: the same ring state read through the other speed's rows
     at its own time), to 1e-9 of the static deflection; the restart from x_offset, as the
     continuation did before, misses it by the sleeper-passing fluctuation."""
-    sw = scenarios._SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX,
+    sw = SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX,
                                  scenarios.FR_F_MAX, "table", dict(RING))
     a, _, h = sw.at(200.0)
     qs, _ = static_equilibrium(a, 200.0 / 3.6, "hertz-kalker")

@@ -45,10 +45,11 @@ import numpy as np
 from . import _checks
 from ._threads import serial_blas
 from .errors import ConvergenceError, GridTooSmallError, InputError
-from .scenarios import (FR_F_MAX, FR_K_MAX, _check_model, _output_dt, _point_systems,
-                        _ring_keys, check_fr_selection, FLEXIBLE_WHEELSETS, resolve_geometry)
+from .vehicle.bifurcation import point_systems
 from .vehicle.params import Coach
 from .vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
+from .vehicle.systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, check_fr_selection, check_model,
+                              resolve_geometry, ring_keys, run_output_dt)
 
 log = logging.getLogger(__name__)
 
@@ -374,7 +375,7 @@ class _Runs:
                  k_max: int, f_max: float, geometry: str, ring: dict,
                  output_dt: float | None, segments: int) -> None:
         self.contact, self.output_dt, self.segments = contact, output_dt, segments
-        self.systems = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+        self.systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
 
     def static(self, s_kmh: float, travel: float = 0.0) -> np.ndarray:
         sy = self.systems.upper_at(s_kmh, travel)[0]
@@ -394,7 +395,7 @@ class _Runs:
         for _ in range(self.segments):
             sy = self.systems.upper_at(s_kmh, travel)[0]
             r = simulate(sy, vv, part, contact=self.contact, h=hs, q0=q, v0=v,
-                         output_dt=_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
+                         output_dt=run_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
                          progress=False)
             ts.append(r.t + t0)
             ys.append(r.y_ws1)
@@ -522,12 +523,12 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     segments = _checks.positive_int("segments", segments)
     if h is not None:
         _checks.positive("h", h)
-    _check_model(model, contact, "bifurcation")
+    check_model(model, contact, "bifurcation")
     if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         raise InputError("k_max, f_max: the mode selection of models 'FR' and 'FF'")
-    ring = _ring_keys(model, ring)
+    ring = ring_keys(model, ring)
     geometry = resolve_geometry(contact, geometry)
     runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt, segments)
     crit = dict(threshold=threshold, rate_tol=rate_tol, window=window)

@@ -41,12 +41,11 @@ from .._checks import MAX_SPEED, MAX_SPEED_KMH
 from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
                          split_labels, validate)
 from ..errors import InputError
-from .. import scenarios as sc
-from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                         RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity)
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
+from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
+from .linear_stability import DAMPER_STATES, linear_critical_speed
 from .model import CONTACT_MODELS
 from .flexible import mode_labels, rail_head_roll, rim_camber_change, rim_deformation
 from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
@@ -56,6 +55,9 @@ from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from . import output
+from .running import centred_running, contact_patch, hunting
+from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
+                      RING_TRACK, coach_system, ff_system, fr_system, hunting_conicity, resolve_geometry)
 from .simulate import WHEEL_OUTPUTS
 
 _SCENARIOS = ("centred_running", "hunting", "critical_speed")
@@ -425,13 +427,13 @@ def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, f
     ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
     FR layouts or [])."""
     if model == "FF":
-        sy, lays = sc.ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
+        sy, lays = ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
     elif model == "FR":
-        sy, lays = sc.fr_system(coach, speed_kmh=kmh, geometry=geometry, **fr)
+        sy, lays = fr_system(coach, speed_kmh=kmh, geometry=geometry, **fr)
     elif model == "RF":
-        sy, lays = sc.coach_system(model, coach, speed_kmh=kmh, geometry=geometry, **ring), []
+        sy, lays = coach_system(model, coach, speed_kmh=kmh, geometry=geometry, **ring), []
     else:
-        return sc.coach_system(model, coach), []
+        return coach_system(model, coach), []
     if fr:
         stop = sy.n_state - (sy.ring.n_modes + sy.ring.n_residual if ring else 0)
         _fr_history(res, sy, lays, data, stop=stop)
@@ -486,7 +488,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
     coach = _coach(params)
     model, contact = str(params["model"]), str(params["contact"])
-    geometry = sc.resolve_geometry(contact, params["geometry"])
+    geometry = resolve_geometry(contact, params["geometry"])
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text"),
@@ -507,7 +509,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
-        c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
+        c = centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
                                h=params["h"], coach=coach, stream_to=stream, geometry=geometry,
                                output_dt=params["output_dt"], **fr, **ring)
         wl = _history(c.run, data, scalars)
@@ -525,7 +527,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
                    f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N; {wl}")
     elif scen == "hunting":
-        r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
+        r = hunting(params["speed_kmh"], model, contact, duration=params["duration"],
                        y0=params["y0"], h=params["h"], alpha=params["alpha"],
                        output_dt=params["output_dt"], coach=coach, stream_to=stream,
                        geometry=geometry, **fr, **ring)
@@ -538,11 +540,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
             k = -1                           # BEM fields: the final state's
             pt = r.bem_patches.get((0, 1))
         else:
-            pt = sc.contact_patch(sy[0], r, k, wheel=1, wheelset=0)
+            pt = contact_patch(sy[0], r, k, wheel=1, wheelset=0)
         if pt is not None:
             _patch(pt, data, scalars)
             scalars["patch_time"] = (float(r.t[k]), "s")
-        amp = sc.amplitude(r)
+        amp = amplitude(r)
         scalars["amplitude_last_second"] = (amp, "m")
         scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
         window = ("the last second" if params["duration"] > AMPLITUDE_WINDOW
@@ -553,10 +555,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
     else:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
-        b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
+        b = bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
                            coach=coach, progress=False, geometry=geometry,
                            output_dt=params["output_dt"], **fr, **ring)
-        lin, freq = sc.linear_critical_speed(model, coach, **fr, **ring)
+        lin, freq = linear_critical_speed(model, coach, **fr, **ring)
         data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
         if fr:
             data["step"] = (b.details["h"], "s", {"axes": ["speed"],
@@ -572,7 +574,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
-        scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
+        scalars["linear_yaw_damper_state"] = (DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
                    f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
     if stream is not None:

@@ -1,0 +1,247 @@
+"""The results of the scenarios (railvti.scenarios): centred running, the bifurcation
+sweep and the critical speed, with their units."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .simulate import SimulationResult
+
+__all__ = ["CentredRunning", "Bifurcation", "CriticalSpeed"]
+
+
+@dataclass(frozen=True)
+class CentredRunning:
+    """Centred running: static equilibrium and a short run from it.
+
+    Attributes
+    ----------
+    Q, Y : ndarray (2, 4)
+        Vertical and lateral (track y, + left) wheel forces at the end of the run,
+        [wheel 0 left / 1 right, wheelset], N.
+    static_wheel_load : float
+        Weight of the coach / 8, N.
+    q_static : ndarray
+        Static equilibrium state.
+    run : SimulationResult
+    patch : FastsimResult or BemPatch
+        The leading wheelset's right contact patch at the end of the run (the paper's
+        Figs 11-14). contact='bem': the BEM fields themselves (pressure, tractions, slip
+        velocity, friction power density on the 0.75 mm grid). Otherwise: Hertz pressure,
+        FASTSIM tractions, slip and friction power density on a 40 x 40 strip grid of the
+        Hertz ellipse, from the run's normal force, semi-axes and creepages.
+    model : str
+        'RR', 'FR' or 'RF'.
+    rim_angle : ndarray (2, 4) or None
+        Models FR and FF: the change of the rim-rail relative angle at the end of the run,
+        rad [wheel, wheelset]: rim_camber - rail_roll (+: the inner edge, towards the track
+        centre, rises; railvti.vehicle.flexible.rim_rail_angle_change); None for RR and RF.
+    rim_camber : ndarray (2, 4) or None
+        Models FR and FF: the rims' elastic camber alone, rad, same convention
+        (railvti.vehicle.flexible.rim_camber_change); None for RR and RF.
+    rail_roll : ndarray (2, 4) or None
+        Models FR and FF: the rail head's elastic roll under each wheel, rad, same convention
+        (railvti.vehicle.flexible.rail_head_roll; zero on FR's rigid track); None otherwise.
+    rail : ndarray (nt, 3, 2, 4) or None
+        Model RF: the rail head's motion under each wheel at the run's outputs, the pose
+        (y m, z m, roll rad) of the element under wheel [., ., wheel, wheelset] in the
+        vehicle's frame (RingSystem.rail_deflection); None otherwise.
+    """
+
+    Q: np.ndarray
+    Y: np.ndarray
+    static_wheel_load: float
+    q_static: np.ndarray
+    run: SimulationResult
+    speed_kmh: float
+    contact: str
+    patch: Any = None
+    model: str = "RR"
+    rim_angle: np.ndarray | None = None
+    rail: np.ndarray | None = None
+    rim_camber: np.ndarray | None = None
+    rail_roll: np.ndarray | None = None
+
+    @property
+    def q_error(self) -> float:
+        """max |Q / static load - 1| over the eight wheels."""
+        return float(np.max(np.abs(self.Q / self.static_wheel_load - 1.0)))
+
+
+
+
+@dataclass(frozen=True)
+class Bifurcation:
+    """Limit-cycle amplitude of the leading wheelset against speed.
+
+    The speeds are stored in km/h (the fields ``*_kmh``, as the sweep is usually written);
+    their SI twins in m/s are the properties ``speeds``, ``critical``, ``flange``,
+    ``extended``, ``no_decay_below`` and ``no_cycle_up_to``.
+
+    Attributes
+    ----------
+    speeds_kmh : ndarray
+        Swept speeds, km/h (``speeds``: m/s).
+    upper : ndarray
+        Amplitude (m) on the branch followed down in speed from a large limit cycle.
+    decay : ndarray
+        Amplitude (m) after ``duration`` from a small disturbance ``y_small`` (0: decayed).
+    critical_kmh : float
+        Nonlinear critical speed, km/h (``critical``: m/s): the lowest speed with a sustained
+        limit cycle on the upper branch (amplitude > threshold), to the sweep's step. NaN when
+        there is none: see ``no_decay_below_kmh`` and ``no_cycle_up_to_kmh``.
+    flange_kmh : float
+        Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
+        (flange-contact hunting), km/h (``flange``: m/s).
+    linear_kmh : float or None
+    branch : str
+        Which cycle defines ``critical_kmh``: 'flange cycle' (the leading bogie's flanges
+        carry load in the cycle at that speed: max flange normal force above 1 % of the static
+        wheel load over the last second), 'tread cycle' (no flange contact), or 'none'.
+    branch_amplitude : float
+        The leading wheelset's amplitude in that cycle, m (compare with the flange clearance,
+        about 6.3 mm for S1002 / UIC60 1:40).
+    branch_flange_force : float
+        Max flange normal force on the leading bogie's wheels in that cycle (last second), N.
+    extended_kmh : ndarray
+        Speeds below the requested sweep that were added because the cycle had not died at
+        its bottom (empty when the sweep sufficed), km/h (``extended``: m/s).
+    no_decay_below_kmh : float
+        NaN when the branch died within the (extended) sweep; otherwise the floor ``v_min_kmh``
+        at which the extension stopped with the cycle still alive: the critical speed is
+        below it and ``critical_kmh`` is NaN ("below X km/h: no decay found"); km/h
+        (``no_decay_below``: m/s).
+    no_cycle_up_to_kmh : float
+        NaN, or the top of the sweep when no cycle was sustained even there (critical speed
+        above the sweep; ``critical_kmh`` NaN), km/h (``no_cycle_up_to``: m/s).
+    model : str
+        'RR', 'FR', 'RF' or 'FF'.
+    details : dict
+        'flange_force' (N, per speed); model FR also 'h' (the step at each speed, s) and
+        'modal_restarts' (speeds, km/h, at which the upper branch's modal coordinates were
+        restarted from the static state instead of carried over; empty when every mode
+        set matched).
+    """
+
+    speeds_kmh: np.ndarray
+    upper: np.ndarray
+    decay: np.ndarray
+    critical_kmh: float
+    threshold: float
+    flange_kmh: float = float("nan")
+    linear_kmh: float | None = None
+    details: dict = field(default_factory=dict)
+    branch: str = "none"
+    branch_amplitude: float = float("nan")
+    branch_flange_force: float = float("nan")
+    extended_kmh: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    no_decay_below_kmh: float = float("nan")
+    no_cycle_up_to_kmh: float = float("nan")
+    model: str = "RR"
+
+    @property
+    def speeds(self) -> np.ndarray:
+        """Swept speeds, m/s."""
+        return self.speeds_kmh / 3.6
+
+    @property
+    def critical(self) -> float:
+        """Nonlinear critical speed, m/s (NaN: none, see :attr:`message`)."""
+        return self.critical_kmh / 3.6
+
+    @property
+    def flange(self) -> float:
+        """Lowest speed of flange-contact hunting on the upper branch, m/s."""
+        return self.flange_kmh / 3.6
+
+    @property
+    def extended(self) -> np.ndarray:
+        """Speeds added below the requested sweep, m/s."""
+        return np.asarray(self.extended_kmh) / 3.6
+
+    @property
+    def no_decay_below(self) -> float:
+        """The extended sweep's floor with the cycle still alive, m/s (NaN otherwise)."""
+        return self.no_decay_below_kmh / 3.6
+
+    @property
+    def no_cycle_up_to(self) -> float:
+        """The top of a sweep without a sustained cycle, m/s (NaN otherwise)."""
+        return self.no_cycle_up_to_kmh / 3.6
+
+    @property
+    def message(self) -> str:
+        """One line: the nonlinear critical speed and its branch, or why there is none."""
+        if np.isfinite(self.no_decay_below_kmh):
+            return (f"below {self.no_decay_below_kmh:.0f} km/h: no decay found (the cycle is "
+                    f"sustained at every speed swept down to there)")
+        if np.isfinite(self.no_cycle_up_to_kmh):
+            return f"no sustained cycle up to {self.no_cycle_up_to_kmh:.0f} km/h"
+        ext = (f"; sweep extended down to {self.extended_kmh.min():.0f} km/h"
+               if self.extended_kmh.size else "")
+        return (f"nonlinear critical speed {self.critical_kmh:.0f} km/h ({self.branch}, "
+                f"amplitude {self.branch_amplitude * 1e3:.2f} mm, max flange force "
+                f"{self.branch_flange_force / 1e3:.1f} kN{ext})")
+
+
+
+@dataclass(frozen=True)
+class CriticalSpeed:
+    """A critical speed and what defines it.
+
+    Attributes
+    ----------
+    kmh : float
+        The critical speed, km/h; NaN when the nonlinear sweep found none (see ``message``).
+        Its SI twin: the property ``speed`` (m/s).
+    method : str
+        'linear' or 'nonlinear'.
+    branch : str
+        nonlinear: 'tread cycle', 'flange cycle' or 'none' (:class:`Bifurcation`); linear:
+        'linear (equivalent conicity)'.
+    damper_state : str
+        The dry-friction yaw damper's state: linear, :data:`DAMPER_STATES`; nonlinear, 'as
+        simulated (stick-slip, regularised)'.
+    frequency_hz : float
+        linear: the hunting frequency at the critical speed; nonlinear: NaN.
+    no_decay_below_kmh : float
+        nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
+        otherwise), km/h (``no_decay_below``: m/s).
+    bifurcation : Bifurcation or None
+    model : str
+        'RR', 'FR', 'RF' or 'FF'.
+    """
+
+    kmh: float
+    method: str
+    branch: str
+    damper_state: str
+    frequency_hz: float = float("nan")
+    no_decay_below_kmh: float = float("nan")
+    bifurcation: Bifurcation | None = None
+    model: str = "RR"
+
+    def __float__(self) -> float:
+        return float(self.kmh)
+
+    @property
+    def speed(self) -> float:
+        """The critical speed, m/s (NaN: none found)."""
+        return self.kmh / 3.6
+
+    @property
+    def no_decay_below(self) -> float:
+        """nonlinear: the extended sweep's floor with the cycle still alive, m/s (else NaN)."""
+        return self.no_decay_below_kmh / 3.6
+
+    @property
+    def message(self) -> str:
+        """One line: the value, its method, branch and damper state, or why there is none."""
+        if self.method == "nonlinear" and self.bifurcation is not None:
+            return self.bifurcation.message
+        return (f"linear critical speed {self.kmh:.1f} km/h, {self.frequency_hz:.2f} Hz; yaw "
+                f"damper {self.damper_state}")
+
+
