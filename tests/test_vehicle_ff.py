@@ -131,25 +131,26 @@ def test_ring_bifurcation_below_the_critical_speed():
 
 def test_ring_continuation_carries_the_rail_under_the_wheels():
     """The upper branch's next run starts its contact points where the previous run's
-    ended (``_SweepSystems.upper_at``): the rail deflection under every wheel at the start of
-    the run at 180 km/h, from the carried state, equals the one at the end of the run at
+    ended (``SweepSystems.upper_at``, speeds in m/s): the rail deflection under every wheel at
+    the start of the run at 180 km/h, from the carried state, equals the one at the end of the run at
     200 km/h (an independent path: the same ring state read through the other speed's rows
     at its own time), to 1e-9 of the static deflection; the restart from x_offset, as the
     continuation did before, misses it by the sleeper-passing fluctuation."""
-    sw = SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX,
-                                 scenarios.FR_F_MAX, "table", dict(RING))
-    a, _, h = sw.at(200.0)
-    qs, _ = static_equilibrium(a, 200.0 / 3.6, "hertz-kalker")
-    r = simulate(a, 200.0 / 3.6, 0.05, h=h, q0=qs, output_dt=0.05, progress=False)
+    sw = SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX, scenarios.FR_F_MAX,
+                      "table", dict(RING))
+    v200, v180 = 200.0 / 3.6, 180.0 / 3.6
+    a, _, h = sw.at(v200)
+    qs, _ = static_equilibrium(a, v200, "hertz-kalker")
+    r = simulate(a, v200, 0.05, h=h, q0=qs, output_dt=0.05, progress=False)
     end = a.rail_deflection(r.t[-1:], r.q[-1:])[0]
-    travel = 200.0 / 3.6 * float(r.t[-1])
-    q, _, _ = sw.carry(r.q[-1], r.v[-1], 200.0, 180.0, lambda: None)
-    b = sw.upper_at(180.0, travel)[0]
+    travel = v200 * float(r.t[-1])
+    q, _, _ = sw.carry(r.q[-1], r.v[-1], v200, v180, lambda: None)
+    b = sw.upper_at(v180, travel)[0]
     start = b.rail_deflection(np.zeros(1), q[None])[0]
     scale = np.abs(end[1]).max()                     # vertical, m
     assert scale > 1e-5
     np.testing.assert_allclose(start, end, rtol=0, atol=1e-9 * scale)
-    c = sw.at(180.0)[0]                               # the contact points back at x_offset
+    c = sw.at(v180)[0]                                # the contact points back at x_offset
     assert np.abs(c.rail_deflection(np.zeros(1), q[None])[0] - end).max() > 1e-3 * scale
 
 

@@ -34,11 +34,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from . import _checks
 from .errors import InputError
 from .vehicle.bifurcation import (AMPLITUDE_WINDOW, SweepSystems, amplitude, bifurcation,
                                   bifurcation_point, bifurcation_upper)
 from .vehicle.linear_stability import (BAY_OFFSETS, DAMPER_STATES, RING_ROWS,
-                                       linear_critical_speed)
+                                       linear_critical, linear_critical_speed)
 from .vehicle.params import Coach
 from .vehicle.running import centred_running, contact_patch, hunting
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
@@ -52,6 +53,7 @@ from .vehicle.systems import (DEFAULT_GEOMETRY, FLEXIBLE_WHEELSETS, FR_F_MAX, FR
 __all__ = [
     # scenarios
     "centred_running", "hunting", "bifurcation", "critical_speed", "linear_critical_speed",
+    "linear_critical",
     "contact_patch", "amplitude", "bifurcation_upper", "bifurcation_point",
     # results
     "CentredRunning", "Bifurcation", "CriticalSpeed",
@@ -81,14 +83,15 @@ def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str
     check_model(model, contact, "critical_speed")
     if method == "linear":
         damper = kw.get("damper", "stuck")
-        v, f = linear_critical_speed(model, coach, **kw)
-        return CriticalSpeed(kmh=v, method="linear", branch="linear (equivalent conicity)",
+        lin = {k: kw.pop(k) for k in ("v_lo_kmh", "v_hi_kmh", "tol_kmh") if k in kw}
+        si = {k[:-4]: _checks.from_kmh(v) for k, v in lin.items()}
+        v, f = linear_critical(model, coach, **si, **kw)
+        return CriticalSpeed(speed=v, method="linear", branch="linear (equivalent conicity)",
                              damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f,
                              model=model)
     if method == "nonlinear":
         b = bifurcation(model=model, contact=contact, coach=coach, **kw)
-        return CriticalSpeed(kmh=b.critical_kmh, method="nonlinear", branch=b.branch,
+        return CriticalSpeed(speed=b.critical, method="nonlinear", branch=b.branch,
                              damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
-                             no_decay_below_kmh=b.no_decay_below_kmh, bifurcation=b,
-                             model=model)
+                             no_decay_below=b.no_decay_below, bifurcation=b, model=model)
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

@@ -40,7 +40,7 @@ def amplitude(res: SimulationResult, window: float = AMPLITUDE_WINDOW) -> float:
 
 def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None
                   ) -> np.ndarray:
-    """The sweep's speeds in km/h, descending, from exactly one of ``speeds`` (m/s) and
+    """The sweep's speeds in m/s, descending, from exactly one of ``speeds`` (m/s) and
     ``speeds_kmh`` (its suffixed alias), or the default 200..460 km/h by 20."""
     if speeds is not None and speeds_kmh is not None:
         raise InputError("give the sweep's speeds once: speeds (m/s) or speeds_kmh (km/h), "
@@ -50,7 +50,7 @@ def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | 
         if v.size < 2 or np.any(~np.isfinite(v)) or np.any(v <= 0) or np.any(v > _checks.MAX_SPEED):
             raise InputError(f"speeds must hold at least two speeds in (0, "
                              f"{_checks.MAX_SPEED:.4g}] m/s, got {np.asarray(speeds).tolist()}")
-        sp = v * 3.6
+        sp = v
     else:
         sp = _checks.finite_array("speeds_kmh", speeds_kmh if speeds_kmh is not None
                                   else np.arange(200.0, 461.0, 20.0))
@@ -58,16 +58,23 @@ def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | 
             raise InputError("speeds_kmh must hold at least two speeds > 0")
         for s_kmh in sp:
             _checks.speed_kmh("speeds_kmh", s_kmh)
+        sp = _checks.from_kmh(sp)
     return np.sort(sp)[::-1]
 
 
-def _floor_kmh(v_min_kmh: float | None, v_min: float | None) -> float:
-    """The sweep extension's floor, km/h, from exactly one of v_min (m/s) and v_min_kmh."""
+def _floor(v_min_kmh: float | None, v_min: float | None) -> float:
+    """The sweep extension's floor, m/s, from exactly one of v_min (m/s) and v_min_kmh."""
     if v_min is not None and v_min_kmh is not None:
         raise InputError("give the sweep's floor once: v_min (m/s) or v_min_kmh (km/h), not both")
     if v_min is not None:
-        return _checks.positive("v_min", v_min) * 3.6
-    return _checks.positive("v_min_kmh", 20.0 if v_min_kmh is None else v_min_kmh)
+        return _checks.positive("v_min", v_min)
+    return _checks.from_kmh(_checks.positive("v_min_kmh", 20.0 if v_min_kmh is None else v_min_kmh))
+
+
+#: The sweep's step when it holds one speed, m/s (10 km/h).
+DEFAULT_STEP = _checks.from_kmh(10.0)
+#: The slack of the extension's floor, m/s.
+_FLOOR_SLACK = 1e-9
 
 
 class SweepSystems:
@@ -86,11 +93,11 @@ class SweepSystems:
         self._rr = coach_system(model, coach, geometry=geometry) if model == "RR" else None
         self.steps: dict[float, float] = {}
 
-    def at(self, s_kmh: float) -> tuple[System, list, float]:
-        """(system, FR layouts or [], step h) at s_kmh."""
+    def at(self, speed: float) -> tuple[System, list, float]:
+        """(system, FR layouts or [], step h) at speed (m/s)."""
         if self._rr is not None:
             return self._rr, [], 1e-3 if self.h is None else self.h
-        key = float(s_kmh)
+        key = float(speed)
         if key not in self._cache:
             if len(self._cache) >= 4 and self.model in RING_TRACK:
                 self._cache.pop(next(iter(self._cache)))     # ring systems are large
@@ -100,31 +107,31 @@ class SweepSystems:
 
     def _build(self, key: float, ring: dict) -> tuple:
         if self.model == "FR":
-            sy, lay = fr_system(self.coach, speed_kmh=key, k_max=self.k_max,
+            sy, lay = fr_system(self.coach, speed=key, k_max=self.k_max,
                                 f_max=self.f_max, geometry=self.geometry)
         elif self.model == "FF":
-            sy, lay = ff_system(self.coach, speed_kmh=key, k_max=self.k_max,
+            sy, lay = ff_system(self.coach, speed=key, k_max=self.k_max,
                                 f_max=self.f_max, geometry=self.geometry, **ring)
         else:
-            sy, lay = rf_system(self.coach, speed_kmh=key, geometry=self.geometry, **ring), []
+            sy, lay = rf_system(self.coach, speed=key, geometry=self.geometry, **ring), []
         return sy, lay, time_step(sy, self.h)
 
-    def upper_at(self, s_kmh: float, travel: float) -> tuple[System, list, float]:
-        """The system of the upper branch's run at s_kmh: ``at(s_kmh)``, except on the ring
+    def upper_at(self, speed: float, travel: float) -> tuple[System, list, float]:
+        """The system of the upper branch's run at speed (m/s): ``at(speed)``, except on the ring
         track, where its contact points start ``travel`` (m, the distance run along the ring
         by the branch so far) beyond x_offset, so that a ring state carried from the previous
         run belongs to them (the ring repeats: travel is taken modulo its length)."""
-        base = self.at(s_kmh)
+        base = self.at(speed)
         if self.model not in RING_TRACK or travel == 0.0:
             return base
         ring = dict(self.ring)
         length = float(base[0].ring.length)
         ring["x_offset"] = (float(ring.get("x_offset", 0.0)) + travel) % length
-        return self._build(float(s_kmh), ring)
+        return self._build(float(speed), ring)
 
     def carry(self, q: np.ndarray, v: np.ndarray, s_from: float, s_to: float,
               static_to: Any) -> tuple[np.ndarray, np.ndarray, bool]:
-        """Map a state (q, v) of the system at s_from onto the system at s_to.
+        """Map a state (q, v) of the system at s_from onto the system at s_to (m/s).
 
         The rigid DOFs carry over. Model FR's modal coordinates (elastic and residual) carry
         over by label when both systems keep the same labelled modes (the mode selection is by
@@ -150,17 +157,14 @@ class SweepSystems:
         return qn, vn, True
 
 
-def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
-                 v_min_kmh: float | None, v_min: float | None, model: str, contact: str,
-                 coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                 geometry: str, ring: dict | None = None, output_dt: float | None = None
-                 ) -> tuple[np.ndarray, float, float, SweepSystems]:
-    """A bifurcation sweep's speeds (km/h), floor (km/h), smallest step (km/h) and systems,
-    every input checked and the step checked against the first speed's system before any
-    run (serial continuation and independent points alike)."""
-    sp = _sweep_speeds(speeds_kmh, speeds)
-    v_min_kmh = _floor_kmh(v_min_kmh, v_min)
-    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else 10.0
+def _sweep_setup(sp: np.ndarray, model: str, contact: str, coach: Coach | None, h: float | None,
+                 k_max: int, f_max: float, geometry: str, ring: dict | None = None,
+                 output_dt: float | None = None) -> tuple[float, SweepSystems]:
+    """A bifurcation sweep's smallest step (m/s) and systems at the speeds ``sp`` (m/s,
+    descending), every input checked and the step checked against the first speed's system
+    before any run (serial continuation and independent points alike)."""
+    step = (float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0)
+            else DEFAULT_STEP)
     check_model(model, contact, "bifurcation")
     if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
@@ -171,8 +175,8 @@ def _sweep_setup(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | N
     systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
     sy, _, hs = systems.at(sp[0])
     if output_dt is not None:           # the top speed's excitations are the highest
-        run_output_dt(sy, sp[0] / 3.6, hs, output_dt, 0.002)
-    return sp, v_min_kmh, step, systems
+        run_output_dt(sy, sp[0], hs, output_dt, 0.002)
+    return step, systems
 
 
 
@@ -258,20 +262,21 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
     """
     if client is not None:
         check_client(client)            # an unreachable address: InputError before any work
+    sp = _sweep_speeds(speeds_kmh, speeds)
+    floor = _floor(v_min_kmh, v_min)
     kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
-              h=h, v_min_kmh=v_min_kmh, v_min=v_min, coach=coach, k_max=k_max, f_max=f_max,
-              geometry=geometry, ring=ring, output_dt=output_dt)
+              h=h, v_min=floor, coach=coach, k_max=k_max, f_max=f_max, geometry=geometry,
+              ring=ring, output_dt=output_dt)
     if independent:
-        return _bifurcation_independent(speeds_kmh, speeds, model, contact, client=client,
+        return _bifurcation_independent(sp, model, contact, client=client,
                                         flange_amplitude=flange_amplitude, progress=progress,
                                         **kw)
-    sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry, ring,
-                                                output_dt)
+    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring,
+                                 output_dt)
     point = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
                  f_max=systems.f_max, duration=duration, geometry=systems.geometry,
                  ring=systems.ring, output_dt=output_dt)
-    chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min_kmh=v_min_kmh)
+    chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min=floor)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -295,8 +300,8 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
                                threshold, flange_amplitude, systems, model, up["restarts"])
 
 
-def bifurcation_upper(speeds_kmh: Sequence[float], *, y_large: float, threshold: float,
-                      step: float, v_min_kmh: float, model: str, contact: str,
+def bifurcation_upper(speeds: Sequence[float], *, y_large: float, threshold: float,
+                      step: float, v_min: float, model: str, contact: str,
                       coach: Coach | None, h: float | None, k_max: int, f_max: float,
                       duration: float, geometry: str | None = None, ring: dict | None = None,
                       output_dt: float | None = None, each: Any = None) -> dict:
@@ -304,13 +309,13 @@ def bifurcation_upper(speeds_kmh: Sequence[float], *, y_large: float, threshold:
     Dask client): from the static state at the first (highest) speed shifted by ``y_large``
     (m), ``duration`` s at each speed, each speed starting from the state carried down from
     the speed above, until the cycle dies (amplitude <= threshold); while it lives at the
-    bottom, the sweep is extended by ``step`` (km/h) down to ``v_min_kmh``.
+    bottom, the sweep is extended by ``step`` down to ``v_min`` (speeds in m/s).
 
-    ``each(s_kmh)``, when given, is called after each speed's run (the serial sweep runs the
-    decay test there). Returns a dict: 'speeds' (km/h, the sweep's and the extension's),
+    ``each(speed)``, when given, is called after each speed's run (the serial sweep runs the
+    decay test there). Returns a dict: 'speeds' (m/s, the sweep's and the extension's),
     'upper' (amplitude, m; 0 below the speed where the cycle died), 'flange' (max flange
     normal force on the leading bogie over the last second, N), 'alive' (at the last speed),
-    'restarts' (km/h, :class:`Bifurcation` ``details``) and 'steps' (km/h -> h, s).
+    'restarts' (m/s, :class:`Bifurcation` ``details``) and 'steps' (m/s -> h, s).
     """
     systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
     speeds_out: list[float] = []
@@ -319,13 +324,13 @@ def bifurcation_upper(speeds_kmh: Sequence[float], *, y_large: float, threshold:
     restarts: list[float] = []
     q = v = None
     alive = True
-    todo = [float(s) for s in speeds_kmh]
+    todo = [float(s) for s in speeds]
     prev = None
     travel = 0.0        # distance run along the ring by the upper branch, m
     with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
         while todo:
             s = todo.pop(0)
-            vv = s / 3.6
+            vv = s
             sy, _, hs = systems.at(s)
             up, fl = 0.0, 0.0
             if alive:
@@ -353,7 +358,7 @@ def bifurcation_upper(speeds_kmh: Sequence[float], *, y_large: float, threshold:
             flange.append(fl)
             if each is not None:
                 each(s)
-            if not todo and alive and s - step >= v_min_kmh - 1e-9:
+            if not todo and alive and s - step >= v_min - _FLOOR_SLACK:
                 todo.append(s - step)      # the cycle has not died: extend the sweep downward
     return {"speeds": speeds_out, "upper": upper, "flange": flange, "alive": alive,
             "restarts": restarts, "steps": {k: systems.steps[k] for k in systems.steps}}
@@ -400,13 +405,13 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     if on.any() and alive:
         no_decay = float(spa.min())
         crit = float("nan")
-        msg = (f"bifurcation: below {no_decay:.0f} km/h: no decay found (the cycle is "
+        msg = (f"bifurcation: below {_checks.to_kmh(no_decay):.0f} km/h: no decay found (the cycle is "
                f"sustained at every speed swept; lower v_min_kmh to search further)")
         log.warning(msg)
         warnings.warn(msg, RuntimeWarning, stacklevel=3)
     elif not on.any():
         no_cycle = float(spa.max())
-        log.warning("bifurcation: no sustained cycle up to %.0f km/h", no_cycle)
+        log.warning("bifurcation: no sustained cycle up to %.0f km/h", _checks.to_kmh(no_cycle))
     wheel_load = systems.at(sp[0])[0].wheel_load
     if np.isfinite(crit):
         k = int(np.argmin(np.where(on, spa, np.inf)))
@@ -418,13 +423,13 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     if model != "RR":
         details["h"] = np.array([systems.steps[float(x)] for x in spa[order]])
         details["modal_restarts"] = np.array(sorted(restarts))
-    return Bifurcation(speeds_kmh=spa[order], upper=upa[order], decay=np.array(decay)[order],
-                       critical_kmh=crit, threshold=threshold,
-                       flange_kmh=float(spa[fl].min()) if fl.any() else float("nan"),
+    return Bifurcation(speeds=spa[order], upper=upa[order], decay=np.array(decay)[order],
+                       critical=crit, threshold=threshold,
+                       flange=float(spa[fl].min()) if fl.any() else float("nan"),
                        details=details,
                        branch=branch, branch_amplitude=amp_b, branch_flange_force=fl_b,
-                       extended_kmh=np.sort(spa[spa < sp.min()]), no_decay_below_kmh=no_decay,
-                       no_cycle_up_to_kmh=no_cycle, model=model)
+                       extended=np.sort(spa[spa < sp.min()]), no_decay_below=no_decay,
+                       no_cycle_up_to=no_cycle, model=model)
 
 
 #: The sweep systems of bifurcation runs in this process (a worker keeps its own).
@@ -445,12 +450,12 @@ def point_systems(model: str, coach: Coach | None, contact: str, h: float | None
     return _POINT_SYSTEMS[key]
 
 
-def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
+def bifurcation_point(speed: float, y: float, *, model: str, contact: str,
                       coach: Coach | None, h: float | None, k_max: int, f_max: float,
                       duration: float, geometry: str | None = None, ring: dict | None = None,
                       output_dt: float | None = None) -> tuple[float, float, float]:
     """One run of an independent bifurcation sweep (a task): from the static state at
-    ``s_kmh`` with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
+    ``speed`` (m/s) with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
 
     Returns
     -------
@@ -461,8 +466,8 @@ def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
     h : float
         The time step used, s.
     """
-    sy, _, hs = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring).at(s_kmh)
-    vv = s_kmh / 3.6
+    sy, _, hs = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring).at(speed)
+    vv = speed
     with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
         q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
         r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q0,
@@ -472,18 +477,17 @@ def bifurcation_point(s_kmh: float, y: float, *, model: str, contact: str,
     return amplitude(r), float(r.wheel_output("N_flange")[last][:, :, :2].max()), hs
 
 
-def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None,
-                             model: str, contact: str, *, duration: float, y_large: float,
-                             y_small: float, threshold: float, h: float | None,
-                             flange_amplitude: float, v_min_kmh: float | None,
-                             v_min: float | None, coach: Coach | None, k_max: int, f_max: float,
+def _bifurcation_independent(sp: np.ndarray, model: str, contact: str, *, duration: float,
+                             y_large: float, y_small: float, threshold: float, h: float | None,
+                             flange_amplitude: float, v_min: float, coach: Coach | None,
+                             k_max: int, f_max: float,
                              client: Any, geometry: str | None = None,
                              ring: dict | None = None, output_dt: float | None = None,
                              progress: bool = False) -> Bifurcation:
-    """:func:`bifurcation` with every speed independent, serial or on a Dask client."""
-    sp, v_min_kmh, step, systems = _sweep_setup(speeds_kmh, speeds, v_min_kmh, v_min, model,
-                                                contact, coach, h, k_max, f_max, geometry, ring,
-                                                output_dt)
+    """:func:`bifurcation` with every speed independent, serial or on a Dask client (speeds
+    ``sp`` and the floor ``v_min`` in m/s)."""
+    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring,
+                                 output_dt)
     kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
               f_max=systems.f_max, duration=duration, geometry=systems.geometry,
               ring=systems.ring, output_dt=output_dt)
@@ -516,7 +520,7 @@ def _bifurcation_independent(speeds_kmh: Sequence[float] | None, speeds: Sequenc
             return out
         speeds_out = [float(s) for s in sp]
         out = runs(speeds_out)
-        while out[-2][0] > threshold and speeds_out[-1] - step >= v_min_kmh - 1e-9:
+        while out[-2][0] > threshold and speeds_out[-1] - step >= v_min - _FLOOR_SLACK:
             speeds_out.append(speeds_out[-1] - step)   # alive at the bottom: extend downward
             out += runs(speeds_out[-1:])
     upper, flange = [o[0] for o in out[0::2]], [o[1] for o in out[0::2]]

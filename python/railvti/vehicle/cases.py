@@ -37,7 +37,7 @@ import numpy as np
 
 from dataclasses import replace
 
-from .._checks import MAX_SPEED, MAX_SPEED_KMH
+from .._checks import KMH_PER_M_S, MAX_SPEED, MAX_SPEED_KMH, from_kmh, to_kmh
 from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
                          split_labels, validate)
 from ..errors import InputError
@@ -57,8 +57,10 @@ from .params import Coach
 from . import output
 from .running import centred_running, contact_patch, hunting
 from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
-                      RING_TRACK, coach_system, ff_system, fr_system, hunting_conicity, resolve_geometry)
+                      RING_TRACK, fr_system, hunting_conicity, resolve_geometry)
 from .simulate import WHEEL_OUTPUTS
+
+__all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot"]
 
 _SCENARIOS = ("centred_running", "hunting", "critical_speed")
 #: The railvti.scenarios functions each deck scenario runs.
@@ -74,7 +76,7 @@ DEFAULTS: dict[str, Any] = {
     "model": "RR",
     "contact": "hertz-kalker",
     "geometry": None,
-    "speed": 300.0 / 3.6,
+    "speed": from_kmh(300.0),
     "duration": 3.0,
     "max_duration": 600.0,
     "h": None,
@@ -152,7 +154,7 @@ KEYS: dict[str, Key] = {
        for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
-ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False, unit="km/h")}
+ALIASES = {"speed_kmh": Alias("speed", deprecated=False, unit="km/h", divisor=KMH_PER_M_S)}
 
 
 def check(params: dict[str, Any]) -> list[str]:
@@ -258,14 +260,14 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
     scale = params.get("coach_wheelset_stiffness_scale") or 1.0
     if params["h"] * 2.0 * np.pi * sel["f_max"] * np.sqrt(scale) <= MODAL_STEP_LIMIT:
         return None
-    kmh = (params["speeds_kmh_max"] if params["scenario"] == "critical_speed"
-           else params["speed"] * 3.6)
+    speed = (from_kmh(params["speeds_kmh_max"]) if params["scenario"] == "critical_speed"
+             else params["speed"])
     try:
         coach = _coach(params)
     except InputError:
         return None                      # reported by check as a coach problem
     try:
-        sy, _ = fr_system(coach, speed_kmh=min(kmh, MAX_SPEED_KMH), **sel)
+        sy, _ = fr_system(coach, speed=min(speed, MAX_SPEED), **sel)
         check_modal_step(sy, params["h"])
     except InputError as exc:
         return f"model FR: {exc}"
@@ -421,26 +423,17 @@ def _ring_history(res, system, data: dict, prefix: str = "") -> None:
                                                     "each wheel (+ up)"})
 
 
-def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, fr: dict,
-                     ring: dict, data: dict, scalars: dict) -> tuple:
+def _modal_histories(res, sy, layouts: list, fr: dict, ring: dict, data: dict,
+                     scalars: dict) -> None:
     """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
-    ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
-    FR layouts or [])."""
-    if model == "FF":
-        sy, lays = ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
-    elif model == "FR":
-        sy, lays = fr_system(coach, speed_kmh=kmh, geometry=geometry, **fr)
-    elif model == "RF":
-        sy, lays = coach_system(model, coach, speed_kmh=kmh, geometry=geometry, **ring), []
-    else:
-        return coach_system(model, coach), []
+    ring's prefixed 'ring_') from the system ``sy`` the run used and its FR ``layouts``
+    (nothing is rebuilt to label them)."""
     if fr:
         stop = sy.n_state - (sy.ring.n_modes + sy.ring.n_residual if ring else 0)
-        _fr_history(res, sy, lays, data, stop=stop)
+        _fr_history(res, sy, layouts, data, stop=stop)
     if ring:
         _ring_history(res, sy, data, prefix="ring_" if fr else "")
         scalars["n_ring_modes"] = (int(sy.ring.n_modes), "1")
-    return sy, lays
 
 
 def _stream_derived() -> dict:
@@ -482,7 +475,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
 
     params = validate("vehicle", params)
-    params = {**params, "speed_kmh": round(params["speed"] * 3.6, 9)}  # km/h as given, to 1e-9
+    speed = float(params["speed"])
+    kmh = round(to_kmh(speed), 9)          # the label: km/h as given, to 1e-9
     scen = str(params["scenario"])
     if scen not in _SCENARIOS:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
@@ -509,12 +503,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
-        c = centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach, stream_to=stream, geometry=geometry,
-                               output_dt=params["output_dt"], **fr, **ring)
+        c = centred_running(model=model, contact=contact, speed=speed,
+                            duration=params["duration"], h=params["h"], coach=coach,
+                            stream_to=stream, geometry=geometry, output_dt=params["output_dt"],
+                            **fr, **ring)
         wl = _history(c.run, data, scalars)
-        _modal_histories(c.run, model, coach, params["speed_kmh"], geometry, fr, ring, data,
-                         scalars)
+        _modal_histories(c.run, c.system, c.layouts, fr, ring, data, scalars)
         final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
                  "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
         data["Q_final"] = (c.Q, "N", final)
@@ -524,32 +518,32 @@ def run(params: dict[str, Any]) -> CaseOutput:
         if c.patch is not None:
             _patch(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
-        summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
+        summary = (f"centred running {kmh:g} km/h ({contact}): Q within "
                    f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N; {wl}")
     elif scen == "hunting":
-        r = hunting(params["speed_kmh"], model, contact, duration=params["duration"],
-                       y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach, stream_to=stream,
-                       geometry=geometry, **fr, **ring)
+        r, sy, layouts = hunting(model=model, contact=contact, speed=speed,
+                                 duration=params["duration"], y0=params["y0"], h=params["h"],
+                                 alpha=params["alpha"], output_dt=params["output_dt"],
+                                 coach=coach, stream_to=stream, geometry=geometry,
+                                 return_system=True, **fr, **ring)
         wl = _history(r, data, scalars)
-        sy = _modal_histories(r, model, coach, params["speed_kmh"], geometry, fr, ring, data,
-                              scalars)
+        _modal_histories(r, sy, layouts, fr, ring, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
             k = -1                           # BEM fields: the final state's
             pt = r.bem_patches.get((0, 1))
         else:
-            pt = contact_patch(sy[0], r, k, wheel=1, wheelset=0)
+            pt = contact_patch(sy, r, k, wheel=1, wheelset=0)
         if pt is not None:
             _patch(pt, data, scalars)
             scalars["patch_time"] = (float(r.t[k]), "s")
         amp = amplitude(r)
         scalars["amplitude_last_second"] = (amp, "m")
-        scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
+        scalars["speed_kmh"] = (kmh, "km/h")
         window = ("the last second" if params["duration"] > AMPLITUDE_WINDOW
                   else f"the whole {params['duration']:g} s run (shorter than the 1 s window)")
-        summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
+        summary = (f"hunting {kmh:g} km/h ({contact}): leading wheelset amplitude "
                    f"{amp * 1e3:.2f} mm over {window}, RTF {r.stats['real_time_factor']:.3f}; "
                    f"{wl}")
     else:
@@ -669,7 +663,7 @@ def _run_title(res: Any) -> str:
     speed = _scalar(res, "speed_kmh")
     if not np.isfinite(speed) and "inputs" in res and "speed" in res["inputs"]:
         try:                               # the deck's speed, m/s (a case stores no speed_kmh)
-            speed = float(np.asarray(res["inputs"]["speed"])) * 3.6
+            speed = to_kmh(float(np.asarray(res["inputs"]["speed"])))
         except (TypeError, ValueError):
             pass
     if np.isfinite(speed):

@@ -20,7 +20,8 @@ from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, RF_N_SLEEPERS, RIN
                       wheel_table)
 from .table import WheelTable, linearised_table
 
-__all__ = ["RING_ROWS", "BAY_OFFSETS", "DAMPER_STATES", "linear_critical_speed", "hunting_mode",
+__all__ = ["RING_ROWS", "BAY_OFFSETS", "DAMPER_STATES", "V_LO", "V_HI", "TOL",
+           "linear_critical_speed", "linear_critical", "hunting_mode",
            "bay_rates", "frozen_crossings"]
 
 log = logging.getLogger(__name__)
@@ -30,6 +31,8 @@ log = logging.getLogger(__name__)
 RING_ROWS = ("bay_average", "frozen")
 #: Contact-point positions across one sleeper bay in the bay average.
 BAY_OFFSETS = 8
+#: The bisection's default bracket and tolerance, m/s (50 to 800 km/h, to 0.5 km/h).
+V_LO, V_HI, TOL = _checks.from_kmh(50.0), _checks.from_kmh(800.0), _checks.from_kmh(0.5)
 #: The dry-friction yaw damper's states of the linear method.
 DAMPER_STATES = {
     "stuck": ("stuck: friction torque T tanh(rate / w0) linearised at rest, a viscous slope "
@@ -47,6 +50,10 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
                           ring_rows: str = "bay_average", n_offsets: int = BAY_OFFSETS,
                           **ring: Any) -> tuple[float, float]:
     """Linear critical speed (km/h) and the hunting frequency there (Hz).
+
+    The bracket ``v_lo_kmh`` .. ``v_hi_kmh`` and the tolerance ``tol_kmh`` in km/h, as the
+    result; :func:`linear_critical` is the same in m/s (and :func:`railvti.scenarios.
+    critical_speed` with ``method='linear'`` gives both).
 
     Eigenvalues of the system linearised about centred running with the contact table
     replaced by its equivalent linearisation at the EN 15302 equivalent conicity for the
@@ -98,6 +105,45 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
         Unknown ``ring_rows`` or ``damper``; ``n_offsets`` not a positive integer; the
         ring's and FR's keys as :func:`rf_system`, :func:`fr_system`.
     """
+    speed, freq = linear_critical(model, coach, conicity=conicity, amplitude_m=amplitude_m,
+                                  v_lo=_checks.from_kmh(v_lo_kmh), v_hi=_checks.from_kmh(v_hi_kmh),
+                                  tol=_checks.from_kmh(tol_kmh), damper=damper, k_max=k_max,
+                                  f_max=f_max, ring_rows=ring_rows, n_offsets=n_offsets, **ring)
+    return _checks.to_kmh(speed), freq
+
+
+def linear_critical(model: str = "RR", coach: Coach | None = None, *,
+                    conicity: float | None = None, amplitude_m: float = 0.003,
+                    v_lo: float = V_LO, v_hi: float = V_HI, tol: float = TOL,
+                    damper: str = "stuck", k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
+                    ring_rows: str = "bay_average", n_offsets: int = BAY_OFFSETS,
+                    **ring: Any) -> tuple[float, float]:
+    """:func:`linear_critical_speed` in SI: the linear critical speed (m/s; inf when stable
+    up to ``v_hi``) and the hunting frequency there (Hz), bisected between ``v_lo`` and
+    ``v_hi`` (m/s) to ``tol`` (m/s)."""
+    k_max, f_max, ring, n_offsets = _checked_settings(model, damper, ring_rows, n_offsets,
+                                                      k_max, f_max, ring)
+    coach = coach or Coach()
+    if damper == "sliding":
+        coach = coach.with_(yaw_friction_torque=0.0)
+    lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
+    growth = _HuntingGrowth(model, coach, lam, k_max, f_max, ring,
+                            bay=model in RING_TRACK and ring_rows == "bay_average",
+                            n_offsets=n_offsets)
+    speed, freq = _bisect(growth, float(v_lo), float(v_hi), tol)
+    if growth.bay and np.isfinite(speed) and speed != float(v_lo):
+        per = frozen_crossings(growth.frozen)
+        log.info("%s linear critical speed, bay average over %d offsets: %.1f km/h; frozen "
+                 "rows per offset: %.1f .. %.1f km/h (%s)", model, n_offsets,
+                 _checks.to_kmh(speed), _checks.to_kmh(np.nanmin(per)),
+                 _checks.to_kmh(np.nanmax(per)),
+                 ", ".join(f"{_checks.to_kmh(v):.1f}" for v in per))
+    return speed, freq
+
+
+def _checked_settings(model: str, damper: str, ring_rows: str, n_offsets: Any, k_max: Any,
+                      f_max: Any, ring: dict) -> tuple[int, float, dict, int]:
+    """The linear method's settings checked: (k_max, f_max, the ring's keys, n_offsets)."""
     if damper not in DAMPER_STATES:
         raise InputError(f"damper must be one of {sorted(DAMPER_STATES)}, got {damper!r}")
     if ring_rows not in RING_ROWS:
@@ -108,60 +154,66 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    ring = ring_keys(model, ring)
-    coach = coach or Coach()
-    if damper == "sliding":
-        coach = coach.with_(yaw_friction_torque=0.0)
-    lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
-    if model == "RR":
-        sy = coach_system(model, coach, linear_conicity=lam)
-    bay = model in RING_TRACK and ring_rows == "bay_average"
-    frozen_growth: dict[float, np.ndarray] = {}   # bay average: speed -> growth per offset
+    return k_max, f_max, ring_keys(model, ring), n_offsets
 
-    def spectrum(kmh: float) -> np.ndarray:
-        if model == "RR":
-            return eigenvalues(sy, kmh / 3.6)
+
+class _HuntingGrowth:
+    """The hunting mode's growth rate (1/s) and frequency (Hz) at a speed (m/s), cached per
+    speed: the system linearised at the equivalent conicity ``lam``; on the ring track with
+    ``bay`` the mean over the frozen contact rows across one bay (``frozen``: speed -> the
+    growth rate per offset)."""
+
+    def __init__(self, model: str, coach: Coach, lam: float, k_max: int, f_max: float,
+                 ring: dict, *, bay: bool, n_offsets: int) -> None:
+        self.model, self.coach, self.lam = model, coach, lam
+        self.k_max, self.f_max, self.ring = k_max, f_max, ring
+        self.bay, self.n_offsets = bay, n_offsets
+        self.frozen: dict[float, np.ndarray] = {}
+        self._seen: dict[float, tuple[float, float]] = {}
+        self._rr = coach_system(model, coach, linear_conicity=lam) if model == "RR" else None
+
+    def spectrum(self, v: float) -> np.ndarray:
+        """The eigenvalues of the linearised system at v (m/s)."""
+        if self._rr is not None:
+            return eigenvalues(self._rr, v)
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
-        tab = linearised_table(wheel_table(), lam)
-        if model in RING_TRACK:
-            sf = on_ring(model, coach, tab, kmh / 3.6, k_max=k_max, f_max=f_max, **ring)[0]
+        tab = linearised_table(wheel_table(), self.lam)
+        if self.model in RING_TRACK:
+            sf = on_ring(self.model, self.coach, tab, v, k_max=self.k_max, f_max=self.f_max,
+                         **self.ring)[0]
         else:
-            sf = build_fr(coach, tab, kmh / 3.6, wheelset=fr_wheelset(), k_max=k_max,
-                          f_max=f_max)[0]
-        return fr_eigenvalues(sf, kmh / 3.6)
+            sf = build_fr(self.coach, tab, v, wheelset=fr_wheelset(), k_max=self.k_max,
+                          f_max=self.f_max)[0]
+        return fr_eigenvalues(sf, v)
 
-    seen: dict[float, tuple[float, float]] = {}
-
-    def growth(kmh: float) -> tuple[float, float]:
-        if kmh in seen:
-            return seen[kmh]
-        if bay:
-            tab = linearised_table(wheel_table(), lam)
-            rates, freqs = bay_rates(model, coach, tab, kmh / 3.6, n_offsets, k_max=k_max,
-                                      f_max=f_max, ring=ring)
-            frozen_growth[kmh] = rates
-            seen[kmh] = float(np.mean(rates)), float(np.mean(freqs))
+    def __call__(self, v: float) -> tuple[float, float]:
+        if v in self._seen:
+            return self._seen[v]
+        if self.bay:
+            tab = linearised_table(wheel_table(), self.lam)
+            rates, freqs = bay_rates(self.model, self.coach, tab, v, self.n_offsets,
+                                     k_max=self.k_max, f_max=self.f_max, ring=self.ring)
+            self.frozen[v] = rates
+            self._seen[v] = float(np.mean(rates)), float(np.mean(freqs))
         else:
-            seen[kmh] = hunting_mode(spectrum(kmh))
-        return seen[kmh]
+            self._seen[v] = hunting_mode(self.spectrum(v))
+        return self._seen[v]
 
-    lo, hi = float(v_lo_kmh), float(v_hi_kmh)
+
+def _bisect(growth: Any, lo: float, hi: float, tol: float) -> tuple[float, float]:
+    """Bisection of the growth rate's sign change between lo and hi to tol: (the speed, the
+    frequency at the bracket's upper end); (lo, its frequency) when it grows at lo already,
+    (inf, NaN) when it decays at hi."""
     if growth(lo)[0] > 0:
         return lo, growth(lo)[1]
     if growth(hi)[0] < 0:
         return float("inf"), float("nan")
-    while hi - lo > tol_kmh:
+    while hi - lo > tol:
         mid = 0.5 * (lo + hi)
         if growth(mid)[0] > 0:
             hi = mid
         else:
             lo = mid
-    if bay:
-        per = frozen_crossings(frozen_growth)
-        log.info("%s linear critical speed, bay average over %d offsets: %.1f km/h; frozen "
-                 "rows per offset: %.1f .. %.1f km/h (%s)", model, n_offsets, 0.5 * (lo + hi),
-                 np.nanmin(per), np.nanmax(per),
-                 ", ".join(f"{v:.1f}" for v in per))
     return 0.5 * (lo + hi), growth(hi)[1]
 
 
@@ -196,16 +248,17 @@ def bay_rates(model: str, coach: Coach, table: WheelTable, v: float, n_offsets: 
 
 
 def frozen_crossings(samples: dict[float, np.ndarray]) -> np.ndarray:
-    """Per offset: the lowest speed (km/h) where its frozen growth rate turns positive,
-    linearly interpolated between the sampled speeds (NaN: no sign change sampled)."""
-    kmh = np.array(sorted(samples))
-    g = np.array([samples[v] for v in kmh])
+    """Per offset: the lowest speed (m/s, as the samples' keys) where its frozen growth rate
+    turns positive, linearly interpolated between the sampled speeds (NaN: no sign change
+    sampled)."""
+    speeds = np.array(sorted(samples))
+    g = np.array([samples[v] for v in speeds])
     out = np.full(g.shape[1], np.nan)
     for k in range(g.shape[1]):
         up = np.nonzero((g[:-1, k] <= 0) & (g[1:, k] > 0))[0]
         if up.size:
             i = up[0]
-            out[k] = kmh[i] + (kmh[i + 1] - kmh[i]) * -g[i, k] / (g[i + 1, k] - g[i, k])
+            out[k] = speeds[i] + (speeds[i + 1] - speeds[i]) * -g[i, k] / (g[i + 1, k] - g[i, k])
     return out
 
 

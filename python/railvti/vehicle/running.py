@@ -15,7 +15,7 @@ from .scenario_results import CentredRunning
 from .simulate import (WHEEL_OUTPUTS, SimulationResult, bem_state, lateral_disturbance, simulate,
                        static_equilibrium)
 from .systems import (FLEXIBLE_WHEELSETS, RING_TRACK, check_model, resolve_geometry,
-                      resolve_speed, run_output_dt, scenario_system, time_step)
+                      run_output_dt, scenario_system, time_step)
 
 __all__ = ["centred_running", "contact_patch", "hunting"]
 
@@ -51,10 +51,10 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
         modes only when asked with a finer ``output_dt``. A given ``output_dt`` coarser
         than the Nyquist limit of one of them gives an AliasingWarning.
     """
-    v, speed_kmh = resolve_speed(speed_kmh, speed, 200.0)
+    v = _checks.speed_si(speed, speed_kmh, 200.0)
     check_model(model, contact, "centred_running")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
-    sy = scenario_system(model, coach, speed_kmh, kw)
+    sy, layouts = scenario_system(model, coach, v, kw)
     h = time_step(sy, h)
     kw["output_dt"] = run_output_dt(sy, v, h, kw.get("output_dt"), 0.01)
     if contact == "bem":
@@ -75,9 +75,9 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     if model in RING_TRACK:
         rail = sy.rail_deflection(run.t, run.q)
     return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
-                          run=run, speed_kmh=float(speed_kmh), contact=contact, patch=patch,
-                          model=model, rim_angle=rim, rail=rail, rim_camber=camber,
-                          rail_roll=roll)
+                          run=run, speed=v, contact=contact, patch=patch, model=model,
+                          rim_angle=rim, rail=rail, rim_camber=camber, rail_roll=roll, system=sy,
+                          layouts=layouts)
 
 
 def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
@@ -97,7 +97,8 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
             speed: float | None = None, duration: float = 5.0, y0: float = 0.004, h: float | None = None,
             output_dt: float | None = None, alpha: float = 0.0, coach: Coach | None = None,
             q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-            **kw: Any) -> SimulationResult:
+            return_system: bool = False,
+            **kw: Any) -> SimulationResult | tuple[SimulationResult, System, list]:
     """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
 
     Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
@@ -111,17 +112,20 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
     10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
     the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
+    ``return_system``: return (SimulationResult, the system it ran, model FR's and FF's
+    layouts with the mode labels or []) instead, so that nothing is rebuilt to label it.
     """
-    v, speed_kmh = resolve_speed(speed_kmh, speed)
+    v = _checks.speed_si(speed, speed_kmh)
     check_model(model, contact, "hunting")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
-    sy = scenario_system(model, coach, speed_kmh, kw)
+    sy, layouts = scenario_system(model, coach, v, kw)
     h = time_step(sy, h)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
     if q0 is None:
         qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
         q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
-    return simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
-                    q0=q0, v0=v0, **kw)
+    run = simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
+                   q0=q0, v0=v0, **kw)
+    return (run, sy, layouts) if return_system else run
 
 

@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from .._checks import to_kmh
 from .simulate import SimulationResult
 
 __all__ = ["CentredRunning", "Bifurcation", "CriticalSpeed"]
@@ -26,6 +27,10 @@ class CentredRunning:
     q_static : ndarray
         Static equilibrium state.
     run : SimulationResult
+    speed : float
+        The speed, m/s (``speed_kmh``: km/h, for labels).
+    contact : str
+        The contact model.
     patch : FastsimResult or BemPatch
         The leading wheelset's right contact patch at the end of the run (the paper's
         Figs 11-14). contact='bem': the BEM fields themselves (pressure, tractions, slip
@@ -48,6 +53,11 @@ class CentredRunning:
         Model RF: the rail head's motion under each wheel at the run's outputs, the pose
         (y m, z m, roll rad) of the element under wheel [., ., wheel, wheelset] in the
         vehicle's frame (RingSystem.rail_deflection); None otherwise.
+    system : System
+        The system the run used (railvti.vehicle.systems): labels its coordinates without
+        rebuilding it.
+    layouts : list
+        Models FR and FF: the wheelsets' layouts with the mode labels; [] otherwise.
     """
 
     Q: np.ndarray
@@ -55,7 +65,7 @@ class CentredRunning:
     static_wheel_load: float
     q_static: np.ndarray
     run: SimulationResult
-    speed_kmh: float
+    speed: float
     contact: str
     patch: Any = None
     model: str = "RR"
@@ -63,6 +73,13 @@ class CentredRunning:
     rail: np.ndarray | None = None
     rim_camber: np.ndarray | None = None
     rail_roll: np.ndarray | None = None
+    system: Any = field(default=None, repr=False, compare=False)
+    layouts: list = field(default_factory=list, repr=False, compare=False)
+
+    @property
+    def speed_kmh(self) -> float:
+        """The speed, km/h (for labels)."""
+        return to_kmh(self.speed)
 
     @property
     def q_error(self) -> float:
@@ -70,34 +87,33 @@ class CentredRunning:
         return float(np.max(np.abs(self.Q / self.static_wheel_load - 1.0)))
 
 
-
-
 @dataclass(frozen=True)
 class Bifurcation:
     """Limit-cycle amplitude of the leading wheelset against speed.
 
-    The speeds are stored in km/h (the fields ``*_kmh``, as the sweep is usually written);
-    their SI twins in m/s are the properties ``speeds``, ``critical``, ``flange``,
-    ``extended``, ``no_decay_below`` and ``no_cycle_up_to``.
+    The speeds are stored in m/s; their km/h twins for labels are the properties
+    ``speeds_kmh``, ``critical_kmh``, ``flange_kmh``, ``extended_kmh``, ``no_decay_below_kmh``
+    and ``no_cycle_up_to_kmh``.
 
     Attributes
     ----------
-    speeds_kmh : ndarray
-        Swept speeds, km/h (``speeds``: m/s).
+    speeds : ndarray
+        Swept speeds, m/s (``speeds_kmh``: km/h).
     upper : ndarray
         Amplitude (m) on the branch followed down in speed from a large limit cycle.
     decay : ndarray
         Amplitude (m) after ``duration`` from a small disturbance ``y_small`` (0: decayed).
-    critical_kmh : float
-        Nonlinear critical speed, km/h (``critical``: m/s): the lowest speed with a sustained
+    critical : float
+        Nonlinear critical speed, m/s (``critical_kmh``: km/h): the lowest speed with a sustained
         limit cycle on the upper branch (amplitude > threshold), to the sweep's step. NaN when
-        there is none: see ``no_decay_below_kmh`` and ``no_cycle_up_to_kmh``.
-    flange_kmh : float
+        there is none: see ``no_decay_below`` and ``no_cycle_up_to``.
+    flange : float
         Lowest speed of the upper branch with an amplitude above ``flange_amplitude``
-        (flange-contact hunting), km/h (``flange``: m/s).
-    linear_kmh : float or None
+        (flange-contact hunting), m/s (``flange_kmh``: km/h).
+    linear : float or None
+        A linear critical speed to compare with, m/s (not set by :func:`bifurcation`).
     branch : str
-        Which cycle defines ``critical_kmh``: 'flange cycle' (the leading bogie's flanges
+        Which cycle defines ``critical``: 'flange cycle' (the leading bogie's flanges
         carry load in the cycle at that speed: max flange normal force above 1 % of the static
         wheel load over the last second), 'tread cycle' (no flange contact), or 'none'.
     branch_amplitude : float
@@ -105,71 +121,76 @@ class Bifurcation:
         about 6.3 mm for S1002 / UIC60 1:40).
     branch_flange_force : float
         Max flange normal force on the leading bogie's wheels in that cycle (last second), N.
-    extended_kmh : ndarray
+    extended : ndarray
         Speeds below the requested sweep that were added because the cycle had not died at
-        its bottom (empty when the sweep sufficed), km/h (``extended``: m/s).
-    no_decay_below_kmh : float
-        NaN when the branch died within the (extended) sweep; otherwise the floor ``v_min_kmh``
+        its bottom (empty when the sweep sufficed), m/s (``extended_kmh``: km/h).
+    no_decay_below : float
+        NaN when the branch died within the (extended) sweep; otherwise the floor ``v_min``
         at which the extension stopped with the cycle still alive: the critical speed is
-        below it and ``critical_kmh`` is NaN ("below X km/h: no decay found"); km/h
+        below it and ``critical`` is NaN ("below X km/h: no decay found"); m/s
         (``no_decay_below``: m/s).
-    no_cycle_up_to_kmh : float
+    no_cycle_up_to : float
         NaN, or the top of the sweep when no cycle was sustained even there (critical speed
-        above the sweep; ``critical_kmh`` NaN), km/h (``no_cycle_up_to``: m/s).
+        above the sweep; ``critical`` NaN), m/s (``no_cycle_up_to_kmh``: km/h).
     model : str
         'RR', 'FR', 'RF' or 'FF'.
     details : dict
         'flange_force' (N, per speed); model FR also 'h' (the step at each speed, s) and
-        'modal_restarts' (speeds, km/h, at which the upper branch's modal coordinates were
+        'modal_restarts' (speeds, m/s, at which the upper branch's modal coordinates were
         restarted from the static state instead of carried over; empty when every mode
         set matched).
     """
 
-    speeds_kmh: np.ndarray
+    speeds: np.ndarray
     upper: np.ndarray
     decay: np.ndarray
-    critical_kmh: float
+    critical: float
     threshold: float
-    flange_kmh: float = float("nan")
-    linear_kmh: float | None = None
+    flange: float = float("nan")
+    linear: float | None = None
     details: dict = field(default_factory=dict)
     branch: str = "none"
     branch_amplitude: float = float("nan")
     branch_flange_force: float = float("nan")
-    extended_kmh: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    no_decay_below_kmh: float = float("nan")
-    no_cycle_up_to_kmh: float = float("nan")
+    extended: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    no_decay_below: float = float("nan")
+    no_cycle_up_to: float = float("nan")
     model: str = "RR"
 
     @property
-    def speeds(self) -> np.ndarray:
-        """Swept speeds, m/s."""
-        return self.speeds_kmh / 3.6
+    def speeds_kmh(self) -> np.ndarray:
+        """Swept speeds, km/h."""
+        return to_kmh(np.asarray(self.speeds))
 
     @property
-    def critical(self) -> float:
-        """Nonlinear critical speed, m/s (NaN: none, see :attr:`message`)."""
-        return self.critical_kmh / 3.6
+    def critical_kmh(self) -> float:
+        """Nonlinear critical speed, km/h (NaN: none, see :attr:`message`)."""
+        return to_kmh(self.critical)
 
     @property
-    def flange(self) -> float:
-        """Lowest speed of flange-contact hunting on the upper branch, m/s."""
-        return self.flange_kmh / 3.6
+    def flange_kmh(self) -> float:
+        """Lowest speed of flange-contact hunting on the upper branch, km/h."""
+        return to_kmh(self.flange)
 
     @property
-    def extended(self) -> np.ndarray:
-        """Speeds added below the requested sweep, m/s."""
-        return np.asarray(self.extended_kmh) / 3.6
+    def linear_kmh(self) -> float | None:
+        """The linear critical speed given to compare with, km/h (None: not given)."""
+        return None if self.linear is None else to_kmh(self.linear)
 
     @property
-    def no_decay_below(self) -> float:
-        """The extended sweep's floor with the cycle still alive, m/s (NaN otherwise)."""
-        return self.no_decay_below_kmh / 3.6
+    def extended_kmh(self) -> np.ndarray:
+        """Speeds added below the requested sweep, km/h."""
+        return to_kmh(np.asarray(self.extended))
 
     @property
-    def no_cycle_up_to(self) -> float:
-        """The top of a sweep without a sustained cycle, m/s (NaN otherwise)."""
-        return self.no_cycle_up_to_kmh / 3.6
+    def no_decay_below_kmh(self) -> float:
+        """The extended sweep's floor with the cycle still alive, km/h (NaN otherwise)."""
+        return to_kmh(self.no_decay_below)
+
+    @property
+    def no_cycle_up_to_kmh(self) -> float:
+        """The top of a sweep without a sustained cycle, km/h (NaN otherwise)."""
+        return to_kmh(self.no_cycle_up_to)
 
     @property
     def message(self) -> str:
@@ -186,16 +207,15 @@ class Bifurcation:
                 f"{self.branch_flange_force / 1e3:.1f} kN{ext})")
 
 
-
 @dataclass(frozen=True)
 class CriticalSpeed:
     """A critical speed and what defines it.
 
     Attributes
     ----------
-    kmh : float
-        The critical speed, km/h; NaN when the nonlinear sweep found none (see ``message``).
-        Its SI twin: the property ``speed`` (m/s).
+    speed : float
+        The critical speed, m/s; NaN when the nonlinear sweep found none (see ``message``).
+        In km/h: the property ``kmh`` (or ``float()``), for labels.
     method : str
         'linear' or 'nonlinear'.
     branch : str
@@ -206,20 +226,20 @@ class CriticalSpeed:
         simulated (stick-slip, regularised)'.
     frequency_hz : float
         linear: the hunting frequency at the critical speed; nonlinear: NaN.
-    no_decay_below_kmh : float
+    no_decay_below : float
         nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
-        otherwise), km/h (``no_decay_below``: m/s).
+        otherwise), m/s (``no_decay_below_kmh``: km/h).
     bifurcation : Bifurcation or None
     model : str
         'RR', 'FR', 'RF' or 'FF'.
     """
 
-    kmh: float
+    speed: float
     method: str
     branch: str
     damper_state: str
     frequency_hz: float = float("nan")
-    no_decay_below_kmh: float = float("nan")
+    no_decay_below: float = float("nan")
     bifurcation: Bifurcation | None = None
     model: str = "RR"
 
@@ -227,14 +247,14 @@ class CriticalSpeed:
         return float(self.kmh)
 
     @property
-    def speed(self) -> float:
-        """The critical speed, m/s (NaN: none found)."""
-        return self.kmh / 3.6
+    def kmh(self) -> float:
+        """The critical speed, km/h (NaN: none found)."""
+        return to_kmh(self.speed)
 
     @property
-    def no_decay_below(self) -> float:
-        """nonlinear: the extended sweep's floor with the cycle still alive, m/s (else NaN)."""
-        return self.no_decay_below_kmh / 3.6
+    def no_decay_below_kmh(self) -> float:
+        """nonlinear: the extended sweep's floor with the cycle still alive, km/h (else NaN)."""
+        return to_kmh(self.no_decay_below)
 
     @property
     def message(self) -> str:

@@ -33,7 +33,7 @@ from ..wheelset.flexible import residual_table
 from . import output as _output
 from .assembly import System, build_coach
 from .flexible import build_fr, coach_body
-from .params import Coach, speed_m_s
+from .params import Coach
 from .ring_coupling import build_rf, check_ring_length
 from .simulate import check_modal_step, contact_id
 from .strip import strip_geometry
@@ -44,7 +44,8 @@ __all__ = ["MODELS", "FR_SCENARIOS", "RF_SCENARIOS", "FLEXIBLE_WHEELSETS", "RING
            "RF_N_SLEEPERS", "RF_F_LIMIT", "RF_KEYS", "FR_K_MAX", "FR_F_MAX", "MAX_HARMONIC",
            "RING_TABLE_Y_MAX", "GEOMETRIES", "DEFAULT_GEOMETRY", "profiles", "wheel_table",
            "resolve_geometry", "with_geometry", "equivalent_conicity", "hunting_conicity",
-           "resolve_speed", "fr_wheelset", "check_fr_selection", "check_model", "coach_system",
+           "fr_wheelset", "check_fr_selection", "check_model", "coach_system",
+           "system_and_layouts",
            "fr_system", "ring_track", "rf_system", "on_ring", "checked_ring", "ff_system",
            "scenario_system", "no_fr_keys", "ring_keys", "default_step", "time_step",
            "run_output_dt"]
@@ -151,24 +152,6 @@ def equivalent_conicity(amplitude: float = 0.003) -> float:
     return float(eqc(ctab(w, r, y), a))
 
 
-def resolve_speed(speed_kmh: float | None, speed: float | None, default_kmh: float | None = None
-            ) -> tuple[float, float]:
-    """(m/s, km/h) from exactly one of ``speed`` (m/s, the SI argument) and ``speed_kmh`` (its
-    suffixed alias), or the default (km/h) when neither is given."""
-    if speed is not None and speed_kmh is not None:
-        raise InputError("give the speed once: speed (m/s) or speed_kmh (km/h), not both")
-    if speed is not None:
-        v = _checks.finite("speed", speed)
-        if not 0.0 < v <= _checks.MAX_SPEED:
-            raise InputError(f"speed = {v:g} m/s must be in (0, {_checks.MAX_SPEED:.4g}] m/s")
-        return v, v * 3.6
-    if speed_kmh is None:
-        if default_kmh is None:
-            raise InputError("the speed is required: speed (m/s) or speed_kmh (km/h)")
-        speed_kmh = default_kmh
-    return speed_m_s(speed_kmh), float(speed_kmh)
-
-
 def fr_wheelset():
     """The FE wheelset of model FR (cached: its harmonic solves and statics are reused by
     every FR system built at another speed)."""
@@ -240,38 +223,52 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     wheelsets on the ring, :func:`ff_system`) takes the keys of both. Models 'FR' and 'FF'
     take ``follow_contact`` (the rims' rows follow the contact point, :func:`fr_system`).
     """
+    v = None
+    if model != "RR" and (speed is not None or speed_kmh is not None):
+        v = _checks.speed_si(speed, speed_kmh)
+    return system_and_layouts(model, coach, v, linear_conicity=linear_conicity, k_max=k_max,
+                              f_max=f_max, geometry=geometry, follow_contact=follow_contact,
+                              **rf)[0]
+
+
+def system_and_layouts(model: str, coach: Coach | None, speed: float | None, *,
+                       linear_conicity: float | None = None, k_max: int = FR_K_MAX,
+                       f_max: float = FR_F_MAX, geometry: str | None = None,
+                       follow_contact: bool = False, **rf: Any) -> tuple[System, list]:
+    """:func:`coach_system` at ``speed`` (m/s; None for model RR, which does not depend on
+    it) and model FR's and FF's layouts (the mode labels; [] for RR and RF)."""
     check_model(model, "hertz-kalker", "coach_system")
     if follow_contact and model not in FLEXIBLE_WHEELSETS:
         raise InputError(f"follow_contact: a key of models 'FR' and 'FF' (flexible wheelsets); "
                          f"model {model!r} has rigid wheelsets")
     geometry = _system_geometry(geometry, linear_conicity)
     if model in RING_TRACK:
-        if speed is None and speed_kmh is None:
+        if speed is None:
             raise InputError(f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
                              "contact points move along the ring at it)")
         if linear_conicity is not None:
             raise InputError(f"model {model!r} has no linearised table (linear_conicity)")
         if model == "FF":
-            return ff_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
-                             geometry=geometry, follow_contact=follow_contact, **rf)[0]
+            return ff_system(coach, speed=speed, k_max=k_max, f_max=f_max, geometry=geometry,
+                             follow_contact=follow_contact, **rf)
         if (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
             no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-        return rf_system(coach, speed_kmh=speed_kmh, speed=speed, geometry=geometry, **rf)
+        return rf_system(coach, speed=speed, geometry=geometry, **rf), []
     if rf:
         raise InputError(f"{', '.join(sorted(rf))}: not a key of model {model!r} "
                          f"(models 'RF' and 'FF' take {RF_KEYS})")
     if model == "FR":
-        if speed is None and speed_kmh is None:
+        if speed is None:
             raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
                              "depend on the spin)")
-        return fr_system(coach, speed_kmh=speed_kmh, speed=speed, k_max=k_max, f_max=f_max,
+        return fr_system(coach, speed=speed, k_max=k_max, f_max=f_max,
                          linear_conicity=linear_conicity, geometry=geometry,
-                         follow_contact=follow_contact)[0]
+                         follow_contact=follow_contact)
     tab = wheel_table()
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
         tab = linearised_table(tab, linear_conicity)
-    return with_geometry(build_coach(coach or Coach(), tab), geometry)
+    return with_geometry(build_coach(coach or Coach(), tab), geometry), []
 
 
 def _linear_table_geometry(geometry: str) -> None:
@@ -309,7 +306,7 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     System, list of railvti.vehicle.flexible.FRLayout
         The layouts carry the mode labels (``labels``, ``k``, ``family``, ``freq_hz``).
     """
-    v, _ = resolve_speed(speed_kmh, speed)
+    v = _checks.speed_si(speed, speed_kmh)
     k_max, f_max = check_fr_selection(k_max, f_max)
     geometry = _system_geometry(geometry, linear_conicity)
     tab = wheel_table()
@@ -399,7 +396,7 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         A ring too short for the coach (checked before it is built), no ring mode up to
         f_limit, bad track parameters.
     """
-    v, _ = resolve_speed(speed_kmh, speed)
+    v = _checks.speed_si(speed, speed_kmh)
     sy, _ = on_ring("RF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, n_sleepers=n_sleepers,
                      f_limit=f_limit, track_params=track_params, x_offset=x_offset,
                      ring_residual=ring_residual, ring_residual_hz=ring_residual_hz,
@@ -470,7 +467,7 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     InputError
         As :func:`fr_system` and :func:`rf_system`.
     """
-    v, _ = resolve_speed(speed_kmh, speed)
+    v = _checks.speed_si(speed, speed_kmh)
     k_max, f_max = check_fr_selection(k_max, f_max)
     sy, lays = on_ring("FF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, k_max=k_max, f_max=f_max,
                         n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
@@ -483,9 +480,11 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
 
 
 
-def scenario_system(model: str, coach: Coach | None, speed_kmh: float, kw: dict) -> System:
-    """The scenario's system: RR, or FR, RF, FF at this speed with their keys (the mode
-    selection, the ring's) popped from kw."""
+def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict
+                    ) -> tuple[System, list]:
+    """The scenario's system at ``speed`` (m/s) and its FR layouts (:func:`system_and_layouts`):
+    RR, or FR, RF, FF at this speed with their keys (the mode selection, the ring's) popped
+    from kw."""
     geometry = kw.pop("geometry", None)
     follow = {"follow_contact": kw.pop("follow_contact")} if "follow_contact" in kw else {}
     if model in RING_TRACK:
@@ -494,16 +493,16 @@ def scenario_system(model: str, coach: Coach | None, speed_kmh: float, kw: dict)
             no_fr_keys(kw)
         else:
             rf.update(k_max=kw.pop("k_max", FR_K_MAX), f_max=kw.pop("f_max", FR_F_MAX))
-        return coach_system(model, coach, speed_kmh=speed_kmh, geometry=geometry, **follow, **rf)
+        return system_and_layouts(model, coach, speed, geometry=geometry, **follow, **rf)
     extra = sorted(k for k in RF_KEYS if k in kw)
     if extra:
         raise InputError(f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); "
                          f"model {model!r} has none")
     if model == "FR":
-        return coach_system(model, coach, speed_kmh=speed_kmh, k_max=kw.pop("k_max", FR_K_MAX),
-                            f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry, **follow)
+        return system_and_layouts(model, coach, speed, k_max=kw.pop("k_max", FR_K_MAX),
+                                  f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry, **follow)
     no_fr_keys(kw)
-    return coach_system(model, coach, geometry=geometry, **follow)
+    return system_and_layouts(model, coach, None, geometry=geometry, **follow)
 
 
 def no_fr_keys(kw: dict) -> None:
