@@ -56,6 +56,7 @@ from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from . import output
 from .running import centred_running, contact_patch, hunting
+from .scenario_results import WHEEL_SIDES, kmh_label
 from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
                       RING_TRACK, fr_system, hunting_conicity, resolve_geometry)
 from .simulate import WHEEL_OUTPUTS
@@ -279,9 +280,6 @@ def _coach(params: dict[str, Any]) -> Coach:
     return Coach(**kw)
 
 
-_SIDES = ["left", "right"]
-
-
 def _dof_unit(name: str, rate: bool) -> str:
     """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
     last = name.rsplit("_", 1)[-1]
@@ -309,7 +307,7 @@ def _history(res, data: dict, scalars: dict) -> None:
                   "column_units": [_dof_unit(n, True) for n in names]})
     data["y_ws1"] = (res.y_ws1, "m", {"axes": ["t"]})
     data["vy_ws1"] = (res.vy_ws1, "m/s", {"axes": ["t"]})
-    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets}
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets}
     for i, name in enumerate(WHEEL_OUTPUTS):
         data[f"wheel_{name}"] = (res.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
     for k, v in res.stats.items():
@@ -319,7 +317,7 @@ def _history(res, data: dict, scalars: dict) -> None:
     data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(nw)], 1), "m",
                     {"axes": ["t", "wheelset"], "wheelset": wheelsets})
     data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
-    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets, **last}
+    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets, **last}
     data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
     data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
     data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
@@ -358,11 +356,11 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
     data["modal_q"] = (res.q[:, n:stop], "kg^0.5 m or m (per column: column_units)",
                        {"axes": ["t", "mode"], "mode_label": labels, "column_units": units})
     per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["dy", "dz", "drx"],
-           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
+           "wheel": WHEEL_SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
            "column_units": ["m", "m", "rad"],
            "meaning": "rim deformation at the contact points (taping line), track axes"}
     data["rim_deformation"] = (rim_deformation(system, res.q), "m, m, rad (per component)", per)
-    per_w = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+    per_w = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES,
              "wheelset": [f"ws{w + 1}" for w in range(4)]}
     inner = ("+: the inner edge, towards the track centre, rises; -drx on the left wheel, +drx "
              "on the right, drx about the vehicle's x, y positive to the left")
@@ -410,14 +408,14 @@ def _ring_history(res, system, data: dict, prefix: str = "") -> None:
     rail = system.rail_deflection(res.t, res.q)                  # (nt, 3, 2, nw)
     nw = rail.shape[-1]
     per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["y", "z", "roll"],
-           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(nw)],
+           "wheel": WHEEL_SIDES, "wheelset": [f"ws{w + 1}" for w in range(nw)],
            "column_units": ["m", "m", "rad"],
            "meaning": "rail head's motion under each wheel: the pose (y, z, roll; vehicle frame, y "
                       "to the left) of the track element under the wheel, from the ring's modes"}
     data["rail_deflection"] = (rail, "m, m, rad (per component)", per)
     half = 0.5 * ring.rail_distance
     crown = rail[:, 1] + np.array([half, -half])[:, None] * rail[:, 2]
-    data["rail_crown_z"] = (crown, "m", {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+    data["rail_crown_z"] = (crown, "m", {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES,
                                          "wheelset": [f"ws{w + 1}" for w in range(nw)],
                                          "meaning": "vertical displacement of the rail crown under "
                                                     "each wheel (+ up)"})
@@ -476,7 +474,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
 
     params = validate("vehicle", params)
     speed = float(params["speed"])
-    kmh = round(to_kmh(speed), 9)          # the label: km/h as given, to 1e-9
+    kmh = kmh_label(speed)                 # the label: km/h as given, to 1e-9
     scen = str(params["scenario"])
     if scen not in _SCENARIOS:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
@@ -509,12 +507,9 @@ def run(params: dict[str, Any]) -> CaseOutput:
                             **fr, **ring)
         wl = _history(c.run, data, scalars)
         _modal_histories(c.run, c.system, c.layouts, fr, ring, data, scalars)
-        final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
-                 "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
-        data["Q_final"] = (c.Q, "N", final)
-        data["Y_final"] = (c.Y, "N", final)
-        scalars["static_wheel_load"] = (c.static_wheel_load, "N")
-        scalars["max_Q_error"] = (c.q_error, "1")
+        final_data, final_scalars = c.case_data()
+        data.update(final_data)
+        scalars.update(final_scalars)
         if c.patch is not None:
             _patch(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
@@ -550,22 +545,12 @@ def run(params: dict[str, Any]) -> CaseOutput:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
         b = bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False, geometry=geometry,
-                           output_dt=params["output_dt"], **fr, **ring)
+                        coach=coach, progress=False, geometry=geometry,
+                        output_dt=params["output_dt"], **fr, **ring)
         lin, freq = linear_critical_speed(model, coach, **fr, **ring)
-        data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
-        if fr:
-            data["step"] = (b.details["h"], "s", {"axes": ["speed"],
-                                                  "meaning": "time step at each speed"})
-        data["upper_amplitude"] = (b.upper, "m", {"axes": ["speed"]})
-        data["decay_amplitude"] = (b.decay, "m", {"axes": ["speed"]})
-        data["upper_flange_force"] = (b.details["flange_force"], "N", {"axes": ["speed"]})
-        scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
-        scalars["critical_branch"] = (b.branch, "")
-        scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
-        scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
-        scalars["no_cycle_up_to_kmh"] = (b.no_cycle_up_to_kmh, "km/h")
-        scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
+        sweep_data, sweep_scalars = b.case_data(steps=bool(fr))
+        data.update(sweep_data)
+        scalars.update(sweep_scalars)
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
         scalars["linear_yaw_damper_state"] = (DAMPER_STATES["stuck"], "")

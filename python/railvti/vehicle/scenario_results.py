@@ -10,7 +10,18 @@ import numpy as np
 from .._checks import to_kmh
 from .simulate import SimulationResult
 
-__all__ = ["CentredRunning", "Bifurcation", "CriticalSpeed"]
+__all__ = ["CentredRunning", "Bifurcation", "CriticalSpeed", "WHEEL_SIDES", "kmh_label"]
+
+#: The wheels of a wheelset in the results' axes (index 0 left, 1 right).
+WHEEL_SIDES = ["left", "right"]
+
+
+def kmh_label(speed: Any) -> Any:
+    """A speed (or speeds), m/s, as the km/h of a label in a results file: to 1e-9 km/h, so
+    that a speed given in km/h (a deck's ``speed_kmh``, a sweep's ``speeds_kmh``) is stored
+    as given."""
+    out = np.round(to_kmh(np.asarray(speed, dtype=float)), 9)
+    return float(out) if out.ndim == 0 else out
 
 
 @dataclass(frozen=True)
@@ -85,6 +96,16 @@ class CentredRunning:
     def q_error(self) -> float:
         """max |Q / static load - 1| over the eight wheels."""
         return float(np.max(np.abs(self.Q / self.static_wheel_load - 1.0)))
+
+    def case_data(self) -> tuple[dict, dict]:
+        """The final loads' part of a results file: (datasets, scalars), each name ->
+        (value, unit[, labels])."""
+        final = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES,
+                 "wheelset": [f"ws{w + 1}" for w in range(np.shape(self.Q)[-1])]}
+        data = {"Q_final": (self.Q, "N", final), "Y_final": (self.Y, "N", final)}
+        scalars = {"static_wheel_load": (self.static_wheel_load, "N"),
+                   "max_Q_error": (self.q_error, "1")}
+        return data, scalars
 
 
 @dataclass(frozen=True)
@@ -191,6 +212,26 @@ class Bifurcation:
     def no_cycle_up_to_kmh(self) -> float:
         """The top of a sweep without a sustained cycle, km/h (NaN otherwise)."""
         return to_kmh(self.no_cycle_up_to)
+
+    def case_data(self, steps: bool = False) -> tuple[dict, dict]:
+        """The sweep's part of a results file: (datasets, scalars), each name -> (value,
+        unit[, labels]); speeds as km/h labels (:func:`kmh_label`); ``steps``: the time step
+        at each speed too (``details['h']``, the flexible models)."""
+        axis = {"axes": ["speed"]}
+        data: dict[str, tuple] = {"speeds_kmh": (kmh_label(self.speeds), "km/h", axis)}
+        if steps:
+            data["step"] = (self.details["h"], "s", {"axes": ["speed"],
+                                                      "meaning": "time step at each speed"})
+        data["upper_amplitude"] = (self.upper, "m", axis)
+        data["decay_amplitude"] = (self.decay, "m", axis)
+        data["upper_flange_force"] = (self.details["flange_force"], "N", axis)
+        scalars = {"critical_speed_nonlinear": (kmh_label(self.critical), "km/h"),
+                   "critical_branch": (self.branch, ""),
+                   "critical_branch_amplitude": (self.branch_amplitude, "m"),
+                   "no_decay_below_kmh": (kmh_label(self.no_decay_below), "km/h"),
+                   "no_cycle_up_to_kmh": (kmh_label(self.no_cycle_up_to), "km/h"),
+                   "flange_hunting_speed": (kmh_label(self.flange), "km/h")}
+        return data, scalars
 
     @property
     def message(self) -> str:
