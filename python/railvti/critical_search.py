@@ -48,8 +48,8 @@ from .errors import ConvergenceError, GridTooSmallError, InputError
 from .vehicle.bifurcation import point_systems
 from .vehicle.params import Coach
 from .vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
-from .vehicle.systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, check_fr_selection, check_model,
-                              resolve_geometry, ring_keys, run_output_dt)
+from .vehicle.systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, check_fr_selection,
+                              check_model, resolve_geometry, ring_keys, run_output_dt)
 
 __all__ = ["envelope", "growth_rate", "cycle_verdict", "Bracket", "bracket_down",
            "PathCriticalSpeed", "RUN_FAILURES", "nonlinear_critical_speed", "RESOLUTION_KMH",

@@ -405,8 +405,8 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     if on.any() and alive:
         no_decay = float(spa.min())
         crit = float("nan")
-        msg = (f"bifurcation: below {_checks.to_kmh(no_decay):.0f} km/h: no decay found (the cycle is "
-               f"sustained at every speed swept; lower v_min_kmh to search further)")
+        msg = (f"bifurcation: below {_checks.to_kmh(no_decay):.0f} km/h: no decay found (the "
+               f"cycle is sustained at every speed swept; lower v_min_kmh to search further)")
         log.warning(msg)
         warnings.warn(msg, RuntimeWarning, stacklevel=3)
     elif not on.any():

@@ -57,8 +57,8 @@ from .params import Coach
 from . import output
 from .running import centred_running, contact_patch, hunting
 from .scenario_results import WHEEL_SIDES, kmh_label
-from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS, RF_SCENARIOS,
-                      RING_TRACK, fr_system, hunting_conicity, resolve_geometry)
+from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+                      RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity, resolve_geometry)
 from .simulate import WHEEL_OUTPUTS
 
 __all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot"]

@@ -88,13 +88,15 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
     fn = max(w[WHEEL_OUTPUTS.index("N_tread")], w[WHEEL_OUTPUTS.index("N_flange")])
     if fn <= 0:
         return None
-    return fastsim(w[WHEEL_OUTPUTS.index("a")], w[WHEEL_OUTPUTS.index("b")], fn, system.table.material, system.friction,
-                   (w[WHEEL_OUTPUTS.index("xi")], w[WHEEL_OUTPUTS.index("eta")], w[WHEEL_OUTPUTS.index("spin")]), nx=n, ny=n,
+    col = WHEEL_OUTPUTS.index
+    return fastsim(w[col("a")], w[col("b")], fn, system.table.material, system.friction,
+                   (w[col("xi")], w[col("eta")], w[col("spin")]), nx=n, ny=n,
                    speed=run.speed, pressure="hertz")
 
 
 def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "hertz-kalker", *,
-            speed: float | None = None, duration: float = 5.0, y0: float = 0.004, h: float | None = None,
+            speed: float | None = None, duration: float = 5.0, y0: float = 0.004,
+            h: float | None = None,
             output_dt: float | None = None, alpha: float = 0.0, coach: Coach | None = None,
             q0: np.ndarray | None = None, v0: np.ndarray | None = None,
             return_system: bool = False,

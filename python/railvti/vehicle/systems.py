@@ -469,7 +469,8 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     """
     v = _checks.speed_si(speed, speed_kmh)
     k_max, f_max = check_fr_selection(k_max, f_max)
-    sy, lays = on_ring("FF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, k_max=k_max, f_max=f_max,
+    sy, lays = on_ring("FF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, k_max=k_max,
+                        f_max=f_max,
                         n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
                         x_offset=x_offset, ring_residual=ring_residual,
                         ring_residual_hz=ring_residual_hz,
