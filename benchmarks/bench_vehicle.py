@@ -51,7 +51,7 @@ CHILD = r"""
 import json, resource, sys, time
 from railvti import scenarios
 contact, n, dur, geo, thr = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), sys.argv[4], sys.argv[5]
-scenarios.contact_table()                      # table build (cached per process)
+scenarios.wheel_table()                      # table build (cached per process)
 scenarios.coach_system(geometry=geo)           # the strip arrays too
 kw = {"threads": int(thr)} if contact == "bem" and thr != "all" else {}
 t0, c0 = time.perf_counter(), time.process_time()
@@ -74,7 +74,7 @@ from railvti import scenarios
 from railvti.vehicle.equilibrium import bem_state
 dur, thr = float(sys.argv[1]), int(sys.argv[2])
 sy = scenarios.coach_system("RR")
-scenarios.contact_table()
+scenarios.wheel_table()
 with bem_state(sy) as st:
     t0, c0 = time.perf_counter(), time.process_time()
     r = scenarios.hunting(300.0, contact="bem", duration=dur, y0=0.004, progress=False, bem=st,
@@ -95,7 +95,7 @@ import json, sys, time
 import numpy as np
 from railvti import scenarios
 dur, out, speed = float(sys.argv[1]), sys.argv[2], float(sys.argv[3])
-scenarios.contact_table()
+scenarios.wheel_table()
 scenarios.coach_system("RR")
 t0 = time.perf_counter()
 r = scenarios.hunting(speed, contact="bem", duration=dur, y0=0.004, progress=False, threads=1)

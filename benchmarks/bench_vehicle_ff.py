@@ -18,6 +18,7 @@ import time
 
 
 from railvti import scenarios
+from railvti.vehicle import systems
 
 
 def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "FF")) -> None:
@@ -37,7 +38,7 @@ def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "F
         rtf[model] = loop / duration
         nst = 0 if sy is None else sy.n_state - sy.n
         rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-        h = 1e-3 if sy is None else scenarios._default_step(sy)
+        h = 1e-3 if sy is None else systems.default_step(sy)
         print(f"{model}: {nst} modal coordinates; build {build:.1f} s; time loop {loop:.1f} s "
               f"(real-time factor {loop / duration:.2f}), centred_running {wall:.1f} s; "
               f"h {h * 1e3:.3g} ms; Newton iterations "

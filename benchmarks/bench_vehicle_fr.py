@@ -33,6 +33,7 @@ CASES = (("RR", {}), ("FR", {}), ("FR", {"k_max": 1, "f_max": 300.0}))
 _CHILD = """
 import json, resource, sys, time
 from railvti import scenarios
+from railvti.vehicle import systems
 model, kw, dur = sys.argv[1], json.loads(sys.argv[2]), float(sys.argv[3])
 t0, c0 = time.perf_counter(), time.process_time()
 r = scenarios.hunting(300.0, model, "hertz-fastsim", duration=dur, progress=False, **kw)
@@ -51,7 +52,7 @@ from railvti.vehicle.equilibrium import bem_state
 model, dur = sys.argv[1], float(sys.argv[2])
 v = 200.0 / 3.6
 sy = scenarios.coach_system(model, speed_kmh=200.0) if model != "RR" else scenarios.coach_system()
-h = scenarios._default_step(sy)
+h = systems.default_step(sy)
 with bem_state(sy) as st:
     q, qd, _ = static_equilibrium(sy, v, "bem", bem=st, return_velocity=True, tol=1e-9, maxit=200)
     t0 = time.perf_counter()

@@ -29,7 +29,7 @@ CHILD = r"""
 import json, sys, time
 from railvti import scenarios
 contact, dur, geo = sys.argv[1], float(sys.argv[2]), sys.argv[3]
-scenarios.contact_table()
+scenarios.wheel_table()
 scenarios.coach_system(geometry=geo)
 t0 = time.perf_counter()
 c0 = time.process_time()

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.params import Coach
@@ -26,16 +27,16 @@ RUN = dict(h=1e-3, output_dt=1e-3, progress=False)
 def runs():
     """0.2 s from 6 mm at 420 km/h, into the first flange impact: followed (default chunks and
     one step per chunk) and not followed (the taping line's rows), the 10 mm residual grid."""
-    ws = scenarios._fr_wheelset()
+    ws = systems.fr_wheelset()
     body = ws.flexible_body(V, **SMALL)
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     grid = residual_table(ws, body, ds=0.01)
     # the scenarios' cache of the grid at this speed and selection: ff_system below reuses it
-    scenarios._PROFILES[("residual_grid", float(V), SMALL["k_max"], SMALL["f_max"], 1.0)] = grid
+    systems._PROFILES[("residual_grid", float(V), SMALL["k_max"], SMALL["f_max"], 1.0)] = grid
     sy, _ = build_fr(Coach(), table, V, wheelset=ws, body=body, follow_contact=True,
                      residual_grid=grid)
     s0, _ = build_fr(Coach(), table, V, wheelset=ws, body=body)
-    sy, s0 = (scenarios._with_geometry(s, "strip") for s in (sy, s0))
+    sy, s0 = (systems.with_geometry(s, "strip") for s in (sy, s0))
     qs, _ = static_equilibrium(sy, V, "hertz-kalker")
     q0 = lateral_disturbance(sy, qs, 0.006, wheelsets=(0, 1))
     return (sy, simulate(sy, V, 0.2, q0=q0, **RUN),

@@ -181,7 +181,7 @@ def test_the_reader_sees_the_package():
     assert {"railvti.runner.cli", "railvti.casetypes", "railvti.vehicle.simulate",
             "railvti.scenarios"} <= set(GRAPH)
     assert "railvti.casetypes" in GRAPH["railvti.runner.batch"]
-    assert "railvti.vehicle.simulate" in GRAPH["railvti.scenarios"]
+    assert "railvti.vehicle.simulate" in GRAPH["railvti.vehicle.running"]
     assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
 
 

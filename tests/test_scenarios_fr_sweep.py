@@ -14,6 +14,8 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from railvti import scenarios
+from railvti.vehicle import systems
+from railvti.vehicle.bifurcation import SweepSystems
 from railvti.vehicle.flexible import build_fr, mode_labels
 from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
 from railvti.vehicle.params import Coach
@@ -85,19 +87,20 @@ def test_fr_sweep_builds_per_speed_and_continues():
 def test_carry_over_by_label_or_restart():
     """Sweep state mapping: the same labelled modes carry over unchanged; another mode set
     restarts the modal coordinates from the new system's static state, rigid DOFs kept."""
-    sw = scenarios._SweepSystems("FR", None, "hertz-kalker", None, 1, 300.0)
-    a, la, _ = sw.at(300.0)
-    b, lb, _ = sw.at(290.0)
+    sw = SweepSystems("FR", None, "hertz-kalker", None, 1, 300.0)   # speeds in m/s
+    v300, v290, v280 = 300.0 / 3.6, 290.0 / 3.6, 280.0 / 3.6
+    a, la, _ = sw.at(v300)
+    b, lb, _ = sw.at(v290)
     assert mode_labels(a, la) == mode_labels(b, lb)
     q = np.arange(a.n_state, dtype=float) * 1e-6
     v = np.ones(a.n_state)
-    q2, v2, restarted = sw.carry(q, v, 300.0, 290.0, lambda: pytest.fail("no restart"))
+    q2, v2, restarted = sw.carry(q, v, v300, v290, lambda: pytest.fail("no restart"))
     assert not restarted and q2 is q and v2 is v
     # a different mode set at 280 km/h (k <= 0): modal coordinates restart from its statics
     c, lc = scenarios.fr_system(speed_kmh=280.0, k_max=0, f_max=300.0)
-    sw._cache[280.0] = (c, lc, 1e-3)
+    sw._cache[v280] = (c, lc, 1e-3)
     qs = np.full(c.n_state, 7.0)
-    q3, v3, restarted = sw.carry(q, v, 290.0, 280.0, lambda: qs)
+    q3, v3, restarted = sw.carry(q, v, v290, v280, lambda: qs)
     assert restarted and q3.shape == (c.n_state,)
     np.testing.assert_array_equal(q3[:c.n], q[:c.n])
     np.testing.assert_array_equal(q3[c.n:], 7.0)
@@ -112,8 +115,8 @@ def test_fr_with_decoupled_modes_linearises_as_rr():
     lam = scenarios.equivalent_conicity(0.003)
     v = 300.0 / 3.6
     er = eigenvalues(scenarios.coach_system("RR", linear_conicity=lam), v)
-    sz, _ = build_fr(Coach(), linearised_table(scenarios.contact_table(), lam), v,
-                     wheelset=scenarios._fr_wheelset(), zero_rows=True, **SMALL)
+    sz, _ = build_fr(Coach(), linearised_table(scenarios.wheel_table(), lam), v,
+                     wheelset=systems.fr_wheelset(), zero_rows=True, **SMALL)
     ez = fr_eigenvalues(sz, v)
 
     def band(e):
@@ -145,8 +148,8 @@ def test_fr_result_does_not_depend_on_the_chunking():
     coordinates' BDF2 acceleration carried from chunk to chunk, a run split differently gives
     the same numbers bit for bit (it used to depend on where the chunks fell: a flaky
     comparison between two equal FR runs)."""
-    sy, _ = build_fr(Coach(), scenarios.contact_table(), 380.0 / 3.6,
-                     wheelset=scenarios._fr_wheelset(), residual_mass=False, **SMALL)
+    sy, _ = build_fr(Coach(), scenarios.wheel_table(), 380.0 / 3.6,
+                     wheelset=systems.fr_wheelset(), residual_mass=False, **SMALL)
     assert sy.modal.massless is not None
     q0 = lateral_disturbance(sy, static_equilibrium(sy, 380.0 / 3.6)[0], 0.006)
     runs = [simulate(sy, 380.0 / 3.6, 0.06, q0=q0, h=5e-4, output_dt=0.002, progress=True,

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_linear import eigenvalues as fr_eigenvalues
@@ -32,10 +33,10 @@ def test_stiff_wheelset_linearises_as_rr():
     critical speed by about 3.5 %)."""
     lam = scenarios.equivalent_conicity(0.003)
     v = 300.0 / 3.6
-    table = linearised_table(scenarios.contact_table(), lam)
+    table = linearised_table(scenarios.wheel_table(), lam)
     er = _hunting(eigenvalues(scenarios.coach_system("RR", linear_conicity=lam), v))
     built = {scale: build_fr(Coach(wheelset_stiffness_scale=scale), table, v,
-                             wheelset=scenarios._fr_wheelset(), **SMALL) for scale in (1.0, 1e3)}
+                             wheelset=systems.fr_wheelset(), **SMALL) for scale in (1.0, 1e3)}
     out = {scale: _hunting(fr_eigenvalues(sy, v)) for scale, (sy, _) in built.items()}
     assert abs(out[1e3] - er) < 1e-3 * abs(er)
     assert abs(out[1.0] - er) > 5 * abs(out[1e3] - er)

@@ -89,7 +89,7 @@ def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
       static spin of the contact angle makes part of the patch slip under the exact Coulomb
       law, and 0.75 mm elements resolve a ~ 6 mm).
     """
-    tab = scenarios.contact_table()
+    tab = scenarios.wheel_table()
     inertia = 112.0
     sy = build_single_wheelset(tab, mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0,
                                ky=1e6, kx=2e6, half_spacing=1.0, axle_load=100e3,

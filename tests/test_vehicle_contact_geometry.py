@@ -23,7 +23,7 @@ D0 = 60e-6          # vertical approach below the minimum gap, m
 
 @pytest.fixture(scope="module")
 def table():
-    return scenarios.contact_table()
+    return scenarios.wheel_table()
 
 
 def _min_gap(table, y):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.vehicle import simulate, static_equilibrium
 from railvti.vehicle.model import CallSettings
@@ -74,7 +75,7 @@ def test_undamped_frictionless_fr_conserves_energy(fr):
     (measured 9.5e-9, the share of the Newton tolerance 1e-9), where the default trapezoidal
     rule is off by its O(h^2) error of the nonlinear contact force (measured 7.4e-4: 8e4
     times more; asserted 1e3)."""
-    h = scenarios._default_step(fr)
+    h = systems.default_step(fr)
     e_energy = energy_error(fr, "energy", 0.1, h)
     e_hht = energy_error(fr, "hht", 0.1, h)
     assert e_energy < 1e-5

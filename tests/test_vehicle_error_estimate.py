@@ -32,7 +32,7 @@ def hunting_states():
     states carry no parasitic step-to-step oscillation); then 8 states 0.6 ms apart, which cover
     one 4.8 ms period of the fastest mode (eigenvalues -0.1 +- 1309i 1/s), so the test does not
     hang on the phase of a single state."""
-    sy = build_single_wheelset(scenarios.contact_table(), mass=1813.0, roll_inertia=1120.0,
+    sy = build_single_wheelset(scenarios.wheel_table(), mass=1813.0, roll_inertia=1120.0,
                                yaw_inertia=1120.0, ky=1e6, kx=2e6, half_spacing=1.0,
                                axle_load=100e3)
     qs, _ = static_equilibrium(sy, SPEED)

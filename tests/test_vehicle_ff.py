@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
+from railvti.vehicle.bifurcation import SweepSystems
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_points import rail_head_roll, rim_camber_change, rim_rail_angle_change
@@ -28,7 +30,7 @@ RING = dict(n_sleepers=40, f_limit=300.0, track_params=COARSE)
 @pytest.fixture(scope="module")
 def fr_ground():
     """FR on rigid ground (no track elements), k_max 1, modes up to 300 Hz."""
-    return build_fr(Coach(), scenarios.contact_table(), V, wheelset=scenarios._fr_wheelset(),
+    return build_fr(Coach(), scenarios.wheel_table(), V, wheelset=systems.fr_wheelset(),
                     k_max=1, f_max=300.0, track=False)
 
 
@@ -36,8 +38,8 @@ def test_stiff_ring_reproduces_fr_on_rigid_ground(fr_ground):
     """A ring 1e6 times stiffer under FR's wheelsets: the static state of the coach and of the
     wheelsets' modes is FR's on rigid ground (the ring deflects by ~1e-10 m)."""
     base, _ = fr_ground
-    ring = scenarios._ring(40, COARSE)
-    ff = build_rf(Coach(), scenarios.contact_table(), V, ring, f_limit=300.0,
+    ring = systems.ring_track(40, COARSE)
+    ff = build_rf(Coach(), scenarios.wheel_table(), V, ring, f_limit=300.0,
                   stiffness_scale=1e6, base=base)
     q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
     q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
@@ -65,10 +67,10 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
     assert np.all(cam_fr > 0)
     np.testing.assert_allclose(cam_ff, cam_fr, rtol=0.05)
     np.testing.assert_allclose(cam_ff[0], cam_ff[1], rtol=1e-5)
-    tab = scenarios.contact_table()
-    off, _ = build_fr(Coach(), tab, V, wheelset=scenarios._fr_wheelset(), k_max=1, f_max=300.0,
+    tab = scenarios.wheel_table()
+    off, _ = build_fr(Coach(), tab, V, wheelset=systems.fr_wheelset(), k_max=1, f_max=300.0,
                       track=False, zero_rows=True)
-    ring = scenarios._ring(40, COARSE)
+    ring = systems.ring_track(40, COARSE)
     ff0 = build_rf(Coach(), tab, V, ring, f_limit=300.0, base=off)
     rf = scenarios.rf_system(speed=V, geometry="table", **RING)
     q0, _ = static_equilibrium(ff0, V, "hertz-kalker")
@@ -130,25 +132,26 @@ def test_ring_bifurcation_below_the_critical_speed():
 
 def test_ring_continuation_carries_the_rail_under_the_wheels():
     """The upper branch's next run starts its contact points where the previous run's
-    ended (``_SweepSystems.upper_at``): the rail deflection under every wheel at the start of
-    the run at 180 km/h, from the carried state, equals the one at the end of the run at
+    ended (``SweepSystems.upper_at``, speeds in m/s): the rail deflection under every wheel at
+    the start of the run at 180 km/h, from the carried state, equals the one at the end of the run at
     200 km/h (an independent path: the same ring state read through the other speed's rows
     at its own time), to 1e-9 of the static deflection; the restart from x_offset, as the
     continuation did before, misses it by the sleeper-passing fluctuation."""
-    sw = scenarios._SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX,
-                                 scenarios.FR_F_MAX, "table", dict(RING))
-    a, _, h = sw.at(200.0)
-    qs, _ = static_equilibrium(a, 200.0 / 3.6, "hertz-kalker")
-    r = simulate(a, 200.0 / 3.6, 0.05, h=h, q0=qs, output_dt=0.05, progress=False)
+    sw = SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX, scenarios.FR_F_MAX,
+                      "table", dict(RING))
+    v200, v180 = 200.0 / 3.6, 180.0 / 3.6
+    a, _, h = sw.at(v200)
+    qs, _ = static_equilibrium(a, v200, "hertz-kalker")
+    r = simulate(a, v200, 0.05, h=h, q0=qs, output_dt=0.05, progress=False)
     end = a.rail_deflection(r.t[-1:], r.q[-1:])[0]
-    travel = 200.0 / 3.6 * float(r.t[-1])
-    q, _, _ = sw.carry(r.q[-1], r.v[-1], 200.0, 180.0, lambda: None)
-    b = sw.upper_at(180.0, travel)[0]
+    travel = v200 * float(r.t[-1])
+    q, _, _ = sw.carry(r.q[-1], r.v[-1], v200, v180, lambda: None)
+    b = sw.upper_at(v180, travel)[0]
     start = b.rail_deflection(np.zeros(1), q[None])[0]
     scale = np.abs(end[1]).max()                     # vertical, m
     assert scale > 1e-5
     np.testing.assert_allclose(start, end, rtol=0, atol=1e-9 * scale)
-    c = sw.at(180.0)[0]                               # the contact points back at x_offset
+    c = sw.at(v180)[0]                                # the contact points back at x_offset
     assert np.abs(c.rail_deflection(np.zeros(1), q[None])[0] - end).max() > 1e-3 * scale
 
 

@@ -39,7 +39,7 @@ def rr():
 
 @pytest.fixture(scope="module")
 def fr(body):
-    sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body)
+    sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body)
     q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     return sy, lay, q, v
 
@@ -48,7 +48,7 @@ def test_zero_rows_reproduce_rr(body, rr):
     """All attachment rows zero: the modes decouple and the coach runs exactly as RR (the
     same wheelset body and gyroscopic moments, railvti.vehicle.wheelset_body)."""
     sy_rr, q_rr, v_rr = rr
-    sy, _ = build_fr(Coach(), scenarios.contact_table(), V, body=body, zero_rows=True)
+    sy, _ = build_fr(Coach(), scenarios.wheel_table(), V, body=body, zero_rows=True)
     q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
     assert np.max(np.abs(q0[sy.n:])) == 0.0
@@ -98,7 +98,7 @@ def test_static_acceptance_against_fe(k_max, f_max):
     body = ws.flexible_body(V, k_max=k_max, f_max=f_max)
     errs = {}
     for res in (True, False):
-        sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, residual=res,
+        sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, residual=res,
                            flexible=(0,))
         q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
         f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
@@ -118,7 +118,7 @@ def test_rows_at_the_static_contact_point(body):
     ws = Wheelset()
     out = {}
     for s_c in (0.0, 3e-3):
-        sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, wheelset=ws,
+        sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, wheelset=ws,
                            flexible=(0,), s_contact=s_c)
         q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
         f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
@@ -153,7 +153,7 @@ def test_frf_peaks_match_wheelset_model():
                   wheelset_yaw_inertia=mp["roll_inertia"],
                   wheelset_pitch_inertia=mp["spin_inertia"], primary_cx=0.0, primary_cy=0.0,
                   primary_cz=0.0)
-    sy, lay = build_fr(coach, scenarios.contact_table(), v, flexible=(0,), wheelset=ws)
+    sy, lay = build_fr(coach, scenarios.wheel_table(), v, flexible=(0,), wheelset=ws)
     for fp in p_ref:
         fw = np.arange(0.985 * fp, 1.015 * fp, 0.05)
         h = np.abs(contact_receptance(sy, lay[0], fw))
@@ -238,7 +238,7 @@ def test_eulerian_term_frozen_pattern(body):
     (the rigid rotation of the displacement: no y or camber rate, a vertical rate -Omega u_x).
     The contact forces with the Eulerian rows equal those of the same displaced rims with
     exactly these rates, and differ without the Eulerian term (dW/dt alone)."""
-    sy, lay = build_fr(Coach(), scenarios.contact_table(), V, body=body, flexible=(0,),
+    sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, flexible=(0,),
                        residual=False)
     q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     n, mb = sy.n, sy.modal
@@ -291,9 +291,9 @@ def test_fr_errors(body):
     with pytest.raises(InputError):
         scenarios.coach_system("XX")
     with pytest.raises(InputError, match="subset"):
-        build_fr(Coach(), scenarios.contact_table(), V, flexible=(5,))
+        build_fr(Coach(), scenarios.wheel_table(), V, flexible=(5,))
     with pytest.raises(InputError, match="tread"):
-        build_fr(Coach(), scenarios.contact_table(), V, body=body,
+        build_fr(Coach(), scenarios.wheel_table(), V, body=body,
                  s_contact=-0.05)
 
 

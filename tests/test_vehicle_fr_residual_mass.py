@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.params import Coach
@@ -23,7 +24,7 @@ SMALL = {"k_max": 1, "f_max": 300.0}
 
 
 def _fr(v: float, **kw):
-    return build_fr(Coach(), scenarios.contact_table(), v, wheelset=scenarios._fr_wheelset(),
+    return build_fr(Coach(), scenarios.wheel_table(), v, wheelset=systems.fr_wheelset(),
                     **SMALL, **kw)[0]
 
 
@@ -42,7 +43,7 @@ def test_mass_keeps_the_static_deflection_and_sits_at_its_frequency():
     np.testing.assert_allclose(ub, ua, rtol=0, atol=1e-6 * np.abs(ua).max())
     np.testing.assert_allclose(qb[:a.n], qa[:a.n], rtol=0, atol=1e-9)
     c = _fr(v)                                            # default: the highest kept mode
-    lay = build_fr(Coach(), scenarios.contact_table(), v, wheelset=scenarios._fr_wheelset(),
+    lay = build_fr(Coach(), scenarios.wheel_table(), v, wheelset=systems.fr_wheelset(),
                    **SMALL)[1][0]
     assert c.modal.max_frequency() / (2 * np.pi) >= 0.99 * lay.freq_hz.max()
     with pytest.raises(InputError, match="residual_hz"):
@@ -57,8 +58,8 @@ def test_flange_impact_runs_through_with_the_mass():
     the massless failure is not asserted here); with the mass the run completes, through
     flange contact (Q well above the static load, the lateral motion beyond the clearance)."""
     v = 410.0 / 3.6
-    sy = _with_strip(build_fr(Coach(), scenarios.contact_table(), v,
-                              wheelset=scenarios._fr_wheelset())[0])
+    sy = _with_strip(build_fr(Coach(), scenarios.wheel_table(), v,
+                              wheelset=systems.fr_wheelset())[0])
     qs, _ = static_equilibrium(sy, v, "hertz-fastsim")
     q0 = lateral_disturbance(sy, qs, 0.006, wheelsets=(0, 1))
     r = simulate(sy, v, 0.6, contact="hertz-fastsim", h=5e-4, q0=q0, output_dt=2e-3,
@@ -68,4 +69,4 @@ def test_flange_impact_runs_through_with_the_mass():
 
 
 def _with_strip(sy):
-    return scenarios._with_geometry(sy, "strip")
+    return systems.with_geometry(sy, "strip")

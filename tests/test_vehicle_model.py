@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import ConvergenceError, InputError
 from railvti.material import STEEL
 from railvti.contact.hertz import hertz
@@ -17,7 +18,7 @@ from railvti.vehicle.table import QUANTITIES
 
 @pytest.fixture(scope="module")
 def table():
-    return scenarios.contact_table()
+    return scenarios.wheel_table()
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +29,7 @@ def coach_system():
 def test_table_hertz_constants_match_hertz(table):
     """a1, kH of the table reproduce railvti.contact.hertz from the profile curvatures."""
     from railvti.geometry import layout
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     lay = layout(wheel, rail)
     i = int(np.argmin(np.abs(table.y + 0.002)))     # tread contact, ratio inside the clip
     s = table.s_wheel[0, i]
@@ -214,7 +215,7 @@ def test_creepages_match_geometry_module(table):
     """Fortran creepages of a shifted, yawed, moving wheelset against railvti.geometry.creepages
     (full 3-D kinematics with yaw in the contact search)."""
     from railvti import geometry
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
                                ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
     speed, yaw = 50.0, 0.002
@@ -246,7 +247,7 @@ def test_flange_creepage_at_large_yaw_matches_geometry_module(table):
     """
     from railvti import geometry
     from railvti.vehicle.model import WHEEL_OUTPUTS as W
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
                                ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
     speed, v = 50.0, np.array([0.05, 0.0, 0.01, 0.02])

@@ -14,7 +14,7 @@ from railvti.vehicle.table import pose_values, rolled_gap, wheel_table
 
 @pytest.fixture(scope="module")
 def table():
-    return scenarios.contact_table()
+    return scenarios.wheel_table()
 
 
 def test_table_at_the_constraint_roll_matches_the_3d_contact_search(table):

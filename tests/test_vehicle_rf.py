@@ -32,7 +32,7 @@ def ring():
 
 @pytest.fixture(scope="module")
 def table():
-    return scenarios.contact_table()
+    return scenarios.wheel_table()
 
 
 def _crown_z(d: np.ndarray, half: float) -> np.ndarray:

@@ -14,6 +14,8 @@ from railvti.casetypes import REGISTRY
 from railvti.runner.cli import main
 from railvti.errors import InputError
 from railvti.runner.result_objects import load, save
+from railvti.vehicle import cases as vehicle_cases  # registers the case type "vehicle"
+from railvti.vehicle import systems
 
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 RING = dict(n_sleepers=40, f_limit=300.0, x_offset=0.1,
@@ -231,3 +233,22 @@ def test_ff_deck_case_stores_wheelset_and_ring_modes(results):
         np.testing.assert_allclose(g["rim_rail_angle_change"][-1],
                                    g["rim_camber_change"][-1] - roll, rtol=0, atol=1e-15)
         assert g["rim_rail_angle_change"].attrs["units"] == "rad"
+
+
+def test_a_deck_run_labels_its_modes_with_the_system_it_ran(monkeypatch):
+    """The run hands back its system: a ring hunting case builds the RF system once (the run
+    itself), not again to label the ring's modes (counted at the builder)."""
+    built = []
+    build_rf = systems.build_rf
+
+    def counting(*args, **kw):
+        built.append(args[3] if len(args) > 3 else kw.get("v"))
+        return build_rf(*args, **kw)
+    monkeypatch.setattr(systems, "build_rf", counting)
+    out = vehicle_cases.run(_deck(
+        scenario="hunting", model="RF", speed=300.0 / 3.6, duration=0.02, output_dt=0.002,
+        y0=0.003, n_sleepers=40, f_limit=300.0,
+        **{f"track_{k}": v for k, v in COARSE.items()}))
+    assert len(built) == 1
+    assert "ring_modal_q" in out.datasets or "modal_q" in out.datasets
+    assert out.scalars["speed_kmh"][0] == 300.0

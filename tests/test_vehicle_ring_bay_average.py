@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle.linear_stability import bay_rates
 from railvti.errors import InputError
 from railvti.track import RingTrack
 from railvti.track.ring import DEFAULTS
@@ -31,7 +32,7 @@ def _hunting_growth(ev: np.ndarray) -> float:
 
 
 def _table():
-    return linearised_table(scenarios.contact_table(), scenarios.equivalent_conicity(0.003))
+    return linearised_table(scenarios.wheel_table(), scenarios.equivalent_conicity(0.003))
 
 
 def test_bay_average_is_mean_of_frozen_growth():
@@ -45,7 +46,7 @@ def test_bay_average_is_mean_of_frozen_growth():
     frozen = [_hunting_growth(fr_eigenvalues(build_rf(Coach(), table, v, ring, f_limit=300.0,
                                                       x_offset=k * spacing / n), v))
               for k in range(n)]
-    rates, _ = scenarios._bay_rates("RF", Coach(), table, v, n, k_max=1, f_max=300.0,
+    rates, _ = bay_rates("RF", Coach(), table, v, n, k_max=1, f_max=300.0,
                                     ring=dict(n_sleepers=40, f_limit=300.0, track_params=COARSE))
     print(f"frozen growth per offset {np.round(frozen, 6)} 1/s, mean {np.mean(frozen):.6f}")
     np.testing.assert_allclose(rates, frozen, rtol=0, atol=1e-9)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.track.coupling import rail_of_wheel
 from railvti.vehicle.equilibrium import static_equilibrium
@@ -40,7 +41,7 @@ def crown_receptance(sy, freqs: np.ndarray, wheelset: int, wheel: int) -> np.nda
 def test_receptance_with_inertia_follows_the_full_ring(wheelset):
     """Right wheel, vertical and lateral: within 2 % of the full ring's direct FRF up to
     f_limit / 2 with the residual's inertia (and better than the static residual)."""
-    track = scenarios._ring(40, COARSE)
+    track = systems.ring_track(40, COARSE)
     f = np.linspace(0.0, 0.5 * F_LIMIT, 126)
     c = 2 * wheelset + 1
     errs = {}

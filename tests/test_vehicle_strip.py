@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.contact.wheelset import solve_wheelset
 from railvti.errors import InputError
 from railvti.material import STEEL
@@ -21,7 +22,7 @@ N, DZ, P_MAX = (STRIP_OUTPUTS.index(k) for k in ("N", "dV_dz", "P_max"))
 
 @pytest.fixture(scope="module")
 def geo():
-    w, r = scenarios._profiles()
+    w, r = systems.profiles()
     return strip_geometry(w, r)
 
 
@@ -45,7 +46,7 @@ def test_sink_matches_the_bem_on_the_tread(geo):
     """The wheel's sink under its static load within 6 % of the half-space BEM (0.5 mm grid,
     the whole patch) on the tread, across the band where the table's point jumps (y = 0.2 mm)
     and the table is up to 50 % off (validation/contact_table_stiffness.py)."""
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     fz = Coach().static_wheel_load
     for y in (-3e-3, 0.0, 0.5e-3, 1.0e-3, 2.0e-3, 3.0e-3):
         bem = solve_wheelset(wheel, rail, y, 0.0, fz, None, None, STEEL, 0.5e-3, roll=0.0,
@@ -216,7 +217,7 @@ def test_bad_input(geo):
         scenarios.coach_system(geometry="points")
     with pytest.raises(InputError, match="strip"):
         scenarios.coach_system(linear_conicity=0.2, geometry="strip")
-    w, r = scenarios._profiles()
+    w, r = systems.profiles()
     with pytest.raises(InputError, match="step"):
         strip_geometry(w, r, step=-1.0)
 

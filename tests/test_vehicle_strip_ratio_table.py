@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.contact.hertz import hertz
 from railvti.vehicle.strip import (STRIP_OUTPUTS, UPPER_CLIP, UPPER_FLAT, UPPER_LINEAR,
                                    saturated_log_ratio, strip_geometry, strip_wheel)
@@ -31,8 +32,8 @@ FF_POSE = (4.7027216297756552e-03, -1.7634374589951597e-03, 3.0540133969089570e-
 
 @pytest.fixture(scope="module")
 def geometry():
-    wheel, rail = scenarios._profiles()
-    return strip_geometry(wheel, rail, material=scenarios.contact_table().material)
+    wheel, rail = systems.profiles()
+    return strip_geometry(wheel, rail, material=scenarios.wheel_table().material)
 
 
 def test_ratio_table_is_hertz_at_every_node(geometry):
@@ -41,7 +42,7 @@ def test_ratio_table_is_hertz_at_every_node(geometry):
     x = geometry.x0 + geometry.dx * np.arange(geometry.fv.shape[0])
     rho = np.exp(saturated_log_ratio(x, UPPER_LINEAR, UPPER_FLAT, np.log(UPPER_CLIP)))
     rho = np.clip(rho, 1.0 / 25.0, UPPER_CLIP)
-    mat = scenarios.contact_table().material
+    mat = scenarios.wheel_table().material
     for i in range(0, x.size, 11):
         h = hertz(1.0, float(rho[i]), 1.0, mat)
         kh = h.approach ** -1.5

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.geometry import layout
 from railvti.vehicle import static_equilibrium
 from railvti.vehicle.model import CallSettings
@@ -22,7 +23,7 @@ YAWS = (0.0, 2e-3, 5e-3, 10e-3)
 
 @pytest.fixture(scope="module")
 def setup():
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     return wheel, rail, strip_geometry(wheel, rail, step=STEP)
 
 

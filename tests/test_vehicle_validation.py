@@ -22,7 +22,7 @@ def lam():
 
 
 def _single(lam, ky, kx):
-    tab = linearised_table(scenarios.contact_table(), lam, gravitational=False, spin=False)
+    tab = linearised_table(scenarios.wheel_table(), lam, gravitational=False, spin=False)
     return tab, build_single_wheelset(tab, ky=ky, kx=kx, half_spacing=1.0, axle_load=100e3, **WS)
 
 

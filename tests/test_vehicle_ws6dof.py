@@ -19,7 +19,7 @@ IWY = 112.0          # Manchester benchmark wheelset pitch inertia (Iwnicki 1998
 
 
 def test_dof_layout_53_and_the_old_45():
-    tab = scenarios.contact_table()
+    tab = scenarios.wheel_table()
     sy = build_coach(Coach(), tab)
     assert sy.n == 53
     assert sy.dof_names[17:23] == ("ws1_x", "ws1_y", "ws1_z", "ws1_roll", "ws1_yaw", "ws1_beta")
@@ -45,7 +45,7 @@ def test_dof_layout_53_and_the_old_45():
 def test_centred_running_free_rolling(contact):
     c = scenarios.centred_running(200.0, contact=contact, duration=0.2, progress=False)
     assert c.q_error < 1e-3
-    r0 = scenarios.contact_table().r0
+    r0 = scenarios.wheel_table().r0
     fx = c.run.wheel_output("Fx")[-1]
     # free rolling: the moments about the axle balance, r Fx against the axle components
     # -sg sin(delta) Mz of the spin moments (FASTSIM's, applied since issue 13)
@@ -60,7 +60,7 @@ def test_bem_centred_running_relaxes_the_spin_loaded_fx():
     """The non-elliptic spin-loaded BEM patch gives Fx ~ 2 kN per wheel (same sign) with the
     rolling speed imposed (4 DOF wheelsets); with beta free the wheelset's rolling speed
     adjusts until sum r Fx = 0: Fx ~ 0 on both wheels (measured < 0.2 N after 0.02 s)."""
-    tab = scenarios.contact_table()
+    tab = scenarios.wheel_table()
     s4 = build_coach(Coach(), tab, wheelset_dofs=4)
     _, w4 = static_equilibrium(s4, V, "bem")
     assert np.abs(w4[W.index("Fx")]).min() > 1000.0          # measured 1978 N
@@ -75,7 +75,7 @@ def test_bem_centred_running_relaxes_the_spin_loaded_fx():
 
 
 def _single(v0, *, longitudinal, spin, kx=2e6):
-    tab = linearised_table(scenarios.contact_table(), 0.2, gravitational=False, spin=False)
+    tab = linearised_table(scenarios.wheel_table(), 0.2, gravitational=False, spin=False)
     sy = build_single_wheelset(tab, ky=1e6, kx=kx, half_spacing=1.0, axle_load=100e3,
                                longitudinal=longitudinal, spin_inertia=IWY if spin else None, **WS)
     q, v, wout = static_equilibrium(sy, v0, return_velocity=True)

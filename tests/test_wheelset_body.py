@@ -45,7 +45,7 @@ def test_fe_polar_moment_is_the_bare_wheelsets(body):
 
 
 def test_rr_and_fr_share_the_rigid_body_and_its_gyroscopic_matrix(body):
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     rr = scenarios.coach_system("RR", geometry="table")
     fr, _ = build_fr(Coach(), table, V, body=body, zero_rows=True, residual=False)
     n = rr.n

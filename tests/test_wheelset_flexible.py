@@ -459,7 +459,7 @@ def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
     from railvti import scenarios
     from railvti.vehicle.flexible import _ATTACH_INDEX, build_fr
     from railvti.vehicle.params import Coach
-    sy, lay = build_fr(Coach(), scenarios.contact_table(), 300 / 3.6, body=body, wheelset=ws,
+    sy, lay = build_fr(Coach(), scenarios.wheel_table(), 300 / 3.6, body=body, wheelset=ws,
                        flexible=(0,), follow_contact=True, residual_grid=residual_5mm,
                        residual_mass=False)
     mb, la = sy.modal, lay[0]

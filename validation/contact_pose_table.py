@@ -29,7 +29,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from railvti import scenarios  # noqa: E402
+from railvti.vehicle import systems  # noqa: E402
 from railvti.geometry import contact_points, layout  # noqa: E402
 from railvti.vehicle.table import pose_values, rolled_gap, wheel_table  # noqa: E402
 
@@ -69,7 +69,7 @@ def model_first(t0, u, roll):
 
 
 def main() -> None:
-    w, r = scenarios._profiles()
+    w, r = systems.profiles()
     lay = layout(w, r)
     rng = np.random.default_rng(1)
     n = 400

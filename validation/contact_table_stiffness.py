@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.contact.wheelset import solve_wheelset
 from railvti.errors import GridTooSmallError
 from railvti.material import STEEL
@@ -57,7 +57,7 @@ def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
 
 def main() -> None:
     step = float(sys.argv[1]) * 1e-3 if len(sys.argv) > 1 else 0.05e-3
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     fz = Coach().static_wheel_load
     table = wheel_table(wheel, rail, roll_max=0.0)
     ys = np.arange(-3e-3, 7.5e-3 + 1e-12, step)

@@ -34,13 +34,13 @@ def main() -> None:
           f"(Hertz+FASTSIM {f.Y[0, 0]:.1f} / {f.Y[1, 0]:.1f} N); net per axle "
           f"{np.abs(c.Y.sum(axis=0)).max():.2e} N")
     fx = c.run.wheel_output("Fx")[-1]
-    r0 = scenarios.contact_table().r0
+    r0 = scenarios.wheel_table().r0
     jb = [c.run.dof_names.index(f"ws{i}_beta") for i in (1, 2, 3, 4)]
     print("  free rolling (wheelset spin DOF beta): Fx left/right per wheelset "
           + ", ".join(f"{fx[0, w]:+.2f}/{fx[1, w]:+.2f}" for w in range(4)) + " N; "
           f"max |sum r Fx| {np.abs(fx.sum(axis=0) * r0).max():.2e} N m; spin rate "
           f"{c.run.v[-1, jb[0]]:+.4f} rad/s (xi = {-c.run.v[-1, jb[0]] * r0 / c.run.speed:+.2e})")
-    s4 = build_coach(Coach(), scenarios.contact_table(), wheelset_dofs=4)
+    s4 = build_coach(Coach(), scenarios.wheel_table(), wheelset_dofs=4)
     _, w4 = static_equilibrium(s4, 200 / 3.6, "bem")
     print(f"  the same with the rolling speed imposed (4-DOF wheelsets): Fx left/right "
           f"{w4[2, 0, 0]:+.1f}/{w4[2, 1, 0]:+.1f} N on the leading wheelset")

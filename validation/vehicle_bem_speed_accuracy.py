@@ -73,7 +73,7 @@ from railvti import scenarios
 from railvti.vehicle.bem import BemOptions
 model, scenario, contact, geo = sys.argv[1:5]
 dx, speed, dur, out_dt = (float(a) for a in sys.argv[5:9])
-scenarios.contact_table()
+scenarios.wheel_table()
 scenarios.coach_system(model, speed_kmh=speed, geometry=geo)       # built and cached, not timed
 kw = {"bem_options": BemOptions(dx=dx)} if contact == "bem" else {}
 kw["output_dt"] = out_dt

@@ -71,7 +71,7 @@ def main() -> None:
     import matplotlib.pyplot as plt
 
     t0 = time.perf_counter()
-    coarse = scenarios.contact_table()
+    coarse = scenarios.wheel_table()
     w, r = coarse.wheel, coarse.rail
     fine = wheel_table(w, r, y_max=0.007, step=coarse.dy / 4)   # nodes every 12.5 um
     # the look-up as it was: one label for every node, i.e. linear blending across the jumps

@@ -39,7 +39,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 def static() -> None:
     v = speed_m_s(200.0)
     ws = Wheelset()
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     print("coupled statics vs static FE solve, leading wheelset, right wheel, 200 km/h")
     for km, fm, s_c in ((2, 800.0, 0.0), (1, 300.0, 0.0), (2, 800.0, 3e-3)):
         body = ws.flexible_body(v, k_max=km, f_max=fm)
@@ -60,7 +60,7 @@ def static() -> None:
 
 def kick() -> None:
     v = speed_m_s(300.0)
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     fr, lay = build_fr(Coach(), table, v)
 
     def rows_zeroed(rows):
@@ -87,7 +87,7 @@ def kick() -> None:
 
 def energy() -> None:
     from vehicle_fr_energy import V, run
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     f0, lay = build_fr(Coach(), table, V)
     print("undamped frictionless coach, vertical motion, 2 s, h = 0.5 ms: max |E - E0| / E_osc")
     for name, rows in (("all rim rows", []), ("only the vertical rows", [0, 2, 3, 5]),
@@ -104,7 +104,7 @@ def energy() -> None:
 def timing() -> None:
     v = speed_m_s(200.0)
     body = Wheelset().flexible_body(v)
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     systems = [("RR", scenarios.coach_system("RR")),
                ("FR without residual, Euler, rigid gyro",
                 build_fr(Coach(), table, v, body=body, residual=False, euler=False,

@@ -89,7 +89,7 @@ def run(sy, kick_y: float, h: float, duration: float) -> str:
 
 
 def main() -> None:
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     rr = dataclasses.replace(scenarios.coach_system().without_damping(), friction=0.0)
     fr0, _ = build_fr(Coach(), table, V)
     fr = dataclasses.replace(fr0.without_damping(), friction=0.0)

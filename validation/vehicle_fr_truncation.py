@@ -51,6 +51,7 @@ from pathlib import Path
 import numpy as np
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.vehicle import Coach, simulate, static_equilibrium
 from railvti.vehicle.flexible import build_fr
 from railvti.vehicle.flexible_points import rim_rail_angle_change
@@ -80,7 +81,7 @@ class _Setup:
 
     def __init__(self) -> None:
         self.v = speed_m_s(SPEED_KMH)
-        self.table = scenarios.contact_table()
+        self.table = scenarios.wheel_table()
         self.wheelset = Wheelset()
 
     def system(self, k_max: int, f_max: float, residual: bool = True):
@@ -111,7 +112,7 @@ def run_selection(S: _Setup, k_max: int, f_max: float, h: float | None = None,
     """Steady state, 0.1 s of steady running and the 0.3 s transient of one selection (cost:
     the best of ``repeats`` transient runs)."""
     sy, t_build = S.system(k_max, f_max, residual)
-    h = scenarios._default_step(sy) if h is None else h
+    h = systems.default_step(sy) if h is None else h
     t0 = time.perf_counter()
     q, qd, _ = static_equilibrium(sy, S.v, "hertz-kalker", return_velocity=True)
     t_static = time.perf_counter() - t0
@@ -217,7 +218,7 @@ def bem(S: _Setup, out: dict) -> None:
     runs = {}
     for km, fm in [REFERENCE] + list(BEM_GRID):
         sy, t_build = S.system(km, fm)
-        h = scenarios._default_step(sy)
+        h = systems.default_step(sy)
         with bem_state(sy) as st:
             t0 = time.perf_counter()
             # the defaults (1e-11, 60 iterations) stop early with the residual flexibility
@@ -257,7 +258,7 @@ def print_bem(out: dict) -> None:
 
 def steps(S: _Setup, out: dict) -> None:
     sy, _ = S.system(*DEFAULT)
-    h0 = scenarios._default_step(sy)
+    h0 = systems.default_step(sy)
     for residual, key in ((True, "steps"), (False, "steps_no_residual")):
         print(f"\ntime step, default selection k_max {DEFAULT[0]} / {DEFAULT[1]:.0f} Hz"
               + ("" if residual else " WITHOUT the residual flexibility")

@@ -3,7 +3,7 @@ the hunting half; the centred-running half is validation/vehicle_fr_truncation.p
 
 Hunting from the scenario's 4 mm start at 350 km/h (FR's Newton fails in flange impacts
 above 380 km/h: docs/vehicle.md), Hertz + Kalker, each selection (k_max, f_max) at its own
-default step (h omega_max <= 2, scenarios._default_step) and with the residual flexibility;
+default step (h omega_max <= 2, systems.default_step) and with the residual flexibility;
 the amplitude is the leading wheelset's over the last second (scenarios.amplitude). The
 error is against the richest selection run. The cost is the wall time per simulated second
 of one run (the machine is shared: compare within one invocation). Prints a table and writes

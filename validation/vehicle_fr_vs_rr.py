@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.vehicle import simulate, static_equilibrium
 from railvti.vehicle.flexible_points import rim_camber_change
 from railvti.vehicle.params import speed_m_s
@@ -102,7 +103,7 @@ def bem_runs() -> dict:
     v = speed_m_s(SPEED_KMH)
     for model in ("RR", FLEX):
         sy = _system(model)
-        h = scenarios._default_step(sy)
+        h = systems.default_step(sy)
         t0 = time.perf_counter()
         with bem_state(sy) as st:
             q, qd, _ = static_equilibrium(sy, v, "bem", bem=st, return_velocity=True, tol=1e-9,

@@ -65,6 +65,7 @@ def _rss_mb() -> float:
 def one_ring(n: int, args: argparse.Namespace) -> dict:
     """The costs and results of one ring of n sleepers (run in a process of its own)."""
     from railvti import scenarios
+    from railvti.vehicle import systems
     from railvti.vehicle.equilibrium import static_equilibrium
     from railvti.vehicle.simulate import simulate
     from railvti.errors import ConvergenceError
@@ -79,7 +80,7 @@ def one_ring(n: int, args: argparse.Namespace) -> dict:
     if "centred" in args.parts:
         v = args.centred_kmh / 3.6
         q0, v0, _ = static_equilibrium(sy, v, tol=1e-11, return_velocity=True)
-        h = scenarios._default_step(sy)
+        h = systems.default_step(sy)
         c0 = time.process_time()
         r = simulate(sy, v, args.centred_duration, h=h, q0=q0, v0=v0, output_dt=h, progress=False)
         cpu = time.process_time() - c0

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from railvti import scenarios
+from railvti.vehicle import systems
 from railvti.geometry import layout
 from railvti.vehicle.strip import STRIP_OUTPUTS, strip_geometry, strip_wheel
 
@@ -81,7 +81,7 @@ def light_contact(geo, y, yaw, pmax=2e-6):
 
 
 def main() -> None:
-    wheel, rail = scenarios._profiles()
+    wheel, rail = systems.profiles()
     geo = strip_geometry(wheel, rail, step=STEP)
     lay = layout(wheel, rail)
     grid = np.arange(wheel.y_min, wheel.y_max + 1e-12, STEP)

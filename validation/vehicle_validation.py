@@ -36,7 +36,7 @@ WS = dict(mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0)   # Iwnicki 1998
 
 
 def _single(lam: float, ky: float, kx: float, axle_load: float = 100e3):
-    tab = linearised_table(scenarios.contact_table(), lam, gravitational=False, spin=False)
+    tab = linearised_table(scenarios.wheel_table(), lam, gravitational=False, spin=False)
     sy = build_single_wheelset(tab, ky=ky, kx=kx, half_spacing=1.0, axle_load=axle_load, **WS)
     return tab, sy
 

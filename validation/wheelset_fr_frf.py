@@ -83,7 +83,7 @@ def fe_coach(ws: Wheelset, dampers: bool) -> Coach:
 
 def main() -> None:
     ws = Wheelset()
-    table = scenarios.contact_table()
+    table = scenarios.wheel_table()
     fig, axes = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
     worst = 0.0
     for ax, kmh in zip(axes, (0.0, 300.0)):

@@ -12,8 +12,11 @@ from .errors import InputError
 #: Highest speed of a vehicle, km/h: above the fastest wheel-on-rail runs (574.8 km/h,
 #: TGV 2007) the contact and creep models are not meant to hold.
 MAX_SPEED_KMH = 600.0
+#: km/h per m/s: the package's one speed conversion (speeds are m/s inside; km/h lives in
+#: deck aliases, suffixed keyword aliases such as ``speed_kmh=`` and labels only).
+KMH_PER_M_S = 3.6
 #: The same in m/s.
-MAX_SPEED = MAX_SPEED_KMH / 3.6
+MAX_SPEED = MAX_SPEED_KMH / KMH_PER_M_S
 #: Largest wheel-rail friction coefficient: dry clean steel reaches ~0.6; 1 is a generous bound.
 MAX_FRICTION = 1.0
 
@@ -102,11 +105,50 @@ def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None,
 
 def speed_kmh(name: str, value: Any) -> float:
     """Return a vehicle speed in km/h as a float; raise unless 0 < value <= MAX_SPEED_KMH."""
+    return _kmh(name, value)
+
+
+def _kmh(name: str, value: Any) -> float:
     v = finite(name, value)
     if not 0.0 < v <= MAX_SPEED_KMH:
         raise InputError(f"{name} = {v:g} km/h must be in (0, {MAX_SPEED_KMH:g}] km/h (the fastest "
                          "wheel-on-rail run was 575 km/h)")
     return v
+
+
+def from_kmh(value: Any) -> Any:
+    """A speed (or an array of speeds) given in km/h, in m/s."""
+    return value / KMH_PER_M_S
+
+
+def to_kmh(value: Any) -> Any:
+    """A speed (or an array of speeds) in m/s, in km/h: for labels and printed text."""
+    return value * KMH_PER_M_S
+
+
+def speed_si(speed: Any, speed_kmh: Any, default_kmh: float | None = None,
+             name: str = "speed") -> float:
+    """A vehicle speed in m/s from exactly one of ``speed`` (m/s, the SI argument) and
+    ``speed_kmh`` (its suffixed alias, km/h), or ``default_kmh`` when neither is given:
+    the one conversion at the public API's edge.
+
+    Raises
+    ------
+    InputError
+        Both given, neither (without a default), or a speed outside (0, MAX_SPEED].
+    """
+    if speed is not None and speed_kmh is not None:
+        raise InputError(f"give the {name} once: {name} (m/s) or {name}_kmh (km/h), not both")
+    if speed is not None:
+        v = finite(name, speed)
+        if not 0.0 < v <= MAX_SPEED:
+            raise InputError(f"{name} = {v:g} m/s must be in (0, {MAX_SPEED:.4g}] m/s")
+        return v
+    if speed_kmh is None:
+        if default_kmh is None:
+            raise InputError(f"the {name} is required: {name} (m/s) or {name}_kmh (km/h)")
+        speed_kmh = default_kmh
+    return from_kmh(_kmh(f"{name}_kmh", speed_kmh))
 
 
 def friction(name: str, value: Any, allow_zero: bool = False) -> float:

@@ -25,6 +25,11 @@ import numpy as np
 
 from .errors import InputError
 
+__all__ = ["REQUIRED", "Streamed", "CaseOutput", "Key", "Alias", "CaseType", "as_written",
+           "REGISTRY", "validate", "register", "split_labels", "MAX_NAME", "Case", "name_problem",
+           "DECK_READERS", "register_deck_reader", "STREAM_TAIL_SECONDS", "ROW_BYTES",
+           "history_bytes", "HistorySink", "offering_sinks", "case_sink"]
+
 log = logging.getLogger("railvti")
 
 
@@ -166,14 +171,30 @@ class Key:
 @dataclass(frozen=True)
 class Alias:
     """Another name of a key: an old name (``deprecated``), or the same quantity in another
-    unit named by ``unit`` (``factor`` converts a value to the key's unit: 1/3.6 from km/h to
-    m/s, 1e-3 from mm to m). Aliases are resolved when a deck is read; the case's parameters
-    hold the key."""
+    unit named by ``unit``: a value times ``factor`` divided by ``divisor`` is in the key's
+    unit (``factor`` 1e-3 from mm to m; ``divisor`` 3.6 from km/h to m/s, so that 300 km/h
+    is 300 / 3.6 m/s exactly as the Python API's ``speed_kmh=`` gives it). Aliases are
+    resolved when a deck is read; the case's parameters hold the key."""
 
     key: str
     factor: float = 1.0
     deprecated: bool = True
     unit: str = ""
+    divisor: float = 1.0
+
+    @property
+    def scale(self) -> float:
+        """The key's unit per the alias's (0.277778 for km/h to m/s), for listings."""
+        return self.factor / self.divisor
+
+    @property
+    def converts(self) -> bool:
+        """Whether the alias is in another unit than its key."""
+        return self.factor != 1.0 or self.divisor != 1.0
+
+    def to_key(self, value: Any) -> float:
+        """A number given under the alias, in the key's unit."""
+        return float(value) * self.factor / self.divisor
 
 
 @dataclass(frozen=True)
@@ -270,10 +291,10 @@ class CaseType:
                        + (f" (unit {self.keys[alias.key].unit})" if alias.key in self.keys else ""))
                 warnings.warn(msg, DeprecationWarning, stacklevel=3)
                 log.warning(msg)
-            if alias.factor != 1.0 and value is not None:
+            if alias.converts and value is not None:
                 try:
-                    value = ([float(v) * alias.factor for v in value] if isinstance(value, (list, tuple))
-                             else float(value) * alias.factor)
+                    value = ([alias.to_key(v) for v in value] if isinstance(value, (list, tuple))
+                             else alias.to_key(value))
                 except (TypeError, ValueError):
                     problems.append(f"key '{name}' must be a number, got {value!r}")
                     continue

@@ -45,16 +45,24 @@ import numpy as np
 from . import _checks
 from ._threads import serial_blas
 from .errors import ConvergenceError, GridTooSmallError, InputError
-from .scenarios import (FR_F_MAX, FR_K_MAX, _check_model, _output_dt, _point_systems,
-                        _ring_keys, check_fr_selection, FLEXIBLE_WHEELSETS, resolve_geometry)
+from .vehicle.bifurcation import point_systems
 from .vehicle.params import Coach
-from .vehicle.simulate import lateral_disturbance, simulate, static_equilibrium
+from .vehicle.equilibrium import lateral_disturbance, static_equilibrium
+from .vehicle.simulate import simulate
+from .vehicle.systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, check_fr_selection,
+                              check_model, resolve_geometry, ring_keys, run_output_dt)
+
+__all__ = ["envelope", "growth_rate", "cycle_verdict", "Bracket", "bracket_down",
+           "PathCriticalSpeed", "RUN_FAILURES", "nonlinear_critical_speed", "RESOLUTION_KMH",
+           "STEP_KMH", "TOP_KMH", "FLOOR_KMH"]
 
 log = logging.getLogger(__name__)
 
-#: Default fold bracket width and coarse walk step, km/h (their SI twins are the keywords
-#: ``resolution`` and ``step`` in m/s).
+#: Default fold bracket width and coarse walk step, km/h (the keywords ``resolution`` and
+#: ``step`` take them in m/s).
 RESOLUTION_KMH, STEP_KMH = 2.5, 20.0
+#: Default top speed and floor of the walk, km/h.
+TOP_KMH, FLOOR_KMH = 420.0, 150.0
 
 
 # --------------------------------------------------------------------------------------------
@@ -302,28 +310,28 @@ class PathCriticalSpeed:
     @property
     def fold_kmh(self) -> float:
         """The fold, km/h."""
-        return self.fold * 3.6
+        return _checks.to_kmh(self.fold)
 
     @property
     def decay_boundary_kmh(self) -> float:
         """The decay boundary, km/h."""
-        return self.decay_boundary * 3.6
+        return _checks.to_kmh(self.decay_boundary)
 
     @property
     def fold_bracket_kmh(self) -> tuple[float, float]:
         """The fold bracket, km/h."""
-        return (self.fold_bracket[0] * 3.6, self.fold_bracket[1] * 3.6)
+        return (_checks.to_kmh(self.fold_bracket[0]), _checks.to_kmh(self.fold_bracket[1]))
 
     @property
     def decay_bracket_kmh(self) -> tuple[float, float]:
         """The decay bracket, km/h."""
-        return (self.decay_bracket[0] * 3.6, self.decay_bracket[1] * 3.6)
+        return (_checks.to_kmh(self.decay_bracket[0]), _checks.to_kmh(self.decay_bracket[1]))
 
     @property
     def message(self) -> str:
         """One line: both numbers with their brackets, or why one is missing."""
-        top = self.settings.get("speed_top", float("nan")) * 3.6
-        bottom = self.settings.get("speed_floor", float("nan")) * 3.6
+        top = _checks.to_kmh(self.settings.get("speed_top", float("nan")))
+        bottom = _checks.to_kmh(self.settings.get("speed_floor", float("nan")))
         lo, hi = self.fold_bracket_kmh
         if math.isnan(hi) and self.failure.startswith("fold"):
             f = f"fold unknown (no verdict at the top speed {top:.1f} km/h)"
@@ -358,9 +366,9 @@ class PathCriticalSpeed:
 RUN_FAILURES = (ConvergenceError, GridTooSmallError)
 
 
-def _failed(s_kmh: float, err: Exception) -> tuple[bool, None, dict]:
-    """A test's result for a run that failed: not passed, the reason recorded."""
-    log.warning("run at %.2f km/h failed: %s", s_kmh, err)
+def _failed(speed: float, err: Exception) -> tuple[bool, None, dict]:
+    """A test's result for a run that failed at speed (m/s): not passed, the reason recorded."""
+    log.warning("run at %.2f km/h failed: %s", _checks.to_kmh(speed), err)
     nan = float("nan")
     return False, None, dict(amplitude=nan, rate=nan, duration=nan, flange=nan,
                              failed=str(err).split(";")[0])
@@ -374,27 +382,28 @@ class _Runs:
                  k_max: int, f_max: float, geometry: str, ring: dict,
                  output_dt: float | None, segments: int) -> None:
         self.contact, self.output_dt, self.segments = contact, output_dt, segments
-        self.systems = _point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+        self.systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
 
-    def static(self, s_kmh: float, travel: float = 0.0) -> np.ndarray:
-        sy = self.systems.upper_at(s_kmh, travel)[0]
-        return static_equilibrium(sy, s_kmh / 3.6, self.contact)[0]
+    def static(self, speed: float, travel: float = 0.0) -> np.ndarray:
+        """The static state at speed (m/s), the contact points ``travel`` along the ring."""
+        sy = self.systems.upper_at(speed, travel)[0]
+        return static_equilibrium(sy, speed, self.contact)[0]
 
-    def run(self, s_kmh: float, q: np.ndarray, v: np.ndarray | None, duration: float,
+    def run(self, speed: float, q: np.ndarray, v: np.ndarray | None, duration: float,
             travel: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
-        """``duration`` s at s_kmh from (q, v), in ``segments`` continued calls.
+        """``duration`` s at speed (m/s) from (q, v), in ``segments`` continued calls.
 
         Returns (t, y_ws1, q_end, v_end, travel_end, max flange force of the leading bogie
         over the last 0.5 s)."""
-        vv = s_kmh / 3.6
-        _, _, hs = self.systems.at(s_kmh)
+        vv = speed
+        _, _, hs = self.systems.at(speed)
         ts, ys, fl = [], [], []
         t0 = 0.0
         part = duration / self.segments
         for _ in range(self.segments):
-            sy = self.systems.upper_at(s_kmh, travel)[0]
+            sy = self.systems.upper_at(speed, travel)[0]
             r = simulate(sy, vv, part, contact=self.contact, h=hs, q0=q, v0=v,
-                         output_dt=_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
+                         output_dt=run_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
                          progress=False)
             ts.append(r.t + t0)
             ys.append(r.y_ws1)
@@ -407,12 +416,12 @@ class _Runs:
 
 
 def _speed_arg(name: str, si: Any, kmh: Any, default_kmh: float) -> float:
-    """A speed-like keyword in km/h from exactly one of ``name`` (m/s) and ``name_kmh``."""
+    """A speed-like keyword in m/s from exactly one of ``name`` (m/s) and ``name_kmh``."""
     if si is not None and kmh is not None:
         raise InputError(f"give {name} once: {name} (m/s) or {name}_kmh (km/h), not both")
     if si is not None:
-        return _checks.positive(name, si) * 3.6
-    return _checks.positive(f"{name}_kmh", default_kmh if kmh is None else kmh)
+        return _checks.positive(name, si)
+    return _checks.from_kmh(_checks.positive(f"{name}_kmh", default_kmh if kmh is None else kmh))
 
 
 def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *,
@@ -496,46 +505,95 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     InputError
         A bad key (named), before any run.
     """
-    top = _speed_arg("speed_top", speed_top, speed_top_kmh, 420.0)
-    bottom = _speed_arg("speed_floor", speed_floor, speed_floor_kmh, 150.0)
+    top = _speed_arg("speed_top", speed_top, speed_top_kmh, TOP_KMH)
+    bottom = _speed_arg("speed_floor", speed_floor, speed_floor_kmh, FLOOR_KMH)
     dstep = _speed_arg("step", step, step_kmh, STEP_KMH)
     res = _speed_arg("resolution", resolution, resolution_kmh, RESOLUTION_KMH)
-    _checks.speed_kmh("speed_top_kmh", top)
-    if bottom >= top:
-        raise InputError(f"speed_top = {top:g} km/h must lie above speed_floor = {bottom:g} km/h")
-    if res > dstep:
-        raise InputError(f"resolution = {res:g} km/h must not exceed step = {dstep:g} km/h")
-    duration = _checks.positive("duration", duration)
-    y_large = _checks.positive("y_large", y_large)
-    y_small = _checks.positive("y_small", y_small)
-    threshold = _checks.positive("threshold", threshold)
-    rate_tol = _checks.positive("rate_tol", rate_tol)
-    collapse = _checks.positive("collapse", collapse)
-    if collapse >= 1.0:
-        raise InputError(f"collapse = {collapse:g} must lie in (0, 1): the fraction of the "
-                         f"carried cycle's amplitude below which it has died")
-    window = _checks.positive("window", window)
-    if 2.0 * window > duration:
-        raise InputError(f"window = {window:g} s: the run (duration = {duration:g} s) must hold "
-                         f"at least two windows")
-    max_extensions = _checks.positive_int("max_extensions", max_extensions, minimum=0)
-    segments = _checks.positive_int("segments", segments)
-    if h is not None:
-        _checks.positive("h", h)
-    _check_model(model, contact, "bifurcation")
+    cfg = _checked_search(top, bottom, dstep, res, duration=duration, y_large=y_large,
+                          y_small=y_small, threshold=threshold, rate_tol=rate_tol,
+                          collapse=collapse, window=window, max_extensions=max_extensions,
+                          segments=segments, h=h)
+    _check_model_keys(model, contact, k_max, f_max)
     if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
-    elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
-        raise InputError("k_max, f_max: the mode selection of models 'FR' and 'FF'")
-    ring = _ring_keys(model, ring)
+    ring = ring_keys(model, ring)
     geometry = resolve_geometry(contact, geometry)
-    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt, segments)
-    crit = dict(threshold=threshold, rate_tol=rate_tol, window=window)
+    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt,
+                 cfg["segments"])
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(desc="critical speed (runs)", leave=False)
+    try:
+        with serial_blas():
+            fb = bracket_down(_upper_test(runs, cfg, bar), top, dstep, bottom, res)
+            db = (bracket_down(_decay_test(runs, cfg, bar), top, dstep, bottom, res) if decay
+                  else Bracket(float("nan"), float("nan"), []))
+    finally:
+        if bar is not None:
+            bar.close()
+    settings = dict(speed_top=top, speed_floor=bottom, step=dstep, resolution=res,
+                    duration=cfg["duration"], y_large=cfg["y_large"], y_small=cfg["y_small"],
+                    threshold=cfg["threshold"], rate_tol=cfg["rate_tol"],
+                    collapse=cfg["collapse"], window=cfg["window"],
+                    max_extensions=cfg["max_extensions"], h=runs.systems.at(top)[2],
+                    segments=cfg["segments"], contact=contact, geometry=geometry,
+                    decay=bool(decay))
+    return _path_result(fb, db, runs, model, settings)
+
+
+def _checked_search(top: float, bottom: float, dstep: float, res: float, *, duration: Any,
+                    y_large: Any, y_small: Any, threshold: Any, rate_tol: Any, collapse: Any,
+                    window: Any, max_extensions: Any, segments: Any, h: Any) -> dict:
+    """The search's settings checked (speeds in m/s), as a dict; InputError naming a bad one."""
+    if not 0.0 < top <= _checks.MAX_SPEED:
+        raise InputError(f"speed_top_kmh = {_checks.to_kmh(top):g} km/h must be in (0, "
+                         f"{_checks.MAX_SPEED_KMH:g}] km/h (the fastest wheel-on-rail run was "
+                         "575 km/h)")
+    if bottom >= top:
+        raise InputError(f"speed_top = {_checks.to_kmh(top):g} km/h must lie above speed_floor = "
+                         f"{_checks.to_kmh(bottom):g} km/h")
+    if res > dstep:
+        raise InputError(f"resolution = {_checks.to_kmh(res):g} km/h must not exceed step = "
+                         f"{_checks.to_kmh(dstep):g} km/h")
+    cfg = dict(duration=_checks.positive("duration", duration),
+               y_large=_checks.positive("y_large", y_large),
+               y_small=_checks.positive("y_small", y_small),
+               threshold=_checks.positive("threshold", threshold),
+               rate_tol=_checks.positive("rate_tol", rate_tol),
+               collapse=_checks.positive("collapse", collapse))
+    if cfg["collapse"] >= 1.0:
+        raise InputError(f"collapse = {cfg['collapse']:g} must lie in (0, 1): the fraction of the "
+                         f"carried cycle's amplitude below which it has died")
+    cfg["window"] = _checks.positive("window", window)
+    if 2.0 * cfg["window"] > cfg["duration"]:
+        raise InputError(f"window = {cfg['window']:g} s: the run (duration = "
+                         f"{cfg['duration']:g} s) must hold at least two windows")
+    cfg["max_extensions"] = _checks.positive_int("max_extensions", max_extensions, minimum=0)
+    cfg["segments"] = _checks.positive_int("segments", segments)
+    if h is not None:
+        _checks.positive("h", h)
+    return cfg
+
+
+def _check_model_keys(model: str, contact: str, k_max: Any, f_max: Any) -> None:
+    """The model and contact, and no mode selection for the rigid wheelsets."""
+    check_model(model, contact, "bifurcation")
+    if model not in FLEXIBLE_WHEELSETS and (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        raise InputError("k_max, f_max: the mode selection of models 'FR' and 'FF'")
+
+
+def _upper_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
+    """The fold's test for :func:`bracket_down`: is a limit cycle alive at speed (m/s), the
+    state carried in from the last living run (the top: the static state shifted by
+    y_large)? A run still dying is continued up to max_extensions times."""
+    crit = dict(threshold=cfg["threshold"], rate_tol=cfg["rate_tol"], window=cfg["window"])
+    duration = cfg["duration"]
 
     def upper(s: float, state: Any) -> tuple[bool, Any, dict]:
         if state is None:                       # the top: a large shift of the static state
             sy = runs.systems.at(s)[0]
-            q = lateral_disturbance(sy, runs.static(s), y_large)
+            q = lateral_disturbance(sy, runs.static(s), cfg["y_large"])
             state = (q, np.zeros(sy.n_state), s, 0.0)
         q, v, s_from, travel = state
         carried = s_from != s or travel > 0.0
@@ -543,86 +601,81 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
             if s_from != s:
                 q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
             t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-            cut = collapse if carried else None
+            cut = cfg["collapse"] if carried else None
             verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
             n_ext = 0
-            while verdict == "decaying" and n_ext < max_extensions:
+            while verdict == "decaying" and n_ext < cfg["max_extensions"]:
                 t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
                 t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
                 verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
                 n_ext += 1
         except RUN_FAILURES as e:
             return _failed(s, e)
-        alive = verdict == "alive"
-        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", s, verdict, amp * 1e3,
+        kmh = _checks.to_kmh(s)
+        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", kmh, verdict, amp * 1e3,
                  rate, t[-1])
         if bar is not None:
-            bar.set_postfix_str(f"fold search {s:.2f} km/h {verdict}")
+            bar.set_postfix_str(f"fold search {kmh:.2f} km/h {verdict}")
             bar.update()
         rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl)
-        return alive, (q, v, s, travel), rec
+        return verdict == "alive", (q, v, s, travel), rec
+    return upper
+
+
+def _decay_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
+    """The decay boundary's test for :func:`bracket_down`: does a small disturbance y_small
+    of the static state at speed (m/s) grow (an independent run)?"""
+    window = cfg["window"]
 
     def grows(s: float, state: Any) -> tuple[bool, Any, dict]:
         sy = runs.systems.at(s)[0]
         try:
-            q = lateral_disturbance(sy, runs.static(s), y_small)
-            t, y, *_ = runs.run(s, q, None, duration, 0.0)
+            q = lateral_disturbance(sy, runs.static(s), cfg["y_small"])
+            t, y, *_ = runs.run(s, q, None, cfg["duration"], 0.0)
         except RUN_FAILURES as e:
             return _failed(s, e)
         rate = growth_rate(t, y, window)
         amp = float(envelope(t, y, window)[1][-1])
-        log.info("decay %.2f km/h: rate %.4f 1/s, %.4f mm", s, rate, amp * 1e3)
+        kmh = _checks.to_kmh(s)
+        log.info("decay %.2f km/h: rate %.4f 1/s, %.4f mm", kmh, rate, amp * 1e3)
         if bar is not None:
-            bar.set_postfix_str(f"decay test {s:.2f} km/h {'grows' if rate > 0 else 'decays'}")
+            bar.set_postfix_str(f"decay test {kmh:.2f} km/h {'grows' if rate > 0 else 'decays'}")
             bar.update()
         return rate > 0.0, None, dict(amplitude=amp, rate=rate)
+    return grows
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(desc="critical speed (runs)", leave=False)
-    try:
-        with serial_blas():
-            fb = bracket_down(upper, top, dstep, bottom, res)
-            db = (bracket_down(grows, top, dstep, bottom, res) if decay
-                  else Bracket(float("nan"), float("nan"), []))
-    finally:
-        if bar is not None:
-            bar.close()
+
+def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str,
+                 settings: dict) -> PathCriticalSpeed:
+    """The PathCriticalSpeed of the fold's and the decay boundary's brackets (m/s)."""
     amp_f, branch = float("nan"), "none"
     if not (math.isnan(fb.hi) or math.isnan(fb.lo)):
         rec = next(r for s, ok, r in fb.visited if ok and s == fb.hi)
         amp_f = rec["amplitude"]
         wheel_load = runs.systems.at(fb.hi)[0].wheel_load
         branch = "flange cycle" if rec["flange"] > 0.01 * wheel_load else "tread cycle"
-    fold = fb.hi if not math.isnan(fb.lo) else float("nan")
-    boundary = db.hi if not math.isnan(db.lo) else float("nan")
-    method = (f"fold: continuation down from {y_large * 1e3:g} mm at {top:g} km/h in "
-              f"{dstep:g} km/h steps, bisection from the last living state to "
-              f"{res:g} km/h; alive = envelope ({window:g} s windows) growth rate over the "
-              f"run's second half >= -{rate_tol:g} 1/s, last window >= "
-              f"{threshold * 1e3:g} mm and >= {collapse:g} x the first when carried "
-              f"({duration:g} s per run, up to {max_extensions} extensions); decay boundary: "
-              f"independent runs from {y_small * 1e3:g} mm, grows = last envelope window "
-              f"above the first")
-    settings = dict(speed_top=top / 3.6, speed_floor=bottom / 3.6, step=dstep / 3.6,
-                    resolution=res / 3.6, duration=duration, y_large=y_large, y_small=y_small,
-                    threshold=threshold, rate_tol=rate_tol, collapse=collapse, window=window,
-                    max_extensions=max_extensions, h=runs.systems.at(top)[2], segments=segments,
-                    contact=contact, geometry=geometry, decay=bool(decay))
-    pv = fb.visited
-    dv = db.visited
+    st, kmh = settings, _checks.to_kmh
+    method = (f"fold: continuation down from {st['y_large'] * 1e3:g} mm at "
+              f"{kmh(st['speed_top']):g} km/h in {kmh(st['step']):g} km/h steps, bisection "
+              f"from the last living state to {kmh(st['resolution']):g} km/h; alive = "
+              f"envelope ({st['window']:g} s windows) growth rate over the run's second half "
+              f">= -{st['rate_tol']:g} 1/s, last window >= {st['threshold'] * 1e3:g} mm and >= "
+              f"{st['collapse']:g} x the first when carried ({st['duration']:g} s per run, up "
+              f"to {st['max_extensions']} extensions); decay boundary: independent runs from "
+              f"{st['y_small'] * 1e3:g} mm, grows = last envelope window above the first")
+    pv, dv = fb.visited, db.visited
     failure = "; ".join(f"{name}: {b.failure}" for name, b in (("fold", fb), ("decay", db))
                         if b.failure)
     return PathCriticalSpeed(
-        fold=fold / 3.6, fold_bracket=(fb.lo / 3.6, fb.hi / 3.6),
-        decay_boundary=boundary / 3.6, decay_bracket=(db.lo / 3.6, db.hi / 3.6),
-        path_speeds=np.array([s for s, _, _ in pv]) / 3.6,
+        fold=fb.hi if not math.isnan(fb.lo) else float("nan"), fold_bracket=(fb.lo, fb.hi),
+        decay_boundary=db.hi if not math.isnan(db.lo) else float("nan"),
+        decay_bracket=(db.lo, db.hi),
+        path_speeds=np.array([s for s, _, _ in pv], dtype=float),
         path_amplitudes=np.array([r["amplitude"] for _, _, r in pv]),
         path_rates=np.array([r["rate"] for _, _, r in pv]),
         path_alive=np.array([ok for _, ok, _ in pv], dtype=bool),
         path_durations=np.array([r["duration"] for _, _, r in pv]),
-        decay_speeds=np.array([s for s, _, _ in dv]) / 3.6,
+        decay_speeds=np.array([s for s, _, _ in dv], dtype=float),
         decay_amplitudes=np.array([r["amplitude"] for _, _, r in dv]),
         decay_rates=np.array([r["rate"] for _, _, r in dv]),
         fold_amplitude=amp_f, fold_branch=branch, model=model, method=method,

@@ -240,7 +240,7 @@ def _cases(args: argparse.Namespace) -> int:
         for alias, a in ctype.aliases.items():
             to = ctype.keys[a.key].unit if a.key in ctype.keys else ""
             note = ("old name, deprecated" if a.deprecated
-                    else f"the same in {a.unit} (x {a.factor:.6g}" + (f" to {to})" if to else ")"))
+                    else f"the same in {a.unit} (x {a.scale:.6g}" + (f" to {to})" if to else ")"))
             print(f"    {alias:28s} {'':>14s}  {a.unit or '':8s} alias of '{a.key}': {note}")
         print()
     print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "

@@ -191,10 +191,10 @@ def _resolve(ctype: CaseType, key: str, value: Any) -> tuple[str, Any, str | Non
     alias = ctype.aliases.get(key)
     if alias is None:
         return key, value, f"unknown key '{key}' for type '{ctype.name}' in the sweep"
-    if alias.factor != 1.0:
+    if alias.converts:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             return alias.key, value, f"swept key '{key}' must be a number, got {value!r}"
-        value = float(value) * alias.factor
+        value = alias.to_key(value)
     return alias.key, value, None
 
 

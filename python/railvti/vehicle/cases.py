@@ -37,27 +37,33 @@ import numpy as np
 
 from dataclasses import replace
 
-from .._checks import MAX_SPEED, MAX_SPEED_KMH
+from .._checks import KMH_PER_M_S, MAX_SPEED, MAX_SPEED_KMH, from_kmh, to_kmh
 from ..casetypes import (Alias, CaseOutput, CaseType, Key, case_sink, history_bytes, register,
                          split_labels, validate)
 from ..errors import InputError
-from .. import scenarios as sc
-from ..scenarios import (AMPLITUDE_WINDOW, FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                         RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity)
 from ..track.cases import KEYS as TRACK_KEYS
 from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
-from .model import CONTACT_MODELS
+from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
+from .linear_stability import DAMPER_STATES, linear_critical_speed
+from .contact_models import CONTACT_MODELS
 from .flexible import mode_labels
 from .flexible_points import rail_head_roll, rim_camber_change, rim_deformation
 from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 from .ring_coupling import check_ring_length
-from .simulate import MODAL_STEP_LIMIT, STAT_UNITS, WHEEL_UNITS, check_modal_step
+from .run_result import STAT_UNITS, WHEEL_UNITS
+from .simulate import MODAL_STEP_LIMIT, check_modal_step
 from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from . import output
-from .simulate import WHEEL_OUTPUTS
+from .running import centred_running, contact_patch, hunting
+from .scenario_results import WHEEL_SIDES, kmh_label
+from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
+                      RF_SCENARIOS, RING_TRACK, fr_system, hunting_conicity, resolve_geometry)
+from .model import WHEEL_OUTPUTS
+
+__all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot"]
 
 _SCENARIOS = ("centred_running", "hunting", "critical_speed")
 #: The railvti.scenarios functions each deck scenario runs.
@@ -73,7 +79,7 @@ DEFAULTS: dict[str, Any] = {
     "model": "RR",
     "contact": "hertz-kalker",
     "geometry": None,
-    "speed": 300.0 / 3.6,
+    "speed": from_kmh(300.0),
     "duration": 3.0,
     "max_duration": 600.0,
     "h": None,
@@ -151,7 +157,7 @@ KEYS: dict[str, Key] = {
        for k, v in COACH_DEFAULTS.items()},
 }
 #: speed_kmh: the speed in km/h (not deprecated: its suffix names the unit).
-ALIASES = {"speed_kmh": Alias("speed", 1.0 / 3.6, deprecated=False, unit="km/h")}
+ALIASES = {"speed_kmh": Alias("speed", deprecated=False, unit="km/h", divisor=KMH_PER_M_S)}
 
 
 def check(params: dict[str, Any]) -> list[str]:
@@ -257,14 +263,14 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
     scale = params.get("coach_wheelset_stiffness_scale") or 1.0
     if params["h"] * 2.0 * np.pi * sel["f_max"] * np.sqrt(scale) <= MODAL_STEP_LIMIT:
         return None
-    kmh = (params["speeds_kmh_max"] if params["scenario"] == "critical_speed"
-           else params["speed"] * 3.6)
+    speed = (from_kmh(params["speeds_kmh_max"]) if params["scenario"] == "critical_speed"
+             else params["speed"])
     try:
         coach = _coach(params)
     except InputError:
         return None                      # reported by check as a coach problem
     try:
-        sy, _ = fr_system(coach, speed_kmh=min(kmh, MAX_SPEED_KMH), **sel)
+        sy, _ = fr_system(coach, speed=min(speed, MAX_SPEED), **sel)
         check_modal_step(sy, params["h"])
     except InputError as exc:
         return f"model FR: {exc}"
@@ -274,9 +280,6 @@ def _fr_step_problem(params: dict[str, Any]) -> str | None:
 def _coach(params: dict[str, Any]) -> Coach:
     kw = {k[6:]: v for k, v in params.items() if k.startswith("coach_")}
     return Coach(**kw)
-
-
-_SIDES = ["left", "right"]
 
 
 def _dof_unit(name: str, rate: bool) -> str:
@@ -306,7 +309,7 @@ def _history(res, data: dict, scalars: dict) -> None:
                   "column_units": [_dof_unit(n, True) for n in names]})
     data["y_ws1"] = (res.y_ws1, "m", {"axes": ["t"]})
     data["vy_ws1"] = (res.vy_ws1, "m/s", {"axes": ["t"]})
-    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets}
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets}
     for i, name in enumerate(WHEEL_OUTPUTS):
         data[f"wheel_{name}"] = (res.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
     for k, v in res.stats.items():
@@ -316,7 +319,7 @@ def _history(res, data: dict, scalars: dict) -> None:
     data["ws_y"] = (np.stack([res.dof(f"ws{w + 1}_y") for w in range(nw)], 1), "m",
                     {"axes": ["t", "wheelset"], "wheelset": wheelsets})
     data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
-    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": _SIDES, "wheelset": wheelsets, **last}
+    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets, **last}
     data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
     data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
     data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
@@ -329,7 +332,7 @@ def _history(res, data: dict, scalars: dict) -> None:
 
 def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
     """Model FR: the modal coordinates with their mode labels and the rims' deformation at
-    the contact points (railvti.vehicle.flexible.rim_deformation, rim_camber_change,
+    the contact points (railvti.vehicle.flexible_points.rim_deformation, rim_camber_change,
     rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
     ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
     n = system.n
@@ -355,11 +358,11 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
     data["modal_q"] = (res.q[:, n:stop], "kg^0.5 m or m (per column: column_units)",
                        {"axes": ["t", "mode"], "mode_label": labels, "column_units": units})
     per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["dy", "dz", "drx"],
-           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
+           "wheel": WHEEL_SIDES, "wheelset": [f"ws{w + 1}" for w in range(4)],
            "column_units": ["m", "m", "rad"],
            "meaning": "rim deformation at the contact points (taping line), track axes"}
     data["rim_deformation"] = (rim_deformation(system, res.q), "m, m, rad (per component)", per)
-    per_w = {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+    per_w = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES,
              "wheelset": [f"ws{w + 1}" for w in range(4)]}
     inner = ("+: the inner edge, towards the track centre, rises; -drx on the left wheel, +drx "
              "on the right, drx about the vehicle's x, y positive to the left")
@@ -407,39 +410,30 @@ def _ring_history(res, system, data: dict, prefix: str = "") -> None:
     rail = system.rail_deflection(res.t, res.q)                  # (nt, 3, 2, nw)
     nw = rail.shape[-1]
     per = {"axes": ["t", "component", "wheel", "wheelset"], "component": ["y", "z", "roll"],
-           "wheel": _SIDES, "wheelset": [f"ws{w + 1}" for w in range(nw)],
+           "wheel": WHEEL_SIDES, "wheelset": [f"ws{w + 1}" for w in range(nw)],
            "column_units": ["m", "m", "rad"],
            "meaning": "rail head's motion under each wheel: the pose (y, z, roll; vehicle frame, y "
                       "to the left) of the track element under the wheel, from the ring's modes"}
     data["rail_deflection"] = (rail, "m, m, rad (per component)", per)
     half = 0.5 * ring.rail_distance
     crown = rail[:, 1] + np.array([half, -half])[:, None] * rail[:, 2]
-    data["rail_crown_z"] = (crown, "m", {"axes": ["t", "wheel", "wheelset"], "wheel": _SIDES,
+    data["rail_crown_z"] = (crown, "m", {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES,
                                          "wheelset": [f"ws{w + 1}" for w in range(nw)],
                                          "meaning": "vertical displacement of the rail crown under "
                                                     "each wheel (+ up)"})
 
 
-def _modal_histories(res, model: str, coach: Coach, kmh: float, geometry: str, fr: dict,
-                     ring: dict, data: dict, scalars: dict) -> tuple:
+def _modal_histories(res, sy, layouts: list, fr: dict, ring: dict, data: dict,
+                     scalars: dict) -> None:
     """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
-    ring's prefixed 'ring_') from its system rebuilt at the run's speed; returns (system,
-    FR layouts or [])."""
-    if model == "FF":
-        sy, lays = sc.ff_system(coach, speed_kmh=kmh, geometry=geometry, **fr, **ring)
-    elif model == "FR":
-        sy, lays = sc.fr_system(coach, speed_kmh=kmh, geometry=geometry, **fr)
-    elif model == "RF":
-        sy, lays = sc.coach_system(model, coach, speed_kmh=kmh, geometry=geometry, **ring), []
-    else:
-        return sc.coach_system(model, coach), []
+    ring's prefixed 'ring_') from the system ``sy`` the run used and its FR ``layouts``
+    (nothing is rebuilt to label them)."""
     if fr:
         stop = sy.n_state - (sy.ring.n_modes + sy.ring.n_residual if ring else 0)
-        _fr_history(res, sy, lays, data, stop=stop)
+        _fr_history(res, sy, layouts, data, stop=stop)
     if ring:
         _ring_history(res, sy, data, prefix="ring_" if fr else "")
         scalars["n_ring_modes"] = (int(sy.ring.n_modes), "1")
-    return sy, lays
 
 
 def _stream_derived() -> dict:
@@ -481,13 +475,14 @@ def run(params: dict[str, Any]) -> CaseOutput:
     """Run one vehicle scenario (keys: see the module docstring)."""
 
     params = validate("vehicle", params)
-    params = {**params, "speed_kmh": round(params["speed"] * 3.6, 9)}  # km/h as given, to 1e-9
+    speed = float(params["speed"])
+    kmh = kmh_label(speed)                 # the label: km/h as given, to 1e-9
     scen = str(params["scenario"])
     if scen not in _SCENARIOS:
         raise InputError(f"scenario must be one of {_SCENARIOS}, got {scen!r}")
     coach = _coach(params)
     model, contact = str(params["model"]), str(params["contact"])
-    geometry = sc.resolve_geometry(contact, params["geometry"])
+    geometry = resolve_geometry(contact, params["geometry"])
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {"scenario": (scen, "text"), "model": (model, "text"),
                                            "contact": (contact, "text"),
@@ -508,72 +503,59 @@ def run(params: dict[str, Any]) -> CaseOutput:
                           derived=_stream_derived())
               if scen != "critical_speed" and not fr and not ring else None)
     if scen == "centred_running":
-        c = sc.centred_running(params["speed_kmh"], model, contact, duration=params["duration"],
-                               h=params["h"], coach=coach, stream_to=stream, geometry=geometry,
-                               output_dt=params["output_dt"], **fr, **ring)
+        c = centred_running(model=model, contact=contact, speed=speed,
+                            duration=params["duration"], h=params["h"], coach=coach,
+                            stream_to=stream, geometry=geometry, output_dt=params["output_dt"],
+                            **fr, **ring)
         wl = _history(c.run, data, scalars)
-        _modal_histories(c.run, model, coach, params["speed_kmh"], geometry, fr, ring, data,
-                         scalars)
-        final = {"axes": ["wheel", "wheelset"], "wheel": _SIDES,
-                 "wheelset": [f"ws{w + 1}" for w in range(np.shape(c.Q)[-1])]}
-        data["Q_final"] = (c.Q, "N", final)
-        data["Y_final"] = (c.Y, "N", final)
-        scalars["static_wheel_load"] = (c.static_wheel_load, "N")
-        scalars["max_Q_error"] = (c.q_error, "1")
+        _modal_histories(c.run, c.system, c.layouts, fr, ring, data, scalars)
+        final_data, final_scalars = c.case_data()
+        data.update(final_data)
+        scalars.update(final_scalars)
         if c.patch is not None:
             _patch(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
-        summary = (f"centred running {c.speed_kmh:g} km/h ({contact}): Q within "
+        summary = (f"centred running {kmh:g} km/h ({contact}): Q within "
                    f"{c.q_error:.2e} of the static load {c.static_wheel_load:.0f} N; {wl}")
     elif scen == "hunting":
-        r = sc.hunting(params["speed_kmh"], model, contact, duration=params["duration"],
-                       y0=params["y0"], h=params["h"], alpha=params["alpha"],
-                       output_dt=params["output_dt"], coach=coach, stream_to=stream,
-                       geometry=geometry, **fr, **ring)
+        r, sy, layouts = hunting(model=model, contact=contact, speed=speed,
+                                 duration=params["duration"], y0=params["y0"], h=params["h"],
+                                 alpha=params["alpha"], output_dt=params["output_dt"],
+                                 coach=coach, stream_to=stream, geometry=geometry,
+                                 return_system=True, **fr, **ring)
         wl = _history(r, data, scalars)
-        sy = _modal_histories(r, model, coach, params["speed_kmh"], geometry, fr, ring, data,
-                              scalars)
+        _modal_histories(r, sy, layouts, fr, ring, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
         if r.bem_patches is not None:
             k = -1                           # BEM fields: the final state's
             pt = r.bem_patches.get((0, 1))
         else:
-            pt = sc.contact_patch(sy[0], r, k, wheel=1, wheelset=0)
+            pt = contact_patch(sy, r, k, wheel=1, wheelset=0)
         if pt is not None:
             _patch(pt, data, scalars)
             scalars["patch_time"] = (float(r.t[k]), "s")
-        amp = sc.amplitude(r)
+        amp = amplitude(r)
         scalars["amplitude_last_second"] = (amp, "m")
-        scalars["speed_kmh"] = (float(params["speed_kmh"]), "km/h")
+        scalars["speed_kmh"] = (kmh, "km/h")
         window = ("the last second" if params["duration"] > AMPLITUDE_WINDOW
                   else f"the whole {params['duration']:g} s run (shorter than the 1 s window)")
-        summary = (f"hunting {params['speed_kmh']:g} km/h ({contact}): leading wheelset amplitude "
+        summary = (f"hunting {kmh:g} km/h ({contact}): leading wheelset amplitude "
                    f"{amp * 1e3:.2f} mm over {window}, RTF {r.stats['real_time_factor']:.3f}; "
                    f"{wl}")
     else:
         sp = np.arange(float(params["speeds_kmh_min"]), float(params["speeds_kmh_max"]) + 1e-9,
                        float(params["speeds_kmh_step"]))
-        b = sc.bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
-                           coach=coach, progress=False, geometry=geometry,
-                           output_dt=params["output_dt"], **fr, **ring)
-        lin, freq = sc.linear_critical_speed(model, coach, **fr, **ring)
-        data["speeds_kmh"] = (b.speeds_kmh, "km/h", {"axes": ["speed"]})
-        if fr:
-            data["step"] = (b.details["h"], "s", {"axes": ["speed"],
-                                                  "meaning": "time step at each speed"})
-        data["upper_amplitude"] = (b.upper, "m", {"axes": ["speed"]})
-        data["decay_amplitude"] = (b.decay, "m", {"axes": ["speed"]})
-        data["upper_flange_force"] = (b.details["flange_force"], "N", {"axes": ["speed"]})
-        scalars["critical_speed_nonlinear"] = (b.critical_kmh, "km/h")
-        scalars["critical_branch"] = (b.branch, "")
-        scalars["critical_branch_amplitude"] = (b.branch_amplitude, "m")
-        scalars["no_decay_below_kmh"] = (b.no_decay_below_kmh, "km/h")
-        scalars["no_cycle_up_to_kmh"] = (b.no_cycle_up_to_kmh, "km/h")
-        scalars["flange_hunting_speed"] = (b.flange_kmh, "km/h")
+        b = bifurcation(sp, model, contact, duration=params["duration"], h=params["h"],
+                        coach=coach, progress=False, geometry=geometry,
+                        output_dt=params["output_dt"], **fr, **ring)
+        lin, freq = linear_critical_speed(model, coach, **fr, **ring)
+        sweep_data, sweep_scalars = b.case_data(steps=bool(fr))
+        data.update(sweep_data)
+        scalars.update(sweep_scalars)
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
-        scalars["linear_yaw_damper_state"] = (sc.DAMPER_STATES["stuck"], "")
+        scalars["linear_yaw_damper_state"] = (DAMPER_STATES["stuck"], "")
         summary = (f"critical speed ({contact}): {b.message}; flange-contact cycle from "
                    f"{b.flange_kmh:.0f} km/h; linear {lin:.0f} km/h (yaw damper stuck)")
     if stream is not None:
@@ -668,7 +650,7 @@ def _run_title(res: Any) -> str:
     speed = _scalar(res, "speed_kmh")
     if not np.isfinite(speed) and "inputs" in res and "speed" in res["inputs"]:
         try:                               # the deck's speed, m/s (a case stores no speed_kmh)
-            speed = float(np.asarray(res["inputs"]["speed"])) * 3.6
+            speed = to_kmh(float(np.asarray(res["inputs"]["speed"])))
         except (TypeError, ValueError):
             pass
     if np.isfinite(speed):

@@ -11,7 +11,8 @@ from ..errors import InputError
 from .assembly import System
 from .flexible import FRLayout
 from .model import CallSettings
-from .simulate import contact_id, static_equilibrium
+from .contact_models import contact_id
+from .equilibrium import static_equilibrium
 
 __all__ = ["linear_matrices", "contact_receptance", "TANGENT_STEP", "state_tangent", "eigenvalues",
            "tangent_eigenvalues"]
@@ -171,7 +172,7 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
     ``[I 0; 0 M] z' = [0 I; Jq Jv] z`` (:func:`state_tangent`) is solved as a generalised
     eigenproblem because the residual flexibility's coordinates are massless (M singular):
     their algebraic equations give infinite eigenvalues, which are dropped. As for RR
-    (railvti.vehicle.simulate.eigenvalues) each wheelset's free spin angle adds a zero.
+    (railvti.vehicle.equilibrium.eigenvalues) each wheelset's free spin angle adds a zero.
 
     Returns
     -------
@@ -180,7 +181,7 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
     """
     if system.modal is None:
         raise InputError("flexible_linear.eigenvalues needs an FR system; use "
-                         "railvti.vehicle.simulate.eigenvalues for RR")
+                         "railvti.vehicle.equilibrium.eigenvalues for RR")
     if q is None:
         q, v, _ = static_equilibrium(system, speed, contact, return_velocity=True)
     if v is None:

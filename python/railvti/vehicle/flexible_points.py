@@ -11,7 +11,7 @@ from ..errors import InputError
 from .assembly import System
 from .flexible import FRLayout
 from .model import CallSettings, ModalBlocks
-from .simulate import contact_id
+from .contact_models import contact_id
 
 __all__ = ["point_forces", "attachment_loads", "attachment_deflection", "rim_deformation",
            "rim_camber_change", "rail_head_roll", "rim_rail_angle_change"]

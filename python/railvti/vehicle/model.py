@@ -26,8 +26,6 @@ from .. import _checks
 from .._native import core
 from .._status import check
 from ..errors import InputError
-# vehicle/cases.py imports CONTACT_MODELS from here until it imports it where it lives
-from .contact_models import CONTACT_MODELS  # noqa: F401
 
 __all__ = ["WHEEL_OUTPUTS", "NWO", "NWO_CORE", "RunCarry", "POINT_ELEMENT_KINDS", "PointElement",
            "RimFollow", "COUPLING_KINDS", "ModalCouplings", "ModalBlocks", "compliance_block",

@@ -86,7 +86,7 @@ class SimulationResult:
     """
 
     #: The units this class gives its fields where its docstring does not end in one
-    #: (railvti.runner.results.save reads them here: the result owns its file layout's units).
+    #: (railvti.runner.result_objects.save reads them here: the result owns its file layout's units).
     FIELD_UNITS: ClassVar[dict[str, Any]] = {
         "t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
         "wheel": "per quantity: see the quantities and quantity_units attributes",
@@ -113,7 +113,7 @@ class SimulationResult:
     rail: np.ndarray | None = None
 
     def _save_attrs(self) -> dict:
-        """Labels written beside the arrays by :func:`railvti.runner.results.save`."""
+        """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
         nw = self.wheel.shape[-1]
         return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
                 "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},

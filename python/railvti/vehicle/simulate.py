@@ -31,12 +31,6 @@ from .equilibrium import call_settings, contact_state, static_equilibrium, wait_
 from .model import CallSettings
 from .run_result import SimulationResult
 from .time_loop import RunPlan, check_history_memory, integrate, plan_run, with_bem_fields
-# Re-exported for the modules that import them from here until they import them where they
-# live (railvti.scenarios, railvti.critical_search, vehicle/cases.py, vehicle/flexible.py).
-from .contact_models import contact_id  # noqa: F401
-from .equilibrium import bem_state, eigenvalues, lateral_disturbance  # noqa: F401
-from .model import WHEEL_OUTPUTS  # noqa: F401
-from .run_result import STAT_UNITS, WHEEL_UNITS  # noqa: F401
 
 __all__ = ["MAXSUB", "MODAL_STEP_LIMIT", "INTEGRATORS", "simulate", "bem_threads",
            "check_modal_step", "consistent_massless"]

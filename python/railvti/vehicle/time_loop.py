@@ -183,7 +183,7 @@ def _progress_bar(plan: RunPlan):
 
 
 def _stream_attrs(system: System) -> dict[str, dict[str, Any]]:
-    """Units and labels of the streamed t, q, v and wheel (as railvti.runner.results.save)."""
+    """Units and labels of the streamed t, q, v and wheel (as railvti.runner.result_objects.save)."""
     names = list(system.state_names)
     nw = system.iws.shape[1]
     return {"t": {"units": "s", "axes": ["t"]},

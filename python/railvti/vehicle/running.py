@@ -1,0 +1,135 @@
+"""Centred running and the hunting test on straight track (railvti.scenarios), with the
+contact patch of a run."""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .. import _checks
+from ..contact.fastsim import fastsim
+from .assembly import System
+from .flexible_points import rail_head_roll, rim_camber_change
+from .params import Coach
+from .scenario_results import CentredRunning
+from .equilibrium import bem_state, lateral_disturbance, static_equilibrium
+from .model import WHEEL_OUTPUTS
+from .run_result import SimulationResult
+from .simulate import simulate
+from .systems import (FLEXIBLE_WHEELSETS, RING_TRACK, check_model, resolve_geometry,
+                      run_output_dt, scenario_system, time_step)
+
+__all__ = ["centred_running", "contact_patch", "hunting"]
+
+
+def centred_running(speed_kmh: float | None = None, model: str = "RR",
+                    contact: str = "hertz-kalker", *, speed: float | None = None,
+                    duration: float = 1.0, h: float | None = None, coach: Coach | None = None,
+                    **kw: Any) -> CentredRunning:
+    """Centred running on straight ideal track: the steady state and Q, Y per wheel.
+
+    Parameters
+    ----------
+    speed_kmh : float, optional
+        Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
+    model, contact : str
+        'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+    speed : float, optional
+        Speed, m/s (give it or speed_kmh, not both).
+    duration : float
+        Simulated time after the static equilibrium, s.
+    h : float, optional
+        Time step, s (default 1 ms; model FR: 1 ms divided into as many parts as the highest
+        kept mode needs, h omega_max <= 2).
+    coach : Coach, optional
+        Vehicle parameters (default: Manchester benchmark coach).
+    **kw
+        Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection;
+        model RF n_sleepers, f_limit, track_params, x_offset (:func:`rf_system`).
+        ``output_dt`` (s): the interval of the stored history. Default: 10 ms, shortened
+        so that the known periodic excitations get 10 samples per period each
+        (railvti.vehicle.output): the sleeper passing v / sleeper spacing on the ring track
+        (RF, FF: 1 ms at 200 km/h on 0.6 m with the 0.5 ms step) and hunting; the elastic
+        modes only when asked with a finer ``output_dt``. A given ``output_dt`` coarser
+        than the Nyquist limit of one of them gives an AliasingWarning.
+    """
+    v = _checks.speed_si(speed, speed_kmh, 200.0)
+    check_model(model, contact, "centred_running")
+    kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
+    sy, layouts = scenario_system(model, coach, v, kw)
+    h = time_step(sy, h)
+    kw["output_dt"] = run_output_dt(sy, v, h, kw.get("output_dt"), 0.01)
+    if contact == "bem":
+        with bem_state(sy, kw.pop("bem_options", None)) as st:
+            q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
+            run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
+        patch = (run.bem_patches or {}).get((0, 1))
+    else:
+        q0, v0, _ = static_equilibrium(sy, v, contact, return_velocity=True)
+        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
+        patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
+    rim = camber = roll = None
+    if model in FLEXIBLE_WHEELSETS:
+        camber = rim_camber_change(sy, run.q[-1])
+        roll = rail_head_roll(sy, run.q[-1], run.t[-1])
+        rim = camber - roll
+    rail = None
+    if model in RING_TRACK:
+        rail = sy.rail_deflection(run.t, run.q)
+    return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
+                          run=run, speed=v, contact=contact, patch=patch, model=model,
+                          rim_angle=rim, rail=rail, rim_camber=camber, rail_roll=roll, system=sy,
+                          layouts=layouts)
+
+
+def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
+                  wheelset: int = 0, n: int = 40):
+    """FASTSIM fields (Hertz pressure) of one wheel's more loaded contact point at output
+    ``index`` of a run: pressure, tractions, slip, friction power density."""
+    w = run.wheel[index, :, wheel, wheelset]
+    fn = max(w[WHEEL_OUTPUTS.index("N_tread")], w[WHEEL_OUTPUTS.index("N_flange")])
+    if fn <= 0:
+        return None
+    col = WHEEL_OUTPUTS.index
+    return fastsim(w[col("a")], w[col("b")], fn, system.table.material, system.friction,
+                   (w[col("xi")], w[col("eta")], w[col("spin")]), nx=n, ny=n,
+                   speed=run.speed, pressure="hertz")
+
+
+def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "hertz-kalker", *,
+            speed: float | None = None, duration: float = 5.0, y0: float = 0.004,
+            h: float | None = None,
+            output_dt: float | None = None, alpha: float = 0.0, coach: Coach | None = None,
+            q0: np.ndarray | None = None, v0: np.ndarray | None = None,
+            return_system: bool = False,
+            **kw: Any) -> SimulationResult | tuple[SimulationResult, System, list]:
+    """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
+
+    Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
+    ``q0``/``v0`` continue from a given state instead (speed sweeps); on the ring track (RF,
+    FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
+    at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
+    critical_search does this), not from 0. ``h`` defaults to 1 ms
+    (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
+    (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
+    ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
+    ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
+    10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
+    the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
+    ``return_system``: return (SimulationResult, the system it ran, model FR's and FF's
+    layouts with the mode labels or []) instead, so that nothing is rebuilt to label it.
+    """
+    v = _checks.speed_si(speed, speed_kmh)
+    check_model(model, contact, "hunting")
+    kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
+    sy, layouts = scenario_system(model, coach, v, kw)
+    h = time_step(sy, h)
+    output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
+    if q0 is None:
+        qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
+        q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
+    run = simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
+                   q0=q0, v0=v0, **kw)
+    return (run, sy, layouts) if return_system else run
+
+
