@@ -113,11 +113,13 @@ def test_hertz_runs_open_no_bem_state(coach, opened):
     assert opened[0] == 0
 
 
-@pytest.mark.xfail(strict=True, reason="railvti.scenarios.hunting opens a BEM state for its static "
-                   "equilibrium and simulate another; it is to open one with "
-                   "railvti.vehicle.equilibrium.contact_state around both (scenarios.py is being "
-                   "split in another branch)")
 def test_a_bem_hunting_run_opens_one_state(opened):
     scenarios.hunting(300.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3,
                       progress=False, threads=1)
+    assert opened[0] == 1
+
+
+def test_a_bem_centred_run_opens_one_state(opened):
+    scenarios.centred_running(200.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3,
+                              progress=False, threads=1)
     assert opened[0] == 1

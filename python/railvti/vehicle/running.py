@@ -12,7 +12,7 @@ from .assembly import System
 from .flexible_points import rail_head_roll, rim_camber_change
 from .params import Coach
 from .scenario_results import CentredRunning
-from .equilibrium import bem_state, lateral_disturbance, static_equilibrium
+from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .model import WHEEL_OUTPUTS
 from .run_result import SimulationResult
 from .simulate import simulate
@@ -59,14 +59,13 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     sy, layouts = scenario_system(model, coach, v, kw)
     h = time_step(sy, h)
     kw["output_dt"] = run_output_dt(sy, v, h, kw.get("output_dt"), 0.01)
-    if contact == "bem":
-        with bem_state(sy, kw.pop("bem_options", None)) as st:
-            q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
-            run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
+    # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)
+    with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
+        q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
+        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
+    if st is not None:
         patch = (run.bem_patches or {}).get((0, 1))
     else:
-        q0, v0, _ = static_equilibrium(sy, v, contact, return_velocity=True)
-        run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, **kw)
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     rim = camber = roll = None
     if model in FLEXIBLE_WHEELSETS:
@@ -125,11 +124,13 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
     sy, layouts = scenario_system(model, coach, v, kw)
     h = time_step(sy, h)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
-    if q0 is None:
-        qs, _ = static_equilibrium(sy, v, contact, bem_options=kw.get("bem_options"))
-        q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
-    run = simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
-                   q0=q0, v0=v0, **kw)
+    # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)
+    with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
+        if q0 is None:
+            qs, _ = static_equilibrium(sy, v, contact, bem=st)
+            q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
+        run = simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
+                       q0=q0, v0=v0, bem=st, **kw)
     return (run, sy, layouts) if return_system else run
 
 
