@@ -46,7 +46,7 @@ from ..track.ring import DEFAULTS as TRACK_DEFAULTS
 from ..track.ring import NUMERICS as TRACK_NUMERICS
 from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
 from .linear_stability import DAMPER_STATES, linear_critical_speed
-from .contact_models import CONTACT_MODELS
+from .contact_models import CONTACT_MODELS, GEOMETRIES, parse_contact_model
 from .flexible import mode_labels
 from .flexible_points import rail_head_roll, rim_camber_change, rim_deformation
 from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
@@ -115,7 +115,7 @@ KEYS: dict[str, Key] = {
     "geometry": Key("", "contact geometry of hertz-kalker / hertz-fastsim: 'strip' (default: strip "
                     "potential over the whole interpenetration, conservative, no jumps) or 'table' "
                     "(one Hertz point per slot: faster, its point jumps sustain spurious tread "
-                    "cycles); contact = 'bem' reads the table", "str", choices=("table", "strip"),
+                    "cycles); contact = 'bem' reads the table", "str", choices=GEOMETRIES,
                     optional=True),
     "speed": Key("m/s", "vehicle speed (or speed_kmh, km/h)", lo=0.0, hi=MAX_SPEED, lo_open=True, why=_WHY_SPEED),
     "duration": Key("s", "simulated time (per speed in critical_speed: more than the amplitude window of "
@@ -166,9 +166,10 @@ def check(params: dict[str, Any]) -> list[str]:
     if params["duration"] > params["max_duration"]:
         out.append(f"duration = {params['duration']:g} s exceeds max_duration = {params['max_duration']:g} s "
                    "(about 1 MB of history per simulated second; raise max_duration to run longer)")
-    if params["geometry"] == "strip" and params["contact"] == "bem":
-        out.append("geometry = 'strip' is the geometry of hertz-kalker and hertz-fastsim; the "
-                   "BEM contact (contact = 'bem') reads the table's gap fields")
+    try:        # the contact model's geometries (its spec: railvti.vehicle.contact_models)
+        parse_contact_model(params["contact"]).resolve_geometry(params["geometry"])
+    except InputError as exc:
+        out.append(str(exc))
     if params["h"] is not None and params["h"] > params["duration"]:
         out.append(f"h = {params['h']:g} s must be <= duration = {params['duration']:g} s")
     if params["output_dt"] is not None and params["output_dt"] > params["duration"]:

@@ -35,7 +35,7 @@ from .assembly import System, build_coach
 from .flexible import build_fr, coach_body
 from .params import Coach
 from .ring_coupling import build_rf, check_ring_length
-from .contact_models import contact_id
+from .contact_models import CONTACT_MODELS, GEOMETRIES, ContactModel, contact_id, parse_contact_model
 from .simulate import check_modal_step
 from .strip import strip_geometry
 from .table import WheelTable, linearised_table
@@ -97,23 +97,18 @@ def wheel_table(y_max: float = 0.015) -> WheelTable:
     return profile_table(w, r, y_max=y_max)
 
 
-#: Contact geometries of the time simulation: the table's Hertz points, or the strip
-#: potential (railvti.vehicle.strip).
-GEOMETRIES = ("table", "strip")
+#: The contact geometry of each contact model when none is given (the spec's
+#: ``default_geometry``): the strip potential for the Hertz models (the table's contact-point
+#: jumps sustain tread cycles that the strips and the BEM do not have:
+#: docs/speed_accuracy.md), the table's gap fields for the BEM.
+DEFAULT_GEOMETRY = {m.name: m.default_geometry for m in CONTACT_MODELS.values()}
 
 
-#: The contact geometry of each contact model when none is given: the strip potential for the
-#: Hertz models (the table's contact-point jumps sustain tread cycles that the strips and the
-#: BEM do not have: docs/speed_accuracy.md), the table's gap fields for the BEM.
-DEFAULT_GEOMETRY = {"hertz-kalker": "strip", "hertz-fastsim": "strip", "bem": "table"}
-
-
-def resolve_geometry(contact: str, geometry: str | None) -> str:
+def resolve_geometry(contact: str | ContactModel, geometry: str | None) -> str:
     """The contact geometry of a run: ``geometry``, or the contact model's default
-    (:data:`DEFAULT_GEOMETRY`) when None; checked against the contact model."""
-    g = DEFAULT_GEOMETRY.get(contact, "strip") if geometry is None else geometry
-    _check_geometry(contact, g)
-    return g
+    (:data:`DEFAULT_GEOMETRY`) when None; checked against the contact model
+    (:meth:`railvti.vehicle.contact_models.ContactModel.resolve_geometry`)."""
+    return parse_contact_model(contact).resolve_geometry(geometry)
 
 
 def _system_geometry(geometry: str | None, linear_conicity: float | None = None) -> str:
@@ -125,18 +120,15 @@ def _system_geometry(geometry: str | None, linear_conicity: float | None = None)
     return geometry
 
 
-def _check_geometry(contact: str, geometry: str) -> None:
-    """InputError for an unknown geometry or the strip geometry with the BEM contact."""
+def _check_geometry(geometry: str) -> None:
+    """InputError for an unknown geometry."""
     if geometry not in GEOMETRIES:
         raise InputError(f"unknown contact geometry {geometry!r}: one of {GEOMETRIES}")
-    if geometry == "strip" and contact == "bem":
-        raise InputError("geometry='strip' is the geometry of 'hertz-kalker' and 'hertz-fastsim'; "
-                         "the BEM contact reads the table's gap fields")
 
 
 def with_geometry(sy: System, geometry: str) -> System:
     """The system with the contact geometry ``geometry`` (GEOMETRIES)."""
-    _check_geometry("", geometry)
+    _check_geometry(geometry)
     if geometry == "table":
         return sy
     if "strip" not in _PROFILES:
