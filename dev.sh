@@ -6,6 +6,7 @@
 #   ./dev.sh test       run the test suite
 #   ./dev.sh validate   run the validation scripts (charts in validation/figures)
 #   ./dev.sh bench      run the benchmark scripts
+#   ./dev.sh lint       ruff check and ruff format --check (pyproject.toml [tool.ruff])
 set -euo pipefail
 cd "$(dirname "$0")"
 ROOT=$(pwd)
@@ -41,12 +42,12 @@ ensure_venv() {
         log "creating the virtual environment in .venv"
         "${PYTHON:-python3}" -m venv "$VENV"
     fi
-    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle, dask, distributed, threadpoolctl' 2>/dev/null; then
+    if ! "$PY" -c 'import mesonpy, numpy, pytest, h5py, f90nml, tqdm, matplotlib, scipy, triangle, dask, distributed, threadpoolctl, ruff' 2>/dev/null; then
         log "installing Python packages"
         "$PY" -m pip install -q --upgrade pip
         "$PY" -m pip install -q "meson-python>=0.15" "meson>=1.1" ninja "numpy>=1.26" \
             "scipy>=1.11" "h5py>=3.9" "matplotlib>=3.7" "f90nml>=1.4" "tqdm>=4.60" "pytest>=7" "triangle>=20230923" \
-            "dask>=2024.1" "distributed>=2024.1" "threadpoolctl>=3.1"
+            "dask>=2024.1" "distributed>=2024.1" "threadpoolctl>=3.1" "ruff>=0.6"
     fi
 }
 
@@ -84,10 +85,15 @@ case "$task" in
         setup
         for s in benchmarks/*.py; do log "benchmark: $s"; "$PY" "$s" "$@"; done
         ;;
+    lint)
+        ensure_venv
+        "$PY" -m ruff check python tests validation benchmarks
+        "$PY" -m ruff format --check python tests validation benchmarks
+        ;;
     setup)
         setup
         ;;
     *)
-        sed -n '2,9p' "$0"
+        sed -n '2,10p' "$0"
         ;;
 esac

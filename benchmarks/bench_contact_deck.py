@@ -10,6 +10,7 @@ interleaved, and the median is printed.
 
     python benchmarks/bench_contact_deck.py [--railvti OTHER/.venv/bin/railvti] [--repeat 3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,8 +32,9 @@ def run_once(exe: str, deck: Path, tmp: Path) -> tuple[float, list[float]]:
     """Wall time of one `railvti run` of a deck and the times its cases report."""
     out = tmp / f"{deck.stem}_{time.monotonic_ns()}.h5"
     t0 = time.perf_counter()
-    proc = subprocess.run([exe, "run", str(deck), "-o", str(out), "-q"], capture_output=True, text=True,
-                          cwd=deck.parent)
+    proc = subprocess.run(
+        [exe, "run", str(deck), "-o", str(out), "-q"], capture_output=True, text=True, cwd=deck.parent
+    )
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         raise SystemExit(f"{exe} run {deck.name} failed ({proc.returncode}):\n{proc.stderr[-2000:]}")
@@ -41,8 +43,13 @@ def run_once(exe: str, deck: Path, tmp: Path) -> tuple[float, list[float]]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--railvti", action="append", default=[], metavar="EXE",
-                    help="another railvti executable to time in the same run (repeatable)")
+    ap.add_argument(
+        "--railvti",
+        action="append",
+        default=[],
+        metavar="EXE",
+        help="another railvti executable to time in the same run (repeatable)",
+    )
     ap.add_argument("--repeat", type=int, default=3, help="runs per executable and deck (median printed)")
     args = ap.parse_args()
     exes = [str(Path(sys.executable).with_name("railvti"))] + args.railvti

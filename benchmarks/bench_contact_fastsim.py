@@ -3,6 +3,7 @@ strip-wise on a BEM grid with about 1,600 elements in contact; peak memory.
 
 Run: ``.venv/bin/python benchmarks/bench_contact_fastsim.py``
 """
+
 from __future__ import annotations
 
 import resource
@@ -56,8 +57,10 @@ def main() -> None:
     print(f"{'case':<{width}}  time per case")
     for name, t in rows:
         print(f"{name:<{width}}  {t * 1e6:10.1f} us")
-    print(f"peak memory (ru_maxrss): {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.1f} MB "
-          "(whole Python process incl. numpy/scipy)")
+    print(
+        f"peak memory (ru_maxrss): {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.1f} MB "
+        "(whole Python process incl. numpy/scipy)"
+    )
 
 
 if __name__ == "__main__":

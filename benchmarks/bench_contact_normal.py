@@ -7,6 +7,7 @@ memory, the time of one FFT product on that grid and the ratio solve/product.
 
     python benchmarks/bench_contact_normal.py [--quick]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -50,23 +51,34 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
-    runs = [("cg", s) for s in (32, 64, 128, 256, 450, 500)] + [("pk", s) for s in (128, 450)] \
+    runs = (
+        [("cg", s) for s in (32, 64, 128, 256, 450, 500)]
+        + [("pk", s) for s in (128, 450)]
         + [("gs", s) for s in (32, 50, 71, 100)]
+    )
     if args.quick:
         runs = [("cg", 32), ("cg", 128), ("gs", 32)]
-    print("seconds: a solve from zero pressure on a cached workspace; first: the first solve on the grid,\n"
-          "including influence coefficients, spectra and FFTW plans; prod: FFT products on the grid;\n"
-          "coarse: products on the coarser grids of the nested start (each <= 1/4 of a fine one);\n"
-          "solve/prod = seconds / t_prod (all work, coarse grids and passes included)")
-    print(f"{'method':6s} {'elements':>9s} {'contact':>8s} {'iter':>5s} {'prod':>5s} {'seconds':>9s} {'first':>8s} "
-          f"{'coarse':>6s} {'peak MB':>8s} {'t_prod ms':>9s} {'solve/prod':>10s} {'p0 err':>9s}")
+    print(
+        "seconds: a solve from zero pressure on a cached workspace; first: the first solve on the grid,\n"
+        "including influence coefficients, spectra and FFTW plans; prod: FFT products on the grid;\n"
+        "coarse: products on the coarser grids of the nested start (each <= 1/4 of a fine one);\n"
+        "solve/prod = seconds / t_prod (all work, coarse grids and passes included)"
+    )
+    print(
+        f"{'method':6s} {'elements':>9s} {'contact':>8s} {'iter':>5s} {'prod':>5s} {'seconds':>9s} {'first':>8s} "
+        f"{'coarse':>6s} {'peak MB':>8s} {'t_prod ms':>9s} {'solve/prod':>10s} {'p0 err':>9s}"
+    )
     for method, side in runs:
-        out = subprocess.run([sys.executable, "-c", CHILD, str(side), method], capture_output=True,
-                             text=True, check=True).stdout
+        out = subprocess.run(
+            [sys.executable, "-c", CHILD, str(side), method], capture_output=True, text=True, check=True
+        ).stdout
         r = json.loads(out.strip().splitlines()[-1])
-        print(f"{r['method']:6s} {r['elements']:9d} {r['contact']:8d} {r['iterations']:5d} {r['products']:5d} "
-              f"{r['seconds']:9.4f} {r['first']:8.4f} {r['coarse']:6d} {r['peak_mb']:8.1f} {r['t_product'] * 1e3:9.3f} "
-              f"{r['seconds'] / r['t_product']:10.1f} {r['p0_err']:+9.2e}", flush=True)
+        print(
+            f"{r['method']:6s} {r['elements']:9d} {r['contact']:8d} {r['iterations']:5d} {r['products']:5d} "
+            f"{r['seconds']:9.4f} {r['first']:8.4f} {r['coarse']:6d} {r['peak_mb']:8.1f} {r['t_product'] * 1e3:9.3f} "
+            f"{r['seconds'] / r['t_product']:10.1f} {r['p0_err']:+9.2e}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

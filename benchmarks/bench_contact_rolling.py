@@ -15,6 +15,7 @@ second, on the cached workspace, is the time reported as "tangential s"
 Run: .venv/bin/python benchmarks/bench_contact_rolling.py [--max-gs 6400] [--tol 1e-7] [--chart]
 (--chart writes validation/figures/contact_rolling_bench.png)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -82,28 +83,39 @@ def main() -> None:
     # elements on the shorter semi-axis for ~400, 1,600, 6,400, 25,000 in contact (b/a = 0.82)
     sizes = [(400, 10), (1600, 20), (6400, 40), (25000, 80)]
     print(f"steady rolling with spin, Hertz patch a/b = 1.21, tol = {args.tol:g}")
-    print(f"{'method':>6} {'target':>7} {'grid':>9} {'in contact':>10} {'slip':>6} {'sweeps':>6} "
-          f"{'normal s':>9} {'first s':>8} {'tangential s':>12} {'peak RSS MB':>11}")
+    print(
+        f"{'method':>6} {'target':>7} {'grid':>9} {'in contact':>10} {'slip':>6} {'sweeps':>6} "
+        f"{'normal s':>9} {'first s':>8} {'tangential s':>12} {'peak RSS MB':>11}"
+    )
     for target, n in sizes:
         for method in ("fftgs", "gs"):
             if method == "gs" and target > args.max_gs:
                 print(f"{method:>6} {target:>7}   skipped (O(N^2) per sweep; raise --max-gs)")
                 continue
-            out = subprocess.run([sys.executable, "-c", CHILD, str(n), method, str(args.tol)],
-                                 capture_output=True, text=True, check=True)
+            out = subprocess.run(
+                [sys.executable, "-c", CHILD, str(n), method, str(args.tol)],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
             d = json.loads(out.stdout.strip().splitlines()[-1])
             rows.append((method, d))
-            print(f"{method:>6} {target:>7} {d['grid']:>9} {d['n_contact']:>10} {d['slip']:>6} {d['sweeps']:>6} "
-                  f"{d['normal_s']:9.3f} {d['first_s']:8.3f} {d['tang_s']:12.4f} {d['rss_mb']:11.1f}"
-                  + ("" if d["converged"] else f"  NOT CONVERGED (residual {d['residual']:.2g})"), flush=True)
+            print(
+                f"{method:>6} {target:>7} {d['grid']:>9} {d['n_contact']:>10} {d['slip']:>6} {d['sweeps']:>6} "
+                f"{d['normal_s']:9.3f} {d['first_s']:8.3f} {d['tang_s']:12.4f} {d['rss_mb']:11.1f}"
+                + ("" if d["converged"] else f"  NOT CONVERGED (residual {d['residual']:.2g})"),
+                flush=True,
+            )
     if args.chart:
         chart(rows)
 
 
 def chart(rows: list) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.0, 3.6))
     for method, mk in (("fftgs", "o-"), ("gs", "s--")):
         sel = [d for m, d in rows if m == method and d["converged"]]

@@ -39,6 +39,7 @@ extent too, in the same run (the larger-grid comparison).
 Run: .venv/bin/python benchmarks/bench_contact_small_grid.py [--against main] [--rounds 3]
      [--repeats 5] [--grids 11 25] [--no-compare]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -150,8 +151,9 @@ def load() -> str:
 
 def build_commit(rev: str, scratch: Path | None) -> tuple[Path, str]:
     """Install the tree of commit ``rev`` into a scratch folder; returns its site folder."""
-    sha = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", rev], capture_output=True,
-                         text=True, check=True).stdout.strip()
+    sha = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", "--short", rev], capture_output=True, text=True, check=True
+    ).stdout.strip()
     scratch = scratch or Path(f"/tmp/railvti-bench-{sha}")
     site = scratch / "site"
     if (site / "railvti").is_dir():
@@ -162,8 +164,22 @@ def build_commit(rev: str, scratch: Path | None) -> tuple[Path, str]:
     with tarfile.open(fileobj=io.BytesIO(tar)) as tf:
         tf.extractall(src)
     print(f"building {sha} into {site} (once; about 2 min)", flush=True)
-    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-build-isolation", "--no-deps",
-                    "--target", str(site), f"-Cbuild-dir={scratch / 'build'}", str(src)], check=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-build-isolation",
+            "--no-deps",
+            "--target",
+            str(site),
+            f"-Cbuild-dir={scratch / 'build'}",
+            str(src),
+        ],
+        check=True,
+    )
     return site, sha
 
 
@@ -172,8 +188,14 @@ def run_child(repeats: int, site: Path | None, n: int) -> dict:
     env.pop("PYTHONPATH", None)
     if site is not None:
         env["PYTHONPATH"] = str(site)
-    out = subprocess.run([sys.executable, "-c", CHILD, str(repeats), str(n)], capture_output=True, text=True,
-                         check=True, env=env, cwd="/")
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD, str(repeats), str(n)],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=env,
+        cwd="/",
+    )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -196,15 +218,22 @@ def time_grid(n: int, variants: list[tuple[str, Path | None]], rounds: int, repe
         for name, site in order:
             d = run_child(repeats, site, n)
             rows[name].append(d)
-            print(f"  round {r + 1} {name:>18s}: case {d['case_ms']:.3f} ms (CPU {d['cpu_ms']:.3f} ms), "
-                  f"tangential {d['tang_ms']:.3f} ms, table {d['table_ms']:.3f} ms (CPU {d['table_cpu_ms']:.3f}), "
-                  f"table shared CPU {d['shared_ms']:.3f} ms   (load {os.getloadavg()[0]:.2f})", flush=True)
+            print(
+                f"  round {r + 1} {name:>18s}: case {d['case_ms']:.3f} ms (CPU {d['cpu_ms']:.3f} ms), "
+                f"tangential {d['tang_ms']:.3f} ms, table {d['table_ms']:.3f} ms (CPU {d['table_cpu_ms']:.3f}), "
+                f"table shared CPU {d['shared_ms']:.3f} ms   (load {os.getloadavg()[0]:.2f})",
+                flush=True,
+            )
     print(f"load after:  {load()}")
     d0 = rows[variants[0][0]][0]
-    print(f"{d0['ncase']} cases; a/b = {d0['ratios']}; in contact {d0['n_contact']}; "
-          f"slip fraction {min(d0['slip_frac']):.2f}..{max(d0['slip_frac']):.2f}")
-    print(f"{'':>18s} {'case ms (best, median)':>24s} {'case CPU':>9s} {'tangential (best, med)':>23s} "
-          f"{'table (best, med)':>19s} {'table CPU':>10s} {'shared CPU':>10s} {'sweeps':>7s}")
+    print(
+        f"{d0['ncase']} cases; a/b = {d0['ratios']}; in contact {d0['n_contact']}; "
+        f"slip fraction {min(d0['slip_frac']):.2f}..{max(d0['slip_frac']):.2f}"
+    )
+    print(
+        f"{'':>18s} {'case ms (best, median)':>24s} {'case CPU':>9s} {'tangential (best, med)':>23s} "
+        f"{'table (best, med)':>19s} {'table CPU':>10s} {'shared CPU':>10s} {'sweeps':>7s}"
+    )
     for name, _ in variants:
         c = sorted(d["case_ms"] for d in rows[name])
         t = sorted(d["tang_ms"] for d in rows[name])
@@ -212,22 +241,30 @@ def time_grid(n: int, variants: list[tuple[str, Path | None]], rounds: int, repe
         cpu = min(d["cpu_ms"] for d in rows[name])
         tcpu = min(d["table_cpu_ms"] for d in rows[name])
         sh = min(d["shared_ms"] for d in rows[name])
-        print(f"{name:>18s} {c[0]:11.3f} {c[len(c) // 2]:11.3f} {cpu:9.3f} {t[0]:11.3f} {t[len(t) // 2]:11.3f} "
-              f"{tb[0]:9.3f} {tb[len(tb) // 2]:9.3f} {tcpu:10.3f} {sh:10.3f} {rows[name][0]['sweeps']:7.1f}")
+        print(
+            f"{name:>18s} {c[0]:11.3f} {c[len(c) // 2]:11.3f} {cpu:9.3f} {t[0]:11.3f} {t[len(t) // 2]:11.3f} "
+            f"{tb[0]:9.3f} {tb[len(tb) // 2]:9.3f} {tcpu:10.3f} {sh:10.3f} {rows[name][0]['sweeps']:7.1f}"
+        )
     new = rows[variants[-1][0]][0]
     if new["table_forces"]:
-        print(f"table against solve_rolling (new): Fx, Fy largest difference "
-              f"{largest_difference(new['forces'], new['table_forces']):.2e} of the case's largest force")
+        print(
+            f"table against solve_rolling (new): Fx, Fy largest difference "
+            f"{largest_difference(new['forces'], new['table_forces']):.2e} of the case's largest force"
+        )
     if len(variants) == 2:
         old = rows[variants[0][0]][0]
         co = min(d["case_ms"] for d in rows[variants[0][0]])
         cn = min(d["case_ms"] for d in rows[variants[1][0]])
-        print(f"speed-up of a case (best of each): {co / cn:.2f}x; forces Fx, Fy: largest difference "
-              f"{largest_difference(old['forces'], new['forces']):.2e} of the case's largest force")
+        print(
+            f"speed-up of a case (best of each): {co / cn:.2f}x; forces Fx, Fy: largest difference "
+            f"{largest_difference(old['forces'], new['forces']):.2e} of the case's largest force"
+        )
         if new["table_forces"]:
             tn = min(d["table_ms"] for d in rows[variants[1][0]])
-            print(f"old case / new table (best of each): {co / tn:.2f}x; forces Fx, Fy: largest difference "
-                  f"{largest_difference(old['forces'], new['table_forces']):.2e}")
+            print(
+                f"old case / new table (best of each): {co / tn:.2f}x; forces Fx, Fy: largest difference "
+                f"{largest_difference(old['forces'], new['table_forces']):.2e}"
+            )
 
 
 def main() -> None:
@@ -237,12 +274,19 @@ def main() -> None:
     ap.add_argument("--scratch", type=Path, default=None, help="build folder of the other commit")
     ap.add_argument("--rounds", type=int, default=3, help="old/new child pairs, alternating")
     ap.add_argument("--repeats", type=int, default=5, help="passes over the table per child (best taken)")
-    ap.add_argument("--grids", type=int, nargs="+", default=[11], help="elements per side (11; 25 the larger grid)")
+    ap.add_argument(
+        "--grids", type=int, nargs="+", default=[11], help="elements per side (11; 25 the larger grid)"
+    )
     args = ap.parse_args()
-    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                          text=True, check=True).stdout.strip()
-    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
-                           capture_output=True, text=True, check=True).stdout.strip()
+    head = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
+    ).stdout.strip()
+    dirty = subprocess.run(
+        ["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
     variants: list[tuple[str, Path | None]] = [(f"new {head}{'+dirty' if dirty else ''}", None)]
     if not args.no_compare:
         site, sha = build_commit(args.against, args.scratch)

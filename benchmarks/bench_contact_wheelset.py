@@ -11,6 +11,7 @@
 
     python benchmarks/bench_contact_wheelset.py [--only decks]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,6 +30,7 @@ Y_MM = np.arange(0.0, 10.01, 0.5)
 
 def _deck_cases() -> list[dict]:
     from pathlib import Path
+
     deck = Path(__file__).resolve().parent.parent / "inputs" / "mbench_a22_left.inp"
     return [c.params for c in read_contact_deck(deck)]
 
@@ -45,8 +47,10 @@ def _time(label: str, calls, repeat: int = 2) -> None:
             t.append(time.perf_counter() - t0)
         cpu = (time.process_time() - c0) / len(calls) * 1e3
         t = np.array(t) * 1e3
-        print(f"A-2.2 {label:44s} {'first' if run == 0 else 'repeat':6s}: {t.mean():6.1f} ms per position "
-              f"(median {np.median(t):.1f}, max {t.max():.1f}; CPU {cpu:.1f} ms), sweep {t.sum() / 1e3:.2f} s")
+        print(
+            f"A-2.2 {label:44s} {'first' if run == 0 else 'repeat':6s}: {t.mean():6.1f} ms per position "
+            f"(median {np.median(t):.1f}, max {t.max():.1f}; CPU {cpu:.1f} ms), sweep {t.sum() / 1e3:.2f} s"
+        )
 
 
 def main() -> None:
@@ -58,21 +62,42 @@ def main() -> None:
     if args.only in (None, "decks"):
         wheel = profiles.read(profiles.example_path("MBench_S1002_v3.prw"))
         rail = profiles.read(profiles.example_path("MBench_UIC60_v3.prr"))
-        calls = [lambda p=p: solve_wheelset(wheel, rail, p["y"], p["yaw"], p["fz"], p["mu"],
-                                            p["speed"], mat, p["dx"], omega=p["omega"], roll=p["roll"])
-                 for p in _deck_cases()]
+        calls = [
+            lambda p=p: solve_wheelset(
+                wheel,
+                rail,
+                p["y"],
+                p["yaw"],
+                p["fz"],
+                p["mu"],
+                p["speed"],
+                mat,
+                p["dx"],
+                omega=p["omega"],
+                roll=p["roll"],
+            )
+            for p in _deck_cases()
+        ]
         _time("decks' kinematics (roll, omega prescribed)", calls)
     wheel, rail = profiles.s1002(), profiles.uic60()
     if args.only in (None, "old"):
-        calls = [lambda y=y: solve_wheelset(wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, 0.3, 2.0, mat, 2e-4,
-                                            omega=2.0 / 0.46) for y in Y_MM]
+        calls = [
+            lambda y=y: solve_wheelset(
+                wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, 0.3, 2.0, mat, 2e-4, omega=2.0 / 0.46
+            )
+            for y in Y_MM
+        ]
         _time("load-controlled roll, omega = V / r0", calls)
     if args.only is None:
-        calls = [lambda y=y: solve_wheelset(wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, 0.3, 2.0, mat, 2e-4)
-                 for y in Y_MM]
+        calls = [
+            lambda y=y: solve_wheelset(wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, 0.3, 2.0, mat, 2e-4)
+            for y in Y_MM
+        ]
         _time("load-controlled roll, free rolling", calls)
-        calls = [lambda y=y: solve_wheelset(wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, None, None, mat, 2e-4)
-                 for y in Y_MM]
+        calls = [
+            lambda y=y: solve_wheelset(wheel, rail, y * 1e-3, 2.4e-3 * y, 1.0e4, None, None, mat, 2e-4)
+            for y in Y_MM
+        ]
         _time("normal only", calls)
         y = np.linspace(-10e-3, 10e-3, 201)
         geometry.geometry_table(wheel, rail, y[:3])

@@ -9,6 +9,7 @@ the ratios say how far the estimate is from this machine at the time of the run.
 
     .venv/bin/python benchmarks/bench_cost_estimate.py [TYPE ...] [--timeout 300]
 """
+
 from __future__ import annotations
 
 import json
@@ -46,10 +47,11 @@ CASES: list[tuple[str, dict]] = [
     ("normal", dict(HERTZ, nx=320, ny=256, dx=2.5e-5, dy=2.5e-5)),
     ("rolling", dict(HERTZ, nx=40, ny=32, dx=2e-4, dy=2e-4, mu=0.3, speed=30.0, xi=1e-3, eta=5e-4, phi=0.3)),
     ("rolling", dict(HERTZ, nx=80, ny=64, dx=1e-4, dy=1e-4, mu=0.3, speed=30.0, xi=1e-3, eta=5e-4, phi=0.3)),
-    ("rolling", dict(HERTZ, nx=120, ny=96, dx=6.67e-5, dy=6.67e-5, mu=0.3, speed=30.0, xi=1e-3, eta=5e-4,
-                     phi=0.3)),
+    (
+        "rolling",
+        dict(HERTZ, nx=120, ny=96, dx=6.67e-5, dy=6.67e-5, mu=0.3, speed=30.0, xi=1e-3, eta=5e-4, phi=0.3),
+    ),
     ("wheel_rail", dict(dx=4e-4, dy=4e-4)),
-    
     ("wheel_rail", dict(side="both", dx=2e-4, dy=2e-4)),
     ("wheel_rail", dict(dx=1e-4, dy=1e-4)),
     ("wheel_rail", dict(dx=5e-5, dy=5e-5)),
@@ -82,8 +84,12 @@ CASES: list[tuple[str, dict]] = [
 
 def _measure(name: str, params: dict, timeout: float) -> dict:
     try:
-        r = subprocess.run([sys.executable, "-c", CHILD, name, json.dumps(params)], capture_output=True,
-                           text=True, timeout=timeout)
+        r = subprocess.run(
+            [sys.executable, "-c", CHILD, name, json.dumps(params)],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
     except subprocess.TimeoutExpired:
         return {"seconds": float("nan"), "memory": float("nan"), "summary": f"timeout {timeout:g} s"}
     try:
@@ -98,11 +104,14 @@ def main(argv: list[str]) -> None:
     if "--timeout" in argv:
         i = argv.index("--timeout")
         timeout = float(argv[i + 1])
-        argv = argv[:i] + argv[i + 2:]
+        argv = argv[:i] + argv[i + 2 :]
     types = set(argv)
     import os
+
     print(f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores")
-    print(f"{'type':17s} {'params':58s} {'est':>8s} {'meas':>8s} {'ratio':>6s}  {'est mem':>8s} {'meas mem':>8s}")
+    print(
+        f"{'type':17s} {'params':58s} {'est':>8s} {'meas':>8s} {'ratio':>6s}  {'est mem':>8s} {'meas mem':>8s}"
+    )
     ratios: dict[str, list[float]] = {}
     for name, params in CASES:
         if types and name not in types:
@@ -110,13 +119,18 @@ def main(argv: list[str]) -> None:
         e = estimate_params(name, params)
         t0 = time.perf_counter()
         m = _measure(name, params, timeout)
-        ratio = e.seconds / m["seconds"] if m["seconds"] == m["seconds"] and m["seconds"] > 0 else float("nan")
+        ratio = (
+            e.seconds / m["seconds"] if m["seconds"] == m["seconds"] and m["seconds"] > 0 else float("nan")
+        )
         if ratio == ratio:
             ratios.setdefault(name, []).append(ratio)
         text = ", ".join(f"{k}={v}" for k, v in params.items() if k not in HERTZ)
-        print(f"{name:17s} {text[:58]:58s} {duration_text(e.seconds):>8s} {duration_text(m['seconds']) if m['seconds'] == m['seconds'] else 'n/a':>8s} "
-              f"{ratio:6.2f}  {size_text(e.memory):>8s} {size_text(m['memory']) if m['memory'] == m['memory'] else 'n/a':>8s}"
-              f"  [{e.key}; {time.perf_counter() - t0:.0f} s with start-up] {m['summary'][:40]}", flush=True)
+        print(
+            f"{name:17s} {text[:58]:58s} {duration_text(e.seconds):>8s} {duration_text(m['seconds']) if m['seconds'] == m['seconds'] else 'n/a':>8s} "
+            f"{ratio:6.2f}  {size_text(e.memory):>8s} {size_text(m['memory']) if m['memory'] == m['memory'] else 'n/a':>8s}"
+            f"  [{e.key}; {time.perf_counter() - t0:.0f} s with start-up] {m['summary'][:40]}",
+            flush=True,
+        )
     print("\nestimate / measured wall time per case type:")
     for name, r in ratios.items():
         print(f"  {name:17s} {min(r):.2f} .. {max(r):.2f} ({len(r)} cases)")

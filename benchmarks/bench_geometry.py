@@ -3,6 +3,7 @@ and the gap field of one patch. Prints wall times and peak memory.
 
 Run:  .venv/bin/python benchmarks/bench_geometry.py
 """
+
 from __future__ import annotations
 
 import resource
@@ -30,7 +31,9 @@ def main() -> None:
     print(f"profiles + layout: {time.perf_counter() - t0:.3f} s (once)")
     y = np.linspace(-0.01, 0.01, 201)
     tmin, tmed, _ = best(lambda: G.geometry_table(wheel, rail, y))
-    print(f"contact table, 201 positions, yaw 0:        best {tmin:.3f} s, median {tmed:.3f} s (target < 1 s)")
+    print(
+        f"contact table, 201 positions, yaw 0:        best {tmin:.3f} s, median {tmed:.3f} s (target < 1 s)"
+    )
     yaw = 2.4e-3 * np.abs(y) * 1e3 * np.sign(y)
     tmin, tmed, _ = best(lambda: G.geometry_table(wheel, rail, y, yaw=yaw))
     print(f"contact table, 201 positions, yaw 2.4 mrad/mm: best {tmin:.3f} s, median {tmed:.3f} s")

@@ -15,6 +15,7 @@ Each run is a fresh process; SIGINT is sent 2 s into the call (1 s into the stat
 
 Run: ``.venv/bin/python benchmarks/bench_interrupt_latency.py [case name ...]``
 """
+
 from __future__ import annotations
 
 import signal
@@ -81,8 +82,9 @@ for k in range(7):
 
 def latency(code: str, mode: str, delay: float = 2.0) -> tuple[float, str]:
     """Seconds from SIGINT to the end of the process, and how it ended."""
-    proc = subprocess.Popen([sys.executable, "-c", SETUP + code, mode], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SETUP + code, mode], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     assert proc.stdout.readline().strip() == "ready"
     time.sleep(delay)
     if proc.poll() is not None:
@@ -99,7 +101,7 @@ DELAYS = {"vehicle static, BEM": 1.0}
 
 
 def main() -> None:
-    names = sys.argv[1:] or list(CASES)     # a subset by name, e.g. "vehicle static, BEM"
+    names = sys.argv[1:] or list(CASES)  # a subset by name, e.g. "vehicle static, BEM"
     print(f"{'call':<22} | {'mode':<9} | {'stop after SIGINT, s':>20} | how")
     for name in names:
         for mode in ("one call", "now"):

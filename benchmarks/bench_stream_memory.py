@@ -8,6 +8,7 @@ over the run. Hunting at 300 km/h, Hertz + Kalker, h = output_dt = 1 ms (1.9 kB 
 
 Run: ``.venv/bin/python benchmarks/bench_stream_memory.py [DURATION_S]`` (default 60 s).
 """
+
 from __future__ import annotations
 
 import json
@@ -58,18 +59,23 @@ def _child_rss(cmd: list[str], env: dict | None = None) -> tuple[float, str, flo
 def main() -> None:
     duration = float(sys.argv[1]) if len(sys.argv) > 1 else 60.0
     mb = 1e6
-    print(f"hunting 300 km/h, {duration:g} s simulated, h = output_dt = 1 ms "
-          f"({duration / 1e-3:.0f} outputs)\n")
+    print(
+        f"hunting 300 km/h, {duration:g} s simulated, h = output_dt = 1 ms ({duration / 1e-3:.0f} outputs)\n"
+    )
     print("Python API (simulate):")
-    print(f"{'history':>10} | {'peak RSS MB':>11} | {'RSS growth MB':>13} | {'traced peak MB':>14} | "
-          f"{'outputs kept':>12} | {'wall s':>6}")
+    print(
+        f"{'history':>10} | {'peak RSS MB':>11} | {'RSS growth MB':>13} | {'traced peak MB':>14} | "
+        f"{'outputs kept':>12} | {'wall s':>6}"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         for mode in ("memory", "streamed"):
             target = "-" if mode == "memory" else str(Path(tmp) / "stream.h5")
             rss, out, _ = _child_rss([sys.executable, "-c", CHILD, str(duration), target])
             d = json.loads(out.strip().splitlines()[-1])
-            print(f"{mode:>10} | {rss / mb:11.0f} | {(rss - d['rss_before']) / mb:13.0f} | "
-                  f"{d['traced_peak'] / mb:14.1f} | {d['outputs_in_memory']:12d} | {d['wall']:6.1f}")
+            print(
+                f"{mode:>10} | {rss / mb:11.0f} | {(rss - d['rss_before']) / mb:13.0f} | "
+                f"{d['traced_peak'] / mb:14.1f} | {d['outputs_in_memory']:12d} | {d['wall']:6.1f}"
+            )
         print("\nrailvti run (one deck case):")
         print(f"{'history':>10} | {'peak RSS MB':>11} | {'file MB':>7} | {'wall s':>6}")
         deck = Path(tmp) / "long.nml"
@@ -77,8 +83,9 @@ def main() -> None:
         for mode, threshold in (("memory", "none"), ("streamed", "0")):
             out_h5 = Path(tmp) / f"{mode}.h5"
             env = dict(os.environ, RAILVTI_STREAM_ABOVE=threshold)
-            rss, _, wall = _child_rss([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o",
-                                       str(out_h5), "-q"], env)
+            rss, _, wall = _child_rss(
+                [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out_h5), "-q"], env
+            )
             print(f"{mode:>10} | {rss / mb:11.0f} | {out_h5.stat().st_size / mb:7.1f} | {wall:6.1f}")
 
 

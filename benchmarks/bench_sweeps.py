@@ -15,6 +15,7 @@ shared with other jobs the wall-clock speed-up depends on their load, the CPU ra
 Other processes on the machine slow the parallel runs more than the serial one: the load
 (``os.getloadavg``) is printed before and after.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,6 +38,7 @@ def _noop(i: int) -> int:
 def _warm(_: int) -> float:
     """Build this worker's contact table and system (what every sweep point needs first)."""
     from railvti import scenarios
+
     t0 = time.perf_counter()
     scenarios.coach_system("RR")
     return time.perf_counter() - t0
@@ -52,12 +54,19 @@ def _cpu(client) -> float:
 def _sweep(client, speeds, duration):
     """(Bifurcation, wall time, CPU time) of the sweep."""
     from railvti import scenarios
+
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)     # 'no decay found' at the bottom
+        warnings.simplefilter("ignore", RuntimeWarning)  # 'no decay found' at the bottom
         c0, t0 = _cpu(client), time.perf_counter()
-        b = scenarios.bifurcation(speeds, contact="hertz-fastsim", duration=duration,
-                                  v_min_kmh=float(min(speeds)), progress=False,
-                                  independent=True, client=client)
+        b = scenarios.bifurcation(
+            speeds,
+            contact="hertz-fastsim",
+            duration=duration,
+            v_min_kmh=float(min(speeds)),
+            progress=False,
+            independent=True,
+            client=client,
+        )
         return b, time.perf_counter() - t0, _cpu(client) - c0
 
 
@@ -79,17 +88,50 @@ def _measure(client, n_workers, speeds, duration):
 def _scheduler(folder: Path):
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", TQDM_DISABLE="1")
     sfile = folder / "scheduler.json"
-    procs = [subprocess.Popen([sys.executable, "-m", "dask", "scheduler", "--host", "127.0.0.1",
-                               "--port", "0", "--no-dashboard", "--scheduler-file", str(sfile)],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)]
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "dask",
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(sfile),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            env=env,
+        )
+    ]
     t0 = time.monotonic()
     while not sfile.exists() and time.monotonic() - t0 < 60:
         time.sleep(0.1)
     address = json.loads(sfile.read_text())["address"]
-    procs.append(subprocess.Popen([sys.executable, "-m", "dask", "worker", address, "--nworkers",
-                                   "2", "--nthreads", "1", "--no-dashboard"],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
-                                  cwd=folder))
+    procs.append(
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "dask",
+                "worker",
+                address,
+                "--nworkers",
+                "2",
+                "--nthreads",
+                "1",
+                "--no-dashboard",
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            env=env,
+            cwd=folder,
+        )
+    )
     return address, procs
 
 
@@ -99,20 +141,25 @@ def main() -> int:
     ap.add_argument("--duration", type=float, default=2.0, help="simulated time per run, s")
     args = ap.parse_args()
     import logging
-    logging.getLogger("railvti").setLevel(logging.ERROR)     # the 'no decay found' warning
+
+    logging.getLogger("railvti").setLevel(logging.ERROR)  # the 'no decay found' warning
     from distributed import Client
     from railvti.runner import sweeps
+
     speeds = [440.0 - 10.0 * i for i in range(args.speeds)]
     n_tasks = 2 * len(speeds)
     print(f"load before: {os.getloadavg()[0]:.2f} (1 min), {os.cpu_count()} cores")
-    print(f"sweep: {len(speeds)} speeds {speeds[0]:.0f}..{speeds[-1]:.0f} km/h x 2 starts = "
-          f"{n_tasks} runs of {args.duration:g} s (RR, Hertz + FASTSIM)")
+    print(
+        f"sweep: {len(speeds)} speeds {speeds[0]:.0f}..{speeds[-1]:.0f} km/h x 2 starts = "
+        f"{n_tasks} runs of {args.duration:g} s (RR, Hertz + FASTSIM)"
+    )
     t0 = time.perf_counter()
     _warm(0)
     warm_serial = time.perf_counter() - t0
     ref, t_serial, cpu_serial = _sweep(None, speeds, args.duration)
-    print(f"serial: sweep {t_serial:.1f} s, CPU {cpu_serial:.1f} s (+ {warm_serial:.1f} s "
-          "contact table, once)")
+    print(
+        f"serial: sweep {t_serial:.1f} s, CPU {cpu_serial:.1f} s (+ {warm_serial:.1f} s contact table, once)"
+    )
     rows = {}
     t0 = time.perf_counter()
     with sweeps.local_client(2) as client:
@@ -137,13 +184,15 @@ def main() -> int:
         same &= ident
         ideal = t_serial / 2
         per_task = (t - ideal) * 2 / n_tasks
-        print(f"{name}: start {start:.1f} s, worker warm-up {warm:.1f} s, sweep {t:.1f} s: "
-              f"speed-up {t_serial / t:.2f} (with start and warm-up "
-              f"{(t_serial + warm_serial) / (t + start + warm):.2f}); time over the ideal "
-              f"{per_task * 1e3:.0f} ms per task; empty task {over * 1e3:.2f} ms; workers' "
-              f"CPU {cpu:.1f} s ({cpu / cpu_serial:.2f} x serial: speed-up on an idle machine "
-              f"at most {2 * cpu_serial / cpu:.2f}); results "
-              f"{'bit-identical' if ident else 'DIFFER'} to serial")
+        print(
+            f"{name}: start {start:.1f} s, worker warm-up {warm:.1f} s, sweep {t:.1f} s: "
+            f"speed-up {t_serial / t:.2f} (with start and warm-up "
+            f"{(t_serial + warm_serial) / (t + start + warm):.2f}); time over the ideal "
+            f"{per_task * 1e3:.0f} ms per task; empty task {over * 1e3:.2f} ms; workers' "
+            f"CPU {cpu:.1f} s ({cpu / cpu_serial:.2f} x serial: speed-up on an idle machine "
+            f"at most {2 * cpu_serial / cpu:.2f}); results "
+            f"{'bit-identical' if ident else 'DIFFER'} to serial"
+        )
     print(f"load after: {os.getloadavg()[0]:.2f} (1 min)")
     print(f"critical speed (serial): {ref.message}")
     return 0 if same else 1

@@ -4,6 +4,7 @@ that ru_maxrss is its own peak.
 
     .venv/bin/python benchmarks/bench_track.py [n_sl ...]
 """
+
 from __future__ import annotations
 
 import json
@@ -30,14 +31,19 @@ print(json.dumps({"n_sl": n, "build_s": t1 - t0, "rail_s": tr.build_time[0],
 
 def main(argv: list[str]) -> None:
     sizes = [int(a) for a in argv] or [32, 64, 128]
-    print(f"{'n_sl':>5} {'build s':>8} {'(rail':>7} {'groups)':>8} {'FRF s':>7} "
-          f"{'modes':>7} {'<=3kHz':>7} {'peak MB':>8}")
+    print(
+        f"{'n_sl':>5} {'build s':>8} {'(rail':>7} {'groups)':>8} {'FRF s':>7} "
+        f"{'modes':>7} {'<=3kHz':>7} {'peak MB':>8}"
+    )
     for n in sizes:
-        out = subprocess.run([sys.executable, "-c", CHILD, str(n)], capture_output=True,
-                             text=True, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", CHILD, str(n)], capture_output=True, text=True, check=True
+        )
         r = json.loads(out.stdout.strip().splitlines()[-1])
-        print(f"{r['n_sl']:>5} {r['build_s']:8.2f} {r['rail_s']:7.2f} {r['groups_s']:8.2f} "
-              f"{r['frf_s']:7.3f} {r['n_modes']:7d} {r['n_modes_3k']:7d} {r['peak_mb']:8.0f}")
+        print(
+            f"{r['n_sl']:>5} {r['build_s']:8.2f} {r['rail_s']:7.2f} {r['groups_s']:8.2f} "
+            f"{r['frf_s']:7.3f} {r['n_modes']:7d} {r['n_modes_3k']:7d} {r['peak_mb']:8.0f}"
+        )
 
 
 if __name__ == "__main__":

@@ -36,6 +36,7 @@ counts per step (Newton iterations, tangents, normal + rolling solve pairs) and 
 iterations, rolling sweeps). With ``perf`` on the path, ``--perf`` also samples the child and
 splits the time outside the patches by module.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -44,8 +45,14 @@ import os
 import subprocess
 import sys
 
-CASES = [("hertz-kalker", 8, "table"), ("hertz-fastsim", 8, "table"), ("hertz-fastsim", 16, "table"),
-         ("hertz-kalker", 8, "strip"), ("hertz-fastsim", 8, "strip"), ("bem", 0, "table")]
+CASES = [
+    ("hertz-kalker", 8, "table"),
+    ("hertz-fastsim", 8, "table"),
+    ("hertz-fastsim", 16, "table"),
+    ("hertz-kalker", 8, "strip"),
+    ("hertz-fastsim", 8, "strip"),
+    ("bem", 0, "table"),
+]
 
 CHILD = r"""
 import json, resource, sys, time
@@ -108,20 +115,31 @@ print(json.dumps({"wall": wall, "steps": s["steps"], "newton": s["newton_iterati
 """
 
 #: perf symbol prefixes -> the part of the run they belong to (--perf)
-PERF_GROUPS = [("__contact_normal_MOD", "normal solver"), ("__contact_rolling_MOD", "rolling solver"),
-               ("__contact_convolution_MOD", "FFT products (normal + rolling)"),
-               ("fftw", "FFT products (normal + rolling)"), ("__vehicle_bem_MOD", "BEM patch set-up"),
-               ("__vehicle_contact_MOD", "contact geometry + Hertz/Kalker"),
-               ("__vehicle_newmark_MOD", "Newton / HHT"), ("__vehicle_model_MOD", "forces / tangent"),
-               ("__vehicle_modal_MOD", "modal blocks"), ("__common_", "common (Anderson, dense)"),
-               ("lapack", "LAPACK / BLAS"), ("blas", "LAPACK / BLAS"), ("libpython", "Python + numpy"),
-               ("_multiarray", "Python + numpy"), ("kernel", "kernel"), ("libc", "libc (memory)")]
+PERF_GROUPS = [
+    ("__contact_normal_MOD", "normal solver"),
+    ("__contact_rolling_MOD", "rolling solver"),
+    ("__contact_convolution_MOD", "FFT products (normal + rolling)"),
+    ("fftw", "FFT products (normal + rolling)"),
+    ("__vehicle_bem_MOD", "BEM patch set-up"),
+    ("__vehicle_contact_MOD", "contact geometry + Hertz/Kalker"),
+    ("__vehicle_newmark_MOD", "Newton / HHT"),
+    ("__vehicle_model_MOD", "forces / tangent"),
+    ("__vehicle_modal_MOD", "modal blocks"),
+    ("__common_", "common (Anderson, dense)"),
+    ("lapack", "LAPACK / BLAS"),
+    ("blas", "LAPACK / BLAS"),
+    ("libpython", "Python + numpy"),
+    ("_multiarray", "Python + numpy"),
+    ("kernel", "kernel"),
+    ("libc", "libc (memory)"),
+]
 
 
 def profile(dur: float, use_perf: bool, threads: int = 1) -> None:
     """Print where the time of one BEM run goes (see the module doc)."""
     import shutil
     import tempfile
+
     cmd = [sys.executable, "-c", PROFILE_CHILD, str(dur), str(threads)]
     perf_data = None
     if use_perf and shutil.which("perf"):
@@ -134,35 +152,58 @@ def profile(dur: float, use_perf: bool, threads: int = 1) -> None:
     wall = d["sim_wall"]
     rest_patch = tm["patch_seconds"] - tm["normal_seconds"] - tm["rolling_seconds"]
     outside = wall - tm["patch_seconds"]
-    print(f"profile of one BEM run: RR coach, hunting at 300 km/h, {dur:g} s simulated, h = 1 ms, "
-          f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm, {threads} thread(s); "
-          f"load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    print(f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps; CPU {d['cpu']:.2f} s "
-          f"for the whole hunting call (static equilibrium included, RTF {d['cpu'] / dur:.1f}; the "
-          "timers below are wall time, inflated by the load)")
-    rows = [("normal solves", tm["normal_seconds"],
-             f"{d['normal']} solves, {d['cg'] / max(d['normal'], 1):.1f} CG iterations and "
-             f"{tm['normal_seconds'] / max(d['normal'], 1) * 1e3:.3f} ms each"),
-            ("rolling solves", tm["rolling_seconds"],
-             f"{d['rolling']} solves, {d['sweeps'] / max(d['rolling'], 1):.1f} sweeps and "
-             f"{tm['rolling_seconds'] / max(d['rolling'], 1) * 1e3:.3f} ms each"),
-            ("rest of the BEM patches", rest_patch,
-             f"gap field interpolation, checks, sums; {d['open']} points found open"),
-            ("outside the BEM patches", outside,
-             "contact geometry (table), Newton residuals + line search, tangents + LU, Python")]
+    print(
+        f"profile of one BEM run: RR coach, hunting at 300 km/h, {dur:g} s simulated, h = 1 ms, "
+        f"grid {d['grid'][0]} x {d['grid'][1]} of {d['grid'][2] * 1e3:.2f} mm, {threads} thread(s); "
+        f"load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+    )
+    print(
+        f"  wall {wall:.2f} s in simulate (RTF {wall / dur:.1f}), {steps} steps; CPU {d['cpu']:.2f} s "
+        f"for the whole hunting call (static equilibrium included, RTF {d['cpu'] / dur:.1f}; the "
+        "timers below are wall time, inflated by the load)"
+    )
+    rows = [
+        (
+            "normal solves",
+            tm["normal_seconds"],
+            f"{d['normal']} solves, {d['cg'] / max(d['normal'], 1):.1f} CG iterations and "
+            f"{tm['normal_seconds'] / max(d['normal'], 1) * 1e3:.3f} ms each",
+        ),
+        (
+            "rolling solves",
+            tm["rolling_seconds"],
+            f"{d['rolling']} solves, {d['sweeps'] / max(d['rolling'], 1):.1f} sweeps and "
+            f"{tm['rolling_seconds'] / max(d['rolling'], 1) * 1e3:.3f} ms each",
+        ),
+        (
+            "rest of the BEM patches",
+            rest_patch,
+            f"gap field interpolation, checks, sums; {d['open']} points found open",
+        ),
+        (
+            "outside the BEM patches",
+            outside,
+            "contact geometry (table), Newton residuals + line search, tangents + LU, Python",
+        ),
+    ]
     for name, t, note in rows:
         print(f"  {name:>24s} {t:8.2f} s {100 * t / wall:5.1f} %   {note}")
-    print(f"  per step: {d['newton'] / steps:.2f} Newton iterations, {d['tangents'] / steps:.2f} tangents, "
-          f"{d['normal'] / steps:.1f} normal + rolling solve pairs ({d['sub']} steps sub-stepped)")
+    print(
+        f"  per step: {d['newton'] / steps:.2f} Newton iterations, {d['tangents'] / steps:.2f} tangents, "
+        f"{d['normal'] / steps:.1f} normal + rolling solve pairs ({d['sub']} steps sub-stepped)"
+    )
     if perf_data:
-        report = subprocess.run(["perf", "report", "-i", perf_data, "--no-children", "--stdio",
-                                 "--sort", "dso,sym"], capture_output=True, text=True).stdout
+        report = subprocess.run(
+            ["perf", "report", "-i", perf_data, "--no-children", "--stdio", "--sort", "dso,sym"],
+            capture_output=True,
+            text=True,
+        ).stdout
         share: dict[str, float] = {}
         for line in report.splitlines():
             parts = line.split()
             if len(parts) < 3 or not parts[0].endswith("%"):
                 continue
-            dso_sym = parts[1] + " " + parts[-1]      # e.g. '_core...so __contact_rolling_MOD_field'
+            dso_sym = parts[1] + " " + parts[-1]  # e.g. '_core...so __contact_rolling_MOD_field'
             group = next((g for key, g in PERF_GROUPS if key.lower() in dso_sym.lower()), "other")
             share[group] = share.get(group, 0.0) + float(parts[0][:-1])
         print("  perf samples of the whole child (imports and the static equilibrium included):")
@@ -174,12 +215,18 @@ def compare(old_python: str, dur: float, speed_kmh: float = 300.0) -> None:
     """Run the BEM case with this build and old_python's side by side (see the module doc)."""
     import tempfile
     import numpy as np
+
     tmp = tempfile.mkdtemp()
     builds = {"new": sys.executable, "old": old_python}
     load0 = os.getloadavg()[0]
-    procs = {k: subprocess.Popen([py, "-c", COMPARE_CHILD, str(dur), os.path.join(tmp, k + ".npz"),
-                                  str(speed_kmh)],
-                                 stdout=subprocess.PIPE, text=True) for k, py in builds.items()}
+    procs = {
+        k: subprocess.Popen(
+            [py, "-c", COMPARE_CHILD, str(dur), os.path.join(tmp, k + ".npz"), str(speed_kmh)],
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+        for k, py in builds.items()
+    }
     res = {}
     for k, p in procs.items():
         out, _ = p.communicate()
@@ -187,31 +234,45 @@ def compare(old_python: str, dur: float, speed_kmh: float = 300.0) -> None:
             raise SystemExit(f"the {k} build's run failed ({builds[k]})")
         res[k] = json.loads(out.strip().splitlines()[-1])
         res[k].update(dict(np.load(os.path.join(tmp, k + ".npz"))))
-    print(f"BEM 0.75 mm, RR, hunting at {speed_kmh:g} km/h from 4 mm, {dur:g} s, 1 thread per run, both runs "
-          f"at once; load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    print(f"{'build':>5s} {'wall s':>8s} {'RTF':>6s} {'Newton/step':>11s} {'pairs/step':>10s} "
-          f"{'CG/solve':>8s} {'sweeps/solve':>12s} {'Q max kN':>10s}  python")
+    print(
+        f"BEM 0.75 mm, RR, hunting at {speed_kmh:g} km/h from 4 mm, {dur:g} s, 1 thread per run, both runs "
+        f"at once; load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+    )
+    print(
+        f"{'build':>5s} {'wall s':>8s} {'RTF':>6s} {'Newton/step':>11s} {'pairs/step':>10s} "
+        f"{'CG/solve':>8s} {'sweeps/solve':>12s} {'Q max kN':>10s}  python"
+    )
     for k, d in res.items():
-        print(f"{k:>5s} {d['wall']:8.1f} {d['wall'] / dur:6.2f} {d['newton'] / d['steps']:11.2f} "
-              f"{d['pairs'] / d['steps']:10.2f} {d['cg'] / d['pairs']:8.2f} "
-              f"{d['sweeps'] / d['pairs']:12.2f} {d['q'].max() / 1e3:10.4f}  {builds[k]}")
+        print(
+            f"{k:>5s} {d['wall']:8.1f} {d['wall'] / dur:6.2f} {d['newton'] / d['steps']:11.2f} "
+            f"{d['pairs'] / d['steps']:10.2f} {d['cg'] / d['pairs']:8.2f} "
+            f"{d['sweeps'] / d['pairs']:12.2f} {d['q'].max() / 1e3:10.4f}  {builds[k]}"
+        )
     a, b = res["new"], res["old"]
     if a["t"].shape != b["t"].shape or not np.array_equal(a["t"], b["t"]):
         raise SystemExit("the two runs have different output times")
     dy = np.abs(a["y"] - b["y"]).max()
-    print(f"y_ws1: largest difference {dy * 1e3:.3g} mm over the run ({dy / np.abs(b['y']).max():.2e} "
-          f"of its largest |y|, {np.abs(b['y']).max() * 1e3:.3f} mm)")
+    print(
+        f"y_ws1: largest difference {dy * 1e3:.3g} mm over the run ({dy / np.abs(b['y']).max():.2e} "
+        f"of its largest |y|, {np.abs(b['y']).max() * 1e3:.3f} mm)"
+    )
     print("amplitude of y_ws1 per second (half peak-to-peak, mm), while the old run's exceeds 1 um:")
     for k in range(int(round(dur))):
         m = (b["t"] >= k) & (b["t"] <= k + 1)
         amp_b, amp_a = 0.5 * np.ptp(b["y"][m]), 0.5 * np.ptp(a["y"][m])
         if amp_b < 1e-6:
-            print(f"  {k}-{k + 1} s: old {amp_b * 1e3:.2e} mm, new {amp_a * 1e3:.2e} mm (decayed: not compared)")
+            print(
+                f"  {k}-{k + 1} s: old {amp_b * 1e3:.2e} mm, new {amp_a * 1e3:.2e} mm (decayed: not compared)"
+            )
             break
-        print(f"  {k}-{k + 1} s: old {amp_b * 1e3:.5f}, new {amp_a * 1e3:.5f} mm ({100 * (amp_a / amp_b - 1):+.3f} %)")
+        print(
+            f"  {k}-{k + 1} s: old {amp_b * 1e3:.5f}, new {amp_a * 1e3:.5f} mm ({100 * (amp_a / amp_b - 1):+.3f} %)"
+        )
     dq = np.abs(a["q"] - b["q"]).max()
-    print(f"Q max: old {b['q'].max():.1f} N, new {a['q'].max():.1f} N ({100 * (a['q'].max() / b['q'].max() - 1):+.4f} %); "
-          f"Q at every output step within {dq:.1f} N ({100 * dq / b['q'].max():.4f} % of Q max)")
+    print(
+        f"Q max: old {b['q'].max():.1f} N, new {a['q'].max():.1f} N ({100 * (a['q'].max() / b['q'].max() - 1):+.4f} %); "
+        f"Q at every output step within {dq:.1f} N ({100 * dq / b['q'].max():.4f} % of Q max)"
+    )
 
 
 def main() -> None:
@@ -220,9 +281,11 @@ def main() -> None:
     ap.add_argument("bem_duration", nargs="?", type=float, help="simulated time with the BEM, s")
     ap.add_argument("--profile", action="store_true", help="where the time of one BEM run goes")
     ap.add_argument("--perf", action="store_true", help="with --profile: perf samples too")
-    ap.add_argument("--threads", default=None,
-                    help="BEM threads, comma-separated counts each run in turn (default: all cores; "
-                         "--profile: 1)")
+    ap.add_argument(
+        "--threads",
+        default=None,
+        help="BEM threads, comma-separated counts each run in turn (default: all cores; --profile: 1)",
+    )
     ap.add_argument("--bem-only", action="store_true", help="skip the Hertz cases")
     ap.add_argument("--compare", metavar="OLD_PYTHON", help="the BEM case against another build's python")
     ap.add_argument("--speed", type=float, default=300.0, help="with --compare: the speed, km/h")
@@ -236,30 +299,44 @@ def main() -> None:
     dur = args.duration if args.duration is not None else 10.0
     dur_bem = args.bem_duration if args.bem_duration is not None else min(dur, 1.0)
     threads = args.threads.split(",") if args.threads else ["all"]
-    print(f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "
-          "(RR coach, 53 DOF, 8 wheels)")
-    print(f"load {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; RTF from wall time, RTF cpu from the "
-          "child's CPU time (both include the static equilibrium)")
-    print(f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'thr':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} "
-          f"{'RTF cpu':>8s} {'amp mm':>9s} {'Q max kN':>9s} "
-          f"{'steps':>6s} {'Newton/step':>11s} {'tangents':>8s} {'sub-stepped':>11s} "
-          f"{'BEM/step':>8s} {'peak RSS MB':>11s}")
+    print(
+        f"hunting at 300 km/h, {dur:g} s simulated ({dur_bem:g} s with the BEM), h = 1 ms "
+        "(RR coach, 53 DOF, 8 wheels)"
+    )
+    print(
+        f"load {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; RTF from wall time, RTF cpu from the "
+        "child's CPU time (both include the static equilibrium)"
+    )
+    print(
+        f"{'contact':>14s} {'geometry':>8s} {'n':>3s} {'thr':>3s} {'sim s':>6s} {'wall s':>8s} {'RTF':>8s} "
+        f"{'RTF cpu':>8s} {'amp mm':>9s} {'Q max kN':>9s} "
+        f"{'steps':>6s} {'Newton/step':>11s} {'tangents':>8s} {'sub-stepped':>11s} "
+        f"{'BEM/step':>8s} {'peak RSS MB':>11s}"
+    )
     for contact, n, geo in CASES:
         if args.bem_only and contact != "bem":
             continue
         d_run = dur_bem if contact == "bem" else dur
-        for thr in (threads if contact == "bem" else ["all"]):
-            out = subprocess.run([sys.executable, "-c", CHILD, contact, str(n), str(d_run), geo, thr],
-                                 capture_output=True, text=True, check=True)
+        for thr in threads if contact == "bem" else ["all"]:
+            out = subprocess.run(
+                [sys.executable, "-c", CHILD, contact, str(n), str(d_run), geo, thr],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
             d = json.loads(out.stdout.strip().splitlines()[-1])
-            print(f"{contact:>14s} {geo:>8s} {n:3d} {d['threads']:3d} {d_run:6.2f} {d['wall']:8.2f} "
-                  f"{d['rtf']:8.3f} {d['cpu'] / d_run:8.3f} {d['amp_mm']:9.5f} {d['qmax_kn']:9.4f} "
-                  f"{d['steps']:6d} {d['newton'] / d['steps']:11.2f} "
-                  f"{d['tangents']:8d} {d['sub']:11d} {d['bem_per_step']:8.1f} {d['rss_mb']:11.0f}")
+            print(
+                f"{contact:>14s} {geo:>8s} {n:3d} {d['threads']:3d} {d_run:6.2f} {d['wall']:8.2f} "
+                f"{d['rtf']:8.3f} {d['cpu'] / d_run:8.3f} {d['amp_mm']:9.5f} {d['qmax_kn']:9.4f} "
+                f"{d['steps']:6d} {d['newton'] / d['steps']:11.2f} "
+                f"{d['tangents']:8d} {d['sub']:11d} {d['bem_per_step']:8.1f} {d['rss_mb']:11.0f}"
+            )
         if contact == "bem":
-            print(f"{'':>23s} BEM grid {d['grid'][0]} x {d['grid'][1]} elements of 0.75 mm per "
-                  "wheel and candidate point; BEM/step = normal + rolling solve pairs per step; "
-                  f"load now {os.getloadavg()[0]:.2f}")
+            print(
+                f"{'':>23s} BEM grid {d['grid'][0]} x {d['grid'][1]} elements of 0.75 mm per "
+                "wheel and candidate point; BEM/step = normal + rolling solve pairs per step; "
+                f"load now {os.getloadavg()[0]:.2f}"
+            )
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ resident memory is the process's (``resource.getrusage``), after each model.
 
     .venv/bin/python benchmarks/bench_vehicle_ff.py [duration_s] [models, e.g. RR,FF]
 """
+
 from __future__ import annotations
 
 import os
@@ -22,16 +23,19 @@ from railvti.vehicle import systems
 
 
 def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "FF")) -> None:
-    print(f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores; {duration} s at "
-          f"300 km/h, Hertz + FASTSIM, output every 2 ms")
+    print(
+        f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores; {duration} s at "
+        f"300 km/h, Hertz + FASTSIM, output every 2 ms"
+    )
     rtf = {}
     for model in models:
         t0 = time.perf_counter()
         sy = scenarios.coach_system(model, speed_kmh=300.0) if model != "RR" else None
         build = time.perf_counter() - t0
         t0 = time.perf_counter()
-        c = scenarios.centred_running(300.0, model=model, contact="hertz-fastsim",
-                                      duration=duration, output_dt=2e-3, progress=False)
+        c = scenarios.centred_running(
+            300.0, model=model, contact="hertz-fastsim", duration=duration, output_dt=2e-3, progress=False
+        )
         wall = time.perf_counter() - t0
         r = c.run
         loop = r.stats["wall_time"]
@@ -39,14 +43,18 @@ def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "F
         nst = 0 if sy is None else sy.n_state - sy.n
         rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
         h = 1e-3 if sy is None else systems.default_step(sy)
-        print(f"{model}: {nst} modal coordinates; build {build:.1f} s; time loop {loop:.1f} s "
-              f"(real-time factor {loop / duration:.2f}), centred_running {wall:.1f} s; "
-              f"h {h * 1e3:.3g} ms; Newton iterations "
-              f"{r.stats['newton_iterations']:.0f}; Q {r.Q.min() / 1e3:.2f}..{r.Q.max() / 1e3:.2f} kN; "
-              f"peak memory {rss:.0f} MB")
+        print(
+            f"{model}: {nst} modal coordinates; build {build:.1f} s; time loop {loop:.1f} s "
+            f"(real-time factor {loop / duration:.2f}), centred_running {wall:.1f} s; "
+            f"h {h * 1e3:.3g} ms; Newton iterations "
+            f"{r.stats['newton_iterations']:.0f}; Q {r.Q.min() / 1e3:.2f}..{r.Q.max() / 1e3:.2f} kN; "
+            f"peak memory {rss:.0f} MB"
+        )
     if "RR" in rtf:
-        print("real-time factor over RR's: "
-              + ", ".join(f"{m} {v / rtf['RR']:.1f}x" for m, v in rtf.items() if m != "RR"))
+        print(
+            "real-time factor over RR's: "
+            + ", ".join(f"{m} {v / rtf['RR']:.1f}x" for m, v in rtf.items() if m != "RR")
+        )
     print(f"load after {os.getloadavg()[0]:.2f}")
 
 

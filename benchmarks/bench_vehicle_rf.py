@@ -7,6 +7,7 @@ Hertz + Kalker, h = 0.5 ms, outputs every step; the first fifth of the run is sk
 
     .venv/bin/python benchmarks/bench_vehicle_rf.py [n_sleepers] [f_limit_hz] [duration_s]
 """
+
 from __future__ import annotations
 
 import sys
@@ -21,24 +22,31 @@ def main(n_sl: int = 40, f_limit: float = 500.0, dur: float = 0.5) -> None:
     tp = dict(f_max=max(f_limit, 500.0))
     t0 = time.perf_counter()
     sy = scenarios.rf_system(speed_kmh=200.0, n_sleepers=n_sl, f_limit=f_limit, track_params=tp)
-    print(f"RF ring n_sl={n_sl} {tp}: {sy.ring.n_modes} ring modes <= {f_limit} Hz + "
-          f"{sy.ring.n_residual} residual coordinates; build {time.perf_counter() - t0:.1f} s")
+    print(
+        f"RF ring n_sl={n_sl} {tp}: {sy.ring.n_modes} ring modes <= {f_limit} Hz + "
+        f"{sy.ring.n_residual} residual coordinates; build {time.perf_counter() - t0:.1f} s"
+    )
     half = 0.5 * sy.ring.rail_distance
     for model in ("RR", "RF"):
         kw = dict(n_sleepers=n_sl, f_limit=f_limit, track_params=tp) if model == "RF" else {}
         t0 = time.perf_counter()
-        c = scenarios.centred_running(200.0, model=model, duration=dur, progress=False,
-                                      output_dt=5e-4, h=5e-4, **kw)
+        c = scenarios.centred_running(
+            200.0, model=model, duration=dur, progress=False, output_dt=5e-4, h=5e-4, **kw
+        )
         wall = time.perf_counter() - t0
         r = c.run
         rw = r.stats["wall_time"]
         n0 = len(r.t) // 5
         q = r.Q[n0:]
-        print(f"{model}: time loop {rw:.2f} s for {dur} s (real-time factor {rw / dur:.2f}; "
-              f"Newton iterations {r.stats['newton_iterations']:.0f}); centred_running {wall:.2f} s")
+        print(
+            f"{model}: time loop {rw:.2f} s for {dur} s (real-time factor {rw / dur:.2f}; "
+            f"Newton iterations {r.stats['newton_iterations']:.0f}); centred_running {wall:.2f} s"
+        )
         print(f"  Q mean [kN] (rows left/right, wheelsets 1..4):\n{np.round(q.mean(0) / 1e3, 3)}")
-        print(f"  Q min / max [kN]: {q.min() / 1e3:.3f} / {q.max() / 1e3:.3f} "
-              f"(static {c.static_wheel_load / 1e3:.3f})")
+        print(
+            f"  Q min / max [kN]: {q.min() / 1e3:.3f} / {q.max() / 1e3:.3f} "
+            f"(static {c.static_wheel_load / 1e3:.3f})"
+        )
         if c.rail is None:
             continue
         z = c.rail[n0:, 1] + np.array([half, -half])[:, None] * c.rail[n0:, 2]
@@ -48,11 +56,12 @@ def main(n_sl: int = 40, f_limit: float = 500.0, dur: float = 0.5) -> None:
             s = sig - sig.mean()
             f = np.fft.rfftfreq(s.size, dt)
             a = np.abs(np.fft.rfft(s * np.hanning(s.size)))
-            print(f"  {name}: peak-to-peak {np.ptp(sig):.4g}, dominant {f[a.argmax()]:.1f} Hz "
-                  f"(sleeper passing {200 / 3.6 / 0.6:.1f} Hz; resolution {f[1]:.1f} Hz)")
+            print(
+                f"  {name}: peak-to-peak {np.ptp(sig):.4g}, dominant {f[a.argmax()]:.1f} Hz "
+                f"(sleeper passing {200 / 3.6 / 0.6:.1f} Hz; resolution {f[1]:.1f} Hz)"
+            )
 
 
 if __name__ == "__main__":
     a = sys.argv[1:]
-    main(int(a[0]) if a else 40, float(a[1]) if len(a) > 1 else 500.0,
-         float(a[2]) if len(a) > 2 else 0.5)
+    main(int(a[0]) if a else 40, float(a[1]) if len(a) > 1 else 500.0, float(a[2]) if len(a) > 2 else 0.5)

@@ -13,6 +13,7 @@ step, sub-stepped steps) and the amplitude of each build.
     .venv/bin/python benchmarks/bench_vehicle_strip.py [duration_s] [--repeat N] [--python PY ...]
         [--contact hertz-fastsim|hertz-kalker]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -22,8 +23,12 @@ import statistics
 import subprocess
 import sys
 
-CASES = [("hertz-fastsim", "table"), ("hertz-fastsim", "strip"),
-         ("hertz-kalker", "table"), ("hertz-kalker", "strip")]
+CASES = [
+    ("hertz-fastsim", "table"),
+    ("hertz-fastsim", "strip"),
+    ("hertz-kalker", "table"),
+    ("hertz-kalker", "strip"),
+]
 
 CHILD = r"""
 import json, sys, time
@@ -48,27 +53,43 @@ def main() -> None:
     ap.add_argument("duration", nargs="?", type=float, default=10.0, help="simulated s")
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--python", nargs="*", default=[], help="further interpreters to compare")
-    ap.add_argument("--contact", choices=["hertz-fastsim", "hertz-kalker"], default=None,
-                    help="only this contact model (default both)")
+    ap.add_argument(
+        "--contact",
+        choices=["hertz-fastsim", "hertz-kalker"],
+        default=None,
+        help="only this contact model (default both)",
+    )
     a = ap.parse_args()
     cases = [c for c in CASES if a.contact in (None, c[0])]
     pythons = [sys.executable] + a.python
     runs: dict = {}
     loads = []
-    print(f"hunting at 300 km/h, {a.duration:g} s simulated, h = 1 ms (RR coach, 8 wheels); "
-          f"{a.repeat} interleaved repetitions")
+    print(
+        f"hunting at 300 km/h, {a.duration:g} s simulated, h = 1 ms (RR coach, 8 wheels); "
+        f"{a.repeat} interleaved repetitions"
+    )
     for _ in range(a.repeat):
         for contact, geo in cases:
             for py in pythons:
                 loads.append(os.getloadavg()[0])
-                out = subprocess.run([py, "-c", CHILD, contact, str(a.duration), geo],
-                                     capture_output=True, text=True, check=True)
-                runs.setdefault((py, contact, geo), []).append(json.loads(out.stdout.strip().splitlines()[-1]))
-    print(f"load average (1 min) during the runs: {min(loads):.1f} .. {max(loads):.1f} on "
-          f"{os.cpu_count()} cores")
-    print(f"{'build':>6s} {'contact':>14s} {'geometry':>8s} {'wall s (median)':>15s} {'strip/table':>11s} "
-          f"{'CPU s (median)':>14s} {'strip/table':>11s} "
-          f"{'amp mm':>7s} {'Newton/step':>11s} {'tangents/step':>13s} {'sub-stepped':>11s}")
+                out = subprocess.run(
+                    [py, "-c", CHILD, contact, str(a.duration), geo],
+                    capture_output=True,
+                    text=True,
+                    check=True,
+                )
+                runs.setdefault((py, contact, geo), []).append(
+                    json.loads(out.stdout.strip().splitlines()[-1])
+                )
+    print(
+        f"load average (1 min) during the runs: {min(loads):.1f} .. {max(loads):.1f} on "
+        f"{os.cpu_count()} cores"
+    )
+    print(
+        f"{'build':>6s} {'contact':>14s} {'geometry':>8s} {'wall s (median)':>15s} {'strip/table':>11s} "
+        f"{'CPU s (median)':>14s} {'strip/table':>11s} "
+        f"{'amp mm':>7s} {'Newton/step':>11s} {'tangents/step':>13s} {'sub-stepped':>11s}"
+    )
     for i, py in enumerate(pythons):
         for contact, geo in cases:
             rs = runs[(py, contact, geo)]
@@ -77,9 +98,11 @@ def main() -> None:
             cpu = statistics.median(r["cpu"] for r in rs)
             cref = statistics.median(r["cpu"] for r in runs[(py, contact, "table")])
             d = rs[-1]
-            print(f"{i:6d} {contact:>14s} {geo:>8s} {wall:15.2f} {wall / ref:11.2f} {cpu:14.2f} {cpu / cref:11.2f} "
-                  f"{d['amp_mm']:7.3f} "
-                  f"{d['newton'] / d['steps']:11.2f} {d['tangents'] / d['steps']:13.2f} {d['sub']:11d}")
+            print(
+                f"{i:6d} {contact:>14s} {geo:>8s} {wall:15.2f} {wall / ref:11.2f} {cpu:14.2f} {cpu / cref:11.2f} "
+                f"{d['amp_mm']:7.3f} "
+                f"{d['newton'] / d['steps']:11.2f} {d['tangents'] / d['steps']:13.2f} {d['sub']:11d}"
+            )
     for i, py in enumerate(pythons):
         print(f"build {i}: {py}")
 

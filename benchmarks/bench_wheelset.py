@@ -2,6 +2,7 @@
 (free-free and on the primary suspension), time and peak memory.
 Run: .venv/bin/python benchmarks/bench_wheelset.py
 """
+
 from __future__ import annotations
 
 import resource
@@ -22,14 +23,21 @@ def main() -> None:
             tk = time.perf_counter()
             h = ws.harmonic(k, 3000.0, support)
             total += h.freq_hz.size
-            print(f"  {support:>10} k={k}: {h.freq_hz.size:3d} modes, {h.n_equations} equations, "
-                  f"half-bandwidth {h.bandwidth}, {time.perf_counter() - tk:.2f} s")
-        print(f"{support}: {total} modes (pairs counted once) up to 3 kHz, k = 0..6 in "
-              f"{time.perf_counter() - t:.2f} s")
+            print(
+                f"  {support:>10} k={k}: {h.freq_hz.size:3d} modes, {h.n_equations} equations, "
+                f"half-bandwidth {h.bandwidth}, {time.perf_counter() - tk:.2f} s"
+            )
+        print(
+            f"{support}: {total} modes (pairs counted once) up to 3 kHz, k = 0..6 in "
+            f"{time.perf_counter() - t:.2f} s"
+        )
     t = time.perf_counter()
     m = ws.axle_fixed(300 / 3.6, k_max=6, f_max=3000.0)
-    print(f"axle-fixed model at 300 km/h: {m.n} coordinates in {time.perf_counter() - t:.3f} s (modes cached)")
+    print(
+        f"axle-fixed model at 300 km/h: {m.n} coordinates in {time.perf_counter() - t:.3f} s (modes cached)"
+    )
     import numpy as np
+
     t = time.perf_counter()
     ws.frf(np.linspace(20, 1000, 1000), 300 / 3.6, model=m)
     print(f"FRF, 1000 frequencies: {time.perf_counter() - t:.3f} s")

@@ -1,5 +1,6 @@
 """Shared by the interrupt tests: run a script in a child process, send SIGINT a given time
 after it prints 'ready', and measure how long the child takes to exit."""
+
 from __future__ import annotations
 
 import signal
@@ -13,9 +14,13 @@ def sigint_after_ready(script: str, delay: float) -> tuple[str, str, float, int]
     that line, and return the child's stdout, stderr, the time from SIGINT to exit (s) and
     its return code.
     The child starts with SIGINT's default (a suite run in the background ignores it)."""
-    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     assert proc.stdout.readline().strip() == "ready"
     time.sleep(delay)
     assert proc.poll() is None, "the call ended before the signal"

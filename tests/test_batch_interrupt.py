@@ -1,6 +1,7 @@
 """A 3-case deck stopped by SIGINT, SIGTERM or SIGKILL during its second case (the
 acceptance test of issue 16): the results file stays valid, holds case 1 complete and case 2
 marked interrupted, ``--resume`` completes the run, and no temporary file is left."""
+
 from __future__ import annotations
 
 import os
@@ -45,9 +46,13 @@ def _start(tmp_path: Path) -> tuple[subprocess.Popen, Path, Path]:
     out = tmp_path / "out.h5"
     # SIGINT back to its default in the child: a suite started in the background (SIGINT
     # ignored) would pass the ignore on, and Python then installs no KeyboardInterrupt handler
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     return proc, deck, out
 
 
@@ -95,13 +100,28 @@ def test_signal_keeps_completed_cases_and_resume_completes(tmp_path, sig, code):
         first_pressure = f["001_first/pressure"][()]
     if sig != signal.SIGINT:
         return
-    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial",
-                        "--resume"], capture_output=True, text=True, timeout=120)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "railvti.runner.cli",
+            "run",
+            str(deck),
+            "-o",
+            str(out),
+            "-q",
+            "--serial",
+            "--resume",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert r.returncode == 0, r.stdout + r.stderr
     assert "1 of 3 cases already complete" in r.stdout
     assert _statuses(out) == {"001_first": "ok", "002_slow": "ok", "003_third": "ok"}
     with h5py.File(out, "r") as f:
-        assert (f["001_first/pressure"][()] == first_pressure).all()      # kept, not re-run
+        assert (f["001_first/pressure"][()] == first_pressure).all()  # kept, not re-run
         assert f["002_slow/pressure"].shape == (100, 100)
         # the resumed Gauss-Seidel case carries the prescribed force
         assert f["002_slow/pressure"][()].sum() * 0.12e-3 * 0.096e-3 == pytest.approx(1.0e4, rel=1e-9)
@@ -133,7 +153,7 @@ def test_an_interrupted_vehicle_run_keeps_its_history():
     from railvti import scenarios as sc
     from railvti.runner.batch import partial_output
 
-    sc.hunting(300.0, duration=0.01)                       # build the contact table first
+    sc.hunting(300.0, duration=0.01)  # build the contact table first
     # interrupt_main does nothing while SIGINT is ignored (a suite started in the background)
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(1.5, _thread.interrupt_main)

@@ -1,5 +1,6 @@
 """railvti run never loses finished work, checks its output path first, and writes
 self-describing results; result objects round-trip through HDF5 (issue 16, items 2-5)."""
+
 from __future__ import annotations
 
 import logging
@@ -46,8 +47,9 @@ def _statuses(path):
 def test_types(monkeypatch):
     """Two case types for the runner's own tests: 'boom' raises a non-railvti exception;
     'probe' returns the case groups it finds in the output file while it runs."""
+
     def boom(params):
-        return {}["no such key"]          # KeyError: not a RailvtiError
+        return {}["no such key"]  # KeyError: not a RailvtiError
 
     def probe(params):
         with h5py.File(params["path"], "r") as f:
@@ -59,8 +61,10 @@ def test_types(monkeypatch):
 
 
 def test_any_exception_is_the_case_error_and_the_others_run(tmp_path, test_types, capsys, caplog):
-    deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + "&case name='b', type='boom' /\n"
-                 + SMALL.format(name="c", fn=5e3))
+    deck = _deck(
+        tmp_path,
+        SMALL.format(name="a", fn=1e4) + "&case name='b', type='boom' /\n" + SMALL.format(name="c", fn=5e3),
+    )
     out = tmp_path / "out.h5"
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 1
     captured = capsys.readouterr()
@@ -82,8 +86,12 @@ def test_any_exception_is_the_case_error_and_the_others_run(tmp_path, test_types
 
 def test_each_finished_case_is_in_the_file_before_the_next_starts(tmp_path, test_types):
     out = tmp_path / "out.h5"
-    deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4)
-                 + f"&case name='p', type='probe', path='{out}' /\n")
+    deck = _deck(
+        tmp_path,
+        SMALL.format(name="a", fn=1e4)
+        + SMALL.format(name="b", fn=1e4)
+        + f"&case name='p', type='probe', path='{out}' /\n",
+    )
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
         assert f["003_p/seen"][()].decode() == "001_a,002_b"
@@ -101,20 +109,22 @@ def test_resume_keeps_complete_cases_and_reruns_changed_ones(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "1 of 2 cases already complete" in text and "case 2 'b'" in text and "case 1 'a'" not in text
     with h5py.File(out, "r") as f:
-        assert f["001_a"].attrs["wall_time"] == wall_a                  # kept as it was
-        assert f["002_b/fn"][()] == pytest.approx(7e3)                  # re-run with the new value
+        assert f["001_a"].attrs["wall_time"] == wall_a  # kept as it was
+        assert f["002_b/fn"][()] == pytest.approx(7e3)  # re-run with the new value
         assert "fn = 7000.0" in f.attrs["deck"]
 
 
 def test_output_path_is_checked_before_any_work(tmp_path, test_types, capsys):
-    out = tmp_path / "out.h5"
     # the probe would fail if it ran: nothing may run before the output is refused
     deck = _deck(tmp_path, f"&case name='p', type='probe', path='{tmp_path / 'missing.h5'}' /\n")
     (tmp_path / "adir").mkdir()
     other = tmp_path / "notes.txt"
     other.write_text("my notes")
-    for target, words in [(tmp_path / "adir", "is a directory"), (deck, "is the deck itself"),
-                          (other, "not a railvti results file")]:
+    for target, words in [
+        (tmp_path / "adir", "is a directory"),
+        (deck, "is the deck itself"),
+        (other, "not a railvti results file"),
+    ]:
         assert main(["run", str(deck), "-o", str(target), "-q", "--serial"]) == 2
         assert words in capsys.readouterr().err
     assert other.read_text() == "my notes" and deck.exists()
@@ -154,7 +164,9 @@ def test_memory_limit_refuses_before_running(tmp_path, test_types, capsys):
     assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--serial", "--max-memory", "1k"]) == 2
     assert "more than the limit" in capsys.readouterr().err
     assert not (tmp_path / "o.h5").exists()
-    assert main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--serial", "--max-memory", "lots"]) == 2
+    assert (
+        main(["run", str(deck), "-o", str(tmp_path / "o.h5"), "-q", "--serial", "--max-memory", "lots"]) == 2
+    )
     assert "not a size" in capsys.readouterr().err
 
 
@@ -180,9 +192,10 @@ def test_gauss_seidel_in_slices_equals_one_call(monkeypatch):
     g = Grid(40, 32, 0.2e-3, 0.2e-3)
     h = np.asfortranarray(hertz_gap(g, 1.087, 1.6667))
     p1 = np.zeros(g.shape, order="F")
-    fn1, app1, it1, _, res1, info1 = core.normal_solve_c(workspace(g, STEEL), h, 1, 2, 1e-8, 20000,
-                                                          1.0, 1e4, 0.0, p1)
-    monkeypatch.setattr(normal_mod, "GS_SLICE_SECONDS", 1e-6)      # slices of ~1000 work units
+    fn1, app1, it1, _, res1, info1 = core.normal_solve_c(
+        workspace(g, STEEL), h, 1, 2, 1e-8, 20000, 1.0, 1e4, 0.0, p1
+    )
+    monkeypatch.setattr(normal_mod, "GS_SLICE_SECONDS", 1e-6)  # slices of ~1000 work units
     calls = []
     real = core.normal_gs_slice_c
 
@@ -208,7 +221,12 @@ def test_normal_result_round_trips(tmp_path):
     back = load(save(r, tmp_path / "n.h5"))
     assert type(back) is type(r) and back.grid == r.grid
     assert np.array_equal(back.pressure, r.pressure)
-    assert (back.fn, back.approach, back.iterations, back.method) == (r.fn, r.approach, r.iterations, r.method)
+    assert (back.fn, back.approach, back.iterations, back.method) == (
+        r.fn,
+        r.approach,
+        r.iterations,
+        r.method,
+    )
     with h5py.File(tmp_path / "n.h5", "r") as f:
         assert f["result/pressure"].attrs["units"] == "Pa"
         assert f["result/grid/dx"].attrs["units"] == "m"
@@ -233,8 +251,11 @@ def test_vehicle_results_are_self_describing_and_round_trip(tmp_path):
         assert list(f["result/q"].attrs["dof_names"]) == list(res.dof_names)
         assert all(d.attrs.get("units") for d in _all_datasets(f).values())
 
-    deck = _deck(tmp_path, "&case type='vehicle', name='v', scenario='centred_running', "
-                           "duration=0.04, contact='hertz-fastsim' /\n" + SMALL.format(name="n", fn=1e4))
+    deck = _deck(
+        tmp_path,
+        "&case type='vehicle', name='v', scenario='centred_running', "
+        "duration=0.04, contact='hertz-fastsim' /\n" + SMALL.format(name="n", fn=1e4),
+    )
     out = tmp_path / "out.h5"
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0
     with h5py.File(out, "r") as f:
@@ -296,11 +317,13 @@ def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch
         return real(self, records)
 
     monkeypatch.setattr(results.ResultsWriter, "write", failing)
-    deck = _deck(tmp_path, SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4)
-                 + SMALL.format(name="c", fn=1e4))
+    deck = _deck(
+        tmp_path,
+        SMALL.format(name="a", fn=1e4) + SMALL.format(name="b", fn=1e4) + SMALL.format(name="c", fn=1e4),
+    )
     out = tmp_path / "out.h5"
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 3
     err = capsys.readouterr().err
     assert "No space left on device" in err and len(err.splitlines()) == 1
-    assert _statuses(out) == {"001_a": "ok"}                  # the last complete version
+    assert _statuses(out) == {"001_a": "ok"}  # the last complete version
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []

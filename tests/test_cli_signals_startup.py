@@ -8,6 +8,7 @@ for a signal after the first case finished on the cluster.
 Each run is a child process (SIGINT back to its default there: a suite started in the
 background ignores it) tagged with an environment variable its worker processes inherit, so
 a worker left alive after the run is found whoever its parent is now."""
+
 from __future__ import annotations
 
 import os
@@ -34,7 +35,7 @@ DECK = """
     sweep_fn = 1.0e4, 1.1e4, 1.2e4, 1.3e4, 1.4e4, 1.5e4
 /
 """
-pytestmark = pytest.mark.slow       # starts clusters and waits for signals: ~36 s
+pytestmark = pytest.mark.slow  # starts clusters and waits for signals: ~36 s
 
 #: The stop must take at most this (s), from the signal to the end of the process.
 STOP_SECONDS = 1.0
@@ -74,8 +75,14 @@ def _run(tmp_path: Path, options: list[str], sig: int, when: Any) -> dict:
     env = {**os.environ, TAG: tag}
     cmd = [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", *options]
     t0 = time.monotonic()
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     try:
         when(proc, out, t0)
         assert proc.poll() is None, proc.communicate()
@@ -87,21 +94,29 @@ def _run(tmp_path: Path, options: list[str], sig: int, when: Any) -> dict:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
-    for _ in range(10):         # a killed worker is gone at once; give the rest a second
+    for _ in range(10):  # a killed worker is gone at once; give the rest a second
         left = _tagged(tag)
         if not left:
             break
         time.sleep(0.1)
     for p in left:
         p.kill()
-    return dict(code=proc.returncode, stopped=stopped, at=t_sig - t0, stdout=stdout,
-                stderr=stderr, statuses=_statuses(out), left=[p.pid for p in left],
-                tmp=[p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")])
+    return dict(
+        code=proc.returncode,
+        stopped=stopped,
+        at=t_sig - t0,
+        stdout=stdout,
+        stderr=stderr,
+        statuses=_statuses(out),
+        left=[p.pid for p in left],
+        tmp=[p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")],
+    )
 
 
 def _after(seconds: float) -> Any:
     def when(proc: subprocess.Popen, out: Path, t0: float) -> None:
         time.sleep(max(0.0, seconds - (time.monotonic() - t0)))
+
     return when
 
 
@@ -130,9 +145,11 @@ def _phase(r: dict) -> str:
 
 
 def _check(r: dict, sig: int, label: str) -> None:
-    MEASURED.append(f"{label}: exit {r['code']}, stopped {r['stopped']:.2f} s after the signal "
-                    f"(sent {r['at']:.2f} s in, during {_phase(r)}), "
-                    f"{sum(v == 'ok' for v in r['statuses'].values())} cases ok in the file")
+    MEASURED.append(
+        f"{label}: exit {r['code']}, stopped {r['stopped']:.2f} s after the signal "
+        f"(sent {r['at']:.2f} s in, during {_phase(r)}), "
+        f"{sum(v == 'ok' for v in r['statuses'].values())} cases ok in the file"
+    )
     text = r["stdout"] + r["stderr"]
     assert r["code"] == STOPPED[sig], text
     assert "Traceback" not in text and "Exception ignored" not in text, text
@@ -141,13 +158,17 @@ def _check(r: dict, sig: int, label: str) -> None:
     name = signal.Signals(sig).name
     lines = [ln for ln in text.splitlines() if name in ln]
     assert lines, text
-    if r["statuses"]:       # cases ran: the completed ones kept, the running ones marked
+    if r["statuses"]:  # cases ran: the completed ones kept, the running ones marked
         assert "--resume" in r["stdout"], text
         assert all(v == "ok" or v.startswith(f"interrupted: {name}") for v in r["statuses"].values())
-    else:                   # stopped before any case: said so, nothing written
-        assert f"stopped by {name}" in r["stderr"] and "no case ran" in r["stderr"] or \
-            "before any case ran" in r["stderr"] or \
-            f"{name} before any case finished" in r["stdout"] and "was not written" in r["stdout"], text
+    else:  # stopped before any case: said so, nothing written
+        assert (
+            f"stopped by {name}" in r["stderr"]
+            and "no case ran" in r["stderr"]
+            or "before any case ran" in r["stderr"]
+            or f"{name} before any case finished" in r["stdout"]
+            and "was not written" in r["stdout"]
+        ), text
     assert r["stopped"] < STOP_SECONDS, f"{label}: stopped {r['stopped']:.2f} s after the signal"
 
 
@@ -166,7 +187,7 @@ def test_a_signal_after_the_first_case_on_the_cluster_keeps_it(tmp_path):
     _check(r, sig, f"{signal.Signals(sig).name} after the first case, cluster")
     ok = [k for k, v in r["statuses"].items() if v == "ok"]
     assert ok, r["statuses"]
-    with h5py.File(tmp_path / "out.h5", "r") as f:        # the kept cases are whole
+    with h5py.File(tmp_path / "out.h5", "r") as f:  # the kept cases are whole
         for k in ok:
             assert f[k + "/pressure"].shape == (110, 110)
 

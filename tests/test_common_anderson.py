@@ -1,5 +1,6 @@
 """fortran/common: Anderson mixing (common_anderson) and the small dense solves
 (common_dense), checked against numpy through the shims of api_common.f90."""
+
 import numpy as np
 import pytest
 
@@ -99,6 +100,6 @@ def test_spd_solve_matches_numpy(n):
 
 
 def test_spd_solve_refuses_an_indefinite_matrix():
-    h = np.asfortranarray([[1.0, 2.0], [2.0, 1.0]])   # eigenvalues 3 and -1
+    h = np.asfortranarray([[1.0, 2.0], [2.0, 1.0]])  # eigenvalues 3 and -1
     _, info = core.spd_solve_small_c(h, np.ones(2))
     assert info == Status.NOT_POSITIVE_DEFINITE

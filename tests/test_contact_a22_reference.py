@@ -15,6 +15,7 @@ and railvti does the same (docs/contact_decks.md); its reference point follows t
 the load between the areas, so its creepages and point are held a little looser.
 Run time ~10 s (both decks, serial).
 """
+
 import csv
 from pathlib import Path
 
@@ -45,18 +46,28 @@ def a22(tmp_path_factory):
     out = {}
     for w, side in enumerate(("left", "right")):
         h5 = tmp / f"{side}.h5"
-        assert main(["run", str(ROOT / "inputs" / f"mbench_a22_{side}.inp"), "-o", str(h5), "-q", "--serial"]) == 0
+        assert (
+            main(["run", str(ROOT / "inputs" / f"mbench_a22_{side}.inp"), "-o", str(h5), "-q", "--serial"])
+            == 0
+        )
         s = 1.0 if side == "left" else -1.0
         rows = {}
         with h5py.File(h5, "r") as f:
             for name, g in f.items():
                 r = {q: g[q][()] for q in g if isinstance(g[q], h5py.Dataset)}
-                k = int(np.nanargmax(r["fn"][w]))          # the patch (one per wheel in A-2.2)
+                k = int(np.nanargmax(r["fn"][w]))  # the patch (one per wheel in A-2.2)
                 rows[int(name.rsplit("_", 1)[1])] = dict(
-                    fn=r["fn"][w, k], fx=-r["fx"][w, k], fs=r["fy"][w, k], cksi=-r["xi"][w, k],
-                    ceta=r["eta"][w, k], cphi=r["phi"][w, k] * 1e-3, deltcp_tr=s * r["contact_angle"][w, k],
-                    ycp_r=-s * r["y_rail"][w, k] * 1e3, xcp_tr=r["x_ref"][w, k] * 1e3,
-                    n_patches=int(np.isfinite(r["fn"][w]).sum()))
+                    fn=r["fn"][w, k],
+                    fx=-r["fx"][w, k],
+                    fs=r["fy"][w, k],
+                    cksi=-r["xi"][w, k],
+                    ceta=r["eta"][w, k],
+                    cphi=r["phi"][w, k] * 1e-3,
+                    deltcp_tr=s * r["contact_angle"][w, k],
+                    ycp_r=-s * r["y_rail"][w, k] * 1e3,
+                    xcp_tr=r["x_ref"][w, k] * 1e3,
+                    n_patches=int(np.isfinite(r["fn"][w]).sum()),
+                )
         assert sorted(rows) == list(range(1, 22))
         out[side] = {q: np.array([rows[c][q] for c in range(1, 22)]) for q in rows[1]}
     return out

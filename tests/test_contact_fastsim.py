@@ -1,5 +1,6 @@
 """FASTSIM: linear limit against Kalker's linear theory, saturation, the Coulomb
 bound, symmetry, consistency, the strip-wise form, and bad input."""
+
 import numpy as np
 import pytest
 
@@ -45,8 +46,9 @@ def test_vectorised_forces_shape_and_zero_fn_kernel():
     assert fx.shape == (2,) and abs(fx[1]) > abs(fx[0])
     # the Fortran routine itself returns zero forces for fn <= 0 (the vehicle code relies on it)
     c = kalker_coefficients(1.5, 0.28)
-    out = core.fastsim_ellipse_c(6e-3, 4e-3, 82e9, *c, MU, [0.0, -1.0], [1e-3] * 2, [0.0] * 2,
-                                 [0.0] * 2, 10, 10)
+    out = core.fastsim_ellipse_c(
+        6e-3, 4e-3, 82e9, *c, MU, [0.0, -1.0], [1e-3] * 2, [0.0] * 2, [0.0] * 2, 10, 10
+    )
     assert all((v == 0.0).all() for v in out)
 
 
@@ -158,20 +160,23 @@ def test_strip_flexibility_keeps_linear_fx_and_handles_two_runs():
     assert lin.tx[lead2, j] == pytest.approx(lin.tx[lead1, j], rel=1e-12)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"mu": -0.1}, "mu"),
-    ({"fn": 0.0}, "fn"),
-    ({"fn": -5.0}, "fn"),
-    ({"a": 0.0}, "a"),
-    ({"b": -1e-3}, "b"),
-    ({"creepage": (float("nan"), 0, 0)}, "xi"),
-    ({"creepage": (0, 0, float("inf"))}, "phi"),
-    ({"creepage": (0, 0)}, "creepage"),
-    ({"nx": 0}, "nx"),
-    ({"speed": 0.0}, "speed"),
-    ({"pressure": "flat"}, "pressure"),
-    ({"material": "steel"}, "material"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"mu": -0.1}, "mu"),
+        ({"fn": 0.0}, "fn"),
+        ({"fn": -5.0}, "fn"),
+        ({"a": 0.0}, "a"),
+        ({"b": -1e-3}, "b"),
+        ({"creepage": (float("nan"), 0, 0)}, "xi"),
+        ({"creepage": (0, 0, float("inf"))}, "phi"),
+        ({"creepage": (0, 0)}, "creepage"),
+        ({"nx": 0}, "nx"),
+        ({"speed": 0.0}, "speed"),
+        ({"pressure": "flat"}, "pressure"),
+        ({"material": "steel"}, "material"),
+    ],
+)
 def test_bad_input_elliptic(kwargs, match):
     args = {"a": 6e-3, "b": 4e-3, "fn": FN, "material": MAT, "mu": MU, "creepage": (1e-3, 0, 0)}
     args.update(kwargs)

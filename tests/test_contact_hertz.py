@@ -1,4 +1,5 @@
 """Hertz's solution against the closed-form circle and an independent integral form."""
+
 import math
 
 import numpy as np
@@ -48,8 +49,10 @@ def test_swapping_axes_swaps_semi_axes():
     assert h1.p0 == pytest.approx(h2.p0, rel=1e-13)
 
 
-@pytest.mark.parametrize("args, word", [((0.0, 1.0, 1e4), "A"), ((1.0, -1.0, 1e4), "B"),
-                                         ((1.0, 1.0, 0.0), "fn"), ((1.0, 1.0, math.nan), "fn")])
+@pytest.mark.parametrize(
+    "args, word",
+    [((0.0, 1.0, 1e4), "A"), ((1.0, -1.0, 1e4), "B"), ((1.0, 1.0, 0.0), "fn"), ((1.0, 1.0, math.nan), "fn")],
+)
 def test_bad_input(args, word):
     with pytest.raises(InputError, match=word):
         hertz(*args, MAT)

@@ -1,4 +1,5 @@
 """Influence coefficients against quadrature of eqs 14-16, and FFT against direct sums."""
+
 import numpy as np
 import pytest
 from scipy.integrate import dblquad
@@ -13,6 +14,7 @@ G, NU = MAT.shear_modulus, MAT.poisson
 
 def integrand(kernel):
     """Point-load kernels of two quasi-identical half-spaces (Kalker 1990, sect. 1.5)."""
+
     def f(y, x):
         r = np.hypot(x, y)
         if kernel == "zz":
@@ -22,6 +24,7 @@ def integrand(kernel):
         if kernel == "yy":
             return ((1 - NU) / r + NU * y * y / r**3) / (np.pi * G)
         return NU * x * y / r**3 / (np.pi * G)
+
     return f
 
 
@@ -105,9 +108,14 @@ def test_kernel_codes_guarded_by_the_shims():
     """Bad kernel or method codes reaching the Fortran shims give BAD_ARGUMENT, not garbage."""
     from railvti._native import core
     from railvti._status import Status
+
     grid = Grid(4, 4, 1e-4, 1e-4)
-    assert core.influence_field_c(9, 4, 4, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson)[1] == Status.BAD_ARGUMENT
+    assert (
+        core.influence_field_c(9, 4, 4, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson)[1] == Status.BAD_ARGUMENT
+    )
     q = np.zeros(grid.shape, order="F")
     for kernel, method in ((0, 1), (5, 2), (1, 3)):
-        assert core.convolve_c(kernel, method, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson, q)[1] \
+        assert (
+            core.convolve_c(kernel, method, 1e-4, 1e-4, MAT.shear_modulus, MAT.poisson, q)[1]
             == Status.BAD_ARGUMENT
+        )

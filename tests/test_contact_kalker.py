@@ -1,12 +1,12 @@
 """Kalker's creep coefficients: Table E.3 interpolation and the linear theory."""
+
 import csv
 from importlib import resources
 
 import numpy as np
 import pytest
 
-from railvti.contact.kalker import (KalkerRangeError, kalker_coefficients, kalker_table,
-                                    linear_creep_forces)
+from railvti.contact.kalker import KalkerRangeError, kalker_coefficients, kalker_table, linear_creep_forces
 from railvti.errors import InputError
 from railvti.material import Material
 
@@ -83,8 +83,9 @@ def test_bad_poisson_raises(nu):
         kalker_coefficients(1.0, nu)
 
 
-@pytest.mark.parametrize("ab, nu", [(float("nan"), 0.25), ([1.0, np.nan], 0.25), ("x", 0.25),
-                                    (1.0, float("nan"))])
+@pytest.mark.parametrize(
+    "ab, nu", [(float("nan"), 0.25), ([1.0, np.nan], 0.25), ("x", 0.25), (1.0, float("nan"))]
+)
 def test_nan_input_raises(ab, nu):
     with pytest.raises(InputError):
         kalker_coefficients(ab, nu)
@@ -112,6 +113,7 @@ def test_fortran_kalker_interp_equals_python(nu):
     values of the independent Python implementation (scipy's PCHIP)."""
     from railvti._native import core
     from railvti._status import Status
+
     ab = np.exp(np.linspace(np.log(0.1), np.log(10.0), 401))
     c11, c22, c23, info, ibad = core.fastsim_kalker_c(ab, nu, *_fortran_table())
     assert info == Status.OK and ibad == 0
@@ -124,6 +126,7 @@ def test_fortran_kalker_interp_range():
     [0, 0.5]: BAD_ARGUMENT with no index."""
     from railvti._native import core
     from railvti._status import Status
+
     _, _, _, info, ibad = core.fastsim_kalker_c([1.0, 0.09, 11.0], 0.25, *_fortran_table())
     assert info == Status.BAD_ARGUMENT and ibad == 2
     _, _, _, info, ibad = core.fastsim_kalker_c([1.0], 0.51, *_fortran_table())
@@ -135,6 +138,7 @@ def test_fastsim_uses_the_one_table():
     published values (Kalker 1990, Table E.3, a/b = 0.5, nu = 0.25: C11 = 3.62, C22 = 3.01,
     C23 = 0.929); an ellipse outside the table is refused."""
     from railvti.contact import fastsim
+
     mat = Material(shear_modulus=80e9, poisson=0.25)
     r = fastsim(2e-3, 4e-3, 1e4, mat, 0.3, (1e-4, 0.0, 0.0), nx=4, ny=4)
     assert r.coefficients == pytest.approx((3.62, 3.01, 0.929), rel=1e-13)

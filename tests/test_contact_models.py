@@ -1,5 +1,6 @@
 """The contact-model spec (railvti.vehicle.contact_models): one parse at the edge, the same
 models as the Fortran core's CMODEL_* constants, and one BEM state per run."""
+
 from __future__ import annotations
 
 import re
@@ -11,9 +12,16 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle import bem as bem_module
-from railvti.vehicle.contact_models import (BEM, CONTACT_MODELS, GEOMETRIES, HERTZ_FASTSIM,
-                                            HERTZ_KALKER, ContactModel, contact_id,
-                                            parse_contact_model)
+from railvti.vehicle.contact_models import (
+    BEM,
+    CONTACT_MODELS,
+    GEOMETRIES,
+    HERTZ_FASTSIM,
+    HERTZ_KALKER,
+    ContactModel,
+    contact_id,
+    parse_contact_model,
+)
 from railvti.vehicle.equilibrium import eigenvalues
 from railvti.vehicle.simulate import simulate
 
@@ -24,11 +32,13 @@ V = 200 / 3.6
 def _fortran_constants() -> dict[str, int]:
     """The CMODEL_* parameters of fortran/vehicle/vehicle_contact.f90."""
     text = (ROOT / "fortran" / "vehicle" / "vehicle_contact.f90").read_text()
-    decl = [ln for ln in text.splitlines()
-            if re.match(r"\s*integer\s*,\s*parameter\s*::.*\bCMODEL_", ln, re.I)]
+    decl = [
+        ln for ln in text.splitlines() if re.match(r"\s*integer\s*,\s*parameter\s*::.*\bCMODEL_", ln, re.I)
+    ]
     assert decl, "no CMODEL_* parameter in vehicle_contact.f90"
-    return {m.group(1): int(m.group(2))
-            for ln in decl for m in re.finditer(r"\b(CMODEL_\w+)\s*=\s*(\d+)", ln)}
+    return {
+        m.group(1): int(m.group(2)) for ln in decl for m in re.finditer(r"\b(CMODEL_\w+)\s*=\s*(\d+)", ln)
+    }
 
 
 def test_every_spec_is_its_fortran_constant_and_every_constant_has_a_spec():
@@ -44,18 +54,28 @@ def test_parse_returns_the_spec_and_names_the_allowed_values():
     assert parse_contact_model(BEM) is BEM
     assert contact_id("hertz-fastsim") == 2 and contact_id(BEM) == 3
     for bad in ("carter", "BEM", " bem", "", None, 3):
-        with pytest.raises(InputError, match=r"unknown contact model .*'bem', 'hertz-fastsim', "
-                                             r"'hertz-kalker'"):
+        with pytest.raises(
+            InputError,
+            match=r"unknown contact model .*'bem', 'hertz-fastsim', "
+            r"'hertz-kalker'",
+        ):
             parse_contact_model(bad)
 
 
 def test_the_spec_holds_what_the_call_sites_checked():
     assert [m.name for m in CONTACT_MODELS.values() if m.needs_bem] == ["bem"]
     assert {n: m.newton_tol for n, m in CONTACT_MODELS.items()} == {
-        "hertz-kalker": 1e-9, "hertz-fastsim": 1e-9, "bem": 1e-8}
+        "hertz-kalker": 1e-9,
+        "hertz-fastsim": 1e-9,
+        "bem": 1e-8,
+    }
     assert {n for n, m in CONTACT_MODELS.items() if m.static_restart} == {"hertz-fastsim", "bem"}
-    assert all(isinstance(m, ContactModel) and m.default_geometry in m.geometries
-               and set(m.geometries) <= set(GEOMETRIES) for m in CONTACT_MODELS.values())
+    assert all(
+        isinstance(m, ContactModel)
+        and m.default_geometry in m.geometries
+        and set(m.geometries) <= set(GEOMETRIES)
+        for m in CONTACT_MODELS.values()
+    )
 
 
 @pytest.mark.parametrize("contact", sorted(CONTACT_MODELS))
@@ -75,6 +95,7 @@ def test_geometry_as_the_scenarios_resolve_it(contact, geometry):
 
 # ---- one BEM state per run -------------------------------------------------------------------
 
+
 @pytest.fixture
 def opened(monkeypatch):
     """The BEM states opened while a test runs (BemState.__init__ counted)."""
@@ -84,6 +105,7 @@ def opened(monkeypatch):
     def counting(self, *args, **kw):
         count[0] += 1
         init(self, *args, **kw)
+
     monkeypatch.setattr(bem_module.BemState, "__init__", counting)
     return count
 
@@ -94,8 +116,7 @@ def coach():
 
 
 def test_a_bem_run_from_its_equilibrium_opens_one_state(coach, opened):
-    run = simulate(coach, V, 0.003, contact="bem", h=1e-3, output_dt=1e-3, progress=False,
-                   threads=1)
+    run = simulate(coach, V, 0.003, contact="bem", h=1e-3, output_dt=1e-3, progress=False, threads=1)
     assert opened[0] == 1
     assert run.contact == "bem" and run.stats["bem_normal_solves"] > 0
 
@@ -114,12 +135,12 @@ def test_hertz_runs_open_no_bem_state(coach, opened):
 
 
 def test_a_bem_hunting_run_opens_one_state(opened):
-    scenarios.hunting(300.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3,
-                      progress=False, threads=1)
+    scenarios.hunting(300.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3, progress=False, threads=1)
     assert opened[0] == 1
 
 
 def test_a_bem_centred_run_opens_one_state(opened):
-    scenarios.centred_running(200.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3,
-                              progress=False, threads=1)
+    scenarios.centred_running(
+        200.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3, progress=False, threads=1
+    )
     assert opened[0] == 1

@@ -1,4 +1,5 @@
 """The normal contact solvers: Hertz validation, two patches, complementarity, errors."""
+
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -100,7 +101,7 @@ def test_subpatches_interaction_factor(method):
     zero = solve_normal(gap, grid, MAT, subpatches=SubPatches((0.0,), (0.0,)), **kw)
     alone = sum(solve_normal(np.where(side, gap, 1.0), grid, MAT, **kw).pressure for side in (y <= 0, y > 0))
     assert np.abs(zero.pressure - alone).max() <= 1e-7 * plain.pmax
-    assert zero.fn > plain.fn     # less interaction, stiffer: more force at the same approach
+    assert zero.fn > plain.fn  # less interaction, stiffer: more force at the same approach
     f = 0.46
     half = solve_normal(gap, grid, MAT, subpatches=SubPatches((0.0,), (f,)), **kw)
     assert plain.fn < half.fn < zero.fn
@@ -108,18 +109,21 @@ def test_subpatches_interaction_factor(method):
     u = np.zeros(grid.shape)
     for src in (lo, ~lo):
         part = convolve(np.where(src, half.pressure, 0.0), grid, MAT)
-        u += np.where(src, part, f * part)     # full within the source's sub-patch
+        u += np.where(src, part, f * part)  # full within the source's sub-patch
     e = gap + u - approach
     scale = approach - gap.min()
     assert e.min() >= -1e-6 * scale and np.abs(e[half.contact]).max() <= 1e-6 * scale
 
 
-@pytest.mark.parametrize("args, word", [
-    (((0.0, 1e-3), (0.5,)), "2 cuts need as many factors"),
-    (((1e-3, 0.0), (0.5, 0.5)), "ascending"),
-    (((0.0,), (1.5,)), r"\[0, 1\]"),
-    (((np.nan,), (0.5,)), "finite"),
-])
+@pytest.mark.parametrize(
+    "args, word",
+    [
+        (((0.0, 1e-3), (0.5,)), "2 cuts need as many factors"),
+        (((1e-3, 0.0), (0.5, 0.5)), "ascending"),
+        (((0.0,), (1.5,)), r"\[0, 1\]"),
+        (((np.nan,), (0.5,)), "finite"),
+    ],
+)
 def test_subpatches_bad_arguments(args, word):
     with pytest.raises(InputError, match=word):
         SubPatches(*args)
@@ -159,18 +163,21 @@ GRID = Grid(20, 20, 0.4e-3, 0.4e-3)
 GAP = hertz_gap(GRID, 1.0, 1.0)
 
 
-@pytest.mark.parametrize("kwargs, error, word", [
-    (dict(fn=-1.0), InputError, "fn"),
-    (dict(fn=0.0), InputError, "fn"),
-    (dict(fn=np.nan), InputError, "fn"),
-    (dict(), InputError, "exactly one"),
-    (dict(fn=1e4, approach=1e-5), InputError, "exactly one"),
-    (dict(approach=-1e-6), NoContactError, "no contact"),
-    (dict(fn=1e4, method="newton"), InputError, "method"),
-    (dict(fn=1e4, tol=0.0), InputError, "tol"),
-    (dict(fn=1e4, omega=2.5), InputError, "omega"),
-    (dict(fn=1e4, p0=-np.ones((20, 20))), InputError, "p0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, error, word",
+    [
+        (dict(fn=-1.0), InputError, "fn"),
+        (dict(fn=0.0), InputError, "fn"),
+        (dict(fn=np.nan), InputError, "fn"),
+        (dict(), InputError, "exactly one"),
+        (dict(fn=1e4, approach=1e-5), InputError, "exactly one"),
+        (dict(approach=-1e-6), NoContactError, "no contact"),
+        (dict(fn=1e4, method="newton"), InputError, "method"),
+        (dict(fn=1e4, tol=0.0), InputError, "tol"),
+        (dict(fn=1e4, omega=2.5), InputError, "omega"),
+        (dict(fn=1e4, p0=-np.ones((20, 20))), InputError, "p0"),
+    ],
+)
 def test_bad_arguments(kwargs, error, word):
     with pytest.raises(error, match=word):
         solve_normal(GAP, GRID, MAT, **kwargs)
@@ -210,6 +217,7 @@ def test_shim_reports_bad_handle_and_codes():
     from railvti._native import core
     from railvti._status import Status
     from railvti.contact.workspace import workspace
+
     grid = Grid(8, 8, 1e-4, 1e-4)
     h = np.zeros(grid.shape, order="F")
 

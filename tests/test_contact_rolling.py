@@ -1,6 +1,7 @@
 """Steady rolling contact (railvti.contact.solve_rolling / solve_tangential):
 Hertz smoke tests, consistency of the results, Kalker's linear theory, Carter
 and saturation on coarse grids, a stability sweep and the error paths."""
+
 from __future__ import annotations
 
 import math
@@ -25,6 +26,7 @@ def _gap_for_ratio(a_over_b: float) -> tuple[float, float]:
     def f(lb: float) -> float:
         h = hertz(A0, A0 * math.exp(lb), FN, MAT)
         return math.log(h.a / h.b) - math.log(a_over_b)
+
     return A0, A0 * math.exp(brentq(f, -12.0, 12.0, xtol=1e-10))
 
 
@@ -120,7 +122,7 @@ def test_kalker_linear_circle():
     phi = eps / math.sqrt(ab)
     c11 = -solve_tangential(p, grid, MAT, 1e3, (eps, 0, 0), 1.0).fx / (G * ab * eps)
     c22 = -solve_tangential(p, grid, MAT, 1e3, (0, eps, 0), 1.0).fy / (G * ab * eps)
-    c23 = -solve_tangential(p, grid, MAT, 1e3, (0, 0, phi), 1.0).fy / (G * ab ** 1.5 * phi)
+    c23 = -solve_tangential(p, grid, MAT, 1e3, (0, 0, phi), 1.0).fy / (G * ab**1.5 * phi)
     # Kalker 1990, Table E.3, a/b = 1, nu = 0.25: within 2 % (0.6-0.9 % measured)
     assert c11 == pytest.approx(4.12, rel=0.02)
     assert c22 == pytest.approx(3.67, rel=0.02)
@@ -185,10 +187,13 @@ def test_stability_sweep(a_over_b):
                 assert r.power >= 0
 
 
-@pytest.mark.parametrize("a_over_b, creepage", [
-    (0.2, (0.2 * 0.5 * 1.6523e-3, 0.2 * 0.5 * 2.2227e-3, 0.2 * 0.3 * 1.8651)),   # combined, 0.1 mu Fn
-    (5.0, (0.0, 0.0, 2.0 * 0.17265)),                                          # pure spin, 1 mu Fn
-])
+@pytest.mark.parametrize(
+    "a_over_b, creepage",
+    [
+        (0.2, (0.2 * 0.5 * 1.6523e-3, 0.2 * 0.5 * 2.2227e-3, 0.2 * 0.3 * 1.8651)),  # combined, 0.1 mu Fn
+        (5.0, (0.0, 0.0, 2.0 * 0.17265)),  # pure spin, 1 mu Fn
+    ],
+)
 def test_strong_spin_cases_converge(a_over_b, creepage):
     """The two cases of validation/contact_fastsim_vs_bem.py (sqrt(ab) = 5 mm, 80 kN, n = 40 per
     semi-axis) on which an earlier point Gauss-Seidel kernel raised ConvergenceError."""
@@ -228,21 +233,24 @@ def test_contact_at_leading_edge(row):
         solve_tangential(p, grid, MAT, 0.3, (1e-3, 0, 0), 1.0)
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"mu": -0.1}, "mu"),
-    ({"speed": 0.0}, "speed"),
-    ({"speed": -3.0}, "speed"),
-    ({"creepage": (float("nan"), 0, 0)}, "xi"),
-    ({"creepage": (0, float("nan"), 0)}, "eta"),
-    ({"creepage": (0, 0, float("inf"))}, "phi"),
-    ({"creepage": (0, 0)}, "creepage"),
-    ({"fn": 0.0}, "fn"),
-    ({"fn": -1.0}, "fn"),
-    ({"method": "cg"}, "method"),
-    ({"tol": 0.0}, "tol"),
-    ({"max_iter": 0}, "max_iter"),
-    ({"t0": (np.zeros((3, 3)), np.zeros((3, 3)))}, "t0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"mu": -0.1}, "mu"),
+        ({"speed": 0.0}, "speed"),
+        ({"speed": -3.0}, "speed"),
+        ({"creepage": (float("nan"), 0, 0)}, "xi"),
+        ({"creepage": (0, float("nan"), 0)}, "eta"),
+        ({"creepage": (0, 0, float("inf"))}, "phi"),
+        ({"creepage": (0, 0)}, "creepage"),
+        ({"fn": 0.0}, "fn"),
+        ({"fn": -1.0}, "fn"),
+        ({"method": "cg"}, "method"),
+        ({"tol": 0.0}, "tol"),
+        ({"max_iter": 0}, "max_iter"),
+        ({"t0": (np.zeros((3, 3)), np.zeros((3, 3)))}, "t0"),
+    ],
+)
 def test_bad_input(kwargs, name):
     grid, gap, _ = _case(n=4)
     args = {"mu": 0.3, "fn": FN, "creepage": (1e-3, 0, 0), "speed": 1.0}
@@ -272,13 +280,15 @@ def test_kernel_reports_named_status_codes():
     from railvti._native import core
     from railvti._status import Status
     from railvti.contact.workspace import workspace
+
     grid, _, _ = _case(n=4)
     tang = workspace(grid, MAT, tangential=True)
 
     def call(handle, p, method=2):
         tx, ty = np.zeros(grid.shape, order="F"), np.zeros(grid.shape, order="F")
-        return core.rolling_solve_c(handle, p, grid.x0, grid.y0, 1e-3, 0.0, 0.0, 0.3, 1.0, method, 4, 1,
-                                    1e-7, 50, 0, tx, ty)[-1]
+        return core.rolling_solve_c(
+            handle, p, grid.x0, grid.y0, 1e-3, 0.0, 0.0, 0.3, 1.0, method, 4, 1, 1e-7, 50, 0, tx, ty
+        )[-1]
 
     p = np.zeros(grid.shape, order="F")
     assert call(tang, p) == Status.NO_CONTACT
@@ -287,8 +297,8 @@ def test_kernel_reports_named_status_codes():
     assert call(tang, p, method=7) == Status.BAD_ARGUMENT
     assert call(999, p) == Status.BAD_HANDLE
     other = Grid(grid.nx + 2, grid.ny, grid.dx, grid.dy, grid.x0, grid.y0)
-    assert call(workspace(other, MAT), p) == Status.BAD_HANDLE      # another grid size
-    normal_only = workspace(grid, Material(80e9, 0.3))              # not cached with tangential kernels
+    assert call(workspace(other, MAT), p) == Status.BAD_HANDLE  # another grid size
+    normal_only = workspace(grid, Material(80e9, 0.3))  # not cached with tangential kernels
     assert call(normal_only, p) == Status.BAD_HANDLE
     p[-2, grid.ny // 2] = 1e6
     assert call(tang, p) == Status.GRID_EDGE

@@ -1,4 +1,5 @@
 """Deck case type 'rolling': run, HDF5 datasets, plot, semi-axes input, errors."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,8 +16,21 @@ from railvti.errors import InputError
 def _params(**kw):
     ct = REGISTRY["rolling"]
     p = {k: (None if v is REQUIRED else v) for k, v in ct.defaults.items()}
-    p.update({"nx": 40, "ny": 32, "dx": 0.2e-3, "dy": 0.2e-3, "gap_a": 1.087, "gap_b": 1.6667,
-              "fn": 10e3, "mu": 0.3, "xi": 1e-3, "phi": 0.3, "speed": 30.0})
+    p.update(
+        {
+            "nx": 40,
+            "ny": 32,
+            "dx": 0.2e-3,
+            "dy": 0.2e-3,
+            "gap_a": 1.087,
+            "gap_b": 1.6667,
+            "fn": 10e3,
+            "mu": 0.3,
+            "xi": 1e-3,
+            "phi": 0.3,
+            "speed": 30.0,
+        }
+    )
     p.update(kw)
     return p
 
@@ -27,7 +41,7 @@ def test_rolling_case_runs_and_plots(tmp_path: Path):
     for name in ("tx", "ty", "slip", "slip_velocity", "power_density", "status", "pressure"):
         assert out.datasets[name][0].shape == (40, 32)
     fx = out.scalars["fx"][0]
-    da = 0.2e-3 ** 2
+    da = 0.2e-3**2
     assert fx == pytest.approx(out.datasets["tx"][0].sum() * da, rel=1e-12)
     assert out.scalars["power"][0] == pytest.approx(out.datasets["power_density"][0].sum() * da, rel=1e-12)
     with h5py.File(tmp_path / "r.h5", "w") as f:

@@ -3,6 +3,7 @@
 against the reference path (zero-padded FFT products, product='fft'), on the table of
 cases of benchmarks/bench_contact_small_grid.py, and both against Kalker's linear theory in
 the small-creepage limit; the normal solution (dense products) against numpy sums."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -87,11 +88,11 @@ def test_small_grid_normal_solution_is_complementary(shape):
     approach, and the pressures carry Fn."""
     h, g, nr = _problem(*shape)
     gap = hertz_gap(g, *shape)
-    c = influence_field(g, STEEL, "zz")            # circular layout on the (2 nx, 2 ny) grid
+    c = influence_field(g, STEEL, "zz")  # circular layout on the (2 nx, 2 ny) grid
     ii = np.arange(g.nx)
     jj = np.arange(g.ny)
     a = c[np.subtract.outer(ii, ii) % (2 * g.nx)][:, :, np.subtract.outer(jj, jj) % (2 * g.ny)]
-    u = np.einsum("ikjl,kl->ij", a, nr.pressure)   # u_ij = sum_kl C(i - k, j - l) p_kl
+    u = np.einsum("ikjl,kl->ij", a, nr.pressure)  # u_ij = sum_kl C(i - k, j - l) p_kl
     e = gap + u - nr.approach
     tol = 1e-6 * nr.approach
     assert np.abs(e[nr.pressure > 0]).max() < tol

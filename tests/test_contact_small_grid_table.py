@@ -1,6 +1,7 @@
 """Creep-force tables in one Fortran call (railvti.contact.creep_force_table, issue 18 item 4):
 each case the same as solve_rolling's, the table against Kalker's linear theory and the
 symmetry of a Hertz patch, and the error paths."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,7 +15,9 @@ from railvti.errors import GridTooSmallError, InputError
 FN, MU, V, MARGIN, N = 10e3, 0.3, 30.0, 1.57, 11
 # a/b = 0.5, 1.33 (a wheel-rail patch) of benchmarks/bench_contact_small_grid.py
 SHAPES = [(2.8, 1.0), (0.5 / 0.46, 0.5 / 0.30)]
-CREEP = np.array([(xi, eta, phi) for xi in (0.0, 5e-4, 2e-3) for eta in (0.0, 1e-3) for phi in (0.0, 0.5, 2.0)])
+CREEP = np.array(
+    [(xi, eta, phi) for xi in (0.0, 5e-4, 2e-3) for eta in (0.0, 1e-3) for phi in (0.0, 0.5, 2.0)]
+)
 
 
 def _problem(A: float, B: float, n: int = N, margin: float = MARGIN):
@@ -46,7 +49,7 @@ def test_table_gives_the_cases_of_solve_rolling(shape):
 def test_mixed_table_equals_separate_tables():
     """Cases of two geometries and two loads in one table give the forces of separate tables."""
     (_, g, gap1), (_, _, gap2) = _problem(1.0, 1.0), _problem(1.0, 1.0)
-    gap2 = gap2 * 1.2                    # another curvature on the same grid
+    gap2 = gap2 * 1.2  # another curvature on the same grid
     creep = CREEP[::3]
     gaps = np.array([gap1] * len(creep) + [gap2] * len(creep))
     fns = np.array([FN] * len(creep) + [0.8 * FN] * len(creep))

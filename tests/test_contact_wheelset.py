@@ -1,4 +1,5 @@
 """The loaded wheelset: load control per wheel, mirror symmetry, flange contact, bad input."""
+
 import dataclasses
 
 import numpy as np
@@ -78,19 +79,26 @@ def test_patch_approach_follows_shared_motion(y_mm, fz_right):
         assert p.approach == pytest.approx(closure, rel=rel)
         # the roll's own share of the closure (sink alone: n_z * sink)
         roll_share = max(roll_share, abs(closure - p.contact.normal[2] * s.sink) / p.approach)
-    assert roll_share > 0.1   # a wrong roll lever arm would fail the check above
+    assert roll_share > 0.1  # a wrong roll lever arm would fail the check above
 
 
-@pytest.mark.parametrize("kwargs, word", [
-    (dict(fz=-1.0), "fz"), (dict(y=float("nan")), "y"), (dict(dx=0.0), "dx"),
-    (dict(mu=0.3), "speed"), (dict(fz=(1.0, 2.0, 3.0)), "fz"),
-])
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        (dict(fz=-1.0), "fz"),
+        (dict(y=float("nan")), "y"),
+        (dict(dx=0.0), "dx"),
+        (dict(mu=0.3), "speed"),
+        (dict(fz=(1.0, 2.0, 3.0)), "fz"),
+    ],
+)
 def test_bad_input(kwargs, word):
     args = dict(y=0.0, yaw=0.0, fz=FZ, mu=None, speed=None, dx=4e-4)
     args.update(kwargs)
     with pytest.raises(InputError, match=word):
-        solve_wheelset(WHEEL, RAIL, args["y"], args["yaw"], args["fz"], args["mu"], args["speed"], STEEL,
-                       args["dx"])
+        solve_wheelset(
+            WHEEL, RAIL, args["y"], args["yaw"], args["fz"], args["mu"], args["speed"], STEEL, args["dx"]
+        )
 
 
 def test_deck_case_normal_sweep(tmp_path):
@@ -98,6 +106,7 @@ def test_deck_case_normal_sweep(tmp_path):
     fields stored and plotted."""
     from railvti.casetypes import REGISTRY
     import railvti.contact.wheelset_cases  # noqa: F401
+
     ct = REGISTRY["loaded_wheelset"]
     params = dict(ct.defaults)
     params.update(n=3, y_max_mm=8.0, mu=0.0, dx_mm=0.5, field_at_mm=8.0)
@@ -105,8 +114,8 @@ def test_deck_case_normal_sweep(tmp_path):
     fn = out.datasets["fn"][0]
     assert fn.shape == (3, 2, 2)
     ang = out.datasets["contact_angle"][0]
-    assert ang[0, 0, 0] == pytest.approx(ang[0, 1, 0], abs=1e-6)   # centred: both wheels alike
-    assert np.nanmax(ang[-1, 0]) > 0.8                               # flange at 8 mm
+    assert ang[0, 0, 0] == pytest.approx(ang[0, 1, 0], abs=1e-6)  # centred: both wheels alike
+    assert np.nanmax(ang[-1, 0]) > 0.8  # flange at 8 mm
     assert "field_left0_pressure" in out.datasets
     with pytest.raises(InputError):
         ct.run({**params, "dx_mm": -1.0})
@@ -169,7 +178,7 @@ def test_flange_vertical_balance_with_tangential_forces():
         assert s.fz[("left", "right").index(side)] == pytest.approx(FZ, rel=1e-5)
     normal_only = flange.fn * np.cos(flange.contact_angle)
     assert abs(normal_only / FZ - 1) > 0.2
-    assert abs(flange.fy) > 0.25 * flange.fn     # near saturation: |F_t| -> mu Fn
+    assert abs(flange.fy) > 0.25 * flange.fn  # near saturation: |F_t| -> mu Fn
     assert np.hypot(flange.fx, flange.fy) <= 0.3 * flange.fn * (1 + 1e-8)
 
 
@@ -194,6 +203,7 @@ def test_tread_forces_are_the_rolling_solution_at_the_prescribed_omega():
     """A-2.2 at 3 mm: each tread patch's forces equal an independent steady-rolling solve of
     its gap at its Fn with the creepages of the prescribed omega."""
     from railvti.contact import solve_rolling
+
     s = _a22(3.0)
     for p in s.patches:
         c = p.creepage
@@ -216,7 +226,9 @@ def test_free_rolling_matches_the_benchmark_pitch_velocity(y_mm):
     assert abs(s.axle_torque) <= 1e-5 * scale
     # the torque recomputed from the patches' forces and moments (about their reference points)
     yaw = -2.4e-3 * y_mm
-    a = np.array([-np.sin(yaw) * np.cos(roll), np.cos(yaw) * np.cos(roll), np.sin(roll)])   # Rz(yaw) Rx(roll) e_y
+    a = np.array(
+        [-np.sin(yaw) * np.cos(roll), np.cos(yaw) * np.cos(roll), np.sin(roll)]
+    )  # Rz(yaw) Rx(roll) e_y
     t = 0.0
     for p in s.patches:
         c = p.contact.pose.centre - np.array([0.0, 0.0, s.sinks[("left", "right").index(p.side)]])
@@ -241,6 +253,7 @@ def test_grid_size_does_not_move_results(monkeypatch):
     around the contact area) gives the same forces to the solvers' tolerance."""
     import railvti.contact.wheelset as ws_mod
     import railvti.contact.wheelset_patch as patch_mod
+
     a = _a22(8.0, dx=5e-4)
     monkeypatch.setattr(patch_mod, "GROW", 2.0)
     monkeypatch.setattr(ws_mod, "GROW", 2.0)
@@ -252,11 +265,18 @@ def test_grid_size_does_not_move_results(monkeypatch):
             assert getattr(pb, q) == pytest.approx(getattr(pa, q), rel=1e-6, abs=1e-3)
 
 
-@pytest.mark.parametrize("kwargs, word", [
-    (dict(omega=0.0), "omega"), (dict(omega=-4.3), "omega"), (dict(roll=float("nan")), "roll"),
-    (dict(roll=0.2), "roll"), (dict(side="left"), "roll"), (dict(side="middle", roll=0.0), "side"),
-    (dict(side="left", roll=0.0, omega=None), "free rolling"),
-])
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        (dict(omega=0.0), "omega"),
+        (dict(omega=-4.3), "omega"),
+        (dict(roll=float("nan")), "roll"),
+        (dict(roll=0.2), "roll"),
+        (dict(side="left"), "roll"),
+        (dict(side="middle", roll=0.0), "side"),
+        (dict(side="left", roll=0.0, omega=None), "free rolling"),
+    ],
+)
 def test_bad_kinematics(kwargs, word):
     args = dict(omega=4.3)
     args.update(kwargs)

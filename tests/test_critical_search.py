@@ -1,6 +1,7 @@
 """The fold and the decay boundary by path-following (railvti.critical_search): bad input,
 the criteria on signals with a known envelope, the bracketing on stand-ins with a known
 answer, and one short RR search across two speeds far from the fold."""
+
 from __future__ import annotations
 
 import math
@@ -10,34 +11,43 @@ import sys
 import numpy as np
 import pytest
 
-from railvti.critical_search import (bracket_down, cycle_verdict, envelope, growth_rate,
-                                     nonlinear_critical_speed)
+from railvti.critical_search import (
+    bracket_down,
+    cycle_verdict,
+    envelope,
+    growth_rate,
+    nonlinear_critical_speed,
+)
 from railvti.errors import InputError
 
 
 # ---- bad input: an InputError naming the key, before any run -------------------------------
 
-@pytest.mark.parametrize("kw, key", [
-    (dict(resolution_kmh=0.0), "resolution_kmh"),
-    (dict(resolution_kmh=float("nan")), "resolution_kmh"),
-    (dict(resolution=-1.0), "resolution"),
-    (dict(resolution_kmh=30.0), "resolution"),              # wider than the 20 km/h step
-    (dict(speed_top_kmh=140.0), "speed_top"),              # below the 150 km/h floor
-    (dict(speed_top_kmh=400.0, speed_top=100.0), "speed_top"),
-    (dict(speed_top_kmh=900.0), "speed_top_kmh"),
-    (dict(step_kmh=float("inf")), "step_kmh"),
-    (dict(duration=float("nan")), "duration"),
-    (dict(duration=0.6), "window"),                         # fewer than two windows
-    (dict(threshold=0.0), "threshold"),
-    (dict(rate_tol=-0.1), "rate_tol"),
-    (dict(collapse=1.0), "collapse"),
-    (dict(segments=0), "segments"),
-    (dict(max_extensions=1.5), "max_extensions"),
-    (dict(h=float("nan")), "h"),
-    (dict(y_large=-0.006), "y_large"),
-    (dict(n_sleepers=40), "n_sleepers"),                    # a ring key for RR
-    (dict(k_max=3), "k_max"),
-])
+
+@pytest.mark.parametrize(
+    "kw, key",
+    [
+        (dict(resolution_kmh=0.0), "resolution_kmh"),
+        (dict(resolution_kmh=float("nan")), "resolution_kmh"),
+        (dict(resolution=-1.0), "resolution"),
+        (dict(resolution_kmh=30.0), "resolution"),  # wider than the 20 km/h step
+        (dict(speed_top_kmh=140.0), "speed_top"),  # below the 150 km/h floor
+        (dict(speed_top_kmh=400.0, speed_top=100.0), "speed_top"),
+        (dict(speed_top_kmh=900.0), "speed_top_kmh"),
+        (dict(step_kmh=float("inf")), "step_kmh"),
+        (dict(duration=float("nan")), "duration"),
+        (dict(duration=0.6), "window"),  # fewer than two windows
+        (dict(threshold=0.0), "threshold"),
+        (dict(rate_tol=-0.1), "rate_tol"),
+        (dict(collapse=1.0), "collapse"),
+        (dict(segments=0), "segments"),
+        (dict(max_extensions=1.5), "max_extensions"),
+        (dict(h=float("nan")), "h"),
+        (dict(y_large=-0.006), "y_large"),
+        (dict(n_sleepers=40), "n_sleepers"),  # a ring key for RR
+        (dict(k_max=3), "k_max"),
+    ],
+)
 def test_bad_input_names_the_key(kw, key):
     with pytest.raises(InputError, match=key):
         nonlinear_critical_speed("RR", **kw)
@@ -51,13 +61,16 @@ def test_unknown_model_and_contact():
 
 
 def test_scenarios_and_vehicle_do_not_import_it():
-    code = ("import sys, railvti.scenarios, railvti.vehicle.simulate; "
-            "print('railvti.critical_search' in sys.modules)")
+    code = (
+        "import sys, railvti.scenarios, railvti.vehicle.simulate; "
+        "print('railvti.critical_search' in sys.modules)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 
 
 # ---- the criteria on signals with a known envelope -----------------------------------------
+
 
 def _signal(rate: float, a0: float = 5e-3, f: float = 6.0, T: float = 4.0):
     t = np.arange(1, int(T / 0.002) + 1) * 0.002
@@ -85,10 +98,10 @@ def test_cycle_verdict():
     t, y = _signal(0.0)
     v, amp, rate = cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.05)
     assert v == "alive" and amp == pytest.approx(5e-3, rel=0.01) and abs(rate) < 0.01
-    t, y = _signal(-0.2)                        # still a large motion, but dying
+    t, y = _signal(-0.2)  # still a large motion, but dying
     assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.05)[0] == "decaying"
     assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.5)[0] == "alive"
-    t, y = _signal(-0.2, a0=0.2e-3)             # below the floor
+    t, y = _signal(-0.2, a0=0.2e-3)  # below the floor
     assert cycle_verdict(t, y, threshold=0.25e-3, rate_tol=0.5)[0] == "dead"
     # a cycle settling onto a smaller one (the envelope falls, then levels) is alive
     t, _ = _signal(0.0)
@@ -104,16 +117,18 @@ def test_cycle_verdict():
 
 # ---- the bracketing on stand-ins with a known answer ---------------------------------------
 
+
 def test_bracket_of_a_step_contains_it_to_the_resolution():
     fold = 287.3
 
     def test(s, state):
         return s >= fold, state, None
+
     b = bracket_down(test, 420.0, 20.0, 150.0, 2.5)
     assert b.lo < fold <= b.hi and b.hi - b.lo <= 2.5
     walk = [s for s, _, _ in b.visited[:8]]
     assert walk == [420.0, 400.0, 380.0, 360.0, 340.0, 320.0, 300.0, 280.0]
-    assert len(b.visited) == 8 + 3                  # 20 -> 10 -> 5 -> 2.5 km/h
+    assert len(b.visited) == 8 + 3  # 20 -> 10 -> 5 -> 2.5 km/h
     b = bracket_down(test, 420.0, 20.0, 150.0, 0.1)
     assert b.hi - b.lo <= 0.1 and b.lo < fold <= b.hi
 
@@ -132,13 +147,14 @@ def test_bracket_carries_the_living_state_down():
         else:
             ok = s >= 287.3 and state - s <= 25.0
         return ok, (s if ok else None), None
+
     b = bracket_down(test, 420.0, 20.0, 150.0, 2.5)
-    assert b.lo < 287.3 <= b.hi and b.hi - b.lo <= 2.5     # not the fresh start's 330
+    assert b.lo < 287.3 <= b.hi and b.hi - b.lo <= 2.5  # not the fresh start's 330
     for s, state in seen[1:]:
-        assert state is not None and state > s             # from a living state above
+        assert state is not None and state > s  # from a living state above
     # each bisection test starts from the lowest living speed found so far
     living = [s for s, ok, _ in b.visited if ok]
-    for k, (s, state) in enumerate(seen[1:], start=1):
+    for k, (_s, state) in enumerate(seen[1:], start=1):
         assert state == min(x for x, ok, _ in b.visited[:k] if ok)
     assert b.hi == min(living)
 
@@ -150,13 +166,14 @@ def test_bracket_edges():
     assert math.isnan(b.lo) and b.hi == 160.0
 
 
-
 def test_a_failed_run_stops_the_search_and_keeps_what_it_had():
     """A run that cannot be completed (Newton, a BEM patch at its grid's edge) is neither a
     living nor a dead cycle: the walk stops with the fold unknown below the last living
     speed, the bisection with the bracket as it stood; the reason is kept."""
+
     def walk(s, st):
         return (True, st, {}) if s > 370.0 else (False, st, {"failed": "Newton"})
+
     b = bracket_down(walk, 420.0, 20.0, 150.0, 2.5)
     assert b.hi == 380.0 and math.isnan(b.lo)
     assert [s for s, _, _ in b.visited] == [420.0, 400.0, 380.0, 360.0]
@@ -166,17 +183,22 @@ def test_a_failed_run_stops_the_search_and_keeps_what_it_had():
         if s == 290.0:
             return False, st, {"failed": "grid edge"}
         return s > 285.0, st, {}
+
     b = bracket_down(bisect, 420.0, 20.0, 150.0, 2.5)
     assert (b.lo, b.hi) == (280.0, 300.0) and "290" in b.failure
+
+
 # ---- RR at two speeds far from the fold ----------------------------------------------------
+
 
 def test_rr_lives_at_420_and_dies_at_250():
     """Carried from a 6 mm start at 420 km/h (a flange cycle of ~9.7 mm, the 6.3 mm flange
     clearance exceeded), the cycle dies at 250 km/h, far below the fold (docs/vehicle.md:
     RR's cycle dies between 260 and 300 km/h); from 0.5 mm the motion grows at 420 and
     decays at 250 (the linear critical speed is 317.5 km/h)."""
-    c = nonlinear_critical_speed("RR", speed_top_kmh=420.0, speed_floor_kmh=250.0,
-                                 step_kmh=170.0, resolution_kmh=170.0, duration=2.0)
+    c = nonlinear_critical_speed(
+        "RR", speed_top_kmh=420.0, speed_floor_kmh=250.0, step_kmh=170.0, resolution_kmh=170.0, duration=2.0
+    )
     assert c.fold_bracket_kmh == pytest.approx((250.0, 420.0))
     assert c.fold_kmh == pytest.approx(420.0) and c.fold == pytest.approx(420.0 / 3.6)
     assert list(c.path_alive) == [True, False]

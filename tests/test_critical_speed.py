@@ -1,5 +1,6 @@
 """Critical speed: the nonlinear sweep never passes off its bottom as a result; the linear
 method names the state of the dry-friction yaw damper."""
+
 from __future__ import annotations
 
 import math
@@ -15,8 +16,9 @@ def test_sweep_that_starts_too_high_says_so():
     """400-380 km/h holds a flange cycle; with the floor at 360 km/h the cycle never dies:
     the result must be NaN with 'below 360 km/h: no decay found', not 380 (its bottom)."""
     with pytest.warns(RuntimeWarning, match="below 360 km/h: no decay found"):
-        cs = scenarios.critical_speed(method="nonlinear", speeds_kmh=[400.0, 380.0],
-                                      duration=1.5, v_min_kmh=360.0, progress=False)
+        cs = scenarios.critical_speed(
+            method="nonlinear", speeds_kmh=[400.0, 380.0], duration=1.5, v_min_kmh=360.0, progress=False
+        )
     b = cs.bifurcation
     assert math.isnan(cs.kmh) and cs.kmh != 380.0
     assert cs.no_decay_below_kmh == 360.0
@@ -32,7 +34,7 @@ def test_sweep_is_extended_down_to_decay_and_names_its_branch():
     assert b.extended_kmh.size > 0 and math.isfinite(b.critical_kmh)
     assert b.critical_kmh < 340.0 and math.isnan(b.no_decay_below_kmh)
     below = b.speeds_kmh < b.critical_kmh
-    assert below.any() and np.all(b.upper[below] <= b.threshold)   # dead one step lower
+    assert below.any() and np.all(b.upper[below] <= b.threshold)  # dead one step lower
     k = int(np.flatnonzero(b.speeds_kmh == b.critical_kmh)[0])
     assert b.upper[k] > b.threshold
     # branch from the flange force; independently the amplitude against the 6.3 mm clearance

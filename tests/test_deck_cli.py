@@ -1,4 +1,5 @@
 """Input decks, the railvti command and the HDF5 results file."""
+
 import h5py
 import numpy as np
 import pytest
@@ -33,16 +34,19 @@ def test_parse_fills_defaults():
     assert cases[0].params["approach"] is None
 
 
-@pytest.mark.parametrize("text, words", [
-    (CASE.replace("fn = 1.0e4", "fm = 1.0e4"), "unknown key 'fm'.*did you mean 'fn'"),
-    (CASE.replace("nx = 32, ", ""), "missing value for required key 'nx'"),
-    (CASE.replace("type = 'normal'", "type = 'norml'"), "unknown type 'norml'.*did you mean 'normal'"),
-    (CASE.replace("&case", "&cases"), "unknown namelist group '&cases'"),
-    (CASE.replace("fn = 1.0e4", "fn = "), "key 'fn' has no value"),
-    (CASE.replace("type = 'normal'", ""), "missing key 'type'"),
-    ("", "no '&case' group"),
-    ("&case name = 'x' fn = 1.0e4 / &case = /", "valid Fortran namelist|unknown|no value|missing"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        (CASE.replace("fn = 1.0e4", "fm = 1.0e4"), "unknown key 'fm'.*did you mean 'fn'"),
+        (CASE.replace("nx = 32, ", ""), "missing value for required key 'nx'"),
+        (CASE.replace("type = 'normal'", "type = 'norml'"), "unknown type 'norml'.*did you mean 'normal'"),
+        (CASE.replace("&case", "&cases"), "unknown namelist group '&cases'"),
+        (CASE.replace("fn = 1.0e4", "fn = "), "key 'fn' has no value"),
+        (CASE.replace("type = 'normal'", ""), "missing key 'type'"),
+        ("", "no '&case' group"),
+        ("&case name = 'x' fn = 1.0e4 / &case = /", "valid Fortran namelist|unknown|no value|missing"),
+    ],
+)
 def test_bad_decks_name_the_problem(text, words):
     with pytest.raises(InputError, match=words):
         parse_deck(text)

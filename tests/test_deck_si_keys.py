@@ -4,6 +4,7 @@ The geometry and wheel-rail keys are SI (m, rad, rad/m); ``y_min_mm``, ``gauge_m
 ``yaw_mrad``... are documented aliases converted into them when the deck is read. A deck
 written with the SI keys and one written with the aliases (the same values in mm) must give
 bitwise the same results, and a case that names one quantity twice is refused."""
+
 import h5py
 import numpy as np
 import pytest
@@ -57,8 +58,11 @@ def _run(tmp_path, name, text):
     return res, inputs
 
 
-@pytest.mark.parametrize("si, mm", [(GEOMETRY_SI, GEOMETRY_MM), (WHEELSET_SI, WHEELSET_MM)],
-                         ids=["geometry_table", "loaded_wheelset"])
+@pytest.mark.parametrize(
+    "si, mm",
+    [(GEOMETRY_SI, GEOMETRY_MM), (WHEELSET_SI, WHEELSET_MM)],
+    ids=["geometry_table", "loaded_wheelset"],
+)
 def test_si_keys_and_mm_aliases_give_identical_results(tmp_path, si, mm):
     a, inp_a = _run(tmp_path, "si", si)
     b, inp_b = _run(tmp_path, "mm", mm)
@@ -78,11 +82,14 @@ def test_shift_sweep_is_in_metres(tmp_path):
     np.testing.assert_allclose(res["yaw"], 0.5 * res["y"], rtol=1e-15)
 
 
-@pytest.mark.parametrize("text, key, alias", [
-    (GEOMETRY_SI.replace("n = 9", "n = 9, y_min_mm = -4.0"), "y_min", "y_min_mm"),
-    (WHEELSET_SI.replace("mu = 0.3", "mu = 0.3, yaw_mrad_per_mm = 2.4"), "yaw_per_y", "yaw_mrad_per_mm"),
-    ("&case\n type = 'wheel_rail', name = 'wr'\n yaw = 0.001, yaw_mrad = 1.0\n/\n", "yaw", "yaw_mrad"),
-])
+@pytest.mark.parametrize(
+    "text, key, alias",
+    [
+        (GEOMETRY_SI.replace("n = 9", "n = 9, y_min_mm = -4.0"), "y_min", "y_min_mm"),
+        (WHEELSET_SI.replace("mu = 0.3", "mu = 0.3, yaw_mrad_per_mm = 2.4"), "yaw_per_y", "yaw_mrad_per_mm"),
+        ("&case\n type = 'wheel_rail', name = 'wr'\n yaw = 0.001, yaw_mrad = 1.0\n/\n", "yaw", "yaw_mrad"),
+    ],
+)
 def test_key_and_its_alias_in_one_case_is_an_error_naming_both(text, key, alias):
     with pytest.raises(InputError) as err:
         parse_deck(text)
@@ -92,18 +99,28 @@ def test_key_and_its_alias_in_one_case_is_an_error_naming_both(text, key, alias)
 def test_alias_bounds_are_the_keys_converted():
     """An alias is checked as its key: 60 mm is outside the shift's [-0.05, 0.05] m; the
     message names the key as the deck wrote it, with the converted value."""
-    with pytest.raises(InputError, match=r"key 'y_max_mm' = 60\.0 \(y_max = 0\.06 m\) is outside "
-                                         r"\[-0\.05, 0\.05\] m"):
+    with pytest.raises(
+        InputError,
+        match=r"key 'y_max_mm' = 60\.0 \(y_max = 0\.06 m\) is outside "
+        r"\[-0\.05, 0\.05\] m",
+    ):
         parse_deck(GEOMETRY_MM.replace("y_max_mm = 4.0", "y_max_mm = 60.0"))
 
 
-@pytest.mark.parametrize("text, written", [
-    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min_mm = 4.0, y_max_mm = 2.0"),
-     ["y_min_mm = 4.0", "y_max_mm = 2.0"]),
-    (GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min = 0.004, y_max_mm = 2.0"),
-     ["y_max_mm = 2.0"]),
-    (WHEELSET_MM.replace("field_at_mm = 6.0", "field_at_mm = 9.0"), ["field_at_mm = 9.0"]),
-])
+@pytest.mark.parametrize(
+    "text, written",
+    [
+        (
+            GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min_mm = 4.0, y_max_mm = 2.0"),
+            ["y_min_mm = 4.0", "y_max_mm = 2.0"],
+        ),
+        (
+            GEOMETRY_MM.replace("y_min_mm = -4.0, y_max_mm = 4.0", "y_min = 0.004, y_max_mm = 2.0"),
+            ["y_max_mm = 2.0"],
+        ),
+        (WHEELSET_MM.replace("field_at_mm = 6.0", "field_at_mm = 9.0"), ["field_at_mm = 9.0"]),
+    ],
+)
 def test_a_consistency_error_names_the_alias_the_deck_wrote(text, written):
     """y_min_mm > y_max_mm (or field_at_mm beyond them): the consistency check runs on the
     SI values, and its message names the keys as written, with their values as written."""

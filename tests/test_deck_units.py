@@ -4,6 +4,7 @@ dataset of a results file with a vehicle, contact and track case, and over files
 one), on an input attribute with no input dataset carrying its units and meaning, on a
 multi-dimensional array without a label per axis, on NaN without a note on the empty slots,
 and on a vehicle state without DOF names."""
+
 from __future__ import annotations
 
 import h5py
@@ -15,7 +16,8 @@ from railvti.runner.result_objects import load, save
 
 DECK = """
 &case name = 'vh', type = 'vehicle', scenario = 'hunting', duration = 0.04 /
-&case name = 'n', type = 'normal', nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3 /
+&case name = 'n', type = 'normal', nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4,
+      gap_a = 1.0, gap_b = 1.0, fn = 1.0e3 /
 &case name = 'r', type = 'rolling', nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0,
       fn = 1.0e3, mu = 0.3, speed = 10.0, xi = 1.0e-3 /
 &case name = 'lw', type = 'loaded_wheelset', n = 2, y_max_mm = 1.0 /
@@ -47,8 +49,12 @@ def _problems(group: h5py.Group) -> list[str]:
             axes = d.attrs.get("axes")
             if axes is None or len(axes) != d.ndim:
                 out.append(f"{name}: {d.ndim}-D without one label per axis")
-        if d.dtype.kind == "f" and d.size and np.isnan(d[()]).any() and not (
-                "empty_slots" in d.attrs or "note" in d.attrs):
+        if (
+            d.dtype.kind == "f"
+            and d.size
+            and np.isnan(d[()]).any()
+            and not ("empty_slots" in d.attrs or "note" in d.attrs)
+        ):
             out.append(f"{name}: NaN without a note on empty slots")
     inputs = group.get("inputs")
     if inputs is not None:
@@ -74,7 +80,7 @@ def test_every_dataset_and_input_of_every_case_has_units(results):
     assert len(results) == 7
     problems = {g: _problems(results[g]) for g in results}
     assert not any(problems.values()), {g: p for g, p in problems.items() if p}
-    for g in results.values():                  # the inputs are there to be checked
+    for g in results.values():  # the inputs are there to be checked
         assert len(g["inputs"].attrs) >= 5 and len(_datasets(g["inputs"])) == len(g["inputs"].attrs)
 
 
@@ -101,8 +107,12 @@ def test_the_walk_fails_on_a_dataset_without_units(tmp_path):
         g["c"].attrs["units"] = "N"
         g.create_group("inputs").attrs["speed"] = 10.0
         p = _problems(g)
-    assert p == ["a: no units", "b: 2-D without one label per axis", "c: NaN without a note on empty slots",
-                 "inputs attribute speed: no dataset with its units and meaning"]
+    assert p == [
+        "a: no units",
+        "b: 2-D without one label per axis",
+        "c: NaN without a note on empty slots",
+        "inputs attribute speed: no dataset with its units and meaning",
+    ]
 
 
 def test_results_saved_from_the_api_have_units(tmp_path):
@@ -117,8 +127,10 @@ def test_results_saved_from_the_api_have_units(tmp_path):
     g = Grid(16, 16, 4e-4, 4e-4, -3.2e-3, -3.2e-3)
     gap = hertz_gap(g, 1.0, 1.0)
     solve_normal(gap, g, STEEL, fn=1e3)
-    objs = {"sim": scenarios.hunting(300.0, duration=0.02),
-            "rolling": solve_rolling(gap, g, STEEL, 0.3, 1e3, (1e-3, 0.0, 0.0), 10.0)}
+    objs = {
+        "sim": scenarios.hunting(300.0, duration=0.02),
+        "rolling": solve_rolling(gap, g, STEEL, 0.3, 1e3, (1e-3, 0.0, 0.0), 10.0),
+    }
     for name, obj in objs.items():
         path = save(obj, tmp_path / f"{name}.h5")
         with h5py.File(path, "r") as f:
@@ -132,6 +144,7 @@ def test_vehicle_charts_name_the_run_and_draw_noise_flat(results):
     contact (read back from the stored case), and a history that varies by round-off only is
     drawn flat over at least MIN_SPAN with its value written, without an axis offset."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -140,7 +153,7 @@ def test_vehicle_charts_name_the_run_and_draw_noise_flat(results):
 
     assert vcases._run_title(results["001_vh"]) == "hunting, 300 km/h, model RR, hertz-kalker on the strips"
     fig, ax = plt.subplots()
-    q = 54.546 + 1e-11 * np.sin(np.arange(50))       # kN: a static load with round-off on it
+    q = 54.546 + 1e-11 * np.sin(np.arange(50))  # kN: a static load with round-off on it
     ax.plot(q)
     vplots._readable(ax, q, "kN")
     lo, hi = ax.get_ylim()
@@ -148,7 +161,7 @@ def test_vehicle_charts_name_the_run_and_draw_noise_flat(results):
     assert ax.yaxis.get_major_formatter().get_useOffset() is False
     assert any("flat y: 54.546 kN" in t.get_text() for t in ax.texts)
     fig2, ax2 = plt.subplots()
-    ax2.plot(np.linspace(0, 3, 50))                  # a real signal keeps its autoscaled range
+    ax2.plot(np.linspace(0, 3, 50))  # a real signal keeps its autoscaled range
     vplots._readable(ax2, np.linspace(0, 3, 50), "mm")
     assert not ax2.texts and ax2.get_ylim()[1] - ax2.get_ylim()[0] < 4
     plt.close("all")

@@ -1,5 +1,6 @@
 """docs/decks.md: its table of plausibility bounds is what the deck check enforces, and every
 case type it names exists."""
+
 from pathlib import Path
 
 from railvti.runner.deck_registry import case_types
@@ -42,6 +43,7 @@ def test_aliases_name_no_key_and_point_to_one():
 
 def test_cases_command_prints_units_meaning_and_bounds(capsys):
     from railvti.runner.cli import main
+
     assert main(["cases", "rolling"]) == 0
     out = capsys.readouterr().out
     assert "type = 'rolling'" in out and "type = 'normal'" not in out
@@ -57,5 +59,6 @@ def test_cases_command_prints_units_meaning_and_bounds(capsys):
 
 def test_cases_command_unknown_type(capsys):
     from railvti.runner.cli import main
+
     assert main(["cases", "rollin"]) == 2
     assert "did you mean 'rolling'" in capsys.readouterr().err

@@ -10,6 +10,7 @@ Before (main at 683b6fd, the same 8-case deck on a 2 MB tmpfs): exit 139 (segmen
 fault at exit: HDF5 could not close the file whose write failed), 558 lines of h5py
 "Exception ignored" tracebacks, cases 6-8 recorded as failed cases.
 """
+
 from __future__ import annotations
 
 import errno
@@ -49,8 +50,12 @@ def tmpfs(tmp_path):
         pytest.skip("mounting a tmpfs needs root")
     mnt = tmp_path / "small_disk"
     mnt.mkdir()
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mnt)],
-                       capture_output=True, text=True, timeout=30)
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mnt)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     if r.returncode != 0:
         pytest.skip(f"mount -t tmpfs not permitted here: {r.stderr.strip()}")
     try:
@@ -70,8 +75,11 @@ def _check(rc: int, out: str, err: str, folder: Path, result: Path) -> list[str]
     with h5py.File(result, "r") as f:
         groups = sorted(f)
         assert all(f[g].attrs["status"] == "ok" for g in groups)
-    reported = sorted(f"{int(line.split()[1]):03d}_{line.split()[2][1:-2]}"
-                      for line in out.splitlines() if line.startswith("case ") and "Fn =" in line)
+    reported = sorted(
+        f"{int(line.split()[1]):03d}_{line.split()[2][1:-2]}"
+        for line in out.splitlines()
+        if line.startswith("case ") and "Fn =" in line
+    )
     assert groups == reported and len(groups) >= 1, (groups, reported)
     return groups
 
@@ -80,13 +88,32 @@ def _check(rc: int, out: str, err: str, folder: Path, result: Path) -> list[str]
 def test_a_full_tmpfs_ends_the_run_with_exit_3(tmp_path, tmpfs, mode):
     deck = _deck(tmp_path)
     out = tmpfs / "out.h5"
-    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
-                        "-q", mode], capture_output=True, text=True, timeout=240)
+    r = subprocess.run(
+        [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", mode],
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
     groups = _check(r.returncode, r.stdout, r.stderr, tmpfs, out)
-    assert len(groups) < 8                              # the disk did fill
+    assert len(groups) < 8  # the disk did fill
     # --resume on the still full disk: exit 3 again, nothing lost
-    r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
-                        "-q", "--serial", "--resume"], capture_output=True, text=True, timeout=240)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "railvti.runner.cli",
+            "run",
+            str(deck),
+            "-o",
+            str(out),
+            "-q",
+            "--serial",
+            "--resume",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=240,
+    )
     assert r.returncode == 3 and "Traceback" not in r.stderr
     with h5py.File(out, "r") as f:
         assert set(groups) <= set(f)

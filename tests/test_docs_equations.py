@@ -1,5 +1,6 @@
 """docs/equations.md stays true: every file::procedure and test it names exists, every Kaiser
 equation 1-29 has a row, and every Fortran file's header says which equations it implements."""
+
 from __future__ import annotations
 
 import pathlib
@@ -15,11 +16,12 @@ pytestmark = pytest.mark.skipif(not DOC.exists(), reason="needs the source tree"
 def _defined(path: pathlib.Path, name: str) -> bool:
     text = path.read_text()
     if path.suffix == ".f90":
-        pat = (rf"^\s*(pure\s+|elemental\s+|recursive\s+|real\(dp\)\s+)*"
-               rf"(subroutine|function)\s+{re.escape(name)}\b")
+        pat = (
+            rf"^\s*(pure\s+|elemental\s+|recursive\s+|real\(dp\)\s+)*"
+            rf"(subroutine|function)\s+{re.escape(name)}\b"
+        )
         return re.search(pat, text, re.M | re.I) is not None
-    return all(re.search(rf"^\s*(def|class)\s+{re.escape(p)}\b", text, re.M)
-               for p in name.split("."))
+    return all(re.search(rf"^\s*(def|class)\s+{re.escape(p)}\b", text, re.M) for p in name.split("."))
 
 
 def _rows() -> list[tuple[str, str]]:
@@ -50,8 +52,11 @@ def test_every_row_has_an_implementation_and_a_test_or_says_none():
         refs = re.findall(r"`([^`\s]+?)::", line)
         if not any(not r.startswith("tests/") for r in refs):
             bad.append(line[:60])
-        if not any(r.startswith("tests/") for r in refs) and "no test" not in line \
-                and "no pytest" not in line:
+        if (
+            not any(r.startswith("tests/") for r in refs)
+            and "no test" not in line
+            and "no pytest" not in line
+        ):
             bad.append(line[:60])
     assert not bad, bad
 

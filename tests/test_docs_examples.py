@@ -4,6 +4,7 @@ later block may use an earlier one's names), in a temporary folder, with the ins
 package. The blocks whose run takes minutes (sweeps of speeds, 5 s hunting runs, the 64-bay
 ring, all wheelset harmonics) run only with RAILVTI_SLOW_DOCS=1, so the suite stays fast;
 a block that is a sketch with placeholders (``B1, B2, ...``) is checked to compile only."""
+
 from __future__ import annotations
 
 import os
@@ -27,9 +28,11 @@ SLOW = {
     ("sweeps.md", 2): "two 24-speed bifurcation sweeps: minutes",
 }
 #: Blocks that are sketches (names left for the reader to fill in): compiled, not run.
-SKETCH = {("vehicle_integrator.md", 0): "placeholders B1, B2, K1, phi, system",
-          ("sweeps.md", 1): "the reader's own scheduler address",
-          ("track.md", 1): "placeholders u_vehicle, x_c; tr from the (slow) block above"}
+SKETCH = {
+    ("vehicle_integrator.md", 0): "placeholders B1, B2, K1, phi, system",
+    ("sweeps.md", 1): "the reader's own scheduler address",
+    ("track.md", 1): "placeholders u_vehicle, x_c; tr from the (slow) block above",
+}
 
 _BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
 
@@ -45,7 +48,7 @@ def test_the_examples_are_found():
     found = {name: len(b) for name, b in BLOCKS}
     assert found.get("README.md") == 3 and sum(found.values()) >= 12, found
     for name, i in list(SLOW) + list(SKETCH):
-        assert i < found.get(name, 0), (name, i)       # the lists above name real blocks
+        assert i < found.get(name, 0), (name, i)  # the lists above name real blocks
 
 
 @pytest.mark.parametrize("name, blocks", BLOCKS, ids=[n for n, _ in BLOCKS])
@@ -58,12 +61,23 @@ def test_the_python_examples_run(name, blocks, tmp_path, monkeypatch):
         if (name, i) in SKETCH:
             continue
         if (name, i) in SLOW and not slow:
-            continue          # later blocks of the file do not depend on a slow one (checked here)
-        if name == "results.md":              # the file the example reads
+            continue  # later blocks of the file do not depend on a slow one (checked here)
+        if name == "results.md":  # the file the example reads
             from railvti.runner.cli import main
+
             (tmp_path / "results").mkdir()
-            assert main(["run", str(ROOT / "inputs" / "vehicle_example.nml"), "-o",
-                         "results/vehicle_example.h5", "-q"]) == 0
+            assert (
+                main(
+                    [
+                        "run",
+                        str(ROOT / "inputs" / "vehicle_example.nml"),
+                        "-o",
+                        "results/vehicle_example.h5",
+                        "-q",
+                    ]
+                )
+                == 0
+            )
         t0 = time.perf_counter()
-        exec(compiled, namespace)                # noqa: S102 - the documentation's own code
+        exec(compiled, namespace)  # noqa: S102 - the documentation's own code
         print(f"{name}[{i}]: {time.perf_counter() - t0:.1f} s")

@@ -1,5 +1,6 @@
 """Every relative link and image in README.md, CHANGELOG.md and docs/*.md points to a file that
 exists (a page moved or a chart renamed breaks no link unnoticed). Reads the source tree only."""
+
 from __future__ import annotations
 
 import re
@@ -16,7 +17,7 @@ _FENCE = re.compile(r"^```.*?^```", re.S | re.M)
 
 
 def _targets(path: Path) -> list[str]:
-    text = _FENCE.sub("", path.read_text())          # code blocks hold no links
+    text = _FENCE.sub("", path.read_text())  # code blocks hold no links
     return [t for t in _LINK.findall(text) if "://" not in t and not t.startswith(("#", "mailto:"))]
 
 

@@ -3,6 +3,7 @@ the option reaches FF and the scenarios, and the result does not depend on how t
 is chunked (the followed point is carried from chunk to chunk, not restarted at the taping
 line). The rows themselves are checked against direct FE solves in
 tests/test_wheelset_flexible.py."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,14 +34,17 @@ def runs():
     grid = residual_table(ws, body, ds=0.01)
     # the scenarios' cache of the grid at this speed and selection: ff_system below reuses it
     systems._PROFILES[("residual_grid", float(V), SMALL["k_max"], SMALL["f_max"], 1.0)] = grid
-    sy, _ = build_fr(Coach(), table, V, wheelset=ws, body=body, follow_contact=True,
-                     residual_grid=grid)
+    sy, _ = build_fr(Coach(), table, V, wheelset=ws, body=body, follow_contact=True, residual_grid=grid)
     s0, _ = build_fr(Coach(), table, V, wheelset=ws, body=body)
     sy, s0 = (systems.with_geometry(s, "strip") for s in (sy, s0))
     qs, _ = static_equilibrium(sy, V, "hertz-kalker")
     q0 = lateral_disturbance(sy, qs, 0.006, wheelsets=(0, 1))
-    return (sy, simulate(sy, V, 0.2, q0=q0, **RUN),
-            simulate(sy, V, 0.2, q0=q0, chunk=1e-3, **RUN), simulate(s0, V, 0.2, q0=q0, **RUN))
+    return (
+        sy,
+        simulate(sy, V, 0.2, q0=q0, **RUN),
+        simulate(sy, V, 0.2, q0=q0, chunk=1e-3, **RUN),
+        simulate(s0, V, 0.2, q0=q0, **RUN),
+    )
 
 
 def test_chunking_does_not_change_a_followed_run(runs):

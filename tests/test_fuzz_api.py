@@ -3,6 +3,7 @@ the scenarios refuse what a deck refuses, with an InputError naming the argument
 bound, before any computation; never a traceback of another kind, a NaN result or a run at
 an implausible value. Every call here fails in its checks, so the suite is fast.
 """
+
 from __future__ import annotations
 
 import math
@@ -54,7 +55,12 @@ RUNNER_CASES = [
     ("loaded-mu-nan", "loaded_wheelset", dict(mu=math.nan), ["mu", "finite"]),
     ("loaded-mu-negative", "loaded_wheelset", dict(mu=-0.3), ["mu", "[0, 1]"]),
     ("loaded-speed-negative", "loaded_wheelset", dict(speed=-2.0), ["speed", "[0, 166.667]"]),
-    ("loaded-y-reversed", "loaded_wheelset", dict(y_min_mm=5.0, y_max_mm=0.0), ["y_min = 0.005", "y_max = 0"]),
+    (
+        "loaded-y-reversed",
+        "loaded_wheelset",
+        dict(y_min_mm=5.0, y_max_mm=0.0),
+        ["y_min = 0.005", "y_max = 0"],
+    ),
     ("loaded-old-and-new-name", "loaded_wheelset", dict(g=7e10, shear_modulus=8e10), ["give one"]),
     ("table-y-reversed", "geometry_table", dict(y_min_mm=10.0, y_max_mm=-10.0), ["y_min = 0.01"]),
     ("table-profile", "geometry_table", dict(rail="missing.prr"), ["rail", "missing.prr"]),
@@ -99,8 +105,11 @@ SCENARIO_CALLS = [
     ("conicity-negative", lambda: scenarios.equivalent_conicity(-1.0), ["amplitude"]),
     ("coach-negative-mass", lambda: Coach(carbody_mass=-5.0), ["carbody_mass"]),
     ("coach-unknown", lambda: Coach(carbody_mas=5.0), ["carbody_mas"]),
-    ("bifurcation-fr-harmonic", lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01,
-                                                              k_max=-1), ["k_max", "0..30"]),
+    (
+        "bifurcation-fr-harmonic",
+        lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01, k_max=-1),
+        ["k_max", "0..30"],
+    ),
     ("linear-damper", lambda: scenarios.linear_critical_speed(damper="loose"), ["damper"]),
     ("critical-method", lambda: scenarios.critical_speed(method="guess"), ["method"]),
 ]

@@ -1,4 +1,5 @@
 """Rigid wheel-rail geometry: geometry table, mirror symmetry, gap field vs Hertz curvatures, creepages."""
+
 import numpy as np
 import pytest
 
@@ -73,15 +74,15 @@ def test_mirror_with_yaw(pair):
     b = G.contact_points(*pair, -0.004, yaw=-0.003)
     pa, pb = a.left[0], b.right[0]
     assert pa.contact_angle == pytest.approx(pb.contact_angle, abs=1e-9)
-    assert pa.position[0] == pytest.approx(pb.position[0], abs=1e-9)   # same lead
+    assert pa.position[0] == pytest.approx(pb.position[0], abs=1e-9)  # same lead
     ca, cb = G.creepages(pa, 2.0), G.creepages(pb, 2.0)
     assert ca.xi == pytest.approx(cb.xi, abs=1e-9)
-    assert ca.eta == pytest.approx(-cb.eta, abs=1e-9)   # t_y points left on both wheels
+    assert ca.eta == pytest.approx(-cb.eta, abs=1e-9)  # t_y points left on both wheels
     assert ca.phi == pytest.approx(-cb.phi, abs=1e-9)
 
 
 def test_flange_contact_appears_at_6_to_7_mm(table):
-    big = table.contact_angle[:, 0, 0] > 1.0   # left wheel carrying point on the flange
+    big = table.contact_angle[:, 0, 0] > 1.0  # left wheel carrying point on the flange
     first = table.y[np.argmax(big)]
     assert 0.006 <= first <= 0.007
     assert not big[table.y < 0.006].any()
@@ -179,10 +180,15 @@ def test_equivalent_conicity(pair):
         G.equivalent_conicity(t, 0.005)
 
 
-@pytest.mark.parametrize("kw, word", [
-    (dict(y=np.nan), "y"), (dict(y=0.1), "50 mm"), (dict(y=0.0, yaw=0.5), "yaw"),
-    (dict(y=[0.0, 0.001], yaw=[0.0, 0.0, 0.0]), "yaw"),
-])
+@pytest.mark.parametrize(
+    "kw, word",
+    [
+        (dict(y=np.nan), "y"),
+        (dict(y=0.1), "50 mm"),
+        (dict(y=0.0, yaw=0.5), "yaw"),
+        (dict(y=[0.0, 0.001], yaw=[0.0, 0.0, 0.0]), "yaw"),
+    ],
+)
 def test_bad_positions(pair, kw, word):
     with pytest.raises(InputError, match=word):
         G.geometry_table(*pair, **kw)
@@ -204,6 +210,7 @@ def test_bad_profiles_and_grid(pair):
 def test_deck_case_runs():
     from railvti.casetypes import REGISTRY
     import railvti.geometry.cases  # noqa: F401
+
     ct = REGISTRY["geometry_table"]
     params = dict(ct.defaults)
     params.update(n=41)
@@ -219,6 +226,7 @@ def test_deck_layout_defaults_are_the_class_defaults():
     from railvti.casetypes import REGISTRY
     from railvti.runner.deck_registry import case_types
     from railvti.geometry.cases import deck_layout
+
     case_types()
     for name in ("geometry_table", "loaded_wheelset"):
         track, ws = deck_layout(REGISTRY[name].defaults)

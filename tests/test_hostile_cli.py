@@ -20,6 +20,7 @@ Outcome classes, by group (the counts are the parametrized cases):
 Most cases run ``railvti.runner.cli.main`` in this process; the broken pipes run a few child
 processes (a real pipe is needed).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -73,7 +74,7 @@ def _no_traceback(captured) -> str:
 @pytest.mark.parametrize("workers", ["0", "-1", "-100"])
 def test_workers_below_one_are_refused_before_the_deck_is_read(tmp_path, capsys, workers):
     out = tmp_path / "out.h5"
-    missing = tmp_path / "missing.nml"           # not read: the option is refused first
+    missing = tmp_path / "missing.nml"  # not read: the option is refused first
     assert main(["run", str(missing), "-o", str(out), "--workers", workers]) == 2
     err = _no_traceback(capsys.readouterr())
     assert f"--workers must be at least 1, got {workers}" in err
@@ -89,15 +90,16 @@ def test_workers_not_an_integer_is_a_usage_error(tmp_path, capsys, workers):
     assert "--workers" in err and "invalid int value" in err
 
 
-@pytest.mark.parametrize("size", ["lots", "-1G", "0", "1e400", "nan", "5Q", "", "  ", "8 GB extra",
-                                  "-inf", "0.0M", "G"])
+@pytest.mark.parametrize(
+    "size", ["lots", "-1G", "0", "1e400", "nan", "5Q", "", "  ", "8 GB extra", "-inf", "0.0M", "G"]
+)
 def test_bad_memory_sizes_are_refused(tmp_path, capsys, size):
     out = tmp_path / "out.h5"
     assert main(["run", str(_deck(tmp_path)), "-o", str(out), "--serial", f"--max-memory={size}"]) == 2
     err = _no_traceback(capsys.readouterr())
     assert "--max-memory" in err or "memory size" in err, err
     assert not out.exists()
-    assert os.environ.get("RAILVTI_MAX_MEMORY") is None      # restored
+    assert os.environ.get("RAILVTI_MAX_MEMORY") is None  # restored
 
 
 @pytest.mark.parametrize("size", ["8G", "none", "512M", "1e12", "inf"])
@@ -109,20 +111,23 @@ def test_good_memory_sizes_run(tmp_path, capsys, size):
         assert sorted(f) == ["001_a", "002_b"]
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["run", "DECK", "--wrokers", "2"], "unrecognized arguments: --wrokers"),
-    (["run", "DECK", "--frobnicate"], "unrecognized arguments: --frobnicate"),
-    (["run", "DECK", "-x"], "unrecognized arguments: -x"),
-    (["run", "DECK", "--serial", "--workers", "2"], "not allowed with argument"),
-    (["run", "DECK", "--scheduler", "tcp://h:1", "--workers", "2"], "not allowed with argument"),
-    (["run", "DECK", "--serial", "--scheduler", "tcp://h:1"], "not allowed with argument"),
-    (["run"], "the following arguments are required: deck"),
-    (["frobnicate"], "invalid choice: 'frobnicate'"),
-    ([], "the following arguments are required"),
-    (["run", "DECK", "--workers"], "expected one argument"),
-    (["run", "DECK", "--max-memory"], "expected one argument"),
-    (["cases", "normal", "extra"], "unrecognized arguments: extra"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["run", "DECK", "--wrokers", "2"], "unrecognized arguments: --wrokers"),
+        (["run", "DECK", "--frobnicate"], "unrecognized arguments: --frobnicate"),
+        (["run", "DECK", "-x"], "unrecognized arguments: -x"),
+        (["run", "DECK", "--serial", "--workers", "2"], "not allowed with argument"),
+        (["run", "DECK", "--scheduler", "tcp://h:1", "--workers", "2"], "not allowed with argument"),
+        (["run", "DECK", "--serial", "--scheduler", "tcp://h:1"], "not allowed with argument"),
+        (["run"], "the following arguments are required: deck"),
+        (["frobnicate"], "invalid choice: 'frobnicate'"),
+        ([], "the following arguments are required"),
+        (["run", "DECK", "--workers"], "expected one argument"),
+        (["run", "DECK", "--max-memory"], "expected one argument"),
+        (["cases", "normal", "extra"], "unrecognized arguments: extra"),
+    ],
+)
 def test_unknown_or_clashing_options_are_usage_errors(tmp_path, capsys, argv, words):
     deck = str(_deck(tmp_path))
     with pytest.raises(SystemExit) as exc:
@@ -161,8 +166,20 @@ def _bad_deck(tmp_path: Path, kind: str) -> tuple[Path, str]:
     return p, ""
 
 
-@pytest.mark.parametrize("kind", ["missing", "directory", "empty", "binary", "nul bytes", "hdf5 file",
-                                  "comments only", "truncated", "latin-1 garbage"])
+@pytest.mark.parametrize(
+    "kind",
+    [
+        "missing",
+        "directory",
+        "empty",
+        "binary",
+        "nul bytes",
+        "hdf5 file",
+        "comments only",
+        "truncated",
+        "latin-1 garbage",
+    ],
+)
 def test_a_bad_deck_file_is_one_line_and_nothing_written(tmp_path, capsys, kind):
     deck, words = _bad_deck(tmp_path, kind)
     out = tmp_path / "out.h5"
@@ -177,11 +194,33 @@ def test_a_bad_deck_file_is_one_line_and_nothing_written(tmp_path, capsys, kind)
 # ---------------------------------------------------------------------------------------------
 # refused clearly: scheduler addresses (at once, before Dask)
 
-MALFORMED = ["notanaddress", "tcp://", "tcp://host", "tcp://:8786", "tcp://host:port",
-             "tcp://host:0", "tcp://host:65536", "tcp://host:-1", "http://host:8786",
-             "tcp://a b:8786", "tcp://host:8786/path", "tcp://[::1", "tcp://::1:8786", "", " ",
-             "tcp://host:8786?x=1", "udp://h:1", "tcp://h:1.5", "ftp://h:21", "host:", ":8786",
-             "tcp://h:\uff18\uff17\uff18\uff16", "tcp://h\u00e9:8786", "tcp://[zz]:8786", "inproc://"]
+MALFORMED = [
+    "notanaddress",
+    "tcp://",
+    "tcp://host",
+    "tcp://:8786",
+    "tcp://host:port",
+    "tcp://host:0",
+    "tcp://host:65536",
+    "tcp://host:-1",
+    "http://host:8786",
+    "tcp://a b:8786",
+    "tcp://host:8786/path",
+    "tcp://[::1",
+    "tcp://::1:8786",
+    "",
+    " ",
+    "tcp://host:8786?x=1",
+    "udp://h:1",
+    "tcp://h:1.5",
+    "ftp://h:21",
+    "host:",
+    ":8786",
+    "tcp://h:\uff18\uff17\uff18\uff16",
+    "tcp://h\u00e9:8786",
+    "tcp://[zz]:8786",
+    "inproc://",
+]
 
 
 @pytest.mark.parametrize("address", MALFORMED)
@@ -196,11 +235,16 @@ def test_a_malformed_scheduler_is_refused_at_once_naming_it(tmp_path, capsys, ad
     assert not out.exists()
 
 
-@pytest.mark.parametrize("address, parsed", [
-    ("tcp://10.0.0.5:8786", ("tcp", "10.0.0.5", 8786)), ("h:1", ("tcp", "h", 1)),
-    ("TLS://node-1.cluster:443", ("tls", "node-1.cluster", 443)),
-    ("tcp://[::1]:8786", ("tcp", "::1", 8786)), ("inproc://10.0.0.1/1234/1", ("inproc", "10.0.0.1/1234/1", 0)),
-])
+@pytest.mark.parametrize(
+    "address, parsed",
+    [
+        ("tcp://10.0.0.5:8786", ("tcp", "10.0.0.5", 8786)),
+        ("h:1", ("tcp", "h", 1)),
+        ("TLS://node-1.cluster:443", ("tls", "node-1.cluster", 443)),
+        ("tcp://[::1]:8786", ("tcp", "::1", 8786)),
+        ("inproc://10.0.0.1/1234/1", ("inproc", "10.0.0.1/1234/1", 0)),
+    ],
+)
 def test_well_formed_addresses_parse(address, parsed):
     assert scheduler_address(address) == parsed
 
@@ -251,8 +295,11 @@ def _free_port() -> int:
 
 @pytest.mark.parametrize("kind", ["refused", "silent", "http", "garbage", "unknown host"])
 def test_an_unreachable_or_foreign_scheduler_fails_within_5_s_naming_it(tmp_path, capsys, kind):
-    replies = {"silent": None, "http": b"HTTP/1.1 400 Bad Request\r\ncontent-length: 0\r\n\r\n",
-               "garbage": os.urandom(64)}
+    replies = {
+        "silent": None,
+        "http": b"HTTP/1.1 400 Bad Request\r\ncontent-length: 0\r\n\r\n",
+        "garbage": os.urandom(64),
+    }
     with contextlib.ExitStack() as stack:
         if kind in replies:
             address = stack.enter_context(_listener(replies[kind]))
@@ -275,8 +322,9 @@ def test_an_unreachable_or_foreign_scheduler_fails_within_5_s_naming_it(tmp_path
 
 
 def _error_classes() -> list[type]:
-    case_types()                    # every case type's module loaded: all their error classes
+    case_types()  # every case type's module loaded: all their error classes
     import railvti.contact.kalker  # noqa: F401
+
     out, todo = [], [errors.RailvtiError]
     while todo:
         cls = todo.pop()
@@ -309,8 +357,9 @@ def raising_type(monkeypatch):
 
 
 def _failing_deck(tmp_path: Path, what: str) -> Path:
-    return _deck(tmp_path, f"&case name='bad', type='raises', what='{what}' /\n"
-                           "&case name='good', type='fine' /\n")
+    return _deck(
+        tmp_path, f"&case name='bad', type='raises', what='{what}' /\n&case name='good', type='fine' /\n"
+    )
 
 
 def _run_failing(tmp_path: Path, capsys, caplog, cls: type, debug: bool) -> tuple[Path, str, list[str]]:
@@ -327,15 +376,18 @@ def _run_failing(tmp_path: Path, capsys, caplog, cls: type, debug: bool) -> tupl
 @pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
 @pytest.mark.parametrize("cls", EXPECTED, ids=lambda c: c.__name__)
 def test_an_expected_failure_is_one_line_and_the_traceback_only_with_debug(
-        tmp_path, capsys, caplog, raising_type, cls, debug):
+    tmp_path, capsys, caplog, raising_type, cls, debug
+):
     out, text, lines = _run_failing(tmp_path, capsys, caplog, cls, debug)
-    assert lines == [f"case 1 'bad': FAILED: {cls.__name__}: {cls.__name__} in key 'fn' = 3; second line"], text
+    assert lines == [f"case 1 'bad': FAILED: {cls.__name__}: {cls.__name__} in key 'fn' = 3; second line"], (
+        text
+    )
     assert "\nsecond line" not in text
     assert "unexpected" not in text
     assert ("Traceback" in caplog.text) == debug and "Traceback" not in text
     with h5py.File(out, "r") as f:
         assert f["002_good"].attrs["status"] == "ok"
-        assert "Traceback" in f["001_bad"].attrs["traceback"]      # always in the file
+        assert "Traceback" in f["001_bad"].attrs["traceback"]  # always in the file
 
 
 @pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
@@ -350,14 +402,18 @@ def test_an_unexpected_failure_is_one_line_with_a_hint(tmp_path, capsys, caplog,
 
 
 @pytest.mark.parametrize("debug", [False, True], ids=["plain", "debug"])
-@pytest.mark.parametrize("exc, code, words", [
-    (InputError("deck 'x': key 'fn' = -1 is outside (0, inf)"), 2, "railvti: error: deck 'x': key 'fn'"),
-    (errors.GridTooSmallError("grid too small\nsecond line"), 2, "railvti: error: grid too small"),
-    (KeyError("boom"), 1, "railvti: unexpected error: KeyError: 'boom' (a bug; run again with --debug"),
-    (RuntimeError("first\nsecond"), 1, "railvti: unexpected error: RuntimeError: first (a bug"),
-])
-def test_an_error_outside_the_cases_is_one_line(tmp_path, capsys, caplog, monkeypatch, exc, code, words,
-                                               debug):
+@pytest.mark.parametrize(
+    "exc, code, words",
+    [
+        (InputError("deck 'x': key 'fn' = -1 is outside (0, inf)"), 2, "railvti: error: deck 'x': key 'fn'"),
+        (errors.GridTooSmallError("grid too small\nsecond line"), 2, "railvti: error: grid too small"),
+        (KeyError("boom"), 1, "railvti: unexpected error: KeyError: 'boom' (a bug; run again with --debug"),
+        (RuntimeError("first\nsecond"), 1, "railvti: unexpected error: RuntimeError: first (a bug"),
+    ],
+)
+def test_an_error_outside_the_cases_is_one_line(
+    tmp_path, capsys, caplog, monkeypatch, exc, code, words, debug
+):
     caplog.set_level(logging.DEBUG if debug else logging.WARNING, logger="railvti.traceback")
     import railvti.runner.deck
 
@@ -413,8 +469,9 @@ def test_a_run_with_a_closed_stdout_completes_its_file(tmp_path, capsys, monkeyp
         assert [f[k].attrs["status"] for k in sorted(f)] == ["ok", "ok"]
 
 
-@pytest.mark.parametrize("argv", [["cases"], ["cases", "normal"], ["--help"], ["run", "--help"],
-                                  ["run", "DECK", "--serial"]])
+@pytest.mark.parametrize(
+    "argv", [["cases"], ["cases", "normal"], ["--help"], ["run", "--help"], ["run", "DECK", "--serial"]]
+)
 def test_a_closed_pipe_for_a_real_process_is_quiet(tmp_path, argv):
     """``railvti ... | head -1``: the reader closes after one line."""
     deck = _deck(tmp_path)
@@ -439,12 +496,21 @@ def test_a_closed_pipe_for_a_real_process_is_quiet(tmp_path, argv):
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
-@pytest.mark.parametrize("where", ["reading the deck", "checking the output", "starting the cluster",
-                                   "an import (as ImportError)", "the cluster's imports (as ImportError)"])
+@pytest.mark.parametrize(
+    "where",
+    [
+        "reading the deck",
+        "checking the output",
+        "starting the cluster",
+        "an import (as ImportError)",
+        "the cluster's imports (as ImportError)",
+    ],
+)
 def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypatch, sig, where):
     import railvti.runner.batch
     import railvti.runner.deck
     from railvti.runner import sweeps
+
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path)
     fired = []
@@ -453,9 +519,9 @@ def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypa
         fired.append(True)
         try:
             os.kill(os.getpid(), sig)
-            time.sleep(1.0)               # the handler raises here, within the first tick
+            time.sleep(1.0)  # the handler raises here, within the first tick
         except KeyboardInterrupt:
-            if "ImportError" in where:    # as a C extension's module init reports it
+            if "ImportError" in where:  # as a C extension's module init reports it
                 raise ImportError("initialization failed") from None
             raise
         pytest.fail("the signal did not stop the start-up")
@@ -466,6 +532,7 @@ def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypa
     elif where == "checking the output":
         monkeypatch.setattr(railvti.runner.batch, "check_output", lambda *a, **k: send())
     else:
+
         @contextlib.contextmanager
         def local_client(n):
             send()
@@ -481,12 +548,13 @@ def test_a_signal_before_any_case_stops_with_one_line(tmp_path, capsys, monkeypa
     assert err.count("\n") == 1 and f"stopped by {name}" in err
     assert "no case ran" in err or "before any case ran" in err
     assert not out.exists()
-    assert signal.getsignal(signal.SIGINT) is not cli._raise_signal     # handlers restored
+    assert signal.getsignal(signal.SIGINT) is not cli._raise_signal  # handlers restored
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_at_cluster_start_leaves_an_existing_file_unchanged(tmp_path, capsys, monkeypatch, sig):
     from railvti.runner import sweeps
+
     out = tmp_path / "out.h5"
     deck = _deck(tmp_path)
     assert main(["run", str(deck), "-o", str(out), "-q", "--serial"]) == 0

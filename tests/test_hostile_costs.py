@@ -12,10 +12,12 @@ Outcome classes (counted in the closing note of issue 31):
 * handled edge case (runs, or is accepted, as it should): ``test_raised_limit_lets_it_through``,
   ``test_cli_raised_max_time_runs``, ``test_limit_values_parsed``,
   ``test_estimate_survives_odd_values`` (no exception, finite or NaN, never negative),
-  ``test_estimate_survives_bad_stream_variable``, ``test_estimate_sane`` and ``test_estimate_monotone`` (finite, positive, growing with size),
+  ``test_estimate_survives_bad_stream_variable``, ``test_estimate_sane`` and
+  ``test_estimate_monotone`` (finite, positive, growing with size),
   ``test_no_warning_when_resolved``;
 * warned (runs, with a warning naming the case and the key): ``test_under_resolved_warns``.
 """
+
 from __future__ import annotations
 
 import math
@@ -56,51 +58,127 @@ def limits(monkeypatch):
 
 # (id, type, params, environment, the driving key the message must name)
 REFUSED = [
-    ("normal-2048sq-1s", "normal", dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5), {cost.ENV_TIME: "1s"}, "nx, ny"),
-    ("normal-1024sq-0.1s", "normal", dict(HERTZ, nx=1024, ny=1024, dx=1e-5, dy=1e-5), {cost.ENV_TIME: "0.1s"},
-     "nx, ny"),
-    ("rolling-2048sq-10s", "rolling", dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5, mu=0.3, speed=30.0),
-     {cost.ENV_TIME: "10s"}, "nx, ny"),
-    ("rolling-2048sq-mem", "rolling", dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5, mu=0.3, speed=30.0),
-     {MEM_ENV: "100M", cost.ENV_TIME: "none"}, "nx, ny"),
-    ("wheel_rail-dx1e-5", "wheel_rail", dict(dx=1e-5, dy=1e-5), {}, "dx, dy"),          # the issue's case
-    ("wheel_rail-dx1e-5-left", "wheel_rail", dict(dx=1e-5, dy=1e-5, side="left", roll=0.0, omega=4.3), {},
-     "dx, dy"),
+    (
+        "normal-2048sq-1s",
+        "normal",
+        dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5),
+        {cost.ENV_TIME: "1s"},
+        "nx, ny",
+    ),
+    (
+        "normal-1024sq-0.1s",
+        "normal",
+        dict(HERTZ, nx=1024, ny=1024, dx=1e-5, dy=1e-5),
+        {cost.ENV_TIME: "0.1s"},
+        "nx, ny",
+    ),
+    (
+        "rolling-2048sq-10s",
+        "rolling",
+        dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5, mu=0.3, speed=30.0),
+        {cost.ENV_TIME: "10s"},
+        "nx, ny",
+    ),
+    (
+        "rolling-2048sq-mem",
+        "rolling",
+        dict(HERTZ, nx=2048, ny=2048, dx=1e-5, dy=1e-5, mu=0.3, speed=30.0),
+        {MEM_ENV: "100M", cost.ENV_TIME: "none"},
+        "nx, ny",
+    ),
+    ("wheel_rail-dx1e-5", "wheel_rail", dict(dx=1e-5, dy=1e-5), {}, "dx, dy"),  # the issue's case
+    (
+        "wheel_rail-dx1e-5-left",
+        "wheel_rail",
+        dict(dx=1e-5, dy=1e-5, side="left", roll=0.0, omega=4.3),
+        {},
+        "dx, dy",
+    ),
     ("wheel_rail-dx2e-6", "wheel_rail", dict(dx=2e-6, dy=2e-6), {}, "dx, dy"),
-    ("wheel_rail-dx2e-6-time", "wheel_rail", dict(dx=2e-6, dy=2e-6), {MEM_ENV: "none", cost.ENV_TIME: "30min"},
-     "dx, dy"),
+    (
+        "wheel_rail-dx2e-6-time",
+        "wheel_rail",
+        dict(dx=2e-6, dy=2e-6),
+        {MEM_ENV: "none", cost.ENV_TIME: "30min"},
+        "dx, dy",
+    ),
     ("wheel_rail-dx5e-5-1s", "wheel_rail", dict(dx=5e-5, dy=5e-5), {cost.ENV_TIME: "1s"}, "dx, dy"),
-    ("wheel_rail-tiny-mem", "wheel_rail", dict(dx=5e-6, dy=5e-6), {MEM_ENV: "1G", cost.ENV_TIME: "none"},
-     "dx, dy"),
+    (
+        "wheel_rail-tiny-mem",
+        "wheel_rail",
+        dict(dx=5e-6, dy=5e-6),
+        {MEM_ENV: "1G", cost.ENV_TIME: "none"},
+        "dx, dy",
+    ),
     ("loaded-n10001", "loaded_wheelset", dict(n=10001, dx=5e-5), {}, "n, dx"),
     ("loaded-dx1e-5", "loaded_wheelset", dict(n=101, dx=1e-5), {}, "n, dx"),
     ("loaded-dx1e-5-21", "loaded_wheelset", dict(n=21, dx=1e-5), {cost.ENV_TIME: "10min"}, "dx"),
     ("table-n100001-mem", "geometry_table", dict(n=100001), {}, "n"),
     ("table-n100001-time", "geometry_table", dict(n=100001), {MEM_ENV: "none", cost.ENV_TIME: "10min"}, "n"),
     ("table-n20001-1min", "geometry_table", dict(n=20001), {cost.ENV_TIME: "1min"}, "n"),
-    ("wheelset-fine-mesh", "wheelset", dict(mesh_size=0.002, axle_mesh_size=0.002, k_max=30), {},
-     "mesh_size"),
+    (
+        "wheelset-fine-mesh",
+        "wheelset",
+        dict(mesh_size=0.002, axle_mesh_size=0.002, k_max=30),
+        {},
+        "mesh_size",
+    ),
     ("wheelset-kmax30-10min", "wheelset", dict(k_max=30, f_max=20000.0), {cost.ENV_TIME: "10min"}, "k_max"),
-    ("track-1024-20k", "track_receptance", dict(n_sleepers=1024, f_max=20000.0, n_freq=1000000), {},
-     "n_sleepers"),
-    ("track-element-1024", "track_element", dict(n_sleepers=1024, kappa_max=10000.0, mesh_max_area=1e-6), {},
-     "n_sleepers"),
+    (
+        "track-1024-20k",
+        "track_receptance",
+        dict(n_sleepers=1024, f_max=20000.0, n_freq=1000000),
+        {},
+        "n_sleepers",
+    ),
+    (
+        "track-element-1024",
+        "track_element",
+        dict(n_sleepers=1024, kappa_max=10000.0, mesh_max_area=1e-6),
+        {},
+        "n_sleepers",
+    ),
     ("vehicle-h1e-6", "vehicle", dict(duration=600.0, h=1e-6), {}, "h"),
     ("vehicle-h2e-6", "vehicle", dict(duration=10.0, h=2e-6), {}, "h"),
-    ("vehicle-FR-fmax20k", "vehicle", dict(model="FR", f_max=20000.0), {}, "f_max"),     # the issue's case
+    ("vehicle-FR-fmax20k", "vehicle", dict(model="FR", f_max=20000.0), {}, "f_max"),  # the issue's case
     ("vehicle-FR-fmax20k-100s", "vehicle", dict(model="FR", f_max=20000.0, duration=100.0), {}, "f_max"),
-    ("vehicle-FR-fmax20k-kmax30", "vehicle", dict(model="FR", f_max=20000.0, k_max=30, duration=30.0), {},
-     "f_max"),
+    (
+        "vehicle-FR-fmax20k-kmax30",
+        "vehicle",
+        dict(model="FR", f_max=20000.0, k_max=30, duration=30.0),
+        {},
+        "f_max",
+    ),
     ("vehicle-FF-fmax20k", "vehicle", dict(model="FF", f_max=20000.0, duration=100.0), {}, "f_max"),
-    ("vehicle-RF-flimit20k", "vehicle", dict(model="RF", f_limit=20000.0, n_sleepers=1024, duration=60.0), {},
-     "f_limit"),
+    (
+        "vehicle-RF-flimit20k",
+        "vehicle",
+        dict(model="RF", f_limit=20000.0, n_sleepers=1024, duration=60.0),
+        {},
+        "f_limit",
+    ),
     ("vehicle-bem-long", "vehicle", dict(contact="bem", duration=300.0, max_duration=600.0), {}, "bem"),
     ("vehicle-long-10min", "vehicle", dict(duration=600.0), {cost.ENV_TIME: "10min"}, "duration"),
-    ("vehicle-critical-200-speeds", "vehicle",
-     dict(scenario="critical_speed", speeds_kmh_min=100.0, speeds_kmh_max=500.0, speeds_kmh_step=2.0,
-          duration=100.0), {}, "speeds_kmh_step"),
-    ("vehicle-memory-output", "vehicle", dict(model="FR", duration=600.0, output_dt=1e-5),
-     {MEM_ENV: "100M", cost.ENV_TIME: "none"}, "output_dt"),
+    (
+        "vehicle-critical-200-speeds",
+        "vehicle",
+        dict(
+            scenario="critical_speed",
+            speeds_kmh_min=100.0,
+            speeds_kmh_max=500.0,
+            speeds_kmh_step=2.0,
+            duration=100.0,
+        ),
+        {},
+        "speeds_kmh_step",
+    ),
+    (
+        "vehicle-memory-output",
+        "vehicle",
+        dict(model="FR", duration=600.0, output_dt=1e-5),
+        {MEM_ENV: "100M", cost.ENV_TIME: "none"},
+        "output_dt",
+    ),
 ]
 
 
@@ -121,8 +199,9 @@ def test_refused_past_the_limit(limits, tname, params, env, key):
     assert "case 1 'huge'" in msg
     assert key in msg
     assert "limit" in msg
-    assert ("RAILVTI_MAX_TIME" in msg and "--max-time" in msg) or ("RAILVTI_MAX_MEMORY" in msg
-                                                                  and "--max-memory" in msg)
+    assert ("RAILVTI_MAX_TIME" in msg and "--max-time" in msg) or (
+        "RAILVTI_MAX_MEMORY" in msg and "--max-memory" in msg
+    )
 
 
 @pytest.mark.parametrize("tname, params, env, key", [r[1:] for r in REFUSED], ids=[r[0] for r in REFUSED])
@@ -137,7 +216,8 @@ def test_raised_limit_lets_it_through(limits, tname, params, env, key):
 def test_deck_total_refused(limits):
     """A sweep whose points are each under the case limit but add up past the deck's."""
     text = deck("vehicle", "many", duration=300.0).replace(
-        "/", "  sweep_y0 = " + ", ".join(f"{0.001 + i * 1e-5:.5f}" for i in range(200)) + "\n/")
+        "/", "  sweep_y0 = " + ", ".join(f"{0.001 + i * 1e-5:.5f}" for i in range(200)) + "\n/"
+    )
     cases, problems = _problems(text)
     assert len(cases) == 200
     assert all(cost.estimate(c).seconds < cost.DEFAULT_MAX_TIME for c in cases)
@@ -147,9 +227,18 @@ def test_deck_total_refused(limits):
     assert cost.check_cost(cases) == []
 
 
-@pytest.mark.parametrize("env, value", [(cost.ENV_TIME, "abc"), (cost.ENV_TIME, "-5"), (cost.ENV_TIME, "0"),
-                                        (cost.ENV_TIME, "2 fortnights"), (cost.ENV_DECK_TIME, "nan"),
-                                        (cost.ENV_DECK_TIME, "1e400"), (MEM_ENV, "lots")])
+@pytest.mark.parametrize(
+    "env, value",
+    [
+        (cost.ENV_TIME, "abc"),
+        (cost.ENV_TIME, "-5"),
+        (cost.ENV_TIME, "0"),
+        (cost.ENV_TIME, "2 fortnights"),
+        (cost.ENV_DECK_TIME, "nan"),
+        (cost.ENV_DECK_TIME, "1e400"),
+        (MEM_ENV, "lots"),
+    ],
+)
 def test_bad_limit_values_refused(limits, env, value):
     """A limit variable that holds no time (or size) is refused, naming the variable."""
     limits.setenv(env, value)
@@ -158,9 +247,19 @@ def test_bad_limit_values_refused(limits, env, value):
         cost.check_cost(cases)
 
 
-@pytest.mark.parametrize("text, seconds", [("7200", 7200.0), ("90s", 90.0), ("30min", 1800.0), ("2h", 7200.0),
-                                           ("1.5d", 129600.0), ("none", math.inf), (" 2H ", 7200.0),
-                                           ("1e3", 1000.0)])
+@pytest.mark.parametrize(
+    "text, seconds",
+    [
+        ("7200", 7200.0),
+        ("90s", 90.0),
+        ("30min", 1800.0),
+        ("2h", 7200.0),
+        ("1.5d", 129600.0),
+        ("none", math.inf),
+        (" 2H ", 7200.0),
+        ("1e3", 1000.0),
+    ],
+)
 def test_limit_values_parsed(text, seconds):
     assert cost.parse_time(text) == seconds
 
@@ -191,11 +290,24 @@ WARNED = [
     ("normal-fn-1N", "normal", dict(HERTZ, fn=1.0, nx=4, ny=4, dx=1e-4, dy=1e-4), "dx"),
     ("normal-coarse-dx", "normal", dict(HERTZ, nx=16, ny=64, dx=2e-3, dy=1e-4), "dx"),
     ("normal-coarse-dy", "normal", dict(HERTZ, nx=64, ny=8, dx=1e-4, dy=2e-3), "dy"),
-    ("normal-approach-tiny", "normal", dict(gap="hertz", gap_a=1.087, gap_b=1.6667, approach=1e-9, nx=8, ny=8,
-                                             dx=1e-4, dy=1e-4), "dx"),
-    ("rolling-semi-axes", "rolling", dict(gap="hertz", semi_a=1e-4, semi_b=1e-4, fn=1e4, mu=0.3, speed=30.0,
-                                          nx=8, ny=8, dx=1e-4, dy=1e-4), "dx"),
-    ("rolling-fn-small", "rolling", dict(HERTZ, fn=1.0, mu=0.3, speed=30.0, nx=16, ny=16, dx=1e-4, dy=1e-4), "dy"),
+    (
+        "normal-approach-tiny",
+        "normal",
+        dict(gap="hertz", gap_a=1.087, gap_b=1.6667, approach=1e-9, nx=8, ny=8, dx=1e-4, dy=1e-4),
+        "dx",
+    ),
+    (
+        "rolling-semi-axes",
+        "rolling",
+        dict(gap="hertz", semi_a=1e-4, semi_b=1e-4, fn=1e4, mu=0.3, speed=30.0, nx=8, ny=8, dx=1e-4, dy=1e-4),
+        "dx",
+    ),
+    (
+        "rolling-fn-small",
+        "rolling",
+        dict(HERTZ, fn=1.0, mu=0.3, speed=30.0, nx=16, ny=16, dx=1e-4, dy=1e-4),
+        "dy",
+    ),
     ("wheel_rail-2mm", "wheel_rail", dict(dx=2e-3, dy=2e-3), "dx"),
     ("wheel_rail-dy-3mm", "wheel_rail", dict(dx=2e-4, dy=3e-3), "dy"),
     ("wheel_rail-light-load", "wheel_rail", dict(fz=1.0, dx=2e-4, dy=2e-4), "dx"),
@@ -219,8 +331,22 @@ RESOLVED = [
     ("rolling-example", "rolling", dict(HERTZ, nx=80, ny=64, dx=1e-4, dy=1e-4, mu=0.3, speed=30.0)),
     ("wheel_rail-default", "wheel_rail", dict()),
     ("loaded-default", "loaded_wheelset", dict()),
-    ("normal-two-bumps", "normal", dict(gap="two_bumps", gap_a=1.0, gap_b=4.0, fn=2e4, nx=8, ny=8, dx=2e-3,
-                                        dy=2e-3, bump_separation=6e-3, bump_height=2e-6)),
+    (
+        "normal-two-bumps",
+        "normal",
+        dict(
+            gap="two_bumps",
+            gap_a=1.0,
+            gap_b=4.0,
+            fn=2e4,
+            nx=8,
+            ny=8,
+            dx=2e-3,
+            dy=2e-3,
+            bump_separation=6e-3,
+            bump_height=2e-6,
+        ),
+    ),
 ]
 
 
@@ -237,9 +363,15 @@ def test_no_warning_when_resolved(tname, params):
 DEFAULTS = {
     "normal": dict(HERTZ, nx=64, ny=64, dx=1e-4, dy=1e-4),
     "rolling": dict(HERTZ, nx=64, ny=64, dx=1e-4, dy=1e-4, mu=0.3, speed=30.0),
-    "wheel_rail": {}, "loaded_wheelset": {}, "geometry_table": {}, "wheelset": {},
-    "track_receptance": dict(n_sleepers=32), "track_element": dict(n_sleepers=32),
-    "vehicle": {}, "vehicle-FF": dict(model="FF"), "vehicle-bem": dict(contact="bem"),
+    "wheel_rail": {},
+    "loaded_wheelset": {},
+    "geometry_table": {},
+    "wheelset": {},
+    "track_receptance": dict(n_sleepers=32),
+    "track_element": dict(n_sleepers=32),
+    "vehicle": {},
+    "vehicle-FF": dict(model="FF"),
+    "vehicle-bem": dict(contact="bem"),
     "vehicle-critical": dict(scenario="critical_speed"),
 }
 
@@ -252,7 +384,7 @@ def test_estimate_sane(which):
     assert math.isfinite(e.seconds) and e.seconds > 0
     assert math.isfinite(e.memory) and e.memory > 0
     assert e.key and e.size
-    assert e.seconds < cost.DEFAULT_MAX_TIME      # the defaults run
+    assert e.seconds < cost.DEFAULT_MAX_TIME  # the defaults run
 
 
 # (id, type, base params, key, increasing values: the estimate must grow)
@@ -297,14 +429,17 @@ ODD = [
     ("zero-grid", "rolling", dict(nx=0, ny=0, dx=0.0, dy=0.0)),
     ("list-for-scalar", "normal", dict(nx=[1, 2], ny=(), fn=[1e4])),
     ("bool", "loaded_wheelset", dict(n=True, dx=False)),
-    ("huge-int", "geometry_table", dict(n=10 ** 400)),
+    ("huge-int", "geometry_table", dict(n=10**400)),
     ("unknown-type", "no_such_type", dict(n=5)),
     ("not-a-dict", "normal", ["nx", 5]),
     ("model-number", "vehicle", dict(model=3, contact=None, scenario=7)),
     ("bad-material", "normal", dict(HERTZ, poisson=0.7, shear_modulus=-1.0, nx=8, ny=8)),
     ("semi-axes-text", "rolling", dict(semi_a="a", semi_b=1e-3, dx=1e-4, dy=1e-4)),
-    ("speed-range-inverted", "vehicle", dict(scenario="critical_speed", speeds_kmh_min=400.0,
-                                             speeds_kmh_max=100.0, speeds_kmh_step=-5.0)),
+    (
+        "speed-range-inverted",
+        "vehicle",
+        dict(scenario="critical_speed", speeds_kmh_min=400.0, speeds_kmh_max=100.0, speeds_kmh_step=-5.0),
+    ),
     ("track-zero", "track_receptance", dict(n_sleepers=0, f_max=0.0, n_freq=0, mesh_max_area=0.0)),
     ("wheelset-zero-mesh", "wheelset", dict(mesh_size=0.0, axle_mesh_size=-1.0, k_max=-3, speeds_kmh=[])),
 ]
@@ -328,8 +463,22 @@ SMALL = deck("normal", "grid", **dict(HERTZ, nx=96, ny=96, dx=1e-4, dy=1e-4))
 def _cli(tmp_path, *args):
     d = tmp_path / "deck.nml"
     d.write_text(SMALL)
-    return subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(d), "-o", str(tmp_path / "r.h5"),
-                           "-q", *args], capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "railvti.runner.cli",
+            "run",
+            str(d),
+            "-o",
+            str(tmp_path / "r.h5"),
+            "-q",
+            *args,
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def test_cli_refuses_past_max_time(tmp_path):

@@ -28,6 +28,7 @@ Outcome classes of the cases (121 in all), counted in the closing note of issue 
 Every case also asserts: no "Traceback" in the output, no NaN in a result of exit 0, no
 temporary file left, subprocesses under a timeout.
 """
+
 from __future__ import annotations
 
 import errno
@@ -110,8 +111,12 @@ def readonly_dir(tmp_path):
         yield d
         d.chmod(0o755)
         return
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(d)],
-                       capture_output=True, text=True, timeout=30)
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(d)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     if r.returncode != 0:
         pytest.skip(f"no read-only folder for root here (mount: {r.stderr.strip()})")
     try:
@@ -122,6 +127,7 @@ def readonly_dir(tmp_path):
 
 # ---------------------------------------------------------------------------------------------
 # Output paths: refused clearly (InputError, before any work)
+
 
 def _path_case(kind: str, tmp: Path, deck: Path) -> tuple[Path, str]:
     """An output path of a hostile kind and the words its refusal must contain."""
@@ -177,25 +183,41 @@ def _path_case(kind: str, tmp: Path, deck: Path) -> tuple[Path, str]:
     raise AssertionError(kind)
 
 
-PATH_KINDS = ["directory", "empty_name", "dev_null", "dev_full", "fifo", "socket", "the_deck",
-              "symlink_to_deck", "text_file", "empty_file", "foreign_hdf5", "random_bytes",
-              "dangling_symlink", "symlink_loop", "parent_is_a_file", "name_too_long",
-              "proc_file"]
+PATH_KINDS = [
+    "directory",
+    "empty_name",
+    "dev_null",
+    "dev_full",
+    "fifo",
+    "socket",
+    "the_deck",
+    "symlink_to_deck",
+    "text_file",
+    "empty_file",
+    "foreign_hdf5",
+    "random_bytes",
+    "dangling_symlink",
+    "symlink_loop",
+    "parent_is_a_file",
+    "name_too_long",
+    "proc_file",
+]
 
 
 @pytest.mark.parametrize("kind", PATH_KINDS)
 def test_output_path_refused(tmp_path, kind, capfd):
     deck = write_deck(tmp_path, "a")
     out, words = _path_case(kind, tmp_path, deck)
-    before = (out.read_bytes() if kind != "proc_file" and not kind.startswith("name")
-              and out.is_file() else None)
+    before = (
+        out.read_bytes() if kind != "proc_file" and not kind.startswith("name") and out.is_file() else None
+    )
     with pytest.raises(InputError) as exc:
         check_output(out, deck)
     assert words.lower() in str(exc.value).lower()
-    rc, _, err = run(capfd, str(deck), "-o", str(out))            # the same through the CLI
+    rc, _, err = run(capfd, str(deck), "-o", str(out))  # the same through the CLI
     assert rc == 2 and words.lower() in err.lower() and len(err.splitlines()) == 1
     if before is not None:
-        assert out.read_bytes() == before                          # untouched
+        assert out.read_bytes() == before  # untouched
     assert deck.read_text() == deck_text("a")
     assert side_files(tmp_path) == []
 
@@ -241,7 +263,15 @@ def test_symlink_to_a_results_file_writes_its_target(tmp_path, capfd):
     link = tmp_path / "link.h5"
     link.symlink_to(target)
     deck.write_text(deck_text("a", "b"))
-    assert run(capfd, str(deck), "-o", str(link), )[0] == 0
+    assert (
+        run(
+            capfd,
+            str(deck),
+            "-o",
+            str(link),
+        )[0]
+        == 0
+    )
     assert link.is_symlink() and set(groups(target)) == {"001_a", "002_b"}
     assert side_files(tmp_path) == [] and side_files(target.parent) == []
 
@@ -258,15 +288,17 @@ def test_default_output_and_a_stale_temp_file_beside_it(tmp_path, capfd):
 # ---------------------------------------------------------------------------------------------
 # Another deck's file (railvti.runner.results.deck_owner, railvti.runner.batch.check_deck)
 
-def _results_of(tmp: Path, capfd, *names: str, fname: str = "first.nml", out: str = "out.h5",
-                type_: str = "normal") -> Path:
+
+def _results_of(
+    tmp: Path, capfd, *names: str, fname: str = "first.nml", out: str = "out.h5", type_: str = "normal"
+) -> Path:
     d = tmp / fname
     d.write_text(deck_text(*names, type_=type_))
     assert run(capfd, str(d), "-o", str(tmp / out))[0] == 0
     return tmp / out
 
 
-OTHER = {   # the first deck's cases, the second deck's cases
+OTHER = {  # the first deck's cases, the second deck's cases
     "no_case_shared": (("a", "b"), ("x", "y")),
     "one_of_three_shared": (("a", "b", "c"), ("a", "y", "z")),
     "same_names_other_positions": (("a", "b"), ("b", "a")),
@@ -306,7 +338,7 @@ def test_force_replaces_other_deck(tmp_path, capfd, resume):
     deck = write_deck(tmp_path, "x", fname="second.nml")
     rc, text, err = run(capfd, str(deck), "-o", str(out), "--force", *(["--resume"] if resume else []))
     assert rc == 0 and "--force: it is replaced" in err
-    assert groups(out) == {"001_x": "ok"}                          # nothing mixed in
+    assert groups(out) == {"001_x": "ok"}  # nothing mixed in
     with h5py.File(out, "r") as f:
         assert f.attrs["deck_path"] == str(deck.resolve())
     assert side_files(tmp_path) == []
@@ -334,9 +366,13 @@ def test_same_deck_accepted(tmp_path, capfd, kind, resume):
             del f.attrs["deck_path"], f.attrs["deck_digest"]
     folder = tmp_path / where if where and where != "strip" else tmp_path
     folder.mkdir(exist_ok=True)
-    body = {"same": deck_text("a", "b"), "add": deck_text("a", "b", "c"),
-            "rename": deck_text("p", "q"), "half": deck_text("a", "z"),
-            "edit": deck_text("a", "b").replace("fn = 1e4", "fn = 8e3", 1)}[text]
+    body = {
+        "same": deck_text("a", "b"),
+        "add": deck_text("a", "b", "c"),
+        "rename": deck_text("p", "q"),
+        "half": deck_text("a", "z"),
+        "edit": deck_text("a", "b").replace("fn = 1e4", "fn = 8e3", 1),
+    }[text]
     if where == "moved":
         (tmp_path / "first.nml").unlink()
     deck = folder / fname
@@ -344,10 +380,13 @@ def test_same_deck_accepted(tmp_path, capfd, kind, resume):
     rc, out_text, err = run(capfd, str(deck), "-o", str(out), *(["--resume"] if resume else []))
     assert rc == 0 and "railvti: error" not in err
     names = set(groups(out))
-    expect = {"same": {"001_a", "002_b"}, "add": {"001_a", "002_b", "003_c"},
-              "rename": {"001_p", "002_q"} | ({"001_a", "002_b"} if resume else set()),
-              "half": {"001_a", "002_z"} | ({"002_b"} if resume else set()),
-              "edit": {"001_a", "002_b"}}[text]
+    expect = {
+        "same": {"001_a", "002_b"},
+        "add": {"001_a", "002_b", "003_c"},
+        "rename": {"001_p", "002_q"} | ({"001_a", "002_b"} if resume else set()),
+        "half": {"001_a", "002_z"} | ({"002_b"} if resume else set()),
+        "edit": {"001_a", "002_b"},
+    }[text]
     assert names == expect
     no_nan(out)
 
@@ -362,6 +401,7 @@ def test_deck_digest_ignores_parameters():
 # ---------------------------------------------------------------------------------------------
 # Damaged results files
 
+
 def _damage(path: Path, how: str) -> None:
     data = bytearray(path.read_bytes())
     if how == "truncated_half":
@@ -372,7 +412,7 @@ def _damage(path: Path, how: str) -> None:
         path.write_bytes(bytes(data[: len(data) // 3]) + bytes(len(data) - len(data) // 3))
     elif how == "noise_in_the_middle":
         mid = len(data) // 2
-        data[mid:mid + 2048] = os.urandom(2048)
+        data[mid : mid + 2048] = os.urandom(2048)
         path.write_bytes(bytes(data))
     else:
         raise AssertionError(how)
@@ -402,7 +442,7 @@ def test_damaged_results_file_forced(tmp_path, capfd, how, resume):
     deck = write_deck(tmp_path, "a", "b", fname="first.nml")
     rc, text, _ = run(capfd, str(deck), "-o", str(out), "--force", *(["--resume"] if resume else []))
     assert rc == 0 and groups(out) == {"001_a": "ok", "002_b": "ok"}
-    assert "2 of 2 cases ok" in text and "kept from before" not in text      # both ran again
+    assert "2 of 2 cases ok" in text and "kept from before" not in text  # both ran again
     no_nan(out)
 
 
@@ -424,8 +464,9 @@ HOLDER = textwrap.dedent("""
 def holder(tmp_path):
     """Another live process holding the lock of tmp_path/out.h5."""
     out = tmp_path / "out.h5"
-    p = subprocess.Popen([sys.executable, "-c", HOLDER, str(lock_path(out))],
-                         stdout=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(lock_path(out))], stdout=subprocess.PIPE, text=True
+    )
     try:
         assert p.stdout.readline().strip() == "locked"
         yield out, p
@@ -444,19 +485,22 @@ def test_live_lock_refused(holder, tmp_path, capfd, via):
                 pass
         err = str(exc.value)
     else:
-        extra = {"cli": [], "cli_resume": ["--resume"], "cli_force": ["--force"],
-                 "other_deck": []}[via]
+        extra = {"cli": [], "cli_resume": ["--resume"], "cli_force": ["--force"], "other_deck": []}[via]
         if via == "other_deck":
             deck = write_deck(tmp_path, "x", fname="other.nml")
         rc, _, err = run(capfd, str(deck), "-o", str(out), *extra)
         assert rc == 2 and len(err.splitlines()) == 1
     assert f"PID {proc.pid}" in err and "/decks/other.nml" in err and "being written" in err
-    assert not out.exists() and lock_path(out).exists()           # the holder's lock stays
+    assert not out.exists() and lock_path(out).exists()  # the holder's lock stays
 
 
 STALE = {
-    "dead_pid": {"pid": 2**22 + 12345, "host": socket.gethostname(), "deck": "/d/old.nml",
-                 "started": "2026-01-01T00:00:00"},
+    "dead_pid": {
+        "pid": 2**22 + 12345,
+        "host": socket.gethostname(),
+        "deck": "/d/old.nml",
+        "started": "2026-01-01T00:00:00",
+    },
     "other_host": {"pid": 1, "host": "elsewhere.example", "deck": "/d/old.nml"},
     "garbage": "{{{ not json",
     "empty": "",
@@ -482,8 +526,9 @@ def test_stale_lock_taken_over(tmp_path, capfd, kind):
 
 def test_lock_of_a_killed_holder_taken_over(tmp_path, capfd):
     out = tmp_path / "out.h5"
-    p = subprocess.Popen([sys.executable, "-c", HOLDER, str(lock_path(out))],
-                         stdout=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(lock_path(out))], stdout=subprocess.PIPE, text=True
+    )
     assert p.stdout.readline().strip() == "locked"
     p.kill()
     p.wait(timeout=10)
@@ -493,8 +538,14 @@ def test_lock_of_a_killed_holder_taken_over(tmp_path, capfd):
     assert len(notes) == 1 and f"PID {p.pid}" in notes[0] and not lock_path(out).exists()
 
 
-LOCK_CASES = ["reentrant", "released_after_exception", "record_while_held", "two_outputs",
-              "long_output_name", "released_after_run_error"]
+LOCK_CASES = [
+    "reentrant",
+    "released_after_exception",
+    "record_while_held",
+    "two_outputs",
+    "long_output_name",
+    "released_after_run_error",
+]
 
 
 @pytest.mark.parametrize("kind", LOCK_CASES)
@@ -528,8 +579,10 @@ def test_lock_behaviour(tmp_path, kind, capfd, monkeypatch):
         with OutputLock(long_out, "d"):
             assert lock_path(long_out).exists()
     elif kind == "released_after_run_error":
+
         def boom(params):
             raise KeyError("x")
+
         monkeypatch.setitem(REGISTRY, "boom", CaseType(name="boom", defaults={}, run=boom))
         deck = tmp_path / "deck.nml"
         deck.write_text("&case name='b', type='boom' /\n")
@@ -561,12 +614,17 @@ def test_lock_cannot_be_created(readonly_dir):
 def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
     """Two real processes on one output: the second is refused naming the first's PID."""
     slow = tmp_path / "slow.nml"
-    slow.write_text("&case name='s', type='normal', gap_a=1.0, gap_b=1.0, nx=200, ny=200, "
-                    "dx=0.05e-3, dy=0.05e-3, fn=1e4, method='gs' /\n")
+    slow.write_text(
+        "&case name='s', type='normal', gap_a=1.0, gap_b=1.0, nx=200, ny=200, "
+        "dx=0.05e-3, dy=0.05e-3, fn=1e4, method='gs' /\n"
+    )
     out = tmp_path / "out.h5"
-    first = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(slow), "-o", str(out),
-                              "-q", "--serial"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True)
+    first = subprocess.Popen(
+        [sys.executable, "-m", "railvti.runner.cli", "run", str(slow), "-o", str(out), "-q", "--serial"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         for _ in range(300):
             if lock_path(out).exists() and lock_path(out).read_text().strip():
@@ -574,10 +632,15 @@ def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
             first.poll()
             assert first.returncode is None
             import time
+
             time.sleep(0.05)
         deck = write_deck(tmp_path, "a")
-        r = subprocess.run([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out),
-                            "-q", "--serial"], capture_output=True, text=True, timeout=120)
+        r = subprocess.run(
+            [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert r.returncode == 2 and f"PID {first.pid}" in r.stderr and str(slow.resolve()) in r.stderr
         assert "Traceback" not in r.stderr
     finally:
@@ -589,6 +652,7 @@ def test_two_concurrent_cli_runs_the_second_refused(tmp_path):
 # ---------------------------------------------------------------------------------------------
 # Disk errors while the run writes: exit 3
 
+
 class Disk:
     """The write calls of railvti.runner.guarded_io on a disk that fails at file number ``at``
     (1: the first file written through guarded_io) after ``after`` bytes, with ``code``."""
@@ -598,7 +662,7 @@ class Disk:
         self.files: list[int] = []
 
     def _number(self, fd: int) -> int:
-        name = os.readlink(f"/proc/self/fd/{fd}")     # temporary names are unique
+        name = os.readlink(f"/proc/self/fd/{fd}")  # temporary names are unique
         if name not in self.files:
             self.files.append(name)
         return self.files.index(name) + 1
@@ -608,7 +672,7 @@ class Disk:
             return os.pwrite(fd, data, pos)
         if self.after <= 0:
             raise OSError(self.code, os.strerror(self.code))
-        k = os.pwrite(fd, bytes(data[: min(len(data), self.after)]), pos)     # a short write
+        k = os.pwrite(fd, bytes(data[: min(len(data), self.after)]), pos)  # a short write
         self.after -= k
         return k
 
@@ -627,16 +691,26 @@ STAGES = {
 }
 
 
-def _check_exit_3(rc: int, out: str, err: str, folder: Path, result: Path, kept: int | None,
-                  earlier: frozenset = frozenset()) -> None:
+def _check_exit_3(
+    rc: int,
+    out: str,
+    err: str,
+    folder: Path,
+    result: Path,
+    kept: int | None,
+    earlier: frozenset = frozenset(),
+) -> None:
     """Exit 3, one line, no side file, the file holds exactly the cases reported ok (and
     ``kept`` of them when given)."""
     assert rc == 3, out + err
     assert len(err.splitlines()) == 1 and err.startswith("railvti: error: cannot write")
     assert "--resume" in err and len((out + err).splitlines()) < 20
     assert side_files(folder) == []
-    reported = {f"{int(line.split()[1]):03d}_{line.split()[2][1:-2]}" for line in out.splitlines()
-                if line.startswith("case ") and ("Fn =" in line or "streamed" in line)}
+    reported = {
+        f"{int(line.split()[1]):03d}_{line.split()[2][1:-2]}"
+        for line in out.splitlines()
+        if line.startswith("case ") and ("Fn =" in line or "streamed" in line)
+    }
     assert reported | earlier == (set(groups(result)) if result.exists() else set())
     if kept is None:
         return
@@ -659,8 +733,7 @@ def test_write_error_exit_3(tmp_path, capfd, monkeypatch, stage):
     assert os.strerror(code) in err
 
 
-OS_STAGES = ["fsync_eio", "rename_exdev", "temp_create_enospc", "resume_copy_enospc",
-             "truncate_enospc"]
+OS_STAGES = ["fsync_eio", "rename_exdev", "temp_create_enospc", "resume_copy_enospc", "truncate_enospc"]
 
 
 @pytest.mark.parametrize("stage", OS_STAGES)
@@ -669,7 +742,7 @@ def test_write_error_exit_3_os_calls(tmp_path, capfd, monkeypatch, stage):
     copying the file for --resume, setting its length."""
     deck = write_deck(tmp_path, "a", "b", "c")
     out = tmp_path / "out.h5"
-    kept = None if stage == "truncate_enospc" else 1      # HDF5 truncates more than once
+    kept = None if stage == "truncate_enospc" else 1  # HDF5 truncates more than once
     calls = []
 
     def fail_second(real, code):
@@ -678,6 +751,7 @@ def test_write_error_exit_3_os_calls(tmp_path, capfd, monkeypatch, stage):
             if len(calls) >= 2:
                 raise OSError(code, os.strerror(code))
             return real(*a, **k)
+
         return f
 
     if stage == "fsync_eio":
@@ -692,11 +766,18 @@ def test_write_error_exit_3_os_calls(tmp_path, capfd, monkeypatch, stage):
         assert run(capfd, str(write_deck(tmp_path, "a")), "-o", str(out))[0] == 0
         deck = write_deck(tmp_path, "a", "b", "c")
         monkeypatch.setattr(results.shutil, "copyfile", fail_second(shutil.copyfile, errno.ENOSPC))
-        calls.append(1)                   # the first copy already fails
+        calls.append(1)  # the first copy already fails
     args = [str(deck), "-o", str(out)] + (["--resume"] if stage == "resume_copy_enospc" else [])
     rc, text, err = run(capfd, *args)
-    _check_exit_3(rc, text, err, tmp_path, out, kept,
-                  frozenset({"001_a"}) if stage == "resume_copy_enospc" else frozenset())
+    _check_exit_3(
+        rc,
+        text,
+        err,
+        tmp_path,
+        out,
+        kept,
+        frozenset({"001_a"}) if stage == "resume_copy_enospc" else frozenset(),
+    )
 
 
 def test_a_file_that_takes_no_record_at_all_is_exit_3(tmp_path, capfd, monkeypatch):
@@ -720,6 +801,7 @@ def test_a_file_that_takes_no_record_at_all_is_exit_3(tmp_path, capfd, monkeypat
 @pytest.fixture
 def streamer(monkeypatch):
     """A case type that streams ``blocks`` blocks of 100 rows through railvti.runner.stream."""
+
     def run_streamer(params):
         stream = case_stream(1e9, store=("t", "q"))
         assert stream is not None
@@ -727,10 +809,13 @@ def streamer(monkeypatch):
         for b in range(int(params["blocks"])):
             stream.append({"t": t + 100 * b, "q": np.ones((100, 8)) * b})
         stream.close()
-        return CaseOutput(summary="streamed", datasets={"t": (stream.streamed("t"), "s"),
-                                                        "q": (stream.streamed("q"), "m")})
-    monkeypatch.setitem(REGISTRY, "streamer", CaseType(name="streamer", defaults={"blocks": 5},
-                                                       run=run_streamer))
+        return CaseOutput(
+            summary="streamed", datasets={"t": (stream.streamed("t"), "s"), "q": (stream.streamed("q"), "m")}
+        )
+
+    monkeypatch.setitem(
+        REGISTRY, "streamer", CaseType(name="streamer", defaults={"blocks": 5}, run=run_streamer)
+    )
     monkeypatch.setenv(STREAM_ENV, "0")
 
 
@@ -749,8 +834,11 @@ def test_stream_write_error_exit_3(tmp_path, capfd, monkeypatch, streamer, stage
     at, after = STREAM_STAGES[stage]
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(at, after).pwrite)
     deck = tmp_path / "deck.nml"
-    deck.write_text(deck_text("a") + "&case name='s', type='streamer', blocks=5 /\n"
-                    + deck_text("c").replace("'c'", "'c'"))
+    deck.write_text(
+        deck_text("a")
+        + "&case name='s', type='streamer', blocks=5 /\n"
+        + deck_text("c").replace("'c'", "'c'")
+    )
     out = tmp_path / "out.h5"
     rc, text, err = run(capfd, str(deck), "-o", str(out))
     _check_exit_3(rc, text, err, tmp_path, out, 1)
@@ -772,6 +860,7 @@ def test_api_write_error(tmp_path, monkeypatch, capfd, code):
     """save() and a HistoryStream on a failing disk: WriteFailed, the old file kept, HDF5
     quiet (no "Exception ignored"), the process sound (a later write works)."""
     from railvti.contact.normal import NormalResult  # noqa: F401 - a result class
+
     target = tmp_path / "r.h5"
     target.write_bytes(b"old")
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(1, 500, code).pwrite)
@@ -786,16 +875,16 @@ def test_api_write_error(tmp_path, monkeypatch, capfd, code):
     assert exc.value.errno == code and target.read_bytes() == b"old"
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(1, 500, code).pwrite)
     s = HistoryStream(tmp_path / "s.h5")
-    with pytest.raises(WriteFailed):                            # in a block or at the close
+    with pytest.raises(WriteFailed):  # in a block or at the close
         try:
-            for b in range(50):
+            for _b in range(50):
                 s.append({"t": np.arange(1000.0)})
         finally:
             s.close()
-    s.close()                                                   # a second close is quiet
+    s.close()  # a second close is quiet
     assert s.failed or s.rows < 50000
     monkeypatch.setattr(guarded_io, "_pwrite", os.pwrite)
-    with h5py.File(tmp_path / "after.h5", "w") as f:            # HDF5 still sound
+    with h5py.File(tmp_path / "after.h5", "w") as f:  # HDF5 still sound
         f["x"] = np.arange(3)
     assert "Exception ignored" not in capfd.readouterr().err
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
@@ -847,7 +936,7 @@ def test_signal_inside_save(tmp_path, monkeypatch, capfd):
         result_objects.save(R(np.arange(5000.0)), target)
     assert target.read_bytes() == b"old" and side_files(tmp_path) == []
     monkeypatch.setattr(guarded_io, "_pwrite", os.pwrite)
-    result_objects.save(R(np.arange(5.0)), target)                     # HDF5 still sound
+    result_objects.save(R(np.arange(5.0)), target)  # HDF5 still sound
     assert "Exception ignored" not in capfd.readouterr().err
 
 
@@ -856,6 +945,7 @@ def test_sweeps_run_raises_on_a_write_error(tmp_path, monkeypatch, out_given):
     """The API (railvti.runner.sweeps.run): a run stopped by its file raises WriteFailed naming it,
     it does not return a short list of records."""
     from railvti.runner import sweeps
+
     monkeypatch.setattr(guarded_io, "_pwrite", Disk(2, 0).pwrite)
     cases = parse_deck(deck_text("a", "b", "c"))
     with pytest.raises(WriteFailed, match="keeps the 1 case written before") as exc:
@@ -866,6 +956,7 @@ def test_sweeps_run_raises_on_a_write_error(tmp_path, monkeypatch, out_given):
 
 def test_sweeps_run_refused_by_a_live_lock(holder, tmp_path):
     from railvti.runner import sweeps
+
     out, proc = holder
     with pytest.raises(InputError, match=f"PID {proc.pid}"):
         sweeps.run(parse_deck(deck_text("a")), out=out)
@@ -875,8 +966,10 @@ def test_sweeps_run_refused_by_a_live_lock(holder, tmp_path):
 # ---------------------------------------------------------------------------------------------
 # GuardedFile itself: handled edge cases
 
-@pytest.mark.parametrize("kind", ["lost_writes_read_back", "overlapping_lost_writes",
-                                  "read_past_the_end", "truncate_then_grow"])
+
+@pytest.mark.parametrize(
+    "kind", ["lost_writes_read_back", "overlapping_lost_writes", "read_past_the_end", "truncate_then_grow"]
+)
 def test_guarded_file(tmp_path, monkeypatch, kind):
     p = tmp_path / "g.bin"
     fh = GuardedFile(p, "w")

@@ -15,6 +15,7 @@ graph of imports among railvti's modules, resolving relative imports. It fails o
   (:data:`HEAVY`) or one of the deliberate lazy imports listed in :data:`LAZY`. An import
   inside a function that dodges a circle hides the circle from readers and from this test.
 """
+
 from __future__ import annotations
 
 import ast
@@ -37,28 +38,38 @@ HEAVY = frozenset({"dask", "distributed", "matplotlib", "scipy", "triangle", "tq
 #: loads numpy, h5py or Fortran (railvti/runner/cli.py's docstring: a Ctrl-C in the first
 #: instant exits with one line); railvti/__init__ loads Material and STEEL on first use
 #: (PEP 562) for the same reason.
-LAZY = frozenset({
-    ("railvti", "railvti.material"),
-    ("railvti.runner.cli", "railvti.casetypes"),
-    ("railvti.runner.cli", "railvti.resources"),
-    ("railvti.runner.cli", "railvti.runner.batch"),
-    ("railvti.runner.cli", "railvti.runner.cost"),
-    ("railvti.runner.cli", "railvti.runner.deck"),
-    ("railvti.runner.cli", "railvti.runner.deck_registry"),
-    ("railvti.runner.cli", "railvti.runner.output_lock"),
-    ("railvti.runner.cli", "railvti.runner.plots"),
-    ("railvti.runner.cli", "railvti.runner.summary"),
-    ("railvti.runner.cli", "railvti.runner.sweeps"),
-})
+LAZY = frozenset(
+    {
+        ("railvti", "railvti.material"),
+        ("railvti.runner.cli", "railvti.casetypes"),
+        ("railvti.runner.cli", "railvti.resources"),
+        ("railvti.runner.cli", "railvti.runner.batch"),
+        ("railvti.runner.cli", "railvti.runner.cost"),
+        ("railvti.runner.cli", "railvti.runner.deck"),
+        ("railvti.runner.cli", "railvti.runner.deck_registry"),
+        ("railvti.runner.cli", "railvti.runner.output_lock"),
+        ("railvti.runner.cli", "railvti.runner.plots"),
+        ("railvti.runner.cli", "railvti.runner.summary"),
+        ("railvti.runner.cli", "railvti.runner.sweeps"),
+    }
+)
 
 RUNNER = "railvti.runner"
 #: The physics packages and modules (they, and the floor, never import the runner).
-PHYSICS = ("railvti.contact", "railvti.geometry", "railvti.track", "railvti.wheelset",
-           "railvti.vehicle", "railvti.profiles", "railvti.scenarios", "railvti.critical_search")
+PHYSICS = (
+    "railvti.contact",
+    "railvti.geometry",
+    "railvti.track",
+    "railvti.wheelset",
+    "railvti.vehicle",
+    "railvti.profiles",
+    "railvti.scenarios",
+    "railvti.critical_search",
+)
 
 
 def _package_dir() -> Path:
-    spec = importlib.util.find_spec("railvti")       # finds, does not import
+    spec = importlib.util.find_spec("railvti")  # finds, does not import
     assert spec is not None and spec.submodule_search_locations, "railvti is not importable"
     return Path(list(spec.submodule_search_locations)[0])
 
@@ -75,8 +86,7 @@ def _modules(root: Path) -> dict[str, tuple[Path, bool]]:
     return out
 
 
-def _targets(node: ast.Import | ast.ImportFrom, module: str, is_pkg: bool,
-             modules: dict) -> list[str]:
+def _targets(node: ast.Import | ast.ImportFrom, module: str, is_pkg: bool, modules: dict) -> list[str]:
     """The modules an import statement names (railvti's resolved to the module itself,
     a name imported from a package to its submodule when it is one; others as written)."""
     if isinstance(node, ast.Import):
@@ -84,7 +94,7 @@ def _targets(node: ast.Import | ast.ImportFrom, module: str, is_pkg: bool,
     else:
         if node.level:
             base = module.split(".") if is_pkg else module.split(".")[:-1]
-            base = base[:len(base) - (node.level - 1)]
+            base = base[: len(base) - (node.level - 1)]
             pkg = ".".join(base + ([node.module] if node.module else []))
         else:
             pkg = node.module or ""
@@ -101,7 +111,7 @@ def _targets(node: ast.Import | ast.ImportFrom, module: str, is_pkg: bool,
 class _Imports(ast.NodeVisitor):
     def __init__(self, module: str, is_pkg: bool, modules: dict) -> None:
         self.module, self.is_pkg, self.modules = module, is_pkg, modules
-        self.top: list[tuple[int, str]] = []          # (line, imported module)
+        self.top: list[tuple[int, str]] = []  # (line, imported module)
         self.local: list[tuple[int, str]] = []
         self.depth = 0
 
@@ -126,7 +136,7 @@ def _graph() -> tuple[dict[str, set[str]], list[tuple[str, int, str]], list[tupl
     for name, (path, is_pkg) in modules.items():
         v = _Imports(name, is_pkg, modules)
         v.visit(ast.parse(path.read_text(encoding="utf-8"), str(path)))
-        for line, target in v.top:
+        for _line, target in v.top:
             if target in modules and target != name:
                 edges[name].add(target)
         every += [(name, line, t) for line, t in v.top + v.local]
@@ -178,8 +188,12 @@ def _in(module: str, prefix: str) -> bool:
 
 def test_the_reader_sees_the_package():
     """The graph is the package's: its layers are there and it has its known arrows."""
-    assert {"railvti.runner.cli", "railvti.casetypes", "railvti.vehicle.simulate",
-            "railvti.scenarios"} <= set(GRAPH)
+    assert {
+        "railvti.runner.cli",
+        "railvti.casetypes",
+        "railvti.vehicle.simulate",
+        "railvti.scenarios",
+    } <= set(GRAPH)
     assert "railvti.casetypes" in GRAPH["railvti.runner.batch"]
     assert "railvti.vehicle.simulate" in GRAPH["railvti.vehicle.running"]
     assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
@@ -191,20 +205,20 @@ def test_no_circle_among_the_module_level_imports():
 
 
 def test_nothing_outside_the_runner_imports_it():
-    wrong = [f"{m}:{line} imports {t}" for m, line, t in EVERY
-             if not _in(m, RUNNER) and _in(t, RUNNER)]
+    wrong = [f"{m}:{line} imports {t}" for m, line, t in EVERY if not _in(m, RUNNER) and _in(t, RUNNER)]
     assert not wrong, "imports of the runner from below it:\n" + "\n".join(wrong)
     physics = [m for m in GRAPH if any(_in(m, p) for p in PHYSICS)]
-    assert len(physics) > 40              # the physics is in the graph the check walked
+    assert len(physics) > 40  # the physics is in the graph the check walked
 
 
-@pytest.mark.parametrize("module, line, target", LOCAL,
-                         ids=[f"{m}:{line}:{t}" for m, line, t in LOCAL])
+@pytest.mark.parametrize("module, line, target", LOCAL, ids=[f"{m}:{line}:{t}" for m, line, t in LOCAL])
 def test_an_import_inside_a_function_is_of_a_heavy_dependency_or_listed(module, line, target):
     if target.split(".")[0] in HEAVY or (module, target) in LAZY:
         return
-    pytest.fail(f"{module}:{line} imports {target} inside a function: import it at the top "
-                "(a circle it dodged is to be broken, not hidden)")
+    pytest.fail(
+        f"{module}:{line} imports {target} inside a function: import it at the top "
+        "(a circle it dodged is to be broken, not hidden)"
+    )
 
 
 def test_every_listed_lazy_import_is_still_there():

@@ -1,6 +1,7 @@
 """Ctrl-C inside the CG normal solver (issue 16 item 2): the solver runs in resumable slices
 (``normal_cg_slice_c``) whose numbers are those of one call, and SIGINT stops a long solve
 within about a slice (0.1 s) instead of at the end of the Fortran call."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -22,17 +23,21 @@ def test_cg_in_slices_equals_one_call(monkeypatch, method, control):
     g = Grid(160, 160, 0.15e-3, 0.15e-3)
     gap = hertz_gap(g, 1.0, 1.6)
     kw = {"fn": 1e4} if control == "fn" else {"approach": 2e-5}
-    monkeypatch.setattr(normal_mod, "CG_SLICE_SECONDS", 1e-9)       # one iteration per slice
+    monkeypatch.setattr(normal_mod, "CG_SLICE_SECONDS", 1e-9)  # one iteration per slice
     sliced = normal_mod.solve_normal(gap, g, STEEL, method=method, **kw)
 
     def one_call(handle, h, ctrl, meth, tol, max_iter, fn_in, app_in, p, sub):
         return core.normal_solve_c(handle, h, ctrl, meth, tol, max_iter, 1.0, fn_in, app_in, p)
+
     monkeypatch.setattr(normal_mod, "_cg_in_slices", one_call)
     whole = normal_mod.solve_normal(gap, g, STEEL, method=method, **kw)
     assert np.array_equal(sliced.pressure, whole.pressure)
     assert (sliced.fn, sliced.approach, sliced.residual) == (whole.fn, whole.approach, whole.residual)
-    assert (sliced.iterations, sliced.fft_products, sliced.coarse_fft_products) == \
-        (whole.iterations, whole.fft_products, whole.coarse_fft_products)
+    assert (sliced.iterations, sliced.fft_products, sliced.coarse_fft_products) == (
+        whole.iterations,
+        whole.fft_products,
+        whole.coarse_fft_products,
+    )
     assert sliced.iterations > 5
 
 

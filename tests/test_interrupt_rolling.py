@@ -3,6 +3,7 @@ slices (Anderson history and patch set-up), so it runs in a worker thread with t
 released (``!f2py threadsafe``) while the main thread waits for signals
 (``contact.workspace.call_interruptibly``): SIGINT stops the process within about 0.05 s
 plus the exit, and the abandoned call's workspace is neither reused nor freed under it."""
+
 from __future__ import annotations
 
 import signal
@@ -39,7 +40,7 @@ def test_sigint_stops_a_long_rolling_solve_within_a_second():
     # 2.5 s: the normal solve (< 1 s), then inside the rolling call
     stdout, stderr, latency, code = sigint_after_ready(LONG_ROLLING, 2.5)
     assert "finished" not in stdout and "KeyboardInterrupt" in stderr
-    assert "call_interruptibly" in stderr           # stopped in the rolling call's wait
+    assert "call_interruptibly" in stderr  # stopped in the rolling call's wait
     assert code != -signal.SIGSEGV
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
 
@@ -49,8 +50,7 @@ def test_the_threaded_call_gives_the_numbers_of_a_direct_call(monkeypatch):
     gap = hertz_gap(g, 1.0, 1.6)
     args = (gap, g, STEEL, 0.3, 1e5, (1e-3, 5e-4, 0.5), 30.0)
     threaded = solve_rolling(*args)
-    monkeypatch.setattr("railvti.contact.rolling.call_interruptibly",
-                        lambda handle, fn, *a: fn(handle, *a))
+    monkeypatch.setattr("railvti.contact.rolling.call_interruptibly", lambda handle, fn, *a: fn(handle, *a))
     direct = solve_rolling(*args)
     assert threaded.iterations == direct.iterations > 3
     assert np.array_equal(threaded.tx, direct.tx) and np.array_equal(threaded.ty, direct.ty)
@@ -61,12 +61,13 @@ def test_a_workspace_still_in_use_waits_and_is_not_freed(monkeypatch):
     freeing skips it."""
     freed = []
     monkeypatch.setattr(ws_mod.core, "contact_ws_free_c", freed.append)
-    monkeypatch.setattr(ws_mod, "_live", ws_mod._live | {-7})    # a made workspace, busy
+    monkeypatch.setattr(ws_mod, "_live", ws_mod._live | {-7})  # a made workspace, busy
     ws_mod._busy.add(-7)
     try:
         ws_mod._free(-7)
         assert freed == []
         import threading
+
         threading.Timer(0.2, ws_mod._busy.discard, args=(-7,)).start()
         t0 = time.monotonic()
         assert ws_mod.call_interruptibly(-7, lambda h, x: (h, x), 3) == (-7, 3)

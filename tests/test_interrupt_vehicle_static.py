@@ -4,6 +4,7 @@ with the GIL released (``!f2py threadsafe``) while the main thread waits for sig
 (``vehicle.equilibrium._static_call``): SIGINT stops the process within about 0.05 s plus the
 exit (one blocking call: ~2.3 s, benchmarks/bench_interrupt_latency.py). The interrupted call
 keeps its model (a later call waits for it) and abandons its BEM state."""
+
 from __future__ import annotations
 
 import _thread
@@ -41,7 +42,7 @@ print("finished", flush=True)
 def test_sigint_stops_a_bem_static_solve_within_a_second():
     stdout, stderr, latency, code = sigint_after_ready(LONG_STATIC, 1.0)
     assert "finished" not in stdout and "KeyboardInterrupt" in stderr
-    assert "_static_call" in stderr                 # stopped in the static call's wait
+    assert "_static_call" in stderr  # stopped in the static call's wait
     assert code != -signal.SIGSEGV
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
 
@@ -49,12 +50,13 @@ def test_sigint_stops_a_bem_static_solve_within_a_second():
 def test_the_threaded_call_gives_the_numbers_of_a_direct_call(monkeypatch):
     sy = scenarios.coach_system()
     threaded = static_equilibrium(sy, V, return_velocity=True)
-    monkeypatch.setattr(S, "_static_call",
-                        lambda system, cs, bem, q, tol, maxit: system.native.static(cs, q, tol, maxit))
+    monkeypatch.setattr(
+        S, "_static_call", lambda system, cs, bem, q, tol, maxit: system.native.static(cs, q, tol, maxit)
+    )
     direct = static_equilibrium(sy, V, return_velocity=True)
     for a, b in zip(threaded, direct):
         assert np.array_equal(a, b)
-    assert np.abs(threaded[0]).max() > 1e-4          # a loaded state, not the zero start
+    assert np.abs(threaded[0]).max() > 1e-4  # a loaded state, not the zero start
 
 
 def test_an_interrupted_solve_keeps_its_model_and_abandons_its_bem_state():
@@ -69,17 +71,16 @@ def test_an_interrupted_solve_keeps_its_model_and_abandons_its_bem_state():
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)
     try:
-        with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6,
-                                      jacobian_age=0)) as st:
+        with bem_state(sy, BemOptions(window=False, tol_normal=1e-8, tol_rolling=1e-6, jacobian_age=0)) as st:
             timer.start()
             with pytest.raises(KeyboardInterrupt):
                 static_equilibrium(sy, V, "bem", bem=st)
             assert st.handle == 0
             assert sy.native.handle in S._busy_models
-            assert not sy.native._free.atexit        # not freed at exit under the call
+            assert not sy.native._free.atexit  # not freed at exit under the call
     finally:
         timer.cancel()
         signal.signal(signal.SIGINT, previous)
-    q = static_equilibrium(sy, V)[0]                 # waits for the abandoned call
+    q = static_equilibrium(sy, V)[0]  # waits for the abandoned call
     assert sy.native.handle not in S._busy_models and sy.native._free.atexit
     assert np.array_equal(q, ref)

@@ -4,6 +4,7 @@ thread with the GIL released while the main thread waits for signals
 (``wheelset.fe._modes_call``), one call at a time (ARPACK is not reentrant): SIGINT stops the
 process within about 0.05 s plus the exit (one blocking call: up to ~1.4 s,
 benchmarks/bench_interrupt_latency.py)."""
+
 from __future__ import annotations
 
 import _thread
@@ -32,7 +33,7 @@ print("finished", flush=True)
 def test_sigint_stops_the_wheelset_modes_within_a_second():
     stdout, stderr, latency, code = sigint_after_ready(LONG_MODES, 0.5)
     assert "finished" not in stdout and "KeyboardInterrupt" in stderr
-    assert "_modes_call" in stderr                  # stopped in the modes call's wait
+    assert "_modes_call" in stderr  # stopped in the modes call's wait
     assert code != -signal.SIGSEGV
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
 
@@ -48,7 +49,7 @@ def test_an_interrupted_modes_call_holds_arpack_until_its_end():
         timer.start()
         with pytest.raises(KeyboardInterrupt):
             Wheelset().harmonic(2, 3000.0, "free")
-        assert fe._ARPACK.locked()                  # the abandoned call still runs
+        assert fe._ARPACK.locked()  # the abandoned call still runs
     finally:
         timer.cancel()
         signal.signal(signal.SIGINT, previous)

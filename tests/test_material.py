@@ -12,9 +12,17 @@ def test_material_derived_moduli():
     assert m.contact_modulus == pytest.approx(80e9 / 0.75)
 
 
-@pytest.mark.parametrize("g, nu, word", [(0.0, 0.3, "shear_modulus"), (-1e9, 0.3, "shear_modulus"),
-                                          (80e9, 0.5, "poisson"), (80e9, -0.1, "poisson"),
-                                          (math.nan, 0.3, "shear_modulus"), (80e9, math.inf, "poisson")])
+@pytest.mark.parametrize(
+    "g, nu, word",
+    [
+        (0.0, 0.3, "shear_modulus"),
+        (-1e9, 0.3, "shear_modulus"),
+        (80e9, 0.5, "poisson"),
+        (80e9, -0.1, "poisson"),
+        (math.nan, 0.3, "shear_modulus"),
+        (80e9, math.inf, "poisson"),
+    ],
+)
 def test_material_rejects_bad_values(g, nu, word):
     with pytest.raises(InputError, match=word):
         Material(shear_modulus=g, poisson=nu)
@@ -22,5 +30,6 @@ def test_material_rejects_bad_values(g, nu, word):
 
 def test_package_imports_core():
     from railvti import _native
+
     assert hasattr(_native.core, "normal_solve_c")
     assert railvti.__version__

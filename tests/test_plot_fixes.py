@@ -1,6 +1,7 @@
 """Plot fixes of issue 31 (item 8): titles that fit, no '-0', the critical speed titled and
 marked, sweep axes named with units and one legend beside the panels, and ``railvti plot``
 saying why a case gave no figure."""
+
 from __future__ import annotations
 
 import matplotlib
@@ -25,6 +26,7 @@ def figures(monkeypatch):
         self.canvas.draw()
         saved.append(self)
         return original(self, *args, **kwargs)
+
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
     return saved
 
@@ -38,14 +40,18 @@ class _Group(dict):
 
 
 def test_case_title_no_negative_zero():
-    title = case_title(_Group("left_1", {"y": np.float64(-0.0), "yaw": np.float64(-0.0)}),
-                       (("y", "y", 1e3, " mm"), ("yaw", "yaw", 1e3, " mrad")))
+    title = case_title(
+        _Group("left_1", {"y": np.float64(-0.0), "yaw": np.float64(-0.0)}),
+        (("y", "y", 1e3, " mm"), ("yaw", "yaw", 1e3, " mrad")),
+    )
     assert title == "left_1: y 0 mm, yaw 0 mrad"
 
 
 def test_wrap_title_fits_and_keeps_items():
-    text = ("wheel on rail, left_1: y 0 mm, yaw 0 mrad, Fz 10 kN, mu 0.3, speed 2 m/s, "
-            "a rather long extra item that must wrap somewhere")
+    text = (
+        "wheel on rail, left_1: y 0 mm, yaw 0 mrad, Fz 10 kN, mu 0.3, speed 2 m/s, "
+        "a rather long extra item that must wrap somewhere"
+    )
     out = wrap_title(text, 5.0, 10)
     chars = int(5.0 * 72 / 6.0) - 2
     assert all(len(line) <= chars for line in out.split("\n"))
@@ -55,13 +61,26 @@ def test_wrap_title_fits_and_keeps_items():
 
 def test_bifurcation_marks_the_critical_speed(tmp_path, figures):
     sp = np.array([200.0, 250.0, 300.0])
-    plot_bifurcation(sp, np.array([0.0, 1e-3, 3e-3]), np.array([0.0, 0.0, 2e-3]), 320.0,
-                     tmp_path / "b.png", title="crit: critical speed, model RR", critical_kmh=250.0)
+    plot_bifurcation(
+        sp,
+        np.array([0.0, 1e-3, 3e-3]),
+        np.array([0.0, 0.0, 2e-3]),
+        320.0,
+        tmp_path / "b.png",
+        title="crit: critical speed, model RR",
+        critical_kmh=250.0,
+    )
     ax = figures[-1].axes[0]
     assert ax.get_title() == "crit: critical speed, model RR"
-    xs = [line.get_xdata()[0] for line in ax.get_lines() if "critical speed (nonlinear)" in str(line.get_label())]
+    xs = [
+        line.get_xdata()[0]
+        for line in ax.get_lines()
+        if "critical speed (nonlinear)" in str(line.get_label())
+    ]
     assert xs == [250.0]
-    plot_bifurcation(sp, np.zeros(3), np.zeros(3), float("nan"), tmp_path / "c.png", critical_kmh=float("nan"))
+    plot_bifurcation(
+        sp, np.zeros(3), np.zeros(3), float("nan"), tmp_path / "c.png", critical_kmh=float("nan")
+    )
     assert any("no critical speed found in 200-300 km/h" in t.get_text() for t in figures[-1].axes[0].texts)
 
 
@@ -84,12 +103,16 @@ def test_sweep_axes_and_legend(tmp_path, figures, capsys):
     assert main(["plot", str(tmp_path / "s.h5"), "-o", str(tmp_path / "p"), "--points"]) == 0
     fig = [f for f in figures if f._suptitle is not None and "sweep 's'" in f._suptitle.get_text()][-1]
     axes = fig.axes
-    assert axes[-1].get_xlabel() in ("normal force (fn), N", "gap curvature along y (gap_b), 1/m",
-                                     "Poisson's ratio of wheel and rail (poisson)")
+    assert axes[-1].get_xlabel() in (
+        "normal force (fn), N",
+        "gap curvature along y (gap_b), 1/m",
+        "Poisson's ratio of wheel and rail (poisson)",
+    )
     assert "Hertz semi-axis a, m" in [a.get_ylabel() for a in axes]
-    assert all(a.get_legend() is None for a in axes)                 # no legend over a panel
+    assert all(a.get_legend() is None for a in axes)  # no legend over a panel
     (legend,) = fig.legends
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+
     r = FigureCanvasAgg(fig).get_renderer()
     assert legend.get_window_extent(r).x0 >= max(a.get_window_extent(r).x1 for a in axes) - 1
 
@@ -111,13 +134,16 @@ def test_plot_says_why_nothing_was_plotted(tmp_path, capsys):
     capsys.readouterr()
     assert main(["plot", str(tmp_path / "d.h5"), "-o", str(tmp_path / "p")]) == 1
     err = capsys.readouterr().err
-    assert "001_cramped: not plotted: the case failed (GridTooSmallError" in err and "GridTooSmallError" in err
+    assert (
+        "001_cramped: not plotted: the case failed (GridTooSmallError" in err and "GridTooSmallError" in err
+    )
     assert "no figure written" in err
 
 
 def test_plot_interrupted_before_any_result(tmp_path, capsys):
     """An interrupted case that kept nothing (its group holds only its inputs): said, exit 1."""
     import h5py
+
     deck = tmp_path / "d.nml"
     deck.write_text(TOO_SMALL.replace("nx = 10, ny = 10", "nx = 64, ny = 64"))
     assert main(["run", str(deck), "-o", str(tmp_path / "d.h5"), "-q"]) == 0

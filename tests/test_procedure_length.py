@@ -5,6 +5,7 @@ A procedure runs from its ``subroutine``/``function`` statement to its ``end``; 
 procedure is counted on its own and its lines are left out of its host's count. Run as a
 script to print every procedure over the limit and the longest ones.
 """
+
 from __future__ import annotations
 
 import pathlib
@@ -17,8 +18,10 @@ FORTRAN = ROOT / "fortran"
 LIMIT = 150
 pytestmark = pytest.mark.skipif(not FORTRAN.is_dir(), reason="needs the source tree")
 
-_PREFIX = r"(?:(?:pure|elemental|impure|recursive|module|real\([^)]*\)|integer(?:\([^)]*\))?|logical|" \
-          r"complex\([^)]*\)|character\([^)]*\)|type\([^)]*\))\s+)*"
+_PREFIX = (
+    r"(?:(?:pure|elemental|impure|recursive|module|real\([^)]*\)|integer(?:\([^)]*\))?|logical|"
+    r"complex\([^)]*\)|character\([^)]*\)|type\([^)]*\))\s+)*"
+)
 _START = re.compile(rf"^\s*{_PREFIX}(subroutine|function)\s+([a-z_][a-z0-9_]*)", re.I)
 _END = re.compile(r"^\s*end(\s*(subroutine|function)(\s+[a-z_][a-z0-9_]*)?)?\s*$", re.I)
 _INTERFACE = re.compile(r"^\s*(abstract\s+)?interface\b", re.I)
@@ -39,7 +42,7 @@ def procedure_lengths(path: pathlib.Path) -> list[tuple[str, int, int]]:
             continue
         m = _START.match(line)
         if m and not re.match(r"^\s*end\b", line, re.I):
-            stack.append([m.group(2).lower(), no, 0])     # name, first line, lines of contained procedures
+            stack.append([m.group(2).lower(), no, 0])  # name, first line, lines of contained procedures
             continue
         if stack and _END.match(line):
             name, first, inner = stack.pop()
@@ -63,10 +66,12 @@ def long_procedures(limit: int = LIMIT) -> list[tuple[str, str, int, bool]]:
 
 def test_scanner_counts_contained_procedures_apart(tmp_path):
     src = tmp_path / "m.f90"
-    src.write_text("module m\ncontains\n  pure subroutine a(x)\n    real, intent(in) :: x\n"
-                   "  contains\n    pure real(dp) function b()\n      b = 1\n    end function b\n"
-                   "  end subroutine a\n  subroutine c()\n    interface\n      subroutine d()\n"
-                   "      end subroutine\n    end interface\n  end subroutine\nend module m\n")
+    src.write_text(
+        "module m\ncontains\n  pure subroutine a(x)\n    real, intent(in) :: x\n"
+        "  contains\n    pure real(dp) function b()\n      b = 1\n    end function b\n"
+        "  end subroutine a\n  subroutine c()\n    interface\n      subroutine d()\n"
+        "      end subroutine\n    end interface\n  end subroutine\nend module m\n"
+    )
     assert procedure_lengths(src) == [("b", 6, 3), ("a", 3, 4), ("c", 10, 6)]
 
 
@@ -77,8 +82,10 @@ def test_every_fortran_file_is_scanned():
 
 def test_no_fortran_procedure_over_the_limit_without_a_reason():
     bad = [f"{f}::{name} ({n} lines)" for f, name, n, excused in long_procedures() if not excused]
-    assert not bad, (f"Fortran procedures over {LIMIT} lines: split them, or add a line "
-                     f"'! long: <name>: <reason>' to the file:\n  " + "\n  ".join(bad))
+    assert not bad, (
+        f"Fortran procedures over {LIMIT} lines: split them, or add a line "
+        f"'! long: <name>: <reason>' to the file:\n  " + "\n  ".join(bad)
+    )
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
 """Profiles: generators against the Manchester benchmark files, readers, error paths."""
+
 import numpy as np
 import pytest
 
@@ -36,6 +37,7 @@ def test_s1002_matches_benchmark_within_0_01_mm(bench_wheel):
 def _fit_offset(gen, bench, depth_max):
     """Shift (dy, dz) of the generated profile onto the benchmark points, by normal distances."""
     from scipy.optimize import least_squares
+
     gy, gz = gen.sample(1e-4)
     m = bench.z - bench.z.min() < depth_max
     by, bz = bench.y[m], bench.z[m]
@@ -52,6 +54,7 @@ def _fit_offset(gen, bench, depth_max):
         # only benchmark points within the generated profile's lateral range count
         inside = (by > gy[0] + p[0] + 1e-4) & (by < gy[-1] + p[0] - 1e-4)
         return np.where(inside, np.sqrt(d2.min(axis=1)), 0.0)
+
     sol = least_squares(res, [-0.0075, 0.0], x_scale=1e-3)
     return sol.x, res(sol.x)
 
@@ -68,7 +71,7 @@ def test_uic60_canted_matches_benchmark_within_0_05_mm(bench_rail):
 
 def test_uic60_shape():
     u = P.uic60(cant=0.0)
-    assert u.curvature(0.0) == pytest.approx(1 / 0.300, rel=1e-4)   # R300 crown
+    assert u.curvature(0.0) == pytest.approx(1 / 0.300, rel=1e-4)  # R300 crown
     assert u.curvature(0.018) == pytest.approx(1 / 0.080, rel=1e-3)  # R80
     assert u.height(0.0) == pytest.approx(0.0, abs=1e-9)
     assert np.allclose(u.height([-0.02, -0.01]), u.height([0.02, 0.01]), atol=1e-9)  # symmetric
@@ -99,19 +102,22 @@ def test_text_reader_units(tmp_path):
     g = tmp_path / "rail_m.txt"
     g.write_text("\n".join(f"{a * 1e-3} {a * a / 600e3}" for a in y))
     with pytest.raises(InputError, match="implausible size"):
-        P.read(g, unit="mm", kind="rail")            # metres declared as mm
+        P.read(g, unit="mm", kind="rail")  # metres declared as mm
     assert P.read(g, unit="m", kind="rail").y_max == pytest.approx(0.030)
 
 
-@pytest.mark.parametrize("y, z, word", [
-    ([0, 0.01, np.nan, 0.03, 0.04], [0, 0, 0, 0, 0], "NaN"),
-    ([0, 0.01, 0.02, 0.03, 0.04], [0, 0, np.inf, 0, 0], "NaN"),
-    ([0, 0.01, 0.02, 0.015, 0.04, 0.05], [0, 0.001, 0.002, 0.003, 0.004, 0.005], "not a function"),
-    ([0, 0.03, 0.03, 0.0, 0.015, 0.015], [0, 0, 0.01, 0.01, -0.005, 0.02], "intersects itself"),
-    ([0, 1e-5, 2e-5, 3e-5], [0, 0, 0, 0], "implausible"),
-    ([0, 10, 20, 30, 40], [0, 1, 2, 3, 4], "implausible"),
-    ([0, 0.01, 0.02], [0, 0, 0], "at least 4"),
-])
+@pytest.mark.parametrize(
+    "y, z, word",
+    [
+        ([0, 0.01, np.nan, 0.03, 0.04], [0, 0, 0, 0, 0], "NaN"),
+        ([0, 0.01, 0.02, 0.03, 0.04], [0, 0, np.inf, 0, 0], "NaN"),
+        ([0, 0.01, 0.02, 0.015, 0.04, 0.05], [0, 0.001, 0.002, 0.003, 0.004, 0.005], "not a function"),
+        ([0, 0.03, 0.03, 0.0, 0.015, 0.015], [0, 0, 0.01, 0.01, -0.005, 0.02], "intersects itself"),
+        ([0, 1e-5, 2e-5, 3e-5], [0, 0, 0, 0], "implausible"),
+        ([0, 10, 20, 30, 40], [0, 1, 2, 3, 4], "implausible"),
+        ([0, 0.01, 0.02], [0, 0, 0], "at least 4"),
+    ],
+)
 def test_bad_profiles_rejected(y, z, word):
     with pytest.raises(InputError, match=word):
         P.Profile(np.array(y, float), np.array(z, float), kind="rail")
@@ -145,7 +151,7 @@ def test_load_by_name_or_file(tmp_path, bench_wheel):
     assert np.allclose(r.slope(0.0), P.uic60(cant=1 / 20).slope(0.0), atol=0, rtol=0)
     f = P.load(P.example_path("MBench_S1002_v3.prw"), "wheel")
     assert np.array_equal(f.z, bench_wheel.z)
-    txt = tmp_path / "wheel.txt"          # plain text files in decks are in mm
+    txt = tmp_path / "wheel.txt"  # plain text files in decks are in mm
     np.savetxt(txt, np.c_[bench_wheel.y * 1e3, bench_wheel.z * 1e3])
     assert np.allclose(P.load(txt, "wheel").z, bench_wheel.z, atol=1e-12)
     for spec, kind in (("uic60", "wheel"), ("s1002", "rail"), (tmp_path / "missing.txt", "rail")):

@@ -1,6 +1,7 @@
 """Decks with model = 'FR' (issue 14 item 5): every vehicle scenario takes it, with k_max and
 f_max; the HDF5 results hold the modal coordinates with their mode labels and the rims'
 deformation at the contact points, each with a units attribute."""
+
 from __future__ import annotations
 
 import h5py
@@ -62,22 +63,24 @@ def test_hunting_case_stores_labelled_modes_and_rim_deformation(results):
         g = _group(f, "fr_hunting")
         assert g["modal_q"].attrs["units"].startswith("kg^0.5 m")
         labels = [x.decode() if isinstance(x, bytes) else str(x) for x in g["mode_label"][()]]
-        k, fam = g["mode_k"][()], [x.decode() if isinstance(x, bytes) else str(x)
-                                   for x in g["mode_family"][()]]
+        k, fam = (
+            g["mode_k"][()],
+            [x.decode() if isinstance(x, bytes) else str(x) for x in g["mode_family"][()]],
+        )
         freq = g["mode_frequency"][()]
         assert g["mode_frequency"].attrs["units"] == "Hz" and g["mode_k"].attrs["units"] == "1"
         modal_q, q, t = g["modal_q"][()], g["q"][()], g["t"][()]
         rim = g["rim_deformation"][()]
         angle = g["rim_rail_angle_change"][()]
         camber = g["rim_camber_change"][()]
-        assert "rail_head_roll" not in g          # FR: the rigid track's head does not roll
+        assert "rail_head_roll" not in g  # FR: the rigid track's head does not roll
         assert g["rim_deformation"].attrs["units"] and g["rim_rail_angle_change"].attrs["units"] == "rad"
         dof_names = [x.decode() if isinstance(x, bytes) else str(x) for x in g["q"].attrs["dof_names"]]
     # the labels: the mode set of the FR system at 300 km/h with k <= 1 up to 300 Hz
     sy, lay = scenarios.fr_system(speed_kmh=300.0, k_max=1, f_max=300.0)
     assert modal_q.shape == (t.size, sy.modal.n_modes) and len(labels) == sy.modal.n_modes
-    assert dof_names[sy.n:] == list(sy.modal.names)
-    np.testing.assert_array_equal(modal_q, q[:, sy.n:])
+    assert dof_names[sy.n :] == list(sy.modal.names)
+    np.testing.assert_array_equal(modal_q, q[:, sy.n :])
     for j, lab in enumerate(labels):
         if k[j] < 0:
             assert "residual" in lab and fam[j] == "residual" and np.isnan(freq[j])

@@ -1,5 +1,6 @@
 """Model FR: bad input gives a clear InputError naming the problem (issue 14, acceptance
 'Bad input'), before any run."""
+
 from __future__ import annotations
 
 import pytest
@@ -17,14 +18,17 @@ def _deck(**kw):
     return p
 
 
-@pytest.mark.parametrize("call", [
-    lambda: scenarios.centred_running(200.0, model="FX", duration=0.01),
-    lambda: scenarios.hunting(300.0, model="fr", duration=0.01),
-    lambda: scenarios.bifurcation([300.0, 280.0], model="FQ", progress=False),
-    lambda: scenarios.linear_critical_speed("XR"),
-    lambda: scenarios.critical_speed("ring", method="linear"),
-    lambda: scenarios.coach_system("XX"),
-])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: scenarios.centred_running(200.0, model="FX", duration=0.01),
+        lambda: scenarios.hunting(300.0, model="fr", duration=0.01),
+        lambda: scenarios.bifurcation([300.0, 280.0], model="FQ", progress=False),
+        lambda: scenarios.linear_critical_speed("XR"),
+        lambda: scenarios.critical_speed("ring", method="linear"),
+        lambda: scenarios.coach_system("XX"),
+    ],
+)
 def test_unknown_model(call):
     with pytest.raises(InputError, match="unknown model"):
         call()
@@ -78,19 +82,19 @@ def test_unknown_mode_label():
 def test_step_too_large_for_the_kept_modes():
     """The step is refused before any work (static equilibrium, runs) in every FR entry
     point: 2 ms against the 561 Hz mode of the default selection (h omega = 7)."""
-    for call in (lambda: scenarios.centred_running(200.0, "FR", h=2e-3),
-                 lambda: scenarios.hunting(300.0, "FR", h=2e-3),
-                 lambda: scenarios.bifurcation([300.0, 280.0], "FR", h=2e-3, progress=False),
-                 lambda: scenarios.critical_speed("FR", h=2e-3, speeds_kmh=[300.0, 280.0],
-                                                  progress=False)):
+    for call in (
+        lambda: scenarios.centred_running(200.0, "FR", h=2e-3),
+        lambda: scenarios.hunting(300.0, "FR", h=2e-3),
+        lambda: scenarios.bifurcation([300.0, 280.0], "FR", h=2e-3, progress=False),
+        lambda: scenarios.critical_speed("FR", h=2e-3, speeds_kmh=[300.0, 280.0], progress=False),
+    ):
         with pytest.raises(InputError, match="too large for the highest mode"):
             call()
     # the deck check refuses it with the rest of the case's problems
     with pytest.raises(InputError, match="too large for the highest mode"):
         REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=2e-3))
     # a step the modes take passes the check (k <= 1 up to 300 Hz: 293 Hz, h omega = 1.8)
-    REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=1e-3, k_max=1,
-                                       f_max=300.0))
+    REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=1e-3, k_max=1, f_max=300.0))
 
 
 def test_mode_selection_given_to_rr():
@@ -106,7 +110,7 @@ def test_sweep_speeds_once_and_in_range():
     with pytest.raises(InputError, match="not both"):
         scenarios.bifurcation([300.0, 280.0], speeds=[80.0, 70.0], progress=False)
     with pytest.raises(InputError, match="m/s"):
-        scenarios.bifurcation(speeds=[300.0, 280.0], progress=False)       # km/h given as m/s
+        scenarios.bifurcation(speeds=[300.0, 280.0], progress=False)  # km/h given as m/s
     with pytest.raises(InputError, match="two speeds"):
         scenarios.bifurcation(speeds=[80.0], progress=False)
     with pytest.raises(InputError, match="not both"):

@@ -5,6 +5,7 @@ References: RR's sweep against the plain continuation loop written out with simu
 FR sweep's first run against hunting(model='FR') released from the same disturbance; FR's
 linearisation with decoupled modes against RR's eigenvalues; FR's linear critical speed
 against RR's (wheelset modes at 70 Hz and above, the hunting mode at about 6 Hz)."""
+
 from __future__ import annotations
 
 import math
@@ -32,7 +33,7 @@ def test_rr_sweep_is_the_plain_continuation():
     carried over), the decay run starts from each speed's static state plus y_small; the
     same sweep given in m/s is the same result."""
     d, yl, ys = 0.3, 0.006, 0.0005
-    with pytest.warns(RuntimeWarning, match="no decay"):       # alive at 280 km/h
+    with pytest.warns(RuntimeWarning, match="no decay"):  # alive at 280 km/h
         b = scenarios.bifurcation([300.0, 280.0], duration=d, v_min_kmh=280.0, progress=False)
     sy = scenarios.coach_system("RR")
     up, dec, q, v = {}, {}, None, None
@@ -43,18 +44,18 @@ def test_rr_sweep_is_the_plain_continuation():
             q, v = lateral_disturbance(sy, qs, yl), np.zeros(sy.n)
         r = simulate(sy, vv, d, h=1e-3, q0=q, v0=v, output_dt=0.002, progress=False)
         up[kmh], q, v = scenarios.amplitude(r), r.q[-1], r.v[-1]
-        rd = simulate(sy, vv, d, h=1e-3, q0=lateral_disturbance(sy, qs, ys), output_dt=0.002,
-                      progress=False)
+        rd = simulate(sy, vv, d, h=1e-3, q0=lateral_disturbance(sy, qs, ys), output_dt=0.002, progress=False)
         dec[kmh] = scenarios.amplitude(rd)
     assert b.model == "RR" and b.speeds_kmh.tolist()[-2:] == [280.0, 300.0]
     for kmh in (280.0, 300.0):
         k = int(np.flatnonzero(b.speeds_kmh == kmh)[0])
-        if kmh == 280.0 or b.upper[k] > b.threshold:      # the branch reached this speed
+        if kmh == 280.0 or b.upper[k] > b.threshold:  # the branch reached this speed
             assert b.upper[k] == up[kmh]
         assert b.decay[k] == dec[kmh]
     with pytest.warns(RuntimeWarning, match="no decay"):
-        si = scenarios.bifurcation(speeds=[300.0 / 3.6, 280.0 / 3.6], duration=d,
-                                   v_min=280.0 / 3.6, progress=False)
+        si = scenarios.bifurcation(
+            speeds=[300.0 / 3.6, 280.0 / 3.6], duration=d, v_min=280.0 / 3.6, progress=False
+        )
     np.testing.assert_array_equal(si.upper, b.upper)
     np.testing.assert_allclose(si.speeds, b.speeds_kmh / 3.6, rtol=1e-14)
     assert si.speeds_kmh == pytest.approx(b.speeds_kmh, rel=1e-14)
@@ -69,25 +70,31 @@ def test_fr_sweep_builds_per_speed_and_continues():
     critical speed carries its model and m/s value."""
     d = 0.3
     with pytest.warns(RuntimeWarning, match="no decay"):
-        cs = scenarios.critical_speed("FR", method="nonlinear", speeds_kmh=[380.0, 360.0],
-                                      duration=d, v_min_kmh=360.0, progress=False, **SMALL)
+        cs = scenarios.critical_speed(
+            "FR",
+            method="nonlinear",
+            speeds_kmh=[380.0, 360.0],
+            duration=d,
+            v_min_kmh=360.0,
+            progress=False,
+            **SMALL,
+        )
     b = cs.bifurcation
     assert cs.model == b.model == "FR"
     assert b.details["modal_restarts"].size == 0
     sy, lay = scenarios.fr_system(speed_kmh=380.0, **SMALL)
     h = b.details["h"]
     assert h.shape == (2,) and np.all(h * sy.modal.max_frequency() <= 2.0 + 1e-12)
-    r = scenarios.hunting(380.0, "FR", duration=d, y0=0.006, output_dt=0.002, progress=False,
-                          **SMALL)
+    r = scenarios.hunting(380.0, "FR", duration=d, y0=0.006, output_dt=0.002, progress=False, **SMALL)
     assert b.upper[-1] == pytest.approx(scenarios.amplitude(r), rel=1e-9)
-    assert np.all(np.isfinite(b.upper)) and np.all(b.upper > b.threshold)   # alive, as asked
-    assert math.isnan(cs.kmh) and cs.no_decay_below == pytest.approx(100.0)   # 360 km/h in m/s
+    assert np.all(np.isfinite(b.upper)) and np.all(b.upper > b.threshold)  # alive, as asked
+    assert math.isnan(cs.kmh) and cs.no_decay_below == pytest.approx(100.0)  # 360 km/h in m/s
 
 
 def test_carry_over_by_label_or_restart():
     """Sweep state mapping: the same labelled modes carry over unchanged; another mode set
     restarts the modal coordinates from the new system's static state, rigid DOFs kept."""
-    sw = SweepSystems("FR", None, "hertz-kalker", None, 1, 300.0)   # speeds in m/s
+    sw = SweepSystems("FR", None, "hertz-kalker", None, 1, 300.0)  # speeds in m/s
     v300, v290, v280 = 300.0 / 3.6, 290.0 / 3.6, 280.0 / 3.6
     a, la, _ = sw.at(v300)
     b, lb, _ = sw.at(v290)
@@ -102,10 +109,10 @@ def test_carry_over_by_label_or_restart():
     qs = np.full(c.n_state, 7.0)
     q3, v3, restarted = sw.carry(q, v, v290, v280, lambda: qs)
     assert restarted and q3.shape == (c.n_state,)
-    np.testing.assert_array_equal(q3[:c.n], q[:c.n])
-    np.testing.assert_array_equal(q3[c.n:], 7.0)
-    np.testing.assert_array_equal(v3[:c.n], 1.0)
-    np.testing.assert_array_equal(v3[c.n:], 0.0)
+    np.testing.assert_array_equal(q3[: c.n], q[: c.n])
+    np.testing.assert_array_equal(q3[c.n :], 7.0)
+    np.testing.assert_array_equal(v3[: c.n], 1.0)
+    np.testing.assert_array_equal(v3[c.n :], 0.0)
 
 
 def test_fr_with_decoupled_modes_linearises_as_rr():
@@ -115,12 +122,19 @@ def test_fr_with_decoupled_modes_linearises_as_rr():
     lam = scenarios.equivalent_conicity(0.003)
     v = 300.0 / 3.6
     er = eigenvalues(scenarios.coach_system("RR", linear_conicity=lam), v)
-    sz, _ = build_fr(Coach(), linearised_table(scenarios.wheel_table(), lam), v,
-                     wheelset=systems.fr_wheelset(), zero_rows=True, **SMALL)
+    sz, _ = build_fr(
+        Coach(),
+        linearised_table(scenarios.wheel_table(), lam),
+        v,
+        wheelset=systems.fr_wheelset(),
+        zero_rows=True,
+        **SMALL,
+    )
     ez = fr_eigenvalues(sz, v)
 
     def band(e):
         return e[(np.abs(e.imag) > 0.1) & (np.abs(e.imag) < 2 * np.pi * 20)]
+
     a, b = band(er), band(ez)
     assert a.size == b.size > 10
     d = np.abs(a[:, None] - b[None, :])
@@ -136,8 +150,9 @@ def test_fr_linear_critical_speed_close_to_rr():
     result would be the bottom or infinite); one bisection step."""
     rr = scenarios.critical_speed("RR", method="linear", tol_kmh=4.0)
     lo, hi = 0.95 * rr.kmh, 1.05 * rr.kmh
-    fr = scenarios.critical_speed("FR", method="linear", v_lo_kmh=lo, v_hi_kmh=hi,
-                                  tol_kmh=0.6 * (hi - lo), **SMALL)
+    fr = scenarios.critical_speed(
+        "FR", method="linear", v_lo_kmh=lo, v_hi_kmh=hi, tol_kmh=0.6 * (hi - lo), **SMALL
+    )
     assert fr.model == "FR" and fr.speed == pytest.approx(fr.kmh / 3.6)
     assert lo < fr.kmh < hi
     assert abs(fr.frequency_hz - rr.frequency_hz) < 0.05 * rr.frequency_hz
@@ -148,11 +163,19 @@ def test_fr_result_does_not_depend_on_the_chunking():
     coordinates' BDF2 acceleration carried from chunk to chunk, a run split differently gives
     the same numbers bit for bit (it used to depend on where the chunks fell: a flaky
     comparison between two equal FR runs)."""
-    sy, _ = build_fr(Coach(), scenarios.wheel_table(), 380.0 / 3.6,
-                     wheelset=systems.fr_wheelset(), residual_mass=False, **SMALL)
+    sy, _ = build_fr(
+        Coach(),
+        scenarios.wheel_table(),
+        380.0 / 3.6,
+        wheelset=systems.fr_wheelset(),
+        residual_mass=False,
+        **SMALL,
+    )
     assert sy.modal.massless is not None
     q0 = lateral_disturbance(sy, static_equilibrium(sy, 380.0 / 3.6)[0], 0.006)
-    runs = [simulate(sy, 380.0 / 3.6, 0.06, q0=q0, h=5e-4, output_dt=0.002, progress=True,
-                     chunk=c) for c in (0.004, 0.02, 0.06)]
+    runs = [
+        simulate(sy, 380.0 / 3.6, 0.06, q0=q0, h=5e-4, output_dt=0.002, progress=True, chunk=c)
+        for c in (0.004, 0.02, 0.06)
+    ]
     for r in runs[1:]:
         np.testing.assert_array_equal(r.q, runs[0].q)

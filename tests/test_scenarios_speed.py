@@ -1,4 +1,5 @@
 """The scenarios take the speed in SI (speed, m/s) or by its suffixed alias (speed_kmh)."""
+
 import numpy as np
 import pytest
 

@@ -1,6 +1,7 @@
 """railvti's own small replacements of scipy functions that cost much to import at start-up:
 a bracketed root (Brent's method) against closed-form roots, and the prominent-peak finder
 of the contact tables against scipy.signal.find_peaks."""
+
 import math
 
 import numpy as np
@@ -12,13 +13,16 @@ from railvti._roots import brent_root
 from railvti.geometry.table import prominent_peaks
 
 
-@pytest.mark.parametrize("f, a, b, root", [
-    (lambda x: x * x - 2.0, 0.0, 2.0, math.sqrt(2.0)),
-    (lambda x: math.cos(x) - x, 0.0, 1.0, 0.7390851332151607),      # the Dottie number
-    (lambda x: math.exp(x) - 10.0, -5.0, 14.0, math.log(10.0)),
-    (lambda x: x**3 - x - 2.0, 1.0, 2.0, 1.5213797068045676),        # the plastic-like cubic
-    (lambda x: math.tanh(50.0 * (x - 0.3)), -1.0, 1.0, 0.3),         # a steep step
-])
+@pytest.mark.parametrize(
+    "f, a, b, root",
+    [
+        (lambda x: x * x - 2.0, 0.0, 2.0, math.sqrt(2.0)),
+        (lambda x: math.cos(x) - x, 0.0, 1.0, 0.7390851332151607),  # the Dottie number
+        (lambda x: math.exp(x) - 10.0, -5.0, 14.0, math.log(10.0)),
+        (lambda x: x**3 - x - 2.0, 1.0, 2.0, 1.5213797068045676),  # the plastic-like cubic
+        (lambda x: math.tanh(50.0 * (x - 0.3)), -1.0, 1.0, 0.3),  # a steep step
+    ],
+)
 def test_brent_root_finds_closed_form_roots(f, a, b, root):
     x = brent_root(f, a, b, xtol=1e-14)
     assert abs(x - root) <= 1e-13 + 4 * np.finfo(float).eps * abs(root)
@@ -47,6 +51,7 @@ def test_count_regions_as_scipy_ndimage_label():
     from scipy import ndimage
 
     from railvti.contact.wheelset import count_regions
+
     rng = np.random.default_rng(11)
     for _ in range(1000):
         m = rng.random((int(rng.integers(1, 30)), int(rng.integers(1, 30)))) < rng.random()

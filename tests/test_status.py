@@ -1,4 +1,5 @@
 """The status vocabulary: Fortran's codes (common_status) and Python's translator agree."""
+
 from __future__ import annotations
 
 import pytest

@@ -4,6 +4,7 @@ moments, railvti.vehicle.wheelset_body), the independent reference; and bad scal
 before any run. The full check (linear critical speed within 0.5 %, hunting at 400 km/h within
 1 %) is validation/vehicle_stiff_limit.py.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -35,8 +36,12 @@ def test_stiff_wheelset_linearises_as_rr():
     v = 300.0 / 3.6
     table = linearised_table(scenarios.wheel_table(), lam)
     er = _hunting(eigenvalues(scenarios.coach_system("RR", linear_conicity=lam), v))
-    built = {scale: build_fr(Coach(wheelset_stiffness_scale=scale), table, v,
-                             wheelset=systems.fr_wheelset(), **SMALL) for scale in (1.0, 1e3)}
+    built = {
+        scale: build_fr(
+            Coach(wheelset_stiffness_scale=scale), table, v, wheelset=systems.fr_wheelset(), **SMALL
+        )
+        for scale in (1.0, 1e3)
+    }
     out = {scale: _hunting(fr_eigenvalues(sy, v)) for scale, (sy, _) in built.items()}
     assert abs(out[1e3] - er) < 1e-3 * abs(er)
     assert abs(out[1.0] - er) > 5 * abs(out[1e3] - er)
@@ -59,8 +64,11 @@ def test_scale_too_stiff_for_any_step_is_refused_before_a_run():
 
 def test_deck_key_is_checked_before_a_run(tmp_path):
     from railvti.runner.deck import read_deck
+
     deck = tmp_path / "d.nml"
-    deck.write_text("&case\n  type = 'vehicle'\n  scenario = 'hunting'\n  model = 'FR'\n"
-                    "  speed_kmh = 300.0\n  coach_wheelset_stiffness_scale = -2.0\n/\n")
+    deck.write_text(
+        "&case\n  type = 'vehicle'\n  scenario = 'hunting'\n  model = 'FR'\n"
+        "  speed_kmh = 300.0\n  coach_wheelset_stiffness_scale = -2.0\n/\n"
+    )
     with pytest.raises(InputError, match="wheelset_stiffness_scale"):
         read_deck(deck)

@@ -2,6 +2,7 @@
 a streamed run stores exactly the numbers of a run kept in memory, keeps only its tail in
 memory, and a streamed case interrupted (SIGINT) or killed (SIGKILL) under ``railvti run``
 leaves a valid results file."""
+
 from __future__ import annotations
 
 import os
@@ -28,9 +29,10 @@ STAT_TIMES = {"stat_wall_time", "stat_real_time_factor"}
 def test_a_streamed_run_stores_the_numbers_of_the_run_kept_in_memory(tmp_path):
     full = sc.hunting(300.0, duration=1.0, progress=False)
     path = tmp_path / "stream.h5"
-    with HistoryStream(path) as sink:       # the caller's sink, closed by its owner
-        tail = sc.hunting(300.0, duration=1.0, progress=True, stream_to=sink, stream_tail=0.05,
-                          chunk=0.1)      # 0.1 s per Fortran call, the tail two calls
+    with HistoryStream(path) as sink:  # the caller's sink, closed by its owner
+        tail = sc.hunting(
+            300.0, duration=1.0, progress=True, stream_to=sink, stream_tail=0.05, chunk=0.1
+        )  # 0.1 s per Fortran call, the tail two calls
     with h5py.File(path, "r") as f:
         g = f["history"]
         for name in ("t", "q", "v", "wheel"):
@@ -90,15 +92,18 @@ def test_a_streamed_deck_case_equals_the_case_kept_in_memory(tmp_path, monkeypat
     deck = tmp_path / "deck.nml"
     deck.write_text(VEHICLE)
     import railvti.runner.results as results_mod
+
     copied = []
     real_copy = results_mod._copy_streamed
-    monkeypatch.setattr(results_mod, "_copy_streamed", lambda g, n, r, *a: copied.append(n) or real_copy(g, n, r, *a))
+    monkeypatch.setattr(
+        results_mod, "_copy_streamed", lambda g, n, r, *a: copied.append(n) or real_copy(g, n, r, *a)
+    )
     files = {}
     for mode, threshold in (("memory", "none"), ("stream", "0")):
         monkeypatch.setenv(STREAM_ENV, threshold)
         files[mode] = tmp_path / f"{mode}.h5"
         assert main(["run", str(deck), "-o", str(files[mode]), "-q", "--serial"]) == 0
-        assert bool(copied) == (mode == "stream")       # the second run streamed
+        assert bool(copied) == (mode == "stream")  # the second run streamed
     assert {"t", "q", "v", "y_ws1", "ws_y", "wheel_Q"} <= set(copied)
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
     with h5py.File(files["memory"], "r") as a, h5py.File(files["stream"], "r") as b:
@@ -131,8 +136,13 @@ def _start(tmp_path: Path, **extra_env: str) -> tuple[subprocess.Popen, Path]:
     deck.write_text(LONG)
     out = tmp_path / "out.h5"
     env = dict(os.environ, **{STREAM_ENV: "1M"}, **extra_env)
-    proc = subprocess.Popen([sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--serial"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
     return proc, out
 
 
@@ -141,7 +151,7 @@ def _wait_for_stream(proc: subprocess.Popen, folder: Path, out: Path, timeout: f
     t0 = time.monotonic()
     while time.monotonic() - t0 < timeout:
         tmp = [p for p in folder.iterdir() if p.name.endswith(".tmp")]
-        if out.exists() and tmp and tmp[0].stat().st_size > 0:   # the first block is written
+        if out.exists() and tmp and tmp[0].stat().st_size > 0:  # the first block is written
             time.sleep(1.0)
             return
         assert proc.poll() is None, proc.communicate()
@@ -173,7 +183,7 @@ def test_an_interrupted_streamed_case_leaves_a_valid_file(tmp_path):
         names = [s.decode() if isinstance(s, bytes) else s for s in g["q"].attrs["dof_names"]]
         assert np.array_equal(g["q"][:, names.index("ws1_y")], g["y_ws1"][()])
         assert g["wheel_Q"].attrs["units"] == "N"
-        assert g["q"].compression is None         # copied uncompressed: a prompt stop
+        assert g["q"].compression is None  # copied uncompressed: a prompt stop
     # the kept history is the start of the same run kept in memory
     full = sc.hunting(300.0, duration=float(t[200]) + 1e-9, output_dt=0.001, progress=False)
     with h5py.File(out, "r") as f:
@@ -197,7 +207,7 @@ def test_an_interrupted_long_history_keeps_its_first_rows(tmp_path):
         n_kept, n_all = (int(w) for w in re.match(r"(\d+) of (\d+):", kept).groups())
         t = g["t"][()]
         assert len(t) == n_kept < n_all
-        assert t[0] <= 0.001 + 1e-12 and np.all(np.diff(t) > 0)      # from the first output on
+        assert t[0] <= 0.001 + 1e-12 and np.all(np.diff(t) > 0)  # from the first output on
         assert g["stat_interrupted_at"][()] > t[-1]
         assert g["q"].shape[0] == g["v"].shape[0] == n_kept
         assert g["q"].nbytes + g["v"].nbytes + g["t"].nbytes <= 0.05 * 2**20

@@ -2,6 +2,7 @@
 bit serial, on a LocalCluster and through a scheduler address (a scheduler and two worker
 processes started here on 127.0.0.1); a failing point is recorded and the others finish;
 ``--resume`` after SIGINT runs only the missing points; ``import railvti`` imports no dask."""
+
 from __future__ import annotations
 
 import json
@@ -44,9 +45,11 @@ def _dump(path: Path) -> dict:
     """Every dataset and case attribute of a results file but the wall-clock ones."""
     out = {}
     with h5py.File(path, "r") as f:
+
         def visit(name, obj):
             if isinstance(obj, h5py.Dataset) and name.rsplit("/", 1)[-1] not in TIMING:
                 out[name] = obj[()]
+
         f.visititems(visit)
         for k, g in f.items():
             for a in ("status", "params_digest", "sweep", "sweep_point"):
@@ -81,9 +84,15 @@ def test_a_sweep_expands_in_deck_order_with_converted_values():
 /
 """)
     assert [c.name for c in cases] == [
-        "p.speed_kmh_300.y0_0.006", "p.speed_kmh_300.y0_0.0005", "p.speed_kmh_320.y0_0.006",
-        "p.speed_kmh_320.y0_0.0005", "p.speed_kmh_340.y0_0.006", "p.speed_kmh_340.y0_0.0005",
-        "z.fn_1000.tol_1e-06", "z.fn_2000.tol_1e-08"]
+        "p.speed_kmh_300.y0_0.006",
+        "p.speed_kmh_300.y0_0.0005",
+        "p.speed_kmh_320.y0_0.006",
+        "p.speed_kmh_320.y0_0.0005",
+        "p.speed_kmh_340.y0_0.006",
+        "p.speed_kmh_340.y0_0.0005",
+        "z.fn_1000.tol_1e-06",
+        "z.fn_2000.tol_1e-08",
+    ]
     assert [c.index for c in cases] == list(range(1, 9))
     assert cases[2].params["speed"] == pytest.approx(320 / 3.6, rel=1e-15)  # km/h alias -> m/s
     assert cases[2].params["y0"] == 0.006
@@ -91,14 +100,17 @@ def test_a_sweep_expands_in_deck_order_with_converted_values():
     assert cases[7].params["fn"] == 2000.0 and cases[7].params["tol"] == 1e-8
 
 
-@pytest.mark.parametrize("body, message", [
-    ("speed_kmh = 300, sweep_speed_kmh = 300, 320", "key 'speed_kmh' is both given and swept"),
-    ("sweep = 'zip', sweep_speed_kmh = 300, 320, sweep_y0 = 0.001", "lists of equal length"),
-    ("sweep_speeed = 1, 2", "unknown key 'speeed'"),
-    ("sweep_range_speed_kmh = 300, 200, 20", "go from start towards stop"),
-    ("sweep = 'cross', sweep_y0 = 0.001", "must be one of 'product', 'zip'"),
-    ("sweep_speed_kmh = 300, 700", "case 2 'v.speed_kmh_700': key 'speed' = 194.4"),
-])
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ("speed_kmh = 300, sweep_speed_kmh = 300, 320", "key 'speed_kmh' is both given and swept"),
+        ("sweep = 'zip', sweep_speed_kmh = 300, 320, sweep_y0 = 0.001", "lists of equal length"),
+        ("sweep_speeed = 1, 2", "unknown key 'speeed'"),
+        ("sweep_range_speed_kmh = 300, 200, 20", "go from start towards stop"),
+        ("sweep = 'cross', sweep_y0 = 0.001", "must be one of 'product', 'zip'"),
+        ("sweep_speed_kmh = 300, 700", "case 2 'v.speed_kmh_700': key 'speed' = 194.4"),
+    ],
+)
 def test_bad_sweeps_are_refused_before_anything_runs(body, message):
     with pytest.raises(InputError, match=None) as err:
         parse_deck(f"&case name = 'v', type = 'vehicle', {body} /\n")
@@ -111,7 +123,7 @@ def test_import_railvti_and_the_serial_path_import_no_dask(tmp_path):
     code = f"""
 import sys, railvti
 from railvti.runner.cli import main
-assert main(["run", {str(deck)!r}, "-o", {str(tmp_path / 'o.h5')!r}, "-q", "--serial"]) == 0
+assert main(["run", {str(deck)!r}, "-o", {str(tmp_path / "o.h5")!r}, "-q", "--serial"]) == 0
 from railvti import scenarios
 from railvti.runner import sweeps
 cases = sweeps.sweep("normal", dict(gap_a=1.0, gap_b=1.0, nx=16, ny=16, dx=3e-4, dy=3e-4),
@@ -132,25 +144,60 @@ def scheduler(tmp_path_factory):
     folder = tmp_path_factory.mktemp("dask")
     sfile = folder / "scheduler.json"
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", TQDM_DISABLE="1")
-    procs = [subprocess.Popen([sys.executable, "-m", "dask", "scheduler", "--host", "127.0.0.1",
-                               "--port", "0", "--no-dashboard", "--scheduler-file", str(sfile)],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)]
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "dask",
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(sfile),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            env=env,
+        )
+    ]
     try:
         t0 = time.monotonic()
         while not sfile.exists() and time.monotonic() - t0 < 60:
             time.sleep(0.1)
         address = json.loads(sfile.read_text())["address"]
-        procs.append(subprocess.Popen([sys.executable, "-m", "dask", "worker", address,
-                                       "--nworkers", "2", "--nthreads", "1", "--no-dashboard"],
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                      env=env, cwd=folder))
+        procs.append(
+            subprocess.Popen(
+                [
+                    sys.executable,
+                    "-m",
+                    "dask",
+                    "worker",
+                    address,
+                    "--nworkers",
+                    "2",
+                    "--nthreads",
+                    "1",
+                    "--no-dashboard",
+                ],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                env=env,
+                cwd=folder,
+            )
+        )
         from distributed import Client
+
         with Client(address, timeout=30) as c:
             c.wait_for_workers(2, timeout=60)
         yield address
         from distributed import Client
+
         with Client(address, timeout=10) as c:
-            c.shutdown()                       # the scheduler closes its workers, then itself
+            c.shutdown()  # the scheduler closes its workers, then itself
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -186,9 +233,12 @@ def test_serial_local_cluster_and_scheduler_give_the_same_bits(tmp_path, schedul
     png = tmp_path / "png"
     assert main(["plot", str(files["scheduler"]), "-o", str(png)]) == 0
     names = {p.name for p in png.iterdir()}
-    assert {"scheduler_hz_sweep.png", "scheduler_hunt_phase.png",
-            "scheduler_001_hz.fn_1000_pressure.png"} <= names, names
-    assert not any(n.startswith("scheduler_003_") for n in names)          # the failed point
+    assert {
+        "scheduler_hz_sweep.png",
+        "scheduler_hunt_phase.png",
+        "scheduler_001_hz.fn_1000_pressure.png",
+    } <= names, names
+    assert not any(n.startswith("scheduler_003_") for n in names)  # the failed point
     capsys.readouterr()
     assert main(["summary", str(files["scheduler"]), "--plots", str(png)]) == 0
     text = capsys.readouterr().out
@@ -198,6 +248,7 @@ def test_serial_local_cluster_and_scheduler_give_the_same_bits(tmp_path, schedul
 @pytest.mark.filterwarnings("ignore:bifurcation. below:RuntimeWarning")
 def test_bifurcation_on_a_client_equals_its_serial_independent_sweep(scheduler):
     from railvti import scenarios
+
     kw = dict(contact="hertz-kalker", duration=1.2, v_min_kmh=300.0, progress=False)
     serial = scenarios.bifurcation([340.0, 300.0], independent=True, **kw)
     dist = scenarios.bifurcation([340.0, 300.0], client=scheduler, independent=True, **kw)
@@ -229,9 +280,25 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     deck = tmp_path / "slow.nml"
     deck.write_text(SLOW)
     out = tmp_path / "out.h5"
-    cmd = [sys.executable, "-m", "railvti.runner.cli", "run", str(deck), "-o", str(out), "-q", "--workers", "2"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    cmd = [
+        sys.executable,
+        "-m",
+        "railvti.runner.cli",
+        "run",
+        str(deck),
+        "-o",
+        str(out),
+        "-q",
+        "--workers",
+        "2",
+    ]
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     fast = {"001_gs.method_cg.fn_10000", "002_gs.method_cg.fn_11000"}
     t0 = time.monotonic()
     while time.monotonic() - t0 < 90 and not fast <= set(_statuses(out)):
@@ -251,7 +318,7 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     running = {k: v for k, v in st.items() if k not in fast}
     interrupted = {k for k, v in running.items() if v.startswith("interrupted: SIGINT")}
     assert interrupted and all(v == "ok" for k, v in running.items() if k not in interrupted), st
-    assert stopped < 3.0          # the workers are killed, not waited for (about 0.9 s here)
+    assert stopped < 3.0  # the workers are killed, not waited for (about 0.9 s here)
     done = {k for k, v in st.items() if v == "ok"}
     with h5py.File(out, "r") as f:
         walls = {k: f[k].attrs["wall_time"] for k in done}
@@ -264,7 +331,7 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     st = _statuses(out)
     assert st == {k: "ok" for k in fast | {"003_gs.method_gs.fn_12000", "004_gs.method_gs.fn_13000"}}
     with h5py.File(out, "r") as f:
-        assert {k: f[k].attrs["wall_time"] for k in done} == walls        # kept, not re-run
+        assert {k: f[k].attrs["wall_time"] for k in done} == walls  # kept, not re-run
         p = f["004_gs.method_gs.fn_13000/pressure"][()]
         assert p.sum() * 0.12e-3 * 0.096e-3 == pytest.approx(1.3e4, rel=1e-9)
     assert not [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
@@ -280,29 +347,34 @@ def test_a_client_never_changes_the_bifurcation():
     path is the strip's too."""
     from railvti import scenarios
     from railvti.runner.sweeps import local_client
-    kw = dict(contact="hertz-kalker", geometry="table", duration=0.3, v_min_kmh=300.0,
-              progress=False)
-    serial = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, **kw)
-              for ind in (False, True)}
+
+    kw = dict(contact="hertz-kalker", geometry="table", duration=0.3, v_min_kmh=300.0, progress=False)
+    serial = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, **kw) for ind in (False, True)}
     with local_client(2) as c:
-        dist = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, client=c, **kw)
-                for ind in (False, True)}
+        dist = {
+            ind: scenarios.bifurcation([380.0, 340.0], independent=ind, client=c, **kw)
+            for ind in (False, True)
+        }
     for ind in (False, True):
         a, b = serial[ind], dist[ind]
         for name in ("speeds_kmh", "upper", "decay"):
             assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), (ind, name)
         assert a.details["flange_force"].tobytes() == b.details["flange_force"].tobytes()
-        assert a.speeds_kmh.tolist() == [300.0, 340.0, 380.0]      # 300: the extension
+        assert a.speeds_kmh.tolist() == [300.0, 340.0, 380.0]  # 300: the extension
     assert serial[False].upper[0] > 0 and serial[False].upper[0] != serial[True].upper[0]
 
 
-@pytest.mark.parametrize("address, message", [
-    ("tcp://127.0.0.1:1", r"'tcp://127.0.0.1:1': no Dask scheduler reachable at 127.0.0.1:1"),
-    ("tcp://127.0.0.1", r"'tcp://127.0.0.1': malformed scheduler address"),
-    ("http://127.0.0.1:8786", r"'http://127.0.0.1:8786': malformed scheduler address"),
-])
+@pytest.mark.parametrize(
+    "address, message",
+    [
+        ("tcp://127.0.0.1:1", r"'tcp://127.0.0.1:1': no Dask scheduler reachable at 127.0.0.1:1"),
+        ("tcp://127.0.0.1", r"'tcp://127.0.0.1': malformed scheduler address"),
+        ("http://127.0.0.1:8786", r"'http://127.0.0.1:8786': malformed scheduler address"),
+    ],
+)
 def test_an_unreachable_client_is_an_input_error_within_seconds(address, message):
     from railvti import scenarios
+
     t0 = time.monotonic()
     with pytest.raises(InputError, match=message):
         scenarios.bifurcation([380.0, 340.0], client=address, progress=False)

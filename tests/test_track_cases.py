@@ -1,4 +1,5 @@
 """Track deck case types and the rigid track element."""
+
 import numpy as np
 import pytest
 
@@ -13,7 +14,7 @@ from test_track_ring import COARSE
 def _params(name, **kw):
     p = {k: v for k, v in REGISTRY[name].defaults.items()}
     p.update(n_sleepers=8, **COARSE)
-    p["arc_step"] = COARSE["arc_step"]               # m, as RingTrack's
+    p["arc_step"] = COARSE["arc_step"]  # m, as RingTrack's
     p.update(kw)
     assert all(v is not REQUIRED for v in p.values())
     return p
@@ -53,11 +54,11 @@ def test_track_element_follows_ring_below_its_resonance(ring_and_element, direct
     """
     tr, e = ring_and_element
     f0 = np.sqrt(e.stiffness[i] / e.inertia[i]) / (2 * np.pi)
-    assert 60.0 < f0 < 150.0                     # rail and sleepers on pads and ballast
+    assert 60.0 < f0 < 150.0  # rail and sleepers on pads and ballast
     for ratio in (1 / 3, 1 / 2):
         f = np.array([ratio * f0])
         he, hr = abs(e.receptance(f, direction)[0]), abs(tr.receptance(f, direction)[0])
-        assert abs(he / hr - 1) < ratio ** 2
+        assert abs(he / hr - 1) < ratio**2
 
 
 def test_track_element_bad_input():

@@ -1,4 +1,5 @@
 """The vehicle's wheels on the ring's rails: rail index and the y -> -y map between the frames."""
+
 import numpy as np
 import pytest
 

@@ -3,6 +3,7 @@ the ring's direct FRF over all its modes (RingTrack.head_receptance, RingTrack.r
 issue 15's acceptance point 2 on a small, coarse ring (validation/track_modal_receptance.py
 does the RF default ring, n_sl = 40, and says why the 2 % does not reach f_limit / 2 there).
 """
+
 from __future__ import annotations
 
 import math
@@ -26,15 +27,15 @@ def ring():
 def _rf_point(track, x, freqs, f_limit, residual=True):
     """Crown receptance (u_y, u_z, roll) of the right wheel's point from RF's rows and table."""
     rr = ring_rows(track, np.array([x]), 1.0, f_limit=f_limit, residual=residual)
-    ph = rr.rows(0.0)[0][:, 1, :]                                  # right wheel: rail 2
+    ph = rr.rows(0.0)[0][:, 1, :]  # right wheel: rail 2
     w = 2 * math.pi * np.asarray(freqs)[:, None]
-    den = track.lam[rr.modes] - w ** 2 + 1j * w * track.cmod[rr.modes]
+    den = track.lam[rr.modes] - w**2 + 1j * w * track.cmod[rr.modes]
     h = np.einsum("im,fm,jm->fij", ph, 1.0 / den, ph)
     if residual:
         lr = rr.residual_rows(0.0)[0][:, :, 1]
-        h = h + lr @ lr.T * rr.rscale ** 2
+        h = h + lr @ lr.T * rr.rscale**2
     half = 0.5 * track.params["rail_distance"]
-    ei = np.linalg.inv(np.array([[1, 0, 0], [0, 1, half], [0, 0, 1.0]]))   # pose -> crown
+    ei = np.linalg.inv(np.array([[1, 0, 0], [0, 1, half], [0, 0, 1.0]]))  # pose -> crown
     return np.einsum("ab,fbc,dc->fad", ei, h, ei)
 
 
@@ -84,7 +85,7 @@ def test_pattern_receptance_vertical(ring):
     half = 0.5 * ring.params["rail_distance"]
     zl, zr = rows[1, 0] + half * rows[2, 0], rows[1, 1] - half * rows[2, 1]
     w = 2 * math.pi * f[:, None]
-    den = ring.lam[rr.modes] - w ** 2 + 1j * w * ring.cmod[rr.modes]
+    den = ring.lam[rr.modes] - w**2 + 1j * w * ring.cmod[rr.modes]
     rf = _rf_point(ring, x, f, 500.0)[:, 1, 1] + (zr * zl / den).sum(1)
     direct = ring.receptance(f, "vertical", x)
     assert np.max(np.abs(rf / direct - 1)) < 0.02

@@ -1,5 +1,6 @@
 """Ring track: the vertical pinned-pinned frequency against the closed form of a Timoshenko beam
 simply supported over one sleeper bay."""
+
 from __future__ import annotations
 
 import math
@@ -14,8 +15,15 @@ from track_reference import jourawski_shear_coefficient
 COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
 
 
-def timoshenko_pinned_pinned(young: float, poisson: float, density: float, area: float,
-                             iy: float, shear_coefficient: float, span: float) -> float:
+def timoshenko_pinned_pinned(
+    young: float,
+    poisson: float,
+    density: float,
+    area: float,
+    iy: float,
+    shear_coefficient: float,
+    span: float,
+) -> float:
     """Lowest frequency (Hz) of a Timoshenko beam's mode sin(pi x / span) (pinned at both ends):
     the smaller root w^2 of
     EI k^4 - rho A w^2 - (rho I + EI rho / (kappa G)) k^2 w^2 + rho^2 I / (kappa G) w^4 = 0,
@@ -23,10 +31,10 @@ def timoshenko_pinned_pinned(young: float, poisson: float, density: float, area:
     g = young / (2 * (1 + poisson))
     k = math.pi / span
     kg = shear_coefficient * g
-    c4 = density ** 2 * iy / kg
-    c2 = -(density * area + (density * iy + young * iy * density / kg) * k ** 2)
-    c0 = young * iy * k ** 4
-    w2 = 2 * c0 / (-c2 + math.sqrt(c2 * c2 - 4 * c4 * c0))   # the smaller root, no cancellation
+    c4 = density**2 * iy / kg
+    c2 = -(density * area + (density * iy + young * iy * density / kg) * k**2)
+    c0 = young * iy * k**4
+    w2 = 2 * c0 / (-c2 + math.sqrt(c2 * c2 - 4 * c4 * c0))  # the smaller root, no cancellation
     return math.sqrt(w2) / (2 * math.pi)
 
 
@@ -50,15 +58,20 @@ def test_vertical_pinned_pinned_frequency_matches_timoshenko_beam_over_one_bay()
     tr = RingTrack(32, **COARSE)
     p = tr.params
     f = np.arange(800.0, 1400.5, 1.0)
-    ratio = (np.abs(tr.receptance(f, "vertical", "midspan"))
-             / np.abs(tr.receptance(f, "vertical", "sleeper")))
+    ratio = np.abs(tr.receptance(f, "vertical", "midspan")) / np.abs(tr.receptance(f, "vertical", "sleeper"))
     i = int(np.argmax(ratio))
-    assert 0 < i < f.size - 1                       # a peak inside the band, not its edge
-    assert ratio[i] > 2 * np.median(ratio)          # a clear one (measured 3.2 x)
+    assert 0 < i < f.size - 1  # a peak inside the band, not its edge
+    assert ratio[i] > 2 * np.median(ratio)  # a clear one (measured 3.2 x)
     kappa = jourawski_shear_coefficient(tr.section.outline)
-    beam = timoshenko_pinned_pinned(p["rail_young"], p["rail_poisson"], p["rail_density"],
-                                    PUBLISHED_60E1["area"], PUBLISHED_60E1["iy"], kappa,
-                                    p["sleeper_spacing"])
+    beam = timoshenko_pinned_pinned(
+        p["rail_young"],
+        p["rail_poisson"],
+        p["rail_density"],
+        PUBLISHED_60E1["area"],
+        PUBLISHED_60E1["iy"],
+        kappa,
+        p["sleeper_spacing"],
+    )
     assert f[i] == pytest.approx(beam, rel=0.02)
 
 
@@ -69,5 +82,6 @@ def test_closed_form_limits():
     span = 20.0
     eb = (math.pi / span) ** 2 * math.sqrt(e * iy / (rho * a)) / (2 * math.pi)
     assert timoshenko_pinned_pinned(e, nu, rho, a, iy, 1e9, span) == pytest.approx(eb, rel=1e-4)
-    assert timoshenko_pinned_pinned(e, nu, rho, a, iy, 0.4, 0.6) < \
-        timoshenko_pinned_pinned(e, nu, rho, a, iy, 5 / 6, 0.6)
+    assert timoshenko_pinned_pinned(e, nu, rho, a, iy, 0.4, 0.6) < timoshenko_pinned_pinned(
+        e, nu, rho, a, iy, 5 / 6, 0.6
+    )

@@ -1,4 +1,5 @@
 """Ring track: static checks, reduced-basis accuracy, receptance properties, bad input."""
+
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -40,11 +41,20 @@ def test_static_deflection_against_timoshenko_beam_on_sleepers(ring8_flat, posit
     tr = ring8_flat
     p, sec = tr.params, tr.section
     x0 = {"midspan": 0.5 * p["sleeper_spacing"], "sleeper": 0.0}[position]
-    kw = dict(n_sleepers=8, spacing=p["sleeper_spacing"], young=p["rail_young"],
-              poisson=p["rail_poisson"], area=sec.area, iy=sec.iy, centroid_height=sec.centroid[1],
-              pad_length=p["pad_length"], k_pad_vertical=p["pad_stiffness_vertical"],
-              k_pad_longitudinal=p["pad_stiffness_longitudinal"],
-              k_ballast_seat=0.5 * p["ballast_stiffness_vertical"], x_load=x0)
+    kw = dict(
+        n_sleepers=8,
+        spacing=p["sleeper_spacing"],
+        young=p["rail_young"],
+        poisson=p["rail_poisson"],
+        area=sec.area,
+        iy=sec.iy,
+        centroid_height=sec.centroid[1],
+        pad_length=p["pad_length"],
+        k_pad_vertical=p["pad_stiffness_vertical"],
+        k_pad_longitudinal=p["pad_stiffness_longitudinal"],
+        k_ballast_seat=0.5 * p["ballast_stiffness_vertical"],
+        x_load=x0,
+    )
     kappa = jourawski_shear_coefficient(sec.outline)
     assert 0.35 < kappa < 0.5
     timoshenko = beam_on_sleepers_static(shear_coefficient=kappa, **kw)
@@ -65,10 +75,21 @@ def test_reference_beam_and_shear_coefficient_against_closed_forms():
     e, iy, kp, a = 2.1e11, 3.0e-5, 60e6, 0.6
     kf = kp / a
     beta = (kf / (4 * e * iy)) ** 0.25
-    w = beam_on_sleepers_static(n_sleepers=24, spacing=a, young=e, poisson=0.3, area=7.7e-3,
-                                iy=iy, centroid_height=0.08, pad_length=a, k_pad_vertical=kp,
-                                k_pad_longitudinal=0.0, k_ballast_seat=1e6 * kp, x_load=0.3,
-                                elements_per_pad=40)
+    w = beam_on_sleepers_static(
+        n_sleepers=24,
+        spacing=a,
+        young=e,
+        poisson=0.3,
+        area=7.7e-3,
+        iy=iy,
+        centroid_height=0.08,
+        pad_length=a,
+        k_pad_vertical=kp,
+        k_pad_longitudinal=0.0,
+        k_ballast_seat=1e6 * kp,
+        x_load=0.3,
+        elements_per_pad=40,
+    )
     assert w == pytest.approx(beta / (2 * kf), rel=1e-3)
 
 
@@ -87,9 +108,9 @@ def test_static_modal_sum_equals_direct_solve(ring8, direction, position):
 def test_reduced_rail_basis_reproduces_full_section_modes(ring8):
     k0, k1, k2, m = ring8._fe
     w, k0r, k1r, k2r, _ = ring8._rom
-    for kap in (3.3, 11.7, 23.1):   # between the sample wave numbers
-        full = sla.eigh(k0 + kap * k1 + kap ** 2 * k2, m, eigvals_only=True)
-        red = np.linalg.eigvalsh(k0r + kap * k1r + kap ** 2 * k2r)
+    for kap in (3.3, 11.7, 23.1):  # between the sample wave numbers
+        full = sla.eigh(k0 + kap * k1 + kap**2 * k2, m, eigvals_only=True)
+        red = np.linalg.eigvalsh(k0r + kap * k1r + kap**2 * k2r)
         lim = (2 * np.pi * 3000.0) ** 2
         f_full = np.sqrt(np.clip(full[full < lim], 0, None))
         f_red = np.sqrt(np.clip(red[: f_full.size], 0, None))
@@ -114,7 +135,7 @@ def test_generalized_forces_continuous_and_periodic(ring8):
     # cyclic symmetry: the point-receptance is periodic with the sleeper spacing
     s1 = ring8.head_shapes(0.13, 2)[2]
     s2 = ring8.head_shapes(0.13 + 3 * a, 2)[2]
-    assert np.sum(s1 ** 2 / ring8.lam) == pytest.approx(np.sum(s2 ** 2 / ring8.lam), rel=1e-8)
+    assert np.sum(s1**2 / ring8.lam) == pytest.approx(np.sum(s2**2 / ring8.lam), rel=1e-8)
 
 
 _MIRROR = np.diag([1.0, -1.0, 1.0, -1.0])
@@ -168,7 +189,7 @@ def test_head_receptance_mirrors_between_rails(track, request):
         h2m = _MIRROR @ tr.head_receptance(f, x, 2) @ _MIRROR
         scale = np.abs(h1).max(axis=(1, 2))
         assert np.all(np.abs(h1 - h2m).max(axis=(1, 2)) < 1e-8 * scale), (track, x)
-        assert np.allclose(h1, np.swapaxes(h1, 1, 2))          # reciprocity
+        assert np.allclose(h1, np.swapaxes(h1, 1, 2))  # reciprocity
 
 
 def test_mirror_keeps_the_cant(ring8, ring8_outward):
@@ -228,8 +249,9 @@ def test_rails_mirror_at_head_points(ring8):
 
 
 @pytest.mark.parametrize("track", ["ring8", "ring8_flat"])
-@pytest.mark.parametrize("load, tol", [((0, 0, 0, 1e3), 0.01), ((0, 1e4, 0, 0), 0.01),
-                                       ((0, 0, -1e5, 0), 0.10)])
+@pytest.mark.parametrize(
+    "load, tol", [((0, 0, 0, 1e3), 0.01), ((0, 1e4, 0, 0), 0.01), ((0, 0, -1e5, 0), 0.10)]
+)
 def test_head_roll_matches_finite_differences_of_the_surface(track, load, tol, request):
     """Finite differences of the static deflection field along the head surface against the
     roll the shapes give at each surface point. On a traction-free surface the shear strain
@@ -244,14 +266,14 @@ def test_head_roll_matches_finite_differences_of_the_surface(track, load, tol, r
     hd = tr.head
     q = (np.array(load, float) @ tr.head_shapes(0.75, 2)) / tr.lam
     b = tr._geom[1][1]
-    back = np.array([[np.cos(b), np.sin(b)], [-np.sin(b), np.cos(b)]])    # track -> section
+    back = np.array([[np.cos(b), np.sin(b)], [-np.sin(b), np.cos(b)]])  # track -> section
     diff, roll = [], []
     for i in range(len(hd.edges)):
         s = 0.5 * (hd.eta[i] + hd.eta[i + 1])
         h = 0.25 * (hd.eta[i + 1] - hd.eta[i])
         _, slope = hd.point(s)
         du = back @ ((tr.head_shapes(0.15, 2, s + h) - tr.head_shapes(0.15, 2, s - h)) @ q)[1:3]
-        du /= 2 * h * np.hypot(1.0, slope)                     # d(u_eta, u_zeta)/d sigma
+        du /= 2 * h * np.hypot(1.0, slope)  # d(u_eta, u_zeta)/d sigma
         n = np.array([-slope, 1.0]) / np.hypot(1.0, slope)
         diff.append(n @ du)
         roll.append((tr.head_shapes(0.15, 2, s) @ q)[3])
@@ -283,8 +305,9 @@ def test_contact_rows_of_one_step(ring8):
     shapes, dx = ring8.contact_rows(x, rail, s)
     assert shapes.shape == (4, 4, ring8.n_modes) and dx.shape == shapes.shape
     for i in range(4):
-        assert np.allclose(shapes[i], ring8.head_shapes(x[i], rail[i], s[i]), rtol=0,
-                           atol=1e-9 * np.abs(shapes[i]).max())
+        assert np.allclose(
+            shapes[i], ring8.head_shapes(x[i], rail[i], s[i]), rtol=0, atol=1e-9 * np.abs(shapes[i]).max()
+        )
         assert np.array_equal(dx[i], ring8.head_shapes_dx(x[i] % ring8.length, rail[i], s[i]))
     crown, _ = ring8.contact_rows(x[:2], rail[:2])
     assert np.array_equal(crown[1], ring8.head_shapes(2.5, 2))
@@ -296,16 +319,19 @@ def test_contact_rows_of_one_step(ring8):
         ring8.contact_rows(x, np.array([1, 2, 3, 1]))
 
 
-@pytest.mark.parametrize("kw, msg", [
-    (dict(pad_stiffness_vertical=-1e8), "pad_stiffness_vertical"),
-    (dict(sleeper_mass=-10.0), "sleeper_mass"),
-    (dict(ballast_stiffness_vertical=0.0), "ballast_stiffness_vertical"),
-    (dict(sleeper_spacing=0.0), "sleeper_spacing"),
-    (dict(sleeper_spacing=-0.6), "sleeper_spacing"),
-    (dict(pad_damping_vertical=-1.0), "pad_damping_vertical"),
-    (dict(rail_density=float("nan")), "rail_density"),
-    (dict(foo=1.0), "unknown"),
-])
+@pytest.mark.parametrize(
+    "kw, msg",
+    [
+        (dict(pad_stiffness_vertical=-1e8), "pad_stiffness_vertical"),
+        (dict(sleeper_mass=-10.0), "sleeper_mass"),
+        (dict(ballast_stiffness_vertical=0.0), "ballast_stiffness_vertical"),
+        (dict(sleeper_spacing=0.0), "sleeper_spacing"),
+        (dict(sleeper_spacing=-0.6), "sleeper_spacing"),
+        (dict(pad_damping_vertical=-1.0), "pad_damping_vertical"),
+        (dict(rail_density=float("nan")), "rail_density"),
+        (dict(foo=1.0), "unknown"),
+    ],
+)
 def test_bad_track_parameters(kw, msg):
     with pytest.raises(InputError, match=msg):
         RingTrack(8, **kw)

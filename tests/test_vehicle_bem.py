@@ -1,4 +1,5 @@
 """contact='bem' in the time simulation: BEM normal + steady rolling at every wheel."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -6,8 +7,16 @@ import pytest
 
 from railvti import scenarios
 from railvti.errors import GridTooSmallError, InputError
-from railvti.vehicle import (BemOptions, BemPatch, bem_state, build_single_wheelset,
-                             force_and_tangent, lateral_disturbance, simulate, static_equilibrium)
+from railvti.vehicle import (
+    BemOptions,
+    BemPatch,
+    bem_state,
+    build_single_wheelset,
+    force_and_tangent,
+    lateral_disturbance,
+    simulate,
+    static_equilibrium,
+)
 from railvti.vehicle import time_loop
 from railvti.vehicle.equilibrium import _force_and_tangent
 from railvti.vehicle.model import WHEEL_OUTPUTS
@@ -54,26 +63,26 @@ def test_bem_matches_hertz_kalker_where_the_contact_is_hertzian(coach_system):
     assert (b0[W.index("N_flange")] == 0).all()
     np.testing.assert_allclose(be[W.index("Y")], ke[W.index("Y")], rtol=0.12)
     np.testing.assert_allclose(bx[W.index("Fx")], kx[W.index("Fx")], rtol=0.12)
-    assert np.abs(bx[W.index("Fx")]).min() > 300.0               # the increments are not noise
+    assert np.abs(bx[W.index("Fx")]).min() > 300.0  # the increments are not noise
 
 
 def test_bem_centred_running_static_load_and_patch():
     c = scenarios.centred_running(200.0, contact="bem", duration=0.02, progress=False)
     assert c.contact == "bem" and c.run.contact == "bem"
-    assert c.q_error < 1e-3                                      # acceptance: 0.1 %
+    assert c.q_error < 1e-3  # acceptance: 0.1 %
     assert np.abs(c.Y.sum(axis=0)).max() < 1e-3 * c.static_wheel_load
     assert np.allclose(c.Y[0], -c.Y[1], atol=1e-3 * c.static_wheel_load)
     assert np.abs(c.run.y_ws1).max() < 1e-7
     pt = c.patch
     assert isinstance(pt, BemPatch) and pt.point == 0
     n_right = c.run.wheel_output("N_tread")[-1, 1, 0]
-    assert pt.fn == pytest.approx(n_right, rel=1e-9)             # the fields are the run's
+    assert pt.fn == pytest.approx(n_right, rel=1e-9)  # the fields are the run's
     assert pt.pressure.max() > 3e8 and pt.power > 0
-    assert (pt.pressure[0] == 0).all() and (pt.pressure[:, -1] == 0).all()   # inside the grid
+    assert (pt.pressure[0] == 0).all() and (pt.pressure[:, -1] == 0).all()  # inside the grid
     st = c.run.stats
-    assert st["bem_normal_solves"] >= 8 * st["steps"]            # every wheel, every step
+    assert st["bem_normal_solves"] >= 8 * st["steps"]  # every wheel, every step
     assert st["bem_solves_per_step"] == pytest.approx(st["bem_normal_solves"] / st["steps"])
-    assert st["bem_max_normal_residual"] <= BemOptions().tol_normal       # every solve converged
+    assert st["bem_max_normal_residual"] <= BemOptions().tol_normal  # every solve converged
 
 
 def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
@@ -91,9 +100,17 @@ def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
     """
     tab = scenarios.wheel_table()
     inertia = 112.0
-    sy = build_single_wheelset(tab, mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0,
-                               ky=1e6, kx=2e6, half_spacing=1.0, axle_load=100e3,
-                               spin_inertia=inertia)
+    sy = build_single_wheelset(
+        tab,
+        mass=1813.0,
+        roll_inertia=1120.0,
+        yaw_inertia=1120.0,
+        ky=1e6,
+        kx=2e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+        spin_inertia=inertia,
+    )
     v0, jb = 30.0, sy.index("ws1_beta")
     i0 = int(np.argmin(np.abs(tab.y)))
     a1, b1, c11, r = (tab.data[QUANTITIES.index(k), 0, i0] for k in ("a1", "b1", "c11", "r"))
@@ -102,12 +119,23 @@ def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
         kick = v.copy()
         kick[jb] += 2e-3
         dfx = (force_and_tangent(sy, q, kick, v0, "bem")[1] - w)[W.index("Fx"), :, 0]
-        k_bem = -dfx / (-2e-3 * r / v0)                  # dxi = -dbetadot r / v0
+        k_bem = -dfx / (-2e-3 * r / v0)  # dxi = -dbetadot r / v0
         rate = 2 * r * r * k_bem.mean() / (inertia * v0)
         h = 0.1 / rate
-        res = simulate(sy, v0, 2.0 / rate, contact="bem", bem=st, q0=q, v0=kick, h=h,
-                       output_dt=h, tol=1e-12, progress=False)
-    assert res.stats["bem_normal_solves"] >= 2 * res.stats["steps"]     # the BEM did the work
+        res = simulate(
+            sy,
+            v0,
+            2.0 / rate,
+            contact="bem",
+            bem=st,
+            q0=q,
+            v0=kick,
+            h=h,
+            output_dt=h,
+            tol=1e-12,
+            progress=False,
+        )
+    assert res.stats["bem_normal_solves"] >= 2 * res.stats["steps"]  # the BEM did the work
     excess = res.v[:, jb] - v[jb]
     assert 0 < excess[-1] < 0.2 * excess[0]
     assert -np.polyfit(res.t, np.log(excess), 1)[0] == pytest.approx(rate, rel=0.02)
@@ -132,7 +160,7 @@ def test_bem_patch_jacobian_matches_central_differences_of_the_solves(coach_syst
     q = lateral_disturbance(sy, qs, offset, wheelsets=(0,))
     v = np.zeros(sy.n)
     v[sy.dof_names.index("ws1_y")] = 1e-4 * V
-    o = BemOptions(jacobian_age=1)       # a Jacobian at every solve: at the base
+    o = BemOptions(jacobian_age=1)  # a Jacobian at every solve: at the base
     with bem_state(sy, o) as st:
         _force_and_tangent(sy, q, v, V, "bem", 8, st)
         for wheel in (0, 1):
@@ -171,11 +199,26 @@ def test_bem_run_does_not_depend_on_the_chunking(coach_system, monkeypatch):
     q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
     runs = []
     for size in (3, 10_000):
-        monkeypatch.setattr(time_loop, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk))
+        monkeypatch.setattr(
+            time_loop, "_next_chunk", lambda ns, wall, plan, size=size: min(size, plan.per_chunk)
+        )
         monkeypatch.setattr(time_loop, "CHUNK_SECONDS", 0.0)
         with bem_state(sy, opts) as st:
-            runs.append(simulate(sy, V, 0.012, contact="bem", bem=st, q0=q0, h=1e-3,
-                                 output_dt=1e-3, progress=size == 3, chunk=0.003, threads=1))
+            runs.append(
+                simulate(
+                    sy,
+                    V,
+                    0.012,
+                    contact="bem",
+                    bem=st,
+                    q0=q0,
+                    h=1e-3,
+                    output_dt=1e-3,
+                    progress=size == 3,
+                    chunk=0.003,
+                    threads=1,
+                )
+            )
     assert runs[0].stats["newton_iterations"] > 0
     np.testing.assert_array_equal(runs[0].q, runs[1].q)
     np.testing.assert_array_equal(runs[0].wheel, runs[1].wheel)

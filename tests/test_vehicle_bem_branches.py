@@ -7,14 +7,14 @@ the point: 1.7 kN of longitudinal force on the tread jump of S1002 / UIC60 1:40,
 the time loop's Newton iterations cannot converge at any step size (RR hunting at 420 km/h
 stopped at the first such crossing). A continuous force changes by O(delta) over a shift
 delta: ten times smaller for a ten times smaller shift, where a jump stays the same."""
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from railvti import scenarios
-from railvti.vehicle.equilibrium import (_force_and_tangent, bem_state, lateral_disturbance,
-                                         static_equilibrium)
+from railvti.vehicle.equilibrium import _force_and_tangent, bem_state, lateral_disturbance, static_equilibrium
 from railvti.vehicle.table import IBRANCH
 
 SPEED = 300.0 / 3.6

@@ -1,5 +1,6 @@
 """contact='bem' with the wheels' patches solved in parallel (OpenMP, simulate(threads=)): the
 threaded run must give the serial run's states and forces (vehicle_bem.f90, "Threads")."""
+
 from __future__ import annotations
 
 import os
@@ -34,8 +35,18 @@ def openmp(coach_system):
 def _hunting(sy, q0, threads):
     # one output interval per Fortran call: the chunking, otherwise sized by the wall clock,
     # is then the same in both runs (each call starts a fresh Newton tangent)
-    return simulate(sy, V, 0.05, contact="bem", q0=q0, output_dt=0.002, bem_options=OPTIONS,
-                    threads=threads, progress=True, chunk=0.002)
+    return simulate(
+        sy,
+        V,
+        0.05,
+        contact="bem",
+        q0=q0,
+        output_dt=0.002,
+        bem_options=OPTIONS,
+        threads=threads,
+        progress=True,
+        chunk=0.002,
+    )
 
 
 def test_threads_give_the_serial_run(coach_system, openmp):
@@ -56,8 +67,14 @@ def test_threads_give_the_serial_run(coach_system, openmp):
         a, b = getattr(r1, name), getattr(r2, name)
         assert a.shape == b.shape
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-10 * np.abs(a).max(), err_msg=name)
-    for key in ("newton_iterations", "bem_normal_solves", "bem_rolling_solves", "bem_cg_iterations",
-                "bem_rolling_sweeps", "bem_open_points"):
+    for key in (
+        "newton_iterations",
+        "bem_normal_solves",
+        "bem_rolling_solves",
+        "bem_cg_iterations",
+        "bem_rolling_sweeps",
+        "bem_open_points",
+    ):
         assert r2.stats[key] == r1.stats[key], key
 
 

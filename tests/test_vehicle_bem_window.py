@@ -1,6 +1,7 @@
 """BEM patches solved on windows around the interpenetration (BemOptions.window) against the
 same solves on the whole grid: the contact area lies inside the rigid interpenetration, so
 the window must give the full grid's forces and fields to the solvers' tolerances."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -47,7 +48,7 @@ def test_windowed_bem_equals_the_full_grid(coach_system, y0):
         i = W.index(name)
         np.testing.assert_allclose(ww[i], wf[i], rtol=0, atol=1e-6 * np.abs(wf[i]).max() + 1e-9)
     if y0 > 0.005:
-        assert (wf[W.index("N_flange")] > 1e3).any()      # the flange point is in contact
+        assert (wf[W.index("N_flange")] > 1e3).any()  # the flange point is in contact
     for a, b in zip(pw, pf):
         assert (a is None) == (b is None)
         if a is None:

@@ -1,4 +1,5 @@
 """Vehicle deck case type: runs, records the contact model, plots, rejects bad keys."""
+
 from pathlib import Path
 
 import numpy as np
@@ -19,29 +20,31 @@ def _params(**kw):
 
 
 def test_centred_case_outputs(tmp_path):
-    out = REGISTRY["vehicle"].run(_params(scenario="centred_running", speed_kmh=200.0,
-                                          duration=0.1, contact="hertz-fastsim"))
+    out = REGISTRY["vehicle"].run(
+        _params(scenario="centred_running", speed_kmh=200.0, duration=0.1, contact="hertz-fastsim")
+    )
     assert out.scalars["contact"][0] == "hertz-fastsim"
     assert out.scalars["max_Q_error"][0] < 1e-3
     assert out.datasets["Q_final"][0].shape == (2, 4)
-    assert out.datasets["patch_pressure"][0].max() > 1e8           # Hertz p0 of a wheel load
+    assert out.datasets["patch_pressure"][0].max() > 1e8  # Hertz p0 of a wheel load
     import h5py
+
     with h5py.File(tmp_path / "r.h5", "w") as f:
         g = f.create_group("results")
-        for k, (a, u) in out.datasets.items():
+        for k, (a, _u) in out.datasets.items():
             g[k] = a
         paths = REGISTRY["vehicle"].plot(f, tmp_path, "c")
     assert all(p.exists() for p in paths)
-    assert any(p.name == "c_wheels.png" for p in paths)          # all eight wheels
+    assert any(p.name == "c_wheels.png" for p in paths)  # all eight wheels
     assert out.datasets["wheel_YQ_max"][0].shape == (2, 4)
     assert "worst wheel: wheelset" in out.summary
 
 
 def test_coach_parameter_through_deck():
-    out = REGISTRY["vehicle"].run(_params(scenario="centred_running", duration=0.05,
-                                          coach_carbody_mass=30000.0))
-    assert out.scalars["static_wheel_load"][0] == pytest.approx(
-        (30000 + 2 * 2615 + 4 * 1813) * 9.81 / 8)
+    out = REGISTRY["vehicle"].run(
+        _params(scenario="centred_running", duration=0.05, coach_carbody_mass=30000.0)
+    )
+    assert out.scalars["static_wheel_load"][0] == pytest.approx((30000 + 2 * 2615 + 4 * 1813) * 9.81 / 8)
 
 
 def test_bad_scenario_and_negative_mass():
@@ -58,6 +61,7 @@ def test_example_deck_parses_as_written_and_its_first_case_runs():
     every wheel within 0.1 % of (carbody + 2 bogies + 4 wheelsets) g / 8 with the
     Manchester benchmark masses, and no net lateral force on any wheelset."""
     import f90nml
+
     raw = f90nml.read(EXAMPLE)["case"]
     cases = parse_deck(EXAMPLE.read_text())
     defaults = REGISTRY["vehicle"].defaults
@@ -81,11 +85,17 @@ def test_example_deck_parses_as_written_and_its_first_case_runs():
 
 
 def test_critical_speed_case_short_sweep(tmp_path):
-    out = REGISTRY["vehicle"].run(_params(scenario="critical_speed", speeds_kmh_min=140.0,
-                                          speeds_kmh_max=420.0, speeds_kmh_step=280.0,
-                                          duration=1.5))
+    out = REGISTRY["vehicle"].run(
+        _params(
+            scenario="critical_speed",
+            speeds_kmh_min=140.0,
+            speeds_kmh_max=420.0,
+            speeds_kmh_step=280.0,
+            duration=1.5,
+        )
+    )
     up = out.datasets["upper_amplitude"][0]
     assert out.datasets["speeds_kmh"][0].tolist() == [140.0, 420.0]
-    assert up[1] > 5e-3 and up[0] < 0.5e-3        # flange cycle at 420, decay at 140
+    assert up[1] > 5e-3 and up[0] < 0.5e-3  # flange cycle at 420, decay at 140
     assert out.scalars["critical_speed_nonlinear"][0] == 420.0
     assert 250 < out.scalars["critical_speed_linear"][0] < 400

@@ -1,5 +1,6 @@
 """Contact geometry of the vehicle's table: branches, no phantom points, energy-consistent
 lever arms (issue 13, deliverables 1 and 2)."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -9,7 +10,13 @@ import pytest
 
 from railvti import scenarios
 from railvti.geometry import layout
-from railvti.vehicle import (BemOptions, bem_state, build_single_wheelset, lateral_disturbance, static_equilibrium)
+from railvti.vehicle import (
+    BemOptions,
+    bem_state,
+    build_single_wheelset,
+    lateral_disturbance,
+    static_equilibrium,
+)
 from railvti._status import check
 from railvti.vehicle.bem import grid_for
 from railvti.vehicle.equilibrium import call_settings
@@ -18,7 +25,7 @@ from railvti.vehicle.table import QUANTITIES, linearised_table, wheel_table
 
 W = WHEEL_OUTPUTS
 V = 200 / 3.6
-D0 = 60e-6          # vertical approach below the minimum gap, m
+D0 = 60e-6  # vertical approach below the minimum gap, m
 
 
 @pytest.fixture(scope="module")
@@ -35,14 +42,21 @@ def _min_gap(table, y):
 
 
 def _left_fn(table, y, grid):
-    sy = build_single_wheelset(table, mass=1500.0, roll_inertia=700.0, yaw_inertia=700.0,
-                               ky=0.0, kx=0.0, half_spacing=1.0, axle_load=1e5)
+    sy = build_single_wheelset(
+        table,
+        mass=1500.0,
+        roll_inertia=700.0,
+        yaw_inertia=700.0,
+        ky=0.0,
+        kx=0.0,
+        half_spacing=1.0,
+        axle_load=1e5,
+    )
     out = []
     with bem_state(sy, BemOptions(nx=grid.nx, ny=grid.ny)) as st:
         cs = call_settings(V, "bem", 8, st)
         for yi, gi in zip(y, _min_gap(table, y)):
-            _, wout, _, _, info = sy.native.force(cs, np.array([yi, -gi - D0, 0.0, 0.0]),
-                                                  np.zeros(4))
+            _, wout, _, _, info = sy.native.force(cs, np.array([yi, -gi - D0, 0.0, 0.0]), np.zeros(4))
             check(info, "BEM force")
             out.append(wout[W.index("N_tread"), 0, 0] + wout[W.index("N_flange"), 0, 0])
     return np.array(out)
@@ -60,7 +74,7 @@ def test_bem_force_in_the_jump_band_matches_the_exact_field(table):
     got = _left_fn(table, y, grid)
     np.testing.assert_allclose(got, exact, rtol=0.01)
     data = np.array(table.data, order="F", copy=True)
-    data[QUANTITIES.index("branch")] = 0.0                 # one label: linear blending
+    data[QUANTITIES.index("branch")] = 0.0  # one label: linear blending
     rows = np.array(table.data_roll, order="F", copy=True)
     rows[QUANTITIES.index("branch")] = 0.0
     blended = _left_fn(dataclasses.replace(table, data=data, data_roll=rows), y, grid)
@@ -75,8 +89,7 @@ def test_table_points_are_local_minima_without_phantoms(table):
     off = lay.wheelset.contact_y
 
     def gap(y, s):
-        return (table.rail.height(y + off + s - lay.rail_offset) - lay.rail_top
-                - table.wheel.height(s))
+        return table.rail.height(y + off + s - lay.rail_offset) - lay.rail_top - table.wheel.height(s)
 
     g = table.at("g", 0), table.at("g", 1)
     for k in range(2):

@@ -1,5 +1,6 @@
 """The energy-conserving integrator (simulate(integrator='energy')): an undamped frictionless FR
 run keeps its energy where the default trapezoidal rule drifts, and bad input."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -29,12 +30,14 @@ def fr():
 def fr_energy(sy):
     """E(q, v, W) over the whole state, J: kinetic + elastic (the dense M, K of
     flexible_linear.linear_matrices: coach, modal blocks with the residual flexibility (its mass,
-    none if massless), the journal couplings) - the work of the constant loads (gravity and spring preloads, the
+    none if massless), the journal couplings) - the work of the constant loads (gravity and
+    spring preloads, the
     journal couplings' preloads through Phi) + the contacts' potential W. The gyroscopic
     terms (modal G, the 'gyro' couplings: skew) do no work."""
     from railvti.vehicle.flexible_linear import linear_matrices
+
     m, _, k = linear_matrices(sy)
-    assert np.abs(k - k.T).max() < 1e-9 * np.abs(k).max()     # conservative: K symmetric
+    assert np.abs(k - k.T).max() < 1e-9 * np.abs(k).max()  # conservative: K symmetric
     k = 0.5 * (k + k.T)
     n, mb = sy.n, sy.modal
     f0 = np.zeros(sy.n_state)
@@ -44,8 +47,8 @@ def fr_energy(sy):
             f0[n:] += mb.couplings.params[2, e] * mb.phi[mb.couplings.points[e]]
 
     def energy(q, v, w):
-        return (0.5 * np.einsum("ti,ij,tj->t", v, m, v) + 0.5 * np.einsum("ti,ij,tj->t", q, k, q)
-                - q @ f0 + w)
+        return 0.5 * np.einsum("ti,ij,tj->t", v, m, v) + 0.5 * np.einsum("ti,ij,tj->t", q, k, q) - q @ f0 + w
+
     return energy
 
 
@@ -57,15 +60,16 @@ def energy_error(sy, integrator: str, duration: float, h: float, tol: float = 1e
     x, _ = static_equilibrium(sy, SPEED)
     x1 = x.copy()
     x1[sy.index("ws1_y")] += KICK
-    x1 = consistent_massless(sy, SPEED, x1)       # the residual flexibility at the kick
-    r = simulate(sy, SPEED, duration, q0=x1, h=h, output_dt=h, progress=False, tol=tol,
-                 integrator=integrator)
+    x1 = consistent_massless(sy, SPEED, x1)  # the residual flexibility at the kick
+    r = simulate(sy, SPEED, duration, q0=x1, h=h, output_dt=h, progress=False, tol=tol, integrator=integrator)
     e = energy(r.q, r.v, r.wheel_output("energy").sum(axis=(1, 2)))
     w0 = sy.native.state_force(CallSettings(SPEED, 1), x, np.zeros_like(x))[1][8].sum()
     e_static = energy(x[None], np.zeros((1, x.size)), np.array([w0]))[0]
-    e_start = energy(x1[None], np.zeros((1, x.size)),
-                     np.array([sy.native.state_force(CallSettings(SPEED, 1), x1,
-                                                     np.zeros_like(x1))[1][8].sum()]))[0]
+    e_start = energy(
+        x1[None],
+        np.zeros((1, x.size)),
+        np.array([sy.native.state_force(CallSettings(SPEED, 1), x1, np.zeros_like(x1))[1][8].sum()]),
+    )[0]
     return float(np.abs(np.concatenate([[e_start], e]) - e_start).max() / abs(e_start - e_static))
 
 
@@ -88,6 +92,6 @@ def test_energy_scheme_bad_input(fr):
         simulate(fr, SPEED, 0.01, h=5e-4, integrator="verlet", progress=False)
     with pytest.raises(InputError, match="alpha"):
         simulate(fr, SPEED, 0.01, h=5e-4, integrator="energy", alpha=-0.05, progress=False)
-    rr = scenarios.coach_system(geometry="table")        # no potential
+    rr = scenarios.coach_system(geometry="table")  # no potential
     with pytest.raises(InputError, match="strip"):
         simulate(rr, SPEED, 0.01, integrator="energy", progress=False)

@@ -11,6 +11,7 @@ difference ~ h a').
 The true local error is measured independently: the same step taken as 32 sub-steps of h/32
 (whose own local errors add up to 32 (h/32)^3 = h^3 / 1024 of the step's) from the same state.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -19,10 +20,10 @@ import pytest
 from railvti import scenarios
 from railvti.vehicle import build_single_wheelset, lateral_disturbance, simulate, static_equilibrium
 
-SPEED = 60.0          # m/s: below this wheelset's critical speed, the hunting decays slowly
-N_REF = 32            # sub-steps of the reference step
+SPEED = 60.0  # m/s: below this wheelset's critical speed, the hunting decays slowly
+N_REF = 32  # sub-steps of the reference step
 H_RESOLVED = 1.25e-4  # s: h omega_max = 0.16 for the 208 Hz vertical/roll mode on the Hertz springs
-H_DEFAULT = 1e-3      # s: simulate's default step
+H_DEFAULT = 1e-3  # s: simulate's default step
 
 
 @pytest.fixture(scope="module")
@@ -32,14 +33,22 @@ def hunting_states():
     states carry no parasitic step-to-step oscillation); then 8 states 0.6 ms apart, which cover
     one 4.8 ms period of the fastest mode (eigenvalues -0.1 +- 1309i 1/s), so the test does not
     hang on the phase of a single state."""
-    sy = build_single_wheelset(scenarios.wheel_table(), mass=1813.0, roll_inertia=1120.0,
-                               yaw_inertia=1120.0, ky=1e6, kx=2e6, half_spacing=1.0,
-                               axle_load=100e3)
+    sy = build_single_wheelset(
+        scenarios.wheel_table(),
+        mass=1813.0,
+        roll_inertia=1120.0,
+        yaw_inertia=1120.0,
+        ky=1e6,
+        kx=2e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     qs, _ = static_equilibrium(sy, SPEED)
-    r = simulate(sy, SPEED, 0.306, q0=lateral_disturbance(sy, qs, 0.002, (0,)), h=1e-4,
-                 output_dt=1e-4, progress=False)
-    assert r.wheel_output("N_flange").max() == 0.0      # smooth: no flange contact
-    assert np.ptp(r.y_ws1[r.t > 0.2]) > 2e-3            # still hunting (+-1.5 mm)
+    r = simulate(
+        sy, SPEED, 0.306, q0=lateral_disturbance(sy, qs, 0.002, (0,)), h=1e-4, output_dt=1e-4, progress=False
+    )
+    assert r.wheel_output("N_flange").max() == 0.0  # smooth: no flange contact
+    assert np.ptp(r.y_ws1[r.t > 0.2]) > 2e-3  # still hunting (+-1.5 mm)
     idx = [int(np.argmin(np.abs(r.t - (0.3 + 6e-4 * k)))) for k in range(8)]
     return sy, [(r.q[i], r.v[i]) for i in idx]
 

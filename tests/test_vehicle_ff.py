@@ -6,6 +6,7 @@ rigid ring against FR on rigid ground (the same wheelsets, no ring); the rims' c
 model FR's and the rail deflection against model RF's (each body's own response to nearly the
 same wheel loads); the mirror symmetry of the centred static state.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -30,8 +31,9 @@ RING = dict(n_sleepers=40, f_limit=300.0, track_params=COARSE)
 @pytest.fixture(scope="module")
 def fr_ground():
     """FR on rigid ground (no track elements), k_max 1, modes up to 300 Hz."""
-    return build_fr(Coach(), scenarios.wheel_table(), V, wheelset=systems.fr_wheelset(),
-                    k_max=1, f_max=300.0, track=False)
+    return build_fr(
+        Coach(), scenarios.wheel_table(), V, wheelset=systems.fr_wheelset(), k_max=1, f_max=300.0, track=False
+    )
 
 
 def test_stiff_ring_reproduces_fr_on_rigid_ground(fr_ground):
@@ -39,8 +41,7 @@ def test_stiff_ring_reproduces_fr_on_rigid_ground(fr_ground):
     wheelsets' modes is FR's on rigid ground (the ring deflects by ~1e-10 m)."""
     base, _ = fr_ground
     ring = systems.ring_track(40, COARSE)
-    ff = build_rf(Coach(), scenarios.wheel_table(), V, ring, f_limit=300.0,
-                  stiffness_scale=1e6, base=base)
+    ff = build_rf(Coach(), scenarios.wheel_table(), V, ring, f_limit=300.0, stiffness_scale=1e6, base=base)
     q_fr, _ = static_equilibrium(base, V, "hertz-kalker")
     q_ff, _ = static_equilibrium(ff, V, "hertz-kalker")
     n = base.n_state
@@ -68,8 +69,9 @@ def test_ff_static_state_against_fr_and_rf(fr_ground):
     np.testing.assert_allclose(cam_ff, cam_fr, rtol=0.05)
     np.testing.assert_allclose(cam_ff[0], cam_ff[1], rtol=1e-5)
     tab = scenarios.wheel_table()
-    off, _ = build_fr(Coach(), tab, V, wheelset=systems.fr_wheelset(), k_max=1, f_max=300.0,
-                      track=False, zero_rows=True)
+    off, _ = build_fr(
+        Coach(), tab, V, wheelset=systems.fr_wheelset(), k_max=1, f_max=300.0, track=False, zero_rows=True
+    )
     ring = systems.ring_track(40, COARSE)
     ff0 = build_rf(Coach(), tab, V, ring, f_limit=300.0, base=off)
     rf = scenarios.rf_system(speed=V, geometry="table", **RING)
@@ -87,14 +89,13 @@ def test_ff_centred_running():
     The rim-rail relative angle is the camber minus the rail head's roll read from the ring
     (RingSystem.rail_deflection's roll under each wheel, -roll on the left rail, +roll on the
     right: the inner edge rising) to round-off, and left and right mirror each other."""
-    c = scenarios.centred_running(200.0, "FF", "hertz-fastsim", duration=0.05, k_max=1,
-                                  f_max=300.0, **RING)
+    c = scenarios.centred_running(200.0, "FF", "hertz-fastsim", duration=0.05, k_max=1, f_max=300.0, **RING)
     assert c.model == "FF" and c.rim_angle is not None and c.rail is not None
     assert c.q_error < 0.03
     assert np.all(c.rim_camber > 0)
     assert np.all(c.rail[:, 1] < 0)
     roll = c.rail[-1, 2] * np.array([-1.0, 1.0])[:, None]
-    assert np.max(np.abs(roll)) > 1e-5                # the head rolls: not the rigid-rail limit
+    assert np.max(np.abs(roll)) > 1e-5  # the head rolls: not the rigid-rail limit
     np.testing.assert_allclose(c.rail_roll, roll, rtol=0, atol=1e-15)
     np.testing.assert_allclose(c.rim_angle, c.rim_camber - roll, rtol=0, atol=1e-15)
     # mirror symmetry of centred running: the left wheel's angles are the right one's
@@ -121,10 +122,18 @@ def test_ring_bifurcation_below_the_critical_speed():
     stable there (RR's linear critical speed is far above), so the disturbance decays along
     the carried branch (each speed's amplitude below the one above it, all below y_large) and
     the small one too; the step of every speed is reported."""
-    b = scenarios.bifurcation([200.0, 180.0], model="RF", contact="hertz-kalker",
-                              duration=0.6, y_large=0.003, y_small=0.0005, progress=False,
-                              v_min_kmh=180.0, **RING)
-    up = b.upper[::-1]                      # from 200 km/h down
+    b = scenarios.bifurcation(
+        [200.0, 180.0],
+        model="RF",
+        contact="hertz-kalker",
+        duration=0.6,
+        y_large=0.003,
+        y_small=0.0005,
+        progress=False,
+        v_min_kmh=180.0,
+        **RING,
+    )
+    up = b.upper[::-1]  # from 200 km/h down
     assert np.all(up < 0.003) and np.all(np.diff(up) < 0)
     assert np.all(b.decay < 0.0005)
     assert b.details["h"].size == b.speeds_kmh.size
@@ -137,8 +146,9 @@ def test_ring_continuation_carries_the_rail_under_the_wheels():
     200 km/h (an independent path: the same ring state read through the other speed's rows
     at its own time), to 1e-9 of the static deflection; the restart from x_offset, as the
     continuation did before, misses it by the sleeper-passing fluctuation."""
-    sw = SweepSystems("RF", None, "hertz-kalker", None, scenarios.FR_K_MAX, scenarios.FR_F_MAX,
-                      "table", dict(RING))
+    sw = SweepSystems(
+        "RF", None, "hertz-kalker", None, scenarios.FR_K_MAX, scenarios.FR_F_MAX, "table", dict(RING)
+    )
     v200, v180 = 200.0 / 3.6, 180.0 / 3.6
     a, _, h = sw.at(v200)
     qs, _ = static_equilibrium(a, v200, "hertz-kalker")
@@ -148,10 +158,10 @@ def test_ring_continuation_carries_the_rail_under_the_wheels():
     q, _, _ = sw.carry(r.q[-1], r.v[-1], v200, v180, lambda: None)
     b = sw.upper_at(v180, travel)[0]
     start = b.rail_deflection(np.zeros(1), q[None])[0]
-    scale = np.abs(end[1]).max()                     # vertical, m
+    scale = np.abs(end[1]).max()  # vertical, m
     assert scale > 1e-5
     np.testing.assert_allclose(start, end, rtol=0, atol=1e-9 * scale)
-    c = sw.at(v180)[0]                                # the contact points back at x_offset
+    c = sw.at(v180)[0]  # the contact points back at x_offset
     assert np.abs(c.rail_deflection(np.zeros(1), q[None])[0] - end).max() > 1e-3 * scale
 
 

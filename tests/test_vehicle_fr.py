@@ -4,6 +4,7 @@ Checks against independent references: the rigid model RR (decoupled modes), the
 own modal statics (FlexibleWheelset.static_deflection under the coupled model's point
 forces), and the Hertz potential (the rims' generalised forces are its gradient).
 """
+
 from dataclasses import replace
 
 import numpy as np
@@ -12,8 +13,14 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle.flexible import build_fr
-from railvti.vehicle.flexible_points import (attachment_deflection, attachment_loads, point_forces,
-                                             rim_camber_change, rim_deformation, rim_rail_angle_change)
+from railvti.vehicle.flexible_points import (
+    attachment_deflection,
+    attachment_loads,
+    point_forces,
+    rim_camber_change,
+    rim_deformation,
+    rim_rail_angle_change,
+)
 from railvti.vehicle.model import CallSettings, ModalBlocks
 from railvti.vehicle.params import Coach, speed_m_s
 from railvti.vehicle.contact_models import contact_id
@@ -32,7 +39,7 @@ def body():
 
 @pytest.fixture(scope="module")
 def rr():
-    sy = scenarios.coach_system("RR", geometry="table")    # build_fr's geometry
+    sy = scenarios.coach_system("RR", geometry="table")  # build_fr's geometry
     q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     return sy, q, v
 
@@ -50,14 +57,14 @@ def test_zero_rows_reproduce_rr(body, rr):
     sy_rr, q_rr, v_rr = rr
     sy, _ = build_fr(Coach(), scenarios.wheel_table(), V, body=body, zero_rows=True)
     q0, v0, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
-    assert np.max(np.abs(q0[:sy.n] - q_rr)) < 1e-8
-    assert np.max(np.abs(q0[sy.n:])) == 0.0
+    assert np.max(np.abs(q0[: sy.n] - q_rr)) < 1e-8
+    assert np.max(np.abs(q0[sy.n :])) == 0.0
     # a lateral kick, 50 ms at 0.5 ms steps, both models
     kick = np.zeros(sy.n_state)
     kick[sy.index("ws1_y")] = 0.05
-    a = simulate(sy_rr, V, 0.05, h=5e-4, q0=q_rr, v0=v_rr + kick[:sy.n])
+    a = simulate(sy_rr, V, 0.05, h=5e-4, q0=q_rr, v0=v_rr + kick[: sy.n])
     b = simulate(sy, V, 0.05, h=5e-4, q0=q0, v0=v0 + kick)
-    assert np.max(np.abs(b.q[:, :sy.n] - a.q)) < 1e-8
+    assert np.max(np.abs(b.q[:, : sy.n] - a.q)) < 1e-8
     assert np.max(np.abs(b.Q - a.Q)) < 1e-8 * sy.wheel_load
 
 
@@ -98,16 +105,15 @@ def test_static_acceptance_against_fe(k_max, f_max):
     body = ws.flexible_body(V, k_max=k_max, f_max=f_max)
     errs = {}
     for res in (True, False):
-        sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, residual=res,
-                           flexible=(0,))
+        sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, residual=res, flexible=(0,))
         q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
         f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
         d = attachment_deflection(sy, lay[0], q)
         ref = static_fe_solve(ws, f, inertia_relief=True)
-        assert abs(ref[3]) > 3e-4 and abs(ref[2]) > 1e-5        # a real deflection
+        assert abs(ref[3]) > 3e-4 and abs(ref[2]) > 1e-5  # a real deflection
         errs[res] = max(abs(d[i] / ref[i] - 1.0) for i in (1, 2, 3, 5, 6, 7))
     assert errs[True] < 0.02
-    assert errs[False] > 0.1          # the truncated modes alone miss it
+    assert errs[False] > 0.1  # the truncated modes alone miss it
 
 
 def test_rows_at_the_static_contact_point(body):
@@ -118,8 +124,9 @@ def test_rows_at_the_static_contact_point(body):
     ws = Wheelset()
     out = {}
     for s_c in (0.0, 3e-3):
-        sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, wheelset=ws,
-                           flexible=(0,), s_contact=s_c)
+        sy, lay = build_fr(
+            Coach(), scenarios.wheel_table(), V, body=body, wheelset=ws, flexible=(0,), s_contact=s_c
+        )
         q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
         f = attachment_loads(sy, lay[0], point_forces(sy, V, q, v))
         d = attachment_deflection(sy, lay[0], q)
@@ -127,7 +134,7 @@ def test_rows_at_the_static_contact_point(body):
         for i in (1, 2, 3, 5, 6, 7):
             assert d[i] == pytest.approx(ref[i], rel=0.02)
         out[s_c] = d
-    assert out[3e-3][2] < out[0.0][2] * 1.03                    # z more negative by > 3 %
+    assert out[3e-3][2] < out[0.0][2] * 1.03  # z more negative by > 3 %
     assert out[3e-3][3] == pytest.approx(out[0.0][3], rel=2e-3)
 
 
@@ -141,6 +148,7 @@ def test_frf_peaks_match_wheelset_model():
     from scipy.signal import find_peaks
     from railvti.vehicle.flexible_linear import contact_receptance
     from railvti.wheelset import analytic
+
     ws = Wheelset()
     v = 300 / 3.6
     f = np.arange(60.0, 600.0, 0.05)
@@ -149,10 +157,15 @@ def test_frf_peaks_match_wheelset_model():
     p_ref = f[idx]
     assert p_ref.size >= 8
     mp = analytic.wheelset_mass_properties(ws.geometry)
-    coach = Coach(wheelset_mass=mp["mass"], wheelset_roll_inertia=mp["roll_inertia"],
-                  wheelset_yaw_inertia=mp["roll_inertia"],
-                  wheelset_pitch_inertia=mp["spin_inertia"], primary_cx=0.0, primary_cy=0.0,
-                  primary_cz=0.0)
+    coach = Coach(
+        wheelset_mass=mp["mass"],
+        wheelset_roll_inertia=mp["roll_inertia"],
+        wheelset_yaw_inertia=mp["roll_inertia"],
+        wheelset_pitch_inertia=mp["spin_inertia"],
+        primary_cx=0.0,
+        primary_cy=0.0,
+        primary_cz=0.0,
+    )
     sy, lay = build_fr(coach, scenarios.wheel_table(), v, flexible=(0,), wheelset=ws)
     for fp in p_ref:
         fw = np.arange(0.985 * fp, 1.015 * fp, 0.05)
@@ -167,8 +180,12 @@ def _probe(sy):
     are the point forces g_p, its modal coordinates the rim and journal displacements."""
     mb = sy.modal
     npt = mb.n_points
-    probe = ModalBlocks(damping=(np.zeros((npt, npt)),), stiffness=(np.zeros((npt, npt)),),
-                        phi=np.eye(npt), couplings=mb.couplings)
+    probe = ModalBlocks(
+        damping=(np.zeros((npt, npt)),),
+        stiffness=(np.zeros((npt, npt)),),
+        phi=np.eye(npt),
+        couplings=mb.couplings,
+    )
     return replace(sy, modal=probe)
 
 
@@ -184,7 +201,7 @@ def test_rim_motion_equals_rigid_motion(fr):
     n = sy.n
     x0 = np.concatenate([q[:n], mb.phi @ q[n:]])
     xd0 = np.concatenate([v[:n], mb.phi @ v[n:]])
-    rp = mb.couplings.rim_points[:, :, 0]           # (y, z, rx) x (left, right), wheelset 1
+    rp = mb.couplings.rim_points[:, :, 0]  # (y, z, rx) x (left, right), wheelset 1
     l0, r0 = mb.couplings.rim_arms[:, 0]
 
     def gp(x, xd=xd0):
@@ -196,8 +213,7 @@ def test_rim_motion_equals_rigid_motion(fr):
     # rim forces are this wheel's forces: vertical = Q, lateral = Y (track roll ~ 0)
     np.testing.assert_allclose(g0[1], w0[0, :, 0], rtol=1e-9)
     np.testing.assert_allclose(g0[0], w0[1, :, 0], rtol=1e-6, atol=1e-3)
-    for dof, rim in (("ws1_y", [[1, 1], [0, 0], [0, 0]]),
-                     ("ws1_roll", [[r0, r0], [l0, -l0], [1, 1]])):
+    for dof, rim in (("ws1_y", [[1, 1], [0, 0], [0, 0]]), ("ws1_roll", [[r0, r0], [l0, -l0], [1, 1]])):
         d = 2e-4 if dof == "ws1_y" else 4e-4
         xa = x0.copy()
         xa[sy.index(dof)] += d
@@ -205,7 +221,7 @@ def test_rim_motion_equals_rigid_motion(fr):
         xb[n + rp] += d * np.array(rim)
         ga, _ = gp(xa)
         gb, _ = gp(xb)
-        assert np.max(np.abs(ga - g0)) > 10.0          # the motion changes the forces
+        assert np.max(np.abs(ga - g0)) > 10.0  # the motion changes the forces
         np.testing.assert_allclose(gb, ga, rtol=1e-7, atol=1e-5)
         # the same for rates: the creepages see the rim rates as the rigid rates
         d = 1e-3
@@ -238,16 +254,15 @@ def test_eulerian_term_frozen_pattern(body):
     (the rigid rotation of the displacement: no y or camber rate, a vertical rate -Omega u_x).
     The contact forces with the Eulerian rows equal those of the same displaced rims with
     exactly these rates, and differ without the Eulerian term (dW/dt alone)."""
-    sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, flexible=(0,),
-                       residual=False)
+    sy, lay = build_fr(Coach(), scenarios.wheel_table(), V, body=body, flexible=(0,), residual=False)
     q, v, _ = static_equilibrium(sy, V, "hertz-kalker", return_velocity=True)
     n, mb = sy.n, sy.modal
     cp = mb.couplings
     rp, ep = cp.rim_points[:, :, 0], cp.rim_euler[:, :, 0]
     rng = np.random.default_rng(3)
-    qm = q[n:] + 2e-3 * rng.normal(size=body.n)         # rim motions of some um
+    qm = q[n:] + 2e-3 * rng.normal(size=body.n)  # rim motions of some um
     qd = _frozen_rates(body, qm)
-    assert np.max(np.abs(mb.phi[rp] @ qd)) > 1e-3           # dW/dt alone is not small
+    assert np.max(np.abs(mb.phi[rp] @ qd)) > 1e-3  # dW/dt alone is not small
     ps = _probe(sy)
     cs = CallSettings(V, contact_id("hertz-kalker"))
 
@@ -267,7 +282,7 @@ def test_eulerian_term_frozen_pattern(body):
         xdb[n + rp[:, w]] = [0.0, -body.omega * ux, 0.0]
     np.testing.assert_allclose(with_euler, forces(xb, xdb), rtol=1e-9, atol=1e-6)
     without = forces(xb, xd)
-    assert np.max(np.abs(without - with_euler)) > 100.0      # N: the term matters
+    assert np.max(np.abs(without - with_euler)) > 100.0  # N: the term matters
 
 
 def test_centred_running_fr(fr):
@@ -283,9 +298,8 @@ def test_centred_running_fr(fr):
 
 
 def test_fr_errors(body):
-    with pytest.raises(InputError, match="f_max"):     # bifurcation takes FR (issue 14 item 5)
-        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False,
-                              f_max=-1.0)
+    with pytest.raises(InputError, match="f_max"):  # bifurcation takes FR (issue 14 item 5)
+        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False, f_max=-1.0)
     with pytest.raises(InputError, match="speed_kmh"):
         scenarios.coach_system("FR")
     with pytest.raises(InputError):
@@ -293,8 +307,7 @@ def test_fr_errors(body):
     with pytest.raises(InputError, match="subset"):
         build_fr(Coach(), scenarios.wheel_table(), V, flexible=(5,))
     with pytest.raises(InputError, match="tread"):
-        build_fr(Coach(), scenarios.wheel_table(), V, body=body,
-                 s_contact=-0.05)
+        build_fr(Coach(), scenarios.wheel_table(), V, body=body, s_contact=-0.05)
 
 
 def test_hunting_fr_starts_from_the_disturbed_fr_equilibrium():
@@ -302,12 +315,11 @@ def test_hunting_fr_starts_from_the_disturbed_fr_equilibrium():
     wheelsets by y0 from the FR static equilibrium (modes deflected, not from RR's), and
     integrates the modal state with a step that resolves the kept modes."""
     y0 = 0.004
-    fr = scenarios.hunting(350.0, model="FR", duration=0.02, y0=y0, output_dt=0.002,
-                           progress=False)
+    fr = scenarios.hunting(350.0, model="FR", duration=0.02, y0=y0, output_dt=0.002, progress=False)
     sy = scenarios.coach_system("FR", speed_kmh=350.0)
     qs, _ = static_equilibrium(sy, speed_m_s(350.0), "hertz-kalker")
     assert fr.q.shape[1] == sy.n_state and np.all(np.isfinite(fr.q))
-    assert np.max(np.abs(qs[sy.n:])) > 0.0               # the static modal deflection
+    assert np.max(np.abs(qs[sy.n :])) > 0.0  # the static modal deflection
     # after one output interval the leading wheelset is still near y_static + y0, the
     # trailing bogie's wheelsets near their static position
     i1, i3 = sy.index("ws1_y"), sy.index("ws3_y")

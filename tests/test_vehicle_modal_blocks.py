@@ -5,6 +5,7 @@ same system assembled as dense M, C, K and run through the rigid (dense) path, t
 balance of the trapezoidal rule on a conservative linear system, an adaptive Runge-Kutta
 solution of the nonlinear equations written out in numpy, and the RR model without blocks.
 """
+
 from __future__ import annotations
 
 import math
@@ -45,13 +46,15 @@ def _linear_system(damped=True, seed=1):
     nm = sum(b.shape[0] for b in bb)
     phi = rng.normal(size=(3, nm)) * 0.3
     c = 20.0 if damped else 0.0
-    els = (PointElement.linear(0, 0, 5e4, c, 10.0), PointElement.linear(1, 1, 3e4),
-           PointElement.linear(2, None, 1e4, c))
+    els = (
+        PointElement.linear(0, 0, 5e4, c, 10.0),
+        PointElement.linear(1, 1, 3e4),
+        PointElement.linear(2, None, 1e4, c),
+    )
     m = np.diag([10.0, 20.0])
     k = np.array([[4e4, -1e4], [-1e4, 2e4]])
     cr = np.array([[30.0, 0.0], [0.0, 10.0]]) if damped else np.zeros((2, 2))
-    return build_rigid_system(m, cr, k, f0=np.array([0.0, -50.0]),
-                              modal=ModalBlocks(bb, kb, phi, els))
+    return build_rigid_system(m, cr, k, f0=np.array([0.0, -50.0]), modal=ModalBlocks(bb, kb, phi, els))
 
 
 def _start(sy):
@@ -72,7 +75,7 @@ def test_condensed_matches_dense_linear():
     assert r1.dof_names == r2.dof_names
     assert np.max(np.abs(r1.q - r2.q)) <= 1e-8 * np.max(np.abs(r2.q))
     assert np.max(np.abs(r1.v - r2.v)) <= 1e-8 * np.max(np.abs(r2.v))
-    assert np.max(np.abs(r2.q[:, sy.n:])) > 1e-4       # the modes did move
+    assert np.max(np.abs(r2.q[:, sy.n :])) > 1e-4  # the modes did move
 
 
 def test_condensed_matches_dense_hht_alpha():
@@ -89,8 +92,11 @@ def test_condensed_matches_dense_hht_alpha():
 def _energy(sy, de, r):
     """E = v'Mv/2 + q'Kq/2 - f0'q of the dense equivalent along run r, and at the start
     (at rest)."""
-    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
-         + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q) - r.q @ de.f0)
+    e = (
+        0.5 * np.einsum("ti,ij,tj->t", r.v, de.m, r.v)
+        + 0.5 * np.einsum("ti,ij,tj->t", r.q, de.k, r.q)
+        - r.q @ de.f0
+    )
     x0 = _start(sy)
     return e, 0.5 * x0 @ de.k @ x0 - x0 @ de.f0
 
@@ -103,8 +109,8 @@ def test_energy_conserved_trapezoidal():
     r = simulate(sy, 1.0, 2.0, q0=_start(sy), h=1e-3, output_dt=1e-3, tol=1e-12)
     e, e0 = _energy(sy, de, r)
     assert np.max(np.abs(e - e0)) <= 1e-8 * abs(e0)
-    assert np.abs(de.c[sy.n:, sy.n:] + de.c[sy.n:, sy.n:].T).max() == 0.0   # B skew: no damping
-    assert np.abs(de.c[sy.n:, sy.n:]).max() > 0.0                          # but gyroscopic
+    assert np.abs(de.c[sy.n :, sy.n :] + de.c[sy.n :, sy.n :].T).max() == 0.0  # B skew: no damping
+    assert np.abs(de.c[sy.n :, sy.n :]).max() > 0.0  # but gyroscopic
 
 
 def test_without_damping_is_conservative():
@@ -130,8 +136,9 @@ def _hertz_system():
     phi = np.abs(rng.normal(size=(2, 12))) * 0.2
     els = (PointElement.hertz(0, 0, 5e8), PointElement.linear(1, None, 2e4, 5.0))
     mb = ModalBlocks(tuple(bb), tuple(kb), phi, els)
-    return build_rigid_system(np.array([[100.0]]), np.zeros((1, 1)), np.array([[0.0]]),
-                              f0=np.array([-981.0]), modal=mb)
+    return build_rigid_system(
+        np.array([[100.0]]), np.zeros((1, 1)), np.array([[0.0]]), f0=np.array([-981.0]), modal=mb
+    )
 
 
 def _hertz_rhs(sy):
@@ -143,13 +150,13 @@ def _hertz_rhs(sy):
     j = 0
     for b, k in zip(mb.damping, mb.stiffness):
         s = b.shape[0]
-        bfull[j:j + s, j:j + s] = b
-        kfull[j:j + s, j:j + s] = k
+        bfull[j : j + s, j : j + s] = b
+        kfull[j : j + s, j : j + s] = k
         j += s
     (kh,), (kl, cl) = mb.elements[0].params[:1], mb.elements[1].params[:2]
 
     def rhs(t, y):
-        q, qm, v, vm = y[:n], y[n:n + nm], y[n + nm:2 * n + nm], y[2 * n + nm:]
+        q, qm, v, vm = y[:n], y[n : n + nm], y[n + nm : 2 * n + nm], y[2 * n + nm :]
         u, ud = mb.phi @ qm, mb.phi @ vm
         d = u[0] - q[0]
         fh = kh * max(d, 0.0) ** 1.5
@@ -157,6 +164,7 @@ def _hertz_rhs(sy):
         aq = (sy.f0 + np.array([fh])) / sy.m[0, 0]
         am = -bfull @ vm - kfull @ qm + mb.phi.T @ gp
         return np.concatenate([v, vm, aq, am])
+
     return rhs
 
 
@@ -184,10 +192,16 @@ def test_hertz_point_second_order_and_newton():
     sy = _hertz_system()
     x0 = _hertz_start(sy)
     T = 0.05
-    ref = solve_ivp(_hertz_rhs(sy), (0.0, T), np.concatenate([x0, np.zeros_like(x0)]),
-                    method="DOP853", rtol=1e-12, atol=1e-15).y[:sy.n_state, -1]
+    ref = solve_ivp(
+        _hertz_rhs(sy),
+        (0.0, T),
+        np.concatenate([x0, np.zeros_like(x0)]),
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-15,
+    ).y[: sy.n_state, -1]
     errs = []
-    for h in (2.5e-4, 1.25e-4, 6.25e-5):     # the contact mode: ~1800 rad/s
+    for h in (2.5e-4, 1.25e-4, 6.25e-5):  # the contact mode: ~1800 rad/s
         r = simulate(sy, 1.0, T, q0=x0, h=h, output_dt=T, tol=1e-13, maxsub=0)
         assert r.t[-1] == pytest.approx(T)
         errs.append(np.max(np.abs(r.q[-1] - ref)))
@@ -216,8 +230,10 @@ def _coach_with_modes(coupled: bool):
     phi = rng.normal(size=(2, 6)) * 0.05
     ks = (5e6, 2e6) if coupled else (0.0, 0.0)
     # f = k d + p with d = u - q = -q at the start: p = k q keeps the start in equilibrium
-    els = (PointElement.linear(0, iz, ks[0], 1e3 if coupled else 0.0, ks[0] * q[iz]),
-           PointElement.linear(1, iy, ks[1], 0.0, ks[1] * q[iy]))
+    els = (
+        PointElement.linear(0, iz, ks[0], 1e3 if coupled else 0.0, ks[0] * q[iz]),
+        PointElement.linear(1, iy, ks[1], 0.0, ks[1] * q[iy]),
+    )
     fr = sy.with_modal(ModalBlocks(bb, kb, phi, els))
     q1 = lateral_disturbance(sy, q, 0.003)
     x0 = np.concatenate([q1, np.zeros(6)])
@@ -231,9 +247,9 @@ def test_rr_with_decoupled_blocks_reproduces_rr():
     r0 = simulate(sy, v, 0.1, q0=q1, v0=vs, output_dt=1e-3)
     r1 = simulate(fr, v, 0.1, q0=x0, v0=v0, output_dt=1e-3)
     assert r1.q.shape[1] == sy.n + 6 and r1.dof_names[-1] == "mode6"
-    assert np.max(np.abs(r1.q[:, :sy.n] - r0.q)) <= 1e-12 * np.max(np.abs(r0.q))
+    assert np.max(np.abs(r1.q[:, : sy.n] - r0.q)) <= 1e-12 * np.max(np.abs(r0.q))
     assert np.allclose(r1.wheel, r0.wheel, rtol=1e-10, atol=1e-10 * sy.wheel_load)  # round-off
-    assert np.max(np.abs(r1.q[:, sy.n:])) == 0.0
+    assert np.max(np.abs(r1.q[:, sy.n :])) == 0.0
 
 
 def test_coach_with_coupled_blocks_matches_dense():
@@ -245,11 +261,12 @@ def test_coach_with_coupled_blocks_matches_dense():
     r1 = simulate(fr, v, 0.05, **kw)
     r2 = simulate(de, v, 0.05, **kw)
     assert np.max(np.abs(r1.q - r2.q)) <= 1e-8 * np.max(np.abs(r2.q))
-    assert np.max(np.abs(r1.q[:, sy.n:])) > 1e-6          # the modes are excited
+    assert np.max(np.abs(r1.q[:, sy.n :])) > 1e-6  # the modes are excited
     assert np.allclose(r1.wheel, r2.wheel, rtol=1e-7, atol=1e-6 * sy.wheel_load)
 
 
 # --- bad input --------------------------------------------------------------------------
+
 
 def test_bad_blocks_and_rows():
     phi = np.ones((2, 3))
@@ -283,25 +300,61 @@ def test_core_rejects_inconsistent_blocks():
     one = np.ones(1, dtype=np.int32)
     par = np.zeros((4, 1), order="F")
     # blocks 1..2 and 3..3 need 4 + 1 packed entries, not 4
-    info = core.vehicle_modal_attach_c(h, np.array([1, 3, 4], dtype=np.int32), np.ones(4),
-                                       np.ones(4), np.ones((1, 3), order="F"), one, 0 * one, one, par)
+    info = core.vehicle_modal_attach_c(
+        h,
+        np.array([1, 3, 4], dtype=np.int32),
+        np.ones(4),
+        np.ones(4),
+        np.ones((1, 3), order="F"),
+        one,
+        0 * one,
+        one,
+        par,
+    )
     with pytest.raises(InputError):
         check(info, "modal blocks")
     # block starts beyond the modes
-    info = core.vehicle_modal_attach_c(h, np.array([1, 5], dtype=np.int32), np.ones(16),
-                                       np.ones(16), np.ones((1, 3), order="F"), one, 0 * one, one, par)
+    info = core.vehicle_modal_attach_c(
+        h,
+        np.array([1, 5], dtype=np.int32),
+        np.ones(16),
+        np.ones(16),
+        np.ones((1, 3), order="F"),
+        one,
+        0 * one,
+        one,
+        par,
+    )
     with pytest.raises(InputError):
         check(info, "modal blocks")
     # a point element on a DOF the model does not have
-    info = core.vehicle_modal_attach_c(h, np.array([1, 4], dtype=np.int32), np.ones(9),
-                                       np.ones(9), np.ones((1, 3), order="F"), one, 2 * one, one, par)
+    info = core.vehicle_modal_attach_c(
+        h,
+        np.array([1, 4], dtype=np.int32),
+        np.ones(9),
+        np.ones(9),
+        np.ones((1, 3), order="F"),
+        one,
+        2 * one,
+        one,
+        par,
+    )
     with pytest.raises(InputError):
         check(info, "modal blocks")
     # a non-finite stiffness entry
     kb = np.ones(9)
     kb[4] = np.nan
-    info = core.vehicle_modal_attach_c(h, np.array([1, 4], dtype=np.int32), np.ones(9),
-                                       kb, np.ones((1, 3), order="F"), one, 0 * one, one, par)
+    info = core.vehicle_modal_attach_c(
+        h,
+        np.array([1, 4], dtype=np.int32),
+        np.ones(9),
+        kb,
+        np.ones((1, 3), order="F"),
+        one,
+        0 * one,
+        one,
+        par,
+    )
     with pytest.raises(InputError):
         check(info, "modal blocks")
     # the failed attachments left the model without blocks: the rigid force shim (which
@@ -335,6 +388,7 @@ def test_rigid_only_functions_refuse_modal_systems():
 
 # --- static equilibrium with modal blocks -------------------------------------------------
 
+
 def test_static_linear_matches_dense_solve():
     """The condensed static Newton against numpy's solve of the dense K x = f0."""
     sy = _linear_system()
@@ -342,7 +396,7 @@ def test_static_linear_matches_dense_solve():
     q, _ = static_equilibrium(sy, 1.0)
     x = np.linalg.solve(de.k, de.f0)
     assert np.max(np.abs(q - x)) <= 1e-12 * np.max(np.abs(x))
-    r = simulate(sy, 1.0, 0.05, h=1e-3)              # the default start is that state: at rest
+    r = simulate(sy, 1.0, 0.05, h=1e-3)  # the default start is that state: at rest
     assert np.max(np.abs(r.q - x)) <= 1e-10 * np.max(np.abs(x))
 
 
@@ -350,7 +404,7 @@ def test_static_hertz_point_contact():
     """Mass on a Hertz point: approach (W / k_H)^(2/3) below the point, whose static
     deflection solves the linear modal equations under the load W (numpy)."""
     sy = _hertz_system()
-    x0 = _hertz_start(sy)                  # the static modal state, the mass 20 % too low
+    x0 = _hertz_start(sy)  # the static modal state, the mass 20 % too low
     d0 = (981.0 / 5e8) ** (2.0 / 3.0)
     q, _ = static_equilibrium(sy, 1.0, q0=x0)
     assert q[0] == pytest.approx(x0[0] + 0.2 * d0, abs=1e-12 * d0 + 1e-15)
@@ -363,7 +417,7 @@ def test_static_coach_with_modes_matches_dense():
     q, vv, w = static_equilibrium(fr, v, return_velocity=True)
     qd, vd, wd = static_equilibrium(fr.dense_equivalent(), v, return_velocity=True)
     assert np.max(np.abs(q - qd)) <= 1e-10 * np.max(np.abs(qd))
-    assert np.max(np.abs(vv - vd)) <= 1e-10          # spin rates, rad/s (zero: centred)
+    assert np.max(np.abs(vv - vd)) <= 1e-10  # spin rates, rad/s (zero: centred)
     assert np.max(np.abs(w - wd)) <= 1e-9 * np.max(np.abs(wd))
 
 
@@ -371,11 +425,12 @@ def _series_system(kp: float, comp: np.ndarray):
     """A 100 kg mass under gravity on a spring kp to point 0, whose compliance comp is a
     massless block (compliance_block)."""
     from railvti.vehicle.model import compliance_block
+
     phi_r, k_r = compliance_block(comp)
-    mb = ModalBlocks((np.zeros_like(k_r),), (k_r,), phi_r, (PointElement.linear(0, 0, kp),),
-                     massless=(True,))
-    return build_rigid_system(np.array([[100.0]]), np.zeros((1, 1)), np.array([[0.0]]),
-                              f0=np.array([-981.0]), modal=mb)
+    mb = ModalBlocks((np.zeros_like(k_r),), (k_r,), phi_r, (PointElement.linear(0, 0, kp),), massless=(True,))
+    return build_rigid_system(
+        np.array([[100.0]]), np.zeros((1, 1)), np.array([[0.0]]), f0=np.array([-981.0]), modal=mb
+    )
 
 
 def test_massless_block_is_a_series_compliance():
@@ -385,7 +440,7 @@ def test_massless_block_is_a_series_compliance():
     2 atan(omega h / 2) / h), to rounding; the condensed and the static Newton agree."""
     kp, R, m, h = 1e6, 1e-6, 100.0, 1e-3
     sy = _series_system(kp, np.array([[R]]))
-    assert sy.modal.max_frequency() == 0.0            # no mass: no step limit from it
+    assert sy.modal.max_frequency() == 0.0  # no mass: no step limit from it
     x_s = static_equilibrium(sy, 1.0)[0]
     keff = 1.0 / (1.0 / kp + R)
     assert x_s[0] == pytest.approx(-981.0 / keff, rel=1e-12)
@@ -414,6 +469,7 @@ def test_massless_block_is_a_series_compliance():
 
 def test_compliance_block_errors():
     from railvti.vehicle.model import compliance_block
+
     with pytest.raises(InputError, match="semi-definite"):
         compliance_block(np.array([[1.0, 0.0], [0.0, -1.0]]))
     with pytest.raises(InputError, match="square"):

@@ -1,4 +1,5 @@
 """Vehicle-track model RR: contact kernel, tangent, centred running, hunting, bad input."""
+
 from __future__ import annotations
 
 import math
@@ -11,8 +12,15 @@ from railvti.vehicle import systems
 from railvti.errors import ConvergenceError, InputError
 from railvti.material import STEEL
 from railvti.contact.hertz import hertz
-from railvti.vehicle import (Coach, DivergenceError, build_single_wheelset, force_and_tangent,
-                             lateral_disturbance, simulate, static_equilibrium)
+from railvti.vehicle import (
+    Coach,
+    DivergenceError,
+    build_single_wheelset,
+    force_and_tangent,
+    lateral_disturbance,
+    simulate,
+    static_equilibrium,
+)
 from railvti.vehicle.table import QUANTITIES
 
 
@@ -29,9 +37,10 @@ def coach_system():
 def test_table_hertz_constants_match_hertz(table):
     """a1, kH of the table reproduce railvti.contact.hertz from the profile curvatures."""
     from railvti.geometry import layout
+
     wheel, rail = systems.profiles()
     lay = layout(wheel, rail)
-    i = int(np.argmin(np.abs(table.y + 0.002)))     # tread contact, ratio inside the clip
+    i = int(np.argmin(np.abs(table.y + 0.002)))  # tread contact, ratio inside the clip
     s = table.s_wheel[0, i]
     a1, kh, dl, r, l = (table.data[QUANTITIES.index(n), 0, i] for n in ("a1", "kH", "delta", "r", "l"))
     yrail = table.y[i] + l - lay.rail_offset
@@ -45,14 +54,22 @@ def test_table_hertz_constants_match_hertz(table):
 
 def test_single_wheelset_static_load_and_approach(table):
     """Q equals the applied load; the wheelset sinks by the gap plus the Hertz approach."""
-    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
-                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    sy = build_single_wheelset(
+        table,
+        mass=1800.0,
+        roll_inertia=1100.0,
+        yaw_inertia=1100.0,
+        ky=1e6,
+        kx=1e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     q, wout = static_equilibrium(sy, 30.0)
     load = 0.5 * (1800.0 * 9.81 + 100e3)
     assert wout[0, :, 0] == pytest.approx([load, load], rel=1e-9)
     i0 = int(np.argmin(np.abs(table.y)))
     g0, dl, kh = table.data[0, 0, i0], table.data[2, 0, i0], table.data[6, 0, i0]
-    n = load / math.cos(dl)       # approximately: the spin creep force tilts it slightly
+    n = load / math.cos(dl)  # approximately: the spin creep force tilts it slightly
     dn = (n / kh) ** (2 / 3)
     assert q[1] == pytest.approx(-g0 - dn / math.cos(dl), rel=2e-3)
     assert abs(q[0]) < 1e-9 and abs(q[2]) < 1e-9
@@ -61,7 +78,7 @@ def test_single_wheelset_static_load_and_approach(table):
 def test_tangent_matches_central_differences(coach_system):
     sy = coach_system
     q, _ = static_equilibrium(sy, 80.0)
-    q = lateral_disturbance(sy, q, 0.00213)   # inside a table cell (linear interpolation)
+    q = lateral_disturbance(sy, q, 0.00213)  # inside a table cell (linear interpolation)
     rng = np.random.default_rng(1)
     v = rng.normal(scale=0.01, size=sy.n)
     f, _, jq, jv = force_and_tangent(sy, q, v, 80.0)
@@ -83,8 +100,8 @@ def test_tangent_matches_central_differences(coach_system):
 @pytest.mark.parametrize("contact", ["hertz-kalker", "hertz-fastsim"])
 def test_centred_running_200(contact):
     c = scenarios.centred_running(200.0, contact=contact, duration=0.2, progress=False)
-    assert c.q_error < 1e-3                                    # acceptance: 0.1 %
-    assert np.abs(c.Y.sum(axis=0)).max() < 1e-6 * c.static_wheel_load   # net lateral per axle
+    assert c.q_error < 1e-3  # acceptance: 0.1 %
+    assert np.abs(c.Y.sum(axis=0)).max() < 1e-6 * c.static_wheel_load  # net lateral per axle
     assert np.allclose(c.Y[0], -c.Y[1], atol=1e-6 * c.static_wheel_load)
     assert np.abs(c.run.y_ws1).max() < 1e-9
 
@@ -94,7 +111,7 @@ def test_hunting_decays_at_low_speed_and_cycles_with_flange_at_high_speed():
     assert scenarios.amplitude(slow, 0.5) < 0.05 * 0.003
     fast = scenarios.hunting(420.0, duration=2.5, y0=0.004, progress=False)
     amp = scenarios.amplitude(fast, 0.5)
-    assert 5e-3 < amp < 10e-3                                  # of the order of the flange clearance
+    assert 5e-3 < amp < 10e-3  # of the order of the flange clearance
     assert fast.wheel_output("N_flange")[fast.t > 1.5].max() > 10e3
     assert np.isfinite(fast.q).all()
 
@@ -103,6 +120,7 @@ def test_linear_critical_speed_brackets_growth(table):
     v, f = scenarios.linear_critical_speed(tol_kmh=2.0)
     assert 150 < v < 600 and 2.0 < f < 12.0
     from railvti.vehicle import eigenvalues
+
     sy = scenarios.coach_system(linear_conicity=scenarios.equivalent_conicity(0.003))
     osc = lambda ev: ev[(np.abs(ev.imag) > 0.1) & (np.abs(ev.imag) < 2 * np.pi * 20)].real.max()  # noqa: E731
     assert osc(eigenvalues(sy, (v - 10) / 3.6)) < 0 < osc(eigenvalues(sy, (v + 10) / 3.6))
@@ -148,29 +166,46 @@ def test_model_is_sent_once_and_freed_with_its_system(table):
     from dataclasses import replace
     from railvti._status import Status, check
     from railvti.vehicle.model import CallSettings
-    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
-                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+
+    sy = build_single_wheelset(
+        table,
+        mass=1800.0,
+        roll_inertia=1100.0,
+        yaw_inertia=1100.0,
+        ky=1e6,
+        kx=1e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     model = sy.native
     q, _ = static_equilibrium(sy, 30.0)
     simulate(sy, 30.0, 0.01, q0=q, progress=False)
-    assert sy.native is model                           # one model for every call
+    assert sy.native is model  # one model for every call
     with pytest.raises(ValueError):
-        sy.k[0, 0] = 1.0                                 # the sent arrays cannot change
+        sy.k[0, 0] = 1.0  # the sent arrays cannot change
     model.close()
     info = model.force(CallSettings(30.0, 1), q, np.zeros(sy.n))[-1]
     assert info == Status.BAD_HANDLE
     with pytest.raises(InputError, match="BAD_HANDLE"):
         check(info, "closed model")
-    q2, _ = static_equilibrium(sy, 30.0)                 # a new model on demand, same result
+    q2, _ = static_equilibrium(sy, 30.0)  # a new model on demand, same result
     assert np.array_equal(q, q2) and sy.native is not model
     ref = weakref.ref(sy.native)
     del sy
     gc.collect()
     assert ref() is None
-    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
-                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    sy = build_single_wheelset(
+        table,
+        mass=1800.0,
+        roll_inertia=1100.0,
+        yaw_inertia=1100.0,
+        ky=1e6,
+        kx=1e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     with pytest.raises(InputError, match="BAD_ARGUMENT"):
-        replace(sy, iws=sy.iws + 10).native
+        _ = replace(sy, iws=sy.iws + 10).native  # the property's check raises
     with pytest.raises(InputError, match="SIZE_MISMATCH"):
         check(sy.native.force(CallSettings(30.0, 1), np.zeros(3), np.zeros(3))[-1], "sizes")
 
@@ -206,7 +241,7 @@ def test_newton_stops_on_residual_as_well_as_correction(coach_system):
     assert st["load_scale"] == pytest.approx(sy.wheel_load)
     res_only = simulate(sy, v, 0.2, q0=q, tol=1.0, rtol=1e-7, progress=False)
     assert res_only.stats["newton_residual_max"] <= 1e-7
-    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-6     # 1 um of a 4 mm cycle
+    assert np.max(np.abs(res_only.y_ws1 - ref.y_ws1)) < 1e-6  # 1 um of a 4 mm cycle
     with pytest.raises(DivergenceError, match="did not converge"):
         simulate(sy, v, 0.01, q0=q, rtol=1e-30, maxsub=0, progress=False)
 
@@ -215,9 +250,18 @@ def test_creepages_match_geometry_module(table):
     """Fortran creepages of a shifted, yawed, moving wheelset against railvti.geometry.creepages
     (full 3-D kinematics with yaw in the contact search)."""
     from railvti import geometry
+
     wheel, rail = systems.profiles()
-    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
-                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    sy = build_single_wheelset(
+        table,
+        mass=1800.0,
+        roll_inertia=1100.0,
+        yaw_inertia=1100.0,
+        ky=1e6,
+        kx=1e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     speed, yaw = 50.0, 0.002
     q, _ = static_equilibrium(sy, speed)
     q = lateral_disturbance(sy, q, -0.002, (0,))
@@ -227,8 +271,14 @@ def test_creepages_match_geometry_module(table):
     c = geometry.contact_points(wheel, rail, y=-0.002, yaw=yaw)
     assert q[2] == pytest.approx(c.pose.roll, rel=0.05)
     for side, w in (("left", 0), ("right", 1)):
-        cr = geometry.creepages(c.wheel(side)[0], speed, lateral_velocity=0.05, yaw_rate=0.02,
-                                roll_rate=0.01, angular_velocity=speed / table.r0)
+        cr = geometry.creepages(
+            c.wheel(side)[0],
+            speed,
+            lateral_velocity=0.05,
+            yaw_rate=0.02,
+            roll_rate=0.01,
+            angular_velocity=speed / table.r0,
+        )
         xi, eta, spin = wout[5:8, w, 0]
         assert abs(xi - cr.xi) < 2e-5
         assert eta == pytest.approx(cr.eta, rel=1e-2)
@@ -247,26 +297,36 @@ def test_flange_creepage_at_large_yaw_matches_geometry_module(table):
     """
     from railvti import geometry
     from railvti.vehicle.model import WHEEL_OUTPUTS as W
+
     wheel, rail = systems.profiles()
-    sy = build_single_wheelset(table, mass=1800.0, roll_inertia=1100.0, yaw_inertia=1100.0,
-                               ky=1e6, kx=1e6, half_spacing=1.0, axle_load=100e3)
+    sy = build_single_wheelset(
+        table,
+        mass=1800.0,
+        roll_inertia=1100.0,
+        yaw_inertia=1100.0,
+        ky=1e6,
+        kx=1e6,
+        half_spacing=1.0,
+        axle_load=100e3,
+    )
     speed, v = 50.0, np.array([0.05, 0.0, 0.01, 0.02])
     qs, _ = static_equilibrium(sy, speed)
     eta_f, eta_g = [], []
     for yaw in (0.0, 0.01):
         q = lateral_disturbance(sy, qs, 0.0067, (0,))
         q[3] = yaw
-        wout = force_and_tangent(sy, q, v, speed)[1][:, 0, 0]          # left wheel
-        assert wout[W.index("N_flange")] > wout[W.index("N_tread")]    # reported: the flange
+        wout = force_and_tangent(sy, q, v, speed)[1][:, 0, 0]  # left wheel
+        assert wout[W.index("N_flange")] > wout[W.index("N_tread")]  # reported: the flange
         c = geometry.contact_points(wheel, rail, y=0.0063, yaw=yaw)
         pt = max(c.wheel("left"), key=lambda p: p.contact_angle)
         assert wout[W.index("contact_angle")] == pytest.approx(pt.contact_angle, abs=5e-3)
-        cr = geometry.creepages(pt, speed, lateral_velocity=0.05, yaw_rate=0.02, roll_rate=0.01,
-                                angular_velocity=speed / table.r0)
+        cr = geometry.creepages(
+            pt, speed, lateral_velocity=0.05, yaw_rate=0.02, roll_rate=0.01, angular_velocity=speed / table.r0
+        )
         eta_f.append(wout[W.index("eta")])
         eta_g.append(cr.eta)
         assert wout[W.index("spin")] == pytest.approx(cr.phi, rel=2e-2)
-    assert eta_f[1] == pytest.approx(eta_g[1], rel=0.05)                 # measured 3 %
+    assert eta_f[1] == pytest.approx(eta_g[1], rel=0.05)  # measured 3 %
     assert eta_f[1] - eta_f[0] == pytest.approx(eta_g[1] - eta_g[0], rel=0.05)
 
 
@@ -303,11 +363,16 @@ def test_every_default_names_its_source():
     Iwnicki 1998 (primary dampers 15 / 2 / 4 kN s/m, bump-stop clearance 25 mm) are the
     defaults."""
     from railvti.vehicle import DEFAULTS
-    for name, (value, unit, source) in DEFAULTS.items():
+
+    for name, (_value, unit, source) in DEFAULTS.items():
         assert unit and source, name
-        assert ("Iwnicki 1998" in source or "assumption" in source or "TrackElement" in source
-                or source in ("standard", "regularisation: torque = T tanh(rate / this)")
-                or source.startswith("model setting:")), name
+        assert (
+            "Iwnicki 1998" in source
+            or "assumption" in source
+            or "TrackElement" in source
+            or source in ("standard", "regularisation: torque = T tanh(rate / this)")
+            or source.startswith("model setting:")
+        ), name
     c = Coach()
     assert (c["primary_cx"], c["primary_cy"], c["primary_cz"]) == (15e3, 2e3, 4e3)
     assert c["bumpstop_clearance"] == 0.025

@@ -1,6 +1,7 @@
 """The output interval (railvti.vehicle.output): by default the stored history resolves the
 sleeper passing on the ring track, checked against its known frequency v / sleeper spacing;
 an output_dt that aliases a known excitation warns, naming the key."""
+
 from __future__ import annotations
 
 import logging
@@ -32,21 +33,24 @@ def test_rf_default_output_shows_the_sleeper_passing_frequency():
     10th sample of it (the old 10 ms interval) puts the peak far from it."""
     f_sleeper = 200.0 / 3.6 / 0.6
     with warnings.catch_warnings():
-        warnings.simplefilter("error", AliasingWarning)       # the default never aliases
+        warnings.simplefilter("error", AliasingWarning)  # the default never aliases
         c = scenarios.centred_running(200.0, "RF", duration=0.2, progress=False)
-    t, q = c.run.t, c.run.Q[:, 1, 0]                          # right wheel, leading wheelset
+    t, q = c.run.t, c.run.Q[:, 1, 0]  # right wheel, leading wheelset
     k = t >= 0.05
-    assert 1.0 / (t[1] - t[0]) > 5 * f_sleeper               # samples per sleeper period
+    assert 1.0 / (t[1] - t[0]) > 5 * f_sleeper  # samples per sleeper period
     assert _dominant(t[k], q[k]) == pytest.approx(f_sleeper, rel=0.01)
-    coarse = np.flatnonzero(k)[::max(1, int(round(0.01 / (t[1] - t[0]))))]
+    coarse = np.flatnonzero(k)[:: max(1, int(round(0.01 / (t[1] - t[0]))))]
     assert abs(_dominant(t[coarse], q[coarse]) - f_sleeper) > 0.5 * f_sleeper
 
 
 def test_an_aliasing_output_dt_warns_naming_the_key_and_the_bound():
     """The rule itself: 10 ms at 92.6 Hz aliases (Nyquist 5.4 ms); 5 ms does not."""
     e = output.sleeper_passing(200.0 / 3.6, 0.6)
-    with pytest.warns(AliasingWarning, match=r"output_dt = 0.01 s.*sleeper passing.*92.59 Hz"
-                                             r".*at most 0.005 s"):
+    with pytest.warns(
+        AliasingWarning,
+        match=r"output_dt = 0.01 s.*sleeper passing.*92.59 Hz"
+        r".*at most 0.005 s",
+    ):
         output.check_interval(0.01, 5e-4, [e])
     with warnings.catch_warnings():
         warnings.simplefilter("error", AliasingWarning)
@@ -60,9 +64,15 @@ def test_rr_hunting_with_a_coarse_output_dt_warns_and_bad_values_are_refused(cap
     with pytest.warns(AliasingWarning, match="output_dt = 0.2 s.*hunting"):
         scenarios.hunting(300.0, duration=0.4, output_dt=0.2, progress=False)
     with caplog.at_level(logging.WARNING), pytest.warns(AliasingWarning, match="output_dt"):
-        REGISTRY["vehicle"].run({**REGISTRY["vehicle"].defaults, "scenario": "hunting",
-                                 "speed_kmh": 300.0, "duration": 0.4, "output_dt": 0.2})
-    assert any("output_dt" in r.getMessage() and "aliases" in r.getMessage()
-               for r in caplog.records)
+        REGISTRY["vehicle"].run(
+            {
+                **REGISTRY["vehicle"].defaults,
+                "scenario": "hunting",
+                "speed_kmh": 300.0,
+                "duration": 0.4,
+                "output_dt": 0.2,
+            }
+        )
+    assert any("output_dt" in r.getMessage() and "aliases" in r.getMessage() for r in caplog.records)
     with pytest.raises(InputError, match="output_dt"):
         scenarios.hunting(300.0, duration=0.1, output_dt=-1e-3, progress=False)

@@ -1,6 +1,7 @@
 """The vehicle's contact table over the pose of wheel against rail (lateral position u and
 relative roll): against the exact rolled-wheel geometry, against the independent 3-D contact
 search of railvti.geometry, continuity and the gradient the normal forces derive from."""
+
 from __future__ import annotations
 
 import numpy as np

@@ -5,6 +5,7 @@ vehicle-frame helper wheel_head_shapes), the ring's modal static solution under 
 loads, a moving constant load against the quasi-static deflection, and model RR on rigid
 ground for a nearly rigid ring. Small rings (coarse section mesh), few modes.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -63,6 +64,7 @@ def test_displacement_in_blocks_matches_rows(ring):
     of DISPLACEMENT_BLOCK times to bound its memory) against rows(t) @ qm at each time, over
     2.5 blocks of random modal coordinates."""
     from railvti.vehicle.ring_coupling import DISPLACEMENT_BLOCK
+
     xw = np.array([10.78, 8.22, -8.22, -10.78])
     rr = ring_rows(ring, xw, V, x_offset=0.3, f_limit=300.0)
     nt = int(2.5 * DISPLACEMENT_BLOCK)
@@ -83,8 +85,8 @@ def test_static_deflection_against_ring_solution(ring, table):
     half = 0.5 * ring.params["rail_distance"]
     uz = _crown_z(d, half)
     from railvti.vehicle.equilibrium import call_settings
-    _, wo, info = sy.native.state_force(call_settings(V, "hertz-kalker", 8, None), q,
-                                        np.zeros_like(q))
+
+    _, wo, info = sy.native.state_force(call_settings(V, "hertz-kalker", 8, None), q, np.zeros_like(q))
     assert info == 0
     qv, yv = wo[0], wo[1]
     hs = {(k, w): wheel_head_shapes(ring, sy.x_wheelsets[w], k) for w in range(4) for k in range(2)}
@@ -121,7 +123,7 @@ def test_mirror_symmetric_static_state(ring, table):
     np.testing.assert_allclose(d[0, 0], -d[0, 1], rtol=1e-6, atol=1e-12)
     np.testing.assert_allclose(d[2, 0], -d[2, 1], rtol=1e-6, atol=1e-12)
     assert np.all(d[1] < 0)
-    for w in range(4):      # rigid wheelsets centred: no lateral shift or roll
+    for w in range(4):  # rigid wheelsets centred: no lateral shift or roll
         assert abs(q[sy.iws[0, w] - 1]) < 1e-7 and abs(q[sy.iws[2, w] - 1]) < 1e-7
 
 
@@ -133,18 +135,37 @@ def test_stiff_ring_reproduces_rigid_ground(ring, table):
     q_rr, _ = static_equilibrium(rr_sy, V)
     sy = build_rf(Coach(), table, V, ring, f_limit=300.0, stiffness_scale=1e6)
     q_rf, _ = static_equilibrium(sy, V)
-    assert np.max(np.abs(q_rf[:rr_sy.n] - q_rr)) < 1e-8
+    assert np.max(np.abs(q_rf[: rr_sy.n] - q_rr)) < 1e-8
     sy = build_rf(Coach(), table, V, ring, f_limit=300.0, stiffness_scale=100.0)
     q_rf, _ = static_equilibrium(sy, V)
     h = 1e-4
-    a = simulate(rr_sy, V, 0.15, h=h, q0=lateral_disturbance(rr_sy, q_rr, 0.003, wheelsets=(0,)),
-                 output_dt=1e-3, progress=False)
-    b = simulate(sy, V, 0.15, h=h, q0=lateral_disturbance(sy, q_rf, 0.003, wheelsets=(0,)),
-                 output_dt=1e-3, progress=False)
+    a = simulate(
+        rr_sy,
+        V,
+        0.15,
+        h=h,
+        q0=lateral_disturbance(rr_sy, q_rr, 0.003, wheelsets=(0,)),
+        output_dt=1e-3,
+        progress=False,
+    )
+    b = simulate(
+        sy,
+        V,
+        0.15,
+        h=h,
+        q0=lateral_disturbance(sy, q_rf, 0.003, wheelsets=(0,)),
+        output_dt=1e-3,
+        progress=False,
+    )
     assert abs(a.y_ws1).max() > 1e-3
-    print("y err", np.max(np.abs(a.y_ws1 - b.y_ws1)) / np.abs(a.y_ws1).max(),
-          "Q mean err", np.max(np.abs(b.Q.mean(0) / a.Q.mean(0) - 1)),
-          "Y mean err", np.max(np.abs(b.Y.mean(0) - a.Y.mean(0))) / np.abs(a.Y).max())
+    print(
+        "y err",
+        np.max(np.abs(a.y_ws1 - b.y_ws1)) / np.abs(a.y_ws1).max(),
+        "Q mean err",
+        np.max(np.abs(b.Q.mean(0) / a.Q.mean(0) - 1)),
+        "Y mean err",
+        np.max(np.abs(b.Y.mean(0) - a.Y.mean(0))) / np.abs(a.Y).max(),
+    )
     assert np.max(np.abs(a.y_ws1 - b.y_ws1)) < 0.01 * np.abs(a.y_ws1).max()
     # the wheel forces averaged over the transient (the wheels' vertical vibration on the
     # contact spring differs: the stiff ring still has its mass)
@@ -160,9 +181,15 @@ def _moving_load_system(track, speed, load):
     half = 0.5 * track.params["rail_distance"]
     phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")
     mb = ModalBlocks.diagonal(om, track.cmod[rr.modes] / (2 * om), phi)
-    mb = ModalBlocks(mb.damping, mb.stiffness, mb.phi,
-                     elements=(PointElement("linear", 1, None, (0.0, 0.0, load)),
-                               PointElement("linear", 2, None, (0.0, 0.0, half * load))))
+    mb = ModalBlocks(
+        mb.damping,
+        mb.stiffness,
+        mb.phi,
+        elements=(
+            PointElement("linear", 1, None, (0.0, 0.0, load)),
+            PointElement("linear", 2, None, (0.0, 0.0, half * load)),
+        ),
+    )
     base = build_rigid_system(np.eye(1), np.zeros((1, 1)), np.eye(1), modal=mb)
     return RingSystem(**{f: getattr(base, f) for f in base.__dataclass_fields__}, ring=rr), rr
 
@@ -183,13 +210,14 @@ def test_moving_load_follows_quasi_static_deflection(kmh, bays, rtol):
     half = 0.5 * track.params["rail_distance"]
     d = sy.rail_deflection(run.t, run.q)
     uz = d[:, 1, 0, 0] + half * d[:, 2, 0, 0]
-    ref = np.array([-load * np.sum(track.head_shapes(v * t, 1)[2][rr.modes] ** 2
-                                   / track.lam[rr.modes]) for t in run.t])
-    assert ref.max() - ref.min() > 0.005 * abs(ref).max()       # sleeper vs midspan
+    ref = np.array(
+        [-load * np.sum(track.head_shapes(v * t, 1)[2][rr.modes] ** 2 / track.lam[rr.modes]) for t in run.t]
+    )
+    assert ref.max() - ref.min() > 0.005 * abs(ref).max()  # sleeper vs midspan
     np.testing.assert_allclose(uz, ref, rtol=rtol)
-    if kmh > 100:   # the last bay repeats the one before (period a / v0)
+    if kmh > 100:  # the last bay repeats the one before (period a / v0)
         n = int(round(a / v / h))
-        np.testing.assert_allclose(uz[-n:], uz[-2 * n:-n], rtol=0.01)
+        np.testing.assert_allclose(uz[-n:], uz[-2 * n : -n], rtol=0.01)
 
 
 def _all_mode_crown_z(track, sy, t, wheel):
@@ -197,8 +225,11 @@ def _all_mode_crown_z(track, sy, t, wheel):
     output (Q, Y of the rail on each wheel: the rail carries -Q, -Y): the crown's vertical
     displacement under each wheel (2, nw), m."""
     nw = sy.x_wheelsets.size
-    hs = {(k, w): wheel_head_shapes(track, sy.ring.cx0[2 * w + k] + sy.ring.speed * t, k)
-          for w in range(nw) for k in range(2)}
+    hs = {
+        (k, w): wheel_head_shapes(track, sy.ring.cx0[2 * w + k] + sy.ring.speed * t, k)
+        for w in range(nw)
+        for k in range(2)
+    }
     fm = sum(-wheel[0, k, w] * hs[k, w][2] - wheel[1, k, w] * hs[k, w][1] for (k, w) in hs)
     qm = fm / track.lam
     return np.array([[hs[k, w][2] @ qm for w in range(nw)] for k in range(2)])
@@ -216,12 +247,14 @@ def test_moving_coach_at_5_kmh_matches_ring_static_solution(ring, table):
     q0, v0, _ = static_equilibrium(sy, v, return_velocity=True)
     run = simulate(sy, v, 0.65, q0=q0, v0=v0, output_dt=0.02, progress=False)
     half = 0.5 * ring.params["rail_distance"]
-    uz = _crown_z(sy.rail_deflection(run.t, run.q), half)           # (nt, 2, 4)
+    uz = _crown_z(sy.rail_deflection(run.t, run.q), half)  # (nt, 2, 4)
     ref = np.array([_all_mode_crown_z(ring, sy, t, run.wheel[i]) for i, t in enumerate(run.t)])
     assert np.all(ref < -1e-4)
-    print(f"5 km/h: max |u_z / static - 1| = {np.max(np.abs(uz / ref - 1)):.2e}, "
-          f"sleeper-midspan variation {np.ptp(ref[:, 0, 0]) / abs(ref[:, 0, 0]).mean():.3f}")
-    assert np.ptp(ref[:, 0, 0]) > 0.01 * abs(ref[:, 0, 0]).mean()   # sleeper against midspan
+    print(
+        f"5 km/h: max |u_z / static - 1| = {np.max(np.abs(uz / ref - 1)):.2e}, "
+        f"sleeper-midspan variation {np.ptp(ref[:, 0, 0]) / abs(ref[:, 0, 0]).mean():.3f}"
+    )
+    assert np.ptp(ref[:, 0, 0]) > 0.01 * abs(ref[:, 0, 0]).mean()  # sleeper against midspan
     np.testing.assert_allclose(uz, ref, rtol=0.01)
 
 
@@ -242,8 +275,10 @@ def test_deflection_under_wheel_at_sleeper_passing_frequency(ring, table):
     band = (f > 20.0) & (f < 1000.0)
     peak = f[band][a[band].argmax()]
     f_sl = V / ring.params["sleeper_spacing"]
-    print(f"deflection spectrum peak {peak:.2f} Hz, sleeper passing {f_sl:.2f} Hz, "
-          f"peak-to-peak {np.ptp(z) * 1e6:.1f} um")
+    print(
+        f"deflection spectrum peak {peak:.2f} Hz, sleeper passing {f_sl:.2f} Hz, "
+        f"peak-to-peak {np.ptp(z) * 1e6:.1f} um"
+    )
     assert abs(peak / f_sl - 1) < 0.01
     assert np.ptp(z) > 0.01 * abs(z.mean())
 
@@ -252,8 +287,9 @@ def test_centred_running_rf(ring):
     """scenarios.centred_running(model='RF') on a small ring: wheel loads about the static
     load, the rail deflected under every wheel, mirror-symmetric."""
     tp = {k: v for k, v in COARSE.items()}
-    c = scenarios.centred_running(200.0, model="RF", duration=0.05, n_sleepers=40,
-                                  f_limit=300.0, track_params=tp, progress=False)
+    c = scenarios.centred_running(
+        200.0, model="RF", duration=0.05, n_sleepers=40, f_limit=300.0, track_params=tp, progress=False
+    )
     assert c.model == "RF" and c.rail is not None
     assert np.max(np.abs(c.Q / c.static_wheel_load - 1)) < 0.03
     assert np.all(c.rail[:, 1] < 0)

@@ -5,6 +5,7 @@ through the frozen path at each offset (build_rf, static_equilibrium, state_tang
 averaged here; a nearly rigid ring against RR on rigid ground (build_coach(track=False), its
 own eigenvalues). Small rings (coarse section mesh), few offsets.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -43,11 +44,22 @@ def test_bay_average_is_mean_of_frozen_growth():
     ring = RingTrack(40, **COARSE)
     spacing = ring.params["sleeper_spacing"]
     table = _table()
-    frozen = [_hunting_growth(fr_eigenvalues(build_rf(Coach(), table, v, ring, f_limit=300.0,
-                                                      x_offset=k * spacing / n), v))
-              for k in range(n)]
-    rates, _ = bay_rates("RF", Coach(), table, v, n, k_max=1, f_max=300.0,
-                                    ring=dict(n_sleepers=40, f_limit=300.0, track_params=COARSE))
+    frozen = [
+        _hunting_growth(
+            fr_eigenvalues(build_rf(Coach(), table, v, ring, f_limit=300.0, x_offset=k * spacing / n), v)
+        )
+        for k in range(n)
+    ]
+    rates, _ = bay_rates(
+        "RF",
+        Coach(),
+        table,
+        v,
+        n,
+        k_max=1,
+        f_max=300.0,
+        ring=dict(n_sleepers=40, f_limit=300.0, track_params=COARSE),
+    )
     print(f"frozen growth per offset {np.round(frozen, 6)} 1/s, mean {np.mean(frozen):.6f}")
     np.testing.assert_allclose(rates, frozen, rtol=0, atol=1e-9)
     assert abs(np.mean(rates) - np.mean(frozen)) < 1e-9
@@ -66,11 +78,25 @@ def test_stiff_ring_reproduces_rigid_ground():
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if _hunting_growth(eigenvalues(sy, mid / 3.6)) > 0 else (mid, hi)
     rigid = 0.5 * (lo + hi)
-    stiff = dict(COARSE, f_max=5000.0, **{k: 100.0 * v for k, v in DEFAULTS.items() if k.startswith(
-        ("pad_stiffness", "ballast_stiffness", "rail_young"))})
+    stiff = dict(
+        COARSE,
+        f_max=5000.0,
+        **{
+            k: 100.0 * v
+            for k, v in DEFAULTS.items()
+            if k.startswith(("pad_stiffness", "ballast_stiffness", "rail_young"))
+        },
+    )
     v_stiff, _ = scenarios.linear_critical_speed(
-        "RF", track_params=stiff, n_sleepers=40, f_limit=5000.0, v_lo_kmh=300.0,
-        v_hi_kmh=400.0, tol_kmh=1.0, n_offsets=2)
+        "RF",
+        track_params=stiff,
+        n_sleepers=40,
+        f_limit=5000.0,
+        v_lo_kmh=300.0,
+        v_hi_kmh=400.0,
+        tol_kmh=1.0,
+        n_offsets=2,
+    )
     print(f"rigid ground {rigid:.1f} km/h, stiff ring (bay average) {v_stiff:.1f} km/h")
     assert abs(v_stiff / rigid - 1) < 0.005
 

@@ -8,6 +8,7 @@ residual_blocks). Checked against the ring's own direct FRF over all its modes
 (RingTrack.head_receptance, an independent path through the Fortran ring_frf), from the
 blocks the time loop integrates (ModalBlocks.receptance of the RF system).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,7 +34,7 @@ def crown_receptance(sy, freqs: np.ndarray, wheelset: int, wheel: int) -> np.nda
     pts = p0 + 6 * wheelset + 3 * wheel + np.arange(3)
     h = sy.modal.receptance(pts, freqs)
     yp = (0.5 if wheel == 0 else -0.5) * sy.ring.rail_distance
-    ei = np.linalg.inv(np.array([[1, 0, 0], [0, 1, -yp], [0, 0, 1.0]]))   # pose -> crown
+    ei = np.linalg.inv(np.array([[1, 0, 0], [0, 1, -yp], [0, 0, 1.0]]))  # pose -> crown
     return np.einsum("ab,fbc,dc->fad", ei, h, ei)
 
 
@@ -50,8 +51,9 @@ def test_receptance_with_inertia_follows_the_full_ring(wheelset):
         x = float(np.mod(sy.ring.cx0[c], sy.ring.length))
         direct = track.head_receptance(f, x, rail_of_wheel(1).rail)
         h = crown_receptance(sy, f, wheelset, 1)
-        errs[inertia] = [np.max(np.abs(h[:, i, i] / direct[:, r, r] - 1))
-                         for i, r in ((1, 2), (0, 1))]     # vertical, lateral
+        errs[inertia] = [
+            np.max(np.abs(h[:, i, i] / direct[:, r, r] - 1)) for i, r in ((1, 2), (0, 1))
+        ]  # vertical, lateral
     assert max(errs[True]) < 0.02, errs
     assert errs[True][0] < 0.5 * errs[False][0], errs
 

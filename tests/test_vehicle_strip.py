@@ -1,5 +1,6 @@
 """The strip contact (railvti.vehicle.strip): against the half-space BEM, conservative, smooth,
 mirror-symmetric, and bad input."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -29,7 +30,7 @@ def geo():
 def _height(geo, y: float, roll: float, fz: float) -> float:
     """The centre height at which the left wheel at shift y and roll carries fz."""
     lo, hi = -0.02, 0.02
-    for _ in range(55):         # bisection: the load falls as the centre rises
+    for _ in range(55):  # bisection: the load falls as the centre rises
         zc = 0.5 * (lo + hi)
         out, _ = strip_wheel(geo, y, zc, roll)
         lo, hi = (zc, hi) if -out[:, DZ].sum() > fz else (lo, zc)
@@ -49,8 +50,9 @@ def test_sink_matches_the_bem_on_the_tread(geo):
     wheel, rail = systems.profiles()
     fz = Coach().static_wheel_load
     for y in (-3e-3, 0.0, 0.5e-3, 1.0e-3, 2.0e-3, 3.0e-3):
-        bem = solve_wheelset(wheel, rail, y, 0.0, fz, None, None, STEEL, 0.5e-3, roll=0.0,
-                             side="left").sinks[0]
+        bem = solve_wheelset(wheel, rail, y, 0.0, fz, None, None, STEEL, 0.5e-3, roll=0.0, side="left").sinks[
+            0
+        ]
         assert _sink(geo, y, fz) == pytest.approx(bem, rel=0.06), y
 
 
@@ -77,8 +79,10 @@ def test_linearisation_is_the_derivative_of_the_outputs(geo):
     differences of strip_wheel at steps small enough to stay between the rail spline's knots
     (the potential's Hessian varies on the 0.05 mm grid), for every output the contact reads,
     tread and flange; the Hessian of V is symmetric."""
-    cols = [STRIP_OUTPUTS.index(k) for k in ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm",
-                                             "delta", "r", "x", "A")]
+    cols = [
+        STRIP_OUTPUTS.index(k)
+        for k in ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm", "delta", "r", "x", "A")
+    ]
     for y, roll, fz in ((0.21e-3, 0.003, 5e4), (3e-3, -0.004, 7e4), (7e-3, 0.002, 9e4)):
         zc = _height(geo, y, roll, fz)
         out, d = strip_linearise(geo, y, zc, roll)
@@ -89,13 +93,16 @@ def test_linearisation_is_the_derivative_of_the_outputs(geo):
         for k, h in enumerate((2e-10, 2e-10, 2e-10)):
             e = np.zeros(3)
             e[k] = h
-            fd = (strip_wheel(geo, y + e[0], zc + e[1], roll + e[2])[0]
-                  - strip_wheel(geo, y - e[0], zc - e[1], roll - e[2])[0]) / (2 * h)
+            fd = (
+                strip_wheel(geo, y + e[0], zc + e[1], roll + e[2])[0]
+                - strip_wheel(geo, y - e[0], zc - e[1], roll - e[2])[0]
+            ) / (2 * h)
             for i in cols:
                 a, b = d[:, i, k], fd[:, i]
                 scale = max(np.abs(d[:, i, :]).max(), 1e-12)
-                np.testing.assert_allclose(a, b, rtol=0, atol=2e-4 * scale,
-                                           err_msg=f"{STRIP_OUTPUTS[i]} over pose {k} at y={y}")
+                np.testing.assert_allclose(
+                    a, b, rtol=0, atol=2e-4 * scale, err_msg=f"{STRIP_OUTPUTS[i]} over pose {k} at y={y}"
+                )
         hess = d[:, 2:5, :3].sum(axis=0)
         np.testing.assert_allclose(hess, hess.T, rtol=1e-12, atol=1e-12 * np.abs(hess).max())
 
@@ -106,6 +113,7 @@ def test_coarse_scan_misses_no_interference(geo):
     equals numpy's over every wheel sample (SciPy's spline of the rail through the same
     nodes, each sample's pose by its own rotation)."""
     from scipy.interpolate import CubicSpline
+
     ry = geo.rail_y0 + geo.rail_dy * np.arange(geo.rail_z.size)
     rail = CubicSpline(ry, geo.rail_z, bc_type=((2, geo.rail_m[0]), (2, geo.rail_m[-1])))
     rng = np.random.default_rng(3)
@@ -116,9 +124,11 @@ def test_coarse_scan_misses_no_interference(geo):
     y0, z0 = geo.ws[0], geo.ws[1]
     c, s = np.cos(roll)[:, None], np.sin(roll)[:, None]
     yr = y[:, None] + c * y0 - s * z0 - geo.offset
-    p = np.where((yr >= ry[0]) & (yr <= ry[-1]),
-                 geo.top - rail(np.clip(yr, ry[0], ry[-1])) - (geo.r_nominal + zc[:, None] + s * y0 + c * z0),
-                 -np.inf).max(axis=1)
+    p = np.where(
+        (yr >= ry[0]) & (yr <= ry[-1]),
+        geo.top - rail(np.clip(yr, ry[0], ry[-1])) - (geo.r_nominal + zc[:, None] + s * y0 + c * z0),
+        -np.inf,
+    ).max(axis=1)
     touching = p > 0
     assert 50 < touching.sum() < 300
     np.testing.assert_allclose(out[touching][:, :, P_MAX].max(axis=1), p[touching], rtol=0, atol=1e-12)
@@ -151,8 +161,8 @@ def test_the_right_wheel_mirrors_the_left():
         x[ir] += s * 1e-3
         outs.append(sy.native.force(CallSettings(50.0, 1), x, np.zeros_like(x))[1])
     (a, b) = outs
-    np.testing.assert_allclose(a[0, :, 0], b[0, ::-1, 0], rtol=1e-9)        # Q
-    np.testing.assert_allclose(a[1, :, 0], -b[1, ::-1, 0], rtol=1e-9)       # Y
+    np.testing.assert_allclose(a[0, :, 0], b[0, ::-1, 0], rtol=1e-9)  # Q
+    np.testing.assert_allclose(a[1, :, 0], -b[1, ::-1, 0], rtol=1e-9)  # Y
 
 
 def test_undamped_frictionless_energy_is_conserved():
@@ -161,10 +171,8 @@ def test_undamped_frictionless_energy_is_conserved():
     (the trapezoidal rule's oscillation of the stiff contact modes, not a drift; measured
     0.54 % and 0.21 %, the gyroscopic moments doing no work), where the table contact gains
     more than the kick's energy itself (it is not the gradient of a potential)."""
-    rr_t = dataclasses.replace(scenarios.coach_system(geometry="table").without_damping(),
-                               friction=0.0)
-    rr_s = dataclasses.replace(scenarios.coach_system(geometry="strip").without_damping(),
-                               friction=0.0)
+    rr_t = dataclasses.replace(scenarios.coach_system(geometry="table").without_damping(), friction=0.0)
+    rr_s = dataclasses.replace(scenarios.coach_system(geometry="strip").without_damping(), friction=0.0)
     e_h = energy_drift(rr_s, 5e-4, 0.4)
     assert e_h < 1e-2
     assert energy_drift(rr_s, 2.5e-4, 0.4) < 0.5 * e_h
@@ -173,8 +181,12 @@ def test_undamped_frictionless_energy_is_conserved():
 
 def _energy(sy, q, v, wheel_energy) -> np.ndarray:
     """Kinetic + linear springs with their preload + the contacts' potential, J."""
-    return (0.5 * np.einsum("ti,ij,tj->t", v, sy.m, v) + 0.5 * np.einsum("ti,ij,tj->t", q, sy.k, q)
-            - q @ sy.f0 + wheel_energy)
+    return (
+        0.5 * np.einsum("ti,ij,tj->t", v, sy.m, v)
+        + 0.5 * np.einsum("ti,ij,tj->t", q, sy.k, q)
+        - q @ sy.f0
+        + wheel_energy
+    )
 
 
 def energy_drift(sy, h: float, duration: float) -> float:
@@ -197,15 +209,18 @@ def test_run_does_not_depend_on_the_chunking_or_an_earlier_run():
     run split into other chunks gives the same numbers bit for bit, and so does the same run
     repeated on the model after another one (whose kept matrix it must not read)."""
     from railvti.vehicle.equilibrium import lateral_disturbance
+
     sy = scenarios.coach_system(geometry="strip")
     v = 300.0 / 3.6
     qs, _ = static_equilibrium(sy, v)
     q0 = lateral_disturbance(sy, qs, 0.004, wheelsets=(0, 1))
-    runs = [simulate(sy, v, 0.08, q0=q0, h=1e-3, output_dt=0.002, progress=True, chunk=c)
-            for c in (0.004, 0.02, 0.08)]
+    runs = [
+        simulate(sy, v, 0.08, q0=q0, h=1e-3, output_dt=0.002, progress=True, chunk=c)
+        for c in (0.004, 0.02, 0.08)
+    ]
     simulate(sy, v, 0.03, q0=qs, h=1e-3, progress=False)
     runs.append(simulate(sy, v, 0.08, q0=q0, h=1e-3, output_dt=0.002, progress=False))
-    assert runs[0].stats["tangents"] < 0.5 * runs[0].stats["steps"]     # the matrix was kept
+    assert runs[0].stats["tangents"] < 0.5 * runs[0].stats["steps"]  # the matrix was kept
     for r in runs[1:]:
         np.testing.assert_array_equal(r.q, runs[0].q)
 
@@ -227,6 +242,7 @@ def test_deck_case_runs_the_strip_geometry():
     the static wheel loads balance the coach's weight), and the BEM with it is refused."""
     from railvti.casetypes import REGISTRY
     import railvti.vehicle.cases  # noqa: F401  (registers the case type)
+
     p = dict(REGISTRY["vehicle"].defaults)
     p.update(scenario="centred_running", speed_kmh=200.0, duration=0.05, geometry="strip")
     out = REGISTRY["vehicle"].run(p)

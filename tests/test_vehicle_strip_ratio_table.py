@@ -10,6 +10,7 @@ alternated from node to node, so that the flange slot's lateral force swung by +
 1e-8 m (slope +-2e12 N/m, of both signs): with the ring's massless residual coordinates in
 the step's equations Newton then found no root at any sub-step.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -18,16 +19,22 @@ import pytest
 from railvti import scenarios
 from railvti.vehicle import systems
 from railvti.contact.hertz import hertz
-from railvti.vehicle.strip import (STRIP_OUTPUTS, UPPER_CLIP, UPPER_FLAT, UPPER_LINEAR,
-                                   saturated_log_ratio, strip_geometry, strip_wheel)
+from railvti.vehicle.strip import (
+    STRIP_OUTPUTS,
+    UPPER_CLIP,
+    UPPER_FLAT,
+    UPPER_LINEAR,
+    saturated_log_ratio,
+    strip_geometry,
+    strip_wheel,
+)
 
 V, DVDY = STRIP_OUTPUTS.index("V"), STRIP_OUTPUTS.index("dV_dy")
 #: The rear wheelset's right wheel at FF's 2.0935 s state (hunting 400 km/h from 4 mm,
 #: default ring, residual on), mirrored into the left wheel's frame: y, zc (m), relative roll,
 #: yaw (rad). On its flange root alone (23.4 deg, 89 kN); a strip at the patch's edge has
 #: x = ln(B/A) ~ -5.1.
-FF_POSE = (4.7027216297756552e-03, -1.7634374589951597e-03, 3.0540133969089570e-03,
-           -7.6292992262240291e-03)
+FF_POSE = (4.7027216297756552e-03, -1.7634374589951597e-03, 3.0540133969089570e-03, -7.6292992262240291e-03)
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +52,7 @@ def test_ratio_table_is_hertz_at_every_node(geometry):
     mat = scenarios.wheel_table().material
     for i in range(0, x.size, 11):
         h = hertz(1.0, float(rho[i]), 1.0, mat)
-        kh = h.approach ** -1.5
+        kh = h.approach**-1.5
         np.testing.assert_allclose(geometry.fv[i, 0], 0.375 * kh * np.sqrt(rho[i]), rtol=1e-9)
         np.testing.assert_allclose(geometry.fv[i, 1:3], [h.a, h.b], rtol=1e-9)
 

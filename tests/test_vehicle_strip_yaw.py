@@ -1,6 +1,7 @@
 """The strip contact under the wheelset's yaw (railvti.vehicle.strip, vehicle_strip's
 ring_deepest): against a brute-force search over the yawed 3-D wheel surface, conservative
 with yaw, its linearisation, and mirror-symmetric in the vehicle."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -15,7 +16,7 @@ from railvti.vehicle.strip import STRIP_OUTPUTS, strip_geometry, strip_linearise
 
 N, PM, XC = (STRIP_OUTPUTS.index(k) for k in ("N", "P_max", "xc"))
 GRAD = [STRIP_OUTPUTS.index(k) for k in ("dV_dy", "dV_dz", "dV_droll", "dV_dyaw")]
-STEP = 2e-4                                     # the strips' wheel sample step (default)
+STEP = 2e-4  # the strips' wheel sample step (default)
 #: (name, lateral shift, window of wheel profile coordinates around the contact), m
 CASES = (("tread", 0.0, (-0.01, 0.01)), ("flange", 7e-3, (-0.045, -0.02)))
 YAWS = (0.0, 2e-3, 5e-3, 10e-3)
@@ -39,8 +40,9 @@ def brute_force(wheel, rail, y, zc, roll, yaw, s):
     r = lay.wheelset.wheel_radius + wheel.height(s)
     y0 = lay.wheelset.contact_y + s
     cr, sr, cy, sy = np.cos(roll), np.sin(roll), np.cos(yaw), np.sin(yaw)
-    rot = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]]) @ \
-        np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    rot = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]]) @ np.array(
+        [[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]]
+    )
 
     def interference(th):
         pts = np.stack([r * np.sin(th), np.broadcast_to(y0, th.shape), -r * np.cos(th)])
@@ -99,7 +101,7 @@ def test_yaw_matches_brute_force_on_the_strips_samples(setup, case):
         lay = layout(wheel, rail)
         leads.append(x + (lay.wheelset.contact_y + sj) * np.tan(yaw))
     if name == "flange":
-        assert 0.010 < leads[-1] < 0.016          # 13 mm at 10 mrad (tan(delta) about 2.8)
+        assert 0.010 < leads[-1] < 0.016  # 13 mm at 10 mrad (tan(delta) about 2.8)
     else:
         assert abs(leads[-1]) < 5e-4
 
@@ -125,8 +127,8 @@ def test_yaw_within_the_sampling_against_a_fine_brute_force(setup, case):
         bound = 0.5 * pss * (STEP / 2) ** 2 + 1e-8
         assert -1e-8 <= p - out[:, PM].max() <= bound, (name, yaw, p, bound)
         # the lead's rate along the profile, from the deepest points of neighbouring samples
-        _, xa, _, _ = brute_force(wheel, rail, y, zc, 0.0, yaw, fine[max(j - 5, 0):j - 4])
-        _, xb, _, _ = brute_force(wheel, rail, y, zc, 0.0, yaw, fine[j + 5:j + 6])
+        _, xa, _, _ = brute_force(wheel, rail, y, zc, 0.0, yaw, fine[max(j - 5, 0) : j - 4])
+        _, xb, _, _ = brute_force(wheel, rail, y, zc, 0.0, yaw, fine[j + 5 : j + 6])
         dxds = abs(xb - xa) / (10 * STEP / 10)
         assert abs(out[k, XC] - x) <= dxds * STEP / 2 + 2e-5, (name, yaw)
 
@@ -153,14 +155,17 @@ def test_the_forces_with_yaw_are_the_gradient_of_the_potential(setup):
         for k in range(4):
             e = np.zeros(4)
             e[k] = 2e-10
-            fdo = (strip_wheel(geo, y + e[0], zc + e[1], roll + e[2], yaw + e[3])[0]
-                   - strip_wheel(geo, y - e[0], zc - e[1], roll - e[2], yaw - e[3])[0]) / 4e-10
+            fdo = (
+                strip_wheel(geo, y + e[0], zc + e[1], roll + e[2], yaw + e[3])[0]
+                - strip_wheel(geo, y - e[0], zc - e[1], roll - e[2], yaw - e[3])[0]
+            ) / 4e-10
             for i, name in enumerate(STRIP_OUTPUTS):
                 if name == "P_max":
                     continue
                 scale = max(np.abs(d[:, i, :]).max(), 1e-12)
-                np.testing.assert_allclose(d[:, i, k], fdo[:, i], rtol=0, atol=2e-4 * scale,
-                                           err_msg=f"{name} over pose {k} at y={y}")
+                np.testing.assert_allclose(
+                    d[:, i, k], fdo[:, i], rtol=0, atol=2e-4 * scale, err_msg=f"{name} over pose {k} at y={y}"
+                )
         hess = d[:, GRAD, :].sum(axis=0)
         np.testing.assert_allclose(hess, hess.T, rtol=1e-9, atol=1e-9 * np.abs(hess).max())
 
@@ -180,13 +185,14 @@ def test_the_mirrored_yaw_gives_the_mirrored_wheel():
         x[ip] += s * yaw
         outs.append(sy.native.force(CallSettings(50.0, 1), x, np.zeros_like(x))[1])
     a, b, c = outs
-    np.testing.assert_allclose(a[0, :, 0], b[0, ::-1, 0], rtol=1e-9)        # Q
-    np.testing.assert_allclose(a[1, :, 0], -b[1, ::-1, 0], rtol=1e-9)       # Y
-    np.testing.assert_allclose(a[2, :, 0], b[2, ::-1, 0], rtol=1e-9, atol=1e-6)   # Fx
+    np.testing.assert_allclose(a[0, :, 0], b[0, ::-1, 0], rtol=1e-9)  # Q
+    np.testing.assert_allclose(a[1, :, 0], -b[1, ::-1, 0], rtol=1e-9)  # Y
+    np.testing.assert_allclose(a[2, :, 0], b[2, ::-1, 0], rtol=1e-9, atol=1e-6)  # Fx
     assert np.abs(a[0, :, 0] - c[0, :, 0]).max() > 10.0
 
 
 def test_bad_yaw(setup):
     from railvti.errors import InputError
+
     with pytest.raises(InputError, match="finite"):
         strip_wheel(setup[2], 0.0, 0.0, 0.0, np.inf)

@@ -1,4 +1,5 @@
 """Vehicle model against theory: Wickens' critical speed, Klingel's wavelength, energy."""
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -8,8 +9,14 @@ import pytest
 
 from railvti import scenarios
 from railvti.geometry import klingel_wavelength
-from railvti.vehicle import (build_single_wheelset, eigenvalues, lateral_disturbance,
-                             linearised_table, simulate, static_equilibrium)
+from railvti.vehicle import (
+    build_single_wheelset,
+    eigenvalues,
+    lateral_disturbance,
+    linearised_table,
+    simulate,
+    static_equilibrium,
+)
 from railvti.vehicle.analytic import wickens_coefficients, wickens_critical_speed
 from railvti.vehicle.table import QUANTITIES
 
@@ -49,6 +56,7 @@ def test_single_wheelset_critical_speed_matches_wickens(lam, ky, kx):
         ev = eigenvalues(sy, v)
         osc = ev[(np.abs(ev.imag) > 0.1) & (np.abs(ev.imag) < 2 * np.pi * 30)]
         return osc[np.argmax(osc.real)]
+
     assert hunting(0.98 * vc).real < 0 < hunting(1.02 * vc).real
     assert hunting(0.995 * vc).real < 0 < hunting(1.005 * vc).real
     _, a3, _, a1, _ = wickens_coefficients(vc, *args)
@@ -62,8 +70,15 @@ def test_kinematic_wavelength_matches_klingel(lam):
     qs, _ = static_equilibrium(sy, v)
     i0 = int(np.argmin(np.abs(tab.y)))
     ref = klingel_wavelength(lam, tab.r0, tab.data[1, 0, i0])
-    r = simulate(sy, v, 2.2 * ref / v, q0=lateral_disturbance(sy, qs, 0.001, (0,)), h=2e-3,
-                 output_dt=2e-3, progress=False)
+    r = simulate(
+        sy,
+        v,
+        2.2 * ref / v,
+        q0=lateral_disturbance(sy, qs, 0.001, (0,)),
+        h=2e-3,
+        output_dt=2e-3,
+        progress=False,
+    )
     y = r.y_ws1 - r.y_ws1.mean()
     idx = np.nonzero(np.sign(y[1:]) * np.sign(y[:-1]) < 0)[0]
     tz = r.t[idx] - y[idx] * (r.t[idx + 1] - r.t[idx]) / (y[idx + 1] - y[idx])
@@ -78,16 +93,20 @@ def test_energy_conserved_without_damping():
     q[sy.index("carbody_z")] += 0.01
     q[sy.index("bogie1_z")] += 0.003
     r = simulate(sy, 50.0, 2.0, q0=q, h=2e-3, output_dt=0.01, progress=False)
-    e = (0.5 * np.einsum("ti,ij,tj->t", r.v, sy.m, r.v)
-         + 0.5 * np.einsum("ti,ij,tj->t", r.q, sy.k, r.q) - r.q @ sy.f0
-         + r.wheel_output("energy").sum(axis=(1, 2)))
-    osc = 0.5 * sy.k[sy.index("carbody_z"), sy.index("carbody_z")] * 0.01 ** 2
+    e = (
+        0.5 * np.einsum("ti,ij,tj->t", r.v, sy.m, r.v)
+        + 0.5 * np.einsum("ti,ij,tj->t", r.q, sy.k, r.q)
+        - r.q @ sy.f0
+        + r.wheel_output("energy").sum(axis=(1, 2))
+    )
+    osc = 0.5 * sy.k[sy.index("carbody_z"), sy.index("carbody_z")] * 0.01**2
     assert np.abs(e - e[0]).max() < 1e-4 * osc
     # the same run with damping loses energy
-    rd = simulate(replace(sy0, friction=0.0), 50.0, 2.0, q0=q, h=2e-3, output_dt=0.01,
-                  progress=False)
-    assert np.abs(rd.dof("carbody_z")[-50:] - rd.dof("carbody_z")[-1]).max() < \
-        np.abs(r.dof("carbody_z")[-50:] - r.dof("carbody_z")[-1]).max()
+    rd = simulate(replace(sy0, friction=0.0), 50.0, 2.0, q0=q, h=2e-3, output_dt=0.01, progress=False)
+    assert (
+        np.abs(rd.dof("carbody_z")[-50:] - rd.dof("carbody_z")[-1]).max()
+        < np.abs(r.dof("carbody_z")[-50:] - r.dof("carbody_z")[-1]).max()
+    )
 
 
 def test_hht_alpha_damps_the_undamped_system():
@@ -95,6 +114,7 @@ def test_hht_alpha_damps_the_undamped_system():
     acceleration rule keeps its energy to a few per cent (the Hertz spring is nonlinear and
     under-resolved at h = 1 ms); HHT-alpha = -0.1 dissipates most of it in 0.3 s."""
     from railvti.vehicle import force_and_tangent
+
     sy = replace(scenarios.coach_system().without_damping(), friction=0.0)
     qs, _ = static_equilibrium(sy, 50.0)
 
@@ -111,5 +131,5 @@ def test_hht_alpha_damps_the_undamped_system():
     for alpha in (0.0, -0.1):
         r = simulate(sy, 50.0, 0.3, q0=q, h=1e-3, alpha=alpha, output_dt=1e-3, progress=False)
         change.append((energy(r.q[-1], r.v[-1], r.wheel_output("energy")[-1]) - e0) / osc)
-    assert abs(change[0]) < 0.1          # measured -0.039 (+0.001 at h = 0.25 ms)
-    assert change[1] < -0.8              # measured -0.96
+    assert abs(change[0]) < 0.1  # measured -0.039 (+0.001 at h = 0.25 ms)
+    assert change[1] < -0.8  # measured -0.96

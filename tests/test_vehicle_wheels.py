@@ -1,4 +1,5 @@
 """All eight wheels in the results: Nadal's limit, Y/Q per wheel and the worst wheel."""
+
 from __future__ import annotations
 
 import math
@@ -50,7 +51,7 @@ def test_all_wheels_and_the_worst_wheel_in_flange_hunting():
     assert ws.exceeds_nadal and ws.YQ_max[worst] > ws.nadal
     assert math.degrees(r.flange_angle) == pytest.approx(70.0, abs=0.5)
     assert ws.nadal == pytest.approx(nadal_limit(r.flange_angle, 0.3))
-    for j in range(4):      # amplitudes per wheelset from the DOF histories
+    for j in range(4):  # amplitudes per wheelset from the DOF histories
         assert ws.amplitude[j] == pytest.approx(0.5 * np.ptp(r.dof(f"ws{j + 1}_y")[k]))
     side = ("left", "right")[s]
     assert f"wheelset {w + 1} {side}" in ws.line() and "ABOVE" in ws.line()

@@ -1,5 +1,6 @@
 """The wheelsets' longitudinal (x) and spin-perturbation (beta) DOFs: layout, free rolling,
 the spin-rate decay against the creep law, the longitudinal oscillation on the primary kx."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -8,14 +9,20 @@ from scipy.linalg import expm
 
 from railvti import scenarios
 from railvti.errors import InputError
-from railvti.vehicle import (Coach, build_coach, build_single_wheelset, linearised_table, simulate,
-                             static_equilibrium)
+from railvti.vehicle import (
+    Coach,
+    build_coach,
+    build_single_wheelset,
+    linearised_table,
+    simulate,
+    static_equilibrium,
+)
 from railvti.vehicle.model import WHEEL_OUTPUTS as W
 from railvti.vehicle.table import QUANTITIES
 
 V = 200 / 3.6
 WS = dict(mass=1813.0, roll_inertia=1120.0, yaw_inertia=1120.0)
-IWY = 112.0          # Manchester benchmark wheelset pitch inertia (Iwnicki 1998)
+IWY = 112.0  # Manchester benchmark wheelset pitch inertia (Iwnicki 1998)
 
 
 def test_dof_layout_53_and_the_old_45():
@@ -63,7 +70,7 @@ def test_bem_centred_running_relaxes_the_spin_loaded_fx():
     tab = scenarios.wheel_table()
     s4 = build_coach(Coach(), tab, wheelset_dofs=4)
     _, w4 = static_equilibrium(s4, V, "bem")
-    assert np.abs(w4[W.index("Fx")]).min() > 1000.0          # measured 1978 N
+    assert np.abs(w4[W.index("Fx")]).min() > 1000.0  # measured 1978 N
     c = scenarios.centred_running(200.0, contact="bem", duration=0.02, progress=False)
     fx = c.run.wheel_output("Fx")[-1]
     assert np.abs(fx).max() < 5.0
@@ -76,8 +83,16 @@ def test_bem_centred_running_relaxes_the_spin_loaded_fx():
 
 def _single(v0, *, longitudinal, spin, kx=2e6):
     tab = linearised_table(scenarios.wheel_table(), 0.2, gravitational=False, spin=False)
-    sy = build_single_wheelset(tab, ky=1e6, kx=kx, half_spacing=1.0, axle_load=100e3,
-                               longitudinal=longitudinal, spin_inertia=IWY if spin else None, **WS)
+    sy = build_single_wheelset(
+        tab,
+        ky=1e6,
+        kx=kx,
+        half_spacing=1.0,
+        axle_load=100e3,
+        longitudinal=longitudinal,
+        spin_inertia=IWY if spin else None,
+        **WS,
+    )
     q, v, wout = static_equilibrium(sy, v0, return_velocity=True)
     i0 = int(np.argmin(np.abs(tab.y)))
     a, b = wout[W.index("a"), 0, 0], wout[W.index("b"), 0, 0]
@@ -93,13 +108,13 @@ def test_spin_rate_decays_at_the_creep_law_rate():
     sy, q, v, f11, r = _single(v0, longitudinal=False, spin=True)
     rate = 2 * r * r * f11 / (IWY * v0)
     jb = sy.index("ws1_beta")
-    v[jb] = 2e-3                                           # xi = 3e-5: far from saturation
+    v[jb] = 2e-3  # xi = 3e-5: far from saturation
     h = 0.02 / rate
     res = simulate(sy, v0, 3.0 / rate, q0=q, v0=v, h=h, output_dt=h, tol=1e-13, progress=False)
     bd = res.v[:, jb]
     fit = -np.polyfit(res.t, np.log(bd), 1)[0]
     assert fit == pytest.approx(rate, rel=0.01)
-    assert rate > 1000.0                                   # the stiff mode: ~1/ms at 108 km/h
+    assert rate > 1000.0  # the stiff mode: ~1/ms at 108 km/h
 
 
 @pytest.mark.parametrize("kmh", [50.0, 400.0])
@@ -113,8 +128,9 @@ def test_spin_mode_stable_and_accurate_at_the_default_step(kmh):
     q, v, _ = static_equilibrium(sy, kmh / 3.6, return_velocity=True)
     jb, jx = sy.index("ws2_beta"), sy.index("ws2_x")
     v[jb] += 0.05
-    runs = [simulate(sy, kmh / 3.6, 0.05, q0=q, v0=v, h=h, output_dt=1e-3, progress=False)
-            for h in (1e-3, 2.5e-4)]
+    runs = [
+        simulate(sy, kmh / 3.6, 0.05, q0=q, v0=v, h=h, output_dt=1e-3, progress=False) for h in (1e-3, 2.5e-4)
+    ]
     assert np.isfinite(runs[0].q).all()
     # the kick decays about the static spin (the strips' rolling radius differs from r0)
     assert np.abs(runs[0].v[:, jb] - (v[jb] - 0.05)).max() < 0.05
@@ -133,9 +149,14 @@ def test_longitudinal_offset_oscillates_against_kx_as_linear_theory():
     m = WS["mass"]
     c = 2 * f11 / v0
     # state (x, beta, xdot, betadot)
-    a = np.array([[0, 0, 1, 0], [0, 0, 0, 1],
-                  [-2 * kx / m, 0, -c / m, c * r / m],
-                  [0, 0, c * r / IWY, -c * r * r / IWY]])
+    a = np.array(
+        [
+            [0, 0, 1, 0],
+            [0, 0, 0, 1],
+            [-2 * kx / m, 0, -c / m, c * r / m],
+            [0, 0, c * r / IWY, -c * r * r / IWY],
+        ]
+    )
     jx = sy.index("ws1_x")
     x0 = 5e-6
     qs = q[jx]
@@ -148,5 +169,5 @@ def test_longitudinal_offset_oscillates_against_kx_as_linear_theory():
     # small sliding part: the period of the rolling oscillator within 3 %
     up = np.nonzero((x[:-1] < 0) & (x[1:] >= 0))[0]
     period = np.mean(np.diff(res.t[up]))
-    assert period == pytest.approx(2 * np.pi / np.sqrt(2 * kx / (m + IWY / r ** 2)), rel=0.03)
+    assert period == pytest.approx(2 * np.pi / np.sqrt(2 * kx / (m + IWY / r**2)), rel=0.03)
     assert x.min() < -0.5 * x0

@@ -6,6 +6,7 @@ Iwnicki 1998); the FE mass's polar moment equals the exact integration of the me
 section; RR and FR have the same rigid-body mass matrix and the same gyroscopic damping,
 and the gyroscopic term has the sign of dH/dt = M for a wheel spinning about +y.
 """
+
 import numpy as np
 import pytest
 
@@ -61,6 +62,7 @@ def test_rr_and_fr_share_the_rigid_body_and_its_gyroscopic_matrix(body):
     # the skew gyroscopic part: without it the roll-yaw entries lose -+ I_y Omega
     rr0 = scenarios.coach_system("RR", geometry="table")
     from dataclasses import replace
+
     rr0 = replace(rr0, spin_inertia=np.zeros(4))
     _, _, _, jv0 = force_and_tangent(rr0, q, v, V, "hertz-kalker")
     h = Coach()["wheelset_pitch_inertia"] * V / rr.table.r0
@@ -74,6 +76,7 @@ def test_rr_and_fr_share_the_rigid_body_and_its_gyroscopic_matrix(body):
 def test_spin_inertia_must_match_the_wheelsets():
     from dataclasses import replace
     from railvti.errors import InputError
+
     rr = scenarios.coach_system("RR", geometry="table")
     with pytest.raises(InputError, match="spin_inertia"):
         replace(rr, spin_inertia=np.zeros(3))

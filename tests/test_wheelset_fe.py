@@ -1,4 +1,5 @@
 """Axisymmetric harmonic elements: element matrices, shaft and plate against theory."""
+
 import numpy as np
 import pytest
 
@@ -29,7 +30,7 @@ def test_element_matrices_symmetric_positive(k):
 
 def test_element_mass_and_rigid_modes():
     r0, r1, y0, y1 = 0.1, 0.2, 0.0, 0.05
-    mass = RHO * np.pi * (r1 ** 2 - r0 ** 2) * (y1 - y0)
+    mass = RHO * np.pi * (r1**2 - r0**2) * (y1 - y0)
     # k = 0: axial translation is stress-free; its kinetic energy is the ring's mass
     ke, me, _, _, _ = core.wheelset_element_c(0, _element(), E, NU, RHO)
     uy = np.zeros(27)
@@ -68,8 +69,7 @@ def test_annular_plate_matches_kirchhoff(k):
     fixed = np.zeros((m.n_nodes, 3), bool)
     fixed[np.isclose(m.nodes[:, 0], 0.1)] = True
     h = solve_harmonic(m, k, E, NU, RHO, 500.0, fixed=fixed)
-    bending = [f for f, s in zip(h.freq_hz, h.shapes)
-               if np.abs(s[:, 1]).max() > np.abs(s[:, [0, 2]]).max()]
+    bending = [f for f, s in zip(h.freq_hz, h.shapes) if np.abs(s[:, 1]).max() > np.abs(s[:, [0, 2]]).max()]
     assert np.allclose(bending[:2], ref, rtol=0.02)
 
 
@@ -92,7 +92,7 @@ def test_bad_harmonic(k):
 def test_inverted_mesh_element_named_in_the_error():
     m = rectangle_mesh(0.0, 0.1, -1.0, 1.0, 2, 4)
     conn = m.conn.copy()
-    conn[2] = conn[2].reshape(3, 3)[:, ::-1].ravel()    # mirror element 3 (1-based) in r
+    conn[2] = conn[2].reshape(3, 3)[:, ::-1].ravel()  # mirror element 3 (1-based) in r
     bad = type(m)(nodes=m.nodes, conn=conn)
     with pytest.raises(InputError, match=r"meridian element 3 \(1-based\) is inverted"):
         solve_harmonic(bad, 1, E, NU, RHO, 1000.0)

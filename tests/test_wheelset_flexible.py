@@ -1,4 +1,5 @@
 """The free-free flexible wheelset as a body for a vehicle model (railvti.wheelset.flexible)."""
+
 import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
@@ -12,7 +13,7 @@ from railvti.wheelset.analytic import wheelset_mass_properties
 
 COARSE = dict(mesh_size=0.035, axle_mesh_size=0.08)
 K_MAX, F_MAX = 2, 1500.0
-Q = 85e3            # static wheel load, N
+Q = 85e3  # static wheel load, N
 
 
 @pytest.fixture(scope="module")
@@ -45,14 +46,16 @@ def _rigid_fields(ws, st):
     z = np.zeros_like(r)
     one = np.ones_like(r)
     if st.k == 0:
-        cands = [[np.c_[z, one, z]], [np.c_[z, z, r]]]            # axial translation, spin
+        cands = [[np.c_[z, one, z]], [np.c_[z, z, r]]]  # axial translation, spin
     else:
-        cands = [[np.c_[one, z, -one]],                              # translation
-                 [np.c_[a * y, r, b * y] for a in (1, -1) for b in (1, -1)]]  # tilt
+        cands = [
+            [np.c_[one, z, -one]],  # translation
+            [np.c_[a * y, r, b * y] for a in (1, -1) for b in (1, -1)],
+        ]  # tilt
     out = []
     for group in cands:
         best = min(group, key=lambda f: _energy_ratio(st, f))
-        assert _energy_ratio(st, best) < 1e-9      # rigid: below 0.03 Hz (round-off)
+        assert _energy_ratio(st, best) < 1e-9  # rigid: below 0.03 Hz (round-off)
         out.append(best)
     return out
 
@@ -63,11 +66,11 @@ def _energy_ratio(st, field):
 
 
 def test_modes_mass_orthonormal_and_rigid_modes_removed(ws, body, statics):
-    for k, fam, shp in _groups(body):
+    for k, _fam, shp in _groups(body):
         st = statics[k]
         x = np.array([_reduced(st, s) for s in shp]).T
         assert np.allclose(x.T @ (st.M @ x), np.eye(x.shape[1]), atol=1e-9)
-        for rig in (_rigid_fields(ws, st) if k <= 1 else []):
+        for rig in _rigid_fields(ws, st) if k <= 1 else []:
             xr = _reduced(st, rig)
             xr /= np.sqrt(xr @ (st.M @ xr))
             assert np.abs(x.T @ (st.M @ xr)).max() < 1e-6
@@ -102,26 +105,29 @@ def test_polar_moment_and_rigid_elastic_coupling(ws, body, statics):
     st = statics[1]
     tilt = _rigid_fields(ws, st)[1]
     xr = _reduced(st, tilt)
-    c_rigid = -2.0 * float(xr @ (st.M @ _reduced(st, np.c_[0 * ws.mesh.nodes[:, 0],
-                                                             ws.mesh.nodes[:, 0],
-                                                             0 * ws.mesh.nodes[:, 0]])))
+    c_rigid = -2.0 * float(
+        xr
+        @ (st.M @ _reduced(st, np.c_[0 * ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 0], 0 * ws.mesh.nodes[:, 0]]))
+    )
     c_rigid /= np.sqrt(xr @ (st.M @ xr))
-    assert abs(c_rigid) == pytest.approx(props["spin_inertia"] / np.sqrt(props["roll_inertia"]),
-                                         rel=2e-3)
+    assert abs(c_rigid) == pytest.approx(props["spin_inertia"] / np.sqrt(props["roll_inertia"]), rel=2e-3)
     # elastic k = 1 modes: only the antisymmetric ones (wheels tilting the same way) couple
     c = body.rigid_elastic
     assert np.all(c[body.k != 1] == 0.0)
     assert np.all(c[body.family == "A", 0] == 0.0) and np.all(c[body.family == "B", 1] == 0.0)
     table = ws.modes(1, F_MAX, "free")
-    sym = {round(f, 6): table.mirror_symmetry(i) for i, f in enumerate(table.freq_hz)
-           if table.k[i] == 1 and f > 0.5}
+    sym = {
+        round(f, 6): table.mirror_symmetry(i)
+        for i, f in enumerate(table.freq_hz)
+        if table.k[i] == 1 and f > 0.5
+    }
     for i in np.flatnonzero(body.family == "A"):
         if body.k[i] != 1:
             continue
         m = sym[round(body.freq_hz[i], 6)]
         if m > 0.9:
             assert abs(c[i, 1]) < 1e-6
-    assert np.abs(c).max() > 1.0          # it does not vanish: kg^0.5 m per unit Q
+    assert np.abs(c).max() > 1.0  # it does not vanish: kg^0.5 m per unit Q
 
 
 def _edge_nodes(ws, side):
@@ -159,18 +165,22 @@ def test_rows_at_nodes_and_between(ws, body, side):
     # between nodes: the element's quadratic along its edge (three consecutive edge nodes
     # of one element: corner, mid-side, corner), not the nearest node's value
     i = 2 * (len(nodes) // 4)
-    ss = s[i:i + 3]
-    vals = np.array([_node_rows(body, n) for n in nodes[i:i + 3]])      # (3, 3, nq)
+    ss = s[i : i + 3]
+    vals = np.array([_node_rows(body, n) for n in nodes[i : i + 3]])  # (3, 3, nq)
     for t in (0.3, 0.55, 0.8):
         sq = ss[0] + t * (ss[2] - ss[0])
-        lag = np.array([np.polyval(np.polyfit(ss, vals[:, r, j], 2), sq)
-                        for r in range(3) for j in range(body.n)]).reshape(3, body.n)
+        lag = np.array(
+            [np.polyval(np.polyfit(ss, vals[:, r, j], 2), sq) for r in range(3) for j in range(body.n)]
+        ).reshape(3, body.n)
         got = body.rows(side, sq)[:3]
         assert np.allclose(got, lag, atol=1e-10 * np.abs(vals).max())
     # the rim rotation: the least-squares slope d u_z / d y_vehicle of the vertical row over
     # the whole tread, the same at every s
-    st = np.linspace(ws.geometry.flange_width - ws.geometry.contact_offset,
-                     ws.geometry.rim_width - ws.geometry.contact_offset, 301)
+    st = np.linspace(
+        ws.geometry.flange_width - ws.geometry.contact_offset,
+        ws.geometry.rim_width - ws.geometry.contact_offset,
+        301,
+    )
     yv = -(ws.geometry.contact_y + st) if side == 0 else ws.geometry.contact_y + st
     zs = np.array([body.rows(side, v)[2] for v in st])
     fit = np.polyfit(yv, zs, 1)[0]
@@ -201,8 +211,7 @@ def _cartesian(body, side, s, theta):
             cr, ct = np.cos(k * theta), np.sin(k * theta)
         else:
             cr, ct = np.sin(k * theta), -np.cos(k * theta)
-        out.append(np.outer(er, u[:, 0] * cr) + np.outer(ey, u[:, 1] * cr)
-                   + np.outer(et, u[:, 2] * ct))
+        out.append(np.outer(er, u[:, 0] * cr) + np.outer(ey, u[:, 1] * cr) + np.outer(et, u[:, 2] * ct))
     return np.concatenate(out, axis=1)
 
 
@@ -228,13 +237,15 @@ def _direct_static(ws, statics, s_pair):
     out = np.zeros(14)
     jn = ws._journal_nodes
     for st in statics:
-        pts = [wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
-               wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
-               wstat.point_operator(ws.mesh, None, None, jn[0]),
-               wstat.point_operator(ws.mesh, None, None, jn[1])]
+        pts = [
+            wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
+            wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
+            wstat.point_operator(ws.mesh, None, None, jn[0]),
+            wstat.point_operator(ws.mesh, None, None, jn[1]),
+        ]
         kinds = ("0",) if st.k == 0 else ("A", "B")
         for kind in kinds:
-            e = np.array([v for p in pts for v in p[kind]])                 # (14, 3 nn)
+            e = np.array([v for p in pts for v in p[kind]])  # (14, 3 nn)
             f = Q * (e[2] + e[6] - e[10] - e[13])
             if not np.any(f):
                 continue
@@ -265,13 +276,13 @@ def test_static_deflection_with_residual_matches_fe(ws, body, statics):
     f[[10, 13]] = -Q
     full = body.static_deflection(f)
     kept = body.static_deflection(f, residual=False)
-    for i in (2, 3, 6, 7, 10, 13):        # contact z, rim rotation, journal z
+    for i in (2, 3, 6, 7, 10, 13):  # contact z, rim rotation, journal z
         assert full[i] == pytest.approx(ref[i], rel=0.02)
     # the kept modes alone miss the static deflection by more
     err_full = np.abs(full[[2, 3]] - ref[[2, 3]]) / np.abs(ref[[2, 3]])
     err_kept = np.abs(kept[[2, 3]] - ref[[2, 3]]) / np.abs(ref[[2, 3]])
     assert np.all(err_kept > err_full)
-    assert ref[3] > 0.5e-3                # the wheel's camber change, rad: about +1 mrad
+    assert ref[3] > 0.5e-3  # the wheel's camber change, rad: about +1 mrad
     # mirror images: rx is odd in y. The sparse solve is exact to cond(K) eps only: 1.3e-9
     # apart under OpenBLAS's SkylakeX kernels (5e-12 under Haswell); a lost mirror symmetry
     # (a sign, a node) is an O(1) difference
@@ -305,15 +316,15 @@ def test_journal_rows(ws, body):
     r, y = ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 1]
     tilt = np.c_[-y, r, y][None]
     for side in (0, 1):
-        rows = wrows.journal_rows([(1, "A", tilt), (1, "B", tilt)], ws.mesh,
-                                ws._journal_nodes[side])
+        rows = wrows.journal_rows([(1, "A", tilt), (1, "B", tilt)], ws.mesh, ws._journal_nodes[side])
         assert np.allclose(rows[3], [-1.0, 0.0]) and np.allclose(rows[4], [0.0, 1.0])
         # and the displacements of that rotation: z = beta_x * y_v, x = -beta_z * y_v
         yv = -ws.mesh.nodes[ws._journal_nodes[side], 1]
         assert np.allclose(rows[2], [-yv, 0.0]) and np.allclose(rows[0], [0.0, -yv])
         # the rim's slope row sees the same rotation about x
-        edge_rows = wrows.vehicle_rows(1, "A", np.array([[0.0, 0.0, 0.0]]),
-                                     np.array([[-1.0, 0.0, 1.0]]), 0.0)[0]
+        edge_rows = wrows.vehicle_rows(
+            1, "A", np.array([[0.0, 0.0, 0.0]]), np.array([[-1.0, 0.0, 1.0]]), 0.0
+        )[0]
         assert edge_rows[3, 0] == -1.0
 
 
@@ -344,8 +355,10 @@ def test_rigid_elastic_coupling_is_the_fe_coriolis_block(ws, body, statics):
     # the unit rotation (roll: the A-set tilt (-y, r, y) is a rotation of -1 rad about x, yaw:
     # the B-set tilt is +1 rad about z; spin: (0, 0, r) of k = 0)
     r, y = ws.mesh.nodes[:, 0], ws.mesh.nodes[:, 1]
-    for k, field, cols in ((1, np.c_[-y, r, y], [(0, "B"), (1, "A")]),
-                           (0, np.c_[0 * r, 0 * r, r], [(None, "0")])):
+    for k, field, cols in (
+        (1, np.c_[-y, r, y], [(0, "B"), (1, "A")]),
+        (0, np.c_[0 * r, 0 * r, r], [(None, "0")]),
+    ):
         h = ws.harmonic(k, F_MAX, "free")
         st = statics[k]
         x = np.array([_reduced(st, s) for s in h.shapes]).T
@@ -356,8 +369,11 @@ def test_rigid_elastic_coupling_is_the_fe_coriolis_block(ws, body, statics):
             # B rows: 2 Omega (-(Gamma + I)) a t' with the roll angle = -t; A rows:
             # 2 Omega (Gamma + I) a t' with the yaw angle = +t; both = -Omega C rate
             want = -2.0 * (g @ a)[el] if k == 1 else -2.0 * (h.coriolis @ a)[el]
-            got = (body.rigid_elastic[(body.k == k) & (body.family == fam), col] if col is not None
-                   else body.spin_coupling[body.k == 0])
+            got = (
+                body.rigid_elastic[(body.k == k) & (body.family == fam), col]
+                if col is not None
+                else body.spin_coupling[body.k == 0]
+            )
             assert np.allclose(got, want, atol=1e-9 * np.abs(want).max())
     assert np.all(body.spin_coupling[body.k != 0] == 0.0)
 
@@ -377,10 +393,12 @@ def _direct_relieved(ws, statics, s_pair, f14):
     the rigid motion held by point constraints, the rigid part removed mass-orthogonally."""
     edges = wrows.rim_edges(ws.geometry)
     jn = ws._journal_nodes
-    pts = [wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
-           wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
-           wstat.point_operator(ws.mesh, None, None, jn[0]),
-           wstat.point_operator(ws.mesh, None, None, jn[1])]
+    pts = [
+        wstat.point_operator(ws.mesh, edges[0], s_pair[0], None),
+        wstat.point_operator(ws.mesh, edges[1], s_pair[1], None),
+        wstat.point_operator(ws.mesh, None, None, jn[0]),
+        wstat.point_operator(ws.mesh, None, None, jn[1]),
+    ]
     out = np.zeros(14)
     for st in statics:
         eqs = np.asarray(st.T.tocsc().argmax(axis=1)).ravel()
@@ -391,8 +409,8 @@ def _direct_relieved(ws, statics, s_pair, f14):
         else:
             fix = []
         free = np.setdiff1d(np.arange(st.K.shape[0]), fix)
-        for kind in (("0",) if st.k == 0 else ("A", "B")):
-            e = np.array([v for p in pts for v in p[kind]])                 # (14, 3 nn)
+        for kind in ("0",) if st.k == 0 else ("A", "B"):
+            e = np.array([v for p in pts for v in p[kind]])  # (14, 3 nn)
             fr = st.T.T @ (e.T @ f14)
             if not np.any(fr):
                 continue
@@ -426,11 +444,11 @@ def test_compliance_follows_the_contact_point(ws, body, statics, residual_5mm, w
     pair = (0.0, s)
     g = wres.contact_compliance(body, residual_5mm, pair)
     g0 = wres.contact_compliance(body, residual_5mm, (0.0, 0.0))
-    for col in (5, 6):                       # unit lateral, vertical force at the left contact
+    for col in (5, 6):  # unit lateral, vertical force at the left contact
         f = np.zeros(14)
         f[col] = 1.0
         ref = _direct_relieved(ws, statics, pair, f)
-        for i in (5, 6, 7):                  # left contact y, z, rx
+        for i in (5, 6, 7):  # left contact y, z, rx
             assert g[i, col] == pytest.approx(ref[i], rel=0.02), (where, i, col)
         if s != 0.0 and col == 6:
             # the taping line's tables at a flange point: the vertical compliance 11-28 % too
@@ -459,30 +477,45 @@ def test_coupled_rows_follow_the_contact_point(ws, body, residual_5mm):
     from railvti import scenarios
     from railvti.vehicle.flexible import _ATTACH_INDEX, build_fr
     from railvti.vehicle.params import Coach
-    sy, lay = build_fr(Coach(), scenarios.wheel_table(), 300 / 3.6, body=body, wheelset=ws,
-                       flexible=(0,), follow_contact=True, residual_grid=residual_5mm,
-                       residual_mass=False)
+
+    sy, lay = build_fr(
+        Coach(),
+        scenarios.wheel_table(),
+        300 / 3.6,
+        body=body,
+        wheelset=ws,
+        flexible=(0,),
+        follow_contact=True,
+        residual_grid=residual_5mm,
+        residual_mass=False,
+    )
     mb, la = sy.modal, lay[0]
     s_left, s_right = CONTACT_POINTS["flange root"], 0.0
     phi = sy.native.follow_rows(np.array([[s_left], [s_right]]), mb.n_points, mb.n_modes)
     m = slice(la.modes.start - sy.n, la.modes.stop - sy.n)
     r = slice(la.residual.start - sy.n, la.residual.stop - sy.n)
     for w, (side, s) in enumerate(((1, s_left), (0, s_right))):
-        np.testing.assert_allclose(phi[3 * w:3 * w + 3, m], wres.interpolated_rows(body, side, s)[1:4],
-                                   rtol=0, atol=1e-12 * np.abs(body.rim_rows).max())
+        np.testing.assert_allclose(
+            phi[3 * w : 3 * w + 3, m],
+            wres.interpolated_rows(body, side, s)[1:4],
+            rtol=0,
+            atol=1e-12 * np.abs(body.rim_rows).max(),
+        )
         t = (s - body.s0) / body.ds
         i0 = int(np.floor(t + 1e-9))
         wt = t - i0
         ref = (1 - wt) * body.rim_dtheta_rows[side, i0, 1:4] + wt * body.rim_dtheta_rows[side, i0 + 1, 1:4]
-        np.testing.assert_allclose(phi[14 + 3 * w:17 + 3 * w, m], ref, rtol=0,
-                                   atol=1e-9 * np.abs(body.rim_dtheta_rows).max())
+        np.testing.assert_allclose(
+            phi[14 + 3 * w : 17 + 3 * w, m], ref, rtol=0, atol=1e-9 * np.abs(body.rim_dtheta_rows).max()
+        )
     # the residual coordinates' compliance L L^T (Fortran: interpolated blocks, Cholesky)
     # equals the Python interpolation of the residual table
     ix = np.ix_(_ATTACH_INDEX, _ATTACH_INDEX)
     lres = phi[:12, r]
     res = residual_5mm.interpolate((s_right, s_left))[ix]
-    np.testing.assert_allclose(lres @ np.linalg.solve(mb.stiffness[1], lres.T), res, rtol=0,
-                               atol=1e-9 * np.abs(res).max())
+    np.testing.assert_allclose(
+        lres @ np.linalg.solve(mb.stiffness[1], lres.T), res, rtol=0, atol=1e-9 * np.abs(res).max()
+    )
     # the coupled compliance over the 12 points, kept modes through the model's K (with the
     # spin's centrifugal terms, which contact_compliance's non-rotating frequencies leave out:
     # 0.2 % on the largest entries at 300 km/h)

@@ -1,4 +1,5 @@
 """Wheelset geometry checks, modes, the rotating axle-fixed model and the FRF."""
+
 import numpy as np
 import pytest
 
@@ -13,16 +14,22 @@ def ws():
     return Wheelset(**COARSE)
 
 
-@pytest.mark.parametrize("name", ["wheel_radius", "rim_width", "web_thickness_hub", "journal_length",
-                                  "seat_radius", "mesh_size"])
+@pytest.mark.parametrize(
+    "name", ["wheel_radius", "rim_width", "web_thickness_hub", "journal_length", "seat_radius", "mesh_size"]
+)
 def test_negative_dimension_rejected(name):
     with pytest.raises(InputError, match=name):
         WheelsetGeometry(**{name: -0.1})
 
 
-@pytest.mark.parametrize("kw", [dict(rim_depth=0.40),              # rim reaches below the hub
-                                dict(hub_radius=0.09),             # hub inside the wheel seat
-                                dict(journal_spacing=1.5)])        # journal runs into the wheel seat
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(rim_depth=0.40),  # rim reaches below the hub
+        dict(hub_radius=0.09),  # hub inside the wheel seat
+        dict(journal_spacing=1.5),
+    ],
+)  # journal runs into the wheel seat
 def test_self_intersecting_outline_rejected(kw):
     with pytest.raises(InputError, match="intersects itself"):
         WheelsetGeometry(**kw)
@@ -55,9 +62,9 @@ def test_modes_table_free(ws):
     # rigid modes: k = 0 axial translation + spin, k = 1 translation + rotation
     assert np.sum((t.k == 0) & (t.freq_hz < 1.0)) == 2
     assert np.sum((t.k == 1) & (t.freq_hz < 1.0)) == 2
-    assert 50.0 < t.first(0) < 100.0           # torsion
-    assert 60.0 < t.first(1) < 200.0           # first bending
-    assert 250.0 < t.first(2) < 500.0          # wheel k = 2
+    assert 50.0 < t.first(0) < 100.0  # torsion
+    assert 60.0 < t.first(1) < 200.0  # first bending
+    assert 250.0 < t.first(2) < 500.0  # wheel k = 2
     assert all(f == "AB" for kk, f in zip(t.k, t.family) if kk > 0)
 
 
@@ -65,7 +72,7 @@ def test_suspension_separates_planes(ws):
     t = ws.modes(k_max=1, f_max=60.0, support="suspension")
     fa = [f for kk, f, fam in zip(t.k, t.freq_hz, t.family) if kk == 1 and fam == "A"]
     fb = [f for kk, f, fam in zip(t.k, t.freq_hz, t.family) if kk == 1 and fam == "B"]
-    assert fa[0] < fb[0]          # vertical primary stiffness is the softest
+    assert fa[0] < fb[0]  # vertical primary stiffness is the softest
     assert fa[0] > 1.0
 
 
@@ -74,8 +81,10 @@ def test_rotation_splits_k2_and_not_k0(ws):
     m = ws.axle_fixed(300 / 3.6, k_max=2, f_max=1500.0)
     f2 = m0.eigenfrequencies(2)[0]
     split = m.eigenfrequencies(2)
-    lo, hi = split[np.argmin(abs(split - (f2 - 2 * m.omega / (2 * np.pi))))], \
-        split[np.argmin(abs(split - (f2 + 2 * m.omega / (2 * np.pi))))]
+    lo, hi = (
+        split[np.argmin(abs(split - (f2 - 2 * m.omega / (2 * np.pi))))],
+        split[np.argmin(abs(split - (f2 + 2 * m.omega / (2 * np.pi))))],
+    )
     half = 0.5 * (hi - lo)
     assert half == pytest.approx(2 * m.omega / (2 * np.pi), rel=0.15)
     f0 = m0.eigenfrequencies(0)
@@ -86,6 +95,7 @@ def test_rotation_splits_k2_and_not_k0(ws):
 def test_rigid_translation_unaffected_by_spin():
     """A free spinning body translates without stiffness: frame terms and centrifugal cancel."""
     from railvti.wheelset import PrimarySuspension
+
     ws = Wheelset(suspension=PrimarySuspension(0.0, 0.0, 0.0), **COARSE)
     m = ws.axle_fixed(200 / 3.6, k_max=1, f_max=300.0)
     f1 = m.eigenfrequencies(1)
@@ -108,6 +118,7 @@ def _static_fe_receptance(ws, k_max, component):
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
     from railvti._native import core
+
     mesh, g, s = ws.mesh, ws.geometry, ws.suspension
     node = ws._contact_nodes[0]
     on_axis = mesh.nodes[:, 0] <= 1e-9 * np.abs(mesh.nodes[:, 0]).max()
@@ -128,8 +139,9 @@ def _static_fe_receptance(ws, k_max, component):
                 eq[i, 2], sgn[i, 2] = eq[i, 0], -1.0
         rows, cols, vals = [], [], []
         for conn in mesh.conn:
-            ke = core.wheelset_element_c(k, np.asfortranarray(mesh.nodes[conn].T), g.young,
-                                         g.poisson, g.density)[0]
+            ke = core.wheelset_element_c(
+                k, np.asfortranarray(mesh.nodes[conn].T), g.young, g.poisson, g.density
+            )[0]
             dof, sg = eq[conn].ravel(), sgn[conn].ravel()
             keep = dof >= 0
             rows.append(np.repeat(dof[keep], keep.sum()))
@@ -141,8 +153,7 @@ def _static_fe_receptance(ws, k_max, component):
                 rows.append([eq[j, springs[0]]])
                 cols.append([eq[j, springs[0]]])
                 vals.append([springs[1]])
-        kk = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                           shape=(n, n))
+        kk = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
         f = np.zeros(n)
         f[eq[node, component]] = 1.0
         total += spla.spsolve(kk, f)[eq[node, component]]
@@ -153,7 +164,7 @@ def test_frf_reciprocity_and_static_limit(ws):
     f = np.array([5.0, 200.0, 400.0])
     hl = ws.frf(f, speed=0.0, input="lateral", output="vertical", k_max=2, f_max=1500.0)
     hv = ws.frf(f, speed=0.0, input="vertical", output="lateral", k_max=2, f_max=1500.0)
-    assert np.allclose(hl, hv, rtol=1e-8)      # symmetric at standstill
+    assert np.allclose(hl, hv, rtol=1e-8)  # symmetric at standstill
     # Static limit against direct FE solves of the same harmonics and supports. The modal
     # model keeps the modes up to f_max = 1500 Hz per harmonic; every mode left out adds a
     # positive term phi^2 / omega^2 to a point receptance, so the modal value lies below the
@@ -161,8 +172,7 @@ def test_frf_reciprocity_and_static_limit(ws):
     # rigid-body modes on the suspension (7-13 Hz) carry most of it (measured 2.5e-4 lateral,
     # 1.4e-4 vertical; 6.9e-5 and 5.3e-5 with f_max = 3000 Hz).
     for direction, component in (("lateral", 1), ("vertical", 0)):
-        h0 = ws.frf(np.array([0.0]), speed=0.0, input=direction, output=direction, k_max=2,
-                    f_max=1500.0)[0]
+        h0 = ws.frf(np.array([0.0]), speed=0.0, input=direction, output=direction, k_max=2, f_max=1500.0)[0]
         ref = _static_fe_receptance(ws, 2, component)
         assert abs(h0.imag) < 1e-12 * abs(h0)
         assert 0.0 <= 1.0 - h0.real / ref < 1e-3, direction
@@ -172,11 +182,21 @@ def test_singular_dynamic_matrix_names_the_frequency(ws):
     """An undamped rigid mode makes K - w^2 M singular at w = 0: the error names 0 Hz."""
     from railvti.errors import ConvergenceError
     from railvti.wheelset.model import AxleFixedModel
+
     z = np.zeros((2, 2))
-    m = AxleFixedModel(speed=0.0, omega=0.0, k=np.array([1, 1]), family=np.array(["A", "A"]),
-                       freq_hz=np.array([0.0, 100.0]), mass=np.eye(2), gyro=z, damping=z,
-                       stiffness=np.diag([0.0, (2 * np.pi * 100.0) ** 2]),
-                       contact=np.ones((2, 3, 2)), journal=np.zeros((2, 3, 2)))
+    m = AxleFixedModel(
+        speed=0.0,
+        omega=0.0,
+        k=np.array([1, 1]),
+        family=np.array(["A", "A"]),
+        freq_hz=np.array([0.0, 100.0]),
+        mass=np.eye(2),
+        gyro=z,
+        damping=z,
+        stiffness=np.diag([0.0, (2 * np.pi * 100.0) ** 2]),
+        contact=np.ones((2, 3, 2)),
+        journal=np.zeros((2, 3, 2)),
+    )
     with pytest.raises(ConvergenceError, match="at 0.0 Hz"):
         ws.frf(np.array([0.0, 50.0]), speed=0.0, model=m)
     assert np.all(np.isfinite(ws.frf(np.array([10.0, 50.0]), speed=0.0, model=m)))
@@ -186,13 +206,16 @@ def test_deck_case_runs(tmp_path):
     import f90nml
     from railvti.casetypes import REGISTRY
     import railvti.wheelset.cases  # noqa: F401
+
     ct = REGISTRY["wheelset"]
     params = dict(ct.defaults)
     params.update(k_max=2, f_max=800.0, speeds_kmh=[0.0, 300.0], n_freq=50, **COARSE)
     out = ct.run(params)
     assert out.datasets["frf_real"][0].shape == (2, 50)
     assert 250.0 < out.scalars["first_k2"][0] < 500.0
-    deck = f90nml.read(str(__import__("pathlib").Path(__file__).parents[1] / "inputs" / "wheelset_example.nml"))
+    deck = f90nml.read(
+        str(__import__("pathlib").Path(__file__).parents[1] / "inputs" / "wheelset_example.nml")
+    )
     assert deck["case"]["type"] == "wheelset"
     assert set(deck["case"].keys()) - {"type", "name"} <= set(ct.defaults)
 
@@ -203,6 +226,7 @@ def test_k1_pair_symmetry_and_beam_reference(ws):
     Timoshenko beam with rigid wheels brackets the symmetric one from above
     (rigid webs) by less than 12 %."""
     from railvti.wheelset import analytic
+
     t = ws.modes(k_max=1, f_max=300.0)
     idx = [i for i in range(len(t)) if t.k[i] == 1 and t.freq_hz[i] > 1.0]
     assert t.mirror_symmetry(idx[0]) > 0.99
@@ -224,6 +248,7 @@ def test_mass_properties_match_fe_mass_matrix(ws):
     values the docs quote (358 kg, 378 kg)."""
     from railvti._native import core
     from railvti.wheelset import analytic
+
     g, mesh = ws.geometry, ws.mesh
     mp = analytic.wheelset_mass_properties(g)
     m_fe = spin_fe = 0.0

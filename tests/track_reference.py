@@ -10,6 +10,7 @@ unreduced system of the same discretisation. Costly: small rings and coarse mesh
 Euler-Bernoulli) beam on the same ring of discrete pads, sleepers and ballast, by finite
 elements along x in physical space (no Fourier series, no cross-section mesh).
 """
+
 from __future__ import annotations
 
 import math
@@ -49,14 +50,21 @@ def static_direct(track, direction: str = "vertical", position="midspan") -> flo
     comp, sign = (2, (1.0, 1.0)) if direction == "vertical" else (1, (-1.0, 1.0))
     foot_w = track.w_p.sum()
     area = p["pad_length"] * foot_w
-    kpad = np.array([p["pad_stiffness_longitudinal"], p["pad_stiffness_lateral"],
-                     p["pad_stiffness_vertical"]]) / area
+    kpad = (
+        np.array([p["pad_stiffness_longitudinal"], p["pad_stiffness_lateral"], p["pad_stiffness_vertical"]])
+        / area
+    )
     ls = p["sleeper_length"]
-    kb = np.array([p["ballast_stiffness_lateral"], p["ballast_stiffness_vertical"],
-                   p["ballast_stiffness_vertical"] * ls * ls / 12])
+    kb = np.array(
+        [
+            p["ballast_stiffness_lateral"],
+            p["ballast_stiffness_vertical"],
+            p["ballast_stiffness_vertical"] * ls * ls / 12,
+        ]
+    )
     gx, gw = np.polynomial.legendre.leggauss(16)
     xi, w_xi = 0.5 * p["pad_length"] * gx, 0.5 * p["pad_length"] * gw
-    pi_ = track._pad_interp                      # (np, 3, ndof)
+    pi_ = track._pad_interp  # (np, 3, ndof)
     pc = [sp.csr_matrix(pi_[:, c, :].T * track.w_p) @ sp.csr_matrix(pi_[:, c, :]) for c in range(3)]
     # sleeper motion -> rail-local at pad points, per rail: rs[rho][c] (np, 3)
     rs = []
@@ -83,9 +91,10 @@ def static_direct(track, direction: str = "vertical", position="midspan") -> flo
                 if km != j and km != (n - j) % n:
                     continue
                 sgn = 1 if km == j else -1
-                for fam in ((0,) if k == 0 else (1, 2)):
-                    blocks.append((rho, k, fam, sgn, 2 * math.pi * k / L,
-                                   1 / math.sqrt(L if k == 0 else L / 2)))
+                for fam in (0,) if k == 0 else (1, 2):
+                    blocks.append(
+                        (rho, k, fam, sgn, 2 * math.pi * k / L, 1 / math.sqrt(L if k == 0 else L / 2))
+                    )
         nbk = len(blocks)
         nsd = 6 if use_g else 3
         fg = [[_fg(b[2], b[3], c, b[4] * xi) for c in range(3)] for b in blocks]
@@ -130,7 +139,7 @@ def static_direct(track, direction: str = "vertical", position="midspan") -> flo
             rho = b[0]
             c_, s_ = math.cos(beta[rho]), math.sin(beta[rho])
             # track-frame unit vector of the load component -> rail-local (eta, zeta)
-            e_track = {2: (0.0, 1.0), 1: (1.0, 0.0)}[comp]      # (y, z) of the unit load
+            e_track = {2: (0.0, 1.0), 1: (1.0, 0.0)}[comp]  # (y, z) of the unit load
             loc = np.array([0.0, e_track[0] * c_ + e_track[1] * s_, -e_track[0] * s_ + e_track[1] * c_])
             for c in (1, 2):
                 t = _trig(b[2], c, b[4] * x) * b[5]
@@ -142,12 +151,22 @@ def static_direct(track, direction: str = "vertical", position="midspan") -> flo
     return total
 
 
-def beam_on_sleepers_static(n_sleepers: int, spacing: float, young: float, poisson: float,
-                            area: float, iy: float, centroid_height: float, pad_length: float,
-                            k_pad_vertical: float, k_pad_longitudinal: float,
-                            k_ballast_seat: float, x_load: float,
-                            shear_coefficient: float | None = None,
-                            elements_per_pad: int = 10) -> float:
+def beam_on_sleepers_static(
+    n_sleepers: int,
+    spacing: float,
+    young: float,
+    poisson: float,
+    area: float,
+    iy: float,
+    centroid_height: float,
+    pad_length: float,
+    k_pad_vertical: float,
+    k_pad_longitudinal: float,
+    k_ballast_seat: float,
+    x_load: float,
+    shear_coefficient: float | None = None,
+    elements_per_pad: int = 10,
+) -> float:
     """Static vertical deflection per unit vertical load of a beam on discrete supports, m/N.
 
     One rail of a ring of ``n_sleepers`` bays (length n_sleepers * spacing, ends joined) as a
@@ -183,10 +202,10 @@ def beam_on_sleepers_static(n_sleepers: int, spacing: float, young: float, poiss
     per_bay = int(round(spacing / h))
     if abs(per_bay * h - spacing) > 1e-9 * spacing:
         raise ValueError("spacing must be a multiple of pad_length / elements_per_pad")
-    nn = n_sleepers * per_bay                       # beam nodes (periodic)
-    ndof = 3 * nn + n_sleepers                      # (u, w, theta) per node + w_s per sleeper
+    nn = n_sleepers * per_bay  # beam nodes (periodic)
+    ndof = 3 * nn + n_sleepers  # (u, w, theta) per node + w_s per sleeper
     ea, ei = young * area, young * iy
-    if shear_coefficient is None:       # Euler-Bernoulli as the shear-rigid limit (penalty)
+    if shear_coefficient is None:  # Euler-Bernoulli as the shear-rigid limit (penalty)
         kga = 1e6 * ei / (spacing * h)
     else:
         kga = shear_coefficient * young / (2 * (1 + poisson)) * area
@@ -200,14 +219,14 @@ def beam_on_sleepers_static(n_sleepers: int, spacing: float, young: float, poiss
                 vals.append(k[i, j])
 
     half_pad = 0.5 * pad_length / h
-    kz, kx = k_pad_vertical / pad_length, k_pad_longitudinal / pad_length   # per length
-    lin = h / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])                        # int N_i N_j dx
+    kz, kx = k_pad_vertical / pad_length, k_pad_longitudinal / pad_length  # per length
+    lin = h / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])  # int N_i N_j dx
     for e in range(nn):
         a_, b_ = e, (e + 1) % nn
         u, w, t = [3 * a_, 3 * b_], [3 * a_ + 1, 3 * b_ + 1], [3 * a_ + 2, 3 * b_ + 2]
         add(u, ea / h * np.array([[1.0, -1.0], [-1.0, 1.0]]))
         add(t, ei / h * np.array([[1.0, -1.0], [-1.0, 1.0]]))
-        bs = np.array([-1 / h, -0.5, 1 / h, -0.5])                   # w' - theta at mid-element
+        bs = np.array([-1 / h, -0.5, 1 / h, -0.5])  # w' - theta at mid-element
         add([w[0], t[0], w[1], t[1]], kga * h * np.outer(bs, bs))
         # pad over [x_s - lp/2, x_s + lp/2]: element mid-point within half a pad of a sleeper
         mid = (e + 0.5) % per_bay
@@ -216,7 +235,7 @@ def beam_on_sleepers_static(n_sleepers: int, spacing: float, young: float, poiss
             s = int(round((e + 0.5 - mid) / per_bay + (mid > per_bay / 2))) % n_sleepers
             ws = 3 * nn + s
             # vertical: kz (w - w_s)^2; longitudinal: kx (u + c theta)^2
-            col = lin.sum(1, keepdims=True)                          # int N_i dx
+            col = lin.sum(1, keepdims=True)  # int N_i dx
             add([w[0], w[1], ws], kz * np.block([[lin, -col], [-col.T, np.array([[h]])]]))
             c = centroid_height
             add([u[0], u[1], t[0], t[1]], kx * np.block([[lin, c * lin], [c * lin, c * c * lin]]))
@@ -270,5 +289,5 @@ def jourawski_shear_coefficient(outline: np.ndarray, n: int = 4001) -> float:
     iy = _trap(t * (z - zc) ** 2, z)
     g = (z - zc) * t
     q = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(z))])
-    q = q[-1] - q                                   # int_z^top (z' - zc) t dz'
-    return float(iy ** 2 / (area * _trap(q ** 2 / t, z)))
+    q = q[-1] - q  # int_z^top (z' - zc) t dz'
+    return float(iy**2 / (area * _trap(q**2 / t, z)))

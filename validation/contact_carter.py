@@ -18,6 +18,7 @@ boundary then falls anywhere inside an element).
 Run: .venv/bin/python validation/contact_carter.py [--quick]
 Writes validation/figures/contact_rolling_carter.png.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,8 +33,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 MAT = Material(shear_modulus=82.0e9, poisson=0.28)
 MU = 0.3
-A_HALF = 5.0e-3   # m
-P0 = 800.0e6      # Pa
+A_HALF = 5.0e-3  # m
+P0 = 800.0e6  # Pa
 
 
 def carter_force(kappa: np.ndarray) -> np.ndarray:
@@ -77,14 +78,18 @@ def main() -> None:
     xi_sat = MU * A_HALF / R
     kappas = np.array([0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.2])
     rows = []
-    print(f"Carter 2-D, mu = {MU}, a = {A_HALF * 1e3} mm, p0 = {P0 / 1e6:.0f} MPa, R = {R:.4f} m, "
-          f"saturation creepage mu a / R = {xi_sat:.3e}")
+    print(
+        f"Carter 2-D, mu = {MU}, a = {A_HALF * 1e3} mm, p0 = {P0 / 1e6:.0f} MPa, R = {R:.4f} m, "
+        f"saturation creepage mu a / R = {xi_sat:.3e}"
+    )
     for n in grids:
         grid, p = strip_case(n)
         fn = p.sum() * grid.element_area
         print(f"\n{n} elements across the strip (dx = {grid.dx * 1e6:.1f} um)")
-        print(f"{'kappa':>6} {'xi':>10} {'Fx/muFn BEM':>12} {'Carter':>8} {'err %':>7} "
-              f"{'dt mean %':>10} {'dt pt %':>8} {'sweeps':>6}")
+        print(
+            f"{'kappa':>6} {'xi':>10} {'Fx/muFn BEM':>12} {'Carter':>8} {'err %':>7} "
+            f"{'dt mean %':>10} {'dt pt %':>8} {'sweeps':>6}"
+        )
         for k in kappas:
             r = solve(grid, p, k * xi_sat)
             f_bem = -r.fx / (MU * fn)
@@ -96,8 +101,10 @@ def main() -> None:
             dtm = float(np.max(np.abs(t_bem - t_mean)))
             dtp = float(np.max(np.abs(t_bem - t_pt)))
             rows.append((n, k, f_bem, f_ref, dtm, dtp))
-            print(f"{k:6.2f} {k * xi_sat:10.3e} {f_bem:12.5f} {f_ref:8.5f} {100 * (f_bem / f_ref - 1):7.3f} "
-                  f"{100 * dtm:10.2f} {100 * dtp:8.2f} {r.iterations:6d}")
+            print(
+                f"{k:6.2f} {k * xi_sat:10.3e} {f_bem:12.5f} {f_ref:8.5f} {100 * (f_bem / f_ref - 1):7.3f} "
+                f"{100 * dtm:10.2f} {100 * dtp:8.2f} {r.iterations:6d}"
+            )
     dense = {}
     for n in grids:
         grid, p = strip_case(n)
@@ -108,20 +115,28 @@ def main() -> None:
             r = solve(grid, p, k * xi_sat)
             t_bem = -r.tx[:, 0] / (MU * P0)
             worst[0] = max(worst[0], abs(-r.fx / (MU * fn) / float(carter_force(k)) - 1))
-            worst[1] = max(worst[1], float(np.max(np.abs(t_bem - carter_traction(sub, A_HALF, k).mean(axis=1)))))
+            worst[1] = max(
+                worst[1], float(np.max(np.abs(t_bem - carter_traction(sub, A_HALF, k).mean(axis=1))))
+            )
             worst[2] = max(worst[2], float(np.max(np.abs(t_bem - carter_traction(grid.x, A_HALF, k)))))
         dense[n] = worst
     for n in grids:
         sel = [r for r in rows if r[0] == n]
-        print(f"{n:4d} across, dense sweep kappa = 0.02..0.99: largest force error {100 * dense[n][0]:.3f} %, "
-              f"traction error {100 * dense[n][1]:.2f} % (element means) / {100 * dense[n][2]:.2f} % (point values)")
-        print(f"{n:4d} across: largest force error {100 * max(abs(r[2] / r[3] - 1) for r in sel):.3f} % "
-              f"(acceptance 1 %), largest traction error {100 * max(r[4] for r in sel):.2f} % of mu p0 "
-              f"against element means, {100 * max(r[5] for r in sel):.2f} % against point values (acceptance 3 %)")
+        print(
+            f"{n:4d} across, dense sweep kappa = 0.02..0.99: largest force error {100 * dense[n][0]:.3f} %, "
+            f"traction error {100 * dense[n][1]:.2f} % (element means) / {100 * dense[n][2]:.2f} % (point values)"
+        )
+        print(
+            f"{n:4d} across: largest force error {100 * max(abs(r[2] / r[3] - 1) for r in sel):.3f} % "
+            f"(acceptance 1 %), largest traction error {100 * max(r[4] for r in sel):.2f} % of mu p0 "
+            f"against element means, {100 * max(r[5] for r in sel):.2f} % against point values (acceptance 3 %)"
+        )
 
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
     kk = np.linspace(0, 1.3, 300)
     ax1.plot(kk, carter_force(kk), "k-", lw=1.2, label="Carter (exact)")
@@ -138,7 +153,9 @@ def main() -> None:
     xf = np.linspace(-A_HALF, A_HALF, 400)
     for k, col in ((0.2, "C0"), (0.5, "C1"), (0.8, "C2")):
         r = solve(grid, p, k * xi_sat)
-        ax2.plot(xf / A_HALF, carter_traction(xf, A_HALF, k), "-", color=col, lw=1, label=f"Carter, kappa={k}")
+        ax2.plot(
+            xf / A_HALF, carter_traction(xf, A_HALF, k), "-", color=col, lw=1, label=f"Carter, kappa={k}"
+        )
         ax2.plot(grid.x / A_HALF, -r.tx[:, 0] / (MU * P0), ".", color=col, ms=4, label=f"BEM {n} across")
     ax2.plot(xf / A_HALF, np.sqrt(1 - (xf / A_HALF) ** 2), "k:", lw=0.8, label=r"$\mu p$")
     ax2.set_xlim(-1.05, 1.05)

@@ -15,6 +15,7 @@ Creepages are chosen so that the linear theory would give half of mu Fn
 Run: ``.venv/bin/python validation/contact_fastsim_vs_bem.py [--quick]``
 (--quick: n up to 30 and the finest BEM at 40, for a smoke test).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -46,9 +47,11 @@ CASES = ("xi", "eta", "phi", "combined")
 
 def gap_coefficients(ratio: float) -> tuple[float, float, float, float]:
     """Gap coefficients (A, B) giving a Hertz ellipse with a/b = ratio and sqrt(ab) = SQRT_AB."""
+
     def res(logq: float) -> float:
         h = hertz(1.0, float(np.exp(logq)), FN, STEEL)
         return np.log(h.a / h.b) - np.log(ratio)
+
     if abs(ratio - 1.0) < 1e-12:
         q = 1.0
     else:
@@ -67,8 +70,12 @@ def creepages(case: str, a: float, b: float) -> tuple[float, float, float]:
     xi = target / (g * a * b * c11)
     eta = target / (g * a * b * c22)
     phi = target / (g * (a * b) ** 1.5 * c23)
-    return {"xi": (xi, 0.0, 0.0), "eta": (0.0, eta, 0.0), "phi": (0.0, 0.0, phi),
-            "combined": (0.5 * xi, 0.5 * eta, 0.3 * phi)}[case]
+    return {
+        "xi": (xi, 0.0, 0.0),
+        "eta": (0.0, eta, 0.0),
+        "phi": (0.0, 0.0, phi),
+        "combined": (0.5 * xi, 0.5 * eta, 0.3 * phi),
+    }[case]
 
 
 def grid_for(a: float, b: float, n: int) -> Grid:
@@ -96,6 +103,7 @@ def fastsim_alone() -> None:
     """FASTSIM against Kalker's linear theory (tiny creepage) and saturation, and
     the traction / slip maps of a combined case (figure contact_fastsim_maps.png)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from railvti.contact.fastsim import fastsim
@@ -140,8 +148,11 @@ def fastsim_alone() -> None:
         ax.set_xlabel("x (rolling), mm")
         ax.set_aspect("equal")
     axes[0].set_ylabel("y, mm")
-    fig.suptitle(f"FASTSIM, a = 6 mm, b = 4 mm, Fn = 80 kN, mu = 0.3, xi = 1e-3, eta = 5e-4, phi = 0.8/m, "
-                 f"V = {SPEED:g} m/s: Fx = {r.fx / 1e3:.2f} kN, Fy = {r.fy / 1e3:.2f} kN", fontsize=9)
+    fig.suptitle(
+        f"FASTSIM, a = 6 mm, b = 4 mm, Fn = 80 kN, mu = 0.3, xi = 1e-3, eta = 5e-4, phi = 0.8/m, "
+        f"V = {SPEED:g} m/s: Fx = {r.fx / 1e3:.2f} kN, Fy = {r.fy / 1e3:.2f} kN",
+        fontsize=9,
+    )
     fig.tight_layout()
     FIG.mkdir(exist_ok=True)
     fig.savefig(FIG / "contact_fastsim_maps.png", dpi=70)
@@ -154,13 +165,15 @@ def main() -> int:
     args = ap.parse_args()
     fastsim_alone()
     if solve_rolling is None:
-        print("railvti.contact.solve_rolling is not available (BEM steady rolling, branch 'rolling'): "
-              "no BEM comparison")
+        print(
+            "railvti.contact.solve_rolling is not available (BEM steady rolling, branch 'rolling'): "
+            "no BEM comparison"
+        )
         return 0
     ns_bem = (5, 10, 15, 20, 30) if args.quick else (5, 10, 15, 20, 30, 40)
     n_ref = 40 if args.quick else 60
     ns_fs = (5, 10, 20, 30, 50) if args.quick else (5, 10, 20, 30, 50, 80)
-    rows = []   # (ratio, case, method, n, time, error)
+    rows = []  # (ratio, case, method, n, time, error)
     table = []  # (ratio, case, fastsim err at finest, strip err, fx_ref, fy_ref)
     for ratio in RATIOS:
         A, B, a, b = gap_coefficients(ratio)
@@ -178,41 +191,68 @@ def main() -> int:
                 except RailvtiError as exc:
                     print(f"  BEM n={n} a/b={ratio:g} {case}: {type(exc).__name__}: {exc}")
                     continue
-                rows.append((ratio, case, "BEM", n, t, np.linalg.norm([r.fx - fref[0], r.fy - fref[1]]) / nref))
+                rows.append(
+                    (ratio, case, "BEM", n, t, np.linalg.norm([r.fx - fref[0], r.fy - fref[1]]) / nref)
+                )
                 fsg, ts = timed(lambda: fastsim_grid(r.pressure, g, STEEL, MU, cr, SPEED))
-                rows.append((ratio, case, "FASTSIM strip-wise (BEM p)", n, ts,
-                             np.linalg.norm([fsg.fx - fref[0], fsg.fy - fref[1]]) / nref))
+                rows.append(
+                    (
+                        ratio,
+                        case,
+                        "FASTSIM strip-wise (BEM p)",
+                        n,
+                        ts,
+                        np.linalg.norm([fsg.fx - fref[0], fsg.fy - fref[1]]) / nref,
+                    )
+                )
             for n in ns_fs:
                 (fx, fy, _), t = timed(lambda: fastsim_forces(a, b, FN, STEEL, MU, *cr, nx=n, ny=n))
-                rows.append((ratio, case, "FASTSIM ellipse", n, t,
-                             np.linalg.norm([fx[()] - fref[0], fy[()] - fref[1]]) / nref))
+                rows.append(
+                    (
+                        ratio,
+                        case,
+                        "FASTSIM ellipse",
+                        n,
+                        t,
+                        np.linalg.norm([fx[()] - fref[0], fy[()] - fref[1]]) / nref,
+                    )
+                )
             e_fs = rows[-1][5]
             e_strip = [r for r in rows if r[:3] == (ratio, case, "FASTSIM strip-wise (BEM p)")][-1][5]
             # strip-wise with per-strip flexibility on the finest BEM pressure
             fl = fastsim_grid(ref.pressure, grid_for(a, b, n_ref), STEEL, MU, cr, SPEED, flexibility="strip")
             e_fl = np.linalg.norm([fl.fx - fref[0], fl.fy - fref[1]]) / nref
             table.append((ratio, case, e_fs, e_strip, e_fl, ref.fx, ref.fy, cr))
-            print(f"a/b={ratio:4.1f} {case:9s} ref Fx={ref.fx:10.1f} Fy={ref.fy:10.1f} N  "
-                  f"FASTSIM err {100 * e_fs:5.1f}%  strip-wise err {100 * e_strip:5.1f}%", flush=True)
+            print(
+                f"a/b={ratio:4.1f} {case:9s} ref Fx={ref.fx:10.1f} Fy={ref.fy:10.1f} N  "
+                f"FASTSIM err {100 * e_fs:5.1f}%  strip-wise err {100 * e_strip:5.1f}%",
+                flush=True,
+            )
 
     print("\n| method | a/b | case | n | time (ms) | force error (%) |")
     print("|---|---|---|---|---|---|")
     for ratio, case, method, n, t, e in rows:
         print(f"| {method} | {ratio:g} | {case} | {n} | {1e3 * t:.3g} | {100 * e:.3g} |")
     print(f"\nFASTSIM against the finest BEM (n = {n_ref}); error > 10% in bold:\n")
-    print("| a/b | case | creepage (xi, eta, phi 1/m) | BEM Fx, Fy (kN) | FASTSIM ellipse err "
-          "| strip-wise err | strip-wise, flexibility='strip' err |")
+    print(
+        "| a/b | case | creepage (xi, eta, phi 1/m) | BEM Fx, Fy (kN) | FASTSIM ellipse err "
+        "| strip-wise err | strip-wise, flexibility='strip' err |"
+    )
     print("|---|---|---|---|---|---|---|")
     for ratio, case, e1, e2, e3, fx, fy, cr in table:
         f = lambda e: f"**{100 * e:.1f}%**" if e > 0.1 else f"{100 * e:.1f}%"  # noqa: E731
-        print(f"| {ratio:g} | {case} | {cr[0]:.2e}, {cr[1]:.2e}, {cr[2]:.3g} | {fx / 1e3:.2f}, {fy / 1e3:.2f} "
-              f"| {f(e1)} | {f(e2)} | {f(e3)} |")
+        print(
+            f"| {ratio:g} | {case} | {cr[0]:.2e}, {cr[1]:.2e}, {cr[2]:.3g} | {fx / 1e3:.2f}, {fy / 1e3:.2f} "
+            f"| {f(e1)} | {f(e2)} | {f(e3)} |"
+        )
 
     levels = (0.1, 0.3, 1.0, 3.0)
     n_lev = 30 if args.quick else 40
-    print(f"\nFASTSIM (ellipse, n = 50 | strip-wise on the BEM pressure) against the BEM (n = {n_lev}) "
-          "at creepages scaled so that the linear theory gives the multiple of mu Fn in the header; "
-          "error > 10% in bold:\n")
+    print(
+        f"\nFASTSIM (ellipse, n = 50 | strip-wise on the BEM pressure) against the BEM (n = {n_lev}) "
+        "at creepages scaled so that the linear theory gives the multiple of mu Fn in the header; "
+        "error > 10% in bold:\n"
+    )
     print("| a/b | case | " + " | ".join(f"{lv:g} mu Fn" for lv in levels) + " |")
     print("|---|---|" + "---|" * len(levels))
     for ratio in RATIOS:
@@ -238,31 +278,39 @@ def main() -> int:
             print(f"| {ratio:g} | {case} | " + " | ".join(cells) + " |", flush=True)
 
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, len(RATIOS), figsize=(12, 4), sharey=True)
     markers = {"BEM": "o", "FASTSIM ellipse": "s", "FASTSIM strip-wise (BEM p)": "^"}
     colors = dict(zip(CASES, ("C0", "C1", "C2", "C3")))
     for ax, ratio in zip(axes, RATIOS):
         for method, mk in markers.items():
             for case in CASES:
-                pts = [(t, max(e, 1e-5)) for r_, c_, m_, n, t, e in rows
-                       if r_ == ratio and c_ == case and m_ == method]
+                pts = [
+                    (t, max(e, 1e-5))
+                    for r_, c_, m_, n, t, e in rows
+                    if r_ == ratio and c_ == case and m_ == method
+                ]
                 if pts:
                     t, e = np.array(pts).T
-                    ax.loglog(t, e, marker=mk, color=colors[case], ls="-" if method == "BEM" else ":",
-                              ms=4, lw=0.8)
+                    ax.loglog(
+                        t, e, marker=mk, color=colors[case], ls="-" if method == "BEM" else ":", ms=4, lw=0.8
+                    )
         ax.axhline(0.1, color="k", lw=0.5, ls="--")
         ax.set_title(f"a/b = {ratio:g}")
         ax.set_xlabel("time per case, s")
         ax.grid(True, which="major", lw=0.3)
     axes[0].set_ylabel(f"|F - F_BEM,n={n_ref}| / |F_BEM,n={n_ref}|")
     from matplotlib.lines import Line2D
+
     handles = [Line2D([], [], marker=mk, color="k", ls="", label=m) for m, mk in markers.items()]
     handles += [Line2D([], [], color=c, label=k) for k, c in colors.items()]
     axes[-1].legend(handles=handles, fontsize=7, loc="upper right")
-    fig.suptitle("Creep force error against time: BEM (n = 5..%d per semi-axis) and FASTSIM" % max(ns_bem),
-                 fontsize=10)
+    fig.suptitle(
+        "Creep force error against time: BEM (n = 5..%d per semi-axis) and FASTSIM" % max(ns_bem), fontsize=10
+    )
     fig.tight_layout()
     FIG.mkdir(exist_ok=True)
     out = FIG / "contact_fastsim_vs_bem.png"

@@ -5,6 +5,7 @@ validation/figures/contact_hertz_error_vs_time.png (speed against accuracy).
 
     python validation/contact_hertz.py [--quick]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -39,9 +40,19 @@ def run_case(ratio, n, method):
     t_force = time.perf_counter() - t0
     ra = solve_normal(gap, grid, STEEL, approach=ref.approach, method=method)
     a, b = semi_axes(rf)
-    return dict(ratio=ratio, n=n, method=method, elements=grid.nx * grid.ny, in_contact=rf.n_contact,
-                err_fn=ra.fn / FN - 1, err_p0=rf.pmax / ref.p0 - 1, err_a=(a - ref.a) / grid.dx,
-                err_b=(b - ref.b) / grid.dy, seconds=t_force, iterations=rf.iterations)
+    return dict(
+        ratio=ratio,
+        n=n,
+        method=method,
+        elements=grid.nx * grid.ny,
+        in_contact=rf.n_contact,
+        err_fn=ra.fn / FN - 1,
+        err_p0=rf.pmax / ref.p0 - 1,
+        err_a=(a - ref.a) / grid.dx,
+        err_b=(b - ref.b) / grid.dy,
+        seconds=t_force,
+        iterations=rf.iterations,
+    )
 
 
 def main() -> None:
@@ -52,13 +63,17 @@ def main() -> None:
     if args.quick:
         sizes = {"cg": [5, 10, 15], "gs": [5, 10]}
     rows = [run_case(r, n, m) for m in ("cg", "gs") for r in (1.0, 0.5, 0.2, 0.1) for n in sizes[m]]
-    head = ("| method | A/B | el./minor semi-axis | elements | in contact | Fn err (approach given) "
-            "| p0 err | a err (el.) | b err (el.) | iterations | time (s) |")
+    head = (
+        "| method | A/B | el./minor semi-axis | elements | in contact | Fn err (approach given) "
+        "| p0 err | a err (el.) | b err (el.) | iterations | time (s) |"
+    )
     lines = [head, "|" + "---|" * 11]
     for r in rows:
-        lines.append(f"| {r['method']} | {r['ratio']} | {r['n']} | {r['elements']} | {r['in_contact']} | "
-                     f"{r['err_fn']:+.2e} | {r['err_p0']:+.2e} | {r['err_a']:+.2f} | {r['err_b']:+.2f} | "
-                     f"{r['iterations']} | {r['seconds']:.3g} |")
+        lines.append(
+            f"| {r['method']} | {r['ratio']} | {r['n']} | {r['elements']} | {r['in_contact']} | "
+            f"{r['err_fn']:+.2e} | {r['err_p0']:+.2e} | {r['err_a']:+.2f} | {r['err_b']:+.2f} | "
+            f"{r['iterations']} | {r['seconds']:.3g} |"
+        )
     table = "\n".join(lines)
     print(table)
     FIG.mkdir(exist_ok=True)
@@ -70,8 +85,14 @@ def main() -> None:
         for m, marker, ls in (("cg", "o", "-"), ("gs", "s", "--")):
             for ratio, c in colors.items():
                 sel = [r for r in rows if r["method"] == m and r["ratio"] == ratio]
-                ax.loglog([r["seconds"] for r in sel], [abs(r[key]) for r in sel], marker=marker, ls=ls, color=c,
-                          label=f"{m.upper()}, A/B = {ratio}")
+                ax.loglog(
+                    [r["seconds"] for r in sel],
+                    [abs(r[key]) for r in sel],
+                    marker=marker,
+                    ls=ls,
+                    color=c,
+                    label=f"{m.upper()}, A/B = {ratio}",
+                )
         ax.set_xlabel("solve time, force prescribed (s)")
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)

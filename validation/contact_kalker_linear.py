@@ -15,6 +15,7 @@ size assuming first-order convergence (Richardson: 2 C(2n) - C(n)).
 Run: .venv/bin/python validation/contact_kalker_linear.py  [--quick]
 Writes validation/figures/contact_rolling_kalker.png.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -33,8 +34,8 @@ ROOT = HERE.parent
 TABLE = ROOT / "python" / "railvti" / "data" / "kalker_table_e3.csv"
 MAT = Material(shear_modulus=82.0e9, poisson=0.25)
 FN = 10.0e3
-MU = 1.0e3       # full adhesion
-EPS = 1.0e-6     # creepage xi, eta; spin EPS / sqrt(a b)
+MU = 1.0e3  # full adhesion
+EPS = 1.0e-6  # creepage xi, eta; spin EPS / sqrt(a b)
 
 
 def kalker_table(a_over_b: float) -> tuple[float, float, float]:
@@ -49,8 +50,11 @@ def kalker_table(a_over_b: float) -> tuple[float, float, float]:
 def gap_for_ratio(a_over_b: float) -> tuple[float, float]:
     """Gap coefficients (A, B) whose Hertz ellipse has the ratio a/b."""
     A = 0.5 / 0.3
-    f = lambda lb: np.log(hertz(A, A * np.exp(lb), FN, MAT).a / hertz(A, A * np.exp(lb), FN, MAT).b) \
-        - np.log(a_over_b)
+
+    def f(lb: float) -> float:
+        h = hertz(A, A * np.exp(lb), FN, MAT)
+        return np.log(h.a / h.b) - np.log(a_over_b)
+
     if abs(a_over_b - 1.0) < 1e-12:
         return A, A
     lb = brentq(f, -12.0, 12.0, xtol=1e-12)
@@ -65,10 +69,13 @@ def coefficients_bem(a_over_b: float, n: int) -> np.ndarray:
     gap = hertz_gap(grid, A, B)
     G, ab = MAT.shear_modulus, h.a * h.b
     phi = EPS / np.sqrt(ab)
-    return np.array([
-        -solve_rolling(gap, grid, MAT, MU, FN, (EPS, 0.0, 0.0), 1.0).fx / (G * ab * EPS),
-        -solve_rolling(gap, grid, MAT, MU, FN, (0.0, EPS, 0.0), 1.0).fy / (G * ab * EPS),
-        -solve_rolling(gap, grid, MAT, MU, FN, (0.0, 0.0, phi), 1.0).fy / (G * ab ** 1.5 * phi)])
+    return np.array(
+        [
+            -solve_rolling(gap, grid, MAT, MU, FN, (EPS, 0.0, 0.0), 1.0).fx / (G * ab * EPS),
+            -solve_rolling(gap, grid, MAT, MU, FN, (0.0, EPS, 0.0), 1.0).fy / (G * ab * EPS),
+            -solve_rolling(gap, grid, MAT, MU, FN, (0.0, 0.0, phi), 1.0).fy / (G * ab**1.5 * phi),
+        ]
+    )
 
 
 def coefficients(a_over_b: float, n: int, method: str = "fftgs") -> tuple[np.ndarray, float, int]:
@@ -83,22 +90,27 @@ def coefficients(a_over_b: float, n: int, method: str = "fftgs") -> tuple[np.nda
     ry = solve_tangential(p, grid, MAT, MU, (0.0, EPS, 0.0), 1.0, method=method)
     rs = solve_tangential(p, grid, MAT, MU, (0.0, 0.0, phi), 1.0, method=method)
     dt = time.perf_counter() - t0
-    c = np.array([-rx.fx / (G * ab * EPS), -ry.fy / (G * ab * EPS), -rs.fy / (G * ab ** 1.5 * phi)])
+    c = np.array([-rx.fx / (G * ab * EPS), -ry.fy / (G * ab * EPS), -rs.fy / (G * ab**1.5 * phi)])
     return c, dt, rx.n_contact
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="coarser grids")
-    ap.add_argument("--bem", action="store_true",
-                    help="also end to end with the BEM pressure (solve_rolling) on the fine grid")
+    ap.add_argument(
+        "--bem",
+        action="store_true",
+        help="also end to end with the BEM pressure (solve_rolling) on the fine grid",
+    )
     args = ap.parse_args()
     n1 = 8 if args.quick else 16
     ratios = [0.2, 0.5, 1.0, 2.0, 5.0]
     names = ("C11", "C22", "C23")
     results = []
     print(f"Kalker linear theory, nu = 0.25, grids n = {n1} and {2 * n1} elements on the shorter semi-axis")
-    print(f"{'a/b':>5} {'coef':>4} {'table':>7} {'n':>8} {'2n':>8} {'Richardson':>10} {'err 2n %':>9} {'err R %':>8}")
+    print(
+        f"{'a/b':>5} {'coef':>4} {'table':>7} {'n':>8} {'2n':>8} {'Richardson':>10} {'err 2n %':>9} {'err R %':>8}"
+    )
     for g in ratios:
         ref = kalker_table(g)
         c1, t1, _ = coefficients(g, n1)
@@ -108,11 +120,15 @@ def main() -> None:
         for k in range(3):
             e2 = 100 * (c2[k] / ref[k] - 1)
             er = 100 * (cr[k] / ref[k] - 1)
-            print(f"{g:5.2f} {names[k]:>4} {ref[k]:7.3f} {c1[k]:8.3f} {c2[k]:8.3f} {cr[k]:10.3f} {e2:9.2f} {er:8.2f}")
+            print(
+                f"{g:5.2f} {names[k]:>4} {ref[k]:7.3f} {c1[k]:8.3f} {c2[k]:8.3f} {cr[k]:10.3f} {e2:9.2f} {er:8.2f}"
+            )
         print(f"      ({nc} elements in contact on the fine grid, 3 solves in {t2:.2f} s)")
     worst2 = max(abs(r[3][k] / r[1][k] - 1) for r in results for k in range(3))
     worstr = max(abs(r[4][k] / r[1][k] - 1) for r in results for k in range(3))
-    print(f"largest deviation: fine grid {100 * worst2:.2f} %, extrapolated {100 * worstr:.2f} % (acceptance 2 %)")
+    print(
+        f"largest deviation: fine grid {100 * worst2:.2f} %, extrapolated {100 * worstr:.2f} % (acceptance 2 %)"
+    )
     if args.bem:
         worst = 0.0
         print(f"\nend to end (solve_rolling, BEM pressure), n = {2 * n1}")
@@ -120,22 +136,37 @@ def main() -> None:
             ref = kalker_table(g)
             c = coefficients_bem(g, 2 * n1)
             worst = max(worst, max(abs(c[k] / ref[k] - 1) for k in range(3)))
-            print(f"{g:5.2f} " + "  ".join(f"{names[k]} {c[k]:.3f} ({100 * (c[k] / ref[k] - 1):+.2f} %)"
-                                           for k in range(3)))
+            print(
+                f"{g:5.2f} "
+                + "  ".join(f"{names[k]} {c[k]:.3f} ({100 * (c[k] / ref[k] - 1):+.2f} %)" for k in range(3))
+            )
         print(f"largest deviation end to end: {100 * worst:.2f} % (acceptance 2 %)")
 
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     gg = np.linspace(0.2, 5.0, 200)
     tab = np.array([kalker_table(x) for x in gg])
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     for k, (name, col) in enumerate(zip(names, ("C0", "C1", "C2"))):
         ax.plot(gg, tab[:, k], color=col, lw=1.2, label=f"{name} Kalker Table E.3")
-        ax.plot([r[0] for r in results], [r[3][k] for r in results], "o", mfc="none", color=col,
-                label=f"{name} BEM, n = {2 * n1}")
-        ax.plot([r[0] for r in results], [r[4][k] for r in results], "x", color=col,
-                label=f"{name} BEM, extrapolated")
+        ax.plot(
+            [r[0] for r in results],
+            [r[3][k] for r in results],
+            "o",
+            mfc="none",
+            color=col,
+            label=f"{name} BEM, n = {2 * n1}",
+        )
+        ax.plot(
+            [r[0] for r in results],
+            [r[4][k] for r in results],
+            "x",
+            color=col,
+            label=f"{name} BEM, extrapolated",
+        )
     ax.set_xscale("log")
     ax.set_xticks(ratios, [f"{r:g}" for r in ratios])
     ax.minorticks_off()

@@ -8,6 +8,7 @@ a/b = 0.2, 1, 5 with Kalker's linear slope (Table E.3, nu = 0.25) beside it.
 Run: .venv/bin/python validation/contact_saturation.py [--quick]
 Writes validation/figures/contact_rolling_saturation.png.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -31,7 +32,9 @@ def main() -> None:
     args = ap.parse_args()
     n = 10 if args.quick else 20
     print(f"Saturation, xi = 0.05, {n} elements on the shorter semi-axis")
-    print(f"{'a/b':>5} {'mu':>5} {'|Fx|/(mu Fn)':>13} {'err %':>8} {'slip elements':>14} {'sweeps':>6} {'s':>6}")
+    print(
+        f"{'a/b':>5} {'mu':>5} {'|Fx|/(mu Fn)':>13} {'err %':>8} {'slip elements':>14} {'sweeps':>6} {'s':>6}"
+    )
     worst = 0.0
     curves = {}
     for g in (0.2, 1.0, 5.0):
@@ -44,8 +47,10 @@ def main() -> None:
             r = solve_rolling(gap, grid, MAT, mu, FN, (0.05, 0.0, 0.0), 1.0)
             ratio = abs(r.fx) / (mu * r.fn)
             worst = max(worst, abs(ratio - 1))
-            print(f"{g:5.2f} {mu:5.2f} {ratio:13.6f} {100 * (ratio - 1):8.4f} {int(r.slip.sum()):>7d}/{r.n_contact:<6d}"
-                  f" {r.iterations:6d} {time.perf_counter() - t0:6.2f}")
+            print(
+                f"{g:5.2f} {mu:5.2f} {ratio:13.6f} {100 * (ratio - 1):8.4f} {int(r.slip.sum()):>7d}/{r.n_contact:<6d}"
+                f" {r.iterations:6d} {time.perf_counter() - t0:6.2f}"
+            )
         # creep-force curve, mu = 0.3
         c11 = kalker_table(g)[0]
         scale = MAT.shear_modulus * h.a * h.b * c11 / (0.3 * FN)
@@ -60,8 +65,10 @@ def main() -> None:
     print(f"largest |Fx|/(mu Fn) - 1 at xi = 0.05: {100 * worst:.4f} % (acceptance 0.5 %)")
 
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(6.0, 4.0))
     for g, (xn, y) in curves.items():
         ax.plot(xn, y, "o-", ms=3, label=f"BEM, a/b = {g}")

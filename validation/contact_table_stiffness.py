@@ -22,6 +22,7 @@ validation/figures/contact_table_stiffness.png.
 
 Run: python validation/contact_table_stiffness.py [step_mm]   (default 0.05 mm, ~1 min)
 """
+
 from __future__ import annotations
 
 import sys
@@ -46,7 +47,7 @@ def strip_interference(wheel, rail, ys: np.ndarray, fz: float) -> np.ndarray:
     geo = strip_geometry(wheel, rail)
     dz, pmax = STRIP_OUTPUTS.index("dV_dz"), STRIP_OUTPUTS.index("P_max")
     lo, hi = np.full(ys.size, -0.02), np.full(ys.size, 0.02)
-    for _ in range(55):          # bisection on the centre height: the load falls as it rises
+    for _ in range(55):  # bisection on the centre height: the load falls as it rises
         zc = 0.5 * (lo + hi)
         out, _ = strip_wheel(geo, ys, zc, np.zeros(ys.size))
         up = -out[:, :, dz].sum(axis=1) > fz
@@ -66,10 +67,11 @@ def main() -> None:
     delta = np.empty(ys.size)
     for n, y in enumerate(ys):
         try:
-            s = solve_wheelset(wheel, rail, float(y), 0.0, fz, None, None, STEEL, 0.5e-3,
-                               roll=0.0, side="left")
+            s = solve_wheelset(
+                wheel, rail, float(y), 0.0, fz, None, None, STEEL, 0.5e-3, roll=0.0, side="left"
+            )
             p_bem[n] = s.sinks[0]
-        except GridTooSmallError as e:      # a conformal patch wider than the grid
+        except GridTooSmallError as e:  # a conformal patch wider than the grid
             print(f"y = {y * 1e3:.3f} mm: BEM left out ({e})")
             p_bem[n] = np.nan
         # the table's lowest point at the node (the look-up never blends across a jump)
@@ -84,26 +86,33 @@ def main() -> None:
     print(f"wheel load {fz / 1e3:.1f} kN, BEM dx = dy = 0.5 mm, step {step * 1e3:.3f} mm")
     print("   y mm   P table um   P BEM um   P strip um   contact angle rad")
     for n in range(0, ys.size, max(1, int(round(0.5e-3 / step)))):
-        print(f"{ys[n] * 1e3:7.3f} {p_tab[n] * 1e6:11.1f} {p_bem[n] * 1e6:10.1f} "
-              f"{p_strip[n] * 1e6:11.1f} {delta[n]:10.4f}")
+        print(
+            f"{ys[n] * 1e3:7.3f} {p_tab[n] * 1e6:11.1f} {p_bem[n] * 1e6:10.1f} "
+            f"{p_strip[n] * 1e6:11.1f} {delta[n]:10.4f}"
+        )
     ok = np.isfinite(p_bem)
     for name, p in (("table", p_tab), ("strip", p_strip)):
         d = np.abs(p - p_bem)[ok] / p_bem[ok]
-        tread = (ys[ok] <= 5e-3)
-        print(f"{name} against the BEM: max {d[tread].max() * 100:.1f} % for y <= 5 mm, "
-              f"max {d.max() * 100:.1f} % over the table")
+        tread = ys[ok] <= 5e-3
+        print(
+            f"{name} against the BEM: max {d[tread].max() * 100:.1f} % for y <= 5 mm, "
+            f"max {d.max() * 100:.1f} % over the table"
+        )
     for name, p in (("table", p_tab), ("BEM", p_bem), ("strip", p_strip)):
         j = int(np.nanargmax(np.abs(np.diff(p))))
-        print(f"largest step of P between neighbouring y, {name}: {np.diff(p)[j] * 1e6:+.1f} um "
-              f"at y = {ys[j] * 1e3:.3f} -> {ys[j + 1] * 1e3:.3f} mm")
+        print(
+            f"largest step of P between neighbouring y, {name}: {np.diff(p)[j] * 1e6:+.1f} um "
+            f"at y = {ys[j] * 1e3:.3f} -> {ys[j + 1] * 1e3:.3f} mm"
+        )
     _plot(ys, p_tab, p_bem, p_strip, fz)
 
 
-def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, p_strip: np.ndarray,
-          fz: float) -> None:
+def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, p_strip: np.ndarray, fz: float) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axs = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [1.6, 1]})
     for ax, (lo, hi) in zip(axs, ((-3e-3, 5e-3), (ys[0], ys[-1]))):
         m = (ys >= lo - 1e-12) & (ys <= hi + 1e-12)
@@ -116,8 +125,7 @@ def _plot(ys: np.ndarray, p_tab: np.ndarray, p_bem: np.ndarray, p_strip: np.ndar
     axs[0].set_title("tread: the point jumps at y = 0.2 mm")
     axs[1].set_title("whole table: flange contact from y = 6.6 mm")
     axs[0].legend(fontsize=8)
-    fig.suptitle(f"Left wheel, S1002 / UIC60 1:40, zero roll, vertical load {fz / 1e3:.1f} kN, "
-                 "frictionless")
+    fig.suptitle(f"Left wheel, S1002 / UIC60 1:40, zero roll, vertical load {fz / 1e3:.1f} kN, frictionless")
     fig.tight_layout()
     FIG.parent.mkdir(exist_ok=True)
     fig.savefig(FIG, dpi=130)

@@ -5,6 +5,7 @@ equivalent conicity and Klingel wavelength.
 Run:  .venv/bin/python validation/geometry_profiles_table.py
 Writes validation/figures/geometry_*.png and prints tables.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -36,7 +37,9 @@ def main() -> None:
     e = np.abs(P.s1002_mm(bw.y * 1e3) - bw.z * 1e3)
     print(f"S1002 analytic vs MBench_S1002_v3.prw points ({bw.y.size}): max |dz| = {e.max():.2e} mm")
     ys = bw.y[(bw.y > wheel.y_min) & (bw.y < wheel.y_max)]
-    print(f"S1002 spline vs benchmark spline: max |dz| = {np.abs(wheel.height(ys) - bw.height(ys)).max() * 1e3:.2e} mm")
+    print(
+        f"S1002 spline vs benchmark spline: max |dz| = {np.abs(wheel.height(ys) - bw.height(ys)).max() * 1e3:.2e} mm"
+    )
     gy, gz = rail.sample(1e-4)
     m = br.z - br.z.min() < 0.033
 
@@ -44,13 +47,16 @@ def main() -> None:
         d = polyline_distance(br.y[m] - p[0], br.z[m] - p[1] - p[2] * (br.y[m] - p[0]), gy, gz)
         inside = (br.y[m] > gy[0] + p[0] + 1e-4) & (br.y[m] < gy[-1] + p[0] - 1e-4)
         return np.where(inside, d, 0.0)
+
     sol = least_squares(res, [-0.0075, 0.0, 0.0], x_scale=[1e-3, 1e-3, 1e-3])
     d = res(sol.x)
     sol2 = least_squares(lambda p: res([p[0], p[1], 0.0]), [-0.0075, 0.0], x_scale=1e-3)
     d2 = res([*sol2.x, 0.0])
     print(f"UIC60 1:40 generated vs MBench_UIC60_v3.prr (head to 33 mm depth, {int(m.sum())} points):")
-    print(f"  fitted offset of the benchmark origin: dy = {sol2.x[0] * 1e3:+.3f} mm, dz = {sol2.x[1] * 1e3:+.3f} mm"
-          f"  -> max distance {d2.max() * 1e3:.4f} mm, rms {np.sqrt(np.mean(d2[d2 > 0] ** 2)) * 1e3:.4f} mm")
+    print(
+        f"  fitted offset of the benchmark origin: dy = {sol2.x[0] * 1e3:+.3f} mm, dz = {sol2.x[1] * 1e3:+.3f} mm"
+        f"  -> max distance {d2.max() * 1e3:.4f} mm, rms {np.sqrt(np.mean(d2[d2 > 0] ** 2)) * 1e3:.4f} mm"
+    )
     print(f"  with a free extra rotation: {sol.x[2] * 1e3:+.3f} mrad, max distance {d.max() * 1e3:.4f} mm")
 
     print("\n== Contact table S1002 / UIC60 1:40, 201 positions, yaw 0")
@@ -59,13 +65,17 @@ def main() -> None:
     tb = G.geometry_table(bw, br, y)
     print("   y mm   dr mm   angleL rad angleR rad roll mrad  nL nR statusL/R   | dr (benchmark files)")
     for i in range(100, 201, 10):
-        print(f"{t.y[i] * 1e3:7.2f} {t.delta_r[i] * 1e3:7.3f} {t.contact_angle[i, 0, 0]:10.4f} "
-              f"{t.contact_angle[i, 1, 0]:10.4f} {t.roll[i] * 1e3:9.4f} {t.n_contact[i, 0]:3d} {t.n_contact[i, 1]:2d}"
-              f"   {G.STATUS_NAMES[t.status[i, 0]]:>12s}/{G.STATUS_NAMES[t.status[i, 1]]:<5s} | {tb.delta_r[i] * 1e3:7.3f}")
+        print(
+            f"{t.y[i] * 1e3:7.2f} {t.delta_r[i] * 1e3:7.3f} {t.contact_angle[i, 0, 0]:10.4f} "
+            f"{t.contact_angle[i, 1, 0]:10.4f} {t.roll[i] * 1e3:9.4f} {t.n_contact[i, 0]:3d} {t.n_contact[i, 1]:2d}"
+            f"   {G.STATUS_NAMES[t.status[i, 0]]:>12s}/{G.STATUS_NAMES[t.status[i, 1]]:<5s} | {tb.delta_r[i] * 1e3:7.3f}"
+        )
     flange = t.y[np.argmax(t.contact_angle[:, 0, 0] > 1.0)]
-    print(f"centred contact angle {t.contact_angle[100, 0, 0] * 1e3:.2f} mrad (cant {np.arctan(1 / 40) * 1e3:.2f} mrad); "
-          f"flange contact (angle > 1 rad) from y = {flange * 1e3:.1f} mm; benchmark-file profiles: "
-          f"{tb.y[np.argmax(tb.contact_angle[:, 0, 0] > 1.0)] * 1e3:.1f} mm")
+    print(
+        f"centred contact angle {t.contact_angle[100, 0, 0] * 1e3:.2f} mrad (cant {np.arctan(1 / 40) * 1e3:.2f} mrad); "
+        f"flange contact (angle > 1 rad) from y = {flange * 1e3:.1f} mm; benchmark-file profiles: "
+        f"{tb.y[np.argmax(tb.contact_angle[:, 0, 0] > 1.0)] * 1e3:.1f} mm"
+    )
     okk = t.ok
     mirror = np.nanmax(np.abs(t.delta_r[okk] + t.delta_r[okk][::-1]))
     print(f"mirror check: max |dr(y) + dr(-y)| = {mirror:.1e} m")
@@ -79,7 +89,9 @@ def main() -> None:
     for a_, c_, cb_ in zip(amps[1::4], con[1::4], conb[1::4]):
         print(f"  {a_ * 1e3:8.2f}  {c_:12.4f}  {cb_:12.4f}  {G.klingel_wavelength(c_, 0.46, e0):14.2f}")
     c3 = G.equivalent_conicity(t, 0.003)
-    print(f"tan(gamma_e) at 3 mm = {c3:.4f}, e0 = {e0 * 1e3:.1f} mm, Klingel wavelength {G.klingel_wavelength(c3, 0.46, e0):.2f} m")
+    print(
+        f"tan(gamma_e) at 3 mm = {c3:.4f}, e0 = {e0 * 1e3:.1f} mm, Klingel wavelength {G.klingel_wavelength(c3, 0.46, e0):.2f} m"
+    )
 
     pts = [G.contact_points(wheel, rail, yy) for yy in (0.0, 0.004, 0.0063)]
     plot_profiles(wheel, rail, pts, FIG / "geometry_profiles.png")

@@ -3,6 +3,7 @@ frequencies, receptance differences against the finest mesh, and the build time.
 
     .venv/bin/python validation/track_mesh.py
 """
+
 from __future__ import annotations
 
 import time
@@ -45,15 +46,19 @@ def main() -> None:
         rows.append((sec.n_elements, 3 * sec.n_nodes, sec.errors(), sec.torsion, pinned(tr), hv, hl, cost))
         print(f"mesh {sec.n_elements:4d} T6 elements done in {cost:.1f} s")
     ref_v, ref_l = rows[-1][5], rows[-1][6]
-    print(f"\n{'T6':>5s} {'DOF':>5s} {'dA%':>6s} {'dIy%':>6s} {'dIz%':>6s} {'J cm4':>7s} "
-          f"{'ppV':>6s} {'ppL1':>6s} {'ppL2':>6s} {'p90 dHv':>8s} {'p90 dHl':>8s} {'build s':>8s}")
+    print(
+        f"\n{'T6':>5s} {'DOF':>5s} {'dA%':>6s} {'dIy%':>6s} {'dIz%':>6s} {'J cm4':>7s} "
+        f"{'ppV':>6s} {'ppL1':>6s} {'ppL2':>6s} {'p90 dHv':>8s} {'p90 dHl':>8s} {'build s':>8s}"
+    )
     for ne, nd, err, j, pp, hv, hl, cost in rows:
         dv = np.percentile(np.abs(hv - ref_v) / np.abs(ref_v), 90)
         dl = np.percentile(np.abs(hl - ref_l) / np.abs(ref_l), 90)
-        print(f"{ne:5d} {nd:5d} {100 * err['area']:6.2f} {100 * err['iy']:6.2f} {100 * err['iz']:6.2f} "
-              f"{j * 1e8:7.1f} {pp[0]:6.0f} {pp[1]:6.0f} {pp[2]:6.0f} {dv:8.3f} {dl:8.3f} {cost:8.1f}")
+        print(
+            f"{ne:5d} {nd:5d} {100 * err['area']:6.2f} {100 * err['iy']:6.2f} {100 * err['iz']:6.2f} "
+            f"{j * 1e8:7.1f} {pp[0]:6.0f} {pp[1]:6.0f} {pp[2]:6.0f} {dv:8.3f} {dl:8.3f} {cost:8.1f}"
+        )
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.6))
-    for ne, nd, err, j, pp, hv, hl, cost in rows:
+    for ne, _nd, _err, _j, _pp, hv, hl, _cost in rows:
         axs[0].semilogy(freq, np.abs(hv), lw=0.9, label=f"{ne} T6")
         axs[1].semilogy(freq, np.abs(hl), lw=0.9, label=f"{ne} T6")
     for ax, t in zip(axs, ("vertical, midspan", f"lateral, midspan (n_sl={N_SL})")):

@@ -27,6 +27,7 @@ validation/figures/track_modal_receptance.png.
     python validation/track_modal_receptance.py [--n-sleepers 40] [--f-limit 500] [--f-max 3000]
         [--figure validation/figures/track_modal_receptance.png]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -45,16 +46,21 @@ FIG = Path(__file__).parent / "figures"
 DIRECTIONS = (("vertical", 1, 2), ("lateral", 0, 1))
 
 
-def rf_point_receptance(track: RingTrack, x: float, freqs: np.ndarray, f_limit: float,
-                        residual: bool = True, inertia: bool = False) -> np.ndarray:
+def rf_point_receptance(
+    track: RingTrack,
+    x: float,
+    freqs: np.ndarray,
+    f_limit: float,
+    residual: bool = True,
+    inertia: bool = False,
+) -> np.ndarray:
     """Receptance (nf, 2, 3, 3) of the crown (u_y, u_z, roll; vehicle frame) under each wheel
     of a wheelset at x, from model RF's rows and residual blocks (``residual_blocks``: static,
     or with the truncated modes' inertia and damping); [f, wheel, resp, load]."""
     rr = ring_rows(track, np.array([x]), 1.0, f_limit=f_limit, residual=residual)
-    rows = rr.rows(0.0)[0]                                         # (3, 2, nk)
+    rows = rr.rows(0.0)[0]  # (3, 2, nk)
     w = 2 * math.pi * np.asarray(freqs)
-    den = (track.lam[rr.modes][None] - w[:, None] ** 2
-           + 1j * w[:, None] * track.cmod[rr.modes][None])
+    den = track.lam[rr.modes][None] - w[:, None] ** 2 + 1j * w[:, None] * track.cmod[rr.modes][None]
     half = 0.5 * track.params["rail_distance"]
     out = np.empty((w.size, 2, 3, 3), complex)
     if residual and rr.n_residual:
@@ -74,19 +80,19 @@ def rf_point_receptance(track: RingTrack, x: float, freqs: np.ndarray, f_limit: 
     return out
 
 
-def rf_pattern_receptance(track: RingTrack, x: float, freqs: np.ndarray, f_limit: float,
-                          direction: str, inertia: bool = False) -> np.ndarray:
+def rf_pattern_receptance(
+    track: RingTrack, x: float, freqs: np.ndarray, f_limit: float, direction: str, inertia: bool = False
+) -> np.ndarray:
     """RingTrack.receptance's load pattern from model RF's rows: kept modes with both rails'
     rows, the residual compliance of the right rail's point only (RF has no cross term)."""
     rr = ring_rows(track, np.array([x]), 1.0, f_limit=f_limit)
     rows = rr.rows(0.0)[0]
     w = 2 * math.pi * np.asarray(freqs)
-    den = (track.lam[rr.modes][None] - w[:, None] ** 2
-           + 1j * w[:, None] * track.cmod[rr.modes][None])
+    den = track.lam[rr.modes][None] - w[:, None] ** 2 + 1j * w[:, None] * track.cmod[rr.modes][None]
     half = 0.5 * track.params["rail_distance"]
     crown = [rows[1, k] + (half if k == 0 else -half) * rows[2, k] for k in range(2)]  # u_z
     point = rf_point_receptance(track, x, freqs, f_limit, inertia=inertia)
-    if direction == "vertical":      # F_z = 1 on both, u_z of the right rail (wheel 1)
+    if direction == "vertical":  # F_z = 1 on both, u_z of the right rail (wheel 1)
         kept_cross = (crown[1] * crown[0] / den).sum(1)
         return point[:, 1, 1, 1] + kept_cross
     # outward forces, ring y of the right rail = -vehicle y: H_RR - H_RL (vehicle y)
@@ -94,8 +100,9 @@ def rf_pattern_receptance(track: RingTrack, x: float, freqs: np.ndarray, f_limit
     return point[:, 1, 0, 0] - kept_cross
 
 
-def decomposition(track: RingTrack, x: float, freqs: np.ndarray, f_limit: float,
-                  row: int) -> dict[str, np.ndarray]:
+def decomposition(
+    track: RingTrack, x: float, freqs: np.ndarray, f_limit: float, row: int
+) -> dict[str, np.ndarray]:
     """Why the truncation errs: the right rail's point receptance (track frame row ``row``)
     with the truncated modes static (model RF), exact undamped, with a residual damper, with
     a residual mass and with both (first order in w c / lambda and w^2 / lambda)."""
@@ -105,16 +112,21 @@ def decomposition(track: RingTrack, x: float, freqs: np.ndarray, f_limit: float,
     lam, c = track.lam[None], track.cmod[None]
     keep = np.sqrt(track.lam) <= 2 * math.pi * f_limit
     t = ~keep
-    kept = (g[keep] / (lam[:, keep] - w ** 2 + 1j * w * c[:, keep])).sum(1)
+    kept = (g[keep] / (lam[:, keep] - w**2 + 1j * w * c[:, keep])).sum(1)
     stat = (g[t] / lam[0, t]).sum()
     damp = (-1j * w * g[t] * c[:, t] / lam[:, t] ** 2).sum(1)
-    mass = (w ** 2 * g[t] / lam[:, t] ** 2).sum(1)
-    full = (g / (lam - w ** 2 + 1j * w * c)).sum(1)
-    return {"full": full, "static residual (RF)": kept + stat,
-            "exact undamped truncated": kept + (g[t] / (lam[:, t] - w ** 2)).sum(1),
-            "+ residual damper": kept + stat + damp, "+ residual mass": kept + stat + mass,
-            "+ damper + mass": kept + stat + damp + mass, "no residual": kept,
-            "share": np.array(stat / full[0].real)}
+    mass = (w**2 * g[t] / lam[:, t] ** 2).sum(1)
+    full = (g / (lam - w**2 + 1j * w * c)).sum(1)
+    return {
+        "full": full,
+        "static residual (RF)": kept + stat,
+        "exact undamped truncated": kept + (g[t] / (lam[:, t] - w**2)).sum(1),
+        "+ residual damper": kept + stat + damp,
+        "+ residual mass": kept + stat + mass,
+        "+ damper + mass": kept + stat + damp + mass,
+        "no residual": kept,
+        "share": np.array(stat / full[0].real),
+    }
 
 
 def within(err: np.ndarray, freqs: np.ndarray, tol: float = 0.02) -> float:
@@ -136,16 +148,22 @@ def main() -> None:
     fl = args.f_limit
     a = track.params["sleeper_spacing"]
     nk = int(np.sum(np.sqrt(track.lam) <= 2 * math.pi * fl))
-    print(f"ring n_sl = {args.n_sleepers}, f_max = {args.f_max:g} Hz: {track.n_modes} modes "
-          f"(build {time.perf_counter() - t0:.1f} s); model RF keeps {nk} up to f_limit = {fl:g} Hz")
+    print(
+        f"ring n_sl = {args.n_sleepers}, f_max = {args.f_max:g} Hz: {track.n_modes} modes "
+        f"(build {time.perf_counter() - t0:.1f} s); model RF keeps {nk} up to f_limit = {fl:g} Hz"
+    )
     f = np.linspace(0.0, 0.5 * fl, 251)
     fwide = np.linspace(1.0, min(1.5 * fl, args.f_max), 600)
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(3, 2, figsize=(12, 12))
-    print(f"{'case':28s} {'residual':9s} {'max err <= f_limit/2':>21s} {'2 % holds to':>13s}  "
-          f"{'pattern (RingTrack.receptance)':>31s}")
+    print(
+        f"{'case':28s} {'residual':9s} {'max err <= f_limit/2':>21s} {'2 % holds to':>13s}  "
+        f"{'pattern (RingTrack.receptance)':>31s}"
+    )
     for j, (pos, x) in enumerate((("midspan", 0.5 * a), ("above a sleeper", 0.0))):
         for i, (name, comp, row) in enumerate(DIRECTIONS):
             direct = track.head_receptance(f, x, 2)[:, row, row]
@@ -156,15 +174,22 @@ def main() -> None:
                 err = errs[kind] = np.abs(rf / direct - 1)
                 prf = rf_pattern_receptance(track, x, f, fl, name, inertia=inertia)
                 perr = np.abs(prf / pdir - 1)
-                print(f"{name + ', ' + pos:28s} {kind:9s} {err.max() * 100:12.2f} % at "
-                      f"{f[err.argmax()]:4.0f} Hz {within(err, f):9.0f} Hz  {perr.max() * 100:10.2f} % "
-                      f"(2 % to {within(perr, f):.0f} Hz)")
+                print(
+                    f"{name + ', ' + pos:28s} {kind:9s} {err.max() * 100:12.2f} % at "
+                    f"{f[err.argmax()]:4.0f} Hz {within(err, f):9.0f} Hz  {perr.max() * 100:10.2f} % "
+                    f"(2 % to {within(perr, f):.0f} Hz)"
+                )
             dec = decomposition(track, x, f, fl, row)
             full = dec["full"]
-            parts = ", ".join(f"{k} {np.max(np.abs(v / full - 1)) * 100:.2f} %"
-                              for k, v in dec.items() if k not in ("full", "share"))
-            print(f"    truncated share of the static compliance {float(dec['share']) * 100:.1f} %; "
-                  f"max error up to f_limit/2 at this point: {parts}")
+            parts = ", ".join(
+                f"{k} {np.max(np.abs(v / full - 1)) * 100:.2f} %"
+                for k, v in dec.items()
+                if k not in ("full", "share")
+            )
+            print(
+                f"    truncated share of the static compliance {float(dec['share']) * 100:.1f} %; "
+                f"max error up to f_limit/2 at this point: {parts}"
+            )
             ax = axes[i, j]
             dw = track.head_receptance(fwide, x, 2)[:, row, row]
             rw = rf_point_receptance(track, x, fwide, fl)[:, 1, comp, comp]
@@ -176,26 +201,34 @@ def main() -> None:
             ax.semilogy(fwide, np.abs(nw), "C0:", label=f"{nk} modes, no residual")
             ax.axvline(0.5 * fl, color="0.5", lw=0.8)
             ax.text(0.5 * fl, ax.get_ylim()[0], " f_limit/2", color="0.4", va="bottom", fontsize=8)
-            ax.set_title(f"{name}, {pos}: error to f_limit/2 {errs['static'].max() * 100:.1f} % "
-                         f"(static), {errs['inertia'].max() * 100:.2f} % (inertia)", fontsize=10)
+            ax.set_title(
+                f"{name}, {pos}: error to f_limit/2 {errs['static'].max() * 100:.1f} % "
+                f"(static), {errs['inertia'].max() * 100:.2f} % (inertia)",
+                fontsize=10,
+            )
             ax.set_ylabel(f"|{'u_z / F_z' if comp == 1 else 'u_y / F_y'}|, m/N")
             ax.set_xlabel("frequency, Hz")
             ax.grid(True, which="both", alpha=0.3)
             ex = axes[2, i]
             ex.plot(f, 100 * errs["static"], f"C{2 * j}-", label=f"{pos}: static residual (default)")
-            ex.plot(f, 100 * errs["inertia"], f"C{2 * j}--",
-                    label=f"{pos}: residual with inertia (ring_residual_inertia)")
+            ex.plot(
+                f,
+                100 * errs["inertia"],
+                f"C{2 * j}--",
+                label=f"{pos}: residual with inertia (ring_residual_inertia)",
+            )
             ex.axhline(2.0, color="C3", lw=0.8, ls="--")
-            ex.set_title(f"{name}: relative error against the direct FRF, up to f_limit / 2",
-                         fontsize=10)
+            ex.set_title(f"{name}: relative error against the direct FRF, up to f_limit / 2", fontsize=10)
             ex.set_xlabel("frequency, Hz")
             ex.set_ylabel("|H / H_direct - 1|, %")
             ex.grid(True, alpha=0.3)
             ex.legend(fontsize=8, loc="upper left")
             if i == 0 and j == 0:
                 ax.legend(fontsize=8, loc="lower left")
-    fig.suptitle(f"Ring track (n_sl = {args.n_sleepers}), right rail's head point receptance: "
-                 f"model RF's truncation (f_limit = {fl:g} Hz) against RingTrack.head_receptance")
+    fig.suptitle(
+        f"Ring track (n_sl = {args.n_sleepers}), right rail's head point receptance: "
+        f"model RF's truncation (f_limit = {fl:g} Hz) against RingTrack.head_receptance"
+    )
     fig.tight_layout()
     out = Path(args.figure)
     out.parent.mkdir(exist_ok=True)

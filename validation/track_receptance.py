@@ -4,6 +4,7 @@ next to its cost. Prints tables, writes validation/figures/track_*.png.
 
     .venv/bin/python validation/track_receptance.py
 """
+
 from __future__ import annotations
 
 import math
@@ -23,8 +24,9 @@ FREQ = np.linspace(0.0, 3000.0, 3001)
 PAPER = {"vertical": 1100.0, "lateral_1": 510.0, "lateral_2": 1920.0}
 
 
-def timoshenko_discrete(f: np.ndarray, n_sl: int, area: float, iy: float, x0: float,
-                        shear_coef: float = 0.4, kmax: float = 400.0) -> np.ndarray:
+def timoshenko_discrete(
+    f: np.ndarray, n_sl: int, area: float, iy: float, x0: float, shear_coef: float = 0.4, kmax: float = 400.0
+) -> np.ndarray:
     """Vertical receptance of a Timoshenko-beam ring on point supports at the sleepers.
 
     Support per rail seat: pad (k_p + i w c_p) in series with half a sleeper on half the
@@ -46,9 +48,9 @@ def timoshenko_discrete(f: np.ndarray, n_sl: int, area: float, iy: float, x0: fl
     for i, fi in enumerate(f):
         w = 2 * math.pi * max(fi, 1e-3)
         ka = shear_coef * G * area
-        a11 = ka * kap ** 2 - rho * area * w * w
-        a22 = E * iy * kap ** 2 + ka - rho * iy * w * w
-        g = a22 / (a11 * a22 - (ka * kap) ** 2)   # w / F of each Fourier term
+        a11 = ka * kap**2 - rho * area * w * w
+        a22 = E * iy * kap**2 + ka - rho * iy * w * w
+        g = a22 / (a11 * a22 - (ka * kap) ** 2)  # w / F of each Fourier term
         gx = lambda d: np.sum(wts * g * np.cos(np.outer(d, kap)), axis=1)  # noqa: E731
         gss = gx(xs - xs[0])
         gmat = gss[np.abs(np.subtract.outer(np.arange(n_sl), np.arange(n_sl)))]
@@ -66,8 +68,11 @@ def pinned_pinned(tr: RingTrack, f: np.ndarray) -> dict[str, float]:
     """Pinned-pinned frequencies: where the mid-span receptance most exceeds the one above a
     sleeper (the mid-span peak / sleeper dip pair), in the bands of the acceptance list."""
     out = {}
-    for key, d, band in (("vertical", "vertical", (800, 1400)), ("lateral_1", "lateral", (350, 800)),
-                         ("lateral_2", "lateral", (1500, 2500))):
+    for key, d, band in (
+        ("vertical", "vertical", (800, 1400)),
+        ("lateral_1", "lateral", (350, 800)),
+        ("lateral_2", "lateral", (1500, 2500)),
+    ):
         sel = (f >= band[0]) & (f <= band[1])
         hm = np.abs(tr.receptance(f[sel], d, "midspan"))
         hs = np.abs(tr.receptance(f[sel], d, "sleeper"))
@@ -86,8 +91,11 @@ def main() -> None:
         tr = RingTrack(n)
         cost[n] = time.perf_counter() - t0
         tracks[n] = tr
-        res[n] = {f"{d}_{p}": tr.receptance(FREQ, d, p) for d in ("vertical", "lateral")
-                  for p in ("midspan", "sleeper")}
+        res[n] = {
+            f"{d}_{p}": tr.receptance(FREQ, d, p)
+            for d in ("vertical", "lateral")
+            for p in ("midspan", "sleeper")
+        }
         print(f"n_sl={n:4d}: built in {cost[n]:6.2f} s, {tr.n_modes} modes")
 
     # Figures like the paper's Figs 6 and 7
@@ -114,8 +122,10 @@ def main() -> None:
         print(f"{k:12s} {v:8.0f} {PAPER[k]:7.0f} {bands[k]:>15s}")
 
     # (c) convergence with n_sl
-    print("\n(c) largest relative difference |H_n - H_2n| / |H_2n| over 100-3000 Hz, and its 90th "
-          "percentile (narrow peaks excluded by the percentile); build time of the model for 2n")
+    print(
+        "\n(c) largest relative difference |H_n - H_2n| / |H_2n| over 100-3000 Hz, and its 90th "
+        "percentile (narrow peaks excluded by the percentile); build time of the model for 2n"
+    )
     band = (FREQ >= 100) & (FREQ <= 3000)
     rows = []
     print(f"{'n -> 2n':>10s} {'quantity':>18s} {'max':>7s} {'p90':>7s} {'cost 2n, s':>10s}")
@@ -124,8 +134,10 @@ def main() -> None:
             a, b = res[n][key][band], res[2 * n][key][band]
             rel = np.abs(a - b) / np.abs(b)
             rows.append((n, key, rel.max(), np.percentile(rel, 90), cost[2 * n]))
-            print(f"{n:4d}->{2 * n:<4d} {key:>18s} {rel.max():7.3f} {np.percentile(rel, 90):7.3f} "
-                  f"{cost[2 * n]:10.2f}")
+            print(
+                f"{n:4d}->{2 * n:<4d} {key:>18s} {rel.max():7.3f} {np.percentile(rel, 90):7.3f} "
+                f"{cost[2 * n]:10.2f}"
+            )
     fig, ax = plt.subplots(figsize=(5.5, 3.8))
     for key, mk in (("vertical_midspan", "o-"), ("lateral_midspan", "s-")):
         pts = [(r[4], r[3]) for r in rows if r[1] == key]

@@ -3,6 +3,7 @@ from the reduced basis against direct solves of the full section FE.
 
     .venv/bin/python validation/track_section.py
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,24 +32,39 @@ def main() -> None:
     m = s.mass_per_length()
     print(f"{'mass':>10s} {m:10.2f} {pub['mass']:11.2f} {100 * (m / pub['mass'] - 1):7.2f}  kg/m")
     print(f"{'torsion':>10s} {s.torsion * 1e8:10.1f} {'-':>11s} {'':7s}  cm^4 (Saint-Venant warping solve)")
-    print(f"{'centroid':>10s} {s.centroid[1] * 1e3:10.2f} {80.9:11.2f} "
-          f"{100 * (s.centroid[1] * 1e3 / 80.9 - 1):7.2f}  mm above the foot")
+    print(
+        f"{'centroid':>10s} {s.centroid[1] * 1e3:10.2f} {80.9:11.2f} "
+        f"{100 * (s.centroid[1] * 1e3 / 80.9 - 1):7.2f}  mm above the foot"
+    )
 
     # Dispersion: reduced basis vs full section FE
     tr = RingTrack(16)
     k0, k1, k2, mm = tr._fe
     w, k0r, k1r, k2r, _ = tr._rom
     kap = np.linspace(0.0, tr.params["kappa_max"], 41)
-    red = np.array([np.sqrt(np.clip(np.linalg.eigvalsh(k0r + q * k1r + q * q * k2r)[:14], 0, None))
-                    for q in kap]) / (2 * np.pi)
+    red = np.array(
+        [np.sqrt(np.clip(np.linalg.eigvalsh(k0r + q * k1r + q * q * k2r)[:14], 0, None)) for q in kap]
+    ) / (2 * np.pi)
     chk = kap[1::4]
-    full = np.array([np.sqrt(np.clip(sla.eigh(k0 + q * k1 + q * q * k2, mm, eigvals_only=True,
-                                              subset_by_index=[0, 13]), 0, None)) for q in chk]) / (2 * np.pi)
+    full = np.array(
+        [
+            np.sqrt(
+                np.clip(
+                    sla.eigh(k0 + q * k1 + q * q * k2, mm, eigvals_only=True, subset_by_index=[0, 13]),
+                    0,
+                    None,
+                )
+            )
+            for q in chk
+        ]
+    ) / (2 * np.pi)
     redc = red[1::4]
     sel = full <= 6000.0
     err = np.abs(redc[sel] - full[sel]) / np.maximum(full[sel], 1.0)
-    print(f"\nreduced basis: {w.shape[1]} vectors for {w.shape[0]} section DOFs; wave frequencies "
-          f"<= 6 kHz at {chk.size} wave numbers between the samples: max rel. error {err.max():.2e}")
+    print(
+        f"\nreduced basis: {w.shape[1]} vectors for {w.shape[0]} section DOFs; wave frequencies "
+        f"<= 6 kHz at {chk.size} wave numbers between the samples: max rel. error {err.max():.2e}"
+    )
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
     tri = s.elements[:, :3]
     axs[0].triplot(s.nodes[:, 0] * 1e3, s.nodes[:, 1] * 1e3, tri, lw=0.5)

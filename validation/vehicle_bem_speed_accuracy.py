@@ -31,6 +31,7 @@ is shared: wall time, also recorded, depends on the load, which is printed.
 Writes validation/figures/vehicle_bem_speed_accuracy_<scene>.json per scene and the chart
 validation/figures/vehicle_bem_speed_accuracy.png from every scene's JSON found.
 """
+
 from __future__ import annotations
 
 import json
@@ -54,17 +55,23 @@ SCENES = {
 OUTPUT_DT = {"hunting": 1e-3, "centred": 2.5e-4}
 
 #: (label, contact, geometry, BEM element size m or None); the last is the reference
-CASES = [("Hertz + Kalker (table)", "hertz-kalker", "table", None),
-         ("Hertz + FASTSIM (table)", "hertz-fastsim", "table", None),
-         ("Hertz + FASTSIM (strip)", "hertz-fastsim", "strip", None),
-         ("BEM 1.5 mm", "bem", "table", 1.5e-3),
-         ("BEM 1.0 mm", "bem", "table", 1.0e-3),
-         ("BEM 0.75 mm", "bem", "table", 0.75e-3),
-         ("BEM 0.5 mm (reference)", "bem", "table", 0.5e-3)]
+CASES = [
+    ("Hertz + Kalker (table)", "hertz-kalker", "table", None),
+    ("Hertz + FASTSIM (table)", "hertz-fastsim", "table", None),
+    ("Hertz + FASTSIM (strip)", "hertz-fastsim", "strip", None),
+    ("BEM 1.5 mm", "bem", "table", 1.5e-3),
+    ("BEM 1.0 mm", "bem", "table", 1.0e-3),
+    ("BEM 0.75 mm", "bem", "table", 0.75e-3),
+    ("BEM 0.5 mm (reference)", "bem", "table", 0.5e-3),
+]
 
 #: quantity key -> (label, scenes it applies to)
-QUANTITIES = {"amp": ("amplitude", "hunting"), "qpp": ("dynamic Q (peak-to-peak)", "centred"),
-              "qmax": ("Q max", "any"), "ymax": ("|Y| max", "any")}
+QUANTITIES = {
+    "amp": ("amplitude", "hunting"),
+    "qpp": ("dynamic Q (peak-to-peak)", "centred"),
+    "qmax": ("Q max", "any"),
+    "ymax": ("|Y| max", "any"),
+}
 
 CHILD = r"""
 import json, sys, time
@@ -106,9 +113,23 @@ print(json.dumps({"wall": wall, "cpu": cpu, "amp": scenarios.amplitude(r, 0.5 * 
 def run_case(scene: str, contact: str, geo: str, dx: float | None) -> dict:
     """One case of a scene in its own process; its JSON line."""
     model, scenario, speed, dur, _ = SCENES[scene]
-    out = subprocess.run([sys.executable, "-c", CHILD, model, scenario, contact, geo,
-                          str(dx or 0.0), str(speed), str(dur), str(OUTPUT_DT[scenario])],
-                         capture_output=True, text=True)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            CHILD,
+            model,
+            scenario,
+            contact,
+            geo,
+            str(dx or 0.0),
+            str(speed),
+            str(dur),
+            str(OUTPUT_DT[scenario]),
+        ],
+        capture_output=True,
+        text=True,
+    )
     if out.returncode != 0:
         raise RuntimeError(f"{scene} {contact} {geo} {dx}: {out.stderr.strip().splitlines()[-1]}")
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -127,33 +148,55 @@ def run_scene(scene: str) -> dict:
     rows = []
     for label, contact, geo, dx in CASES:
         d = run_case(scene, contact, geo, dx)
-        d.update(label=label, contact=contact, geometry=geo, dx=dx, rtf_cpu=d["cpu"] / dur,
-                 rtf_wall=d["wall"] / dur)
+        d.update(
+            label=label,
+            contact=contact,
+            geometry=geo,
+            dx=dx,
+            rtf_cpu=d["cpu"] / dur,
+            rtf_wall=d["wall"] / dur,
+        )
         rows.append(d)
         if "failed" in d:
             print(f"  {scene} {label:>24s}: CPU {d['cpu']:8.1f} s: {d['failed']}", flush=True)
             continue
-        print(f"  {scene} {label:>24s}: CPU {d['cpu']:8.1f} s wall {d['wall']:8.1f} s "
-              + " ".join(f"{k} {d[k]:.6g}" for k in quantities(scene)), flush=True)
+        print(
+            f"  {scene} {label:>24s}: CPU {d['cpu']:8.1f} s wall {d['wall']:8.1f} s "
+            + " ".join(f"{k} {d[k]:.6g}" for k in quantities(scene)),
+            flush=True,
+        )
     ref = rows[-1]
     if "failed" in ref:
         raise RuntimeError(f"{scene}: the reference failed ({ref['failed']}); no errors to chart")
     for r in rows:
         for k in quantities(scene):
             r["err_" + k] = r[k] / ref[k] - 1.0 if "failed" not in r else None
-    out = {"scene": scene, "title": title, "model": model, "scenario": scenario,
-           "speed_kmh": speed, "duration_s": dur, "load": [load0, os.getloadavg()[0]],
-           "rows": rows}
-    print(f"{title}; load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
-          "reference BEM 0.5 mm")
-    print(f"{'model':>24s} {'RTF cpu':>8s} {'RTF wall':>8s} "
-          + " ".join(f"{'err ' + k:>9s}" for k in quantities(scene)))
+    out = {
+        "scene": scene,
+        "title": title,
+        "model": model,
+        "scenario": scenario,
+        "speed_kmh": speed,
+        "duration_s": dur,
+        "load": [load0, os.getloadavg()[0]],
+        "rows": rows,
+    }
+    print(
+        f"{title}; load {load0:.2f} -> {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
+        "reference BEM 0.5 mm"
+    )
+    print(
+        f"{'model':>24s} {'RTF cpu':>8s} {'RTF wall':>8s} "
+        + " ".join(f"{'err ' + k:>9s}" for k in quantities(scene))
+    )
     for r in rows:
         if "failed" in r:
             print(f"{r['label']:>24s} stopped at t = {r['t_end']:.4g} s: {r['failed']}")
             continue
-        print(f"{r['label']:>24s} {r['rtf_cpu']:8.2f} {r['rtf_wall']:8.2f} "
-              + " ".join(f"{100 * r['err_' + k]:8.2f}%" for k in quantities(scene)))
+        print(
+            f"{r['label']:>24s} {r['rtf_cpu']:8.2f} {r['rtf_wall']:8.2f} "
+            + " ".join(f"{100 * r['err_' + k]:8.2f}%" for k in quantities(scene))
+        )
     (FIG / f"vehicle_bem_speed_accuracy_{scene}.json").write_text(json.dumps(out, indent=1))
     return out
 
@@ -165,27 +208,34 @@ def _unit(key: str, value: float) -> str:
 def plot(scenes: list[dict], path: Path) -> None:
     """One row per scene: CPU real-time factor against the |error| of each quantity."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import matplotlib.ticker
-    fig, axes = plt.subplots(len(scenes), 3, figsize=(15, 3.6 * len(scenes)),
-                             constrained_layout=True, squeeze=False)
+
+    fig, axes = plt.subplots(
+        len(scenes), 3, figsize=(15, 3.6 * len(scenes)), constrained_layout=True, squeeze=False
+    )
     markers = dict(zip([c[0] for c in CASES], "ovDs^<>"))
     for row, sc in zip(axes, scenes):
         ref = sc["rows"][-1]
         keys = quantities(sc["scene"])
         for ax, key in zip(row, keys):
             for r in sc["rows"][:-1]:
-                if "failed" in r:      # listed under the row's panels, not drawn
+                if "failed" in r:  # listed under the row's panels, not drawn
                     continue
-                err = max(abs(r["err_" + key]), 1e-4)    # 1e-4 % floor: agreement to 1e-6
-                ax.loglog(r["rtf_cpu"], 100 * err, markers[r["label"]], ms=7, label=r["label"],
-                          color="C0" if r["contact"] == "bem" else "C1")
-            ax.axvline(ref["rtf_cpu"], color="0.6", ls="--", lw=1,
-                       label="reference BEM 0.5 mm: its RTF")
+                err = max(abs(r["err_" + key]), 1e-4)  # 1e-4 % floor: agreement to 1e-6
+                ax.loglog(
+                    r["rtf_cpu"],
+                    100 * err,
+                    markers[r["label"]],
+                    ms=7,
+                    label=r["label"],
+                    color="C0" if r["contact"] == "bem" else "C1",
+                )
+            ax.axvline(ref["rtf_cpu"], color="0.6", ls="--", lw=1, label="reference BEM 0.5 mm: its RTF")
             ax.axvline(1.0, color="0.8", ls=":", lw=1, label="real time")
-            ax.set_title(f"{sc['title']}: {QUANTITIES[key][0]} (ref. {_unit(key, ref[key])})",
-                         fontsize=9)
+            ax.set_title(f"{sc['title']}: {QUANTITIES[key][0]} (ref. {_unit(key, ref[key])})", fontsize=9)
             ax.set_xlabel("real-time factor (CPU s / simulated s, one core)", fontsize=8)
             ax.set_ylabel("|error| against BEM 0.5 mm, %", fontsize=8)
             ax.grid(True, which="both", alpha=0.3)
@@ -193,18 +243,28 @@ def plot(scenes: list[dict], path: Path) -> None:
             ax.yaxis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
             ax.yaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
             ax.tick_params(axis="y", which="minor", labelsize=7)
-        for ax in row[len(keys):]:
+        for ax in row[len(keys) :]:
             ax.set_visible(False)
-        failed = [f"{r['label']} stopped at t = {r['t_end']:.3g} s (Newton)"
-                  for r in sc["rows"] if "failed" in r]
+        failed = [
+            f"{r['label']} stopped at t = {r['t_end']:.3g} s (Newton)" for r in sc["rows"] if "failed" in r
+        ]
         if failed:
-            row[0].text(0.02, 0.03, "not drawn:\n" + "\n".join(failed), transform=row[0].transAxes,
-                        fontsize=7, color="C3", va="bottom",
-                        bbox=dict(facecolor="white", edgecolor="C3", alpha=0.9))
+            row[0].text(
+                0.02,
+                0.03,
+                "not drawn:\n" + "\n".join(failed),
+                transform=row[0].transAxes,
+                fontsize=7,
+                color="C3",
+                va="bottom",
+                bbox=dict(facecolor="white", edgecolor="C3", alpha=0.9),
+            )
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=5, fontsize=8)
-    fig.suptitle("Speed against accuracy of the contact models (S1002 / UIC60 1:40, coach, "
-                 "released from 4 mm; error floor drawn at 1e-4 %)")
+    fig.suptitle(
+        "Speed against accuracy of the contact models (S1002 / UIC60 1:40, coach, "
+        "released from 4 mm; error floor drawn at 1e-4 %)"
+    )
     fig.savefig(path, dpi=110)
 
 
@@ -217,8 +277,11 @@ def main() -> None:
             sys.exit(f"unknown scene(s) {unknown}; known: {list(SCENES)}")
         for scene in args or list(SCENES):
             run_scene(scene)
-    found = [json.loads(p.read_text()) for s in SCENES
-             if (p := FIG / f"vehicle_bem_speed_accuracy_{s}.json").exists()]
+    found = [
+        json.loads(p.read_text())
+        for s in SCENES
+        if (p := FIG / f"vehicle_bem_speed_accuracy_{s}.json").exists()
+    ]
     path = FIG / "vehicle_bem_speed_accuracy.png"
     plot(found, path)
     print(f"wrote {path} ({', '.join(s['scene'] for s in found)})")

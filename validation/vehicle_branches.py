@@ -11,6 +11,7 @@ compares with the exact fields: a table whose nodes lie on the evaluation points
     .venv/bin/python validation/vehicle_branches.py   # ~2-4 min; writes
                                                       # validation/figures/vehicle_branches.png
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -33,7 +34,7 @@ W = WHEEL_OUTPUTS
 log = logging.getLogger("vehicle_branches")
 FIG = Path(__file__).resolve().parent / "figures"
 V = 200 / 3.6
-D0 = 60e-6                                     # vertical approach below the minimum gap, m
+D0 = 60e-6  # vertical approach below the minimum gap, m
 BANDS = [(0.15e-3, 0.30e-3), (4.05e-3, 5.25e-3), (5.25e-3, 6.15e-3), (6.50e-3, 6.75e-3)]
 
 
@@ -47,8 +48,16 @@ def exact_min_gap(table, y: np.ndarray) -> np.ndarray:
 
 def left_fn(table, y: np.ndarray, grid: tuple[int, int]) -> np.ndarray:
     """Normal forces (N, tread + flange slot) of the left wheel at y with the approach D0."""
-    sy = build_single_wheelset(table, mass=1500.0, roll_inertia=700.0, yaw_inertia=700.0,
-                               ky=0.0, kx=0.0, half_spacing=1.0, axle_load=1e5)
+    sy = build_single_wheelset(
+        table,
+        mass=1500.0,
+        roll_inertia=700.0,
+        yaw_inertia=700.0,
+        ky=0.0,
+        kx=0.0,
+        half_spacing=1.0,
+        axle_load=1e5,
+    )
     g = exact_min_gap(table, y)
     out = np.empty((y.size, 2))
     with bem_state(sy, BemOptions(nx=grid[0], ny=grid[1])) as st:
@@ -67,13 +76,14 @@ def left_fn(table, y: np.ndarray, grid: tuple[int, int]) -> np.ndarray:
 def main() -> None:
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     t0 = time.perf_counter()
     coarse = scenarios.wheel_table()
     w, r = coarse.wheel, coarse.rail
-    fine = wheel_table(w, r, y_max=0.007, step=coarse.dy / 4)   # nodes every 12.5 um
+    fine = wheel_table(w, r, y_max=0.007, step=coarse.dy / 4)  # nodes every 12.5 um
     # the look-up as it was: one label for every node, i.e. linear blending across the jumps
     data = np.array(coarse.data, order="F", copy=True)
     data[QUANTITIES.index("branch")] = 0.0
@@ -94,10 +104,12 @@ def main() -> None:
         jump_e = np.nanmax(np.abs(np.diff(ne)))
         bad = int(np.isnan(nc).sum() + np.isnan(ne).sum())
         worst = max(worst, dev / np.nanmax(ne))
-        print(f"y {a * 1e3:.2f}-{b * 1e3:.2f} mm: max |Fn table - Fn exact| = {dev / 1e3:.2f} kN "
-              f"({dev / np.nanmax(ne):.1%} of max {np.nanmax(ne) / 1e3:.1f} kN); largest step between "
-              f"neighbours {jump / 1e3:.2f} kN (exact {jump_e / 1e3:.2f} kN); {bad} failed solves; "
-              f"blended across jumps: max deviation {np.nanmax(np.abs(fb - ne)) / 1e3:.2f} kN")
+        print(
+            f"y {a * 1e3:.2f}-{b * 1e3:.2f} mm: max |Fn table - Fn exact| = {dev / 1e3:.2f} kN "
+            f"({dev / np.nanmax(ne):.1%} of max {np.nanmax(ne) / 1e3:.1f} kN); largest step between "
+            f"neighbours {jump / 1e3:.2f} kN (exact {jump_e / 1e3:.2f} kN); {bad} failed solves; "
+            f"blended across jumps: max deviation {np.nanmax(np.abs(fb - ne)) / 1e3:.2f} kN"
+        )
         nodes = coarse.y[(coarse.y >= a - 1e-12) & (coarse.y <= b + 1e-12)]
         ax.plot(y * 1e3, ne / 1e3, "k-", lw=2.5, alpha=0.35, label="exact field (node at y)")
         ax.plot(y * 1e3, nc / 1e3, "C0.-", ms=3, label="table, 0.05 mm nodes (branches)")
@@ -110,14 +122,15 @@ def main() -> None:
         ax.set_title(f"y = {a * 1e3:.2f} - {b * 1e3:.2f} mm", fontsize=10)
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, loc="best")
-    fig.suptitle(f"BEM normal force at a fixed vertical approach of {D0 * 1e6:.0f} um below the "
-                 "minimum gap, through the table's branch changes (grey: table nodes)")
+    fig.suptitle(
+        f"BEM normal force at a fixed vertical approach of {D0 * 1e6:.0f} um below the "
+        "minimum gap, through the table's branch changes (grey: table nodes)"
+    )
     fig.tight_layout()
     FIG.mkdir(exist_ok=True)
     out = FIG / "vehicle_branches.png"
     fig.savefig(out, dpi=110)
-    print(f"worst deviation table vs exact: {worst:.2%}; wrote {out} "
-          f"({time.perf_counter() - t0:.0f} s)")
+    print(f"worst deviation table vs exact: {worst:.2%}; wrote {out} ({time.perf_counter() - t0:.0f} s)")
 
 
 if __name__ == "__main__":

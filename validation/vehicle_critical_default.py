@@ -12,6 +12,7 @@ that the strips and the BEM do not have (issue 29).
 Run: python validation/vehicle_critical_default.py [--duration 8] [--table]
 (about 4 min on 2 cores; --table adds about 3 min)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -36,8 +37,10 @@ def check(geometry: str | None, duration: float) -> None:
         amp = scenarios.amplitude(r)
         want = "> 1 mm" if dv > 0 else "< 0.5 mm"
         ok = amp > 1e-3 if dv > 0 else amp < 0.5e-3
-        print(f"   hunting at {c.kmh + dv:.0f} km/h from 4 mm, {duration:g} s: amplitude over the "
-              f"last second {amp * 1e3:.3f} mm (want {want}: {'yes' if ok else 'NO'})")
+        print(
+            f"   hunting at {c.kmh + dv:.0f} km/h from 4 mm, {duration:g} s: amplitude over the "
+            f"last second {amp * 1e3:.3f} mm (want {want}: {'yes' if ok else 'NO'})"
+        )
 
 
 def main() -> None:

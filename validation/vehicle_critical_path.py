@@ -33,6 +33,7 @@ Run: python validation/vehicle_critical_path.py   (about 55 min of runs: on 2 co
      --variants base,duration --parts DIR   (a subset, each variant to DIR/<name>.npz)
      --replot --parts DIR                   (table, npz and figure from the parts)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -49,8 +50,7 @@ HERE = Path(__file__).resolve().parent
 FIG = HERE / "figures"
 VARIANTS = {
     "base": ("baseline", {}),
-    "threshold": ("floor and rate tolerance halved", dict(threshold=0.125e-3, rate_tol=0.025,
-                                                          decay=False)),
+    "threshold": ("floor and rate tolerance halved", dict(threshold=0.125e-3, rate_tol=0.025, decay=False)),
     "duration": ("run length doubled (8 s)", dict(duration=8.0)),
     "h": ("time step halved (0.5 ms)", dict(h=0.5e-3)),
     "segments": ("each run in two continued calls", dict(segments=2)),
@@ -59,33 +59,51 @@ VARIANTS = {
     "fine": ("fine: baseline", dict(resolution_kmh=0.625)),
     "fine_duration": ("fine: run length doubled", dict(resolution_kmh=0.625, duration=8.0)),
     "fine_h": ("fine: time step halved", dict(resolution_kmh=0.625, h=0.5e-3)),
-    "fine_threshold": ("fine: floor and rate tol. halved",
-                       dict(resolution_kmh=0.625, threshold=0.125e-3, rate_tol=0.025,
-                            decay=False)),
-    "fine_collapse": ("fine: collapse fraction halved", dict(resolution_kmh=0.625, collapse=0.25,
-                                                            decay=False)),
+    "fine_threshold": (
+        "fine: floor and rate tol. halved",
+        dict(resolution_kmh=0.625, threshold=0.125e-3, rate_tol=0.025, decay=False),
+    ),
+    "fine_collapse": (
+        "fine: collapse fraction halved",
+        dict(resolution_kmh=0.625, collapse=0.25, decay=False),
+    ),
 }
 #: The variant searched (``--model``) and the flexible wheelsets' mode selection (``--cheap``:
 #: k_max 1 / 300 Hz, as the four-variant study's FR/FF).
 MODEL = "RR"
 SELECTION: dict = {}
-FIELDS = ("path_speeds", "path_amplitudes", "path_rates", "path_alive", "path_durations",
-          "decay_speeds", "decay_amplitudes", "decay_rates")
+FIELDS = (
+    "path_speeds",
+    "path_amplitudes",
+    "path_rates",
+    "path_alive",
+    "path_durations",
+    "decay_speeds",
+    "decay_amplitudes",
+    "decay_rates",
+)
 
 
 def run_variant(name: str, parts: Path | None) -> dict:
     label, kw = VARIANTS[name]
     t0 = time.perf_counter()
-    c = nonlinear_critical_speed(MODEL, speed_top_kmh=420.0, **SELECTION,
-                                 **{"resolution_kmh": 2.5, **kw})
+    c = nonlinear_critical_speed(MODEL, speed_top_kmh=420.0, **SELECTION, **{"resolution_kmh": 2.5, **kw})
     wall = time.perf_counter() - t0
     print(f"[{name}] {c.message} [{wall:.0f} s]", flush=True)
     out = {f: np.asarray(getattr(c, f)) for f in FIELDS}
-    out.update(resolution_kmh=c.settings["resolution"] * 3.6, fold_kmh=c.fold_kmh,
-               fold_bracket_kmh=np.array(c.fold_bracket_kmh),
-               decay_kmh=c.decay_boundary_kmh, decay_bracket_kmh=np.array(c.decay_bracket_kmh),
-               fold_amplitude=c.fold_amplitude, fold_branch=c.fold_branch, wall=wall,
-               label=label, method=c.method, has_decay=kw.get("decay", True))
+    out.update(
+        resolution_kmh=c.settings["resolution"] * 3.6,
+        fold_kmh=c.fold_kmh,
+        fold_bracket_kmh=np.array(c.fold_bracket_kmh),
+        decay_kmh=c.decay_boundary_kmh,
+        decay_bracket_kmh=np.array(c.decay_bracket_kmh),
+        fold_amplitude=c.fold_amplitude,
+        fold_branch=c.fold_branch,
+        wall=wall,
+        label=label,
+        method=c.method,
+        has_decay=kw.get("decay", True),
+    )
     if parts is not None:
         parts.mkdir(parents=True, exist_ok=True)
         np.savez(parts / f"{name}.npz", **out)
@@ -103,20 +121,28 @@ def load(parts: Path) -> dict:
 
 
 def table(res: dict) -> None:
-    print(f"\n{MODEL}, Hertz + Kalker (strips); diff against the baseline of the same resolution; "
-          "bound: one bracket width (the resolution)")
-    print(f"{'variant':34s} {'fold km/h':>10s} {'bracket':>15s} {'diff':>6s} "
-          f"{'decay km/h':>10s} {'bracket':>15s} {'diff':>6s} {'wall s':>7s}")
+    print(
+        f"\n{MODEL}, Hertz + Kalker (strips); diff against the baseline of the same resolution; "
+        "bound: one bracket width (the resolution)"
+    )
+    print(
+        f"{'variant':34s} {'fold km/h':>10s} {'bracket':>15s} {'diff':>6s} "
+        f"{'decay km/h':>10s} {'bracket':>15s} {'diff':>6s} {'wall s':>7s}"
+    )
     for name, r in res.items():
         b = res["fine"] if name.startswith("fine") and "fine" in res else res["base"]
         bound = float(r.get("resolution_kmh", 2.5))
         df = r["fold_kmh"] - b["fold_kmh"]
-        line = (f"{str(r['label']):34s} {r['fold_kmh']:10.2f} "
-                f"[{r['fold_bracket_kmh'][0]:6.2f},{r['fold_bracket_kmh'][1]:6.2f}] {df:+6.2f} ")
+        line = (
+            f"{str(r['label']):34s} {r['fold_kmh']:10.2f} "
+            f"[{r['fold_bracket_kmh'][0]:6.2f},{r['fold_bracket_kmh'][1]:6.2f}] {df:+6.2f} "
+        )
         if r["has_decay"]:
             dd = r["decay_kmh"] - b["decay_kmh"]
-            line += (f"{r['decay_kmh']:10.2f} [{r['decay_bracket_kmh'][0]:6.2f},"
-                     f"{r['decay_bracket_kmh'][1]:6.2f}] {dd:+6.2f} ")
+            line += (
+                f"{r['decay_kmh']:10.2f} [{r['decay_bracket_kmh'][0]:6.2f},"
+                f"{r['decay_bracket_kmh'][1]:6.2f}] {dd:+6.2f} "
+            )
         else:
             line += f"{'(same test)':>10s} {'':15s} {'':6s} "
         ok = abs(df) <= bound + 1e-9 and (not r["has_decay"] or abs(dd) <= bound + 1e-9)
@@ -125,14 +151,15 @@ def table(res: dict) -> None:
 
 def figure(res: dict, path: Path) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     b = res["base"]
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.8), gridspec_kw=dict(width_ratios=[3, 2]))
     ps, pa, al = b["path_speeds"] * 3.6, b["path_amplitudes"] * 1e3, b["path_alive"]
     ax.semilogy(ps[al], pa[al], "o", color="C0", label="upper branch (from 6 mm, carried): cycle")
-    ax.semilogy(ps[~al], pa[~al], "o", mfc="none", color="C0",
-                label="upper branch: died (last 0.5 s window)")
+    ax.semilogy(ps[~al], pa[~al], "o", mfc="none", color="C0", label="upper branch: died (last 0.5 s window)")
     order = np.argsort(ps[al])
     ax.semilogy(ps[al][order], pa[al][order], "-", color="C0", lw=0.8)
     ds, da = b["decay_speeds"] * 3.6, b["decay_amplitudes"] * 1e3
@@ -143,12 +170,10 @@ def figure(res: dict, path: Path) -> None:
     ax.axvspan(fb[0], fb[1], color="C0", alpha=0.25)
     ax.axvline(b["fold_kmh"], color="C0", ls="--", label=f"fold {b['fold_kmh']:.1f} km/h")
     ax.axvspan(db[0], db[1], color="C3", alpha=0.25)
-    ax.axvline(b["decay_kmh"], color="C3", ls=":",
-               label=f"decay boundary {b['decay_kmh']:.1f} km/h")
+    ax.axvline(b["decay_kmh"], color="C3", ls=":", label=f"decay boundary {b['decay_kmh']:.1f} km/h")
     ax.axhline(0.25, color="grey", lw=0.8, ls="-.", label="living-cycle floor 0.25 mm")
-    lin = float(critical_speed(MODEL, method="linear", **SELECTION))   # context: eigenvalues
-    ax.axvline(lin, color="k", lw=0.8, ls="--",
-               label=f"linear critical speed {lin:.1f} km/h (damper stuck)")
+    lin = float(critical_speed(MODEL, method="linear", **SELECTION))  # context: eigenvalues
+    ax.axvline(lin, color="k", lw=0.8, ls="--", label=f"linear critical speed {lin:.1f} km/h (damper stuck)")
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("leading wheelset amplitude (last 0.5 s), mm")
     ax.set_title(f"{MODEL}, Hertz + Kalker (strips): path down from 420 km/h")
@@ -191,8 +216,12 @@ def main() -> None:
     p.add_argument("--parts", type=Path, default=None, help="directory of one npz per variant")
     p.add_argument("--replot", action="store_true", help="only combine the parts")
     p.add_argument("-v", action="store_true", help="log every run")
-    p.add_argument("--model", default="RR", choices=("RR", "FR", "RF", "FF"),
-                   help="the variant (files: vehicle_critical_path_<model> unless RR)")
+    p.add_argument(
+        "--model",
+        default="RR",
+        choices=("RR", "FR", "RF", "FF"),
+        help="the variant (files: vehicle_critical_path_<model> unless RR)",
+    )
     p.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
     a = p.parse_args()
     global MODEL, SELECTION

@@ -12,6 +12,7 @@ patch, and the tread and flange normal forces.
 Writes validation/figures/vehicle_four_contact_cycle.png; the runs are kept in
 /tmp/vehicle_four_contact_cycle.pkl for --replot.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -34,13 +35,20 @@ def run(model: str, kmh: float) -> dict:
     """The last second of the leading wheelset: y and the wheel outputs (nt, 2 wheels)."""
     kw = {"ring_residual": False} if model in ("RF", "FF") else {}
     t0 = time.perf_counter()
-    r = scenarios.hunting(kmh, model=model, contact="hertz-fastsim", duration=3.0, y0=0.006,
-                          progress=False, geometry="strip", **kw)
+    r = scenarios.hunting(
+        kmh,
+        model=model,
+        contact="hertz-fastsim",
+        duration=3.0,
+        y0=0.006,
+        progress=False,
+        geometry="strip",
+        **kw,
+    )
     k = r.t >= r.t[-1] - 1.0
-    out = {"y": r.y_ws1[k], "wall": time.perf_counter() - t0,
-           "amplitude": scenarios.amplitude(r)}
+    out = {"y": r.y_ws1[k], "wall": time.perf_counter() - t0, "amplitude": scenarios.amplitude(r)}
     for name in ("N_tread", "N_flange", "contact_angle", "a", "b", "y_cp"):
-        out[name] = r.wheel_output(name)[k][:, :, 0]             # leading wheelset
+        out[name] = r.wheel_output(name)[k][:, :, 0]  # leading wheelset
     n = np.maximum(out["N_tread"], out["N_flange"])
     ab = out["a"] * out["b"]
     out["p0"] = np.where(ab > 0, 1.5 * n / (np.pi * np.where(ab > 0, ab, 1.0)), 0.0)
@@ -49,15 +57,23 @@ def run(model: str, kmh: float) -> dict:
 
 def plot(res: dict, kmh: float) -> Path:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(3, 2, figsize=(11.0, 9.0), sharex=True)
     for m, (col, ls) in zip(MODELS, (("C0", "--"), ("C3", "-"))):
         d = res[m]
         y = d["y"] * 1e3
         for w in (0, 1):
-            ax[0, w].plot(y, np.degrees(d["contact_angle"][:, w]), ls, color=col, lw=1,
-                          label=f"{m} (amplitude {d['amplitude'] * 1e3:.2f} mm)")
+            ax[0, w].plot(
+                y,
+                np.degrees(d["contact_angle"][:, w]),
+                ls,
+                color=col,
+                lw=1,
+                label=f"{m} (amplitude {d['amplitude'] * 1e3:.2f} mm)",
+            )
             ax[1, w].plot(y, d["p0"][:, w] / 1e6, ls, color=col, lw=1, label=m)
             ax[2, w].plot(y, d["N_flange"][:, w] / 1e3, ls, color=col, lw=1, label=f"{m}, flange")
             ax[2, w].plot(y, d["N_tread"][:, w] / 1e3, ":", color=col, lw=1, label=f"{m}, tread")
@@ -73,8 +89,11 @@ def plot(res: dict, kmh: float) -> Path:
             a.grid(alpha=0.3)
         ax[0, w].legend(fontsize=8)
         ax[2, w].legend(fontsize=7, ncol=2)
-    fig.suptitle(f"Flange hunting at {kmh:.0f} km/h, the last second of 3 s from 6 mm (Hertz + "
-                 "FASTSIM, strips): RR against FF, leading wheelset", fontsize=10)
+    fig.suptitle(
+        f"Flange hunting at {kmh:.0f} km/h, the last second of 3 s from 6 mm (Hertz + "
+        "FASTSIM, strips): RR against FF, leading wheelset",
+        fontsize=10,
+    )
     fig.tight_layout()
     FIG.mkdir(exist_ok=True)
     path = FIG / "vehicle_four_contact_cycle.png"
@@ -94,12 +113,16 @@ def main() -> None:
     else:
         res = {m: run(m, args.speed) for m in MODELS}
         CACHE.write_bytes(pickle.dumps(res))
-    print(f"{'model':6s} {'amplitude mm':>12s} {'angle max deg':>13s} {'p0 max MPa':>10s} "
-          f"{'N_flange max kN':>15s} {'wall s':>7s}")
+    print(
+        f"{'model':6s} {'amplitude mm':>12s} {'angle max deg':>13s} {'p0 max MPa':>10s} "
+        f"{'N_flange max kN':>15s} {'wall s':>7s}"
+    )
     for m in MODELS:
         d = res[m]
-        print(f"{m:6s} {d['amplitude'] * 1e3:12.2f} {np.degrees(d['contact_angle'].max()):13.1f} "
-              f"{d['p0'].max() / 1e6:10.0f} {d['N_flange'].max() / 1e3:15.1f} {d['wall']:7.1f}")
+        print(
+            f"{m:6s} {d['amplitude'] * 1e3:12.2f} {np.degrees(d['contact_angle'].max()):13.1f} "
+            f"{d['p0'].max() / 1e6:10.0f} {d['N_flange'].max() / 1e3:15.1f} {d['wall']:7.1f}"
+        )
     print(f"wrote {plot(res, args.speed)}")
 
 

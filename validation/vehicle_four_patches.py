@@ -10,6 +10,7 @@ patch's lateral centre line and the friction power per unit width across the pat
 RF, FF on one chart each, with the flange- and field-side maxima of the friction power
 density printed beside the paper's (Kaiser: RR 13 / 7, FF 4 / 5 W/mm^2).
 """
+
 from __future__ import annotations
 
 import pickle
@@ -42,12 +43,16 @@ def load() -> dict:
 
 def main() -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     patches = load()
     fig, ax = plt.subplots(1, 2, figsize=(12.0, 4.6))
-    print("| variant | friction power, W | flange-side max, W/mm^2 (y, mm) | field-side max, W/mm^2 "
-          "(y, mm) | pressure max, MPa |\n|---|---|---|---|---|")
+    print(
+        "| variant | friction power, W | flange-side max, W/mm^2 (y, mm) | field-side max, W/mm^2 "
+        "(y, mm) | pressure max, MPa |\n|---|---|---|---|---|"
+    )
     for m in MODELS:
         p = patches[m]
         col, ls = STYLE[m]
@@ -55,11 +60,14 @@ def main() -> None:
         y = p.y[0] * 1e3
         dx = p.x[1, 0] - p.x[0, 0]
         ax[0].plot(y, p.pressure[i0] / 1e6, ls, color=col, label=m)
-        ax[1].plot(y, p.power_density.sum(axis=0) * dx / 1e3, ls, color=col,
-                   label=f"{m} (total {p.power:.1f} W)")
+        ax[1].plot(
+            y, p.power_density.sum(axis=0) * dx / 1e3, ls, color=col, label=f"{m} (total {p.power:.1f} W)"
+        )
         (qf, yf), (qo, yo) = _two_maxima(p, 0, "power_density")
-        print(f"| {m} | {p.power:.2f} | {qf / 1e6:.2f} ({yf * 1e3:+.1f}) | {qo / 1e6:.2f} "
-              f"({yo * 1e3:+.1f}) | {p.pressure.max() / 1e6:.0f} |")
+        print(
+            f"| {m} | {p.power:.2f} | {qf / 1e6:.2f} ({yf * 1e3:+.1f}) | {qo / 1e6:.2f} "
+            f"({yo * 1e3:+.1f}) | {p.pressure.max() / 1e6:.0f} |"
+        )
     ax[0].set_title("pressure along the patch's lateral centre line (x = 0)", fontsize=10)
     ax[0].set_ylabel("pressure, MPa")
     ax[1].set_title("friction power per unit width (density integrated along x)", fontsize=10)
@@ -69,8 +77,9 @@ def main() -> None:
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
         a.set_xlim(-14, 10)
-    fig.suptitle("The four variants, centred running 200 km/h, BEM 0.75 mm: leading wheelset, "
-                 "left wheel", fontsize=11)
+    fig.suptitle(
+        "The four variants, centred running 200 km/h, BEM 0.75 mm: leading wheelset, left wheel", fontsize=11
+    )
     fig.tight_layout()
     FIG.mkdir(exist_ok=True)
     path = FIG / "vehicle_four_patches.png"

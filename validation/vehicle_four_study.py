@@ -28,6 +28,7 @@ table with the paper's claims and each item's wall time and the process's peak m
 charts: vehicle_four_study_bifurcation.png (the four diagrams: the upper branch and the decay
 tests), vehicle_four_study_speeds.png (the table as a chart).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -78,14 +79,23 @@ def linear(model: str, cheap: bool) -> tuple[float, float]:
 def path(model: str, contact: str, cheap: bool, **kw) -> dict:
     c = nonlinear_critical_speed(model, contact, **_selection(model, cheap), **kw)
     print("  " + c.message, flush=True)
-    return {"fold": c.fold_kmh, "fold_lo": c.fold_bracket_kmh[0], "fold_hi": c.fold_bracket_kmh[1],
-            "decay": c.decay_boundary_kmh, "decay_lo": c.decay_bracket_kmh[0],
-            "decay_hi": c.decay_bracket_kmh[1], "amp": c.fold_amplitude,
-            "branch": c.fold_branch,
-            "path_kmh": np.asarray(c.path_speeds) * 3.6, "path_amp": np.asarray(c.path_amplitudes),
-            "path_alive": np.asarray(c.path_alive), "decay_kmh": np.asarray(c.decay_speeds) * 3.6,
-            "decay_amp": np.asarray(c.decay_amplitudes), "decay_rate": np.asarray(c.decay_rates),
-            "failure": c.failure}
+    return {
+        "fold": c.fold_kmh,
+        "fold_lo": c.fold_bracket_kmh[0],
+        "fold_hi": c.fold_bracket_kmh[1],
+        "decay": c.decay_boundary_kmh,
+        "decay_lo": c.decay_bracket_kmh[0],
+        "decay_hi": c.decay_bracket_kmh[1],
+        "amp": c.fold_amplitude,
+        "branch": c.fold_branch,
+        "path_kmh": np.asarray(c.path_speeds) * 3.6,
+        "path_amp": np.asarray(c.path_amplitudes),
+        "path_alive": np.asarray(c.path_alive),
+        "decay_kmh": np.asarray(c.decay_speeds) * 3.6,
+        "decay_amp": np.asarray(c.decay_amplitudes),
+        "decay_rate": np.asarray(c.decay_rates),
+        "failure": c.failure,
+    }
 
 
 def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
@@ -96,18 +106,27 @@ def _store(out: dict, prefix: str, d: dict, wall: float) -> None:
     _save(out)
 
 
-def run(models: list[str], bem: list[str], resolution: float, duration: float, cheap: bool,
-        force: bool, bem_above: float = 40.0, bem_step: float = 10.0,
-        bem_h: float | None = None, bem_ring_inertia: bool = False,
-        bem_below: float = 25.0, bem_resolution: float | None = None) -> dict:
+def run(
+    models: list[str],
+    bem: list[str],
+    resolution: float,
+    duration: float,
+    cheap: bool,
+    force: bool,
+    bem_above: float = 40.0,
+    bem_step: float = 10.0,
+    bem_h: float | None = None,
+    bem_ring_inertia: bool = False,
+    bem_below: float = 25.0,
+    bem_resolution: float | None = None,
+) -> dict:
     out = _load()
     out["selection"] = np.array("k_max 1 / 300 Hz" if cheap else "k_max 2 / 800 Hz")
     for m in models:
         if force or f"{m}_linear" not in out:
             t = time.perf_counter()
             v, f = linear(m, cheap)
-            print(f"{m} linear: {v:.1f} km/h, {f:.2f} Hz [{time.perf_counter() - t:.0f} s]",
-                  flush=True)
+            print(f"{m} linear: {v:.1f} km/h, {f:.2f} Hz [{time.perf_counter() - t:.0f} s]", flush=True)
             _store(out, f"{m}_linear", {"kmh": v, "hz": f}, time.perf_counter() - t)
         if force or f"{m}_strip_fold" not in out:
             t = time.perf_counter()
@@ -121,10 +140,19 @@ def run(models: list[str], bem: list[str], resolution: float, duration: float, c
             continue
         if force or f"{m}_bem_fold_hi" not in out or not np.isfinite(out[f"{m}_bem_fold_hi"]):
             t = time.perf_counter()
-            d = path(m, "bem", cheap, speed_top_kmh=min(fold + bem_above, 460.0),
-                     speed_floor_kmh=fold - bem_below, step_kmh=bem_step,
-                     resolution_kmh=bem_resolution or bem_step / 2.0, duration=duration, decay=False,
-                     h=bem_h, **({"ring_residual_inertia": True} if bem_ring_inertia else {}))
+            d = path(
+                m,
+                "bem",
+                cheap,
+                speed_top_kmh=min(fold + bem_above, 460.0),
+                speed_floor_kmh=fold - bem_below,
+                step_kmh=bem_step,
+                resolution_kmh=bem_resolution or bem_step / 2.0,
+                duration=duration,
+                decay=False,
+                h=bem_h,
+                **({"ring_residual_inertia": True} if bem_ring_inertia else {}),
+            )
             _store(out, f"{m}_bem", d, time.perf_counter() - t)
             print(f"{m} BEM bracket [{time.perf_counter() - t:.0f} s]", flush=True)
     return out
@@ -140,7 +168,7 @@ def _bem_bracket(out: dict, m: str) -> tuple[float, float]:
     lo, hi = _f(out, f"{m}_bem_fold_lo"), _f(out, f"{m}_bem_fold_hi")
     if np.isnan(lo) and np.isfinite(hi) and f"{m}_bem_low_fold_hi" in out:
         low_lo, low_hi = _f(out, f"{m}_bem_low_fold_lo"), _f(out, f"{m}_bem_low_fold_hi")
-        if np.isfinite(low_hi):             # the low path's top lived: it extends the path
+        if np.isfinite(low_hi):  # the low path's top lived: it extends the path
             lo, hi = low_lo, low_hi
     return lo, hi
 
@@ -162,33 +190,41 @@ def _bem_text(out: dict, m: str) -> str:
     sp = out[f"{m}_bem_path_kmh"]
     dead = sp[~out[f"{m}_bem_path_alive"].astype(bool) & np.isfinite(out[f"{m}_bem_path_amp"])]
     why = str(out.get(f"{m}_bem_failure", ""))
-    parts = ([f"no cycle at {', '.join(f'{v:.0f}' for v in dead)} km/h from 6 mm"] if dead.size
-             else []) + ([why] if why else [])
+    parts = ([f"no cycle at {', '.join(f'{v:.0f}' for v in dead)} km/h from 6 mm"] if dead.size else []) + (
+        [why] if why else []
+    )
     return "not bracketed: " + "; ".join(parts)
 
 
 def table(out: dict) -> str:
-    rows = ["| variant | linear, km/h | nonlinear strip: fold [bracket], km/h | decay boundary, "
-            "km/h | nonlinear BEM: fold bracket, km/h | paper | wall time (lin / strip / BEM) |",
-            "|---|---|---|---|---|---|---|"]
+    rows = [
+        "| variant | linear, km/h | nonlinear strip: fold [bracket], km/h | decay boundary, "
+        "km/h | nonlinear BEM: fold bracket, km/h | paper | wall time (lin / strip / BEM) |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for m in MODELS:
         if f"{m}_linear_kmh" not in out:
             continue
         bem = _bem_text(out, m)
-        walls = " / ".join(f"{_f(out, f'{m}_{k}_wall'):.0f} s" if f"{m}_{k}_wall" in out else "-"
-                           for k in ("linear", "strip", "bem"))
+        walls = " / ".join(
+            f"{_f(out, f'{m}_{k}_wall'):.0f} s" if f"{m}_{k}_wall" in out else "-"
+            for k in ("linear", "strip", "bem")
+        )
         rows.append(
             f"| {m} | {_f(out, f'{m}_linear_kmh'):.1f} | {_f(out, f'{m}_strip_fold'):.1f} "
             f"[{_f(out, f'{m}_strip_fold_lo'):.1f}, {_f(out, f'{m}_strip_fold_hi'):.1f}] "
-            f"| {_f(out, f'{m}_strip_decay'):.1f} | {bem} | ~{PAPER_KMH[m]:.0f} | {walls} |")
+            f"| {_f(out, f'{m}_strip_decay'):.1f} | {bem} | ~{PAPER_KMH[m]:.0f} | {walls} |"
+        )
     peak = max((_f(out, k) for k in out if k.endswith("_peak_mb")), default=float("nan"))
     return "\n".join(rows) + f"\n\npeak memory of the runs: {peak:.0f} MB"
 
 
 def plot(out: dict) -> list[Path]:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(2, 2, figsize=(11, 8), sharex=True, sharey=True)
     for ax, m in zip(axes.flat, MODELS):
         ax.set_title(m, fontsize=10)
@@ -201,8 +237,14 @@ def plot(out: dict) -> list[Path]:
         ax.plot(s[alive], a[alive], "o", color="C0", label="upper branch (cycle alive)")
         ax.plot(s[~alive], a[~alive], "x", color="C0", label="upper branch (died)")
         if f"{m}_strip_decay_kmh" in out:
-            ax.plot(out[f"{m}_strip_decay_kmh"], out[f"{m}_strip_decay_amp"] * 1e3, "s",
-                    mfc="none", color="C1", label="from 0.5 mm (decay test)")
+            ax.plot(
+                out[f"{m}_strip_decay_kmh"],
+                out[f"{m}_strip_decay_amp"] * 1e3,
+                "s",
+                mfc="none",
+                color="C1",
+                label="from 0.5 mm (decay test)",
+            )
         if f"{m}_bem_path_kmh" in out:
             sb, ab = out[f"{m}_bem_path_kmh"], out[f"{m}_bem_path_amp"] * 1e3
             ok = out[f"{m}_bem_path_alive"].astype(bool)
@@ -213,9 +255,11 @@ def plot(out: dict) -> list[Path]:
             for sel, mfc, lab in ((ok, "C3", "BEM: cycle alive"), (~ok, "none", "BEM: died")):
                 if sel.any():
                     ax.plot(sb[sel], ab[sel], "D", mfc=mfc, color="C3", label=lab)
-        for key, ls, lab in (("strip_fold", "-", "fold (strip)"),
-                             ("strip_decay", "--", "decay boundary"),
-                             ("linear_kmh", ":", "linear")):
+        for key, ls, lab in (
+            ("strip_fold", "-", "fold (strip)"),
+            ("strip_decay", "--", "decay boundary"),
+            ("linear_kmh", ":", "linear"),
+        ):
             if np.isfinite(_f(out, f"{m}_{key}")):
                 ax.axvline(_f(out, f"{m}_{key}"), ls=ls, color="k", lw=0.8, label=lab)
         ax.legend(fontsize=7)
@@ -223,51 +267,72 @@ def plot(out: dict) -> list[Path]:
         ax.set_xlabel("speed, km/h")
     for ax in axes[:, 0]:
         ax.set_ylabel("leading wheelset amplitude, mm")
-    fig.suptitle("Bifurcation diagrams of the four variants: Hertz + Kalker on the strips "
-                 f"(BEM where run); FR, FF: {out.get('selection', 'selection not stored')}",
-                 fontsize=11)
+    fig.suptitle(
+        "Bifurcation diagrams of the four variants: Hertz + Kalker on the strips "
+        f"(BEM where run); FR, FF: {out.get('selection', 'selection not stored')}",
+        fontsize=11,
+    )
     fig.tight_layout()
     p1 = FIG / "vehicle_four_study_bifurcation.png"
     fig.savefig(p1, dpi=110)
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(9, 4.5))
     x = np.arange(len(MODELS))
-    series = [("linear", [_f(out, f"{m}_linear_kmh") for m in MODELS]),
-              ("fold, strip", [_f(out, f"{m}_strip_fold") for m in MODELS]),
-              ("decay boundary, strip", [_f(out, f"{m}_strip_decay") for m in MODELS]),
-              ("fold, BEM", [_bem_value(out, m)[0] for m in MODELS]),
-              ("paper (Kaiser)", [PAPER_KMH[m] for m in MODELS])]
+    series = [
+        ("linear", [_f(out, f"{m}_linear_kmh") for m in MODELS]),
+        ("fold, strip", [_f(out, f"{m}_strip_fold") for m in MODELS]),
+        ("decay boundary, strip", [_f(out, f"{m}_strip_decay") for m in MODELS]),
+        ("fold, BEM", [_bem_value(out, m)[0] for m in MODELS]),
+        ("paper (Kaiser)", [PAPER_KMH[m] for m in MODELS]),
+    ]
     wdt = 0.16
-    brackets = {"fold, strip": [(_f(out, f"{m}_strip_fold_lo"), _f(out, f"{m}_strip_fold_hi"))
-                                for m in MODELS],
-                "fold, BEM": [_bem_bracket(out, m) for m in MODELS]}
+    brackets = {
+        "fold, strip": [(_f(out, f"{m}_strip_fold_lo"), _f(out, f"{m}_strip_fold_hi")) for m in MODELS],
+        "fold, BEM": [_bem_bracket(out, m) for m in MODELS],
+    }
     for i, (lab, vals) in enumerate(series):
         bars = ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
-        if lab in brackets:         # the bracket [lo, hi] as a whisker below the bar's top
+        if lab in brackets:  # the bracket [lo, hi] as a whisker below the bar's top
             lo = np.array([b[0] for b in brackets[lab]])
             hi = np.array([b[1] for b in brackets[lab]])
             ok = np.isfinite(lo) & np.isfinite(hi)
-            ax.errorbar((x + (i - 2) * wdt)[ok], hi[ok], yerr=[hi[ok] - lo[ok], 0 * hi[ok]],
-                        fmt="none", ecolor="k", capsize=3, lw=1)
+            ax.errorbar(
+                (x + (i - 2) * wdt)[ok],
+                hi[ok],
+                yerr=[hi[ok] - lo[ok], 0 * hi[ok]],
+                fmt="none",
+                ecolor="k",
+                capsize=3,
+                lw=1,
+            )
         if lab == "fold, BEM":
             for b, m in zip(bars, MODELS):
                 if f"{m}_bem_fold_hi" not in out or _bem_value(out, m)[1]:
                     continue
-                if np.isfinite(_bem_value(out, m)[0]):       # alive down to there: <=
+                if np.isfinite(_bem_value(out, m)[0]):  # alive down to there: <=
                     b.set_hatch("//")
-                    ax.annotate("<=", (b.get_x() + wdt / 2, b.get_height()), ha="center",
-                                va="bottom", fontsize=8)
+                    ax.annotate(
+                        "<=", (b.get_x() + wdt / 2, b.get_height()), ha="center", va="bottom", fontsize=8
+                    )
                 else:
-                    ax.annotate("BEM:\nnot\nbracketed", (b.get_x() + wdt / 2, 205.0),
-                                ha="center", va="bottom", fontsize=7)
+                    ax.annotate(
+                        "BEM:\nnot\nbracketed",
+                        (b.get_x() + wdt / 2, 205.0),
+                        ha="center",
+                        va="bottom",
+                        fontsize=7,
+                    )
     ax.set_xticks(x, MODELS)
     ax.set_ylabel("critical speed, km/h")
     ax.set_ylim(200, 450)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=3, loc="upper right")
-    ax.set_title("Critical speeds of the four variants (folds drawn at the bracket's top, whisker: "
-                 "the bracket)\nmissing bars: not run or not bracketed; hatched: an upper bound, "
-                 "the cycle alive down to there", fontsize=10)
+    ax.set_title(
+        "Critical speeds of the four variants (folds drawn at the bracket's top, whisker: "
+        "the bracket)\nmissing bars: not run or not bracketed; hatched: an upper bound, "
+        "the cycle alive down to there",
+        fontsize=10,
+    )
     fig.tight_layout()
     p2 = FIG / "vehicle_four_study_speeds.png"
     fig.savefig(p2, dpi=110)
@@ -283,25 +348,51 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--resolution", type=float, default=2.5, help="fold bracket, km/h")
     ap.add_argument("--duration", type=float, default=4.0, help="s per speed")
     ap.add_argument("--cheap", action="store_true", help="FR/FF at k_max 1 / 300 Hz")
-    ap.add_argument("--bem-above", type=float, default=40.0,
-                    help="the BEM path starts this far above the strip fold, km/h")
-    ap.add_argument("--bem-step", type=float, default=10.0,
-                    help="the BEM path's step, km/h (bracket: half of it)")
-    ap.add_argument("--bem-below", type=float, default=25.0,
-                    help="the BEM path's floor this far below the strip fold, km/h")
-    ap.add_argument("--bem-resolution", type=float, default=None,
-                    help="the BEM fold bracket's width, km/h (default: half the step)")
-    ap.add_argument("--bem-h", type=float, default=None,
-                    help="the BEM runs' time step, s (default: the scenarios')")
-    ap.add_argument("--bem-ring-inertia", action="store_true",
-                    help="the BEM path with the ring's residual inertia (ring_residual_inertia: "
-                         "FF's flange impacts need it with the BEM)")
+    ap.add_argument(
+        "--bem-above",
+        type=float,
+        default=40.0,
+        help="the BEM path starts this far above the strip fold, km/h",
+    )
+    ap.add_argument(
+        "--bem-step", type=float, default=10.0, help="the BEM path's step, km/h (bracket: half of it)"
+    )
+    ap.add_argument(
+        "--bem-below",
+        type=float,
+        default=25.0,
+        help="the BEM path's floor this far below the strip fold, km/h",
+    )
+    ap.add_argument(
+        "--bem-resolution",
+        type=float,
+        default=None,
+        help="the BEM fold bracket's width, km/h (default: half the step)",
+    )
+    ap.add_argument(
+        "--bem-h", type=float, default=None, help="the BEM runs' time step, s (default: the scenarios')"
+    )
+    ap.add_argument(
+        "--bem-ring-inertia",
+        action="store_true",
+        help="the BEM path with the ring's residual inertia (ring_residual_inertia: "
+        "FF's flange impacts need it with the BEM)",
+    )
     ap.add_argument("--force", action="store_true", help="recompute stored items")
     ap.add_argument("--replot", action="store_true")
-    ap.add_argument("--store", type=Path, default=STORE,
-                    help="results file (two runs side by side: one each, then --merge)")
-    ap.add_argument("--merge", type=Path, nargs="*", default=[],
-                    help="with --replot: results files to merge into --store first")
+    ap.add_argument(
+        "--store",
+        type=Path,
+        default=STORE,
+        help="results file (two runs side by side: one each, then --merge)",
+    )
+    ap.add_argument(
+        "--merge",
+        type=Path,
+        nargs="*",
+        default=[],
+        help="with --replot: results files to merge into --store first",
+    )
     a = ap.parse_args(argv)
     STORE = a.store
     if a.merge:
@@ -311,9 +402,24 @@ def main(argv: list[str] | None = None) -> None:
     for m in models + bem:
         if m not in MODELS:
             raise SystemExit(f"unknown model {m!r}: {MODELS}")
-    out = _load() if a.replot else run(models, bem, a.resolution, a.duration, a.cheap, a.force,
-                                       a.bem_above, a.bem_step, a.bem_h, a.bem_ring_inertia,
-                                       a.bem_below, a.bem_resolution)
+    out = (
+        _load()
+        if a.replot
+        else run(
+            models,
+            bem,
+            a.resolution,
+            a.duration,
+            a.cheap,
+            a.force,
+            a.bem_above,
+            a.bem_step,
+            a.bem_h,
+            a.bem_ring_inertia,
+            a.bem_below,
+            a.bem_resolution,
+        )
+    )
     print(table(out))
     for p in plot(out):
         print(f"wrote {p}")

@@ -32,6 +32,7 @@ Writes validation/figures/vehicle_four_variants_q.png, vehicle_four_variants_pha
 vehicle_four_variants_amplitude.png and prints the tables; the numbers are kept in
 validation/figures/vehicle_four_variants.npz for --replot.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -53,20 +54,28 @@ GEOMETRY = "strip"
 def centred(model: str) -> dict:
     """Centred running at 200 km/h: Q history, spectrum peak, rim camber, wall time."""
     t0 = time.perf_counter()
-    c = scenarios.centred_running(200.0, model=model, contact="hertz-fastsim", duration=1.0,
-                                  output_dt=5e-4, progress=False, geometry=GEOMETRY)
+    c = scenarios.centred_running(
+        200.0,
+        model=model,
+        contact="hertz-fastsim",
+        duration=1.0,
+        output_dt=5e-4,
+        progress=False,
+        geometry=GEOMETRY,
+    )
     r = c.run
     k = r.t >= r.t[0] + 0.2
-    q = r.Q[k]                                   # (nt, 2, 4)
+    q = r.Q[k]  # (nt, 2, 4)
     dt = float(r.t[1] - r.t[0])
     s = q[:, 0, 0] - q[:, 0, 0].mean()
     f = np.fft.rfftfreq(s.size, dt)
     a = np.abs(np.fft.rfft(s * np.hanning(s.size))) * 2 / s.size
-    band = f > 20.0                              # above the carbody and bogie modes
+    band = f > 20.0  # above the carbody and bogie modes
     fpk = float(f[band][np.argmax(a[band])])
     rim = c.rim_camber if c.rim_camber is not None else np.zeros((2, 4))
-    return dict(t=r.t[k], q=q, f=f, a=a, fpk=fpk, rim=rim, load=c.static_wheel_load,
-                wall=time.perf_counter() - t0)
+    return dict(
+        t=r.t[k], q=q, f=f, a=a, fpk=fpk, rim=rim, load=c.static_wheel_load, wall=time.perf_counter() - t0
+    )
 
 
 def hunting(model: str, kmh: float) -> dict:
@@ -74,24 +83,40 @@ def hunting(model: str, kmh: float) -> dict:
     kw = {"ring_residual": False} if model in ("RF", "FF") else {}
     t0 = time.perf_counter()
     try:
-        r = scenarios.hunting(kmh, model=model, contact="hertz-fastsim", duration=3.0,
-                              y0=0.006, progress=False, geometry=GEOMETRY, **kw)
-    except Exception as e:          # a failed run is recorded, the study goes on
-        return dict(ok=False, error=f"{type(e).__name__}: {e}"[:160],
-                    wall=time.perf_counter() - t0)
+        r = scenarios.hunting(
+            kmh,
+            model=model,
+            contact="hertz-fastsim",
+            duration=3.0,
+            y0=0.006,
+            progress=False,
+            geometry=GEOMETRY,
+            **kw,
+        )
+    except Exception as e:  # a failed run is recorded, the study goes on
+        return dict(ok=False, error=f"{type(e).__name__}: {e}"[:160], wall=time.perf_counter() - t0)
     k = r.t >= r.t[-1] - 1.5
-    return dict(ok=True, t=r.t[k], y=r.y_ws1[k], vy=r.vy_ws1[k],
-                amp=scenarios.amplitude(r), qmax=float(r.Q.max()),
-                wall=time.perf_counter() - t0)
+    return dict(
+        ok=True,
+        t=r.t[k],
+        y=r.y_ws1[k],
+        vy=r.vy_ws1[k],
+        amp=scenarios.amplitude(r),
+        qmax=float(r.Q.max()),
+        wall=time.perf_counter() - t0,
+    )
 
 
 def run(speeds: list[float]) -> dict:
     out: dict = {"speeds": np.array(speeds)}
     for m in MODELS:
         c = centred(m)
-        print(f"centred {m}: dominant Q frequency {c['fpk']:.1f} Hz (sleeper passing "
-              f"{SLEEPER_HZ:.1f} Hz), Q 1L {c['q'][:, 0, 0].min() / 1e3:.2f}.."
-              f"{c['q'][:, 0, 0].max() / 1e3:.2f} kN, wall {c['wall']:.0f} s", flush=True)
+        print(
+            f"centred {m}: dominant Q frequency {c['fpk']:.1f} Hz (sleeper passing "
+            f"{SLEEPER_HZ:.1f} Hz), Q 1L {c['q'][:, 0, 0].min() / 1e3:.2f}.."
+            f"{c['q'][:, 0, 0].max() / 1e3:.2f} kN, wall {c['wall']:.0f} s",
+            flush=True,
+        )
         for key, val in c.items():
             out[f"c_{m}_{key}"] = np.asarray(val)
         for s in speeds:
@@ -102,19 +127,24 @@ def run(speeds: list[float]) -> dict:
             if h["ok"]:
                 for key in ("t", "y", "vy", "amp", "qmax"):
                     out[f"{tag}_{key}"] = np.asarray(h[key])
-                print(f"hunting {m} {s:.0f} km/h: amplitude {h['amp'] * 1e3:.2f} mm, Q max "
-                      f"{h['qmax'] / 1e3:.0f} kN, wall {h['wall']:.0f} s", flush=True)
+                print(
+                    f"hunting {m} {s:.0f} km/h: amplitude {h['amp'] * 1e3:.2f} mm, Q max "
+                    f"{h['qmax'] / 1e3:.0f} kN, wall {h['wall']:.0f} s",
+                    flush=True,
+                )
             else:
                 out[f"{tag}_error"] = np.array(h["error"])
                 print(f"hunting {m} {s:.0f} km/h: FAILED {h['error']}", flush=True)
-        np.savez(STORE, **out)          # what is finished is kept
+        np.savez(STORE, **out)  # what is finished is kept
     return dict(np.load(STORE))
 
 
 def report(d: dict) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     speeds = d["speeds"]
     # 1. centred running
     fig, ax = plt.subplots(2, 1, figsize=(9, 7))
@@ -125,21 +155,30 @@ def report(d: dict) -> None:
         q = d[f"c_{m}_q"][:, 0, 0]
         t = d[f"c_{m}_t"]
         ax[0].plot(t, q / 1e3, lw=0.8, label=m)
-        steady = np.ptp(q) < 1.0       # rigid track elements: Q constant (round-off only)
+        steady = np.ptp(q) < 1.0  # rigid track elements: Q constant (round-off only)
         if not steady:
             ax[1].semilogy(d[f"c_{m}_f"], d[f"c_{m}_a"] / 1e3 + 1e-9, lw=0.8, label=m)
         load = float(d[f"c_{m}_load"])
         rim = d[f"c_{m}_rim"][0, 0] * 1e3
         fpk = "none (Q constant)" if steady else f"{float(d[f'c_{m}_fpk']):.1f}"
-        print(f"| {m} | {q.min() / 1e3:.2f}..{q.max() / 1e3:.2f} | {np.ptp(q) / load:.4f} | "
-              f"{fpk} | {rim:+.3f} | {float(d[f'c_{m}_wall']):.0f} |")
+        print(
+            f"| {m} | {q.min() / 1e3:.2f}..{q.max() / 1e3:.2f} | {np.ptp(q) / load:.4f} | "
+            f"{fpk} | {rim:+.3f} | {float(d[f'c_{m}_wall']):.0f} |"
+        )
     print(f"(paper, FF: Q 59-60.8 kN, p-p / static about 0.03, at {SLEEPER_HZ:.1f} Hz)")
-    ax[0].set(xlabel="time, s", ylabel="Q, kN", title="Centred running at 200 km/h: Q at the "
-              "leading left wheel (FASTSIM, strips)")
+    ax[0].set(
+        xlabel="time, s",
+        ylabel="Q, kN",
+        title="Centred running at 200 km/h: Q at the leading left wheel (FASTSIM, strips)",
+    )
     ax[1].axvline(SLEEPER_HZ, color="k", ls=":", lw=0.8, label=f"sleeper passing {SLEEPER_HZ:.1f} Hz")
-    ax[1].set(xlim=(0, 400), ylim=(1e-4, None), xlabel="frequency, Hz",
-              ylabel="amplitude of Q, kN", title="Spectrum of Q (Hann window, t > 0.2 s; RR, FR: "
-              "Q constant, not drawn)")
+    ax[1].set(
+        xlim=(0, 400),
+        ylim=(1e-4, None),
+        xlabel="frequency, Hz",
+        ylabel="amplitude of Q, kN",
+        title="Spectrum of Q (Hann window, t > 0.2 s; RR, FR: Q constant, not drawn)",
+    )
     for a in ax:
         a.legend(fontsize=8, ncol=5, loc="upper right", framealpha=0.9)
         a.grid(alpha=0.3)
@@ -147,8 +186,14 @@ def report(d: dict) -> None:
     fig.savefig(FIG / "vehicle_four_variants_q.png", dpi=120)
     plt.close(fig)
     # 2. phase portraits
-    fig, ax = plt.subplots(len(MODELS), len(speeds), figsize=(2.0 * len(speeds), 2.0 * len(MODELS)),
-                           sharex=True, sharey=True, squeeze=False)
+    fig, ax = plt.subplots(
+        len(MODELS),
+        len(speeds),
+        figsize=(2.0 * len(speeds), 2.0 * len(MODELS)),
+        sharex=True,
+        sharey=True,
+        squeeze=False,
+    )
     for i, m in enumerate(MODELS):
         for j, s in enumerate(speeds):
             tag = f"h_{m}_{s:.0f}"
@@ -156,8 +201,16 @@ def report(d: dict) -> None:
             if bool(d[f"{tag}_ok"]):
                 a.plot(d[f"{tag}_y"] * 1e3, d[f"{tag}_vy"], lw=0.6)
             else:
-                a.text(0.5, 0.5, "run failed", ha="center", va="center", transform=a.transAxes,
-                       fontsize=8, color="r")
+                a.text(
+                    0.5,
+                    0.5,
+                    "run failed",
+                    ha="center",
+                    va="center",
+                    transform=a.transAxes,
+                    fontsize=8,
+                    color="r",
+                )
             if i == 0:
                 a.set_title(f"{s:.0f} km/h", fontsize=9)
             if j == 0:
@@ -165,8 +218,11 @@ def report(d: dict) -> None:
             if i == len(MODELS) - 1:
                 a.set_xlabel("y, mm", fontsize=9)
             a.grid(alpha=0.3)
-    fig.suptitle("Hunting from a 6 mm shift: leading wheelset's phase portraits, last 1.5 s of "
-                 "3 s (Hertz + FASTSIM on the strips)", fontsize=10)
+    fig.suptitle(
+        "Hunting from a 6 mm shift: leading wheelset's phase portraits, last 1.5 s of "
+        "3 s (Hertz + FASTSIM on the strips)",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(FIG / "vehicle_four_variants_phase.png", dpi=110)
     plt.close(fig)
@@ -176,8 +232,9 @@ def report(d: dict) -> None:
     print("| variant | " + " | ".join(f"{s:.0f}" for s in speeds) + " | critical (between), km/h |")
     print("|---|" + "---|" * (len(speeds) + 1))
     for m in MODELS:
-        amp = np.array([float(d[f"h_{m}_{s:.0f}_amp"]) if bool(d[f"h_{m}_{s:.0f}_ok"])
-                        else np.nan for s in speeds])
+        amp = np.array(
+            [float(d[f"h_{m}_{s:.0f}_amp"]) if bool(d[f"h_{m}_{s:.0f}_ok"]) else np.nan for s in speeds]
+        )
         a.plot(speeds, amp * 1e3, "o-", ms=4, label=m)
         # the lowest speed from which every run that completed sustains its cycle (failed
         # runs are left out and named)
@@ -188,17 +245,25 @@ def report(d: dict) -> None:
         k = len(al)
         while k > 0 and al[k - 1]:
             k -= 1
-        crit = ("none sustained" if k == len(al) else
-                f"<= {sp_ok[order][0]:.0f}" if k == 0 else
-                f"{sp_ok[order][k - 1]:.0f}-{sp_ok[order][k]:.0f}")
+        crit = (
+            "none sustained"
+            if k == len(al)
+            else f"<= {sp_ok[order][0]:.0f}"
+            if k == 0
+            else f"{sp_ok[order][k - 1]:.0f}-{sp_ok[order][k]:.0f}"
+        )
         if not ok.all():
             crit += f" (runs at {', '.join(f'{x:.0f}' for x in speeds[~ok])} failed)"
         cells = " | ".join("failed" if not np.isfinite(x) else f"{x * 1e3:.2f}" for x in amp)
         print(f"| {m} | {cells} | {crit} |")
     print("(paper: RR about 390, FR and RF about 350, FF 330 km/h or lower)")
     a.axhline(THRESHOLD * 1e3, color="k", ls=":", lw=0.8, label="sustained-cycle threshold")
-    a.set(xlabel="speed, km/h", ylabel="amplitude, mm", title="Hunting from 6 mm: leading "
-          "wheelset's amplitude after 3 s (FASTSIM, strips;\nfailed runs not drawn)")
+    a.set(
+        xlabel="speed, km/h",
+        ylabel="amplitude, mm",
+        title="Hunting from 6 mm: leading "
+        "wheelset's amplitude after 3 s (FASTSIM, strips;\nfailed runs not drawn)",
+    )
     a.legend(fontsize=8, loc="lower right")
     a.grid(alpha=0.3)
     fig.tight_layout()

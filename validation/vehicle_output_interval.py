@@ -7,6 +7,7 @@ the sleeper passing aliases to about 7.4 Hz.
 
     python validation/vehicle_output_interval.py [--model FF] [--speed-kmh 200] [--duration 0.3]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -42,16 +43,20 @@ def main() -> int:
     k = t >= 0.05
     every = max(1, int(round(0.01 / dt)))
     worst = 0.0
-    print(f"{a.model} centred running {a.speed_kmh:g} km/h, {a.duration:g} s ({wall:.0f} s wall): "
-          f"default output interval {dt * 1e3:.3g} ms ({1 / (dt * f_s):.1f} samples per sleeper "
-          f"period); sleeper passing {f_s:.2f} Hz")
+    print(
+        f"{a.model} centred running {a.speed_kmh:g} km/h, {a.duration:g} s ({wall:.0f} s wall): "
+        f"default output interval {dt * 1e3:.3g} ms ({1 / (dt * f_s):.1f} samples per sleeper "
+        f"period); sleeper passing {f_s:.2f} Hz"
+    )
     for ws in range(c.run.Q.shape[2]):
         for w in range(2):
             f = dominant(t[k], c.run.Q[k, w, ws])
             fc = dominant(t[k][::every], c.run.Q[k, w, ws][::every])
             worst = max(worst, abs(f / f_s - 1))
-            print(f"  wheelset {ws + 1} wheel {'LR'[w]}: dominant {f:7.2f} Hz "
-                  f"({(f / f_s - 1) * 100:+.2f} %); read every 10 ms: {fc:6.2f} Hz")
+            print(
+                f"  wheelset {ws + 1} wheel {'LR'[w]}: dominant {f:7.2f} Hz "
+                f"({(f / f_s - 1) * 100:+.2f} %); read every 10 ms: {fc:6.2f} Hz"
+            )
     ok = worst <= 0.01
     print(f"largest deviation {worst * 100:.2f} % (acceptance 1 %): {'PASS' if ok else 'FAIL'}")
     return 0 if ok else 1

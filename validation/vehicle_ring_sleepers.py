@@ -32,6 +32,7 @@ Each ring runs as ``python validation/vehicle_ring_sleepers.py --one N --out FIL
 parent starts these one after the other; ``--jobs`` > 1 runs them side by side, which
 distorts the times on a shared machine).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -69,10 +70,10 @@ def one_ring(n: int, args: argparse.Namespace) -> dict:
     from railvti.vehicle.equilibrium import static_equilibrium
     from railvti.vehicle.simulate import simulate
     from railvti.errors import ConvergenceError
+
     out: dict = {"n": n, "rss_start_mb": _rss_mb()}
     t0, c0 = time.perf_counter(), time.process_time()
-    sy = scenarios.rf_system(speed_kmh=args.centred_kmh, n_sleepers=n, f_limit=args.f_limit,
-                             geometry="strip")
+    sy = scenarios.rf_system(speed_kmh=args.centred_kmh, n_sleepers=n, f_limit=args.f_limit, geometry="strip")
     out["build_wall_s"] = time.perf_counter() - t0
     out["build_s"] = time.process_time() - c0
     out["ring_modes"] = int(sy.ring.n_modes)
@@ -88,33 +89,50 @@ def one_ring(n: int, args: argparse.Namespace) -> dict:
         t, q = r.t[k], r.Q[k]
         f_sl = v / float(sy.ring.bay)
         amp = np.array([[harmonic(t, q[:, i, w], f_sl) for w in range(q.shape[2])] for i in range(2)])
-        out.update(centred_ptp=float(np.ptp(q, axis=0).mean()), centred_harmonic=float(amp.mean()),
-                   centred_wall_per_s=r.stats["wall_time"] / args.centred_duration,
-                   centred_cpu_per_s=cpu / args.centred_duration,
-                   centred_h=float(r.h), rss_centred_mb=_rss_mb())
+        out.update(
+            centred_ptp=float(np.ptp(q, axis=0).mean()),
+            centred_harmonic=float(amp.mean()),
+            centred_wall_per_s=r.stats["wall_time"] / args.centred_duration,
+            centred_cpu_per_s=cpu / args.centred_duration,
+            centred_h=float(r.h),
+            rss_centred_mb=_rss_mb(),
+        )
     if "hunting" in args.parts:
         c0, t0 = time.process_time(), time.perf_counter()
         try:
-            res = scenarios.hunting(args.hunting_kmh, model="RF", duration=args.hunting_duration,
-                                    n_sleepers=n, f_limit=args.f_limit, progress=False)
+            res = scenarios.hunting(
+                args.hunting_kmh,
+                model="RF",
+                duration=args.hunting_duration,
+                n_sleepers=n,
+                f_limit=args.f_limit,
+                progress=False,
+            )
             failed = float("nan")
-        except ConvergenceError as exc:      # recorded, not fatal: the other rings still run
+        except ConvergenceError as exc:  # recorded, not fatal: the other rings still run
             res, failed = exc.result, float(exc.result.t[-1])
         cpu = time.process_time() - c0
         k = res.t >= res.t[-1] - 1.0
         ok = np.isnan(failed)
-        out.update(hunting_amplitude=scenarios.amplitude(res, 1.0) if ok else float("nan"),
-                   hunting_q_max=float(res.Q[k].max()) if ok else float("nan"),
-                   hunting_y_max=float(np.abs(res.Y[k]).max()) if ok else float("nan"),
-                   hunting_failed_at=failed,
-                   hunting_wall_per_s=(time.perf_counter() - t0) / float(res.t[-1]),
-                   hunting_cpu_per_s=cpu / float(res.t[-1]), hunting_h=float(res.h),
-                   rss_hunting_mb=_rss_mb())
+        out.update(
+            hunting_amplitude=scenarios.amplitude(res, 1.0) if ok else float("nan"),
+            hunting_q_max=float(res.Q[k].max()) if ok else float("nan"),
+            hunting_y_max=float(np.abs(res.Y[k]).max()) if ok else float("nan"),
+            hunting_failed_at=failed,
+            hunting_wall_per_s=(time.perf_counter() - t0) / float(res.t[-1]),
+            hunting_cpu_per_s=cpu / float(res.t[-1]),
+            hunting_h=float(res.h),
+            rss_hunting_mb=_rss_mb(),
+        )
     if "linear" in args.parts:
         t0, c0 = time.perf_counter(), time.process_time()
         vc, fc = scenarios.linear_critical_speed("RF", n_sleepers=n, f_limit=args.f_limit)
-        out.update(linear_kmh=float(vc), linear_hz=float(fc), linear_wall_s=time.perf_counter() - t0,
-                   linear_s=time.process_time() - c0)
+        out.update(
+            linear_kmh=float(vc),
+            linear_hz=float(fc),
+            linear_wall_s=time.perf_counter() - t0,
+            linear_s=time.process_time() - c0,
+        )
     out["rss_peak_mb"] = _rss_mb()
     return out
 
@@ -141,17 +159,23 @@ def table(rows: list[dict]) -> str:
     each (the header names it)."""
     ref = {k: v for r in rows for k, v in r.items()}
     head = ["n_sl", "ring modes", "build, CPU s", "peak RSS, MB"]
-    cost_keys = [("centred_cpu_per_s", "centred: CPU s / sim s"),
-                 ("hunting_cpu_per_s", "hunting: CPU s / sim s"), ("linear_s", "linear: CPU s"),
-                 ("linear_wall_s", "linear: wall s")]
+    cost_keys = [
+        ("centred_cpu_per_s", "centred: CPU s / sim s"),
+        ("hunting_cpu_per_s", "hunting: CPU s / sim s"),
+        ("linear_s", "linear: CPU s"),
+        ("linear_wall_s", "linear: wall s"),
+    ]
     head += [lab for key, lab in cost_keys if key in ref]
     qkeys = [k for k in QUANTITIES if k in ref]
-    head += [f"{QUANTITIES[k][0]}, {QUANTITIES[k][2]} (error % vs {_reference(rows, k)['n']})"
-             for k in qkeys]
+    head += [f"{QUANTITIES[k][0]}, {QUANTITIES[k][2]} (error % vs {_reference(rows, k)['n']})" for k in qkeys]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
-        cells = [str(r["n"]), str(r["ring_modes"]), f"{r.get('build_s', np.nan):.1f}",
-                 f"{r.get('rss_peak_mb', np.nan):.0f}"]
+        cells = [
+            str(r["n"]),
+            str(r["ring_modes"]),
+            f"{r.get('build_s', np.nan):.1f}",
+            f"{r.get('rss_peak_mb', np.nan):.0f}",
+        ]
         cells += [f"{r.get(key, float('nan')):.1f}" for key, _ in cost_keys if key in ref]
         for k in qkeys:
             lab, sc, unit = QUANTITIES[k]
@@ -168,33 +192,41 @@ def table(rows: list[dict]) -> str:
 def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
     """Cost against error: per quantity, |error| against 128 over the time-loop cost."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     ref = {k: v for r in rows for k, v in r.items()}
     qkeys = [k for k in QUANTITIES if k in ref]
     fig, ax = plt.subplots(1, 2, figsize=(13, 5))
     ns = np.array([r["n"] for r in rows])
     cost_key = "hunting_cpu_per_s" if "hunting_cpu_per_s" in ref else "centred_cpu_per_s"
     for j, k in enumerate(qkeys):
-        if k == "linear_kmh":        # no error to draw at the bisection's resolution: a note
+        if k == "linear_kmh":  # no error to draw at the bisection's resolution: a note
             lin = [r for r in rows if np.isfinite(r.get(k, np.nan))]
-            ax[0].text(0.02, 0.03, "linear critical speed (bay average, bisection to 0.5 km/h):\n"
-                       + ", ".join(f"{r[k]:.1f}" for r in lin) + " km/h at n_sl = "
-                       + ", ".join(str(r["n"]) for r in lin),
-                       transform=ax[0].transAxes, fontsize=8,
-                       bbox=dict(facecolor="white", alpha=0.8, edgecolor="0.8"))
+            ax[0].text(
+                0.02,
+                0.03,
+                "linear critical speed (bay average, bisection to 0.5 km/h):\n"
+                + ", ".join(f"{r[k]:.1f}" for r in lin)
+                + " km/h at n_sl = "
+                + ", ".join(str(r["n"]) for r in lin),
+                transform=ax[0].transAxes,
+                fontsize=8,
+                bbox=dict(facecolor="white", alpha=0.8, edgecolor="0.8"),
+            )
             continue
         rk = _reference(rows, k)
         sub = [r for r in rows if r["n"] < rk["n"]]
         err = np.array([abs(r.get(k, np.nan) / rk[k] - 1.0) * 100.0 for r in sub])
         # the linear run's cost is its own (CPU s per critical speed); the others' the hunting
         cost = np.array([r.get(cost_key, np.nan) for r in sub])
-        ax[0].plot(cost, np.maximum(err, 1e-3), "o", color=f"C{j}",
-                   label=f"{QUANTITIES[k][0]} (vs n_sl = {rk['n']})")
+        ax[0].plot(
+            cost, np.maximum(err, 1e-3), "o", color=f"C{j}", label=f"{QUANTITIES[k][0]} (vs n_sl = {rk['n']})"
+        )
         for c, e, n in zip(cost, err, [r["n"] for r in sub]):
-            ax[0].annotate(str(n), (c, max(e, 1e-3)), fontsize=7, xytext=(3, 3),
-                           textcoords="offset points")
-    if len(rows) > 1:                # (one ring alone has no errors to draw)
+            ax[0].annotate(str(n), (c, max(e, 1e-3)), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    if len(rows) > 1:  # (one ring alone has no errors to draw)
         ax[0].set_xscale("log")
         ax[0].set_yscale("log")
     ax[0].set_xlabel(f"time-loop cost, CPU s per simulated s ({cost_key.split('_')[0]} run)")
@@ -202,11 +234,14 @@ def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
     ax[0].set_title("cost against error (labels: n_sl; one run each)")
     ax[0].grid(alpha=0.3, which="both")
     ax[0].legend(fontsize=8)
-    for key, lab, mk in (("build_s", "system build, CPU s", "s-"), ("rss_peak_mb", "peak RSS / 100, MB", "^-"),
-                         ("centred_cpu_per_s", "centred: CPU s per sim s", "o-"),
-                         ("hunting_cpu_per_s", "hunting: CPU s per sim s", "d-"),
-                         ("linear_s", "linear critical speed / 10, CPU s", "v-"),
-                         ("linear_wall_s", "linear critical speed / 10, wall s (shared machine)", "v--")):
+    for key, lab, mk in (
+        ("build_s", "system build, CPU s", "s-"),
+        ("rss_peak_mb", "peak RSS / 100, MB", "^-"),
+        ("centred_cpu_per_s", "centred: CPU s per sim s", "o-"),
+        ("hunting_cpu_per_s", "hunting: CPU s per sim s", "d-"),
+        ("linear_s", "linear critical speed / 10, CPU s", "v-"),
+        ("linear_wall_s", "linear critical speed / 10, wall s (shared machine)", "v--"),
+    ):
         if key not in ref:
             continue
         sc = 0.01 if key == "rss_peak_mb" else (0.1 if key.startswith("linear") else 1.0)
@@ -217,15 +252,18 @@ def figure(rows: list[dict], path: Path, args: argparse.Namespace) -> None:
     ax[1].set_title("cost against ring length")
     ax[1].grid(alpha=0.3)
     ax[1].legend(fontsize=8)
-    fig.suptitle(f"Model RF: ring of n_sl sleepers (0.6 m), ring modes up to {args.f_limit:g} Hz + "
-                 f"residual; centred {args.centred_kmh:g} km/h, hunting {args.hunting_kmh:g} km/h "
-                 f"({args.hunting_duration:g} s), Hertz + Kalker on strips")
+    fig.suptitle(
+        f"Model RF: ring of n_sl sleepers (0.6 m), ring modes up to {args.f_limit:g} Hz + "
+        f"residual; centred {args.centred_kmh:g} km/h, hunting {args.hunting_kmh:g} km/h "
+        f"({args.hunting_duration:g} s), Hertz + Kalker on strips"
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
 
 def main() -> None:
     from railvti import scenarios
+
     ap = argparse.ArgumentParser()
     ap.add_argument("--n-sleepers", type=int, nargs="*", default=[40, 48, 64, 96, 128])
     ap.add_argument("--parts", nargs="+", default=list(PARTS), choices=PARTS)
@@ -239,8 +277,12 @@ def main() -> None:
     ap.add_argument("--out", default=None, help=argparse.SUPPRESS)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--npz", default=str(FIG / "vehicle_ring_sleepers.npz"))
-    ap.add_argument("--merge", nargs="*", default=[],
-                    help="earlier .npz of this script (e.g. a --parts linear run) to merge by n_sl")
+    ap.add_argument(
+        "--merge",
+        nargs="*",
+        default=[],
+        help="earlier .npz of this script (e.g. a --parts linear run) to merge by n_sl",
+    )
     args = ap.parse_args()
     logging.disable(logging.WARNING)
     if args.one is not None:
@@ -249,27 +291,49 @@ def main() -> None:
     ns = sorted(args.n_sleepers)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        base = [sys.executable, __file__, "--parts", *args.parts, "--f-limit", str(args.f_limit),
-                "--centred-kmh", str(args.centred_kmh), "--centred-duration", str(args.centred_duration),
-                "--centred-window", str(args.centred_window), "--hunting-kmh", str(args.hunting_kmh),
-                "--hunting-duration", str(args.hunting_duration)]
+        base = [
+            sys.executable,
+            __file__,
+            "--parts",
+            *args.parts,
+            "--f-limit",
+            str(args.f_limit),
+            "--centred-kmh",
+            str(args.centred_kmh),
+            "--centred-duration",
+            str(args.centred_duration),
+            "--centred-window",
+            str(args.centred_window),
+            "--hunting-kmh",
+            str(args.hunting_kmh),
+            "--hunting-duration",
+            str(args.hunting_duration),
+        ]
         pending = list(ns)
         running: list = []
         while pending or running:
             while pending and len(running) < args.jobs:
                 n = pending.pop(0)
                 out = Path(tmp) / f"ring_{n}.json"
-                running.append((n, out, subprocess.Popen(base + ["--one", str(n), "--out", str(out)]),
-                                time.perf_counter()))
+                running.append(
+                    (
+                        n,
+                        out,
+                        subprocess.Popen(base + ["--one", str(n), "--out", str(out)]),
+                        time.perf_counter(),
+                    )
+                )
             n, out, p, t0 = running.pop(0)
             if p.wait() != 0:
                 raise SystemExit(f"n_sleepers = {n} failed (exit {p.returncode})")
             r = json.loads(out.read_text())
             r["process_s"] = time.perf_counter() - t0
-            print(f"n_sl = {n}: {json.dumps({k: round(v, 6) if isinstance(v, float) else v for k, v in r.items()})}",
-                  flush=True)
+            print(
+                f"n_sl = {n}: {json.dumps({k: round(v, 6) if isinstance(v, float) else v for k, v in r.items()})}",
+                flush=True,
+            )
             rows.append(r)
-    for path in args.merge:          # earlier runs: their keys join the rows of the same n
+    for path in args.merge:  # earlier runs: their keys join the rows of the same n
         old = np.load(path)
         for i, n in enumerate(old["n"]):
             row = next((r for r in rows if r["n"] == int(n)), None)

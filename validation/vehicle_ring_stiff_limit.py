@@ -15,6 +15,7 @@ track element is fitted to the ring's static receptances and first resonances
 (railvti.track.TrackElement.from_ring), so at scale 1 the two differ by the ring's dynamics
 only; at 1e3 by what is left of them. The ring has ``scenarios.RF_N_SLEEPERS`` sleepers.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -38,8 +39,9 @@ def rr(scale: float) -> tuple[float, float]:
 
 def rf(scale: float) -> tuple[float, float]:
     tp = {k: RING[k] * scale for k in RING_STIFF}
-    c = scenarios.critical_speed("RF", method="linear", tol_kmh=0.5, track_params=tp,
-                                 f_limit=scenarios.RF_F_LIMIT * scale ** 0.5)
+    c = scenarios.critical_speed(
+        "RF", method="linear", tol_kmh=0.5, track_params=tp, f_limit=scenarios.RF_F_LIMIT * scale**0.5
+    )
     return c.kmh, c.frequency_hz
 
 
@@ -48,8 +50,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--scale", type=float, default=1e3)
     a = ap.parse_args(argv)
     rows = []
-    for name, fn, s in (("RR", rr, 1.0), ("RF", rf, 1.0), (f"RR x {a.scale:g}", rr, a.scale),
-                        (f"RF x {a.scale:g}", rf, a.scale), ("RR x 1e6 (rigid)", rr, 1e6)):
+    for name, fn, s in (
+        ("RR", rr, 1.0),
+        ("RF", rf, 1.0),
+        (f"RR x {a.scale:g}", rr, a.scale),
+        (f"RF x {a.scale:g}", rf, a.scale),
+        ("RR x 1e6 (rigid)", rr, 1e6),
+    ):
         t = time.perf_counter()
         v, f = fn(s)
         rows.append((name, v, f, time.perf_counter() - t))
@@ -58,12 +65,14 @@ def main(argv: list[str] | None = None) -> None:
     for n, v, f, w in rows:
         print(f"| {n} | {v:.3f} | {f:.4f} | {w:.0f} |")
     val = {n: v for n, v, _, _ in rows}
-    print(f"scale 1: RF - RR = {100 * (val['RF'] / val['RR'] - 1):+.2f} %; "
-          f"scale {a.scale:g}: RF - RR = "
-          f"{100 * (val[f'RF x {a.scale:g}'] / val[f'RR x {a.scale:g}'] - 1):+.3f} % "
-          "(the analogue of FR x 1e3 = RR: 0.5 %); "
-          f"RF x {a.scale:g} - rigid track = "
-          f"{100 * (val[f'RF x {a.scale:g}'] / val['RR x 1e6 (rigid)'] - 1):+.3f} %")
+    print(
+        f"scale 1: RF - RR = {100 * (val['RF'] / val['RR'] - 1):+.2f} %; "
+        f"scale {a.scale:g}: RF - RR = "
+        f"{100 * (val[f'RF x {a.scale:g}'] / val[f'RR x {a.scale:g}'] - 1):+.3f} % "
+        "(the analogue of FR x 1e3 = RR: 0.5 %); "
+        f"RF x {a.scale:g} - rigid track = "
+        f"{100 * (val[f'RF x {a.scale:g}'] / val['RR x 1e6 (rigid)'] - 1):+.3f} %"
+    )
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ the leading wheelset over the last second) of RR and FR x 1e3. Acceptance: FR x 
 = 300 Hz (the study's cheap selection) so that the stiff modes (up to 9.5 kHz) need a step of
 33 us rather than 12 us.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -43,17 +44,17 @@ def main(argv: list[str] | None = None) -> None:
         t = time.perf_counter()
         r = scenarios.hunting(a.speed_kmh, model, duration=a.duration, **kw)
         amp[name] = scenarios.amplitude(r)
-        rows.append((name, f"hunting {a.speed_kmh:g} km/h", amp[name] * 1e3,
-                     time.perf_counter() - t))
+        rows.append((name, f"hunting {a.speed_kmh:g} km/h", amp[name] * 1e3, time.perf_counter() - t))
     print("| model | quantity | value | wall time, s |\n|---|---|---|---|")
     for n, q, v, w in rows:
         unit = "km/h" if q == "linear" else "mm"
         print(f"| {n} | {q} | {v:.3f} {unit} | {w:.0f} |")
     lin = {n: v for n, q, v, _ in rows if q == "linear"}
-    print(f"linear: FR x 1e3 - RR = {100 * (lin['FR x 1e3'] / lin['RR'] - 1):+.3f} % "
-          f"(acceptance 0.5 %); FR - RR = {100 * (lin['FR'] / lin['RR'] - 1):+.2f} %")
-    print(f"hunting: FR x 1e3 - RR = {100 * (amp['FR x 1e3'] / amp['RR'] - 1):+.3f} % "
-          "(acceptance 1 %)")
+    print(
+        f"linear: FR x 1e3 - RR = {100 * (lin['FR x 1e3'] / lin['RR'] - 1):+.3f} % "
+        f"(acceptance 0.5 %); FR - RR = {100 * (lin['FR'] / lin['RR'] - 1):+.2f} %"
+    )
+    print(f"hunting: FR x 1e3 - RR = {100 * (amp['FR x 1e3'] / amp['RR'] - 1):+.3f} % (acceptance 1 %)")
 
 
 if __name__ == "__main__":

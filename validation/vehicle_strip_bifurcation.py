@@ -19,6 +19,7 @@ validation/figures/vehicle_strip_bifurcation.png.
 Run: python validation/vehicle_strip_bifurcation.py [duration_s]   (default 3 s per speed;
 about 10 min on 2 cores)
 """
+
 from __future__ import annotations
 
 import sys
@@ -32,8 +33,7 @@ from railvti.errors import DivergenceError
 
 FIG = Path(__file__).resolve().parent / "figures" / "vehicle_strip_bifurcation.png"
 SPEEDS = list(range(460, 239, -20))
-RUNS = (("RR", "table", {}), ("RR", "strip", {}),
-        ("FR", "strip", {"k_max": 1, "f_max": 300.0, "h": 5e-4}))
+RUNS = (("RR", "table", {}), ("RR", "strip", {}), ("FR", "strip", {"k_max": 1, "f_max": 300.0, "h": 5e-4}))
 
 
 def main() -> None:
@@ -42,8 +42,7 @@ def main() -> None:
     for model, geo, kw in RUNS:
         t0 = time.perf_counter()
         try:
-            b = scenarios.bifurcation(SPEEDS, model, duration=duration, geometry=geo,
-                                      progress=False, **kw)
+            b = scenarios.bifurcation(SPEEDS, model, duration=duration, geometry=geo, progress=False, **kw)
         except DivergenceError as err:
             print(f"{model} {geo}: stopped, {err}")
             stopped.append(f"{model}, {geo}")
@@ -59,20 +58,33 @@ def main() -> None:
 
 def _plot(out: dict, duration: float, stopped: list[str]) -> None:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for (model, geo), b in out.items():
-        line, = ax.plot(b.speeds_kmh, np.asarray(b.upper) * 1e3, "o-",
-                        label=f"{model}, {geo}: upper branch (critical {b.critical_kmh:.0f} km/h)")
-        ax.plot(b.speeds_kmh, np.asarray(b.decay) * 1e3, "x--", color=line.get_color(),
-                label=f"{model}, {geo}: from 0.5 mm")
+        (line,) = ax.plot(
+            b.speeds_kmh,
+            np.asarray(b.upper) * 1e3,
+            "o-",
+            label=f"{model}, {geo}: upper branch (critical {b.critical_kmh:.0f} km/h)",
+        )
+        ax.plot(
+            b.speeds_kmh,
+            np.asarray(b.decay) * 1e3,
+            "x--",
+            color=line.get_color(),
+            label=f"{model}, {geo}: from 0.5 mm",
+        )
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("limit-cycle amplitude of wheelset 1, mm")
-    ax.set_title(f"Bifurcation of hunting (coach, straight track), Hertz + Kalker, "
-                 f"{duration:g} s per speed:\ntable against strip contact"
-                 + (f"; not drawn (Newton failed in a flange impact): {', '.join(stopped)}"
-                    if stopped else ""), fontsize=9)
+    ax.set_title(
+        f"Bifurcation of hunting (coach, straight track), Hertz + Kalker, "
+        f"{duration:g} s per speed:\ntable against strip contact"
+        + (f"; not drawn (Newton failed in a flange impact): {', '.join(stopped)}" if stopped else ""),
+        fontsize=9,
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()

@@ -22,6 +22,7 @@ validation/figures/vehicle_strip_yaw.png.
 
 Run: python validation/vehicle_strip_yaw.py      (~30 s)
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -45,8 +46,9 @@ def brute_force(wheel, rail, y, zc, roll, yaw, s):
     r = lay.wheelset.wheel_radius + wheel.height(s)
     y0 = lay.wheelset.contact_y + s
     cr, sr, cy, sy = np.cos(roll), np.sin(roll), np.cos(yaw), np.sin(yaw)
-    rot = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]]) @ \
-        np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    rot = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]]) @ np.array(
+        [[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]]
+    )
 
     def interference(th):
         pts = np.stack([r * np.sin(th), np.broadcast_to(y0, th.shape), -r * np.cos(th)])
@@ -88,10 +90,14 @@ def main() -> None:
     yaws = np.linspace(0.0, 10e-3, 11)
     res = {}
     print("left wheel, zero roll, light contact (strips' largest interference 2 um)")
-    print(f"{'case':>7s} {'yaw':>5s} {'gap closed':>10s} {'P strips':>9s} {'P brute':>9s} "
-          f"{'P brute fine':>12s} {'x strips':>9s} {'x brute':>9s} {'lead strips':>11s} {'lead brute':>10s}")
-    print(f"{'':>7s} {'mrad':>5s} {'um':>10s} {'um':>9s} {'um':>9s} {'um':>12s} {'mm':>9s} {'mm':>9s} "
-          f"{'mm':>11s} {'mm':>10s}")
+    print(
+        f"{'case':>7s} {'yaw':>5s} {'gap closed':>10s} {'P strips':>9s} {'P brute':>9s} "
+        f"{'P brute fine':>12s} {'x strips':>9s} {'x brute':>9s} {'lead strips':>11s} {'lead brute':>10s}"
+    )
+    print(
+        f"{'':>7s} {'mrad':>5s} {'um':>10s} {'um':>9s} {'um':>9s} {'um':>12s} {'mm':>9s} {'mm':>9s} "
+        f"{'mm':>11s} {'mm':>10s}"
+    )
     for name, y, (lo, hi) in CASES:
         s = grid[(grid >= lo) & (grid <= hi)]
         fine = np.arange(lo, hi, STEP / 10)
@@ -106,39 +112,66 @@ def main() -> None:
             pf, _, _ = brute_force(wheel, rail, y, zc, 0.0, yaw, fine)
             # the lead ahead of the wheel's lowest point: x + y0 tan(psi) at the deepest point
             arm = lay.wheelset.contact_y + sb
-            row = dict(yaw=yaw, gap=zc - z0, ps=out[:, PM].max(), pb=pb, pf=pf, xs=out[k, XC],
-                       xb=xb, ls=out[k, XC] + arm * np.tan(yaw), lb=xb + arm * np.tan(yaw))
+            row = dict(
+                yaw=yaw,
+                gap=zc - z0,
+                ps=out[:, PM].max(),
+                pb=pb,
+                pf=pf,
+                xs=out[k, XC],
+                xb=xb,
+                ls=out[k, XC] + arm * np.tan(yaw),
+                lb=xb + arm * np.tan(yaw),
+            )
             rows.append(row)
             if round(yaw * 1e3) in (0, 2, 5, 10):
-                print(f"{name:>7s} {yaw * 1e3:5.0f} {row['gap'] * 1e6:10.2f} {row['ps'] * 1e6:9.4f} "
-                      f"{row['pb'] * 1e6:9.4f} {row['pf'] * 1e6:12.4f} {row['xs'] * 1e3:9.4f} "
-                      f"{row['xb'] * 1e3:9.4f} {row['ls'] * 1e3:11.3f} {row['lb'] * 1e3:10.3f}")
+                print(
+                    f"{name:>7s} {yaw * 1e3:5.0f} {row['gap'] * 1e6:10.2f} {row['ps'] * 1e6:9.4f} "
+                    f"{row['pb'] * 1e6:9.4f} {row['pf'] * 1e6:12.4f} {row['xs'] * 1e3:9.4f} "
+                    f"{row['xb'] * 1e3:9.4f} {row['ls'] * 1e3:11.3f} {row['lb'] * 1e3:10.3f}"
+                )
         res[name] = rows
     for name in res:
         d = max(abs(r["ps"] - r["pb"]) for r in res[name])
         dx = max(abs(r["xs"] - r["xb"]) for r in res[name])
         df = max(r["pf"] - r["ps"] for r in res[name])
-        print(f"{name}: strips against brute force on the same samples: interference within "
-              f"{d * 1e9:.2f} nm, contact x within {dx * 1e6:.1f} um; the 10x finer grid finds up to "
-              f"{df * 1e6:.3f} um more interference (the 0.2 mm sampling's own error)")
+        print(
+            f"{name}: strips against brute force on the same samples: interference within "
+            f"{d * 1e9:.2f} nm, contact x within {dx * 1e6:.1f} um; the 10x finer grid finds up to "
+            f"{df * 1e6:.3f} um more interference (the 0.2 mm sampling's own error)"
+        )
     plot(res)
 
 
 def plot(res: dict) -> None:
     """Gap change and lead against yaw, strips (lines) and brute force (markers)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     for (name, rows), col in zip(res.items(), ("C0", "C3")):
         yaw = np.array([r["yaw"] for r in rows]) * 1e3
         ax[0].plot(yaw, [r["gap"] * 1e6 for r in rows], color=col, label=f"{name}: strips")
         # the brute force's: the strips' centre rise plus what the brute force finds beyond 2 um
-        ax[0].plot(yaw, [(r["gap"] + r["pb"] - r["ps"]) * 1e6 for r in rows], "o", color=col,
-                   mfc="none", label=f"{name}: brute force")
+        ax[0].plot(
+            yaw,
+            [(r["gap"] + r["pb"] - r["ps"]) * 1e6 for r in rows],
+            "o",
+            color=col,
+            mfc="none",
+            label=f"{name}: brute force",
+        )
         ax[1].plot(yaw, [r["ls"] * 1e3 for r in rows], color=col, label=f"{name}: strips (load-weighted)")
-        ax[1].plot(yaw, [r["lb"] * 1e3 for r in rows], "o", color=col, mfc="none",
-                   label=f"{name}: brute force (deepest point)")
+        ax[1].plot(
+            yaw,
+            [r["lb"] * 1e3 for r in rows],
+            "o",
+            color=col,
+            mfc="none",
+            label=f"{name}: brute force (deepest point)",
+        )
     ax[0].set_xlabel("yaw of the wheelset against the rail, mrad")
     ax[0].set_ylabel("vertical gap closed by the yaw, um")
     ax[0].set_title("Gap change at 2 um contact (S1002 / UIC60 1:40, left wheel)")

@@ -23,6 +23,7 @@ eigenvector nearest to the peak.
 Run: .venv/bin/python validation/wheelset_fr_frf.py   (about 2 min; writes
 validation/figures/wheelset_fr_frf.png)
 """
+
 from __future__ import annotations
 
 import time
@@ -74,8 +75,12 @@ def harmonic_of(model, fpk: float) -> str:
 
 def fe_coach(ws: Wheelset, dampers: bool) -> Coach:
     mp = analytic.wheelset_mass_properties(ws.geometry)
-    kw = dict(wheelset_mass=mp["mass"], wheelset_roll_inertia=mp["roll_inertia"],
-              wheelset_yaw_inertia=mp["roll_inertia"], wheelset_pitch_inertia=mp["spin_inertia"])
+    kw = dict(
+        wheelset_mass=mp["mass"],
+        wheelset_roll_inertia=mp["roll_inertia"],
+        wheelset_yaw_inertia=mp["roll_inertia"],
+        wheelset_pitch_inertia=mp["spin_inertia"],
+    )
     if not dampers:
         kw.update(primary_cx=0.0, primary_cy=0.0, primary_cz=0.0)
     return Coach(**kw)
@@ -96,18 +101,26 @@ def main() -> None:
         sy_d, lay_d = build_fr(Coach(), table, v, flexible=(0,), wheelset=ws)
         h_d = contact_receptance(sy_d, lay_d[0], F)
         p_ref, p_fr, p_d = peaks(F, h_ref), peaks(F, h_fr, 0.1), peaks(F, h_d, 0.1)
-        print(f"\n{kmh:.0f} km/h ({time.perf_counter() - t0:.0f} s): lateral receptance at "
-              "the right wheel, peaks 60-600 Hz")
+        print(
+            f"\n{kmh:.0f} km/h ({time.perf_counter() - t0:.0f} s): lateral receptance at "
+            "the right wheel, peaks 60-600 Hz"
+        )
         print("  harmonic | reference Hz | FR (same wheelset) Hz | error | FR (default coach) Hz | error")
         for fp in p_ref:
             a = p_fr[np.argmin(np.abs(p_fr - fp))]
             b = p_d[np.argmin(np.abs(p_d - fp))]
             worst = max(worst, abs(a / fp - 1.0))
-            print(f"  {harmonic_of(ref_model, fp):8s} | {fp:12.2f} | {a:21.2f} | "
-                  f"{100 * (a / fp - 1):+.3f} % | {b:21.2f} | {100 * (b / fp - 1):+.2f} %")
-        ax.semilogy(F, np.abs(h_ref), "k-", lw=2.5, alpha=0.35, label="railvti.wheelset (axle-fixed, fixed bogie)")
+            print(
+                f"  {harmonic_of(ref_model, fp):8s} | {fp:12.2f} | {a:21.2f} | "
+                f"{100 * (a / fp - 1):+.3f} % | {b:21.2f} | {100 * (b / fp - 1):+.2f} %"
+            )
+        ax.semilogy(
+            F, np.abs(h_ref), "k-", lw=2.5, alpha=0.35, label="railvti.wheelset (axle-fixed, fixed bogie)"
+        )
         ax.semilogy(F, np.abs(h_fr), "C0-", lw=1.0, label="FR in the coach, same wheelset, contact removed")
-        ax.semilogy(F, np.abs(h_d), "C3:", lw=1.0, label="FR in the default coach (its inertias, primary dampers)")
+        ax.semilogy(
+            F, np.abs(h_d), "C3:", lw=1.0, label="FR in the default coach (its inertias, primary dampers)"
+        )
         for fp in p_ref:
             ax.axvline(fp, color="0.8", lw=0.5, zorder=0)
         ax.set_title(f"Lateral point receptance at the right contact point, {kmh:.0f} km/h")

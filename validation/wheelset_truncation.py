@@ -16,6 +16,7 @@ Over f_max (highest free-free elastic mode kept, Hz) and k_max (highest harmonic
 Prints a table and the recommended defaults; writes validation/figures/wheelset_truncation.png.
 Run: .venv/bin/python validation/wheelset_truncation.py  (about a minute on 2 cores)
 """
+
 from __future__ import annotations
 
 import time
@@ -91,18 +92,20 @@ def tread_camber(ws: Wheelset, f: np.ndarray) -> tuple[float, float]:
     local = 0.0
     for k in range(K_REF + 1):
         st = wstat.harmonic_statics(ws, k)
-        pts = [wstat.point_operator(ws.mesh, edges[0], 0.0, None),
-               wstat.point_operator(ws.mesh, edges[1], 0.0, None),
-               wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[0]),
-               wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[1])]
+        pts = [
+            wstat.point_operator(ws.mesh, edges[0], 0.0, None),
+            wstat.point_operator(ws.mesh, edges[1], 0.0, None),
+            wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[0]),
+            wstat.point_operator(ws.mesh, None, None, ws._journal_nodes[1]),
+        ]
         kind = "0" if k == 0 else "A"
         e = np.array([v for p in pts for v in p[kind]])
         u = st.solve(e.T @ f)
         nodes, _, _, ny = wrows.locate(ws.mesh, *wrows.edge_point(edges[0], 0.0))
-        local += float(np.sum(u[3 * nodes] * ny))        # d u_r / d y_FE at the loaded point
+        local += float(np.sum(u[3 * nodes] * ny))  # d u_r / d y_FE at the loaded point
         for i, s in enumerate(s_tread):
             uz[i] += wstat.point_operator(ws.mesh, edges[0], float(s), None)[kind][2] @ u
-    yv = -(g.contact_y + s_tread)                  # right wheel: vehicle y = -y_FE
+    yv = -(g.contact_y + s_tread)  # right wheel: vehicle y = -y_FE
     return float(local), float(np.polyfit(yv, uz, 1)[0])
 
 
@@ -110,26 +113,39 @@ def main() -> None:
     t0 = time.perf_counter()
     ws = Wheelset()
     f = load()
-    ref_body = ws.flexible_body(SPEED, k_max=K_REF, f_max=F_REF)     # solves and caches the modes
-    gfull = wstat.full_compliance([wstat.harmonic_statics(ws, k) for k in range(K_REF + 1)], ws.mesh,
-                               wrows.rim_edges(ws.geometry), (0.0, 0.0), ws._journal_nodes)
-    u_ref = wstat.static_fe_solve(ws, f, k_max=K_REF)                  # independent direct solve
-    print(f"bordered (inertia-relief) compliance against the direct solve: "
-          f"{np.abs(gfull @ f - u_ref).max() / np.abs(u_ref).max():.1e} (relative)")
+    ref_body = ws.flexible_body(SPEED, k_max=K_REF, f_max=F_REF)  # solves and caches the modes
+    gfull = wstat.full_compliance(
+        [wstat.harmonic_statics(ws, k) for k in range(K_REF + 1)],
+        ws.mesh,
+        wrows.rim_edges(ws.geometry),
+        (0.0, 0.0),
+        ws._journal_nodes,
+    )
+    u_ref = wstat.static_fe_solve(ws, f, k_max=K_REF)  # independent direct solve
+    print(
+        f"bordered (inertia-relief) compliance against the direct solve: "
+        f"{np.abs(gfull @ f - u_ref).max() / np.abs(u_ref).max():.1e} (relative)"
+    )
     ref_peaks = peaks(ref_body, K_REF)
     local, fit = tread_camber(ws, f)
-    print(f"reference: {ref_body.n} coordinates (f_max {F_REF:.0f} Hz, k_max {K_REF}); "
-          f"{time.perf_counter() - t0:.1f} s")
-    print(f"static load Q = {Q / 1e3:.0f} kN per wheel, journals -Q: right wheel camber (rim "
-          f"rotation about x, the tread's slope) {u_ref[CAMBER] * 1e3:+.3f} mrad (own fit "
-          f"{fit * 1e3:+.3f}; the local slope at the loaded point, mesh-dependent: "
-          f"{local * 1e3:+.3f} mrad), contact-point vertical displacement "
-          f"{u_ref[UZ] * 1e6:+.1f} um, lateral {u_ref[UY] * 1e6:+.1f} um "
-          "(rigid parts removed)")
+    print(
+        f"reference: {ref_body.n} coordinates (f_max {F_REF:.0f} Hz, k_max {K_REF}); "
+        f"{time.perf_counter() - t0:.1f} s"
+    )
+    print(
+        f"static load Q = {Q / 1e3:.0f} kN per wheel, journals -Q: right wheel camber (rim "
+        f"rotation about x, the tread's slope) {u_ref[CAMBER] * 1e3:+.3f} mrad (own fit "
+        f"{fit * 1e3:+.3f}; the local slope at the loaded point, mesh-dependent: "
+        f"{local * 1e3:+.3f} mrad), contact-point vertical displacement "
+        f"{u_ref[UZ] * 1e6:+.1f} um, lateral {u_ref[UY] * 1e6:+.1f} um "
+        "(rigid parts removed)"
+    )
     per_k = {k: np.round(v[v < F_PEAKS], 1).tolist() for k, v in ref_peaks.items() if v.size}
     print(f"reference peaks below {F_PEAKS:.0f} Hz at 300 km/h: {per_k}")
-    print(f"\n{'k_max':>5} {'f_max Hz':>8} {'nq':>4} {'camber err %':>13} {'+residual %':>12} "
-          f"{'uz err %':>9} {'+residual %':>12} {'peak err %':>10} {'missing':>7} {'build s':>8}")
+    print(
+        f"\n{'k_max':>5} {'f_max Hz':>8} {'nq':>4} {'camber err %':>13} {'+residual %':>12} "
+        f"{'uz err %':>9} {'+residual %':>12} {'peak err %':>10} {'missing':>7} {'build s':>8}"
+    )
     rows = []
     for k_max in K_MAXES:
         for f_max in F_MAXES:
@@ -142,17 +158,21 @@ def main() -> None:
             pe, miss = peak_error(ref_peaks, peaks(b, k_max))
             signed = kept[CAMBER] / u_ref[CAMBER] - 1.0
             rows.append((k_max, f_max, b.n, *e, pe, miss, dt, 0.0, signed))  # col 11: signed
-            print(f"{k_max:>5} {f_max:>8.0f} {b.n:>4} {e[0]:>13.2f} {e[1]:>12.2e} {e[2]:>9.2f} "
-                  f"{e[3]:>12.2e} {pe:>10.3f} {miss:>7} {dt:>8.2f}")
+            print(
+                f"{k_max:>5} {f_max:>8.0f} {b.n:>4} {e[0]:>13.2f} {e[1]:>12.2e} {e[2]:>9.2f} "
+                f"{e[3]:>12.2e} {pe:>10.3f} {miss:>7} {dt:>8.2f}"
+            )
     rows = np.array(rows)
     n_peaks = sum(int(np.sum(v < F_PEAKS)) for v in ref_peaks.values())
     ok = rows[(rows[:, 8] == 0) & (rows[:, 7] < 1.0) & (rows[:, 4] < 2.0) & (rows[:, 6] < 2.0)]
     best = ok[np.argmin(ok[:, 2])] if ok.size else None
     if best is not None:
-        print(f"\nrecommended: k_max = {int(best[0])}, f_max = {best[1]:.0f} Hz ({int(best[2])} "
-              f"coordinates): all {n_peaks} peaks below {F_PEAKS:.0f} Hz within 1 % "
-              f"({best[7]:.3f} %), static camber and deflection within 2 % with the residual "
-              f"flexibility (kept modes alone: camber {best[3]:.1f} %, uz {best[5]:.1f} %)")
+        print(
+            f"\nrecommended: k_max = {int(best[0])}, f_max = {best[1]:.0f} Hz ({int(best[2])} "
+            f"coordinates): all {n_peaks} peaks below {F_PEAKS:.0f} Hz within 1 % "
+            f"({best[7]:.3f} %), static camber and deflection within 2 % with the residual "
+            f"flexibility (kept modes alone: camber {best[3]:.1f} %, uz {best[5]:.1f} %)"
+        )
     moving_contact(ws, f)
     print(f"total {time.perf_counter() - t0:.1f} s")
     plot(rows, n_peaks, u_ref[CAMBER])
@@ -170,8 +190,10 @@ def moving_contact(ws: Wheelset, f: np.ndarray) -> None:
         kept = r @ ((r.T @ f) / (2 * np.pi * b.freq_hz) ** 2)
         fresh = kept + wres.residual_flexibility(ws, b, (s, s)) @ f
         stale = kept + b.residual @ f
-        print(f"{s * 1e3:>6.1f} {ref[CAMBER] * 1e3:>8.3f} {kept[CAMBER] * 1e3:>8.3f} "
-              f"{fresh[CAMBER] * 1e3:>8.3f} {stale[CAMBER] * 1e3:>8.3f}")
+        print(
+            f"{s * 1e3:>6.1f} {ref[CAMBER] * 1e3:>8.3f} {kept[CAMBER] * 1e3:>8.3f} "
+            f"{fresh[CAMBER] * 1e3:>8.3f} {stale[CAMBER] * 1e3:>8.3f}"
+        )
 
 
 def plot(rows: np.ndarray, n_peaks: int, camber_ref: float) -> None:
@@ -183,29 +205,51 @@ def plot(rows: np.ndarray, n_peaks: int, camber_ref: float) -> None:
         c = cmap(k_max / max(K_MAXES))
         lab = f"k_max = {k_max}"
         ax[0].plot(r[:, 1], r[:, 2], "o-", color=c, label=lab)
-        ax[1].plot(r[:, 2], camber_ref * 1e3 * (1.0 + r[:, 11]), "o-",
-                   color=c, label=lab)
+        ax[1].plot(r[:, 2], camber_ref * 1e3 * (1.0 + r[:, 11]), "o-", color=c, label=lab)
         ax[2].semilogy(r[:, 2], np.maximum(r[:, 3], 1e-9), "o-", color=c, label=lab)
-        ax[2].semilogy(r[:, 2], np.maximum(r[:, 4], 1e-9), "s--", color=c, ms=3,
-                       label="+ residual (round-off)" if k_max == max(K_MAXES) else None)
+        ax[2].semilogy(
+            r[:, 2],
+            np.maximum(r[:, 4], 1e-9),
+            "s--",
+            color=c,
+            ms=3,
+            label="+ residual (round-off)" if k_max == max(K_MAXES) else None,
+        )
         full = r[r[:, 8] == 0]
         ax[3].semilogy(full[:, 2], np.maximum(full[:, 7], 1e-6), "o-", color=c, label=lab)
-    ax[0].set(xscale="log", yscale="log", xlabel="f_max, Hz", ylabel="modal coordinates nq",
-              title="(a) cost: modal coordinates (Q_A and Q_B counted)")
+    ax[0].set(
+        xscale="log",
+        yscale="log",
+        xlabel="f_max, Hz",
+        ylabel="modal coordinates nq",
+        title="(a) cost: modal coordinates (Q_A and Q_B counted)",
+    )
     ax[0].set_xticks(F_MAXES, [f"{v:.0f}" for v in F_MAXES])
     ax[0].minorticks_off()
     ax[1].axhline(camber_ref * 1e3, color="k", lw=1.2, ls=":", label="static FE = kept + residual")
-    ax[1].set(xscale="log", xlabel="modal coordinates nq", ylabel="camber change, mrad",
-              title="(b) rim rotation about x, right wheel, Q = 85 kN per wheel:\n"
-                    "kept modes only (lines) against the static FE solve")
+    ax[1].set(
+        xscale="log",
+        xlabel="modal coordinates nq",
+        ylabel="camber change, mrad",
+        title="(b) rim rotation about x, right wheel, Q = 85 kN per wheel:\n"
+        "kept modes only (lines) against the static FE solve",
+    )
     ax[2].axhline(2.0, color="grey", lw=0.8, ls=":")
-    ax[2].set(xscale="log", xlabel="modal coordinates nq", ylabel="static camber error, %",
-              title="(c) static camber error against the direct FE solve\n"
-                    "solid: kept modes only, dashed: + residual flexibility")
+    ax[2].set(
+        xscale="log",
+        xlabel="modal coordinates nq",
+        ylabel="static camber error, %",
+        title="(c) static camber error against the direct FE solve\n"
+        "solid: kept modes only, dashed: + residual flexibility",
+    )
     ax[3].axhline(1.0, color="grey", lw=0.8, ls=":", label="1 % acceptance")
-    ax[3].set(xscale="log", xlabel="modal coordinates nq", ylabel="largest peak-frequency error, %",
-              title=f"(d) FRF peaks below {F_PEAKS:.0f} Hz at 300 km/h against f_max 5 kHz,\n"
-                    f"k_max 6 (truncations that keep all {n_peaks} peaks)")
+    ax[3].set(
+        xscale="log",
+        xlabel="modal coordinates nq",
+        ylabel="largest peak-frequency error, %",
+        title=f"(d) FRF peaks below {F_PEAKS:.0f} Hz at 300 km/h against f_max 5 kHz,\n"
+        f"k_max 6 (truncations that keep all {n_peaks} peaks)",
+    )
     for a in ax:
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=7)

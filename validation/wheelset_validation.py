@@ -14,6 +14,7 @@
 Prints tables, writes validation/figures/wheelset_*.png.
 Run: .venv/bin/python validation/wheelset_validation.py
 """
+
 from __future__ import annotations
 
 import time
@@ -55,7 +56,10 @@ def plate(k: int, nr: int, nt: int):
 def part_a_b() -> None:
     ref = analytic.timoshenko_free_free(2.0, 0.2, E, NU, RHO, 3)
     print("\n(a) free-free shaft L = 2 m, D = 0.2 m, k = 1 bending (Timoshenko, kappa Cowper)")
-    print(f"{'elements':>9} {'DOFs':>6} {'time s':>7} " + " ".join(f"{'mode' + str(i + 1):>18}" for i in range(3)))
+    print(
+        f"{'elements':>9} {'DOFs':>6} {'time s':>7} "
+        + " ".join(f"{'mode' + str(i + 1):>18}" for i in range(3))
+    )
     rows = []
     for ny in (4, 8, 16, 32, 64):
         f, n, t = shaft(ny)
@@ -72,9 +76,11 @@ def part_a_b() -> None:
             f, n, t = plate(k, nr, nt)
             err = f / ref_p - 1.0
             prow[k].append((n, t, np.abs(err).max()))
-            print(f"k={k} {nr:>3}x{nt} DOFs {n:>5} {t:6.3f} s  " +
-                  "  ".join(f"{fi:8.2f} ({e:+.2%})" for fi, e in zip(f, err)) +
-                  f"   theory {ref_p[0]:.2f}, {ref_p[1]:.2f}")
+            print(
+                f"k={k} {nr:>3}x{nt} DOFs {n:>5} {t:6.3f} s  "
+                + "  ".join(f"{fi:8.2f} ({e:+.2%})" for fi, e in zip(f, err))
+                + f"   theory {ref_p[0]:.2f}, {ref_p[1]:.2f}"
+            )
     fig, axs = plt.subplots(1, 2, figsize=(8, 3.2), dpi=90)
     for lab, data in [("shaft k=1 (3 modes)", rows)] + [(f"plate k={k} (2 modes)", prow[k]) for k in prow]:
         d = np.array(data)
@@ -93,15 +99,16 @@ def part_a_b() -> None:
     plt.close(fig)
 
 
-PAPER = {"k1": 147.0, "k0": 304.0, "k2": 345.0}   # Kaiser, the paper's wheelset (issue 6, 6d)
+PAPER = {"k1": 147.0, "k0": 304.0, "k2": 345.0}  # Kaiser, the paper's wheelset (issue 6, 6d)
 # Wu, Cai, Jin, Xiao et al., Key factors of the initiation and development of polygonal wear in
 # the wheels of a high-speed train, Appl. Sci. 10 (2020) 5880, doi:10.3390/app10175880, Fig. 8:
 # FE bending modes of a Chinese high-speed (EMU) wheelset, 0-800 Hz.
 WU2020_BENDING = (87.0, 143.0, 284.0, 576.0)
 
 
-def shape_name(k: int, f: float, sym: float, e: np.ndarray, theta_frac: float, n_bend: int,
-               fam: str = "AB") -> str:
+def shape_name(
+    k: int, f: float, sym: float, e: np.ndarray, theta_frac: float, n_bend: int, fam: str = "AB"
+) -> str:
     """Name of a mode from its harmonic, mirror symmetry, strain-energy split
     (axle, hub, web + rim) and, for k = 0, the share of u_theta in the shape."""
     s = "sym" if sym > 0.5 else ("anti" if sym < -0.5 else "one wheel")
@@ -110,8 +117,11 @@ def shape_name(k: int, f: float, sym: float, e: np.ndarray, theta_frac: float, n
             return "rigid lateral translation on the primary suspension"
         if theta_frac > 0.9:
             return "axle torsion (wheels twist against each other)"
-        return ("umbrella, wheels in anti-phase (axle centre at rest)" if s == "sym"
-                else "umbrella, wheels in phase (axle moves axially against them)")
+        return (
+            "umbrella, wheels in anti-phase (axle centre at rest)"
+            if s == "sym"
+            else "umbrella, wheels in phase (axle moves axially against them)"
+        )
     if k == 1:
         if f < 60.0:
             if fam == "B":
@@ -131,20 +141,23 @@ def named_modes(ws: Wheelset, f_max: float, support: str, k_max: int = 3) -> lis
     out = []
     for k in range(k_max + 1):
         for fam in sorted({table.family[i] for i in range(len(table)) if table.k[i] == k}):
-            idx = [i for i in range(len(table)) if table.k[i] == k and table.family[i] == fam
-                   and table.freq_hz[i] > 1.0]
+            idx = [
+                i
+                for i in range(len(table))
+                if table.k[i] == k and table.family[i] == fam and table.freq_hz[i] > 1.0
+            ]
             split = strain_energy_split(ws, k, [table.shapes[i] for i in idx])
             n_bend = 0
             for i, e in zip(idx, split):
                 s = table.shapes[i]
-                th = float(np.sum(s[:, 2] ** 2) / np.sum(s ** 2))
+                th = float(np.sum(s[:, 2] ** 2) / np.sum(s**2))
                 sym = table.mirror_symmetry(i) if k < 2 else 0.0
                 name = shape_name(k, table.freq_hz[i], sym, e, th, n_bend, fam)
                 if "bending" in name:
                     n_bend += 1
                 twin = any(r["k"] == k and abs(r["f"] - table.freq_hz[i]) < 1e-6 * r["f"] for r in out)
                 if k >= 2 and twin:
-                    continue   # the two wheels' identical k >= 2 modes: list once
+                    continue  # the two wheels' identical k >= 2 modes: list once
                 out.append(dict(k=k, fam=fam, f=float(table.freq_hz[i]), sym=sym, e=e, name=name, i=i))
     return out
 
@@ -155,8 +168,10 @@ def strain_energy_split(ws: Wheelset, k: int, shapes) -> np.ndarray:
     g, mesh = ws.geometry, ws.mesh
     rc = mesh.nodes[mesh.conn[:, 4], 0]
     region = np.where(rc < g.seat_radius, 0, np.where(rc < g.hub_radius, 1, 2))
-    kes = [core.wheelset_element_c(k, np.asfortranarray(mesh.nodes[c].T), g.young, g.poisson,
-                                   g.density)[0] for c in mesh.conn]
+    kes = [
+        core.wheelset_element_c(k, np.asfortranarray(mesh.nodes[c].T), g.young, g.poisson, g.density)[0]
+        for c in mesh.conn
+    ]
     out = []
     for s in shapes:
         en = np.array([s[c].ravel() @ ke @ s[c].ravel() for c, ke in zip(mesh.conn, kes)])
@@ -166,8 +181,10 @@ def strain_energy_split(ws: Wheelset, k: int, shapes) -> np.ndarray:
 
 def body_sensitivity() -> None:
     """First two flexible k = 1 modes against the axle body diameter (FE and beam)."""
-    print("\n(d) k = 1 bending against the axle body diameter (free-free; beam = stepped "
-          "Timoshenko axle + rigid wheels)")
+    print(
+        "\n(d) k = 1 bending against the axle body diameter (free-free; beam = stepped "
+        "Timoshenko axle + rigid wheels)"
+    )
     print(f"  {'body mm':>8} {'FE sym':>8} {'FE anti':>8} {'beam sym':>9} {'beam anti':>10}")
     for d in (0.16, 0.17, 0.18, 0.19):
         ws = Wheelset(body_radius=d / 2)
@@ -182,8 +199,10 @@ def body_sensitivity() -> None:
         return analytic.wheelset_beam_k1(g)[0] - PAPER["k1"]
 
     d147 = optimize.brentq(sym_minus_paper, 0.17, 0.30)
-    print(f"  a symmetric bending mode at {PAPER['k1']:.0f} Hz needs a {d147 * 1e3:.0f} mm axle body "
-          "even with rigid wheels (beam; wheel seat 25 mm larger, hub wall unchanged)")
+    print(
+        f"  a symmetric bending mode at {PAPER['k1']:.0f} Hz needs a {d147 * 1e3:.0f} mm axle body "
+        "even with rigid wheels (beam; wheel seat 25 mm larger, hub wall unchanged)"
+    )
 
 
 def part_d() -> None:
@@ -202,13 +221,17 @@ def part_d() -> None:
         print(f"  {k}  {f:7.1f}  {sym:+10.2f}  {e[0]:20.2f} {e[1]:5.2f} {e[2]:8.2f}")
     beam = analytic.wheelset_beam_k1(ws.geometry)
     mp = analytic.wheelset_mass_properties(ws.geometry)
-    print(f"  mass properties (no brake discs, no axleboxes): wheel {mp['wheel_mass']:.0f} kg "
-          f"(diametral inertia {mp['wheel_diametral_inertia']:.1f} kg m^2), axle {mp['axle_mass']:.0f} kg, "
-          f"wheelset {mp['mass']:.0f} kg, spin inertia {mp['spin_inertia']:.1f} kg m^2, "
-          f"roll/yaw inertia {mp['roll_inertia']:.0f} kg m^2")
+    print(
+        f"  mass properties (no brake discs, no axleboxes): wheel {mp['wheel_mass']:.0f} kg "
+        f"(diametral inertia {mp['wheel_diametral_inertia']:.1f} kg m^2), axle {mp['axle_mass']:.0f} kg, "
+        f"wheelset {mp['mass']:.0f} kg, spin inertia {mp['spin_inertia']:.1f} kg m^2, "
+        f"roll/yaw inertia {mp['roll_inertia']:.0f} kg m^2"
+    )
     m_w, _, j_w = analytic.wheel_rigid_body(ws.geometry)
-    print(f"  independent check, stepped Timoshenko axle + rigid wheels ({m_w:.0f} kg, "
-          f"J_d {j_w:.1f} kg m^2): k = 1 {beam[0]:.1f} (sym), {beam[1]:.1f} Hz (anti)")
+    print(
+        f"  independent check, stepped Timoshenko axle + rigid wheels ({m_w:.0f} kg, "
+        f"J_d {j_w:.1f} kg m^2): k = 1 {beam[0]:.1f} (sym), {beam[1]:.1f} Hz (anti)"
+    )
 
     def pick(k, sign, n=0):
         sel = [r for r in rows if r[0] == k and r[2] * sign > 0.5]
@@ -227,9 +250,12 @@ def part_d() -> None:
     k1b = pick(1, +1, 1)
     for ax, r in zip(axs.ravel(), (k1s, k1a, k1b, k0s, k0a, k2)):
         sym = "sym" if r[2] > 0.5 else ("anti" if r[2] < -0.5 else "one wheel")
-        plot_mode(ax, table.mesh, table.shapes[r[4]],
-                  f"k={r[0]}, {r[1]:.1f} Hz, {sym}; strain energy axle {r[3][0]:.0%}, "
-                  f"web+rim {r[3][2]:.0%}")
+        plot_mode(
+            ax,
+            table.mesh,
+            table.shapes[r[4]],
+            f"k={r[0]}, {r[1]:.1f} Hz, {sym}; strain energy axle {r[3][0]:.0%}, web+rim {r[3][2]:.0%}",
+        )
     fig.suptitle("default wheelset, free-free modes (meridian section, set A at azimuth 0)", fontsize=9)
     fig.tight_layout()
     fig.savefig(FIG / "wheelset_modes.png")
@@ -246,9 +272,15 @@ def part_d() -> None:
         tilt = [s[table.mesh.node_at(g.wheel_radius, yc), 1] for yc in (g.contact_y, -g.contact_y)]
         ur = s[axis, 0][order]
         scale = 1.0 / np.abs(np.concatenate([ur, tilt])).max()
-        line, = axs[0].plot(yax, ur * scale, label=f"{r[1]:.1f} Hz {lab}: axle U_r")
-        axs[0].plot([g.contact_y, -g.contact_y], np.array(tilt) * scale, mk, ms=ms, color=line.get_color(),
-                    label=f"{r[1]:.1f} Hz: rim U_y at the contact points (wheel tilt)")
+        (line,) = axs[0].plot(yax, ur * scale, label=f"{r[1]:.1f} Hz {lab}: axle U_r")
+        axs[0].plot(
+            [g.contact_y, -g.contact_y],
+            np.array(tilt) * scale,
+            mk,
+            ms=ms,
+            color=line.get_color(),
+            label=f"{r[1]:.1f} Hz: rim U_y at the contact points (wheel tilt)",
+        )
     for yw in (g.contact_y, -g.contact_y):
         axs[0].axvline(yw, color="0.6", lw=0.5, ls="--")
     axs[0].set_xlabel("y, m")
@@ -276,13 +308,16 @@ def by_shape_table(ws: Wheelset) -> None:
     paper's three values and the published high-speed wheelset bending modes."""
     free = named_modes(ws, 600.0, "free", k_max=2)
     bogie = named_modes(ws, 600.0, "suspension", k_max=2)
-    paper = {"1st bending, sym": ("147 (first k=1)", PAPER["k1"]),
-             "2nd bending, anti": ("147 (if it is this shape)", PAPER["k1"]),
-             "umbrella, wheels in anti": ("304 (first umbrella)", PAPER["k0"]),
-             "umbrella, wheels in phase": ("304", PAPER["k0"]),
-             "wheel mode, 2": ("345 (first k=2)", PAPER["k2"])}
-    print("\n  by shape: free-free | in the bogie (A vertical / B longitudinal plane) | "
-          "Wu et al. 2020 | paper")
+    paper = {
+        "1st bending, sym": ("147 (first k=1)", PAPER["k1"]),
+        "2nd bending, anti": ("147 (if it is this shape)", PAPER["k1"]),
+        "umbrella, wheels in anti": ("304 (first umbrella)", PAPER["k0"]),
+        "umbrella, wheels in phase": ("304", PAPER["k0"]),
+        "wheel mode, 2": ("345 (first k=2)", PAPER["k2"]),
+    }
+    print(
+        "\n  by shape: free-free | in the bogie (A vertical / B longitudinal plane) | Wu et al. 2020 | paper"
+    )
     for r in free:
         bo = [b for b in bogie if b["k"] == r["k"] and b["name"] == r["name"]]
         bs = " / ".join(f"{b['f']:.1f}" for b in bo) if bo else "-"
@@ -306,14 +341,18 @@ def part_e() -> None:
     freqs = np.arange(5.0, 1000.0, 0.05)
     h = ws.frf(freqs, 0.0, model=model)
     a = np.abs(h)
-    names = {(r["k"], r["fam"], round(r["f"], 1)): r["name"]
-             for r in named_modes(ws, 1000.0, "suspension", k_max=3)}
+    names = {
+        (r["k"], r["fam"], round(r["f"], 1)): r["name"]
+        for r in named_modes(ws, 1000.0, "suspension", k_max=3)
+    }
     c = model.contact[0, 0]
     w = 2.0 * np.pi * model.freq_hz
-    contrib = np.where(w > 0, c ** 2 / (2.0 * 0.005 * np.maximum(w, 1e-9) ** 2), 0.0)
+    contrib = np.where(w > 0, c**2 / (2.0 * 0.005 * np.maximum(w, 1e-9) ** 2), 0.0)
     pk, props = signal.find_peaks(a, prominence=0.0)
-    print("\n(e) lateral force -> lateral displacement at the right contact point, wheelset in "
-          "its bogie, standstill (Fig. 3 set-up)")
+    print(
+        "\n(e) lateral force -> lateral displacement at the right contact point, wheelset in "
+        "its bogie, standstill (Fig. 3 set-up)"
+    )
     print("  peak Hz    |H| m/N     rel. to 87 Hz   mode behind it")
     rows = []
     for p in pk:
@@ -321,8 +360,11 @@ def part_e() -> None:
             continue
         near = np.abs(model.freq_hz - freqs[p]) < 0.02 * freqs[p] + 0.5
         j = int(np.argmax(np.where(near, contrib, -1.0)))
-        key = (int(model.k[j]), "A" if model.k[j] == 1 else ("0" if model.k[j] == 0 else "AB"),
-               round(float(model.freq_hz[j]), 1))
+        key = (
+            int(model.k[j]),
+            "A" if model.k[j] == 1 else ("0" if model.k[j] == 0 else "AB"),
+            round(float(model.freq_hz[j]), 1),
+        )
         name = names.get(key, f"k={model.k[j]}")
         rows.append((freqs[p], a[p], int(model.k[j]), name))
     ref = [r for r in rows if abs(r[0] - 87.0) < 5.0]
@@ -331,14 +373,16 @@ def part_e() -> None:
         print(f"  {f:8.2f}  {m:10.3e}  {rel:>12}      k={k} {name}")
     fig, ax = plt.subplots(figsize=(7.5, 3.8), dpi=85)
     ax.semilogy(freqs, a, lw=0.9)
-    for f, m, k, name in rows:
+    for f, m, k, _name in rows:
         if f > 60.0:
             ax.annotate(f"{f:.0f} Hz k={k}", (f, m), textcoords="offset points", xytext=(2, 4), fontsize=6)
     ax.axvline(PAPER["k1"], color="C3", lw=0.6, ls="--", label="paper: first k = 1 (147 Hz)")
     ax.set_xlabel("frequency, Hz")
     ax.set_ylabel("|receptance|, m/N")
-    ax.set_title("lateral force -> lateral displacement at the contact point, wheelset in bogie, "
-                 "standstill", fontsize=8)
+    ax.set_title(
+        "lateral force -> lateral displacement at the contact point, wheelset in bogie, standstill",
+        fontsize=8,
+    )
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -371,11 +415,17 @@ def part_c() -> None:
                 hi = fr[np.argmin(abs(fr - (base + k * om)))]
                 exp = k * om
                 half = 0.5 * (hi - lo)
-                print(f"    k={k} {base:.1f} -> {lo:.1f} / {hi:.1f} Hz: half-split {half:.2f} Hz, "
-                      f"k Omega/2pi = {exp:.2f} Hz" + (f" ({half / exp - 1.0:+.1%})" if exp > 0 else ""))
+                print(
+                    f"    k={k} {base:.1f} -> {lo:.1f} / {hi:.1f} Hz: half-split {half:.2f} Hz, "
+                    f"k Omega/2pi = {exp:.2f} Hz" + (f" ({half / exp - 1.0:+.1%})" if exp > 0 else "")
+                )
         curves[f"{v_kmh:.0f} km/h"] = ws.frf(freqs, v_kmh / 3.6, model=m)
-    plot_frf(FIG / "wheelset_frf.png", freqs, curves,
-             "lateral force -> lateral displacement at the contact point, wheelset in bogie")
+    plot_frf(
+        FIG / "wheelset_frf.png",
+        freqs,
+        curves,
+        "lateral force -> lateral displacement at the contact point, wheelset in bogie",
+    )
 
 
 if __name__ == "__main__":

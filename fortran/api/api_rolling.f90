@@ -57,19 +57,19 @@ end subroutine rolling_solve_c
 !> for each of the ncase cases the normal problem with the gap gap(:, :, kgap(k)) (m)
 !> and the force fn(k) (N), solved again only when these differ from the previous
 !> case's, then steady rolling with creep(:, k) = (xi, eta, phi) (1, 1, 1/m), each from
-!> zero (contact_table::creep_table). Per case: fx, fy (N), mz (N m, about x = y = 0),
+!> zero (contact_creep_table::creep_force_table). Per case: fx, fy (N), mz (N m, about x = y = 0),
 !> power (W), ncontact, approach (m), iters_n (CG iterations), iters_t (sweeps),
 !> nfo_n (normal status, STAT_GRID_EDGE if the pressure reaches the grid's edge),
 !> nfo_t (rolling status, where nfo_n is STAT_OK). info: STAT_OK; STAT_BAD_HANDLE no
 !> such workspace, one of another grid size or without the tangential kernels;
 !> STAT_BAD_ARGUMENT a kgap outside 1..ngap.
-subroutine rolling_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu, speed, x0, y0, &
+subroutine creep_force_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu, speed, x0, y0, &
                            tol_n, tol_t, max_iter_n, max_iter_t, fx, fy, mz, power, ncontact, &
                            approach, iters_n, iters_t, nfo_n, nfo_t, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
-    use contact_table, only: creep_table
+    use contact_creep_table, only: creep_force_table
     implicit none
     !f2py threadsafe
     integer(c_int), intent(in) :: handle, nx, ny, ngap, ncase, max_iter_n, max_iter_t
@@ -99,7 +99,7 @@ subroutine rolling_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu
     if (w%nker < 4) return
     allocate (kg(ncase), nc(ncase), itn(ncase), itt(ncase), sn(ncase), stt(ncase))
     kg = kgap
-    call creep_table(w, gap, kg, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, max_iter_t, &
+    call creep_force_table(w, gap, kg, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, max_iter_t, &
                      fx, fy, mz, power, nc, approach, itn, itt, sn, stt, stat)
     ncontact = nc
     iters_n = itn
@@ -107,4 +107,4 @@ subroutine rolling_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu
     nfo_n = sn
     nfo_t = stt
     info = stat
-end subroutine rolling_table_c
+end subroutine creep_force_table_c

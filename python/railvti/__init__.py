@@ -3,6 +3,7 @@
 A Fortran numerical core (boundary-element wheel-rail contact, flexible track
 and wheelsets, time integration) with a Python front end. SI units throughout.
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -18,10 +19,19 @@ def __getattr__(name: str) -> Any:
     numpy, so the ``railvti`` command installs its signal handlers within ~0.05 s of its start."""
     if name in ("Material", "STEEL"):
         from . import material
+
         return getattr(material, name)
     raise AttributeError(f"module 'railvti' has no attribute {name!r}")
 
+
 __all__ = [
-    "Material", "STEEL", "errors", "RailvtiError", "InputError", "GridTooSmallError",
-    "NoContactError", "ConvergenceError", "__version__",
+    "Material",
+    "STEEL",
+    "errors",
+    "RailvtiError",
+    "InputError",
+    "GridTooSmallError",
+    "NoContactError",
+    "ConvergenceError",
+    "__version__",
 ]

@@ -1,4 +1,5 @@
 """Argument checks shared by the public API: each raises InputError naming the argument."""
+
 from __future__ import annotations
 
 import math
@@ -26,13 +27,17 @@ def _text_problem(name: str, value: Any) -> str | None:
     the API converts no text to a number (``fn='1e4'`` is a mistake a deck would refuse)."""
     if isinstance(value, (str, bytes)) or np.asarray(value).dtype.kind in "USa":
         if not isinstance(value, (str, bytes)):
-            return (f"{name} must hold numbers, got the texts {value!r} (give numbers, not "
-                    "quoted texts: the API converts no text to a number)")
+            return (
+                f"{name} must hold numbers, got the texts {value!r} (give numbers, not "
+                "quoted texts: the API converts no text to a number)"
+            )
         example = value.decode(errors="replace") if isinstance(value, bytes) else value
         if not isinstance(example, str) or not re.fullmatch(r"\s*[-+0-9.eE]+\s*", example):
             example = "1e4"
-        return (f"{name} must be a number, got the text {value!r} (give {name}={example.strip()}, "
-                f"not {name}={example.strip()!r}: the API converts no text to a number)")
+        return (
+            f"{name} must be a number, got the text {value!r} (give {name}={example.strip()}, "
+            f"not {name}={example.strip()!r}: the API converts no text to a number)"
+        )
     return None
 
 
@@ -78,13 +83,14 @@ def positive_int(name: str, value: Any, minimum: int = 1) -> int:
     return v
 
 
-def finite_array(name: str, value: Any, shape: tuple[int, ...] | None = None,
-                 ndim: int | None = None) -> np.ndarray:
+def finite_array(
+    name: str, value: Any, shape: tuple[int, ...] | None = None, ndim: int | None = None
+) -> np.ndarray:
     """Return a Fortran-ordered float64 copy of ``value``; raise on NaN, inf, wrong shape or
     texts (not converted to numbers)."""
     try:
         text = _text_problem(name, value)
-    except (TypeError, ValueError):      # a ragged sequence: np.array below names it
+    except (TypeError, ValueError):  # a ragged sequence: np.array below names it
         text = None
     if text:
         raise InputError(text)
@@ -111,8 +117,10 @@ def speed_kmh(name: str, value: Any) -> float:
 def _kmh(name: str, value: Any) -> float:
     v = finite(name, value)
     if not 0.0 < v <= MAX_SPEED_KMH:
-        raise InputError(f"{name} = {v:g} km/h must be in (0, {MAX_SPEED_KMH:g}] km/h (the fastest "
-                         "wheel-on-rail run was 575 km/h)")
+        raise InputError(
+            f"{name} = {v:g} km/h must be in (0, {MAX_SPEED_KMH:g}] km/h (the fastest "
+            "wheel-on-rail run was 575 km/h)"
+        )
     return v
 
 
@@ -126,8 +134,7 @@ def to_kmh(value: Any) -> Any:
     return value * KMH_PER_M_S
 
 
-def speed_si(speed: Any, speed_kmh: Any, default_kmh: float | None = None,
-             name: str = "speed") -> float:
+def speed_si(speed: Any, speed_kmh: Any, default_kmh: float | None = None, name: str = "speed") -> float:
     """A vehicle speed in m/s from exactly one of ``speed`` (m/s, the SI argument) and
     ``speed_kmh`` (its suffixed alias, km/h), or ``default_kmh`` when neither is given:
     the one conversion at the public API's edge.
@@ -156,6 +163,8 @@ def friction(name: str, value: Any, allow_zero: bool = False) -> float:
     ``allow_zero``)."""
     v = finite(name, value)
     if v < 0.0 or v > MAX_FRICTION or (v == 0.0 and not allow_zero):
-        raise InputError(f"{name} = {v:g} must be in {'[' if allow_zero else '('}0, {MAX_FRICTION:g}] "
-                         "(dry steel on steel is about 0.3-0.6)")
+        raise InputError(
+            f"{name} = {v:g} must be in {'[' if allow_zero else '('}0, {MAX_FRICTION:g}] "
+            "(dry steel on steel is about 0.3-0.6)"
+        )
     return v

@@ -5,6 +5,7 @@ address (the runner's sweeps and the scenarios' speed scans alike).
 dask and distributed are imported only inside the functions that start or reach a cluster:
 importing this module, the serial paths and ``railvti run --serial`` do not import them.
 """
+
 from __future__ import annotations
 
 import asyncio
@@ -25,15 +26,19 @@ log = logging.getLogger("railvti")
 
 #: Environment of each worker process: one thread for BLAS/OpenMP (one task per core).
 #: No tqdm bars in the workers (they would interleave on the console): the driver's bar counts tasks.
-WORKER_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-              "TQDM_DISABLE": "1"}
+WORKER_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "TQDM_DISABLE": "1",
+}
 
 
 def default_workers() -> int:
     """Workers of the default LocalCluster: the cores this process may use."""
     try:
         return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:        # not Linux
+    except AttributeError:  # not Linux
         return max(1, os.cpu_count() or 1)
 
 
@@ -60,6 +65,7 @@ def local_client(n_workers: int | None = None) -> Any:
     (:func:`_abandon_start`), none is left behind, and the exception propagates."""
     from distributed import Client, LocalCluster
     from distributed.deploy.spec import SpecCluster
+
     _quiet_dask()
     n = default_workers() if n_workers is None else int(n_workers)
     if n < 1:
@@ -67,6 +73,7 @@ def local_client(n_workers: int | None = None) -> Any:
     # set before each worker process starts (BLAS reads its thread count when it loads): the
     # nanny sets these in this process's environment to spawn; restored afterwards
     import dask
+
     pre = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}), **WORKER_ENV}
     saved = {k: os.environ.get(k) for k in pre}
     children = set(multiprocessing.active_children())
@@ -79,9 +86,15 @@ def local_client(n_workers: int | None = None) -> Any:
     try:
         try:
             with dask.config.set({"distributed.nanny.pre-spawn-environ": pre}):
-                cluster = _start_without_sigint(lambda: LocalCluster(
-                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                    silence_logs=logging.CRITICAL))       # a heartbeat lost at close
+                cluster = _start_without_sigint(
+                    lambda: LocalCluster(
+                        n_workers=n,
+                        threads_per_worker=1,
+                        processes=True,
+                        dashboard_address=":0",
+                        silence_logs=logging.CRITICAL,
+                    )
+                )  # a heartbeat lost at close
         finally:
             for k, v in saved.items():
                 if v is None:
@@ -137,6 +150,7 @@ def _abandon_start(children: set, clusters: set) -> None:
     ``clusters``): a graceful close of a half-started cluster waits for workers that never
     come, and dask's atexit hook would try it again (seconds, then an AssertionError)."""
     from distributed.deploy.spec import SpecCluster
+
     # the half-started nannies' "Task exception was never retrieved" once their workers die
     logging.getLogger("asyncio").setLevel(logging.CRITICAL)
     # a worker whose spawn was under way joins the children a few ms later: sweep a while
@@ -197,9 +211,10 @@ def scheduler_address(address: Any, what: str = "client") -> tuple[str, str, int
     InputError
         Naming the address, what is wrong and :data:`ADDRESS_FORM`.
     """
+
     def bad(why: str) -> InputError:
-        return InputError(f"{what} {address!r}: malformed scheduler address ({why}); "
-                          f"expected {ADDRESS_FORM}")
+        return InputError(f"{what} {address!r}: malformed scheduler address ({why}); expected {ADDRESS_FORM}")
+
     if not isinstance(address, str):
         raise bad(f"a {type(address).__name__}, not a text")
     text = address.strip()
@@ -246,15 +261,19 @@ def _check_address(address: str, timeout: float = CONNECT_TIMEOUT, what: str = "
     default)."""
     scheme, host, port = scheduler_address(address, what)
     if scheme in ("inproc", "ucx"):
-        return                        # no TCP port to try: Dask's own connect decides
+        return  # no TCP port to try: Dask's own connect decides
     try:
         with socket.create_connection((host, port), timeout=timeout):
             pass
     except OSError as exc:
-        why = (f"no answer within {timeout:g} s" if isinstance(exc, TimeoutError)
-               else exc.strerror or type(exc).__name__)
-        raise InputError(f"{what} {address!r}: no Dask scheduler reachable at {host}:{port} "
-                         f"({why})") from None
+        why = (
+            f"no answer within {timeout:g} s"
+            if isinstance(exc, TimeoutError)
+            else exc.strerror or type(exc).__name__
+        )
+        raise InputError(
+            f"{what} {address!r}: no Dask scheduler reachable at {host}:{port} ({why})"
+        ) from None
 
 
 def _probe_scheduler(address: str, timeout: float) -> None:
@@ -310,6 +329,7 @@ def remote_client(address: str, timeout: float = SCHEDULER_TIMEOUT, what: str = 
     t0 = time.monotonic()
     scheduler_address(address, what)
     from distributed import Client
+
     _quiet_dask()
     _check_address(address, min(CONNECT_TIMEOUT, timeout), what)
     left = max(timeout - (time.monotonic() - t0), 0.5)
@@ -334,9 +354,11 @@ def remote_client(address: str, timeout: float = SCHEDULER_TIMEOUT, what: str = 
     except Exception as exc:  # noqa: BLE001 - whatever answered there, it is not a scheduler
         # (an HTTP proxy's reply read as a Dask frame asks numpy for exabytes: say so briefly)
         why = "no answer" if isinstance(exc, (TimeoutError, OSError)) else "not Dask's protocol"
-        raise InputError(f"{what} {address!r}: no Dask scheduler answered there within "
-                         f"{timeout:g} s ({why}: {type(exc).__name__}); expected "
-                         f"{ADDRESS_FORM}") from None
+        raise InputError(
+            f"{what} {address!r}: no Dask scheduler answered there within "
+            f"{timeout:g} s ({why}: {type(exc).__name__}); expected "
+            f"{ADDRESS_FORM}"
+        ) from None
     try:
         yield client
     finally:
@@ -350,8 +372,10 @@ def check_client(client: Any) -> None:
         if client != "local":
             _check_address(client)
     elif not all(hasattr(client, k) for k in ("submit", "map", "gather")):
-        raise InputError(f"client must be a distributed.Client, a scheduler address "
-                         f"('tcp://host:port') or 'local', got {client!r}")
+        raise InputError(
+            f"client must be a distributed.Client, a scheduler address "
+            f"('tcp://host:port') or 'local', got {client!r}"
+        )
 
 
 @contextlib.contextmanager
@@ -369,6 +393,16 @@ def client_from(client: Any, workers: int | None = None) -> Any:
         yield client
 
 
-__all__ = ["ADDRESS_FORM", "CONNECT_TIMEOUT", "SCHEDULER_TIMEOUT", "SCHEMES", "WORKER_ENV",
-           "check_client", "client_from", "default_workers", "local_client", "remote_client",
-           "scheduler_address"]
+__all__ = [
+    "ADDRESS_FORM",
+    "CONNECT_TIMEOUT",
+    "SCHEDULER_TIMEOUT",
+    "SCHEMES",
+    "WORKER_ENV",
+    "check_client",
+    "client_from",
+    "default_workers",
+    "local_client",
+    "remote_client",
+    "scheduler_address",
+]

@@ -8,6 +8,7 @@ interrupted call runs on to its end in the background, so whatever it works on m
 freed nor used by another call meanwhile (``on_abandon`` / ``on_end``).
 (``railvti.contact.workspace.call_interruptibly`` is the same for the contact workspaces.)
 """
+
 from __future__ import annotations
 
 import threading
@@ -30,9 +31,13 @@ def wait_while(busy: Callable[[], bool]) -> None:
         time.sleep(POLL_SECONDS)
 
 
-def call_in_worker(fn: Callable[..., Any], *args: Any,
-                   on_abandon: Callable[[], None] | None = None,
-                   on_end: Callable[[], None] | None = None, name: str = "railvti-fortran") -> Any:
+def call_in_worker(
+    fn: Callable[..., Any],
+    *args: Any,
+    on_abandon: Callable[[], None] | None = None,
+    on_end: Callable[[], None] | None = None,
+    name: str = "railvti-fortran",
+) -> Any:
     """``fn(*args)`` in a daemon worker thread while this thread waits for it.
 
     Parameters
@@ -55,7 +60,7 @@ def call_in_worker(fn: Callable[..., Any], *args: Any,
     """
     box: dict = {}
     done = threading.Event()
-    lock = threading.Lock()         # the call's end against its abandonment
+    lock = threading.Lock()  # the call's end against its abandonment
 
     def work() -> None:
         try:
@@ -68,6 +73,7 @@ def call_in_worker(fn: Callable[..., Any], *args: Any,
                 if on_end is not None:
                     on_end()
             done.set()
+
     try:
         threading.Thread(target=work, name=name, daemon=True).start()
     except BaseException:

@@ -1,4 +1,5 @@
 """The compiled Fortran core. Only railvti's own modules import this."""
+
 from __future__ import annotations
 
 try:

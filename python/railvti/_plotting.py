@@ -3,6 +3,7 @@
 matplotlib is imported on the first plot only (half a second): importing a module that can
 plot costs nothing until it does.
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -11,8 +12,10 @@ from typing import Any
 def pyplot() -> Any:
     """``matplotlib.pyplot`` with the Agg backend (PNG files, no window)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 

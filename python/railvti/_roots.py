@@ -8,6 +8,7 @@ two of them coincide) and takes the step only if it stays well inside the bracke
 shrinks fast enough, else bisects. It stops when half the bracket is below
 (xtol + rtol |x|) / 2, as scipy.optimize.brentq does with the same tolerances.
 """
+
 from __future__ import annotations
 
 from typing import Callable
@@ -18,8 +19,15 @@ from .errors import ConvergenceError, InputError
 _RTOL = 4.0 * 2.220446049250313e-16
 
 
-def brent_root(f: Callable[..., float], a: float, b: float, args: tuple = (), xtol: float = 2e-12,
-               rtol: float = _RTOL, maxiter: int = 100) -> float:
+def brent_root(
+    f: Callable[..., float],
+    a: float,
+    b: float,
+    args: tuple = (),
+    xtol: float = 2e-12,
+    rtol: float = _RTOL,
+    maxiter: int = 100,
+) -> float:
     """A root of f in [a, b], where f(a) and f(b) differ in sign.
 
     Parameters
@@ -71,19 +79,20 @@ def brent_root(f: Callable[..., float], a: float, b: float, args: tuple = (), xt
             return x
         if abs(step_old) > tol and abs(fx) < abs(f_prev):
             if x_prev == x_blk:
-                trial = -fx * (x - x_prev) / (fx - f_prev)                 # secant
+                trial = -fx * (x - x_prev) / (fx - f_prev)  # secant
             else:
                 s_prev = (f_prev - fx) / (x_prev - x)
                 s_blk = (f_blk - fx) / (x_blk - x)
                 trial = -fx * (f_blk * s_blk - f_prev * s_prev) / (s_blk * s_prev * (f_blk - f_prev))
             if 2.0 * abs(trial) < min(abs(step_old), 3.0 * abs(half) - tol):
-                step_old, step = step, trial                              # interpolation accepted
+                step_old, step = step, trial  # interpolation accepted
             else:
-                step_old = step = half                                    # bisection
+                step_old = step = half  # bisection
         else:
             step_old = step = half
         x_prev, f_prev = x, fx
         x += step if abs(step) > tol else (tol if half > 0.0 else -tol)
         fx = float(f(x, *args))
-    raise ConvergenceError(f"brent_root did not converge in {maxiter} iterations (bracket [{x}, {x_blk}])",
-                           iterations=maxiter)
+    raise ConvergenceError(
+        f"brent_root did not converge in {maxiter} iterations (bracket [{x}, {x_blk}])", iterations=maxiter
+    )

@@ -5,14 +5,21 @@ The codes, their names and messages are defined once, in
 (``status_describe_c``) and maps each to an exception class. No other module compares
 an ``info`` value with a number: they call :func:`check` or compare with :class:`Status`.
 """
+
 from __future__ import annotations
 
 import enum
 from functools import lru_cache
 
 from ._native import core
-from .errors import (ConvergenceError, DivergenceError, GridTooSmallError, InputError,
-                     NoContactError, RailvtiError)
+from .errors import (
+    ConvergenceError,
+    DivergenceError,
+    GridTooSmallError,
+    InputError,
+    NoContactError,
+    RailvtiError,
+)
 
 
 class Status(enum.IntEnum):
@@ -77,13 +84,12 @@ def last_code() -> int:
 def _text(raw: object) -> str:
     if isinstance(raw, (bytes, bytearray)):
         raw = raw.decode("ascii", "replace")
-    elif hasattr(raw, "tobytes"):          # numpy 0-d character array
+    elif hasattr(raw, "tobytes"):  # numpy 0-d character array
         raw = raw.tobytes().decode("ascii", "replace")
     return str(raw).strip().strip("\x00").strip()
 
 
-def error(info: int, context: str, *, exc: type[RailvtiError] | None = None,
-          **attrs: object) -> RailvtiError:
+def error(info: int, context: str, *, exc: type[RailvtiError] | None = None, **attrs: object) -> RailvtiError:
     """The exception for a failing status: ``context`` says what failed, the message why.
 
     Parameters

@@ -7,6 +7,7 @@ taking a core from the loop: on the shared 2-core machine model FR's 2 s of hunt
 31-38 s of wall time with OpenBLAS's two threads and 11-15 s with one (benchmarks/
 bench_vehicle_fr.py).
 """
+
 from __future__ import annotations
 
 from contextlib import AbstractContextManager, nullcontext
@@ -18,6 +19,6 @@ def serial_blas() -> AbstractContextManager:
     threadpoolctl: nothing changes."""
     try:
         from threadpoolctl import threadpool_limits
-    except ImportError:                      # pragma: no cover - a declared dependency
+    except ImportError:  # pragma: no cover - a declared dependency
         return nullcontext()
     return threadpool_limits(limits=1, user_api="blas")

@@ -9,6 +9,7 @@ returned :class:`CaseOutput` to HDF5. ``plot``, if given, draws a stored case.
 Each area registers its case types in :data:`REGISTRY` through
 :func:`register` (see ``railvti.runner.deck_registry``).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -25,10 +26,30 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["REQUIRED", "Streamed", "CaseOutput", "Key", "Alias", "CaseType", "as_written",
-           "REGISTRY", "validate", "register", "split_labels", "MAX_NAME", "Case", "name_problem",
-           "DECK_READERS", "register_deck_reader", "STREAM_TAIL_SECONDS", "ROW_BYTES",
-           "history_bytes", "HistorySink", "offering_sinks", "case_sink"]
+__all__ = [
+    "REQUIRED",
+    "Streamed",
+    "CaseOutput",
+    "Key",
+    "Alias",
+    "CaseType",
+    "as_written",
+    "REGISTRY",
+    "validate",
+    "register",
+    "split_labels",
+    "MAX_NAME",
+    "Case",
+    "name_problem",
+    "DECK_READERS",
+    "register_deck_reader",
+    "STREAM_TAIL_SECONDS",
+    "ROW_BYTES",
+    "history_bytes",
+    "HistorySink",
+    "offering_sinks",
+    "case_sink",
+]
 
 log = logging.getLogger("railvti")
 
@@ -119,7 +140,9 @@ class Key:
         lo = "-inf" if self.lo is None else f"{self.lo:g}"
         hi = "inf" if self.hi is None else f"{self.hi:g}"
         unit = f" {self.unit}" if self.unit not in ("", "1", "-") else ""
-        return f"{'(' if self.lo_open or self.lo is None else '['}{lo}, {hi}{')' if self.hi_open or self.hi is None else ']'}{unit}"
+        left = "(" if self.lo_open or self.lo is None else "["
+        right = ")" if self.hi_open or self.hi is None else "]"
+        return f"{left}{lo}, {hi}{right}{unit}"
 
     def choice(self, value: str) -> str | None:
         """The allowed choice that ``value`` names (without regard to case and spaces), or None."""
@@ -160,8 +183,9 @@ class Key:
             return f"key '{name}' must be {kind}, got {value!r}"
         if self.kind == "flag" and v not in (0.0, 1.0):
             return f"key '{name}' must be 0 or 1, got {value!r}"
-        bad = ((self.lo is not None and (v < self.lo or (self.lo_open and v == self.lo)))
-               or (self.hi is not None and (v > self.hi or (self.hi_open and v == self.hi))))
+        bad = (self.lo is not None and (v < self.lo or (self.lo_open and v == self.lo))) or (
+            self.hi is not None and (v > self.hi or (self.hi_open and v == self.hi))
+        )
         if bad:
             why = f" ({self.why})" if self.why else ""
             return f"key '{name}' = {value!r} is outside {self.bounds()}{why}"
@@ -232,8 +256,9 @@ class CaseType:
     aliases: dict[str, Alias] = field(default_factory=dict)
     summary: str = ""
 
-    def problems(self, params: dict[str, Any],
-                 written: dict[str, tuple[str, Any]] | None = None) -> list[str]:
+    def problems(
+        self, params: dict[str, Any], written: dict[str, tuple[str, Any]] | None = None
+    ) -> list[str]:
         """Every problem of a case's complete parameters: each key's type and range, then
         the case type's consistency check. Empty if the case may run.
 
@@ -287,14 +312,18 @@ class CaseType:
                 problems.append(f"key '{name}' and key '{alias.key}' name the same quantity: give one")
                 continue
             if alias.deprecated:
-                msg = (f"deck key '{name}' of type '{self.name}' is deprecated: use '{alias.key}'"
-                       + (f" (unit {self.keys[alias.key].unit})" if alias.key in self.keys else ""))
+                msg = f"deck key '{name}' of type '{self.name}' is deprecated: use '{alias.key}'" + (
+                    f" (unit {self.keys[alias.key].unit})" if alias.key in self.keys else ""
+                )
                 warnings.warn(msg, DeprecationWarning, stacklevel=3)
                 log.warning(msg)
             if alias.converts and value is not None:
                 try:
-                    value = ([alias.to_key(v) for v in value] if isinstance(value, (list, tuple))
-                             else alias.to_key(value))
+                    value = (
+                        [alias.to_key(v) for v in value]
+                        if isinstance(value, (list, tuple))
+                        else alias.to_key(value)
+                    )
                 except (TypeError, ValueError):
                     problems.append(f"key '{name}' must be a number, got {value!r}")
                     continue
@@ -319,8 +348,9 @@ class CaseType:
             target = self.aliases[name].key
             if target in params and params[target] == self.defaults.get(target, object()):
                 del params[target]
-            given, probs = self.resolve_aliases({name: params.pop(name), **({target: params[target]}
-                                                                             if target in params else {})})
+            given, probs = self.resolve_aliases(
+                {name: params.pop(name), **({target: params[target]} if target in params else {})}
+            )
             problems += probs
             params.update(given)
         problems += self.problems(params, written)
@@ -329,8 +359,7 @@ class CaseType:
         return params
 
 
-def as_written(message: str, written: dict[str, tuple[str, Any]],
-               units: dict[str, str] | None = None) -> str:
+def as_written(message: str, written: dict[str, tuple[str, Any]], units: dict[str, str] | None = None) -> str:
     """``message`` naming the keys a case gave under an alias as the case wrote them:
     ``key 'y_max' = 0.08`` becomes ``key 'y_max_mm' = 80.0 (y_max = 0.08 m)`` (``units``:
     key -> unit), and a message that names such a key otherwise (a consistency check:
@@ -346,10 +375,12 @@ def as_written(message: str, written: dict[str, tuple[str, Any]],
             pass
         unit = units.get(key, "")
         return f"{key} = {text}" + (f" {unit}" if unit and unit not in ("1", "-") else "")
+
     for key, (alias, value) in written.items():
         pattern = re.compile(rf"key '{re.escape(key)}' = (\S+)")
         message, n = pattern.subn(
-            lambda m: f"key '{alias}' = {value!r} ({converted(key, m.group(1))})", message)
+            lambda m: f"key '{alias}' = {value!r} ({converted(key, m.group(1))})", message
+        )
         if n == 0 and re.search(rf"(?<![\w']){re.escape(key)}(?![\w'])", message):
             named.append(f"{alias} = {value!r}")
     return message + (f" (the case gave {', '.join(named)})" if named else "")
@@ -390,12 +421,14 @@ def register(case_type: CaseType) -> CaseType:
     return case_type
 
 
-
 def split_labels(data: dict[str, tuple]) -> tuple[dict[str, tuple], dict[str, dict[str, Any]]]:
     """Split name -> (array, unit[, labels]) into CaseOutput's ``datasets`` (array, unit) and
     ``attrs`` (labels)."""
-    return ({k: (v[0], v[1]) for k, v in data.items()},
-            {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]})
+    return (
+        {k: (v[0], v[1]) for k, v in data.items()},
+        {k: dict(v[2]) for k, v in data.items() if len(v) > 2 and v[2]},
+    )
+
 
 # ---------------------------------------------------------------------------------------------
 # A case: what the runner reads from a deck and hands to a case type
@@ -442,8 +475,10 @@ def name_problem(name: Any) -> str | None:
     if len(name) > MAX_NAME:
         return f"key 'name' has {len(name)} characters; at most {MAX_NAME}"
     if not _NAME.fullmatch(name):
-        return (f"key 'name' = {name!r} is not a safe name: use letters, digits, '_', '-', '.', '+' "
-                "(no '/', spaces or other characters; not starting with '.', '-' or '+')")
+        return (
+            f"key 'name' = {name!r} is not a safe name: use letters, digits, '_', '-', '.', '+' "
+            "(no '/', spaces or other characters; not starting with '.', '-' or '+')"
+        )
     return None
 
 
@@ -456,7 +491,6 @@ DECK_READERS: dict[str, Callable[[Path], list[Case]]] = {}
 def register_deck_reader(suffix: str, reader: Callable[[Path], list[Case]]) -> None:
     """Read deck files ending in ``suffix`` (e.g. '.inp') with ``reader(path)``."""
     DECK_READERS[suffix.lower()] = reader
-
 
 
 # ---------------------------------------------------------------------------------------------
@@ -506,8 +540,9 @@ class HistorySink(Protocol):
 
 #: The provider of sinks for the case running in this context (set by the runner while it
 #: runs a case; None outside ``railvti run``): nbytes, **kw -> a HistorySink or None.
-_SINK_PROVIDER: contextvars.ContextVar[Callable[..., HistorySink | None] | None] = \
-    contextvars.ContextVar("railvti_sink_provider", default=None)
+_SINK_PROVIDER: contextvars.ContextVar[Callable[..., HistorySink | None] | None] = contextvars.ContextVar(
+    "railvti_sink_provider", default=None
+)
 
 
 @contextlib.contextmanager

@@ -33,6 +33,7 @@ Examples
 >>> c = nonlinear_critical_speed("RR", speed_top_kmh=420, resolution_kmh=2.5)
 >>> c.fold_kmh, c.decay_boundary_kmh, c.message
 """
+
 from __future__ import annotations
 
 import logging
@@ -49,12 +50,31 @@ from .vehicle.bifurcation import point_systems
 from .vehicle.params import Coach
 from .vehicle.equilibrium import lateral_disturbance, static_equilibrium
 from .vehicle.simulate import simulate
-from .vehicle.systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, check_fr_selection,
-                              check_model, resolve_geometry, ring_keys, run_output_dt)
+from .vehicle.systems import (
+    FLEXIBLE_WHEELSETS,
+    FR_F_MAX,
+    FR_K_MAX,
+    check_fr_selection,
+    check_model,
+    resolve_geometry,
+    ring_keys,
+    run_output_dt,
+)
 
-__all__ = ["envelope", "growth_rate", "cycle_verdict", "Bracket", "bracket_down",
-           "PathCriticalSpeed", "RUN_FAILURES", "nonlinear_critical_speed", "RESOLUTION_KMH",
-           "STEP_KMH", "TOP_KMH", "FLOOR_KMH"]
+__all__ = [
+    "envelope",
+    "growth_rate",
+    "cycle_verdict",
+    "Bracket",
+    "bracket_down",
+    "PathCriticalSpeed",
+    "RUN_FAILURES",
+    "nonlinear_critical_speed",
+    "RESOLUTION_KMH",
+    "STEP_KMH",
+    "TOP_KMH",
+    "FLOOR_KMH",
+]
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +88,7 @@ TOP_KMH, FLOOR_KMH = 420.0, 150.0
 # --------------------------------------------------------------------------------------------
 # The criteria
 # --------------------------------------------------------------------------------------------
+
 
 def envelope(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
     """Amplitude envelope of a time history: half the peak-to-peak of ``y`` in consecutive
@@ -92,7 +113,7 @@ def envelope(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> tuple[np.ndar
     """
     t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
     window = _checks.positive("window", window)
-    span = t[-1] - t[0] + (t[1] - t[0] if t.size > 1 else 0.0)    # samples end intervals
+    span = t[-1] - t[0] + (t[1] - t[0] if t.size > 1 else 0.0)  # samples end intervals
     n = int(math.floor(span / window + 1e-9))
     if n < 1:
         raise InputError(f"window = {window:g} s is longer than the run ({span:g} s)")
@@ -129,9 +150,15 @@ def growth_rate(t: np.ndarray, y: np.ndarray, window: float = 0.5) -> float:
     return float(np.log(a[-1] / a[0]) / (tc[-1] - tc[0]))
 
 
-def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: float,
-                  window: float = 0.5, collapse: float | None = None
-                  ) -> tuple[str, float, float]:
+def cycle_verdict(
+    t: np.ndarray,
+    y: np.ndarray,
+    *,
+    threshold: float,
+    rate_tol: float,
+    window: float = 0.5,
+    collapse: float | None = None,
+) -> tuple[str, float, float]:
     """Is a limit cycle alive at the end of this run?
 
     Parameters
@@ -173,6 +200,7 @@ def cycle_verdict(t: np.ndarray, y: np.ndarray, *, threshold: float, rate_tol: f
 # The bracketing
 # --------------------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class Bracket:
     """A walk down in speed and its bisection (:func:`bracket_down`).
@@ -198,8 +226,14 @@ class Bracket:
     failure: str = ""
 
 
-def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float, step: float,
-                 floor: float, resolution: float, state: Any = None) -> Bracket:
+def bracket_down(
+    test: Callable[[float, Any], tuple[bool, Any, Any]],
+    top: float,
+    step: float,
+    floor: float,
+    resolution: float,
+    state: Any = None,
+) -> Bracket:
     """Walk down from ``top`` by ``step`` while ``test`` passes, then bisect between the last
     pass and the first failure until they are at most ``resolution`` apart.
 
@@ -219,8 +253,9 @@ def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float
         ok, after, rec = test(s, state)
         visited.append((s, bool(ok), rec))
         if isinstance(rec, dict) and rec.get("failed"):
-            return Bracket(lo=float("nan"), hi=hi, visited=visited,
-                           failure=f"the run at {s:g} failed: {rec['failed']}")
+            return Bracket(
+                lo=float("nan"), hi=hi, visited=visited, failure=f"the run at {s:g} failed: {rec['failed']}"
+            )
         if not ok:
             lo = s
             break
@@ -233,8 +268,9 @@ def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float
         ok, after, rec = test(mid, state)
         visited.append((mid, bool(ok), rec))
         if isinstance(rec, dict) and rec.get("failed"):
-            return Bracket(lo=lo, hi=hi, visited=visited,
-                           failure=f"the run at {mid:g} failed: {rec['failed']}")
+            return Bracket(
+                lo=lo, hi=hi, visited=visited, failure=f"the run at {mid:g} failed: {rec['failed']}"
+            )
         if ok:
             hi, state = mid, after
         else:
@@ -245,6 +281,7 @@ def bracket_down(test: Callable[[float, Any], tuple[bool, Any, Any]], top: float
 # --------------------------------------------------------------------------------------------
 # The result
 # --------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class PathCriticalSpeed:
@@ -340,8 +377,10 @@ class PathCriticalSpeed:
         elif math.isnan(lo):
             f = f"fold below {hi:.1f} km/h (the cycle lives down to the floor {bottom:.1f})"
         else:
-            f = (f"fold (lowest speed with a limit cycle) {self.fold_kmh:.1f} km/h "
-                 f"[{lo:.1f}, {hi:.1f}], {self.fold_branch} {self.fold_amplitude * 1e3:.2f} mm")
+            f = (
+                f"fold (lowest speed with a limit cycle) {self.fold_kmh:.1f} km/h "
+                f"[{lo:.1f}, {hi:.1f}], {self.fold_branch} {self.fold_amplitude * 1e3:.2f} mm"
+            )
         lo, hi = self.decay_bracket_kmh
         if not self.settings.get("decay", True):
             d = "decay boundary not computed"
@@ -370,17 +409,26 @@ def _failed(speed: float, err: Exception) -> tuple[bool, None, dict]:
     """A test's result for a run that failed at speed (m/s): not passed, the reason recorded."""
     log.warning("run at %.2f km/h failed: %s", _checks.to_kmh(speed), err)
     nan = float("nan")
-    return False, None, dict(amplitude=nan, rate=nan, duration=nan, flange=nan,
-                             failed=str(err).split(";")[0])
+    return False, None, dict(amplitude=nan, rate=nan, duration=nan, flange=nan, failed=str(err).split(";")[0])
 
 
 class _Runs:
     """The simulations of one search: the systems at each speed (scenarios' sweep systems:
     RR's one system, FR, RF, FF built per speed), a run continued in ``segments`` calls."""
 
-    def __init__(self, model: str, contact: str, coach: Coach | None, h: float | None,
-                 k_max: int, f_max: float, geometry: str, ring: dict,
-                 output_dt: float | None, segments: int) -> None:
+    def __init__(
+        self,
+        model: str,
+        contact: str,
+        coach: Coach | None,
+        h: float | None,
+        k_max: int,
+        f_max: float,
+        geometry: str,
+        ring: dict,
+        output_dt: float | None,
+        segments: int,
+    ) -> None:
         self.contact, self.output_dt, self.segments = contact, output_dt, segments
         self.systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
 
@@ -389,8 +437,9 @@ class _Runs:
         sy = self.systems.upper_at(speed, travel)[0]
         return static_equilibrium(sy, speed, self.contact)[0]
 
-    def run(self, speed: float, q: np.ndarray, v: np.ndarray | None, duration: float,
-            travel: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
+    def run(
+        self, speed: float, q: np.ndarray, v: np.ndarray | None, duration: float, travel: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
         """``duration`` s at speed (m/s) from (q, v), in ``segments`` continued calls.
 
         Returns (t, y_ws1, q_end, v_end, travel_end, max flange force of the leading bogie
@@ -402,9 +451,17 @@ class _Runs:
         part = duration / self.segments
         for _ in range(self.segments):
             sy = self.systems.upper_at(speed, travel)[0]
-            r = simulate(sy, vv, part, contact=self.contact, h=hs, q0=q, v0=v,
-                         output_dt=run_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
-                         progress=False)
+            r = simulate(
+                sy,
+                vv,
+                part,
+                contact=self.contact,
+                h=hs,
+                q0=q,
+                v0=v,
+                output_dt=run_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
+                progress=False,
+            )
             ts.append(r.t + t0)
             ys.append(r.y_ws1)
             fl.append(r.wheel_output("N_flange")[:, :, :2].max(axis=(1, 2)))
@@ -424,23 +481,37 @@ def _speed_arg(name: str, si: Any, kmh: Any, default_kmh: float) -> float:
     return _checks.from_kmh(_checks.positive(f"{name}_kmh", default_kmh if kmh is None else kmh))
 
 
-def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *,
-                             speed_top: float | None = None, speed_top_kmh: float | None = None,
-                             speed_floor: float | None = None,
-                             speed_floor_kmh: float | None = None,
-                             step: float | None = None, step_kmh: float | None = None,
-                             resolution: float | None = None,
-                             resolution_kmh: float | None = None, duration: float = 4.0,
-                             y_large: float = 0.006, y_small: float = 0.0005,
-                             threshold: float = 0.25e-3, rate_tol: float = 0.05,
-                             collapse: float = 0.5,
-                             window: float = 0.5, max_extensions: int = 2,
-                             h: float | None = None, segments: int = 1,
-                             output_dt: float | None = None, decay: bool = True,
-                             progress: bool = False,
-                             coach: Coach | None = None, k_max: int = FR_K_MAX,
-                             f_max: float = FR_F_MAX, geometry: str | None = None,
-                             **ring: Any) -> PathCriticalSpeed:
+def nonlinear_critical_speed(
+    model: str = "RR",
+    contact: str = "hertz-kalker",
+    *,
+    speed_top: float | None = None,
+    speed_top_kmh: float | None = None,
+    speed_floor: float | None = None,
+    speed_floor_kmh: float | None = None,
+    step: float | None = None,
+    step_kmh: float | None = None,
+    resolution: float | None = None,
+    resolution_kmh: float | None = None,
+    duration: float = 4.0,
+    y_large: float = 0.006,
+    y_small: float = 0.0005,
+    threshold: float = 0.25e-3,
+    rate_tol: float = 0.05,
+    collapse: float = 0.5,
+    window: float = 0.5,
+    max_extensions: int = 2,
+    h: float | None = None,
+    segments: int = 1,
+    output_dt: float | None = None,
+    decay: bool = True,
+    progress: bool = False,
+    coach: Coach | None = None,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    geometry: str | None = None,
+    **ring: Any,
+) -> PathCriticalSpeed:
     """The fold (lowest speed with a limit cycle) and the decay boundary, by path-following.
 
     The upper branch: the static state at the top speed with the leading bogie's wheelsets
@@ -509,66 +580,118 @@ def nonlinear_critical_speed(model: str = "RR", contact: str = "hertz-kalker", *
     bottom = _speed_arg("speed_floor", speed_floor, speed_floor_kmh, FLOOR_KMH)
     dstep = _speed_arg("step", step, step_kmh, STEP_KMH)
     res = _speed_arg("resolution", resolution, resolution_kmh, RESOLUTION_KMH)
-    cfg = _checked_search(top, bottom, dstep, res, duration=duration, y_large=y_large,
-                          y_small=y_small, threshold=threshold, rate_tol=rate_tol,
-                          collapse=collapse, window=window, max_extensions=max_extensions,
-                          segments=segments, h=h)
+    cfg = _checked_search(
+        top,
+        bottom,
+        dstep,
+        res,
+        duration=duration,
+        y_large=y_large,
+        y_small=y_small,
+        threshold=threshold,
+        rate_tol=rate_tol,
+        collapse=collapse,
+        window=window,
+        max_extensions=max_extensions,
+        segments=segments,
+        h=h,
+    )
     _check_model_keys(model, contact, k_max, f_max)
     if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     ring = ring_keys(model, ring)
     geometry = resolve_geometry(contact, geometry)
-    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt,
-                 cfg["segments"])
+    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt, cfg["segments"])
     bar = None
     if progress:
         from tqdm import tqdm
+
         bar = tqdm(desc="critical speed (runs)", leave=False)
     try:
         with serial_blas():
             fb = bracket_down(_upper_test(runs, cfg, bar), top, dstep, bottom, res)
-            db = (bracket_down(_decay_test(runs, cfg, bar), top, dstep, bottom, res) if decay
-                  else Bracket(float("nan"), float("nan"), []))
+            db = (
+                bracket_down(_decay_test(runs, cfg, bar), top, dstep, bottom, res)
+                if decay
+                else Bracket(float("nan"), float("nan"), [])
+            )
     finally:
         if bar is not None:
             bar.close()
-    settings = dict(speed_top=top, speed_floor=bottom, step=dstep, resolution=res,
-                    duration=cfg["duration"], y_large=cfg["y_large"], y_small=cfg["y_small"],
-                    threshold=cfg["threshold"], rate_tol=cfg["rate_tol"],
-                    collapse=cfg["collapse"], window=cfg["window"],
-                    max_extensions=cfg["max_extensions"], h=runs.systems.at(top)[2],
-                    segments=cfg["segments"], contact=contact, geometry=geometry,
-                    decay=bool(decay))
+    settings = dict(
+        speed_top=top,
+        speed_floor=bottom,
+        step=dstep,
+        resolution=res,
+        duration=cfg["duration"],
+        y_large=cfg["y_large"],
+        y_small=cfg["y_small"],
+        threshold=cfg["threshold"],
+        rate_tol=cfg["rate_tol"],
+        collapse=cfg["collapse"],
+        window=cfg["window"],
+        max_extensions=cfg["max_extensions"],
+        h=runs.systems.at(top)[2],
+        segments=cfg["segments"],
+        contact=contact,
+        geometry=geometry,
+        decay=bool(decay),
+    )
     return _path_result(fb, db, runs, model, settings)
 
 
-def _checked_search(top: float, bottom: float, dstep: float, res: float, *, duration: Any,
-                    y_large: Any, y_small: Any, threshold: Any, rate_tol: Any, collapse: Any,
-                    window: Any, max_extensions: Any, segments: Any, h: Any) -> dict:
+def _checked_search(
+    top: float,
+    bottom: float,
+    dstep: float,
+    res: float,
+    *,
+    duration: Any,
+    y_large: Any,
+    y_small: Any,
+    threshold: Any,
+    rate_tol: Any,
+    collapse: Any,
+    window: Any,
+    max_extensions: Any,
+    segments: Any,
+    h: Any,
+) -> dict:
     """The search's settings checked (speeds in m/s), as a dict; InputError naming a bad one."""
     if not 0.0 < top <= _checks.MAX_SPEED:
-        raise InputError(f"speed_top_kmh = {_checks.to_kmh(top):g} km/h must be in (0, "
-                         f"{_checks.MAX_SPEED_KMH:g}] km/h (the fastest wheel-on-rail run was "
-                         "575 km/h)")
+        raise InputError(
+            f"speed_top_kmh = {_checks.to_kmh(top):g} km/h must be in (0, "
+            f"{_checks.MAX_SPEED_KMH:g}] km/h (the fastest wheel-on-rail run was "
+            "575 km/h)"
+        )
     if bottom >= top:
-        raise InputError(f"speed_top = {_checks.to_kmh(top):g} km/h must lie above speed_floor = "
-                         f"{_checks.to_kmh(bottom):g} km/h")
+        raise InputError(
+            f"speed_top = {_checks.to_kmh(top):g} km/h must lie above speed_floor = "
+            f"{_checks.to_kmh(bottom):g} km/h"
+        )
     if res > dstep:
-        raise InputError(f"resolution = {_checks.to_kmh(res):g} km/h must not exceed step = "
-                         f"{_checks.to_kmh(dstep):g} km/h")
-    cfg = dict(duration=_checks.positive("duration", duration),
-               y_large=_checks.positive("y_large", y_large),
-               y_small=_checks.positive("y_small", y_small),
-               threshold=_checks.positive("threshold", threshold),
-               rate_tol=_checks.positive("rate_tol", rate_tol),
-               collapse=_checks.positive("collapse", collapse))
+        raise InputError(
+            f"resolution = {_checks.to_kmh(res):g} km/h must not exceed step = {_checks.to_kmh(dstep):g} km/h"
+        )
+    cfg = dict(
+        duration=_checks.positive("duration", duration),
+        y_large=_checks.positive("y_large", y_large),
+        y_small=_checks.positive("y_small", y_small),
+        threshold=_checks.positive("threshold", threshold),
+        rate_tol=_checks.positive("rate_tol", rate_tol),
+        collapse=_checks.positive("collapse", collapse),
+    )
     if cfg["collapse"] >= 1.0:
-        raise InputError(f"collapse = {cfg['collapse']:g} must lie in (0, 1): the fraction of the "
-                         f"carried cycle's amplitude below which it has died")
+        raise InputError(
+            f"collapse = {cfg['collapse']:g} must lie in (0, 1): the fraction of the "
+            f"carried cycle's amplitude below which it has died"
+        )
     cfg["window"] = _checks.positive("window", window)
     if 2.0 * cfg["window"] > cfg["duration"]:
-        raise InputError(f"window = {cfg['window']:g} s: the run (duration = "
-                         f"{cfg['duration']:g} s) must hold at least two windows")
+        raise InputError(
+            f"window = {cfg['window']:g} s: the run (duration = "
+            f"{cfg['duration']:g} s) must hold at least two windows"
+        )
     cfg["max_extensions"] = _checks.positive_int("max_extensions", max_extensions, minimum=0)
     cfg["segments"] = _checks.positive_int("segments", segments)
     if h is not None:
@@ -591,7 +714,7 @@ def _upper_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
     duration = cfg["duration"]
 
     def upper(s: float, state: Any) -> tuple[bool, Any, dict]:
-        if state is None:                       # the top: a large shift of the static state
+        if state is None:  # the top: a large shift of the static state
             sy = runs.systems.at(s)[0]
             q = lateral_disturbance(sy, runs.static(s), cfg["y_large"])
             state = (q, np.zeros(sy.n_state), s, 0.0)
@@ -612,13 +735,13 @@ def _upper_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
         except RUN_FAILURES as e:
             return _failed(s, e)
         kmh = _checks.to_kmh(s)
-        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", kmh, verdict, amp * 1e3,
-                 rate, t[-1])
+        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", kmh, verdict, amp * 1e3, rate, t[-1])
         if bar is not None:
             bar.set_postfix_str(f"fold search {kmh:.2f} km/h {verdict}")
             bar.update()
         rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl)
         return verdict == "alive", (q, v, s, travel), rec
+
     return upper
 
 
@@ -642,11 +765,11 @@ def _decay_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
             bar.set_postfix_str(f"decay test {kmh:.2f} km/h {'grows' if rate > 0 else 'decays'}")
             bar.update()
         return rate > 0.0, None, dict(amplitude=amp, rate=rate)
+
     return grows
 
 
-def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str,
-                 settings: dict) -> PathCriticalSpeed:
+def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str, settings: dict) -> PathCriticalSpeed:
     """The PathCriticalSpeed of the fold's and the decay boundary's brackets (m/s)."""
     amp_f, branch = float("nan"), "none"
     if not (math.isnan(fb.hi) or math.isnan(fb.lo)):
@@ -655,19 +778,21 @@ def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str,
         wheel_load = runs.systems.at(fb.hi)[0].wheel_load
         branch = "flange cycle" if rec["flange"] > 0.01 * wheel_load else "tread cycle"
     st, kmh = settings, _checks.to_kmh
-    method = (f"fold: continuation down from {st['y_large'] * 1e3:g} mm at "
-              f"{kmh(st['speed_top']):g} km/h in {kmh(st['step']):g} km/h steps, bisection "
-              f"from the last living state to {kmh(st['resolution']):g} km/h; alive = "
-              f"envelope ({st['window']:g} s windows) growth rate over the run's second half "
-              f">= -{st['rate_tol']:g} 1/s, last window >= {st['threshold'] * 1e3:g} mm and >= "
-              f"{st['collapse']:g} x the first when carried ({st['duration']:g} s per run, up "
-              f"to {st['max_extensions']} extensions); decay boundary: independent runs from "
-              f"{st['y_small'] * 1e3:g} mm, grows = last envelope window above the first")
+    method = (
+        f"fold: continuation down from {st['y_large'] * 1e3:g} mm at "
+        f"{kmh(st['speed_top']):g} km/h in {kmh(st['step']):g} km/h steps, bisection "
+        f"from the last living state to {kmh(st['resolution']):g} km/h; alive = "
+        f"envelope ({st['window']:g} s windows) growth rate over the run's second half "
+        f">= -{st['rate_tol']:g} 1/s, last window >= {st['threshold'] * 1e3:g} mm and >= "
+        f"{st['collapse']:g} x the first when carried ({st['duration']:g} s per run, up "
+        f"to {st['max_extensions']} extensions); decay boundary: independent runs from "
+        f"{st['y_small'] * 1e3:g} mm, grows = last envelope window above the first"
+    )
     pv, dv = fb.visited, db.visited
-    failure = "; ".join(f"{name}: {b.failure}" for name, b in (("fold", fb), ("decay", db))
-                        if b.failure)
+    failure = "; ".join(f"{name}: {b.failure}" for name, b in (("fold", fb), ("decay", db)) if b.failure)
     return PathCriticalSpeed(
-        fold=fb.hi if not math.isnan(fb.lo) else float("nan"), fold_bracket=(fb.lo, fb.hi),
+        fold=fb.hi if not math.isnan(fb.lo) else float("nan"),
+        fold_bracket=(fb.lo, fb.hi),
         decay_boundary=db.hi if not math.isnan(db.lo) else float("nan"),
         decay_bracket=(db.lo, db.hi),
         path_speeds=np.array([s for s, _, _ in pv], dtype=float),
@@ -678,5 +803,10 @@ def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str,
         decay_speeds=np.array([s for s, _, _ in dv], dtype=float),
         decay_amplitudes=np.array([r["amplitude"] for _, _, r in dv]),
         decay_rates=np.array([r["rate"] for _, _, r in dv]),
-        fold_amplitude=amp_f, fold_branch=branch, model=model, method=method,
-        settings=settings, failure=failure)
+        fold_amplitude=amp_f,
+        fold_branch=branch,
+        model=model,
+        method=method,
+        settings=settings,
+        failure=failure,
+    )

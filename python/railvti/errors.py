@@ -4,6 +4,7 @@ Every failure a user can cause or meet is one of these; the Fortran core
 reports problems as named status codes (fortran/common/common_status.f90) that
 ``railvti._status`` maps to these classes, in one place.
 """
+
 from __future__ import annotations
 
 
@@ -36,8 +37,9 @@ class ConvergenceError(RailvtiError, RuntimeError):
         The unconverged result, for inspection.
     """
 
-    def __init__(self, message: str, iterations: int = 0, residual: float = float("nan"),
-                 result: object | None = None) -> None:
+    def __init__(
+        self, message: str, iterations: int = 0, residual: float = float("nan"), result: object | None = None
+    ) -> None:
         super().__init__(message)
         self.iterations = iterations
         self.residual = residual

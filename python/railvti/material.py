@@ -1,4 +1,5 @@
 """Elastic material of two quasi-identical bodies in contact."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

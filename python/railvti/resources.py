@@ -1,4 +1,5 @@
 """Memory the machine has, and the limit a run must stay under (``RAILVTI_MAX_MEMORY``)."""
+
 from __future__ import annotations
 
 import os
@@ -26,7 +27,7 @@ def parse_size(text: str) -> float:
         value = float(m.group(1)) * _SUFFIX[m.group(2)] if m else float("nan")
     except ValueError:
         value = float("nan")
-    if not 0 < value < float("inf"):           # 1e400 is no size: 'none' says no limit
+    if not 0 < value < float("inf"):  # 1e400 is no size: 'none' says no limit
         raise InputError(f"memory size {text!r} is not a size such as 8G, 500M, 1e9 or none")
     return value
 
@@ -51,8 +52,10 @@ def memory_limit() -> float:
         try:
             return parse_size(text)
         except InputError as exc:
-            raise InputError(f"environment variable {ENV} = {text!r} (set by 'railvti run "
-                             f"--max-memory' or the shell): {exc}") from None
+            raise InputError(
+                f"environment variable {ENV} = {text!r} (set by 'railvti run "
+                f"--max-memory' or the shell): {exc}"
+            ) from None
     return DEFAULT_SHARE * available_memory()
 
 
@@ -68,8 +71,13 @@ def check_memory(what: str, nbytes: float, hint: str = "") -> None:
     """InputError when ``what`` would need more than :func:`memory_limit` bytes."""
     limit = memory_limit()
     if nbytes > limit:
-        source = (f"{ENV}={os.environ[ENV]}" if os.environ.get(ENV, "").strip()
-                  else f"{DEFAULT_SHARE:.0%} of the {size_text(available_memory())} available")
-        raise InputError(f"{what} would need about {size_text(nbytes)} of memory, more than the "
-                         f"limit of {size_text(limit)} ({source}){'; ' + hint if hint else ''}; "
-                         f"raise the limit with {ENV} or 'railvti run --max-memory SIZE'")
+        source = (
+            f"{ENV}={os.environ[ENV]}"
+            if os.environ.get(ENV, "").strip()
+            else f"{DEFAULT_SHARE:.0%} of the {size_text(available_memory())} available"
+        )
+        raise InputError(
+            f"{what} would need about {size_text(nbytes)} of memory, more than the "
+            f"limit of {size_text(limit)} ({source}){'; ' + hint if hint else ''}; "
+            f"raise the limit with {ENV} or 'railvti run --max-memory SIZE'"
+        )

@@ -30,45 +30,111 @@ the linear critical speed (:mod:`railvti.vehicle.linear_stability`) and the resu
 (:mod:`railvti.vehicle.scenario_results`); this module is their public face and
 :func:`critical_speed` joins the two methods.
 """
+
 from __future__ import annotations
 
 from typing import Any
 
 from . import _checks
 from .errors import InputError
-from .vehicle.bifurcation import (AMPLITUDE_WINDOW, SweepSystems, amplitude, bifurcation,
-                                  bifurcation_point, bifurcation_upper)
-from .vehicle.linear_stability import (BAY_OFFSETS, DAMPER_STATES, RING_ROWS,
-                                       linear_critical, linear_critical_speed)
+from .vehicle.bifurcation import (
+    AMPLITUDE_WINDOW,
+    SweepSystems,
+    amplitude,
+    bifurcation,
+    bifurcation_point,
+    bifurcation_upper,
+)
+from .vehicle.linear_stability import (
+    BAY_OFFSETS,
+    DAMPER_STATES,
+    RING_ROWS,
+    linear_critical,
+    linear_critical_speed,
+)
 from .vehicle.params import Coach
 from .vehicle.running import centred_running, contact_patch, hunting
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
-from .vehicle.systems import (DEFAULT_GEOMETRY, FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX,
-                              GEOMETRIES, MAX_HARMONIC, MODELS, RF_F_LIMIT, RF_N_SLEEPERS,
-                              RF_SCENARIOS, RING_TABLE_Y_MAX, RING_TRACK, check_fr_selection,
-                              check_model, coach_system, equivalent_conicity, ff_system,
-                              fr_system, hunting_conicity, resolve_geometry, rf_system,
-                              wheel_table)
+from .vehicle.systems import (
+    DEFAULT_GEOMETRY,
+    FLEXIBLE_WHEELSETS,
+    FR_F_MAX,
+    FR_K_MAX,
+    GEOMETRIES,
+    MAX_HARMONIC,
+    MODELS,
+    RF_F_LIMIT,
+    RF_N_SLEEPERS,
+    RF_SCENARIOS,
+    RING_TABLE_Y_MAX,
+    RING_TRACK,
+    check_fr_selection,
+    check_model,
+    coach_system,
+    equivalent_conicity,
+    ff_system,
+    fr_system,
+    hunting_conicity,
+    resolve_geometry,
+    rf_system,
+    wheel_table,
+)
 
 __all__ = [
     # scenarios
-    "centred_running", "hunting", "bifurcation", "critical_speed", "linear_critical_speed",
+    "centred_running",
+    "hunting",
+    "bifurcation",
+    "critical_speed",
+    "linear_critical_speed",
     "linear_critical",
-    "contact_patch", "amplitude", "bifurcation_upper", "bifurcation_point",
+    "contact_patch",
+    "amplitude",
+    "bifurcation_upper",
+    "bifurcation_point",
     # results
-    "CentredRunning", "Bifurcation", "CriticalSpeed",
+    "CentredRunning",
+    "Bifurcation",
+    "CriticalSpeed",
     # systems
-    "coach_system", "fr_system", "rf_system", "ff_system", "wheel_table", "equivalent_conicity",
-    "hunting_conicity", "resolve_geometry", "check_fr_selection", "SweepSystems",
+    "coach_system",
+    "fr_system",
+    "rf_system",
+    "ff_system",
+    "wheel_table",
+    "equivalent_conicity",
+    "hunting_conicity",
+    "resolve_geometry",
+    "check_fr_selection",
+    "SweepSystems",
     # settings
-    "MODELS", "FLEXIBLE_WHEELSETS", "RING_TRACK", "RF_SCENARIOS", "FR_K_MAX", "FR_F_MAX",
-    "MAX_HARMONIC", "RF_N_SLEEPERS", "RF_F_LIMIT", "RING_TABLE_Y_MAX", "GEOMETRIES",
-    "DEFAULT_GEOMETRY", "AMPLITUDE_WINDOW", "DAMPER_STATES", "RING_ROWS", "BAY_OFFSETS",
+    "MODELS",
+    "FLEXIBLE_WHEELSETS",
+    "RING_TRACK",
+    "RF_SCENARIOS",
+    "FR_K_MAX",
+    "FR_F_MAX",
+    "MAX_HARMONIC",
+    "RF_N_SLEEPERS",
+    "RF_F_LIMIT",
+    "RING_TABLE_Y_MAX",
+    "GEOMETRIES",
+    "DEFAULT_GEOMETRY",
+    "AMPLITUDE_WINDOW",
+    "DAMPER_STATES",
+    "RING_ROWS",
+    "BAY_OFFSETS",
 ]
 
 
-def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str = "nonlinear",
-                   *, coach: Coach | None = None, **kw: Any) -> CriticalSpeed:
+def critical_speed(
+    model: str = "RR",
+    contact: str = "hertz-kalker",
+    method: str = "nonlinear",
+    *,
+    coach: Coach | None = None,
+    **kw: Any,
+) -> CriticalSpeed:
     """Critical speed (:class:`CriticalSpeed`; ``.kmh`` or ``float()`` for the value in km/h).
 
     method 'linear': :func:`linear_critical_speed` (eigenvalues; contact model irrelevant;
@@ -86,12 +152,23 @@ def critical_speed(model: str = "RR", contact: str = "hertz-kalker", method: str
         lin = {k: kw.pop(k) for k in ("v_lo_kmh", "v_hi_kmh", "tol_kmh") if k in kw}
         si = {k[:-4]: _checks.from_kmh(v) for k, v in lin.items()}
         v, f = linear_critical(model, coach, **si, **kw)
-        return CriticalSpeed(speed=v, method="linear", branch="linear (equivalent conicity)",
-                             damper_state=DAMPER_STATES.get(damper, damper), frequency_hz=f,
-                             model=model)
+        return CriticalSpeed(
+            speed=v,
+            method="linear",
+            branch="linear (equivalent conicity)",
+            damper_state=DAMPER_STATES.get(damper, damper),
+            frequency_hz=f,
+            model=model,
+        )
     if method == "nonlinear":
         b = bifurcation(model=model, contact=contact, coach=coach, **kw)
-        return CriticalSpeed(speed=b.critical, method="nonlinear", branch=b.branch,
-                             damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
-                             no_decay_below=b.no_decay_below, bifurcation=b, model=model)
+        return CriticalSpeed(
+            speed=b.critical,
+            method="nonlinear",
+            branch=b.branch,
+            damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
+            no_decay_below=b.no_decay_below,
+            bifurcation=b,
+            model=model,
+        )
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

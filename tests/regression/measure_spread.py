@@ -13,6 +13,7 @@ written to ``references/spread.json`` (made by this script, read by nobody but p
 
 It takes about eight times the decks' own run time.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -47,8 +48,7 @@ def run_in(env_over: dict[str, str], name: str, tmp: str) -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE",)}
     env.update({k: v for k, v in env_over.items() if v})
     code = _CHILD.format(here=str(R.HERE), name=name, tmp=tmp, out=str(out))
-    subprocess.run([sys.executable, "-c", code], env=env, check=True, cwd=tmp,
-                   stdout=subprocess.DEVNULL)
+    subprocess.run([sys.executable, "-c", code], env=env, check=True, cwd=tmp, stdout=subprocess.DEVNULL)
     return json.loads(out.read_text())
 
 
@@ -64,8 +64,12 @@ def main(argv: list[str] | None = None) -> int:
         worst: dict[str, list] = {}
         for ct in CORETYPES:
             for nt in THREADS:
-                env = {"OPENBLAS_CORETYPE": ct, "OPENBLAS_NUM_THREADS": str(nt),
-                       "OMP_NUM_THREADS": str(nt), "RAILVTI_THREADS": str(nt)}
+                env = {
+                    "OPENBLAS_CORETYPE": ct,
+                    "OPENBLAS_NUM_THREADS": str(nt),
+                    "OMP_NUM_THREADS": str(nt),
+                    "RAILVTI_THREADS": str(nt),
+                }
                 label = f"{ct or 'unset'}/{nt}"
                 t0 = time.perf_counter()
                 with tempfile.TemporaryDirectory() as tmp:
@@ -76,13 +80,19 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{d.name} {label}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
         table[d.name] = dict(sorted(worst.items(), key=lambda kv: -kv[1][0]))
         top = list(table[d.name].items())[:5]
-        print(f"{d.name}: largest fraction of a tolerance used "
-              + (", ".join(f"{k} {u:.2g} ({lab})" for k, (u, lab) in top) if top else "0"))
+        print(
+            f"{d.name}: largest fraction of a tolerance used "
+            + (", ".join(f"{k} {u:.2g} ({lab})" for k, (u, lab) in top) if top else "0")
+        )
         worst_all = max([worst_all] + [u for u, _ in worst.values()])
     out = R.REFERENCES / "spread.json"
     old = json.loads(out.read_text()) if out.exists() else {}
-    old.update({k: {q: [float(f"{u:.3g}") if math.isfinite(u) else str(u), lab]
-                    for q, (u, lab) in v.items()} for k, v in table.items()})
+    old.update(
+        {
+            k: {q: [float(f"{u:.3g}") if math.isfinite(u) else str(u), lab] for q, (u, lab) in v.items()}
+            for k, v in table.items()
+        }
+    )
     out.write_text(json.dumps(old, indent=1, sort_keys=True) + "\n")
     print(f"largest fraction of a tolerance used: {worst_all:.3g} (to stay <= {1 / MARGIN:g})")
     return 0 if worst_all <= 1.0 / MARGIN else 1

@@ -13,6 +13,7 @@ The tolerance ``Tol(rtol, atol)`` bounds every element: ``|x - ref| <= atol + rt
 checksums are compared with the bounds that this element bound implies (triangle
 inequality), so an array within tolerance everywhere passes them all.
 """
+
 from __future__ import annotations
 
 import fnmatch
@@ -105,6 +106,7 @@ def full_run() -> bool:
 # ---------------------------------------------------------------------------------------
 # tolerances
 
+
 @dataclass(frozen=True)
 class Tol:
     """Tolerance of one quantity: ``|x - ref| <= atol + rtol * |ref|`` per element.
@@ -143,51 +145,108 @@ NOT_REPRODUCIBLE = Tol(math.inf, math.inf, reason="not reproducible beyond round
 #: Counts, statuses, flags (and integers by default).
 EXACT = Tol(0.0, 0.0, reason="a count, a status or a flag: any change is a change of behaviour")
 
-_CONTACT = Tol(1e-9, scaled=True, reason=(
-    "direct and FFT solves, iterations converged to 1e-8: measured A <= 4e-14"))
-_EIGEN = Tol(1e-6, scaled=True, reason=(
-    "ARPACK / LAPACK eigen-solutions: measured A <= 4e-9 (wheelset), 7e-10 (track)"))
-_VEHICLE = Tol(1e-6, scaled=True, reason=(
-    "time integration, well-conditioned runs: measured A = 0, B <= 2e-8 of the maximum"))
+_CONTACT = Tol(
+    1e-9, scaled=True, reason=("direct and FFT solves, iterations converged to 1e-8: measured A <= 4e-14")
+)
+_EIGEN = Tol(
+    1e-6,
+    scaled=True,
+    reason=("ARPACK / LAPACK eigen-solutions: measured A <= 4e-9 (wheelset), 7e-10 (track)"),
+)
+_VEHICLE = Tol(
+    1e-6,
+    scaled=True,
+    reason=("time integration, well-conditioned runs: measured A = 0, B <= 2e-8 of the maximum"),
+)
 
 
 def _vehicle_noise(atol: float, unit: str) -> Tol:
-    return Tol(1e-6, atol, scaled=True, reason=(
-        f"as the vehicle default; atol {atol:g} {unit}: in a symmetric (centred) run the lateral "
-        "and longitudinal quantities are exactly 0 and come out as round-off noise "
-        "(measured |noise| < 1e-14 m/s, 1e-12 N, 1e-16 for creepages)"))
+    return Tol(
+        1e-6,
+        atol,
+        scaled=True,
+        reason=(
+            f"as the vehicle default; atol {atol:g} {unit}: in a symmetric (centred) run the lateral "
+            "and longitudinal quantities are exactly 0 and come out as round-off noise "
+            "(measured |noise| < 1e-14 m/s, 1e-12 N, 1e-16 for creepages)"
+        ),
+    )
 
 
-_AXLE_TORQUE = Tol(1e-8, 1e-7, scaled=True, reason=(
-    "free rolling's torque balance, zero to the balance's tolerance: 2e-11 N m (the loaded "
-    "wheelset, ~0.03 N m) and 1e-9 N m (CONTACT's decks, ~1 N m) apart between OpenBLAS "
-    "kernels (measure_spread.py)"))
+_AXLE_TORQUE = Tol(
+    1e-8,
+    1e-7,
+    scaled=True,
+    reason=(
+        "free rolling's torque balance, zero to the balance's tolerance: 2e-11 N m (the loaded "
+        "wheelset, ~0.03 N m) and 1e-9 N m (CONTACT's decks, ~1 N m) apart between OpenBLAS "
+        "kernels (measure_spread.py)"
+    ),
+)
 
 
 #: The loaded wheelset's quantities that are zero by symmetry or set by a balance's tolerance
 #: (case types loaded_wheelset and wheel_rail).
 _WHEELSET_CONTACT: list[tuple[str, Tol]] = [
     ("axle_torque", _AXLE_TORQUE),
-    ("f[xyz]*", Tol(1e-9, 1e-6, scaled=True, reason=(
-        "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
-        "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
-        "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"))),
-    ("[xy]_cp", Tol(1e-9, 1e-12, scaled=True, reason=(
-        "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
-        "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"))),
-    ("mz", Tol(1e-8, 1e-9, scaled=True, reason=(
-        "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
-        "(measure_spread.py); atol 1e-9 N m"))),
-    ("field_*_[pt]*", Tol(1e-8, scaled=True, reason=(
-        "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels "
-        "(measure_spread.py)"))),
+    (
+        "f[xyz]*",
+        Tol(
+            1e-9,
+            1e-6,
+            scaled=True,
+            reason=(
+                "as the contact default; atol 1e-6 N (1e-10 of the wheel load): a force that is "
+                "zero by symmetry (Fx of a centred wheelset, 2 N at CONTACT's reference point) "
+                "moves by 2e-9 N between OpenBLAS kernels (measure_spread.py)"
+            ),
+        ),
+    ),
+    (
+        "[xy]_cp",
+        Tol(
+            1e-9,
+            1e-12,
+            scaled=True,
+            reason=(
+                "as the contact default; atol 1e-12 m: a centre of pressure that is zero by "
+                "symmetry comes out as 2e-19 m of round-off (measure_spread.py)"
+            ),
+        ),
+    ),
+    (
+        "mz",
+        Tol(
+            1e-8,
+            1e-9,
+            scaled=True,
+            reason=(
+                "spin moments: 7.7e-11 of the largest apart between OpenBLAS kernels "
+                "(measure_spread.py); atol 1e-9 N m"
+            ),
+        ),
+    ),
+    (
+        "field_*_[pt]*",
+        Tol(
+            1e-8,
+            scaled=True,
+            reason=(
+                "patch fields: 2.4e-10 of the largest apart between OpenBLAS kernels (measure_spread.py)"
+            ),
+        ),
+    ),
 ]
 
 
 def _spread(rtol: float, atol: float, measured: str) -> Tol:
     """A statistic's tolerance: MARGIN times the spread measured by measure_spread.py."""
-    return Tol(rtol, atol, reason=f"{MARGIN:g}x the spread over OpenBLAS kernels and thread "
-                                  f"counts (measure_spread.py): {measured}")
+    return Tol(
+        rtol,
+        atol,
+        reason=f"{MARGIN:g}x the spread over OpenBLAS kernels and thread "
+        f"counts (measure_spread.py): {measured}",
+    )
 
 
 #: The margin between a tolerance of a statistic and its measured spread.
@@ -213,11 +272,20 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
     ("@hunting:stats_frequency", _spread(5e-4, 0.0, "3.0e-5")),
     ("@hunting:stats_Q_p*", _spread(3e-2, 0.0, "2.8e-3 (99th), 8.6e-4 (1st)")),
     ("@hunting:stats_Y_p99", _spread(5e-2, 0.0, "3.7e-3 (in flange contact)")),
-    ("@hunting:wheel_Q_max", NOT_REPRODUCIBLE),     # flange impacts' peaks: 3.3e-2 in 3 s
-    ("@hunting:wheel_Y*_max", NOT_REPRODUCIBLE),    # 2.8e-2 (measure_spread.py)
-    ("@hunting:wheel_amplitude", Tol(0.15, 1e-6, scaled=True, reason=(
-        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
-        "1.4e-2 of each wheel's own amplitude, less of the largest; atol 1 um"))),
+    ("@hunting:wheel_Q_max", NOT_REPRODUCIBLE),  # flange impacts' peaks: 3.3e-2 in 3 s
+    ("@hunting:wheel_Y*_max", NOT_REPRODUCIBLE),  # 2.8e-2 (measure_spread.py)
+    (
+        "@hunting:wheel_amplitude",
+        Tol(
+            0.15,
+            1e-6,
+            scaled=True,
+            reason=(
+                f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+                "1.4e-2 of each wheel's own amplitude, less of the largest; atol 1 um"
+            ),
+        ),
+    ),
     ("@hunting:stat_newton_iterations", _spread(0.6, 0.0, "5.7e-2 (solver effort)")),
     ("@hunting:stat_tangents", NOT_REPRODUCIBLE),
     ("@hunting:stat_substepped_steps", NOT_REPRODUCIBLE),
@@ -225,12 +293,27 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
 ]
 # The critical-speed sweep of vehicle_scenarios (0.6 s per speed): its runs hunt as above.
 _CRITICAL_RULES: list[tuple[str, Tol]] = [
-    ("@critical_speed:upper_flange_force", Tol(0.2, scaled=True, reason=(
-        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
-        "1.6e-2 (flange impacts' peaks)"))),
-    ("@critical_speed:upper_amplitude", Tol(1.5e-2, scaled=True, reason=(
-        f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
-        "1.2e-3"))),
+    (
+        "@critical_speed:upper_flange_force",
+        Tol(
+            0.2,
+            scaled=True,
+            reason=(
+                f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): "
+                "1.6e-2 (flange impacts' peaks)"
+            ),
+        ),
+    ),
+    (
+        "@critical_speed:upper_amplitude",
+        Tol(
+            1.5e-2,
+            scaled=True,
+            reason=(
+                f"{MARGIN:g}x the spread over OpenBLAS kernels and thread counts (measure_spread.py): 1.2e-3"
+            ),
+        ),
+    ),
     ("@critical_speed:critical_branch_amplitude", _spread(3e-3, 0.0, "2.2e-4")),
     ("@critical_speed:decay_amplitude", _spread(5e-4, 1e-7, "3.4e-5; atol 0.1 um")),
 ]
@@ -249,19 +332,41 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("iterations", EXACT),
         ("n_contact", EXACT),
         ("n_slip", EXACT),
-        ("f[xy]", Tol(1e-9, 1e-6, reason=(
-            "as the contact default; atol 1e-6 N (1e-10 of the 1e4 N load): a force that is "
-            "zero by symmetry (fy under pure longitudinal creep) comes out as 1e-5 N of "
-            "round-off"))),
-        ("mz", Tol(1e-9, 1e-9, reason=(
-            "as the contact default; atol 1e-9 N m: the spin moment that is zero by symmetry "
-            "comes out as 1e-8 N m of round-off, 2.5e-17 apart between OpenBLAS kernels"))),
+        (
+            "f[xy]",
+            Tol(
+                1e-9,
+                1e-6,
+                reason=(
+                    "as the contact default; atol 1e-6 N (1e-10 of the 1e4 N load): a force that is "
+                    "zero by symmetry (fy under pure longitudinal creep) comes out as 1e-5 N of "
+                    "round-off"
+                ),
+            ),
+        ),
+        (
+            "mz",
+            Tol(
+                1e-9,
+                1e-9,
+                reason=(
+                    "as the contact default; atol 1e-9 N m: the spin moment that is zero by symmetry "
+                    "comes out as 1e-8 N m of round-off, 2.5e-17 apart between OpenBLAS kernels"
+                ),
+            ),
+        ),
         ("residual", Tol(0.0, 1e-6, reason="below the FFT-Gauss-Seidel stopping tolerance")),
         ("*", _CONTACT),
     ],
     "geometry_table": [
-        ("*", Tol(1e-9, scaled=True, reason=(
-            "root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"))),
+        (
+            "*",
+            Tol(
+                1e-9,
+                scaled=True,
+                reason=("root finding to 1e-12 on spline profiles (numpy, no BLAS): measured A = 0"),
+            ),
+        ),
     ],
     "loaded_wheelset": [
         *_WHEELSET_CONTACT,
@@ -279,9 +384,17 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("*", _EIGEN),
     ],
     "wheelset": [
-        ("mode_freq", Tol(1e-6, 0.01, reason=(
-            "as the eigen-solutions; atol 0.01 Hz: the free spin about the axle is a 0 Hz mode "
-            "that comes out at ~1e-3 Hz from round-off (measured A: 9.0e-4 against 9.7e-4 Hz)"))),
+        (
+            "mode_freq",
+            Tol(
+                1e-6,
+                0.01,
+                reason=(
+                    "as the eigen-solutions; atol 0.01 Hz: the free spin about the axle is a 0 Hz mode "
+                    "that comes out at ~1e-3 Hz from round-off (measured A: 9.0e-4 against 9.7e-4 Hz)"
+                ),
+            ),
+        ),
         ("*", _EIGEN),
     ],
     "vehicle": [
@@ -289,9 +402,17 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("stat_real_time_factor", IGNORE),
         *_HUNTING_RULES,
         *_CRITICAL_RULES,
-        ("upper_amplitude", Tol(1e-2, scaled=True, reason=(
-            "bifurcation sweep: the upper-branch runs are in flange contact with step-size "
-            "decisions that round-off flips; measured B <= 2.2e-4 of the maximum"))),
+        (
+            "upper_amplitude",
+            Tol(
+                1e-2,
+                scaled=True,
+                reason=(
+                    "bifurcation sweep: the upper-branch runs are in flange contact with step-size "
+                    "decisions that round-off flips; measured B <= 2.2e-4 of the maximum"
+                ),
+            ),
+        ),
         ("q", _vehicle_noise(1e-12, "m or rad")),
         ("y_ws1", _vehicle_noise(1e-12, "m")),
         ("ws_y", _vehicle_noise(1e-12, "m")),
@@ -309,17 +430,24 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("wheel_spin", _vehicle_noise(1e-12, "1/m")),
         ("wheel_y_cp", _vehicle_noise(1e-12, "m")),
         ("wheel_M_*", _vehicle_noise(1e-6, "N m")),
-        ("max_Q_error", Tol(1e-6, 1e-10, reason=(
-            "max |Q / static load - 1| of a centred run, a round-off level: 4e-12 apart "
-            "between OpenBLAS kernels (measure_spread.py); atol 25x that"))),
+        (
+            "max_Q_error",
+            Tol(
+                1e-6,
+                1e-10,
+                reason=(
+                    "max |Q / static load - 1| of a centred run, a round-off level: 4e-12 apart "
+                    "between OpenBLAS kernels (measure_spread.py); atol 25x that"
+                ),
+            ),
+        ),
         ("stat_max_error_estimate", _vehicle_noise(1e-12, "")),
         ("*", _VEHICLE),
     ],
 }
 
 
-def tolerance(case_type: str, case: str, quantity: str, integer: bool = False,
-              scenario: str = "") -> Tol:
+def tolerance(case_type: str, case: str, quantity: str, integer: bool = False, scenario: str = "") -> Tol:
     """The tolerance of a quantity of a case (integers default to exact).
 
     Parameters
@@ -353,6 +481,7 @@ def tolerance(case_type: str, case: str, quantity: str, integer: bool = False,
 # ---------------------------------------------------------------------------------------
 # summaries
 
+
 def _float(x: float) -> float | str:
     """JSON-safe float: NaN and infinities as strings."""
     x = float(x)
@@ -385,16 +514,28 @@ def summarize_value(value: Any) -> dict[str, Any]:
     n = flat.size
     idx = sample_index(n)
     if integer:
-        return {"kind": "integer_array", "shape": list(a.shape), "sum": int(flat.sum()),
-                "wsum": int(np.sum(flat * np.arange(1, n + 1))), "samples": flat[idx].tolist()}
+        return {
+            "kind": "integer_array",
+            "shape": list(a.shape),
+            "sum": int(flat.sum()),
+            "wsum": int(np.sum(flat * np.arange(1, n + 1))),
+            "samples": flat[idx].tolist(),
+        }
     fin = np.isfinite(flat)
     f = flat[fin]
     w = (np.arange(n) + 1.0)[fin] / n
-    return {"kind": "float_array", "shape": list(a.shape), "nonfinite": int(n - f.size),
-            "sum": _float(f.sum()), "l1": _float(np.abs(f).sum()), "l2": _float(np.sqrt(np.sum(f * f))),
-            "wsum": _float(np.sum(w * f)),
-            "min": _float(f.min()) if f.size else "nan", "max": _float(f.max()) if f.size else "nan",
-            "samples": [_float(x) for x in flat[idx]]}
+    return {
+        "kind": "float_array",
+        "shape": list(a.shape),
+        "nonfinite": int(n - f.size),
+        "sum": _float(f.sum()),
+        "l1": _float(np.abs(f).sum()),
+        "l2": _float(np.sqrt(np.sum(f * f))),
+        "wsum": _float(np.sum(w * f)),
+        "min": _float(f.min()) if f.size else "nan",
+        "max": _float(f.max()) if f.size else "nan",
+        "samples": [_float(x) for x in flat[idx]],
+    }
 
 
 def dominant_frequency(t: np.ndarray, y: np.ndarray) -> float:
@@ -448,16 +589,16 @@ def summarize_results(path: str | Path) -> dict[str, Any]:
                     q[name] = summarize_value(d[()])
             if _scenario(g) == "hunting" and "t" in g and "y_ws1" in g:
                 q.update(hunting_statistics(g))
-            cases[gname] = {"type": str(g.attrs["type"]), "status": str(g.attrs["status"]),
-                            "quantities": q}
+            cases[gname] = {"type": str(g.attrs["type"]), "status": str(g.attrs["status"]), "quantities": q}
     return cases
 
 
 def run_deck(d: Deck, workdir: str | Path) -> dict[str, Any]:
     """Run a deck through the ``railvti run`` command and summarise its results file."""
     from railvti.runner.cli import main
+
     out = Path(workdir) / f"{d.name}.h5"
-    code = main(["run", str(d.path), "-o", str(out), "-q", "--serial"])   # no cluster start-up
+    code = main(["run", str(d.path), "-o", str(out), "-q", "--serial"])  # no cluster start-up
     cases = summarize_results(out)
     if code != 0:
         bad = {k: c["status"] for k, c in cases.items() if c["status"] != "ok"}
@@ -474,7 +615,7 @@ def write_reference(d: Deck, cases: dict[str, Any], **about: str) -> None:
     lines.append(' "cases": {')
     for i, (cname, case) in enumerate(cases.items()):
         lines.append(f"  {json.dumps(cname)}: {{")
-        lines.append(f"   \"type\": {json.dumps(case['type'])}, \"status\": {json.dumps(case['status'])},")
+        lines.append(f'   "type": {json.dumps(case["type"])}, "status": {json.dumps(case["status"])},')
         lines.append('   "quantities": {')
         q = case["quantities"]
         for j, (name, rec) in enumerate(sorted(q.items())):
@@ -484,7 +625,7 @@ def write_reference(d: Deck, cases: dict[str, Any], **about: str) -> None:
     lines.append(" }")
     lines.append("}")
     text = "\n".join(lines) + "\n"
-    json.loads(text)   # the file must be plain JSON
+    json.loads(text)  # the file must be plain JSON
     d.reference.write_text(text)
 
 
@@ -495,6 +636,7 @@ def read_reference(d: Deck) -> dict[str, Any]:
 
 # ---------------------------------------------------------------------------------------
 # comparison
+
 
 def _close(x: float, ref: float, allowed: float) -> bool:
     if math.isnan(ref) or math.isnan(x):
@@ -517,15 +659,22 @@ def array_bounds(tol: Tol, ref: dict) -> dict[str, float]:
     l1, l2 = stored_float(ref["l1"]), stored_float(ref["l2"])
     rel1 = n * big if tol.scaled else l1
     rel2 = math.sqrt(n) * big if tol.scaled else l2
-    return {"min": tol.bound(lo, big), "max": tol.bound(hi, big),
-            "sum": n * tol.atol + tol.rtol * rel1, "wsum": n * tol.atol + tol.rtol * rel1,
-            "l1": n * tol.atol + tol.rtol * rel1, "l2": math.sqrt(n) * tol.atol + tol.rtol * rel2,
-            "scale": big}
+    return {
+        "min": tol.bound(lo, big),
+        "max": tol.bound(hi, big),
+        "sum": n * tol.atol + tol.rtol * rel1,
+        "wsum": n * tol.atol + tol.rtol * rel1,
+        "l1": n * tol.atol + tol.rtol * rel1,
+        "l2": math.sqrt(n) * tol.atol + tol.rtol * rel2,
+        "scale": big,
+    }
 
 
 def _why(tol: Tol, allowed: float, array: bool = True) -> str:
-    return (f"(allowed difference {allowed:.3g}: rtol {tol.rtol:g}, atol {tol.atol:g}"
-            f"{', scaled by the array maximum' if tol.scaled and array else ''})")
+    return (
+        f"(allowed difference {allowed:.3g}: rtol {tol.rtol:g}, atol {tol.atol:g}"
+        f"{', scaled by the array maximum' if tol.scaled and array else ''})"
+    )
 
 
 def _compare_float_array(name: str, new: dict, ref: dict, tol: Tol) -> list[str]:
@@ -535,7 +684,7 @@ def _compare_float_array(name: str, new: dict, ref: dict, tol: Tol) -> list[str]
     if new["nonfinite"] != ref["nonfinite"]:
         out.append(f"{name}: {new['nonfinite']} NaN/inf elements != reference {ref['nonfinite']}")
     if math.isinf(tol.rtol) or math.isinf(tol.atol):
-        return out                      # not reproducible: shape and NaN count only
+        return out  # not reproducible: shape and NaN count only
     bounds = array_bounds(tol, ref)
     big = bounds.pop("scale")
     for key, allowed in bounds.items():
@@ -570,8 +719,9 @@ def case_scenario(case: dict) -> str:
     return str(rec.get("value", "")) if rec.get("kind") == "text" else ""
 
 
-def compare_quantity(case_type: str, case: str, name: str, new: dict, ref: dict,
-                     scenario: str = "") -> list[str]:
+def compare_quantity(
+    case_type: str, case: str, name: str, new: dict, ref: dict, scenario: str = ""
+) -> list[str]:
     """Differences of one quantity of a case beyond its tolerance (empty: within tolerance)."""
     if new["kind"] != ref["kind"]:
         return [f"{name}: a {new['kind']} where the reference has a {ref['kind']}"]
@@ -580,7 +730,11 @@ def compare_quantity(case_type: str, case: str, name: str, new: dict, ref: dict,
     if tol is IGNORE:
         return []
     if kind == "text":
-        return [] if new["value"] == ref["value"] else [f"{name}: {new['value']!r} != reference {ref['value']!r}"]
+        return (
+            []
+            if new["value"] == ref["value"]
+            else [f"{name}: {new['value']!r} != reference {ref['value']!r}"]
+        )
     if kind in ("integer", "float"):
         x, r = stored_float(new["value"]), stored_float(ref["value"])
         allowed = tol.bound(r)
@@ -617,13 +771,16 @@ def compare(new: dict[str, Any], ref: dict[str, Any]) -> list[str]:
         for name in sorted(set(qn) ^ set(qr)):
             out.append(f"{cname}: quantity {name!r} " + ("is new" if name in qn else "is missing"))
         for name in sorted(set(qn) & set(qr)):
-            out.extend(f"{cname}: {m}" for m in compare_quantity(cr["type"], cname, name, qn[name],
-                                                                 qr[name], case_scenario(cr)))
+            out.extend(
+                f"{cname}: {m}"
+                for m in compare_quantity(cr["type"], cname, name, qn[name], qr[name], case_scenario(cr))
+            )
     return out
 
 
 # ---------------------------------------------------------------------------------------
 # how much of its tolerance a run uses (measure_spread.py)
+
 
 def _used(x: float, r: float, allowed: float) -> float:
     """|x - r| / allowed (0 when equal; inf when a difference meets a zero allowance or a
@@ -637,8 +794,7 @@ def _used(x: float, r: float, allowed: float) -> float:
     return abs(x - r) / allowed
 
 
-def quantity_usage(case_type: str, case: str, name: str, new: dict, ref: dict,
-                   scenario: str = "") -> float:
+def quantity_usage(case_type: str, case: str, name: str, new: dict, ref: dict, scenario: str = "") -> float:
     """The largest fraction of its tolerance a quantity uses: max over the checks that
     :func:`compare_quantity` makes of |x - ref| / allowed (NaN: not compared; inf: a change
     of shape, kind, text or count where nothing is allowed)."""
@@ -662,8 +818,10 @@ def quantity_usage(case_type: str, case: str, name: str, new: dict, ref: dict,
     bounds = array_bounds(tol, ref)
     big = bounds.pop("scale")
     used = [_used(stored_float(new[k]), stored_float(ref[k]), a) for k, a in bounds.items()]
-    used += [_used(stored_float(x), stored_float(r), tol.bound(stored_float(r), big))
-             for x, r in zip(new["samples"], ref["samples"])]
+    used += [
+        _used(stored_float(x), stored_float(r), tol.bound(stored_float(r), big))
+        for x, r in zip(new["samples"], ref["samples"])
+    ]
     return max(used)
 
 
@@ -673,7 +831,7 @@ def usage(new: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
     for cname in sorted(set(new) & set(ref)):
         cn, cr = new[cname], ref[cname]
         for name in sorted(set(cn["quantities"]) & set(cr["quantities"])):
-            out[f"{cname}:{name}"] = quantity_usage(cr["type"], cname, name,
-                                                    cn["quantities"][name],
-                                                    cr["quantities"][name], case_scenario(cr))
+            out[f"{cname}:{name}"] = quantity_usage(
+                cr["type"], cname, name, cn["quantities"][name], cr["quantities"][name], case_scenario(cr)
+            )
     return out

@@ -4,6 +4,7 @@ A failure names the deck, the case and each quantity that moved beyond its toler
 change is intended, re-make the reference (make_references.py) and say in the commit which
 quantities moved and why.
 """
+
 from __future__ import annotations
 
 import copy
@@ -25,8 +26,7 @@ def test_deck_matches_its_reference(deck, tmp_path):
     ref = R.read_reference(deck)
     new = R.run_deck(deck, tmp_path)
     diffs = R.compare(new, ref["cases"])
-    assert not diffs, (f"{deck.path.name}: results moved from {deck.reference.name}:\n  "
-                       + "\n  ".join(diffs))
+    assert not diffs, f"{deck.path.name}: results moved from {deck.reference.name}:\n  " + "\n  ".join(diffs)
 
 
 def test_every_input_deck_and_case_type_is_covered():
@@ -38,13 +38,15 @@ def test_every_input_deck_and_case_type_is_covered():
         cases = read_deck(d.path)
         ref = R.read_reference(d)["cases"]
         # the reference holds the deck's cases, in order, with their types
-        assert [(c.name, c.case_type.name) for c in cases] == \
-            [(k.split("_", 1)[1], v["type"]) for k, v in ref.items()], d.name
+        assert [(c.name, c.case_type.name) for c in cases] == [
+            (k.split("_", 1)[1], v["type"]) for k, v in ref.items()
+        ], d.name
         if not d.slow:
             fast_types |= {c.case_type.name for c in cases}
         elif d.reduced_by:
-            assert {c.case_type.name for c in cases} <= \
-                {c.case_type.name for c in read_deck(R.deck(d.reduced_by).path)}
+            assert {c.case_type.name for c in cases} <= {
+                c.case_type.name for c in read_deck(R.deck(d.reduced_by).path)
+            }
     assert fast_types == set(case_types())
 
 
@@ -57,7 +59,7 @@ def test_every_tolerance_states_its_reason():
 
 def _perturbed(value, allowed: float, factor: float):
     """``value`` moved by ``factor * allowed`` (or by one step where nothing is allowed)."""
-    if value is None or isinstance(value, str):      # a NaN element: make it a number
+    if value is None or isinstance(value, str):  # a NaN element: make it a number
         return 0.0
     if isinstance(value, int) and not isinstance(value, bool):
         return value + max(1, math.ceil(factor * allowed))
@@ -74,8 +76,13 @@ def _compared_quantities():
             continue
         for cname, case in R.read_reference(d)["cases"].items():
             for qname, rec in case["quantities"].items():
-                tol = R.tolerance(case["type"], cname, qname, rec["kind"].startswith("integer"),
-                                  scenario=R.case_scenario(case))
+                tol = R.tolerance(
+                    case["type"],
+                    cname,
+                    qname,
+                    rec["kind"].startswith("integer"),
+                    scenario=R.case_scenario(case),
+                )
                 if not math.isinf(tol.rtol):
                     out.append((d.name, {cname: {**case, "quantities": {qname: rec}}}))
     return out
@@ -89,8 +96,13 @@ def test_comparison_reports_a_perturbed_reference():
     for dname, ref in _compared_quantities():
         cname = next(iter(ref))
         qname, rec = next(iter(ref[cname]["quantities"].items()))
-        tol = R.tolerance(ref[cname]["type"], cname, qname, rec["kind"].startswith("integer"),
-                          scenario=R.case_scenario(ref[cname]))
+        tol = R.tolerance(
+            ref[cname]["type"],
+            cname,
+            qname,
+            rec["kind"].startswith("integer"),
+            scenario=R.case_scenario(ref[cname]),
+        )
         keys: list[tuple[str, int | None]] = []
         if rec["kind"] in ("float", "integer"):
             keys = [("value", None)]
@@ -103,8 +115,7 @@ def test_comparison_reports_a_perturbed_reference():
             value = rec[key] if i is None else rec[key][i]
             if rec["kind"] == "float_array":
                 bounds = R.array_bounds(tol, rec)
-                allowed = bounds[key] if key in bounds else \
-                    tol.bound(R.stored_float(value), bounds["scale"])
+                allowed = bounds[key] if key in bounds else tol.bound(R.stored_float(value), bounds["scale"])
             else:
                 allowed = tol.bound(float(value))
             for factor, reported in ((1.5, True), (0.5, False)):
@@ -135,11 +146,12 @@ def test_comparison_reports_structure_changes():
     ref = R.read_reference(R.deck("normal_contact_example"))["cases"]
     case = next(iter(ref))
     for change, words in (
-            (lambda r: r[case]["quantities"].pop("pressure"), "'pressure' is new"),
-            (lambda r: r[case]["quantities"]["pressure"].update(shape=[1, 2]), "shape"),
-            (lambda r: r[case]["quantities"]["pressure"].update(nonfinite=1), "NaN/inf"),
-            (lambda r: r[case].update(status="error: X"), "status"),
-            (lambda r: r.pop(case), "cases")):
+        (lambda r: r[case]["quantities"].pop("pressure"), "'pressure' is new"),
+        (lambda r: r[case]["quantities"]["pressure"].update(shape=[1, 2]), "shape"),
+        (lambda r: r[case]["quantities"]["pressure"].update(nonfinite=1), "NaN/inf"),
+        (lambda r: r[case].update(status="error: X"), "status"),
+        (lambda r: r.pop(case), "cases"),
+    ):
         bad = copy.deepcopy(ref)
         change(bad)
         assert any(words in m for m in R.compare(ref, bad)), words

@@ -1,5 +1,6 @@
 """Wheel-rail contact: the boundary-element (half-space) model on a regular grid, with
 Hertz, Kalker's linear theory and FASTSIM beside it, and the loaded wheelset."""
+
 from __future__ import annotations
 
 from .grid import Grid
@@ -12,8 +13,26 @@ from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
 
-__all__ = ["Grid", "HertzResult", "hertz", "hertz_gap", "convolve", "influence_field",
-           "NormalResult", "SubPatches", "solve_normal",
-           "RollingResult", "solve_rolling", "solve_tangential", "CreepForceTable", "creep_force_table",
-           "kalker_coefficients", "FastsimResult", "fastsim", "fastsim_grid",
-           "WheelsetPatch", "WheelsetSolution", "solve_wheelset"]
+__all__ = [
+    "Grid",
+    "HertzResult",
+    "hertz",
+    "hertz_gap",
+    "convolve",
+    "influence_field",
+    "NormalResult",
+    "SubPatches",
+    "solve_normal",
+    "RollingResult",
+    "solve_rolling",
+    "solve_tangential",
+    "CreepForceTable",
+    "creep_force_table",
+    "kalker_coefficients",
+    "FastsimResult",
+    "fastsim",
+    "fastsim_grid",
+    "WheelsetPatch",
+    "WheelsetSolution",
+    "solve_wheelset",
+]

@@ -21,6 +21,7 @@ velocity is negative for forward rolling, railvti's omega positive). Profile fil
 resolved relative to the deck's folder. docs/contact_decks.md lists what railvti reads and
 where it interprets a case differently from CONTACT.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,12 +50,28 @@ WORDS = {
 #: G 0 read the solver's iteration limits (1 keep), I 0, A 0/1 (1 keep the patches' fields),
 #: O 3, W 2 (output levels), R 1 one case per module call.
 SUPPORTED = {
-    ("CPBTNFS", "C"): {0, 1}, ("CPBTNFS", "P"): {2}, ("CPBTNFS", "B"): {0}, ("CPBTNFS", "T"): {3},
-    ("CPBTNFS", "N"): {1}, ("CPBTNFS", "F"): {0}, ("CPBTNFS", "S"): {0},
-    ("VLDCMZE", "V"): {0}, ("VLDCMZE", "L"): {0, 1}, ("VLDCMZE", "D"): {1, 2}, ("VLDCMZE", "C"): {1, 2},
-    ("VLDCMZE", "M"): {0}, ("VLDCMZE", "Z"): {0, 3}, ("VLDCMZE", "E"): {2, 3},
-    ("XHGIAOWR", "X"): {0}, ("XHGIAOWR", "H"): {0}, ("XHGIAOWR", "G"): {0, 1}, ("XHGIAOWR", "I"): {0},
-    ("XHGIAOWR", "A"): {0, 1}, ("XHGIAOWR", "O"): {3}, ("XHGIAOWR", "W"): {2}, ("XHGIAOWR", "R"): {1},
+    ("CPBTNFS", "C"): {0, 1},
+    ("CPBTNFS", "P"): {2},
+    ("CPBTNFS", "B"): {0},
+    ("CPBTNFS", "T"): {3},
+    ("CPBTNFS", "N"): {1},
+    ("CPBTNFS", "F"): {0},
+    ("CPBTNFS", "S"): {0},
+    ("VLDCMZE", "V"): {0},
+    ("VLDCMZE", "L"): {0, 1},
+    ("VLDCMZE", "D"): {1, 2},
+    ("VLDCMZE", "C"): {1, 2},
+    ("VLDCMZE", "M"): {0},
+    ("VLDCMZE", "Z"): {0, 3},
+    ("VLDCMZE", "E"): {2, 3},
+    ("XHGIAOWR", "X"): {0},
+    ("XHGIAOWR", "H"): {0},
+    ("XHGIAOWR", "G"): {0, 1},
+    ("XHGIAOWR", "I"): {0},
+    ("XHGIAOWR", "A"): {0, 1},
+    ("XHGIAOWR", "O"): {3},
+    ("XHGIAOWR", "W"): {2},
+    ("XHGIAOWR", "R"): {1},
 }
 #: Profile formats: SIMPACK files and plain two-column tables (any other extension); not
 #: Miniprof files or slices (variable profiles).
@@ -82,7 +99,7 @@ def _tokens(text: str) -> list[str]:
         if ch == "'":
             j = text.find("'", i + 1)
             j = n if j < 0 else j
-            out.append(text[i:j + 1])
+            out.append(text[i : j + 1])
             i = j + 1
             continue
         j = i
@@ -98,7 +115,9 @@ class _Reader:
 
     def __init__(self, path: Path, text: str) -> None:
         self.path = path
-        self.lines = [_Line(k, t) for k, t in ((k, _tokens(s)) for k, s in enumerate(text.splitlines(), 1)) if t]
+        self.lines = [
+            _Line(k, t) for k, t in ((k, _tokens(s)) for k, s in enumerate(text.splitlines(), 1)) if t
+        ]
         self.i = 0
 
     def where(self, line: int | None = None) -> str:
@@ -124,8 +143,9 @@ class _Reader:
         for name, kind in spec:
             while line is None or k >= len(line.tokens):
                 if self.i >= len(self.lines):
-                    raise InputError(f"{self.where()}: the deck ends while reading "
-                                     f"{', '.join(n for n, _ in spec)}")
+                    raise InputError(
+                        f"{self.where()}: the deck ends while reading {', '.join(n for n, _ in spec)}"
+                    )
                 line, k = self.lines[self.i], 0
                 self.i += 1
             first = line.number if first is None else first
@@ -171,19 +191,23 @@ class _Reader:
 
 def _digits(reader: _Reader, word: str, token: str, line: int) -> dict[str, int]:
     letters = word
-    if len(token) > len(letters):       # leading zeros too: '02203100' would shift every digit
-        raise InputError(f"{reader.where(line)}: control word {'-'.join(letters)} has {len(token)} digits "
-                         f"({token}); it has at most {len(letters)}, one per letter {', '.join(letters)} "
-                         "(leading zeros may be left out, not added)")
-    padded = token[-len(letters):].rjust(len(letters), "0")
+    if len(token) > len(letters):  # leading zeros too: '02203100' would shift every digit
+        raise InputError(
+            f"{reader.where(line)}: control word {'-'.join(letters)} has {len(token)} digits "
+            f"({token}); it has at most {len(letters)}, one per letter {', '.join(letters)} "
+            "(leading zeros may be left out, not added)"
+        )
+    padded = token[-len(letters) :].rjust(len(letters), "0")
     out = {}
     for letter, name, d in zip(letters, WORDS[word], padded):
         v = int(d)
         ok = SUPPORTED[(word, letter)]
         if v not in ok:
-            raise InputError(f"{reader.where(line)}: {letter} ({name}) = {v} in {'-'.join(letters)} is not "
-                             f"supported: railvti reads {letter} = {', '.join(map(str, sorted(ok)))} "
-                             "(the Manchester benchmark's A-2.2 decks)")
+            raise InputError(
+                f"{reader.where(line)}: {letter} ({name}) = {v} in {'-'.join(letters)} is not "
+                f"supported: railvti reads {letter} = {', '.join(map(str, sorted(ok)))} "
+                "(the Manchester benchmark's A-2.2 decks)"
+            )
         out[letter] = v
     return out
 
@@ -195,8 +219,10 @@ def _require(cond: bool, reader: _Reader, line: int, message: str) -> None:
 
 def _keep(state: dict, key: str, reader: _Reader, line: int, flag: str) -> None:
     if key not in state:
-        raise InputError(f"{reader.where(line)}: {flag} keeps the {key} of a previous case, but no case "
-                         "before this one set it")
+        raise InputError(
+            f"{reader.where(line)}: {flag} keeps the {key} of a previous case, but no case "
+            "before this one set it"
+        )
 
 
 def _profile(reader: _Reader, line: int, values: dict, kind: str) -> dict[str, Any]:
@@ -205,19 +231,42 @@ def _profile(reader: _Reader, line: int, values: dict, kind: str) -> dict[str, A
     if not path.is_absolute():
         path = reader.path.parent / path
     if path.suffix.lower() in UNSUPPORTED_PROFILES:
-        raise InputError(f"{reader.where(line)}: {name} '{values[name]}': {path.suffix} profiles are not "
-                         "supported (SIMPACK .prw/.prr or a two-column table)")
+        raise InputError(
+            f"{reader.where(line)}: {name} '{values[name]}': {path.suffix} profiles are not "
+            "supported (SIMPACK .prw/.prr or a two-column table)"
+        )
     if not path.is_file():
-        raise InputError(f"{reader.where(line)}: {kind} profile file {name} = '{values[name]}' not found "
-                         f"(looked for {path})")
-    _require(values["MIRRORY"] in (-1, 0, 1), reader, line, f"MIRRORY must be -1, 0 or 1, got {values['MIRRORY']}")
+        raise InputError(
+            f"{reader.where(line)}: {kind} profile file {name} = '{values[name]}' not found "
+            f"(looked for {path})"
+        )
+    _require(
+        values["MIRRORY"] in (-1, 0, 1), reader, line, f"MIRRORY must be -1, 0 or 1, got {values['MIRRORY']}"
+    )
     _require(values["SCALE"] > 0, reader, line, f"SCALE must be > 0, got {values['SCALE']}")
-    _require(values["SMOOTH"] == 0, reader, line,
-             f"SMOOTH = {values['SMOOTH']}: railvti does not smooth profiles (give 0)")
-    _require(values.get("MIRRORZ", 0) in (-1, 0), reader, line,
-             f"MIRRORZ = {values.get('MIRRORZ')} is not supported (give 0 or -1: the profile as it is)")
-    _require(values.get("PRFOPT", 0) == 0, reader, line, f"PRFOPT = {values.get('PRFOPT')} is not supported (give 0)")
-    return {kind: str(path), f"{kind}_mirror_y": int(values["MIRRORY"] == 1), f"{kind}_scale": values["SCALE"]}
+    _require(
+        values["SMOOTH"] == 0,
+        reader,
+        line,
+        f"SMOOTH = {values['SMOOTH']}: railvti does not smooth profiles (give 0)",
+    )
+    _require(
+        values.get("MIRRORZ", 0) in (-1, 0),
+        reader,
+        line,
+        f"MIRRORZ = {values.get('MIRRORZ')} is not supported (give 0 or -1: the profile as it is)",
+    )
+    _require(
+        values.get("PRFOPT", 0) == 0,
+        reader,
+        line,
+        f"PRFOPT = {values.get('PRFOPT')} is not supported (give 0)",
+    )
+    return {
+        kind: str(path),
+        f"{kind}_mirror_y": int(values["MIRRORY"] == 1),
+        f"{kind}_scale": values["SCALE"],
+    }
 
 
 _PROFILE_LINE = [("MIRRORY", "int"), ("SCALE", "real"), ("SMOOTH", "real")]
@@ -225,29 +274,50 @@ _PROFILE_OPT = [("MIRRORZ", "int"), ("PRFOPT", "int")]
 
 
 def _read_track(r: _Reader, state: dict) -> None:
-    v, ln = r.group([("GAUGHT", "real"), ("GAUGSQ", "int"), ("GAUGWD", "real"), ("CANT", "angle")],
-                    [("CURV", "real")])
-    _require(v["GAUGHT"] > 0, r, ln, f"GAUGHT = {v['GAUGHT']}: absolute rail placement (GAUGHT <= 0) is not "
-             "supported; give the gauge measuring height (> 0)")
+    v, ln = r.group(
+        [("GAUGHT", "real"), ("GAUGSQ", "int"), ("GAUGWD", "real"), ("CANT", "angle")], [("CURV", "real")]
+    )
+    _require(
+        v["GAUGHT"] > 0,
+        r,
+        ln,
+        f"GAUGHT = {v['GAUGHT']}: absolute rail placement (GAUGHT <= 0) is not "
+        "supported; give the gauge measuring height (> 0)",
+    )
     _require(v["GAUGSQ"] == 0, r, ln, f"GAUGSQ = {v['GAUGSQ']} is not supported (give 0)")
     _require(v.get("CURV", 0.0) == 0.0, r, ln, f"CURV = {v.get('CURV')}: track curvature is not supported")
     _require(v["GAUGWD"] > 0, r, ln, f"GAUGWD must be > 0, got {v['GAUGWD']}")
     state["track"] = {"gauge_depth": v["GAUGHT"] * 1e-3, "gauge": v["GAUGWD"] * 1e-3, "cant_rad": v["CANT"]}
     v, ln = r.group([("RFNAME", "str")] + _PROFILE_LINE, _PROFILE_OPT)
     state["track"].update(_profile(r, ln, v, "rail"))
-    v, ln = r.group([("DYRAIL", "real"), ("DZRAIL", "real"), ("DROLLR", "angle"), ("VYRAIL", "real"),
-                     ("VZRAIL", "real"), ("VROLLR", "real")])
+    v, ln = r.group(
+        [
+            ("DYRAIL", "real"),
+            ("DZRAIL", "real"),
+            ("DROLLR", "angle"),
+            ("VYRAIL", "real"),
+            ("VZRAIL", "real"),
+            ("VROLLR", "real"),
+        ]
+    )
     for key, value in v.items():
         _require(value == 0.0, r, ln, f"{key} = {value}: rail deviations are not supported (give 0)")
 
 
 def _read_wheelset(r: _Reader, state: dict) -> None:
     v, ln = r.group([("FBDIST", "real"), ("FBPOS", "real"), ("NOMRADW", "real")], [("YTAPE", "real")])
-    _require(abs(v.get("YTAPE", 1e3)) >= 1e3, r, ln,
-             f"YTAPE = {v.get('YTAPE')}: the tape circle computation is not supported (omit YTAPE)")
+    _require(
+        abs(v.get("YTAPE", 1e3)) >= 1e3,
+        r,
+        ln,
+        f"YTAPE = {v.get('YTAPE')}: the tape circle computation is not supported (omit YTAPE)",
+    )
     _require(v["FBDIST"] > 0 and v["NOMRADW"] > 0, r, ln, "FBDIST and NOMRADW must be > 0")
-    state["wheelset"] = {"back_to_back": v["FBDIST"] * 1e-3, "contact_offset": -v["FBPOS"] * 1e-3,
-                         "radius": v["NOMRADW"] * 1e-3}
+    state["wheelset"] = {
+        "back_to_back": v["FBDIST"] * 1e-3,
+        "contact_offset": -v["FBPOS"] * 1e-3,
+        "radius": v["NOMRADW"] * 1e-3,
+    }
     v, ln = r.group([("WFNAME", "str")] + _PROFILE_LINE, _PROFILE_OPT)
     state["wheelset"].update(_profile(r, ln, v, "wheel"))
 
@@ -255,54 +325,104 @@ def _read_wheelset(r: _Reader, state: dict) -> None:
 def _read_settings(r: _Reader, d: dict[str, int], line: int, state: dict) -> None:
     """Solver limits, friction, material and grid (as the digits say)."""
     if d["G"] == 0:
-        r.group([("MAXGS", "int"), ("MAXIN", "int"), ("MAXNR", "int"), ("MAXOUT", "int"), ("EPS", "real")],
-                [("NPOT_MAX", "int")])
+        r.group(
+            [("MAXGS", "int"), ("MAXIN", "int"), ("MAXNR", "int"), ("MAXOUT", "int"), ("EPS", "real")],
+            [("NPOT_MAX", "int")],
+        )
         state["solver"] = True
     else:
         _keep(state, "solver", r, line, "G (GAUSEI) = 1")
     if d["L"] == 0:
         v, ln = r.group([("FSTAT", "real"), ("FKIN", "real")])
-        _require(v["FSTAT"] == v["FKIN"], r, ln, f"FSTAT = {v['FSTAT']} and FKIN = {v['FKIN']} differ: railvti's "
-                 "Coulomb friction has one coefficient")
+        _require(
+            v["FSTAT"] == v["FKIN"],
+            r,
+            ln,
+            f"FSTAT = {v['FSTAT']} and FKIN = {v['FKIN']} differ: railvti's "
+            "Coulomb friction has one coefficient",
+        )
         _require(v["FSTAT"] >= 0, r, ln, f"FSTAT must be >= 0, got {v['FSTAT']}")
         state["friction"] = {"mu": v["FSTAT"]}
     else:
         _keep(state, "friction", r, line, "L (FRCLAW) = 1")
     if d["C"] == 2:
         v, ln = r.group([("POISS1", "real"), ("POISS2", "real"), ("GG1", "real"), ("GG2", "real")])
-        _require(v["POISS1"] == v["POISS2"] and v["GG1"] == v["GG2"], r, ln,
-                 "POISS 1,2 and GG 1,2 must be equal: railvti's contact model is for quasi-identical bodies")
+        _require(
+            v["POISS1"] == v["POISS2"] and v["GG1"] == v["GG2"],
+            r,
+            ln,
+            "POISS 1,2 and GG 1,2 must be equal: railvti's contact model is for quasi-identical bodies",
+        )
         _require(v["GG1"] > 0 and 0 <= v["POISS1"] < 0.5, r, ln, "GG must be > 0 and 0 <= POISS < 0.5")
         state["material"] = {"shear_modulus": v["GG1"] * 1e6, "poisson": v["POISS1"]}
     else:
         _keep(state, "material", r, line, "C (INFLCF) = 1")
     if d["D"] == 2:
-        v, ln = r.group([("DX", "real"), ("DS", "real"), ("DQREL", "real"), ("A_SEP", "angle"), ("D_SEP", "real"),
-                         ("D_COMB", "real")], [("D_TURN", "real"), ("G_MISS", "real")])
+        v, ln = r.group(
+            [
+                ("DX", "real"),
+                ("DS", "real"),
+                ("DQREL", "real"),
+                ("A_SEP", "angle"),
+                ("D_SEP", "real"),
+                ("D_COMB", "real"),
+            ],
+            [("D_TURN", "real"), ("G_MISS", "real")],
+        )
         _require(v["DX"] > 0 and v["DS"] > 0, r, ln, f"DX and DS must be > 0, got {v['DX']}, {v['DS']}")
-        _require(0 < v["D_COMB"] < v["D_SEP"], r, ln,
-                 f"D_COMB and D_SEP must satisfy 0 < D_COMB < D_SEP, got {v['D_COMB']}, {v['D_SEP']}")
-        state["grid"] = {"dx": v["DX"] * 1e-3, "dy": v["DS"] * 1e-3, "d_sep": v["D_SEP"] * 1e-3,
-                         "d_comb": v["D_COMB"] * 1e-3}
+        _require(
+            0 < v["D_COMB"] < v["D_SEP"],
+            r,
+            ln,
+            f"D_COMB and D_SEP must satisfy 0 < D_COMB < D_SEP, got {v['D_COMB']}, {v['D_SEP']}",
+        )
+        state["grid"] = {
+            "dx": v["DX"] * 1e-3,
+            "dy": v["DS"] * 1e-3,
+            "d_sep": v["D_SEP"] * 1e-3,
+            "d_comb": v["D_COMB"] * 1e-3,
+        }
     else:
         _keep(state, "grid", r, line, "D (DISCNS) = 1")
 
 
 def _read_state(r: _Reader) -> dict[str, Any]:
     """Wheelset position and velocity (CONTACT's frame), in railvti's keys and frame."""
-    v, ln = r.group([("S", "real"), ("Y", "real"), ("FZ", "real"), ("ROLL", "angle"), ("YAW", "angle"),
-                     ("PITCH", "angle")])
+    v, ln = r.group(
+        [
+            ("S", "real"),
+            ("Y", "real"),
+            ("FZ", "real"),
+            ("ROLL", "angle"),
+            ("YAW", "angle"),
+            ("PITCH", "angle"),
+        ]
+    )
     _require(v["FZ"] > 0, r, ln, f"FZ must be > 0 (the vertical force on the rail, N), got {v['FZ']}")
     # The angles pass through mrad (x 1e3 x 1e-3), as they did when the keys were roll_mrad
     # and yaw_mrad: bitwise the same inputs, so the benchmark's results stay as stored (a
     # flange case's Mz moves by 3e-9 with a one-ulp change of the yaw).
     out = {"y": -v["Y"] * 1e-3, "fz": v["FZ"], "roll": v["ROLL"] * 1e3 * 1e-3, "yaw": -v["YAW"] * 1e3 * 1e-3}
-    v, ln = r.group([("VS", "real"), ("VY", "real"), ("VZ", "real"), ("VROLL", "real"), ("VYAW", "real"),
-                     ("VPITCH", "real")])
+    v, ln = r.group(
+        [
+            ("VS", "real"),
+            ("VY", "real"),
+            ("VZ", "real"),
+            ("VROLL", "real"),
+            ("VYAW", "real"),
+            ("VPITCH", "real"),
+        ]
+    )
     _require(v["VS"] > 0, r, ln, f"VS = {v['VS']}: railvti rolls forward only (VS > 0)")
     _require(v["VPITCH"] < 0, r, ln, f"VPITCH = {v['VPITCH']}: forward rolling has a negative pitch velocity")
-    out.update(speed=v["VS"] * 1e-3, lateral_velocity=-v["VY"] * 1e-3, vertical_velocity=-v["VZ"] * 1e-3,
-               roll_rate=v["VROLL"], yaw_rate=-v["VYAW"], omega=-v["VPITCH"])
+    out.update(
+        speed=v["VS"] * 1e-3,
+        lateral_velocity=-v["VY"] * 1e-3,
+        vertical_velocity=-v["VZ"] * 1e-3,
+        roll_rate=v["VROLL"],
+        yaw_rate=-v["VYAW"],
+        omega=-v["VPITCH"],
+    )
     return out
 
 
@@ -327,8 +447,11 @@ def _read_case(r: _Reader, state: dict, number: int) -> tuple[dict[str, Any], in
     for key in ("friction", "material", "grid", "track", "wheelset"):
         params.update(state[key])
     params.update(_read_state(r))
-    params.update(side="left" if d1["C"] == 0 else "right", store_fields=d3["A"],
-                  origin=f"{r.path.name}:{line} (case {number})")
+    params.update(
+        side="left" if d1["C"] == 0 else "right",
+        store_fields=d3["A"],
+        origin=f"{r.path.name}:{line} (case {number})",
+    )
     return params, line
 
 
@@ -369,11 +492,19 @@ def read_contact_deck(path: str | Path) -> list[Case]:
         if v["MODULE"] == 0:
             break
         if v["MODULE"] != 1:
-            raise InputError(f"{r.where(line)}: MODULE {v['MODULE']} is not supported: railvti reads module 1 "
-                             "(wheel-rail contact)")
+            raise InputError(
+                f"{r.where(line)}: MODULE {v['MODULE']} is not supported: railvti reads module 1 "
+                "(wheel-rail contact)"
+            )
         params, _ = _read_case(r, state, len(cases) + 1)
-        cases.append(Case(index=len(cases) + 1, name=f"{params['side']}_{len(cases) + 1}", case_type=ctype,
-                          params=params))
+        cases.append(
+            Case(
+                index=len(cases) + 1,
+                name=f"{params['side']}_{len(cases) + 1}",
+                case_type=ctype,
+                params=params,
+            )
+        )
     if not cases:
         raise InputError(f"{path.name}: the deck holds no case")
     return cases

@@ -4,10 +4,11 @@ A vehicle code's contact table (or a study over creepages) solves the same small
 problem many times: the normal problem, then steady rolling, for a list of creepages
 and geometries. :func:`solve_rolling` per case spends more time in Python than in the
 solvers on an 11 x 11 grid; :func:`creep_force_table` hands the whole table to the
-Fortran (``fortran/contact/contact_table.f90``), which runs each case as
+Fortran (``fortran/contact/contact_creep_table.f90``), which runs each case as
 :func:`solve_rolling` does (projected CG from zero pressure, then the steady rolling
 solver from zero traction, method 'fftgs') and returns the forces.
 """
+
 from __future__ import annotations
 
 import logging
@@ -97,14 +98,26 @@ def _gap_stack(gap: object, grid: Grid, ncase: int) -> tuple[np.ndarray, np.ndar
         stack = np.moveaxis(g, 0, -1)
         kgap = np.arange(1, ncase + 1, dtype=np.int32)
     else:
-        raise InputError(f"gap must have shape {grid.shape} (one for all cases) or "
-                         f"{(ncase,) + grid.shape} (one per case), got {g.shape}")
+        raise InputError(
+            f"gap must have shape {grid.shape} (one for all cases) or "
+            f"{(ncase,) + grid.shape} (one per case), got {g.shape}"
+        )
     return np.asfortranarray(stack), kgap
 
 
-def creep_force_table(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn: float | np.ndarray,
-                      creepages: np.ndarray, speed: float, tol: float = 1e-7, normal_tol: float = 1e-8,
-                      max_iter: int = 2000, normal_max_iter: int = 2000) -> CreepForceTable:
+def creep_force_table(
+    gap: np.ndarray,
+    grid: Grid,
+    material: Material,
+    mu: float,
+    fn: float | np.ndarray,
+    creepages: np.ndarray,
+    speed: float,
+    tol: float = 1e-7,
+    normal_tol: float = 1e-8,
+    max_iter: int = 2000,
+    normal_max_iter: int = 2000,
+) -> CreepForceTable:
     """Steady rolling creep forces of a table of cases on one grid, in one Fortran call.
 
     Each case is the one :func:`~railvti.contact.solve_rolling` solves with its default
@@ -158,8 +171,11 @@ def creep_force_table(gap: np.ndarray, grid: Grid, material: Material, mu: float
     if not np.isfinite(creep).all():
         raise InputError("creepages must be finite")
     ncase = creep.shape[0]
-    fns = np.broadcast_to(np.asarray(fn, dtype=np.float64), (ncase,)) if np.ndim(fn) == 0 \
+    fns = (
+        np.broadcast_to(np.asarray(fn, dtype=np.float64), (ncase,))
+        if np.ndim(fn) == 0
         else np.asarray(fn, dtype=np.float64)
+    )
     if fns.shape != (ncase,):
         raise InputError(f"fn must be a number or have shape ({ncase},), got {fns.shape}")
     if not (np.isfinite(fns).all() and (fns > 0.0).all()):
@@ -174,30 +190,67 @@ def creep_force_table(gap: np.ndarray, grid: Grid, material: Material, mu: float
 
     call = call_interruptibly if ncase * grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
     fx, fy, mz, power, ncontact, approach, iters_n, iters_t, nfo_n, nfo_t, info = call(
-        workspace(grid, material, tangential=True), core.rolling_table_c, stack, kgap,
-        np.ascontiguousarray(fns), np.asfortranarray(creep.T), mu, speed, grid.x0, grid.y0, normal_tol, tol,
-        normal_max_iter, max_iter)
+        workspace(grid, material, tangential=True),
+        core.creep_force_table_c,
+        stack,
+        kgap,
+        np.ascontiguousarray(fns),
+        np.asfortranarray(creep.T),
+        mu,
+        speed,
+        grid.x0,
+        grid.y0,
+        normal_tol,
+        tol,
+        normal_max_iter,
+        max_iter,
+    )
     if info != Status.OK:
         raise error(info, "creep-force table failed internally", exc=RailvtiError)
     for k in range(ncase):
         if nfo_n[k] == Status.GRID_EDGE:
-            raise GridTooSmallError(f"case {k}: the contact area reaches the grid edge (or the last two "
-                                    "element rows at x = x_max, which the slip needs): enlarge the grid")
+            raise GridTooSmallError(
+                f"case {k}: the contact area reaches the grid edge (or the last two "
+                "element rows at x = x_max, which the slip needs): enlarge the grid"
+            )
         if nfo_n[k] != Status.OK:
-            raise ConvergenceError(f"case {k}: the normal contact solver failed "
-                                   f"({Status(int(nfo_n[k])).name}) after {iters_n[k]} iterations",
-                                   iterations=int(iters_n[k]))
+            raise ConvergenceError(
+                f"case {k}: the normal contact solver failed "
+                f"({Status(int(nfo_n[k])).name}) after {iters_n[k]} iterations",
+                iterations=int(iters_n[k]),
+            )
         if nfo_t[k] == Status.GRID_EDGE:
-            raise GridTooSmallError(f"case {k}: the contact area reaches the last two element rows at the "
-                                    "leading grid edge x = x_max (the slip needs two elements upstream)")
+            raise GridTooSmallError(
+                f"case {k}: the contact area reaches the last two element rows at the "
+                "leading grid edge x = x_max (the slip needs two elements upstream)"
+            )
         if nfo_t[k] != Status.OK:
-            raise ConvergenceError(f"case {k}: the rolling contact solver failed ({Status(int(nfo_t[k])).name}) "
-                                   f"after {iters_t[k]} sweeps", iterations=int(iters_t[k]))
+            raise ConvergenceError(
+                f"case {k}: the rolling contact solver failed ({Status(int(nfo_t[k])).name}) "
+                f"after {iters_t[k]} sweeps",
+                iterations=int(iters_t[k]),
+            )
     starts = np.ones(ncase, dtype=bool)
     starts[1:] = (kgap[1:] != kgap[:-1]) | (fns[1:] != fns[:-1])
-    log.debug("creep_force_table: %d cases, %d normal solves, %.1f sweeps on average", ncase,
-              int(starts.sum()), float(iters_t.mean()))
-    return CreepForceTable(grid=grid, creepage=creep.copy(), fn=np.array(fns), mu=mu, speed=speed, fx=fx, fy=fy,
-                           mz=mz, power=power, n_contact=ncontact.astype(int), approach=approach,
-                           normal_iterations=iters_n.astype(int), iterations=iters_t.astype(int),
-                           normal_solves=int(starts.sum()))
+    log.debug(
+        "creep_force_table: %d cases, %d normal solves, %.1f sweeps on average",
+        ncase,
+        int(starts.sum()),
+        float(iters_t.mean()),
+    )
+    return CreepForceTable(
+        grid=grid,
+        creepage=creep.copy(),
+        fn=np.array(fns),
+        mu=mu,
+        speed=speed,
+        fx=fx,
+        fy=fy,
+        mz=mz,
+        power=power,
+        n_contact=ncontact.astype(int),
+        approach=approach,
+        normal_iterations=iters_n.astype(int),
+        iterations=iters_t.astype(int),
+        normal_solves=int(starts.sum()),
+    )

@@ -20,6 +20,7 @@ Slip: ``s = L_eff (tau - tau_trial) / h`` per unit rolled distance (h the step),
 frictional power density ``|tau| V |s|``. This is the simplified theory's
 slip, only a rough estimate of the elastic half-space's.
 """
+
 from __future__ import annotations
 
 import logging
@@ -128,8 +129,10 @@ def _coefficients(a_over_b: float, poisson: float) -> tuple[float, float, float]
     c11, c22, c23, info, ibad = core.fastsim_kalker_c(np.array([a_over_b]), poisson, *_fortran_table())
     if info == Status.BAD_ARGUMENT:
         if ibad > 0:
-            raise KalkerRangeError(f"a/b = {a_over_b:.6g} lies outside Kalker's Table E.3 "
-                                   f"[{A_OVER_B_RANGE[0]}, {A_OVER_B_RANGE[1]}]")
+            raise KalkerRangeError(
+                f"a/b = {a_over_b:.6g} lies outside Kalker's Table E.3 "
+                f"[{A_OVER_B_RANGE[0]}, {A_OVER_B_RANGE[1]}]"
+            )
         raise KalkerRangeError(f"poisson = {poisson} lies outside [0, 0.5]")
     if info != Status.OK:  # pragma: no cover - kalker_interp reports BAD_ARGUMENT only
         raise error(info, "Kalker interpolation failed", exc=RailvtiError)
@@ -142,16 +145,27 @@ def _common(material: Any, mu: Any, speed: Any) -> tuple[float, float]:
     return _checks.non_negative("mu", mu), _checks.positive("speed", speed)
 
 
-def _power(tx: np.ndarray, ty: np.ndarray, sx: np.ndarray, sy: np.ndarray, speed: float,
-           area: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+def _power(
+    tx: np.ndarray, ty: np.ndarray, sx: np.ndarray, sy: np.ndarray, speed: float, area: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, float]:
     sv = speed * np.hypot(sx, sy)
     dens = np.hypot(tx, ty) * sv
     return sv, dens, float((dens * area).sum())
 
 
-def fastsim(a: float, b: float, fn: float, material: Material, mu: float, creepage: Any, *,
-            nx: int = 30, ny: int = 30, speed: float = 1.0,
-            pressure: str = "parabolic") -> FastsimResult:
+def fastsim(
+    a: float,
+    b: float,
+    fn: float,
+    material: Material,
+    mu: float,
+    creepage: Any,
+    *,
+    nx: int = 30,
+    ny: int = 30,
+    speed: float = 1.0,
+    pressure: str = "parabolic",
+) -> FastsimResult:
     """FASTSIM on an elliptic contact patch.
 
     Parameters
@@ -207,20 +221,36 @@ def fastsim(a: float, b: float, fn: float, material: Material, mu: float, creepa
     c = _coefficients(a / b, material.poisson)
     g = material.shear_modulus
     x, y, pn, tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_fields_c(
-        a, b, g, *c, mu, fn, xi, eta, phi, nx, ny, _PRESSURE[pressure])
+        a, b, g, *c, mu, fn, xi, eta, phi, nx, ny, _PRESSURE[pressure]
+    )
     if info != Status.OK:  # pragma: no cover - the checks above exclude it
         raise error(info, "FASTSIM kernel failed", exc=RailvtiError)
     aj = a * np.sqrt(np.maximum(0.0, 1.0 - (y / b) ** 2))
     area = np.broadcast_to(2.0 * aj / nx * (2.0 * b / ny), (nx, ny)).copy()
     sv, dens, power = _power(tx, ty, sx, sy, speed, area)
-    return FastsimResult(fx=float(fx), fy=float(fy), mz=float(mz), x=x,
-                         y=np.broadcast_to(y, (nx, ny)).copy(), element_area=area, pressure=pn,
-                         tx=tx, ty=ty, slip=slip.astype(bool), slip_velocity=sv, power_density=dens,
-                         power=power, a=a, b=b, coefficients=tuple(float(v) for v in c))
+    return FastsimResult(
+        fx=float(fx),
+        fy=float(fy),
+        mz=float(mz),
+        x=x,
+        y=np.broadcast_to(y, (nx, ny)).copy(),
+        element_area=area,
+        pressure=pn,
+        tx=tx,
+        ty=ty,
+        slip=slip.astype(bool),
+        slip_velocity=sv,
+        power_density=dens,
+        power=power,
+        a=a,
+        b=b,
+        coefficients=tuple(float(v) for v in c),
+    )
 
 
-def fastsim_forces(a: float, b: float, fn, material: Material, mu: float, xi, eta, phi, *,
-                   nx: int = 30, ny: int = 30) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fastsim_forces(
+    a: float, b: float, fn, material: Material, mu: float, xi, eta, phi, *, nx: int = 30, ny: int = 30
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Creep forces only, vectorised over load cases (FASTSIM, parabolic pressure).
 
     Parameters
@@ -275,9 +305,17 @@ def equivalent_ellipse(pressure: np.ndarray, grid: Grid) -> tuple[float, float]:
     return area / (np.pi * b), b
 
 
-def fastsim_grid(p: Any, grid: Grid, material: Material, mu: float, creepage: Any,
-                 speed: float = 1.0, *, flexibility: str = "ellipse",
-                 ellipse: tuple[float, float] | None = None) -> FastsimResult:
+def fastsim_grid(
+    p: Any,
+    grid: Grid,
+    material: Material,
+    mu: float,
+    creepage: Any,
+    speed: float = 1.0,
+    *,
+    flexibility: str = "ellipse",
+    ellipse: tuple[float, float] | None = None,
+) -> FastsimResult:
     """Strip-wise FASTSIM on a (possibly non-elliptic) patch with a given pressure.
 
     Each grid column (constant y) is a strip; each run of elements with
@@ -336,15 +374,42 @@ def fastsim_grid(p: Any, grid: Grid, material: Material, mu: float, creepage: An
             raise InputError("pressure has no element > 0: no contact")
     c = _coefficients(ae / be, material.poisson)
     tx, ty, sx, sy, slip, fx, fy, mz, info = core.fastsim_strips_c(
-        grid.dx, grid.dy, grid.x0, grid.y0, pa, material.shear_modulus, *c, ae, be, mu,
-        xi, eta, phi, _LMODE[flexibility])
+        grid.dx,
+        grid.dy,
+        grid.x0,
+        grid.y0,
+        pa,
+        material.shear_modulus,
+        *c,
+        ae,
+        be,
+        mu,
+        xi,
+        eta,
+        phi,
+        _LMODE[flexibility],
+    )
     if info != Status.OK:  # pragma: no cover - the checks above exclude it
         raise error(info, "strip-wise FASTSIM kernel failed", exc=RailvtiError)
     x, y = grid.mesh()
     area = np.full(grid.shape, grid.element_area)
     sv, dens, power = _power(tx, ty, sx, sy, speed, area)
     log.debug("fastsim_grid: equivalent ellipse a=%.4g b=%.4g, Fx=%.4g Fy=%.4g", ae, be, fx, fy)
-    return FastsimResult(fx=float(fx), fy=float(fy), mz=float(mz), x=x, y=y, element_area=area,
-                         pressure=pa, tx=tx, ty=ty, slip=slip.astype(bool), slip_velocity=sv,
-                         power_density=dens, power=power, a=float(ae), b=float(be),
-                         coefficients=tuple(float(v) for v in c))
+    return FastsimResult(
+        fx=float(fx),
+        fy=float(fy),
+        mz=float(mz),
+        x=x,
+        y=y,
+        element_area=area,
+        pressure=pa,
+        tx=tx,
+        ty=ty,
+        slip=slip.astype(bool),
+        slip_velocity=sv,
+        power_density=dens,
+        power=power,
+        a=float(ae),
+        b=float(be),
+        coefficients=tuple(float(v) for v in c),
+    )

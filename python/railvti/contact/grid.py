@@ -1,4 +1,5 @@
 """The regular grid of boundary elements that covers the potential contact area."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -1,4 +1,5 @@
 """Hertz's solution for two quasi-identical elastic bodies with a quadratic gap."""
+
 from __future__ import annotations
 
 import math

@@ -1,4 +1,5 @@
 """Influence coefficients of the half-space and their discrete convolution."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -41,15 +42,17 @@ def influence_field(grid: Grid, material: Material, kernel: str = "zz") -> np.nd
     ndarray, shape (2 nx, 2 ny)
     """
     code = _kernel_code(kernel)
-    c, info = core.influence_field_c(code, grid.nx, grid.ny, grid.dx, grid.dy,
-                                     material.shear_modulus, material.poisson)
+    c, info = core.influence_field_c(
+        code, grid.nx, grid.ny, grid.dx, grid.dy, material.shear_modulus, material.poisson
+    )
     if info != Status.OK:
         raise error(info, "influence_field_c failed", exc=RailvtiError)
     return c
 
 
-def convolve(traction: np.ndarray, grid: Grid, material: Material, kernel: str = "zz",
-             method: str = "fft") -> np.ndarray:
+def convolve(
+    traction: np.ndarray, grid: Grid, material: Material, kernel: str = "zz", method: str = "fft"
+) -> np.ndarray:
     """Surface displacement difference due to a traction field, m.
 
     Parameters
@@ -68,8 +71,15 @@ def convolve(traction: np.ndarray, grid: Grid, material: Material, kernel: str =
     q = _checks.finite_array("traction", traction, shape=grid.shape)
     if method not in ("fft", "direct"):
         raise InputError(f"method must be 'fft' or 'direct', got {method!r}")
-    u, info = core.convolve_c(_kernel_code(kernel), 1 if method == "fft" else 2, grid.dx, grid.dy,
-                              material.shear_modulus, material.poisson, q)
+    u, info = core.convolve_c(
+        _kernel_code(kernel),
+        1 if method == "fft" else 2,
+        grid.dx,
+        grid.dy,
+        material.shear_modulus,
+        material.poisson,
+        q,
+    )
     if info != Status.OK:
         raise error(info, "convolve_c failed", exc=RailvtiError)
     return u

@@ -23,6 +23,7 @@ Sign convention (rolling in +x, creepages xi, eta, spin phi in 1/m)::
     Fx = -G a b C11 xi
     Fy = -G a b C22 eta - G (a b)^1.5 C23 phi
 """
+
 from __future__ import annotations
 
 import csv
@@ -36,8 +37,7 @@ from .. import _checks
 from ..errors import InputError
 from ..material import Material
 
-__all__ = ["KalkerRangeError", "kalker_coefficients", "kalker_table", "linear_creep_forces",
-           "A_OVER_B_RANGE"]
+__all__ = ["KalkerRangeError", "kalker_coefficients", "kalker_table", "linear_creep_forces", "A_OVER_B_RANGE"]
 
 #: The range of a/b covered by Table E.3.
 A_OVER_B_RANGE = (0.1, 10.0)
@@ -61,8 +61,9 @@ def kalker_table() -> tuple[np.ndarray, np.ndarray]:
         and nu = (0, 0.25, 0.5)[m].
     """
     text = resources.files("railvti").joinpath("data", "kalker_table_e3.csv").read_text()
-    rows = [r for r in csv.reader(line for line in text.splitlines()
-                                  if line.strip() and not line.startswith("#"))]
+    rows = [
+        r for r in csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#"))
+    ]
     header, body = rows[0], np.array(rows[1:], dtype=float)
     expected = ["a_over_b"] + [f"c{k}_nu{n}" for k in ("11", "22", "23") for n in ("0", "025", "05")]
     if header != expected:  # pragma: no cover - a corrupted install
@@ -126,7 +127,8 @@ def kalker_coefficients(a_over_b, poisson: float):
     bad = (r < lo * (1 - 1e-12)) | (r > hi * (1 + 1e-12))
     if bad.any():
         raise KalkerRangeError(
-            f"a_over_b must lie in [{lo}, {hi}] (Kalker's Table E.3), got {r[bad].ravel()[0]}")
+            f"a_over_b must lie in [{lo}, {hi}] (Kalker's Table E.3), got {r[bad].ravel()[0]}"
+        )
     logr = np.clip(np.log(r), np.log(lo), np.log(hi))
     v = _interpolants()(logr)  # shape r.shape + (3, 3): coefficient, nu column
     m = min(int(nu // 0.25), 1)

@@ -1,4 +1,5 @@
 """The normal contact problem on a grid (Kaiser, sect. 4, eqs 17-23)."""
+
 from __future__ import annotations
 
 import logging
@@ -142,14 +143,20 @@ class NormalResult:
 
 def _check_edges(p: np.ndarray) -> None:
     if not (p[0, :].any() or p[-1, :].any() or p[:, 0].any() or p[:, -1].any()):
-        return                  # the common case, without the names below (small grids: per-call cost)
-    edges = {"x = x_min (i = 0)": p[0, :], "x = x_max (i = nx-1)": p[-1, :],
-             "y = y_min (j = 0)": p[:, 0], "y = y_max (j = ny-1)": p[:, -1]}
+        return  # the common case, without the names below (small grids: per-call cost)
+    edges = {
+        "x = x_min (i = 0)": p[0, :],
+        "x = x_max (i = nx-1)": p[-1, :],
+        "y = y_min (j = 0)": p[:, 0],
+        "y = y_max (j = ny-1)": p[:, -1],
+    }
     touched = [name for name, row in edges.items() if (row > 0.0).any()]
     if touched:
         raise GridTooSmallError(
-            "the contact area reaches the grid edge at " + ", ".join(touched)
-            + ": enlarge the grid (more elements or a larger extent)")
+            "the contact area reaches the grid edge at "
+            + ", ".join(touched)
+            + ": enlarge the grid (more elements or a larger extent)"
+        )
 
 
 def _coarsen(h: np.ndarray, grid: Grid) -> tuple[np.ndarray, Grid]:
@@ -160,8 +167,14 @@ def _coarsen(h: np.ndarray, grid: Grid) -> tuple[np.ndarray, Grid]:
     if grid.ny % 2:
         h = np.concatenate([h, h[:, -1:]], axis=1)
     hc = 0.25 * (h[0::2, 0::2] + h[1::2, 0::2] + h[0::2, 1::2] + h[1::2, 1::2])
-    coarse = Grid(hc.shape[0], hc.shape[1], 2.0 * grid.dx, 2.0 * grid.dy,
-                  grid.x0 + 0.5 * grid.dx, grid.y0 + 0.5 * grid.dy)
+    coarse = Grid(
+        hc.shape[0],
+        hc.shape[1],
+        2.0 * grid.dx,
+        2.0 * grid.dy,
+        grid.x0 + 0.5 * grid.dx,
+        grid.y0 + 0.5 * grid.dy,
+    )
     return np.asfortranarray(hc), coarse
 
 
@@ -185,9 +198,17 @@ def _prolong(pc: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     return np.asfortranarray(out)
 
 
-def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, fn_in: float,
-                  app_in: float, method: int, max_iter: int, sub: SubPatches | None = None
-                  ) -> tuple[np.ndarray | None, int]:
+def _nested_start(
+    h: np.ndarray,
+    grid: Grid,
+    material: Material,
+    control: int,
+    fn_in: float,
+    app_in: float,
+    method: int,
+    max_iter: int,
+    sub: SubPatches | None = None,
+) -> tuple[np.ndarray | None, int]:
     """A start pressure for a large grid from the solution on the grid of twice the
     element size, itself started the same way (nested iteration, as in full multigrid).
 
@@ -200,17 +221,35 @@ def _nested_start(h: np.ndarray, grid: Grid, material: Material, control: int, f
     if pc is None:
         pc = np.zeros(coarse.shape, order="F")
     _, _, _, nprod, _, info = _cg_in_slices(
-        workspace(coarse, material), hc, control, method, _NESTED_TOL, max_iter, fn_in, app_in, pc,
-        _plain(coarse, sub))
+        workspace(coarse, material),
+        hc,
+        control,
+        method,
+        _NESTED_TOL,
+        max_iter,
+        fn_in,
+        app_in,
+        pc,
+        _plain(coarse, sub),
+    )
     nprod_c += int(nprod)
     if info not in (Status.OK, Status.NOT_CONVERGED) or not np.isfinite(pc).all() or not (pc > 0.0).any():
         return None, nprod_c
     return _prolong(pc, grid.shape), nprod_c
 
 
-def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: float, max_iter: int,
-                  fn_in: float, app_in: float, p: np.ndarray, sub: tuple[int, np.ndarray, np.ndarray]
-                  ) -> tuple[float, float, int, int, float, int]:
+def _cg_in_slices(
+    handle: int,
+    h: np.ndarray,
+    control: int,
+    method: int,
+    tol: float,
+    max_iter: int,
+    fn_in: float,
+    app_in: float,
+    p: np.ndarray,
+    sub: tuple[int, np.ndarray, np.ndarray],
+) -> tuple[float, float, int, int, float, int]:
     """Projected CG (method 1, or 3 without preconditioner) in slices of about
     :data:`CG_SLICE_SECONDS` each (``normal_cg_slice_c``; the numbers are those of one
     ``normal_solve_c`` call): between slices Python handles Ctrl-C / SIGTERM. ``sub``: the
@@ -226,9 +265,26 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
     budget, start = (max_iter if h.size * max_iter <= _ONE_SLICE_WORK else 1), 1
     while True:
         t0 = time.perf_counter()
-        fn_out, done, info = core.normal_cg_slice_c(handle, h, control, method, tol, max_iter, fn_in,
-                                                     budget, start, sub[1], sub[2], approach, p, u, t,
-                                                     rstate, istate, resid)
+        fn_out, done, info = core.normal_cg_slice_c(
+            handle,
+            h,
+            control,
+            method,
+            tol,
+            max_iter,
+            fn_in,
+            budget,
+            start,
+            sub[1],
+            sub[2],
+            approach,
+            p,
+            u,
+            t,
+            rstate,
+            istate,
+            resid,
+        )
         start = 0
         if done:
             break
@@ -237,9 +293,18 @@ def _cg_in_slices(handle: int, h: np.ndarray, control: int, method: int, tol: fl
     return float(fn_out), float(approach), int(istate[1]), int(istate[2]), float(resid), int(info)
 
 
-def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter: int,
-                  omega: float, fn_in: float, app_in: float, p: np.ndarray,
-                  sub: tuple[int, np.ndarray, np.ndarray]) -> tuple[float, float, int, int, float, int]:
+def _gs_in_slices(
+    handle: int,
+    h: np.ndarray,
+    control: int,
+    tol: float,
+    max_iter: int,
+    omega: float,
+    fn_in: float,
+    app_in: float,
+    p: np.ndarray,
+    sub: tuple[int, np.ndarray, np.ndarray],
+) -> tuple[float, float, int, int, float, int]:
     """Projected Gauss-Seidel in slices of about :data:`GS_SLICE_SECONDS` of work each
     (``normal_gs_slice_c``; the numbers are those of one call): between slices Python
     handles Ctrl-C / SIGTERM and a progress bar (sweeps, residual) shows after 2 s.
@@ -249,16 +314,32 @@ def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter
     resid = np.array(0.0, dtype=np.float64)
     iters = np.array(0, dtype=np.int32)
     pos = np.array(0, dtype=np.int32)
-    budget = 2.0e6                   # work units (element visits + N per column), adapted below
+    budget = 2.0e6  # work units (element visits + N per column), adapted below
     bar = None
     start = 1
     t_start = time.perf_counter()
     try:
         while True:
             t0 = time.perf_counter()
-            fn_out, done, info = core.normal_gs_slice_c(handle, h, control, tol, max_iter, omega, fn_in,
-                                                         budget, start, sub[1], sub[2], approach, p, u,
-                                                         iters, pos, resid)
+            fn_out, done, info = core.normal_gs_slice_c(
+                handle,
+                h,
+                control,
+                tol,
+                max_iter,
+                omega,
+                fn_in,
+                budget,
+                start,
+                sub[1],
+                sub[2],
+                approach,
+                p,
+                u,
+                iters,
+                pos,
+                resid,
+            )
             start = 0
             if done:
                 break
@@ -266,23 +347,41 @@ def _gs_in_slices(handle: int, h: np.ndarray, control: int, tol: float, max_iter
             budget = float(np.clip(budget * GS_SLICE_SECONDS / max(dt, 1e-4), 1e3, 4.0 * budget))
             if bar is None and time.perf_counter() - t_start > 2.0 and np.isfinite(resid):
                 from tqdm import tqdm
-                r0 = max(float(resid), 10.0 * tol)      # the bar: decades of the residual to go
-                bar = tqdm(total=round(np.log10(r0 / tol), 2), unit="decade", leave=False,
-                           disable=None, bar_format="{desc} {bar}| [{elapsed}<{remaining}]")
+
+                r0 = max(float(resid), 10.0 * tol)  # the bar: decades of the residual to go
+                bar = tqdm(
+                    total=round(np.log10(r0 / tol), 2),
+                    unit="decade",
+                    leave=False,
+                    disable=None,
+                    bar_format="{desc} {bar}| [{elapsed}<{remaining}]",
+                )
             if bar is not None and np.isfinite(resid) and resid > 0:
                 bar.update(max(0.0, min(bar.total, round(np.log10(r0 / float(resid)), 2))) - bar.n)
-                bar.set_description_str(f"normal gs: sweep {int(iters)}, residual {float(resid):.2e} "
-                                        f"> tol {tol:.0e}", refresh=False)
+                bar.set_description_str(
+                    f"normal gs: sweep {int(iters)}, residual {float(resid):.2e} > tol {tol:.0e}",
+                    refresh=False,
+                )
     finally:
         if bar is not None:
             bar.close()
     return float(fn_out), float(approach), int(iters), 0, float(resid), int(info)
 
 
-def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | None = None,
-                 approach: float | None = None, method: str = "cg", tol: float = 1e-8,
-                 max_iter: int | None = None, p0: np.ndarray | None = None,
-                 omega: float = 1.0, nested: bool = True, subpatches: SubPatches | None = None) -> NormalResult:
+def solve_normal(
+    gap: np.ndarray,
+    grid: Grid,
+    material: Material,
+    fn: float | None = None,
+    approach: float | None = None,
+    method: str = "cg",
+    tol: float = 1e-8,
+    max_iter: int | None = None,
+    p0: np.ndarray | None = None,
+    omega: float = 1.0,
+    nested: bool = True,
+    subpatches: SubPatches | None = None,
+) -> NormalResult:
     """Solve the normal contact problem for a given undeformed gap.
 
     Finds the pressure p >= 0 with deformed gap ``e = gap + A p - approach``
@@ -355,7 +454,8 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
         approach = _checks.finite("approach", approach)
         if approach <= float(h.min()):
             raise NoContactError(
-                f"no contact: the approach {approach:.6g} m does not exceed the smallest gap {h.min():.6g} m")
+                f"no contact: the approach {approach:.6g} m does not exceed the smallest gap {h.min():.6g} m"
+            )
         control, fn_in, app_in = 2, 0.0, approach
     tol = _checks.positive("tol", tol)
     if max_iter is None:
@@ -370,8 +470,9 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
     if p0 is None:
         p = None
         if nested and method in ("cg", "pk"):
-            p, nprod_coarse = _nested_start(h, grid, material, control, fn_in, app_in, _METHODS[method],
-                                            max_iter, subpatches)
+            p, nprod_coarse = _nested_start(
+                h, grid, material, control, fn_in, app_in, _METHODS[method], max_iter, subpatches
+            )
         if p is None:
             p = np.zeros(grid.shape, order="F")
     else:
@@ -382,27 +483,47 @@ def solve_normal(gap: np.ndarray, grid: Grid, material: Material, fn: float | No
     sub = _plain(grid, subpatches)
     if method == "gs":
         fn_out, app_out, iters, nprod, resid, info = _gs_in_slices(
-            workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p, sub)
+            workspace(grid, material), h, control, tol, max_iter, omega, fn_in, app_in, p, sub
+        )
     else:
         fn_out, app_out, iters, nprod, resid, info = _cg_in_slices(
-            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, fn_in, app_in, p, sub)
+            workspace(grid, material), h, control, _METHODS[method], tol, max_iter, fn_in, app_in, p, sub
+        )
     if info == Status.NO_CONTACT:
         raise NoContactError("no contact: the approach does not exceed the smallest gap")
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NOT_FINITE):
         raise error(info, "normal contact solver failed internally", exc=RailvtiError)
-    if info == Status.NOT_FINITE or not (np.isfinite(p).all() and np.isfinite(fn_out)
-                                         and np.isfinite(app_out)):
-        raise ConvergenceError(f"normal contact solver ({method}) diverged to non-finite values",
-                               iterations=int(iters), residual=float(resid))
+    if info == Status.NOT_FINITE or not (
+        np.isfinite(p).all() and np.isfinite(fn_out) and np.isfinite(app_out)
+    ):
+        raise ConvergenceError(
+            f"normal contact solver ({method}) diverged to non-finite values",
+            iterations=int(iters),
+            residual=float(resid),
+        )
     n_contact = int((p > 0.0).sum())
-    result = NormalResult(grid=grid, pressure=p, fn=float(fn_out), approach=float(app_out),
-                          area=n_contact * grid.element_area, n_contact=n_contact,
-                          iterations=int(iters), residual=float(resid), converged=info == Status.OK,
-                          method=method, fft_products=int(nprod), coarse_fft_products=nprod_coarse)
+    result = NormalResult(
+        grid=grid,
+        pressure=p,
+        fn=float(fn_out),
+        approach=float(app_out),
+        area=n_contact * grid.element_area,
+        n_contact=n_contact,
+        iterations=int(iters),
+        residual=float(resid),
+        converged=info == Status.OK,
+        method=method,
+        fft_products=int(nprod),
+        coarse_fft_products=nprod_coarse,
+    )
     if info == Status.NOT_CONVERGED:
         raise ConvergenceError(
             f"normal contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
-            f"after {iters} iterations", iterations=int(iters), residual=float(resid), result=result)
+            f"after {iters} iterations",
+            iterations=int(iters),
+            residual=float(resid),
+            result=result,
+        )
     _check_edges(p)
     log.debug("solve_normal %s: %d iterations, residual %.3g, %d in contact", method, iters, resid, n_contact)
     return result

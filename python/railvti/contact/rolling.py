@@ -17,6 +17,7 @@ The slip uses a three-point upwind difference over the element and its two
 upstream neighbours (see the Fortran module): the contact area must stay
 two elements clear of the leading grid edge.
 """
+
 from __future__ import annotations
 
 import logging
@@ -39,8 +40,10 @@ log = logging.getLogger(__name__)
 _METHODS = {"gs": 1, "fftgs": 2}
 _PRODUCTS = {"auto": 0, "fft": 1, "direct": 2}
 _DEFAULT_MAX_ITER = {"gs": 500, "fftgs": 2000}
-_EDGE_MESSAGE = ("the contact area reaches the last two element rows at the leading grid edge "
-                 "x = x_max (the slip needs two elements upstream): enlarge the grid")
+_EDGE_MESSAGE = (
+    "the contact area reaches the last two element rows at the leading grid edge "
+    "x = x_max (the slip needs two elements upstream): enlarge the grid"
+)
 #: Rows per FFT refresh of method 'fftgs'.
 DEFAULT_BLOCK = 16
 #: Passes over each row before the next row (both methods).
@@ -167,15 +170,30 @@ def _check_creepage(creepage: object) -> tuple[float, float, float]:
         raise InputError("creepage must be a sequence (xi, eta, phi)") from None
     if len(values) != 3:
         raise InputError(f"creepage must have 3 entries (xi, eta, phi), got {len(values)}")
-    return (_checks.finite("creepage xi", values[0]), _checks.finite("creepage eta", values[1]),
-            _checks.finite("creepage phi (1/m)", values[2]))
+    return (
+        _checks.finite("creepage xi", values[0]),
+        _checks.finite("creepage eta", values[1]),
+        _checks.finite("creepage phi (1/m)", values[2]),
+    )
 
 
-def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: float,
-                     creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
-                     tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
-                     block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal: NormalResult | None = None,
-                     approach: float = math.nan, product: str = "auto") -> RollingResult:
+def solve_tangential(
+    pressure: np.ndarray,
+    grid: Grid,
+    material: Material,
+    mu: float,
+    creepage: tuple[float, float, float],
+    speed: float,
+    method: str = "fftgs",
+    tol: float = 1e-7,
+    max_iter: int | None = None,
+    t0: tuple | None = None,
+    block: int = DEFAULT_BLOCK,
+    inner: int = DEFAULT_INNER,
+    normal: NormalResult | None = None,
+    approach: float = math.nan,
+    product: str = "auto",
+) -> RollingResult:
     """Steady rolling tangential problem for a given pressure.
 
     Parameters
@@ -228,8 +246,25 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     # a small one directly (it ends within DIRECT_CALL_WORK element sweeps)
     call = call_interruptibly if grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
     status, sx, sy, iters, resid, info = call(
-        workspace(grid, material, tangential=True), core.rolling_solve_c, p, grid.x0, grid.y0, xi,
-        eta, phi, mu, speed, _METHODS[method], block, inner, tol, max_iter, _PRODUCTS[product], tx, ty)
+        workspace(grid, material, tangential=True),
+        core.rolling_solve_c,
+        p,
+        grid.x0,
+        grid.y0,
+        xi,
+        eta,
+        phi,
+        mu,
+        speed,
+        _METHODS[method],
+        block,
+        inner,
+        tol,
+        max_iter,
+        _PRODUCTS[product],
+        tx,
+        ty,
+    )
     if info == Status.GRID_EDGE:
         raise GridTooSmallError(_EDGE_MESSAGE)
     if info not in (Status.OK, Status.NOT_CONVERGED, Status.NO_CONTACT, Status.NOT_FINITE):
@@ -238,33 +273,69 @@ def solve_tangential(pressure: np.ndarray, grid: Grid, material: Material, mu: f
     # tractions (<= mu p) and slip velocities are far from overflowing a sum
     sum_tx, sum_ty = float(tx.sum()), float(ty.sum())
     if info == Status.NOT_FINITE or not math.isfinite(sum_tx + sum_ty + float(sx.sum()) + float(sy.sum())):
-        raise ConvergenceError(f"rolling contact solver ({method}) produced non-finite values",
-                               iterations=int(iters), residual=float("inf"))
+        raise ConvergenceError(
+            f"rolling contact solver ({method}) produced non-finite values",
+            iterations=int(iters),
+            residual=float("inf"),
+        )
     da = grid.element_area
     x, y = grid.mesh()
-    n_contact = int(np.count_nonzero(p))        # p >= 0
+    n_contact = int(np.count_nonzero(p))  # p >= 0
     result = RollingResult(
-        grid=grid, pressure=p, fn=float(p.sum() * da) if normal is None else normal.fn,
-        approach=float(approach), area=n_contact * da, n_contact=n_contact, mu=mu,
-        creepage=(xi, eta, phi), speed=speed, tx=tx, ty=ty, status=np.asarray(status, dtype=np.int8),
-        slip_velocity_x=sx, slip_velocity_y=sy, fx=sum_tx * da, fy=sum_ty * da,
-        mz=float((x * ty - y * tx).sum() * da),     # this order: Mz of a saturated patch cancels
+        grid=grid,
+        pressure=p,
+        fn=float(p.sum() * da) if normal is None else normal.fn,
+        approach=float(approach),
+        area=n_contact * da,
+        n_contact=n_contact,
+        mu=mu,
+        creepage=(xi, eta, phi),
+        speed=speed,
+        tx=tx,
+        ty=ty,
+        status=np.asarray(status, dtype=np.int8),
+        slip_velocity_x=sx,
+        slip_velocity_y=sy,
+        fx=sum_tx * da,
+        fy=sum_ty * da,
+        mz=float((x * ty - y * tx).sum() * da),  # this order: Mz of a saturated patch cancels
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
-        iterations=int(iters), residual=float(resid), converged=info in (Status.OK, Status.NO_CONTACT),
-        method=method, normal=normal)
+        iterations=int(iters),
+        residual=float(resid),
+        converged=info in (Status.OK, Status.NO_CONTACT),
+        method=method,
+        normal=normal,
+    )
     if info == Status.NOT_CONVERGED:
         raise ConvergenceError(
             f"rolling contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
-            f"after {iters} sweeps", iterations=int(iters), residual=float(resid), result=result)
+            f"after {iters} sweeps",
+            iterations=int(iters),
+            residual=float(resid),
+            result=result,
+        )
     log.debug("solve_tangential %s: %d sweeps, residual %.3g, %d in contact", method, iters, resid, n_contact)
     return result
 
 
-def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn: float,
-                  creepage: tuple[float, float, float], speed: float, method: str = "fftgs",
-                  tol: float = 1e-7, max_iter: int | None = None, t0: tuple | None = None,
-                  block: int = DEFAULT_BLOCK, inner: int = DEFAULT_INNER, normal_method: str = "cg",
-                  normal_tol: float = 1e-8, product: str = "auto") -> RollingResult:
+def solve_rolling(
+    gap: np.ndarray,
+    grid: Grid,
+    material: Material,
+    mu: float,
+    fn: float,
+    creepage: tuple[float, float, float],
+    speed: float,
+    method: str = "fftgs",
+    tol: float = 1e-7,
+    max_iter: int | None = None,
+    t0: tuple | None = None,
+    block: int = DEFAULT_BLOCK,
+    inner: int = DEFAULT_INNER,
+    normal_method: str = "cg",
+    normal_tol: float = 1e-8,
+    product: str = "auto",
+) -> RollingResult:
     """Steady-state rolling contact: normal problem, then the tangential one.
 
     Parameters
@@ -332,6 +403,20 @@ def solve_rolling(gap: np.ndarray, grid: Grid, material: Material, mu: float, fn
     creepage = _check_creepage(creepage)
     speed = _checks.positive("speed", speed)
     normal = solve_normal(gap, grid, material, fn=fn, method=normal_method, tol=normal_tol)
-    return solve_tangential(normal.pressure, grid, material, mu, creepage, speed, method=method, tol=tol,
-                            max_iter=max_iter, t0=t0, block=block, inner=inner, normal=normal,
-                            approach=normal.approach, product=product)
+    return solve_tangential(
+        normal.pressure,
+        grid,
+        material,
+        mu,
+        creepage,
+        speed,
+        method=method,
+        tol=tol,
+        max_iter=max_iter,
+        t0=t0,
+        block=block,
+        inner=inner,
+        normal=normal,
+        approach=normal.approach,
+        product=product,
+    )

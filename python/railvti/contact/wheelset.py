@@ -38,6 +38,7 @@ without drive or brake torque. (Each wheel's Fx = 0 is impossible with one omega
 rolling radii; the wheelset's net Fx = 0 is a force balance, which the axleboxes take: the
 torque about the axle is what omega must balance.) Patches are independent half-spaces.
 """
+
 from __future__ import annotations
 
 import logging
@@ -249,7 +250,7 @@ def count_regions(mask: np.ndarray) -> int:
             k = len(parent)
             parent.append(k)
             for pa, pb, pk in prev:
-                if pa < b and a < pb:               # the runs [a, b) and [pa, pb) touch
+                if pa < b and a < pb:  # the runs [a, b) and [pa, pb) touch
                     parent[root(pk)] = root(k)
             cur.append((a, b, k))
         prev = cur
@@ -271,8 +272,10 @@ class _Balance:
         for i, s in enumerate(sides):
             row = [PatchState(cp, i, self.gradient(cp, i)) for cp in geo.wheel(s)]
             if not row:
-                raise InputError(f"the {s} wheel has no contact candidate at y = {geo.pose.y * 1e3:.2f} mm "
-                                 f"({geo.status[_SIDES.index(s)]})")
+                raise InputError(
+                    f"the {s} wheel has no contact candidate at y = {geo.pose.y * 1e3:.2f} mm "
+                    f"({geo.status[_SIDES.index(s)]})"
+                )
             self.patches.append(row)
 
     def gradient(self, cp: ContactPoint, i: int) -> np.ndarray:
@@ -291,7 +294,9 @@ class _Balance:
         pose = self.patches[i][0].seed.pose
         if self.prescribed:
             return WheelsetPose(pose.y, pose.z - float(self.u[i]), pose.roll, pose.yaw, pose.layout)
-        return WheelsetPose(pose.y, pose.z - float(self.u[0]), pose.roll + float(self.u[1]), pose.yaw, pose.layout)
+        return WheelsetPose(
+            pose.y, pose.z - float(self.u[0]), pose.roll + float(self.u[1]), pose.yaw, pose.layout
+        )
 
     @property
     def all(self) -> list[PatchState]:
@@ -323,8 +328,9 @@ class _Balance:
         return out[0], out[1]
 
 
-def _start(bal: _Balance, wheel: Profile, rail: Profile, loads: np.ndarray, material: Material,
-           dx: float, dy: float) -> None:
+def _start(
+    bal: _Balance, wheel: Profile, rail: Profile, loads: np.ndarray, material: Material, dx: float, dy: float
+) -> None:
     """Hertz estimate of each patch's approach (grid size) and the start of u: the carrying
     points get their Hertz approaches."""
     s_fit = 5.0 * max(dx, dy)
@@ -341,8 +347,19 @@ def _start(bal: _Balance, wheel: Profile, rail: Profile, loads: np.ndarray, mate
     bal.u = np.linalg.solve(np.array(rows), np.array(rhs))
 
 
-def _load_control(bal: _Balance, targets: np.ndarray, wheel: Profile, rail: Profile, material: Material,
-                  dx: float, dy: float, method: str, tol: float, max_iter: int, rolling: bool = True) -> int:
+def _load_control(
+    bal: _Balance,
+    targets: np.ndarray,
+    wheel: Profile,
+    rail: Profile,
+    material: Material,
+    dx: float,
+    dy: float,
+    method: str,
+    tol: float,
+    max_iter: int,
+    rolling: bool = True,
+) -> int:
     """Newton on u until sum_k Fn_k c_k equals the target of each wheel (relative tol)."""
     err = np.full(len(targets), np.inf)
     for it in range(1, max_iter + 1):
@@ -361,9 +378,12 @@ def _load_control(bal: _Balance, targets: np.ndarray, wheel: Profile, rail: Prof
             bal.u = bal.u + bal.down * 0.5 * max(pt.reach for pt in bal.all) / GROW
             continue
         bal.u = bal.u + np.linalg.solve(J, -err)
-    raise ConvergenceError(f"wheelset load control did not converge: vertical loads {load} N against targets "
-                           f"{targets} N after {max_iter} iterations", iterations=max_iter,
-                           residual=float(np.max(np.abs(err) / np.abs(targets))))
+    raise ConvergenceError(
+        f"wheelset load control did not converge: vertical loads {load} N against targets "
+        f"{targets} N after {max_iter} iterations",
+        iterations=max_iter,
+        residual=float(np.max(np.abs(err) / np.abs(targets))),
+    )
 
 
 def _axle_torque(bal: _Balance) -> float:
@@ -404,7 +424,7 @@ class _Secant:
         self.prev = (x, f)
         if f < 0:
             if self.side == -1 and self.hi is not None:
-                self.hi = (self.hi[0], 0.5 * self.hi[1])     # Illinois: the stale end's value halved
+                self.hi = (self.hi[0], 0.5 * self.hi[1])  # Illinois: the stale end's value halved
             self.lo, self.side = (x, f), -1
         else:
             if self.side == 1 and self.lo is not None:
@@ -449,21 +469,44 @@ def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, motion_kw) 
     if mu is None or speed is None:
         raise InputError("give both mu and speed for rolling contact, or neither")
     out["mu"] = _checks.non_negative("mu", mu)
-    out["motion"] = WheelsetMotion(speed=speed, **{k: (0.0 if v is None and k != "omega" else v)
-                                                  for k, v in motion_kw.items()})
+    out["motion"] = WheelsetMotion(
+        speed=speed, **{k: (0.0 if v is None and k != "omega" else v) for k, v in motion_kw.items()}
+    )
     if side is not None and out["motion"].omega is None:
         raise InputError(f"side={side!r}: free rolling needs both wheels; prescribe omega")
     return out
 
 
-def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: float | tuple[float, float],
-                   mu: float | None, speed: float | None, material: Material, dx: float, *,
-                   dy: float | None = None, omega: float | None = None, roll: float | None = None,
-                   lateral_velocity: float = 0.0, vertical_velocity: float = 0.0, roll_rate: float = 0.0,
-                   yaw_rate: float = 0.0, side: str | None = None, method: str = "cg",
-                   rolling_method: str | None = None, track=None, wheelset=None, max_separation: float = 5e-3,
-                   load_tol: float = 1e-5, max_iter: int = 30, reference: str = "minimum",
-                   d_sep: float = 8e-3, d_comb: float = 4e-3) -> WheelsetSolution:
+def solve_wheelset(
+    wheel: Profile,
+    rail: Profile,
+    y: float,
+    yaw: float,
+    fz: float | tuple[float, float],
+    mu: float | None,
+    speed: float | None,
+    material: Material,
+    dx: float,
+    *,
+    dy: float | None = None,
+    omega: float | None = None,
+    roll: float | None = None,
+    lateral_velocity: float = 0.0,
+    vertical_velocity: float = 0.0,
+    roll_rate: float = 0.0,
+    yaw_rate: float = 0.0,
+    side: str | None = None,
+    method: str = "cg",
+    rolling_method: str | None = None,
+    track=None,
+    wheelset=None,
+    max_separation: float = 5e-3,
+    load_tol: float = 1e-5,
+    max_iter: int = 30,
+    reference: str = "minimum",
+    d_sep: float = 8e-3,
+    d_comb: float = 4e-3,
+) -> WheelsetSolution:
     """Normal and steady-rolling contact of a loaded rigid wheelset on rigid rails.
 
     Parameters
@@ -547,9 +590,25 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
     GridTooSmallError
         A patch keeps outgrowing its grid.
     """
-    a = _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side,
-                    dict(omega=omega, lateral_velocity=lateral_velocity, vertical_velocity=vertical_velocity,
-                         roll_rate=roll_rate, yaw_rate=yaw_rate))
+    a = _check_args(
+        y,
+        yaw,
+        fz,
+        mu,
+        speed,
+        material,
+        dx,
+        dy,
+        roll,
+        side,
+        dict(
+            omega=omega,
+            lateral_velocity=lateral_velocity,
+            vertical_velocity=vertical_velocity,
+            roll_rate=roll_rate,
+            yaw_rate=yaw_rate,
+        ),
+    )
     load_tol = _checks.positive("load_tol", load_tol)
     max_iter = _checks.positive_int("max_iter", max_iter)
     if reference not in REFERENCES:
@@ -559,25 +618,67 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         raise InputError(f"d_comb must be smaller than d_sep, got d_comb = {d_comb} m, d_sep = {d_sep} m")
     dx, dy, loads, motion = a["dx"], a["dy"], a["loads"], a["motion"]
     if a["roll"] is None:
-        geo = contact_points(wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset,
-                             max_separation=max_separation)
+        geo = contact_points(
+            wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset, max_separation=max_separation
+        )
     else:
-        geo = contact_points_at_roll(wheel, rail, a["y"], a["roll"], a["yaw"], track=track, wheelset=wheelset,
-                                     max_separation=max_separation, sides=a["sides"])
+        geo = contact_points_at_roll(
+            wheel,
+            rail,
+            a["y"],
+            a["roll"],
+            a["yaw"],
+            track=track,
+            wheelset=wheelset,
+            max_separation=max_separation,
+            sides=a["sides"],
+        )
     bal = _Balance(geo, a["sides"], a["roll"] is not None)
     _start(bal, wheel, rail, loads, material, dx, dy)
     # with rolling, the first load control only needs to be close: its targets are corrected
     first_tol = max(_LOOSE_LOAD_TOL, load_tol) if motion is not None else load_tol
-    iters = _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
-                          rolling=motion is not None)
+    iters = _load_control(
+        bal,
+        loads.copy(),
+        wheel,
+        rail,
+        material,
+        dx,
+        dy,
+        method,
+        first_tol,
+        max_iter,
+        rolling=motion is not None,
+    )
     at_contact = reference == "contact"
     tol_ref = (_REFERENCE_TOL * min(dx, dy), _REFERENCE_ANGLE_TOL, d_sep, d_comb)
     if at_contact and _relocate(bal, *tol_ref):
-        iters += _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, first_tol, max_iter,
-                               rolling=motion is not None)
+        iters += _load_control(
+            bal,
+            loads.copy(),
+            wheel,
+            rail,
+            material,
+            dx,
+            dy,
+            method,
+            first_tol,
+            max_iter,
+            rolling=motion is not None,
+        )
     outer, om, torque = 0, None, float("nan")
-    ctx = dict(wheel=wheel, rail=rail, material=material, mu=a["mu"], motion=motion, dx=dx, dy=dy,
-               method=method, rolling_method=rolling_method, load_tol=load_tol)
+    ctx = dict(
+        wheel=wheel,
+        rail=rail,
+        material=material,
+        mu=a["mu"],
+        motion=motion,
+        dx=dx,
+        dy=dy,
+        method=method,
+        rolling_method=rolling_method,
+        load_tol=load_tol,
+    )
     for _ in range(_REFERENCE_PASSES):
         if motion is not None:
             roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
@@ -586,12 +687,22 @@ def solve_wheelset(wheel: Profile, rail: Profile, y: float, yaw: float, fz: floa
         if not at_contact or not _relocate(bal, *tol_ref):
             break
         if motion is None:
-            iters += _load_control(bal, loads.copy(), wheel, rail, material, dx, dy, method, load_tol, max_iter)
+            iters += _load_control(
+                bal, loads.copy(), wheel, rail, material, dx, dy, method, load_tol, max_iter
+            )
     else:
-        raise ConvergenceError(f"the patches' contact reference points did not settle in {_REFERENCE_PASSES} "
-                               f"passes at y = {a['y'] * 1e3:.3f} mm", iterations=_REFERENCE_PASSES)
-    log.debug("solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s", a["y"], iters,
-              outer, om)
+        raise ConvergenceError(
+            f"the patches' contact reference points did not settle in {_REFERENCE_PASSES} "
+            f"passes at y = {a['y'] * 1e3:.3f} mm",
+            iterations=_REFERENCE_PASSES,
+        )
+    log.debug(
+        "solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s",
+        a["y"],
+        iters,
+        outer,
+        om,
+    )
     return _solution(bal, geo, loads, om, motion, torque, iters, outer)
 
 
@@ -630,14 +741,14 @@ class _Rolling:
         self.bal, self.loads, self.ctx, self.max_iter = bal, loads, ctx, max_iter
         self.targets = loads.copy()
         self.secants: list[_Secant] | None = None
-        self.solves = 0          # rolling solves of every patch
+        self.solves = 0  # rolling solves of every patch
         self.load_iterations = 0
 
     def solve(self, omega: float, tol: float) -> None:
         c = self.ctx
         for pt in self.bal.all:
             if pt.loaded is not None:
-                pt.loaded = self.bal.loaded_pose(pt.side_index)     # CONTACT: the loaded wheelset's motion
+                pt.loaded = self.bal.loaded_pose(pt.side_index)  # CONTACT: the loaded wheelset's motion
             solve_patch_rolling(pt, c["material"], c["mu"], c["motion"], omega, c["rolling_method"], tol=tol)
         self.solves += 1
 
@@ -650,7 +761,7 @@ class _Rolling:
         within the load tolerance."""
         c = self.ctx
         for s_ in self.secants or []:
-            s_.reset()                  # omega or the tolerance changed: a new function of the targets
+            s_.reset()  # omega or the tolerance changed: a new function of the targets
         for k in range(self.max_iter):
             self.solve(omega, first_tol if k == 0 and first_tol is not None else tol)
             if k == 0 and first_tol is not None:
@@ -660,9 +771,18 @@ class _Rolling:
                         if pt.carrying:
                             pt.vertical = float(pt.force()[2] / pt.fn)
                     self.secants = [_Secant(t, 1.0) for t in self.targets]
-                self.load_iterations += _load_control(self.bal, self.targets, c["wheel"], c["rail"],
-                                                      c["material"], c["dx"], c["dy"], c["method"],
-                                                      0.25 * c["load_tol"], self.max_iter)
+                self.load_iterations += _load_control(
+                    self.bal,
+                    self.targets,
+                    c["wheel"],
+                    c["rail"],
+                    c["material"],
+                    c["dx"],
+                    c["dy"],
+                    c["method"],
+                    0.25 * c["load_tol"],
+                    self.max_iter,
+                )
                 continue
             resid = self.residual()
             if np.all(np.abs(resid) <= c["load_tol"] * self.loads):
@@ -674,12 +794,24 @@ class _Rolling:
                 self.secants = [_Secant(t, 1.0) for t in self.targets]
             else:
                 self.targets = np.array([s_.step(f) for s_, f in zip(self.secants, resid)])
-            self.load_iterations += _load_control(self.bal, self.targets, c["wheel"], c["rail"], c["material"],
-                                                  c["dx"], c["dy"], c["method"], 0.25 * c["load_tol"],
-                                                  self.max_iter)
-        raise ConvergenceError(f"the wheels' vertical balance with tangential forces did not converge in "
-                               f"{self.max_iter} rolling solves: residual {resid} N", iterations=self.max_iter,
-                               residual=float(np.max(np.abs(resid) / self.loads)))
+            self.load_iterations += _load_control(
+                self.bal,
+                self.targets,
+                c["wheel"],
+                c["rail"],
+                c["material"],
+                c["dx"],
+                c["dy"],
+                c["method"],
+                0.25 * c["load_tol"],
+                self.max_iter,
+            )
+        raise ConvergenceError(
+            f"the wheels' vertical balance with tangential forces did not converge in "
+            f"{self.max_iter} rolling solves: residual {resid} N",
+            iterations=self.max_iter,
+            residual=float(np.max(np.abs(resid) / self.loads)),
+        )
 
     def torque_ok(self, torque: float, factor: float = 1.0) -> bool:
         """|torque| <= factor * load_tol * mu sum_k Fn_k r_k (the largest friction torque)."""
@@ -710,12 +842,19 @@ def _free_rolling(roll: _Rolling, omega: float) -> tuple[float, float]:
             sec = _Secant(omega, (_axle_torque(roll.bal) - torque) / d_om)
         omega = sec.step(torque)
         if not omega > 0.0:
-            raise ConvergenceError("free rolling: the torque balance drove omega to <= 0", iterations=roll.solves)
-    raise ConvergenceError(f"free rolling did not converge in {roll.max_iter} steps of omega: torque about the "
-                           f"axle {torque:.4g} N m at omega = {omega:.6g} rad/s", iterations=roll.max_iter)
+            raise ConvergenceError(
+                "free rolling: the torque balance drove omega to <= 0", iterations=roll.solves
+            )
+    raise ConvergenceError(
+        f"free rolling did not converge in {roll.max_iter} steps of omega: torque about the "
+        f"axle {torque:.4g} N m at omega = {omega:.6g} rad/s",
+        iterations=roll.max_iter,
+    )
 
 
-def _rolling_balance(bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int) -> tuple[_Rolling, float, float]:
+def _rolling_balance(
+    bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int
+) -> tuple[_Rolling, float, float]:
     """Rolling solves, vertical balance with tangential forces and (free rolling) the
     torque balance: the first rolling solve (or, free rolling, those until the torque is
     near zero) is loose (``LOOSE_TOL``), the others converged (``ROLLING_TOL``). Returns the
@@ -725,17 +864,27 @@ def _rolling_balance(bal: _Balance, loads: np.ndarray, ctx: dict, max_iter: int)
     if motion.omega is None:
         fn = np.array([pt.fn for pt in bal.all])
         r = np.array([pt.cp.rolling_radius for pt in bal.all])
-        if not fn.sum() > 0:     # no element in contact: no rolling radius to roll at
-            raise InputError("no contact patch carries a normal force on this grid: its elements "
-                             "(dx, dy) are larger than the contact patch; make dx and dy smaller")
+        if not fn.sum() > 0:  # no element in contact: no rolling radius to roll at
+            raise InputError(
+                "no contact patch carries a normal force on this grid: its elements "
+                "(dx, dy) are larger than the contact patch; make dx and dy smaller"
+            )
         omega, torque = _free_rolling(roll, motion.speed / float((fn * r).sum() / fn.sum()))
         return roll, omega, torque
     roll.balance(motion.omega, ROLLING_TOL, first_tol=LOOSE_TOL)
     return roll, motion.omega, _axle_torque(bal)
 
 
-def _solution(bal: _Balance, geo: WheelsetContact, loads: np.ndarray, om: float | None,
-              motion: WheelsetMotion | None, torque: float, iters: int, outer: int) -> WheelsetSolution:
+def _solution(
+    bal: _Balance,
+    geo: WheelsetContact,
+    loads: np.ndarray,
+    om: float | None,
+    motion: WheelsetMotion | None,
+    torque: float,
+    iters: int,
+    outer: int,
+) -> WheelsetSolution:
     out: dict[str, list[WheelsetPatch]] = {"left": [], "right": []}
     fz = [np.nan, np.nan]
     for i, s in enumerate(bal.sides):
@@ -746,12 +895,21 @@ def _solution(bal: _Balance, geo: WheelsetContact, loads: np.ndarray, om: float 
     sinks = bal.sinks()
     solved = [v for v in sinks if np.isfinite(v)]
     return WheelsetSolution(
-        geometry=geo, left=out["left"], right=out["right"], fz=(fz[0], fz[1]),
+        geometry=geo,
+        left=out["left"],
+        right=out["right"],
+        fz=(fz[0], fz[1]),
         sink=float(np.mean(solved)) if bal.prescribed else float(bal.u[0]),
-        roll=0.0 if bal.prescribed else float(bal.u[1]), sinks=sinks, pose_roll=float(geo.pose.roll),
-        roll_prescribed=bal.prescribed, omega=None if motion is None else float(om),
-        free_rolling=motion is not None and motion.omega is None, axle_torque=float(torque),
-        iterations=iters, outer_iterations=outer)
+        roll=0.0 if bal.prescribed else float(bal.u[1]),
+        sinks=sinks,
+        pose_roll=float(geo.pose.roll),
+        roll_prescribed=bal.prescribed,
+        omega=None if motion is None else float(om),
+        free_rolling=motion is not None and motion.omega is None,
+        axle_torque=float(torque),
+        iterations=iters,
+        outer_iterations=outer,
+    )
 
 
 def _patch_result(pt: PatchState) -> WheelsetPatch:
@@ -762,10 +920,27 @@ def _patch_result(pt: PatchState) -> WheelsetPatch:
     n_adh = int(r.adhesion.sum()) if r is not None else pt.n_contact
     n_slip = int(r.slip.sum()) if r is not None else 0
     return WheelsetPatch(
-        side=cp.side, contact=cp, contact_angle=cp.contact_angle,
+        side=cp.side,
+        contact=cp,
+        contact_angle=cp.contact_angle,
         creepage=pt.slip.creepage if r is not None else None,
-        reference_speed=pt.slip.reference_speed if r is not None else float("nan"), approach=pt.approach,
-        fn=pt.fn, fx=fx, fy=fy, mz=mz, centre_of_pressure=(x_cp, y_cp), force_track=pt.force(),
-        moment_track=pt.fn * (y_cp * cp.t_x - x_cp * cp.t_y) + mz * cp.normal, pmax=pt.pmax,
-        n_contact=pt.n_contact, n_adhesion=n_adh, n_slip=n_slip, grid=pt.grid, gap=pt.gap, pressure=pt.p,
-        tx=None if r is None else r.tx, ty=None if r is None else r.ty, rolling=r)
+        reference_speed=pt.slip.reference_speed if r is not None else float("nan"),
+        approach=pt.approach,
+        fn=pt.fn,
+        fx=fx,
+        fy=fy,
+        mz=mz,
+        centre_of_pressure=(x_cp, y_cp),
+        force_track=pt.force(),
+        moment_track=pt.fn * (y_cp * cp.t_x - x_cp * cp.t_y) + mz * cp.normal,
+        pmax=pt.pmax,
+        n_contact=pt.n_contact,
+        n_adhesion=n_adh,
+        n_slip=n_slip,
+        grid=pt.grid,
+        gap=pt.gap,
+        pressure=pt.p,
+        tx=None if r is None else r.tx,
+        ty=None if r is None else r.ty,
+        rolling=r,
+    )

@@ -1,6 +1,7 @@
 """Deck case type ``loaded_wheelset``: normal and rolling contact of a loaded wheelset over a
 sweep of lateral shifts (the Manchester Contact Benchmark's case A-2.2 by default), and the
 per-patch result arrays that the ``wheel_rail`` case type shares."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -11,8 +12,17 @@ import numpy as np
 from .. import _checks
 from .._checks import MAX_FRICTION, MAX_SPEED
 from ..casetypes import Alias, CaseOutput, CaseType, Key, register, validate
-from ..geometry.cases import (PAIR_DEFAULTS, PAIR_KEYS, PAIR_MM_ALIASES, deck_layout, deck_profiles,
-                              mm_aliases, profile_problems, sweep_problems, wheelset_problems)
+from ..geometry.cases import (
+    PAIR_DEFAULTS,
+    PAIR_KEYS,
+    PAIR_MM_ALIASES,
+    deck_layout,
+    deck_profiles,
+    mm_aliases,
+    profile_problems,
+    sweep_problems,
+    wheelset_problems,
+)
 from .cases import KEYS as CONTACT_KEYS
 from ..material import Material
 from .wheelset import WheelsetSolution, solve_wheelset
@@ -20,7 +30,7 @@ from .wheelset_plots import case_title, plot_fields, plot_sweep
 
 #: Patches kept per wheel in the result arrays.
 MAX_PATCHES = 2
-_QUANTITIES = {   # name: (unit, getter); forces on the wheel, track frame x forward, y left, z up
+_QUANTITIES = {  # name: (unit, getter); forces on the wheel, track frame x forward, y left, z up
     "contact_angle": ("rad", lambda p: p.contact_angle),
     "x_ref": ("m", lambda p: p.contact.position[0]),
     "y_ref": ("m", lambda p: p.contact.position[1]),
@@ -54,8 +64,11 @@ UNITS = {k: v[0] for k, v in _QUANTITIES.items()}
 
 def patch_slots(first: tuple[str, ...] = ()) -> dict[str, Any]:
     """HDF5 labels of a per-patch array (..., 2 wheels, MAX_PATCHES) of :func:`sweep_arrays`."""
-    return {"axes": [*first, "wheel", "patch"], "wheel": ["left", "right"],
-            "empty_slots": f"NaN: the wheel has fewer than {MAX_PATCHES} contact patches"}
+    return {
+        "axes": [*first, "wheel", "patch"],
+        "wheel": ["left", "right"],
+        "empty_slots": f"NaN: the wheel has fewer than {MAX_PATCHES} contact patches",
+    }
 
 
 def wheel_nan_labels(axes: list[str]) -> dict[str, dict[str, Any]]:
@@ -82,30 +95,47 @@ def sweep_arrays(solutions: list[WheelsetSolution]) -> dict[str, np.ndarray]:
 
 #: Keys of a loaded wheelset shared by ``loaded_wheelset`` and ``wheel_rail``.
 WHEELSET_KEYS: dict[str, Key] = {
-    "fz": Key("N", "vertical load per wheel (the vertical contact force)", lo=0.0, hi=1e6, lo_open=True,
-              why="1 MN is five times the wheel load of a 40 t heavy-haul axle"),
-    "mu": Key("1", "friction coefficient (0: normal contact only)", lo=0.0, hi=MAX_FRICTION,
-              why="dry steel on steel is about 0.3-0.6"),
+    "fz": Key(
+        "N",
+        "vertical load per wheel (the vertical contact force)",
+        lo=0.0,
+        hi=1e6,
+        lo_open=True,
+        why="1 MN is five times the wheel load of a 40 t heavy-haul axle",
+    ),
+    "mu": Key(
+        "1",
+        "friction coefficient (0: normal contact only)",
+        lo=0.0,
+        hi=MAX_FRICTION,
+        why="dry steel on steel is about 0.3-0.6",
+    ),
     "speed": Key("m/s", "rolling speed (0: normal contact only)", lo=0.0, hi=MAX_SPEED, why="600 km/h"),
-    "omega": Key("rad/s", "angular velocity about the axle, > 0 rolling forward (0: free rolling)",
-                 lo=0.0, hi=2000.0),
+    "omega": Key(
+        "rad/s", "angular velocity about the axle, > 0 rolling forward (0: free rolling)", lo=0.0, hi=2000.0
+    ),
     "shear_modulus": CONTACT_KEYS["shear_modulus"],
     "poisson": CONTACT_KEYS["poisson"],
     "dx": Key("m", "element length of the contact grid along x", lo=0.0, hi=0.01, lo_open=True),
 }
 #: Old names of keys (deprecated): g, nu as in the 'normal' and 'rolling' case types.
 MATERIAL_ALIASES = {"g": Alias("shear_modulus"), "nu": Alias("poisson")}
-_KEYS = {**PAIR_KEYS, **WHEELSET_KEYS,
-         "n": Key("1", "number of shifts from y_min to y_max", "int", 1, 10001),
-         "field_at": Key("m", "shift whose pressure and traction fields are stored", lo=-0.05, hi=0.05)}
+_KEYS = {
+    **PAIR_KEYS,
+    **WHEELSET_KEYS,
+    "n": Key("1", "number of shifts from y_min to y_max", "int", 1, 10001),
+    "field_at": Key("m", "shift whose pressure and traction fields are stored", lo=-0.05, hi=0.05),
+}
 
 
 def check(params: dict[str, Any]) -> list[str]:
     """Consistency of a 'loaded_wheelset' case."""
     out = profile_problems(params) + sweep_problems(params) + wheelset_problems(params)
     if not out and not params["y_min"] <= params["field_at"] <= params["y_max"]:
-        out.append(f"field_at = {params['field_at']:g} must lie in [y_min, y_max] = "
-                   f"[{params['y_min']:g}, {params['y_max']:g}] (m)")
+        out.append(
+            f"field_at = {params['field_at']:g} must lie in [y_min, y_max] = "
+            f"[{params['y_min']:g}, {params['y_max']:g}] (m)"
+        )
     return out
 
 
@@ -132,13 +162,32 @@ def run(params: dict[str, Any]) -> CaseOutput:
     dx = _checks.positive("dx", params["dx"])
     omega = _checks.non_negative("omega", params["omega"])
     kw = {"omega": omega} if rolling and omega > 0 else {}
-    sols = [solve_wheelset(wheel, rail, yi, wi, params["fz"], mu if rolling else None,
-                           speed if rolling else None, mat, dx, track=track, wheelset=ws, **kw)
-            for yi, wi in zip(y, yaw)]
+    sols = [
+        solve_wheelset(
+            wheel,
+            rail,
+            yi,
+            wi,
+            params["fz"],
+            mu if rolling else None,
+            speed if rolling else None,
+            mat,
+            dx,
+            track=track,
+            wheelset=ws,
+            **kw,
+        )
+        for yi, wi in zip(y, yaw)
+    ]
     arr = sweep_arrays(sols)
-    ds = {"y": (y, "m"), "yaw": (yaw, "rad"),
-          "status": (np.array([[s.geometry.status[0] != "ok", s.geometry.status[1] != "ok"] for s in sols],
-                              dtype=int), "0 ok, 1 no contact or flange climb")}
+    ds = {
+        "y": (y, "m"),
+        "yaw": (yaw, "rad"),
+        "status": (
+            np.array([[s.geometry.status[0] != "ok", s.geometry.status[1] != "ok"] for s in sols], dtype=int),
+            "0 ok, 1 no contact or flange climb",
+        ),
+    }
     ds.update({k: (v, _QUANTITIES[k][0]) for k, v in arr.items()})
     labels = {k: patch_slots(("y (lateral shift)",)) for k in arr}
     if rolling:
@@ -149,9 +198,11 @@ def run(params: dict[str, Any]) -> CaseOutput:
     store_patch_fields(ds, sols[k_field], attrs=labels)
     fl = np.nanmax(arr["contact_angle"][:, 0, :], axis=1)
     flange = y[fl > 1.0]
-    summary = (f"loaded wheelset: {n} shifts, Fn left {np.nanmin(arr['fn'][:, 0, 0]):.0f}-"
-               f"{np.nanmax(arr['fn'][:, 0, 0]):.0f} N" + (f", flange contact (> 1 rad) from "
-                                                          f"{flange.min() * 1e3:.1f} mm" if flange.size else ""))
+    summary = (
+        f"loaded wheelset: {n} shifts, Fn left {np.nanmin(arr['fn'][:, 0, 0]):.0f}-"
+        f"{np.nanmax(arr['fn'][:, 0, 0]):.0f} N"
+        + (f", flange contact (> 1 rad) from {flange.min() * 1e3:.1f} mm" if flange.size else "")
+    )
     out = CaseOutput(summary=summary, datasets=ds, attrs=labels)
     out.scalars["field_at"] = (float(y[k_field]), "m")
     return out
@@ -162,38 +213,72 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     r = group["results"] if "results" in group else group
     arrays = {k: np.asarray(r[k]) for k in _QUANTITIES if k in r}
     y = np.asarray(r["y"])
-    title = "loaded wheelset, " + case_title(group, (
-        ("fz", "Fz", 1e-3, " kN"), ("mu", "mu", 1.0, ""), ("speed", "speed", 1.0, " m/s"),
-        ("yaw_per_y", "yaw/y", 1.0, " rad/m")))
+    title = "loaded wheelset, " + case_title(
+        group,
+        (
+            ("fz", "Fz", 1e-3, " kN"),
+            ("mu", "mu", 1.0, ""),
+            ("speed", "speed", 1.0, " m/s"),
+            ("yaw_per_y", "yaw/y", 1.0, " rad/m"),
+        ),
+    )
     paths = [plot_sweep(y, arrays, Path(outdir) / f"{stem}_sweep.png", title=title)]
     fields = {}
     for name in r:
         if name.startswith("field_") and name.endswith("_pressure"):
-            key = name[len("field_"):-len("_pressure")]
-            fields[key] = {q: np.asarray(r[f"field_{key}_{q}"]) for q in ("pressure", "x", "y", "tx", "ty")
-                           if f"field_{key}_{q}" in r}
+            key = name[len("field_") : -len("_pressure")]
+            fields[key] = {
+                q: np.asarray(r[f"field_{key}_{q}"])
+                for q in ("pressure", "x", "y", "tx", "ty")
+                if f"field_{key}_{q}" in r
+            }
     if fields:
         at = case_title(group, (("field_at", "fields at y =", 1e3, " mm"),)).split(": ")[-1]
         paths.append(plot_fields(fields, Path(outdir) / f"{stem}_patches.png", f"{title}; {at}"))
     return paths
 
 
-register(CaseType(
-    name="loaded_wheelset",
-    defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
-              "y_min": 0.0, "y_max": 0.01, "n": 21, "yaw_per_y": 2.4, "fz": 1.0e4,
-              "mu": 0.3, "speed": 2.0, "omega": 0.0, "shear_modulus": 82.0e9, "poisson": 0.28, "dx": 0.0002,
-              "gauge": PAIR_DEFAULTS["gauge"], "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
-              "back_to_back": PAIR_DEFAULTS["back_to_back"], "radius": PAIR_DEFAULTS["radius"],
-              "field_at": 0.0},
-    run=run, plot=plot, keys=_KEYS, check=check,
-    aliases={**MATERIAL_ALIASES, **{k: v for k, v in PAIR_MM_ALIASES.items() if k != "amplitude_mm"},
-             **mm_aliases("dx", "field_at")},
-    summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact"))
+register(
+    CaseType(
+        name="loaded_wheelset",
+        defaults={
+            "wheel": PAIR_DEFAULTS["wheel"],
+            "rail": PAIR_DEFAULTS["rail"],
+            "cant": PAIR_DEFAULTS["cant"],
+            "y_min": 0.0,
+            "y_max": 0.01,
+            "n": 21,
+            "yaw_per_y": 2.4,
+            "fz": 1.0e4,
+            "mu": 0.3,
+            "speed": 2.0,
+            "omega": 0.0,
+            "shear_modulus": 82.0e9,
+            "poisson": 0.28,
+            "dx": 0.0002,
+            "gauge": PAIR_DEFAULTS["gauge"],
+            "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
+            "back_to_back": PAIR_DEFAULTS["back_to_back"],
+            "radius": PAIR_DEFAULTS["radius"],
+            "field_at": 0.0,
+        },
+        run=run,
+        plot=plot,
+        keys=_KEYS,
+        check=check,
+        aliases={
+            **MATERIAL_ALIASES,
+            **{k: v for k, v in PAIR_MM_ALIASES.items() if k != "amplitude_mm"},
+            **mm_aliases("dx", "field_at"),
+        },
+        summary="loaded wheelset over a sweep of lateral shifts: every patch, normal and rolling contact",
+    )
+)
 
 
-def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False,
-                       attrs: dict | None = None) -> None:
+def store_patch_fields(
+    ds: dict, sol: WheelsetSolution, *, status: bool = False, attrs: dict | None = None
+) -> None:
     """Put each patch's fields of one loaded-wheelset solution into ``ds`` as
     ``field_<side><j>_{pressure,x,y,tx,ty}`` (Pa, m), and the adhesion/slip map with
     ``status`` (0 exterior, 1 adhesion, 2 slip); their axis labels into ``attrs``
@@ -208,8 +293,10 @@ def store_patch_fields(ds: dict, sol: WheelsetSolution, *, status: bool = False,
                 ds[f"{pre}_tx"] = (p.tx, "Pa")
                 ds[f"{pre}_ty"] = (p.ty, "Pa")
                 if status:
-                    ds[f"{pre}_status"] = (np.asarray(p.rolling.status, dtype=np.int8),
-                                           "0 exterior, 1 adhesion, 2 slip")
+                    ds[f"{pre}_status"] = (
+                        np.asarray(p.rolling.status, dtype=np.int8),
+                        "0 exterior, 1 adhesion, 2 slip",
+                    )
             if attrs is not None:
                 attrs[f"{pre}_x"] = {"axes": ["x (rolling)"]}
                 attrs[f"{pre}_y"] = {"axes": ["y (lateral, contact frame)"]}

@@ -33,6 +33,7 @@ of the LOADED wheelset (centre c lowered by its sink), v_Q = v_c + Omega x (Q - 
 
 Implements no equation of the paper (rigid-body kinematics; CONTACT's definitions).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -73,8 +74,13 @@ class WheelsetMotion:
     def __post_init__(self) -> None:
         object.__setattr__(self, "speed", _checks.positive("speed", self.speed))
         if self.omega is not None:
-            object.__setattr__(self, "omega", _checks.positive("omega (angular velocity about the axle, "
-                                                               "rad/s, > 0 rolling forward)", self.omega))
+            object.__setattr__(
+                self,
+                "omega",
+                _checks.positive(
+                    "omega (angular velocity about the axle, rad/s, > 0 rolling forward)", self.omega
+                ),
+            )
         for name in ("lateral_velocity", "vertical_velocity", "roll_rate", "yaw_rate"):
             object.__setattr__(self, name, _checks.finite(name, getattr(self, name)))
 
@@ -111,8 +117,14 @@ def angular_velocity(pose: WheelsetPose, motion: WheelsetMotion, omega: float) -
     return omega * a + motion.roll_rate * ex + motion.yaw_rate * ez
 
 
-def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float, *,
-               loaded: WheelsetPose | None = None, approach: float = 0.0) -> RigidSlip:
+def rigid_slip(
+    contact: ContactPoint,
+    motion: WheelsetMotion,
+    omega: float,
+    *,
+    loaded: WheelsetPose | None = None,
+    approach: float = 0.0,
+) -> RigidSlip:
     """Creepages of the wheel over the (fixed) rail at a contact reference point.
 
     Parameters
@@ -147,19 +159,32 @@ def rigid_slip(contact: ContactPoint, motion: WheelsetMotion, omega: float, *,
         rel = contact.position - _checks.finite("approach", approach) * contact.normal - pose.centre
     ex, a, ez = body_axes(pose)
     v_pitch = np.cross(omega * a, rel)
-    v_trans = np.array([motion.speed, motion.lateral_velocity, motion.vertical_velocity]) + \
-        np.cross(motion.roll_rate * ex + motion.yaw_rate * ez, rel)
+    v_trans = np.array([motion.speed, motion.lateral_velocity, motion.vertical_velocity]) + np.cross(
+        motion.roll_rate * ex + motion.yaw_rate * ez, rel
+    )
     v_ref = 0.5 * (abs(v_trans[0]) + abs(v_pitch[0]))
     if v_ref <= 0.0:
         raise InputError("the patch's rolling speed (|forward speed| + |omega r|) / 2 is zero")
     v = v_trans + v_pitch
     spin = angular_velocity(pose, motion, omega) @ contact.normal
-    return RigidSlip(Creepages(xi=float(v @ contact.t_x) / v_ref, eta=float(v @ contact.t_y) / v_ref,
-                               phi=float(spin) / v_ref), float(v_ref), v)
+    return RigidSlip(
+        Creepages(
+            xi=float(v @ contact.t_x) / v_ref, eta=float(v @ contact.t_y) / v_ref, phi=float(spin) / v_ref
+        ),
+        float(v_ref),
+        v,
+    )
 
 
-def patch_moment(contact: ContactPoint, centre: np.ndarray, force: np.ndarray, fn: float, x_cp: float,
-                 y_cp: float, mz: float) -> np.ndarray:
+def patch_moment(
+    contact: ContactPoint,
+    centre: np.ndarray,
+    force: np.ndarray,
+    fn: float,
+    x_cp: float,
+    y_cp: float,
+    mz: float,
+) -> np.ndarray:
     """Moment of a patch's tractions about a point (the loaded wheelset's centre), N m.
 
     The tractions act in the tangent plane at the reference point P; about P they give

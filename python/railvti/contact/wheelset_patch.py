@@ -5,6 +5,7 @@ the contact area reaches its edge) and the steady-rolling solve with the patch's
 Used by :mod:`railvti.contact.wheelset`. Implements no equation of the paper itself (the
 normal and tangential kernels do: eqs 17-29).
 """
+
 from __future__ import annotations
 
 import math
@@ -21,13 +22,13 @@ from .rolling import RollingResult, solve_tangential
 from .workspace import workspace
 from .wheelset_kinematics import RigidSlip, WheelsetMotion, rigid_slip
 
-_LINE_HALF = 0.025   # m: half-length of the lateral line that sizes a patch's grid
-_LINE_STEP = 1e-4    # m: its sampling
+_LINE_HALF = 0.025  # m: half-length of the lateral line that sizes a patch's grid
+_LINE_STEP = 1e-4  # m: its sampling
 #: The grid covers h < sep + GROW * (expected approach).
 GROW = 1.15
-_ROUND = 8           # grid sizes are multiples of this
-_MARGIN = 3          # elements between {h < sep + reach} and the grid's edge
-_RIDGE = 5e-5        # m: the geometry merges minima joined by lower ridges into one point
+_ROUND = 8  # grid sizes are multiples of this
+_MARGIN = 3  # elements between {h < sep + reach} and the grid's edge
+_RIDGE = 5e-5  # m: the geometry merges minima joined by lower ridges into one point
 
 
 class PatchState:
@@ -41,14 +42,20 @@ class PatchState:
     the creepages are evaluated at (CONTACT's reference), or None (the rigid pose).
     """
 
-    def __init__(self, cp: ContactPoint, side_index: int, grad: np.ndarray, seed: ContactPoint | None = None,
-                 loaded: WheelsetPose | None = None) -> None:
+    def __init__(
+        self,
+        cp: ContactPoint,
+        side_index: int,
+        grad: np.ndarray,
+        seed: ContactPoint | None = None,
+        loaded: WheelsetPose | None = None,
+    ) -> None:
         self.cp = cp
         self.seed = cp if seed is None else seed
         self.loaded = loaded
         self.side_index = side_index
         self.grad = np.asarray(grad, dtype=float)
-        self.vertical = float(cp.normal[2])    # vertical force per unit Fn (normal force alone at first)
+        self.vertical = float(cp.normal[2])  # vertical force per unit Fn (normal force alone at first)
         self.grid: Grid | None = None
         self.gap: np.ndarray | None = None
         self.p: np.ndarray | None = None
@@ -57,9 +64,9 @@ class PatchState:
         self.stiffness = 0.0
         self.pmax = 0.0
         self.n_contact = 0
-        self.A = 1e-3          # gap coefficient along x (1/m), from the curvature fit
-        self.reach = 0.0       # the grid covers h < separation + reach, m
-        self.last: tuple[float, float] | None = None   # (approach, fn) of the last loaded solve
+        self.A = 1e-3  # gap coefficient along x (1/m), from the curvature fit
+        self.reach = 0.0  # the grid covers h < separation + reach, m
+        self.last: tuple[float, float] | None = None  # (approach, fn) of the last loaded solve
         self.slip: RigidSlip | None = None
         self.rolling: RollingResult | None = None
         #: CONTACT's sub-patches (reduced interaction of its areas in the normal problem), or None
@@ -73,7 +80,9 @@ class PatchState:
     def force(self) -> np.ndarray:
         """Resultant force on the wheel, track coordinates, N."""
         cp = self.cp
-        fx, fy = (self.rolling.fx, self.rolling.fy) if self.rolling is not None and self.carrying else (0.0, 0.0)
+        fx, fy = (
+            (self.rolling.fx, self.rolling.fy) if self.rolling is not None and self.carrying else (0.0, 0.0)
+        )
         return self.fn * cp.normal + fx * cp.t_x + fy * cp.t_y
 
     def centre_of_pressure(self) -> tuple[float, float]:
@@ -107,7 +116,7 @@ def _lateral_extent(line: np.ndarray, j0: int, limit: float) -> tuple[int, int]:
         ceiling = max(limit, _RIDGE)
         while 0 < j + step < line.size - 1 and line[j + step] < ceiling:
             if line[j + step] < line[j] - 1e-9 and line[j] > _RIDGE:
-                break   # past a ridge to another candidate point: its own patch
+                break  # past a ridge to another candidate point: its own patch
             j += step
             if line[j] < limit:
                 last = j
@@ -124,8 +133,16 @@ def _centred_range(lo: float, hi: float, h: float) -> tuple[int, float]:
     return n, (m_lo + 0.5) * h
 
 
-def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach: float,
-               dx: float, dy: float, seed: ContactPoint | None = None) -> tuple[Grid, np.ndarray]:
+def _size_grid(
+    wheel: Profile,
+    rail: Profile,
+    cp: ContactPoint,
+    A: float,
+    reach: float,
+    dx: float,
+    dy: float,
+    seed: ContactPoint | None = None,
+) -> tuple[Grid, np.ndarray]:
     """The grid over {h < sep + reach} around a candidate point, bounded laterally by the
     ridges to neighbouring points, with its gap field. Element centres lie at odd multiples
     of dx/2, dy/2 from the reference point whatever the grid's size (results do not move
@@ -153,8 +170,17 @@ def _size_grid(wheel: Profile, rail: Profile, cp: ContactPoint, A: float, reach:
     return Grid(nx, ny, dx, dy, x0, y0), field.gap
 
 
-def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: float, material: Material,
-                       dx: float, dy: float, method: str, rolling: bool = False) -> None:
+def solve_patch_normal(
+    wheel: Profile,
+    rail: Profile,
+    pt: PatchState,
+    approach: float,
+    material: Material,
+    dx: float,
+    dy: float,
+    method: str,
+    rolling: bool = False,
+) -> None:
     """Normal solve of one patch at a prescribed approach (warm-started from its last
     pressure); regrow its grid when the contact area reaches the edge. A patch already
     solved at this approach is left as it is. ``rolling``: the patch will be rolled too, so
@@ -176,8 +202,9 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
             pt.fn, pt.stiffness, pt.p, pt.last = 0.0, 0.0, None, None
             return
         try:
-            r = solve_normal(pt.gap, pt.grid, material, approach=approach, method=method, p0=pt.p,
-                             subpatches=pt.subpatches)
+            r = solve_normal(
+                pt.gap, pt.grid, material, approach=approach, method=method, p0=pt.p, subpatches=pt.subpatches
+            )
         except NoContactError:
             pt.fn, pt.stiffness, pt.p, pt.last = 0.0, 0.0, None, None
             return
@@ -186,7 +213,7 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
             pt.gap = None
             continue
         pt.p = r.pressure
-        pt.stiffness = 1.5 * r.fn / max(approach - hmin, 1e-12)    # Hertz: Fn ~ (delta - hmin)^1.5
+        pt.stiffness = 1.5 * r.fn / max(approach - hmin, 1e-12)  # Hertz: Fn ~ (delta - hmin)^1.5
         if pt.last is not None and abs(approach - pt.last[0]) > 1e-4 * (approach - hmin):
             secant = (r.fn - pt.last[1]) / (approach - pt.last[0])
             if secant > 0.0:
@@ -196,12 +223,21 @@ def solve_patch_normal(wheel: Profile, rail: Profile, pt: PatchState, approach: 
         pt.pmax = r.pmax
         pt.n_contact = r.n_contact
         return
-    raise GridTooSmallError(f"the {pt.cp.side} patch at y_rail = {pt.cp.y_rail * 1e3:.2f} mm outgrows "
-                            "its grid: the load is too large for the contact geometry")
+    raise GridTooSmallError(
+        f"the {pt.cp.side} patch at y_rail = {pt.cp.y_rail * 1e3:.2f} mm outgrows "
+        "its grid: the load is too large for the contact geometry"
+    )
 
 
-def solve_patch_rolling(pt: PatchState, material: Material, mu: float, motion: WheelsetMotion, omega: float,
-                        method: str | None, tol: float = 1e-7) -> None:
+def solve_patch_rolling(
+    pt: PatchState,
+    material: Material,
+    mu: float,
+    motion: WheelsetMotion,
+    omega: float,
+    method: str | None,
+    tol: float = 1e-7,
+) -> None:
     """Steady rolling of a loaded patch on its pressure (quasi-identical bodies), with the
     rigid slip of the wheelset's motion at its reference point; started from the patch's last
     tractions on the same grid, or from full slip."""
@@ -223,5 +259,15 @@ def solve_patch_rolling(pt: PatchState, material: Material, mu: float, motion: W
         wx, wy = c.xi - c.phi * y, c.eta + c.phi * x
         bound = mu * pt.p / np.maximum(np.hypot(wx, wy), 1e-300)
         t0 = (-bound * wx, -bound * wy)
-    pt.rolling = solve_tangential(pt.p, pt.grid, material, mu, (c.xi, c.eta, c.phi), pt.slip.reference_speed,
-                                  tol=tol, t0=t0, approach=pt.approach, **kw)
+    pt.rolling = solve_tangential(
+        pt.p,
+        pt.grid,
+        material,
+        mu,
+        (c.xi, c.eta, c.phi),
+        pt.slip.reference_speed,
+        tol=tol,
+        t0=t0,
+        approach=pt.approach,
+        **kw,
+    )

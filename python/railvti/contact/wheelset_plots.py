@@ -1,4 +1,5 @@
 """Charts of a loaded-wheelset sweep and of its contact patches (Kaiser Figs 11-12, 17)."""
+
 from __future__ import annotations
 
 import textwrap
@@ -9,15 +10,26 @@ import numpy as np
 from .._plotting import pyplot
 
 
-def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
-               xlabel: str = "lateral shift y, mm", title: str = "") -> Path:
+def plot_sweep(
+    y: np.ndarray,
+    arrays: dict[str, np.ndarray],
+    path: str | Path,
+    xlabel: str = "lateral shift y, mm",
+    title: str = "",
+) -> Path:
     """Contact angle, position, forces, pmax and creepages per wheel and patch against the shift
     (``y`` in m, drawn in mm); ``title`` names the case above the panels."""
     plt = pyplot()
-    panels = [("contact_angle", "contact angle, rad", 1.0), ("y_rail", "contact position on rail, mm", 1e3),
-              ("fn", "Fn, kN", 1e-3), ("fx", "Fx, kN", 1e-3), ("fy", "Fy, kN", 1e-3),
-              ("pmax", "pmax, MPa", 1e-6), ("xi", "xi (solid), eta (dotted), -", 1.0),
-              ("phi", "spin phi, 1/m", 1.0)]
+    panels = [
+        ("contact_angle", "contact angle, rad", 1.0),
+        ("y_rail", "contact position on rail, mm", 1e3),
+        ("fn", "Fn, kN", 1e-3),
+        ("fx", "Fx, kN", 1e-3),
+        ("fy", "Fy, kN", 1e-3),
+        ("pmax", "pmax, MPa", 1e-6),
+        ("xi", "xi (solid), eta (dotted), -", 1.0),
+        ("phi", "spin phi, 1/m", 1.0),
+    ]
     panels = [p for p in panels if p[0] in arrays and np.isfinite(arrays[p[0]]).any()]
     ncol = 2
     nrow = (len(panels) + 1) // 2
@@ -36,7 +48,7 @@ def plot_sweep(y: np.ndarray, arrays: dict[str, np.ndarray], path: str | Path,
     axes[0].legend(fontsize=7)
     for ax in axes[-ncol:]:
         ax.set_xlabel(xlabel)
-    for ax in axes[len(panels):]:
+    for ax in axes[len(panels) :]:
         ax.set_visible(False)
     if title:
         fig.suptitle(title)
@@ -54,7 +66,7 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, titl
     ncol = min(2, len(keys))
     nrow = -(-len(keys) // ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(5.0 * ncol, 3.6 * nrow), squeeze=False)
-    for ax in axes.ravel()[len(keys):]:
+    for ax in axes.ravel()[len(keys) :]:
         ax.set_visible(False)
     for ax, key in zip(axes.ravel(), keys):
         f = fields[key]
@@ -64,12 +76,21 @@ def plot_fields(fields: dict[str, dict[str, np.ndarray]], path: str | Path, titl
         if f.get("tx") is not None:
             s = max(1, p.shape[0] // 16), max(1, p.shape[1] // 16)
             Y, X = np.meshgrid(y, x)
-            tx, ty = f["tx"][::s[0], ::s[1]], f["ty"][::s[0], ::s[1]]
+            tx, ty = f["tx"][:: s[0], :: s[1]], f["ty"][:: s[0], :: s[1]]
             tmax = max(float(np.hypot(tx, ty).max()), 1e-30)
             step = max(s[0] * abs(x[1] - x[0]), s[1] * abs(y[1] - y[0]))
             # the largest traction is drawn one sampling step long
-            ax.quiver(Y[::s[0], ::s[1]], X[::s[0], ::s[1]], ty, tx, color="w", angles="xy",
-                      scale_units="xy", scale=tmax / step, width=0.004)
+            ax.quiver(
+                Y[:: s[0], :: s[1]],
+                X[:: s[0], :: s[1]],
+                ty,
+                tx,
+                color="w",
+                angles="xy",
+                scale_units="xy",
+                scale=tmax / step,
+                width=0.004,
+            )
             key = f"{field_label(key)}\narrows: traction, longest = {tmax * 1e-6:.0f} MPa"
         fig.colorbar(im, ax=ax, label="p, MPa")
         ax.set_aspect("equal")
@@ -109,7 +130,7 @@ def case_title(group, keys: tuple[tuple[str, str, float, str], ...]) -> str:
         if key not in inputs:
             continue
         try:
-            value = float(np.asarray(inputs[key])) * factor + 0.0    # + 0.0: no '-0'
+            value = float(np.asarray(inputs[key])) * factor + 0.0  # + 0.0: no '-0'
             parts.append(f"{label} {value:.4g}{unit}")
         except (TypeError, ValueError):
             pass
@@ -120,5 +141,5 @@ def case_title(group, keys: tuple[tuple[str, str, float, str], ...]) -> str:
 
 def field_label(key: str) -> str:
     """'left wheel, patch 1' for a stored field's key 'left0'."""
-    side, n = key.rstrip("0123456789"), key[len(key.rstrip("0123456789")):]
+    side, n = key.rstrip("0123456789"), key[len(key.rstrip("0123456789")) :]
     return f"{side} wheel, patch {int(n) + 1}" if side in ("left", "right") and n else key

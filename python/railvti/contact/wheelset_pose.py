@@ -15,6 +15,7 @@ Each returned :class:`~railvti.geometry.ContactPoint` carries the pose of its ow
 wheelset (its ``pose.z``), so :func:`railvti.geometry.gap_field` evaluates its gap exactly.
 Implements no equation of the paper (rigid geometry).
 """
+
 from __future__ import annotations
 
 import logging
@@ -23,8 +24,17 @@ import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from ..geometry import (FLANGE_CLIMB, NO_CONTACT, OK, STATUS_NAMES, ContactPoint, TrackLayout,
-                        WheelsetContact, WheelsetPose, layout)
+from ..geometry import (
+    FLANGE_CLIMB,
+    NO_CONTACT,
+    OK,
+    STATUS_NAMES,
+    ContactPoint,
+    TrackLayout,
+    WheelsetContact,
+    WheelsetPose,
+    layout,
+)
 from ..geometry.frames import SIDES, SIGN, axle_direction
 from ..geometry.placement import ProfileLayout
 from ..geometry.table import gap_minima
@@ -41,8 +51,9 @@ NOT_PLACED = "not placed"
 _PROMINENCE = 5e-5
 
 
-def _silhouette_gap(lay: ProfileLayout, side: int, y: float, roll: float,
-                    yaw: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _silhouette_gap(
+    lay: ProfileLayout, side: int, y: float, roll: float, yaw: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Vertical gap (m) between one wheel's lower silhouette and its rail, with the wheelset
     centre at height 0; and the silhouette's track x, y and rail-local y. +inf off the rail."""
     sg = SIGN[side]
@@ -51,9 +62,9 @@ def _silhouette_gap(lay: ProfileLayout, side: int, y: float, roll: float,
     e1 = (np.array([1.0, 0.0, 0.0]) - a[0] * a) / q
     e2 = np.cross(a, e1)
     down = -np.sign(e2[2])
-    w = sg * (lay.wheelset.contact_y + lay.ws)             # axial coordinate of each circle
+    w = sg * (lay.wheelset.contact_y + lay.ws)  # axial coordinate of each circle
     r = lay.wheelset.wheel_radius + lay.wz
-    ct = np.clip(sg * lay.wdz * (a[0] / q), -1.0, 1.0)     # silhouette: the normal has no x part
+    ct = np.clip(sg * lay.wdz * (a[0] / q), -1.0, 1.0)  # silhouette: the normal has no x part
     st = down * np.sqrt(1.0 - ct * ct)
     p = w[:, None] * a + (r * ct)[:, None] * e1 + (r * st)[:, None] * e2
     py = y + p[:, 1]
@@ -64,17 +75,20 @@ def _silhouette_gap(lay: ProfileLayout, side: int, y: float, roll: float,
     return gap, p[:, 0], py, yr
 
 
-def _candidates(lay: ProfileLayout, gap: np.ndarray, px: np.ndarray, py: np.ndarray, yr: np.ndarray,
-                max_separation: float) -> tuple[float, list[tuple[float, float, float, float, float]]]:
+def _candidates(
+    lay: ProfileLayout, gap: np.ndarray, px: np.ndarray, py: np.ndarray, yr: np.ndarray, max_separation: float
+) -> tuple[float, list[tuple[float, float, float, float, float]]]:
     """The smallest gap (parabolically refined) and the candidate points
     (separation, wheel y, rail y, track x, track y), ordered by separation."""
     minima = gap_minima(gap, _PROMINENCE)
     if not minima:
-        return np.nan, []      # no finite gap, or the wheel rests on an edge of a profile
+        return np.nan, []  # no finite gap, or the wheel rests on an edge of a profile
     pts = []
     for sep, k, j, lam in minima:
+
         def mix(v: np.ndarray) -> float:
             return float((1 - lam) * v[k] + lam * v[j])
+
         pts.append((sep, mix(lay.ws), mix(yr), mix(px), mix(py)))
     pts.sort(key=lambda p: p[0])
     base = pts[0][0]
@@ -87,18 +101,36 @@ def _point(lay: ProfileLayout, side: int, pose: WheelsetPose, rec: tuple, tol: f
     delta = -float(np.arctan(lay.rail.slope(s_r)))
     n = np.array([0.0, -sg * np.sin(delta), np.cos(delta)])
     tx = np.array([1.0, 0.0, 0.0])
-    return ContactPoint(side=SIDES[side], separation=float(sep), in_contact=bool(sep <= tol),
-                        position=np.array([x, y_track, lay.rail_top - float(lay.rail.height(s_r))]),
-                        y_wheel=float(s_w), y_rail=float(s_r), contact_angle=delta,
-                        rolling_radius=float(lay.wheelset.wheel_radius + lay.wheel.height(s_w)),
-                        normal=n, t_x=tx, t_y=np.cross(n, tx), flange_climb=bool(s_w < lay.flange_climb_y),
-                        pose=pose)
+    return ContactPoint(
+        side=SIDES[side],
+        separation=float(sep),
+        in_contact=bool(sep <= tol),
+        position=np.array([x, y_track, lay.rail_top - float(lay.rail.height(s_r))]),
+        y_wheel=float(s_w),
+        y_rail=float(s_r),
+        contact_angle=delta,
+        rolling_radius=float(lay.wheelset.wheel_radius + lay.wheel.height(s_w)),
+        normal=n,
+        t_x=tx,
+        t_y=np.cross(n, tx),
+        flange_climb=bool(s_w < lay.flange_climb_y),
+        pose=pose,
+    )
 
 
-def contact_points_at_roll(wheel: Profile, rail: Profile, y: float, roll: float, yaw: float = 0.0, *,
-                           track: TrackLayout | None = None, wheelset: WheelsetGeometry | None = None,
-                           tol: float = 1e-5, max_separation: float = 2e-3,
-                           sides: tuple[str, ...] = SIDES) -> WheelsetContact:
+def contact_points_at_roll(
+    wheel: Profile,
+    rail: Profile,
+    y: float,
+    roll: float,
+    yaw: float = 0.0,
+    *,
+    track: TrackLayout | None = None,
+    wheelset: WheelsetGeometry | None = None,
+    tol: float = 1e-5,
+    max_separation: float = 2e-3,
+    sides: tuple[str, ...] = SIDES,
+) -> WheelsetContact:
     """Candidate contact points of each wheel of a wheelset with a prescribed roll.
 
     Parameters
@@ -156,7 +188,7 @@ def contact_points_at_roll(wheel: Profile, rail: Profile, y: float, roll: float,
         base, recs = _candidates(lay, gap, px, py, yr, max_separation)
         if not recs:
             continue
-        z = -base                         # the height at which this wheel just touches its rail
+        z = -base  # the height at which this wheel just touches its rail
         heights.append(z)
         pose = WheelsetPose(y, z, roll, yaw, lay)
         lists[side] = [_point(lay, side, pose, rec, tol) for rec in recs]
@@ -165,6 +197,11 @@ def contact_points_at_roll(wheel: Profile, rail: Profile, y: float, roll: float,
     z_mean = float(np.mean(heights)) if heights else float("nan")
     st = tuple(STATUS_NAMES[s] if SIDES[k] in sides else NOT_PLACED for k, s in enumerate(status))
     if any(st[SIDES.index(s)] != "ok" for s in sides):
-        log.warning("wheelset at y = %.4g mm, roll = %.4g mrad, yaw = %.4g mrad: %s", y * 1e3, roll * 1e3,
-                    yaw * 1e3, st)
+        log.warning(
+            "wheelset at y = %.4g mm, roll = %.4g mrad, yaw = %.4g mrad: %s",
+            y * 1e3,
+            roll * 1e3,
+            yaw * 1e3,
+            st,
+        )
     return WheelsetContact(WheelsetPose(y, z_mean, roll, yaw, lay), lists[0], lists[1], st)  # type: ignore[arg-type]

@@ -46,6 +46,7 @@ s = (y_sep - y_ref) / cos(delta_ref) on the patch's grid (its projection on the 
 docs/contact_decks.md gives the equations and the comparison with CONTACT's output.
 Implements no equation of the paper (CONTACT's definitions, rigid geometry).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -74,8 +75,9 @@ class Reference:
     subpatches: SubPatches | None = None
 
 
-def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose, d_sep: float = 8e-3,
-                       d_comb: float = 4e-3) -> list[Reference | None]:
+def contact_references(
+    seeds: list[ContactPoint], loaded: WheelsetPose, d_sep: float = 8e-3, d_comb: float = 4e-3
+) -> list[Reference | None]:
     """CONTACT's reference points of one wheel's patches at the wheel's loaded pose.
 
     Parameters
@@ -138,8 +140,9 @@ def contact_references(seeds: list[ContactPoint], loaded: WheelsetPose, d_sep: f
     return out
 
 
-def _subpatches(runs: list[tuple[float, float]], lay, sg: float, y_ref: float, d_ref: float, d_sep: float,
-                d_comb: float) -> SubPatches | None:
+def _subpatches(
+    runs: list[tuple[float, float]], lay, sg: float, y_ref: float, d_ref: float, d_sep: float, d_comb: float
+) -> SubPatches | None:
     """CONTACT's sub-patches of a patch from its interpenetration runs [y0, y1] (track y,
     ascending): a cut between neighbours further apart than d_comb (see the module doc)."""
     cuts, factors = [], []
@@ -165,19 +168,32 @@ def _nearest(y0: float, y1: float, points: list[float]) -> int:
     return int(np.argmin(dist))
 
 
-def _reference_point(seed: ContactPoint, lay, sg: float, x: float, y: float, delta: float,
-                     y_wheel: float) -> ContactPoint:
+def _reference_point(
+    seed: ContactPoint, lay, sg: float, x: float, y: float, delta: float, y_wheel: float
+) -> ContactPoint:
     y_rail = sg * y - lay.rail_offset
     n = np.array([0.0, -sg * np.sin(delta), np.cos(delta)])
     tx = np.array([1.0, 0.0, 0.0])
-    return ContactPoint(side=seed.side, separation=seed.separation, in_contact=seed.in_contact,
-                        position=np.array([x, y, lay.rail_top - float(lay.rail.height(y_rail))]),
-                        y_wheel=y_wheel, y_rail=float(y_rail), contact_angle=delta,
-                        rolling_radius=float(lay.wheelset.wheel_radius + lay.wheel.height(y_wheel)),
-                        normal=n, t_x=tx, t_y=np.cross(n, tx), flange_climb=seed.flange_climb, pose=seed.pose)
+    return ContactPoint(
+        side=seed.side,
+        separation=seed.separation,
+        in_contact=seed.in_contact,
+        position=np.array([x, y, lay.rail_top - float(lay.rail.height(y_rail))]),
+        y_wheel=y_wheel,
+        y_rail=float(y_rail),
+        contact_angle=delta,
+        rolling_radius=float(lay.wheelset.wheel_radius + lay.wheel.height(y_wheel)),
+        normal=n,
+        t_x=tx,
+        t_y=np.cross(n, tx),
+        flange_climb=seed.flange_climb,
+        pose=seed.pose,
+    )
 
 
 def moved(a: ContactPoint, b: ContactPoint, tol_position: float, tol_angle: float) -> bool:
     """Whether two reference points differ by more than the tolerances (m, rad)."""
-    return bool(np.linalg.norm(a.position - b.position) > tol_position
-                or abs(a.contact_angle - b.contact_angle) > tol_angle)
+    return bool(
+        np.linalg.norm(a.position - b.position) > tol_position
+        or abs(a.contact_angle - b.contact_angle) > tol_angle
+    )

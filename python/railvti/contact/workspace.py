@@ -3,6 +3,7 @@
 A workspace is made once per grid and material and reused by every solve on
 that grid, so repeated solves (sweeps, time steps) pay the set-up once.
 """
+
 from __future__ import annotations
 
 import atexit
@@ -37,9 +38,11 @@ def _free(handle: int) -> None:
     """Free a workspace this module made (InputError for any other handle: the core would
     ignore it, and a wrong handle is a bug to name, not to pass over)."""
     if isinstance(handle, bool) or not isinstance(handle, (int, np.integer)) or int(handle) not in _live:
-        raise InputError(f"contact workspace handle {handle!r} is not a live workspace (never made, "
-                         "or already freed); live: " + (", ".join(map(str, sorted(_live))) or "none"))
-    if handle in _busy:         # an interrupted call still runs on it: leave it (freed at exit)
+        raise InputError(
+            f"contact workspace handle {handle!r} is not a live workspace (never made, "
+            "or already freed); live: " + (", ".join(map(str, sorted(_live))) or "none")
+        )
+    if handle in _busy:  # an interrupted call still runs on it: leave it (freed at exit)
         return
     _live.discard(int(handle))
     core.contact_ws_free_c(handle)
@@ -53,7 +56,7 @@ def call_interruptibly(handle: int, fn, *args):
     background (its workspace kept busy: a later call on it waits, and it is not freed);
     a Fortran call cannot be stopped from outside. Used for the calls that cannot run in
     resumable slices (the steady rolling solver: its Anderson history and patch set-up)."""
-    while handle in _busy:      # a call interrupted earlier still runs on this workspace
+    while handle in _busy:  # a call interrupted earlier still runs on this workspace
         time.sleep(POLL_SECONDS)
     box: dict = {}
     done = threading.Event()
@@ -66,6 +69,7 @@ def call_interruptibly(handle: int, fn, *args):
         finally:
             _busy.discard(handle)
             done.set()
+
     _busy.add(handle)
     threading.Thread(target=work, name="railvti-fortran", daemon=True).start()
     while not done.wait(POLL_SECONDS):
@@ -104,8 +108,9 @@ def workspace(grid: Grid, material: Material, tangential: bool = False) -> int:
         return handle
     while len(_cache) >= _CACHE_SIZE:
         _free(_cache.popitem(last=False)[1])
-    handle, info = core.contact_ws_create_c(grid.nx, grid.ny, grid.dx, grid.dy, material.shear_modulus,
-                                            material.poisson, int(tangential))
+    handle, info = core.contact_ws_create_c(
+        grid.nx, grid.ny, grid.dx, grid.dy, material.shear_modulus, material.poisson, int(tangential)
+    )
     if info != Status.OK:
         raise error(info, "could not make a contact workspace", exc=RailvtiError)
     _cache[key] = handle

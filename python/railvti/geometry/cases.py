@@ -1,4 +1,5 @@
 """Deck case type ``geometry_table``: the rigid geometry table of a wheel/rail pair."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -16,32 +17,54 @@ from .placement import TrackLayout
 from .plots import plot_table
 from .table import FLANGE_CLIMB, NO_CONTACT, STATUS_NAMES, TABLE_ARRAYS, GeometryTable, geometry_table
 
-__all__ = ["PAIR_DEFAULTS", "PAIR_KEYS", "mm_aliases", "PAIR_MM_ALIASES", "profile_problems", "sweep_problems",
-           "wheelset_problems", "check_table", "deck_profiles", "deck_layout", "run", "plot"]
+__all__ = [
+    "PAIR_DEFAULTS",
+    "PAIR_KEYS",
+    "mm_aliases",
+    "PAIR_MM_ALIASES",
+    "profile_problems",
+    "sweep_problems",
+    "wheelset_problems",
+    "check_table",
+    "deck_profiles",
+    "deck_layout",
+    "run",
+    "plot",
+]
 
 
 #: Deck keys (and defaults) that name a wheel/rail pair on the track, shared by the case
 #: types ``geometry_table`` and ``loaded_wheelset``: see :func:`deck_profiles` and
 #: :func:`deck_layout`. The layout defaults are those of TrackLayout and WheelsetGeometry (m).
 PAIR_DEFAULTS: dict[str, Any] = {
-    "wheel": "s1002", "rail": "uic60", "cant": 0.025,
-    "gauge": TrackLayout.gauge, "gauge_depth": TrackLayout.gauge_depth,
-    "back_to_back": WheelsetGeometry.back_to_back, "radius": WheelsetGeometry.wheel_radius,
+    "wheel": "s1002",
+    "rail": "uic60",
+    "cant": 0.025,
+    "gauge": TrackLayout.gauge,
+    "gauge_depth": TrackLayout.gauge_depth,
+    "back_to_back": WheelsetGeometry.back_to_back,
+    "radius": WheelsetGeometry.wheel_radius,
 }
 
 
 _WHY_SHIFT = "beyond 50 mm the flange has left the rail"
 #: Units, meanings and bounds of the keys shared by the wheel/rail pair case types.
 PAIR_KEYS: dict[str, Key] = {
-    "wheel": Key("", "wheel profile: 's1002' or a profile file (SIMPACK .prw, or two columns y z in mm)", "str"),
-    "rail": Key("", "rail profile: 'uic60' (inclined by cant) or a profile file, taken as already canted", "str"),
+    "wheel": Key(
+        "", "wheel profile: 's1002' or a profile file (SIMPACK .prw, or two columns y z in mm)", "str"
+    ),
+    "rail": Key(
+        "", "rail profile: 'uic60' (inclined by cant) or a profile file, taken as already canted", "str"
+    ),
     "cant": Key("1", "rail inclination, tan (for 'uic60'; 1:40 = 0.025)", lo=-0.2, hi=0.2),
     "gauge": Key("m", "track gauge", lo=0.9, hi=1.7, why="narrow 1000 mm to Iberian 1668 mm gauge"),
-    "gauge_depth": Key("m", "depth below the rail top at which the gauge is measured", lo=0.0, hi=0.03,
-                       lo_open=True),
+    "gauge_depth": Key(
+        "m", "depth below the rail top at which the gauge is measured", lo=0.0, hi=0.03, lo_open=True
+    ),
     "back_to_back": Key("m", "wheelset back-to-back distance", lo=0.85, hi=1.65),
-    "radius": Key("m", "nominal wheel rolling radius", lo=0.15, hi=0.8,
-                  why="railway wheels have radii of 0.2-0.6 m"),
+    "radius": Key(
+        "m", "nominal wheel rolling radius", lo=0.15, hi=0.8, why="railway wheels have radii of 0.2-0.6 m"
+    ),
     "y_min": Key("m", "first lateral shift of the wheelset (to the left)", lo=-0.05, hi=0.05, why=_WHY_SHIFT),
     "y_max": Key("m", "last lateral shift of the wheelset", lo=-0.05, hi=0.05, why=_WHY_SHIFT),
     "n": Key("1", "number of shifts from y_min to y_max", "int", 2, 100001),
@@ -91,11 +114,13 @@ def wheelset_problems(params: dict[str, Any], **extra: str) -> list[str]:
         WheelsetGeometry(**{f: params[k] for k, f in keys.items()})
     except InputError as exc:
         given = ", ".join(f"{k} = {params[k]:g} m" for k in keys)
-        return [f"{given} do not fit the default wheelset's other dimensions (WheelsetGeometry(): "
-                f"journal_spacing {WheelsetGeometry.journal_spacing:g} m, hub_radius "
-                f"{WheelsetGeometry.hub_radius:g} m, rim_depth {WheelsetGeometry.rim_depth:g} m; "
-                f"back_to_back up to about 1.55 m, radius from about 0.22 m): "
-                f"{str(exc).replace('; increase journal_spacing', '')}"]     # not a key here
+        return [
+            f"{given} do not fit the default wheelset's other dimensions (WheelsetGeometry(): "
+            f"journal_spacing {WheelsetGeometry.journal_spacing:g} m, hub_radius "
+            f"{WheelsetGeometry.hub_radius:g} m, rim_depth {WheelsetGeometry.rim_depth:g} m; "
+            f"back_to_back up to about 1.55 m, radius from about 0.22 m): "
+            f"{str(exc).replace('; increase journal_spacing', '')}"
+        ]  # not a key here
     return []
 
 
@@ -157,14 +182,28 @@ def run(params: dict[str, Any]) -> CaseOutput:
     track, ws = deck_layout(params)
     t = geometry_table(wheel, rail, y, yaw, track=track, wheelset=ws)
     status = ", ".join(f"{code} {name}" for code, name in STATUS_NAMES.items())
-    units = {"y": "m", "yaw": "rad", "rise": "m", "roll": "rad", "status": status,
-             "n_contact": "1", "separation": "m", "contact_angle": "rad", "rolling_radius": "m",
-             "y_wheel": "m", "y_rail": "m", "x": "m", "y_track": "m", "z_track": "m", "delta_r": "m"}
+    units = {
+        "y": "m",
+        "yaw": "rad",
+        "rise": "m",
+        "roll": "rad",
+        "status": status,
+        "n_contact": "1",
+        "separation": "m",
+        "contact_angle": "rad",
+        "rolling_radius": "m",
+        "y_wheel": "m",
+        "y_rail": "m",
+        "x": "m",
+        "y_track": "m",
+        "z_track": "m",
+        "delta_r": "m",
+    }
     out = CaseOutput(summary="", datasets={k: (np.asarray(v), units[k]) for k, v in t.as_dict().items()})
     axes = ["y (lateral shift)", "wheel", "candidate point (0 carries the wheel)"]
     for k, (v, _) in out.datasets.items():
         if v.ndim >= 2:
-            out.attrs[k] = {"axes": axes[:v.ndim], "wheel": ["left", "right"]}
+            out.attrs[k] = {"axes": axes[: v.ndim], "wheel": ["left", "right"]}
             if v.ndim == 3:
                 out.attrs[k]["empty_slots"] = "NaN: the wheel has fewer candidate points"
         elif v.ndim == 1 and k != "y":
@@ -181,16 +220,19 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if climb.any():
         out.scalars["flange_climb_from"] = (float(np.min(np.abs(t.y[climb]))), "m")
     nok = int(np.sum(np.any(t.status == NO_CONTACT, axis=1)))
-    out.summary = (f"geometry table: {n} positions, {nok} without contact, "
-                   f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}")
+    out.summary = (
+        f"geometry table: {n} positions, {nok} without contact, "
+        f"{int(climb.sum())} with {STATUS_NAMES[FLANGE_CLIMB]}{msg}"
+    )
     return out
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     """Delta-r, contact angle and roll against y from a stored case."""
     r = group["results"] if "results" in group else group
-    t = GeometryTable(**{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"),
-                     tolerance=float("nan"))
+    t = GeometryTable(
+        **{k: np.asarray(r[k]) for k in TABLE_ARRAYS}, wheel_radius=float("nan"), tolerance=float("nan")
+    )
     p = Path(outdir) / f"{stem}_contact_table.png"
     inputs = group["inputs"] if "inputs" in group else {}
 
@@ -199,6 +241,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
             return "?"
         v = np.asarray(inputs[key]).item()
         return Path(v.decode() if isinstance(v, bytes) else str(v)).name
+
     name = group.attrs.get("name", "")
     name = name.decode() if isinstance(name, bytes) else str(name)
     title = f"{name}: geometry table, wheel {given('wheel')} on rail {given('rail')}"
@@ -207,12 +250,28 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     return [plot_table(t, p, title=title)]
 
 
-register(CaseType(
-    name="geometry_table",
-    defaults={"wheel": PAIR_DEFAULTS["wheel"], "rail": PAIR_DEFAULTS["rail"], "cant": PAIR_DEFAULTS["cant"],
-              "y_min": -0.01, "y_max": 0.01, "n": 201, "yaw_per_y": 0.0,
-              "gauge": PAIR_DEFAULTS["gauge"], "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
-              "back_to_back": PAIR_DEFAULTS["back_to_back"], "radius": PAIR_DEFAULTS["radius"],
-              "amplitude": 0.003},
-    run=run, plot=plot, keys=PAIR_KEYS, check=check_table, aliases=PAIR_MM_ALIASES,
-    summary="rigid geometry table of a wheel/rail pair over lateral shifts; equivalent conicity"))
+register(
+    CaseType(
+        name="geometry_table",
+        defaults={
+            "wheel": PAIR_DEFAULTS["wheel"],
+            "rail": PAIR_DEFAULTS["rail"],
+            "cant": PAIR_DEFAULTS["cant"],
+            "y_min": -0.01,
+            "y_max": 0.01,
+            "n": 201,
+            "yaw_per_y": 0.0,
+            "gauge": PAIR_DEFAULTS["gauge"],
+            "gauge_depth": PAIR_DEFAULTS["gauge_depth"],
+            "back_to_back": PAIR_DEFAULTS["back_to_back"],
+            "radius": PAIR_DEFAULTS["radius"],
+            "amplitude": 0.003,
+        },
+        run=run,
+        plot=plot,
+        keys=PAIR_KEYS,
+        check=check_table,
+        aliases=PAIR_MM_ALIASES,
+        summary="rigid geometry table of a wheel/rail pair over lateral shifts; equivalent conicity",
+    )
+)

@@ -1,4 +1,5 @@
 """Equivalent conicity (EN 15302) and Klingel wavelength from a geometry table."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -10,8 +11,9 @@ from .table import GeometryTable
 __all__ = ["equivalent_conicity", "klingel_wavelength"]
 
 
-def equivalent_conicity(table: GeometryTable, amplitude: float | np.ndarray = 0.003,
-                        n_quad: int = 4000) -> float | np.ndarray:
+def equivalent_conicity(
+    table: GeometryTable, amplitude: float | np.ndarray = 0.003, n_quad: int = 4000
+) -> float | np.ndarray:
     """Equivalent conicity tan(gamma_e) for a lateral oscillation of the given amplitude.
 
     EN 15302 linear-regression method: the Delta-r(y) function is linearised as
@@ -46,16 +48,19 @@ def equivalent_conicity(table: GeometryTable, amplitude: float | np.ndarray = 0.
     order = np.argsort(y)
     y, dr = y[order], dr[order]
     if y.size < 3 or amp.max() > min(-y[0], y[-1]) + 1e-12:
-        raise InputError(f"the table (ok for y in [{y[0] * 1e3:.3g}, {y[-1] * 1e3:.3g}] mm) does not "
-                         f"cover +-{amp.max() * 1e3:.3g} mm")
+        raise InputError(
+            f"the table (ok for y in [{y[0] * 1e3:.3g}, {y[-1] * 1e3:.3g}] mm) does not "
+            f"cover +-{amp.max() * 1e3:.3g} mm"
+        )
     t = (np.arange(_checks.positive_int("n_quad", n_quad, 16)) + 0.5) * (2 * np.pi / n_quad)
     st = np.sin(t)
     out = np.array([np.mean(np.interp(A * st, y, dr) * st) / A for A in amp])
     return float(out[0]) if np.ndim(amplitude) == 0 else out
 
 
-def klingel_wavelength(conicity: float | np.ndarray, radius: float = 0.46,
-                       half_distance: float = 0.75) -> float | np.ndarray:
+def klingel_wavelength(
+    conicity: float | np.ndarray, radius: float = 0.46, half_distance: float = 0.75
+) -> float | np.ndarray:
     """Klingel's kinematic wavelength 2 pi sqrt(r0 e0 / tan(gamma_e)), m.
 
     Parameters

@@ -4,6 +4,7 @@ Contact frame of a :class:`~railvti.geometry.ContactPoint` ``c``: origin ``c.pos
 (on the rail surface), ``t_x`` = track x (rolling direction), ``t_y = n x t_x`` (lateral,
 in the tangent plane, to the left of the track), ``n`` the rail's outward normal.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -70,13 +71,14 @@ class Creepages:
     phi: float
 
 
-def _rail_zeta(lay: ProfileLayout, side: int, origin: np.ndarray, t_y: np.ndarray,
-               n: np.ndarray, eta: np.ndarray) -> np.ndarray:
+def _rail_zeta(
+    lay: ProfileLayout, side: int, origin: np.ndarray, t_y: np.ndarray, n: np.ndarray, eta: np.ndarray
+) -> np.ndarray:
     """Rail surface offset along n below the tangent plane (<= 0) at lateral coords eta
     (NaN off the rail)."""
     sg = SIGN[side]
     ys = lay.ry
-    ty = sg * ys + sg * lay.rail_offset                 # track y of the rail table points
+    ty = sg * ys + sg * lay.rail_offset  # track y of the rail table points
     tz = lay.rail_top - lay.rz
     e = (ty - origin[1]) * t_y[1] + (tz - origin[2]) * t_y[2]
     z = (ty - origin[1]) * n[1] + (tz - origin[2]) * n[2]
@@ -84,20 +86,30 @@ def _rail_zeta(lay: ProfileLayout, side: int, origin: np.ndarray, t_y: np.ndarra
     k0 = int(np.argmin(np.abs(e) + np.abs(z)))
     de = np.sign(np.diff(e))
     sgn = de[min(k0, de.size - 1)]
-    other = np.flatnonzero(de != sgn)          # segments that break the monotone branch
+    other = np.flatnonzero(de != sgn)  # segments that break the monotone branch
     before = other[other < k0]
     after = other[other >= k0]
     lo = int(before[-1]) + 1 if before.size else 0
     hi = int(after[0]) if after.size else de.size
-    eb, zb = e[lo:hi + 1], z[lo:hi + 1]
+    eb, zb = e[lo : hi + 1], z[lo : hi + 1]
     if sgn < 0:
         eb, zb = eb[::-1], zb[::-1]
     return np.interp(eta, eb, zb, left=np.nan, right=np.nan)
 
 
-def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, dy: float,
-              nx: int, ny: int, *, x0: float | None = None, y0: float | None = None,
-              outside: float = 1e-2) -> GapField:
+def gap_field(
+    wheel: Profile,
+    rail: Profile,
+    contact: ContactPoint,
+    dx: float,
+    dy: float,
+    nx: int,
+    ny: int,
+    *,
+    x0: float | None = None,
+    y0: float | None = None,
+    outside: float = 1e-2,
+) -> GapField:
     """Undeformed wheel-rail distance on an (nx, ny) grid in a contact's tangent plane.
 
     The wheel is the 3-D surface of revolution of ``wheel`` at the contact's wheelset pose
@@ -148,14 +160,14 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
     ys = (-(ny - 1) * dy / 2 if y0 is None else _checks.finite("y0", y0)) + dy * np.arange(ny)
     side = _SIDE[contact.side]
     o, tx, ty, n = contact.position, contact.t_x, contact.t_y, contact.normal
-    zeta_r = _rail_zeta(lay, side, o, ty, n, ys)                         # (ny,)
+    zeta_r = _rail_zeta(lay, side, o, ty, n, ys)  # (ny,)
     # wheel: Newton on F(s) = rho - r(u) along each grid line, vectorised
     pose = contact.pose
     a = pose.axle
     c = pose.centre
     sg = SIGN[side]
     X, Y = np.meshgrid(xs, ys, indexing="ij")
-    base = o[None, None, :] + X[..., None] * tx + Y[..., None] * ty      # (nx, ny, 3)
+    base = o[None, None, :] + X[..., None] * tx + Y[..., None] * ty  # (nx, ny, 3)
     rel0 = base - c
     s = np.full(X.shape, contact.separation) + X * X / (2.0 * contact.rolling_radius)
     w_off = lay.wheelset.contact_y
@@ -166,7 +178,7 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
         u = rel @ a
         radial = rel - u[..., None] * a
         rho = np.linalg.norm(radial, axis=-1)
-        yw = sg * u - w_off                               # wheel-local lateral coordinate
+        yw = sg * u - w_off  # wheel-local lateral coordinate
         inside = (yw >= wheel.y_min) & (yw <= wheel.y_max)
         bad |= ~inside
         ywc = np.clip(yw, wheel.y_min, wheel.y_max)
@@ -185,18 +197,34 @@ def gap_field(wheel: Profile, rail: Profile, contact: ContactPoint, dx: float, d
         i0 = int(np.argmin(np.abs(xs)))
         j0 = int(np.argmin(np.abs(ys)))
         if stuck[i0, j0] and not bad[i0, j0]:
-            raise ConvergenceError("wheel surface intersection did not converge at the contact point",
-                                   iterations=30)
+            raise ConvergenceError(
+                "wheel surface intersection did not converge at the contact point", iterations=30
+            )
         bad |= stuck
     gap = s - zeta_r[None, :]
     gap[bad | np.isnan(gap)] = outside
-    return GapField(gap=np.asfortranarray(gap), x=xs, y=ys, dx=dx, dy=dy, origin=o.copy(),
-                    t_x=tx.copy(), t_y=ty.copy(), normal=n.copy())
+    return GapField(
+        gap=np.asfortranarray(gap),
+        x=xs,
+        y=ys,
+        dx=dx,
+        dy=dy,
+        origin=o.copy(),
+        t_x=tx.copy(),
+        t_y=ty.copy(),
+        normal=n.copy(),
+    )
 
 
-def creepages(contact: ContactPoint, speed: float, lateral_velocity: float = 0.0,
-              yaw_rate: float = 0.0, angular_velocity: float | None = None,
-              roll_rate: float = 0.0, vertical_velocity: float = 0.0) -> Creepages:
+def creepages(
+    contact: ContactPoint,
+    speed: float,
+    lateral_velocity: float = 0.0,
+    yaw_rate: float = 0.0,
+    angular_velocity: float | None = None,
+    roll_rate: float = 0.0,
+    vertical_velocity: float = 0.0,
+) -> Creepages:
     """Rigid slip of the wheel over the (fixed) rail at a contact point.
 
     The wheel's material velocity at the contact point is v_c + omega x (p - c), with the
@@ -232,12 +260,18 @@ def creepages(contact: ContactPoint, speed: float, lateral_velocity: float = 0.0
     wz = _checks.finite("yaw_rate", yaw_rate)
     wx = _checks.finite("roll_rate", roll_rate)
     pose = contact.pose
-    om = v / pose.layout.wheelset.wheel_radius if angular_velocity is None else \
-        _checks.finite("angular_velocity", angular_velocity)
+    om = (
+        v / pose.layout.wheelset.wheel_radius
+        if angular_velocity is None
+        else _checks.finite("angular_velocity", angular_velocity)
+    )
     a = pose.axle
     omega = om * a + np.array([wx, 0.0, wz])
     # wheel-side contact point: the rail point lifted by the separation along n
     p = contact.position + contact.separation * contact.normal
     vel = np.array([v, vy, vz]) + np.cross(omega, p - pose.centre)
-    return Creepages(xi=float(vel @ contact.t_x) / v, eta=float(vel @ contact.t_y) / v,
-                     phi=float(omega @ contact.normal) / v)
+    return Creepages(
+        xi=float(vel @ contact.t_x) / v,
+        eta=float(vel @ contact.t_y) / v,
+        phi=float(omega @ contact.normal) / v,
+    )

@@ -4,6 +4,7 @@ Track frame: x forward (rolling direction), y lateral to the LEFT, z UP; right-h
 The left rail is at y > 0. Profiles are placed mirror-symmetrically: a profile's local
 y (towards the field side) becomes track +y on the left and -y on the right.
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -7,6 +7,7 @@ Frame and sides: :mod:`railvti.geometry.frames`. The rail is placed so that its 
 profile's y = 0, the taping line) at +-``WheelsetGeometry.contact_y`` (half the back-to-back
 plus ``contact_offset``).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -93,8 +94,13 @@ _DEFAULT_TRACK = TrackLayout()
 _DEFAULT_WHEELSET = WheelsetGeometry()
 
 
-def layout(wheel: Profile, rail: Profile, track: TrackLayout | None = None,
-           wheelset: WheelsetGeometry | None = None, step: float = 5e-5) -> ProfileLayout:
+def layout(
+    wheel: Profile,
+    rail: Profile,
+    track: TrackLayout | None = None,
+    wheelset: WheelsetGeometry | None = None,
+    step: float = 5e-5,
+) -> ProfileLayout:
     """Lay the profiles out on the track; results are cached per (profiles, layout, step).
 
     Parameters
@@ -139,8 +145,10 @@ def layout(wheel: Profile, rail: Profile, track: TrackLayout | None = None,
     level = top + track.gauge_depth
     below = rz <= level
     if not below.any() or below[0]:
-        raise InputError(f"the rail profile {rail.name!r} does not reach {track.gauge_depth * 1e3:.1f} mm "
-                         "below its top on the gauge side: cannot place it at the gauge")
+        raise InputError(
+            f"the rail profile {rail.name!r} does not reach {track.gauge_depth * 1e3:.1f} mm "
+            "below its top on the gauge side: cannot place it at the gauge"
+        )
     i = int(np.argmax(below))
     yg = brent_root(lambda t: float(rail.height(t)) - level, ry[i - 1], ry[i], xtol=1e-12)
     offset = 0.5 * track.gauge - yg
@@ -156,9 +164,22 @@ def layout(wheel: Profile, rail: Profile, track: TrackLayout | None = None,
     if ws[tip] >= 0.0 or steep.size < 3 or steep.max() <= 0:
         raise InputError(f"the wheel profile {wheel.name!r} has no flange at negative y")
     kmax = int(np.argmax(steep >= 0.999 * steep.max()))
-    out = ProfileLayout(wheel, rail, track, wheelset, rail_offset=offset, rail_top=top, gauge_point=yg,
-                 flange_climb_y=float(ws[seg][kmax]), max_flange_angle=float(np.arctan(steep.max())),
-                 ws=ws, wz=wz, wdz=wdz, ry=ry, rz=rz)
+    out = ProfileLayout(
+        wheel,
+        rail,
+        track,
+        wheelset,
+        rail_offset=offset,
+        rail_top=top,
+        gauge_point=yg,
+        flange_climb_y=float(ws[seg][kmax]),
+        max_flange_angle=float(np.arctan(steep.max())),
+        ws=ws,
+        wz=wz,
+        wdz=wdz,
+        ry=ry,
+        rz=rz,
+    )
     if len(_CACHE) > 16:
         _CACHE.clear()
     _CACHE[key] = out

@@ -1,4 +1,5 @@
 """Charts of profiles with contact points and of the geometry table (matplotlib, Agg)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -14,13 +15,16 @@ __all__ = ["plot_profiles", "plot_table"]
 
 def _mpl():
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
-def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact], path: str | Path,
-                  side: str = "left") -> Path:
+def plot_profiles(
+    wheel: Profile, rail: Profile, contacts: list[WheelsetContact], path: str | Path, side: str = "left"
+) -> Path:
     """Rail and wheel (at each contact's pose, in the track cross-section) with contact points."""
     plt = _mpl()
     k = 0 if side == "left" else 1
@@ -32,16 +36,22 @@ def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact]
     for wc in contacts:
         pose, lay = wc.pose, wc.pose.layout
         ws, wz = wheel.sample(2e-4)
-        a = axle_direction(np.array([pose.roll]), np.array([0.0]))[0]   # cross-section (yaw ignored)
+        a = axle_direction(np.array([pose.roll]), np.array([0.0]))[0]  # cross-section (yaw ignored)
         w = sg * (lay.wheelset.contact_y + ws)
         r = lay.wheelset.wheel_radius + wz
         down = np.array([0.0, a[2], -a[1]])
         y = pose.y + w * a[1] + r * down[1]
         z = pose.z + w * a[2] + r * down[2]
-        line, = ax.plot(y * 1e3, z * 1e3, lw=1, label=f"wheel, y = {pose.y * 1e3:.1f} mm")
+        (line,) = ax.plot(y * 1e3, z * 1e3, lw=1, label=f"wheel, y = {pose.y * 1e3:.1f} mm")
         for p in wc.wheel(side):
-            ax.plot(p.position[1] * 1e3, p.position[2] * 1e3, "o", color=line.get_color(),
-                    mfc="none" if not p.in_contact else line.get_color(), ms=6)
+            ax.plot(
+                p.position[1] * 1e3,
+                p.position[2] * 1e3,
+                "o",
+                color=line.get_color(),
+                mfc="none" if not p.in_contact else line.get_color(),
+                ms=6,
+            )
     ax.set_xlabel("track y, mm (left rail; o: contact points, open: not touching)")
     ax.set_ylabel("z, mm")
     ax.set_aspect("equal")
@@ -55,8 +65,12 @@ def plot_profiles(wheel: Profile, rail: Profile, contacts: list[WheelsetContact]
     return Path(path)
 
 
-def plot_table(table: GeometryTable, path: str | Path, conicity: tuple[np.ndarray, np.ndarray] | None = None,
-               title: str = "") -> Path:
+def plot_table(
+    table: GeometryTable,
+    path: str | Path,
+    conicity: tuple[np.ndarray, np.ndarray] | None = None,
+    title: str = "",
+) -> Path:
     """Delta-r, contact angles and roll against the lateral shift (and conicity vs amplitude);
     ``title``: the wheel/rail pair."""
     plt = _mpl()
@@ -76,8 +90,16 @@ def plot_table(table: GeometryTable, path: str | Path, conicity: tuple[np.ndarra
         ax.set_xlabel("lateral shift y, mm")
         ax.grid(alpha=0.3)
         if climb.any():
-            ax.fill_between(y, 0, 1, where=climb, transform=ax.get_xaxis_transform(),
-                            color="r", alpha=0.08, label="flange climb")
+            ax.fill_between(
+                y,
+                0,
+                1,
+                where=climb,
+                transform=ax.get_xaxis_transform(),
+                color="r",
+                alpha=0.08,
+                label="flange climb",
+            )
     if conicity is not None:
         amp, con = conicity
         axs[3].plot(amp * 1e3, con, "k")

@@ -11,6 +11,7 @@ wheel must be zero. The wheelset's roll is the root of  min gap(left) - min gap(
 (safeguarded regula falsi, vectorised over all positions), its height follows.
 Everything is numpy-vectorised over positions and wheel samples.
 """
+
 from __future__ import annotations
 
 import logging
@@ -25,9 +26,21 @@ from ..wheelset.geometry import WheelsetGeometry
 from .frames import LEFT, RIGHT, SIDES, SIGN, axle_direction
 from .placement import ProfileLayout, TrackLayout, layout
 
-__all__ = ["OK", "NO_CONTACT", "FLANGE_CLIMB", "STATUS_NAMES", "WheelsetPose", "ContactPoint",
-           "WheelsetContact", "TABLE_ARRAYS", "GeometryTable", "prominent_peaks", "gap_minima",
-           "contact_points", "geometry_table"]
+__all__ = [
+    "OK",
+    "NO_CONTACT",
+    "FLANGE_CLIMB",
+    "STATUS_NAMES",
+    "WheelsetPose",
+    "ContactPoint",
+    "WheelsetContact",
+    "TABLE_ARRAYS",
+    "GeometryTable",
+    "prominent_peaks",
+    "gap_minima",
+    "contact_points",
+    "geometry_table",
+]
 
 log = logging.getLogger(__name__)
 
@@ -35,7 +48,7 @@ log = logging.getLogger(__name__)
 OK, NO_CONTACT, FLANGE_CLIMB = 0, 1, 2
 STATUS_NAMES = {OK: "ok", NO_CONTACT: "no contact", FLANGE_CLIMB: "flange climb"}
 
-_ROLL_BRACKET = 0.05   # rad; a rigid wheelset on its rails never rolls this much
+_ROLL_BRACKET = 0.05  # rad; a rigid wheelset on its rails never rolls this much
 
 
 @dataclass(frozen=True)
@@ -142,8 +155,22 @@ class WheelsetContact:
 
 
 #: The array fields of a :class:`GeometryTable`.
-TABLE_ARRAYS = ("y", "yaw", "rise", "roll", "status", "n_contact", "separation", "contact_angle",
-                "rolling_radius", "y_wheel", "y_rail", "x", "y_track", "z_track")
+TABLE_ARRAYS = (
+    "y",
+    "yaw",
+    "rise",
+    "roll",
+    "status",
+    "n_contact",
+    "separation",
+    "contact_angle",
+    "rolling_radius",
+    "y_wheel",
+    "y_rail",
+    "x",
+    "y_track",
+    "z_track",
+)
 
 
 @dataclass(frozen=True)
@@ -209,6 +236,7 @@ class GeometryTable:
 
 # ------------------------------------------------------------------------------------
 
+
 def prominent_peaks(x: np.ndarray, prominence: float) -> np.ndarray:
     """Indices of the local maxima of x whose topographic prominence is at least ``prominence``
     (what scipy.signal.find_peaks(x, prominence=...) returns; scipy.signal costs ~0.5 s to
@@ -236,36 +264,38 @@ def prominent_peaks(x: np.ndarray, prominence: float) -> np.ndarray:
     for k in out:
         top = x[k]
         higher = np.flatnonzero(x[:k] > top)
-        left = x[(higher[-1] + 1 if higher.size else 0):k + 1].min()
+        left = x[(higher[-1] + 1 if higher.size else 0) : k + 1].min()
         higher = np.flatnonzero(x[k:] > top)
-        right = x[k:(k + higher[0] if higher.size else n)].min()
+        right = x[k : (k + higher[0] if higher.size else n)].min()
         if top - max(left, right) >= prominence:
             keep.append(k)
     return np.array(keep, dtype=np.intp)
 
-def _silhouette(lay: ProfileLayout, cy: np.ndarray, cz: np.ndarray, roll: np.ndarray, yaw: np.ndarray,
-                side: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+
+def _silhouette(
+    lay: ProfileLayout, cy: np.ndarray, cz: np.ndarray, roll: np.ndarray, yaw: np.ndarray, side: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Lower silhouette of one wheel and its vertical gap to the rail.
 
     Returns gap (n, K), px, py (n, K) and the rail-local y (n, K); gap is +inf off the rail.
     """
     sg = SIGN[side]
-    a = axle_direction(roll, yaw)                            # (n, 3)
+    a = axle_direction(roll, yaw)  # (n, 3)
     ax = a[:, 0]
     q = np.sqrt(1.0 - ax * ax)
     e1 = (np.array([1.0, 0.0, 0.0]) - ax[:, None] * a) / q[:, None]
     e2 = np.cross(a, e1)
     down = -np.sign(e2[:, 2])
-    w = sg * (lay.wheelset.contact_y + lay.ws)                # (K,) axial coordinate
+    w = sg * (lay.wheelset.contact_y + lay.ws)  # (K,) axial coordinate
     r = lay.wheelset.wheel_radius + lay.wz
     drdw = sg * lay.wdz
-    ct = np.clip(drdw[None, :] * (ax / q)[:, None], -1.0, 1.0)   # silhouette: n . e_x = 0
+    ct = np.clip(drdw[None, :] * (ax / q)[:, None], -1.0, 1.0)  # silhouette: n . e_x = 0
     st = down[:, None] * np.sqrt(1.0 - ct * ct)
     rc, rs = r[None, :] * ct, r[None, :] * st
     px = w[None, :] * a[:, 0:1] + rc * e1[:, 0:1] + rs * e2[:, 0:1]
     py = cy[:, None] + w[None, :] * a[:, 1:2] + rc * e1[:, 1:2] + rs * e2[:, 1:2]
     pz = cz[:, None] + w[None, :] * a[:, 2:3] + rc * e1[:, 2:3] + rs * e2[:, 2:3]
-    yr = sg * py - lay.rail_offset                           # rail-local lateral coordinate
+    yr = sg * py - lay.rail_offset  # rail-local lateral coordinate
     zr = np.interp(yr, lay.ry, lay.rz, left=np.nan, right=np.nan)
     gap = pz - (lay.rail_top - zr)
     gap[np.isnan(gap)] = np.inf
@@ -287,8 +317,9 @@ def _min_refined(gap: np.ndarray) -> np.ndarray:
     return out
 
 
-def _solve_pose(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float = 1e-12,
-                maxiter: int = 80) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _solve_pose(
+    lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float = 1e-12, maxiter: int = 80
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Roll and rise from the two-wheel contact constraint, vectorised (Illinois regula falsi).
 
     Returns roll (n,), rise (n,) and a bool array ``bracketed`` (False: no contact).
@@ -311,10 +342,13 @@ def _solve_pose(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float =
     gmid = np.full(n, np.nan)
     active = np.nonzero(bracketed)[0]
     # first guess: the linear model  F ~ 2 * contact_y * roll
-    phi[active] = np.clip(-f(np.zeros(active.size), active)[0] / (2 * lay.wheelset.contact_y),
-                          lo[active] * 0.9, hi[active] * 0.9)
+    phi[active] = np.clip(
+        -f(np.zeros(active.size), active)[0] / (2 * lay.wheelset.contact_y),
+        lo[active] * 0.9,
+        hi[active] * 0.9,
+    )
     side_lo = np.zeros(n, dtype=int)
-    for it in range(maxiter):
+    for _it in range(maxiter):
         if active.size == 0:
             break
         fv, gm = f(phi[active], active)
@@ -335,8 +369,10 @@ def _solve_pose(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float =
         phi[a_[keep]] = nxt[keep]
         active = a_[keep]
     else:
-        raise ConvergenceError(f"wheelset roll did not converge in {maxiter} iterations at "
-                               f"{active.size} position(s)", iterations=maxiter)
+        raise ConvergenceError(
+            f"wheelset roll did not converge in {maxiter} iterations at {active.size} position(s)",
+            iterations=maxiter,
+        )
     rise = -gmid
     phi[~bracketed] = np.nan
     rise[~bracketed] = np.nan
@@ -398,8 +434,14 @@ def gap_minima(gap: np.ndarray, prominence: float) -> list[tuple[float, int, int
     return out
 
 
-def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_separation: float,
-            prominence: float = 5e-5) -> list[dict]:
+def _points(
+    lay: ProfileLayout,
+    y: np.ndarray,
+    yaw: np.ndarray,
+    tol: float,
+    max_separation: float,
+    prominence: float = 5e-5,
+) -> list[dict]:
     """Solve the pose and extract the candidate points: per position a dict with the roll,
     the rise, the status per wheel and per wheel the points (separation, wheel y, rail y,
     track x, track y)."""
@@ -409,8 +451,11 @@ def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_
     sil = {}
     for side in (LEFT, RIGHT):
         idx = np.nonzero(ok)[0]
-        sil[side] = (idx, _silhouette(lay, y[idx], r0 + rise[idx], roll[idx], yaw[idx], side)) \
-            if idx.size else (idx, None)
+        sil[side] = (
+            (idx, _silhouette(lay, y[idx], r0 + rise[idx], roll[idx], yaw[idx], side))
+            if idx.size
+            else (idx, None)
+        )
     for i in range(y.size):
         rec = {"roll": roll[i], "rise": rise[i], "status": [NO_CONTACT, NO_CONTACT], "points": [[], []]}
         out.append(rec)
@@ -428,10 +473,15 @@ def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_
             for sep, k, j, lam in minima:
                 if sep > max_separation:
                     continue
-                pts.append((sep, (1 - lam) * lay.ws[k] + lam * lay.ws[j],
-                            (1 - lam) * yr[row, k] + lam * yr[row, j],
-                            (1 - lam) * px[row, k] + lam * px[row, j],
-                            (1 - lam) * py[row, k] + lam * py[row, j]))
+                pts.append(
+                    (
+                        sep,
+                        (1 - lam) * lay.ws[k] + lam * lay.ws[j],
+                        (1 - lam) * yr[row, k] + lam * yr[row, j],
+                        (1 - lam) * px[row, k] + lam * px[row, j],
+                        (1 - lam) * py[row, k] + lam * py[row, j],
+                    )
+                )
             pts.sort(key=lambda p: p[0])
             if pts:
                 base = pts[0][0]  # the refined minimum is ~0; measure separations from it
@@ -442,7 +492,9 @@ def _points(lay: ProfileLayout, y: np.ndarray, yaw: np.ndarray, tol: float, max_
     return out
 
 
-def _frame(lay: ProfileLayout, side: int, yr: float) -> tuple[float, np.ndarray, np.ndarray, np.ndarray, float]:
+def _frame(
+    lay: ProfileLayout, side: int, yr: float
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray, float]:
     slope = float(lay.rail.slope(yr))
     delta = -np.arctan(slope)
     sg = SIGN[side]
@@ -453,9 +505,17 @@ def _frame(lay: ProfileLayout, side: int, yr: float) -> tuple[float, np.ndarray,
     return delta, n, tx, ty, z
 
 
-def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
-                   track: TrackLayout | None = None, wheelset: WheelsetGeometry | None = None,
-                   tol: float = 1e-5, max_separation: float = 2e-3) -> WheelsetContact:
+def contact_points(
+    wheel: Profile,
+    rail: Profile,
+    y: float,
+    yaw: float = 0.0,
+    *,
+    track: TrackLayout | None = None,
+    wheelset: WheelsetGeometry | None = None,
+    tol: float = 1e-5,
+    max_separation: float = 2e-3,
+) -> WheelsetContact:
     """Contact points of a rigid wheelset on rigid rails at one position.
 
     Parameters
@@ -489,26 +549,48 @@ def contact_points(wheel: Profile, rail: Profile, y: float, yaw: float = 0.0, *,
     tol = _checks.non_negative("tol", tol)
     max_separation = _checks.positive("max_separation", max_separation)
     rec = _points(lay, ya, yw, tol, max_separation)[0]
-    pose = WheelsetPose(float(ya[0]), lay.wheelset.wheel_radius + float(rec["rise"]), float(rec["roll"]),
-                        float(yw[0]), lay)
+    pose = WheelsetPose(
+        float(ya[0]), lay.wheelset.wheel_radius + float(rec["rise"]), float(rec["roll"]), float(yw[0]), lay
+    )
     lists: list[list[ContactPoint]] = [[], []]
     for side in (LEFT, RIGHT):
         for sep, s_w, s_r, x, ytr in rec["points"][side]:
             delta, n, tx, ty, z = _frame(lay, side, s_r)
-            lists[side].append(ContactPoint(
-                side=SIDES[side], separation=float(sep), in_contact=bool(sep <= tol),
-                position=np.array([x, ytr, z]), y_wheel=float(s_w), y_rail=float(s_r),
-                contact_angle=float(delta), rolling_radius=float(lay.wheelset.wheel_radius + wheel.height(s_w)),
-                normal=n, t_x=tx, t_y=ty, flange_climb=bool(s_w < lay.flange_climb_y), pose=pose))
+            lists[side].append(
+                ContactPoint(
+                    side=SIDES[side],
+                    separation=float(sep),
+                    in_contact=bool(sep <= tol),
+                    position=np.array([x, ytr, z]),
+                    y_wheel=float(s_w),
+                    y_rail=float(s_r),
+                    contact_angle=float(delta),
+                    rolling_radius=float(lay.wheelset.wheel_radius + wheel.height(s_w)),
+                    normal=n,
+                    t_x=tx,
+                    t_y=ty,
+                    flange_climb=bool(s_w < lay.flange_climb_y),
+                    pose=pose,
+                )
+            )
     st = tuple(STATUS_NAMES[s] for s in rec["status"])
     if any(s != "ok" for s in st):
         log.warning("wheelset at y = %.4g mm, yaw = %.4g mrad: %s", ya[0] * 1e3, yw[0] * 1e3, st)
     return WheelsetContact(pose, lists[LEFT], lists[RIGHT], st)  # type: ignore[arg-type]
 
 
-def geometry_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLayout | None = None,
-                   wheelset: WheelsetGeometry | None = None, tol: float = 1e-5,
-                   max_separation: float = 2e-3, max_points: int = 3) -> GeometryTable:
+def geometry_table(
+    wheel: Profile,
+    rail: Profile,
+    y,
+    yaw=0.0,
+    *,
+    track: TrackLayout | None = None,
+    wheelset: WheelsetGeometry | None = None,
+    tol: float = 1e-5,
+    max_separation: float = 2e-3,
+    max_points: int = 3,
+) -> GeometryTable:
     """Rigid contact geometry tabulated against the lateral shift (the vehicle model's table).
 
     Parameters
@@ -538,13 +620,28 @@ def geometry_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLay
     recs = _points(lay, ya, yw, tol, max_separation)
     n = ya.size
     shape = (n, 2, m)
-    arr = {k: np.full(shape, np.nan) for k in ("separation", "contact_angle", "rolling_radius",
-                                               "y_wheel", "y_rail", "x", "y_track", "z_track")}
+    arr = {
+        k: np.full(shape, np.nan)
+        for k in (
+            "separation",
+            "contact_angle",
+            "rolling_radius",
+            "y_wheel",
+            "y_rail",
+            "x",
+            "y_track",
+            "z_track",
+        )
+    }
     status = np.zeros((n, 2), dtype=np.int64)
     ncon = np.zeros((n, 2), dtype=np.int64)
     # gather all points, then evaluate profile slopes/heights in one call each
-    sel = [(i, side, k, p) for i, rc in enumerate(recs) for side in (LEFT, RIGHT)
-           for k, p in enumerate(rc["points"][side][:m])]
+    sel = [
+        (i, side, k, p)
+        for i, rc in enumerate(recs)
+        for side in (LEFT, RIGHT)
+        for k, p in enumerate(rc["points"][side][:m])
+    ]
     for i, rc in enumerate(recs):
         status[i] = rc["status"]
     if sel:
@@ -567,5 +664,14 @@ def geometry_table(wheel: Profile, rail: Profile, y, yaw=0.0, *, track: TrackLay
     bad = np.any(status == NO_CONTACT, axis=1)
     if bad.any():
         log.warning("%d of %d positions without proper contact on a wheel", int(bad.sum()), n)
-    return GeometryTable(y=ya, yaw=yw, rise=rise, roll=roll, status=status, n_contact=ncon,
-                        wheel_radius=lay.wheelset.wheel_radius, tolerance=tol, **arr)
+    return GeometryTable(
+        y=ya,
+        yaw=yw,
+        rise=rise,
+        roll=roll,
+        status=status,
+        n_contact=ncon,
+        wheel_radius=lay.wheelset.wheel_radius,
+        tolerance=tol,
+        **arr,
+    )

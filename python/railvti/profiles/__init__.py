@@ -3,6 +3,7 @@
 Coordinates are SI metres, y towards the field side, z positive downwards
 (see :class:`Profile`).
 """
+
 from __future__ import annotations
 
 from .profile import Profile

@@ -1,5 +1,6 @@
 """Profile readers: SIMPACK ``.prw`` / ``.prr`` files and plain two-column text or CSV, and
 :func:`load` (a standard profile's name or a file, as decks give them)."""
+
 from __future__ import annotations
 
 import re
@@ -134,8 +135,7 @@ def _read_columns(path: Path, unit: str, kind: str, name: str, z_up: bool) -> Pr
     return Profile(a[:, 0] * scale, z * scale, kind=kind, name=name)
 
 
-def read(path: str | Path, unit: str | None = None, kind: str | None = None,
-         z_up: bool = False) -> Profile:
+def read(path: str | Path, unit: str | None = None, kind: str | None = None, z_up: bool = False) -> Profile:
     """Read a wheel or rail profile.
 
     Parameters

@@ -1,4 +1,5 @@
 """The :class:`Profile` object: a wheel or rail cross-section as a smooth function z(y)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -25,7 +26,7 @@ def _segments_cross(y: np.ndarray, z: np.ndarray) -> tuple[int, int] | None:
     d = p1 - p0
     # Segment pairs are tested block-wise to keep memory small for long profiles.
     for i0 in range(0, n, 256):
-        a0, da = p0[i0:i0 + 256, None, :], d[i0:i0 + 256, None, :]
+        a0, da = p0[i0 : i0 + 256, None, :], d[i0 : i0 + 256, None, :]
         b0, db = p0[None, :, :], d[None, :, :]
         den = da[..., 0] * db[..., 1] - da[..., 1] * db[..., 0]
         w = b0 - a0
@@ -94,15 +95,18 @@ class Profile:
         for nm, a in (("y", y), ("z", z)):
             bad = ~np.isfinite(a)
             if bad.any():
-                raise InputError(f"profile {self.name!r}: {nm} has {int(bad.sum())} NaN/inf value(s), "
-                                 f"first at point {int(np.argmax(bad))}")
+                raise InputError(
+                    f"profile {self.name!r}: {nm} has {int(bad.sum())} NaN/inf value(s), "
+                    f"first at point {int(np.argmax(bad))}"
+                )
         width = float(y.max() - y.min())
         height = float(z.max() - z.min())
         if width < MIN_WIDTH or max(width, height) > MAX_WIDTH:
             raise InputError(
                 f"profile {self.name!r} has an implausible size: {width * 1e3:.4g} mm wide, "
                 f"{height * 1e3:.4g} mm high (expected {MIN_WIDTH * 1e3:.0f}..{MAX_WIDTH * 1e3:.0f} mm); "
-                "are the coordinates in m where mm was declared, or the reverse?")
+                "are the coordinates in m where mm was declared, or the reverse?"
+            )
         dy = np.diff(y)
         if np.all(dy < 0):
             y, z, dy = y[::-1], z[::-1], -dy[::-1]
@@ -111,11 +115,15 @@ class Profile:
             cross = _segments_cross(y, z)
             if cross is not None:
                 i, j = cross
-                raise InputError(f"profile {self.name!r} intersects itself: segment {i} "
-                                 f"(y = {y[i] * 1e3:.3f} mm) crosses segment {j} (y = {y[j] * 1e3:.3f} mm)")
+                raise InputError(
+                    f"profile {self.name!r} intersects itself: segment {i} "
+                    f"(y = {y[i] * 1e3:.3f} mm) crosses segment {j} (y = {y[j] * 1e3:.3f} mm)"
+                )
             k = int(np.argmax(dy <= 0)) if dy[0] > 0 else int(np.argmax(dy >= 0))
-            raise InputError(f"profile {self.name!r} is not a function z(y): y is not monotone "
-                             f"at point {k + 1} (y = {y[k + 1] * 1e3:.4f} mm)")
+            raise InputError(
+                f"profile {self.name!r} is not a function z(y): y is not monotone "
+                f"at point {k + 1} (y = {y[k + 1] * 1e3:.4f} mm)"
+            )
         ms = _checks.positive("max_slope", self.max_slope)
         slope = np.abs(np.diff(z) / dy)
         ok = slope <= ms
@@ -123,7 +131,7 @@ class Profile:
             raise InputError(f"profile {self.name!r}: every segment is steeper than max_slope={ms}")
         first = int(np.argmax(ok))
         last = len(ok) - int(np.argmax(ok[::-1]))  # one past the last good segment
-        y, z = y[first:last + 1], z[first:last + 1]
+        y, z = y[first : last + 1], z[first : last + 1]
         if y.size < 4:
             raise InputError(f"profile {self.name!r} has fewer than 4 points below max_slope={ms}")
         object.__setattr__(self, "y", y)
@@ -145,8 +153,9 @@ class Profile:
     def _arg(self, y: np.ndarray | float) -> np.ndarray:
         a = np.asarray(y, dtype=np.float64)
         if np.any((a < self.y[0] - 1e-12) | (a > self.y[-1] + 1e-12)):
-            raise InputError(f"y outside the profile {self.name!r} "
-                             f"({self.y[0] * 1e3:.3f}..{self.y[-1] * 1e3:.3f} mm)")
+            raise InputError(
+                f"y outside the profile {self.name!r} ({self.y[0] * 1e3:.3f}..{self.y[-1] * 1e3:.3f} mm)"
+            )
         return np.clip(a, self.y[0], self.y[-1])
 
     def height(self, y: np.ndarray | float) -> np.ndarray:

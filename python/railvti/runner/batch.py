@@ -11,8 +11,8 @@
   called in slices of ~0.1-0.2 s (Gauss-Seidel and CG normal contact, the vehicle time loop),
   and the steady rolling call runs in a worker thread while the main thread waits for
   signals (railvti.contact.workspace.call_interruptibly), so a run stops within about that
-  (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous complete file (or none) and at
-  most one ``.NAME.PID.XXXX.tmp`` file beside it.
+  (docs/results.md lists the calls that still finish first). SIGKILL leaves the previous
+  complete file (or none) and at most one ``.NAME.PID.XXXX.tmp`` file beside it.
 * The output path is checked before any case runs (:func:`check_output`).
 * A case with a long time history streams it (railvti.runner.stream) to a temporary file beside the
   output as it runs; its datasets are copied into the case's group when the case is written,
@@ -21,6 +21,7 @@
 
 Exit status of ``railvti run`` (:data:`EXIT_CODES`).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -41,7 +42,15 @@ from ..casetypes import Case, CaseOutput
 from ..errors import InputError, RailvtiError
 from .cost import announce
 from .stream import CaseStream
-from .results import CaseRecord, ResultsWriter, completed, group_name, is_results_file, params_digest, temp_path
+from .results import (
+    CaseRecord,
+    ResultsWriter,
+    completed,
+    group_name,
+    is_results_file,
+    params_digest,
+    temp_path,
+)
 from .results import damage, deck_owner
 from .guarded_io import WriteFailed
 from .output_lock import OutputLock
@@ -68,6 +77,7 @@ EXIT_CODES = {
     EXIT_SIGINT: "stopped by SIGINT (Ctrl-C): completed cases kept, the running one marked interrupted",
     EXIT_SIGTERM: "stopped by SIGTERM: as for SIGINT",
 }
+
 
 class Interrupted(KeyboardInterrupt):
     """A run stopped by a signal (SIGINT or SIGTERM)."""
@@ -106,7 +116,7 @@ class SignalGuard:
 
     def __init__(self) -> None:
         self.pending: str | None = None
-        self.received: str | None = None     # the last signal, whatever became of it
+        self.received: str | None = None  # the last signal, whatever became of it
         self._live = False
         self._inside = False
         self._resend = True
@@ -128,7 +138,7 @@ class SignalGuard:
         name = signal.Signals(signum).name
         self.received = name
         if self._live and _swallows(frame):
-            self._resend_later(signum, 0.01)    # raise it once out of the callback
+            self._resend_later(signum, 0.01)  # raise it once out of the callback
             return
         if self._live:
             self._live = False
@@ -139,9 +149,10 @@ class SignalGuard:
 
     def _resend_later(self, signum: int, delay: float) -> None:
         def again() -> None:
-            if self._inside:            # the Interrupted was swallowed: raise it again
+            if self._inside:  # the Interrupted was swallowed: raise it again
                 self._live = True
                 os.kill(os.getpid(), signum)
+
         if self._timer is not None:
             self._timer.cancel()
         self._timer = threading.Timer(delay, again)
@@ -180,26 +191,32 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
     """
     try:
         there = out.exists() or out.is_symlink()
-    except OSError as exc:        # a name too long, a loop of links...
+    except OSError as exc:  # a name too long, a loop of links...
         raise InputError(f"output {out}: {exc.strerror}") from None
     if there:
         try:
             st = os.stat(out)
         except FileNotFoundError:
-            raise InputError(f"output {out} is a symbolic link to {os.readlink(out)}, which does "
-                             "not exist: give the target's path or another name") from None
+            raise InputError(
+                f"output {out} is a symbolic link to {os.readlink(out)}, which does "
+                "not exist: give the target's path or another name"
+            ) from None
         except OSError as exc:
             raise InputError(f"output {out}: {exc.strerror}") from None
         if stat.S_ISDIR(st.st_mode):
             raise InputError(f"output {out} is a directory: give a file name (-o DIR/results.h5)")
         if not stat.S_ISREG(st.st_mode):
-            raise InputError(f"output {out} is not a regular file (a device, pipe or socket): "
-                             "railvti writes only regular files")
+            raise InputError(
+                f"output {out} is not a regular file (a device, pipe or socket): "
+                "railvti writes only regular files"
+            )
         if deck is not None and deck.exists() and os.path.samefile(out, deck):
             raise InputError(f"output {out} is the deck itself: give another name with -o")
         if not force and not is_results_file(out):
-            raise InputError(f"output {out} exists and is not a railvti results file: give "
-                             "another name, or --force to replace it")
+            raise InputError(
+                f"output {out} exists and is not a railvti results file: give "
+                "another name, or --force to replace it"
+            )
     parent = out.parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
@@ -213,8 +230,14 @@ def check_output(out: Path, deck: Path | None = None, force: bool = False) -> No
         raise InputError(f"cannot write in the output folder {parent}: {exc.strerror}") from None
 
 
-def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = False,
-               force: bool = False, note: Any = None) -> bool:
+def check_deck(
+    out: Path,
+    deck: Path | str,
+    cases: list[Case],
+    resume: bool = False,
+    force: bool = False,
+    note: Any = None,
+) -> bool:
     """Refuse an existing results file written from another deck (railvti.runner.results.deck_owner
     says which files belong to a deck, and why), unless ``force``: plain ``-o`` would
     replace it, ``--resume`` would mix two decks' cases in one file. With ``resume``, also
@@ -231,28 +254,34 @@ def check_deck(out: Path, deck: Path | str, cases: list[Case], resume: bool = Fa
         return resume
     try:
         owner = deck_owner(out, deck, cases)
-    except (OSError, KeyError, ValueError) as exc:   # a damaged results file
+    except (OSError, KeyError, ValueError) as exc:  # a damaged results file
         if force:
             return False
-        raise InputError(f"output {out} cannot be read as a results file ({exc}): give "
-                         "another -o, or --force to replace it") from None
+        raise InputError(
+            f"output {out} cannot be read as a results file ({exc}): give "
+            "another -o, or --force to replace it"
+        ) from None
     if owner.same:
         hurt = damage(out) if resume else ""
         if hurt and not force:
-            raise InputError(f"output {out} is damaged ({hurt}): --resume cannot keep its "
-                             "cases; give another -o, or --force to replace it")
+            raise InputError(
+                f"output {out} is damaged ({hurt}): --resume cannot keep its "
+                "cases; give another -o, or --force to replace it"
+            )
         if hurt and note is not None:
             note(f"note: output {out} is damaged ({hurt}); --force: it is replaced")
         return resume and not hurt
     if force:
         if note is not None:
-            note(f"note: output {out} was {owner.describe()}; --force: it is replaced"
-                 + (", none of its cases kept" if resume else ""))
+            note(
+                f"note: output {out} was {owner.describe()}; --force: it is replaced"
+                + (", none of its cases kept" if resume else "")
+            )
         return False
-    what = ("--resume would mix two decks' cases in one file" if resume
-            else "running would replace it")
-    raise InputError(f"output {out} was {owner.describe()}: {what}; give another -o, "
-                     "or --force to replace it")
+    what = "--resume would mix two decks' cases in one file" if resume else "running would replace it"
+    raise InputError(
+        f"output {out} was {owner.describe()}: {what}; give another -o, or --force to replace it"
+    )
 
 
 @dataclass
@@ -275,10 +304,19 @@ def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
     wheel_units = getattr(res, "WHEEL_UNITS", {})
     labels = res._save_attrs()
     nw = res.wheel.shape[-1]
-    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": ["left", "right"],
-                 "wheelset": [f"ws{w + 1}" for w in range(nw)]}
-    units = {"t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
-             "y_ws1": "m", "vy_ws1": "m/s", "ws_y": "m"}
+    per_wheel = {
+        "axes": ["t", "wheel", "wheelset"],
+        "wheel": ["left", "right"],
+        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+    }
+    units = {
+        "t": "s",
+        "q": "m or rad (per dof_names)",
+        "v": "m/s or rad/s (per dof_names)",
+        "y_ws1": "m",
+        "vy_ws1": "m/s",
+        "ws_y": "m",
+    }
     data = {}
     for name in stream.names():
         unit = units.get(name) or wheel_units.get(name.removeprefix("wheel_"), "1")
@@ -286,7 +324,7 @@ def _streamed_partial(res: Any, stream: Any) -> tuple[dict, dict]:
         if name.startswith("wheel_"):
             labels[name] = per_wheel
     labels["ws_y"] = {"axes": ["t", "wheelset"], "wheelset": per_wheel["wheelset"]}
-    labels.update({k: {"axes": ["t"]} for k in ("t", "y_ws1", "vy_ws1")})   # as a finished case's
+    labels.update({k: {"axes": ["t"]} for k in ("t", "y_ws1", "vy_ws1")})  # as a finished case's
     return data, {k: v for k, v in labels.items() if k in data}
 
 
@@ -304,14 +342,22 @@ def partial_output(res: Any, stream: CaseStream | None = None) -> CaseOutput | N
         data, labels = _streamed_partial(res, hs)
     else:
         labels = res._save_attrs()
-        data = {"t": (res.t, "s"), "q": (res.q, "m or rad (per dof_names)"),
-                "v": (res.v, "m/s or rad/s (per dof_names)"),
-                "wheel": (res.wheel, "per quantity: see quantity_units")}
-    scalars = {f"stat_{k}": (v, stat_units.get(k, "1")) for k, v in res.stats.items()
-               if isinstance(v, (int, float))}
+        data = {
+            "t": (res.t, "s"),
+            "q": (res.q, "m or rad (per dof_names)"),
+            "v": (res.v, "m/s or rad/s (per dof_names)"),
+            "wheel": (res.wheel, "per quantity: see quantity_units"),
+        }
+    scalars = {
+        f"stat_{k}": (v, stat_units.get(k, "1")) for k, v in res.stats.items() if isinstance(v, (int, float))
+    }
     t_end = float(res.t[-1]) if len(res.t) else 0.0
-    return CaseOutput(summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
-                      datasets=data, scalars=scalars, attrs=labels)
+    return CaseOutput(
+        summary=f"interrupted: the time history up to t = {t_end:.3f} s is kept",
+        datasets=data,
+        scalars=scalars,
+        attrs=labels,
+    )
 
 
 def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -> CaseRecord:
@@ -324,16 +370,20 @@ def run_case(case: Case, guard: SignalGuard, stream: CaseStream | None = None) -
     try:
         with active, guard.live():
             output = case.case_type.run(case.params)
-    except KeyboardInterrupt as exc:    # Interrupted, or Ctrl-C without the guard's handler
-        return CaseRecord(case, output=partial_output(getattr(exc, "partial", None), stream),
-                          interrupted=getattr(exc, "signame", "SIGINT"),
-                          wall_time=time.perf_counter() - t0)
-    except WriteFailed:                 # its stream file: the disk, not the case (exit 3)
+    except KeyboardInterrupt as exc:  # Interrupted, or Ctrl-C without the guard's handler
+        return CaseRecord(
+            case,
+            output=partial_output(getattr(exc, "partial", None), stream),
+            interrupted=getattr(exc, "signame", "SIGINT"),
+            wall_time=time.perf_counter() - t0,
+        )
+    except WriteFailed:  # its stream file: the disk, not the case (exit 3)
         raise
     except Exception as exc:  # noqa: BLE001 - isolation: any failure is this case's alone
-        tb = traceback.format_exc()    # to the file; the console's line and --debug: _account
-        return CaseRecord(case, error=f"{type(exc).__name__}: {exc}", traceback=tb,
-                          wall_time=time.perf_counter() - t0)
+        tb = traceback.format_exc()  # to the file; the console's line and --debug: _account
+        return CaseRecord(
+            case, error=f"{type(exc).__name__}: {exc}", traceback=tb, wall_time=time.perf_counter() - t0
+        )
     finally:
         if stream is not None:
             stream.close()
@@ -354,7 +404,7 @@ def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
         return
     except WriteFailed:
         raise
-    except OSError as exc:    # an OSError of the file itself (the writer wraps its own)
+    except OSError as exc:  # an OSError of the file itself (the writer wraps its own)
         raise WriteFailed(exc.errno, exc.strerror or str(exc), str(writer.path)) from None
     except Exception as exc:  # noqa: BLE001 - a bad result value: record it as the case's error
         tb = traceback.format_exc()
@@ -363,7 +413,7 @@ def _store(writer: ResultsWriter, rec: CaseRecord) -> None:
         rec.error = f"cannot store the results: {type(exc).__name__}: {exc}"
         rec.traceback = tb
     try:
-        writer.write([rec])       # the record without its results
+        writer.write([rec])  # the record without its results
     except WriteFailed:
         raise
     except Exception as exc:  # noqa: BLE001 - even that cannot be stored: the file's fault
@@ -380,8 +430,7 @@ def write_error(out: Path, exc: OSError, kept: int, lost: list[Case], not_run: i
     holds, what is not in it."""
     why = exc.strerror or str(exc)
     code = f" (errno {exc.errno})" if exc.errno else ""
-    held = (f"it keeps the {_cases(kept)} written before" if kept
-            else "no case of this run is in it")
+    held = f"it keeps the {_cases(kept)} written before" if kept else "no case of this run is in it"
     line = f"cannot write {out}: {why}{code}; {held} (no temporary file left)"
     if lost:
         names = ", ".join(c.label for c in lost[:3]) + (" ..." if len(lost) > 3 else "")
@@ -392,8 +441,7 @@ def write_error(out: Path, exc: OSError, kept: int, lost: list[Case], not_run: i
 
 
 #: Said after the line of a case that failed with an exception railvti does not expect.
-UNEXPECTED_HINT = (" (unexpected: its traceback is in the results file; "
-                   "'railvti run --debug' prints it)")
+UNEXPECTED_HINT = " (unexpected: its traceback is in the results file; 'railvti run --debug' prints it)"
 
 
 def expected_error(error: str) -> bool:
@@ -425,10 +473,20 @@ def _account(rec: CaseRecord, report: RunReport, write: Any) -> None:
         write(f"{rec.case.label}: {rec.output.summary} [{rec.wall_time:.2f} s]")
 
 
-def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = False,
-              write: Any = print, progress: Any = None, client: Any = None,
-              on_record: Any = None, bar: Any = None, deck_path: str = "",
-              guard: SignalGuard | None = None) -> RunReport:
+def run_cases(
+    cases: list[Case],
+    out: Path,
+    deck_text: str,
+    *,
+    resume: bool = False,
+    write: Any = print,
+    progress: Any = None,
+    client: Any = None,
+    on_record: Any = None,
+    bar: Any = None,
+    deck_path: str = "",
+    guard: SignalGuard | None = None,
+) -> RunReport:
     """Run ``cases`` into the results file ``out`` (checked beforehand with
     :func:`check_output` and :func:`check_deck`), each finished case written at once, under
     the output's lock (railvti.runner.output_lock: a second run on ``out`` is refused). A file
@@ -457,14 +515,35 @@ def run_cases(cases: list[Case], out: Path, deck_text: str, *, resume: bool = Fa
         installed for the run.
     """
     with OutputLock(out, deck_path or "(API call)", note=write):
-        return _run_locked(cases, out, deck_text, resume=resume, write=write, progress=progress,
-                           client=client, on_record=on_record, bar=bar, deck_path=deck_path,
-                           guard=guard)
+        return _run_locked(
+            cases,
+            out,
+            deck_text,
+            resume=resume,
+            write=write,
+            progress=progress,
+            client=client,
+            on_record=on_record,
+            bar=bar,
+            deck_path=deck_path,
+            guard=guard,
+        )
 
 
-def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, write: Any,
-                progress: Any, client: Any, on_record: Any, bar: Any, deck_path: str,
-                guard: SignalGuard | None) -> RunReport:
+def _run_locked(
+    cases: list[Case],
+    out: Path,
+    deck_text: str,
+    *,
+    resume: bool,
+    write: Any,
+    progress: Any,
+    client: Any,
+    on_record: Any,
+    bar: Any,
+    deck_path: str,
+    guard: SignalGuard | None,
+) -> RunReport:
     report = RunReport(status=EXIT_OK)
     done = completed(out) if resume else {}
     todo = []
@@ -484,8 +563,9 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
         """The file cannot be written: say so in report.error (one line)."""
         report.status = EXIT_OUTPUT
         report.failure = exc
-        report.error = write_error(out, exc, len(stored) + report.skipped, lost,
-                                   len(todo) - len(stored) - len(lost))
+        report.error = write_error(
+            out, exc, len(stored) + report.skipped, lost, len(todo) - len(stored) - len(lost)
+        )
 
     def finish(rec: CaseRecord) -> bool:
         """Store a record (False: the file cannot be written) and count it."""
@@ -509,7 +589,7 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
             if report.status == EXIT_OUTPUT:
                 return report
             report.interrupted = report.interrupted or stop
-        for case in (todo if client is None else []):
+        for case in todo if client is None else []:
             if guard.pending:
                 break
             if progress is not None:
@@ -519,7 +599,7 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
             try:
                 rec = run_case(case, guard, stream)
                 ok = finish(rec)
-            except WriteFailed as exc:          # the case's stream file
+            except WriteFailed as exc:  # the case's stream file
                 stop_on(exc, [])
                 ok = False
             finally:
@@ -540,7 +620,6 @@ def _run_locked(cases: list[Case], out: Path, deck_text: str, *, resume: bool, w
 def resume_hint(deck: Path, out: Path) -> str:
     """The command that continues an interrupted run."""
     return f"railvti run {deck} -o {out} --resume"
-
 
 
 # ---------------------------------------------------------------------------------------------
@@ -564,14 +643,16 @@ def _announce_start() -> None:
     """Log the running task's key on :data:`STARTED_TOPIC` (nothing outside a worker)."""
     try:
         from distributed import get_worker
+
         worker = get_worker()
         worker.log_event(STARTED_TOPIC, worker.get_current_task())
     except (ImportError, ValueError, AttributeError):
         pass
 
 
-def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], bool],
-                  guard: Any = None) -> str | None:
+def run_on_client(
+    cases: list[Case], client: Any, on_record: Callable[[Any], bool], guard: Any = None
+) -> str | None:
     """Submit every case to ``client`` and call ``on_record(record)`` in this process as each
     finishes (in the order they finish). ``on_record`` returns False to stop (the file cannot
     be written). Returns the signal that stopped the run, or None.
@@ -580,6 +661,7 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
     dask never merges two points; no task is retried on another worker after an exception
     (its record carries it)."""
     from distributed import as_completed
+
     stamp = f"{os.getpid()}-{time.time_ns()}"
     futures, by_key = [], {}
     started: set[str] = set()
@@ -595,7 +677,7 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
     try:
         while True:
             try:
-                with (guard.live() if guard is not None else contextlib.nullcontext()):
+                with guard.live() if guard is not None else contextlib.nullcontext():
                     fut = next(ac)
             except StopIteration:
                 break
@@ -610,18 +692,23 @@ def run_on_client(cases: list[Case], client: Any, on_record: Callable[[Any], boo
                 break
     finally:
         if stop is not None:
-            _mark_interrupted(set(started), futures, by_key, stop, time.monotonic() - t_start,
-                              on_record)
+            _mark_interrupted(set(started), futures, by_key, stop, time.monotonic() - t_start, on_record)
         for f in futures:
             if not f.done():
                 f.cancel()
-        with contextlib.suppress(Exception):    # a client already closed by the signal
+        with contextlib.suppress(Exception):  # a client already closed by the signal
             client.unsubscribe_topic(STARTED_TOPIC)
     return stop
 
 
-def _mark_interrupted(started: set[str], futures: list, by_key: dict[str, Case], signame: str,
-                      elapsed: float, on_record: Callable[[Any], bool]) -> None:
+def _mark_interrupted(
+    started: set[str],
+    futures: list,
+    by_key: dict[str, Case],
+    signame: str,
+    elapsed: float,
+    on_record: Callable[[Any], bool],
+) -> None:
     """Record the cases a signal stopped while a worker was running them (started, not
     done) as interrupted (as the serial path records its running case); queued cases stay
     absent (``--resume`` runs them)."""
@@ -640,8 +727,22 @@ def _record(fut: Any, by_key: dict[str, Case]) -> Any:
         case = by_key.get(fut.key)
         if case is None:
             raise
-        return CaseRecord(case, error=f"{type(exc).__name__}: {exc} (the task did not return)",
-                          traceback=traceback.format_exc())
+        return CaseRecord(
+            case,
+            error=f"{type(exc).__name__}: {exc} (the task did not return)",
+            traceback=traceback.format_exc(),
+        )
 
 
-__all__ = ["EXIT_CODES", "Interrupted", "SignalGuard", "check_deck", "check_output", "run_case", "run_cases", "run_on_client", "run_task", "RunReport"]
+__all__ = [
+    "EXIT_CODES",
+    "Interrupted",
+    "SignalGuard",
+    "check_deck",
+    "check_output",
+    "run_case",
+    "run_cases",
+    "run_on_client",
+    "run_task",
+    "RunReport",
+]

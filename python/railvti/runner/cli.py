@@ -11,6 +11,7 @@
 * A closed stdout (``railvti cases | head -3``) ends quietly: exit 141 (SIGPIPE's), or for
   ``run`` the run goes on to its end with its lines discarded.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -42,18 +43,22 @@ def _run(args: argparse.Namespace) -> int:
     from .batch import check_deck, check_output
     from .deck import read_deck
     from .output_lock import OutputLock
+
     _check_options(args)
     deck = Path(args.deck)
     cases = read_deck(deck)
     out = Path(args.output) if args.output else deck.with_suffix(".h5")
     check_output(out, deck, force=args.force)
-    if out.is_symlink():          # write the file it points to (the link stays a link)
+    if out.is_symlink():  # write the file it points to (the link stays a link)
         out = Path(os.path.realpath(out))
         check_output(out, deck, force=args.force)
-    limits = {resources.ENV: args.max_memory, cost.ENV_TIME: args.max_time,
-              cost.ENV_DECK_TIME: args.max_deck_time}
+    limits = {
+        resources.ENV: args.max_memory,
+        cost.ENV_TIME: args.max_time,
+        cost.ENV_DECK_TIME: args.max_deck_time,
+    }
     old = {env: os.environ.get(env) for env in limits}
-    note = lambda line: print(line, file=sys.stderr)      # noqa: E731
+    note = lambda line: print(line, file=sys.stderr)  # noqa: E731
     try:
         # the lock before the deck check: no other run can change the file in between
         with OutputLock(out, str(deck.resolve()), note=note):
@@ -61,10 +66,10 @@ def _run(args: argparse.Namespace) -> int:
             for env, value in limits.items():
                 if value is None:
                     continue
-                if not str(value).strip():     # '' too: refused, not the default in silence
+                if not str(value).strip():  # '' too: refused, not the default in silence
                     raise InputError(f"{env}: an empty value; give a size or a time, or none")
                 os.environ[env] = str(value)
-            resources.memory_limit()             # a bad size: InputError before any case
+            resources.memory_limit()  # a bad size: InputError before any case
             if args.max_time:
                 cost.parse_time(args.max_time, "--max-time")
             if args.max_deck_time:
@@ -84,6 +89,7 @@ def _check_options(args: argparse.Namespace) -> None:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
     if args.scheduler is not None:
         from .sweeps import scheduler_address
+
         scheduler_address(args.scheduler, "--scheduler")
     if args.max_memory is not None and not args.max_memory.strip():
         raise InputError("--max-memory '': give a size such as 8G, 500M, 1e9 or none")
@@ -93,6 +99,7 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     from tqdm import tqdm
     from . import cost
     from .batch import EXIT_OUTPUT, Interrupted, SignalGuard, resume_hint, run_cases
+
     problems = cost.check_cost(cases)
     if problems:
         raise InputError("\n".join(problems))
@@ -104,7 +111,7 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     def write(line: str) -> None:
         try:
             tqdm.write(line, file=sys.stdout)
-        except BrokenPipeError:          # stdout's reader went away: the run goes on
+        except BrokenPipeError:  # stdout's reader went away: the run goes on
             _stdout_closed()
 
     # the guard from before the cluster starts: a signal during its start-up stops at once
@@ -118,13 +125,27 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
             with contextlib.ExitStack() as stack:
                 with guard.live(resend=False):
                     client = stack.enter_context(_client(args, serial, len(cases), write))
-                bar = tqdm(total=len(cases), desc="cases" if serial else "tasks", unit="case",
-                           disable=len(cases) < 2 or args.quiet, file=sys.stderr, dynamic_ncols=True)
+                bar = tqdm(
+                    total=len(cases),
+                    desc="cases" if serial else "tasks",
+                    unit="case",
+                    disable=len(cases) < 2 or args.quiet,
+                    file=sys.stderr,
+                    dynamic_ncols=True,
+                )
                 stack.callback(bar.close)
-                report = run_cases(cases, out, _deck_text(deck), resume=args.resume, write=write,
-                                   progress=lambda c: bar.set_postfix_str(c.name[-30:]),
-                                   client=client, bar=bar, deck_path=str(deck.resolve()),
-                                   guard=guard)
+                report = run_cases(
+                    cases,
+                    out,
+                    _deck_text(deck),
+                    resume=args.resume,
+                    write=write,
+                    progress=lambda c: bar.set_postfix_str(c.name[-30:]),
+                    client=client,
+                    bar=bar,
+                    deck_path=str(deck.resolve()),
+                    guard=guard,
+                )
         except Exception:
             # a signal inside a C extension's import (Dask's) comes out as its ImportError
             if guard.received is None:
@@ -142,15 +163,25 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     n = len(cases)
     if report.error:
         _say(f"railvti: error: {report.error}; continue with: {resume_hint(deck, out)}")
-    if report.interrupted and not out.exists():     # the first cases had not yet started
-        _say(f"interrupted by {report.interrupted} before any case finished: {out} was not "
-             f"written; continue with: {resume_hint(deck, out)}", sys.stdout)
+    if report.interrupted and not out.exists():  # the first cases had not yet started
+        _say(
+            f"interrupted by {report.interrupted} before any case finished: {out} was not "
+            f"written; continue with: {resume_hint(deck, out)}",
+            sys.stdout,
+        )
     elif report.interrupted:
-        _say(f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
-             f"cases complete); continue with: {resume_hint(deck, out)}", sys.stdout)
+        _say(
+            f"interrupted by {report.interrupted}: wrote {out} ({report.ok + report.skipped} of {n} "
+            f"cases complete); continue with: {resume_hint(deck, out)}",
+            sys.stdout,
+        )
     elif report.status != EXIT_OUTPUT:
-        _say(f"wrote {out} ({report.ok + report.skipped} of {n} cases ok"
-             + (f", {report.skipped} kept from before" if report.skipped else "") + ")", sys.stdout)
+        _say(
+            f"wrote {out} ({report.ok + report.skipped} of {n} cases ok"
+            + (f", {report.skipped} kept from before" if report.skipped else "")
+            + ")",
+            sys.stdout,
+        )
     return report.status
 
 
@@ -163,6 +194,7 @@ def _client(args: argparse.Namespace, serial: bool, n_cases: int, write: Any) ->
         yield None
         return
     from . import sweeps
+
     if args.scheduler:
         with sweeps.remote_client(args.scheduler, what="--scheduler") as client:
             n = len(client.scheduler_info().get("workers", {}))
@@ -183,7 +215,8 @@ def _deck_text(deck: Path) -> str:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from .plots import plot_results      # matplotlib: only for plotting, not at every start
+    from .plots import plot_results  # matplotlib: only for plotting, not at every start
+
     notes: list[str] = []
     paths = plot_results(args.results, args.output, points=args.points, notes=notes)
     for p in paths:
@@ -191,20 +224,25 @@ def _plot(args: argparse.Namespace) -> int:
     for line in notes:
         print(f"railvti: note: {line}", file=sys.stderr)
     if not paths:
-        print(f"railvti: error: no figure written from {args.results}"
-              + (": every case above was left out" if notes else ": it holds no case"), file=sys.stderr)
+        print(
+            f"railvti: error: no figure written from {args.results}"
+            + (": every case above was left out" if notes else ": it holds no case"),
+            file=sys.stderr,
+        )
         return 1
     return 0
 
 
 def _summary(args: argparse.Namespace) -> int:
     from .summary import summary
+
     print(summary(args.results, args.plots))
     return 0
 
 
 def _default_text(default: object) -> str:
     from ..casetypes import REQUIRED
+
     if default is REQUIRED:
         return "(required)"
     if default is None:
@@ -217,6 +255,7 @@ def _default_text(default: object) -> str:
 
 def _cases(args: argparse.Namespace) -> int:
     from .deck_registry import case_types
+
     types = case_types()
     names = sorted(types)
     if args.type:
@@ -235,18 +274,26 @@ def _cases(args: argparse.Namespace) -> int:
             unit = (spec.unit or "-") if spec else "?"
             meaning = spec.meaning if spec else ""
             bounds = spec.bounds() if spec else ""
-            print(f"    {key:28s} {_default_text(default):>14s}  {unit:8s} {meaning}"
-                  + (f"; {bounds}" if bounds else ""))
+            print(
+                f"    {key:28s} {_default_text(default):>14s}  {unit:8s} {meaning}"
+                + (f"; {bounds}" if bounds else "")
+            )
         for alias, a in ctype.aliases.items():
             to = ctype.keys[a.key].unit if a.key in ctype.keys else ""
-            note = ("old name, deprecated" if a.deprecated
-                    else f"the same in {a.unit} (x {a.scale:.6g}" + (f" to {to})" if to else ")"))
+            note = (
+                "old name, deprecated"
+                if a.deprecated
+                else f"the same in {a.unit} (x {a.scale:.6g}" + (f" to {to})" if to else ")")
+            )
             print(f"    {alias:28s} {'':>14s}  {a.unit or '':8s} alias of '{a.key}': {note}")
         print()
-    print("units: SI; '1' a number without unit, '-' a text or a 0/1 flag; "
-          "'railvti cases TYPE' lists one type")
-    print("sweeps: any key as sweep_KEY = v1, v2, ... or sweep_range_KEY = start, stop, step, "
-          "with sweep = 'product' or 'zip' (docs/sweeps.md)")
+    print(
+        "units: SI; '1' a number without unit, '-' a text or a 0/1 flag; 'railvti cases TYPE' lists one type"
+    )
+    print(
+        "sweeps: any key as sweep_KEY = v1, v2, ... or sweep_range_KEY = start, stop, step, "
+        "with sweep = 'product' or 'zip' (docs/sweeps.md)"
+    )
     return 0
 
 
@@ -270,7 +317,7 @@ def _stdout_closed() -> int:
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
     except (OSError, ValueError, AttributeError, io.UnsupportedOperation):
-        pass                        # not a file descriptor (a test's capture): nothing to flush
+        pass  # not a file descriptor (a test's capture): nothing to flush
     return EXIT_SIGPIPE
 
 
@@ -315,70 +362,106 @@ def _signals_raise() -> Iterator[None]:
 def _parser() -> argparse.ArgumentParser:
     from .batch import EXIT_CODES
     from .cost import SERIAL_SECONDS
+
     parser = argparse.ArgumentParser(prog="railvti", description="railway vehicle-track interaction")
     parser.add_argument("-v", "--verbose", action="store_true", help="log debug messages")
     debug = argparse.ArgumentParser(add_help=False)
-    debug.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
-                       help="print the traceback of every error (a failed case's is also in "
-                            "the results file)")
+    debug.add_argument(
+        "--debug",
+        action="store_true",
+        default=argparse.SUPPRESS,
+        help="print the traceback of every error (a failed case's is also in the results file)",
+    )
     parser.add_argument("--debug", action="store_true", default=False, help=argparse.SUPPRESS)
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser(
-        "run", help="run every case of a deck and write one HDF5 file", parents=[debug],
+        "run",
+        help="run every case of a deck and write one HDF5 file",
+        parents=[debug],
         formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run every case of a deck into one HDF5 file, written again after each case "
-                    "(a valid file at every moment; Ctrl-C or SIGTERM stop within about a second "
-                    "and keep the completed cases, also while the cluster starts). The cases and "
-                    "sweep points run as tasks on a Dask LocalCluster (one process per core, one "
-                    "thread each) unless --serial or --scheduler; only this process writes the "
-                    "file.\n\n"
-                    "Small decks run serially, without a cluster: a deck of one case, or one whose "
-                    "cases' estimated run times are all known\nand add up to less than "
-                    f"{SERIAL_SECONDS:g} s, runs in this process, as with --serial (starting the "
-                    "cluster takes ~3-5 s).\n--workers N or --scheduler force a cluster.\n\n"
-                    "An expected failure (bad input, a grid too small, no convergence) prints one "
-                    "line; --debug adds the tracebacks.",
-        epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()))
+        "(a valid file at every moment; Ctrl-C or SIGTERM stop within about a second "
+        "and keep the completed cases, also while the cluster starts). The cases and "
+        "sweep points run as tasks on a Dask LocalCluster (one process per core, one "
+        "thread each) unless --serial or --scheduler; only this process writes the "
+        "file.\n\n"
+        "Small decks run serially, without a cluster: a deck of one case, or one whose "
+        "cases' estimated run times are all known\nand add up to less than "
+        f"{SERIAL_SECONDS:g} s, runs in this process, as with --serial (starting the "
+        "cluster takes ~3-5 s).\n--workers N or --scheduler force a cluster.\n\n"
+        "An expected failure (bad input, a grid too small, no convergence) prints one "
+        "line; --debug adds the tracebacks.",
+        epilog="exit status:\n" + "\n".join(f"  {k:3d}  {v}" for k, v in EXIT_CODES.items()),
+    )
     p.add_argument("deck")
     p.add_argument("-o", "--output", help="HDF5 file (default: the deck's name with .h5)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--resume", action="store_true",
-                   help="keep the cases already complete in the output (same parameters) and run the others")
-    p.add_argument("--force", action="store_true",
-                   help="replace an existing output file that is not a railvti results file, "
-                        "or one written from another deck")
-    p.add_argument("--max-memory", metavar="SIZE",
-                   help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)")
-    p.add_argument("--max-time", metavar="TIME",
-                   help="time limit of a case's estimate, e.g. 8h, 30min or none (default: 2h; "
-                        "env RAILVTI_MAX_TIME)")
-    p.add_argument("--max-deck-time", metavar="TIME",
-                   help="time limit of the deck's cases added up (default: 24h; env RAILVTI_MAX_DECK_TIME)")
+    p.add_argument(
+        "--resume",
+        action="store_true",
+        help="keep the cases already complete in the output (same parameters) and run the others",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an existing output file that is not a railvti results file, "
+        "or one written from another deck",
+    )
+    p.add_argument(
+        "--max-memory",
+        metavar="SIZE",
+        help="memory limit of a case, e.g. 8G or none (default: 80%% of the available memory)",
+    )
+    p.add_argument(
+        "--max-time",
+        metavar="TIME",
+        help="time limit of a case's estimate, e.g. 8h, 30min or none (default: 2h; env RAILVTI_MAX_TIME)",
+    )
+    p.add_argument(
+        "--max-deck-time",
+        metavar="TIME",
+        help="time limit of the deck's cases added up (default: 24h; env RAILVTI_MAX_DECK_TIME)",
+    )
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--serial", action="store_true",
-                   help="run the cases one after another in this process (no Dask)")
-    g.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run the cases as tasks on an existing Dask cluster, ADDRESS as "
-                        "tcp://host:port (refused at once if malformed, within 5 s if no "
-                        "scheduler answers)")
-    g.add_argument("--workers", metavar="N", type=int,
-                   help="worker processes of the LocalCluster (default: the cores, at most one "
-                        "per case); forces a cluster even for a small deck")
+    g.add_argument(
+        "--serial", action="store_true", help="run the cases one after another in this process (no Dask)"
+    )
+    g.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run the cases as tasks on an existing Dask cluster, ADDRESS as "
+        "tcp://host:port (refused at once if malformed, within 5 s if no "
+        "scheduler answers)",
+    )
+    g.add_argument(
+        "--workers",
+        metavar="N",
+        type=int,
+        help="worker processes of the LocalCluster (default: the cores, at most one "
+        "per case); forces a cluster even for a small deck",
+    )
     p.set_defaults(func=_run)
     p = sub.add_parser("plot", help="write PNG plots of a results file", parents=[debug])
     p.add_argument("results")
     p.add_argument("-o", "--output", help="folder for the PNGs (default: beside the file)")
-    p.add_argument("--points", action="store_true",
-                   help="also plot every point of a large sweep (default: its summary plot only)")
+    p.add_argument(
+        "--points",
+        action="store_true",
+        help="also plot every point of a large sweep (default: its summary plot only)",
+    )
     p.set_defaults(func=_plot)
-    p = sub.add_parser("summary", help="one screen: each case, each sweep's table, what each figure shows",
-                       parents=[debug])
+    p = sub.add_parser(
+        "summary", help="one screen: each case, each sweep's table, what each figure shows", parents=[debug]
+    )
     p.add_argument("results")
     p.add_argument("--plots", help="folder of the PNGs (default: beside the file)")
     p.set_defaults(func=_summary)
-    p = sub.add_parser("cases", help="list the deck case types, or one type's keys with units and meanings",
-                       parents=[debug])
-    p.add_argument("type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)")
+    p = sub.add_parser(
+        "cases", help="list the deck case types, or one type's keys with units and meanings", parents=[debug]
+    )
+    p.add_argument(
+        "type", nargs="?", help="a case type: list its keys (default, unit, meaning, allowed range)"
+    )
     p.set_defaults(func=_cases)
     return parser
 
@@ -401,10 +484,10 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``railvti`` command; returns the exit status."""
     _quick_exit()
     _RECEIVED.clear()
-    with _signals_raise():          # first: a signal during the imports below stops too
+    with _signals_raise():  # first: a signal during the imports below stops too
         try:
             return _main(argv)
-        except KeyboardInterrupt as exc:     # before any case ran (the runner handles its own)
+        except KeyboardInterrupt as exc:  # before any case ran (the runner handles its own)
             name = getattr(exc, "signame", "SIGINT")
             _say(f"railvti: stopped by {name} before any case ran: nothing was written")
             return 128 + signal.Signals[name].value
@@ -422,12 +505,14 @@ def _signal_instead() -> None:
 def _main(argv: list[str] | None) -> int:
     try:
         from .batch import EXIT_INPUT, TRACEBACK_LOGGER
+
         args = _parser().parse_args(argv)
     except Exception:
         _signal_instead()
         raise
-    logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
+    logging.basicConfig(
+        level=logging.DEBUG if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
+    )
     tracebacks = logging.getLogger(TRACEBACK_LOGGER)
     level = tracebacks.level
     if args.debug:
@@ -435,8 +520,8 @@ def _main(argv: list[str] | None) -> int:
     try:
         status = args.func(args)
         try:
-            sys.stdout.flush()      # here, not at the interpreter's exit ("Exception ignored")
-        except BrokenPipeError:     # the work is done; the reader did not want the rest
+            sys.stdout.flush()  # here, not at the interpreter's exit ("Exception ignored")
+        except BrokenPipeError:  # the work is done; the reader did not want the rest
             _stdout_closed()
         return status
     except BrokenPipeError:
@@ -450,8 +535,10 @@ def _main(argv: list[str] | None) -> int:
         _signal_instead()
         tracebacks.debug("%s", type(exc).__name__, exc_info=True)
         first = (str(exc).strip().splitlines() or [""])[0]
-        _say(f"railvti: unexpected error: {type(exc).__name__}: {first} (a bug; run again with "
-             "--debug for the traceback)")
+        _say(
+            f"railvti: unexpected error: {type(exc).__name__}: {first} (a bug; run again with "
+            "--debug for the traceback)"
+        )
         return EXIT_UNEXPECTED
     finally:
         tracebacks.setLevel(level)

@@ -20,6 +20,7 @@ Limits (each per case, plus one for the whole deck):
 A case past a limit is refused before any case runs, the message naming the case, the
 estimate, the key that drives it and how to raise the limit.
 """
+
 from __future__ import annotations
 
 import math
@@ -94,6 +95,7 @@ class Estimate:
 # ---------------------------------------------------------------------------------------
 # Reading values: never fails (validation reports bad values)
 
+
 def _num(params: dict[str, Any], key: str, default: float) -> float:
     """``params[key]`` as a finite float, or ``default`` (missing, None, text, NaN, inf)."""
     v = params.get(key, default)
@@ -134,7 +136,10 @@ def _sci(x: float) -> str:
 # ---------------------------------------------------------------------------------------
 # Hertz: the contact patch's semi-axes before any run
 
-def _hertz_axes(A: float, B: float, fn: float, shear_modulus: float, poisson: float) -> tuple[float, float] | None:
+
+def _hertz_axes(
+    A: float, B: float, fn: float, shear_modulus: float, poisson: float
+) -> tuple[float, float] | None:
     """Semi-axes (a along x, b along y) of Hertz's ellipse of the gap A x^2 + B y^2 under
     fn, m; None when the inputs do not allow it."""
     try:
@@ -155,21 +160,29 @@ def _fn_from_approach(A: float, B: float, approach: float, g: float, nu: float) 
         return None
 
 
-def _resolution(label: str, axes: tuple[float, float] | None, dx: float, dy: float,
-                keys: tuple[str, str] = ("dx", "dy"), where: str = "") -> list[str]:
+def _resolution(
+    label: str,
+    axes: tuple[float, float] | None,
+    dx: float,
+    dy: float,
+    keys: tuple[str, str] = ("dx", "dy"),
+    where: str = "",
+) -> list[str]:
     """The under-resolution warning of a patch of Hertz semi-axes ``axes`` on a grid of
     dx x dy (empty if resolved or unknown)."""
     if axes is None:
         return []
     out = []
-    for (semi, d, key, name) in ((axes[0], dx, keys[0], "a"), (axes[1], dy, keys[1], "b")):
+    for semi, d, key, name in ((axes[0], dx, keys[0], "a"), (axes[1], dy, keys[1], "b")):
         across = 2.0 * semi / d
         if across < MIN_ELEMENTS_ACROSS:
-            out.append(f"{label}: the contact patch{where} is ~{across:.1f} elements across along "
-                       f"{'x' if name == 'a' else 'y'} (Hertz semi-axis {name} = {semi * 1e3:.3g} mm, "
-                       f"{key} = {d * 1e3:.3g} mm): under {MIN_ELEMENTS_ACROSS:g}, its pressure and "
-                       f"tractions are under-resolved; use {key} <= {2.0 * semi / 10.0:.3g} m "
-                       f"(10 elements across)")
+            out.append(
+                f"{label}: the contact patch{where} is ~{across:.1f} elements across along "
+                f"{'x' if name == 'a' else 'y'} (Hertz semi-axis {name} = {semi * 1e3:.3g} mm, "
+                f"{key} = {d * 1e3:.3g} mm): under {MIN_ELEMENTS_ACROSS:g}, its pressure and "
+                f"tractions are under-resolved; use {key} <= {2.0 * semi / 10.0:.3g} m "
+                f"(10 elements across)"
+            )
     return out
 
 
@@ -206,9 +219,13 @@ def _grid_case(p: dict[str, Any], label: str, rolling: bool) -> Estimate:
         if fn <= 0 and p.get("approach") is not None and A > 0 and B > 0:
             fn = _fn_from_approach(A, B, _num(p, "approach", -1), g, nu) or -1.0
         axes = _hertz_axes(A, B, fn, g, nu)
-    return Estimate(seconds=secs, memory=n * _GRID_BYTES, key="nx, ny",
-                    size=f"{_sci(n)} grid elements ({nx:.0f} x {ny:.0f})",
-                    warnings=tuple(_resolution(label, axes, dx, dy)))
+    return Estimate(
+        seconds=secs,
+        memory=n * _GRID_BYTES,
+        key="nx, ny",
+        size=f"{_sci(n)} grid elements ({nx:.0f} x {ny:.0f})",
+        warnings=tuple(_resolution(label, axes, dx, dy)),
+    )
 
 
 #: wheel_rail / loaded_wheelset: the grid a patch gets spans its Hertz ellipse with margins:
@@ -236,13 +253,18 @@ _RAIL_CROWN = 0.3
 def _wheel_axes(p: dict[str, Any]) -> tuple[float, float] | None:
     """Hertz semi-axes of the tread patch of a wheel on its rail under the load fz."""
     r = _pos(p, "radius", 0.46)
-    return _hertz_axes(1.0 / (2.0 * r), 1.0 / (2.0 * _RAIL_CROWN), _pos(p, "fz", 1e4),
-                       _pos(p, "shear_modulus", 82e9), _num(p, "poisson", 0.28))
+    return _hertz_axes(
+        1.0 / (2.0 * r),
+        1.0 / (2.0 * _RAIL_CROWN),
+        _pos(p, "fz", 1e4),
+        _pos(p, "shear_modulus", 82e9),
+        _num(p, "poisson", 0.28),
+    )
 
 
 def _patch_seconds(n: float) -> float:
     """Wall time of one wheel's patch of ``n`` grid elements, s."""
-    return _PATCH_S * n ** 1.1 + _PATCH_S2 * n ** 2.5
+    return _PATCH_S * n**1.1 + _PATCH_S2 * n**2.5
 
 
 def _patch_elements(axes: tuple[float, float] | None, dx: float, dy: float) -> float:
@@ -256,9 +278,13 @@ def _wheel_rail(p: dict[str, Any], label: str) -> Estimate:
     axes = _wheel_axes(p)
     n = _patch_elements(axes, dx, dy)
     secs = _WHEEL_RAIL_START_S + wheels * (_WHEEL_START_S + _patch_seconds(n))
-    return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key="dx, dy",
-                    size=f"~{_sci(n)} grid elements per patch",
-                    warnings=tuple(_resolution(label, axes, dx, dy, where=" on the tread")))
+    return Estimate(
+        seconds=secs,
+        memory=5e6 + n * _PATCH_BYTES,
+        key="dx, dy",
+        size=f"~{_sci(n)} grid elements per patch",
+        warnings=tuple(_resolution(label, axes, dx, dy, where=" on the tread")),
+    )
 
 
 def _loaded_wheelset(p: dict[str, Any], label: str) -> Estimate:
@@ -268,9 +294,13 @@ def _loaded_wheelset(p: dict[str, Any], label: str) -> Estimate:
     n = _patch_elements(axes, dx, dx)
     secs = _WHEEL_RAIL_START_S + n_pos * 2.0 * (_WHEEL_START_S + _patch_seconds(n))
     key = "n, dx" if n_pos > 50 else "dx"
-    return Estimate(seconds=secs, memory=5e6 + n * _PATCH_BYTES, key=key,
-                    size=f"{n_pos:.0f} positions x ~{_sci(n)} grid elements per patch",
-                    warnings=tuple(_resolution(label, axes, dx, dx, ("dx", "dx"), " on the tread")))
+    return Estimate(
+        seconds=secs,
+        memory=5e6 + n * _PATCH_BYTES,
+        key=key,
+        size=f"{n_pos:.0f} positions x ~{_sci(n)} grid elements per patch",
+        warnings=tuple(_resolution(label, axes, dx, dx, ("dx", "dx"), " on the tread")),
+    )
 
 
 #: geometry_table: profiles and conicity, s; then s per shift (51 shifts 0.31 s, 201 1.5 s,
@@ -284,8 +314,12 @@ _TABLE_NODE_BYTES = 3.2e5
 
 def _geometry_table(p: dict[str, Any], label: str) -> Estimate:
     n = max(_num(p, "n", 201), 1.0)
-    return Estimate(seconds=_TABLE_START_S + _TABLE_NODE_S * n, memory=n * _TABLE_NODE_BYTES,
-                    key="n", size=f"{n:.0f} table nodes")
+    return Estimate(
+        seconds=_TABLE_START_S + _TABLE_NODE_S * n,
+        memory=n * _TABLE_NODE_BYTES,
+        key="n",
+        size=f"{n:.0f} table nodes",
+    )
 
 
 #: wheelset (axisymmetric FE): s per harmonic at the default meshes (0.02 m wheel, 0.04 m
@@ -309,9 +343,17 @@ def _wheelset(p: dict[str, Any], label: str) -> Estimate:
     lines = max(_num(p, "n_freq", 800), 1.0) * _count(p, "speeds_kmh", 2.0)
     secs = 0.3 + _WS_HARMONIC_S * k * refine * max(f_max / 3000.0, 0.3) ** 0.5 + _WS_FRF_S * lines * modes
     eq = 2000.0 * (0.7 * (0.02 / ms) ** 2 + 0.3 * (0.04 / ams) ** 2)
-    key = "mesh_size" if refine > 4 else ("k_max" if k > 12 else ("n_freq" if lines * modes > 1e8 else "mesh_size, k_max"))
-    return Estimate(seconds=secs, memory=_WS_BASE_BYTES + eq * _WS_BYTES_PER_EQ + lines * 16 * 4, key=key,
-                    size=f"~{eq:.0f} FE equations x {k:.0f} harmonics, {lines:.0f} FRF lines")
+    key = (
+        "mesh_size"
+        if refine > 4
+        else ("k_max" if k > 12 else ("n_freq" if lines * modes > 1e8 else "mesh_size, k_max"))
+    )
+    return Estimate(
+        seconds=secs,
+        memory=_WS_BASE_BYTES + eq * _WS_BYTES_PER_EQ + lines * 16 * 4,
+        key=key,
+        size=f"~{eq:.0f} FE equations x {k:.0f} harmonics, {lines:.0f} FRF lines",
+    )
 
 
 #: Ring track (2.5-D FE rail on discrete sleepers): the rail section's FE and reduced basis
@@ -336,8 +378,11 @@ def _ring_build(p: dict[str, Any], prefix: str = "") -> tuple[float, float, floa
     samples = _pos(p, prefix + "n_samples", 12.0) / 12.0
     work = n_sl * (f_max / 1000.0) * fcut * max(kappa, 0.2) ** 0.5 * max(mesh, 0.1) * max(samples, 0.5)
     modes = n_sl * 4.0 * f_max / 3000.0 * fcut
-    return (_RING_START_S * max(mesh, 0.1) * max(samples, 0.5) + _RING_SLEEPER_S * work,
-            _RING_BASE_BYTES + modes * _RING_BYTES_PER_MODE, n_sl)
+    return (
+        _RING_START_S * max(mesh, 0.1) * max(samples, 0.5) + _RING_SLEEPER_S * work,
+        _RING_BASE_BYTES + modes * _RING_BYTES_PER_MODE,
+        n_sl,
+    )
 
 
 def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
@@ -345,16 +390,24 @@ def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
     lines = max(_num(p, "n_freq", 3000), 1.0) if receptance else 0.0
     modes = n_sl * 4.0 * _pos(p, "f_max", 3000.0) / 3000.0
     secs += _RING_FRF_S * lines * modes * 3.0
-    return Estimate(seconds=secs, memory=mem + lines * modes * 16.0, key="n_sleepers",
-                    size=f"{n_sl:.0f} sleepers" + (f", {lines:.0f} FRF lines" if receptance else ""))
+    return Estimate(
+        seconds=secs,
+        memory=mem + lines * modes * 16.0,
+        key="n_sleepers",
+        size=f"{n_sl:.0f} sleepers" + (f", {lines:.0f} FRF lines" if receptance else ""),
+    )
 
 
 #: vehicle: the time loop's wall time per step (each includes sub-steps and Newton
 #: iterations of the hunting motion), by contact model (railvti.vehicle.contact_models names)
 #: and geometry, s: RR hunting at 300 km/h (bench_vehicle_strip, bench_cost_estimate).
-_STEP_S = {(HERTZ_KALKER.name, "strip"): 2.5e-3, (HERTZ_KALKER.name, "table"): 1.5e-3,
-           (HERTZ_FASTSIM.name, "strip"): 2.5e-3, (HERTZ_FASTSIM.name, "table"): 1.2e-3,
-           (BEM.name, "table"): 0.05}
+_STEP_S = {
+    (HERTZ_KALKER.name, "strip"): 2.5e-3,
+    (HERTZ_KALKER.name, "table"): 1.5e-3,
+    (HERTZ_FASTSIM.name, "strip"): 2.5e-3,
+    (HERTZ_FASTSIM.name, "table"): 1.2e-3,
+    (BEM.name, "table"): 0.05,
+}
 #: Extra wall time per step of the kept modes, s: FR's rotating wheelset modes cost
 #: _WS_MODE_STEP_S x modes^1.33 (k_max 2: 384 modes at 5 kHz 37 ms per step, 1792 modes at
 #: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
@@ -395,11 +448,11 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
         f_top *= math.sqrt(scale)
         # the four wheelsets' modes at k_max 2 (scenarios.fr_system): 108 up to 800 Hz, 384 up
         # to 5 kHz, 1792 up to 20 kHz
-        ws_modes = k / 3.0 * max(108.0 * (f_top / 800.0) ** 0.7, 0.0334 * f_top ** 1.1 - 7.0)
+        ws_modes = k / 3.0 * max(108.0 * (f_top / 800.0) ** 0.7, 0.0334 * f_top**1.1 - 7.0)
     if model in ("RF", "FF"):
         n_sl = max(_num(p, "n_sleepers", 40), 8.0)
         f_lim = _pos(p, "f_limit", 500.0)
-        ring_modes = n_sl * 7.2 * f_lim / 500.0   # 128 sleepers: 926 modes up to 500 Hz
+        ring_modes = n_sl * 7.2 * f_lim / 500.0  # 128 sleepers: 926 modes up to 500 Hz
         f_top = max(f_top, f_lim)
     return ws_modes, f_top, ring_modes
 
@@ -430,7 +483,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     # the deck is not checked yet: an unknown model costs as the default (its check names it)
     spec = CONTACT_MODELS.get(contact)
     needs_bem = spec is not None and spec.needs_bem
-    if spec is not None and len(spec.geometries) == 1:      # the BEM reads the table only
+    if spec is not None and len(spec.geometries) == 1:  # the BEM reads the table only
         geometry = spec.geometries[0]
     else:
         geometry = str(p.get("geometry") or "strip").strip().lower()
@@ -444,19 +497,27 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         # two runs per speed: the upper branch (speed lowered) and the decay from 0.5 mm
         runs = 2.0 * max(1.0, math.floor(max(hi - lo, 0.0) / step + 1e-9) + 1.0)
     steps = runs * duration / h
-    per = (_STEP_S.get((contact, geometry), 3e-3) + _WS_MODE_STEP_S * ws_modes ** _WS_MODE_EXPONENT
-           + _RING_MODE_STEP_S * ring_modes)
+    per = (
+        _STEP_S.get((contact, geometry), 3e-3)
+        + _WS_MODE_STEP_S * ws_modes**_WS_MODE_EXPONENT
+        + _RING_MODE_STEP_S * ring_modes
+    )
     start = _VEHICLE_START_S + (_BEM_START_S if needs_bem else 0.0)
     if runs > 1:
         start += _CRITICAL_START_S + _RUN_START_S * runs
     if ws_modes:
-        start += ((max(_num(p, "k_max", 2), 0.0) + 1.0) / 3.0
-                  * (_FR_BUILD_S + _FR_BUILD_5KHZ_S * (f_top / 5000.0) ** 3))
+        start += (
+            (max(_num(p, "k_max", 2), 0.0) + 1.0)
+            / 3.0
+            * (_FR_BUILD_S + _FR_BUILD_5KHZ_S * (f_top / 5000.0) ** 3)
+        )
     if ring_modes:
-        ring_p = {"n_sleepers": _num(p, "n_sleepers", 40), **{k[6:]: v for k, v in p.items()
-                                                               if k.startswith("track_")}}
+        ring_p = {
+            "n_sleepers": _num(p, "n_sleepers", 40),
+            **{k[6:]: v for k, v in p.items() if k.startswith("track_")},
+        }
         if ring_p.get("f_max") is None:
-            ring_p["f_max"] = 3000.0           # RingTrack's (railvti.track.NUMERICS)
+            ring_p["f_max"] = 3000.0  # RingTrack's (railvti.track.NUMERICS)
         ring_s, ring_bytes, _ = _ring_build(ring_p)
         start += ring_s
     secs = start + steps * per
@@ -471,10 +532,10 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     elif runs > 20:
         key = "speeds_kmh_step"
     out_dt = _num(p, "output_dt", -1.0) if p.get("output_dt") is not None else -1.0
-    if out_dt <= 0:                   # the deck's defaults (railvti.vehicle.output)
+    if out_dt <= 0:  # the deck's defaults (railvti.vehicle.output)
         scen = str(p.get("scenario", "hunting")).strip().lower()
         out_dt = 0.01 if scen == "centred_running" else 2e-3
-        if ring_modes:                # 10 samples per period of the sleeper passing
+        if ring_modes:  # 10 samples per period of the sleeper passing
             spacing = _pos(p, "track_sleeper_spacing", 0.6)
             out_dt = min(out_dt, spacing / _pos(p, "speed", 300 / 3.6) / 10.0)
     out_dt = max(out_dt, h)
@@ -484,20 +545,30 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     # RR's single runs stream a long history to the file (railvti.runner.stream) and keep its tail
     if model == "RR" and runs == 1.0 and _streams(duration, out_dt):
         kept = min(samples, (STREAM_TAIL_SECONDS + 1.0) / out_dt)
-    memory = (_VEHICLE_BASE_BYTES + (_FR_BASE_BYTES if ws_modes else 0.0)
-              + kept * states * _SAMPLE_BYTES + (ws_modes + ring_modes) ** 2 * 8 * 4)
+    memory = (
+        _VEHICLE_BASE_BYTES
+        + (_FR_BASE_BYTES if ws_modes else 0.0)
+        + kept * states * _SAMPLE_BYTES
+        + (ws_modes + ring_modes) ** 2 * 8 * 4
+    )
     if ring_modes:
         memory += ring_bytes
     if needs_bem:
-        memory += 8 * 200e3 * 8       # eight wheels' BEM grids and kernels
+        memory += 8 * 200e3 * 8  # eight wheels' BEM grids and kernels
     mem_key = key
     if kept * states * _SAMPLE_BYTES > 0.5 * memory:
         mem_key = "duration, output_dt"
     elif (ws_modes + ring_modes) ** 2 * 32 > 0.5 * memory:
         mem_key = "f_limit, n_sleepers" if ring_modes > ws_modes else "f_max, k_max"
-    return Estimate(seconds=secs, memory=memory, key=key, memory_key=mem_key,
-                    size=f"{samples:.3g} stored samples, {steps:.3g} time steps (h = {h:.3g} s{f', {runs:.0f} runs' if runs > 1 else ''})"
-                    + (f", {ws_modes + ring_modes:.0f} kept modes" if ws_modes + ring_modes else ""))
+    return Estimate(
+        seconds=secs,
+        memory=memory,
+        key=key,
+        memory_key=mem_key,
+        size=f"{samples:.3g} stored samples, {steps:.3g} time steps (h = {h:.3g} s"
+        + (f", {runs:.0f} runs)" if runs > 1 else ")")
+        + (f", {ws_modes + ring_modes:.0f} kept modes" if ws_modes + ring_modes else ""),
+    )
 
 
 _ESTIMATORS: dict[str, Callable[[dict[str, Any], str], Estimate]] = {
@@ -587,7 +658,9 @@ def duration_text(s: float) -> str:
 
 
 def _limit_source(env: str, default: float) -> str:
-    return f"{env}={os.environ[env]}" if os.environ.get(env, "").strip() else f"default {duration_text(default)}"
+    return (
+        f"{env}={os.environ[env]}" if os.environ.get(env, "").strip() else f"default {duration_text(default)}"
+    )
 
 
 def check_cost(cases: list[Any]) -> list[str]:
@@ -601,17 +674,19 @@ def check_cost(cases: list[Any]) -> list[str]:
         A limit's variable holds no valid value (naming it).
     """
     limit, deck_limit = time_limit(), deck_time_limit()
-    memory_limit()                     # a bad RAILVTI_MAX_MEMORY: named before any case
+    memory_limit()  # a bad RAILVTI_MAX_MEMORY: named before any case
     out, total = [], 0.0
     for c in cases:
         e = estimate(c)
         if e.seconds == e.seconds:
             total += e.seconds
             if e.seconds > limit:
-                out.append(f"{c.label}: estimated ~{duration_text(e.seconds)} ({e.size}; driven by "
-                           f"'{e.key}'), more than the time limit of {duration_text(limit)} per case "
-                           f"({_limit_source(ENV_TIME, DEFAULT_MAX_TIME)}): reduce '{e.key}', or raise "
-                           f"the limit with 'railvti run --max-time 8h' or {ENV_TIME}=8h (none: no limit)")
+                out.append(
+                    f"{c.label}: estimated ~{duration_text(e.seconds)} ({e.size}; driven by "
+                    f"'{e.key}'), more than the time limit of {duration_text(limit)} per case "
+                    f"({_limit_source(ENV_TIME, DEFAULT_MAX_TIME)}): reduce '{e.key}', or raise "
+                    f"the limit with 'railvti run --max-time 8h' or {ENV_TIME}=8h (none: no limit)"
+                )
         if e.memory == e.memory:
             try:
                 check_memory(c.label, e.memory, f"{e.size}; driven by '{e.memory_key or e.key}': reduce it")
@@ -619,11 +694,13 @@ def check_cost(cases: list[Any]) -> list[str]:
                 out.append(str(exc))
     # one case is its own limit's; a deck of several is refused past the larger of the two
     if len(cases) > 1 and total > max(deck_limit, limit) and not out:
-        out.append(f"the deck's {len(cases)} cases add up to ~{duration_text(total)} of computing, "
-                   f"more than the deck's limit of {duration_text(deck_limit)} "
-                   f"({_limit_source(ENV_DECK_TIME, DEFAULT_MAX_DECK_TIME)}): fewer cases or sweep "
-                   f"points, or raise the limit with 'railvti run --max-deck-time 3d' or "
-                   f"{ENV_DECK_TIME}=3d (none: no limit)")
+        out.append(
+            f"the deck's {len(cases)} cases add up to ~{duration_text(total)} of computing, "
+            f"more than the deck's limit of {duration_text(deck_limit)} "
+            f"({_limit_source(ENV_DECK_TIME, DEFAULT_MAX_DECK_TIME)}): fewer cases or sweep "
+            f"points, or raise the limit with 'railvti run --max-deck-time 3d' or "
+            f"{ENV_DECK_TIME}=3d (none: no limit)"
+        )
     return out
 
 
@@ -657,6 +734,20 @@ def announce(case: Any, write: Any) -> None:
         write(f"{case.label}: expected to need {' and '.join(parts)} ({e.size}; rough estimate)")
 
 
-__all__ = ["Estimate", "estimate", "estimate_params", "check_cost", "resolution_warnings",
-           "small_deck", "announce", "time_limit", "deck_time_limit", "parse_time",
-           "duration_text", "ENV_TIME", "ENV_DECK_TIME", "DEFAULT_MAX_TIME", "DEFAULT_MAX_DECK_TIME"]
+__all__ = [
+    "Estimate",
+    "estimate",
+    "estimate_params",
+    "check_cost",
+    "resolution_warnings",
+    "small_deck",
+    "announce",
+    "time_limit",
+    "deck_time_limit",
+    "parse_time",
+    "duration_text",
+    "ENV_TIME",
+    "ENV_DECK_TIME",
+    "DEFAULT_MAX_TIME",
+    "DEFAULT_MAX_DECK_TIME",
+]

@@ -20,6 +20,7 @@ their line, each key once per group), the case names (safe HDF5 group names), an
 each value (type, range, plausibility bound, consistency between keys: see
 :meth:`railvti.casetypes.CaseType.problems` and ``railvti cases TYPE``).
 """
+
 from __future__ import annotations
 
 import codecs
@@ -61,20 +62,28 @@ def decode_deck(data: bytes, source: str = "deck") -> str:
         Latin-1 or binary file), a NUL or another control byte; the message names the line
         and column.
     """
-    for bom, name in ((codecs.BOM_UTF32_LE, "UTF-32"), (codecs.BOM_UTF32_BE, "UTF-32"),
-                      (codecs.BOM_UTF16_LE, "UTF-16"), (codecs.BOM_UTF16_BE, "UTF-16")):
+    for bom, name in (
+        (codecs.BOM_UTF32_LE, "UTF-32"),
+        (codecs.BOM_UTF32_BE, "UTF-32"),
+        (codecs.BOM_UTF16_LE, "UTF-16"),
+        (codecs.BOM_UTF16_BE, "UTF-16"),
+    ):
         if data.startswith(bom):
-            raise InputError(f"{source}: line 1: the deck is {name} text (byte-order mark "
-                             f"{bom.hex(' ').upper()}); save it as UTF-8")
+            raise InputError(
+                f"{source}: line 1: the deck is {name} text (byte-order mark "
+                f"{bom.hex(' ').upper()}); save it as UTF-8"
+            )
     if data.startswith(codecs.BOM_UTF8):
-        data = data[len(codecs.BOM_UTF8):]
+        data = data[len(codecs.BOM_UTF8) :]
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data.count(b"\n", 0, exc.start) + 1
         col = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise InputError(f"{source}: line {line}, column {col}: byte 0x{data[exc.start]:02X} is not UTF-8 text "
-                         "(a Latin-1 or binary file? save the deck as UTF-8)") from None
+        raise InputError(
+            f"{source}: line {line}, column {col}: byte 0x{data[exc.start]:02X} is not UTF-8 text "
+            "(a Latin-1 or binary file? save the deck as UTF-8)"
+        ) from None
     return check_text(text, source)
 
 
@@ -87,8 +96,10 @@ def check_text(text: str, source: str = "deck") -> str:
         line = text.count("\n", 0, bad.start()) + 1
         col = bad.start() - (text.rfind("\n", 0, bad.start()) + 1) + 1
         what = "a NUL byte" if bad.group() == "\x00" else f"the control character 0x{ord(bad.group()):02X}"
-        raise InputError(f"{source}: line {line}, column {col}: {what} (a binary file, or a deck saved "
-                         "as UTF-16 without byte-order mark? a deck is text)")
+        raise InputError(
+            f"{source}: line {line}, column {col}: {what} (a binary file, or a deck saved "
+            "as UTF-16 without byte-order mark? a deck is text)"
+        )
     return text
 
 
@@ -119,8 +130,9 @@ def _scan(text: str) -> tuple[list[str], list[dict[str, list[int]]]]:
             else:
                 buf.append(ch)
         if quote:
-            problems.append(f"line {ln}: unbalanced quote: the {quote} opened at column {qcol} is not "
-                            "closed on its line")
+            problems.append(
+                f"line {ln}: unbalanced quote: the {quote} opened at column {qcol} is not closed on its line"
+            )
         clean = "".join(buf)
         for m in re.finditer(r"=", clean):
             j = m.start() - 1
@@ -140,21 +152,28 @@ def _scan(text: str) -> tuple[list[str], list[dict[str, list[int]]]]:
             elif current is not None:
                 key = m.group(3).lower()
                 if m.group(4):
-                    problems.append(f"line {ln}: key '{key}{m.group(4)}': element assignment is not "
-                                    f"supported; give all values of '{key}' at once")
+                    problems.append(
+                        f"line {ln}: key '{key}{m.group(4)}': element assignment is not "
+                        f"supported; give all values of '{key}' at once"
+                    )
                 current.setdefault(key, []).append(ln)
     return problems, groups
 
 
-def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
-                types: dict[str, CaseType]) -> tuple[Case | None, list[str]]:
+def _build_case(
+    index: int, group: dict[str, Any], lines: dict[str, list[int]], types: dict[str, CaseType]
+) -> tuple[Case | None, list[str]]:
     """A case from one namelist group, and the problems of its keys (not yet its values)."""
     group = {k: v for k, v in group.items() if not str(k).startswith("_start_index")}
     raw_name = group.pop("name", None)
     name = raw_name if isinstance(raw_name, str) and raw_name else None
     where = f"case {index}" + (f" '{name[:40]}{'...' if len(name) > MAX_NAME else ''}'" if name else "")
-    problems = [f"{where}: key '{k}' is given {len(v)} times (lines {', '.join(map(str, sorted(set(v))[:10]))}"
-                f"{', ...' if len(set(v)) > 10 else ''}): give it once" for k, v in lines.items() if len(v) > 1]
+    problems = [
+        f"{where}: key '{k}' is given {len(v)} times (lines {', '.join(map(str, sorted(set(v))[:10]))}"
+        f"{', ...' if len(set(v)) > 10 else ''}): give it once"
+        for k, v in lines.items()
+        if len(v) > 1
+    ]
     if raw_name is not None and (msg := name_problem(raw_name)):
         problems.append(f"{where}: {msg}")
     tname = group.pop("type", None)
@@ -164,8 +183,10 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
         return None, problems + [f"{where}: key 'type' must be a text in quotes, got {tname!r}"]
     tname = tname.strip().lower()
     if tname not in types:
-        return None, problems + [f"{where}: unknown type '{tname}'{_suggest(tname, sorted(types))}; "
-                                 f"known types: {', '.join(sorted(types))}"]
+        return None, problems + [
+            f"{where}: unknown type '{tname}'{_suggest(tname, sorted(types))}; "
+            f"known types: {', '.join(sorted(types))}"
+        ]
     ctype = types[tname]
     known = sorted(set(ctype.defaults) | set(ctype.aliases))
     given = {}
@@ -186,7 +207,7 @@ def _build_case(index: int, group: dict[str, Any], lines: dict[str, list[int]],
             spec = ctype.keys.get(key)
             if spec is not None and spec.choices and isinstance(given[key], str):
                 params[key] = spec.choice(given[key]) or given[key]
-        elif default is not REQUIRED:      # a missing required key: CaseType.problems names it
+        elif default is not REQUIRED:  # a missing required key: CaseType.problems names it
             params[key] = default
     name = name or f"{tname}_{index}"
     return Case(index=index, name=str(name), case_type=ctype, params=params, written=written), problems
@@ -235,7 +256,7 @@ def _namelist_error(text: str, exc: Exception) -> str:
     """A message for f90nml's failure on ``text`` that names the line: the group the deck
     ends inside (a truncated file), a value cut short, or the group f90nml cannot read."""
     detail = str(exc).strip()
-    if isinstance(exc, AssertionError) or not detail:   # f90nml's bare asserts say nothing
+    if isinstance(exc, AssertionError) or not detail:  # f90nml's bare asserts say nothing
         detail = "a malformed value"
     hint = "check the quotes, the 'key = value' pairs and the '/' that closes each group"
     lines = text.split("\n")
@@ -251,15 +272,18 @@ def _namelist_error(text: str, exc: Exception) -> str:
             pass
         bad = _bad_value_line(lines, start, stop)
         if bad is not None:
-            return (f"line {bad}: a value that is not a number (cut short? e.g. '82.0e' or '-'): "
-                    f"'{lines[bad - 1].strip()[:60]}' in the group of line {start + 1}")
+            return (
+                f"line {bad}: a value that is not a number (cut short? e.g. '82.0e' or '-'): "
+                f"'{lines[bad - 1].strip()[:60]}' in the group of line {start + 1}"
+            )
         code = [re.sub(r"'[^']*'|\"[^\"]*\"", "''", ln).split("!")[0] for ln in lines[start:stop]]
         if not any("/" in c for c in code) and j == len(starts) - 1:
             last = max((i + 1 for i in range(start, stop) if lines[i].strip()), default=start + 1)
-            return (f"line {last}: the deck ends inside the group opened at line {start + 1} "
-                    "(no '/' closes the namelist group: a truncated file?)")
-        return (f"lines {start + 1}-{stop}: the group is not a valid Fortran namelist group "
-                f"({detail}): {hint}")
+            return (
+                f"line {last}: the deck ends inside the group opened at line {start + 1} "
+                "(no '/' closes the namelist group: a truncated file?)"
+            )
+        return f"lines {start + 1}-{stop}: the group is not a valid Fortran namelist group ({detail}): {hint}"
     return f"deck is not a valid Fortran namelist ({detail}): {hint}"
 
 
@@ -280,7 +304,7 @@ def parse_deck(text: str) -> list[Case]:
     _raise(problems)
     out = io.StringIO()
     try:
-        with contextlib.redirect_stdout(out):   # f90nml prints its token table on some errors
+        with contextlib.redirect_stdout(out):  # f90nml prints its token table on some errors
             nml = f90nml.reads(text)
     except Exception as exc:  # f90nml raises ValueError, AssertionError and others on syntax errors
         raise InputError(_namelist_error(text, exc)) from None
@@ -304,8 +328,8 @@ def parse_deck(text: str) -> list[Case]:
         if case is not None and spec is not None and not sweep_probs:
             points, probs = expand(case, spec, given=[k for k in g if k not in ("name", "type")])
             problems += [f"{case.label}: {p}" for p in probs]
-        for c in points:     # its values too, whatever else is wrong with it
-            if c.index != len(cases) + 1:       # numbered in the deck's order of cases and points
+        for c in points:  # its values too, whatever else is wrong with it
+            if c.index != len(cases) + 1:  # numbered in the deck's order of cases and points
                 c = dataclasses.replace(c, index=len(cases) + 1)
             problems += [f"{c.label}: {p}" for p in c.case_type.problems(c.params, c.written)]
             cases.append(c)

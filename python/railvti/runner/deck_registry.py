@@ -1,5 +1,6 @@
 """Collects the deck case types of every area into casetypes.REGISTRY (and the readers of
 other deck formats into casetypes.DECK_READERS)."""
+
 from __future__ import annotations
 
 import importlib

@@ -18,6 +18,7 @@ while a history streams). An exception must not reach HDF5 from there (it would 
 write, with the consequences above): each call runs to its end and the exception is raised
 again by the next :meth:`GuardedFile.check`, after HDF5 has returned.
 """
+
 from __future__ import annotations
 
 import errno
@@ -59,8 +60,8 @@ class GuardedFile:
         self._pos = 0
         self._end = os.fstat(self._fd).st_size
         self.error: OSError | None = None
-        self.pending: BaseException | None = None   # raised in a call, raised again by check()
-        self._lost: list[tuple[int, bytes]] = []    # writes after the error, in order
+        self.pending: BaseException | None = None  # raised in a call, raised again by check()
+        self._lost: list[tuple[int, bytes]] = []  # writes after the error, in order
 
     def _whole(self, fn: Any, *args: Any) -> Any:
         """fn(*args) run to its end: a KeyboardInterrupt (a signal handler) raised inside is
@@ -75,7 +76,7 @@ class GuardedFile:
                 if self.error is None:
                     self.error = OSError(errno.EIO, f"{type(exc).__name__}: {exc}")
                 self._pos = start
-                return fn(*args)      # a write now goes to memory only
+                return fn(*args)  # a write now goes to memory only
             except BaseException as exc:  # noqa: BLE001 - KeyboardInterrupt, SystemExit
                 self.pending = self.pending or exc
         raise RuntimeError("GuardedFile: interrupted 1000 times in one call")
@@ -98,12 +99,12 @@ class GuardedFile:
         mv = memoryview(buf).cast("B")
         n = len(mv)
         data = os.pread(self._fd, n, self._pos) if n else b""
-        mv[:len(data)] = data
-        mv[len(data):] = bytes(n - len(data))
-        for off, lost in self._lost:                # later writes win: in order
+        mv[: len(data)] = data
+        mv[len(data) :] = bytes(n - len(data))
+        for off, lost in self._lost:  # later writes win: in order
             lo, hi = max(off, self._pos), min(off + len(lost), self._pos + n)
             if lo < hi:
-                mv[lo - self._pos:hi - self._pos] = lost[lo - off:hi - off]
+                mv[lo - self._pos : hi - self._pos] = lost[lo - off : hi - off]
         self._pos += n
         return n
 

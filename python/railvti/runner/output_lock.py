@@ -14,6 +14,7 @@ falls back to the file alone: it is live when its PID runs on this host, stale o
 Why not HDF5's own file locking: the results file is replaced after every case (a new file
 renamed over the old), so a lock on one version of it says nothing about the next.
 """
+
 from __future__ import annotations
 
 import datetime
@@ -49,7 +50,7 @@ def _alive(pid: int) -> bool:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:       # it exists, owned by someone else
+    except PermissionError:  # it exists, owned by someone else
         return True
     return True
 
@@ -128,28 +129,30 @@ class OutputLock:
 
     # -------------------------------------------------------------------------------------
     def _acquire(self) -> None:
-        for _ in range(20):           # a holder that unlinks the file as we open it: again
+        for _ in range(20):  # a holder that unlinks the file as we open it: again
             try:
                 fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
             except OSError as exc:
-                raise InputError(f"cannot create the lock file {self.path} of output "
-                                 f"{self.out}: {exc.strerror}") from None
+                raise InputError(
+                    f"cannot create the lock file {self.path} of output {self.out}: {exc.strerror}"
+                ) from None
             try:
                 if self._lock(fd):
                     if self._same_file(fd):
                         self._claim(fd)
                         return
-                    os.close(fd)      # the file was replaced under us: take the new one
+                    os.close(fd)  # the file was replaced under us: take the new one
                     continue
             except BaseException:
                 os.close(fd)
                 raise
             owner = _read_owner(fd)
             os.close(fd)
-            raise InputError(f"output {self.out} is being written by another run ({describe(owner)}): "
-                             f"wait for it to end or give another -o (lock file {self.path})")
-        raise InputError(f"cannot take the lock file {self.path} of output {self.out}: it "
-                         "keeps changing")
+            raise InputError(
+                f"output {self.out} is being written by another run ({describe(owner)}): "
+                f"wait for it to end or give another -o (lock file {self.path})"
+            )
+        raise InputError(f"cannot take the lock file {self.path} of output {self.out}: it keeps changing")
 
     def _lock(self, fd: int) -> bool:
         """Take the flock (False: another process holds it)."""
@@ -177,17 +180,22 @@ class OutputLock:
         old = _read_owner(fd)
         if old and old.get("pid") != os.getpid():
             self.took_over = old
-            self.note(f"note: took over the lock of output {self.out} from a run that is no "
-                      f"longer running ({describe(old)})")
-        record = {"pid": os.getpid(), "host": socket.gethostname(),
-                  "started": datetime.datetime.now().isoformat(timespec="seconds"),
-                  "deck": self.deck}
+            self.note(
+                f"note: took over the lock of output {self.out} from a run that is no "
+                f"longer running ({describe(old)})"
+            )
+        record = {
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "started": datetime.datetime.now().isoformat(timespec="seconds"),
+            "deck": self.deck,
+        }
         data = (json.dumps(record) + "\n").encode()
         try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, data, 0)
         except OSError:
-            pass          # a full disk: the flock still holds; the record stays empty
+            pass  # a full disk: the flock still holds; the record stays empty
         self._fd = fd
 
     def _release(self) -> None:
@@ -195,11 +203,11 @@ class OutputLock:
             return
         try:
             if self._same_file(self._fd):
-                self.path.unlink(missing_ok=True)     # while still holding the flock
+                self.path.unlink(missing_ok=True)  # while still holding the flock
         except OSError:
             pass
         finally:
-            os.close(self._fd)                         # releases the flock
+            os.close(self._fd)  # releases the flock
             self._fd = -1
 
 

@@ -1,4 +1,5 @@
 """PNG plots of HDF5 results (matplotlib, Agg backend)."""
+
 from __future__ import annotations
 
 import hashlib
@@ -17,8 +18,9 @@ from .sweep_plots import MAX_POINT_PLOTS, plot_sweeps, sweep_points  # noqa: E40
 log = logging.getLogger(__name__)
 
 
-def plot_results(path: str | Path, outdir: str | Path | None = None,
-                 points: bool = False, notes: list[str] | None = None) -> list[Path]:
+def plot_results(
+    path: str | Path, outdir: str | Path | None = None, points: bool = False, notes: list[str] | None = None
+) -> list[Path]:
     """Draw every successful case of a results file, what an interrupted case kept (its
     time history up to the signal), and a summary of each sweep
     (railvti.runner.sweep_plots.plot_sweeps); return the PNG paths.
@@ -59,11 +61,17 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
             partial = status.startswith("interrupted")
             if status != "ok" and not partial:
                 failed = status.startswith("error")
-                notes.append(f"{gname}: not plotted: " + (f"the case failed ({status[5:].lstrip(': ')})"
-                                                          if failed else f"status {status or 'unknown'}"))
+                notes.append(
+                    f"{gname}: not plotted: "
+                    + (
+                        f"the case failed ({status[5:].lstrip(': ')})"
+                        if failed
+                        else f"status {status or 'unknown'}"
+                    )
+                )
                 continue
             if not points and sizes.get(str(group.attrs.get("sweep", "")), 0) > MAX_POINT_PLOTS:
-                continue                 # a large sweep: its summary plot only
+                continue  # a large sweep: its summary plot only
             if partial and all(k == "inputs" for k in group):
                 notes.append(f"{gname}: not plotted: {status}, before it kept any result")
                 continue
@@ -74,16 +82,22 @@ def plot_results(path: str | Path, outdir: str | Path | None = None,
             try:
                 new = ctype.plot(group, outdir, _stem(path.stem, gname))
             except Exception as exc:  # noqa: BLE001 - one bad case must not stop the others
-                (log.debug if partial else log.warning)("no plot for %s: %s: %s", gname,
-                                                         type(exc).__name__, exc)
+                (log.debug if partial else log.warning)(
+                    "no plot for %s: %s: %s", gname, type(exc).__name__, exc
+                )
                 new = []
-                why = (f"it was {status} before it kept a result ({type(exc).__name__}: {exc})"
-                       if partial else f"its plot failed: {type(exc).__name__}: {exc}")
+                why = (
+                    f"it was {status} before it kept a result ({type(exc).__name__}: {exc})"
+                    if partial
+                    else f"its plot failed: {type(exc).__name__}: {exc}"
+                )
                 notes.append(f"{gname}: not plotted: {why}")
             else:
                 if partial:
-                    notes.append(f"{gname}: {status}: plotted what it kept"
-                                 + (f" ({_text(group.attrs.get('summary'))})" if group.attrs.get("summary") else ""))
+                    notes.append(
+                        f"{gname}: {status}: plotted what it kept"
+                        + (f" ({_text(group.attrs.get('summary'))})" if group.attrs.get("summary") else "")
+                    )
             written.extend(new)
         written.extend(plot_sweeps(f, outdir, path.stem))
     return written

@@ -6,6 +6,7 @@ class's numpydoc Attributes section and its ``FIELD_UNITS``), and records the cl
 :func:`load` returns an equal object. The file is written atomically, as a run's results file
 (:mod:`railvti.runner.results`): a temporary file beside it, renamed over it.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -27,8 +28,10 @@ from .results import LAYOUT, attr_value, temp_path
 __all__ = ["save", "load"]
 
 
-_UNIT_RE = re.compile(r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
-                      r"kg|1/m|1))\b\s*(?:\(|\.|$|;)")
+_UNIT_RE = re.compile(
+    r",\s*((?:1/)?(?:N m|N/m|N s/m|m/s\^2|m/s|rad/s|W/m\^2|m\^2|Pa|N|m|s|W|J|Hz|rad|"
+    r"kg|1/m|1))\b\s*(?:\(|\.|$|;)"
+)
 
 
 def _doc_units(cls: type) -> dict[str, str]:
@@ -47,7 +50,7 @@ def _doc_units(cls: type) -> dict[str, str]:
 
 def _units_of(cls: type) -> dict[str, Any]:
     units: dict[str, Any] = dict(_doc_units(cls))
-    units.update(getattr(cls, "FIELD_UNITS", {}))      # the class's own (SimulationResult's)
+    units.update(getattr(cls, "FIELD_UNITS", {}))  # the class's own (SimulationResult's)
     return units
 
 
@@ -91,7 +94,9 @@ def _save_value(g: h5py.Group, name: str, value: Any, unit: Any) -> None:
         elif isinstance(value, list):
             kind = "list"
         d.attrs["kind"] = kind
-        d.attrs["units"] = (unit if isinstance(unit, str) else "") or ("text" if arr.dtype.kind in "OSU" else "1")
+        d.attrs["units"] = (unit if isinstance(unit, str) else "") or (
+            "text" if arr.dtype.kind in "OSU" else "1"
+        )
 
 
 def _save_object(g: h5py.Group, obj: Any) -> None:
@@ -122,7 +127,7 @@ def save(obj: Any, path: str | Path) -> Path:
         raise InputError(f"{path} is a directory")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = temp_path(path)
-    fh = GuardedFile(tmp, "w")        # a full disk raises WriteFailed, HDF5 stays sound
+    fh = GuardedFile(tmp, "w")  # a full disk raises WriteFailed, HDF5 stays sound
     try:
         try:
             with open_h5(fh, "w") as f:
@@ -204,6 +209,8 @@ def load(path: str | Path) -> Any:
         raise InputError(f"cannot open results file {path}: {exc}") from None
     with f:
         if "result" not in f or "class" not in f["result"].attrs:
-            raise InputError(f"{path} holds no saved result object (a 'railvti run' file? "
-                             "read it with h5py, or re-make a case with case_deck)")
+            raise InputError(
+                f"{path} holds no saved result object (a 'railvti run' file? "
+                "read it with h5py, or re-make a case with case_deck)"
+            )
         return _load_object(f["result"])

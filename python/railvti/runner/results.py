@@ -22,6 +22,7 @@ same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask) and 
 old one (``os.replace``), so whatever stops a run, the output is the previous complete version
 or the new one, never a half-written file.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -43,11 +44,32 @@ from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_
 from ..casetypes import Case
 from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
 
-__all__ = ["LAYOUT", "MAX_GROUP_NAME", "CaseRecord", "group_name", "params_digest", "attr_value",
-           "AXIS_NAMES", "default_axes", "COPY_BLOCK_BYTES", "INTERRUPTED_COPY_BYTES",
-           "INTERRUPTED_COPY_ENV", "write_case", "SIDE_NAME_MAX", "side_name", "temp_path",
-           "is_results_file", "ResultsWriter", "deck_digest", "DeckOwner", "deck_owner", "completed",
-           "damage", "write_results", "case_deck"]
+__all__ = [
+    "LAYOUT",
+    "MAX_GROUP_NAME",
+    "CaseRecord",
+    "group_name",
+    "params_digest",
+    "attr_value",
+    "AXIS_NAMES",
+    "default_axes",
+    "COPY_BLOCK_BYTES",
+    "INTERRUPTED_COPY_BYTES",
+    "INTERRUPTED_COPY_ENV",
+    "write_case",
+    "SIDE_NAME_MAX",
+    "side_name",
+    "temp_path",
+    "is_results_file",
+    "ResultsWriter",
+    "deck_digest",
+    "DeckOwner",
+    "deck_owner",
+    "completed",
+    "damage",
+    "write_results",
+    "case_deck",
+]
 
 #: Version of the HDF5 layout written here.
 LAYOUT = 2
@@ -97,14 +119,15 @@ def group_name(case: Case) -> str:
     full = f"{case.index:03d}_{name}"
     if len(full) > MAX_GROUP_NAME:
         digest = hashlib.sha1(case.name.encode("utf-8", "replace")).hexdigest()[:10]
-        full = f"{full[:MAX_GROUP_NAME - 11]}~{digest}"
+        full = f"{full[: MAX_GROUP_NAME - 11]}~{digest}"
     return full
 
 
 def params_digest(case: Case) -> str:
     """A digest of a case's type, name and parameters (equal digests: the same case)."""
-    text = json.dumps([case.case_type.name, case.name, sorted(case.params.items())],
-                      default=repr, sort_keys=True)
+    text = json.dumps(
+        [case.case_type.name, case.name, sorted(case.params.items())], default=repr, sort_keys=True
+    )
     return hashlib.sha256(text.encode("utf-8", "replace")).hexdigest()
 
 
@@ -114,7 +137,7 @@ def attr_value(value: Any) -> Any:
     if value is None:
         return "none"
     if isinstance(value, str):
-        return value.replace("\x00", "\\0")      # HDF5 strings end at a NUL
+        return value.replace("\x00", "\\0")  # HDF5 strings end at a NUL
     if isinstance(value, (list, tuple)):
         arr = np.asarray(value)
         return arr.astype(object).astype(h5py.string_dtype()) if arr.dtype.kind == "U" else arr
@@ -122,8 +145,11 @@ def attr_value(value: Any) -> Any:
 
 
 _VLEN_STR = h5py.h5t.py_create(h5py.string_dtype(), logical=True)
-_SCALAR_TYPES = {str: (_VLEN_STR, h5py.string_dtype()), float: (h5py.h5t.py_create(np.dtype("<f8")), "<f8"),
-                 int: (h5py.h5t.py_create(np.dtype("<i8")), "<i8")}
+_SCALAR_TYPES = {
+    str: (_VLEN_STR, h5py.string_dtype()),
+    float: (h5py.h5t.py_create(np.dtype("<f8")), "<f8"),
+    int: (h5py.h5t.py_create(np.dtype("<i8")), "<i8"),
+}
 
 
 def _set_attr(obj: h5py.Group | h5py.Dataset, name: str, value: Any) -> None:
@@ -161,25 +187,86 @@ def _input_unit(case: Case, key: str) -> tuple[str, str]:
     return _guess_unit(key, case.params.get(key)), ""
 
 
-_UNIT_SUFFIXES = (("_kmh", "km/h"), ("_mm", "mm"), ("_deg", "deg"), ("_hz", "Hz"), ("_s", "s"),
-                  ("_m", "m"), ("_n", "N"), ("_pa", "Pa"), ("_kg", "kg"))
-_KNOWN_UNITS = {"shear_modulus": "Pa", "g": "Pa", "poisson": "1", "nu": "1", "dx": "m", "dy": "m",
-                "x0": "m", "y0": "m", "gap_a": "1/m", "gap_b": "1/m", "bump_separation": "m",
-                "bump_height": "m", "fn": "N", "approach": "m", "tol": "1", "max_iter": "1",
-                "mu": "1", "xi": "1", "eta": "1", "phi": "1/m", "speed": "m/s", "duration": "s",
-                "h": "s", "alpha": "1", "output_dt": "s", "semi_a": "m", "semi_b": "m",
-                "nx": "1", "ny": "1", "n": "1", "cant": "1 (tan of the rail inclination)",
-                "yaw_mrad_per_mm": "mrad/mm"}
+_UNIT_SUFFIXES = (
+    ("_kmh", "km/h"),
+    ("_mm", "mm"),
+    ("_deg", "deg"),
+    ("_hz", "Hz"),
+    ("_s", "s"),
+    ("_m", "m"),
+    ("_n", "N"),
+    ("_pa", "Pa"),
+    ("_kg", "kg"),
+)
+_KNOWN_UNITS = {
+    "shear_modulus": "Pa",
+    "g": "Pa",
+    "poisson": "1",
+    "nu": "1",
+    "dx": "m",
+    "dy": "m",
+    "x0": "m",
+    "y0": "m",
+    "gap_a": "1/m",
+    "gap_b": "1/m",
+    "bump_separation": "m",
+    "bump_height": "m",
+    "fn": "N",
+    "approach": "m",
+    "tol": "1",
+    "max_iter": "1",
+    "mu": "1",
+    "xi": "1",
+    "eta": "1",
+    "phi": "1/m",
+    "speed": "m/s",
+    "duration": "s",
+    "h": "s",
+    "alpha": "1",
+    "output_dt": "s",
+    "semi_a": "m",
+    "semi_b": "m",
+    "nx": "1",
+    "ny": "1",
+    "n": "1",
+    "cant": "1 (tan of the rail inclination)",
+    "yaw_mrad_per_mm": "mrad/mm",
+}
 
 
 #: Units by a word in the key's name (the first match), for keys without a Key table entry.
-_UNIT_WORDS = (("stiffness", "N/m"), ("damping_ratio", "1"), ("damping", "N s/m"),
-               ("young", "Pa"), ("density", "kg/m^3"), ("mass", "kg"), ("poisson", "1"),
-               ("loss_factor", "1"), ("factor", "1"), ("mesh_max_area", "m^2"), ("kappa", "1/m"),
-               ("n_", "1"), ("k_max", "1"), ("web_steps", "1"), ("f_", "Hz"), ("omega", "rad/s"),
-               ("fz", "N"), ("radius", "m"), ("length", "m"), ("width", "m"), ("spacing", "m"),
-               ("distance", "m"), ("offset", "m"), ("height", "m"), ("depth", "m"), ("size", "m"),
-               ("thickness", "m"), ("back_to_back", "m"), ("arc_step", "m"), ("k_", "N/m"))
+_UNIT_WORDS = (
+    ("stiffness", "N/m"),
+    ("damping_ratio", "1"),
+    ("damping", "N s/m"),
+    ("young", "Pa"),
+    ("density", "kg/m^3"),
+    ("mass", "kg"),
+    ("poisson", "1"),
+    ("loss_factor", "1"),
+    ("factor", "1"),
+    ("mesh_max_area", "m^2"),
+    ("kappa", "1/m"),
+    ("n_", "1"),
+    ("k_max", "1"),
+    ("web_steps", "1"),
+    ("f_", "Hz"),
+    ("omega", "rad/s"),
+    ("fz", "N"),
+    ("radius", "m"),
+    ("length", "m"),
+    ("width", "m"),
+    ("spacing", "m"),
+    ("distance", "m"),
+    ("offset", "m"),
+    ("height", "m"),
+    ("depth", "m"),
+    ("size", "m"),
+    ("thickness", "m"),
+    ("back_to_back", "m"),
+    ("arc_step", "m"),
+    ("k_", "N/m"),
+)
 
 
 def _guess_unit(key: str, value: Any) -> str:
@@ -249,8 +336,9 @@ INTERRUPTED_COPY_BYTES = 48 * 2**20
 INTERRUPTED_COPY_ENV = "RAILVTI_INTERRUPTED_COPY_MB"
 
 
-def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = True,
-                   rows: int | None = None, check: Any = None) -> h5py.Dataset:
+def _copy_streamed(
+    g: h5py.Group, name: str, ref: Streamed, compress: bool = True, rows: int | None = None, check: Any = None
+) -> h5py.Dataset:
     """Copy a streamed dataset (railvti.runner.stream) into ``g`` as ``name``, chunked and
     compressed as a dataset written whole is (h5py's chunk shape, gzip 4), in blocks of
     :data:`COPY_BLOCK_BYTES`: memory stays bounded whatever its length. ``compress=False``
@@ -261,18 +349,29 @@ def _copy_streamed(g: h5py.Group, name: str, ref: Streamed, compress: bool = Tru
         s = src[ref.name]
         n = s.shape[0] if rows is None else min(rows, s.shape[0])
         opts = {"compression": "gzip", "compression_opts": 4} if s.size > 16 and compress else {}
-        d = g.create_dataset(name, shape=(n,) + s.shape[1:], dtype=s.dtype,   # as a whole write's
-                             **(dict(opts, chunks=True) if opts else {}))
+        d = g.create_dataset(
+            name,
+            shape=(n,) + s.shape[1:],
+            dtype=s.dtype,  # as a whole write's
+            **(dict(opts, chunks=True) if opts else {}),
+        )
         step = max(1, COPY_BLOCK_BYTES // max(1, s.dtype.itemsize * int(np.prod(s.shape[1:]))))
         for i in range(0, n, step):
-            d[i:min(i + step, n)] = s[i:min(i + step, n)]
+            d[i : min(i + step, n)] = s[i : min(i + step, n)]
             if check is not None:
                 check()
     return d
 
 
-def _write_dataset(g: h5py.Group, name: str, spec: tuple, output: CaseOutput | None = None,
-                   compress: bool = True, rows: int | None = None, check: Any = None) -> None:
+def _write_dataset(
+    g: h5py.Group,
+    name: str,
+    spec: tuple,
+    output: CaseOutput | None = None,
+    compress: bool = True,
+    rows: int | None = None,
+    check: Any = None,
+) -> None:
     arr, units = spec[0], spec[1]
     extra = dict(spec[2]) if len(spec) > 2 else {}
     if output is not None:
@@ -315,16 +414,21 @@ def _interrupted_rows(g: h5py.Group, output: CaseOutput) -> int | None:
         budget = int(float(os.environ[INTERRUPTED_COPY_ENV]) * 2**20)
     except KeyError:
         pass
-    except ValueError:       # an interrupted run still ends cleanly: warn, keep the default
+    except ValueError:  # an interrupted run still ends cleanly: warn, keep the default
         logging.getLogger("railvti").warning(
             "environment variable %s = %r is not a number of MB; using %g MB",
-            INTERRUPTED_COPY_ENV, os.environ[INTERRUPTED_COPY_ENV], budget / 2**20)
+            INTERRUPTED_COPY_ENV,
+            os.environ[INTERRUPTED_COPY_ENV],
+            budget / 2**20,
+        )
     keep = max(1, budget // max(row_bytes, 1))
     if n is None or keep >= n:
         return None
-    g.attrs["history_rows_kept"] = (f"{keep} of {n}: the interrupted case keeps the first "
-                                    f"{budget / 2**20:.3g} MB of its streamed history (a "
-                                    "prompt stop); --resume runs it again")
+    g.attrs["history_rows_kept"] = (
+        f"{keep} of {n}: the interrupted case keeps the first "
+        f"{budget / 2**20:.3g} MB of its streamed history (a "
+        "prompt stop); --resume runs it again"
+    )
     return keep
 
 
@@ -341,7 +445,7 @@ def write_case(f: h5py.File, rec: CaseRecord, check: Any = None) -> None:
     _set_attr(g, "status", str(rec.status))
     _set_attr(g, "params_digest", params_digest(c))
     _set_attr(g, "wall_time", float(rec.wall_time))
-    if getattr(c, "sweep", ""):                  # a sweep's point (railvti.runner.sweeps.SweepPoint)
+    if getattr(c, "sweep", ""):  # a sweep's point (railvti.runner.sweeps.SweepPoint)
         g.attrs["sweep"] = c.sweep
         g.attrs["sweep_point"] = c.point_json
     if rec.traceback:
@@ -379,7 +483,9 @@ def side_name(path: Path) -> str:
     if len(name.encode("utf-8", "surrogateescape")) <= SIDE_NAME_MAX:
         return name
     digest = hashlib.sha1(name.encode("utf-8", "surrogateescape")).hexdigest()[:10]
-    return name.encode("utf-8", "surrogateescape")[:SIDE_NAME_MAX - 11].decode("utf-8", "ignore") + "~" + digest
+    return (
+        name.encode("utf-8", "surrogateescape")[: SIDE_NAME_MAX - 11].decode("utf-8", "ignore") + "~" + digest
+    )
 
 
 def temp_path(path: Path) -> Path:
@@ -426,8 +532,14 @@ class ResultsWriter:
     so the process stays sound and exits normally.
     """
 
-    def __init__(self, path: str | Path, deck_text: str = "", keep: bool = False,
-                 deck_path: str = "", cases: list[Case] | None = None) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        deck_text: str = "",
+        keep: bool = False,
+        deck_path: str = "",
+        cases: list[Case] | None = None,
+    ) -> None:
         self.path = Path(path)
         self.deck_text = deck_text
         self.deck_path = str(deck_path)
@@ -462,15 +574,15 @@ class ResultsWriter:
             except WriteFailed:
                 raise
             except Exception:
-                fh.check()        # an HDF5 error that follows a failed write: say the write's
-                raise             # not: a value HDF5 refuses (the caller records it)
+                fh.check()  # an HDF5 error that follows a failed write: say the write's
+                raise  # not: a value HDF5 refuses (the caller records it)
             fh.sync()
             fh.close()
             os.replace(tmp, self.path)
             self._fresh = False
         except WriteFailed:
             raise
-        except OSError as exc:    # creating, copying, syncing or renaming the file
+        except OSError as exc:  # creating, copying, syncing or renaming the file
             raise failure(self.path, exc) from None
         finally:
             self.pending = None
@@ -546,8 +658,12 @@ def deck_owner(path: str | Path, deck_path: str | Path, cases: list[Case]) -> De
         groups = {k: str(g.attrs.get("type", "")) for k, g in f.items() if isinstance(g, h5py.Group)}
     shared = sum(1 for k, t in groups.items() if mine.get(k) == t)
     here = str(Path(deck_path).resolve()) if str(deck_path) else ""
-    same = ((bool(src) and src == here) or (bool(digest) and digest == deck_digest(cases))
-            or not groups or 2 * shared >= len(groups))
+    same = (
+        (bool(src) and src == here)
+        or (bool(digest) and digest == deck_digest(cases))
+        or not groups
+        or 2 * shared >= len(groups)
+    )
     return DeckOwner(same, src, len(groups), shared)
 
 
@@ -558,8 +674,11 @@ def completed(path: str | Path) -> dict[str, str]:
     if not path.is_file() or not is_results_file(path):
         return {}
     with h5py.File(path, "r") as f:
-        return {k: str(g.attrs.get("params_digest", "")) for k, g in f.items()
-                if isinstance(g, h5py.Group) and g.attrs.get("status") == "ok"}
+        return {
+            k: str(g.attrs.get("params_digest", ""))
+            for k, g in f.items()
+            if isinstance(g, h5py.Group) and g.attrs.get("status") == "ok"
+        }
 
 
 def damage(path: str | Path) -> str:
@@ -580,7 +699,7 @@ def damage(path: str | Path) -> str:
                     row = max(1, obj.dtype.itemsize * int(np.prod(obj.shape[1:])))
                     step = max(1, COPY_BLOCK_BYTES // row)
                     for i in range(0, obj.shape[0], step):
-                        obj[i:i + step]
+                        obj[i : i + step]
                 elif isinstance(obj, h5py.Dataset):
                     obj[()]
 
@@ -600,7 +719,11 @@ def case_deck(path: str | Path, group: str) -> str:
     """The ``&case`` group that re-makes a stored case (from its ``inputs`` alone)."""
     with h5py.File(path, "r") as f:
         g = f[group]
-        lines = ["&case", f"    name = {_nml(str(g.attrs['name']))}", f"    type = {_nml(str(g.attrs['type']))}"]
+        lines = [
+            "&case",
+            f"    name = {_nml(str(g.attrs['name']))}",
+            f"    type = {_nml(str(g.attrs['type']))}",
+        ]
         for key, value in g["inputs"].attrs.items():
             if isinstance(value, str) and value == "none":
                 continue

@@ -13,6 +13,7 @@
 
 docs/results.md ("Long time histories") states the guarantees.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -23,8 +24,7 @@ from typing import Any, Callable, Iterator
 import h5py
 import numpy as np
 
-from ..casetypes import (ROW_BYTES, STREAM_TAIL_SECONDS, Streamed, case_sink,  # noqa: F401 (names of this module too)
-                         history_bytes, offering_sinks)
+from ..casetypes import ROW_BYTES, STREAM_TAIL_SECONDS, Streamed, case_sink, history_bytes, offering_sinks
 from ..errors import InputError
 from ..resources import parse_size
 from .guarded_io import GuardedFile, WriteFailed, open_h5
@@ -54,8 +54,9 @@ def stream_threshold() -> float:
     try:
         return parse_size(text)
     except InputError as exc:
-        raise InputError(f"environment variable {STREAM_ENV} = {text!r}: {exc} (0 streams every "
-                         "vehicle history)") from None
+        raise InputError(
+            f"environment variable {STREAM_ENV} = {text!r}: {exc} (0 streams every vehicle history)"
+        ) from None
 
 
 class HistoryStream:
@@ -79,7 +80,8 @@ class HistoryStream:
         gzip at level 4 costs ~25 ns per byte, 70 % more than the run itself at one output
         per step; the runner compresses when it copies a stream into the results file).
 
-    The file is opened by the first block. Each :meth:`append` writes every dataset, then counts the block's rows as committed
+    The file is opened by the first block. Each :meth:`append` writes every dataset, then
+    counts the block's rows as committed
     (:attr:`rows`); :meth:`close` cuts every dataset to the committed rows (a block cut short
     by a signal leaves no partial row), writes the attributes set in :attr:`attrs`
     (name -> {attribute: value}) and the group's ``rows``, and closes the file. The file is
@@ -88,8 +90,15 @@ class HistoryStream:
     after SIGKILL the results file is the previous complete one, the stream file is garbage.
     """
 
-    def __init__(self, path: str | Path, group: str = "history", *, store: Any = None,
-                 derived: dict[str, Derived] | None = None, compression: str | None = None) -> None:
+    def __init__(
+        self,
+        path: str | Path,
+        group: str = "history",
+        *,
+        store: Any = None,
+        derived: dict[str, Derived] | None = None,
+        compression: str | None = None,
+    ) -> None:
         self.path = Path(path)
         self.group_name = group
         self.store = None if store is None else set(store)
@@ -99,8 +108,8 @@ class HistoryStream:
         self.rows = 0
         self._names: list[str] = []
         self._closed = False
-        self.failed = False                       # a write failed: not a valid stream
-        self._file: h5py.File | None = None      # opened by the first block
+        self.failed = False  # a write failed: not a valid stream
+        self._file: h5py.File | None = None  # opened by the first block
         self._fh: GuardedFile | None = None
 
     def _open(self) -> None:
@@ -110,8 +119,9 @@ class HistoryStream:
         try:
             self._fh = GuardedFile(self.path, mode)
         except OSError as exc:
-            raise WriteFailed(exc.errno, f"cannot open the stream file: {exc.strerror}",
-                              str(self.path)) from None
+            raise WriteFailed(
+                exc.errno, f"cannot open the stream file: {exc.strerror}", str(self.path)
+            ) from None
         try:
             self._file = open_h5(self._fh, mode)
         except (OSError, ValueError) as exc:
@@ -140,10 +150,14 @@ class HistoryStream:
             return self._group[name]
         row = max(1, int(np.prod(block.shape[1:])) * block.dtype.itemsize)
         rows = int(min(max(64, CHUNK_BYTES // row), 65536))
-        return self._group.create_dataset(name, shape=(0,) + block.shape[1:], dtype=block.dtype,
-                                          maxshape=(None,) + block.shape[1:],
-                                          chunks=(rows,) + block.shape[1:],
-                                          compression=self.compression)
+        return self._group.create_dataset(
+            name,
+            shape=(0,) + block.shape[1:],
+            dtype=block.dtype,
+            maxshape=(None,) + block.shape[1:],
+            chunks=(rows,) + block.shape[1:],
+            compression=self.compression,
+        )
 
     def append(self, block: dict[str, np.ndarray]) -> None:
         """Append one block: name -> array (k, ...), the same k for every name."""
@@ -162,8 +176,8 @@ class HistoryStream:
         for name, a in arrays.items():
             d = self._dataset(name, a)
             d.resize(self.rows + k, axis=0)
-            d[self.rows:self.rows + k] = a
-        self._fh.check()          # a full disk: WriteFailed (the run stops with exit 3)
+            d[self.rows : self.rows + k] = a
+        self._fh.check()  # a full disk: WriteFailed (the run stops with exit 3)
         self.rows += k
 
     def names(self) -> list[str]:
@@ -196,7 +210,7 @@ class HistoryStream:
             fh, self._fh = self._fh, None
             error, pending = fh.error, fh.pending
             fh.close()
-        if pending is not None:           # a signal inside HDF5's last writes
+        if pending is not None:  # a signal inside HDF5's last writes
             raise pending
         if error is not None:
             self.failed = True
@@ -230,8 +244,9 @@ class CaseStream:
         try:
             path = temp_path(self.out)
         except OSError as exc:
-            raise WriteFailed(exc.errno, f"cannot create a stream file: {exc.strerror}",
-                              str(self.out)) from None
+            raise WriteFailed(
+                exc.errno, f"cannot create a stream file: {exc.strerror}", str(self.out)
+            ) from None
         self.stream = HistoryStream(path, **kw)
         return self.stream
 
@@ -247,7 +262,7 @@ class CaseStream:
             try:
                 stream.close()
             except WriteFailed:
-                pass              # reported where the run noticed it; the file goes anyway
+                pass  # reported where the run noticed it; the file goes anyway
             finally:
                 stream.path.unlink(missing_ok=True)
 
@@ -264,5 +279,16 @@ class CaseStream:
 case_stream = case_sink
 
 
-__all__ = ["CaseStream", "HistoryStream", "STREAM_ENV", "STREAM_TAIL_SECONDS", "case_stream",
-           "history_bytes", "stream_threshold"]
+# the history-sink contract (railvti.casetypes) is this module's too
+__all__ = [
+    "CaseStream",
+    "HistoryStream",
+    "STREAM_ENV",
+    "STREAM_TAIL_SECONDS",
+    "case_stream",
+    "history_bytes",
+    "stream_threshold",
+    "ROW_BYTES",
+    "Streamed",
+    "case_sink",
+]

@@ -1,6 +1,7 @@
 """A one-screen summary of a results file (``railvti summary FILE``): each case in a line, each
 sweep as a table of its headline quantity, and what each kind of figure in the plot folder
 shows. ``./dev.sh run`` ends with it."""
+
 from __future__ import annotations
 
 import json
@@ -16,21 +17,39 @@ from .sweep_plots import HEADLINES, MAX_POINT_PLOTS, sweep_points
 
 #: What each kind of PNG shows, by the end of its name (the first match counts).
 FIGURES = (
-    ("_patch.png", "contact patch of the leading wheelset's right wheel: pressure (MPa), "
-                   "tangential traction (MPa, arrows: direction) and friction power density "
-                   "(W/mm^2); BEM fields with contact 'bem', else Hertz + FASTSIM"),
-    ("_sweep.png", "a sweep: its headline quantity against the swept key, one line per value "
-                   "of the other keys; over speed and disturbance, a bifurcation diagram "
-                   "(limit-cycle amplitude from a large and from a small start)"),
-    ("_phase.png", "phase portrait of the leading wheelset (lateral velocity against lateral "
-                   "displacement): a closed orbit is a limit cycle, a spiral to the centre a "
-                   "decaying motion; a small sweep overlays its points with y(t)"),
-    ("_history.png", "leading wheelset against time: lateral displacement, vertical (Q) and "
-                     "lateral (Y) forces of both wheels"),
-    ("_wheels.png", "all eight wheels against time: lateral displacement, Q, and the "
-                    "flange-climb ratio Y/Q with Nadal's limit"),
-    ("_bifurcation.png", "bifurcation diagram of a critical_speed case: amplitude against "
-                         "speed, continuation and small-disturbance branches"),
+    (
+        "_patch.png",
+        "contact patch of the leading wheelset's right wheel: pressure (MPa), "
+        "tangential traction (MPa, arrows: direction) and friction power density "
+        "(W/mm^2); BEM fields with contact 'bem', else Hertz + FASTSIM",
+    ),
+    (
+        "_sweep.png",
+        "a sweep: its headline quantity against the swept key, one line per value "
+        "of the other keys; over speed and disturbance, a bifurcation diagram "
+        "(limit-cycle amplitude from a large and from a small start)",
+    ),
+    (
+        "_phase.png",
+        "phase portrait of the leading wheelset (lateral velocity against lateral "
+        "displacement): a closed orbit is a limit cycle, a spiral to the centre a "
+        "decaying motion; a small sweep overlays its points with y(t)",
+    ),
+    (
+        "_history.png",
+        "leading wheelset against time: lateral displacement, vertical (Q) and "
+        "lateral (Y) forces of both wheels",
+    ),
+    (
+        "_wheels.png",
+        "all eight wheels against time: lateral displacement, Q, and the "
+        "flange-climb ratio Y/Q with Nadal's limit",
+    ),
+    (
+        "_bifurcation.png",
+        "bifurcation diagram of a critical_speed case: amplitude against "
+        "speed, continuation and small-disturbance branches",
+    ),
     ("_pressure.png", "normal pressure on the contact grid"),
 )
 
@@ -43,14 +62,18 @@ def _headline(g: h5py.Group) -> str:
     """The first clause of a case's summary, and its contact patch's figures if it has one."""
     text = _text(g.attrs.get("summary", "")).split(";")[0]
     if _text(g.attrs.get("type", "")) == "vehicle":
-        text = text.split(":")[0]                 # 'hunting 250 km/h (hertz-fastsim)'
+        text = text.split(":")[0]  # 'hunting 250 km/h (hertz-fastsim)'
     if "amplitude_last_second" in g:
-        text += (f": amplitude {float(g['amplitude_last_second'][()]) * 1e3:.2f} mm "
-                 "(leading wheelset, last second)")
+        text += (
+            f": amplitude {float(g['amplitude_last_second'][()]) * 1e3:.2f} mm "
+            "(leading wheelset, last second)"
+        )
     elif "patch_pressure" in g:
         pmax = float(np.max(g["patch_pressure"][()])) / 1e6
-        text += (f": patch of wheelset 1 right: pmax {pmax:.0f} MPa, "
-                 f"{float(g['patch_power'][()]):.0f} W friction power")
+        text += (
+            f": patch of wheelset 1 right: pmax {pmax:.0f} MPa, "
+            f"{float(g['patch_power'][()]):.0f} W friction power"
+        )
     return text
 
 
@@ -70,12 +93,17 @@ def _sweep_table(name: str, points: list, width: int) -> list[str]:
     cell = {}
     for p, g in points:
         ok = g.attrs.get("status") == "ok" and qname in g
-        cell[(p[row], p[col[0]] if col else None)] = (
-            f"{float(g[qname][()]) * factor:.2f}" if ok else "failed")
+        cell[(p[row], p[col[0]] if col else None)] = f"{float(g[qname][()]) * factor:.2f}" if ok else "failed"
     out = [f"sweep '{name}' ({len(points)} points): {meaning}, {unit}"]
     out.append(f"  {row:>12s} | " + " | ".join(f"{col[0]} = {c}" if col else qname for c in cols))
     for r in rows:
-        out.append(f"  {r!s:>12s} | " + " | ".join(f"{cell.get((r, c), '-'):>{max(8, len(col[0]) + 3 + len(str(c))) if col else 8}s}" for c in cols))
+        out.append(
+            f"  {r!s:>12s} | "
+            + " | ".join(
+                f"{cell.get((r, c), '-'):>{max(8, len(col[0]) + 3 + len(str(c))) if col else 8}s}"
+                for c in cols
+            )
+        )
     return [line[:width] for line in out]
 
 
@@ -100,11 +128,16 @@ def summary(path: str | Path, plots: str | Path | None = None) -> str:
         groups = [(k, g) for k, g in f.items() if isinstance(g, h5py.Group)]
         n_ok = sum(g.attrs.get("status") == "ok" for _, g in groups)
         wall = sum(float(g.attrs.get("wall_time", 0.0)) for _, g in groups)
-        lines.append(f"{path}: {len(groups)} cases, {n_ok} ok, {len(groups) - n_ok} not "
-                     f"(compute time {wall:.0f} s summed over the cases)")
+        lines.append(
+            f"{path}: {len(groups)} cases, {n_ok} ok, {len(groups) - n_ok} not "
+            f"(compute time {wall:.0f} s summed over the cases)"
+        )
         sweeps = sweep_points(f)
-        shown = [(k, g) for k, g in groups            # a large sweep: in its table below
-                 if len(sweeps.get(_text(g.attrs.get("sweep", "")), [])) <= MAX_POINT_PLOTS]
+        shown = [
+            (k, g)
+            for k, g in groups  # a large sweep: in its table below
+            if len(sweeps.get(_text(g.attrs.get("sweep", "")), [])) <= MAX_POINT_PLOTS
+        ]
         wname = min(34, max((len(k) for k, _ in shown), default=10))
         for k, g in shown:
             status = _text(g.attrs.get("status", ""))
@@ -121,8 +154,14 @@ def summary(path: str | Path, plots: str | Path | None = None) -> str:
             mine = [p for p in pngs if p.name.endswith(suffix) and p not in seen]
             seen.update(mine)
             if mine:
-                lines.append(textwrap.fill(f"*{suffix} ({len(mine)}): {meaning}", width,
-                                           initial_indent="  ", subsequent_indent="      "))
+                lines.append(
+                    textwrap.fill(
+                        f"*{suffix} ({len(mine)}): {meaning}",
+                        width,
+                        initial_indent="  ",
+                        subsequent_indent="      ",
+                    )
+                )
     return "\n".join(lines)
 
 

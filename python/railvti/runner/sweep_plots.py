@@ -1,5 +1,6 @@
 """Plots of the sweeps in a results file: one summary chart per sweep (its scalar results
 over the swept keys) and, for small sweeps, each point's own plots."""
+
 from __future__ import annotations
 
 import json
@@ -22,8 +23,12 @@ log = logging.getLogger("railvti")
 MAX_POINT_PLOTS = 4
 #: The quantity a sweep of a case type is plotted by: dataset, factor, unit, meaning.
 HEADLINES = {
-    "vehicle": ("amplitude_last_second", 1e3, "mm",
-                "leading wheelset's lateral amplitude over the last second"),
+    "vehicle": (
+        "amplitude_last_second",
+        1e3,
+        "mm",
+        "leading wheelset's lateral amplitude over the last second",
+    ),
 }
 
 
@@ -47,10 +52,18 @@ def _short(value: Any) -> str:
 
 
 #: Names of result quantities for the axes of sweep plots (else the dataset's name in words).
-QUANTITIES = {"approach": "approach", "area": "contact area", "fn": "normal force",
-              "pmax": "peak pressure", "hertz_a": "Hertz semi-axis a", "hertz_b": "Hertz semi-axis b",
-              "fx": "longitudinal creep force", "fy": "lateral creep force", "mz": "spin moment",
-              "conicity": "equivalent conicity"}
+QUANTITIES = {
+    "approach": "approach",
+    "area": "contact area",
+    "fn": "normal force",
+    "pmax": "peak pressure",
+    "hertz_a": "Hertz semi-axis a",
+    "hertz_b": "Hertz semi-axis b",
+    "fx": "longitudinal creep force",
+    "fy": "lateral creep force",
+    "mz": "spin moment",
+    "conicity": "equivalent conicity",
+}
 
 
 def _quantity(ctype: CaseType | None, key: str) -> str:
@@ -116,8 +129,16 @@ def _legend(fig: Any, ax: Any, title: str) -> None:
     if more > 0:
         handles, labels = handles[:MAX_LEGEND], labels[:MAX_LEGEND]
         title += f"\n(first {MAX_LEGEND} of {MAX_LEGEND + more} lines)"
-    fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=7,
-               title=title or None, title_fontsize=7, frameon=False)
+    fig.legend(
+        handles,
+        labels,
+        loc="center left",
+        bbox_to_anchor=(1.0, 0.5),
+        fontsize=7,
+        title=title or None,
+        title_fontsize=7,
+        frameon=False,
+    )
 
 
 def _plot_phases(plt: Any, name: str, points: list, ctype: CaseType | None, path: Path) -> Path:
@@ -154,9 +175,11 @@ def _what(points: list) -> str:
     point's scenario, model, contact and geometry), else ''."""
     for _, g in points:
         if "contact" in g and "scenario" in g:
+
             def text(k: str) -> str:
                 v = g[k][()] if k in g else b""
                 return v.decode() if isinstance(v, bytes) else str(v)
+
             contact = text("contact") + (" on the strips" if text("geometry") == "strip" else "")
             return f", {text('scenario')}, model {text('model')}, {contact}"
     return ""
@@ -174,8 +197,7 @@ def _scalar_results(g: Any) -> dict[str, tuple[float, str]]:
     return out
 
 
-def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
-                  path: Path) -> Path | None:
+def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None, path: Path) -> Path | None:
     keys = list(points[0][0])
     numeric = [k for k in keys if all(isinstance(p[k], (int, float)) for p, _ in points)]
     if not numeric:
@@ -198,20 +220,22 @@ def _plot_summary(plt: Any, name: str, points: list, ctype: CaseType | None,
             lines.setdefault(tuple(p[k] for k in others), []).append((p[xkey], g))
         for combo, pts in lines.items():
             label = ", ".join(_short(v) for v in combo)
-            good = [(x, float(np.asarray(g[q])) * factor) for x, g in pts
-                    if q is not None and g.attrs.get("status") == "ok" and q in g]
+            good = [
+                (x, float(np.asarray(g[q])) * factor)
+                for x, g in pts
+                if q is not None and g.attrs.get("status") == "ok" and q in g
+            ]
             if good:
                 xs, ys = zip(*sorted(good))
                 ax.plot(xs, ys, "o-", ms=4, label=label or None)
             bad = [x for x, g in pts if g.attrs.get("status") != "ok"]
             if bad:
-                ax.plot(bad, [0.0] * len(bad), "rx", ms=8,
-                        label=f"failed ({label})" if label else "failed")
+                ax.plot(bad, [0.0] * len(bad), "rx", ms=8, label=f"failed ({label})" if label else "failed")
         what = ""
         if q:
             what = QUANTITIES.get(q, meaning if meaning != q else q.replace("_", " "))
             text = f"{what}, {unit}" if unit and unit not in ("1", "-") else what
-            ax.set_ylabel(textwrap.fill(text, 32), fontsize=9)     # a long name: two lines
+            ax.set_ylabel(textwrap.fill(text, 32), fontsize=9)  # a long name: two lines
         ax.set_title(meaning if meaning not in (q, what) else "", fontsize=9)
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel(_quantity(ctype, xkey))

@@ -26,6 +26,7 @@ writer (railvti.runner.batch: only this process writes the file; the workers ret
 without importing dask. Dask is imported only inside the functions that use it: ``import
 railvti`` and the serial path do not import it.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -39,12 +40,21 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
-from .._cluster import (ADDRESS_FORM, CONNECT_TIMEOUT, SCHEDULER_TIMEOUT, WORKER_ENV,  # noqa: F401
-                       check_client, client_from, default_workers, local_client, remote_client,
-                       scheduler_address)
+from .._cluster import (
+    ADDRESS_FORM,
+    CONNECT_TIMEOUT,
+    SCHEDULER_TIMEOUT,
+    WORKER_ENV,
+    check_client,
+    client_from,
+    default_workers,
+    local_client,
+    remote_client,
+    scheduler_address,
+)
 from ..casetypes import MAX_NAME, REGISTRY, REQUIRED, Case, CaseType, name_problem
 from ..errors import InputError
-from .batch import run_cases, run_on_client, run_task  # noqa: F401 (run_on_client, run_task: names of this module too)
+from .batch import run_cases, run_on_client, run_task
 from .deck_registry import case_types
 from .guarded_io import WriteFailed
 from .results import group_name
@@ -90,13 +100,13 @@ def _range(key: str, value: Any) -> tuple[list[float], str | None]:
     """The values of ``sweep_range_KEY = start, stop, step`` (stop included)."""
     v = _as_list(value)
     if len(v) != 3 or any(isinstance(x, bool) or not isinstance(x, (int, float)) for x in v):
-        return [], (f"key '{RANGE_PREFIX}{key}' must be three numbers: start, stop, step; "
-                    f"got {value!r}")
+        return [], (f"key '{RANGE_PREFIX}{key}' must be three numbers: start, stop, step; got {value!r}")
     start, stop, step = (float(x) for x in v)
-    if not all(math.isfinite(x) for x in (start, stop, step)) or step == 0.0 \
-            or (stop - start) / step < -1e-9:
-        return [], (f"key '{RANGE_PREFIX}{key}' = {start:g}, {stop:g}, {step:g}: the step must be "
-                    "non-zero and go from start towards stop")
+    if not all(math.isfinite(x) for x in (start, stop, step)) or step == 0.0 or (stop - start) / step < -1e-9:
+        return [], (
+            f"key '{RANGE_PREFIX}{key}' = {start:g}, {stop:g}, {step:g}: the step must be "
+            "non-zero and go from start towards stop"
+        )
     n = int(math.floor((stop - start) / step + 1e-9)) + 1
     if n > MAX_POINTS:
         return [], f"key '{RANGE_PREFIX}{key}' gives {n} values; at most {MAX_POINTS}"
@@ -124,15 +134,15 @@ def split_sweep(group: dict[str, Any]) -> tuple[dict[str, Any], SweepSpec | None
         if k == MODE_KEY:
             mode = value
         elif k.startswith(RANGE_PREFIX):
-            values, msg = _range(k[len(RANGE_PREFIX):], value)
+            values, msg = _range(k[len(RANGE_PREFIX) :], value)
             if msg:
                 problems.append(msg)
-            axes.append((k[len(RANGE_PREFIX):], tuple(values)))
+            axes.append((k[len(RANGE_PREFIX) :], tuple(values)))
         elif k.startswith(VALUES_PREFIX):
             values = _as_list(value)
             if not values or any(x is None for x in values):
                 problems.append(f"key '{k}' needs one or more values")
-            axes.append((k[len(VALUES_PREFIX):], tuple(values)))
+            axes.append((k[len(VALUES_PREFIX) :], tuple(values)))
         else:
             rest[key] = value
     if mode is None and not axes:
@@ -144,14 +154,17 @@ def split_sweep(group: dict[str, Any]) -> tuple[dict[str, Any], SweepSpec | None
         mode = "product"
     mode = mode.strip().lower()
     if not axes:
-        problems.append(f"key '{MODE_KEY}' without swept keys: add sweep_KEY = values or "
-                        "sweep_range_KEY = start, stop, step")
+        problems.append(
+            f"key '{MODE_KEY}' without swept keys: add sweep_KEY = values or "
+            "sweep_range_KEY = start, stop, step"
+        )
     names = [k for k, _ in axes]
     for k in sorted({k for k in names if names.count(k) > 1}):
         problems.append(f"key '{k}' is swept twice (sweep_{k} and sweep_range_{k}): give it once")
     if mode == "zip" and len({len(v) for _, v in axes}) > 1:
-        problems.append("sweep = 'zip' needs lists of equal length: " +
-                        ", ".join(f"{k} has {len(v)}" for k, v in axes))
+        problems.append(
+            "sweep = 'zip' needs lists of equal length: " + ", ".join(f"{k} has {len(v)}" for k, v in axes)
+        )
     return rest, SweepSpec(mode, tuple(axes)), problems
 
 
@@ -168,7 +181,7 @@ def _point_names(base: str, points: list[tuple]) -> list[str]:
     if len(set(names)) == len(names) and all(name_problem(n) is None for n in names):
         return names
     width = max(4, len(str(len(points))))
-    return [f"{base[:MAX_NAME - width - 2]}.p{i:0{width}d}" for i in range(len(points))]
+    return [f"{base[: MAX_NAME - width - 2]}.p{i:0{width}d}" for i in range(len(points))]
 
 
 def _combine(spec: SweepSpec) -> list[tuple]:
@@ -213,8 +226,11 @@ def expand(case: Case, spec: SweepSpec, given: Iterable[str] = ()) -> tuple[list
     given = set(given)
     for key, _ in spec.axes:
         target = ctype.aliases[key].key if key in ctype.aliases else key
-        clash = sorted(k for k in given if k == key or k == target
-                       or (k in ctype.aliases and ctype.aliases[k].key == target))
+        clash = sorted(
+            k
+            for k in given
+            if k == key or k == target or (k in ctype.aliases and ctype.aliases[k].key == target)
+        )
         if clash:
             problems.append(f"key '{clash[0]}' is both given and swept: give it once")
     points = _combine(spec)
@@ -224,7 +240,7 @@ def expand(case: Case, spec: SweepSpec, given: Iterable[str] = ()) -> tuple[list
         return [], problems
     seen_problems: set[str] = set()
     out: list[Case] = []
-    first: dict[str, int] = {}          # a point's resolved values -> its number, from 1
+    first: dict[str, int] = {}  # a point's resolved values -> its number, from 1
     for i, (name, point) in enumerate(zip(_point_names(case.name, points), points), 1):
         params = dict(case.params)
         for key, value in point:
@@ -236,17 +252,33 @@ def expand(case: Case, spec: SweepSpec, given: Iterable[str] = ()) -> tuple[list
         # the same case twice is the same run twice, and two groups of one name in the file
         same = repr([(k, params[ctype.aliases[k].key if k in ctype.aliases else k]) for k, _ in point])
         if same in first:
-            problems.append(f"the sweep has the same point twice: points {first[same]} and {i} are "
-                            + ", ".join(f"{k} = {_value_text(v)}" for k, v in point)
-                            + ": give each point once")
+            problems.append(
+                f"the sweep has the same point twice: points {first[same]} and {i} are "
+                + ", ".join(f"{k} = {_value_text(v)}" for k, v in point)
+                + ": give each point once"
+            )
         first.setdefault(same, i)
-        out.append(SweepPoint(index=case.index, name=name, case_type=ctype, params=params,
-                              sweep=case.name, point=tuple(point)))
+        out.append(
+            SweepPoint(
+                index=case.index,
+                name=name,
+                case_type=ctype,
+                params=params,
+                sweep=case.name,
+                point=tuple(point),
+            )
+        )
     return ([] if problems else out), problems
 
 
-def sweep(case_type: str, params: dict[str, Any], axes: dict[str, Sequence[Any]], *,
-          mode: str = "product", name: str = "sweep") -> list[Case]:
+def sweep(
+    case_type: str,
+    params: dict[str, Any],
+    axes: dict[str, Sequence[Any]],
+    *,
+    mode: str = "product",
+    name: str = "sweep",
+) -> list[Case]:
     """Declare a sweep in Python: the cases of ``case_type`` over ``axes``.
 
     Parameters
@@ -281,7 +313,7 @@ def sweep(case_type: str, params: dict[str, Any], axes: dict[str, Sequence[Any]]
     if problems:
         raise InputError(f"sweep '{name}': " + "; ".join(problems))
     base_params = {k: v for k, v in ctype.defaults.items() if not _required(v)}
-    base_params.update(given)                  # each point is checked below, as a whole
+    base_params.update(given)  # each point is checked below, as a whole
     group = {f"{VALUES_PREFIX}{k}": list(v) for k, v in axes.items()}
     group[MODE_KEY] = mode
     _, spec, problems = split_sweep(group)
@@ -304,9 +336,16 @@ def _required(value: Any) -> bool:
 # Running a list of cases (serially or on dask.distributed: railvti._cluster, railvti.runner.batch)
 
 
-def run(cases: list[Case], client: Any = None, *, out: str | Path | None = None,
-        resume: bool = False, workers: int | None = None, deck_text: str = "",
-        progress: bool = False) -> list[Any]:
+def run(
+    cases: list[Case],
+    client: Any = None,
+    *,
+    out: str | Path | None = None,
+    resume: bool = False,
+    workers: int | None = None,
+    deck_text: str = "",
+    progress: bool = False,
+) -> list[Any]:
     """Run cases (deck cases, sweep points) serially or on a Dask cluster.
 
     Parameters
@@ -341,10 +380,17 @@ def run(cases: list[Case], client: Any = None, *, out: str | Path | None = None,
         with contextlib.ExitStack() as stack:
             c = None if client is None else stack.enter_context(client_from(client, workers))
             bar = stack.enter_context(task_bar(len(cases), disable=not progress))
-            report = run_cases(cases, Path(out), deck_text, resume=resume, write=log.info,
-                               client=c, bar=bar,
-                               on_record=lambda r: records.__setitem__(group_name(r.case), r))
-            if report.error:              # the file could not be written: the run stopped
+            report = run_cases(
+                cases,
+                Path(out),
+                deck_text,
+                resume=resume,
+                write=log.info,
+                client=c,
+                bar=bar,
+                on_record=lambda r: records.__setitem__(group_name(r.case), r),
+            )
+            if report.error:  # the file could not be written: the run stopped
                 raise WriteFailed(report.failure.errno, report.error, str(out))
     finally:
         if tmpdir is not None:
@@ -357,13 +403,35 @@ def task_bar(total: int, disable: bool = False) -> Any:
     """A tqdm bar on stderr counting finished tasks (postfix: failures; tqdm's estimate of
     the time left)."""
     from tqdm import tqdm
-    bar = tqdm(total=total, desc="tasks", unit="task", disable=disable, file=sys.stderr,
-               dynamic_ncols=True)
+
+    bar = tqdm(total=total, desc="tasks", unit="task", disable=disable, file=sys.stderr, dynamic_ncols=True)
     try:
         yield bar
     finally:
         bar.close()
 
 
-__all__ = ["MODES", "SweepPoint", "SweepSpec", "check_client", "client_from", "expand", "local_client",
-           "remote_client", "run", "run_on_client", "run_task", "split_sweep", "sweep", "task_bar"]
+# the Dask clients (railvti._cluster) and the batch's task functions are this module's names too
+__all__ = [
+    "MODES",
+    "SweepPoint",
+    "SweepSpec",
+    "check_client",
+    "client_from",
+    "expand",
+    "local_client",
+    "remote_client",
+    "run",
+    "run_cases",
+    "run_on_client",
+    "run_task",
+    "split_sweep",
+    "sweep",
+    "task_bar",
+    "ADDRESS_FORM",
+    "CONNECT_TIMEOUT",
+    "SCHEDULER_TIMEOUT",
+    "WORKER_ENV",
+    "default_workers",
+    "scheduler_address",
+]

@@ -1,4 +1,5 @@
 """Flexible ring track (2.5-D rail FE on discrete sleepers) and the rigid track element."""
+
 from __future__ import annotations
 
 from .coupling import RailOfWheel, rail_of_wheel, wheel_head_shapes
@@ -6,5 +7,17 @@ from .element import TrackElement
 from .ring import DEFAULTS, NUMERICS, RingTrack, TrackModes
 from .section import HeadSurface, RailSection, head_surface, rail_section
 
-__all__ = ["DEFAULTS", "NUMERICS", "HeadSurface", "RailOfWheel", "RailSection", "RingTrack", "TrackElement",
-           "TrackModes", "head_surface", "rail_of_wheel", "rail_section", "wheel_head_shapes"]
+__all__ = [
+    "DEFAULTS",
+    "NUMERICS",
+    "HeadSurface",
+    "RailOfWheel",
+    "RailSection",
+    "RingTrack",
+    "TrackElement",
+    "TrackModes",
+    "head_surface",
+    "rail_of_wheel",
+    "rail_section",
+    "wheel_head_shapes",
+]

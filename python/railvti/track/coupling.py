@@ -11,6 +11,7 @@ quantities map onto its rail as
 and the same for forces and moments (F_x, F_y, F_z, M_x): the roll about x is the rotation
 from y towards z, and reflecting y reverses it. The map is its own inverse.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -13,6 +13,7 @@ and each mass (inertia) and damper put the body's resonance where the flexible t
 resonance f0 of that pattern is, with the same peak height:
 m = k / (2 pi f0)^2, c = 2 / (omega0 |H(omega0)|) (2 b^2 / ... for roll).
 """
+
 from __future__ import annotations
 
 import math
@@ -84,14 +85,18 @@ class TrackElement:
         return gain / (self.stiffness[i] - mm * w * w + 1j * w * self.damping[i])
 
     @classmethod
-    def from_ring(cls, track, f_search: tuple[float, float] = (20.0, 400.0),
-                  position: str = "midspan") -> "TrackElement":
+    def from_ring(
+        cls, track, f_search: tuple[float, float] = (20.0, 400.0), position: str = "midspan"
+    ) -> "TrackElement":
         """Fit the element to a RingTrack's low-frequency receptances (see module doc)."""
         b = 0.5 * track.params["rail_distance"]
         f = np.linspace(f_search[0], f_search[1], 800)
         out = []
-        for direction, gain in (("lateral_inphase", 2.0), ("vertical", 2.0),
-                                ("vertical_opposite", 2.0 * b * b)):
+        for direction, gain in (
+            ("lateral_inphase", 2.0),
+            ("vertical", 2.0),
+            ("vertical_opposite", 2.0 * b * b),
+        ):
             h0 = track.static_modal(direction, position)
             if not h0 > 0:
                 raise InputError(f"{direction}: static receptance {h0} is not positive")
@@ -99,8 +104,10 @@ class TrackElement:
             h = np.abs(track.receptance(f, direction, position))
             i = int(np.argmax(h))
             w0 = 2 * math.pi * f[i]
-            out.append((k, k / w0 ** 2, gain / (w0 * h[i])))
-        return cls(inertia=(out[0][1], out[1][1], out[2][1]),
-                   stiffness=(out[0][0], out[1][0], out[2][0]),
-                   damping=(out[0][2], out[1][2], out[2][2]),
-                   rail_distance=2 * b)
+            out.append((k, k / w0**2, gain / (w0 * h[i])))
+        return cls(
+            inertia=(out[0][1], out[1][1], out[2][1]),
+            stiffness=(out[0][0], out[1][0], out[2][0]),
+            damping=(out[0][2], out[1][2], out[2][2]),
+            rail_distance=2 * b,
+        )

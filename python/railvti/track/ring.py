@@ -7,6 +7,7 @@ the rail seat, sleepers on ballast springs and dampers. The rail is first reduce
 number (modes up to ``f_cut`` plus residual static responses to rail-head and foot loads),
 then each cyclic group j of the ring is solved for its modes (track_ring.f90).
 """
+
 from __future__ import annotations
 
 import logging
@@ -32,36 +33,36 @@ log = logging.getLogger(__name__)
 #: half-sleeper 120-160 kg, ballast 50-100 MN/m per rail seat) and Thompson (2009) tables 3.1-3.3
 #: (pad loss factor ~0.25 -> viscous c = eta k / omega at ~ 300 Hz; ballast loss factor ~1).
 DEFAULTS: dict[str, float] = {
-    "sleeper_spacing": 0.6,          # m
-    "rail_young": 2.1e11,            # Pa
+    "sleeper_spacing": 0.6,  # m
+    "rail_young": 2.1e11,  # Pa
     "rail_poisson": 0.3,
-    "rail_density": 7850.0,          # kg/m^3 (60.2 kg/m with A = 76.7 cm^2)
+    "rail_density": 7850.0,  # kg/m^3 (60.2 kg/m with A = 76.7 cm^2)
     "rail_loss_factor": 0.02,
-    "rail_distance": 1.5,            # m between rail axes (1435 mm gauge + head width ~ 1.5 m)
-    "cant": 1.0 / 40.0,              # rail inclination (tan)
-    "pad_stiffness_vertical": 200e6,     # N/m per rail seat
-    "pad_stiffness_lateral": 40e6,       # N/m per rail seat
+    "rail_distance": 1.5,  # m between rail axes (1435 mm gauge + head width ~ 1.5 m)
+    "cant": 1.0 / 40.0,  # rail inclination (tan)
+    "pad_stiffness_vertical": 200e6,  # N/m per rail seat
+    "pad_stiffness_lateral": 40e6,  # N/m per rail seat
     "pad_stiffness_longitudinal": 40e6,  # N/m per rail seat
-    "pad_damping_vertical": 25e3,        # N s/m per rail seat (eta 0.25 at ~300 Hz)
-    "pad_damping_lateral": 5e3,          # N s/m per rail seat
-    "pad_damping_longitudinal": 5e3,     # N s/m per rail seat
-    "pad_length": 0.15,              # m along the rail (seat width of a B70-type sleeper)
-    "sleeper_mass": 280.0,           # kg, whole monoblock sleeper (2 x 140 kg)
-    "sleeper_length": 2.6,           # m, for the roll inertia and ballast roll stiffness
+    "pad_damping_vertical": 25e3,  # N s/m per rail seat (eta 0.25 at ~300 Hz)
+    "pad_damping_lateral": 5e3,  # N s/m per rail seat
+    "pad_damping_longitudinal": 5e3,  # N s/m per rail seat
+    "pad_length": 0.15,  # m along the rail (seat width of a B70-type sleeper)
+    "sleeper_mass": 280.0,  # kg, whole monoblock sleeper (2 x 140 kg)
+    "sleeper_length": 2.6,  # m, for the roll inertia and ballast roll stiffness
     "ballast_stiffness_vertical": 160e6,  # N/m per sleeper (80 MN/m per rail seat)
-    "ballast_stiffness_lateral": 40e6,    # N/m per sleeper
-    "ballast_damping_vertical": 120e3,    # N s/m per sleeper
-    "ballast_damping_lateral": 60e3,      # N s/m per sleeper
+    "ballast_stiffness_lateral": 40e6,  # N/m per sleeper
+    "ballast_damping_vertical": 120e3,  # N s/m per sleeper
+    "ballast_damping_lateral": 60e3,  # N s/m per sleeper
 }
 
 #: Numerical settings (not physics) and their defaults.
 NUMERICS: dict[str, float] = {
-    "f_max": 3000.0,           # Hz, highest frequency of interest
-    "f_cut_factor": 2.0,       # rail modes kept per wave number up to f_cut_factor * f_max
-    "kappa_max": 50.0,         # rad/m, highest rail wave number in the series
-    "mesh_max_area": 2e-4,     # m^2, largest triangle of the section mesh
-    "arc_step": 8e-3,          # m, spacing of outline points on arcs (arc_step_mm: deprecated mm)
-    "n_samples": 12,           # sample wave numbers of the rail's reduced basis
+    "f_max": 3000.0,  # Hz, highest frequency of interest
+    "f_cut_factor": 2.0,  # rail modes kept per wave number up to f_cut_factor * f_max
+    "kappa_max": 50.0,  # rad/m, highest rail wave number in the series
+    "mesh_max_area": 2e-4,  # m^2, largest triangle of the section mesh
+    "arc_step": 8e-3,  # m, spacing of outline points on arcs (arc_step_mm: deprecated mm)
+    "n_samples": 12,  # sample wave numbers of the rail's reduced basis
 }
 
 _POSITIVE = [k for k in DEFAULTS if k not in ("cant",)]
@@ -107,8 +108,9 @@ def _foot_quadrature(sec: RailSection) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return np.array(etas), np.array(ws), p
 
 
-_NODE_L = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0],
-                    [0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]])   # T6 nodes, area coords
+_NODE_L = np.array(
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]]
+)  # T6 nodes, area coords
 
 
 def _node_observation(sec: RailSection, node: int) -> np.ndarray:
@@ -125,8 +127,8 @@ def _node_observation(sec: RailSection, node: int) -> np.ndarray:
             continue
         _, dn = t6_shape(_NODE_L[hit[0]][None, :])
         xy = sec.nodes[el]
-        jac = dn[0].T @ xy                       # (2 l, 2 yz)
-        dxy = dn[0] @ np.linalg.inv(jac).T       # (6, 2)
+        jac = dn[0].T @ xy  # (2 l, 2 yz)
+        dxy = dn[0] @ np.linalg.inv(jac).T  # (6, 2)
         for a in range(6):
             o[3, 3 * el[a] + 2] += 0.5 * dxy[a, 0]
             o[3, 3 * el[a] + 1] -= 0.5 * dxy[a, 1]
@@ -140,8 +142,9 @@ def _crown_observation(sec: RailSection) -> np.ndarray:
     return _node_observation(sec, sec.crown_node)
 
 
-def section_fe(sec: RailSection, young: float, poisson: float, density: float
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def section_fe(
+    sec: RailSection, young: float, poisson: float, density: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Section matrices K0, K1, K2, M of the 2.5-D FE (Fortran track_section).
 
     Raises
@@ -150,8 +153,12 @@ def section_fe(sec: RailSection, young: float, poisson: float, density: float
         A node number out of range, or an element with a non-positive Jacobian.
     """
     k0, k1, k2, m, info, bad = core.track_section_matrices_c(
-        np.asfortranarray(sec.nodes), np.asfortranarray(sec.elements + 1, dtype=np.int32),
-        young, poisson, density)
+        np.asfortranarray(sec.nodes),
+        np.asfortranarray(sec.elements + 1, dtype=np.int32),
+        young,
+        poisson,
+        density,
+    )
     where = f" (element {bad - 1}, 0-based)" if info == Status.BAD_ELEMENT else ""
     check(info, f"section mesh rejected by the FE assembly{where}")
     return k0, k1, k2, m
@@ -205,14 +212,19 @@ class RingTrack:
         self.params = p
         self.length = self.n_sleepers * p["sleeper_spacing"]
         t0 = time.perf_counter()
-        self.section = section if section is not None else rail_section(
-            p["mesh_max_area"], arc_step=p["arc_step"])
+        self.section = (
+            section if section is not None else rail_section(p["mesh_max_area"], arc_step=p["arc_step"])
+        )
         self._build_rail()
         t1 = time.perf_counter()
         self._build_groups()
         self.build_time = (t1 - t0, time.perf_counter() - t1)
-        log.info("ring track n_sl=%d: %d modes, rail %.2f s, groups %.2f s", self.n_sleepers,
-                 self.lam.size, *self.build_time)
+        log.info(
+            "ring track n_sl=%d: %d modes, rail %.2f s, groups %.2f s",
+            self.n_sleepers,
+            self.lam.size,
+            *self.build_time,
+        )
 
     # ------------------------------------------------------------------ build
     def _build_rail(self) -> None:
@@ -227,22 +239,25 @@ class RingTrack:
         self._head_obs = np.vstack([_node_observation(sec, int(i)) for i in self._head_nodes])
         cn = sec.crown_node
         f = np.zeros((ndof, 4), order="F")
-        f[3 * cn + 1, 0] = 1.0                                  # crown lateral force
-        f[3 * cn + 2, 1] = 1.0                                  # crown vertical force
-        f[:, 2] = self._pad_interp[:, 2, :].T @ self.w_p        # uniform pad pressure
-        f[:, 3] = self._pad_interp[:, 1, :].T @ self.w_p        # uniform pad shear
+        f[3 * cn + 1, 0] = 1.0  # crown lateral force
+        f[3 * cn + 2, 1] = 1.0  # crown vertical force
+        f[:, 2] = self._pad_interp[:, 2, :].T @ self.w_p  # uniform pad pressure
+        f[:, 3] = self._pad_interp[:, 1, :].T @ self.w_p  # uniform pad shear
         f /= np.linalg.norm(f, axis=0)
         f_cut = p["f_cut_factor"] * p["f_max"]
         lam_cut = (2 * math.pi * f_cut) ** 2
         kmax = p["kappa_max"]
         ns = int(p["n_samples"])
-        kap_s = kmax * np.linspace(0.0, 1.0, ns) ** 1.5       # denser where modes change fastest
+        kap_s = kmax * np.linspace(0.0, 1.0, ns) ** 1.5  # denser where modes change fastest
         rmax = int(min(ndof, 40 * ns))
         r, w, k0r, k1r, k2r, fr, info, s, linfo = core.track_reduced_basis_c(
-            k0, k1, k2, m, f, kap_s, 2.25 * lam_cut, rmax)
+            k0, k1, k2, m, f, kap_s, 2.25 * lam_cut, rmax
+        )
         if info != Status.OK:
-            raise error(info, f"rail reduced basis at sample wave number {kap_s[s - 1]:.4g} rad/m "
-                        f"(LAPACK info {linfo})")
+            raise error(
+                info,
+                f"rail reduced basis at sample wave number {kap_s[s - 1]:.4g} rad/m (LAPACK info {linfo})",
+            )
         if r >= rmax:
             log.warning("rail reduced basis full (%d vectors): later vectors were dropped", r)
         w, k0r, k1r, k2r, fr = w[:, :r], k0r[:r, :r], k1r[:r, :r], k2r[:r, :r], fr[:r]
@@ -253,24 +268,36 @@ class RingTrack:
         mmax = min(60, r)
         while True:
             nm, om2, y, info, ik, linfo = core.track_wave_basis_c(
-                np.asfortranarray(k0r), np.asfortranarray(k1r), np.asfortranarray(k2r),
-                np.asfortranarray(fr), kap, lam_cut, mmax)
+                np.asfortranarray(k0r),
+                np.asfortranarray(k1r),
+                np.asfortranarray(k2r),
+                np.asfortranarray(fr),
+                kap,
+                lam_cut,
+                mmax,
+            )
             if info != Status.SIZE_MISMATCH or mmax >= r:
                 break
-            mmax = min(2 * mmax, r)     # more basis vectors at one wave number than mmax
+            mmax = min(2 * mmax, r)  # more basis vectors at one wave number than mmax
         if info != Status.OK:
-            raise error(info, f"rail wave basis at wave number {kap[ik - 1]:.4g} rad/m "
-                        f"(LAPACK info {linfo})")
+            raise error(info, f"rail wave basis at wave number {kap[ik - 1]:.4g} rad/m (LAPACK info {linfo})")
         pw = np.einsum("pcn,nr->pcr", self._pad_interp, w)
         ow = self._obs @ w
         hw = self._head_obs @ w
-        self._rail = []   # per k: (kappa, om2, pad traces (np,3,nm), obs (4,nm), y)
-        self._rail_head = []   # per k: head-node observations (4 nh, nm)
+        self._rail = []  # per k: (kappa, om2, pad traces (np,3,nm), obs (4,nm), y)
+        self._rail_head = []  # per k: head-node observations (4 nh, nm)
         for k in range(n_k + 1):
-            yk = y[:, :nm[k], k]
+            yk = y[:, : nm[k], k]
             norm = 1.0 / math.sqrt(self.length if k == 0 else 0.5 * self.length)
-            self._rail.append((kap[k], om2[:nm[k], k].copy(),
-                               np.einsum("pcr,rm->pcm", pw, yk) * norm, (ow @ yk) * norm, yk * norm))
+            self._rail.append(
+                (
+                    kap[k],
+                    om2[: nm[k], k].copy(),
+                    np.einsum("pcr,rm->pcm", pw, yk) * norm,
+                    (ow @ yk) * norm,
+                    yk * norm,
+                )
+            )
             self._rail_head.append((hw @ yk) * norm)
 
     def _build_groups(self) -> None:
@@ -280,16 +307,32 @@ class RingTrack:
         beta = np.array([-cant, cant])
         foot_w = self.w_p.sum()
         area = p["pad_length"] * foot_w
-        kpad = np.array([p["pad_stiffness_longitudinal"], p["pad_stiffness_lateral"],
-                         p["pad_stiffness_vertical"]]) / area
-        cpad = np.array([p["pad_damping_longitudinal"], p["pad_damping_lateral"],
-                         p["pad_damping_vertical"]]) / area
+        kpad = (
+            np.array(
+                [p["pad_stiffness_longitudinal"], p["pad_stiffness_lateral"], p["pad_stiffness_vertical"]]
+            )
+            / area
+        )
+        cpad = (
+            np.array([p["pad_damping_longitudinal"], p["pad_damping_lateral"], p["pad_damping_vertical"]])
+            / area
+        )
         ls = p["sleeper_length"]
         ms = np.array([p["sleeper_mass"], p["sleeper_mass"], p["sleeper_mass"] * ls * ls / 12])
-        kb = np.array([p["ballast_stiffness_lateral"], p["ballast_stiffness_vertical"],
-                       p["ballast_stiffness_vertical"] * ls * ls / 12])
-        cb = np.array([p["ballast_damping_lateral"], p["ballast_damping_vertical"],
-                       p["ballast_damping_vertical"] * ls * ls / 12])
+        kb = np.array(
+            [
+                p["ballast_stiffness_lateral"],
+                p["ballast_stiffness_vertical"],
+                p["ballast_stiffness_vertical"] * ls * ls / 12,
+            ]
+        )
+        cb = np.array(
+            [
+                p["ballast_damping_lateral"],
+                p["ballast_damping_vertical"],
+                p["ballast_damping_vertical"] * ls * ls / 12,
+            ]
+        )
         gx, gw = np.polynomial.legendre.leggauss(16)
         xi, w_xi = 0.5 * p["pad_length"] * gx, 0.5 * p["pad_length"] * gw
         self._geom = (y0, beta)
@@ -304,26 +347,57 @@ class RingTrack:
                     if km != j and km != (n - j) % n:
                         continue
                     s = 1 if km == j else -1
-                    for f in ((0,) if k == 0 else (1, 2)):
+                    for f in (0,) if k == 0 else (1, 2):
                         for i in range(o2.size):
-                            kap.append(kp); fam.append(f); sgn.append(s); rail.append(rho)
-                            om2.append(o2[i]); tr.append(trk[:, :, i]); obs.append(obk[:, i])
+                            kap.append(kp)
+                            fam.append(f)
+                            sgn.append(s)
+                            rail.append(rho)
+                            om2.append(o2[i])
+                            tr.append(trk[:, :, i])
+                            obs.append(obk[:, i])
                             head.append(self._rail_head[k][:, i])
             nb = len(kap)
             nsd = 6 if (j != 0 and 2 * j != n) else 3
             ntot = nb + nsd
             lam, v, cm, info, linfo = core.track_group_modes_c(
-                np.array(om2), np.array(kap), np.array(fam, np.int32), np.array(sgn, np.int32),
-                np.array(rail, np.int32), np.asfortranarray(np.stack(tr, axis=2)), self.eta_p,
-                self.w_p, xi, w_xi, kpad, cpad, y0, beta, ms, kb, cb, n, j,
-                p["rail_loss_factor"], ntot)
+                np.array(om2),
+                np.array(kap),
+                np.array(fam, np.int32),
+                np.array(sgn, np.int32),
+                np.array(rail, np.int32),
+                np.asfortranarray(np.stack(tr, axis=2)),
+                self.eta_p,
+                self.w_p,
+                xi,
+                w_xi,
+                kpad,
+                cpad,
+                y0,
+                beta,
+                ms,
+                kb,
+                cb,
+                n,
+                j,
+                p["rail_loss_factor"],
+                ntot,
+            )
             check(info, f"ring group {j}: eigen-solver (LAPACK info {linfo})")
             if lam.min() <= 0:
                 raise ConvergenceError(f"ring group {j}: non-positive eigenvalue {lam.min():.3g}")
-            kap_l += kap; fam_l += fam; rail_l += rail; obs_l += obs; head_l += head
-            lam_l.append(lam); cm_l.append(cm); grp_l.append(np.full(ntot, j))
+            kap_l += kap
+            fam_l += fam
+            rail_l += rail
+            obs_l += obs
+            head_l += head
+            lam_l.append(lam)
+            cm_l.append(cm)
+            grp_l.append(np.full(ntot, j))
             v_l.append(v.ravel(order="F"))
-            bpos.append(bpos[-1] + nb); mpos.append(mpos[-1] + ntot); vpos.append(vpos[-1] + ntot * ntot)
+            bpos.append(bpos[-1] + nb)
+            mpos.append(mpos[-1] + ntot)
+            vpos.append(vpos[-1] + ntot * ntot)
         self.kap = np.array(kap_l)
         self.fam = np.array(fam_l, np.int32)
         self.rail = np.array(rail_l, np.int32)
@@ -385,8 +459,9 @@ class RingTrack:
         """
         return self._eval(x, rail, s, dx=True)
 
-    def contact_rows(self, x: np.ndarray, rail: np.ndarray, s: np.ndarray | None = None
-                     ) -> tuple[np.ndarray, np.ndarray]:
+    def contact_rows(
+        self, x: np.ndarray, rail: np.ndarray, s: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Head shapes and their x-derivatives at several contact points (one time step).
 
         Parameters
@@ -440,8 +515,9 @@ class RingTrack:
             factor = np.where(fam == 1, -self.kap, np.where(fam == 2, self.kap, 0.0))
             obs = np.asfortranarray(obs * factor[None, :])
             fam = np.where(fam == 1, 2, np.where(fam == 2, 1, fam)).astype(np.int32)
-        psi = core.track_eval_x_c(self.bpos, self.mpos, self.vpos, self.kap, fam, self.rail,
-                                  obs, self.vflat, self.n_modes, x, rail)
+        psi = core.track_eval_x_c(
+            self.bpos, self.mpos, self.vpos, self.kap, fam, self.rail, obs, self.vflat, self.n_modes, x, rail
+        )
         b = self._geom[1][rail - 1]
         c, sn = math.cos(b), math.sin(b)
         out = np.empty_like(psi)
@@ -457,10 +533,12 @@ class RingTrack:
         return f @ self.head_shapes(x, rail)
 
     def _pattern(self, x: float, direction: str) -> tuple[np.ndarray, np.ndarray]:
-        patterns = {"vertical": (2, (1.0, 1.0)),
-                    "lateral": (1, (-1.0, 1.0)),        # outward on both rails (opposite)
-                    "vertical_opposite": (2, (-1.0, 1.0)),
-                    "lateral_inphase": (1, (1.0, 1.0))}
+        patterns = {
+            "vertical": (2, (1.0, 1.0)),
+            "lateral": (1, (-1.0, 1.0)),  # outward on both rails (opposite)
+            "vertical_opposite": (2, (-1.0, 1.0)),
+            "lateral_inphase": (1, (1.0, 1.0)),
+        }
         if direction not in patterns:
             raise InputError(f"direction must be one of {sorted(patterns)}, got {direction!r}")
         comp, sign = patterns[direction]
@@ -478,8 +556,9 @@ class RingTrack:
             raise InputError(f"position must be 'midspan', 'sleeper' or a number, got {position!r}")
         return _checks.finite("position", position)
 
-    def receptance(self, freqs: np.ndarray, direction: str = "vertical",
-                   position: str | float = "midspan") -> np.ndarray:
+    def receptance(
+        self, freqs: np.ndarray, direction: str = "vertical", position: str | float = "midspan"
+    ) -> np.ndarray:
         """Rail-head receptance of the right rail, m/N.
 
         Parameters
@@ -545,5 +624,6 @@ class RingTrack:
         om = np.sqrt(self.lam)
         sel = np.where(om <= 2 * math.pi * fm)[0]
         sel = sel[np.argsort(om[sel])]
-        return TrackModes(freq=om[sel] / (2 * math.pi), damping_ratio=self.cmod[sel] / (2 * om[sel]),
-                          group=self.group[sel])
+        return TrackModes(
+            freq=om[sel] / (2 * math.pi), damping_ratio=self.cmod[sel] / (2 * om[sel]), group=self.group[sel]
+        )

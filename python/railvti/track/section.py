@@ -11,6 +11,7 @@ independent checks (see docs/track.md).
 Coordinates: eta lateral (m), zeta vertical up from the foot's underside (m), eta = 0 on the
 rail's axis of symmetry.
 """
+
 from __future__ import annotations
 
 import logging
@@ -31,8 +32,9 @@ PUBLISHED_60E1 = {"area": 76.70e-4, "iy": 3038.3e-8, "iz": 512.3e-8, "mass": 60.
 # Dunavant's 6-point rule, exact to degree 4: area coordinates (l1, l2, l3) and weights (sum 1).
 _A1, _B1, _W1 = 0.445948490915965, 0.108103018168070, 0.223381589678011
 _A2, _B2, _W2 = 0.091576213509771, 0.816847572980459, 0.109951743655322
-GAUSS_L = np.array([[_A1, _A1, _B1], [_A1, _B1, _A1], [_B1, _A1, _A1],
-                    [_A2, _A2, _B2], [_A2, _B2, _A2], [_B2, _A2, _A2]])
+GAUSS_L = np.array(
+    [[_A1, _A1, _B1], [_A1, _B1, _A1], [_B1, _A1, _A1], [_A2, _A2, _B2], [_A2, _B2, _A2], [_B2, _A2, _A2]]
+)
 GAUSS_W = np.array([_W1] * 3 + [_W2] * 3)
 
 #: Largest ``arc_step`` taken, m: a larger value is refused as a probable mm value
@@ -61,15 +63,20 @@ def arc_step_si(arc_step: float | None, arc_step_mm: float | None, default: floa
     if arc_step_mm is not None:
         if arc_step is not None:
             raise InputError("give arc_step (m) or arc_step_mm (mm, deprecated), not both")
-        warnings.warn("arc_step_mm is deprecated: give arc_step in m (arc_step_mm = 8 is "
-                      "arc_step = 0.008)", DeprecationWarning, stacklevel=3)
+        warnings.warn(
+            "arc_step_mm is deprecated: give arc_step in m (arc_step_mm = 8 is arc_step = 0.008)",
+            DeprecationWarning,
+            stacklevel=3,
+        )
         arc_step = _checks.positive("arc_step_mm", arc_step_mm) * 1e-3
     elif arc_step is None:
         arc_step = default
     arc_step = _checks.positive("arc_step", arc_step)
     if arc_step > ARC_STEP_MAX:
-        raise InputError(f"arc_step = {arc_step:g} m is above {ARC_STEP_MAX:g} m: arc_step is "
-                         f"in m (it was in mm before issue 16): 8 mm is arc_step = 0.008")
+        raise InputError(
+            f"arc_step = {arc_step:g} m is above {ARC_STEP_MAX:g} m: arc_step is "
+            f"in m (it was in mm before issue 16): 8 mm is arc_step = 0.008"
+        )
     return arc_step
 
 
@@ -87,7 +94,7 @@ def _fillet(p_prev, p, p_next, r, step):
     d1 = (p - p_prev) / np.linalg.norm(p - p_prev)
     d2 = (p_next - p) / np.linalg.norm(p_next - p)
     cos_t = np.clip(np.dot(-d1, d2), -1.0, 1.0)
-    half = 0.5 * np.arccos(cos_t)            # half of the interior angle
+    half = 0.5 * np.arccos(cos_t)  # half of the interior angle
     t = r / np.tan(half)
     q1, q2 = p - d1 * t, p + d2 * t
     bis = (-d1 + d2) / np.linalg.norm(-d1 + d2)
@@ -98,8 +105,9 @@ def _fillet(p_prev, p, p_next, r, step):
     return _arc(c, r, a0, a0 + da, step)
 
 
-def uic60_outline(step: float = 1.0, head_side_depth: float = 40.39,
-                  foot_tip: float = 11.0, foot_slope: float = 0.1613) -> np.ndarray:
+def uic60_outline(
+    step: float = 1.0, head_side_depth: float = 40.39, foot_tip: float = 11.0, foot_slope: float = 0.1613
+) -> np.ndarray:
     """Closed 60E1 outline, counter-clockwise, in metres (the last point repeats the first).
 
     Parameters
@@ -118,7 +126,7 @@ def uic60_outline(step: float = 1.0, head_side_depth: float = 40.39,
     c300 = np.array([0.0, h - 300.0])
     a1 = np.arcsin(10.0 / 300.0)
     c80 = c300 + (300.0 - 80.0) * np.array([np.sin(a1), np.cos(a1)])
-    zsb = h - head_side_depth                       # bottom of the head side
+    zsb = h - head_side_depth  # bottom of the head side
     sb = np.array([bh / 2, zsb])
     n_out = np.array([20.0, 1.0]) / np.hypot(20.0, 1.0)  # outward normal of the side
     # c13: distance 67 from c80 and 13 inside the side line.
@@ -127,20 +135,24 @@ def uic60_outline(step: float = 1.0, head_side_depth: float = 40.39,
     # |base + s dline - c80| = 67
     w = base - c80
     bq = 2 * np.dot(w, dline)
-    cq = np.dot(w, w) - 67.0 ** 2
+    cq = np.dot(w, w) - 67.0**2
     s = (-bq + np.sqrt(bq * bq - 4 * cq)) / 2
     c13 = base + s * dline
     u = (c13 - c80) / 67.0
     a2 = np.arctan2(u[0], u[1])
     ts = c13 + 13.0 * n_out
     a3 = np.arctan2(n_out[0], n_out[1])
-    crown = np.vstack([_arc(c300, 300.0, 0.0, a1, step)[:-1],
-                       _arc(c80, 80.0, a1, a2, step)[:-1],
-                       _arc(c13, 13.0, a2, a3, step)])
+    crown = np.vstack(
+        [
+            _arc(c300, 300.0, 0.0, a1, step)[:-1],
+            _arc(c80, 80.0, a1, a2, step)[:-1],
+            _arc(c13, 13.0, a2, a3, step),
+        ]
+    )
     # Straight parts with fillets: side bottom, fishing 1:2.75, web, foot top 1:2.75, tip.
     p_head_corner = sb
     p_web_top = np.array([tw / 2, zsb - (bh / 2 - tw / 2) / 2.75])
-    z_foot_web = foot_tip + (bf / 2 - tw / 2) * foot_slope   # foot top meets the web
+    z_foot_web = foot_tip + (bf / 2 - tw / 2) * foot_slope  # foot top meets the web
     p_web_bot = np.array([tw / 2, z_foot_web])
     p_tip_top = np.array([bf / 2, foot_tip])
     p_tip_bot = np.array([bf / 2, 0.0])
@@ -154,7 +166,7 @@ def uic60_outline(step: float = 1.0, head_side_depth: float = 40.39,
         else:
             pts.append(poly[i][None, :])
     pts.append(p_axis_bot[None, :])
-    right = np.vstack(pts)                     # from the crown (0, h) to (0, 0), clockwise
+    right = np.vstack(pts)  # from the crown (0, h) to (0, 0), clockwise
     # Drop near-duplicates.
     keep = np.r_[True, np.linalg.norm(np.diff(right, axis=0), axis=1) > 1e-6]
     right = right[keep]
@@ -178,8 +190,10 @@ def check_outline(outline: np.ndarray, tol: float = 1e-9) -> np.ndarray:
         raise InputError(f"outline must be an (n >= 4, 2) array of points, got shape {pts.shape}")
     gap = float(np.linalg.norm(pts[0] - pts[-1]))
     if gap > tol:
-        raise InputError(f"outline is not closed: its last point is {gap:.3g} m from the first "
-                         "(repeat the first point at the end)")
+        raise InputError(
+            f"outline is not closed: its last point is {gap:.3g} m from the first "
+            "(repeat the first point at the end)"
+        )
     pts = pts[:-1]
     seg = np.linalg.norm(np.diff(np.vstack([pts, pts[:1]]), axis=0), axis=1)
     if np.any(seg <= tol):
@@ -217,8 +231,9 @@ def t6_shape(l: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Returns N (npt, 6) and dN (npt, 6, 2).
     """
     l1, l2, l3 = l[:, 0], l[:, 1], l[:, 2]
-    n = np.column_stack([l1 * (2 * l1 - 1), l2 * (2 * l2 - 1), l3 * (2 * l3 - 1),
-                         4 * l1 * l2, 4 * l2 * l3, 4 * l3 * l1])
+    n = np.column_stack(
+        [l1 * (2 * l1 - 1), l2 * (2 * l2 - 1), l3 * (2 * l3 - 1), 4 * l1 * l2, 4 * l2 * l3, 4 * l3 * l1]
+    )
     # d/dl1 and d/dl2 with l3 = 1 - l1 - l2
     d1 = np.column_stack([4 * l1 - 1, 0 * l1, -(4 * l3 - 1), 4 * l2, -4 * l2, 4 * (l3 - l1)])
     d2 = np.column_stack([0 * l1, 4 * l2 - 1, -(4 * l3 - 1), 4 * l1, 4 * (l3 - l2), -4 * l1])
@@ -284,8 +299,7 @@ def _mesh_linear(outline: np.ndarray, max_area: float) -> tuple[np.ndarray, np.n
 
     n = len(outline)
     segs = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
-    out = triangle.triangulate({"vertices": outline, "segments": segs},
-                               f"pq30a{max_area:.12f}Q")
+    out = triangle.triangulate({"vertices": outline, "segments": segs}, f"pq30a{max_area:.12f}Q")
     return np.asarray(out["vertices"], float), np.asarray(out["triangles"], int)
 
 
@@ -322,14 +336,14 @@ def _mesh_mirrored(half: np.ndarray, max_area: float) -> tuple[np.ndarray, np.nd
     nodes, tri = _mesh_linear(half, max_area)
     scale = max(float(np.abs(half).max()), 1.0)
     axis = np.abs(nodes[:, 0]) <= 1e-9 * scale
-    nodes[axis, 0] = 0.0                       # Steiner points on the axis edge: exactly on it
+    nodes[axis, 0] = 0.0  # Steiner points on the axis edge: exactly on it
     if np.any(nodes[:, 0] < 0.0):
         raise InputError("half-section mesh crosses the axis of symmetry")
     off = np.where(~axis)[0]
     image = np.arange(len(nodes))
     image[off] = len(nodes) + np.arange(off.size)
     all_nodes = np.vstack([nodes, nodes[off] * np.array([-1.0, 1.0])])
-    all_tri = np.vstack([tri, image[tri][:, ::-1]])   # reversed: mirror flips orientation
+    all_tri = np.vstack([tri, image[tri][:, ::-1]])  # reversed: mirror flips orientation
     return all_nodes, all_tri
 
 
@@ -395,8 +409,9 @@ class HeadSurface:
         """
         s = _checks.finite("s", s)
         if not self.eta[0] <= s <= self.eta[-1]:
-            raise InputError(f"s = {s:.6g} m is off the rail head's surface "
-                             f"[{self.eta[0]:.6g}, {self.eta[-1]:.6g}] m")
+            raise InputError(
+                f"s = {s:.6g} m is off the rail head's surface [{self.eta[0]:.6g}, {self.eta[-1]:.6g}] m"
+            )
         i = int(np.clip(np.searchsorted(self.eta, s, side="right") - 1, 0, len(self.edges) - 1))
         ea, eb = self.eta[i], self.eta[i + 1]
         return i, float((2.0 * s - ea - eb) / (eb - ea))
@@ -452,15 +467,15 @@ def section_properties(nodes: np.ndarray, elements: np.ndarray) -> dict[str, flo
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    xy = nodes[elements]                      # (ne, 6, 2)
-    n, dn = t6_shape(GAUSS_L)                 # (ng, 6), (ng, 6, 2)
+    xy = nodes[elements]  # (ne, 6, 2)
+    n, dn = t6_shape(GAUSS_L)  # (ng, 6), (ng, 6, 2)
     # Jacobian of the (straight-sided) map from (l1, l2) to (y, z)
     jac = np.einsum("gab,eac->egbc", dn, xy)  # (ne, ng, 2[l], 2[yz])
     det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
     if np.any(det <= 0):
         raise InputError("mesh has inverted or degenerate elements")
-    w = det * GAUSS_W[None, :] * 0.5          # (ne, ng) quadrature weights (area factor 1/2)
-    pts = np.einsum("ga,eac->egc", n, xy)     # (ne, ng, 2)
+    w = det * GAUSS_W[None, :] * 0.5  # (ne, ng) quadrature weights (area factor 1/2)
+    pts = np.einsum("ga,eac->egc", n, xy)  # (ne, ng, 2)
     area = w.sum()
     cy = (w * pts[..., 0]).sum() / area
     cz = (w * pts[..., 1]).sum() / area
@@ -469,7 +484,7 @@ def section_properties(nodes: np.ndarray, elements: np.ndarray) -> dict[str, flo
     iy = (w * z * z).sum()
     iz = (w * y * y).sum()
     # Warping function about the centroid.
-    inv = np.linalg.inv(jac)                  # (ne, ng, 2, 2): d(l)/d(yz)
+    inv = np.linalg.inv(jac)  # (ne, ng, 2, 2): d(l)/d(yz)
     dxy = np.einsum("gal,egyl->egay", dn, inv)  # (ne, ng, 6, 2)  dN/dy, dN/dz
     ke = np.einsum("eg,egay,egby->eab", w, dxy, dxy)
     fe = np.einsum("eg,egay,egy->ea", w, dxy, np.stack([z, -y], axis=-1))
@@ -488,9 +503,13 @@ def section_properties(nodes: np.ndarray, elements: np.ndarray) -> dict[str, flo
     return {"area": area, "iy": iy, "iz": iz, "torsion": torsion, "cy": cy, "cz": cz}
 
 
-def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = None,
-                 arc_step: float | None = None, *, arc_step_mm: float | None = None
-                 ) -> RailSection:
+def rail_section(
+    max_element_area: float = 25e-6,
+    outline: np.ndarray | None = None,
+    arc_step: float | None = None,
+    *,
+    arc_step_mm: float | None = None,
+) -> RailSection:
     """Mesh the UIC60 (60E1) rail cross-section and compute its properties.
 
     Parameters
@@ -535,12 +554,23 @@ def rail_section(max_element_area: float = 25e-6, outline: np.ndarray | None = N
     crown = int(cand[np.argmax(nodes[cand, 1])])
     zmin = nodes[:, 1].min()
     # Boundary edges (in one element only) on the lowest line.
-    feet = [tuple(v) for v in boundary_edges(el)
-            if abs(nodes[v[0], 1] - zmin) < 1e-9 and abs(nodes[v[1], 1] - zmin) < 1e-9]
+    feet = [
+        tuple(v)
+        for v in boundary_edges(el)
+        if abs(nodes[v[0], 1] - zmin) < 1e-9 and abs(nodes[v[1], 1] - zmin) < 1e-9
+    ]
     if not feet:
         raise InputError("the outline has no flat underside to carry the pads")
     log.debug("rail section: %d nodes, %d T6 elements, top %.4f m", len(nodes), len(el), top)
-    return RailSection(nodes=nodes, elements=el, outline=poly, area=props["area"],
-                       iy=props["iy"], iz=props["iz"], torsion=props["torsion"],
-                       centroid=(props["cy"], props["cz"]), crown_node=crown,
-                       foot_edges=np.array(feet, dtype=int))
+    return RailSection(
+        nodes=nodes,
+        elements=el,
+        outline=poly,
+        area=props["area"],
+        iy=props["iy"],
+        iz=props["iz"],
+        torsion=props["torsion"],
+        centroid=(props["cy"], props["cz"]),
+        crown_node=crown,
+        foot_edges=np.array(feet, dtype=int),
+    )

@@ -15,6 +15,7 @@ a4 = m I, a3 = m c2 + I c1, a2 = m k_psi + c1 c2 + I k_y, a1 = c1 k_psi + c2 k_y
 a0 = k_y k_psi + 4 f11 f22 lambda l / r0. Stable iff all a_i > 0 and the Hurwitz
 determinant H = a3 a2 a1 - a4 a1^2 - a0 a3^2 > 0; the critical speed is the root of H(V).
 """
+
 from __future__ import annotations
 
 import math
@@ -28,21 +29,56 @@ from ..errors import InputError
 __all__ = ["wickens_coefficients", "wickens_critical_speed", "nadal_limit"]
 
 
-def wickens_coefficients(v: float, m: float, inertia: float, ky: float, kpsi: float,
-                         f11: float, f22: float, conicity: float, l: float, r0: float) -> np.ndarray:
+def wickens_coefficients(
+    v: float,
+    m: float,
+    inertia: float,
+    ky: float,
+    kpsi: float,
+    f11: float,
+    f22: float,
+    conicity: float,
+    l: float,
+    r0: float,
+) -> np.ndarray:
     """Coefficients (a4, a3, a2, a1, a0) of the characteristic quartic at speed v (m/s)."""
     c1 = 2 * f22 / v
     c2 = 2 * f11 * l * l / v
-    return np.array([m * inertia, m * c2 + inertia * c1, m * kpsi + c1 * c2 + inertia * ky,
-                     c1 * kpsi + c2 * ky, ky * kpsi + 4 * f11 * f22 * conicity * l / r0])
+    return np.array(
+        [
+            m * inertia,
+            m * c2 + inertia * c1,
+            m * kpsi + c1 * c2 + inertia * ky,
+            c1 * kpsi + c2 * ky,
+            ky * kpsi + 4 * f11 * f22 * conicity * l / r0,
+        ]
+    )
 
 
-def wickens_critical_speed(m: float, inertia: float, ky: float, kpsi: float, f11: float,
-                           f22: float, conicity: float, l: float, r0: float,
-                           v_max: float = 1000.0) -> float:
+def wickens_critical_speed(
+    m: float,
+    inertia: float,
+    ky: float,
+    kpsi: float,
+    f11: float,
+    f22: float,
+    conicity: float,
+    l: float,
+    r0: float,
+    v_max: float = 1000.0,
+) -> float:
     """Critical speed (m/s) of the suspended wheelset from the Routh-Hurwitz condition."""
-    for name, val in (("m", m), ("inertia", inertia), ("ky", ky), ("kpsi", kpsi), ("f11", f11),
-                      ("f22", f22), ("conicity", conicity), ("l", l), ("r0", r0)):
+    for name, val in (
+        ("m", m),
+        ("inertia", inertia),
+        ("ky", ky),
+        ("kpsi", kpsi),
+        ("f11", f11),
+        ("f22", f22),
+        ("conicity", conicity),
+        ("l", l),
+        ("r0", r0),
+    ):
         _checks.positive(name, val)
 
     def hurwitz(v: float) -> float:
@@ -71,7 +107,8 @@ def nadal_limit(flange_angle: float, friction: float) -> float:
     g = float(flange_angle)
     mu = float(friction)
     if not (0.0 < g < 0.5 * math.pi) or not (mu >= 0.0):
-        raise InputError(f"flange_angle must lie in (0, pi/2) rad and friction be >= 0, got "
-                         f"{flange_angle}, {friction}")
+        raise InputError(
+            f"flange_angle must lie in (0, pi/2) rad and friction be >= 0, got {flange_angle}, {friction}"
+        )
     t = math.tan(g)
     return (t - mu) / (1.0 + mu * t)

@@ -34,6 +34,7 @@ carbody and bogies are in equilibrium (K_uu q_u = -F_g,u with the wheelsets held
 wheelsets then carry the whole weight through the contact. The static solve finds the
 contact and track deflections.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
@@ -51,8 +52,15 @@ from .table import QUANTITIES, WheelTable
 if TYPE_CHECKING:
     from .strip import StripGeometry
 
-__all__ = ["WS_DOFS", "IWS_ROWS", "DOF_NAMES", "System", "build_coach", "build_single_wheelset",
-           "build_rigid_system"]
+__all__ = [
+    "WS_DOFS",
+    "IWS_ROWS",
+    "DOF_NAMES",
+    "System",
+    "build_coach",
+    "build_single_wheelset",
+    "build_rigid_system",
+]
 
 EL_FRICTION, EL_BUMP = 1, 2
 _INT_FIELDS = ("etype", "iws", "itr")
@@ -61,11 +69,12 @@ WS_DOFS = ("x", "y", "z", "roll", "yaw", "beta")
 #: Row order of System.iws (the Fortran per-wheelset state qw, vw).
 IWS_ROWS = ("y", "z", "roll", "yaw", "x", "beta")
 
-DOF_NAMES = (["carbody_y", "carbody_z", "carbody_roll", "carbody_pitch", "carbody_yaw",
-              "bolster1_yaw", "bolster2_yaw"]
-             + [f"bogie{b}_{c}" for b in (1, 2) for c in ("y", "z", "roll", "pitch", "yaw")]
-             + [f"ws{w}_{c}" for w in (1, 2, 3, 4) for c in WS_DOFS]
-             + [f"track{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll")])
+DOF_NAMES = (
+    ["carbody_y", "carbody_z", "carbody_roll", "carbody_pitch", "carbody_yaw", "bolster1_yaw", "bolster2_yaw"]
+    + [f"bogie{b}_{c}" for b in (1, 2) for c in ("y", "z", "roll", "pitch", "yaw")]
+    + [f"ws{w}_{c}" for w in (1, 2, 3, 4) for c in WS_DOFS]
+    + [f"track{w}_{c}" for w in (1, 2, 3, 4) for c in ("y", "z", "roll")]
+)
 
 
 @dataclass(frozen=True)
@@ -143,11 +152,12 @@ class System:
         if self.spin_inertia is None:
             object.__setattr__(self, "spin_inertia", np.zeros(self.iws.shape[1]))
         elif np.shape(self.spin_inertia) != (np.shape(self.iws)[1],):
-            raise InputError(f"spin_inertia must have one entry per wheelset "
-                             f"({np.shape(self.iws)[1]}), got shape {np.shape(self.spin_inertia)}")
+            raise InputError(
+                f"spin_inertia must have one entry per wheelset "
+                f"({np.shape(self.iws)[1]}), got shape {np.shape(self.spin_inertia)}"
+            )
         elif not np.all(np.asarray(self.spin_inertia, dtype=float) >= 0.0):
-            raise InputError(f"spin_inertia must be finite and >= 0 (kg m^2), got "
-                             f"{self.spin_inertia}")
+            raise InputError(f"spin_inertia must be finite and >= 0 (kg m^2), got {self.spin_inertia}")
         for f in fields(self):
             val = getattr(self, f.name)
             if isinstance(val, np.ndarray):
@@ -163,7 +173,7 @@ class System:
         model = self.__dict__.get("_native")
         if model is None or not model.alive:
             model = VehicleModel(self)
-            self.__dict__["_native"] = model     # a cache, not a field: the System stays frozen
+            self.__dict__["_native"] = model  # a cache, not a field: the System stays frozen
         return model
 
     @property
@@ -185,7 +195,7 @@ class System:
         """The same system with these modal blocks (None: without); InputError for a point
         element on a DOF the system does not have."""
         if modal is not None:
-            modal.element_arrays(self.n)     # checks the elements' DOFs
+            modal.element_arrays(self.n)  # checks the elements' DOFs
         return replace(self, modal=modal)
 
     def dense_equivalent(self) -> "System":
@@ -211,7 +221,7 @@ class System:
         for e in mb.elements:
             if e.kind != "linear":
                 raise InputError("dense_equivalent: only linear point elements")
-            g = np.zeros(nt)             # d = g . x = u_point - q_dof
+            g = np.zeros(nt)  # d = g . x = u_point - q_dof
             g[n:] = mb.phi[e.point]
             if e.dof is not None:
                 g[e.dof] -= 1.0
@@ -252,8 +262,9 @@ class _Builder:
         self.c += g.T @ np.diag(c3) @ g
 
 
-def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
-                p: tuple[float, float, float]) -> np.ndarray:
+def _body_point(
+    n: int, dofs: dict[str, int], ref: tuple[float, float, float], p: tuple[float, float, float]
+) -> np.ndarray:
     """3 x n map from a rigid body's DOFs to the displacement of point p (track coordinates)."""
     g = np.zeros((3, n))
     rx, ry, rz = p[0] - ref[0], p[1] - ref[1], p[2] - ref[2]
@@ -263,20 +274,21 @@ def _body_point(n: int, dofs: dict[str, int], ref: tuple[float, float, float],
         g[1, dofs["y"]] += 1.0
     if "z" in dofs:
         g[2, dofs["z"]] += 1.0
-    if "roll" in dofs:          # w = (phi, 0, 0): w x r = (0, -phi rz, phi ry)
+    if "roll" in dofs:  # w = (phi, 0, 0): w x r = (0, -phi rz, phi ry)
         g[1, dofs["roll"]] += -rz
         g[2, dofs["roll"]] += ry
-    if "pitch" in dofs:         # w = (0, th, 0): (th rz, 0, -th rx)
+    if "pitch" in dofs:  # w = (0, th, 0): (th rz, 0, -th rx)
         g[0, dofs["pitch"]] += rz
         g[2, dofs["pitch"]] += -rx
-    if "yaw" in dofs:           # w = (0, 0, psi): (-psi ry, psi rx, 0)
+    if "yaw" in dofs:  # w = (0, 0, psi): (-psi ry, psi rx, 0)
         g[0, dofs["yaw"]] += -ry
         g[1, dofs["yaw"]] += rx
     return g
 
 
-def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
-                wheelset_dofs: int = 6, gyroscopic: bool = True) -> System:
+def build_coach(
+    coach: Coach, table: WheelTable, *, track: bool = True, wheelset_dofs: int = 6, gyroscopic: bool = True
+) -> System:
     """Assemble the coach on four track elements (RR model: rigid bodies, rigid track element).
 
     Parameters
@@ -308,21 +320,37 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
     a = p["half_wheelbase"]
     xw = np.array([xb[0] + a, xb[0] - a, xb[1] + a, xb[1] - a])
     car = {"y": 0, "z": 1, "roll": 2, "pitch": 3, "yaw": 4}
-    frames = [{"y": 7 + 5 * i, "z": 8 + 5 * i, "roll": 9 + 5 * i, "pitch": 10 + 5 * i,
-               "yaw": 11 + 5 * i} for i in range(2)]
+    frames = [
+        {"y": 7 + 5 * i, "z": 8 + 5 * i, "roll": 9 + 5 * i, "pitch": 10 + 5 * i, "yaw": 11 + 5 * i}
+        for i in range(2)
+    ]
     wsd = [{c: 17 + nws * i + j for j, c in enumerate(wnames)} for i in range(4)]
     # masses
     diag = np.zeros(n)
-    diag[0:5] = [p["carbody_mass"], p["carbody_mass"], p["carbody_roll_inertia"],
-                 p["carbody_pitch_inertia"], p["carbody_yaw_inertia"]]
+    diag[0:5] = [
+        p["carbody_mass"],
+        p["carbody_mass"],
+        p["carbody_roll_inertia"],
+        p["carbody_pitch_inertia"],
+        p["carbody_yaw_inertia"],
+    ]
     diag[5:7] = p["bolster_yaw_inertia"]
     for f in frames:
         diag[[f["y"], f["z"], f["roll"], f["pitch"], f["yaw"]]] = [
-            p["bogie_mass"], p["bogie_mass"], p["bogie_roll_inertia"], p["bogie_pitch_inertia"],
-            p["bogie_yaw_inertia"]]
-    wmass = {"x": p["wheelset_mass"], "y": p["wheelset_mass"], "z": p["wheelset_mass"],
-             "roll": p["wheelset_roll_inertia"], "yaw": p["wheelset_yaw_inertia"],
-             "beta": p["wheelset_pitch_inertia"]}
+            p["bogie_mass"],
+            p["bogie_mass"],
+            p["bogie_roll_inertia"],
+            p["bogie_pitch_inertia"],
+            p["bogie_yaw_inertia"],
+        ]
+    wmass = {
+        "x": p["wheelset_mass"],
+        "y": p["wheelset_mass"],
+        "z": p["wheelset_mass"],
+        "roll": p["wheelset_roll_inertia"],
+        "yaw": p["wheelset_yaw_inertia"],
+        "beta": p["wheelset_pitch_inertia"],
+    }
     for w in wsd:
         for c, j in w.items():
             diag[j] = wmass[c]
@@ -335,9 +363,9 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
     if track:
         for i in range(4):
             j = it0 + 3 * i
-            diag[j:j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
-            b.k[j:j + 3, j:j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
-            b.c[j:j + 3, j:j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
+            diag[j : j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
+            b.k[j : j + 3, j : j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
+            b.c[j : j + 3, j : j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
     b.m = np.diag(diag)
 
     def carbody_pt(pt):
@@ -360,8 +388,12 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
             # the wheelset's x and the bogie's pitch/yaw stretch the longitudinal spring;
             # beta (spin) is not a motion of the axlebox
             wbody = {c: j for c, j in wsd[i].items() if c != "beta"}
-            b.spring(_body_point(n, f, (xb[i // 2], 0.0, hb), pt),
-                     _body_point(n, wbody, (xw[i], 0.0, r0), pt), kp, cp)
+            b.spring(
+                _body_point(n, f, (xb[i // 2], 0.0, hb), pt),
+                _body_point(n, wbody, (xw[i], 0.0, r0), pt),
+                kp,
+                cp,
+            )
     # secondary suspension, per side; lateral damper per bogie; bump stops; yaw friction
     ks = (p["secondary_kx"], p["secondary_ky"], p["secondary_kz"])
     cs = (0.0, 0.0, p["secondary_cz"])
@@ -377,7 +409,7 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
         gr[1, car["pitch"]], gr[1, f["pitch"]] = 1.0, -1.0
         kb = 2.0 * p["secondary_bending_stiffness"]
         b.spring(gr, np.zeros_like(gr), (kb + p["anti_roll_stiffness"], kb), (0.0, 0.0))
-        gy = np.zeros((1, n))          # bolster anchor: yaw of the bolster relative to the frame
+        gy = np.zeros((1, n))  # bolster anchor: yaw of the bolster relative to the frame
         gy[0, 5 + i] = 1.0
         gy[0, f["yaw"]] = -1.0
         b.spring(gy, np.zeros_like(gy), (p["bolster_yaw_stiffness"],), (0.0,))
@@ -385,35 +417,54 @@ def build_coach(coach: Coach, table: WheelTable, *, track: bool = True,
         grel = bolster_pt(i, pt) - _body_point(n, f, (xb[i], 0.0, hb), pt)
         b.spring(grel, np.zeros_like(grel), (0.0, 0.0, 0.0), (0.0, p["secondary_cy"], 0.0))
         if p["bumpstop_stiffness"] > 0:
-            b.elements.append((EL_BUMP, grel[1].copy(),
-                               (p["bumpstop_clearance"], p["bumpstop_stiffness"], 0.0, 0.0)))
+            b.elements.append(
+                (EL_BUMP, grel[1].copy(), (p["bumpstop_clearance"], p["bumpstop_stiffness"], 0.0, 0.0))
+            )
         if p["yaw_friction_torque"] > 0:
             g = np.zeros(n)
             g[5 + i] = 1.0
             g[car["yaw"]] = -1.0
-            b.elements.append((EL_FRICTION, g, (p["yaw_friction_torque"],
-                                                p["yaw_friction_velocity"], 0.0, 0.0)))
+            b.elements.append(
+                (EL_FRICTION, g, (p["yaw_friction_torque"], p["yaw_friction_velocity"], 0.0, 0.0))
+            )
     # preload: upper bodies in equilibrium at q = 0 with the wheelsets held
     up = np.arange(17)
     qu = np.zeros(n)
     qu[up] = np.linalg.solve(b.k[np.ix_(up, up)], -fg[up])
     f0 = fg + b.k @ qu
     iws = np.array([[w[c] + 1 if c in w else 0 for c in IWS_ROWS] for w in wsd]).T
-    itr = (np.array([[it0 + 3 * i, it0 + 1 + 3 * i, it0 + 2 + 3 * i] for i in range(4)]).T + 1
-           if track else np.zeros((3, 4), dtype=int))
-    names = tuple(DOF_NAMES[:17] + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
-                  + DOF_NAMES[17 + 4 * len(WS_DOFS):][:n - it0])
+    itr = (
+        np.array([[it0 + 3 * i, it0 + 1 + 3 * i, it0 + 2 + 3 * i] for i in range(4)]).T + 1
+        if track
+        else np.zeros((3, 4), dtype=int)
+    )
+    names = tuple(
+        DOF_NAMES[:17]
+        + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
+        + DOF_NAMES[17 + 4 * len(WS_DOFS) :][: n - it0]
+    )
     sy = _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
     if gyroscopic:
         sy = replace(sy, spin_inertia=np.full(4, p["wheelset_pitch_inertia"]))
     return sy
 
 
-def build_single_wheelset(table: WheelTable, *, mass: float, roll_inertia: float,
-                          yaw_inertia: float, ky: float, kx: float, half_spacing: float,
-                          axle_load: float, kz: float = 0.0, gravity: float = 9.81,
-                          friction: float = 0.3, longitudinal: bool = False,
-                          spin_inertia: float | None = None) -> System:
+def build_single_wheelset(
+    table: WheelTable,
+    *,
+    mass: float,
+    roll_inertia: float,
+    yaw_inertia: float,
+    ky: float,
+    kx: float,
+    half_spacing: float,
+    axle_load: float,
+    kz: float = 0.0,
+    gravity: float = 9.81,
+    friction: float = 0.3,
+    longitudinal: bool = False,
+    spin_inertia: float | None = None,
+) -> System:
     """One wheelset on rigid rails held by lateral and longitudinal springs to the ground.
 
     The longitudinal springs (kx each, at +-half_spacing) give the yaw stiffness
@@ -434,17 +485,17 @@ def build_single_wheelset(table: WheelTable, *, mass: float, roll_inertia: float
     b = _Builder(n)
     b.m = np.diag(diag)
     b.k[0, 0] = 2.0 * ky
-    b.k[3, 3] = 2.0 * kx * half_spacing ** 2
+    b.k[3, 3] = 2.0 * kx * half_spacing**2
     b.k[1, 1] = kz
     if longitudinal:
         b.k[4, 4] = 2.0 * kx
     f0 = np.zeros(n)
     f0[1] = -mass * gravity - axle_load
-    iws = np.array([[names.index(f"ws1_{c}") + 1 if f"ws1_{c}" in names else 0
-                     for c in IWS_ROWS]]).T
+    iws = np.array([[names.index(f"ws1_{c}") + 1 if f"ws1_{c}" in names else 0 for c in IWS_ROWS]]).T
     itr = np.zeros((3, 1), dtype=int)
-    return _finish(b, f0, iws, itr, table, tuple(names),
-                   np.array([0.0]), 0.5 * (mass * gravity + axle_load), friction)
+    return _finish(
+        b, f0, iws, itr, table, tuple(names), np.array([0.0]), 0.5 * (mass * gravity + axle_load), friction
+    )
 
 
 def _finish(b: _Builder, f0, iws, itr, table, names, xw, wheel_load, friction) -> System:
@@ -452,21 +503,36 @@ def _finish(b: _Builder, f0, iws, itr, table, names, xw, wheel_load, friction) -
         etype = np.array([e[0] for e in b.elements], dtype=np.int32)
         eg = np.array([e[1] for e in b.elements]).T
         epar = np.array([e[2] for e in b.elements], dtype=float).T
-    else:   # a dummy element keeps the arrays non-empty for f2py
+    else:  # a dummy element keeps the arrays non-empty for f2py
         etype = np.zeros(1, dtype=np.int32)
         eg = np.zeros((b.n, 1))
         epar = np.zeros((4, 1))
-    return System(m=np.asfortranarray(b.m), c=np.asfortranarray(b.c), k=np.asfortranarray(b.k),
-                  f0=f0, etype=etype, eg=np.asfortranarray(eg), epar=np.asfortranarray(epar),
-                  iws=np.asfortranarray(iws.astype(np.int32)),
-                  itr=np.asfortranarray(itr.astype(np.int32)), table=table,
-                  dof_names=names, x_wheelsets=np.asarray(xw, dtype=float),
-                  wheel_load=float(wheel_load), friction=float(friction))
+    return System(
+        m=np.asfortranarray(b.m),
+        c=np.asfortranarray(b.c),
+        k=np.asfortranarray(b.k),
+        f0=f0,
+        etype=etype,
+        eg=np.asfortranarray(eg),
+        epar=np.asfortranarray(epar),
+        iws=np.asfortranarray(iws.astype(np.int32)),
+        itr=np.asfortranarray(itr.astype(np.int32)),
+        table=table,
+        dof_names=names,
+        x_wheelsets=np.asarray(xw, dtype=float),
+        wheel_load=float(wheel_load),
+        friction=float(friction),
+    )
 
 
-def build_rigid_system(m: np.ndarray, c: np.ndarray, k: np.ndarray,
-                       f0: np.ndarray | None = None, names: tuple | None = None,
-                       modal: ModalBlocks | None = None) -> System:
+def build_rigid_system(
+    m: np.ndarray,
+    c: np.ndarray,
+    k: np.ndarray,
+    f0: np.ndarray | None = None,
+    names: tuple | None = None,
+    modal: ModalBlocks | None = None,
+) -> System:
     """A System of rigid DOFs whose wheel never touches a rail: M a = f0 - K q - C v (plus
     the modal blocks' point elements if given); for tests and benchmarks of the integrator.
 
@@ -495,11 +561,25 @@ def build_rigid_system(m: np.ndarray, c: np.ndarray, k: np.ndarray,
     data = np.zeros((len(QUANTITIES), 2, 2))
     data[QUANTITIES.index("g")] = 1.0
     data[QUANTITIES.index("r")] = 0.46
-    table = WheelTable(y=np.array([-1.0, 1.0]), data=data, r0=0.46, s_wheel=np.zeros((2, 2)),
-                       material=STEEL, n_clipped=0)
+    table = WheelTable(
+        y=np.array([-1.0, 1.0]), data=data, r0=0.46, s_wheel=np.zeros((2, 2)), material=STEEL, n_clipped=0
+    )
     iws = np.zeros((6, 1), dtype=np.int32)
     iws[:3] = 1
-    sy = System(m=m, c=c, k=k, f0=f0, etype=np.zeros(1, dtype=np.int32), eg=np.zeros((n, 1)),
-                epar=np.zeros((4, 1)), iws=iws, itr=np.zeros((3, 1), dtype=np.int32), table=table,
-                dof_names=names, x_wheelsets=np.zeros(1), wheel_load=1.0, friction=0.0)
+    sy = System(
+        m=m,
+        c=c,
+        k=k,
+        f0=f0,
+        etype=np.zeros(1, dtype=np.int32),
+        eg=np.zeros((n, 1)),
+        epar=np.zeros((4, 1)),
+        iws=iws,
+        itr=np.zeros((3, 1), dtype=np.int32),
+        table=table,
+        dof_names=names,
+        x_wheelsets=np.zeros(1),
+        wheel_load=1.0,
+        friction=0.0,
+    )
     return sy.with_modal(modal)

@@ -24,6 +24,7 @@ gap between them (``WheelTable.s_own``), not at a fixed split: a point owns its 
 and the whole wheel when the other slot is empty. The right wheel reads the field at -y with
 the lateral index reversed (the grid is symmetric about t = 0).
 """
+
 from __future__ import annotations
 
 import logging
@@ -38,14 +39,20 @@ from ..errors import InputError
 from ..geometry import layout
 from .table import WheelTable
 
-__all__ = ["COUNTERS", "TIMERS", "BemOptions", "BemGrid", "grid_for", "gap_fields", "BemState",
-           "BemPatch"]
+__all__ = ["COUNTERS", "TIMERS", "BemOptions", "BemGrid", "grid_for", "gap_fields", "BemState", "BemPatch"]
 
 log = logging.getLogger(__name__)
 
 #: Counter names returned by the Fortran state (``vehicle_bem_counts_c``).
-COUNTERS = ("normal_solves", "cg_iterations", "rolling_solves", "rolling_sweeps", "open_points",
-            "max_normal_residual", "max_rolling_residual")
+COUNTERS = (
+    "normal_solves",
+    "cg_iterations",
+    "rolling_solves",
+    "rolling_sweeps",
+    "open_points",
+    "max_normal_residual",
+    "max_rolling_residual",
+)
 #: Wall-time counters of the Fortran state after :data:`COUNTERS` (s; :meth:`BemState.timers`):
 #: normal solves, rolling solves, and whole patches (the solves, the gap field and the sums).
 TIMERS = ("normal_seconds", "rolling_seconds", "patch_seconds")
@@ -174,11 +181,11 @@ def grid_for(table: WheelTable, wheel_load: float, options: BemOptions) -> BemGr
     if options.nx is not None and options.ny is not None:
         return BemGrid(options.nx, options.ny, d, d)
     n = options.load_factor * _checks.positive("wheel_load", wheel_load)
-    probe = BemGrid(161, 161, d, d)                 # 12 cm lines, centre element at 0
-    hx, ht = _centre_lines(table, probe)             # (n, 2, 161) each
-    kh = table.data[6]                               # (2, n)
+    probe = BemGrid(161, 161, d, d)  # 12 cm lines, centre element at 0
+    hx, ht = _centre_lines(table, probe)  # (n, 2, 161) each
+    kh = table.data[6]  # (2, n)
     cd = np.cos(table.data[2])
-    dn = (n / kh) ** (2.0 / 3.0)                     # design normal approach per point
+    dn = (n / kh) ** (2.0 / 3.0)  # design normal approach per point
     gmin = np.minimum(table.data[0, 0], table.data[0, 1])
     active = ((table.data[0] - gmin[None, :]) * cd < dn) & (np.abs(table.y) <= options.y_range)[None, :]
     c = np.arange(probe.nx) - (probe.nx - 1) // 2
@@ -211,8 +218,10 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
     """Gap fields (nx, ny, 2, n) or, with lines, the (n, 2, nx) line t = 0 and the
     (n, 2, ny) line x = 0 (nx, ny odd)."""
     if table.wheel is None or table.rail is None:
-        raise InputError("contact='bem' needs a contact table built from profiles "
-                         "(a linearised table has no contact geometry)")
+        raise InputError(
+            "contact='bem' needs a contact table built from profiles "
+            "(a linearised table has no contact geometry)"
+        )
     lay = layout(table.wheel, table.rail)
     off = lay.wheelset.contact_y
     r_nom = lay.wheelset.wheel_radius
@@ -224,11 +233,11 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
     else:
         out = np.empty((grid.nx, grid.ny, 2, table.y.size), order="F")
     for k in range(2):
-        sc = table.s_wheel[k][:, None]                        # (n, 1)
+        sc = table.s_wheel[k][:, None]  # (n, 1)
         dl = table.data[2, k][:, None]
         g0 = table.data[0, k][:, None]
         cd = np.cos(dl)
-        s = sc + t[None, :] * cd                              # (n, ny)
+        s = sc + t[None, :] * cd  # (n, ny)
         yrail = table.y[:, None] + off + s - lay.rail_offset
         zw = np.interp(s, lay.ws, lay.wz, left=np.nan, right=np.nan)
         zr = np.interp(yrail, lay.ry, lay.rz, left=np.nan, right=np.nan)
@@ -236,15 +245,15 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
         cut = (table.s_own if table.s_own is not None else np.full(table.y.size, table.split))[:, None]
         own = (s > cut) if k == 0 else (s <= cut)
         ok = own & np.isfinite(gv) & (g0 < 0.5)
-        radius = r_nom + np.where(np.isfinite(zw), zw, 0.0)    # (n, ny)
+        radius = r_nom + np.where(np.isfinite(zw), zw, 0.0)  # (n, ny)
         if lines:
             j0 = (grid.ny - 1) // 2
-            rc = radius[:, j0:j0 + 1]
-            lx[:, k] = (rc - np.sqrt(np.maximum(rc ** 2 - x[None, :] ** 2, 0.0))) * cd
+            rc = radius[:, j0 : j0 + 1]
+            lx[:, k] = (rc - np.sqrt(np.maximum(rc**2 - x[None, :] ** 2, 0.0))) * cd
             lt[:, k] = np.where(ok, (gv - g0) * cd, 1.0)
             continue
         bulge = radius[:, None, :] - np.sqrt(np.maximum(radius[:, None, :] ** 2 - x[None, :, None] ** 2, 0.0))
-        h = ((gv - g0)[:, None, :] + bulge) * cd[:, None, :]   # (n, nx, ny)
+        h = ((gv - g0)[:, None, :] + bulge) * cd[:, None, :]  # (n, nx, ny)
         h = np.where(ok[:, None, :], h, 1.0)
         out[:, :, k, :] = np.moveaxis(h, 0, -1)
     return (lx, lt) if lines else out
@@ -283,8 +292,9 @@ class BemState:
     options : BemOptions, optional
     """
 
-    def __init__(self, table: WheelTable, wheel_load: float, n_wheelsets: int,
-                 options: BemOptions | None = None) -> None:
+    def __init__(
+        self, table: WheelTable, wheel_load: float, n_wheelsets: int, options: BemOptions | None = None
+    ) -> None:
         self.options = options or BemOptions()
         if not isinstance(self.options, BemOptions):
             raise InputError("bem_options must be a railvti.vehicle.BemOptions")
@@ -293,9 +303,19 @@ class BemState:
         m = table.material
         o = self.options
         self.handle, info = core.vehicle_bem_create_c(
-            self.grid.dx, self.grid.dy, table.y0, table.dy, gap, int(n_wheelsets),
-            m.shear_modulus, m.poisson, o.tol_normal, o.tol_rolling, o.max_iter_normal,
-            o.max_iter_rolling)
+            self.grid.dx,
+            self.grid.dy,
+            table.y0,
+            table.dy,
+            gap,
+            int(n_wheelsets),
+            m.shear_modulus,
+            m.poisson,
+            o.tol_normal,
+            o.tol_rolling,
+            o.max_iter_normal,
+            o.max_iter_rolling,
+        )
         if info != Status.OK:
             self.handle = 0
             raise error(info, "could not create the BEM contact state")
@@ -303,8 +323,13 @@ class BemState:
         check(info, "could not set the BEM solve windows")
         info = core.vehicle_bem_jacobian_c(self.handle, int(o.jacobian_age))
         check(info, "could not set the BEM patch Jacobians")
-        log.debug("BEM contact state %d: grid %d x %d of %.2f mm", self.handle, self.grid.nx,
-                  self.grid.ny, self.grid.dx * 1e3)
+        log.debug(
+            "BEM contact state %d: grid %d x %d of %.2f mm",
+            self.handle,
+            self.grid.nx,
+            self.grid.ny,
+            self.grid.dx * 1e3,
+        )
 
     def __enter__(self) -> "BemState":
         return self
@@ -318,7 +343,7 @@ class BemState:
             core.vehicle_bem_free_c(self.handle)
             self.handle = 0
 
-    def __del__(self) -> None:   # pragma: no cover - safety net
+    def __del__(self) -> None:  # pragma: no cover - safety net
         try:
             self.close()
         except Exception:
@@ -335,7 +360,7 @@ class BemState:
         (:data:`TIMERS`): the profile of ``benchmarks/bench_vehicle.py``."""
         c, info = core.vehicle_bem_counts_c(self.handle, 0)
         check(info, "BEM contact state already freed")
-        return {k: float(v) for k, v in zip(TIMERS, c[len(COUNTERS):])}
+        return {k: float(v) for k, v in zip(TIMERS, c[len(COUNTERS) :])}
 
     def linear_model(self, wheelset: int, wheel: int, point: int) -> dict | None:
         """The Newton tangent's linear model of one candidate point (0-based indices as
@@ -343,8 +368,9 @@ class BemState:
         xi, eta, spin 1/m, lateral position in table nodes) and outputs y = (Fn, Fx, Fy N,
         Mz N m, Fn xc, Fn yc N m), the last solve's ``x`` and ``y``, and ``age`` (solves since
         the Jacobian); None when the point has none (out of contact, Jacobians off)."""
-        jac, xb, yb, age, ok, info = core.vehicle_bem_point_jacobian_c(self.handle, wheelset + 1,
-                                                                        wheel + 1, point + 1)
+        jac, xb, yb, age, ok, info = core.vehicle_bem_point_jacobian_c(
+            self.handle, wheelset + 1, wheel + 1, point + 1
+        )
         check(info, f"no BEM point wheelset {wheelset}, wheel {wheel}, point {point}")
         if not ok:
             return None
@@ -361,13 +387,15 @@ class BemState:
         check(info, f"BEM probe of wheelset {wheelset}, wheel {wheel}, point {point}")
         return np.array(y)
 
-    def patch(self, wheelset: int, wheel: int, point: int, speed: float, fn_hint: float = 0.0
-              ) -> "BemPatch | None":
+    def patch(
+        self, wheelset: int, wheel: int, point: int, speed: float, fn_hint: float = 0.0
+    ) -> "BemPatch | None":
         """The last fields of one candidate point (wheelset and wheel 0-based, wheel 0 left /
         1 right, point 0 tread / 1 flange); None when it is out of contact."""
         g = self.grid
-        p, tx, ty, sx, sy, info = core.vehicle_bem_fields_c(self.handle, wheelset + 1, wheel + 1,
-                                                             point + 1, g.nx, g.ny)
+        p, tx, ty, sx, sy, info = core.vehicle_bem_fields_c(
+            self.handle, wheelset + 1, wheel + 1, point + 1, g.nx, g.ny
+        )
         check(info, f"no BEM fields for wheelset {wheelset}, wheel {wheel}, point {point}")
         if not (p > 0).any():
             return None
@@ -375,11 +403,24 @@ class BemState:
         da = g.dx * g.dy
         pd = np.hypot(tx, ty) * np.hypot(sx, sy)
         inside = p > 0
-        return BemPatch(x=x, y=y, pressure=p, tx=tx, ty=ty, slip_velocity_x=sx, slip_velocity_y=sy,
-                        power_density=pd, power=float(pd.sum() * da), fn=float(p.sum() * da),
-                        fx=float(tx.sum() * da), fy=float(ty.sum() * da),
-                        a=0.5 * float(np.ptp(x[inside])) + 0.5 * g.dx,
-                        b=0.5 * float(np.ptp(y[inside])) + 0.5 * g.dy, point=point, speed=speed)
+        return BemPatch(
+            x=x,
+            y=y,
+            pressure=p,
+            tx=tx,
+            ty=ty,
+            slip_velocity_x=sx,
+            slip_velocity_y=sy,
+            power_density=pd,
+            power=float(pd.sum() * da),
+            fn=float(p.sum() * da),
+            fx=float(tx.sum() * da),
+            fy=float(ty.sum() * da),
+            a=0.5 * float(np.ptp(x[inside])) + 0.5 * g.dx,
+            b=0.5 * float(np.ptp(y[inside])) + 0.5 * g.dy,
+            point=point,
+            speed=speed,
+        )
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,7 @@
 """The bifurcation diagram of the scenarios (railvti.scenarios): a downward speed sweep with
 continuation of the upper (limit-cycle) branch and decay tests, serial or on a Dask client,
 and the systems of a sweep built per speed (:class:`SweepSystems`)."""
+
 from __future__ import annotations
 
 import contextlib
@@ -21,12 +22,33 @@ from .scenario_results import Bifurcation
 from .equilibrium import lateral_disturbance, static_equilibrium
 from .run_result import SimulationResult
 from .simulate import simulate
-from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, RING_TRACK, check_fr_selection,
-                      check_model, coach_system, ff_system, fr_system, no_fr_keys, resolve_geometry,
-                      rf_system, ring_keys, run_output_dt, time_step)
+from .systems import (
+    FLEXIBLE_WHEELSETS,
+    FR_F_MAX,
+    FR_K_MAX,
+    RING_TRACK,
+    check_fr_selection,
+    check_model,
+    coach_system,
+    ff_system,
+    fr_system,
+    no_fr_keys,
+    resolve_geometry,
+    rf_system,
+    ring_keys,
+    run_output_dt,
+    time_step,
+)
 
-__all__ = ["AMPLITUDE_WINDOW", "amplitude", "SweepSystems", "bifurcation", "bifurcation_upper",
-           "point_systems", "bifurcation_point"]
+__all__ = [
+    "AMPLITUDE_WINDOW",
+    "amplitude",
+    "SweepSystems",
+    "bifurcation",
+    "bifurcation_upper",
+    "point_systems",
+    "bifurcation_point",
+]
 
 log = logging.getLogger(__name__)
 
@@ -40,22 +62,23 @@ def amplitude(res: SimulationResult, window: float = AMPLITUDE_WINDOW) -> float:
     return 0.5 * float(np.ptp(res.y_ws1[k]))
 
 
-def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None
-                  ) -> np.ndarray:
+def _sweep_speeds(speeds_kmh: Sequence[float] | None, speeds: Sequence[float] | None) -> np.ndarray:
     """The sweep's speeds in m/s, descending, from exactly one of ``speeds`` (m/s) and
     ``speeds_kmh`` (its suffixed alias), or the default 200..460 km/h by 20."""
     if speeds is not None and speeds_kmh is not None:
-        raise InputError("give the sweep's speeds once: speeds (m/s) or speeds_kmh (km/h), "
-                         "not both")
+        raise InputError("give the sweep's speeds once: speeds (m/s) or speeds_kmh (km/h), not both")
     if speeds is not None:
         v = np.atleast_1d(_checks.finite_array("speeds", speeds))
         if v.size < 2 or np.any(~np.isfinite(v)) or np.any(v <= 0) or np.any(v > _checks.MAX_SPEED):
-            raise InputError(f"speeds must hold at least two speeds in (0, "
-                             f"{_checks.MAX_SPEED:.4g}] m/s, got {np.asarray(speeds).tolist()}")
+            raise InputError(
+                f"speeds must hold at least two speeds in (0, "
+                f"{_checks.MAX_SPEED:.4g}] m/s, got {np.asarray(speeds).tolist()}"
+            )
         sp = v
     else:
-        sp = _checks.finite_array("speeds_kmh", speeds_kmh if speeds_kmh is not None
-                                  else np.arange(200.0, 461.0, 20.0))
+        sp = _checks.finite_array(
+            "speeds_kmh", speeds_kmh if speeds_kmh is not None else np.arange(200.0, 461.0, 20.0)
+        )
         if sp.ndim != 1 or sp.size < 2 or np.any(sp <= 0):
             raise InputError("speeds_kmh must hold at least two speeds > 0")
         for s_kmh in sp:
@@ -84,9 +107,17 @@ class SweepSystems:
     (cached by speed; the wheelsets' modes depend on the spin, the ring's rows move at the
     speed) with their step and static states. ``ring``: the ring's keys (RF_KEYS)."""
 
-    def __init__(self, model: str, coach: Coach | None, contact: str, h: float | None,
-                 k_max: int, f_max: float, geometry: str | None = None,
-                 ring: dict | None = None) -> None:
+    def __init__(
+        self,
+        model: str,
+        coach: Coach | None,
+        contact: str,
+        h: float | None,
+        k_max: int,
+        f_max: float,
+        geometry: str | None = None,
+        ring: dict | None = None,
+    ) -> None:
         self.model, self.coach, self.contact, self.h = model, coach, contact, h
         self.k_max, self.f_max = k_max, f_max
         self.geometry = resolve_geometry(contact, geometry)
@@ -102,18 +133,20 @@ class SweepSystems:
         key = float(speed)
         if key not in self._cache:
             if len(self._cache) >= 4 and self.model in RING_TRACK:
-                self._cache.pop(next(iter(self._cache)))     # ring systems are large
+                self._cache.pop(next(iter(self._cache)))  # ring systems are large
             self._cache[key] = self._build(key, self.ring)
             self.steps[key] = self._cache[key][2]
         return self._cache[key]
 
     def _build(self, key: float, ring: dict) -> tuple:
         if self.model == "FR":
-            sy, lay = fr_system(self.coach, speed=key, k_max=self.k_max,
-                                f_max=self.f_max, geometry=self.geometry)
+            sy, lay = fr_system(
+                self.coach, speed=key, k_max=self.k_max, f_max=self.f_max, geometry=self.geometry
+            )
         elif self.model == "FF":
-            sy, lay = ff_system(self.coach, speed=key, k_max=self.k_max,
-                                f_max=self.f_max, geometry=self.geometry, **ring)
+            sy, lay = ff_system(
+                self.coach, speed=key, k_max=self.k_max, f_max=self.f_max, geometry=self.geometry, **ring
+            )
         else:
             sy, lay = rf_system(self.coach, speed=key, geometry=self.geometry, **ring), []
         return sy, lay, time_step(sy, self.h)
@@ -131,8 +164,9 @@ class SweepSystems:
         ring["x_offset"] = (float(ring.get("x_offset", 0.0)) + travel) % length
         return self._build(float(speed), ring)
 
-    def carry(self, q: np.ndarray, v: np.ndarray, s_from: float, s_to: float,
-              static_to: Any) -> tuple[np.ndarray, np.ndarray, bool]:
+    def carry(
+        self, q: np.ndarray, v: np.ndarray, s_from: float, s_to: float, static_to: Any
+    ) -> tuple[np.ndarray, np.ndarray, bool]:
         """Map a state (q, v) of the system at s_from onto the system at s_to (m/s).
 
         The rigid DOFs carry over. Model FR's modal coordinates (elastic and residual) carry
@@ -146,7 +180,8 @@ class SweepSystems:
         b, lb, _ = self.at(s_to)
         n = a.n
         same = a.state_names == b.state_names and (
-            self.model not in FLEXIBLE_WHEELSETS or mode_labels(a, la) == mode_labels(b, lb))
+            self.model not in FLEXIBLE_WHEELSETS or mode_labels(a, la) == mode_labels(b, lb)
+        )
         if same and self.model not in RING_TRACK:
             return q, v, False
         qs = static_to()
@@ -159,14 +194,22 @@ class SweepSystems:
         return qn, vn, True
 
 
-def _sweep_setup(sp: np.ndarray, model: str, contact: str, coach: Coach | None, h: float | None,
-                 k_max: int, f_max: float, geometry: str, ring: dict | None = None,
-                 output_dt: float | None = None) -> tuple[float, SweepSystems]:
+def _sweep_setup(
+    sp: np.ndarray,
+    model: str,
+    contact: str,
+    coach: Coach | None,
+    h: float | None,
+    k_max: int,
+    f_max: float,
+    geometry: str,
+    ring: dict | None = None,
+    output_dt: float | None = None,
+) -> tuple[float, SweepSystems]:
     """A bifurcation sweep's smallest step (m/s) and systems at the speeds ``sp`` (m/s,
     descending), every input checked and the step checked against the first speed's system
     before any run (serial continuation and independent points alike)."""
-    step = (float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0)
-            else DEFAULT_STEP)
+    step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else DEFAULT_STEP
     check_model(model, contact, "bifurcation")
     if model in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
@@ -176,21 +219,35 @@ def _sweep_setup(sp: np.ndarray, model: str, contact: str, coach: Coach | None, 
     geometry = resolve_geometry(contact, geometry)
     systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
     sy, _, hs = systems.at(sp[0])
-    if output_dt is not None:           # the top speed's excitations are the highest
+    if output_dt is not None:  # the top speed's excitations are the highest
         run_output_dt(sy, sp[0], hs, output_dt, 0.002)
     return step, systems
 
 
-
-def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
-                contact: str = "hertz-kalker", *, speeds: Sequence[float] | None = None,
-                duration: float = 4.0, y_large: float = 0.006,
-                y_small: float = 0.0005, threshold: float = 0.5e-3, h: float | None = None,
-                flange_amplitude: float = 5e-3, v_min_kmh: float | None = None,
-                v_min: float | None = None, coach: Coach | None = None, progress: bool = True,
-                k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, client: Any = None,
-                independent: bool = False, geometry: str | None = None,
-                output_dt: float | None = None, **ring: Any) -> Bifurcation:
+def bifurcation(
+    speeds_kmh: Sequence[float] | None = None,
+    model: str = "RR",
+    contact: str = "hertz-kalker",
+    *,
+    speeds: Sequence[float] | None = None,
+    duration: float = 4.0,
+    y_large: float = 0.006,
+    y_small: float = 0.0005,
+    threshold: float = 0.5e-3,
+    h: float | None = None,
+    flange_amplitude: float = 5e-3,
+    v_min_kmh: float | None = None,
+    v_min: float | None = None,
+    coach: Coach | None = None,
+    progress: bool = True,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    client: Any = None,
+    independent: bool = False,
+    geometry: str | None = None,
+    output_dt: float | None = None,
+    **ring: Any,
+) -> Bifurcation:
     """Bifurcation diagram by a downward speed sweep with continuation and decay tests.
 
     The upper (limit-cycle) branch: start at the highest speed with ``y_large``, run
@@ -263,50 +320,97 @@ def bifurcation(speeds_kmh: Sequence[float] | None = None, model: str = "RR",
         carried rail deflection lies under the wheels. The decay runs start at x_offset.
     """
     if client is not None:
-        check_client(client)            # an unreachable address: InputError before any work
+        check_client(client)  # an unreachable address: InputError before any work
     sp = _sweep_speeds(speeds_kmh, speeds)
     floor = _floor(v_min_kmh, v_min)
-    kw = dict(duration=duration, y_large=y_large, y_small=y_small, threshold=threshold,
-              h=h, v_min=floor, coach=coach, k_max=k_max, f_max=f_max, geometry=geometry,
-              ring=ring, output_dt=output_dt)
+    kw = dict(
+        duration=duration,
+        y_large=y_large,
+        y_small=y_small,
+        threshold=threshold,
+        h=h,
+        v_min=floor,
+        coach=coach,
+        k_max=k_max,
+        f_max=f_max,
+        geometry=geometry,
+        ring=ring,
+        output_dt=output_dt,
+    )
     if independent:
-        return _bifurcation_independent(sp, model, contact, client=client,
-                                        flange_amplitude=flange_amplitude, progress=progress,
-                                        **kw)
-    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring,
-                                 output_dt)
-    point = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
-                 f_max=systems.f_max, duration=duration, geometry=systems.geometry,
-                 ring=systems.ring, output_dt=output_dt)
+        return _bifurcation_independent(
+            sp, model, contact, client=client, flange_amplitude=flange_amplitude, progress=progress, **kw
+        )
+    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
+    point = dict(
+        model=model,
+        contact=contact,
+        coach=coach,
+        h=h,
+        k_max=systems.k_max,
+        f_max=systems.f_max,
+        duration=duration,
+        geometry=systems.geometry,
+        ring=systems.ring,
+        output_dt=output_dt,
+    )
     chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min=floor)
     bar = None
     if progress:
         from tqdm import tqdm
+
         bar = tqdm(total=2 * sp.size, desc="bifurcation", leave=False)
     decay: list[float] = []
     if client is None:
-        def decay_at(s: float) -> None:       # after the upper run at s, as one loop
+
+        def decay_at(s: float) -> None:  # after the upper run at s, as one loop
             if bar is not None:
-                bar.total = max(bar.total, bar.n + 2)   # an extension below the sweep
+                bar.total = max(bar.total, bar.n + 2)  # an extension below the sweep
                 bar.update()
             decay.append(bifurcation_point(s, y_small, **point)[0])
             if bar is not None:
                 bar.update()
+
         up = bifurcation_upper(list(sp), each=decay_at, **chain)
     else:
         up, decay = _bifurcation_on_client(client, sp, y_small, point, chain, bar)
     if bar is not None:
         bar.close()
     systems.steps.update(up["steps"])
-    return _bifurcation_result(sp, up["speeds"], up["upper"], up["flange"], decay, up["alive"],
-                               threshold, flange_amplitude, systems, model, up["restarts"])
+    return _bifurcation_result(
+        sp,
+        up["speeds"],
+        up["upper"],
+        up["flange"],
+        decay,
+        up["alive"],
+        threshold,
+        flange_amplitude,
+        systems,
+        model,
+        up["restarts"],
+    )
 
 
-def bifurcation_upper(speeds: Sequence[float], *, y_large: float, threshold: float,
-                      step: float, v_min: float, model: str, contact: str,
-                      coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                      duration: float, geometry: str | None = None, ring: dict | None = None,
-                      output_dt: float | None = None, each: Any = None) -> dict:
+def bifurcation_upper(
+    speeds: Sequence[float],
+    *,
+    y_large: float,
+    threshold: float,
+    step: float,
+    v_min: float,
+    model: str,
+    contact: str,
+    coach: Coach | None,
+    h: float | None,
+    k_max: int,
+    f_max: float,
+    duration: float,
+    geometry: str | None = None,
+    ring: dict | None = None,
+    output_dt: float | None = None,
+    each: Any = None,
+) -> dict:
     """The upper branch of a :func:`bifurcation` sweep, one sequential chain (one task on a
     Dask client): from the static state at the first (highest) speed shifted by ``y_large``
     (m), ``duration`` s at each speed, each speed starting from the state carried down from
@@ -328,8 +432,8 @@ def bifurcation_upper(speeds: Sequence[float], *, y_large: float, threshold: flo
     alive = True
     todo = [float(s) for s in speeds]
     prev = None
-    travel = 0.0        # distance run along the ring by the upper branch, m
-    with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
+    travel = 0.0  # distance run along the ring by the upper branch, m
+    with serial_blas():  # one BLAS thread, in the caller as in a worker: the same bits
         while todo:
             s = todo.pop(0)
             vv = s
@@ -342,12 +446,21 @@ def bifurcation_upper(speeds: Sequence[float], *, y_large: float, threshold: flo
                 su = systems.upper_at(s, travel)[0]
                 if prev is not None:
                     q, v, restarted = systems.carry(
-                        q, v, prev, s, lambda: static_equilibrium(su, vv, contact)[0])
+                        q, v, prev, s, lambda: static_equilibrium(su, vv, contact)[0]
+                    )
                     if restarted:
                         restarts.append(float(s))
-                r = simulate(su, vv, duration, contact=contact, h=hs, q0=q, v0=v,
-                             output_dt=run_output_dt(su, vv, hs, output_dt, 0.002, check=False),
-                             progress=False)
+                r = simulate(
+                    su,
+                    vv,
+                    duration,
+                    contact=contact,
+                    h=hs,
+                    q0=q,
+                    v0=v,
+                    output_dt=run_output_dt(su, vv, hs, output_dt, 0.002, check=False),
+                    progress=False,
+                )
                 travel += vv * float(r.t[-1])
                 up = amplitude(r)
                 last = r.t >= r.t[-1] - 1.0
@@ -361,30 +474,36 @@ def bifurcation_upper(speeds: Sequence[float], *, y_large: float, threshold: flo
             if each is not None:
                 each(s)
             if not todo and alive and s - step >= v_min - _FLOOR_SLACK:
-                todo.append(s - step)      # the cycle has not died: extend the sweep downward
-    return {"speeds": speeds_out, "upper": upper, "flange": flange, "alive": alive,
-            "restarts": restarts, "steps": {k: systems.steps[k] for k in systems.steps}}
+                todo.append(s - step)  # the cycle has not died: extend the sweep downward
+    return {
+        "speeds": speeds_out,
+        "upper": upper,
+        "flange": flange,
+        "alive": alive,
+        "restarts": restarts,
+        "steps": {k: systems.steps[k] for k in systems.steps},
+    }
 
 
-def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: dict,
-                           chain: dict, bar: Any) -> tuple[dict, list[float]]:
+def _bifurcation_on_client(
+    client: Any, sp: np.ndarray, y_small: float, point: dict, chain: dict, bar: Any
+) -> tuple[dict, list[float]]:
     """The continuation sweep on a Dask client: the upper branch as one task
     (:func:`bifurcation_upper`), the decay tests (independent by nature) as one task per
     speed beside it; the same runs as the serial sweep, so the same numbers."""
     from distributed import as_completed
+
     with client_from(client) as c:
         fut_up = c.submit(bifurcation_upper, list(map(float, sp)), pure=False, **chain)
-        fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size,
-                          pure=False, **point)
+        fut_decay = c.map(bifurcation_point, list(map(float, sp)), [y_small] * sp.size, pure=False, **point)
         pending = as_completed([fut_up, *fut_decay])
         up = None
         for f in pending:
             if f is fut_up:
                 up = f.result()
-                extra = up["speeds"][sp.size:]
-                if extra:                           # the sweep was extended downward
-                    more = c.map(bifurcation_point, extra, [y_small] * len(extra), pure=False,
-                                 **point)
+                extra = up["speeds"][sp.size :]
+                if extra:  # the sweep was extended downward
+                    more = c.map(bifurcation_point, extra, [y_small] * len(extra), pure=False, **point)
                     fut_decay += more
                     pending.update(more)
                     if bar is not None:
@@ -395,9 +514,19 @@ def _bifurcation_on_client(client: Any, sp: np.ndarray, y_small: float, point: d
     return up, decay
 
 
-def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: list,
-                        decay: list, alive: bool, threshold: float, flange_amplitude: float,
-                        systems: Any, model: str, restarts: list) -> Bifurcation:
+def _bifurcation_result(
+    sp: np.ndarray,
+    speeds_out: list,
+    upper: list,
+    flange: list,
+    decay: list,
+    alive: bool,
+    threshold: float,
+    flange_amplitude: float,
+    systems: Any,
+    model: str,
+    restarts: list,
+) -> Bifurcation:
     """The Bifurcation of a finished sweep (its critical speed, branch and messages)."""
     spa, upa, fla = np.array(speeds_out), np.array(upper), np.array(flange)
     on = upa > threshold
@@ -407,8 +536,10 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     if on.any() and alive:
         no_decay = float(spa.min())
         crit = float("nan")
-        msg = (f"bifurcation: below {_checks.to_kmh(no_decay):.0f} km/h: no decay found (the "
-               f"cycle is sustained at every speed swept; lower v_min_kmh to search further)")
+        msg = (
+            f"bifurcation: below {_checks.to_kmh(no_decay):.0f} km/h: no decay found (the "
+            f"cycle is sustained at every speed swept; lower v_min_kmh to search further)"
+        )
         log.warning(msg)
         warnings.warn(msg, RuntimeWarning, stacklevel=3)
     elif not on.any():
@@ -425,37 +556,63 @@ def _bifurcation_result(sp: np.ndarray, speeds_out: list, upper: list, flange: l
     if model != "RR":
         details["h"] = np.array([systems.steps[float(x)] for x in spa[order]])
         details["modal_restarts"] = np.array(sorted(restarts))
-    return Bifurcation(speeds=spa[order], upper=upa[order], decay=np.array(decay)[order],
-                       critical=crit, threshold=threshold,
-                       flange=float(spa[fl].min()) if fl.any() else float("nan"),
-                       details=details,
-                       branch=branch, branch_amplitude=amp_b, branch_flange_force=fl_b,
-                       extended=np.sort(spa[spa < sp.min()]), no_decay_below=no_decay,
-                       no_cycle_up_to=no_cycle, model=model)
+    return Bifurcation(
+        speeds=spa[order],
+        upper=upa[order],
+        decay=np.array(decay)[order],
+        critical=crit,
+        threshold=threshold,
+        flange=float(spa[fl].min()) if fl.any() else float("nan"),
+        details=details,
+        branch=branch,
+        branch_amplitude=amp_b,
+        branch_flange_force=fl_b,
+        extended=np.sort(spa[spa < sp.min()]),
+        no_decay_below=no_decay,
+        no_cycle_up_to=no_cycle,
+        model=model,
+    )
 
 
 #: The sweep systems of bifurcation runs in this process (a worker keeps its own).
 _POINT_SYSTEMS: dict[str, "SweepSystems"] = {}
 
 
-def point_systems(model: str, coach: Coach | None, contact: str, h: float | None,
-                   k_max: int, f_max: float, geometry: str | None, ring: dict | None
-                   ) -> SweepSystems:
+def point_systems(
+    model: str,
+    coach: Coach | None,
+    contact: str,
+    h: float | None,
+    k_max: int,
+    f_max: float,
+    geometry: str | None,
+    ring: dict | None,
+) -> SweepSystems:
     """The sweep systems of these settings in this process: one set at a time, shared by a
     sweep's upper branch and its decay runs (each run starts from its own state)."""
     geometry = resolve_geometry(contact, geometry)
     key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
     if key not in _POINT_SYSTEMS:
         _POINT_SYSTEMS.clear()
-        _POINT_SYSTEMS[key] = SweepSystems(model, coach, contact, h, k_max, f_max, geometry,
-                                            ring)
+        _POINT_SYSTEMS[key] = SweepSystems(model, coach, contact, h, k_max, f_max, geometry, ring)
     return _POINT_SYSTEMS[key]
 
 
-def bifurcation_point(speed: float, y: float, *, model: str, contact: str,
-                      coach: Coach | None, h: float | None, k_max: int, f_max: float,
-                      duration: float, geometry: str | None = None, ring: dict | None = None,
-                      output_dt: float | None = None) -> tuple[float, float, float]:
+def bifurcation_point(
+    speed: float,
+    y: float,
+    *,
+    model: str,
+    contact: str,
+    coach: Coach | None,
+    h: float | None,
+    k_max: int,
+    f_max: float,
+    duration: float,
+    geometry: str | None = None,
+    ring: dict | None = None,
+    output_dt: float | None = None,
+) -> tuple[float, float, float]:
     """One run of an independent bifurcation sweep (a task): from the static state at
     ``speed`` (m/s) with the leading bogie's wheelsets shifted by ``y`` (m), ``duration`` s.
 
@@ -470,29 +627,58 @@ def bifurcation_point(speed: float, y: float, *, model: str, contact: str,
     """
     sy, _, hs = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring).at(speed)
     vv = speed
-    with serial_blas():      # one BLAS thread, in the caller as in a worker: the same bits
+    with serial_blas():  # one BLAS thread, in the caller as in a worker: the same bits
         q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
-        r = simulate(sy, vv, duration, contact=contact, h=hs, q0=q0,
-                     output_dt=run_output_dt(sy, vv, hs, output_dt, 0.002, check=False),
-                     progress=False)
+        r = simulate(
+            sy,
+            vv,
+            duration,
+            contact=contact,
+            h=hs,
+            q0=q0,
+            output_dt=run_output_dt(sy, vv, hs, output_dt, 0.002, check=False),
+            progress=False,
+        )
     last = r.t >= r.t[-1] - 1.0
     return amplitude(r), float(r.wheel_output("N_flange")[last][:, :, :2].max()), hs
 
 
-def _bifurcation_independent(sp: np.ndarray, model: str, contact: str, *, duration: float,
-                             y_large: float, y_small: float, threshold: float, h: float | None,
-                             flange_amplitude: float, v_min: float, coach: Coach | None,
-                             k_max: int, f_max: float,
-                             client: Any, geometry: str | None = None,
-                             ring: dict | None = None, output_dt: float | None = None,
-                             progress: bool = False) -> Bifurcation:
+def _bifurcation_independent(
+    sp: np.ndarray,
+    model: str,
+    contact: str,
+    *,
+    duration: float,
+    y_large: float,
+    y_small: float,
+    threshold: float,
+    h: float | None,
+    flange_amplitude: float,
+    v_min: float,
+    coach: Coach | None,
+    k_max: int,
+    f_max: float,
+    client: Any,
+    geometry: str | None = None,
+    ring: dict | None = None,
+    output_dt: float | None = None,
+    progress: bool = False,
+) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client (speeds
     ``sp`` and the floor ``v_min`` in m/s)."""
-    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring,
-                                 output_dt)
-    kw = dict(model=model, contact=contact, coach=coach, h=h, k_max=systems.k_max,
-              f_max=systems.f_max, duration=duration, geometry=systems.geometry,
-              ring=systems.ring, output_dt=output_dt)
+    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
+    kw = dict(
+        model=model,
+        contact=contact,
+        coach=coach,
+        h=h,
+        k_max=systems.k_max,
+        f_max=systems.f_max,
+        duration=duration,
+        geometry=systems.geometry,
+        ring=systems.ring,
+        output_dt=output_dt,
+    )
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
@@ -501,6 +687,7 @@ def _bifurcation_independent(sp: np.ndarray, model: str, contact: str, *, durati
         bar = None
         if progress:
             from tqdm import tqdm
+
             bar = stack.enter_context(tqdm(total=2 * sp.size, desc="bifurcation", leave=False))
 
         def runs(todo: list[float]) -> list[tuple[float, float, float]]:
@@ -520,16 +707,26 @@ def _bifurcation_independent(sp: np.ndarray, model: str, contact: str, *, durati
             if bar is not None:
                 bar.update(len(out))
             return out
+
         speeds_out = [float(s) for s in sp]
         out = runs(speeds_out)
         while out[-2][0] > threshold and speeds_out[-1] - step >= v_min - _FLOOR_SLACK:
-            speeds_out.append(speeds_out[-1] - step)   # alive at the bottom: extend downward
+            speeds_out.append(speeds_out[-1] - step)  # alive at the bottom: extend downward
             out += runs(speeds_out[-1:])
     upper, flange = [o[0] for o in out[0::2]], [o[1] for o in out[0::2]]
     decay = [o[0] for o in out[1::2]]
     if model != "RR":
         systems.steps.update({float(s): o[2] for s, o in zip(speeds_out, out[0::2])})
-    return _bifurcation_result(sp, speeds_out, upper, flange, decay, upper[-1] > threshold,
-                               threshold, flange_amplitude, systems, model, [])
-
-
+    return _bifurcation_result(
+        sp,
+        speeds_out,
+        upper,
+        flange,
+        decay,
+        upper[-1] > threshold,
+        threshold,
+        flange_amplitude,
+        systems,
+        model,
+        [],
+    )

@@ -20,14 +20,23 @@ name               Fortran constant        id  model
 
 tests/test_contact_models.py reads the Fortran constants and checks this table against them.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from ..errors import InputError
 
-__all__ = ["GEOMETRIES", "ContactModel", "HERTZ_KALKER", "HERTZ_FASTSIM", "BEM", "CONTACT_MODELS",
-           "parse_contact_model", "contact_id"]
+__all__ = [
+    "GEOMETRIES",
+    "ContactModel",
+    "HERTZ_KALKER",
+    "HERTZ_FASTSIM",
+    "BEM",
+    "CONTACT_MODELS",
+    "parse_contact_model",
+    "contact_id",
+]
 
 #: Contact geometries of the time simulation: the table's Hertz points, or the strip
 #: potential (railvti.vehicle.strip).
@@ -86,31 +95,53 @@ class ContactModel:
         if g not in GEOMETRIES:
             raise InputError(f"unknown contact geometry {g!r}: one of {GEOMETRIES}")
         if g not in self.geometries:
-            readers = " and ".join(repr(m.name) for m in CONTACT_MODELS.values()
-                                   if g in m.geometries)
-            raise InputError(f"geometry={g!r} is the geometry of {readers}; the "
-                             f"{self.description} reads the {self.default_geometry}'s gap fields")
+            readers = " and ".join(repr(m.name) for m in CONTACT_MODELS.values() if g in m.geometries)
+            raise InputError(
+                f"geometry={g!r} is the geometry of {readers}; the "
+                f"{self.description} reads the {self.default_geometry}'s gap fields"
+            )
         return g
 
 
 #: Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation.
 HERTZ_KALKER = ContactModel(
-    name="hertz-kalker", fortran_name="CMODEL_HERTZ_KALKER", fortran_id=1, needs_bem=False,
-    newton_tol=1e-9, geometries=("table", "strip"), default_geometry="strip",
-    static_restart=False, description="Hertz + Kalker contact")
+    name="hertz-kalker",
+    fortran_name="CMODEL_HERTZ_KALKER",
+    fortran_id=1,
+    needs_bem=False,
+    newton_tol=1e-9,
+    geometries=("table", "strip"),
+    default_geometry="strip",
+    static_restart=False,
+    description="Hertz + Kalker contact",
+)
 #: Hertz + FASTSIM.
 HERTZ_FASTSIM = ContactModel(
-    name="hertz-fastsim", fortran_name="CMODEL_FASTSIM", fortran_id=2, needs_bem=False,
-    newton_tol=1e-9, geometries=("table", "strip"), default_geometry="strip",
-    static_restart=True, description="Hertz + FASTSIM contact")
+    name="hertz-fastsim",
+    fortran_name="CMODEL_FASTSIM",
+    fortran_id=2,
+    needs_bem=False,
+    newton_tol=1e-9,
+    geometries=("table", "strip"),
+    default_geometry="strip",
+    static_restart=True,
+    description="Hertz + FASTSIM contact",
+)
 #: The BEM normal + steady-rolling solvers on the table's gap fields (railvti.vehicle.bem),
 #: with the Hertz + Kalker tangent in Newton: a calibrated cheap tangent, hence the looser
 #: default tolerance (hunting at 300 km/h, 0.1 s: the leading wheelset moves by 2e-8 m and
 #: the BEM solves per step drop by 19 %).
 BEM = ContactModel(
-    name="bem", fortran_name="CMODEL_BEM", fortran_id=3, needs_bem=True, newton_tol=1e-8,
-    geometries=("table",), default_geometry="table", static_restart=True,
-    description="BEM contact")
+    name="bem",
+    fortran_name="CMODEL_BEM",
+    fortran_id=3,
+    needs_bem=True,
+    newton_tol=1e-8,
+    geometries=("table",),
+    default_geometry="table",
+    static_restart=True,
+    description="BEM contact",
+)
 
 #: The contact models by name (the strings users write), in the Fortran ids' order.
 CONTACT_MODELS: dict[str, ContactModel] = {m.name: m for m in (HERTZ_KALKER, HERTZ_FASTSIM, BEM)}

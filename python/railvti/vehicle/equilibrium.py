@@ -5,6 +5,7 @@ worker thread that Ctrl-C / SIGTERM can leave), :func:`lateral_disturbance` shif
 off it, and :func:`force_and_tangent` / :func:`eigenvalues` linearise about a state. A run with
 the BEM contact uses one BEM state throughout (:func:`contact_state`).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -23,8 +24,16 @@ from .bem import BemOptions, BemState
 from .contact_models import HERTZ_KALKER, ContactModel, parse_contact_model
 from .model import CallSettings
 
-__all__ = ["NEWTON_RTOL", "bem_state", "contact_state", "call_settings", "static_equilibrium",
-           "lateral_disturbance", "force_and_tangent", "eigenvalues"]
+__all__ = [
+    "NEWTON_RTOL",
+    "bem_state",
+    "contact_state",
+    "call_settings",
+    "static_equilibrium",
+    "lateral_disturbance",
+    "force_and_tangent",
+    "eigenvalues",
+]
 
 log = logging.getLogger(__name__)
 
@@ -37,12 +46,12 @@ log = logging.getLogger(__name__)
 NEWTON_RTOL = 1e-3
 
 #: What a BEM patch at its grid's edge asks of the user.
-BEM_EDGE_HINT = ("a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or "
-                  "load_factor)")
+BEM_EDGE_HINT = "a BEM contact patch reached the edge of its grid (enlarge BemOptions nx/ny or load_factor)"
 
 
-def call_settings(speed: float, contact: str | ContactModel, fastsim_n: int,
-                  bem: BemState | None) -> CallSettings:
+def call_settings(
+    speed: float, contact: str | ContactModel, fastsim_n: int, bem: BemState | None
+) -> CallSettings:
     """The per-call values of the shims; InputError for an unknown contact model, or for the
     BEM contact without a BEM state."""
     spec = parse_contact_model(contact)
@@ -59,8 +68,12 @@ def bem_state(system: System, options: BemOptions | None = None) -> BemState:
 
 
 @contextlib.contextmanager
-def contact_state(system: System, contact: str | ContactModel, bem: BemState | None = None,
-                  options: BemOptions | None = None) -> Iterator[BemState | None]:
+def contact_state(
+    system: System,
+    contact: str | ContactModel,
+    bem: BemState | None = None,
+    options: BemOptions | None = None,
+) -> Iterator[BemState | None]:
     """The BEM state of a run: ``bem`` when given (left open), else for a model that needs
     one a new state made with ``options`` and closed at the end, else None. Open it once
     around a run's equilibrium and time loop: one BEM state per run.
@@ -78,12 +91,19 @@ def contact_state(system: System, contact: str | ContactModel, bem: BemState | N
         yield st
 
 
-def static_equilibrium(system: System, speed: float,
-                       contact: str | ContactModel = "hertz-kalker", *,
-                       q0: np.ndarray | None = None, tol: float = 1e-11, maxit: int = 60,
-                       fastsim_n: int = 8, bem: BemState | None = None,
-                       bem_options: BemOptions | None = None, return_velocity: bool = False
-                       ) -> tuple[np.ndarray, ...]:
+def static_equilibrium(
+    system: System,
+    speed: float,
+    contact: str | ContactModel = "hertz-kalker",
+    *,
+    q0: np.ndarray | None = None,
+    tol: float = 1e-11,
+    maxit: int = 60,
+    fastsim_n: int = 8,
+    bem: BemState | None = None,
+    bem_options: BemOptions | None = None,
+    return_velocity: bool = False,
+) -> tuple[np.ndarray, ...]:
     """Steady state of centred running on straight track: F(q, v) = 0 with v = 0 except the
     wheelsets' spin rates betadot (free rolling: the unknowns in place of the spin angles).
 
@@ -111,20 +131,27 @@ def static_equilibrium(system: System, speed: float,
         return _equilibrium(system, speed, spec, st, q0, tol, maxit, fastsim_n, return_velocity)
 
 
-def _equilibrium(system: System, speed: float, spec: ContactModel, bem: BemState | None,
-                 q0: np.ndarray | None, tol: float, maxit: int, fastsim_n: int,
-                 return_velocity: bool) -> tuple[np.ndarray, ...]:
+def _equilibrium(
+    system: System,
+    speed: float,
+    spec: ContactModel,
+    bem: BemState | None,
+    q0: np.ndarray | None,
+    tol: float,
+    maxit: int,
+    fastsim_n: int,
+    return_velocity: bool,
+) -> tuple[np.ndarray, ...]:
     """:func:`static_equilibrium` with the run's BEM state (or None) open."""
     cs = call_settings(speed, spec, fastsim_n, bem)
-    if q0 is None:      # modal coordinates (if any) start undeformed
+    if q0 is None:  # modal coordinates (if any) start undeformed
         q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
     else:
         q = np.array(_checks.finite_array("q0", q0, shape=(system.n_state,)), dtype=float)
     q_start = q.copy()
-    limit = NEWTON_RTOL * system.wheel_load     # forces balanced: an equilibrium, not a stall
+    limit = NEWTON_RTOL * system.wheel_load  # forces balanced: an equilibrium, not a stall
     v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
-    stalled = info == Status.NOT_CONVERGED or (
-        info == Status.OK and not float(np.max(np.abs(f))) <= limit)
+    stalled = info == Status.NOT_CONVERGED or (info == Status.OK and not float(np.max(np.abs(f))) <= limit)
     if stalled and spec.static_restart:
         # FASTSIM's and the BEM's Newton (with Hertz + Kalker's tangent) can stall far from
         # equilibrium (discretised creep forces; seen on the ring track from the undeformed
@@ -132,15 +159,18 @@ def _equilibrium(system: System, speed: float, spec: ContactModel, bem: BemState
         # Kalker's equilibrium, where it converges in a few iterations
         log.debug("static equilibrium: %s's Newton stalled; restarting from Kalker's", spec.name)
         q = q_start
-        _static_call(system, call_settings(speed, HERTZ_KALKER, fastsim_n, None), None, q, tol,
-                     maxit)
+        _static_call(system, call_settings(speed, HERTZ_KALKER, fastsim_n, None), None, q, tol, maxit)
         v, f, wout, iters, resid, info = _static_call(system, cs, bem, q, tol, maxit)
     fmax = float(np.max(np.abs(f)))
     if info == Status.NOT_CONVERGED and resid <= 100.0 * tol and fmax <= limit:
         # the correction stalls at round-off a little above tol (RF's critical_speed stopped
         # at 1.87e-11 against 1e-11) with the forces balanced: that is the equilibrium
-        log.debug("static equilibrium: correction %.3g stalled above tol %.3g, forces balanced "
-                  "(%.3g N): accepted", resid, tol, fmax)
+        log.debug(
+            "static equilibrium: correction %.3g stalled above tol %.3g, forces balanced (%.3g N): accepted",
+            resid,
+            tol,
+            fmax,
+        )
         info = Status.OK
     context = "static equilibrium"
     if info == Status.OUTSIDE_TABLE:
@@ -148,16 +178,18 @@ def _equilibrium(system: System, speed: float, spec: ContactModel, bem: BemState
     elif info == Status.GRID_EDGE:
         context = f"static equilibrium: {BEM_EDGE_HINT}"
     elif info in (Status.NOT_CONVERGED, Status.SINGULAR):
-        context = (f"static equilibrium not found after {iters} Newton iterations, last "
-                   f"correction {resid:.3g}")
+        context = f"static equilibrium not found after {iters} Newton iterations, last correction {resid:.3g}"
     check(info, context, iterations=int(iters), residual=float(resid))
     # the Newton correction can end small because the line search cut it: the state is an
     # equilibrium only if the forces balance too (NEWTON_RTOL of the wheel load, as a step)
     if not fmax <= limit:
-        raise ConvergenceError(f"static equilibrium not found: the Newton correction stopped at "
-                               f"{resid:.3g} with an unbalanced force of {fmax:.3g} N (N m) "
-                               f"(limit {limit:.3g}); try another q0",
-                               iterations=int(iters), residual=fmax)
+        raise ConvergenceError(
+            f"static equilibrium not found: the Newton correction stopped at "
+            f"{resid:.3g} with an unbalanced force of {fmax:.3g} N (N m) "
+            f"(limit {limit:.3g}); try another q0",
+            iterations=int(iters),
+            residual=fmax,
+        )
     log.debug("static equilibrium: %d iterations, unbalanced force %.3g", iters, fmax)
     return (q, v, wout) if return_velocity else (q, wout)
 
@@ -171,8 +203,9 @@ def wait_idle(system: System) -> None:
     _interrupt.wait_while(lambda: system.native.handle in _busy_models)
 
 
-def _static_call(system: System, cs: CallSettings, bem: BemState | None, q: np.ndarray,
-                 tol: float, maxit: int) -> tuple:
+def _static_call(
+    system: System, cs: CallSettings, bem: BemState | None, q: np.ndarray, tol: float, maxit: int
+) -> tuple:
     """``system.native.static(cs, q, tol, maxit)`` (one Fortran call, ~3-5 s with the BEM)
     in a worker thread, the shim releasing the GIL (``!f2py threadsafe``), while the main
     thread waits for signals (:func:`railvti._interrupt.call_in_worker`): Ctrl-C / SIGTERM
@@ -187,7 +220,7 @@ def _static_call(system: System, cs: CallSettings, bem: BemState | None, q: np.n
     abandoned: list[int] = []
 
     def on_abandon() -> None:
-        native._free.atexit = False          # not freed at exit under the running call
+        native._free.atexit = False  # not freed at exit under the running call
         if bem is not None and bem.handle:
             # the rest of the call on one thread: the exit then competes with one compute
             # thread, not all (0.5 s quicker on 2 loaded cores)
@@ -200,9 +233,11 @@ def _static_call(system: System, cs: CallSettings, bem: BemState | None, q: np.n
             core.vehicle_bem_free_c(h)
         native._free.atexit = True
         _busy_models.discard(handle)
+
     _busy_models.add(handle)
-    return _interrupt.call_in_worker(native.static, cs, q, tol, maxit, on_abandon=on_abandon,
-                                     on_end=on_end, name="railvti-static")
+    return _interrupt.call_in_worker(
+        native.static, cs, q, tol, maxit, on_abandon=on_abandon, on_end=on_end, name="railvti-static"
+    )
 
 
 def _rigid_only(system: System, what: str) -> None:
@@ -217,7 +252,7 @@ def _initial_guess(system: System) -> np.ndarray:
     i0 = int(np.argmin(np.abs(t.y)))
     g0, dl, kh = t.data[0, 0, i0], t.data[2, 0, i0], t.data[6, 0, i0]
     k = np.diag(system.k)
-    if not kh > 0.0:        # a table without contact (build_rigid_system): start at zero
+    if not kh > 0.0:  # a table without contact (build_rigid_system): start at zero
         return q
     for w in range(system.iws.shape[1]):
         # wheel load from the preload on this wheelset
@@ -232,8 +267,9 @@ def _initial_guess(system: System) -> np.ndarray:
     return q
 
 
-def lateral_disturbance(system: System, q: np.ndarray, y0: float,
-                        wheelsets: tuple[int, ...] = (0, 1)) -> np.ndarray:
+def lateral_disturbance(
+    system: System, q: np.ndarray, y0: float, wheelsets: tuple[int, ...] = (0, 1)
+) -> np.ndarray:
     """A copy of q with the given wheelsets (0-based) shifted laterally by y0 (m), their height
     and roll corrected by the table so that the wheels keep their static approach."""
     y0 = _checks.finite("y0", y0)
@@ -244,11 +280,13 @@ def lateral_disturbance(system: System, q: np.ndarray, y0: float,
         yr = q[iy] - (q[system.itr[0, w] - 1] if system.itr[0, w] > 0 else 0.0)
         if abs(yr + y0) > t.y[-1]:
             raise InputError(f"|y0| too large for the contact table (+-{t.y[-1] * 1e3:.0f} mm)")
+
         def gaps(y):
             gl = np.interp(y, t.y, t.gap_min)
             gr = np.interp(-y, t.y, t.gap_min)
             l = 0.5 * (np.interp(y, t.y, t.l_carrying) + np.interp(-y, t.y, t.l_carrying))
             return gl, gr, l
+
         gl0, gr0, l0 = gaps(yr)
         gl1, gr1, l1 = gaps(yr + y0)
         out[iy] += y0
@@ -257,9 +295,16 @@ def lateral_disturbance(system: System, q: np.ndarray, y0: float,
     return out
 
 
-def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float,
-                      contact: str | ContactModel = "hertz-kalker", fastsim_n: int = 8, *,
-                      bem: BemState | None = None):
+def force_and_tangent(
+    system: System,
+    q: np.ndarray,
+    v: np.ndarray,
+    speed: float,
+    contact: str | ContactModel = "hertz-kalker",
+    fastsim_n: int = 8,
+    *,
+    bem: BemState | None = None,
+):
     """F(q, v), the per-wheel outputs, dF/dq and dF/dv (contact by forward differences).
     With the BEM contact the state ``bem`` is used (and left warm), or a temporary one.
 
@@ -273,8 +318,15 @@ def force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float
         return _force_and_tangent(system, q, v, speed, spec, fastsim_n, st)
 
 
-def _force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: float,
-                       contact: str | ContactModel, fastsim_n: int, bem: BemState | None):
+def _force_and_tangent(
+    system: System,
+    q: np.ndarray,
+    v: np.ndarray,
+    speed: float,
+    contact: str | ContactModel,
+    fastsim_n: int,
+    bem: BemState | None,
+):
     _rigid_only(system, "force_and_tangent")
     cs = call_settings(_checks.positive("speed", speed), contact, fastsim_n, bem)
     q = _checks.finite_array("q", q, shape=(system.n,))
@@ -284,9 +336,13 @@ def _force_and_tangent(system: System, q: np.ndarray, v: np.ndarray, speed: floa
     return f, wout, jq, jv
 
 
-def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
-                contact: str | ContactModel = "hertz-kalker", v: np.ndarray | None = None
-                ) -> np.ndarray:
+def eigenvalues(
+    system: System,
+    speed: float,
+    q: np.ndarray | None = None,
+    contact: str | ContactModel = "hertz-kalker",
+    v: np.ndarray | None = None,
+) -> np.ndarray:
     """Eigenvalues (1/s) of the system linearised about (q, v) (default: the steady state of
     static_equilibrium, with its spin rates). Each wheelset's spin angle beta, free (no
     stiffness), adds a zero eigenvalue. The BEM contact: one BEM state for the equilibrium

@@ -31,6 +31,7 @@ What the attachment points carry at a state (point forces, rim deformation and c
 :mod:`railvti.vehicle.flexible_points`; the linear analyses (M, C, K, receptances, tangents,
 eigenvalues): :mod:`railvti.vehicle.flexible_linear`.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
@@ -48,9 +49,20 @@ from ..wheelset.fe import check_harmonic
 from ..wheelset.flexible import free_modes, rigid_mask
 from ..wheelset.residual import residual_flexibility, residual_table
 
-__all__ = ["POINTS_PER_WHEELSET", "MIN_MODAL_STEP", "RIM_POINTS", "FRLayout", "primary_preload",
-           "build_fr", "coach_body", "body_labels", "mode_labels", "mode_index", "residual_points",
-           "body_radius"]
+__all__ = [
+    "POINTS_PER_WHEELSET",
+    "MIN_MODAL_STEP",
+    "RIM_POINTS",
+    "FRLayout",
+    "primary_preload",
+    "build_fr",
+    "coach_body",
+    "body_labels",
+    "mode_labels",
+    "mode_index",
+    "residual_points",
+    "body_radius",
+]
 
 #: Points per flexible wheelset: rim (y, z, rx) of the left and right wheel, journal (x, y, z)
 #: of the left and right journal, the roll and yaw Coriolis rows, then the rims' Eulerian rows
@@ -59,8 +71,7 @@ POINTS_PER_WHEELSET = 20
 #: The smallest time step, s, the kept modes may ask for (h omega_max <= 2): a stiffer
 #: wheelset (``wheelset_stiffness_scale``) is refused before any run.
 MIN_MODAL_STEP = 1.0e-6
-RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z",
-              "rim_right_rx")
+RIM_POINTS = ("rim_left_y", "rim_left_z", "rim_left_rx", "rim_right_y", "rim_right_z", "rim_right_rx")
 
 
 @dataclass(frozen=True)
@@ -130,25 +141,42 @@ def _journal_directions(coach: Coach, system: System, i: int) -> list[tuple[int,
     xb = (p["half_bogie_distance"], -p["half_bogie_distance"])
     xw = system.x_wheelsets
     f = {c: system.index(f"bogie{i // 2 + 1}_{c}") for c in ("y", "z", "roll", "pitch", "yaw")}
-    wb = {c: system.index(f"ws{i + 1}_{c}") for c in ("x", "y", "z", "roll", "yaw")
-          if f"ws{i + 1}_{c}" in system.dof_names}
+    wb = {
+        c: system.index(f"ws{i + 1}_{c}")
+        for c in ("x", "y", "z", "roll", "yaw")
+        if f"ws{i + 1}_{c}" in system.dof_names
+    }
     out = []
     for w, side in enumerate((1.0, -1.0)):
         pt = (xw[i], side * p["primary_half_spacing"], r0)
-        g = (_body_point(n, f, (xb[i // 2], 0.0, hb), pt)
-             - _body_point(n, wb, (xw[i], 0.0, r0), pt))
+        g = _body_point(n, f, (xb[i // 2], 0.0, hb), pt) - _body_point(n, wb, (xw[i], 0.0, r0), pt)
         for c in range(3):
             out.append((w, c, g[c]))
     return out
 
 
-def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_max: int = 2,
-             f_max: float = 800.0, damping_ratio: float = 0.005,
-             flexible: tuple = (0, 1, 2, 3), zero_rows: bool = False,
-             body=None, residual: bool = True, euler: bool = True, s_contact: float = 0.0,
-             rigid_gyro: bool = True, track: bool = True, residual_mass: bool = True,
-             residual_hz: float | None = None, follow_contact: bool = False,
-             residual_grid=None) -> tuple[System, list[FRLayout]]:
+def build_fr(
+    coach: Coach,
+    table: WheelTable,
+    speed: float,
+    *,
+    wheelset=None,
+    k_max: int = 2,
+    f_max: float = 800.0,
+    damping_ratio: float = 0.005,
+    flexible: tuple = (0, 1, 2, 3),
+    zero_rows: bool = False,
+    body=None,
+    residual: bool = True,
+    euler: bool = True,
+    s_contact: float = 0.0,
+    rigid_gyro: bool = True,
+    track: bool = True,
+    residual_mass: bool = True,
+    residual_hz: float | None = None,
+    follow_contact: bool = False,
+    residual_grid=None,
+) -> tuple[System, list[FRLayout]]:
     """The coach with flexible wheelsets (model FR) at one speed.
 
     Parameters
@@ -187,7 +215,8 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
         Fixed for the run (the rows do not follow the contact point).
     rigid_gyro : bool
         Keep the flexible wheelsets' rigid gyroscopic moments (in M a + C v = F: C[roll, yaw]
-        = -I_y Omega, C[yaw, roll] = +I_y Omega; I_y the coach's ``wheelset_pitch_inertia``: the FE wheelset's polar
+        = -I_y Omega, C[yaw, roll] = +I_y Omega; I_y the coach's ``wheelset_pitch_inertia``:
+        the FE wheelset's polar
         moment plus the rotating lumped parts, railvti.vehicle.wheelset_body), as model RR
         has them (:func:`~railvti.vehicle.assembly.build_coach`); False drops them (with
         ``zero_rows``, FR then reproduces RR built with ``gyroscopic=False``).
@@ -238,20 +267,27 @@ def build_fr(coach: Coach, table: WheelTable, speed: float, *, wheelset=None, k_
     if follow_contact:
         if s_contact != 0.0:
             raise InputError("follow_contact: the rows start at the taping line, s_contact must be 0")
-        follow = _follow_tables(wheelset, body, residual and bool(np.any(body.residual)),
-                                residual_grid)
+        follow = _follow_tables(wheelset, body, residual and bool(np.any(body.residual)), residual_grid)
     if follow is not None and follow[1] is not None:
-        post = _add_followed_residual(blocks, sy, body, flexible, follow[1], residual_mass,
-                                      residual_hz, zero_rows)
+        post = _add_followed_residual(
+            blocks, sy, body, flexible, follow[1], residual_mass, residual_hz, zero_rows
+        )
         cpl = replace(cpl, rim_follow=_placed_follow(follow[0], body.n, len(flexible), post))
     else:
         if residual and np.any(body.residual):
-            _add_residual(blocks, sy, body, flexible, wheelset, s_contact, residual_mass,
-                          residual_hz, zero_rows)
+            _add_residual(
+                blocks, sy, body, flexible, wheelset, s_contact, residual_mass, residual_hz, zero_rows
+            )
         if follow is not None:
             cpl = replace(cpl, rim_follow=_placed_follow(follow[0], body.n, len(flexible), None))
-    mb = ModalBlocks(damping=tuple(blocks.damp), stiffness=tuple(blocks.stiff), phi=blocks.phi,
-                     names=tuple(blocks.names), couplings=cpl, massless=tuple(blocks.massless))
+    mb = ModalBlocks(
+        damping=tuple(blocks.damp),
+        stiffness=tuple(blocks.stiff),
+        phi=blocks.phi,
+        names=tuple(blocks.names),
+        couplings=cpl,
+        massless=tuple(blocks.massless),
+    )
     if not rigid_gyro:
         ispin = np.array(sy.spin_inertia, copy=True)
         ispin[list(flexible)] = 0.0
@@ -272,8 +308,16 @@ class _Blocks:
     massless: list
     layouts: list
 
-    def add_residual(self, sy: System, flexible: tuple, phi_r: np.ndarray, c_r: np.ndarray,
-                     k_r: np.ndarray, massless: bool, zero_rows: bool) -> None:
+    def add_residual(
+        self,
+        sy: System,
+        flexible: tuple,
+        phi_r: np.ndarray,
+        c_r: np.ndarray,
+        k_r: np.ndarray,
+        massless: bool,
+        zero_rows: bool,
+    ) -> None:
         """Add one residual block (rows phi_r over a wheelset's 12 displacement points,
         damping c_r, stiffness k_r) per flexible wheelset, after the elastic coordinates."""
         nq = self.layouts[0].k.size
@@ -282,7 +326,7 @@ class _Blocks:
         for j, i in enumerate(flexible):
             c = np.zeros((npt, nr))
             if not zero_rows:
-                c[POINTS_PER_WHEELSET * j:POINTS_PER_WHEELSET * j + 12] = phi_r
+                c[POINTS_PER_WHEELSET * j : POINTS_PER_WHEELSET * j + 12] = phi_r
             cols.append(c)
             self.names += [f"ws{i + 1}_r{k + 1}" for k in range(nr)]
             self.damp.append(c_r)
@@ -298,13 +342,16 @@ def _check_s_contact(body, s_contact: float) -> float:
     s_contact = float(s_contact)
     e = body.edges[0]
     if not (np.isfinite(s_contact) and e.s_face <= s_contact <= e.s_max):
-        raise InputError(f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
-                         f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)")
+        raise InputError(
+            f"s_contact = {s_contact * 1e3:.1f} mm: the rim points must lie on the "
+            f"tread ({e.s_face * 1e3:.1f}..{e.s_max * 1e3:.1f} mm)"
+        )
     return s_contact
 
 
-def _modal_rows(coach: Coach, sy: System, body, flexible: tuple, s_contact: float,
-                zero_rows: bool, euler: bool) -> tuple[_Blocks, ModalCouplings]:
+def _modal_rows(
+    coach: Coach, sy: System, body, flexible: tuple, s_contact: float, zero_rows: bool, euler: bool
+) -> tuple[_Blocks, ModalCouplings]:
     """The elastic coordinates of each flexible wheelset: their rows at the rims, journals,
     Coriolis and Eulerian points, the journal springs ('split') and Coriolis ('gyro')
     couplings to the coach, the rims' reference arms."""
@@ -323,21 +370,21 @@ def _modal_rows(coach: Coach, sy: System, body, flexible: tuple, s_contact: floa
     for j, i in enumerate(flexible):
         p0, m0 = POINTS_PER_WHEELSET * j, nq * j
         rows = np.zeros((POINTS_PER_WHEELSET, nq))
-        for w, side in enumerate((1, 0)):           # vehicle wheel 0 left = FE side 1
-            rows[3 * w:3 * w + 3] = body.rows(side, s_contact)[1:4]
-            rows[6 + 3 * w:9 + 3 * w] = body.journal[side][0:3]
-            rows[14 + 3 * w:17 + 3 * w] = body.dtheta_rows(side, s_contact)[1:4]
+        for w, side in enumerate((1, 0)):  # vehicle wheel 0 left = FE side 1
+            rows[3 * w : 3 * w + 3] = body.rows(side, s_contact)[1:4]
+            rows[6 + 3 * w : 9 + 3 * w] = body.journal[side][0:3]
+            rows[14 + 3 * w : 17 + 3 * w] = body.dtheta_rows(side, s_contact)[1:4]
             rim_pts[:, w, j] = p0 + 3 * w + np.arange(3)
             eul_pts[:, w, j] = p0 + 14 + 3 * w + np.arange(3)
         rows[12] = body.rigid_elastic[:, 0]
         rows[13] = body.rigid_elastic[:, 1]
         if not zero_rows:
-            phi[p0:p0 + POINTS_PER_WHEELSET, m0:m0 + nq] = rows
+            phi[p0 : p0 + POINTS_PER_WHEELSET, m0 : m0 + nq] = rows
         for w, c, g in _journal_directions(coach, sy, i):
             kinds.append("split")
             pts.append(p0 + 6 + 3 * w + c)
             dirs.append(g)
-            pars.append((kp[c], cp[c], -kp[c] * float(g @ qu)))   # preload: f0 = fg + K qu
+            pars.append((kp[c], cp[c], -kp[c] * float(g @ qu)))  # preload: f0 = fg + K qu
         for r, name in ((12, "roll"), (13, "yaw")):
             g = np.zeros(sy.n)
             g[sy.index(f"ws{i + 1}_{name}")] = 1.0
@@ -345,24 +392,50 @@ def _modal_rows(coach: Coach, sy: System, body, flexible: tuple, s_contact: floa
             pts.append(p0 + r)
             dirs.append(g)
             pars.append((body.omega, 0.0, 0.0))
-        layouts.append(FRLayout(i, slice(sy.n + m0, sy.n + m0 + nq), slice(p0, p0 + POINTS_PER_WHEELSET),
-                                labels=body_labels(body), k=np.array(body.k),
-                                family=np.array(body.family), freq_hz=np.array(body.freq_hz)))
-    cpl = ModalCouplings(kinds=tuple(kinds), points=np.array(pts), directions=np.array(dirs).T,
-                         params=np.array(pars).T, rim_wheelsets=np.array(flexible),
-                         rim_points=rim_pts,
-                         rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))),
-                         rim_euler=eul_pts if euler else None,
-                         rim_omega=np.full(len(flexible), body.omega) if euler else None)
+        layouts.append(
+            FRLayout(
+                i,
+                slice(sy.n + m0, sy.n + m0 + nq),
+                slice(p0, p0 + POINTS_PER_WHEELSET),
+                labels=body_labels(body),
+                k=np.array(body.k),
+                family=np.array(body.family),
+                freq_hz=np.array(body.freq_hz),
+            )
+        )
+    cpl = ModalCouplings(
+        kinds=tuple(kinds),
+        points=np.array(pts),
+        directions=np.array(dirs).T,
+        params=np.array(pars).T,
+        rim_wheelsets=np.array(flexible),
+        rim_points=rim_pts,
+        rim_arms=np.tile([[geo_y], [body_radius(body)]], (1, len(flexible))),
+        rim_euler=eul_pts if euler else None,
+        rim_omega=np.full(len(flexible), body.omega) if euler else None,
+    )
     b = body.gyro + body.damping
-    blocks = _Blocks(phi=phi, names=[f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)],
-                     damp=[b for _ in flexible], stiff=[body.stiffness for _ in flexible],
-                     massless=[False for _ in flexible], layouts=layouts)
+    blocks = _Blocks(
+        phi=phi,
+        names=[f"ws{i + 1}_q{k + 1}" for i in flexible for k in range(nq)],
+        damp=[b for _ in flexible],
+        stiff=[body.stiffness for _ in flexible],
+        massless=[False for _ in flexible],
+        layouts=layouts,
+    )
     return blocks, cpl
 
 
-def _add_followed_residual(blocks: _Blocks, sy: System, body, flexible: tuple, res: np.ndarray,
-                           residual_mass: bool, residual_hz: float | None, zero_rows: bool) -> float:
+def _add_followed_residual(
+    blocks: _Blocks,
+    sy: System,
+    body,
+    flexible: tuple,
+    res: np.ndarray,
+    residual_mass: bool,
+    residual_hz: float | None,
+    zero_rows: bool,
+) -> float:
     """Add the residual flexibility that follows the contact points: 12 coordinates per
     wheelset with rows post L (L L^T = R at the taping lines) and stiffness post^2; returns
     post (2 pi residual_hz with a mass, else 1)."""
@@ -370,19 +443,37 @@ def _add_followed_residual(blocks: _Blocks, sy: System, body, flexible: tuple, r
     hz = float(body.freq_hz.max()) if residual_hz is None else residual_hz
     post = 2.0 * np.pi * _checks.positive("residual_hz", hz) if residual_mass else 1.0
     nr = 12
-    blocks.add_residual(sy, flexible, post * l0,
-                        np.eye(nr) * (2.0 * RESIDUAL_ZETA * post if residual_mass else 0.0),
-                        np.eye(nr) * post ** 2, not residual_mass, zero_rows)
+    blocks.add_residual(
+        sy,
+        flexible,
+        post * l0,
+        np.eye(nr) * (2.0 * RESIDUAL_ZETA * post if residual_mass else 0.0),
+        np.eye(nr) * post**2,
+        not residual_mass,
+        zero_rows,
+    )
     return post
 
 
-def _add_residual(blocks: _Blocks, sy: System, body, flexible: tuple, wheelset, s_contact: float,
-                  residual_mass: bool, residual_hz: float | None, zero_rows: bool) -> None:
+def _add_residual(
+    blocks: _Blocks,
+    sy: System,
+    body,
+    flexible: tuple,
+    wheelset,
+    s_contact: float,
+    residual_mass: bool,
+    residual_hz: float | None,
+    zero_rows: bool,
+) -> None:
     """Add the body's residual flexibility at the rim points s_contact (fixed for the run) as a
     compliance block per wheelset, with a mass unless ``residual_mass`` is False."""
-    res = residual_points(body, None if s_contact in body.residual_s and
-                          body.residual_s[0] == body.residual_s[1] else
-                          _residual_at(wheelset, body, s_contact))
+    res = residual_points(
+        body,
+        None
+        if s_contact in body.residual_s and body.residual_s[0] == body.residual_s[1]
+        else _residual_at(wheelset, body, s_contact),
+    )
     phi_r, k_r = compliance_block(res)
     c_r = np.zeros_like(k_r)
     if residual_mass:
@@ -395,14 +486,16 @@ def _placed_follow(rf: RimFollow, nq: int, nflex: int, post: float | None) -> Ri
     """The followed rows' tables placed in the state: each wheelset's modes, its residual
     coordinates (post: their scale; None: no residual block) and its 12 points."""
     has_res = post is not None
-    return replace(rf, modes=np.arange(nflex) * nq,
-                   residual=(nq * nflex + 12 * np.arange(nflex)) if has_res else np.full(nflex, -1),
-                   points=np.array([POINTS_PER_WHEELSET * j + np.arange(12) for j in range(nflex)]).T,
-                   post=post if has_res else 1.0)
+    return replace(
+        rf,
+        modes=np.arange(nflex) * nq,
+        residual=(nq * nflex + 12 * np.arange(nflex)) if has_res else np.full(nflex, -1),
+        points=np.array([POINTS_PER_WHEELSET * j + np.arange(12) for j in range(nflex)]).T,
+        post=post if has_res else 1.0,
+    )
 
 
-def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
-               damping_ratio: float = 0.005):
+def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float, damping_ratio: float = 0.005):
     """The coach's flexible wheelset at a speed: (the FE wheelset scaled by the coach's
     ``wheelset_stiffness_scale`` s, its :class:`FlexibleWheelset`).
 
@@ -417,8 +510,10 @@ def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
     f_max = _checks.positive("f_max", f_max)
     f_fe = f_max * np.sqrt(scale)
     if not any(np.any(~rigid_mask(free_modes(ws, k, f_fe))) for k in range(k_max + 1)):
-        raise InputError(f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
-                         f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)")
+        raise InputError(
+            f"no elastic mode below f_max = {f_max} Hz for harmonics k <= "
+            f"{k_max}: raise f_max (the first, k = 0 or 1, is near 70-90 Hz)"
+        )
     body = ws.flexible_body(speed, k_max=k_max, f_max=f_fe, damping_ratio=damping_ratio)
     _check_body_step(body, scale)
     return ws, body
@@ -427,9 +522,11 @@ def coach_body(coach: Coach, wheelset, speed: float, k_max: int, f_max: float,
 def _check_body_step(body, scale: float) -> None:
     """InputError when the body's highest kept mode needs a step below MIN_MODAL_STEP."""
     if body.n and 2.0 / (2.0 * np.pi * float(np.max(body.freq_hz))) < MIN_MODAL_STEP:
-        raise InputError(f"wheelset_stiffness_scale = {scale:g}: the highest kept mode "
-                         f"({float(np.max(body.freq_hz)):.4g} Hz) would need a time step below "
-                         f"{MIN_MODAL_STEP * 1e6:g} us; lower the scale or f_max")
+        raise InputError(
+            f"wheelset_stiffness_scale = {scale:g}: the highest kept mode "
+            f"({float(np.max(body.freq_hz)):.4g} Hz) would need a time step below "
+            f"{MIN_MODAL_STEP * 1e6:g} us; lower the scale or f_max"
+        )
 
 
 def _follow_tables(wheelset, body, with_residual: bool, grid):
@@ -446,17 +543,29 @@ def _follow_tables(wheelset, body, with_residual: bool, grid):
         rcc = np.stack([grid.cc[sd][:, 1:4, 1:4].transpose(1, 2, 0) for sd in sides], axis=-1)
         # left (FE 1) at a against right (FE 0) at b: cross[b, a] is right rows, left columns
         rcx = grid.cross[:, :, 1:4, 1:4].transpose(3, 2, 1, 0)
-        rcj = np.stack([grid.cj[sd][:, 1:4, :][:, :, perm].transpose(1, 2, 0) for sd in sides],
-                       axis=-1)
+        rcj = np.stack([grid.cj[sd][:, 1:4, :][:, :, perm].transpose(1, 2, 0) for sd in sides], axis=-1)
         rjj = grid.jj[np.ix_(perm, perm)]
         rs0, rds = grid.s0, grid.ds
         res0 = residual_points(body, grid.interpolate((0.0, 0.0)))
     else:
         rcc, rcx, rcj = np.zeros((3, 3, 2, 2)), np.zeros((3, 3, 2, 2)), np.zeros((3, 6, 2, 2))
         rjj, rs0, rds, res0 = np.zeros((6, 6)), -1.0, 2.0, None
-    rf = RimFollow(s0=body.s0, ds=body.ds, rows=rows, drows=drows, rs0=rs0, rds=rds, rcc=rcc,
-                   rcx=rcx, rcj=rcj, rjj=rjj, modes=np.zeros(1, int), residual=np.zeros(1, int),
-                   points=np.zeros((12, 1), int), post=1.0)
+    rf = RimFollow(
+        s0=body.s0,
+        ds=body.ds,
+        rows=rows,
+        drows=drows,
+        rs0=rs0,
+        rds=rds,
+        rcc=rcc,
+        rcx=rcx,
+        rcj=rcj,
+        rjj=rjj,
+        modes=np.zeros(1, int),
+        residual=np.zeros(1, int),
+        points=np.zeros((12, 1), int),
+        post=1.0,
+    )
     return rf, res0
 
 
@@ -470,7 +579,7 @@ def _cholesky_psd(r: np.ndarray) -> np.ndarray:
         if not d > 1e-14 * abs(r[j, j]):
             continue
         lo[j, j] = np.sqrt(d)
-        lo[j + 1:, j] = (r[j + 1:, j] - lo[j + 1:, :j] @ lo[j, :j]) / lo[j, j]
+        lo[j + 1 :, j] = (r[j + 1 :, j] - lo[j + 1 :, :j] @ lo[j, :j]) / lo[j, j]
     return lo
 
 
@@ -516,11 +625,14 @@ def mode_index(system: System, layouts: list[FRLayout], label: str) -> int:
     if isinstance(label, str) and label in labels:
         return system.n + labels.index(label)
     pre = str(label).split("_", 1)[0] + "_"
-    known = [x for x in labels if x.startswith(pre) and "residual" not in x] or \
-        [x for x in labels if "residual" not in x]
-    raise InputError(f"unknown mode label {label!r}: this FR system keeps "
-                     f"{', '.join(known[:40])}{' ...' if len(known) > 40 else ''} "
-                     "(labels 'ws<i>_k<k><family>_<j>'; more modes: raise k_max or f_max)")
+    known = [x for x in labels if x.startswith(pre) and "residual" not in x] or [
+        x for x in labels if "residual" not in x
+    ]
+    raise InputError(
+        f"unknown mode label {label!r}: this FR system keeps "
+        f"{', '.join(known[:40])}{' ...' if len(known) > 40 else ''} "
+        "(labels 'ws<i>_k<k><family>_<j>'; more modes: raise k_max or f_max)"
+    )
 
 
 def residual_points(body, residual: np.ndarray | None = None) -> np.ndarray:

@@ -2,6 +2,7 @@
 receptance, the state force's tangents and the eigenvalues (:mod:`railvti.vehicle.flexible`
 builds the system). Dense tools for checks and stability, not for the time loop.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,8 +15,14 @@ from .model import CallSettings
 from .contact_models import contact_id
 from .equilibrium import static_equilibrium
 
-__all__ = ["linear_matrices", "contact_receptance", "TANGENT_STEP", "state_tangent", "eigenvalues",
-           "tangent_eigenvalues"]
+__all__ = [
+    "linear_matrices",
+    "contact_receptance",
+    "TANGENT_STEP",
+    "state_tangent",
+    "eigenvalues",
+    "tangent_eigenvalues",
+]
 
 
 def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -38,15 +45,16 @@ def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     m, c, k = np.zeros((nt, nt)), np.zeros((nt, nt)), np.zeros((nt, nt))
     m[:n, :n], c[:n, :n], k[:n, :n] = system.m, system.c, system.k
     cp = mb.couplings
-    omega = next((float(cp.params[0, e]) for e, kind in enumerate(cp.kinds) if kind == "gyro"),
-                 0.0)                          # the spin Omega of the rigid-elastic couplings
-    for w in range(system.iws.shape[1]):       # the rigid gyroscopic moments (build_coach)
+    omega = next(
+        (float(cp.params[0, e]) for e, kind in enumerate(cp.kinds) if kind == "gyro"), 0.0
+    )  # the spin Omega of the rigid-elastic couplings
+    for w in range(system.iws.shape[1]):  # the rigid gyroscopic moments (build_coach)
         a, b = system.iws[2, w] - 1, system.iws[3, w] - 1
         c[a, b] -= system.spin_inertia[w] * omega
         c[b, a] += system.spin_inertia[w] * omega
     for e in range(system.eg.shape[1]):
         p = system.epar[:, e]
-        if system.etype[e] == 1:         # friction: p1 tanh(gd / p2) + p3 gd
+        if system.etype[e] == 1:  # friction: p1 tanh(gd / p2) + p3 gd
             cd = p[2] + (p[0] / p[1] if p[0] != 0.0 and p[1] > 0.0 else 0.0)
             g = system.eg[:, e]
             c[:n, :n] += cd * np.outer(g, g)
@@ -62,14 +70,15 @@ def linear_matrices(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]
                 mat[n:, :n] -= v * np.outer(ph, g)
                 mat[n:, n:] += v * np.outer(ph, ph)
                 mat[:n, n:] -= v * np.outer(g, ph)
-        else:                                  # gyro: g_p += k g.v, g_r -= g k u_p'
+        else:  # gyro: g_p += k g.v, g_r -= g k u_p'
             c[n:, :n] -= kk * np.outer(ph, g)
             c[:n, n:] += kk * np.outer(g, ph)
     return m, c, k
 
 
-def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
-                       wheel: int = 1, direction: str = "lateral") -> np.ndarray:
+def contact_receptance(
+    system: System, layout: FRLayout, freqs: np.ndarray, wheel: int = 1, direction: str = "lateral"
+) -> np.ndarray:
     """Point receptance at a wheel's rim point of an FR system with the wheel-rail contact
     removed (:func:`linear_matrices`): a force at the rim reference point acts on the rigid
     wheelset (with its roll moment about the centre) and on the rim point; the response is
@@ -91,8 +100,7 @@ def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
     ndarray of complex (nf,)
     """
     if wheel not in (0, 1) or direction not in ("lateral", "vertical"):
-        raise InputError(f"wheel 0 or 1 and direction 'lateral' or 'vertical', got {wheel!r}, "
-                         f"{direction!r}")
+        raise InputError(f"wheel 0 or 1 and direction 'lateral' or 'vertical', got {wheel!r}, {direction!r}")
     f = np.asarray(freqs, dtype=float)
     if np.any(~(f > 0)):
         raise InputError("freqs must be > 0")
@@ -104,11 +112,11 @@ def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
     b = np.zeros(m.shape[0])
     if direction == "lateral":
         b[system.index(f"ws{i}_y")] = 1.0
-        b[system.index(f"ws{i}_roll")] = r0          # M_x = -z F_y at z = -r0
+        b[system.index(f"ws{i}_roll")] = r0  # M_x = -z F_y at z = -r0
         row = layout.points.start + 3 * wheel
     else:
         b[system.index(f"ws{i}_z")] = 1.0
-        b[system.index(f"ws{i}_roll")] = sg * l0     # M_x = y F_z
+        b[system.index(f"ws{i}_roll")] = sg * l0  # M_x = y F_z
         row = layout.points.start + 3 * wheel + 1
     b[n:] += system.modal.phi[row]
     out = np.empty(f.size, dtype=complex)
@@ -123,8 +131,9 @@ def contact_receptance(system: System, layout: FRLayout, freqs: np.ndarray,
 TANGENT_STEP = 1.0e-8
 
 
-def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
-                  contact: str = "hertz-kalker") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def state_tangent(
+    system: System, speed: float, x: np.ndarray, xd: np.ndarray, contact: str = "hertz-kalker"
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The force over the whole state of an FR system and its tangents at (x, xd).
 
     Forward differences (step :data:`TANGENT_STEP`) of the core's state force (the coach's
@@ -151,6 +160,7 @@ def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
         f, _, info = system.native.state_force(cs, a, b)
         check(info, "FR state force (linearisation)")
         return np.array(f)
+
     f0 = force(x, xd)
     jq, jv = np.empty((nt, nt)), np.empty((nt, nt))
     for j in range(nt):
@@ -163,8 +173,13 @@ def state_tangent(system: System, speed: float, x: np.ndarray, xd: np.ndarray,
     return f0, jq, jv
 
 
-def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
-                v: np.ndarray | None = None, contact: str = "hertz-kalker") -> np.ndarray:
+def eigenvalues(
+    system: System,
+    speed: float,
+    q: np.ndarray | None = None,
+    v: np.ndarray | None = None,
+    contact: str = "hertz-kalker",
+) -> np.ndarray:
     """Eigenvalues (1/s) of an FR system linearised about (q, v), flexible DOFs included.
 
     Default (q, v): the FR steady state of centred running (static_equilibrium, with the
@@ -180,8 +195,10 @@ def eigenvalues(system: System, speed: float, q: np.ndarray | None = None,
         The finite eigenvalues.
     """
     if system.modal is None:
-        raise InputError("flexible_linear.eigenvalues needs an FR system; use "
-                         "railvti.vehicle.equilibrium.eigenvalues for RR")
+        raise InputError(
+            "flexible_linear.eigenvalues needs an FR system; use "
+            "railvti.vehicle.equilibrium.eigenvalues for RR"
+        )
     if q is None:
         q, v, _ = static_equilibrium(system, speed, contact, return_velocity=True)
     if v is None:

@@ -2,6 +2,7 @@
 wheelset's attachment loads and deflections, the rims' deformation and camber, the rail
 head's roll and the rim-rail angle (:mod:`railvti.vehicle.flexible` builds the system).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -13,12 +14,20 @@ from .flexible import FRLayout
 from .model import CallSettings, ModalBlocks
 from .contact_models import contact_id
 
-__all__ = ["point_forces", "attachment_loads", "attachment_deflection", "rim_deformation",
-           "rim_camber_change", "rail_head_roll", "rim_rail_angle_change"]
+__all__ = [
+    "point_forces",
+    "attachment_loads",
+    "attachment_deflection",
+    "rim_deformation",
+    "rim_camber_change",
+    "rail_head_roll",
+    "rim_rail_angle_change",
+]
 
 
-def point_forces(system: System, speed: float, x: np.ndarray, xd: np.ndarray | None = None,
-                 contact: str = "hertz-kalker") -> np.ndarray:
+def point_forces(
+    system: System, speed: float, x: np.ndarray, xd: np.ndarray | None = None, contact: str = "hertz-kalker"
+) -> np.ndarray:
     """The forces g_p on the attachment points of an FR system at state x (rates xd): the
     contact's generalised forces on the rims, the journal springs' forces, the Coriolis terms.
 
@@ -34,8 +43,12 @@ def point_forces(system: System, speed: float, x: np.ndarray, xd: np.ndarray | N
     if mb is None or mb.couplings is None:
         raise InputError("point_forces needs an FR system (modal blocks with couplings)")
     npt = mb.n_points
-    probe = ModalBlocks(damping=(np.zeros((npt, npt)),), stiffness=(np.zeros((npt, npt)),),
-                        phi=np.eye(npt), couplings=mb.couplings)
+    probe = ModalBlocks(
+        damping=(np.zeros((npt, npt)),),
+        stiffness=(np.zeros((npt, npt)),),
+        phi=np.eye(npt),
+        couplings=mb.couplings,
+    )
     ps = system.with_modal(probe)
     n = system.n
     x = np.asarray(x, dtype=float)
@@ -53,17 +66,17 @@ def attachment_loads(system: System, layout: FRLayout, gp: np.ndarray) -> np.nda
     forces gp (the rims' x force is not coupled: 0)."""
     g = np.asarray(gp)[layout.points]
     f = np.zeros(14)
-    f[5:8] = g[0:3]        # left rim (FE side 1): y, z, rx
-    f[1:4] = g[3:6]        # right rim (FE side 0)
-    f[11:14] = g[6:9]      # left journal
-    f[8:11] = g[9:12]      # right journal
+    f[5:8] = g[0:3]  # left rim (FE side 1): y, z, rx
+    f[1:4] = g[3:6]  # right rim (FE side 0)
+    f[11:14] = g[6:9]  # left journal
+    f[8:11] = g[9:12]  # right journal
     return f
 
 
 def attachment_deflection(system: System, layout: FRLayout, x: np.ndarray) -> np.ndarray:
     """The 14 attachment displacements (ATTACHMENT_DOFS order; rim x from its row 0) of one
     flexible wheelset at state x: the coupled model's u = Phi Q."""
-    u = system.modal.phi[layout.points] @ np.asarray(x)[system.n:]
+    u = system.modal.phi[layout.points] @ np.asarray(x)[system.n :]
     d = np.full(14, np.nan)
     d[5:8], d[1:4] = u[0:3], u[3:6]
     d[11:14], d[8:11] = u[6:9], u[9:12]
@@ -84,7 +97,7 @@ def rim_deformation(system: System, x: np.ndarray) -> np.ndarray:
     if mb is None or mb.couplings is None:
         raise InputError("rim_deformation needs an FR system")
     x = np.asarray(x, dtype=float)
-    u = x[..., system.n:] @ mb.phi.T
+    u = x[..., system.n :] @ mb.phi.T
     out = np.zeros(x.shape[:-1] + (3, 2, 4))
     cp = mb.couplings
     for j, i in enumerate(cp.rim_wheelsets):
@@ -136,19 +149,22 @@ def rail_head_roll(system: System, x: np.ndarray, t: np.ndarray | float | None =
     if ring is None:
         return np.zeros(x.shape[:-1] + (2, int(system.iws.shape[1])))
     if t is None:
-        raise InputError("rail_head_roll: key 't' (the states' times, s) is needed on the ring "
-                         "track: the contact points move along it")
+        raise InputError(
+            "rail_head_roll: key 't' (the states' times, s) is needed on the ring "
+            "track: the contact points move along it"
+        )
     ts = np.atleast_1d(np.asarray(t, dtype=float))
     xs = np.atleast_2d(x)
     if ts.shape != (xs.shape[0],) or not np.all(np.isfinite(ts)):
-        raise InputError(f"rail_head_roll: key 't' must be finite with one time per state "
-                         f"({xs.shape[0]}), got shape {ts.shape}")
+        raise InputError(
+            f"rail_head_roll: key 't' must be finite with one time per state "
+            f"({xs.shape[0]}), got shape {ts.shape}"
+        )
     roll = system.rail_deflection(ts, xs)[:, 2] * _INNER_EDGE_SIGN[:, None]
     return roll.reshape(x.shape[:-1] + roll.shape[1:])
 
 
-def rim_rail_angle_change(system: System, x: np.ndarray,
-                          t: np.ndarray | float | None = None) -> np.ndarray:
+def rim_rail_angle_change(system: System, x: np.ndarray, t: np.ndarray | float | None = None) -> np.ndarray:
     """The change of each wheel's rim-rail angle, the paper's relative angle, rad, (..., 2, 4)
     [wheel 0 left / 1 right, wheelset]: the rim's elastic camber (:func:`rim_camber_change`)
     minus the rail head's elastic roll under the wheel (:func:`rail_head_roll`), both

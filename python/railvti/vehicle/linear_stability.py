@@ -1,6 +1,7 @@
 """The linear critical speed (railvti.scenarios): eigenvalues of the coach linearised about
 centred running at the equivalent conicity, bisected in speed; on the ring track the
 sleeper-bay average of the frozen contact rows."""
+
 from __future__ import annotations
 
 import logging
@@ -14,15 +15,38 @@ from .flexible import build_fr
 from .flexible_linear import eigenvalues as fr_eigenvalues
 from .params import Coach
 from .equilibrium import eigenvalues
-from .systems import (FLEXIBLE_WHEELSETS, FR_F_MAX, FR_K_MAX, RF_N_SLEEPERS, RING_TRACK,
-                      check_fr_selection, check_model, checked_ring, coach_system,
-                      equivalent_conicity, fr_wheelset, no_fr_keys, on_ring, ring_keys,
-                      wheel_table)
+from .systems import (
+    FLEXIBLE_WHEELSETS,
+    FR_F_MAX,
+    FR_K_MAX,
+    RF_N_SLEEPERS,
+    RING_TRACK,
+    check_fr_selection,
+    check_model,
+    checked_ring,
+    coach_system,
+    equivalent_conicity,
+    fr_wheelset,
+    no_fr_keys,
+    on_ring,
+    ring_keys,
+    wheel_table,
+)
 from .table import WheelTable, linearised_table
 
-__all__ = ["RING_ROWS", "BAY_OFFSETS", "DAMPER_STATES", "V_LO", "V_HI", "TOL",
-           "linear_critical_speed", "linear_critical", "hunting_mode",
-           "bay_rates", "frozen_crossings"]
+__all__ = [
+    "RING_ROWS",
+    "BAY_OFFSETS",
+    "DAMPER_STATES",
+    "V_LO",
+    "V_HI",
+    "TOL",
+    "linear_critical_speed",
+    "linear_critical",
+    "hunting_mode",
+    "bay_rates",
+    "frozen_crossings",
+]
 
 log = logging.getLogger(__name__)
 
@@ -35,20 +59,33 @@ BAY_OFFSETS = 8
 V_LO, V_HI, TOL = _checks.from_kmh(50.0), _checks.from_kmh(800.0), _checks.from_kmh(0.5)
 #: The dry-friction yaw damper's states of the linear method.
 DAMPER_STATES = {
-    "stuck": ("stuck: friction torque T tanh(rate / w0) linearised at rest, a viscous slope "
-              "T / w0 (1.5e7 N m s/rad for the defaults), practically locked"),
-    "sliding": ("sliding: the friction torque saturated at +-T, no incremental stiffness or "
-                "damping (yaw_friction_torque set to 0 in the linearisation)"),
+    "stuck": (
+        "stuck: friction torque T tanh(rate / w0) linearised at rest, a viscous slope "
+        "T / w0 (1.5e7 N m s/rad for the defaults), practically locked"
+    ),
+    "sliding": (
+        "sliding: the friction torque saturated at +-T, no incremental stiffness or "
+        "damping (yaw_friction_torque set to 0 in the linearisation)"
+    ),
 }
 
 
-def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
-                          conicity: float | None = None, amplitude_m: float = 0.003,
-                          v_lo_kmh: float = 50.0, v_hi_kmh: float = 800.0,
-                          tol_kmh: float = 0.5, damper: str = "stuck",
-                          k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-                          ring_rows: str = "bay_average", n_offsets: int = BAY_OFFSETS,
-                          **ring: Any) -> tuple[float, float]:
+def linear_critical_speed(
+    model: str = "RR",
+    coach: Coach | None = None,
+    *,
+    conicity: float | None = None,
+    amplitude_m: float = 0.003,
+    v_lo_kmh: float = 50.0,
+    v_hi_kmh: float = 800.0,
+    tol_kmh: float = 0.5,
+    damper: str = "stuck",
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    ring_rows: str = "bay_average",
+    n_offsets: int = BAY_OFFSETS,
+    **ring: Any,
+) -> tuple[float, float]:
     """Linear critical speed (km/h) and the hunting frequency there (Hz).
 
     The bracket ``v_lo_kmh`` .. ``v_hi_kmh`` and the tolerance ``tol_kmh`` in km/h, as the
@@ -105,44 +142,77 @@ def linear_critical_speed(model: str = "RR", coach: Coach | None = None, *,
         Unknown ``ring_rows`` or ``damper``; ``n_offsets`` not a positive integer; the
         ring's and FR's keys as :func:`rf_system`, :func:`fr_system`.
     """
-    speed, freq = linear_critical(model, coach, conicity=conicity, amplitude_m=amplitude_m,
-                                  v_lo=_checks.from_kmh(v_lo_kmh), v_hi=_checks.from_kmh(v_hi_kmh),
-                                  tol=_checks.from_kmh(tol_kmh), damper=damper, k_max=k_max,
-                                  f_max=f_max, ring_rows=ring_rows, n_offsets=n_offsets, **ring)
+    speed, freq = linear_critical(
+        model,
+        coach,
+        conicity=conicity,
+        amplitude_m=amplitude_m,
+        v_lo=_checks.from_kmh(v_lo_kmh),
+        v_hi=_checks.from_kmh(v_hi_kmh),
+        tol=_checks.from_kmh(tol_kmh),
+        damper=damper,
+        k_max=k_max,
+        f_max=f_max,
+        ring_rows=ring_rows,
+        n_offsets=n_offsets,
+        **ring,
+    )
     return _checks.to_kmh(speed), freq
 
 
-def linear_critical(model: str = "RR", coach: Coach | None = None, *,
-                    conicity: float | None = None, amplitude_m: float = 0.003,
-                    v_lo: float = V_LO, v_hi: float = V_HI, tol: float = TOL,
-                    damper: str = "stuck", k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-                    ring_rows: str = "bay_average", n_offsets: int = BAY_OFFSETS,
-                    **ring: Any) -> tuple[float, float]:
+def linear_critical(
+    model: str = "RR",
+    coach: Coach | None = None,
+    *,
+    conicity: float | None = None,
+    amplitude_m: float = 0.003,
+    v_lo: float = V_LO,
+    v_hi: float = V_HI,
+    tol: float = TOL,
+    damper: str = "stuck",
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    ring_rows: str = "bay_average",
+    n_offsets: int = BAY_OFFSETS,
+    **ring: Any,
+) -> tuple[float, float]:
     """:func:`linear_critical_speed` in SI: the linear critical speed (m/s; inf when stable
     up to ``v_hi``) and the hunting frequency there (Hz), bisected between ``v_lo`` and
     ``v_hi`` (m/s) to ``tol`` (m/s)."""
-    k_max, f_max, ring, n_offsets = _checked_settings(model, damper, ring_rows, n_offsets,
-                                                      k_max, f_max, ring)
+    k_max, f_max, ring, n_offsets = _checked_settings(model, damper, ring_rows, n_offsets, k_max, f_max, ring)
     coach = coach or Coach()
     if damper == "sliding":
         coach = coach.with_(yaw_friction_torque=0.0)
     lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
-    growth = _HuntingGrowth(model, coach, lam, k_max, f_max, ring,
-                            bay=model in RING_TRACK and ring_rows == "bay_average",
-                            n_offsets=n_offsets)
+    growth = _HuntingGrowth(
+        model,
+        coach,
+        lam,
+        k_max,
+        f_max,
+        ring,
+        bay=model in RING_TRACK and ring_rows == "bay_average",
+        n_offsets=n_offsets,
+    )
     speed, freq = _bisect(growth, float(v_lo), float(v_hi), tol)
     if growth.bay and np.isfinite(speed) and speed != float(v_lo):
         per = frozen_crossings(growth.frozen)
-        log.info("%s linear critical speed, bay average over %d offsets: %.1f km/h; frozen "
-                 "rows per offset: %.1f .. %.1f km/h (%s)", model, n_offsets,
-                 _checks.to_kmh(speed), _checks.to_kmh(np.nanmin(per)),
-                 _checks.to_kmh(np.nanmax(per)),
-                 ", ".join(f"{_checks.to_kmh(v):.1f}" for v in per))
+        log.info(
+            "%s linear critical speed, bay average over %d offsets: %.1f km/h; frozen "
+            "rows per offset: %.1f .. %.1f km/h (%s)",
+            model,
+            n_offsets,
+            _checks.to_kmh(speed),
+            _checks.to_kmh(np.nanmin(per)),
+            _checks.to_kmh(np.nanmax(per)),
+            ", ".join(f"{_checks.to_kmh(v):.1f}" for v in per),
+        )
     return speed, freq
 
 
-def _checked_settings(model: str, damper: str, ring_rows: str, n_offsets: Any, k_max: Any,
-                      f_max: Any, ring: dict) -> tuple[int, float, dict, int]:
+def _checked_settings(
+    model: str, damper: str, ring_rows: str, n_offsets: Any, k_max: Any, f_max: Any, ring: dict
+) -> tuple[int, float, dict, int]:
     """The linear method's settings checked: (k_max, f_max, the ring's keys, n_offsets)."""
     if damper not in DAMPER_STATES:
         raise InputError(f"damper must be one of {sorted(DAMPER_STATES)}, got {damper!r}")
@@ -163,8 +233,18 @@ class _HuntingGrowth:
     ``bay`` the mean over the frozen contact rows across one bay (``frozen``: speed -> the
     growth rate per offset)."""
 
-    def __init__(self, model: str, coach: Coach, lam: float, k_max: int, f_max: float,
-                 ring: dict, *, bay: bool, n_offsets: int) -> None:
+    def __init__(
+        self,
+        model: str,
+        coach: Coach,
+        lam: float,
+        k_max: int,
+        f_max: float,
+        ring: dict,
+        *,
+        bay: bool,
+        n_offsets: int,
+    ) -> None:
         self.model, self.coach, self.lam = model, coach, lam
         self.k_max, self.f_max, self.ring = k_max, f_max, ring
         self.bay, self.n_offsets = bay, n_offsets
@@ -179,11 +259,9 @@ class _HuntingGrowth:
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
         tab = linearised_table(wheel_table(), self.lam)
         if self.model in RING_TRACK:
-            sf = on_ring(self.model, self.coach, tab, v, k_max=self.k_max, f_max=self.f_max,
-                         **self.ring)[0]
+            sf = on_ring(self.model, self.coach, tab, v, k_max=self.k_max, f_max=self.f_max, **self.ring)[0]
         else:
-            sf = build_fr(self.coach, tab, v, wheelset=fr_wheelset(), k_max=self.k_max,
-                          f_max=self.f_max)[0]
+            sf = build_fr(self.coach, tab, v, wheelset=fr_wheelset(), k_max=self.k_max, f_max=self.f_max)[0]
         return fr_eigenvalues(sf, v)
 
     def __call__(self, v: float) -> tuple[float, float]:
@@ -191,8 +269,16 @@ class _HuntingGrowth:
             return self._seen[v]
         if self.bay:
             tab = linearised_table(wheel_table(), self.lam)
-            rates, freqs = bay_rates(self.model, self.coach, tab, v, self.n_offsets,
-                                     k_max=self.k_max, f_max=self.f_max, ring=self.ring)
+            rates, freqs = bay_rates(
+                self.model,
+                self.coach,
+                tab,
+                v,
+                self.n_offsets,
+                k_max=self.k_max,
+                f_max=self.f_max,
+                ring=self.ring,
+            )
             self.frozen[v] = rates
             self._seen[v] = float(np.mean(rates)), float(np.mean(freqs))
         else:
@@ -225,23 +311,41 @@ def hunting_mode(ev: np.ndarray) -> tuple[float, float]:
     return float(osc[i].real), float(abs(osc[i].imag) / (2 * np.pi))
 
 
-def bay_rates(model: str, coach: Coach, table: WheelTable, v: float, n_offsets: int, *,
-               k_max: int, f_max: float, ring: dict) -> tuple[np.ndarray, np.ndarray]:
+def bay_rates(
+    model: str,
+    coach: Coach,
+    table: WheelTable,
+    v: float,
+    n_offsets: int,
+    *,
+    k_max: int,
+    f_max: float,
+    ring: dict,
+) -> tuple[np.ndarray, np.ndarray]:
     """Model RF or FF at v (m/s): the hunting growth rate (1/s) and frequency (Hz) with the
     contact rows frozen at each of n_offsets positions across one sleeper bay
     (:func:`linear_critical_speed`)."""
     ring = dict(ring)
     x0 = float(ring.pop("x_offset", 0.0))
-    spacing = checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS),
-                            ring.get("track_params")).params["sleeper_spacing"]
+    spacing = checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS), ring.get("track_params")).params[
+        "sleeper_spacing"
+    ]
     base = None
-    if model == "FF":   # the wheelsets do not depend on the ring's rows: built once per speed
-        base = build_fr(coach, table, v, wheelset=fr_wheelset(), k_max=k_max, f_max=f_max,
-                        track=False)
+    if model == "FF":  # the wheelsets do not depend on the ring's rows: built once per speed
+        base = build_fr(coach, table, v, wheelset=fr_wheelset(), k_max=k_max, f_max=f_max, track=False)
     out = []
     for k in range(n_offsets):
-        sy = on_ring(model, coach, table, v, k_max=k_max, f_max=f_max, fr_base=base,
-                      x_offset=x0 + k * spacing / n_offsets, **ring)[0]
+        sy = on_ring(
+            model,
+            coach,
+            table,
+            v,
+            k_max=k_max,
+            f_max=f_max,
+            fr_base=base,
+            x_offset=x0 + k * spacing / n_offsets,
+            **ring,
+        )[0]
         out.append(hunting_mode(fr_eigenvalues(sy, v)))
     rates, freqs = np.array(out).T
     return rates, freqs
@@ -260,5 +364,3 @@ def frozen_crossings(samples: dict[float, np.ndarray]) -> np.ndarray:
             i = up[0]
             out[k] = speeds[i] + (speeds[i + 1] - speeds[i]) * -g[i, k] / (g[i + 1, k] - g[i, k])
     return out
-
-

@@ -13,6 +13,7 @@ u = Phi Q and :class:`PointElement` forces (docs/vehicle_integrator.md). A Syste
 them (``System.modal``) is attached to its handle once; the integrator condenses the modal
 rows onto the points, so its cost per step is linear in the number of modes.
 """
+
 from __future__ import annotations
 
 import math
@@ -27,13 +28,42 @@ from .._native import core
 from .._status import check
 from ..errors import InputError
 
-__all__ = ["WHEEL_OUTPUTS", "NWO", "NWO_CORE", "RunCarry", "POINT_ELEMENT_KINDS", "PointElement",
-           "RimFollow", "COUPLING_KINDS", "ModalCouplings", "ModalBlocks", "compliance_block",
-           "RESIDUAL_ZETA", "with_mass", "CallSettings", "VehicleModel"]
+__all__ = [
+    "WHEEL_OUTPUTS",
+    "NWO",
+    "NWO_CORE",
+    "RunCarry",
+    "POINT_ELEMENT_KINDS",
+    "PointElement",
+    "RimFollow",
+    "COUPLING_KINDS",
+    "ModalCouplings",
+    "ModalBlocks",
+    "compliance_block",
+    "RESIDUAL_ZETA",
+    "with_mass",
+    "CallSettings",
+    "VehicleModel",
+]
 
 #: Outputs per wheel (second index of SimulationResult.wheel).
-WHEEL_OUTPUTS = ("Q", "Y", "Fx", "N_tread", "N_flange", "xi", "eta", "spin", "energy",
-                 "contact_angle", "a", "b", "y_cp", "M_x", "M_spin")
+WHEEL_OUTPUTS = (
+    "Q",
+    "Y",
+    "Fx",
+    "N_tread",
+    "N_flange",
+    "xi",
+    "eta",
+    "spin",
+    "energy",
+    "contact_angle",
+    "a",
+    "b",
+    "y_cp",
+    "M_x",
+    "M_spin",
+)
 NWO = len(WHEEL_OUTPUTS)
 #: Rows per wheel the Fortran core computes and carries: WHEEL_OUTPUTS, then the contact's
 #: lateral arm on the wheel (m, normal-force weighted; where flexible rims that follow the
@@ -98,8 +128,9 @@ class PointElement:
 
     def __post_init__(self) -> None:
         if self.kind not in POINT_ELEMENT_KINDS:
-            raise InputError(f"unknown point element kind {self.kind!r}; one of "
-                             f"{sorted(POINT_ELEMENT_KINDS)}")
+            raise InputError(
+                f"unknown point element kind {self.kind!r}; one of {sorted(POINT_ELEMENT_KINDS)}"
+            )
         p = np.asarray(_checks.finite_array("params", self.params), dtype=float).ravel()
         if p.size > 4:
             raise InputError(f"a point element has at most 4 parameters, got {p.size}")
@@ -108,14 +139,16 @@ class PointElement:
             raise InputError("a Hertz point element needs a stiffness >= 0")
 
     @classmethod
-    def linear(cls, point: int, dof: int | None, stiffness: float, damping: float = 0.0,
-               preload: float = 0.0) -> "PointElement":
+    def linear(
+        cls, point: int, dof: int | None, stiffness: float, damping: float = 0.0, preload: float = 0.0
+    ) -> "PointElement":
         """A spring (N/m), damper (N s/m) and preload (N) between ``dof`` and ``point``."""
         return cls("linear", point, dof, (stiffness, damping, preload))
 
     @classmethod
-    def hertz(cls, point: int, dof: int | None, stiffness: float, clearance: float = 0.0,
-              damping: float = 0.0) -> "PointElement":
+    def hertz(
+        cls, point: int, dof: int | None, stiffness: float, clearance: float = 0.0, damping: float = 0.0
+    ) -> "PointElement":
         """A one-sided d^1.5 contact spring (N/m^1.5) with clearance (m) and damper (N s/m)."""
         return cls("hertz", point, dof, (stiffness, clearance, damping))
 
@@ -172,10 +205,22 @@ class RimFollow:
     def args(self) -> tuple:
         """The arguments of vehicle_modal_follow_c after the handle (1-based points)."""
         f = np.asfortranarray
-        return (float(self.s0), float(self.ds), f(self.rows), f(self.drows), float(self.rs0),
-                float(self.rds), f(self.rcc), f(self.rcx), f(self.rcj), f(self.rjj),
-                np.asarray(self.modes, np.int32), np.asarray(self.residual, np.int32),
-                f(np.asarray(self.points) + 1, dtype=np.int32), float(self.post))
+        return (
+            float(self.s0),
+            float(self.ds),
+            f(self.rows),
+            f(self.drows),
+            float(self.rs0),
+            float(self.rds),
+            f(self.rcc),
+            f(self.rcx),
+            f(self.rcj),
+            f(self.rjj),
+            np.asarray(self.modes, np.int32),
+            np.asarray(self.residual, np.int32),
+            f(np.asarray(self.points) + 1, dtype=np.int32),
+            float(self.post),
+        )
 
 
 #: Linear coupling kinds: name -> Fortran id (vehicle_modal LC_*).
@@ -242,22 +287,28 @@ class ModalCouplings:
         g = np.asarray(_checks.finite_array("directions", self.directions), dtype=float)
         par = np.asarray(_checks.finite_array("params", self.params), dtype=float)
         if g.ndim != 2 or g.shape[1] != nlc or par.shape != (3, nlc):
-            raise InputError(f"directions (n_dofs, {nlc}) and params (3, {nlc}) expected, got "
-                             f"{g.shape} and {par.shape}")
+            raise InputError(
+                f"directions (n_dofs, {nlc}) and params (3, {nlc}) expected, got {g.shape} and {par.shape}"
+            )
         rw = np.asarray(self.rim_wheelsets, dtype=np.int32).ravel()
         rp = np.asarray(self.rim_points, dtype=np.int32).reshape(3, 2, rw.size)
         ra = np.asarray(_checks.finite_array("rim_arms", self.rim_arms), dtype=float).reshape(2, rw.size)
         if np.any(ra <= 0):
             raise InputError("rim arms must be > 0")
-        for name, val in (("points", pts), ("directions", g), ("params", par),
-                          ("rim_wheelsets", rw), ("rim_points", rp), ("rim_arms", ra)):
+        for name, val in (
+            ("points", pts),
+            ("directions", g),
+            ("params", par),
+            ("rim_wheelsets", rw),
+            ("rim_points", rp),
+            ("rim_arms", ra),
+        ):
             val.setflags(write=False)
             object.__setattr__(self, name, val)
         object.__setattr__(self, "kinds", tuple(self.kinds))
         if self.rim_euler is not None:
             re = np.asarray(self.rim_euler, dtype=np.int32).reshape(3, 2, rw.size)
-            om = np.asarray(_checks.finite_array("rim_omega", self.rim_omega),
-                            dtype=float).reshape(rw.size)
+            om = np.asarray(_checks.finite_array("rim_omega", self.rim_omega), dtype=float).reshape(rw.size)
             re.setflags(write=False)
             om.setflags(write=False)
             object.__setattr__(self, "rim_euler", re)
@@ -273,10 +324,15 @@ class ModalCouplings:
         """The core's arrays (1-based indices; a dummy zero 'split' coupling and no rim when
         empty would leave a zero-size array: a zero-stiffness coupling on point 1 is used)."""
         if self.directions.shape[0] != n_dofs:
-            raise InputError(f"coupling directions over {self.directions.shape[0]} DOFs: the "
-                             f"system has {n_dofs}")
-        if np.any(self.points < 0) or np.any(self.points >= n_points) or \
-                np.any(self.rim_points < 0) or np.any(self.rim_points >= n_points):
+            raise InputError(
+                f"coupling directions over {self.directions.shape[0]} DOFs: the system has {n_dofs}"
+            )
+        if (
+            np.any(self.points < 0)
+            or np.any(self.points >= n_points)
+            or np.any(self.rim_points < 0)
+            or np.any(self.rim_points >= n_points)
+        ):
             raise InputError(f"a coupling or rim on a point outside 0..{n_points - 1}")
         kinds = np.array([COUPLING_KINDS[k] for k in self.kinds], dtype=np.int32)
         pts, g, par = self.points + 1, self.directions, self.params
@@ -284,9 +340,15 @@ class ModalCouplings:
             kinds, pts = np.ones(1, np.int32), np.ones(1, np.int32)
             g, par = np.zeros((n_dofs, 1)), np.zeros((3, 1))
         rw, rp, ra = self.rim_wheelsets + 1, self.rim_points + 1, self.rim_arms
-        return (kinds, np.asarray(pts, np.int32), np.asfortranarray(g), np.asfortranarray(par),
-                np.asarray(rw, np.int32), np.asfortranarray(rp, dtype=np.int32),
-                np.asfortranarray(ra))
+        return (
+            kinds,
+            np.asarray(pts, np.int32),
+            np.asfortranarray(g),
+            np.asfortranarray(par),
+            np.asarray(rw, np.int32),
+            np.asfortranarray(rp, dtype=np.int32),
+            np.asfortranarray(ra),
+        )
 
 
 @dataclass(frozen=True)
@@ -333,16 +395,20 @@ class ModalBlocks:
 
     def __post_init__(self) -> None:
         if len(self.damping) != len(self.stiffness) or not self.damping:
-            raise InputError(f"damping and stiffness need the same, non-zero number of blocks "
-                             f"({len(self.damping)} and {len(self.stiffness)})")
+            raise InputError(
+                f"damping and stiffness need the same, non-zero number of blocks "
+                f"({len(self.damping)} and {len(self.stiffness)})"
+            )
         bb, kb = [], []
         for i, (b, k) in enumerate(zip(self.damping, self.stiffness)):
             b = _checks.finite_array(f"damping block {i}", b)
             k = _checks.finite_array(f"stiffness block {i}", k)
             b, k = np.atleast_2d(b).astype(float), np.atleast_2d(k).astype(float)
             if b.ndim != 2 or b.shape[0] != b.shape[1] or k.shape != b.shape:
-                raise InputError(f"block {i}: damping {b.shape} and stiffness {k.shape} must be "
-                                 "square and of the same size")
+                raise InputError(
+                    f"block {i}: damping {b.shape} and stiffness {k.shape} must be "
+                    "square and of the same size"
+                )
             b.setflags(write=False)
             k.setflags(write=False)
             bb.append(b)
@@ -352,8 +418,7 @@ class ModalBlocks:
         nm = sum(b.shape[0] for b in bb)
         phi = np.array(_checks.finite_array("phi", self.phi), dtype=float, order="F")
         if phi.ndim != 2 or phi.shape[1] != nm or phi.shape[0] < 1:
-            raise InputError(f"phi must have shape (n_points >= 1, {nm}) for {nm} modes, got "
-                             f"{phi.shape}")
+            raise InputError(f"phi must have shape (n_points >= 1, {nm}) for {nm} modes, got {phi.shape}")
         phi.setflags(write=False)
         object.__setattr__(self, "phi", phi)
         els = tuple(self.elements)
@@ -363,8 +428,11 @@ class ModalBlocks:
             if not 0 <= e.point < phi.shape[0]:
                 raise InputError(f"point element on point {e.point}: phi has {phi.shape[0]} points")
         object.__setattr__(self, "elements", els)
-        names = (tuple(f"mode{i + 1}" for i in range(nm)) if self.names is None
-                 else tuple(str(n) for n in self.names))
+        names = (
+            tuple(f"mode{i + 1}" for i in range(nm))
+            if self.names is None
+            else tuple(str(n) for n in self.names)
+        )
         if len(names) != nm:
             raise InputError(f"{len(names)} names for {nm} modes")
         object.__setattr__(self, "names", names)
@@ -375,14 +443,25 @@ class ModalBlocks:
             object.__setattr__(self, "massless", ml if any(ml) else None)
 
     @classmethod
-    def diagonal(cls, omega: np.ndarray, zeta: np.ndarray | float, phi: np.ndarray,
-                 elements: tuple = (), names: tuple | None = None) -> "ModalBlocks":
+    def diagonal(
+        cls,
+        omega: np.ndarray,
+        zeta: np.ndarray | float,
+        phi: np.ndarray,
+        elements: tuple = (),
+        names: tuple | None = None,
+    ) -> "ModalBlocks":
         """Modes without coupling: one 1 x 1 block per mode, K = omega^2, B = 2 zeta omega
         (omega in rad/s, zeta the damping ratios)."""
         om = _checks.finite_array("omega", omega).astype(float).ravel()
         ze = np.broadcast_to(np.asarray(zeta, dtype=float), om.shape)
-        return cls(tuple((2.0 * z * w).reshape(1, 1) for z, w in zip(ze, om)),
-                   tuple((w * w).reshape(1, 1) for w in om), phi, elements, names)
+        return cls(
+            tuple((2.0 * z * w).reshape(1, 1) for z, w in zip(ze, om)),
+            tuple((w * w).reshape(1, 1) for w in om),
+            phi,
+            elements,
+            names,
+        )
 
     def place_blocks(self, c: np.ndarray, k: np.ndarray, start: int) -> None:
         """Write the blocks' damping (B = G + D) and stiffness into dense c and k (in place),
@@ -390,8 +469,8 @@ class ModalBlocks:
         j = start
         for b, kb in zip(self.damping, self.stiffness):
             s = b.shape[0]
-            c[j:j + s, j:j + s] = b
-            k[j:j + s, j:j + s] = kb
+            c[j : j + s, j : j + s] = b
+            k[j : j + s, j : j + s] = kb
             j += s
 
     def without_damping(self) -> "ModalBlocks":
@@ -403,15 +482,21 @@ class ModalBlocks:
             p[1 if e.kind == "linear" else 2] = 0.0
             els.append(PointElement(e.kind, e.point, e.dof, tuple(p)))
         cpl = self.couplings.without_damping() if self.couplings is not None else None
-        return ModalBlocks(tuple(0.5 * (b - b.T) for b in self.damping), self.stiffness, self.phi,
-                           tuple(els), self.names, cpl, self.massless)
+        return ModalBlocks(
+            tuple(0.5 * (b - b.T) for b in self.damping),
+            self.stiffness,
+            self.phi,
+            tuple(els),
+            self.names,
+            cpl,
+            self.massless,
+        )
 
     @property
     def mass(self) -> np.ndarray:
         """Modal masses (n_modes,): 1, or 0 for the coordinates of massless blocks."""
         ml = self.massless or (False,) * len(self.damping)
-        return np.concatenate([np.full(b.shape[0], 0.0 if m else 1.0)
-                               for b, m in zip(self.damping, ml)])
+        return np.concatenate([np.full(b.shape[0], 0.0 if m else 1.0) for b, m in zip(self.damping, ml)])
 
     @property
     def n_modes(self) -> int:
@@ -459,8 +544,10 @@ class ModalBlocks:
         """The largest undamped natural frequency of the blocks, rad/s: sqrt of the largest
         eigenvalue of each block's symmetric stiffness part (gyroscopic splitting ignored)."""
         ml = self.massless or (False,) * len(self.stiffness)
-        lam = max((float(np.max(np.linalg.eigvalsh(0.5 * (k + k.T))))
-                   for k, m in zip(self.stiffness, ml) if not m), default=0.0)
+        lam = max(
+            (float(np.max(np.linalg.eigvalsh(0.5 * (k + k.T)))) for k, m in zip(self.stiffness, ml) if not m),
+            default=0.0,
+        )
         return math.sqrt(max(lam, 0.0))
 
     def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -505,8 +592,10 @@ def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.nd
         raise InputError(f"a compliance must be a square matrix, got {r.shape}")
     lam, vec = np.linalg.eigh(0.5 * (r + r.T))
     if lam.size and lam.min() < -1e-8 * max(lam.max(), 0.0):
-        raise InputError(f"the compliance is not positive semi-definite (eigenvalue "
-                         f"{lam.min():.3g} against {lam.max():.3g})")
+        raise InputError(
+            f"the compliance is not positive semi-definite (eigenvalue "
+            f"{lam.min():.3g} against {lam.max():.3g})"
+        )
     keep = lam > rtol * max(float(lam.max()), 0.0) if lam.size else lam > 0
     return vec[:, keep], np.diag(1.0 / lam[keep])
 
@@ -516,8 +605,9 @@ def compliance_block(compliance: np.ndarray, rtol: float = 1e-12) -> tuple[np.nd
 RESIDUAL_ZETA = 0.05
 
 
-def with_mass(phi_r: np.ndarray, k_r: np.ndarray, freq_hz: float, zeta: float
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def with_mass(
+    phi_r: np.ndarray, k_r: np.ndarray, freq_hz: float, zeta: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A compliance block (:func:`compliance_block`) given a mass: each coordinate z_i with
     stiffness k_i gets the modal mass mu_i = k_i / w^2 (w = 2 pi freq_hz), rescaled to unit
     mass (z' = sqrt(mu_i) z): rows phi_i / sqrt(mu_i), stiffness w^2, damping 2 zeta w. The
@@ -531,11 +621,12 @@ def with_mass(phi_r: np.ndarray, k_r: np.ndarray, freq_hz: float, zeta: float
     w = 2.0 * np.pi * _checks.positive("residual_hz", freq_hz)
     k = np.diag(k_r)
     if np.any(k <= 0.0) or not np.allclose(k_r, np.diag(k)):
-        raise InputError("a compliance block to give a mass must have a positive diagonal "
-                         "stiffness (compliance_block's)")
-    mu = k / w ** 2
+        raise InputError(
+            "a compliance block to give a mass must have a positive diagonal stiffness (compliance_block's)"
+        )
+    mu = k / w**2
     eye = np.eye(k.size)
-    return phi_r / np.sqrt(mu), eye * w ** 2, eye * 2.0 * zeta * w
+    return phi_r / np.sqrt(mu), eye * w**2, eye * 2.0 * zeta * w
 
 
 @dataclass(frozen=True)
@@ -580,13 +671,29 @@ class VehicleModel:
         registry is full.
     """
 
-    def __init__(self, system: Any) -> None:    # a railvti.vehicle.assembly.System (which makes this)
+    def __init__(self, system: Any) -> None:  # a railvti.vehicle.assembly.System (which makes this)
         t = system.table
         handle, info = core.vehicle_model_create_c(
-            system.m, system.c, system.k, system.f0, system.etype, system.eg, system.epar,
-            system.iws, system.itr, t.data_roll, t.y0, t.dy, t.roll0, t.droll, t.r_nominal, t.r0,
-            t.material.shear_modulus, system.friction,
-            np.asfortranarray(system.spin_inertia, dtype=np.float64))
+            system.m,
+            system.c,
+            system.k,
+            system.f0,
+            system.etype,
+            system.eg,
+            system.epar,
+            system.iws,
+            system.itr,
+            t.data_roll,
+            t.y0,
+            t.dy,
+            t.roll0,
+            t.droll,
+            t.r_nominal,
+            t.r0,
+            t.material.shear_modulus,
+            system.friction,
+            np.asfortranarray(system.spin_inertia, dtype=np.float64),
+        )
         check(info, "vehicle model")
         self.handle = int(handle)
         self.n = int(system.n)
@@ -599,8 +706,7 @@ class VehicleModel:
         if mb is not None:
             bs, bb, kb = mb.packed()
             ptype, prig, ppt, ppar = mb.element_arrays(self.n)
-            info = core.vehicle_modal_attach_c(self.handle, bs, bb, kb, mb.phi, ptype, prig, ppt,
-                                               ppar)
+            info = core.vehicle_modal_attach_c(self.handle, bs, bb, kb, mb.phi, ptype, prig, ppt, ppar)
             check(info, "modal blocks")
             if mb.couplings is not None:
                 kinds, pts, g, par, rw, rp, ra = mb.couplings.arrays(self.n, mb.n_points)
@@ -611,12 +717,13 @@ class VehicleModel:
                     if np.any(cp.rim_euler >= mb.n_points):
                         raise InputError("an Eulerian rim point outside the points")
                     info = core.vehicle_modal_euler_c(
-                        self.handle, np.asfortranarray(cp.rim_euler + 1, dtype=np.int32),
-                        np.asfortranarray(cp.rim_omega))
+                        self.handle,
+                        np.asfortranarray(cp.rim_euler + 1, dtype=np.int32),
+                        np.asfortranarray(cp.rim_omega),
+                    )
                     check(info, "Eulerian rim rows")
                 if mb.couplings.rim_follow is not None:
-                    info = core.vehicle_modal_follow_c(self.handle,
-                                                       *mb.couplings.rim_follow.args())
+                    info = core.vehicle_modal_follow_c(self.handle, *mb.couplings.rim_follow.args())
                     check(info, "rim rows that follow the contact point")
             if mb.massless is not None:
                 info = core.vehicle_modal_mass_c(self.handle, np.asfortranarray(mb.mass))
@@ -633,42 +740,63 @@ class VehicleModel:
         """Whether the Fortran model still exists."""
         return self._free.alive
 
-    def force(self, cs: CallSettings, q: np.ndarray, v: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    def force(
+        self, cs: CallSettings, q: np.ndarray, v: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
         """F(q, v), wheel outputs (NWO, 2, nw), dF/dq, dF/dv and the status."""
-        f, w, jq, jv, info = core.vehicle_force_c(self._handle(), self.n_wheelsets, *cs.args(), q,
-                                                  v, NWO_CORE)
+        f, w, jq, jv, info = core.vehicle_force_c(
+            self._handle(), self.n_wheelsets, *cs.args(), q, v, NWO_CORE
+        )
         return f, w[:NWO], jq, jv, info
 
     def follow_rows(self, s: np.ndarray, n_points: int, n_modes: int) -> np.ndarray:
         """The modal rows (n_points, n_modes) with the flexible rims' contact points at s (2,
         nfr), m from the taping line (0 left, 1 right), as a time step sets them
         (vehicle_follow_rows_c; build_fr's follow_contact)."""
-        phi, info = core.vehicle_follow_rows_c(self._handle(), np.asfortranarray(s, dtype=float),
-                                               n_points, n_modes)
+        phi, info = core.vehicle_follow_rows_c(
+            self._handle(), np.asfortranarray(s, dtype=float), n_points, n_modes
+        )
         check(info, "rows that follow the contact point")
         return phi
 
-    def state_force(self, cs: CallSettings, x: np.ndarray, xd: np.ndarray
-                    ) -> tuple[np.ndarray, np.ndarray, int]:
+    def state_force(
+        self, cs: CallSettings, x: np.ndarray, xd: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, int]:
         """Force over the whole state (rigid DOFs and modal coordinates, n_state) with the
         point elements, the wheel outputs and the status (vehicle_state_force_c)."""
-        f, w, info = core.vehicle_state_force_c(self._handle(), self.n_wheelsets, *cs.args(), x,
-                                                xd, NWO_CORE)
+        f, w, info = core.vehicle_state_force_c(self._handle(), self.n_wheelsets, *cs.args(), x, xd, NWO_CORE)
         return f, w[:NWO], info
 
-    def static(self, cs: CallSettings, q: np.ndarray, tol: float, maxit: int
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
+    def static(
+        self, cs: CallSettings, q: np.ndarray, tol: float, maxit: int
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, float, int]:
         """Steady state from q (updated in place): v, F, wheel outputs, iterations, last
         correction and the status."""
-        v, f, w, it, resid, info = core.vehicle_static_c(self._handle(), self.n_wheelsets,
-                                                         *cs.args(), tol, maxit, q, NWO_CORE)
+        v, f, w, it, resid, info = core.vehicle_static_c(
+            self._handle(), self.n_wheelsets, *cs.args(), tol, maxit, q, NWO_CORE
+        )
         return v, f, w[:NWO], it, resid, info
 
-    def run(self, cs: CallSettings, h: float, nsteps: int, nevery: int, alpha: float,
-            tol: float, maxit: int, maxsub: int, qmax: float, rtol: float, t: np.ndarray,
-            q: np.ndarray, v: np.ndarray, a: np.ndarray, nout: int, scheme: int = 0,
-            carry: "RunCarry | None" = None) -> tuple:
+    def run(
+        self,
+        cs: CallSettings,
+        h: float,
+        nsteps: int,
+        nevery: int,
+        alpha: float,
+        tol: float,
+        maxit: int,
+        maxsub: int,
+        qmax: float,
+        rtol: float,
+        t: np.ndarray,
+        q: np.ndarray,
+        v: np.ndarray,
+        a: np.ndarray,
+        nout: int,
+        scheme: int = 0,
+        carry: "RunCarry | None" = None,
+    ) -> tuple:
         """nsteps HHT steps from (t, q, v, a), all updated in place: (tout, qout, vout, wout,
         stats, status, tfail); rtol: Newton's residual tolerance, max |r| in N or N m; scheme
         1: the energy-conserving midpoint rule (alpha 0); see vehicle_newmark%newmark_run.
@@ -676,10 +804,30 @@ class VehicleModel:
         same run (updated in place), so that a run split into calls takes the same steps as
         one call; None (or a fresh carry) evaluates them at (q, v) first."""
         carry = carry if carry is not None else RunCarry.fresh(q.size, self.n_wheelsets)
-        out = core.vehicle_run_c(self._handle(), *cs.args(), h, nsteps, nevery, alpha, tol,
-                                 maxit, maxsub, qmax, rtol, scheme, t, q, v, a, carry.f,
-                                 carry.w, int(carry.valid), nout, nw=self.n_wheelsets,
-                                 nwo=NWO_CORE)
+        out = core.vehicle_run_c(
+            self._handle(),
+            *cs.args(),
+            h,
+            nsteps,
+            nevery,
+            alpha,
+            tol,
+            maxit,
+            maxsub,
+            qmax,
+            rtol,
+            scheme,
+            t,
+            q,
+            v,
+            a,
+            carry.f,
+            carry.w,
+            int(carry.valid),
+            nout,
+            nw=self.n_wheelsets,
+            nwo=NWO_CORE,
+        )
         carry.valid = True
         tout, qout, vout, wout = out[:4]
         return (tout, qout, vout, wout[:NWO]) + tuple(out[4:])

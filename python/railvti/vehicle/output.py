@@ -26,6 +26,7 @@ least h (every step stored). A given ``output_dt`` is rounded to a multiple of h
 1 / (2 f) of an excitation, the excitation folds onto a false frequency in the history
 (92.6 Hz stored every 10 ms shows at 7.4 Hz): :class:`railvti.errors.AliasingWarning`.
 """
+
 from __future__ import annotations
 
 import logging
@@ -58,8 +59,9 @@ class Excitation:
         return 0.5 / self.frequency
 
 
-def hunting(speed: float, conicity: float, rolling_radius: float,
-            half_distance: float = ROLLING_HALF_DISTANCE) -> Excitation:
+def hunting(
+    speed: float, conicity: float, rolling_radius: float, half_distance: float = ROLLING_HALF_DISTANCE
+) -> Excitation:
     """Hunting, at Klingel's kinematic frequency (an upper bound of a bogie's), Hz.
 
     Parameters
@@ -93,8 +95,9 @@ def default_interval(excitations: Sequence[Excitation], h: float, base: float) -
     return max(1, math.floor(dt / h * (1.0 + 1e-9))) * h
 
 
-def check_interval(output_dt: float, h: float, excitations: Sequence[Excitation],
-                   key: str = "output_dt") -> float:
+def check_interval(
+    output_dt: float, h: float, excitations: Sequence[Excitation], key: str = "output_dt"
+) -> float:
     """``output_dt`` checked (> 0); an :class:`~railvti.errors.AliasingWarning` (also logged)
     for each excitation whose Nyquist limit the interval actually stored (``output_dt``
     rounded to a multiple of h, as simulate does) exceeds. Returns output_dt."""
@@ -103,14 +106,18 @@ def check_interval(output_dt: float, h: float, excitations: Sequence[Excitation]
     for e in excitations:
         if stored > e.nyquist_dt * (1.0 + 1e-9):
             n = math.ceil(e.nyquist_dt / h * (1.0 - 1e-9)) - 1
-            fix = (f"an {key} of at most {n * h:.4g} s ({n} step(s) of h = {h:g} s, below "
-                   f"1 / (2 f) = {e.nyquist_dt:.4g} s) resolves it" if n >= 1 else
-                   f"the step h = {h:g} s itself exceeds 1 / (2 f) = {e.nyquist_dt:.4g} s: "
-                   f"shorten h")
-            msg = (f"{key} = {output_dt:g} s (stored every {stored:g} s) aliases the "
-                   f"{e.name} at {e.frequency:.4g} Hz, which would show at "
-                   f"{_alias(e.frequency, stored):.3g} Hz; {fix} (the default stores "
-                   f"{SAMPLES_PER_PERIOD} samples per period)")
+            fix = (
+                f"an {key} of at most {n * h:.4g} s ({n} step(s) of h = {h:g} s, below "
+                f"1 / (2 f) = {e.nyquist_dt:.4g} s) resolves it"
+                if n >= 1
+                else f"the step h = {h:g} s itself exceeds 1 / (2 f) = {e.nyquist_dt:.4g} s: shorten h"
+            )
+            msg = (
+                f"{key} = {output_dt:g} s (stored every {stored:g} s) aliases the "
+                f"{e.name} at {e.frequency:.4g} Hz, which would show at "
+                f"{_alias(e.frequency, stored):.3g} Hz; {fix} (the default stores "
+                f"{SAMPLES_PER_PERIOD} samples per period)"
+            )
             log.warning(msg)
             warnings.warn(msg, AliasingWarning, stacklevel=3)
     return output_dt
@@ -122,8 +129,9 @@ def _alias(f: float, dt: float) -> float:
     return abs(f - fs * round(f / fs))
 
 
-def output_interval(output_dt: float | None, h: float, excitations: Sequence[Excitation],
-                    base: float, key: str = "output_dt") -> float:
+def output_interval(
+    output_dt: float | None, h: float, excitations: Sequence[Excitation], base: float, key: str = "output_dt"
+) -> float:
     """The output interval of a run, s: the given ``output_dt`` (checked, warned when it
     aliases an excitation) or :func:`default_interval`."""
     if output_dt is None:

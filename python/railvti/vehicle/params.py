@@ -27,6 +27,7 @@ table number was not checked: the original paper was not at hand). Each entry of
 * "assumption": parameters the benchmark does not give (the paper's coach has a friction
   bolster after Diepen 1991, not public), chosen plausibly.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -40,8 +41,10 @@ _IW = "Iwnicki 1998 (Manchester Benchmark vehicle 1, vehicle parameter table)"
 _IWC = _IW + " [confirmed: also TTB-2D TrainProp_Manchester_BenchMark.m]"
 _IWI = _IW + " [issue 13; not re-checked against the paper]"
 _ASSUME = "assumption"
-_WSB = ("railvti.vehicle.wheelset_body.coach_wheelset(): the FE wheelset's rigid part "
-        "(railvti.wheelset.WheelsetGeometry) plus two brake discs and two axleboxes")
+_WSB = (
+    "railvti.vehicle.wheelset_body.coach_wheelset(): the FE wheelset's rigid part "
+    "(railvti.wheelset.WheelsetGeometry) plus two brake discs and two axleboxes"
+)
 _TRACK = "railvti.track.TrackElement.from_ring(RingTrack(64)) with railvti.track.DEFAULTS"
 
 #: name -> (default, unit, source). Forces, stiffnesses and dampers are per element as stated.
@@ -66,17 +69,28 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "bogie_cg_height": (0.6, "m", _ASSUME),
     "half_wheelbase": (1.28, "m", _IWC + ": wheelbase 2.56 m"),
     # wheelset: one body for every model (railvti.vehicle.wheelset_body.coach_wheelset())
-    "wheelset_mass": (1813.0, "kg", _IWC + "; = the FE wheelset's 1094.29 kg + 2 brake discs "
-                      "+ 2 axleboxes (" + _WSB + ")"),
+    "wheelset_mass": (
+        1813.0,
+        "kg",
+        _IWC + "; = the FE wheelset's 1094.29 kg + 2 brake discs + 2 axleboxes (" + _WSB + ")",
+    ),
     "wheelset_roll_inertia": (1099.21, "kg m^2", _WSB + " (Iwnicki 1998: 1120)"),
     "wheelset_yaw_inertia": (1099.21, "kg m^2", _WSB + " (Iwnicki 1998: 1120)"),
-    "wheelset_pitch_inertia": (111.51, "kg m^2", _WSB + " (Iwy, about the axle: the spin DOF "
-                               "and the gyroscopic moments' spin inertia; Iwnicki 1998: 112)"),
+    "wheelset_pitch_inertia": (
+        111.51,
+        "kg m^2",
+        _WSB + " (Iwy, about the axle: the spin DOF "
+        "and the gyroscopic moments' spin inertia; Iwnicki 1998: 112)",
+    ),
     "wheel_radius": (0.46, "m", _IW),
-    "wheelset_stiffness_scale": (1.0, "-", "model setting: models FR and FF, Young's modulus of the FE wheelset "
-                                 "times this (every elastic frequency times its square root, "
-                                 "the same modes kept; 1e3: the stiff limit, which must "
-                                 "reproduce RR; issue 30). RR and RF: no effect"),
+    "wheelset_stiffness_scale": (
+        1.0,
+        "-",
+        "model setting: models FR and FF, Young's modulus of the FE wheelset "
+        "times this (every elastic frequency times its square root, "
+        "the same modes kept; 1e3: the stiff limit, which must "
+        "reproduce RR; issue 30). RR and RF: no effect",
+    ),
     # primary suspension, per axlebox
     "primary_kx": (31.391e6, "N/m", _IW),
     "primary_ky": (3.884e6, "N/m", _IW),
@@ -93,8 +107,11 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "secondary_cy": (32.0e3, "N s/m", _IW + " (lateral damper, per bogie)"),
     "secondary_half_spacing": (1.0, "m", _IW),
     "secondary_height": (0.9, "m", _ASSUME + " (above the rail top)"),
-    "secondary_bending_stiffness": (10.5e3, "N m/rad", _IWI + " (air spring bending, per side, "
-                                    "roll and pitch of bolster against bogie frame)"),
+    "secondary_bending_stiffness": (
+        10.5e3,
+        "N m/rad",
+        _IWI + " (air spring bending, per side, roll and pitch of bolster against bogie frame)",
+    ),
     "anti_roll_stiffness": (940.0e3, "N m/rad", _IWI + " (anti-roll bar, per bogie)"),
     # lateral bump stops between bogie frame and bolster
     "bumpstop_clearance": (0.025, "m", _IWI + " (was 30 mm)"),
@@ -115,10 +132,26 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
 }
 
 #: Parameters that may be zero (dampers, clearances); all others must be > 0.
-_MAY_BE_ZERO = {"bolster_yaw_stiffness", "secondary_bending_stiffness", "anti_roll_stiffness", "primary_cx", "primary_cy", "primary_cz", "secondary_cz", "secondary_cy",
-                "yaw_friction_torque", "bumpstop_clearance", "bumpstop_stiffness",
-                "track_cy", "track_cz", "track_croll", "friction", "carbody_cg_height",
-                "bogie_cg_height", "secondary_height"}
+_MAY_BE_ZERO = {
+    "bolster_yaw_stiffness",
+    "secondary_bending_stiffness",
+    "anti_roll_stiffness",
+    "primary_cx",
+    "primary_cy",
+    "primary_cz",
+    "secondary_cz",
+    "secondary_cy",
+    "yaw_friction_torque",
+    "bumpstop_clearance",
+    "bumpstop_stiffness",
+    "track_cy",
+    "track_cz",
+    "track_croll",
+    "friction",
+    "carbody_cg_height",
+    "bogie_cg_height",
+    "secondary_height",
+}
 
 
 #: Why a coach parameter's plausibility bound is where it is (:data:`BOUNDS`).
@@ -157,7 +190,8 @@ _EXPLICIT: dict[str, tuple[float, float, str]] = {
 #: name -> (lo, hi, why): the plausibility bounds of the coach parameters (deck keys
 #: ``coach_NAME``; the friction coefficient's lower bound is open: 0 < mu).
 BOUNDS: dict[str, tuple[float, float, str]] = {
-    k: _EXPLICIT.get(k) or _bound(k, v[0], v[1]) for k, v in DEFAULTS.items()}
+    k: _EXPLICIT.get(k) or _bound(k, v[0], v[1]) for k, v in DEFAULTS.items()
+}
 
 
 def _did_you_mean(name: str, options) -> str:
@@ -186,8 +220,8 @@ class Coach:
         for k, v in params.items():
             if k not in DEFAULTS:
                 raise InputError(f"unknown vehicle parameter {k!r}{_did_you_mean(k, DEFAULTS)}")
-            out[k] = (_checks.non_negative(k, v) if k in _MAY_BE_ZERO else _checks.positive(k, v))
-        if out["friction"] > _checks.MAX_FRICTION:     # beyond any wheel-rail contact
+            out[k] = _checks.non_negative(k, v) if k in _MAY_BE_ZERO else _checks.positive(k, v)
+        if out["friction"] > _checks.MAX_FRICTION:  # beyond any wheel-rail contact
             _checks.friction("friction", out["friction"], allow_zero=True)
         if out["yaw_friction_torque"] > 0 and out["yaw_friction_velocity"] <= 0:
             raise InputError("yaw_friction_velocity must be > 0")
@@ -219,5 +253,3 @@ class Coach:
 def speed_m_s(speed_kmh: Any) -> float:
     """Check a speed in km/h (0 < speed <= railvti._checks.MAX_SPEED_KMH) and return it in m/s."""
     return _checks.speed_kmh("speed_kmh", speed_kmh) / 3.6
-
-

@@ -1,4 +1,5 @@
 """Charts of vehicle runs: time histories, phase portrait, bifurcation diagram."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -24,13 +25,26 @@ def _readable(ax, values, unit: str, axis: str = "y") -> None:
         return
     c = 0.5 * (v.max() + v.min())
     (ax.set_ylim if axis == "y" else ax.set_xlim)(c - span, c + span)
-    ax.text(0.01, 0.97 if axis == "y" else 0.03,
-            f"flat {axis}: {c:.6g} {unit} (spread {v.max() - v.min():.1e})",
-            transform=ax.transAxes, va="top" if axis == "y" else "bottom", fontsize=7)
+    ax.text(
+        0.01,
+        0.97 if axis == "y" else 0.03,
+        f"flat {axis}: {c:.6g} {unit} (spread {v.max() - v.min():.1e})",
+        transform=ax.transAxes,
+        va="top" if axis == "y" else "bottom",
+        fontsize=7,
+    )
 
 
-def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y: np.ndarray,
-                 outdir: Path, stem: str, title: str = "") -> list[Path]:
+def plot_history(
+    t: np.ndarray,
+    y: np.ndarray,
+    vy: np.ndarray,
+    Q: np.ndarray,
+    Y: np.ndarray,
+    outdir: Path,
+    stem: str,
+    title: str = "",
+) -> list[Path]:
     """Leading wheelset lateral displacement and wheel forces against time, and the phase
     portrait (y against dy/dt). Q, Y: (nt, 2, nw). ``title``: the run (scenario, speed,
     model, contact). A flat history is drawn flat with its value (:data:`MIN_SPAN`)."""
@@ -60,7 +74,7 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(4.8, 4.2))
     ax.plot(y * 1e3, vy, lw=0.6)
-    ax.plot(y[-1:] * 1e3, vy[-1:], "o", ms=3, color="C0", label="last state")   # seen if flat
+    ax.plot(y[-1:] * 1e3, vy[-1:], "o", ms=3, color="C0", label="last state")  # seen if flat
     ax.legend(fontsize=7, loc="upper right")
     ax.set_xlabel("y wheelset 1, mm")
     ax.set_ylabel("dy/dt, m/s")
@@ -75,8 +89,9 @@ def plot_history(t: np.ndarray, y: np.ndarray, vy: np.ndarray, Q: np.ndarray, Y:
     return [p1, p2]
 
 
-def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, nadal: float,
-                path: Path, title: str = "") -> Path:
+def plot_wheels(
+    t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, nadal: float, path: Path, title: str = ""
+) -> Path:
     """All eight wheels: per wheelset (columns) the lateral displacement, Q of both wheels and
     the flange-climb ratio Y/Q (-Y/Q left, Y/Q right: the rail pushing the wheel towards the
     track centre) with Nadal's limit. q_dof: (nt, nw) wheelset lateral displacements, m;
@@ -97,7 +112,7 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
     _readable(ax[0, 0], q_dof * 1e3, "mm")
     _readable(ax[1, 0], Q / 1e3, "kN")
     for w in range(nw):
-        if np.isfinite(nadal):      # an interrupted case stores no limit
+        if np.isfinite(nadal):  # an interrupted case stores no limit
             ax[2, w].axhline(nadal, color="r", lw=0.8, ls="--", label=f"Nadal {nadal:.2f}")
         ax[2, w].set_xlabel("time, s")
         for a in ax[:, w]:
@@ -115,9 +130,16 @@ def plot_wheels(t: np.ndarray, q_dof: np.ndarray, Q: np.ndarray, Y: np.ndarray, 
     return Path(path)
 
 
-def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
-                     linear_kmh: float, path: Path, equivalent: tuple | None = None,
-                     title: str = "", critical_kmh: float | None = None) -> Path:
+def plot_bifurcation(
+    speeds: np.ndarray,
+    upper: np.ndarray,
+    decay: np.ndarray,
+    linear_kmh: float,
+    path: Path,
+    equivalent: tuple | None = None,
+    title: str = "",
+    critical_kmh: float | None = None,
+) -> Path:
     """Limit-cycle amplitude against speed (continuation branch and small-disturbance runs);
     ``equivalent`` = (speeds km/h, amplitudes m): linear critical speeds at the equivalent
     conicity of each amplitude (describing-function estimate of the cycle). ``critical_kmh``:
@@ -126,18 +148,33 @@ def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 3.8))
     if critical_kmh is not None and np.isfinite(critical_kmh):
-        ax.axvline(critical_kmh, color="C3", lw=1.2,
-                   label=f"critical speed (nonlinear), {critical_kmh:.0f} km/h")
+        ax.axvline(
+            critical_kmh, color="C3", lw=1.2, label=f"critical speed (nonlinear), {critical_kmh:.0f} km/h"
+        )
     elif critical_kmh is not None:
-        ax.text(0.02, 0.97, f"no critical speed found in {np.nanmin(speeds):.0f}-{np.nanmax(speeds):.0f} km/h",
-                transform=ax.transAxes, va="top", fontsize=8, color="C3")
+        ax.text(
+            0.02,
+            0.97,
+            f"no critical speed found in {np.nanmin(speeds):.0f}-{np.nanmax(speeds):.0f} km/h",
+            transform=ax.transAxes,
+            va="top",
+            fontsize=8,
+            color="C3",
+        )
     ax.plot(speeds, upper * 1e3, "o-", label="from a large cycle (speed lowered)")
     ax.plot(speeds, decay * 1e3, "s--", label="from a 0.5 mm disturbance")
     if equivalent is not None:
-        ax.plot(equivalent[0], np.asarray(equivalent[1]) * 1e3, "k^", ms=5,
-                label="linear at the equivalent conicity of the amplitude")
+        ax.plot(
+            equivalent[0],
+            np.asarray(equivalent[1]) * 1e3,
+            "k^",
+            ms=5,
+            label="linear at the equivalent conicity of the amplitude",
+        )
     if np.isfinite(linear_kmh):
-        ax.axvline(linear_kmh, color="k", lw=0.8, ls=":", label=f"linear (3 mm conicity), {linear_kmh:.0f} km/h")
+        ax.axvline(
+            linear_kmh, color="k", lw=0.8, ls=":", label=f"linear (3 mm conicity), {linear_kmh:.0f} km/h"
+        )
     ax.set_xlabel("speed, km/h")
     ax.set_ylabel("amplitude wheelset 1, mm")
     if title:
@@ -150,17 +187,27 @@ def plot_bifurcation(speeds: np.ndarray, upper: np.ndarray, decay: np.ndarray,
     return Path(path)
 
 
-def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarray,
-               ty: np.ndarray, power_density: np.ndarray, path: Path, title: str = "") -> Path:
+def plot_patch(
+    x: np.ndarray,
+    y: np.ndarray,
+    pressure: np.ndarray,
+    tx: np.ndarray,
+    ty: np.ndarray,
+    power_density: np.ndarray,
+    path: Path,
+    title: str = "",
+) -> Path:
     """Contact-patch fields on the (non-uniform, strip-wise) ellipse grid: pressure, the
     tangential traction magnitude with its direction, the friction power density."""
     plt = pyplot()
     fig, ax = plt.subplots(1, 3, figsize=(10.5, 3.4))
     xm, ym = np.asarray(x) * 1e3, np.asarray(y) * 1e3
-    for a, field, label in ((ax[0], pressure / 1e6, "pressure, MPa"),
-                            (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
-                            (ax[2], power_density / 1e6, "friction power, W/mm^2")):
-        if xm.shape == np.shape(field) and xm.ndim == 2:     # a (strip-wise) grid: filled cells
+    for a, field, label in (
+        (ax[0], pressure / 1e6, "pressure, MPa"),
+        (ax[1], np.hypot(tx, ty) / 1e6, "|traction|, MPa"),
+        (ax[2], power_density / 1e6, "friction power, W/mm^2"),
+    ):
+        if xm.shape == np.shape(field) and xm.ndim == 2:  # a (strip-wise) grid: filled cells
             sc = a.pcolormesh(ym, xm, np.asarray(field), shading="nearest", cmap="viridis")
         else:
             sc = a.scatter(ym.ravel(), xm.ravel(), c=np.asarray(field).ravel(), s=6, cmap="viridis")
@@ -170,19 +217,29 @@ def plot_patch(x: np.ndarray, y: np.ndarray, pressure: np.ndarray, tx: np.ndarra
         a.set_aspect("equal")
     ax[0].set_ylabel("x (rolling), mm")
     loaded = np.asarray(pressure) > 0
-    n = max(1, int(np.sqrt(max(int(loaded.sum()), 1)) // 10))    # about 10 arrows across
+    n = max(1, int(np.sqrt(max(int(loaded.sum()), 1)) // 10))  # about 10 arrows across
     k = (slice(None, None, n), slice(None, None, n))
-    sub = loaded[k]                     # arrows only where the wheel touches the rail
+    sub = loaded[k]  # arrows only where the wheel touches the rail
     txk, tyk = np.asarray(tx)[k][sub], np.asarray(ty)[k][sub]
     tmax = max(float(np.nanmax(np.hypot(txk, tyk), initial=0.0)), 1e-30)
     pts = np.column_stack([ym[k][sub].ravel(), xm[k][sub].ravel()])
     # the largest traction drawn as long as the mean spacing of the arrows' points, mm
-    step = (float(np.sqrt(np.ptp(pts[:, 0]) * np.ptp(pts[:, 1]) / max(len(pts), 1)))
-            if len(pts) > 1 else 0.0) or 1.0
-    ax[1].quiver(ym[k][sub], xm[k][sub], tyk, txk, color="w", angles="xy", scale_units="xy",
-                 scale=tmax / step, width=0.004)
+    step = (
+        float(np.sqrt(np.ptp(pts[:, 0]) * np.ptp(pts[:, 1]) / max(len(pts), 1))) if len(pts) > 1 else 0.0
+    ) or 1.0
+    ax[1].quiver(
+        ym[k][sub],
+        xm[k][sub],
+        tyk,
+        txk,
+        color="w",
+        angles="xy",
+        scale_units="xy",
+        scale=tmax / step,
+        width=0.004,
+    )
     ax[1].set_title(f"|traction|, MPa\narrows: traction, longest = {tmax / 1e6:.0f} MPa", fontsize=9)
-    if loaded.any() and loaded.mean() < 0.5:    # a patch much smaller than its grid (BEM)
+    if loaded.any() and loaded.mean() < 0.5:  # a patch much smaller than its grid (BEM)
         pad = 2.0 * max(float(np.ptp(xm)) / max(xm.shape[0], 1), float(np.ptp(ym)) / max(ym.shape[-1], 1))
         for a in ax:
             a.set_xlim(ym[loaded].min() - pad, ym[loaded].max() + pad)

@@ -10,6 +10,7 @@ the same rows (moving loads). The rows are time-dependent attachment rows of a m
 the Fortran time loop evaluates them once per (sub-)step (fortran/vehicle/vehicle_ring.f90),
 so the per-step cost is linear in the kept modes.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,7 +27,7 @@ from ..track.coupling import rail_of_wheel, wheel_head_shapes
 from .assembly import System, build_coach
 from .model import RESIDUAL_ZETA, ModalBlocks, VehicleModel
 
-if TYPE_CHECKING:   # pragma: no cover
+if TYPE_CHECKING:  # pragma: no cover
     from ..track.ring import RingTrack
     from .params import Coach
     from .table import WheelTable
@@ -131,8 +132,9 @@ class RingRows:
             w = sx - i0
             i1 = (i0 + 1) % nrx
             tab = self.rtab[:, :, :, self.crho[c] - 1]
-            r = (1 - w)[:, None, None] * tab[:, :, i0].transpose(2, 0, 1) \
-                + w[:, None, None] * tab[:, :, i1].transpose(2, 0, 1)
+            r = (1 - w)[:, None, None] * tab[:, :, i0].transpose(2, 0, 1) + w[:, None, None] * tab[
+                :, :, i1
+            ].transpose(2, 0, 1)
             out[:, :, :, c] = np.linalg.cholesky(r) @ self.post[:, :, self.crho[c] - 1]
         return out
 
@@ -156,12 +158,12 @@ class RingRows:
         out = np.zeros((ts.size, 3, self.crho.size, self.n_modes))
         for c in range(self.crho.size):
             x = np.mod(self.cx0[c] + self.speed * ts, self.length)
-            tb = self._trig(x) * self.obs[None]                        # (nt, 4, nbt)
+            tb = self._trig(x) * self.obs[None]  # (nt, 4, nbt)
             tb[:, :, self.rail != self.crho[c]] = 0.0
             psi = np.zeros((ts.size, 4, self.n_modes))
             for g in range(self.bpos.size - 1):
                 b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
-                v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+                v = self.vk[self.voff[g] : self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
                 psi[:, :, k0:k1] = tb[:, :, b0:b1] @ v
             out[:, :, c, :] = np.einsum("ij,tjr->tir", self.ctr[:, :, c], psi)
         return out
@@ -197,10 +199,10 @@ class RingRows:
 
     def _displacement(self, ts: np.ndarray, qm: np.ndarray) -> np.ndarray:
         """:meth:`displacement` of one block of times (nt, 3, 8)."""
-        amp = np.empty((ts.size, self.kap.size))      # basis-function amplitudes V Q per group
+        amp = np.empty((ts.size, self.kap.size))  # basis-function amplitudes V Q per group
         for g in range(self.bpos.size - 1):
             b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
-            v = self.vk[self.voff[g]:self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+            v = self.vk[self.voff[g] : self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
             amp[:, b0:b1] = qm[:, k0:k1] @ v.T
         out = np.empty((ts.size, 3, self.crho.size))
         for c in range(self.crho.size):
@@ -209,8 +211,8 @@ class RingRows:
             kx = x[:, None] * self.kap[None, on]
             f1, f2 = (self.fam[on] == 1), (self.fam[on] == 2)
             s, co = np.sin(kx), np.cos(kx)
-            tx = np.where(f1, s, np.where(f2, -co, 1.0)) * amp[:, on]     # u_x's factor
-            to = np.where(f1, co, np.where(f2, s, 1.0)) * amp[:, on]      # the others'
+            tx = np.where(f1, s, np.where(f2, -co, 1.0)) * amp[:, on]  # u_x's factor
+            to = np.where(f1, co, np.where(f2, s, 1.0)) * amp[:, on]  # the others'
             psi = np.concatenate([tx @ self.obs[0, on][:, None], to @ self.obs[1:, on].T], axis=1)
             out[:, :, c] = psi @ self.ctr[:, :, c].T
         return out
@@ -255,17 +257,33 @@ class RingSystem(System):
         r = self.ring
         if fresh and r is not None:
             nw = int(self.iws.shape[1])
-            p0 = self.modal.phi.shape[0] - 6 * nw     # the ring's points are the last 6 nw
+            p0 = self.modal.phi.shape[0] - 6 * nw  # the ring's points are the last 6 nw
             rlpt = (np.arange(6 * nw).reshape(nw, 2, 3).transpose(2, 1, 0) + 1 + p0).astype(np.int32)
             info = core.vehicle_ring_attach_c(
-                model.handle, np.arange(1, nw + 1, dtype=np.int32), np.asfortranarray(rlpt),
-                self.modal.n_modes - r.n_modes - r.n_residual, r.n_modes, r.bpos, r.kpos, r.voff, r.kap, r.fam,
-                r.rail, np.asfortranarray(r.obs), r.vk, r.crho, r.cx0, np.asfortranarray(r.ctr),
-                r.speed, r.length)
+                model.handle,
+                np.arange(1, nw + 1, dtype=np.int32),
+                np.asfortranarray(rlpt),
+                self.modal.n_modes - r.n_modes - r.n_residual,
+                r.n_modes,
+                r.bpos,
+                r.kpos,
+                r.voff,
+                r.kap,
+                r.fam,
+                r.rail,
+                np.asfortranarray(r.obs),
+                r.vk,
+                r.crho,
+                r.cx0,
+                np.asfortranarray(r.ctr),
+                r.speed,
+                r.length,
+            )
             check(info, "ring track rows")
             if r.n_residual:
-                info = core.vehicle_ring_residual_c(model.handle, r.bay, np.asfortranarray(r.rtab),
-                                                    np.asfortranarray(r.post))
+                info = core.vehicle_ring_residual_c(
+                    model.handle, r.bay, np.asfortranarray(r.rtab), np.asfortranarray(r.post)
+                )
                 check(info, "ring track residual flexibility")
         if r is not None:
             check(core.vehicle_ring_time_c(model.handle, 0.0), "ring track time")
@@ -290,9 +308,9 @@ class RingSystem(System):
         r = self.ring
         x = np.atleast_2d(x)
         m0 = self.n_state - r.n_modes - r.n_residual
-        u = r.displacement(t, x[:, m0:m0 + r.n_modes])
+        u = r.displacement(t, x[:, m0 : m0 + r.n_modes])
         if r.n_residual:
-            z = x[:, m0 + r.n_modes:].reshape(x.shape[0], -1, 3)       # (nt, 8, 3)
+            z = x[:, m0 + r.n_modes :].reshape(x.shape[0], -1, 3)  # (nt, 8, 3)
             u = u + np.einsum("tijc,tcj->tic", r.residual_rows(t), z)
         nw = int(self.iws.shape[1])
         return u.reshape(-1, 3, nw, 2).transpose(0, 1, 3, 2)
@@ -301,9 +319,11 @@ class RingSystem(System):
 def _check_span(n_sleepers: int, spacing: float, span: float) -> None:
     if n_sleepers * spacing < span + 2.0 * spacing:
         n_min = int(math.ceil(span / spacing - 1e-9)) + 2
-        raise InputError(f"ring of {n_sleepers} sleepers ({n_sleepers * spacing:.4g} m) too short "
-                         f"for the coach: its wheelsets span {span:.4g} m; take n_sleepers >= "
-                         f"{n_min} (the span plus two sleeper bays)")
+        raise InputError(
+            f"ring of {n_sleepers} sleepers ({n_sleepers * spacing:.4g} m) too short "
+            f"for the coach: its wheelsets span {span:.4g} m; take n_sleepers >= "
+            f"{n_min} (the span plus two sleeper bays)"
+        )
 
 
 def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
@@ -314,9 +334,16 @@ def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
     _check_span(int(n_sleepers), s, span)
 
 
-def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
-              f_limit: float | None = None, x_offset: float = 0.0,
-              residual: bool = True, n_table: int = 24) -> RingRows:
+def ring_rows(
+    track: "RingTrack",
+    x_wheelsets: np.ndarray,
+    speed: float,
+    *,
+    f_limit: float | None = None,
+    x_offset: float = 0.0,
+    residual: bool = True,
+    n_table: int = 24,
+) -> RingRows:
     """Pack the ring modes up to ``f_limit`` and the wheels' contact points.
 
     With ``residual`` (and modes truncated) the truncated modes' static compliance at a
@@ -341,8 +368,10 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
         fl = _checks.positive("f_limit", f_limit)
         sel = np.where(om <= 2 * math.pi * fl)[0]
     if sel.size == 0:
-        raise InputError(f"no ring mode at or below f_limit = {f_limit} Hz (the lowest is "
-                         f"{om.min() / (2 * math.pi):.4g} Hz)")
+        raise InputError(
+            f"no ring mode at or below f_limit = {f_limit} Hz (the lowest is "
+            f"{om.min() / (2 * math.pi):.4g} Hz)"
+        )
     keep = np.zeros(om.size, bool)
     keep[sel] = True
     bpos, kpos, voff = [0], [0], [0]
@@ -354,9 +383,11 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             continue
         b0, b1 = int(track.bpos[g]), int(track.bpos[g + 1])
         nt = m1 - m0
-        v = track.vflat[track.vpos[g]:track.vpos[g] + nt * nt].reshape(nt, nt, order="F")
-        o = b0 + np.argsort(track.rail[b0:b1], kind="stable")     # rail 1's functions first
-        kap.append(track.kap[o]); fam.append(track.fam[o]); rail.append(track.rail[o])
+        v = track.vflat[track.vpos[g] : track.vpos[g] + nt * nt].reshape(nt, nt, order="F")
+        o = b0 + np.argsort(track.rail[b0:b1], kind="stable")  # rail 1's functions first
+        kap.append(track.kap[o])
+        fam.append(track.fam[o])
+        rail.append(track.rail[o])
         obs.append(track.obs[:, o])
         vk.append(v[o - b0][:, kept].ravel(order="F"))
         modes.append(m0 + kept)
@@ -375,7 +406,7 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             beta = track._geom[1][m.rail - 1]
             cs, sn = math.cos(beta), math.sin(beta)
             cant = np.array([[1, 0, 0, 0], [0, cs, -sn, 0], [0, sn, cs, 0], [0, 0, 0, 1.0]])
-            yp = half if k == 0 else -half          # the rail's crown, vehicle y (left +)
+            yp = half if k == 0 else -half  # the rail's crown, vehicle y (left +)
             elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
             ctr[:, :, c] = elem @ m.transform @ cant
             crho[c] = m.rail
@@ -391,20 +422,34 @@ def ring_rows(track: "RingTrack", x_wheelsets: np.ndarray, speed: float, *,
             for i in range(n_table):
                 h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
                 rtab[:, :, i, k] = (h / lam) @ h.T
-                mtab[:, :, i, k] = (h / lam ** 2) @ h.T
-                ctab[:, :, i, k] = (h * (cm / lam ** 2)) @ h.T
+                mtab[:, :, i, k] = (h / lam**2) @ h.T
+                ctab[:, :, i, k] = (h * (cm / lam**2)) @ h.T
         rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
-        rtab /= rscale ** 2
-        mtab /= rscale ** 4
-        ctab /= rscale ** 4
-    return RingRows(modes=np.concatenate(modes), bpos=np.array(bpos, np.int32),
-                    kpos=np.array(kpos, np.int32), voff=np.array(voff, np.int32),
-                    kap=np.concatenate(kap), fam=np.concatenate(fam).astype(np.int32),
-                    rail=np.concatenate(rail).astype(np.int32),
-                    obs=np.asfortranarray(np.concatenate(obs, axis=1)),
-                    vk=np.concatenate(vk), crho=crho, cx0=cx0, ctr=ctr, speed=float(speed),
-                    length=length, rail_distance=2 * half, rtab=rtab, bay=float(a),
-                    rscale=rscale, mtab=mtab, ctab=ctab)
+        rtab /= rscale**2
+        mtab /= rscale**4
+        ctab /= rscale**4
+    return RingRows(
+        modes=np.concatenate(modes),
+        bpos=np.array(bpos, np.int32),
+        kpos=np.array(kpos, np.int32),
+        voff=np.array(voff, np.int32),
+        kap=np.concatenate(kap),
+        fam=np.concatenate(fam).astype(np.int32),
+        rail=np.concatenate(rail).astype(np.int32),
+        obs=np.asfortranarray(np.concatenate(obs, axis=1)),
+        vk=np.concatenate(vk),
+        crho=crho,
+        cx0=cx0,
+        ctr=ctr,
+        speed=float(speed),
+        length=length,
+        rail_distance=2 * half,
+        rtab=rtab,
+        bay=float(a),
+        rscale=rscale,
+        mtab=mtab,
+        ctab=ctab,
+    )
 
 
 def residual_inertia_of(rr: RingRows, stiffness_scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -432,8 +477,9 @@ def residual_inertia_of(rr: RingRows, stiffness_scale: float = 1.0) -> tuple[np.
         Per rail: the bay-averaged mass and damping of the residual coordinates.
     """
     if rr.mtab is None or rr.ctab is None:
-        raise InputError("the ring rows carry no residual inertia table (residual=False or no "
-                         "mode truncated)")
+        raise InputError(
+            "the ring rows carry no residual inertia table (residual=False or no mode truncated)"
+        )
     nrx = rr.rtab.shape[2]
     mz, cz = np.zeros((3, 3, 2)), np.zeros((3, 3, 2))
     for rho in range(2):
@@ -445,8 +491,9 @@ def residual_inertia_of(rr: RingRows, stiffness_scale: float = 1.0) -> tuple[np.
     return mz, cz
 
 
-def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: float | None = None,
-                    inertia: bool = False) -> tuple[RingRows, list, list]:
+def residual_blocks(
+    rr: RingRows, stiffness_scale: float = 1.0, residual_hz: float | None = None, inertia: bool = False
+) -> tuple[RingRows, list, list]:
     """The residual coordinates' blocks, one per contact point (unit mass unless massless).
 
     Parameters
@@ -470,14 +517,14 @@ def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: flo
     """
     s = stiffness_scale
     nc = rr.crho.size
-    stiff = [np.eye(3) * s / rr.rscale ** 2] * nc
+    stiff = [np.eye(3) * s / rr.rscale**2] * nc
     damp = [np.zeros((3, 3))] * nc
     if residual_hz is not None:
         # a mass mu per coordinate: z' = sqrt(mu) z, rows L / sqrt(mu), K / mu = w^2 I
         w = 2.0 * math.pi * _checks.positive("residual_hz", residual_hz)
-        mu = (s / rr.rscale ** 2) / w ** 2
+        mu = (s / rr.rscale**2) / w**2
         rr = replace(rr, rpost=rr.post / math.sqrt(mu))
-        stiff = [np.eye(3) * w ** 2] * nc
+        stiff = [np.eye(3) * w**2] * nc
         damp = [np.eye(3) * 2.0 * RESIDUAL_ZETA * w] * nc
     elif inertia:
         # unit-mass coordinates z = A z', A = M_z^-1/2: rows L A, K = k A A, C = A C_z A
@@ -487,17 +534,26 @@ def residual_blocks(rr: RingRows, stiffness_scale: float = 1.0, residual_hz: flo
             ev, vec = np.linalg.eigh(mz[:, :, rho])
             post[:, :, rho] = (vec / np.sqrt(ev)) @ vec.T
         rr = replace(rr, rpost=post)
-        k = s / rr.rscale ** 2
+        k = s / rr.rscale**2
         stiff = [k * post[:, :, r - 1] @ post[:, :, r - 1] for r in rr.crho]
         damp = [post[:, :, r - 1] @ cz[:, :, r - 1] @ post[:, :, r - 1] for r in rr.crho]
     return rr, stiff, damp
 
 
-def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrack", *,
-             f_limit: float | None = None, x_offset: float = 0.0,
-             stiffness_scale: float = 1.0, residual: bool = True,
-             base: System | None = None, residual_hz: float | None = None,
-             residual_inertia: bool = False) -> RingSystem:
+def build_rf(
+    coach: "Coach",
+    table: "WheelTable",
+    speed: float,
+    track: "RingTrack",
+    *,
+    f_limit: float | None = None,
+    x_offset: float = 0.0,
+    stiffness_scale: float = 1.0,
+    residual: bool = True,
+    base: System | None = None,
+    residual_hz: float | None = None,
+    residual_inertia: bool = False,
+) -> RingSystem:
     """Model RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
     FR system on rigid ground, model FF (flexible wheelsets on the ring).
 
@@ -553,21 +609,22 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
     """
     v0 = _checks.positive("speed", speed)
     if residual_hz is not None and residual_inertia:
-        raise InputError("residual_hz and residual_inertia both give the ring's residual "
-                         "coordinates a mass: choose one")
+        raise InputError(
+            "residual_hz and residual_inertia both give the ring's residual coordinates a mass: choose one"
+        )
     s = _checks.positive("stiffness_scale", stiffness_scale)
     x_offset = _checks.finite("x_offset", x_offset)
     if base is None:
         base = build_coach(coach, table, track=False)
     elif np.any(np.asarray(base.itr) > 0):
-        raise InputError("the base system of the ring track must have no track elements "
-                         "(build it with track=False)")
-    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset,
-                   residual=residual)
+        raise InputError(
+            "the base system of the ring track must have no track elements (build it with track=False)"
+        )
+    rr = ring_rows(track, base.x_wheelsets, v0, f_limit=f_limit, x_offset=x_offset, residual=residual)
     lam = track.lam[rr.modes] * s
     cm = track.cmod[rr.modes] * math.sqrt(s)
     om = np.sqrt(lam)
-    phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")   # point 3 c + i
+    phi = rr.rows(0.0)[0].reshape(-1, rr.n_modes, order="F")  # point 3 c + i
     names = tuple(f"ring_g{int(track.group[m])}_{int(m)}" for m in rr.modes)
     mb = ModalBlocks.diagonal(om, cm / (2.0 * om), phi, names=names)
     if rr.n_residual:
@@ -576,13 +633,15 @@ def build_rf(coach: "Coach", table: "WheelTable", speed: float, track: "RingTrac
         lres = rr.residual_rows(0.0)[0]
         pr = np.zeros((3 * nc, 3 * nc))
         for c in range(nc):
-            pr[3 * c:3 * c + 3, 3 * c:3 * c + 3] = lres[:, :, c]
+            pr[3 * c : 3 * c + 3, 3 * c : 3 * c + 3] = lres[:, :, c]
         massless = residual_hz is None and not residual_inertia
-        mb = ModalBlocks(mb.damping + tuple(damp), mb.stiffness + tuple(stiff),
-                         np.hstack([mb.phi, pr]),
-                         names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}"
-                                             for c in range(nc) for i in "yzr"),
-                         massless=(False,) * rr.n_modes + (massless,) * nc)
+        mb = ModalBlocks(
+            mb.damping + tuple(damp),
+            mb.stiffness + tuple(stiff),
+            np.hstack([mb.phi, pr]),
+            names=names + tuple(f"ring_res{c // 2 + 1}{'LR'[c % 2]}_{i}" for c in range(nc) for i in "yzr"),
+            massless=(False,) * rr.n_modes + (massless,) * nc,
+        )
     if base.modal is not None:
         mb = _append_blocks(base.modal, mb)
     base = base.with_modal(mb)
@@ -601,9 +660,15 @@ def _append_blocks(first: ModalBlocks, ring: ModalBlocks) -> ModalBlocks:
     phi[n1:, m1:] = ring.phi
     ml1 = first.massless or (False,) * len(first.damping)
     ml2 = ring.massless or (False,) * len(ring.damping)
-    return ModalBlocks(first.damping + ring.damping, first.stiffness + ring.stiffness, phi,
-                       elements=first.elements, names=first.names + ring.names,
-                       couplings=first.couplings, massless=ml1 + ml2)
+    return ModalBlocks(
+        first.damping + ring.damping,
+        first.stiffness + ring.stiffness,
+        phi,
+        elements=first.elements,
+        names=first.names + ring.names,
+        couplings=first.couplings,
+        massless=ml1 + ml2,
+    )
 
 
 def set_time(system: RingSystem, t: float) -> None:

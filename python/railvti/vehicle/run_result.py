@@ -1,6 +1,7 @@
 """The result of a time simulation: :class:`SimulationResult` (the histories, their units and
 the labels of their HDF5 layout) and :class:`WheelSummary` (the eight wheels over a window).
 """
+
 from __future__ import annotations
 
 import math
@@ -17,18 +18,39 @@ from .model import WHEEL_OUTPUTS
 __all__ = ["WHEEL_UNITS", "STAT_UNITS", "SimulationResult", "WheelSummary", "flange_angle"]
 
 #: Units of the per-wheel outputs (:data:`~railvti.vehicle.model.WHEEL_OUTPUTS`).
-WHEEL_UNITS = {"Q": "N", "Y": "N", "Fx": "N", "N_tread": "N", "N_flange": "N", "spin": "1/m",
-               "energy": "J", "contact_angle": "rad", "a": "m", "b": "m"}
+WHEEL_UNITS = {
+    "Q": "N",
+    "Y": "N",
+    "Fx": "N",
+    "N_tread": "N",
+    "N_flange": "N",
+    "spin": "1/m",
+    "energy": "J",
+    "contact_angle": "rad",
+    "a": "m",
+    "b": "m",
+}
 #: Units of SimulationResult.stats (stored as stat_NAME).
-STAT_UNITS = {"newton_iterations": "1", "tangents": "1", "max_error_estimate": "m", "steps": "1",
-              "substepped_steps": "1", "smallest_step": "s",
-              "newton_residual": "1 (relative to stat_load_scale)",
-              "newton_residual_max": "1 (relative to stat_load_scale)",
-              "newton_correction": "m or rad", "newton_correction_max": "m or rad",
-              "load_scale": "N", "newton_tol": "m or rad", "newton_rtol": "1", "wall_time": "s",
-              "real_time_factor": "1 (wall time / simulated time)", "failed_at": "s",
-              "interrupted_at": "s",
-              "bem_grid": "1, 1, m (nx, ny, dx)"}
+STAT_UNITS = {
+    "newton_iterations": "1",
+    "tangents": "1",
+    "max_error_estimate": "m",
+    "steps": "1",
+    "substepped_steps": "1",
+    "smallest_step": "s",
+    "newton_residual": "1 (relative to stat_load_scale)",
+    "newton_residual_max": "1 (relative to stat_load_scale)",
+    "newton_correction": "m or rad",
+    "newton_correction_max": "m or rad",
+    "load_scale": "N",
+    "newton_tol": "m or rad",
+    "newton_rtol": "1",
+    "wall_time": "s",
+    "real_time_factor": "1 (wall time / simulated time)",
+    "failed_at": "s",
+    "interrupted_at": "s",
+    "bem_grid": "1, 1, m (nx, ny, dx)",
+}
 
 
 @dataclass(frozen=True)
@@ -42,7 +64,8 @@ class SimulationResult:
     q, v : ndarray (nt, n)
         Displacements (m, rad) and velocities of every DOF (``dof_names``).
     wheel : ndarray (nt, 12, 2, nw)
-        Per output time, quantity :data:`~railvti.vehicle.model.WHEEL_OUTPUTS`, wheel (0 left, 1 right), wheelset:
+        Per output time, quantity :data:`~railvti.vehicle.model.WHEEL_OUTPUTS`, wheel (0 left,
+        1 right), wheelset:
         Q vertical and Y lateral (track y, + left) force of the rail on the wheel (N), the
         longitudinal creep force, the tread and flange normal forces, creepages, spin, Hertz
         energy, contact angle and semi-axes of the more loaded point.
@@ -88,11 +111,17 @@ class SimulationResult:
     #: The units this class gives its fields where its docstring does not end in one
     #: (railvti.runner.result_objects.save reads them here: the result owns its file layout's units).
     FIELD_UNITS: ClassVar[dict[str, Any]] = {
-        "t": "s", "q": "m or rad (per dof_names)", "v": "m/s or rad/s (per dof_names)",
+        "t": "s",
+        "q": "m or rad (per dof_names)",
+        "v": "m/s or rad/s (per dof_names)",
         "wheel": "per quantity: see the quantities and quantity_units attributes",
-        "speed": "m/s", "h": "s", "friction": "1", "flange_angle": "rad",
+        "speed": "m/s",
+        "h": "s",
+        "friction": "1",
+        "flange_angle": "rad",
         "rail": "m, m, rad (per component: y, z, roll of the element under each wheel)",
-        "stats": STAT_UNITS}
+        "stats": STAT_UNITS,
+    }
     #: Units of the per-wheel outputs and of the statistics (for the runner's records).
     WHEEL_UNITS: ClassVar[dict[str, str]] = WHEEL_UNITS
     STAT_UNITS: ClassVar[dict[str, str]] = STAT_UNITS
@@ -115,19 +144,31 @@ class SimulationResult:
     def _save_attrs(self) -> dict:
         """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
         nw = self.wheel.shape[-1]
-        return {"q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
-                "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
-                "t": {"axes": ["t"]},
-                "wheel": {"axes": ["t", "quantity", "wheel", "wheelset"],
-                          "quantities": list(WHEEL_OUTPUTS),
-                          "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
-                          "wheel": ["left", "right"],
-                          "wheelset": [f"ws{w + 1}" for w in range(nw)]},
-                **({"rail": {"axes": ["t", "component", "wheel", "wheelset"],
-                             "component": ["y", "z", "roll"], "column_units": ["m", "m", "rad"],
-                             "wheel": ["left", "right"],
-                             "wheelset": [f"ws{w + 1}" for w in range(nw)]}}
-                   if self.rail is not None else {})}
+        return {
+            "q": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+            "v": {"axes": ["t", "state"], "dof_names": list(self.dof_names)},
+            "t": {"axes": ["t"]},
+            "wheel": {
+                "axes": ["t", "quantity", "wheel", "wheelset"],
+                "quantities": list(WHEEL_OUTPUTS),
+                "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
+                "wheel": ["left", "right"],
+                "wheelset": [f"ws{w + 1}" for w in range(nw)],
+            },
+            **(
+                {
+                    "rail": {
+                        "axes": ["t", "component", "wheel", "wheelset"],
+                        "component": ["y", "z", "roll"],
+                        "column_units": ["m", "m", "rad"],
+                        "wheel": ["left", "right"],
+                        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+                    }
+                }
+                if self.rail is not None
+                else {}
+            ),
+        }
 
     @property
     def nadal(self) -> float:
@@ -235,9 +276,18 @@ class WheelSummary:
         yq = res.y_over_q[k].max(axis=0)
         wy = np.unravel_index(int(np.argmax(yq)), yq.shape)
         wq = np.unravel_index(int(np.argmax(q)), q.shape)
-        return cls(window=float(window), amplitude=amp, Q_max=q, Y_max=y, YQ_max=yq,
-                   nadal=res.nadal, flange_angle=res.flange_angle, friction=res.friction,
-                   worst_yq=(int(wy[0]), int(wy[1])), worst_q=(int(wq[0]), int(wq[1])))
+        return cls(
+            window=float(window),
+            amplitude=amp,
+            Q_max=q,
+            Y_max=y,
+            YQ_max=yq,
+            nadal=res.nadal,
+            flange_angle=res.flange_angle,
+            friction=res.friction,
+            worst_yq=(int(wy[0]), int(wy[1])),
+            worst_q=(int(wq[0]), int(wq[1])),
+        )
 
     @property
     def exceeds_nadal(self) -> bool:
@@ -250,8 +300,9 @@ class WheelSummary:
         sq, wq = self.worst_q
         yq = self.YQ_max[s, w]
         flag = "ABOVE" if yq > self.nadal else "below"
-        return (f"worst wheel: wheelset {w + 1} {_SIDE[s]} Y/Q {yq:.2f} ({flag} Nadal "
-                f"{self.nadal:.2f}: {math.degrees(self.flange_angle):.1f} deg, mu "
-                f"{self.friction:g}); largest Q {self.Q_max[sq, wq] / 1e3:.0f} kN at wheelset "
-                f"{wq + 1} {_SIDE[sq]}; amplitudes "
-                + "/".join(f"{a * 1e3:.1f}" for a in self.amplitude) + " mm")
+        return (
+            f"worst wheel: wheelset {w + 1} {_SIDE[s]} Y/Q {yq:.2f} ({flag} Nadal "
+            f"{self.nadal:.2f}: {math.degrees(self.flange_angle):.1f} deg, mu "
+            f"{self.friction:g}); largest Q {self.Q_max[sq, wq] / 1e3:.0f} kN at wheelset "
+            f"{wq + 1} {_SIDE[sq]}; amplitudes " + "/".join(f"{a * 1e3:.1f}" for a in self.amplitude) + " mm"
+        )

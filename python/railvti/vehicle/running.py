@@ -1,5 +1,6 @@
 """Centred running and the hunting test on straight track (railvti.scenarios), with the
 contact patch of a run."""
+
 from __future__ import annotations
 
 from typing import Any
@@ -16,16 +17,30 @@ from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .model import WHEEL_OUTPUTS
 from .run_result import SimulationResult
 from .simulate import simulate
-from .systems import (FLEXIBLE_WHEELSETS, RING_TRACK, check_model, resolve_geometry,
-                      run_output_dt, scenario_system, time_step)
+from .systems import (
+    FLEXIBLE_WHEELSETS,
+    RING_TRACK,
+    check_model,
+    resolve_geometry,
+    run_output_dt,
+    scenario_system,
+    time_step,
+)
 
 __all__ = ["centred_running", "contact_patch", "hunting"]
 
 
-def centred_running(speed_kmh: float | None = None, model: str = "RR",
-                    contact: str = "hertz-kalker", *, speed: float | None = None,
-                    duration: float = 1.0, h: float | None = None, coach: Coach | None = None,
-                    **kw: Any) -> CentredRunning:
+def centred_running(
+    speed_kmh: float | None = None,
+    model: str = "RR",
+    contact: str = "hertz-kalker",
+    *,
+    speed: float | None = None,
+    duration: float = 1.0,
+    h: float | None = None,
+    coach: Coach | None = None,
+    **kw: Any,
+) -> CentredRunning:
     """Centred running on straight ideal track: the steady state and Q, Y per wheel.
 
     Parameters
@@ -75,14 +90,28 @@ def centred_running(speed_kmh: float | None = None, model: str = "RR",
     rail = None
     if model in RING_TRACK:
         rail = sy.rail_deflection(run.t, run.q)
-    return CentredRunning(Q=run.Q[-1], Y=run.Y[-1], static_wheel_load=sy.wheel_load, q_static=q0,
-                          run=run, speed=v, contact=contact, patch=patch, model=model,
-                          rim_angle=rim, rail=rail, rim_camber=camber, rail_roll=roll, system=sy,
-                          layouts=layouts)
+    return CentredRunning(
+        Q=run.Q[-1],
+        Y=run.Y[-1],
+        static_wheel_load=sy.wheel_load,
+        q_static=q0,
+        run=run,
+        speed=v,
+        contact=contact,
+        patch=patch,
+        model=model,
+        rim_angle=rim,
+        rail=rail,
+        rim_camber=camber,
+        rail_roll=roll,
+        system=sy,
+        layouts=layouts,
+    )
 
 
-def contact_patch(system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1,
-                  wheelset: int = 0, n: int = 40):
+def contact_patch(
+    system: System, run: SimulationResult, index: int = -1, *, wheel: int = 1, wheelset: int = 0, n: int = 40
+):
     """FASTSIM fields (Hertz pressure) of one wheel's more loaded contact point at output
     ``index`` of a run: pressure, tractions, slip, friction power density."""
     w = run.wheel[index, :, wheel, wheelset]
@@ -90,18 +119,37 @@ def contact_patch(system: System, run: SimulationResult, index: int = -1, *, whe
     if fn <= 0:
         return None
     col = WHEEL_OUTPUTS.index
-    return fastsim(w[col("a")], w[col("b")], fn, system.table.material, system.friction,
-                   (w[col("xi")], w[col("eta")], w[col("spin")]), nx=n, ny=n,
-                   speed=run.speed, pressure="hertz")
+    return fastsim(
+        w[col("a")],
+        w[col("b")],
+        fn,
+        system.table.material,
+        system.friction,
+        (w[col("xi")], w[col("eta")], w[col("spin")]),
+        nx=n,
+        ny=n,
+        speed=run.speed,
+        pressure="hertz",
+    )
 
 
-def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "hertz-kalker", *,
-            speed: float | None = None, duration: float = 5.0, y0: float = 0.004,
-            h: float | None = None,
-            output_dt: float | None = None, alpha: float = 0.0, coach: Coach | None = None,
-            q0: np.ndarray | None = None, v0: np.ndarray | None = None,
-            return_system: bool = False,
-            **kw: Any) -> SimulationResult | tuple[SimulationResult, System, list]:
+def hunting(
+    speed_kmh: float | None = None,
+    model: str = "RR",
+    contact: str = "hertz-kalker",
+    *,
+    speed: float | None = None,
+    duration: float = 5.0,
+    y0: float = 0.004,
+    h: float | None = None,
+    output_dt: float | None = None,
+    alpha: float = 0.0,
+    coach: Coach | None = None,
+    q0: np.ndarray | None = None,
+    v0: np.ndarray | None = None,
+    return_system: bool = False,
+    **kw: Any,
+) -> SimulationResult | tuple[SimulationResult, System, list]:
     """Hunting test: the leading bogie's wheelsets shifted by y0, then released.
 
     Returns the SimulationResult (``t``, ``y_ws1``, ``vy_ws1``, ``q``, ``Q``, ``Y``, ...).
@@ -129,8 +177,17 @@ def hunting(speed_kmh: float | None = None, model: str = "RR", contact: str = "h
         if q0 is None:
             qs, _ = static_equilibrium(sy, v, contact, bem=st)
             q0 = lateral_disturbance(sy, qs, _checks.finite("y0", y0), wheelsets=(0, 1))
-        run = simulate(sy, v, duration, contact=contact, h=h, output_dt=output_dt, alpha=alpha,
-                       q0=q0, v0=v0, bem=st, **kw)
+        run = simulate(
+            sy,
+            v,
+            duration,
+            contact=contact,
+            h=h,
+            output_dt=output_dt,
+            alpha=alpha,
+            q0=q0,
+            v0=v0,
+            bem=st,
+            **kw,
+        )
     return (run, sy, layouts) if return_system else run
-
-

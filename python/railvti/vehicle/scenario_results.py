@@ -1,5 +1,6 @@
 """The results of the scenarios (railvti.scenarios): centred running, the bifurcation
 sweep and the critical speed, with their units."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -100,11 +101,13 @@ class CentredRunning:
     def case_data(self) -> tuple[dict, dict]:
         """The final loads' part of a results file: (datasets, scalars), each name ->
         (value, unit[, labels])."""
-        final = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES,
-                 "wheelset": [f"ws{w + 1}" for w in range(np.shape(self.Q)[-1])]}
+        final = {
+            "axes": ["wheel", "wheelset"],
+            "wheel": WHEEL_SIDES,
+            "wheelset": [f"ws{w + 1}" for w in range(np.shape(self.Q)[-1])],
+        }
         data = {"Q_final": (self.Q, "N", final), "Y_final": (self.Y, "N", final)}
-        scalars = {"static_wheel_load": (self.static_wheel_load, "N"),
-                   "max_Q_error": (self.q_error, "1")}
+        scalars = {"static_wheel_load": (self.static_wheel_load, "N"), "max_Q_error": (self.q_error, "1")}
         return data, scalars
 
 
@@ -220,32 +223,36 @@ class Bifurcation:
         axis = {"axes": ["speed"]}
         data: dict[str, tuple] = {"speeds_kmh": (kmh_label(self.speeds), "km/h", axis)}
         if steps:
-            data["step"] = (self.details["h"], "s", {"axes": ["speed"],
-                                                      "meaning": "time step at each speed"})
+            data["step"] = (self.details["h"], "s", {"axes": ["speed"], "meaning": "time step at each speed"})
         data["upper_amplitude"] = (self.upper, "m", axis)
         data["decay_amplitude"] = (self.decay, "m", axis)
         data["upper_flange_force"] = (self.details["flange_force"], "N", axis)
-        scalars = {"critical_speed_nonlinear": (kmh_label(self.critical), "km/h"),
-                   "critical_branch": (self.branch, ""),
-                   "critical_branch_amplitude": (self.branch_amplitude, "m"),
-                   "no_decay_below_kmh": (kmh_label(self.no_decay_below), "km/h"),
-                   "no_cycle_up_to_kmh": (kmh_label(self.no_cycle_up_to), "km/h"),
-                   "flange_hunting_speed": (kmh_label(self.flange), "km/h")}
+        scalars = {
+            "critical_speed_nonlinear": (kmh_label(self.critical), "km/h"),
+            "critical_branch": (self.branch, ""),
+            "critical_branch_amplitude": (self.branch_amplitude, "m"),
+            "no_decay_below_kmh": (kmh_label(self.no_decay_below), "km/h"),
+            "no_cycle_up_to_kmh": (kmh_label(self.no_cycle_up_to), "km/h"),
+            "flange_hunting_speed": (kmh_label(self.flange), "km/h"),
+        }
         return data, scalars
 
     @property
     def message(self) -> str:
         """One line: the nonlinear critical speed and its branch, or why there is none."""
         if np.isfinite(self.no_decay_below_kmh):
-            return (f"below {self.no_decay_below_kmh:.0f} km/h: no decay found (the cycle is "
-                    f"sustained at every speed swept down to there)")
+            return (
+                f"below {self.no_decay_below_kmh:.0f} km/h: no decay found (the cycle is "
+                f"sustained at every speed swept down to there)"
+            )
         if np.isfinite(self.no_cycle_up_to_kmh):
             return f"no sustained cycle up to {self.no_cycle_up_to_kmh:.0f} km/h"
-        ext = (f"; sweep extended down to {self.extended_kmh.min():.0f} km/h"
-               if self.extended_kmh.size else "")
-        return (f"nonlinear critical speed {self.critical_kmh:.0f} km/h ({self.branch}, "
-                f"amplitude {self.branch_amplitude * 1e3:.2f} mm, max flange force "
-                f"{self.branch_flange_force / 1e3:.1f} kN{ext})")
+        ext = f"; sweep extended down to {self.extended_kmh.min():.0f} km/h" if self.extended_kmh.size else ""
+        return (
+            f"nonlinear critical speed {self.critical_kmh:.0f} km/h ({self.branch}, "
+            f"amplitude {self.branch_amplitude * 1e3:.2f} mm, max flange force "
+            f"{self.branch_flange_force / 1e3:.1f} kN{ext})"
+        )
 
 
 @dataclass(frozen=True)
@@ -302,7 +309,7 @@ class CriticalSpeed:
         """One line: the value, its method, branch and damper state, or why there is none."""
         if self.method == "nonlinear" and self.bifurcation is not None:
             return self.bifurcation.message
-        return (f"linear critical speed {self.kmh:.1f} km/h, {self.frequency_hz:.2f} Hz; yaw "
-                f"damper {self.damper_state}")
-
-
+        return (
+            f"linear critical speed {self.kmh:.1f} km/h, {self.frequency_hz:.2f} Hz; yaw "
+            f"damper {self.damper_state}"
+        )

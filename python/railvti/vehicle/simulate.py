@@ -7,6 +7,7 @@ unless given) and runs the Fortran time loop in chunks (:mod:`railvti.vehicle.ti
 result is a :class:`~railvti.vehicle.run_result.SimulationResult`. A run with the BEM contact
 opens one BEM state for its equilibrium and its time loop.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -32,8 +33,15 @@ from .model import CallSettings
 from .run_result import SimulationResult
 from .time_loop import RunPlan, check_history_memory, integrate, plan_run, with_bem_fields
 
-__all__ = ["MAXSUB", "MODAL_STEP_LIMIT", "INTEGRATORS", "simulate", "bem_threads",
-           "check_modal_step", "consistent_massless"]
+__all__ = [
+    "MAXSUB",
+    "MODAL_STEP_LIMIT",
+    "INTEGRATORS",
+    "simulate",
+    "bem_threads",
+    "check_modal_step",
+    "consistent_massless",
+]
 
 #: Default deepest sub-step level of :func:`simulate`: a step whose Newton iterations fail is
 #: retried as 2, 4, ... 2^MAXSUB sub-steps. A run that converges takes the same steps at any
@@ -68,19 +76,36 @@ def check_modal_step(system: System, h: float) -> None:
             f"time step h = {h:.3g} s too large for the highest mode kept "
             f"({wmax / (2 * math.pi):.4g} Hz): h * omega_max = {h * wmax:.3g} > "
             f"{MODAL_STEP_LIMIT} (MODAL_STEP_LIMIT); take h <= {MODAL_STEP_LIMIT / wmax:.3g} s "
-            "or drop the mode")
+            "or drop the mode"
+        )
 
 
-def simulate(system: System, speed: float, duration: float, *,
-             contact: str | ContactModel = "hertz-kalker",
-             h: float = 1e-3, output_dt: float = 0.01, alpha: float = 0.0,
-             q0: np.ndarray | None = None, v0: np.ndarray | None = None, tol: float | None = None,
-             maxit: int = 20, maxsub: int = MAXSUB, qmax: float = 1.0, fastsim_n: int = 8,
-             progress: bool | None = None, chunk: float | None = None,
-             bem_options: BemOptions | None = None, bem: BemState | None = None,
-             rtol: float | None = None, stream_to: HistorySink | None = None,
-             stream_tail: float = STREAM_TAIL_SECONDS, integrator: str = "hht",
-             threads: int | None = None) -> SimulationResult:
+def simulate(
+    system: System,
+    speed: float,
+    duration: float,
+    *,
+    contact: str | ContactModel = "hertz-kalker",
+    h: float = 1e-3,
+    output_dt: float = 0.01,
+    alpha: float = 0.0,
+    q0: np.ndarray | None = None,
+    v0: np.ndarray | None = None,
+    tol: float | None = None,
+    maxit: int = 20,
+    maxsub: int = MAXSUB,
+    qmax: float = 1.0,
+    fastsim_n: int = 8,
+    progress: bool | None = None,
+    chunk: float | None = None,
+    bem_options: BemOptions | None = None,
+    bem: BemState | None = None,
+    rtol: float | None = None,
+    stream_to: HistorySink | None = None,
+    stream_tail: float = STREAM_TAIL_SECONDS,
+    integrator: str = "hht",
+    threads: int | None = None,
+) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
     Parameters
@@ -183,8 +208,21 @@ def simulate(system: System, speed: float, duration: float, *,
     spec = parse_contact_model(contact)
     with contact_state(system, spec, bem, bem_options) as bem:
         speed = _checks.positive("speed", speed)
-        plan = plan_run(spec, duration, h, output_dt, alpha, tol, maxit, maxsub, qmax, progress,
-                        chunk, rtol, system.wheel_load)
+        plan = plan_run(
+            spec,
+            duration,
+            h,
+            output_dt,
+            alpha,
+            tol,
+            maxit,
+            maxsub,
+            qmax,
+            progress,
+            chunk,
+            rtol,
+            system.wheel_load,
+        )
         plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
         check_modal_step(system, plan.h)
         stream_tail = _checks.positive("stream_tail", stream_tail)
@@ -192,7 +230,7 @@ def simulate(system: System, speed: float, duration: float, *,
             check_history_memory(system, plan)
         cs = call_settings(speed, spec, _checks.positive_int("fastsim_n", fastsim_n), bem)
         nthreads = bem_threads(bem, threads) if spec.needs_bem else 1
-        wait_idle(system)      # a static solve interrupted earlier may still run on this model
+        wait_idle(system)  # a static solve interrupted earlier may still run on this model
         q, v = _start_state(system, cs, spec, bem, q0, v0)
         if plan.scheme == INTEGRATORS["energy"]:
             q = consistent_massless(system, speed, q, v, spec, fastsim_n)
@@ -203,8 +241,15 @@ def simulate(system: System, speed: float, duration: float, *,
         return _finish(res, system, plan, time.perf_counter() - wall0, bem, cnt0, nthreads)
 
 
-def _finish(res: SimulationResult, system: System, plan: RunPlan, wall: float,
-            bem: BemState | None, cnt0: dict | None, nthreads: int) -> SimulationResult:
+def _finish(
+    res: SimulationResult,
+    system: System,
+    plan: RunPlan,
+    wall: float,
+    bem: BemState | None,
+    cnt0: dict | None,
+    nthreads: int,
+) -> SimulationResult:
     """The result of a completed time loop with its wall time, the rail under the wheels
     (model RF) and the BEM's counters and fields."""
     res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
@@ -215,7 +260,7 @@ def _finish(res: SimulationResult, system: System, plan: RunPlan, wall: float,
         res = with_bem_fields(res, system, bem, cnt0, plan.nsteps)
         res.stats["bem_threads"] = nthreads
     if not (np.isfinite(res.q).all() and np.isfinite(res.wheel).all()):
-        raise RailvtiError("non-finite values in the output")   # defensive: never return NaN
+        raise RailvtiError("non-finite values in the output")  # defensive: never return NaN
     return res
 
 
@@ -256,15 +301,23 @@ def _scheme(integrator: str, alpha: float, system: System) -> int:
         if alpha != 0.0:
             raise InputError(f"integrator='energy' is the midpoint rule: alpha must be 0, got {alpha}")
         if system.strip is None:
-            raise InputError("integrator='energy' needs the strip contact geometry "
-                             "(geometry='strip'): the table contact has no potential")
+            raise InputError(
+                "integrator='energy' needs the strip contact geometry "
+                "(geometry='strip'): the table contact has no potential"
+            )
     return INTEGRATORS[integrator]
 
 
-def consistent_massless(system: System, speed: float, q: np.ndarray, v: np.ndarray | None = None,
-                        contact: str | ContactModel = "hertz-kalker", fastsim_n: int = 8,
-                        tol: float = 1e-9,
-                        maxit: int = 8) -> np.ndarray:
+def consistent_massless(
+    system: System,
+    speed: float,
+    q: np.ndarray,
+    v: np.ndarray | None = None,
+    contact: str | ContactModel = "hertz-kalker",
+    fastsim_n: int = 8,
+    tol: float = 1e-9,
+    maxit: int = 8,
+) -> np.ndarray:
     """The state q with its massless coordinates (the residual flexibility, ``modal.mass`` 0)
     solved from their algebraic equations F_r(q, v) = 0 at the others' values (a copy; q itself
     without massless coordinates). Newton with a forward-difference Jacobian over the massless
@@ -292,6 +345,7 @@ def consistent_massless(system: System, speed: float, q: np.ndarray, v: np.ndarr
         f, _, info = system.native.state_force(cs, x, v)
         check(info, "the massless coordinates' equations at the start")
         return f[idx]
+
     r = f_r(q)
     limit = tol * system.wheel_load
     for _ in range(maxit):
@@ -307,23 +361,32 @@ def consistent_massless(system: System, speed: float, q: np.ndarray, v: np.ndarr
         r = f_r(q)
     if np.abs(r).max() <= limit:
         return q
-    raise ConvergenceError(f"the massless coordinates' equations at the start: max |F| "
-                           f"{np.abs(r).max():.3g} N after {maxit} Newton iterations",
-                           iterations=maxit, residual=float(np.abs(r).max()))
+    raise ConvergenceError(
+        f"the massless coordinates' equations at the start: max |F| "
+        f"{np.abs(r).max():.3g} N after {maxit} Newton iterations",
+        iterations=maxit,
+        residual=float(np.abs(r).max()),
+    )
 
 
-def _start_state(system: System, cs: CallSettings, contact: ContactModel, bem: BemState | None,
-                 q0: np.ndarray | None, v0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+def _start_state(
+    system: System,
+    cs: CallSettings,
+    contact: ContactModel,
+    bem: BemState | None,
+    q0: np.ndarray | None,
+    v0: np.ndarray | None,
+) -> tuple[np.ndarray, np.ndarray]:
     """The initial (q, v): given, or the steady state of static_equilibrium."""
     if q0 is None:
-        q0, vs, _ = static_equilibrium(system, cs.speed, contact, fastsim_n=cs.fastsim_n,
-                                       bem=bem, return_velocity=True)
+        q0, vs, _ = static_equilibrium(
+            system, cs.speed, contact, fastsim_n=cs.fastsim_n, bem=bem, return_velocity=True
+        )
         if v0 is None:
             v0 = vs
     n = system.n_state
     q = np.array(_checks.finite_array("q0", q0, shape=(n,)), dtype=float)
-    v = (np.zeros(n) if v0 is None
-         else np.array(_checks.finite_array("v0", v0, shape=(n,)), dtype=float))
+    v = np.zeros(n) if v0 is None else np.array(_checks.finite_array("v0", v0, shape=(n,)), dtype=float)
     return q, v
 
 
@@ -331,8 +394,13 @@ def _start_state(system: System, cs: CallSettings, contact: ContactModel, bem: B
 def _open_stream(stream_to: Any) -> Iterator[HistorySink | None]:
     """The sink of ``stream_to``: None or the given sink (left open for its owner)."""
     if stream_to is not None and not isinstance(stream_to, HistorySink):
-        hint = (" (a path: pass railvti.runner.stream.HistoryStream(path) and close it after the run)"
-                if isinstance(stream_to, (str, Path)) else "")
-        raise InputError("stream_to must be a history sink (railvti.casetypes.HistorySink), got "
-                         f"{type(stream_to).__name__}{hint}")
+        hint = (
+            " (a path: pass railvti.runner.stream.HistoryStream(path) and close it after the run)"
+            if isinstance(stream_to, (str, Path))
+            else ""
+        )
+        raise InputError(
+            "stream_to must be a history sink (railvti.casetypes.HistorySink), got "
+            f"{type(stream_to).__name__}{hint}"
+        )
     yield stream_to

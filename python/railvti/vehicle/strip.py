@@ -21,6 +21,7 @@ contact leads the wheel's lowest point), and each slot reports its longitudinal 
 Vehicle y points to the left; the geometry is the left wheel's and the right wheel is read
 mirrored (as for the table; the yaw changes sign, the longitudinal position does not).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -39,8 +40,22 @@ from ..profiles import Profile
 from .table import _RATIO_CLIP, _hertz_unit
 
 #: Outputs of one wheel's slot (Fortran vehicle_strip SO_*), in order.
-STRIP_OUTPUTS = ("N", "V", "dV_dy", "dV_dz", "dV_droll", "l", "zarm", "delta", "r", "x", "A",
-                 "P_max", "dV_dyaw", "xc")
+STRIP_OUTPUTS = (
+    "N",
+    "V",
+    "dV_dy",
+    "dV_dz",
+    "dV_droll",
+    "l",
+    "zarm",
+    "delta",
+    "r",
+    "x",
+    "A",
+    "P_max",
+    "dV_dyaw",
+    "xc",
+)
 _N_TABLE = 441
 #: The curvature ratio rho = B/A of the strips' Hertz constants: ln(rho) as it is within
 #: (-X_LINEAR, UPPER_LINEAR), then saturated C1 to the clips ln(1/25) and ln(UPPER_CLIP)
@@ -101,13 +116,35 @@ class StripGeometry:
 
     def args(self) -> tuple:
         """The arrays in the order of the Fortran shims (after the handle)."""
-        return (self.ws, self.ds, self.r_nominal, self.rail_y0, self.rail_dy, self.rail_z,
-                self.rail_m, self.rail_k, self.rail_k1, self.offset, self.top, self.x0, self.dx, self.fv, self.fm)
+        return (
+            self.ws,
+            self.ds,
+            self.r_nominal,
+            self.rail_y0,
+            self.rail_dy,
+            self.rail_z,
+            self.rail_m,
+            self.rail_k,
+            self.rail_k1,
+            self.offset,
+            self.top,
+            self.x0,
+            self.dx,
+            self.fv,
+            self.fm,
+        )
 
 
-def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_step: float = 5e-5,
-                   split: float = -0.022, split_width: float = 1e-3,
-                   material: Material = STEEL) -> StripGeometry:
+def strip_geometry(
+    wheel: Profile,
+    rail: Profile,
+    *,
+    step: float = 2e-4,
+    rail_step: float = 5e-5,
+    split: float = -0.022,
+    split_width: float = 1e-3,
+    material: Material = STEEL,
+) -> StripGeometry:
     """The strip contact's arrays for a wheel on a (canted) rail, laid out as the table is.
 
     Parameters
@@ -137,10 +174,19 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
     s = np.arange(wheel.y_min, wheel.y_max + 1e-12, step)
     wz = wheel.height(s)
     t = np.clip((s - split) / split_width, -1.0, 1.0)
-    tread = 0.5 + t * (15.0 - 10.0 * t * t + 3.0 * t**4) / 16.0     # C2 step from 0 to 1
+    tread = 0.5 + t * (15.0 - 10.0 * t * t + 3.0 * t**4) / 16.0  # C2 step from 0 to 1
     kw, sw = wheel.curvature(s), wheel.slope(s)
-    ws = np.stack([lay.wheelset.contact_y + s, -(r_nom + wz), r_nom + wz, kw, sw, tread,
-                   np.abs(kw) * (1.0 + sw * sw) ** 1.5])
+    ws = np.stack(
+        [
+            lay.wheelset.contact_y + s,
+            -(r_nom + wz),
+            r_nom + wz,
+            kw,
+            sw,
+            tread,
+            np.abs(kw) * (1.0 + sw * sw) ** 1.5,
+        ]
+    )
     n = int(np.floor((rail.y_max - rail.y_min) / rail_step)) + 1
     ry = rail.y_min + rail_step * np.arange(n)
     sp = CubicSpline(ry, rail.height(ry), bc_type="not-a-knot")
@@ -157,24 +203,42 @@ def strip_geometry(wheel: Profile, rail: Profile, *, step: float = 2e-4, rail_st
     fv = np.stack([0.375 * kh * np.sqrt(rho), a1, b1, c11, c22, c23], axis=1)
     fm = np.stack([CubicSpline(x, col, bc_type="clamped")(x, 2) for col in fv.T], axis=1)
     f = np.asfortranarray
-    return StripGeometry(ws=f(ws), ds=step, r_nominal=r_nom, rail_y0=float(ry[0]),
-                         rail_dy=rail_step, rail_z=f(sp(ry)), rail_m=f(sp(ry, 2)),
-                         rail_k=f(kappa), rail_k1=f(kappa1),
-                         offset=float(lay.rail_offset), top=float(lay.rail_top),
-                         x0=float(x[0]), dx=float(x[1] - x[0]), fv=f(fv), fm=f(fm))
+    return StripGeometry(
+        ws=f(ws),
+        ds=step,
+        r_nominal=r_nom,
+        rail_y0=float(ry[0]),
+        rail_dy=rail_step,
+        rail_z=f(sp(ry)),
+        rail_m=f(sp(ry, 2)),
+        rail_k=f(kappa),
+        rail_k1=f(kappa1),
+        offset=float(lay.rail_offset),
+        top=float(lay.rail_top),
+        x0=float(x[0]),
+        dx=float(x[1] - x[0]),
+        fv=f(fv),
+        fm=f(fm),
+    )
 
 
-def saturated_log_ratio(x: np.ndarray, hi_linear: float = X_LINEAR, hi_flat: float = X_FLAT,
-                        hi_limit: float = float(np.log(_RATIO_CLIP))) -> np.ndarray:
+def saturated_log_ratio(
+    x: np.ndarray,
+    hi_linear: float = X_LINEAR,
+    hi_flat: float = X_FLAT,
+    hi_limit: float = float(np.log(_RATIO_CLIP)),
+) -> np.ndarray:
     """ln(rho) for x = ln(B/A): x itself within (-X_LINEAR, hi_linear), then on either side a
     monotone cubic with slope 1 at the linear end and 0 at the flat end, reaching the limit
     (-ln 25 below, hi_limit above), constant beyond (C1: a clipped ratio makes no force
     jump)."""
     x = np.asarray(x, dtype=float)
     out = np.array(x, copy=True)
-    for sgn, lin, flat, lim in ((-1.0, X_LINEAR, X_FLAT, np.log(_RATIO_CLIP)),
-                                (1.0, hi_linear, hi_flat, hi_limit)):
-        a = (flat - lin) / (lim - lin)              # <= 3 keeps the cubic monotone
+    for sgn, lin, flat, lim in (
+        (-1.0, X_LINEAR, X_FLAT, np.log(_RATIO_CLIP)),
+        (1.0, hi_linear, hi_flat, hi_limit),
+    ):
+        a = (flat - lin) / (lim - lin)  # <= 3 keeps the cubic monotone
         t = np.clip((sgn * x - lin) / (flat - lin), 0.0, 1.0)
         sat = lin + (lim - lin) * (a * t + (3.0 - 2.0 * a) * t**2 + (a - 2.0) * t**3)
         out = np.where(sgn * x > lin, sgn * sat, out)
@@ -187,8 +251,7 @@ def _smoothed_curvature(rail: Profile, ry: np.ndarray) -> tuple[np.ndarray, np.n
     h = 5e-6
     yf = np.arange(ry[0] - 4 * RAIL_SMOOTHING, ry[-1] + 4 * RAIL_SMOOTHING + h, h)
     k = rail.curvature(np.clip(yf, rail.y_min, rail.y_max))
-    ker = np.exp(-0.5 * (np.arange(-4 * RAIL_SMOOTHING, 4 * RAIL_SMOOTHING + h / 2, h)
-                         / RAIL_SMOOTHING) ** 2)
+    ker = np.exp(-0.5 * (np.arange(-4 * RAIL_SMOOTHING, 4 * RAIL_SMOOTHING + h / 2, h) / RAIL_SMOOTHING) ** 2)
     ker /= ker.sum()
     ks = np.convolve(k, ker, mode="same")
     k1 = np.gradient(ks, h)
@@ -252,8 +315,9 @@ def strip_linearise(geometry: StripGeometry, y, zc, roll, yaw=0.0) -> tuple[np.n
 
 def _poses(name: str, y, zc, roll, yaw) -> tuple[tuple, np.ndarray]:
     """Broadcast shape and the (4, np) Fortran array of finite poses (InputError otherwise)."""
-    yb, zb, pb, sb = np.broadcast_arrays(np.asarray(y, float), np.asarray(zc, float),
-                                         np.asarray(roll, float), np.asarray(yaw, float))
+    yb, zb, pb, sb = np.broadcast_arrays(
+        np.asarray(y, float), np.asarray(zc, float), np.asarray(roll, float), np.asarray(yaw, float)
+    )
     pose = np.asfortranarray(np.stack([yb.ravel(), zb.ravel(), pb.ravel(), sb.ravel()]))
     if not np.all(np.isfinite(pose)):
         raise InputError(f"{name}: the poses must be finite")

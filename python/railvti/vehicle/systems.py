@@ -15,6 +15,7 @@ Also the scenarios' shared settings: the contact geometry of a run
 (:func:`resolve_geometry`), the time step (:func:`time_step`) and the output interval
 (:func:`run_output_dt`).
 """
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -41,30 +42,79 @@ from .strip import strip_geometry
 from .table import WheelTable, linearised_table
 from .table import wheel_table as profile_table
 
-__all__ = ["MODELS", "FR_SCENARIOS", "RF_SCENARIOS", "FLEXIBLE_WHEELSETS", "RING_TRACK",
-           "RF_N_SLEEPERS", "RF_F_LIMIT", "RF_KEYS", "FR_K_MAX", "FR_F_MAX", "MAX_HARMONIC",
-           "RING_TABLE_Y_MAX", "GEOMETRIES", "DEFAULT_GEOMETRY", "profiles", "wheel_table",
-           "resolve_geometry", "with_geometry", "equivalent_conicity", "hunting_conicity",
-           "fr_wheelset", "check_fr_selection", "check_model", "coach_system",
-           "system_and_layouts",
-           "fr_system", "ring_track", "rf_system", "on_ring", "checked_ring", "ff_system",
-           "scenario_system", "no_fr_keys", "ring_keys", "default_step", "time_step",
-           "run_output_dt"]
+__all__ = [
+    "MODELS",
+    "FR_SCENARIOS",
+    "RF_SCENARIOS",
+    "FLEXIBLE_WHEELSETS",
+    "RING_TRACK",
+    "RF_N_SLEEPERS",
+    "RF_F_LIMIT",
+    "RF_KEYS",
+    "FR_K_MAX",
+    "FR_F_MAX",
+    "MAX_HARMONIC",
+    "RING_TABLE_Y_MAX",
+    "GEOMETRIES",
+    "DEFAULT_GEOMETRY",
+    "profiles",
+    "wheel_table",
+    "resolve_geometry",
+    "with_geometry",
+    "equivalent_conicity",
+    "hunting_conicity",
+    "fr_wheelset",
+    "check_fr_selection",
+    "check_model",
+    "coach_system",
+    "system_and_layouts",
+    "fr_system",
+    "ring_track",
+    "rf_system",
+    "on_ring",
+    "checked_ring",
+    "ff_system",
+    "scenario_system",
+    "no_fr_keys",
+    "ring_keys",
+    "default_step",
+    "time_step",
+    "run_output_dt",
+]
 
 MODELS = ("RR", "FR", "RF", "FF")
 #: Scenarios that run model FR.
-FR_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
-                "linear_critical_speed")
+FR_SCENARIOS = (
+    "centred_running",
+    "coach_system",
+    "hunting",
+    "bifurcation",
+    "critical_speed",
+    "linear_critical_speed",
+)
 #: Scenarios that run the models on the ring track, RF and FF.
-RF_SCENARIOS = ("centred_running", "coach_system", "hunting", "bifurcation", "critical_speed",
-                "linear_critical_speed")
+RF_SCENARIOS = (
+    "centred_running",
+    "coach_system",
+    "hunting",
+    "bifurcation",
+    "critical_speed",
+    "linear_critical_speed",
+)
 #: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
 #: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
 #: Model RF's keys (the ring and its mode selection).
-RF_KEYS = ("n_sleepers", "f_limit", "track_params", "x_offset", "ring_residual",
-           "ring_residual_hz", "ring_residual_inertia")
+RF_KEYS = (
+    "n_sleepers",
+    "f_limit",
+    "track_params",
+    "x_offset",
+    "ring_residual",
+    "ring_residual_hz",
+    "ring_residual_inertia",
+)
 _RINGS: dict[Any, Any] = {}
 #: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
@@ -164,21 +214,24 @@ def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
     """
     ok = False
     try:
-        ok = (not isinstance(k_max, bool) and float(k_max).is_integer()
-              and 0 <= int(k_max) <= MAX_HARMONIC)
+        ok = not isinstance(k_max, bool) and float(k_max).is_integer() and 0 <= int(k_max) <= MAX_HARMONIC
     except (TypeError, ValueError, OverflowError):
         ok = False
     if not ok:
-        raise InputError(f"k_max = {k_max!r} is not a harmonic of the wheelset model: the "
-                         f"highest circumferential harmonic of model FR's modes must be an "
-                         f"integer in 0..{MAX_HARMONIC}")
+        raise InputError(
+            f"k_max = {k_max!r} is not a harmonic of the wheelset model: the "
+            f"highest circumferential harmonic of model FR's modes must be an "
+            f"integer in 0..{MAX_HARMONIC}"
+        )
     try:
         f = float(f_max)
     except (TypeError, ValueError):
         f = float("nan")
     if isinstance(f_max, bool) or not (np.isfinite(f) and f > 0.0):
-        raise InputError(f"f_max = {f_max!r} must be a positive finite frequency, Hz (the "
-                         "highest non-rotating frequency of model FR's kept modes)")
+        raise InputError(
+            f"f_max = {f_max!r} must be a positive finite frequency, Hz (the "
+            "highest non-rotating frequency of model FR's kept modes)"
+        )
     return int(k_max), f
 
 
@@ -186,18 +239,31 @@ def check_model(model: str, contact: str, scenario: str = "") -> None:
     if model not in MODELS:
         raise InputError(f"unknown model {model!r}: the time simulation has {MODELS}")
     if model in FLEXIBLE_WHEELSETS and scenario not in FR_SCENARIOS:
-        raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
-                         f"yet (flexible wheelsets: only {FR_SCENARIOS}); use model='RR'")
+        raise InputError(
+            f"model {model!r} is not available in {scenario or 'this scenario'} "
+            f"yet (flexible wheelsets: only {FR_SCENARIOS}); use model='RR'"
+        )
     if model in RING_TRACK and scenario not in RF_SCENARIOS:
-        raise InputError(f"model {model!r} is not available in {scenario or 'this scenario'} "
-                         f"yet (ring track: only {RF_SCENARIOS}); use model='RR'")
+        raise InputError(
+            f"model {model!r} is not available in {scenario or 'this scenario'} "
+            f"yet (ring track: only {RF_SCENARIOS}); use model='RR'"
+        )
     contact_id(contact)
 
 
-def coach_system(model: str = "RR", coach: Coach | None = None, *,
-                 linear_conicity: float | None = None, speed_kmh: float | None = None,
-                 k_max: int = FR_K_MAX, f_max: float = FR_F_MAX, speed: float | None = None,
-                 geometry: str | None = None, follow_contact: bool = False, **rf: Any) -> System:
+def coach_system(
+    model: str = "RR",
+    coach: Coach | None = None,
+    *,
+    linear_conicity: float | None = None,
+    speed_kmh: float | None = None,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    speed: float | None = None,
+    geometry: str | None = None,
+    follow_contact: bool = False,
+    **rf: Any,
+) -> System:
     """The assembled coach-track system; ``linear_conicity`` replaces the table by its
     equivalent linearisation (rolling radius linear in y, no flange).
 
@@ -219,44 +285,79 @@ def coach_system(model: str = "RR", coach: Coach | None = None, *,
     v = None
     if model != "RR" and (speed is not None or speed_kmh is not None):
         v = _checks.speed_si(speed, speed_kmh)
-    return system_and_layouts(model, coach, v, linear_conicity=linear_conicity, k_max=k_max,
-                              f_max=f_max, geometry=geometry, follow_contact=follow_contact,
-                              **rf)[0]
+    return system_and_layouts(
+        model,
+        coach,
+        v,
+        linear_conicity=linear_conicity,
+        k_max=k_max,
+        f_max=f_max,
+        geometry=geometry,
+        follow_contact=follow_contact,
+        **rf,
+    )[0]
 
 
-def system_and_layouts(model: str, coach: Coach | None, speed: float | None, *,
-                       linear_conicity: float | None = None, k_max: int = FR_K_MAX,
-                       f_max: float = FR_F_MAX, geometry: str | None = None,
-                       follow_contact: bool = False, **rf: Any) -> tuple[System, list]:
+def system_and_layouts(
+    model: str,
+    coach: Coach | None,
+    speed: float | None,
+    *,
+    linear_conicity: float | None = None,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    geometry: str | None = None,
+    follow_contact: bool = False,
+    **rf: Any,
+) -> tuple[System, list]:
     """:func:`coach_system` at ``speed`` (m/s; None for model RR, which does not depend on
     it) and model FR's and FF's layouts (the mode labels; [] for RR and RF)."""
     check_model(model, "hertz-kalker", "coach_system")
     if follow_contact and model not in FLEXIBLE_WHEELSETS:
-        raise InputError(f"follow_contact: a key of models 'FR' and 'FF' (flexible wheelsets); "
-                         f"model {model!r} has rigid wheelsets")
+        raise InputError(
+            f"follow_contact: a key of models 'FR' and 'FF' (flexible wheelsets); "
+            f"model {model!r} has rigid wheelsets"
+        )
     geometry = _system_geometry(geometry, linear_conicity)
     if model in RING_TRACK:
         if speed is None:
-            raise InputError(f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
-                             "contact points move along the ring at it)")
+            raise InputError(
+                f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
+                "contact points move along the ring at it)"
+            )
         if linear_conicity is not None:
             raise InputError(f"model {model!r} has no linearised table (linear_conicity)")
         if model == "FF":
-            return ff_system(coach, speed=speed, k_max=k_max, f_max=f_max, geometry=geometry,
-                             follow_contact=follow_contact, **rf)
+            return ff_system(
+                coach,
+                speed=speed,
+                k_max=k_max,
+                f_max=f_max,
+                geometry=geometry,
+                follow_contact=follow_contact,
+                **rf,
+            )
         if (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
             no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
         return rf_system(coach, speed=speed, geometry=geometry, **rf), []
     if rf:
-        raise InputError(f"{', '.join(sorted(rf))}: not a key of model {model!r} "
-                         f"(models 'RF' and 'FF' take {RF_KEYS})")
+        raise InputError(
+            f"{', '.join(sorted(rf))}: not a key of model {model!r} (models 'RF' and 'FF' take {RF_KEYS})"
+        )
     if model == "FR":
         if speed is None:
-            raise InputError("model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes "
-                             "depend on the spin)")
-        return fr_system(coach, speed=speed, k_max=k_max, f_max=f_max,
-                         linear_conicity=linear_conicity, geometry=geometry,
-                         follow_contact=follow_contact)
+            raise InputError(
+                "model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes depend on the spin)"
+            )
+        return fr_system(
+            coach,
+            speed=speed,
+            k_max=k_max,
+            f_max=f_max,
+            linear_conicity=linear_conicity,
+            geometry=geometry,
+            follow_contact=follow_contact,
+        )
     tab = wheel_table()
     if linear_conicity is not None:
         _linear_table_geometry(geometry)
@@ -266,14 +367,22 @@ def system_and_layouts(model: str, coach: Coach | None, speed: float | None, *,
 
 def _linear_table_geometry(geometry: str) -> None:
     if geometry != "table":
-        raise InputError("linear_conicity replaces the profiles by a cone: it has no strip "
-                         "geometry (geometry='table')")
+        raise InputError(
+            "linear_conicity replaces the profiles by a cone: it has no strip geometry (geometry='table')"
+        )
 
 
-def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
-              speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-              linear_conicity: float | None = None, geometry: str | None = None,
-              follow_contact: bool = False) -> tuple[System, list]:
+def fr_system(
+    coach: Coach | None = None,
+    *,
+    speed_kmh: float | None = None,
+    speed: float | None = None,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    linear_conicity: float | None = None,
+    geometry: str | None = None,
+    follow_contact: bool = False,
+) -> tuple[System, list]:
     """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
 
     Parameters
@@ -310,20 +419,35 @@ def fr_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     return with_geometry(sy, geometry), lays
 
 
-def _fr_build(coach: Coach, table: WheelTable, v: float, k_max: int, f_max: float, *,
-              track: bool = True, follow_contact: bool = False) -> tuple[System, list]:
+def _fr_build(
+    coach: Coach,
+    table: WheelTable,
+    v: float,
+    k_max: int,
+    f_max: float,
+    *,
+    track: bool = True,
+    follow_contact: bool = False,
+) -> tuple[System, list]:
     """build_fr on the scenarios' cached FE wheelset (scaled by the coach's
     wheelset_stiffness_scale); with follow_contact, the residual's 5 mm table over the contact
     points made once per speed and selection (about 30 s)."""
     if not follow_contact:
-        return build_fr(coach, table, v, wheelset=fr_wheelset(), k_max=k_max, f_max=f_max,
-                        track=track)
+        return build_fr(coach, table, v, wheelset=fr_wheelset(), k_max=k_max, f_max=f_max, track=track)
     ws, body = coach_body(coach, fr_wheelset(), v, k_max, f_max)
     key = ("residual_grid", float(v), k_max, float(f_max), coach["wheelset_stiffness_scale"])
     if key not in _PROFILES:
         _PROFILES[key] = residual_table(ws, body)
-    return build_fr(coach, table, v, wheelset=ws, body=body, follow_contact=True,
-                    residual_grid=_PROFILES[key], track=track)
+    return build_fr(
+        coach,
+        table,
+        v,
+        wheelset=ws,
+        body=body,
+        follow_contact=True,
+        residual_grid=_PROFILES[key],
+        track=track,
+    )
 
 
 def ring_track(n_sleepers: Any, track_params: dict | None):
@@ -332,16 +456,25 @@ def ring_track(n_sleepers: Any, track_params: dict | None):
     tp = dict(track_params or {})
     key = (n, tuple(sorted((k, repr(v)) for k, v in tp.items())))
     if key not in _RINGS:
-        _RINGS.clear()          # one ring at a time: they are large
+        _RINGS.clear()  # one ring at a time: they are large
         _RINGS[key] = RingTrack(n, **tp)
     return _RINGS[key]
 
 
-def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
-              speed: float | None = None, n_sleepers: int = RF_N_SLEEPERS,
-              f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
-              x_offset: float = 0.0, geometry: str | None = None, ring_residual: bool = True,
-              ring_residual_hz: float | None = None, ring_residual_inertia: bool = False):
+def rf_system(
+    coach: Coach | None = None,
+    *,
+    speed_kmh: float | None = None,
+    speed: float | None = None,
+    n_sleepers: int = RF_N_SLEEPERS,
+    f_limit: float | None = RF_F_LIMIT,
+    track_params: dict | None = None,
+    x_offset: float = 0.0,
+    geometry: str | None = None,
+    ring_residual: bool = True,
+    ring_residual_hz: float | None = None,
+    ring_residual_inertia: bool = False,
+):
     """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
@@ -390,21 +523,40 @@ def rf_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
         f_limit, bad track parameters.
     """
     v = _checks.speed_si(speed, speed_kmh)
-    sy, _ = on_ring("RF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, n_sleepers=n_sleepers,
-                     f_limit=f_limit, track_params=track_params, x_offset=x_offset,
-                     ring_residual=ring_residual, ring_residual_hz=ring_residual_hz,
-                     ring_residual_inertia=ring_residual_inertia)
+    sy, _ = on_ring(
+        "RF",
+        coach or Coach(),
+        wheel_table(RING_TABLE_Y_MAX),
+        v,
+        n_sleepers=n_sleepers,
+        f_limit=f_limit,
+        track_params=track_params,
+        x_offset=x_offset,
+        ring_residual=ring_residual,
+        ring_residual_hz=ring_residual_hz,
+        ring_residual_inertia=ring_residual_inertia,
+    )
     return with_geometry(sy, _system_geometry(geometry))
 
 
-def on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: int = FR_K_MAX,
-             f_max: float = FR_F_MAX, n_sleepers: Any = RF_N_SLEEPERS,
-             f_limit: float | None = RF_F_LIMIT, track_params: dict | None = None,
-             x_offset: float = 0.0, ring_residual: bool = True,
-             ring_residual_hz: float | None = None,
-             ring_residual_inertia: bool = False,
-             fr_base: tuple | None = None, follow_contact: bool = False
-             ) -> tuple[System, list]:
+def on_ring(
+    model: str,
+    coach: Coach,
+    table: WheelTable,
+    v: float,
+    *,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    n_sleepers: Any = RF_N_SLEEPERS,
+    f_limit: float | None = RF_F_LIMIT,
+    track_params: dict | None = None,
+    x_offset: float = 0.0,
+    ring_residual: bool = True,
+    ring_residual_hz: float | None = None,
+    ring_residual_inertia: bool = False,
+    fr_base: tuple | None = None,
+    follow_contact: bool = False,
+) -> tuple[System, list]:
     """Model RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
     linear method's bisection may pass it): the ring checked and built (cached), FR's
     wheelsets on rigid ground for FF (``fr_base``: that (system, layouts) already built at v),
@@ -414,11 +566,19 @@ def on_ring(model: str, coach: Coach, table: WheelTable, v: float, *, k_max: int
     if model == "FF" and fr_base is not None:
         base, lays = fr_base
     elif model == "FF":
-        base, lays = _fr_build(coach, table, v, k_max, f_max, track=False,
-                               follow_contact=follow_contact)
-    sy = build_rf(coach, table, v, track, f_limit=f_limit, x_offset=x_offset, base=base,
-                  residual=bool(ring_residual), residual_hz=ring_residual_hz,
-                  residual_inertia=bool(ring_residual_inertia))
+        base, lays = _fr_build(coach, table, v, k_max, f_max, track=False, follow_contact=follow_contact)
+    sy = build_rf(
+        coach,
+        table,
+        v,
+        track,
+        f_limit=f_limit,
+        x_offset=x_offset,
+        base=base,
+        residual=bool(ring_residual),
+        residual_hz=ring_residual_hz,
+        residual_inertia=bool(ring_residual_inertia),
+    )
     return sy, lays
 
 
@@ -430,14 +590,23 @@ def checked_ring(coach: Coach, n_sleepers: Any, track_params: dict | None):
     return ring_track(n, track_params)
 
 
-def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
-              speed: float | None = None, k_max: int = FR_K_MAX, f_max: float = FR_F_MAX,
-              n_sleepers: int = RF_N_SLEEPERS, f_limit: float | None = RF_F_LIMIT,
-              track_params: dict | None = None, x_offset: float = 0.0,
-              geometry: str | None = None, ring_residual: bool = True,
-              ring_residual_hz: float | None = None,
-              ring_residual_inertia: bool = False,
-              follow_contact: bool = False) -> tuple[System, list]:
+def ff_system(
+    coach: Coach | None = None,
+    *,
+    speed_kmh: float | None = None,
+    speed: float | None = None,
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    n_sleepers: int = RF_N_SLEEPERS,
+    f_limit: float | None = RF_F_LIMIT,
+    track_params: dict | None = None,
+    x_offset: float = 0.0,
+    geometry: str | None = None,
+    ring_residual: bool = True,
+    ring_residual_hz: float | None = None,
+    ring_residual_inertia: bool = False,
+    follow_contact: bool = False,
+) -> tuple[System, list]:
     """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
@@ -462,20 +631,26 @@ def ff_system(coach: Coach | None = None, *, speed_kmh: float | None = None,
     """
     v = _checks.speed_si(speed, speed_kmh)
     k_max, f_max = check_fr_selection(k_max, f_max)
-    sy, lays = on_ring("FF", coach or Coach(), wheel_table(RING_TABLE_Y_MAX), v, k_max=k_max,
-                        f_max=f_max,
-                        n_sleepers=n_sleepers, f_limit=f_limit, track_params=track_params,
-                        x_offset=x_offset, ring_residual=ring_residual,
-                        ring_residual_hz=ring_residual_hz,
-                        ring_residual_inertia=ring_residual_inertia,
-                        follow_contact=bool(follow_contact))
+    sy, lays = on_ring(
+        "FF",
+        coach or Coach(),
+        wheel_table(RING_TABLE_Y_MAX),
+        v,
+        k_max=k_max,
+        f_max=f_max,
+        n_sleepers=n_sleepers,
+        f_limit=f_limit,
+        track_params=track_params,
+        x_offset=x_offset,
+        ring_residual=ring_residual,
+        ring_residual_hz=ring_residual_hz,
+        ring_residual_inertia=ring_residual_inertia,
+        follow_contact=bool(follow_contact),
+    )
     return with_geometry(sy, _system_geometry(geometry)), lays
 
 
-
-
-def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict
-                    ) -> tuple[System, list]:
+def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict) -> tuple[System, list]:
     """The scenario's system at ``speed`` (m/s) and its FR layouts (:func:`system_and_layouts`):
     RR, or FR, RF, FF at this speed with their keys (the mode selection, the ring's) popped
     from kw."""
@@ -490,11 +665,19 @@ def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict
         return system_and_layouts(model, coach, speed, geometry=geometry, **follow, **rf)
     extra = sorted(k for k in RF_KEYS if k in kw)
     if extra:
-        raise InputError(f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); "
-                         f"model {model!r} has none")
+        raise InputError(
+            f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); model {model!r} has none"
+        )
     if model == "FR":
-        return system_and_layouts(model, coach, speed, k_max=kw.pop("k_max", FR_K_MAX),
-                                  f_max=kw.pop("f_max", FR_F_MAX), geometry=geometry, **follow)
+        return system_and_layouts(
+            model,
+            coach,
+            speed,
+            k_max=kw.pop("k_max", FR_K_MAX),
+            f_max=kw.pop("f_max", FR_F_MAX),
+            geometry=geometry,
+            **follow,
+        )
     no_fr_keys(kw)
     return system_and_layouts(model, coach, None, geometry=geometry, **follow)
 
@@ -503,8 +686,10 @@ def no_fr_keys(kw: dict) -> None:
     """InputError for model FR's mode selection given to model RR."""
     extra = sorted(k for k in ("k_max", "f_max") if k in kw)
     if extra:
-        raise InputError(f"{', '.join(extra)}: the mode selection of models 'FR' and 'FF'; "
-                         "models 'RR' and 'RF' have rigid wheelsets (no modes)")
+        raise InputError(
+            f"{', '.join(extra)}: the mode selection of models 'FR' and 'FF'; "
+            "models 'RR' and 'RF' have rigid wheelsets (no modes)"
+        )
 
 
 def default_step(sy: System) -> float:
@@ -544,8 +729,9 @@ def _excitations(sy: System, v: float) -> list:
     return out
 
 
-def run_output_dt(sy: System, v: float, h: float, output_dt: float | None, base: float,
-               check: bool = True) -> float:
+def run_output_dt(
+    sy: System, v: float, h: float, output_dt: float | None, base: float, check: bool = True
+) -> float:
     """The output interval of a run of sy at v (m/s) with step h: the given ``output_dt``
     (an AliasingWarning when it aliases a known excitation, unless ``check`` is False) or
     the scene's ``base`` shortened to resolve the excitations (railvti.vehicle.output)."""
@@ -554,16 +740,18 @@ def run_output_dt(sy: System, v: float, h: float, output_dt: float | None, base:
     return _output.output_interval(output_dt, h, _excitations(sy, v), base)
 
 
-
 def ring_keys(model: str, ring: dict | None) -> dict:
     """The ring's keys of a sweep, checked: only RF_KEYS, and only for RF and FF."""
     ring = dict(ring or {})
     bad = sorted(k for k in ring if k not in RF_KEYS)
     if bad:
-        raise InputError(f"{', '.join(bad)}: unknown keyword(s) (the ring track's keys of "
-                         f"models 'RF' and 'FF' are {RF_KEYS})")
+        raise InputError(
+            f"{', '.join(bad)}: unknown keyword(s) (the ring track's keys of "
+            f"models 'RF' and 'FF' are {RF_KEYS})"
+        )
     if ring and model not in RING_TRACK:
-        raise InputError(f"{', '.join(sorted(ring))}: keys of models 'RF' and 'FF' (the ring "
-                         f"track); model {model!r} has none")
+        raise InputError(
+            f"{', '.join(sorted(ring))}: keys of models 'RF' and 'FF' (the ring "
+            f"track); model {model!r} has none"
+        )
     return ring
-

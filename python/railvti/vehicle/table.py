@@ -32,6 +32,7 @@ direction), B = (k_rail - k_wheel) / 2 from the profile curvatures (Profile.curv
 B/A clipped into [1/25, 25] (conformal or concave pairs are outside Hertz's assumptions and
 outside Kalker's table; the clip is logged).
 """
+
 from __future__ import annotations
 
 import logging
@@ -52,8 +53,7 @@ from ..profiles import Profile
 log = logging.getLogger(__name__)
 
 #: Names of the table quantities, in the Fortran order (first index).
-QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23", "branch", "zarm",
-              "rlink", "rzz")
+QUANTITIES = ("g", "l", "delta", "r", "a1", "b1", "kH", "c11", "c22", "c23", "branch", "zarm", "rlink", "rzz")
 IBRANCH = QUANTITIES.index("branch")
 IZARM = QUANTITIES.index("zarm")
 IRLINK = QUANTITIES.index("rlink")
@@ -173,9 +173,17 @@ class WheelTable:
 _CACHE: dict[tuple, WheelTable] = {}
 
 
-def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: float = 5e-5,
-                roll_max: float = ROLL_MAX, roll_step: float = ROLL_STEP,
-                split: float = -0.022, material: Material = STEEL) -> WheelTable:
+def wheel_table(
+    wheel: Profile,
+    rail: Profile,
+    *,
+    y_max: float = 0.015,
+    step: float = 5e-5,
+    roll_max: float = ROLL_MAX,
+    roll_step: float = ROLL_STEP,
+    split: float = -0.022,
+    material: Material = STEEL,
+) -> WheelTable:
     """Build (or fetch from the cache) the left wheel's contact table.
 
     Parameters
@@ -234,13 +242,28 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
         prev = cur
     data[IRLINK, :, :, -1] = 0.0
     r0 = float(np.interp(0.0, y, z.data[3, 0]))
-    out = WheelTable(y=y, data=np.asfortranarray(z.data), r0=r0, s_wheel=z.s_wheel,
-                     material=material, n_clipped=n_clip, wheel=wheel, rail=rail, split=split,
-                     s_own=z.s_own, roll=roll, data_roll=np.asfortranarray(data),
-                     r_nominal=float(lay.wheelset.wheel_radius))
+    out = WheelTable(
+        y=y,
+        data=np.asfortranarray(z.data),
+        r0=r0,
+        s_wheel=z.s_wheel,
+        material=material,
+        n_clipped=n_clip,
+        wheel=wheel,
+        rail=rail,
+        split=split,
+        s_own=z.s_own,
+        roll=roll,
+        data_roll=np.asfortranarray(data),
+        r_nominal=float(lay.wheelset.wheel_radius),
+    )
     if n_clip:
-        log.info("contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
-                 n_clip, _RATIO_CLIP, _RATIO_CLIP)
+        log.info(
+            "contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
+            n_clip,
+            _RATIO_CLIP,
+            _RATIO_CLIP,
+        )
     if len(_CACHE) > 8:
         _CACHE.clear()
     _CACHE[key] = out
@@ -250,12 +273,13 @@ def wheel_table(wheel: Profile, rail: Profile, *, y_max: float = 0.015, step: fl
 @dataclass(frozen=True)
 class _Row:
     """One roll row of the table and what the branch links need."""
-    data: np.ndarray            # (nq, 2, n)
-    s_wheel: np.ndarray         # (2, n)
-    s_own: np.ndarray           # (n,)
-    gap: np.ndarray             # (n, m) vertical gap of every wheel sample
-    kglob: np.ndarray           # (2, n) sample index of each slot's point
-    real: np.ndarray            # (2, n) whether the slot has a point
+
+    data: np.ndarray  # (nq, 2, n)
+    s_wheel: np.ndarray  # (2, n)
+    s_own: np.ndarray  # (n,)
+    gap: np.ndarray  # (n, m) vertical gap of every wheel sample
+    kglob: np.ndarray  # (2, n) sample index of each slot's point
+    real: np.ndarray  # (2, n) whether the slot has a point
     n_clipped: int
 
 
@@ -275,8 +299,8 @@ def rolled_gap(lay, y: np.ndarray, roll: float) -> tuple[np.ndarray, np.ndarray,
         Each sample's lateral offset from the wheelset centre and its depth below it, m.
     """
     r_nom = lay.wheelset.wheel_radius
-    y0w = lay.wheelset.contact_y + lay.ws                    # from the centre, unrolled
-    z0w = -(r_nom + lay.wz)                                 # up from the centre, unrolled
+    y0w = lay.wheelset.contact_y + lay.ws  # from the centre, unrolled
+    z0w = -(r_nom + lay.wz)  # up from the centre, unrolled
     c, s = np.cos(roll), np.sin(roll)
     arm_y = c * y0w - s * z0w
     zc = s * y0w + c * z0w
@@ -343,7 +367,7 @@ def _row(lay, y: np.ndarray, roll: float, split: float, material: Material) -> _
         data[IBRANCH, slot] = _branches(gap, idx[k], fin)
         ly = np.interp(s, ws, arm_y)
         lz = np.interp(s, ws, arm_z)
-        yrail = np.clip(y + ly - lay.rail_offset, rail.y_min, rail.y_max)   # y: the centre's
+        yrail = np.clip(y + ly - lay.rail_offset, rail.y_min, rail.y_max)  # y: the centre's
         delta = -np.arctan(rail.slope(yrail))
         r = lay.wheelset.wheel_radius + wheel.height(s)
         # the wheel's normal curvature along x: its surface normal makes the angle
@@ -361,12 +385,13 @@ def _row(lay, y: np.ndarray, roll: float, split: float, material: Material) -> _
         # d2 Z_rail / dY2 at the point (track frame, Z up): carries a node's gap along u and
         # roll in the Fortran look-up (vehicle_contact%pose_at)
         hstep = 1e-5
-        data[IRZZ, slot] = -(rail.slope(np.clip(yrail + hstep, rail.y_min, rail.y_max))
-                             - rail.slope(np.clip(yrail - hstep, rail.y_min, rail.y_max))) / (2 * hstep)
+        data[IRZZ, slot] = -(
+            rail.slope(np.clip(yrail + hstep, rail.y_min, rail.y_max))
+            - rail.slope(np.clip(yrail - hstep, rail.y_min, rail.y_max))
+        ) / (2 * hstep)
     data[IRLINK] = 0.0
     s_own = _ownership(gap, ws, kglob, real)
-    return _Row(data=data, s_wheel=s_w, s_own=s_own, gap=gap, kglob=kglob, real=real,
-                n_clipped=n_clip)
+    return _Row(data=data, s_wheel=s_w, s_own=s_own, gap=gap, kglob=kglob, real=real, n_clipped=n_clip)
 
 
 def _links(a: _Row, b: _Row) -> np.ndarray:
@@ -387,7 +412,7 @@ def _links(a: _Row, b: _Row) -> np.ndarray:
             same = True
             for g, frm, to in ((a.gap[i], kb, ka), (b.gap[i], ka, kb)):
                 stp = 1 if to >= frm else -1
-                seg = g[frm:to + stp if to + stp >= 0 else None:stp]
+                seg = g[frm : to + stp if to + stp >= 0 else None : stp]
                 if seg.size > 1 and (np.diff(seg) > tol).any():
                     same = False
             out[slot, i] = 1.0 if same else 0.0
@@ -424,12 +449,16 @@ def pose_values(table: WheelTable, u, roll, members: bool = False):
     """
     ua = _checks.finite_array("u", np.atleast_1d(np.asarray(u, dtype=float)))
     pa = _checks.finite_array("roll", np.atleast_1d(np.asarray(roll, dtype=float)), shape=ua.shape)
-    vals, wt, grad, ibad, info = core.vehicle_pose_at_c(table.data_roll, table.y0, table.dy, table.roll0,
-                                                  table.droll, table.r_nominal, ua, pa)
+    vals, wt, grad, ibad, info = core.vehicle_pose_at_c(
+        table.data_roll, table.y0, table.dy, table.roll0, table.droll, table.r_nominal, ua, pa
+    )
     if info != Status.OK:
-        raise error(info, f"contact table look-up (pose {int(ibad) - 1}: u = "
-                          f"{ua[max(int(ibad) - 1, 0)]:.6g} m, roll = {pa[max(int(ibad) - 1, 0)]:.6g} rad)",
-                    exc=InputError)
+        raise error(
+            info,
+            f"contact table look-up (pose {int(ibad) - 1}: u = "
+            f"{ua[max(int(ibad) - 1, 0)]:.6g} m, roll = {pa[max(int(ibad) - 1, 0)]:.6g} rad)",
+            exc=InputError,
+        )
     return (vals, wt, grad) if members else vals[:, 0, :, :]
 
 
@@ -455,7 +484,7 @@ def _ownership(gap: np.ndarray, ws: np.ndarray, kglob: np.ndarray, real: np.ndar
             out[i] = np.inf
         else:
             a, b = sorted((kglob[0, i], kglob[1, i]))
-            out[i] = ws[a + int(np.argmax(gap[i, a:b + 1]))]
+            out[i] = ws[a + int(np.argmax(gap[i, a : b + 1]))]
     return out
 
 
@@ -467,7 +496,7 @@ def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
     (no local minimum) get -1."""
     lab = np.empty(k.size)
     cur = 0.0
-    tol = 1e-9                                               # m: samples' round-off
+    tol = 1e-9  # m: samples' round-off
     for i in range(k.size):
         if not real[i]:
             lab[i] = -1.0
@@ -478,7 +507,7 @@ def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
             same = True
             for row, frm, to in ((i - 1, k[i], k[i - 1]), (i, k[i - 1], k[i])):
                 step = 1 if to >= frm else -1
-                seg = gap[row, frm:to + step if to + step >= 0 else None:step]
+                seg = gap[row, frm : to + step if to + step >= 0 else None : step]
                 if seg.size > 1 and (np.diff(seg) > tol).any():
                     same = False
             if not same:
@@ -489,8 +518,9 @@ def _branches(gap: np.ndarray, k: np.ndarray, real: np.ndarray) -> np.ndarray:
     return lab
 
 
-def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material,
-                clip: float = _RATIO_CLIP, exact: bool = False) -> np.ndarray:
+def _hertz_unit(
+    A: np.ndarray, B: np.ndarray, material: Material, clip: float = _RATIO_CLIP, exact: bool = False
+) -> np.ndarray:
     """Hertz a, b (1 N) and kH for each (A, B); B/A clipped to 1/25..clip. Returns (3, n).
 
     a, b and the approach d scale as N^(1/3), N^(1/3), N^(2/3), so N = d^1.5 / d1^1.5.
@@ -520,12 +550,18 @@ def _hertz_unit(A: np.ndarray, B: np.ndarray, material: Material,
     # scale from A = 1 to the actual A: lengths scale as A^(-1/3), approach as A^(1/3)
     sa = A ** (-1.0 / 3.0)
     a, b, d1 = a * sa, b * sa, d1 / sa
-    _hertz_unit.last_clipped = int(clipped.sum())   # type: ignore[attr-defined]
-    return np.stack([a, b, d1 ** -1.5])
+    _hertz_unit.last_clipped = int(clipped.sum())  # type: ignore[attr-defined]
+    return np.stack([a, b, d1**-1.5])
 
 
-def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float | None = None,
-                     gravitational: bool = True, spin: bool = True) -> WheelTable:
+def linearised_table(
+    table: WheelTable,
+    conicity: float,
+    *,
+    contact_angle: float | None = None,
+    gravitational: bool = True,
+    spin: bool = True,
+) -> WheelTable:
     """A table with the rolling radius linear in y (equivalent conicity) and no flange.
 
     Used for the linear stability analysis and the validations: r(y) = r0 + conicity * y on
@@ -565,10 +601,18 @@ def linearised_table(table: WheelTable, conicity: float, *, contact_angle: float
     c, s = np.cos(roll)[None, :], np.sin(roll)[None, :]
     l1, za1 = l * c + za * s, za * c - l * s
     dr[0, 0] += (za - za1) - td * (-table.r_nominal * roll[None, :] + l1 - l)
-    dr[1, 0] = l1                                  # the rotated point's arms
+    dr[1, 0] = l1  # the rotated point's arms
     dr[IZARM, 0] = za1
     dr[IRLINK] = 1.0
     dr[IRLINK, :, :, -1] = 0.0
-    return WheelTable(y=y, data=np.asfortranarray(d), r0=table.r0, s_wheel=table.s_wheel,
-                      material=table.material, n_clipped=table.n_clipped, roll=roll,
-                      data_roll=np.asfortranarray(dr), r_nominal=table.r_nominal)
+    return WheelTable(
+        y=y,
+        data=np.asfortranarray(d),
+        r0=table.r0,
+        s_wheel=table.s_wheel,
+        material=table.material,
+        n_clipped=table.n_clipped,
+        roll=roll,
+        data_roll=np.asfortranarray(dr),
+        r_nominal=table.r_nominal,
+    )

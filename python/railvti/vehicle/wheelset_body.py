@@ -18,6 +18,7 @@ The parts ride on the rigid-body motion only: in model FR they do not load the e
 ``wheelset_roll_inertia``, ``wheelset_yaw_inertia`` and ``wheelset_pitch_inertia`` (the spin
 inertia); tests/test_wheelset_body.py checks them against :func:`coach_wheelset`.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -62,30 +63,39 @@ class LumpedPart:
         """About the axle, kg m^2 (0 for a part that does not rotate): m (r_o^2 + r_i^2) / 2."""
         if not self.rotating:
             return 0.0
-        return self.mass * (self.radius_out ** 2 + self.radius_in ** 2) / 2.0
+        return self.mass * (self.radius_out**2 + self.radius_in**2) / 2.0
 
     @property
     def diametral_inertia(self) -> float:
         """About a diameter through the wheelset centre, kg m^2 (parallel axes):
         m ((r_o^2 + r_i^2) / 4 + L^2 / 12 + y^2)."""
-        return self.mass * ((self.radius_out ** 2 + self.radius_in ** 2) / 4.0
-                            + self.length ** 2 / 12.0 + self.y ** 2)
+        return self.mass * (
+            (self.radius_out**2 + self.radius_in**2) / 4.0 + self.length**2 / 12.0 + self.y**2
+        )
 
 
-_DISC = ("assumption: a typical 640 mm ventilated axle-mounted brake disc of a passenger "
-         "coach with its hub, 120 kg, at +-0.40 m")
-_AXLEBOX = ("remainder to the benchmark's 1813 kg (Iwnicki 1998 [confirmed]) over two "
-            "axleboxes at the journal centres (+-1.0 m, railvti.wheelset.WheelsetGeometry); "
-            "inertia of a 0.15 m radius cylinder of the journal's length")
+_DISC = (
+    "assumption: a typical 640 mm ventilated axle-mounted brake disc of a passenger "
+    "coach with its hub, 120 kg, at +-0.40 m"
+)
+_AXLEBOX = (
+    "remainder to the benchmark's 1813 kg (Iwnicki 1998 [confirmed]) over two "
+    "axleboxes at the journal centres (+-1.0 m, railvti.wheelset.WheelsetGeometry); "
+    "inertia of a 0.15 m radius cylinder of the journal's length"
+)
 
 
 def _parts(bare_mass: float, geometry: WheelsetGeometry) -> tuple[LumpedPart, ...]:
-    discs = tuple(LumpedPart(f"brake disc {s}", 120.0, y, 0.32, 0.12, 0.11, True, _DISC)
-                  for s, y in (("left", 0.40), ("right", -0.40)))
+    discs = tuple(
+        LumpedPart(f"brake disc {s}", 120.0, y, 0.32, 0.12, 0.11, True, _DISC)
+        for s, y in (("left", 0.40), ("right", -0.40))
+    )
     m_box = 0.5 * (BENCHMARK_MASS - bare_mass - sum(d.mass for d in discs))
     yj = 0.5 * geometry.journal_spacing
-    boxes = tuple(LumpedPart(f"axlebox {s}", m_box, y, 0.15, 0.0, geometry.journal_length,
-                             False, _AXLEBOX) for s, y in (("left", yj), ("right", -yj)))
+    boxes = tuple(
+        LumpedPart(f"axlebox {s}", m_box, y, 0.15, 0.0, geometry.journal_length, False, _AXLEBOX)
+        for s, y in (("left", yj), ("right", -yj))
+    )
     return discs + boxes
 
 
@@ -115,9 +125,12 @@ class WheelsetBody:
 
     def coach_params(self) -> dict[str, float]:
         """The four :class:`~railvti.vehicle.params.Coach` keys of this body."""
-        return {"wheelset_mass": self.mass, "wheelset_roll_inertia": self.roll_inertia,
-                "wheelset_yaw_inertia": self.yaw_inertia,
-                "wheelset_pitch_inertia": self.spin_inertia}
+        return {
+            "wheelset_mass": self.mass,
+            "wheelset_roll_inertia": self.roll_inertia,
+            "wheelset_yaw_inertia": self.yaw_inertia,
+            "wheelset_pitch_inertia": self.spin_inertia,
+        }
 
 
 def coach_wheelset(geometry: WheelsetGeometry | None = None) -> WheelsetBody:
@@ -139,8 +152,11 @@ def coach_wheelset(geometry: WheelsetGeometry | None = None) -> WheelsetBody:
     bare = wheelset_mass_properties(g)
     parts = _parts(bare["mass"], g)
     roll = bare["roll_inertia"] + sum(p.diametral_inertia for p in parts)
-    return WheelsetBody(mass=bare["mass"] + sum(p.mass for p in parts), roll_inertia=roll,
-                        yaw_inertia=roll,
-                        spin_inertia=bare["spin_inertia"] + sum(p.spin_inertia for p in parts),
-                        bare=bare, parts=parts)
-
+    return WheelsetBody(
+        mass=bare["mass"] + sum(p.mass for p in parts),
+        roll_inertia=roll,
+        yaw_inertia=roll,
+        spin_inertia=bare["spin_inertia"] + sum(p.spin_inertia for p in parts),
+        bare=bare,
+        parts=parts,
+    )

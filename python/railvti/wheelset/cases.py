@@ -1,5 +1,6 @@
 """Deck case type ``wheelset``: modes per harmonic and the FRF of the rotating
 wheelset in its bogie at several speeds."""
+
 from __future__ import annotations
 
 from dataclasses import fields
@@ -18,11 +19,11 @@ from .plots import plot_frf
 _GEOMETRY_DEFAULTS = {f.name: f.default for f in fields(WheelsetGeometry)}
 
 DEFAULTS: dict[str, Any] = {
-    "k_max": 6,                 # highest harmonic
-    "f_max": 3000.0,            # Hz, highest mode frequency
-    "support": "free",          # modes table: 'free' or 'suspension'
+    "k_max": 6,  # highest harmonic
+    "f_max": 3000.0,  # Hz, highest mode frequency
+    "support": "free",  # modes table: 'free' or 'suspension'
     "speeds_kmh": [0.0, 200.0, 300.0],
-    "f_lo": 20.0,               # FRF band, Hz
+    "f_lo": 20.0,  # FRF band, Hz
     "f_hi": 1000.0,
     "n_freq": 800,
     "input": "lateral",
@@ -36,60 +37,132 @@ DEFAULTS: dict[str, Any] = {
 
 
 _GEOMETRY_MEANING = {
-    "wheel_radius": "nominal rolling radius at the taping line", "back_to_back": "distance between the flange backs",
-    "rim_width": "axial width of the rim", "rim_depth": "radial depth of the rim below the rolling radius",
-    "flange_height": "flange height above the rolling radius", "flange_width": "flange width at the rim face",
-    "web_thickness_hub": "web thickness at the hub", "web_thickness_rim": "web thickness at the rim",
-    "web_steps": "straight segments of the web's taper", "web_offset": "web centre from the rim centre (+ outward)",
-    "hub_radius": "hub outer radius", "hub_width": "hub axial width", "hub_offset": "hub centre from the rim centre",
-    "seat_radius": "axle radius at the wheel seats", "body_radius": "axle body radius",
-    "collar_radius": "axle radius at the collars", "journal_radius": "journal radius",
-    "journal_spacing": "distance between the journal centres", "journal_length": "journal length",
-    "contact_offset": "taping line from the inner rim face", "young": "steel Young's modulus",
-    "poisson": "steel Poisson's ratio", "density": "steel density", "mesh_size": "element edge in the wheels",
+    "wheel_radius": "nominal rolling radius at the taping line",
+    "back_to_back": "distance between the flange backs",
+    "rim_width": "axial width of the rim",
+    "rim_depth": "radial depth of the rim below the rolling radius",
+    "flange_height": "flange height above the rolling radius",
+    "flange_width": "flange width at the rim face",
+    "web_thickness_hub": "web thickness at the hub",
+    "web_thickness_rim": "web thickness at the rim",
+    "web_steps": "straight segments of the web's taper",
+    "web_offset": "web centre from the rim centre (+ outward)",
+    "hub_radius": "hub outer radius",
+    "hub_width": "hub axial width",
+    "hub_offset": "hub centre from the rim centre",
+    "seat_radius": "axle radius at the wheel seats",
+    "body_radius": "axle body radius",
+    "collar_radius": "axle radius at the collars",
+    "journal_radius": "journal radius",
+    "journal_spacing": "distance between the journal centres",
+    "journal_length": "journal length",
+    "contact_offset": "taping line from the inner rim face",
+    "young": "steel Young's modulus",
+    "poisson": "steel Poisson's ratio",
+    "density": "steel density",
+    "mesh_size": "element edge in the wheels",
     "axle_mesh_size": "element edge in the axle",
 }
 _GEOMETRY_UNIT = {"web_steps": "1", "young": "Pa", "poisson": "1", "density": "kg/m^3"}
 #: Upper plausibility bounds of the geometry keys (m unless _GEOMETRY_UNIT says; the two
 #: offsets within +-this); the rest (web_steps, poisson, mesh sizes) are set in KEYS.
-_GEOMETRY_HI = {"wheel_radius": 0.8, "back_to_back": 1.65, "rim_width": 0.3, "rim_depth": 0.3,
-                "flange_height": 0.1, "flange_width": 0.1, "web_thickness_hub": 0.2,
-                "web_thickness_rim": 0.2, "web_offset": 0.2, "hub_radius": 0.8, "hub_width": 0.5,
-                "hub_offset": 0.2, "seat_radius": 0.8, "body_radius": 0.8, "collar_radius": 0.8,
-                "journal_radius": 0.8, "journal_spacing": 3.0, "journal_length": 0.5,
-                "contact_offset": 0.3, "young": 1e12, "density": 3e4}
-_GEOMETRY_WHY = {"wheel_radius": "wheel diameters up to 1.6 m",
-                 "back_to_back": "narrow 1000 mm to Iberian 1668 mm gauge",
-                 "journal_spacing": "axleboxes about 2 m apart on a standard-gauge wheelset",
-                 "young": "steels are about 2.1e11 Pa", "density": "steels are about 7850 kg/m^3"}
+_GEOMETRY_HI = {
+    "wheel_radius": 0.8,
+    "back_to_back": 1.65,
+    "rim_width": 0.3,
+    "rim_depth": 0.3,
+    "flange_height": 0.1,
+    "flange_width": 0.1,
+    "web_thickness_hub": 0.2,
+    "web_thickness_rim": 0.2,
+    "web_offset": 0.2,
+    "hub_radius": 0.8,
+    "hub_width": 0.5,
+    "hub_offset": 0.2,
+    "seat_radius": 0.8,
+    "body_radius": 0.8,
+    "collar_radius": 0.8,
+    "journal_radius": 0.8,
+    "journal_spacing": 3.0,
+    "journal_length": 0.5,
+    "contact_offset": 0.3,
+    "young": 1e12,
+    "density": 3e4,
+}
+_GEOMETRY_WHY = {
+    "wheel_radius": "wheel diameters up to 1.6 m",
+    "back_to_back": "narrow 1000 mm to Iberian 1668 mm gauge",
+    "journal_spacing": "axleboxes about 2 m apart on a standard-gauge wheelset",
+    "young": "steels are about 2.1e11 Pa",
+    "density": "steels are about 7850 kg/m^3",
+}
 #: Units, meanings and bounds of the keys of 'wheelset'.
 KEYS: dict[str, Key] = {
     "k_max": Key("1", "highest circumferential harmonic", "int", 0, 30),
     "f_max": Key("Hz", "highest mode frequency", lo=0.0, hi=2e4, lo_open=True),
-    "support": Key("", "modes table: 'free' or on the primary 'suspension'", "str", choices=("free", "suspension")),
-    "speeds_kmh": Key("km/h", "speeds of the FRF (one or more)", "floats", 0.0, MAX_SPEED_KMH,
-                      why="the fastest wheel-on-rail run was 575 km/h"),
+    "support": Key(
+        "", "modes table: 'free' or on the primary 'suspension'", "str", choices=("free", "suspension")
+    ),
+    "speeds_kmh": Key(
+        "km/h",
+        "speeds of the FRF (one or more)",
+        "floats",
+        0.0,
+        MAX_SPEED_KMH,
+        why="the fastest wheel-on-rail run was 575 km/h",
+    ),
     "f_lo": Key("Hz", "lowest FRF frequency", lo=0.0, hi=2e4),
     "f_hi": Key("Hz", "highest FRF frequency", lo=0.0, hi=2e4, lo_open=True),
     "n_freq": Key("1", "FRF frequencies", "int", 2, 1_000_000),
-    "input": Key("", "force direction at the contact point", "str", choices=("lateral", "vertical", "longitudinal")),
-    "output": Key("", "displacement direction at the contact point", "str",
-                  choices=("lateral", "vertical", "longitudinal")),
+    "input": Key(
+        "", "force direction at the contact point", "str", choices=("lateral", "vertical", "longitudinal")
+    ),
+    "output": Key(
+        "",
+        "displacement direction at the contact point",
+        "str",
+        choices=("lateral", "vertical", "longitudinal"),
+    ),
     "damping_ratio": Key("1", "modal damping ratio", lo=0.0, hi=1.0, hi_open=True),
-    **{f"k_{d}": Key("N/m", f"primary suspension stiffness, {d}", lo=0.0,
-                     hi=1e2 * getattr(PrimarySuspension, d),
-                     why="at most two decades above railvti.wheelset.PrimarySuspension's value")
-       for d in ("longitudinal", "lateral", "vertical")},
-    **{k: Key(_GEOMETRY_UNIT.get(k, "m"), _GEOMETRY_MEANING.get(k, k), "int" if k == "web_steps" else "float",
-              lo=-_GEOMETRY_HI[k] if k in ("web_offset", "hub_offset") else 0.0, hi=_GEOMETRY_HI[k],
-              lo_open=k != "web_steps", why=_GEOMETRY_WHY.get(k, "a railway wheelset's dimensions"))
-       for k in _GEOMETRY_DEFAULTS if k in _GEOMETRY_HI},
+    **{
+        f"k_{d}": Key(
+            "N/m",
+            f"primary suspension stiffness, {d}",
+            lo=0.0,
+            hi=1e2 * getattr(PrimarySuspension, d),
+            why="at most two decades above railvti.wheelset.PrimarySuspension's value",
+        )
+        for d in ("longitudinal", "lateral", "vertical")
+    },
+    **{
+        k: Key(
+            _GEOMETRY_UNIT.get(k, "m"),
+            _GEOMETRY_MEANING.get(k, k),
+            "int" if k == "web_steps" else "float",
+            lo=-_GEOMETRY_HI[k] if k in ("web_offset", "hub_offset") else 0.0,
+            hi=_GEOMETRY_HI[k],
+            lo_open=k != "web_steps",
+            why=_GEOMETRY_WHY.get(k, "a railway wheelset's dimensions"),
+        )
+        for k in _GEOMETRY_DEFAULTS
+        if k in _GEOMETRY_HI
+    },
     "web_steps": Key("1", _GEOMETRY_MEANING["web_steps"], "int", 1, 100),
     "poisson": Key("1", _GEOMETRY_MEANING["poisson"], lo=0.0, hi=0.5, hi_open=True),
-    "mesh_size": Key("m", _GEOMETRY_MEANING["mesh_size"], lo=0.002, hi=0.2,
-                     why="a finer mesh has hundreds of thousands of elements"),
-    "axle_mesh_size": Key("m", _GEOMETRY_MEANING["axle_mesh_size"], lo=0.002, hi=0.5,
-                          why="a finer mesh has hundreds of thousands of elements"),
+    "mesh_size": Key(
+        "m",
+        _GEOMETRY_MEANING["mesh_size"],
+        lo=0.002,
+        hi=0.2,
+        why="a finer mesh has hundreds of thousands of elements",
+    ),
+    "axle_mesh_size": Key(
+        "m",
+        _GEOMETRY_MEANING["axle_mesh_size"],
+        lo=0.002,
+        hi=0.5,
+        why="a finer mesh has hundreds of thousands of elements",
+    ),
 }
 
 
@@ -120,20 +193,37 @@ def run(params: dict[str, Any]) -> CaseOutput:
     freqs = np.linspace(params["f_lo"], params["f_hi"], int(params["n_freq"]))
     h = np.empty((speeds.size, freqs.size), dtype=complex)
     for i, v in enumerate(speeds):
-        h[i] = ws.frf(freqs, v / 3.6, input=params["input"], output=params["output"],
-                      k_max=params["k_max"], f_max=params["f_max"],
-                      damping_ratio=params["damping_ratio"])
+        h[i] = ws.frf(
+            freqs,
+            v / 3.6,
+            input=params["input"],
+            output=params["output"],
+            k_max=params["k_max"],
+            f_max=params["f_max"],
+            damping_ratio=params["damping_ratio"],
+        )
     first = {k: table.first(k) for k in (0, 1, 2) if k <= params["k_max"] and np.any(table.k == k)}
     summary = "wheelset: " + ", ".join(f"first k={k} {f:.1f} Hz" for k, f in first.items())
     return CaseOutput(
         summary=summary,
-        datasets={"mode_k": (table.k, "1"), "mode_freq": (table.freq_hz, "Hz"),
-                  "frf_freq": (freqs, "Hz"), "speeds": (speeds, "km/h"),
-                  "frf_real": (h.real, "m/N"), "frf_imag": (h.imag, "m/N")},
+        datasets={
+            "mode_k": (table.k, "1"),
+            "mode_freq": (table.freq_hz, "Hz"),
+            "frf_freq": (freqs, "Hz"),
+            "speeds": (speeds, "km/h"),
+            "frf_real": (h.real, "m/N"),
+            "frf_imag": (h.imag, "m/N"),
+        },
         scalars={f"first_k{k}": (f, "Hz") for k, f in first.items()},
-        attrs={"mode_k": {"axes": ["mode"]}, "mode_freq": {"axes": ["mode"]},
-               "frf_freq": {"axes": ["frf_freq"]}, "speeds": {"axes": ["speed"]},
-               "frf_real": {"axes": ["speeds", "frf_freq"]}, "frf_imag": {"axes": ["speeds", "frf_freq"]}})
+        attrs={
+            "mode_k": {"axes": ["mode"]},
+            "mode_freq": {"axes": ["mode"]},
+            "frf_freq": {"axes": ["frf_freq"]},
+            "speeds": {"axes": ["speed"]},
+            "frf_real": {"axes": ["speeds", "frf_freq"]},
+            "frf_imag": {"axes": ["speeds", "frf_freq"]},
+        },
+    )
 
 
 def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
@@ -147,5 +237,14 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     return [plot_frf(outdir / f"{stem}_frf.png", f, curves, "wheelset in bogie: contact-point receptance")]
 
 
-register(CaseType(name="wheelset", defaults=DEFAULTS, run=run, plot=plot, keys=KEYS, check=check,
-                  summary="flexible rotating wheelset (axisymmetric FE): modes per harmonic and FRF"))
+register(
+    CaseType(
+        name="wheelset",
+        defaults=DEFAULTS,
+        run=run,
+        plot=plot,
+        keys=KEYS,
+        check=check,
+        summary="flexible rotating wheelset (axisymmetric FE): modes per harmonic and FRF",
+    )
+)

@@ -1,4 +1,5 @@
 """Modes of one circumferential harmonic of an axisymmetric body (Fortran core)."""
+
 from __future__ import annotations
 
 import logging
@@ -29,8 +30,9 @@ def _modes_call(*args):
     here within ~0.05 s (:func:`railvti._interrupt.call_in_worker`). An interrupted call runs
     on to its end in the background, holding :data:`_ARPACK`, so the next call waits for it."""
     _interrupt.acquire(_ARPACK)
-    return _interrupt.call_in_worker(core.wheelset_modes_c, *args, on_end=_ARPACK.release,
-                                     name="railvti-wheelset-modes")
+    return _interrupt.call_in_worker(
+        core.wheelset_modes_c, *args, on_end=_ARPACK.release, name="railvti-wheelset-modes"
+    )
 
 
 @dataclass(frozen=True)
@@ -85,9 +87,17 @@ def check_harmonic(k: object, name: str = "harmonic k") -> int:
     return int(k)
 
 
-def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, density: float,
-                   f_max: float, fixed: np.ndarray | None = None,
-                   springs: tuple[tuple[int, int, float], ...] = (), n_max: int = 400) -> HarmonicModes:
+def solve_harmonic(
+    mesh: MeridianMesh,
+    k: int,
+    young: float,
+    poisson: float,
+    density: float,
+    f_max: float,
+    fixed: np.ndarray | None = None,
+    springs: tuple[tuple[int, int, float], ...] = (),
+    n_max: int = 400,
+) -> HarmonicModes:
     """All modes of harmonic k up to f_max.
 
     Parameters
@@ -142,7 +152,8 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
     n_buf = min(n_max, _FIRST_BUFFER)
     while True:
         nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = _modes_call(
-            xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf)
+            xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf
+        )
         if info != Status.OK or nm < n_buf or n_buf >= n_max:
             break
         n_buf = min(n_max, 4 * n_buf)
@@ -150,12 +161,17 @@ def solve_harmonic(mesh: MeridianMesh, k: int, young: float, poisson: float, den
         raise _modes_error(info, k, int(bad), int(sinfo), int(nm))
     lam = np.clip(lam[:nm], 0.0, None)
     log.debug("k=%d: %d modes below %.0f Hz, %d equations, bandwidth %d", k, nm, f_max, neq, kd)
-    return HarmonicModes(k=k, freq_hz=np.sqrt(lam) / (2.0 * np.pi),
-                         # a copy: a transposed view would keep the whole f2py buffer alive
-                         shapes=np.transpose(phi[:, :, :nm], (2, 1, 0)).copy(),
-                         coriolis=gam[:nm, :nm].copy(), inplane_mass=mcq[:nm, :nm].copy(),
-                         prestress_stiffness=kgq[:nm, :nm].copy(),
-                         n_equations=int(neq), bandwidth=int(kd))
+    return HarmonicModes(
+        k=k,
+        freq_hz=np.sqrt(lam) / (2.0 * np.pi),
+        # a copy: a transposed view would keep the whole f2py buffer alive
+        shapes=np.transpose(phi[:, :, :nm], (2, 1, 0)).copy(),
+        coriolis=gam[:nm, :nm].copy(),
+        inplane_mass=mcq[:nm, :nm].copy(),
+        prestress_stiffness=kgq[:nm, :nm].copy(),
+        n_equations=int(neq),
+        bandwidth=int(kd),
+    )
 
 
 def _modes_error(info: int, k: int, bad_element: int, solver_info: int, nm: int) -> Exception:
@@ -166,7 +182,7 @@ def _modes_error(info: int, k: int, bad_element: int, solver_info: int, nm: int)
         return error(info, f"harmonic k={k}")
     what = {
         Status.BAD_ELEMENT: f"meridian element {bad_element} (1-based) is inverted or has r <= 0 "
-                            "(bad geometry)",
+        "(bad geometry)",
         # k, n_max and f_max are checked above, so a bad argument here is the DOF count.
         Status.BAD_ARGUMENT: "no free degree of freedom left for this harmonic",
         Status.SIZE_MISMATCH: "wheelset_modes_c rejected its arguments (mesh or spring numbering)",
@@ -174,14 +190,14 @@ def _modes_error(info: int, k: int, bad_element: int, solver_info: int, nm: int)
         Status.NOT_POSITIVE_DEFINITE: "K - sigma M is not positive definite (negative stiffness?)",
         Status.NOT_CONVERGED: f"eigen-solver for k={k} did not converge ({nm} modes)",
     }.get(code, f"eigen-solver for k={k} failed")
-    if code not in (Status.BAD_ELEMENT, Status.BAD_ARGUMENT, Status.SIZE_MISMATCH,
-                    Status.SINGULAR):
+    if code not in (Status.BAD_ELEMENT, Status.BAD_ARGUMENT, Status.SIZE_MISMATCH, Status.SINGULAR):
         what += f" (LAPACK/ARPACK info {solver_info})"
     return error(info, f"harmonic k={k}: {what}", iterations=0)
 
 
-def eq11_blocks(lam: np.ndarray, gam: np.ndarray, mc: np.ndarray, k: int, omega: float,
-                zeta: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def eq11_blocks(
+    lam: np.ndarray, gam: np.ndarray, mc: np.ndarray, k: int, omega: float, zeta: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One harmonic's constant blocks of the axle-fixed modal model (Kaiser eq. 11).
 
     Parameters
@@ -211,9 +227,9 @@ def eq11_blocks(lam: np.ndarray, gam: np.ndarray, mc: np.ndarray, k: int, omega:
     w = np.sqrt(lam)
     n = lam.size
     if k == 0:
-        return 2.0 * omega * gam, np.diag(lam) - omega ** 2 * mc, np.diag(2.0 * zeta * w)
+        return 2.0 * omega * gam, np.diag(lam) - omega**2 * mc, np.diag(2.0 * zeta * w)
     eye = np.eye(n)
     gk = gam + k * eye
     gyro = 2.0 * omega * np.block([[np.zeros((n, n)), gk], [-gk, np.zeros((n, n))]])
-    kd = np.diag(lam) - omega ** 2 * mc - (k * omega) ** 2 * eye - 2.0 * k * omega ** 2 * gam
+    kd = np.diag(lam) - omega**2 * mc - (k * omega) ** 2 * eye - 2.0 * k * omega**2 * gam
     return gyro, kd, np.diag(np.concatenate([2.0 * zeta * w] * 2))

@@ -31,6 +31,7 @@ The rows at points of the meridian mesh are built in :mod:`railvti.wheelset.rim_
 static compliance of every free-free mode per harmonic in :mod:`railvti.wheelset.statics`,
 the residual flexibility over the contact points in :mod:`railvti.wheelset.residual`.
 """
+
 from __future__ import annotations
 
 import logging
@@ -41,8 +42,16 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 from .fe import HarmonicModes, check_harmonic, eq11_blocks
-from .rim_rows import (ATTACHMENT_DOFS, check_side, cylinder_fields, edge_point, journal_rows, locate,
-                       rim_edges, vehicle_rows)
+from .rim_rows import (
+    ATTACHMENT_DOFS,
+    check_side,
+    cylinder_fields,
+    edge_point,
+    journal_rows,
+    locate,
+    rim_edges,
+    vehicle_rows,
+)
 from .statics import full_compliance, harmonic_statics, rim_operators
 
 __all__ = ["RIGID_HZ", "FlexibleWheelset", "flexible_body", "free_modes", "rigid_mask"]
@@ -140,8 +149,8 @@ class FlexibleWheelset:
     residual_s: tuple[float, float]
     residual_k_max: int = 0
     edges: tuple = ()
-    _rim_slope: tuple = ()       # per side, per coordinate group: rim rotation of U_r (nm,)
-    _shapes: tuple = ()          # per coordinate group: (k, family, shapes (n, nn, 3))
+    _rim_slope: tuple = ()  # per side, per coordinate group: rim rotation of U_r (nm,)
+    _shapes: tuple = ()  # per coordinate group: (k, family, shapes (n, nn, 3))
     _mesh: object = None
 
     @property
@@ -223,8 +232,10 @@ class FlexibleWheelset:
         s = _checks.finite("s", s)
         lo, hi = self.s_range
         if not lo - 1e-12 <= s <= hi + 1e-12:
-            raise InputError(f"wheel-profile coordinate s = {s * 1e3:.3f} mm lies outside the rim "
-                             f"edge ({lo * 1e3:.1f}..{hi * 1e3:.1f} mm)")
+            raise InputError(
+                f"wheel-profile coordinate s = {s * 1e3:.3f} mm lies outside the rim "
+                f"edge ({lo * 1e3:.1f}..{hi * 1e3:.1f} mm)"
+            )
         return min(max(s, lo), hi)
 
     def attachment_rows(self, s_pair) -> np.ndarray:
@@ -260,10 +271,16 @@ def free_modes(ws, k: int, f_max: float) -> HarmonicModes:
     h = best[1]
     m = h.freq_hz <= f_max
     ix = np.ix_(m, m)
-    return HarmonicModes(k=h.k, freq_hz=h.freq_hz[m], shapes=h.shapes[m], coriolis=h.coriolis[ix],
-                         inplane_mass=h.inplane_mass[ix],
-                         prestress_stiffness=h.prestress_stiffness[ix],
-                         n_equations=h.n_equations, bandwidth=h.bandwidth)
+    return HarmonicModes(
+        k=h.k,
+        freq_hz=h.freq_hz[m],
+        shapes=h.shapes[m],
+        coriolis=h.coriolis[ix],
+        inplane_mass=h.inplane_mass[ix],
+        prestress_stiffness=h.prestress_stiffness[ix],
+        n_equations=h.n_equations,
+        bandwidth=h.bandwidth,
+    )
 
 
 def rigid_mask(h: HarmonicModes) -> np.ndarray:
@@ -271,10 +288,18 @@ def rigid_mask(h: HarmonicModes) -> np.ndarray:
     return h.freq_hz < RIGID_HZ
 
 
-def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
-                  damping_ratio: float = 0.005, centrifugal: bool = True,
-                  residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
-                  residual: bool = True, residual_k_max: int | None = None) -> FlexibleWheelset:
+def flexible_body(
+    ws,
+    speed: float,
+    k_max: int = 2,
+    f_max: float = 800.0,
+    damping_ratio: float = 0.005,
+    centrifugal: bool = True,
+    residual_s: tuple[float, float] = (0.0, 0.0),
+    ds: float = 1e-3,
+    residual: bool = True,
+    residual_k_max: int | None = None,
+) -> FlexibleWheelset:
     """Build the free-free flexible body; see :meth:`Wheelset.flexible_body`."""
     speed = _checks.non_negative("speed", speed)
     zeta = _checks.non_negative("damping_ratio", damping_ratio)
@@ -284,8 +309,7 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
     except InputError as exc:
         raise InputError(f"f_max must be a positive frequency in Hz, got {f_max!r}") from exc
     ds = _checks.positive("ds", ds)
-    k_res = max(k_max, 6) if residual_k_max is None else check_harmonic(residual_k_max,
-                                                                        "residual_k_max")
+    k_res = max(k_max, 6) if residual_k_max is None else check_harmonic(residual_k_max, "residual_k_max")
     if k_res < k_max:
         raise InputError(f"residual_k_max ({k_res}) must be >= k_max ({k_max})")
     g = ws.geometry
@@ -303,8 +327,11 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
         if n == 0:
             continue
         gam = h.coriolis[np.ix_(keep, keep)]
-        mc = (h.inplane_mass - h.prestress_stiffness)[np.ix_(keep, keep)] if centrifugal \
+        mc = (
+            (h.inplane_mass - h.prestress_stiffness)[np.ix_(keep, keep)]
+            if centrifugal
             else np.zeros_like(gam)
+        )
         shp = h.shapes[keep]
         gk, kd, dk = eq11_blocks(lam, gam, mc, k, om, zeta)
         gb.append(gk)
@@ -322,6 +349,7 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
             fq += list(h.freq_hz[keep]) * 2
             shapes += [(k, "A", shp), (k, "B", shp)]
     from scipy.linalg import block_diag
+
     nq = len(kq)
     if nq == 0:
         log.info("flexible wheelset: no elastic mode below %.0f Hz for k <= %d", f_max, k_max)
@@ -335,7 +363,7 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
     if k_max >= 1 and nq:
         st1 = harmonic_statics(ws, 1)
         tilt = np.zeros((mesh.n_nodes, 3))
-        tilt[:, 1] = r                                   # the field U_y = r of harmonic 1
+        tilt[:, 1] = r  # the field U_y = r of harmonic 1
         col = 0
         for k, f, shp in shapes:
             n = shp.shape[0]
@@ -343,7 +371,7 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
                 # c = -2 int rho X_x u_y (roll) and -2 int rho X_z u_y (yaw), vehicle frame:
                 # = -2 <phi, (0, r, 0)>_M1 for set B (roll) and set A (yaw)
                 v = np.array([-2.0 * st1.mass_product(p, tilt) for p in shp])
-                cpl[col:col + n, 0 if f == "B" else 1] = v
+                cpl[col : col + n, 0 if f == "B" else 1] = v
             col += n
     # spin perturbation rate against the k = 0 modes: the FE Coriolis matrix (eq. 11) between
     # the rigid spin field (0, 0, r) and the elastic modes, c = -2 (Gamma a)_elastic
@@ -356,19 +384,34 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
     s_grid = np.arange(edges[0].s_min, edges[0].s_max + 0.5 * ds, ds)
     s_grid = s_grid[s_grid <= edges[0].s_max + 1e-12]
     body = FlexibleWheelset(
-        speed=speed, omega=om, k=np.array(kq, dtype=int), family=np.array(fam, dtype="<U1"),
-        freq_hz=np.array(fq), mass=np.eye(nq), gyro=block_diag(*gb) if gb else np.zeros((0, 0)),
+        speed=speed,
+        omega=om,
+        k=np.array(kq, dtype=int),
+        family=np.array(fam, dtype="<U1"),
+        freq_hz=np.array(fq),
+        mass=np.eye(nq),
+        gyro=block_diag(*gb) if gb else np.zeros((0, 0)),
         damping=block_diag(*db) if db else np.zeros((0, 0)),
-        stiffness=block_diag(*kb) if kb else np.zeros((0, 0)), rigid_elastic=cpl,
+        stiffness=block_diag(*kb) if kb else np.zeros((0, 0)),
+        rigid_elastic=cpl,
         spin_coupling=spin_c,
-        polar_moment=polar, journal=np.zeros((2, 5, nq)), s0=float(s_grid[0]), ds=ds,
+        polar_moment=polar,
+        journal=np.zeros((2, 5, nq)),
+        s0=float(s_grid[0]),
+        ds=ds,
         rim_rows=np.zeros((2, s_grid.size, 4, nq)),
-        rim_dtheta_rows=np.zeros((2, s_grid.size, 4, nq)), residual=np.zeros((14, 14)),
-        residual_s=(float(residual_s[0]), float(residual_s[1])), residual_k_max=k_res,
-        edges=edges, _rim_slope=tuple(
+        rim_dtheta_rows=np.zeros((2, s_grid.size, 4, nq)),
+        residual=np.zeros((14, 14)),
+        residual_s=(float(residual_s[0]), float(residual_s[1])),
+        residual_k_max=k_res,
+        edges=edges,
+        _rim_slope=tuple(
             tuple(shp.reshape(shp.shape[0], -1) @ op for _, _, shp in shapes)
-            for op in rim_operators(ws, edges)),
-        _shapes=tuple(shapes), _mesh=mesh)
+            for op in rim_operators(ws, edges)
+        ),
+        _shapes=tuple(shapes),
+        _mesh=mesh,
+    )
     for side in range(2):
         body.journal[side] = journal_rows(shapes, mesh, ws._journal_nodes[side]) if nq else 0.0
         for i, s in enumerate(s_grid):
@@ -378,13 +421,10 @@ def flexible_body(ws, speed: float, k_max: int = 2, f_max: float = 800.0,
     rs = tuple(body.check_s(s) for s in residual_s)
     if residual:
         statics = [harmonic_statics(ws, k) for k in range(k_res + 1)]
-        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes,
-                                rim_operators(ws, edges))
+        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes, rim_operators(ws, edges))
         rr = body.attachment_rows(rs)
         lam = (2.0 * np.pi * body.freq_hz) ** 2
         body.residual[:] = gfull - (rr / lam) @ rr.T
     for a in (body.journal, body.rim_rows, body.rim_dtheta_rows, body.residual):
         a.setflags(write=False)
     return body
-
-

@@ -20,6 +20,7 @@ within 3.3 % of a published FE model of a high-speed EMU wheelset (87, 143, 284,
 wheel 358 kg, axle 378 kg, bare wheelset 1094 kg (no brake discs or axleboxes;
 ``analytic.wheelset_mass_properties``).
 """
+
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
@@ -174,32 +175,60 @@ class WheelsetGeometry:
         seg = self.web_segments() if rr > rh else [(rh, rr, *self.web_y)]
         outer = [p for (a, b, _, y1) in seg for p in ((a, y1), (b, y1))]
         inner = [p for (a, b, y0, _) in reversed(seg) for p in ((b, y0), (a, y0))]
-        return np.array([(rs, yh0), (rs, yh1), (rh, yh1), *outer, (rr, yr1), (r0, yr1),
-                         (r0, yf1), (rf, yf1), (rf, yr0), (rr, yr0), *inner, (rh, yh0)])
+        return np.array(
+            [
+                (rs, yh0),
+                (rs, yh1),
+                (rh, yh1),
+                *outer,
+                (rr, yr1),
+                (r0, yr1),
+                (r0, yf1),
+                (rf, yf1),
+                (rf, yr0),
+                (rr, yr0),
+                *inner,
+                (rh, yh0),
+            ]
+        )
 
     def axle_outline(self) -> np.ndarray:
         """Closed meridian outline (r, y) of the right-hand half axle, m."""
         (yh0, yh1), (yj0, yj1) = self.hub_y, self.journal_y
-        return np.array([(0.0, 0.0), (self.body_radius, 0.0), (self.body_radius, yh0),
-                         (self.seat_radius, yh0), (self.seat_radius, yh1), (self.collar_radius, yh1),
-                         (self.collar_radius, yj0), (self.journal_radius, yj0),
-                         (self.journal_radius, yj1), (0.0, yj1)])
+        return np.array(
+            [
+                (0.0, 0.0),
+                (self.body_radius, 0.0),
+                (self.body_radius, yh0),
+                (self.seat_radius, yh0),
+                (self.seat_radius, yh1),
+                (self.collar_radius, yh1),
+                (self.collar_radius, yj0),
+                (self.journal_radius, yj0),
+                (self.journal_radius, yj1),
+                (0.0, yj1),
+            ]
+        )
 
     def _check_outline(self) -> None:
         check_simple_polygon(self.axle_outline(), "axle")
         check_simple_polygon(self.wheel_outline(), "wheel")
         (yr0, yr1), (yh0, yh1), (yw0, yw1) = self.rim_y, self.hub_y, self.web_y
         if not (yh0 - 1e-12 <= yw0 and yw1 <= yh1 + 1e-12 and yr0 - 1e-12 <= yw0 and yw1 <= yr1 + 1e-12):
-            raise InputError("the web must lie axially within both the hub and the rim "
-                             f"(web {yw0:.4f}..{yw1:.4f} m, hub {yh0:.4f}..{yh1:.4f} m, "
-                             f"rim {yr0:.4f}..{yr1:.4f} m)")
+            raise InputError(
+                "the web must lie axially within both the hub and the rim "
+                f"(web {yw0:.4f}..{yw1:.4f} m, hub {yh0:.4f}..{yh1:.4f} m, "
+                f"rim {yr0:.4f}..{yr1:.4f} m)"
+            )
         if yh0 <= 0.0:
             raise InputError("the two hubs overlap at mid-axle: hub_width/hub_offset too large")
         yj0 = self.journal_y[0]
         if yj0 < yh1:
-            raise InputError(f"the axle meridian outline intersects itself: the journal starts at "
-                             f"y = {yj0:.4f} m, inside the wheel seat (ends at {yh1:.4f} m); "
-                             "increase journal_spacing")
+            raise InputError(
+                f"the axle meridian outline intersects itself: the journal starts at "
+                f"y = {yj0:.4f} m, inside the wheel seat (ends at {yh1:.4f} m); "
+                "increase journal_spacing"
+            )
         if not self.contact_offset < self.rim_width:
             raise InputError("contact_offset must lie within the rim width")
         if self.flange_width >= self.rim_width:

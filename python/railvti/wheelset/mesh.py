@@ -8,6 +8,7 @@ block. The mesh is conforming by construction (every cell shares whole edges
 with its neighbours), needs no external mesher, and numbering the nodes row by
 row along the axle keeps the bandwidth of the assembled matrices small.
 """
+
 from __future__ import annotations
 
 import math
@@ -76,16 +77,18 @@ def _intervals(edges: list[float], blocks: list[Block], axis: int) -> np.ndarray
     pts = [edges[0]]
     for a, b in zip(edges[:-1], edges[1:]):
         mid = 0.5 * (a + b)
-        sizes = [blk.size for blk in blocks
-                 if (blk.r0 <= mid <= blk.r1 if axis == 0 else blk.y0 <= mid <= blk.y1)]
+        sizes = [
+            blk.size for blk in blocks if (blk.r0 <= mid <= blk.r1 if axis == 0 else blk.y0 <= mid <= blk.y1)
+        ]
         h = min(sizes) if sizes else (b - a)
         n = max(1, math.ceil((b - a) / h - 1e-9))
         pts.extend(np.linspace(a, b, n + 1)[1:].tolist())
     return np.asarray(pts)
 
 
-def mesh_blocks(blocks: list[Block], extra_r: tuple[float, ...] = (),
-                extra_y: tuple[float, ...] = ()) -> MeridianMesh:
+def mesh_blocks(
+    blocks: list[Block], extra_r: tuple[float, ...] = (), extra_y: tuple[float, ...] = ()
+) -> MeridianMesh:
     """Mesh a union of blocks with nine-node quadrilaterals.
 
     Parameters
@@ -114,8 +117,12 @@ def mesh_blocks(blocks: list[Block], extra_r: tuple[float, ...] = (),
     ym = 0.5 * (yc[:-1] + yc[1:])
     active = np.zeros((nr, ny), dtype=bool)
     for b in blocks:
-        active |= ((rm[:, None] > b.r0 - tol) & (rm[:, None] < b.r1 + tol)
-                   & (ym[None, :] > b.y0 - tol) & (ym[None, :] < b.y1 + tol))
+        active |= (
+            (rm[:, None] > b.r0 - tol)
+            & (rm[:, None] < b.r1 + tol)
+            & (ym[None, :] > b.y0 - tol)
+            & (ym[None, :] < b.y1 + tol)
+        )
     # Refined grid with mid-side points: index 2 i (+1 for a mid-point).
     rf = np.empty(2 * nr + 1)
     rf[0::2] = rc
@@ -145,25 +152,33 @@ def rectangle_mesh(r0: float, r1: float, y0: float, y1: float, nr: int, ny: int)
     """Mesh one rectangle with nr x ny nine-node elements (validation meshes)."""
     hr, hy = (r1 - r0) / nr, (y1 - y0) / ny
     blk = [Block(r0, r1, y0, y1, size=2.0 * max(r1 - r0, y1 - y0))]
-    return mesh_blocks(blk, extra_r=tuple(r0 + hr * np.arange(1, nr)),
-                       extra_y=tuple(y0 + hy * np.arange(1, ny)))
+    return mesh_blocks(
+        blk, extra_r=tuple(r0 + hr * np.arange(1, nr)), extra_y=tuple(y0 + hy * np.arange(1, ny))
+    )
 
 
 def segments_intersect(p1, p2, p3, p4) -> bool:
     """True if closed segments p1-p2 and p3-p4 share a point (collinear overlap included)."""
+
     def orient(a, b, c):
         v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
         return 0 if abs(v) < 1e-14 else (1 if v > 0 else -1)
 
     def on_seg(a, b, c):
-        return (min(a[0], b[0]) - 1e-14 <= c[0] <= max(a[0], b[0]) + 1e-14
-                and min(a[1], b[1]) - 1e-14 <= c[1] <= max(a[1], b[1]) + 1e-14)
+        return (
+            min(a[0], b[0]) - 1e-14 <= c[0] <= max(a[0], b[0]) + 1e-14
+            and min(a[1], b[1]) - 1e-14 <= c[1] <= max(a[1], b[1]) + 1e-14
+        )
 
     o1, o2, o3, o4 = orient(p1, p2, p3), orient(p1, p2, p4), orient(p3, p4, p1), orient(p3, p4, p2)
     if o1 != o2 and o3 != o4:
         return True
-    return ((o1 == 0 and on_seg(p1, p2, p3)) or (o2 == 0 and on_seg(p1, p2, p4))
-            or (o3 == 0 and on_seg(p3, p4, p1)) or (o4 == 0 and on_seg(p3, p4, p2)))
+    return (
+        (o1 == 0 and on_seg(p1, p2, p3))
+        or (o2 == 0 and on_seg(p1, p2, p4))
+        or (o3 == 0 and on_seg(p3, p4, p1))
+        or (o4 == 0 and on_seg(p3, p4, p2))
+    )
 
 
 def _pt(p: tuple[float, float]) -> str:
@@ -192,5 +207,7 @@ def check_simple_polygon(points: np.ndarray, name: str) -> None:
                 continue
             c, d = clean[j], clean[(j + 1) % n]
             if segments_intersect(a, b, c, d):
-                raise InputError(f"the {name} meridian outline intersects itself "
-                                 f"(edge {_pt(a)}-{_pt(b)} meets edge {_pt(c)}-{_pt(d)}); check its dimensions")
+                raise InputError(
+                    f"the {name} meridian outline intersects itself "
+                    f"(edge {_pt(a)}-{_pt(b)} meets edge {_pt(c)}-{_pt(d)}); check its dimensions"
+                )

@@ -1,5 +1,6 @@
 """The flexible rotating wheelset: modes per harmonic, the axle-fixed modal
 model (Kaiser, eq. 11) and the gyroscopic frequency response."""
+
 from __future__ import annotations
 
 import logging
@@ -89,8 +90,11 @@ class ModeTable:
 
     def first(self, k: int, family: str | None = None, f_min: float = 1.0) -> float:
         """Lowest frequency (Hz) of harmonic k above f_min."""
-        sel = [f for kk, f, fam in zip(self.k, self.freq_hz, self.family)
-               if kk == k and f > f_min and (family is None or fam == family)]
+        sel = [
+            f
+            for kk, f, fam in zip(self.k, self.freq_hz, self.family)
+            if kk == k and f > f_min and (family is None or fam == family)
+        ]
         if not sel:
             raise InputError(f"no mode of harmonic {k} above {f_min} Hz in the table")
         return float(min(sel))
@@ -189,18 +193,26 @@ class Wheelset:
     >>> h = ws.frf(np.linspace(50, 800, 400), speed=300 / 3.6)
     """
 
-    def __init__(self, geometry: WheelsetGeometry | None = None,
-                 suspension: PrimarySuspension | None = None, **geometry_kw: float) -> None:
+    def __init__(
+        self,
+        geometry: WheelsetGeometry | None = None,
+        suspension: PrimarySuspension | None = None,
+        **geometry_kw: float,
+    ) -> None:
         if geometry is not None and geometry_kw:
             raise InputError("give either geometry or keyword dimensions, not both")
         self.geometry = geometry if geometry is not None else WheelsetGeometry(**geometry_kw)
         self.suspension = suspension if suspension is not None else PrimarySuspension()
         self.mesh = self.geometry.mesh()
         g = self.geometry
-        self._journal_nodes = (self.mesh.node_at(0.0, 0.5 * g.journal_spacing),
-                               self.mesh.node_at(0.0, -0.5 * g.journal_spacing))
-        self._contact_nodes = (self.mesh.node_at(g.wheel_radius, g.contact_y),
-                               self.mesh.node_at(g.wheel_radius, -g.contact_y))
+        self._journal_nodes = (
+            self.mesh.node_at(0.0, 0.5 * g.journal_spacing),
+            self.mesh.node_at(0.0, -0.5 * g.journal_spacing),
+        )
+        self._contact_nodes = (
+            self.mesh.node_at(g.wheel_radius, g.contact_y),
+            self.mesh.node_at(g.wheel_radius, -g.contact_y),
+        )
         self._cache: dict[tuple, HarmonicModes] = {}
         self._scaled: dict[float, "Wheelset"] = {}
 
@@ -217,8 +229,9 @@ class Wheelset:
         return self._scaled[scale]
 
     # ----------------------------------------------------------------- modes
-    def harmonic(self, k: int, f_max: float, support: str = "free",
-                 transverse: str = "vertical") -> HarmonicModes:
+    def harmonic(
+        self, k: int, f_max: float, support: str = "free", transverse: str = "vertical"
+    ) -> HarmonicModes:
         """Modes of one harmonic k up to f_max (Hz).
 
         Parameters
@@ -250,8 +263,9 @@ class Wheelset:
                     kt = s.vertical if transverse == "vertical" else s.longitudinal
                     springs = tuple((n, 0, kt) for n in self._journal_nodes)
             g = self.geometry
-            self._cache[key] = solve_harmonic(self.mesh, k, g.young, g.poisson, g.density, f_max,
-                                              springs=springs)
+            self._cache[key] = solve_harmonic(
+                self.mesh, k, g.young, g.poisson, g.density, f_max, springs=springs
+            )
         return self._cache[key]
 
     def modes(self, k_max: int, f_max: float, support: str = "free") -> ModeTable:
@@ -275,8 +289,10 @@ class Wheelset:
         ks, fs, fams, shapes = [], [], [], []
         for k in range(k_max + 1):
             if k == 1 and support == "suspension":
-                runs = [("A", self.harmonic(1, f_max, support, "vertical")),
-                        ("B", self.harmonic(1, f_max, support, "longitudinal"))]
+                runs = [
+                    ("A", self.harmonic(1, f_max, support, "vertical")),
+                    ("B", self.harmonic(1, f_max, support, "longitudinal")),
+                ]
             else:
                 runs = [("0" if k == 0 else "AB", self.harmonic(k, f_max, support))]
             for fam, h in runs:
@@ -285,12 +301,19 @@ class Wheelset:
                     fs.append(f)
                     fams.append(fam)
                     shapes.append(s)
-        return ModeTable(k=np.array(ks, dtype=int), freq_hz=np.array(fs), family=fams,
-                         shapes=shapes, mesh=self.mesh)
+        return ModeTable(
+            k=np.array(ks, dtype=int), freq_hz=np.array(fs), family=fams, shapes=shapes, mesh=self.mesh
+        )
 
     # ----------------------------------------------------- axle-fixed model
-    def axle_fixed(self, speed: float, k_max: int = 6, f_max: float = 3000.0,
-                   damping_ratio: float = 0.005, centrifugal: bool = True) -> AxleFixedModel:
+    def axle_fixed(
+        self,
+        speed: float,
+        k_max: int = 6,
+        f_max: float = 3000.0,
+        damping_ratio: float = 0.005,
+        centrifugal: bool = True,
+    ) -> AxleFixedModel:
         """The axle-fixed modal model (eq. 11) at a running speed, in its bogie.
 
         Basis: per k the modes with the journals on the primary suspension
@@ -322,13 +345,13 @@ class Wheelset:
         zeta = _checks.non_negative("damping_ratio", damping_ratio)
         k_max = check_harmonic(k_max, "k_max")
         om = speed / self.geometry.wheel_radius
-        blocks_k, blocks_g, blocks_kk, blocks_d, fam, kq, fq, cont, jour = [], [], [], [], [], [], [], [], []
+        blocks_g, blocks_kk, blocks_d, fam, kq, fq, cont, jour = [], [], [], [], [], [], [], []
         dk = self.suspension.longitudinal - self.suspension.vertical
         for k in range(k_max + 1):
             h = self.harmonic(k, f_max, "suspension", "vertical")
             keep = np.ones(h.freq_hz.size, dtype=bool)
             if k == 0:
-                theta_frac = np.array([np.sum(s[:, 2] ** 2) / np.sum(s ** 2) for s in h.shapes])
+                theta_frac = np.array([np.sum(s[:, 2] ** 2) / np.sum(s**2) for s in h.shapes])
                 keep = ~((h.freq_hz < 0.5) & (theta_frac > 0.9))
             lam = h.lam[keep]
             gam = h.coriolis[np.ix_(keep, keep)]
@@ -379,17 +402,33 @@ class Wheelset:
             cont.append(c)
             jour.append(j)
         from scipy.linalg import block_diag
-        return AxleFixedModel(
-            speed=speed, omega=om, k=np.array(kq), family=np.array(fam), freq_hz=np.array(fq),
-            mass=np.eye(len(kq)), gyro=block_diag(*blocks_g), damping=block_diag(*blocks_d),
-            stiffness=block_diag(*blocks_kk), contact=np.concatenate(cont, axis=2),
-            journal=np.concatenate(jour, axis=2))
 
-    def flexible_body(self, speed: float, k_max: int = 2, f_max: float = 800.0,
-                      damping_ratio: float = 0.005, centrifugal: bool = True,
-                      residual_s: tuple[float, float] = (0.0, 0.0), ds: float = 1e-3,
-                      residual: bool = True, residual_k_max: int | None = None
-                      ) -> "FlexibleWheelset":
+        return AxleFixedModel(
+            speed=speed,
+            omega=om,
+            k=np.array(kq),
+            family=np.array(fam),
+            freq_hz=np.array(fq),
+            mass=np.eye(len(kq)),
+            gyro=block_diag(*blocks_g),
+            damping=block_diag(*blocks_d),
+            stiffness=block_diag(*blocks_kk),
+            contact=np.concatenate(cont, axis=2),
+            journal=np.concatenate(jour, axis=2),
+        )
+
+    def flexible_body(
+        self,
+        speed: float,
+        k_max: int = 2,
+        f_max: float = 800.0,
+        damping_ratio: float = 0.005,
+        centrifugal: bool = True,
+        residual_s: tuple[float, float] = (0.0, 0.0),
+        ds: float = 1e-3,
+        residual: bool = True,
+        residual_k_max: int | None = None,
+    ) -> "FlexibleWheelset":
         """The free-free elastic wheelset in the axle-fixed frame, for a vehicle model.
 
         Elastic modes of the free wheelset (no suspension: the vehicle attaches the journal
@@ -436,13 +475,30 @@ class Wheelset:
         InputError
             A negative speed, f_max <= 0, a bad k_max, s outside the rim edge.
         """
-        return flexible_body(self, speed, k_max=k_max, f_max=f_max, damping_ratio=damping_ratio,
-                             centrifugal=centrifugal, residual_s=residual_s, ds=ds,
-                             residual=residual, residual_k_max=residual_k_max)
+        return flexible_body(
+            self,
+            speed,
+            k_max=k_max,
+            f_max=f_max,
+            damping_ratio=damping_ratio,
+            centrifugal=centrifugal,
+            residual_s=residual_s,
+            ds=ds,
+            residual=residual,
+            residual_k_max=residual_k_max,
+        )
 
-    def frf(self, freqs: np.ndarray, speed: float, input: str = "lateral", output: str = "lateral",
-            k_max: int = 6, f_max: float = 3000.0, damping_ratio: float = 0.005,
-            model: AxleFixedModel | None = None) -> np.ndarray:
+    def frf(
+        self,
+        freqs: np.ndarray,
+        speed: float,
+        input: str = "lateral",
+        output: str = "lateral",
+        k_max: int = 6,
+        f_max: float = 3000.0,
+        damping_ratio: float = 0.005,
+        model: AxleFixedModel | None = None,
+    ) -> np.ndarray:
         """Point receptance at the right contact point of the wheelset in its bogie.
 
         Parameters
@@ -479,10 +535,14 @@ class Wheelset:
         m = model if model is not None else self.axle_fixed(speed, k_max, f_max, damping_ratio)
         fin = np.asfortranarray(m.contact[0, _DIRECTIONS.index(input)][:, None])
         fout = np.asfortranarray(m.contact[0, _DIRECTIONS.index(output)][:, None])
-        h, info, idx = core.wheelset_frf_c(np.asfortranarray(m.mass),
-                                           np.asfortranarray(m.gyro + m.damping),
-                                           np.asfortranarray(m.stiffness), fin, fout,
-                                           np.asfortranarray(2.0 * np.pi * f))
+        h, info, idx = core.wheelset_frf_c(
+            np.asfortranarray(m.mass),
+            np.asfortranarray(m.gyro + m.damping),
+            np.asfortranarray(m.stiffness),
+            fin,
+            fout,
+            np.asfortranarray(2.0 * np.pi * f),
+        )
         where = f" at {f[idx - 1]} Hz (undamped rigid mode?)" if idx > 0 else ""
         check(info, f"wheelset FRF: dynamic matrix{where}")
         return h[0, 0, :].copy()

@@ -1,4 +1,5 @@
 """Plots of wheelset mode shapes (meridian section) and FRFs."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -27,8 +28,10 @@ def plot_mode(ax, mesh, shape: np.ndarray, title: str = "", scale: float | None 
 def plot_frf(path: Path, freqs: np.ndarray, curves: dict[str, np.ndarray], title: str) -> Path:
     """Magnitude of receptances (m/N) on a log scale, one curve per label."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(6.4, 3.6), dpi=90)
     for label, h in curves.items():
         ax.semilogy(freqs, np.abs(h), lw=1.0, label=label)

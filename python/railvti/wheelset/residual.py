@@ -6,6 +6,7 @@ at given contact coordinates (:func:`residual_flexibility`), tabulated over the 
 for a kernel that follows them (:class:`ResidualTable`, :func:`residual_table`), and with the
 kept modes' interpolated rows the whole static compliance (:func:`contact_compliance`).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -18,8 +19,13 @@ from .flexible import FlexibleWheelset
 from .rim_rows import check_side
 from .statics import full_compliance, harmonic_statics, point_operator, rim_operators
 
-__all__ = ["residual_flexibility", "ResidualTable", "residual_table", "interpolated_rows",
-           "contact_compliance"]
+__all__ = [
+    "residual_flexibility",
+    "ResidualTable",
+    "residual_table",
+    "interpolated_rows",
+    "contact_compliance",
+]
 
 
 def residual_flexibility(ws, body: FlexibleWheelset, s_pair: tuple[float, float]) -> np.ndarray:
@@ -40,8 +46,9 @@ def residual_flexibility(ws, body: FlexibleWheelset, s_pair: tuple[float, float]
     """
     rs = tuple(body.check_s(s) for s in s_pair)
     statics = [harmonic_statics(ws, k) for k in range(body.residual_k_max + 1)]
-    gfull = full_compliance(statics, ws.mesh, body.edges, rs, ws._journal_nodes,
-                            rim_operators(ws, body.edges))
+    gfull = full_compliance(
+        statics, ws.mesh, body.edges, rs, ws._journal_nodes, rim_operators(ws, body.edges)
+    )
     rr = body.attachment_rows(rs)
     return gfull - (rr / (2.0 * np.pi * body.freq_hz) ** 2) @ rr.T
 
@@ -96,13 +103,17 @@ class ResidualTable:
         InputError
             s_pair not two finite coordinates inside the grid.
         """
-        (i0, i1, wi), (j0, j1, wj) = (self._cell("s_pair[0] (right)", s_pair[0]),
-                                      self._cell("s_pair[1] (left)", s_pair[1]))
+        (i0, i1, wi), (j0, j1, wj) = (
+            self._cell("s_pair[0] (right)", s_pair[0]),
+            self._cell("s_pair[1] (left)", s_pair[1]),
+        )
 
         def lin(a, k0, k1, w):
             return (1.0 - w) * a[k0] + w * a[k1]
-        cross = ((1 - wi) * ((1 - wj) * self.cross[i0, j0] + wj * self.cross[i0, j1])
-                 + wi * ((1 - wj) * self.cross[i1, j0] + wj * self.cross[i1, j1]))
+
+        cross = (1 - wi) * ((1 - wj) * self.cross[i0, j0] + wj * self.cross[i0, j1]) + wi * (
+            (1 - wj) * self.cross[i1, j0] + wj * self.cross[i1, j1]
+        )
         c0, c1 = lin(self.cc[0], i0, i1, wi), lin(self.cc[1], j0, j1, wj)
         j0c, j1c = lin(self.cj[0], i0, i1, wi), lin(self.cj[1], j0, j1, wj)
         top = np.hstack([c0, cross, j0c])
@@ -118,8 +129,10 @@ class ResidualTable:
             raise InputError(f"{key} must be a wheel-profile coordinate in m, got {s!r}") from None
         t = (x - self.s0) / self.ds
         if not (np.isfinite(t) and -1e-9 <= t <= ns - 1 + 1e-9):
-            raise InputError(f"{key} = {s!r} m outside the table's grid {self.s0:.4g}.."
-                             f"{self.s0 + (ns - 1) * self.ds:.4g} m")
+            raise InputError(
+                f"{key} = {s!r} m outside the table's grid {self.s0:.4g}.."
+                f"{self.s0 + (ns - 1) * self.ds:.4g} m"
+            )
         i0 = min(int(np.floor(max(t, 0.0))), ns - 2)
         return i0, i0 + 1, min(max(t - i0, 0.0), 1.0)
 
@@ -138,8 +151,9 @@ def interpolated_rows(body: FlexibleWheelset, side: int, s: float) -> np.ndarray
     return (1.0 - w) * body.rim_rows[side, i0] + w * body.rim_rows[side, i0 + 1]
 
 
-def contact_compliance(body: FlexibleWheelset, table: ResidualTable,
-                       s_pair: tuple[float, float]) -> np.ndarray:
+def contact_compliance(
+    body: FlexibleWheelset, table: ResidualTable, s_pair: tuple[float, float]
+) -> np.ndarray:
     """The static compliance (14, 14) over :data:`ATTACHMENT_DOFS` with the contact points at
     (s_right, s_left), m, from the tables alone: the kept modes through the interpolated
     rows (:func:`interpolated_rows`), R Lambda^-1 R^T, plus the interpolated residual
@@ -153,8 +167,14 @@ def contact_compliance(body: FlexibleWheelset, table: ResidualTable,
         parts removed mass-orthogonally), as :meth:`FlexibleWheelset.static_deflection`.
     """
     res = table.interpolate(s_pair)
-    r = np.vstack([interpolated_rows(body, 0, s_pair[0]), interpolated_rows(body, 1, s_pair[1]),
-                   body.journal[0, :3], body.journal[1, :3]])
+    r = np.vstack(
+        [
+            interpolated_rows(body, 0, s_pair[0]),
+            interpolated_rows(body, 1, s_pair[1]),
+            body.journal[0, :3],
+            body.journal[1, :3],
+        ]
+    )
     return (r / (2.0 * np.pi * body.freq_hz) ** 2) @ r.T + res
 
 
@@ -180,28 +200,38 @@ def residual_table(ws, body: FlexibleWheelset, ds: float = 5e-3) -> ResidualTabl
     ns = grid.size
     mesh = ws.mesh
     rims = rim_operators(ws, body.edges)
-    ops = [[point_operator(mesh, body.edges[side], float(s), None, rims[side]) for s in grid]
-           for side in (0, 1)]
+    ops = [
+        [point_operator(mesh, body.edges[side], float(s), None, rims[side]) for s in grid] for side in (0, 1)
+    ]
     jops = [point_operator(mesh, None, None, n) for n in ws._journal_nodes]
     n_all = 2 * 4 * ns + 6
     g = np.zeros((n_all, n_all))
     for k in range(body.residual_k_max + 1):
         st = harmonic_statics(ws, k)
-        for kind in (("0",) if k == 0 else ("A", "B")):
-            e = np.array([v for side in (0, 1) for p in ops[side] for v in p[kind]]
-                         + [v for p in jops for v in p[kind][:3]])          # (n_all, 3 nn)
+        for kind in ("0",) if k == 0 else ("A", "B"):
+            e = np.array(
+                [v for side in (0, 1) for p in ops[side] for v in p[kind]]
+                + [v for p in jops for v in p[kind][:3]]
+            )  # (n_all, 3 nn)
             live = np.flatnonzero(np.any(e != 0.0, axis=1))
-            u = st.solve(e[live].T)                                       # (3 nn, n_live)
+            u = st.solve(e[live].T)  # (3 nn, n_live)
             g[np.ix_(live, live)] += e[live] @ u
     # kept modes' static part at the same points
-    rows = np.vstack([body.rows(side, float(s)) for side in (0, 1) for s in grid]
-                     + [body.journal[0, :3], body.journal[1, :3]])
+    rows = np.vstack(
+        [body.rows(side, float(s)) for side in (0, 1) for s in grid]
+        + [body.journal[0, :3], body.journal[1, :3]]
+    )
     g -= (rows / (2.0 * np.pi * body.freq_hz) ** 2) @ rows.T
     g = 0.5 * (g + g.T)
-    c = g[:8 * ns, :8 * ns].reshape(2, ns, 4, 2, ns, 4)
+    c = g[: 8 * ns, : 8 * ns].reshape(2, ns, 4, 2, ns, 4)
     cc = np.array([[c[side, i, :, side, i, :] for i in range(ns)] for side in (0, 1)])
     cross = c[0, :, :, 1, :, :].transpose(0, 2, 1, 3)
-    cj = g[:8 * ns, 8 * ns:].reshape(2, ns, 4, 6)
-    return ResidualTable(s0=float(grid[0]), ds=ds, cc=cc, cross=np.ascontiguousarray(cross),
-                         cj=cj, jj=g[8 * ns:, 8 * ns:].copy())
-
+    cj = g[: 8 * ns, 8 * ns :].reshape(2, ns, 4, 6)
+    return ResidualTable(
+        s0=float(grid[0]),
+        ds=ds,
+        cc=cc,
+        cross=np.ascontiguousarray(cross),
+        cj=cj,
+        jj=g[8 * ns :, 8 * ns :].copy(),
+    )

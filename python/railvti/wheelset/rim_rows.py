@@ -5,6 +5,7 @@ shape functions of the element at a point, give the point's elastic displacement
 vehicle frame (x, y, z) at azimuth theta and its theta-derivative; at the rim edge also the
 rim's rotation about x. Frames, signs and the wheel sides as in :mod:`railvti.wheelset.flexible`.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -13,8 +14,19 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["CONTACT_ROWS", "JOURNAL_ROWS", "ATTACHMENT_DOFS", "RimEdge", "rim_edges", "check_side",
-           "locate", "edge_point", "cylinder_fields", "vehicle_rows", "journal_rows"]
+__all__ = [
+    "CONTACT_ROWS",
+    "JOURNAL_ROWS",
+    "ATTACHMENT_DOFS",
+    "RimEdge",
+    "rim_edges",
+    "check_side",
+    "locate",
+    "edge_point",
+    "cylinder_fields",
+    "vehicle_rows",
+    "journal_rows",
+]
 
 #: Rows of a contact shape row: displacement x, y, z (vehicle frame) and the rim rotation.
 CONTACT_ROWS = ("x", "y", "z", "rx")
@@ -22,7 +34,8 @@ CONTACT_ROWS = ("x", "y", "z", "rx")
 JOURNAL_ROWS = ("x", "y", "z", "rx", "rz")
 #: Attachment DOFs of the residual flexibility, in order.
 ATTACHMENT_DOFS = tuple(f"contact{s}.{c}" for s in (0, 1) for c in CONTACT_ROWS) + tuple(
-    f"journal{s}.{c}" for s in (0, 1) for c in ("x", "y", "z"))
+    f"journal{s}.{c}" for s in (0, 1) for c in ("x", "y", "z")
+)
 
 
 @dataclass(frozen=True)
@@ -31,9 +44,9 @@ class RimEdge:
 
     s_min: float
     s_max: float
-    s_face: float          # flange face: s < s_face lies on the flange top
-    y_contact: float       # FE y of the taping line (s = 0) of this side
-    sign: float            # FE y = y_contact + sign * s (sign +1 right wheel, -1 left)
+    s_face: float  # flange face: s < s_face lies on the flange top
+    y_contact: float  # FE y of the taping line (s = 0) of this side
+    sign: float  # FE y = y_contact + sign * s (sign +1 right wheel, -1 left)
     r_tread: float
     r_flange: float
 
@@ -52,8 +65,10 @@ def rim_edges(geometry) -> tuple[RimEdge, RimEdge]:
     s_max = g.rim_width - g.contact_offset
     s_face = g.flange_width - g.contact_offset
     rf = g.wheel_radius + g.flange_height
-    return (RimEdge(s_min, s_max, s_face, g.contact_y, 1.0, g.wheel_radius, rf),
-            RimEdge(s_min, s_max, s_face, -g.contact_y, -1.0, g.wheel_radius, rf))
+    return (
+        RimEdge(s_min, s_max, s_face, g.contact_y, 1.0, g.wheel_radius, rf),
+        RimEdge(s_min, s_max, s_face, -g.contact_y, -1.0, g.wheel_radius, rf),
+    )
 
 
 def check_side(side: object) -> int:
@@ -65,8 +80,10 @@ def check_side(side: object) -> int:
 
 # ----------------------------------------------------------------- field evaluation
 def _lagrange3(t: float) -> tuple[np.ndarray, np.ndarray]:
-    return (np.array([0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)]),
-            np.array([t - 0.5, -2.0 * t, t + 0.5]))
+    return (
+        np.array([0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)]),
+        np.array([t - 0.5, -2.0 * t, t + 0.5]),
+    )
 
 
 def locate(mesh, r: float, y: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -96,7 +113,7 @@ def locate(mesh, r: float, y: float) -> tuple[np.ndarray, np.ndarray, np.ndarray
         li, dli = _lagrange3(xi)
         lj, dlj = _lagrange3(eta)
         nodes.append(c[e])
-        ns.append(np.outer(lj, li).ravel() / hit.size)           # column 3 j + i
+        ns.append(np.outer(lj, li).ravel() / hit.size)  # column 3 j + i
         nrs.append(np.outer(lj, dli).ravel() * 2.0 / hr / hit.size)
         nys.append(np.outer(dlj, li).ravel() * 2.0 / hy / hit.size)
     return np.concatenate(nodes), np.concatenate(ns), np.concatenate(nrs), np.concatenate(nys)
@@ -111,12 +128,12 @@ def edge_point(edge: RimEdge, s: float) -> tuple[float, float]:
 def cylinder_fields(shapes: np.ndarray, nodes, n, nr, ny) -> tuple[np.ndarray, ...]:
     """U, dU/dr, dU/dy (each (nm, 3)) of nodal shapes (nm, nn, 3) at one point."""
     s = shapes[:, nodes, :]
-    return (np.einsum("mac,a->mc", s, n), np.einsum("mac,a->mc", s, nr),
-            np.einsum("mac,a->mc", s, ny))
+    return (np.einsum("mac,a->mc", s, n), np.einsum("mac,a->mc", s, nr), np.einsum("mac,a->mc", s, ny))
 
 
-def vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: float
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def vehicle_rows(
+    k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Vehicle-frame rows (4, nm) (x, y, z, rx) at azimuth theta and their theta-derivative.
 
     u: cylindrical amplitudes (U_r, U_y, U_th) at the point; du_dy_fe: the slope d/dy_FE of
@@ -125,7 +142,7 @@ def vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: f
     ur, uy, ut = u[:, 0], u[:, 1], u[:, 2]
     dur = du_dy_fe[:, 0]
     if k == 0:
-        cr, ct = 1.0, 1.0                        # u_r = U_r, u_th = U_th (torsion)
+        cr, ct = 1.0, 1.0  # u_r = U_r, u_th = U_th (torsion)
         dcr, dct = 0.0, 0.0
     elif fam == "A":
         cr, ct = np.cos(k * theta), np.sin(k * theta)
@@ -139,8 +156,7 @@ def vehicle_rows(k: int, fam: str, u: np.ndarray, du_dy_fe: np.ndarray, theta: f
     wr, wy, wt, wdr = ur * dcr, uy * dcr, ut * dct, dur * dcr
     # e_r = -cos e_z - sin e_x, e_th = sin e_z - cos e_x, e_yFE = -e_y
     rows = np.array([-s * vr - c * vt, -vy, -c * vr + s * vt, vdr])
-    drows = np.array([-c * vr - s * wr + s * vt - c * wt, -wy,
-                      s * vr - c * wr + c * vt + s * wt, wdr])
+    drows = np.array([-c * vr - s * wr + s * vt - c * wt, -wy, s * vr - c * wr + c * vt + s * wt, wdr])
     return rows, drows
 
 
@@ -157,9 +173,9 @@ def journal_rows(body_shapes, mesh, node: int) -> np.ndarray:
         u, dudr, dudy = cylinder_fields(shapes, nodes, n, nr, ny)
         rows, _ = vehicle_rows(k, fam, u, dudy, 0.0)
         rot = np.zeros((2, shapes.shape[0]))
-        if k == 1 and fam == "A":      # omega_x = (dU_r/dy_FE - dU_y/dr) / 2
+        if k == 1 and fam == "A":  # omega_x = (dU_r/dy_FE - dU_y/dr) / 2
             rot[0] = 0.5 * (dudy[:, 0] - dudr[:, 1])
-        elif k == 1:                   # omega_z = (U_y / r + dU_th/dy_FE) / 2, U_y/r -> dU_y/dr
+        elif k == 1:  # omega_z = (U_y / r + dU_th/dy_FE) / 2, U_y/r -> dU_y/dr
             uy_r = dudr[:, 1] if r <= 1e-12 else u[:, 1] / r
             rot[1] = 0.5 * (uy_r + dudy[:, 2])
         out.append(np.vstack([rows[:3], rot]))

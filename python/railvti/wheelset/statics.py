@@ -7,6 +7,7 @@ nodal operators of the attachment rows (rim points and journals) and the complia
 flexibility of the truncated modes is made of (:mod:`railvti.wheelset.residual`), and a
 direct FE solve to check it (:func:`static_fe_solve`).
 """
+
 from __future__ import annotations
 
 import weakref
@@ -21,8 +22,16 @@ from .._status import check
 from .fe import check_harmonic
 from .rim_rows import ATTACHMENT_DOFS, RimEdge, edge_point, locate, rim_edges
 
-__all__ = ["assemble_harmonic", "HarmonicStatics", "harmonic_statics", "point_operator",
-           "rim_operators", "rim_operator", "full_compliance", "static_fe_solve"]
+__all__ = [
+    "assemble_harmonic",
+    "HarmonicStatics",
+    "harmonic_statics",
+    "point_operator",
+    "rim_operators",
+    "rim_operator",
+    "full_compliance",
+    "static_fe_solve",
+]
 
 
 def _dof_transform(mesh, k: int) -> sp.csr_matrix:
@@ -35,17 +44,27 @@ def _dof_transform(mesh, k: int) -> sp.csr_matrix:
     for i, (r, _) in enumerate(x):
         if r <= tol:
             if k == 0:
-                rows.append(3 * i + 1); cols.append(neq); vals.append(1.0); neq += 1
+                rows.append(3 * i + 1)
+                cols.append(neq)
+                vals.append(1.0)
+                neq += 1
             elif k == 1:
-                rows += [3 * i, 3 * i + 2]; cols += [neq, neq]; vals += [1.0, -1.0]; neq += 1
+                rows += [3 * i, 3 * i + 2]
+                cols += [neq, neq]
+                vals += [1.0, -1.0]
+                neq += 1
         else:
             for c in range(3):
-                rows.append(3 * i + c); cols.append(neq); vals.append(1.0); neq += 1
+                rows.append(3 * i + c)
+                cols.append(neq)
+                vals.append(1.0)
+                neq += 1
     return sp.csr_matrix((vals, (rows, cols)), shape=(3 * mesh.n_nodes, neq))
 
 
-def assemble_harmonic(mesh, k: int, young: float, poisson: float, density: float
-                      ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+def assemble_harmonic(
+    mesh, k: int, young: float, poisson: float, density: float
+) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Global stiffness and mass of harmonic k over the nodal amplitudes (3 nn, node-major).
 
     The same element matrices as the eigen-solver (wheelset_element.f90::axisym_element),
@@ -56,15 +75,18 @@ def assemble_harmonic(mesh, k: int, young: float, poisson: float, density: float
     kv = np.empty((ne, 27, 27))
     mv = np.empty((ne, 27, 27))
     for e in range(ne):
-        ke, me, _, _, info = core.wheelset_element_c(k, np.asfortranarray(mesh.nodes[mesh.conn[e]].T),
-                                                     young, poisson, density)
+        ke, me, _, _, info = core.wheelset_element_c(
+            k, np.asfortranarray(mesh.nodes[mesh.conn[e]].T), young, poisson, density
+        )
         check(info, f"harmonic k={k}: meridian element {e}")
         kv[e], mv[e] = ke, me
     ii = np.repeat(idx, 27, axis=1).ravel()
     jj = np.tile(idx, (1, 27)).ravel()
     n = 3 * mesh.n_nodes
-    return (sp.csr_matrix((kv.ravel(), (ii, jj)), shape=(n, n)),
-            sp.csr_matrix((mv.ravel(), (ii, jj)), shape=(n, n)))
+    return (
+        sp.csr_matrix((kv.ravel(), (ii, jj)), shape=(n, n)),
+        sp.csr_matrix((mv.ravel(), (ii, jj)), shape=(n, n)),
+    )
 
 
 class HarmonicStatics:
@@ -94,19 +116,21 @@ class HarmonicStatics:
         self._w = np.asarray(self.T.T.multiply(self.T.T).sum(axis=1)).ravel()
         r, y = mesh.nodes[:, 0], mesh.nodes[:, 1]
         z, one = np.zeros_like(r), np.ones_like(r)
-        fields = {0: [np.c_[z, one, z], np.c_[z, z, r]],
-                  1: [np.c_[one, z, -one], np.c_[-y, r, y]]}.get(k, [])
+        fields = {0: [np.c_[z, one, z], np.c_[z, z, r]], 1: [np.c_[one, z, -one], np.c_[-y, r, y]]}.get(k, [])
         rig = np.zeros((self.K.shape[0], len(fields)))
         for j, f in enumerate(fields):
             x = self.reduce(f)
-            for i in range(j):                              # Gram-Schmidt in the mass metric
+            for i in range(j):  # Gram-Schmidt in the mass metric
                 x -= rig[:, i] * (rig[:, i] @ (self.M @ x))
             rig[:, j] = x / np.sqrt(x @ (self.M @ x))
         self.rigid = rig
         nr = rig.shape[1]
         mr = self.M @ rig
-        a = self.K if nr == 0 else sp.bmat(
-            [[self.K, sp.csc_matrix(mr)], [sp.csc_matrix(mr.T), None]], format="csc")
+        a = (
+            self.K
+            if nr == 0
+            else sp.bmat([[self.K, sp.csc_matrix(mr)], [sp.csc_matrix(mr.T), None]], format="csc")
+        )
         self._lu = splu(a)
         self._nr = nr
         self._compliance: dict[tuple, np.ndarray] = {}
@@ -139,8 +163,9 @@ def harmonic_statics(ws, k: int) -> HarmonicStatics:
     return per[k]
 
 
-def point_operator(mesh, edge: RimEdge | None, s: float | None, node: int | None,
-                    rim: np.ndarray | None = None) -> dict[str, list[np.ndarray]]:
+def point_operator(
+    mesh, edge: RimEdge | None, s: float | None, node: int | None, rim: np.ndarray | None = None
+) -> dict[str, list[np.ndarray]]:
     """Nodal operators of the attachment rows at theta = 0, per harmonic kind.
 
     Returns {'0': [...], 'A': [...], 'B': [...]}: for each row, the nodal vector (3 nn) e with
@@ -161,9 +186,11 @@ def point_operator(mesh, edge: RimEdge | None, s: float | None, node: int | None
 
     zero = np.zeros(nn3)
     # rows x, y, z (+ rx on the rim), from vehicle_rows at theta = 0
-    ops = {"0": [vec(2, n, -1.0), vec(1, n, -1.0), vec(0, n, -1.0)],
-           "A": [zero, vec(1, n, -1.0), vec(0, n, -1.0)],
-           "B": [vec(2, n, 1.0), zero, zero]}
+    ops = {
+        "0": [vec(2, n, -1.0), vec(1, n, -1.0), vec(0, n, -1.0)],
+        "A": [zero, vec(1, n, -1.0), vec(0, n, -1.0)],
+        "B": [vec(2, n, 1.0), zero, zero],
+    }
     if edge is not None:
         rim = rim_operator(mesh, edge) if rim is None else rim
         ops["0"].append(rim)
@@ -193,8 +220,9 @@ def rim_operator(mesh, edge: RimEdge) -> np.ndarray:
     return v
 
 
-def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes,
-                    rims: tuple | None = None) -> np.ndarray:
+def full_compliance(
+    statics: list[HarmonicStatics], mesh, edges, s_pair, journal_nodes, rims: tuple | None = None
+) -> np.ndarray:
     """Static compliance (14, 14) over :data:`ATTACHMENT_DOFS` of all free-free elastic modes
     of the harmonics in ``statics`` (Omega = 0), from the FE stiffness. rims: the edges'
     :func:`rim_operator` when already known."""
@@ -205,24 +233,29 @@ def full_compliance(statics: list[HarmonicStatics], mesh, edges, s_pair, journal
         key = (tuple(s_pair), tuple(journal_nodes))
         if key not in st._compliance:
             if pts is None:
-                pts = [point_operator(mesh, edges[0], s_pair[0], None, rims[0]),
-                       point_operator(mesh, edges[1], s_pair[1], None, rims[1]),
-                       point_operator(mesh, None, None, journal_nodes[0]),
-                       point_operator(mesh, None, None, journal_nodes[1])]
+                pts = [
+                    point_operator(mesh, edges[0], s_pair[0], None, rims[0]),
+                    point_operator(mesh, edges[1], s_pair[1], None, rims[1]),
+                    point_operator(mesh, None, None, journal_nodes[0]),
+                    point_operator(mesh, None, None, journal_nodes[1]),
+                ]
             gk = np.zeros_like(g)
-            for kind in (("0",) if st.k == 0 else ("A", "B")):
-                e = np.array([v for p in pts for v in p[kind]])        # (14, 3 nn)
-                cols = [st.solve(e[j]) if np.any(e[j]) else np.zeros(e.shape[1])
-                        for j in range(e.shape[0])]
+            for kind in ("0",) if st.k == 0 else ("A", "B"):
+                e = np.array([v for p in pts for v in p[kind]])  # (14, 3 nn)
+                cols = [st.solve(e[j]) if np.any(e[j]) else np.zeros(e.shape[1]) for j in range(e.shape[0])]
                 gk += e @ np.array(cols).T
             st._compliance[key] = 0.5 * (gk + gk.T)
         g += st._compliance[key]
     return g
 
 
-
-def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0.0),
-                    k_max: int = 6, inertia_relief: bool = False) -> np.ndarray:
+def static_fe_solve(
+    ws,
+    force: np.ndarray,
+    s_pair: tuple[float, float] = (0.0, 0.0),
+    k_max: int = 6,
+    inertia_relief: bool = False,
+) -> np.ndarray:
     """Direct static FE solve of the free wheelset under self-equilibrated attachment loads.
 
     Harmonic by harmonic (k = 0..k_max, both sets): the rigid-body motion is held by a few
@@ -253,6 +286,7 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
         Elastic deflection of the attachment DOFs, m / rad.
     """
     from scipy.sparse.linalg import spsolve
+
     f14 = _checks.finite_array("force", force, shape=(len(ATTACHMENT_DOFS),))
     k_max = check_harmonic(k_max, "k_max")
     edges = rim_edges(ws.geometry)
@@ -261,16 +295,19 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
     rim = ws.mesh.node_at(g.wheel_radius, g.contact_y)
     out = np.zeros(len(ATTACHMENT_DOFS))
     rims = rim_operators(ws, edges)
-    pts = [point_operator(ws.mesh, edges[0], s_pair[0], None, rims[0]),
-           point_operator(ws.mesh, edges[1], s_pair[1], None, rims[1]),
-           point_operator(ws.mesh, None, None, jn[0]), point_operator(ws.mesh, None, None, jn[1])]
+    pts = [
+        point_operator(ws.mesh, edges[0], s_pair[0], None, rims[0]),
+        point_operator(ws.mesh, edges[1], s_pair[1], None, rims[1]),
+        point_operator(ws.mesh, None, None, jn[0]),
+        point_operator(ws.mesh, None, None, jn[1]),
+    ]
     for k in range(k_max + 1):
         st = harmonic_statics(ws, k)
         eqs = np.asarray(abs(st.T).tocsr().argmax(axis=1)).ravel()
         fix = {0: [eqs[3 * jn[0] + 1], eqs[3 * rim + 2]], 1: [eqs[3 * jn[0]], eqs[3 * jn[1]]]}
         free = np.setdiff1d(np.arange(st.K.shape[0]), fix.get(k, []))
         kff = st.K[free][:, free].tocsc()
-        for kind in (("0",) if k == 0 else ("A", "B")):
+        for kind in ("0",) if k == 0 else ("A", "B"):
             e = np.array([v for p in pts for v in p[kind]])
             fr = st.T.T @ (e.T @ f14)
             if not np.any(fr):
@@ -282,4 +319,3 @@ def static_fe_solve(ws, force: np.ndarray, s_pair: tuple[float, float] = (0.0, 0
             u -= st.rigid @ (st.rigid.T @ (st.M @ u))
             out += e @ (st.T @ u)
     return out
-

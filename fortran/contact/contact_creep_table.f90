@@ -8,7 +8,7 @@
 !> when a case's gap or normal force differs from the previous case's (the
 !> pressure does not depend on the creepages for quasi-identical bodies).
 !> Implements no equation (normal_cg and rolling_steady do: docs/equations.md).
-module contact_table
+module contact_creep_table
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT
     use contact_plans, only: workspace
@@ -16,7 +16,7 @@ module contact_table
     use contact_rolling, only: rolling_steady, ROLL_FFTGS
     implicit none
     private
-    public :: creep_table
+    public :: creep_force_table
 
     !> Rows per FFT refresh and passes per run of the rolling solver (the Python defaults).
     integer, parameter :: NBLOCK = 16, NINNER = 1
@@ -35,7 +35,7 @@ contains
     !> rolling solver's status, only where nfo_n is STAT_OK (elsewhere the tangential
     !> problem is not solved: forces zero). info: STAT_BAD_ARGUMENT for a kgap outside
     !> 1..size(gap, 3) or arrays of different lengths, else STAT_OK.
-    subroutine creep_table(w, gap, kgap, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, &
+    subroutine creep_force_table(w, gap, kgap, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, &
                            max_iter_t, fx, fy, mz, power, ncontact, approach, iters_n, iters_t, nfo_n, nfo_t, info)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: gap(:, :, :), fn(:), creep(:, :), mu, speed, x0, y0, tol_n, tol_t
@@ -98,7 +98,7 @@ contains
             nfo_t(k) = stat
             call case_forces(tx, ty, sx, sy, x0, y0, w%dx, w%dy, fx(k), fy(k), mz(k), power(k))
         end do
-    end subroutine creep_table
+    end subroutine creep_force_table
 
     !> Whether any pressure lies on the grid's edge rows or columns (the contact area
     !> would be cut by the grid; the Python API's GridTooSmallError).
@@ -139,4 +139,4 @@ contains
         power = power * dx * dy
     end subroutine case_forces
 
-end module contact_table
+end module contact_creep_table
