@@ -37,26 +37,38 @@ contact forces and moments exert no torque about the axle: free rolling of a whe
 without drive or brake torque. (Each wheel's Fx = 0 is impossible with one omega for two
 rolling radii; the wheelset's net Fx = 0 is a force balance, which the axleboxes take: the
 torque about the axle is what omega must balance.) Patches are independent half-spaces.
+
+The result types (:class:`WheelsetSolution`, :class:`WheelsetPatch`) are in
+:mod:`railvti.contact.wheelset_results`.
 """
 
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _checks
 from ..errors import ConvergenceError, InputError
-from ..geometry import ContactPoint, Creepages, WheelsetContact, WheelsetPose, contact_points
+from ..geometry import ContactPoint, WheelsetContact, WheelsetPose, contact_points
 from ..material import Material
 from ..profiles import Profile
-from .grid import Grid
 from .hertz import hertz
 from .wheelset_kinematics import WheelsetMotion, body_axes, patch_moment
 from .wheelset_patch import GROW, PatchState, curvature_fit, solve_patch_normal, solve_patch_rolling
 from .wheelset_pose import contact_points_at_roll
 from .wheelset_reference import contact_references, moved
+from .wheelset_results import WheelsetPatch, WheelsetSolution, count_regions, patch_result
+
+__all__ = [
+    "solve_wheelset",
+    "WheelsetPatch",
+    "WheelsetSolution",
+    "count_regions",
+    "REFERENCES",
+    "LOOSE_TOL",
+    "ROLLING_TOL",
+]
 
 log = logging.getLogger(__name__)
 
@@ -79,182 +91,8 @@ _REFERENCE_TOL = 0.01
 _REFERENCE_ANGLE_TOL = 1e-4
 #: Passes of the balance (each after the reference points moved) before giving up.
 _REFERENCE_PASSES = 6
-
-
-@dataclass(frozen=True)
-class WheelsetPatch:
-    """One contact patch of a loaded wheelset.
-
-    Forces act on the wheel. ``fn`` along the rail normal (into the wheel), ``fx``, ``fy``
-    along the contact frame's ``t_x`` (rolling) and ``t_y`` (lateral, to the track's left).
-
-    Attributes
-    ----------
-    side : str
-        'left' or 'right'.
-    contact : ContactPoint
-        The candidate point (rigid pose) the patch grows from: its reference point (the grid's
-        origin, where the creepages are taken and the forces and moments are reduced to).
-    contact_angle : float
-        rad.
-    creepage : Creepages or None
-        Rigid creepages xi, eta (-) and spin phi (1/m) at the reference point, over
-        ``reference_speed``; None without rolling.
-    reference_speed : float
-        Rolling speed V_ref of the patch, m/s (nan without rolling).
-    approach : float
-        Approach of the patch along its normal, m.
-    fn, fx, fy : float
-        Forces on the wheel in the contact frame, N (fx = fy = 0 without rolling).
-    mz : float
-        Spin moment of the tangential tractions about the normal through the reference
-        point, N m.
-    centre_of_pressure : tuple of float
-        (x, y) of the pressure's centre in the contact frame, m.
-    force_track : ndarray (3,)
-        The force in track coordinates (x forward, y left, z up), N.
-    moment_track : ndarray (3,)
-        Moment of the tractions about the reference point, track coordinates, N m:
-        Fn (y_cp t_x - x_cp t_y) + Mz n.
-    pmax : float
-        Largest pressure, Pa.
-    n_contact, n_adhesion, n_slip : int
-        Elements in contact, in adhesion, in slip (adhesion = contact without rolling).
-    grid : Grid
-        The patch's grid (x along t_x, y along t_y, origin at the reference point).
-    gap, pressure : ndarray (nx, ny)
-        Undeformed gap (m) and pressure (Pa).
-    tx, ty : ndarray (nx, ny) or None
-        Tangential tractions on the wheel, Pa; None without rolling.
-    rolling : RollingResult or None
-        The full steady-rolling result (slip, slip velocity, power density, power, ...).
-    """
-
-    side: str
-    contact: ContactPoint
-    contact_angle: float
-    creepage: Creepages | None
-    reference_speed: float
-    approach: float
-    fn: float
-    fx: float
-    fy: float
-    mz: float
-    centre_of_pressure: tuple[float, float]
-    force_track: np.ndarray
-    moment_track: np.ndarray
-    pmax: float
-    n_contact: int
-    n_adhesion: int
-    n_slip: int
-    grid: Grid
-    gap: np.ndarray
-    pressure: np.ndarray
-    tx: np.ndarray | None = None
-    ty: np.ndarray | None = None
-    rolling: object | None = None
-
-    @property
-    def n_regions(self) -> int:
-        """Separate contact areas in the patch (edge-connected elements in contact): a patch
-        grows around one candidate point but may hold two areas joined by a low ridge."""
-        return count_regions(self.pressure > 0.0)
-
-
-@dataclass(frozen=True)
-class WheelsetSolution:
-    """Contact of a loaded wheelset at one position.
-
-    Attributes
-    ----------
-    geometry : WheelsetContact
-        The rigid-pose contact search (pose, candidate points, status per wheel).
-    left, right : list of WheelsetPatch
-        Loaded patches of each wheel (unloaded candidates, and a wheel not solved, are empty).
-    fz : tuple of float
-        Vertical (track z) force on the left and right wheel from all their patches, normal
-        and tangential forces, N (nan for a wheel not solved).
-    sink, roll : float
-        Load-controlled roll: vertical motion w (m, down) and extra roll theta (rad) of the
-        wheelset from the rigid pose. Prescribed roll: the mean sink of the half wheelsets
-        solved, and 0.
-    sinks : tuple of float
-        Downward motion of each wheel's profile reference circle centre (on the axle at the
-        tread datum), m: w -+ theta * contact_y, or each half wheelset's own sink.
-    pose_roll : float
-        Roll angle of the pose the geometry was taken at, rad (prescribed, or from the two
-        wheels' contact constraint).
-    roll_prescribed : bool
-        The roll was prescribed (each wheel a half wheelset).
-    omega : float or None
-        Angular velocity about the axle, rad/s (prescribed or free-rolling); None without rolling.
-    free_rolling : bool
-        omega was found from the torque balance about the axle.
-    axle_torque : float
-        Torque of the contact forces and moments about the axle, N m (the wheels solved);
-        ~0 with free rolling; nan without rolling.
-    iterations : int
-        Load-control Newton iterations (all outer iterations together).
-    outer_iterations : int
-        Rolling solves per patch (balance with tangential forces and free rolling); 0
-        without rolling.
-    """
-
-    geometry: WheelsetContact
-    left: list[WheelsetPatch]
-    right: list[WheelsetPatch]
-    fz: tuple[float, float]
-    sink: float
-    roll: float
-    sinks: tuple[float, float]
-    pose_roll: float
-    roll_prescribed: bool
-    omega: float | None
-    free_rolling: bool
-    axle_torque: float
-    iterations: int
-    outer_iterations: int
-
-    @property
-    def patches(self) -> list[WheelsetPatch]:
-        """All patches, left wheel first."""
-        return self.left + self.right
-
-    def wheel(self, side: str) -> list[WheelsetPatch]:
-        """Patches of 'left' or 'right'."""
-        if side not in _SIDES:
-            raise InputError(f"side must be 'left' or 'right', got {side!r}")
-        return self.left if side == "left" else self.right
-
-
-def count_regions(mask: np.ndarray) -> int:
-    """Number of edge-connected regions of True in a 2-D mask (4-neighbourhood): the runs of
-    True along axis 0 in each column, joined (union-find) with the runs they overlap in the
-    next column."""
-    parent: list[int] = []
-
-    def root(k: int) -> int:
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-
-    prev: list[tuple[int, int, int]] = []
-    m = np.asarray(mask, dtype=np.int8)
-    pad = np.zeros((1, m.shape[1]), dtype=np.int8)
-    edges = np.diff(np.concatenate([pad, m, pad]), axis=0)
-    for j in range(m.shape[1]):
-        starts, ends = np.flatnonzero(edges[:, j] == 1), np.flatnonzero(edges[:, j] == -1)
-        cur = []
-        for a, b in zip(starts.tolist(), ends.tolist()):
-            k = len(parent)
-            parent.append(k)
-            for pa, pb, pk in prev:
-                if pa < b and a < pb:  # the runs [a, b) and [pa, pb) touch
-                    parent[root(pk)] = root(k)
-            cur.append((a, b, k))
-        prev = cur
-    return sum(1 for k in range(len(parent)) if root(k) == k)
+#: solve_wheelset's rigid-body velocities, in the order _check_args receives them.
+_MOTION_ARGS = ("omega", "lateral_velocity", "vertical_velocity", "roll_rate", "yaw_rate")
 
 
 class _Balance:
@@ -348,19 +186,13 @@ def _start(
 
 
 def _load_control(
-    bal: _Balance,
-    targets: np.ndarray,
-    wheel: Profile,
-    rail: Profile,
-    material: Material,
-    dx: float,
-    dy: float,
-    method: str,
-    tol: float,
-    max_iter: int,
-    rolling: bool = True,
+    bal: _Balance, targets: np.ndarray, ctx: dict, tol: float, max_iter: int, rolling: bool = True
 ) -> int:
-    """Newton on u until sum_k Fn_k c_k equals the target of each wheel (relative tol)."""
+    """Newton on u until sum_k Fn_k c_k equals the target of each wheel (relative tol); the
+    profiles, material, element sizes and normal method are those of ``ctx``."""
+    wheel, rail, material, dx, dy, method = (
+        ctx[k] for k in ("wheel", "rail", "material", "dx", "dy", "method")
+    )
     err = np.full(len(targets), np.inf)
     for it in range(1, max_iter + 1):
         J = np.zeros((len(targets), bal.u.size))
@@ -439,7 +271,10 @@ class _Secant:
         return new
 
 
-def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, motion_kw) -> dict:
+def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, rates) -> dict:
+    """The checked arguments of :func:`solve_wheelset`: y, yaw, roll, sides, loads, material, dx,
+    dy, mu and motion (None without rolling); ``rates`` the values of ``_MOTION_ARGS``."""
+    motion_kw = dict(zip(_MOTION_ARGS, rates))
     out = {"y": _checks.finite("y", y), "yaw": _checks.finite("yaw", yaw)}
     if side is not None and side not in _SIDES:
         raise InputError(f"side must be None, 'left' or 'right', got {side!r}")
@@ -458,6 +293,7 @@ def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, motion_kw) 
     out["sides"] = sides
     if not isinstance(material, Material):
         raise InputError("material must be a railvti.Material")
+    out["material"] = material
     out["dx"] = _checks.positive("dx", dx)
     out["dy"] = out["dx"] if dy is None else _checks.positive("dy", dy)
     given = {k: v for k, v in motion_kw.items() if v is not None and v != 0.0}
@@ -475,6 +311,42 @@ def _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, motion_kw) 
     if side is not None and out["motion"].omega is None:
         raise InputError(f"side={side!r}: free rolling needs both wheels; prescribe omega")
     return out
+
+
+def _check_solver(
+    load_tol: float, max_iter: int, reference: str, d_sep: float, d_comb: float
+) -> tuple[float, int, float, float]:
+    """The checked tolerances of :func:`solve_wheelset`: load_tol, max_iter, d_sep, d_comb."""
+    load_tol = _checks.positive("load_tol", load_tol)
+    max_iter = _checks.positive_int("max_iter", max_iter)
+    if reference not in REFERENCES:
+        raise InputError(f"reference must be one of {REFERENCES}, got {reference!r}")
+    d_sep, d_comb = _checks.positive("d_sep", d_sep), _checks.positive("d_comb", d_comb)
+    if d_comb >= d_sep:
+        raise InputError(f"d_comb must be smaller than d_sep, got d_comb = {d_comb} m, d_sep = {d_sep} m")
+    return load_tol, max_iter, d_sep, d_comb
+
+
+def _rigid_contact(
+    wheel: Profile, rail: Profile, a: dict, track, wheelset, max_separation: float
+) -> WheelsetContact:
+    """The rigid pose and candidate points: both wheels touching (load-controlled roll) or each
+    wheel a half wheelset at the prescribed roll."""
+    if a["roll"] is None:
+        return contact_points(
+            wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset, max_separation=max_separation
+        )
+    return contact_points_at_roll(
+        wheel,
+        rail,
+        a["y"],
+        a["roll"],
+        a["yaw"],
+        track=track,
+        wheelset=wheelset,
+        max_separation=max_separation,
+        sides=a["sides"],
+    )
 
 
 def solve_wheelset(
@@ -590,95 +462,35 @@ def solve_wheelset(
     GridTooSmallError
         A patch keeps outgrowing its grid.
     """
-    a = _check_args(
-        y,
-        yaw,
-        fz,
-        mu,
-        speed,
-        material,
-        dx,
-        dy,
-        roll,
-        side,
-        dict(
-            omega=omega,
-            lateral_velocity=lateral_velocity,
-            vertical_velocity=vertical_velocity,
-            roll_rate=roll_rate,
-            yaw_rate=yaw_rate,
-        ),
-    )
-    load_tol = _checks.positive("load_tol", load_tol)
-    max_iter = _checks.positive_int("max_iter", max_iter)
-    if reference not in REFERENCES:
-        raise InputError(f"reference must be one of {REFERENCES}, got {reference!r}")
-    d_sep, d_comb = _checks.positive("d_sep", d_sep), _checks.positive("d_comb", d_comb)
-    if d_comb >= d_sep:
-        raise InputError(f"d_comb must be smaller than d_sep, got d_comb = {d_comb} m, d_sep = {d_sep} m")
-    dx, dy, loads, motion = a["dx"], a["dy"], a["loads"], a["motion"]
-    if a["roll"] is None:
-        geo = contact_points(
-            wheel, rail, a["y"], a["yaw"], track=track, wheelset=wheelset, max_separation=max_separation
-        )
-    else:
-        geo = contact_points_at_roll(
-            wheel,
-            rail,
-            a["y"],
-            a["roll"],
-            a["yaw"],
-            track=track,
-            wheelset=wheelset,
-            max_separation=max_separation,
-            sides=a["sides"],
-        )
+    rates = (omega, lateral_velocity, vertical_velocity, roll_rate, yaw_rate)
+    a = _check_args(y, yaw, fz, mu, speed, material, dx, dy, roll, side, rates)
+    load_tol, max_iter, d_sep, d_comb = _check_solver(load_tol, max_iter, reference, d_sep, d_comb)
+    geo = _rigid_contact(wheel, rail, a, track, wheelset, max_separation)
     bal = _Balance(geo, a["sides"], a["roll"] is not None)
-    _start(bal, wheel, rail, loads, material, dx, dy)
+    _start(bal, wheel, rail, a["loads"], material, a["dx"], a["dy"])
+    ctx = dict(a, wheel=wheel, rail=rail, method=method, rolling_method=rolling_method, load_tol=load_tol)
+    tol_ref = (_REFERENCE_TOL * min(a["dx"], a["dy"]), _REFERENCE_ANGLE_TOL, d_sep, d_comb)
+    iters, outer, om, torque = _balance_passes(
+        bal, ctx, max_iter, tol_ref if reference == "contact" else None
+    )
+    return _solution(bal, geo, a["loads"], om, a["motion"], torque, iters, outer)
+
+
+def _balance_passes(
+    bal: _Balance, ctx: dict, max_iter: int, tol_ref: tuple | None
+) -> tuple[int, int, float | None, float]:
+    """The load control, then (rolling) the balance with tangential forces and, with
+    ``tol_ref`` (``reference='contact'``: the tolerances of :func:`_relocate`), the passes
+    that move the patches to CONTACT's reference points until they settle. Returns the
+    load-control iterations, the rolling solves, omega and the axle torque."""
+    loads, motion, load_tol = ctx["loads"], ctx["motion"], ctx["load_tol"]
     # with rolling, the first load control only needs to be close: its targets are corrected
     first_tol = max(_LOOSE_LOAD_TOL, load_tol) if motion is not None else load_tol
-    iters = _load_control(
-        bal,
-        loads.copy(),
-        wheel,
-        rail,
-        material,
-        dx,
-        dy,
-        method,
-        first_tol,
-        max_iter,
-        rolling=motion is not None,
-    )
-    at_contact = reference == "contact"
-    tol_ref = (_REFERENCE_TOL * min(dx, dy), _REFERENCE_ANGLE_TOL, d_sep, d_comb)
+    iters = _load_control(bal, loads.copy(), ctx, first_tol, max_iter, rolling=motion is not None)
+    at_contact = tol_ref is not None
     if at_contact and _relocate(bal, *tol_ref):
-        iters += _load_control(
-            bal,
-            loads.copy(),
-            wheel,
-            rail,
-            material,
-            dx,
-            dy,
-            method,
-            first_tol,
-            max_iter,
-            rolling=motion is not None,
-        )
+        iters += _load_control(bal, loads.copy(), ctx, first_tol, max_iter, rolling=motion is not None)
     outer, om, torque = 0, None, float("nan")
-    ctx = dict(
-        wheel=wheel,
-        rail=rail,
-        material=material,
-        mu=a["mu"],
-        motion=motion,
-        dx=dx,
-        dy=dy,
-        method=method,
-        rolling_method=rolling_method,
-        load_tol=load_tol,
-    )
     for _ in range(_REFERENCE_PASSES):
         if motion is not None:
             roll, om, torque = _rolling_balance(bal, loads, ctx, max_iter)
@@ -687,23 +499,21 @@ def solve_wheelset(
         if not at_contact or not _relocate(bal, *tol_ref):
             break
         if motion is None:
-            iters += _load_control(
-                bal, loads.copy(), wheel, rail, material, dx, dy, method, load_tol, max_iter
-            )
+            iters += _load_control(bal, loads.copy(), ctx, load_tol, max_iter)
     else:
         raise ConvergenceError(
             f"the patches' contact reference points did not settle in {_REFERENCE_PASSES} "
-            f"passes at y = {a['y'] * 1e3:.3f} mm",
+            f"passes at y = {ctx['y'] * 1e3:.3f} mm",
             iterations=_REFERENCE_PASSES,
         )
     log.debug(
         "solve_wheelset y=%.4g: %d load-control iterations, %d rolling solves, omega %s",
-        a["y"],
+        ctx["y"],
         iters,
         outer,
         om,
     )
-    return _solution(bal, geo, loads, om, motion, torque, iters, outer)
+    return iters, outer, om, torque
 
 
 def _relocate(bal: _Balance, tol_position: float, tol_angle: float, d_sep: float, d_comb: float) -> bool:
@@ -772,16 +582,7 @@ class _Rolling:
                             pt.vertical = float(pt.force()[2] / pt.fn)
                     self.secants = [_Secant(t, 1.0) for t in self.targets]
                 self.load_iterations += _load_control(
-                    self.bal,
-                    self.targets,
-                    c["wheel"],
-                    c["rail"],
-                    c["material"],
-                    c["dx"],
-                    c["dy"],
-                    c["method"],
-                    0.25 * c["load_tol"],
-                    self.max_iter,
+                    self.bal, self.targets, c, 0.25 * c["load_tol"], self.max_iter
                 )
                 continue
             resid = self.residual()
@@ -795,16 +596,7 @@ class _Rolling:
             else:
                 self.targets = np.array([s_.step(f) for s_, f in zip(self.secants, resid)])
             self.load_iterations += _load_control(
-                self.bal,
-                self.targets,
-                c["wheel"],
-                c["rail"],
-                c["material"],
-                c["dx"],
-                c["dy"],
-                c["method"],
-                0.25 * c["load_tol"],
-                self.max_iter,
+                self.bal, self.targets, c, 0.25 * c["load_tol"], self.max_iter
             )
         raise ConvergenceError(
             f"the wheels' vertical balance with tangential forces did not converge in "
@@ -891,7 +683,7 @@ def _solution(
         fz[_SIDES.index(s)] = float(sum(pt.force()[2] for pt in bal.patches[i]))
         for pt in bal.patches[i]:
             if pt.carrying:
-                out[s].append(_patch_result(pt))
+                out[s].append(patch_result(pt))
     sinks = bal.sinks()
     solved = [v for v in sinks if np.isfinite(v)]
     return WheelsetSolution(
@@ -909,38 +701,4 @@ def _solution(
         axle_torque=float(torque),
         iterations=iters,
         outer_iterations=outer,
-    )
-
-
-def _patch_result(pt: PatchState) -> WheelsetPatch:
-    cp = pt.cp
-    x_cp, y_cp = pt.centre_of_pressure()
-    r = pt.rolling
-    fx, fy, mz = (r.fx, r.fy, r.mz) if r is not None else (0.0, 0.0, 0.0)
-    n_adh = int(r.adhesion.sum()) if r is not None else pt.n_contact
-    n_slip = int(r.slip.sum()) if r is not None else 0
-    return WheelsetPatch(
-        side=cp.side,
-        contact=cp,
-        contact_angle=cp.contact_angle,
-        creepage=pt.slip.creepage if r is not None else None,
-        reference_speed=pt.slip.reference_speed if r is not None else float("nan"),
-        approach=pt.approach,
-        fn=pt.fn,
-        fx=fx,
-        fy=fy,
-        mz=mz,
-        centre_of_pressure=(x_cp, y_cp),
-        force_track=pt.force(),
-        moment_track=pt.fn * (y_cp * cp.t_x - x_cp * cp.t_y) + mz * cp.normal,
-        pmax=pt.pmax,
-        n_contact=pt.n_contact,
-        n_adhesion=n_adh,
-        n_slip=n_slip,
-        grid=pt.grid,
-        gap=pt.gap,
-        pressure=pt.p,
-        tx=None if r is None else r.tx,
-        ty=None if r is None else r.ty,
-        rolling=r,
     )
