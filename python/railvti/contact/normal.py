@@ -368,6 +368,83 @@ def _gs_in_slices(
     return float(fn_out), float(approach), int(iters), 0, float(resid), int(info)
 
 
+def _check_inputs(
+    gap: np.ndarray,
+    grid: Grid,
+    material: Material,
+    fn: float | None,
+    approach: float | None,
+    method: str,
+    tol: float,
+    max_iter: int | None,
+    omega: float,
+    subpatches: SubPatches | None,
+) -> tuple[np.ndarray, int, float, float, float, int, float]:
+    """The checked arguments of :func:`solve_normal`: the gap, the control (1 force, 2
+    approach) with its force and approach inputs, tol, max_iter (the method's default if
+    None) and omega."""
+    if not isinstance(grid, Grid):
+        raise InputError("grid must be a railvti.contact.Grid")
+    if not isinstance(material, Material):
+        raise InputError("material must be a railvti.Material")
+    h = _checks.finite_array("gap", gap, shape=grid.shape)
+    if method not in _METHODS:
+        raise InputError(f"method must be one of {sorted(_METHODS)}, got {method!r}")
+    if (fn is None) == (approach is None):
+        raise InputError("give exactly one of fn (force control) and approach (approach control)")
+    if fn is not None:
+        fn = _checks.positive("fn", fn)
+        control, fn_in, app_in = 1, fn, 0.0
+    else:
+        approach = _checks.finite("approach", approach)
+        if approach <= float(h.min()):
+            raise NoContactError(
+                f"no contact: the approach {approach:.6g} m does not exceed the smallest gap {h.min():.6g} m"
+            )
+        control, fn_in, app_in = 2, 0.0, approach
+    tol = _checks.positive("tol", tol)
+    if max_iter is None:
+        max_iter = _DEFAULT_MAX_ITER[method]
+    max_iter = _checks.positive_int("max_iter", max_iter)
+    omega = _checks.positive("omega", omega)
+    if subpatches is not None and not isinstance(subpatches, SubPatches):
+        raise InputError("subpatches must be a railvti.contact.SubPatches or None")
+    if omega >= 2.0:
+        raise InputError(f"omega must lie in (0, 2), got {omega}")
+    return h, control, fn_in, app_in, tol, max_iter, omega
+
+
+def _start_pressure(
+    p0: np.ndarray | None,
+    h: np.ndarray,
+    grid: Grid,
+    material: Material,
+    control: int,
+    fn_in: float,
+    app_in: float,
+    method: str,
+    max_iter: int,
+    nested: bool,
+    subpatches: SubPatches | None,
+) -> tuple[np.ndarray, int]:
+    """The start pressure of :func:`solve_normal` (the checked p0; else the nested start of
+    'cg' and 'pk' on a large grid, or zero) and the FFT products spent on coarse grids."""
+    nprod_coarse = 0
+    if p0 is None:
+        p = None
+        if nested and method in ("cg", "pk"):
+            p, nprod_coarse = _nested_start(
+                h, grid, material, control, fn_in, app_in, _METHODS[method], max_iter, subpatches
+            )
+        if p is None:
+            p = np.zeros(grid.shape, order="F")
+    else:
+        p = _checks.finite_array("p0", p0, shape=grid.shape)
+        if (p < 0.0).any():
+            raise InputError("p0 must be >= 0 everywhere")
+    return p, nprod_coarse
+
+
 def solve_normal(
     gap: np.ndarray,
     grid: Grid,
@@ -438,48 +515,12 @@ def solve_normal(
     ConvergenceError
         The tolerance was not reached in max_iter iterations.
     """
-    if not isinstance(grid, Grid):
-        raise InputError("grid must be a railvti.contact.Grid")
-    if not isinstance(material, Material):
-        raise InputError("material must be a railvti.Material")
-    h = _checks.finite_array("gap", gap, shape=grid.shape)
-    if method not in _METHODS:
-        raise InputError(f"method must be one of {sorted(_METHODS)}, got {method!r}")
-    if (fn is None) == (approach is None):
-        raise InputError("give exactly one of fn (force control) and approach (approach control)")
-    if fn is not None:
-        fn = _checks.positive("fn", fn)
-        control, fn_in, app_in = 1, fn, 0.0
-    else:
-        approach = _checks.finite("approach", approach)
-        if approach <= float(h.min()):
-            raise NoContactError(
-                f"no contact: the approach {approach:.6g} m does not exceed the smallest gap {h.min():.6g} m"
-            )
-        control, fn_in, app_in = 2, 0.0, approach
-    tol = _checks.positive("tol", tol)
-    if max_iter is None:
-        max_iter = _DEFAULT_MAX_ITER[method]
-    max_iter = _checks.positive_int("max_iter", max_iter)
-    omega = _checks.positive("omega", omega)
-    if subpatches is not None and not isinstance(subpatches, SubPatches):
-        raise InputError("subpatches must be a railvti.contact.SubPatches or None")
-    if omega >= 2.0:
-        raise InputError(f"omega must lie in (0, 2), got {omega}")
-    nprod_coarse = 0
-    if p0 is None:
-        p = None
-        if nested and method in ("cg", "pk"):
-            p, nprod_coarse = _nested_start(
-                h, grid, material, control, fn_in, app_in, _METHODS[method], max_iter, subpatches
-            )
-        if p is None:
-            p = np.zeros(grid.shape, order="F")
-    else:
-        p = _checks.finite_array("p0", p0, shape=grid.shape)
-        if (p < 0.0).any():
-            raise InputError("p0 must be >= 0 everywhere")
-
+    h, control, fn_in, app_in, tol, max_iter, omega = _check_inputs(
+        gap, grid, material, fn, approach, method, tol, max_iter, omega, subpatches
+    )
+    p, nprod_coarse = _start_pressure(
+        p0, h, grid, material, control, fn_in, app_in, method, max_iter, nested, subpatches
+    )
     sub = _plain(grid, subpatches)
     if method == "gs":
         fn_out, app_out, iters, nprod, resid, info = _gs_in_slices(
