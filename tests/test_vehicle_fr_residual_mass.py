@@ -1,7 +1,7 @@
 """Model FR's residual flexibility with a mass (build_fr(residual_mass=True), the default).
 
 The truncated modes' static compliance R at the rim and journal points enters as a block per
-wheelset; its coordinates get the modal mass k_i / w^2 (railvti.vehicle.model.with_mass) so that
+wheelset; its coordinates get the modal mass k_i / w^2 (railvti.vehicle.modal_blocks.with_mass) so that
 Newton goes through flange-only contact, where the saturated creep force drives massless
 coordinates' rates. Checks: the static state is the massless block's (the same compliance);
 the block's natural frequency is the one asked for; a flange impact that stops Newton with

@@ -46,7 +46,8 @@ from .. import _checks
 from ..errors import InputError
 from ..material import STEEL
 from .params import Coach
-from .model import ModalBlocks, VehicleModel
+from .modal_blocks import ModalBlocks
+from .model import VehicleModel
 from .table import QUANTITIES, WheelTable
 
 if TYPE_CHECKING:

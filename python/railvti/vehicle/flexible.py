@@ -41,7 +41,7 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 from .assembly import System, _body_point, build_coach
-from .model import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
+from .modal_blocks import RESIDUAL_ZETA, ModalBlocks, ModalCouplings, RimFollow, compliance_block, with_mass
 from .params import Coach
 from .table import WheelTable
 from ..wheelset import Wheelset
@@ -224,9 +224,9 @@ def build_fr(
         False puts the wheelsets on rigid ground instead of the four track elements (model
         FF: :func:`railvti.vehicle.ring_coupling.build_rf` then adds the ring track under them).
     residual_mass : bool
-        Give the residual coordinates a mass (:func:`railvti.vehicle.model.with_mass`): each
+        Give the residual coordinates a mass (:func:`railvti.vehicle.modal_blocks.with_mass`): each
         at the natural frequency ``residual_hz`` with the damping ratio
-        :data:`railvti.vehicle.model.RESIDUAL_ZETA`, the static compliance unchanged (the same
+        :data:`railvti.vehicle.modal_blocks.RESIDUAL_ZETA`, the static compliance unchanged (the same
         static deflection). False: massless coordinates, a quasi-static point compliance;
         Newton then stops in flange-only contact at high speed, where the saturated creep
         force drives the massless coordinates' rates (docs/vehicle.md, "Residual flexibility

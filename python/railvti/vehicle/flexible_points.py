@@ -11,7 +11,8 @@ from .._status import check
 from ..errors import InputError
 from .assembly import System
 from .flexible import FRLayout
-from .model import CallSettings, ModalBlocks
+from .modal_blocks import ModalBlocks
+from .model import CallSettings
 from .contact_models import contact_id
 
 __all__ = [

@@ -25,7 +25,8 @@ from .._status import check
 from ..errors import InputError
 from ..track.coupling import rail_of_wheel, wheel_head_shapes
 from .assembly import System, build_coach
-from .model import RESIDUAL_ZETA, ModalBlocks, VehicleModel
+from .modal_blocks import RESIDUAL_ZETA, ModalBlocks
+from .model import VehicleModel
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..track.ring import RingTrack

@@ -1,0 +1,286 @@
+"""The datasets and scalars a deck case of type ``vehicle`` stores (railvti.vehicle.cases; the
+layout in its docstring and docs/results.md): the run's history with the per-wheel outputs and
+their maxima, the modal coordinates and rim and rail motion of models FR, RF and FF, the
+contact patch, and the datasets a streamed history derives block by block."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .flexible import mode_labels
+from .flexible_points import rail_head_roll, rim_camber_change, rim_deformation
+from .model import WHEEL_OUTPUTS
+from .run_result import STAT_UNITS, WHEEL_UNITS
+from .scenario_results import WHEEL_SIDES
+
+__all__ = ["history_datasets", "modal_datasets", "stream_derived", "patch_datasets"]
+
+
+def _dof_unit(name: str, rate: bool) -> str:
+    """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
+    last = name.rsplit("_", 1)[-1]
+    if name.startswith("ring_res") and last == "r":
+        last = "roll"  # model RF's residual coordinate of the element's roll
+    if last in ("x", "y", "z"):
+        unit = "m"
+    elif last in ("roll", "pitch", "yaw", "beta"):
+        unit = "rad"
+    else:
+        unit = "1"  # modal coordinates: mass-normalised
+    return f"{unit}/s" if rate and unit != "1" else unit
+
+
+def history_datasets(res, data: dict, scalars: dict) -> str:
+    """The run's history (t, q, v, the per-wheel outputs), its statistics and the wheels'
+    maxima over the last window; returns the wheels' line of the case's summary."""
+    nw = res.wheel.shape[-1]
+    wheelsets = [f"ws{w + 1}" for w in range(nw)]
+    names = list(res.dof_names)
+    data["t"] = (res.t, "s", {"axes": ["t"]})
+    data["q"] = (
+        res.q,
+        "m or rad (per column: column_units)",
+        {"axes": ["t", "state"], "dof_names": names, "column_units": [_dof_unit(n, False) for n in names]},
+    )
+    data["v"] = (
+        res.v,
+        "m/s or rad/s (per column: column_units)",
+        {"axes": ["t", "state"], "dof_names": names, "column_units": [_dof_unit(n, True) for n in names]},
+    )
+    data["y_ws1"] = (res.y_ws1, "m", {"axes": ["t"]})
+    data["vy_ws1"] = (res.vy_ws1, "m/s", {"axes": ["t"]})
+    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets}
+    for i, name in enumerate(WHEEL_OUTPUTS):
+        data[f"wheel_{name}"] = (res.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
+    for k, v in res.stats.items():
+        scalars[f"stat_{k}"] = (v, STAT_UNITS.get(k, "1"))
+    ws = res.wheels()
+    last = {"over": f"the last {ws.window:g} s"}
+    data["ws_y"] = (
+        np.stack([res.dof(f"ws{w + 1}_y") for w in range(nw)], 1),
+        "m",
+        {"axes": ["t", "wheelset"], "wheelset": wheelsets},
+    )
+    data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
+    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets, **last}
+    data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
+    data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
+    data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
+    scalars["nadal_limit"] = (ws.nadal, "1")
+    scalars["flange_angle"] = (ws.flange_angle, "rad")
+    scalars["friction"] = (ws.friction, "1")
+    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
+    return ws.line()
+
+
+def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
+    """Model FR: the modal coordinates with their mode labels and the rims' deformation at
+    the contact points (railvti.vehicle.flexible_points.rim_deformation, rim_camber_change,
+    rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
+    ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
+    n = system.n
+    stop = system.n_state if stop is None else stop
+    nm = stop - n
+    labels = list(mode_labels(system, layouts))[:nm]
+    k = np.full(nm, -1)
+    fam = np.full(nm, "residual", dtype=object)
+    freq = np.full(nm, np.nan)
+    units = ["m"] * nm  # residual coordinates: point displacements, m
+    for lay in layouts:
+        i = slice(lay.modes.start - n, lay.modes.stop - n)
+        k[i], fam[i], freq[i] = lay.k, lay.family, lay.freq_hz
+        units[i] = ["kg^0.5 m"] * (i.stop - i.start)  # mass-normalised (M = I)
+    mode = {"axes": ["mode"], "mode_label": labels}
+    data["mode_label"] = (np.array(labels, dtype=object), "text", {"axes": ["mode"]})
+    data["mode_k"] = (
+        k,
+        "1",
+        {**mode, "meaning": "circumferential harmonic (-1: residual flexibility's massless coordinate)"},
+    )
+    data["mode_family"] = (
+        np.array([str(f) for f in fam], dtype=object),
+        "text",
+        {**mode, "meaning": "'0' (k = 0), 'A' or 'B' (k > 0), 'residual'"},
+    )
+    data["mode_frequency"] = (
+        freq,
+        "Hz",
+        {**mode, "meaning": "free-free non-rotating natural frequency (NaN: residual)"},
+    )
+    data["modal_q"] = (
+        res.q[:, n:stop],
+        "kg^0.5 m or m (per column: column_units)",
+        {"axes": ["t", "mode"], "mode_label": labels, "column_units": units},
+    )
+    per = {
+        "axes": ["t", "component", "wheel", "wheelset"],
+        "component": ["dy", "dz", "drx"],
+        "wheel": WHEEL_SIDES,
+        "wheelset": [f"ws{w + 1}" for w in range(4)],
+        "column_units": ["m", "m", "rad"],
+        "meaning": "rim deformation at the contact points (taping line), track axes",
+    }
+    data["rim_deformation"] = (rim_deformation(system, res.q), "m, m, rad (per component)", per)
+    per_w = {
+        "axes": ["t", "wheel", "wheelset"],
+        "wheel": WHEEL_SIDES,
+        "wheelset": [f"ws{w + 1}" for w in range(4)],
+    }
+    inner = (
+        "+: the inner edge, towards the track centre, rises; -drx on the left wheel, +drx "
+        "on the right, drx about the vehicle's x, y positive to the left"
+    )
+    camber = rim_camber_change(system, res.q)
+    roll = rail_head_roll(system, res.q, res.t)
+    data["rim_camber_change"] = (
+        camber,
+        "rad",
+        {**per_w, "meaning": "elastic camber of the rim at the contact point (" + inner + ")"},
+    )
+    if getattr(system, "ring", None) is not None:
+        data["rail_head_roll"] = (
+            roll,
+            "rad",
+            {
+                **per_w,
+                "meaning": "elastic roll of the rail head "
+                "under the wheel from the ring's modes (" + inner + ")",
+            },
+        )
+    data["rim_rail_angle_change"] = (
+        camber - roll,
+        "rad",
+        {
+            **per_w,
+            "meaning": "change of the rim-rail relative angle: rim_camber_change minus the "
+            "rail head's roll under the wheel (rail_head_roll; 0 on the rigid "
+            "track of model FR) (" + inner + ")",
+        },
+    )
+
+
+def _ring_history(res, system, data: dict, prefix: str = "") -> None:
+    """Model RF: the ring's modal coordinates with their labels and the rail's motion under
+    each wheel (RingSystem.rail_deflection; the crown's vertical displacement beside it);
+    the mode datasets' names get ``prefix`` (model FF: 'ring_', beside the wheelsets')."""
+    ring = system.ring
+    n0 = system.n_state - ring.n_modes - ring.n_residual
+    labels = list(system.state_names[n0:])
+    mb = system.modal
+    nm = ring.n_modes
+    om = np.sqrt([float(mb.stiffness[i][0, 0]) for i in range(nm)])
+    freq = np.concatenate([om / (2 * np.pi), np.full(ring.n_residual, np.nan)])
+    zeta = np.concatenate(
+        [[float(mb.damping[i][0, 0]) / (2 * o) for i, o in enumerate(om)], np.full(ring.n_residual, np.nan)]
+    )
+    group = np.array([int(n.split("_")[1][1:]) if n.startswith("ring_g") else -1 for n in labels])
+    units = ["kg^0.5 m"] * nm + [("rad" if n.endswith("_r") else "m") for n in labels[nm:]]
+    mode = {"axes": ["mode"], "mode_label": labels}
+    data[prefix + "mode_label"] = (np.array(labels, dtype=object), "text", {"axes": ["mode"]})
+    data[prefix + "mode_group"] = (
+        group,
+        "1",
+        {
+            **mode,
+            "meaning": "cyclic group j of the ring mode (its "
+            "sleeper-pattern wave number; -1: a residual "
+            "flexibility coordinate)",
+        },
+    )
+    data[prefix + "mode_frequency"] = (
+        freq,
+        "Hz",
+        {**mode, "meaning": "natural frequency of the ring mode (NaN: residual)"},
+    )
+    data[prefix + "mode_damping_ratio"] = (
+        zeta,
+        "1",
+        {**mode, "meaning": "modal damping ratio (NaN: residual)"},
+    )
+    data[prefix + "modal_q"] = (
+        res.q[:, n0:],
+        "kg^0.5 m, m or rad (per column: column_units)",
+        {
+            "axes": ["t", "mode"],
+            "mode_label": labels,
+            "column_units": units,
+            "meaning": "ring modes (mass-normalised), then per wheel the residual "
+            "flexibility's coordinates (y, z, roll of the element pose)",
+        },
+    )
+    rail = system.rail_deflection(res.t, res.q)  # (nt, 3, 2, nw)
+    nw = rail.shape[-1]
+    per = {
+        "axes": ["t", "component", "wheel", "wheelset"],
+        "component": ["y", "z", "roll"],
+        "wheel": WHEEL_SIDES,
+        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+        "column_units": ["m", "m", "rad"],
+        "meaning": "rail head's motion under each wheel: the pose (y, z, roll; vehicle frame, y "
+        "to the left) of the track element under the wheel, from the ring's modes",
+    }
+    data["rail_deflection"] = (rail, "m, m, rad (per component)", per)
+    half = 0.5 * ring.rail_distance
+    crown = rail[:, 1] + np.array([half, -half])[:, None] * rail[:, 2]
+    data["rail_crown_z"] = (
+        crown,
+        "m",
+        {
+            "axes": ["t", "wheel", "wheelset"],
+            "wheel": WHEEL_SIDES,
+            "wheelset": [f"ws{w + 1}" for w in range(nw)],
+            "meaning": "vertical displacement of the rail crown under each wheel (+ up)",
+        },
+    )
+
+
+def modal_datasets(res, sy, layouts: list, fr: dict, ring: dict, data: dict, scalars: dict) -> None:
+    """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
+    ring's prefixed 'ring_') from the system ``sy`` the run used and its FR ``layouts``
+    (nothing is rebuilt to label them)."""
+    if fr:
+        stop = sy.n_state - (sy.ring.n_modes + sy.ring.n_residual if ring else 0)
+        _fr_history(res, sy, layouts, data, stop=stop)
+    if ring:
+        _ring_history(res, sy, data, prefix="ring_" if fr else "")
+        scalars["n_ring_modes"] = (int(sy.ring.n_modes), "1")
+
+
+def stream_derived() -> dict:
+    """The full-length datasets of :func:`history_datasets` computed from each block of a streamed
+    history (railvti.runner.stream), so that a streamed case stores what an in-memory one does."""
+
+    def col(src: str, name: str):
+        return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]
+
+    def ws_y(b, a):
+        names = list(a["q"]["dof_names"])
+        return b["q"][:, [names.index(f"ws{w + 1}_y") for w in range(b["wheel"].shape[-1])]]
+
+    out = {"y_ws1": col("q", "ws1_y"), "vy_ws1": col("v", "ws1_y"), "ws_y": ws_y}
+    out.update({f"wheel_{n}": (lambda b, a, i=i: b["wheel"][:, i]) for i, n in enumerate(WHEEL_OUTPUTS)})
+    return out
+
+
+def patch_datasets(pt, data: dict, scalars: dict) -> None:
+    """The leading wheelset's right contact patch (FASTSIM on the Hertz ellipse, or the BEM
+    fields with contact='bem')."""
+    for name, unit in (
+        ("x", "m"),
+        ("y", "m"),
+        ("pressure", "Pa"),
+        ("tx", "Pa"),
+        ("ty", "Pa"),
+        ("power_density", "W/m^2"),
+    ):
+        data[f"patch_{name}"] = (
+            np.asarray(getattr(pt, name)),
+            unit,
+            {
+                "axes": ["x (rolling)", "y (lateral, contact frame)"],
+                "wheel": "right wheel of the leading wheelset",
+            },
+        )
+    scalars["patch_power"] = (float(pt.power), "W")
+    scalars["patch_a"] = (float(pt.a), "m")
+    scalars["patch_b"] = (float(pt.b), "m")
