@@ -314,9 +314,6 @@ def build_coach(
     it0 = 17 + 4 * nws
     n = it0 + (12 if track else 0)
     b = _Builder(n)
-    grav = p["gravity"]
-    r0 = p["wheel_radius"]
-    hc, hb, hs = p["carbody_cg_height"], p["bogie_cg_height"], p["secondary_height"]
     xb = (p["half_bogie_distance"], -p["half_bogie_distance"])
     a = p["half_wheelbase"]
     xw = np.array([xb[0] + a, xb[0] - a, xb[1] + a, xb[1] - a])
@@ -326,7 +323,44 @@ def build_coach(
         for i in range(2)
     ]
     wsd = [{c: 17 + nws * i + j for j, c in enumerate(wnames)} for i in range(4)]
-    # masses
+    diag, fg = _coach_masses(p, n, frames, wsd)
+    if track:  # the track elements under the wheelsets
+        for i in range(4):
+            j = it0 + 3 * i
+            diag[j : j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
+            b.k[j : j + 3, j : j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
+            b.c[j : j + 3, j : j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
+    b.m = np.diag(diag)
+    _primary_suspension(b, p, n, frames, wsd, xb, xw)
+    _secondary_suspension(b, p, n, car, frames, xb)
+    # preload: upper bodies in equilibrium at q = 0 with the wheelsets held
+    up = np.arange(17)
+    qu = np.zeros(n)
+    qu[up] = np.linalg.solve(b.k[np.ix_(up, up)], -fg[up])
+    f0 = fg + b.k @ qu
+    iws = np.array([[w[c] + 1 if c in w else 0 for c in IWS_ROWS] for w in wsd]).T
+    itr = (
+        np.array([[it0 + 3 * i, it0 + 1 + 3 * i, it0 + 2 + 3 * i] for i in range(4)]).T + 1
+        if track
+        else np.zeros((3, 4), dtype=int)
+    )
+    names = tuple(
+        DOF_NAMES[:17]
+        + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
+        + DOF_NAMES[17 + 4 * len(WS_DOFS) :][: n - it0]
+    )
+    sy = _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
+    if gyroscopic:
+        sy = replace(sy, spin_inertia=np.full(4, p["wheelset_pitch_inertia"]))
+    return sy
+
+
+def _coach_masses(
+    p: dict[str, float], n: int, frames: list[dict[str, int]], wsd: list[dict[str, int]]
+) -> tuple[np.ndarray, np.ndarray]:
+    """The coach's mass diagonal (carbody, bolsters, bogie frames, wheelsets; the track
+    elements' entries left 0) and gravity force vector, over the ``n`` DOFs."""
+    grav = p["gravity"]
     diag = np.zeros(n)
     diag[0:5] = [
         p["carbody_mass"],
@@ -361,25 +395,20 @@ def build_coach(
         fg[f["z"]] = -p["bogie_mass"] * grav
     for w in wsd:
         fg[w["z"]] = -p["wheelset_mass"] * grav
-    if track:
-        for i in range(4):
-            j = it0 + 3 * i
-            diag[j : j + 3] = [p["track_mass_y"], p["track_mass_z"], p["track_inertia_roll"]]
-            b.k[j : j + 3, j : j + 3] += np.diag([p["track_ky"], p["track_kz"], p["track_kroll"]])
-            b.c[j : j + 3, j : j + 3] += np.diag([p["track_cy"], p["track_cz"], p["track_croll"]])
-    b.m = np.diag(diag)
+    return diag, fg
 
-    def carbody_pt(pt):
-        return _body_point(n, car, (0.0, 0.0, hc), pt)
 
-    def bolster_pt(i, pt):
-        # carbody motion except its yaw about the bolster centre, plus the bolster's yaw
-        g = _body_point(n, {k: v for k, v in car.items() if k != "yaw"}, (0.0, 0.0, hc), pt)
-        g[1, car["yaw"]] += xb[i]
-        g += _body_point(n, {"yaw": 5 + i}, (xb[i], 0.0, hs), pt)
-        return g
-
-    # primary suspension, per axlebox
+def _primary_suspension(
+    b: _Builder,
+    p: dict[str, float],
+    n: int,
+    frames: list[dict[str, int]],
+    wsd: list[dict[str, int]],
+    xb: tuple[float, float],
+    xw: np.ndarray,
+) -> None:
+    """The primary springs and dampers, per axlebox: each wheelset against its bogie frame."""
+    r0, hb = p["wheel_radius"], p["bogie_cg_height"]
     kp = (p["primary_kx"], p["primary_ky"], p["primary_kz"])
     cp = (p["primary_cx"], p["primary_cy"], p["primary_cz"])
     for i in range(4):
@@ -395,7 +424,28 @@ def build_coach(
                 kp,
                 cp,
             )
-    # secondary suspension, per side; lateral damper per bogie; bump stops; yaw friction
+
+
+def _secondary_suspension(
+    b: _Builder,
+    p: dict[str, float],
+    n: int,
+    car: dict[str, int],
+    frames: list[dict[str, int]],
+    xb: tuple[float, float],
+) -> None:
+    """Per bogie: the secondary springs per side, air-spring bending and the anti-roll bar,
+    the bolster anchor, the lateral damper, the bump stops and the bolster's yaw friction."""
+    hc, hb, hs = p["carbody_cg_height"], p["bogie_cg_height"], p["secondary_height"]
+
+    def bolster_pt(i, pt):
+        # carbody motion except its yaw about the bolster centre, plus the bolster's yaw
+        g = _body_point(n, {k: v for k, v in car.items() if k != "yaw"}, (0.0, 0.0, hc), pt)
+        g[1, car["yaw"]] += xb[i]
+        g += _body_point(n, {"yaw": 5 + i}, (xb[i], 0.0, hs), pt)
+        return g
+
+    # per side; lateral damper per bogie; bump stops; yaw friction
     ks = (p["secondary_kx"], p["secondary_ky"], p["secondary_kz"])
     cs = (0.0, 0.0, p["secondary_cz"])
     for i in range(2):
@@ -428,26 +478,6 @@ def build_coach(
             b.elements.append(
                 (EL_FRICTION, g, (p["yaw_friction_torque"], p["yaw_friction_velocity"], 0.0, 0.0))
             )
-    # preload: upper bodies in equilibrium at q = 0 with the wheelsets held
-    up = np.arange(17)
-    qu = np.zeros(n)
-    qu[up] = np.linalg.solve(b.k[np.ix_(up, up)], -fg[up])
-    f0 = fg + b.k @ qu
-    iws = np.array([[w[c] + 1 if c in w else 0 for c in IWS_ROWS] for w in wsd]).T
-    itr = (
-        np.array([[it0 + 3 * i, it0 + 1 + 3 * i, it0 + 2 + 3 * i] for i in range(4)]).T + 1
-        if track
-        else np.zeros((3, 4), dtype=int)
-    )
-    names = tuple(
-        DOF_NAMES[:17]
-        + [f"ws{i + 1}_{c}" for i in range(4) for c in wnames]
-        + DOF_NAMES[17 + 4 * len(WS_DOFS) :][: n - it0]
-    )
-    sy = _finish(b, f0, iws, itr, table, names, xw, coach.static_wheel_load, p["friction"])
-    if gyroscopic:
-        sy = replace(sy, spin_inertia=np.full(4, p["wheelset_pitch_inertia"]))
-    return sy
 
 
 def build_single_wheelset(

@@ -341,6 +341,46 @@ def bifurcation(
         return _bifurcation_independent(
             sp, model, contact, client=client, flange_amplitude=flange_amplitude, progress=progress, **kw
         )
+    up, decay, systems = _bifurcation_continuation(sp, model, contact, client=client, progress=progress, **kw)
+    systems.steps.update(up["steps"])
+    return _bifurcation_result(
+        sp,
+        up["speeds"],
+        up["upper"],
+        up["flange"],
+        decay,
+        up["alive"],
+        threshold,
+        flange_amplitude,
+        systems,
+        model,
+        up["restarts"],
+    )
+
+
+def _bifurcation_continuation(
+    sp: np.ndarray,
+    model: str,
+    contact: str,
+    *,
+    duration: float,
+    y_large: float,
+    y_small: float,
+    threshold: float,
+    h: float | None,
+    v_min: float,
+    coach: Coach | None,
+    k_max: int,
+    f_max: float,
+    client: Any,
+    geometry: str | None = None,
+    ring: dict | None = None,
+    output_dt: float | None = None,
+    progress: bool = False,
+) -> tuple[dict, list[float], SweepSystems]:
+    """The runs of :func:`bifurcation`'s continuation sweep (speeds ``sp`` and the floor
+    ``v_min`` in m/s), serial or on a Dask client: the upper branch's dict
+    (:func:`bifurcation_upper`), the decay tests' amplitudes and the sweep's systems."""
     step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
     point = dict(
         model=model,
@@ -354,7 +394,7 @@ def bifurcation(
         ring=systems.ring,
         output_dt=output_dt,
     )
-    chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min=floor)
+    chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min=v_min)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -376,20 +416,7 @@ def bifurcation(
         up, decay = _bifurcation_on_client(client, sp, y_small, point, chain, bar)
     if bar is not None:
         bar.close()
-    systems.steps.update(up["steps"])
-    return _bifurcation_result(
-        sp,
-        up["speeds"],
-        up["upper"],
-        up["flange"],
-        decay,
-        up["alive"],
-        threshold,
-        flange_amplitude,
-        systems,
-        model,
-        up["restarts"],
-    )
+    return up, decay, systems
 
 
 def bifurcation_upper(

@@ -225,20 +225,40 @@ def simulate(
         )
         plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
         check_modal_step(system, plan.h)
-        stream_tail = _checks.positive("stream_tail", stream_tail)
-        if stream_to is None:
-            check_history_memory(system, plan)
-        cs = call_settings(speed, spec, _checks.positive_int("fastsim_n", fastsim_n), bem)
-        nthreads = bem_threads(bem, threads) if spec.needs_bem else 1
-        wait_idle(system)  # a static solve interrupted earlier may still run on this model
-        q, v = _start_state(system, cs, spec, bem, q0, v0)
-        if plan.scheme == INTEGRATORS["energy"]:
-            q = consistent_massless(system, speed, q, v, spec, fastsim_n)
-        cnt0 = bem.counts() if bem is not None else None
-        wall0 = time.perf_counter()
-        with _open_stream(stream_to) as stream:
-            res = integrate(system, cs, plan, q, v, spec.name, stream, stream_tail)
-        return _finish(res, system, plan, time.perf_counter() - wall0, bem, cnt0, nthreads)
+        return _run_planned(
+            system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
+        )
+
+
+def _run_planned(
+    system: System,
+    speed: float,
+    spec: ContactModel,
+    bem: BemState | None,
+    plan: RunPlan,
+    q0: np.ndarray | None,
+    v0: np.ndarray | None,
+    fastsim_n: int,
+    threads: int | None,
+    stream_to: HistorySink | None,
+    stream_tail: float,
+) -> SimulationResult:
+    """:func:`simulate` once its run is planned (``speed`` checked, m/s): the remaining
+    settings checked, the start state, the time loop (streamed or kept) and its result."""
+    stream_tail = _checks.positive("stream_tail", stream_tail)
+    if stream_to is None:
+        check_history_memory(system, plan)
+    cs = call_settings(speed, spec, _checks.positive_int("fastsim_n", fastsim_n), bem)
+    nthreads = bem_threads(bem, threads) if spec.needs_bem else 1
+    wait_idle(system)  # a static solve interrupted earlier may still run on this model
+    q, v = _start_state(system, cs, spec, bem, q0, v0)
+    if plan.scheme == INTEGRATORS["energy"]:
+        q = consistent_massless(system, speed, q, v, spec, fastsim_n)
+    cnt0 = bem.counts() if bem is not None else None
+    wall0 = time.perf_counter()
+    with _open_stream(stream_to) as stream:
+        res = integrate(system, cs, plan, q, v, spec.name, stream, stream_tail)
+    return _finish(res, system, plan, time.perf_counter() - wall0, bem, cnt0, nthreads)
 
 
 def _finish(
