@@ -65,6 +65,7 @@ PHYSICS = (
     "railvti.profiles",
     "railvti.scenarios",
     "railvti.critical_search",
+    "railvti.envelope_criteria",
 )
 
 
