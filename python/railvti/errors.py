@@ -54,3 +54,14 @@ class AliasingWarning(UserWarning):
     """An output interval too coarse for a known periodic excitation of the run (the
     sleeper passing, hunting): the stored history shows it at a false frequency
     (railvti.vehicle.output)."""
+
+
+__all__ = [
+    "RailvtiError",
+    "InputError",
+    "GridTooSmallError",
+    "NoContactError",
+    "ConvergenceError",
+    "DivergenceError",
+    "AliasingWarning",
+]

@@ -43,3 +43,5 @@ class Material:
 
 #: Wheel and rail steel as in the Manchester Contact Benchmark (G = 82 GPa, nu = 0.28).
 STEEL = Material(shear_modulus=82.0e9, poisson=0.28)
+
+__all__ = ["Material", "STEEL"]

@@ -81,3 +81,14 @@ def check_memory(what: str, nbytes: float, hint: str = "") -> None:
             f"limit of {size_text(limit)} ({source}){'; ' + hint if hint else ''}; "
             f"raise the limit with {ENV} or 'railvti run --max-memory SIZE'"
         )
+
+
+__all__ = [
+    "ENV",
+    "DEFAULT_SHARE",
+    "parse_size",
+    "available_memory",
+    "memory_limit",
+    "size_text",
+    "check_memory",
+]

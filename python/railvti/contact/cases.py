@@ -457,3 +457,15 @@ register(
         summary="steady rolling contact: tractions, slip and creep forces",
     )
 )
+
+__all__ = [
+    "KEYS",
+    "MIN_PATCH_ELEMENTS",
+    "check_normal",
+    "check_rolling",
+    "MAX_SEMI_RATIO",
+    "make_gap",
+    "run_normal",
+    "plot_pressure",
+    "run_rolling",
+]

@@ -511,3 +511,5 @@ def read_contact_deck(path: str | Path) -> list[Case]:
 
 
 register_deck_reader(".inp", read_contact_deck)
+
+__all__ = ["WORDS", "SUPPORTED", "UNSUPPORTED_PROFILES", "read_contact_deck"]

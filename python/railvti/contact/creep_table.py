@@ -254,3 +254,6 @@ def creep_force_table(
         iterations=iters_t.astype(int),
         normal_solves=int(starts.sum()),
     )
+
+
+__all__ = ["DIRECT_CALL_WORK", "CreepForceTable", "creep_force_table"]

@@ -84,3 +84,6 @@ class Grid:
     def mesh(self) -> tuple[np.ndarray, np.ndarray]:
         """Element-centre coordinates as two ``(nx, ny)`` arrays (``indexing='ij'``)."""
         return np.meshgrid(self.x, self.y, indexing="ij")
+
+
+__all__ = ["Grid"]

@@ -111,3 +111,6 @@ def hertz_gap(grid: Grid, A: float, B: float) -> np.ndarray:
     B = _checks.finite("B", B)
     x, y = grid.mesh()
     return np.asfortranarray(A * x * x + B * y * y)
+
+
+__all__ = ["HertzResult", "hertz", "hertz_gap"]

@@ -83,3 +83,6 @@ def convolve(
     if info != Status.OK:
         raise error(info, "convolve_c failed", exc=RailvtiError)
     return u
+
+
+__all__ = ["KERNELS", "influence_field", "convolve"]

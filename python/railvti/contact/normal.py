@@ -568,3 +568,6 @@ def solve_normal(
     _check_edges(p)
     log.debug("solve_normal %s: %d iterations, residual %.3g, %d in contact", method, iters, resid, n_contact)
     return result
+
+
+__all__ = ["GS_SLICE_SECONDS", "CG_SLICE_SECONDS", "SubPatches", "NormalResult", "solve_normal"]

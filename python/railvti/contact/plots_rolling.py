@@ -100,3 +100,6 @@ def plot_rolling(group: Any, outdir: Path, stem: str) -> list[Path]:
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return [path]
+
+
+__all__ = ["plot_rolling"]

@@ -420,3 +420,13 @@ def solve_rolling(
         approach=normal.approach,
         product=product,
     )
+
+
+__all__ = [
+    "DEFAULT_BLOCK",
+    "DEFAULT_INNER",
+    "DIRECT_CALL_WORK",
+    "RollingResult",
+    "solve_tangential",
+    "solve_rolling",
+]

@@ -419,3 +419,16 @@ register(
         summary="one wheelset position on its rails with its full kinematics (CONTACT module 1)",
     )
 )
+
+__all__ = [
+    "load_profile",
+    "contact_summary",
+    "MIN_PATCH_ELEMENTS",
+    "resolution_problem",
+    "run",
+    "plot",
+    "DEFAULTS",
+    "KEYS",
+    "check",
+    "MM_ALIASES",
+]

@@ -303,3 +303,18 @@ def store_patch_fields(
                 for q in ("pressure", "tx", "ty", "status"):
                     if f"{pre}_{q}" in ds:
                         attrs[f"{pre}_{q}"] = {"axes": [f"{pre}_x", f"{pre}_y"]}
+
+
+__all__ = [
+    "MAX_PATCHES",
+    "UNITS",
+    "patch_slots",
+    "wheel_nan_labels",
+    "sweep_arrays",
+    "WHEELSET_KEYS",
+    "MATERIAL_ALIASES",
+    "check",
+    "run",
+    "plot",
+    "store_patch_fields",
+]

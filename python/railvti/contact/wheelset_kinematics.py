@@ -215,3 +215,6 @@ def patch_moment(
     tx, ty, n = contact.t_x, contact.t_y, contact.normal
     about_p = fn * (y_cp * tx - x_cp * ty) + mz * n
     return np.cross(contact.position - np.asarray(centre, dtype=float), force) + about_p
+
+
+__all__ = ["WheelsetMotion", "RigidSlip", "body_axes", "angular_velocity", "rigid_slip", "patch_moment"]

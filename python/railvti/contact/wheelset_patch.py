@@ -271,3 +271,6 @@ def solve_patch_rolling(
         approach=pt.approach,
         **kw,
     )
+
+
+__all__ = ["GROW", "PatchState", "curvature_fit", "solve_patch_normal", "solve_patch_rolling"]

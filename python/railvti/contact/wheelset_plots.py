@@ -143,3 +143,6 @@ def field_label(key: str) -> str:
     """'left wheel, patch 1' for a stored field's key 'left0'."""
     side, n = key.rstrip("0123456789"), key[len(key.rstrip("0123456789")) :]
     return f"{side} wheel, patch {int(n) + 1}" if side in ("left", "right") and n else key
+
+
+__all__ = ["plot_sweep", "plot_fields", "wrap_title", "case_title", "field_label"]

@@ -205,3 +205,6 @@ def contact_points_at_roll(
             st,
         )
     return WheelsetContact(WheelsetPose(y, z_mean, roll, yaw, lay), lists[0], lists[1], st)  # type: ignore[arg-type]
+
+
+__all__ = ["MAX_ROLL", "NOT_PLACED", "contact_points_at_roll"]

@@ -197,3 +197,6 @@ def moved(a: ContactPoint, b: ContactPoint, tol_position: float, tol_angle: floa
         np.linalg.norm(a.position - b.position) > tol_position
         or abs(a.contact_angle - b.contact_angle) > tol_angle
     )
+
+
+__all__ = ["STEP", "WEIGHT_POWER", "SUBPATCH_POWER", "Reference", "contact_references", "moved"]

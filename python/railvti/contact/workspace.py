@@ -125,3 +125,5 @@ def clear() -> None:
 
 
 atexit.register(clear)
+
+__all__ = ["POLL_SECONDS", "call_interruptibly", "call_directly", "workspace", "clear"]

@@ -275,3 +275,6 @@ def creepages(
         eta=float(vel @ contact.t_y) / v,
         phi=float(omega @ contact.normal) / v,
     )
+
+
+__all__ = ["GapField", "Creepages", "gap_field", "creepages"]

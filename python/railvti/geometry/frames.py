@@ -34,3 +34,6 @@ def axle_direction(roll: np.ndarray, yaw: np.ndarray) -> np.ndarray:
     """
     cr = np.cos(roll)
     return np.stack([-np.sin(yaw) * cr, np.cos(yaw) * cr, np.sin(roll)], axis=-1)
+
+
+__all__ = ["SIDES", "SIGN", "axle_direction"]

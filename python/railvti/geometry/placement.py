@@ -184,3 +184,6 @@ def layout(
         _CACHE.clear()
     _CACHE[key] = out
     return out
+
+
+__all__ = ["TrackLayout", "ProfileLayout", "layout"]

@@ -215,3 +215,6 @@ def load(spec: str | Path, kind: str, *, cant: float = 0.0) -> Profile:
     if not path.is_file():
         raise InputError(f"{kind} must be 's1002'/'uic60' or a profile file, got {spec!r}")
     return read(path, unit="mm", kind=kind)
+
+
+__all__ = ["UNITS", "example_path", "read", "load"]

@@ -183,3 +183,6 @@ class Profile:
         n = max(int(np.ceil((self.y[-1] - self.y[0]) / step)) + 1, 4)
         yy = np.linspace(self.y[0], self.y[-1], n)
         return yy, self._spline(yy)
+
+
+__all__ = ["MIN_WIDTH", "MAX_WIDTH", "KINDS", "Profile"]

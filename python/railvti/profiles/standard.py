@@ -184,3 +184,6 @@ def uic60(cant: float = 1.0 / 40.0, step: float = 5e-5) -> Profile:
     return Profile(
         sr * 1e-3, -hr * 1e-3, kind="rail", name=f"UIC60 (60E1) cant 1:{1 / c:.0f}" if c else "UIC60 (60E1)"
     )
+
+
+__all__ = ["S1002_BREAKS_MM", "s1002_mm", "s1002", "uic60"]

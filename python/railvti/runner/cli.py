@@ -546,3 +546,5 @@ def _main(argv: list[str] | None) -> int:
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
+
+__all__ = ["EXIT_SIGPIPE", "EXIT_UNEXPECTED", "Stopped", "main"]

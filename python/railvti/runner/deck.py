@@ -354,3 +354,15 @@ def read_deck(path: str | Path) -> list[Case]:
     except OSError as exc:
         raise InputError(f"cannot read deck {path}: {exc.strerror}") from None
     return parse_deck(decode_deck(data, str(path)))
+
+
+__all__ = [
+    "MAX_CASES",
+    "MAX_TASKS",
+    "MAX_LISTED",
+    "decode_deck",
+    "check_text",
+    "check_cases",
+    "parse_deck",
+    "read_deck",
+]

@@ -39,3 +39,6 @@ def deck_readers() -> dict[str, Callable[[Path], list[Case]]]:
     reader)."""
     case_types()
     return DECK_READERS
+
+
+__all__ = ["case_types", "deck_readers"]

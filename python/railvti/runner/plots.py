@@ -113,3 +113,6 @@ def _stem(file_stem: str, gname: str) -> str:
     if len(stem) > 150:
         stem = f"{stem[:139]}~{hashlib.sha1(stem.encode('utf-8', 'replace')).hexdigest()[:10]}"
     return stem
+
+
+__all__ = ["plot_results"]

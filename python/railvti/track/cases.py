@@ -250,3 +250,5 @@ register(
         summary="rigid track element (mass, stiffness, damping per direction) fitted to a ring track",
     )
 )
+
+__all__ = ["KEYS", "check_receptance", "run_receptance", "plot_receptance", "run_element"]

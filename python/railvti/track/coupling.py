@@ -114,3 +114,6 @@ def wheel_head_shapes(track: RingTrack, x: float, side: int | str, s: float | No
     """
     m = rail_of_wheel(side)
     return m.to_vehicle(track.head_shapes(x, m.rail, None if s is None else m.lateral_sign * s))
+
+
+__all__ = ["REFLECT_Y", "RailOfWheel", "rail_of_wheel", "wheel_head_shapes"]

@@ -111,3 +111,6 @@ class TrackElement:
             damping=(out[0][2], out[1][2], out[2][2]),
             rail_distance=2 * b,
         )
+
+
+__all__ = ["TrackElement"]

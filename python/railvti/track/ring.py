@@ -627,3 +627,6 @@ class RingTrack:
         return TrackModes(
             freq=om[sel] / (2 * math.pi), damping_ratio=self.cmod[sel] / (2 * om[sel]), group=self.group[sel]
         )
+
+
+__all__ = ["DEFAULTS", "NUMERICS", "TrackModes", "section_fe", "RingTrack"]

@@ -574,3 +574,21 @@ def rail_section(
         crown_node=crown,
         foot_edges=np.array(feet, dtype=int),
     )
+
+
+__all__ = [
+    "PUBLISHED_60E1",
+    "GAUSS_L",
+    "GAUSS_W",
+    "ARC_STEP_MAX",
+    "arc_step_si",
+    "uic60_outline",
+    "check_outline",
+    "t6_shape",
+    "RailSection",
+    "boundary_edges",
+    "HeadSurface",
+    "head_surface",
+    "section_properties",
+    "rail_section",
+]

@@ -137,3 +137,15 @@ def output_interval(
     if output_dt is None:
         return default_interval(excitations, h, base)
     return check_interval(output_dt, h, excitations, key)
+
+
+__all__ = [
+    "SAMPLES_PER_PERIOD",
+    "ROLLING_HALF_DISTANCE",
+    "Excitation",
+    "hunting",
+    "sleeper_passing",
+    "default_interval",
+    "check_interval",
+    "output_interval",
+]

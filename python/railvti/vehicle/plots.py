@@ -250,3 +250,6 @@ def plot_patch(
     fig.savefig(path, dpi=80)
     plt.close(fig)
     return Path(path)
+
+
+__all__ = ["MIN_SPAN", "plot_history", "plot_wheels", "plot_bifurcation", "plot_patch"]

@@ -675,3 +675,17 @@ def _append_blocks(first: ModalBlocks, ring: ModalBlocks) -> ModalBlocks:
 def set_time(system: RingSystem, t: float) -> None:
     """Set the system's ring rows to time t (the next force or static call sees them)."""
     check(core.vehicle_ring_time_c(system.native.handle, _checks.finite("t", t)), "ring track time")
+
+
+__all__ = [
+    "POINT_COMPONENTS",
+    "DISPLACEMENT_BLOCK",
+    "RingRows",
+    "RingSystem",
+    "check_ring_length",
+    "ring_rows",
+    "residual_inertia_of",
+    "residual_blocks",
+    "build_rf",
+    "set_time",
+]

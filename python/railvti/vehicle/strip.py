@@ -327,3 +327,17 @@ def _poses(name: str, y, zc, roll, yaw) -> tuple[tuple, np.ndarray]:
 def _reshape(a: np.ndarray, shape: tuple, n: int) -> np.ndarray:
     """(n, 2, np) Fortran output -> (*shape, 2, n)."""
     return np.transpose(a, (2, 1, 0)).reshape(shape + (2, n))
+
+
+__all__ = [
+    "STRIP_OUTPUTS",
+    "UPPER_CLIP",
+    "UPPER_LINEAR",
+    "UPPER_FLAT",
+    "RAIL_SMOOTHING",
+    "StripGeometry",
+    "strip_geometry",
+    "saturated_log_ratio",
+    "strip_wheel",
+    "strip_linearise",
+]

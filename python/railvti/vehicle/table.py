@@ -616,3 +616,19 @@ def linearised_table(
         data_roll=np.asfortranarray(dr),
         r_nominal=table.r_nominal,
     )
+
+
+__all__ = [
+    "QUANTITIES",
+    "IBRANCH",
+    "IZARM",
+    "IRLINK",
+    "IRZZ",
+    "ROLL_MAX",
+    "ROLL_STEP",
+    "WheelTable",
+    "wheel_table",
+    "rolled_gap",
+    "pose_values",
+    "linearised_table",
+]

@@ -160,3 +160,6 @@ def coach_wheelset(geometry: WheelsetGeometry | None = None) -> WheelsetBody:
         bare=bare,
         parts=parts,
     )
+
+
+__all__ = ["BENCHMARK_MASS", "LumpedPart", "WheelsetBody", "coach_wheelset"]

@@ -273,3 +273,12 @@ def wheelset_beam_k1(
     w = linalg.eigh(kk, mm, eigvals_only=True)
     f = np.sqrt(np.clip(w, 0.0, None)) / (2.0 * np.pi)
     return f[2 : 2 + n_modes]
+
+
+__all__ = [
+    "timoshenko_free_free",
+    "annular_plate_clamped_free",
+    "wheel_rigid_body",
+    "wheelset_mass_properties",
+    "wheelset_beam_k1",
+]

@@ -248,3 +248,5 @@ register(
         summary="flexible rotating wheelset (axisymmetric FE): modes per harmonic and FRF",
     )
 )
+
+__all__ = ["DEFAULTS", "KEYS", "check", "run", "plot"]

@@ -233,3 +233,6 @@ def eq11_blocks(
     gyro = 2.0 * omega * np.block([[np.zeros((n, n)), gk], [-gk, np.zeros((n, n))]])
     kd = np.diag(lam) - omega**2 * mc - (k * omega) ** 2 * eye - 2.0 * k * omega**2 * gam
     return gyro, kd, np.diag(np.concatenate([2.0 * zeta * w] * 2))
+
+
+__all__ = ["HarmonicModes", "check_harmonic", "solve_harmonic", "eq11_blocks"]

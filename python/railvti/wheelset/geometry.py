@@ -263,3 +263,6 @@ class WheelsetGeometry:
     def as_dict(self) -> dict[str, float]:
         """All parameters as a plain dict."""
         return asdict(self)
+
+
+__all__ = ["WheelsetGeometry"]

@@ -211,3 +211,13 @@ def check_simple_polygon(points: np.ndarray, name: str) -> None:
                     f"the {name} meridian outline intersects itself "
                     f"(edge {_pt(a)}-{_pt(b)} meets edge {_pt(c)}-{_pt(d)}); check its dimensions"
                 )
+
+
+__all__ = [
+    "Block",
+    "MeridianMesh",
+    "mesh_blocks",
+    "rectangle_mesh",
+    "segments_intersect",
+    "check_simple_polygon",
+]

@@ -546,3 +546,6 @@ class Wheelset:
         where = f" at {f[idx - 1]} Hz (undamped rigid mode?)" if idx > 0 else ""
         check(info, f"wheelset FRF: dynamic matrix{where}")
         return h[0, 0, :].copy()
+
+
+__all__ = ["PrimarySuspension", "ModeTable", "AxleFixedModel", "Wheelset"]

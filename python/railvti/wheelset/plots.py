@@ -44,3 +44,6 @@ def plot_frf(path: Path, freqs: np.ndarray, curves: dict[str, np.ndarray], title
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+__all__ = ["plot_mode", "plot_frf"]
