@@ -34,7 +34,7 @@ def main(duration: float = 10.0, models: tuple[str, ...] = ("RR", "FR", "RF", "F
         build = time.perf_counter() - t0
         t0 = time.perf_counter()
         c = scenarios.centred_running(
-            300.0, model=model, contact="hertz-fastsim", duration=duration, output_dt=2e-3, progress=False
+            300.0, variant=model, contact="hertz-fastsim", duration=duration, output_dt=2e-3, progress=False
         )
         wall = time.perf_counter() - t0
         r = c.run

@@ -31,7 +31,7 @@ def main(n_sl: int = 40, f_limit: float = 500.0, dur: float = 0.5) -> None:
         kw = dict(n_sleepers=n_sl, f_limit=f_limit, track_params=tp) if model == "RF" else {}
         t0 = time.perf_counter()
         c = scenarios.centred_running(
-            200.0, model=model, duration=dur, progress=False, output_dt=5e-4, h=5e-4, **kw
+            200.0, variant=model, duration=dur, progress=False, output_dt=5e-4, h=5e-4, **kw
         )
         wall = time.perf_counter() - t0
         r = c.run

@@ -53,8 +53,8 @@ def test_bad_input_names_the_key(kw, key):
         nonlinear_critical_speed("RR", **kw)
 
 
-def test_unknown_model_and_contact():
-    with pytest.raises(InputError, match="model"):
+def test_unknown_variant_and_contact():
+    with pytest.raises(InputError, match="unknown variant"):
         nonlinear_critical_speed("XX")
     with pytest.raises(InputError, match="contact"):
         nonlinear_critical_speed("RR", contact="coulomb")

@@ -95,7 +95,7 @@ SCENARIO_CALLS = [
     ("hunting-negative", lambda: scenarios.hunting(-100.0, duration=0.01), ["(0, 600] km/h"]),
     ("hunting-zero", lambda: scenarios.hunting(0.0, duration=0.01), ["(0, 600] km/h"]),
     ("hunting-text", lambda: scenarios.hunting("fast", duration=0.01), ["speed_kmh", "number"]),
-    ("hunting-model", lambda: scenarios.hunting(300.0, "XX", duration=0.01), ["model"]),
+    ("hunting-variant", lambda: scenarios.hunting(300.0, "XX", duration=0.01), ["variant"]),
     ("hunting-contact", lambda: scenarios.hunting(300.0, contact="x", duration=0.01), ["contact model"]),
     ("centred-5000", lambda: scenarios.centred_running(5000.0, duration=0.01), ["(0, 600] km/h"]),
     ("centred-inf", lambda: scenarios.centred_running(math.inf, duration=0.01), ["finite"]),

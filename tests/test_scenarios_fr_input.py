@@ -21,16 +21,16 @@ def _deck(**kw):
 @pytest.mark.parametrize(
     "call",
     [
-        lambda: scenarios.centred_running(200.0, model="FX", duration=0.01),
-        lambda: scenarios.hunting(300.0, model="fr", duration=0.01),
-        lambda: scenarios.bifurcation([300.0, 280.0], model="FQ", progress=False),
+        lambda: scenarios.centred_running(200.0, variant="FX", duration=0.01),
+        lambda: scenarios.hunting(300.0, variant="fr", duration=0.01),
+        lambda: scenarios.bifurcation([300.0, 280.0], variant="FQ", progress=False),
         lambda: scenarios.linear_critical_speed("XR"),
         lambda: scenarios.critical_speed("ring", method="linear"),
         lambda: scenarios.coach_system("XX"),
     ],
 )
-def test_unknown_model(call):
-    with pytest.raises(InputError, match="unknown model"):
+def test_unknown_variant(call):
+    with pytest.raises(InputError, match="unknown variant"):
         call()
 
 

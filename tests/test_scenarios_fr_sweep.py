@@ -46,7 +46,7 @@ def test_rr_sweep_is_the_plain_continuation():
         up[kmh], q, v = scenarios.amplitude(r), r.q[-1], r.v[-1]
         rd = simulate(sy, vv, d, h=1e-3, q0=lateral_disturbance(sy, qs, ys), output_dt=0.002, progress=False)
         dec[kmh] = scenarios.amplitude(rd)
-    assert b.model == "RR" and b.speeds_kmh.tolist()[-2:] == [280.0, 300.0]
+    assert b.variant == "RR" and b.speeds_kmh.tolist()[-2:] == [280.0, 300.0]
     for kmh in (280.0, 300.0):
         k = int(np.flatnonzero(b.speeds_kmh == kmh)[0])
         if kmh == 280.0 or b.upper[k] > b.threshold:  # the branch reached this speed
@@ -80,7 +80,7 @@ def test_fr_sweep_builds_per_speed_and_continues():
             **SMALL,
         )
     b = cs.bifurcation
-    assert cs.model == b.model == "FR"
+    assert cs.variant == b.variant == "FR"
     assert b.details["modal_restarts"].size == 0
     sy, lay = scenarios.fr_system(speed_kmh=380.0, **SMALL)
     h = b.details["h"]
@@ -153,7 +153,7 @@ def test_fr_linear_critical_speed_close_to_rr():
     fr = scenarios.critical_speed(
         "FR", method="linear", v_lo_kmh=lo, v_hi_kmh=hi, tol_kmh=0.6 * (hi - lo), **SMALL
     )
-    assert fr.model == "FR" and fr.speed == pytest.approx(fr.kmh / 3.6)
+    assert fr.variant == "FR" and fr.speed == pytest.approx(fr.kmh / 3.6)
     assert lo < fr.kmh < hi
     assert abs(fr.frequency_hz - rr.frequency_hz) < 0.05 * rr.frequency_hz
 

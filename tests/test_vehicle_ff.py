@@ -90,7 +90,7 @@ def test_ff_centred_running():
     (RingSystem.rail_deflection's roll under each wheel, -roll on the left rail, +roll on the
     right: the inner edge rising) to round-off, and left and right mirror each other."""
     c = scenarios.centred_running(200.0, "FF", "hertz-fastsim", duration=0.05, k_max=1, f_max=300.0, **RING)
-    assert c.model == "FF" and c.rim_angle is not None and c.rail is not None
+    assert c.variant == "FF" and c.rim_angle is not None and c.rail is not None
     assert c.q_error < 0.03
     assert np.all(c.rim_camber > 0)
     assert np.all(c.rail[:, 1] < 0)
@@ -124,7 +124,7 @@ def test_ring_bifurcation_below_the_critical_speed():
     the small one too; the step of every speed is reported."""
     b = scenarios.bifurcation(
         [200.0, 180.0],
-        model="RF",
+        variant="RF",
         contact="hertz-kalker",
         duration=0.6,
         y_large=0.003,
@@ -171,9 +171,9 @@ def test_ff_and_ring_bad_input():
     with pytest.raises(InputError, match="k_max"):
         scenarios.coach_system("RF", speed_kmh=200.0, k_max=1)
     with pytest.raises(InputError, match="ring track"):
-        scenarios.bifurcation([300.0, 280.0], model="FR", n_sleepers=40, progress=False)
+        scenarios.bifurcation([300.0, 280.0], variant="FR", n_sleepers=40, progress=False)
     with pytest.raises(InputError, match="unknown keyword"):
-        scenarios.bifurcation([300.0, 280.0], model="RF", sleepers=40, progress=False)
+        scenarios.bifurcation([300.0, 280.0], variant="RF", sleepers=40, progress=False)
     with pytest.raises(InputError, match="f_limit"):
         scenarios.critical_speed("FF", method="linear", f_limit=-1.0)
 

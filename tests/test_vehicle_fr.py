@@ -287,8 +287,8 @@ def test_eulerian_term_frozen_pattern(body):
 
 def test_centred_running_fr(fr):
     """centred_running(model='FR') runs and gives the static loads and the rim angle."""
-    c = scenarios.centred_running(200, model="FR", duration=0.05, geometry="table")
-    assert c.model == "FR"
+    c = scenarios.centred_running(200, variant="FR", duration=0.05, geometry="table")
+    assert c.variant == "FR"
     assert c.q_error < 0.01
     assert c.rim_angle.shape == (2, 4)
     sy, _, q, _ = fr
@@ -299,7 +299,7 @@ def test_centred_running_fr(fr):
 
 def test_fr_errors(body):
     with pytest.raises(InputError, match="f_max"):  # bifurcation takes FR (issue 14 item 5)
-        scenarios.bifurcation([300.0, 280.0], model="FR", duration=0.1, progress=False, f_max=-1.0)
+        scenarios.bifurcation([300.0, 280.0], variant="FR", duration=0.1, progress=False, f_max=-1.0)
     with pytest.raises(InputError, match="speed_kmh"):
         scenarios.coach_system("FR")
     with pytest.raises(InputError):
@@ -315,7 +315,7 @@ def test_hunting_fr_starts_from_the_disturbed_fr_equilibrium():
     wheelsets by y0 from the FR static equilibrium (modes deflected, not from RR's), and
     integrates the modal state with a step that resolves the kept modes."""
     y0 = 0.004
-    fr = scenarios.hunting(350.0, model="FR", duration=0.02, y0=y0, output_dt=0.002, progress=False)
+    fr = scenarios.hunting(350.0, variant="FR", duration=0.02, y0=y0, output_dt=0.002, progress=False)
     sy = scenarios.coach_system("FR", speed_kmh=350.0)
     qs, _ = static_equilibrium(sy, speed_m_s(350.0), "hertz-kalker")
     assert fr.q.shape[1] == sy.n_state and np.all(np.isfinite(fr.q))

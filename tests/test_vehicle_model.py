@@ -150,11 +150,11 @@ def test_maxsub_must_be_a_small_nonnegative_integer(maxsub):
         scenarios.hunting(300.0, duration=0.01, maxsub=maxsub, progress=False)
 
 
-def test_unknown_contact_and_model():
+def test_unknown_contact_and_variant():
     with pytest.raises(InputError, match="unknown contact"):
         scenarios.hunting(300.0, contact="carter")
-    with pytest.raises(InputError, match="model"):
-        scenarios.hunting(300.0, model="FX")
+    with pytest.raises(InputError, match="unknown variant"):
+        scenarios.hunting(300.0, variant="FX")
 
 
 def test_model_is_sent_once_and_freed_with_its_system(table):

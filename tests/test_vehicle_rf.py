@@ -288,9 +288,9 @@ def test_centred_running_rf(ring):
     load, the rail deflected under every wheel, mirror-symmetric."""
     tp = {k: v for k, v in COARSE.items()}
     c = scenarios.centred_running(
-        200.0, model="RF", duration=0.05, n_sleepers=40, f_limit=300.0, track_params=tp, progress=False
+        200.0, variant="RF", duration=0.05, n_sleepers=40, f_limit=300.0, track_params=tp, progress=False
     )
-    assert c.model == "RF" and c.rail is not None
+    assert c.variant == "RF" and c.rail is not None
     assert np.max(np.abs(c.Q / c.static_wheel_load - 1)) < 0.03
     assert np.all(c.rail[:, 1] < 0)
     np.testing.assert_allclose(c.Q[0], c.Q[1], rtol=1e-6)
@@ -302,7 +302,7 @@ def test_rf_bad_input():
     with pytest.raises(InputError, match="speed"):
         scenarios.coach_system("RF")
     with pytest.raises(InputError, match="RF"):
-        scenarios.centred_running(200.0, model="RR", n_sleepers=40)
+        scenarios.centred_running(200.0, variant="RR", n_sleepers=40)
     with pytest.raises(InputError, match="no ring mode"):
         ring_rows(RingTrack(8, **COARSE), np.zeros(1), V, f_limit=1.0)
     with pytest.raises(InputError, match="ring track"):

@@ -129,7 +129,7 @@ def test_simulation_result_saves_and_loads_the_rail(tmp_path):
     """SimulationResult of model RF: ``rail`` is RingSystem.rail_deflection of its states;
     save / load returns it equal, with the ring coordinates' names in dof_names."""
     c = scenarios.centred_running(
-        200.0, model="RF", duration=0.01, n_sleepers=40, f_limit=300.0, track_params=COARSE, progress=False
+        200.0, variant="RF", duration=0.01, n_sleepers=40, f_limit=300.0, track_params=COARSE, progress=False
     )
     run = c.run
     assert run.rail is not None and run.rail.shape == (run.t.size, 3, 2, 4)
@@ -148,7 +148,7 @@ def test_rr_result_has_no_rail():
 
 
 def test_model_choices_follow_scenarios():
-    assert REGISTRY["vehicle"].keys["model"].choices == scenarios.MODELS
+    assert REGISTRY["vehicle"].keys["model"].choices == scenarios.VARIANTS
 
 
 @pytest.mark.parametrize(
@@ -210,7 +210,7 @@ def test_truncation_without_track_modes_in_a_deck(tmp_path, capsys):
         (
             lambda: scenarios.centred_running(
                 200.0,
-                model="RF",
+                variant="RF",
                 n_sleepers=40,
                 duration=0.01,
                 track_params={**COARSE, "pad_stiffness_vertical": -2e8},
@@ -220,7 +220,7 @@ def test_truncation_without_track_modes_in_a_deck(tmp_path, capsys):
         (
             lambda: scenarios.centred_running(
                 200.0,
-                model="RF",
+                variant="RF",
                 n_sleepers=40,
                 duration=0.01,
                 track_params={**COARSE, "pad_stiffness_lateral": -1.0},

@@ -25,7 +25,7 @@ def check(geometry: str | None, duration: float) -> None:
     label = geometry or f"default ({scenarios.DEFAULT_GEOMETRY['hertz-kalker']})"
     t0 = time.perf_counter()
     kw = {} if geometry is None else {"geometry": geometry}
-    c = scenarios.critical_speed(model="RR", method="nonlinear", progress=False, **kw)
+    c = scenarios.critical_speed(variant="RR", method="nonlinear", progress=False, **kw)
     b = c.bifurcation
     print(f"RR, Hertz + Kalker, geometry {label}: {c.message} [{time.perf_counter() - t0:.0f} s]")
     for s, u, d in zip(b.speeds_kmh, b.upper, b.decay):

@@ -27,7 +27,7 @@ from railvti import scenarios
 
 FIG = Path(__file__).resolve().parent / "figures"
 CACHE = Path("/tmp/vehicle_four_contact_cycle.pkl")
-MODELS = ("RR", "FF")
+VARIANTS = ("RR", "FF")
 SIDES = ("left", "right")
 
 
@@ -37,7 +37,7 @@ def run(model: str, kmh: float) -> dict:
     t0 = time.perf_counter()
     r = scenarios.hunting(
         kmh,
-        model=model,
+        variant=model,
         contact="hertz-fastsim",
         duration=3.0,
         y0=0.006,
@@ -62,7 +62,7 @@ def plot(res: dict, kmh: float) -> Path:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(3, 2, figsize=(11.0, 9.0), sharex=True)
-    for m, (col, ls) in zip(MODELS, (("C0", "--"), ("C3", "-"))):
+    for m, (col, ls) in zip(VARIANTS, (("C0", "--"), ("C3", "-"))):
         d = res[m]
         y = d["y"] * 1e3
         for w in (0, 1):
@@ -111,13 +111,13 @@ def main() -> None:
     if args.replot and CACHE.exists():
         res = pickle.loads(CACHE.read_bytes())
     else:
-        res = {m: run(m, args.speed) for m in MODELS}
+        res = {m: run(m, args.speed) for m in VARIANTS}
         CACHE.write_bytes(pickle.dumps(res))
     print(
         f"{'model':6s} {'amplitude mm':>12s} {'angle max deg':>13s} {'p0 max MPa':>10s} "
         f"{'N_flange max kN':>15s} {'wall s':>7s}"
     )
-    for m in MODELS:
+    for m in VARIANTS:
         d = res[m]
         print(
             f"{m:6s} {d['amplitude'] * 1e3:12.2f} {np.degrees(d['contact_angle'].max()):13.1f} "

@@ -32,7 +32,7 @@ import numpy as np
 from railvti import scenarios
 
 STORE = Path(__file__).resolve().parent / "figures" / "vehicle_four_critical.npz"
-MODELS = ("RR", "FR", "RF", "FF")
+VARIANTS = ("RR", "FR", "RF", "FF")
 
 
 def _ring(model: str) -> dict:
@@ -97,7 +97,7 @@ def report(d: dict, step: float) -> None:
         f"cycle, {step:.0f} km/h grid) | branch | flange cycle from | wall, s |"
     )
     print("|---|---|---|---|---|---|---|")
-    for m in MODELS:
+    for m in VARIANTS:
         if f"{m}_nonlinear" not in d:
             continue
         ls, lf = d[f"{m}_linear_stuck"], d[f"{m}_linear_sliding"]
@@ -113,7 +113,7 @@ def report(d: dict, step: float) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--models", default=",".join(VARIANTS))
     ap.add_argument("--top", type=float, default=420.0, help="top speed of the sweep, km/h")
     ap.add_argument("--step", type=float, default=40.0, help="sweep step, km/h")
     ap.add_argument("--duration", type=float, default=3.0, help="seconds per run")

@@ -24,7 +24,7 @@ sys.path.insert(0, str(HERE))
 from vehicle_fr_vs_rr import _two_maxima  # noqa: E402  (the sibling script's analysis)
 
 FIG = HERE / "figures"
-MODELS = ("RR", "FR", "RF", "FF")
+VARIANTS = ("RR", "FR", "RF", "FF")
 STYLE = {"RR": ("k", "--"), "FR": ("C0", "-"), "RF": ("C2", "-."), "FF": ("C3", "-")}
 
 
@@ -53,7 +53,7 @@ def main() -> None:
         "| variant | friction power, W | flange-side max, W/mm^2 (y, mm) | field-side max, W/mm^2 "
         "(y, mm) | pressure max, MPa |\n|---|---|---|---|---|"
     )
-    for m in MODELS:
+    for m in VARIANTS:
         p = patches[m]
         col, ls = STYLE[m]
         i0 = int(np.argmin(np.abs(p.x[:, 0])))

@@ -43,7 +43,7 @@ from railvti.critical_search import nonlinear_critical_speed
 
 FIG = Path(__file__).resolve().parent / "figures"
 STORE = FIG / "vehicle_four_study.npz"
-MODELS = ("RR", "FR", "RF", "FF")
+VARIANTS = ("RR", "FR", "RF", "FF")
 #: Kaiser's critical speeds, km/h (the paper's summary: FF <= 330 < FR ~ RF ~ 350 < RR ~ 390).
 PAPER_KMH = {"RR": 390.0, "FR": 350.0, "RF": 350.0, "FF": 330.0}
 
@@ -202,7 +202,7 @@ def table(out: dict) -> str:
         "km/h | nonlinear BEM: fold bracket, km/h | paper | wall time (lin / strip / BEM) |",
         "|---|---|---|---|---|---|---|",
     ]
-    for m in MODELS:
+    for m in VARIANTS:
         if f"{m}_linear_kmh" not in out:
             continue
         bem = _bem_text(out, m)
@@ -226,7 +226,7 @@ def plot(out: dict) -> list[Path]:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 8), sharex=True, sharey=True)
-    for ax, m in zip(axes.flat, MODELS):
+    for ax, m in zip(axes.flat, VARIANTS):
         ax.set_title(m, fontsize=10)
         ax.grid(alpha=0.3)
         if f"{m}_strip_path_kmh" not in out:
@@ -277,18 +277,18 @@ def plot(out: dict) -> list[Path]:
     fig.savefig(p1, dpi=110)
     plt.close(fig)
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    x = np.arange(len(MODELS))
+    x = np.arange(len(VARIANTS))
     series = [
-        ("linear", [_f(out, f"{m}_linear_kmh") for m in MODELS]),
-        ("fold, strip", [_f(out, f"{m}_strip_fold") for m in MODELS]),
-        ("decay boundary, strip", [_f(out, f"{m}_strip_decay") for m in MODELS]),
-        ("fold, BEM", [_bem_value(out, m)[0] for m in MODELS]),
-        ("paper (Kaiser)", [PAPER_KMH[m] for m in MODELS]),
+        ("linear", [_f(out, f"{m}_linear_kmh") for m in VARIANTS]),
+        ("fold, strip", [_f(out, f"{m}_strip_fold") for m in VARIANTS]),
+        ("decay boundary, strip", [_f(out, f"{m}_strip_decay") for m in VARIANTS]),
+        ("fold, BEM", [_bem_value(out, m)[0] for m in VARIANTS]),
+        ("paper (Kaiser)", [PAPER_KMH[m] for m in VARIANTS]),
     ]
     wdt = 0.16
     brackets = {
-        "fold, strip": [(_f(out, f"{m}_strip_fold_lo"), _f(out, f"{m}_strip_fold_hi")) for m in MODELS],
-        "fold, BEM": [_bem_bracket(out, m) for m in MODELS],
+        "fold, strip": [(_f(out, f"{m}_strip_fold_lo"), _f(out, f"{m}_strip_fold_hi")) for m in VARIANTS],
+        "fold, BEM": [_bem_bracket(out, m) for m in VARIANTS],
     }
     for i, (lab, vals) in enumerate(series):
         bars = ax.bar(x + (i - 2) * wdt, vals, wdt, label=lab)
@@ -306,7 +306,7 @@ def plot(out: dict) -> list[Path]:
                 lw=1,
             )
         if lab == "fold, BEM":
-            for b, m in zip(bars, MODELS):
+            for b, m in zip(bars, VARIANTS):
                 if f"{m}_bem_fold_hi" not in out or _bem_value(out, m)[1]:
                     continue
                 if np.isfinite(_bem_value(out, m)[0]):  # alive down to there: <=
@@ -322,7 +322,7 @@ def plot(out: dict) -> list[Path]:
                         va="bottom",
                         fontsize=7,
                     )
-    ax.set_xticks(x, MODELS)
+    ax.set_xticks(x, VARIANTS)
     ax.set_ylabel("critical speed, km/h")
     ax.set_ylim(200, 450)
     ax.grid(axis="y", alpha=0.3)
@@ -343,7 +343,7 @@ def plot(out: dict) -> list[Path]:
 def main(argv: list[str] | None = None) -> None:
     global STORE
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--models", default=",".join(VARIANTS))
     ap.add_argument("--bem", default="", help="models bracketed with the BEM, e.g. RR,FF")
     ap.add_argument("--resolution", type=float, default=2.5, help="fold bracket, km/h")
     ap.add_argument("--duration", type=float, default=4.0, help="s per speed")
@@ -400,8 +400,8 @@ def main(argv: list[str] | None = None) -> None:
     models = [m for m in a.models.split(",") if m]
     bem = [m for m in a.bem.split(",") if m]
     for m in models + bem:
-        if m not in MODELS:
-            raise SystemExit(f"unknown model {m!r}: {MODELS}")
+        if m not in VARIANTS:
+            raise SystemExit(f"unknown variant {m!r}: {VARIANTS}")
     out = (
         _load()
         if a.replot

@@ -43,7 +43,7 @@ import numpy as np
 
 from railvti import scenarios
 
-MODELS = ("RR", "FR", "RF", "FF")
+VARIANTS = ("RR", "FR", "RF", "FF")
 SLEEPER_HZ = 200.0 / 3.6 / 0.6
 FIG = Path(__file__).resolve().parent / "figures"
 STORE = FIG / "vehicle_four_variants.npz"
@@ -56,7 +56,7 @@ def centred(model: str) -> dict:
     t0 = time.perf_counter()
     c = scenarios.centred_running(
         200.0,
-        model=model,
+        variant=model,
         contact="hertz-fastsim",
         duration=1.0,
         output_dt=5e-4,
@@ -85,7 +85,7 @@ def hunting(model: str, kmh: float) -> dict:
     try:
         r = scenarios.hunting(
             kmh,
-            model=model,
+            variant=model,
             contact="hertz-fastsim",
             duration=3.0,
             y0=0.006,
@@ -109,7 +109,7 @@ def hunting(model: str, kmh: float) -> dict:
 
 def run(speeds: list[float]) -> dict:
     out: dict = {"speeds": np.array(speeds)}
-    for m in MODELS:
+    for m in VARIANTS:
         c = centred(m)
         print(
             f"centred {m}: dominant Q frequency {c['fpk']:.1f} Hz (sleeper passing "
@@ -151,7 +151,7 @@ def report(d: dict) -> None:
     print("\nCentred running at 200 km/h (Hertz + FASTSIM), leading wheelset, left wheel:")
     print("| variant | Q min..max, kN | Q p-p / static | dominant f, Hz | rim camber, mrad | wall, s |")
     print("|---|---|---|---|---|---|")
-    for m in MODELS:
+    for m in VARIANTS:
         q = d[f"c_{m}_q"][:, 0, 0]
         t = d[f"c_{m}_t"]
         ax[0].plot(t, q / 1e3, lw=0.8, label=m)
@@ -187,14 +187,14 @@ def report(d: dict) -> None:
     plt.close(fig)
     # 2. phase portraits
     fig, ax = plt.subplots(
-        len(MODELS),
+        len(VARIANTS),
         len(speeds),
-        figsize=(2.0 * len(speeds), 2.0 * len(MODELS)),
+        figsize=(2.0 * len(speeds), 2.0 * len(VARIANTS)),
         sharex=True,
         sharey=True,
         squeeze=False,
     )
-    for i, m in enumerate(MODELS):
+    for i, m in enumerate(VARIANTS):
         for j, s in enumerate(speeds):
             tag = f"h_{m}_{s:.0f}"
             a = ax[i, j]
@@ -215,7 +215,7 @@ def report(d: dict) -> None:
                 a.set_title(f"{s:.0f} km/h", fontsize=9)
             if j == 0:
                 a.set_ylabel(f"{m}\nvy, m/s", fontsize=9)
-            if i == len(MODELS) - 1:
+            if i == len(VARIANTS) - 1:
                 a.set_xlabel("y, mm", fontsize=9)
             a.grid(alpha=0.3)
     fig.suptitle(
@@ -231,7 +231,7 @@ def report(d: dict) -> None:
     print("\nHunting from 6 mm, 3 s: amplitude of the leading wheelset over the last second, mm")
     print("| variant | " + " | ".join(f"{s:.0f}" for s in speeds) + " | critical (between), km/h |")
     print("|---|" + "---|" * (len(speeds) + 1))
-    for m in MODELS:
+    for m in VARIANTS:
         amp = np.array(
             [float(d[f"h_{m}_{s:.0f}_amp"]) if bool(d[f"h_{m}_{s:.0f}_ok"]) else np.nan for s in speeds]
         )

@@ -216,7 +216,12 @@ def hertz(S: _Setup, out: dict) -> None:
     out["hertz_common"] = fixed
     # the scenario itself, default selection: the script's steps reproduce it
     c = scenarios.centred_running(
-        speed_kmh=SPEED_KMH, model="FR", duration=T_STEADY, k_max=DEFAULT[0], f_max=DEFAULT[1], progress=False
+        speed_kmh=SPEED_KMH,
+        variant="FR",
+        duration=T_STEADY,
+        k_max=DEFAULT[0],
+        f_max=DEFAULT[1],
+        progress=False,
     )
     d = runs[f"{DEFAULT[0]}/{DEFAULT[1]:g}"]
     out["scenario_check"] = {

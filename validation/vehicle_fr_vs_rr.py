@@ -89,7 +89,7 @@ def hertz_runs() -> dict:
     for model in ("RR", FLEX):
         t0 = time.perf_counter()
         kw = {"k_max": K_MAX, "f_max": F_MAX} if model in ("FR", "FF") else {}
-        c = scenarios.centred_running(speed_kmh=SPEED_KMH, model=model, duration=1.0, progress=False, **kw)
+        c = scenarios.centred_running(speed_kmh=SPEED_KMH, variant=model, duration=1.0, progress=False, **kw)
         sy = _system(model)
         cam = c.rim_camber if c.rim_camber is not None else np.zeros((2, 4))
         out[model] = {

@@ -102,7 +102,7 @@ def one_ring(n: int, args: argparse.Namespace) -> dict:
         try:
             res = scenarios.hunting(
                 args.hunting_kmh,
-                model="RF",
+                variant="RF",
                 duration=args.hunting_duration,
                 n_sleepers=n,
                 f_limit=args.f_limit,

@@ -3,7 +3,7 @@
 The time loop factorises and solves small dense systems (the rigid DOFs plus the condensed
 modal points: tens to a few hundred unknowns) thousands of times per simulated second. A
 threaded BLAS gains nothing on them and its idle threads spin (sched_yield) between calls,
-taking a core from the loop: on the shared 2-core machine model FR's 2 s of hunting took
+taking a core from the loop: on the shared 2-core machine variant FR's 2 s of hunting took
 31-38 s of wall time with OpenBLAS's two threads and 11-15 s with one (benchmarks/
 bench_vehicle_fr.py).
 """

@@ -57,7 +57,7 @@ from .vehicle.systems import (
     FR_F_MAX,
     FR_K_MAX,
     check_fr_selection,
-    check_model,
+    check_variant,
     resolve_geometry,
     ring_keys,
     run_output_dt,
@@ -205,7 +205,7 @@ class PathCriticalSpeed:
     fold_branch : str
         'flange cycle' (flange force above 1 % of the static wheel load in the last window
         of the fold's run), 'tread cycle' or 'none'.
-    model : str
+    variant : str
     method : str
         The criteria and settings in words.
     settings : dict
@@ -230,7 +230,7 @@ class PathCriticalSpeed:
     decay_rates: np.ndarray
     fold_amplitude: float = float("nan")
     fold_branch: str = "none"
-    model: str = "RR"
+    variant: str = "RR"
     method: str = ""
     settings: dict = field(default_factory=dict)
     failure: str = ""
@@ -282,8 +282,8 @@ class PathCriticalSpeed:
         else:
             d = f"decay boundary {self.decay_boundary_kmh:.1f} km/h [{lo:.1f}, {hi:.1f}]"
         if self.failure:
-            return f"{self.model}: {f}; {d}; stopped early: {self.failure}"
-        return f"{self.model}: {f}; {d}"
+            return f"{self.variant}: {f}; {d}; stopped early: {self.failure}"
+        return f"{self.variant}: {f}; {d}"
 
 
 # --------------------------------------------------------------------------------------------
@@ -309,7 +309,7 @@ class _Runs:
 
     def __init__(
         self,
-        model: str,
+        variant: str,
         contact: str,
         coach: Coach | None,
         h: float | None,
@@ -321,7 +321,7 @@ class _Runs:
         segments: int,
     ) -> None:
         self.contact, self.output_dt, self.segments = contact, output_dt, segments
-        self.systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+        self.systems = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring)
 
     def static(self, speed: float, travel: float = 0.0) -> np.ndarray:
         """The static state at speed (m/s), the contact points ``travel`` along the ring."""
@@ -373,7 +373,7 @@ def _speed_arg(name: str, si: Any, kmh: Any, default_kmh: float) -> float:
 
 
 def nonlinear_critical_speed(
-    model: str = "RR",
+    variant: str = "RR",
     contact: str = "hertz-kalker",
     *,
     speed_top: float | None = None,
@@ -415,7 +415,7 @@ def nonlinear_critical_speed(
 
     Parameters
     ----------
-    model : str
+    variant : str
         'RR', 'FR', 'RF' or 'FF' (FR, RF, FF built at each speed, as in
         :func:`railvti.scenarios.bifurcation`).
     contact : str
@@ -487,17 +487,17 @@ def nonlinear_critical_speed(
         segments=segments,
         h=h,
     )
-    _check_model_keys(model, contact, k_max, f_max)
-    if model in FLEXIBLE_WHEELSETS:
+    _check_variant_keys(variant, contact, k_max, f_max)
+    if variant in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
-    ring = ring_keys(model, ring)
+    ring = ring_keys(variant, ring)
     geometry = resolve_geometry(contact, geometry)
-    runs = _Runs(model, contact, coach, h, k_max, f_max, geometry, ring, output_dt, cfg["segments"])
+    runs = _Runs(variant, contact, coach, h, k_max, f_max, geometry, ring, output_dt, cfg["segments"])
     fb, db = _search(runs, cfg, top, dstep, bottom, res, decay, progress)
     settings = _search_settings(
         cfg, top, bottom, dstep, res, runs.systems.at(top)[2], contact, geometry, decay
     )
-    return _path_result(fb, db, runs, model, settings)
+    return _path_result(fb, db, runs, variant, settings)
 
 
 def _search(
@@ -617,11 +617,11 @@ def _checked_search(
     return cfg
 
 
-def _check_model_keys(model: str, contact: str, k_max: Any, f_max: Any) -> None:
-    """The model and contact, and no mode selection for the rigid wheelsets."""
-    check_model(model, contact, "bifurcation")
-    if model not in FLEXIBLE_WHEELSETS and (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
-        raise InputError("k_max, f_max: the mode selection of models 'FR' and 'FF'")
+def _check_variant_keys(variant: str, contact: str, k_max: Any, f_max: Any) -> None:
+    """The variant and contact, and no mode selection for the rigid wheelsets."""
+    check_variant(variant, contact, "bifurcation")
+    if variant not in FLEXIBLE_WHEELSETS and (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
+        raise InputError("k_max, f_max: the mode selection of variants 'FR' and 'FF'")
 
 
 def _upper_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
@@ -687,7 +687,7 @@ def _decay_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
     return grows
 
 
-def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str, settings: dict) -> PathCriticalSpeed:
+def _path_result(fb: Bracket, db: Bracket, runs: _Runs, variant: str, settings: dict) -> PathCriticalSpeed:
     """The PathCriticalSpeed of the fold's and the decay boundary's brackets (m/s)."""
     amp_f, branch = float("nan"), "none"
     if not (math.isnan(fb.hi) or math.isnan(fb.lo)):
@@ -723,7 +723,7 @@ def _path_result(fb: Bracket, db: Bracket, runs: _Runs, model: str, settings: di
         decay_rates=np.array([r["rate"] for _, _, r in dv]),
         fold_amplitude=amp_f,
         fold_branch=branch,
-        model=model,
+        variant=variant,
         method=method,
         settings=settings,
         failure=failure,

@@ -1,13 +1,13 @@
 """Vehicle-track scenarios on straight track: centred running, hunting, critical speed.
 
-Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model 'FR'
+Variant 'RR': rigid wheelsets on the rigid track element (one per wheelset). Variant 'FR'
 (every scenario): the same with flexible rotating wheelsets (railvti.vehicle.flexible:
 free-free elastic modes coupled through the rims and journals, docs/vehicle_integrator.md
 "Flexible wheelsets (FR)"); its modal matrices depend on the spin, so it is built at each
-speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Model 'RF': rigid
+speed (:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Variant 'RF': rigid
 wheelsets on the flexible ring track (railvti.vehicle.ring_coupling, docs/vehicle.md "Model
 RF"), built per speed (:func:`rf_system`) with ``n_sleepers``, ``f_limit``,
-``track_params``, ``x_offset``, ``ring_residual``. Model 'FF': the
+``track_params``, ``x_offset``, ``ring_residual``. Variant 'FF': the
 flexible wheelsets on the ring (:func:`ff_system`, the keys of both). RF and FF also run in
 ``bifurcation`` and the nonlinear ``critical_speed``. Contact models:
 'hertz-kalker' (Hertz + Kalker's linear theory with the Shen-Hedrick-Elkins saturation),
@@ -62,14 +62,14 @@ from .vehicle.systems import (
     FR_K_MAX,
     GEOMETRIES,
     MAX_HARMONIC,
-    MODELS,
+    VARIANTS,
     RF_F_LIMIT,
     RF_N_SLEEPERS,
     RF_SCENARIOS,
     RING_TABLE_Y_MAX,
     RING_TRACK,
     check_fr_selection,
-    check_model,
+    check_variant,
     coach_system,
     equivalent_conicity,
     ff_system,
@@ -108,7 +108,7 @@ __all__ = [
     "check_fr_selection",
     "SweepSystems",
     # settings
-    "MODELS",
+    "VARIANTS",
     "FLEXIBLE_WHEELSETS",
     "RING_TRACK",
     "RF_SCENARIOS",
@@ -128,7 +128,7 @@ __all__ = [
 
 
 def critical_speed(
-    model: str = "RR",
+    variant: str = "RR",
     contact: str = "hertz-kalker",
     method: str = "nonlinear",
     *,
@@ -143,25 +143,25 @@ def critical_speed(
     sustained limit cycle; the sweep is extended downward until the cycle dies, otherwise
     ``kmh`` is NaN and ``no_decay_below_kmh`` says down to where it was searched; ``branch``
     names the tread or flange cycle that defines it; its speeds in m/s as ``speeds`` or in
-    km/h as ``speeds_kmh``). Model 'FR' takes ``k_max`` and ``f_max`` (Hz) in both methods
+    km/h as ``speeds_kmh``). Variant 'FR' takes ``k_max`` and ``f_max`` (Hz) in both methods
     and is built at every speed. ``.speed`` is the result in m/s.
     """
-    check_model(model, contact, "critical_speed")
+    check_variant(variant, contact, "critical_speed")
     if method == "linear":
         damper = kw.get("damper", "stuck")
         lin = {k: kw.pop(k) for k in ("v_lo_kmh", "v_hi_kmh", "tol_kmh") if k in kw}
         si = {k[:-4]: _checks.from_kmh(v) for k, v in lin.items()}
-        v, f = linear_critical(model, coach, **si, **kw)
+        v, f = linear_critical(variant, coach, **si, **kw)
         return CriticalSpeed(
             speed=v,
             method="linear",
             branch="linear (equivalent conicity)",
             damper_state=DAMPER_STATES.get(damper, damper),
             frequency_hz=f,
-            model=model,
+            variant=variant,
         )
     if method == "nonlinear":
-        b = bifurcation(model=model, contact=contact, coach=coach, **kw)
+        b = bifurcation(variant=variant, contact=contact, coach=coach, **kw)
         return CriticalSpeed(
             speed=b.critical,
             method="nonlinear",
@@ -169,6 +169,6 @@ def critical_speed(
             damper_state="as simulated (stick-slip, torque T tanh(rate / w0))",
             no_decay_below=b.no_decay_below,
             bifurcation=b,
-            model=model,
+            variant=variant,
         )
     raise InputError(f"method must be 'linear' or 'nonlinear', got {method!r}")

@@ -439,9 +439,9 @@ _SAMPLE_BYTES = 8 * 3
 
 def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
     """(wheelset modes, highest kept frequency Hz, ring modes) of the case's model."""
-    model = str(p.get("model", "RR")).strip().upper()
+    variant = str(p.get("model", "RR")).strip().upper()
     ws_modes, f_top, ring_modes = 0.0, 0.0, 0.0
-    if model in ("FR", "FF"):
+    if variant in ("FR", "FF"):
         k = max(_num(p, "k_max", 2), 0.0) + 1.0
         f_top = _pos(p, "f_max", 800.0)
         scale = max(_num(p, "coach_wheelset_stiffness_scale", 1.0), 1e-6)
@@ -449,7 +449,7 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
         # the four wheelsets' modes at k_max 2 (scenarios.fr_system): 108 up to 800 Hz, 384 up
         # to 5 kHz, 1792 up to 20 kHz
         ws_modes = k / 3.0 * max(108.0 * (f_top / 800.0) ** 0.7, 0.0334 * f_top**1.1 - 7.0)
-    if model in ("RF", "FF"):
+    if variant in ("RF", "FF"):
         n_sl = max(_num(p, "n_sleepers", 40), 8.0)
         f_lim = _pos(p, "f_limit", 500.0)
         ring_modes = n_sl * 7.2 * f_lim / 500.0  # 128 sleepers: 926 modes up to 500 Hz
@@ -478,7 +478,7 @@ def _streams(duration: float, out_dt: float) -> bool:
 
 
 def _vehicle(p: dict[str, Any], label: str) -> Estimate:
-    model = str(p.get("model", "RR")).strip().upper()
+    variant = str(p.get("model", "RR")).strip().upper()
     contact = str(p.get("contact", "hertz-kalker")).strip().lower()
     # the deck is not checked yet: an unknown model costs as the default (its check names it)
     spec = CONTACT_MODELS.get(contact)
@@ -543,7 +543,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     samples = duration / out_dt
     kept = samples
     # RR's single runs stream a long history to the file (railvti.runner.stream) and keep its tail
-    if model == "RR" and runs == 1.0 and _streams(duration, out_dt):
+    if variant == "RR" and runs == 1.0 and _streams(duration, out_dt):
         kept = min(samples, (STREAM_TAIL_SECONDS + 1.0) / out_dt)
     memory = (
         _VEHICLE_BASE_BYTES

@@ -1,5 +1,5 @@
 """Vehicle-track time simulation: a passenger coach with rigid wheelsets on rigid track
-elements (model RR), online wheel-rail contact from precomputed tables, Newmark/HHT
+elements (variant RR), online wheel-rail contact from precomputed tables, Newmark/HHT
 integration with Newton iterations in Fortran.
 
 Track frame x forward, y left, z up (see :mod:`railvti.geometry`).

@@ -207,7 +207,7 @@ class System:
         if mb is None:
             return self
         if mb.couplings is not None:
-            raise InputError("dense_equivalent: modal couplings (model FR) are not assembled")
+            raise InputError("dense_equivalent: modal couplings (variant FR) are not assembled")
         if mb.massless is not None:
             raise InputError("dense_equivalent: massless blocks have no dense mass matrix")
         n, nm = self.n, mb.n_modes
@@ -303,7 +303,7 @@ def build_coach(
         exactly at v0/r0, as the model before the x and spin DOFs).
     gyroscopic : bool
         The wheelsets' gyroscopic moments from their spin inertia ``wheelset_pitch_inertia``
-        (:attr:`System.spin_inertia`; the same term as model FR's rigid part). False: none,
+        (:attr:`System.spin_inertia`; the same term as variant FR's rigid part). False: none,
         the model before issue 30.
     """
     if wheelset_dofs not in (4, 6):

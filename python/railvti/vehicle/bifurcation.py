@@ -28,7 +28,7 @@ from .systems import (
     FR_K_MAX,
     RING_TRACK,
     check_fr_selection,
-    check_model,
+    check_variant,
     coach_system,
     ff_system,
     fr_system,
@@ -103,13 +103,13 @@ _FLOOR_SLACK = 1e-9
 
 
 class SweepSystems:
-    """The systems of a speed sweep: RR's one system, or models FR, RF, FF built per speed
+    """The systems of a speed sweep: RR's one system, or variants FR, RF, FF built per speed
     (cached by speed; the wheelsets' modes depend on the spin, the ring's rows move at the
     speed) with their step and static states. ``ring``: the ring's keys (RF_KEYS)."""
 
     def __init__(
         self,
-        model: str,
+        variant: str,
         coach: Coach | None,
         contact: str,
         h: float | None,
@@ -118,12 +118,12 @@ class SweepSystems:
         geometry: str | None = None,
         ring: dict | None = None,
     ) -> None:
-        self.model, self.coach, self.contact, self.h = model, coach, contact, h
+        self.variant, self.coach, self.contact, self.h = variant, coach, contact, h
         self.k_max, self.f_max = k_max, f_max
         self.geometry = resolve_geometry(contact, geometry)
         self.ring = dict(ring or {})
         self._cache: dict[float, tuple] = {}
-        self._rr = coach_system(model, coach, geometry=geometry) if model == "RR" else None
+        self._rr = coach_system(variant, coach, geometry=geometry) if variant == "RR" else None
         self.steps: dict[float, float] = {}
 
     def at(self, speed: float) -> tuple[System, list, float]:
@@ -132,18 +132,18 @@ class SweepSystems:
             return self._rr, [], 1e-3 if self.h is None else self.h
         key = float(speed)
         if key not in self._cache:
-            if len(self._cache) >= 4 and self.model in RING_TRACK:
+            if len(self._cache) >= 4 and self.variant in RING_TRACK:
                 self._cache.pop(next(iter(self._cache)))  # ring systems are large
             self._cache[key] = self._build(key, self.ring)
             self.steps[key] = self._cache[key][2]
         return self._cache[key]
 
     def _build(self, key: float, ring: dict) -> tuple:
-        if self.model == "FR":
+        if self.variant == "FR":
             sy, lay = fr_system(
                 self.coach, speed=key, k_max=self.k_max, f_max=self.f_max, geometry=self.geometry
             )
-        elif self.model == "FF":
+        elif self.variant == "FF":
             sy, lay = ff_system(
                 self.coach, speed=key, k_max=self.k_max, f_max=self.f_max, geometry=self.geometry, **ring
             )
@@ -157,7 +157,7 @@ class SweepSystems:
         by the branch so far) beyond x_offset, so that a ring state carried from the previous
         run belongs to them (the ring repeats: travel is taken modulo its length)."""
         base = self.at(speed)
-        if self.model not in RING_TRACK or travel == 0.0:
+        if self.variant not in RING_TRACK or travel == 0.0:
             return base
         ring = dict(self.ring)
         length = float(base[0].ring.length)
@@ -169,7 +169,7 @@ class SweepSystems:
     ) -> tuple[np.ndarray, np.ndarray, bool]:
         """Map a state (q, v) of the system at s_from onto the system at s_to (m/s).
 
-        The rigid DOFs carry over. Model FR's modal coordinates (elastic and residual) carry
+        The rigid DOFs carry over. Variant FR's modal coordinates (elastic and residual) carry
         over by label when both systems keep the same labelled modes (the mode selection is by
         non-rotating frequency, so it is the same set at every speed unless a mode crosses
         f_max); otherwise they restart from the static state at s_to (``static_to()``: its
@@ -180,9 +180,9 @@ class SweepSystems:
         b, lb, _ = self.at(s_to)
         n = a.n
         same = a.state_names == b.state_names and (
-            self.model not in FLEXIBLE_WHEELSETS or mode_labels(a, la) == mode_labels(b, lb)
+            self.variant not in FLEXIBLE_WHEELSETS or mode_labels(a, la) == mode_labels(b, lb)
         )
-        if same and self.model not in RING_TRACK:
+        if same and self.variant not in RING_TRACK:
             return q, v, False
         qs = static_to()
         qn, vn = np.array(qs, dtype=float), np.zeros(b.n_state)
@@ -196,7 +196,7 @@ class SweepSystems:
 
 def _sweep_setup(
     sp: np.ndarray,
-    model: str,
+    variant: str,
     contact: str,
     coach: Coach | None,
     h: float | None,
@@ -210,14 +210,14 @@ def _sweep_setup(
     descending), every input checked and the step checked against the first speed's system
     before any run (serial continuation and independent points alike)."""
     step = float(np.min(-np.diff(sp)[np.diff(sp) < 0])) if np.any(np.diff(sp) < 0) else DEFAULT_STEP
-    check_model(model, contact, "bifurcation")
-    if model in FLEXIBLE_WHEELSETS:
+    check_variant(variant, contact, "bifurcation")
+    if variant in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    ring = ring_keys(model, ring)
+    ring = ring_keys(variant, ring)
     geometry = resolve_geometry(contact, geometry)
-    systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+    systems = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring)
     sy, _, hs = systems.at(sp[0])
     if output_dt is not None:  # the top speed's excitations are the highest
         run_output_dt(sy, sp[0], hs, output_dt, 0.002)
@@ -226,7 +226,7 @@ def _sweep_setup(
 
 def bifurcation(
     speeds_kmh: Sequence[float] | None = None,
-    model: str = "RR",
+    variant: str = "RR",
     contact: str = "hertz-kalker",
     *,
     speeds: Sequence[float] | None = None,
@@ -265,7 +265,7 @@ def bifurcation(
     speeds_kmh : sequence of float, optional
         The speeds, km/h: the suffixed alias of ``speeds`` (give one of them; default 200 to
         460 km/h by 20).
-    model, contact : str
+    variant, contact : str
         'RR', 'FR', 'RF' or 'FF'; the contact model.
     speeds : sequence of float, optional
         The speeds, m/s (at least two).
@@ -274,7 +274,7 @@ def bifurcation(
     y_large, y_small, threshold, flange_amplitude : float
         Disturbances, the living-cycle threshold and the flange-hunting amplitude, m.
     h : float, optional
-        Time step, s: default 1 ms (RR) or, model FR, 1 ms divided so that h omega_max <= 2 at
+        Time step, s: default 1 ms (RR) or, variant FR, 1 ms divided so that h omega_max <= 2 at
         each speed; a given h is checked against the kept modes at every speed.
     v_min_kmh, v_min : float, optional
         The floor of the downward extension, km/h or m/s (one of them; default 20 km/h).
@@ -282,7 +282,7 @@ def bifurcation(
     progress : bool
         Progress bar.
     k_max, f_max : int, float
-        Model FR's mode selection (harmonics, Hz). Model FR is built at each speed; the
+        Variant FR's mode selection (harmonics, Hz). Variant FR is built at each speed; the
         upper branch carries the rigid DOFs over from one speed to the next and the modal
         coordinates by mode label when the mode sets match, else restarts them from the new
         speed's static state (``details['modal_restarts']``).
@@ -312,7 +312,7 @@ def bifurcation(
         FF; hunting); a given one that aliases them at the top speed gives an
         AliasingWarning.
     **ring
-        Models 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
+        Variants 'RF' and 'FF': the ring track's keys ``n_sleepers``, ``f_limit``,
         ``track_params``, ``x_offset`` (:func:`rf_system`). The ring is built once and its
         rows per speed. The upper branch carries the whole state down, the ring's
         coordinates too: each of its runs starts the contact points where the previous run
@@ -339,9 +339,11 @@ def bifurcation(
     )
     if independent:
         return _bifurcation_independent(
-            sp, model, contact, client=client, flange_amplitude=flange_amplitude, progress=progress, **kw
+            sp, variant, contact, client=client, flange_amplitude=flange_amplitude, progress=progress, **kw
         )
-    up, decay, systems = _bifurcation_continuation(sp, model, contact, client=client, progress=progress, **kw)
+    up, decay, systems = _bifurcation_continuation(
+        sp, variant, contact, client=client, progress=progress, **kw
+    )
     systems.steps.update(up["steps"])
     return _bifurcation_result(
         sp,
@@ -353,14 +355,14 @@ def bifurcation(
         threshold,
         flange_amplitude,
         systems,
-        model,
+        variant,
         up["restarts"],
     )
 
 
 def _bifurcation_continuation(
     sp: np.ndarray,
-    model: str,
+    variant: str,
     contact: str,
     *,
     duration: float,
@@ -381,9 +383,9 @@ def _bifurcation_continuation(
     """The runs of :func:`bifurcation`'s continuation sweep (speeds ``sp`` and the floor
     ``v_min`` in m/s), serial or on a Dask client: the upper branch's dict
     (:func:`bifurcation_upper`), the decay tests' amplitudes and the sweep's systems."""
-    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
+    step, systems = _sweep_setup(sp, variant, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
     point = dict(
-        model=model,
+        variant=variant,
         contact=contact,
         coach=coach,
         h=h,
@@ -426,7 +428,7 @@ def bifurcation_upper(
     threshold: float,
     step: float,
     v_min: float,
-    model: str,
+    variant: str,
     contact: str,
     coach: Coach | None,
     h: float | None,
@@ -450,7 +452,7 @@ def bifurcation_upper(
     normal force on the leading bogie over the last second, N), 'alive' (at the last speed),
     'restarts' (m/s, :class:`Bifurcation` ``details``) and 'steps' (m/s -> h, s).
     """
-    systems = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring)
+    systems = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring)
     speeds_out: list[float] = []
     upper: list[float] = []
     flange: list[float] = []
@@ -551,7 +553,7 @@ def _bifurcation_result(
     threshold: float,
     flange_amplitude: float,
     systems: Any,
-    model: str,
+    variant: str,
     restarts: list,
 ) -> Bifurcation:
     """The Bifurcation of a finished sweep (its critical speed, branch and messages)."""
@@ -580,7 +582,7 @@ def _bifurcation_result(
     fl = upa > flange_amplitude
     order = np.argsort(spa)
     details: dict[str, Any] = {"flange_force": fla[order]}
-    if model != "RR":
+    if variant != "RR":
         details["h"] = np.array([systems.steps[float(x)] for x in spa[order]])
         details["modal_restarts"] = np.array(sorted(restarts))
     return Bifurcation(
@@ -597,7 +599,7 @@ def _bifurcation_result(
         extended=np.sort(spa[spa < sp.min()]),
         no_decay_below=no_decay,
         no_cycle_up_to=no_cycle,
-        model=model,
+        variant=variant,
     )
 
 
@@ -606,7 +608,7 @@ _POINT_SYSTEMS: dict[str, "SweepSystems"] = {}
 
 
 def point_systems(
-    model: str,
+    variant: str,
     coach: Coach | None,
     contact: str,
     h: float | None,
@@ -618,10 +620,10 @@ def point_systems(
     """The sweep systems of these settings in this process: one set at a time, shared by a
     sweep's upper branch and its decay runs (each run starts from its own state)."""
     geometry = resolve_geometry(contact, geometry)
-    key = repr((model, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
+    key = repr((variant, coach, contact, h, k_max, f_max, geometry, sorted((ring or {}).items())))
     if key not in _POINT_SYSTEMS:
         _POINT_SYSTEMS.clear()
-        _POINT_SYSTEMS[key] = SweepSystems(model, coach, contact, h, k_max, f_max, geometry, ring)
+        _POINT_SYSTEMS[key] = SweepSystems(variant, coach, contact, h, k_max, f_max, geometry, ring)
     return _POINT_SYSTEMS[key]
 
 
@@ -629,7 +631,7 @@ def bifurcation_point(
     speed: float,
     y: float,
     *,
-    model: str,
+    variant: str,
     contact: str,
     coach: Coach | None,
     h: float | None,
@@ -652,7 +654,7 @@ def bifurcation_point(
     h : float
         The time step used, s.
     """
-    sy, _, hs = point_systems(model, coach, contact, h, k_max, f_max, geometry, ring).at(speed)
+    sy, _, hs = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring).at(speed)
     vv = speed
     with serial_blas():  # one BLAS thread, in the caller as in a worker: the same bits
         q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
@@ -672,7 +674,7 @@ def bifurcation_point(
 
 def _bifurcation_independent(
     sp: np.ndarray,
-    model: str,
+    variant: str,
     contact: str,
     *,
     duration: float,
@@ -693,9 +695,9 @@ def _bifurcation_independent(
 ) -> Bifurcation:
     """:func:`bifurcation` with every speed independent, serial or on a Dask client (speeds
     ``sp`` and the floor ``v_min`` in m/s)."""
-    step, systems = _sweep_setup(sp, model, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
+    step, systems = _sweep_setup(sp, variant, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
     kw = dict(
-        model=model,
+        variant=variant,
         contact=contact,
         coach=coach,
         h=h,
@@ -742,7 +744,7 @@ def _bifurcation_independent(
             out += runs(speeds_out[-1:])
     upper, flange = [o[0] for o in out[0::2]], [o[1] for o in out[0::2]]
     decay = [o[0] for o in out[1::2]]
-    if model != "RR":
+    if variant != "RR":
         systems.steps.update({float(s): o[2] for s, o in zip(speeds_out, out[0::2])})
     return _bifurcation_result(
         sp,
@@ -754,6 +756,6 @@ def _bifurcation_independent(
         threshold,
         flange_amplitude,
         systems,
-        model,
+        variant,
         [],
     )

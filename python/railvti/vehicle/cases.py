@@ -71,20 +71,20 @@ def run(params: dict[str, Any]) -> CaseOutput:
     if scen not in SCENARIOS:
         raise InputError(f"scenario must be one of {SCENARIOS}, got {scen!r}")
     coach = coach_from(params)
-    model, contact = str(params["model"]), str(params["contact"])
+    variant, contact = str(params["model"]), str(params["contact"])
     geometry = resolve_geometry(contact, params["geometry"])
     data: dict[str, tuple[np.ndarray, str]] = {}
     scalars: dict[str, tuple[Any, str]] = {
         "scenario": (scen, "text"),
-        "model": (model, "text"),
+        "model": (variant, "text"),
         "contact": (contact, "text"),
         "geometry": (geometry, "text"),
     }
-    fr = fr_selection(params) if model in FLEXIBLE_WHEELSETS else {}
+    fr = fr_selection(params) if variant in FLEXIBLE_WHEELSETS else {}
     if fr:
         scalars["k_max"] = (int(fr["k_max"]), "1")
         scalars["f_max"] = (float(fr["f_max"]), "Hz")
-    ring = ring_selection(params) if model in RING_TRACK else {}
+    ring = ring_selection(params) if variant in RING_TRACK else {}
     if ring:
         scalars["n_sleepers"] = (ring["n_sleepers"], "1")
         scalars["f_limit"] = (ring["f_limit"], "Hz")
@@ -99,7 +99,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     )
     if scen == "centred_running":
         c = centred_running(
-            model=model,
+            variant=variant,
             contact=contact,
             speed=speed,
             duration=params["duration"],
@@ -125,7 +125,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         )
     elif scen == "hunting":
         r, sy, layouts = hunting(
-            model=model,
+            variant=variant,
             contact=contact,
             speed=speed,
             duration=params["duration"],
@@ -173,7 +173,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
         )
         b = bifurcation(
             sp,
-            model,
+            variant,
             contact,
             duration=params["duration"],
             h=params["h"],
@@ -184,7 +184,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **fr,
             **ring,
         )
-        lin, freq = linear_critical_speed(model, coach, **fr, **ring)
+        lin, freq = linear_critical_speed(variant, coach, **fr, **ring)
         sweep_data, sweep_scalars = b.case_data(steps=bool(fr))
         data.update(sweep_data)
         scalars.update(sweep_scalars)
@@ -329,10 +329,10 @@ def _run_title(res: Any) -> str:
             pass
     if np.isfinite(speed):
         parts.append(f"{speed:.0f} km/h")
-    model, contact = _text(res, "model"), _text(res, "contact")
+    variant, contact = _text(res, "model"), _text(res, "contact")
     geometry = _text(res, "geometry")
     parts += [
-        f"model {model}" if model else "",
+        f"model {variant}" if variant else "",
         f"{contact} on the strips" if geometry == "strip" else contact,
     ]
     return ", ".join(p for p in parts if p)

@@ -1,6 +1,6 @@
 """The datasets and scalars a deck case of type ``vehicle`` stores (railvti.vehicle.cases; the
 layout in its docstring and docs/results.md): the run's history with the per-wheel outputs and
-their maxima, the modal coordinates and rim and rail motion of models FR, RF and FF, the
+their maxima, the modal coordinates and rim and rail motion of variants FR, RF and FF, the
 contact patch, and the datasets a streamed history derives block by block."""
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ def _dof_unit(name: str, rate: bool) -> str:
     """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
     last = name.rsplit("_", 1)[-1]
     if name.startswith("ring_res") and last == "r":
-        last = "roll"  # model RF's residual coordinate of the element's roll
+        last = "roll"  # variant RF's residual coordinate of the element's roll
     if last in ("x", "y", "z"):
         unit = "m"
     elif last in ("roll", "pitch", "yaw", "beta"):
@@ -74,10 +74,10 @@ def history_datasets(res, data: dict, scalars: dict) -> str:
 
 
 def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
-    """Model FR: the modal coordinates with their mode labels and the rims' deformation at
+    """Variant FR: the modal coordinates with their mode labels and the rims' deformation at
     the contact points (railvti.vehicle.flexible_points.rim_deformation, rim_camber_change,
     rail_head_roll on the ring, rim_rail_angle_change: the relative angle);
-    ``stop``: the state's end of the wheelsets' coordinates (model FF: the ring's follow)."""
+    ``stop``: the state's end of the wheelsets' coordinates (variant FF: the ring's follow)."""
     n = system.n
     stop = system.n_state if stop is None else stop
     nm = stop - n
@@ -160,9 +160,9 @@ def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> No
 
 
 def _ring_history(res, system, data: dict, prefix: str = "") -> None:
-    """Model RF: the ring's modal coordinates with their labels and the rail's motion under
+    """Variant RF: the ring's modal coordinates with their labels and the rail's motion under
     each wheel (RingSystem.rail_deflection; the crown's vertical displacement beside it);
-    the mode datasets' names get ``prefix`` (model FF: 'ring_', beside the wheelsets')."""
+    the mode datasets' names get ``prefix`` (variant FF: 'ring_', beside the wheelsets')."""
     ring = system.ring
     n0 = system.n_state - ring.n_modes - ring.n_residual
     labels = list(system.state_names[n0:])
@@ -235,7 +235,7 @@ def _ring_history(res, system, data: dict, prefix: str = "") -> None:
 
 
 def modal_datasets(res, sy, layouts: list, fr: dict, ring: dict, data: dict, scalars: dict) -> None:
-    """The modal datasets of a run (model FR: the wheelsets'; RF: the ring's; FF: both, the
+    """The modal datasets of a run (variant FR: the wheelsets'; RF: the ring's; FF: both, the
     ring's prefixed 'ring_') from the system ``sy`` the run used and its FR ``layouts``
     (nothing is rebuilt to label them)."""
     if fr:

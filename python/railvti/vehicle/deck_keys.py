@@ -26,7 +26,7 @@ from .systems import (
     FLEXIBLE_WHEELSETS,
     FR_F_MAX,
     FR_K_MAX,
-    MODELS,
+    VARIANTS,
     RF_F_LIMIT,
     RF_N_SLEEPERS,
     RF_SCENARIOS,
@@ -53,7 +53,7 @@ _RUNS = {
     "critical_speed": ("bifurcation", "linear_critical_speed"),
 }
 #: The models whose results a deck case stores (the model key's choices are scenarios.MODELS).
-_DECK_MODELS = ("RR", "FR", "RF", "FF")
+_DECK_VARIANTS = ("RR", "FR", "RF", "FF")
 #: The ring track's parameters in a deck: 'track_' + a RingTrack parameter (physics, numerics).
 _TRACK_PARAMS = tuple(TRACK_DEFAULTS) + tuple(TRACK_NUMERICS)
 
@@ -91,7 +91,7 @@ KEYS: dict[str, Key] = {
         "'RR' rigid wheelsets on rigid track elements, 'FR' flexible rotating wheelsets, "
         "'RF' rigid wheelsets on the flexible ring track, 'FF' flexible wheelsets on the ring",
         "str",
-        choices=MODELS,
+        choices=VARIANTS,
     ),
     "k_max": Key(
         "1",
@@ -274,10 +274,10 @@ def check(params: dict[str, Any]) -> list[str]:
         problem = _fr_step_problem(params)
         if problem:
             out.append(problem)
-    if params["model"] not in _DECK_MODELS:
+    if params["model"] not in _DECK_VARIANTS:
         out.append(
             f"model {params['model']!r} runs from railvti.scenarios but not from a deck yet "
-            f"(decks run {_DECK_MODELS})"
+            f"(decks run {_DECK_VARIANTS})"
         )
     else:
         out += _ring_problems(params)
@@ -320,12 +320,12 @@ def ring_selection(params: dict[str, Any]) -> dict[str, Any]:
 def _ring_problems(params: dict[str, Any]) -> list[str]:
     """Model RF's keys: only with a model on the ring, a scenario it runs, a ring that holds
     the coach (checked before any ring is built) and track parameters RingTrack takes."""
-    model = str(params["model"])
+    variant = str(params["model"])
     given = _ring_keys(params)
-    if model not in RING_TRACK:
+    if variant not in RING_TRACK:
         return (
             [
-                f"{', '.join(given)}: keys of the ring track (model 'RF'); model {model!r} runs on "
+                f"{', '.join(given)}: keys of the ring track (model 'RF'); model {variant!r} runs on "
                 "rigid track elements"
             ]
             if given
@@ -336,7 +336,7 @@ def _ring_problems(params: dict[str, Any]) -> list[str]:
     missing = [f for f in _RUNS.get(str(params["scenario"]), ()) if allowed is not None and f not in allowed]
     if missing:
         out.append(
-            f"model {model!r} does not run scenario {params['scenario']!r} yet "
+            f"model {variant!r} does not run scenario {params['scenario']!r} yet "
             f"(railvti.scenarios.{', '.join(missing)}); it runs {allowed}"
         )
     sel = ring_selection(params)

@@ -1,4 +1,4 @@
-"""Model FR: the coach with flexible rotating wheelsets (issue 14, first coupled step).
+"""Variant FR: the coach with flexible rotating wheelsets (issue 14, first coupled step).
 
 Each flexible wheelset keeps its six rigid DOFs in the coach (as in RR) and adds the
 free-free elastic coordinates of :meth:`railvti.wheelset.Wheelset.flexible_body` as one
@@ -177,7 +177,7 @@ def build_fr(
     follow_contact: bool = False,
     residual_grid=None,
 ) -> tuple[System, list[FRLayout]]:
-    """The coach with flexible wheelsets (model FR) at one speed.
+    """The coach with flexible wheelsets (variant FR) at one speed.
 
     Parameters
     ----------
@@ -217,7 +217,7 @@ def build_fr(
         Keep the flexible wheelsets' rigid gyroscopic moments (in M a + C v = F: C[roll, yaw]
         = -I_y Omega, C[yaw, roll] = +I_y Omega; I_y the coach's ``wheelset_pitch_inertia``:
         the FE wheelset's polar
-        moment plus the rotating lumped parts, railvti.vehicle.wheelset_body), as model RR
+        moment plus the rotating lumped parts, railvti.vehicle.wheelset_body), as variant RR
         has them (:func:`~railvti.vehicle.assembly.build_coach`); False drops them (with
         ``zero_rows``, FR then reproduces RR built with ``gyroscopic=False``).
     track : bool
@@ -251,7 +251,7 @@ def build_fr(
     """
     sy = build_coach(coach, table, track=track)
     if "ws1_x" not in sy.dof_names:
-        raise InputError("model FR needs the six-DOF wheelsets")
+        raise InputError("variant FR needs the six-DOF wheelsets")
     flexible = tuple(sorted(set(int(i) for i in flexible)))
     if not flexible or any(i not in (0, 1, 2, 3) for i in flexible):
         raise InputError(f"flexible wheelsets must be a non-empty subset of 0..3, got {flexible}")

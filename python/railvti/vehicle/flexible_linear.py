@@ -127,7 +127,7 @@ def contact_receptance(
 
 
 #: Forward-difference step of :func:`state_tangent` (the same as the core's contact tangent,
-#: vehicle_model%contact_tangent: model FR with decoupled modes then linearises exactly as RR).
+#: vehicle_model%contact_tangent: variant FR with decoupled modes then linearises exactly as RR).
 TANGENT_STEP = 1.0e-8
 
 
@@ -148,7 +148,7 @@ def state_tangent(
         dF/dx and dF/dxd.
     """
     if system.modal is None:
-        raise InputError("state_tangent needs a system with modal blocks (model FR)")
+        raise InputError("state_tangent needs a system with modal blocks (variant FR)")
     nt = system.n_state
     x = np.array(x, dtype=float)
     xd = np.array(xd, dtype=float)

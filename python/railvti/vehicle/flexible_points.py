@@ -127,7 +127,7 @@ def rail_head_roll(system: System, x: np.ndarray, t: np.ndarray | float | None =
     the convention of :func:`rim_camber_change` (+: the head's inner edge, towards the track
     centre, rises; -roll on the left rail, +roll on the right, roll about the vehicle's x).
 
-    On the ring track (models RF, FF) the roll of the track element under the wheel from the
+    On the ring track (variants RF, FF) the roll of the track element under the wheel from the
     ring's modes (:meth:`RingSystem.rail_deflection`); on the rigid track elements of models
     RR and FR the rail head does not deform: zero (the elements' rigid roll, like the
     wheelset's, is the same for both wheels and sits in the contact geometry, not here).
@@ -171,7 +171,7 @@ def rim_rail_angle_change(system: System, x: np.ndarray, t: np.ndarray | float |
     minus the rail head's elastic roll under the wheel (:func:`rail_head_roll`), both
     positive when the inner edge (towards the track centre) rises, i.e. -drx on the left and
     +drx on the right, drx about the vehicle's x (y positive to the left). The paper's
-    25 -> 26 mrad is +1 mrad. On the rigid track (model FR) it is the camber; on the ring
-    (model FF) ``t`` is needed. The same difference is what the contact sees: it evaluates
+    25 -> 26 mrad is +1 mrad. On the rigid track (variant FR) it is the camber; on the ring
+    (variant FF) ``t`` is needed. The same difference is what the contact sees: it evaluates
     the wheel at the relative roll wheelset + rim - rail (vehicle_contact)."""
     return rim_camber_change(system, x) - rail_head_roll(system, x, t)

@@ -22,7 +22,7 @@ from .systems import (
     RF_N_SLEEPERS,
     RING_TRACK,
     check_fr_selection,
-    check_model,
+    check_variant,
     checked_ring,
     coach_system,
     equivalent_conicity,
@@ -71,7 +71,7 @@ DAMPER_STATES = {
 
 
 def linear_critical_speed(
-    model: str = "RR",
+    variant: str = "RR",
     coach: Coach | None = None,
     *,
     conicity: float | None = None,
@@ -99,13 +99,13 @@ def linear_critical_speed(
     steep viscous slope) or 'sliding' (its torque saturated: no incremental contribution).
     Bisection on the largest real part of the oscillatory eigenvalues below 20 Hz.
 
-    Model 'FR' (mode selection ``k_max``, ``f_max``): the flexible DOFs are in the
+    Variant 'FR' (mode selection ``k_max``, ``f_max``): the flexible DOFs are in the
     linearisation (:func:`railvti.vehicle.flexible_linear.eigenvalues`: elastic and residual
     coordinates, about FR's own steady state); its modes depend on the spin, so the system is
     rebuilt at every speed of the bisection. The wheelsets' elastic modes lie above 70 Hz,
     outside the 20 Hz band searched: they change the hunting eigenvalue, not the band.
 
-    Models 'RF' and 'FF' (the ring's keys ``**ring``, :func:`rf_system`): the ring's kept
+    Variants 'RF' and 'FF' (the ring's keys ``**ring``, :func:`rf_system`): the ring's kept
     modes and residual coordinates are in the linearisation; the ring's modes lie above the
     20 Hz band. The contact rows move along the ring with the load, so the linearised system
     is periodic in time with the sleeper-passing period spacing / v. ``ring_rows`` says how
@@ -143,7 +143,7 @@ def linear_critical_speed(
         ring's and FR's keys as :func:`rf_system`, :func:`fr_system`.
     """
     speed, freq = linear_critical(
-        model,
+        variant,
         coach,
         conicity=conicity,
         amplitude_m=amplitude_m,
@@ -161,7 +161,7 @@ def linear_critical_speed(
 
 
 def linear_critical(
-    model: str = "RR",
+    variant: str = "RR",
     coach: Coach | None = None,
     *,
     conicity: float | None = None,
@@ -179,19 +179,21 @@ def linear_critical(
     """:func:`linear_critical_speed` in SI: the linear critical speed (m/s; inf when stable
     up to ``v_hi``) and the hunting frequency there (Hz), bisected between ``v_lo`` and
     ``v_hi`` (m/s) to ``tol`` (m/s)."""
-    k_max, f_max, ring, n_offsets = _checked_settings(model, damper, ring_rows, n_offsets, k_max, f_max, ring)
+    k_max, f_max, ring, n_offsets = _checked_settings(
+        variant, damper, ring_rows, n_offsets, k_max, f_max, ring
+    )
     coach = coach or Coach()
     if damper == "sliding":
         coach = coach.with_(yaw_friction_torque=0.0)
     lam = conicity if conicity is not None else equivalent_conicity(amplitude_m)
     growth = _HuntingGrowth(
-        model,
+        variant,
         coach,
         lam,
         k_max,
         f_max,
         ring,
-        bay=model in RING_TRACK and ring_rows == "bay_average",
+        bay=variant in RING_TRACK and ring_rows == "bay_average",
         n_offsets=n_offsets,
     )
     speed, freq = _bisect(growth, float(v_lo), float(v_hi), tol)
@@ -200,7 +202,7 @@ def linear_critical(
         log.info(
             "%s linear critical speed, bay average over %d offsets: %.1f km/h; frozen "
             "rows per offset: %.1f .. %.1f km/h (%s)",
-            model,
+            variant,
             n_offsets,
             _checks.to_kmh(speed),
             _checks.to_kmh(np.nanmin(per)),
@@ -211,7 +213,7 @@ def linear_critical(
 
 
 def _checked_settings(
-    model: str, damper: str, ring_rows: str, n_offsets: Any, k_max: Any, f_max: Any, ring: dict
+    variant: str, damper: str, ring_rows: str, n_offsets: Any, k_max: Any, f_max: Any, ring: dict
 ) -> tuple[int, float, dict, int]:
     """The linear method's settings checked: (k_max, f_max, the ring's keys, n_offsets)."""
     if damper not in DAMPER_STATES:
@@ -219,12 +221,12 @@ def _checked_settings(
     if ring_rows not in RING_ROWS:
         raise InputError(f"ring_rows must be one of {RING_ROWS}, got {ring_rows!r}")
     n_offsets = _checks.positive_int("n_offsets", n_offsets)
-    check_model(model, "hertz-kalker", "linear_critical_speed")
-    if model in FLEXIBLE_WHEELSETS:
+    check_variant(variant, "hertz-kalker", "linear_critical_speed")
+    if variant in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
         no_fr_keys({"k_max": k_max} if k_max != FR_K_MAX else {"f_max": f_max})
-    return k_max, f_max, ring_keys(model, ring), n_offsets
+    return k_max, f_max, ring_keys(variant, ring), n_offsets
 
 
 class _HuntingGrowth:
@@ -235,7 +237,7 @@ class _HuntingGrowth:
 
     def __init__(
         self,
-        model: str,
+        variant: str,
         coach: Coach,
         lam: float,
         k_max: int,
@@ -245,12 +247,12 @@ class _HuntingGrowth:
         bay: bool,
         n_offsets: int,
     ) -> None:
-        self.model, self.coach, self.lam = model, coach, lam
+        self.variant, self.coach, self.lam = variant, coach, lam
         self.k_max, self.f_max, self.ring = k_max, f_max, ring
         self.bay, self.n_offsets = bay, n_offsets
         self.frozen: dict[float, np.ndarray] = {}
         self._seen: dict[float, tuple[float, float]] = {}
-        self._rr = coach_system(model, coach, linear_conicity=lam) if model == "RR" else None
+        self._rr = coach_system(variant, coach, linear_conicity=lam) if variant == "RR" else None
 
     def spectrum(self, v: float) -> np.ndarray:
         """The eigenvalues of the linearised system at v (m/s)."""
@@ -258,8 +260,8 @@ class _HuntingGrowth:
             return eigenvalues(self._rr, v)
         # built directly: the bisection's bracket may pass the scenarios' 600 km/h bound
         tab = linearised_table(wheel_table(), self.lam)
-        if self.model in RING_TRACK:
-            sf = on_ring(self.model, self.coach, tab, v, k_max=self.k_max, f_max=self.f_max, **self.ring)[0]
+        if self.variant in RING_TRACK:
+            sf = on_ring(self.variant, self.coach, tab, v, k_max=self.k_max, f_max=self.f_max, **self.ring)[0]
         else:
             sf = build_fr(self.coach, tab, v, wheelset=fr_wheelset(), k_max=self.k_max, f_max=self.f_max)[0]
         return fr_eigenvalues(sf, v)
@@ -270,7 +272,7 @@ class _HuntingGrowth:
         if self.bay:
             tab = linearised_table(wheel_table(), self.lam)
             rates, freqs = bay_rates(
-                self.model,
+                self.variant,
                 self.coach,
                 tab,
                 v,
@@ -312,7 +314,7 @@ def hunting_mode(ev: np.ndarray) -> tuple[float, float]:
 
 
 def bay_rates(
-    model: str,
+    variant: str,
     coach: Coach,
     table: WheelTable,
     v: float,
@@ -322,7 +324,7 @@ def bay_rates(
     f_max: float,
     ring: dict,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Model RF or FF at v (m/s): the hunting growth rate (1/s) and frequency (Hz) with the
+    """Variant RF or FF at v (m/s): the hunting growth rate (1/s) and frequency (Hz) with the
     contact rows frozen at each of n_offsets positions across one sleeper bay
     (:func:`linear_critical_speed`)."""
     ring = dict(ring)
@@ -331,12 +333,12 @@ def bay_rates(
         "sleeper_spacing"
     ]
     base = None
-    if model == "FF":  # the wheelsets do not depend on the ring's rows: built once per speed
+    if variant == "FF":  # the wheelsets do not depend on the ring's rows: built once per speed
         base = build_fr(coach, table, v, wheelset=fr_wheelset(), k_max=k_max, f_max=f_max, track=False)
     out = []
     for k in range(n_offsets):
         sy = on_ring(
-            model,
+            variant,
             coach,
             table,
             v,

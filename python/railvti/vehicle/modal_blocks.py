@@ -93,7 +93,7 @@ class PointElement:
 
 @dataclass(frozen=True)
 class RimFollow:
-    """Rows of flexible rims that follow the contact point (model FR, Kaiser eq. 3): the time
+    """Rows of flexible rims that follow the contact point (variant FR, Kaiser eq. 3): the time
     loop sets each rim's rows (y, z, rx), their d/dtheta, its residual coordinates' rows and
     its reference arm at the wheel's contact point of the last accepted step
     (vehicle_modal%modal_follow); everything else (statics, forces, linear analysis) sees
@@ -178,7 +178,7 @@ class ModalCouplings:
     - 'gyro': a skew velocity coupling (Coriolis terms): the point gets k g.v, the rigid
       DOFs -g k u_p'.
 
-    Flexible rims (model FR): for wheelset ``rim_wheelsets[i]`` (0-based) the points of the
+    Flexible rims (variant FR): for wheelset ``rim_wheelsets[i]`` (0-based) the points of the
     elastic displacement (track y, z) of each wheel's rim reference point and the rim's
     rotation about x, ``rim_points[:, w, i]`` for w = 0 left, 1 right; ``rim_arms[:, i]``
     the reference point's lateral distance from the wheelset centre and depth below it, m.

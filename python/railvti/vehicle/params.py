@@ -20,7 +20,7 @@ table number was not checked: the original paper was not at hand). Each entry of
 * "Iwnicki 1998": from the earlier transcription of the table, not re-confirmed in this work
   (roll and yaw inertias, primary and secondary horizontal stiffnesses, secondary lateral
   damper, spacings, wheel radius).
-* The wheelset's inertias come from the FE wheelset of models FR and FF plus its lumped
+* The wheelset's inertias come from the FE wheelset of variants FR and FF plus its lumped
   parts (:func:`railvti.vehicle.wheelset_body.coach_wheelset`, issue 30): RR and FR carry
   the same body; the benchmark's 1813 kg is kept (the axleboxes make it up), its 1120 /
   112 kg m^2 become 1099.21 / 111.51 kg m^2.
@@ -86,7 +86,7 @@ DEFAULTS: dict[str, tuple[float, str, str]] = {
     "wheelset_stiffness_scale": (
         1.0,
         "-",
-        "model setting: models FR and FF, Young's modulus of the FE wheelset "
+        "model setting: variants FR and FF, Young's modulus of the FE wheelset "
         "times this (every elastic frequency times its square root, "
         "the same modes kept; 1e3: the stiff limit, which must "
         "reproduce RR; issue 30). RR and RF: no effect",

@@ -1,10 +1,10 @@
-"""Model RF: the coach's rigid wheelsets on the flexible ring track (docs/vehicle.md, "Model RF").
+"""Variant RF: the coach's rigid wheelsets on the flexible ring track (docs/vehicle.md, "Variant RF").
 
-The four rigid track elements of model RR are replaced by one :class:`~railvti.track.RingTrack`
+The four rigid track elements of variant RR are replaced by one :class:`~railvti.track.RingTrack`
 of two rails under the whole coach. Each wheel's contact point moves along its rail,
 x_c = x_offset + x_wheelset + v0 t (mod the ring length); the rail head's motion there
 (lateral, vertical, roll at the crown, from the kept ring modes) is expressed as the pose
-(y, z, roll) of a track element of that wheel's own, so the wheel-rail contact of model RR is
+(y, z, roll) of a track element of that wheel's own, so the wheel-rail contact of variant RR is
 evaluated unchanged against it and its generalised forces on that pose drive the modes through
 the same rows (moving loads). The rows are time-dependent attachment rows of a modal block;
 the Fortran time loop evaluates them once per (sub-)step (fortran/vehicle/vehicle_ring.f90),
@@ -232,7 +232,7 @@ class RingRows:
 
 @dataclass(frozen=True)
 class RingSystem(System):
-    """A System whose wheelsets run on the ring track (model RF).
+    """A System whose wheelsets run on the ring track (variant RF).
 
     Attributes
     ----------
@@ -555,8 +555,8 @@ def build_rf(
     residual_hz: float | None = None,
     residual_inertia: bool = False,
 ) -> RingSystem:
-    """Model RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
-    FR system on rigid ground, model FF (flexible wheelsets on the ring).
+    """Variant RF: the coach's rigid wheelsets on the flexible ring track; with ``base`` an
+    FR system on rigid ground, variant FF (flexible wheelsets on the ring).
 
     Parameters
     ----------
@@ -578,7 +578,7 @@ def build_rf(
         damping ratios); 1 is the ring itself, a large value a nearly rigid ring (a check).
     base : System, optional
         The coach on rigid ground to put on the ring (``build_coach(..., track=False)``, the
-        default), or an FR system built with ``track=False`` (model FF): its modal blocks,
+        default), or an FR system built with ``track=False`` (variant FF): its modal blocks,
         points and couplings come first, the ring's block and its 6 points per wheelset are
         appended (the ring coordinates stay the state's last).
     residual_hz : float, optional
@@ -587,7 +587,7 @@ def build_rf(
         static compliance unchanged (the same static deflection). None (default): massless
         coordinates (a quasi-static point compliance). With a mass, Newton goes through
         flange-only contact where the massless coordinates stop it (docs/vehicle.md,
-        "Models RF and FF: limits"); the step must resolve residual_hz (h omega <= 2).
+        "Variants RF and FF: limits"); the step must resolve residual_hz (h omega <= 2).
     residual_inertia : bool
         Give the residual coordinates the truncated modes' own inertia and damping to first
         order (:func:`residual_inertia_of`: per contact point a 3 x 3 block with mass and
@@ -651,7 +651,7 @@ def build_rf(
 
 
 def _append_blocks(first: ModalBlocks, ring: ModalBlocks) -> ModalBlocks:
-    """The modal blocks of ``first`` (model FR's wheelsets) followed by the ring's: blocks
+    """The modal blocks of ``first`` (variant FR's wheelsets) followed by the ring's: blocks
     and names concatenated, Phi block-diagonal (first's points, then the ring's), first's
     point elements and couplings unchanged (their point indices stay valid)."""
     n1, m1 = first.phi.shape

@@ -98,7 +98,7 @@ class SimulationResult:
         'FILE::GROUP' holding the whole history: ``t``, ``q``, ``v`` and ``wheel`` here
         then hold only its last ``stream_tail`` seconds.
     rail : ndarray (nt, 3, 2, nw) or None
-        Model RF (a system on the ring track): the rail head's motion under each wheel at the
+        Variant RF (a system on the ring track): the rail head's motion under each wheel at the
         outputs, the pose (y m, z m, roll rad; vehicle frame) of the element under wheel
         [., ., wheel, wheelset] (``RingSystem.rail_deflection``, after a completed run); None
         on rigid track. The ring's modal coordinates are the last columns of ``q``, named in

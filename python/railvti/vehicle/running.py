@@ -20,7 +20,7 @@ from .simulate import simulate
 from .systems import (
     FLEXIBLE_WHEELSETS,
     RING_TRACK,
-    check_model,
+    check_variant,
     resolve_geometry,
     run_output_dt,
     scenario_system,
@@ -32,7 +32,7 @@ __all__ = ["centred_running", "contact_patch", "hunting"]
 
 def centred_running(
     speed_kmh: float | None = None,
-    model: str = "RR",
+    variant: str = "RR",
     contact: str = "hertz-kalker",
     *,
     speed: float | None = None,
@@ -47,20 +47,20 @@ def centred_running(
     ----------
     speed_kmh : float, optional
         Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
-    model, contact : str
+    variant, contact : str
         'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
     speed : float, optional
         Speed, m/s (give it or speed_kmh, not both).
     duration : float
         Simulated time after the static equilibrium, s.
     h : float, optional
-        Time step, s (default 1 ms; model FR: 1 ms divided into as many parts as the highest
+        Time step, s (default 1 ms; variant FR: 1 ms divided into as many parts as the highest
         kept mode needs, h omega_max <= 2).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw
-        Passed to simulate; model FR also takes k_max and f_max (Hz), the mode selection;
-        model RF n_sleepers, f_limit, track_params, x_offset (:func:`rf_system`).
+        Passed to simulate; variant FR also takes k_max and f_max (Hz), the mode selection;
+        variant RF n_sleepers, f_limit, track_params, x_offset (:func:`rf_system`).
         ``output_dt`` (s): the interval of the stored history. Default: 10 ms, shortened
         so that the known periodic excitations get 10 samples per period each
         (railvti.vehicle.output): the sleeper passing v / sleeper spacing on the ring track
@@ -69,9 +69,9 @@ def centred_running(
         than the Nyquist limit of one of them gives an AliasingWarning.
     """
     v = _checks.speed_si(speed, speed_kmh, 200.0)
-    check_model(model, contact, "centred_running")
+    check_variant(variant, contact, "centred_running")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
-    sy, layouts = scenario_system(model, coach, v, kw)
+    sy, layouts = scenario_system(variant, coach, v, kw)
     h = time_step(sy, h)
     kw["output_dt"] = run_output_dt(sy, v, h, kw.get("output_dt"), 0.01)
     # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)
@@ -83,12 +83,12 @@ def centred_running(
     else:
         patch = contact_patch(sy, run, -1, wheel=1, wheelset=0)
     rim = camber = roll = None
-    if model in FLEXIBLE_WHEELSETS:
+    if variant in FLEXIBLE_WHEELSETS:
         camber = rim_camber_change(sy, run.q[-1])
         roll = rail_head_roll(sy, run.q[-1], run.t[-1])
         rim = camber - roll
     rail = None
-    if model in RING_TRACK:
+    if variant in RING_TRACK:
         rail = sy.rail_deflection(run.t, run.q)
     return CentredRunning(
         Q=run.Q[-1],
@@ -99,7 +99,7 @@ def centred_running(
         speed=v,
         contact=contact,
         patch=patch,
-        model=model,
+        variant=variant,
         rim_angle=rim,
         rail=rail,
         rim_camber=camber,
@@ -135,7 +135,7 @@ def contact_patch(
 
 def hunting(
     speed_kmh: float | None = None,
-    model: str = "RR",
+    variant: str = "RR",
     contact: str = "hertz-kalker",
     *,
     speed: float | None = None,
@@ -157,19 +157,19 @@ def hunting(
     FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
     at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
     critical_search does this), not from 0. ``h`` defaults to 1 ms
-    (RR) or, for model 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
-    (as centred_running); model 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
+    (RR) or, for variant 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
+    (as centred_running); variant 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
     ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
     ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
     10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
     the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
-    ``return_system``: return (SimulationResult, the system it ran, model FR's and FF's
+    ``return_system``: return (SimulationResult, the system it ran, variant FR's and FF's
     layouts with the mode labels or []) instead, so that nothing is rebuilt to label it.
     """
     v = _checks.speed_si(speed, speed_kmh)
-    check_model(model, contact, "hunting")
+    check_variant(variant, contact, "hunting")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
-    sy, layouts = scenario_system(model, coach, v, kw)
+    sy, layouts = scenario_system(variant, coach, v, kw)
     h = time_step(sy, h)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
     # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)

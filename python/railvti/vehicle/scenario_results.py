@@ -49,27 +49,27 @@ class CentredRunning:
         velocity, friction power density on the 0.75 mm grid). Otherwise: Hertz pressure,
         FASTSIM tractions, slip and friction power density on a 40 x 40 strip grid of the
         Hertz ellipse, from the run's normal force, semi-axes and creepages.
-    model : str
+    variant : str
         'RR', 'FR' or 'RF'.
     rim_angle : ndarray (2, 4) or None
-        Models FR and FF: the change of the rim-rail relative angle at the end of the run,
+        Variants FR and FF: the change of the rim-rail relative angle at the end of the run,
         rad [wheel, wheelset]: rim_camber - rail_roll (+: the inner edge, towards the track
         centre, rises; railvti.vehicle.flexible_points.rim_rail_angle_change); None for RR and RF.
     rim_camber : ndarray (2, 4) or None
-        Models FR and FF: the rims' elastic camber alone, rad, same convention
+        Variants FR and FF: the rims' elastic camber alone, rad, same convention
         (railvti.vehicle.flexible_points.rim_camber_change); None for RR and RF.
     rail_roll : ndarray (2, 4) or None
-        Models FR and FF: the rail head's elastic roll under each wheel, rad, same convention
+        Variants FR and FF: the rail head's elastic roll under each wheel, rad, same convention
         (railvti.vehicle.flexible_points.rail_head_roll; zero on FR's rigid track); None otherwise.
     rail : ndarray (nt, 3, 2, 4) or None
-        Model RF: the rail head's motion under each wheel at the run's outputs, the pose
+        Variant RF: the rail head's motion under each wheel at the run's outputs, the pose
         (y m, z m, roll rad) of the element under wheel [., ., wheel, wheelset] in the
         vehicle's frame (RingSystem.rail_deflection); None otherwise.
     system : System
         The system the run used (railvti.vehicle.systems): labels its coordinates without
         rebuilding it.
     layouts : list
-        Models FR and FF: the wheelsets' layouts with the mode labels; [] otherwise.
+        Variants FR and FF: the wheelsets' layouts with the mode labels; [] otherwise.
     """
 
     Q: np.ndarray
@@ -80,7 +80,7 @@ class CentredRunning:
     speed: float
     contact: str
     patch: Any = None
-    model: str = "RR"
+    variant: str = "RR"
     rim_angle: np.ndarray | None = None
     rail: np.ndarray | None = None
     rim_camber: np.ndarray | None = None
@@ -156,10 +156,10 @@ class Bifurcation:
     no_cycle_up_to : float
         NaN, or the top of the sweep when no cycle was sustained even there (critical speed
         above the sweep; ``critical`` NaN), m/s (``no_cycle_up_to_kmh``: km/h).
-    model : str
+    variant : str
         'RR', 'FR', 'RF' or 'FF'.
     details : dict
-        'flange_force' (N, per speed); model FR also 'h' (the step at each speed, s) and
+        'flange_force' (N, per speed); variant FR also 'h' (the step at each speed, s) and
         'modal_restarts' (speeds, m/s, at which the upper branch's modal coordinates were
         restarted from the static state instead of carried over; empty when every mode
         set matched).
@@ -179,7 +179,7 @@ class Bifurcation:
     extended: np.ndarray = field(default_factory=lambda: np.zeros(0))
     no_decay_below: float = float("nan")
     no_cycle_up_to: float = float("nan")
-    model: str = "RR"
+    variant: str = "RR"
 
     @property
     def speeds_kmh(self) -> np.ndarray:
@@ -219,7 +219,7 @@ class Bifurcation:
     def case_data(self, steps: bool = False) -> tuple[dict, dict]:
         """The sweep's part of a results file: (datasets, scalars), each name -> (value,
         unit[, labels]); speeds as km/h labels (:func:`kmh_label`); ``steps``: the time step
-        at each speed too (``details['h']``, the flexible models)."""
+        at each speed too (``details['h']``, the flexible variants)."""
         axis = {"axes": ["speed"]}
         data: dict[str, tuple] = {"speeds_kmh": (kmh_label(self.speeds), "km/h", axis)}
         if steps:
@@ -278,7 +278,7 @@ class CriticalSpeed:
         nonlinear: the floor of the extended sweep where the cycle was still alive (NaN
         otherwise), m/s (``no_decay_below_kmh``: km/h).
     bifurcation : Bifurcation or None
-    model : str
+    variant : str
         'RR', 'FR', 'RF' or 'FF'.
     """
 
@@ -289,7 +289,7 @@ class CriticalSpeed:
     frequency_hz: float = float("nan")
     no_decay_below: float = float("nan")
     bifurcation: Bifurcation | None = None
-    model: str = "RR"
+    variant: str = "RR"
 
     def __float__(self) -> float:
         return float(self.kmh)

@@ -271,10 +271,10 @@ def _finish(
     nthreads: int,
 ) -> SimulationResult:
     """The result of a completed time loop with its wall time, the rail under the wheels
-    (model RF) and the BEM's counters and fields."""
+    (variant RF) and the BEM's counters and fields."""
     res.stats.update({"wall_time": wall, "real_time_factor": wall / (plan.nsteps * plan.h)})
     if getattr(system, "ring", None) is not None and res.t.size:
-        # model RF: the rail under the wheels, after the timed loop (the RTF stays the loop's)
+        # variant RF: the rail under the wheels, after the timed loop (the RTF stays the loop's)
         res = replace(res, rail=system.rail_deflection(res.t, res.q))
     if bem is not None:
         res = with_bem_fields(res, system, bem, cnt0, plan.nsteps)

@@ -196,7 +196,7 @@ def strip_geometry(
     # solved at every node (exact): the table is differentiated (the strips' forces take
     # dc/dx, times dx/dy = kappa_rail' / (2 B), ~3e6 1/m in a near-conformal flange-root
     # strip), and ratios rounded to 1e-3 in ln make a staircase whose spline slope
-    # alternates from node to node (docs/vehicle.md, "Models RF and FF: limits")
+    # alternates from node to node (docs/vehicle.md, "Variants RF and FF: limits")
     a1, b1, kh = _hertz_unit(np.ones_like(rho), rho, material, clip=UPPER_CLIP, exact=True)
     ak, bk, _ = _hertz_unit(np.ones_like(rho), np.exp(saturated_log_ratio(x)), material, exact=True)
     c11, c22, c23 = kalker_coefficients(ak / bk, material.poisson)

@@ -1,13 +1,13 @@
-"""The coach-track systems of the scenarios, built and cached: models RR, FR, RF, FF.
+"""The coach-track systems of the scenarios, built and cached: variants RR, FR, RF, FF.
 
-Model 'RR': rigid wheelsets on the rigid track element (one per wheelset). Model 'FR':
+Variant 'RR': rigid wheelsets on the rigid track element (one per wheelset). Variant 'FR':
 the same with flexible rotating wheelsets (railvti.vehicle.flexible: free-free elastic
 modes coupled through the rims and journals, docs/vehicle_integrator.md "Flexible
 wheelsets (FR)"); its modal matrices depend on the spin, so it is built at each speed
-(:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Model 'RF': rigid
+(:func:`fr_system`) with the mode selection ``k_max``, ``f_max``. Variant 'RF': rigid
 wheelsets on the flexible ring track (railvti.vehicle.ring_coupling, docs/vehicle.md "Model
 RF"), built per speed (:func:`rf_system`) with ``n_sleepers``, ``f_limit``,
-``track_params``, ``x_offset``, ``ring_residual``. Model 'FF': the flexible wheelsets on the
+``track_params``, ``x_offset``, ``ring_residual``. Variant 'FF': the flexible wheelsets on the
 ring (:func:`ff_system`, the keys of both). S1002 wheels on UIC60 rails inclined 1:40
 (:func:`wheel_table`, cached with the FE wheelset, the ring and the strip geometry).
 
@@ -43,7 +43,7 @@ from .table import WheelTable, linearised_table
 from .table import wheel_table as profile_table
 
 __all__ = [
-    "MODELS",
+    "VARIANTS",
     "FR_SCENARIOS",
     "RF_SCENARIOS",
     "FLEXIBLE_WHEELSETS",
@@ -65,7 +65,7 @@ __all__ = [
     "hunting_conicity",
     "fr_wheelset",
     "check_fr_selection",
-    "check_model",
+    "check_variant",
     "coach_system",
     "system_and_layouts",
     "fr_system",
@@ -82,8 +82,8 @@ __all__ = [
     "run_output_dt",
 ]
 
-MODELS = ("RR", "FR", "RF", "FF")
-#: Scenarios that run model FR.
+VARIANTS = ("RR", "FR", "RF", "FF")
+#: Scenarios that run variant FR.
 FR_SCENARIOS = (
     "centred_running",
     "coach_system",
@@ -92,7 +92,7 @@ FR_SCENARIOS = (
     "critical_speed",
     "linear_critical_speed",
 )
-#: Scenarios that run the models on the ring track, RF and FF.
+#: Scenarios that run the variants on the ring track, RF and FF.
 RF_SCENARIOS = (
     "centred_running",
     "coach_system",
@@ -101,11 +101,11 @@ RF_SCENARIOS = (
     "critical_speed",
     "linear_critical_speed",
 )
-#: The models with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
+#: The variants with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
-#: Default ring of model RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
+#: Default ring of variant RF: sleepers on the ring, kept ring modes up to f_limit (Hz).
 RF_N_SLEEPERS, RF_F_LIMIT = 40, 500.0
-#: Model RF's keys (the ring and its mode selection).
+#: Variant RF's keys (the ring and its mode selection).
 RF_KEYS = (
     "n_sleepers",
     "f_limit",
@@ -116,9 +116,9 @@ RF_KEYS = (
     "ring_residual_inertia",
 )
 _RINGS: dict[Any, Any] = {}
-#: Default mode selection of model FR: harmonics k <= 2, modes up to 800 Hz.
+#: Default mode selection of variant FR: harmonics k <= 2, modes up to 800 Hz.
 FR_K_MAX, FR_F_MAX = 2, 800.0
-#: The highest harmonic model FR accepts (as the wheelset deck's k_max).
+#: The highest harmonic variant FR accepts (as the wheelset deck's k_max).
 MAX_HARMONIC = 30
 _PROFILES: dict[str, Any] = {}
 
@@ -131,11 +131,11 @@ def profiles() -> tuple[Any, Any]:
     return _PROFILES["wheel"], _PROFILES["rail"]
 
 
-#: The lateral range of the contact table on the ring track (models RF and FF), m: the
+#: The lateral range of the contact table on the ring track (variants RF and FF), m: the
 #: relative wheel-rail position there is the wheelset's plus the rail's lateral deflection and
 #: roll under the flange (up to ~4.5 mm and ~14 mrad with the ring's residual flexibility in FF
 #: flange hunting at 400 km/h), so the non-flanging wheel ran past the rigid track's
-#: 15 mm (docs/vehicle.md, "Models RF and FF: limits").
+#: 15 mm (docs/vehicle.md, "Variants RF and FF: limits").
 RING_TABLE_Y_MAX = 0.020
 
 
@@ -196,7 +196,7 @@ def equivalent_conicity(amplitude: float = 0.003) -> float:
 
 
 def fr_wheelset():
-    """The FE wheelset of model FR (cached: its harmonic solves and statics are reused by
+    """The FE wheelset of variant FR (cached: its harmonic solves and statics are reused by
     every FR system built at another speed)."""
     if "wheelset" not in _PROFILES:
         _PROFILES["wheelset"] = Wheelset()
@@ -204,7 +204,7 @@ def fr_wheelset():
 
 
 def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
-    """(k_max, f_max) of model FR's mode selection, checked: k_max an integer harmonic in
+    """(k_max, f_max) of variant FR's mode selection, checked: k_max an integer harmonic in
     0..MAX_HARMONIC, f_max a positive finite frequency (Hz).
 
     Raises
@@ -220,7 +220,7 @@ def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
     if not ok:
         raise InputError(
             f"k_max = {k_max!r} is not a harmonic of the wheelset model: the "
-            f"highest circumferential harmonic of model FR's modes must be an "
+            f"highest circumferential harmonic of variant FR's modes must be an "
             f"integer in 0..{MAX_HARMONIC}"
         )
     try:
@@ -230,29 +230,29 @@ def check_fr_selection(k_max: Any, f_max: Any) -> tuple[int, float]:
     if isinstance(f_max, bool) or not (np.isfinite(f) and f > 0.0):
         raise InputError(
             f"f_max = {f_max!r} must be a positive finite frequency, Hz (the "
-            "highest non-rotating frequency of model FR's kept modes)"
+            "highest non-rotating frequency of variant FR's kept modes)"
         )
     return int(k_max), f
 
 
-def check_model(model: str, contact: str, scenario: str = "") -> None:
-    if model not in MODELS:
-        raise InputError(f"unknown model {model!r}: the time simulation has {MODELS}")
-    if model in FLEXIBLE_WHEELSETS and scenario not in FR_SCENARIOS:
+def check_variant(variant: str, contact: str, scenario: str = "") -> None:
+    if variant not in VARIANTS:
+        raise InputError(f"unknown variant {variant!r}: the time simulation has {VARIANTS}")
+    if variant in FLEXIBLE_WHEELSETS and scenario not in FR_SCENARIOS:
         raise InputError(
-            f"model {model!r} is not available in {scenario or 'this scenario'} "
-            f"yet (flexible wheelsets: only {FR_SCENARIOS}); use model='RR'"
+            f"variant {variant!r} is not available in {scenario or 'this scenario'} "
+            f"yet (flexible wheelsets: only {FR_SCENARIOS}); use variant='RR'"
         )
-    if model in RING_TRACK and scenario not in RF_SCENARIOS:
+    if variant in RING_TRACK and scenario not in RF_SCENARIOS:
         raise InputError(
-            f"model {model!r} is not available in {scenario or 'this scenario'} "
-            f"yet (ring track: only {RF_SCENARIOS}); use model='RR'"
+            f"variant {variant!r} is not available in {scenario or 'this scenario'} "
+            f"yet (ring track: only {RF_SCENARIOS}); use variant='RR'"
         )
     contact_id(contact)
 
 
 def coach_system(
-    model: str = "RR",
+    variant: str = "RR",
     coach: Coach | None = None,
     *,
     linear_conicity: float | None = None,
@@ -274,19 +274,19 @@ def coach_system(
     spurious tread cycles). The BEM contact always reads the table. Default under
     ``linear_conicity``: 'table'.
 
-    Model 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
+    Variant 'FR' (flexible wheelsets, :func:`fr_system`) needs the speed, ``speed`` (m/s) or
     ``speed_kmh`` (its modal matrices depend on the spin), and takes the mode selection
     ``k_max``, ``f_max`` (Hz); the state is then the DOFs followed by the modal coordinates.
-    Model 'RF' (the ring track, :func:`rf_system`) needs the speed too and takes
-    ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``; model 'FF' (flexible
-    wheelsets on the ring, :func:`ff_system`) takes the keys of both. Models 'FR' and 'FF'
+    Variant 'RF' (the ring track, :func:`rf_system`) needs the speed too and takes
+    ``n_sleepers``, ``f_limit``, ``track_params`` and ``x_offset``; variant 'FF' (flexible
+    wheelsets on the ring, :func:`ff_system`) takes the keys of both. Variants 'FR' and 'FF'
     take ``follow_contact`` (the rims' rows follow the contact point, :func:`fr_system`).
     """
     v = None
-    if model != "RR" and (speed is not None or speed_kmh is not None):
+    if variant != "RR" and (speed is not None or speed_kmh is not None):
         v = _checks.speed_si(speed, speed_kmh)
     return system_and_layouts(
-        model,
+        variant,
         coach,
         v,
         linear_conicity=linear_conicity,
@@ -299,7 +299,7 @@ def coach_system(
 
 
 def system_and_layouts(
-    model: str,
+    variant: str,
     coach: Coach | None,
     speed: float | None,
     *,
@@ -310,24 +310,24 @@ def system_and_layouts(
     follow_contact: bool = False,
     **rf: Any,
 ) -> tuple[System, list]:
-    """:func:`coach_system` at ``speed`` (m/s; None for model RR, which does not depend on
-    it) and model FR's and FF's layouts (the mode labels; [] for RR and RF)."""
-    check_model(model, "hertz-kalker", "coach_system")
-    if follow_contact and model not in FLEXIBLE_WHEELSETS:
+    """:func:`coach_system` at ``speed`` (m/s; None for variant RR, which does not depend on
+    it) and variant FR's and FF's layouts (the mode labels; [] for RR and RF)."""
+    check_variant(variant, "hertz-kalker", "coach_system")
+    if follow_contact and variant not in FLEXIBLE_WHEELSETS:
         raise InputError(
-            f"follow_contact: a key of models 'FR' and 'FF' (flexible wheelsets); "
-            f"model {model!r} has rigid wheelsets"
+            f"follow_contact: a key of variants 'FR' and 'FF' (flexible wheelsets); "
+            f"variant {variant!r} has rigid wheelsets"
         )
     geometry = _system_geometry(geometry, linear_conicity)
-    if model in RING_TRACK:
+    if variant in RING_TRACK:
         if speed is None:
             raise InputError(
-                f"model {model!r} needs the speed, speed (m/s) or speed_kmh (the "
+                f"variant {variant!r} needs the speed, speed (m/s) or speed_kmh (the "
                 "contact points move along the ring at it)"
             )
         if linear_conicity is not None:
-            raise InputError(f"model {model!r} has no linearised table (linear_conicity)")
-        if model == "FF":
+            raise InputError(f"variant {variant!r} has no linearised table (linear_conicity)")
+        if variant == "FF":
             return ff_system(
                 coach,
                 speed=speed,
@@ -342,12 +342,13 @@ def system_and_layouts(
         return rf_system(coach, speed=speed, geometry=geometry, **rf), []
     if rf:
         raise InputError(
-            f"{', '.join(sorted(rf))}: not a key of model {model!r} (models 'RF' and 'FF' take {RF_KEYS})"
+            f"{', '.join(sorted(rf))}: not a key of variant {variant!r} "
+            f"(variants 'RF' and 'FF' take {RF_KEYS})"
         )
-    if model == "FR":
+    if variant == "FR":
         if speed is None:
             raise InputError(
-                "model 'FR' needs the speed, speed (m/s) or speed_kmh (the modes depend on the spin)"
+                "variant 'FR' needs the speed, speed (m/s) or speed_kmh (the modes depend on the spin)"
             )
         return fr_system(
             coach,
@@ -383,7 +384,7 @@ def fr_system(
     geometry: str | None = None,
     follow_contact: bool = False,
 ) -> tuple[System, list]:
-    """Model FR at one speed: the coach with four flexible wheelsets and their layouts.
+    """Variant FR at one speed: the coach with four flexible wheelsets and their layouts.
 
     Parameters
     ----------
@@ -451,7 +452,7 @@ def _fr_build(
 
 
 def ring_track(n_sleepers: Any, track_params: dict | None):
-    """The ring track of model RF (cached per n_sleepers and parameters)."""
+    """The ring track of variant RF (cached per n_sleepers and parameters)."""
     n = _checks.positive_int("n_sleepers", n_sleepers, minimum=2)
     tp = dict(track_params or {})
     key = (n, tuple(sorted((k, repr(v)) for k, v in tp.items())))
@@ -475,7 +476,7 @@ def rf_system(
     ring_residual_hz: float | None = None,
     ring_residual_inertia: bool = False,
 ):
-    """Model RF at one speed: the coach's rigid wheelsets on the flexible ring track.
+    """Variant RF at one speed: the coach's rigid wheelsets on the flexible ring track.
 
     Parameters
     ----------
@@ -498,8 +499,8 @@ def rf_system(
         Keep the truncated ring modes' static compliance at the contact points (residual
         flexibility, massless coordinates; default). False drops it: the rail under a wheel
         is then stiffer than the ring by the truncated modes' share (docs/vehicle.md,
-        "Model RF"); runs with flange-only contact at 400 km/h need it off or massive today
-        (a Newton failure with the massless coordinates, docs/vehicle.md "Models RF and FF:
+        "Variant RF"); runs with flange-only contact at 400 km/h need it off or massive today
+        (a Newton failure with the massless coordinates, docs/vehicle.md "Variants RF and FF:
         limits").
     ring_residual_hz : float, optional
         Give the residual coordinates a mass: each contact point's block at this natural
@@ -540,7 +541,7 @@ def rf_system(
 
 
 def on_ring(
-    model: str,
+    variant: str,
     coach: Coach,
     table: WheelTable,
     v: float,
@@ -557,15 +558,15 @@ def on_ring(
     fr_base: tuple | None = None,
     follow_contact: bool = False,
 ) -> tuple[System, list]:
-    """Model RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
+    """Variant RF or FF on ``table`` at v (m/s), without the speed bound of the scenarios (the
     linear method's bisection may pass it): the ring checked and built (cached), FR's
     wheelsets on rigid ground for FF (``fr_base``: that (system, layouts) already built at v),
     the ring's block appended. Returns (system, FR layouts or [])."""
     track = checked_ring(coach, n_sleepers, track_params)
     base, lays = None, []
-    if model == "FF" and fr_base is not None:
+    if variant == "FF" and fr_base is not None:
         base, lays = fr_base
-    elif model == "FF":
+    elif variant == "FF":
         base, lays = _fr_build(coach, table, v, k_max, f_max, track=False, follow_contact=follow_contact)
     sy = build_rf(
         coach,
@@ -607,7 +608,7 @@ def ff_system(
     ring_residual_inertia: bool = False,
     follow_contact: bool = False,
 ) -> tuple[System, list]:
-    """Model FF at one speed: the coach's flexible rotating wheelsets on the ring track.
+    """Variant FF at one speed: the coach's flexible rotating wheelsets on the ring track.
 
     The FR system on rigid ground (:func:`fr_system`'s wheelsets: mode selection ``k_max``,
     ``f_max``, residual flexibility at the rims and journals) with the ring's modal block
@@ -650,27 +651,28 @@ def ff_system(
     return with_geometry(sy, _system_geometry(geometry)), lays
 
 
-def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict) -> tuple[System, list]:
+def scenario_system(variant: str, coach: Coach | None, speed: float, kw: dict) -> tuple[System, list]:
     """The scenario's system at ``speed`` (m/s) and its FR layouts (:func:`system_and_layouts`):
     RR, or FR, RF, FF at this speed with their keys (the mode selection, the ring's) popped
     from kw."""
     geometry = kw.pop("geometry", None)
     follow = {"follow_contact": kw.pop("follow_contact")} if "follow_contact" in kw else {}
-    if model in RING_TRACK:
+    if variant in RING_TRACK:
         rf = {k: kw.pop(k) for k in RF_KEYS if k in kw}
-        if model == "RF":
+        if variant == "RF":
             no_fr_keys(kw)
         else:
             rf.update(k_max=kw.pop("k_max", FR_K_MAX), f_max=kw.pop("f_max", FR_F_MAX))
-        return system_and_layouts(model, coach, speed, geometry=geometry, **follow, **rf)
+        return system_and_layouts(variant, coach, speed, geometry=geometry, **follow, **rf)
     extra = sorted(k for k in RF_KEYS if k in kw)
     if extra:
         raise InputError(
-            f"{', '.join(extra)}: keys of models 'RF' and 'FF' (the ring track); model {model!r} has none"
+            f"{', '.join(extra)}: keys of variants 'RF' and 'FF' (the ring track); "
+            f"variant {variant!r} has none"
         )
-    if model == "FR":
+    if variant == "FR":
         return system_and_layouts(
-            model,
+            variant,
             coach,
             speed,
             k_max=kw.pop("k_max", FR_K_MAX),
@@ -679,16 +681,16 @@ def scenario_system(model: str, coach: Coach | None, speed: float, kw: dict) -> 
             **follow,
         )
     no_fr_keys(kw)
-    return system_and_layouts(model, coach, None, geometry=geometry, **follow)
+    return system_and_layouts(variant, coach, None, geometry=geometry, **follow)
 
 
 def no_fr_keys(kw: dict) -> None:
-    """InputError for model FR's mode selection given to model RR."""
+    """InputError for variant FR's mode selection given to variant RR."""
     extra = sorted(k for k in ("k_max", "f_max") if k in kw)
     if extra:
         raise InputError(
-            f"{', '.join(extra)}: the mode selection of models 'FR' and 'FF'; "
-            "models 'RR' and 'RF' have rigid wheelsets (no modes)"
+            f"{', '.join(extra)}: the mode selection of variants 'FR' and 'FF'; "
+            "variants 'RR' and 'RF' have rigid wheelsets (no modes)"
         )
 
 
@@ -740,18 +742,18 @@ def run_output_dt(
     return _output.output_interval(output_dt, h, _excitations(sy, v), base)
 
 
-def ring_keys(model: str, ring: dict | None) -> dict:
+def ring_keys(variant: str, ring: dict | None) -> dict:
     """The ring's keys of a sweep, checked: only RF_KEYS, and only for RF and FF."""
     ring = dict(ring or {})
     bad = sorted(k for k in ring if k not in RF_KEYS)
     if bad:
         raise InputError(
             f"{', '.join(bad)}: unknown keyword(s) (the ring track's keys of "
-            f"models 'RF' and 'FF' are {RF_KEYS})"
+            f"variants 'RF' and 'FF' are {RF_KEYS})"
         )
-    if ring and model not in RING_TRACK:
+    if ring and variant not in RING_TRACK:
         raise InputError(
-            f"{', '.join(sorted(ring))}: keys of models 'RF' and 'FF' (the ring "
-            f"track); model {model!r} has none"
+            f"{', '.join(sorted(ring))}: keys of variants 'RF' and 'FF' (the ring "
+            f"track); variant {variant!r} has none"
         )
     return ring

@@ -12,7 +12,7 @@ that make it the coach's wheelset (:func:`coach_wheelset`):
   1813 kg (railvti.vehicle.params): the housing, the bearings and the unsprung share of the
   primary suspension.
 
-The parts ride on the rigid-body motion only: in model FR they do not load the elastic modes
+The parts ride on the rigid-body motion only: in variant FR they do not load the elastic modes
 (the FE mesh is the bare wheelset; docs/vehicle.md, "One wheelset body").
 :data:`railvti.vehicle.params.DEFAULTS` quotes the resulting ``wheelset_mass``,
 ``wheelset_roll_inertia``, ``wheelset_yaw_inertia`` and ``wheelset_pitch_inertia`` (the spin
@@ -140,7 +140,7 @@ def coach_wheelset(geometry: WheelsetGeometry | None = None) -> WheelsetBody:
     ----------
     geometry : WheelsetGeometry, optional
         The FE wheelset's geometry and material (default: ``WheelsetGeometry()``, the
-        wheelset of models FR and FF).
+        wheelset of variants FR and FF).
 
     Returns
     -------
