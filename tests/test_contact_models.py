@@ -12,6 +12,7 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.vehicle import bem as bem_module
+from railvti.vehicle.bifurcation import bifurcation_point
 from railvti.vehicle.contact_models import (
     BEM,
     CONTACT_MODELS,
@@ -45,6 +46,10 @@ def test_every_spec_is_its_fortran_constant_and_every_constant_has_a_spec():
     consts = _fortran_constants()
     assert {m.fortran_name: m.fortran_id for m in CONTACT_MODELS.values()} == consts
     assert [m.fortran_id for m in CONTACT_MODELS.values()] == sorted(consts.values())
+    # one name on both sides of f2py: 'hertz-fastsim' is CMODEL_HERTZ_FASTSIM
+    assert all(
+        m.fortran_name == "CMODEL_" + m.name.upper().replace("-", "_") for m in CONTACT_MODELS.values()
+    )
 
 
 def test_parse_returns_the_spec_and_names_the_allowed_values():
@@ -144,3 +149,20 @@ def test_a_bem_centred_run_opens_one_state(opened):
         200.0, contact="bem", duration=0.003, h=1e-3, output_dt=1e-3, progress=False, threads=1
     )
     assert opened[0] == 1
+
+
+def test_a_bem_sweep_point_opens_one_state(opened):
+    amp, _, _ = bifurcation_point(
+        300.0 / 3.6,
+        0.004,
+        variant="RR",
+        contact="bem",
+        coach=None,
+        h=1e-3,
+        k_max=1,
+        f_max=300.0,
+        duration=0.003,
+        output_dt=1e-3,
+    )
+    assert opened[0] == 1
+    assert np.isfinite(amp)

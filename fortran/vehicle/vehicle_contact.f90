@@ -45,12 +45,12 @@ module vehicle_contact
     implicit none
     private
     public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
-    public :: CMODEL_HERTZ_KALKER, CMODEL_FASTSIM, CMODEL_BEM
+    public :: CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM, CMODEL_BEM
     public :: SLIN_KEEP, SLIN_READ
 
     !> Contact models (wheelset_contact's `model`); Python's CONTACT_MODELS names them. The
     !> Newton tangent of a BEM run is CMODEL_BEM with wheelset_contact's flag `tangent`.
-    integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_FASTSIM = 2, CMODEL_BEM = 3
+    integer, parameter :: CMODEL_HERTZ_KALKER = 1, CMODEL_HERTZ_FASTSIM = 2, CMODEL_BEM = 3
     !> Strip linearisation (wheelset_contact's slin, smode): evaluate and keep the wheels'
     !> strip outputs with their pose derivatives, or read them linearly at the pose.
     integer, parameter :: SLIN_KEEP = 1, SLIN_READ = 2
@@ -483,7 +483,7 @@ contains
     !> qw, vw: wheelset (y, z, roll, yaw, x, beta) and rates (x longitudinal relative to the
     !> nominal position moving at v0, beta the spin perturbation about the axle on top of the
     !> nominal rolling v0/r0; only vw(5:6) enter); qt, vt: track element (y, z, roll) and rates.
-    !> model CMODEL_HERTZ_KALKER: Hertz + Kalker linear with SHE saturation; CMODEL_FASTSIM:
+    !> model CMODEL_HERTZ_KALKER: Hertz + Kalker linear with SHE saturation; CMODEL_HERTZ_FASTSIM:
     !> Hertz + FASTSIM (contact_fastsim, fsn x fsn strips x points); CMODEL_BEM: the BEM
     !> normal and steady-rolling solvers of vehicle_bem (state `bem`, wheelset index iws) with
     !> the same approach and creepages (the Hertz semi-axes and energy are still reported in
@@ -506,7 +506,7 @@ contains
     !> of that wheel's forces and moment about the centre (the moment about the reference
     !> point): the same arms as the pose change (energy-consistent). rim = 0 gives fw, ft,
     !> wout exactly (bit for bit) as without.
-    !> Strip contact (optional st, switched on, models CMODEL_HERTZ_KALKER and CMODEL_FASTSIM):
+    !> Strip contact (optional st, switched on, models CMODEL_HERTZ_KALKER and CMODEL_HERTZ_FASTSIM):
     !> each wheel's normal forces are -grad V of the strip potential (vehicle_strip) over the
     !> pose, and each slot's creep forces act at its load-weighted point with the Hertz
     !> ellipse and Kalker's coefficients of its mean curvature ratio; the table only bounds
@@ -544,7 +544,7 @@ contains
         type(wheel_pose) :: wp
         flex = present(rim) .and. present(rarm) .and. present(frim)
         strip = .false.
-        if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_FASTSIM)
+        if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_HERTZ_FASTSIM)
         tng = .false.
         if (present(tangent)) tng = tangent .and. model == CMODEL_BEM
         if (flex) frim = 0.0_dp

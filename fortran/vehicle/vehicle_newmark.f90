@@ -30,7 +30,7 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
-    use vehicle_contact, only: nwo, CMODEL_HERTZ_KALKER, CMODEL_FASTSIM
+    use vehicle_contact, only: nwo, CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
@@ -216,7 +216,7 @@ contains
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_options), intent(in) :: opt
-        keep = md%st%on .and. (rs%cmodel == CMODEL_HERTZ_KALKER .or. rs%cmodel == CMODEL_FASTSIM) &
+        keep = md%st%on .and. (rs%cmodel == CMODEL_HERTZ_KALKER .or. rs%cmodel == CMODEL_HERTZ_FASTSIM) &
                .and. md%mp%nm == 0 .and. opt%scheme == SCHEME_HHT
     end function keeps_matrix
 

@@ -19,7 +19,7 @@ from .assembly import System
 from .flexible import mode_labels
 from .params import Coach
 from .scenario_results import Bifurcation
-from .equilibrium import lateral_disturbance, static_equilibrium
+from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .run_result import SimulationResult
 from .simulate import simulate
 from .systems import (
@@ -656,8 +656,10 @@ def bifurcation_point(
     """
     sy, _, hs = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring).at(speed)
     vv = speed
-    with serial_blas():  # one BLAS thread, in the caller as in a worker: the same bits
-        q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y)
+    # one BLAS thread, in the caller as in a worker: the same bits; one BEM state for the
+    # point's equilibrium and run
+    with serial_blas(), contact_state(sy, contact) as st:
+        q0 = lateral_disturbance(sy, static_equilibrium(sy, vv, contact, bem=st)[0], y)
         r = simulate(
             sy,
             vv,
@@ -667,6 +669,7 @@ def bifurcation_point(
             q0=q0,
             output_dt=run_output_dt(sy, vv, hs, output_dt, 0.002, check=False),
             progress=False,
+            bem=st,
         )
     last = r.t >= r.t[-1] - 1.0
     return amplitude(r), float(r.wheel_output("N_flange")[last][:, :, :2].max()), hs

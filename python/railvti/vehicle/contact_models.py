@@ -14,7 +14,7 @@ The same model on both sides of the f2py boundary (``fortran/vehicle/vehicle_con
 name               Fortran constant        id  model
 =================  ======================  ==  ===================================================
 'hertz-kalker'     CMODEL_HERTZ_KALKER     1   Hertz + Kalker's linear theory, Shen-Hedrick-Elkins
-'hertz-fastsim'    CMODEL_FASTSIM          2   Hertz + FASTSIM
+'hertz-fastsim'    CMODEL_HERTZ_FASTSIM    2   Hertz + FASTSIM
 'bem'              CMODEL_BEM              3   BEM normal + steady rolling (Hertz + Kalker tangent)
 =================  ======================  ==  ===================================================
 
@@ -118,7 +118,7 @@ HERTZ_KALKER = ContactModel(
 #: Hertz + FASTSIM.
 HERTZ_FASTSIM = ContactModel(
     name="hertz-fastsim",
-    fortran_name="CMODEL_FASTSIM",
+    fortran_name="CMODEL_HERTZ_FASTSIM",
     fortran_id=2,
     needs_bem=False,
     newton_tol=1e-9,
