@@ -29,6 +29,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from .._checks import from_kmh
 from ..contact.hertz import hertz
 from ..errors import InputError
 from ..material import Material
@@ -537,7 +538,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         out_dt = 0.01 if scen == "centred_running" else 2e-3
         if ring_modes:  # 10 samples per period of the sleeper passing
             spacing = _pos(p, "track_sleeper_spacing", 0.6)
-            out_dt = min(out_dt, spacing / _pos(p, "speed", 300 / 3.6) / 10.0)
+            out_dt = min(out_dt, spacing / _pos(p, "speed", from_kmh(300.0)) / 10.0)
     out_dt = max(out_dt, h)
     states = 2.0 * (70.0 + ws_modes + ring_modes) + 12 * 2 * 4
     samples = duration / out_dt

@@ -252,7 +252,7 @@ class Coach:
 
 def speed_m_s(speed_kmh: Any) -> float:
     """Check a speed in km/h (0 < speed <= railvti._checks.MAX_SPEED_KMH) and return it in m/s."""
-    return _checks.speed_kmh("speed_kmh", speed_kmh) / 3.6
+    return _checks.from_kmh(_checks.speed_kmh("speed_kmh", speed_kmh))
 
 
 __all__ = ["DEFAULTS", "BOUNDS", "Coach", "speed_m_s"]

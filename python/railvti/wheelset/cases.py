@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import MAX_SPEED_KMH
+from .._checks import MAX_SPEED_KMH, from_kmh
 from ..casetypes import CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
 from .geometry import WheelsetGeometry
@@ -195,7 +195,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
     for i, v in enumerate(speeds):
         h[i] = ws.frf(
             freqs,
-            v / 3.6,
+            from_kmh(v),
             input=params["input"],
             output=params["output"],
             k_max=params["k_max"],
