@@ -224,6 +224,31 @@ def _sweep_setup(
     return step, systems
 
 
+def _point_keys(
+    systems: SweepSystems,
+    variant: str,
+    contact: str,
+    coach: Coach | None,
+    h: float | None,
+    duration: float,
+    output_dt: float | None,
+) -> dict:
+    """The keyword arguments of :func:`bifurcation_point` for a sweep over ``systems`` (the
+    checked mode selection, geometry and ring keys taken from them)."""
+    return dict(
+        variant=variant,
+        contact=contact,
+        coach=coach,
+        h=h,
+        k_max=systems.k_max,
+        f_max=systems.f_max,
+        duration=duration,
+        geometry=systems.geometry,
+        ring=systems.ring,
+        output_dt=output_dt,
+    )
+
+
 def bifurcation(
     speeds_kmh: Sequence[float] | None = None,
     variant: str = "RR",
@@ -384,18 +409,7 @@ def _bifurcation_continuation(
     ``v_min`` in m/s), serial or on a Dask client: the upper branch's dict
     (:func:`bifurcation_upper`), the decay tests' amplitudes and the sweep's systems."""
     step, systems = _sweep_setup(sp, variant, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
-    point = dict(
-        variant=variant,
-        contact=contact,
-        coach=coach,
-        h=h,
-        k_max=systems.k_max,
-        f_max=systems.f_max,
-        duration=duration,
-        geometry=systems.geometry,
-        ring=systems.ring,
-        output_dt=output_dt,
-    )
+    point = _point_keys(systems, variant, contact, coach, h, duration, output_dt)
     chain = dict(point, y_large=y_large, threshold=threshold, step=step, v_min=v_min)
     bar = None
     if progress:
@@ -699,18 +713,7 @@ def _bifurcation_independent(
     """:func:`bifurcation` with every speed independent, serial or on a Dask client (speeds
     ``sp`` and the floor ``v_min`` in m/s)."""
     step, systems = _sweep_setup(sp, variant, contact, coach, h, k_max, f_max, geometry, ring, output_dt)
-    kw = dict(
-        variant=variant,
-        contact=contact,
-        coach=coach,
-        h=h,
-        k_max=systems.k_max,
-        f_max=systems.f_max,
-        duration=duration,
-        geometry=systems.geometry,
-        ring=systems.ring,
-        output_dt=output_dt,
-    )
+    kw = _point_keys(systems, variant, contact, coach, h, duration, output_dt)
     with contextlib.ExitStack() as stack:
         c = None
         if client is not None:
