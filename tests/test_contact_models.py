@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from railvti import scenarios
+from railvti import critical_search, scenarios
 from railvti.errors import InputError
 from railvti.vehicle import bem as bem_module
-from railvti.vehicle.bifurcation import bifurcation_point
+from railvti.vehicle.bifurcation import bifurcation_point, bifurcation_upper
 from railvti.vehicle.contact_models import (
     BEM,
     CONTACT_MODELS,
@@ -166,3 +166,42 @@ def test_a_bem_sweep_point_opens_one_state(opened):
     )
     assert opened[0] == 1
     assert np.isfinite(amp)
+
+
+def test_a_bem_continuation_opens_one_state_per_speed(opened):
+    """The upper branch at two speeds: each speed's static solve (the top), carry and run share
+    one state (the static solve and the run opened one each)."""
+    out = bifurcation_upper(
+        [310.0 / 3.6, 300.0 / 3.6],
+        y_large=0.006,
+        threshold=0.0,
+        step=10.0 / 3.6,
+        v_min=300.0 / 3.6,
+        variant="RR",
+        contact="bem",
+        coach=None,
+        h=1e-3,
+        k_max=1,
+        f_max=300.0,
+        duration=0.003,
+        output_dt=1e-3,
+    )
+    assert len(out["speeds"]) == 2 and opened[0] == 2
+
+
+#: critical_search's settings for one short test point (the verdicts do not matter here).
+SEARCH_CFG = dict(
+    threshold=1e-3, rate_tol=0.1, window=0.002, duration=0.004, y_large=0.006, y_small=1e-4,
+    collapse=0.5, max_extensions=0,
+)  # fmt: skip
+
+
+@pytest.mark.parametrize("test", ["fold", "decay"])
+def test_a_bem_search_point_opens_one_state(opened, test):
+    """A critical-speed search point runs in two segments after its static solve: one state
+    for the three (each opened its own)."""
+    runs = critical_search._Runs("RR", "bem", None, 1e-3, 1, 300.0, None, {}, 1e-3, 2)
+    make = critical_search._upper_test if test == "fold" else critical_search._decay_test
+    _, _, rec = make(runs, SEARCH_CFG, None)(300.0 / 3.6, None)
+    assert opened[0] == 1
+    assert np.isfinite(rec["amplitude"]) and "failed" not in rec

@@ -53,7 +53,7 @@ def test_linear_method_reports_the_yaw_damper_state():
     assert slide.kmh < stuck.kmh - 20.0
     assert float(stuck) == stuck.kmh
     with pytest.raises(InputError, match="damper"):
-        scenarios.linear_critical_speed(damper="locked")
+        scenarios.linear_critical_speed_kmh(damper="locked")
 
 
 def test_default_geometry_has_no_spurious_tread_cycle():

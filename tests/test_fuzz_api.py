@@ -110,7 +110,7 @@ SCENARIO_CALLS = [
         lambda: scenarios.bifurcation([300.0, 280.0], "FR", duration=0.01, k_max=-1),
         ["k_max", "0..30"],
     ),
-    ("linear-damper", lambda: scenarios.linear_critical_speed(damper="loose"), ["damper"]),
+    ("linear-damper", lambda: scenarios.linear_critical_speed_kmh(damper="loose"), ["damper"]),
     ("critical-method", lambda: scenarios.critical_speed(method="guess"), ["method"]),
 ]
 

@@ -24,7 +24,7 @@ def _deck(**kw):
         lambda: scenarios.centred_running(200.0, variant="FX", duration=0.01),
         lambda: scenarios.hunting(300.0, variant="fr", duration=0.01),
         lambda: scenarios.bifurcation([300.0, 280.0], variant="FQ", progress=False),
-        lambda: scenarios.linear_critical_speed("XR"),
+        lambda: scenarios.linear_critical_speed_kmh("XR"),
         lambda: scenarios.critical_speed("ring", method="linear"),
         lambda: scenarios.coach_system("XX"),
     ],
@@ -59,7 +59,7 @@ def test_bad_f_max(f_max):
     with pytest.raises(InputError, match="f_max"):
         scenarios.centred_running(200.0, "FR", f_max=f_max, duration=0.01)
     with pytest.raises(InputError, match="f_max"):
-        scenarios.linear_critical_speed("FR", f_max=f_max)
+        scenarios.linear_critical_speed_kmh("FR", f_max=f_max)
     with pytest.raises(InputError, match="f_max"):
         REGISTRY["vehicle"].run(_deck(model="FR", scenario="centred_running", f_max=f_max))
 

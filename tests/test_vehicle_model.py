@@ -117,7 +117,7 @@ def test_hunting_decays_at_low_speed_and_cycles_with_flange_at_high_speed():
 
 
 def test_linear_critical_speed_brackets_growth(table):
-    v, f = scenarios.linear_critical_speed(tol_kmh=2.0)
+    v, f = scenarios.linear_critical_speed_kmh(tol_kmh=2.0)
     assert 150 < v < 600 and 2.0 < f < 12.0
     from railvti.vehicle import eigenvalues
 

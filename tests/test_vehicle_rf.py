@@ -306,4 +306,4 @@ def test_rf_bad_input():
     with pytest.raises(InputError, match="no ring mode"):
         ring_rows(RingTrack(8, **COARSE), np.zeros(1), V, f_limit=1.0)
     with pytest.raises(InputError, match="ring track"):
-        scenarios.linear_critical_speed("RR", n_sleepers=40)
+        scenarios.linear_critical_speed_kmh("RR", n_sleepers=40)

@@ -87,7 +87,7 @@ def test_stiff_ring_reproduces_rigid_ground():
             if k.startswith(("pad_stiffness", "ballast_stiffness", "rail_young"))
         },
     )
-    v_stiff, _ = scenarios.linear_critical_speed(
+    v_stiff, _ = scenarios.linear_critical_speed_kmh(
         "RF",
         track_params=stiff,
         n_sleepers=40,
@@ -103,6 +103,6 @@ def test_stiff_ring_reproduces_rigid_ground():
 
 def test_ring_rows_bad_input():
     with pytest.raises(InputError, match="ring_rows"):
-        scenarios.linear_critical_speed("RF", ring_rows="floquet", n_sleepers=40)
+        scenarios.linear_critical_speed_kmh("RF", ring_rows="floquet", n_sleepers=40)
     with pytest.raises(InputError, match="n_offsets"):
-        scenarios.linear_critical_speed("RF", n_offsets=0, n_sleepers=40)
+        scenarios.linear_critical_speed_kmh("RF", n_offsets=0, n_sleepers=40)

@@ -19,7 +19,7 @@ its own (so that its peak memory is its own):
 * (ii) hunting at ``--hunting-kmh`` (400) from the 4 mm shift of scenarios.hunting for
   ``--hunting-duration`` s (2.5): the leading wheelset's amplitude over the last second,
   the largest Q and |Y| of all wheels over the last second;
-* (iii) the linear critical speed, scenarios.linear_critical_speed('RF', ...) with its
+* (iii) the linear critical speed, scenarios.linear_critical_speed_kmh('RF', ...) with its
   default bay-averaged rows (8 offsets).
 
 Errors are relative to the largest ring (the reference, 128 by default). Prints a markdown
@@ -126,7 +126,7 @@ def one_ring(n: int, args: argparse.Namespace) -> dict:
         )
     if "linear" in args.parts:
         t0, c0 = time.perf_counter(), time.process_time()
-        vc, fc = scenarios.linear_critical_speed("RF", n_sleepers=n, f_limit=args.f_limit)
+        vc, fc = scenarios.linear_critical_speed_kmh("RF", n_sleepers=n, f_limit=args.f_limit)
         out.update(
             linear_kmh=float(vc),
             linear_hz=float(fc),

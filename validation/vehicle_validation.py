@@ -327,7 +327,7 @@ def part_bifurcation() -> dict:
     from railvti.vehicle.plots import plot_bifurcation
 
     t0 = time.perf_counter()
-    lin, f = scenarios.linear_critical_speed()
+    lin, f = scenarios.linear_critical_speed_kmh()
     t_lin = time.perf_counter() - t0
     sp = np.arange(140.0, 461.0, 20.0 if QUICK else 10.0)
     t0 = time.perf_counter()
@@ -344,7 +344,7 @@ def part_bifurcation() -> dict:
         f"[{t_nl:.1f} s]"
     )
     print(f"  {b.message}")
-    slide, fs = scenarios.linear_critical_speed(damper="sliding")
+    slide, fs = scenarios.linear_critical_speed_kmh(damper="sliding")
     print(f"  linear with the yaw damper sliding: {slide:.1f} km/h, {fs:.2f} Hz")
     for s, u, d in zip(b.speeds_kmh, b.upper, b.decay):
         print(f"    {s:5.0f} km/h: continuation {u * 1e3:6.2f} mm, from 0.5 mm {d * 1e3:6.2f} mm")
@@ -353,7 +353,7 @@ def part_bifurcation() -> dict:
     print("  describing-function check: linear critical speed at the equivalent conicity of A")
     for a in amps:
         lam = scenarios.equivalent_conicity(a)
-        vl = scenarios.linear_critical_speed(conicity=lam)[0]
+        vl = scenarios.linear_critical_speed_kmh(conicity=lam)[0]
         eq.append(vl)
         print(f"    A = {a * 1e3:.1f} mm: conicity {lam:.4f} -> {vl:.1f} km/h")
     plot_bifurcation(

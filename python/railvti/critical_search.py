@@ -37,10 +37,11 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
@@ -48,9 +49,10 @@ from . import _checks
 from ._threads import serial_blas
 from .envelope_criteria import cycle_verdict, envelope, growth_rate
 from .errors import ConvergenceError, GridTooSmallError, InputError
+from .vehicle.bem import BemState
 from .vehicle.bifurcation import point_systems
 from .vehicle.params import Coach
-from .vehicle.equilibrium import lateral_disturbance, static_equilibrium
+from .vehicle.equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .vehicle.simulate import simulate
 from .vehicle.systems import (
     FLEXIBLE_WHEELSETS,
@@ -322,11 +324,23 @@ class _Runs:
     ) -> None:
         self.contact, self.output_dt, self.segments = contact, output_dt, segments
         self.systems = point_systems(variant, coach, contact, h, k_max, f_max, geometry, ring)
+        self.bem: BemState | None = None
+
+    @contextlib.contextmanager
+    def point(self, speed: float) -> Iterator[None]:
+        """One BEM state (with contact='bem') for a search point's static solves and all its
+        run segments, closed at the point's end; nothing for the other contact models."""
+        with contact_state(self.systems.at(speed)[0], self.contact) as st:
+            self.bem = st
+            try:
+                yield
+            finally:
+                self.bem = None
 
     def static(self, speed: float, travel: float = 0.0) -> np.ndarray:
         """The static state at speed (m/s), the contact points ``travel`` along the ring."""
         sy = self.systems.upper_at(speed, travel)[0]
-        return static_equilibrium(sy, speed, self.contact)[0]
+        return static_equilibrium(sy, speed, self.contact, bem=self.bem)[0]
 
     def run(
         self, speed: float, q: np.ndarray, v: np.ndarray | None, duration: float, travel: float
@@ -352,6 +366,7 @@ class _Runs:
                 v0=v,
                 output_dt=run_output_dt(sy, vv, hs, self.output_dt, 0.002, check=False),
                 progress=False,
+                bem=self.bem,
             )
             ts.append(r.t + t0)
             ys.append(r.y_ws1)
@@ -627,40 +642,57 @@ def _check_variant_keys(variant: str, contact: str, k_max: Any, f_max: Any) -> N
 def _upper_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
     """The fold's test for :func:`bracket_down`: is a limit cycle alive at speed (m/s), the
     state carried in from the last living run (the top: the static state shifted by
-    y_large)? A run still dying is continued up to max_extensions times."""
-    crit = dict(threshold=cfg["threshold"], rate_tol=cfg["rate_tol"], window=cfg["window"])
-    duration = cfg["duration"]
+    y_large)? A run still dying is continued up to max_extensions times. One BEM state
+    for the point's static solves and runs (:meth:`_Runs.point`)."""
 
     def upper(s: float, state: Any) -> tuple[bool, Any, dict]:
-        if state is None:  # the top: a large shift of the static state
-            sy = runs.systems.at(s)[0]
-            q = lateral_disturbance(sy, runs.static(s), cfg["y_large"])
-            state = (q, np.zeros(sy.n_state), s, 0.0)
-        q, v, s_from, travel = state
-        carried = s_from != s or travel > 0.0
         try:
-            if s_from != s:
-                q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
-            t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-            cut = cfg["collapse"] if carried else None
-            verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
-            n_ext = 0
-            while verdict == "decaying" and n_ext < cfg["max_extensions"]:
-                t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
-                t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
-                verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
-                n_ext += 1
+            with runs.point(s):
+                ok, state, rec = _upper_point(runs, cfg, s, state)
         except RUN_FAILURES as e:
             return _failed(s, e)
         kmh = _checks.to_kmh(s)
-        log.info("path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s", kmh, verdict, amp * 1e3, rate, t[-1])
+        log.info(
+            "path %.2f km/h: %s, %.3f mm, rate %.3f 1/s, %.1f s",
+            kmh,
+            rec["verdict"],
+            rec["amplitude"] * 1e3,
+            rec["rate"],
+            rec["duration"],
+        )
         if bar is not None:
-            bar.set_postfix_str(f"fold search {kmh:.2f} km/h {verdict}")
+            bar.set_postfix_str(f"fold search {kmh:.2f} km/h {rec['verdict']}")
             bar.update()
-        rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl)
-        return verdict == "alive", (q, v, s, travel), rec
+        del rec["verdict"]
+        return ok, state, rec
 
     return upper
+
+
+def _upper_point(runs: _Runs, cfg: dict, s: float, state: Any) -> tuple[bool, Any, dict]:
+    """The runs of :func:`_upper_test` at speed s (m/s) from ``state`` (None at the top).
+    Returns (alive, the carried state, the record with its verdict)."""
+    crit = dict(threshold=cfg["threshold"], rate_tol=cfg["rate_tol"], window=cfg["window"])
+    duration = cfg["duration"]
+    if state is None:  # the top: a large shift of the static state
+        sy = runs.systems.at(s)[0]
+        q = lateral_disturbance(sy, runs.static(s), cfg["y_large"])
+        state = (q, np.zeros(sy.n_state), s, 0.0)
+    q, v, s_from, travel = state
+    carried = s_from != s or travel > 0.0
+    if s_from != s:
+        q, v, _ = runs.systems.carry(q, v, s_from, s, lambda: runs.static(s, travel))
+    t, y, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+    cut = cfg["collapse"] if carried else None
+    verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
+    n_ext = 0
+    while verdict == "decaying" and n_ext < cfg["max_extensions"]:
+        t2, y2, q, v, travel, fl = runs.run(s, q, v, duration, travel)
+        t, y = np.concatenate([t, t2 + t[-1]]), np.concatenate([y, y2])
+        verdict, amp, rate = cycle_verdict(t, y, collapse=cut, **crit)
+        n_ext += 1
+    rec = dict(amplitude=amp, rate=rate, duration=float(t[-1]), flange=fl, verdict=verdict)
+    return verdict == "alive", (q, v, s, travel), rec
 
 
 def _decay_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
@@ -671,8 +703,9 @@ def _decay_test(runs: _Runs, cfg: dict, bar: Any) -> Callable:
     def grows(s: float, state: Any) -> tuple[bool, Any, dict]:
         sy = runs.systems.at(s)[0]
         try:
-            q = lateral_disturbance(sy, runs.static(s), cfg["y_small"])
-            t, y, *_ = runs.run(s, q, None, cfg["duration"], 0.0)
+            with runs.point(s):  # one BEM state for the point's static solve and run
+                q = lateral_disturbance(sy, runs.static(s), cfg["y_small"])
+                t, y, *_ = runs.run(s, q, None, cfg["duration"], 0.0)
         except RUN_FAILURES as e:
             return _failed(s, e)
         rate = growth_rate(t, y, window)

@@ -50,7 +50,7 @@ from .vehicle.linear_stability import (
     DAMPER_STATES,
     RING_ROWS,
     linear_critical,
-    linear_critical_speed,
+    linear_critical_speed_kmh,
 )
 from .vehicle.params import Coach
 from .vehicle.running import centred_running, contact_patch, hunting
@@ -86,7 +86,7 @@ __all__ = [
     "hunting",
     "bifurcation",
     "critical_speed",
-    "linear_critical_speed",
+    "linear_critical_speed_kmh",
     "linear_critical",
     "contact_patch",
     "amplitude",
@@ -137,7 +137,7 @@ def critical_speed(
 ) -> CriticalSpeed:
     """Critical speed (:class:`CriticalSpeed`; ``.kmh`` or ``float()`` for the value in km/h).
 
-    method 'linear': :func:`linear_critical_speed` (eigenvalues; contact model irrelevant;
+    method 'linear': :func:`linear_critical_speed_kmh` (eigenvalues; contact model irrelevant;
     ``damper='stuck'`` or ``'sliding'`` for the dry-friction yaw damper, reported in
     ``damper_state``). method 'nonlinear': :func:`bifurcation` (lowest speed with a
     sustained limit cycle; the sweep is extended downward until the cycle dies, otherwise

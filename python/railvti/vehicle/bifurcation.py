@@ -479,32 +479,15 @@ def bifurcation_upper(
     with serial_blas():  # one BLAS thread, in the caller as in a worker: the same bits
         while todo:
             s = todo.pop(0)
-            vv = s
-            sy, _, hs = systems.at(s)
+            systems.at(s)  # the point's system and step (details' 'h' lists every speed)
             up, fl = 0.0, 0.0
             if alive:
-                if q is None:
-                    q = lateral_disturbance(sy, static_equilibrium(sy, vv, contact)[0], y_large)
-                    v = np.zeros(sy.n_state)
-                su = systems.upper_at(s, travel)[0]
-                if prev is not None:
-                    q, v, restarted = systems.carry(
-                        q, v, prev, s, lambda: static_equilibrium(su, vv, contact)[0]
-                    )
-                    if restarted:
-                        restarts.append(float(s))
-                r = simulate(
-                    su,
-                    vv,
-                    duration,
-                    contact=contact,
-                    h=hs,
-                    q0=q,
-                    v0=v,
-                    output_dt=run_output_dt(su, vv, hs, output_dt, 0.002, check=False),
-                    progress=False,
+                r, q, v, restarted = _upper_run(
+                    systems, s, prev, q, v, travel, contact, y_large, duration, output_dt
                 )
-                travel += vv * float(r.t[-1])
+                if restarted:
+                    restarts.append(float(s))
+                travel += s * float(r.t[-1])
                 up = amplitude(r)
                 last = r.t >= r.t[-1] - 1.0
                 fl = float(r.wheel_output("N_flange")[last][:, :, :2].max())
@@ -526,6 +509,47 @@ def bifurcation_upper(
         "restarts": restarts,
         "steps": {k: systems.steps[k] for k in systems.steps},
     }
+
+
+def _upper_run(
+    systems: Any,
+    s: float,
+    prev: float | None,
+    q: np.ndarray | None,
+    v: np.ndarray | None,
+    travel: float,
+    contact: str,
+    y_large: float,
+    duration: float,
+    output_dt: float | None,
+) -> tuple[Any, np.ndarray, np.ndarray, bool]:
+    """One speed (m/s) of the upper branch: the state carried in from ``prev`` (or, at the
+    top, the static state shifted by ``y_large``), then ``duration`` s. One BEM state for
+    the point's static solves and run. Returns (result, q, v, restarted)."""
+    sy, _, hs = systems.at(s)
+    su = systems.upper_at(s, travel)[0]
+    restarted = False
+    with contact_state(sy, contact) as st:
+        if q is None:
+            q = lateral_disturbance(sy, static_equilibrium(sy, s, contact, bem=st)[0], y_large)
+            v = np.zeros(sy.n_state)
+        if prev is not None:
+            q, v, restarted = systems.carry(
+                q, v, prev, s, lambda: static_equilibrium(su, s, contact, bem=st)[0]
+            )
+        r = simulate(
+            su,
+            s,
+            duration,
+            contact=contact,
+            h=hs,
+            q0=q,
+            v0=v,
+            output_dt=run_output_dt(su, s, hs, output_dt, 0.002, check=False),
+            progress=False,
+            bem=st,
+        )
+    return r, q, v, restarted
 
 
 def _bifurcation_on_client(

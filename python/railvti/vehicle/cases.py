@@ -40,17 +40,23 @@ from .._checks import to_kmh
 from ..casetypes import CaseOutput, CaseType, case_sink, history_bytes, register, split_labels, validate
 from ..errors import InputError
 from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
-from .linear_stability import DAMPER_STATES, linear_critical_speed
+from .linear_stability import DAMPER_STATES, linear_critical
 from .plots import plot_bifurcation, plot_history, plot_patch, plot_wheels
 from .params import DEFAULTS as COACH_DEFAULTS
 from . import output
 from .running import centred_running, contact_patch, hunting
 from .scenario_results import kmh_label
 from .systems import FLEXIBLE_WHEELSETS, RING_TRACK, hunting_conicity, resolve_geometry
-from .deck_datasets import history_datasets, modal_datasets, patch_datasets, stream_derived
+from .deck_datasets import modal_datasets, patch_datasets, stream_derived
 from .deck_keys import ALIASES, DEFAULTS, KEYS, SCENARIOS, check, coach_from, fr_selection, ring_selection
 
 __all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot"]
+
+
+def _add(part: tuple[dict, dict], data: dict, scalars: dict) -> None:
+    """Add a result's part of the results file, (datasets, scalars), to the case's."""
+    data.update(part[0])
+    scalars.update(part[1])
 
 
 def _estimated_output_dt(scen: str, speed: float) -> float:
@@ -111,11 +117,10 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **fr,
             **ring,
         )
-        wl = history_datasets(c.run, data, scalars)
+        _add(c.run.case_data(), data, scalars)
+        wl = c.run.wheels().line()
         modal_datasets(c.run, c.system, c.layouts, fr, ring, data, scalars)
-        final_data, final_scalars = c.case_data()
-        data.update(final_data)
-        scalars.update(final_scalars)
+        _add(c.case_data(), data, scalars)
         if c.patch is not None:
             patch_datasets(c.patch, data, scalars)
             scalars["patch_time"] = (float(c.run.t[-1]), "s")
@@ -140,7 +145,8 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **fr,
             **ring,
         )
-        wl = history_datasets(r, data, scalars)
+        _add(r.case_data(), data, scalars)
+        wl = r.wheels().line()
         modal_datasets(r, sy, layouts, fr, ring, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
         k = int(np.argmax(nright))
@@ -184,10 +190,9 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **fr,
             **ring,
         )
-        lin, freq = linear_critical_speed(variant, coach, **fr, **ring)
-        sweep_data, sweep_scalars = b.case_data(steps=bool(fr))
-        data.update(sweep_data)
-        scalars.update(sweep_scalars)
+        lin_si, freq = linear_critical(variant, coach, **fr, **ring)
+        lin = to_kmh(lin_si)  # the results file's unit for this scalar
+        _add(b.case_data(steps=bool(fr)), data, scalars)
         scalars["critical_speed_linear"] = (lin, "km/h")
         scalars["hunting_frequency_linear"] = (freq, "Hz")
         scalars["linear_yaw_damper_state"] = (DAMPER_STATES["stuck"], "")

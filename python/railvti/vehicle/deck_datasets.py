@@ -1,7 +1,8 @@
-"""The datasets and scalars a deck case of type ``vehicle`` stores (railvti.vehicle.cases; the
-layout in its docstring and docs/results.md): the run's history with the per-wheel outputs and
-their maxima, the modal coordinates and rim and rail motion of variants FR, RF and FF, the
-contact patch, and the datasets a streamed history derives block by block."""
+"""The datasets and scalars a deck case of type ``vehicle`` stores besides the run's own
+(:meth:`railvti.vehicle.run_result.SimulationResult.case_data`; the layout in
+railvti.vehicle.cases' docstring and docs/results.md): the modal coordinates and rim and rail
+motion of variants FR, RF and FF, the contact patch, and the datasets a streamed history
+derives block by block."""
 
 from __future__ import annotations
 
@@ -10,67 +11,9 @@ import numpy as np
 from .flexible import mode_labels
 from .flexible_points import rail_head_roll, rim_camber_change, rim_deformation
 from .model import WHEEL_OUTPUTS
-from .run_result import STAT_UNITS, WHEEL_UNITS
-from .scenario_results import WHEEL_SIDES
+from .run_result import WHEEL_SIDES
 
-__all__ = ["history_datasets", "modal_datasets", "stream_derived", "patch_datasets"]
-
-
-def _dof_unit(name: str, rate: bool) -> str:
-    """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
-    last = name.rsplit("_", 1)[-1]
-    if name.startswith("ring_res") and last == "r":
-        last = "roll"  # variant RF's residual coordinate of the element's roll
-    if last in ("x", "y", "z"):
-        unit = "m"
-    elif last in ("roll", "pitch", "yaw", "beta"):
-        unit = "rad"
-    else:
-        unit = "1"  # modal coordinates: mass-normalised
-    return f"{unit}/s" if rate and unit != "1" else unit
-
-
-def history_datasets(res, data: dict, scalars: dict) -> str:
-    """The run's history (t, q, v, the per-wheel outputs), its statistics and the wheels'
-    maxima over the last window; returns the wheels' line of the case's summary."""
-    nw = res.wheel.shape[-1]
-    wheelsets = [f"ws{w + 1}" for w in range(nw)]
-    names = list(res.dof_names)
-    data["t"] = (res.t, "s", {"axes": ["t"]})
-    data["q"] = (
-        res.q,
-        "m or rad (per column: column_units)",
-        {"axes": ["t", "state"], "dof_names": names, "column_units": [_dof_unit(n, False) for n in names]},
-    )
-    data["v"] = (
-        res.v,
-        "m/s or rad/s (per column: column_units)",
-        {"axes": ["t", "state"], "dof_names": names, "column_units": [_dof_unit(n, True) for n in names]},
-    )
-    data["y_ws1"] = (res.y_ws1, "m", {"axes": ["t"]})
-    data["vy_ws1"] = (res.vy_ws1, "m/s", {"axes": ["t"]})
-    per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets}
-    for i, name in enumerate(WHEEL_OUTPUTS):
-        data[f"wheel_{name}"] = (res.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
-    for k, v in res.stats.items():
-        scalars[f"stat_{k}"] = (v, STAT_UNITS.get(k, "1"))
-    ws = res.wheels()
-    last = {"over": f"the last {ws.window:g} s"}
-    data["ws_y"] = (
-        np.stack([res.dof(f"ws{w + 1}_y") for w in range(nw)], 1),
-        "m",
-        {"axes": ["t", "wheelset"], "wheelset": wheelsets},
-    )
-    data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
-    per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets, **last}
-    data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
-    data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
-    data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
-    scalars["nadal_limit"] = (ws.nadal, "1")
-    scalars["flange_angle"] = (ws.flange_angle, "rad")
-    scalars["friction"] = (ws.friction, "1")
-    scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
-    return ws.line()
+__all__ = ["modal_datasets", "stream_derived", "patch_datasets"]
 
 
 def _fr_history(res, system, layouts, data: dict, stop: int | None = None) -> None:
@@ -247,8 +190,9 @@ def modal_datasets(res, sy, layouts: list, fr: dict, ring: dict, data: dict, sca
 
 
 def stream_derived() -> dict:
-    """The full-length datasets of :func:`history_datasets` computed from each block of a streamed
-    history (railvti.runner.stream), so that a streamed case stores what an in-memory one does."""
+    """The full-length datasets of :meth:`SimulationResult.case_data` computed from each block
+    of a streamed history (railvti.runner.stream), so that a streamed case stores what an
+    in-memory one does."""
 
     def col(src: str, name: str):
         return lambda b, a: b[src][:, list(a["q"]["dof_names"]).index(name)]

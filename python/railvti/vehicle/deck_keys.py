@@ -50,7 +50,7 @@ SCENARIOS = ("centred_running", "hunting", "critical_speed")
 _RUNS = {
     "centred_running": ("centred_running",),
     "hunting": ("hunting",),
-    "critical_speed": ("bifurcation", "linear_critical_speed"),
+    "critical_speed": ("bifurcation", "linear_critical"),
 }
 #: The models whose results a deck case stores (the model key's choices are scenarios.MODELS).
 _DECK_VARIANTS = ("RR", "FR", "RF", "FF")

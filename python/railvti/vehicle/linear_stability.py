@@ -41,7 +41,7 @@ __all__ = [
     "V_LO",
     "V_HI",
     "TOL",
-    "linear_critical_speed",
+    "linear_critical_speed_kmh",
     "linear_critical",
     "hunting_mode",
     "bay_rates",
@@ -51,7 +51,7 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 
-#: The linear method's treatment of the ring's contact rows (:func:`linear_critical_speed`).
+#: The linear method's treatment of the ring's contact rows (:func:`linear_critical`).
 RING_ROWS = ("bay_average", "frozen")
 #: Contact-point positions across one sleeper bay in the bay average.
 BAY_OFFSETS = 8
@@ -70,7 +70,7 @@ DAMPER_STATES = {
 }
 
 
-def linear_critical_speed(
+def linear_critical_speed_kmh(
     variant: str = "RR",
     coach: Coach | None = None,
     *,
@@ -86,10 +86,46 @@ def linear_critical_speed(
     n_offsets: int = BAY_OFFSETS,
     **ring: Any,
 ) -> tuple[float, float]:
-    """Linear critical speed (km/h) and the hunting frequency there (Hz).
+    """:func:`linear_critical` in km/h: the linear critical speed (km/h) and the hunting
+    frequency there (Hz), bisected between ``v_lo_kmh`` and ``v_hi_kmh`` to ``tol_kmh``
+    (km/h). The method, its keys and its errors: :func:`linear_critical`."""
+    speed, freq = linear_critical(
+        variant,
+        coach,
+        conicity=conicity,
+        amplitude_m=amplitude_m,
+        v_lo=_checks.from_kmh(v_lo_kmh),
+        v_hi=_checks.from_kmh(v_hi_kmh),
+        tol=_checks.from_kmh(tol_kmh),
+        damper=damper,
+        k_max=k_max,
+        f_max=f_max,
+        ring_rows=ring_rows,
+        n_offsets=n_offsets,
+        **ring,
+    )
+    return _checks.to_kmh(speed), freq
 
-    The bracket ``v_lo_kmh`` .. ``v_hi_kmh`` and the tolerance ``tol_kmh`` in km/h, as the
-    result; :func:`linear_critical` is the same in m/s (and :func:`railvti.scenarios.
+
+def linear_critical(
+    variant: str = "RR",
+    coach: Coach | None = None,
+    *,
+    conicity: float | None = None,
+    amplitude_m: float = 0.003,
+    v_lo: float = V_LO,
+    v_hi: float = V_HI,
+    tol: float = TOL,
+    damper: str = "stuck",
+    k_max: int = FR_K_MAX,
+    f_max: float = FR_F_MAX,
+    ring_rows: str = "bay_average",
+    n_offsets: int = BAY_OFFSETS,
+    **ring: Any,
+) -> tuple[float, float]:
+    """Linear critical speed (m/s; inf when stable up to ``v_hi``) and the hunting frequency
+    there (Hz), bisected between ``v_lo`` and ``v_hi`` (m/s) to ``tol`` (m/s).
+    :func:`linear_critical_speed_kmh` is the same in km/h (and :func:`railvti.scenarios.
     critical_speed` with ``method='linear'`` gives both).
 
     Eigenvalues of the system linearised about centred running with the contact table
@@ -142,43 +178,6 @@ def linear_critical_speed(
         Unknown ``ring_rows`` or ``damper``; ``n_offsets`` not a positive integer; the
         ring's and FR's keys as :func:`rf_system`, :func:`fr_system`.
     """
-    speed, freq = linear_critical(
-        variant,
-        coach,
-        conicity=conicity,
-        amplitude_m=amplitude_m,
-        v_lo=_checks.from_kmh(v_lo_kmh),
-        v_hi=_checks.from_kmh(v_hi_kmh),
-        tol=_checks.from_kmh(tol_kmh),
-        damper=damper,
-        k_max=k_max,
-        f_max=f_max,
-        ring_rows=ring_rows,
-        n_offsets=n_offsets,
-        **ring,
-    )
-    return _checks.to_kmh(speed), freq
-
-
-def linear_critical(
-    variant: str = "RR",
-    coach: Coach | None = None,
-    *,
-    conicity: float | None = None,
-    amplitude_m: float = 0.003,
-    v_lo: float = V_LO,
-    v_hi: float = V_HI,
-    tol: float = TOL,
-    damper: str = "stuck",
-    k_max: int = FR_K_MAX,
-    f_max: float = FR_F_MAX,
-    ring_rows: str = "bay_average",
-    n_offsets: int = BAY_OFFSETS,
-    **ring: Any,
-) -> tuple[float, float]:
-    """:func:`linear_critical_speed` in SI: the linear critical speed (m/s; inf when stable
-    up to ``v_hi``) and the hunting frequency there (Hz), bisected between ``v_lo`` and
-    ``v_hi`` (m/s) to ``tol`` (m/s)."""
     k_max, f_max, ring, n_offsets = _checked_settings(
         variant, damper, ring_rows, n_offsets, k_max, f_max, ring
     )
@@ -221,7 +220,7 @@ def _checked_settings(
     if ring_rows not in RING_ROWS:
         raise InputError(f"ring_rows must be one of {RING_ROWS}, got {ring_rows!r}")
     n_offsets = _checks.positive_int("n_offsets", n_offsets)
-    check_variant(variant, "hertz-kalker", "linear_critical_speed")
+    check_variant(variant, "hertz-kalker", "linear_critical")
     if variant in FLEXIBLE_WHEELSETS:
         k_max, f_max = check_fr_selection(k_max, f_max)
     elif (k_max, f_max) != (FR_K_MAX, FR_F_MAX):
@@ -326,7 +325,7 @@ def bay_rates(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Variant RF or FF at v (m/s): the hunting growth rate (1/s) and frequency (Hz) with the
     contact rows frozen at each of n_offsets positions across one sleeper bay
-    (:func:`linear_critical_speed`)."""
+    (:func:`linear_critical`)."""
     ring = dict(ring)
     x0 = float(ring.pop("x_offset", 0.0))
     spacing = checked_ring(coach, ring.get("n_sleepers", RF_N_SLEEPERS), ring.get("track_params")).params[

@@ -15,8 +15,10 @@ from ..errors import InputError
 from .analytic import nadal_limit
 from .model import WHEEL_OUTPUTS
 
-__all__ = ["WHEEL_UNITS", "STAT_UNITS", "SimulationResult", "WheelSummary", "flange_angle"]
+__all__ = ["WHEEL_SIDES", "WHEEL_UNITS", "STAT_UNITS", "SimulationResult", "WheelSummary", "flange_angle"]
 
+#: The wheels of a wheelset in the results' axes (index 0 left, 1 right).
+WHEEL_SIDES = ["left", "right"]
 #: Units of the per-wheel outputs (:data:`~railvti.vehicle.model.WHEEL_OUTPUTS`).
 WHEEL_UNITS = {
     "Q": "N",
@@ -51,6 +53,20 @@ STAT_UNITS = {
     "interrupted_at": "s",
     "bem_grid": "1, 1, m (nx, ny, dx)",
 }
+
+
+def _dof_unit(name: str, rate: bool) -> str:
+    """'m' or 'rad' (per second with rate) of a state name such as 'ws1_y', 'bogie1_roll'."""
+    last = name.rsplit("_", 1)[-1]
+    if name.startswith("ring_res") and last == "r":
+        last = "roll"  # variant RF's residual coordinate of the element's roll
+    if last in ("x", "y", "z"):
+        unit = "m"
+    elif last in ("roll", "pitch", "yaw", "beta"):
+        unit = "rad"
+    else:
+        unit = "1"  # modal coordinates: mass-normalised
+    return f"{unit}/s" if rate and unit != "1" else unit
 
 
 @dataclass(frozen=True)
@@ -152,7 +168,7 @@ class SimulationResult:
                 "axes": ["t", "quantity", "wheel", "wheelset"],
                 "quantities": list(WHEEL_OUTPUTS),
                 "quantity_units": [WHEEL_UNITS.get(n, "1") for n in WHEEL_OUTPUTS],
-                "wheel": ["left", "right"],
+                "wheel": WHEEL_SIDES,
                 "wheelset": [f"ws{w + 1}" for w in range(nw)],
             },
             **(
@@ -161,7 +177,7 @@ class SimulationResult:
                         "axes": ["t", "component", "wheel", "wheelset"],
                         "component": ["y", "z", "roll"],
                         "column_units": ["m", "m", "rad"],
-                        "wheel": ["left", "right"],
+                        "wheel": WHEEL_SIDES,
                         "wheelset": [f"ws{w + 1}" for w in range(nw)],
                     }
                 }
@@ -169,6 +185,56 @@ class SimulationResult:
                 else {}
             ),
         }
+
+    def case_data(self) -> tuple[dict, dict]:
+        """The run's part of a results file (a deck case of type ``vehicle``): (datasets,
+        scalars), each name -> (value, unit[, labels]): the history (t, q, v with each
+        column's unit, the per-wheel outputs), the statistics and the wheels' maxima over the
+        last second (:meth:`wheels`; its summary line: ``wheels().line()``)."""
+        data: dict[str, tuple] = {}
+        scalars: dict[str, tuple] = {}
+        nw = self.wheel.shape[-1]
+        wheelsets = [f"ws{w + 1}" for w in range(nw)]
+        names = list(self.dof_names)
+        data["t"] = (self.t, "s", {"axes": ["t"]})
+        data["q"] = (
+            self.q,
+            "m or rad (per column: column_units)",
+            {
+                "axes": ["t", "state"],
+                "dof_names": names,
+                "column_units": [_dof_unit(n, False) for n in names],
+            },
+        )
+        data["v"] = (
+            self.v,
+            "m/s or rad/s (per column: column_units)",
+            {"axes": ["t", "state"], "dof_names": names, "column_units": [_dof_unit(n, True) for n in names]},
+        )
+        data["y_ws1"] = (self.y_ws1, "m", {"axes": ["t"]})
+        data["vy_ws1"] = (self.vy_ws1, "m/s", {"axes": ["t"]})
+        per_wheel = {"axes": ["t", "wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets}
+        for i, name in enumerate(WHEEL_OUTPUTS):
+            data[f"wheel_{name}"] = (self.wheel[:, i], WHEEL_UNITS.get(name, "1"), per_wheel)
+        for k, v in self.stats.items():
+            scalars[f"stat_{k}"] = (v, STAT_UNITS.get(k, "1"))
+        ws = self.wheels()
+        last = {"over": f"the last {ws.window:g} s"}
+        data["ws_y"] = (
+            np.stack([self.dof(f"ws{w + 1}_y") for w in range(nw)], 1),
+            "m",
+            {"axes": ["t", "wheelset"], "wheelset": wheelsets},
+        )
+        data["wheel_amplitude"] = (ws.amplitude, "m", {"axes": ["wheelset"], "wheelset": wheelsets, **last})
+        per_wheel_max = {"axes": ["wheel", "wheelset"], "wheel": WHEEL_SIDES, "wheelset": wheelsets, **last}
+        data["wheel_Q_max"] = (ws.Q_max, "N", per_wheel_max)
+        data["wheel_Y_max"] = (ws.Y_max, "N", per_wheel_max)
+        data["wheel_YQ_max"] = (ws.YQ_max, "1", per_wheel_max)
+        scalars["nadal_limit"] = (ws.nadal, "1")
+        scalars["flange_angle"] = (ws.flange_angle, "rad")
+        scalars["friction"] = (ws.friction, "1")
+        scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
+        return data, scalars
 
     @property
     def nadal(self) -> float:

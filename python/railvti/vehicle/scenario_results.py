@@ -9,12 +9,9 @@ from typing import Any
 import numpy as np
 
 from .._checks import to_kmh
-from .run_result import SimulationResult
+from .run_result import WHEEL_SIDES, SimulationResult
 
 __all__ = ["CentredRunning", "Bifurcation", "CriticalSpeed", "WHEEL_SIDES", "kmh_label"]
-
-#: The wheels of a wheelset in the results' axes (index 0 left, 1 right).
-WHEEL_SIDES = ["left", "right"]
 
 
 def kmh_label(speed: Any) -> Any:

@@ -90,7 +90,7 @@ FR_SCENARIOS = (
     "hunting",
     "bifurcation",
     "critical_speed",
-    "linear_critical_speed",
+    "linear_critical",
 )
 #: Scenarios that run the variants on the ring track, RF and FF.
 RF_SCENARIOS = (
@@ -99,7 +99,7 @@ RF_SCENARIOS = (
     "hunting",
     "bifurcation",
     "critical_speed",
-    "linear_critical_speed",
+    "linear_critical",
 )
 #: The variants with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
