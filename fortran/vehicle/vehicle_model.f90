@@ -63,10 +63,11 @@ module vehicle_model
         !> state is (q(1:nd), Q(1:nm)).
         type(modal_part) :: mp
         !> The time loop's iteration matrix kept from the end of the last run call
-        !> (vehicle_newmark%newmark_run, strip contact): its LU factors and the matrix itself
-        !> (kma(:, :, 1:2)) and the key of the state and settings it continues from; kmkey not
-        !> allocated: none kept.
-        real(dp), allocatable :: kma(:, :, :), kmkey(:)
+        !> (vehicle_newmark%newmark_run, strip contact): its LU factors (kma(:, :, 1)), for the
+        !> rigid model the matrix itself (kma(:, :, 2), Broyden's update), for modal blocks the
+        !> point elements' tangent blocks (kmjpr, kmjpu), and the key of the state and settings
+        !> it continues from; kmkey not allocated: none kept.
+        real(dp), allocatable :: kma(:, :, :), kmkey(:), kmjpr(:, :), kmjpu(:, :)
         integer, allocatable :: kmpiv(:)
     end type vmodel
 

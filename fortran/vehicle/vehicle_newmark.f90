@@ -206,18 +206,20 @@ contains
     end subroutine newmark_run
 
     !> Whether the time loop keeps its iteration matrix from step to step: with the strip
-    !> contact and Hertz + Kalker or FASTSIM, on the rigid model (no modal blocks), HHT. The
-    !> strip's tangent (one linearisation per wheel and the contact's forward differences)
-    !> costs about two force evaluations, and in a settled or slowly varying motion the last
-    !> step's matrix with Broyden's update converges as fast as a fresh one (docs/vehicle.md
-    !> "Strip contact", Cost). The table's tangent is cheap and the BEM's evaluations are
-    !> dear: they refresh at every step as before.
+    !> contact and Hertz + Kalker or FASTSIM, HHT. The strip's tangent (one linearisation per
+    !> wheel and the contact's forward differences) costs about two force evaluations, and in a
+    !> settled or slowly varying motion the last step's matrix converges as fast as a fresh one
+    !> (docs/vehicle.md "Strip contact", Cost): the rigid model carries Broyden's update, the
+    !> models with modal blocks keep the condensed matrix as it is (modified Newton; its modal
+    !> factors depend on the step size only, and a kept matrix that fails is replaced at once,
+    !> hht_step). The table's tangent is cheap and the BEM's evaluations are dear: they
+    !> refresh at every step as before.
     pure logical function keeps_matrix(md, rs, opt) result(keep)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         type(hht_options), intent(in) :: opt
         keep = md%st%on .and. (rs%cmodel == CMODEL_HERTZ_KALKER .or. rs%cmodel == CMODEL_HERTZ_FASTSIM) &
-               .and. md%mp%nm == 0 .and. opt%scheme == SCHEME_HHT
+               .and. opt%scheme == SCHEME_HHT
     end function keeps_matrix
 
     !> The key of a kept matrix: the state it continues from, its step size and the call's
@@ -231,18 +233,29 @@ contains
         key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp)]
     end function kept_key
 
-    !> The matrix kept by the last call, when this call continues from its key with step h.
+    !> The matrix kept by the last call, when this call continues from its key with step h
+    !> (with modal blocks also their factors for h: a function of h alone).
     subroutine kept_matrix_load(md, rs, h, opt, st)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: h
         type(hht_options), intent(in) :: opt
         type(hht_state), intent(inout) :: st
+        type(hht_step_data) :: sd
+        integer :: info
         if (.not. allocated(md%kmkey)) return
         if (size(md%kmkey) /= 3 * size(st%q) + 5) return
         if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
+        if (md%mp%nm > 0) then
+            call step_data(h, opt%alpha, st, sd)
+            call modal_factorise(md%mp, sd%cq, sd%cv, 1.0_dp + sd%alpha, st%mf, info)
+            if (info /= STAT_OK) return
+            st%nl%jpr = md%kmjpr
+            st%nl%jpu = md%kmjpu
+        else
+            st%nl%b = md%kma(:, :, 2)
+        end if
         st%nl%a = md%kma(:, :, 1)
-        st%nl%b = md%kma(:, :, 2)
         st%nl%ipiv = md%kmpiv
         st%nlh = h
     end subroutine kept_matrix_load
@@ -253,7 +266,13 @@ contains
         type(vsettings), intent(in) :: rs
         type(hht_options), intent(in) :: opt
         type(hht_state), intent(in) :: st
-        md%kma = reshape([st%nl%a, st%nl%b], [size(st%nl%b, 1), size(st%nl%b, 2), 2])
+        if (md%mp%nm > 0) then
+            md%kma = reshape(st%nl%a, [size(st%nl%a, 1), size(st%nl%a, 2), 1])
+            md%kmjpr = st%nl%jpr
+            md%kmjpu = st%nl%jpu
+        else
+            md%kma = reshape([st%nl%a, st%nl%b], [size(st%nl%b, 1), size(st%nl%b, 2), 2])
+        end if
         md%kmpiv = st%nl%ipiv
         md%kmkey = kept_key(rs, opt, st%q, st%v, st%a, st%nlh)
     end subroutine kept_matrix_store

@@ -9,8 +9,12 @@
 !> vk(voff(g) + 1 : voff(g) + nb_g * nk_g), column-major (nb_g x nk_g). A contact point c on
 !> rail crho(c) gets psi(1:4, r) = sum_b obs(:, b) trig(fam_b, :, kap_b x) V(b, r) (rail-local
 !> x, eta, zeta, roll) and its rows ctr(:, :, c) psi (the cant, the mirror between the ring's
-!> y and the vehicle's, and the map onto the pose of a track element under that wheel). Work
-!> per point: 4 sum_g nb_g (nk_g + 1), linear in the kept modes; nothing over all modes.
+!> y and the vehicle's, and the map onto the pose of a track element under that wheel).
+!> The sum is folded once per wave number (ring_rows_fold): a group's basis functions of one
+!> rail share few wave numbers (9 for ~126 functions: the cross-section's degrees of freedom),
+!> so psi = sum_k [sin(k th) S_k + cos(k th) C_k] with S_k, C_k (4 x nk_g) summed at creation.
+!> Work per point: 8 sum_g nw_g nk_g for nw_g wave numbers (was 4 nb_g nk_g per rail half),
+!> linear in the kept modes; nothing over all modes.
 module vehicle_ring
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH
@@ -37,6 +41,11 @@ module vehicle_ring
         integer :: nrx = 0
         real(dp) :: bay = 0.0_dp
         real(dp), allocatable :: rtab(:, :, :, :), rpost(:, :, :)
+        !> The sums folded per wave number (ring_rows_fold): slot s = 2 (g - 1) + rail holds the
+        !> wave numbers wk(wpos(s) + 1 : wpos(s + 1)); entry j's S_k and C_k are the columns
+        !> wcoef(:, coff(j) + 1 : coff(j) + nk_g) and the next nk_g.
+        integer, allocatable :: wpos(:), wk(:), coff(:)
+        real(dp), allocatable :: wcoef(:, :)
     end type ring_rows
 
 contains
@@ -91,8 +100,105 @@ contains
         rr%ctr = ctr
         rr%v0 = v0
         rr%length = length
+        call ring_rows_fold(rr)
         info = STAT_OK
     end subroutine ring_rows_create
+
+    !> Fold each group's basis functions of each rail per wave number k: S_k and C_k, the
+    !> coefficients of sin(k th) and cos(k th) in psi (ring_rows_eval; fam 1: sin for u_x, cos
+    !> for the others; fam 2: -cos for u_x, sin for the others; fam 0, k = 0: constant).
+    subroutine ring_rows_fold(rr)
+        type(ring_rows), intent(inout) :: rr
+        integer :: g, rho, b, bl, nb, nk, i0, i1, j, s, nw, ncol, kk
+        integer, allocatable :: seen(:)
+        real(dp), allocatable :: vrow(:)
+        allocate (seen(0:maxval(rr%kn)), rr%wpos(2 * rr%ng + 1))
+        ! the wave numbers of each slot, and the columns they need
+        rr%wpos(1) = 0
+        nw = 0
+        ncol = 0
+        do g = 1, rr%ng
+            nk = rr%kpos(g + 1) - rr%kpos(g)
+            do rho = 1, 2
+                call half_range(rr, g, rho, i0, i1)
+                seen = 0
+                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
+                    seen(wave_of(rr, b)) = 1
+                end do
+                nw = nw + sum(seen)
+                ncol = ncol + 2 * nk * sum(seen)
+                rr%wpos(2 * (g - 1) + rho + 1) = nw
+            end do
+        end do
+        allocate (rr%wk(nw), rr%coff(nw), rr%wcoef(4, ncol))
+        rr%wcoef = 0.0_dp
+        j = 0
+        ncol = 0
+        do g = 1, rr%ng
+            nb = rr%bpos(g + 1) - rr%bpos(g)
+            nk = rr%kpos(g + 1) - rr%kpos(g)
+            allocate (vrow(nk))
+            do rho = 1, 2
+                call half_range(rr, g, rho, i0, i1)
+                seen = 0
+                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
+                    kk = wave_of(rr, b)
+                    if (seen(kk) == 0) then     ! a new wave number: its columns
+                        j = j + 1
+                        seen(kk) = j
+                        rr%wk(j) = kk
+                        rr%coff(j) = ncol
+                        ncol = ncol + 2 * nk
+                    end if
+                    s = rr%coff(seen(kk))
+                    bl = b - rr%bpos(g)
+                    vrow = rr%vk(rr%voff(g) + bl:rr%voff(g) + nb * nk:nb)   ! V(bl, :)
+                    select case (rr%fam(b))
+                    case (1)
+                        call add_outer(rr%wcoef(1:1, s + 1:s + nk), rr%obs(1:1, b), vrow)
+                        call add_outer(rr%wcoef(2:4, s + nk + 1:s + 2 * nk), rr%obs(2:4, b), vrow)
+                    case (2)
+                        call add_outer(rr%wcoef(1:1, s + nk + 1:s + 2 * nk), -rr%obs(1:1, b), vrow)
+                        call add_outer(rr%wcoef(2:4, s + 1:s + nk), rr%obs(2:4, b), vrow)
+                    case default
+                        call add_outer(rr%wcoef(:, s + nk + 1:s + 2 * nk), rr%obs(:, b), vrow)
+                    end select
+                end do
+            end do
+            deallocate (vrow)
+        end do
+    end subroutine ring_rows_fold
+
+    !> The wave number whose sine and cosine multiply basis function b (0: a constant).
+    pure integer function wave_of(rr, b) result(kk)
+        type(ring_rows), intent(in) :: rr
+        integer, intent(in) :: b
+        kk = merge(0, rr%kn(b), rr%fam(b) == 0)
+    end function wave_of
+
+    !> a <- a + x y^T.
+    pure subroutine add_outer(a, x, y)
+        real(dp), intent(inout) :: a(:, :)
+        real(dp), intent(in) :: x(:), y(:)
+        integer :: k
+        do k = 1, size(y)
+            a(:, k) = a(:, k) + x * y(k)
+        end do
+    end subroutine add_outer
+
+    !> The group-local range i0..i1 of group g's basis functions on rail rho (rail 1's first).
+    pure subroutine half_range(rr, g, rho, i0, i1)
+        type(ring_rows), intent(in) :: rr
+        integer, intent(in) :: g, rho
+        integer, intent(out) :: i0, i1
+        if (rho == 1) then
+            i0 = 1
+            i1 = rr%n1(g)
+        else
+            i0 = rr%n1(g) + 1
+            i1 = rr%bpos(g + 1) - rr%bpos(g)
+        end if
+    end subroutine half_range
 
     !> The rows of every contact point at time t: rows(i, c, r), i = 1..3 the point's three
     !> components (ctr), r = 1..nk the kept modes.
@@ -100,9 +206,9 @@ contains
         type(ring_rows), intent(in) :: rr
         real(dp), intent(in) :: t
         real(dp), intent(out) :: rows(3, rr%nc, rr%nk)
-        real(dp) :: psi(4, rr%nk), tb(4, rr%nbt), x, th
+        real(dp) :: psi(4, rr%nk), x, th
         real(dp), allocatable :: sn(:), cs(:)
-        integer :: c, g, b, nb, nk, kk, i0, i1
+        integer :: c, g, j, k0, nk, s, o, kk
         allocate (sn(0:maxval(rr%kn)), cs(0:maxval(rr%kn)))
         do c = 1, rr%nc
             x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
@@ -112,30 +218,17 @@ contains
                 sn(kk) = sin(kk * th)
                 cs(kk) = cos(kk * th)
             end do
+            psi = 0.0_dp
             do g = 1, rr%ng
-                nb = rr%bpos(g + 1) - rr%bpos(g)
-                nk = rr%kpos(g + 1) - rr%kpos(g)
-                if (rr%crho(c) == 1) then
-                    i0 = 1
-                    i1 = rr%n1(g)
-                else
-                    i0 = rr%n1(g) + 1
-                    i1 = nb
-                end if
-                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
-                    kk = rr%kn(b)
-                    if (rr%fam(b) == 1) then             ! sin for u_x, cos for the others
-                        tb(1, b) = rr%obs(1, b) * sn(kk)
-                        tb(2:4, b) = rr%obs(2:4, b) * cs(kk)
-                    else if (rr%fam(b) == 2) then        ! -cos for u_x, sin for the others
-                        tb(1, b) = -rr%obs(1, b) * cs(kk)
-                        tb(2:4, b) = rr%obs(2:4, b) * sn(kk)
-                    else                                 ! k = 0: constant
-                        tb(:, b) = rr%obs(:, b)
-                    end if
+                k0 = rr%kpos(g)
+                nk = rr%kpos(g + 1) - k0
+                s = 2 * (g - 1) + rr%crho(c)
+                do j = rr%wpos(s) + 1, rr%wpos(s + 1)
+                    o = rr%coff(j)
+                    kk = rr%wk(j)
+                    psi(:, k0 + 1:k0 + nk) = psi(:, k0 + 1:k0 + nk) + sn(kk) * rr%wcoef(:, o + 1:o + nk) &
+                                             + cs(kk) * rr%wcoef(:, o + nk + 1:o + 2 * nk)
                 end do
-                call group_rows(nb, nk, i0, i1, tb(:, rr%bpos(g) + 1:rr%bpos(g + 1)), &
-                                rr%vk(rr%voff(g) + 1:rr%voff(g + 1)), psi(:, rr%kpos(g) + 1:rr%kpos(g + 1)))
             end do
             rows(:, c, :) = matmul(rr%ctr(:, :, c), psi)
         end do
@@ -198,14 +291,5 @@ contains
             end do
         end do
     end subroutine chol3
-
-    !> One group's kept modes at a point on the rail of basis functions i0..i1:
-    !> psi = tb(:, i0:i1) V(i0:i1, :).
-    pure subroutine group_rows(nb, nk, i0, i1, tb, v, psi)
-        integer, intent(in) :: nb, nk, i0, i1
-        real(dp), intent(in) :: tb(4, nb), v(nb, nk)
-        real(dp), intent(out) :: psi(4, nk)
-        psi = matmul(tb(:, i0:i1), v(i0:i1, :))
-    end subroutine group_rows
 
 end module vehicle_ring

@@ -1,0 +1,72 @@
+"""The four variants side by side (issue 33): centred running and hunting at 300 km/h, 2 s,
+Hertz + FASTSIM, each variant's default model (FR/FF wheelsets k_max 2, f_max 800 Hz; ring
+n_sleepers 40, modes to 500 Hz with the residual flexibility), in one process, one thread.
+
+Each variant's system is built first (its build time printed apart: the rings and the FE
+wheelset are cached per process), then each scenario is timed as a whole call (static
+equilibrium and time loop) and its time loop alone, with the ratio to RR's. The results
+printed (the leading wheelset's largest lateral displacement and the largest wheel load)
+let two builds be compared: run this script under each and compare the lines.
+
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_vehicle_variants.py [duration_s] [variants]
+
+To compare two builds in one run, give each its own install (pip install --target DIR .)
+and alternate: ``for p in OLD NEW OLD NEW; do PYTHONPATH=$p python bench...; done``.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+import numpy as np
+
+from railvti import scenarios
+
+
+def main(duration: float = 2.0, variants: tuple[str, ...] = ("RR", "FR", "RF", "FF")) -> None:
+    print(
+        f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores; railvti from {scenarios.__file__}"
+    )
+    kw = dict(contact="hertz-fastsim", duration=duration, output_dt=2e-3, progress=False)
+    times: dict[tuple[str, str], tuple[float, float]] = {}
+    for v in variants:
+        t0 = time.perf_counter()
+        scenarios.centred_running(300.0, variant=v, **{**kw, "duration": 0.002})  # builds, caches
+        build = time.perf_counter() - t0
+        for scen in ("centred", "hunting"):
+            t0 = time.perf_counter()
+            if scen == "centred":
+                r = scenarios.centred_running(300.0, variant=v, **kw).run
+            else:
+                r = scenarios.hunting(300.0, variant=v, y0=0.006, **kw)
+            wall = time.perf_counter() - t0
+            loop = r.stats["wall_time"]
+            times[v, scen] = (wall, loop)
+            late = r.t >= r.t[-1] - 0.5
+            print(
+                f"{v} {scen:8s}: call {wall:6.2f} s, loop {loop:6.2f} s (RTF {loop / duration:5.2f}); "
+                f"{r.stats['steps']:.0f} steps, {r.stats['newton_iterations']:.0f} Newton iterations, "
+                f"{r.stats['tangents']:.0f} tangents; max|y_ws1| last 0.5 s {np.abs(r.y_ws1[late]).max() * 1e3:.6f} mm, "
+                f"Q max {r.Q.max() / 1e3:.4f} kN; (build {build:.1f} s)",
+                flush=True,
+            )
+    if "RR" in variants:
+        for scen in ("centred", "hunting"):
+            w0, l0 = times["RR", scen]
+            print(
+                f"{scen} over RR (call / loop): "
+                + ", ".join(
+                    f"{v} {times[v, scen][0] / w0:.1f}x / {times[v, scen][1] / l0:.1f}x"
+                    for v in variants
+                    if v != "RR"
+                )
+            )
+    print(f"load after {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    dur = float(sys.argv[1]) if len(sys.argv) > 1 else 2.0
+    vs = tuple(sys.argv[2].split(",")) if len(sys.argv) > 2 else ("RR", "FR", "RF", "FF")
+    main(dur, vs)
