@@ -185,9 +185,8 @@ def build_commit(rev: str, scratch: Path | None) -> tuple[Path, str]:
 
 def run_child(repeats: int, site: Path | None, n: int) -> dict:
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop("PYTHONPATH", None)
     if site is not None:
-        env["PYTHONPATH"] = str(site)
+        env["PYTHONPATH"] = str(site)  # else the caller's PYTHONPATH (e.g. a worktree's install)
     out = subprocess.run(
         [sys.executable, "-c", CHILD, str(repeats), str(n)],
         capture_output=True,

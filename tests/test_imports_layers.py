@@ -29,8 +29,9 @@ import pytest
 #: ``railvti`` command's start, which installs its signal handlers first) should not pay
 #: for it. dask/distributed: only runs on a cluster (``--serial`` never imports them);
 #: matplotlib: only plots; scipy: only the flexible bodies' and sections' linear algebra
-#: beyond numpy; triangle: only the rail-section mesher; tqdm: only progress bars (the
-#: CLI imports it after its signal handlers); threadpoolctl: only BLAS thread limits.
+#: beyond numpy and the interpolation of Kalker's table; triangle: only the rail-section
+#: mesher; tqdm: only progress bars (the CLI imports it after its signal handlers);
+#: threadpoolctl: only BLAS thread limits.
 HEAVY = frozenset({"dask", "distributed", "matplotlib", "scipy", "triangle", "tqdm", "threadpoolctl"})
 
 #: Deliberate lazy imports of railvti's own modules: (importing module, imported module).

@@ -6,9 +6,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ellipe, ellipk
 
 from .. import _checks
+from .._elliptic import ellipe, ellipk
 from .._roots import brent_root
 from ..material import Material
 from .grid import Grid

@@ -29,13 +29,16 @@ from __future__ import annotations
 import csv
 from functools import lru_cache
 from importlib import resources
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from .. import _checks
 from ..errors import InputError
 from ..material import Material
+
+if TYPE_CHECKING:
+    from scipy.interpolate import PchipInterpolator
 
 __all__ = ["KalkerRangeError", "kalker_coefficients", "kalker_table", "linear_creep_forces", "A_OVER_B_RANGE"]
 
@@ -75,6 +78,10 @@ def kalker_table() -> tuple[np.ndarray, np.ndarray]:
 
 @lru_cache(maxsize=1)
 def _interpolants() -> PchipInterpolator:
+    # imported on first use: scipy.interpolate costs ~0.2 s at start-up, paid by every
+    # CONTACT deck run that never asks for Kalker's coefficients (issue 33)
+    from scipy.interpolate import PchipInterpolator
+
     ab, c = kalker_table()
     # one PCHIP over log(a/b) for all 9 columns: values shape (19, 3, 3)
     return PchipInterpolator(np.log(ab), np.moveaxis(c, 1, 0), axis=0, extrapolate=False)

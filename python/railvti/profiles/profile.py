@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .. import _checks
+from .._spline import NotAKnotSpline
 from ..errors import InputError
 
 #: Plausible lateral extent of a wheel or rail profile, m. A profile in m read as mm is
@@ -81,7 +81,7 @@ class Profile:
     kind: str = "rail"
     name: str = ""
     max_slope: float = 20.0
-    _spline: CubicSpline = field(init=False, repr=False, compare=False)
+    _spline: NotAKnotSpline = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -137,7 +137,7 @@ class Profile:
         object.__setattr__(self, "y", y)
         object.__setattr__(self, "z", z)
         object.__setattr__(self, "max_slope", ms)
-        object.__setattr__(self, "_spline", CubicSpline(y, z, bc_type="not-a-knot", extrapolate=False))
+        object.__setattr__(self, "_spline", NotAKnotSpline(y, z))
 
     # -- smooth representation -------------------------------------------------------
     @property

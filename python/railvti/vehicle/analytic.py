@@ -21,9 +21,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .. import _checks
+from .._roots import brent_root
 from ..errors import InputError
 
 __all__ = ["wickens_coefficients", "wickens_critical_speed", "nadal_limit"]
@@ -90,7 +90,7 @@ def wickens_critical_speed(
         raise InputError("the wheelset is unstable already at 0.1 m/s")
     if hurwitz(v_max) > 0:
         return math.inf
-    return float(brentq(hurwitz, lo, v_max, xtol=1e-10, rtol=1e-12))
+    return brent_root(hurwitz, lo, v_max, xtol=1e-10, rtol=1e-12)
 
 
 def nadal_limit(flange_angle: float, friction: float) -> float:

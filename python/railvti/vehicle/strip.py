@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .. import _checks
 from .._native import core
@@ -166,6 +165,10 @@ def strip_geometry(
     -------
     StripGeometry
     """
+    # on first use: scipy.interpolate costs ~0.2 s at start-up, paid by every run that
+    # imports railvti.vehicle without a strip contact (issue 33)
+    from scipy.interpolate import CubicSpline
+
     step = _checks.positive("step", step)
     rail_step = _checks.positive("rail_step", rail_step)
     split_width = _checks.positive("split_width", split_width)

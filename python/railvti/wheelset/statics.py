@@ -11,16 +11,18 @@ direct FE solve to check it (:func:`static_fe_solve`).
 from __future__ import annotations
 
 import weakref
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from .. import _checks
 from .._native import core
 from .._status import check
 from .fe import check_harmonic
 from .rim_rows import ATTACHMENT_DOFS, RimEdge, edge_point, locate, rim_edges
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = [
     "assemble_harmonic",
@@ -37,6 +39,8 @@ __all__ = [
 def _dof_transform(mesh, k: int) -> sp.csr_matrix:
     """T (3 nn, neq): nodal amplitudes from equations, with the axis regularity of
     wheelset_modes.f90::dof_map (k = 0: U_y only; k = 1: U_th = -U_r, U_y = 0; k >= 2: 0)."""
+    import scipy.sparse as sp  # on first use: ~0.2 s at start-up (issue 33)
+
     x = mesh.nodes
     tol = 1e-9 * max(float(np.abs(x[:, 0]).max()), 1e-30)
     rows, cols, vals = [], [], []
@@ -70,6 +74,8 @@ def assemble_harmonic(
     The same element matrices as the eigen-solver (wheelset_element.f90::axisym_element),
     assembled in Python (sparse) for the static solves of the residual flexibility.
     """
+    import scipy.sparse as sp  # on first use: ~0.2 s at start-up (issue 33)
+
     ne = mesh.n_elements
     idx = (3 * mesh.conn[:, :, None] + np.arange(3)[None, None, :]).reshape(ne, 27)
     kv = np.empty((ne, 27, 27))
@@ -108,6 +114,9 @@ class HarmonicStatics:
     """
 
     def __init__(self, mesh, k: int, young: float, poisson: float, density: float) -> None:
+        import scipy.sparse as sp  # on first use: ~0.2 s at start-up (issue 33)
+        from scipy.sparse.linalg import splu
+
         self.k = k
         self.T = _dof_transform(mesh, k)
         kf, mf = assemble_harmonic(mesh, k, young, poisson, density)
