@@ -34,7 +34,7 @@ module vehicle_modal
     implicit none
     private
     public :: modal_part, modal_factor, modal_create, modal_force, modal_point_tangent
-    public :: modal_factorise, modal_solve, modal_points, modal_set_mass
+    public :: modal_factorise, modal_solve, modal_points, modal_rows_t, modal_set_mass
     public :: PEL_LINEAR, PEL_HERTZ, LC_SPLIT, LC_GYRO
     public :: modal_couple, modal_coupling_force, modal_coupling_tangent, modal_rim_wheelset
     public :: modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, modal_ring_residual
@@ -55,6 +55,9 @@ module vehicle_modal
     type :: modal_part
         integer :: nm = 0, nb = 0, np = 0, npe = 0
         integer :: rows_version = 0                 !< increased whenever phi changes
+        !> each column's nonzero rows lie in rlo(j) .. rhi(j) (rows_changed; rhi < rlo: none):
+        !> a body's modes have rows only at its own points, so Phi Q and Phi^T g cost nnz
+        integer, allocatable :: rlo(:), rhi(:)
         integer, allocatable :: bs(:), off(:)       !< block starts, packed offsets (nb + 1)
         real(dp), allocatable :: bb(:), kb(:)       !< packed blocks of B and K_m
         real(dp), allocatable :: phi(:, :)          !< (np, nm) attachment rows
@@ -159,9 +162,46 @@ contains
         mp%ppar = ppar
         allocate (mp%mass(nm))
         mp%mass = 1.0_dp
-        mp%rows_version = 1
+        mp%rows_version = 0
+        call rows_changed(mp)
         info = STAT_OK
     end subroutine modal_create
+
+    !> After phi changed: a new rows_version (the cached factors are stale) and each column's
+    !> range of nonzero rows. Work: np nm, one product with Phi.
+    pure subroutine rows_changed(mp)
+        type(modal_part), intent(inout) :: mp
+        integer :: j, i
+        mp%rows_version = mp%rows_version + 1
+        if (.not. allocated(mp%rlo)) allocate (mp%rlo(mp%nm), mp%rhi(mp%nm))
+        do j = 1, mp%nm
+            mp%rlo(j) = mp%np + 1
+            mp%rhi(j) = 0
+            do i = 1, mp%np
+                if (mp%phi(i, j) /= 0.0_dp) then
+                    mp%rlo(j) = i
+                    exit
+                end if
+            end do
+            do i = mp%np, mp%rlo(j), -1
+                if (mp%phi(i, j) /= 0.0_dp) then
+                    mp%rhi(j) = i
+                    exit
+                end if
+            end do
+        end do
+    end subroutine rows_changed
+
+    !> f(j) = Phi(:, j) . g over the modes (the generalised forces of point forces g).
+    pure subroutine modal_rows_t(mp, g, f)
+        type(modal_part), intent(in) :: mp
+        real(dp), intent(in) :: g(mp%np)
+        real(dp), intent(out) :: f(mp%nm)
+        integer :: j
+        do j = 1, mp%nm
+            f(j) = dot_product(mp%phi(mp%rlo(j):mp%rhi(j), j), g(mp%rlo(j):mp%rhi(j)))
+        end do
+    end subroutine modal_rows_t
 
     !> Set the modal masses (1: a mass-normalised mode, 0: a massless coordinate, an algebraic
     !> equation). info: STAT_OK; STAT_SIZE_MISMATCH (nm not the part's); STAT_BAD_ARGUMENT
@@ -176,7 +216,7 @@ contains
         info = STAT_BAD_ARGUMENT
         if (any(mass /= 0.0_dp .and. mass /= 1.0_dp)) return
         mp%mass = mass
-        mp%rows_version = mp%rows_version + 1      ! the cached factors are stale
+        call rows_changed(mp)      ! the cached factors are stale
         info = STAT_OK
     end subroutine modal_set_mass
 
@@ -337,7 +377,7 @@ contains
             call cholesky(12, r, l)
             mp%phi(mp%fpt(:, i), mp%fr0(i) + 1:mp%fr0(i) + 12) = mp%fpost * l
         end do
-        mp%rows_version = mp%rows_version + 1
+        call rows_changed(mp)
     end subroutine modal_follow
 
     !> The cell i (1-based, 1..n - 1) of x on the grid x0 + (i - 1) dx and the weight w of
@@ -445,7 +485,7 @@ contains
                 end if
             end do
         end do
-        mp%rows_version = mp%rows_version + 1
+        call rows_changed(mp)
     end subroutine modal_ring_time
 
     !> The index in 1..nrl of wheelset w on the ring track, 0 for one on track elements.
@@ -543,9 +583,12 @@ contains
         real(dp), intent(in) :: qm(mp%nm)
         real(dp), intent(out) :: u(mp%np)
         integer :: j
+        integer :: lo, hi
         u = 0.0_dp
         do j = 1, mp%nm
-            u = u + mp%phi(:, j) * qm(j)
+            lo = mp%rlo(j)
+            hi = mp%rhi(j)
+            u(lo:hi) = u(lo:hi) + mp%phi(lo:hi, j) * qm(j)
         end do
     end subroutine modal_points
 
@@ -560,7 +603,7 @@ contains
         real(dp), intent(out) :: fm(mp%nm)
         real(dp), intent(in), optional :: gext(mp%np)
         real(dp) :: u(mp%np), ud(mp%np), gp(mp%np), d, dd, f, kd, cd
-        integer :: e, b, j, j0, s, r, p, o, ii, jj
+        integer :: e, b, j0, s, r, p, o, ii, jj
         if (mp%nm == 0) return
         call modal_points(mp, qm, u)
         call modal_points(mp, vm, ud)
@@ -575,9 +618,7 @@ contains
             gp(p) = gp(p) - f
             if (r > 0) fr(r) = fr(r) + f
         end do
-        do j = 1, mp%nm
-            fm(j) = dot_product(mp%phi(:, j), gp)
-        end do
+        call modal_rows_t(mp, gp, fm)
         do b = 1, mp%nb
             j0 = mp%bs(b) - 1
             s = mp%bs(b + 1) - mp%bs(b)
@@ -647,7 +688,7 @@ contains
         real(dp), intent(in) :: cq, cb, ck
         type(modal_factor), intent(inout) :: mf
         integer, intent(out) :: info
-        integer :: b, j0, s, i, o, lin
+        integer :: b, j0, s, i, o, lin, lo, hi
         real(dp), allocatable :: x(:, :)
         info = STAT_OK
         if (mp%nm == 0) return
@@ -675,10 +716,13 @@ contains
                 info = STAT_SINGULAR
                 return
             end if
-            ! C += Phi_b S_b^-1 Phi_b^T
-            x = transpose(mp%phi(:, j0:j0 + s - 1))
-            call block_solve(mp, mf, b, s, mp%np, x)
-            mf%c = mf%c + matmul(mp%phi(:, j0:j0 + s - 1), x)
+            ! C += Phi_b S_b^-1 Phi_b^T over the block's rows lo..hi
+            lo = minval(mp%rlo(j0:j0 + s - 1))
+            hi = maxval(mp%rhi(j0:j0 + s - 1))
+            if (hi < lo) cycle
+            x = transpose(mp%phi(lo:hi, j0:j0 + s - 1))
+            call block_solve(mp, mf, b, s, hi - lo + 1, x)
+            mf%c(lo:hi, lo:hi) = mf%c(lo:hi, lo:hi) + matmul(mp%phi(lo:hi, j0:j0 + s - 1), x)
         end do
         mf%cq = cq
         mf%cb = cb

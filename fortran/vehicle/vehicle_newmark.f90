@@ -34,7 +34,7 @@ module vehicle_newmark
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points, modal_ring_time, modal_follow, &
+                             modal_solve, modal_points, modal_rows_t, modal_ring_time, modal_follow, &
                              modal_follow_reset
     implicit none
     private
@@ -715,7 +715,7 @@ contains
         real(dp), intent(in) :: r(md%nd + md%mp%nm)
         real(dp), intent(out) :: dx(md%nd + md%mp%nm)
         real(dp) :: z(md%mp%nm), y(md%nd + md%mp%np), w(md%mp%np)
-        integer :: nd, np, nm, lin, j
+        integer :: nd, np, nm, lin
         nd = md%nd
         np = md%mp%np
         nm = md%mp%nm
@@ -731,9 +731,7 @@ contains
         call dgetrs('N', nd + np, 1, nl%a, nd + np, nl%ipiv, y, nd + np, lin)
         dx(1:nd) = y(1:nd)
         w = (1.0_dp + sd%alpha) * (matmul(nl%jpr, y(1:nd)) + matmul(nl%jpu, y(nd + 1:)))
-        do j = 1, nm
-            dx(nd + j) = dot_product(md%mp%phi(:, j), w)
-        end do
+        call modal_rows_t(md%mp, w, dx(nd + 1:))
         call modal_solve(md%mp, mf, dx(nd + 1:))
         dx(nd + 1:) = dx(nd + 1:) + z
     end subroutine lin_solve
@@ -878,8 +876,8 @@ contains
         real(dp), intent(inout) :: fm(md%nd + md%mp%nm)
         integer, intent(out) :: info
         real(dp), dimension(md%mp%np) :: u0, u1, um, udm, gpn, gpc
-        real(dp) :: fn(md%nd), wk(nwo, 2), dg(20), fg(20), dg2, c
-        integer :: nd, w, j, nr, npt, idx(9), pts(12)
+        real(dp) :: fn(md%nd), wk(nwo, 2), dg(20), fg(20), dg2, c, fmc(md%mp%nm)
+        integer :: nd, w, nr, npt, idx(9), pts(12)
         nd = md%nd
         info = STAT_OK
         gpc = 0.0_dp
@@ -917,9 +915,8 @@ contains
             gpc(pts(1:npt)) = gpc(pts(1:npt)) - c * dg(nr + 1:nr + npt)
         end do
         if (.not. any(gpc /= 0.0_dp)) return
-        do j = 1, md%mp%nm
-            fm(nd + j) = fm(nd + j) + dot_product(md%mp%phi(:, j), gpc)
-        end do
+        call modal_rows_t(md%mp, gpc, fmc)
+        fm(nd + 1:) = fm(nd + 1:) + fmc
     end subroutine contact_correction
 
     !> The bump stops' discrete gradient: the force of a bump stop (potential
