@@ -337,6 +337,12 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     assert not [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
 
 
+def _profiler_enabled() -> bool:
+    import dask
+
+    return bool(dask.config.get("distributed.worker.profile.enabled"))
+
+
 @pytest.mark.filterwarnings("ignore:bifurcation. below:RuntimeWarning")
 def test_a_client_never_changes_the_bifurcation():
     """The same call with and without a LocalCluster returns the same bits: the
@@ -350,11 +356,18 @@ def test_a_client_never_changes_the_bifurcation():
 
     kw = dict(contact="hertz-kalker", geometry="table", duration=0.3, v_min_kmh=300.0, progress=False)
     serial = {ind: scenarios.bifurcation([380.0, 340.0], independent=ind, **kw) for ind in (False, True)}
+    import dask
+
+    mine = dask.config.get("distributed.worker.profile.enabled", None)
     with local_client(2) as c:
         dist = {
             ind: scenarios.bifurcation([380.0, 340.0], independent=ind, client=c, **kw)
             for ind in (False, True)
         }
+        # the workers run without Dask's statistical profiler (WORKER_CONFIG); this process's
+        # settings are its own
+        assert list(c.run(_profiler_enabled).values()) == [False, False]
+    assert dask.config.get("distributed.worker.profile.enabled", None) == mine
     for ind in (False, True):
         a, b = serial[ind], dist[ind]
         for name in ("speeds_kmh", "upper", "decay"):

@@ -32,6 +32,10 @@ WORKER_ENV = {
     "MKL_NUM_THREADS": "1",
     "TQDM_DISABLE": "1",
 }
+#: Dask settings of the LocalCluster's workers: no statistical profiler (a thread that samples
+#: the task's stack every 10 ms: 2.8 % of a core per idle worker against 0.6 % without it,
+#: benchmarks/bench_sweeps.py; the dashboard's profile page stays empty).
+WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
 
 
 def default_workers() -> int:
@@ -58,7 +62,7 @@ _TRACKER_QUIET = "ignore:resource_tracker:UserWarning"
 def local_client(n_workers: int | None = None) -> Any:
     """A dask.distributed Client on a new LocalCluster: ``n_workers`` processes (default:
     the cores), one thread each, BLAS/OpenMP limited to one thread in each
-    (:data:`WORKER_ENV`); closed on exit.
+    (:data:`WORKER_ENV`), Dask's worker settings :data:`WORKER_CONFIG`; closed on exit.
 
     An exception during the start-up (a signal's, raised in this thread while it waits for
     the cluster) abandons the half-started cluster: its worker processes are killed at once
@@ -85,7 +89,7 @@ def local_client(n_workers: int | None = None) -> Any:
         sys.warnoptions.append(_TRACKER_QUIET)
     try:
         try:
-            with dask.config.set({"distributed.nanny.pre-spawn-environ": pre}):
+            with dask.config.set({"distributed.nanny.pre-spawn-environ": pre, **WORKER_CONFIG}):
                 cluster = _start_without_sigint(
                     lambda: LocalCluster(
                         n_workers=n,
@@ -399,6 +403,7 @@ __all__ = [
     "SCHEDULER_TIMEOUT",
     "SCHEMES",
     "WORKER_ENV",
+    "WORKER_CONFIG",
     "check_client",
     "client_from",
     "default_workers",

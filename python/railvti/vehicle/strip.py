@@ -24,11 +24,13 @@ mirrored (as for the table; the yaw changes sign, the longitudinal position does
 
 from __future__ import annotations
 
+import dataclasses
+import logging
 from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _checks
+from .. import _cache, _checks
 from .._native import core
 from .._status import check
 from ..contact.kalker import kalker_coefficients
@@ -37,6 +39,8 @@ from ..errors import InputError
 from ..material import STEEL, Material
 from ..profiles import Profile
 from .table import _RATIO_CLIP, _hertz_unit
+
+log = logging.getLogger(__name__)
 
 #: Outputs of one wheel's slot (Fortran vehicle_strip SO_*), in order.
 STRIP_OUTPUTS = (
@@ -165,13 +169,47 @@ def strip_geometry(
     -------
     StripGeometry
     """
+    step = _checks.positive("step", step)
+    rail_step = _checks.positive("rail_step", rail_step)
+    split_width = _checks.positive("split_width", split_width)
+    split = _checks.finite("split", split)
+    # on disk (railvti._cache): a Dask worker loads it without importing scipy (issue 33)
+    key = _cache.digest(_DISK_KIND, wheel, rail, step, rail_step, split, split_width, material)
+    hit = _cache.load(_DISK_KIND, key)
+    if hit is not None and set(hit) == set(_DISK_FIELDS):
+        return StripGeometry(**{k: _DISK_FIELDS[k](v) for k, v in hit.items()})
+    if hit is not None:
+        log.warning("railvti cache: a strip geometry entry without its arrays; built again")
+    out = _build(wheel, rail, step, rail_step, split, split_width, material)
+    _cache.store(_DISK_KIND, key, {k: np.asarray(getattr(out, k)) for k in _DISK_FIELDS})
+    return out
+
+
+def _array(a: np.ndarray) -> np.ndarray:
+    return np.asfortranarray(a)
+
+
+#: The disk cache's kind of the strip geometry, and how each field is read back.
+_DISK_KIND = "strip_geometry"
+_DISK_FIELDS = {
+    f.name: (_array if f.type == "np.ndarray" else float) for f in dataclasses.fields(StripGeometry)
+}
+
+
+def _build(
+    wheel: Profile,
+    rail: Profile,
+    step: float,
+    rail_step: float,
+    split: float,
+    split_width: float,
+    material: Material,
+) -> StripGeometry:
+    """Build :func:`strip_geometry`'s arrays (checked arguments)."""
     # on first use: scipy.interpolate costs ~0.2 s at start-up, paid by every run that
     # imports railvti.vehicle without a strip contact (issue 33)
     from scipy.interpolate import CubicSpline
 
-    step = _checks.positive("step", step)
-    rail_step = _checks.positive("rail_step", rail_step)
-    split_width = _checks.positive("split_width", split_width)
     lay = layout(wheel, rail)
     r_nom = lay.wheelset.wheel_radius
     s = np.arange(wheel.y_min, wheel.y_max + 1e-12, step)

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _checks
+from .. import _cache, _checks
 from .._native import core
 from .._status import Status, error
 from ..contact.hertz import hertz
@@ -218,6 +218,83 @@ def wheel_table(
     hit = _CACHE.get(key)
     if hit is not None and hit.wheel is wheel and hit.rail is rail:
         return hit
+    # on disk (railvti._cache): a new process (a Dask worker) loads in ms what takes ~3.5 s
+    dkey = _cache.digest(_DISK_KIND, wheel, rail, y_max, step, roll_max, roll_step, split, material)
+    out = _table_from(_cache.load(_DISK_KIND, dkey), wheel, rail, split, material, y_max, step)
+    if out is None:
+        out = _build(wheel, rail, y_max, step, roll_max, roll_step, split, material)
+        _cache.store(_DISK_KIND, dkey, _table_arrays(out))
+    if out.n_clipped:
+        log.info(
+            "contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
+            out.n_clipped,
+            _RATIO_CLIP,
+            _RATIO_CLIP,
+        )
+    if len(_CACHE) > 8:
+        _CACHE.clear()
+    _CACHE[key] = out
+    return out
+
+
+#: The disk cache's kind of the contact tables, and the arrays and numbers it stores.
+_DISK_KIND = "wheel_table"
+_DISK_ARRAYS = ("y", "data", "s_wheel", "s_own", "roll", "data_roll")
+_DISK_NUMBERS = ("r0", "n_clipped", "r_nominal")
+
+
+def _table_arrays(t: WheelTable) -> dict[str, np.ndarray]:
+    """The arrays and numbers of a built table, as the disk cache stores them."""
+    out = {k: getattr(t, k) for k in _DISK_ARRAYS}
+    out.update({k: np.array(getattr(t, k)) for k in _DISK_NUMBERS})
+    return out
+
+
+def _table_from(
+    arrays: dict[str, np.ndarray] | None,
+    wheel: Profile,
+    rail: Profile,
+    split: float,
+    material: Material,
+    y_max: float,
+    step: float,
+) -> WheelTable | None:
+    """The table of a disk-cache entry (None: no entry, or one without this table's arrays
+    or positions)."""
+    if arrays is None:
+        return None
+    y = np.linspace(-y_max, y_max, int(round(2 * y_max / step)) + 1)
+    if set(arrays) != set(_DISK_ARRAYS + _DISK_NUMBERS) or not np.array_equal(arrays["y"], y):
+        log.warning("railvti cache: a contact table entry without this table's arrays; built again")
+        return None
+    return WheelTable(
+        y=arrays["y"],
+        data=arrays["data"],
+        r0=float(arrays["r0"]),
+        s_wheel=arrays["s_wheel"],
+        material=material,
+        n_clipped=int(arrays["n_clipped"]),
+        wheel=wheel,
+        rail=rail,
+        split=split,
+        s_own=arrays["s_own"],
+        roll=arrays["roll"],
+        data_roll=arrays["data_roll"],
+        r_nominal=float(arrays["r_nominal"]),
+    )
+
+
+def _build(
+    wheel: Profile,
+    rail: Profile,
+    y_max: float,
+    step: float,
+    roll_max: float,
+    roll_step: float,
+    split: float,
+    material: Material,
+) -> WheelTable:
+    """Build the table of :func:`wheel_table` (checked arguments)."""
     lay = layout(wheel, rail)
     n = int(round(2 * y_max / step)) + 1
     y = np.linspace(-y_max, y_max, n)
@@ -242,7 +319,7 @@ def wheel_table(
         prev = cur
     data[IRLINK, :, :, -1] = 0.0
     r0 = float(np.interp(0.0, y, z.data[3, 0]))
-    out = WheelTable(
+    return WheelTable(
         y=y,
         data=np.asfortranarray(z.data),
         r0=r0,
@@ -257,17 +334,6 @@ def wheel_table(
         data_roll=np.asfortranarray(data),
         r_nominal=float(lay.wheelset.wheel_radius),
     )
-    if n_clip:
-        log.info(
-            "contact table: %d entries with the Hertz curvature ratio clipped to [1/%g, %g]",
-            n_clip,
-            _RATIO_CLIP,
-            _RATIO_CLIP,
-        )
-    if len(_CACHE) > 8:
-        _CACHE.clear()
-    _CACHE[key] = out
-    return out
 
 
 @dataclass(frozen=True)
