@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
-from .._elliptic import ellipe, ellipk
+from .._elliptic import ellipke
 from .._roots import brent_root
 from ..material import Material
 from .grid import Grid
@@ -44,8 +44,7 @@ class HertzResult:
 
 def _ratio_residual(k: float, target: float) -> float:
     """(B/A)(k) - target for b/a = k <= 1, with m = 1 - k^2 (Johnson 1985, eq. 4.39)."""
-    m = 1.0 - k * k
-    kk, ee = ellipk(m), ellipe(m)
+    kk, ee = ellipke(1.0 - k * k)
     return (ee / (k * k) - kk) / (kk - ee) - target
 
 
@@ -93,7 +92,7 @@ def hertz(A: float, B: float, fn: float, material: Material) -> HertzResult:
     else:
         k = brent_root(_ratio_residual, 1e-7, k_ub, args=(ratio,), xtol=1e-17, rtol=1e-15, maxiter=500)
     e2 = 1.0 - k * k
-    kk, ee = float(ellipk(e2)), float(ellipe(e2))
+    kk, ee = ellipke(e2)
     km = (kk - ee) / e2 if e2 > 1e-12 else math.pi / 4.0
     # A = p0 b km / (E* a^2) and p0 = 3 fn / (2 pi a b)  ->  a^3 = 3 fn km / (2 pi A E*)
     a = (3.0 * fn * km / (2.0 * math.pi * a_lo * es)) ** (1.0 / 3.0)
