@@ -134,11 +134,18 @@ module vehicle_bem
     !> UPD_FRESH bands of the Jacobian's (band_ratio); a point within the band whose Jacobian
     !> is older is solved with a new Jacobian instead (stale). Within the band the patch's
     !> incremental stiffness is the Jacobian's, so its relative error, ~ the force change
-    !> between the Jacobian's inputs and the base's over fn (<= UPD_FRESH band, 0.4 % at the
+    !> between the Jacobian's inputs and the base's over fn (<= UPD_FRESH band, 0.2 % at the
     !> default band 5e-4), is what small oscillations about the base feel; JAC_MOVE alone
-    !> allows 10-20 % (hunting at 300 km/h, 3 s, band 5e-4: the third second's amplitude
-    !> moved by +0.22 % with 2, +0.08 % with 8, +11.9 % with 32; solves 6.6, 4.5, 3.7 a step).
-    real(dp), parameter :: UPD_FRESH = 8.0_dp
+    !> allows 10-20 % (hunting at 300 km/h, 3 s, band 5e-4: the third second's amplitude,
+    !> 4.4 um, moved by -0.59 % with 4 and -1.66 % with 8, 4.2 and 3.8 solve pairs a step;
+    !> +11.9 % with 32 before UPD_CALM; the BEM tolerances 100x / 3x tighter: -0.36 %).
+    real(dp), parameter :: UPD_FRESH = 4.0_dp
+    !> A stale Jacobian is made again only for a point that stays within the band: after
+    !> UPD_CALM consecutive evaluations within it (calm; committed ones). In fast motion only a
+    !> step's Newton corrections fall within the band, and a Jacobian for each (10 solves)
+    !> would cost more than it saves (FF at 300 km/h: 36 instead of 26 solve pairs a step):
+    !> such a point is solved without one.
+    integer, parameter :: UPD_CALM = 4
 
     !> What every solve of a model reads and none changes.
     type :: bem_setup
@@ -164,6 +171,8 @@ module vehicle_bem
         !> zero: the point's fields are zero (committed open); still: open again with zero
         !> fields, nothing to commit
         logical :: lin = .false., zero = .true., still = .false., stale = .false.
+        !> calm: consecutive committed evaluations within the band (UPD_CALM); calmn: this one's
+        integer :: calm = 0, calmn = 0
         integer :: i1 = 1, i2 = 1, j1 = 1, j2 = 1, iwin = 0
         real(dp) :: out(6) = 0
         integer :: info = STAT_OK
@@ -316,6 +325,7 @@ contains
                     m%pts(i, j, l)%lin = .false.
                     m%pts(i, j, l)%zero = .true.
                     m%pts(i, j, l)%still = .false.
+                    m%pts(i, j, l)%calm = 0
                 end do
             end do
         end do
@@ -348,6 +358,7 @@ contains
     !> out of contact or failing drops both: the next solve in contact makes a new one).
     subroutine commit_point(pt)
         type(bem_point), intent(inout) :: pt
+        pt%calm = pt%calmn
         ! a linear update: the last solve stays the model's base; open again: all stays zero
         if (pt%lin .or. pt%still) return
         call update_error(pt)
@@ -1239,6 +1250,7 @@ contains
         type(bem_point), intent(inout) :: pt
         real(dp) :: x(NLIN), y(NLIN), r
         ok = .false.
+        pt%calmn = 0
         if (.not. (band > 0.0_dp .and. pt%jok .and. pt%bok)) return
         if (pt%mu /= pt%mub .or. pt%speed /= pt%vb .or. .not. (pt%dn > 0.0_dp)) return
         if (jacobian_due(jage, pt)) return
@@ -1248,8 +1260,11 @@ contains
         if (r > 1.0_dp) return
         y = pt%yb + matmul(pt%jac, x - pt%xb)
         if (.not. (y(1) > 0.0_dp)) return
-        pt%stale = abs(pt%xb(6) - pt%xj(6)) > UPD_DS .or. band_ratio(band, pt, pt%xb, pt%xj) > UPD_FRESH
-        if (pt%stale) return
+        pt%calmn = pt%calm + 1
+        if (abs(pt%xb(6) - pt%xj(6)) > UPD_DS .or. band_ratio(band, pt, pt%xb, pt%xj) > UPD_FRESH) then
+            pt%stale = pt%calmn >= UPD_CALM    ! a new Jacobian with the solve, or none yet
+            return
+        end if
         pt%out = [y(1), y(2), y(3), y(4), y(5) / y(1), y(6) / y(1)]
         ok = .true.
     end function linear_update
@@ -1380,7 +1395,8 @@ contains
     !> The outputs y (linear_outputs) of the patch problem on the window (i1:i2, j1:j2) of
     !> the grid (workspace ww of its size): gap hw (the window's), approach appr, creepages,
     !> friction, speed, warm-started from the full-grid fields p0, tx0, ty0; normal =
-    !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4). stat:
+    !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4, the
+    !> solves' wall times 8, 9). stat:
     !> STAT_OK, or STAT_CONTACT_NOT_CONVERGED when a solver fails or the patch is empty.
     subroutine probe_solve(s, ww, i1, i2, j1, j2, hw, appr, xi, eta, spin, mu, speed, p0, tx0, ty0, &
                            normal, y, cnt, stat)
@@ -1397,6 +1413,7 @@ contains
         integer, allocatable :: stw(:, :)
         real(dp) :: da, fn, ap, resid, xc, yc
         integer :: it, nprod
+        integer(int64) :: c1, c2
         y = 0.0_dp
         da = s%dx * s%dy
         pw = p0(i1:i2, j1:j2)
@@ -1406,8 +1423,11 @@ contains
         allocate (stw(i2 - i1 + 1, j2 - j1 + 1))
         if (normal) then
             ap = appr
+            call system_clock(c1)
             call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, ap, s%tol_n, &
                            s%maxit_n, pw, it, nprod, resid, stat)
+            call system_clock(c2)
+            cnt(8) = cnt(8) + seconds(c1, c2)
             cnt(1) = cnt(1) + 1.0_dp
             cnt(2) = cnt(2) + real(it, dp)
             if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
@@ -1421,10 +1441,13 @@ contains
         allocate (full(s%nx, s%ny), fy2(s%nx, s%ny), source=0.0_dp)
         full(i1:i2, j1:j2) = pw
         call pressure_centre(s%nx, s%ny, s%dx, s%dy, full, fn, xc, yc)
+        call system_clock(c1)
         call rolling_steady(ww, pw, (real(i1 - 1, dp) - 0.5_dp * real(s%nx - 1, dp)) * s%dx, &
                             (real(j1 - 1, dp) - 0.5_dp * real(s%ny - 1, dp)) * s%dy, xi, eta, spin, &
                             mu, speed, ROLL_FFTGS, s%nblock, s%ninner, s%tol_t, s%maxit_t, txw, tyw, &
                             stw, sxw, syw, it, resid, stat)
+        call system_clock(c2)
+        cnt(9) = cnt(9) + seconds(c1, c2)
         cnt(3) = cnt(3) + 1.0_dp
         cnt(4) = cnt(4) + real(it, dp)
         if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &
