@@ -46,7 +46,8 @@
 !> since its last committed solve takes its forces from that linear model instead of a solve
 !> (linear_update: each input's own first-order change of each force within band x the
 !> point's normal force, the lateral position within a table node, and a Jacobian made near
-!> the solve's inputs, else the solve makes a fresh one); its fields, warm starts and the
+!> the solve's inputs, else the point is solved, with a fresh Jacobian once it has stayed
+!> within the band for UPD_CALM evaluations); its fields, warm starts and the
 !> model's base stay the solve's. The decision is taken serially in setup_point from the
 !> committed state only, so threads and chunking give the same numbers as before. A point
 !> whose approach lies below a lower bound of its gap field (surely_open) is found open
