@@ -76,11 +76,14 @@ def test_bem_centred_running_static_load_and_patch():
     pt = c.patch
     assert isinstance(pt, BemPatch) and pt.point == 0
     n_right = c.run.wheel_output("N_tread")[-1, 1, 0]
-    assert pt.fn == pytest.approx(n_right, rel=1e-9)  # the fields are the run's
+    # the fields are the point's last solve's: with linear updates (BemOptions.update_band)
+    # the run's last force is that solve's plus its model's change, within the band
+    assert pt.fn == pytest.approx(n_right, rel=BemOptions().update_band)
     assert pt.pressure.max() > 3e8 and pt.power > 0
     assert (pt.pressure[0] == 0).all() and (pt.pressure[:, -1] == 0).all()  # inside the grid
     st = c.run.stats
-    assert st["bem_normal_solves"] >= 8 * st["steps"]  # every wheel, every step
+    # every wheel, every step: a solve or a linear update
+    assert st["bem_normal_solves"] + st["bem_linear_updates"] >= 8 * st["steps"]
     assert st["bem_solves_per_step"] == pytest.approx(st["bem_normal_solves"] / st["steps"])
     assert st["bem_max_normal_residual"] <= BemOptions().tol_normal  # every solve converged
 
@@ -135,7 +138,9 @@ def test_bem_spin_rate_decay_follows_the_bem_creep_stiffness_and_kalker():
             tol=1e-12,
             progress=False,
         )
-    assert res.stats["bem_normal_solves"] >= 2 * res.stats["steps"]  # the BEM did the work
+    # the BEM did the work: solves, or linear updates from its patch Jacobians
+    assert res.stats["bem_normal_solves"] + res.stats["bem_linear_updates"] >= 2 * res.stats["steps"]
+    assert res.stats["bem_normal_solves"] > 0
     excess = res.v[:, jb] - v[jb]
     assert 0 < excess[-1] < 0.2 * excess[0]
     assert -np.polyfit(res.t, np.log(excess), 1)[0] == pytest.approx(rate, rel=0.02)

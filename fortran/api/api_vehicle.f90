@@ -264,7 +264,7 @@ subroutine vehicle_bem_counts_c(handle, reset, counts, info)
     use vehicle_bem, only: bem_counts, bem_reset, BEM_NCOUNT
     implicit none
     integer(c_int), intent(in) :: handle, reset
-    real(c_double), intent(out) :: counts(10)
+    real(c_double), intent(out) :: counts(12)
     integer(c_int), intent(out) :: info
     real(c_double) :: c(BEM_NCOUNT)
     integer :: stat
@@ -528,6 +528,22 @@ subroutine vehicle_bem_jacobian_c(handle, age, info)
     call bem_jacobian(handle, age, stat)
     info = stat
 end subroutine vehicle_bem_jacobian_c
+
+!> Linear updates of a BEM state's patches (vehicle_bem%bem_update): band > 0 takes a
+!> patch's forces from its linear model while each input's first-order change stays within
+!> band x its normal force; 0 solves every patch. info: STAT_OK, STAT_BAD_HANDLE,
+!> STAT_BAD_ARGUMENT.
+subroutine vehicle_bem_update_c(handle, band, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_bem, only: bem_update
+    implicit none
+    integer(c_int), intent(in) :: handle
+    real(c_double), intent(in) :: band
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call bem_update(handle, band, stat)
+    info = stat
+end subroutine vehicle_bem_update_c
 
 !> The linear model of one BEM point (vehicle_bem%bem_point_jacobian): jac (6, 6) = dy/dx,
 !> x = (dn, phi, xi, eta, spin, s), y = (fn, fx, fy, mz, fn xc, fn yc), the base xb, yb, the

@@ -42,6 +42,18 @@
 !> the patch loop after its solve (point_jacobian; when due: jacobian_due, decided serially
 !> in setup_point) and committed with it, so threads give the same numbers here too.
 !>
+!> Updates (issue 33; bem_update, off unless a band is set). A point whose inputs moved little
+!> since its last committed solve takes its forces from that linear model instead of a solve
+!> (linear_update: each input's own first-order change of each force within band x the
+!> point's normal force, the lateral position within a table node, and a Jacobian made near
+!> the solve's inputs, else the point is solved, with a fresh Jacobian once it has stayed
+!> within the band for UPD_CALM evaluations); its fields, warm starts and the
+!> model's base stay the solve's. The decision is taken serially in setup_point from the
+!> committed state only, so threads and chunking give the same numbers as before. A point
+!> whose approach lies below a lower bound of its gap field (surely_open) is found open
+!> without building the field, and an open point whose fields are already zero is not
+!> cleared again (both exact: the same decisions and fields as before).
+!>
 !> Windows. Each solve runs on the window of the grid around the point's rigid
 !> interpenetration {h < dn} (its bounding box plus WIN_MARGIN elements a side, the sides
 !> rounded up to multiples of WIN_QUANTUM, clipped to the grid), with a workspace of the
@@ -69,7 +81,7 @@ module vehicle_bem
     private
     public :: bem_create, bem_free, bem_patch, bem_fields, bem_counts, bem_reset, bem_scale
     public :: bem_window, bem_threads, bem_record, bem_solve_recorded
-    public :: bem_jacobian, bem_linear, bem_point_jacobian, bem_probe, NLIN
+    public :: bem_jacobian, bem_linear, bem_point_jacobian, bem_probe, bem_update, NLIN
     public :: MAX_BEM, BEM_NCOUNT, MAX_THREADS, NPT, bem_lead
 
     integer, parameter :: MAX_BEM = 16
@@ -85,8 +97,11 @@ module vehicle_bem
     !> 4 rolling sweeps, 5 patches found out of contact, 6 worst accepted normal residual,
     !> 7 worst accepted rolling residual, 8 seconds in normal solves, 9 in rolling solves,
     !> 10 in the patches as a whole (the solves, the gap field and the sums); 8-10 are summed
-    !> over the patches (wall seconds of each patch: thread-seconds with several threads).
-    integer, parameter :: BEM_NCOUNT = 10
+    !> over the patches (wall seconds of each patch: thread-seconds with several threads);
+    !> 11 linear updates (patches whose forces came from their linear model, no solve:
+    !> bem_update), 12 the largest force error of the linear model seen at a solve whose
+    !> inputs lay within twice the update band (N; update_error).
+    integer, parameter :: BEM_NCOUNT = 12
     !> Free elements around the interpenetration in a solve window (steady rolling needs
     !> two free rows behind the patch, the edge test one more), and the step its sides are
     !> rounded up to (few distinct window sizes, so few workspaces).
@@ -112,6 +127,26 @@ module vehicle_bem
     real(dp), parameter :: JAC_MOVE = 0.2_dp, JAC_SMOVE = 4.0_dp
     !> The default of bem_jacobian's age (committed solves of a point between Jacobians).
     integer, parameter :: JAC_AGE = 128
+    !> Linear updates (bem_update): the lateral position may move at most UPD_DS table nodes
+    !> from the last solve's (the gap field is piecewise linear in it, its slope changes at
+    !> the nodes), and the moment rows' band is the force band times UPD_ARM, m.
+    real(dp), parameter :: UPD_DS = 1.0_dp, UPD_ARM = 0.01_dp
+    !> A linear update needs a Jacobian made near the model's base: the base's inputs within
+    !> UPD_FRESH bands of the Jacobian's (band_ratio); a point within the band whose Jacobian
+    !> is older is solved with a new Jacobian instead (stale). Within the band the patch's
+    !> incremental stiffness is the Jacobian's, so its relative error, ~ the force change
+    !> between the Jacobian's inputs and the base's over fn (<= UPD_FRESH band, 0.2 % at the
+    !> default band 5e-4), is what small oscillations about the base feel; JAC_MOVE alone
+    !> allows 10-20 % (hunting at 300 km/h, 3 s, band 5e-4: the third second's amplitude,
+    !> 4.4 um, moved by -0.59 % with 4 and -1.66 % with 8, 4.2 and 3.8 solve pairs a step;
+    !> +11.9 % with 32 before UPD_CALM; the BEM tolerances 100x / 3x tighter: -0.36 %).
+    real(dp), parameter :: UPD_FRESH = 4.0_dp
+    !> A stale Jacobian is made again only for a point that stays within the band: after
+    !> UPD_CALM consecutive evaluations within it (calm; committed ones). In fast motion only a
+    !> step's Newton corrections fall within the band, and a Jacobian for each (10 solves)
+    !> would cost more than it saves (FF at 300 km/h: 36 instead of 26 solve pairs a step):
+    !> such a point is solved without one.
+    integer, parameter :: UPD_CALM = 4
 
     !> What every solve of a model reads and none changes.
     type :: bem_setup
@@ -133,6 +168,12 @@ module vehicle_bem
         integer :: ia = 0, ib = 0
         real(dp) :: wa = 0, dn = 0, phi = 0, xi = 0, eta = 0, spin = 0, mu = 0, speed = 0
         logical :: open = .false.
+        !> lin: this evaluation's forces come from the linear model (bem_update), no solve;
+        !> zero: the point's fields are zero (committed open); still: open again with zero
+        !> fields, nothing to commit
+        logical :: lin = .false., zero = .true., still = .false., stale = .false.
+        !> calm: consecutive committed evaluations within the band (UPD_CALM); calmn: this one's
+        integer :: calm = 0, calmn = 0
         integer :: i1 = 1, i2 = 1, j1 = 1, j2 = 1, iwin = 0
         real(dp) :: out(6) = 0
         integer :: info = STAT_OK
@@ -148,6 +189,11 @@ module vehicle_bem
         logical :: jok = .false., bok = .false., jwant = .false., jnew = .false.
         integer :: age = 0
         real(dp) :: jac(NLIN, NLIN) = 0, jn(NLIN, NLIN) = 0, xj(NLIN) = 0, xb(NLIN) = 0, yb(NLIN) = 0
+        !> friction and rolling speed of the last committed solve in contact (the linear
+        !> model holds for these only)
+        real(dp) :: mub = 0, vb = 0
+        !> the model's update band at this point's set-up (update_error)
+        real(dp) :: band = 0
         real(dp), allocatable :: hs(:, :)
     end type bem_point
 
@@ -162,6 +208,9 @@ module vehicle_bem
         !> committed solves of a point between its patch Jacobians (bem_jacobian); 0: no
         !> Jacobian, the tangent's cheap model is Hertz + Kalker scaled by ratio
         integer :: jage = JAC_AGE
+        !> linear updates (bem_update): a point's forces from its linear model while each
+        !> input's first-order change of its forces stays within band x its normal force; 0 off
+        real(dp) :: band = 0
         !> full-grid workspace per thread (1 made at creation, the others when needed)
         integer :: ws(MAX_THREADS) = 0
         !> solves on windows (see the module doc); win(:, i) = (nx, ny) of the nwin window
@@ -171,6 +220,9 @@ module vehicle_bem
         integer :: win(2, MAX_WIN) = 0
         integer :: winws(MAX_THREADS, MAX_WIN) = 0
         real(dp), allocatable :: gap(:, :, :, :)          ! (nx, ny, 2 points, ntab), left wheel
+        !> the smallest gap of each field below FAR (1 m when none): (2 points, ntab); the
+        !> open test's lower bound (surely_open)
+        real(dp), allocatable :: gmin(:, :)
         type(bem_point), allocatable :: pts(:, :, :)      ! (point, wheel, wheelset)
         !> per (slot, wheel, wheelset) the point of the member that carried the larger share
         !> at the last evaluation (bem_lead): the one bem_fields, bem_probe and
@@ -233,7 +285,15 @@ contains
         m%winws = 0
         m%nthreads = threads_of(0)
         m%jage = JAC_AGE
+        m%band = 0.0_dp
         m%gap = gap
+        allocate (m%gmin(2, ntab))
+        do l = 1, ntab
+            do k = 1, 2
+                m%gmin(k, l) = minval(gap(:, :, k, l), mask=gap(:, :, k, l) < FAR)
+                if (.not. any(gap(:, :, k, l) < FAR)) m%gmin(k, l) = 1.0_dp
+            end do
+        end do
         allocate (m%pts(NPT, 2, nws), m%ratio(2, NPT, 2, nws), m%lead(2, 2, nws))
         do l = 1, nws
             do j = 1, 2
@@ -263,6 +323,10 @@ contains
                     m%pts(i, j, l)%jok = .false.
                     m%pts(i, j, l)%bok = .false.
                     m%pts(i, j, l)%jnew = .false.
+                    m%pts(i, j, l)%lin = .false.
+                    m%pts(i, j, l)%zero = .true.
+                    m%pts(i, j, l)%still = .false.
+                    m%pts(i, j, l)%calm = 0
                 end do
             end do
         end do
@@ -295,6 +359,11 @@ contains
     !> out of contact or failing drops both: the next solve in contact makes a new one).
     subroutine commit_point(pt)
         type(bem_point), intent(inout) :: pt
+        pt%calm = pt%calmn
+        ! a linear update: the last solve stays the model's base; open again: all stays zero
+        if (pt%lin .or. pt%still) return
+        call update_error(pt)
+        pt%zero = pt%open
         call swap(pt%p, pt%pn)
         call swap(pt%tx, pt%txn)
         call swap(pt%ty, pt%tyn)
@@ -305,6 +374,8 @@ contains
         if (pt%bok) then
             pt%xb = point_inputs(pt)
             pt%yb = linear_outputs(pt%out)
+            pt%mub = pt%mu
+            pt%vb = pt%speed
             if (pt%jnew) then
                 pt%jac = pt%jn
                 pt%xj = pt%xb
@@ -346,7 +417,7 @@ contains
             m%ws = 0
             m%winws = 0
             m%nwin = 0
-            deallocate (m%gap, m%pts, m%ratio, m%lead)
+            deallocate (m%gap, m%gmin, m%pts, m%ratio, m%lead)
             m%used = .false.
         end associate
     end subroutine bem_free
@@ -499,7 +570,7 @@ contains
                 if (m%recording) return
                 nt = 1
                 call setup_point(m, k, iw, iws, nt)
-                if (.not. pt%open) then
+                if (.not. (pt%open .or. pt%lin)) then
                     call solve_point(m%s, point_ws(m, k, iw, iws, 1), pt)
                     if (pt%jwant) call point_jacobian(m%s, point_ws(m, k, iw, iws, 1), pt)
                 end if
@@ -553,7 +624,7 @@ contains
                 do i = 1, NPT
                     if (m%pts(i, j, l)%state /= PT_RECORDED) cycle
                     call setup_point(m, i, j, l, nt)
-                    if (m%pts(i, j, l)%open) cycle
+                    if (m%pts(i, j, l)%open .or. m%pts(i, j, l)%lin) cycle
                     n = n + 1
                     list(:, n) = [i, j, l]
                 end do
@@ -626,7 +697,8 @@ contains
         real(dp), intent(in) :: cnt(BEM_NCOUNT)
         counts(1:5) = counts(1:5) + cnt(1:5)
         counts(6:7) = max(counts(6:7), cnt(6:7))
-        counts(8:10) = counts(8:10) + cnt(8:10)
+        counts(8:11) = counts(8:11) + cnt(8:11)
+        counts(12) = max(counts(12), cnt(12))
     end subroutine add_counts
 
     !> Prepare the recorded problem of point (k, iw, iws) for solve_point: its gap field, then
@@ -647,6 +719,26 @@ contains
             pt%cnt = 0.0_dp
             pt%out = 0.0_dp
             pt%info = STAT_OK
+            pt%band = m%band
+            pt%still = .false.
+            pt%stale = .false.
+            pt%lin = linear_update(m%band, m%jage, pt)
+            if (pt%lin .or. surely_open(m, ks, pt)) then
+                pt%open = .not. pt%lin
+                pt%still = pt%open .and. pt%zero
+                if (pt%open .and. .not. pt%still) call clear_new(pt)
+                pt%jnew = .false.
+                pt%jwant = .false.
+                pt%i1 = 1
+                pt%i2 = 1
+                pt%j1 = 1
+                pt%j2 = 1
+                pt%cnt(11) = merge(1.0_dp, 0.0_dp, pt%lin)
+                pt%cnt(5) = merge(1.0_dp, 0.0_dp, pt%open)
+                call system_clock(c1)
+                pt%cnt(10) = seconds(c0, c1)
+                return
+            end if
             if (iw == 1) then
                 h = (1.0_dp - pt%wa) * m%gap(:, :, ks, pt%ia) + pt%wa * m%gap(:, :, ks, pt%ib)
                 ! an element outside the point's part of the wheel at either node stays outside
@@ -666,11 +758,12 @@ contains
             pt%jnew = .false.
             pt%jwant = .false.
             if (pt%open) then
-                call clear_new(pt)
+                pt%still = pt%zero
+                if (.not. pt%still) call clear_new(pt)
                 pt%cnt(5) = 1.0_dp
             else
                 call patch_window(m, k, iw, iws, nt)
-                pt%jwant = jacobian_due(m%jage, pt)
+                pt%jwant = jacobian_due(m%jage, pt) .or. pt%stale
                 if (pt%jwant) then
                     ! dh/ds of the field above, h from the nodes ia, ib at weight wa
                     if (.not. allocated(pt%hs)) allocate (pt%hs, mold=h)
@@ -686,6 +779,22 @@ contains
             pt%cnt(10) = seconds(c0, c1)
         end associate
     end subroutine setup_point
+
+    !> Whether point pt (slot ks) is open without its gap field: its approach below a lower
+    !> bound of the field's smallest value (the nodes' smallest gaps, interpolated, minus
+    !> the largest tilt |phi| t), so setup_point's test on the field would find it open too.
+    !> Only for wa in [0, 1] (an extrapolation has no such bound).
+    pure logical function surely_open(m, ks, pt) result(open)
+        type(bem_model), intent(in) :: m
+        integer, intent(in) :: ks
+        type(bem_point), intent(in) :: pt
+        real(dp) :: lower
+        open = .false.
+        if (.not. (pt%wa >= 0.0_dp .and. pt%wa <= 1.0_dp)) return
+        lower = (1.0_dp - pt%wa) * m%gmin(ks, pt%ia) + pt%wa * m%gmin(ks, pt%ib) &
+                - abs(pt%phi) * 0.5_dp * real(m%s%ny - 1, dp) * m%s%dy
+        open = .not. (pt%dn > lower)
+    end function surely_open
 
     !> The workspace handle of point (k, iw, iws) on thread t: its window's or the full grid's.
     integer function point_ws(m, k, iw, iws, t)
@@ -1111,6 +1220,87 @@ contains
         end associate
     end subroutine bem_probe
 
+    !> Linear updates: with band > 0 a point whose inputs moved little since its last solve
+    !> takes its forces from its linear model (bem_linear's, the Newton tangent's) instead
+    !> of a solve (linear_update: each input's own first-order change of each force within
+    !> band x its normal force, of each moment within band x fn x UPD_ARM); its fields, warm
+    !> starts and the model's base stay the last solve's. The error is the model's: second
+    !> order in the inputs' moves plus the Jacobian's age (update_error measures it at the
+    !> solves near the band's edge). band = 0 (the default here) solves every patch.
+    !> info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (band < 0 or not finite).
+    subroutine bem_update(handle, band, info)
+        integer, intent(in) :: handle
+        real(dp), intent(in) :: band
+        integer, intent(out) :: info
+        info = STAT_BAD_HANDLE
+        if (.not. live(handle)) return
+        info = STAT_BAD_ARGUMENT
+        if (.not. (band >= 0.0_dp .and. band <= huge(1.0_dp))) return
+        models(handle)%band = band
+        info = STAT_OK
+    end subroutine bem_update
+
+    !> Whether point pt's forces at its current problem come from its linear model (module
+    !> parameters UPD_*, bem_update): band > 0, a model (a committed solve in contact and a
+    !> Jacobian) made for the same friction and speed, no new Jacobian due, the approach
+    !> positive, the lateral position within UPD_DS nodes of the base's, and every input's
+    !> own term of the model within the band (limits). Sets pt%out from the model when so.
+    logical function linear_update(band, jage, pt) result(ok)
+        real(dp), intent(in) :: band
+        integer, intent(in) :: jage
+        type(bem_point), intent(inout) :: pt
+        real(dp) :: x(NLIN), y(NLIN), r
+        ok = .false.
+        pt%calmn = 0
+        if (.not. (band > 0.0_dp .and. pt%jok .and. pt%bok)) return
+        if (pt%mu /= pt%mub .or. pt%speed /= pt%vb .or. .not. (pt%dn > 0.0_dp)) return
+        if (jacobian_due(jage, pt)) return
+        x = point_inputs(pt)
+        if (abs(x(6) - pt%xb(6)) > UPD_DS) return
+        r = band_ratio(band, pt, x, pt%xb)
+        if (r > 1.0_dp) return
+        y = pt%yb + matmul(pt%jac, x - pt%xb)
+        if (.not. (y(1) > 0.0_dp)) return
+        pt%calmn = pt%calm + 1
+        if (abs(pt%xb(6) - pt%xj(6)) > UPD_DS .or. band_ratio(band, pt, pt%xb, pt%xj) > UPD_FRESH) then
+            pt%stale = pt%calmn >= UPD_CALM    ! a new Jacobian with the solve, or none yet
+            return
+        end if
+        pt%out = [y(1), y(2), y(3), y(4), y(5) / y(1), y(6) / y(1)]
+        ok = .true.
+    end function linear_update
+
+    !> The largest |jac(k, i) (x_i - x0_i)| over outputs k and inputs i of point pt's linear
+    !> model, each relative to its limit (band fn_b, for the moments times UPD_ARM): <= 1
+    !> inside the band of bem_update (x0 the base xb).
+    pure real(dp) function band_ratio(band, pt, x, x0) result(r)
+        real(dp), intent(in) :: band, x(NLIN), x0(NLIN)
+        type(bem_point), intent(in) :: pt
+        real(dp) :: lim(NLIN)
+        integer :: i
+        lim = band * pt%yb(1) * [1.0_dp, 1.0_dp, 1.0_dp, UPD_ARM, UPD_ARM, UPD_ARM]
+        r = 0.0_dp
+        do i = 1, NLIN
+            r = max(r, maxval(abs(pt%jac(:, i) * (x(i) - x0(i))) / lim))
+        end do
+    end function band_ratio
+
+    !> The force error of point pt's linear model at a solve (before its commit): when the
+    !> solve's inputs lie within twice the band of bem_update (pt%band, the model's at the
+    !> set-up), the largest |fn, fx, fy - the model's| into counter 12 (N): the error of the
+    !> linear updates measured just beyond their band, an upper estimate of it.
+    subroutine update_error(pt)
+        type(bem_point), intent(inout) :: pt
+        real(dp) :: x(NLIN), y(NLIN), d(NLIN)
+        if (.not. (pt%jok .and. pt%bok .and. pt%info == STAT_OK .and. pt%out(1) > 0.0_dp)) return
+        if (.not. (pt%band > 0.0_dp)) return
+        x = point_inputs(pt)
+        if (abs(x(6) - pt%xb(6)) > UPD_DS .or. band_ratio(pt%band, pt, x, pt%xb) > 2.0_dp) return
+        y = pt%yb + matmul(pt%jac, x - pt%xb)
+        d = linear_outputs(pt%out) - y
+        pt%cnt(12) = max(pt%cnt(12), maxval(abs(d(1:3))))
+    end subroutine update_error
+
     !> Whether point pt's solve should make a new patch Jacobian (the age jage > 0; module
     !> parameters JAC_*): none yet, jage solves old, or the approach or lateral position
     !> moved far from the Jacobian's.
@@ -1154,6 +1344,8 @@ contains
         real(dp), allocatable :: hw(:, :), tilt(:, :)
         real(dp) :: x(NLIN), y0(NLIN), y(NLIN), d, appr, cr(3), yl
         integer :: j, jj, stat, i1, i2, j1, j2
+        integer(int64) :: c0, c1
+        call system_clock(c0)
         pt%jnew = .false.
         if (pt%info /= STAT_OK .or. .not. (pt%out(1) > 0.0_dp)) return
         i1 = pt%i1
@@ -1193,16 +1385,19 @@ contains
             end select
             call probe_solve(s, ww, i1, i2, j1, j2, hw, appr, cr(1), cr(2), cr(3), pt%mu, pt%speed, &
                              pt%pn, pt%txn, pt%tyn, j /= 3 .and. j /= 4 .and. j /= 5, y, pt%cnt, stat)
-            if (stat /= STAT_OK) return
+            if (stat /= STAT_OK) exit
             pt%jn(:, j) = (y - y0) / d
         end do
-        pt%jnew = .true.
+        pt%jnew = stat == STAT_OK
+        call system_clock(c1)
+        pt%cnt(10) = pt%cnt(10) + seconds(c0, c1)
     end subroutine point_jacobian
 
     !> The outputs y (linear_outputs) of the patch problem on the window (i1:i2, j1:j2) of
     !> the grid (workspace ww of its size): gap hw (the window's), approach appr, creepages,
     !> friction, speed, warm-started from the full-grid fields p0, tx0, ty0; normal =
-    !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4). stat:
+    !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4, the
+    !> solves' wall times 8, 9). stat:
     !> STAT_OK, or STAT_CONTACT_NOT_CONVERGED when a solver fails or the patch is empty.
     subroutine probe_solve(s, ww, i1, i2, j1, j2, hw, appr, xi, eta, spin, mu, speed, p0, tx0, ty0, &
                            normal, y, cnt, stat)
@@ -1219,6 +1414,7 @@ contains
         integer, allocatable :: stw(:, :)
         real(dp) :: da, fn, ap, resid, xc, yc
         integer :: it, nprod
+        integer(int64) :: c1, c2
         y = 0.0_dp
         da = s%dx * s%dy
         pw = p0(i1:i2, j1:j2)
@@ -1228,8 +1424,11 @@ contains
         allocate (stw(i2 - i1 + 1, j2 - j1 + 1))
         if (normal) then
             ap = appr
+            call system_clock(c1)
             call normal_cg(ww%plan, 1, ww%c(:, :, 1), hw, da, CONTROL_APPROACH, fn, ap, s%tol_n, &
                            s%maxit_n, pw, it, nprod, resid, stat)
+            call system_clock(c2)
+            cnt(8) = cnt(8) + seconds(c1, c2)
             cnt(1) = cnt(1) + 1.0_dp
             cnt(2) = cnt(2) + real(it, dp)
             if (stat /= STAT_OK .or. .not. all(abs(pw) <= huge(1.0_dp))) then
@@ -1243,10 +1442,13 @@ contains
         allocate (full(s%nx, s%ny), fy2(s%nx, s%ny), source=0.0_dp)
         full(i1:i2, j1:j2) = pw
         call pressure_centre(s%nx, s%ny, s%dx, s%dy, full, fn, xc, yc)
+        call system_clock(c1)
         call rolling_steady(ww, pw, (real(i1 - 1, dp) - 0.5_dp * real(s%nx - 1, dp)) * s%dx, &
                             (real(j1 - 1, dp) - 0.5_dp * real(s%ny - 1, dp)) * s%dy, xi, eta, spin, &
                             mu, speed, ROLL_FFTGS, s%nblock, s%ninner, s%tol_t, s%maxit_t, txw, tyw, &
                             stw, sxw, syw, it, resid, stat)
+        call system_clock(c2)
+        cnt(9) = cnt(9) + seconds(c1, c2)
         cnt(3) = cnt(3) + 1.0_dp
         cnt(4) = cnt(4) + real(it, dp)
         if ((stat /= STAT_OK .and. stat /= STAT_NO_CONTACT) .or. .not. all(abs(txw) <= huge(1.0_dp)) &

@@ -4,9 +4,10 @@ The Fortran time loop (``vehicle_bem.f90``) solves at every contact evaluation, 
 candidate point in contact, the normal problem under approach control (projected CG with FFT
 products, warm-started from the last pressure) and then steady rolling ('fftgs', warm-started
 from the last tractions) with the creepages of the Hertz path, on a fixed grid of 0.75 mm
-elements. The normal approach is the Hertz path's: the wheel's vertical interference at the
-point times cos(delta). This module builds the undeformed gap fields the Fortran side
-interpolates in the lateral shift y.
+elements; a patch whose inputs moved little since its last solve takes its forces from its
+linear model instead (``BemOptions.update_band``, issue 33). The normal approach is the Hertz
+path's: the wheel's vertical interference at the point times cos(delta). This module builds
+the undeformed gap fields the Fortran side interpolates in the lateral shift y.
 
 Gap field of candidate point k at table node y (left wheel, nominal height, zero roll): the
 grid lies in the contact plane, x along the rolling direction, lateral coordinate t along
@@ -39,7 +40,17 @@ from ..errors import InputError
 from ..geometry import layout
 from .table import WheelTable
 
-__all__ = ["COUNTERS", "TIMERS", "BemOptions", "BemGrid", "grid_for", "gap_fields", "BemState", "BemPatch"]
+__all__ = [
+    "COUNTERS",
+    "TIMERS",
+    "UPDATE_COUNTERS",
+    "BemOptions",
+    "BemGrid",
+    "grid_for",
+    "gap_fields",
+    "BemState",
+    "BemPatch",
+]
 
 log = logging.getLogger(__name__)
 
@@ -56,6 +67,11 @@ COUNTERS = (
 #: Wall-time counters of the Fortran state after :data:`COUNTERS` (s; :meth:`BemState.timers`):
 #: normal solves, rolling solves, and whole patches (the solves, the gap field and the sums).
 TIMERS = ("normal_seconds", "rolling_seconds", "patch_seconds")
+#: Counters of the linear updates after :data:`TIMERS` (:meth:`BemState.counts` returns them
+#: with :data:`COUNTERS`): patches whose forces came from their linear model without a solve
+#: (``BemOptions.update_band``), and the largest force error of that model measured at the
+#: solves whose inputs lay within twice the band (N).
+UPDATE_COUNTERS = ("linear_updates", "max_linear_error")
 
 
 def _smooth(n: int) -> int:
@@ -110,6 +126,17 @@ class BemOptions:
         or when its approach or lateral position moved far (``vehicle_bem.f90``,
         ``bem_linear``). 0: Hertz + Kalker scaled to the last BEM solves instead (the cheap
         model before; FF at 200 km/h then needs about 1.7x the Newton iterations).
+    update_band : float
+        Linear updates in the time loop (issue 33): a patch whose inputs moved little since
+        its last solve takes its forces from its linear model (the Newton tangent's, which
+        needs ``jacobian_age`` > 0) without a solve, while each input's own first-order
+        change of each force stays within ``update_band`` x the patch's normal force (of the
+        moments, x 10 mm), the lateral position within one table node, friction and speed
+        unchanged, and no new Jacobian due. The error is the linear model's: second order in
+        the inputs' moves plus the Jacobian's age; ``stats['bem_max_linear_error']`` gives
+        the model's force error measured at the solves within twice the band
+        (docs/vehicle_contact.md, "Linear updates"). 0: every patch solved (as before). The
+        static equilibrium always solves every patch.
     """
 
     dx: float = 7.5e-4
@@ -123,6 +150,7 @@ class BemOptions:
     max_iter_rolling: int = 500
     window: bool = True
     jacobian_age: int = 128
+    update_band: float = 5e-4
 
     def __post_init__(self) -> None:
         _checks.positive("dx", self.dx)
@@ -132,6 +160,8 @@ class BemOptions:
         _checks.positive("tol_rolling", self.tol_rolling)
         _checks.positive_int("max_iter_normal", self.max_iter_normal)
         _checks.positive_int("max_iter_rolling", self.max_iter_rolling)
+        if not (isinstance(self.update_band, (int, float)) and 0.0 <= self.update_band < 1.0):
+            raise InputError(f"update_band must be a number in [0, 1), got {self.update_band!r}")
         if not isinstance(self.jacobian_age, (int, np.integer)) or self.jacobian_age < 0:
             raise InputError(f"jacobian_age must be an integer >= 0, got {self.jacobian_age!r}")
         for name in ("nx", "ny"):
@@ -323,6 +353,7 @@ class BemState:
         check(info, "could not set the BEM solve windows")
         info = core.vehicle_bem_jacobian_c(self.handle, int(o.jacobian_age))
         check(info, "could not set the BEM patch Jacobians")
+        self.set_update_band(o.update_band)
         log.debug(
             "BEM contact state %d: grid %d x %d of %.2f mm",
             self.handle,
@@ -349,11 +380,21 @@ class BemState:
         except Exception:
             pass
 
+    def set_update_band(self, band: float) -> None:
+        """Set the linear updates' band (:attr:`BemOptions.update_band`; 0: solve every patch)."""
+        info = core.vehicle_bem_update_c(self.handle, float(band))
+        check(info, f"could not set the BEM update band {band!r}")
+        self.update_band = float(band)
+
     def counts(self, reset: bool = False) -> dict:
-        """Solver counters since creation or the last reset (:data:`COUNTERS`)."""
+        """Solver counters since creation or the last reset (:data:`COUNTERS`, then
+        :data:`UPDATE_COUNTERS`)."""
         c, info = core.vehicle_bem_counts_c(self.handle, int(reset))
         check(info, "BEM contact state already freed")
-        return {k: (float(v) if k.startswith("max") else int(v)) for k, v in zip(COUNTERS, c)}
+        n = len(COUNTERS) + len(TIMERS)
+        names = COUNTERS + UPDATE_COUNTERS
+        vals = list(c[: len(COUNTERS)]) + list(c[n : n + len(UPDATE_COUNTERS)])
+        return {k: (float(v) if k.startswith("max") else int(v)) for k, v in zip(names, vals)}
 
     def timers(self) -> dict:
         """Wall seconds spent in the BEM patches since creation or the last reset

@@ -144,6 +144,30 @@ def _equilibrium(
 ) -> tuple[np.ndarray, ...]:
     """:func:`static_equilibrium` with the run's BEM state (or None) open."""
     cs = call_settings(speed, spec, fastsim_n, bem)
+    if bem is None:
+        return _equilibrium_solves(system, speed, spec, cs, bem, q0, tol, maxit, fastsim_n, return_velocity)
+    band = bem.update_band
+    bem.set_update_band(0.0)  # the equilibrium solves every patch (no linear updates)
+    try:
+        return _equilibrium_solves(system, speed, spec, cs, bem, q0, tol, maxit, fastsim_n, return_velocity)
+    finally:
+        if bem.handle:
+            bem.set_update_band(band)
+
+
+def _equilibrium_solves(
+    system: System,
+    speed: float,
+    spec: ContactModel,
+    cs: CallSettings,
+    bem: BemState | None,
+    q0: np.ndarray | None,
+    tol: float,
+    maxit: int,
+    fastsim_n: int,
+    return_velocity: bool,
+) -> tuple[np.ndarray, ...]:
+    """:func:`_equilibrium`'s Newton solves (the BEM state, if any, without linear updates)."""
     if q0 is None:  # modal coordinates (if any) start undeformed
         q = np.concatenate([_initial_guess(system), np.zeros(system.n_state - system.n)])
     else:
