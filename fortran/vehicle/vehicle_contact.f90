@@ -427,7 +427,10 @@ contains
                 e(3) = t(IRLINK, kk, ci(1), cj(1)) > 0.5_dp
                 e(4) = t(IRLINK, kk, ci(2), cj(2)) > 0.5_dp
             end if
-            do q = 1, 4
+            ! only the cell's own edges: with two corners (a single roll row) edges 2-4 name
+            ! corners outside the table (reading them was out of bounds: an occasional crash)
+            dist = huge(1.0_dp)
+            do q = 1, merge(4, 1, n == 4)
                 dist(q) = abs(t(2, kk, ci(ea(q)), cj(ea(q))) - t(2, kk, ci(eb(q)), cj(eb(q))))
             end do
         end associate
