@@ -167,14 +167,29 @@ contains
         info = STAT_OK
     end subroutine modal_create
 
-    !> After phi changed: a new rows_version (the cached factors are stale) and each column's
-    !> range of nonzero rows. Work: np nm, one product with Phi.
-    pure subroutine rows_changed(mp)
+    !> After phi changed: a new rows_version (the cached factors are stale) and the range of
+    !> nonzero rows of the columns j0..j1 that changed (default: all; the others keep theirs).
+    !> Work: np per column, one product with those columns.
+    pure subroutine rows_changed(mp, j0, j1)
         type(modal_part), intent(inout) :: mp
-        integer :: j, i
+        integer, intent(in), optional :: j0, j1
         mp%rows_version = mp%rows_version + 1
-        if (.not. allocated(mp%rlo)) allocate (mp%rlo(mp%nm), mp%rhi(mp%nm))
-        do j = 1, mp%nm
+        if (.not. allocated(mp%rlo)) then     ! the first time: every column
+            allocate (mp%rlo(mp%nm), mp%rhi(mp%nm))
+            call column_ranges(mp, 1, mp%nm)
+        else if (present(j0) .and. present(j1)) then
+            call column_ranges(mp, j0, j1)
+        else
+            call column_ranges(mp, 1, mp%nm)
+        end if
+    end subroutine rows_changed
+
+    !> rlo(j), rhi(j): the first and last nonzero row of column j of phi, j = j0..j1.
+    pure subroutine column_ranges(mp, j0, j1)
+        type(modal_part), intent(inout) :: mp
+        integer, intent(in) :: j0, j1
+        integer :: j, i
+        do j = j0, j1
             mp%rlo(j) = mp%np + 1
             mp%rhi(j) = 0
             do i = 1, mp%np
@@ -190,7 +205,7 @@ contains
                 end if
             end do
         end do
-    end subroutine rows_changed
+    end subroutine column_ranges
 
     !> f(j) = Phi(:, j) . g over the modes (the generalised forces of point forces g).
     pure subroutine modal_rows_t(mp, g, f)
@@ -485,7 +500,8 @@ contains
                 end if
             end do
         end do
-        call rows_changed(mp)
+        ! only the ring's columns moved (its modes, then its residual coordinates)
+        call rows_changed(mp, mp%rm0 + 1, mp%rm0 + mp%rr%nk + merge(3 * mp%rr%nc, 0, mp%rr%nrx > 0))
     end subroutine modal_ring_time
 
     !> The index in 1..nrl of wheelset w on the ring track, 0 for one on track elements.

@@ -24,11 +24,8 @@ module vehicle_ring
 
     !> The kept modes' data and the contact points (nc = 2 per wheelset: left, right).
     type :: ring_rows
-        integer :: ng = 0, nbt = 0, nk = 0, nc = 0
-        integer, allocatable :: bpos(:), kpos(:), voff(:)   !< (ng + 1)
-        integer, allocatable :: n1(:)                       !< (ng) rail-1 functions first
-        integer, allocatable :: fam(:), rail(:), kn(:)      !< (nbt); kn: kap = 2 pi kn / length
-        real(dp), allocatable :: kap(:), obs(:, :), vk(:)   !< (nbt), (4, nbt), packed
+        integer :: ng = 0, nk = 0, nc = 0, kmax = 0         !< kmax: the largest wave number
+        integer, allocatable :: kpos(:)                     !< (ng + 1) the groups' kept modes
         integer, allocatable :: crho(:)                     !< (nc) rail 1 or 2
         real(dp), allocatable :: cx0(:), ctr(:, :, :)       !< (nc), (3, 4, nc)
         real(dp) :: v0 = 0.0_dp, length = 0.0_dp
@@ -48,6 +45,15 @@ module vehicle_ring
         real(dp), allocatable :: wcoef(:, :)
     end type ring_rows
 
+    !> The basis functions as ring_rows_create receives them, for the fold only: group
+    !> offsets bpos, voff (ng + 1), rail 1's count per group n1 (ng), family, wave number
+    !> (kap = 2 pi kn / length) and observation (4) per function (nbt), and the kept modes'
+    !> eigenvector entries vk, packed per group (nb_g x nk_g, column-major).
+    type :: ring_basis
+        integer, allocatable :: bpos(:), voff(:), n1(:), fam(:), kn(:)
+        real(dp), allocatable :: obs(:, :), vk(:)
+    end type ring_basis
+
 contains
 
     !> Store the ring rows. info: STAT_OK; STAT_SIZE_MISMATCH (bpos, kpos, voff not starting at
@@ -61,6 +67,7 @@ contains
         real(dp), intent(in) :: kap(nbt), obs(4, nbt), vk(nvk), cx0(nc), ctr(3, 4, nc), v0, length
         type(ring_rows), intent(out) :: rr
         integer, intent(out) :: info
+        type(ring_basis) :: rb
         integer :: g
         info = STAT_BAD_ARGUMENT
         if (ng < 1 .or. nk < 1 .or. nc < 1 .or. .not. (length > 0.0_dp)) return
@@ -77,42 +84,40 @@ contains
             if (voff(g + 1) - voff(g) /= (bpos(g + 1) - bpos(g)) * (kpos(g + 1) - kpos(g))) return
         end do
         info = STAT_BAD_ARGUMENT
-        allocate (rr%n1(ng))
+        allocate (rb%n1(ng))
         do g = 1, ng     ! each point needs only its rail's half of a group
-            rr%n1(g) = count(rail(bpos(g) + 1:bpos(g + 1)) == 1)
-            if (any(rail(bpos(g) + 1:bpos(g) + rr%n1(g)) /= 1)) return
+            rb%n1(g) = count(rail(bpos(g) + 1:bpos(g + 1)) == 1)
+            if (any(rail(bpos(g) + 1:bpos(g) + rb%n1(g)) /= 1)) return
         end do
+        rb%bpos = bpos
+        rb%voff = voff
+        rb%fam = fam
+        rb%kn = nint(kap * length / (8.0_dp * atan(1.0_dp)))
+        rb%obs = obs
+        rb%vk = vk
         rr%ng = ng
-        rr%nbt = nbt
         rr%nk = nk
         rr%nc = nc
-        rr%bpos = bpos
         rr%kpos = kpos
-        rr%voff = voff
-        rr%fam = fam
-        rr%rail = rail
-        rr%kap = kap
-        rr%kn = nint(kap * length / (8.0_dp * atan(1.0_dp)))
-        rr%obs = obs
-        rr%vk = vk
         rr%crho = crho
         rr%cx0 = cx0
         rr%ctr = ctr
         rr%v0 = v0
         rr%length = length
-        call ring_rows_fold(rr)
+        call ring_rows_fold(rb, rr)
         info = STAT_OK
     end subroutine ring_rows_create
 
     !> Fold each group's basis functions of each rail per wave number k: S_k and C_k, the
     !> coefficients of sin(k th) and cos(k th) in psi (ring_rows_eval; fam 1: sin for u_x, cos
     !> for the others; fam 2: -cos for u_x, sin for the others; fam 0, k = 0: constant).
-    subroutine ring_rows_fold(rr)
+    subroutine ring_rows_fold(rb, rr)
+        type(ring_basis), intent(in) :: rb
         type(ring_rows), intent(inout) :: rr
         integer :: g, rho, b, bl, nb, nk, i0, i1, j, s, nw, ncol, kk
         integer, allocatable :: seen(:)
         real(dp), allocatable :: vrow(:)
-        allocate (seen(0:maxval(rr%kn)), rr%wpos(2 * rr%ng + 1))
+        allocate (seen(0:maxval(rb%kn)), rr%wpos(2 * rr%ng + 1))
         ! the wave numbers of each slot, and the columns they need
         rr%wpos(1) = 0
         nw = 0
@@ -120,10 +125,10 @@ contains
         do g = 1, rr%ng
             nk = rr%kpos(g + 1) - rr%kpos(g)
             do rho = 1, 2
-                call half_range(rr, g, rho, i0, i1)
+                call half_range(rb, g, rho, i0, i1)
                 seen = 0
-                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
-                    seen(wave_of(rr, b)) = 1
+                do b = rb%bpos(g) + i0, rb%bpos(g) + i1
+                    seen(wave_of(rb, b)) = 1
                 end do
                 nw = nw + sum(seen)
                 ncol = ncol + 2 * nk * sum(seen)
@@ -135,14 +140,14 @@ contains
         j = 0
         ncol = 0
         do g = 1, rr%ng
-            nb = rr%bpos(g + 1) - rr%bpos(g)
+            nb = rb%bpos(g + 1) - rb%bpos(g)
             nk = rr%kpos(g + 1) - rr%kpos(g)
             allocate (vrow(nk))
             do rho = 1, 2
-                call half_range(rr, g, rho, i0, i1)
+                call half_range(rb, g, rho, i0, i1)
                 seen = 0
-                do b = rr%bpos(g) + i0, rr%bpos(g) + i1
-                    kk = wave_of(rr, b)
+                do b = rb%bpos(g) + i0, rb%bpos(g) + i1
+                    kk = wave_of(rb, b)
                     if (seen(kk) == 0) then     ! a new wave number: its columns
                         j = j + 1
                         seen(kk) = j
@@ -151,29 +156,30 @@ contains
                         ncol = ncol + 2 * nk
                     end if
                     s = rr%coff(seen(kk))
-                    bl = b - rr%bpos(g)
-                    vrow = rr%vk(rr%voff(g) + bl:rr%voff(g) + nb * nk:nb)   ! V(bl, :)
-                    select case (rr%fam(b))
+                    bl = b - rb%bpos(g)
+                    vrow = rb%vk(rb%voff(g) + bl:rb%voff(g) + nb * nk:nb)   ! V(bl, :)
+                    select case (rb%fam(b))
                     case (1)
-                        call add_outer(rr%wcoef(1:1, s + 1:s + nk), rr%obs(1:1, b), vrow)
-                        call add_outer(rr%wcoef(2:4, s + nk + 1:s + 2 * nk), rr%obs(2:4, b), vrow)
+                        call add_outer(rr%wcoef(1:1, s + 1:s + nk), rb%obs(1:1, b), vrow)
+                        call add_outer(rr%wcoef(2:4, s + nk + 1:s + 2 * nk), rb%obs(2:4, b), vrow)
                     case (2)
-                        call add_outer(rr%wcoef(1:1, s + nk + 1:s + 2 * nk), -rr%obs(1:1, b), vrow)
-                        call add_outer(rr%wcoef(2:4, s + 1:s + nk), rr%obs(2:4, b), vrow)
+                        call add_outer(rr%wcoef(1:1, s + nk + 1:s + 2 * nk), -rb%obs(1:1, b), vrow)
+                        call add_outer(rr%wcoef(2:4, s + 1:s + nk), rb%obs(2:4, b), vrow)
                     case default
-                        call add_outer(rr%wcoef(:, s + nk + 1:s + 2 * nk), rr%obs(:, b), vrow)
+                        call add_outer(rr%wcoef(:, s + nk + 1:s + 2 * nk), rb%obs(:, b), vrow)
                     end select
                 end do
             end do
             deallocate (vrow)
         end do
+        rr%kmax = maxval(rr%wk)
     end subroutine ring_rows_fold
 
     !> The wave number whose sine and cosine multiply basis function b (0: a constant).
-    pure integer function wave_of(rr, b) result(kk)
-        type(ring_rows), intent(in) :: rr
+    pure integer function wave_of(rb, b) result(kk)
+        type(ring_basis), intent(in) :: rb
         integer, intent(in) :: b
-        kk = merge(0, rr%kn(b), rr%fam(b) == 0)
+        kk = merge(0, rb%kn(b), rb%fam(b) == 0)
     end function wave_of
 
     !> a <- a + x y^T.
@@ -187,16 +193,16 @@ contains
     end subroutine add_outer
 
     !> The group-local range i0..i1 of group g's basis functions on rail rho (rail 1's first).
-    pure subroutine half_range(rr, g, rho, i0, i1)
-        type(ring_rows), intent(in) :: rr
+    pure subroutine half_range(rb, g, rho, i0, i1)
+        type(ring_basis), intent(in) :: rb
         integer, intent(in) :: g, rho
         integer, intent(out) :: i0, i1
         if (rho == 1) then
             i0 = 1
-            i1 = rr%n1(g)
+            i1 = rb%n1(g)
         else
-            i0 = rr%n1(g) + 1
-            i1 = rr%bpos(g + 1) - rr%bpos(g)
+            i0 = rb%n1(g) + 1
+            i1 = rb%bpos(g + 1) - rb%bpos(g)
         end if
     end subroutine half_range
 
@@ -209,7 +215,7 @@ contains
         real(dp) :: psi(4, rr%nk), x, th
         real(dp), allocatable :: sn(:), cs(:)
         integer :: c, g, j, k0, nk, s, o, kk
-        allocate (sn(0:maxval(rr%kn)), cs(0:maxval(rr%kn)))
+        allocate (sn(0:rr%kmax), cs(0:rr%kmax))
         do c = 1, rr%nc
             x = modulo(rr%cx0(c) + rr%v0 * t, rr%length)
             ! the trig factors of track_ring%trig_at, one sin and cos per wave number
