@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from .coupling import RailOfWheel, rail_of_wheel, wheel_head_shapes
 from .element import TrackElement
+from .irregularity import CHANNELS, TrackIrregularity
 from .ring import DEFAULTS, NUMERICS, RingTrack, TrackModes
 from .section import HeadSurface, RailSection, head_surface, rail_section
 
 __all__ = [
+    "CHANNELS",
     "DEFAULTS",
     "NUMERICS",
     "HeadSurface",
@@ -15,6 +17,7 @@ __all__ = [
     "RailSection",
     "RingTrack",
     "TrackElement",
+    "TrackIrregularity",
     "TrackModes",
     "head_surface",
     "rail_of_wheel",
