@@ -44,7 +44,7 @@ module vehicle_contact
                              strip_linearise, strip_extrapolate, SO_DPSI, SO_XC
     implicit none
     private
-    public :: nq_table, nwo, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
+    public :: nq_table, nwo, IO_ARM, wheelset_contact, creep_kalker_she, pose_table, pose_set, pose_at
     public :: CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM, CMODEL_BEM
     public :: SLIN_KEEP, SLIN_READ
 
@@ -80,10 +80,15 @@ module vehicle_contact
     !> 11 a, 12 b semi-axes of that point (m), 13 its centre of pressure along t_y from the
     !> point (m, BEM; 0 for the Hertz patch), 14 the moment of the wheel's contact stresses
     !> about its points along t_x (N m, sum Fn yc), 15 the spin moment about the normals (N m),
-    !> 16 the contact's lateral arm on the wheel (m, wheel frame: unrolled by the relative roll;
+    !> 16 T gamma (N): the creep forces' work on the creepages, -(Fx xi + Fy eta) summed over
+    !> the wheel's points (the energy index of wear models; spin not included, as usual), 17
+    !> the tangential creep force |(Fx, Fy)| of the point with the larger normal force (N),
+    !> 18 the contact's lateral arm on the wheel (m, wheel frame: unrolled by the relative roll;
     !> tread and flange weighted by their normal forces; 0 without contact): where the
     !> flexible rims' rows are evaluated (vehicle_modal%modal_follow).
-    integer, parameter :: nwo = 16
+    integer, parameter :: nwo = 18
+    !> The row of the contact's lateral arm in the wheel outputs (the last, internal).
+    integer, parameter :: IO_ARM = nwo
     !> One wheel's pose and velocities in the frame of its track element (wheel_at): sg 1 for
     !> the left wheel, -1 for the right; yr, phr the lateral shift and roll against the
     !> element, u = Y + r_nom phi the table's coordinate, zc the centre's height, pl = sg phr;
@@ -840,7 +845,8 @@ contains
             wo(14) = wo(14) + mtx
             wo(15) = wo(15) + mz
             ! the point's arm in the wheel's frame: (l, -za) rotated back by the roll pl
-            wo(16) = wo(16) + fn * (cos(wp%pl) * sg * l - sin(wp%pl) * za)
+            wo(IO_ARM) = wo(IO_ARM) + fn * (cos(wp%pl) * sg * l - sin(wp%pl) * za)
+            wo(16) = wo(16) - (fx * xi + fy * eta)
             fnsum = fnsum + fn
             if (fn > nbest) then
                 nbest = fn
@@ -851,9 +857,10 @@ contains
                 wo(11) = a
                 wo(12) = b
                 wo(13) = yc
+                wo(17) = hypot(fx, fy)
             end if
         end do
-        if (fnsum > 0.0_dp) wo(16) = wo(16) / fnsum
+        if (fnsum > 0.0_dp) wo(IO_ARM) = wo(IO_ARM) / fnsum
     end subroutine wheel_points
 
     !> The generalised components of one point's normal force (wheel_points): fyn, fzn on the

@@ -30,7 +30,7 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
-    use vehicle_contact, only: nwo, CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM
+    use vehicle_contact, only: nwo, IO_ARM, CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
@@ -46,8 +46,6 @@ module vehicle_newmark
     integer, parameter :: SCHEME_HHT = 0, SCHEME_ENERGY = 1
     !> The wheel output holding the contact's potential energy (vehicle_contact, J).
     integer, parameter :: IO_ENERGY = 9
-    !> The wheel output holding the contact's arm on the wheel (vehicle_contact, m).
-    integer, parameter :: IO_ARM = 16
     !> Length (m, rad) below which the discrete gradient's bracket fades out (contact_correction).
     real(dp), parameter :: DG_FLOOR = 1.0e-9_dp
 

@@ -73,11 +73,13 @@ WHEEL_OUTPUTS = (
     "y_cp",
     "M_x",
     "M_spin",
+    "T_gamma",
+    "F_t",
 )
 NWO = len(WHEEL_OUTPUTS)
 #: Rows per wheel the Fortran core computes and carries: WHEEL_OUTPUTS, then the contact's
 #: lateral arm on the wheel (m, normal-force weighted; where flexible rims that follow the
-#: contact point take their rows, vehicle_contact's output 16), kept internal.
+#: contact point take their rows, vehicle_contact's output IO_ARM = 18), kept internal.
 NWO_CORE = NWO + 1
 
 

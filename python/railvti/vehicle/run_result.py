@@ -31,6 +31,11 @@ WHEEL_UNITS = {
     "contact_angle": "rad",
     "a": "m",
     "b": "m",
+    "y_cp": "m",
+    "M_x": "N m",
+    "M_spin": "N m",
+    "T_gamma": "N",
+    "F_t": "N",
 }
 #: Units of SimulationResult.stats (stored as stat_NAME).
 STAT_UNITS = {
@@ -84,7 +89,9 @@ class SimulationResult:
         1 right), wheelset:
         Q vertical and Y lateral (track y, + left) force of the rail on the wheel (N), the
         longitudinal creep force, the tread and flange normal forces, creepages, spin, Hertz
-        energy, contact angle and semi-axes of the more loaded point.
+        energy, contact angle and semi-axes of the more loaded point, T gamma (the creep
+        forces' work on the creepages summed over the wheel's points, N) and the tangential
+        creep force of the more loaded point (N).
     speed : float
         Forward speed, m/s.
     contact : str
