@@ -592,3 +592,36 @@ subroutine vehicle_bem_threads_c(handle, n, nset, info)
     nset = ns
     info = stat
 end subroutine vehicle_bem_threads_c
+
+!> Attach a curve's tables to a model for the runs that follow (vehicle_curve; ns = 0 drops
+!> it): ns nodes over the vehicle's position s = s0 + (i - 1) ds, m, for a run at speed v0
+!> (m/s) starting at x0 (m): fext (nd, ns) forces (N, N m), doff and drate (ne, ns) the
+!> elements' deflection and rate offsets, kap (nw, ns) the curvature at each wheelset (1/m).
+!> info: see vehicle_model%vehicle_attach_curve.
+subroutine vehicle_curve_attach_c(handle, nd, ne, nw, ns, s0, ds, x0, v0, fext, doff, drate, kap, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_curve
+    implicit none
+    integer(c_int), intent(in) :: handle, nd, ne, nw, ns
+    real(c_double), intent(in) :: s0, ds, x0, v0
+    real(c_double), intent(in) :: fext(nd, ns), doff(ne, ns), drate(ne, ns), kap(nw, ns)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_curve(handle, nd, ne, nw, ns, s0, ds, x0, v0, fext, doff, drate, kap, stat)
+    info = stat
+end subroutine vehicle_curve_attach_c
+
+!> Drop a model's curve (straight track again). info: STAT_OK or STAT_BAD_HANDLE.
+subroutine vehicle_curve_clear_c(handle, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_curve
+    implicit none
+    integer(c_int), intent(in) :: handle
+    integer(c_int), intent(out) :: info
+    real(c_double) :: none(1, 1)
+    integer :: stat
+    none = 0.0_c_double
+    call vehicle_attach_curve(handle, 0, 0, 0, 0, 0.0_c_double, 1.0_c_double, 0.0_c_double, 1.0_c_double, &
+                              none, none, none, none, stat)
+    info = stat
+end subroutine vehicle_curve_clear_c

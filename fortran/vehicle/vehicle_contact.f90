@@ -527,11 +527,13 @@ contains
     !> wheel (the rail head's motion under the wheel expressed as an element's pose); frail(:,
     !> w) the generalised forces on it (wheel w's share of ft). rail = 0 gives fw, ft, wout as
     !> without.
+    !> Curve (optional frame_yaw_rate, rad/s): the yaw rate v0 kappa of the wheelset's track
+    !> frame, added to its own in the creepages (wheel_points); absent or 0: straight track.
     !> Per wheel: its pose (wheel_at), its candidate points from the strips (strip_points),
     !> the zero-roll row (bem_points) or the table (pose_at), then their forces (wheel_points).
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
                                 fw, ft, wout, info, rim, rarm, frim, st, slin, smode, rail, frail, &
-                                tangent)
+                                tangent, frame_yaw_rate)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -546,7 +548,8 @@ contains
         real(dp), intent(in), optional :: rail(6, 2)
         real(dp), intent(out), optional :: frail(3, 2)
         logical, intent(in), optional :: tangent
-        real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), wa(4), so(nso, 2), fwl(3), ftl(3)
+        real(dp), intent(in), optional :: frame_yaw_rate
+        real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), wa(4), so(nso, 2), fwl(3), ftl(3), yf
         integer :: w, ia(4), ib(4)
         logical :: flex, strip, ring, tng
         type(wheel_pose) :: wp
@@ -555,6 +558,8 @@ contains
         if (present(st)) strip = st%on .and. (model == CMODEL_HERTZ_KALKER .or. model == CMODEL_HERTZ_FASTSIM)
         tng = .false.
         if (present(tangent)) tng = tangent .and. model == CMODEL_BEM
+        yf = 0.0_dp
+        if (present(frame_yaw_rate)) yf = frame_yaw_rate
         if (flex) frim = 0.0_dp
         ring = present(rail) .and. present(frail)
         if (ring) frail = 0.0_dp
@@ -581,7 +586,7 @@ contains
                 call pose_at(ct, wp%sg * wp%u, wp%pl, vals, wt, grd, info)
             end if
             if (info /= STAT_OK) return
-            call wheel_points(ct%rnom, r0, v0, gmod, mu, model, tng, fsn, bem, iws, w, qw, vw, wp, &
+            call wheel_points(ct%rnom, r0, v0, gmod, mu, model, tng, fsn, bem, iws, w, qw, vw, yf, wp, &
                               strip, so, vals, wt, grd, ia, ib, wa, fw, ft, wout(:, w), info)
             if (info /= STAT_OK) return
             if (flex) then
@@ -728,9 +733,9 @@ contains
     !> its creep forces by the contact model (creep_kalker_she, fastsim_ellipse, point_bem or,
     !> under tangent, point_bem_tangent), then the generalised forces with the arms of the
     !> relative velocities (energy-consistent).
-    subroutine wheel_points(rnom, r0, v0, gmod, mu, model, tangent, fsn, bem, iws, w, qw, vw, wp, &
+    subroutine wheel_points(rnom, r0, v0, gmod, mu, model, tangent, fsn, bem, iws, w, qw, vw, yf, wp, &
                             strip, so, vals, wt, grd, ia, ib, wa, fw, ft, wo, info)
-        real(dp), intent(in) :: rnom, r0, v0, gmod, mu, qw(6), vw(6)
+        real(dp), intent(in) :: rnom, r0, v0, gmod, mu, qw(6), vw(6), yf
         integer, intent(in) :: model, fsn, bem, iws, w, ia(4), ib(4)
         logical, intent(in) :: tangent, strip
         type(wheel_pose), intent(in) :: wp
@@ -785,10 +790,14 @@ contains
             ! longitudinal creepage: the material velocity of the wheel at the contact
             ! point (0, l, -r) from the axle centre, along x, is v0 + xdot - psidot l
             ! - (Omega0 + betadot) r (w x p with w = (., Omega0 + betadot, psidot));
-            ! over the rail (at rest), divided by v0, with Omega0 = v0 / r0:
-            xi = vw(5) / v0 + (1.0_dp - r / r0) - vw(4) * l / v0 - vw(6) * r / v0
+            ! over the rail (at rest), divided by v0, with Omega0 = v0 / r0. In a curve the
+            ! wheelset's track frame turns at yf = v0 kappa (wheelset_contact's frame_yaw_rate):
+            ! its absolute yaw rate psidot + yf enters xi (-kappa l: the inner wheel's shorter
+            ! path) and the spin; in the lateral slip the frame's turn cancels against the
+            ! rail's turned tangent at the point (docs/vehicle_curving.md)
+            xi = vw(5) / v0 + (1.0_dp - r / r0) - (vw(4) + yf) * l / v0 - vw(6) * r / v0
             eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
-            spin = (-sg * sd + cd * wp%phr) / r0 + cd * vw(4) / v0
+            spin = (-sg * sd + cd * wp%phr) / r0 + cd * (vw(4) + yf) / v0
             if (model == CMODEL_BEM .and. tangent) then
                 call point_bem_tangent(bem, iws, w, c, ia(c), wa(c), dn, wp%phr, xi, eta, spin, gmod, &
                                        a, b, vals(7:10, c), mu, fn, fx, fy, mz, xc, yc)

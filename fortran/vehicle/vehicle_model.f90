@@ -18,6 +18,7 @@ module vehicle_model
                                pose_table, pose_set, SLIN_KEEP, SLIN_READ
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_bem, only: bem_record, bem_solve_recorded
+    use vehicle_curve, only: curve_input, curve_set, curve_clear, curve_time
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
                              modal_ring_residual, modal_follow_set, modal_follow, &
@@ -28,6 +29,7 @@ module vehicle_model
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
     public :: vehicle_attach_follow, vehicle_follow_rows
     public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time, vehicle_ring_residual
+    public :: vehicle_attach_curve
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -69,6 +71,9 @@ module vehicle_model
         !> it continues from; kmkey not allocated: none kept.
         real(dp), allocatable :: kma(:, :, :), kmkey(:), kmjpr(:, :), kmjpu(:, :)
         integer, allocatable :: kmpiv(:)
+        !> A curve under the current run (vehicle_curve; cv%ns = 0: straight track), read at
+        !> each step's time like the ring's rows.
+        type(curve_input) :: cv
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -329,7 +334,8 @@ contains
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
     !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
     !> STAT_SIZE_MISMATCH (nd, nw or nwo not the model's); STAT_BAD_ARGUMENT (speed <= 0, an
-    !> unknown contact model, or CMODEL_BEM without a BEM handle). md is null unless STAT_OK.
+    !> unknown contact model, CMODEL_BEM without a BEM handle, or a speed other than the
+    !> attached curve's). md is null unless STAT_OK.
     subroutine vehicle_call(handle, nd, nw, nwo_in, rs, md, info)
         integer, intent(in) :: handle, nd, nw, nwo_in
         type(vsettings), intent(in) :: rs
@@ -345,12 +351,50 @@ contains
         end if
         info = STAT_BAD_ARGUMENT
         if (.not. (rs%v0 > 0.0_dp) .or. rs%cmodel < CMODEL_HERTZ_KALKER .or. &
-            rs%cmodel > CMODEL_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CMODEL_BEM .and. rs%bem <= 0)) then
+            rs%cmodel > CMODEL_BEM .or. rs%fsn < 1 .or. (rs%cmodel == CMODEL_BEM .and. rs%bem <= 0) .or. &
+            (md%cv%ns > 0 .and. abs(rs%v0 - md%cv%v0) > 1.0e-12_dp * md%cv%v0)) then
             md => null()
             return
         end if
         info = STAT_OK
     end subroutine vehicle_call
+
+    !> Element e's deflection g.q and rate g.v, plus a curve's offsets of its bodies' frames
+    !> (vehicle_curve).
+    pure subroutine element_deflection(md, e, q, v, d, dd)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: e
+        real(dp), intent(in) :: q(:), v(:)
+        real(dp), intent(out) :: d, dd
+        d = dot_product(md%eg(:, e), q(1:md%nd))
+        dd = dot_product(md%eg(:, e), v(1:md%nd))
+        if (md%cv%ns > 0) then
+            d = d + md%cv%d(e)
+            dd = dd + md%cv%dd(e)
+        end if
+    end subroutine element_deflection
+
+    !> Attach a curve's tables to a model for the runs that follow (ns = 0 drops it); see
+    !> vehicle_curve%curve_set for the arguments and info, and STAT_BAD_HANDLE. t sets the
+    !> current values (the statics' time).
+    subroutine vehicle_attach_curve(handle, nd, ne, nw, ns, s0, ds, x0, v0, fext, doff, drate, kap, info)
+        integer, intent(in) :: handle, nd, ne, nw, ns
+        real(dp), intent(in) :: s0, ds, x0, v0
+        real(dp), intent(in) :: fext(:, :), doff(:, :), drate(:, :), kap(:, :)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        if (ns == 0) then
+            call curve_clear(md%cv)
+            info = STAT_OK
+            return
+        end if
+        info = STAT_SIZE_MISMATCH
+        if (nd /= md%nd .or. ne /= md%ne .or. nw /= md%nw) return
+        call curve_set(md%cv, nd, ne, nw, ns, s0, ds, x0, v0, fext, doff, drate, kap, info)
+    end subroutine vehicle_attach_curve
 
     !> Force and its derivatives (d f / d d, d f / d ddot) of one scalar element.
     pure subroutine element_force(etype, p, d, dd, f, kd, cd)
@@ -425,7 +469,7 @@ contains
         integer, intent(in), optional :: smode
         logical, intent(in), optional :: frictionless
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
-        real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2)
+        real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2), yf
         integer :: j, k, model, ir, il
         logical :: tng
         model = rs%cmodel
@@ -436,6 +480,8 @@ contains
         tng = .false.
         if (present(cheap)) tng = cheap
         call ws_state(md, w, q, v, qw, vw, qt, vt)
+        yf = 0.0_dp          ! a curve's: the wheelset's track frame turns at v0 kappa
+        if (md%cv%ns > 0) yf = rs%v0 * md%cv%k(w)
         ir = 0
         il = 0
         if (present(u) .and. present(ud) .and. present(gp)) then
@@ -466,20 +512,22 @@ contains
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
-                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng)
+                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng, &
+                                  frame_yaw_rate=yf)
         else if (ir > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
-                                  slin=slin, smode=smode, tangent=tng)
+                                  slin=slin, smode=smode, tangent=tng, frame_yaw_rate=yf)
         else if (il > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
-                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng)
+                                  slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng, &
+                                  frame_yaw_rate=yf)
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
-                                  slin=slin, smode=smode, tangent=tng)
+                                  slin=slin, smode=smode, tangent=tng, frame_yaw_rate=yf)
         end if
         do k = 1, 2
             if (ir > 0) gp(md%mp%frpt(:, k, ir)) = gp(md%mp%frpt(:, k, ir)) + frim(:, k)
@@ -538,10 +586,10 @@ contains
         real(dp), allocatable :: gs(:)
         integer :: e, w
         f = md%f0 - matmul(md%k, q) - matmul(md%c, v)
+        if (md%cv%ns > 0) f = f + md%cv%f
         call add_gyroscopic(md, rs, v, 1.0_dp, f=f)
         do e = 1, md%ne
-            d = dot_product(md%eg(:, e), q)
-            dd = dot_product(md%eg(:, e), v)
+            call element_deflection(md, e, q, v, d, dd)
             call element_force(md%etype(e), md%epar(:, e), d, dd, fe, kd, cd)
             f = f - md%eg(:, e) * fe
         end do
@@ -596,8 +644,7 @@ contains
             call add_gyroscopic(md, rs, v, 1.0_dp, jac=jac)
         end if
         do e = 1, md%ne
-            d = dot_product(md%eg(:, e), q)
-            dd = dot_product(md%eg(:, e), v)
+            call element_deflection(md, e, q, v, d, dd)
             call element_force(md%etype(e), md%epar(:, e), d, dd, fe, kd, cd)
             if (mode == TANGENT_QV) then
                 s = kd + cv * cd

@@ -30,6 +30,7 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
+    use vehicle_curve, only: curve_time
     use vehicle_contact, only: nwo, IO_ARM, CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
                              add_contact, element_force, el_bump, wheelset_coords
@@ -161,6 +162,7 @@ contains
         allocate (st%f, source=f)
         allocate (st%w, source=w)
         call modal_ring_time(md%mp, t)
+        call curve_time(md%cv, t)
         ! rims whose rows follow the contact point: at the taping line for the start's force
         ! when it is not carried, then each step at the carried state's contact points
         if (.not. carried) call modal_follow_reset(md%mp)
@@ -342,6 +344,7 @@ contains
         tally%hmin = min(tally%hmin, hl)
         do while (tl < h - 0.5_dp * hl)
             if (md%mp%nrl > 0) call modal_ring_time(md%mp, t0 + tl + hl)
+            call curve_time(md%cv, t0 + tl + hl)
             if (md%mp%fns > 0) call follow_contact(md, st%w)
             call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
             if (info /= STAT_OK) then

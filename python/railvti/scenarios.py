@@ -53,6 +53,7 @@ from .vehicle.linear_stability import (
     linear_critical_speed_kmh,
 )
 from .vehicle.params import Coach
+from .vehicle.curve_running import CurveRun, SteadyCurving, curving
 from .vehicle.running import centred_running, contact_patch, hunting
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
 from .vehicle.systems import (
@@ -84,6 +85,7 @@ __all__ = [
     # scenarios
     "centred_running",
     "hunting",
+    "curving",
     "bifurcation",
     "critical_speed",
     "linear_critical_speed_kmh",
@@ -96,6 +98,8 @@ __all__ = [
     "CentredRunning",
     "Bifurcation",
     "CriticalSpeed",
+    "CurveRun",
+    "SteadyCurving",
     # systems
     "coach_system",
     "fr_system",

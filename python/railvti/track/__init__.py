@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from .coupling import RailOfWheel, rail_of_wheel, wheel_head_shapes
+from .curve import TrackCurve
 from .element import TrackElement
 from .irregularity import CHANNELS, TrackIrregularity
 from .ring import DEFAULTS, NUMERICS, RingTrack, TrackModes
@@ -16,6 +17,7 @@ __all__ = [
     "RailOfWheel",
     "RailSection",
     "RingTrack",
+    "TrackCurve",
     "TrackElement",
     "TrackIrregularity",
     "TrackModes",

@@ -25,11 +25,14 @@ from ..casetypes import STREAM_TAIL_SECONDS, HistorySink
 from .._native import core
 from .._status import check
 from ..errors import ConvergenceError, InputError, RailvtiError
+from ..track.curve import TrackCurve
 from .assembly import System
 from .bem import BemOptions, BemState
 from .contact_models import ContactModel, parse_contact_model
+from .curving import attached_curve
 from .equilibrium import call_settings, contact_state, static_equilibrium, wait_idle
 from .model import CallSettings
+from .params import Coach
 from .run_result import SimulationResult
 from .time_loop import RunPlan, check_history_memory, integrate, plan_run, with_bem_fields
 
@@ -80,6 +83,7 @@ def check_modal_step(system: System, h: float) -> None:
         )
 
 
+# long: the public entry point, whose docstring documents every keyword of a run (its body is 30 lines)
 def simulate(
     system: System,
     speed: float,
@@ -105,6 +109,9 @@ def simulate(
     stream_tail: float = STREAM_TAIL_SECONDS,
     integrator: str = "hht",
     threads: int | None = None,
+    curve: TrackCurve | None = None,
+    x_start: float = 0.0,
+    coach: Coach | None = None,
 ) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
@@ -188,6 +195,16 @@ def simulate(
         the environment variable ``RAILVTI_THREADS``, else all cores (``OMP_NUM_THREADS`` when
         set). Set on the BEM state (a given ``bem`` keeps it); 1 in a build without OpenMP;
         ``stats['bem_threads']`` says how many ran. Ignored by the other contact models.
+    curve : TrackCurve, optional
+        Run through this curve (plan and cant; :mod:`railvti.vehicle.curving`, variants RR
+        and RF, integrator 'hht'): the vehicle's reference point (the carbody's centre) is at
+        ``x_start`` + speed t along the track; the start state (unless given) is the steady
+        state there. None: straight track.
+    x_start : float
+        The vehicle's position along the track at t = 0, m (with ``curve``).
+    coach : Coach, optional
+        The coach the system was built from (its geometry places the bodies in the curve;
+        default ``Coach()``).
 
     Raises
     ------
@@ -225,9 +242,12 @@ def simulate(
         )
         plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
         check_modal_step(system, plan.h)
-        return _run_planned(
-            system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
-        )
+        if curve is not None and plan.scheme != INTEGRATORS["hht"]:
+            raise InputError("curve: the curve's tables enter integrator 'hht' only, not 'energy'")
+        with attached_curve(system, curve, speed, x_start, plan.nsteps * plan.h, coach):
+            return _run_planned(
+                system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
+            )
 
 
 def _run_planned(

@@ -96,6 +96,7 @@ FR_SCENARIOS = (
 RF_SCENARIOS = (
     "centred_running",
     "coach_system",
+    "curving",
     "hunting",
     "bifurcation",
     "critical_speed",

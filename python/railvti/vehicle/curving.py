@@ -1,0 +1,213 @@
+"""The coach in a curve: the tables the Fortran core reads per step (fortran/vehicle/
+vehicle_curve.f90) and the steady curving quantities per wheel.
+
+Moving track frames (docs/vehicle_curving.md): every body's coordinates stay relative to the
+track frame at its own position along the track, s_B = s + x_B, so the wheel-rail contact
+sees the same local coordinates as on straight track. The frames differ from body to body by
+the curve's heading theta, lateral position Y and roll theta_x (cant), so a suspension element
+between two bodies is stretched by their frames' offsets: in the frame of the vehicle's
+reference position s (the carbody's centre), body B's frame origin lies at
+
+    y_geo = Y(s_B) - Y(s) - theta(s) x_B - h_B (theta_x(s_B) - theta_x(s)),
+    roll_geo = theta_x(s_B) - theta_x(s),   yaw_geo = theta(s_B) - theta(s)
+
+(h_B its reference point's height above the rail), and the suspension's force is
+-K (q + q_geo) - C (v + q_geo'), q_geo' = V dq_geo/ds. Each frame moves with the vehicle at
+speed V, turns at V kappa and rolls with the cant, so its bodies feel, in the frame's axes,
+
+    f_y = -m (g sin theta_x + V^2 kappa cos theta_x),   f_z = -m (g cos theta_x - V^2 kappa sin theta_x)
+
+(against the -m g already in the system's force), the yaw and roll moments -I_z V^2 kappa'
+and -I_x V^2 theta_x'', and each wheelset the gyroscopic roll moment I_y Omega V kappa of its
+spin about the turning frame. The track elements and the ring are the ground's: no frame
+force. The wheelsets' creepages take the frame's yaw rate V kappa (vehicle_contact).
+Variants RR and RF (rigid wheelsets); FR and FF are refused.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from .._native import core
+from .._status import check
+from ..errors import InputError
+from ..track.curve import TrackCurve
+from .assembly import System
+from .params import Coach
+
+__all__ = ["CurveTables", "attached_curve", "curve_tables", "TABLE_STEP"]
+
+#: Spacing of the tables along the track, m (linear interpolation in between: the clothoid's
+#: curvature is linear, so only the arc's ends are rounded over one step).
+TABLE_STEP = 0.1
+
+_BODY = re.compile(r"^(carbody|bolster\d|bogie\d|ws\d|track\d)_(\w+)$")
+
+
+@dataclass(frozen=True)
+class CurveTables:
+    """The tables of one run (vehicle_curve), over s = s0 + i ds, m.
+
+    Attributes
+    ----------
+    s0, ds : float
+        First node and spacing, m.
+    fext : ndarray (n, ns)
+        Generalised forces on the system's DOFs, N or N m.
+    doff, drate : ndarray (ne, ns)
+        The nonlinear elements' deflection and rate offsets.
+    kappa : ndarray (nw, ns)
+        Curvature at each wheelset, 1/m.
+    """
+
+    s0: float
+    ds: float
+    fext: np.ndarray
+    doff: np.ndarray
+    drate: np.ndarray
+    kappa: np.ndarray
+
+
+def _layout(system: System, coach: Coach) -> list[tuple[int, str, float, float]]:
+    """(DOF index, component, x_B, h_B) of each vehicle-body DOF of the system (carbody,
+    bolsters, bogie frames, wheelsets), from its DOF names and the coach's geometry."""
+    p = coach.params
+    xb = p["half_bogie_distance"]
+    xw = np.array(
+        [
+            xb + p["half_wheelbase"],
+            xb - p["half_wheelbase"],
+            -xb + p["half_wheelbase"],
+            -xb - p["half_wheelbase"],
+        ]
+    )
+    if not np.allclose(np.asarray(system.x_wheelsets), xw, atol=1e-9):
+        raise InputError(
+            f"curve: the coach's wheelset positions {xw} m are not the system's {system.x_wheelsets} m "
+            "(give the coach the system was built from)"
+        )
+    out = []
+    for i, name in enumerate(system.dof_names):
+        m = _BODY.match(name)
+        if m is None:
+            continue
+        body, comp = m.groups()
+        if body == "carbody":
+            x, h = 0.0, p["carbody_cg_height"]
+        elif body.startswith("bolster"):
+            x, h = (xb if body[-1] == "1" else -xb), p["secondary_height"]
+        elif body.startswith("bogie"):
+            x, h = (xb if body[-1] == "1" else -xb), p["bogie_cg_height"]
+        elif body.startswith("ws"):
+            x, h = float(xw[int(body[2:]) - 1]), p["wheel_radius"]
+        else:
+            continue  # the track elements are the ground's
+        out.append((i, comp, x, h))
+    return out
+
+
+def curve_tables(
+    system: System, curve: TrackCurve, speed: float, s_first: float, s_last: float, coach: Coach | None = None
+) -> CurveTables:
+    """The tables of a run at ``speed`` (m/s) whose vehicle position s runs from ``s_first`` to
+    ``s_last`` (m; module docstring for what they hold)."""
+    coach = coach or Coach()
+    v = _checks.positive("speed", speed)
+    g = coach.params["gravity"]
+    n_nodes = int(np.ceil((s_last - s_first) / TABLE_STEP)) + 2
+    s = s_first - TABLE_STEP + TABLE_STEP * np.arange(n_nodes + 1)
+    lay = _layout(system, coach)
+    n = system.n
+    qg = np.zeros((n, s.size))
+    qgd = np.zeros((n, s.size))
+    fict = np.zeros((n, s.size))
+    mass = np.diag(system.m)
+    eps = 1e-3
+
+    def d_ds(f, x):
+        return (f(x + eps) - f(x - eps)) / (2 * eps)
+
+    th0, y0, r0 = curve.heading(s), curve.lateral(s), curve.roll(s)
+    k0, rd0 = curve.curvature(s), d_ds(curve.roll, s)
+    for i, comp, x, h in lay:
+        sb = s + x
+        thx = curve.roll(sb)
+        kap = curve.curvature(sb)
+        if comp == "y":
+            qg[i] = curve.lateral(sb) - y0 - th0 * x - h * (thx - r0)
+            qgd[i] = v * (curve.heading(sb) - th0 - k0 * x - h * (d_ds(curve.roll, sb) - rd0))
+            fict[i] = -mass[i] * (g * np.sin(thx) + v * v * kap * np.cos(thx))
+        elif comp == "z":
+            fict[i] = -mass[i] * (g * np.cos(thx) - v * v * kap * np.sin(thx)) + mass[i] * g
+        elif comp == "roll":
+            qg[i] = thx - r0
+            qgd[i] = v * (d_ds(curve.roll, sb) - rd0)
+            # the cant ramp's kinks are impulses of roll acceleration: the second difference
+            # over one table step spreads each over that step with the right integral
+            d2 = (curve.roll(sb + TABLE_STEP) - 2 * thx + curve.roll(sb - TABLE_STEP)) / TABLE_STEP**2
+            fict[i] = -mass[i] * v * v * d2
+        elif comp == "yaw":
+            qg[i] = curve.heading(sb) - th0
+            qgd[i] = v * (kap - k0)
+            fict[i] = -mass[i] * v * v * d_ds(curve.curvature, sb)
+    kap_w = np.array([curve.curvature(s + x) for x in np.asarray(system.x_wheelsets)])
+    iws_roll = np.asarray(system.iws)[2] - 1  # IWS_ROWS: y, z, roll, ...
+    omega = v / coach.params["wheel_radius"]
+    for w, j in enumerate(iws_roll):
+        if j >= 0:  # the spin about the turning frame: roll + I_y Omega (V kappa)
+            fict[j] += system.spin_inertia[w] * omega * v * kap_w[w]
+    fext = -np.asarray(system.k) @ qg - np.asarray(system.c) @ qgd + fict
+    eg = np.asarray(system.eg)
+    return CurveTables(
+        s0=float(s[0]),
+        ds=TABLE_STEP,
+        fext=np.asfortranarray(fext),
+        doff=np.asfortranarray(eg.T @ qg),
+        drate=np.asfortranarray(eg.T @ qgd),
+        kappa=np.asfortranarray(kap_w),
+    )
+
+
+def _check_variant(system: System) -> None:
+    mb = system.modal
+    if mb is not None and getattr(system, "ring", None) is None:
+        raise InputError("curve: variants RR and RF only (flexible wheelsets in curves are not yet built)")
+    if mb is not None and getattr(mb, "couplings", None) is not None and mb.couplings.rim_follow is not None:
+        raise InputError("curve: variants RR and RF only (flexible wheelsets in curves are not yet built)")
+
+
+@contextlib.contextmanager
+def attached_curve(
+    system: System,
+    curve: TrackCurve | None,
+    speed: float,
+    x_start: float,
+    duration: float,
+    coach: Coach | None,
+) -> Iterator[None]:
+    """The system's Fortran model with the curve's tables attached for a run of ``duration``
+    (s) at ``speed`` (m/s) from the vehicle position ``x_start`` (m), dropped afterwards (the
+    model is shared by every later run of the system). No curve: nothing."""
+    if curve is None:
+        yield
+        return
+    if not isinstance(curve, TrackCurve):
+        raise InputError(f"curve must be a railvti.track.TrackCurve, got {type(curve).__name__}")
+    _check_variant(system)
+    x0 = _checks.finite("x_start", x_start)
+    tab = curve_tables(system, curve, speed, x0, x0 + speed * duration, coach)
+    h = system.native.handle
+    check(
+        core.vehicle_curve_attach_c(h, tab.s0, tab.ds, x0, speed, tab.fext, tab.doff, tab.drate, tab.kappa),
+        "curve tables",
+    )
+    try:
+        yield
+    finally:
+        check(core.vehicle_curve_clear_c(h), "curve tables")
