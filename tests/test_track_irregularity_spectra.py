@@ -193,6 +193,7 @@ def test_classes_ordered_roughest_first() -> None:
         (dict(band="3-70"), "band: a pair"),
         (dict(band=(-3.0, 70.0)), "band: shortest wavelength must be > 0"),
         (dict(length=10.0, band=(3.0, 3.1)), "band: no harmonic"),
+        (dict(length=3e6), r"length: 3e\+06 m at dx = 0.25 m gives 1.2e\+07 samples, more than 1e\+07"),
     ],
 )
 def test_generate_bad_input_names_the_key(kwargs, match) -> None:

@@ -67,6 +67,7 @@ __all__ = [
     "FRA_K",
     "FRA_OMEGA_C",
     "FRA_TABLE",
+    "MAX_SAMPLES",
     "MIN_SAMPLES_PER_WAVELENGTH",
     "SPECTRA",
     "band_variance",
@@ -104,6 +105,10 @@ SPECTRA = ("erri-b176-low", "erri-b176-high", *(f"fra-{c}" for c in range(1, 7))
 #: wave is a zigzag of two points, and a model that interpolates linearly between samples
 #: loses a fifth of a 4-sample wave's amplitude already (the band's short end stays honest).
 MIN_SAMPLES_PER_WAVELENGTH = 4
+
+#: Most samples of a generated track (per channel): 2,500 km at dx = 0.25 m, 400 MB for x and
+#: the four channels; a longer request is a typo (length in mm, dx in km), refused before work.
+MAX_SAMPLES = 10_000_000
 
 
 def _spectrum_name(spectrum: object) -> str:
@@ -264,6 +269,11 @@ def generate(
     x0 = _checks.finite("x0", x0)
     seed = _checks.positive_int("seed", seed, minimum=0)
     lo, hi = _band(band, length, dx)
+    if length / dx >= MAX_SAMPLES:
+        raise InputError(
+            f"length: {length:g} m at dx = {dx:g} m gives {length / dx:.3g} samples, more than "
+            f"{MAX_SAMPLES:.0e}; shorten the track or raise dx"
+        )
     n = int(math.floor(length / dx * (1.0 + 1e-12))) + 1
     domega = 2.0 * math.pi / (n * dx)
     omega = domega * np.arange(n // 2 + 1)
