@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from types import MappingProxyType
 
 import numpy as np
 
@@ -81,21 +82,23 @@ ERRI_OMEGA_R = 0.0206
 ERRI_OMEGA_S = 0.4380
 ERRI_HALF_GAUGE = 0.75
 #: ERRI B176 level -> (A_v, A_a, A_g), m rad.
-ERRI_B176 = {"low": (4.032e-7, 2.119e-7, 5.32e-8), "high": (1.080e-6, 6.125e-7, 1.032e-7)}
+ERRI_B176 = MappingProxyType({"low": (4.032e-7, 2.119e-7, 5.32e-8), "high": (1.080e-6, 6.125e-7, 1.032e-7)})
 
 #: FRA: the factor k and Omega_c (rad/m), the same for all classes.
 FRA_K = 0.25
 FRA_OMEGA_C = 0.8245
 #: FRA class -> (A_v cm^2 rad/m, A_a cm^2 rad/m, Omega_s rad/m), as published (Garg &
 #: Dukkipati 1984; Zhai 2020). Converted to m^2 once, in :func:`psd`.
-FRA_TABLE = {
-    1: (1.2107, 3.3634, 0.6046),
-    2: (1.0181, 1.2107, 0.9308),
-    3: (0.6816, 0.4128, 0.8520),
-    4: (0.5376, 0.3027, 1.1312),
-    5: (0.2095, 0.0762, 0.8209),
-    6: (0.0339, 0.0339, 0.4380),
-}
+FRA_TABLE = MappingProxyType(
+    {
+        1: (1.2107, 3.3634, 0.6046),
+        2: (1.0181, 1.2107, 0.9308),
+        3: (0.6816, 0.4128, 0.8520),
+        4: (0.5376, 0.3027, 1.1312),
+        5: (0.2095, 0.0762, 0.8209),
+        6: (0.0339, 0.0339, 0.4380),
+    }
+)
 _CM2 = 1.0e-4  # m^2 per cm^2
 
 #: The spectra :func:`generate` and :func:`psd` know.
