@@ -11,7 +11,7 @@ lateral forces; and the check of the whole coach's lateral balance, sum Y = M a_
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -20,6 +20,7 @@ from .. import _checks
 from ..errors import InputError
 from ..track.curve import TrackCurve
 from .equilibrium import contact_state
+from .model_choice import auto_contact
 from .params import Coach
 from .run_result import SimulationResult
 from .simulate import simulate
@@ -186,7 +187,9 @@ def curving(
     curve : TrackCurve
         The curve (radius, cant, transitions; railvti.track.TrackCurve).
     variant, contact : str
-        'RR' or 'RF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+        'RR' or 'RF'; 'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest measured
+        model within ``tolerance`` on ``quantities``, keywords of **kw:
+        railvti.vehicle.model_choice, scene 'curve').
     speed : float, optional
         Speed, m/s.
     x_start : float, optional
@@ -209,6 +212,9 @@ def curving(
     if not isinstance(curve, TrackCurve):
         raise InputError(f"curve must be a railvti.track.TrackCurve, got {type(curve).__name__}")
     v = _checks.speed_si(speed, speed_kmh, 160.0)
+    choice = None
+    if contact == "auto":
+        contact, choice = auto_contact(kw, "curve")
     check_variant(variant, contact, "curving")
     coach = coach or Coach()
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
@@ -224,4 +230,5 @@ def curving(
         run = simulate(
             sy, v, duration, contact=contact, h=h, bem=st, curve=curve, x_start=x0, coach=coach, **kw
         )
+    run = replace(run, model_choice=choice)
     return CurveRun(run=run, curve=curve, x_start=x0, mass=coach.total_mass, x_wheelsets=xw)

@@ -126,6 +126,9 @@ class SimulationResult:
         [., ., wheel, wheelset] (``RingSystem.rail_deflection``, after a completed run); None
         on rigid track. The ring's modal coordinates are the last columns of ``q``, named in
         ``dof_names``.
+    model_choice : ModelChoice or None
+        A scenario run with ``contact='auto'``: the contact model chosen, its scene and the
+        error to expect (:mod:`railvti.vehicle.model_choice`); None otherwise.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -163,6 +166,7 @@ class SimulationResult:
     flange_angle: float = float("nan")
     streamed: str = ""
     rail: np.ndarray | None = None
+    model_choice: Any = None
 
     def _save_attrs(self) -> dict:
         """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
@@ -241,6 +245,13 @@ class SimulationResult:
         scalars["flange_angle"] = (ws.flange_angle, "rad")
         scalars["friction"] = (ws.friction, "1")
         scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
+        if self.model_choice is not None:  # contact='auto': what was chosen and why
+            mc = self.model_choice
+            scalars["auto_contact"] = (mc.label, "text")
+            scalars["auto_scene"] = (mc.scene, "text")
+            scalars["auto_choice"] = (mc.line(), "text")
+            for q in mc.quantities:
+                scalars[f"auto_expected_error_{q}"] = (mc.errors[q], "1 (relative, against the 0.5 mm BEM)")
         return data, scalars
 
     @property

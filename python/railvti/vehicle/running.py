@@ -15,8 +15,10 @@ from .params import Coach
 from .scenario_results import CentredRunning
 from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .model import WHEEL_OUTPUTS
+from .model_choice import ModelChoice, auto_contact, flange_scene
 from .run_result import SimulationResult
 from .simulate import simulate
+from dataclasses import replace
 from .systems import (
     FLEXIBLE_WHEELSETS,
     RING_TRACK,
@@ -48,7 +50,9 @@ def centred_running(
     speed_kmh : float, optional
         Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
     variant, contact : str
-        'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+        'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest
+        measured model within ``tolerance`` on ``quantities``, keywords of **kw:
+        railvti.vehicle.model_choice, scene 'centred-ring').
     speed : float, optional
         Speed, m/s (give it or speed_kmh, not both).
     duration : float
@@ -69,6 +73,9 @@ def centred_running(
         than the Nyquist limit of one of them gives an AliasingWarning.
     """
     v = _checks.speed_si(speed, speed_kmh, 200.0)
+    choice = None
+    if contact == "auto":
+        contact, choice = auto_contact(kw, "centred-ring")
     check_variant(variant, contact, "centred_running")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, layouts = scenario_system(variant, coach, v, kw)
@@ -78,6 +85,7 @@ def centred_running(
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
         q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
         run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
+    run = replace(run, model_choice=choice)
     if st is not None:
         patch = (run.bem_patches or {}).get((0, 1))
     else:
@@ -165,8 +173,14 @@ def hunting(
     the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
     ``return_system``: return (SimulationResult, the system it ran, variant FR's and FF's
     layouts with the mode labels or []) instead, so that nothing is rebuilt to label it.
+    ``contact='auto'``: the cheapest measured model within ``tolerance`` (default 0.05) on
+    ``quantities`` (keywords; railvti.vehicle.model_choice), the scene ('hunting-tread' or
+    'hunting-flange') from a Hertz + Kalker pre-run of the same release.
     """
     v = _checks.speed_si(speed, speed_kmh)
+    choice = None
+    if contact == "auto":
+        contact, choice = _auto_hunting(v, duration, y0, coach, kw)
     check_variant(variant, contact, "hunting")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, layouts = scenario_system(variant, coach, v, kw)
@@ -190,4 +204,24 @@ def hunting(
             bem=st,
             **kw,
         )
+    run = replace(run, model_choice=choice)
     return (run, sy, layouts) if return_system else run
+
+
+def _auto_hunting(
+    v: float, duration: float, y0: float, coach: Coach | None, kw: dict
+) -> tuple[str, ModelChoice]:
+    """contact='auto' of a hunting run: the scene's kind from a pre-run of the same release on
+    variant RR with Hertz + Kalker on the table (RTF ~0.1): flange contact or tread only
+    (:func:`railvti.vehicle.model_choice.flange_scene`), then the choice."""
+    pre = hunting(
+        speed=v,
+        contact="hertz-kalker",
+        duration=duration,
+        y0=y0,
+        coach=coach,
+        geometry="table",
+        progress=False,
+    )
+    load = (coach or Coach()).static_wheel_load
+    return auto_contact(kw, flange_scene(float(pre.wheel_output("N_flange").max()), load))
