@@ -12,7 +12,15 @@ import pytest
 from railvti import scenarios
 from railvti.errors import InputError
 from railvti.track import TrackCurve
-from railvti.vehicle.model_choice import SCENES, choose_contact, flange_scene, measured
+from railvti.vehicle.model_choice import (
+    _VARIANT_TABLES,
+    SCENES,
+    VARIANT_SCENES,
+    choose_contact,
+    choose_variant,
+    flange_scene,
+    measured,
+)
 
 
 @pytest.mark.parametrize("scene", SCENES)
@@ -83,3 +91,33 @@ def test_bad_input() -> None:
         choose_contact("curve", -0.05)
     with pytest.raises(InputError, match="drop"):
         scenarios.hunting(300, "RR", "auto", duration=0.01, geometry="strip", progress=False)
+
+
+@pytest.mark.parametrize("scene", VARIANT_SCENES)
+def test_the_cheapest_variant_within_the_tolerance(scene) -> None:
+    """As for the contact models: brute force over each scene's variant table."""
+    for tol in (0.001, 0.005, 0.01, 0.03, 0.1, 2.0):
+        c = choose_variant(scene, tol)
+        _, table = _VARIANT_TABLES[scene]
+        ok = [v for v, (rtf, e) in table.items() if all(x <= tol for x in e.values())]
+        assert c.variant in ok and c.rtf == min(table[v][0] for v in ok)
+
+
+def test_variant_choices_follow_the_physics() -> None:
+    """The sleeper passing's dynamic wheel load needs the ring track (RF: within 0.2 % of FF,
+    RR has none); a critical speed within 1 % needs the flexible wheelsets (FR)."""
+    assert choose_variant("centred", 0.05, ["dynamic_q"]).variant == "RF"
+    assert choose_variant("centred", 0.03, ["q_max"]).variant == "RF"
+    assert choose_variant("centred", 0.041, ["q_max"]).variant == "RR"  # 4.07 % without the ring
+    assert choose_variant("critical-speed", 0.05).variant == "RR"
+    assert choose_variant("critical-speed", 0.01).variant == "FR"
+    assert choose_variant("critical-speed", 0.005).variant == "FF"
+
+
+def test_auto_variant_in_a_scenario() -> None:
+    c = scenarios.centred_running(
+        200, "auto", "hertz-kalker", duration=0.002, variant_tolerance=0.05, variant_quantities=("q_max",)
+    )
+    assert c.variant == "RR" and c.run.variant_choice.variant == "RR"
+    _, scalars = c.run.case_data()
+    assert scalars["auto_variant"][0] == "RR"

@@ -20,7 +20,7 @@ from .. import _checks
 from ..errors import InputError
 from ..track.curve import TrackCurve
 from .equilibrium import contact_state
-from .model_choice import auto_contact
+from .model_choice import auto_contact, auto_variant
 from .params import Coach
 from .run_result import SimulationResult
 from .simulate import simulate
@@ -187,7 +187,8 @@ def curving(
     curve : TrackCurve
         The curve (radius, cant, transitions; railvti.track.TrackCurve).
     variant, contact : str
-        'RR' or 'RF'; 'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest measured
+        'RR', 'RF' or 'auto' (variant_tolerance, variant_quantities; scene 'curve');
+        'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest measured
         model within ``tolerance`` on ``quantities``, keywords of **kw:
         railvti.vehicle.model_choice, scene 'curve').
     speed : float, optional
@@ -212,7 +213,9 @@ def curving(
     if not isinstance(curve, TrackCurve):
         raise InputError(f"curve must be a railvti.track.TrackCurve, got {type(curve).__name__}")
     v = _checks.speed_si(speed, speed_kmh, 160.0)
-    choice = None
+    choice = vchoice = None
+    if variant == "auto":
+        variant, vchoice = auto_variant(kw, "curve")
     if contact == "auto":
         contact, choice = auto_contact(kw, "curve")
     check_variant(variant, contact, "curving")
@@ -230,5 +233,5 @@ def curving(
         run = simulate(
             sy, v, duration, contact=contact, h=h, bem=st, curve=curve, x_start=x0, coach=coach, **kw
         )
-    run = replace(run, model_choice=choice)
+    run = replace(run, model_choice=choice, variant_choice=vchoice)
     return CurveRun(run=run, curve=curve, x_start=x0, mass=coach.total_mass, x_wheelsets=xw)

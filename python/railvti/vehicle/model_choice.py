@@ -1,4 +1,5 @@
-"""The contact model chosen per scene: ``contact='auto'`` (issue 34, item 5).
+"""The contact model and the variant chosen per scene: ``contact='auto'`` and ``variant='auto'``
+(the issue's ``model='auto'``; issue 34, item 5).
 
 The cheapest contact model (and its geometry and BEM grid) whose **measured** error on that
 kind of scene stays within the user's tolerance on the quantities asked for. The errors are
@@ -16,8 +17,13 @@ Scenes:
 * ``curve``: steady curving (RR, R 1200 m, 150 mm cant, 160 km/h),
   ``validation/vehicle_curving_models.py``, docs/vehicle_curving.md.
 
-A scene's kind is decided by the scenario (:func:`scene_of`): hunting runs a cheap pre-run
-(Hertz + Kalker on the table) and is ``hunting-flange`` if that reaches flange contact.
+A scene's kind is decided by the scenario: hunting runs a cheap pre-run (Hertz + Kalker on
+the table) and is ``hunting-flange`` if that reaches flange contact (:func:`flange_scene`).
+
+The variants (:func:`choose_variant`, ``variant='auto'`` of the scenarios) are chosen the same
+way from :data:`VARIANT_SCENES`' tables, each against the richest variant measured on it: FF
+for centred running (the sleeper passing's dynamic Q, which the rigid track elements lack)
+and for the critical speed (the four-variant study's strip folds), RF for steady curving.
 """
 
 from __future__ import annotations
@@ -259,3 +265,113 @@ def auto_contact(kw: dict, scene: str) -> tuple[str, ModelChoice]:
     if choice.bem_dx is not None:
         kw["bem_options"] = BemOptions(dx=choice.bem_dx)
     return choice.contact, choice
+
+
+@dataclass(frozen=True)
+class VariantChoice:
+    """One candidate (or the chosen) variant of a scene (``model='auto'``).
+
+    Attributes
+    ----------
+    variant : str
+        'RR', 'FR', 'RF' or 'FF'.
+    rtf : float
+        Measured CPU real-time factor on the scene (Hertz + FASTSIM, one thread).
+    errors : Mapping[str, float]
+        Measured relative error against the scene's richest variant per quantity, 1.
+    scene, source : str
+    quantities : tuple of str
+        The quantities asked for (set on the chosen one).
+    """
+
+    variant: str
+    rtf: float
+    errors: MappingProxyType
+    scene: str = ""
+    source: str = ""
+    quantities: tuple[str, ...] = field(default=())
+
+    def line(self) -> str:
+        """One line: the variant, its cost and its expected errors on the quantities asked."""
+        errs = ", ".join(f"{q} {100 * self.errors[q]:.2f} %" for q in (self.quantities or tuple(self.errors)))
+        return (
+            f"model 'auto' on scene '{self.scene}': variant {self.variant} (RTF {self.rtf:g}; expected error "
+            f"against the richest variant: {errs}; measured by {self.source})"
+        )
+
+
+_VARIANTS_SRC = "validation/vehicle_variant_choice.py (docs/speed_accuracy.md)"
+#: scene -> (source, {variant: (RTF, {quantity: relative error against the reference})}).
+_VARIANT_TABLES: dict[str, tuple[str, dict[str, tuple[float, dict[str, float]]]]] = {
+    # centred running at 300 km/h, 0.2 s, against FF: the sleeper passing's dynamic Q
+    "centred": (
+        _VARIANTS_SRC,
+        {
+            "RR": (0.15, {"dynamic_q": 1.0, "q_max": 0.0407}),
+            "FR": (0.73, {"dynamic_q": 1.0, "q_max": 0.0407}),
+            "RF": (4.54, {"dynamic_q": 0.002, "q_max": 0.0028}),
+            "FF": (5.20, {"dynamic_q": 0.0, "q_max": 0.0}),
+        },
+    ),
+    # the strip folds of the four-variant study against FF's 280.0 km/h (README); the cost of
+    # hunting at 300 km/h (benchmarks/bench_vehicle_variants.py, CPU over simulated time)
+    "critical-speed": (
+        "validation/vehicle_four_study.py (README, docs/vehicle_scenarios.md)",
+        {
+            "RR": (0.34, {"critical_speed": 0.0446}),
+            "FR": (0.80, {"critical_speed": 0.0089}),
+            "RF": (2.30, {"critical_speed": 0.0446}),
+            "FF": (2.50, {"critical_speed": 0.0}),
+        },
+    ),
+    # steady curving R 1200 m, 160 km/h against RF (FR and FF do not run curves yet):
+    # validation/vehicle_curving.py's steady tables
+    "curve": (
+        "validation/vehicle_curving.py (docs/vehicle_curving.md)",
+        {
+            "RR": (0.29, {"sum_y": 0.0046, "angle_of_attack": 0.011}),
+            "RF": (3.7, {"sum_y": 0.0, "angle_of_attack": 0.0}),
+        },
+    ),
+}
+
+#: The scenes with a measured variant table.
+VARIANT_SCENES = tuple(_VARIANT_TABLES)
+
+
+def choose_variant(scene: str, tolerance: float, quantities: Sequence[str] | None = None) -> VariantChoice:
+    """The cheapest measured variant of ``scene`` whose error on every quantity asked is at
+    most ``tolerance`` (against the scene's richest variant; see :func:`choose_contact`).
+
+    Raises
+    ------
+    InputError
+        Unknown scene or quantity, or no variant within the tolerance.
+    """
+    tol = _checks.positive("tolerance", tolerance)
+    if scene not in _VARIANT_TABLES:
+        raise InputError(f"scene {scene!r}: no measured variant table; the scenes are {VARIANT_SCENES}")
+    source, table = _VARIANT_TABLES[scene]
+    cands = sorted(
+        (VariantChoice(v, rtf, MappingProxyType(dict(e)), scene, source) for v, (rtf, e) in table.items()),
+        key=lambda c: c.rtf,
+    )
+    known = tuple(cands[0].errors)
+    qs = tuple(known if quantities is None else quantities)
+    bad = [q for q in qs if q not in known]
+    if bad or not qs:
+        raise InputError(f"quantities {bad or list(qs)}: scene {scene!r} has measured errors of {known}")
+    for c in cands:
+        if all(c.errors[q] <= tol for q in qs):
+            chosen = VariantChoice(**{**c.__dict__, "quantities": qs})
+            log.info(chosen.line())
+            return chosen
+    raise InputError(f"tolerance {tol:g}: no variant on scene {scene!r} is within it on {list(qs)}")
+
+
+def auto_variant(kw: dict, scene: str) -> tuple[str, VariantChoice]:
+    """``model='auto'`` (variant 'auto') of a scenario: the variant for ``scene`` from the
+    keywords ``variant_tolerance`` (default 0.05) and ``variant_quantities`` (default: all
+    measured), both popped from ``kw``."""
+    choice = choose_variant(scene, kw.pop("variant_tolerance", 0.05), kw.pop("variant_quantities", None))
+    return choice.variant, choice

@@ -129,6 +129,8 @@ class SimulationResult:
     model_choice : ModelChoice or None
         A scenario run with ``contact='auto'``: the contact model chosen, its scene and the
         error to expect (:mod:`railvti.vehicle.model_choice`); None otherwise.
+    variant_choice : VariantChoice or None
+        A scenario run with ``variant='auto'``: the variant chosen, likewise.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -167,6 +169,7 @@ class SimulationResult:
     streamed: str = ""
     rail: np.ndarray | None = None
     model_choice: Any = None
+    variant_choice: Any = None
 
     def _save_attrs(self) -> dict:
         """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
@@ -252,6 +255,15 @@ class SimulationResult:
             scalars["auto_choice"] = (mc.line(), "text")
             for q in mc.quantities:
                 scalars[f"auto_expected_error_{q}"] = (mc.errors[q], "1 (relative, against the 0.5 mm BEM)")
+        if self.variant_choice is not None:  # variant='auto'
+            vc = self.variant_choice
+            scalars["auto_variant"] = (vc.variant, "text")
+            scalars["auto_variant_choice"] = (vc.line(), "text")
+            for q in vc.quantities:
+                scalars[f"auto_variant_expected_error_{q}"] = (
+                    vc.errors[q],
+                    "1 (relative, against the richest variant)",
+                )
         return data, scalars
 
     @property

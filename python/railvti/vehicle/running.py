@@ -15,7 +15,7 @@ from .params import Coach
 from .scenario_results import CentredRunning
 from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .model import WHEEL_OUTPUTS
-from .model_choice import ModelChoice, auto_contact, flange_scene
+from .model_choice import ModelChoice, auto_contact, auto_variant, flange_scene
 from .run_result import SimulationResult
 from .simulate import simulate
 from dataclasses import replace
@@ -50,7 +50,9 @@ def centred_running(
     speed_kmh : float, optional
         Speed, km/h (> 0): the suffixed alias of ``speed``; default 200 km/h.
     variant, contact : str
-        'RR', 'FR' or 'RF'; 'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest
+        'RR', 'FR', 'RF', 'FF' or 'auto' (the cheapest measured variant within
+        ``variant_tolerance`` on ``variant_quantities``, scene 'centred');
+        'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest
         measured model within ``tolerance`` on ``quantities``, keywords of **kw:
         railvti.vehicle.model_choice, scene 'centred-ring').
     speed : float, optional
@@ -73,7 +75,9 @@ def centred_running(
         than the Nyquist limit of one of them gives an AliasingWarning.
     """
     v = _checks.speed_si(speed, speed_kmh, 200.0)
-    choice = None
+    choice = vchoice = None
+    if variant == "auto":
+        variant, vchoice = auto_variant(kw, "centred")
     if contact == "auto":
         contact, choice = auto_contact(kw, "centred-ring")
     check_variant(variant, contact, "centred_running")
@@ -85,7 +89,7 @@ def centred_running(
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
         q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
         run = simulate(sy, v, duration, contact=contact, h=h, q0=q0, v0=v0, bem=st, **kw)
-    run = replace(run, model_choice=choice)
+    run = replace(run, model_choice=choice, variant_choice=vchoice)
     if st is not None:
         patch = (run.bem_patches or {}).get((0, 1))
     else:
@@ -175,10 +179,14 @@ def hunting(
     layouts with the mode labels or []) instead, so that nothing is rebuilt to label it.
     ``contact='auto'``: the cheapest measured model within ``tolerance`` (default 0.05) on
     ``quantities`` (keywords; railvti.vehicle.model_choice), the scene ('hunting-tread' or
-    'hunting-flange') from a Hertz + Kalker pre-run of the same release.
+    'hunting-flange') from a Hertz + Kalker pre-run of the same release. ``variant='auto'``:
+    the cheapest measured variant within ``variant_tolerance`` (default 0.05) on
+    ``variant_quantities`` (scene 'critical-speed': the four-variant study's folds).
     """
     v = _checks.speed_si(speed, speed_kmh)
-    choice = None
+    choice = vchoice = None
+    if variant == "auto":
+        variant, vchoice = auto_variant(kw, "critical-speed")
     if contact == "auto":
         contact, choice = _auto_hunting(v, duration, y0, coach, kw)
     check_variant(variant, contact, "hunting")
@@ -204,7 +212,7 @@ def hunting(
             bem=st,
             **kw,
         )
-    run = replace(run, model_choice=choice)
+    run = replace(run, model_choice=choice, variant_choice=vchoice)
     return (run, sy, layouts) if return_system else run
 
 
