@@ -23,6 +23,10 @@ def equivalent_conicity(
 
         tan(gamma_e)(A) = <Delta-r(A sin t) sin t> / A    (mean over one period)
 
+    This is also the harmonic linearisation (describing function) of Delta-r: the first
+    Fourier coefficient b1 = 2 <Delta-r(A sin t) sin t> of Delta-r along y = A sin t, set equal to
+    2 tan(gamma_e) A. The two methods are the same formula.
+
     Parameters
     ----------
     table : GeometryTable
