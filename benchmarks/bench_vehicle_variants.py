@@ -9,7 +9,10 @@ process is the steadier figure) and its time loop alone, with the ratio to RR's.
 printed (the leading wheelset's largest lateral displacement and the largest wheel load)
 let two builds be compared: run this script under each and compare the lines.
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_vehicle_variants.py [duration_s] [variants]
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_vehicle_variants.py [duration_s] [variants] [modal_step]
+
+``modal_step`` ('exact' or 'trapezoidal', default: simulate's) is passed to the modal variants;
+with 'exact' their default step is RR's 1 ms (docs/vehicle_integrator.md, "Exact modal step").
 
 To compare two builds in one run, give each its own install (pip install --target DIR .)
 and alternate: ``for p in OLD NEW OLD NEW; do PYTHONPATH=$p python bench...; done``.
@@ -26,11 +29,16 @@ import numpy as np
 from railvti import scenarios
 
 
-def main(duration: float = 2.0, variants: tuple[str, ...] = ("RR", "FR", "RF", "FF")) -> None:
+def main(
+    duration: float = 2.0, variants: tuple[str, ...] = ("RR", "FR", "RF", "FF"), modal_step: str | None = None
+) -> None:
     print(
         f"load {os.getloadavg()[0]:.2f} (1 min) on {os.cpu_count()} cores; railvti from {scenarios.__file__}"
     )
     kw = dict(contact="hertz-fastsim", duration=duration, output_dt=2e-3, progress=False)
+    if modal_step is not None:
+        kw["modal_step"] = modal_step
+        print(f"modal_step={modal_step!r}")
     times: dict[tuple[str, str], tuple[float, float]] = {}
     for v in variants:
         t0 = time.perf_counter()
@@ -70,4 +78,4 @@ def main(duration: float = 2.0, variants: tuple[str, ...] = ("RR", "FR", "RF", "
 if __name__ == "__main__":
     dur = float(sys.argv[1]) if len(sys.argv) > 1 else 2.0
     vs = tuple(sys.argv[2].split(",")) if len(sys.argv) > 2 else ("RR", "FR", "RF", "FF")
-    main(dur, vs)
+    main(dur, vs, sys.argv[3] if len(sys.argv) > 3 else None)

@@ -39,9 +39,11 @@ def _run(sy, q0, **kw):
     return simulate(sy, V, 0.06, q0=q0, h=5e-4, output_dt=0.002, contact="hertz-fastsim", **kw)
 
 
-def test_the_matrix_is_kept_and_the_chunking_does_not_matter(system):
+@pytest.mark.parametrize("modal_step", ["trapezoidal", "exact"])
+def test_the_matrix_is_kept_and_the_chunking_does_not_matter(system, modal_step):
+    """Also with the exact modal step (whose block matrices the model keeps across calls)."""
     variant, sy, q0 = system
-    runs = [_run(sy, q0, progress=True, chunk=c) for c in (0.004, 0.02, 0.06)]
+    runs = [_run(sy, q0, progress=True, chunk=c, modal_step=modal_step) for c in (0.004, 0.02, 0.06)]
     st = runs[-1].stats
     assert st["tangents"] < 0.2 * st["steps"], f"{variant}: {st['tangents']} tangents in {st['steps']} steps"
     for r in runs[:-1]:

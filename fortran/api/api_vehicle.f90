@@ -463,17 +463,18 @@ end subroutine vehicle_ring_residual_c
 
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
 !> the state, rigid plus modal DOFs. scheme (vehicle_newmark SCHEME_*): 0 HHT-alpha, 1 the
-!> energy-conserving midpoint rule with discrete gradients (alpha must then be 0).
+!> energy-conserving midpoint rule with discrete gradients, 2 the trapezoidal rule with the
+!> modal blocks stepped exactly (vehicle_modal_step; alpha must be 0 for 1 and 2).
 !> (f, w): the force and wheel outputs at (q, v) carried from the previous call (carried /= 0)
 !> or evaluated first (carried = 0); updated to the last state's.
-!> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 with alpha /= 0.
+!> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 or 2 with alpha /= 0.
 subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nevery, alpha, &
                          tol, maxit, maxsub, qmax, rtol, scheme, t, q, v, a, f, w, carried, &
                          nout, nwo, tout, qout, vout, wout, stats, info, tfail)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     use vehicle_model, only: vmodel, vsettings, vehicle_call
-    use vehicle_newmark, only: newmark_run, hht_options, SCHEME_HHT, SCHEME_ENERGY
+    use vehicle_newmark, only: newmark_run, hht_options, SCHEME_HHT, SCHEME_ENERGY, SCHEME_EXACT
     implicit none
     integer(c_int), intent(in) :: handle, nd, nw, cmodel, fsn, bem, nsteps, nevery, maxit, maxsub
     integer(c_int), intent(in) :: nout, nwo, scheme, carried
@@ -491,8 +492,8 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     stats = 0.0_c_double
     tfail = t
     info = STAT_BAD_ARGUMENT
-    if (scheme /= SCHEME_HHT .and. scheme /= SCHEME_ENERGY) return
-    if (scheme == SCHEME_ENERGY .and. alpha /= 0.0_c_double) return
+    if (scheme /= SCHEME_HHT .and. scheme /= SCHEME_ENERGY .and. scheme /= SCHEME_EXACT) return
+    if (scheme /= SCHEME_HHT .and. alpha /= 0.0_c_double) return
     call vehicle_call(handle, nd, nw, nwo, vsettings(speed, cmodel, fsn, bem), md, stat)
     info = stat
     if (stat /= STAT_OK) return

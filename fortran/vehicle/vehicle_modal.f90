@@ -106,6 +106,7 @@ module vehicle_modal
     type :: modal_factor
         real(dp) :: cq = -1.0_dp, cb = -1.0_dp, ck = -1.0_dp
         integer :: rows_version = -1
+        logical :: given = .false.      !< S given by the caller (sx: vehicle_modal_step)
         real(dp), allocatable :: lu(:), c(:, :)
         integer, allocatable :: piv(:)
     end type modal_factor
@@ -546,25 +547,30 @@ contains
         end do
     end subroutine modal_coupling_force
 
-    !> The linear couplings' tangent d/dx + cv d/dx' added to jru, jpr, jpu.
-    pure subroutine modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
+    !> The linear couplings' tangent d/dx + cv d/dx' added to jru, jpr, jpu; cvp (optional,
+    !> np): the points' own dv/dx in place of cv in their columns (the exact modal step,
+    !> vehicle_modal_step%modal_step_cvp).
+    pure subroutine modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu, cvp)
         type(modal_part), intent(in) :: mp
         integer, intent(in) :: nd
         real(dp), intent(in) :: cv
         real(dp), intent(inout) :: jru(nd, mp%np), jpr(mp%np, nd), jpu(mp%np, mp%np)
+        real(dp), intent(in), optional :: cvp(:)
         integer :: e, p
-        real(dp) :: s
+        real(dp) :: s, sp, cu
         do e = 1, mp%nlc
             p = mp%lpt(e)
+            cu = cv
+            if (present(cvp)) cu = cvp(p)
             if (mp%lkind(e) == LC_SPLIT) then
                 s = mp%lpar(1, e) + cv * mp%lpar(2, e)
-                jru(:, p) = jru(:, p) + s * mp%lg(:, e)
+                sp = mp%lpar(1, e) + cu * mp%lpar(2, e)
+                jru(:, p) = jru(:, p) + sp * mp%lg(:, e)
                 jpr(p, :) = jpr(p, :) + s * mp%lg(:, e)
-                jpu(p, p) = jpu(p, p) - s
+                jpu(p, p) = jpu(p, p) - sp
             else
-                s = cv * mp%lpar(1, e)
-                jru(:, p) = jru(:, p) - s * mp%lg(:, e)
-                jpr(p, :) = jpr(p, :) + s * mp%lg(:, e)
+                jru(:, p) = jru(:, p) - cu * mp%lpar(1, e) * mp%lg(:, e)
+                jpr(p, :) = jpr(p, :) + cv * mp%lpar(1, e) * mp%lg(:, e)
             end if
         end do
     end subroutine modal_coupling_tangent
@@ -665,14 +671,15 @@ contains
 
     !> The point elements' tangent d/dx + cv d/dx' (x = q or u) in four blocks: jrr (nd x nd,
     !> added), jru (nd x np), jpr (np x nd), jpu (np x np) of the forces on the rigid DOFs (r)
-    !> and on the points (p).
-    pure subroutine modal_point_tangent(mp, nd, q, v, qm, vm, cv, jrr, jru, jpr, jpu)
+    !> and on the points (p). cvp (optional, np): the points' own dv/dx in their columns.
+    pure subroutine modal_point_tangent(mp, nd, q, v, qm, vm, cv, jrr, jru, jpr, jpu, cvp)
         type(modal_part), intent(in) :: mp
         integer, intent(in) :: nd
         real(dp), intent(in) :: q(nd), v(nd), qm(mp%nm), vm(mp%nm), cv
         real(dp), intent(inout) :: jrr(nd, nd)
         real(dp), intent(out) :: jru(nd, mp%np), jpr(mp%np, nd), jpu(mp%np, mp%np)
-        real(dp) :: u(mp%np), ud(mp%np), d, dd, f, kd, cd, s
+        real(dp), intent(in), optional :: cvp(:)
+        real(dp) :: u(mp%np), ud(mp%np), d, dd, f, kd, cd, s, sp
         integer :: e, r, p
         jru = 0.0_dp
         jpr = 0.0_dp
@@ -686,30 +693,35 @@ contains
             call element_deflection(mp, e, q, v, u, ud, d, dd)
             call point_element(mp%ptype(e), mp%ppar(:, e), d, dd, f, kd, cd)
             s = kd + cv * cd
-            jpu(p, p) = jpu(p, p) - s
+            sp = s
+            if (present(cvp)) sp = kd + cvp(p) * cd
+            jpu(p, p) = jpu(p, p) - sp
             if (r > 0) then
                 jpr(p, r) = jpr(p, r) + s
-                jru(r, p) = jru(r, p) + s
+                jru(r, p) = jru(r, p) + sp
                 jrr(r, r) = jrr(r, r) - s
             end if
         end do
-        if (mp%nlc > 0) call modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu)
+        if (mp%nlc > 0) call modal_coupling_tangent(mp, nd, cv, jru, jpr, jpu, cvp)
     end subroutine modal_point_tangent
 
     !> Factor S = cq diag(mass) + ck (cb B + K_m) block by block and form C = Phi S^-1 Phi^T, unless
     !> mf already holds them for these coefficients and rows. Work: sum_b s_b^3 + nm np (s + np),
     !> linear in nm for bounded block sizes. info: STAT_OK or STAT_SINGULAR (a singular block).
-    subroutine modal_factorise(mp, cq, cb, ck, mf, info)
+    !> sx (optional): the packed blocks of S given instead (the exact modal step's, a function
+    !> of the step size cq stands for: vehicle_modal_step%modal_step_matrices).
+    subroutine modal_factorise(mp, cq, cb, ck, mf, info, sx)
         type(modal_part), intent(in) :: mp
         real(dp), intent(in) :: cq, cb, ck
         type(modal_factor), intent(inout) :: mf
         integer, intent(out) :: info
+        real(dp), intent(in), optional :: sx(:)
         integer :: b, j0, s, i, o, lin, lo, hi
         real(dp), allocatable :: x(:, :)
         info = STAT_OK
         if (mp%nm == 0) return
         if (mf%cq == cq .and. mf%cb == cb .and. mf%ck == ck .and. &
-            mf%rows_version == mp%rows_version) return
+            mf%rows_version == mp%rows_version .and. (mf%given .eqv. present(sx))) return
         if (.not. allocated(mf%lu)) allocate (mf%lu(mp%off(mp%nb + 1)), mf%piv(mp%nm), &
                                               mf%c(mp%np, mp%np))
         mf%c = 0.0_dp
@@ -718,10 +730,14 @@ contains
             j0 = mp%bs(b)
             s = mp%bs(b + 1) - j0
             o = mp%off(b)
-            mf%lu(o + 1:o + s * s) = ck * (cb * mp%bb(o + 1:o + s * s) + mp%kb(o + 1:o + s * s))
-            do i = 1, s
-                mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq * mp%mass(j0 + i - 1)
-            end do
+            if (present(sx)) then
+                mf%lu(o + 1:o + s * s) = sx(o + 1:o + s * s)
+            else
+                mf%lu(o + 1:o + s * s) = ck * (cb * mp%bb(o + 1:o + s * s) + mp%kb(o + 1:o + s * s))
+                do i = 1, s
+                    mf%lu(o + (i - 1) * s + i) = mf%lu(o + (i - 1) * s + i) + cq * mp%mass(j0 + i - 1)
+                end do
+            end if
             if (s == 1) then
                 lin = merge(1, 0, mf%lu(o + 1) == 0.0_dp)
                 mf%piv(j0) = 1
@@ -743,6 +759,7 @@ contains
         mf%cq = cq
         mf%cb = cb
         mf%ck = ck
+        mf%given = present(sx)
         mf%rows_version = mp%rows_version
     end subroutine modal_factorise
 

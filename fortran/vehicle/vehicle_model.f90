@@ -19,6 +19,7 @@ module vehicle_model
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_bem, only: bem_record, bem_solve_recorded
     use vehicle_curve, only: curve_input, curve_set, curve_clear, curve_time
+    use vehicle_modal_step, only: modal_step
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
                              modal_ring_residual, modal_follow_set, modal_follow, &
@@ -41,6 +42,8 @@ module vehicle_model
     integer, parameter :: MAX_VEHICLE = 64
     integer, parameter :: TANGENT_QV = 0    !< tangent mode: dF/dq + cv dF/dv
     integer, parameter :: TANGENT_V = 1     !< tangent mode: dF/dv
+    !> Step sizes whose exact modal step matrices a model keeps (a run's h and its sub-steps).
+    integer, parameter :: MSC_SLOTS = 4
 
     !> One assembled system: what does not change from call to call.
     type :: vmodel
@@ -74,6 +77,10 @@ module vehicle_model
         !> A curve under the current run (vehicle_curve; cv%ns = 0: straight track), read at
         !> each step's time like the ring's rows.
         type(curve_input) :: cv
+        !> The exact modal step's block matrices for the last step sizes (vehicle_modal_step,
+        !> vehicle_newmark SCHEME_EXACT), kept from call to call: a function of h and the blocks.
+        type(modal_step) :: msc(MSC_SLOTS)
+        integer :: mscnext = 0
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -169,6 +176,7 @@ contains
                     models(handle)%iws, models(handle)%itr, models(handle)%ct%tab, &
                     models(handle)%ispin)
         models(handle)%mp = modal_part()
+        models(handle)%msc = modal_step()
         models(handle)%st = strip_geometry()
         if (allocated(models(handle)%kmkey)) deallocate (models(handle)%kmkey)
         models(handle)%used = .false.
@@ -625,7 +633,7 @@ contains
     !> a wheelset with flexible rims at the deformed rims, and its chain-rule blocks added to
     !> jru (nd x np), jpr (np x nd), jpu (np x np) by the same differences over the wheelset's
     !> DOFs and its six rim points (u by eps, ud by cv eps).
-    subroutine tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
+    subroutine tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu, cvp)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
@@ -634,6 +642,7 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
+        real(dp), intent(in), optional :: cvp(:)     !< the points' own dv/dx (contact_tangent)
         real(dp) :: d, dd, fe, kd, cd, s
         integer :: e, j
         if (mode == TANGENT_QV) then
@@ -658,14 +667,16 @@ contains
             end if
         end do
         if (present(u) .and. present(ud) .and. present(jru) .and. present(jpr) .and. present(jpu)) then
-            call contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
+            call contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu, cvp)
         else
             call contact_tangent(md, rs, q, v, cv, mode, jac, info)
         end if
     end subroutine tangent
 
-    !> The contact part of tangent (added into jac; model FR: the rim blocks too).
-    subroutine contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu)
+    !> The contact part of tangent (added into jac; model FR: the rim blocks too). cvp
+    !> (optional, np): the velocity perturbation of the point columns per unit displacement in
+    !> place of cv (the exact modal step's dv/dx of the points, vehicle_modal_step).
+    subroutine contact_tangent(md, rs, q, v, cv, mode, jac, info, u, ud, jru, jpr, jpu, cvp)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: q(md%nd), v(md%nd), cv
@@ -674,7 +685,8 @@ contains
         integer, intent(out) :: info
         real(dp), intent(in), optional :: u(:), ud(:)
         real(dp), intent(inout), optional :: jru(:, :), jpr(:, :), jpu(:, :)
-        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2)
+        real(dp), intent(in), optional :: cvp(:)
+        real(dp) :: f0w(md%nd), f1w(md%nd), qp(md%nd), vp(md%nd), wout(nwo, 2), cvj
         type(strip_lin) :: sl(2)
         real(dp), allocatable :: g0(:), g1(:), up(:), udp(:)
         integer :: w, j, jj, idx(9), n, ir, pts(12), npt, cols(18), nc
@@ -731,7 +743,9 @@ contains
             end do
             do jj = 1, nc
                 j = cols(jj)
-                call perturbed(u, ud, j, mode, cv, eps, up, udp)
+                cvj = cv
+                if (present(cvp)) cvj = cvp(j)
+                call perturbed(u, ud, j, mode, cvj, eps, up, udp)
                 f1w = 0.0_dp
                 g1 = 0.0_dp
                 call add_contact(md, rs, w, q, v, f1w, wout, info, cheap=.true., u=up, ud=udp, gp=g1, &

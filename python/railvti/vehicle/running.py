@@ -17,7 +17,7 @@ from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
 from .model import WHEEL_OUTPUTS
 from .model_choice import ModelChoice, auto_contact, auto_variant, flange_scene
 from .run_result import SimulationResult
-from .simulate import simulate
+from .simulate import exact_modal, simulate
 from dataclasses import replace
 from .systems import (
     FLEXIBLE_WHEELSETS,
@@ -60,8 +60,8 @@ def centred_running(
     duration : float
         Simulated time after the static equilibrium, s.
     h : float, optional
-        Time step, s (default 1 ms; variant FR: 1 ms divided into as many parts as the highest
-        kept mode needs, h omega_max <= 2).
+        Time step, s (default 1 ms; the modal variants' 1 ms divided into as many parts as the
+        highest kept mode needs, h omega_max <= 2, unless ``modal_step='exact'``).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw
@@ -83,7 +83,7 @@ def centred_running(
     check_variant(variant, contact, "centred_running")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, layouts = scenario_system(variant, coach, v, kw)
-    h = time_step(sy, h)
+    h = time_step(sy, h, _exact(sy, kw.get("alpha", 0.0), kw))
     kw["output_dt"] = run_output_dt(sy, v, h, kw.get("output_dt"), 0.01)
     # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
@@ -168,9 +168,9 @@ def hunting(
     ``q0``/``v0`` continue from a given state instead (speed sweeps); on the ring track (RF,
     FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
     at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
-    critical_search does this), not from 0. ``h`` defaults to 1 ms
-    (RR) or, for variant 'FR', to 1 ms divided so that h omega_max <= 2 for the highest kept mode
-    (as centred_running); variant 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
+    critical_search does this), not from 0. ``h`` defaults to 1 ms (the modal variants' 1 ms
+    divided so that h omega_max <= 2 for the highest kept mode unless ``modal_step='exact'``,
+    as centred_running); variant 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
     ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
     ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
     10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
@@ -192,7 +192,7 @@ def hunting(
     check_variant(variant, contact, "hunting")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, layouts = scenario_system(variant, coach, v, kw)
-    h = time_step(sy, h)
+    h = time_step(sy, h, _exact(sy, alpha, kw))
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
     # one BEM state for the equilibrium and the run (railvti.vehicle.equilibrium.contact_state)
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
@@ -233,3 +233,8 @@ def _auto_hunting(
     )
     load = (coach or Coach()).static_wheel_load
     return auto_contact(kw, flange_scene(float(pre.wheel_output("N_flange").max()), load))
+
+
+def _exact(sy: System, alpha: float, kw: dict) -> bool:
+    """Whether the run (simulate's keywords kw) steps sy's modal blocks exactly."""
+    return exact_modal(sy, kw.get("integrator", "hht"), alpha, kw.get("modal_step"))

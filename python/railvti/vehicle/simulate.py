@@ -43,6 +43,9 @@ __all__ = [
     "simulate",
     "bem_threads",
     "check_modal_step",
+    "exact_modal",
+    "MODAL_STEPS",
+    "SCHEME_EXACT",
     "consistent_massless",
 ]
 
@@ -67,11 +70,45 @@ MODAL_STEP_LIMIT = 2.0
 #: (docs/vehicle.md, "Energy-conserving integrator").
 INTEGRATORS = {"hht": 0, "energy": 1}
 
+#: Core id of the trapezoidal rule (alpha = 0) with the modal blocks that have mass stepped
+#: exactly (vehicle_newmark SCHEME_EXACT, vehicle_modal_step; ``modal_step='exact'``).
+SCHEME_EXACT = 2
 
-def check_modal_step(system: System, h: float) -> None:
+#: How :func:`simulate` steps the modal blocks (``modal_step``): 'trapezoidal' (the default)
+#: with the rule of the rigid DOFs, 'exact' (integrator 'hht' with alpha = 0) each block with
+#: mass exactly for the point forces linear in time over the step (matrix exponential per
+#: block and step size; docs/vehicle_integrator.md, "Exact modal step").
+MODAL_STEPS = ("exact", "trapezoidal")
+
+
+def exact_modal(
+    system: System, integrator: str = "hht", alpha: float = 0.0, modal_step: str | None = None
+) -> bool:
+    """Whether a run of ``system`` with these settings steps its modal blocks exactly
+    (:data:`MODAL_STEPS`; ``modal_step`` None: 'trapezoidal'). InputError for an unknown
+    name or 'exact' with alpha /= 0 or the energy integrator.
+
+    'exact' integrates each modal block with mass exactly over the step for the point forces
+    linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
+    the modes themselves (a point coupling stiffer than (sqrt(12) / h)^2 per unit modal mass
+    is not stable: Newmark's beta = 1/6 for it)."""
+    if modal_step is not None and modal_step not in MODAL_STEPS:
+        raise InputError(f"unknown modal_step {modal_step!r}; one of {list(MODAL_STEPS)}")
+    applies = integrator == "hht" and alpha == 0.0
+    if modal_step == "exact" and not applies:
+        raise InputError(
+            "modal_step='exact' is the trapezoidal rule's (integrator 'hht', alpha = 0); "
+            f"got integrator {integrator!r}, alpha {alpha}: take modal_step='trapezoidal'"
+        )
+    return system.modal is not None and modal_step == "exact"
+
+
+def check_modal_step(system: System, h: float, exact: bool = False) -> None:
     """InputError when the step h is too large for the highest mode of the system's modal
-    blocks: h * omega_max > :data:`MODAL_STEP_LIMIT` (nothing to check without blocks)."""
-    if system.modal is None:
+    blocks stepped by the trapezoidal rule: h * omega_max > :data:`MODAL_STEP_LIMIT` (nothing
+    to check without blocks, or with ``exact``: the exact modal step, :func:`exact_modal`,
+    keeps each mode's frequency and damping at any step)."""
+    if system.modal is None or exact:
         return
     wmax = system.modal.max_frequency()
     if h * wmax > MODAL_STEP_LIMIT:
@@ -112,6 +149,7 @@ def simulate(
     curve: TrackCurve | None = None,
     x_start: float = 0.0,
     coach: Coach | None = None,
+    modal_step: str | None = None,
 ) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
@@ -126,10 +164,8 @@ def simulate(
         'hertz-kalker', 'hertz-fastsim' or 'bem' (BEM normal + steady rolling on a fixed
         0.75 mm grid per wheel and candidate point, warm-started; modified Newton with the
         Hertz + Kalker tangent).
-    h : float
-        Time step, s.
-    output_dt : float
-        Output interval, s (rounded to a multiple of h).
+    h, output_dt : float
+        Time step and output interval (rounded to a multiple of h), s.
     alpha : float
         HHT-alpha in [-1/3, 0]; 0 is the average acceleration rule (no numerical damping).
     q0, v0 : ndarray, optional
@@ -205,6 +241,8 @@ def simulate(
     coach : Coach, optional
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
+    modal_step : str, optional
+        'trapezoidal' (None, the default) or 'exact': :func:`exact_modal`.
 
     Raises
     ------
@@ -240,9 +278,9 @@ def simulate(
             rtol,
             system.wheel_load,
         )
-        plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
-        check_modal_step(system, plan.h)
-        if curve is not None and plan.scheme != INTEGRATORS["hht"]:
+        plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system, modal_step))
+        check_modal_step(system, plan.h, plan.scheme == SCHEME_EXACT)
+        if curve is not None and plan.scheme == INTEGRATORS["energy"]:
             raise InputError("curve: the curve's tables enter integrator 'hht' only, not 'energy'")
         with attached_curve(system, curve, speed, x_start, plan.nsteps * plan.h, coach):
             return _run_planned(
@@ -331,10 +369,13 @@ def bem_threads(bem: BemState, threads: int | None = None) -> int:
     return int(nset)
 
 
-def _scheme(integrator: str, alpha: float, system: System) -> int:
-    """The core id of ``integrator`` (:data:`INTEGRATORS`); InputError for an unknown name, or
+def _scheme(integrator: str, alpha: float, system: System, modal_step: str | None = None) -> int:
+    """The core id of ``integrator`` (:data:`INTEGRATORS`), or :data:`SCHEME_EXACT` with
+    ``modal_step='exact'`` (:func:`exact_modal`); InputError for an unknown name, or
     'energy' with alpha /= 0 or without the strip geometry (the table contact has no
     potential whose discrete gradient could be taken)."""
+    if exact_modal(system, integrator, alpha, modal_step):
+        return SCHEME_EXACT
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; one of {sorted(INTEGRATORS)}")
     if integrator == "energy":

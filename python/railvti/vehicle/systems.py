@@ -695,22 +695,25 @@ def no_fr_keys(kw: dict) -> None:
         )
 
 
-def default_step(sy: System) -> float:
-    """1 ms, divided for a modal model so that h omega_max <= 2 (every kept mode resolved by the
-    trapezoidal rule without the step-size refusal of simulate)."""
+def default_step(sy: System, exact: bool = False) -> float:
+    """1 ms; with modal blocks stepped by the trapezoidal rule (``exact`` False, simulate's
+    default) 1 ms divided so that h omega_max <= 2 (MODAL_STEP_LIMIT: every kept mode resolved
+    without the step-size refusal of simulate). The exact modal step (``exact``,
+    simulate(modal_step='exact')) keeps every mode's frequency at 1 ms."""
     h = 1e-3
-    if sy.modal is not None:
+    if sy.modal is not None and not exact:
         h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
     return h
 
 
-def time_step(sy: System, h: float | None) -> float:
+def time_step(sy: System, h: float | None, exact: bool = False) -> float:
     """The time step of a run of sy: h checked against the kept modes
-    (:func:`railvti.vehicle.simulate.check_modal_step`, before any work), or the default."""
+    (:func:`railvti.vehicle.simulate.check_modal_step`, before any work), or the default;
+    ``exact``: the run steps its modal blocks exactly (simulate.exact_modal)."""
     if h is None:
-        return default_step(sy)
+        return default_step(sy, exact)
     h = _checks.positive("h", h)
-    check_modal_step(sy, h)
+    check_modal_step(sy, h, exact)
     return h
 
 
