@@ -53,7 +53,7 @@ from .vehicle.linear_stability import (
     linear_critical_speed_kmh,
 )
 from .vehicle.params import Coach
-from .vehicle.running import centred_running, contact_patch, hunting
+from .vehicle.running import centred_running, contact_patch, hunting, irregular_track
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
 from .vehicle.systems import (
     DEFAULT_GEOMETRY,
@@ -84,6 +84,7 @@ __all__ = [
     # scenarios
     "centred_running",
     "hunting",
+    "irregular_track",
     "bifurcation",
     "critical_speed",
     "linear_critical_speed_kmh",

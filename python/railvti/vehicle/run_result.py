@@ -119,6 +119,13 @@ class SimulationResult:
         [., ., wheel, wheelset] (``RingSystem.rail_deflection``, after a completed run); None
         on rigid track. The ring's modal coordinates are the last columns of ``q``, named in
         ``dof_names``.
+    irregularity : str
+        '' on the perfect track; else the irregular track's source (a spectrum with its seed
+        and band, or a file), its extent and x_start (``simulate(irregularity=...)``).
+    track_input : ndarray (nt, 3, 2, nw) or None
+        On an irregular track: the pose (y m, z m, roll rad) of the rail element under each
+        wheel from the irregularity alone at the outputs (docs/vehicle_irregularity.md),
+        [., ., wheel, wheelset]; None on the perfect track.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -136,6 +143,8 @@ class SimulationResult:
         "friction": "1",
         "flange_angle": "rad",
         "rail": "m, m, rad (per component: y, z, roll of the element under each wheel)",
+        "irregularity": "text",
+        "track_input": "m, m, rad (per component: y, z, roll of the irregular rail under each wheel)",
         "stats": STAT_UNITS,
     }
     #: Units of the per-wheel outputs and of the statistics (for the runner's records).
@@ -156,6 +165,8 @@ class SimulationResult:
     flange_angle: float = float("nan")
     streamed: str = ""
     rail: np.ndarray | None = None
+    irregularity: str = ""
+    track_input: np.ndarray | None = None
 
     def _save_attrs(self) -> dict:
         """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
@@ -182,6 +193,19 @@ class SimulationResult:
                     }
                 }
                 if self.rail is not None
+                else {}
+            ),
+            **(
+                {
+                    "track_input": {
+                        "axes": ["t", "component", "wheel", "wheelset"],
+                        "component": ["y", "z", "roll"],
+                        "column_units": ["m", "m", "rad"],
+                        "wheel": WHEEL_SIDES,
+                        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+                    }
+                }
+                if self.track_input is not None
                 else {}
             ),
         }
@@ -234,6 +258,19 @@ class SimulationResult:
         scalars["flange_angle"] = (ws.flange_angle, "rad")
         scalars["friction"] = (ws.friction, "1")
         scalars["exceeds_nadal"] = (int(ws.exceeds_nadal), "1 (flag: 1 = a wheel above Nadal's limit)")
+        if self.irregularity:
+            scalars["irregularity"] = (self.irregularity, "text")
+        if self.track_input is not None:
+            data["track_input"] = (
+                self.track_input,
+                "m, m, rad (per component: y, z, roll)",
+                {
+                    "axes": ["t", "component", "wheel", "wheelset"],
+                    "component": ["y", "z", "roll"],
+                    "wheel": WHEEL_SIDES,
+                    "wheelset": wheelsets,
+                },
+            )
         return data, scalars
 
     @property

@@ -11,12 +11,13 @@ opens one BEM state for its equilibrium and its time loop.
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import os
 import time
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
@@ -25,10 +26,12 @@ from ..casetypes import STREAM_TAIL_SECONDS, HistorySink
 from .._native import core
 from .._status import check
 from ..errors import ConvergenceError, InputError, RailvtiError
+from ..track.irregularity import TrackIrregularity
 from .assembly import System
 from .bem import BemOptions, BemState
 from .contact_models import ContactModel, parse_contact_model
 from .equilibrium import call_settings, contact_state, static_equilibrium, wait_idle
+from .irregular_track import check_coverage, check_irregularity, on_track, rail_inputs, source_of
 from .model import CallSettings
 from .run_result import SimulationResult
 from .time_loop import RunPlan, check_history_memory, integrate, plan_run, with_bem_fields
@@ -80,6 +83,7 @@ def check_modal_step(system: System, h: float) -> None:
         )
 
 
+# long: the numpydoc of its 26 parameters (the body is 30 lines)
 def simulate(
     system: System,
     speed: float,
@@ -105,6 +109,8 @@ def simulate(
     stream_tail: float = STREAM_TAIL_SECONDS,
     integrator: str = "hht",
     threads: int | None = None,
+    irregularity: TrackIrregularity | None = None,
+    x_start: float = 0.0,
 ) -> SimulationResult:
     """Integrate the system in time (Newmark / HHT-alpha with Newton, all in Fortran).
 
@@ -188,6 +194,13 @@ def simulate(
         the environment variable ``RAILVTI_THREADS``, else all cores (``OMP_NUM_THREADS`` when
         set). Set on the BEM state (a given ``bem`` keeps it); 1 in a build without OpenMP;
         ``stats['bem_threads']`` says how many ran. Ignored by the other contact models.
+    irregularity : TrackIrregularity, optional
+        Run on this irregular track (docs/vehicle_irregularity.md): wheelset w at x_start +
+        speed t + ``system.x_wheelsets[w]``, m, for the whole run (InputError otherwise); the
+        static start (no q0) is found on it at t = 0. The result keeps its source and the rail
+        inputs (``irregularity``, ``track_input``). Not with integrator='energy'.
+    x_start : float
+        Track position of the coach's origin at t = 0, m (with ``irregularity``).
 
     Raises
     ------
@@ -225,9 +238,37 @@ def simulate(
         )
         plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system))
         check_modal_step(system, plan.h)
-        return _run_planned(
-            system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
+        run = functools.partial(
+            _run_planned, system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
         )
+        if irregularity is None:
+            return run()
+        return _run_on_track(run, system, speed, plan, irregularity, x_start)
+
+
+def _run_on_track(
+    run: Callable[[], SimulationResult],
+    system: System,
+    speed: float,
+    plan: RunPlan,
+    irregularity: Any,
+    x_start: float,
+) -> SimulationResult:
+    """``run()`` (:func:`simulate`'s planned run) on the irregular track, checked, with the
+    irregularity's source and the rail inputs at the outputs in the result."""
+    irr = check_irregularity(irregularity)
+    x_start = _checks.finite("x_start", x_start)
+    if plan.scheme == INTEGRATORS["energy"]:
+        raise InputError(
+            "integrator='energy' conserves the energy of an autonomous system: an irregular "
+            "track is a time-dependent input; use integrator='hht'"
+        )
+    check_coverage(system, irr, speed, plan.nsteps * plan.h, x_start)
+    wait_idle(system)  # a static solve interrupted earlier may still run on this model
+    with on_track(system, irr, speed, x_start):
+        res = run()
+        inputs = rail_inputs(system, res.t)[:, :3]
+    return replace(res, irregularity=source_of(irr, x_start), track_input=inputs)
 
 
 def _run_planned(
