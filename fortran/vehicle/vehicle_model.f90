@@ -467,7 +467,9 @@ contains
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
     !> frictionless (optional, .true.): the contact with mu = 0, its normal (conservative)
-    !> part only (vehicle_newmark's energy-conserving step).
+    !> part only (vehicle_newmark's energy-conserving step). On an irregular track
+    !> (md%irr, vehicle_irregularity) each wheel's rail element moves by the inputs set for
+    !> the current time (model_time), on top of the ring's rail head (model RF).
     subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, slin, smode, frictionless)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs

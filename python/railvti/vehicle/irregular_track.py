@@ -27,6 +27,7 @@ from .._status import check
 from ..errors import InputError
 from ..track.irregularity import TrackIrregularity
 from .assembly import System
+from .equilibrium import wait_idle
 
 __all__ = [
     "CROSS_LEVEL_BASE",
@@ -152,6 +153,7 @@ def on_track(
     d = np.asfortranarray(node_slopes(irr.x, c))
     xw = np.asarray(system.x_wheelsets, dtype=float)
     model = system.native
+    wait_idle(system)  # an interrupted static solve may still run on the model: not under it
     info = core.vehicle_irregularity_attach_c(
         model.handle, irr.x.size, irr.x, c, d, xw, x_start, speed, CROSS_LEVEL_BASE
     )
@@ -159,6 +161,7 @@ def on_track(
     try:
         yield
     finally:
+        wait_idle(system)
         if model.alive:
             z = np.zeros((4, 1), order="F")
             check(
