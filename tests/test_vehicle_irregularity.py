@@ -425,3 +425,39 @@ def test_flexible_wheelsets_follow_like_rigid_ones(flexible, rigid):
         rng = np.ptp(b.dof(f"ws1_{c}"))
         assert rng > 1e-3  # m or rad: the track moved it
         assert np.abs(a.dof(f"ws1_{c}") - b.dof(f"ws1_{c}")).max() < tol * rng, c
+
+
+@pytest.mark.parametrize("variant", ["RR", "RF"])
+def test_straight_track_at_an_angle_is_the_straight_run_turned(variant):
+    """An alignment growing linearly, theta x (a straight track turned by theta = 1 mrad), and
+    the coach turned with it (each body's y by theta (x_start + its x), yaw by theta, lateral
+    velocity v theta) is the perfect track's run turned: Q and Y the same and each body's y the
+    same plus theta (x_start + v t + its x), to rounding (measured 2e-15 m RR, 2e-14 m RF).
+    Independent of the inputs' formulas: it holds only with the positions, the rates v dT/dx,
+    the rail's yaw taken off the wheelset's and the wheelsets' positions a_w all right (without
+    the yaw the creepage is off by theta: Y by kN)."""
+    from railvti.vehicle.equilibrium import static_equilibrium
+    from railvti.vehicle.params import Coach
+
+    v, theta, xs = 100 / 3.6, 1e-3, 5.0
+    sy, h = _system(variant, v)
+    q0, v0, _ = static_equilibrium(sy, v, "hertz-kalker", return_velocity=True)
+    xb = Coach().params["half_bogie_distance"]
+    xpos = {"carbody": 0.0, "bogie1": xb, "bogie2": -xb, "bolster1": xb, "bolster2": -xb}
+    xpos.update({f"ws{w + 1}": a for w, a in enumerate(sy.x_wheelsets)})
+    dq, dv = np.zeros_like(q0), np.zeros_like(q0)
+    for i, name in enumerate(sy.state_names):
+        body, _, dof = name.rpartition("_")
+        if body in xpos and dof == "y":
+            dq[i], dv[i] = theta * (xs + xpos[body]), theta * v
+        elif body in xpos and dof == "yaw":
+            dq[i] = theta
+    assert np.count_nonzero(dq) == 16  # 7 bodies' y, their 7 yaws and the 2 bolsters'
+    x = np.arange(-20.0, 100.0, 0.5)
+    z = np.zeros_like(x)
+    irr = TrackIrregularity(x, z, theta * x, z, z)
+    a = simulate(sy, v, 0.5, h=h, q0=q0, v0=v0, progress=False)
+    b = simulate(sy, v, 0.5, h=h, q0=q0 + dq, v0=v0 + dv, irregularity=irr, x_start=xs, progress=False)
+    assert np.abs(b.q - dq - np.outer(b.t, dv) - a.q).max() < 1e-12
+    assert np.abs(a.Q - b.Q).max() < 1e-4
+    assert np.abs(a.Y - b.Y).max() < 1e-4
