@@ -226,8 +226,9 @@ def _two_waves(variant: str):
 @pytest.mark.parametrize("variant", ["RR", "RF"])
 def test_vertical_level_followed_quasi_statically(variant):
     """The 50 m, 5 mm vertical level wave at 100 km/h (0.56 Hz): every wheelset follows it
-    quasi-statically, z_w = A sin(2 pi (x_start + v t + a_w) / lambda) (amplitude within 1 %,
-    phase within 0.02 rad: the delay a_w / v between wheelsets); the 3 m wave on top (9.3 Hz)
+    quasi-statically, z_w = A sin(2 pi (x_start + v t + a_w) / lambda) (amplitude within 0.5 %,
+    phase within 0.005 rad: the delay a_w / v between wheelsets; measured 0.06 %, 2e-4 rad);
+    the 3 m wave on top (9.3 Hz)
     moves the wheel loads at v / lambda by kN (the fitted sine carries > 80 % of their
     variance, on RF once the sleeper passing's own is taken out)."""
     r, sy, v = _two_waves(variant)
@@ -236,8 +237,8 @@ def test_vertical_level_followed_quasi_statically(variant):
     f1, f2, fs = v / l1, v / l2, v / 0.6
     for w, a_w in enumerate(sy.x_wheelsets):
         amp, ph = _fit(r.t[k], r.dof(f"ws{w + 1}_z")[k], f1, f2)
-        assert abs(amp / a1 - 1.0) < 0.01
-        assert abs(_wrap(ph - 2 * np.pi * (X_START + a_w) / l1)) < 0.02
+        assert abs(amp / a1 - 1.0) < 0.005
+        assert abs(_wrap(ph - 2 * np.pi * (X_START + a_w) / l1)) < 0.005
         qa, _ = _fit(r.t[k], r.Q[k, 0, w], f2, f1)
         # on the ring the sleeper passing (v / 0.6 m = 46 Hz) moves the loads too: without it
         q = r.Q[k, 0, w] - _part(r.t[k], r.Q[k, 0, w], [fs, 2 * fs], [f1, f2])
@@ -246,9 +247,9 @@ def test_vertical_level_followed_quasi_statically(variant):
 
 
 def test_ring_wheel_load_close_to_rigid_track_at_low_frequency():
-    """The wheel loads of the 3 m wave (9.3 Hz) on the ring (RF) within 5 % of RR's, in phase
-    within 0.05 rad: far below the ring's modes (50 Hz and up) both tracks respond statically
-    (measured 1.4 % at 4.6 Hz)."""
+    """The wheel loads of the 3 m wave (9.3 Hz, 0.9 and 1.9 kN) on the ring (RF) within 2 % of
+    RR's, in phase within 0.01 rad: far below the ring's modes (50 Hz and up) both tracks
+    respond statically (measured 0.6 %, 0.002 rad)."""
     (rr, _, v), (rf, _, _) = _two_waves("RR"), _two_waves("RF")
     f1, f2 = v / _TWO_WAVES[0][1], v / _TWO_WAVES[1][1]
     for w in range(4):
@@ -257,7 +258,7 @@ def test_ring_wheel_load_close_to_rigid_track_at_low_frequency():
             a, pa = _fit(rr.t[k], rr.Q[k, s, w], f2, f1)
             k = rf.t > 1.4
             b, pb = _fit(rf.t[k], rf.Q[k, s, w], f2, f1)
-            assert abs(b / a - 1.0) < 0.05 and abs(_wrap(pa - pb)) < 0.05
+            assert abs(b / a - 1.0) < 0.02 and abs(_wrap(pa - pb)) < 0.01
 
 
 def test_short_wave_wheel_load_at_passing_frequency():
