@@ -626,3 +626,38 @@ subroutine vehicle_curve_clear_c(handle, info)
                               none, none, none, none, stat)
     info = stat
 end subroutine vehicle_curve_clear_c
+
+!> Put a model on an irregular track (n >= 2 nodes x, channels c and slopes d (4, n): vertical
+!> level, alignment, cross level, gauge in m; wheelset positions xw, start x0 in m, speed v0 in
+!> m/s, the cross level's base in m) or take it off (n = 0; x, c, d, then one dummy node).
+!> info: see vehicle_model%vehicle_attach_irregularity.
+subroutine vehicle_irregularity_attach_c(handle, n, nx, x, c, d, nw, xw, x0, v0, base, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_SIZE_MISMATCH
+    use vehicle_model, only: vehicle_attach_irregularity
+    implicit none
+    integer(c_int), intent(in) :: handle, n, nx, nw
+    real(c_double), intent(in) :: x(nx), c(4, nx), d(4, nx), xw(nw), x0, v0, base
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    info = STAT_SIZE_MISMATCH    ! n is neither the arrays' length nor 0
+    if (n /= 0 .and. n /= nx) return
+    call vehicle_attach_irregularity(handle, int(n), x, c, d, int(nw), xw, x0, v0, base, stat)
+    info = stat
+end subroutine vehicle_irregularity_attach_c
+
+!> The irregular track's inputs under the wheels at time t, u (7, 2, nw): per wheel (left,
+!> right) the pose of its rail element T_y, T_z (m), T_roll (rad), their rates (m/s, rad/s)
+!> and the rail's yaw (rad). info: see vehicle_model%vehicle_irregularity_inputs.
+subroutine vehicle_irregularity_inputs_c(handle, t, nw, u, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_irregularity_inputs
+    implicit none
+    integer(c_int), intent(in) :: handle, nw
+    real(c_double), intent(in) :: t
+    real(c_double), intent(out) :: u(7, 2, nw)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_irregularity_inputs(handle, t, int(nw), u, stat)
+    info = stat
+end subroutine vehicle_irregularity_inputs_c

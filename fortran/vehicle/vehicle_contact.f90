@@ -92,9 +92,10 @@ module vehicle_contact
     !> One wheel's pose and velocities in the frame of its track element (wheel_at): sg 1 for
     !> the left wheel, -1 for the right; yr, phr the lateral shift and roll against the
     !> element, u = Y + r_nom phi the table's coordinate, zc the centre's height, pl = sg phr;
-    !> ve the wheel's (y, z, roll) rates; qtw, vtw the element's pose and rates under the wheel.
+    !> ve the wheel's (y, z, roll) rates; qtw, vtw the element's pose and rates under the wheel;
+    !> psi the wheelset's yaw against the rail under the wheel (an irregular rail's yaw off).
     type :: wheel_pose
-        real(dp) :: sg, yr, phr, u, zc, pl
+        real(dp) :: sg, yr, phr, u, zc, pl, psi
         real(dp) :: ve(3), qtw(3), vtw(3)
     end type wheel_pose
 
@@ -526,14 +527,17 @@ contains
     !> their rates) of a track element of its own under wheel w, added to qt, vt for that
     !> wheel (the rail head's motion under the wheel expressed as an element's pose); frail(:,
     !> w) the generalised forces on it (wheel w's share of ft). rail = 0 gives fw, ft, wout as
-    !> without.
+    !> without. The same arguments carry an irregular track's rail positions under the wheels
+    !> (vehicle_irregularity: RR, FR too), with ryaw(w) (optional) the rail's yaw under wheel w,
+    !> subtracted from the wheelset's yaw qw(4) where the contact reads it (the creepage and
+    !> the strip's yaw); ryaw = 0 gives the same numbers as without.
     !> Curve (optional frame_yaw_rate, rad/s): the yaw rate v0 kappa of the wheelset's track
     !> frame, added to its own in the creepages (wheel_points); absent or 0: straight track.
     !> Per wheel: its pose (wheel_at), its candidate points from the strips (strip_points),
     !> the zero-roll row (bem_points) or the table (pose_at), then their forces (wheel_points).
     subroutine wheelset_contact(ct, r0, v0, gmod, mu, model, fsn, bem, iws, qw, vw, qt, vt, &
                                 fw, ft, wout, info, rim, rarm, frim, st, slin, smode, rail, frail, &
-                                tangent, frame_yaw_rate)
+                                tangent, frame_yaw_rate, ryaw)
         type(pose_table), intent(in) :: ct
         integer, intent(in) :: model, fsn, bem, iws
         real(dp), intent(in) :: r0, v0, gmod, mu
@@ -548,7 +552,7 @@ contains
         real(dp), intent(in), optional :: rail(6, 2)
         real(dp), intent(out), optional :: frail(3, 2)
         logical, intent(in), optional :: tangent
-        real(dp), intent(in), optional :: frame_yaw_rate
+        real(dp), intent(in), optional :: frame_yaw_rate, ryaw(2)
         real(dp) :: vals(nq_table, 4), wt(4), grd(2, 4), wa(4), so(nso, 2), fwl(3), ftl(3), yf
         integer :: w, ia(4), ib(4)
         logical :: flex, strip, ring, tng
@@ -576,10 +580,12 @@ contains
         wa = 0.0_dp
         do w = 1, 2
             call wheel_at(ct%rnom, w, qw, vw, qt, vt, flex, ring, wp, rim, rarm, rail)
+            wp%psi = qw(4)
+            if (present(ryaw)) wp%psi = qw(4) - ryaw(w)
             ftl = ft
             fwl = fw(1:3)
             if (strip) then
-                call strip_points(ct, st, w, qw(4), wp, so, vals, wt, info, slin, smode)
+                call strip_points(ct, st, w, wp%psi, wp, so, vals, wt, info, slin, smode)
             else if (model == CMODEL_BEM) then
                 call bem_points(ct, bem, iws, w, .not. tng, wp, vals, wt, grd, ia, ib, wa, info)
             else
@@ -796,7 +802,7 @@ contains
             ! path) and the spin; in the lateral slip the frame's turn cancels against the
             ! rail's turned tangent at the point (docs/vehicle_curving.md)
             xi = vw(5) / v0 + (1.0_dp - r / r0) - (vw(4) + yf) * l / v0 - vw(6) * r / v0
-            eta = (dvy * cd + sg * sd * dvz) / v0 - qw(4) / cd
+            eta = (dvy * cd + sg * sd * dvz) / v0 - wp%psi / cd
             spin = (-sg * sd + cd * wp%phr) / r0 + cd * (vw(4) + yf) / v0
             if (model == CMODEL_BEM .and. tangent) then
                 call point_bem_tangent(bem, iws, w, c, ia(c), wa(c), dn, wp%phr, xi, eta, spin, gmod, &

@@ -24,6 +24,7 @@ module vehicle_model
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
                              modal_ring_residual, modal_follow_set, modal_follow, &
                              modal_follow_reset
+    use vehicle_irregularity, only: irr_track, irr_set, irr_time, irr_inputs, NIRR
     implicit none
     private
     public :: vmodel, vsettings, vehicle_create, vehicle_free, vehicle_get, vehicle_call
@@ -35,6 +36,7 @@ module vehicle_model
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
     public :: add_contact, wheelset_coords
+    public :: vehicle_attach_irregularity, vehicle_irregularity_inputs, model_time
 
     integer, parameter :: el_friction = 1   !< f = p1 tanh(gdot / p2) + p3 gdot
     integer, parameter :: el_bump = 2       !< f = p2 (|d| - p1) sign(d) for |d| > p1 (clearance p1)
@@ -81,6 +83,8 @@ module vehicle_model
         !> vehicle_newmark SCHEME_EXACT), kept from call to call: a function of h and the blocks.
         type(modal_step) :: msc(MSC_SLOTS)
         integer :: mscnext = 0
+        !> The irregular track's rail inputs under the wheels (vehicle_irregularity; nw = 0: none).
+        type(irr_track) :: irr
     end type vmodel
 
     !> The conditions of one call: forward speed v0 (m/s), contact model (vehicle_contact
@@ -143,6 +147,7 @@ contains
         md%ispin = ispin
         md%ct = ct
         md%st = strip_geometry()
+        md%irr = irr_track()
         if (allocated(md%kmkey)) deallocate (md%kmkey)
         md%r0 = r0
         md%gmod = gmod
@@ -178,6 +183,7 @@ contains
         models(handle)%mp = modal_part()
         models(handle)%msc = modal_step()
         models(handle)%st = strip_geometry()
+        models(handle)%irr = irr_track()
         if (allocated(models(handle)%kmkey)) deallocate (models(handle)%kmkey)
         models(handle)%used = .false.
     end subroutine vehicle_free
@@ -338,6 +344,59 @@ contains
         info = STAT_OK
     end subroutine vehicle_ring_time
 
+    !> Put a model on an irregular track (vehicle_irregularity%irr_set's arguments, nw the
+    !> model's wheelsets), or take it off (n = 0), at t = 0. info: STAT_OK, STAT_BAD_HANDLE,
+    !> STAT_SIZE_MISMATCH (nw not the model's), irr_set's STAT_BAD_ARGUMENT.
+    subroutine vehicle_attach_irregularity(handle, n, x, c, d, nw, xw, x0, v0, base, info)
+        integer, intent(in) :: handle, n, nw
+        real(dp), intent(in) :: x(n), c(4, n), d(4, n), xw(nw), x0, v0, base
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        type(irr_track) :: ir
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_SIZE_MISMATCH
+        if (nw /= md%nw) return
+        if (allocated(md%kmkey)) deallocate (md%kmkey)   ! a kept matrix belongs to the old track
+        if (n == 0) then
+            md%irr = irr_track()
+            info = STAT_OK
+            return
+        end if
+        call irr_set(n, x, c, d, nw, xw, x0, v0, base, ir, info)
+        if (info == STAT_OK) md%irr = ir
+    end subroutine vehicle_attach_irregularity
+
+    !> The irregular track's inputs u (NIRR, 2, nw) under the wheels at time t (zero without
+    !> one), as the time loop sets them. info: STAT_OK, STAT_BAD_HANDLE, STAT_SIZE_MISMATCH.
+    subroutine vehicle_irregularity_inputs(handle, t, nw, u, info)
+        integer, intent(in) :: handle, nw
+        real(dp), intent(in) :: t
+        real(dp), intent(out) :: u(NIRR, 2, nw)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        u = 0.0_dp
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_SIZE_MISMATCH
+        if (nw /= md%nw) return
+        if (md%irr%nw > 0) call irr_inputs(md%irr, t, u)
+        info = STAT_OK
+    end subroutine vehicle_irregularity_inputs
+
+    !> Set what depends on time to time t: the ring rows (model RF) when ring, and the
+    !> irregular track's inputs.
+    subroutine model_time(md, t, ring)
+        type(vmodel), intent(inout) :: md
+        real(dp), intent(in) :: t
+        logical, intent(in) :: ring
+        if (ring) call modal_ring_time(md%mp, t)
+        call irr_time(md%irr, t)
+        call curve_time(md%cv, t)
+    end subroutine model_time
+
     !> The model behind a handle for one call with the settings rs and arrays of nd DOFs, nw
     !> wheelsets and nwo outputs per wheel (nd: rigid plus modal DOFs, md%nd + md%mp%nm).
     !> info: STAT_OK; STAT_BAD_HANDLE (no such model);
@@ -461,7 +520,9 @@ contains
     !> wheelset with flexible rims (vehicle_modal%modal_rim_wheelset) is evaluated on its
     !> deformed rims and the generalised forces on the rim points are added into gp.
     !> frictionless (optional, .true.): the contact with mu = 0, its normal (conservative)
-    !> part only (vehicle_newmark's energy-conserving step).
+    !> part only (vehicle_newmark's energy-conserving step). On an irregular track
+    !> (md%irr, vehicle_irregularity) each wheel's rail element moves by the inputs set for
+    !> the current time (model_time), on top of the ring's rail head (model RF).
     subroutine add_contact(md, rs, w, q, v, f, wout, info, cheap, u, ud, gp, slin, smode, frictionless)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
@@ -477,9 +538,9 @@ contains
         integer, intent(in), optional :: smode
         logical, intent(in), optional :: frictionless
         real(dp) :: qw(6), vw(6), qt(3), vt(3), fw(6), ft(3), rim(6, 2), frim(3, 2)
-        real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2), yf
+        real(dp) :: rail(6, 2), frail(3, 2), mu, arm(2, 2), ryaw(2), yf
         integer :: j, k, model, ir, il
-        logical :: tng
+        logical :: tng, onrail
         model = rs%cmodel
         mu = md%mu
         if (present(frictionless)) then
@@ -516,22 +577,34 @@ contains
                 rail(4:6, k) = ud(md%mp%rlpt(:, k, il))
             end do
         end if
-        if (ir > 0 .and. il > 0) then
+        ryaw = 0.0_dp
+        onrail = il > 0
+        if (md%irr%nw > 0) then
+            ! the irregular track's rails under the wheels (vehicle_irregularity), at the time set
+            if (il > 0) then
+                rail = rail + md%irr%now(1:6, :, w)
+            else
+                rail = md%irr%now(1:6, :, w)
+            end if
+            ryaw = md%irr%now(7, :, w)
+            onrail = .true.
+        end if
+        if (ir > 0 .and. onrail) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
                                   slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng, &
-                                  frame_yaw_rate=yf)
+                                  ryaw=ryaw, frame_yaw_rate=yf)
         else if (ir > 0) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, &
                                   rim=rim, rarm=arm, frim=frim, st=md%st, &
                                   slin=slin, smode=smode, tangent=tng, frame_yaw_rate=yf)
-        else if (il > 0) then
+        else if (onrail) then
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &
                                   slin=slin, smode=smode, rail=rail, frail=frail, tangent=tng, &
-                                  frame_yaw_rate=yf)
+                                  ryaw=ryaw, frame_yaw_rate=yf)
         else
             call wheelset_contact(md%ct, md%r0, rs%v0, md%gmod, mu, model, &
                                   rs%fsn, rs%bem, w, qw, vw, qt, vt, fw, ft, wout, info, st=md%st, &

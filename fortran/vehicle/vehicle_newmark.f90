@@ -30,12 +30,11 @@ module vehicle_newmark
     use common_lapack, only: dgetrf, dgetrs
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_SINGULAR, STAT_OUTSIDE_TABLE, &
                              STAT_GRID_EDGE, STAT_CONTACT_NOT_CONVERGED, STAT_MOTION_TOO_LARGE
-    use vehicle_curve, only: curve_time
     use vehicle_contact, only: nwo, IO_ARM, CMODEL_HERTZ_KALKER, CMODEL_HERTZ_FASTSIM
     use vehicle_model, only: vmodel, vsettings, force_total, tangent, is_spin, TANGENT_QV, TANGENT_V, &
-                             add_contact, element_force, el_bump, wheelset_coords
+                             add_contact, element_force, el_bump, wheelset_coords, model_time
     use vehicle_modal, only: modal_factor, modal_force, modal_point_tangent, modal_factorise, &
-                             modal_solve, modal_points, modal_rows_t, modal_ring_time, modal_follow, &
+                             modal_solve, modal_points, modal_rows_t, modal_follow, &
                              modal_follow_reset
     use vehicle_modal_step, only: modal_step, modal_step_make, modal_step_begin, modal_step_velocity, &
                                   modal_step_residual, modal_step_accel, modal_step_matrices, &
@@ -180,8 +179,7 @@ contains
             st%ms = md%msc
             st%msnext = md%mscnext
         end if
-        call modal_ring_time(md%mp, t)
-        call curve_time(md%cv, t)
+        call model_time(md, t, .true.)     ! the ring rows and an irregular track's inputs
         ! rims whose rows follow the contact point: at the taping line for the start's force
         ! when it is not carried, then each step at the carried state's contact points
         if (.not. carried) call modal_follow_reset(md%mp)
@@ -225,6 +223,7 @@ contains
             md%mscnext = st%msnext
         end if
         call modal_follow_reset(md%mp)     ! the statics and force shims see the taping line
+        call model_time(md, 0.0_dp, .false.)   ! and an irregular track at t = 0
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
 
@@ -367,8 +366,7 @@ contains
         hl = h / 2**lev
         tally%hmin = min(tally%hmin, hl)
         do while (tl < h - 0.5_dp * hl)
-            if (md%mp%nrl > 0) call modal_ring_time(md%mp, t0 + tl + hl)
-            call curve_time(md%cv, t0 + tl + hl)
+            call model_time(md, t0 + tl + hl, md%mp%nrl > 0)
             if (md%mp%fns > 0) call follow_contact(md, st%w)
             call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
             if (info /= STAT_OK) then

@@ -54,7 +54,7 @@ from .vehicle.linear_stability import (
 )
 from .vehicle.params import Coach
 from .vehicle.curve_running import CurveRun, SteadyCurving, curving
-from .vehicle.running import centred_running, contact_patch, hunting
+from .vehicle.running import centred_running, contact_patch, hunting, irregular_track
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
 from .vehicle.systems import (
     DEFAULT_GEOMETRY,
@@ -86,6 +86,7 @@ __all__ = [
     "centred_running",
     "hunting",
     "curving",
+    "irregular_track",
     "bifurcation",
     "critical_speed",
     "linear_critical_speed_kmh",

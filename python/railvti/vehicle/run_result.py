@@ -131,6 +131,13 @@ class SimulationResult:
         error to expect (:mod:`railvti.vehicle.model_choice`); None otherwise.
     variant_choice : VariantChoice or None
         A scenario run with ``variant='auto'``: the variant chosen, likewise.
+    irregularity : str
+        '' on the perfect track; else the irregular track's source (a spectrum with its seed
+        and band, or a file), its extent and x_start (``simulate(irregularity=...)``).
+    track_input : ndarray (nt, 3, 2, nw) or None
+        On an irregular track: the pose (y m, z m, roll rad) of the rail element under each
+        wheel from the irregularity alone at the outputs (docs/vehicle_irregularity.md),
+        [., ., wheel, wheelset]; None on the perfect track.
 
     Per wheel: :meth:`wheels` (amplitude per wheelset, Q, Y, Y/Q against Nadal's limit, the
     worst wheel) and :attr:`nadal`.
@@ -148,6 +155,8 @@ class SimulationResult:
         "friction": "1",
         "flange_angle": "rad",
         "rail": "m, m, rad (per component: y, z, roll of the element under each wheel)",
+        "irregularity": "text",
+        "track_input": "m, m, rad (per component: y, z, roll of the irregular rail under each wheel)",
         "stats": STAT_UNITS,
     }
     #: Units of the per-wheel outputs and of the statistics (for the runner's records).
@@ -170,6 +179,8 @@ class SimulationResult:
     rail: np.ndarray | None = None
     model_choice: Any = None
     variant_choice: Any = None
+    irregularity: str = ""
+    track_input: np.ndarray | None = None
 
     def _save_attrs(self) -> dict:
         """Labels written beside the arrays by :func:`railvti.runner.result_objects.save`."""
@@ -196,6 +207,19 @@ class SimulationResult:
                     }
                 }
                 if self.rail is not None
+                else {}
+            ),
+            **(
+                {
+                    "track_input": {
+                        "axes": ["t", "component", "wheel", "wheelset"],
+                        "component": ["y", "z", "roll"],
+                        "column_units": ["m", "m", "rad"],
+                        "wheel": WHEEL_SIDES,
+                        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+                    }
+                }
+                if self.track_input is not None
                 else {}
             ),
         }
@@ -264,6 +288,19 @@ class SimulationResult:
                     vc.errors[q],
                     "1 (relative, against the richest variant)",
                 )
+        if self.irregularity:
+            scalars["irregularity"] = (self.irregularity, "text")
+        if self.track_input is not None:
+            data["track_input"] = (
+                self.track_input,
+                "m, m, rad (per component: y, z, roll)",
+                {
+                    "axes": ["t", "component", "wheel", "wheelset"],
+                    "component": ["y", "z", "roll"],
+                    "wheel": WHEEL_SIDES,
+                    "wheelset": wheelsets,
+                },
+            )
         return data, scalars
 
     @property

@@ -1,5 +1,5 @@
-"""Centred running and the hunting test on straight track (railvti.scenarios), with the
-contact patch of a run."""
+"""Centred running, the hunting test and a run over an irregular track on straight track
+(railvti.scenarios), with the contact patch of a run."""
 
 from __future__ import annotations
 
@@ -8,12 +8,15 @@ from typing import Any
 import numpy as np
 
 from .. import _checks
+from ..errors import InputError
 from ..contact.fastsim import fastsim
 from .assembly import System
 from .flexible_points import rail_head_roll, rim_camber_change
 from .params import Coach
 from .scenario_results import CentredRunning
 from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
+from .irregular_track import check_irregularity, fade_in, on_track
+from ..track.irregularity import TrackIrregularity
 from .model import WHEEL_OUTPUTS
 from .model_choice import ModelChoice, auto_contact, auto_variant, flange_scene
 from .run_result import SimulationResult
@@ -29,7 +32,7 @@ from .systems import (
     time_step,
 )
 
-__all__ = ["centred_running", "contact_patch", "hunting"]
+__all__ = ["centred_running", "contact_patch", "hunting", "irregular_track"]
 
 
 def centred_running(
@@ -238,3 +241,98 @@ def _auto_hunting(
 def _exact(sy: System, alpha: float, kw: dict) -> bool:
     """Whether the run (simulate's keywords kw) steps sy's modal blocks exactly."""
     return exact_modal(sy, kw.get("integrator", "hht"), alpha, kw.get("modal_step"))
+
+
+def irregular_track(
+    speed_kmh: float | None = None,
+    irregularity: TrackIrregularity | None = None,
+    variant: str = "RR",
+    contact: str = "hertz-kalker",
+    *,
+    speed: float | None = None,
+    duration: float | None = None,
+    x_start: float | None = None,
+    h: float | None = None,
+    output_dt: float | None = None,
+    lead_in: float = 20.0,
+    coach: Coach | None = None,
+    return_system: bool = False,
+    **kw: Any,
+) -> SimulationResult | tuple[SimulationResult, System, list]:
+    """The coach over an irregular straight track (docs/vehicle_irregularity.md): the static
+    equilibrium at its start, the irregularity faded in ahead of the leading wheelset over
+    ``lead_in``, then the run.
+
+    Parameters
+    ----------
+    speed_kmh : float, optional
+        Speed, km/h (> 0; or ``speed`` in m/s, exactly one).
+    irregularity : TrackIrregularity
+        The track (railvti.track: e.g. ``irregularity_spectra.generate`` or
+        ``irregularity_file.read_csv``, or one made from arrays).
+    variant, contact : str
+        'RR', 'FR', 'RF' or 'FF'; 'hertz-kalker', 'hertz-fastsim' or 'bem'.
+    duration : float, optional
+        Simulated time, s; default: until the leading wheelset reaches the irregularity's end.
+    x_start : float, optional
+        Track position of the coach's origin at t = 0, m; default: the trailing wheelset at
+        the irregularity's start.
+    h, output_dt : float, optional
+        Time step (the variant's default) and output interval (default 2 ms, shortened as
+        in :func:`hunting`), s.
+    lead_in : float
+        The irregularity is zero up to the leading wheelset's start and faded in by a raised
+        cosine over this length, m (:func:`~railvti.vehicle.irregular_track.fade_in`), so that
+        the run starts from the static equilibrium on perfect track (0: no fade, the static
+        equilibrium on the irregular track).
+    coach : Coach, optional
+    return_system : bool
+        Return (SimulationResult, system, layouts) instead.
+    **kw
+        Passed to simulate, and the variants' keys (as :func:`centred_running`).
+
+    Returns
+    -------
+    SimulationResult
+        With ``irregularity`` (the source) and ``track_input`` (the rails under the wheels).
+    """
+    if irregularity is None:
+        raise InputError("irregular_track needs an irregularity (a railvti.track.TrackIrregularity)")
+    irr = check_irregularity(irregularity)
+    v = _checks.speed_si(speed, speed_kmh)
+    check_variant(variant, contact, "irregular_track")
+    kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
+    sy, layouts = scenario_system(variant, coach, v, kw)
+    h = time_step(sy, h)
+    output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
+    xw = np.asarray(sy.x_wheelsets, dtype=float)
+    x0 = float(irr.x[0]) - float(xw.min()) if x_start is None else _checks.finite("x_start", x_start)
+    if duration is None:
+        reach = (float(irr.x[-1]) - x0 - float(xw.max())) / v
+        duration = np.floor(reach / h * (1.0 - 1e-12)) * h
+        if duration < h:
+            raise InputError(
+                f"irregularity ({irr.source or 'no source'}) too short for a run: the coach "
+                f"({xw.max() - xw.min():.4g} m between its wheelsets) does not fit on "
+                f"x = {irr.x[0]:.6g} .. {irr.x[-1]:.6g} m from x_start {x0:.6g} m"
+            )
+    if lead_in != 0.0:
+        irr = fade_in(irr, x0 + float(xw.max()), lead_in)
+    with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
+        with on_track(sy, irr, v, x0):
+            q0, v0, _ = static_equilibrium(sy, v, contact, bem=st, return_velocity=True)
+        run = simulate(
+            sy,
+            v,
+            duration,
+            contact=contact,
+            h=h,
+            output_dt=output_dt,
+            q0=q0,
+            v0=v0,
+            bem=st,
+            irregularity=irr,
+            x_start=x0,
+            **kw,
+        )
+    return (run, sy, layouts) if return_system else run

@@ -11,12 +11,13 @@ opens one BEM state for its equilibrium and its time loop.
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import os
 import time
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
@@ -26,11 +27,13 @@ from .._native import core
 from .._status import check
 from ..errors import ConvergenceError, InputError, RailvtiError
 from ..track.curve import TrackCurve
+from ..track.irregularity import TrackIrregularity
 from .assembly import System
 from .bem import BemOptions, BemState
 from .contact_models import ContactModel, parse_contact_model
 from .curving import attached_curve
 from .equilibrium import call_settings, contact_state, static_equilibrium, wait_idle
+from .irregular_track import check_coverage, check_irregularity, on_track, rail_inputs, source_of
 from .model import CallSettings
 from .params import Coach
 from .run_result import SimulationResult
@@ -147,6 +150,7 @@ def simulate(
     integrator: str = "hht",
     threads: int | None = None,
     curve: TrackCurve | None = None,
+    irregularity: TrackIrregularity | None = None,
     x_start: float = 0.0,
     coach: Coach | None = None,
     modal_step: str | None = None,
@@ -236,8 +240,14 @@ def simulate(
         and RF, integrator 'hht'): the vehicle's reference point (the carbody's centre) is at
         ``x_start`` + speed t along the track; the start state (unless given) is the steady
         state there. None: straight track.
+    irregularity : TrackIrregularity, optional
+        Run on this irregular track (docs/vehicle_irregularity.md): wheelset w at x_start +
+        speed t + ``system.x_wheelsets[w]``, m, for the whole run (InputError otherwise); the
+        static start (no q0) is found on it at t = 0. The result keeps its source and the rail
+        inputs (``irregularity``, ``track_input``). Not with integrator='energy'.
     x_start : float
-        The vehicle's position along the track at t = 0, m (with ``curve``).
+        The position along the track of the coach's reference point (the carbody's centre)
+        at t = 0, m (with ``curve`` or ``irregularity``).
     coach : Coach, optional
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
@@ -282,10 +292,38 @@ def simulate(
         check_modal_step(system, plan.h, plan.scheme == SCHEME_EXACT)
         if curve is not None and plan.scheme == INTEGRATORS["energy"]:
             raise InputError("curve: the curve's tables enter integrator 'hht' only, not 'energy'")
+        run = functools.partial(
+            _run_planned, system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
+        )
         with attached_curve(system, curve, speed, x_start, plan.nsteps * plan.h, coach):
-            return _run_planned(
-                system, speed, spec, bem, plan, q0, v0, fastsim_n, threads, stream_to, stream_tail
-            )
+            if irregularity is None:
+                return run()
+            return _run_on_track(run, system, speed, plan, irregularity, x_start)
+
+
+def _run_on_track(
+    run: Callable[[], SimulationResult],
+    system: System,
+    speed: float,
+    plan: RunPlan,
+    irregularity: Any,
+    x_start: float,
+) -> SimulationResult:
+    """``run()`` (:func:`simulate`'s planned run) on the irregular track, checked, with the
+    irregularity's source and the rail inputs at the outputs in the result."""
+    irr = check_irregularity(irregularity)
+    x_start = _checks.finite("x_start", x_start)
+    if plan.scheme == INTEGRATORS["energy"]:
+        raise InputError(
+            "integrator='energy' conserves the energy of an autonomous system: an irregular "
+            "track is a time-dependent input; use integrator='hht'"
+        )
+    check_coverage(system, irr, speed, plan.nsteps * plan.h, x_start)
+    wait_idle(system)  # a static solve interrupted earlier may still run on this model
+    with on_track(system, irr, speed, x_start):
+        res = run()
+        inputs = rail_inputs(system, res.t)[:, :3]
+    return replace(res, irregularity=source_of(irr, x_start), track_input=inputs)
 
 
 def _run_planned(

@@ -91,6 +91,7 @@ FR_SCENARIOS = (
     "bifurcation",
     "critical_speed",
     "linear_critical",
+    "irregular_track",
 )
 #: Scenarios that run the variants on the ring track, RF and FF.
 RF_SCENARIOS = (
@@ -101,6 +102,7 @@ RF_SCENARIOS = (
     "bifurcation",
     "critical_speed",
     "linear_critical",
+    "irregular_track",
 )
 #: The variants with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
