@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .._checks import to_kmh
+from ..assessment import assess
 from ..casetypes import CaseOutput, CaseType, case_sink, history_bytes, register, split_labels, validate
 from ..errors import InputError
 from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
@@ -57,6 +58,22 @@ def _add(part: tuple[dict, dict], data: dict, scalars: dict) -> None:
     """Add a result's part of the results file, (datasets, scalars), to the case's."""
     data.update(part[0])
     scalars.update(part[1])
+
+
+def _add_assessment(run: Any, coach: Any, data: dict, scalars: dict) -> None:
+    """The run's assessment (railvti.assessment.assess: EN 14363, EN 12299, Sperling) as
+    datasets ``assess_KEY`` (value, unit; labels: limit, limit_source, verdict, ...) and the
+    text table; a streamed run (its tail only in memory) is not assessed, and says so."""
+    if run.streamed:
+        scalars["assessment"] = (
+            "not evaluated: the history was streamed (assess the stored history)",
+            "text",
+        )
+        return
+    a = assess(run, coach=coach)
+    data.update(a.case_data())
+    scalars["assessment"] = (a.table(), "text")
+    scalars["assessment_passed"] = (int(a.passed), "1 (flag: 1 = no row fails)")
 
 
 def _estimated_output_dt(scen: str, speed: float) -> float:
@@ -118,6 +135,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **ring,
         )
         _add(c.run.case_data(), data, scalars)
+        _add_assessment(c.run, coach, data, scalars)
         wl = c.run.wheels().line()
         modal_datasets(c.run, c.system, c.layouts, fr, ring, data, scalars)
         _add(c.case_data(), data, scalars)
@@ -146,6 +164,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **ring,
         )
         _add(r.case_data(), data, scalars)
+        _add_assessment(r, coach, data, scalars)
         wl = r.wheels().line()
         modal_datasets(r, sy, layouts, fr, ring, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
