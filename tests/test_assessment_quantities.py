@@ -271,3 +271,5 @@ def test_bad_input_is_named():
         assess(SimulationResult(**{**r.__dict__, "streamed": "f.h5::g"}))
     with pytest.raises(InputError, match="discarding"):
         assess(r, discard=5.0)
+    with pytest.raises(InputError, match="too few to filter"):
+        assess(_result(duration=0.002))

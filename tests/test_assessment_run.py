@@ -63,4 +63,16 @@ def test_vehicle_case_stores_the_assessment():
     labels = out.attrs["assess_sum_y_2m_prudhomme"]
     assert labels["verdict"] in VERDICTS and "Prud'homme" in labels["limit_source"]
     assert out.datasets["assess_carbody_ay_rms"][1] == "m/s^2"
-    assert "overall:" in out.scalars["assessment"][0]
+    assert "overall:" in out.attrs["assessment_passed"]["table"]
+    assert out.datasets["assessment_passed"][0] in (0, 1)
+
+
+def test_a_case_too_short_to_assess_says_why_and_stands():
+    """5 ms of centred running at the 10 ms output interval: two output times, too few to
+    filter; the case keeps its results and says why it has no assessment."""
+    p = dict(REGISTRY["vehicle"].defaults)
+    p.update(scenario="centred_running", speed_kmh=200.0, duration=0.005, contact="hertz-kalker")
+    out = REGISTRY["vehicle"].run(p)
+    assert "too few to filter" in out.scalars["assessment"][0]
+    assert not any(k.startswith("assess_") for k in out.datasets)
+    assert "Q_final" in out.datasets

@@ -37,7 +37,9 @@ def check_history(name: str, t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, 
 def sampling_rate(t: np.ndarray, name: str = "signal") -> float:
     """1 / dt of evenly spaced times ``t`` (s), Hz; InputError if they are not even (to 1e-6)."""
     dt = np.diff(np.asarray(t, dtype=float))
-    if dt.size < 1 or np.ptp(dt) > 1e-6 * dt.mean():
+    if dt.size < 2:
+        raise InputError(f"{name}: {dt.size + 1} output time(s): too few to filter")
+    if np.ptp(dt) > 1e-6 * dt.mean():
         raise InputError(f"{name}: the output times must be evenly spaced for the standards' filters")
     return 1.0 / float(dt.mean())
 

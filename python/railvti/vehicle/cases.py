@@ -16,6 +16,10 @@ railvti.vehicle.output), speeds_kmh_min/max/step (critical_speed sweep, km/h), a
 prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the
 Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and bounds.
 
+Hunting and centred running also store the run's assessment (railvti.assessment, docs/
+assessment.md): datasets ``assess_KEY`` with units and the labels limit, limit_source,
+verdict, and the flag ``assessment_passed`` with the text table as its label ``table``.
+
 Model FR's results add the modal coordinates with their mode labels (``modal_q`` and
 ``mode_label``, ``mode_k``, ``mode_family``, ``mode_frequency``) and the rims' deformation at
 the contact points (``rim_deformation``; ``rim_camber_change``, the rims' camber, rad;
@@ -63,17 +67,22 @@ def _add(part: tuple[dict, dict], data: dict, scalars: dict) -> None:
 def _add_assessment(run: Any, coach: Any, data: dict, scalars: dict) -> None:
     """The run's assessment (railvti.assessment.assess: EN 14363, EN 12299, Sperling) as
     datasets ``assess_KEY`` (value, unit; labels: limit, limit_source, verdict, ...) and the
-    text table; a streamed run (its tail only in memory) is not assessed, and says so."""
+    flag ``assessment_passed`` carrying the text table as its label ``table``. A streamed
+    run (its tail only in memory) or one the assessment cannot take (too few output times)
+    is not assessed and says why in the scalar ``assessment``: the case itself stands."""
     if run.streamed:
         scalars["assessment"] = (
             "not evaluated: the history was streamed (assess the stored history)",
             "text",
         )
         return
-    a = assess(run, coach=coach)
+    try:
+        a = assess(run, coach=coach)
+    except InputError as exc:
+        scalars["assessment"] = (f"not evaluated: {exc}", "text")
+        return
     data.update(a.case_data())
-    scalars["assessment"] = (a.table(), "text")
-    scalars["assessment_passed"] = (int(a.passed), "1 (flag: 1 = no row fails)")
+    data["assessment_passed"] = (np.int64(a.passed), "1 (flag: 1 = no row fails)", {"table": a.table()})
 
 
 def _estimated_output_dt(scen: str, speed: float) -> float:
