@@ -24,6 +24,7 @@ from railvti.assessment import (
     weighting,
 )
 from railvti.errors import InputError
+from railvti.runner.result_objects import load, save
 from railvti.vehicle import DOF_NAMES, WHEEL_OUTPUTS, SimulationResult
 from railvti.vehicle.params import DEFAULTS
 
@@ -237,6 +238,11 @@ def test_table_and_hdf5_round_trip(tmp_path):
         assert g["carbody_ay_rms"].attrs["units"] == "m/s^2"
         b = Assessment.from_hdf5(g)
     assert [r.key for r in b.rows] == [r.key for r in a.rows]
+    # the generic result file (railvti.runner.result_objects) holds it too
+    c = load(save(a, tmp_path / "obj.h5"))
+    assert c.table() == text
+    with h5py.File(tmp_path / "obj.h5", "r") as f:
+        assert f["result/rows/item2/value"].attrs["units"] == "per the row's unit field"
     for r, s in zip(a.rows, b.rows):
         assert r.verdict == s.verdict and r.unit == s.unit and r.limit_source == s.limit_source
         assert (math.isnan(r.value) and math.isnan(s.value)) or r.value == s.value

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -41,6 +41,12 @@ class Row:
     note : str
         Why a row was not evaluated, or what qualifies it (indicative, ...).
     """
+
+    #: Units for railvti.runner.result_objects.save (the generic result file): per row.
+    FIELD_UNITS: ClassVar[dict[str, str]] = {
+        "value": "per the row's unit field",
+        "limit": "per the row's unit field",
+    }
 
     key: str
     quantity: str
