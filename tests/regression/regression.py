@@ -286,13 +286,15 @@ _HUNTING_RULES: list[tuple[str, Tol]] = [
             ),
         ),
     ),
-    # the assessment rows (railvti.assessment), measured on vehicle_short and vehicle_example
-    ("@hunting:assess_yq_*", _spread(6e-4, 0.0, "5.8e-5 (the 2 m mean of Y/Q)")),
-    ("@hunting:assess_sum_y_*", _spread(2e-5, 0.0, "1.1e-6")),
-    ("@hunting:assess_q_*", _spread(3e-5, 0.0, "2.5e-6")),
-    ("@hunting:assess_carbody_*", _spread(2e-4, 0.0, "1.5e-5")),
-    ("@hunting:assess_bogie_*", _spread(1e-5, 0.0, "9.8e-7")),
-    ("@hunting:assess_wz_*", _spread(2e-5, 0.0, "2.0e-6")),
+    # the assessment rows (railvti.assessment): spreads measured on vehicle_short,
+    # vehicle_example, bifurcation_sweep and default, the largest in the sweep's 440 km/h run
+    # in flange contact
+    ("@hunting:assess_yq_*", _spread(8e-3, 0.0, "7.8e-4 (Y/Q, its 2 m mean)")),
+    ("@hunting:assess_sum_y_*", _spread(3e-3, 0.0, "2.1e-4")),
+    ("@hunting:assess_q_*", _spread(8e-3, 0.0, "7.8e-4 (Q 99.85 % - Q0; Q 99.85 %: 2.9e-4)")),
+    ("@hunting:assess_carbody_*", _spread(3e-3, 0.0, "2.9e-4")),
+    ("@hunting:assess_bogie_*", _spread(2e-3, 0.0, "1.9e-4")),
+    ("@hunting:assess_wz_*", _spread(3e-4, 0.0, "2.8e-5")),
     ("@hunting:stat_newton_iterations", _spread(0.6, 0.0, "5.7e-2 (solver effort)")),
     ("@hunting:stat_tangents", NOT_REPRODUCIBLE),
     ("@hunting:stat_substepped_steps", NOT_REPRODUCIBLE),
