@@ -11,6 +11,7 @@ from railvti.assessment import assess, butterworth_lowpass
 from railvti.assessment.table import VERDICTS
 from railvti.casetypes import REGISTRY
 import railvti.vehicle.cases  # noqa: F401  (registers the case type)
+from railvti.runner.stream import HistoryStream
 
 
 @pytest.fixture(scope="module")
@@ -76,3 +77,16 @@ def test_a_case_too_short_to_assess_says_why_and_stands():
     assert "too few to filter" in out.scalars["assessment"][0]
     assert not any(k.startswith("assess_") for k in out.datasets)
     assert "Q_final" in out.datasets
+
+
+def test_a_stream_reads_back_its_history_and_columns(tmp_path):
+    """HistoryStream.read (the sink's whole history, for the assessment of a streamed run):
+    the appended rows, and the columns asked for in the order asked."""
+    rng = np.random.default_rng(1)
+    blocks = [rng.normal(size=(n, 5)) for n in (3, 4)]
+    with HistoryStream(tmp_path / "s.h5") as s:
+        for b in blocks:
+            s.append({"v": b})
+        full = np.vstack(blocks)
+        assert np.array_equal(s.read("v"), full)
+        assert np.array_equal(s.read("v", [3, 0, 2]), full[:, [3, 0, 2]])

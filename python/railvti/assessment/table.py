@@ -144,29 +144,20 @@ class Assessment:
 
     def case_data(self, prefix: str = "assess_") -> dict[str, tuple]:
         """The rows as a results file's datasets: name -> (value, unit, labels) with labels
-        quantity, limit (same unit), limit_source, verdict, where, note."""
+        quantity, limit and limit_units (only for a row with a limit), limit_source, verdict,
+        where, note."""
         out: dict[str, tuple] = {}
         for r in self.rows:
-            out[prefix + r.key] = (
-                np.float64(r.value),
-                r.unit,
-                {
-                    "quantity": r.quantity,
-                    "limit": float(r.limit),
-                    "limit_units": r.unit,
-                    "limit_source": r.limit_source,
-                    "verdict": r.verdict,
-                    "where": r.where,
-                    "note": r.note,
-                },
-            )
+            lim = {"limit": float(r.limit), "limit_units": r.unit} if math.isfinite(r.limit) else {}
+            labels = {"quantity": r.quantity, **lim, "limit_source": r.limit_source, "verdict": r.verdict}
+            out[prefix + r.key] = (np.float64(r.value), r.unit, {**labels, "where": r.where, "note": r.note})
         return out
 
     def to_hdf5(self, group: Any, name: str = "assessment") -> Any:
         """Write the table into h5py ``group`` as subgroup ``name``: one scalar dataset per
-        row (attributes units, order, quantity, limit, limit_units, limit_source, verdict, where,
-        note), the text table as dataset ``table`` and the overall verdict as an attribute.
-        Returns the subgroup."""
+        row (attributes units, order, quantity, limit and limit_units for a row with a limit,
+        limit_source, verdict, where, note), the text table as dataset ``table`` and the
+        overall verdict as an attribute. Returns the subgroup."""
         g = group.create_group(name)
         g.attrs["title"] = self.title
         g.attrs["passed"] = int(self.passed)
@@ -199,7 +190,7 @@ class Assessment:
                     quantity=text(a["quantity"]),
                     value=float(d[()]),
                     unit=text(a["units"]),
-                    limit=float(a["limit"]),
+                    limit=float(a.get("limit", math.nan)),
                     limit_source=text(a["limit_source"]),
                     where=text(a["where"]),
                     note=text(a["note"]),
