@@ -537,6 +537,11 @@ class HistorySink(Protocol):
         """``data`` (name -> (array, unit[, labels])) with the arrays the sink holds replaced
         by references (:class:`Streamed`) to them: a case's output that the runner copies."""
 
+    def read(self, name: str, columns: Any = None) -> Any:
+        """The whole history of dataset ``name`` appended so far (an ndarray; with
+        ``columns``, only those indices of its second axis): for quantities of the whole
+        run (the assessment) that the case computes after the run."""
+
 
 #: The provider of sinks for the case running in this context (set by the runner while it
 #: runs a case; None outside ``railvti run``): nbytes, **kw -> a HistorySink or None.

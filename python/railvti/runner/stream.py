@@ -180,6 +180,21 @@ class HistoryStream:
         self._fh.check()  # a full disk: WriteFailed (the run stops with exit 3)
         self.rows += k
 
+    def read(self, name: str, columns: Any = None) -> np.ndarray:
+        """The rows of dataset ``name`` appended so far (``columns``: only those indices of
+        its second axis), read through the open file."""
+        if self._file is None or name not in self._group:
+            raise InputError(f"the stream {self.where} holds no dataset {name!r}")
+        d = self._group[name]
+        if columns is None:
+            return d[: self.rows]
+        cols = [int(c) for c in columns]
+        order = np.argsort(cols)
+        out = d[: self.rows, sorted(cols)]  # h5py reads increasing indices
+        back = np.empty_like(order)
+        back[order] = np.arange(len(cols))
+        return out[:, back]
+
     def names(self) -> list[str]:
         """The datasets of the stream."""
         return list(self._group.keys()) if self._file is not None else list(self._names)

@@ -16,6 +16,10 @@ railvti.vehicle.output), speeds_kmh_min/max/step (critical_speed sweep, km/h), a
 prefixed 'coach_' (railvti.vehicle.DEFAULTS, e.g. coach_carbody_mass) to override the
 Manchester benchmark coach. ``railvti cases vehicle`` lists them with units and bounds.
 
+Hunting and centred running also store the run's assessment (railvti.assessment, docs/
+assessment.md): datasets ``assess_KEY`` with units and the labels limit, limit_source,
+verdict, and the flag ``assessment_passed`` with the text table as its label ``table``.
+
 Model FR's results add the modal coordinates with their mode labels (``modal_q`` and
 ``mode_label``, ``mode_k``, ``mode_family``, ``mode_frequency``) and the rims' deformation at
 the contact points (``rim_deformation``; ``rim_camber_change``, the rims' camber, rad;
@@ -31,12 +35,14 @@ prefix 'ring_' (``ring_modal_q``, ``ring_mode_label``, ...) beside ``rail_deflec
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .._checks import to_kmh
+from ..assessment import assess
 from ..casetypes import CaseOutput, CaseType, case_sink, history_bytes, register, split_labels, validate
 from ..errors import InputError
 from .bifurcation import AMPLITUDE_WINDOW, amplitude, bifurcation
@@ -57,6 +63,43 @@ def _add(part: tuple[dict, dict], data: dict, scalars: dict) -> None:
     """Add a result's part of the results file, (datasets, scalars), to the case's."""
     data.update(part[0])
     scalars.update(part[1])
+
+
+def _add_assessment(run: Any, coach: Any, data: dict, scalars: dict, stream: Any = None) -> None:
+    """The run's assessment (railvti.assessment.assess: EN 14363, EN 12299, Sperling) as
+    datasets ``assess_KEY`` (value, unit; labels: limit, limit_source, verdict, ...) and the
+    flag ``assessment_passed`` carrying the text table as its label ``table``. A streamed
+    run is assessed from its sink's whole history (the bodies' velocities and the wheel
+    forces only), so it stores what the run kept in memory stores. A run the assessment
+    cannot take (too few output times) says why in the scalar ``assessment``: the case
+    itself stands."""
+    try:
+        a = assess(_assessed_history(run, stream), coach=coach)
+    except InputError as exc:
+        scalars["assessment"] = (f"not evaluated: {exc}", "text")
+        return
+    data.update(a.case_data())
+    data["assessment_passed"] = (np.int64(a.passed), "1 (flag: 1 = no row fails)", {"table": a.table()})
+
+
+def _assessed_history(run: Any, stream: Any) -> Any:
+    """``run`` itself, or for a streamed run the history the assessment reads, from the sink:
+    t, the carbody's and bogie frames' q and v, the wheel forces Q and Y."""
+    if not run.streamed:
+        return run
+    if stream is None:
+        raise InputError(f"the history was streamed to {run.streamed} and its sink is gone")
+    cols = [i for i, n in enumerate(run.dof_names) if n.startswith(("carbody_", "bogie"))]
+    wheel = np.stack([stream.read("wheel_Q"), stream.read("wheel_Y")], axis=1)  # Q, Y: rows 0, 1
+    return replace(
+        run,
+        t=stream.read("t"),
+        q=stream.read("q", cols),
+        v=stream.read("v", cols),
+        wheel=wheel,
+        dof_names=tuple(run.dof_names[i] for i in cols),
+        streamed="",
+    )
 
 
 def _estimated_output_dt(scen: str, speed: float) -> float:
@@ -118,6 +161,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **ring,
         )
         _add(c.run.case_data(), data, scalars)
+        _add_assessment(c.run, coach, data, scalars, stream)
         wl = c.run.wheels().line()
         modal_datasets(c.run, c.system, c.layouts, fr, ring, data, scalars)
         _add(c.case_data(), data, scalars)
@@ -146,6 +190,7 @@ def run(params: dict[str, Any]) -> CaseOutput:
             **ring,
         )
         _add(r.case_data(), data, scalars)
+        _add_assessment(r, coach, data, scalars, stream)
         wl = r.wheels().line()
         modal_datasets(r, sy, layouts, fr, ring, data, scalars)
         nright = r.wheel_output("N_tread")[:, 1, 0] + r.wheel_output("N_flange")[:, 1, 0]
