@@ -41,6 +41,7 @@ BASE = {
     "track_element": "n_sleepers = 16",
     "wheelset": "k_max = 1",
     "vehicle": "scenario = 'hunting', duration = 1.0",
+    "line": "route_length = 200.0, curve_radius = 0.0",
 }
 SMALL_NORMAL = "&case name = 'small', type = 'normal', " + BASE["normal"] + " /\n"
 

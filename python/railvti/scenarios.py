@@ -54,6 +54,7 @@ from .vehicle.linear_stability import (
 )
 from .vehicle.params import Coach
 from .vehicle.curve_running import CurveRun, SteadyCurving, curving
+from .vehicle.line_running import LineRun, line_run
 from .vehicle.running import centred_running, contact_patch, hunting, irregular_track
 from .vehicle.scenario_results import Bifurcation, CentredRunning, CriticalSpeed
 from .vehicle.systems import (
@@ -86,6 +87,7 @@ __all__ = [
     "centred_running",
     "hunting",
     "curving",
+    "line_run",
     "irregular_track",
     "bifurcation",
     "critical_speed",
@@ -100,6 +102,7 @@ __all__ = [
     "Bifurcation",
     "CriticalSpeed",
     "CurveRun",
+    "LineRun",
     "SteadyCurving",
     # systems
     "coach_system",

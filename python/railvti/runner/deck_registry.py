@@ -20,6 +20,7 @@ _AREAS = (
     "railvti.track.cases",
     "railvti.wheelset.cases",
     "railvti.vehicle.cases",
+    "railvti.vehicle.line_case",
 )
 
 

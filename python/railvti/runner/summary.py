@@ -51,6 +51,12 @@ FIGURES = (
         "speed, continuation and small-disturbance branches",
     ),
     ("_pressure.png", "normal pressure on the contact grid"),
+    (
+        "_line.png",
+        "a line case over the position along the track: the rails' input under the leading "
+        "wheelset, its Q and Y, and the track-shifting force against Prud'homme's limit "
+        "(grey: the curve)",
+    ),
 )
 
 
@@ -146,6 +152,10 @@ def summary(path: str | Path, plots: str | Path | None = None) -> str:
         for name, points in sweeps.items():
             if len(points) > MAX_POINT_PLOTS:
                 lines += _sweep_table(name, points, width)
+        for k, g in shown:  # a line case's assessment table (railvti.assessment)
+            if _text(g.attrs.get("type", "")) == "line" and "assessment_passed" in g:
+                lines.append(f"assessment of {k}:")
+                lines += ["  " + t for t in _text(g["assessment_passed"].attrs.get("table", "")).splitlines()]
     pngs = sorted(plots.glob(f"{path.stem}_*.png")) if plots.is_dir() else []
     if pngs:
         lines.append(f"figures in {plots}/ ({len(pngs)} PNG files):")

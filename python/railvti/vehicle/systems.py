@@ -92,6 +92,7 @@ FR_SCENARIOS = (
     "critical_speed",
     "linear_critical",
     "irregular_track",
+    "line_run",
 )
 #: Scenarios that run the variants on the ring track, RF and FF.
 RF_SCENARIOS = (
@@ -103,6 +104,7 @@ RF_SCENARIOS = (
     "critical_speed",
     "linear_critical",
     "irregular_track",
+    "line_run",
 )
 #: The variants with flexible wheelsets (mode selection k_max, f_max) and on the ring track.
 FLEXIBLE_WHEELSETS, RING_TRACK = ("FR", "FF"), ("RF", "FF")
