@@ -21,7 +21,7 @@ from .table import (
     geometry_table,
 )
 from .field import Creepages, GapField, creepages, gap_field
-from .conicity import equivalent_conicity, klingel_wavelength
+from .conicity import conicity_of_delta_r, equivalent_conicity, klingel_wavelength
 
 __all__ = [
     "TrackLayout",
@@ -41,6 +41,7 @@ __all__ = [
     "Creepages",
     "gap_field",
     "creepages",
+    "conicity_of_delta_r",
     "equivalent_conicity",
     "klingel_wavelength",
 ]

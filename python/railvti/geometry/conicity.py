@@ -8,7 +8,7 @@ from .. import _checks
 from ..errors import InputError
 from .table import GeometryTable
 
-__all__ = ["equivalent_conicity", "klingel_wavelength"]
+__all__ = ["conicity_of_delta_r", "equivalent_conicity", "klingel_wavelength"]
 
 
 def equivalent_conicity(
@@ -48,14 +48,40 @@ def equivalent_conicity(
     if np.any(np.abs(table.yaw) > 0):
         raise InputError("equivalent conicity needs a geometry table at zero yaw")
     ok = table.ok & np.isfinite(table.delta_r)
-    y, dr = table.y[ok], table.delta_r[ok]
+    out = conicity_of_delta_r(table.y[ok], table.delta_r[ok], amp, n_quad)
+    return float(out[0]) if np.ndim(amplitude) == 0 else out
+
+
+def conicity_of_delta_r(
+    y: np.ndarray, delta_r: np.ndarray, amplitude: float | np.ndarray = 0.003, n_quad: int = 4000
+) -> float | np.ndarray:
+    """Equivalent conicity from a tabulated rolling-radius difference (the formula of
+    :func:`equivalent_conicity`), e.g. a measured Delta-r function or EN 15302's reference
+    ones.
+
+    Parameters
+    ----------
+    y, delta_r : ndarray
+        Lateral displacements and the rolling-radius difference there, in one unit (m, or
+        mm as the standard tabulates them), any order.
+    amplitude : float or ndarray
+        Amplitude(s), in the unit of y (> 0, inside the table).
+    n_quad : int
+        Quadrature points over one period.
+    """
+    amp = np.atleast_1d(np.asarray(amplitude, dtype=float))
+    _checks.finite_array("amplitude", amp)
+    if np.any(amp <= 0):
+        raise InputError("amplitude must be > 0")
+    y = np.asarray(_checks.finite_array("y", y), dtype=float)
+    dr = np.asarray(_checks.finite_array("delta_r", delta_r), dtype=float)
+    if y.shape != dr.shape or y.ndim != 1:
+        raise InputError(f"y {y.shape} and delta_r {dr.shape} must be 1-D arrays of one length")
     order = np.argsort(y)
     y, dr = y[order], dr[order]
     if y.size < 3 or amp.max() > min(-y[0], y[-1]) + 1e-12:
-        raise InputError(
-            f"the table (ok for y in [{y[0] * 1e3:.3g}, {y[-1] * 1e3:.3g}] mm) does not "
-            f"cover +-{amp.max() * 1e3:.3g} mm"
-        )
+        lo, hi = (y[0], y[-1]) if y.size else (np.nan, np.nan)
+        raise InputError(f"the table (y in [{lo:.3g}, {hi:.3g}]) does not cover +-{amp.max():.3g}")
     t = (np.arange(_checks.positive_int("n_quad", n_quad, 16)) + 0.5) * (2 * np.pi / n_quad)
     st = np.sin(t)
     out = np.array([np.mean(np.interp(A * st, y, dr) * st) / A for A in amp])
