@@ -175,10 +175,12 @@ def curve_tables(
 
 
 def _check_variant(system: System) -> None:
+    """InputError for a system with flexible wheelsets (variants FR, FF): their journal
+    springs couple modal points whose frames the curve's tables do not offset yet."""
     mb = system.modal
-    if mb is not None and getattr(system, "ring", None) is None:
-        raise InputError("curve: variants RR and RF only (flexible wheelsets in curves are not yet built)")
-    if mb is not None and getattr(mb, "couplings", None) is not None and mb.couplings.rim_follow is not None:
+    cpl = getattr(mb, "couplings", None) if mb is not None else None
+    rims = getattr(cpl, "rim_wheelsets", None) if cpl is not None else None
+    if rims is not None and len(rims) > 0:
         raise InputError("curve: variants RR and RF only (flexible wheelsets in curves are not yet built)")
 
 
