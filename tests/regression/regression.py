@@ -439,6 +439,7 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
         ("wheel_spin", _vehicle_noise(1e-12, "1/m")),
         ("wheel_y_cp", _vehicle_noise(1e-12, "m")),
         ("wheel_M_*", _vehicle_noise(1e-6, "N m")),
+        ("wheel_T_gamma", _vehicle_noise(1e-6, "N (T gamma of a centred run is 1e-13 N of round-off)")),
         (
             "max_Q_error",
             Tol(
