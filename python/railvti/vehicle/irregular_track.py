@@ -30,6 +30,7 @@ from .assembly import System
 from .equilibrium import wait_idle
 
 __all__ = [
+    "run_span",
     "CROSS_LEVEL_BASE",
     "INPUTS",
     "node_slopes",
@@ -198,3 +199,29 @@ def source_of(irregularity: TrackIrregularity, x_start: float) -> str:
         f"{src}; x = {irregularity.x[0]:.6g} .. {irregularity.x[-1]:.6g} m, "
         f"{irregularity.x.size} samples; x_start = {x_start:.6g} m"
     )
+
+
+def run_span(
+    irregularity: TrackIrregularity,
+    x_wheelsets: np.ndarray,
+    speed: float,
+    h: float,
+    x_start: float | None = None,
+    duration: float | None = None,
+) -> tuple[float, float]:
+    """The start and duration of a run over an irregularity: x_start (m) default the trailing
+    wheelset at its start, duration (s) default a whole number of steps h until the leading
+    wheelset reaches its end (InputError when the coach does not fit)."""
+    xw = np.asarray(x_wheelsets, dtype=float)
+    irr = irregularity
+    x0 = float(irr.x[0]) - float(xw.min()) if x_start is None else _checks.finite("x_start", x_start)
+    if duration is None:
+        reach = (float(irr.x[-1]) - x0 - float(xw.max())) / speed
+        duration = float(np.floor(reach / h * (1.0 - 1e-12)) * h)
+        if duration < h:
+            raise InputError(
+                f"irregularity ({irr.source or 'no source'}) too short for a run: the coach "
+                f"({xw.max() - xw.min():.4g} m between its wheelsets) does not fit on "
+                f"x = {irr.x[0]:.6g} .. {irr.x[-1]:.6g} m from x_start {x0:.6g} m"
+            )
+    return x0, duration

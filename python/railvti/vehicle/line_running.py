@@ -20,7 +20,7 @@ from ..track.curve import TrackCurve
 from ..track.irregularity import TrackIrregularity
 from .curving import attached_curve
 from .equilibrium import contact_state, static_equilibrium
-from .irregular_track import check_irregularity, fade_in, on_track
+from .irregular_track import check_irregularity, fade_in, on_track, run_span
 from .params import Coach
 from .run_result import SimulationResult
 from .simulate import simulate
@@ -116,14 +116,7 @@ def line_run(
     h = time_step(sy, h)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.01)
     xw = np.asarray(sy.x_wheelsets, dtype=float)
-    x0 = float(irr.x[0]) - float(xw.min()) if x_start is None else _checks.finite("x_start", x_start)
-    if duration is None:
-        reach = (float(irr.x[-1]) - x0 - float(xw.max())) / v
-        duration = float(np.floor(reach / h * (1.0 - 1e-12)) * h)
-        if duration < h:
-            raise InputError(
-                f"irregularity ({irr.source or 'no source'}) too short for a run from x_start {x0:.6g} m"
-            )
+    x0, duration = run_span(irr, xw, v, h, x_start, duration)
     if lead_in != 0.0:
         irr = fade_in(irr, x0 + float(xw.max()), _checks.non_negative("lead_in", lead_in))
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 
 from .. import _checks
@@ -217,24 +217,35 @@ def choose_contact(scene: str, tolerance: float, quantities: Sequence[str] | Non
         Unknown scene or quantity, or no measured model within the tolerance (the message
         gives the smallest error measured per quantity).
     """
-    tol = _checks.positive("tolerance", tolerance)
     cands = measured(scene)
+    chosen = _cheapest(cands, scene, tolerance, quantities, "contact model")
+    log.info(chosen.line())
+    return chosen
+
+
+def _cheapest(cands: list, scene: str, tolerance: float, quantities: Sequence[str] | None, what: str):
+    """The first of ``cands`` (cheapest first; ModelChoice or VariantChoice) whose errors on
+    ``quantities`` (None: all measured) are within ``tolerance``, with them set; InputError
+    for an unknown quantity or when none is within (naming the smallest errors)."""
+    tol = _checks.positive("tolerance", tolerance)
     known = tuple(cands[0].errors)
     qs = tuple(known if quantities is None else quantities)
     bad = [q for q in qs if q not in known]
     if bad or not qs:
         raise InputError(f"quantities {bad or list(qs)}: scene {scene!r} has measured errors of {known}")
-    for m in cands:
-        if all(m.errors[q] <= tol for q in qs):
-            chosen = ModelChoice(**{**m.__dict__, "quantities": qs})
-            log.info(chosen.line())
-            return chosen
-    best = {q: min(m.errors[q] for m in cands) for q in qs}
+    for c in cands:
+        if all(c.errors[q] <= tol for q in qs):
+            return replace(c, quantities=qs)
+    best = {q: min(c.errors[q] for c in cands) for q in qs}
     raise InputError(
-        f"tolerance {tol:g}: no measured contact model on scene {scene!r} is within it on {list(qs)}; "
-        f"the smallest errors measured are "
+        f"tolerance {tol:g}: no measured {what} on scene {scene!r} is within it on {list(qs)}; "
+        "the smallest errors measured are "
         + ", ".join(f"{q} {100 * e:.2f} %" for q, e in best.items())
-        + " (the 0.5 mm BEM is the study's reference: give contact='bem' with its grid yourself)"
+        + (
+            " (the 0.5 mm BEM is the study's reference: give contact='bem' with its grid yourself)"
+            if what == "contact model"
+            else ""
+        )
     )
 
 
@@ -348,7 +359,6 @@ def choose_variant(scene: str, tolerance: float, quantities: Sequence[str] | Non
     InputError
         Unknown scene or quantity, or no variant within the tolerance.
     """
-    tol = _checks.positive("tolerance", tolerance)
     if scene not in _VARIANT_TABLES:
         raise InputError(f"scene {scene!r}: no measured variant table; the scenes are {VARIANT_SCENES}")
     source, table = _VARIANT_TABLES[scene]
@@ -356,17 +366,9 @@ def choose_variant(scene: str, tolerance: float, quantities: Sequence[str] | Non
         (VariantChoice(v, rtf, MappingProxyType(dict(e)), scene, source) for v, (rtf, e) in table.items()),
         key=lambda c: c.rtf,
     )
-    known = tuple(cands[0].errors)
-    qs = tuple(known if quantities is None else quantities)
-    bad = [q for q in qs if q not in known]
-    if bad or not qs:
-        raise InputError(f"quantities {bad or list(qs)}: scene {scene!r} has measured errors of {known}")
-    for c in cands:
-        if all(c.errors[q] <= tol for q in qs):
-            chosen = VariantChoice(**{**c.__dict__, "quantities": qs})
-            log.info(chosen.line())
-            return chosen
-    raise InputError(f"tolerance {tol:g}: no variant on scene {scene!r} is within it on {list(qs)}")
+    chosen = _cheapest(cands, scene, tolerance, quantities, "variant")
+    log.info(chosen.line())
+    return chosen
 
 
 def auto_variant(kw: dict, scene: str) -> tuple[str, VariantChoice]:

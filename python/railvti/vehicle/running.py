@@ -15,7 +15,7 @@ from .flexible_points import rail_head_roll, rim_camber_change
 from .params import Coach
 from .scenario_results import CentredRunning
 from .equilibrium import contact_state, lateral_disturbance, static_equilibrium
-from .irregular_track import check_irregularity, fade_in, on_track
+from .irregular_track import check_irregularity, fade_in, on_track, run_span
 from ..track.irregularity import TrackIrregularity
 from .model import WHEEL_OUTPUTS
 from .model_choice import ModelChoice, auto_contact, auto_variant, flange_scene
@@ -306,16 +306,7 @@ def irregular_track(
     h = time_step(sy, h)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
     xw = np.asarray(sy.x_wheelsets, dtype=float)
-    x0 = float(irr.x[0]) - float(xw.min()) if x_start is None else _checks.finite("x_start", x_start)
-    if duration is None:
-        reach = (float(irr.x[-1]) - x0 - float(xw.max())) / v
-        duration = np.floor(reach / h * (1.0 - 1e-12)) * h
-        if duration < h:
-            raise InputError(
-                f"irregularity ({irr.source or 'no source'}) too short for a run: the coach "
-                f"({xw.max() - xw.min():.4g} m between its wheelsets) does not fit on "
-                f"x = {irr.x[0]:.6g} .. {irr.x[-1]:.6g} m from x_start {x0:.6g} m"
-            )
+    x0, duration = run_span(irr, xw, v, h, x_start, duration)
     if lead_in != 0.0:
         irr = fade_in(irr, x0 + float(xw.max()), lead_in)
     with contact_state(sy, contact, kw.pop("bem", None), kw.pop("bem_options", None)) as st:
