@@ -56,7 +56,7 @@ from .systems import FLEXIBLE_WHEELSETS, RING_TRACK, hunting_conicity, resolve_g
 from .deck_datasets import modal_datasets, patch_datasets, stream_derived
 from .deck_keys import ALIASES, DEFAULTS, KEYS, SCENARIOS, check, coach_from, fr_selection, ring_selection
 
-__all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot"]
+__all__ = ["DEFAULTS", "KEYS", "ALIASES", "NAN_MEANINGS", "check", "run", "plot", "stored_scalar"]
 
 
 def _add(part: tuple[dict, dict], data: dict, scalars: dict) -> None:
@@ -279,10 +279,10 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                 np.asarray(res["speeds_kmh"]),
                 np.asarray(res["upper_amplitude"]),
                 np.asarray(res["decay_amplitude"]),
-                _scalar(res, "critical_speed_linear"),
+                stored_scalar(res, "critical_speed_linear"),
                 outdir / f"{stem}_bifurcation.png",
                 title=_sweep_title(group, res),
-                critical_kmh=_scalar(res, "critical_speed_nonlinear"),
+                critical_kmh=stored_scalar(res, "critical_speed_nonlinear"),
             )
         ]
     title = _run_title(res)
@@ -305,7 +305,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
                 np.asarray(res["ws_y"]),
                 np.asarray(res["wheel_Q"]),
                 np.asarray(res["wheel_Y"]),
-                _scalar(res, "nadal_limit"),
+                stored_scalar(res, "nadal_limit"),
                 outdir / f"{stem}_wheels.png",
                 title,
             )
@@ -315,7 +315,8 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
             plot_patch(
                 *(np.asarray(res[f"patch_{k}"]) for k in ("x", "y", "pressure", "tx", "ty", "power_density")),
                 outdir / f"{stem}_patch.png",
-                f"leading wheelset, right wheel, t = {_scalar(res, 'patch_time'):.3g} s: {_run_title(res)}",
+                f"leading wheelset, right wheel, t = {stored_scalar(res, 'patch_time'):.3g} s: "
+                f"{_run_title(res)}",
             )
         )
     return paths
@@ -335,7 +336,7 @@ register(
 )
 
 
-def _scalar(res: Any, key: str) -> float:
+def stored_scalar(res: Any, key: str) -> float:
     """A scalar result stored as a dataset or an attribute; NaN when absent."""
     if key in res:
         return float(np.asarray(res[key]))
@@ -371,7 +372,7 @@ def _run_title(res: Any) -> str:
     """'hunting, 420 km/h, model RR, hertz-fastsim' from a result group ('... on the strips'
     with the strip contact geometry)."""
     parts = [_text(res, "scenario")]
-    speed = _scalar(res, "speed_kmh")
+    speed = stored_scalar(res, "speed_kmh")
     if not np.isfinite(speed) and "inputs" in res and "speed" in res["inputs"]:
         try:  # the deck's speed, m/s (a case stores no speed_kmh)
             speed = to_kmh(float(np.asarray(res["inputs"]["speed"])))

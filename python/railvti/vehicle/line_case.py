@@ -32,6 +32,7 @@ from ..track.irregularity_file import read_csv
 from ..track.irregularity_spectra import SPECTRA, generate
 from ..track.irregularity import TrackIrregularity
 from .contact_models import CONTACT_MODELS
+from .cases import stored_scalar
 from .line_running import line_run
 from .systems import VARIANTS
 
@@ -124,6 +125,12 @@ def check(params: dict[str, Any]) -> list[str]:
     if duration > params["max_duration"]:
         out.append(f"the line takes {duration:g} s, above max_duration = {params['max_duration']:g} s")
     return out
+
+
+def _text(res: Any, key: str) -> str:
+    """A text scalar of a stored case ('' when absent)."""
+    v = np.asarray(res[key])[()] if key in res else res.attrs.get(key, "")
+    return v.decode() if isinstance(v, bytes) else str(v)
 
 
 def _irregularity(params: dict[str, Any]) -> TrackIrregularity:
@@ -228,22 +235,25 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     ax[3].set_ylabel("sum Y, kN")
     ax[3].set_xlabel("position of the carbody's centre along the track, m")
 
-    def scalar(key: str) -> float | None:  # a scalar result (a dataset or an attribute)
-        if key in res:
-            return float(np.asarray(res[key]))
-        return float(res.attrs[key]) if key in res.attrs else None
-
-    start = scalar("curve_start")
+    start = stored_scalar(res, "curve_start")
+    curved = bool(np.isfinite(start))
     for a in ax:
-        if start is not None:  # the curve: clothoid, arc, clothoid
-            end = start + 2 * scalar("curve_transition_in") + scalar("curve_arc_length")
+        if curved:  # the curve: clothoid, arc, clothoid
+            end = (
+                start + 2 * stored_scalar(res, "curve_transition_in") + stored_scalar(res, "curve_arc_length")
+            )
             a.axvspan(start, end, color="0.9", zorder=0)
         a.legend(fontsize=8, loc="upper right")
         a.grid(alpha=0.3)
-    if start is not None:
+    if curved:
         ax[0].set_title(
-            f"track input under the leading wheelset (grey: the curve, R {scalar('curve_radius'):g} m)"
+            "track input under the leading wheelset "
+            f"(grey: the curve, R {stored_scalar(res, 'curve_radius'):g} m)"
         )
+    fig.suptitle(
+        f"line: model {_text(res, 'model')}, {_text(res, 'contact')}, "
+        f"{stored_scalar(res, 'speed') * KMH_PER_M_S:.0f} km/h, {_text(res, 'irregularity').split(';')[0]}"
+    )
     fig.tight_layout()
     out = Path(outdir) / f"{stem}_line.png"
     fig.savefig(out, dpi=100)

@@ -74,6 +74,17 @@ def _dof_unit(name: str, rate: bool) -> str:
     return f"{unit}/s" if rate and unit != "1" else unit
 
 
+def _pose_labels(nw: int) -> dict[str, Any]:
+    """Labels of an (nt, 3, 2, nw) array of rail poses (y, z, roll) under each wheel."""
+    return {
+        "axes": ["t", "component", "wheel", "wheelset"],
+        "component": ["y", "z", "roll"],
+        "column_units": ["m", "m", "rad"],
+        "wheel": WHEEL_SIDES,
+        "wheelset": [f"ws{w + 1}" for w in range(nw)],
+    }
+
+
 @dataclass(frozen=True)
 class SimulationResult:
     """Time histories of one run.
@@ -196,32 +207,7 @@ class SimulationResult:
                 "wheel": WHEEL_SIDES,
                 "wheelset": [f"ws{w + 1}" for w in range(nw)],
             },
-            **(
-                {
-                    "rail": {
-                        "axes": ["t", "component", "wheel", "wheelset"],
-                        "component": ["y", "z", "roll"],
-                        "column_units": ["m", "m", "rad"],
-                        "wheel": WHEEL_SIDES,
-                        "wheelset": [f"ws{w + 1}" for w in range(nw)],
-                    }
-                }
-                if self.rail is not None
-                else {}
-            ),
-            **(
-                {
-                    "track_input": {
-                        "axes": ["t", "component", "wheel", "wheelset"],
-                        "component": ["y", "z", "roll"],
-                        "column_units": ["m", "m", "rad"],
-                        "wheel": WHEEL_SIDES,
-                        "wheelset": [f"ws{w + 1}" for w in range(nw)],
-                    }
-                }
-                if self.track_input is not None
-                else {}
-            ),
+            **{name: _pose_labels(nw) for name in ("rail", "track_input") if getattr(self, name) is not None},
         }
 
     def case_data(self) -> tuple[dict, dict]:
@@ -294,12 +280,7 @@ class SimulationResult:
             data["track_input"] = (
                 self.track_input,
                 "m, m, rad (per component: y, z, roll)",
-                {
-                    "axes": ["t", "component", "wheel", "wheelset"],
-                    "component": ["y", "z", "roll"],
-                    "wheel": WHEEL_SIDES,
-                    "wheelset": wheelsets,
-                },
+                _pose_labels(nw),
             )
         return data, scalars
 
