@@ -30,6 +30,7 @@ module contact_fastsim
     implicit none
     private
     public :: fastsim_ellipse, fastsim_ellipse_fields, fastsim_strips, kalker_interp, kalker_ratio_in_table
+    public :: flexibilities, shape_pressure, discrete_load
 
 contains
 

@@ -41,6 +41,10 @@
 !> -D^-1 s0 if it lies in the disc, else the unique t = -g e with
 !> s = lambda e, lambda > 0, found by a monotone Newton iteration on lambda.
 !>
+!> Other friction laws (static/kinetic, slip-velocity dependent: contact_friction)
+!> replace element_solve by friction_element_solve (bound mu(V lam) p, the solution
+!> with the smallest slip where several exist) when rolling_steady gets one.
+!>
 !> Iteration: row-implicit Gauss-Seidel. Point Gauss-Seidel on this system
 !> diverges (spectral radius 115 for a 208-element Hertz patch): the element's
 !> own pivot At(0) - At(+dx) is as large as its coupling to the downstream
@@ -96,6 +100,7 @@ module contact_rolling
     use contact_influence, only: KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_plans, only: workspace
     use contact_convolution, only: conv_plan, conv_apply_pair
+    use contact_friction, only: friction_law, friction_element_solve, friction_is_constant, RULE_CONTINUOUS
     implicit none
     private
     public :: rolling_steady, element_solve
@@ -146,6 +151,11 @@ module contact_rolling
         !> (2 nc, 2 nc) dense slip operator of the contact set (direct products, nc <= SOP_MAX)
         real(dp), allocatable :: sop(:, :)
         type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
+        !> a slip-velocity-dependent or static/kinetic friction law (contact_friction):
+        !> bound holds mu_s p and the element problems go to friction_element_solve
+        logical :: varlaw = .false.
+        type(friction_law) :: law
+        real(dp) :: speed = 0.0_dp                ! rolling speed, m/s
     end type rolling_patch
 
 contains
@@ -225,6 +235,31 @@ contains
         ty = -g * ey
     end subroutine element_solve
 
+    !> The element problem by the solve's friction law: element_solve (constant
+    !> Coulomb: today's path, unchanged) or contact_friction's friction_element_solve;
+    !> (scx, scy): the slip of the current iterate, for the rule RULE_CONTINUOUS.
+    !> nsol_out (optional): the element problem's solutions (1 on today's path).
+    pure subroutine element_any(pa, s0x, s0y, kx, ky, g, scx, scy, tx, ty, stat, lam, nsol_out)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: s0x, s0y, kx, ky, g, scx, scy
+        real(dp), intent(out) :: tx, ty, lam
+        integer, intent(out) :: stat
+        integer, intent(out), optional :: nsol_out
+        integer :: nsol
+        nsol = 1
+        if (pa%varlaw) then
+            if (pa%law%rule == RULE_CONTINUOUS) then
+                call friction_element_solve(pa%law, pa%speed, s0x, s0y, kx, ky, g, tx, ty, stat, lam, nsol, &
+                                            lam_prev=sqrt(scx * scx + scy * scy))
+            else
+                call friction_element_solve(pa%law, pa%speed, s0x, s0y, kx, ky, g, tx, ty, stat, lam, nsol)
+            end if
+        else
+            call element_solve(s0x, s0y, kx, ky, g, tx, ty, stat, lam)
+        end if
+        if (present(nsol_out)) nsol_out = nsol
+    end subroutine element_any
+
     !> Steady rolling: tangential tractions for the pressure p on the grid of
     !> workspace w (made with the tangential kernels).
     !>
@@ -238,8 +273,12 @@ contains
     !> product (optional, PRODUCT_AUTO by default): how u = A t is formed, by FFT
     !> (PRODUCT_FFT) or by direct sums over the contact box (PRODUCT_DIRECT); the
     !> two agree to rounding.
+    !> law (optional): a friction law (contact_friction) other than constant Coulomb;
+    !> mu must then be law%mu_s. Without it (or with mu_s = mu_k) today's path runs
+    !> unchanged. nmulti (optional): elements whose final element problem has more
+    !> than one solution (contact_friction's rule picked the smallest slip; 0 without law).
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                              tx, ty, status, sx, sy, iters, resid, info, product)
+                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: p(:, :)            ! pressure, Pa, (nx, ny)
         real(dp), intent(in) :: x0, y0             ! centre of element (1, 1), m
@@ -255,15 +294,18 @@ contains
         real(dp), intent(out) :: resid
         integer, intent(out) :: info
         integer, intent(in), optional :: product
+        type(friction_law), intent(in), optional :: law
+        integer, intent(out), optional :: nmulti
 
         type(rolling_patch) :: pa
         type(anderson_state) :: aa
         real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
         real(dp) :: r2, n2, rbest
-        integer :: nblk, it, prod
+        integer :: nblk, it, prod, nm
 
         iters = 0
         resid = 0.0_dp
+        if (present(nmulti)) nmulti = 0
         status = ST_EXTERIOR
         sx = 0.0_dp
         sy = 0.0_dp
@@ -281,6 +323,13 @@ contains
         end if
         call patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
         if (info /= STAT_OK) return
+        if (present(law)) then
+            if (.not. friction_is_constant(law)) then
+                pa%varlaw = .true.
+                pa%law = law
+                pa%speed = speed
+            end if
+        end if
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
@@ -336,7 +385,8 @@ contains
         call project_all(pa, tx, ty)
         if (info /= STAT_NOT_FINITE) then
             call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
-            call final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy)
+            call final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy, nm)
+            if (present(nmulti)) nmulti = nm
         end if
     end subroutine rolling_steady
 
@@ -572,7 +622,8 @@ contains
                 if (.not. pa%inc(i, j)) cycle
                 s0x = pa%wx(i, j) + gx(i, j) - pa%kx * tx(i, j)
                 s0y = pa%wy(i, j) + gy(i, j) - pa%ky * ty(i, j)
-                call element_solve(s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), ntx, nty, st, lam)
+                call element_any(pa, s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), pa%wx(i, j) + gx(i, j), &
+                                 pa%wy(i, j) + gy(i, j), ntx, nty, st, lam)
                 r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
                 n2 = n2 + ntx**2 + nty**2
             end do
@@ -581,20 +632,29 @@ contains
 
     !> Status and slip velocity (m/s) of every element in contact for the
     !> tractions t on the exact field u = A t (its slip g given, field).
-    subroutine final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy)
+    !> nmulti: elements whose problem has several solutions (friction laws only).
+    subroutine final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy, nmulti)
         type(rolling_patch), intent(in) :: pa
         real(dp), intent(in) :: gx(:, :), gy(:, :), tx(:, :), ty(:, :), speed
         integer, intent(inout) :: status(:, :)
         real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: nmulti
         real(dp) :: s0x, s0y, ntx, nty, lam
-        integer :: i, j, st
+        integer :: i, j, st, nsol
+        nmulti = 0
         do j = pa%j1, pa%j2
             do i = pa%i1, pa%i2
                 if (.not. pa%inc(i, j)) cycle
                 s0x = pa%wx(i, j) + gx(i, j)
                 s0y = pa%wy(i, j) + gy(i, j)
-                call element_solve(s0x - pa%kx * tx(i, j), s0y - pa%ky * ty(i, j), pa%kx, pa%ky, &
-                                   pa%bound(i, j), ntx, nty, st, lam)
+                if (pa%varlaw) then
+                    call element_any(pa, s0x - pa%kx * tx(i, j), s0y - pa%ky * ty(i, j), pa%kx, pa%ky, &
+                                     pa%bound(i, j), s0x, s0y, ntx, nty, st, lam, nsol_out=nsol)
+                    if (nsol > 1) nmulti = nmulti + 1
+                else
+                    call element_solve(s0x - pa%kx * tx(i, j), s0y - pa%ky * ty(i, j), pa%kx, pa%ky, &
+                                       pa%bound(i, j), ntx, nty, st, lam)
+                end if
                 status(i, j) = st
                 if (st == ST_SLIP) then
                     sx(i, j) = speed * s0x
@@ -850,7 +910,7 @@ contains
                     end if
                     s0x = scx - pivx * tx(ii, jr)
                     s0y = scy - pivy * ty(ii, jr)
-                    call element_solve(s0x, s0y, pivx, pivy, pa%bound(ii, jr), ntx, nty, st, lam)
+                    call element_any(pa, s0x, s0y, pivx, pivy, pa%bound(ii, jr), scx, scy, ntx, nty, st, lam)
                     dlx = (ntx - tx(ii, jr)) / mx(q, q)
                     dly = (nty - ty(ii, jr)) / my(q, q)
                     if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
