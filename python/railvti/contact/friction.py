@@ -517,7 +517,22 @@ def fastsim_friction(
         raise InputError("fn must be > 0 and the creepages finite")
     c11, c22, c23 = (float(c) for c in kalker_coefficients(a / b, material.poisson))
     fx, fy, mz, nm = core.fastsim_friction_c(
-        a, b, material.shear_modulus, c11, c22, c23, *law._args(), law._rule, k, f, xi, eta, phi, speed, nx, ny
+        a,
+        b,
+        material.shear_modulus,
+        c11,
+        c22,
+        c23,
+        *law._args(),
+        law._rule,
+        k,
+        f,
+        xi,
+        eta,
+        phi,
+        speed,
+        nx,
+        ny,
     )
     return fx, fy, mz, nm
 
