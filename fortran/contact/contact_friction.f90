@@ -289,6 +289,10 @@ contains
         scale = abs(hi) + abs(kx * p * law%mu_s) + abs(ky * p * law%mu_s)
         lam = 0.5_dp * (a + b)
         if (b - a <= 1.0e-14_dp * scale) return
+        ! start: the root for the bound frozen at the bracket's low end (exact for a constant
+        ! bound and kx = ky; within the bracket's first per cent otherwise): 2-4 Newton steps
+        lnew = sqrt(s0x * s0x + s0y * s0y) - 0.5_dp * (kx + ky) * bound_at(law, speed, p, a)
+        if (lnew > a .and. lnew < b) lam = lnew
         do it = 1, 200
             call froot(law, speed, p, s0x, s0y, kx, ky, lam, f, fp)
             if ((f > 0.0_dp) .eqv. (fa > 0.0_dp)) then
@@ -307,7 +311,8 @@ contains
                 dl = lnew - lam
             end if
             lam = lnew
-            if (abs(dl) <= 1.0e-12_dp * scale .or. b - a <= 1.0e-14_dp * scale) exit
+            ! quadratic convergence: a step below 1e-10 of the scale leaves ~1e-20
+            if (abs(dl) <= 1.0e-10_dp * scale .or. b - a <= 1.0e-14_dp * scale) exit
         end do
     end subroutine bracketed_root
 
