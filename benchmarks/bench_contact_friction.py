@@ -97,7 +97,9 @@ def main() -> None:
                     if k not in best or v["t"] < best[k]["t"]:
                         best[k] = v
         print(f"\ngrid {n} x {n} (best of {a.samples} x {a.reps} solves), load {os.getloadavg()[0]:.2f}")
-        print(f"{'case':28s} {'old ms':>8s} {'new ms':>8s} {'new/old':>8s} {'sweeps':>7s} {'-Fx/Fn':>8s} {'same bits':>9s}")
+        print(
+            f"{'case':28s} {'old ms':>8s} {'new ms':>8s} {'new/old':>8s} {'sweeps':>7s} {'-Fx/Fn':>8s} {'same bits':>9s}"
+        )
         for k, v in best_new.items():
             o = best_old.get(k)
             if o is None:
