@@ -622,8 +622,12 @@ contains
                 if (.not. pa%inc(i, j)) cycle
                 s0x = pa%wx(i, j) + gx(i, j) - pa%kx * tx(i, j)
                 s0y = pa%wy(i, j) + gy(i, j) - pa%ky * ty(i, j)
-                call element_any(pa, s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), pa%wx(i, j) + gx(i, j), &
-                                 pa%wy(i, j) + gy(i, j), ntx, nty, st, lam)
+                if (pa%varlaw) then
+                    call element_any(pa, s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), pa%wx(i, j) + gx(i, j), &
+                                     pa%wy(i, j) + gy(i, j), ntx, nty, st, lam)
+                else
+                    call element_solve(s0x, s0y, pa%kx, pa%ky, pa%bound(i, j), ntx, nty, st, lam)
+                end if
                 r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
                 n2 = n2 + ntx**2 + nty**2
             end do
@@ -910,7 +914,11 @@ contains
                     end if
                     s0x = scx - pivx * tx(ii, jr)
                     s0y = scy - pivy * ty(ii, jr)
-                    call element_any(pa, s0x, s0y, pivx, pivy, pa%bound(ii, jr), scx, scy, ntx, nty, st, lam)
+                    if (pa%varlaw) then
+                        call element_any(pa, s0x, s0y, pivx, pivy, pa%bound(ii, jr), scx, scy, ntx, nty, st, lam)
+                    else
+                        call element_solve(s0x, s0y, pivx, pivy, pa%bound(ii, jr), ntx, nty, st, lam)
+                    end if
                     dlx = (ntx - tx(ii, jr)) / mx(q, q)
                     dly = (nty - ty(ii, jr)) / my(q, q)
                     if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
