@@ -16,6 +16,7 @@ from .grid import Grid
 from .hertz import hertz, hertz_gap
 from .normal import solve_normal
 from .plots_rolling import plot_rolling
+from .friction import FrictionLaw, solve_tangential_friction
 from .rolling import solve_rolling
 
 _COMMON = {
@@ -148,7 +149,50 @@ _KEYS_ROLLING = dict(
     method=Key(
         "", "tangential solver: 'fftgs' (FFT-refreshed Gauss-Seidel) or 'gs'", "str", choices=("fftgs", "gs")
     ),
+    # friction laws (docs/contact_friction.md): mu is then the static coefficient (Polach's mu0)
+    friction_law=Key(
+        "",
+        "friction law; mu is its static coefficient (default: constant mu)",
+        "str",
+        choices=("coulomb", "linear", "rational", "exponential", "polach"),
+        optional=True,
+    ),
+    mu_kinetic=Key(
+        "1", "kinetic coefficient of the friction law (<= mu)", lo=0.0, hi=MAX_FRICTION, optional=True
+    ),
+    friction_halving_speed_m_s=Key(
+        "m/s", "slip velocity at which mu - mu_kinetic is halved", lo=0.0, hi=1e3, lo_open=True, optional=True
+    ),
+    polach_a=Key(
+        "1", "Polach's A = mu_infinity / mu (friction_law = 'polach')", lo=0.0, hi=1.0, optional=True
+    ),
+    friction_decay_s_m=Key(
+        "s/m", "Polach's B, decay of mu with the slip velocity", lo=0.0, hi=1e3, lo_open=True, optional=True
+    ),
+    friction_root_rule=Key(
+        "",
+        "which of several element solutions: 'continuous' (with the iterate) or 'smallest' slip",
+        "str",
+        choices=("continuous", "smallest"),
+    ),
 )
+_FRICTION_KEYS = ("mu_kinetic", "friction_halving_speed_m_s", "polach_a", "friction_decay_s_m")
+
+
+def friction_law_of(p: dict[str, Any]) -> FrictionLaw | None:
+    """The friction law of a rolling case's keys (None: today's constant ``mu``); raises
+    InputError naming the key when the coefficients are inconsistent."""
+    if p.get("friction_law") is None:
+        given = [k for k in _FRICTION_KEYS if p.get(k) is not None]
+        if given:
+            raise InputError(
+                f"{given[0]} needs friction_law (one of coulomb, linear, rational, exponential, polach)"
+            )
+        return None
+    keys = {"friction_law": str(p["friction_law"]).lower(), "mu_static": p["mu"]}
+    keys.update({k: p[k] for k in _FRICTION_KEYS if p.get(k) is not None})
+    keys["friction_root_rule"] = str(p.get("friction_root_rule") or "continuous").lower()
+    return FrictionLaw.from_keys(keys)
 
 
 def _check_gap(p: dict[str, Any]) -> list[str]:
@@ -214,6 +258,10 @@ def check_rolling(p: dict[str, Any]) -> list[str]:
         out.append("give both gap curvatures gap_a, gap_b (1/m) or both semi-axes semi_a, semi_b (m)")
     if any(semi) and str(p["gap"]).lower() != "hertz":
         out.append("semi_a, semi_b describe a 'hertz' gap only")
+    try:
+        friction_law_of(p)
+    except InputError as exc:
+        out.append(str(exc))
     if all(semi):
         ratio = max(p["semi_a"], p["semi_b"]) / min(p["semi_a"], p["semi_b"])
         if ratio > MAX_SEMI_RATIO:
@@ -373,19 +421,30 @@ def run_rolling(params: dict[str, Any]) -> CaseOutput:
             params["semi_a"], params["semi_b"], params["fn"], material
         )
     grid, gap, material = make_gap(params)
-    r = solve_rolling(
-        gap,
-        grid,
-        material,
-        params["mu"],
-        params["fn"],
-        (params["xi"], params["eta"], params["phi"]),
-        params["speed"],
-        method=params["method"],
-        tol=params["tol"],
-        max_iter=params["max_iter"],
-        normal_method=params["normal_method"],
-    )
+    law = friction_law_of(params)
+    creep = (params["xi"], params["eta"], params["phi"])
+    n_multiple = 0
+    if law is None:
+        r = solve_rolling(
+            gap,
+            grid,
+            material,
+            params["mu"],
+            params["fn"],
+            creep,
+            params["speed"],
+            method=params["method"],
+            tol=params["tol"],
+            max_iter=params["max_iter"],
+            normal_method=params["normal_method"],
+        )
+    else:
+        normal = solve_normal(gap, grid, material, fn=params["fn"], method=params["normal_method"])
+        rf = solve_tangential_friction(
+            normal.pressure, grid, material, law, creep, params["speed"], method=params["method"],
+            tol=params["tol"], max_iter=params["max_iter"],
+        )  # fmt: skip
+        r, n_multiple = rf.rolling, rf.n_multiple
     n_slip = int(r.slip.sum())
     out = CaseOutput(
         summary=(
@@ -424,6 +483,11 @@ def run_rolling(params: dict[str, Any]) -> CaseOutput:
             "method": (r.method, ""),
         },
     )
+    if law is not None:
+        out.scalars["n_multiple"] = (n_multiple, "elements with several solutions")
+        out.summary += f", {law.law} friction law" + (
+            f", {n_multiple} elements with several solutions" if n_multiple else ""
+        )
     return out
 
 
@@ -444,6 +508,12 @@ _ROLLING.update(
         "tol": 1e-7,
         "max_iter": None,
         "normal_method": "cg",
+        "friction_law": None,
+        "mu_kinetic": None,
+        "friction_halving_speed_m_s": None,
+        "polach_a": None,
+        "friction_decay_s_m": None,
+        "friction_root_rule": "continuous",
     }
 )
 register(
@@ -463,6 +533,7 @@ __all__ = [
     "MIN_PATCH_ELEMENTS",
     "check_normal",
     "check_rolling",
+    "friction_law_of",
     "MAX_SEMI_RATIO",
     "make_gap",
     "run_normal",
