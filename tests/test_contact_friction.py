@@ -29,7 +29,8 @@ from railvti.material import Material
 MAT = Material(shear_modulus=82e9, poisson=0.28)
 # Eurosprinter-like contact: wheel radius 0.625 m, rail crown 0.3 m, wheel load 100 kN
 GAP_A, GAP_B, FN, SPEED = 0.8, 1.0 / 0.6, 100e3, 40.0 / 3.6
-# Polach 2005 (Wear 258, Table 2), Eurosprinter dry: mu0, A, B (s/m), kA, kS
+# Polach 2005 (Wear 258, Table 2, as recalled: not checked against the paper here), Eurosprinter dry:
+# mu0, A, B (s/m), kA, kS
 DRY = (0.55, 0.40, 0.60, 1.00, 0.40)
 
 

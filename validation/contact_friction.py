@@ -5,9 +5,8 @@ Wear 258 (2005) 992-1000, fitted his model to traction measurements of the Euros
 locomotive (SBB 460 / Siemens ES64) on dry and wet rails. His friction law
 ``mu = mu0 ((1 - A) exp(-B w) + A)`` (w the slip velocity) and reduction factors
 k_A, k_S of the creep stiffness (dry: mu0 0.55, A 0.40, B 0.60 s/m, k_A 1.00, k_S 0.40;
-wet: mu0 0.30, A 0.40, B 0.20 s/m, k_A 0.30, k_S 0.10; the values of his Table 2 as
-used in the literature that reproduces the case, e.g. Vollebregt 2014, VSD 52 suppl.;
-the paper itself could not be opened here to check them) are used with:
+wet: mu0 0.30, A 0.40, B 0.20 s/m, k_A 0.30, k_S 0.10: his Table 2 as recalled; the
+paper's text could not be opened here to check them) are used with:
 
 * the BEM steady rolling solver with the falling law (``railvti.contact.friction``),
   without slope reduction (the elastic half-space has none);

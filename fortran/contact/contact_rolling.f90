@@ -42,8 +42,9 @@
 !> s = lambda e, lambda > 0, found by a monotone Newton iteration on lambda.
 !>
 !> Other friction laws (static/kinetic, slip-velocity dependent: contact_friction)
-!> replace element_solve by friction_element_solve (bound mu(V lam) p, the solution
-!> with the smallest slip where several exist) when rolling_steady gets one.
+!> replace element_solve by friction_element_solve (bound mu(V lam) p; where several
+!> solutions exist, the law's rule picks one: the smallest slip, or the one nearest the
+!> current iterate's slip) when rolling_steady gets one.
 !>
 !> Iteration: row-implicit Gauss-Seidel. Point Gauss-Seidel on this system
 !> diverges (spectral radius 115 for a 208-element Hertz patch): the element's
@@ -276,7 +277,7 @@ contains
     !> law (optional): a friction law (contact_friction) other than constant Coulomb;
     !> mu must then be law%mu_s. Without it (or with mu_s = mu_k) today's path runs
     !> unchanged. nmulti (optional): elements whose final element problem has more
-    !> than one solution (contact_friction's rule picked the smallest slip; 0 without law).
+    !> than one solution (the law's rule picked one of them; 0 without law).
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
                               tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti)
         type(workspace), intent(inout) :: w

@@ -39,8 +39,8 @@ from ..material import Material
 from .grid import Grid
 from .kalker import kalker_coefficients
 from .normal import solve_normal
-from .rolling import DEFAULT_BLOCK, DEFAULT_INNER, RollingResult, solve_tangential
-from .workspace import call_directly, workspace
+from .rolling import DEFAULT_BLOCK, DEFAULT_INNER, DIRECT_CALL_WORK, RollingResult, solve_tangential
+from .workspace import call_directly, call_interruptibly, workspace
 
 _KINDS = {"coulomb": 0, "linear": 1, "rational": 2, "exponential": 3}
 _RULES = {"smallest": 0, "continuous": 1}
@@ -303,7 +303,9 @@ def solve_tangential_friction(
         ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape).copy(order="F")
     if p[-2:, :].max() > 0.0:
         raise GridTooSmallError(_EDGE_MESSAGE)
-    status, sx, sy, iters, resid, nmulti, info = call_directly(
+    # as solve_tangential: a long solve in a worker thread that Ctrl-C can leave
+    call = call_interruptibly if grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
+    status, sx, sy, iters, resid, nmulti, info = call(
         workspace(grid, material, tangential=True),
         core.rolling_friction_solve_c,
         p,
