@@ -303,3 +303,22 @@ def test_polach_bad_reduction_factors():
         fastsim_friction(
             h.a, h.b, MAT, FrictionLaw.constant(0.3), FN, (0.01, 0, 0), SPEED, slope_reduction=0.0
         )
+
+
+@pytest.mark.parametrize(
+    ("law", "speed"),
+    [
+        (FrictionLaw("coulomb", 0.5, 0.3), 30.0),
+        (FrictionLaw("exponential", 0.5, 0.1, 5e-4), 50.0),
+        (FrictionLaw("rational", 0.5, 0.2, 1e-2), 30.0),
+    ],
+)
+def test_every_creepage_converges_or_states_several_solutions(patch, law, speed):
+    # acceptance: steady rolling at every creepage converges, or the result states that
+    # element problems had several solutions (steep laws: k p V max|mu'| >> 1)
+    grid, gap, _, _ = patch
+    xi = np.concatenate([np.geomspace(2e-4, 5e-3, 8), [1e-2, 3e-2]])
+    c = creep_curve_friction(gap, grid, MAT, law, FN, xi, speed, max_iter=800)
+    assert np.all(c.converged | (c.n_multiple > 0))
+    assert c.converged[-2:].all()  # full slip converges
+    assert -c.fx[-1] / c.fn == pytest.approx(law.mu_kinetic, rel=2e-2)
