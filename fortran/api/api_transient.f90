@@ -49,12 +49,12 @@ end subroutine transient_step_c
 
 !> A transient march of nt steps on the grid of workspace `handle`
 !> (contact_transient::transient_run; arguments as there): gap h (m), normal force
-!> fn(n) (N), kshift elements moved per step, weight th, mu, grid origin x0, y0 (m),
+!> fn(n) (N) (pgiven /= 0: the pressure fn(n) h, h in 1/m^2), kshift elements moved per step, weight th, mu, grid origin x0, y0 (m),
 !> rolled distance per step dist (m), creep(:, n) = (xi, eta, phi), control 0 shift
 !> increments / 1 forces in load(:, n) (m / N), keep(n) /= 0 stores the fields of
 !> step n (nkeep at most). info: transient_run's status; STAT_BAD_HANDLE no such
 !> workspace, or one of another grid size.
-subroutine transient_run_c(handle, nx, ny, nt, nkeep, h, fn, kshift, th, mu, x0, y0, dist, creep, control, &
+subroutine transient_run_c(handle, nx, ny, nt, nkeep, h, pgiven, fn, kshift, th, mu, x0, y0, dist, creep, control, &
                            load, tol, max_iter, tol_n, max_iter_n, keep, fx, fy, fno, q, ncon, nslip, iters, &
                            resids, infos, ktx, kty, kst, ksx, ksy, kp, info)
     use iso_c_binding, only: c_int, c_double
@@ -63,7 +63,7 @@ subroutine transient_run_c(handle, nx, ny, nt, nkeep, h, fn, kshift, th, mu, x0,
     use contact_transient, only: transient_run
     implicit none
     !f2py threadsafe
-    integer(c_int), intent(in) :: handle, nx, ny, nt, nkeep, kshift, control, max_iter, max_iter_n
+    integer(c_int), intent(in) :: handle, nx, ny, nt, nkeep, pgiven, kshift, control, max_iter, max_iter_n
     real(c_double), intent(in) :: h(nx, ny), fn(nt), th, mu, x0, y0, dist, creep(3, nt), load(2, nt), tol, tol_n
     integer(c_int), intent(in) :: keep(nt)
     real(c_double), intent(out) :: fx(nt), fy(nt), fno(nt), q(2, nt), resids(nt)
@@ -96,7 +96,7 @@ subroutine transient_run_c(handle, nx, ny, nt, nkeep, h, fn, kshift, th, mu, x0,
     end if
     allocate (nc(nt), ns(nt), it(nt), nf(nt), st(nx, ny, nkeep), kp_(nt))
     kp_ = keep
-    call transient_run(w, h, fn, kshift, th, mu, x0, y0, dist, creep, control, load, tol, max_iter, tol_n, &
+    call transient_run(w, h, pgiven /= 0, fn, kshift, th, mu, x0, y0, dist, creep, control, load, tol, max_iter, tol_n, &
                        max_iter_n, kp_, fx, fy, fno, q, nc, ns, it, resids, nf, ktx, kty, st, ksx, ksy, kp, stat)
     ncon = nc
     nslip = ns

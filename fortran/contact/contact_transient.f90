@@ -390,7 +390,8 @@ contains
     end subroutine transient_force
 
     !> March nt steps (module doc): per step n the normal problem for the gap h and
-    !> the force fn(n) (re-solved when fn changes), then the tangential step with the
+    !> the force fn(n) (re-solved when fn changes; with pgiven the pressure fn(n) h
+    !> instead, h then the pressure per newton, 1/m^2), then the tangential step with the
     !> history. kshift: elements the material moves per step (V dt = kshift dx; 0 for
     !> a shift problem); th: the weight of eq. T2 (0: eq. T1); dist: rolled distance
     !> per step, m, scaling the creepages creep(:, n) = (xi, eta, phi) into the rigid
@@ -405,11 +406,12 @@ contains
     !> the normal solver's failure; STAT_NOT_FINITE), the march stopped there;
     !> STAT_NOT_CONVERGED if some step did not converge (the march goes on);
     !> STAT_BAD_ARGUMENT bad kshift, th, control or sizes; STAT_BAD_HANDLE no tangential kernels.
-    subroutine transient_run(w, h, fn, kshift, th, mu, x0, y0, dist, creep, control, load, tol, max_iter, &
+    subroutine transient_run(w, h, pgiven, fn, kshift, th, mu, x0, y0, dist, creep, control, load, tol, max_iter, &
                              tol_n, max_iter_n, keep, fx, fy, fno, q, ncon, nslip, iters, resids, infos, &
                              ktx, kty, kst, ksx, ksy, kp, info)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: h(:, :), fn(:), th, mu, x0, y0, dist, creep(:, :), load(:, :), tol, tol_n
+        logical, intent(in) :: pgiven
         integer, intent(in) :: kshift, control, max_iter, max_iter_n, keep(:)
         real(dp), intent(out) :: fx(:), fy(:), fno(:), q(:, :), resids(:)
         integer, intent(out) :: ncon(:), nslip(:), iters(:), infos(:), info
@@ -446,8 +448,13 @@ contains
             if (n == 1 .or. fn(n) /= fn(max(n - 1, 1))) then
                 fnk = fn(n)
                 appr = 0.0_dp
-                call normal_cg(w%plan, KERNEL_ZZ, w%c(:, :, KERNEL_ZZ), h, da, CONTROL_FORCE, fnk, appr, tol_n, &
-                               max_iter_n, p, itn, nprod, resn, stat)
+                stat = STAT_OK
+                if (pgiven) then
+                    p = max(fnk * h, 0.0_dp)
+                else
+                    call normal_cg(w%plan, KERNEL_ZZ, w%c(:, :, KERNEL_ZZ), h, da, CONTROL_FORCE, fnk, appr, &
+                                   tol_n, max_iter_n, p, itn, nprod, resn, stat)
+                end if
                 if (stat == STAT_OK .and. .not. patch_fits(p, kshift, th)) stat = STAT_GRID_EDGE
                 if (stat /= STAT_OK) then
                     infos(n) = stat
