@@ -229,3 +229,34 @@ def test_patch_on_the_grid_edge():
     g = Grid(10, 10, h.a / 5, h.a / 5)
     with pytest.raises((GridTooSmallError, InputError)):
         shift_problem(hertz_gap(g, A, A), g, STEEL, MU, FN, (0.5 * MU * FN, 0.0))
+
+
+_CHILD = """
+import sys, numpy as np
+from railvti.contact import hertz, hertz_gap, Grid, transient_rolling
+from railvti.material import STEEL
+h = hertz(10.0, 10.0, 1e4, STEEL)
+g = Grid.covering(h.a, h.a, 8, 1.2)
+g = Grid(g.nx + 4, g.ny, g.dx, g.dy, g.x0, g.y0)
+r = transient_rolling(g, STEEL, 0.3, 1e4, (-0.002, 0, 0), 30.0, 2 * h.a, gap=hertz_gap(g, 10.0, 10.0))
+np.save(sys.argv[1], np.concatenate([r.fx, r.last.tx.ravel()]))
+"""
+
+
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_independent_of_threads_and_workspace_cache(tmp_path, threads):
+    """The same march in a fresh process with 1 or 2 OpenMP/BLAS threads (cold workspace
+    cache), and here after clearing the cache: bit-identical."""
+    import os
+    import subprocess
+    import sys
+
+    from railvti.contact import workspace
+
+    h, g, gap = _sphere(8, extra=4)
+    workspace.clear()
+    r = transient_rolling(g, STEEL, MU, FN, (-0.002, 0, 0), 30.0, 2 * h.a, gap=gap)
+    env = dict(os.environ, OMP_NUM_THREADS=threads, OPENBLAS_NUM_THREADS=threads)
+    out = tmp_path / "child.npy"
+    subprocess.run([sys.executable, "-c", _CHILD, str(out)], check=True, env=env, timeout=300)
+    assert np.array_equal(np.load(out), np.concatenate([r.fx, r.last.tx.ravel()]))

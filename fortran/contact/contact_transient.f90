@@ -36,18 +36,18 @@
 !> term) and any per-element bound g (e.g. another friction law): the kernel
 !> transient_tangential takes both as fields.
 !>
-!> Force control (transient_force): the rigid shift q (m, added to s0 everywhere)
-!> is found by a safeguarded 1-D root search (bracketing, then Illinois false
-!> position) along the direction e of the wanted force change, so that e.F
-!> matches; the force across e is not controlled (zero by symmetry for a
-!> symmetric patch loaded along an axis of symmetry).
+!> Force control (transient_force): the rigid shift q (m, added to s0 everywhere) is
+!> the unknown that carries the force F = da sum t. Each iteration projects onto the
+!> discs and the affine set sum t = F / da at once (project_force: t_I = P_I(z_I - lam),
+!> the multiplier lam (2) by Newton on the concave dual); lam / step is the shift q,
+!> so one solve gives both (S = s0 + q + cs A t, eq. T3 with the force as a constraint).
 !>
 !> transient_run marches a sequence of steps: the normal problem re-solved when
 !> the normal force changes (contact_normal::normal_cg), then the tangential step
 !> with the history of the last one or two steps.
 !> Implements eqs T1-T3 (docs/equations.md).
 module contact_transient
-    use common_kinds, only: dp, pi
+    use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
                              STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE
     use contact_influence, only: KERNEL_XX, KERNEL_YY, KERNEL_XY, KERNEL_ZZ
@@ -67,8 +67,6 @@ module contact_transient
     !> separated, so 12 iterations give it to about 1e-4).
     integer, parameter :: NPOWER = 12
     real(dp), parameter :: LSAFE = 1.05_dp
-    !> Force evaluations of transient_force at most.
-    integer, parameter :: MAX_FORCE_EVALS = 60
 
 contains
 
@@ -80,7 +78,7 @@ contains
     !> STAT_BAD_HANDLE a workspace without the tangential kernels;
     !> STAT_BAD_ARGUMENT cs <= 0; STAT_NOT_FINITE non-finite values.
     subroutine transient_tangential(w, inc, bound, s0x, s0y, cs, tol, max_iter, tx, ty, ux, uy, &
-                                    status, slx, sly, iters, resid, info)
+                                    status, slx, sly, iters, resid, info, force, da, q)
         type(workspace), intent(inout) :: w
         logical, intent(in) :: inc(:, :)            ! (nx, ny) elements in contact
         real(dp), intent(in) :: bound(:, :)         ! (nx, ny) traction bound g, Pa
@@ -93,13 +91,24 @@ contains
         real(dp), intent(out) :: slx(:, :), sly(:, :)   ! slip S over the step (0 in adhesion), m
         integer, intent(out) :: iters, info
         real(dp), intent(out) :: resid
+        real(dp), intent(in), optional :: force(2), da  ! force control: the force (N), element area (m^2)
+        real(dp), intent(out), optional :: q(2)         ! force control: the rigid shift found, m
         real(dp), allocatable :: px(:, :), py(:, :), apx(:, :), apy(:, :), nx_(:, :), ny_(:, :)
-        real(dp) :: lmax, step, tk, tk1, beta, r2, n2, dot, kx, ky
+        real(dp) :: lmax, step, tk, tk1, beta, r2, n2, dot, kx, ky, lam(2), c(2), qq(2)
         integer :: it
+        logical :: fc
 
         iters = 0
         resid = 0.0_dp
         info = STAT_OK
+        fc = present(force) .and. present(da) .and. present(q)
+        lam = 0.0_dp
+        qq = 0.0_dp
+        c = 0.0_dp
+        if (fc) then
+            q = 0.0_dp
+            c = force / da
+        end if
         status = ST_EXTERIOR
         slx = 0.0_dp
         sly = 0.0_dp
@@ -121,7 +130,12 @@ contains
             info = STAT_NO_CONTACT
             return
         end if
-        call project_set(inc, bound, tx, ty)
+        if (fc) then
+            call project_force(inc, bound, c, tx, ty, lam, info)
+            if (info /= STAT_OK) return
+        else
+            call project_set(inc, bound, tx, ty)
+        end if
         kx = cs * w%c(0, 0, KERNEL_XX)
         ky = cs * w%c(0, 0, KERNEL_YY)
         lmax = cs * power_lmax(w, inc)
@@ -135,7 +149,7 @@ contains
         tk = 1.0_dp
         it = 0
         do
-            call jacobi_residual(inc, bound, s0x, s0y, cs, kx, ky, tx, ty, ux, uy, r2, n2)
+            call jacobi_residual(inc, bound, s0x, s0y, qq, cs, kx, ky, tx, ty, ux, uy, r2, n2)
             if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
                 info = STAT_NOT_FINITE
                 resid = huge(1.0_dp)
@@ -155,8 +169,15 @@ contains
             it = it + 1
             tk1 = 0.5_dp * (1.0_dp + sqrt(1.0_dp + 4.0_dp * tk * tk))
             beta = (tk - 1.0_dp) / tk1
-            call fista_step(inc, bound, s0x, s0y, cs, step, beta, tx, ty, px, py, ux, uy, apx, apy, &
-                            nx_, ny_, dot)
+            call fista_step(inc, bound, s0x, s0y, cs, step, beta, .not. fc, tx, ty, px, py, ux, uy, apx, apy, &
+                            nx_, ny_)
+            if (fc) then
+                ! the projection onto the discs and the force: its multiplier is the shift (step) q
+                call project_force(inc, bound, c, nx_, ny_, lam, info)
+                if (info /= STAT_OK) exit
+                qq = lam / step
+            end if
+            dot = restart_dot(inc, beta, tx, ty, px, py, nx_, ny_)
             px = tx
             py = ty
             tx = nx_
@@ -168,42 +189,147 @@ contains
             tk = merge(1.0_dp, tk1, dot > 0.0_dp)
         end do
         iters = it
-        if (info /= STAT_NOT_FINITE) call final_state(inc, bound, s0x, s0y, cs, kx, ky, tx, ty, ux, uy, &
+        if (fc) q = qq
+        if (info /= STAT_NOT_FINITE) call final_state(inc, bound, s0x, s0y, qq, cs, kx, ky, tx, ty, ux, uy, &
                                                      status, slx, sly)
     end subroutine transient_tangential
 
-    !> One projected gradient step from the extrapolated point
-    !> y = t + beta (t - tp) (field A y = u + beta (u - up) by linearity):
-    !> tn = P(y - step grad f(y)), grad f = s0 + cs A y; dot = (y - tn).(tn - t),
-    !> positive when the momentum should be dropped (gradient restart).
-    pure subroutine fista_step(inc, bound, s0x, s0y, cs, step, beta, tx, ty, px, py, ux, uy, apx, apy, &
-                               tnx, tny, dot)
-        logical, intent(in) :: inc(:, :)
+    !> One gradient step from the extrapolated point y = t + beta (t - tp) (field
+    !> A y = u + beta (u - up) by linearity): tn = y - step grad f(y), grad f = s0 + cs A y,
+    !> put on the discs when proj (else the caller projects: force control).
+    pure subroutine fista_step(inc, bound, s0x, s0y, cs, step, beta, proj, tx, ty, px, py, ux, uy, apx, apy, &
+                               tnx, tny)
+        logical, intent(in) :: inc(:, :), proj
         real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, step, beta
         real(dp), intent(in) :: tx(:, :), ty(:, :), px(:, :), py(:, :)
         real(dp), intent(in) :: ux(:, :), uy(:, :), apx(:, :), apy(:, :)
-        real(dp), intent(out) :: tnx(:, :), tny(:, :), dot
-        real(dp) :: yx, yy, gx, gy, ax, ay
+        real(dp), intent(out) :: tnx(:, :), tny(:, :)
+        real(dp) :: gx, gy, ax, ay
         integer :: i, j
-        dot = 0.0_dp
         tnx = 0.0_dp
         tny = 0.0_dp
         do j = 1, size(tx, 2)
             do i = 1, size(tx, 1)
                 if (.not. inc(i, j)) cycle
-                yx = tx(i, j) + beta * (tx(i, j) - px(i, j))
-                yy = ty(i, j) + beta * (ty(i, j) - py(i, j))
                 gx = s0x(i, j) + cs * (ux(i, j) + beta * (ux(i, j) - apx(i, j)))
                 gy = s0y(i, j) + cs * (uy(i, j) + beta * (uy(i, j) - apy(i, j)))
-                ax = yx - step * gx
-                ay = yy - step * gy
-                call project_on_disc(ax, ay, bound(i, j))
+                ax = tx(i, j) + beta * (tx(i, j) - px(i, j)) - step * gx
+                ay = ty(i, j) + beta * (ty(i, j) - py(i, j)) - step * gy
+                if (proj) call project_on_disc(ax, ay, bound(i, j))
                 tnx(i, j) = ax
                 tny(i, j) = ay
-                dot = dot + (yx - ax) * (ax - tx(i, j)) + (yy - ay) * (ay - ty(i, j))
             end do
         end do
     end subroutine fista_step
+
+    !> (y - tn).(tn - t) with y = t + beta (t - tp): positive when the momentum points
+    !> uphill and is dropped (gradient restart, O'Donoghue and Candes 2015).
+    pure real(dp) function restart_dot(inc, beta, tx, ty, px, py, tnx, tny) result(dot)
+        logical, intent(in) :: inc(:, :)
+        real(dp), intent(in) :: beta, tx(:, :), ty(:, :), px(:, :), py(:, :), tnx(:, :), tny(:, :)
+        real(dp) :: yx, yy
+        integer :: i, j
+        dot = 0.0_dp
+        do j = 1, size(tx, 2)
+            do i = 1, size(tx, 1)
+                if (.not. inc(i, j)) cycle
+                yx = tx(i, j) + beta * (tx(i, j) - px(i, j))
+                yy = ty(i, j) + beta * (ty(i, j) - py(i, j))
+                dot = dot + (yx - tnx(i, j)) * (tnx(i, j) - tx(i, j)) + (yy - tny(i, j)) * (tny(i, j) - ty(i, j))
+            end do
+        end do
+    end function restart_dot
+
+    !> Projection of z onto the discs |t_I| <= g_I and the force sum_I t_I = c (Pa, per
+    !> element area), in place: t_I = P_I(z_I - lam) with the multiplier lam (2) found by
+    !> Newton's method on the concave dual D(lam) = sum_I [|t_I - z_I|^2 / 2 + lam.t_I]
+    !> - lam.c (gradient sum t - c, Hessian -sum dP_I/dz), with backtracking; lam:
+    !> warm start in. info: STAT_OK; STAT_NOT_CONVERGED when no lam reaches c (|c| at or
+    !> beyond sum g: no traction field carries the force).
+    pure subroutine project_force(inc, bound, c, zx, zy, lam, info)
+        logical, intent(in) :: inc(:, :)
+        real(dp), intent(in) :: bound(:, :), c(2)
+        real(dp), intent(inout) :: zx(:, :), zy(:, :), lam(2)
+        integer, intent(out) :: info
+        real(dp) :: r(2), h(3), d(2), dv, dn, rn(2), hn(3), det, eps, gsum, st
+        integer :: it, ib
+        info = STAT_OK
+        gsum = sum(bound, mask=inc)
+        call disc_sum(inc, bound, zx, zy, c, lam, r, h, dv)
+        do it = 1, 100
+            if (norm2(r) <= 1.0e-13_dp * gsum) exit
+            eps = 1.0e-12_dp * (h(1) + h(3)) + tiny(1.0_dp)
+            det = (h(1) + eps) * (h(3) + eps) - h(2)**2
+            d = [(h(3) + eps) * r(1) - h(2) * r(2), (h(1) + eps) * r(2) - h(2) * r(1)] / det
+            st = 1.0_dp
+            do ib = 1, 60
+                call disc_sum(inc, bound, zx, zy, c, lam + st * d, rn, hn, dn)
+                ! an ascent of D, or (near the maximum, where D's rounding hides the ascent) a
+                ! smaller gradient
+                if (dn > dv .or. norm2(rn) < norm2(r)) exit
+                st = 0.5_dp * st
+            end do
+            lam = lam + st * d
+            r = rn
+            h = hn
+            dv = dn
+        end do
+        if (norm2(r) > 1.0e-9_dp * gsum) info = STAT_NOT_CONVERGED
+        call disc_apply(inc, bound, lam, zx, zy)
+    end subroutine project_force
+
+    !> For t_I = P_I(z_I - lam): r = sum t - c, the 2 x 2 sum of dP_I/dz as (h11, h12, h22),
+    !> and the dual value dv (project_force).
+    pure subroutine disc_sum(inc, bound, zx, zy, c, lam, r, h, dv)
+        logical, intent(in) :: inc(:, :)
+        real(dp), intent(in) :: bound(:, :), zx(:, :), zy(:, :), c(2), lam(2)
+        real(dp), intent(out) :: r(2), h(3), dv
+        real(dp) :: wx, wy, wn, tx, ty, f
+        integer :: i, j
+        r = -c
+        h = 0.0_dp
+        dv = -dot_product(lam, c)
+        do j = 1, size(zx, 2)
+            do i = 1, size(zx, 1)
+                if (.not. inc(i, j)) cycle
+                wx = zx(i, j) - lam(1)
+                wy = zy(i, j) - lam(2)
+                wn = sqrt(wx * wx + wy * wy)
+                if (wn <= bound(i, j)) then
+                    tx = wx
+                    ty = wy
+                    h(1) = h(1) + 1.0_dp
+                    h(3) = h(3) + 1.0_dp
+                else
+                    f = bound(i, j) / wn
+                    tx = f * wx
+                    ty = f * wy
+                    h(1) = h(1) + f * (1.0_dp - (wx / wn)**2)
+                    h(2) = h(2) - f * (wx / wn) * (wy / wn)
+                    h(3) = h(3) + f * (1.0_dp - (wy / wn)**2)
+                end if
+                r(1) = r(1) + tx
+                r(2) = r(2) + ty
+                dv = dv + 0.5_dp * ((tx - zx(i, j))**2 + (ty - zy(i, j))**2) + lam(1) * tx + lam(2) * ty
+            end do
+        end do
+    end subroutine disc_sum
+
+    !> z_I <- P_I(z_I - lam) on the contact set.
+    pure subroutine disc_apply(inc, bound, lam, zx, zy)
+        logical, intent(in) :: inc(:, :)
+        real(dp), intent(in) :: bound(:, :), lam(2)
+        real(dp), intent(inout) :: zx(:, :), zy(:, :)
+        integer :: i, j
+        do j = 1, size(zx, 2)
+            do i = 1, size(zx, 1)
+                if (.not. inc(i, j)) cycle
+                zx(i, j) = zx(i, j) - lam(1)
+                zy(i, j) = zy(i, j) - lam(2)
+                call project_on_disc(zx(i, j), zy(i, j), bound(i, j))
+            end do
+        end do
+    end subroutine disc_apply
 
     !> Radial return of one traction onto its disc |t| <= bound.
     elemental subroutine project_on_disc(tx, ty, bound)
@@ -267,9 +393,9 @@ contains
     !> Squared norms of the Jacobi step F(t) - t and of F(t) over the contact
     !> set, F the element solutions with the pivot (kx, ky) = cs A(0) on the exact
     !> field u = A t (the convergence measure, module doc).
-    pure subroutine jacobi_residual(inc, bound, s0x, s0y, cs, kx, ky, tx, ty, ux, uy, r2, n2)
+    pure subroutine jacobi_residual(inc, bound, s0x, s0y, q, cs, kx, ky, tx, ty, ux, uy, r2, n2)
         logical, intent(in) :: inc(:, :)
-        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, kx, ky
+        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), q(2), cs, kx, ky
         real(dp), intent(in) :: tx(:, :), ty(:, :), ux(:, :), uy(:, :)
         real(dp), intent(out) :: r2, n2
         real(dp) :: ax, ay, ntx, nty, lam
@@ -279,8 +405,8 @@ contains
         do j = 1, size(tx, 2)
             do i = 1, size(tx, 1)
                 if (.not. inc(i, j)) cycle
-                ax = s0x(i, j) + cs * ux(i, j) - kx * tx(i, j)
-                ay = s0y(i, j) + cs * uy(i, j) - ky * ty(i, j)
+                ax = s0x(i, j) + q(1) + cs * ux(i, j) - kx * tx(i, j)
+                ay = s0y(i, j) + q(2) + cs * uy(i, j) - ky * ty(i, j)
                 call element_solve(ax, ay, kx, ky, bound(i, j), ntx, nty, st, lam)
                 r2 = r2 + (ntx - tx(i, j))**2 + (nty - ty(i, j))**2
                 n2 = n2 + ntx**2 + nty**2
@@ -290,9 +416,9 @@ contains
 
     !> Status and slip S (m over the step; 0 in adhesion) of every element in
     !> contact for the tractions t on the exact field u = A t.
-    pure subroutine final_state(inc, bound, s0x, s0y, cs, kx, ky, tx, ty, ux, uy, status, slx, sly)
+    pure subroutine final_state(inc, bound, s0x, s0y, q, cs, kx, ky, tx, ty, ux, uy, status, slx, sly)
         logical, intent(in) :: inc(:, :)
-        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, kx, ky
+        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), q(2), cs, kx, ky
         real(dp), intent(in) :: tx(:, :), ty(:, :), ux(:, :), uy(:, :)
         integer, intent(inout) :: status(:, :)
         real(dp), intent(inout) :: slx(:, :), sly(:, :)
@@ -301,8 +427,8 @@ contains
         do j = 1, size(tx, 2)
             do i = 1, size(tx, 1)
                 if (.not. inc(i, j)) cycle
-                sx = s0x(i, j) + cs * ux(i, j)
-                sy = s0y(i, j) + cs * uy(i, j)
+                sx = s0x(i, j) + q(1) + cs * ux(i, j)
+                sy = s0y(i, j) + q(2) + cs * uy(i, j)
                 call element_solve(sx - kx * tx(i, j), sy - ky * ty(i, j), kx, ky, bound(i, j), ntx, nty, st, lam)
                 status(i, j) = st
                 if (st == ST_SLIP) then
@@ -314,79 +440,20 @@ contains
     end subroutine final_state
 
     !> The tangential step under force control: the rigid shift q (m, added to s0
-    !> everywhere) along the direction e of the wanted force change such that
-    !> e.F = e.target, F = da sum t (module doc). q returns the shift found.
-    !> ftol: tolerance on e.F, N. info: as transient_tangential; STAT_NOT_CONVERGED
-    !> also when the force is not reached in MAX_FORCE_EVALS solves (e.g. a target
-    !> beyond the traction bound, |F| <= da sum g).
-    subroutine transient_force(w, inc, bound, s0x, s0y, cs, target, da, ftol, tol, max_iter, tx, ty, ux, uy, &
+    !> everywhere) such that da sum t = target (both components), as the multiplier of
+    !> the force in the projection (module doc). info: as transient_tangential;
+    !> STAT_NOT_CONVERGED also when the force cannot be carried (|target| >= da sum g).
+    subroutine transient_force(w, inc, bound, s0x, s0y, cs, target, da, tol, max_iter, tx, ty, ux, uy, &
                                status, slx, sly, q, iters, resid, info)
         type(workspace), intent(inout) :: w
         logical, intent(in) :: inc(:, :)
-        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, target(2), da, ftol, tol
+        real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, target(2), da, tol
         integer, intent(in) :: max_iter
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
         real(dp), intent(out) :: ux(:, :), uy(:, :), slx(:, :), sly(:, :), q(2), resid
         integer, intent(out) :: status(:, :), iters, info
-        real(dp) :: f0(2), e(2), d, s, slo, shi, glo, ghi, gs, kest
-        integer :: k, side
-
-        q = 0.0_dp
-        iters = 0
-        ghi = 0.0_dp
-        call force_at(0.0_dp, [1.0_dp, 0.0_dp], f0, gs)
-        if (info /= STAT_OK .and. info /= STAT_NOT_CONVERGED) return
-        d = norm2(target - f0)
-        if (d <= ftol) return
-        e = (target - f0) / d
-        if (dot_product(target, target) > 0.0_dp) then
-            ! along the target itself when it lies on the same side (proportional loading)
-            if (dot_product(target, target - f0) > 0.0_dp) e = target / norm2(target)
-            d = dot_product(e, target - f0)
-        end if
-        ! full-stick (Mindlin) stiffness 4 G a / (2 - nu) of two bodies, the contact set's
-        ! equivalent circle as the first guess of the shift
-        kest = 4.0_dp * w%g * sqrt(count(inc) * da / pi) / ((2.0_dp - w%nu) * cs)
-        slo = 0.0_dp
-        glo = -d
-        s = d / kest
-        shi = -1.0_dp
-        side = 0
-        do k = 1, MAX_FORCE_EVALS
-            call force_at(s, e, f0, gs)
-            if (info /= STAT_OK .and. info /= STAT_NOT_CONVERGED) return
-            if (abs(gs) <= ftol) return
-            if (gs < 0.0_dp) then
-                slo = s
-                glo = gs
-                if (side == -1) ghi = 0.5_dp * ghi     ! Illinois: halve the stale end
-                side = -1
-            else
-                shi = s
-                ghi = gs
-                if (side == 1) glo = 0.5_dp * glo
-                side = 1
-            end if
-            if (shi < 0.0_dp) then
-                s = 2.0_dp * s           ! no upper end yet: expand
-            else
-                s = slo - glo * (shi - slo) / (ghi - glo)
-            end if
-        end do
-        info = STAT_NOT_CONVERGED
-    contains
-        !> Solve with the shift q = -s e; g = e.(F - target) (increasing in s).
-        subroutine force_at(s_, e_, f, g)
-            real(dp), intent(in) :: s_, e_(2)
-            real(dp), intent(out) :: f(2), g
-            integer :: it
-            q = -s_ * e_
-            call transient_tangential(w, inc, bound, s0x + q(1), s0y + q(2), cs, tol, max_iter, tx, ty, ux, uy, &
-                                      status, slx, sly, it, resid, info)
-            iters = iters + it
-            f = da * [sum(tx), sum(ty)]
-            g = dot_product(e_, f - target)
-        end subroutine force_at
+        call transient_tangential(w, inc, bound, s0x, s0y, cs, tol, max_iter, tx, ty, ux, uy, status, slx, sly, &
+                                  iters, resid, info, force=target, da=da, q=q)
     end subroutine transient_force
 
     !> March nt steps (module doc): per step n the normal problem for the gap h and
@@ -470,9 +537,8 @@ contains
                 call transient_tangential(w, inc, bound, s0x + load(1, n), s0y + load(2, n), 1.0_dp + th, tol, &
                                           max_iter, tx, ty, ux, uy, st, slx, sly, iters(n), resids(n), stat)
             else
-                call transient_force(w, inc, bound, s0x, s0y, 1.0_dp + th, load(:, n), da, &
-                                     10.0_dp * tol * mu * da * sum(p), tol, max_iter, tx, ty, ux, uy, st, slx, sly, q(:, n), &
-                                     iters(n), resids(n), stat)
+                call transient_force(w, inc, bound, s0x, s0y, 1.0_dp + th, load(:, n), da, tol, max_iter, &
+                                     tx, ty, ux, uy, st, slx, sly, q(:, n), iters(n), resids(n), stat)
             end if
             infos(n) = stat
             fx(n) = da * sum(tx)

@@ -378,8 +378,8 @@ def solve_transient(
     shift : (qx, qy) or array of shape (steps, 2), optional
         Rigid shift increment per step, m (added to the rigid slip).
     force : (fx, fy) or array of shape (steps, 2), optional
-        Tangential force per step, N, instead of ``shift``: the shift is found per step
-        along the direction of the force change (the force across it is not controlled).
+        Tangential force per step, N, instead of ``shift``: both components prescribed, the
+        rigid shift found per step with the tractions (``shift`` of the result).
         ``|force| < mu fn``.
     theta : float
         Weight of the second-order slip in [0, 1] (rolling only); 1/3 matches the steady
