@@ -11,6 +11,7 @@
 4. A normal load Fn0 (1 + 0.1 sin(2 pi f t)) at 200 km/h on a wheel-rail Hertz patch
    (Fn0 = 80 kN): the transient Fx against the quasi-steady one (the steady solver at each
    instant), for f = 92.6 Hz (sleeper passing, wavelength 0.60 m) up to 2500 Hz.
+5. A step of +10 % in that normal load: the distance over which Fx follows.
 Each case prints the time per step beside one steady solve on the same grid.
 
 Run: PYTHONPATH=_site python validation/contact_transient.py [--quick]
@@ -196,6 +197,30 @@ def load_history(n: int, freqs: tuple[float, ...]):
     return curves
 
 
+def load_step(n: int):
+    """A step of +10 % in the normal load at 200 km/h: how far the creep force lags."""
+    A, B, fn0, V = 1.087, 1.6667, 80e3, 200 / 3.6
+    h = hertz(A, B, fn0, STEEL)
+    dx = h.a / n
+    g = Grid(2 * int(1.3 * n) + 6, 2 * int(1.4 * n * h.b / h.a) + 4, dx, dx, -int(1.3 * n) * dx, None)
+    gap = hertz_gap(g, A, B)
+    creep = (-0.001, 0.0, 0.0)
+    n0 = int(round(8 * 2 * h.a / dx))
+    steps = n0 + int(round(6 * 2 * h.a / dx))
+    fn = np.where(np.arange(steps) < n0, fn0, 1.1 * fn0)
+    r = solve_transient(g, STEEL, MU, fn, steps, dx / V, gap=gap, speed=V, creepage=creep, theta=1 / 3)
+    s0 = solve_rolling(gap, g, STEEL, MU, fn0, creep, V).fx
+    s1 = solve_rolling(gap, g, STEEL, MU, 1.1 * fn0, creep, V).fx
+    after = (r.fx[n0:] - s0) / (s1 - s0)
+    d = (np.arange(after.size) + 1) * dx / (2 * h.a)
+    reach = [float(d[np.nonzero(np.abs(after - 1) <= tol)[0][0]]) for tol in (0.1, 0.01)]
+    print(
+        f"\n5. Normal load step +10 % at 200 km/h (Fn0 = 80 kN, xi = -0.001): the change of Fx reaches 90 % of "
+        f"the quasi-steady change after {reach[0]:.2f} and 99 % after {reach[1]:.2f} contact lengths "
+        f"(quasi-steady: at once); Fx before {r.fx[n0 - 1]:.1f} N (steady {s0:.1f}), end {r.fx[-1]:.1f} N (steady {s1:.1f})"
+    )
+
+
 def plots(cm, roll, strip, load) -> None:
     import matplotlib
 
@@ -257,6 +282,7 @@ def main() -> None:
     roll = rolling_hertz(8 if args.quick else 12)
     strip = carter_strip(25 if args.quick else 50, 6.0 if args.quick else 8.0)
     load = load_history(8, (92.6, 1000.0) if args.quick else (92.6, 300.0, 1000.0, 2500.0))
+    load_step(8)
     plots(cm, roll, strip, load)
     print(f"\nfigures in {FIG}; load average {os.getloadavg()}")
 
