@@ -174,14 +174,15 @@ def load_history(n: int, freqs: tuple[float, ...]):
     curves = []
     for f in freqs:
         lam = V / f
-        steps = int(round((8 * 2 * h.a + 1.25 * lam) / dx))
+        # 2.25 periods after the start; compared over the last two (and after one contact length)
+        steps = int(round((8 * 2 * h.a + 2.25 * lam + 2 * h.a) / dx))
         dt = dx / V
         t = dt * np.arange(1, steps + 1)
         fn = fn0 * (1 + 0.1 * np.sin(2 * np.pi * f * np.maximum(t - t_start, 0.0)))
         t0 = time.perf_counter()
         r = solve_transient(g, STEEL, MU, fn, steps, dt, gap=gap, speed=V, creepage=creep, theta=1 / 3)
         el = (time.perf_counter() - t0) / steps
-        sel = np.nonzero(t > t_start + 2 * h.a / V)[0]
+        sel = np.nonzero(t > t_start + max(2 * h.a / V, 0.25 / f))[0]
         sel = sel[:: max(1, sel.size // 150)]
         t0 = time.perf_counter()
         qs = np.array([solve_rolling(gap, g, STEEL, MU, fn[i], creep, V).fx for i in sel])
