@@ -260,3 +260,23 @@ def test_independent_of_threads_and_workspace_cache(tmp_path, threads):
     out = tmp_path / "child.npy"
     subprocess.run([sys.executable, "-c", _CHILD, str(out)], check=True, env=env, timeout=300)
     assert np.array_equal(np.load(out), np.concatenate([r.fx, r.last.tx.ravel()]))
+
+
+def test_mindlin_deresiewicz_unloading():
+    """Unloading from Q* along the load path (Johnson 1985, sect. 7.2, after Mindlin and
+    Deresiewicz 1953): delta(Q) = delta_l(Q*) - 2 delta_l((Q* - Q) / 2), delta_l the loading
+    curve, proportional to 1 - (1 - Q/(mu P))^(2/3); a force cycle closes symmetrically."""
+    h, g, gap = _sphere(10)
+    qs = 0.75 * MU * FN
+    f = np.array([[qs, 0], [qs / 2, 0], [0, 0], [-qs / 2, 0], [-qs, 0]])
+    r = solve_transient(g, STEEL, MU, FN, len(f), 1.0, gap=gap, force=f)
+    d = -r.shift_total[:, 0]
+
+    def load(q):
+        return 1.0 - (1.0 - q / (MU * FN)) ** (2.0 / 3.0)
+
+    for k, q in enumerate(f[1:, 0], start=1):
+        expected = (load(qs) - 2.0 * load((qs - q) / 2.0)) / load(qs)
+        assert d[k] / d[0] == pytest.approx(expected, abs=0.01)
+    assert d[-1] == pytest.approx(-d[0], rel=1e-3)
+    assert r.fx == pytest.approx(f[:, 0], abs=1e-6 * qs)
