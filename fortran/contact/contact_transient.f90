@@ -78,7 +78,7 @@ contains
     !> STAT_BAD_HANDLE a workspace without the tangential kernels;
     !> STAT_BAD_ARGUMENT cs <= 0; STAT_NOT_FINITE non-finite values.
     subroutine transient_tangential(w, inc, bound, s0x, s0y, cs, tol, max_iter, tx, ty, ux, uy, &
-                                    status, slx, sly, iters, resid, info, force, da, q)
+                                    status, slx, sly, iters, resid, info, force, da, q, lmax_io)
         type(workspace), intent(inout) :: w
         logical, intent(in) :: inc(:, :)            ! (nx, ny) elements in contact
         real(dp), intent(in) :: bound(:, :)         ! (nx, ny) traction bound g, Pa
@@ -93,6 +93,8 @@ contains
         real(dp), intent(out) :: resid
         real(dp), intent(in), optional :: force(2), da  ! force control: the force (N), element area (m^2)
         real(dp), intent(out), optional :: q(2)         ! force control: the rigid shift found, m
+        !> lambda_max of A on this contact set (power_lmax): used if > 0, else computed and returned
+        real(dp), intent(inout), optional :: lmax_io
         real(dp), allocatable :: px(:, :), py(:, :), apx(:, :), apy(:, :), nx_(:, :), ny_(:, :)
         real(dp) :: lmax, step, tk, tk1, beta, r2, n2, dot, kx, ky, lam(2), c(2), qq(2)
         integer :: it
@@ -138,7 +140,11 @@ contains
         end if
         kx = cs * w%c(0, 0, KERNEL_XX)
         ky = cs * w%c(0, 0, KERNEL_YY)
-        lmax = cs * power_lmax(w, inc)
+        lmax = 0.0_dp
+        if (present(lmax_io)) lmax = lmax_io
+        if (.not. (lmax > 0.0_dp)) lmax = power_lmax(w, inc)
+        if (present(lmax_io)) lmax_io = lmax
+        lmax = cs * lmax
         step = 1.0_dp / lmax
         allocate (px, py, apx, apy, nx_, ny_, mold=tx)
         call conv_apply_pair(w%plan, KERNEL_XX, KERNEL_XY, KERNEL_YY, tx, ty, ux, uy)
@@ -444,7 +450,7 @@ contains
     !> the force in the projection (module doc). info: as transient_tangential;
     !> STAT_NOT_CONVERGED also when the force cannot be carried (|target| >= da sum g).
     subroutine transient_force(w, inc, bound, s0x, s0y, cs, target, da, tol, max_iter, tx, ty, ux, uy, &
-                               status, slx, sly, q, iters, resid, info)
+                               status, slx, sly, q, iters, resid, info, lmax_io)
         type(workspace), intent(inout) :: w
         logical, intent(in) :: inc(:, :)
         real(dp), intent(in) :: bound(:, :), s0x(:, :), s0y(:, :), cs, target(2), da, tol
@@ -452,8 +458,9 @@ contains
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
         real(dp), intent(out) :: ux(:, :), uy(:, :), slx(:, :), sly(:, :), q(2), resid
         integer, intent(out) :: status(:, :), iters, info
+        real(dp), intent(inout), optional :: lmax_io
         call transient_tangential(w, inc, bound, s0x, s0y, cs, tol, max_iter, tx, ty, ux, uy, status, slx, sly, &
-                                  iters, resid, info, force=target, da=da, q=q)
+                                  iters, resid, info, force=target, da=da, q=q, lmax_io=lmax_io)
     end subroutine transient_force
 
     !> March nt steps (module doc): per step n the normal problem for the gap h and
@@ -488,7 +495,7 @@ contains
                                  u1y(:, :), u2x(:, :), u2y(:, :), s0x(:, :), s0y(:, :), slx(:, :), sly(:, :)
         integer, allocatable :: st(:, :)
         logical, allocatable :: inc(:, :)
-        real(dp) :: da, fnk, appr, resn
+        real(dp) :: da, fnk, appr, resn, lmax
         integer :: n, nt, kk, itn, nprod, stat
 
         nt = size(fn)
@@ -511,6 +518,8 @@ contains
         u1x = 0.0_dp; u1y = 0.0_dp; u2x = 0.0_dp; u2y = 0.0_dp
         da = w%dx * w%dy
         kk = 0
+        lmax = 0.0_dp
+        inc = .false.
         do n = 1, nt
             if (n == 1 .or. fn(n) /= fn(max(n - 1, 1))) then
                 fnk = fn(n)
@@ -528,6 +537,8 @@ contains
                     info = stat
                     return
                 end if
+                ! lambda_max depends on the contact set only: kept while the set stays
+                if (any(inc .neqv. (p > 0.0_dp))) lmax = 0.0_dp
                 inc = p > 0.0_dp
                 bound = mu * p
             end if
@@ -535,10 +546,11 @@ contains
             if (control == SHIFT_GIVEN) then
                 q(:, n) = load(:, n)
                 call transient_tangential(w, inc, bound, s0x + load(1, n), s0y + load(2, n), 1.0_dp + th, tol, &
-                                          max_iter, tx, ty, ux, uy, st, slx, sly, iters(n), resids(n), stat)
+                                          max_iter, tx, ty, ux, uy, st, slx, sly, iters(n), resids(n), stat, &
+                                          lmax_io=lmax)
             else
                 call transient_force(w, inc, bound, s0x, s0y, 1.0_dp + th, load(:, n), da, tol, max_iter, &
-                                     tx, ty, ux, uy, st, slx, sly, q(:, n), iters(n), resids(n), stat)
+                                     tx, ty, ux, uy, st, slx, sly, q(:, n), iters(n), resids(n), stat, lmax)
             end if
             infos(n) = stat
             fx(n) = da * sum(tx)
