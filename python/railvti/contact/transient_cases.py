@@ -254,12 +254,15 @@ def plot_transient(group: Any, outdir: Path, stem: str) -> list[str | Path]:
     """Force history and the final traction profile along x at the centre line."""
     import matplotlib.pyplot as plt
 
-    kind = group["results"].attrs.get("kind", "") if "results" in group else ""
+    kind = group["kind"][()] if "kind" in group else b""
+    kind = kind.decode() if isinstance(kind, bytes) else str(kind)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10.0, 4.0))
     dist = group["distance"][()]
     xs = dist * 1e3 if dist.max() > 0 else np.arange(1, dist.size + 1)
     ax1.plot(xs, group["fx_history"][()] / 1e3, label="Fx")
     ax1.plot(xs, group["fy_history"][()] / 1e3, label="Fy")
+    if "steady_fx" in group:
+        ax1.axhline(float(group["steady_fx"][()]) / 1e3, color="grey", ls=":", lw=1.0, label="Fx steady")
     if "fx_quasi_steady" in group:
         ax1.plot(xs, group["fx_quasi_steady"][()] / 1e3, "--", label="Fx quasi-steady")
     ax1.set_xlabel("distance rolled (mm)" if dist.max() > 0 else "load step")
@@ -268,11 +271,12 @@ def plot_transient(group: Any, outdir: Path, stem: str) -> list[str | Path]:
     x = group["x"][()] * 1e3
     j = group["y"][()].size // 2
     ax2.plot(x, group["tx"][()][:, j] / 1e6, label="tx")
-    ax2.plot(x, 0.0 * x + 0.0, "k", lw=0.5)
+    ax2.plot(x, group["ty"][()][:, j] / 1e6, label="ty")
+    ax2.axhline(0.0, color="k", lw=0.5)
     ax2.set_xlabel("x (mm)")
     ax2.set_ylabel("traction at the centre line (MPa)")
     ax2.legend()
-    fig.suptitle(f"{group.attrs['name']}: transient contact {kind}")
+    fig.suptitle(f"{group.attrs['name']}: transient contact, kind '{kind}' (last step's tractions)")
     fig.tight_layout()
     path = outdir / f"{stem}_transient.png"
     fig.savefig(path, dpi=110)
