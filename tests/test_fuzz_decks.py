@@ -42,6 +42,10 @@ BASE = {
     "wheelset": "k_max = 1",
     "vehicle": "scenario = 'hunting', duration = 1.0",
     "line": "route_length = 200.0, curve_radius = 0.0",
+    "transient": (
+        "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, mu = 0.3, "
+        "kind = 'shift', fx = 100.0"
+    ),
 }
 SMALL_NORMAL = "&case name = 'small', type = 'normal', " + BASE["normal"] + " /\n"
 

@@ -87,6 +87,7 @@ DECKS: tuple[Deck, ...] = (
     Deck("mbench_a22_right", INPUTS / "mbench_a22_right.inp", slow=True, reduced_by="mbench_a22_small_right"),
     Deck("mbench_a22_small_left", DECKS_DIR / "mbench_a22_small_left.inp"),
     Deck("mbench_a22_small_right", DECKS_DIR / "mbench_a22_small_right.inp"),
+    Deck("transient_example", INPUTS / "transient_example.nml"),
 )
 
 
@@ -472,6 +473,20 @@ TOLERANCES: dict[str, list[tuple[str, Tol]]] = {
 #: MARGIN x the spread measured by measure_spread.py on the line case of vehicle_short: largest 2.1e-4 of the
 #: array's maximum (vy_ws1; q 9.3e-6, the wheel forces <= 1.8e-5, the assessment rows
 #: <= 4.1e-6).
+TOLERANCES["transient"] = [
+    ("iterations", EXACT),
+    ("n_slip*", EXACT),
+    ("steps", EXACT),
+    (
+        "*",
+        Tol(
+            1e-6,
+            1e-9,
+            scaled=True,
+            reason="iterative solves converged to 1e-7 (tangential) and 1e-8 (normal)",
+        ),
+    ),
+]
 TOLERANCES["line"] = [
     ("stat_wall_time", IGNORE),
     ("stat_real_time_factor", IGNORE),

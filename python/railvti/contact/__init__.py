@@ -12,6 +12,7 @@ from .creep_table import CreepForceTable, creep_force_table
 from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .transient import TransientResult, shift_problem, solve_transient, transient_rolling
 
 __all__ = [
     "Grid",
@@ -35,4 +36,8 @@ __all__ = [
     "WheelsetPatch",
     "WheelsetSolution",
     "solve_wheelset",
+    "TransientResult",
+    "shift_problem",
+    "solve_transient",
+    "transient_rolling",
 ]
