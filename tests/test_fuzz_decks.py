@@ -427,7 +427,7 @@ CONSISTENCY = [
     (
         "nu-out-of-range-old-name",
         deck("wheel_rail", "nu = 0.7"),
-        ["key 'nu' = 0.7 (poisson = 0.7)", "[0, 0.5)"],
+        ["key 'nu' = 0.7 (poisson = 0.7)", "(-1, 0.5)"],
     ),
 ]
 

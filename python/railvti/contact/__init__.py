@@ -12,6 +12,13 @@ from .creep_table import CreepForceTable, creep_force_table
 from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .dissimilar import (
+    BodyPair,
+    CompressionResult,
+    DissimilarRollingResult,
+    solve_dissimilar_rolling,
+    solve_progressive_compression,
+)
 
 __all__ = [
     "Grid",
@@ -35,4 +42,9 @@ __all__ = [
     "WheelsetPatch",
     "WheelsetSolution",
     "solve_wheelset",
+    "BodyPair",
+    "CompressionResult",
+    "DissimilarRollingResult",
+    "solve_dissimilar_rolling",
+    "solve_progressive_compression",
 ]
