@@ -201,7 +201,8 @@ contains
         allocate (un(nx, ny), px(nx, ny), py(nx, ny), z(nx, ny))
         z = 0.0_dp
         call coupling_apply(nx, ny, dx, dy, kg, p, z, z, un, px, py)
-        ! u = A t over the whole grid, kept up to date through every change
+        ! u = A t, kept up to date on the contact set through every change (the whole
+        ! grid again after the sweeps: the next step's uold needs it everywhere)
         call tangential_field(nx, ny, cxx, cyy, cxy, nc, ic, jc, tx, ty, ux, uy)
         bnd = mu * maxval(p)
         do
@@ -216,7 +217,7 @@ contains
                 d = max(abs(ntx - tx(n, m)), abs(nty - ty(n, m)))
                 change = max(change, d)
                 if (d > 0.0_dp) then
-                    call spread_change(nx, ny, cxx, cyy, cxy, n, m, ntx - tx(n, m), nty - ty(n, m), ux, uy)
+                    call spread_on_set(nx, ny, cxx, cyy, cxy, nc, ic, jc, n, m, ntx - tx(n, m), nty - ty(n, m), ux, uy)
                     tx(n, m) = ntx
                     ty(n, m) = nty
                 end if
@@ -277,6 +278,26 @@ contains
             call spread_change(nx, ny, cxx, cyy, cxy, ic(k), jc(k), tx(ic(k), jc(k)), ty(ic(k), jc(k)), ux, uy)
         end do
     end subroutine tangential_field
+
+    !> Add the displacements of a traction (dtx, dty) on element (n, m) to u on the contact
+    !> set only (what the sweeps read).
+    subroutine spread_on_set(nx, ny, cxx, cyy, cxy, nc, ic, jc, n, m, dtx, dty, ux, uy)
+        integer, intent(in) :: nx, ny, nc, ic(nc), jc(nc), n, m
+        real(dp), intent(in) :: cxx(0:2 * nx - 1, 0:2 * ny - 1), cyy(0:2 * nx - 1, 0:2 * ny - 1)
+        real(dp), intent(in) :: cxy(0:2 * nx - 1, 0:2 * ny - 1), dtx, dty
+        real(dp), intent(inout) :: ux(nx, ny), uy(nx, ny)
+        real(dp) :: axy
+        integer :: k, i, j, ki, kj
+        do k = 1, nc
+            i = ic(k)
+            j = jc(k)
+            ki = modulo(i - n, 2 * nx)
+            kj = modulo(j - m, 2 * ny)
+            axy = cxy(ki, kj)
+            ux(i, j) = ux(i, j) + cxx(ki, kj) * dtx + axy * dty
+            uy(i, j) = uy(i, j) + axy * dtx + cyy(ki, kj) * dty
+        end do
+    end subroutine spread_on_set
 
     !> Add the displacements of a traction (dtx, dty) on element (n, m) to u (whole grid).
     subroutine spread_change(nx, ny, cxx, cyy, cxy, n, m, dtx, dty, ux, uy)

@@ -269,33 +269,41 @@ def _tangential(p, grid, pair, mu, creepage, speed, method, tol, max_iter, t0, n
     return result
 
 
-def _free_rolling_xi(p, grid, pair, mu, creepage, speed, method, tol, max_iter, t0, normal):
-    """The tangential solve with xi such that Fx = 0 (Fx falls with xi: Brent on a bracket)."""
+def _free_rolling_xi(p, grid, pair, mu, creepage, speed, method, tol, max_iter, t0, normal, guess):
+    """The tangential solve with xi such that Fx = 0 (Fx falls with xi): Brent's method on a
+    bracket grown around ``guess`` (the last outer iteration's xi, or Bentall and Johnson's
+    estimate -2 K/G 0.9 p_max at first)."""
     _, eta, phi = creepage
-    # scale: the slip the pressure causes, 2 K/G p_max (Bentall and Johnson's creepage order)
-    scale = max(4.0 * abs(pair.difference_parameter / pair.shear_modulus) * float(p.max()), 1e-7)
+    # the slip the pressure causes is of the order 2 K/G p_max (Bentall and Johnson's creepage)
+    scale = max(2.0 * abs(pair.difference_parameter / pair.shear_modulus) * float(p.max()), 1e-7)
     cache: dict[float, RollingResult] = {}
 
     def fx(xi: float) -> float:
-        r = _tangential(p, grid, pair, mu, (xi, eta, phi), speed, method, tol, max_iter, t0, normal)
-        cache[xi] = r
-        return r.fx / max(mu * normal.fn, 1e-300)
+        if xi not in cache:
+            cache[xi] = _tangential(
+                p, grid, pair, mu, (xi, eta, phi), speed, method, tol, max_iter, t0, normal
+            )
+        return cache[xi].fx / max(mu * normal.fn, 1e-300)
 
-    lo, hi = -scale, scale
-    for _ in range(40):
-        if fx(lo) >= 0.0 >= fx(hi):
+    step = 0.02 * max(abs(guess), 0.05 * scale)
+    lo, hi = guess - step, guess + step
+    for _ in range(60):
+        f_lo, f_hi = fx(lo), fx(hi)
+        if f_lo >= 0.0 >= f_hi:
             break
-        lo, hi = 2.0 * lo, 2.0 * hi
+        # Fx falls with xi: move the side that misses the root outwards, doubling the step
+        step *= 2.0
+        if f_lo < 0.0:
+            lo, hi = lo - step, lo
+        else:
+            lo, hi = hi, hi + step
     else:
         raise ConvergenceError(
-            "free rolling: no creepage bracket with Fx = 0", iterations=40, residual=math.inf
+            "free rolling: no creepage bracket with Fx = 0", iterations=60, residual=math.inf
         )
-    xi = brent_root(fx, lo, hi, xtol=1e-12 * scale, rtol=1e-10)
-    return (
-        cache[xi]
-        if xi in cache
-        else _tangential(p, grid, pair, mu, (xi, eta, phi), speed, method, tol, max_iter, t0, normal)
-    )
+    xi = brent_root(fx, lo, hi, xtol=1e-9 * scale, rtol=1e-9)
+    fx(xi)
+    return cache[xi]
 
 
 def solve_dissimilar_rolling(
@@ -362,7 +370,11 @@ def solve_dissimilar_rolling(
         normal = _normal(h + un, grid, material, fn, normal_tol, p_old)
         p = normal.pressure
         args = (p, grid, pair, mu, creepage, speed, method, tol, max_iter, (tx, ty), normal)
-        roll = _free_rolling_xi(*args) if free_rolling else _tangential(*args)
+        if free_rolling:
+            guess = -1.8 * kg * float(p.max()) if roll is None else roll.creepage[0]
+            roll = _free_rolling_xi(*args, guess)
+        else:
+            roll = _tangential(*args)
         pmax = float(p.max())
         dp = 0.0 if p_old is None else float(np.abs(p - p_old).max()) / pmax
         dt = float(max(np.abs(roll.tx - tx).max(), np.abs(roll.ty - ty).max())) / max(mu * pmax, 1e-300)
@@ -448,13 +460,15 @@ def solve_progressive_compression(
     uoldx, uoldy = zero.copy(), zero.copy()
     n_contact, n_adh, outer, sweeps = [], [], [], 0
     for k, fn in enumerate(steps):
-        p_it = None
+        p_it, d = None, math.inf
         for it in range(1, max_outer + 1):
             un, _, _ = core.coupling_apply_c(grid.dx, grid.dy, kg, zero, tx, ty)
             p = _normal(h + un, grid, material, float(fn), normal_tol, p_it).pressure
             qx, qy = np.array(tx, order="F"), np.array(ty, order="F")
+            # the shift solve to a tolerance the outer iteration can use: 1 % of its last change
+            inner = max(tol, min(1e-4, 1e-2 * d))
             status, ux, uy, iters, change, info = core.coupling_shift_c(
-                grid.dx, grid.dy, g, nu, kg, mu, p, uoldx, uoldy, 0.0, 0.0, tol, max_iter, qx, qy
+                grid.dx, grid.dy, g, nu, kg, mu, p, uoldx, uoldy, 0.0, 0.0, inner, max_iter, qx, qy
             )
             sweeps += int(iters)
             n_outer = it
@@ -466,7 +480,7 @@ def solve_progressive_compression(
             d = 0.0 if p_it is None else float(np.abs(p - p_it).max()) / pmax
             d = max(d, float(max(np.abs(qx - tx).max(), np.abs(qy - ty).max())) / (mu * pmax))
             tx, ty, p_it = qx, qy, p
-            if d <= outer_tol or kg == 0.0:
+            if (d <= outer_tol and inner == tol) or kg == 0.0:
                 break
         else:
             raise ConvergenceError(
