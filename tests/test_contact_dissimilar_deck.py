@@ -70,3 +70,37 @@ def test_bad_material_keys_are_named(key, value):
 def test_plane_strain_needs_the_outer_rows():
     with pytest.raises(InputError, match="ny >= 4"):
         REGISTRY["dissimilar_rolling"].run(_params(ny=3, gap_b=0.0))
+
+
+_RUN = """
+import numpy as np, sys
+import railvti.contact.dissimilar_cases  # noqa
+from railvti.casetypes import REGISTRY, REQUIRED
+p = {k: (None if v is REQUIRED else v) for k, v in REGISTRY["dissimilar_rolling"].defaults.items()}
+p.update(nx=40, ny=32, dx=0.3e-3, dy=0.3e-3, gap_a=1.087, gap_b=1.6667, fn=5e3, mu=0.3, xi=1e-3,
+         speed=30.0, wheel_shear_modulus=23e9, wheel_poisson=0.31)
+ct = REGISTRY["dissimilar_rolling"]
+a = ct.run(dict(p))
+b = ct.run(dict(p))  # the workspace cached now
+np.save(sys.argv[1], np.stack([a.datasets["tx"][0], a.datasets["pressure"][0], b.datasets["tx"][0]]))
+"""
+
+
+@pytest.mark.parametrize("env", [{"OMP_NUM_THREADS": "2"}, {"OPENBLAS_CORETYPE": "Prescott"}])
+def test_results_do_not_depend_on_threads_kernels_or_the_cache(tmp_path, env):
+    """One thread against two, the default OpenBLAS kernels against Prescott's, and a first
+    solve against one on the cached workspace: the same tractions to far below the tolerances."""
+    import os
+    import subprocess
+    import sys
+
+    out = []
+    for i, extra in enumerate(({"OMP_NUM_THREADS": "1"}, env)):
+        e = dict(os.environ, **extra)
+        path = tmp_path / f"r{i}.npy"
+        subprocess.run([sys.executable, "-c", _RUN, str(path)], env=e, check=True)
+        out.append(np.load(path))
+    scale = np.abs(out[0][0]).max()
+    assert np.abs(out[0][0] - out[1][0]).max() <= 1e-9 * scale  # threads / kernels
+    assert np.abs(out[0][1] - out[1][1]).max() <= 1e-9 * np.abs(out[0][1]).max()
+    assert np.abs(out[0][0] - out[0][2]).max() <= 1e-9 * scale  # the cache
