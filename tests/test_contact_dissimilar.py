@@ -196,3 +196,30 @@ def test_bad_arguments():
         solve_progressive_compression(gap, g, pair, 0.0, [1e3])
     with pytest.raises(InputError, match="kernel"):
         cross_coefficients(g, "z")
+
+
+def test_shift_step_reproduces_cattaneo_mindlin():
+    """The incremental tangential solver (coupling_shift_step) on its own, K = 0: a sphere under
+    Hertz pressure shifted rigidly by delta = 3 mu P (2 - nu)/(8 G a) (1 - (c/a)^2) (Mindlin; Johnson
+    1985 eq. 7.42 for two equal bodies) has the stick radius c and Q = mu P (1 - (c/a)^3)."""
+    from railvti.contact import hertz, solve_normal
+
+    g = Grid(41, 41, 1.5e-4, 1.5e-4)
+    gap = hertz_gap(g, 4.0, 4.0)
+    fn, mu = 2.0e3, 0.3
+    normal = solve_normal(gap, g, STEEL, fn=fn, tol=1e-10)
+    a = hertz(4.0, 4.0, fn, STEEL).a
+    G, nu = STEEL.shear_modulus, STEEL.poisson
+    delta = 3 * mu * fn * (2 - nu) / (8 * G * a) * (1 - 0.5**2)  # c/a = 1/2
+    zero = np.zeros(g.shape, order="F")
+    tx, ty = np.zeros(g.shape, order="F"), np.zeros(g.shape, order="F")
+    status, ux, uy, iters, change, info = core.coupling_shift_c(
+        g.dx, g.dy, G, nu, 0.0, mu, normal.pressure, zero, zero, delta, 0.0, 1e-10, 20000, tx, ty
+    )
+    assert info == 0
+    q = -tx.sum() * g.element_area  # the rail pulls the shifted wheel back
+    assert q / (mu * fn) == pytest.approx(7.0 / 8.0, abs=0.02)
+    stick = np.sqrt(np.count_nonzero(status == 1) / np.count_nonzero(normal.pressure))
+    assert stick == pytest.approx(0.5, abs=0.04)
+    # in the stick zone the displacement difference cancels the shift
+    assert np.abs(ux[status == 1] + delta).max() <= 1e-8 * delta
