@@ -97,3 +97,22 @@ def test_spence_stick_ratio_one_half():
     x = res.grid.x
     assert (res.tx[:, j] * x >= 0).all() and (res.tx[:, j] * x).max() > 0
     assert (res.outer_iterations[1:] >= 2).all()
+
+
+def test_swapping_the_bodies_mirrors_free_rolling():
+    """Steel wheel on an aluminium rail: K changes sign, so do xi and the tractions (the softer
+    body rolls faster whichever it is); the pressure is the same."""
+    a = _bentall_johnson(1e-4)[2]
+    pair = BodyPair(STEEL_BJ, ALU)
+    assert pair.difference_parameter == pytest.approx(-BodyPair(ALU, STEEL_BJ).difference_parameter)
+    dx = 2.0 * A_BJ / 100
+    grid = Grid(int(round(2.16 * A_BJ / dx)), 4, dx, 1000.0 * A_BJ)
+    gap = hertz_gap(grid, 1.0 / (2.0 * R_BJ), 0.0)
+    gap[:, [0, 3]] = 1.0
+    load = math.pi * A_BJ**2 * pair.contact_modulus / (4.0 * R_BJ)
+    b = solve_dissimilar_rolling(
+        gap, grid, pair, 1e-4, 2.0 * grid.dy * load, (0, 0, 0), 10.0, free_rolling=True
+    )
+    assert b.creepage[0] == pytest.approx(-a.creepage[0], rel=1e-6)
+    assert np.allclose(b.rolling.pressure, a.rolling.pressure, rtol=0, atol=1e-9 * a.rolling.pmax)
+    assert np.allclose(b.rolling.tx, -a.rolling.tx, rtol=0, atol=1e-6 * 1e-4 * a.rolling.pmax)
