@@ -10,9 +10,10 @@
 * Spence (1975): a sphere pressed progressively onto a half-space of another material keeps a
   central stick zone of constant radius ratio c/a; beta = 0.5 (a sphere with nu = 0 on a
   rigid plane), mu = 0.2986 gives c/a = 0.5 (Spence
-  1975, as used by Kalker 1990 sect. 5.3.1 and CONTACT's example spence35). c/a depends on
-  nu besides beta/mu (the coupling feeds back on the pressure): beta = 0.25, nu = 0.25 at the
-  same beta/mu gives 0.57 here, so the one published point is the test.
+  1975, as used by Kalker 1990 sect. 5.3.1 and CONTACT's example spence35). With the full
+  coupling c/a depends on beta besides beta/mu (the tractions feed back on the pressure):
+  beta = 0.333, nu = 0.25 at the same beta/mu gives 0.57 here, so the one published point is
+  the test.
 """
 
 from __future__ import annotations
@@ -76,13 +77,15 @@ def test_bentall_johnson_peak_pressure_rises_by_the_coupling():
     assert rise == pytest.approx(0.0065, abs=0.0015)
 
 
-def _spence(pair: BodyPair, mu: float, n: int = 31, steps: int = 25):
+def _spence(pair: BodyPair, mu: float, n: int = 31, steps: int = 25, normal_coupling: bool = True):
     R, dx = 0.1215, 2.0e-4
     grid = Grid(n, n, dx, dx)
     gap = hertz_gap(grid, 1.0 / (2.0 * R), 1.0 / (2.0 * R))
     a_end = dx * steps / 2.0  # the radius grows one element per step
     fns = [4.0 * (a_end * k / steps) ** 3 * pair.contact_modulus / (3.0 * R) for k in range(1, steps + 1)]
-    return solve_progressive_compression(gap, grid, pair, mu, fns, outer_tol=1e-5)
+    return solve_progressive_compression(
+        gap, grid, pair, mu, fns, outer_tol=1e-5, normal_coupling=normal_coupling
+    )
 
 
 def test_spence_stick_ratio_one_half():
@@ -116,3 +119,18 @@ def test_swapping_the_bodies_mirrors_free_rolling():
     assert b.creepage[0] == pytest.approx(-a.creepage[0], rel=1e-6)
     assert np.allclose(b.rolling.pressure, a.rolling.pressure, rtol=0, atol=1e-9 * a.rolling.pmax)
     assert np.allclose(b.rolling.tx, -a.rolling.tx, rtol=0, atol=1e-6 * 1e-4 * a.rolling.pmax)
+
+
+def test_johnsons_process_makes_the_ratio_a_function_of_beta_over_mu():
+    """Without the tractions' effect on the pressure (Johnson's process) the shift problem scales
+    with beta/mu: the ratio is the same for a nu = 0 sphere (beta 0.5) and Al on steel (beta 0.144)
+    at beta/mu = 1.6745; with the full coupling the stiffer pair's ratio is the larger, and Spence's
+    0.5 belongs to the full coupling (Johnson's process gives 0.62 there)."""
+    jp = []
+    for pair in (BodyPair(Material(0.5e9, 0.0), Material(0.5e14, 0.0)), BodyPair(ALU, STEEL_BJ)):
+        mu = pair.beta / (0.5 / 0.2986)
+        jp.append(_spence(pair, mu, normal_coupling=False).stick_ratio[-5:].mean())
+    full_alu = _spence(BodyPair(ALU, STEEL_BJ), BodyPair(ALU, STEEL_BJ).beta / (0.5 / 0.2986))
+    assert jp[0] == pytest.approx(jp[1], abs=0.01)
+    assert jp[0] > 0.55
+    assert 0.55 < full_alu.stick_ratio[-5:].mean() < jp[1] + 0.01

@@ -321,6 +321,7 @@ def solve_dissimilar_rolling(
     outer_tol: float = 1e-6,
     max_outer: int = 30,
     normal_tol: float = 1e-8,
+    normal_coupling: bool = True,
 ) -> DissimilarRollingResult:
     """Steady rolling of two bodies of dissimilar materials (Panagiotopoulos' process).
 
@@ -338,6 +339,10 @@ def solve_dissimilar_rolling(
         (resp. mu max(p)) in an outer iteration.
     max_outer : int
         Outer iteration limit (ConvergenceError beyond it).
+    normal_coupling : bool
+        False: leave out the tractions' effect on the pressure (A_zx t), Johnson's process
+        (Kalker 1990; CONTACT's MAXOUT = 1): one normal solve, then the tangential problem
+        with the pressure's coupling. Exact at mu -> 0 and cheap; True is the full coupling.
 
     Returns
     -------
@@ -366,7 +371,8 @@ def solve_dissimilar_rolling(
     change = math.inf
     roll = None
     for it in range(1, max_outer + 1):
-        un, _, _ = core.coupling_apply_c(grid.dx, grid.dy, kg, np.zeros(grid.shape, order="F"), tx, ty)
+        kn = kg if normal_coupling else 0.0  # the tractions' normal displacement, or none
+        un, _, _ = core.coupling_apply_c(grid.dx, grid.dy, kn, np.zeros(grid.shape, order="F"), tx, ty)
         normal = _normal(h + un, grid, material, fn, normal_tol, p_old)
         p = normal.pressure
         args = (p, grid, pair, mu, creepage, speed, method, tol, max_iter, (tx, ty), normal)
@@ -381,7 +387,7 @@ def solve_dissimilar_rolling(
         change = max(dp, dt) if p_old is not None else (0.0 if kg == 0.0 else math.inf)
         tx, ty, p_old = roll.tx, roll.ty, p
         log.debug("dissimilar rolling: outer %d, change %.3g", it, change)
-        if change <= outer_tol or kg == 0.0:
+        if change <= outer_tol or kg == 0.0 or not normal_coupling:
             return DissimilarRollingResult(roll, pair, it, change, roll.creepage)
     raise ConvergenceError(
         f"dissimilar rolling: the outer (Panagiotopoulos) iteration changed p or t by {change:.3g} "
@@ -412,6 +418,7 @@ def solve_progressive_compression(
     outer_tol: float = 1e-7,
     max_outer: int = 30,
     normal_tol: float = 1e-9,
+    normal_coupling: bool = True,
 ) -> CompressionResult:
     """Progressive normal loading of a dissimilar pair with friction (Spence 1975).
 
@@ -437,6 +444,9 @@ def solve_progressive_compression(
         As in :func:`solve_dissimilar_rolling`.
     normal_tol : float
         Tolerance of the normal solves.
+    normal_coupling : bool
+        False: Johnson's process (the pressure without the tractions' effect, A_zx t left
+        out), as :func:`solve_dissimilar_rolling`.
 
     Returns
     -------
@@ -462,11 +472,11 @@ def solve_progressive_compression(
     for k, fn in enumerate(steps):
         p_it, d = None, math.inf
         for it in range(1, max_outer + 1):
-            un, _, _ = core.coupling_apply_c(grid.dx, grid.dy, kg, zero, tx, ty)
+            un, _, _ = core.coupling_apply_c(grid.dx, grid.dy, kg if normal_coupling else 0.0, zero, tx, ty)
             p = _normal(h + un, grid, material, float(fn), normal_tol, p_it).pressure
             qx, qy = np.array(tx, order="F"), np.array(ty, order="F")
             # the shift solve to a tolerance the outer iteration can use: 1 % of its last change
-            inner = max(tol, min(1e-4, 1e-2 * d))
+            inner = max(tol, min(1e-4, 1e-2 * d)) if normal_coupling else tol
             status, ux, uy, iters, change, info = core.coupling_shift_c(
                 grid.dx, grid.dy, g, nu, kg, mu, p, uoldx, uoldy, 0.0, 0.0, inner, max_iter, qx, qy
             )
@@ -480,7 +490,7 @@ def solve_progressive_compression(
             d = 0.0 if p_it is None else float(np.abs(p - p_it).max()) / pmax
             d = max(d, float(max(np.abs(qx - tx).max(), np.abs(qy - ty).max())) / (mu * pmax))
             tx, ty, p_it = qx, qy, p
-            if (d <= outer_tol and inner == tol) or kg == 0.0:
+            if (d <= outer_tol and inner == tol) or kg == 0.0 or (not normal_coupling and inner == tol):
                 break
         else:
             raise ConvergenceError(
