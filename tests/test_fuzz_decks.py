@@ -34,6 +34,10 @@ BASE = {
         "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
         "mu = 0.3, speed = 10.0, xi = 1.0e-3"
     ),
+    "dissimilar_rolling": (
+        "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
+        "mu = 0.3, speed = 10.0, xi = 1.0e-3, wheel_shear_modulus = 23.0e9, wheel_poisson = 0.31"
+    ),
     "geometry_table": "n = 5",
     "loaded_wheelset": "n = 2, y_max_mm = 1.0",
     "wheel_rail": "y_mm = 1.0",
@@ -431,7 +435,7 @@ CONSISTENCY = [
     (
         "nu-out-of-range-old-name",
         deck("wheel_rail", "nu = 0.7"),
-        ["key 'nu' = 0.7 (poisson = 0.7)", "[0, 0.5)"],
+        ["key 'nu' = 0.7 (poisson = 0.7)", "(-1, 0.5)"],
     ),
 ]
 

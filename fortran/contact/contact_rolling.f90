@@ -107,6 +107,7 @@ module contact_rolling
     public :: rolling_steady, element_solve
     public :: ROLL_GS, ROLL_FFTGS, ST_EXTERIOR, ST_ADHESION, ST_SLIP
     public :: PRODUCT_AUTO, PRODUCT_FFT, PRODUCT_DIRECT
+    public :: WU0, WU1, WU2
 
     integer, parameter :: ROLL_GS = 1, ROLL_FFTGS = 2
     integer, parameter :: ST_EXTERIOR = 0, ST_ADHESION = 1, ST_SLIP = 2
@@ -279,7 +280,7 @@ contains
     !> unchanged. nmulti (optional): elements whose final element problem has more
     !> than one solution (the law's rule picked one of them; 0 without law).
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti)
+                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti, wex, wey)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: p(:, :)            ! pressure, Pa, (nx, ny)
         real(dp), intent(in) :: x0, y0             ! centre of element (1, 1), m
@@ -297,6 +298,9 @@ contains
         integer, intent(in), optional :: product
         type(friction_law), intent(in), optional :: law
         integer, intent(out), optional :: nmulti
+        !> extra rigid slip (creepage units) added to eq. 29's w, e.g. a dissimilar
+        !> pair's pressure coupling (contact_coupling); absent: none (results unchanged)
+        real(dp), intent(in), optional :: wex(:, :), wey(:, :)
 
         type(rolling_patch) :: pa
         type(anderson_state) :: aa
@@ -331,6 +335,8 @@ contains
                 pa%speed = speed
             end if
         end if
+        if (present(wex)) pa%wx = pa%wx + wex
+        if (present(wey)) pa%wy = pa%wy + wey
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)

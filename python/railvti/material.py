@@ -1,4 +1,5 @@
-"""Elastic material of two quasi-identical bodies in contact."""
+"""Elastic material of a body in contact (shared by both bodies when they are quasi-identical;
+:class:`railvti.contact.dissimilar.BodyPair` pairs two different ones)."""
 
 from __future__ import annotations
 
@@ -10,14 +11,15 @@ from .errors import InputError
 
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic material shared by wheel and rail (quasi-identical bodies).
+    """Linear elastic material, shared by wheel and rail (quasi-identical bodies) or one
+    body's (a :class:`~railvti.contact.dissimilar.BodyPair` of two).
 
     Parameters
     ----------
     shear_modulus : float
         Shear modulus G, Pa (> 0).
     poisson : float
-        Poisson's ratio nu, in [0, 0.5).
+        Poisson's ratio nu, in (-1, 0.5) (the range of a stable isotropic solid; issue 35).
     """
 
     shear_modulus: float
@@ -26,8 +28,8 @@ class Material:
     def __post_init__(self) -> None:
         object.__setattr__(self, "shear_modulus", _checks.positive("shear_modulus", self.shear_modulus))
         nu = _checks.finite("poisson", self.poisson)
-        if not 0.0 <= nu < 0.5:
-            raise InputError(f"poisson must lie in [0, 0.5), got {nu}")
+        if not -1.0 < nu < 0.5:
+            raise InputError(f"poisson must lie in (-1, 0.5), got {nu}")
         object.__setattr__(self, "poisson", nu)
 
     @property

@@ -13,6 +13,13 @@ from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
 from .transient import TransientResult, shift_problem, solve_transient, transient_rolling
+from .dissimilar import (
+    BodyPair,
+    CompressionResult,
+    DissimilarRollingResult,
+    solve_dissimilar_rolling,
+    solve_progressive_compression,
+)
 
 __all__ = [
     "Grid",
@@ -40,4 +47,9 @@ __all__ = [
     "shift_problem",
     "solve_transient",
     "transient_rolling",
+    "BodyPair",
+    "CompressionResult",
+    "DissimilarRollingResult",
+    "solve_dissimilar_rolling",
+    "solve_progressive_compression",
 ]

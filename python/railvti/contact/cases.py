@@ -49,7 +49,7 @@ KEYS: dict[str, Key] = {
         hi=1e12,
         why="steel is 82e9 Pa",
     ),
-    "poisson": Key("1", "Poisson's ratio of wheel and rail", lo=0.0, hi=0.5, hi_open=True),
+    "poisson": Key("1", "Poisson's ratio of wheel and rail", lo=-1.0, hi=0.5, lo_open=True, hi_open=True),
     "nx": Key("1", "elements of the grid along x (rolling direction)", "int", 2, 2048, why=_WHY_GRID),
     "ny": Key("1", "elements of the grid along y (lateral)", "int", 2, 2048, why=_WHY_GRID),
     "dx": Key(

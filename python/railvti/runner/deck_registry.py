@@ -13,6 +13,7 @@ from ..casetypes import DECK_READERS, REGISTRY, Case, CaseType
 # Each area's module registers its case types when imported.
 _AREAS = (
     "railvti.contact.cases",
+    "railvti.contact.dissimilar_cases",
     "railvti.contact.wheelset_cases",
     "railvti.contact.wheel_rail_cases",
     "railvti.contact.contact_deck",
