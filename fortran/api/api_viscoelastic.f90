@@ -43,8 +43,63 @@ subroutine visco_line_solve_c(n, d, h, nb, j0, jinf, vlen, ell, fn, tol, max_ite
     resid = 0.0_c_double
     iters = 0
     call visco_line_kernel(n, d, nb, j0, jinf, vlen, ell, k, stat)
-    if (stat == STAT_OK) call visco_line_normal(n, d, h, k, fn, tol, max_iter, p, u, approach, &
-                                                it, resid, stat)
-    if (stat == STAT_OK) iters = it
+    if (stat == STAT_OK) then
+        call visco_line_normal(n, d, h, k, fn, tol, max_iter, p, u, approach, it, resid, stat)
+        iters = it
+    end if
     info = stat
 end subroutine visco_line_solve_c
+
+!> The 3-D grid's coefficient field c (circular layout on 2nx x 2ny, m/Pa) of nb bodies
+!> (contact_viscoelastic_grid::visco_grid_coefficients). info: its status.
+subroutine visco_grid_coefficients_c(nx, ny, dx, dy, nb, j0, jinf, vlen, c, info)
+    use iso_c_binding, only: c_int, c_double
+    use contact_viscoelastic_grid, only: visco_grid_coefficients
+    implicit none
+    !f2py threadsafe
+    integer(c_int), intent(in) :: nx, ny, nb
+    real(c_double), intent(in) :: dx, dy, j0(nb), jinf(nb), vlen(nb)
+    real(c_double), intent(out) :: c(2 * nx, 2 * ny)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call visco_grid_coefficients(nx, ny, dx, dy, nb, j0, jinf, vlen, c, stat)
+    info = stat
+end subroutine visco_grid_coefficients_c
+
+!> The normal problem of a point contact on the 3-D grid with the gap h (m) and the force fn
+!> (N): the coefficient field, then the active-set solve with GMRES steps
+!> (visco_grid_normal, preconditioned with the compliance sum(j0), or sum(jinf) if that
+!> is 0). p: start set (p > 0; zero: all elements) on entry, pressure (Pa) on exit;
+!> u = C * p (m); nprod: FFT products. info: the first non-OK status.
+subroutine visco_grid_solve_c(nx, ny, dx, dy, h, nb, j0, jinf, vlen, fn, tol, max_iter, p, u, &
+                              approach, iters, nprod, resid, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK
+    use contact_viscoelastic_grid, only: visco_grid_coefficients, visco_grid_normal
+    implicit none
+    !f2py threadsafe
+    integer(c_int), intent(in) :: nx, ny, nb, max_iter
+    real(c_double), intent(in) :: dx, dy, h(nx, ny), j0(nb), jinf(nb), vlen(nb), fn, tol
+    real(c_double), intent(inout) :: p(nx, ny)
+    real(c_double), intent(out) :: u(nx, ny), approach, resid
+    integer(c_int), intent(out) :: iters, nprod, info
+    real(c_double), allocatable :: c(:, :)
+    real(c_double) :: jprec
+    integer :: stat, it, np
+    allocate (c(2 * nx, 2 * ny))
+    u = 0.0_c_double
+    approach = 0.0_c_double
+    resid = 0.0_c_double
+    iters = 0
+    nprod = 0
+    jprec = sum(j0)
+    if (.not. jprec > 0.0_c_double) jprec = sum(jinf)
+    call visco_grid_coefficients(nx, ny, dx, dy, nb, j0, jinf, vlen, c, stat)
+    if (stat == STAT_OK) then
+        call visco_grid_normal(nx, ny, dx, dy, c, jprec, h, fn, tol, max_iter, p, u, approach, &
+                               it, np, resid, stat)
+        iters = it
+        nprod = np
+    end if
+    info = stat
+end subroutine visco_grid_solve_c

@@ -12,6 +12,13 @@ from .creep_table import CreepForceTable, creep_force_table
 from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .viscoelastic import (
+    ViscoelasticLineResult,
+    ViscoelasticMaterial,
+    ViscoelasticResult,
+    solve_viscoelastic,
+    solve_viscoelastic_line,
+)
 
 __all__ = [
     "Grid",
@@ -35,4 +42,9 @@ __all__ = [
     "WheelsetPatch",
     "WheelsetSolution",
     "solve_wheelset",
+    "ViscoelasticMaterial",
+    "ViscoelasticLineResult",
+    "ViscoelasticResult",
+    "solve_viscoelastic",
+    "solve_viscoelastic_line",
 ]
