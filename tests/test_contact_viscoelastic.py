@@ -275,3 +275,20 @@ def test_deck_case_line_and_point(tmp_path):
 def test_deck_bad_keys_are_named(kw, key):
     problems = REGISTRY["viscoelastic_rolling"].problems(_deck(**kw))
     assert problems and any(key in m for m in problems)
+
+
+@pytest.mark.parametrize("ratio", [0.3, 3.0])
+def test_grid_strip_emulates_the_line_contact(ratio):
+    """Two rows of length 2000 a on the 3-D grid (plane strain emulated, as for Carter in
+    validation/contact_carter.py): the quadrature-filtered Boussinesq field gives the line
+    contact's closed-form solution (centroid and pressure within 1e-5)."""
+    a = line_hertz_half_width(R, FN, POLY.compliance_relaxed)
+    speed = ratio * a / POLY.creep_time
+    n = 200
+    line = solve_viscoelastic_line(R, FN, speed, POLY, n=n, half_length=1.25 * a)
+    dy = 2000.0 * a
+    grid = Grid(n, 2, 2.5 * a / n, dy)
+    x, _ = grid.mesh()
+    r = solve_viscoelastic(x * x / (2 * R), grid, FN * 2 * dy, speed, POLY, strip=True)
+    assert r.centroid == pytest.approx(line.centroid, rel=1e-5)
+    assert np.linalg.norm(r.pressure[:, 0] - line.pressure) < 1e-5 * np.linalg.norm(line.pressure)

@@ -18,9 +18,10 @@ import numpy as np
 from .. import _checks
 from .._native import core
 from .._status import Status, error
-from ..errors import ConvergenceError, GridTooSmallError, InputError
+from ..errors import ConvergenceError, GridTooSmallError, InputError, RailvtiError
 from ..material import Material
 from .grid import Grid
+from .normal import solve_normal
 
 log = logging.getLogger(__name__)
 
@@ -330,6 +331,17 @@ class ViscoelasticResult:
         return float(self.pressure.max())
 
 
+def _relaxed_start(h: np.ndarray, grid: Grid, fn: float, jinf: float) -> np.ndarray:
+    """The start set of the active-set iteration: the contact of the relaxed elastic pair
+    (compliance jinf, solved coarsely by solve_normal's CG; it holds the viscoelastic contact
+    but for a few elements), or all elements if that solve fails. Saves ~30 % of the time."""
+    try:
+        r = solve_normal(h, grid, Material(shear_modulus=1.0 / jinf, poisson=0.0), fn=fn, tol=1e-6)
+    except RailvtiError:
+        return np.zeros(grid.shape, order="F")
+    return np.asfortranarray(r.pressure)
+
+
 def solve_viscoelastic(
     gap: np.ndarray,
     grid: Grid,
@@ -339,6 +351,7 @@ def solve_viscoelastic(
     body2: ViscoelasticMaterial | Material | None = None,
     tol: float = 1e-10,
     max_iter: int = 100,
+    strip: bool = False,
 ) -> ViscoelasticResult:
     """Steady rolling of a point contact with viscoelastic bodies on the BEM grid: pressure,
     contact shifted forward, rolling resistance.
@@ -365,6 +378,9 @@ def solve_viscoelastic(
         Interpenetration allowed outside the contact, relative to the deformation.
     max_iter : int
         Active-set iteration limit.
+    strip : bool
+        The grid is a band of long rows emulating plane strain (the gap uniform in y): the
+        contact may then reach the lateral edges; only the edges in x are checked.
 
     Returns
     -------
@@ -387,7 +403,7 @@ def solve_viscoelastic(
     tol = _checks.positive("tol", tol)
     max_iter = _checks.positive_int("max_iter", max_iter)
     j0, jinf, vlen = _bodies(body1, body2, speed)
-    p = np.zeros(grid.shape, order="F")
+    p = _relaxed_start(h, grid, fn, float(jinf.sum()))
     u, approach, iters, nprod, resid, info = core.visco_grid_solve_c(
         grid.dx, grid.dy, h, j0, jinf, vlen, fn, tol, max_iter, p
     )
@@ -399,7 +415,7 @@ def solve_viscoelastic(
         )
     if info != Status.OK:
         raise error(info, "viscoelastic contact solver failed")
-    if p[0, :].any() or p[-1, :].any() or p[:, 0].any() or p[:, -1].any():
+    if p[0, :].any() or p[-1, :].any() or (not strip and (p[:, 0].any() or p[:, -1].any())):
         raise GridTooSmallError("the contact area reaches the grid edge: enlarge the grid")
     x = grid.x
     e = float(np.dot(p.sum(axis=1), x) / p.sum())
