@@ -30,7 +30,9 @@ from railvti.contact.viscoelastic_hunter import hunter_cylinder
 from railvti.errors import InputError
 
 #: A polymer: glassy G0 three times the relaxed Ginf (J0 / Jinf = 1/3), nu = 0.4.
-POLY = ViscoelasticMaterial(shear_modulus=3.0e9, shear_modulus_relaxed=1.0e9, relaxation_time=0.01, poisson=0.4)
+POLY = ViscoelasticMaterial(
+    shear_modulus=3.0e9, shear_modulus_relaxed=1.0e9, relaxation_time=0.01, poisson=0.4
+)
 R, FN = 0.05, 2.0e5  # m, N/m
 
 
@@ -41,7 +43,9 @@ def _quad_filtered(fun, r, el, breaks):
         quad(lambda s: math.exp(-s / el) / el * fun(r + s), a, b, limit=400, epsrel=1e-12, epsabs=0.0)[0]
         for a, b in zip(pts, pts[1:])
     )
-    return total + quad(lambda s: math.exp(-s / el) / el * fun(r + s), pts[-1], np.inf, limit=200, epsabs=0.0)[0]
+    return (
+        total + quad(lambda s: math.exp(-s / el) / el * fun(r + s), pts[-1], np.inf, limit=200, epsabs=0.0)[0]
+    )
 
 
 def test_line_kernel_is_the_filtered_elastic_kernel():
@@ -77,12 +81,16 @@ def test_grid_coefficients_are_the_filtered_boussinesq_field():
         return b * math.log(a + r) if a > 0 else b * math.log(b * b / (r - a))
 
     def ce(x, y):
-        f = [blog(yy, xx) + blog(xx, yy) for xx in (x + dx / 2, x - dx / 2) for yy in (y + dy / 2, y - dy / 2)]
+        f = [
+            blog(yy, xx) + blog(xx, yy) for xx in (x + dx / 2, x - dx / 2) for yy in (y + dy / 2, y - dy / 2)
+        ]
         return (f[0] - f[1] - f[2] + f[3]) / math.pi
 
     for k, l in ((0, 0), (-3, 0), (5, 1), (-15, 2), (7, -4), (15, 11)):
         x, y = k * dx, l * dy
-        ref = j0 * ce(x, y) + (jinf - j0) * _quad_filtered(lambda t: ce(t, y), x, el, [-x - dx / 2, -x + dx / 2])
+        ref = j0 * ce(x, y) + (jinf - j0) * _quad_filtered(
+            lambda t: ce(t, y), x, el, [-x - dx / 2, -x + dx / 2]
+        )
         assert c[k % 32, l % 24] == pytest.approx(ref, rel=3e-6)
 
 
@@ -126,7 +134,8 @@ def test_resistance_peaks_at_an_intermediate_speed():
     a = line_hertz_half_width(R, FN, POLY.compliance_relaxed)
     ratios = [0.01, 0.1, 0.3, 1.0, 3.0, 10.0, 100.0]
     mu = [
-        solve_viscoelastic_line(R, FN, q * a / POLY.creep_time, POLY, n=400).resistance_coefficient for q in ratios
+        solve_viscoelastic_line(R, FN, q * a / POLY.creep_time, POLY, n=400).resistance_coefficient
+        for q in ratios
     ]
     k = int(np.argmax(mu))
     assert 0 < k < len(ratios) - 1
@@ -189,7 +198,9 @@ def test_result_independent_of_blas_threads():
     out = []
     for threads in ("1", "2"):
         env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads)
-        res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        res = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+        )
         out.append(json.loads(res.stdout))
     np.testing.assert_allclose(out[0], out[1], rtol=1e-12)
 
@@ -256,8 +267,17 @@ def test_deck_case_line_and_point(tmp_path):
         for k, (v, _) in out.datasets.items():
             g.create_dataset(k, data=np.asarray(v))
         assert ct.plot(g, tmp_path, "v")[0].stat().st_size > 10_000
-    pt = ct.run(_deck(geometry="point", fn=50.0, radius=0.02, n_per_semiaxis=8, body2="elastic",
-                      body2_shear_modulus=82e9, body2_poisson=0.28))
+    pt = ct.run(
+        _deck(
+            geometry="point",
+            fn=50.0,
+            radius=0.02,
+            n_per_semiaxis=8,
+            body2="elastic",
+            body2_shear_modulus=82e9,
+            body2_poisson=0.28,
+        )
+    )
     assert pt.scalars["resistance_coefficient"][0] > 0
     assert pt.datasets["pressure"][0].ndim == 2
 

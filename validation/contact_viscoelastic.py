@@ -52,8 +52,10 @@ def hunter_table(mat: ViscoelasticMaterial, n: int = 800) -> dict:
     """BEM and Hunter at each V tc / a_inf; returns the arrays for the figure."""
     a = line_hertz_half_width(R, FN, mat.compliance_relaxed)
     rows = {"ratio": [], "bem": [], "hunter": [], "c1": [], "c2": [], "hc1": [], "hc2": []}
-    print(f"\nHunter's cylinder, J0/Jinf = {mat.shear_modulus_relaxed / mat.shear_modulus:.3g}, "
-          f"n = {n} strips over [-1.25, 1.25] a_inf (a_inf = relaxed Hertz half-width {a * 1e3:.4g} mm)")
+    print(
+        f"\nHunter's cylinder, J0/Jinf = {mat.shear_modulus_relaxed / mat.shear_modulus:.3g}, "
+        f"n = {n} strips over [-1.25, 1.25] a_inf (a_inf = relaxed Hertz half-width {a * 1e3:.4g} mm)"
+    )
     print(" V tc/a | c1/a BEM  Hunter | c2/a BEM  Hunter |  e/a BEM    Hunter    rel.diff | mu_R BEM")
     for q in RATIOS:
         speed = q * a / mat.creep_time
@@ -64,17 +66,26 @@ def hunter_table(mat: ViscoelasticMaterial, n: int = 800) -> dict:
             f"{h.x_leading / a:7.4f} | {r.centroid / a:8.5f} {h.centroid / a:8.5f} "
             f"{r.centroid / h.centroid - 1:+9.2e} | {r.resistance_coefficient:.4e}"
         )
-        for k, v in (("ratio", q), ("bem", r.centroid / a), ("hunter", h.centroid / a),
-                     ("c1", r.x_trailing / a), ("c2", r.x_leading / a),
-                     ("hc1", h.x_trailing / a), ("hc2", h.x_leading / a)):
+        for k, v in (
+            ("ratio", q),
+            ("bem", r.centroid / a),
+            ("hunter", h.centroid / a),
+            ("c1", r.x_trailing / a),
+            ("c2", r.x_leading / a),
+            ("hc1", h.x_trailing / a),
+            ("hc2", h.x_leading / a),
+        ):
             rows[k].append(v)
     dense = np.logspace(np.log10(RATIOS[0]), np.log10(RATIOS[-1]), 41)
     rows["dense"] = dense
     rows["hunter_dense"] = [
-        hunter_cylinder(R, FN, mat.compliance_instant, mat.compliance_relaxed, q * a).centroid / a for q in dense
+        hunter_cylinder(R, FN, mat.compliance_instant, mat.compliance_relaxed, q * a).centroid / a
+        for q in dense
     ]
     k = int(np.argmax(rows["bem"]))
-    print(f"largest e/a = {rows['bem'][k]:.4f} (mu_R = {rows['bem'][k] * a / R:.4g}) at V tc / a = {RATIOS[k]}")
+    print(
+        f"largest e/a = {rows['bem'][k]:.4f} (mu_R = {rows['bem'][k] * a / R:.4g}) at V tc / a = {RATIOS[k]}"
+    )
     return rows
 
 
@@ -90,8 +101,10 @@ def strip_check(mat: ViscoelasticMaterial) -> None:
         x, _ = grid.mesh()
         r = solve_viscoelastic(x * x / (2 * R), grid, FN * 2 * dy, speed, mat, strip=True)
         dp = np.linalg.norm(r.pressure[:, 0] - line.pressure) / np.linalg.norm(line.pressure)
-        print(f"  V tc/a = {q}: e/a {r.centroid / a:.6f} vs {line.centroid / a:.6f} ({r.centroid / line.centroid - 1:+.1e}),"
-              f" pressure L2 diff {dp:.1e}, {r.iterations} active-set it, {r.fft_products} FFT products")
+        print(
+            f"  V tc/a = {q}: e/a {r.centroid / a:.6f} vs {line.centroid / a:.6f} ({r.centroid / line.centroid - 1:+.1e}),"
+            f" pressure L2 diff {dp:.1e}, {r.iterations} active-set it, {r.fft_products} FFT products"
+        )
 
 
 def timing(mat: ViscoelasticMaterial) -> None:
@@ -100,9 +113,13 @@ def timing(mat: ViscoelasticMaterial) -> None:
     print("\nTime per case (best of 3), load average", tuple(round(v, 2) for v in os.getloadavg()))
     for n in (200, 400, 800):
         _, te = _best(lambda: solve_viscoelastic_line(R, FN, 0.0, mat, n=n, half_length=1.25 * a))
-        rv, tv = _best(lambda: solve_viscoelastic_line(R, FN, a / mat.creep_time, mat, n=n, half_length=1.25 * a))
-        print(f"  line, n = {n}: elastic (V = 0) {te * 1e3:.1f} ms, viscoelastic (V tc = a) {tv * 1e3:.1f} ms, "
-              f"{rv.iterations} active-set it")
+        rv, tv = _best(
+            lambda: solve_viscoelastic_line(R, FN, a / mat.creep_time, mat, n=n, half_length=1.25 * a)
+        )
+        print(
+            f"  line, n = {n}: elastic (V = 0) {te * 1e3:.1f} ms, viscoelastic (V tc = a) {tv * 1e3:.1f} ms, "
+            f"{rv.iterations} active-set it"
+        )
     steel = Material(shear_modulus=82e9, poisson=0.28)
     rs, fn = 0.02, 50.0
     for nps in (8, 16, 24):
@@ -117,9 +134,11 @@ def timing(mat: ViscoelasticMaterial) -> None:
         _, tn = _best(lambda: solve_normal(gap, grid, pair, fn=fn, tol=1e-10))
         _, te = _best(lambda: solve_viscoelastic(gap, grid, fn, 0.0, mat, None))
         rv, tv = _best(lambda: solve_viscoelastic(gap, grid, fn, asp / mat.creep_time, mat, steel))
-        print(f"  sphere, grid {grid.nx} x {grid.ny}: solve_normal (elastic, CG) {tn * 1e3:.1f} ms, "
-              f"solve_viscoelastic V = 0 {te * 1e3:.1f} ms, V tc = a {tv * 1e3:.1f} ms "
-              f"({rv.iterations} active-set it, {rv.fft_products} FFT products), mu_R = {rv.resistance_coefficient:.4g}")
+        print(
+            f"  sphere, grid {grid.nx} x {grid.ny}: solve_normal (elastic, CG) {tn * 1e3:.1f} ms, "
+            f"solve_viscoelastic V = 0 {te * 1e3:.1f} ms, V tc = a {tv * 1e3:.1f} ms "
+            f"({rv.iterations} active-set it, {rv.fft_products} FFT products), mu_R = {rv.resistance_coefficient:.4g}"
+        )
 
 
 def wang_knothe() -> list:
@@ -131,14 +150,18 @@ def wang_knothe() -> list:
     for tc in (1e-9, 0.009, 0.045, 2.0):
         pa6 = ViscoelasticMaterial(1143e6, 571.5e6, tc / 2.0, 0.4)
         r = solve_viscoelastic_line(0.05, 6e5, 1.0, pa6, pa6, n=600, half_length=8e-3)
-        print(f"  tc = {tc:g} s: contact [{r.x_trailing * 1e3:.3f}, {r.x_leading * 1e3:.3f}] mm, "
-              f"pmax {r.pmax / 1e6:.2f} MPa, e = {r.centroid * 1e3:.4f} mm, mu_R = {r.resistance_coefficient:.4g}")
+        print(
+            f"  tc = {tc:g} s: contact [{r.x_trailing * 1e3:.3f}, {r.x_leading * 1e3:.3f}] mm, "
+            f"pmax {r.pmax / 1e6:.2f} MPa, e = {r.centroid * 1e3:.4f} mm, mu_R = {r.resistance_coefficient:.4g}"
+        )
         out.append((tc, r))
     for g in (571.5e6, 1143e6):
         el = Material(shear_modulus=g, poisson=0.4)
         r = solve_viscoelastic_line(0.05, 6e5, 1.0, el, el, n=600, half_length=8e-3)
-        print(f"  elastic G = {g / 1e6:g} N/mm^2: half-width {(r.x_leading - r.x_trailing) / 2 * 1e3:.3f} mm "
-              f"(Hertz {line_hertz_half_width(0.05, 6e5, 2 * 0.6 / (2 * g)) * 1e3:.3f}), pmax {r.pmax / 1e6:.2f} MPa")
+        print(
+            f"  elastic G = {g / 1e6:g} N/mm^2: half-width {(r.x_leading - r.x_trailing) / 2 * 1e3:.3f} mm "
+            f"(Hertz {line_hertz_half_width(0.05, 6e5, 2 * 0.6 / (2 * g)) * 1e3:.3f}), pmax {r.pmax / 1e6:.2f} MPa"
+        )
     return out
 
 
@@ -158,7 +181,15 @@ def figures(mat: ViscoelasticMaterial, tables: list, wk: list) -> None:
         ax.plot(r.x / a, r.pressure / p0, color=col, label=label + " BEM")
         if 0 < q < 1e6:
             h = hunter_cylinder(R, FN, mat.compliance_instant, mat.compliance_relaxed, q * a)
-            ax.plot(h.x[::40] / a, h.pressure[::40] / p0, "o", ms=3, color=col, mfc="none", label="Hunter (reduction)")
+            ax.plot(
+                h.x[::40] / a,
+                h.pressure[::40] / p0,
+                "o",
+                ms=3,
+                color=col,
+                mfc="none",
+                label="Hunter (reduction)",
+            )
     ax.set_xlabel("x / a_inf (rolling direction; leading edge at the right)")
     ax.set_ylabel("p / p0_inf")
     ax.set_title("Rigid cylinder on a standard linear solid, J0/Jinf = 1/3")
@@ -178,7 +209,9 @@ def figures(mat: ViscoelasticMaterial, tables: list, wk: list) -> None:
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     for (ratio_label, rows), col in zip(tables, ("C0", "C1")):
-        ax.semilogx(rows["dense"], rows["hunter_dense"], "-", color=col, label=f"Hunter (reduction), {ratio_label}")
+        ax.semilogx(
+            rows["dense"], rows["hunter_dense"], "-", color=col, label=f"Hunter (reduction), {ratio_label}"
+        )
         ax.semilogx(rows["ratio"], rows["bem"], "o", color=col, mfc="none", label=f"BEM, {ratio_label}")
     ax.set_xlabel("V tc / a_inf (tc creep time, a_inf relaxed Hertz half-width)")
     ax.set_ylabel("e / a_inf = mu_R R / a_inf")

@@ -44,9 +44,13 @@ KEYS: dict[str, Key] = {
     ),
     "radius": Key("m", "combined rolling radius R (gap x^2 / (2 R))", lo=0.0, hi=10.0, lo_open=True),
     "radius_y": Key("m", "combined lateral radius ('point')", lo=0.0, hi=1e3, lo_open=True, optional=True),
-    "fn": Key("N/m or N", "load per unit length ('line') or normal force ('point')", lo=0.0, hi=1e9, lo_open=True),
+    "fn": Key(
+        "N/m or N", "load per unit length ('line') or normal force ('point')", lo=0.0, hi=1e9, lo_open=True
+    ),
     "speed": Key("m/s", "rolling speed", lo=0.0, hi=1e3),
-    "shear_modulus": Key("Pa", "instantaneous (glassy) shear modulus G0 of body 1", lo=0.0, hi=1e12, lo_open=True),
+    "shear_modulus": Key(
+        "Pa", "instantaneous (glassy) shear modulus G0 of body 1", lo=0.0, hi=1e12, lo_open=True
+    ),
     "shear_modulus_relaxed": Key(
         "Pa", "long-term (relaxed) shear modulus Ginf of body 1, <= G0", lo=0.0, hi=1e12, lo_open=True
     ),
@@ -58,9 +62,17 @@ KEYS: dict[str, Key] = {
         "str",
         choices=("rigid", "elastic", "same"),
     ),
-    "body2_shear_modulus": Key("Pa", "shear modulus of an elastic body 2", lo=0.0, hi=1e12, lo_open=True, optional=True),
+    "body2_shear_modulus": Key(
+        "Pa", "shear modulus of an elastic body 2", lo=0.0, hi=1e12, lo_open=True, optional=True
+    ),
     "body2_poisson": Key(
-        "1", "Poisson's ratio of an elastic body 2", lo=-1.0, hi=0.5, lo_open=True, hi_open=True, optional=True
+        "1",
+        "Poisson's ratio of an elastic body 2",
+        lo=-1.0,
+        hi=0.5,
+        lo_open=True,
+        hi_open=True,
+        optional=True,
     ),
     "n": Key("1", "strips of the line contact's grid", "int", 8, 4000, why="a dense LU of 4000 strips"),
     "n_per_semiaxis": Key("1", "elements per relaxed Hertz semi-axis ('point')", "int", 4, 64),
@@ -77,7 +89,9 @@ def check(p: dict[str, Any]) -> list[str]:
             f"shear_modulus_relaxed = {p['shear_modulus_relaxed']:g} Pa must not exceed "
             f"shear_modulus = {p['shear_modulus']:g} Pa (a standard linear solid relaxes)"
         )
-    if str(p["body2"]).lower() == "elastic" and (p["body2_shear_modulus"] is None or p["body2_poisson"] is None):
+    if str(p["body2"]).lower() == "elastic" and (
+        p["body2_shear_modulus"] is None or p["body2_poisson"] is None
+    ):
         out.append("body2 = 'elastic' needs body2_shear_modulus (Pa) and body2_poisson")
     return out
 
@@ -118,8 +132,8 @@ def _run_line(p, body1, body2) -> CaseOutput:
     return CaseOutput(
         summary=(
             f"line: contact [{r.x_trailing / a:.4f}, {r.x_leading / a:.4f}] a_inf, centroid e = "
-            f"{r.centroid * 1e6:.4g} um, mu_R = {r.resistance_coefficient:.4g}, pmax = {r.pmax / 1e6:.4g} MPa, "
-            f"{r.iterations} active-set it"
+            f"{r.centroid * 1e6:.4g} um, mu_R = {r.resistance_coefficient:.4g}, "
+            f"pmax = {r.pmax / 1e6:.4g} MPa, {r.iterations} active-set it"
         ),
         datasets={"x": (r.x, "m"), "pressure": (r.pressure, "Pa"), "displacement": (r.displacement, "m")},
         scalars={
@@ -202,7 +216,7 @@ register(
         plot=plot,
         keys=KEYS,
         check=check,
-        summary="steady rolling on a viscoelastic (standard linear solid) body: pressure shift, rolling resistance",
+        summary="steady rolling on a viscoelastic (standard linear solid) body: pressure shift, resistance",
     )
 )
 
