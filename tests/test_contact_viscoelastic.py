@@ -17,7 +17,7 @@ from scipy.integrate import quad
 import railvti.contact.viscoelastic_cases  # noqa: F401  (registers the case type)
 from railvti import Material
 from railvti.casetypes import REGISTRY, REQUIRED
-from railvti.contact import Grid, hertz, hertz_gap, solve_normal
+from railvti.contact import Grid, hertz, hertz_gap, solve_normal, solve_rolling
 from railvti.contact.viscoelastic import (
     ViscoelasticMaterial,
     grid_coefficients,
@@ -27,6 +27,7 @@ from railvti.contact.viscoelastic import (
     solve_viscoelastic_line,
 )
 from railvti.contact.viscoelastic_hunter import hunter_cylinder
+from railvti.contact.viscoelastic_rolling import solve_viscoelastic_rolling
 from railvti.errors import InputError
 
 #: A polymer: glassy G0 three times the relaxed Ginf (J0 / Jinf = 1/3), nu = 0.4.
@@ -267,6 +268,8 @@ def test_deck_case_line_and_point(tmp_path):
         for k, (v, _) in out.datasets.items():
             g.create_dataset(k, data=np.asarray(v))
         assert ct.plot(g, tmp_path, "v")[0].stat().st_size > 10_000
+    tg = ct.run(_deck(geometry="point", fn=50.0, radius=0.02, n_per_semiaxis=8, mu=0.3, xi=-1e-3))
+    assert 0 < tg.scalars["fx"][0] < 0.3 * 50.0
     pt = ct.run(
         _deck(
             geometry="point",
@@ -312,3 +315,39 @@ def test_grid_strip_emulates_the_line_contact(ratio):
     r = solve_viscoelastic(x * x / (2 * R), grid, FN * 2 * dy, speed, POLY, strip=True)
     assert r.centroid == pytest.approx(line.centroid, rel=1e-5)
     assert np.linalg.norm(r.pressure[:, 0] - line.pressure) < 1e-5 * np.linalg.norm(line.pressure)
+
+
+@pytest.mark.parametrize("speed, modulus", [(1e-6, "relaxed"), (1e5, "instant")])
+def test_tangential_limits_are_elastic_rolling(speed, modulus):
+    """Two PA6 rollers (one material: no coupling): V -> 0 and V tc >> a give solve_rolling's
+    creep force and tractions with the relaxed and the glassy modulus (another kernel path)."""
+    pa6 = ViscoelasticMaterial(1143e6, 571.5e6, 0.0045, 0.4)
+    rs, fn, mu = 0.05, 200.0, 0.3
+    a = (3 * fn * rs * 2 * pa6.compliance_relaxed / 4) ** (1 / 3)
+    grid = Grid.covering(a, a, n_per_semiaxis=10, margin=1.3)
+    x, y = grid.mesh()
+    gap = np.asfortranarray((x * x + y * y) / (2 * rs))
+    r = solve_viscoelastic_rolling(gap, grid, fn, speed, (-2e-3, 1e-3, 0.5), mu, pa6, pa6)
+    g = pa6.shear_modulus_relaxed if modulus == "relaxed" else pa6.shear_modulus
+    ref = solve_rolling(gap, grid, Material(g, 0.4), mu, fn, (-2e-3, 1e-3, 0.5), speed)
+    assert r.fx == pytest.approx(ref.fx, rel=1e-5)
+    assert r.fy == pytest.approx(ref.fy, rel=1e-5)
+    assert np.abs(r.tx - ref.tx).max() < 1e-4 * mu * ref.pmax
+
+
+def test_tangential_creep_force_saturates_and_moves_with_speed():
+    """A large creepage saturates at mu Fn; at a small one the force changes with V tc / a
+    (the contact stiffens from the relaxed to the glassy modulus)."""
+    pa6 = ViscoelasticMaterial(1143e6, 571.5e6, 0.0045, 0.4)
+    rs, fn, mu = 0.05, 200.0, 0.3
+    a = (3 * fn * rs * 2 * pa6.compliance_relaxed / 4) ** (1 / 3)
+    grid = Grid.covering(a, a, n_per_semiaxis=10, margin=1.3)
+    x, y = grid.mesh()
+    gap = np.asfortranarray((x * x + y * y) / (2 * rs))
+    sat = solve_viscoelastic_rolling(gap, grid, fn, a / pa6.creep_time, (-0.1, 0, 0), mu, pa6, pa6)
+    assert sat.fx == pytest.approx(mu * fn, rel=1e-4)
+    f = [
+        solve_viscoelastic_rolling(gap, grid, fn, q * a / pa6.creep_time, (-5e-4, 0, 0), mu, pa6, pa6).fx
+        for q in (1e-4, 1e4)
+    ]
+    assert f[1] > 1.3 * f[0] > 0

@@ -103,3 +103,34 @@ subroutine visco_grid_solve_c(nx, ny, dx, dy, h, nb, j0, jinf, vlen, fn, tol, ma
     end if
     info = stat
 end subroutine visco_grid_solve_c
+
+!> A contact workspace (contact_plans) holding the four viscoelastic coefficient fields of nb
+!> bodies (contact_viscoelastic_grid::visco_grid_kernels: shear moduli g0, ginf (Pa; g0 = 0
+!> rigid), Poisson's ratios nu, memory lengths vlen = V tc (m)), for rolling_solve_c.
+!> Free it with contact_ws_free_c. info: the first non-OK status.
+subroutine visco_ws_create_c(nx, ny, dx, dy, nb, g0, ginf, nu, vlen, handle, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
+    use contact_plans, only: ws_create_from
+    use contact_viscoelastic_grid, only: visco_grid_kernels
+    implicit none
+    integer(c_int), intent(in) :: nx, ny, nb
+    real(c_double), intent(in) :: dx, dy, g0(nb), ginf(nb), nu(nb), vlen(nb)
+    integer(c_int), intent(out) :: handle, info
+    real(c_double), allocatable :: c(:, :, :)
+    real(c_double) :: j0
+    integer :: stat, h, b
+    handle = 0
+    allocate (c(0:2 * nx - 1, 0:2 * ny - 1, 4))
+    call visco_grid_kernels(nx, ny, dx, dy, nb, g0, ginf, nu, vlen, c, stat)
+    j0 = 0.0_c_double
+    do b = 1, nb
+        if (g0(b) > 0.0_c_double) j0 = j0 + (1.0_c_double - nu(b)) / (2.0_c_double * g0(b))
+    end do
+    if (stat == STAT_OK .and. .not. j0 > 0.0_c_double) stat = STAT_BAD_ARGUMENT
+    if (stat == STAT_OK) then
+        call ws_create_from(nx, ny, dx, dy, c, 1.0_c_double / j0, 0.0_c_double, h, stat)
+        handle = h
+    end if
+    info = stat
+end subroutine visco_ws_create_c

@@ -20,12 +20,12 @@
 module contact_viscoelastic_grid
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_NOT_CONVERGED, STAT_NOT_FINITE
-    use contact_influence, only: influence_coefficient, KERNEL_ZZ
+    use contact_influence, only: influence_coefficient, KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_convolution, only: conv_plan, conv_init, conv_free, conv_apply, conv_init_precond, &
                                    conv_precond_buffer
     implicit none
     private
-    public :: visco_grid_coefficients, visco_grid_normal
+    public :: visco_grid_coefficients, visco_grid_normal, visco_grid_kernels
 
     !> GMRES restart length.
     integer, parameter :: RESTART = 40
@@ -66,7 +66,7 @@ contains
             y = l * dy
             do b = 1, nb
                 if (jinf(b) /= j0(b) .and. vlen(b) > 0.0_dp) then
-                    call filter_row(nx, dx, dy, y, vlen(b), cf)
+                    call filter_row(KERNEL_ZZ, 1.0_dp, 0.0_dp, nx, dx, dy, y, vlen(b), cf)
                 else
                     cf = 0.0_dp
                 end if
@@ -86,11 +86,64 @@ contains
         end do
     end subroutine visco_grid_coefficients
 
+    !> The four coefficient fields c(:, :, k) (k = 1 zz, 2 xx, 3 yy, 4 xy; influence_field's
+    !> layout) of nb bodies with shear moduli g0 (instantaneous), ginf (relaxed), Poisson's
+    !> ratios nu and memory lengths vlen = V tc: per body the one-body Boussinesq-Cerruti field
+    !> of G0 (influence_coefficient with 2 G0) plus (G0/Ginf - 1) times its filter (eq. VE9),
+    !> every kernel being proportional to the shear compliance. g0 = 0 marks a rigid body.
+    !> Quasi-identical bodies (equal nu) decouple normal and tangential problems; otherwise the
+    !> coupling is neglected (Kalker's approximation). info: STAT_OK; STAT_BAD_ARGUMENT.
+    subroutine visco_grid_kernels(nx, ny, dx, dy, nb, g0, ginf, nu, vlen, c, info)
+        integer, intent(in) :: nx, ny, nb
+        real(dp), intent(in) :: dx, dy, g0(nb), ginf(nb), nu(nb), vlen(nb)
+        real(dp), intent(out) :: c(0:2 * nx - 1, 0:2 * ny - 1, 4)
+        integer, intent(out) :: info
+        integer, parameter :: KERNELS(4) = [KERNEL_ZZ, KERNEL_XX, KERNEL_YY, KERNEL_XY]
+        real(dp), allocatable :: cf(:)
+        real(dp) :: y, extra
+        integer :: i, j, k, l, b, kk
+        logical :: visco
+
+        c = 0.0_dp
+        info = STAT_BAD_ARGUMENT
+        if (nx < 1 .or. ny < 1 .or. .not. (dx > 0.0_dp .and. dy > 0.0_dp)) return
+        if (any(.not. (g0 >= 0.0_dp)) .or. any(.not. (ginf > 0.0_dp .or. g0 == 0.0_dp)) .or. &
+            any(.not. (vlen >= 0.0_dp))) return
+        info = STAT_OK
+        allocate (cf(-(nx - 1):nx - 1))
+        do b = 1, nb
+            if (g0(b) == 0.0_dp) cycle
+            visco = ginf(b) /= g0(b) .and. vlen(b) > 0.0_dp
+            extra = g0(b) / ginf(b) - 1.0_dp
+            do kk = 1, 4
+                do j = 0, 2 * ny - 1
+                    if (j == ny) cycle
+                    l = j
+                    if (j > ny) l = j - 2 * ny
+                    y = l * dy
+                    if (visco) call filter_row(KERNELS(kk), 2.0_dp * g0(b), nu(b), nx, dx, dy, y, vlen(b), cf)
+                    do i = 0, 2 * nx - 1
+                        if (i == nx) cycle
+                        k = i
+                        if (i > nx) k = i - 2 * nx
+                        if (visco) then
+                            c(i, j, kk) = c(i, j, kk) + influence_coefficient(KERNELS(kk), k * dx, y, dx, dy, &
+                                                                               2.0_dp * g0(b), nu(b)) + extra * cf(k)
+                        else
+                            c(i, j, kk) = c(i, j, kk) + (1.0_dp + extra) * influence_coefficient( &
+                                          KERNELS(kk), k * dx, y, dx, dy, 2.0_dp * g0(b), nu(b))
+                        end if
+                    end do
+                end do
+            end do
+        end do
+    end subroutine visco_grid_kernels
+
     !> cf(k) = Int_0^inf (1/L) exp(-s/L) ce(k dx + s, y) ds, k = -(nx-1)..nx-1 (eq. VE9),
     !> by the backward recursion W(ta) = exp(-D/L) W(tb) + Int_ta^tb (1/L) exp(-(t-ta)/L) ce.
-    subroutine filter_row(nx, dx, dy, y, el, cf)
-        integer, intent(in) :: nx
-        real(dp), intent(in) :: dx, dy, y, el
+    subroutine filter_row(kernel, g, nu, nx, dx, dy, y, el, cf)
+        integer, intent(in) :: kernel, nx
+        real(dp), intent(in) :: g, nu, dx, dy, y, el
         real(dp), intent(out) :: cf(-(nx - 1):nx - 1)
         real(dp), allocatable :: t(:)
         real(dp) :: w, step, tmax
@@ -116,9 +169,9 @@ contains
             step = 1.2_dp * step
             t(m) = t(m - 1) + step
         end do
-        w = influence_coefficient(KERNEL_ZZ, t(nt), y, dx, dy, 1.0_dp, 0.0_dp)
+        w = influence_coefficient(kernel, t(nt), y, dx, dy, g, nu)
         do m = nt - 1, 0, -1
-            w = exp(-(t(m + 1) - t(m)) / el) * w + segment(t(m), t(m + 1), y, dx, dy, el)
+            w = exp(-(t(m + 1) - t(m)) / el) * w + segment(kernel, g, nu, t(m), t(m + 1), y, dx, dy, el)
             if (m <= nfine .and. mod(m, 2) == 0) then
                 q = m / 2 - (nx - 1)
                 cf(q) = w
@@ -127,16 +180,17 @@ contains
     end subroutine filter_row
 
     !> Int_ta^tb (1/L) exp(-(t - ta)/L) ce(t, y) dt with the weight mapped to a uniform one.
-    real(dp) function segment(ta, tb, y, dx, dy, el) result(s)
-        real(dp), intent(in) :: ta, tb, y, dx, dy, el
+    real(dp) function segment(kernel, g, nu, ta, tb, y, dx, dy, el) result(s)
+        integer, intent(in) :: kernel
+        real(dp), intent(in) :: g, nu, ta, tb, y, dx, dy, el
         real(dp) :: mass, v, t
-        integer :: g
+        integer :: q
         mass = -exp_m1(-(tb - ta) / el)
         s = 0.0_dp
-        do g = 1, 8
-            v = 0.5_dp * (GAUSS_X(g) + 1.0_dp)
+        do q = 1, 8
+            v = 0.5_dp * (GAUSS_X(q) + 1.0_dp)
             t = min(tb, ta - el * log_1p(-v * mass))
-            s = s + 0.5_dp * GAUSS_W(g) * influence_coefficient(KERNEL_ZZ, t, y, dx, dy, 1.0_dp, 0.0_dp)
+            s = s + 0.5_dp * GAUSS_W(q) * influence_coefficient(kernel, t, y, dx, dy, g, nu)
         end do
         s = s * mass
     end function segment

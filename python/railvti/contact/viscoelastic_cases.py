@@ -15,6 +15,7 @@ from .viscoelastic import (
     solve_viscoelastic,
     solve_viscoelastic_line,
 )
+from .viscoelastic_rolling import solve_viscoelastic_rolling
 
 _DEFAULTS = {
     "geometry": "line",
@@ -33,6 +34,10 @@ _DEFAULTS = {
     "n_per_semiaxis": 16,
     "tol": 1e-10,
     "max_iter": 200,
+    "mu": None,  # 'point': with mu, the tangential problem too
+    "xi": 0.0,
+    "eta": 0.0,
+    "phi": 0.0,  # 1/m
 }
 
 KEYS: dict[str, Key] = {
@@ -78,6 +83,17 @@ KEYS: dict[str, Key] = {
     "n_per_semiaxis": Key("1", "elements per relaxed Hertz semi-axis ('point')", "int", 4, 64),
     "tol": Key("1", "interpenetration allowed outside the contact, relative", lo=0.0, hi=0.1, lo_open=True),
     "max_iter": Key("1", "active-set iteration limit", "int", 1, 10000),
+    "mu": Key(
+        "1",
+        "friction coefficient: with it a 'point' case solves the tangential problem too",
+        lo=0.0,
+        hi=1.0,
+        lo_open=True,
+        optional=True,
+    ),
+    "xi": Key("1", "longitudinal creepage (with mu)", lo=-1.0, hi=1.0),
+    "eta": Key("1", "lateral creepage (with mu)", lo=-1.0, hi=1.0),
+    "phi": Key("1/m", "spin creepage (with mu)", lo=-100.0, hi=100.0),
 }
 
 
@@ -93,6 +109,10 @@ def check(p: dict[str, Any]) -> list[str]:
         p["body2_shear_modulus"] is None or p["body2_poisson"] is None
     ):
         out.append("body2 = 'elastic' needs body2_shear_modulus (Pa) and body2_poisson")
+    if p["mu"] is not None and str(p["geometry"]).lower() != "point":
+        out.append("mu (the tangential problem) needs geometry = 'point'")
+    if p["mu"] is not None and not p["speed"] > 0:
+        out.append("mu (the tangential problem) needs speed > 0 (m/s)")
     return out
 
 
@@ -166,6 +186,8 @@ def _run_point(p, body1, body2) -> CaseOutput:
     grid = Grid.covering(ax, ay, n_per_semiaxis=p["n_per_semiaxis"], margin=1.4)
     x, y = grid.mesh()
     gap = np.asfortranarray(x * x / (2.0 * rx) + y * y / (2.0 * ry))
+    if p["mu"] is not None:
+        return _run_tangential(p, grid, gap, body1, body2)
     r = solve_viscoelastic(gap, grid, p["fn"], p["speed"], body1, body2, tol=p["tol"], max_iter=p["max_iter"])
     return CaseOutput(
         summary=(
@@ -184,6 +206,39 @@ def _run_point(p, body1, body2) -> CaseOutput:
             "iterations": (r.iterations, "1"),
             "fft_products": (r.fft_products, "1"),
             "residual": (r.residual, "1"),
+        },
+    )
+
+
+def _run_tangential(p, grid, gap, body1, body2) -> CaseOutput:
+    t = solve_viscoelastic_rolling(
+        gap, grid, p["fn"], p["speed"], (p["xi"], p["eta"], p["phi"]), p["mu"], body1, body2
+    )
+    r = t.normal
+    return CaseOutput(
+        summary=(
+            f"point rolling: Fx = {t.fx:.4g} N, Fy = {t.fy:.4g} N, |F|/(mu Fn) = "
+            f"{np.hypot(t.fx, t.fy) / (p['mu'] * r.fn):.4f}, mu_R = {r.resistance_coefficient:.4g}, "
+            f"{t.iterations} sweeps"
+        ),
+        datasets={
+            "x": (grid.x, "m"),
+            "y": (grid.y, "m"),
+            "pressure": (r.pressure, "Pa"),
+            "tx": (t.tx, "Pa"),
+            "ty": (t.ty, "Pa"),
+            "status": (t.status, "0 exterior, 1 adhesion, 2 slip"),
+        },
+        scalars={
+            "fn": (r.fn, "N"),
+            "fx": (t.fx, "N"),
+            "fy": (t.fy, "N"),
+            "mz": (t.mz, "N m"),
+            "centroid": (r.centroid, "m"),
+            "resistance_force": (r.resistance_force, "N"),
+            "resistance_coefficient": (r.resistance_coefficient, "1"),
+            "iterations": (t.iterations, "1"),
+            "residual": (t.residual, "1"),
         },
     )
 
