@@ -336,8 +336,8 @@ def test_tangential_limits_are_elastic_rolling(speed, modulus):
 
 
 def test_tangential_creep_force_saturates_and_moves_with_speed():
-    """A large creepage saturates at mu Fn; at a small one the force changes with V tc / a
-    (the contact stiffens from the relaxed to the glassy modulus)."""
+    """A large creepage saturates at mu Fn; at a small one the force grows from the relaxed
+    to the glassy contact as Kalker's linear theory says (G0 / Ginf = 2)."""
     pa6 = ViscoelasticMaterial(1143e6, 571.5e6, 0.0045, 0.4)
     rs, fn, mu = 0.05, 200.0, 0.3
     a = (3 * fn * rs * 2 * pa6.compliance_relaxed / 4) ** (1 / 3)
@@ -350,4 +350,5 @@ def test_tangential_creep_force_saturates_and_moves_with_speed():
         solve_viscoelastic_rolling(gap, grid, fn, q * a / pa6.creep_time, (-5e-4, 0, 0), mu, pa6, pa6).fx
         for q in (1e-4, 1e4)
     ]
-    assert f[1] > 1.3 * f[0] > 0
+    # nearly linear (Kalker): F = G a^2 C11 xi with a ~ G^(-1/3), so F ~ G^(1/3)
+    assert f[1] / f[0] == pytest.approx(2.0 ** (1.0 / 3.0), rel=0.05)
