@@ -12,8 +12,9 @@ example visc_cylindr.inp: two PA6 rollers, normal part); times beside the elasti
 the same grid, with the machine's load.
 
 Run: PYTHONPATH=_site .venv/bin/python validation/contact_viscoelastic.py
-Writes validation/figures/contact_viscoelastic_pressure.png and
-validation/figures/contact_viscoelastic_resistance.png.
+Writes validation/figures/contact_viscoelastic_pressure.png,
+validation/figures/contact_viscoelastic_resistance.png and
+validation/figures/contact_viscoelastic_creep.png.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from railvti.contact.viscoelastic import (
     solve_viscoelastic_line,
 )
 from railvti.contact.viscoelastic_hunter import hunter_cylinder
+from railvti.contact.viscoelastic_rolling import solve_viscoelastic_rolling
 
 HERE = Path(__file__).resolve().parent
 R, FN = 0.05, 2.0e5  # m, N/m
@@ -165,7 +167,46 @@ def wang_knothe() -> list:
     return out
 
 
-def figures(mat: ViscoelasticMaterial, tables: list, wk: list) -> None:
+def carter(kappa: np.ndarray) -> np.ndarray:
+    """Carter (1926): |Fx| / (mu Fn) = 1 - (1 - kappa)^2 for kappa < 1, else 1."""
+    k = np.minimum(kappa, 1.0)
+    return 1.0 - (1.0 - k) ** 2
+
+
+def wang_knothe_tangential() -> dict:
+    """Creep curves of the two PA6 rollers (plane strain emulated by two rows 2000 a long, 100
+    elements of 0.16 mm along x as in CONTACT's visc_cylindr.inp), mu = 0.3, V = 1 m/s, against
+    Carter's curve with the relaxed and with the glassy modulus (the limits tc = 0, tc -> inf)."""
+    print("\nWang-Knothe rollers, tangential (plane strain emulated), mu = 0.3, V = 1 m/s: Fx / (mu Fn)")
+    fn_line, rr, mu, n, dx = 6e5, 0.05, 0.3, 100, 0.16e-3
+    a_rel = line_hertz_half_width(rr, fn_line, 2 * 0.6 / (2 * 571.5e6))
+    a_gl = line_hertz_half_width(rr, fn_line, 2 * 0.6 / (2 * 1143e6))
+    dy = 2000 * a_rel
+    grid = Grid(n, 2, dx, dy)
+    x, _ = grid.mesh()
+    gap = np.asfortranarray(x * x / (2 * rr))
+    xis = np.linspace(0.0, 0.05, 11)[1:]
+    out = {"xi": xis}
+    for tc in (1e-9, 0.009, 0.045, 2.0):
+        pa6 = ViscoelasticMaterial(1143e6, 571.5e6, tc / 2.0, 0.4)
+        f = []
+        for xi in xis:
+            r = solve_viscoelastic_rolling(
+                gap, grid, fn_line * 2 * dy, 1.0, (-xi, 0, 0), mu, pa6, pa6, strip=True
+            )
+            f.append(r.fx / (mu * r.normal.fn))
+        out[tc] = np.array(f)
+        print(f"  tc = {tc:g} s: " + " ".join(f"{v:.3f}" for v in f))
+    for name, a in (("relaxed", a_rel), ("glassy", a_gl)):
+        out[name] = carter(xis * rr / (mu * a))
+        print(f"  Carter {name} (a = {a * 1e3:.3f} mm): " + " ".join(f"{v:.3f}" for v in out[name]))
+    d0 = np.abs(out[1e-9] - out["relaxed"]).max()
+    d2 = np.abs(out[2.0] - out["glassy"]).max()
+    print(f"  largest difference to Carter: tc = 0 {d0:.4f}, tc = 2 s {d2:.4f} (of mu Fn)")
+    return out
+
+
+def figures(mat: ViscoelasticMaterial, tables: list, wk: list, wkt: dict) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -223,6 +264,23 @@ def figures(mat: ViscoelasticMaterial, tables: list, wk: list) -> None:
     plt.close(fig)
     print("wrote", path)
 
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for tc, col in zip((1e-9, 0.009, 0.045, 2.0), ("C0", "C1", "C2", "C3")):
+        ax.plot(
+            wkt["xi"], wkt[tc], "o-", color=col, label=f"BEM, tc = {tc:g} s" if tc > 1e-6 else "BEM, tc = 0"
+        )
+    ax.plot(wkt["xi"], wkt["relaxed"], "k--", label="Carter, relaxed G = 571.5 MPa")
+    ax.plot(wkt["xi"], wkt["glassy"], "k:", label="Carter, glassy G = 1143 MPa")
+    ax.set_xlabel("longitudinal creepage |xi|")
+    ax.set_ylabel("|Fx| / (mu Fn)")
+    ax.set_title("Two PA6 rollers (Wang-Knothe), V = 1 m/s, mu = 0.3")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = HERE / "figures" / "contact_viscoelastic_creep.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print("wrote", path)
+
 
 def main() -> None:
     poly3 = ViscoelasticMaterial(3.0e9, 1.0e9, 0.01, 0.4)
@@ -230,8 +288,9 @@ def main() -> None:
     tables = [("J0/Jinf = 1/3", hunter_table(poly3)), ("J0/Jinf = 1/10", hunter_table(poly10))]
     strip_check(poly3)
     wk = wang_knothe()
+    wkt = wang_knothe_tangential()
     timing(poly3)
-    figures(poly3, tables, wk)
+    figures(poly3, tables, wk, wkt)
 
 
 if __name__ == "__main__":

@@ -81,6 +81,7 @@ def solve_viscoelastic_rolling(
     body2: ViscoelasticMaterial | Material | None = None,
     tol: float = 1e-7,
     max_iter: int = 2000,
+    strip: bool = False,
 ) -> ViscoelasticRollingResult:
     """Steady rolling with viscoelastic bodies: pressure, tractions and creep forces.
 
@@ -102,6 +103,8 @@ def solve_viscoelastic_rolling(
         The bodies; None is rigid.
     tol, max_iter : float, int
         Tolerance and sweep limit of the tangential solver ('fftgs').
+    strip : bool
+        A band of long rows emulating plane strain (see :func:`solve_viscoelastic`).
 
     Returns
     -------
@@ -123,7 +126,7 @@ def solve_viscoelastic_rolling(
     xi, eta, phi = (_checks.finite(n, v) for n, v in zip(("xi", "eta", "phi"), creepage))
     tol = _checks.positive("tol", tol)
     max_iter = _checks.positive_int("max_iter", max_iter)
-    normal = solve_viscoelastic(gap, grid, fn, speed, body1, body2)
+    normal = solve_viscoelastic(gap, grid, fn, speed, body1, body2, strip=strip)
     p = np.asfortranarray(normal.pressure)
     if p[-2:, :].max() > 0.0:
         raise GridTooSmallError("the contact reaches the last two rows at the leading edge: enlarge the grid")
