@@ -188,22 +188,30 @@ def test_grid_sphere_rolls_with_resistance():
     assert r.resistance_force == pytest.approx(fn * r.centroid / Rs, rel=1e-2)
 
 
-def test_result_independent_of_blas_threads():
-    """The dense LU and the FFTs give the same answer with 1 and 2 OpenBLAS threads."""
+def test_result_independent_of_blas_threads_and_kernels():
+    """The dense LU (line) and the GMRES/FFT solve (grid) give the same answer with 1 and 2
+    OpenBLAS threads and with OpenBLAS's Sandybridge kernels (rtol 1e-12)."""
     code = (
-        "import json; from railvti.contact.viscoelastic import *;"
+        "import json, numpy as np; from railvti.contact import Grid;"
+        "from railvti.contact.viscoelastic import *;"
         "m = ViscoelasticMaterial(3e9, 1e9, 0.01, 0.4);"
         "r = solve_viscoelastic_line(0.05, 2e5, 0.04, m, n=500);"
-        "print(json.dumps([r.centroid, float(r.pressure.max())]))"
+        "g = Grid.covering(6.1e-4, 6.1e-4, 10, 1.3); x, y = g.mesh();"
+        "q = solve_viscoelastic((x * x + y * y) / 0.04, g, 50.0, 0.01, m);"
+        "print(json.dumps([r.centroid, float(r.pressure.max()), q.centroid, float(q.pressure.max())]))"
     )
     out = []
-    for threads in ("1", "2"):
+    for threads, core_type in (("1", None), ("2", None), ("1", "Sandybridge")):
         env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads)
+        env.pop("OPENBLAS_CORETYPE", None)
+        if core_type:
+            env["OPENBLAS_CORETYPE"] = core_type
         res = subprocess.run(
             [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
         )
         out.append(json.loads(res.stdout))
-    np.testing.assert_allclose(out[0], out[1], rtol=1e-12)
+    np.testing.assert_allclose(out[1], out[0], rtol=1e-12)
+    np.testing.assert_allclose(out[2], out[0], rtol=1e-12)
 
 
 @pytest.mark.parametrize(
