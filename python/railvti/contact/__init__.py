@@ -19,6 +19,7 @@ from .viscoelastic import (
     solve_viscoelastic,
     solve_viscoelastic_line,
 )
+from .viscoelastic_rolling import ViscoelasticRollingResult, solve_viscoelastic_rolling
 
 __all__ = [
     "Grid",
@@ -47,4 +48,6 @@ __all__ = [
     "ViscoelasticResult",
     "solve_viscoelastic",
     "solve_viscoelastic_line",
+    "ViscoelasticRollingResult",
+    "solve_viscoelastic_rolling",
 ]

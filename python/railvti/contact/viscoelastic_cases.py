@@ -249,12 +249,14 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
 
     x = group["x"][()] * 1e3
     p = group["pressure"][()] / 1e6
+    where = "pressure (MPa)"
     if p.ndim == 2:
         p = p[:, p.shape[1] // 2]
+        where = "pressure on the centre line (MPa)"
     fig, ax = plt.subplots(figsize=(6.0, 4.0))
     ax.plot(x, p)
     ax.set_xlabel("x, rolling direction (mm); leading edge at the right")
-    ax.set_ylabel("pressure (MPa)")
+    ax.set_ylabel(where)
     ax.set_title(f"{group.attrs['name']}: viscoelastic steady rolling")
     fig.tight_layout()
     path = outdir / f"{stem}_pressure.png"
