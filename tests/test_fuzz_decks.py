@@ -39,6 +39,10 @@ BASE = {
         "mu = 0.3, speed = 10.0, xi = 1.0e-3, wheel_shear_modulus = 23.0e9, wheel_poisson = 0.31"
     ),
     "geometry_table": "n = 5",
+    "viscoelastic_rolling": (
+        "radius = 0.05, fn = 2.0e5, speed = 0.04, shear_modulus = 3.0e9, "
+        "shear_modulus_relaxed = 1.0e9, relaxation_time = 0.01, n = 64"
+    ),
     "loaded_wheelset": "n = 2, y_max_mm = 1.0",
     "wheel_rail": "y_mm = 1.0",
     "track_receptance": "n_sleepers = 16",

@@ -11,7 +11,7 @@ module contact_plans
     use contact_convolution, only: conv_plan, conv_init, conv_free, conv_init_precond
     implicit none
     private
-    public :: workspace, ws_create, ws_free, ws_get, MAX_WORKSPACES
+    public :: workspace, ws_create, ws_free, ws_get, MAX_WORKSPACES, ws_create_from
 
     integer, parameter :: MAX_WORKSPACES = 512
 
@@ -74,6 +74,45 @@ contains
         end if
         w%used = .true.
     end subroutine ws_create
+
+    !> Make a workspace from given coefficient fields c(:, :, k), k = 1..4 (zz, xx, yy, xy;
+    !> influence_field's layout), e.g. the filtered fields of viscoelastic rolling
+    !> (contact_viscoelastic_grid); g, nu: the elastic half-space of the preconditioner
+    !> (and of w%g, w%nu). info as ws_create.
+    subroutine ws_create_from(nx, ny, dx, dy, c, g, nu, handle, info)
+        integer, intent(in) :: nx, ny
+        real(dp), intent(in) :: dx, dy, c(0:, 0:, :), g, nu
+        integer, intent(out) :: handle, info
+        integer :: k
+        type(workspace), pointer :: w
+        handle = 0
+        info = STAT_NO_MEMORY
+        do k = 1, MAX_WORKSPACES
+            if (.not. slots(k)%used) then
+                handle = k
+                exit
+            end if
+        end do
+        if (handle == 0) return
+        w => slots(handle)
+        w%nx = nx
+        w%ny = ny
+        w%dx = dx
+        w%dy = dy
+        w%g = g
+        w%nu = nu
+        w%nker = size(c, 3)
+        w%c = c
+        call conv_init(w%plan, nx, ny, w%c, info)
+        if (info == STAT_OK) call conv_init_precond(w%plan, g, nu, dx, dy, info)
+        if (info /= STAT_OK) then
+            call conv_free(w%plan)
+            deallocate (w%c)
+            handle = 0
+            return
+        end if
+        w%used = .true.
+    end subroutine ws_create_from
 
     subroutine ws_free(handle)
         integer, intent(in) :: handle

@@ -20,6 +20,14 @@ from .dissimilar import (
     solve_dissimilar_rolling,
     solve_progressive_compression,
 )
+from .viscoelastic import (
+    ViscoelasticLineResult,
+    ViscoelasticMaterial,
+    ViscoelasticResult,
+    solve_viscoelastic,
+    solve_viscoelastic_line,
+)
+from .viscoelastic_rolling import ViscoelasticRollingResult, solve_viscoelastic_rolling
 
 __all__ = [
     "Grid",
@@ -52,4 +60,11 @@ __all__ = [
     "DissimilarRollingResult",
     "solve_dissimilar_rolling",
     "solve_progressive_compression",
+    "ViscoelasticMaterial",
+    "ViscoelasticLineResult",
+    "ViscoelasticResult",
+    "solve_viscoelastic",
+    "solve_viscoelastic_line",
+    "ViscoelasticRollingResult",
+    "solve_viscoelastic_rolling",
 ]

@@ -18,6 +18,7 @@ _AREAS = (
     "railvti.contact.wheel_rail_cases",
     "railvti.contact.contact_deck",
     "railvti.contact.transient_cases",
+    "railvti.contact.viscoelastic_cases",
     "railvti.geometry.cases",
     "railvti.track.cases",
     "railvti.wheelset.cases",
