@@ -12,6 +12,7 @@ from .creep_table import CreepForceTable, creep_force_table
 from .kalker import kalker_coefficients
 from .fastsim import FastsimResult, fastsim, fastsim_grid
 from .wheelset import WheelsetPatch, WheelsetSolution, solve_wheelset
+from .subsurface import SubsurfaceResult, subsurface_stress, subsurface_stress_fields
 
 __all__ = [
     "Grid",
@@ -35,4 +36,7 @@ __all__ = [
     "WheelsetPatch",
     "WheelsetSolution",
     "solve_wheelset",
+    "SubsurfaceResult",
+    "subsurface_stress",
+    "subsurface_stress_fields",
 ]
