@@ -311,3 +311,33 @@ def test_bad_inputs():
         subsurface_stress_fields(g, p, poisson=NU, z=[1e-4], x=[1e-5], method="fft")
     with pytest.raises(InputError, match="body"):
         subsurface_stress(solve_normal(hertz_gap(g, 100.0, 100.0), g, MAT, fn=1e3), MAT, [1e-4], body="axle")
+
+
+_THREAD_SCRIPT = """
+import numpy as np, sys
+from railvti.contact import Grid
+from railvti.contact.subsurface import subsurface_stress_fields
+g = Grid.covering(1e-3, 1e-3, n_per_semiaxis=10, margin=1.1)
+x, y = g.mesh()
+p = 1e9 * np.sqrt(np.maximum(1 - (x * x + y * y) / 1e-6, 0))
+z = np.linspace(0.05e-3, 1e-3, 7)
+a = subsurface_stress_fields(g, p, 0.3 * p, -0.1 * p, poisson=0.3, z=z, method="fft").stress
+b = subsurface_stress_fields(g, p, 0.3 * p, -0.1 * p, poisson=0.3, z=z, method="direct").stress
+np.save(sys.argv[1], np.stack([a, b]))
+"""
+
+
+def test_results_independent_of_thread_count(tmp_path):
+    """OMP_NUM_THREADS = 1 and 2 give the same bits on both paths (each value is summed by one
+    thread in a fixed order)."""
+    import os
+    import subprocess
+    import sys
+
+    out = []
+    for n in (1, 2):
+        f = tmp_path / f"t{n}.npy"
+        env = dict(os.environ, OMP_NUM_THREADS=str(n))
+        subprocess.run([sys.executable, "-c", _THREAD_SCRIPT, str(f)], env=env, check=True)
+        out.append(np.load(f))
+    assert np.array_equal(out[0], out[1])

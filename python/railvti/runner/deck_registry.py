@@ -16,6 +16,7 @@ _AREAS = (
     "railvti.contact.wheelset_cases",
     "railvti.contact.wheel_rail_cases",
     "railvti.contact.contact_deck",
+    "railvti.contact.subsurface_cases",
     "railvti.geometry.cases",
     "railvti.track.cases",
     "railvti.wheelset.cases",
