@@ -34,6 +34,10 @@ BASE = {
         "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
         "mu = 0.3, speed = 10.0, xi = 1.0e-3"
     ),
+    "subsurface": (
+        "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
+        "z_min = 1.0e-4, z_max = 1.0e-3, nz = 3"
+    ),
     "geometry_table": "n = 5",
     "loaded_wheelset": "n = 2, y_max_mm = 1.0",
     "wheel_rail": "y_mm = 1.0",
