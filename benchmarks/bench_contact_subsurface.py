@@ -44,7 +44,9 @@ def main() -> None:
         t_fft = _time(lambda: subsurface_stress_fields(g, p, q, poisson=0.3, z=z, method="fft"))
         t_dir1 = np.nan
         if n <= 100:
-            t_dir1 = _time(lambda: subsurface_stress_fields(g, p, q, poisson=0.3, z=z[:1], method="direct"), 1)
+            t_dir1 = _time(
+                lambda: subsurface_stress_fields(g, p, q, poisson=0.3, z=z[:1], method="direct"), 1
+            )
         t_xz = _time(
             lambda: subsurface_stress_fields(g, p, q, poisson=0.3, z=z, y=[g.y[n // 2]], method="direct"), 1
         )
