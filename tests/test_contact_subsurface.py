@@ -309,6 +309,15 @@ def test_bad_inputs():
         subsurface_stress_fields(g, p, p[:-1], poisson=NU, z=[1e-4])
     with pytest.raises(InputError, match="method"):
         subsurface_stress_fields(g, p, poisson=NU, z=[1e-4], x=[1e-5], method="fft")
+    with pytest.raises(InputError, match="fewer depths"):
+        subsurface_stress_fields(
+            g,
+            p,
+            poisson=NU,
+            z=np.linspace(1e-5, 1e-3, 10),
+            x=np.linspace(0, 1e-3, 3000),
+            y=np.linspace(0, 1e-3, 3000),
+        )
     with pytest.raises(InputError, match="body"):
         subsurface_stress(solve_normal(hertz_gap(g, 100.0, 100.0), g, MAT, fn=1e3), MAT, [1e-4], body="axle")
 

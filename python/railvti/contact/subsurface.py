@@ -42,6 +42,8 @@ _DIRECT_COST = 6e-7
 #: Cost of one lattice corner (three loads) and of one FFT point-log, s.
 _CORNER_COST = 5e-7
 _FFT_COST = 4e-9
+#: Largest memory of the stress arrays of one call, bytes.
+MAX_BYTES = 4.0e9
 
 
 @dataclass(frozen=True)
@@ -218,6 +220,13 @@ def subsurface_stress_fields(
     iy = _centre_indices(ys, grid.y0, grid.dy, grid.ny)
     n_loaded = int(np.count_nonzero((p != 0) | (fx != 0) | (fy != 0)))
     how = _choose(method, grid, n_loaded, xs.size * ys.size, zz.size, ix is not None and iy is not None)
+    full = grid.nx * grid.ny if how == "fft" else xs.size * ys.size
+    need = (full * 6 + xs.size * ys.size * 11) * zz.size * 8.0
+    if need > MAX_BYTES:
+        raise InputError(
+            f"subsurface grid of {xs.size} x {ys.size} x {zz.size} points needs about {need / 1e9:.3g} GB "
+            f"(limit {MAX_BYTES / 1e9:g} GB): give fewer depths z or fewer positions x, y"
+        )
     if how == "fft":
         sig, info, ibad = core.subsurface_planes_c(grid.dx, grid.dy, p, fx, fy, nu, zz)
         _raise(info, ibad)
