@@ -6,7 +6,7 @@
 !> sum Phi(X2, Y2) - Phi(X2, Y1) - Phi(X1, Y2) + Phi(X1, Y1) over the offsets X = x - xi,
 !> Y = y - eta of the element's corners (X2 = x - x1 > X1 = x - x2). The corner functions
 !> are Love's (1929) rectangle integrals of the Boussinesq potentials for the pressure
-!> (Johnson 1985, eqs 3.7-3.9 with the kernels 1/rho and ln(rho + z)) and, for the shear
+!> (Johnson 1985, sect. 3.2, with the kernels 1/rho and ln(rho + z)) and, for the shear
 !> tractions, the same integrals of the Cerruti solution written with Love's potential
 !> Omega = z ln(rho + z) - rho (Johnson 1985, sect. 3.2), reduced by the harmonicity of
 !> Omega to closed forms (derivation and checks in docs/contact_subsurface.md). Terms that
