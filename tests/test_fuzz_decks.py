@@ -38,6 +38,10 @@ BASE = {
         "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
         "mu = 0.3, speed = 10.0, xi = 1.0e-3, wheel_shear_modulus = 23.0e9, wheel_poisson = 0.31"
     ),
+    "subsurface": (
+        "nx = 16, ny = 16, dx = 4.0e-4, dy = 4.0e-4, gap_a = 1.0, gap_b = 1.0, fn = 1.0e3, "
+        "z_min = 1.0e-4, z_max = 1.0e-3, nz = 3"
+    ),
     "geometry_table": "n = 5",
     "viscoelastic_rolling": (
         "radius = 0.05, fn = 2.0e5, speed = 0.04, shear_modulus = 3.0e9, "

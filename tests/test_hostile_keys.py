@@ -38,6 +38,9 @@ ROOT = Path(__file__).resolve().parents[1]
 REQUIRED = {
     "normal": dict(nx=16, ny=16, dx=4e-4, dy=4e-4, gap_a=1.0, gap_b=1.0, fn=1e3),
     "rolling": dict(nx=16, ny=16, dx=4e-4, dy=4e-4, gap_a=1.0, gap_b=1.0, fn=1e3, mu=0.3, speed=10.0),
+    "subsurface": dict(
+        nx=16, ny=16, dx=4e-4, dy=4e-4, gap_a=1.0, gap_b=1.0, fn=1e3, z_min=1e-4, z_max=1e-3, nz=3
+    ),
     "track_receptance": dict(n_sleepers=16),
     "track_element": dict(n_sleepers=16),
     "vehicle": dict(duration=2.0),

@@ -28,6 +28,7 @@ from .viscoelastic import (
     solve_viscoelastic_line,
 )
 from .viscoelastic_rolling import ViscoelasticRollingResult, solve_viscoelastic_rolling
+from .subsurface import SubsurfaceResult, subsurface_stress, subsurface_stress_fields
 
 __all__ = [
     "Grid",
@@ -67,4 +68,7 @@ __all__ = [
     "solve_viscoelastic_line",
     "ViscoelasticRollingResult",
     "solve_viscoelastic_rolling",
+    "SubsurfaceResult",
+    "subsurface_stress",
+    "subsurface_stress_fields",
 ]

@@ -19,6 +19,7 @@ _AREAS = (
     "railvti.contact.contact_deck",
     "railvti.contact.transient_cases",
     "railvti.contact.viscoelastic_cases",
+    "railvti.contact.subsurface_cases",
     "railvti.geometry.cases",
     "railvti.track.cases",
     "railvti.wheelset.cases",
