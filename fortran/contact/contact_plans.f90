@@ -38,41 +38,16 @@ contains
         real(dp), intent(in) :: dx, dy, g, nu
         logical, intent(in) :: tangential
         integer, intent(out) :: handle, info
-        integer :: k
         type(workspace), pointer :: w
-        handle = 0
-        info = STAT_NO_MEMORY
-        do k = 1, MAX_WORKSPACES
-            if (.not. slots(k)%used) then
-                handle = k
-                exit
-            end if
-        end do
+        call ws_claim(nx, ny, dx, dy, g, nu, merge(4, 1, tangential), w, handle, info)
         if (handle == 0) return
-        w => slots(handle)
-        w%nx = nx
-        w%ny = ny
-        w%dx = dx
-        w%dy = dy
-        w%g = g
-        w%nu = nu
-        w%nker = merge(4, 1, tangential)
-        allocate (w%c(0:2 * nx - 1, 0:2 * ny - 1, w%nker))
         call influence_field(KERNEL_ZZ, nx, ny, dx, dy, g, nu, w%c(:, :, 1))
         if (tangential) then
             call influence_field(KERNEL_XX, nx, ny, dx, dy, g, nu, w%c(:, :, 2))
             call influence_field(KERNEL_YY, nx, ny, dx, dy, g, nu, w%c(:, :, 3))
             call influence_field(KERNEL_XY, nx, ny, dx, dy, g, nu, w%c(:, :, 4))
         end if
-        call conv_init(w%plan, nx, ny, w%c, info)
-        if (info == STAT_OK) call conv_init_precond(w%plan, g, nu, dx, dy, info)
-        if (info /= STAT_OK) then
-            call conv_free(w%plan)
-            deallocate (w%c)
-            handle = 0
-            return
-        end if
-        w%used = .true.
+        call ws_plan(w, handle, info)
     end subroutine ws_create
 
     !> Make a workspace from given coefficient fields c(:, :, k), k = 1..4 (zz, xx, yy, xy;
@@ -83,10 +58,24 @@ contains
         integer, intent(in) :: nx, ny
         real(dp), intent(in) :: dx, dy, c(0:, 0:, :), g, nu
         integer, intent(out) :: handle, info
-        integer :: k
         type(workspace), pointer :: w
+        call ws_claim(nx, ny, dx, dy, g, nu, size(c, 3), w, handle, info)
+        if (handle == 0) return
+        w%c = c
+        call ws_plan(w, handle, info)
+    end subroutine ws_create_from
+
+    !> A free slot (handle 0 and STAT_NO_MEMORY when none) with the grid's data and
+    !> room for nker coefficient fields.
+    subroutine ws_claim(nx, ny, dx, dy, g, nu, nker, w, handle, info)
+        integer, intent(in) :: nx, ny, nker
+        real(dp), intent(in) :: dx, dy, g, nu
+        type(workspace), pointer, intent(out) :: w
+        integer, intent(out) :: handle, info
+        integer :: k
         handle = 0
         info = STAT_NO_MEMORY
+        w => null()
         do k = 1, MAX_WORKSPACES
             if (.not. slots(k)%used) then
                 handle = k
@@ -101,10 +90,18 @@ contains
         w%dy = dy
         w%g = g
         w%nu = nu
-        w%nker = size(c, 3)
-        w%c = c
-        call conv_init(w%plan, nx, ny, w%c, info)
-        if (info == STAT_OK) call conv_init_precond(w%plan, g, nu, dx, dy, info)
+        w%nker = nker
+        allocate (w%c(0:2 * nx - 1, 0:2 * ny - 1, nker))
+    end subroutine ws_claim
+
+    !> The FFT plans and the preconditioner of a claimed slot; on failure the slot is
+    !> released (handle 0).
+    subroutine ws_plan(w, handle, info)
+        type(workspace), pointer, intent(in) :: w
+        integer, intent(inout) :: handle
+        integer, intent(out) :: info
+        call conv_init(w%plan, w%nx, w%ny, w%c, info)
+        if (info == STAT_OK) call conv_init_precond(w%plan, w%g, w%nu, w%dx, w%dy, info)
         if (info /= STAT_OK) then
             call conv_free(w%plan)
             deallocate (w%c)
@@ -112,7 +109,7 @@ contains
             return
         end if
         w%used = .true.
-    end subroutine ws_create_from
+    end subroutine ws_plan
 
     subroutine ws_free(handle)
         integer, intent(in) :: handle

@@ -17,7 +17,7 @@ from .hertz import hertz, hertz_gap
 from .normal import solve_normal
 from .plots_rolling import plot_rolling
 from .friction import FrictionLaw, solve_tangential_friction
-from .rolling import solve_rolling
+from .rolling import RollingResult, solve_rolling
 
 _COMMON = {
     "shear_modulus": 82.0e9,  # Pa
@@ -407,6 +407,22 @@ def _gap_from_semiaxes(a: float, b: float, fn: float, material: Material) -> tup
     return A * scale, A * np.exp(lb) * scale
 
 
+def rolling_datasets(r: RollingResult, gap: np.ndarray, grid: Grid) -> dict[str, tuple[Any, str]]:
+    """The grid fields every steady-rolling case type stores (HDF5 name -> (array, unit))."""
+    return {
+        "pressure": (r.pressure, "Pa"),
+        "gap": (gap, "m"),
+        "x": (grid.x, "m"),
+        "y": (grid.y, "m"),
+        "tx": (r.tx, "Pa"),
+        "ty": (r.ty, "Pa"),
+        "status": (r.status, "0 exterior, 1 adhesion, 2 slip"),
+        "slip": (r.slip.astype(np.uint8), "1 = slip"),
+        "slip_velocity": (r.slip_velocity, "m/s"),
+        "power_density": (r.power_density, "W/m^2"),
+    }
+
+
 def run_rolling(params: dict[str, Any]) -> CaseOutput:
     """Steady rolling: normal force ``fn`` (N), friction ``mu``, creepages ``xi``, ``eta`` (1),
     spin ``phi`` (1/m), rolling ``speed`` (m/s). The gap is 'hertz' (``gap_a``, ``gap_b`` in 1/m,
@@ -454,18 +470,9 @@ def run_rolling(params: dict[str, Any]) -> CaseOutput:
             f"residual {r.residual:.1e}"
         ),
         datasets={
-            "pressure": (r.pressure, "Pa"),
-            "gap": (gap, "m"),
-            "x": (grid.x, "m"),
-            "y": (grid.y, "m"),
-            "tx": (r.tx, "Pa"),
-            "ty": (r.ty, "Pa"),
-            "status": (r.status, "0 exterior, 1 adhesion, 2 slip"),
-            "slip": (r.slip.astype(np.uint8), "1 = slip"),
-            "slip_velocity": (r.slip_velocity, "m/s"),
+            **rolling_datasets(r, gap, grid),
             "slip_velocity_x": (r.slip_velocity_x, "m/s"),
             "slip_velocity_y": (r.slip_velocity_y, "m/s"),
-            "power_density": (r.power_density, "W/m^2"),
         },
         scalars={
             "fn": (r.fn, "N"),
@@ -538,5 +545,6 @@ __all__ = [
     "make_gap",
     "run_normal",
     "plot_pressure",
+    "rolling_datasets",
     "run_rolling",
 ]

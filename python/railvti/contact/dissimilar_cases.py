@@ -5,11 +5,10 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 
 from ..casetypes import REQUIRED, CaseOutput, CaseType, Key, register, validate
 from ..errors import InputError
-from .cases import KEYS
+from .cases import KEYS, rolling_datasets
 from .dissimilar import BodyPair, solve_dissimilar_rolling
 from .grid import Grid
 from .hertz import hertz_gap
@@ -111,18 +110,7 @@ def run_dissimilar_rolling(params: dict[str, Any]) -> CaseOutput:
             f"Fx = {r.fx / 1e3:.4g} kN, Fy = {r.fy / 1e3:.4g} kN, pmax = {r.pmax / 1e6:.4g} MPa, "
             f"slip {n_slip}/{r.n_contact} elements, {res.outer_iterations} outer iterations"
         ),
-        datasets={
-            "pressure": (r.pressure, "Pa"),
-            "gap": (gap, "m"),
-            "x": (grid.x, "m"),
-            "y": (grid.y, "m"),
-            "tx": (r.tx, "Pa"),
-            "ty": (r.ty, "Pa"),
-            "status": (r.status, "0 exterior, 1 adhesion, 2 slip"),
-            "slip": (r.slip.astype(np.uint8), "1 = slip"),
-            "slip_velocity": (r.slip_velocity, "m/s"),
-            "power_density": (r.power_density, "W/m^2"),
-        },
+        datasets=rolling_datasets(r, gap, grid),
         scalars={
             "fn": (r.fn, "N"),
             "fx": (r.fx, "N"),
