@@ -9,7 +9,8 @@ standard linear solid as G0 = GG, Ginf = GG / (1 + FG), tau = TC / (1 + FG) (CON
 table "visc_inputs"). subsurf: a uniform load on one 1 x 1 mm element, stresses at CONTACT's
 points (z = 0 taken as 1e-7 mm: railvti refuses z <= 0).
 
-Prints the tables of docs/contact_viscoelastic.md and docs/contact_subsurface.md and the times on
+Also railvti's own grid dependence on the elastic case 6 (0.16, 0.08, 0.04 mm elements), the
+scale of the tangential difference. Prints the tables of docs/contact_viscoelastic.md and docs/contact_subsurface.md and the times on
 this machine, and draws validation/figures/contact_ref_visc_cylindr.png.
 
     PYTHONPATH=_site python validation/contact_ref_visc_subsurf.py
@@ -137,6 +138,31 @@ def visc_wrong_mapping() -> None:
     )
 
 
+def visc_grid_dependence() -> None:
+    """railvti's own grid dependence on the elastic case 6: 0.16, 0.08, 0.04 mm elements."""
+    from scipy.optimize import brentq
+
+    b = Material(shear_modulus=1143e6, poisson=0.4)
+    print("case 6 (elastic G = 1143) on finer grids: CKSI for Fx = -0.6 mu Fn, slope dFx/dCKSI / (mu Fn)")
+    for k in (1, 2, 4):
+        grid = Grid(100 * k - 1, 2, 0.16 * MM / k, 1000.0 * MM, x0=-7.92 * MM, y0=0.0)
+        x, _ = grid.mesh()
+        gap = 0.01 / MM * x**2
+        gap[:, 1] = 1.0
+        gap = np.asfortranarray(gap)
+
+        def fx(xi: float) -> float:
+            r = solve_viscoelastic_rolling(
+                gap, grid, FN, SPEED, (xi, 0.0, 0.0), MU, b, b, strip=True, tol=1e-9
+            )
+            return r.fx / (MU * FN)
+
+        xs = brentq(lambda v: fx(v) + 0.6, 5e-3, 2e-2, xtol=1e-10)
+        print(
+            f"  dx = {0.16 / k:.2f} mm: {xs:.4g}, {fx(1e-6) / 1e-6:.2f} (CONTACT on 0.16 mm: 9.792e-3, -74.68)"
+        )
+
+
 def subsurf_fields(case: int, block: int) -> dict:
     """railvti's extremes over CONTACT's points of one block (N/mm^2, mm)."""
     grid = Grid(2, 2, MM, MM, x0=1e-4 * MM, y0=2e-4 * MM)
@@ -254,6 +280,7 @@ def main() -> None:
     table = visc_table()
     creep = visc_creep()
     visc_wrong_mapping()
+    visc_grid_dependence()
     subsurf_table()
     timing()
     figure(table, creep)
