@@ -39,7 +39,15 @@ from ..material import Material
 from .grid import Grid
 from .kalker import kalker_coefficients
 from .normal import solve_normal
-from .rolling import DEFAULT_BLOCK, DEFAULT_INNER, DIRECT_CALL_WORK, RollingResult, solve_tangential
+from .rolling import (
+    DEFAULT_BLOCK,
+    DEFAULT_INNER,
+    DIRECT_CALL_WORK,
+    RollingResult,
+    rolling_result,
+    solve_tangential,
+    start_tractions,
+)
 from .workspace import call_directly, call_interruptibly, workspace
 
 _KINDS = {"coulomb": 0, "linear": 1, "rational": 2, "exponential": 3}
@@ -295,12 +303,7 @@ def solve_tangential_friction(
         raise InputError(f"method must be one of {sorted(_METHODS)} and product one of {sorted(_PRODUCTS)}")
     tol = _checks.positive("tol", tol)
     max_iter = _checks.positive_int("max_iter", _DEFAULT_MAX_ITER[method] if max_iter is None else max_iter)
-    if t0 is None:
-        tx = np.zeros(grid.shape, order="F")
-        ty = np.zeros(grid.shape, order="F")
-    else:
-        tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape).copy(order="F")
-        ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape).copy(order="F")
+    tx, ty = start_tractions(grid, t0)
     if p[-2:, :].max() > 0.0:
         raise GridTooSmallError(_EDGE_MESSAGE)
     # as solve_tangential: a long solve in a worker thread that Ctrl-C can leave
@@ -336,33 +339,10 @@ def solve_tangential_friction(
                 residual=float("inf"),
             )
         raise error(info, "rolling contact solver failed internally", exc=RailvtiError)
-    da = grid.element_area
-    x, y = grid.mesh()
-    n_contact = int(np.count_nonzero(p))
-    r = RollingResult(
-        grid=grid,
-        pressure=p,
-        fn=float(p.sum() * da),
-        approach=math.nan,
-        area=n_contact * da,
-        n_contact=n_contact,
-        mu=law.mu_static,
-        creepage=(xi, eta, phi),
-        speed=speed,
-        tx=tx,
-        ty=ty,
-        status=np.asarray(status, dtype=np.int8),
-        slip_velocity_x=sx,
-        slip_velocity_y=sy,
-        fx=float(tx.sum() * da),
-        fy=float(ty.sum() * da),
-        mz=float((x * ty - y * tx).sum() * da),
-        power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
-        iterations=int(iters),
-        residual=float(resid),
-        converged=info in (Status.OK, Status.NO_CONTACT),
-        method=method,
-    )
+    r = rolling_result(
+        grid, p, (tx, ty), (sx, sy), status, law.mu_static, (xi, eta, phi), speed, method, int(iters),
+        float(resid), info in (Status.OK, Status.NO_CONTACT),
+    )  # fmt: skip
     result = FrictionRollingResult(rolling=r, law=law, n_multiple=int(nmulti))
     if info == Status.NOT_CONVERGED:
         raise ConvergenceError(

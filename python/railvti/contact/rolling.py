@@ -177,6 +177,70 @@ def _check_creepage(creepage: object) -> tuple[float, float, float]:
     )
 
 
+def start_tractions(grid: Grid, t0: tuple | None) -> tuple[np.ndarray, np.ndarray]:
+    """The start tractions of a tangential solve: zero, or checked copies of ``t0 = (tx, ty)``
+    (the solver overwrites them), Pa."""
+    if t0 is None:
+        return np.zeros(grid.shape, order="F"), np.zeros(grid.shape, order="F")
+    if len(t0) != 2:
+        raise InputError("t0 must be a pair (tx, ty) of (nx, ny) arrays")
+    return (
+        _checks.finite_array("t0[0]", t0[0], shape=grid.shape),
+        _checks.finite_array("t0[1]", t0[1], shape=grid.shape),
+    )
+
+
+def rolling_result(
+    grid: Grid,
+    p: np.ndarray,
+    t: tuple[np.ndarray, np.ndarray],
+    s: tuple[np.ndarray, np.ndarray],
+    status: np.ndarray,
+    mu: float,
+    creepage: tuple[float, float, float],
+    speed: float,
+    method: str,
+    iterations: int,
+    residual: float,
+    converged: bool,
+    normal: NormalResult | None = None,
+    approach: float = math.nan,
+) -> RollingResult:
+    """A RollingResult from a solve's fields: tractions ``t = (tx, ty)`` (Pa), slip velocities
+    ``s = (sx, sy)`` (m/s) and the element status; forces, spin moment and power summed over
+    the grid."""
+    tx, ty = t
+    sx, sy = s
+    da = grid.element_area
+    x, y = grid.mesh()
+    n_contact = int(np.count_nonzero(p))  # p >= 0
+    return RollingResult(
+        grid=grid,
+        pressure=p,
+        fn=float(p.sum() * da) if normal is None else normal.fn,
+        approach=float(approach),
+        area=n_contact * da,
+        n_contact=n_contact,
+        mu=mu,
+        creepage=creepage,
+        speed=speed,
+        tx=tx,
+        ty=ty,
+        status=np.asarray(status, dtype=np.int8),
+        slip_velocity_x=sx,
+        slip_velocity_y=sy,
+        fx=float(tx.sum()) * da,
+        fy=float(ty.sum()) * da,
+        mz=float((x * ty - y * tx).sum() * da),  # this order: Mz of a saturated patch cancels
+        power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
+        iterations=iterations,
+        residual=residual,
+        converged=converged,
+        method=method,
+        normal=normal,
+    )
+
+
 def solve_tangential(
     pressure: np.ndarray,
     grid: Grid,
@@ -231,14 +295,7 @@ def solve_tangential(
     inner = _checks.positive_int("inner", inner)
     if product not in _PRODUCTS:
         raise InputError(f"product must be one of {sorted(_PRODUCTS)}, got {product!r}")
-    if t0 is None:
-        tx = np.zeros(grid.shape, order="F")
-        ty = np.zeros(grid.shape, order="F")
-    else:
-        if len(t0) != 2:
-            raise InputError("t0 must be a pair (tx, ty) of (nx, ny) arrays")
-        tx = _checks.finite_array("t0[0]", t0[0], shape=grid.shape)
-        ty = _checks.finite_array("t0[1]", t0[1], shape=grid.shape)
+    tx, ty = start_tractions(grid, t0)
     if p[-2:, :].max() > 0.0:
         raise GridTooSmallError(_EDGE_MESSAGE)
 
@@ -271,41 +328,17 @@ def solve_tangential(
         raise error(info, "rolling contact solver failed internally", exc=RailvtiError)
     # one sum per field (needed anyway): a NaN or inf anywhere makes it non-finite, and
     # tractions (<= mu p) and slip velocities are far from overflowing a sum
-    sum_tx, sum_ty = float(tx.sum()), float(ty.sum())
-    if info == Status.NOT_FINITE or not math.isfinite(sum_tx + sum_ty + float(sx.sum()) + float(sy.sum())):
+    sums = float(tx.sum()) + float(ty.sum()) + float(sx.sum()) + float(sy.sum())
+    if info == Status.NOT_FINITE or not math.isfinite(sums):
         raise ConvergenceError(
             f"rolling contact solver ({method}) produced non-finite values",
             iterations=int(iters),
             residual=float("inf"),
         )
-    da = grid.element_area
-    x, y = grid.mesh()
-    n_contact = int(np.count_nonzero(p))  # p >= 0
-    result = RollingResult(
-        grid=grid,
-        pressure=p,
-        fn=float(p.sum() * da) if normal is None else normal.fn,
-        approach=float(approach),
-        area=n_contact * da,
-        n_contact=n_contact,
-        mu=mu,
-        creepage=(xi, eta, phi),
-        speed=speed,
-        tx=tx,
-        ty=ty,
-        status=np.asarray(status, dtype=np.int8),
-        slip_velocity_x=sx,
-        slip_velocity_y=sy,
-        fx=sum_tx * da,
-        fy=sum_ty * da,
-        mz=float((x * ty - y * tx).sum() * da),  # this order: Mz of a saturated patch cancels
-        power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
-        iterations=int(iters),
-        residual=float(resid),
-        converged=info in (Status.OK, Status.NO_CONTACT),
-        method=method,
-        normal=normal,
-    )
+    result = rolling_result(
+        grid, p, (tx, ty), (sx, sy), status, mu, (xi, eta, phi), speed, method, int(iters), float(resid),
+        info in (Status.OK, Status.NO_CONTACT), normal=normal, approach=approach,
+    )  # fmt: skip
     if info == Status.NOT_CONVERGED:
         raise ConvergenceError(
             f"rolling contact solver ({method}) did not converge: residual {resid:.3g} > tol {tol:.3g} "
@@ -314,7 +347,9 @@ def solve_tangential(
             residual=float(resid),
             result=result,
         )
-    log.debug("solve_tangential %s: %d sweeps, residual %.3g, %d in contact", method, iters, resid, n_contact)
+    log.debug(
+        "solve_tangential %s: %d sweeps, residual %.3g, %d in contact", method, iters, resid, result.n_contact
+    )
     return result
 
 
@@ -427,6 +462,8 @@ __all__ = [
     "DEFAULT_INNER",
     "DIRECT_CALL_WORK",
     "RollingResult",
+    "rolling_result",
+    "start_tractions",
     "solve_tangential",
     "solve_rolling",
 ]
