@@ -219,19 +219,17 @@ class RingRows:
                     continue
                 v = self.vk[self.voff[g] : self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
                 on = np.nonzero(self.rail[b0:b1] == rho)[0]
-                ks = np.unique(kn[b0 + on])
+                ks, j = np.unique(kn[b0 + on], return_inverse=True)
+                # each function's factor of sin (0) and cos (1) per component: fam 1 u_x sin,
+                # the others cos; fam 2 u_x -cos, the others sin; fam 0 a constant (cos 0 = 1)
+                f = self.fam[b0 + on]
+                sc = np.zeros((on.size, 2, 4))
+                sc[f == 1, 0, 0], sc[f == 1, 1, 1:] = 1.0, 1.0
+                sc[f == 2, 1, 0], sc[f == 2, 0, 1:] = -1.0, 1.0
+                sc[f == 0, 1, :] = 1.0
+                sc *= self.obs[:, b0 + on].T[:, None, :]
                 coef = np.zeros((ks.size, 2, 4, k1 - k0))  # [wave, sin/cos, component, mode]
-                for b in on:
-                    j = int(np.searchsorted(ks, kn[b0 + b]))
-                    o, f = self.obs[:, b0 + b], self.fam[b0 + b]
-                    if f == 1:  # u_x: sin, the others: cos
-                        coef[j, 0, 0] += o[0] * v[b]
-                        coef[j, 1, 1:] += np.outer(o[1:], v[b])
-                    elif f == 2:  # u_x: -cos, the others: sin
-                        coef[j, 1, 0] -= o[0] * v[b]
-                        coef[j, 0, 1:] += np.outer(o[1:], v[b])
-                    else:  # a constant
-                        coef[j, 1] += np.outer(o, v[b])
+                np.add.at(coef, j, sc[:, :, :, None] * v[on][:, None, None, :])
                 waves.append(ks)
                 groups.append((int(k0), int(k1), coef.reshape(-1, k1 - k0).T.copy()))
             out.append((np.concatenate(waves) if waves else np.zeros(0, int), groups))
