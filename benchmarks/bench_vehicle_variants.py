@@ -6,8 +6,9 @@ Each variant's system is built first (its build time printed apart: the rings an
 wheelset are cached per process), then each scenario is timed as a whole call (static
 equilibrium and time loop; wall and CPU time: on a loaded machine the CPU time of this one-thread
 process is the steadier figure) and its time loop alone, with the ratio to RR's. The results
-printed (the leading wheelset's largest lateral displacement and the largest wheel load)
-let two builds be compared: run this script under each and compare the lines.
+printed (the leading wheelset's largest lateral displacement, the largest wheel load, the
+modal coordinates' RMS and the rail's largest vertical deflection under the wheels) let two
+builds be compared: run this script under each and compare the lines.
 
     OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_vehicle_variants.py [duration_s] [variants] [modal_step]
 
@@ -27,6 +28,7 @@ import time
 import numpy as np
 
 from railvti import scenarios
+from railvti.vehicle.run_result import _dof_unit
 
 
 def main(
@@ -54,11 +56,17 @@ def main(
             loop = r.stats["wall_time"]
             times[v, scen] = (cpu, loop)
             late = r.t >= r.t[-1] - 0.5
+            modal = [i for i, n in enumerate(r.dof_names) if _dof_unit(n, False) == "1"]
+            extra = ""
+            if modal:  # the mass-normalised modal coordinates (wheelsets', ring's), and the rail
+                extra += f"; modal RMS last 0.5 s {np.sqrt(np.mean(r.q[late][:, modal] ** 2)):.6e}"
+            if r.rail is not None:
+                extra += f", max|rail z| {np.abs(r.rail[late, 1]).max() * 1e3:.6f} mm"
             print(
                 f"{v} {scen:8s}: call {wall:6.2f} s wall, {cpu:6.2f} s CPU, loop {loop:6.2f} s (RTF {loop / duration:5.2f}); "
                 f"{r.stats['steps']:.0f} steps, {r.stats['newton_iterations']:.0f} Newton iterations, "
                 f"{r.stats['tangents']:.0f} tangents; max|y_ws1| last 0.5 s {np.abs(r.y_ws1[late]).max() * 1e3:.6f} mm, "
-                f"Q max {r.Q.max() / 1e3:.4f} kN; (build {build:.1f} s)",
+                f"Q max {r.Q.max() / 1e3:.4f} kN{extra}; (build {build:.1f} s)",
                 flush=True,
             )
     if "RR" in variants:

@@ -76,6 +76,8 @@ module vehicle_model
         !> it continues from; kmkey not allocated: none kept.
         real(dp), allocatable :: kma(:, :, :), kmkey(:), kmjpr(:, :), kmjpu(:, :)
         integer, allocatable :: kmpiv(:)
+        !> the steps the kept matrix has served since it was made (vehicle_newmark's refresh rule)
+        integer :: kmage = 0
         !> A curve under the current run (vehicle_curve; cv%ns = 0: straight track), read at
         !> each step's time like the ring's rows.
         type(curve_input) :: cv

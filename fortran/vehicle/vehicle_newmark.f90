@@ -62,6 +62,9 @@ module vehicle_newmark
     !> there. Capped so that a run with the correction test switched off (a huge tol) keeps
     !> its line search (the defaults, 1e-9 and 1e-8, are below it).
     real(dp), parameter :: LS_SMALL = 1.0e-8_dp
+    !> A kept matrix with modal blocks is renewed after a step of REFRESH_ITS or more Newton
+    !> iterations once it has served REFRESH_AGE steps (refresh_due).
+    integer, parameter :: REFRESH_ITS = 5, REFRESH_AGE = 10
 
     !> Settings of a run: HHT alpha, Newton tolerance on the correction (m, rad) and iteration
     !> limit, the deepest sub-step level (h / 2^maxsub), the bound on |q| (m, rad) and the
@@ -91,6 +94,8 @@ module vehicle_newmark
         logical :: keep = .false.
         type(newton_lin) :: nl
         real(dp) :: nlh = 0.0_dp
+        !> steps the kept matrix has served since it was made (refresh_due)
+        integer :: kage = 0
         !> the exact modal step's matrices (SCHEME_EXACT) for the last step sizes: the model's
         !> cache (vmodel%msc) during a call
         type(modal_step), allocatable :: ms(:)
@@ -234,8 +239,8 @@ contains
     !> (docs/vehicle.md "Strip contact", Cost): the rigid model carries Broyden's update, the
     !> models with modal blocks keep the condensed matrix as it is (modified Newton; its modal
     !> factors depend on the step size only, and a kept matrix that fails is replaced at once,
-    !> hht_step). The table's tangent is cheap and the BEM's evaluations are dear: they
-    !> refresh at every step as before.
+    !> hht_step, one that has aged after a slow step at the next, refresh_due). The table's
+    !> tangent is cheap and the BEM's evaluations are dear: they refresh at every step as before.
     pure logical function keeps_matrix(md, rs, opt) result(keep)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
@@ -281,6 +286,7 @@ contains
         st%nl%a = md%kma(:, :, 1)
         st%nl%ipiv = md%kmpiv
         st%nlh = h
+        st%kage = md%kmage
     end subroutine kept_matrix_load
 
     !> Keep the time loop's matrix in the model with the key of the state it ended at.
@@ -297,6 +303,7 @@ contains
             md%kma = reshape([st%nl%a, st%nl%b], [size(st%nl%b, 1), size(st%nl%b, 2), 2])
         end if
         md%kmpiv = st%nl%ipiv
+        md%kmage = st%kage
         md%kmkey = kept_key(rs, opt, st%q, st%v, st%a, st%nlh)
     end subroutine kept_matrix_store
 
@@ -421,8 +428,11 @@ contains
         real(dp), dimension(md%nd + md%mp%nm) :: q1, v1, a1, r, f1
         real(dp) :: rn, w1(nwo, 2, md%nw), dq
         logical :: conv, stale, valid
+        integer :: nit0, njac0
         ok = .false.
         err = 0.0_dp
+        nit0 = tally%nit
+        njac0 = tally%njac
         call step_data(h, opt%alpha, st, sd)
         if (opt%scheme == SCHEME_ENERGY) call energy_data(md, h, st, sd)
         if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, st, sd)
@@ -449,6 +459,10 @@ contains
         end if
         st%nlh = 0.0_dp
         if (st%keep .and. valid) st%nlh = h
+        ! the kept matrix's age in steps (made in this step: 1), and whether it is renewed
+        if (tally%njac /= njac0) st%kage = 0
+        st%kage = st%kage + 1
+        if (st%keep .and. refresh_due(md, st%kage, tally%nit - nit0)) st%nlh = 0.0_dp
         if (info /= STAT_OK .or. .not. conv) return
         if (sd%energy) then
             ! midpoint rule: (x1 - x0) / h = (v0 + v1) / 2; a: the step's mean acceleration
@@ -477,6 +491,18 @@ contains
         tally%dqmax = max(tally%dqmax, dq)
         ok = .true.
     end subroutine hht_step
+
+    !> Whether a kept matrix is replaced by a fresh one at the next step: with modal blocks,
+    !> after a step that took nit >= REFRESH_ITS Newton iterations with a matrix that has served
+    !> age >= REFRESH_AGE steps (its contact linearisation has aged against the compliant rims
+    !> and rails). FF hunting at 300 km/h, 1 s (its a step, tangents): 4.39, 23 -> 3.64, 50;
+    !> refreshing more often (4 iterations, 6 steps: 2.92, 262) costs more in tangents than it
+    !> saves (docs/speed_accuracy.md, "Where the time goes"). The rigid model keeps Broyden's.
+    pure logical function refresh_due(md, age, nit) result(due)
+        type(vmodel), intent(in) :: md
+        integer, intent(in) :: age, nit
+        due = md%mp%nm > 0 .and. nit >= REFRESH_ITS .and. age >= REFRESH_AGE
+    end function refresh_due
 
     !> Massless modal coordinates (a residual flexibility, vehicle_modal) are algebraic: the
     !> Newmark rate 2 dx / h - v_n of such a coordinate would carry an undamped alternating

@@ -14,6 +14,7 @@ so the per-step cost is linear in the kept modes.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -185,10 +186,12 @@ class RingRows:
 
         Notes
         -----
-        Evaluated :data:`DISPLACEMENT_BLOCK` times at a time: the work arrays hold one value per
-        basis function and time (5196 functions at n_sl 40, ~3.2x that at 128), so a whole
-        hunting history at once (5000 outputs) took 1.2 GB at n_sl 40 and 3.3 GB at 128 after
-        the run (validation/vehicle_ring_sleepers.py).
+        The basis functions folded per wave number as the Fortran rows are
+        (vehicle_ring%ring_rows_fold, :meth:`_folded`): qm is contracted with each group's
+        sine and cosine coefficients once per rail, then each point sums its sines and cosines
+        of the few wave numbers, O(nt nk) instead of O(nt n_basis nk_g) with a sine and cosine
+        per basis function and time (1.2 s a 2 s FF run at n_sl 40, issue 33). Evaluated
+        :data:`DISPLACEMENT_BLOCK` times at a time to bound the work arrays.
         """
         ts = np.atleast_1d(np.asarray(t, dtype=float))
         qm = np.atleast_2d(qm)
@@ -198,23 +201,58 @@ class RingRows:
             out[blk] = self._displacement(ts[blk], qm[blk])
         return out
 
+    def _folded(self) -> tuple[tuple[np.ndarray, list[tuple[int, int, np.ndarray]]], ...]:
+        """Per rail (1, 2): the wave numbers of its folded columns (nw,) and per group (k0, k1,
+        W) with W (nk_g, 8 nw_g) the coefficients of sin(k th) (4 components) then cos(k th)
+        over the group's kept modes (vehicle_ring%ring_rows_fold's S_k, C_k). Cached."""
+        got = self.__dict__.get("_fold")
+        if got is not None:
+            return got
+        kn = np.rint(self.kap * self.length / (2.0 * np.pi)).astype(int)
+        kn = np.where(self.fam == 0, 0, kn)
+        out = []
+        for rho in (1, 2):
+            waves, groups = [], []
+            for g in range(self.bpos.size - 1):
+                b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
+                if k1 == k0:
+                    continue
+                v = self.vk[self.voff[g] : self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
+                on = np.nonzero(self.rail[b0:b1] == rho)[0]
+                ks, j = np.unique(kn[b0 + on], return_inverse=True)
+                # each function's factor of sin (0) and cos (1) per component: fam 1 u_x sin,
+                # the others cos; fam 2 u_x -cos, the others sin; fam 0 a constant (cos 0 = 1)
+                f = self.fam[b0 + on]
+                sc = np.zeros((on.size, 2, 4))
+                sc[f == 1, 0, 0], sc[f == 1, 1, 1:] = 1.0, 1.0
+                sc[f == 2, 1, 0], sc[f == 2, 0, 1:] = -1.0, 1.0
+                sc[f == 0, 1, :] = 1.0
+                sc *= self.obs[:, b0 + on].T[:, None, :]
+                coef = np.zeros((ks.size, 2, 4, k1 - k0))  # [wave, sin/cos, component, mode]
+                np.add.at(coef, j, sc[:, :, :, None] * v[on][:, None, None, :])
+                waves.append(ks)
+                groups.append((int(k0), int(k1), coef.reshape(-1, k1 - k0).T.copy()))
+            out.append((np.concatenate(waves) if waves else np.zeros(0, int), groups))
+        fold = tuple(out)
+        object.__setattr__(self, "_fold", fold)
+        return fold
+
     def _displacement(self, ts: np.ndarray, qm: np.ndarray) -> np.ndarray:
         """:meth:`displacement` of one block of times (nt, 3, 8)."""
-        amp = np.empty((ts.size, self.kap.size))  # basis-function amplitudes V Q per group
-        for g in range(self.bpos.size - 1):
-            b0, b1, k0, k1 = self.bpos[g], self.bpos[g + 1], self.kpos[g], self.kpos[g + 1]
-            v = self.vk[self.voff[g] : self.voff[g + 1]].reshape(b1 - b0, k1 - k0, order="F")
-            amp[:, b0:b1] = qm[:, k0:k1] @ v.T
         out = np.empty((ts.size, 3, self.crho.size))
+        fold = self._folded()
+        amps = []
+        for _waves, groups in fold:  # per rail: the amplitudes of each wave's sine and cosine
+            a = [(qm[:, k0:k1] @ w).reshape(ts.size, -1, 2, 4) for k0, k1, w in groups]
+            amps.append(np.concatenate(a, axis=1) if a else np.zeros((ts.size, 0, 2, 4)))
         for c in range(self.crho.size):
-            on = self.rail == self.crho[c]
-            x = np.mod(self.cx0[c] + self.speed * ts, self.length)
-            kx = x[:, None] * self.kap[None, on]
-            f1, f2 = (self.fam[on] == 1), (self.fam[on] == 2)
-            s, co = np.sin(kx), np.cos(kx)
-            tx = np.where(f1, s, np.where(f2, -co, 1.0)) * amp[:, on]  # u_x's factor
-            to = np.where(f1, co, np.where(f2, s, 1.0)) * amp[:, on]  # the others'
-            psi = np.concatenate([tx @ self.obs[0, on][:, None], to @ self.obs[1:, on].T], axis=1)
+            waves = fold[self.crho[c] - 1][0]
+            th = 2.0 * np.pi * np.mod(self.cx0[c] + self.speed * ts, self.length) / self.length
+            ku, ix = np.unique(waves, return_inverse=True)  # one sine and cosine per wave number
+            kx = th[:, None] * ku[None, :]
+            a = amps[self.crho[c] - 1]
+            psi = np.einsum("tj,tji->ti", np.sin(kx)[:, ix], a[:, :, 0])
+            psi += np.einsum("tj,tji->ti", np.cos(kx)[:, ix], a[:, :, 1])
             out[:, :, c] = psi @ self.ctr[:, :, c].T
         return out
 
@@ -335,6 +373,41 @@ def check_ring_length(n_sleepers: int, spacing: float, coach: "Coach") -> None:
     _check_span(int(n_sleepers), s, span)
 
 
+#: The residual tables per ring (weakly: a ring's tables go with it), keyed by the truncated
+#: modes and n_table: they do not depend on the speed or the wheelsets' positions.
+_RESIDUAL_TABLES: "weakref.WeakKeyDictionary[RingTrack, dict]" = weakref.WeakKeyDictionary()
+
+
+def _residual_tables(track: "RingTrack", trunc: np.ndarray, n_table: int) -> tuple:
+    """The truncated modes' compliance, inertia and damping moments over one bay per rail,
+    scaled (see :class:`RingRows` rtab, mtab, ctab, rscale); cached per ring (read-only
+    arrays; a build per run took 0.1-0.3 s of RF's and FF's call, issue 33)."""
+    memo = _RESIDUAL_TABLES.setdefault(track, {})
+    key = (trunc.tobytes(), int(n_table))
+    if key in memo:
+        return memo[key]
+    a = track.params["sleeper_spacing"]
+    half = 0.5 * track.params["rail_distance"]
+    rtab, mtab, ctab = (np.zeros((3, 3, n_table, 2)) for _ in range(3))
+    lam, cm = track.lam[trunc], track.cmod[trunc]
+    for k in range(2):
+        yp = half if k == 0 else -half
+        elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
+        for i in range(n_table):
+            h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
+            rtab[:, :, i, k] = (h / lam) @ h.T
+            mtab[:, :, i, k] = (h / lam**2) @ h.T
+            ctab[:, :, i, k] = (h * (cm / lam**2)) @ h.T
+    rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
+    rtab /= rscale**2
+    mtab /= rscale**4
+    ctab /= rscale**4
+    for arr in (rtab, mtab, ctab):
+        arr.flags.writeable = False
+    memo[key] = (rtab, mtab, ctab, rscale)
+    return memo[key]
+
+
 def ring_rows(
     track: "RingTrack",
     x_wheelsets: np.ndarray,
@@ -415,20 +488,7 @@ def ring_rows(
     rtab, mtab, ctab, rscale = None, None, None, 1.0
     trunc = np.where(~keep)[0]
     if residual and trunc.size:
-        rtab, mtab, ctab = (np.zeros((3, 3, n_table, 2)) for _ in range(3))
-        lam, cm = track.lam[trunc], track.cmod[trunc]
-        for k in range(2):
-            yp = half if k == 0 else -half
-            elem = np.array([[0, 1, 0, 0], [0, 0, 1, -yp], [0, 0, 0, 1.0]])
-            for i in range(n_table):
-                h = elem @ wheel_head_shapes(track, i * a / n_table, k)[:, trunc]
-                rtab[:, :, i, k] = (h / lam) @ h.T
-                mtab[:, :, i, k] = (h / lam**2) @ h.T
-                ctab[:, :, i, k] = (h * (cm / lam**2)) @ h.T
-        rscale = math.sqrt(max(float(np.max(rtab[[0, 1, 2], [0, 1, 2]])), 1e-300))
-        rtab /= rscale**2
-        mtab /= rscale**4
-        ctab /= rscale**4
+        rtab, mtab, ctab, rscale = _residual_tables(track, trunc, n_table)
     return RingRows(
         modes=np.concatenate(modes),
         bpos=np.array(bpos, np.int32),
@@ -492,6 +552,31 @@ def residual_inertia_of(rr: RingRows, stiffness_scale: float = 1.0) -> tuple[np.
     return mz, cz
 
 
+def residual_scaling(rr: RingRows) -> np.ndarray:
+    """The massless residual coordinates' change of coordinates D per rail (3, 3, 2), diagonal:
+    column j of the rows L D moves the point's pose (y, z in m, roll in rad) by at most 1 per
+    unit coordinate over the bay table, so that Newton's correction test (m, rad) measures
+    each coordinate by the motion it gives the rail, as for the rigid DOFs.
+
+    L (L L^T = R / rscale^2) has columns of very different size: the element pose's z and
+    roll are nearly opposite in R (the rail head moves as z + y_rail roll, a small
+    difference of large terms), and its last column is ~0.03 where the first two are
+    ~0.6-0.8 (ring n_sleepers 40, 500 Hz). Unscaled, a correction of 1e-9 in that coordinate
+    moved the rail by 3e-11 rad: the test was 30 times stricter there than on the rigid DOFs
+    (issue 33; from the unmerged ring-newton branch: RF/FF centred at 300 km/h 3.7 -> 2.8
+    Newton iterations a step). The compliance L D (D^2)^-1 D L^T = R and so the model are
+    unchanged; the runs move within the Newton tolerance (1e-9 m on the rail's pose: ~0.8 N).
+    """
+    nrx = rr.rtab.shape[2]
+    post = np.zeros((3, 3, 2))
+    for rho in range(2):
+        cmax = np.zeros(3)
+        for i in range(nrx):
+            cmax = np.maximum(cmax, np.abs(np.linalg.cholesky(rr.rtab[:, :, i, rho])).max(axis=0))
+        post[:, :, rho] = np.diag(1.0 / np.where(cmax > 0.0, cmax, 1.0))
+    return post
+
+
 def residual_blocks(
     rr: RingRows, stiffness_scale: float = 1.0, residual_hz: float | None = None, inertia: bool = False
 ) -> tuple[RingRows, list, list]:
@@ -514,10 +599,15 @@ def residual_blocks(
         The rows with the change of coordinates the blocks need (``rpost``).
     stiffness, damping : list of ndarray (3, 3)
         Per contact point. Without residual_hz and inertia: massless coordinates of
-        stiffness s I / rscale^2 behind rows L (compliance R / s) and no damping.
+        stiffness s D^2 / rscale^2 behind rows L D (compliance R / s) and no damping, D =
+        :func:`residual_scaling` (each coordinate moves the point's pose by its own size).
     """
     s = stiffness_scale
     nc = rr.crho.size
+    if residual_hz is None and not inertia:
+        post = residual_scaling(rr)
+        stiff = [s / rr.rscale**2 * post[:, :, r - 1] @ post[:, :, r - 1] for r in rr.crho]
+        return replace(rr, rpost=post), stiff, [np.zeros((3, 3))] * nc
     stiff = [np.eye(3) * s / rr.rscale**2] * nc
     damp = [np.zeros((3, 3))] * nc
     if residual_hz is not None:
@@ -686,6 +776,7 @@ __all__ = [
     "ring_rows",
     "residual_inertia_of",
     "residual_blocks",
+    "residual_scaling",
     "build_rf",
     "set_time",
 ]

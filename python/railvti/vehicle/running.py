@@ -103,8 +103,8 @@ def centred_running(
         roll = rail_head_roll(sy, run.q[-1], run.t[-1])
         rim = camber - roll
     rail = None
-    if variant in RING_TRACK:
-        rail = sy.rail_deflection(run.t, run.q)
+    if variant in RING_TRACK:  # simulate's, or the history's own when it had none
+        rail = run.rail if run.rail is not None else sy.rail_deflection(run.t, run.q)
     return CentredRunning(
         Q=run.Q[-1],
         Y=run.Y[-1],
