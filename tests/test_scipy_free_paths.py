@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -71,3 +72,18 @@ def test_contact_deck_path_does_not_import_scipy():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd="/")
     assert out.stdout.strip() == "[]"
+
+
+def test_contact_deck_run_does_not_import_scipy(tmp_path):
+    # the whole `railvti run` of a CONTACT deck: the deck registry imports every area's case
+    # types (railvti.vehicle.cases and through it railvti.assessment: scipy.signal on first
+    # use only, ~0.8 s otherwise)
+    deck = Path(__file__).resolve().parent / "regression" / "decks" / "mbench_a22_small_left.inp"
+    code = (
+        "import sys\n"
+        "from railvti.runner.cli import main\n"
+        f"status = main(['run', {str(deck)!r}, '-o', {str(tmp_path / 'a22.h5')!r}, '-q'])\n"
+        "print(status, sorted(m for m in sys.modules if m.split('.')[0] == 'scipy'))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd="/")
+    assert out.stdout.strip().splitlines()[-1] == "0 []"
