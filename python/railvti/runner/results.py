@@ -43,6 +43,7 @@ from .. import __version__
 from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
 from ..casetypes import Case
 from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
+from .h5_lowlevel import new_dataset, set_attr
 
 __all__ = [
     "LAYOUT",
@@ -144,29 +145,11 @@ def attr_value(value: Any) -> Any:
     return value
 
 
-_VLEN_STR = h5py.h5t.py_create(h5py.string_dtype(), logical=True)
-_SCALAR_TYPES = {
-    str: (_VLEN_STR, h5py.string_dtype()),
-    float: (h5py.h5t.py_create(np.dtype("<f8")), "<f8"),
-    int: (h5py.h5t.py_create(np.dtype("<i8")), "<i8"),
-}
-
-
-def _set_attr(obj: h5py.Group | h5py.Dataset, name: str, value: Any) -> None:
-    """obj.attrs[name] = value for a new attribute, through h5py's low-level calls for the
-    common scalars (str, float, int: the same HDF5 types as the high-level call, ~1.5 x
-    faster: a case writes some 200 attributes); anything else, or an existing name, through
-    ``attrs``."""
-    spec = _SCALAR_TYPES.get(type(value))
-    if spec is not None:
-        try:
-            aid = h5py.h5a.create(obj.id, name.encode("utf-8"), spec[0], h5py.h5s.create(h5py.h5s.SCALAR))
-        except (KeyError, ValueError, RuntimeError):
-            pass
-        else:
-            aid.write(np.array(value, dtype=spec[1]))
-            return
-    obj.attrs[name] = value
+def _set_attr(obj: Any, name: str, value: Any) -> None:
+    """obj.attrs[name] = value (``obj`` an h5py object or its identifier), through h5py's
+    low-level calls for numbers and text (railvti.runner.h5_lowlevel: the same HDF5 objects,
+    a case writes some 220 attributes)."""
+    set_attr(obj, name, value)
 
 
 def _data(value: Any) -> Any:
@@ -291,7 +274,7 @@ def _write_inputs(g: h5py.Group, case: Case) -> None:
     for key, value in case.params.items():
         _set_attr(gi, key, attr_value(value))
         unit, meaning = _input_unit(case, key)
-        d = gi.create_dataset(key, data=_data(attr_value(value)))
+        d = new_dataset(gi, key, _data(attr_value(value)))
         _set_attr(d, "units", unit)
         if meaning:
             _set_attr(d, "meaning", meaning)
@@ -388,10 +371,7 @@ def _write_dataset(
         axes = default_axes(name, arr, output)
         if axes is not None:
             extra["axes"] = axes
-    if arr.ndim > 0 and arr.size > 16:
-        d = g.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
-    else:
-        d = g.create_dataset(name, data=arr)
+    d = new_dataset(g, name, arr, compress=arr.ndim > 0 and arr.size > 16)
     _set_attr(d, "units", units)
     for k, v in extra.items():
         _set_attr(d, k, attr_value(v))
