@@ -1,6 +1,7 @@
 """railvti.runner.h5_lowlevel against h5py's high-level calls: every value the results writer
-stores makes the same HDF5 object (type, character set, shape, layout, filters, creation
-properties, values) through either path."""
+stores makes the same HDF5 object (type, character set, shape, filters, creation properties,
+values) through either path; a small dataset differs only in its layout (compact, on
+purpose), a larger one not at all."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import h5py
 import numpy as np
 import pytest
 
-from railvti.runner.h5_lowlevel import new_dataset, set_attr, stored_array
+from railvti.runner.h5_lowlevel import COMPACT_MAX_BYTES, new_dataset, set_attr, stored_array
 
 VALUES = {
     "float": 1.25,
@@ -34,7 +35,7 @@ VALUES = {
 }
 
 
-def _signature(obj) -> tuple:
+def _signature(obj, layout: bool = True) -> tuple:
     t = obj.id.get_type() if isinstance(obj, h5py.Dataset) else obj.get_type()
     cls = t.get_class()
     if cls == h5py.h5t.STRING:
@@ -49,7 +50,7 @@ def _signature(obj) -> tuple:
             obj.chunks,
             obj.compression,
             obj.compression_opts,
-            plist.get_layout(),
+            plist.get_layout() if layout else None,
             plist.get_obj_track_times(),
             plist.get_attr_creation_order(),
         )
@@ -69,8 +70,21 @@ def test_dataset_as_h5py_makes_it(tmp_path, key):
     with h5py.File(tmp_path / "f.h5", "w") as f:
         ref = f.create_dataset("ref", data=value)
         ours = h5py.Dataset(new_dataset(f, f"ours_{key}", value))
-        assert _signature(ours) == _signature(ref)
+        assert _signature(ours, layout=False) == _signature(ref, layout=False)
+        assert ours.id.get_create_plist().get_layout() == h5py.h5d.COMPACT
         assert _same_values(ours[()], ref[()])
+    with h5py.File(tmp_path / "f.h5", "r") as f:  # read back from the file, not HDF5's cache
+        assert _same_values(f[f"ours_{key}"][()], f["ref"][()])
+
+
+def test_a_larger_dataset_is_as_h5py_makes_it(tmp_path):
+    arr = np.arange(COMPACT_MAX_BYTES // 8 + 1, dtype=float)
+    with h5py.File(tmp_path / "f.h5", "w") as f:
+        ref = f.create_dataset("ref", data=arr)
+        ours = h5py.Dataset(new_dataset(f, "ours", arr))
+        assert _signature(ours) == _signature(ref)
+        assert ours.id.get_create_plist().get_layout() == h5py.h5d.CONTIGUOUS
+        assert _same_values(ours[()], arr)
 
 
 @pytest.mark.parametrize("key", sorted(VALUES))

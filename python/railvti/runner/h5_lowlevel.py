@@ -1,12 +1,17 @@
 """Datasets and attributes written through h5py's low-level calls: the same HDF5 objects as
 ``group.create_dataset(name, data=...)`` and ``obj.attrs[name] = value`` make, for the common
 values (numbers, booleans, text and arrays of them), without the high-level layer's
-per-call cost.
+per-call cost. One difference, on purpose: a small dataset (at most
+:data:`COMPACT_MAX_BYTES`) is stored in HDF5's compact layout, its values inside its object
+header (one write instead of two; readers see no difference: the same type, shape, values,
+no chunks, no filters).
 
 Why: a case of CONTACT's A-2.2 deck writes some 70 datasets and 220 attributes; through
 h5py's high-level calls that took 17-20 ms per case, as long as a third of the case's solve
 (issue 33). HDF5's own cost is about 40 us per dataset and 20 us per attribute; the rest was
-h5py's Python layer (argument checks, property lists made anew, the object registry).
+h5py's Python layer (argument checks, property lists made anew, the object registry) and,
+through the results writer's ``fileobj`` driver (railvti.runner.guarded_io), a Python call
+per write of each small dataset's values.
 
 Anything else (compound or complex values, a name with '/', an existing attribute, h5py
 configured to track creation order) goes through the high-level calls, so every value is
@@ -20,7 +25,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-__all__ = ["stored_array", "set_attr", "new_dataset"]
+__all__ = ["COMPACT_MAX_BYTES", "stored_array", "set_attr", "new_dataset"]
 
 #: The dtype of text (variable-length UTF-8), as h5py stores a Python str.
 TEXT = h5py.string_dtype()
@@ -46,7 +51,13 @@ def _plain_dcpl() -> Any:
     return dcpl
 
 
+#: Largest dataset (bytes of its values) stored in the compact layout: HDF5's limit is 64 kB
+#: for the whole object header.
+COMPACT_MAX_BYTES = 4096
+
 _DCPL = _plain_dcpl()
+_DCPL_COMPACT = _plain_dcpl()
+_DCPL_COMPACT.set_layout(h5py.h5d.COMPACT)
 
 
 def stored_array(value: Any) -> np.ndarray | None:
@@ -102,11 +113,13 @@ def set_attr(obj: Any, name: str, value: Any) -> None:
 
 def new_dataset(group: h5py.Group, name: str, value: Any, compress: bool = False) -> Any:
     """A new dataset ``name`` in ``group`` holding ``value`` (``compress``: chunked and gzip
-    level 4, through h5py's create_dataset); returns its low-level identifier."""
+    level 4, through h5py's create_dataset; else compact when at most
+    :data:`COMPACT_MAX_BYTES`); returns its low-level identifier."""
     arr = None if compress or "/" in name else stored_array(value)
     if arr is None or h5py.get_config().track_order:
         opts = {"compression": "gzip", "compression_opts": 4} if compress else {}
         return group.create_dataset(name, data=value, **opts).id
-    dsid = h5py.h5d.create(group.id, name.encode("utf-8"), _htype(arr.dtype), _space(arr), dcpl=_DCPL)
+    dcpl = _DCPL_COMPACT if arr.nbytes <= COMPACT_MAX_BYTES else _DCPL
+    dsid = h5py.h5d.create(group.id, name.encode("utf-8"), _htype(arr.dtype), _space(arr), dcpl=dcpl)
     dsid.write(h5py.h5s.ALL, h5py.h5s.ALL, arr)
     return dsid

@@ -525,6 +525,7 @@ class ResultsWriter:
         self.deck_path = str(deck_path)
         self.deck_digest = deck_digest(cases) if cases is not None else ""
         self._fresh = not keep
+        self._own = False  # the file at path is this writer's last version (its attributes set)
         self.pending: Path | None = None
 
     def write(self, records: list[CaseRecord]) -> None:
@@ -547,7 +548,8 @@ class ResultsWriter:
             fh = GuardedFile(tmp, "a" if copy else "w")
             try:
                 with open_h5(fh, "a" if copy else "w") as f:
-                    self._write_attrs(f)
+                    if not (copy and self._own):  # a copy of its own last version has them
+                        self._write_attrs(f)
                     for rec in records:
                         write_case(f, rec, fh.check)
                         fh.check()
@@ -560,6 +562,7 @@ class ResultsWriter:
             fh.close()
             os.replace(tmp, self.path)
             self._fresh = False
+            self._own = True
         except WriteFailed:
             raise
         except OSError as exc:  # creating, copying, syncing or renaming the file
