@@ -35,7 +35,8 @@ _TYPES: dict[tuple, Any] = {}  # HDF5 types by numpy dtype and its metadata, mad
 
 def _htype(dtype: np.dtype) -> Any:
     """The HDF5 type h5py makes for ``dtype`` (h5t.py_create, logical)."""
-    key = (dtype.str, repr(dtype.metadata))  # text dtypes differ in their metadata only
+    # text dtypes differ in their metadata only
+    key = (dtype.str, None if dtype.metadata is None else repr(dtype.metadata))
     t = _TYPES.get(key)
     if t is None:
         t = _TYPES[key] = h5py.h5t.py_create(dtype, logical=True)
@@ -90,8 +91,17 @@ def _high(obj: Any) -> Any:
     return obj
 
 
+_SPACES: dict[tuple, Any] = {}  # dataspaces by shape (immutable once made)
+
+
 def _space(arr: np.ndarray) -> Any:
-    return h5py.h5s.create(h5py.h5s.SCALAR) if arr.ndim == 0 else h5py.h5s.create_simple(arr.shape)
+    """The dataspace of ``arr`` (scalar for 0-d), made once per shape."""
+    space = _SPACES.get(arr.shape)
+    if space is None:
+        space = h5py.h5s.create(h5py.h5s.SCALAR) if arr.ndim == 0 else h5py.h5s.create_simple(arr.shape)
+        if len(_SPACES) < 256:
+            _SPACES[arr.shape] = space
+    return space
 
 
 def set_attr(obj: Any, name: str, value: Any) -> None:
