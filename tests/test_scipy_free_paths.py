@@ -76,7 +76,7 @@ def test_contact_deck_path_does_not_import_scipy():
 
 def test_contact_deck_run_imports_neither_scipy_nor_other_areas(tmp_path):
     # the whole `railvti run` of a CONTACT deck: scipy.signal (railvti.assessment, ~0.8 s) on
-    # first use only; the vehicle, track and assessment areas and asyncio (Dask's) not at all
+    # first use only; the vehicle, track and assessment areas not at all
     # (the deck's reader imports its own area only: railvti.runner.deck_registry)
     deck = Path(__file__).resolve().parent / "regression" / "decks" / "mbench_a22_small_left.inp"
     code = (
@@ -84,7 +84,7 @@ def test_contact_deck_run_imports_neither_scipy_nor_other_areas(tmp_path):
         "from railvti.runner.cli import main\n"
         f"status = main(['run', {str(deck)!r}, '-o', {str(tmp_path / 'a22.h5')!r}, '-q'])\n"
         "top = {m.split('.')[0] for m in sys.modules} | {'.'.join(m.split('.')[:2]) for m in sys.modules}\n"
-        "print(status, sorted(top & {'scipy', 'asyncio', 'railvti.vehicle', 'railvti.track', "
+        "print(status, sorted(top & {'scipy', 'railvti.vehicle', 'railvti.track', "
         "'railvti.assessment'}))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd="/")

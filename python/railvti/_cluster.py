@@ -8,6 +8,7 @@ importing this module, the serial paths and ``railvti run --serial`` do not impo
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import logging
 import multiprocessing
@@ -292,8 +293,6 @@ def _probe_scheduler(address: str, timeout: float) -> None:
         Whatever the reply raised (not Dask's protocol: an HTTP proxy's reply read as a Dask
         frame asks numpy for exabytes), or the reply was not a scheduler's.
     """
-    import asyncio  # with distributed only: ~20-40 ms of every run's start otherwise (issue 33)
-
     from distributed.comm import connect
 
     async def identity() -> Any:

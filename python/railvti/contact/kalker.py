@@ -26,7 +26,9 @@ Sign convention (rolling in +x, creepages xi, eta, spin phi in 1/m)::
 
 from __future__ import annotations
 
+import csv
 from functools import lru_cache
+from importlib import resources
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -61,10 +63,6 @@ def kalker_table() -> tuple[np.ndarray, np.ndarray]:
         ``c[k, i, m]``: coefficient k (0 C11, 1 C22, 2 C23) at ``a_over_b[i]``
         and nu = (0, 0.25, 0.5)[m].
     """
-    # csv and importlib.resources on first use: some 10 ms of every railvti run otherwise (issue 33)
-    import csv
-    from importlib import resources
-
     text = resources.files("railvti").joinpath("data", "kalker_table_e3.csv").read_text()
     rows = [
         r for r in csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#"))
