@@ -348,6 +348,19 @@ def test_file_attributes_hold_through_every_write_of_a_writer(tmp_path):
             assert len(f) == k and f.attrs["deck"] == "deck one" and f.attrs["layout"] == LAYOUT
             assert f.attrs["deck_path"] == "/decks/one.nml" and len(f.attrs["deck_digest"]) == 64
             assert "railvti_version" in f.attrs
+    # the file replaced behind the writer's back: checked again, its attributes set again
+    other = tmp_path / "other.h5"
+    ResultsWriter(other, "deck other", cases=cases[:1]).write([recs[0]])
+    os.replace(other, out)
+    w.write([recs[1]])
+    with h5py.File(out, "r") as f:
+        assert sorted(f) == ["001_a", "002_b"] and f.attrs["deck"] == "deck one"
+    out.write_bytes(b"not HDF5")  # not a results file: started anew, as before
+    w.write([recs[2]])
+    with h5py.File(out, "r") as f:
+        assert sorted(f) == ["003_c"] and f.attrs["deck"] == "deck one"
+    w.write([recs[0]])
+    w.write([recs[1]])
     w2 = ResultsWriter(out, "deck two", keep=True, deck_path="/decks/two.nml", cases=cases[:1])
     w2.write([recs[0]])
     w2.write([recs[1]])
