@@ -42,12 +42,13 @@ import numpy as np
 from .. import __version__
 from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
 from ..casetypes import Case
-from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
+from .guarded_io import GuardedFile, WriteFailed, failure, file_image, memory_h5, open_h5
 from .h5_lowlevel import new_dataset, set_attr
 
 __all__ = [
     "LAYOUT",
     "MAX_GROUP_NAME",
+    "MEMORY_IMAGE_BYTES",
     "CaseRecord",
     "group_name",
     "params_digest",
@@ -74,6 +75,12 @@ __all__ = [
 
 #: Version of the HDF5 layout written here.
 LAYOUT = 2
+
+#: Largest results file built in memory (the last version kept between cases, the new one
+#: written with one write instead of copying the file and writing through the ``fileobj``
+#: driver); larger files, and cases with a streamed history, are written on disk (0: every
+#: version on disk).
+MEMORY_IMAGE_BYTES = 64 * 2**20
 
 #: Longest case group name (longer names are cut and end in a digest of the full name).
 MAX_GROUP_NAME = 120
@@ -527,6 +534,7 @@ class ResultsWriter:
         self._fresh = not keep
         self._own = False  # the file at path is this writer's last version (its attributes set)
         self._stamp: tuple = ()  # (device, inode, size, mtime) of that version
+        self._image: bytes | None = None  # its bytes, when built in memory
         self.pending: Path | None = None
 
     def write(self, records: list[CaseRecord]) -> None:
@@ -543,28 +551,22 @@ class ResultsWriter:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             tmp = temp_path(self.path)
             self.pending = tmp
-            copy = not self._fresh and self.path.is_file() and (self._mine() or is_results_file(self.path))
-            if copy:
-                shutil.copyfile(self.path, tmp)
-            fh = GuardedFile(tmp, "a" if copy else "w")
-            try:
-                with open_h5(fh, "a" if copy else "w") as f:
-                    if not (copy and self._mine()):  # a copy of its own last version has them
-                        self._write_attrs(f)
-                    for rec in records:
-                        write_case(f, rec, fh.check)
-                        fh.check()
-            except WriteFailed:
-                raise
-            except Exception:
-                fh.check()  # an HDF5 error that follows a failed write: say the write's
-                raise  # not: a value HDF5 refuses (the caller records it)
+            image = self._base_image(records)
+            if image is not None:  # built in memory, written in one go
+                data = self._in_memory(image, records)
+                fh = GuardedFile(tmp, "w")
+                fh.write(data)
+            else:
+                self._image = None
+                fh = self._on_disk(tmp, records)
             fh.sync()
             fh.close()
             os.replace(tmp, self.path)
             self._fresh = False
             self._own = True
             self._stamp = _stamp(self.path)
+            if image is not None and len(data) <= MEMORY_IMAGE_BYTES:
+                self._image = data
         except WriteFailed:
             raise
         except OSError as exc:  # creating, copying, syncing or renaming the file
@@ -578,6 +580,50 @@ class ResultsWriter:
                     tmp.unlink(missing_ok=True)
                 except OSError:
                     pass
+
+    def _base_image(self, records: list[CaseRecord]) -> bytes | None:
+        """What the new version is built on in memory: b'' (a new file), the bytes of this
+        writer's last version (kept when it was at most :data:`MEMORY_IMAGE_BYTES`), or None:
+        on disk (a file of another run, a large one, or a record with a streamed history)."""
+        streamed = any(
+            isinstance(spec[0], Streamed) for r in records if r.output for spec in r.output.datasets.values()
+        )
+        if streamed or MEMORY_IMAGE_BYTES <= 0:
+            return None
+        if self._fresh:
+            return b""
+        return self._image if self._image is not None and self._mine() else None
+
+    def _in_memory(self, image: bytes, records: list[CaseRecord]) -> bytes:
+        """The new version's bytes: ``image`` (b'': a new file) with ``records`` written."""
+        with memory_h5(image) as f:
+            if not image:
+                self._write_attrs(f)
+            for rec in records:
+                write_case(f, rec)
+            return file_image(f)
+
+    def _on_disk(self, tmp: Path, records: list[CaseRecord]) -> GuardedFile:
+        """The new version written into ``tmp`` on disk (the file so far copied first)."""
+        copy = not self._fresh and self.path.is_file() and (self._mine() or is_results_file(self.path))
+        if copy:
+            shutil.copyfile(self.path, tmp)
+        fh = GuardedFile(tmp, "a" if copy else "w")
+        try:
+            with open_h5(fh, "a" if copy else "w") as f:
+                if not (copy and self._mine()):  # a copy of its own last version has them
+                    self._write_attrs(f)
+                for rec in records:
+                    write_case(f, rec, fh.check)
+                    fh.check()
+        except WriteFailed:
+            fh.close()
+            raise
+        except Exception:
+            fh.close()
+            fh.check()  # an HDF5 error that follows a failed write: say the write's
+            raise  # not: a value HDF5 refuses (the caller records it)
+        return fh
 
     def _mine(self) -> bool:
         """Whether the file at path is still this writer's last version (the same inode,
