@@ -17,10 +17,11 @@ Layout of a ``railvti run`` file (docs/results.md has the full description):
   attributes (``dof_names``, ``quantities``, ``wheel``...); ``empty_slots`` says what NaN
   marks where a result has fixed-size slots that may be unused.
 
-The file is rewritten after every case: the new version is written to a temporary file in the
-same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask) and renamed over the
-old one (``os.replace``), so whatever stops a run, the output is the previous complete version
-or the new one, never a half-written file.
+The file is rewritten after every case: the new version (built in memory from the last one
+up to :data:`MEMORY_IMAGE_BYTES`, else on disk from a copy) is written to a temporary file in
+the same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask), flushed to
+disk and renamed over the old one (``os.replace``), so whatever stops a run, the output is the
+previous complete version or the new one, never a half-written file.
 """
 
 from __future__ import annotations
