@@ -79,9 +79,10 @@ LAYOUT = 2
 
 #: Largest results file built in memory (the last version kept between cases, the new one
 #: written with one write instead of copying the file and writing through the ``fileobj``
-#: driver); larger files, and cases with a streamed history, are written on disk (0: every
-#: version on disk).
-MEMORY_IMAGE_BYTES = 64 * 2**20
+#: driver; memory: about three times this); larger files, whose write is the disk's time
+#: either way, and cases with a streamed history are written on disk (0: every version on
+#: disk).
+MEMORY_IMAGE_BYTES = 16 * 2**20
 
 #: Longest case group name (longer names are cut and end in a digest of the full name).
 MAX_GROUP_NAME = 120
