@@ -327,3 +327,42 @@ def test_a_file_that_cannot_be_written_stops_with_status_3(tmp_path, monkeypatch
     assert "No space left on device" in err and len(err.splitlines()) == 1
     assert _statuses(out) == {"001_a": "ok"}  # the last complete version
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
+
+
+def test_file_attributes_hold_through_every_write_of_a_writer(tmp_path):
+    """A writer sets the file's attributes on its first version and keeps them in every later
+    one (copied, not written again); a writer continuing another run's file (--resume) sets
+    its own."""
+    from railvti.runner.results import LAYOUT, CaseRecord, ResultsWriter
+
+    cases = parse_deck("".join(SMALL.format(name=n, fn=1e4) for n in "abc"))
+    recs = [
+        CaseRecord(c, output=CaseOutput(summary=c.name, scalars={"x": (1.0, "m")}), wall_time=0.1)
+        for c in cases
+    ]
+    out = tmp_path / "out.h5"
+    w = ResultsWriter(out, "deck one", deck_path="/decks/one.nml", cases=cases)
+    for k, rec in enumerate(recs, 1):
+        w.write([rec])
+        with h5py.File(out, "r") as f:
+            assert len(f) == k and f.attrs["deck"] == "deck one" and f.attrs["layout"] == LAYOUT
+            assert f.attrs["deck_path"] == "/decks/one.nml" and len(f.attrs["deck_digest"]) == 64
+            assert "railvti_version" in f.attrs
+    # the file replaced behind the writer's back: checked again, its attributes set again
+    other = tmp_path / "other.h5"
+    ResultsWriter(other, "deck other", cases=cases[:1]).write([recs[0]])
+    os.replace(other, out)
+    w.write([recs[1]])
+    with h5py.File(out, "r") as f:
+        assert sorted(f) == ["001_a", "002_b"] and f.attrs["deck"] == "deck one"
+    out.write_bytes(b"not HDF5")  # not a results file: started anew, as before
+    w.write([recs[2]])
+    with h5py.File(out, "r") as f:
+        assert sorted(f) == ["003_c"] and f.attrs["deck"] == "deck one"
+    w.write([recs[0]])
+    w.write([recs[1]])
+    w2 = ResultsWriter(out, "deck two", keep=True, deck_path="/decks/two.nml", cases=cases[:1])
+    w2.write([recs[0]])
+    w2.write([recs[1]])
+    with h5py.File(out, "r") as f:
+        assert len(f) == 3 and f.attrs["deck"] == "deck two" and f.attrs["deck_path"] == "/decks/two.nml"

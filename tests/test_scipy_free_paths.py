@@ -1,11 +1,12 @@
 """The scipy-free replacements on the contact deck's path (issue 33: scipy's import cost a
 quarter of a CONTACT deck's run) against scipy itself, and the import graph that keeps
-scipy out of a contact deck's run."""
+scipy (and the areas a CONTACT deck does not use) out of a contact deck's run."""
 
 from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -71,3 +72,20 @@ def test_contact_deck_path_does_not_import_scipy():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd="/")
     assert out.stdout.strip() == "[]"
+
+
+def test_contact_deck_run_imports_neither_scipy_nor_other_areas(tmp_path):
+    # the whole `railvti run` of a CONTACT deck: scipy.signal (railvti.assessment, ~0.8 s) on
+    # first use only; the vehicle, track and assessment areas not at all
+    # (the deck's reader imports its own area only: railvti.runner.deck_registry)
+    deck = Path(__file__).resolve().parent / "regression" / "decks" / "mbench_a22_small_left.inp"
+    code = (
+        "import sys\n"
+        "from railvti.runner.cli import main\n"
+        f"status = main(['run', {str(deck)!r}, '-o', {str(tmp_path / 'a22.h5')!r}, '-q'])\n"
+        "top = {m.split('.')[0] for m in sys.modules} | {'.'.join(m.split('.')[:2]) for m in sys.modules}\n"
+        "print(status, sorted(top & {'scipy', 'railvti.vehicle', 'railvti.track', "
+        "'railvti.assessment'}))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd="/")
+    assert out.stdout.strip().splitlines()[-1] == "0 []"

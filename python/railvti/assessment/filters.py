@@ -40,10 +40,18 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 from .. import _checks
 from ..errors import InputError
+
+
+def _signal():
+    """scipy.signal, imported on first use: ~0.8 s at start-up of every ``railvti run`` (the
+    deck registry imports this module through railvti.vehicle.cases; issue 33)."""
+    from scipy import signal
+
+    return signal
+
 
 __all__ = [
     "Section",
@@ -85,7 +93,7 @@ class Section:
         """(b, a) in z of the bilinear transform at sampling rate ``fs`` (Hz), pre-warped at
         ``f_warp``: s = 2 k (z - 1)/(z + 1) with k = pi f_warp / tan(pi f_warp / fs)."""
         k = math.pi * self.f_warp / math.tan(math.pi * self.f_warp / fs)
-        return signal.bilinear(np.asarray(self.b, float), np.asarray(self.a, float), fs=k)
+        return _signal().bilinear(np.asarray(self.b, float), np.asarray(self.a, float), fs=k)
 
 
 @dataclass(frozen=True)
@@ -134,7 +142,7 @@ class Filter:
         rows = []
         for sec in self._kept(fs):
             bz, az = sec.digital(fs)
-            rows.append(signal.tf2sos(bz, az))
+            rows.append(_signal().tf2sos(bz, az))
         if not rows:
             return np.array([[self.gain, 0.0, 0.0, 1.0, 0.0, 0.0]])
         sos = np.vstack(rows)
@@ -143,7 +151,7 @@ class Filter:
 
     def digital_response(self, f, fs: float) -> np.ndarray:
         """The digital filter's complex response at ``f`` (Hz) for sampling rate ``fs``."""
-        _, h = signal.sosfreqz(self.sos(fs), worN=np.asarray(f, dtype=float), fs=fs)
+        _, h = _signal().sosfreqz(self.sos(fs), worN=np.asarray(f, dtype=float), fs=fs)
         return h
 
     def apply(self, x: np.ndarray, fs: float) -> np.ndarray:
@@ -155,9 +163,9 @@ class Filter:
         if not np.all(np.isfinite(x)):
             raise InputError(f"filter {self.name}: the signal holds NaN or inf")
         sos = self.sos(fs)
-        zi = signal.sosfilt_zi(sos)  # (n, 2) for a unit step
+        zi = _signal().sosfilt_zi(sos)  # (n, 2) for a unit step
         zi = zi.reshape(zi.shape + (1,) * (x.ndim - 1)) * x[0][None, None]
-        y, _ = signal.sosfilt(sos, x, axis=0, zi=zi)
+        y, _ = _signal().sosfilt(sos, x, axis=0, zi=zi)
         return y
 
 
@@ -271,9 +279,9 @@ def sperling(direction: str) -> Filter:
 
 def _butter_sections(order: int, fc: float, btype: str) -> list:
     """Analogue Butterworth of ``order`` at ``fc`` (Hz) as second-order sections."""
-    z, p, k = signal.butter(order, _TWO_PI * fc, btype=btype, analog=True, output="zpk")
+    z, p, k = _signal().butter(order, _TWO_PI * fc, btype=btype, analog=True, output="zpk")
     out = []
-    pairs = signal.zpk2sos(z, p, k, analog=True)
+    pairs = _signal().zpk2sos(z, p, k, analog=True)
     for row in pairs:
         out.append(Section(tuple(row[:3]), tuple(row[3:]), fc))
     return out

@@ -95,8 +95,22 @@ def _check_options(args: argparse.Namespace) -> None:
         raise InputError("--max-memory '': give a size such as 8G, 500M, 1e9 or none")
 
 
-def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -> int:
+def _bar(n: int, serial: bool) -> Any:
+    """The progress bar of a run of ``n`` cases (on stderr)."""
     from tqdm import tqdm
+
+    desc = "cases" if serial else "tasks"
+    return tqdm(total=n, desc=desc, unit="case", file=sys.stderr, dynamic_ncols=True)
+
+
+def _bar_writer() -> Any:
+    """A line writer that keeps the progress bar below the lines (tqdm.write)."""
+    from tqdm import tqdm
+
+    return lambda line: tqdm.write(line, file=sys.stdout)
+
+
+def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -> int:
     from . import cost
     from .batch import EXIT_OUTPUT, Interrupted, SignalGuard, resume_hint, run_cases
 
@@ -108,9 +122,14 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
     # no LocalCluster where its start-up (worker processes importing railvti) outweighs the work
     serial = args.serial or (args.scheduler is None and args.workers is None and cost.small_deck(cases))
 
+    # tqdm only with a bar to show (its import looks up its version: importlib.metadata, some
+    # 25 ms of a quiet run, issue 33)
+    shown = len(cases) >= 2 and not args.quiet
+    line_out = _bar_writer() if shown else lambda line: print(line, file=sys.stdout)
+
     def write(line: str) -> None:
         try:
-            tqdm.write(line, file=sys.stdout)
+            line_out(line)
         except BrokenPipeError:  # stdout's reader went away: the run goes on
             _stdout_closed()
 
@@ -125,22 +144,16 @@ def _run_checked(args: argparse.Namespace, deck: Path, cases: list, out: Path) -
             with contextlib.ExitStack() as stack:
                 with guard.live(resend=False):
                     client = stack.enter_context(_client(args, serial, len(cases), write))
-                bar = tqdm(
-                    total=len(cases),
-                    desc="cases" if serial else "tasks",
-                    unit="case",
-                    disable=len(cases) < 2 or args.quiet,
-                    file=sys.stderr,
-                    dynamic_ncols=True,
-                )
-                stack.callback(bar.close)
+                bar = _bar(len(cases), serial) if shown else None
+                if bar is not None:
+                    stack.callback(bar.close)
                 report = run_cases(
                     cases,
                     out,
                     _deck_text(deck),
                     resume=args.resume,
                     write=write,
-                    progress=lambda c: bar.set_postfix_str(c.name[-30:]),
+                    progress=None if bar is None else lambda c: bar.set_postfix_str(c.name[-30:]),
                     client=client,
                     bar=bar,
                     deck_path=str(deck.resolve()),

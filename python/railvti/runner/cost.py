@@ -34,7 +34,6 @@ from ..contact.hertz import hertz
 from ..errors import InputError
 from ..material import Material
 from ..resources import check_memory, memory_limit, size_text
-from ..vehicle.contact_models import BEM, CONTACT_MODELS, HERTZ_FASTSIM, HERTZ_KALKER
 from .stream import STREAM_TAIL_SECONDS, history_bytes, stream_threshold
 
 #: Environment variable of the time limit of one case: seconds, or '90s', '30min', '2h',
@@ -399,16 +398,21 @@ def _track(p: dict[str, Any], label: str, receptance: bool) -> Estimate:
     )
 
 
-#: vehicle: the time loop's wall time per step (each includes sub-steps and Newton
-#: iterations of the hunting motion), by contact model (railvti.vehicle.contact_models names)
-#: and geometry, s: RR hunting at 300 km/h (bench_vehicle_strip, bench_cost_estimate).
-_STEP_S = {
-    (HERTZ_KALKER.name, "strip"): 2.5e-3,
-    (HERTZ_KALKER.name, "table"): 1.5e-3,
-    (HERTZ_FASTSIM.name, "strip"): 2.5e-3,
-    (HERTZ_FASTSIM.name, "table"): 1.2e-3,
-    (BEM.name, "table"): 0.05,
-}
+def _step_s(contact: str, geometry: str) -> float:
+    """vehicle: the time loop's wall time per step (each includes sub-steps and Newton
+    iterations of the hunting motion), by contact model (railvti.vehicle.contact_models
+    names) and geometry, s: RR hunting at 300 km/h (bench_vehicle_strip, bench_cost_estimate)."""
+    from ..vehicle.contact_models import BEM, HERTZ_FASTSIM, HERTZ_KALKER  # on first use: see _vehicle
+
+    return {
+        (HERTZ_KALKER.name, "strip"): 2.5e-3,
+        (HERTZ_KALKER.name, "table"): 1.5e-3,
+        (HERTZ_FASTSIM.name, "strip"): 2.5e-3,
+        (HERTZ_FASTSIM.name, "table"): 1.2e-3,
+        (BEM.name, "table"): 0.05,
+    }.get((contact, geometry), 3e-3)
+
+
 #: Extra wall time per step of the kept modes, s: FR's rotating wheelset modes cost
 #: _WS_MODE_STEP_S x modes^1.33 (k_max 2: 384 modes at 5 kHz 37 ms per step, 1792 modes at
 #: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
@@ -479,6 +483,10 @@ def _streams(duration: float, out_dt: float) -> bool:
 
 
 def _vehicle(p: dict[str, Any], label: str) -> Estimate:
+    # railvti.vehicle on first use: a deck without vehicle cases (a CONTACT deck) does not
+    # import it (~0.1 s of its run, issue 33)
+    from ..vehicle.contact_models import CONTACT_MODELS
+
     variant = str(p.get("model", "RR")).strip().upper()
     contact = str(p.get("contact", "hertz-kalker")).strip().lower()
     # the deck is not checked yet: an unknown model costs as the default (its check names it)
@@ -499,7 +507,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
         runs = 2.0 * max(1.0, math.floor(max(hi - lo, 0.0) / step + 1e-9) + 1.0)
     steps = runs * duration / h
     per = (
-        _STEP_S.get((contact, geometry), 3e-3)
+        _step_s(contact, geometry)
         + _WS_MODE_STEP_S * ws_modes**_WS_MODE_EXPONENT
         + _RING_MODE_STEP_S * ring_modes
     )

@@ -344,7 +344,7 @@ def read_deck(path: str | Path) -> list[Case]:
     wheel-rail deck if its name ends in ``.inp`` (:func:`railvti.contact.contact_deck.read_contact_deck`).
     Every case's values are checked (:func:`check_cases`) before this returns."""
     path = Path(path)
-    reader = deck_readers().get(path.suffix.lower())
+    reader = deck_readers(path.suffix).get(path.suffix.lower())
     if reader is not None:
         cases = reader(path)
         _raise(check_cases(cases))

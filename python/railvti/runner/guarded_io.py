@@ -22,11 +22,14 @@ again by the next :meth:`GuardedFile.check`, after HDF5 has returned.
 from __future__ import annotations
 
 import errno
+import itertools
 import os
 from pathlib import Path
 from typing import Any
 
 import h5py
+
+_MEMORY_NAMES = itertools.count()  # names of in-memory files (HDF5 knows open files by name)
 
 #: The system calls that write (tests replace them to simulate a full disk).
 _pwrite = os.pwrite
@@ -197,4 +200,30 @@ def open_h5(fh: GuardedFile, mode: str = "w") -> h5py.File:
     return h5py.File(fh, mode if mode == "w" else "r+", driver="fileobj")
 
 
-__all__ = ["GuardedFile", "WriteFailed", "failure", "open_h5"]
+def memory_h5(image: bytes = b"") -> h5py.File:
+    """An HDF5 file in memory (the ``core`` driver, no file behind it): new, or opened for
+    update from ``image`` (a file's bytes). It never touches the disk: :func:`file_image`
+    gives its bytes, written by the caller through a :class:`GuardedFile`."""
+    # the file format h5py.File gives a file on disk: the earliest format that holds each
+    # object (HDF5 2.0's own default is 1.8's: superblock v2, checksummed headers), no
+    # creation times
+    fapl = h5py.h5p.create(h5py.h5p.FILE_ACCESS)
+    fapl.set_libver_bounds(h5py.h5f.LIBVER_EARLIEST, h5py.h5f.LIBVER_LATEST)
+    fapl.set_alignment(1, 1)
+    fapl.set_fapl_core(1 << 20, False)
+    name = f"railvti-memory-{os.getpid()}-{next(_MEMORY_NAMES)}".encode()
+    if image:
+        fapl.set_file_image(image)
+        return h5py.File(h5py.h5f.open(name, h5py.h5f.ACC_RDWR, fapl=fapl))
+    fcpl = h5py.h5p.create(h5py.h5p.FILE_CREATE)
+    fcpl.set_obj_track_times(False)
+    return h5py.File(h5py.h5f.create(name, h5py.h5f.ACC_TRUNC, fapl=fapl, fcpl=fcpl))
+
+
+def file_image(f: h5py.File) -> bytes:
+    """The bytes of an open HDF5 file as it would be on disk (its metadata flushed)."""
+    f.flush()
+    return f.id.get_file_image()
+
+
+__all__ = ["GuardedFile", "WriteFailed", "failure", "open_h5", "memory_h5", "file_image"]

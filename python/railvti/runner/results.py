@@ -17,10 +17,11 @@ Layout of a ``railvti run`` file (docs/results.md has the full description):
   attributes (``dof_names``, ``quantities``, ``wheel``...); ``empty_slots`` says what NaN
   marks where a result has fixed-size slots that may be unused.
 
-The file is rewritten after every case: the new version is written to a temporary file in the
-same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask) and renamed over the
-old one (``os.replace``), so whatever stops a run, the output is the previous complete version
-or the new one, never a half-written file.
+The file is rewritten after every case: the new version (built in memory from the last one
+up to :data:`MEMORY_IMAGE_BYTES`, else on disk from a copy) is written to a temporary file in
+the same folder (``.NAME.PID.XXXX.tmp``, created with mode 0666 less the umask), flushed to
+disk and renamed over the old one (``os.replace``), so whatever stops a run, the output is the
+previous complete version or the new one, never a half-written file.
 """
 
 from __future__ import annotations
@@ -42,11 +43,13 @@ import numpy as np
 from .. import __version__
 from ..casetypes import CaseOutput, Streamed, split_labels  # noqa: F401 (split_labels: a name of this module too)
 from ..casetypes import Case
-from .guarded_io import GuardedFile, WriteFailed, failure, open_h5
+from .guarded_io import GuardedFile, WriteFailed, failure, file_image, memory_h5, open_h5
+from .h5_lowlevel import new_dataset, set_attr
 
 __all__ = [
     "LAYOUT",
     "MAX_GROUP_NAME",
+    "MEMORY_IMAGE_BYTES",
     "CaseRecord",
     "group_name",
     "params_digest",
@@ -73,6 +76,13 @@ __all__ = [
 
 #: Version of the HDF5 layout written here.
 LAYOUT = 2
+
+#: Largest results file built in memory (the last version kept between cases, the new one
+#: written with one write instead of copying the file and writing through the ``fileobj``
+#: driver; memory: about three times this); larger files, whose write is the disk's time
+#: either way, and cases with a streamed history are written on disk (0: every version on
+#: disk).
+MEMORY_IMAGE_BYTES = 16 * 2**20
 
 #: Longest case group name (longer names are cut and end in a digest of the full name).
 MAX_GROUP_NAME = 120
@@ -144,29 +154,11 @@ def attr_value(value: Any) -> Any:
     return value
 
 
-_VLEN_STR = h5py.h5t.py_create(h5py.string_dtype(), logical=True)
-_SCALAR_TYPES = {
-    str: (_VLEN_STR, h5py.string_dtype()),
-    float: (h5py.h5t.py_create(np.dtype("<f8")), "<f8"),
-    int: (h5py.h5t.py_create(np.dtype("<i8")), "<i8"),
-}
-
-
-def _set_attr(obj: h5py.Group | h5py.Dataset, name: str, value: Any) -> None:
-    """obj.attrs[name] = value for a new attribute, through h5py's low-level calls for the
-    common scalars (str, float, int: the same HDF5 types as the high-level call, ~1.5 x
-    faster: a case writes some 200 attributes); anything else, or an existing name, through
-    ``attrs``."""
-    spec = _SCALAR_TYPES.get(type(value))
-    if spec is not None:
-        try:
-            aid = h5py.h5a.create(obj.id, name.encode("utf-8"), spec[0], h5py.h5s.create(h5py.h5s.SCALAR))
-        except (KeyError, ValueError, RuntimeError):
-            pass
-        else:
-            aid.write(np.array(value, dtype=spec[1]))
-            return
-    obj.attrs[name] = value
+def _set_attr(obj: Any, name: str, value: Any) -> None:
+    """obj.attrs[name] = value (``obj`` an h5py object or its identifier), through h5py's
+    low-level calls for numbers and text (railvti.runner.h5_lowlevel: the same HDF5 objects,
+    a case writes some 220 attributes)."""
+    set_attr(obj, name, value)
 
 
 def _data(value: Any) -> Any:
@@ -291,7 +283,7 @@ def _write_inputs(g: h5py.Group, case: Case) -> None:
     for key, value in case.params.items():
         _set_attr(gi, key, attr_value(value))
         unit, meaning = _input_unit(case, key)
-        d = gi.create_dataset(key, data=_data(attr_value(value)))
+        d = new_dataset(gi, key, _data(attr_value(value)))
         _set_attr(d, "units", unit)
         if meaning:
             _set_attr(d, "meaning", meaning)
@@ -388,10 +380,7 @@ def _write_dataset(
         axes = default_axes(name, arr, output)
         if axes is not None:
             extra["axes"] = axes
-    if arr.ndim > 0 and arr.size > 16:
-        d = g.create_dataset(name, data=arr, compression="gzip", compression_opts=4)
-    else:
-        d = g.create_dataset(name, data=arr)
+    d = new_dataset(g, name, arr, compress=arr.ndim > 0 and arr.size > 16)
     _set_attr(d, "units", units)
     for k, v in extra.items():
         _set_attr(d, k, attr_value(v))
@@ -545,6 +534,9 @@ class ResultsWriter:
         self.deck_path = str(deck_path)
         self.deck_digest = deck_digest(cases) if cases is not None else ""
         self._fresh = not keep
+        self._own = False  # the file at path is this writer's last version (its attributes set)
+        self._stamp: tuple = ()  # (device, inode, size, mtime) of that version
+        self._image: bytes | None = None  # its bytes, when built in memory
         self.pending: Path | None = None
 
     def write(self, records: list[CaseRecord]) -> None:
@@ -561,25 +553,22 @@ class ResultsWriter:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             tmp = temp_path(self.path)
             self.pending = tmp
-            copy = not self._fresh and self.path.is_file() and is_results_file(self.path)
-            if copy:
-                shutil.copyfile(self.path, tmp)
-            fh = GuardedFile(tmp, "a" if copy else "w")
-            try:
-                with open_h5(fh, "a" if copy else "w") as f:
-                    self._write_attrs(f)
-                    for rec in records:
-                        write_case(f, rec, fh.check)
-                        fh.check()
-            except WriteFailed:
-                raise
-            except Exception:
-                fh.check()  # an HDF5 error that follows a failed write: say the write's
-                raise  # not: a value HDF5 refuses (the caller records it)
+            image = self._base_image(records)
+            if image is not None:  # built in memory, written in one go
+                data = self._in_memory(image, records)
+                fh = GuardedFile(tmp, "w")
+                fh.write(data)
+            else:
+                self._image = None
+                fh = self._on_disk(tmp, records)
             fh.sync()
             fh.close()
             os.replace(tmp, self.path)
             self._fresh = False
+            self._own = True
+            self._stamp = _stamp(self.path)
+            if image is not None and len(data) <= MEMORY_IMAGE_BYTES:
+                self._image = data
         except WriteFailed:
             raise
         except OSError as exc:  # creating, copying, syncing or renaming the file
@@ -594,6 +583,56 @@ class ResultsWriter:
                 except OSError:
                     pass
 
+    def _base_image(self, records: list[CaseRecord]) -> bytes | None:
+        """What the new version is built on in memory: b'' (a new file), the bytes of this
+        writer's last version (kept when it was at most :data:`MEMORY_IMAGE_BYTES`), or None:
+        on disk (a file of another run, a large one, or a record with a streamed history)."""
+        streamed = any(
+            isinstance(spec[0], Streamed) for r in records if r.output for spec in r.output.datasets.values()
+        )
+        if streamed or MEMORY_IMAGE_BYTES <= 0:
+            return None
+        if self._fresh:
+            return b""
+        return self._image if self._image is not None and self._mine() else None
+
+    def _in_memory(self, image: bytes, records: list[CaseRecord]) -> bytes:
+        """The new version's bytes: ``image`` (b'': a new file) with ``records`` written."""
+        with memory_h5(image) as f:
+            if not image:
+                self._write_attrs(f)
+            for rec in records:
+                write_case(f, rec)
+            return file_image(f)
+
+    def _on_disk(self, tmp: Path, records: list[CaseRecord]) -> GuardedFile:
+        """The new version written into ``tmp`` on disk (the file so far copied first)."""
+        copy = not self._fresh and self.path.is_file() and (self._mine() or is_results_file(self.path))
+        if copy:
+            shutil.copyfile(self.path, tmp)
+        fh = GuardedFile(tmp, "a" if copy else "w")
+        try:
+            with open_h5(fh, "a" if copy else "w") as f:
+                if not (copy and self._mine()):  # a copy of its own last version has them
+                    self._write_attrs(f)
+                for rec in records:
+                    write_case(f, rec, fh.check)
+                    fh.check()
+        except WriteFailed:
+            fh.close()
+            raise
+        except Exception:
+            fh.close()
+            fh.check()  # an HDF5 error that follows a failed write: say the write's
+            raise  # not: a value HDF5 refuses (the caller records it)
+        return fh
+
+    def _mine(self) -> bool:
+        """Whether the file at path is still this writer's last version (the same inode,
+        size and time): a results file with its attributes, not opened again to check
+        (~2 ms of each case)."""
+        return self._own and _stamp(self.path) == self._stamp
+
     def _write_attrs(self, f: h5py.File) -> None:
         f.attrs["railvti_version"] = __version__
         f.attrs["layout"] = LAYOUT
@@ -602,6 +641,14 @@ class ResultsWriter:
             f.attrs["deck_path"] = self.deck_path.replace("\x00", "\\0")
         if self.deck_digest:
             f.attrs["deck_digest"] = self.deck_digest
+
+
+def _stamp(path: Path) -> tuple:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return ()
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
 
 
 def deck_digest(cases: list[Case]) -> str:
