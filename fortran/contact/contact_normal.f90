@@ -176,7 +176,7 @@ contains
         real(dp) :: sr, srt, st, sgt, psum
         real(dp), allocatable :: cd(:)
         integer, allocatable :: ci(:), cj(:)
-        logical :: conjugate, exact, force, prec
+        logical :: conjugate, exact, force, prec, have_set
         integer :: nc, nol, it, nd, iters, nprod, steps, mcol
 
         info = STAT_OK
@@ -194,12 +194,15 @@ contains
         conjugate = is(4) == 1
         exact = is(5) == 1
         steps = 0
+        have_set = .false.
         do while (it <= max_iter)
             if (steps >= budget) exit
             steps = steps + 1
             ! pass 1: the contact set's size and, under force control, its mean gap
-            ! (the approach is the Lagrange multiplier of the force constraint)
-            call cg_contact_set(p, u, h, nc, sg)
+            ! (the approach is the Lagrange multiplier of the force constraint); after
+            ! an update by recurrence, pass 7 has summed them already (the same sums)
+            if (.not. have_set) call cg_contact_set(p, u, h, nc, sg)
+            have_set = .false.
             if (force) shift = sg / max(nc, 1)
 
             ! pass 2: deformed gap g, residual sums (see normal_residual), and the
@@ -269,9 +272,12 @@ contains
                 scale = fn / (area_el * psum)
             end if
 
-            ! pass 7: A p_new = scale (A p_old - tau A t + A d)
+            ! pass 7: A p_new = scale (A p_old - tau A t + A d); by recurrence, also pass 1's
+            ! sums for the next iteration
             exact = nd > mcol .or. mod(iters, REFRESH) == 0
-            call cg_update(plan, kz, c, exact, tau, scale, nc + nd, nd, ci, cj, cd, p, u, lab, fac)
+            call cg_update(plan, kz, c, h, exact, tau, scale, nc + nd, nd, ci, cj, cd, p, u, nc, sg, &
+                           lab, fac)
+            have_set = .not. exact
             if (exact) nprod = nprod + 1
             it = it + 1
         end do
@@ -473,37 +479,56 @@ contains
     !> CG pass 7 (normal_cg_steps): u = A p for the new p scaled by scale (force control),
     !> A p_new = scale (A p_old - tau A t + A d): an exact product of nnz elements when exact
     !> (d large, or every REFRESH steps against drift), else the recurrence with r = A t in
-    !> plan%rbuf and the nd columns (ci, cj, cd) of A.
-    subroutine cg_update(plan, kz, c, exact, tau, scale, nnz, nd, ci, cj, cd, p, u, lab, fac)
+    !> plan%rbuf and the nd columns (ci, cj, cd) of A, in one pass with the scaling of p
+    !> and u that also sums pass 1's nc and sg (cg_contact_set) for the new p and u.
+    subroutine cg_update(plan, kz, c, h, exact, tau, scale, nnz, nd, ci, cj, cd, p, u, nc, sg, &
+                         lab, fac)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kz, nnz, nd, ci(:), cj(:)
-        real(dp), intent(in) :: c(0:, 0:), tau, scale, cd(:)
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), tau, scale, cd(:)
         logical, intent(in) :: exact
         real(dp), intent(inout) :: p(:, :), u(:, :)
+        integer, intent(out) :: nc
+        real(dp), intent(out) :: sg
         integer, intent(in), optional :: lab(:)
         real(dp), intent(in), optional :: fac(:, :)
+        real(dp) :: uk, pk
         integer :: i, j, m
+        logical :: coupled_op
+        nc = 0
+        sg = 0.0_dp
         if (exact) then
             if (scale /= 1.0_dp) p = scale * p
             call apply_op(plan, kz, p, u, nnz, c, lab, fac)
             return
         end if
-        do j = 1, size(u, 2)
-            do i = 1, size(u, 1)
-                u(i, j) = u(i, j) - tau * plan%rbuf(i, j)
-            end do
-        end do
-        if (coupled(lab, fac)) then
+        coupled_op = coupled(lab, fac)
+        if (coupled_op) then
+            u = u - tau * plan%rbuf(1:size(u, 1), 1:size(u, 2))
             do m = 1, nd
                 call add_column(c, ci(m), cj(m), cd(m), u, lab, fac)
             end do
-        else
-            call add_columns(c, nd, ci, cj, cd, u)
         end if
-        if (scale /= 1.0_dp) then
-            p = scale * p
-            u = scale * u
-        end if
+        ! per grid column j: the step, the columns of A d, the scaling and pass 1's sums, in
+        ! the order of the separate passes (the same numbers)
+        do j = 1, size(u, 2)
+            if (.not. coupled_op) then
+                do i = 1, size(u, 1)
+                    u(i, j) = u(i, j) - tau * plan%rbuf(i, j)
+                end do
+                call add_columns_at(c, j, nd, ci, cj, cd, u)
+            end if
+            do i = 1, size(u, 1)
+                uk = scale * u(i, j)
+                pk = scale * p(i, j)
+                u(i, j) = uk
+                p(i, j) = pk
+                if (pk > 0.0_dp) then
+                    nc = nc + 1
+                    sg = sg + uk + h(i, j)
+                end if
+            end do
+        end do
     end subroutine cg_update
 
     !> A cold start when p is all zero: p proportional to the interpenetration
@@ -700,27 +725,24 @@ contains
         end do
     end subroutine add_column
 
-    !> u = u + sum_m cd(m) A(:, (ci(m), cj(m))), the columns of nd elements (add_column's sums
-    !> without sub-patches, in the same order per element, so the same numbers): by target
-    !> column j outermost, so that u(:, j) stays in cache while the columns are added.
-    pure subroutine add_columns(c, nd, ci, cj, cd, u)
+    !> u(:, j) = u(:, j) + sum_m cd(m) A((:, j), (ci(m), cj(m))): grid column j of the columns
+    !> of A of nd elements (add_column's sums without sub-patches, in the same order per
+    !> element, so the same numbers), while u(:, j) stays in cache.
+    pure subroutine add_columns_at(c, j, nd, ci, cj, cd, u)
         real(dp), intent(in) :: c(0:, 0:), cd(:)
-        integer, intent(in) :: nd, ci(:), cj(:)
+        integer, intent(in) :: j, nd, ci(:), cj(:)
         real(dp), intent(inout) :: u(:, :)
-        integer :: nx, ny, mx, my, j, jj, k, m
+        integer :: nx, mx, my, jj, k, m
         nx = size(u, 1)
-        ny = size(u, 2)
         mx = 2 * nx
-        my = 2 * ny
-        do j = 1, ny
-            do m = 1, nd
-                k = ci(m)
-                jj = modulo(j - cj(m), my)
-                u(k:nx, j) = u(k:nx, j) + cd(m) * c(0:nx - k, jj)
-                if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + cd(m) * c(mx + 1 - k:mx - 1, jj)
-            end do
+        my = 2 * size(u, 2)
+        do m = 1, nd
+            k = ci(m)
+            jj = modulo(j - cj(m), my)
+            u(k:nx, j) = u(k:nx, j) + cd(m) * c(0:nx - k, jj)
+            if (k > 1) u(1:k - 1, j) = u(1:k - 1, j) + cd(m) * c(mx + 1 - k:mx - 1, jj)
         end do
-    end subroutine add_columns
+    end subroutine add_columns_at
 
     !> Projected Gauss-Seidel with prescribed approach or force, in one call.
     !> info as for normal_cg.
