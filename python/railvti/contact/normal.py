@@ -32,6 +32,11 @@ _ONE_SLICE_WORK = 2_500_000
 _NESTED_MIN = 128
 #: Residual to which the coarse grids are solved: their solution is only a start.
 _NESTED_TOL = 1e-4
+#: The interpolated start keeps no pressure where the gap it predicts, h + P u_c - delta_c
+#: (P the bilinear interpolation, u_c and delta_c the coarse grid's displacement and
+#: approach), exceeds this share of delta_c - min(h_c): elements that the coarse solution
+#: puts just outside the contact area (docs/normal_contact.md, issue 33).
+_NESTED_TRIM = 5e-4
 
 
 @dataclass(frozen=True)
@@ -159,17 +164,33 @@ def _check_edges(p: np.ndarray) -> None:
         )
 
 
+def _fft_size(n: int) -> int:
+    """The smallest m >= n whose prime factors are 2, 3 and 5: FFTW transforms such sizes
+    fast, while a large prime factor makes them several times slower (a 113 x 113 grid's
+    product costs as much as a 225 x 225 one's, a 120 x 120 grid's a quarter of it)."""
+    m = n
+    while True:
+        k = m
+        for f in (2, 3, 5):
+            while k % f == 0:
+                k //= f
+        if k == 1:
+            return m
+        m += 1
+
+
 def _coarsen(h: np.ndarray, grid: Grid) -> tuple[np.ndarray, Grid]:
     """The gap on the grid of twice the element size: each coarse element
-    averages the (up to) 2 x 2 fine elements it covers."""
-    if grid.nx % 2:
-        h = np.concatenate([h, h[-1:, :]], axis=0)
-    if grid.ny % 2:
-        h = np.concatenate([h, h[:, -1:]], axis=1)
+    averages the 2 x 2 fine elements it covers. The coarse grid has at least
+    half the fine grid's elements along each side, rounded up to a size with
+    prime factors 2, 3, 5 (:func:`_fft_size`); beyond the fine grid's last row and
+    column the gap is held constant (the contact area does not reach there)."""
+    mx, my = _fft_size((grid.nx + 1) // 2), _fft_size((grid.ny + 1) // 2)
+    h = np.pad(h, ((0, 2 * mx - grid.nx), (0, 2 * my - grid.ny)), mode="edge")
     hc = 0.25 * (h[0::2, 0::2] + h[1::2, 0::2] + h[0::2, 1::2] + h[1::2, 1::2])
     coarse = Grid(
-        hc.shape[0],
-        hc.shape[1],
+        mx,
+        my,
         2.0 * grid.dx,
         2.0 * grid.dy,
         grid.x0 + 0.5 * grid.dx,
@@ -213,14 +234,17 @@ def _nested_start(
     element size, itself started the same way (nested iteration, as in full multigrid).
 
     Returns the interpolated pressure (None if the grid is small or the coarse
-    problem has no usable solution) and the FFT products spent on coarse grids."""
+    problem has no usable solution) and the FFT products spent on coarse grids.
+    The interpolated pressure is set to zero where the gap predicted from the coarse
+    displacement is clearly open (:data:`_NESTED_TRIM`)."""
     if min(grid.shape) < _NESTED_MIN:
         return None, 0
     hc, coarse = _coarsen(h, grid)
     pc, nprod_c = _nested_start(hc, coarse, material, control, fn_in, app_in, method, max_iter, sub)
     if pc is None:
         pc = np.zeros(coarse.shape, order="F")
-    _, _, _, nprod, _, info = _cg_in_slices(
+    uc = np.zeros(coarse.shape, order="F")
+    _, app_c, _, nprod, _, info = _cg_in_slices(
         workspace(coarse, material),
         hc,
         control,
@@ -231,11 +255,17 @@ def _nested_start(
         app_in,
         pc,
         _plain(coarse, sub),
+        u=uc,
     )
     nprod_c += int(nprod)
     if info not in (Status.OK, Status.NOT_CONVERGED) or not np.isfinite(pc).all() or not (pc > 0.0).any():
         return None, nprod_c
-    return _prolong(pc, grid.shape), nprod_c
+    p = _prolong(pc, grid.shape)
+    gap = h + _prolong(uc, grid.shape) - app_c
+    trimmed = np.where(gap > _NESTED_TRIM * (app_c - float(hc.min())), 0.0, p)
+    if (trimmed > 0.0).any():
+        p = np.asfortranarray(trimmed)
+    return p, nprod_c
 
 
 def _cg_in_slices(
@@ -249,13 +279,16 @@ def _cg_in_slices(
     app_in: float,
     p: np.ndarray,
     sub: tuple[int, np.ndarray, np.ndarray],
+    u: np.ndarray | None = None,
 ) -> tuple[float, float, int, int, float, int]:
     """Projected CG (method 1, or 3 without preconditioner) in slices of about
     :data:`CG_SLICE_SECONDS` each (``normal_cg_slice_c``; the numbers are those of one
     ``normal_solve_c`` call): between slices Python handles Ctrl-C / SIGTERM. ``sub``: the
     sub-patch operator (nsub, lab, fac) of :meth:`SubPatches.operator`. Returns what
-    ``normal_solve_c`` returns; p is updated in place."""
-    u = np.zeros(h.shape, order="F")
+    ``normal_solve_c`` returns; p is updated in place, and u (optional, Fortran-ordered
+    float64 of h's shape) receives the displacement A p of the last iterate."""
+    if u is None:
+        u = np.zeros(h.shape, order="F")
     t = np.zeros(h.shape, order="F")
     rstate = np.zeros(2)
     istate = np.zeros(5, dtype=np.int32)
