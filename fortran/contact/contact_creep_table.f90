@@ -6,14 +6,16 @@
 !> solver from zero traction (contact_rolling::rolling_steady, method 'fftgs',
 !> product chosen by operation count); the normal problem is solved again only
 !> when a case's gap or normal force differs from the previous case's (the
-!> pressure does not depend on the creepages for quasi-identical bodies).
+!> pressure does not depend on the creepages for quasi-identical bodies), and the
+!> rolling solver's fixed data of that pressure (contact set, in-row bases, dense slip
+!> operator: rolling_steady's patch) are made once with it.
 !> Implements no equation (normal_cg and rolling_steady do: docs/equations.md).
 module contact_creep_table
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT
     use contact_plans, only: workspace
     use contact_normal, only: normal_cg, CONTROL_FORCE
-    use contact_rolling, only: rolling_steady, ROLL_FFTGS
+    use contact_rolling, only: rolling_steady, ROLL_FFTGS, rolling_patch, rolling_patch_reset
     implicit none
     private
     public :: creep_force_table
@@ -44,6 +46,7 @@ contains
         integer, intent(out) :: ncontact(:), iters_n(:), iters_t(:), nfo_n(:), nfo_t(:), info
         real(dp), allocatable :: p(:, :), tx(:, :), ty(:, :), sx(:, :), sy(:, :)
         integer, allocatable :: st(:, :)
+        type(rolling_patch) :: pa
         real(dp) :: da, fnk, appr, resid
         integer :: k, nx, ny, stat, itn, itt, nprod, stat_n, nc
         logical :: fresh
@@ -84,6 +87,7 @@ contains
                                tol_n, max_iter_n, p, itn, nprod, resid, stat_n)
                 if (stat_n == STAT_OK .and. touches_edge(p)) stat_n = STAT_GRID_EDGE
                 nc = count(p > 0.0_dp)
+                call rolling_patch_reset(pa)   ! a new pressure: the rolling solver's patch anew
             end if
             iters_n(k) = itn
             approach(k) = appr
@@ -93,7 +97,7 @@ contains
             tx = 0.0_dp
             ty = 0.0_dp
             call rolling_steady(w, p, x0, y0, creep(1, k), creep(2, k), creep(3, k), mu, speed, ROLL_FFTGS, &
-                                NBLOCK, NINNER, tol_t, max_iter_t, tx, ty, st, sx, sy, itt, resid, stat)
+                                NBLOCK, NINNER, tol_t, max_iter_t, tx, ty, st, sx, sy, itt, resid, stat, patch=pa)
             iters_t(k) = itt
             nfo_t(k) = stat
             call case_forces(tx, ty, sx, sy, x0, y0, w%dx, w%dy, fx(k), fy(k), mz(k), power(k))

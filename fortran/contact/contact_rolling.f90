@@ -104,7 +104,7 @@ module contact_rolling
     use contact_friction, only: friction_law, friction_element_solve, friction_is_constant, RULE_CONTINUOUS
     implicit none
     private
-    public :: rolling_steady, element_solve
+    public :: rolling_steady, element_solve, rolling_patch, rolling_patch_reset
     public :: ROLL_GS, ROLL_FFTGS, ST_EXTERIOR, ST_ADHESION, ST_SLIP
     public :: PRODUCT_AUTO, PRODUCT_FFT, PRODUCT_DIRECT
     public :: WU0, WU1, WU2
@@ -153,6 +153,15 @@ module contact_rolling
         !> (2 nc, 2 nc) dense slip operator of the contact set (direct products, nc <= SOP_MAX)
         real(dp), allocatable :: sop(:, :)
         type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
+        !> the small path (pa%sop made): the runs in sweep order (rows j ascending, within
+        !> a row from the leading edge), as packed positions: first element rp0, length rn,
+        !> first packed position of the run's row rrow; the rigid slip and the bound packed
+        integer :: nrun = 0
+        integer, allocatable :: rp0(:), rn(:), rrow(:)
+        real(dp), allocatable :: wxc(:), wyc(:), bc(:)
+        !> the geometry (everything but the rigid slip) is set: a caller's patch
+        !> (rolling_steady's patch) is reused for the next solve of the same pressure
+        logical :: ready = .false.
         !> a slip-velocity-dependent or static/kinetic friction law (contact_friction):
         !> bound holds mu_s p and the element problems go to friction_element_solve
         logical :: varlaw = .false.
@@ -204,18 +213,23 @@ contains
             lam = sqrt(s0x * s0x + s0y * s0y)
             return
         end if
-        ! s = lam e and t = -g e  =>  e = (s0x / (lam + g kx), s0y / (lam + g ky)),
+        ! s = lam e and t = -g e  =>  e = (s0x / (lam + gx), s0y / (lam + gy)),
         ! |e| = 1 fixes lam. f(lam) = |e|^2 - 1 is convex and decreasing, so Newton
         ! converges from any start: at worst the first step overshoots below the
-        ! root and the rest is monotone. The start |s0| - g k, k the mean of kx, ky
-        ! weighted by s0's components, is exact for kx = ky and within a few per
-        ! cent of the root otherwise: 2-3 steps (4-5 from |s0| - g max(kx, ky)).
-        ! The convergence is quadratic, so a step below 1e-8 of the scale leaves an
-        ! error of order 1e-16 after it.
+        ! root and the rest is monotone. The start: with mu = lam + c, c = (gx + gy) / 2,
+        ! d = (gx - gy) / 2, the root's expansion in delta = d / |s0| to second order,
+        ! mu = |s0| (1 - delta rho + 3/2 delta^2 (1 - rho^2)), rho = (s0x^2 - s0y^2) / |s0|^2
+        ! (exact for kx = ky; the first-order term alone is the mean of kx, ky weighted by
+        ! s0's components): 2-3 steps (about one more from the first-order start).
+        ! The convergence is quadratic (error after a step about 3/2 dl^2 / (lam + g k)),
+        ! so a step below 1e-6 of the scale leaves a relative error below about 1e-11.
         gx = g * kx
         gy = g * ky
         en = s0x * s0x + s0y * s0y
-        lam = max(0.0_dp, sqrt(en) - (gx * s0x * s0x + gy * s0y * s0y) / en)
+        dx3 = sqrt(en)
+        dy3 = 0.5_dp * (gx - gy) / dx3
+        f = (s0x * s0x - s0y * s0y) / en
+        lam = max(0.0_dp, dx3 * (1.0_dp - dy3 * f + 1.5_dp * dy3 * dy3 * (1.0_dp - f * f)) - 0.5_dp * (gx + gy))
         do it = 1, 100
             dx3 = 1.0_dp / (lam + gx)
             dy3 = 1.0_dp / (lam + gy)
@@ -224,17 +238,21 @@ contains
             if (fp >= 0.0_dp) exit
             dl = -f / fp
             lam = max(lam + dl, 0.0_dp)
-            if (abs(dl) <= 1.0e-8_dp * (lam + gx + gy)) exit
+            if (abs(dl) <= 1.0e-6_dp * (lam + gx + gy)) exit
         end do
         ex = s0x / (lam + gx)
         ey = s0y / (lam + gy)
         en = sqrt(ex * ex + ey * ey)
         if (en > 0.0_dp) then
-            ex = ex / en
-            ey = ey / en
+            en = g / en
+            ex = ex * en
+            ey = ey * en
+        else
+            ex = g * ex
+            ey = g * ey
         end if
-        tx = -g * ex
-        ty = -g * ey
+        tx = -ex
+        ty = -ey
     end subroutine element_solve
 
     !> The element problem by the solve's friction law: element_solve (constant
@@ -279,8 +297,12 @@ contains
     !> mu must then be law%mu_s. Without it (or with mu_s = mu_k) today's path runs
     !> unchanged. nmulti (optional): elements whose final element problem has more
     !> than one solution (the law's rule picked one of them; 0 without law).
+    !> patch (optional): the solve's fixed data, kept by the caller for the next solve of
+    !> the same pressure p, mu, grid origin and product (a creep-force table's cases):
+    !> made when patch%ready is false (new, or after rolling_patch_reset), reused as it is
+    !> otherwise (only the rigid slip is set again). Without it every solve makes its own.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti, wex, wey)
+                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti, wex, wey, patch)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: p(:, :)            ! pressure, Pa, (nx, ny)
         real(dp), intent(in) :: x0, y0             ! centre of element (1, 1), m
@@ -301,12 +323,11 @@ contains
         !> extra rigid slip (creepage units) added to eq. 29's w, e.g. a dissimilar
         !> pair's pressure coupling (contact_coupling); absent: none (results unchanged)
         real(dp), intent(in), optional :: wex(:, :), wey(:, :)
+        type(rolling_patch), intent(inout), optional, target :: patch
 
-        type(rolling_patch) :: pa
-        type(anderson_state) :: aa
-        real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
-        real(dp) :: r2, n2, rbest
-        integer :: nblk, it, prod, nm
+        type(rolling_patch), target :: own
+        type(rolling_patch), pointer :: pa
+        integer :: prod, nm, k
 
         iters = 0
         resid = 0.0_dp
@@ -326,8 +347,20 @@ contains
             info = STAT_BAD_ARGUMENT
             return
         end if
-        call patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
-        if (info /= STAT_OK) return
+        pa => own
+        if (present(patch)) pa => patch
+        ! tractions outside the contact set zeroed (the warm start's too)
+        where (.not. (p > 0.0_dp))
+            tx = 0.0_dp
+            ty = 0.0_dp
+        end where
+        if (.not. pa%ready) then
+            call patch_setup(w, p, mu, prod, pa, info)
+            if (info /= STAT_OK) return
+            pa%ready = .true.
+        end if
+        call rigid_slip(pa, x0, y0, w%dy, xi, eta, phi)
+        pa%varlaw = .false.
         if (present(law)) then
             if (.not. friction_is_constant(law)) then
                 pa%varlaw = .true.
@@ -337,6 +370,49 @@ contains
         end if
         if (present(wex)) pa%wx = pa%wx + wex
         if (present(wey)) pa%wy = pa%wy + wey
+        ! warm start: on the Coulomb disc
+        call project_all(pa, tx, ty)
+        if (allocated(pa%sop)) then
+            do k = 1, pa%nc
+                pa%wxc(k) = pa%wx(pa%ic(k), pa%jc(k))
+                pa%wyc(k) = pa%wy(pa%ic(k), pa%jc(k))
+            end do
+            call iterate_small(pa, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, iters, resid, info, nm)
+        else
+            call iterate_grid(pa, w, method, nblock, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, &
+                              iters, resid, info, nm)
+        end if
+        if (present(nmulti)) nmulti = nm
+    end subroutine rolling_steady
+
+    !> A kept patch (rolling_steady's patch) marked stale: the next solve makes it anew
+    !> (after the pressure, mu, the grid origin or the product changed).
+    subroutine rolling_patch_reset(pa)
+        type(rolling_patch), intent(inout) :: pa
+        pa%ready = .false.
+    end subroutine rolling_patch_reset
+
+    !> rolling_steady's iteration on the grid: row-implicit sweeps with the field
+    !> u = A t by FFT or by direct sums over the box (module doc), Anderson mixing.
+    subroutine iterate_grid(pa, w, method, nblock, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, &
+                            iters, resid, info, nm)
+        type(rolling_patch), intent(in) :: pa
+        type(workspace), intent(inout) :: w
+        integer, intent(in) :: method, nblock, ninner, max_iter
+        real(dp), intent(in) :: tol, speed
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: iters, info, nm
+        real(dp), intent(out) :: resid
+        type(anderson_state) :: aa
+        real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
+        real(dp) :: r2, n2, rbest
+        integer :: nblk, it
+
+        info = STAT_OK
+        resid = 0.0_dp
+        nm = 0
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
@@ -355,16 +431,7 @@ contains
             ! exact field and the Jacobi residual on it (pivot of a single element)
             call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
             call jacobi_residual(pa, gx, gy, tx, ty, r2, n2)
-            if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
-                info = STAT_NOT_FINITE
-                resid = huge(1.0_dp)
-                exit
-            end if
-            if (n2 > 0.0_dp) then
-                resid = sqrt(r2 / n2)
-            else
-                resid = merge(0.0_dp, 1.0_dp, r2 == 0.0_dp)
-            end if
+            if (.not. residual_ok(r2, n2, resid, info)) exit
             if (resid <= tol) exit
             if (it >= max_iter) then
                 info = STAT_NOT_CONVERGED
@@ -393,24 +460,270 @@ contains
         if (info /= STAT_NOT_FINITE) then
             call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
             call final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy, nm)
-            if (present(nmulti)) nmulti = nm
         end if
-    end subroutine rolling_steady
+    end subroutine iterate_grid
 
-    !> The fixed data of one solve: contact set, bounding box, coefficients,
-    !> in-row bases and rigid slip; tractions outside the contact set zeroed and
-    !> the warm start put on the Coulomb discs; prod: the product choice of
-    !> rolling_steady. info: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE, or the
-    !> failure of a basis (make_basis).
-    subroutine patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
-        type(workspace), intent(in) :: w
-        real(dp), intent(in) :: p(:, :), x0, y0, xi, eta, phi, mu
-        integer, intent(in) :: prod
+    !> The relative residual sqrt(r2 / n2) (jacobi_residual's squares) into resid; false
+    !> (info STAT_NOT_FINITE, resid huge) when the squares are not finite.
+    logical function residual_ok(r2, n2, resid, info)
+        real(dp), intent(in) :: r2, n2
+        real(dp), intent(out) :: resid
+        integer, intent(inout) :: info
+        residual_ok = .not. (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp))
+        if (.not. residual_ok) then
+            info = STAT_NOT_FINITE
+            resid = huge(1.0_dp)
+        else if (n2 > 0.0_dp) then
+            resid = sqrt(r2 / n2)
+        else
+            resid = merge(0.0_dp, 1.0_dp, r2 == 0.0_dp)
+        end if
+    end function residual_ok
+
+    !> rolling_steady's iteration on a small contact set (pa%sop made): the same
+    !> row-implicit sweeps, Anderson mixing and residual as iterate_grid, on the
+    !> packed tractions v = [tx(inc), ty(inc)] and their slips g = S v (the dense slip
+    !> operator): no grid arrays inside the loop, the sweep's updates to the rows still
+    !> to come as columns of S (sweep_small). Agrees with iterate_grid to rounding.
+    subroutine iterate_small(pa, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, iters, resid, info, nm)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: ninner, max_iter
+        real(dp), intent(in) :: tol, speed
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: iters, info, nm
+        real(dp), intent(out) :: resid
+        type(anderson_state) :: aa
+        real(dp) :: v(2 * pa%nc), g(2 * pa%nc), r2, n2, rbest
+        integer :: it, k, n
+
+        info = STAT_OK
+        resid = 0.0_dp
+        nm = 0
+        n = pa%nc
+        call pack_tractions(pa, tx, ty, v)
+        call anderson_init(aa, v, AA_M)
+        rbest = huge(1.0_dp)
+        it = 0
+        do
+            call sop_apply(pa, v, g)
+            call jacobi_small(pa, g, v, r2, n2)
+            if (.not. residual_ok(r2, n2, resid, info)) exit
+            if (resid <= tol) exit
+            if (it >= max_iter) then
+                info = STAT_NOT_CONVERGED
+                exit
+            end if
+            if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
+                call anderson_restart(aa)
+                v = aa%x
+                call project_packed(pa, v)
+                call sop_apply(pa, v, g)
+            end if
+            rbest = min(rbest, resid)
+            it = it + 1
+            call sweep_small(pa, ninner, v, g)
+            call anderson_step(aa, v)
+            v = aa%x
+            call project_packed(pa, v)
+        end do
+        iters = it
+        call project_packed(pa, v)
+        do k = 1, n
+            tx(pa%ic(k), pa%jc(k)) = v(k)
+            ty(pa%ic(k), pa%jc(k)) = v(n + k)
+        end do
+        if (info /= STAT_NOT_FINITE) then
+            call sop_apply(pa, v, g)
+            call final_small(pa, g, v, speed, status, sx, sy, nm)
+        end if
+    end subroutine iterate_small
+
+    !> g = S v: the slips of the packed tractions v by the dense slip operator.
+    pure subroutine sop_apply(pa, v, g)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: v(:)
+        real(dp), intent(out) :: g(:)
+        integer :: k, m
+        ! four columns per pass over g (g is loaded and stored a quarter as often)
+        m = 2 * pa%nc
+        g = 0.0_dp
+        do k = 1, m - 3, 4
+            if (v(k) == 0.0_dp .and. v(k + 1) == 0.0_dp .and. v(k + 2) == 0.0_dp .and. v(k + 3) == 0.0_dp) cycle
+            g = g + v(k) * pa%sop(:, k) + v(k + 1) * pa%sop(:, k + 1) + v(k + 2) * pa%sop(:, k + 2) &
+                + v(k + 3) * pa%sop(:, k + 3)
+        end do
+        do k = 4 * (m / 4) + 1, m
+            if (v(k) /= 0.0_dp) g = g + v(k) * pa%sop(:, k)
+        end do
+    end subroutine sop_apply
+
+    !> Every packed traction put on its Coulomb disc.
+    pure subroutine project_packed(pa, v)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(inout) :: v(:)
+        integer :: k
+        do k = 1, pa%nc
+            call project_on_disc(v(k), v(pa%nc + k), pa%bc(k))
+        end do
+    end subroutine project_packed
+
+    !> jacobi_residual on packed vectors (g = S v, iterate_small).
+    pure subroutine jacobi_small(pa, g, v, r2, n2)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: g(:), v(:)
+        real(dp), intent(out) :: r2, n2
+        real(dp) :: scx, scy, ntx, nty, lam
+        integer :: k, n, st
+        n = pa%nc
+        r2 = 0.0_dp
+        n2 = 0.0_dp
+        do k = 1, n
+            scx = pa%wxc(k) + g(k)
+            scy = pa%wyc(k) + g(n + k)
+            if (pa%varlaw) then
+                call element_any(pa, scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                 scx, scy, ntx, nty, st, lam)
+            else
+                call element_solve(scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                   ntx, nty, st, lam)
+            end if
+            r2 = r2 + (ntx - v(k))**2 + (nty - v(n + k))**2
+            n2 = n2 + ntx**2 + nty**2
+        end do
+    end subroutine jacobi_small
+
+    !> final_slip on packed vectors (g = S v): status and slip velocity (m/s) on the grid.
+    subroutine final_small(pa, g, v, speed, status, sx, sy, nmulti)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: g(:), v(:), speed
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: nmulti
+        real(dp) :: scx, scy, ntx, nty, lam
+        integer :: k, n, i, j, st, nsol
+        n = pa%nc
+        nmulti = 0
+        do k = 1, n
+            i = pa%ic(k)
+            j = pa%jc(k)
+            scx = pa%wxc(k) + g(k)
+            scy = pa%wyc(k) + g(n + k)
+            if (pa%varlaw) then
+                call element_any(pa, scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                 scx, scy, ntx, nty, st, lam, nsol_out=nsol)
+                if (nsol > 1) nmulti = nmulti + 1
+            else
+                call element_solve(scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                   ntx, nty, st, lam)
+            end if
+            status(i, j) = st
+            if (st == ST_SLIP) then
+                sx(i, j) = speed * scx
+                sy(i, j) = speed * scy
+            end if
+        end do
+    end subroutine final_small
+
+    !> One row-implicit sweep on packed vectors (sweep, on a small contact set): the
+    !> runs in sweep order, each solved by run_small on the slips g = S v of the sweep's
+    !> start plus dg, the slip changes of the runs solved before it in this sweep, to
+    !> which its own traction change is then added as columns of S (the elements from its
+    !> row's first on: every element a later run reads). v: the tractions, updated.
+    pure subroutine sweep_small(pa, ninner, v, g)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: ninner
+        real(dp), intent(inout) :: v(:)
+        real(dp), intent(in) :: g(:)
+        real(dp) :: dg(2 * pa%nc), tox(pa%nbx), toy(pa%nbx), fx, fy
+        integer :: r, n, p0, nr, r0, q, kq
+        n = pa%nc
+        dg = 0.0_dp
+        do r = 1, pa%nrun
+            p0 = pa%rp0(r)
+            nr = pa%rn(r)
+            r0 = pa%rrow(r)
+            tox(1:nr) = v(p0:p0 + nr - 1)
+            toy(1:nr) = v(n + p0:n + p0 + nr - 1)
+            call run_small(pa, p0, nr, ninner, v, g, dg)
+            do q = 1, nr
+                kq = p0 + q - 1
+                fx = v(kq) - tox(q)
+                fy = v(n + kq) - toy(q)
+                if (fx == 0.0_dp .and. fy == 0.0_dp) cycle
+                dg(r0:n) = dg(r0:n) + pa%sop(r0:n, kq) * fx + pa%sop(r0:n, n + kq) * fy
+                dg(n + r0:2 * n) = dg(n + r0:2 * n) + pa%sop(n + r0:2 * n, kq) * fx &
+                                   + pa%sop(n + r0:2 * n, n + kq) * fy
+            end do
+        end do
+    end subroutine sweep_small
+
+    !> run_passes on packed vectors: ninner passes over the run of nr elements from
+    !> packed position p0, the slip of element q being g + dg (the rest of the contact
+    !> set) plus the run's own in-row displacement change du (its elements and the one
+    !> upstream, du(nr + 1)).
+    pure subroutine run_small(pa, p0, nr, ninner, v, g, dg)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: p0, nr, ninner
+        real(dp), intent(inout) :: v(:)
+        real(dp), intent(in) :: g(:), dg(:)
+        real(dp) :: dux(nr + 1), duy(nr + 1)
+        real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx
+        integer :: n, q, pk, pass, st, pe
+        n = pa%nc
+        dx = pa%dx
+        pe = p0 + nr - 1
+        dux = 0.0_dp
+        duy = 0.0_dp
+        associate (mx => pa%bases(nr)%mx, my => pa%bases(nr)%my, qx => pa%bases(nr)%qx, qy => pa%bases(nr)%qy)
+            do pass = 1, ninner
+                do q = nr, 1, -1
+                    pk = p0 + q - 1
+                    scx = pa%wxc(pk) + g(pk) + dg(pk) + (dux(q) - dux(q + 1)) / dx
+                    scy = pa%wyc(pk) + g(n + pk) + dg(n + pk) + (duy(q) - duy(q + 1)) / dx
+                    if (q == nr) then
+                        pivx = (1.0_dp - qx(q)) / (dx * mx(q, q))
+                        pivy = (1.0_dp - qy(q)) / (dx * my(q, q))
+                    else
+                        pivx = 1.0_dp / (dx * mx(q, q))
+                        pivy = 1.0_dp / (dx * my(q, q))
+                    end if
+                    s0x = scx - pivx * v(pk)
+                    s0y = scy - pivy * v(n + pk)
+                    if (pa%varlaw) then
+                        call element_any(pa, s0x, s0y, pivx, pivy, pa%bc(pk), scx, scy, ntx, nty, st, lam)
+                    else
+                        call element_solve(s0x, s0y, pivx, pivy, pa%bc(pk), ntx, nty, st, lam)
+                    end if
+                    dlx = (ntx - v(pk)) / mx(q, q)
+                    dly = (nty - v(n + pk)) / my(q, q)
+                    if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
+                    v(p0:pe) = v(p0:pe) + mx(:, q) * dlx
+                    v(n + p0:n + pe) = v(n + p0:n + pe) + my(:, q) * dly
+                    v(pk) = ntx
+                    v(n + pk) = nty
+                    dux(1:q) = dux(1:q) + dlx
+                    duy(1:q) = duy(1:q) + dly
+                    dux(nr + 1) = dux(nr + 1) + qx(q) * dlx
+                    duy(nr + 1) = duy(nr + 1) + qy(q) * dly
+                end do
+            end do
+        end associate
+    end subroutine run_small
+
+    !> The fixed data of one solve: contact set, bounding box, coefficients and
+    !> in-row bases (and, for a small contact set, the dense slip operator, the runs in
+    !> sweep order and the packed bound); prod: the product choice of rolling_steady.
+    !> info: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE, or the failure of a basis
+    !> (make_basis).
+    subroutine patch_setup(w, p, mu, prod, pa, info)
+        type(workspace), intent(in) :: w
+        real(dp), intent(in) :: p(:, :), mu
+        integer, intent(in) :: prod
         type(rolling_patch), intent(out) :: pa
         integer, intent(out) :: info
         integer :: i, j, n
-        real(dp) :: x, y
 
         info = STAT_OK
         pa%nx = w%nx
@@ -419,10 +732,6 @@ contains
         allocate (pa%inc(pa%nx, pa%ny), pa%bound(pa%nx, pa%ny))
         pa%bound = mu * p
         pa%inc = p > 0.0_dp
-        where (.not. pa%inc)
-            tx = 0.0_dp
-            ty = 0.0_dp
-        end where
         if (.not. any(pa%inc)) then
             info = STAT_NO_CONTACT
             return
@@ -454,7 +763,10 @@ contains
             pa%rxx = pa%axx
             pa%ryy = pa%ayy
             pa%rxy = pa%axy
-            if (pa%nc <= SOP_MAX) call slip_operator(pa)
+            if (pa%nc <= SOP_MAX) then
+                call slip_operator(pa)
+                call small_runs(pa)
+            end if
         end if
         call extrapolated(pa%nbx, pa%axx)
         call extrapolated(pa%nbx, pa%ayy)
@@ -472,20 +784,57 @@ contains
         end do
         pa%kx = (WU0 * w%c(0, 0, KERNEL_XX) + WU1 * w%c(1, 0, KERNEL_XX) + WU2 * w%c(2, 0, KERNEL_XX)) / pa%dx
         pa%ky = (WU0 * w%c(0, 0, KERNEL_YY) + WU1 * w%c(1, 0, KERNEL_YY) + WU2 * w%c(2, 0, KERNEL_YY)) / pa%dx
-
-        ! rigid slip (eq. 29's w, creepage units)
         allocate (pa%wx(pa%nx, pa%ny), pa%wy(pa%nx, pa%ny))
+    end subroutine patch_setup
+
+    !> The small path's runs in sweep order (rows ascending, within a row from the
+    !> leading edge), as packed positions, and the packed bound (patch_setup).
+    subroutine small_runs(pa)
+        type(rolling_patch), intent(inout) :: pa
+        integer, allocatable :: pos(:, :)
+        integer :: i, j, k
+        allocate (pos(pa%nx, pa%ny), pa%bc(pa%nc), pa%wxc(pa%nc), pa%wyc(pa%nc))
+        pos = 0
+        do k = 1, pa%nc
+            pos(pa%ic(k), pa%jc(k)) = k
+            pa%bc(k) = pa%bound(pa%ic(k), pa%jc(k))
+        end do
+        pa%nrun = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i2, pa%i1, -1
+                if (pa%inc(i, j) .and. .not. pa%inc(i + 1, j)) pa%nrun = pa%nrun + 1
+            end do
+        end do
+        allocate (pa%rp0(pa%nrun), pa%rn(pa%nrun), pa%rrow(pa%nrun))
+        k = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i2, pa%i1, -1
+                if (.not. (pa%inc(i, j) .and. .not. pa%inc(i + 1, j))) cycle
+                k = k + 1
+                pa%rp0(k) = pos(pa%trail(i, j), j)
+                pa%rn(k) = i - pa%trail(i, j) + 1
+                pa%rrow(k) = pos(pa%rlo(j), j)
+            end do
+        end do
+    end subroutine small_runs
+
+    !> The rigid slip of eq. 29 (creepage units) on the grid: w_x = xi - phi y,
+    !> w_y = eta + phi x, x, y of the element centres (x0, y0 that of element (1, 1), dy the
+    !> lateral step).
+    subroutine rigid_slip(pa, x0, y0, dy, xi, eta, phi)
+        type(rolling_patch), intent(inout) :: pa
+        real(dp), intent(in) :: x0, y0, dy, xi, eta, phi
+        integer :: i, j
+        real(dp) :: x, y
         do j = 1, pa%ny
-            y = y0 + (j - 1) * w%dy
+            y = y0 + (j - 1) * dy
             do i = 1, pa%nx
                 x = x0 + (i - 1) * pa%dx
                 pa%wx(i, j) = xi - phi * y
                 pa%wy(i, j) = eta + phi * x
             end do
         end do
-        ! warm start: on the Coulomb disc
-        call project_all(pa, tx, ty)
-    end subroutine patch_setup
+    end subroutine rigid_slip
 
     !> Bounding box of the contact set (plus the upstream row: ut there needs u
     !> one row further) and the trailing end of the contiguous run of contact
