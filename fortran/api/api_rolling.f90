@@ -58,7 +58,7 @@ end subroutine rolling_solve_c
 !> and the force fn(k) (N), solved again only when these differ from the previous
 !> case's, then steady rolling with creep(:, k) = (xi, eta, phi) (1, 1, 1/m), each from
 !> zero (contact_creep_table::creep_force_table). Per case: fx, fy (N), mz (N m, about x = y = 0),
-!> power (W), ncontact, approach (m), iters_n (CG iterations), iters_t (sweeps),
+!> power (W), ncontact, approach (m), iters_n (normal iterations), iters_t (sweeps),
 !> nfo_n (normal status, STAT_GRID_EDGE if the pressure reaches the grid's edge),
 !> nfo_t (rolling status, where nfo_n is STAT_OK). info: STAT_OK; STAT_BAD_HANDLE no
 !> such workspace, one of another grid size or without the tangential kernels;

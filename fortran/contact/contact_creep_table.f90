@@ -1,8 +1,11 @@
 !> Creep-force tables: the normal problem (force control) and steady rolling
 !> for a table of cases on one grid, in one call, so that a table of small
 !> cases (the 11 x 11 grids of vehicle codes' contact tables) pays no per-case
-!> call overhead. Each case is the solve_rolling of the Python API: projected
-!> CG from zero pressure (contact_normal::normal_cg), then the steady rolling
+!> call overhead. Each case is the solve_rolling of the Python API: the normal
+!> problem (on grids of at most NORMAL_DENSE_MAX elements solved exactly by the
+!> active set of contact_normal_dense, which agrees with solve_rolling's projected CG
+!> to CG's tolerance; elsewhere, or where the active set fails, projected CG from zero
+!> pressure, contact_normal::normal_cg), then the steady rolling
 !> solver from zero traction (contact_rolling::rolling_steady, method 'fftgs',
 !> product chosen by operation count); the normal problem is solved again only
 !> when a case's gap or normal force differs from the previous case's (the
@@ -12,9 +15,10 @@
 !> Implements no equation (normal_cg and rolling_steady do: docs/equations.md).
 module contact_creep_table
     use common_kinds, only: dp
-    use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT
+    use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT, STAT_NOT_CONVERGED
     use contact_plans, only: workspace
     use contact_normal, only: normal_cg, CONTROL_FORCE
+    use contact_normal_dense, only: normal_dense_force, NORMAL_DENSE_MAX
     use contact_rolling, only: rolling_steady, ROLL_FFTGS, rolling_patch, rolling_patch_reset
     implicit none
     private
@@ -30,7 +34,8 @@ contains
     !> fn(k) (N) and the creepages creep(:, k) = (xi, eta, phi) (1, 1, 1/m); all share
     !> mu, the rolling speed (m/s) and the grid's origin x0, y0 (centre of element
     !> (1, 1), m). Out per case: fx, fy (N), mz about x = y = 0 (N m), frictional
-    !> power (W), elements in contact, approach (m), normal CG iterations and rolling
+    !> power (W), elements in contact, approach (m), normal iterations (trial contact sets
+    !> of the dense active set, or CG iterations) and rolling
     !> sweeps; nfo_n: the normal solver's status (STAT_OK, STAT_NOT_CONVERGED,
     !> STAT_NOT_FINITE), or STAT_GRID_EDGE when the pressure reaches the grid's edge
     !> rows or columns (or the last two rows, which the slip stencil needs); nfo_t: the
@@ -82,9 +87,20 @@ contains
                 p = 0.0_dp
                 fnk = fn(k)
                 appr = 0.0_dp
-                w%plan%has_prec = .true.
-                call normal_cg(w%plan, 1, w%c(:, :, 1), gap(:, :, kgap(k)), da, CONTROL_FORCE, fnk, appr, &
-                               tol_n, max_iter_n, p, itn, nprod, resid, stat_n)
+                stat_n = STAT_NOT_CONVERGED
+                if (nx * ny <= NORMAL_DENSE_MAX) then
+                    ! small grids: the exact active-set solve, CG where it finds no set
+                    call normal_dense_force(w%c(:, :, 1), gap(:, :, kgap(k)), da, fnk, p, appr, itn, resid, &
+                                            stat_n)
+                    if (stat_n == STAT_OK .and. resid > tol_n) stat_n = STAT_NOT_CONVERGED
+                end if
+                if (stat_n == STAT_NOT_CONVERGED) then
+                    p = 0.0_dp
+                    appr = 0.0_dp
+                    w%plan%has_prec = .true.
+                    call normal_cg(w%plan, 1, w%c(:, :, 1), gap(:, :, kgap(k)), da, CONTROL_FORCE, fnk, appr, &
+                                   tol_n, max_iter_n, p, itn, nprod, resid, stat_n)
+                end if
                 if (stat_n == STAT_OK .and. touches_edge(p)) stat_n = STAT_GRID_EDGE
                 nc = count(p > 0.0_dp)
                 call rolling_patch_reset(pa)   ! a new pressure: the rolling solver's patch anew

@@ -162,6 +162,7 @@ module contact_rolling
         !> the geometry (everything but the rigid slip) is set: a caller's patch
         !> (rolling_steady's patch) is reused for the next solve of the same pressure
         logical :: ready = .false.
+        integer :: prod = -1                      ! the product choice it was made for
         !> a slip-velocity-dependent or static/kinetic friction law (contact_friction):
         !> bound holds mu_s p and the element problems go to friction_element_solve
         logical :: varlaw = .false.
@@ -355,8 +356,15 @@ contains
             ty = 0.0_dp
         end where
         if (.not. pa%ready) then
-            call patch_setup(w, p, mu, prod, pa, info)
-            if (info /= STAT_OK) return
+            if (same_contact_set(pa, p, prod)) then
+                call patch_bound(pa, p, mu)    ! a new pressure on the same contact set
+            else
+                call patch_setup(w, p, mu, prod, pa, info)
+                if (info /= STAT_OK) then
+                    pa%prod = -1    ! not a patch to reuse
+                    return
+                end if
+            end if
             pa%ready = .true.
         end if
         call rigid_slip(pa, x0, y0, w%dy, xi, eta, phi)
@@ -385,12 +393,39 @@ contains
         if (present(nmulti)) nmulti = nm
     end subroutine rolling_steady
 
-    !> A kept patch (rolling_steady's patch) marked stale: the next solve makes it anew
-    !> (after the pressure, mu, the grid origin or the product changed).
+    !> A kept patch (rolling_steady's patch) marked stale after the pressure or mu changed:
+    !> the next solve makes it anew, or, when its contact set (p > 0) and product are
+    !> those of the stale patch, only sets the new traction bound (the contact set, bases
+    !> and slip operator depend on nothing else; the caller keeps the workspace and the
+    !> grid origin, as contact_creep_table does).
     subroutine rolling_patch_reset(pa)
         type(rolling_patch), intent(inout) :: pa
         pa%ready = .false.
     end subroutine rolling_patch_reset
+
+    !> Whether the made patch pa has the contact set p > 0 and was made for product prod.
+    logical function same_contact_set(pa, p, prod)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: p(:, :)
+        integer, intent(in) :: prod
+        same_contact_set = .false.
+        if (.not. allocated(pa%ic) .or. pa%prod /= prod) return
+        if (size(pa%inc, 1) /= size(p, 1) .or. size(pa%inc, 2) /= size(p, 2)) return
+        same_contact_set = all(pa%inc .eqv. (p > 0.0_dp))
+    end function same_contact_set
+
+    !> The traction bound mu p of a patch (and its packed copy on the small path).
+    subroutine patch_bound(pa, p, mu)
+        type(rolling_patch), intent(inout) :: pa
+        real(dp), intent(in) :: p(:, :), mu
+        integer :: k
+        pa%bound = mu * p
+        if (allocated(pa%bc)) then
+            do k = 1, pa%nc
+                pa%bc(k) = pa%bound(pa%ic(k), pa%jc(k))
+            end do
+        end if
+    end subroutine patch_bound
 
     !> rolling_steady's iteration on the grid: row-implicit sweeps with the field
     !> u = A t by FFT or by direct sums over the box (module doc), Anderson mixing.
@@ -729,6 +764,7 @@ contains
         pa%nx = w%nx
         pa%ny = w%ny
         pa%dx = w%dx
+        pa%prod = prod
         allocate (pa%inc(pa%nx, pa%ny), pa%bound(pa%nx, pa%ny))
         pa%bound = mu * p
         pa%inc = p > 0.0_dp
