@@ -89,6 +89,26 @@ def test_exact_normal_solve_against_cg_and_hertz(case):
     assert t.approach[0] == pytest.approx(h.approach, rel=0.03)
 
 
+@pytest.mark.parametrize("per_slice", [1, 4, 7])
+def test_table_in_slices_equals_one_call(monkeypatch, per_slice):
+    """A table run in slices (Ctrl-C acts between them; each continues the previous slice's
+    normal solution) gives exactly the forces, approaches and iterations of one call, with
+    slice boundaries inside a run of one gap and load and at a change of load."""
+    import railvti.contact.creep_table as ct
+
+    _, g, gaps = _problem(1.0, 1.0)
+    fns = np.array([FN] * 9 + [0.8 * FN] * 9)
+    creep = np.vstack([CREEP[::2], CREEP[1::2]])
+    monkeypatch.setattr(ct, "DIRECT_CALL_WORK", 10**12)  # one call
+    whole = creep_force_table(gaps, g, STEEL, MU, fns, creep, V)
+    monkeypatch.setattr(ct, "DIRECT_CALL_WORK", per_slice * g.nx * g.ny * 2000)
+    sliced = creep_force_table(gaps, g, STEEL, MU, fns, creep, V)
+    for name in ("fx", "fy", "mz", "power", "approach", "n_contact", "iterations", "normal_iterations"):
+        np.testing.assert_array_equal(getattr(sliced, name), getattr(whole, name))
+    assert sliced.normal_solves == whole.normal_solves == 2
+    assert abs(whole.fx).max() > 0.1 * MU * FN
+
+
 def test_table_is_odd_in_the_creepages():
     """A Hertz patch is symmetric: reversing all creepages reverses Fx, Fy and Mz (to the
     solver's tolerance; the grid is symmetric about the patch's centre)."""

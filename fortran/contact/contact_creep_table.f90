@@ -42,14 +42,23 @@ contains
     !> rolling solver's status, only where nfo_n is STAT_OK (elsewhere the tangential
     !> problem is not solved: forces zero). info: STAT_BAD_ARGUMENT for a kgap outside
     !> 1..size(gap, 3) or arrays of different lengths, else STAT_OK.
+    !> A table in slices (the Python API's, between which Ctrl-C can stop it): p (Pa, nx x ny),
+    !> appr_io (m) and itn_io hold on return the pressure, approach and normal iterations
+    !> of the last case; with carry the first case continues that case's run (same gap and
+    !> force, normal status STAT_OK) and takes them instead of solving its normal problem,
+    !> so that the slices together make the normal solves of one call.
     subroutine creep_force_table(w, gap, kgap, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, &
-                           max_iter_t, fx, fy, mz, power, ncontact, approach, iters_n, iters_t, nfo_n, nfo_t, info)
+                           max_iter_t, carry, p, appr_io, itn_io, fx, fy, mz, power, ncontact, approach, iters_n, &
+                           iters_t, nfo_n, nfo_t, info)
         type(workspace), intent(inout) :: w
+        logical, intent(in) :: carry
+        real(dp), intent(inout) :: p(:, :), appr_io
+        integer, intent(inout) :: itn_io
         real(dp), intent(in) :: gap(:, :, :), fn(:), creep(:, :), mu, speed, x0, y0, tol_n, tol_t
         integer, intent(in) :: kgap(:), max_iter_n, max_iter_t
         real(dp), intent(out) :: fx(:), fy(:), mz(:), power(:), approach(:)
         integer, intent(out) :: ncontact(:), iters_n(:), iters_t(:), nfo_n(:), nfo_t(:), info
-        real(dp), allocatable :: p(:, :), tx(:, :), ty(:, :), sx(:, :), sy(:, :)
+        real(dp), allocatable :: tx(:, :), ty(:, :), sx(:, :), sy(:, :)
         integer, allocatable :: st(:, :)
         type(rolling_patch) :: pa
         real(dp) :: da, fnk, appr, resid
@@ -75,14 +84,14 @@ contains
             info = STAT_BAD_ARGUMENT
             return
         end if
-        allocate (p(nx, ny), tx(nx, ny), ty(nx, ny), sx(nx, ny), sy(nx, ny), st(nx, ny))
+        allocate (tx(nx, ny), ty(nx, ny), sx(nx, ny), sy(nx, ny), st(nx, ny))
         stat_n = STAT_OK
-        itn = 0
-        nc = 0
-        appr = 0.0_dp
+        itn = itn_io
+        nc = count(p > 0.0_dp)
+        appr = appr_io
         do k = 1, size(kgap)
-            fresh = k == 1
-            if (.not. fresh) fresh = kgap(k) /= kgap(k - 1) .or. fn(k) /= fn(k - 1)
+            fresh = k == 1 .and. .not. carry
+            if (k > 1) fresh = kgap(k) /= kgap(k - 1) .or. fn(k) /= fn(k - 1)
             if (fresh) then
                 p = 0.0_dp
                 fnk = fn(k)
@@ -118,6 +127,8 @@ contains
             nfo_t(k) = stat
             call case_forces(tx, ty, sx, sy, x0, y0, w%dx, w%dy, fx(k), fy(k), mz(k), power(k))
         end do
+        appr_io = appr
+        itn_io = itn
     end subroutine creep_force_table
 
     !> Whether any pressure lies on the grid's edge rows or columns (the contact area
