@@ -95,8 +95,7 @@
 module contact_rolling
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
-                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE
-    use common_dense, only: dense_inverse
+                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE, STAT_SINGULAR
     use common_anderson, only: anderson_state, anderson_init, anderson_step, anderson_restart
     use contact_influence, only: KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_plans, only: workspace
@@ -999,11 +998,17 @@ contains
         real(dp), intent(in) :: cfull(0:, 0:)
         integer, intent(in) :: nx, ny, nbx, nby
         real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
-        integer :: a, b
+        integer :: a, b, ia, jb
         cc = 0.0_dp
         do b = -nby, nby
+            if (abs(b) >= ny) cycle
+            jb = b
+            if (b < 0) jb = b + 2 * ny     ! modulo(b, 2 ny)
             do a = -nbx - 1, nbx + 1
-                if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
+                if (abs(a) >= nx) cycle
+                ia = a
+                if (a < 0) ia = a + 2 * nx
+                cc(a, b) = cfull(ia, jb)
             end do
         end do
     end subroutine by_offset
@@ -1025,7 +1030,7 @@ contains
     !> is 1 on elements 0..q of the run and 0 upstream of q), and
     !> q(q) = the ut they give at the element upstream of the run.
     !> axr, ayr: the row At(:, 0) of the xx and yy kernels, offsets -nbx-1..nbx+1.
-    !> info: STAT_OK or dense_inverse's failure.
+    !> info: STAT_OK or small_inverse's failure.
     subroutine make_basis(n, nbx, axr, ayr, basis, info)
         integer, intent(in) :: n, nbx
         real(dp), intent(in) :: axr(-nbx - 1:), ayr(-nbx - 1:)
@@ -1045,7 +1050,7 @@ contains
                     end if
                 end do
             end do
-            call dense_inverse(n, m, info)
+            call small_inverse(m, info)
             if (info /= STAT_OK) return
             ! C e_q = ones on elements 1..q (downstream of and at q): cumulative columns
             do b = 2, n
@@ -1064,6 +1069,49 @@ contains
             end if
         end do
     end subroutine make_basis
+
+    !> a <- a^-1 for a small n x n matrix (a run's Toeplitz block, n <= nx) by Gauss-Jordan
+    !> elimination of [a | I] with partial pivoting, in plain loops: no BLAS kernel whose
+    !> choice (OPENBLAS_CORETYPE) could change the rounding, and no library call overhead
+    !> for the few elements of a run. info: STAT_OK, or STAT_SINGULAR for a zero pivot.
+    pure subroutine small_inverse(a, info)
+        real(dp), intent(inout) :: a(:, :)
+        integer, intent(out) :: info
+        real(dp) :: b(size(a, 1), size(a, 1)), row(size(a, 1)), f
+        integer :: n, k, i, r
+        n = size(a, 1)
+        b = 0.0_dp
+        do k = 1, n
+            b(k, k) = 1.0_dp
+        end do
+        info = STAT_OK
+        do k = 1, n
+            r = k - 1 + maxloc(abs(a(k:n, k)), dim=1)
+            if (.not. (abs(a(r, k)) > 0.0_dp)) then
+                info = STAT_SINGULAR
+                return
+            end if
+            if (r /= k) then
+                row = a(k, :)
+                a(k, :) = a(r, :)
+                a(r, :) = row
+                row = b(k, :)
+                b(k, :) = b(r, :)
+                b(r, :) = row
+            end if
+            f = 1.0_dp / a(k, k)
+            a(k, :) = a(k, :) * f
+            b(k, :) = b(k, :) * f
+            do i = 1, n
+                if (i == k) cycle
+                f = a(i, k)
+                if (f == 0.0_dp) cycle
+                a(i, :) = a(i, :) - f * a(k, :)
+                b(i, :) = b(i, :) - f * b(k, :)
+            end do
+        end do
+        a = b
+    end subroutine small_inverse
 
     !> The upwind difference quotient of the field u at element (i, j):
     !> (ut_i - ut_i+1) / dx (eq. 29).
