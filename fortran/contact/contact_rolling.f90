@@ -125,6 +125,9 @@ module contact_rolling
     !> In-row basis of a run of n elements (make_basis).
     type :: run_basis
         real(dp), allocatable :: mx(:, :), my(:, :), qx(:), qy(:)
+        !> per element of the run: the pivots of its element problem (px, py), their
+        !> reciprocals (rpx, rpy) and 1 / m(q, q) (rmx, rmy), for the small path's passes
+        real(dp), allocatable :: px(:), py(:), rpx(:), rpy(:), rmx(:), rmy(:)
     end type run_basis
 
     !> The fixed data of one solve (patch_setup): the contact set and its
@@ -195,8 +198,7 @@ contains
         real(dp), intent(out) :: tx, ty
         integer, intent(out) :: stat
         real(dp), intent(out) :: lam
-        real(dp) :: ax, ay, gx, gy, f, fp, dl, ex, ey, en, dx3, dy3
-        integer :: it
+        real(dp) :: ax, ay
 
         ax = -s0x / kx
         ay = -s0y / ky
@@ -207,7 +209,38 @@ contains
             lam = 0.0_dp
             return
         end if
+        call element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
         stat = ST_SLIP
+    end subroutine element_solve
+
+    !> element_solve with the reciprocals rkx = 1 / kx, rky = 1 / ky given (a run's pivots,
+    !> kept with its basis: no division in the adhesion test).
+    pure subroutine element_solve_r(s0x, s0y, kx, ky, rkx, rky, g, tx, ty, stat, lam)
+        real(dp), intent(in) :: s0x, s0y, kx, ky, rkx, rky, g
+        real(dp), intent(out) :: tx, ty, lam
+        integer, intent(out) :: stat
+        real(dp) :: ax, ay
+        ax = -s0x * rkx
+        ay = -s0y * rky
+        if (ax * ax + ay * ay <= g * g) then
+            tx = ax
+            ty = ay
+            stat = ST_ADHESION
+            lam = 0.0_dp
+            return
+        end if
+        call element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
+        stat = ST_SLIP
+    end subroutine element_solve_r
+
+    !> The slip solution of element_solve (eq. 28), |t| = g with t opposite to s, when the
+    !> adhesion traction lies outside the disc.
+    pure subroutine element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
+        real(dp), intent(in) :: s0x, s0y, kx, ky, g
+        real(dp), intent(out) :: tx, ty, lam
+        real(dp) :: gx, gy, f, fp, dl, ex, ey, en, dx3, dy3
+        integer :: it
+
         if (g <= 0.0_dp) then
             tx = 0.0_dp
             ty = 0.0_dp
@@ -254,7 +287,7 @@ contains
         end if
         tx = -ex
         ty = -ey
-    end subroutine element_solve
+    end subroutine element_slip
 
     !> The element problem by the solve's friction law: element_solve (constant
     !> Coulomb: today's path, unchanged) or contact_friction's friction_element_solve;
@@ -778,35 +811,32 @@ contains
         real(dp), intent(inout) :: v(:)
         real(dp), intent(in) :: g(:), dg(:)
         real(dp) :: dux(SOP_MAX + 1), duy(SOP_MAX + 1)   ! nr <= nc <= SOP_MAX
-        real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx
+        real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx, rdx
         integer :: n, q, pk, pass, st, pe
         n = pa%nc
         dx = pa%dx
         pe = p0 + nr - 1
         dux(1:nr + 1) = 0.0_dp
         duy(1:nr + 1) = 0.0_dp
-        associate (mx => pa%bases(nr)%mx, my => pa%bases(nr)%my, qx => pa%bases(nr)%qx, qy => pa%bases(nr)%qy)
+        rdx = 1.0_dp / dx
+        associate (bs => pa%bases(nr), mx => pa%bases(nr)%mx, my => pa%bases(nr)%my, qx => pa%bases(nr)%qx, &
+                   qy => pa%bases(nr)%qy)
             do pass = 1, ninner
                 do q = nr, 1, -1
                     pk = p0 + q - 1
-                    scx = pa%wxc(pk) + g(pk) + dg(pk) + (dux(q) - dux(q + 1)) / dx
-                    scy = pa%wyc(pk) + g(n + pk) + dg(n + pk) + (duy(q) - duy(q + 1)) / dx
-                    if (q == nr) then
-                        pivx = (1.0_dp - qx(q)) / (dx * mx(q, q))
-                        pivy = (1.0_dp - qy(q)) / (dx * my(q, q))
-                    else
-                        pivx = 1.0_dp / (dx * mx(q, q))
-                        pivy = 1.0_dp / (dx * my(q, q))
-                    end if
+                    scx = pa%wxc(pk) + g(pk) + dg(pk) + (dux(q) - dux(q + 1)) * rdx
+                    scy = pa%wyc(pk) + g(n + pk) + dg(n + pk) + (duy(q) - duy(q + 1)) * rdx
+                    pivx = bs%px(q)
+                    pivy = bs%py(q)
                     s0x = scx - pivx * v(pk)
                     s0y = scy - pivy * v(n + pk)
                     if (pa%varlaw) then
                         call element_any(pa, s0x, s0y, pivx, pivy, pa%bc(pk), scx, scy, ntx, nty, st, lam)
                     else
-                        call element_solve(s0x, s0y, pivx, pivy, pa%bc(pk), ntx, nty, st, lam)
+                        call element_solve_r(s0x, s0y, pivx, pivy, bs%rpx(q), bs%rpy(q), pa%bc(pk), ntx, nty, st, lam)
                     end if
-                    dlx = (ntx - v(pk)) / mx(q, q)
-                    dly = (nty - v(n + pk)) / my(q, q)
+                    dlx = (ntx - v(pk)) * bs%rmx(q)
+                    dly = (nty - v(n + pk)) * bs%rmy(q)
                     if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
                     v(p0:pe) = v(p0:pe) + mx(:, q) * dlx
                     v(n + p0:n + pe) = v(n + p0:n + pe) + my(:, q) * dly
@@ -888,7 +918,7 @@ contains
                 if (pa%inc(i + 1, j)) cycle
                 n = i - pa%trail(i, j) + 1
                 if (allocated(pa%bases(n)%mx)) cycle
-                call make_basis(n, pa%nbx, pa%axx(:, 0), pa%ayy(:, 0), pa%bases(n), info)
+                call make_basis(n, pa%nbx, pa%dx, pa%axx(:, 0), pa%ayy(:, 0), pa%bases(n), info)
                 if (info /= STAT_OK) return
             end do
         end do
@@ -1031,8 +1061,9 @@ contains
     !> q(q) = the ut they give at the element upstream of the run.
     !> axr, ayr: the row At(:, 0) of the xx and yy kernels, offsets -nbx-1..nbx+1.
     !> info: STAT_OK or small_inverse's failure.
-    subroutine make_basis(n, nbx, axr, ayr, basis, info)
+    subroutine make_basis(n, nbx, dx, axr, ayr, basis, info)
         integer, intent(in) :: n, nbx
+        real(dp), intent(in) :: dx
         real(dp), intent(in) :: axr(-nbx - 1:), ayr(-nbx - 1:)
         type(run_basis), intent(inout) :: basis
         integer, intent(out) :: info
@@ -1067,6 +1098,20 @@ contains
                     basis%qy(b) = sum([(ayr(n + 1 - a) * m(a, b), a = 1, n)])
                 end do
             end if
+        end do
+        ! the pivots as run_passes forms them (the leading element's with its upstream term)
+        allocate (basis%px(n), basis%py(n), basis%rpx(n), basis%rpy(n), basis%rmx(n), basis%rmy(n))
+        do b = 1, n
+            basis%px(b) = 1.0_dp / (dx * basis%mx(b, b))
+            basis%py(b) = 1.0_dp / (dx * basis%my(b, b))
+            if (b == n) then
+                basis%px(b) = (1.0_dp - basis%qx(b)) / (dx * basis%mx(b, b))
+                basis%py(b) = (1.0_dp - basis%qy(b)) / (dx * basis%my(b, b))
+            end if
+            basis%rpx(b) = 1.0_dp / basis%px(b)
+            basis%rpy(b) = 1.0_dp / basis%py(b)
+            basis%rmx(b) = 1.0_dp / basis%mx(b, b)
+            basis%rmy(b) = 1.0_dp / basis%my(b, b)
         end do
     end subroutine make_basis
 
