@@ -93,7 +93,10 @@ contains
             fresh = k == 1 .and. .not. carry
             if (k > 1) fresh = kgap(k) /= kgap(k - 1) .or. fn(k) /= fn(k - 1)
             if (fresh) then
-                p = 0.0_dp
+                ! the active set starts from the previous case's contact set (p holds its
+                ! pressure; zero before the table's first case) when that case was solved:
+                ! the final set fixes the answer, not the start
+                if (stat_n /= STAT_OK) p = 0.0_dp
                 fnk = fn(k)
                 appr = 0.0_dp
                 stat_n = STAT_NOT_CONVERGED

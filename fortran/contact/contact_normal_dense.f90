@@ -136,8 +136,10 @@ contains
         allocate (a(m, m), y(m, 2))
         do l = 1, m
             do k = l, m
-                di = modulo(ic(k) - ic(l), nx2)
-                dj = modulo(jc(k) - jc(l), ny2)
+                di = ic(k) - ic(l)      ! modulo(., nx2) without a division
+                if (di < 0) di = di + nx2
+                dj = jc(k) - jc(l)
+                if (dj < 0) dj = dj + ny2
                 a(k, l) = c(di, dj)
             end do
             y(l, 1) = 1.0_dp
@@ -217,7 +219,8 @@ contains
         do k = 1, size(ic)
             ii = ic(k)
             do j = 1, ny
-                dj = modulo(j - jc(k), ny2)
+                dj = j - jc(k)
+                if (dj < 0) dj = dj + ny2
                 u(ii:nx, j) = u(ii:nx, j) + c(0:nx - ii, dj) * pi(k)
                 u(1:ii - 1, j) = u(1:ii - 1, j) + c(nx2 - ii + 1:nx2 - 1, dj) * pi(k)
             end do
