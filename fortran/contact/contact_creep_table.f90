@@ -2,7 +2,7 @@
 !> for a table of cases on one grid, in one call, so that a table of small
 !> cases (the 11 x 11 grids of vehicle codes' contact tables) pays no per-case
 !> call overhead. Each case is the solve_rolling of the Python API: the normal
-!> problem (on grids of at most NORMAL_DENSE_MAX elements solved exactly by the
+!> problem (on small grids, where dense_is_cheaper, solved exactly by the
 !> active set of contact_normal_dense, which agrees with solve_rolling's projected CG
 !> to CG's tolerance; elsewhere, or where the active set fails, projected CG from zero
 !> pressure, contact_normal::normal_cg), then the steady rolling
@@ -18,7 +18,7 @@ module contact_creep_table
     use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT, STAT_NOT_CONVERGED
     use contact_plans, only: workspace
     use contact_normal, only: normal_cg, CONTROL_FORCE
-    use contact_normal_dense, only: normal_dense_force, NORMAL_DENSE_MAX
+    use contact_normal_dense, only: normal_dense_force, dense_is_cheaper
     use contact_rolling, only: rolling_steady, ROLL_FFTGS, rolling_patch, rolling_patch_reset
     implicit none
     private
@@ -100,7 +100,7 @@ contains
                 fnk = fn(k)
                 appr = 0.0_dp
                 stat_n = STAT_NOT_CONVERGED
-                if (nx * ny <= NORMAL_DENSE_MAX) then
+                if (dense_is_cheaper(start_size(gap(:, :, kgap(k))), nx, ny)) then
                     ! small grids: the exact active-set solve, CG where it finds no set
                     call normal_dense_force(w%c(:, :, 1), gap(:, :, kgap(k)), da, fnk, p, appr, itn, resid, &
                                             stat_n)
@@ -133,6 +133,16 @@ contains
         appr_io = appr
         itn_io = itn
     end subroutine creep_force_table
+
+    !> The size of the active set's cold start (contact_normal_dense): the elements with h
+    !> below a quarter of h's range. The choice of the normal solver depends on the case's
+    !> gap alone (not on the previous case: the table's results do not depend on its order).
+    pure integer function start_size(h)
+        real(dp), intent(in) :: h(:, :)
+        real(dp) :: hmin
+        hmin = minval(h)
+        start_size = count(h <= hmin + 0.25_dp * (maxval(h) - hmin))
+    end function start_size
 
     !> Whether any pressure lies on the grid's edge rows or columns (the contact area
     !> would be cut by the grid; the Python API's GridTooSmallError).

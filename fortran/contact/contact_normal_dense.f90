@@ -13,13 +13,15 @@
 !> creep-force table) changes the path, not the answer: the final set's equations fix p.
 !> No convergence proof: after MAX_SETS trial sets the caller falls back to CG.
 !> Used by contact_creep_table for grids of at most NORMAL_DENSE_MAX elements.
+!> Implements Kaiser eqs 21-22 (the discrete normal problem, force control) by an active
+!> set (docs/equations.md).
 module contact_normal_dense
     use common_kinds, only: dp
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NOT_FINITE
     use contact_normal, only: normal_residual
     implicit none
     private
-    public :: normal_dense_force, NORMAL_DENSE_MAX
+    public :: normal_dense_force, NORMAL_DENSE_MAX, dense_is_cheaper
 
     !> Grids of at most this many elements (the dense factor of a contact set of up to
     !> about a third of them stays below 1 MB).
@@ -99,6 +101,19 @@ contains
         end do
         if (info /= STAT_OK) p = 0.0_dp
     end subroutine normal_dense_force
+
+    !> Whether the active set is likely the cheaper solve on an nx x ny grid (at most
+    !> NORMAL_DENSE_MAX elements) from a start set of m0 elements: two Cholesky factors of
+    !> about that size (m0^3 / 3 multiply-adds) against 15 CG iterations of one padded FFT
+    !> product each (5 M log2 M + 10 M, M = 4 nx ny; contact_rolling's count). The 11 x 11
+    !> case (m0 about 60) takes the active set; 25 x 25 (m0 about 280) keeps CG.
+    pure logical function dense_is_cheaper(m0, nx, ny)
+        integer, intent(in) :: m0, nx, ny
+        real(dp) :: mm
+        mm = 4.0_dp * nx * ny
+        dense_is_cheaper = nx * ny <= NORMAL_DENSE_MAX .and. &
+                           real(m0, dp)**3 / 3.0_dp <= 15.0_dp * (5.0_dp * mm * log(mm) / log(2.0_dp) + 10.0_dp * mm)
+    end function dense_is_cheaper
 
     !> The elements of the set act as lists ic, jc (column by column), m of them.
     pure subroutine set_list(act, ic, jc, m)
