@@ -67,7 +67,7 @@ contains
 
     !> One Anderson step: g = G(s%x) in, s%x = the next iterate out. The Gram matrix
     !> dF^T dF keeps its entries across steps: only the newest difference's row is
-    !> formed (the same dot products as forming it whole, by dot4).
+    !> formed (the same dot products as forming it whole).
     subroutine anderson_step(s, g)
         type(anderson_state), intent(inout) :: s
         real(dp), intent(in) :: g(:)
@@ -82,7 +82,7 @@ contains
                 s%dg(:, s%slot) = g - s%gold
                 s%naa = min(s%naa + 1, s%depth)
                 do b = 1, s%naa
-                    s%gram(s%slot, b) = dot4(s%df(:, s%slot), s%df(:, b))
+                    s%gram(s%slot, b) = dot_product(s%df(:, s%slot), s%df(:, b))
                     s%gram(b, s%slot) = s%gram(s%slot, b)
                 end do
             end if
@@ -93,7 +93,7 @@ contains
             mk = s%naa
             if (mk == 0) return
             do b = 1, mk
-                rhs(b) = dot4(s%df(:, b), f)
+                rhs(b) = dot_product(s%df(:, b), f)
             end do
         end associate
         h(1:mk, 1:mk) = s%gram(1:mk, 1:mk)
@@ -109,29 +109,6 @@ contains
             end do
         end if
     end subroutine anderson_step
-
-    !> a . b with four partial sums (the additions of one sum overlap those of the others:
-    !> a quarter of a plain dot product's dependent additions).
-    pure real(dp) function dot4(a, b)
-        real(dp), intent(in) :: a(:), b(:)
-        real(dp) :: s1, s2, s3, s4
-        integer :: i, n
-        n = size(a)
-        s1 = 0.0_dp
-        s2 = 0.0_dp
-        s3 = 0.0_dp
-        s4 = 0.0_dp
-        do i = 1, n - 3, 4
-            s1 = s1 + a(i) * b(i)
-            s2 = s2 + a(i + 1) * b(i + 1)
-            s3 = s3 + a(i + 2) * b(i + 2)
-            s4 = s4 + a(i + 3) * b(i + 3)
-        end do
-        do i = 4 * (n / 4) + 1, n
-            s1 = s1 + a(i) * b(i)
-        end do
-        dot4 = (s1 + s2) + (s3 + s4)
-    end function dot4
 
     !> Safeguard restart: the last G value (the plain step from the previous
     !> iterate) becomes the iterate and the difference history is dropped; the
