@@ -5,8 +5,11 @@ problem many times: the normal problem, then steady rolling, for a list of creep
 and geometries. :func:`solve_rolling` per case spends more time in Python than in the
 solvers on an 11 x 11 grid; :func:`creep_force_table` hands the whole table to the
 Fortran (``fortran/contact/contact_creep_table.f90``), which runs each case as
-:func:`solve_rolling` does (projected CG from zero pressure, then the steady rolling
-solver from zero traction, method 'fftgs') and returns the forces.
+:func:`solve_rolling` does (the normal problem, then the steady rolling solver from zero
+traction, method 'fftgs') and returns the forces. On small grids (the 11 x 11 case) the
+normal problem is solved exactly by an active set on the dense influence matrix
+(``contact_normal_dense.f90``), elsewhere by projected CG from zero pressure as
+:func:`solve_rolling` does.
 """
 
 from __future__ import annotations
@@ -59,7 +62,8 @@ class CreepForceTable:
     approach : ndarray, shape (ncase,)
         Approach of the bodies, m.
     normal_iterations : ndarray of int, shape (ncase,)
-        CG iterations of the case's normal solve (shared by the cases that reuse it).
+        Iterations of the case's normal solve (shared by the cases that reuse it): trial
+        contact sets of the active set on small grids, else CG iterations.
     iterations : ndarray of int, shape (ncase,)
         Sweeps of the rolling solver.
     normal_solves : int
@@ -207,11 +211,15 @@ def creep_force_table(
     """Steady rolling creep forces of a table of cases on one grid, in one Fortran call.
 
     Each case is the one :func:`~railvti.contact.solve_rolling` solves with its default
-    methods (projected CG for the pressure from zero, then the steady rolling solver
-    'fftgs' from zero traction), and gives the same forces (to rounding on grids below
-    128 x 128, where solve_rolling starts CG from zero too). The normal problem is solved
-    once for each run of consecutive cases with the same gap and normal force: the
-    pressure of quasi-identical bodies does not depend on the creepages.
+    methods (the pressure, then the steady rolling solver 'fftgs' from zero traction), and
+    gives the same forces to the normal solver's tolerance: on small grids (where its
+    operation count wins, e.g. 11 x 11) the pressure is the exact solution of an active set
+    on the dense influence matrix, where solve_rolling's projected CG stops at its tolerance
+    (forces within 2e-8 of the largest on the 11 x 11 benchmark); elsewhere both run CG from
+    zero (the same forces to rounding on grids below 128 x 128). The normal problem is solved
+    once for each run of consecutive cases with the same gap and normal force: the pressure
+    of quasi-identical bodies does not depend on the creepages. The table runs in slices
+    (Ctrl-C acts between them) with the same results as one call.
 
     Parameters
     ----------
