@@ -48,6 +48,27 @@ def test_direct_products_give_the_fft_answer(shape):
     assert worst < 1e-10
 
 
+@pytest.mark.parametrize("law", ["exponential", "rational"])
+def test_small_path_with_a_friction_law_gives_the_fft_answer(law):
+    """The small contact set's packed iteration (product 'direct', 41 elements) with a falling
+    friction law (element problems by contact_friction) against the grid iteration with FFT
+    products: the same sweeps, status and tractions to 1e-10 of mu_s p0 (the two differ by
+    rounding)."""
+    from railvti.contact.friction import FrictionLaw, solve_tangential_friction
+
+    _, g, nr = _problem(0.5 / 0.46, 0.5 / 0.30)
+    fl = FrictionLaw(law, 0.4, 0.25, 0.5, root_rule="smallest")
+    scale = 0.4 * nr.pressure.max()
+    for c in ((2e-3, 0.0, 0.0), (5e-4, 1e-3, 2.0)):
+        ref = solve_tangential_friction(nr.pressure, g, STEEL, fl, c, V, product="fft")
+        fast = solve_tangential_friction(nr.pressure, g, STEEL, fl, c, V, product="direct")
+        assert fast.rolling.iterations == ref.rolling.iterations
+        np.testing.assert_array_equal(fast.rolling.status, ref.rolling.status)
+        assert np.abs(fast.rolling.tx - ref.rolling.tx).max() < 1e-10 * scale
+        assert np.abs(fast.rolling.ty - ref.rolling.ty).max() < 1e-10 * scale
+        assert np.abs(ref.rolling.tx).max() > 0.1 * scale
+
+
 def test_direct_products_on_a_larger_patch():
     """On a 24 x 24 grid ('auto' takes the FFT there) forced direct products agree too."""
     h = hertz(0.5 / 0.46, 0.5 / 0.30, FN, STEEL)

@@ -58,21 +58,26 @@ end subroutine rolling_solve_c
 !> and the force fn(k) (N), solved again only when these differ from the previous
 !> case's, then steady rolling with creep(:, k) = (xi, eta, phi) (1, 1, 1/m), each from
 !> zero (contact_creep_table::creep_force_table). Per case: fx, fy (N), mz (N m, about x = y = 0),
-!> power (W), ncontact, approach (m), iters_n (CG iterations), iters_t (sweeps),
+!> power (W), ncontact, approach (m), iters_n (normal iterations), iters_t (sweeps),
 !> nfo_n (normal status, STAT_GRID_EDGE if the pressure reaches the grid's edge),
 !> nfo_t (rolling status, where nfo_n is STAT_OK). info: STAT_OK; STAT_BAD_HANDLE no
 !> such workspace, one of another grid size or without the tangential kernels;
-!> STAT_BAD_ARGUMENT a kgap outside 1..ngap.
+!> STAT_BAD_ARGUMENT a kgap outside 1..ngap. A table in slices: carry (0/1), pstate (Pa),
+!> rstate(1) (approach, m) and istate(1) (normal iterations) as the kernel's carry, p,
+!> appr_io, itn_io (the last case's normal solution out; with carry = 1 the first case
+!> continues its run).
 subroutine creep_force_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep, mu, speed, x0, y0, &
-                           tol_n, tol_t, max_iter_n, max_iter_t, fx, fy, mz, power, ncontact, &
-                           approach, iters_n, iters_t, nfo_n, nfo_t, info)
+                           tol_n, tol_t, max_iter_n, max_iter_t, carry, pstate, rstate, istate, fx, fy, mz, &
+                           power, ncontact, approach, iters_n, iters_t, nfo_n, nfo_t, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
     use contact_creep_table, only: creep_force_table
     implicit none
     !f2py threadsafe
-    integer(c_int), intent(in) :: handle, nx, ny, ngap, ncase, max_iter_n, max_iter_t
+    integer(c_int), intent(in) :: handle, nx, ny, ngap, ncase, max_iter_n, max_iter_t, carry
+    real(c_double), intent(inout) :: pstate(nx, ny), rstate(1)
+    integer(c_int), intent(inout) :: istate(1)
     real(c_double), intent(in) :: gap(nx, ny, ngap), fn(ncase), creep(3, ncase)
     integer(c_int), intent(in) :: kgap(ncase)
     real(c_double), intent(in) :: mu, speed, x0, y0, tol_n, tol_t
@@ -81,7 +86,8 @@ subroutine creep_force_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep
     integer(c_int), intent(out) :: nfo_n(ncase), nfo_t(ncase), info
     type(workspace), pointer :: w
     integer, allocatable :: kg(:), nc(:), itn(:), itt(:), sn(:), stt(:)
-    integer :: stat
+    integer :: stat, itn_io
+    real(c_double) :: appr_io
 
     fx = 0.0_c_double
     fy = 0.0_c_double
@@ -99,8 +105,13 @@ subroutine creep_force_table_c(handle, nx, ny, ngap, ncase, gap, kgap, fn, creep
     if (w%nker < 4) return
     allocate (kg(ncase), nc(ncase), itn(ncase), itt(ncase), sn(ncase), stt(ncase))
     kg = kgap
+    appr_io = rstate(1)
+    itn_io = istate(1)
     call creep_force_table(w, gap, kg, fn, creep, mu, speed, x0, y0, tol_n, tol_t, max_iter_n, max_iter_t, &
-                     fx, fy, mz, power, nc, approach, itn, itt, sn, stt, stat)
+                           carry /= 0, pstate, appr_io, itn_io, fx, fy, mz, power, nc, approach, itn, itt, sn, stt, &
+                           stat)
+    rstate(1) = appr_io
+    istate(1) = itn_io
     ncontact = nc
     iters_n = itn
     iters_t = itt

@@ -41,6 +41,8 @@ module common_anderson
         real(dp), allocatable :: gold(:)     ! G of the previous iterate
         real(dp), allocatable :: df(:, :)    ! (n, depth) differences of f, circular by slot
         real(dp), allocatable :: dg(:, :)    ! (n, depth) differences of G, circular by slot
+        real(dp), allocatable :: gram(:, :)  ! (depth, depth) dF^T dF by slots, kept across steps
+        real(dp), allocatable :: f(:)        ! work: f of the current iterate
     end type anderson_state
 
 contains
@@ -53,7 +55,8 @@ contains
         integer :: n
         n = size(x0)
         s%depth = max(depth, 0)
-        allocate (s%x(n), s%fold(n), s%gold(n), s%df(n, s%depth), s%dg(n, s%depth))
+        allocate (s%x(n), s%fold(n), s%gold(n), s%df(n, s%depth), s%dg(n, s%depth), &
+                  s%gram(s%depth, s%depth), s%f(n))
         s%x = x0
         s%fold = 0.0_dp
         s%gold = 0.0_dp
@@ -62,34 +65,38 @@ contains
         s%has_prev = .false.
     end subroutine anderson_init
 
-    !> One Anderson step: g = G(s%x) in, s%x = the next iterate out.
+    !> One Anderson step: g = G(s%x) in, s%x = the next iterate out. The Gram matrix
+    !> dF^T dF keeps its entries across steps: only the newest difference's row is
+    !> formed (the same dot products as forming it whole).
     subroutine anderson_step(s, g)
         type(anderson_state), intent(inout) :: s
         real(dp), intent(in) :: g(:)
-        real(dp), allocatable :: f(:)      ! not automatic: n may be large for the stack
         real(dp) :: h(s%depth, s%depth), rhs(s%depth), gam(s%depth), reg
         integer :: mk, a, b, stat
 
-        allocate (f(size(g)))
-        f = g - s%x
-        if (s%has_prev .and. s%depth > 0) then
-            s%slot = mod(s%slot, s%depth) + 1
-            s%df(:, s%slot) = f - s%fold
-            s%dg(:, s%slot) = g - s%gold
-            s%naa = min(s%naa + 1, s%depth)
-        end if
-        s%has_prev = .true.
-        s%fold = f
-        s%gold = g
-        s%x = g
-        mk = s%naa
-        if (mk == 0) return
-        do b = 1, mk
-            do a = 1, mk
-                h(a, b) = dot_product(s%df(:, a), s%df(:, b))
+        associate (f => s%f)
+            f = g - s%x
+            if (s%has_prev .and. s%depth > 0) then
+                s%slot = mod(s%slot, s%depth) + 1
+                s%df(:, s%slot) = f - s%fold
+                s%dg(:, s%slot) = g - s%gold
+                s%naa = min(s%naa + 1, s%depth)
+                do b = 1, s%naa
+                    s%gram(s%slot, b) = dot_product(s%df(:, s%slot), s%df(:, b))
+                    s%gram(b, s%slot) = s%gram(s%slot, b)
+                end do
+            end if
+            s%has_prev = .true.
+            s%fold = f
+            s%gold = g
+            s%x = g
+            mk = s%naa
+            if (mk == 0) return
+            do b = 1, mk
+                rhs(b) = dot_product(s%df(:, b), f)
             end do
-            rhs(b) = dot_product(s%df(:, b), f)
-        end do
+        end associate
+        h(1:mk, 1:mk) = s%gram(1:mk, 1:mk)
         reg = REGULARIZATION * maxval([(h(a, a), a = 1, mk)])
         do a = 1, mk
             h(a, a) = h(a, a) + reg

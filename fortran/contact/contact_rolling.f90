@@ -94,9 +94,9 @@
 !> final_slip evaluate the element problems on the exact field.
 module contact_rolling
     use common_kinds, only: dp
-    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
-                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE
     use common_dense, only: dense_inverse
+    use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, &
+                             STAT_BAD_HANDLE, STAT_GRID_EDGE, STAT_NOT_FINITE, STAT_SINGULAR
     use common_anderson, only: anderson_state, anderson_init, anderson_step, anderson_restart
     use contact_influence, only: KERNEL_XX, KERNEL_YY, KERNEL_XY
     use contact_plans, only: workspace
@@ -104,7 +104,7 @@ module contact_rolling
     use contact_friction, only: friction_law, friction_element_solve, friction_is_constant, RULE_CONTINUOUS
     implicit none
     private
-    public :: rolling_steady, element_solve
+    public :: rolling_steady, element_solve, rolling_patch, rolling_patch_reset
     public :: ROLL_GS, ROLL_FFTGS, ST_EXTERIOR, ST_ADHESION, ST_SLIP
     public :: PRODUCT_AUTO, PRODUCT_FFT, PRODUCT_DIRECT
     public :: WU0, WU1, WU2
@@ -126,6 +126,9 @@ module contact_rolling
     !> In-row basis of a run of n elements (make_basis).
     type :: run_basis
         real(dp), allocatable :: mx(:, :), my(:, :), qx(:), qy(:)
+        !> per element of the run: the pivots of its element problem (px, py), their
+        !> reciprocals (rpx, rpy) and 1 / m(q, q) (rmx, rmy), for the small path's passes
+        real(dp), allocatable :: px(:), py(:), rpx(:), rpy(:), rmx(:), rmy(:)
     end type run_basis
 
     !> The fixed data of one solve (patch_setup): the contact set and its
@@ -153,6 +156,17 @@ module contact_rolling
         !> (2 nc, 2 nc) dense slip operator of the contact set (direct products, nc <= SOP_MAX)
         real(dp), allocatable :: sop(:, :)
         type(run_basis), allocatable :: bases(:)  ! by run length 1..nbx
+        !> the small path (pa%sop made): the runs in sweep order (rows j ascending, within
+        !> a row from the leading edge), as packed positions: first element rp0, length rn,
+        !> first element whose slip the run's change must update rrow (its row's first, or
+        !> the next row's when the run fills its row); the rigid slip and the bound packed
+        integer :: nrun = 0
+        integer, allocatable :: rp0(:), rn(:), rrow(:)
+        real(dp), allocatable :: wxc(:), wyc(:), bc(:)
+        !> the geometry (everything but the rigid slip) is set: a caller's patch
+        !> (rolling_steady's patch) is reused for the next solve of the same pressure
+        logical :: ready = .false.
+        integer :: prod = -1                      ! the product choice it was made for
         !> a slip-velocity-dependent or static/kinetic friction law (contact_friction):
         !> bound holds mu_s p and the element problems go to friction_element_solve
         logical :: varlaw = .false.
@@ -237,6 +251,87 @@ contains
         ty = -g * ey
     end subroutine element_solve
 
+    !> element_solve on the small path (iterate_small): the reciprocals rkx = 1 / kx,
+    !> rky = 1 / ky given (a run's pivots, kept with its basis: no division in the adhesion
+    !> test) and the slip solution by element_slip (its closer start and earlier stop: the
+    !> same tractions to about 1e-11 relative). element_solve itself, which the grid path
+    !> and contact_coupling use, is unchanged (their results stay main's to the bit).
+    pure subroutine element_solve_r(s0x, s0y, kx, ky, rkx, rky, g, tx, ty, stat, lam)
+        real(dp), intent(in) :: s0x, s0y, kx, ky, rkx, rky, g
+        real(dp), intent(out) :: tx, ty, lam
+        integer, intent(out) :: stat
+        real(dp) :: ax, ay
+        ax = -s0x * rkx
+        ay = -s0y * rky
+        if (ax * ax + ay * ay <= g * g) then
+            tx = ax
+            ty = ay
+            stat = ST_ADHESION
+            lam = 0.0_dp
+            return
+        end if
+        call element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
+        stat = ST_SLIP
+    end subroutine element_solve_r
+
+    !> The slip solution of element_solve (eq. 28), |t| = g with t opposite to s, when the
+    !> adhesion traction lies outside the disc, for the small path: element_solve's Newton
+    !> iteration from the second-order start below, stopped once a step is below 1e-6 of
+    !> the scale (element_solve: 1e-8 from a first-order start).
+    pure subroutine element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
+        real(dp), intent(in) :: s0x, s0y, kx, ky, g
+        real(dp), intent(out) :: tx, ty, lam
+        real(dp) :: gx, gy, f, fp, dl, ex, ey, en, dx3, dy3
+        integer :: it
+
+        if (g <= 0.0_dp) then
+            tx = 0.0_dp
+            ty = 0.0_dp
+            lam = sqrt(s0x * s0x + s0y * s0y)
+            return
+        end if
+        ! s = lam e and t = -g e  =>  e = (s0x / (lam + gx), s0y / (lam + gy)),
+        ! |e| = 1 fixes lam. f(lam) = |e|^2 - 1 is convex and decreasing, so Newton
+        ! converges from any start: at worst the first step overshoots below the
+        ! root and the rest is monotone. The start: with mu = lam + c, c = (gx + gy) / 2,
+        ! d = (gx - gy) / 2, the root's expansion in delta = d / |s0| to second order,
+        ! mu = |s0| (1 - delta rho + 3/2 delta^2 (1 - rho^2)), rho = (s0x^2 - s0y^2) / |s0|^2
+        ! (exact for kx = ky; the first-order term alone is the mean of kx, ky weighted by
+        ! s0's components): 2-3 steps (about one more from the first-order start).
+        ! The convergence is quadratic (error after a step about 3/2 dl^2 / (lam + g k)),
+        ! so a step below 1e-6 of the scale leaves a relative error below about 1e-11.
+        gx = g * kx
+        gy = g * ky
+        en = s0x * s0x + s0y * s0y
+        dx3 = sqrt(en)
+        dy3 = 0.5_dp * (gx - gy) / dx3
+        f = (s0x * s0x - s0y * s0y) / en
+        lam = max(0.0_dp, dx3 * (1.0_dp - dy3 * f + 1.5_dp * dy3 * dy3 * (1.0_dp - f * f)) - 0.5_dp * (gx + gy))
+        do it = 1, 100
+            dx3 = 1.0_dp / (lam + gx)
+            dy3 = 1.0_dp / (lam + gy)
+            f = (s0x * dx3)**2 + (s0y * dy3)**2 - 1.0_dp
+            fp = -2.0_dp * ((s0x * dx3)**2 * dx3 + (s0y * dy3)**2 * dy3)
+            if (fp >= 0.0_dp) exit
+            dl = -f / fp
+            lam = max(lam + dl, 0.0_dp)
+            if (abs(dl) <= 1.0e-6_dp * (lam + gx + gy)) exit
+        end do
+        ex = s0x / (lam + gx)
+        ey = s0y / (lam + gy)
+        en = sqrt(ex * ex + ey * ey)
+        if (en > 0.0_dp) then
+            en = g / en
+            ex = ex * en
+            ey = ey * en
+        else
+            ex = g * ex
+            ey = g * ey
+        end if
+        tx = -ex
+        ty = -ey
+    end subroutine element_slip
+
     !> The element problem by the solve's friction law: element_solve (constant
     !> Coulomb: today's path, unchanged) or contact_friction's friction_element_solve;
     !> (scx, scy): the slip of the current iterate, for the rule RULE_CONTINUOUS.
@@ -279,8 +374,12 @@ contains
     !> mu must then be law%mu_s. Without it (or with mu_s = mu_k) today's path runs
     !> unchanged. nmulti (optional): elements whose final element problem has more
     !> than one solution (the law's rule picked one of them; 0 without law).
+    !> patch (optional): the solve's fixed data, kept by the caller for the next solve of
+    !> the same pressure p, mu, grid origin and product (a creep-force table's cases):
+    !> made when patch%ready is false (new, or after rolling_patch_reset), reused as it is
+    !> otherwise (only the rigid slip is set again). Without it every solve makes its own.
     subroutine rolling_steady(w, p, x0, y0, xi, eta, phi, mu, speed, method, nblock, ninner, tol, max_iter, &
-                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti, wex, wey)
+                              tx, ty, status, sx, sy, iters, resid, info, product, law, nmulti, wex, wey, patch)
         type(workspace), intent(inout) :: w
         real(dp), intent(in) :: p(:, :)            ! pressure, Pa, (nx, ny)
         real(dp), intent(in) :: x0, y0             ! centre of element (1, 1), m
@@ -301,12 +400,11 @@ contains
         !> extra rigid slip (creepage units) added to eq. 29's w, e.g. a dissimilar
         !> pair's pressure coupling (contact_coupling); absent: none (results unchanged)
         real(dp), intent(in), optional :: wex(:, :), wey(:, :)
+        type(rolling_patch), intent(inout), optional, target :: patch
 
-        type(rolling_patch) :: pa
-        type(anderson_state) :: aa
-        real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
-        real(dp) :: r2, n2, rbest
-        integer :: nblk, it, prod, nm
+        type(rolling_patch), target :: own
+        type(rolling_patch), pointer :: pa
+        integer :: prod, nm, k
 
         iters = 0
         resid = 0.0_dp
@@ -326,8 +424,27 @@ contains
             info = STAT_BAD_ARGUMENT
             return
         end if
-        call patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
-        if (info /= STAT_OK) return
+        pa => own
+        if (present(patch)) pa => patch
+        ! tractions outside the contact set zeroed (the warm start's too)
+        where (.not. (p > 0.0_dp))
+            tx = 0.0_dp
+            ty = 0.0_dp
+        end where
+        if (.not. pa%ready) then
+            if (same_contact_set(pa, p, prod)) then
+                call patch_bound(pa, p, mu)    ! a new pressure on the same contact set
+            else
+                call patch_setup(w, p, mu, prod, pa, info)
+                if (info /= STAT_OK) then
+                    pa%prod = -1    ! not a patch to reuse
+                    return
+                end if
+            end if
+            pa%ready = .true.
+        end if
+        call rigid_slip(pa, x0, y0, w%dy, xi, eta, phi)
+        pa%varlaw = .false.
         if (present(law)) then
             if (.not. friction_is_constant(law)) then
                 pa%varlaw = .true.
@@ -337,6 +454,76 @@ contains
         end if
         if (present(wex)) pa%wx = pa%wx + wex
         if (present(wey)) pa%wy = pa%wy + wey
+        ! warm start: on the Coulomb disc
+        call project_all(pa, tx, ty)
+        if (allocated(pa%sop)) then
+            do k = 1, pa%nc
+                pa%wxc(k) = pa%wx(pa%ic(k), pa%jc(k))
+                pa%wyc(k) = pa%wy(pa%ic(k), pa%jc(k))
+            end do
+            call iterate_small(pa, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, iters, resid, info, nm)
+        else
+            call iterate_grid(pa, w, method, nblock, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, &
+                              iters, resid, info, nm)
+        end if
+        if (present(nmulti)) nmulti = nm
+    end subroutine rolling_steady
+
+    !> A kept patch (rolling_steady's patch) marked stale after the pressure or mu changed:
+    !> the next solve makes it anew, or, when its contact set (p > 0) and product are
+    !> those of the stale patch, only sets the new traction bound (the contact set, bases
+    !> and slip operator depend on nothing else; the caller keeps the workspace and the
+    !> grid origin, as contact_creep_table does).
+    subroutine rolling_patch_reset(pa)
+        type(rolling_patch), intent(inout) :: pa
+        pa%ready = .false.
+    end subroutine rolling_patch_reset
+
+    !> Whether the made patch pa has the contact set p > 0 and was made for product prod.
+    logical function same_contact_set(pa, p, prod)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: p(:, :)
+        integer, intent(in) :: prod
+        same_contact_set = .false.
+        if (.not. allocated(pa%ic) .or. pa%prod /= prod) return
+        if (size(pa%inc, 1) /= size(p, 1) .or. size(pa%inc, 2) /= size(p, 2)) return
+        same_contact_set = all(pa%inc .eqv. (p > 0.0_dp))
+    end function same_contact_set
+
+    !> The traction bound mu p of a patch (and its packed copy on the small path).
+    subroutine patch_bound(pa, p, mu)
+        type(rolling_patch), intent(inout) :: pa
+        real(dp), intent(in) :: p(:, :), mu
+        integer :: k
+        pa%bound = mu * p
+        if (allocated(pa%bc)) then
+            do k = 1, pa%nc
+                pa%bc(k) = pa%bound(pa%ic(k), pa%jc(k))
+            end do
+        end if
+    end subroutine patch_bound
+
+    !> rolling_steady's iteration on the grid: row-implicit sweeps with the field
+    !> u = A t by FFT or by direct sums over the box (module doc), Anderson mixing.
+    subroutine iterate_grid(pa, w, method, nblock, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, &
+                            iters, resid, info, nm)
+        type(rolling_patch), intent(in) :: pa
+        type(workspace), intent(inout) :: w
+        integer, intent(in) :: method, nblock, ninner, max_iter
+        real(dp), intent(in) :: tol, speed
+        real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: iters, info, nm
+        real(dp), intent(out) :: resid
+        type(anderson_state) :: aa
+        real(dp), allocatable :: ux(:, :), uy(:, :), gx(:, :), gy(:, :), dux(:, :), duy(:, :), v(:)
+        real(dp) :: r2, n2, rbest
+        integer :: nblk, it
+
+        info = STAT_OK
+        resid = 0.0_dp
+        nm = 0
         ! rows per FFT refresh: all for plain GS, nblock for the blocked form
         nblk = pa%nby + 1
         if (method == ROLL_FFTGS) nblk = min(nblock, pa%nby + 1)
@@ -355,16 +542,7 @@ contains
             ! exact field and the Jacobi residual on it (pivot of a single element)
             call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
             call jacobi_residual(pa, gx, gy, tx, ty, r2, n2)
-            if (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp)) then
-                info = STAT_NOT_FINITE
-                resid = huge(1.0_dp)
-                exit
-            end if
-            if (n2 > 0.0_dp) then
-                resid = sqrt(r2 / n2)
-            else
-                resid = merge(0.0_dp, 1.0_dp, r2 == 0.0_dp)
-            end if
+            if (.not. residual_ok(r2, n2, resid, info)) exit
             if (resid <= tol) exit
             if (it >= max_iter) then
                 info = STAT_NOT_CONVERGED
@@ -393,36 +571,352 @@ contains
         if (info /= STAT_NOT_FINITE) then
             call field(pa, w%plan, tx, ty, ux, uy, gx, gy)
             call final_slip(pa, gx, gy, tx, ty, speed, status, sx, sy, nm)
-            if (present(nmulti)) nmulti = nm
         end if
-    end subroutine rolling_steady
+    end subroutine iterate_grid
 
-    !> The fixed data of one solve: contact set, bounding box, coefficients,
-    !> in-row bases and rigid slip; tractions outside the contact set zeroed and
-    !> the warm start put on the Coulomb discs; prod: the product choice of
-    !> rolling_steady. info: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE, or the
-    !> failure of a basis (make_basis).
-    subroutine patch_setup(w, p, x0, y0, xi, eta, phi, mu, prod, tx, ty, pa, info)
-        type(workspace), intent(in) :: w
-        real(dp), intent(in) :: p(:, :), x0, y0, xi, eta, phi, mu
-        integer, intent(in) :: prod
+    !> The relative residual sqrt(r2 / n2) (jacobi_residual's squares) into resid; false
+    !> (info STAT_NOT_FINITE, resid huge) when the squares are not finite.
+    logical function residual_ok(r2, n2, resid, info)
+        real(dp), intent(in) :: r2, n2
+        real(dp), intent(out) :: resid
+        integer, intent(inout) :: info
+        residual_ok = .not. (r2 /= r2 .or. n2 /= n2 .or. r2 > huge(1.0_dp))
+        if (.not. residual_ok) then
+            info = STAT_NOT_FINITE
+            resid = huge(1.0_dp)
+        else if (n2 > 0.0_dp) then
+            resid = sqrt(r2 / n2)
+        else
+            resid = merge(0.0_dp, 1.0_dp, r2 == 0.0_dp)
+        end if
+    end function residual_ok
+
+    !> rolling_steady's iteration on a small contact set (pa%sop made): the same
+    !> row-implicit sweeps, Anderson mixing and residual as iterate_grid, on the
+    !> packed tractions v = [tx(inc), ty(inc)] and their slips g = S v (the dense slip
+    !> operator): no grid arrays inside the loop, the sweep's updates to the rows still
+    !> to come as columns of S (sweep_small). Agrees with iterate_grid to rounding.
+    subroutine iterate_small(pa, ninner, tol, max_iter, speed, tx, ty, status, sx, sy, iters, resid, info, nm)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: ninner, max_iter
+        real(dp), intent(in) :: tol, speed
         real(dp), intent(inout) :: tx(:, :), ty(:, :)
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: iters, info, nm
+        real(dp), intent(out) :: resid
+        type(anderson_state) :: aa
+        ! fixed sizes (nc <= SOP_MAX): on the stack, where gfortran puts automatic arrays
+        ! on the heap (a malloc and free per call, as much as a small problem's arithmetic)
+        real(dp) :: vv(2 * SOP_MAX), gg(2 * SOP_MAX), r2, n2, rbest
+        integer :: it, k, n
+
+        info = STAT_OK
+        resid = 0.0_dp
+        nm = 0
+        n = pa%nc
+        associate (v => vv(1:2 * n), g => gg(1:2 * n))
+        call pack_tractions(pa, tx, ty, v)
+        call anderson_init(aa, v, AA_M)
+        rbest = huge(1.0_dp)
+        it = 0
+        do
+            call sop_apply(pa, v, g)
+            call jacobi_small(pa, g, v, r2, n2)
+            if (.not. residual_ok(r2, n2, resid, info)) exit
+            if (resid <= tol) exit
+            if (it >= max_iter) then
+                info = STAT_NOT_CONVERGED
+                exit
+            end if
+            if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
+                call anderson_restart(aa)
+                v = aa%x
+                call project_packed(pa, v)
+                call sop_apply(pa, v, g)
+            end if
+            rbest = min(rbest, resid)
+            it = it + 1
+            call sweep_small(pa, ninner, v, g)
+            call anderson_step(aa, v)
+            v = aa%x
+            call project_packed(pa, v)
+        end do
+        iters = it
+        call project_packed(pa, v)
+        do k = 1, n
+            tx(pa%ic(k), pa%jc(k)) = v(k)
+            ty(pa%ic(k), pa%jc(k)) = v(n + k)
+        end do
+        if (info /= STAT_NOT_FINITE) then
+            call sop_apply(pa, v, g)
+            call final_small(pa, g, v, speed, status, sx, sy, nm)
+        end if
+        end associate
+    end subroutine iterate_small
+
+    !> g = S v: the slips of the packed tractions v by the dense slip operator.
+    pure subroutine sop_apply(pa, v, g)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: v(:)
+        real(dp), intent(out) :: g(:)
+        integer :: k, m
+        ! four columns per pass over g (g is loaded and stored a quarter as often)
+        m = 2 * pa%nc
+        g = 0.0_dp
+        do k = 1, m - 3, 4
+            if (v(k) == 0.0_dp .and. v(k + 1) == 0.0_dp .and. v(k + 2) == 0.0_dp .and. v(k + 3) == 0.0_dp) cycle
+            g = g + v(k) * pa%sop(:, k) + v(k + 1) * pa%sop(:, k + 1) + v(k + 2) * pa%sop(:, k + 2) &
+                + v(k + 3) * pa%sop(:, k + 3)
+        end do
+        do k = 4 * (m / 4) + 1, m
+            if (v(k) /= 0.0_dp) g = g + v(k) * pa%sop(:, k)
+        end do
+    end subroutine sop_apply
+
+    !> Every packed traction put on its Coulomb disc.
+    pure subroutine project_packed(pa, v)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(inout) :: v(:)
+        integer :: k
+        do k = 1, pa%nc
+            call project_on_disc(v(k), v(pa%nc + k), pa%bc(k))
+        end do
+    end subroutine project_packed
+
+    !> jacobi_residual on packed vectors (g = S v, iterate_small); Coulomb's element
+    !> problems all at once (element_batch).
+    pure subroutine jacobi_small(pa, g, v, r2, n2)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: g(:), v(:)
+        real(dp), intent(out) :: r2, n2
+        real(dp) :: scx, scy, lam
+        real(dp), dimension(SOP_MAX) :: ntx, nty, s0x, s0y   ! nc <= SOP_MAX (iterate_small)
+        integer :: k, n, st
+        n = pa%nc
+        do k = 1, n
+            s0x(k) = pa%wxc(k) + g(k)
+            s0y(k) = pa%wyc(k) + g(n + k)
+        end do
+        if (pa%varlaw) then
+            do k = 1, n
+                scx = s0x(k)
+                scy = s0y(k)
+                call element_any(pa, scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                 scx, scy, ntx(k), nty(k), st, lam)
+            end do
+        else
+            s0x(1:n) = s0x(1:n) - pa%kx * v(1:n)
+            s0y(1:n) = s0y(1:n) - pa%ky * v(n + 1:2 * n)
+            call element_batch(s0x(1:n), s0y(1:n), pa%kx, pa%ky, pa%bc, ntx(1:n), nty(1:n))
+        end if
+        r2 = 0.0_dp
+        n2 = 0.0_dp
+        do k = 1, n
+            r2 = r2 + (ntx(k) - v(k))**2 + (nty(k) - v(n + k))**2
+            n2 = n2 + ntx(k)**2 + nty(k)**2
+        end do
+    end subroutine jacobi_small
+
+    !> element_solve for many elements with the same pivots kx, ky (jacobi_small): the
+    !> adhesion test for each, then element_solve's Newton iteration on the slipping ones
+    !> side by side, without a branch per element and step (the steps go on until every
+    !> one has met element_solve's test; one that had only refines), so that the divisions
+    !> of different elements overlap. Agrees with element_solve to about 1e-11 relative.
+    pure subroutine element_batch(s0x, s0y, kx, ky, g, tx, ty)
+        real(dp), intent(in) :: s0x(:), s0y(:), kx, ky, g(:)
+        real(dp), intent(out) :: tx(:), ty(:)
+        real(dp), dimension(SOP_MAX) :: sx, sy, gx, gy, lam   ! size(s0x) <= SOP_MAX
+        logical :: ok(SOP_MAX)
+        real(dp) :: ax, ay, en, r, d, rho, dx3, dy3, f, fp, dl
+        integer :: idx(SOP_MAX), k, m, ns, it
+        ns = 0
+        do k = 1, size(s0x)
+            ax = -s0x(k) / kx
+            ay = -s0y(k) / ky
+            if (ax * ax + ay * ay <= g(k) * g(k)) then
+                tx(k) = ax
+                ty(k) = ay
+            else
+                tx(k) = 0.0_dp       ! g <= 0: no traction
+                ty(k) = 0.0_dp
+                if (g(k) <= 0.0_dp) cycle
+                ns = ns + 1
+                idx(ns) = k
+                sx(ns) = s0x(k)
+                sy(ns) = s0y(k)
+                gx(ns) = g(k) * kx
+                gy(ns) = g(k) * ky
+            end if
+        end do
+        if (ns == 0) return
+        do m = 1, ns   ! element_solve's second-order start
+            en = sx(m) * sx(m) + sy(m) * sy(m)
+            r = sqrt(en)
+            d = 0.5_dp * (gx(m) - gy(m)) / r
+            rho = (sx(m) * sx(m) - sy(m) * sy(m)) / en
+            lam(m) = max(0.0_dp, r * (1.0_dp - d * rho + 1.5_dp * d * d * (1.0_dp - rho * rho)) &
+                         - 0.5_dp * (gx(m) + gy(m)))
+        end do
+        do it = 1, 100
+            do m = 1, ns
+                dx3 = 1.0_dp / (lam(m) + gx(m))
+                dy3 = 1.0_dp / (lam(m) + gy(m))
+                f = (sx(m) * dx3)**2 + (sy(m) * dy3)**2 - 1.0_dp
+                fp = -2.0_dp * ((sx(m) * dx3)**2 * dx3 + (sy(m) * dy3)**2 * dy3)
+                dl = merge(-f / min(fp, -tiny(1.0_dp)), 0.0_dp, fp < 0.0_dp)
+                lam(m) = max(lam(m) + dl, 0.0_dp)
+                ok(m) = abs(dl) <= 1.0e-6_dp * (lam(m) + gx(m) + gy(m))
+            end do
+            if (all(ok(1:ns))) exit
+        end do
+        do m = 1, ns
+            dx3 = sx(m) / (lam(m) + gx(m))
+            dy3 = sy(m) / (lam(m) + gy(m))
+            en = g(idx(m)) / sqrt(dx3 * dx3 + dy3 * dy3)
+            tx(idx(m)) = -dx3 * en
+            ty(idx(m)) = -dy3 * en
+        end do
+    end subroutine element_batch
+
+    !> final_slip on packed vectors (g = S v): status and slip velocity (m/s) on the grid.
+    subroutine final_small(pa, g, v, speed, status, sx, sy, nmulti)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: g(:), v(:), speed
+        integer, intent(inout) :: status(:, :)
+        real(dp), intent(inout) :: sx(:, :), sy(:, :)
+        integer, intent(out) :: nmulti
+        real(dp) :: scx, scy, ntx, nty, lam, rkx, rky
+        integer :: k, n, i, j, st, nsol
+        n = pa%nc
+        nmulti = 0
+        rkx = 1.0_dp / pa%kx
+        rky = 1.0_dp / pa%ky
+        do k = 1, n
+            i = pa%ic(k)
+            j = pa%jc(k)
+            scx = pa%wxc(k) + g(k)
+            scy = pa%wyc(k) + g(n + k)
+            if (pa%varlaw) then
+                call element_any(pa, scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
+                                 scx, scy, ntx, nty, st, lam, nsol_out=nsol)
+                if (nsol > 1) nmulti = nmulti + 1
+            else
+                call element_solve_r(scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, rkx, rky, &
+                                     pa%bc(k), ntx, nty, st, lam)
+            end if
+            status(i, j) = st
+            if (st == ST_SLIP) then
+                sx(i, j) = speed * scx
+                sy(i, j) = speed * scy
+            end if
+        end do
+    end subroutine final_small
+
+    !> One row-implicit sweep on packed vectors (sweep, on a small contact set): the
+    !> runs in sweep order, each solved by run_small on the slips g = S v of the sweep's
+    !> start plus dg, the slip changes of the runs solved before it in this sweep, to
+    !> which its own traction change is then added as columns of S (the elements from
+    !> pa%rrow on: every element a later run reads). v: the tractions, updated.
+    pure subroutine sweep_small(pa, ninner, v, g)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: ninner
+        real(dp), intent(inout) :: v(:)
+        real(dp), intent(in) :: g(:)
+        real(dp) :: dg(2 * SOP_MAX), tox(SOP_MAX), toy(SOP_MAX), fx, fy   ! nc <= SOP_MAX
+        integer :: r, n, p0, nr, r0, q, kq
+        n = pa%nc
+        dg(1:2 * n) = 0.0_dp
+        do r = 1, pa%nrun
+            p0 = pa%rp0(r)
+            nr = pa%rn(r)
+            r0 = pa%rrow(r)
+            tox(1:nr) = v(p0:p0 + nr - 1)
+            toy(1:nr) = v(n + p0:n + p0 + nr - 1)
+            call run_small(pa, p0, nr, ninner, v, g, dg)
+            do q = 1, nr
+                kq = p0 + q - 1
+                fx = v(kq) - tox(q)
+                fy = v(n + kq) - toy(q)
+                if ((fx == 0.0_dp .and. fy == 0.0_dp) .or. r0 > n) cycle
+                dg(r0:n) = dg(r0:n) + pa%sop(r0:n, kq) * fx + pa%sop(r0:n, n + kq) * fy
+                dg(n + r0:2 * n) = dg(n + r0:2 * n) + pa%sop(n + r0:2 * n, kq) * fx &
+                                   + pa%sop(n + r0:2 * n, n + kq) * fy
+            end do
+        end do
+    end subroutine sweep_small
+
+    !> run_passes on packed vectors: ninner passes over the run of nr elements from
+    !> packed position p0, the slip of element q being g + dg (the rest of the contact
+    !> set) plus the run's own in-row displacement change du (its elements and the one
+    !> upstream, du(nr + 1)).
+    pure subroutine run_small(pa, p0, nr, ninner, v, g, dg)
+        type(rolling_patch), intent(in) :: pa
+        integer, intent(in) :: p0, nr, ninner
+        real(dp), intent(inout) :: v(:)
+        real(dp), intent(in) :: g(:), dg(:)
+        real(dp) :: dux(SOP_MAX + 1), duy(SOP_MAX + 1)   ! nr <= nc <= SOP_MAX
+        real(dp) :: scx, scy, pivx, pivy, s0x, s0y, ntx, nty, lam, dlx, dly, dx, rdx
+        integer :: n, q, pk, pass, st, pe
+        n = pa%nc
+        dx = pa%dx
+        pe = p0 + nr - 1
+        dux(1:nr + 1) = 0.0_dp
+        duy(1:nr + 1) = 0.0_dp
+        rdx = 1.0_dp / dx
+        associate (bs => pa%bases(nr), mx => pa%bases(nr)%mx, my => pa%bases(nr)%my, qx => pa%bases(nr)%qx, &
+                   qy => pa%bases(nr)%qy)
+            do pass = 1, ninner
+                do q = nr, 1, -1
+                    pk = p0 + q - 1
+                    scx = pa%wxc(pk) + g(pk) + dg(pk) + (dux(q) - dux(q + 1)) * rdx
+                    scy = pa%wyc(pk) + g(n + pk) + dg(n + pk) + (duy(q) - duy(q + 1)) * rdx
+                    pivx = bs%px(q)
+                    pivy = bs%py(q)
+                    s0x = scx - pivx * v(pk)
+                    s0y = scy - pivy * v(n + pk)
+                    if (pa%varlaw) then
+                        call element_any(pa, s0x, s0y, pivx, pivy, pa%bc(pk), scx, scy, ntx, nty, st, lam)
+                    else
+                        call element_solve_r(s0x, s0y, pivx, pivy, bs%rpx(q), bs%rpy(q), pa%bc(pk), ntx, nty, st, lam)
+                    end if
+                    dlx = (ntx - v(pk)) * bs%rmx(q)
+                    dly = (nty - v(n + pk)) * bs%rmy(q)
+                    if (dlx == 0.0_dp .and. dly == 0.0_dp) cycle
+                    v(p0:pe) = v(p0:pe) + mx(:, q) * dlx
+                    v(n + p0:n + pe) = v(n + p0:n + pe) + my(:, q) * dly
+                    v(pk) = ntx
+                    v(n + pk) = nty
+                    dux(1:q) = dux(1:q) + dlx
+                    duy(1:q) = duy(1:q) + dly
+                    dux(nr + 1) = dux(nr + 1) + qx(q) * dlx
+                    duy(nr + 1) = duy(nr + 1) + qy(q) * dly
+                end do
+            end do
+        end associate
+    end subroutine run_small
+
+    !> The fixed data of one solve: contact set, bounding box, coefficients and
+    !> in-row bases (and, for a small contact set, the dense slip operator, the runs in
+    !> sweep order and the packed bound); prod: the product choice of rolling_steady.
+    !> info: STAT_OK, STAT_NO_CONTACT, STAT_GRID_EDGE, or the failure of a basis
+    !> (make_basis).
+    subroutine patch_setup(w, p, mu, prod, pa, info)
+        type(workspace), intent(in) :: w
+        real(dp), intent(in) :: p(:, :), mu
+        integer, intent(in) :: prod
         type(rolling_patch), intent(out) :: pa
         integer, intent(out) :: info
         integer :: i, j, n
-        real(dp) :: x, y
 
         info = STAT_OK
         pa%nx = w%nx
         pa%ny = w%ny
         pa%dx = w%dx
+        pa%prod = prod
         allocate (pa%inc(pa%nx, pa%ny), pa%bound(pa%nx, pa%ny))
         pa%bound = mu * p
         pa%inc = p > 0.0_dp
-        where (.not. pa%inc)
-            tx = 0.0_dp
-            ty = 0.0_dp
-        end where
         if (.not. any(pa%inc)) then
             info = STAT_NO_CONTACT
             return
@@ -454,7 +948,10 @@ contains
             pa%rxx = pa%axx
             pa%ryy = pa%ayy
             pa%rxy = pa%axy
-            if (pa%nc <= SOP_MAX) call slip_operator(pa)
+            if (pa%nc <= SOP_MAX) then
+                call slip_operator(pa)
+                call small_runs(pa)
+            end if
         end if
         call extrapolated(pa%nbx, pa%axx)
         call extrapolated(pa%nbx, pa%ayy)
@@ -466,26 +963,65 @@ contains
                 if (pa%inc(i + 1, j)) cycle
                 n = i - pa%trail(i, j) + 1
                 if (allocated(pa%bases(n)%mx)) cycle
-                call make_basis(n, pa%nbx, pa%axx(:, 0), pa%ayy(:, 0), pa%bases(n), info)
+                call make_basis(n, pa%nbx, pa%dx, allocated(pa%sop), pa%axx(:, 0), pa%ayy(:, 0), pa%bases(n), info)
                 if (info /= STAT_OK) return
             end do
         end do
         pa%kx = (WU0 * w%c(0, 0, KERNEL_XX) + WU1 * w%c(1, 0, KERNEL_XX) + WU2 * w%c(2, 0, KERNEL_XX)) / pa%dx
         pa%ky = (WU0 * w%c(0, 0, KERNEL_YY) + WU1 * w%c(1, 0, KERNEL_YY) + WU2 * w%c(2, 0, KERNEL_YY)) / pa%dx
-
-        ! rigid slip (eq. 29's w, creepage units)
         allocate (pa%wx(pa%nx, pa%ny), pa%wy(pa%nx, pa%ny))
+    end subroutine patch_setup
+
+    !> The small path's runs in sweep order (rows ascending, within a row from the
+    !> leading edge), as packed positions, and the packed bound (patch_setup).
+    subroutine small_runs(pa)
+        type(rolling_patch), intent(inout) :: pa
+        integer, allocatable :: pos(:, :)
+        integer :: i, j, k
+        allocate (pos(pa%nx, pa%ny), pa%bc(pa%nc), pa%wxc(pa%nc), pa%wyc(pa%nc))
+        pos = 0
+        do k = 1, pa%nc
+            pos(pa%ic(k), pa%jc(k)) = k
+            pa%bc(k) = pa%bound(pa%ic(k), pa%jc(k))
+        end do
+        pa%nrun = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i2, pa%i1, -1
+                if (pa%inc(i, j) .and. .not. pa%inc(i + 1, j)) pa%nrun = pa%nrun + 1
+            end do
+        end do
+        allocate (pa%rp0(pa%nrun), pa%rn(pa%nrun), pa%rrow(pa%nrun))
+        k = 0
+        do j = pa%j1, pa%j2
+            do i = pa%i2, pa%i1, -1
+                if (.not. (pa%inc(i, j) .and. .not. pa%inc(i + 1, j))) cycle
+                k = k + 1
+                pa%rp0(k) = pos(pa%trail(i, j), j)
+                pa%rn(k) = i - pa%trail(i, j) + 1
+                ! a run that fills its row changes no other element of it: the next row's first
+                pa%rrow(k) = pos(pa%rlo(j), j)
+                if (pa%trail(i, j) == pa%rlo(j) .and. i == pa%rhi(j)) pa%rrow(k) = pa%rp0(k) + pa%rn(k)
+            end do
+        end do
+    end subroutine small_runs
+
+    !> The rigid slip of eq. 29 (creepage units) on the grid: w_x = xi - phi y,
+    !> w_y = eta + phi x, x, y of the element centres (x0, y0 that of element (1, 1), dy the
+    !> lateral step).
+    subroutine rigid_slip(pa, x0, y0, dy, xi, eta, phi)
+        type(rolling_patch), intent(inout) :: pa
+        real(dp), intent(in) :: x0, y0, dy, xi, eta, phi
+        integer :: i, j
+        real(dp) :: x, y
         do j = 1, pa%ny
-            y = y0 + (j - 1) * w%dy
+            y = y0 + (j - 1) * dy
             do i = 1, pa%nx
                 x = x0 + (i - 1) * pa%dx
                 pa%wx(i, j) = xi - phi * y
                 pa%wy(i, j) = eta + phi * x
             end do
         end do
-        ! warm start: on the Coulomb disc
-        call project_all(pa, tx, ty)
-    end subroutine patch_setup
+    end subroutine rigid_slip
 
     !> Bounding box of the contact set (plus the upstream row: ut there needs u
     !> one row further) and the trailing end of the contiguous run of contact
@@ -537,11 +1073,17 @@ contains
         real(dp), intent(in) :: cfull(0:, 0:)
         integer, intent(in) :: nx, ny, nbx, nby
         real(dp), intent(out) :: cc(-nbx - 1:, -nby:)
-        integer :: a, b
+        integer :: a, b, ia, jb
         cc = 0.0_dp
         do b = -nby, nby
+            if (abs(b) >= ny) cycle
+            jb = b
+            if (b < 0) jb = b + 2 * ny     ! modulo(b, 2 ny)
             do a = -nbx - 1, nbx + 1
-                if (abs(a) < nx .and. abs(b) < ny) cc(a, b) = cfull(modulo(a, 2 * nx), modulo(b, 2 * ny))
+                if (abs(a) >= nx) cycle
+                ia = a
+                if (a < 0) ia = a + 2 * nx
+                cc(a, b) = cfull(ia, jb)
             end do
         end do
     end subroutine by_offset
@@ -563,9 +1105,12 @@ contains
     !> is 1 on elements 0..q of the run and 0 upstream of q), and
     !> q(q) = the ut they give at the element upstream of the run.
     !> axr, ayr: the row At(:, 0) of the xx and yy kernels, offsets -nbx-1..nbx+1.
-    !> info: STAT_OK or dense_inverse's failure.
-    subroutine make_basis(n, nbx, axr, ayr, basis, info)
+    !> small: the small path's basis (small_inverse; else dense_inverse, LAPACK's LU).
+    !> info: STAT_OK or the inverse's failure.
+    subroutine make_basis(n, nbx, dx, small, axr, ayr, basis, info)
         integer, intent(in) :: n, nbx
+        real(dp), intent(in) :: dx
+        logical, intent(in) :: small   ! the small path's (small_inverse), else LAPACK's LU
         real(dp), intent(in) :: axr(-nbx - 1:), ayr(-nbx - 1:)
         type(run_basis), intent(inout) :: basis
         integer, intent(out) :: info
@@ -583,7 +1128,11 @@ contains
                     end if
                 end do
             end do
-            call dense_inverse(n, m, info)
+            if (small) then
+                call small_inverse(m, info)
+            else
+                call dense_inverse(n, m, info)
+            end if
             if (info /= STAT_OK) return
             ! C e_q = ones on elements 1..q (downstream of and at q): cumulative columns
             do b = 2, n
@@ -601,7 +1150,64 @@ contains
                 end do
             end if
         end do
+        ! the pivots as run_passes forms them (the leading element's with its upstream term)
+        allocate (basis%px(n), basis%py(n), basis%rpx(n), basis%rpy(n), basis%rmx(n), basis%rmy(n))
+        do b = 1, n
+            basis%px(b) = 1.0_dp / (dx * basis%mx(b, b))
+            basis%py(b) = 1.0_dp / (dx * basis%my(b, b))
+            if (b == n) then
+                basis%px(b) = (1.0_dp - basis%qx(b)) / (dx * basis%mx(b, b))
+                basis%py(b) = (1.0_dp - basis%qy(b)) / (dx * basis%my(b, b))
+            end if
+            basis%rpx(b) = 1.0_dp / basis%px(b)
+            basis%rpy(b) = 1.0_dp / basis%py(b)
+            basis%rmx(b) = 1.0_dp / basis%mx(b, b)
+            basis%rmy(b) = 1.0_dp / basis%my(b, b)
+        end do
     end subroutine make_basis
+
+    !> a <- a^-1 for a small n x n matrix (a run's Toeplitz block, n <= nx) by Gauss-Jordan
+    !> elimination of [a | I] with partial pivoting, in plain loops: no BLAS kernel whose
+    !> choice (OPENBLAS_CORETYPE) could change the rounding, and no library call overhead
+    !> for the few elements of a run. info: STAT_OK, or STAT_SINGULAR for a zero pivot.
+    pure subroutine small_inverse(a, info)
+        real(dp), intent(inout) :: a(:, :)
+        integer, intent(out) :: info
+        real(dp) :: b(size(a, 1), size(a, 1)), row(size(a, 1)), f
+        integer :: n, k, i, r
+        n = size(a, 1)
+        b = 0.0_dp
+        do k = 1, n
+            b(k, k) = 1.0_dp
+        end do
+        info = STAT_OK
+        do k = 1, n
+            r = k - 1 + maxloc(abs(a(k:n, k)), dim=1)
+            if (.not. (abs(a(r, k)) > 0.0_dp)) then
+                info = STAT_SINGULAR
+                return
+            end if
+            if (r /= k) then
+                row = a(k, :)
+                a(k, :) = a(r, :)
+                a(r, :) = row
+                row = b(k, :)
+                b(k, :) = b(r, :)
+                b(r, :) = row
+            end if
+            f = 1.0_dp / a(k, k)
+            a(k, :) = a(k, :) * f
+            b(k, :) = b(k, :) * f
+            do i = 1, n
+                if (i == k) cycle
+                f = a(i, k)
+                if (f == 0.0_dp) cycle
+                a(i, :) = a(i, :) - f * a(k, :)
+                b(i, :) = b(i, :) - f * b(k, :)
+            end do
+        end do
+        a = b
+    end subroutine small_inverse
 
     !> The upwind difference quotient of the field u at element (i, j):
     !> (ut_i - ut_i+1) / dx (eq. 29).

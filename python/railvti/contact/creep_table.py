@@ -5,8 +5,11 @@ problem many times: the normal problem, then steady rolling, for a list of creep
 and geometries. :func:`solve_rolling` per case spends more time in Python than in the
 solvers on an 11 x 11 grid; :func:`creep_force_table` hands the whole table to the
 Fortran (``fortran/contact/contact_creep_table.f90``), which runs each case as
-:func:`solve_rolling` does (projected CG from zero pressure, then the steady rolling
-solver from zero traction, method 'fftgs') and returns the forces.
+:func:`solve_rolling` does (the normal problem, then the steady rolling solver from zero
+traction, method 'fftgs') and returns the forces. On small grids (the 11 x 11 case) the
+normal problem is solved exactly by an active set on the dense influence matrix
+(``contact_normal_dense.f90``), elsewhere by projected CG from zero pressure as
+:func:`solve_rolling` does.
 """
 
 from __future__ import annotations
@@ -26,10 +29,10 @@ from .workspace import call_directly, call_interruptibly, workspace
 
 log = logging.getLogger(__name__)
 
-#: Tables of at most this many element sweeps (cases x nx ny x max_iter, the worst case)
-#: call the Fortran in the calling thread; larger ones run in a worker thread that Ctrl-C
-#: can leave (as :data:`railvti.contact.rolling.DIRECT_CALL_WORK`; the thread's start,
-#: up to 1 ms, is shared by the whole table).
+#: Slices of a table of at most this many element sweeps (cases x nx ny x max_iter, the worst
+#: case) call the Fortran in the calling thread, one after the other, Ctrl-C acting between
+#: them; a case of more work runs in a worker thread that Ctrl-C can leave (as
+#: :data:`railvti.contact.rolling.DIRECT_CALL_WORK`; the thread costs 0.1 ms of CPU per call).
 DIRECT_CALL_WORK = 2_500_000
 
 
@@ -59,7 +62,8 @@ class CreepForceTable:
     approach : ndarray, shape (ncase,)
         Approach of the bodies, m.
     normal_iterations : ndarray of int, shape (ncase,)
-        CG iterations of the case's normal solve (shared by the cases that reuse it).
+        Iterations of the case's normal solve (shared by the cases that reuse it): trial
+        contact sets of the active set on small grids, else CG iterations.
     iterations : ndarray of int, shape (ncase,)
         Sweeps of the rolling solver.
     normal_solves : int
@@ -105,6 +109,92 @@ def _gap_stack(gap: object, grid: Grid, ncase: int) -> tuple[np.ndarray, np.ndar
     return np.asfortranarray(stack), kgap
 
 
+def _raise_for_case(k: int, nfo_n: int, nfo_t: int, iters_n: int, iters_t: int) -> None:
+    """The error of the failed case k from its statuses and iterations (its normal solve's,
+    else its rolling solve's)."""
+    if nfo_n == Status.GRID_EDGE:
+        raise GridTooSmallError(
+            f"case {k}: the contact area reaches the grid edge (or the last two "
+            "element rows at x = x_max, which the slip needs): enlarge the grid"
+        )
+    if nfo_n != Status.OK:
+        raise ConvergenceError(
+            f"case {k}: the normal contact solver failed "
+            f"({Status(int(nfo_n)).name}) after {iters_n} iterations",
+            iterations=int(iters_n),
+        )
+    if nfo_t == Status.GRID_EDGE:
+        raise GridTooSmallError(
+            f"case {k}: the contact area reaches the last two element rows at the "
+            "leading grid edge x = x_max (the slip needs two elements upstream)"
+        )
+    raise ConvergenceError(
+        f"case {k}: the rolling contact solver failed ({Status(int(nfo_t)).name}) after {iters_t} sweeps",
+        iterations=int(iters_t),
+    )
+
+
+def _solve_in_slices(
+    grid: Grid,
+    material: Material,
+    stack: np.ndarray,
+    kgap: np.ndarray,
+    fns: np.ndarray,
+    creep: np.ndarray,
+    starts: np.ndarray,
+    params: tuple,
+) -> tuple[np.ndarray, ...]:
+    """The table's Fortran calls: slices of at most DIRECT_CALL_WORK element sweeps (cases x nx ny
+    x max_iter, the worst case) in the calling thread, Ctrl-C acting between them (a worker
+    thread costs 0.1 ms of CPU per call, more than an 11 x 11 case), each slice continuing
+    the previous one's normal solution (the same normal solves as one call); a case of more
+    work alone in a worker thread that Ctrl-C can leave. The outputs per case, in order; the
+    first failed case raises (its slice's successors are not solved)."""
+    mu, speed, normal_tol, tol, normal_max_iter, max_iter = params
+    ncase = len(kgap)
+    per_case = grid.nx * grid.ny * max_iter
+    call = call_interruptibly if per_case > DIRECT_CALL_WORK else call_directly
+    step = ncase if per_case > DIRECT_CALL_WORK else max(1, DIRECT_CALL_WORK // per_case)
+    handle = workspace(grid, material, tangential=True)
+    pstate = np.zeros(grid.shape, order="F")
+    rstate = np.zeros(1)
+    istate = np.zeros(1, dtype=np.int32)
+    creep_t = np.asfortranarray(creep.T)
+    parts = []
+    for a in range(0, ncase, step):
+        b = min(a + step, ncase)
+        *out, nfo_n, nfo_t, info = call(
+            handle,
+            core.creep_force_table_c,
+            stack,
+            kgap[a:b],
+            np.ascontiguousarray(fns[a:b]),
+            np.asfortranarray(creep_t[:, a:b]),
+            mu,
+            speed,
+            grid.x0,
+            grid.y0,
+            normal_tol,
+            tol,
+            normal_max_iter,
+            max_iter,
+            int(a > 0 and not starts[a]),
+            pstate,
+            rstate,
+            istate,
+        )
+        if info != Status.OK:
+            raise error(info, "creep-force table failed internally", exc=RailvtiError)
+        # the slice's statuses checked at once (a loop over IntEnum members costs more than
+        # an 11 x 11 case); the first failed case is named as a loop over the cases would
+        failed = np.flatnonzero((nfo_n != Status.OK) | (nfo_t != Status.OK))
+        if failed.size:
+            k = int(failed[0])
+            _raise_for_case(a + k, nfo_n[k], nfo_t[k], out[6][k], out[7][k])
+        parts.append(out)
+    return tuple(col[0] if len(col) == 1 else np.concatenate(col) for col in zip(*parts))
+
+
 def creep_force_table(
     gap: np.ndarray,
     grid: Grid,
@@ -121,11 +211,15 @@ def creep_force_table(
     """Steady rolling creep forces of a table of cases on one grid, in one Fortran call.
 
     Each case is the one :func:`~railvti.contact.solve_rolling` solves with its default
-    methods (projected CG for the pressure from zero, then the steady rolling solver
-    'fftgs' from zero traction), and gives the same forces (to rounding on grids below
-    128 x 128, where solve_rolling starts CG from zero too). The normal problem is solved
-    once for each run of consecutive cases with the same gap and normal force: the
-    pressure of quasi-identical bodies does not depend on the creepages.
+    methods (the pressure, then the steady rolling solver 'fftgs' from zero traction), and
+    gives the same forces to the normal solver's tolerance: on small grids (where its
+    operation count wins, e.g. 11 x 11) the pressure is the exact solution of an active set
+    on the dense influence matrix, where solve_rolling's projected CG stops at its tolerance
+    (forces within 2e-8 of the largest on the 11 x 11 benchmark); elsewhere both run CG from
+    zero (the same forces to rounding on grids below 128 x 128). The normal problem is solved
+    once for each run of consecutive cases with the same gap and normal force: the pressure
+    of quasi-identical bodies does not depend on the creepages. The table runs in slices
+    (Ctrl-C acts between them) with the same results as one call.
 
     Parameters
     ----------
@@ -188,56 +282,19 @@ def creep_force_table(
     normal_max_iter = _checks.positive_int("normal_max_iter", normal_max_iter)
     stack, kgap = _gap_stack(gap, grid, ncase)
 
-    call = call_interruptibly if ncase * grid.nx * grid.ny * max_iter > DIRECT_CALL_WORK else call_directly
-    fx, fy, mz, power, ncontact, approach, iters_n, iters_t, nfo_n, nfo_t, info = call(
-        workspace(grid, material, tangential=True),
-        core.creep_force_table_c,
-        stack,
-        kgap,
-        np.ascontiguousarray(fns),
-        np.asfortranarray(creep.T),
-        mu,
-        speed,
-        grid.x0,
-        grid.y0,
-        normal_tol,
-        tol,
-        normal_max_iter,
-        max_iter,
-    )
-    if info != Status.OK:
-        raise error(info, "creep-force table failed internally", exc=RailvtiError)
-    for k in range(ncase):
-        if nfo_n[k] == Status.GRID_EDGE:
-            raise GridTooSmallError(
-                f"case {k}: the contact area reaches the grid edge (or the last two "
-                "element rows at x = x_max, which the slip needs): enlarge the grid"
-            )
-        if nfo_n[k] != Status.OK:
-            raise ConvergenceError(
-                f"case {k}: the normal contact solver failed "
-                f"({Status(int(nfo_n[k])).name}) after {iters_n[k]} iterations",
-                iterations=int(iters_n[k]),
-            )
-        if nfo_t[k] == Status.GRID_EDGE:
-            raise GridTooSmallError(
-                f"case {k}: the contact area reaches the last two element rows at the "
-                "leading grid edge x = x_max (the slip needs two elements upstream)"
-            )
-        if nfo_t[k] != Status.OK:
-            raise ConvergenceError(
-                f"case {k}: the rolling contact solver failed ({Status(int(nfo_t[k])).name}) "
-                f"after {iters_t[k]} sweeps",
-                iterations=int(iters_t[k]),
-            )
     starts = np.ones(ncase, dtype=bool)
     starts[1:] = (kgap[1:] != kgap[:-1]) | (fns[1:] != fns[:-1])
-    log.debug(
-        "creep_force_table: %d cases, %d normal solves, %.1f sweeps on average",
-        ncase,
-        int(starts.sum()),
-        float(iters_t.mean()),
+    params = (mu, speed, normal_tol, tol, normal_max_iter, max_iter)
+    fx, fy, mz, power, ncontact, approach, iters_n, iters_t = _solve_in_slices(
+        grid, material, stack, kgap, fns, creep, starts, params
     )
+    if log.isEnabledFor(logging.DEBUG):
+        log.debug(
+            "creep_force_table: %d cases, %d normal solves, %.1f sweeps on average",
+            ncase,
+            int(starts.sum()),
+            float(iters_t.mean()),
+        )
     return CreepForceTable(
         grid=grid,
         creepage=creep.copy(),

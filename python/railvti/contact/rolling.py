@@ -212,7 +212,11 @@ def rolling_result(
     tx, ty = t
     sx, sy = s
     da = grid.element_area
-    x, y = grid.mesh()
+    # x_i ty_ij - y_j tx_ij by broadcasting, laid out (C order) and so summed as the products
+    # of grid.mesh()'s arrays were (the same Mz to the bit), without making the mesh
+    arm = np.subtract(
+        np.multiply(grid.x[:, None], ty, order="C"), np.multiply(grid.y[None, :], tx, order="C"), order="C"
+    )
     n_contact = int(np.count_nonzero(p))  # p >= 0
     return RollingResult(
         grid=grid,
@@ -231,7 +235,7 @@ def rolling_result(
         slip_velocity_y=sy,
         fx=float(tx.sum()) * da,
         fy=float(ty.sum()) * da,
-        mz=float((x * ty - y * tx).sum() * da),  # this order: Mz of a saturated patch cancels
+        mz=float(arm.sum() * da),  # this order: Mz of a saturated patch cancels
         power=float((np.hypot(tx, ty) * np.hypot(sx, sy)).sum() * da),
         iterations=iterations,
         residual=residual,
