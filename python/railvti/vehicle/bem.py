@@ -137,6 +137,15 @@ class BemOptions:
         the model's force error measured at the solves within twice the band
         (docs/vehicle_contact.md, "Linear updates"). 0: every patch solved (as before). The
         static equilibrium always solves every patch.
+    update_reach : float
+        Linear updates in motion (issue 33): a patch whose inputs moved beyond the band, each
+        input's first-order term within ``update_reach`` x ``update_band`` x Fn, also takes
+        its forces from its linear model when the model's Jacobian was made within 3 % of
+        both the base's and the current approach (else the patch is solved with a new
+        Jacobian) and the lateral position stayed in the base's and the Jacobian's table
+        cell; within the band such a Jacobian serves too. On the ring track (FF, RF) the
+        sleeper passing moves every patch's normal force by 6-12 bands a step, beyond the
+        band alone. 0: the band's updates only (as before).
     """
 
     dx: float = 7.5e-4
@@ -151,6 +160,7 @@ class BemOptions:
     window: bool = True
     jacobian_age: int = 128
     update_band: float = 5e-4
+    update_reach: float = 20.0
 
     def __post_init__(self) -> None:
         _checks.positive("dx", self.dx)
@@ -162,6 +172,9 @@ class BemOptions:
         _checks.positive_int("max_iter_rolling", self.max_iter_rolling)
         if not (isinstance(self.update_band, (int, float)) and 0.0 <= self.update_band < 1.0):
             raise InputError(f"update_band must be a number in [0, 1), got {self.update_band!r}")
+        r = self.update_reach
+        if not (isinstance(r, (int, float)) and not isinstance(r, bool) and 0.0 <= r < float("inf")):
+            raise InputError(f"update_reach must be a finite number >= 0, got {r!r}")
         if not isinstance(self.jacobian_age, (int, np.integer)) or self.jacobian_age < 0:
             raise InputError(f"jacobian_age must be an integer >= 0, got {self.jacobian_age!r}")
         for name in ("nx", "ny"):
@@ -382,7 +395,7 @@ class BemState:
 
     def set_update_band(self, band: float) -> None:
         """Set the linear updates' band (:attr:`BemOptions.update_band`; 0: solve every patch)."""
-        info = core.vehicle_bem_update_c(self.handle, float(band))
+        info = core.vehicle_bem_update_c(self.handle, float(band), float(self.options.update_reach))
         check(info, f"could not set the BEM update band {band!r}")
         self.update_band = float(band)
 
