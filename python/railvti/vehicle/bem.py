@@ -138,14 +138,17 @@ class BemOptions:
         (docs/vehicle_contact.md, "Linear updates"). 0: every patch solved (as before). The
         static equilibrium always solves every patch.
     update_reach : float
-        Linear updates in motion (issue 33): a patch whose inputs moved beyond the band, each
-        input's first-order term within ``update_reach`` x ``update_band`` x Fn, also takes
-        its forces from its linear model when the model's Jacobian was made within 3 % of
-        both the base's and the current approach (else the patch is solved with a new
-        Jacobian) and the lateral position stayed in the base's and the Jacobian's table
-        cell; within the band such a Jacobian serves too. On the ring track (FF, RF) the
-        sleeper passing moves every patch's normal force by 6-12 bands a step, beyond the
-        band alone. 0: the band's updates only (as before).
+        Linear updates in motion (issue 33): a patch whose approach and relative roll (the
+        gap's inputs) moved beyond the band, each one's first-order force terms within
+        ``update_reach`` x ``update_band`` x Fn, while the creepages and the lateral position
+        stayed within the band (in the base's table cell), also takes its forces from its
+        linear model when the model's Jacobian was made near them (their normal-force terms
+        from the Jacobian's inputs within 4.5 % of Fn, the approach within 3 %; else the patch
+        is solved, with a new Jacobian); within the band such a Jacobian serves too. On the
+        ring track (FF, RF) the sleeper passing moves every patch's approach by 6-30 bands
+        between solves, beyond the band alone. The error admitted is ~20 times the band's
+        (docs/vehicle_contact.md, "Updates in motion"). 0: the band's updates only (as
+        before).
     """
 
     dx: float = 7.5e-4
