@@ -35,7 +35,7 @@ dur, out, speed, variant, opts = float(sys.argv[1]), sys.argv[2], float(sys.argv
 t1 = time.perf_counter()
 scenarios.wheel_table()
 t2 = time.perf_counter()
-scenarios.coach_system(variant)
+scenarios.coach_system(variant) if variant == "RR" else scenarios.coach_system(variant, speed_kmh=speed)
 t3 = time.perf_counter()
 kw = {"bem_options": BemOptions(**opts)} if opts else {}
 r = scenarios.hunting(speed, variant=variant, contact="bem", duration=dur, threads=1, progress=False, **kw)

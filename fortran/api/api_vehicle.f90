@@ -532,17 +532,18 @@ end subroutine vehicle_bem_jacobian_c
 
 !> Linear updates of a BEM state's patches (vehicle_bem%bem_update): band > 0 takes a
 !> patch's forces from its linear model while each input's first-order change stays within
-!> band x its normal force; 0 solves every patch. info: STAT_OK, STAT_BAD_HANDLE,
+!> band x its normal force; 0 solves every patch; reach > 0 also while it stays within reach
+!> bands with a Jacobian made near it (in motion). info: STAT_OK, STAT_BAD_HANDLE,
 !> STAT_BAD_ARGUMENT.
-subroutine vehicle_bem_update_c(handle, band, info)
+subroutine vehicle_bem_update_c(handle, band, reach, info)
     use iso_c_binding, only: c_int, c_double
     use vehicle_bem, only: bem_update
     implicit none
     integer(c_int), intent(in) :: handle
-    real(c_double), intent(in) :: band
+    real(c_double), intent(in) :: band, reach
     integer(c_int), intent(out) :: info
     integer :: stat
-    call bem_update(handle, band, stat)
+    call bem_update(handle, band, reach, stat)
     info = stat
 end subroutine vehicle_bem_update_c
 

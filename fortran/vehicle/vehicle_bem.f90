@@ -47,8 +47,10 @@
 !> (linear_update: each input's own first-order change of each force within band x the
 !> point's normal force, the lateral position within a table node, and a Jacobian made near
 !> the solve's inputs, else the point is solved, with a fresh Jacobian once it has stayed
-!> within the band for UPD_CALM evaluations); its fields, warm starts and the
-!> model's base stay the solve's. The decision is taken serially in setup_point from the
+!> within the band for UPD_CALM evaluations); with a reach (UPD_NEAR_FN) also when only the
+!> approach and roll moved beyond the band, within reach bands, with a Jacobian made near
+!> them (the ring's sleeper passing); its fields, warm starts and the model's base stay the
+!> solve's. The decision is taken serially in setup_point from the
 !> committed state only, so threads and chunking give the same numbers as before. A point
 !> whose approach lies below a lower bound of its gap field (surely_open) is found open
 !> without building the field, and an open point whose fields are already zero is not
@@ -147,6 +149,21 @@ module vehicle_bem
     !> would cost more than it saves (FF at 300 km/h: 36 instead of 26 solve pairs a step):
     !> such a point is solved without one.
     integer, parameter :: UPD_CALM = 4
+    !> Linear updates in motion (bem_update's reach > 0): a point whose approach and roll
+    !> (the gap's inputs) moved beyond the band, within reach bands, while the others stayed
+    !> within it, takes its forces from the model when the model's Jacobian was made near
+    !> (jacobian_fresh: the approach's and roll's normal-force terms between the Jacobian's
+    !> inputs and the base's, and the current ones, within UPD_NEAR_FN x fn, 4.5 %, i.e. the
+    !> approach within 3 %; else the point is solved, with a new Jacobian when the others
+    !> are fresh) and the lateral position of the three lies in one table cell (the gap
+    !> field's slope in it, the Jacobian's, changes at the nodes). Within the band such a
+    !> Jacobian serves too. In FF's steady running the ring's sleeper passing moves every
+    !> patch's approach by 0.3-1 % between solves (6-30 bands of the normal force).
+    real(dp), parameter :: UPD_NEAR_FN = 0.045_dp
+    !> The linear model's inputs held to the band in motion: the creepages and the lateral
+    !> position (the lateral dynamics' own inputs: with the lateral position in the reach
+    !> too, RR's hunting amplitude in its third second, 4.4 um, moved by +12.7 %).
+    logical, parameter :: BAND_IN(NLIN) = [.false., .false., .true., .true., .true., .true.]
 
     !> What every solve of a model reads and none changes.
     type :: bem_setup
@@ -211,6 +228,9 @@ module vehicle_bem
         !> linear updates (bem_update): a point's forces from its linear model while each
         !> input's first-order change of its forces stays within band x its normal force; 0 off
         real(dp) :: band = 0
+        !> linear updates in motion (bem_update, UPD_NEAR_FN): the gap's inputs up to reach
+        !> bands from the base with a Jacobian near it; 0 off
+        real(dp) :: reach = 0
         !> full-grid workspace per thread (1 made at creation, the others when needed)
         integer :: ws(MAX_THREADS) = 0
         !> solves on windows (see the module doc); win(:, i) = (nx, ny) of the nwin window
@@ -286,6 +306,7 @@ contains
         m%nthreads = threads_of(0)
         m%jage = JAC_AGE
         m%band = 0.0_dp
+        m%reach = 0.0_dp
         m%gap = gap
         allocate (m%gmin(2, ntab))
         do l = 1, ntab
@@ -722,7 +743,7 @@ contains
             pt%band = m%band
             pt%still = .false.
             pt%stale = .false.
-            pt%lin = linear_update(m%band, m%jage, pt)
+            pt%lin = linear_update(m%band, m%reach, m%jage, pt)
             if (pt%lin .or. surely_open(m, ks, pt)) then
                 pt%open = .not. pt%lin
                 pt%still = pt%open .and. pt%zero
@@ -1228,15 +1249,17 @@ contains
     !> order in the inputs' moves plus the Jacobian's age (update_error measures it at the
     !> solves near the band's edge). band = 0 (the default here) solves every patch.
     !> info: STAT_OK, STAT_BAD_HANDLE, STAT_BAD_ARGUMENT (band < 0 or not finite).
-    subroutine bem_update(handle, band, info)
+    subroutine bem_update(handle, band, reach, info)
         integer, intent(in) :: handle
-        real(dp), intent(in) :: band
+        real(dp), intent(in) :: band, reach
         integer, intent(out) :: info
         info = STAT_BAD_HANDLE
         if (.not. live(handle)) return
         info = STAT_BAD_ARGUMENT
         if (.not. (band >= 0.0_dp .and. band <= huge(1.0_dp))) return
+        if (.not. (reach >= 0.0_dp .and. reach <= huge(1.0_dp))) return
         models(handle)%band = band
+        models(handle)%reach = reach
         info = STAT_OK
     end subroutine bem_update
 
@@ -1244,9 +1267,10 @@ contains
     !> parameters UPD_*, bem_update): band > 0, a model (a committed solve in contact and a
     !> Jacobian) made for the same friction and speed, no new Jacobian due, the approach
     !> positive, the lateral position within UPD_DS nodes of the base's, and every input's
-    !> own term of the model within the band (limits). Sets pt%out from the model when so.
-    logical function linear_update(band, jage, pt) result(ok)
-        real(dp), intent(in) :: band
+    !> own term of the model within the band (limits), or with reach > 0 approach and roll
+    !> within reach bands (UPD_NEAR_FN). Sets pt%out from the model when so.
+    logical function linear_update(band, reach, jage, pt) result(ok)
+        real(dp), intent(in) :: band, reach
         integer, intent(in) :: jage
         type(bem_point), intent(inout) :: pt
         real(dp) :: x(NLIN), y(NLIN), r
@@ -1258,32 +1282,67 @@ contains
         x = point_inputs(pt)
         if (abs(x(6) - pt%xb(6)) > UPD_DS) return
         r = band_ratio(band, pt, x, pt%xb)
-        if (r > 1.0_dp) return
+        if (r > 1.0_dp) then
+            ! in motion (reach): approach and roll beyond the band, within reach bands, the
+            ! creepages and the lateral position within the band, the latter in the base's and the
+            ! Jacobian's cell
+            if (.not. (reach > 0.0_dp)) return
+            if (band_ratio(band, pt, x, pt%xb, BAND_IN) > 1.0_dp .or. r > reach) return
+            if (floor(x(6)) /= floor(pt%xb(6)) .or. floor(pt%xj(6)) /= floor(pt%xb(6))) return
+        end if
         y = pt%yb + matmul(pt%jac, x - pt%xb)
         if (.not. (y(1) > 0.0_dp)) return
-        pt%calmn = pt%calm + 1
-        if (abs(pt%xb(6) - pt%xj(6)) > UPD_DS .or. band_ratio(band, pt, pt%xb, pt%xj) > UPD_FRESH) then
-            pt%stale = pt%calmn >= UPD_CALM    ! a new Jacobian with the solve, or none yet
+        if (r <= 1.0_dp) pt%calmn = pt%calm + 1
+        if (.not. jacobian_fresh(band, reach, pt, x)) then
+            ! a new Jacobian with the solve: once calm within the band, or in motion when
+            ! only the gap's inputs moved away from the Jacobian's
+            pt%stale = pt%calmn >= UPD_CALM .or. &
+                       (r > 1.0_dp .and. band_ratio(band, pt, pt%xb, pt%xj, BAND_IN) <= UPD_FRESH)
             return
         end if
         pt%out = [y(1), y(2), y(3), y(4), y(5) / y(1), y(6) / y(1)]
         ok = .true.
     end function linear_update
 
-    !> The largest |jac(k, i) (x_i - x0_i)| over outputs k and inputs i of point pt's linear
-    !> model, each relative to its limit (band fn_b, for the moments times UPD_ARM): <= 1
-    !> inside the band of bem_update (x0 the base xb).
-    pure real(dp) function band_ratio(band, pt, x, x0) result(r)
+    !> The largest |jac(k, i) (x_i - x0_i)| over outputs k and inputs i (those in mask when
+    !> present) of point pt's linear model, each relative to its limit (band fn_b, for the
+    !> moments times UPD_ARM): <= 1 inside the band of bem_update (x0 the base xb).
+    pure real(dp) function band_ratio(band, pt, x, x0, mask) result(r)
         real(dp), intent(in) :: band, x(NLIN), x0(NLIN)
         type(bem_point), intent(in) :: pt
+        logical, intent(in), optional :: mask(NLIN)
         real(dp) :: lim(NLIN)
         integer :: i
         lim = band * pt%yb(1) * [1.0_dp, 1.0_dp, 1.0_dp, UPD_ARM, UPD_ARM, UPD_ARM]
         r = 0.0_dp
         do i = 1, NLIN
+            if (present(mask)) then
+                if (.not. mask(i)) cycle
+            end if
             r = max(r, maxval(abs(pt%jac(:, i) * (x(i) - x0(i))) / lim))
         end do
     end function band_ratio
+
+    !> Whether point pt's Jacobian was made near its model's base (linear updates): the
+    !> lateral position within UPD_DS nodes and every input's term between them within
+    !> UPD_FRESH bands; with reach > 0 the gap's inputs (approach, roll: not BAND_IN) need
+    !> only their normal-force terms between the Jacobian's inputs and the base's, and
+    !> between the Jacobian's and x, within UPD_NEAR_FN x fn.
+    pure logical function jacobian_fresh(band, reach, pt, x) result(fresh)
+        real(dp), intent(in) :: band, reach, x(NLIN)
+        type(bem_point), intent(in) :: pt
+        real(dp) :: lim
+        fresh = .false.
+        if (abs(pt%xb(6) - pt%xj(6)) > UPD_DS) return
+        if (.not. (reach > 0.0_dp)) then
+            fresh = band_ratio(band, pt, pt%xb, pt%xj) <= UPD_FRESH
+            return
+        end if
+        lim = UPD_NEAR_FN * pt%yb(1)
+        if (any(abs(pt%jac(1, :) * (pt%xb - pt%xj)) > lim .and. .not. BAND_IN)) return
+        if (any(abs(pt%jac(1, :) * (x - pt%xj)) > lim .and. .not. BAND_IN)) return
+        fresh = band_ratio(band, pt, pt%xb, pt%xj, BAND_IN) <= UPD_FRESH
+    end function jacobian_fresh
 
     !> The force error of point pt's linear model at a solve (before its commit): when the
     !> solve's inputs lie within twice the band of bem_update (pt%band, the model's at the

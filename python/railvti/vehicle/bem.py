@@ -137,6 +137,18 @@ class BemOptions:
         the model's force error measured at the solves within twice the band
         (docs/vehicle_contact.md, "Linear updates"). 0: every patch solved (as before). The
         static equilibrium always solves every patch.
+    update_reach : float
+        Linear updates in motion (issue 33): a patch whose approach and relative roll (the
+        gap's inputs) moved beyond the band, each one's first-order force terms within
+        ``update_reach`` x ``update_band`` x Fn, while the creepages and the lateral position
+        stayed within the band (in the base's table cell), also takes its forces from its
+        linear model when the model's Jacobian was made near them (their normal-force terms
+        from the Jacobian's inputs within 4.5 % of Fn, the approach within 3 %; else the patch
+        is solved, with a new Jacobian); within the band such a Jacobian serves too. On the
+        ring track (FF, RF) the sleeper passing moves every patch's approach by 6-30 bands
+        between solves, beyond the band alone. The error admitted is ~20 times the band's
+        (docs/vehicle_contact.md, "Updates in motion"). 0: the band's updates only (as
+        before).
     """
 
     dx: float = 7.5e-4
@@ -151,6 +163,7 @@ class BemOptions:
     window: bool = True
     jacobian_age: int = 128
     update_band: float = 5e-4
+    update_reach: float = 20.0
 
     def __post_init__(self) -> None:
         _checks.positive("dx", self.dx)
@@ -162,6 +175,9 @@ class BemOptions:
         _checks.positive_int("max_iter_rolling", self.max_iter_rolling)
         if not (isinstance(self.update_band, (int, float)) and 0.0 <= self.update_band < 1.0):
             raise InputError(f"update_band must be a number in [0, 1), got {self.update_band!r}")
+        r = self.update_reach
+        if not (isinstance(r, (int, float)) and not isinstance(r, bool) and 0.0 <= r < float("inf")):
+            raise InputError(f"update_reach must be a finite number >= 0, got {r!r}")
         if not isinstance(self.jacobian_age, (int, np.integer)) or self.jacobian_age < 0:
             raise InputError(f"jacobian_age must be an integer >= 0, got {self.jacobian_age!r}")
         for name in ("nx", "ny"):
@@ -382,7 +398,7 @@ class BemState:
 
     def set_update_band(self, band: float) -> None:
         """Set the linear updates' band (:attr:`BemOptions.update_band`; 0: solve every patch)."""
-        info = core.vehicle_bem_update_c(self.handle, float(band))
+        info = core.vehicle_bem_update_c(self.handle, float(band), float(self.options.update_reach))
         check(info, f"could not set the BEM update band {band!r}")
         self.update_band = float(band)
 
