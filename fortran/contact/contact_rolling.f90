@@ -199,8 +199,7 @@ contains
         real(dp), intent(out) :: tx, ty
         integer, intent(out) :: stat
         real(dp), intent(out) :: lam
-        real(dp) :: ax, ay, gx, gy, f, fp, dl, ex, ey, en, dx3, dy3
-        integer :: it
+        real(dp) :: ax, ay, gx, gy, ex, ey, en
 
         ax = -s0x / kx
         ay = -s0y / ky
@@ -230,16 +229,7 @@ contains
         gy = g * ky
         en = s0x * s0x + s0y * s0y
         lam = max(0.0_dp, sqrt(en) - (gx * s0x * s0x + gy * s0y * s0y) / en)
-        do it = 1, 100
-            dx3 = 1.0_dp / (lam + gx)
-            dy3 = 1.0_dp / (lam + gy)
-            f = (s0x * dx3)**2 + (s0y * dy3)**2 - 1.0_dp
-            fp = -2.0_dp * ((s0x * dx3)**2 * dx3 + (s0y * dy3)**2 * dy3)
-            if (fp >= 0.0_dp) exit
-            dl = -f / fp
-            lam = max(lam + dl, 0.0_dp)
-            if (abs(dl) <= 1.0e-8_dp * (lam + gx + gy)) exit
-        end do
+        call slip_root(s0x, s0y, gx, gy, 1.0e-8_dp, lam)
         ex = s0x / (lam + gx)
         ey = s0y / (lam + gy)
         en = sqrt(ex * ex + ey * ey)
@@ -274,6 +264,26 @@ contains
         stat = ST_SLIP
     end subroutine element_solve_r
 
+    !> Newton's iteration for the slip multiplier lam of element_solve and element_slip
+    !> (eq. 28): f(lam) = |e|^2 - 1 with e = (s0x / (lam + gx), s0y / (lam + gy)), from the
+    !> caller's start, stopped once a step is below tol of the scale lam + gx + gy.
+    pure subroutine slip_root(s0x, s0y, gx, gy, tol, lam)
+        real(dp), intent(in) :: s0x, s0y, gx, gy, tol
+        real(dp), intent(inout) :: lam
+        real(dp) :: f, fp, dl, dx3, dy3
+        integer :: it
+        do it = 1, 100
+            dx3 = 1.0_dp / (lam + gx)
+            dy3 = 1.0_dp / (lam + gy)
+            f = (s0x * dx3)**2 + (s0y * dy3)**2 - 1.0_dp
+            fp = -2.0_dp * ((s0x * dx3)**2 * dx3 + (s0y * dy3)**2 * dy3)
+            if (fp >= 0.0_dp) exit
+            dl = -f / fp
+            lam = max(lam + dl, 0.0_dp)
+            if (abs(dl) <= tol * (lam + gx + gy)) exit
+        end do
+    end subroutine slip_root
+
     !> The slip solution of element_solve (eq. 28), |t| = g with t opposite to s, when the
     !> adhesion traction lies outside the disc, for the small path: element_solve's Newton
     !> iteration from the second-order start below, stopped once a step is below 1e-6 of
@@ -281,8 +291,7 @@ contains
     pure subroutine element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
         real(dp), intent(in) :: s0x, s0y, kx, ky, g
         real(dp), intent(out) :: tx, ty, lam
-        real(dp) :: gx, gy, f, fp, dl, ex, ey, en, dx3, dy3
-        integer :: it
+        real(dp) :: gx, gy, f, ex, ey, en, dx3, dy3
 
         if (g <= 0.0_dp) then
             tx = 0.0_dp
@@ -307,16 +316,7 @@ contains
         dy3 = 0.5_dp * (gx - gy) / dx3
         f = (s0x * s0x - s0y * s0y) / en
         lam = max(0.0_dp, dx3 * (1.0_dp - dy3 * f + 1.5_dp * dy3 * dy3 * (1.0_dp - f * f)) - 0.5_dp * (gx + gy))
-        do it = 1, 100
-            dx3 = 1.0_dp / (lam + gx)
-            dy3 = 1.0_dp / (lam + gy)
-            f = (s0x * dx3)**2 + (s0y * dy3)**2 - 1.0_dp
-            fp = -2.0_dp * ((s0x * dx3)**2 * dx3 + (s0y * dy3)**2 * dy3)
-            if (fp >= 0.0_dp) exit
-            dl = -f / fp
-            lam = max(lam + dl, 0.0_dp)
-            if (abs(dl) <= 1.0e-6_dp * (lam + gx + gy)) exit
-        end do
+        call slip_root(s0x, s0y, gx, gy, 1.0e-6_dp, lam)
         ex = s0x / (lam + gx)
         ey = s0y / (lam + gy)
         en = sqrt(ex * ex + ey * ey)

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
+from .._fft_size import fft_size
 from .._native import core
 from .._status import Status, error
 from ..errors import ConvergenceError, GridTooSmallError, InputError, NoContactError, RailvtiError
@@ -164,28 +165,13 @@ def _check_edges(p: np.ndarray) -> None:
         )
 
 
-def _fft_size(n: int) -> int:
-    """The smallest m >= n whose prime factors are 2, 3 and 5: FFTW transforms such sizes
-    fast, while a large prime factor makes them several times slower (a 113 x 113 grid's
-    product costs as much as a 225 x 225 one's, a 120 x 120 grid's a quarter of it)."""
-    m = n
-    while True:
-        k = m
-        for f in (2, 3, 5):
-            while k % f == 0:
-                k //= f
-        if k == 1:
-            return m
-        m += 1
-
-
 def _coarsen(h: np.ndarray, grid: Grid) -> tuple[np.ndarray, Grid]:
     """The gap on the grid of twice the element size: each coarse element
     averages the 2 x 2 fine elements it covers. The coarse grid has at least
     half the fine grid's elements along each side, rounded up to a size with
-    prime factors 2, 3, 5 (:func:`_fft_size`); beyond the fine grid's last row and
+    prime factors 2, 3, 5 (:func:`railvti._fft_size.fft_size`); beyond the fine grid's last row and
     column the gap is held constant (the contact area does not reach there)."""
-    mx, my = _fft_size((grid.nx + 1) // 2), _fft_size((grid.ny + 1) // 2)
+    mx, my = fft_size((grid.nx + 1) // 2), fft_size((grid.ny + 1) // 2)
     h = np.pad(h, ((0, 2 * mx - grid.nx), (0, 2 * my - grid.ny)), mode="edge")
     hc = 0.25 * (h[0::2, 0::2] + h[1::2, 0::2] + h[0::2, 1::2] + h[1::2, 1::2])
     coarse = Grid(

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
+from .._fft_size import fft_size
 from .._native import core
 from .._status import Status, check, error
 from ..errors import InputError
@@ -72,19 +73,6 @@ TIMERS = ("normal_seconds", "rolling_seconds", "patch_seconds")
 #: (``BemOptions.update_band``), and the largest force error of that model measured at the
 #: solves whose inputs lay within twice the band (N).
 UPDATE_COUNTERS = ("linear_updates", "max_linear_error")
-
-
-def _smooth(n: int) -> int:
-    """Smallest 2,3,5-smooth integer >= n (FFT-friendly: the padded grid is 2n)."""
-    m = max(int(n), 4)
-    while True:
-        k = m
-        for f in (2, 3, 5):
-            while k % f == 0:
-                k //= f
-        if k == 1:
-            return m
-        m += 1
 
 
 @dataclass(frozen=True)
@@ -244,8 +232,8 @@ def grid_for(table: WheelTable, wheel_load: float, options: BemOptions) -> BemGr
                 half_x = max(half_x, int(inx.max()))
             if itn.size:
                 half_t = max(half_t, int(itn.max()))
-    nx = options.nx or _smooth(2 * half_x + 1 + 6)
-    ny = options.ny or _smooth(2 * half_t + 1 + 6)
+    nx = options.nx or fft_size(2 * half_x + 1 + 6)
+    ny = options.ny or fft_size(2 * half_t + 1 + 6)
     if max(nx, ny) >= probe.nx:
         raise InputError("the BEM contact grid would exceed 120 mm: check the profiles and load")
     return BemGrid(nx, ny, d, d)
