@@ -149,7 +149,7 @@ contains
 
     !> Tangential problem of one quasi-static load step (shift, no rolling), by
     !> point Gauss-Seidel with each element's problem solved exactly on its Coulomb
-    !> disc (contact_rolling::element_solve). Slip (m) of element I in contact:
+    !> disc (contact_rolling_element::element_solve). Slip (m) of element I in contact:
     !>   s_I = (A t)_I + (A_xz p)_I - uold_I + (wx, wy),
     !> A the Cerruti operator of the combined (g, nu), uold the previous step's
     !> tangential displacement difference (whole grid), (wx, wy) a rigid shift, m.
