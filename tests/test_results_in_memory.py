@@ -98,3 +98,32 @@ def test_a_version_too_large_for_memory_goes_on_disk(tmp_path, monkeypatch, limi
         assert w._image is None or w._image == out.read_bytes()
     with h5py.File(out, "r") as f:
         assert sorted(f) == ["001_a", "002_b"] and f["002_b/x"][()] == 1.0 and f.attrs["deck"] == "deck"
+
+
+def test_no_case_is_lost_when_the_file_outgrows_the_memory_limit(tmp_path, monkeypatch):
+    """A version larger than the limit is not kept as the next one's base: the next version
+    is built from the file on disk, not from an older image (which would drop the cases
+    written since; a 24-case bifurcation deck lost two that way)."""
+    from railvti.casetypes import CaseOutput
+    from railvti.runner.deck import parse_deck
+    from railvti.runner.results import CaseRecord, ResultsWriter
+
+    text = "&case name = 'c{}', type = 'normal', gap_a = 1.0, gap_b = 1.0, nx = 8, ny = 8, "
+    cases = parse_deck("".join((text + "dx = 1e-3, dy = 1e-3, fn = 1e3 /\n").format(n) for n in range(6)))
+
+    def run(limit: int) -> list[int]:
+        monkeypatch.setattr(results, "MEMORY_IMAGE_BYTES", limit)
+        out = tmp_path / f"out_{limit}.h5"
+        w = ResultsWriter(out, "deck", cases=cases)
+        sizes = []
+        for c in cases:
+            out_c = CaseOutput(summary=c.name, scalars={"x": (1.0, "m")})
+            w.write([CaseRecord(c, output=out_c, wall_time=0.1)])
+            sizes.append(out.stat().st_size)
+        with h5py.File(out, "r") as f:
+            assert sorted(f) == [f"{i + 1:03d}_c{i}" for i in range(6)], limit
+        return sizes
+
+    sizes = run(10**9)
+    for limit in (sizes[1], sizes[3]):  # outgrown after the 3rd and after the 5th case
+        run(limit)

@@ -567,8 +567,8 @@ class ResultsWriter:
             self._fresh = False
             self._own = True
             self._stamp = _stamp(self.path)
-            if image is not None and len(data) <= MEMORY_IMAGE_BYTES:
-                self._image = data
+            if image is not None:  # the next version's base; a larger one is rebuilt on disk
+                self._image = data if len(data) <= MEMORY_IMAGE_BYTES else None
         except WriteFailed:
             raise
         except OSError as exc:  # creating, copying, syncing or renaming the file
