@@ -6,6 +6,7 @@ plot costs nothing until it does.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 
@@ -19,4 +20,15 @@ def pyplot() -> Any:
     return plt
 
 
-__all__ = ["pyplot"]
+def save_figure(fig: Any, path: Path, dpi: int = 110) -> list[Path]:
+    """Lay out ``fig``, write it to ``path`` (PNG), close it; returns ``[path]``, the list a
+    case type's plot function hands back."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return [path]
+
+
+__all__ = ["pyplot", "save_figure"]

@@ -18,6 +18,7 @@ from .normal import solve_normal
 from .plots_rolling import plot_rolling
 from .friction import FrictionLaw, solve_tangential_friction
 from .rolling import RollingResult, solve_rolling
+from .._plotting import save_figure
 
 _COMMON = {
     "shear_modulus": 82.0e9,  # Pa
@@ -366,11 +367,7 @@ def plot_pressure(group: Any, outdir: Path, stem: str) -> list[Path]:
     ax.set_xlabel("x, rolling direction (mm)")
     ax.set_ylabel("y, lateral (mm)")
     ax.set_title(f"{group.attrs['name']}: Fn = {group['fn'][()] / 1e3:.3g} kN, pmax = {p.max():.0f} MPa")
-    fig.tight_layout()
-    path = outdir / f"{stem}_pressure.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return [path]
+    return save_figure(fig, outdir / f"{stem}_pressure.png")
 
 
 register(

@@ -23,6 +23,7 @@ from .hertz import hertz
 from .normal import solve_normal
 from .rolling import solve_rolling
 from .subsurface import COMPONENTS, subsurface_stress, subsurface_stress_fields
+from .._plotting import save_figure
 
 _DEFAULTS = {k: v for k, v in _COMMON.items() if k != "gap"}
 _DEFAULTS.update(
@@ -189,11 +190,7 @@ def plot_subsurface(group: Any, outdir: Path, stem: str) -> list[Path]:
     ax2.set_xlabel("largest von Mises at the depth (MPa)")
     ax2.set_ylabel("depth z (mm)")
     ax2.grid(True, alpha=0.3)
-    fig.tight_layout()
-    path = outdir / f"{stem}_subsurface.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return [path]
+    return save_figure(fig, outdir / f"{stem}_subsurface.png")
 
 
 register(

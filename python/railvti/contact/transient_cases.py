@@ -14,6 +14,7 @@ from .cases import KEYS, _COMMON, check_normal, make_gap
 from .hertz import hertz
 from .rolling import solve_rolling
 from .transient import TransientResult, shift_problem, solve_transient
+from .._plotting import save_figure
 
 _KINDS = ("shift", "rolling", "load")
 
@@ -277,11 +278,7 @@ def plot_transient(group: Any, outdir: Path, stem: str) -> list[str | Path]:
     ax2.set_ylabel("traction at the centre line (MPa)")
     ax2.legend()
     fig.suptitle(f"{group.attrs['name']}: transient contact, kind '{kind}' (last step's tractions)")
-    fig.tight_layout()
-    path = outdir / f"{stem}_transient.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return [path]
+    return save_figure(fig, outdir / f"{stem}_transient.png")
 
 
 register(

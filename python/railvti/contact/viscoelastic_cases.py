@@ -16,6 +16,7 @@ from .viscoelastic import (
     solve_viscoelastic_line,
 )
 from .viscoelastic_rolling import solve_viscoelastic_rolling
+from .._plotting import save_figure
 
 _DEFAULTS = {
     "geometry": "line",
@@ -258,11 +259,7 @@ def plot(group: Any, outdir: Path, stem: str) -> list[Path]:
     ax.set_xlabel("x, rolling direction (mm); leading edge at the right")
     ax.set_ylabel(where)
     ax.set_title(f"{group.attrs['name']}: viscoelastic steady rolling")
-    fig.tight_layout()
-    path = outdir / f"{stem}_pressure.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return [path]
+    return save_figure(fig, outdir / f"{stem}_pressure.png")
 
 
 register(
