@@ -5,10 +5,10 @@ Source: repository eve70a/CONTACT (E.A.H. Vollebregt, Apache-2.0), examples/mben
 and mbench_a22_right.ref_out, commit d431cdb; the numbers as copied into
 tests/data/contact_a22_reference_{left,right}.csv (see their headers). Inputs of that run (its
 .inp decks and the benchmark definition, Shackleton & Iwnicki, Vehicle System Dynamics 46, 2008):
-profiles MBench_S1002_v3.prw on MBench_UIC60_v3.prr (UIC60 inclined 1:40), track gauge 1435 mm
-measured 14 mm below the rail top, flange-back distance 1360 mm, nominal wheel radius 460 mm,
-10 kN per wheel, elastic contact (G = 82 GPa, nu = 0.28), wheelset shifted y = 0 .. 10 mm in
-0.5 mm steps with the case's yaw 2.4 mrad per mm of shift.
+profiles MBench_S1002_v3.prw on MBench_UIC60_v3.prr (UIC60 inclined 1:40 in the file; the decks'
+CANT is 0), track gauge 1435 mm measured 14 mm below the rail top, flange-back distance 1360 mm,
+nominal wheel radius 460 mm, 10 kN per wheel, elastic contact (G = 82 GPa, nu = 0.28), wheelset
+shifted y = 0 .. 10 mm in 0.5 mm steps with the case's yaw 2.4 mrad per mm of shift.
 
 CONTACT prints no conicity; it prints each patch's contact reference point on the wheel profile
 (YCP(W), ZCP(W); z points down, away from the axle, so the rolling radius is 460 mm + ZCP(W)). Its
