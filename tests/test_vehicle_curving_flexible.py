@@ -1,0 +1,181 @@
+"""Flexible wheelsets in curves (variants FR and FF; railvti.vehicle.curving, issue 34 item 2):
+the lateral balance sum Y = M a_unb, the stiff limit against RR, the stiff-primary angle of
+attack (the journal springs' frame offsets on the modal journal points), FF against RF, the
+mirror, and the deck's line case with a curve.
+
+Small mode sets (k_max 1, f_max 300 Hz) and runs of 0.05-0.2 s on the arc: a run starts from
+its static equilibrium in the curve, so the steady state holds from the start.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from railvti.casetypes import validate
+from railvti.errors import InputError
+from railvti.runner.deck_registry import case_types
+from railvti.track import TrackCurve
+from railvti.vehicle.flexible_points import attachment_deflection
+from railvti.vehicle.line_case import run as run_line
+from railvti.vehicle.curve_running import curving
+from railvti.vehicle.params import Coach
+from railvti.vehicle.simulate import simulate
+from railvti.vehicle.systems import coach_system, system_and_layouts, time_step
+
+V = 160 / 3.6
+LEFT = TrackCurve(radius=1200.0, cant=0.15, transition_in=100.0, arc_length=1000.0, transition_out=100.0)
+RIGHT = TrackCurve(radius=-1200.0, cant=0.15, transition_in=100.0, arc_length=1000.0, transition_out=100.0)
+SMALL = {"k_max": 1, "f_max": 300.0}
+#: The issue's reference: M (V^2/R - g h/s), the standard's unbalanced acceleration.
+M = Coach().total_mass
+M_A_STANDARD = M * (V * V / 1200.0 - 9.81 * 0.15 / 1.5)
+
+
+def _run(system, curve=LEFT, duration=0.1, coach=None, **kw):
+    kw.setdefault("h", time_step(system, None))
+    return simulate(
+        system,
+        V,
+        duration,
+        contact="hertz-fastsim",
+        curve=curve,
+        x_start=500.0,
+        output_dt=0.005,
+        progress=False,
+        coach=coach,
+        **kw,
+    )
+
+
+def _y_vehicle(r) -> np.ndarray:
+    """Y per wheel in the vehicle's frame (on the ring the output is in the rolled rail's)."""
+    y = r.wheel_output("Y")
+    return y if r.rail is None else y - r.wheel_output("Q") * r.rail[:, 2]
+
+
+@pytest.fixture(scope="module")
+def fr():
+    return system_and_layouts("FR", Coach(), V, **SMALL)
+
+
+@pytest.fixture(scope="module")
+def fr_left(fr):
+    return _run(fr[0], duration=0.2)
+
+
+@pytest.fixture(scope="module")
+def rr_left():
+    return _run(coach_system("RR"), duration=0.1)
+
+
+def test_fr_lateral_balance(fr_left) -> None:
+    """R 1200 m, 150 mm cant, 160 km/h: the eight wheels' Y sum to the coach's mass (the
+    flexible wheelsets' rigid parts carry theirs) times its unbalanced acceleration: against
+    the standard's V^2/R - g h/s within the issue's 2 % (-1.1 % measured), against the
+    canted-plane value V^2/R cos(phi) - g sin(phi) within 0.5 % (+0.12 %)."""
+    sum_y = fr_left.wheel_output("Y").sum(axis=(1, 2)).mean()
+    assert sum_y == pytest.approx(M_A_STANDARD, rel=0.02)
+    assert sum_y == pytest.approx(M * LEFT.unbalanced_acceleration(V), rel=0.005)
+
+
+def test_stiff_flexible_wheelset_is_rr_in_the_curve(rr_left, fr_left) -> None:
+    """Young's modulus x 1e3: FR in the curve reproduces RR, the independent rigid model, per
+    wheel (Y, Q within 1 N: 0.16 N measured; angle of attack within 2e-7 rad: 3e-8), while the
+    real FR lies visibly apart (Y by about 110 N on the leading wheels)."""
+    co = Coach(wheelset_stiffness_scale=1e3)
+    sy = coach_system("FR", coach=co, speed=V, **SMALL)
+    stiff = _run(sy, duration=0.05, coach=co, h=1e-3, modal_step="exact")
+    for name in ("Y", "Q"):
+        np.testing.assert_allclose(stiff.wheel_output(name)[-1], rr_left.wheel_output(name)[-1], atol=1.0)
+    for w in range(1, 5):
+        assert abs(stiff.dof(f"ws{w}_yaw")[-1] - rr_left.dof(f"ws{w}_yaw")[-1]) < 2e-7
+    assert np.abs(fr_left.wheel_output("Y")[-1] - rr_left.wheel_output("Y")[-1]).max() > 50.0
+
+
+def test_stiff_primary_follows_the_chord_angle() -> None:
+    """Primary suspension stiff in yaw (k_x 1e9 N/m): the bogie holds its wheelsets parallel to
+    its frame, so they differ by the chord's angle -2 a / R = -2.133 mrad against their own
+    tangents (-0.9 % measured; the elastic axle adds a little compliance), and the journals
+    barely move against the axle (elastic x below 0.1 mm: 0.016 mm measured). Without the
+    frames' offsets on the modal journal points the journal springs pull the journals 2 mm
+    along x and the difference is -6.2 mrad."""
+    co = Coach().with_(primary_kx=1e9)
+    sy, lays = system_and_layouts("FR", co, V, **SMALL)
+    r = _run(sy, duration=0.05, coach=co, h=1e-3, modal_step="exact")
+    d = r.dof("ws1_yaw")[-1] - r.dof("ws2_yaw")[-1]
+    assert d == pytest.approx(-2 * 1.28 / 1200.0, rel=0.02)
+    u = attachment_deflection(sy, lays[0], r.q[-1])
+    assert np.abs(u[[8, 11]]).max() < 1e-4  # journals' x, right and left
+
+
+def test_fr_mirror(fr, fr_left) -> None:
+    """A right-hand curve is the left-hand one in the mirror: y, roll, yaw change sign, the
+    wheels swap (the flexible wheelset's modes and the point forces included)."""
+    right = _run(fr[0], RIGHT, duration=0.2)
+    for n in ("ws1_y", "ws1_yaw", "ws3_roll", "ws4_y", "carbody_y", "carbody_roll"):
+        np.testing.assert_allclose(right.dof(n), -fr_left.dof(n), atol=1e-11)
+    q, y = fr_left.wheel_output("Q"), fr_left.wheel_output("Y")
+    np.testing.assert_allclose(right.wheel_output("Q"), q[:, ::-1], rtol=1e-9, atol=1e-5)
+    np.testing.assert_allclose(right.wheel_output("Y"), -y[:, ::-1], rtol=1e-9, atol=1e-5)
+
+
+def test_ff_on_the_ring_in_the_curve(rr_left, fr_left) -> None:
+    """FF (flexible wheelsets on the ring track): the lateral balance in the vehicle's frame
+    within 2 % of M (V^2/R - g h/s), and FF - RF per wheel equals FR - RR (the flexible
+    wheelset changes the wheel forces on the ring as on track elements) within 40 N, a third
+    of the flexible wheelset's effect; the mirror swaps the wheels."""
+    out = {}
+    for variant, curve in (("RF", LEFT), ("FF", LEFT), ("FF", RIGHT)):
+        kw = SMALL if variant == "FF" else {}
+        sy = coach_system(variant, speed=V, **kw)
+        out[variant, curve.radius > 0] = _run(sy, curve, duration=0.1)
+    ff, rf = out["FF", True], out["RF", True]
+    y_ff, y_rf = _y_vehicle(ff), _y_vehicle(rf)
+    assert y_ff.sum(axis=(1, 2)).mean() == pytest.approx(M_A_STANDARD, rel=0.02)
+    d_ring = y_ff.mean(axis=0) - y_rf.mean(axis=0)
+    d_elem = fr_left.wheel_output("Y")[:20].mean(axis=0) - rr_left.wheel_output("Y")[:20].mean(axis=0)
+    assert np.abs(d_elem).max() > 100.0
+    np.testing.assert_allclose(d_ring, d_elem, atol=40.0)
+    mirror = out["FF", False]
+    np.testing.assert_allclose(mirror.wheel_output("Q"), ff.wheel_output("Q")[:, ::-1], rtol=1e-7, atol=1e-3)
+    np.testing.assert_allclose(_y_vehicle(mirror), -y_ff[:, ::-1], rtol=1e-7, atol=1e-3)
+
+
+def test_line_deck_runs_fr_in_a_curve() -> None:
+    """The deck's line case takes a curve under model FR: a perfect 100 m line that is a
+    right-hand curve (R 1200 m, 150 mm cant, 30 m clothoids) at 160 km/h equals
+    scenarios.curving over the same stretch to 1e-9 (a zero irregularity adds nothing), and
+    with the coach on the arc its sum Y has the right-hand curve's sign (-M a_unb)."""
+    line = case_types()["line"]
+    keys = {
+        **line.defaults,
+        "model": "FR",
+        "speed": V,
+        "route_length": 100.0,
+        "irregularity": "none",
+        "curve_radius": -1200.0,
+        "curve_cant": 0.15,
+        "curve_transition": 30.0,
+        "curve_arc": 40.0,
+        "curve_start": 0.0,
+    }
+    out = run_line(validate("line", keys))
+    t = np.asarray(out.datasets["t"][0])
+    y = np.asarray(out.datasets["wheel_Y"][0])
+    curve = TrackCurve(radius=-1200.0, cant=0.15, transition_in=30.0, arc_length=40.0, transition_out=30.0)
+    cr = curving(
+        speed=V,
+        curve=curve,
+        variant="FR",
+        x_start=float(out.scalars["x_start"][0]),
+        duration=float(t[-1]),
+        output_dt=float(t[1] - t[0]),
+        progress=False,
+    )
+    assert cr.run.t.shape == t.shape
+    np.testing.assert_allclose(cr.run.wheel_output("Y"), y, rtol=1e-9, atol=1e-6)
+    mid = np.argmin(np.abs(np.asarray(out.datasets["x"][0]) - 50.0))  # wheelsets at 39..61 m
+    assert y[mid].sum() < -0.5 * M_A_STANDARD
+    with pytest.raises(InputError, match="100 m"):
+        validate("line", {**keys, "curve_radius": 50.0})
