@@ -120,6 +120,17 @@ def test_fr_mirror(fr, fr_left) -> None:
     np.testing.assert_allclose(right.wheel_output("Y"), -y[:, ::-1], rtol=1e-9, atol=1e-5)
 
 
+def test_fr_chunking_bit_identical(fr) -> None:
+    """Through the entry transition (the point forces change along it), one call or chunks of
+    0.1 s: the same bits (the tables are read at each step's absolute time)."""
+    kw = dict(contact="hertz-fastsim", curve=LEFT, x_start=-20.0, output_dt=0.01, progress=False)
+    h = time_step(fr[0], None)
+    a = simulate(fr[0], V, 0.3, h=h, **kw)
+    b = simulate(fr[0], V, 0.3, h=h, chunk=0.1, **kw)
+    assert np.array_equal(a.q, b.q)
+    assert np.abs(a.dof("ws1_yaw")).max() > 1e-5  # the wheelsets steer already
+
+
 def test_ff_on_the_ring_in_the_curve(rr_left, fr_left) -> None:
     """FF (flexible wheelsets on the ring track): the lateral balance in the vehicle's frame
     within 2 % of M (V^2/R - g h/s), and FF - RF per wheel equals FR - RR (the flexible
