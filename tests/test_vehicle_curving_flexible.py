@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from railvti._native import core
+from railvti._status import check
 from railvti.casetypes import validate
 from railvti.errors import InputError
 from railvti.runner.deck_registry import case_types
@@ -19,6 +21,7 @@ from railvti.track import TrackCurve
 from railvti.vehicle.flexible_points import attachment_deflection
 from railvti.vehicle.line_case import run as run_line
 from railvti.vehicle.curve_running import curving
+from railvti.vehicle.curving import attached_curve, curve_tables
 from railvti.vehicle.params import Coach
 from railvti.vehicle.simulate import simulate
 from railvti.vehicle.systems import coach_system, system_and_layouts, time_step
@@ -190,3 +193,18 @@ def test_line_deck_runs_fr_in_a_curve() -> None:
     assert y[mid].sum() < -0.5 * M_A_STANDARD
     with pytest.raises(InputError, match="100 m"):
         validate("line", {**keys, "curve_radius": 50.0})
+
+
+def test_point_tables_refused_when_they_do_not_fit(fr) -> None:
+    """The core refuses point forces without a curve attached, of the wrong size or not finite
+    by a status (InputError through railvti._status.check), never a crash."""
+    sy = fr[0]
+    h = sy.native.handle
+    npt = sy.modal.phi.shape[0]
+    ns = curve_tables(sy, LEFT, V, 500.0, 500.0 + V * 0.01, Coach()).fext.shape[1]
+    with pytest.raises(InputError):
+        check(core.vehicle_curve_points_c(h, np.zeros((npt, ns), order="F")), "curve tables")
+    with attached_curve(sy, LEFT, V, 500.0, 0.01, Coach()):
+        for bad in (np.zeros((npt + 1, ns)), np.zeros((npt, ns + 1)), np.full((npt, ns), np.nan)):
+            with pytest.raises(InputError):
+                check(core.vehicle_curve_points_c(h, np.asfortranarray(bad)), "curve tables")

@@ -67,8 +67,9 @@ contains
     end subroutine curve_set
 
     !> Add the point forces gpt (np, ns: the attachment points' N or N m on the nodes of the
-    !> tables set last) to a curve; the current values are set at t = 0. info: STAT_OK, STAT_BAD_ARGUMENT (no curve set, np < 1 or
-    !> a value not finite), STAT_SIZE_MISMATCH (gpt not (np, cv%ns)).
+    !> tables set last) to a curve; the current values are set at t = 0. info: STAT_OK,
+    !> STAT_BAD_ARGUMENT (no curve set, np < 1 or a value not finite), STAT_SIZE_MISMATCH (gpt
+    !> not (np, cv%ns)).
     subroutine curve_points(cv, np, gpt, info)
         type(curve_input), intent(inout) :: cv
         integer, intent(in) :: np
