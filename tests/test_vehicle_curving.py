@@ -147,13 +147,7 @@ def test_bad_input(rr) -> None:
         _run(rr, "R1200")
     with pytest.raises(InputError, match="energy"):
         _run(rr, ARC, integrator="energy")
-    with pytest.raises(InputError, match="variant 'FR'"):
-        scenarios.curving(160, ARC, "FR")
-
-
-def test_flexible_wheelsets_refused_in_curves() -> None:
-    """simulate itself refuses a curve under flexible wheelsets (their journal springs couple
-    modal points the curve's tables do not offset)."""
-    fr = scenarios.coach_system("FR", speed=V)
-    with pytest.raises(InputError, match="RR and RF only"):
-        simulate(fr, V, 0.01, h=5e-4, curve=ARC, x_start=500.0, progress=False)
+    with pytest.raises(InputError, match="unknown variant"):
+        scenarios.curving(160, ARC, "XR")
+    with pytest.raises(InputError, match="k_max"):
+        scenarios.curving(160, ARC, "RR", k_max=1)

@@ -43,7 +43,6 @@ def test_a_flat_straight_line_is_centred_running() -> None:
 @pytest.mark.parametrize(
     ("keys", "match"),
     [
-        ({"curve_radius": 1200.0, "model": "FR"}, "models 'RR' and 'RF'"),
         ({"irregularity_band": [70.0, 3.0]}, "shortest first"),
         ({"irregularity": "file"}, "irregularity_file"),
         ({"curve_radius": 1200.0, "curve_start": 900.0}, "beyond route_length"),

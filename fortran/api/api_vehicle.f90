@@ -613,6 +613,21 @@ subroutine vehicle_curve_attach_c(handle, nd, ne, nw, ns, s0, ds, x0, v0, fext, 
     info = stat
 end subroutine vehicle_curve_attach_c
 
+!> Add point forces gpt (np, ns) on the attachment points of a model with flexible wheelsets
+!> (FR, FF) to the curve attached last: N or N m on its ns nodes. info: see
+!> vehicle_model%vehicle_attach_curve_points.
+subroutine vehicle_curve_points_c(handle, np, ns, gpt, info)
+    use iso_c_binding, only: c_int, c_double
+    use vehicle_model, only: vehicle_attach_curve_points
+    implicit none
+    integer(c_int), intent(in) :: handle, np, ns
+    real(c_double), intent(in) :: gpt(np, ns)
+    integer(c_int), intent(out) :: info
+    integer :: stat
+    call vehicle_attach_curve_points(handle, np, ns, gpt, stat)
+    info = stat
+end subroutine vehicle_curve_points_c
+
 !> Drop a model's curve (straight track again). info: STAT_OK or STAT_BAD_HANDLE.
 subroutine vehicle_curve_clear_c(handle, info)
     use iso_c_binding, only: c_int, c_double

@@ -9,6 +9,9 @@
 !> fext holds the suspension's forces from the bodies' frames' offsets (-K q_geo - C q_geo'),
 !> the frames' fictitious forces (centripetal, cant's gravity share, yaw and roll
 !> accelerations) and the wheelsets' gyroscopic moment about the turning frame.
+!> A model with flexible wheelsets (FR, FF) also gets point forces on its attachment points
+!> (curve_points): the journal springs' share of the frames' offsets, k g.q_geo + c g.q_geo',
+!> and the elastic modes' Coriolis coupling with the frame's yaw rate v0 kappa.
 !> Linear interpolation between the table's nodes; before the first and after the last node
 !> the end values hold.
 module vehicle_curve
@@ -16,15 +19,16 @@ module vehicle_curve
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT, STAT_SIZE_MISMATCH
     implicit none
     private
-    public :: curve_input, curve_set, curve_clear, curve_time
+    public :: curve_input, curve_set, curve_points, curve_clear, curve_time
 
     !> One run's curve tables and their values at the current time (curve_time). ns = 0: none
     !> (straight track; every reader skips it).
+    !> np > 0: point forces gpt (np, ns) on a modal part's attachment points, now p (np).
     type :: curve_input
-        integer :: ns = 0
+        integer :: ns = 0, np = 0
         real(dp) :: s0 = 0.0_dp, ds = 1.0_dp, x0 = 0.0_dp, v0 = 0.0_dp
-        real(dp), allocatable :: fext(:, :), doff(:, :), drate(:, :), kap(:, :)
-        real(dp), allocatable :: f(:), d(:), dd(:), k(:)
+        real(dp), allocatable :: fext(:, :), doff(:, :), drate(:, :), kap(:, :), gpt(:, :)
+        real(dp), allocatable :: f(:), d(:), dd(:), k(:), p(:)
     end type curve_input
 
 contains
@@ -62,10 +66,34 @@ contains
         info = STAT_OK
     end subroutine curve_set
 
+    !> Add the point forces gpt (np, ns: the attachment points' N or N m on the nodes of the
+    !> tables set last) to a curve; the current values are set at t = 0. info: STAT_OK,
+    !> STAT_BAD_ARGUMENT (no curve set, np < 1 or a value not finite), STAT_SIZE_MISMATCH (gpt
+    !> not (np, cv%ns)).
+    subroutine curve_points(cv, np, gpt, info)
+        type(curve_input), intent(inout) :: cv
+        integer, intent(in) :: np
+        real(dp), intent(in) :: gpt(:, :)
+        integer, intent(out) :: info
+        info = STAT_BAD_ARGUMENT
+        if (cv%ns == 0 .or. np < 1) return
+        if (.not. all(abs(gpt) <= huge(1.0_dp))) return
+        info = STAT_SIZE_MISMATCH
+        if (any(shape(gpt) /= [np, cv%ns])) return
+        if (allocated(cv%gpt)) deallocate (cv%gpt, cv%p)
+        cv%np = np
+        cv%gpt = gpt
+        allocate (cv%p(np))
+        call curve_time(cv, 0.0_dp)
+        info = STAT_OK
+    end subroutine curve_points
+
     !> Drop a run's curve (straight track again).
     subroutine curve_clear(cv)
         type(curve_input), intent(inout) :: cv
         cv%ns = 0
+        cv%np = 0
+        if (allocated(cv%gpt)) deallocate (cv%gpt, cv%p)
         if (allocated(cv%fext)) deallocate (cv%fext, cv%doff, cv%drate, cv%kap)
         if (allocated(cv%f)) deallocate (cv%f, cv%d, cv%dd, cv%k)
     end subroutine curve_clear
@@ -86,6 +114,7 @@ contains
         cv%d = (1.0_dp - w) * cv%doff(:, i) + w * cv%doff(:, i + 1)
         cv%dd = (1.0_dp - w) * cv%drate(:, i) + w * cv%drate(:, i + 1)
         cv%k = (1.0_dp - w) * cv%kap(:, i) + w * cv%kap(:, i + 1)
+        if (cv%np > 0) cv%p = (1.0_dp - w) * cv%gpt(:, i) + w * cv%gpt(:, i + 1)
     end subroutine curve_time
 
 end module vehicle_curve

@@ -18,7 +18,7 @@ module vehicle_model
                                pose_table, pose_set, SLIN_KEEP, SLIN_READ
     use vehicle_strip, only: strip_geometry, strip_set, strip_lin
     use vehicle_bem, only: bem_record, bem_solve_recorded
-    use vehicle_curve, only: curve_input, curve_set, curve_clear, curve_time
+    use vehicle_curve, only: curve_input, curve_set, curve_points, curve_clear, curve_time
     use vehicle_modal_step, only: modal_step
     use vehicle_modal, only: modal_part, modal_create, modal_couple, modal_rim_wheelset, modal_set_mass, &
                              modal_euler, modal_ring, modal_ring_time, modal_rail_wheelset, &
@@ -31,7 +31,7 @@ module vehicle_model
     public :: vehicle_attach_modal, vehicle_attach_couplings, vehicle_attach_mass, vehicle_attach_euler
     public :: vehicle_attach_follow, vehicle_follow_rows
     public :: vehicle_attach_strip, vehicle_attach_ring, vehicle_ring_time, vehicle_ring_residual
-    public :: vehicle_attach_curve
+    public :: vehicle_attach_curve, vehicle_attach_curve_points
     public :: MAX_VEHICLE
     public :: force_total, tangent, element_force, is_spin, TANGENT_QV, TANGENT_V
     public :: el_friction, el_bump
@@ -465,6 +465,25 @@ contains
         call curve_set(md%cv, nd, ne, nw, ns, s0, ds, x0, v0, fext, doff, drate, kap, info)
     end subroutine vehicle_attach_curve
 
+    !> Add a curve's point forces gpt (np, ns) on the modal part's attachment points to the
+    !> curve attached last (vehicle_curve%curve_points: flexible wheelsets, FR and FF). info:
+    !> STAT_OK; STAT_BAD_HANDLE; STAT_SIZE_MISMATCH (np not the model's points, ns not the
+    !> curve's nodes); STAT_BAD_ARGUMENT (no curve attached, a value not finite).
+    subroutine vehicle_attach_curve_points(handle, np, ns, gpt, info)
+        integer, intent(in) :: handle, np, ns
+        real(dp), intent(in) :: gpt(:, :)
+        integer, intent(out) :: info
+        type(vmodel), pointer :: md
+        md => vehicle_get(handle)
+        info = STAT_BAD_HANDLE
+        if (.not. associated(md)) return
+        info = STAT_BAD_ARGUMENT
+        if (md%cv%ns == 0) return
+        info = STAT_SIZE_MISMATCH
+        if (np /= md%mp%np .or. ns /= md%cv%ns) return
+        call curve_points(md%cv, np, gpt, info)
+    end subroutine vehicle_attach_curve_points
+
     !> Force and its derivatives (d f / d d, d f / d ddot) of one scalar element.
     pure subroutine element_force(etype, p, d, dd, f, kd, cd)
         integer, intent(in) :: etype
@@ -669,7 +688,10 @@ contains
         real(dp), allocatable :: gs(:)
         integer :: e, w
         f = md%f0 - matmul(md%k, q) - matmul(md%c, v)
-        if (md%cv%ns > 0) f = f + md%cv%f
+        if (md%cv%ns > 0) then
+            f = f + md%cv%f
+            if (md%cv%np > 0 .and. present(gp)) gp = gp + md%cv%p
+        end if
         call add_gyroscopic(md, rs, v, 1.0_dp, f=f)
         do e = 1, md%ne
             call element_deflection(md, e, q, v, d, dd)

@@ -187,7 +187,7 @@ def curving(
     curve : TrackCurve
         The curve (radius, cant, transitions; railvti.track.TrackCurve).
     variant, contact : str
-        'RR', 'RF' or 'auto' (variant_tolerance, variant_quantities; scene 'curve');
+        'RR', 'FR', 'RF', 'FF' or 'auto' (variant_tolerance, variant_quantities; scene 'curve');
         'hertz-kalker', 'hertz-fastsim', 'bem' or 'auto' (the cheapest measured
         model within ``tolerance`` on ``quantities``, keywords of **kw:
         railvti.vehicle.model_choice, scene 'curve').

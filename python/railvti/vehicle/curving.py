@@ -21,7 +21,16 @@ speed V, turns at V kappa and rolls with the cant, so its bodies feel, in the fr
 and -I_x V^2 theta_x'', and each wheelset the gyroscopic roll moment I_y Omega V kappa of its
 spin about the turning frame. The track elements and the ring are the ground's: no frame
 force. The wheelsets' creepages take the frame's yaw rate V kappa (vehicle_contact).
-Variants RR and RF (rigid wheelsets); FR and FF are refused.
+
+Flexible wheelsets (variants FR and FF): the rigid part of each (its six DOFs, the whole
+wheelset's mass and inertias, railvti.vehicle.wheelset_body) gets the frame's loads above, as
+a rigid wheelset does; the free-free elastic modes are mass-orthogonal to the rigid motions,
+so the frame's uniform acceleration fields do no work on them. The journal springs act on the
+modal journal points through 'split' couplings k (g.q - u) + c (g.v - u'), whose g.q the
+frames' offsets stretch as they stretch the rigid K: the points get k g.q_geo + c g.q_geo'
+(``CurveTables.points``). The modes' Coriolis coupling with the wheelset's yaw rate ('gyro':
+Omega g.v on the point) takes the frame's yaw rate V kappa too, as the rigid part's gyroscopic
+moment does.
 """
 
 from __future__ import annotations
@@ -64,6 +73,10 @@ class CurveTables:
         The nonlinear elements' deflection and rate offsets.
     kappa : ndarray (nw, ns)
         Curvature at each wheelset, 1/m.
+    points : ndarray (np, ns), optional
+        Forces on the modal part's attachment points (flexible wheelsets: the journal springs'
+        share of the frames' offsets, the Coriolis coupling with the frame's yaw rate), N or
+        N m; None without flexible wheelsets.
     """
 
     s0: float
@@ -72,6 +85,7 @@ class CurveTables:
     doff: np.ndarray
     drate: np.ndarray
     kappa: np.ndarray
+    points: np.ndarray | None = None
 
 
 def _layout(system: System, coach: Coach) -> list[tuple[int, str, float, float]]:
@@ -171,17 +185,33 @@ def curve_tables(
         doff=np.asfortranarray(eg.T @ qg),
         drate=np.asfortranarray(eg.T @ qgd),
         kappa=np.asfortranarray(kap_w),
+        points=_point_forces(system, qg, qgd, v * kap_w),
     )
 
 
-def _check_variant(system: System) -> None:
-    """InputError for a system with flexible wheelsets (variants FR, FF): their journal
-    springs couple modal points whose frames the curve's tables do not offset yet."""
+def _point_forces(system: System, qg: np.ndarray, qgd: np.ndarray, yaw_rate: np.ndarray) -> np.ndarray | None:
+    """The forces (np, ns) on the attachment points of the system's flexible wheelsets from
+    the frames' offsets qg, rates qgd (n, ns) and each wheelset frame's yaw rate (nw, ns,
+    rad/s): a 'split' coupling (k, c) gets k g.qg + c g.qgd, a 'gyro' one (Omega) Omega g.w
+    with w the frames' rates (yaw only, as the rigid wheelsets' gyroscopic moment). None
+    without couplings."""
     mb = system.modal
-    cpl = getattr(mb, "couplings", None) if mb is not None else None
-    rims = getattr(cpl, "rim_wheelsets", None) if cpl is not None else None
-    if rims is not None and len(rims) > 0:
-        raise InputError("curve: variants RR and RF only (flexible wheelsets in curves are not yet built)")
+    cpl = mb.couplings if mb is not None else None
+    if cpl is None or len(cpl.kinds) == 0:
+        return None
+    w = np.zeros_like(qg)
+    for i, j in enumerate(np.asarray(system.iws)[3] - 1):  # IWS_ROWS: y, z, roll, yaw, ...
+        if j >= 0:
+            w[j] = yaw_rate[i]
+    g = np.asarray(cpl.directions)
+    par = np.asarray(cpl.params)
+    out = np.zeros((np.asarray(mb.phi).shape[0], qg.shape[1]))
+    for e, kind in enumerate(cpl.kinds):
+        if kind == "split":
+            out[cpl.points[e]] += par[0, e] * (g[:, e] @ qg) + par[1, e] * (g[:, e] @ qgd)
+        elif kind == "gyro":
+            out[cpl.points[e]] += par[0, e] * (g[:, e] @ w)
+    return np.asfortranarray(out)
 
 
 @contextlib.contextmanager
@@ -201,7 +231,6 @@ def attached_curve(
         return
     if not isinstance(curve, TrackCurve):
         raise InputError(f"curve must be a railvti.track.TrackCurve, got {type(curve).__name__}")
-    _check_variant(system)
     x0 = _checks.finite("x_start", x_start)
     tab = curve_tables(system, curve, speed, x0, x0 + speed * duration, coach)
     h = system.native.handle
@@ -209,6 +238,8 @@ def attached_curve(
         core.vehicle_curve_attach_c(h, tab.s0, tab.ds, x0, speed, tab.fext, tab.doff, tab.drate, tab.kappa),
         "curve tables",
     )
+    if tab.points is not None:
+        check(core.vehicle_curve_points_c(h, tab.points), "curve tables")
     try:
         yield
     finally:

@@ -2,7 +2,7 @@
 at its line speed, with the standards' assessment of the run (issue 34).
 
 Keys (SI; ``railvti cases line`` lists them with units and bounds): model ('RR', 'FR', 'RF',
-'FF'; 'RR' or 'RF' with a curve), contact, speed (m/s; or speed_kmh), route_length (m: the
+'FF'; each with or without a curve), contact, speed (m/s; or speed_kmh), route_length (m: the
 irregularity's extent from x = 0), irregularity (a standard spectrum of
 railvti.track.IRREGULARITY_SPECTRA, 'file' to read irregularity_file, or 'none'),
 irregularity_seed, irregularity_band (shortest and longest wavelength, m), curve_radius (m,
@@ -57,7 +57,7 @@ DEFAULTS: dict[str, Any] = {
 }
 
 KEYS: dict[str, Key] = {
-    "model": Key("", "'RR', 'FR', 'RF' or 'FF' ('RR' or 'RF' with a curve)", "str", choices=VARIANTS),
+    "model": Key("", "'RR', 'FR', 'RF' or 'FF' (each with or without a curve)", "str", choices=VARIANTS),
     "contact": Key("", "wheel-rail contact model", "str", choices=tuple(CONTACT_MODELS)),
     "speed": Key(
         "m/s",
@@ -113,11 +113,6 @@ def check(params: dict[str, Any]) -> list[str]:
     if r != 0.0:
         if abs(r) < 100.0:
             out.append(f"curve_radius = {r:g} m: |R| >= 100 m (0: no curve)")
-        if params["model"] not in ("RR", "RF"):
-            out.append(
-                "a curve runs models 'RR' and 'RF' (flexible wheelsets in curves: not yet), "
-                f"got {params['model']!r}"
-            )
         end = params["curve_start"] + 2 * params["curve_transition"] + params["curve_arc"]
         if end > params["route_length"]:
             out.append(f"the curve ends at {end:g} m, beyond route_length = {params['route_length']:g} m")

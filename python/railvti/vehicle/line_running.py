@@ -81,9 +81,9 @@ def line_run(
         The track's irregularity along x (railvti.track: ``generate_irregularity`` or
         ``read_irregularity_csv``); it also sets the route's extent.
     curve : TrackCurve, optional
-        A curve on the same x (variants RR and RF).
+        A curve on the same x (any variant).
     variant, contact : str
-        'RR', 'FR', 'RF' or 'FF' ('RR', 'RF' with a curve); the contact model.
+        'RR', 'FR', 'RF' or 'FF'; the contact model.
     duration : float, optional
         Simulated time, s; default: until the leading wheelset reaches the irregularity's end.
     x_start : float, optional

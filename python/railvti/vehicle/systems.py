@@ -87,6 +87,7 @@ VARIANTS = ("RR", "FR", "RF", "FF")
 FR_SCENARIOS = (
     "centred_running",
     "coach_system",
+    "curving",
     "hunting",
     "bifurcation",
     "critical_speed",
