@@ -323,3 +323,26 @@ subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, 
     if (.not. fin) info = STAT_OK
 end subroutine normal_cg_slice_c
 
+
+!> The tangential pair product of contact_convolution (pruned FFT), for tests:
+!> ux = Cxx * qx + Cxy * qy, uy = Cxy * qx + Cyy * qy, with c(:, :, 1..3) = Cxx, Cxy, Cyy
+!> in circular layout on the 2nx x 2ny padded grid.
+!> info: STAT_OK; otherwise conv_init's status.
+subroutine convolve_pair_c(nx, ny, c, qx, qy, ux, uy, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK
+    use contact_convolution, only: conv_plan, conv_init, conv_apply_pair, conv_free
+    implicit none
+    integer(c_int), intent(in) :: nx, ny
+    real(c_double), intent(in) :: c(2 * nx, 2 * ny, 3), qx(nx, ny), qy(nx, ny)
+    real(c_double), intent(out) :: ux(nx, ny), uy(nx, ny)
+    integer(c_int), intent(out) :: info
+    type(conv_plan) :: plan
+    integer :: stat
+    ux = 0.0_c_double
+    uy = 0.0_c_double
+    call conv_init(plan, nx, ny, c, stat)
+    info = stat
+    if (stat == STAT_OK) call conv_apply_pair(plan, 1, 2, 3, qx, qy, ux, uy)
+    call conv_free(plan)
+end subroutine convolve_pair_c

@@ -43,11 +43,11 @@ module contact_convolution
         ! y transforms of blocks of PBLOCK (and of the last nrem) x frequencies in wbuf.
         type(c_ptr) :: xf = c_null_ptr, xb = c_null_ptr
         type(c_ptr) :: yf = c_null_ptr, yb = c_null_ptr, yfr = c_null_ptr, ybr = c_null_ptr
-        type(c_ptr) :: wmem = c_null_ptr
-        complex(c_double_complex), pointer :: wbuf(:, :) => null()
+        type(c_ptr) :: wmem = c_null_ptr, wmem2 = c_null_ptr
+        complex(c_double_complex), pointer :: wbuf(:, :) => null(), wbuf2(:, :) => null()
         ! rspec(:, :, k) = real(spec(:, :, k)) transposed, (my, mx/2 + 1), for the kernels
-        ! with real_spec(k) (a real spectrum: kernel 1 when point-symmetric); the others
-        ! multiply by spec.
+        ! with real_spec(k) (a real spectrum: a point-symmetric field); the others multiply
+        ! by spec.
         logical, allocatable :: real_spec(:)
         real(dp), allocatable :: rspec(:, :, :)
         ! Preconditioner M ~ A^-1 on the unpadded (periodic) nx x ny grid.
@@ -158,6 +158,7 @@ contains
         real(dp), intent(in) :: c(0:, 0:, :)
         integer, intent(out) :: info
         integer(c_int) :: mx, my, mxh, ny, nrem
+        integer :: k
         info = STAT_OK
         mx = plan%mx
         my = plan%my
@@ -165,11 +166,13 @@ contains
         mxh = mx / 2 + 1
         nrem = mod(mxh, PBLOCK)
         plan%wmem = fftw_alloc_complex(int(my, c_size_t) * PBLOCK)
-        if (.not. c_associated(plan%wmem)) then
+        plan%wmem2 = fftw_alloc_complex(int(my, c_size_t) * PBLOCK)
+        if (.not. (c_associated(plan%wmem) .and. c_associated(plan%wmem2))) then
             info = STAT_NO_MEMORY
             return
         end if
         call c_f_pointer(plan%wmem, plan%wbuf, [plan%my, PBLOCK])
+        call c_f_pointer(plan%wmem2, plan%wbuf2, [plan%my, PBLOCK])
         plan%xf = fftw_plan_many_dft_r2c(1, [mx], ny, plan%rbuf, [mx], 1, mx, &
                                          plan%cbuf, [mxh], 1, mxh, FFTW_ESTIMATE)
         plan%xb = fftw_plan_many_dft_c2r(1, [mx], ny, plan%cbuf, [mxh], 1, mxh, &
@@ -190,12 +193,15 @@ contains
             info = STAT_FFTW_PLAN
             return
         end if
-        ! kernel 1 only (the normal one; the tangential products, conv_apply_pair, are plain)
         allocate (plan%real_spec(plan%nker))
-        plan%real_spec = .false.
-        plan%real_spec(1) = point_symmetric(c(:, :, 1))
+        do k = 1, plan%nker
+            plan%real_spec(k) = point_symmetric(c(:, :, k))
+        end do
         allocate (plan%rspec(my, mxh, count(plan%real_spec)))
-        if (plan%real_spec(1)) plan%rspec(:, :, 1) = transpose(real(plan%spec(:, :, 1), dp))
+        do k = 1, plan%nker
+            if (plan%real_spec(k)) plan%rspec(:, :, count(plan%real_spec(1:k))) = &
+                transpose(real(plan%spec(:, :, k), dp))
+        end do
     end subroutine conv_init_pruned
 
     subroutine conv_free(plan)
@@ -214,7 +220,8 @@ contains
         call destroy_plan(plan%yfr)
         call destroy_plan(plan%ybr)
         call free_mem(plan%wmem)
-        nullify (plan%wbuf)
+        call free_mem(plan%wmem2)
+        nullify (plan%wbuf, plan%wbuf2)
         if (allocated(plan%real_spec)) deallocate (plan%real_spec)
         if (allocated(plan%rspec)) deallocate (plan%rspec)
         call destroy_plan(plan%pfwd)
@@ -336,36 +343,101 @@ contains
 
     !> The 2x2 block product of the tangential problem,
     !>   ux = C_kxx * qx + C_kxy * qy,   uy = C_kxy * qx + C_kyy * qy,
-    !> with two forward and two inverse transforms.
+    !> with two forward and two inverse transforms, pruned as conv_apply_buffer's
+    !> (the y transforms and the spectral products in blocks, pair_block).
     subroutine conv_apply_pair(plan, kxx, kxy, kyy, qx, qy, ux, uy)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kxx, kxy, kyy
         real(dp), intent(in) :: qx(:, :), qy(:, :)
         real(dp), intent(out) :: ux(:, :), uy(:, :)
-        integer :: nx, ny, i, j
-        complex(dp) :: sx, sy
+        integer :: nx, ny, i0, mxh
         nx = plan%nx
         ny = plan%ny
-        plan%rbuf = 0.0_dp
+        mxh = plan%mx / 2 + 1
+        ! the out-of-place r2c keeps its input: the padding rows stay zero for qy
         plan%rbuf(1:nx, 1:ny) = qx
-        call fftw_execute_dft_r2c(plan%fwd, plan%rbuf, plan%cbuf2)
-        plan%rbuf = 0.0_dp
+        plan%rbuf(nx + 1:, 1:ny) = 0.0_dp
+        call fftw_execute_dft_r2c(plan%xf, plan%rbuf, plan%cbuf)
         plan%rbuf(1:nx, 1:ny) = qy
-        call fftw_execute_dft_r2c(plan%fwd, plan%rbuf, plan%cbuf)
-        ! cbuf2 = Qx, cbuf = Qy; form Uy first so Qy can be overwritten for Ux.
-        do j = 1, plan%my
-            do i = 1, plan%mx / 2 + 1
-                sx = plan%cbuf2(i, j)
-                sy = plan%cbuf(i, j)
-                plan%cbuf2(i, j) = plan%spec(i, j, kxy) * sx + plan%spec(i, j, kyy) * sy
-                plan%cbuf(i, j) = plan%spec(i, j, kxx) * sx + plan%spec(i, j, kxy) * sy
-            end do
+        call fftw_execute_dft_r2c(plan%xf, plan%rbuf, plan%cbuf2)
+        do i0 = 1, mxh, PBLOCK
+            call pair_block(plan, kxx, kxy, kyy, i0, min(PBLOCK, mxh - i0 + 1))
         end do
-        call fftw_execute_dft_c2r(plan%bwd, plan%cbuf, plan%rbuf)
+        call fftw_execute_dft_c2r(plan%xb, plan%cbuf, plan%rbuf)
         ux = plan%rbuf(1:nx, 1:ny)
-        call fftw_execute_dft_c2r(plan%bwd, plan%cbuf2, plan%rbuf)
+        call fftw_execute_dft_c2r(plan%xb, plan%cbuf2, plan%rbuf)
         uy = plan%rbuf(1:nx, 1:ny)
     end subroutine conv_apply_pair
+
+    !> x frequencies i0 .. i0 + nb - 1 of conv_apply_pair: Qx (cbuf) and Qy (cbuf2)
+    !> gathered into wbuf and wbuf2, transformed along y, Ux = Cxx Qx + Cxy Qy into wbuf and
+    !> Uy = Cxy Qx + Cyy Qy into wbuf2, transformed back and scattered into cbuf and cbuf2
+    !> (see spectral_block).
+    subroutine pair_block(plan, kxx, kxy, kyy, i0, nb)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: kxx, kxy, kyy, i0, nb
+        integer :: b, j, ny, ii, rxx, rxy, ryy
+        complex(dp) :: sx, sy
+        ny = plan%ny
+        do j = 1, ny
+            do b = 1, nb
+                plan%wbuf(j, b) = plan%cbuf(i0 + b - 1, j)
+                plan%wbuf2(j, b) = plan%cbuf2(i0 + b - 1, j)
+            end do
+        end do
+        plan%wbuf(ny + 1:, 1:nb) = (0.0_dp, 0.0_dp)
+        plan%wbuf2(ny + 1:, 1:nb) = (0.0_dp, 0.0_dp)
+        call block_transforms(plan, nb, .true.)
+        if (plan%real_spec(kxx) .and. plan%real_spec(kxy) .and. plan%real_spec(kyy)) then
+            rxx = count(plan%real_spec(1:kxx))
+            rxy = count(plan%real_spec(1:kxy))
+            ryy = count(plan%real_spec(1:kyy))
+            do b = 1, nb
+                ii = i0 + b - 1
+                do j = 1, plan%my
+                    sx = plan%wbuf(j, b)
+                    sy = plan%wbuf2(j, b)
+                    plan%wbuf(j, b) = plan%rspec(j, ii, rxx) * sx + plan%rspec(j, ii, rxy) * sy
+                    plan%wbuf2(j, b) = plan%rspec(j, ii, rxy) * sx + plan%rspec(j, ii, ryy) * sy
+                end do
+            end do
+        else
+            do j = 1, plan%my
+                do b = 1, nb
+                    ii = i0 + b - 1
+                    sx = plan%wbuf(j, b)
+                    sy = plan%wbuf2(j, b)
+                    plan%wbuf(j, b) = plan%spec(ii, j, kxx) * sx + plan%spec(ii, j, kxy) * sy
+                    plan%wbuf2(j, b) = plan%spec(ii, j, kxy) * sx + plan%spec(ii, j, kyy) * sy
+                end do
+            end do
+        end if
+        call block_transforms(plan, nb, .false.)
+        do j = 1, ny
+            do b = 1, nb
+                plan%cbuf(i0 + b - 1, j) = plan%wbuf(j, b)
+                plan%cbuf2(i0 + b - 1, j) = plan%wbuf2(j, b)
+            end do
+        end do
+    end subroutine pair_block
+
+    !> The y transforms of a block of nb x frequencies in wbuf and wbuf2 (forward or
+    !> inverse), by the plans of PBLOCK or of the remainder.
+    subroutine block_transforms(plan, nb, forward)
+        type(conv_plan), intent(inout) :: plan
+        integer, intent(in) :: nb
+        logical, intent(in) :: forward
+        type(c_ptr) :: yp
+        if (forward) then
+            yp = plan%yf
+            if (nb /= PBLOCK) yp = plan%yfr
+        else
+            yp = plan%yb
+            if (nb /= PBLOCK) yp = plan%ybr
+        end if
+        call fftw_execute_dft(yp, plan%wbuf, plan%wbuf)
+        call fftw_execute_dft(yp, plan%wbuf2, plan%wbuf2)
+    end subroutine block_transforms
 
     !> Set up the preconditioner z = M r, M ~ A^-1 of the Boussinesq operator:
     !> the half-space's symbol is A(k) = 2 (1 - nu) / (G |k|), so M(k) =
