@@ -83,27 +83,28 @@ subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     if (.not. associated(w)) return
     info = STAT_OK
     do k = 1, nrep
-        call conv_apply_plain(w%plan, 1, q, u)
+        call conv_apply_plain(w%plan, q, u)
     end do
 end subroutine convolve_repeat_c
 
 !> u = C * q for a given coefficient field c (circular layout on the 2nx x 2ny padded
 !> grid, as influence_field_c's), by the pruned FFT product (method 1), direct summation
-!> (method 2) or the plain FFT product (method 3); real_spec is 1 when the pruned product
-!> multiplied by a real spectrum (c even or odd in both x and y), else 0.
+!> (method 2) or the plain FFT product (method 3), made nrep >= 1 times on one plan (the
+!> benchmark times products so); real_spec is 1 when the pruned product multiplied by a
+!> real spectrum (c point-symmetric: even or odd in both x and y), else 0.
 !> info: STAT_OK; STAT_BAD_ARGUMENT an unknown method code; otherwise conv_init's status.
-subroutine convolve_field_c(method, nx, ny, c, q, u, real_spec, info)
+subroutine convolve_field_c(method, nx, ny, nrep, c, q, u, real_spec, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
     use contact_convolution, only: conv_plan, conv_init, conv_apply, conv_apply_plain, conv_free, &
                                    direct_apply
     implicit none
-    integer(c_int), intent(in) :: method, nx, ny
+    integer(c_int), intent(in) :: method, nx, ny, nrep
     real(c_double), intent(in) :: c(2 * nx, 2 * ny), q(nx, ny)
     real(c_double), intent(out) :: u(nx, ny)
     integer(c_int), intent(out) :: real_spec, info
     type(conv_plan) :: plan
-    integer :: stat
+    integer :: stat, k
     info = STAT_OK
     real_spec = 0
     u = 0.0_c_double
@@ -112,7 +113,9 @@ subroutine convolve_field_c(method, nx, ny, c, q, u, real_spec, info)
         return
     end if
     if (method == 2) then
-        call direct_apply(nx, ny, c, q, u)
+        do k = 1, max(nrep, 1)
+            call direct_apply(nx, ny, c, q, u)
+        end do
         return
     end if
     call conv_init(plan, nx, ny, reshape(c, [2 * nx, 2 * ny, 1]), stat)
@@ -121,11 +124,13 @@ subroutine convolve_field_c(method, nx, ny, c, q, u, real_spec, info)
         call conv_free(plan)
         return
     end if
-    if (method == 1) then
-        call conv_apply(plan, 1, q, u)
-    else
-        call conv_apply_plain(plan, 1, q, u)
-    end if
+    do k = 1, max(nrep, 1)
+        if (method == 1) then
+            call conv_apply(plan, 1, q, u)
+        else
+            call conv_apply_plain(plan, q, u)
+        end if
+    end do
     if (plan%real_spec(1)) real_spec = 1
     call conv_free(plan)
 end subroutine convolve_field_c

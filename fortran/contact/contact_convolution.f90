@@ -38,18 +38,21 @@ module contact_convolution
         real(c_double), pointer :: rbuf(:, :) => null()
         complex(c_double_complex), pointer :: cbuf(:, :) => null()
         complex(c_double_complex), pointer :: cbuf2(:, :) => null()
+        ! kernel 1's spectrum (mx/2 + 1, my), for the plain product (conv_apply_plain)
         complex(dp), allocatable :: spec(:, :, :)
         ! Pruned product (conv_apply_buffer): x transforms of the ny loaded columns,
-        ! y transforms of blocks of PBLOCK (and of the last nrem) x frequencies in wbuf.
+        ! y transforms of blocks of PBLOCK (and of the last nrem) x frequencies in wbuf
+        ! (leading dimension my + WPAD).
         type(c_ptr) :: xf = c_null_ptr, xb = c_null_ptr
         type(c_ptr) :: yf = c_null_ptr, yb = c_null_ptr, yfr = c_null_ptr, ybr = c_null_ptr
         type(c_ptr) :: wmem = c_null_ptr, wmem2 = c_null_ptr
         complex(c_double_complex), pointer :: wbuf(:, :) => null(), wbuf2(:, :) => null()
-        ! rspec(:, :, k) = real(spec(:, :, k)) transposed, (my, mx/2 + 1), for the kernels
-        ! with real_spec(k) (a real spectrum: a point-symmetric field); the others multiply
-        ! by spec.
+        ! Every kernel's spectrum transposed, (my, mx/2 + 1): kernel k's is rspec(:, :, sidx(k))
+        ! when real_spec(k) (a real spectrum: a point-symmetric field), else cspec(:, :, sidx(k)).
         logical, allocatable :: real_spec(:)
+        integer, allocatable :: sidx(:)
         real(dp), allocatable :: rspec(:, :, :)
+        complex(dp), allocatable :: cspec(:, :, :)
         ! Preconditioner M ~ A^-1 on the unpadded (periodic) nx x ny grid.
         logical :: has_prec = .false.
         type(c_ptr) :: pfwd = c_null_ptr, pbwd = c_null_ptr
@@ -69,6 +72,9 @@ module contact_convolution
     !> to the inverse; measured 0.57-0.62 of a plain product at 450 and 500 with 12-24
     !> rows, more with 8.
     integer, parameter :: PBLOCK = 16
+    !> Padding of wbuf's columns (complex numbers): with 2ny a power of two, unpadded columns
+    !> fall into the same cache sets (measured 0.72 of a plain product at 256 x 256).
+    integer, parameter :: WPAD = 4
     !> A coefficient field whose point reflection c(-i, -j) differs from it by at most this
     !> share of its largest modulus has its spectrum taken as real (the spectrum of its
     !> point-symmetric part). The influence fields are point-symmetric in exact arithmetic
@@ -88,7 +94,7 @@ contains
         integer, intent(in) :: nx, ny
         real(dp), intent(in) :: c(0:, 0:, :)
         integer, intent(out) :: info
-        integer :: k, mxh
+        integer :: mxh
 
         info = STAT_OK
         call conv_free(plan)
@@ -123,15 +129,47 @@ contains
             return
         end if
 
-        allocate (plan%spec(mxh, plan%my, plan%nker))
+        call conv_init_pruned(plan, info)
+        if (info == STAT_OK) call conv_spectra(plan, c)
+    end subroutine conv_init
+
+    !> The spectra of the coefficient fields c(:, :, k), by the plain forward transform, with
+    !> FFTW's unnormalised inverse's 1/(mx my) folded in: kernel 1's as spec, every kernel's
+    !> transposed as rspec (real, for a point-symmetric field: the spectrum of its
+    !> point-symmetric part) or cspec.
+    subroutine conv_spectra(plan, c)
+        type(conv_plan), intent(inout) :: plan
+        real(dp), intent(in) :: c(0:, 0:, :)
+        integer :: k, mxh, nr, nc
+        real(dp) :: s
+        mxh = plan%mx / 2 + 1
+        s = real(plan%mx * plan%my, dp)
+        allocate (plan%real_spec(plan%nker), plan%sidx(plan%nker))
+        nr = 0
+        nc = 0
+        do k = 1, plan%nker
+            plan%real_spec(k) = point_symmetric(c(:, :, k))
+            if (plan%real_spec(k)) then
+                nr = nr + 1
+                plan%sidx(k) = nr
+            else
+                nc = nc + 1
+                plan%sidx(k) = nc
+            end if
+        end do
+        allocate (plan%spec(mxh, plan%my, 1), plan%rspec(plan%my, mxh, nr), plan%cspec(plan%my, mxh, nc))
         do k = 1, plan%nker
             plan%rbuf = c(:, :, k)
             call fftw_execute_dft_r2c(plan%fwd, plan%rbuf, plan%cbuf)
-            ! FFTW's inverse is unnormalised: fold 1/(mx my) into the spectrum.
-            plan%spec(:, :, k) = plan%cbuf / real(plan%mx * plan%my, dp)
+            plan%cbuf = plan%cbuf / s
+            if (k == 1) plan%spec(:, :, 1) = plan%cbuf
+            if (plan%real_spec(k)) then
+                plan%rspec(:, :, plan%sidx(k)) = transpose(real(plan%cbuf, dp))
+            else
+                plan%cspec(:, :, plan%sidx(k)) = transpose(plan%cbuf)
+            end if
         end do
-        call conv_init_pruned(plan, c, info)
-    end subroutine conv_init
+    end subroutine conv_spectra
 
     !> Whether c is point-symmetric, c(-i, -j) = c(i, j) (indices modulo the padded grid),
     !> to SYM_SHARE of its largest modulus: then its spectrum is real.
@@ -151,41 +189,39 @@ contains
         sym = d <= tol
     end function point_symmetric
 
-    !> The pruned product's plans (conv_apply_buffer) and the real spectra of the
-    !> point-symmetric fields of c, after conv_init's buffers and spectra. info: STAT_OK; STAT_NO_MEMORY, STAT_FFTW_PLAN as conv_init.
-    subroutine conv_init_pruned(plan, c, info)
+    !> The pruned product's plans (conv_apply_buffer), after conv_init's buffers. info: STAT_OK; STAT_NO_MEMORY, STAT_FFTW_PLAN as conv_init.
+    subroutine conv_init_pruned(plan, info)
         type(conv_plan), intent(inout) :: plan
-        real(dp), intent(in) :: c(0:, 0:, :)
         integer, intent(out) :: info
-        integer(c_int) :: mx, my, mxh, ny, nrem
-        integer :: k
+        integer(c_int) :: mx, my, mxh, ny, nrem, ldw
         info = STAT_OK
         mx = plan%mx
         my = plan%my
         ny = plan%ny
         mxh = mx / 2 + 1
         nrem = mod(mxh, PBLOCK)
-        plan%wmem = fftw_alloc_complex(int(my, c_size_t) * PBLOCK)
-        plan%wmem2 = fftw_alloc_complex(int(my, c_size_t) * PBLOCK)
+        ldw = my + WPAD
+        plan%wmem = fftw_alloc_complex(int(ldw, c_size_t) * PBLOCK)
+        plan%wmem2 = fftw_alloc_complex(int(ldw, c_size_t) * PBLOCK)
         if (.not. (c_associated(plan%wmem) .and. c_associated(plan%wmem2))) then
             info = STAT_NO_MEMORY
             return
         end if
-        call c_f_pointer(plan%wmem, plan%wbuf, [plan%my, PBLOCK])
-        call c_f_pointer(plan%wmem2, plan%wbuf2, [plan%my, PBLOCK])
+        call c_f_pointer(plan%wmem, plan%wbuf, [ldw, PBLOCK])
+        call c_f_pointer(plan%wmem2, plan%wbuf2, [ldw, PBLOCK])
         plan%xf = fftw_plan_many_dft_r2c(1, [mx], ny, plan%rbuf, [mx], 1, mx, &
                                          plan%cbuf, [mxh], 1, mxh, FFTW_ESTIMATE)
         plan%xb = fftw_plan_many_dft_c2r(1, [mx], ny, plan%cbuf, [mxh], 1, mxh, &
                                          plan%rbuf, [mx], 1, mx, FFTW_ESTIMATE)
-        plan%yf = fftw_plan_many_dft(1, [my], PBLOCK, plan%wbuf, [my], 1, my, &
-                                     plan%wbuf, [my], 1, my, FFTW_FORWARD, FFTW_ESTIMATE)
-        plan%yb = fftw_plan_many_dft(1, [my], PBLOCK, plan%wbuf, [my], 1, my, &
-                                     plan%wbuf, [my], 1, my, FFTW_BACKWARD, FFTW_ESTIMATE)
+        plan%yf = fftw_plan_many_dft(1, [my], PBLOCK, plan%wbuf, [ldw], 1, ldw, &
+                                     plan%wbuf, [ldw], 1, ldw, FFTW_FORWARD, FFTW_ESTIMATE)
+        plan%yb = fftw_plan_many_dft(1, [my], PBLOCK, plan%wbuf, [ldw], 1, ldw, &
+                                     plan%wbuf, [ldw], 1, ldw, FFTW_BACKWARD, FFTW_ESTIMATE)
         if (nrem > 0) then
-            plan%yfr = fftw_plan_many_dft(1, [my], nrem, plan%wbuf, [my], 1, my, &
-                                          plan%wbuf, [my], 1, my, FFTW_FORWARD, FFTW_ESTIMATE)
-            plan%ybr = fftw_plan_many_dft(1, [my], nrem, plan%wbuf, [my], 1, my, &
-                                          plan%wbuf, [my], 1, my, FFTW_BACKWARD, FFTW_ESTIMATE)
+            plan%yfr = fftw_plan_many_dft(1, [my], nrem, plan%wbuf, [ldw], 1, ldw, &
+                                          plan%wbuf, [ldw], 1, ldw, FFTW_FORWARD, FFTW_ESTIMATE)
+            plan%ybr = fftw_plan_many_dft(1, [my], nrem, plan%wbuf, [ldw], 1, ldw, &
+                                          plan%wbuf, [ldw], 1, ldw, FFTW_BACKWARD, FFTW_ESTIMATE)
         end if
         if (.not. (c_associated(plan%xf) .and. c_associated(plan%xb) .and. c_associated(plan%yf) &
                    .and. c_associated(plan%yb) .and. (nrem == 0 .or. (c_associated(plan%yfr) &
@@ -193,15 +229,6 @@ contains
             info = STAT_FFTW_PLAN
             return
         end if
-        allocate (plan%real_spec(plan%nker))
-        do k = 1, plan%nker
-            plan%real_spec(k) = point_symmetric(c(:, :, k))
-        end do
-        allocate (plan%rspec(my, mxh, count(plan%real_spec)))
-        do k = 1, plan%nker
-            if (plan%real_spec(k)) plan%rspec(:, :, count(plan%real_spec(1:k))) = &
-                transpose(real(plan%spec(:, :, k), dp))
-        end do
     end subroutine conv_init_pruned
 
     subroutine conv_free(plan)
@@ -223,7 +250,9 @@ contains
         call free_mem(plan%wmem2)
         nullify (plan%wbuf, plan%wbuf2)
         if (allocated(plan%real_spec)) deallocate (plan%real_spec)
+        if (allocated(plan%sidx)) deallocate (plan%sidx)
         if (allocated(plan%rspec)) deallocate (plan%rspec)
+        if (allocated(plan%cspec)) deallocate (plan%cspec)
         call destroy_plan(plan%pfwd)
         call destroy_plan(plan%pbwd)
         call free_mem(plan%prmem)
@@ -261,19 +290,18 @@ contains
         u = plan%rbuf(1:plan%nx, 1:plan%ny)
     end subroutine conv_apply
 
-    !> u = C_k * q by the plain zero-padded FFT product: one r2c transform of the
-    !> 2nx x 2ny grid, the product by the complex spectrum, one c2r transform (the unit
+    !> u = C_1 * q (kernel 1) by the plain zero-padded FFT product: one r2c transform of
+    !> the 2nx x 2ny grid, the product by the complex spectrum, one c2r transform (the unit
     !> of bench_contact_normal's "FFT-product time", and the reference of the pruned one).
-    subroutine conv_apply_plain(plan, k, q, u)
+    subroutine conv_apply_plain(plan, q, u)
         type(conv_plan), intent(inout) :: plan
-        integer, intent(in) :: k
         real(dp), intent(in) :: q(:, :)
         real(dp), intent(out) :: u(:, :)
         plan%rbuf(1:plan%nx, 1:plan%ny) = q
         plan%rbuf(plan%nx + 1:, 1:plan%ny) = 0.0_dp
         plan%rbuf(:, plan%ny + 1:) = 0.0_dp
         call fftw_execute_dft_r2c(plan%fwd, plan%rbuf, plan%cbuf)
-        plan%cbuf = plan%cbuf * plan%spec(:, :, k)
+        plan%cbuf = plan%cbuf * plan%spec(:, :, 1)
         call fftw_execute_dft_c2r(plan%bwd, plan%cbuf, plan%rbuf)
         u = plan%rbuf(1:plan%nx, 1:plan%ny)
     end subroutine conv_apply_plain
@@ -304,36 +332,27 @@ contains
     subroutine spectral_block(plan, k, i0, nb)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: k, i0, nb
-        integer :: b, j, ny, kr
+        integer :: b, j, ny, my, ks
         ny = plan%ny
+        my = plan%my
+        ks = plan%sidx(k)
         do j = 1, ny
             do b = 1, nb
                 plan%wbuf(j, b) = plan%cbuf(i0 + b - 1, j)
             end do
         end do
-        plan%wbuf(ny + 1:, 1:nb) = (0.0_dp, 0.0_dp)
-        if (nb == PBLOCK) then
-            call fftw_execute_dft(plan%yf, plan%wbuf, plan%wbuf)
-        else
-            call fftw_execute_dft(plan%yfr, plan%wbuf, plan%wbuf)
-        end if
+        plan%wbuf(ny + 1:my, 1:nb) = (0.0_dp, 0.0_dp)
+        call block_transforms(plan, nb, .true., .false.)
         if (plan%real_spec(k)) then
-            kr = count(plan%real_spec(1:k))
             do b = 1, nb
-                plan%wbuf(:, b) = plan%wbuf(:, b) * plan%rspec(:, i0 + b - 1, kr)
+                plan%wbuf(1:my, b) = plan%wbuf(1:my, b) * plan%rspec(:, i0 + b - 1, ks)
             end do
         else
-            do j = 1, plan%my
-                do b = 1, nb
-                    plan%wbuf(j, b) = plan%wbuf(j, b) * plan%spec(i0 + b - 1, j, k)
-                end do
+            do b = 1, nb
+                plan%wbuf(1:my, b) = plan%wbuf(1:my, b) * plan%cspec(:, i0 + b - 1, ks)
             end do
         end if
-        if (nb == PBLOCK) then
-            call fftw_execute_dft(plan%yb, plan%wbuf, plan%wbuf)
-        else
-            call fftw_execute_dft(plan%ybr, plan%wbuf, plan%wbuf)
-        end if
+        call block_transforms(plan, nb, .false., .false.)
         do j = 1, ny
             do b = 1, nb
                 plan%cbuf(i0 + b - 1, j) = plan%wbuf(j, b)
@@ -376,25 +395,27 @@ contains
     subroutine pair_block(plan, kxx, kxy, kyy, i0, nb)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: kxx, kxy, kyy, i0, nb
-        integer :: b, j, ny, ii, rxx, rxy, ryy
+        integer :: b, j, ny, my, ii, rxx, rxy, ryy
         complex(dp) :: sx, sy
+        complex(dp) :: cxx(plan%my), cxy(plan%my), cyy(plan%my)
         ny = plan%ny
+        my = plan%my
         do j = 1, ny
             do b = 1, nb
                 plan%wbuf(j, b) = plan%cbuf(i0 + b - 1, j)
                 plan%wbuf2(j, b) = plan%cbuf2(i0 + b - 1, j)
             end do
         end do
-        plan%wbuf(ny + 1:, 1:nb) = (0.0_dp, 0.0_dp)
-        plan%wbuf2(ny + 1:, 1:nb) = (0.0_dp, 0.0_dp)
-        call block_transforms(plan, nb, .true.)
+        plan%wbuf(ny + 1:my, 1:nb) = (0.0_dp, 0.0_dp)
+        plan%wbuf2(ny + 1:my, 1:nb) = (0.0_dp, 0.0_dp)
+        call block_transforms(plan, nb, .true., .true.)
         if (plan%real_spec(kxx) .and. plan%real_spec(kxy) .and. plan%real_spec(kyy)) then
-            rxx = count(plan%real_spec(1:kxx))
-            rxy = count(plan%real_spec(1:kxy))
-            ryy = count(plan%real_spec(1:kyy))
+            rxx = plan%sidx(kxx)
+            rxy = plan%sidx(kxy)
+            ryy = plan%sidx(kyy)
             do b = 1, nb
                 ii = i0 + b - 1
-                do j = 1, plan%my
+                do j = 1, my
                     sx = plan%wbuf(j, b)
                     sy = plan%wbuf2(j, b)
                     plan%wbuf(j, b) = plan%rspec(j, ii, rxx) * sx + plan%rspec(j, ii, rxy) * sy
@@ -402,17 +423,20 @@ contains
                 end do
             end do
         else
-            do j = 1, plan%my
-                do b = 1, nb
-                    ii = i0 + b - 1
+            do b = 1, nb
+                ii = i0 + b - 1
+                call spectrum_column(plan, kxx, ii, cxx)
+                call spectrum_column(plan, kxy, ii, cxy)
+                call spectrum_column(plan, kyy, ii, cyy)
+                do j = 1, my
                     sx = plan%wbuf(j, b)
                     sy = plan%wbuf2(j, b)
-                    plan%wbuf(j, b) = plan%spec(ii, j, kxx) * sx + plan%spec(ii, j, kxy) * sy
-                    plan%wbuf2(j, b) = plan%spec(ii, j, kxy) * sx + plan%spec(ii, j, kyy) * sy
+                    plan%wbuf(j, b) = cxx(j) * sx + cxy(j) * sy
+                    plan%wbuf2(j, b) = cxy(j) * sx + cyy(j) * sy
                 end do
             end do
         end if
-        call block_transforms(plan, nb, .false.)
+        call block_transforms(plan, nb, .false., .true.)
         do j = 1, ny
             do b = 1, nb
                 plan%cbuf(i0 + b - 1, j) = plan%wbuf(j, b)
@@ -421,12 +445,12 @@ contains
         end do
     end subroutine pair_block
 
-    !> The y transforms of a block of nb x frequencies in wbuf and wbuf2 (forward or
-    !> inverse), by the plans of PBLOCK or of the remainder.
-    subroutine block_transforms(plan, nb, forward)
+    !> The y transforms of a block of nb x frequencies in wbuf (and wbuf2 for a pair),
+    !> forward or inverse, by the plans of PBLOCK or of the remainder.
+    subroutine block_transforms(plan, nb, forward, pair)
         type(conv_plan), intent(inout) :: plan
         integer, intent(in) :: nb
-        logical, intent(in) :: forward
+        logical, intent(in) :: forward, pair
         type(c_ptr) :: yp
         if (forward) then
             yp = plan%yf
@@ -436,8 +460,20 @@ contains
             if (nb /= PBLOCK) yp = plan%ybr
         end if
         call fftw_execute_dft(yp, plan%wbuf, plan%wbuf)
-        call fftw_execute_dft(yp, plan%wbuf2, plan%wbuf2)
+        if (pair) call fftw_execute_dft(yp, plan%wbuf2, plan%wbuf2)
     end subroutine block_transforms
+
+    !> Kernel k's spectrum at x frequency ii over all my y frequencies, as complex numbers.
+    pure subroutine spectrum_column(plan, k, ii, col)
+        type(conv_plan), intent(in) :: plan
+        integer, intent(in) :: k, ii
+        complex(dp), intent(out) :: col(:)
+        if (plan%real_spec(k)) then
+            col = cmplx(plan%rspec(:, ii, plan%sidx(k)), 0.0_dp, dp)
+        else
+            col = plan%cspec(:, ii, plan%sidx(k))
+        end if
+    end subroutine spectrum_column
 
     !> Set up the preconditioner z = M r, M ~ A^-1 of the Boussinesq operator:
     !> the half-space's symbol is A(k) = 2 (1 - nu) / (G |k|), so M(k) =

@@ -119,7 +119,7 @@ def convolve_field(
     c = _checks.finite_array("coefficients", coefficients, shape=(2 * q.shape[0], 2 * q.shape[1]))
     if method not in _FIELD_METHODS:
         raise InputError(f"method must be one of {sorted(_FIELD_METHODS)}, got {method!r}")
-    u, real_spec, info = core.convolve_field_c(_FIELD_METHODS[method], c, q)
+    u, real_spec, info = core.convolve_field_c(_FIELD_METHODS[method], 1, c, q)
     if info != Status.OK:
         raise error(info, "convolve_field_c failed", exc=RailvtiError)
     return u, bool(real_spec)
