@@ -52,7 +52,8 @@ def products(n, clock):
 # the solvers' pruned product (issue 33; absent in older builds), in CPU time, with the
 # Boussinesq field (point-symmetric: real spectrum) and with it made slightly asymmetric
 # (complex spectrum); one plan per call, its making cancels in the difference of counts
-has_pruned = hasattr(core, "convolve_field_c")
+# (only with --ab's repeats: its plans and fields would raise the table's peak memory)
+has_pruned = hasattr(core, "convolve_field_c") and repeat > 1
 if has_pruned:
     from railvti.contact import influence_field
     c_sym = influence_field(grid, STEEL, "zz")
