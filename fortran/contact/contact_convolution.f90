@@ -4,15 +4,16 @@
 !> The FFT form zero-pads to 2nx x 2ny so that the circular convolution equals
 !> the linear one (Kaiser, sect. 4; Vollebregt 2014). FFTW plans and the
 !> coefficient spectra are made once per grid (conv_init) and reused by every
-!> product. conv_apply and conv_apply_buffer prune the transforms to the padding
-!> (issue 33): the x transforms run over the ny loaded columns only (r2c forward,
-!> c2r inverse), the y transforms over all 2ny rows of the nx + 1 x frequencies, in
-!> blocks of PBLOCK frequencies gathered into a small buffer in which the forward
-!> transform, the spectral product and the inverse transform follow each other in
-!> cache; a kernel whose spectrum is real (even in x and y, as A_zz) is multiplied by
-!> a real, transposed copy of it. conv_apply_plain is the unpruned 2-D product (one
-!> r2c of the padded grid, the product by the complex spectrum, one c2r), the unit
-!> of the normal solver's benchmark; both agree to rounding. The direct form (direct_apply) sums in O(N^2) and is
+!> product. conv_apply, conv_apply_buffer and conv_apply_pair prune the transforms to
+!> the padding (issue 33): the x transforms run over the ny loaded columns only (r2c
+!> forward, c2r inverse), the y transforms over all 2ny rows of the nx + 1 x
+!> frequencies, in blocks of PBLOCK frequencies gathered into a small buffer in which
+!> the forward transform, the spectral product and the inverse transform follow each
+!> other in cache. The spectra are kept transposed: real for a point-symmetric field
+!> (all four influence fields), complex otherwise. conv_apply_plain is the unpruned
+!> 2-D product (one r2c of the padded grid, the product by the complex spectrum, one
+!> c2r), the unit of the normal solver's benchmark; they agree to rounding. The direct
+!> form (direct_apply) sums in O(N^2) and is
 !> kept for small grids and as a reference. On small grids (N = nx ny <= DENSE_MAX)
 !> conv_apply_dense multiplies by the dense N x N matrix of a kernel, made on first
 !> use and kept in the plan: O(nq N) for nq non-zero sources, contiguous columns.
@@ -26,7 +27,7 @@ module contact_convolution
     private
     public :: conv_plan, conv_init, conv_free, conv_apply, conv_apply_pair, direct_apply
     public :: conv_init_precond, conv_apply_buffer, conv_precond_buffer
-    public :: conv_apply_dense, DENSE_MAX, conv_apply_plain, PBLOCK
+    public :: conv_apply_dense, DENSE_MAX, conv_apply_plain
 
     include 'fftw3.f03'
 
