@@ -10,7 +10,11 @@ memory, the time of one FFT product on that grid and the ratio solve/product.
 Before/after in one run (issue 33): ``--ab NEW_SITE`` times the 450 x 450 case
 (``--side``) with the interpreter's installed railvti ("old", PYTHONPATH unset) and
 with the one in NEW_SITE ("new"), alternating for ``--rounds`` rounds; each child takes
-the best of ``--repeat`` solves and of as many product timings, and prints the load:
+the best of ``--repeat`` solves and of as many product timings, and prints the load.
+The unit, one FFT-product time, is the plain product (convolve_repeat_c: one r2c of the
+zero-padded 2nx x 2ny grid, the product by the complex spectrum, one c2r); builds with the
+pruned product (issue 33) also print its CPU time in that unit, with the real spectrum the
+solver uses and with the complex one:
 
     python benchmarks/bench_contact_normal.py --ab $WT/_site --side 450 --rounds 4
 """
@@ -45,18 +49,37 @@ def products(n, clock):
     t0 = clock()
     core.convolve_repeat_c(workspace(grid, STEEL), n, q)
     return clock() - t0
+# the solvers' pruned product (issue 33; absent in older builds), in CPU time, with the
+# Boussinesq field (point-symmetric: real spectrum) and with it made slightly asymmetric
+# (complex spectrum); one plan per call, its making cancels in the difference of counts
+# (only with --ab's repeats: its plans and fields would raise the table's peak memory)
+has_pruned = hasattr(core, "convolve_field_c") and repeat > 1
+if has_pruned:
+    from railvti.contact import influence_field
+    c_sym = influence_field(grid, STEEL, "zz")
+    c_asym = c_sym.copy(order="F")
+    c_asym[1, 0] *= 1.0 + 1.0e-6
+def pruned(n, spectrum):
+    t0 = time.process_time()
+    core.convolve_field_c(1, n, c_sym if spectrum else c_asym, q)
+    return time.process_time() - t0
 nrep = 40 if repeat == 1 else 10
-t, t_prod, c, c_prod = (float("inf"),) * 4
+t, t_prod, c, c_prod, c_real, c_cplx = (float("inf"),) * 6
 for _ in range(repeat):  # best of repeat, solves and product timings interleaved
     t0, c0 = time.perf_counter(), time.process_time()
     r = solve_normal(gap, grid, STEEL, fn=1.0e4, method=method)  # cold pressure, cached workspace
     t, c = min(t, time.perf_counter() - t0), min(c, time.process_time() - c0)
     t_prod = min(t_prod, (products(nrep + 1, time.perf_counter) - products(1, time.perf_counter)) / nrep)
     c_prod = min(c_prod, (products(nrep + 1, time.process_time) - products(1, time.process_time)) / nrep)
+    if has_pruned:
+        c_real = min(c_real, (pruned(nrep + 1, 1) - pruned(1, 1)) / nrep)
+        c_cplx = min(c_cplx, (pruned(nrep + 1, 0) - pruned(1, 0)) / nrep)
 print(json.dumps(dict(side=side, method=method, elements=side * side, contact=r.n_contact,
                       iterations=r.iterations, products=r.fft_products, coarse=r.coarse_fft_products, seconds=t, first=t_first, t_product=t_prod, cpu=c, cpu_product=c_prod,
                       peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
                       p0_err=r.pmax / ref.p0 - 1, approach=r.approach, approach_err=r.approach / ref.approach - 1,
+                      pruned_real=c_real / c_prod if has_pruned else None,
+                      pruned_complex=c_cplx / c_prod if has_pruned else None,
                       load=os.getloadavg()[0])))
 """
 
@@ -87,11 +110,14 @@ def compare(new_site: str, side: int, rounds: int, repeat: int) -> None:
         for name, path in (("old", None), ("new", new_site)):
             r = child(side, "cg", repeat, path)
             ratio = r["seconds"] / r["t_product"]
+            pr = ""
+            if r.get("pruned_real") is not None:
+                pr = f"  pruned product (CPU) {r['pruned_real']:.3f} real / {r['pruned_complex']:.3f} complex spectrum"
             print(
                 f"round {k} {name}: solve {r['seconds'] * 1e3:7.1f} ms  product {r['t_product'] * 1e3:6.2f} ms  "
                 f"ratio {ratio:5.1f} (CPU time {r['cpu'] / r['cpu_product']:5.1f})  "
                 f"products {r['products']} (+{r['coarse']} coarse)  iterations {r['iterations']}  "
-                f"p0 err {r['p0_err']:+.3e}  approach {r['approach']:.9e}  load {r['load']:.2f}",
+                f"p0 err {r['p0_err']:+.3e}  approach {r['approach']:.9e}  load {r['load']:.2f}{pr}",
                 flush=True,
             )
             best.setdefault(name, []).append(r)

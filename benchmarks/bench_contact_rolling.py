@@ -14,12 +14,18 @@ second, on the cached workspace, is the time reported as "tangential s"
 
 Run: .venv/bin/python benchmarks/bench_contact_rolling.py [--max-gs 6400] [--tol 1e-7] [--chart]
 (--chart writes validation/figures/contact_rolling_bench.png)
+
+Before/after in one run (issue 33, the pruned FFT pair product): ``--ab NEW_SITE`` solves
+the 6,400 and 25,000 element cases ('fftgs') with the interpreter's installed railvti
+("old", PYTHONPATH unset) and the one in NEW_SITE ("new"), alternating for ``--rounds``
+rounds, and prints the tangential solve times, forces and the load.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -78,7 +84,12 @@ def main() -> None:
     ap.add_argument("--max-gs", type=int, default=6400, help="largest patch solved with 'gs' (elements)")
     ap.add_argument("--tol", type=float, default=1e-7)
     ap.add_argument("--chart", action="store_true", help="write validation/figures/contact_rolling_bench.png")
+    ap.add_argument("--ab", metavar="NEW_SITE", help="compare the installed railvti with the one in NEW_SITE")
+    ap.add_argument("--rounds", type=int, default=2)
     args = ap.parse_args()
+    if args.ab:
+        compare(args.ab, args.rounds, args.tol)
+        return
     rows = []
     # elements on the shorter semi-axis for ~400, 1,600, 6,400, 25,000 in contact (b/a = 0.82)
     sizes = [(400, 10), (1600, 20), (6400, 40), (25000, 80)]
@@ -108,6 +119,30 @@ def main() -> None:
             )
     if args.chart:
         chart(rows)
+
+
+def compare(new_site: str, rounds: int, tol: float) -> None:
+    """Old (installed) against new (new_site), alternating, 'fftgs' at 6,400 and 25,000 elements."""
+    for n in (40, 80):
+        for k in range(rounds):
+            for name, path in (("old", None), ("new", new_site)):
+                env = {key: v for key, v in os.environ.items() if key != "PYTHONPATH"}
+                if path:
+                    env["PYTHONPATH"] = path
+                out = subprocess.run(
+                    [sys.executable, "-c", CHILD, str(n), "fftgs", str(tol)],
+                    capture_output=True,
+                    text=True,
+                    check=True,
+                    env=env,
+                    cwd="/",
+                )
+                d = json.loads(out.stdout.strip().splitlines()[-1])
+                print(
+                    f"{d['grid']:>9} round {k} {name}: tangential {d['tang_s']:.4f} s  sweeps {d['sweeps']}  "
+                    f"fx {d['fx']:.10e}  fy {d['fy']:.10e}  slip {d['slip']}  load {os.getloadavg()[0]:.2f}",
+                    flush=True,
+                )
 
 
 def chart(rows: list) -> None:

@@ -62,14 +62,14 @@ subroutine convolve_c(kernel, method, nx, ny, dx, dy, g, nu, q, u, info)
     end if
 end subroutine convolve_c
 
-!> Apply the Boussinesq product of workspace `handle` nrep times to q (the
-!> benchmark times one FFT product with it).
+!> Apply the plain (unpruned) Boussinesq FFT product of workspace `handle` nrep times
+!> to q (the benchmark's unit, one FFT-product time, is one of them).
 !> info: STAT_OK; STAT_BAD_HANDLE no such workspace, or one of another grid size.
 subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     use iso_c_binding, only: c_int, c_double
     use common_status, only: STAT_OK, STAT_BAD_HANDLE
     use contact_plans, only: workspace, ws_get
-    use contact_convolution, only: conv_apply
+    use contact_convolution, only: conv_apply_plain
     implicit none
     integer(c_int), intent(in) :: handle, nx, ny, nrep
     real(c_double), intent(in) :: q(nx, ny)
@@ -83,9 +83,57 @@ subroutine convolve_repeat_c(handle, nx, ny, nrep, q, u, info)
     if (.not. associated(w)) return
     info = STAT_OK
     do k = 1, nrep
-        call conv_apply(w%plan, 1, q, u)
+        call conv_apply_plain(w%plan, q, u)
     end do
 end subroutine convolve_repeat_c
+
+!> u = C * q for a given coefficient field c (circular layout on the 2nx x 2ny padded
+!> grid, as influence_field_c's), by the pruned FFT product (method 1), direct summation
+!> (method 2) or the plain FFT product (method 3), made nrep >= 1 times on one plan (the
+!> benchmark times products so); real_spec is 1 when the pruned product multiplied by a
+!> real spectrum (c point-symmetric: even or odd in both x and y), else 0.
+!> info: STAT_OK; STAT_BAD_ARGUMENT an unknown method code; otherwise conv_init's status.
+subroutine convolve_field_c(method, nx, ny, nrep, c, q, u, real_spec, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK, STAT_BAD_ARGUMENT
+    use contact_convolution, only: conv_plan, conv_init, conv_apply, conv_apply_plain, conv_free, &
+                                   direct_apply
+    implicit none
+    integer(c_int), intent(in) :: method, nx, ny, nrep
+    real(c_double), intent(in) :: c(2 * nx, 2 * ny), q(nx, ny)
+    real(c_double), intent(out) :: u(nx, ny)
+    integer(c_int), intent(out) :: real_spec, info
+    type(conv_plan) :: plan
+    integer :: stat, k
+    info = STAT_OK
+    real_spec = 0
+    u = 0.0_c_double
+    if (method < 1 .or. method > 3) then
+        info = STAT_BAD_ARGUMENT
+        return
+    end if
+    if (method == 2) then
+        do k = 1, max(nrep, 1)
+            call direct_apply(nx, ny, c, q, u)
+        end do
+        return
+    end if
+    call conv_init(plan, nx, ny, reshape(c, [2 * nx, 2 * ny, 1]), stat)
+    if (stat /= STAT_OK) then
+        info = stat
+        call conv_free(plan)
+        return
+    end if
+    do k = 1, max(nrep, 1)
+        if (method == 1) then
+            call conv_apply(plan, 1, q, u)
+        else
+            call conv_apply_plain(plan, q, u)
+        end if
+    end do
+    if (plan%real_spec(1)) real_spec = 1
+    call conv_free(plan)
+end subroutine convolve_field_c
 
 !> Make a contact workspace (coefficients, spectra, FFTW plans) for an
 !> nx x ny grid; tangential /= 0 adds the Cerruti kernels.
@@ -280,3 +328,26 @@ subroutine normal_cg_slice_c(handle, nx, ny, h, control, method, tol, max_iter, 
     if (.not. fin) info = STAT_OK
 end subroutine normal_cg_slice_c
 
+
+!> The tangential pair product of contact_convolution (pruned FFT), for tests:
+!> ux = Cxx * qx + Cxy * qy, uy = Cxy * qx + Cyy * qy, with c(:, :, 1..3) = Cxx, Cxy, Cyy
+!> in circular layout on the 2nx x 2ny padded grid.
+!> info: STAT_OK; otherwise conv_init's status.
+subroutine convolve_pair_c(nx, ny, c, qx, qy, ux, uy, info)
+    use iso_c_binding, only: c_int, c_double
+    use common_status, only: STAT_OK
+    use contact_convolution, only: conv_plan, conv_init, conv_apply_pair, conv_free
+    implicit none
+    integer(c_int), intent(in) :: nx, ny
+    real(c_double), intent(in) :: c(2 * nx, 2 * ny, 3), qx(nx, ny), qy(nx, ny)
+    real(c_double), intent(out) :: ux(nx, ny), uy(nx, ny)
+    integer(c_int), intent(out) :: info
+    type(conv_plan) :: plan
+    integer :: stat
+    ux = 0.0_c_double
+    uy = 0.0_c_double
+    call conv_init(plan, nx, ny, c, stat)
+    info = stat
+    if (stat == STAT_OK) call conv_apply_pair(plan, 1, 2, 3, qx, qy, ux, uy)
+    call conv_free(plan)
+end subroutine convolve_pair_c

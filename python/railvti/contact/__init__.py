@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from .grid import Grid
 from .hertz import HertzResult, hertz, hertz_gap
-from .influence import convolve, influence_field
+from .influence import convolve, convolve_field, influence_field
 from .normal import NormalResult, SubPatches, solve_normal
 from .rolling import RollingResult, solve_rolling, solve_tangential
 from .creep_table import CreepForceTable, creep_force_table
@@ -36,6 +36,7 @@ __all__ = [
     "hertz",
     "hertz_gap",
     "convolve",
+    "convolve_field",
     "influence_field",
     "NormalResult",
     "SubPatches",

@@ -85,4 +85,44 @@ def convolve(
     return u
 
 
-__all__ = ["KERNELS", "influence_field", "convolve"]
+_FIELD_METHODS = {"fft": 1, "direct": 2, "fft_plain": 3}
+
+
+def convolve_field(
+    coefficients: np.ndarray, values: np.ndarray, method: str = "fft"
+) -> tuple[np.ndarray, bool]:
+    """Discrete linear convolution of a grid field with a coefficient field.
+
+    ``u[i, j] = sum_kl coefficients[(i - k) mod 2 nx, (j - l) mod 2 ny] values[k, l]``,
+    the product that the contact solvers make with influence coefficients
+    (:func:`influence_field`'s circular layout, or any other field).
+
+    Parameters
+    ----------
+    coefficients : ndarray, shape (2 nx, 2 ny)
+        Coefficients in circular layout (units of u per unit of values).
+    values : ndarray, shape (nx, ny)
+        The field convolved, e.g. a traction, Pa.
+    method : {'fft', 'fft_plain', 'direct'}
+        'fft' the solvers' zero-padded FFT product, its transforms pruned to the
+        padding; 'fft_plain' the unpruned zero-padded FFT product (one 2-D r2c
+        transform, the spectral product, one c2r); 'direct' summation, O(N^2).
+
+    Returns
+    -------
+    u : ndarray, shape (nx, ny)
+    real_spectrum : bool
+        Whether the pruned product multiplied by a real spectrum (coefficients even, or
+        odd, in both directions); False for the other methods.
+    """
+    q = _checks.finite_array("values", values, ndim=2)
+    c = _checks.finite_array("coefficients", coefficients, shape=(2 * q.shape[0], 2 * q.shape[1]))
+    if method not in _FIELD_METHODS:
+        raise InputError(f"method must be one of {sorted(_FIELD_METHODS)}, got {method!r}")
+    u, real_spec, info = core.convolve_field_c(_FIELD_METHODS[method], 1, c, q)
+    if info != Status.OK:
+        raise error(info, "convolve_field_c failed", exc=RailvtiError)
+    return u, bool(real_spec)
+
+
+__all__ = ["KERNELS", "influence_field", "convolve", "convolve_field"]
