@@ -110,8 +110,9 @@ np.savez(sys.argv[1], q=r.q, Q=r.Q, n=sy.n)
 
 def test_independent_of_threads_and_openblas_coretype(tmp_path):
     """One thread and the default kernels against two threads and Haswell's: the rigid DOFs
-    to 1e-10 m (the ring's degenerate mode pairs come out of its eigensolver rotated by the
-    kernels; the rail's motion, and so the contact, does not see it)."""
+    to 1e-10 m, the wheel loads to 2 N (the ring's degenerate mode pairs come out of its
+    eigensolver rotated by the kernels; the rail's motion, and so the contact, does not see
+    it)."""
     out = []
     for env_extra in ({"OMP_NUM_THREADS": "1"}, {"OMP_NUM_THREADS": "2", "OPENBLAS_CORETYPE": "Haswell"}):
         path = tmp_path / f"run{len(out)}.npz"
@@ -121,4 +122,6 @@ def test_independent_of_threads_and_openblas_coretype(tmp_path):
     a, b = out
     n = int(a["n"])
     assert np.abs(a["q"][:, :n] - b["q"][:, :n]).max() < 1e-10
-    assert np.abs(a["Q"] - b["Q"]).max() < 1e-4
+    # the wheel load to Newton's tolerance (1e-9 m on the correction) times the contact's
+    # stiffness (~1e9 N/m): an iteration more or fewer somewhere moves it by ~1 N (0.59 N here)
+    assert np.abs(a["Q"] - b["Q"]).max() < 2.0

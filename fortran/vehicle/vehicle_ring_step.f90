@@ -28,6 +28,7 @@ module vehicle_ring_step
     implicit none
     private
     public :: ring_step_begin, ring_step_force, ring_step_accept, ring_points_force, ring_step_flex
+    public :: ring_step_predict
 
 contains
 
@@ -115,6 +116,23 @@ contains
         res = norm2(matmul(g, rows) - fn)
         ok = res <= 1.0e-6_dp * norm2(fs) .or. norm2(fs) == 0.0_dp
     end subroutine ring_points_force
+
+    !> Newton's start for the ring's modes: the step's end with the point forces held at g_n
+    !> over the step, q1 = Qh + P phie . g_n (the rows moving; the constant-acceleration
+    !> predictor holds the modal force instead, whose rows stay where they were).
+    pure subroutine ring_step_predict(mp, ms, qh, dphi, gn, q1)
+        type(modal_part), intent(in) :: mp
+        type(modal_step), intent(in) :: ms
+        real(dp), intent(in) :: qh(mp%nm), dphi(3, mp%rr%nc, mp%rr%nk), gn(3, mp%rr%nc)
+        real(dp), intent(inout) :: q1(mp%nm)
+        real(dp) :: rows(3, mp%rr%nc, mp%rr%nk)
+        integer :: j, b0
+        b0 = ring_block0(mp)
+        call end_rows(mp, rows)
+        do j = 1, mp%rr%nk
+            q1(mp%rm0 + j) = qh(mp%rm0 + j) + ms%ep(mp%off(b0 + j - 1) + 1) * sum((dphi(:, :, j) + rows(:, :, j)) * gn)
+        end do
+    end subroutine ring_step_predict
 
     !> The model's ring rows at the contact points (3, nc, nk), phi(x_{n+1}).
     pure subroutine end_rows(mp, rows)
