@@ -17,7 +17,8 @@
 !> forces recovered from the modal force over the ring's modes, phi(x)^T g = f + B V + K Q, by
 !> least squares (24 points, hundreds of modes: exact), so that the carried state (q, v, f)
 !> alone defines the step and a run's chunking cannot change it. Work per step: m + 1 row
-!> evaluations and O(m nk np_ring); nothing over all modes.
+!> evaluations and O(m nk np_ring); nothing over all modes. The ring's points carry the contact's
+!> forces only (vehicle_newmark%state_force's gp; no point element or coupling on them).
 !> Implements no Kaiser equation.
 module vehicle_ring_step
     use common_kinds, only: dp
