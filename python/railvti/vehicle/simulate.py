@@ -100,7 +100,10 @@ def exact_modal(
     'exact' integrates each modal block with mass exactly over the step for the point forces
     linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
     the modes themselves (a point coupling stiffer than (sqrt(12) / h)^2 per unit modal mass
-    is not stable: Newmark's beta = 1/6 for it)."""
+    is not stable: Newmark's beta = 1/6 for it). 'exact-moving' also integrates the ring
+    track's modes (RF, FF) over their rows at :data:`RING_NODES` + 1 nodes a step, the contact
+    points moving within the step (docs/vehicle_integrator.md, "The ring's moving rows");
+    without a ring it is 'exact'."""
     if modal_step is not None and modal_step not in MODAL_STEPS:
         raise InputError(f"unknown modal_step {modal_step!r}; one of {list(MODAL_STEPS)}")
     applies = integrator == "hht" and alpha == 0.0
