@@ -258,6 +258,7 @@ contains
         real(dp), intent(in) :: q0(mp%nm), v0(mp%nm), a0(mp%nm)
         real(dp), intent(inout) :: qh(mp%nm), vh(mp%nm)
         real(dp), allocatable :: fn(:), z(:)
+        real(dp) :: fn1
         integer :: b, s, o, j0, j1
         do b = 1, mp%nb
             if (.not. ms%ex(b)) cycle
@@ -265,6 +266,12 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then    ! a mode on its own (the ring's): no temporaries
+                fn1 = a0(j0) + mp%bb(o + 1) * v0(j0) + mp%kb(o + 1) * q0(j0)
+                qh(j0) = ms%ea(4 * o + 1) * q0(j0) + ms%ea(4 * o + 3) * v0(j0) + ms%ep0(o + 1) * fn1
+                vh(j0) = ms%ea(4 * o + 2) * q0(j0) + ms%ea(4 * o + 4) * v0(j0) + ms%er0(o + 1) * fn1
+                cycle
+            end if
             fn = a0(j0:j1) + matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v0(j0:j1)) &
                  + matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q0(j0:j1))
             z = matmul(reshape(ms%ea(4 * o + 1:4 * o + 4 * s * s), [2 * s, 2 * s]), [q0(j0:j1), v0(j0:j1)])
@@ -286,6 +293,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                v1(j0) = vh(j0) + ms%ew(o + 1) * (q1(j0) - qh(j0))
+                cycle
+            end if
             v1(j0:j1) = vh(j0:j1) + matmul(reshape(ms%ew(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1))
         end do
     end subroutine modal_step_velocity
@@ -305,6 +316,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                r(j0) = fm(j0) + mp%bb(o + 1) * v1(j0) + mp%kb(o + 1) * q1(j0) - ms%epi(o + 1) * (q1(j0) - qh(j0))
+                cycle
+            end if
             r(j0:j1) = fm(j0:j1) + matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v1(j0:j1)) &
                        + matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q1(j0:j1)) &
                        - matmul(reshape(ms%epi(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1))
@@ -325,6 +340,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                a1(j0) = ms%epi(o + 1) * (q1(j0) - qh(j0)) - mp%bb(o + 1) * v1(j0) - mp%kb(o + 1) * q1(j0)
+                cycle
+            end if
             a1(j0:j1) = matmul(reshape(ms%epi(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1)) &
                         - matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v1(j0:j1)) &
                         - matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q1(j0:j1))
