@@ -39,9 +39,10 @@ def _run(sy, q0, **kw):
     return simulate(sy, V, 0.06, q0=q0, h=5e-4, output_dt=0.002, contact="hertz-fastsim", **kw)
 
 
-@pytest.mark.parametrize("modal_step", ["trapezoidal", "exact"])
+@pytest.mark.parametrize("modal_step", ["trapezoidal", "exact", "exact-moving"])
 def test_the_matrix_is_kept_and_the_chunking_does_not_matter(system, modal_step):
-    """Also with the exact modal step (whose block matrices the model keeps across calls).
+    """Also with the exact modal step (whose block matrices the model keeps across calls) and
+    the ring's moving rows (FF; their g_n recovered from the carried state).
     The flange impact renews the kept matrix after slow steps (vehicle_newmark refresh_due,
     issue 33: FF 14 and 16 tangents, FR 6 and 2): its age crosses the calls with it."""
     variant, sy, q0 = system

@@ -464,7 +464,8 @@ end subroutine vehicle_ring_residual_c
 !> Integrate nsteps steps; see vehicle_newmark%newmark_run for info and stats. nd: the size of
 !> the state, rigid plus modal DOFs. scheme (vehicle_newmark SCHEME_*): 0 HHT-alpha, 1 the
 !> energy-conserving midpoint rule with discrete gradients, 2 the trapezoidal rule with the
-!> modal blocks stepped exactly (vehicle_modal_step; alpha must be 0 for 1 and 2).
+!> modal blocks stepped exactly (vehicle_modal_step; alpha must be 0 for 1 and 2); 2 + 16 m
+!> (m = 1..64): 2 with the ring's moving rows at m + 1 nodes a step (vehicle_ring_step).
 !> (f, w): the force and wheel outputs at (q, v) carried from the previous call (carried /= 0)
 !> or evaluated first (carried = 0); updated to the last state's.
 !> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 or 2 with alpha /= 0.
@@ -484,7 +485,7 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     real(c_double), intent(out) :: stats(10), tfail
     integer(c_int), intent(out) :: info
     type(vmodel), pointer :: md
-    integer :: stat
+    integer :: stat, base, nodes
     tout = 0.0_c_double
     qout = 0.0_c_double
     vout = 0.0_c_double
@@ -492,13 +493,16 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     stats = 0.0_c_double
     tfail = t
     info = STAT_BAD_ARGUMENT
-    if (scheme /= SCHEME_HHT .and. scheme /= SCHEME_ENERGY .and. scheme /= SCHEME_EXACT) return
-    if (scheme /= SCHEME_HHT .and. alpha /= 0.0_c_double) return
+    base = mod(scheme, 16)
+    nodes = scheme / 16
+    if (base /= SCHEME_HHT .and. base /= SCHEME_ENERGY .and. base /= SCHEME_EXACT) return
+    if (base /= SCHEME_HHT .and. alpha /= 0.0_c_double) return
+    if (nodes < 0 .or. nodes > 64 .or. (nodes > 0 .and. base /= SCHEME_EXACT)) return
     call vehicle_call(handle, nd, nw, nwo, vsettings(speed, cmodel, fsn, bem), md, stat)
     info = stat
     if (stat /= STAT_OK) return
     call newmark_run(md, vsettings(speed, cmodel, fsn, bem), h, nsteps, nevery, &
-                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, scheme), t, q, v, a, f, &
+                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, base, nodes), t, q, v, a, f, &
                      w, carried /= 0, nout, tout, qout, vout, wout, stats, stat, tfail)
     info = stat
 end subroutine vehicle_run_c

@@ -27,7 +27,7 @@ module vehicle_modal_step
     private
     public :: modal_step, modal_step_make, modal_step_begin, modal_step_velocity
     public :: modal_step_residual, modal_step_accel, modal_step_matrices, expm_pade, modal_step_cvp
-    public :: modal_step_slot
+    public :: modal_step_slot, block_step
 
     !> The exact step's matrices of every block for the step size h (h < 0: none yet).
     !> ex(b): block b is stepped exactly; packed at 4 off(b) (A, 2s x 2s) and off(b) (P, R,
@@ -40,17 +40,25 @@ module vehicle_modal_step
         logical, allocatable :: ex(:)
         real(dp), allocatable :: ea(:), ep(:), er(:), epi(:), ew(:), ep0(:), er0(:)
         real(dp), allocatable :: kbb(:), kkb(:), kmass(:)
+        !> The ring's moving rows (vehicle_ring_step), nodes > 0: the weights of the m + 1 =
+        !> nodes + 1 nodes s_k = k h / m of each ring mode j (the block's Q and V rows, rwq, rwv
+        !> (0:m, nk)) in [Q; V]_{n+1} = A [Q; V]_n + sum_k W_k f(s_k) for f piecewise linear
+        !> between the nodes (ring_weights); nodes = 0: none (also when a ring mode is not a
+        !> 1 x 1 block stepped exactly).
+        integer :: nodes = 0, knodes = 0   !< knodes: the nodes asked for (the key)
+        real(dp), allocatable :: rwq(:, :), rwv(:, :)
     end type modal_step
 
 contains
 
     !> The matrices of the step h for every block (nothing when ms already holds them).
-    subroutine modal_step_make(mp, h, ms)
+    subroutine modal_step_make(mp, h, ms, nodes)
         type(modal_part), intent(in) :: mp
         real(dp), intent(in) :: h
         type(modal_step), intent(inout) :: ms
+        integer, intent(in) :: nodes
         integer :: b, s, o, j0
-        if (holds(mp, h, ms)) return
+        if (holds(mp, h, nodes, ms)) return
         if (allocated(ms%ex)) then
             if (size(ms%ex) /= mp%nb .or. size(ms%ep) /= mp%off(mp%nb + 1)) ms = modal_step()
         end if
@@ -81,14 +89,64 @@ contains
         ms%kbb = mp%bb
         ms%kkb = mp%kb
         ms%kmass = mp%mass
+        ms%nodes = 0
+        ms%knodes = merge(nodes, 0, mp%nrl > 0)
+        if (nodes > 0 .and. mp%nrl > 0) call ring_weights(mp, h, nodes, ms)
     end subroutine modal_step_make
 
-    !> Whether ms holds the step h of mp's blocks.
-    pure logical function holds(mp, h, ms)
+    !> The node weights of the ring's modes for the step h with m nodes (ms%rwq, rwv): the
+    !> sub-step h / m's exact step of each mode (A_s, B0_s, B1_s: block_step) chained,
+    !> W_k = A_s^(m-1-k) B0_s [k < m] + A_s^(m-k) B1_s [k > 0]: exact for a force piecewise
+    !> linear between the nodes. ms%nodes stays 0 when a ring mode is not a 1 x 1 exact block.
+    subroutine ring_weights(mp, h, m, ms)
         type(modal_part), intent(in) :: mp
         real(dp), intent(in) :: h
+        integer, intent(in) :: m
+        type(modal_step), intent(inout) :: ms
+        real(dp) :: a(2, 2), p(1, 1), r(1, 1), pinv(1, 1), w(1, 1), p0(1, 1), r0(1, 1), ap(2, 2, 0:m)
+        integer :: j, b, col, k, o
+        logical :: ok
+        if (allocated(ms%rwq)) deallocate (ms%rwq, ms%rwv)
+        allocate (ms%rwq(0:m, mp%rr%nk), ms%rwv(0:m, mp%rr%nk))
+        b = 1
+        do j = 1, mp%rr%nk
+            col = mp%rm0 + j
+            do while (b < mp%nb .and. mp%bs(b) < col)
+                b = b + 1
+            end do
+            if (mp%bs(b) /= col .or. mp%bs(b + 1) /= col + 1) return
+            if (.not. ms%ex(b)) return
+            o = mp%off(b)
+            call block_step(1, h / m, mp%bb(o + 1:o + 1), mp%kb(o + 1:o + 1), a, p, r, pinv, w, p0, r0, ok)
+            if (.not. ok) return
+            ap(:, :, 0) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [2, 2])
+            do k = 1, m
+                ap(:, :, k) = matmul(a, ap(:, :, k - 1))
+            end do
+            ms%rwq(:, j) = 0.0_dp
+            ms%rwv(:, j) = 0.0_dp
+            do k = 0, m
+                if (k < m) then
+                    ms%rwq(k, j) = ap(1, 1, m - 1 - k) * p0(1, 1) + ap(1, 2, m - 1 - k) * r0(1, 1)
+                    ms%rwv(k, j) = ap(2, 1, m - 1 - k) * p0(1, 1) + ap(2, 2, m - 1 - k) * r0(1, 1)
+                end if
+                if (k > 0) then
+                    ms%rwq(k, j) = ms%rwq(k, j) + ap(1, 1, m - k) * p(1, 1) + ap(1, 2, m - k) * r(1, 1)
+                    ms%rwv(k, j) = ms%rwv(k, j) + ap(2, 1, m - k) * p(1, 1) + ap(2, 2, m - k) * r(1, 1)
+                end if
+            end do
+        end do
+        ms%nodes = m
+    end subroutine ring_weights
+
+    !> Whether ms holds the step h of mp's blocks (and the ring's nodes: asked for, kept).
+    pure logical function holds(mp, h, nodes, ms)
+        type(modal_part), intent(in) :: mp
+        real(dp), intent(in) :: h
+        integer, intent(in) :: nodes
         type(modal_step), intent(in) :: ms
         holds = ms%h == h .and. allocated(ms%kmass)
+        if (holds) holds = ms%knodes == merge(nodes, 0, mp%nrl > 0)
         if (.not. holds) return
         holds = size(ms%kmass) == mp%nm .and. size(ms%kbb) == size(mp%bb)
         if (holds) holds = all(ms%kbb == mp%bb) .and. all(ms%kkb == mp%kb) .and. all(ms%kmass == mp%mass)
@@ -96,13 +154,14 @@ contains
 
     !> The slot of a cache (a run and its sub-steps: a few step sizes) for the step h: the one
     !> holding it, else the next in turn (next, advanced), which modal_step_make then fills.
-    integer function modal_step_slot(mp, h, cache, next) result(i)
+    integer function modal_step_slot(mp, h, nodes, cache, next) result(i)
         type(modal_part), intent(in) :: mp
         real(dp), intent(in) :: h
+        integer, intent(in) :: nodes
         type(modal_step), intent(in) :: cache(:)
         integer, intent(inout) :: next
         do i = 1, size(cache)
-            if (holds(mp, h, cache(i))) return
+            if (holds(mp, h, nodes, cache(i))) return
         end do
         next = mod(next, size(cache)) + 1
         i = next
@@ -199,6 +258,7 @@ contains
         real(dp), intent(in) :: q0(mp%nm), v0(mp%nm), a0(mp%nm)
         real(dp), intent(inout) :: qh(mp%nm), vh(mp%nm)
         real(dp), allocatable :: fn(:), z(:)
+        real(dp) :: fn1
         integer :: b, s, o, j0, j1
         do b = 1, mp%nb
             if (.not. ms%ex(b)) cycle
@@ -206,6 +266,12 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then    ! a mode on its own (the ring's): no temporaries
+                fn1 = a0(j0) + mp%bb(o + 1) * v0(j0) + mp%kb(o + 1) * q0(j0)
+                qh(j0) = ms%ea(4 * o + 1) * q0(j0) + ms%ea(4 * o + 3) * v0(j0) + ms%ep0(o + 1) * fn1
+                vh(j0) = ms%ea(4 * o + 2) * q0(j0) + ms%ea(4 * o + 4) * v0(j0) + ms%er0(o + 1) * fn1
+                cycle
+            end if
             fn = a0(j0:j1) + matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v0(j0:j1)) &
                  + matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q0(j0:j1))
             z = matmul(reshape(ms%ea(4 * o + 1:4 * o + 4 * s * s), [2 * s, 2 * s]), [q0(j0:j1), v0(j0:j1)])
@@ -227,6 +293,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                v1(j0) = vh(j0) + ms%ew(o + 1) * (q1(j0) - qh(j0))
+                cycle
+            end if
             v1(j0:j1) = vh(j0:j1) + matmul(reshape(ms%ew(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1))
         end do
     end subroutine modal_step_velocity
@@ -246,6 +316,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                r(j0) = fm(j0) + mp%bb(o + 1) * v1(j0) + mp%kb(o + 1) * q1(j0) - ms%epi(o + 1) * (q1(j0) - qh(j0))
+                cycle
+            end if
             r(j0:j1) = fm(j0:j1) + matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v1(j0:j1)) &
                        + matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q1(j0:j1)) &
                        - matmul(reshape(ms%epi(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1))
@@ -266,6 +340,10 @@ contains
             s = mp%bs(b + 1) - j0
             j1 = j0 + s - 1
             o = mp%off(b)
+            if (s == 1) then
+                a1(j0) = ms%epi(o + 1) * (q1(j0) - qh(j0)) - mp%bb(o + 1) * v1(j0) - mp%kb(o + 1) * q1(j0)
+                cycle
+            end if
             a1(j0:j1) = matmul(reshape(ms%epi(o + 1:o + s * s), [s, s]), q1(j0:j1) - qh(j0:j1)) &
                         - matmul(reshape(mp%bb(o + 1:o + s * s), [s, s]), v1(j0:j1)) &
                         - matmul(reshape(mp%kb(o + 1:o + s * s), [s, s]), q1(j0:j1))

@@ -39,6 +39,8 @@ module vehicle_newmark
     use vehicle_modal_step, only: modal_step, modal_step_make, modal_step_begin, modal_step_velocity, &
                                   modal_step_residual, modal_step_accel, modal_step_matrices, &
                                   modal_step_cvp, modal_step_slot
+    use vehicle_ring_step, only: ring_step_begin, ring_step_force, ring_step_accept, ring_step_flex, &
+                                 ring_step_predict
     implicit none
     private
     public :: newmark_run, static_solve, state_force, hht_options, NSTATS, SCHEME_HHT, SCHEME_ENERGY
@@ -74,6 +76,9 @@ module vehicle_newmark
         integer :: maxit = 20, maxsub = 6
         real(dp) :: rtol = huge(1.0_dp)
         integer :: scheme = SCHEME_HHT
+        !> SCHEME_EXACT on the ring track: the ring modes' moving rows at nodes + 1 nodes a
+        !> step (vehicle_ring_step); 0: the rows at the step's ends only
+        integer :: nodes = 0
     end type hht_options
 
     !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
@@ -126,6 +131,9 @@ module vehicle_newmark
         logical :: exact = .false.
         real(dp), allocatable :: qh(:), vh(:)
         type(modal_step), pointer :: ms => null()
+        !> the ring's moving rows (vehicle_ring_step): its end rows of Q / P less the model's, of V, g_n
+        logical :: ring = .false.
+        real(dp), allocatable :: dphi(:, :, :), phiv(:, :, :), gn(:, :)
     end type hht_step_data
 
 contains
@@ -257,7 +265,8 @@ contains
         type(hht_options), intent(in) :: opt
         real(dp), intent(in) :: q(:), v(:), a(:), h
         real(dp) :: key(3 * size(q) + 6)
-        key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp), real(opt%scheme, dp)]
+        key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp), &
+               real(opt%scheme + 16 * opt%nodes, dp)]
     end function kept_key
 
     !> The matrix kept by the last call, when this call continues from its key with step h
@@ -275,7 +284,7 @@ contains
         if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
         if (md%mp%nm > 0) then
             call step_data(h, opt%alpha, st, sd)
-            if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, st, sd)
+            if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, opt%nodes, st, sd)
             call factor_modal(md, sd, st%mf, info)
             if (info /= STAT_OK) return
             st%nl%jpr = md%kmjpr
@@ -375,7 +384,7 @@ contains
         do while (tl < h - 0.5_dp * hl)
             call model_time(md, t0 + tl + hl, md%mp%nrl > 0)
             if (md%mp%fns > 0) call follow_contact(md, st%w)
-            call hht_step(md, rs, hl, opt, st, tally, err, ok, info)
+            call hht_step(md, rs, hl, t0 + tl + hl, opt, st, tally, err, ok, info)
             if (info /= STAT_OK) then
                 ok = .false.
                 return
@@ -414,10 +423,10 @@ contains
     !> error estimate. ok = .false. when Newton does not converge or the new state is too big
     !> (st unchanged). A trial state outside the table or with a failing BEM patch fails the
     !> step softly (recorded in tally%why, info STAT_OK): it is retried with sub-steps.
-    subroutine hht_step(md, rs, h, opt, st, tally, err, ok, info)
+    subroutine hht_step(md, rs, h, t1, opt, st, tally, err, ok, info)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
-        real(dp), intent(in) :: h
+        real(dp), intent(in) :: h, t1    ! the step and its end time
         type(hht_options), intent(in) :: opt
         type(hht_state), intent(inout), target :: st
         type(hht_tally), intent(inout) :: tally
@@ -426,8 +435,8 @@ contains
         integer, intent(out) :: info
         type(hht_step_data) :: sd
         real(dp), dimension(md%nd + md%mp%nm) :: q1, v1, a1, r, f1
-        real(dp) :: rn, w1(nwo, 2, md%nw), dq
-        logical :: conv, stale, valid
+        real(dp) :: rn, w1(nwo, 2, md%nw), dq, vn(md%mp%nm)
+        logical :: conv, stale, valid, rok
         integer :: nit0, njac0
         ok = .false.
         err = 0.0_dp
@@ -435,8 +444,12 @@ contains
         njac0 = tally%njac
         call step_data(h, opt%alpha, st, sd)
         if (opt%scheme == SCHEME_ENERGY) call energy_data(md, h, st, sd)
-        if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, st, sd)
+        if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, opt%nodes, st, sd)
+        if (sd%exact .and. opt%nodes > 0) call ring_data(md, h, t1, st, sd)
         q1 = st%q + h * st%v + 0.5_dp * h * h * st%a       ! start: constant acceleration
+        ! the ring's modes from the point forces held (their rows move; RF centred at 1 ms, 0.6 s:
+        ! 2548 -> 2404 Newton iterations)
+        if (sd%ring) call ring_step_predict(md%mp, sd%ms, sd%qh, sd%dphi, sd%gn, q1(md%nd + 1:))
         call residual(md, rs, sd, q1, r, rn, f1, w1, info)
         if (info /= STAT_OK) then
             if (soft(info, tally)) info = STAT_OK   ! e.g. a start outside the table: retried
@@ -449,6 +462,7 @@ contains
         if (info == STAT_OK .and. .not. conv .and. stale) then
             ! the kept matrix failed: once more from the start with a fresh one
             q1 = st%q + h * st%v + 0.5_dp * h * h * st%a
+            if (sd%ring) call ring_step_predict(md%mp, sd%ms, sd%qh, sd%dphi, sd%gn, q1(md%nd + 1:))
             call residual(md, rs, sd, q1, r, rn, f1, w1, info)
             if (info /= STAT_OK) then
                 if (soft(info, tally)) info = STAT_OK
@@ -476,6 +490,12 @@ contains
         if (sd%exact) then
             call modal_step_velocity(md%mp, sd%ms, sd%qh, sd%vh, q1(md%nd + 1:), v1(md%nd + 1:))
             call modal_step_accel(md%mp, sd%ms, sd%qh, q1(md%nd + 1:), v1(md%nd + 1:), a1(md%nd + 1:))
+            if (sd%ring) then     ! the ring modes' end velocity from their rows of V
+                vn = v1(md%nd + 1:)
+                call ring_step_accept(md%mp, sd%ms, sd%vh, sd%dphi, sd%phiv, sd%gn, q1(md%nd + 1:), vn, &
+                                      f1(md%nd + 1:), v1(md%nd + 1:), a1(md%nd + 1:), rok)
+                if (.not. rok) return
+            end if
         end if
         if (md%mp%nm > 0) call massless_rates(md, h, st%q, st%v, st%a, q1, v1, a1)
         if (too_big(md, q1, v1, opt%qmax)) return
@@ -708,6 +728,7 @@ contains
         real(dp) :: a1(md%nd + md%mp%nm), v1(md%nd + md%mp%nm), jac(md%nd, md%nd)
         real(dp) :: jru(md%nd, md%mp%np), jcru(md%nd, md%mp%np), jcpr(md%mp%np, md%nd)
         real(dp) :: jcpu(md%mp%np, md%mp%np), xe(md%nd + md%mp%nm), cvp(md%mp%np)
+        real(dp) :: cf(md%mp%np, md%mp%np)
         integer :: nd, np, nt, i
         nd = md%nd
         np = md%mp%np
@@ -756,9 +777,11 @@ contains
                 lin = 1
                 return
             end if
+            cf = mf%c
+            if (sd%ring) call ring_step_flex(md%mp, sd%ms, sd%dphi, cf)   ! C = Phi P phie^T
             nl%a(1:nd, nd + 1:nt) = -(1.0_dp + sd%alpha) * jru
-            nl%a(nd + 1:nt, 1:nd) = -(1.0_dp + sd%alpha) * matmul(mf%c, nl%jpr)
-            nl%a(nd + 1:nt, nd + 1:nt) = -(1.0_dp + sd%alpha) * matmul(mf%c, nl%jpu)
+            nl%a(nd + 1:nt, 1:nd) = -(1.0_dp + sd%alpha) * matmul(cf, nl%jpr)
+            nl%a(nd + 1:nt, nd + 1:nt) = -(1.0_dp + sd%alpha) * matmul(cf, nl%jpu)
             do i = nd + 1, nt
                 nl%a(i, i) = nl%a(i, i) + 1.0_dp
             end do
@@ -797,6 +820,7 @@ contains
         dx(1:nd) = y(1:nd)
         w = (1.0_dp + sd%alpha) * (matmul(nl%jpr, y(1:nd)) + matmul(nl%jpu, y(nd + 1:)))
         call modal_rows_t(md%mp, w, dx(nd + 1:))
+        if (sd%ring) call ring_step_force(md%mp, sd%dphi, w, dx(nd + 1:))   ! phie^T w on the ring
         call modal_solve(md%mp, mf, dx(nd + 1:))
         dx(nd + 1:) = dx(nd + 1:) + z
     end subroutine lin_solve
@@ -853,7 +877,7 @@ contains
         real(dp), intent(in) :: qq(md%nd + md%mp%nm)
         real(dp), intent(out) :: rr(md%nd + md%mp%nm), nrm, ff(md%nd + md%mp%nm), ww(nwo, 2, md%nw)
         integer, intent(out) :: info
-        real(dp) :: aa(md%nd + md%mp%nm), vv(md%nd + md%mp%nm)
+        real(dp) :: aa(md%nd + md%mp%nm), vv(md%nd + md%mp%nm), gp(md%mp%np)
         integer :: nd
         if (sd%energy) then
             call energy_residual(md, rs, sd, qq, rr, nrm, ff, ww, info)
@@ -863,12 +887,17 @@ contains
         aa = sd%cq * (qq - sd%qt)
         vv = sd%vt + sd%gamma * sd%h * aa
         if (sd%exact) call modal_step_velocity(md%mp, sd%ms, sd%qh, sd%vh, qq(nd + 1:), vv(nd + 1:))
-        call state_force(md, rs, qq, vv, ff, ww, info)
+        if (sd%ring) then
+            call state_force(md, rs, qq, vv, ff, ww, info, gp)
+        else
+            call state_force(md, rs, qq, vv, ff, ww, info)
+        end if
         rr(1:nd) = -(matmul(md%m, aa(1:nd)) - (1.0_dp + sd%alpha) * ff(1:nd) + sd%alpha * sd%fn(1:nd))
         if (md%mp%nm > 0) rr(nd + 1:) = -(md%mp%mass * aa(nd + 1:) - (1.0_dp + sd%alpha) * ff(nd + 1:) &
                                           + sd%alpha * sd%fn(nd + 1:))
         if (sd%exact) call modal_step_residual(md%mp, sd%ms, sd%qh, qq(nd + 1:), vv(nd + 1:), ff(nd + 1:), &
                                                rr(nd + 1:))
+        if (sd%ring) call ring_step_force(md%mp, sd%dphi, gp, rr(nd + 1:))
         nrm = norm2(rr)
     end subroutine residual
 
@@ -877,16 +906,17 @@ contains
     !> without modes. Newton starts the exact blocks too from the constant-acceleration
     !> predictor (a: the modal equation's acceleration at t_n): FR hunting at 1 ms, 300 km/h,
     !> 2 s took 6362 iterations from it, 7316 from the constant force Qh + P f_n.
-    subroutine exact_data(md, h, st, sd)
+    subroutine exact_data(md, h, nodes, st, sd)
         type(vmodel), intent(in) :: md
         real(dp), intent(in) :: h
+        integer, intent(in) :: nodes    ! hht_options%nodes
         type(hht_state), intent(inout), target :: st
         type(hht_step_data), intent(inout) :: sd
         integer :: nd, i
         if (md%mp%nm == 0) return
         nd = md%nd
-        i = modal_step_slot(md%mp, h, st%ms, st%msnext)
-        call modal_step_make(md%mp, h, st%ms(i))
+        i = modal_step_slot(md%mp, h, nodes, st%ms, st%msnext)
+        call modal_step_make(md%mp, h, st%ms(i), nodes)
         sd%exact = .true.
         sd%ms => st%ms(i)
         allocate (sd%qh(md%mp%nm), sd%vh(md%mp%nm))
@@ -894,6 +924,30 @@ contains
         sd%vh = 0.0_dp
         call modal_step_begin(md%mp, st%ms(i), st%q(nd + 1:), st%v(nd + 1:), st%a(nd + 1:), sd%qh, sd%vh)
     end subroutine exact_data
+
+    !> The ring's moving rows over the step h ending at t1 (vehicle_ring_step; after
+    !> exact_data): the ring modes' known part at the nodes and their end rows. Nothing when the
+    !> step's matrices have no node weights (no ring, or a ring mode not stepped exactly) or
+    !> g_n cannot be recovered from the carried force: the plain exact step.
+    subroutine ring_data(md, h, t1, st, sd)
+        type(vmodel), intent(in) :: md
+        real(dp), intent(in) :: h, t1
+        type(hht_state), intent(in) :: st
+        type(hht_step_data), intent(inout) :: sd
+        integer :: nd
+        real(dp), allocatable :: qh(:), vh(:)
+        if (sd%ms%nodes == 0) return
+        nd = md%nd
+        allocate (sd%dphi(3, md%mp%rr%nc, md%mp%rr%nk), sd%phiv(3, md%mp%rr%nc, md%mp%rr%nk), &
+                  sd%gn(3, md%mp%rr%nc))
+        qh = sd%qh
+        vh = sd%vh
+        call ring_step_begin(md%mp, sd%ms, h, t1, st%q(nd + 1:), st%v(nd + 1:), st%f(nd + 1:), qh, vh, &
+                             sd%dphi, sd%phiv, sd%gn, sd%ring)
+        if (.not. sd%ring) return
+        sd%qh = qh
+        sd%vh = vh
+    end subroutine ring_data
 
     !> The modal blocks' factors for the step sd (vehicle_modal%modal_factorise): S = cq I +
     !> (1 + alpha)(cv B + K_m), or with SCHEME_EXACT P^-1 for the exact blocks.
@@ -1057,12 +1111,13 @@ contains
 
     !> F over the whole state x = (q, Q), velocities xd: vehicle_model%force_total on the rigid
     !> DOFs plus the point elements, and the modal forces -B Q' - K_m Q + Phi^T g_p.
-    subroutine state_force(md, rs, x, xd, f, w, info)
+    subroutine state_force(md, rs, x, xd, f, w, info, gpo)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
         real(dp), intent(in) :: x(md%nd + md%mp%nm), xd(md%nd + md%mp%nm)
         real(dp), intent(out) :: f(md%nd + md%mp%nm), w(nwo, 2, md%nw)
         integer, intent(out) :: info
+        real(dp), intent(out), optional :: gpo(md%mp%np)  !< the contact's point forces (FR, RF)
         integer :: nd
         real(dp) :: u(md%mp%np), ud(md%mp%np), gp(md%mp%np)
         nd = md%nd
@@ -1074,6 +1129,7 @@ contains
             call force_total(md, rs, x(1:nd), xd(1:nd), f(1:nd), w, info, u=u, ud=ud, gp=gp)
             call modal_force(md%mp, nd, x(1:nd), xd(1:nd), x(nd + 1:), xd(nd + 1:), f(1:nd), &
                              f(nd + 1:), gext=gp)
+            if (present(gpo)) gpo = gp
             return
         end if
         call force_total(md, rs, x(1:nd), xd(1:nd), f(1:nd), w, info)

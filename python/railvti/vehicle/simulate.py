@@ -80,8 +80,14 @@ SCHEME_EXACT = 2
 #: How :func:`simulate` steps the modal blocks (``modal_step``): 'trapezoidal' (the default)
 #: with the rule of the rigid DOFs, 'exact' (integrator 'hht' with alpha = 0) each block with
 #: mass exactly for the point forces linear in time over the step (matrix exponential per
-#: block and step size; docs/vehicle_integrator.md, "Exact modal step").
-MODAL_STEPS = ("exact", "trapezoidal")
+#: block and step size; docs/vehicle_integrator.md, "Exact modal step"); 'exact-moving' the
+#: same with the ring track's modes (RF, FF) integrated over their moving rows at
+#: :data:`RING_NODES` + 1 nodes a step (docs/vehicle_integrator.md, "The ring's moving rows").
+MODAL_STEPS = ("exact", "exact-moving", "trapezoidal")
+
+#: Sub-intervals a step of 'exact-moving' divides the ring's moving rows into (core id
+#: SCHEME_EXACT + 16 * RING_NODES, 1..64).
+RING_NODES = 4
 
 
 def exact_modal(
@@ -94,16 +100,19 @@ def exact_modal(
     'exact' integrates each modal block with mass exactly over the step for the point forces
     linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
     the modes themselves (a point coupling stiffer than (sqrt(12) / h)^2 per unit modal mass
-    is not stable: Newmark's beta = 1/6 for it)."""
+    is not stable: Newmark's beta = 1/6 for it). 'exact-moving' also integrates the ring
+    track's modes (RF, FF) over their rows at :data:`RING_NODES` + 1 nodes a step, the contact
+    points moving within the step (docs/vehicle_integrator.md, "The ring's moving rows");
+    without a ring it is 'exact'."""
     if modal_step is not None and modal_step not in MODAL_STEPS:
         raise InputError(f"unknown modal_step {modal_step!r}; one of {list(MODAL_STEPS)}")
     applies = integrator == "hht" and alpha == 0.0
-    if modal_step == "exact" and not applies:
+    if modal_step in ("exact", "exact-moving") and not applies:
         raise InputError(
-            "modal_step='exact' is the trapezoidal rule's (integrator 'hht', alpha = 0); "
+            f"modal_step={modal_step!r} is the trapezoidal rule's (integrator 'hht', alpha = 0); "
             f"got integrator {integrator!r}, alpha {alpha}: take modal_step='trapezoidal'"
         )
-    return system.modal is not None and modal_step == "exact"
+    return system.modal is not None and modal_step in ("exact", "exact-moving")
 
 
 def check_modal_step(system: System, h: float, exact: bool = False) -> None:
@@ -252,7 +261,7 @@ def simulate(
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
     modal_step : str, optional
-        'trapezoidal' (None, the default) or 'exact': :func:`exact_modal`.
+        'trapezoidal' (None, the default), 'exact' or 'exact-moving' (RF, FF): :func:`exact_modal`.
 
     Raises
     ------
@@ -289,7 +298,7 @@ def simulate(
             system.wheel_load,
         )
         plan = replace(plan, scheme=_scheme(integrator, plan.alpha, system, modal_step))
-        check_modal_step(system, plan.h, plan.scheme == SCHEME_EXACT)
+        check_modal_step(system, plan.h, plan.scheme % 16 == SCHEME_EXACT)
         if curve is not None and plan.scheme == INTEGRATORS["energy"]:
             raise InputError("curve: the curve's tables enter integrator 'hht' only, not 'energy'")
         run = functools.partial(
@@ -413,7 +422,7 @@ def _scheme(integrator: str, alpha: float, system: System, modal_step: str | Non
     'energy' with alpha /= 0 or without the strip geometry (the table contact has no
     potential whose discrete gradient could be taken)."""
     if exact_modal(system, integrator, alpha, modal_step):
-        return SCHEME_EXACT
+        return SCHEME_EXACT + (16 * RING_NODES if modal_step == "exact-moving" else 0)
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; one of {sorted(INTEGRATORS)}")
     if integrator == "energy":
