@@ -4,6 +4,7 @@ its old default (the trapezoidal modal step at 0.5 ms, h omega_max <= 2)?
 
     OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_rr_like_for_like.py [scene ...]
     OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_rr_like_for_like.py --replot
+    OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_rr_like_for_like.py --boundary
 
 Scenes (Hertz + Kalker on the strip contact, the scenarios' default, and the critical-speed
 study's): 'hunting' (300 km/h, 6 mm release, 2 s), 'decay' (330 km/h, between RR's and FR's
@@ -11,7 +12,9 @@ decay boundaries, 0.5 mm release, 3 s), 'centred' (300 km/h, 0.5 s). Per scene a
 leading wheelset's amplitude (largest |y| over the last 0.5 s), Q max and Y max over the run
 (outputs every 2 ms), the hunting frequency (upward zero crossings of y over the last 1 s, interpolated) and the
 growth rate of the amplitude (a line through log of the peaks of |y| after 0.5 s, 1/s: > 0
-grows; its sign change over speed is the decay boundary).
+grows; its sign change over speed is the decay boundary). 'cycle420' and 'cycle340' (6 mm
+released at 420 and 340 km/h, 4 s: the flange limit cycle the critical-speed path starts
+from, its first run at 420 km/h).
 
 Runs: RR at 1 ms, 1/8 and 1/16 ms; FR trapezoidal at 0.5 ms (the old default), exact at 1 ms
 (the new default), trapezoidal at 1/8 and 1/16 ms (the converged reference, 1/16 ms) and exact
@@ -20,6 +23,10 @@ measure is formed per pair (RR 1 ms with FR old, RR 1 ms with FR new, both 1/8 m
 ms) and compared with the converged one (both 1/16 ms). Results go to
 validation/figures/vehicle_fr_rr_like_for_like.npz (per scene, a rerun replaces it) and the
 chart vehicle_fr_rr_like_for_like.png.
+
+``--boundary``: the decay test of the critical-speed search (railvti.critical_search: 0.5 mm
+from the static state, 4 s, growth_rate) per run at the speeds around RR's and FR's decay
+boundaries (BOUNDARY): where its sign changes is the decay boundary.
 """
 
 from __future__ import annotations
@@ -60,7 +67,13 @@ MEASURES = (
     ("f", "frequency", 1.0, "Hz"),
     ("rate", "growth rate", 1.0, "1/s"),
 )
-SCENES = {"hunting": (300.0, 0.006, 2.0), "decay": (330.0, 0.0005, 3.0), "centred": (300.0, 0.0, 0.5)}
+SCENES = {
+    "hunting": (300.0, 0.006, 2.0),
+    "decay": (330.0, 0.0005, 3.0),
+    "centred": (300.0, 0.0, 0.5),
+    "cycle420": (420.0, 0.006, 4.0),
+    "cycle340": (340.0, 0.006, 4.0),
+}
 
 
 def _measures(t: np.ndarray, y: np.ndarray, Q: np.ndarray, Y: np.ndarray) -> dict:
@@ -116,7 +129,7 @@ def plot(store: dict) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    scenes = [s for s in ("hunting", "decay") if f"{s}|RR 1|amp" in store]  # centred: no motion
+    scenes = [s for s in SCENES if s != "centred" and f"{s}|RR 1|amp" in store]  # centred: no motion
     fig, axes = plt.subplots(len(scenes), 1, figsize=(9, 3.2 * len(scenes)), squeeze=False)
     for ax, scene in zip(axes[:, 0], scenes):
         ref = PAIRS[-1]
@@ -144,8 +157,35 @@ def plot(store: dict) -> None:
     plt.close(fig)
 
 
+#: The decay test of railvti.critical_search (a 0.5 mm release from the static state, 4 s,
+#: growth_rate over 0.5 s windows: > 0 grows) at the speeds around each variant's decay
+#: boundary (the four-variant study: RR 295.0, FR 330.0-332.5 km/h), km/h.
+BOUNDARY = {"RR": (292.5, 295.0), "FR": (327.5, 330.0, 332.5)}
+
+
+def boundary(store: dict) -> None:
+    """The decay test's growth rate per run of RUNS at the speeds of BOUNDARY."""
+    from railvti.envelope_criteria import growth_rate
+
+    for lab, variant, modal_step, h_ms in RUNS:
+        for v in BOUNDARY[variant]:
+            kw = dict(duration=4.0, y0=0.0005, h=h_ms * 1e-3, progress=False)
+            if modal_step is not None:
+                kw["modal_step"] = modal_step
+            r = scenarios.hunting(v, variant=variant, **kw)
+            rate = growth_rate(r.t, r.y_ws1, 0.5)
+            store[f"boundary|{lab}|{v:g}"] = np.array(rate)
+            print(f"  decay test {lab:14s} {v:6.1f} km/h: growth rate {rate:+.5f} 1/s", flush=True)
+
+
 def main(argv: list[str]) -> None:
     store = dict(np.load(STORE)) if STORE.exists() else {}
+    if argv == ["--boundary"]:
+        boundary(store)
+        fresh = dict(np.load(STORE)) if STORE.exists() else {}
+        fresh.update({k: v for k, v in store.items() if k.startswith("boundary|")})
+        np.savez(STORE, **fresh)
+        return
     if argv != ["--replot"]:
         for scene in argv or list(SCENES):
             res = {lab: run(scene, v, ms, h) for lab, v, ms, h in RUNS}
