@@ -140,8 +140,7 @@ REFUSED = [
     ),
     ("vehicle-h1e-6", "vehicle", dict(duration=600.0, h=1e-6), {}, "h"),
     ("vehicle-h2e-6", "vehicle", dict(duration=10.0, h=2e-6), {}, "h"),
-    # the issue's case, with the trapezoidal modal step (alpha /= 0; the default before issue 33)
-    ("vehicle-FR-fmax20k", "vehicle", dict(model="FR", f_max=20000.0, alpha=-0.05), {}, "f_max"),
+    ("vehicle-FR-fmax20k", "vehicle", dict(model="FR", f_max=20000.0), {}, "f_max"),  # the issue's case
     ("vehicle-FR-fmax20k-100s", "vehicle", dict(model="FR", f_max=20000.0, duration=100.0), {}, "f_max"),
     (
         "vehicle-FR-fmax20k-kmax30",
@@ -270,8 +269,6 @@ ANNOUNCED = [
     ("table-n20001", "geometry_table", dict(n=20001), "table nodes"),
     ("vehicle-60s", "vehicle", dict(duration=60.0), "time steps"),
     ("vehicle-FR-fmax5k", "vehicle", dict(model="FR", f_max=5000.0), "kept modes"),
-    # the exact modal step (FR's default, issue 33) at 1 ms: 3000 steps of 1791 modes, ~0.5 h
-    ("vehicle-FR-fmax20k-exact", "vehicle", dict(model="FR", f_max=20000.0), "kept modes"),
 ]
 
 

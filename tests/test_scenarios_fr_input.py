@@ -80,26 +80,21 @@ def test_unknown_mode_label():
 
 
 def test_step_too_large_for_the_kept_modes():
-    """The trapezoidal modal step's step is refused before any work (static equilibrium,
-    runs) in the FR entry points that take it: 2 ms against the 561 Hz mode of the default
-    selection (h omega = 7). The default, the exact modal step (issue 33), has no such limit."""
+    """The step is refused before any work (static equilibrium, runs) in every FR entry
+    point: 2 ms against the 561 Hz mode of the default selection (h omega = 7)."""
     for call in (
-        lambda: scenarios.centred_running(200.0, "FR", h=2e-3, modal_step="trapezoidal"),
-        lambda: scenarios.hunting(300.0, "FR", h=2e-3, modal_step="trapezoidal"),
-        lambda: scenarios.hunting(300.0, "FR", h=2e-3, alpha=-0.05),
+        lambda: scenarios.centred_running(200.0, "FR", h=2e-3),
+        lambda: scenarios.hunting(300.0, "FR", h=2e-3),
+        lambda: scenarios.bifurcation([300.0, 280.0], "FR", h=2e-3, progress=False),
+        lambda: scenarios.critical_speed("FR", h=2e-3, speeds_kmh=[300.0, 280.0], progress=False),
     ):
         with pytest.raises(InputError, match="too large for the highest mode"):
             call()
-    # the deck check refuses it with the rest of the case's problems where the case's modal
-    # step is the trapezoidal one (alpha /= 0)
+    # the deck check refuses it with the rest of the case's problems
     with pytest.raises(InputError, match="too large for the highest mode"):
-        REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=2e-3, alpha=-0.05))
+        REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=2e-3))
     # a step the modes take passes the check (k <= 1 up to 300 Hz: 293 Hz, h omega = 1.8)
-    REGISTRY["vehicle"].validate(
-        _deck(model="FR", scenario="hunting", h=1e-3, k_max=1, f_max=300.0, alpha=-0.05)
-    )
-    # the default (alpha = 0): the exact modal step, any step
-    REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=2e-3))
+    REGISTRY["vehicle"].validate(_deck(model="FR", scenario="hunting", h=1e-3, k_max=1, f_max=300.0))
 
 
 def test_mode_selection_given_to_rr():

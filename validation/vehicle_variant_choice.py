@@ -7,8 +7,7 @@ passing) and Q max; cost: CPU time of the call over the simulated time, one thre
 Scene `critical-speed`: the strip folds of the four-variant study (README, validation/
 vehicle_four_study.py): RR 292.5, FR 277.5, RF 292.5, FF 280.0 km/h; costs: hunting at
 300 km/h (benchmarks/bench_vehicle_variants.py, session 19: RR 0.67 s, FR 1.61, RF 4.59,
-FF 5.00 s CPU for 2 s; FR since issue 33's default step, the exact modal step at 1 ms:
-1.22-1.28 s).
+FF 5.00 s CPU for 2 s).
 
 Run: OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_variant_choice.py
 """

@@ -418,9 +418,10 @@ def _step_s(contact: str, geometry: str) -> float:
 #: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
 #: _RING_MODE_STEP_S per mode (128 sleepers, 926 modes up to 500 Hz: real-time factor 4.1
 #: at h = 0.5 ms, ~2 ms per step; README).
-#: With the exact modal step (FR's default) a step costs _EXACT_STEP_FACTOR times the
-#: trapezoidal one's modal part (FR hunting at 300 km/h, 2 s: 0.5 ms trapezoidal 1.62-1.69 s,
-#: 1 ms exact 1.44-1.47 s of CPU: twice the Newton iterations per step; docs/speed_accuracy.md).
+#: With the exact modal step (a variant's default once it opts in, simulate.EXACT_BY_DEFAULT)
+#: a step costs _EXACT_STEP_FACTOR times the trapezoidal one's modal part (FR hunting at
+#: 300 km/h, 2 s: 0.5 ms trapezoidal 1.62-1.69 s, 1 ms exact 1.44-1.47 s of CPU: twice the
+#: Newton iterations per step; docs/speed_accuracy.md).
 _WS_MODE_STEP_S = 1.36e-5
 _EXACT_STEP_FACTOR = 1.8
 _WS_MODE_EXPONENT = 1.33
@@ -468,7 +469,7 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
 
 def _exact_modal(p: dict[str, Any]) -> bool:
     """Whether the case's modal blocks take the exact modal step (simulate's default for the
-    model and alpha, railvti.vehicle.simulate.default_modal_step: model FR with alpha = 0)."""
+    model and alpha, railvti.vehicle.simulate.default_modal_step; none today)."""
     from ..vehicle.simulate import default_modal_step  # on first use: see _vehicle
 
     variant = str(p.get("model", "RR")).strip().upper()

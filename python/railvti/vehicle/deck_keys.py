@@ -142,7 +142,7 @@ KEYS: dict[str, Key] = {
     ),
     "h": Key(
         "s",
-        "time step (default 1 ms; model FF, and FR with alpha /= 0: 1 ms divided so that h omega_max <= 2)",
+        "time step (default 1 ms; model FR: 1 ms divided so that h omega_max <= 2)",
         lo=1e-6,
         hi=0.01,
         optional=True,
@@ -362,7 +362,7 @@ def fr_selection(params: dict[str, Any]) -> dict[str, Any]:
 
 def _trapezoidal_modal_step(params: dict[str, Any]) -> bool:
     """Whether the case's modal blocks take the trapezoidal step (simulate's default for the
-    model and alpha: model FR with alpha = 0 takes the exact step, which has no step limit)."""
+    model and alpha, simulate.default_modal_step; the exact step has no step limit)."""
     return default_modal_step(params["model"], alpha=params["alpha"]) == "trapezoidal"
 
 

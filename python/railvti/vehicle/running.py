@@ -63,9 +63,9 @@ def centred_running(
     duration : float
         Simulated time after the static equilibrium, s.
     h : float, optional
-        Time step, s (default 1 ms, variant FR's too: its modal blocks stepped exactly,
-        simulate's default_modal_step; the ring track's (RF, FF) and any trapezoidal modal
-        step's 1 ms divided into as many parts as the highest kept mode needs, h omega_max <= 2).
+        Time step, s (default 1 ms; the modal variants' 1 ms divided into as many parts as the
+        highest kept mode needs, h omega_max <= 2, unless their modal blocks are stepped
+        exactly: ``modal_step='exact'``, or simulate's default_modal_step).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw
@@ -172,9 +172,9 @@ def hunting(
     ``q0``/``v0`` continue from a given state instead (speed sweeps); on the ring track (RF,
     FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
     at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
-    critical_search does this), not from 0. ``h`` defaults to 1 ms (FR's too, its modal blocks
-    stepped exactly; RF's and FF's, and any trapezoidal modal step's, 1 ms divided so that
-    h omega_max <= 2 for the highest kept mode, as centred_running); variant 'FR' also takes
+    critical_search does this), not from 0. ``h`` defaults to 1 ms (the modal variants' 1 ms
+    divided so that h omega_max <= 2 for the highest kept mode unless their modal blocks are
+    stepped exactly, as centred_running); variant 'FR' also takes
     ``k_max`` and ``f_max`` (Hz). The speed is ``speed`` in m/s or its suffixed alias
     ``speed_kmh`` in km/h (exactly one).
     ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get

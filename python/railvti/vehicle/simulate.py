@@ -88,11 +88,15 @@ SCHEME_EXACT = 2
 MODAL_STEPS = ("exact", "trapezoidal")
 
 #: The variants (:func:`system_variant`) whose modal blocks take the exact modal step by
-#: default (issue 33): FR, the flexible wheelsets on rigid track, at RR's 1 ms. The ring track
-#: (RF, FF) keeps the trapezoidal rule at the 1 ms divided for its highest mode: its moving
-#: rows, not its modes, set its step (at 1 ms RF hunting's amplitude is 1.8 % off its
-#: converged value; docs/speed_accuracy.md). A variant opts in by joining this tuple.
-EXACT_BY_DEFAULT = ("FR",)
+#: default, at RR's 1 ms: none yet. A variant opts in by joining this tuple (simulate, the
+#: scenarios' default step, the deck check and the cost estimate follow). FR was measured for it
+#: (issue 33, validation/vehicle_fr_rr_like_for_like.py, docs/speed_accuracy.md "FR at RR's
+#: 1 ms"): 1.6-1.9x RR's cost instead of 2.3-3.3x and closer in tread hunting, but in the
+#: flange limit cycle at 420 km/h its Q max is 398 kN against the converged 104 kN and its
+#: amplitude 5.8 % low, where the trapezoidal step at 0.5 ms is within 2 % and 0.01 %. The
+#: ring track (RF, FF): its moving rows, not its modes, set its step (at 1 ms RF hunting's
+#: amplitude is 1.8 % off its converged value; docs/speed_accuracy.md).
+EXACT_BY_DEFAULT: tuple[str, ...] = ()
 
 
 def system_variant(system: System) -> str:
@@ -111,8 +115,8 @@ def system_variant(system: System) -> str:
 
 def default_modal_step(variant: str, integrator: str = "hht", alpha: float = 0.0) -> str:
     """The modal step a run takes when ``modal_step`` is not given (:data:`MODAL_STEPS`):
-    'exact' for the variants of :data:`EXACT_BY_DEFAULT` (FR) when the run is the trapezoidal
-    rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR', 'FR', 'RF',
+    'exact' for the variants of :data:`EXACT_BY_DEFAULT` (none yet) when the run is the
+    trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR', 'FR', 'RF',
     'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand). The one place
     of the choice: simulate, the scenarios' default step
     (:func:`railvti.vehicle.systems.default_step`), the deck check and the cost estimate."""
@@ -124,8 +128,8 @@ def exact_modal(
     system: System, integrator: str = "hht", alpha: float = 0.0, modal_step: str | None = None
 ) -> bool:
     """Whether a run of ``system`` with these settings steps its modal blocks exactly
-    (:data:`MODAL_STEPS`; ``modal_step`` None: :func:`default_modal_step`, 'exact' for
-    variant FR, :func:`system_variant`, with integrator 'hht' and alpha = 0). InputError for
+    (:data:`MODAL_STEPS`; ``modal_step`` None: :func:`default_modal_step` of the system's
+    variant, :func:`system_variant`: 'trapezoidal' for all today). InputError for
     an unknown name or 'exact' with alpha /= 0 or the energy integrator.
 
     'exact' integrates each modal block with mass exactly over the step for the point forces
@@ -291,9 +295,8 @@ def simulate(
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
     modal_step : str, optional
-        'exact' or 'trapezoidal' (:func:`exact_modal`); None: :func:`default_modal_step`,
-        'exact' for variant FR's flexible wheelsets on rigid track (at RR's 1 ms; with
-        integrator 'hht' and alpha = 0), 'trapezoidal' otherwise (the ring track, RF and FF).
+        'exact' or 'trapezoidal' (:func:`exact_modal`); None: :func:`default_modal_step`
+        ('trapezoidal' for every variant today: :data:`EXACT_BY_DEFAULT`).
 
     Raises
     ------
