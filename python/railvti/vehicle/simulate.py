@@ -116,9 +116,9 @@ def system_variant(system: System) -> str:
 def default_modal_step(variant: str, integrator: str = "hht", alpha: float = 0.0) -> str:
     """The modal step a run takes when ``modal_step`` is not given (:data:`MODAL_STEPS`):
     'exact' for the variants of :data:`EXACT_BY_DEFAULT` (none yet) when the run is the
-    trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR', 'FR', 'RF',
-    'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand). The one place
-    of the choice: simulate, the scenarios' default step
+    trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR',
+    'FR', 'RF', 'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand).
+    The one place of the choice: simulate, the scenarios' default step
     (:func:`railvti.vehicle.systems.default_step`), the deck check and the cost estimate."""
     exact = integrator == "hht" and alpha == 0.0 and variant in EXACT_BY_DEFAULT
     return "exact" if exact else "trapezoidal"
