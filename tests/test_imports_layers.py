@@ -39,12 +39,13 @@ HEAVY = frozenset({"dask", "distributed", "matplotlib", "scipy", "triangle", "tq
 #: loads numpy, h5py or Fortran (railvti/runner/cli.py's docstring: a Ctrl-C in the first
 #: instant exits with one line); railvti/__init__ loads Material and STEEL on first use
 #: (PEP 562) for the same reason. The runner's cost estimate imports the vehicle's contact
-#: models for a vehicle case only: a CONTACT deck's run does not load the vehicle area
-#: (~0.1 s, issue 33).
+#: models and its default modal step (simulate.default_modal_step) for a vehicle case only: a
+#: CONTACT deck's run does not load the vehicle area (~0.1 s, issue 33).
 LAZY = frozenset(
     {
         ("railvti", "railvti.material"),
         ("railvti.runner.cost", "railvti.vehicle.contact_models"),
+        ("railvti.runner.cost", "railvti.vehicle.simulate"),
         ("railvti.runner.cli", "railvti.casetypes"),
         ("railvti.runner.cli", "railvti.resources"),
         ("railvti.runner.cli", "railvti.runner.batch"),

@@ -418,7 +418,12 @@ def _step_s(contact: str, geometry: str) -> float:
 #: 20 kHz 0.29 s per step, from FR hunting of 0.02 and 0.01 s at load ~5); RF's ring modes
 #: _RING_MODE_STEP_S per mode (128 sleepers, 926 modes up to 500 Hz: real-time factor 4.1
 #: at h = 0.5 ms, ~2 ms per step; README).
+#: With the exact modal step (a variant's default once it opts in, simulate.EXACT_BY_DEFAULT)
+#: a step costs _EXACT_STEP_FACTOR times the trapezoidal one's modal part (FR hunting at
+#: 300 km/h, 2 s: 0.5 ms trapezoidal 1.62-1.69 s, 1 ms exact 1.44-1.47 s of CPU: twice the
+#: Newton iterations per step; docs/speed_accuracy.md).
 _WS_MODE_STEP_S = 1.36e-5
+_EXACT_STEP_FACTOR = 1.8
 _WS_MODE_EXPONENT = 1.33
 _RING_MODE_STEP_S = 2e-6
 #: The BEM in the loop: building the gap tables of the eight wheels, s (BEM hunting 0.02 s:
@@ -462,13 +467,23 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
     return ws_modes, f_top, ring_modes
 
 
+def _exact_modal(p: dict[str, Any]) -> bool:
+    """Whether the case's modal blocks take the exact modal step (simulate's default for the
+    model and alpha, railvti.vehicle.simulate.default_modal_step; none today)."""
+    from ..vehicle.simulate import default_modal_step  # on first use: see _vehicle
+
+    variant = str(p.get("model", "RR")).strip().upper()
+    return default_modal_step(variant, alpha=_num(p, "alpha", 0.0)) == "exact"
+
+
 def _vehicle_step(p: dict[str, Any], ws_modes: float, f_top: float) -> float:
-    """The time step of the case, s (deck h, else railvti.scenarios' default)."""
+    """The time step of the case, s (deck h, else railvti.scenarios' default: 1 ms, divided
+    for the highest kept mode where the modal blocks take the trapezoidal step)."""
     h = _num(p, "h", -1.0) if p.get("h") is not None else -1.0
     if h > 0:
         return h
     h = 1e-3
-    if f_top > 0:
+    if f_top > 0 and not _exact_modal(p):
         h = 1e-3 / math.ceil(1e-3 * 2.0 * math.pi * f_top * 1.05 / 2.0)
     return h
 
@@ -508,7 +523,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     steps = runs * duration / h
     per = (
         _step_s(contact, geometry)
-        + _WS_MODE_STEP_S * ws_modes**_WS_MODE_EXPONENT
+        + _WS_MODE_STEP_S * ws_modes**_WS_MODE_EXPONENT * (_EXACT_STEP_FACTOR if _exact_modal(p) else 1.0)
         + _RING_MODE_STEP_S * ring_modes
     )
     start = _VEHICLE_START_S + (_BEM_START_S if needs_bem else 0.0)
@@ -532,7 +547,7 @@ def _vehicle(p: dict[str, Any], label: str) -> Estimate:
     secs = start + steps * per
     if p.get("h") is not None and _num(p, "h", 1e-3) < 1e-4:
         key = "h"
-    elif ws_modes and h < 1e-3 and f_top > 2000:
+    elif ws_modes and f_top > 2000:  # the kept modes: the cost of a step (and its size, trapezoidal)
         key = "f_max"
     elif ring_modes and _pos(p, "f_limit", 500.0) > 2000:
         key = "f_limit"

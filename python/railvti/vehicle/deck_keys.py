@@ -21,7 +21,7 @@ from .params import BOUNDS as COACH_BOUNDS
 from .params import DEFAULTS as COACH_DEFAULTS
 from .params import Coach
 from .ring_coupling import check_ring_length
-from .simulate import MODAL_STEP_LIMIT, check_modal_step
+from .simulate import MODAL_STEP_LIMIT, check_modal_step, default_modal_step
 from .systems import (
     FLEXIBLE_WHEELSETS,
     FR_F_MAX,
@@ -270,7 +270,7 @@ def check(params: dict[str, Any]) -> list[str]:
                 f"{', '.join(given)}: the mode selection of models FR and FF; model "
                 f"{params['model']!r} has rigid wheelsets"
             )
-    elif params["h"] is not None:
+    elif params["h"] is not None and _trapezoidal_modal_step(params):
         problem = _fr_step_problem(params)
         if problem:
             out.append(problem)
@@ -358,6 +358,12 @@ def fr_selection(params: dict[str, Any]) -> dict[str, Any]:
         "k_max": FR_K_MAX if params.get("k_max") is None else params["k_max"],
         "f_max": FR_F_MAX if params.get("f_max") is None else params["f_max"],
     }
+
+
+def _trapezoidal_modal_step(params: dict[str, Any]) -> bool:
+    """Whether the case's modal blocks take the trapezoidal step (simulate's default for the
+    model and alpha, simulate.default_modal_step; the exact step has no step limit)."""
+    return default_modal_step(params["model"], alpha=params["alpha"]) == "trapezoidal"
 
 
 def _fr_step_problem(params: dict[str, Any]) -> str | None:

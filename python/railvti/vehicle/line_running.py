@@ -23,7 +23,7 @@ from .equilibrium import contact_state, static_equilibrium
 from .irregular_track import check_irregularity, fade_in, on_track, run_span
 from .params import Coach
 from .run_result import SimulationResult
-from .simulate import simulate
+from .simulate import exact_modal, simulate
 from .systems import check_variant, resolve_geometry, run_output_dt, scenario_system, time_step
 
 __all__ = ["LineRun", "line_run"]
@@ -113,7 +113,8 @@ def line_run(
     coach = coach or Coach()
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, _ = scenario_system(variant, coach, v, kw)
-    h = time_step(sy, h)
+    exact = exact_modal(sy, kw.get("integrator", "hht"), kw.get("alpha", 0.0), kw.get("modal_step"))
+    h = time_step(sy, h, exact)
     output_dt = run_output_dt(sy, v, h, output_dt, 0.01)
     xw = np.asarray(sy.x_wheelsets, dtype=float)
     x0, duration = run_span(irr, xw, v, h, x_start, duration)

@@ -64,7 +64,8 @@ def centred_running(
         Simulated time after the static equilibrium, s.
     h : float, optional
         Time step, s (default 1 ms; the modal variants' 1 ms divided into as many parts as the
-        highest kept mode needs, h omega_max <= 2, unless ``modal_step='exact'``).
+        highest kept mode needs, h omega_max <= 2, unless their modal blocks are stepped
+        exactly: ``modal_step='exact'``, or simulate's default_modal_step).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw
@@ -172,9 +173,10 @@ def hunting(
     FF) the ring's rows start at ``x_offset``, so a state carried from a run of duration T
     at speed v continues only with ``x_offset`` advanced by v T (modulo the ring's length:
     critical_search does this), not from 0. ``h`` defaults to 1 ms (the modal variants' 1 ms
-    divided so that h omega_max <= 2 for the highest kept mode unless ``modal_step='exact'``,
-    as centred_running); variant 'FR' also takes ``k_max`` and ``f_max`` (Hz). The speed is
-    ``speed`` in m/s or its suffixed alias ``speed_kmh`` in km/h (exactly one).
+    divided so that h omega_max <= 2 for the highest kept mode unless their modal blocks are
+    stepped exactly, as centred_running); variant 'FR' also takes
+    ``k_max`` and ``f_max`` (Hz). The speed is ``speed`` in m/s or its suffixed alias
+    ``speed_kmh`` in km/h (exactly one).
     ``output_dt`` (s) defaults to 2 ms, shortened so that the known periodic excitations get
     10 samples per period each (railvti.vehicle.output: hunting, and the sleeper passing on
     the ring track, RF and FF); a given one that aliases either gives an AliasingWarning.
@@ -303,7 +305,7 @@ def irregular_track(
     check_variant(variant, contact, "irregular_track")
     kw["geometry"] = resolve_geometry(contact, kw.get("geometry"))
     sy, layouts = scenario_system(variant, coach, v, kw)
-    h = time_step(sy, h)
+    h = time_step(sy, h, _exact(sy, kw.get("alpha", 0.0), kw))
     output_dt = run_output_dt(sy, v, h, output_dt, 0.002)
     xw = np.asarray(sy.x_wheelsets, dtype=float)
     x0, duration = run_span(irr, xw, v, h, x_start, duration)

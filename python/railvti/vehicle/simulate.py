@@ -36,6 +36,7 @@ from .equilibrium import call_settings, contact_state, static_equilibrium, wait_
 from .irregular_track import check_coverage, check_irregularity, on_track, rail_inputs, source_of
 from .model import CallSettings
 from .params import Coach
+from .ring_coupling import RingSystem
 from .run_result import SimulationResult
 from .time_loop import RunPlan, check_history_memory, integrate, plan_run, with_bem_fields
 
@@ -46,6 +47,9 @@ __all__ = [
     "simulate",
     "bem_threads",
     "check_modal_step",
+    "default_modal_step",
+    "system_variant",
+    "EXACT_BY_DEFAULT",
     "exact_modal",
     "MODAL_STEPS",
     "SCHEME_EXACT",
@@ -77,25 +81,63 @@ INTEGRATORS = {"hht": 0, "energy": 1}
 #: exactly (vehicle_newmark SCHEME_EXACT, vehicle_modal_step; ``modal_step='exact'``).
 SCHEME_EXACT = 2
 
-#: How :func:`simulate` steps the modal blocks (``modal_step``): 'trapezoidal' (the default)
-#: with the rule of the rigid DOFs, 'exact' (integrator 'hht' with alpha = 0) each block with
+#: How :func:`simulate` steps the modal blocks (``modal_step``): 'trapezoidal' with the rule
+#: of the rigid DOFs, 'exact' (integrator 'hht' with alpha = 0) each block with
 #: mass exactly for the point forces linear in time over the step (matrix exponential per
 #: block and step size; docs/vehicle_integrator.md, "Exact modal step"); 'exact-moving' the
 #: same with the ring track's modes (RF, FF) integrated over their moving rows at
-#: :data:`RING_NODES` + 1 nodes a step (docs/vehicle_integrator.md, "The ring's moving rows").
+#: :data:`RING_NODES` + 1 nodes a step (docs/vehicle_integrator.md, "The ring's moving rows"). The default:
+#: :func:`default_modal_step`.
 MODAL_STEPS = ("exact", "exact-moving", "trapezoidal")
 
 #: Sub-intervals a step of 'exact-moving' divides the ring's moving rows into (core id
 #: SCHEME_EXACT + 16 * RING_NODES, 1..64).
 RING_NODES = 4
 
+#: The variants (:func:`system_variant`) whose modal blocks take the exact modal step by
+#: default, at RR's 1 ms: none yet. A variant opts in by joining this tuple (simulate, the
+#: scenarios' default step, the deck check and the cost estimate follow). FR was measured for it
+#: (issue 33, validation/vehicle_fr_rr_like_for_like.py, docs/speed_accuracy.md "FR at RR's
+#: 1 ms"): 1.6-1.9x RR's cost instead of 2.3-3.3x and closer in tread hunting, but in the
+#: flange limit cycle at 420 km/h its Q max is 398 kN against the converged 104 kN and its
+#: amplitude 5.8 % low, where the trapezoidal step at 0.5 ms is within 2 % and 0.01 %. The
+#: ring track (RF, FF): its moving rows, not its modes, set its step (at 1 ms RF hunting's
+#: amplitude is 1.8 % off its converged value; docs/speed_accuracy.md).
+EXACT_BY_DEFAULT: tuple[str, ...] = ()
+
+
+def system_variant(system: System) -> str:
+    """The variant of a system: 'RR' (no modal blocks), 'FR' (flexible wheelsets' rims,
+    :class:`~railvti.vehicle.model.ModalCouplings`, on rigid track), 'RF' (the ring track,
+    :class:`~railvti.vehicle.ring_coupling.RingSystem`), 'FF' (both), '' (other modal blocks:
+    a system built by hand)."""
+    if system.modal is None:
+        return "RR"
+    cp = system.modal.couplings
+    rims = cp is not None and np.size(cp.rim_wheelsets) > 0
+    if isinstance(system, RingSystem):
+        return "FF" if rims else "RF"
+    return "FR" if rims else ""
+
+
+def default_modal_step(variant: str, integrator: str = "hht", alpha: float = 0.0) -> str:
+    """The modal step a run takes when ``modal_step`` is not given (:data:`MODAL_STEPS`):
+    'exact' for the variants of :data:`EXACT_BY_DEFAULT` (none yet) when the run is the
+    trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR',
+    'FR', 'RF', 'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand).
+    The one place of the choice: simulate, the scenarios' default step
+    (:func:`railvti.vehicle.systems.default_step`), the deck check and the cost estimate."""
+    exact = integrator == "hht" and alpha == 0.0 and variant in EXACT_BY_DEFAULT
+    return "exact" if exact else "trapezoidal"
+
 
 def exact_modal(
     system: System, integrator: str = "hht", alpha: float = 0.0, modal_step: str | None = None
 ) -> bool:
     """Whether a run of ``system`` with these settings steps its modal blocks exactly
-    (:data:`MODAL_STEPS`; ``modal_step`` None: 'trapezoidal'). InputError for an unknown
-    name or 'exact' with alpha /= 0 or the energy integrator.
+    (:data:`MODAL_STEPS`; ``modal_step`` None: :func:`default_modal_step` of the system's
+    variant, :func:`system_variant`: 'trapezoidal' for all today). InputError for
+    an unknown name or 'exact' with alpha /= 0 or the energy integrator.
 
     'exact' integrates each modal block with mass exactly over the step for the point forces
     linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
@@ -112,6 +154,8 @@ def exact_modal(
             f"modal_step={modal_step!r} is the trapezoidal rule's (integrator 'hht', alpha = 0); "
             f"got integrator {integrator!r}, alpha {alpha}: take modal_step='trapezoidal'"
         )
+    if modal_step is None:
+        modal_step = default_modal_step(system_variant(system), integrator, alpha)
     return system.modal is not None and modal_step in ("exact", "exact-moving")
 
 
@@ -261,7 +305,8 @@ def simulate(
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
     modal_step : str, optional
-        'trapezoidal' (None, the default), 'exact' or 'exact-moving' (RF, FF): :func:`exact_modal`.
+        'trapezoidal', 'exact' or 'exact-moving' (RF, FF): :func:`exact_modal`; None:
+        :func:`default_modal_step` ('trapezoidal' for every variant today: :data:`EXACT_BY_DEFAULT`).
 
     Raises
     ------

@@ -37,7 +37,7 @@ from .flexible import build_fr, coach_body
 from .params import Coach
 from .ring_coupling import build_rf, check_ring_length
 from .contact_models import CONTACT_MODELS, GEOMETRIES, ContactModel, contact_id, parse_contact_model
-from .simulate import check_modal_step
+from .simulate import check_modal_step, exact_modal
 from .strip import strip_geometry
 from .table import WheelTable, linearised_table
 from .table import wheel_table as profile_table
@@ -700,21 +700,27 @@ def no_fr_keys(kw: dict) -> None:
         )
 
 
-def default_step(sy: System, exact: bool = False) -> float:
-    """1 ms; with modal blocks stepped by the trapezoidal rule (``exact`` False, simulate's
-    default) 1 ms divided so that h omega_max <= 2 (MODAL_STEP_LIMIT: every kept mode resolved
-    without the step-size refusal of simulate). The exact modal step (``exact``,
-    simulate(modal_step='exact')) keeps every mode's frequency at 1 ms."""
+def default_step(sy: System, exact: bool | None = None) -> float:
+    """1 ms; with modal blocks stepped by the trapezoidal rule (``exact`` False) 1 ms divided
+    so that h omega_max <= 2 (MODAL_STEP_LIMIT: every kept mode resolved without the step-size
+    refusal of simulate). The exact modal step (``exact``, simulate(modal_step='exact')) keeps
+    every mode's frequency at 1 ms. ``exact`` None: simulate's default for sy
+    (:func:`railvti.vehicle.simulate.default_modal_step`; trapezoidal for every variant today)."""
+    if exact is None:
+        exact = exact_modal(sy)
     h = 1e-3
     if sy.modal is not None and not exact:
         h = 1e-3 / np.ceil(1e-3 * sy.modal.max_frequency() / 2.0)
     return h
 
 
-def time_step(sy: System, h: float | None, exact: bool = False) -> float:
+def time_step(sy: System, h: float | None, exact: bool | None = None) -> float:
     """The time step of a run of sy: h checked against the kept modes
     (:func:`railvti.vehicle.simulate.check_modal_step`, before any work), or the default;
-    ``exact``: the run steps its modal blocks exactly (simulate.exact_modal)."""
+    ``exact``: the run steps its modal blocks exactly (simulate.exact_modal; None: simulate's
+    default for sy, integrator 'hht' with alpha = 0)."""
+    if exact is None:
+        exact = exact_modal(sy)
     if h is None:
         return default_step(sy, exact)
     h = _checks.positive("h", h)
