@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _cache, _checks
+from .. import _checks
 from .._fft_size import fft_size
 from .._native import core
 from .._status import Status, check, error
@@ -293,27 +293,6 @@ def _fields(table: WheelTable, grid: BemGrid, lines: bool = False):
     return (lx, lt) if lines else out
 
 
-def _disk_fields(table: WheelTable, grid: BemGrid) -> np.ndarray:
-    """:func:`_fields`, kept on disk (railvti._cache; ~1 s for the ring's table at 0.75 mm):
-    keyed by the profiles, the table's arrays the fields read and the grid."""
-    if table.wheel is None or table.rail is None:
-        return _fields(table, grid)  # raises
-    parts = (table.wheel, table.rail, table.y, table.data[0], table.data[2], table.s_wheel, table.s_own)
-    key = _cache.digest("bem_gap", *parts, table.split, grid)
-    hit = _cache.load("bem_gap", key)
-    shape = (grid.nx, grid.ny, 2, table.y.size)
-    if (
-        hit is not None
-        and set(hit) == {"gap"}
-        and hit["gap"].shape == shape
-        and hit["gap"].flags.f_contiguous
-    ):
-        return hit["gap"]
-    out = _fields(table, grid)
-    _cache.store("bem_gap", key, {"gap": out})
-    return out
-
-
 def gap_fields(table: WheelTable, grid: BemGrid) -> np.ndarray:
     """Undeformed normal gap fields of the left wheel's two candidate points on the table's
     y nodes, relative to each point: array (nx, ny, 2, n_table), Fortran order, m.
@@ -327,7 +306,7 @@ def gap_fields(table: WheelTable, grid: BemGrid) -> np.ndarray:
     hit = _CACHE.get(key)
     if hit is not None:
         return hit
-    out = _disk_fields(table, grid)
+    out = _fields(table, grid)
     if len(_CACHE) > 4:
         _CACHE.clear()
     _CACHE[key] = out
