@@ -15,11 +15,13 @@ import numpy as np
 import pytest
 
 from interrupt_helper import sigint_after_ready
+from railvti import _cache
 from railvti.wheelset import Wheelset
 from railvti.wheelset import fe
 
 LONG_MODES = """
-import signal
+import os, signal
+os.environ["RAILVTI_CACHE_DIR"] = ""   # solved, not replayed from the disk cache
 signal.signal(signal.SIGINT, signal.default_int_handler)   # also when started with SIGINT ignored
 from railvti.wheelset import Wheelset
 ws = Wheelset()
@@ -38,10 +40,12 @@ def test_sigint_stops_the_wheelset_modes_within_a_second():
     assert latency < 1.0, f"stopped {latency:.2f} s after SIGINT"
 
 
-def test_an_interrupted_modes_call_holds_arpack_until_its_end():
+def test_an_interrupted_modes_call_holds_arpack_until_its_end(monkeypatch):
     """In-process: interrupt_main 0.3 s into a harmonic. The abandoned call keeps the ARPACK
     lock until it ends; the next call waits for it and gives the frequencies of an
-    uninterrupted call (to round-off) (computed first, on another Wheelset: no cache shared)."""
+    uninterrupted call (to round-off) (computed first, on another Wheelset: no cache shared;
+    the disk cache off, or the second call would replay the first's solve)."""
+    monkeypatch.setenv(_cache.ENV, "")
     ref = Wheelset().harmonic(2, 3000.0, "free")
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)

@@ -75,7 +75,7 @@ module vehicle_bem
     use common_kinds, only: dp
     use contact_plans, only: workspace, ws_create, ws_free, ws_get
     use contact_normal, only: normal_cg, CONTROL_APPROACH
-    use contact_rolling, only: rolling_steady, ROLL_FFTGS
+    use contact_rolling, only: rolling_steady, rolling_patch, rolling_patch_reset, ROLL_FFTGS
     use common_status, only: STAT_OK, STAT_NO_CONTACT, STAT_BAD_ARGUMENT, STAT_BAD_HANDLE, &
                              STAT_NO_MEMORY, STAT_FFTW_PLAN, STAT_GRID_EDGE, STAT_OUTSIDE_TABLE, &
                              STAT_CONTACT_NOT_CONVERGED
@@ -212,6 +212,11 @@ module vehicle_bem
         !> the model's update band at this point's set-up (update_error)
         real(dp) :: band = 0
         real(dp), allocatable :: hs(:, :)
+        !> the rolling solves' fixed data (contact set, coefficients, in-row bases) of the
+        !> last rolling solve of this point and its Jacobian's probes: reused as it is when
+        !> the next solve has the same contact set on a window of the same size (only the
+        !> traction bound is new; contact_rolling::rolling_steady), the same solution
+        type(rolling_patch) :: rp
     end type bem_point
 
     type :: bem_model
@@ -905,9 +910,10 @@ contains
         pt%out(6) = yc
         pt%cnt(3) = pt%cnt(3) + 1.0_dp
         call system_clock(c1)
+        call rolling_patch_reset(pt%rp)     ! kept if the contact set is the last solve's
         call rolling_steady(ww, pw, x0 + real(i1 - 1, dp) * s%dx, y0 + real(j1 - 1, dp) * s%dy, &
                             pt%xi, pt%eta, pt%spin, pt%mu, pt%speed, ROLL_FFTGS, s%nblock, s%ninner, &
-                            s%tol_t, s%maxit_t, txw, tyw, stw, sxw, syw, it, resid, stat)
+                            s%tol_t, s%maxit_t, txw, tyw, stw, sxw, syw, it, resid, stat, patch=pt%rp)
         call system_clock(c2)
         pt%cnt(9) = pt%cnt(9) + seconds(c1, c2)
         pt%cnt(4) = pt%cnt(4) + real(it, dp)
@@ -1443,7 +1449,7 @@ contains
                 hw = hw + d * pt%hs(i1:i2, j1:j2)
             end select
             call probe_solve(s, ww, i1, i2, j1, j2, hw, appr, cr(1), cr(2), cr(3), pt%mu, pt%speed, &
-                             pt%pn, pt%txn, pt%tyn, j /= 3 .and. j /= 4 .and. j /= 5, y, pt%cnt, stat)
+                             pt%pn, pt%txn, pt%tyn, j /= 3 .and. j /= 4 .and. j /= 5, y, pt%cnt, stat, pt%rp)
             if (stat /= STAT_OK) exit
             pt%jn(:, j) = (y - y0) / d
         end do
@@ -1456,10 +1462,10 @@ contains
     !> the grid (workspace ww of its size): gap hw (the window's), approach appr, creepages,
     !> friction, speed, warm-started from the full-grid fields p0, tx0, ty0; normal =
     !> .false.: the pressure p0 kept, only the rolling solve. Counters into cnt (1-4, the
-    !> solves' wall times 8, 9). stat:
+    !> solves' wall times 8, 9). rp: the point's kept rolling patch (bem_point%rp). stat:
     !> STAT_OK, or STAT_CONTACT_NOT_CONVERGED when a solver fails or the patch is empty.
     subroutine probe_solve(s, ww, i1, i2, j1, j2, hw, appr, xi, eta, spin, mu, speed, p0, tx0, ty0, &
-                           normal, y, cnt, stat)
+                           normal, y, cnt, stat, rp)
         type(bem_setup), intent(in) :: s
         type(workspace), intent(inout) :: ww
         integer, intent(in) :: i1, i2, j1, j2
@@ -1469,6 +1475,7 @@ contains
         real(dp), intent(out) :: y(NLIN)
         real(dp), intent(inout) :: cnt(BEM_NCOUNT)
         integer, intent(out) :: stat
+        type(rolling_patch), intent(inout), optional :: rp
         real(dp), allocatable :: pw(:, :), txw(:, :), tyw(:, :), sxw(:, :), syw(:, :), full(:, :), fy2(:, :)
         integer, allocatable :: stw(:, :)
         real(dp) :: da, fn, ap, resid, xc, yc
@@ -1502,10 +1509,11 @@ contains
         full(i1:i2, j1:j2) = pw
         call pressure_centre(s%nx, s%ny, s%dx, s%dy, full, fn, xc, yc)
         call system_clock(c1)
+        if (present(rp)) call rolling_patch_reset(rp)
         call rolling_steady(ww, pw, (real(i1 - 1, dp) - 0.5_dp * real(s%nx - 1, dp)) * s%dx, &
                             (real(j1 - 1, dp) - 0.5_dp * real(s%ny - 1, dp)) * s%dy, xi, eta, spin, &
                             mu, speed, ROLL_FFTGS, s%nblock, s%ninner, s%tol_t, s%maxit_t, txw, tyw, &
-                            stw, sxw, syw, it, resid, stat)
+                            stw, sxw, syw, it, resid, stat, patch=rp)
         call system_clock(c2)
         cnt(9) = cnt(9) + seconds(c1, c2)
         cnt(3) = cnt(3) + 1.0_dp

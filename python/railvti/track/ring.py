@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import _checks
+from .. import _cache, _checks
 from .._native import core
 from .._status import Status, check, error
 from ..errors import ConvergenceError, InputError
@@ -215,9 +215,14 @@ class RingTrack:
         self.section = (
             section if section is not None else rail_section(p["mesh_max_area"], arc_step=p["arc_step"])
         )
-        self._build_rail()
+        # the eigen-solves' outputs on disk (railvti._cache): a later process replays them
+        sec = self.section
+        mesh = (sec.nodes, sec.elements, sec.outline, sec.crown_node, sec.foot_edges)
+        rec = _cache.Recorder("ring", self.n_sleepers, tuple(sorted(p.items())), mesh)
+        self._build_rail(rec)
         t1 = time.perf_counter()
-        self._build_groups()
+        self._build_groups(rec)
+        rec.finish()
         self.build_time = (t1 - t0, time.perf_counter() - t1)
         log.info(
             "ring track n_sl=%d: %d modes, rail %.2f s, groups %.2f s",
@@ -227,7 +232,7 @@ class RingTrack:
         )
 
     # ------------------------------------------------------------------ build
-    def _build_rail(self) -> None:
+    def _build_rail(self, rec: _cache.Recorder) -> None:
         p, sec = self.params, self.section
         k0, k1, k2, m = section_fe(sec, p["rail_young"], p["rail_poisson"], p["rail_density"])
         self._fe = (k0, k1, k2, m)
@@ -250,8 +255,8 @@ class RingTrack:
         ns = int(p["n_samples"])
         kap_s = kmax * np.linspace(0.0, 1.0, ns) ** 1.5  # denser where modes change fastest
         rmax = int(min(ndof, 40 * ns))
-        r, w, k0r, k1r, k2r, fr, info, s, linfo = core.track_reduced_basis_c(
-            k0, k1, k2, m, f, kap_s, 2.25 * lam_cut, rmax
+        r, w, k0r, k1r, k2r, fr, info, s, linfo = rec.call(
+            "track_reduced_basis_c", core.track_reduced_basis_c, k0, k1, k2, m, f, kap_s, 2.25 * lam_cut, rmax
         )
         if info != Status.OK:
             raise error(
@@ -267,7 +272,9 @@ class RingTrack:
         kap = 2 * math.pi * np.arange(n_k + 1) / self.length
         mmax = min(60, r)
         while True:
-            nm, om2, y, info, ik, linfo = core.track_wave_basis_c(
+            nm, om2, y, info, ik, linfo = rec.call(
+                "track_wave_basis_c",
+                core.track_wave_basis_c,
                 np.asfortranarray(k0r),
                 np.asfortranarray(k1r),
                 np.asfortranarray(k2r),
@@ -300,7 +307,7 @@ class RingTrack:
             )
             self._rail_head.append((hw @ yk) * norm)
 
-    def _build_groups(self) -> None:
+    def _build_groups(self, rec: _cache.Recorder) -> None:
         p, n = self.params, self.n_sleepers
         cant = math.atan(p["cant"])
         y0 = np.array([-0.5, 0.5]) * p["rail_distance"]
@@ -360,7 +367,9 @@ class RingTrack:
             nb = len(kap)
             nsd = 6 if (j != 0 and 2 * j != n) else 3
             ntot = nb + nsd
-            lam, v, cm, info, linfo = core.track_group_modes_c(
+            lam, v, cm, info, linfo = rec.call(
+                "track_group_modes_c",
+                core.track_group_modes_c,
                 np.array(om2),
                 np.array(kap),
                 np.array(fam, np.int32),

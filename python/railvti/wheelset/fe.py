@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _checks, _interrupt
+from .. import _cache, _checks, _interrupt
 from .._native import core
 from .._status import Status, error
 from ..errors import InputError
@@ -150,13 +150,32 @@ def solve_harmonic(
     # for 3500 nodes and 400 modes), so start small and grow only when the
     # buffer came back full (the solver may have stopped at n_buf modes).
     n_buf = min(n_max, _FIRST_BUFFER)
+    # the eigen-solves' outputs on disk (railvti._cache): a later process replays them
+    rec = _cache.Recorder(
+        "wheelset-modes", xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_max
+    )
     while True:
-        nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = _modes_call(
-            xn, conn, k, young, poisson, density, fx, sn, sc, sk, lam_max, n_buf
+        nm, lam, phi, gam, mcq, kgq, neq, kd, info, bad, sinfo = rec.call(
+            "wheelset_modes_c",
+            _modes_call,
+            xn,
+            conn,
+            k,
+            young,
+            poisson,
+            density,
+            fx,
+            sn,
+            sc,
+            sk,
+            lam_max,
+            n_buf,
         )
         if info != Status.OK or nm < n_buf or n_buf >= n_max:
             break
         n_buf = min(n_max, 4 * n_buf)
+    if info == Status.OK:
+        rec.finish()
     if info != Status.OK:
         raise _modes_error(info, k, int(bad), int(sinfo), int(nm))
     lam = np.clip(lam[:nm], 0.0, None)

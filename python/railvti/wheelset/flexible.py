@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _checks
+from .. import _cache, _checks
 from ..errors import InputError
 from .fe import HarmonicModes, check_harmonic, eq11_blocks
 from .rim_rows import (
@@ -353,34 +353,22 @@ def flexible_body(
     nq = len(kq)
     if nq == 0:
         log.info("flexible wheelset: no elastic mode below %.0f Hz for k <= %d", f_max, k_max)
-    # polar moment and rigid-elastic coupling from the FE mass (k = 0 and k = 1)
-    st0 = harmonic_statics(ws, 0)
-    r = mesh.nodes[:, 0]
-    spin = np.zeros((mesh.n_nodes, 3))
-    spin[:, 2] = r
-    polar = st0.mass_product(spin, spin)
-    cpl = np.zeros((nq, 2))
-    if k_max >= 1 and nq:
-        st1 = harmonic_statics(ws, 1)
-        tilt = np.zeros((mesh.n_nodes, 3))
-        tilt[:, 1] = r  # the field U_y = r of harmonic 1
-        col = 0
-        for k, f, shp in shapes:
-            n = shp.shape[0]
-            if k == 1:
-                # c = -2 int rho X_x u_y (roll) and -2 int rho X_z u_y (yaw), vehicle frame:
-                # = -2 <phi, (0, r, 0)>_M1 for set B (roll) and set A (yaw)
-                v = np.array([-2.0 * st1.mass_product(p, tilt) for p in shp])
-                cpl[col : col + n, 0 if f == "B" else 1] = v
-            col += n
-    # spin perturbation rate against the k = 0 modes: the FE Coriolis matrix (eq. 11) between
-    # the rigid spin field (0, 0, r) and the elastic modes, c = -2 (Gamma a)_elastic
-    spin_c = np.zeros(nq)
-    n0 = int(np.sum(np.array(kq) == 0))
-    if n0:
-        x = np.array([st0.reduce(p) for p in h0.shapes]).T
-        a = x.T @ (st0.M @ st0.reduce(spin))
-        spin_c[:n0] = -2.0 * (h0.coriolis @ a)[~rigid_mask(h0)]
+    # the FE statics' terms on disk (railvti._cache): a later process replays them
+    rec = _cache.Recorder(
+        "wheelset-statics",
+        mesh.nodes,
+        mesh.conn,
+        g.young,
+        g.poisson,
+        g.density,
+        k_max,
+        f_max,
+        k_res,
+        residual_s,
+    )
+    polar, cpl, spin_c = rec.call(
+        "mass_terms", _mass_terms, ws, k_max, h0, shapes, kq, key=(k_max, h0, shapes, kq)
+    )
     s_grid = np.arange(edges[0].s_min, edges[0].s_max + 0.5 * ds, ds)
     s_grid = s_grid[s_grid <= edges[0].s_max + 1e-12]
     body = FlexibleWheelset(
@@ -420,11 +408,65 @@ def flexible_body(
             body.rim_dtheta_rows[side, i] = b
     rs = tuple(body.check_s(s) for s in residual_s)
     if residual:
-        statics = [harmonic_statics(ws, k) for k in range(k_res + 1)]
-        gfull = full_compliance(statics, mesh, edges, rs, ws._journal_nodes, rim_operators(ws, edges))
+        gfull = rec.call(
+            "full_compliance",
+            _full_compliance,
+            ws,
+            k_res,
+            edges,
+            rs,
+            key=(k_res, edges, rs, ws._journal_nodes),
+        )
         rr = body.attachment_rows(rs)
         lam = (2.0 * np.pi * body.freq_hz) ** 2
         body.residual[:] = gfull - (rr / lam) @ rr.T
+    rec.finish()
     for a in (body.journal, body.rim_rows, body.rim_dtheta_rows, body.residual):
         a.setflags(write=False)
     return body
+
+
+def _full_compliance(ws, k_res: int, edges, rs) -> np.ndarray:
+    """The static compliance of harmonics 0..k_res at the attachment points
+    (:func:`railvti.wheelset.statics.full_compliance`)."""
+    statics = [harmonic_statics(ws, k) for k in range(k_res + 1)]
+    return full_compliance(statics, ws.mesh, edges, rs, ws._journal_nodes, rim_operators(ws, edges))
+
+
+def _mass_terms(
+    ws, k_max: int, h0: HarmonicModes, shapes: list, kq: list
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """The terms of the FE mass (harmonics 0 and 1) between the rigid and the kept elastic
+    modes: the polar moment (kg m^2), the rigid-elastic coupling (nq, 2) (roll, yaw) and the
+    spin coupling (nq,)."""
+    mesh = ws.mesh
+    nq = len(kq)
+    # polar moment and rigid-elastic coupling from the FE mass (k = 0 and k = 1)
+    st0 = harmonic_statics(ws, 0)
+    r = mesh.nodes[:, 0]
+    spin = np.zeros((mesh.n_nodes, 3))
+    spin[:, 2] = r
+    polar = st0.mass_product(spin, spin)
+    cpl = np.zeros((nq, 2))
+    if k_max >= 1 and nq:
+        st1 = harmonic_statics(ws, 1)
+        tilt = np.zeros((mesh.n_nodes, 3))
+        tilt[:, 1] = r  # the field U_y = r of harmonic 1
+        col = 0
+        for k, f, shp in shapes:
+            n = shp.shape[0]
+            if k == 1:
+                # c = -2 int rho X_x u_y (roll) and -2 int rho X_z u_y (yaw), vehicle frame:
+                # = -2 <phi, (0, r, 0)>_M1 for set B (roll) and set A (yaw)
+                v = np.array([-2.0 * st1.mass_product(p, tilt) for p in shp])
+                cpl[col : col + n, 0 if f == "B" else 1] = v
+            col += n
+    # spin perturbation rate against the k = 0 modes: the FE Coriolis matrix (eq. 11) between
+    # the rigid spin field (0, 0, r) and the elastic modes, c = -2 (Gamma a)_elastic
+    spin_c = np.zeros(nq)
+    n0 = int(np.sum(np.array(kq) == 0))
+    if n0:
+        x = np.array([st0.reduce(p) for p in h0.shapes]).T
+        a = x.T @ (st0.M @ st0.reduce(spin))
+        spin_c[:n0] = -2.0 * (h0.coriolis @ a)[~rigid_mask(h0)]
+    return polar, cpl, spin_c
