@@ -44,12 +44,15 @@ def run(scen: str, modal_step: str, h_ms: float, duration: float, variant: str =
     cpu = time.process_time() - c0
     n = sy.n  # the rigid DOFs; the modal coordinates follow
     late = r.t >= r.t[-1] - 0.5
+    rail = getattr(r, "rail", None)  # the rail's pose under the wheels (RF, FF)
     return dict(
         cpu=cpu,
         steps=r.stats["steps"],
         nit=r.stats["newton_iterations"],
+        tan=r.stats.get("tangents", np.nan),
         y=float(np.abs(r.y_ws1[late]).max()),
         Q=float(r.Q.max()),
+        rail=float(np.abs(rail[late, 1]).max()) if rail is not None else np.nan,
         rms=np.sqrt((r.q[:, n:] ** 2).mean(axis=0)),
     )
 
