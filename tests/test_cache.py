@@ -271,3 +271,31 @@ def test_run_on_a_loaded_table_is_the_built_run_bit_for_bit(tmp_path):
         "strip_geometry",
         "conicity",
     }
+
+
+def test_pruning_keeps_the_newest_entries_within_count_and_bytes(cache, monkeypatch):
+    """A kind keeps its most recently written entries, at most MAX_ENTRIES of them and at most
+    MAX_BYTES together, the newest always (a ring entry is ~31 MB: a few, not sixteen);
+    other kinds are untouched."""
+    monkeypatch.setattr(_cache, "MAX_ENTRIES", 3)
+    big = np.zeros(40_000)  # 320 kB an entry
+    monkeypatch.setattr(_cache, "MAX_BYTES", 700_000)  # two big entries
+    _cache.store("other", _cache.digest("other", 0), {"a": np.zeros(3)})
+    for i in range(4):
+        path = _cache.store("big", _cache.digest("big", i), {"a": big + i})
+        os.utime(path, (1e9 + i, 1e9 + i))  # written in order, whatever the clock's resolution
+    kept = {
+        int(_cache.load("big", _cache.digest("big", i))["a"][0])
+        for i in range(4)
+        if _cache.load("big", _cache.digest("big", i))
+    }
+    assert kept == {2, 3}
+    monkeypatch.setattr(_cache, "MAX_BYTES", 1 << 40)
+    for i in range(4, 8):
+        path = _cache.store("small", _cache.digest("small", i), {"a": np.full(3, i)})
+        os.utime(path, (1e9 + i, 1e9 + i))
+    assert len(_entries(cache, "small")) == 3
+    monkeypatch.setattr(_cache, "MAX_BYTES", 1)  # smaller than any entry: the newest stays
+    path = _cache.store("big", _cache.digest("big", 9), {"a": big + 9})
+    assert _entries(cache, "big") == [path]
+    assert len(_entries(cache, "other")) == 1

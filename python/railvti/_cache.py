@@ -24,8 +24,8 @@ File
     writing one entry at once leave one whole file, a reader sees a whole file or none).
     Read with validation: a file that does not open, belongs to another key or format, or
     whose checksum does not match is ignored with a warning on the ``railvti`` logger; the
-    caller builds the table again and rewrites the entry. The :data:`MAX_ENTRIES` most
-    recently used entries of a kind are kept.
+    caller builds the table again and rewrites the entry. The most recently used entries of a
+    kind are kept, at most :data:`MAX_ENTRIES` and :data:`MAX_BYTES` together.
 """
 
 from __future__ import annotations
@@ -50,6 +50,7 @@ from ._native import core
 __all__ = [
     "ENV",
     "FORMAT_VERSION",
+    "MAX_BYTES",
     "MAX_ENTRIES",
     "Recorder",
     "cache_dir",
@@ -67,6 +68,9 @@ ENV = "RAILVTI_CACHE_DIR"
 FORMAT_VERSION = 1
 #: Entries of one kind kept (the most recently used); older ones are removed on a write.
 MAX_ENTRIES = 16
+#: Bytes of one kind kept: the most recently used entries up to this size (the newest always),
+#: so large builds (a ring track's entry is ~31 MB) keep a few, not MAX_ENTRIES.
+MAX_BYTES = 128 * 2**20
 #: A temporary file older than this (s) is a crashed writer's and is removed.
 _STALE_TMP = 3600.0
 _warned: set[str] = set()
@@ -225,16 +229,20 @@ def store(kind: str, key: str, arrays: dict[str, Any]) -> Path | None:
 
 
 def _prune(folder: Path, kind: str) -> None:
-    """Keep the MAX_ENTRIES most recently used entries of kind; remove crashed writers'
-    temporary files."""
+    """Keep the most recently used entries of kind, at most MAX_ENTRIES and MAX_BYTES (the
+    newest always); remove crashed writers' temporary files."""
     now = time.time()
     entries = []
     for p in folder.glob(f"{kind}-*.npz"):
         with contextlib.suppress(OSError):  # another process removed it first
-            entries.append((p.stat().st_mtime, p))
-    for _, p in sorted(entries, reverse=True)[MAX_ENTRIES:]:
-        with contextlib.suppress(OSError):  # another process removed it first
-            p.unlink()
+            st = p.stat()
+            entries.append((st.st_mtime, st.st_size, p))
+    total = 0
+    for i, (_, size, p) in enumerate(sorted(entries, reverse=True)):
+        total += size
+        if i >= MAX_ENTRIES or (i > 0 and total > MAX_BYTES):
+            with contextlib.suppress(OSError):  # another process removed it first
+                p.unlink()
     for p in folder.glob(f".{kind}-*.tmp"):
         with contextlib.suppress(OSError):  # another process removed it first
             if now - p.stat().st_mtime > _STALE_TMP:
