@@ -127,8 +127,8 @@ def _child(cache: str, speed: float = V) -> dict:
 
 
 def test_replayed_wheelset_is_the_built_one_bit_for_bit(tmp_path):
-    # ARPACK keeps its start vector's seed across calls, so a process's second build of a
-    # harmonic differs from its first in the last bits: each build runs in a fresh process
+    # each build in a fresh process, as a new user's run (a harmonic solved twice in one
+    # process is the same bit for bit: test_wheelset_model.py)
     off = _child("")
     first = _child(str(tmp_path))  # built and stored
     assert len(list(tmp_path.glob("wheelset-modes-*.npz"))) == 2  # harmonics 0 and 1

@@ -8,7 +8,7 @@ module common_lapack
     private
     public :: dgetrf, dgetrs, dgetri, dgesv, zgesv
     public :: dposv, dpbtrf, dpbtrs, dsygvx, dsyevr
-    public :: dsbmv
+    public :: dsbmv, dlarnv
     public :: dsaupd, dseupd
 
     interface
@@ -102,6 +102,14 @@ module common_lapack
             real(dp), intent(in) :: alpha, beta, a(lda, *), x(*)
             real(dp), intent(inout) :: y(*)
         end subroutine dsbmv
+
+        ! --- random vector (LAPACK auxiliary) ---
+        subroutine dlarnv(idist, iseed, n, x)
+            import :: dp
+            integer, intent(in) :: idist, n
+            integer, intent(inout) :: iseed(4)
+            real(dp), intent(out) :: x(*)
+        end subroutine dlarnv
 
         ! --- ARPACK (symmetric, reverse communication) ---
         subroutine dsaupd(ido, bmat, n, which, nev, tol, resid, ncv, v, ldv, iparam, ipntr, &
