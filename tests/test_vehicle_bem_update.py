@@ -23,6 +23,17 @@ def coach_system():
     return scenarios.coach_system(geometry="table")
 
 
+def _band_steps(st, wheel: int, band: float):
+    """The leading wheelset's linear model at ``wheel`` (inputs x0, forces y0, Jacobian) and
+    each input's step at the band's limit: its largest term of the model = band x Fn (the
+    last three outputs' limit 0.01 of that)."""
+    lm = st.linear_model(0, wheel, 0)
+    x0, y0, jac = lm["x"], lm["y"], lm["jac"]
+    lim = band * y0[0] * np.array([1, 1, 1, 0.01, 0.01, 0.01])
+    step = np.array([np.min(lim / np.maximum(np.abs(jac[:, i]), 1e-300)) for i in range(6)])
+    return x0, y0, jac, step
+
+
 def test_linear_model_inside_the_band_matches_the_solves(coach_system):
     """At the edge of the default band (each input's own first-order force change = band x
     Fn, all six inputs moved at once, in both directions) the linear model's forces agree
@@ -40,12 +51,8 @@ def test_linear_model_inside_the_band_matches_the_solves(coach_system):
     with bem_state(sy, o) as st:
         _force_and_tangent(sy, q, v, V, "bem", 8, st)
         for wheel in (0, 1):
-            lm = st.linear_model(0, wheel, 0)
-            x0, y0, jac = lm["x"], lm["y"], lm["jac"]
+            x0, y0, jac, step = _band_steps(st, wheel, band)
             fn = y0[0]
-            lim = band * fn * np.array([1, 1, 1, 0.01, 0.01, 0.01])
-            # each input's step: its largest term of the model at the band's limit
-            step = np.array([np.min(lim / np.maximum(np.abs(jac[:, i]), 1e-300)) for i in range(6)])
             step[5] = min(step[5], 1.0)  # within one table node
             worst = 0.0
             for sign in (1.0, -1.0):
@@ -148,11 +155,8 @@ def test_linear_model_within_the_reach_matches_the_solves(coach_system):
     with bem_state(sy, o) as st:
         _force_and_tangent(sy, q, v, V, "bem", 8, st)
         for wheel in (0, 1):
-            lm = st.linear_model(0, wheel, 0)
-            x0, y0, jac = lm["x"], lm["y"], lm["jac"]
+            x0, y0, jac, step = _band_steps(st, wheel, band)
             fn = y0[0]
-            lim = band * fn * np.array([1, 1, 1, 0.01, 0.01, 0.01])
-            step = np.array([np.min(lim / np.maximum(np.abs(jac[:, i]), 1e-300)) for i in range(6)])
             step[[0, 1, 5]] *= reach
             # the lateral position stays in its table cell (the updates' condition)
             s0 = x0[5] - np.floor(x0[5])
