@@ -9,7 +9,8 @@ builds them. Cases: ``new`` (this build, defaults), ``old`` (the old build), ``n
 (this build with ``update_band=0``: every patch solved, the linear updates' effect alone)
 and ``old-tight`` (the old build with ``tol_normal=1e-8``, ``tol_rolling=1e-5``: how far the
 BEM's own tolerances move the results, the yardstick of the others). Prints per case the
-wall time and RTF of the whole call and of its parts, and the leading wheelset's amplitude
+wall time and RTF of the whole call and of its parts, the CPU time of the call (the steadier
+figure on a loaded machine), and the leading wheelset's amplitude
 per second (half peak-to-peak of y_ws1), Q max and |Y| max against the first case's.
 
     PYTHONPATH=$WT/_site python benchmarks/bench_vehicle_bem_rtf.py [duration_s] [--old PATH]
@@ -33,6 +34,7 @@ from railvti import scenarios
 from railvti.vehicle import BemOptions
 dur, out, speed, variant, opts = float(sys.argv[1]), sys.argv[2], float(sys.argv[3]), sys.argv[4], json.loads(sys.argv[5])
 t1 = time.perf_counter()
+c1 = time.process_time()
 scenarios.wheel_table()
 t2 = time.perf_counter()
 scenarios.coach_system(variant) if variant == "RR" else scenarios.coach_system(variant, speed_kmh=speed)
@@ -40,10 +42,11 @@ t3 = time.perf_counter()
 kw = {"bem_options": BemOptions(**opts)} if opts else {}
 r = scenarios.hunting(speed, variant=variant, contact="bem", duration=dur, threads=1, progress=False, **kw)
 t4 = time.perf_counter()
+c4 = time.process_time()
 s = r.stats
 np.savez(out, t=r.t, y=r.y_ws1, q=r.Q, yf=r.Y)
 print(json.dumps({"import": t1 - t0, "table": t2 - t1, "system": t3 - t2, "hunting": t4 - t3,
-                  "loop": s["wall_time"], "steps": s["steps"], "newton": s["newton_iterations"],
+                  "loop": s["wall_time"], "cpu": c4 - c1, "steps": s["steps"], "newton": s["newton_iterations"],
                   "pairs": s["bem_normal_solves"], "updates": s.get("bem_linear_updates", 0),
                   "lin_err": s.get("bem_max_linear_error", 0.0)}))
 """
@@ -107,7 +110,7 @@ def main() -> None:
         f"{tuple(round(x, 2) for x in os.getloadavg())} on {os.cpu_count()} cores"
     )
     print(
-        f"{'case':>10s} {'call s':>7s} {'RTF':>6s} | {'import':>6s} {'table':>6s} {'system':>6s} {'static':>6s} "
+        f"{'case':>10s} {'call s':>7s} {'RTF':>6s} {'CPU s':>6s} | {'import':>6s} {'table':>6s} {'system':>6s} {'static':>6s} "
         f"{'loop':>7s} {'loop RTF':>8s} | {'Newton':>6s} {'solves':>6s} {'updates':>7s} /step {'lin err N':>9s}"
     )
     for c, d in res.items():
@@ -115,7 +118,7 @@ def main() -> None:
         static = d["hunting"] - d["loop"]
         n = d["steps"]
         print(
-            f"{c:>10s} {call:7.1f} {call / dur:6.2f} | {d['import']:6.2f} {d['table']:6.2f} {d['system']:6.2f} "
+            f"{c:>10s} {call:7.1f} {call / dur:6.2f} {d['cpu']:6.1f} | {d['import']:6.2f} {d['table']:6.2f} {d['system']:6.2f} "
             f"{static:6.2f} {d['loop']:7.1f} {d['loop'] / dur:8.2f} | {d['newton'] / n:6.2f} {d['pairs'] / n:6.2f} "
             f"{d['updates'] / n:7.2f}      {d['lin_err']:9.2f}"
         )
