@@ -585,7 +585,7 @@ contains
     !> The energy scheme evaluates it (its error is the work of the last residual, one-sided
     !> with modified Newton: model FR at tol 1e-9, 2.6e-5 of the kick's energy over 1 s
     !> without the evaluated correction, 2.8e-7 over 0.5 s with).
-    !> On the ring track (models RF/FF, the trapezoidal modal step) the kept matrix contracts
+    !> On the ring track (models RF/FF, the trapezoidal modal step, upd) the kept matrix contracts
     !> linearly (the contact's tangent ages with the sleeper passing: RF centred at 300 km/h,
     !> theta ~0.01-0.1 an iteration), and the correction test also passes when the error left
     !> after the correction, estimated from the observed contraction theta = |dq_k| / |dq_(k-1)|
@@ -596,7 +596,8 @@ contains
     !> LAG_MAX tol: RF/FF 2 s at 300 km/h, 15-20 % fewer iterations (docs/speed_accuracy.md,
     !> "The ring's Newton stopping test"). The exact modal steps keep the plain test (at 1 ms
     !> the estimate left exact-moving's wheelset spin angle 3.2e-8 rad from its converged run,
-    !> against 3.3e-9 with the plain test).
+    !> against 3.3e-9 with the plain test), and so do the runs that make a fresh matrix every
+    !> step (the BEM, the contact tables: not keeps_matrix).
     subroutine newton_iterate(md, rs, sd, opt, q1, r, rn, f1, w1, mf, nl, stale, upd, tally, dq, conv, &
                               valid, info)
         type(vmodel), intent(in) :: md
@@ -643,7 +644,7 @@ contains
             if (.not. (dqn <= opt%qmax)) return
             ! the ring track: the error left after this correction from the contraction (above)
             est = .false.
-            if (md%mp%nrl > 0 .and. full .and. .not. (sd%energy .or. sd%exact) .and. dqprev < huge(1.0_dp)) then
+            if (upd .and. md%mp%nrl > 0 .and. full .and. .not. sd%exact .and. dqprev < huge(1.0_dp)) then
                 theta = dqn / dqprev
                 est = theta < THETA_MAX .and. dqn <= LAG_MAX * opt%tol
                 if (est) est = theta / (1.0_dp - theta) * dqn <= opt%tol
