@@ -139,7 +139,9 @@ def test_ff_on_the_ring_in_the_curve(rr_left, fr_left) -> None:
     within 2 % of M (V^2/R - g h/s) (-1.2 % measured), and FF - RF per wheel equals FR - RR
     (the flexible wheelset changes the wheel forces on the ring as on track elements) within
     40 N (29.5 N measured, the sleeper ripple in the 0.1 s means) of an effect up to 110 N;
-    the mirror swaps the wheels."""
+    the mirror swaps the wheels (to 10 mN: two Newton solves that agree to its tolerance, 1e-9 m
+    of the state; with the ring's stopping test from Newton's contraction, vehicle_newmark, 4.7
+    mN measured, 0.17 mN with the plain test)."""
     out = {}
     for variant, curve in (("RF", LEFT), ("FF", LEFT), ("FF", RIGHT)):
         kw = SMALL if variant == "FF" else {}
@@ -153,8 +155,8 @@ def test_ff_on_the_ring_in_the_curve(rr_left, fr_left) -> None:
     assert np.abs(d_elem).max() > 100.0
     np.testing.assert_allclose(d_ring, d_elem, atol=40.0)
     mirror = out["FF", False]
-    np.testing.assert_allclose(mirror.wheel_output("Q"), ff.wheel_output("Q")[:, ::-1], rtol=1e-7, atol=1e-3)
-    np.testing.assert_allclose(_y_vehicle(mirror), -y_ff[:, ::-1], rtol=1e-7, atol=1e-3)
+    np.testing.assert_allclose(mirror.wheel_output("Q"), ff.wheel_output("Q")[:, ::-1], rtol=0, atol=1e-2)
+    np.testing.assert_allclose(_y_vehicle(mirror), -y_ff[:, ::-1], rtol=0, atol=1e-2)
 
 
 def test_line_deck_runs_fr_in_a_curve() -> None:

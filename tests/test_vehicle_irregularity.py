@@ -336,7 +336,11 @@ def test_gauge_alone_is_symmetric():
 def test_mirrored_track_gives_the_mirrored_run(variant):
     """The mirrored irregularity (all four channels) gives the mirrored run: y, roll, yaw of
     every body change sign, the rest stays, Q left <-> right, Y left <-> -right, to rounding
-    (measured 1e-13 m RR, 1.5e-12 m RF; Q 5e-5 N, 5e-4 N)."""
+    (measured 1e-13 m RR, 1.5e-12 m RF; Q 5e-5 N, 5e-4 N). RF's wheel forces to Newton's
+    tolerance: its stopping test from the contraction (vehicle_newmark) may stop the two runs
+    one iteration apart, and the forces come from the iterate before the last correction (at
+    most 10 tol behind, the creep forces through the step's velocity 2/h times that): Y 0.046 N
+    measured (0.1 N allowed, of forces up to 1 kN), the DOFs still within 1e-10 m."""
     v = 50 / 3.6
     sy, h = _system(variant, v)
     irr = _track(
@@ -357,8 +361,9 @@ def test_mirrored_track_gives_the_mirrored_run(variant):
         sg = -1.0 if n.rsplit("_", 1)[-1] in ("y", "roll", "yaw") else 1.0
         assert np.abs(a.dof(n) - sg * b.dof(n)).max() < 1e-10, n
     assert np.abs(a.dof("ws1_y")).max() > 1e-3
-    assert np.abs(a.Q - b.Q[:, ::-1]).max() < 0.01
-    assert np.abs(a.Y + b.Y[:, ::-1]).max() < 0.01
+    force_tol = 0.01 if variant == "RR" else 0.1
+    assert np.abs(a.Q - b.Q[:, ::-1]).max() < force_tol
+    assert np.abs(a.Y + b.Y[:, ::-1]).max() < force_tol
 
 
 # --- the scenario, the result, bad input ------------------------------------------------------

@@ -233,7 +233,10 @@ def simulate(
     tol : float, optional
         Newton tolerance on the correction, m or rad (default 1e-9; 1e-8 with contact='bem',
         whose tangent is a calibrated cheap model: hunting at 300 km/h, 0.1 s, the leading
-        wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %).
+        wheelset's position changes by 2e-8 m and the BEM solves per step drop by 19 %). On
+        the ring track (RF, FF) with the kept matrix a step also stops when the error left
+        after its last correction, estimated from Newton's contraction, is below ``tol``
+        (docs/speed_accuracy.md, "The ring's Newton stopping test").
     rtol : float, optional
         Newton tolerance on the residual, relative to the load scale: a step has converged
         when, at the predictor or after a full step, the next correction is below ``tol``
