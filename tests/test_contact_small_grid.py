@@ -28,24 +28,31 @@ def _problem(A: float, B: float):
 
 @pytest.mark.parametrize("shape", SHAPES, ids=["a/b=0.5", "a/b=1", "a/b=1.33", "a/b=2"])
 def test_direct_products_give_the_fft_answer(shape):
-    """Same sweeps and the same tractions to 1e-10 of the largest traction bound (a few 1e-15
-    measured): the two products differ by rounding only, which the iteration does not amplify."""
+    """The small contact set's path ('auto' and 'direct': the dense slip operator, finished by
+    Newton's method once the statuses have settled) against the grid path with FFT products
+    (Anderson-mixed sweeps to the end): the same statuses, and both within 1e-6 of the largest
+    traction bound of the converged solution (the FFT path to tolerance 1e-13; 4e-7 measured
+    for either: both stop at the residual 1e-7), in fewer sweeps (about half). 'auto' and
+    'direct' take the same path: the same tractions to rounding."""
     _, g, nr = _problem(*shape)
     worst = 0.0
     for c in CREEP:
         ref = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="fft")
+        conv = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="fft", tol=1e-13, max_iter=500)
         fast = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="auto")
         direct = solve_tangential(nr.pressure, g, STEEL, MU, c, V, product="direct")
-        assert ref.converged and fast.converged
-        assert fast.iterations == ref.iterations
+        assert ref.converged and fast.converged and conv.converged
+        assert fast.iterations <= ref.iterations and (fast.iterations < ref.iterations or ref.iterations == 0)
         scale = MU * nr.pressure.max()
-        for r in (fast, direct):
-            worst = max(worst, np.abs(r.tx - ref.tx).max() / scale, np.abs(r.ty - ref.ty).max() / scale)
-            np.testing.assert_array_equal(r.status, ref.status)
+        for r in (fast, ref):
+            worst = max(worst, np.abs(r.tx - conv.tx).max() / scale, np.abs(r.ty - conv.ty).max() / scale)
+            np.testing.assert_array_equal(r.status, conv.status)
+        assert np.abs(direct.tx - fast.tx).max() <= 1e-10 * scale
+        assert np.abs(direct.ty - fast.ty).max() <= 1e-10 * scale
         fscale = MU * FN
-        assert abs(fast.fx - ref.fx) <= 1e-10 * fscale and abs(fast.fy - ref.fy) <= 1e-10 * fscale
-        assert abs(fast.mz - ref.mz) <= 1e-10 * fscale * g.dx * g.nx
-    assert worst < 1e-10
+        assert abs(fast.fx - conv.fx) <= 1e-6 * fscale and abs(fast.fy - conv.fy) <= 1e-6 * fscale
+        assert abs(fast.mz - conv.mz) <= 1e-6 * fscale * g.dx * g.nx
+    assert worst < 1e-6
 
 
 @pytest.mark.parametrize("law", ["exponential", "rational"])

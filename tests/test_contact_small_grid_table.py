@@ -67,6 +67,25 @@ def test_mixed_table_equals_separate_tables():
     assert t1.normal_solves == t2.normal_solves == 1
 
 
+def test_kept_normal_factor_gives_the_fresh_solves():
+    """Cases with different gaps on one contact set (a table over the curvature: the active set
+    keeps the previous case's Cholesky factor when its trial set is the same) give the bits of
+    each case solved in its own table (a fresh factor), with a change of contact set inside the
+    table (the kept factor then replaced)."""
+    _, g, gap = _problem(1.0, 1.0)
+    scales = [1.0, 1.001, 1.002, 1.004, 1.3, 1.5]  # 1.3: a smaller contact area (37 elements, not 45)
+    gaps = np.array([gap * s for s in scales])
+    creep = CREEP[[4, 10, 13, 16, 17, 7]]
+    t = creep_force_table(gaps, g, STEEL, MU, FN, creep, V)
+    assert t.normal_solves == len(scales)
+    assert t.n_contact[0] == t.n_contact[3] != t.n_contact[4] == t.n_contact[5]
+    assert (t.normal_iterations[1:4] == 1).all() and t.normal_iterations[5] == 1  # the kept set
+    for k in range(len(scales)):
+        one = creep_force_table(gaps[k], g, STEEL, MU, FN, creep[k : k + 1], V)
+        for name in ("fx", "fy", "mz", "approach", "n_contact", "iterations"):
+            assert getattr(one, name)[0] == getattr(t, name)[k], (k, name)
+
+
 @pytest.mark.parametrize(
     "case",
     [(1.0, 1.0, 1.57, 1.0), (2.8, 1.0, 1.57, 0.3), (0.5 / 0.46, 0.5 / 0.30, 3.0, 1.0), (1.0, 1.0, 2.0, 2.5)],

@@ -18,7 +18,7 @@ module contact_creep_table
     use common_status, only: STAT_OK, STAT_GRID_EDGE, STAT_BAD_ARGUMENT, STAT_NOT_CONVERGED
     use contact_plans, only: workspace
     use contact_normal, only: normal_cg, CONTROL_FORCE
-    use contact_normal_dense, only: normal_dense_force, dense_is_cheaper
+    use contact_normal_dense, only: normal_dense_force, dense_is_cheaper, normal_dense_cache
     use contact_rolling, only: rolling_steady, ROLL_FFTGS, rolling_patch, rolling_patch_reset
     implicit none
     private
@@ -61,6 +61,7 @@ contains
         real(dp), allocatable :: tx(:, :), ty(:, :), sx(:, :), sy(:, :)
         integer, allocatable :: st(:, :)
         type(rolling_patch) :: pa
+        type(normal_dense_cache) :: ncache   ! the active set's last factor, case to case
         real(dp) :: da, fnk, appr, resid
         integer :: k, nx, ny, stat, itn, itt, nprod, stat_n, nc
         logical :: fresh
@@ -103,7 +104,7 @@ contains
                 if (dense_is_cheaper(start_size(gap(:, :, kgap(k))), nx, ny)) then
                     ! small grids: the exact active-set solve, CG where it finds no set
                     call normal_dense_force(w%c(:, :, 1), gap(:, :, kgap(k)), da, fnk, p, appr, itn, resid, &
-                                            stat_n)
+                                            stat_n, cache=ncache)
                     if (stat_n == STAT_OK .and. resid > tol_n) stat_n = STAT_NOT_CONVERGED
                 end if
                 if (stat_n == STAT_NOT_CONVERGED) then

@@ -21,7 +21,20 @@ module contact_normal_dense
     use contact_normal, only: normal_residual
     implicit none
     private
-    public :: normal_dense_force, NORMAL_DENSE_MAX, dense_is_cheaper
+    public :: normal_dense_force, NORMAL_DENSE_MAX, dense_is_cheaper, normal_dense_cache
+
+    !> The Cholesky factor of the last trial set's A_II and its solution y1 = A_II^-1 1, kept by a
+    !> caller from one solve to the next on the same grid and influence coefficients (a
+    !> creep-force table's cases): a case whose trial set is the cached one (a table's next
+    !> case starts from the previous case's final set) solves only A_II y2 = h_I with it.
+    !> A_II depends on the set alone, not on h or Fn, so the result has the same bits as a
+    !> fresh factor's.
+    type :: normal_dense_cache
+        integer :: m = 0                     ! elements of the cached set (0: none)
+        integer, allocatable :: ic(:), jc(:) ! the set, column by column (set_list's order)
+        real(dp), allocatable :: l(:, :)     ! (m, m) Cholesky factor of A_II, lower triangle
+        real(dp), allocatable :: y1(:)       ! A_II^-1 1
+    end type normal_dense_cache
 
     !> Grids of at most this many elements (the dense factor of a contact set of up to
     !> about a third of them stays below 1 MB).
@@ -42,11 +55,15 @@ contains
     !> iters: trial sets; resid: normal_residual of the result. info: STAT_OK;
     !> STAT_NOT_CONVERGED no final set after MAX_SETS (or a non-positive pivot, or fn <= 0):
     !> p is then zero and the caller solves otherwise; STAT_NOT_FINITE a non-finite h.
-    subroutine normal_dense_force(c, h, area_el, fn, p, approach, iters, resid, info)
+    !> cache (optional): the factor of the last trial set, kept by the caller for the next
+    !> solve with the same c (normal_dense_cache); used when a trial set is the cached one,
+    !> replaced by each factor made.
+    subroutine normal_dense_force(c, h, area_el, fn, p, approach, iters, resid, info, cache)
         real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el, fn
         real(dp), intent(inout) :: p(:, :)
         real(dp), intent(out) :: approach, resid
         integer, intent(out) :: iters, info
+        type(normal_dense_cache), intent(inout), optional :: cache
         logical, allocatable :: act(:, :)
         real(dp), allocatable :: u(:, :), pi(:)
         integer, allocatable :: ic(:), jc(:)
@@ -78,7 +95,11 @@ contains
         do it = 1, MAX_SETS
             iters = it
             call set_list(act, ic, jc, m)
-            call solve_set(c, h, area_el, fn, ic(1:m), jc(1:m), pi(1:m), delta, info)
+            if (present(cache)) then
+                call solve_set_cached(c, h, area_el, fn, ic(1:m), jc(1:m), pi(1:m), delta, info, cache)
+            else
+                call solve_set(c, h, area_el, fn, ic(1:m), jc(1:m), pi(1:m), delta, info)
+            end if
             if (info /= STAT_OK) exit
             if (any(pi(1:m) <= 0.0_dp)) then
                 call drop_nonpositive(act, ic(1:m), jc(1:m), pi(1:m))
@@ -140,23 +161,15 @@ contains
         real(dp), intent(out) :: pi(:), delta
         integer, intent(out) :: info
         real(dp), allocatable :: a(:, :), y(:, :)
-        integer :: m, k, l, nx2, ny2, di, dj
+        integer :: m, l
         m = size(ic)
         delta = 0.0_dp
         pi = 0.0_dp
         info = STAT_NOT_CONVERGED
         if (m < 1) return
-        nx2 = size(c, 1)
-        ny2 = size(c, 2)
         allocate (a(m, m), y(m, 2))
+        call gather_set(c, ic, jc, a)
         do l = 1, m
-            do k = l, m
-                di = ic(k) - ic(l)      ! modulo(., nx2) without a division
-                if (di < 0) di = di + nx2
-                dj = jc(k) - jc(l)
-                if (dj < 0) dj = dj + ny2
-                a(k, l) = c(di, dj)
-            end do
             y(l, 1) = 1.0_dp
             y(l, 2) = h(ic(l), jc(l))
         end do
@@ -166,11 +179,89 @@ contains
         pi = delta * y(:, 1) - y(:, 2)
     end subroutine solve_set
 
+    !> solve_set with the factor of the set kept in cache: made (and kept) when the set is
+    !> not the cached one, else only A_II y2 = h_I solved with it (y1 kept too). The same
+    !> operations on the same numbers as solve_set: the same bits.
+    pure subroutine solve_set_cached(c, h, area_el, fn, ic, jc, pi, delta, info, cache)
+        real(dp), intent(in) :: c(0:, 0:), h(:, :), area_el, fn
+        integer, intent(in) :: ic(:), jc(:)
+        real(dp), intent(out) :: pi(:), delta
+        integer, intent(out) :: info
+        type(normal_dense_cache), intent(inout) :: cache
+        real(dp), allocatable :: y(:, :)
+        integer :: m, l
+        logical :: same
+        m = size(ic)
+        delta = 0.0_dp
+        pi = 0.0_dp
+        info = STAT_NOT_CONVERGED
+        if (m < 1) return
+        same = cache%m == m
+        if (same) same = all(cache%ic(1:m) == ic) .and. all(cache%jc(1:m) == jc)
+        allocate (y(m, 2))
+        do l = 1, m
+            y(l, 1) = 1.0_dp
+            y(l, 2) = h(ic(l), jc(l))
+        end do
+        if (same) then
+            y(:, 1) = cache%y1(1:m)
+            call cholesky_apply(cache%l(1:m, 1:m), y(:, 2:2))
+        else
+            cache%m = 0
+            if (allocated(cache%l)) then
+                if (size(cache%l, 1) < m) deallocate (cache%l, cache%ic, cache%jc, cache%y1)
+            end if
+            if (.not. allocated(cache%l)) allocate (cache%l(m, m), cache%ic(m), cache%jc(m), cache%y1(m))
+            call gather_set(c, ic, jc, cache%l(1:m, 1:m))
+            call cholesky_factor(cache%l(1:m, 1:m), info)
+            if (info /= STAT_OK) return
+            call cholesky_apply(cache%l(1:m, 1:m), y)
+            cache%m = m
+            cache%ic(1:m) = ic
+            cache%jc(1:m) = jc
+            cache%y1(1:m) = y(:, 1)
+        end if
+        info = STAT_OK
+        delta = (fn / area_el + sum(y(:, 2))) / sum(y(:, 1))
+        pi = delta * y(:, 1) - y(:, 2)
+    end subroutine solve_set_cached
+
+    !> The lower triangle of A_II for the set (ic, jc) from c's circular layout.
+    pure subroutine gather_set(c, ic, jc, a)
+        real(dp), intent(in) :: c(0:, 0:)
+        integer, intent(in) :: ic(:), jc(:)
+        real(dp), intent(out) :: a(:, :)
+        integer :: m, k, l, nx2, ny2, di, dj
+        m = size(ic)
+        nx2 = size(c, 1)
+        ny2 = size(c, 2)
+        do l = 1, m
+            do k = l, m
+                di = ic(k) - ic(l)      ! modulo(., nx2) without a division
+                if (di < 0) di = di + nx2
+                dj = jc(k) - jc(l)
+                if (dj < 0) dj = dj + ny2
+                a(k, l) = c(di, dj)
+            end do
+        end do
+    end subroutine gather_set
+
     !> a y = b for the two columns of y in place, a symmetric positive definite (its lower
     !> triangle given; overwritten by the Cholesky factor L, right-looking: column updates).
     !> info: STAT_OK or STAT_NOT_CONVERGED (a non-positive pivot).
     pure subroutine cholesky_solve(a, y, info)
         real(dp), intent(inout) :: a(:, :), y(:, :)
+        integer, intent(out) :: info
+        call cholesky_factor(a, info)
+        if (info /= STAT_OK) return
+        call cholesky_apply(a, y)
+    end subroutine cholesky_solve
+
+    !> The Cholesky factor L of a (symmetric positive definite, its lower triangle given)
+    !> in place, right-looking (column updates). info: STAT_OK or STAT_NOT_CONVERGED (a
+    !> non-positive pivot).
+    pure subroutine cholesky_factor(a, info)
+        real(dp), intent(inout) :: a(:, :)
         integer, intent(out) :: info
         integer :: m, k, j
         m = size(a, 1)
@@ -183,18 +274,28 @@ contains
                 a(j:m, j) = a(j:m, j) - a(j:m, k) * a(j, k)
             end do
         end do
-        ! L z = y (forward, by columns), then L^T x = z (backward, by rows of L^T)
+        info = STAT_OK
+    end subroutine cholesky_factor
+
+    !> L L^T x = y for the columns of y in place, L from cholesky_factor: L z = y (forward,
+    !> by columns), then L^T x = z (backward, by rows of L^T); each column on its own.
+    pure subroutine cholesky_apply(a, y)
+        real(dp), intent(in) :: a(:, :)
+        real(dp), intent(inout) :: y(:, :)
+        integer :: m, k, c
+        m = size(a, 1)
         do k = 1, m
             y(k, :) = y(k, :) / a(k, k)
-            y(k + 1:m, 1) = y(k + 1:m, 1) - a(k + 1:m, k) * y(k, 1)
-            y(k + 1:m, 2) = y(k + 1:m, 2) - a(k + 1:m, k) * y(k, 2)
+            do c = 1, size(y, 2)
+                y(k + 1:m, c) = y(k + 1:m, c) - a(k + 1:m, k) * y(k, c)
+            end do
         end do
         do k = m, 1, -1
-            y(k, 1) = (y(k, 1) - dot_product(a(k + 1:m, k), y(k + 1:m, 1))) / a(k, k)
-            y(k, 2) = (y(k, 2) - dot_product(a(k + 1:m, k), y(k + 1:m, 2))) / a(k, k)
+            do c = 1, size(y, 2)
+                y(k, c) = (y(k, c) - dot_product(a(k + 1:m, k), y(k + 1:m, c))) / a(k, k)
+            end do
         end do
-        info = STAT_OK
-    end subroutine cholesky_solve
+    end subroutine cholesky_apply
 
     !> The elements of the set with p <= 0 taken out of act.
     pure subroutine drop_nonpositive(act, ic, jc, pi)

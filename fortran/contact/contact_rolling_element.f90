@@ -111,11 +111,13 @@ contains
     !> The slip solution of element_solve (eq. 28), |t| = g with t opposite to s, when the
     !> adhesion traction lies outside the disc, for the small path: element_solve's Newton
     !> iteration from the second-order start below, stopped once a step is below 1e-6 of
-    !> the scale (element_solve: 1e-8 from a first-order start).
+    !> the scale (element_solve: 1e-8 from a first-order start), with one division per
+    !> reciprocal pair (the element problems' divisions are a chain in the sweep: their
+    !> latency, not their count of instructions, is what a sweep waits for).
     pure subroutine element_slip(s0x, s0y, kx, ky, g, tx, ty, lam)
         real(dp), intent(in) :: s0x, s0y, kx, ky, g
         real(dp), intent(out) :: tx, ty, lam
-        real(dp) :: gx, gy, f, ex, ey, en, dx3, dy3
+        real(dp) :: gx, gy, f, ex, ey, en, r, d
 
         if (g <= 0.0_dp) then
             tx = 0.0_dp
@@ -136,25 +138,44 @@ contains
         gx = g * kx
         gy = g * ky
         en = s0x * s0x + s0y * s0y
-        dx3 = sqrt(en)
-        dy3 = 0.5_dp * (gx - gy) / dx3
-        f = (s0x * s0x - s0y * s0y) / en
-        lam = max(0.0_dp, dx3 * (1.0_dp - dy3 * f + 1.5_dp * dy3 * dy3 * (1.0_dp - f * f)) - 0.5_dp * (gx + gy))
-        call slip_root(s0x, s0y, gx, gy, 1.0e-6_dp, lam)
-        ex = s0x / (lam + gx)
-        ey = s0y / (lam + gy)
-        en = sqrt(ex * ex + ey * ey)
-        if (en > 0.0_dp) then
-            en = g / en
-            ex = ex * en
-            ey = ey * en
-        else
-            ex = g * ex
-            ey = g * ey
-        end if
-        tx = -ex
-        ty = -ey
+        r = sqrt(en)
+        ex = 1.0_dp / r
+        d = 0.5_dp * (gx - gy) * ex
+        f = (s0x * s0x - s0y * s0y) * (ex * ex)
+        lam = max(0.0_dp, r * (1.0_dp - d * f + 1.5_dp * d * d * (1.0_dp - f * f)) - 0.5_dp * (gx + gy))
+        call slip_root_r(s0x, s0y, gx, gy, lam)
+        ! e is parallel to (s0x (lam + gy), s0y (lam + gx)): (lam + gx)(lam + gy) > 0
+        ex = s0x * (lam + gy)
+        ey = s0y * (lam + gx)
+        en = g / sqrt(ex * ex + ey * ey)
+        tx = -ex * en
+        ty = -ey * en
     end subroutine element_slip
+
+    !> slip_root for the small path (element_slip, element_batch's sequential form): the
+    !> two reciprocals 1 / (lam + gx), 1 / (lam + gy) of a step from one division of
+    !> their product; stopped once a step is below 1e-6 of the scale lam + gx + gy.
+    pure subroutine slip_root_r(s0x, s0y, gx, gy, lam)
+        real(dp), intent(in) :: s0x, s0y, gx, gy
+        real(dp), intent(inout) :: lam
+        real(dp) :: f, fp, dl, dx3, dy3, a, b, r, ex2, ey2
+        integer :: it
+        do it = 1, 100
+            a = lam + gx
+            b = lam + gy
+            r = 1.0_dp / (a * b)
+            dx3 = b * r
+            dy3 = a * r
+            ex2 = (s0x * dx3)**2
+            ey2 = (s0y * dy3)**2
+            f = ex2 + ey2 - 1.0_dp
+            fp = -2.0_dp * (ex2 * dx3 + ey2 * dy3)
+            if (fp >= 0.0_dp) exit
+            dl = -f / fp
+            lam = max(lam + dl, 0.0_dp)
+            if (abs(dl) <= 1.0e-6_dp * (lam + gx + gy)) exit
+        end do
+    end subroutine slip_root_r
 
     !> The element problem by the solve's friction law: element_solve (constant
     !> Coulomb: today's path, unchanged) or contact_friction's friction_element_solve;
@@ -182,22 +203,26 @@ contains
     end subroutine element_any
 
     !> element_solve for many elements with the same pivots kx, ky (jacobi_small): the
-    !> adhesion test for each, then element_solve's Newton iteration on the slipping ones
+    !> adhesion test for each (slip: its outcome), then element_solve's Newton iteration on the slipping ones
     !> side by side, without a branch per element and step (the steps go on until every
     !> one has met element_solve's test; one that had only refines), so that the divisions
     !> of different elements overlap. Agrees with element_solve to about 1e-11 relative.
-    pure subroutine element_batch(s0x, s0y, kx, ky, g, tx, ty)
+    pure subroutine element_batch(s0x, s0y, kx, ky, g, tx, ty, slip)
         real(dp), intent(in) :: s0x(:), s0y(:), kx, ky, g(:)
         real(dp), intent(out) :: tx(:), ty(:)
+        logical, intent(out) :: slip(:)   ! the element's status is ST_SLIP
         real(dp), dimension(SOP_MAX) :: sx, sy, gx, gy, lam   ! size(s0x) <= SOP_MAX
         logical :: ok(SOP_MAX)
-        real(dp) :: ax, ay, en, r, d, rho, dx3, dy3, f, fp, dl
+        real(dp) :: ax, ay, en, r, d, rho, dx3, dy3, f, fp, dl, rkx, rky, a, b, ex2, ey2
         integer :: idx(SOP_MAX), k, m, ns, it
         ns = 0
+        rkx = 1.0_dp / kx
+        rky = 1.0_dp / ky
         do k = 1, size(s0x)
-            ax = -s0x(k) / kx
-            ay = -s0y(k) / ky
-            if (ax * ax + ay * ay <= g(k) * g(k)) then
+            ax = -s0x(k) * rkx
+            ay = -s0y(k) * rky
+            slip(k) = ax * ax + ay * ay > g(k) * g(k)
+            if (.not. slip(k)) then
                 tx(k) = ax
                 ty(k) = ay
             else
@@ -213,29 +238,35 @@ contains
             end if
         end do
         if (ns == 0) return
-        do m = 1, ns   ! element_solve's second-order start
+        do m = 1, ns   ! element_slip's second-order start
             en = sx(m) * sx(m) + sy(m) * sy(m)
             r = sqrt(en)
-            d = 0.5_dp * (gx(m) - gy(m)) / r
-            rho = (sx(m) * sx(m) - sy(m) * sy(m)) / en
+            a = 1.0_dp / r
+            d = 0.5_dp * (gx(m) - gy(m)) * a
+            rho = (sx(m) * sx(m) - sy(m) * sy(m)) * (a * a)
             lam(m) = max(0.0_dp, r * (1.0_dp - d * rho + 1.5_dp * d * d * (1.0_dp - rho * rho)) &
                          - 0.5_dp * (gx(m) + gy(m)))
         end do
-        do it = 1, 100
+        do it = 1, 100   ! slip_root_r's steps side by side
             do m = 1, ns
-                dx3 = 1.0_dp / (lam(m) + gx(m))
-                dy3 = 1.0_dp / (lam(m) + gy(m))
-                f = (sx(m) * dx3)**2 + (sy(m) * dy3)**2 - 1.0_dp
-                fp = -2.0_dp * ((sx(m) * dx3)**2 * dx3 + (sy(m) * dy3)**2 * dy3)
+                a = lam(m) + gx(m)
+                b = lam(m) + gy(m)
+                r = 1.0_dp / (a * b)
+                dx3 = b * r
+                dy3 = a * r
+                ex2 = (sx(m) * dx3)**2
+                ey2 = (sy(m) * dy3)**2
+                f = ex2 + ey2 - 1.0_dp
+                fp = -2.0_dp * (ex2 * dx3 + ey2 * dy3)
                 dl = merge(-f / min(fp, -tiny(1.0_dp)), 0.0_dp, fp < 0.0_dp)
                 lam(m) = max(lam(m) + dl, 0.0_dp)
                 ok(m) = abs(dl) <= 1.0e-6_dp * (lam(m) + gx(m) + gy(m))
             end do
             if (all(ok(1:ns))) exit
         end do
-        do m = 1, ns
-            dx3 = sx(m) / (lam(m) + gx(m))
-            dy3 = sy(m) / (lam(m) + gy(m))
+        do m = 1, ns   ! e parallel to (sx (lam + gy), sy (lam + gx))
+            dx3 = sx(m) * (lam(m) + gy(m))
+            dy3 = sy(m) * (lam(m) + gx(m))
             en = g(idx(m)) / sqrt(dx3 * dx3 + dy3 * dy3)
             tx(idx(m)) = -dx3 * en
             ty(idx(m)) = -dy3 * en

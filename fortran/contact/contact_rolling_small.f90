@@ -1,11 +1,14 @@
 !> Steady rolling on a small contact set (at most SOP_MAX elements, the 11 x 11 creep case):
 !> contact_rolling's row-implicit Gauss-Seidel with Anderson mixing on packed vectors,
-!> the field read through the dense slip operator. Same equations and the same solution as
-!> the grid path (contact_rolling::iterate_grid), to rounding.
+!> the field read through the dense slip operator, finished by Newton's method once the
+!> elements' statuses have settled (settled_newton). Same equations as the grid path
+!> (contact_rolling::iterate_grid) and the same stopping test: the solutions agree to the
+!> solver's tolerance (the small path's is the closer to the exact one).
 !> Implements Kaiser eqs 26-29 on the packed contact set (the slip of eq. 29 through the dense slip operator).
 module contact_rolling_small
-    use common_kinds, only: dp
+    use common_kinds, only: dp, sp
     use common_status, only: STAT_OK, STAT_NOT_CONVERGED, STAT_NOT_FINITE
+    use common_dense, only: lu_factor_small, lu_solve_small
     use common_anderson, only: anderson_state, anderson_init, anderson_step, anderson_restart
     use contact_rolling_patch, only: ST_SLIP, AA_M, SOP_MAX, rolling_patch, project_on_disc, &
                                      residual_ok, pack_tractions
@@ -13,6 +16,12 @@ module contact_rolling_small
     implicit none
     private
     public :: iterate_small, small_runs
+
+    !> settled_newton: tried when the Jacobi residual is below NEWTON_RESID and the statuses
+    !> are those of the previous iterate, at most NEWTON_TRIES times per solve, with at most
+    !> NEWTON_STEPS steps on one Jacobian, each to cut the residual by NEWTON_RATE at least.
+    real(dp), parameter :: NEWTON_RESID = 0.1_dp, NEWTON_RATE = 0.25_dp
+    integer, parameter :: NEWTON_TRIES = 2, NEWTON_STEPS = 5
 
 contains
 
@@ -33,8 +42,9 @@ contains
         type(anderson_state) :: aa
         ! fixed sizes (nc <= SOP_MAX): on the stack, where gfortran puts automatic arrays
         ! on the heap (a malloc and free per call, as much as a small problem's arithmetic)
-        real(dp) :: vv(2 * SOP_MAX), gg(2 * SOP_MAX), r2, n2, rbest
-        integer :: it, k, n
+        real(dp) :: vv(2 * SOP_MAX), gg(2 * SOP_MAX), nt(2 * SOP_MAX), r2, n2, rbest
+        logical :: slip(SOP_MAX), slip_old(SOP_MAX), have_g, ok
+        integer :: it, k, n, ntry, nstep
 
         info = STAT_OK
         resid = 0.0_dp
@@ -45,15 +55,35 @@ contains
         call anderson_init(aa, v, AA_M)
         rbest = huge(1.0_dp)
         it = 0
+        ntry = 0
+        have_g = .false.
+        slip_old(1:n) = .false.
         do
-            call sop_apply(pa, v, g)
-            call jacobi_small(pa, g, v, r2, n2)
+            if (.not. have_g) then
+                call sop_apply(pa, v, g)
+                call jacobi_small(pa, g, v, r2, n2, nt, slip)
+            end if
+            have_g = .false.
             if (.not. residual_ok(r2, n2, resid, info)) exit
             if (resid <= tol) exit
             if (it >= max_iter) then
                 info = STAT_NOT_CONVERGED
                 exit
             end if
+            ! the statuses settled: Newton's method on the rest (the slip directions and the
+            ! adhesion tractions), where a sweep would only shrink the error by a factor
+            if (it > 0 .and. ntry < NEWTON_TRIES .and. .not. pa%varlaw .and. resid <= NEWTON_RESID) then
+                if (all(slip(1:n) .eqv. slip_old(1:n))) then
+                    ntry = ntry + 1
+                    call settled_newton(pa, tol, resid, slip(1:n), nt(1:2 * n), v, g, r2, n2, nstep, ok)
+                    it = it + nstep
+                    if (ok) then
+                        have_g = .true.   ! v, g, r2, n2 of the converged iterate
+                        cycle
+                    end if
+                end if
+            end if
+            slip_old(1:n) = slip(1:n)
             if (aa%naa > 0 .and. resid > 2.0_dp * rbest) then
                 call anderson_restart(aa)
                 v = aa%x
@@ -110,11 +140,14 @@ contains
     end subroutine project_packed
 
     !> jacobi_residual on packed vectors (g = S v, iterate_small); Coulomb's element
-    !> problems all at once (element_batch).
-    pure subroutine jacobi_small(pa, g, v, r2, n2)
+    !> problems all at once (element_batch). nt: the element solutions (packed), slip: their
+    !> statuses are ST_SLIP.
+    pure subroutine jacobi_small(pa, g, v, r2, n2, nt, slip)
         type(rolling_patch), intent(in) :: pa
         real(dp), intent(in) :: g(:), v(:)
         real(dp), intent(out) :: r2, n2
+        real(dp), intent(inout) :: nt(:)
+        logical, intent(inout) :: slip(:)
         real(dp) :: scx, scy, lam
         real(dp), dimension(SOP_MAX) :: ntx, nty, s0x, s0y   ! nc <= SOP_MAX (iterate_small)
         integer :: k, n, st
@@ -129,12 +162,15 @@ contains
                 scy = s0y(k)
                 call element_any(pa, scx - pa%kx * v(k), scy - pa%ky * v(n + k), pa%kx, pa%ky, pa%bc(k), &
                                  scx, scy, ntx(k), nty(k), st, lam)
+                slip(k) = st == ST_SLIP
             end do
         else
             s0x(1:n) = s0x(1:n) - pa%kx * v(1:n)
             s0y(1:n) = s0y(1:n) - pa%ky * v(n + 1:2 * n)
-            call element_batch(s0x(1:n), s0y(1:n), pa%kx, pa%ky, pa%bc, ntx(1:n), nty(1:n))
+            call element_batch(s0x(1:n), s0y(1:n), pa%kx, pa%ky, pa%bc, ntx(1:n), nty(1:n), slip(1:n))
         end if
+        nt(1:n) = ntx(1:n)
+        nt(n + 1:2 * n) = nty(1:n)
         r2 = 0.0_dp
         n2 = 0.0_dp
         do k = 1, n
@@ -142,6 +178,156 @@ contains
             n2 = n2 + ntx(k)**2 + nty(k)**2
         end do
     end subroutine jacobi_small
+
+    !> Newton's method on the small path once the elements' statuses have settled (Kaiser
+    !> eqs 26, 28 with the statuses fixed): unknowns the tractions of the elements in adhesion
+    !> and the direction angle of those in slip (t = g e, |e| = 1), equations s = 0 in
+    !> adhesion and s x e = 0 in slip (s = w + S t, eq. 29 through the slip operator). Its
+    !> Jacobian is formed once, at the element solutions nt of the current iterate, and its LU
+    !> factor (lu_factor_small, single precision) serves every step (the chord method: each
+    !> step cuts the error by a factor of the order of the distance at which the Jacobian was
+    !> formed, while the residuals are formed in double precision). A
+    !> step is judged by the solver's own test, the Jacobi residual (jacobi_small) with the
+    !> same statuses. ok: converged (resid <= tol): v, g = S v, r2, n2 those of the result;
+    !> else (statuses changed, a step cut the residual by less than NEWTON_RATE, a singular
+    !> Jacobian) v and g are left as they were. nstep: steps made.
+    subroutine settled_newton(pa, tol, resid0, slip, nt, v, g, r2, n2, nstep, ok)
+        type(rolling_patch), intent(in) :: pa
+        real(dp), intent(in) :: tol, resid0
+        logical, intent(in) :: slip(:)
+        real(dp), intent(in) :: nt(:)
+        real(dp), intent(inout) :: v(:), g(:), r2, n2
+        integer, intent(out) :: nstep
+        logical, intent(out) :: ok
+        real(sp), allocatable :: jlu(:, :)
+        real(sp) :: ds(2 * SOP_MAX)
+        real(dp), dimension(2 * SOP_MAX) :: t, gt, ntt, d
+        real(dp), dimension(SOP_MAX) :: ex, ey
+        logical :: slt(SOP_MAX)
+        integer :: col(SOP_MAX), piv(2 * SOP_MAX), n, m, k, c, step, info
+        real(dp) :: en, sx, sy, r2t, n2t, rt, rprev
+        n = pa%nc
+        nstep = 0
+        ok = .false.
+        m = 0
+        do k = 1, n
+            col(k) = m + 1
+            m = m + merge(1, 2, slip(k))
+        end do
+        ! the start: the element solutions, the slipping ones' directions exactly unit
+        t(1:2 * n) = nt
+        do k = 1, n
+            if (.not. slip(k)) cycle
+            en = sqrt(t(k)**2 + t(n + k)**2)
+            if (.not. (en > 0.0_dp)) return
+            ex(k) = t(k) / en
+            ey(k) = t(n + k) / en
+            t(k) = pa%bc(k) * ex(k)
+            t(n + k) = pa%bc(k) * ey(k)
+        end do
+        call sop_apply(pa, t(1:2 * n), gt(1:2 * n))
+        ! the Jacobian and its factor in single precision: the chord steps need an
+        ! approximate J^-1 only (its relative error, ~1e-7 cond(J), adds that much to each
+        ! step's contraction factor), and the LU takes half the instructions
+        allocate (jlu(m, m))
+        call newton_jacobian(pa, slip, col, t(1:2 * n), gt(1:2 * n), ex, ey, jlu)
+        call lu_factor_small(jlu, piv(1:m), info)
+        if (info /= STAT_OK) return
+        rprev = resid0
+        do step = 1, NEWTON_STEPS
+            nstep = step
+            do k = 1, n   ! -F: the slips in adhesion, s x e in slip
+                sx = pa%wxc(k) + gt(k)
+                sy = pa%wyc(k) + gt(n + k)
+                c = col(k)
+                if (slip(k)) then
+                    d(c) = sy * ex(k) - sx * ey(k)
+                else
+                    d(c) = -sx
+                    d(c + 1) = -sy
+                end if
+            end do
+            ds(1:m) = real(d(1:m), sp)
+            call lu_solve_small(jlu, piv(1:m), ds(1:m))
+            d(1:m) = real(ds(1:m), dp)
+            do k = 1, n
+                c = col(k)
+                if (slip(k)) then
+                    ! e turned by the angle d(c), back on the unit circle (a second-order
+                    ! retraction: Newton's quadratic convergence is kept)
+                    en = 1.0_dp / sqrt(1.0_dp + d(c)**2)
+                    sx = (ex(k) - d(c) * ey(k)) * en
+                    ey(k) = (ey(k) + d(c) * ex(k)) * en
+                    ex(k) = sx
+                    t(k) = pa%bc(k) * ex(k)
+                    t(n + k) = pa%bc(k) * ey(k)
+                else
+                    t(k) = t(k) + d(c)
+                    t(n + k) = t(n + k) + d(c + 1)
+                end if
+            end do
+            call sop_apply(pa, t(1:2 * n), gt(1:2 * n))
+            call jacobi_small(pa, gt(1:2 * n), t(1:2 * n), r2t, n2t, ntt(1:2 * n), slt(1:n))
+            if (r2t /= r2t .or. n2t /= n2t .or. r2t > huge(1.0_dp) .or. .not. (n2t > 0.0_dp)) return
+            if (any(slt(1:n) .neqv. slip)) return
+            rt = sqrt(r2t / n2t)
+            if (rt <= tol) then
+                v = t(1:2 * n)
+                g = gt(1:2 * n)
+                r2 = r2t
+                n2 = n2t
+                ok = .true.
+                return
+            end if
+            if (rt > NEWTON_RATE * rprev) return
+            rprev = rt
+        end do
+    end subroutine settled_newton
+
+    !> settled_newton's Jacobian at the tractions t (slip directions e, slips w + gt): the
+    !> column of an unknown is S's response to it (S e_x, S e_y for an adhesion traction,
+    !> S dt/dtheta = S g (-e_y, e_x) for a slip angle), read by the equations' rows (s_x, s_y
+    !> in adhesion, s x e in slip, whose own angle adds s . e).
+    pure subroutine newton_jacobian(pa, slip, col, t, gt, ex, ey, jac)
+        type(rolling_patch), intent(in) :: pa
+        logical, intent(in) :: slip(:)
+        integer, intent(in) :: col(:)
+        real(dp), intent(in) :: t(:), gt(:), ex(:), ey(:)
+        real(sp), intent(out) :: jac(:, :)    ! (m, m), single precision (settled_newton)
+        real(dp) :: cv(2 * SOP_MAX)
+        integer :: n, j, cc
+        n = pa%nc
+        do j = 1, n
+            cc = col(j)
+            if (slip(j)) then
+                cv(1:2 * n) = pa%sop(:, j) * (-t(n + j)) + pa%sop(:, n + j) * t(j)
+                call jacobian_rows(n, slip, col, ex, ey, cv(1:2 * n), jac(:, cc))
+                jac(cc, cc) = real(cv(j) * ey(j) - cv(n + j) * ex(j) + (pa%wxc(j) + gt(j)) * ex(j) &
+                                   + (pa%wyc(j) + gt(n + j)) * ey(j), sp)
+            else
+                call jacobian_rows(n, slip, col, ex, ey, pa%sop(:, j), jac(:, cc))
+                call jacobian_rows(n, slip, col, ex, ey, pa%sop(:, n + j), jac(:, cc + 1))
+            end if
+        end do
+    end subroutine newton_jacobian
+
+    !> One column of newton_jacobian from S's response cv (2 n) to its unknown: the slips
+    !> of the elements in adhesion, s x e of those in slip.
+    pure subroutine jacobian_rows(n, slip, col, ex, ey, cv, jcol)
+        integer, intent(in) :: n, col(:)
+        logical, intent(in) :: slip(:)
+        real(dp), intent(in) :: ex(:), ey(:), cv(:)
+        real(sp), intent(out) :: jcol(:)
+        integer :: k
+        do k = 1, n
+            if (slip(k)) then
+                jcol(col(k)) = real(cv(k) * ey(k) - cv(n + k) * ex(k), sp)
+            else
+                jcol(col(k)) = real(cv(k), sp)
+                jcol(col(k) + 1) = real(cv(n + k), sp)
+            end if
+        end do
+    end subroutine jacobian_rows
 
     !> final_slip on packed vectors (g = S v): status and slip velocity (m/s) on the grid.
     subroutine final_small(pa, g, v, speed, status, sx, sy, nmulti)

@@ -65,7 +65,7 @@ class CreepForceTable:
         Iterations of the case's normal solve (shared by the cases that reuse it): trial
         contact sets of the active set on small grids, else CG iterations.
     iterations : ndarray of int, shape (ncase,)
-        Sweeps of the rolling solver.
+        Sweeps of the rolling solver, plus its Newton steps (as ``RollingResult.iterations``).
     normal_solves : int
         Normal problems solved (one per run of consecutive cases with the same gap and
         normal force).

@@ -93,7 +93,8 @@ class RollingResult:
     power : float
         Frictional power, W (sum of the power density times the element area).
     iterations : int
-        Gauss-Seidel sweeps.
+        Gauss-Seidel sweeps, plus the Newton steps that finish a small contact set's solve
+        (at most 100 elements in contact, Coulomb friction: docs/rolling.md).
     residual : float
         Relative residual ||F(t) - t|| / ||F(t)|| of a Jacobi step on the exact field.
     converged : bool
