@@ -52,7 +52,7 @@ def test_default_modal_step_per_variant(fr):
 def test_opt_in_settings(fr, fr_opted_in):
     """Opted in: 'exact' with the trapezoidal rule's settings only (hht, alpha = 0); the FR
     system's default step is 1 ms, which the trapezoidal modal step refuses."""
-    assert default_modal_step("FR") == "exact"
+    assert default_modal_step("FR") == "exact-flange"
     for v in ("RR", "RF", "FF", ""):
         assert default_modal_step(v) == "trapezoidal"
     assert default_modal_step("FR", alpha=-0.05) == "trapezoidal"
@@ -71,7 +71,7 @@ def test_opt_in_runs_and_the_trapezoidal_run_on_request(fr_opted_in):
     """Opted in, the default run is the exact step at 1 ms bit for bit; modal_step='trapezoidal'
     takes the trapezoidal default step (0.5 ms) bit for bit as given explicitly."""
     a = _hunting(0.1)
-    b = _hunting(0.1, h=1e-3, modal_step="exact")
+    b = _hunting(0.1, h=1e-3, modal_step="exact-flange")
     np.testing.assert_array_equal(a.q, b.q)
     assert a.stats["steps"] == 100
     c = _hunting(0.1, modal_step="trapezoidal")

@@ -473,7 +473,7 @@ def _exact_modal(p: dict[str, Any]) -> bool:
     from ..vehicle.simulate import default_modal_step  # on first use: see _vehicle
 
     variant = str(p.get("model", "RR")).strip().upper()
-    return default_modal_step(variant, alpha=_num(p, "alpha", 0.0)) == "exact"
+    return default_modal_step(variant, alpha=_num(p, "alpha", 0.0)) != "trapezoidal"
 
 
 def _vehicle_step(p: dict[str, Any], ws_modes: float, f_top: float) -> float:
