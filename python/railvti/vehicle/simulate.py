@@ -111,15 +111,17 @@ FLANGE_LEVEL = 3
 RING_NODES = 4
 
 #: The variants (:func:`system_variant`) whose modal blocks take the exact modal step by
-#: default, at RR's 1 ms: none yet. A variant opts in by joining this tuple (simulate, the
-#: scenarios' default step, the deck check and the cost estimate follow). FR was measured for it
-#: (issue 33, validation/vehicle_fr_rr_like_for_like.py, docs/speed_accuracy.md "FR at RR's
-#: 1 ms"): 1.6-1.9x RR's cost instead of 2.3-3.3x and closer in tread hunting, but in the
-#: flange limit cycle at 420 km/h its Q max is 398 kN against the converged 104 kN and its
-#: amplitude 5.8 % low, where the trapezoidal step at 0.5 ms is within 2 % and 0.01 %. The
-#: ring track (RF, FF): its moving rows, not its modes, set its step (at 1 ms RF hunting's
-#: amplitude is 1.8 % off its converged value; docs/speed_accuracy.md).
-EXACT_BY_DEFAULT: tuple[str, ...] = ()
+#: default ('exact-flange', at RR's 1 ms): FR (issue 33). A variant opts in by joining this tuple
+#: (simulate, the scenarios' default step, the deck check and the cost estimate follow). FR,
+#: measured against the trapezoidal step at 1/16 ms (validation/vehicle_fr_flange_step.py,
+#: docs/speed_accuracy.md "FR at RR's 1 ms with sub-steps in flange contact"): the flange cycle
+#: at 420 km/h's Q max 104.1 kN against 104.0 kN (the trapezoidal 0.5 ms step 105.9 kN; the
+#: plain 'exact' step 398 kN), tread hunting's amplitude and Q max closer than the trapezoidal
+#: 0.5 ms step's, at 1.7-1.8x RR's cost instead of 2.2-2.7x (a flange cycle costs 2x the old
+#: default's: its flange steps in eighths). The ring track (RF, FF): its moving rows, not its
+#: modes, set its step (at 1 ms RF hunting's amplitude is 1.8 % off its converged value;
+#: docs/speed_accuracy.md).
+EXACT_BY_DEFAULT: tuple[str, ...] = ("FR",)
 
 
 def system_variant(system: System) -> str:
@@ -138,7 +140,7 @@ def system_variant(system: System) -> str:
 
 def default_modal_step(variant: str, integrator: str = "hht", alpha: float = 0.0) -> str:
     """The modal step a run takes when ``modal_step`` is not given (:data:`MODAL_STEPS`):
-    'exact-flange' for the variants of :data:`EXACT_BY_DEFAULT` (none yet) when the run is the
+    'exact-flange' for the variants of :data:`EXACT_BY_DEFAULT` when the run is the
     trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR',
     'FR', 'RF', 'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand).
     The one place of the choice: simulate, the scenarios' default step
@@ -152,8 +154,8 @@ def exact_modal(
 ) -> bool:
     """Whether a run of ``system`` with these settings steps its modal blocks exactly
     (:data:`MODAL_STEPS`; ``modal_step`` None: :func:`default_modal_step` of the system's
-    variant, :func:`system_variant`: 'trapezoidal' for all today). InputError for
-    an unknown name or 'exact' with alpha /= 0 or the energy integrator.
+    variant, :func:`system_variant`: 'exact-flange' for FR, 'trapezoidal' for the others).
+    InputError for an unknown name or 'exact' with alpha /= 0 or the energy integrator.
 
     'exact' integrates each modal block with mass exactly over the step for the point forces
     linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
@@ -324,7 +326,8 @@ def simulate(
         default ``Coach()``).
     modal_step : str, optional
         'trapezoidal', 'exact', 'exact-flange' or 'exact-moving' (RF, FF): :func:`exact_modal`; None:
-        :func:`default_modal_step` ('trapezoidal' for every variant today: :data:`EXACT_BY_DEFAULT`).
+        :func:`default_modal_step` ('exact-flange' for FR, 'trapezoidal' for the others:
+        :data:`EXACT_BY_DEFAULT`).
 
     Raises
     ------
