@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import importlib
+
 import pytest
 
 from railvti import scenarios
@@ -10,6 +12,8 @@ from railvti.casetypes import REGISTRY
 from railvti.errors import InputError
 from railvti.vehicle.flexible import mode_index, mode_labels
 import railvti.vehicle.cases  # noqa: F401  (registers the case type)
+
+SIM = importlib.import_module("railvti.vehicle.simulate")  # the module (the package exports the function)
 
 
 def _deck(**kw):
@@ -79,9 +83,11 @@ def test_unknown_mode_label():
             mode_index(sy, lay, bad)
 
 
-def test_step_too_large_for_the_kept_modes():
-    """The step is refused before any work (static equilibrium, runs) in every FR entry
-    point: 2 ms against the 561 Hz mode of the default selection (h omega = 7)."""
+def test_step_too_large_for_the_kept_modes(monkeypatch):
+    """With the trapezoidal modal step (FR's default before issue 33; FR's default now, the exact
+    step, has no step limit) the step is refused before any work (static equilibrium, runs) in
+    every FR entry point: 2 ms against the 561 Hz mode of the default selection (h omega = 7)."""
+    monkeypatch.setattr(SIM, "EXACT_BY_DEFAULT", ())
     for call in (
         lambda: scenarios.centred_running(200.0, "FR", h=2e-3),
         lambda: scenarios.hunting(300.0, "FR", h=2e-3),

@@ -1,6 +1,6 @@
 """Model FR, hunting (6 mm) and centred running at 300 km/h, 2 s, Hertz + FASTSIM on the strip
-contact: the exact modal step at RR's 1 ms against today's default (the trapezoidal modal step
-at 0.5 ms, h omega_max <= 2) and a converged reference (the trapezoidal step at 1/16 ms, checked
+contact: the exact modal step at RR's 1 ms against the old default (the trapezoidal modal step
+at 0.5 ms, h omega_max <= 2; FR's default is now 'exact-flange', validation/vehicle_fr_flange_step.py) and a converged reference (the trapezoidal step at 1/16 ms, checked
 by the exact step at 1/8 ms) (issue 33; docs/vehicle_integrator.md, "Exact modal step").
 
     OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_modal_step.py [duration_s] [variant]

@@ -1,8 +1,9 @@
 """FR against RR like for like (issue 33): are the FR - RR differences closer to their converged
 values with both at RR's 1 ms (FR's modal blocks stepped exactly) than with RR at 1 ms and FR at
-its default (the trapezoidal modal step at 0.5 ms, h omega_max <= 2)? In tread hunting mostly
+its old default (the trapezoidal modal step at 0.5 ms, h omega_max <= 2)? In tread hunting mostly
 yes; in the flange cycle at 420 km/h ('cycle420') no, by far (FR's Q max 398 kN against 104 kN):
-so FR's default stays the trapezoidal step (docs/speed_accuracy.md, "FR at RR's 1 ms").
+so the plain exact step did not become FR's default (docs/speed_accuracy.md, "FR at RR's 1 ms");
+the exact step with sub-steps in flange contact did (validation/vehicle_fr_flange_step.py).
 
     OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_rr_like_for_like.py [scene ...]
     OMP_NUM_THREADS=1 .venv/bin/python validation/vehicle_fr_rr_like_for_like.py --replot

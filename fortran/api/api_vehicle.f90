@@ -465,7 +465,9 @@ end subroutine vehicle_ring_residual_c
 !> the state, rigid plus modal DOFs. scheme (vehicle_newmark SCHEME_*): 0 HHT-alpha, 1 the
 !> energy-conserving midpoint rule with discrete gradients, 2 the trapezoidal rule with the
 !> modal blocks stepped exactly (vehicle_modal_step; alpha must be 0 for 1 and 2); 2 + 16 m
-!> (m = 1..64): 2 with the ring's moving rows at m + 1 nodes a step (vehicle_ring_step).
+!> (m = 1..64): 2 with the ring's moving rows at m + 1 nodes a step (vehicle_ring_step); plus
+!> 2048 l (l = 1..16): 2 with a step that starts in flange contact taken as 2^l sub-steps
+!> (vehicle_newmark flange_level).
 !> (f, w): the force and wheel outputs at (q, v) carried from the previous call (carried /= 0)
 !> or evaluated first (carried = 0); updated to the last state's.
 !> info: STAT_BAD_ARGUMENT for an unknown scheme or scheme 1 or 2 with alpha /= 0.
@@ -485,7 +487,7 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     real(c_double), intent(out) :: stats(10), tfail
     integer(c_int), intent(out) :: info
     type(vmodel), pointer :: md
-    integer :: stat, base, nodes
+    integer :: stat, base, nodes, flev
     tout = 0.0_c_double
     qout = 0.0_c_double
     vout = 0.0_c_double
@@ -494,15 +496,17 @@ subroutine vehicle_run_c(handle, nd, nw, speed, cmodel, fsn, bem, h, nsteps, nev
     tfail = t
     info = STAT_BAD_ARGUMENT
     base = mod(scheme, 16)
-    nodes = scheme / 16
+    nodes = mod(scheme / 16, 128)
+    flev = scheme / 2048
     if (base /= SCHEME_HHT .and. base /= SCHEME_ENERGY .and. base /= SCHEME_EXACT) return
     if (base /= SCHEME_HHT .and. alpha /= 0.0_c_double) return
     if (nodes < 0 .or. nodes > 64 .or. (nodes > 0 .and. base /= SCHEME_EXACT)) return
+    if (flev < 0 .or. flev > 16 .or. (flev > 0 .and. base /= SCHEME_EXACT)) return
     call vehicle_call(handle, nd, nw, nwo, vsettings(speed, cmodel, fsn, bem), md, stat)
     info = stat
     if (stat /= STAT_OK) return
     call newmark_run(md, vsettings(speed, cmodel, fsn, bem), h, nsteps, nevery, &
-                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, base, nodes), t, q, v, a, f, &
+                     hht_options(alpha, tol, qmax, maxit, maxsub, rtol, base, nodes, flev), t, q, v, a, f, &
                      w, carried /= 0, nout, tout, qout, vout, wout, stats, stat, tfail)
     info = stat
 end subroutine vehicle_run_c

@@ -16,7 +16,8 @@
 !> (energy_residual; docs/vehicle.md, "Energy-conserving integrator").
 !>
 !> Layers: newmark_run (the steps and the output) -> cover_step (one output step, cut into
-!> 2^lev sub-steps when a step fails) -> hht_step (one step: predictor, Newton, acceptance)
+!> 2^lev sub-steps when a step fails, or from the start while a wheel is in flange contact with
+!> hht_options%flev > 0: flange_level) -> hht_step (one step: predictor, Newton, acceptance)
 !> -> newton_iterate (tangent, solve, line_search) -> residual.
 !>
 !> The state is x = (q(1:nd), Q(1:nm)): the rigid DOFs of vehicle_model and the modal
@@ -54,6 +55,8 @@ module vehicle_newmark
     integer, parameter :: SCHEME_HHT = 0, SCHEME_ENERGY = 1, SCHEME_EXACT = 2
     !> The wheel output holding the contact's potential energy (vehicle_contact, J).
     integer, parameter :: IO_ENERGY = 9
+    !> The wheel output holding the flange point's normal force (vehicle_contact, N).
+    integer, parameter :: IO_NFLANGE = 5
     !> Length (m, rad) below which the discrete gradient's bracket fades out (contact_correction).
     real(dp), parameter :: DG_FLOOR = 1.0e-9_dp
 
@@ -83,6 +86,9 @@ module vehicle_newmark
         !> SCHEME_EXACT on the ring track: the ring modes' moving rows at nodes + 1 nodes a
         !> step (vehicle_ring_step); 0: the rows at the step's ends only
         integer :: nodes = 0
+        !> SCHEME_EXACT: a step that starts with a wheel in flange contact is taken as 2^flev
+        !> sub-steps (flange_level); 0: never
+        integer :: flev = 0
     end type hht_options
 
     !> Newton's linear system: the LU factors of the condensed step matrix (nd + np), and the
@@ -211,7 +217,7 @@ contains
             do n = 1, nsteps
                 tl = 0.0_dp
                 tally%why = STAT_OK
-                call cover_step(md, rs, t, h, 0, opt, st, tally, tl, ok, info)
+                call cover_step(md, rs, t, h, flange_level(md, opt, st%w), opt, st, tally, tl, ok, info)
                 if (info /= STAT_OK .or. .not. ok) then
                     info = run_failure(md, opt, st, info, tally%why)
                     tfail = t + tl + h / 2**opt%maxsub
@@ -244,6 +250,25 @@ contains
         call tally_stats(tally, ndone, stats)
     end subroutine newmark_run
 
+    !> The sub-step level a step starts at: opt%flev (at most opt%maxsub) when the exact modal
+    !> step (SCHEME_EXACT) starts with a wheel in flange contact (its flange point's normal
+    !> force in the carried state's wheel outputs w positive), else 0. Why: the exact step takes
+    !> the point forces as linear in time over the step, Newmark's beta = 1/6 for what the points
+    !> couple to the modal blocks, stable only while sqrt(k_c) h <= sqrt(12) for a coupling
+    !> stiffness k_c per unit modal mass (vehicle_modal_step); the flange's Hertz spring on the
+    !> rims is beyond that at 1 ms and 0.5 ms and within it at 0.25 ms, the tread's is within
+    !> it at 1 ms (docs/vehicle_integrator.md, "Exact modal step: sub-steps in flange
+    !> contact"). A function of the carried state alone: the chunking of a run and its output
+    !> sampling cannot change it. A sub-step that fails still refines further (cover_step).
+    pure integer function flange_level(md, opt, w) result(lev)
+        type(vmodel), intent(in) :: md
+        type(hht_options), intent(in) :: opt
+        real(dp), intent(in) :: w(nwo, 2, md%nw)
+        lev = 0
+        if (opt%scheme /= SCHEME_EXACT .or. opt%flev <= 0) return
+        if (any(w(IO_NFLANGE, :, :) > 0.0_dp)) lev = min(opt%flev, opt%maxsub)
+    end function flange_level
+
     !> Whether the time loop keeps its iteration matrix from step to step: with the strip
     !> contact and Hertz + Kalker or FASTSIM, HHT. The strip's tangent (one linearisation per
     !> wheel and the contact's forward differences) costs about two force evaluations, and in a
@@ -270,11 +295,14 @@ contains
         real(dp), intent(in) :: q(:), v(:), a(:), h
         real(dp) :: key(3 * size(q) + 6)
         key = [q, v, a, h, opt%alpha, rs%v0, real(rs%cmodel, dp), real(rs%fsn, dp), &
-               real(opt%scheme + 16 * opt%nodes, dp)]
+               real(opt%scheme + 16 * opt%nodes + 2048 * opt%flev, dp)]
     end function kept_key
 
-    !> The matrix kept by the last call, when this call continues from its key with step h
-    !> (with modal blocks also their factors for h: a function of h alone).
+    !> The matrix kept by the last call, when this call continues from its key with step h or
+    !> one of its sub-steps h / 2^k (the step size the matrix was made for, kept in the key:
+    !> a call that ended in sub-steps, e.g. in flange contact (flange_level), continues with
+    !> them, as one call would) (with modal blocks also their factors for that step size: a
+    !> function of it alone).
     subroutine kept_matrix_load(md, rs, h, opt, st)
         type(vmodel), intent(in) :: md
         type(vsettings), intent(in) :: rs
@@ -283,12 +311,15 @@ contains
         type(hht_state), intent(inout), target :: st
         type(hht_step_data) :: sd
         integer :: info
+        real(dp) :: hk
         if (.not. allocated(md%kmkey)) return
         if (size(md%kmkey) /= 3 * size(st%q) + 6) return
-        if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, h))) return
+        hk = md%kmkey(3 * size(st%q) + 1)
+        if (.not. (hk > 0.0_dp .and. hk <= h)) return
+        if (.not. all(md%kmkey == kept_key(rs, opt, st%q, st%v, st%a, hk))) return
         if (md%mp%nm > 0) then
-            call step_data(h, opt%alpha, st, sd)
-            if (opt%scheme == SCHEME_EXACT) call exact_data(md, h, opt%nodes, st, sd)
+            call step_data(hk, opt%alpha, st, sd)
+            if (opt%scheme == SCHEME_EXACT) call exact_data(md, hk, opt%nodes, st, sd)
             call factor_modal(md, sd, st%mf, info)
             if (info /= STAT_OK) return
             st%nl%jpr = md%kmjpr
@@ -298,7 +329,7 @@ contains
         end if
         st%nl%a = md%kma(:, :, 1)
         st%nl%ipiv = md%kmpiv
-        st%nlh = h
+        st%nlh = hk
         st%kage = md%kmage
     end subroutine kept_matrix_load
 

@@ -469,11 +469,11 @@ def _vehicle_modes(p: dict[str, Any]) -> tuple[float, float, float]:
 
 def _exact_modal(p: dict[str, Any]) -> bool:
     """Whether the case's modal blocks take the exact modal step (simulate's default for the
-    model and alpha, railvti.vehicle.simulate.default_modal_step; none today)."""
+    model and alpha, railvti.vehicle.simulate.default_modal_step; FR)."""
     from ..vehicle.simulate import default_modal_step  # on first use: see _vehicle
 
     variant = str(p.get("model", "RR")).strip().upper()
-    return default_modal_step(variant, alpha=_num(p, "alpha", 0.0)) == "exact"
+    return default_modal_step(variant, alpha=_num(p, "alpha", 0.0)) != "trapezoidal"
 
 
 def _vehicle_step(p: dict[str, Any], ws_modes: float, f_top: float) -> float:

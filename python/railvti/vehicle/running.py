@@ -65,7 +65,8 @@ def centred_running(
     h : float, optional
         Time step, s (default 1 ms; the modal variants' 1 ms divided into as many parts as the
         highest kept mode needs, h omega_max <= 2, unless their modal blocks are stepped
-        exactly: ``modal_step='exact'``, or simulate's default_modal_step).
+        exactly: ``modal_step='exact'`` or ``'exact-flange'``, or simulate's default_modal_step:
+        FR's).
     coach : Coach, optional
         Vehicle parameters (default: Manchester benchmark coach).
     **kw

@@ -50,6 +50,8 @@ __all__ = [
     "default_modal_step",
     "system_variant",
     "EXACT_BY_DEFAULT",
+    "EXACT_STEPS",
+    "FLANGE_LEVEL",
     "exact_modal",
     "MODAL_STEPS",
     "SCHEME_EXACT",
@@ -86,24 +88,40 @@ SCHEME_EXACT = 2
 #: mass exactly for the point forces linear in time over the step (matrix exponential per
 #: block and step size; docs/vehicle_integrator.md, "Exact modal step"); 'exact-moving' the
 #: same with the ring track's modes (RF, FF) integrated over their moving rows at
-#: :data:`RING_NODES` + 1 nodes a step (docs/vehicle_integrator.md, "The ring's moving rows"). The default:
-#: :func:`default_modal_step`.
-MODAL_STEPS = ("exact", "exact-moving", "trapezoidal")
+#: :data:`RING_NODES` + 1 nodes a step (docs/vehicle_integrator.md, "The ring's moving rows");
+#: 'exact-flange' the 'exact' step with a step that starts in flange contact taken as
+#: 2^:data:`FLANGE_LEVEL` sub-steps (docs/vehicle_integrator.md, "Exact modal step: sub-steps in
+#: flange contact"). The default: :func:`default_modal_step`.
+MODAL_STEPS = ("exact", "exact-moving", "exact-flange", "trapezoidal")
+
+#: The modal steps of :data:`MODAL_STEPS` that step the blocks exactly (vehicle_newmark SCHEME_EXACT).
+EXACT_STEPS = ("exact", "exact-moving", "exact-flange")
+
+#: Sub-step level of 'exact-flange' (core id SCHEME_EXACT + 2048 * FLANGE_LEVEL): a step that
+#: starts with a wheel in flange contact (its flange point's normal force > 0) is taken as
+#: 2^FLANGE_LEVEL sub-steps. The exact step is stable only while sqrt(k_c) h <= sqrt(12) for a
+#: point coupling k_c per unit modal mass; FR's flange contact exceeds that at 1 ms and 0.5 ms
+#: (flange cycle at 420 km/h: Q max 398 and 190 kN against 104.0 kN converged) and not at
+#: 0.25 ms (104.1 kN). 3 (h/8 at 1 ms): 104.1 kN, and FR tread hunting's amplitude as close to
+#: its converged value as the trapezoidal step at 0.5 ms (docs/speed_accuracy.md).
+FLANGE_LEVEL = 3
 
 #: Sub-intervals a step of 'exact-moving' divides the ring's moving rows into (core id
 #: SCHEME_EXACT + 16 * RING_NODES, 1..64).
 RING_NODES = 4
 
 #: The variants (:func:`system_variant`) whose modal blocks take the exact modal step by
-#: default, at RR's 1 ms: none yet. A variant opts in by joining this tuple (simulate, the
-#: scenarios' default step, the deck check and the cost estimate follow). FR was measured for it
-#: (issue 33, validation/vehicle_fr_rr_like_for_like.py, docs/speed_accuracy.md "FR at RR's
-#: 1 ms"): 1.6-1.9x RR's cost instead of 2.3-3.3x and closer in tread hunting, but in the
-#: flange limit cycle at 420 km/h its Q max is 398 kN against the converged 104 kN and its
-#: amplitude 5.8 % low, where the trapezoidal step at 0.5 ms is within 2 % and 0.01 %. The
-#: ring track (RF, FF): its moving rows, not its modes, set its step (at 1 ms RF hunting's
-#: amplitude is 1.8 % off its converged value; docs/speed_accuracy.md).
-EXACT_BY_DEFAULT: tuple[str, ...] = ()
+#: default ('exact-flange', at RR's 1 ms): FR (issue 33). A variant opts in by joining this tuple
+#: (simulate, the scenarios' default step, the deck check and the cost estimate follow). FR,
+#: measured against the trapezoidal step at 1/16 ms (validation/vehicle_fr_flange_step.py,
+#: docs/speed_accuracy.md "FR at RR's 1 ms with sub-steps in flange contact"): the flange cycle
+#: at 420 km/h's Q max 104.1 kN against 104.0 kN (the trapezoidal 0.5 ms step 105.9 kN; the
+#: plain 'exact' step 398 kN), tread hunting's amplitude and Q max closer than the trapezoidal
+#: 0.5 ms step's, at 1.7-1.8x RR's cost instead of 2.2-2.7x (a flange cycle costs 2x the old
+#: default's: its flange steps in eighths). The ring track (RF, FF): its moving rows, not its
+#: modes, set its step (at 1 ms RF hunting's amplitude is 1.8 % off its converged value;
+#: docs/speed_accuracy.md).
+EXACT_BY_DEFAULT: tuple[str, ...] = ("FR",)
 
 
 def system_variant(system: System) -> str:
@@ -122,13 +140,13 @@ def system_variant(system: System) -> str:
 
 def default_modal_step(variant: str, integrator: str = "hht", alpha: float = 0.0) -> str:
     """The modal step a run takes when ``modal_step`` is not given (:data:`MODAL_STEPS`):
-    'exact' for the variants of :data:`EXACT_BY_DEFAULT` (none yet) when the run is the
+    'exact-flange' for the variants of :data:`EXACT_BY_DEFAULT` when the run is the
     trapezoidal rule's (integrator 'hht', alpha = 0), else 'trapezoidal'. ``variant``: 'RR',
     'FR', 'RF', 'FF' (:func:`system_variant`, a deck's model) or '' (a system built by hand).
     The one place of the choice: simulate, the scenarios' default step
     (:func:`railvti.vehicle.systems.default_step`), the deck check and the cost estimate."""
     exact = integrator == "hht" and alpha == 0.0 and variant in EXACT_BY_DEFAULT
-    return "exact" if exact else "trapezoidal"
+    return "exact-flange" if exact else "trapezoidal"
 
 
 def exact_modal(
@@ -136,8 +154,8 @@ def exact_modal(
 ) -> bool:
     """Whether a run of ``system`` with these settings steps its modal blocks exactly
     (:data:`MODAL_STEPS`; ``modal_step`` None: :func:`default_modal_step` of the system's
-    variant, :func:`system_variant`: 'trapezoidal' for all today). InputError for
-    an unknown name or 'exact' with alpha /= 0 or the energy integrator.
+    variant, :func:`system_variant`: 'exact-flange' for FR, 'trapezoidal' for the others).
+    InputError for an unknown name or 'exact' with alpha /= 0 or the energy integrator.
 
     'exact' integrates each modal block with mass exactly over the step for the point forces
     linear in time (docs/vehicle_integrator.md, "Exact modal step"): no step-size limit from
@@ -145,18 +163,20 @@ def exact_modal(
     is not stable: Newmark's beta = 1/6 for it). 'exact-moving' also integrates the ring
     track's modes (RF, FF) over their rows at :data:`RING_NODES` + 1 nodes a step, the contact
     points moving within the step (docs/vehicle_integrator.md, "The ring's moving rows");
-    without a ring it is 'exact'."""
+    without a ring it is 'exact'. 'exact-flange' is 'exact' with a step that starts in flange
+    contact taken as 2^:data:`FLANGE_LEVEL` sub-steps (the flange's Hertz spring on the rims is a
+    coupling beyond the exact step's bound at 1 ms; docs/vehicle_integrator.md)."""
     if modal_step is not None and modal_step not in MODAL_STEPS:
         raise InputError(f"unknown modal_step {modal_step!r}; one of {list(MODAL_STEPS)}")
     applies = integrator == "hht" and alpha == 0.0
-    if modal_step in ("exact", "exact-moving") and not applies:
+    if modal_step in EXACT_STEPS and not applies:
         raise InputError(
             f"modal_step={modal_step!r} is the trapezoidal rule's (integrator 'hht', alpha = 0); "
             f"got integrator {integrator!r}, alpha {alpha}: take modal_step='trapezoidal'"
         )
     if modal_step is None:
         modal_step = default_modal_step(system_variant(system), integrator, alpha)
-    return system.modal is not None and modal_step in ("exact", "exact-moving")
+    return system.modal is not None and modal_step in EXACT_STEPS
 
 
 def check_modal_step(system: System, h: float, exact: bool = False) -> None:
@@ -308,8 +328,9 @@ def simulate(
         The coach the system was built from (its geometry places the bodies in the curve;
         default ``Coach()``).
     modal_step : str, optional
-        'trapezoidal', 'exact' or 'exact-moving' (RF, FF): :func:`exact_modal`; None:
-        :func:`default_modal_step` ('trapezoidal' for every variant today: :data:`EXACT_BY_DEFAULT`).
+        'trapezoidal', 'exact', 'exact-flange' or 'exact-moving' (RF, FF): :func:`exact_modal`; None:
+        :func:`default_modal_step` ('exact-flange' for FR, 'trapezoidal' for the others:
+        :data:`EXACT_BY_DEFAULT`).
 
     Raises
     ------
@@ -470,6 +491,10 @@ def _scheme(integrator: str, alpha: float, system: System, modal_step: str | Non
     'energy' with alpha /= 0 or without the strip geometry (the table contact has no
     potential whose discrete gradient could be taken)."""
     if exact_modal(system, integrator, alpha, modal_step):
+        if modal_step is None:
+            modal_step = default_modal_step(system_variant(system), integrator, alpha)
+        if modal_step == "exact-flange":
+            return SCHEME_EXACT + 2048 * FLANGE_LEVEL
         return SCHEME_EXACT + (16 * RING_NODES if modal_step == "exact-moving" else 0)
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; one of {sorted(INTEGRATORS)}")

@@ -705,7 +705,8 @@ def default_step(sy: System, exact: bool | None = None) -> float:
     so that h omega_max <= 2 (MODAL_STEP_LIMIT: every kept mode resolved without the step-size
     refusal of simulate). The exact modal step (``exact``, simulate(modal_step='exact')) keeps
     every mode's frequency at 1 ms. ``exact`` None: simulate's default for sy
-    (:func:`railvti.vehicle.simulate.default_modal_step`; trapezoidal for every variant today)."""
+    (:func:`railvti.vehicle.simulate.default_modal_step`; 'exact-flange' for FR, trapezoidal
+    for the others)."""
     if exact is None:
         exact = exact_modal(sy)
     h = 1e-3
