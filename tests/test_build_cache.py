@@ -24,8 +24,8 @@ import pytest
 from railvti import _cache
 from railvti.track import ring as ring_mod
 from railvti.track.ring import RingTrack
+from coarse_ring import COARSE_SECTION as COARSE
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
 V = 300.0 / 3.6
 
 

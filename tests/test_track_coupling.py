@@ -6,8 +6,7 @@ import pytest
 from railvti.errors import InputError
 from railvti.track import RingTrack
 from railvti.track.coupling import rail_of_wheel, wheel_head_shapes
-
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
+from coarse_ring import COARSE_SECTION as COARSE
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,7 @@ import pytest
 from railvti.track import RingTrack
 from railvti.track.section import PUBLISHED_60E1
 from track_reference import jourawski_shear_coefficient
-
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
+from coarse_ring import COARSE_SECTION as COARSE
 
 
 def timoshenko_pinned_pinned(

@@ -7,8 +7,7 @@ import scipy.linalg as sla
 from railvti.errors import InputError
 from railvti.track import RingTrack
 from track_reference import beam_on_sleepers_static, jourawski_shear_coefficient, static_direct
-
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3)
+from coarse_ring import COARSE_SECTION as COARSE
 
 
 @pytest.fixture(scope="module")

@@ -22,10 +22,9 @@ from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
 from railvti.vehicle.equilibrium import static_equilibrium
 from railvti.vehicle.simulate import simulate
+from coarse_ring import COARSE, RING
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6
-RING = dict(n_sleepers=40, f_limit=300.0, track_params=COARSE)
 
 
 @pytest.fixture(scope="module")

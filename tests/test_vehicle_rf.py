@@ -21,8 +21,8 @@ from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import RingSystem, build_rf, ring_rows
 from railvti.vehicle.equilibrium import lateral_disturbance, static_equilibrium
 from railvti.vehicle.simulate import simulate
+from coarse_ring import COARSE
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6
 
 

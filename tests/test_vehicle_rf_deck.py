@@ -17,8 +17,8 @@ from railvti.errors import InputError
 from railvti.runner.result_objects import load, save
 from railvti.vehicle import cases as vehicle_cases  # registers the case type "vehicle"
 from railvti.vehicle import systems
+from coarse_ring import COARSE
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 RING = dict(n_sleepers=40, f_limit=300.0, x_offset=0.1, **{f"track_{k}": v for k, v in COARSE.items()})
 DECK = """
 &case

@@ -22,8 +22,7 @@ from railvti.vehicle.params import Coach
 from railvti.vehicle.ring_coupling import build_rf
 from railvti.vehicle.equilibrium import eigenvalues
 from railvti.vehicle.table import linearised_table
-
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
+from coarse_ring import COARSE
 
 
 def _hunting_growth(ev: np.ndarray) -> float:

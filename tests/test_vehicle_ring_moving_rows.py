@@ -19,15 +19,11 @@ from railvti.errors import InputError
 from railvti.vehicle.equilibrium import static_equilibrium
 from railvti.vehicle.simulate import simulate
 
+from coarse_ring import RING
+
 _SIM = importlib.import_module("railvti.vehicle.simulate")
 
 V = 300.0 / 3.6
-#: A coarse rail section and the shortest ring that holds the coach (the test's cost).
-RING = dict(
-    n_sleepers=40,
-    f_limit=300.0,
-    track_params=dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0),
-)
 
 
 @pytest.fixture(scope="module")

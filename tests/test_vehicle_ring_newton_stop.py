@@ -15,15 +15,10 @@ import pytest
 from railvti import scenarios
 from railvti.vehicle.equilibrium import lateral_disturbance, static_equilibrium
 from railvti.vehicle.simulate import simulate
+from coarse_ring import RING
 
 V = 300.0 / 3.6
 TOL = 1e-9
-#: A coarse rail section and the shortest ring that holds the coach (the test's cost).
-RING = dict(
-    n_sleepers=40,
-    f_limit=300.0,
-    track_params=dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0),
-)
 
 
 @pytest.fixture(scope="module")

@@ -19,8 +19,8 @@ from railvti.vehicle import systems
 from railvti.errors import InputError
 from railvti.track.coupling import rail_of_wheel
 from railvti.vehicle.equilibrium import static_equilibrium
+from coarse_ring import COARSE
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 V = 200.0 / 3.6
 F_LIMIT = 250.0
 RING = dict(n_sleepers=40, f_limit=F_LIMIT, track_params=COARSE)

@@ -12,8 +12,8 @@ import pytest
 from railvti.track import RingTrack
 from railvti.track.coupling import wheel_head_shapes
 from railvti.vehicle.ring_coupling import residual_blocks, residual_scaling, ring_rows
+from coarse_ring import COARSE
 
-COARSE = dict(kappa_max=30.0, mesh_max_area=4e-4, arc_step=12e-3, f_max=500.0)
 XW = np.array([10.78, 8.22, -8.22, -10.78])
 
 
