@@ -24,15 +24,18 @@ import h5py
 import psutil
 import pytest
 
-# Gauss-Seidel normal contact, 6 sweep points of ~1-2 s each (more under load), in slices of
-# ~0.1 s: a case is always running when the signal comes after the start-up.
+# Gauss-Seidel normal contact, 24 sweep points of ~1-2 s each (more under load), in slices of
+# ~0.1 s: a case is always running when the signal comes after the start-up (with 6 points a
+# fast machine, 1.2 s a case on 2 workers, finished the run before the 5 s signal). The signal
+# stops the run: the points not reached cost nothing.
 DECK = """
 &case
     name = 'gs', type = 'normal'
     gap_a = 1.087, gap_b = 1.6667
     nx = 110, ny = 110, dx = 0.11e-3, dy = 0.088e-3
     method = 'gs', tol = 1e-9
-    sweep_fn = 1.0e4, 1.1e4, 1.2e4, 1.3e4, 1.4e4, 1.5e4
+    sweep_fn = 1.0e4, 1.1e4, 1.2e4, 1.3e4, 1.4e4, 1.5e4, 1.6e4, 1.7e4, 1.8e4, 1.9e4, 2.0e4, 2.1e4,
+               2.2e4, 2.3e4, 2.4e4, 2.5e4, 2.6e4, 2.7e4, 2.8e4, 2.9e4, 3.0e4, 3.1e4, 3.2e4, 3.3e4
 /
 """
 pytestmark = pytest.mark.slow  # starts clusters and waits for signals: ~36 s
