@@ -258,11 +258,13 @@ def test_bifurcation_on_a_client_equals_its_serial_independent_sweep(scheduler):
     assert serial.upper[0] > 0 and serial.speeds_kmh.tolist() == [300.0, 340.0]
 
 
-# Two CG points (fast) and two Gauss-Seidel points (seconds each) on a 100 x 100 grid.
-SLOW = """
+# Two CG points (fast) and two Gauss-Seidel points (2-3 s each on a fast machine, where 100 x
+# 100 elements took 0.75 s and both finished before the signal) on a 140 x 140 grid.
+DX, DY = 0.09e-3, 0.072e-3
+SLOW = f"""
 &case
     name = 'gs', type = 'normal', gap_a = 1.087, gap_b = 1.6667
-    nx = 100, ny = 100, dx = 0.12e-3, dy = 0.096e-3, tol = 1e-9
+    nx = 140, ny = 140, dx = {DX}, dy = {DY}, tol = 1e-9
     sweep = 'zip', sweep_method = 'cg', 'cg', 'gs', 'gs', sweep_fn = 1.0e4, 1.1e4, 1.2e4, 1.3e4
 /
 """
@@ -333,7 +335,7 @@ def test_resume_after_sigint_on_the_cluster_runs_only_the_missing_points(tmp_pat
     with h5py.File(out, "r") as f:
         assert {k: f[k].attrs["wall_time"] for k in done} == walls  # kept, not re-run
         p = f["004_gs.method_gs.fn_13000/pressure"][()]
-        assert p.sum() * 0.12e-3 * 0.096e-3 == pytest.approx(1.3e4, rel=1e-9)
+        assert p.sum() * DX * DY == pytest.approx(1.3e4, rel=1e-9)
     assert not [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
 
 
