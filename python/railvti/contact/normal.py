@@ -198,11 +198,10 @@ def _prolong(pc: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 
 def _prolong_first(a: np.ndarray, n: int) -> np.ndarray:
-    """_prolong along the first axis of a (coarse length nc) to length n <= 2 nc, by slices;
-    each value is (1 - w) lo + w hi with w = 0, 1/4, 3/4 or 1 (exact in floating point)."""
+    """_prolong along the first axis of a (coarse length nc >= 2) to length n <= 2 nc (what
+    _coarsen makes), by slices; each value is (1 - w) lo + w hi with w = 0, 1/4, 3/4 or 1
+    (exact in floating point)."""
     nc = a.shape[0]
-    if nc < 2 or n > 2 * nc:
-        return _prolong_first_general(a, n)
     lo, hi = a[:-1], a[1:]
     full = np.empty((2 * nc,) + a.shape[1:])
     full[0] = 1.0 * a[0] + 0.0 * a[1]
@@ -210,16 +209,6 @@ def _prolong_first(a: np.ndarray, n: int) -> np.ndarray:
     full[2 : 2 * nc - 1 : 2] = 0.25 * lo + 0.75 * hi
     full[2 * nc - 1] = 0.0 * a[nc - 2] + 1.0 * a[nc - 1]
     return full[:n]
-
-
-def _prolong_first_general(a: np.ndarray, n: int) -> np.ndarray:
-    """_prolong_first for any lengths, by the interpolation weights of each fine centre."""
-    xc = 2.0 * np.arange(a.shape[0]) + 0.5
-    xf = np.arange(n, dtype=float)
-    k = np.clip(np.searchsorted(xc, xf) - 1, 0, max(len(xc) - 2, 0))
-    w = np.clip((xf - xc[k]) / 2.0, 0.0, 1.0) if len(xc) > 1 else np.zeros(n)
-    w = w.reshape((n,) + (1,) * (a.ndim - 1))
-    return (1.0 - w) * np.take(a, k, axis=0) + w * np.take(a, np.minimum(k + 1, len(xc) - 1), axis=0)
 
 
 def _nested_start(

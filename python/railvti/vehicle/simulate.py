@@ -486,13 +486,14 @@ def bem_threads(bem: BemState, threads: int | None = None) -> int:
 
 
 def _scheme(integrator: str, alpha: float, system: System, modal_step: str | None = None) -> int:
-    """The core id of ``integrator`` (:data:`INTEGRATORS`), or :data:`SCHEME_EXACT` with
-    ``modal_step='exact'`` (:func:`exact_modal`); InputError for an unknown name, or
-    'energy' with alpha /= 0 or without the strip geometry (the table contact has no
-    potential whose discrete gradient could be taken)."""
+    """The core id of ``integrator`` (:data:`INTEGRATORS`), or :data:`SCHEME_EXACT` (plus the
+    moving rows' or the flange sub-steps' code) when the modal blocks step exactly
+    (:func:`exact_modal`); InputError for an unknown name, or 'energy' with alpha /= 0 or
+    without the strip geometry (the table contact has no potential whose discrete gradient
+    could be taken)."""
+    if modal_step is None:
+        modal_step = default_modal_step(system_variant(system), integrator, alpha)
     if exact_modal(system, integrator, alpha, modal_step):
-        if modal_step is None:
-            modal_step = default_modal_step(system_variant(system), integrator, alpha)
         if modal_step == "exact-flange":
             return SCHEME_EXACT + 2048 * FLANGE_LEVEL
         return SCHEME_EXACT + (16 * RING_NODES if modal_step == "exact-moving" else 0)
